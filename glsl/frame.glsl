@@ -1,0 +1,24 @@
+// Frame-wide parameters and the coefficient buffer of one glyph set.
+// Mirrored on the CPU by src/render/frame.rs (FrameParams); keep both in step.
+layout(std140, set = 0, binding = 0) uniform FrameParams {
+    mat4 view_proj;
+    vec4 eye;             // xyz: eye; w: 1 for orthographic, 0 for perspective
+    vec4 right;           // xyz: right * tan(fov/2) (or height/2); w: aspect W/H
+    vec4 up;              // xyz: corrected up, scaled as right
+    vec4 fwd;             // xyz: forward
+    vec4 viewport;        // x: 1/width, y: 1/height
+    vec4 march;           // x: step, y: centre step factor, z: centre zone radius, w: offset
+    ivec4 modes;          // x: refinement (0 none, 1 bisect, 2 interp, 3 secant), y: its steps,
+                          // z: colour (0 direction, 1 magnitude, 2 uniform), w: max steps
+    vec4 magnitude_range; // x: low end, y: 1 / (high - low)
+    vec4 uniform_color;   // rgb, linear
+    vec4 light;           // xyz: unit direction towards the light, world space
+} frame;
+
+layout(std430, set = 0, binding = 1) readonly buffer Coefficients {
+    float coeffs[];
+};
+
+layout(push_constant) uniform GlyphSetParams {
+    uint hide_negative;   // scene format `negative`: 0 abs, 1 hide
+} glyph_set;

@@ -1,0 +1,109 @@
+//! The scene format's camera: one ray per pixel centre, and the matching Vulkan
+//! view-projection so that the rasterised bounding boxes cover exactly those rays.
+use glam::{DMat4, DVec3, DVec4, Mat4};
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Projection {
+    Perspective { fov_y_deg: f64 },
+    Orthographic { height: f64 },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    pub projection: Projection,
+    pub eye: DVec3,
+    pub target: DVec3,
+    pub up: DVec3,
+}
+
+/// A ray with unit direction; points are origin + t * dir.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray {
+    pub origin: DVec3,
+    pub dir: DVec3,
+}
+
+/// Orthonormal camera frame: forward, right and the corrected up (scene format).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraFrame {
+    pub fwd: DVec3,
+    pub right: DVec3,
+    pub up: DVec3,
+}
+
+impl Camera {
+    pub fn frame(&self) -> CameraFrame {
+        let fwd = (self.target - self.eye).normalize();
+        let right = fwd.cross(self.up).normalize();
+        CameraFrame {
+            fwd,
+            right,
+            up: right.cross(fwd),
+        }
+    }
+
+    /// Screen coordinates (sx, sy) of the centre of pixel (i, j), as the format defines.
+    pub fn screen(i: u32, j: u32, width: u32, height: u32) -> (f64, f64) {
+        let (w, h) = (width as f64, height as f64);
+        let sx = (2.0 * (i as f64 + 0.5) / w - 1.0) * w / h;
+        let sy = 1.0 - 2.0 * (j as f64 + 0.5) / h;
+        (sx, sy)
+    }
+
+    /// The ray through the centre of pixel (i, j): column i from the left, row j from the top.
+    pub fn ray(&self, i: u32, j: u32, width: u32, height: u32) -> Ray {
+        let f = self.frame();
+        let (sx, sy) = Self::screen(i, j, width, height);
+        match self.projection {
+            Projection::Perspective { fov_y_deg } => {
+                let k = (fov_y_deg.to_radians() * 0.5).tan();
+                Ray {
+                    origin: self.eye,
+                    dir: (f.fwd + k * (sx * f.right + sy * f.up)).normalize(),
+                }
+            }
+            Projection::Orthographic { height } => Ray {
+                origin: self.eye + 0.5 * height * (sx * f.right + sy * f.up),
+                dir: f.fwd,
+            },
+        }
+    }
+
+    /// World to Vulkan clip space (y down, depth 0 at `near` to 1 at `far` along the
+    /// forward axis), written from the ray definition above so that pixel centres see
+    /// exactly the rays of [`Camera::ray`].
+    pub fn view_projection(&self, width: u32, height: u32, near: f64, far: f64) -> DMat4 {
+        let f = self.frame();
+        let aspect = width as f64 / height as f64;
+        // Eye-space rows: ex = right.(p - eye), ey = up.(p - eye), ez = fwd.(p - eye).
+        let row = |axis: DVec3| DVec4::new(axis.x, axis.y, axis.z, -axis.dot(self.eye));
+        let (ex, ey, ez) = (row(f.right), row(f.up), row(f.fwd));
+        let rows = match self.projection {
+            Projection::Perspective { fov_y_deg } => {
+                let k = (fov_y_deg.to_radians() * 0.5).tan();
+                let depth = far / (far - near);
+                [
+                    ex / (k * aspect),
+                    -ey / k,
+                    ez * depth - DVec4::W * depth * near,
+                    ez,
+                ]
+            }
+            Projection::Orthographic { height } => {
+                let half = 0.5 * height;
+                [
+                    ex / (half * aspect),
+                    -ey / half,
+                    (ez - DVec4::W * near) / (far - near),
+                    DVec4::W,
+                ]
+            }
+        };
+        DMat4::from_cols(rows[0], rows[1], rows[2], rows[3]).transpose()
+    }
+
+    /// Single-precision view-projection for the GPU.
+    pub fn view_projection_f32(&self, width: u32, height: u32, near: f64, far: f64) -> Mat4 {
+        self.view_projection(width, height, near, far).as_mat4()
+    }
+}

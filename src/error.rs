@@ -1,0 +1,69 @@
+//! One error type for the whole library. Input problems name the file and the field;
+//! Vulkan failures name the call that failed.
+use ash::vk;
+
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// A scene or data file that does not follow the format.
+    #[error("{file}: {field}: {message}")]
+    Input {
+        file: String,
+        field: String,
+        message: String,
+    },
+    /// Reading or writing a file failed.
+    #[error("{path}: {message}")]
+    Io { path: String, message: String },
+    /// A Vulkan call returned an error code.
+    #[error("Vulkan {call} failed: {result}")]
+    Vulkan {
+        call: &'static str,
+        result: vk::Result,
+    },
+    /// The Vulkan loader or a required feature, layer or device is missing.
+    #[error("Vulkan setup: {0}")]
+    Setup(String),
+    /// GPU memory allocation failed.
+    #[error("GPU memory: {0}")]
+    Allocation(#[from] gpu_allocator::AllocationError),
+    /// The validation layer reported errors (only when validation is on).
+    #[error("Vulkan validation reported {} error(s); first: {}", .0.len(), .0.first().map(String::as_str).unwrap_or(""))]
+    Validation(Vec<String>),
+    /// A request that cannot be carried out as asked (settings, sizes, limits).
+    #[error("{0}")]
+    Invalid(String),
+}
+
+impl Error {
+    pub fn input(
+        file: impl Into<String>,
+        field: impl Into<String>,
+        message: impl Into<String>,
+    ) -> Self {
+        Error::Input {
+            file: file.into(),
+            field: field.into(),
+            message: message.into(),
+        }
+    }
+
+    pub fn io(path: impl AsRef<std::path::Path>, err: impl std::fmt::Display) -> Self {
+        Error::Io {
+            path: path.as_ref().display().to_string(),
+            message: err.to_string(),
+        }
+    }
+}
+
+/// Attach the name of the failing Vulkan call to a `vk::Result`.
+pub trait VkContext<T> {
+    fn vk(self, call: &'static str) -> Result<T>;
+}
+
+impl<T> VkContext<T> for std::result::Result<T, vk::Result> {
+    fn vk(self, call: &'static str) -> Result<T> {
+        self.map_err(|result| Error::Vulkan { call, result })
+    }
+}

@@ -1,0 +1,157 @@
+//! PNG output of rendered images: 8-bit RGBA, already sRGB-encoded by the renderer, so
+//! the file is marked with an sRGB chunk (plus the gAMA and cHRM fallbacks the PNG
+//! specification recommends for decoders that ignore sRGB). The image is encoded in
+//! memory and published with an atomic rename, never half-written.
+use std::fs::File;
+use std::io::BufReader;
+use std::path::Path;
+
+use png::{BitDepth, ColorType, ScaledFloat, SourceChromaticities, SrgbRenderingIntent};
+
+use crate::io::atomic::write_atomic;
+use crate::{Error, Result};
+
+const RGBA_BYTES: usize = 4;
+
+/// Writes `rgba` (rows top to bottom, 4 bytes per pixel, sRGB-encoded) as a PNG file.
+pub fn write_png_rgba8(path: &Path, width: u32, height: u32, rgba: &[u8]) -> Result<()> {
+    check_size(path, width, height, rgba.len())?;
+    let encoded = encode(width, height, rgba).map_err(|err| Error::io(path, err))?;
+    write_atomic(path, &encoded)
+}
+
+/// Reads an 8-bit RGBA PNG; returns width, height and the pixels, rows top to bottom.
+pub fn read_png_rgba8(path: &Path) -> Result<(u32, u32, Vec<u8>)> {
+    let file = File::open(path).map_err(|err| Error::io(path, err))?;
+    let decoding_error = |err: png::DecodingError| match err {
+        png::DecodingError::IoError(io) => Error::io(path, io),
+        other => Error::input(path.display().to_string(), "png", other.to_string()),
+    };
+    let mut reader = png::Decoder::new(BufReader::new(file))
+        .read_info()
+        .map_err(decoding_error)?;
+    let (color, depth) = reader.output_color_type();
+    if (color, depth) != (ColorType::Rgba, BitDepth::Eight) {
+        return Err(Error::input(
+            path.display().to_string(),
+            "png",
+            format!("expected 8-bit RGBA, found {color:?} with {depth:?}-bit samples"),
+        ));
+    }
+    let mut pixels = vec![0; reader.output_buffer_size().unwrap_or(0)];
+    let frame = reader.next_frame(&mut pixels).map_err(decoding_error)?;
+    pixels.truncate(frame.buffer_size());
+    Ok((frame.width, frame.height, pixels))
+}
+
+fn check_size(path: &Path, width: u32, height: u32, len: usize) -> Result<()> {
+    let expected = (width as usize)
+        .checked_mul(height as usize)
+        .and_then(|pixels| pixels.checked_mul(RGBA_BYTES));
+    if width == 0 || height == 0 || expected != Some(len) {
+        return Err(Error::Invalid(format!(
+            "{}: an RGBA image of {width} x {height} pixels needs {} bytes, found {len}",
+            path.display(),
+            expected.map_or_else(|| "too many".to_string(), |n| n.to_string()),
+        )));
+    }
+    Ok(())
+}
+
+fn encode(
+    width: u32,
+    height: u32,
+    rgba: &[u8],
+) -> std::result::Result<Vec<u8>, png::EncodingError> {
+    let mut encoded = Vec::new();
+    let mut encoder = png::Encoder::new(&mut encoded, width, height);
+    encoder.set_color(ColorType::Rgba);
+    encoder.set_depth(BitDepth::Eight);
+    encoder.set_source_srgb(SrgbRenderingIntent::Perceptual);
+    // The fallback values of PNG 3rd edition, 11.3.2.5 (gAMA 45455 and the sRGB
+    // primaries with a D65 white point).
+    encoder.set_source_gamma(ScaledFloat::from_scaled(45455));
+    encoder.set_source_chromaticities(SourceChromaticities::new(
+        (0.3127, 0.3290),
+        (0.64, 0.33),
+        (0.30, 0.60),
+        (0.15, 0.06),
+    ));
+    let mut writer = encoder.write_header()?;
+    writer.write_image_data(rgba)?;
+    writer.finish()?;
+    Ok(encoded)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::io::atomic::tests::scratch_dir;
+
+    fn gradient(width: u32, height: u32) -> Vec<u8> {
+        (0..width * height)
+            .flat_map(|p| {
+                [
+                    (p % 256) as u8,
+                    (p / 3) as u8,
+                    255 - (p % 7) as u8,
+                    (p * 5) as u8,
+                ]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn round_trip_keeps_every_byte_and_marks_srgb() {
+        let dir = scratch_dir("png-round-trip");
+        let path = dir.join("image.png");
+        let rgba = gradient(7, 5);
+        write_png_rgba8(&path, 7, 5, &rgba).unwrap();
+        assert_eq!(read_png_rgba8(&path).unwrap(), (7, 5, rgba));
+
+        let decoder = png::Decoder::new(BufReader::new(File::open(&path).unwrap()));
+        let reader = decoder.read_info().unwrap();
+        assert_eq!(reader.info().srgb, Some(SrgbRenderingIntent::Perceptual));
+        let names: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(names, vec!["image.png".to_string()]);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn wrong_buffer_size_is_refused_and_writes_nothing() {
+        let dir = scratch_dir("png-wrong-size");
+        let path = dir.join("image.png");
+        for (width, height, len) in [(4, 4, 63), (4, 4, 65), (0, 4, 0)] {
+            let err = write_png_rgba8(&path, width, height, &vec![0; len]).unwrap_err();
+            assert!(matches!(err, Error::Invalid(_)), "{err}");
+            assert!(err.to_string().contains("image.png"), "{err}");
+        }
+        assert!(!path.exists());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn reading_rgb_or_garbage_names_the_file() {
+        let dir = scratch_dir("png-read-errors");
+        let garbage = dir.join("garbage.png");
+        std::fs::write(&garbage, b"not a png at all").unwrap();
+        let err = read_png_rgba8(&garbage).unwrap_err();
+        assert!(err.to_string().contains("garbage.png"), "{err}");
+
+        let rgb = dir.join("rgb.png");
+        let mut encoded = Vec::new();
+        let mut encoder = png::Encoder::new(&mut encoded, 2, 1);
+        encoder.set_color(ColorType::Rgb);
+        let mut writer = encoder.write_header().unwrap();
+        writer.write_image_data(&[0; 6]).unwrap();
+        writer.finish().unwrap();
+        std::fs::write(&rgb, &encoded).unwrap();
+        let err = read_png_rgba8(&rgb).unwrap_err();
+        assert!(matches!(err, Error::Input { .. }), "{err}");
+        assert!(err.to_string().contains("rgb.png") && err.to_string().contains("RGBA"));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

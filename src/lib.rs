@@ -1,0 +1,11 @@
+//! glyphcast: GPU ray casting of higher-order tensor and spherical-harmonic glyphs.
+pub mod accuracy;
+pub mod camera;
+pub mod demo;
+pub mod error;
+pub mod glyph;
+pub mod io;
+pub mod render;
+pub mod vk;
+
+pub use error::{Error, Result};

@@ -1,0 +1,117 @@
+//! The frame's uniform block, laid out exactly as `FrameParams` in glsl/frame.glsl (std140:
+//! a mat4 and vec4/ivec4 members only, so there is no padding to get wrong).
+use crate::camera::{Camera, Projection};
+use crate::render::settings::{ColorMode, Refinement, RenderSettings};
+use bytemuck::{Pod, Zeroable};
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct FrameParams {
+    pub view_proj: [[f32; 4]; 4],
+    pub eye: [f32; 4],
+    pub right: [f32; 4],
+    pub up: [f32; 4],
+    pub fwd: [f32; 4],
+    pub viewport: [f32; 4],
+    pub march: [f32; 4],
+    pub modes: [i32; 4],
+    pub magnitude_range: [f32; 4],
+    pub uniform_color: [f32; 4],
+    pub light: [f32; 4],
+}
+
+/// Depth range and magnitude range of what is drawn, from the glyphs' bounding spheres.
+#[derive(Clone, Copy, Debug)]
+pub struct SceneExtent {
+    pub near: f64,
+    pub far: f64,
+    pub max_radius: f64,
+}
+
+impl SceneExtent {
+    /// From bounding spheres (centre, radius) seen by `camera`.
+    pub fn of_spheres(
+        camera: &Camera,
+        spheres: impl Iterator<Item = ([f64; 3], f64)>,
+    ) -> SceneExtent {
+        let frame = camera.frame();
+        let (mut lo, mut hi, mut max_radius) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
+        for (c, r) in spheres {
+            let z = frame.fwd.dot(glam::DVec3::from(c) - camera.eye);
+            lo = lo.min(z - r);
+            hi = hi.max(z + r);
+            max_radius = max_radius.max(r);
+        }
+        if !hi.is_finite() || hi <= 0.0 {
+            return SceneExtent {
+                near: 0.1,
+                far: 10.0,
+                max_radius: 1.0,
+            };
+        }
+        let far = hi * 1.01 + 1e-6;
+        let near = match camera.projection {
+            // Perspective depth needs near > 0; glyphs that reach behind the eye are cut there.
+            Projection::Perspective { .. } => (lo * 0.99).max(far * 1e-5),
+            Projection::Orthographic { .. } => lo - 0.01 * (hi - lo) - 1e-6,
+        };
+        SceneExtent {
+            near,
+            far,
+            max_radius,
+        }
+    }
+}
+
+impl FrameParams {
+    pub fn new(
+        camera: &Camera,
+        width: u32,
+        height: u32,
+        extent: &SceneExtent,
+        settings: &RenderSettings,
+    ) -> Self {
+        let f = camera.frame();
+        let (ortho, scale) = match camera.projection {
+            Projection::Perspective { fov_y_deg } => (0.0, (fov_y_deg.to_radians() * 0.5).tan()),
+            Projection::Orthographic { height } => (1.0, 0.5 * height),
+        };
+        let v4 = |v: glam::DVec3, w: f32| [v.x as f32, v.y as f32, v.z as f32, w];
+        let (refine_mode, bisections) = match settings.refinement {
+            Refinement::None => (0, 0),
+            Refinement::Bisect(k) => (1, k as i32),
+            Refinement::Interpolate => (2, 0),
+            Refinement::Secant(k) => (3, k as i32),
+        };
+        let (color_mode, range, uniform) = match settings.color {
+            ColorMode::Direction => (0, (0.0, 1.0), [0.0; 3]),
+            ColorMode::Magnitude { range } => (
+                1,
+                range.unwrap_or((0.0, extent.max_radius as f32)),
+                [0.0; 3],
+            ),
+            ColorMode::Uniform(rgb) => (2, (0.0, 1.0), rgb),
+        };
+        let light = (-f.fwd + 0.5 * f.up + 0.35 * f.right).normalize();
+        FrameParams {
+            view_proj: camera
+                .view_projection_f32(width, height, extent.near, extent.far)
+                .to_cols_array_2d(),
+            eye: v4(camera.eye, ortho),
+            right: v4(f.right * scale, (width as f64 / height as f64) as f32),
+            up: v4(f.up * scale, 0.0),
+            fwd: v4(f.fwd, 0.0),
+            viewport: [1.0 / width as f32, 1.0 / height as f32, 0.0, 0.0],
+            march: [
+                settings.step,
+                settings.centre_step_factor,
+                settings.centre_zone,
+                settings.offset,
+            ],
+            modes: [refine_mode, bisections, color_mode, settings.max_steps()],
+            magnitude_range: [range.0, 1.0 / (range.1 - range.0).max(1e-30), 0.0, 0.0],
+            uniform_color: [uniform[0], uniform[1], uniform[2], 1.0],
+            light: v4(light, 0.0),
+        }
+    }
+}

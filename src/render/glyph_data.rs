@@ -1,0 +1,96 @@
+//! Scene glyph sets turned into what the passes and the reference consume: per glyph a
+//! bounding radius B (a guaranteed upper bound of r(u), computed once on the CPU),
+//! coefficients divided by B (so every glyph's bound is 1 in its normalised frame, and
+//! the shader's numbers stay near 1 whatever the data's units), and one 16-byte instance
+//! (centre, world half-size of the box). The float64 [`WorldGlyph`]s describe the same
+//! surfaces for the reference.
+use crate::glyph::bounds::bounding_radius;
+use crate::glyph::intersect::WorldGlyph;
+use crate::glyph::polynomial::GlyphPolynomial;
+use crate::glyph::{NegativeMode, TensorLayout};
+use crate::io::scene::{GlyphKind, GlyphSet, Scene};
+use crate::{Error, Result};
+
+/// One glyph set, ready for upload.
+#[derive(Clone, Debug)]
+pub struct GlyphSetData {
+    pub layout: TensorLayout,
+    pub negative: NegativeMode,
+    /// Per drawn glyph: centre xyz and the world half-size of its box, scale * B * (1 + offset).
+    pub instances: Vec<[f32; 4]>,
+    /// Per drawn glyph: the tensor's coefficients divided by B, `layout.coefficient_count()` each.
+    pub coefficients: Vec<f32>,
+    /// The same glyphs in float64, for the reference.
+    pub world: Vec<WorldGlyph>,
+}
+
+impl GlyphSetData {
+    pub fn len(&self) -> usize {
+        self.instances.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.instances.is_empty()
+    }
+
+    /// Bytes the GPU holds for this set: coefficients plus instances.
+    pub fn gpu_bytes(&self) -> usize {
+        4 * self.coefficients.len() + 16 * self.instances.len()
+    }
+}
+
+fn tensor_layout(set: &GlyphSet, index: usize) -> Result<TensorLayout> {
+    match set.kind {
+        GlyphKind::Tensor(layout) => Ok(layout),
+        GlyphKind::Sh { .. } => Err(Error::Invalid(format!(
+            "glyphs[{index}]: kind \"sh\" is not supported by this build yet"
+        ))),
+    }
+}
+
+/// Prepares every glyph set of `scene`. `offset` is the isotropic offset as a fraction of
+/// each glyph's bound. Glyphs whose tensor is zero (an empty surface) are left out.
+pub fn prepare_scene(scene: &Scene, offset: f64) -> Result<Vec<GlyphSetData>> {
+    scene
+        .glyph_sets
+        .iter()
+        .enumerate()
+        .map(|(index, set)| prepare_set(set, index, offset))
+        .collect()
+}
+
+fn prepare_set(set: &GlyphSet, index: usize, offset: f64) -> Result<GlyphSetData> {
+    let layout = tensor_layout(set, index)?;
+    let mut data = GlyphSetData {
+        layout,
+        negative: set.negative,
+        instances: Vec::with_capacity(set.len()),
+        coefficients: Vec::with_capacity(set.len() * layout.coefficient_count()),
+        world: Vec::with_capacity(set.len()),
+    };
+    for ((center, scale), coeffs) in set.centers.iter().zip(&set.scales).zip(&set.coeffs) {
+        let poly = GlyphPolynomial::from_tensor(layout, coeffs)?;
+        let bound = bounding_radius(&poly, set.negative);
+        if !(bound > 0.0 && bound.is_finite()) {
+            continue;
+        }
+        let half_size = scale * bound * (1.0 + offset);
+        data.instances.push([
+            center.x as f32,
+            center.y as f32,
+            center.z as f32,
+            half_size as f32,
+        ]);
+        data.coefficients
+            .extend(coeffs.iter().map(|c| (c / bound) as f32));
+        data.world.push(WorldGlyph {
+            center: *center,
+            scale: *scale,
+            poly,
+            negative: set.negative,
+            offset: offset * bound,
+            bound: bound * (1.0 + offset),
+        });
+    }
+    Ok(data)
+}

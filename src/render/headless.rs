@@ -1,0 +1,335 @@
+//! Offscreen rendering: colour (RGBA8 sRGB), ray distance (R32F) and D32 depth targets,
+//! the ray-cast pass recorded between them, and a readback of colour and distance.
+use crate::camera::Camera;
+use crate::error::Result;
+use crate::render::frame::{FrameParams, SceneExtent};
+use crate::render::glyph_data::GlyphSetData;
+use crate::render::raycast::{RayCastPass, TargetFormats};
+use crate::render::settings::RenderSettings;
+use crate::vk::{Buffer, Gpu, Image, OneShot};
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+pub const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
+pub const DISTANCE_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
+pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
+/// What a headless render produces.
+#[derive(Clone, Debug)]
+pub struct RenderedImage {
+    pub width: u32,
+    pub height: u32,
+    /// sRGB-encoded RGBA, row-major from the top-left.
+    pub rgba: Vec<u8>,
+    /// Distance along each pixel's ray to the first hit, NaN for a miss.
+    pub distance: Vec<f32>,
+}
+
+/// The offscreen targets of one image size, with their readback buffers.
+struct Targets {
+    color: Image,
+    distance: Image,
+    depth: Image,
+    color_readback: Buffer,
+    distance_readback: Buffer,
+}
+
+impl Targets {
+    fn new(gpu: &Gpu, extent: vk::Extent2D) -> Result<Targets> {
+        let color_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
+        let pixels = extent.width as u64 * extent.height as u64;
+        Ok(Targets {
+            color: Image::new(
+                gpu,
+                "colour",
+                extent,
+                COLOR_FORMAT,
+                color_usage,
+                vk::ImageAspectFlags::COLOR,
+            )?,
+            distance: Image::new(
+                gpu,
+                "distance",
+                extent,
+                DISTANCE_FORMAT,
+                color_usage,
+                vk::ImageAspectFlags::COLOR,
+            )?,
+            depth: Image::new(
+                gpu,
+                "depth",
+                extent,
+                DEPTH_FORMAT,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+                vk::ImageAspectFlags::DEPTH,
+            )?,
+            color_readback: Buffer::new(
+                gpu,
+                "colour readback",
+                4 * pixels,
+                vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuToCpu,
+            )?,
+            distance_readback: Buffer::new(
+                gpu,
+                "distance readback",
+                4 * pixels,
+                vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuToCpu,
+            )?,
+        })
+    }
+}
+
+fn barrier(
+    image: &Image,
+    old: vk::ImageLayout,
+    new: vk::ImageLayout,
+    src: (vk::PipelineStageFlags2, vk::AccessFlags2),
+    dst: (vk::PipelineStageFlags2, vk::AccessFlags2),
+) -> vk::ImageMemoryBarrier2<'static> {
+    vk::ImageMemoryBarrier2::default()
+        .image(image.handle)
+        .subresource_range(image.subresource_range())
+        .old_layout(old)
+        .new_layout(new)
+        .src_stage_mask(src.0)
+        .src_access_mask(src.1)
+        .dst_stage_mask(dst.0)
+        .dst_access_mask(dst.1)
+}
+
+/// Renders glyph sets headless. Owns its pass so pipelines are reused across renders.
+pub struct HeadlessRenderer {
+    pass: RayCastPass,
+    commands: OneShot,
+}
+
+impl HeadlessRenderer {
+    pub fn new(gpu: &Gpu) -> Result<HeadlessRenderer> {
+        let formats = TargetFormats {
+            color: COLOR_FORMAT,
+            depth: DEPTH_FORMAT,
+            distance: Some(DISTANCE_FORMAT),
+        };
+        Ok(HeadlessRenderer {
+            pass: RayCastPass::new(gpu.device(), formats)?,
+            commands: OneShot::new(gpu)?,
+        })
+    }
+
+    /// Renders `sets` seen by `camera` into a `width` x `height` image.
+    pub fn render(
+        &mut self,
+        gpu: &Gpu,
+        sets: &[GlyphSetData],
+        camera: &Camera,
+        width: u32,
+        height: u32,
+        settings: &RenderSettings,
+    ) -> Result<RenderedImage> {
+        settings.validate()?;
+        let extent = SceneExtent::of_spheres(
+            camera,
+            sets.iter().flat_map(|s| s.instances.iter()).map(|i| {
+                (
+                    [i[0] as f64, i[1] as f64, i[2] as f64],
+                    i[3] as f64 * 3f64.sqrt(),
+                )
+            }),
+        );
+        let frame = FrameParams::new(camera, width, height, &extent, settings);
+        let scene = self.pass.upload(gpu, sets, &frame, settings.method)?;
+        let size = vk::Extent2D { width, height };
+        let targets = Targets::new(gpu, size)?;
+        let background = settings.background;
+        let pass = &mut self.pass;
+        self.commands.run(gpu, |cmd| {
+            record_frame(pass, gpu, cmd, &scene, &targets, size, background, settings)
+        })?;
+        let image = read_back(&targets, width, height)?;
+        gpu.check_validation()?;
+        Ok(image)
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn record_frame(
+    pass: &mut RayCastPass,
+    gpu: &Gpu,
+    cmd: vk::CommandBuffer,
+    scene: &crate::render::raycast::SceneGpu,
+    t: &Targets,
+    extent: vk::Extent2D,
+    background: [f32; 3],
+    settings: &RenderSettings,
+) -> Result<()> {
+    let d = gpu.device();
+    let none = (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE);
+    let color_out = (
+        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+    );
+    let depth_out = (
+        vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+            | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
+        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE
+            | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ,
+    );
+    let to_attachment = [
+        barrier(
+            &t.color,
+            vk::ImageLayout::UNDEFINED,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            none,
+            color_out,
+        ),
+        barrier(
+            &t.distance,
+            vk::ImageLayout::UNDEFINED,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            none,
+            color_out,
+        ),
+        barrier(
+            &t.depth,
+            vk::ImageLayout::UNDEFINED,
+            vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+            none,
+            depth_out,
+        ),
+    ];
+    let color_attachments = [
+        vk::RenderingAttachmentInfo::default()
+            .image_view(t.color.view)
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue {
+                color: vk::ClearColorValue {
+                    float32: [background[0], background[1], background[2], 1.0],
+                },
+            }),
+        vk::RenderingAttachmentInfo::default()
+            .image_view(t.distance.view)
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue {
+                color: vk::ClearColorValue {
+                    float32: [-1.0, 0.0, 0.0, 0.0],
+                },
+            }),
+    ];
+    let depth_attachment = vk::RenderingAttachmentInfo::default()
+        .image_view(t.depth.view)
+        .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+        .load_op(vk::AttachmentLoadOp::CLEAR)
+        .store_op(vk::AttachmentStoreOp::DONT_CARE)
+        .clear_value(vk::ClearValue {
+            depth_stencil: vk::ClearDepthStencilValue {
+                depth: 1.0,
+                stencil: 0,
+            },
+        });
+    let rendering = vk::RenderingInfo::default()
+        .render_area(vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent,
+        })
+        .layer_count(1)
+        .color_attachments(&color_attachments)
+        .depth_attachment(&depth_attachment);
+    let transfer_read = (
+        vk::PipelineStageFlags2::COPY,
+        vk::AccessFlags2::TRANSFER_READ,
+    );
+    let to_transfer = [
+        barrier(
+            &t.color,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            color_out,
+            transfer_read,
+        ),
+        barrier(
+            &t.distance,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            color_out,
+            transfer_read,
+        ),
+    ];
+    let copy = vk::BufferImageCopy::default()
+        .image_subresource(vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        })
+        .image_extent(vk::Extent3D {
+            width: extent.width,
+            height: extent.height,
+            depth: 1,
+        });
+    let host_read = [vk::MemoryBarrier2::default()
+        .src_stage_mask(vk::PipelineStageFlags2::COPY)
+        .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+        .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+        .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+    // SAFETY: `cmd` is recording; every handle is alive until the submission completes.
+    unsafe {
+        d.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().image_memory_barriers(&to_attachment),
+        );
+        d.cmd_begin_rendering(cmd, &rendering);
+    }
+    pass.record(cmd, scene, extent, settings.method)?;
+    // SAFETY: as above.
+    unsafe {
+        d.cmd_end_rendering(cmd);
+        d.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().image_memory_barriers(&to_transfer),
+        );
+        d.cmd_copy_image_to_buffer(
+            cmd,
+            t.color.handle,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            t.color_readback.handle,
+            &[copy],
+        );
+        d.cmd_copy_image_to_buffer(
+            cmd,
+            t.distance.handle,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            t.distance_readback.handle,
+            &[copy],
+        );
+        d.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().memory_barriers(&host_read),
+        );
+    }
+    Ok(())
+}
+
+fn read_back(t: &Targets, width: u32, height: u32) -> Result<RenderedImage> {
+    let rgba = t.color_readback.read()?.to_vec();
+    let distance = t
+        .distance_readback
+        .read()?
+        .chunks_exact(4)
+        .map(|b| {
+            let d = f32::from_ne_bytes([b[0], b[1], b[2], b[3]]);
+            if d < 0.0 { f32::NAN } else { d }
+        })
+        .collect();
+    Ok(RenderedImage {
+        width,
+        height,
+        rgba,
+        distance,
+    })
+}

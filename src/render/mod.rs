@@ -1,0 +1,17 @@
+//! Render passes and their settings.
+pub mod eval;
+pub mod frame;
+pub mod glyph_data;
+pub mod headless;
+pub mod raycast;
+pub mod settings;
+pub mod shaders;
+
+pub use settings::{ColorMode, Refinement, RenderSettings};
+
+/// Ray-glyph intersection method (`--method`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Method {
+    /// The seed's fixed-step sign test with refinement.
+    Fixed,
+}

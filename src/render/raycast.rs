@@ -1,0 +1,419 @@
+//! The ray-casting pass: one instanced draw of bounding boxes per glyph set, the ray cast
+//! in the fragment shader of the set's (tensor layout, method) variant.
+//!
+//! The pass records into a command buffer it is given, inside dynamic rendering the caller
+//! began, with the colour/depth formats it was told at creation. The headless renderer,
+//! tests, benchmarks and an embedding engine all go through [`RayCastPass::record`].
+use crate::error::{Error, Result, VkContext};
+use crate::glyph::TensorLayout;
+use crate::render::Method;
+use crate::render::frame::FrameParams;
+use crate::render::glyph_data::GlyphSetData;
+use crate::render::shaders::{RAYCAST_VERTEX, raycast_shader};
+use crate::vk::{Buffer, Gpu};
+use ash::vk;
+use std::collections::HashMap;
+
+/// Attachment formats of the rendering the pass is recorded into.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TargetFormats {
+    pub color: vk::Format,
+    pub depth: vk::Format,
+    /// A second colour attachment that receives the ray distance (R32_SFLOAT), if any.
+    pub distance: Option<vk::Format>,
+}
+
+/// Pipelines and layouts; created once per device and formats.
+pub struct RayCastPass {
+    device: ash::Device,
+    formats: TargetFormats,
+    set_layout: vk::DescriptorSetLayout,
+    pipeline_layout: vk::PipelineLayout,
+    vertex: vk::ShaderModule,
+    pipelines: HashMap<(TensorLayout, Method), vk::Pipeline>,
+}
+
+/// One glyph set on the GPU.
+pub struct GlyphSetGpu {
+    pub layout: TensorLayout,
+    pub hide_negative: bool,
+    pub count: u32,
+    instances: Buffer,
+    _coefficients: Buffer,
+    descriptor_set: vk::DescriptorSet,
+}
+
+/// Everything a scene needs on the GPU: the frame's uniform buffer and the glyph sets.
+pub struct SceneGpu {
+    device: ash::Device,
+    frame: Buffer,
+    pool: vk::DescriptorPool,
+    pub sets: Vec<GlyphSetGpu>,
+}
+
+impl RayCastPass {
+    pub fn new(device: &ash::Device, formats: TargetFormats) -> Result<RayCastPass> {
+        let bindings = [
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(0)
+                .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT),
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(1)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::FRAGMENT),
+        ];
+        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
+        let mut pass = RayCastPass {
+            device: device.clone(),
+            formats,
+            set_layout: vk::DescriptorSetLayout::null(),
+            pipeline_layout: vk::PipelineLayout::null(),
+            vertex: vk::ShaderModule::null(),
+            pipelines: HashMap::new(),
+        };
+        // SAFETY: valid device and create infos; objects are destroyed in Drop.
+        unsafe {
+            pass.set_layout = device
+                .create_descriptor_set_layout(&info, None)
+                .vk("vkCreateDescriptorSetLayout")?;
+            let push = [vk::PushConstantRange::default()
+                .stage_flags(vk::ShaderStageFlags::FRAGMENT)
+                .offset(0)
+                .size(4)];
+            let layouts = [pass.set_layout];
+            let layout_info = vk::PipelineLayoutCreateInfo::default()
+                .set_layouts(&layouts)
+                .push_constant_ranges(&push);
+            pass.pipeline_layout = device
+                .create_pipeline_layout(&layout_info, None)
+                .vk("vkCreatePipelineLayout")?;
+            pass.vertex = shader_module(device, RAYCAST_VERTEX)?;
+        }
+        Ok(pass)
+    }
+
+    pub fn formats(&self) -> TargetFormats {
+        self.formats
+    }
+
+    /// The pipeline for a variant, created on first use.
+    pub fn pipeline(&mut self, layout: TensorLayout, method: Method) -> Result<vk::Pipeline> {
+        if let Some(p) = self.pipelines.get(&(layout, method)) {
+            return Ok(*p);
+        }
+        let shader = raycast_shader(layout, method).ok_or_else(|| {
+            Error::Invalid(format!(
+                "no shader for a {:?} tensor of order {} with method {method:?}",
+                layout.symmetry, layout.order
+            ))
+        })?;
+        let pipeline = self.create_pipeline(shader.fragment)?;
+        self.pipelines.insert((layout, method), pipeline);
+        Ok(pipeline)
+    }
+
+    fn create_pipeline(&self, fragment_spirv: &[u32]) -> Result<vk::Pipeline> {
+        // SAFETY: the SPIR-V comes from build.rs and was validated by glslang.
+        let fragment = unsafe { shader_module(&self.device, fragment_spirv)? };
+        let result = self.create_pipeline_with(fragment);
+        // SAFETY: modules may be destroyed once the pipeline exists.
+        unsafe { self.device.destroy_shader_module(fragment, None) };
+        result
+    }
+
+    fn create_pipeline_with(&self, fragment: vk::ShaderModule) -> Result<vk::Pipeline> {
+        let stages = [
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::VERTEX)
+                .module(self.vertex)
+                .name(c"main"),
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::FRAGMENT)
+                .module(fragment)
+                .name(c"main"),
+        ];
+        let instance_binding = [vk::VertexInputBindingDescription {
+            binding: 0,
+            stride: 16,
+            input_rate: vk::VertexInputRate::INSTANCE,
+        }];
+        let instance_attribute = [vk::VertexInputAttributeDescription {
+            location: 0,
+            binding: 0,
+            format: vk::Format::R32G32B32A32_SFLOAT,
+            offset: 0,
+        }];
+        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+            .vertex_binding_descriptions(&instance_binding)
+            .vertex_attribute_descriptions(&instance_attribute);
+        let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+            .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+        let viewport = vk::PipelineViewportStateCreateInfo::default()
+            .viewport_count(1)
+            .scissor_count(1);
+        // Front faces only: the box faces the ray enters through (the seed's choice).
+        let raster = vk::PipelineRasterizationStateCreateInfo::default()
+            .polygon_mode(vk::PolygonMode::FILL)
+            .cull_mode(vk::CullModeFlags::BACK)
+            .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+            .line_width(1.0);
+        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(true)
+            .depth_write_enable(true)
+            .depth_compare_op(vk::CompareOp::LESS);
+        let mut color_formats = vec![self.formats.color];
+        color_formats.extend(self.formats.distance);
+        let blend_attachments: Vec<_> = color_formats
+            .iter()
+            .map(|_| {
+                vk::PipelineColorBlendAttachmentState::default()
+                    .color_write_mask(vk::ColorComponentFlags::RGBA)
+            })
+            .collect();
+        let blend =
+            vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
+        let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+        let mut rendering = vk::PipelineRenderingCreateInfo::default()
+            .color_attachment_formats(&color_formats)
+            .depth_attachment_format(self.formats.depth);
+        let info = vk::GraphicsPipelineCreateInfo::default()
+            .stages(&stages)
+            .vertex_input_state(&vertex_input)
+            .input_assembly_state(&assembly)
+            .viewport_state(&viewport)
+            .rasterization_state(&raster)
+            .multisample_state(&multisample)
+            .depth_stencil_state(&depth)
+            .color_blend_state(&blend)
+            .dynamic_state(&dynamic)
+            .layout(self.pipeline_layout)
+            .push_next(&mut rendering);
+        // SAFETY: all referenced state lives until the call returns.
+        let pipelines = unsafe {
+            self.device
+                .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+        }
+        .map_err(|(_, result)| Error::Vulkan {
+            call: "vkCreateGraphicsPipelines",
+            result,
+        })?;
+        pipelines
+            .first()
+            .copied()
+            .ok_or_else(|| Error::Setup("vkCreateGraphicsPipelines returned no pipeline".into()))
+    }
+
+    /// Uploads glyph sets and the frame parameters; creates their descriptor sets.
+    pub fn upload(
+        &mut self,
+        gpu: &Gpu,
+        sets: &[GlyphSetData],
+        frame: &FrameParams,
+        method: Method,
+    ) -> Result<SceneGpu> {
+        let device = gpu.device();
+        let frame_buffer = Buffer::with_data(
+            gpu,
+            "frame",
+            std::slice::from_ref(frame),
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+        )?;
+        let count = sets.len().max(1) as u32;
+        let sizes = [
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::UNIFORM_BUFFER,
+                descriptor_count: count,
+            },
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::STORAGE_BUFFER,
+                descriptor_count: count,
+            },
+        ];
+        let pool_info = vk::DescriptorPoolCreateInfo::default()
+            .max_sets(count)
+            .pool_sizes(&sizes);
+        // SAFETY: valid create info.
+        let pool = unsafe { device.create_descriptor_pool(&pool_info, None) }
+            .vk("vkCreateDescriptorPool")?;
+        let mut scene = SceneGpu {
+            device: device.clone(),
+            frame: frame_buffer,
+            pool,
+            sets: Vec::new(),
+        };
+        for (index, data) in sets.iter().enumerate().filter(|(_, d)| !d.is_empty()) {
+            self.pipeline(data.layout, method)?;
+            let set = upload_set(gpu, &scene, self.set_layout, data, index)?;
+            scene.sets.push(set);
+        }
+        Ok(scene)
+    }
+
+    /// Records the draws of every glyph set. The caller has begun dynamic rendering with
+    /// attachments of this pass's formats, of size `extent`.
+    pub fn record(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        scene: &SceneGpu,
+        extent: vk::Extent2D,
+        method: Method,
+    ) -> Result<()> {
+        let viewport = vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: extent.width as f32,
+            height: extent.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        let scissor = vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent,
+        };
+        for set in &scene.sets {
+            let pipeline = self.pipeline(set.layout, method)?;
+            let hide = u32::from(set.hide_negative);
+            // SAFETY: recording state is the caller's; all handles are alive.
+            unsafe {
+                let d = &self.device;
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+                d.cmd_set_viewport(cmd, 0, &[viewport]);
+                d.cmd_set_scissor(cmd, 0, &[scissor]);
+                d.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    self.pipeline_layout,
+                    0,
+                    &[set.descriptor_set],
+                    &[],
+                );
+                d.cmd_push_constants(
+                    cmd,
+                    self.pipeline_layout,
+                    vk::ShaderStageFlags::FRAGMENT,
+                    0,
+                    &hide.to_ne_bytes(),
+                );
+                d.cmd_bind_vertex_buffers(cmd, 0, &[set.instances.handle], &[0]);
+                d.cmd_draw(cmd, 36, set.count, 0, 0);
+            }
+        }
+        Ok(())
+    }
+}
+
+fn upload_set(
+    gpu: &Gpu,
+    scene: &SceneGpu,
+    set_layout: vk::DescriptorSetLayout,
+    data: &GlyphSetData,
+    index: usize,
+) -> Result<GlyphSetGpu> {
+    let bytes = 4 * data.coefficients.len() as u64;
+    let limit = gpu.info.max_storage_buffer_range;
+    if bytes > limit {
+        return Err(Error::Invalid(format!(
+            "glyph set {index}: its coefficients take {bytes} bytes, more than one storage buffer \
+             of this device holds (maxStorageBufferRange = {limit})"
+        )));
+    }
+    let instances = Buffer::with_data(
+        gpu,
+        "instances",
+        &data.instances,
+        vk::BufferUsageFlags::VERTEX_BUFFER,
+    )?;
+    let coefficients = Buffer::with_data(
+        gpu,
+        "coefficients",
+        &data.coefficients,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+    )?;
+    let layouts = [set_layout];
+    let alloc = vk::DescriptorSetAllocateInfo::default()
+        .descriptor_pool(scene.pool)
+        .set_layouts(&layouts);
+    let device = gpu.device();
+    // SAFETY: the pool was sized for one set per glyph set.
+    let descriptor_set =
+        unsafe { device.allocate_descriptor_sets(&alloc) }.vk("vkAllocateDescriptorSets")?[0];
+    let frame_info = [vk::DescriptorBufferInfo {
+        buffer: scene.frame.handle,
+        offset: 0,
+        range: vk::WHOLE_SIZE,
+    }];
+    let coeff_info = [vk::DescriptorBufferInfo {
+        buffer: coefficients.handle,
+        offset: 0,
+        range: vk::WHOLE_SIZE,
+    }];
+    let writes = [
+        vk::WriteDescriptorSet::default()
+            .dst_set(descriptor_set)
+            .dst_binding(0)
+            .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
+            .buffer_info(&frame_info),
+        vk::WriteDescriptorSet::default()
+            .dst_set(descriptor_set)
+            .dst_binding(1)
+            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+            .buffer_info(&coeff_info),
+    ];
+    // SAFETY: the set and buffers are alive; no command buffer uses the set yet.
+    unsafe { device.update_descriptor_sets(&writes, &[]) };
+    Ok(GlyphSetGpu {
+        layout: data.layout,
+        hide_negative: data.negative == crate::glyph::NegativeMode::Hide,
+        count: data.len() as u32,
+        instances,
+        _coefficients: coefficients,
+        descriptor_set,
+    })
+}
+
+impl SceneGpu {
+    /// Replaces the frame parameters (camera, settings); not while a frame is in flight.
+    pub fn set_frame(&mut self, frame: &FrameParams) -> Result<()> {
+        self.frame.write(bytemuck::bytes_of(frame))
+    }
+}
+
+/// # Safety
+/// `spirv` must be valid SPIR-V for this device.
+pub(crate) unsafe fn shader_module(
+    device: &ash::Device,
+    spirv: &[u32],
+) -> Result<vk::ShaderModule> {
+    let info = vk::ShaderModuleCreateInfo::default().code(spirv);
+    // SAFETY: the caller vouches for the SPIR-V.
+    unsafe { device.create_shader_module(&info, None) }.vk("vkCreateShaderModule")
+}
+
+impl Drop for SceneGpu {
+    fn drop(&mut self) {
+        // SAFETY: the owner has waited for the frames that used these sets.
+        unsafe { self.device.destroy_descriptor_pool(self.pool, None) };
+    }
+}
+
+impl Drop for RayCastPass {
+    fn drop(&mut self) {
+        // SAFETY: the owner has waited for every frame recorded with this pass.
+        unsafe {
+            for p in self.pipelines.values() {
+                self.device.destroy_pipeline(*p, None);
+            }
+            self.device.destroy_shader_module(self.vertex, None);
+            self.device
+                .destroy_pipeline_layout(self.pipeline_layout, None);
+            self.device
+                .destroy_descriptor_set_layout(self.set_layout, None);
+        }
+    }
+}

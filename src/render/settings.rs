@@ -1,0 +1,159 @@
+//! Run-time settings of the ray caster. None of them needs a new shader permutation:
+//! they reach the shaders through the frame's uniform buffer.
+use crate::render::Method;
+use crate::{Error, Result};
+
+/// How the first sign change along the ray is refined (`--refine`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Refinement {
+    /// The first sample found inside the glyph.
+    None,
+    /// K bisection steps (0 to 3 in the seed), then the midpoint of the bracket.
+    Bisect(u32),
+    /// Linear interpolation of the last two samples (one secant step).
+    Interpolate,
+    /// K steps of regula falsi with the Illinois modification, starting from the same
+    /// bracket as `Interpolate`: converges to float precision in a few steps on smooth
+    /// surfaces, where one secant step leaves an error quadratic in the step size.
+    Secant(u32),
+}
+
+impl std::str::FromStr for Refinement {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "none" => Ok(Refinement::None),
+            "interp" => Ok(Refinement::Interpolate),
+            _ => {
+                let count = |prefix: &str| {
+                    s.strip_prefix(prefix)
+                        .and_then(|k| k.parse::<u32>().ok())
+                        .filter(|k| *k <= 16)
+                };
+                count("bisect:")
+                    .map(Refinement::Bisect)
+                    .or_else(|| count("secant:").map(Refinement::Secant))
+                    .ok_or_else(|| {
+                        Error::Invalid(format!(
+                            "--refine: '{s}' is not one of bisect:K, secant:K (K = 0..16), interp, none"
+                        ))
+                    })
+            }
+        }
+    }
+}
+
+/// Glyph colouring (`--color`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ColorMode {
+    /// The seed's |p^|: absolute components of the direction from the centre.
+    Direction,
+    /// A perceptual colormap of the surface point's distance from the centre (world
+    /// units) over `range`, or over the scene's largest glyph when `None`.
+    Magnitude { range: Option<(f32, f32)> },
+    /// One colour for every glyph (linear RGB).
+    Uniform([f32; 3]),
+}
+
+impl std::str::FromStr for ColorMode {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "direction" => Ok(ColorMode::Direction),
+            "magnitude" => Ok(ColorMode::Magnitude { range: None }),
+            "uniform" => Ok(ColorMode::Uniform([0.8, 0.8, 0.8])),
+            _ => Err(Error::Invalid(format!(
+                "--color: '{s}' is not one of direction, magnitude, uniform"
+            ))),
+        }
+    }
+}
+
+impl std::str::FromStr for Method {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "fixed" => Ok(Method::Fixed),
+            _ => Err(Error::Invalid(format!(
+                "--method: '{s}' is not one of fixed"
+            ))),
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderSettings {
+    pub method: Method,
+    /// March step in units of the glyph's bounding radius.
+    pub step: f32,
+    pub refinement: Refinement,
+    /// Step factor inside the centre zone (the seed uses a third).
+    pub centre_step_factor: f32,
+    /// Radius of the centre zone, in units of the glyph's bounding radius.
+    pub centre_zone: f32,
+    /// Isotropic offset added to every radius, as a fraction of the glyph's bounding radius.
+    pub offset: f32,
+    pub color: ColorMode,
+    /// Background colour (linear RGB, opaque).
+    pub background: [f32; 3],
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            method: Method::Fixed,
+            step: 0.02,
+            refinement: Refinement::Secant(4),
+            centre_step_factor: 1.0 / 3.0,
+            centre_zone: 0.3,
+            offset: 0.0,
+            color: ColorMode::Direction,
+            background: [0.02, 0.02, 0.025],
+        }
+    }
+}
+
+impl RenderSettings {
+    /// Checks the numbers a user can set.
+    pub fn validate(&self) -> Result<()> {
+        let positive = |name: &str, v: f32, max: f32| {
+            if v.is_finite() && v > 0.0 && v <= max {
+                Ok(())
+            } else {
+                Err(Error::Invalid(format!("{name}: {v} must be in (0, {max}]")))
+            }
+        };
+        positive("--step", self.step, 2.0)?;
+        positive("centre step factor", self.centre_step_factor, 1.0)?;
+        if !(self.centre_zone.is_finite() && self.centre_zone >= 0.0) {
+            return Err(Error::Invalid(format!(
+                "centre zone: {} must be >= 0",
+                self.centre_zone
+            )));
+        }
+        if !(self.offset.is_finite() && self.offset >= 0.0) {
+            return Err(Error::Invalid(format!(
+                "--offset: {} must be >= 0",
+                self.offset
+            )));
+        }
+        if let ColorMode::Magnitude {
+            range: Some((lo, hi)),
+        } = self.color
+            && !(lo.is_finite() && hi.is_finite() && hi > lo)
+        {
+            return Err(Error::Invalid(format!(
+                "--magnitude-range: {lo}:{hi} needs low < high"
+            )));
+        }
+        Ok(())
+    }
+
+    /// Worst-case number of march steps along one chord, with the centre zone's finer steps.
+    pub fn max_steps(&self) -> i32 {
+        let chord = 2.0 * (1.0 + self.offset);
+        let zone = 2.0 * self.centre_zone.min(1.0 + self.offset);
+        let steps = chord / self.step + zone / (self.step * self.centre_step_factor) + 4.0;
+        steps.ceil().min(1.0e6) as i32
+    }
+}

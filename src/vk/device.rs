@@ -1,0 +1,171 @@
+//! Physical-device choice (discrete > integrated > virtual > CPU, or named by the user)
+//! and logical-device creation with the Vulkan 1.3 features the passes use.
+use crate::error::{Error, Result, VkContext};
+use ash::vk;
+
+/// What the chosen device is, for printing and for reports.
+#[derive(Clone, Debug, Default)]
+pub struct DeviceInfo {
+    pub name: String,
+    pub kind: String,
+    pub driver: String,
+    pub api_version: String,
+    pub max_storage_buffer_range: u64,
+    pub timestamp_period_ns: f32,
+}
+
+impl std::fmt::Display for DeviceInfo {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} ({}, Vulkan {}, {})",
+            self.name, self.kind, self.api_version, self.driver
+        )
+    }
+}
+
+fn kind_rank(kind: vk::PhysicalDeviceType) -> (u32, &'static str) {
+    match kind {
+        vk::PhysicalDeviceType::DISCRETE_GPU => (0, "discrete GPU"),
+        vk::PhysicalDeviceType::INTEGRATED_GPU => (1, "integrated GPU"),
+        vk::PhysicalDeviceType::VIRTUAL_GPU => (2, "virtual GPU"),
+        vk::PhysicalDeviceType::CPU => (3, "CPU"),
+        _ => (4, "other"),
+    }
+}
+
+fn graphics_queue_family(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<u32> {
+    // SAFETY: `pd` was enumerated from this instance.
+    let families = unsafe { instance.get_physical_device_queue_family_properties(pd) };
+    families
+        .iter()
+        .position(|f| {
+            f.queue_flags
+                .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
+        })
+        .map(|i| i as u32)
+}
+
+fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> DeviceInfo {
+    let mut driver = vk::PhysicalDeviceDriverProperties::default();
+    let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver);
+    // SAFETY: `pd` was enumerated from a Vulkan 1.3 instance.
+    unsafe { instance.get_physical_device_properties2(pd, &mut props2) };
+    let props = props2.properties;
+    let v = props.api_version;
+    DeviceInfo {
+        name: props
+            .device_name_as_c_str()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+        kind: kind_rank(props.device_type).1.to_owned(),
+        driver: driver
+            .driver_info_as_c_str()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+        api_version: format!(
+            "{}.{}.{}",
+            vk::api_version_major(v),
+            vk::api_version_minor(v),
+            vk::api_version_patch(v)
+        ),
+        max_storage_buffer_range: props.limits.max_storage_buffer_range as u64,
+        timestamp_period_ns: props.limits.timestamp_period,
+    }
+}
+
+fn supports_required_features(instance: &ash::Instance, pd: vk::PhysicalDevice) -> bool {
+    let mut v13 = vk::PhysicalDeviceVulkan13Features::default();
+    let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut v13);
+    // SAFETY: `pd` was enumerated from a Vulkan 1.3 instance.
+    unsafe { instance.get_physical_device_features2(pd, &mut features) };
+    // SAFETY: as above.
+    let api = unsafe { instance.get_physical_device_properties(pd) }.api_version;
+    api >= vk::API_VERSION_1_3
+        && v13.dynamic_rendering == vk::TRUE
+        && v13.synchronization2 == vk::TRUE
+}
+
+/// Chooses a device: the one named by `wanted` (a case-insensitive part of its name, or
+/// its index in enumeration order), else the best kind that has what glyphcast needs.
+pub fn choose_physical_device(
+    instance: &ash::Instance,
+    wanted: Option<&str>,
+) -> Result<(vk::PhysicalDevice, DeviceInfo)> {
+    // SAFETY: the instance is valid.
+    let devices =
+        unsafe { instance.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
+    let mut candidates = Vec::new();
+    for (index, pd) in devices.iter().copied().enumerate() {
+        let info = describe(instance, pd);
+        let usable = supports_required_features(instance, pd)
+            && graphics_queue_family(instance, pd).is_some();
+        candidates.push((index, pd, info, usable));
+    }
+    let names = || {
+        candidates
+            .iter()
+            .map(|(i, _, info, _)| format!("{i}: {}", info.name))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    if let Some(wanted) = wanted {
+        let needle = wanted.to_lowercase();
+        let found = candidates.iter().find(|(i, _, info, _)| {
+            wanted.parse::<usize>().is_ok_and(|w| w == *i)
+                || info.name.to_lowercase().contains(&needle)
+        });
+        return match found {
+            Some((_, pd, info, true)) => Ok((*pd, info.clone())),
+            Some((_, _, info, false)) => Err(Error::Setup(format!(
+                "device '{}' lacks Vulkan 1.3 dynamic rendering or synchronization2",
+                info.name
+            ))),
+            None => Err(Error::Setup(format!(
+                "no Vulkan device matches '{wanted}'; devices: {}",
+                names()
+            ))),
+        };
+    }
+    candidates
+        .iter()
+        .filter(|c| c.3)
+        .min_by_key(|(i, pd, _, _)| {
+            // SAFETY: enumerated from this instance.
+            let kind = unsafe { instance.get_physical_device_properties(*pd) }.device_type;
+            (kind_rank(kind).0, *i)
+        })
+        .map(|(_, pd, info, _)| (*pd, info.clone()))
+        .ok_or_else(|| {
+            Error::Setup(format!(
+                "no Vulkan 1.3 device with dynamic rendering and synchronization2; devices: [{}]",
+                names()
+            ))
+        })
+}
+
+/// Creates the logical device with one graphics+compute queue.
+pub(crate) fn create(
+    instance: &ash::Instance,
+    pd: vk::PhysicalDevice,
+) -> Result<(ash::Device, u32)> {
+    let family = graphics_queue_family(instance, pd)
+        .ok_or_else(|| Error::Setup("the device has no graphics+compute queue".into()))?;
+    let priorities = [1.0f32];
+    let queues = [vk::DeviceQueueCreateInfo::default()
+        .queue_family_index(family)
+        .queue_priorities(&priorities)];
+    // maintenance4 is mandatory in Vulkan 1.3; glslang's SPIR-V 1.6 output needs it for
+    // the LocalSizeId execution mode of compute shaders.
+    let mut v13 = vk::PhysicalDeviceVulkan13Features::default()
+        .dynamic_rendering(true)
+        .synchronization2(true)
+        .maintenance4(true);
+    let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut v13);
+    let info = vk::DeviceCreateInfo::default()
+        .queue_create_infos(&queues)
+        .push_next(&mut features);
+    // SAFETY: all pointers refer to locals alive during the call; features were checked.
+    let device = unsafe { instance.create_device(pd, &info, None) }.vk("vkCreateDevice")?;
+    Ok((device, family))
+}

@@ -1,0 +1,125 @@
+//! Offscreen 2D images (colour and depth targets) backed by gpu-allocator.
+use crate::error::{Error, Result, VkContext};
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme, Allocator};
+use std::sync::{Arc, Mutex};
+
+pub struct Image {
+    pub handle: vk::Image,
+    pub view: vk::ImageView,
+    pub format: vk::Format,
+    pub extent: vk::Extent2D,
+    pub aspect: vk::ImageAspectFlags,
+    allocation: Option<Allocation>,
+    device: ash::Device,
+    allocator: Arc<Mutex<Allocator>>,
+}
+
+impl Image {
+    pub fn new(
+        gpu: &super::Gpu,
+        name: &str,
+        extent: vk::Extent2D,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        aspect: vk::ImageAspectFlags,
+    ) -> Result<Image> {
+        let device = gpu.device().clone();
+        let allocator = gpu.allocator()?;
+        let info = vk::ImageCreateInfo::default()
+            .image_type(vk::ImageType::TYPE_2D)
+            .format(format)
+            .extent(vk::Extent3D {
+                width: extent.width,
+                height: extent.height,
+                depth: 1,
+            })
+            .mip_levels(1)
+            .array_layers(1)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .tiling(vk::ImageTiling::OPTIMAL)
+            .usage(usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE)
+            .initial_layout(vk::ImageLayout::UNDEFINED);
+        // SAFETY: `info` is complete; the device is alive.
+        let handle =
+            unsafe { device.create_image(&info, None) }.map_err(|result| match result {
+                vk::Result::ERROR_OUT_OF_HOST_MEMORY | vk::Result::ERROR_OUT_OF_DEVICE_MEMORY => {
+                    Error::Invalid(format!(
+                        "cannot create a {}x{} {name} image: out of memory",
+                        extent.width, extent.height
+                    ))
+                }
+                result => Error::Vulkan {
+                    call: "vkCreateImage",
+                    result,
+                },
+            })?;
+        let mut image = Image {
+            handle,
+            view: vk::ImageView::null(),
+            format,
+            extent,
+            aspect,
+            allocation: None,
+            device,
+            allocator,
+        };
+        // SAFETY: `handle` was created from this device.
+        let requirements = unsafe { image.device.get_image_memory_requirements(handle) };
+        let allocation = image
+            .allocator
+            .lock()
+            .map_err(|_| Error::Setup("the allocator lock is poisoned".into()))?
+            .allocate(&AllocationCreateDesc {
+                name,
+                requirements,
+                location: MemoryLocation::GpuOnly,
+                linear: false,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            })?;
+        // SAFETY: the allocation satisfies the image's requirements.
+        unsafe {
+            image
+                .device
+                .bind_image_memory(handle, allocation.memory(), allocation.offset())
+        }
+        .vk("vkBindImageMemory")?;
+        image.allocation = Some(allocation);
+        let view_info = vk::ImageViewCreateInfo::default()
+            .image(handle)
+            .view_type(vk::ImageViewType::TYPE_2D)
+            .format(format)
+            .subresource_range(image.subresource_range());
+        // SAFETY: the image has memory bound and a compatible format.
+        image.view =
+            unsafe { image.device.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
+        Ok(image)
+    }
+
+    pub fn subresource_range(&self) -> vk::ImageSubresourceRange {
+        vk::ImageSubresourceRange {
+            aspect_mask: self.aspect,
+            base_mip_level: 0,
+            level_count: 1,
+            base_array_layer: 0,
+            layer_count: 1,
+        }
+    }
+}
+
+impl Drop for Image {
+    fn drop(&mut self) {
+        // SAFETY: the owner guarantees the GPU no longer uses the image.
+        unsafe {
+            if self.view != vk::ImageView::null() {
+                self.device.destroy_image_view(self.view, None);
+            }
+            self.device.destroy_image(self.handle, None);
+        }
+        if let (Some(a), Ok(mut allocator)) = (self.allocation.take(), self.allocator.lock()) {
+            let _ = allocator.free(a);
+        }
+    }
+}

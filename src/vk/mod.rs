@@ -1,0 +1,194 @@
+//! The thin ash layer: instance and validation, device choice, buffers, images and
+//! one-shot command submission. Nothing here knows about glyphs.
+//!
+//! [`Gpu`] owns what it created. Headless tools and tests use [`Gpu::headless`]; an
+//! engine that already has a device hands it to the render passes directly (they only
+//! need an `ash::Device` and an allocator), so this module never insists on owning the
+//! instance.
+mod buffer;
+mod commands;
+mod debug;
+mod device;
+mod image;
+mod instance;
+
+pub use buffer::Buffer;
+pub use commands::OneShot;
+pub use debug::ValidationLog;
+pub use device::{DeviceInfo, choose_physical_device};
+pub use image::Image;
+
+use crate::error::{Error, Result, VkContext};
+use ash::vk;
+use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+use std::sync::{Arc, Mutex};
+
+/// What to ask of [`Gpu::headless`].
+#[derive(Clone, Debug, Default)]
+pub struct GpuOptions {
+    /// Load VK_LAYER_KHRONOS_validation and collect its errors (always on in tests).
+    pub validation: bool,
+    /// Pick the device whose name contains this text (case-insensitive), or by index.
+    pub device: Option<String>,
+}
+
+impl GpuOptions {
+    /// Options from the environment: GLYPHCAST_VALIDATION=1 turns validation on,
+    /// GLYPHCAST_DEVICE names the device.
+    pub fn from_env() -> Self {
+        GpuOptions {
+            validation: std::env::var("GLYPHCAST_VALIDATION").is_ok_and(|v| v != "0"),
+            device: std::env::var("GLYPHCAST_DEVICE")
+                .ok()
+                .filter(|v| !v.is_empty()),
+        }
+    }
+}
+
+/// Owns the instance and the debug messenger; destroys them last.
+struct InstanceOwner {
+    entry: ash::Entry,
+    instance: ash::Instance,
+    validation: Option<debug::Messenger>,
+}
+
+impl Drop for InstanceOwner {
+    fn drop(&mut self) {
+        // SAFETY: the device owner is declared before this field in `Gpu`, so every
+        // child object is gone by the time the instance is destroyed.
+        unsafe {
+            if let Some(m) = &self.validation {
+                m.loader.destroy_debug_utils_messenger(m.handle, None);
+            }
+            self.instance.destroy_instance(None);
+        }
+    }
+}
+
+/// Owns the logical device; the allocator's memory must be freed before it goes.
+struct DeviceOwner {
+    device: ash::Device,
+    allocator: Option<Arc<Mutex<Allocator>>>,
+}
+
+impl Drop for DeviceOwner {
+    fn drop(&mut self) {
+        // SAFETY: objects created from the device borrow the `Gpu`, so they are gone;
+        // after waiting for idle the allocator frees its blocks and the device can go.
+        unsafe {
+            let _ = self.device.device_wait_idle();
+            self.allocator = None;
+            self.device.destroy_device(None);
+        }
+    }
+}
+
+/// An instance, one device with a graphics+compute queue, and a memory allocator.
+pub struct Gpu {
+    pub physical_device: vk::PhysicalDevice,
+    pub queue: vk::Queue,
+    pub queue_family: u32,
+    pub info: DeviceInfo,
+    // Declaration order is drop order: device before instance.
+    device_owner: DeviceOwner,
+    instance_owner: InstanceOwner,
+}
+
+impl Gpu {
+    /// Creates everything needed to render offscreen, with no window system.
+    pub fn headless(options: &GpuOptions) -> Result<Gpu> {
+        // SAFETY: loading the Vulkan loader library has no preconditions beyond the
+        // library itself being a conforming loader.
+        let entry = unsafe { ash::Entry::load() }.map_err(|e| {
+            Error::Setup(format!(
+                "cannot load the Vulkan loader (libvulkan.so.1): {e}"
+            ))
+        })?;
+        let log = ValidationLog::default();
+        let (instance, messenger) = instance::create(&entry, options.validation, &log)?;
+        let validation = messenger.map(|handle| debug::Messenger {
+            loader: ash::ext::debug_utils::Instance::new(&entry, &instance),
+            handle,
+            log,
+        });
+        let instance_owner = InstanceOwner {
+            entry,
+            instance,
+            validation,
+        };
+        let instance = &instance_owner.instance;
+        let (physical_device, info) = choose_physical_device(instance, options.device.as_deref())?;
+        let (device, queue_family) = device::create(instance, physical_device)?;
+        let mut device_owner = DeviceOwner {
+            device,
+            allocator: None,
+        };
+        let allocator = Allocator::new(&AllocatorCreateDesc {
+            instance: instance.clone(),
+            device: device_owner.device.clone(),
+            physical_device,
+            debug_settings: Default::default(),
+            buffer_device_address: false,
+            allocation_sizes: Default::default(),
+        })?;
+        device_owner.allocator = Some(Arc::new(Mutex::new(allocator)));
+        // SAFETY: the queue family was requested with one queue when the device was created.
+        let queue = unsafe { device_owner.device.get_device_queue(queue_family, 0) };
+        Ok(Gpu {
+            physical_device,
+            queue,
+            queue_family,
+            info,
+            device_owner,
+            instance_owner,
+        })
+    }
+
+    pub fn device(&self) -> &ash::Device {
+        &self.device_owner.device
+    }
+
+    pub fn instance(&self) -> &ash::Instance {
+        &self.instance_owner.instance
+    }
+
+    pub fn entry(&self) -> &ash::Entry {
+        &self.instance_owner.entry
+    }
+
+    /// The shared allocator, for buffers and images of this device.
+    pub fn allocator(&self) -> Result<Arc<Mutex<Allocator>>> {
+        self.device_owner
+            .allocator
+            .clone()
+            .ok_or_else(|| Error::Setup("the GPU has no allocator".into()))
+    }
+
+    /// Validation errors reported so far (empty when validation is off).
+    pub fn validation_errors(&self) -> Vec<String> {
+        self.instance_owner
+            .validation
+            .as_ref()
+            .map(|m| m.log.errors())
+            .unwrap_or_default()
+    }
+
+    pub fn validation_enabled(&self) -> bool {
+        self.instance_owner.validation.is_some()
+    }
+
+    /// Fails with [`Error::Validation`] if the validation layer reported any error.
+    pub fn check_validation(&self) -> Result<()> {
+        let errors = self.validation_errors();
+        if errors.is_empty() {
+            Ok(())
+        } else {
+            Err(Error::Validation(errors))
+        }
+    }
+
+    pub fn wait_idle(&self) -> Result<()> {
+        // SAFETY: the device is alive for as long as `self`.
+        unsafe { self.device().device_wait_idle() }.vk("vkDeviceWaitIdle")
+    }
+}

@@ -1,0 +1,92 @@
+//! Shared test helpers: a validated GPU, rendering against the float64 reference, and
+//! failure images a person can look at.
+#![allow(dead_code)]
+use glyphcast::accuracy::{DepthComparison, compare_depth};
+use glyphcast::glyph::reference::reference_depth;
+use glyphcast::io::scene::Scene;
+use glyphcast::render::RenderSettings;
+use glyphcast::render::glyph_data::{GlyphSetData, prepare_scene};
+use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
+use glyphcast::vk::{Gpu, GpuOptions};
+use std::path::PathBuf;
+
+/// A GPU with the validation layer on (tests never run without it). The device is the
+/// one GLYPHCAST_DEVICE names, else the best available: lavapipe in CI.
+pub fn gpu() -> Gpu {
+    let options = GpuOptions {
+        validation: true,
+        device: std::env::var("GLYPHCAST_DEVICE").ok(),
+    };
+    let gpu = Gpu::headless(&options).expect("creating a Vulkan device with validation");
+    assert!(
+        gpu.validation_enabled(),
+        "validation layer must be on in tests"
+    );
+    gpu
+}
+
+pub struct Rendered {
+    pub sets: Vec<GlyphSetData>,
+    pub image: RenderedImage,
+    pub reference: Vec<f64>,
+    pub comparison: DepthComparison,
+    /// The largest world bounding radius: the glyph scale errors are measured in.
+    pub scale: f64,
+}
+
+pub fn output_dir() -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("test-output");
+    let _ = std::fs::create_dir_all(&dir);
+    dir
+}
+
+/// Renders `scene` on the GPU and in float64, compares depth, and writes the rendered
+/// image, a reference image and a difference image when `name` fails later.
+pub fn render_and_compare(
+    gpu: &Gpu,
+    renderer: &mut HeadlessRenderer,
+    scene: &Scene,
+    settings: &RenderSettings,
+) -> Rendered {
+    let sets = prepare_scene(scene, settings.offset as f64).expect("preparing the scene");
+    let (w, h) = (scene.image.width, scene.image.height);
+    let image = renderer
+        .render(gpu, &sets, &scene.camera, w, h, settings)
+        .expect("rendering");
+    let world: Vec<_> = sets.iter().flat_map(|s| s.world.iter().cloned()).collect();
+    let reference = reference_depth(&world, &scene.camera, w, h);
+    let scale = world.iter().map(|g| g.scale * g.bound).fold(0.0, f64::max);
+    let comparison = compare_depth(&image.distance, &reference, w as usize, h as usize, scale);
+    Rendered {
+        sets,
+        image,
+        reference,
+        comparison,
+        scale,
+    }
+}
+
+/// Writes the render, the reference coverage and a map of holes (red) and false hits
+/// (blue) as PNGs, so a failing test leaves something to look at.
+pub fn save_failure_images(name: &str, r: &Rendered) {
+    let dir = output_dir();
+    let (w, h) = (r.image.width, r.image.height);
+    let _ = glyphcast::io::png::write_png_rgba8(
+        &dir.join(format!("{name}-actual.png")),
+        w,
+        h,
+        &r.image.rgba,
+    );
+    let mut diff = Vec::with_capacity(r.reference.len() * 4);
+    for (&d, &e) in r.image.distance.iter().zip(&r.reference) {
+        let px = match (d.is_nan(), e.is_nan()) {
+            (true, false) => [255, 0, 0, 255],
+            (false, true) => [0, 0, 255, 255],
+            (false, false) => [200, 200, 200, 255],
+            (true, true) => [0, 0, 0, 255],
+        };
+        diff.extend_from_slice(&px);
+    }
+    let _ = glyphcast::io::png::write_png_rgba8(&dir.join(format!("{name}-diff.png")), w, h, &diff);
+    eprintln!("{name}: images in {}", dir.display());
+}
