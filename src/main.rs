@@ -1,13 +1,9 @@
-//! The `glyphcast` command line.
-use clap::{Args, Parser, Subcommand};
-use glyphcast::io::scene::Scene;
-use glyphcast::render::glyph_data::prepare_scene;
-use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
-use glyphcast::render::{ColorMode, Method, Refinement, RenderSettings};
-use glyphcast::vk::{Gpu, GpuOptions};
-use glyphcast::{Error, Result};
-use std::path::{Path, PathBuf};
-use std::time::Instant;
+//! The `glyphcast` command line. Each subcommand's options and work live in `src/cli/`.
+mod cli;
+
+use clap::{Parser, Subcommand};
+use cli::render::{OutputArgs, RenderArgs, SceneSource};
+use std::path::PathBuf;
 
 #[derive(Parser)]
 #[command(
@@ -22,10 +18,10 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Render a scene file (../shared/SCENE-FORMAT.md) to a PNG, and optionally a depth map.
+    /// Render a scene file (SCENE-FORMAT.md) or a volume to a PNG, and optionally a depth map.
     Render {
-        /// Scene file (JSON).
-        scene: PathBuf,
+        #[command(flatten)]
+        source: SceneSource,
         #[command(flatten)]
         output: OutputArgs,
         #[command(flatten)]
@@ -43,94 +39,6 @@ enum Command {
     },
 }
 
-#[derive(Args)]
-struct OutputArgs {
-    /// Output image (PNG).
-    #[arg(
-        short = 'o',
-        long = "output",
-        value_name = "PNG",
-        default_value = "glyphcast.png"
-    )]
-    output: PathBuf,
-    /// Also write the ray distance per pixel as a float32 .npy (NaN for misses).
-    #[arg(long, value_name = "NPY")]
-    depth_out: Option<PathBuf>,
-}
-
-#[derive(Args)]
-struct RenderArgs {
-    /// Image width in pixels (default: the scene's).
-    #[arg(long)]
-    width: Option<u32>,
-    /// Image height in pixels (default: the scene's).
-    #[arg(long)]
-    height: Option<u32>,
-    /// Intersection method.
-    #[arg(long, default_value = "fixed")]
-    method: String,
-    /// March step, in units of each glyph's bounding radius.
-    #[arg(long)]
-    step: Option<f32>,
-    /// Refinement of the first sign change: bisect:K, interp or none.
-    #[arg(long)]
-    refine: Option<String>,
-    /// Glyph colour: direction, magnitude or uniform.
-    #[arg(long, default_value = "direction")]
-    color: String,
-    /// Magnitude colormap range LOW:HIGH in world units (default: 0 to the largest glyph).
-    #[arg(long, value_name = "LOW:HIGH")]
-    magnitude_range: Option<String>,
-    /// Isotropic offset added to every glyph, as a fraction of its bounding radius.
-    #[arg(long, default_value_t = 0.0)]
-    offset: f32,
-    /// Vulkan device: part of its name or its index (also GLYPHCAST_DEVICE).
-    #[arg(long)]
-    device: Option<String>,
-    /// Turn on the Vulkan validation layer (also GLYPHCAST_VALIDATION=1).
-    #[arg(long)]
-    validation: bool,
-}
-
-impl RenderArgs {
-    fn settings(&self) -> Result<RenderSettings> {
-        let mut s = RenderSettings {
-            method: self.method.parse::<Method>()?,
-            ..Default::default()
-        };
-        if let Some(step) = self.step {
-            s.step = step;
-        }
-        if let Some(refine) = &self.refine {
-            s.refinement = refine.parse::<Refinement>()?;
-        }
-        s.color = self.color.parse::<ColorMode>()?;
-        if let Some(range) = &self.magnitude_range {
-            let parsed = range
-                .split_once(':')
-                .and_then(|(lo, hi)| Some((lo.parse::<f32>().ok()?, hi.parse::<f32>().ok()?)));
-            let Some(pair) = parsed else {
-                return Err(Error::Invalid(format!(
-                    "--magnitude-range: '{range}' is not LOW:HIGH"
-                )));
-            };
-            s.color = ColorMode::Magnitude { range: Some(pair) };
-        }
-        s.offset = self.offset;
-        s.validate()?;
-        Ok(s)
-    }
-
-    fn gpu_options(&self) -> GpuOptions {
-        let mut options = GpuOptions::from_env();
-        options.validation |= self.validation;
-        if self.device.is_some() {
-            options.device = self.device.clone();
-        }
-        options
-    }
-}
-
 fn main() {
     let cli = Cli::parse();
     if let Err(e) = run(cli) {
@@ -139,15 +47,15 @@ fn main() {
     }
 }
 
-fn run(cli: Cli) -> Result<()> {
+fn run(cli: Cli) -> glyphcast::Result<()> {
     match cli.command {
         Command::Render {
-            scene,
+            source,
             output,
             options,
         } => {
-            let scene = Scene::load(&scene)?;
-            render(scene, &output, &options)
+            let scene = source.load()?;
+            cli::render::render(scene, &output, &options)
         }
         Command::Demo {
             output,
@@ -156,58 +64,9 @@ fn run(cli: Cli) -> Result<()> {
         } => {
             let scene = glyphcast::demo::demo_scene();
             if let Some(path) = save_scene {
-                glyphcast::io::npy::write_atomic(&path, scene.to_json().as_bytes())?;
+                glyphcast::io::atomic::write_atomic(&path, scene.to_json().as_bytes())?;
             }
-            render(scene, &output, &options)
+            cli::render::render(scene, &output, &options)
         }
     }
-}
-
-fn render(mut scene: Scene, output: &OutputArgs, options: &RenderArgs) -> Result<()> {
-    for (name, value) in [("--width", options.width), ("--height", options.height)] {
-        if let Some(v) = value
-            && (v == 0 || v > 16384)
-        {
-            return Err(Error::Invalid(format!("{name}: {v} must be in 1..=16384")));
-        }
-    }
-    scene.image.width = options.width.unwrap_or(scene.image.width);
-    scene.image.height = options.height.unwrap_or(scene.image.height);
-    let settings = options.settings()?;
-    let started = Instant::now();
-    let sets = prepare_scene(&scene, settings.offset as f64)?;
-    let prepared = started.elapsed();
-    let gpu = Gpu::headless(&options.gpu_options())?;
-    eprintln!("device: {}", gpu.info);
-    let mut renderer = HeadlessRenderer::new(&gpu)?;
-    let begun = Instant::now();
-    let (w, h) = (scene.image.width, scene.image.height);
-    let image = renderer.render(&gpu, &sets, &scene.camera, w, h, &settings)?;
-    let glyphs: usize = sets.iter().map(|s| s.len()).sum();
-    eprintln!(
-        "rendered {glyphs} glyphs at {w}x{h}: prepare {:.1} ms, render {:.1} ms",
-        prepared.as_secs_f64() * 1e3,
-        begun.elapsed().as_secs_f64() * 1e3
-    );
-    write_outputs(&image, output)
-}
-
-/// Writes the PNG and the depth map; if the second write fails, the first is removed so
-/// that no partial output stays behind.
-fn write_outputs(image: &RenderedImage, output: &OutputArgs) -> Result<()> {
-    glyphcast::io::png::write_png_rgba8(&output.output, image.width, image.height, &image.rgba)?;
-    if let Some(depth) = &output.depth_out {
-        let written =
-            glyphcast::io::npy::write_depth_npy(depth, image.width, image.height, &image.distance);
-        if let Err(e) = written {
-            remove_quietly(&output.output);
-            return Err(e);
-        }
-    }
-    eprintln!("wrote {}", output.output.display());
-    Ok(())
-}
-
-fn remove_quietly(path: &Path) {
-    let _ = std::fs::remove_file(path);
 }

@@ -1,0 +1,3 @@
+//! Subcommands of the `glyphcast` binary.
+pub mod render;
+pub mod volume;
