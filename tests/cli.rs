@@ -196,3 +196,56 @@ fn demo_renders() {
         "only {drawn} pixels differ from the background"
     );
 }
+
+#[test]
+fn device_is_chosen_by_name_and_an_unknown_name_is_an_error() {
+    let dir = fresh_dir("device");
+    let png = dir.join("d.png");
+    let out = glyphcast(&[
+        "demo",
+        "-o",
+        png.to_str().expect("path"),
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "--device",
+        "0",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "device 0 must work:\n{stderr}");
+    let name = stderr
+        .lines()
+        .find_map(|l| l.strip_prefix("device: "))
+        .and_then(|l| l.split(" (").next())
+        .expect("device line")
+        .to_owned();
+    std::fs::remove_file(&png).expect("removing");
+    let out = glyphcast(&[
+        "demo",
+        "-o",
+        png.to_str().expect("path"),
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "--device",
+        &name,
+    ]);
+    assert!(out.status.success(), "device by name '{name}' must work");
+    std::fs::remove_file(&png).expect("removing");
+    let out = glyphcast(&[
+        "demo",
+        "-o",
+        png.to_str().expect("path"),
+        "--device",
+        "no-such-gpu",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        stderr.contains("no-such-gpu") && stderr.contains(&name),
+        "the error lists the devices:\n{stderr}"
+    );
+    assert!(!png.exists(), "no output on error");
+}

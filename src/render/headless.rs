@@ -23,6 +23,8 @@ pub struct RenderedImage {
     pub rgba: Vec<u8>,
     /// Distance along each pixel's ray to the first hit, NaN for a miss.
     pub distance: Vec<f32>,
+    /// Instanced draws recorded: one per glyph set, more where a set was split.
+    pub draws: usize,
 }
 
 /// The offscreen targets of one image size, with their readback buffers.
@@ -118,6 +120,11 @@ impl HeadlessRenderer {
         })
     }
 
+    /// The ray-cast pass, for settings such as the storage buffer limit.
+    pub fn pass_mut(&mut self) -> &mut RayCastPass {
+        &mut self.pass
+    }
+
     /// Renders `sets` seen by `camera` into a `width` x `height` image.
     pub fn render(
         &mut self,
@@ -147,7 +154,8 @@ impl HeadlessRenderer {
         self.commands.run(gpu, |cmd| {
             record_frame(pass, gpu, cmd, &scene, &targets, size, background, settings)
         })?;
-        let image = read_back(&targets, width, height)?;
+        let mut image = read_back(&targets, width, height)?;
+        image.draws = scene.sets.len();
         gpu.check_validation()?;
         Ok(image)
     }
@@ -331,5 +339,6 @@ fn read_back(t: &Targets, width: u32, height: u32) -> Result<RenderedImage> {
         height,
         rgba,
         distance,
+        draws: 0,
     })
 }

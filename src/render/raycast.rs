@@ -31,6 +31,7 @@ pub struct RayCastPass {
     pipeline_layout: vk::PipelineLayout,
     vertex: vk::ShaderModule,
     pipelines: HashMap<(TensorLayout, Method), vk::Pipeline>,
+    buffer_limit: Option<u64>,
 }
 
 /// One glyph set on the GPU.
@@ -73,6 +74,7 @@ impl RayCastPass {
             pipeline_layout: vk::PipelineLayout::null(),
             vertex: vk::ShaderModule::null(),
             pipelines: HashMap::new(),
+            buffer_limit: None,
         };
         // SAFETY: valid device and create infos; objects are destroyed in Drop.
         unsafe {
@@ -224,7 +226,25 @@ impl RayCastPass {
             std::slice::from_ref(frame),
             vk::BufferUsageFlags::UNIFORM_BUFFER,
         )?;
-        let count = sets.len().max(1) as u32;
+        // Glyph sets larger than one storage buffer are split into chunks, each with its
+        // own buffers, descriptor set and draw (the seed's "render successively").
+        let limit = self.storage_buffer_limit(gpu);
+        let mut chunks = Vec::new();
+        for (index, data) in sets.iter().enumerate().filter(|(_, d)| !d.is_empty()) {
+            self.pipeline(data.layout, method)?;
+            let glyph_bytes = 4 * data.layout.coefficient_count() as u64;
+            let per_chunk = (limit / glyph_bytes).min(u32::MAX as u64) as usize;
+            if per_chunk == 0 {
+                return Err(Error::Invalid(format!(
+                    "glyph set {index}: one glyph's {glyph_bytes} coefficient bytes exceed the \
+                     storage buffer limit of {limit} bytes"
+                )));
+            }
+            for start in (0..data.len()).step_by(per_chunk) {
+                chunks.push((data, start..(start + per_chunk).min(data.len())));
+            }
+        }
+        let count = chunks.len().max(1) as u32;
         let sizes = [
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::UNIFORM_BUFFER,
@@ -247,12 +267,22 @@ impl RayCastPass {
             pool,
             sets: Vec::new(),
         };
-        for (index, data) in sets.iter().enumerate().filter(|(_, d)| !d.is_empty()) {
-            self.pipeline(data.layout, method)?;
-            let set = upload_set(gpu, &scene, self.set_layout, data, index)?;
+        for (data, range) in chunks {
+            let set = upload_chunk(gpu, &scene, self.set_layout, data, range)?;
             scene.sets.push(set);
         }
         Ok(scene)
+    }
+
+    /// Caps the bytes of coefficients per storage buffer below the device's
+    /// maxStorageBufferRange (tests use it to force the split path); `None` lifts the cap.
+    pub fn set_storage_buffer_limit(&mut self, bytes: Option<u64>) {
+        self.buffer_limit = bytes;
+    }
+
+    fn storage_buffer_limit(&self, gpu: &Gpu) -> u64 {
+        let device = gpu.info.max_storage_buffer_range;
+        self.buffer_limit.map_or(device, |cap| cap.min(device))
     }
 
     /// Records the draws of every glyph set. The caller has begun dynamic rendering with
@@ -308,31 +338,25 @@ impl RayCastPass {
     }
 }
 
-fn upload_set(
+/// Uploads glyphs `range` of a set into buffers of their own.
+fn upload_chunk(
     gpu: &Gpu,
     scene: &SceneGpu,
     set_layout: vk::DescriptorSetLayout,
     data: &GlyphSetData,
-    index: usize,
+    range: std::ops::Range<usize>,
 ) -> Result<GlyphSetGpu> {
-    let bytes = 4 * data.coefficients.len() as u64;
-    let limit = gpu.info.max_storage_buffer_range;
-    if bytes > limit {
-        return Err(Error::Invalid(format!(
-            "glyph set {index}: its coefficients take {bytes} bytes, more than one storage buffer \
-             of this device holds (maxStorageBufferRange = {limit})"
-        )));
-    }
+    let n = data.layout.coefficient_count();
     let instances = Buffer::with_data(
         gpu,
         "instances",
-        &data.instances,
+        &data.instances[range.clone()],
         vk::BufferUsageFlags::VERTEX_BUFFER,
     )?;
     let coefficients = Buffer::with_data(
         gpu,
         "coefficients",
-        &data.coefficients,
+        &data.coefficients[range.start * n..range.end * n],
         vk::BufferUsageFlags::STORAGE_BUFFER,
     )?;
     let layouts = [set_layout];
@@ -340,7 +364,7 @@ fn upload_set(
         .descriptor_pool(scene.pool)
         .set_layouts(&layouts);
     let device = gpu.device();
-    // SAFETY: the pool was sized for one set per glyph set.
+    // SAFETY: the pool was sized for one set per chunk.
     let descriptor_set =
         unsafe { device.allocate_descriptor_sets(&alloc) }.vk("vkAllocateDescriptorSets")?[0];
     let frame_info = [vk::DescriptorBufferInfo {
@@ -370,7 +394,7 @@ fn upload_set(
     Ok(GlyphSetGpu {
         layout: data.layout,
         hide_negative: data.negative == crate::glyph::NegativeMode::Hide,
-        count: data.len() as u32,
+        count: range.len() as u32,
         instances,
         _coefficients: coefficients,
         descriptor_set,

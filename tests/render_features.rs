@@ -1,0 +1,250 @@
+//! Features of the ray caster beyond plain depth: negative lobes shown and hidden,
+//! glyphs that cut each other, the isotropic offset, the orthographic camera, colour
+//! modes, and glyph sets split across storage buffers.
+mod common;
+use glam::DVec3;
+use glyphcast::camera::{Camera, Projection};
+use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
+use glyphcast::glyph::NegativeMode;
+use glyphcast::io::scene::{GlyphSet, ImageSize, Scene};
+use glyphcast::render::glyph_data::prepare_scene;
+use glyphcast::render::headless::HeadlessRenderer;
+use glyphcast::render::{ColorMode, RenderSettings};
+
+fn scene(sets: Vec<GlyphSet>, eye: DVec3, projection: Projection) -> Scene {
+    Scene {
+        glyph_sets: sets,
+        camera: Camera {
+            projection,
+            eye,
+            target: DVec3::ZERO,
+            up: DVec3::Z,
+        },
+        image: ImageSize {
+            width: 144,
+            height: 144,
+        },
+    }
+}
+
+const PERSPECTIVE: Projection = Projection::Perspective { fov_y_deg: 30.0 };
+
+/// f = (u.x)^4 - 0.8 (u.y)^4 + a little of everything else: a positive and a negative pair of lobes.
+fn signed_glyph(negative: NegativeMode) -> GlyphSet {
+    let pos = fibre_tensor(4, &[(direction(10.0, 15.0), 1.0)]);
+    let neg = fibre_tensor(4, &[(direction(100.0, -10.0), 0.8)]);
+    let coeffs: Vec<f64> = pos.iter().zip(&neg).map(|(p, n)| p - n).collect();
+    let mut set = glyph_set(symmetric(4), vec![DVec3::ZERO], 1.0, vec![coeffs]);
+    set.negative = negative;
+    set
+}
+
+fn assert_matches_reference(
+    name: &str,
+    scene: &Scene,
+    settings: &RenderSettings,
+) -> common::Rendered {
+    let gpu = common::gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    let r = common::render_and_compare(&gpu, &mut renderer, scene, settings);
+    let c = r.comparison;
+    eprintln!("{name}: {c}");
+    assert!(c.covered > 300, "{name}: too little coverage to judge: {c}");
+    if c.holes != 0 || c.false_hits != 0 || c.median_error >= 1e-3 {
+        common::save_failure_images(name, &r);
+        panic!("{name}: {c}");
+    }
+    r
+}
+
+#[test]
+fn negative_lobes_abs_and_hide() {
+    let eye = DVec3::new(0.4, -0.6, 4.0);
+    let abs = assert_matches_reference(
+        "negative_abs",
+        &scene(vec![signed_glyph(NegativeMode::Abs)], eye, PERSPECTIVE),
+        &RenderSettings::default(),
+    );
+    let hide = assert_matches_reference(
+        "negative_hide",
+        &scene(vec![signed_glyph(NegativeMode::Hide)], eye, PERSPECTIVE),
+        &RenderSettings::default(),
+    );
+    // Hiding the negative pair removes a large part of the picture.
+    let (a, h) = (abs.comparison.covered, hide.comparison.covered);
+    assert!(h * 10 < a * 8, "hide covers {h} px, abs {a} px");
+}
+
+#[test]
+fn glyphs_that_cut_each_other() {
+    let t = fibre_tensor(
+        6,
+        &[(direction(0.0, 0.0), 1.0), (direction(90.0, 0.0), 0.7)],
+    );
+    let u = fibre_tensor(6, &[(direction(45.0, 30.0), 1.0)]);
+    let set = glyph_set(
+        symmetric(6),
+        vec![DVec3::new(-0.3, 0.0, 0.0), DVec3::new(0.3, 0.1, 0.1)],
+        1.0,
+        vec![t, u],
+    );
+    let r = assert_matches_reference(
+        "cutting",
+        &scene(vec![set], DVec3::new(0.5, -2.0, 3.5), PERSPECTIVE),
+        &RenderSettings::default(),
+    );
+    // Both glyphs are visible in the result: depths from both centres' neighbourhoods.
+    assert!(r.comparison.p99_error < 1e-2, "{}", r.comparison);
+}
+
+#[test]
+fn isotropic_offset_matches_reference() {
+    let t = fibre_tensor(
+        8,
+        &[(direction(0.0, 0.0), 1.0), (direction(90.0, 0.0), 1.0)],
+    );
+    let set = glyph_set(symmetric(8), vec![DVec3::ZERO], 1.0, vec![t]);
+    let settings = RenderSettings {
+        offset: 0.15,
+        ..Default::default()
+    };
+    assert_matches_reference(
+        "offset",
+        &scene(vec![set], DVec3::new(0.2, -0.3, 4.0), PERSPECTIVE),
+        &settings,
+    );
+}
+
+#[test]
+fn orthographic_camera_matches_reference() {
+    let t = fibre_tensor(
+        4,
+        &[(direction(30.0, 20.0), 1.0), (direction(120.0, 0.0), 0.6)],
+    );
+    let u = fibre_tensor(4, &[(direction(-30.0, 40.0), 1.0)]);
+    let set = glyph_set(
+        symmetric(4),
+        vec![DVec3::new(-0.55, 0.0, 0.0), DVec3::new(0.55, 0.0, 0.0)],
+        0.5,
+        vec![t, u],
+    );
+    let ortho = Projection::Orthographic { height: 2.4 };
+    assert_matches_reference(
+        "orthographic",
+        &scene(vec![set], DVec3::new(1.0, -3.0, 2.0), ortho),
+        &RenderSettings::default(),
+    );
+}
+
+/// Uniform colour: every covered pixel is grey; direction colour: a lobe along x is red;
+/// magnitude colour varies along the lobe.
+#[test]
+fn colour_modes() {
+    let gpu = common::gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    let t = fibre_tensor(6, &[(DVec3::X, 1.0)]);
+    let s = scene(
+        vec![glyph_set(symmetric(6), vec![DVec3::ZERO], 1.0, vec![t])],
+        DVec3::new(0.0, -0.5, 4.0),
+        PERSPECTIVE,
+    );
+    let sets = prepare_scene(&s, 0.0).expect("prepare");
+    let mut render = |color| {
+        let settings = RenderSettings {
+            color,
+            ..Default::default()
+        };
+        renderer
+            .render(&gpu, &sets, &s.camera, 144, 144, &settings)
+            .expect("render")
+    };
+    let uniform = render(ColorMode::Uniform([0.5, 0.5, 0.5]));
+    let direction = render(ColorMode::Direction);
+    let magnitude = render(ColorMode::Magnitude { range: None });
+    let covered: Vec<usize> = (0..144 * 144)
+        .filter(|&i| !uniform.distance[i].is_nan())
+        .collect();
+    assert!(covered.len() > 500);
+    for &i in &covered {
+        let p = &uniform.rgba[4 * i..4 * i + 3];
+        assert!(
+            p[0] == p[1] && p[1] == p[2],
+            "uniform grey expected, got {p:?}"
+        );
+    }
+    // Surface points of a lobe along x mostly lie in directions near x; only its waist,
+    // close to the centre, points elsewhere.
+    let red = covered
+        .iter()
+        .filter(|&&i| {
+            let d = &direction.rgba[4 * i..4 * i + 3];
+            d[0] > d[1] && d[0] > d[2]
+        })
+        .count();
+    assert!(
+        red * 10 > covered.len() * 8,
+        "{red} of {} pixels red-dominant",
+        covered.len()
+    );
+    // Magnitude: the lobe's tips (far from the centre) and its waist differ in colour.
+    let distinct: std::collections::HashSet<[u8; 3]> = covered
+        .iter()
+        .map(|&i| {
+            [
+                magnitude.rgba[4 * i],
+                magnitude.rgba[4 * i + 1],
+                magnitude.rgba[4 * i + 2],
+            ]
+        })
+        .collect();
+    assert!(distinct.len() > 50, "the colormap varies over the glyph");
+}
+
+/// A set split across several storage buffers renders exactly the same image.
+#[test]
+fn split_storage_buffers_leave_the_image_unchanged() {
+    let gpu = common::gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    let mut centers = Vec::new();
+    let mut coeffs = Vec::new();
+    for k in 0..30 {
+        let (x, y) = ((k % 6) as f64 - 2.5, (k / 6) as f64 - 2.0);
+        centers.push(DVec3::new(x, y, 0.0));
+        coeffs.push(fibre_tensor(
+            4,
+            &[
+                (direction(12.0 * k as f64, 10.0), 1.0),
+                (direction(12.0 * k as f64 + 80.0, 0.0), 0.7),
+            ],
+        ));
+    }
+    let sets = vec![glyph_set(symmetric(4), centers, 0.45, coeffs)];
+    let s = scene(sets, DVec3::new(0.0, -6.0, 6.0), PERSPECTIVE);
+    let prepared = prepare_scene(&s, 0.0).expect("prepare");
+    let settings = RenderSettings::default();
+    let whole = renderer
+        .render(&gpu, &prepared, &s.camera, 144, 144, &settings)
+        .expect("render");
+    // 7 glyphs of 15 float coefficients per buffer: 30 glyphs need 5 buffers.
+    renderer
+        .pass_mut()
+        .set_storage_buffer_limit(Some(7 * 15 * 4));
+    let split = renderer
+        .render(&gpu, &prepared, &s.camera, 144, 144, &settings)
+        .expect("render");
+    assert_eq!(whole.draws, 1);
+    assert_eq!(split.draws, 5);
+    assert!(whole.rgba == split.rgba, "colour differs after splitting");
+    let same = whole
+        .distance
+        .iter()
+        .zip(&split.distance)
+        .all(|(a, b)| a.to_bits() == b.to_bits());
+    assert!(same, "depth differs after splitting");
+    // A limit below one glyph is an error, not a crash.
+    renderer.pass_mut().set_storage_buffer_limit(Some(8));
+    let err = renderer
+        .render(&gpu, &prepared, &s.camera, 144, 144, &settings)
+        .expect_err("too small a limit");
+    assert!(err.to_string().contains("storage buffer"), "{err}");
+}
