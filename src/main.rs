@@ -37,6 +37,8 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         save_scene: Option<PathBuf>,
     },
+    /// Measure every method against the float64 reference on the accuracy suite.
+    Accuracy(cli::accuracy::AccuracyArgs),
 }
 
 fn main() {
@@ -68,5 +70,6 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
             }
             cli::render::render(scene, &output, &options)
         }
+        Command::Accuracy(args) => cli::accuracy::run(&args),
     }
 }

@@ -249,3 +249,52 @@ fn device_is_chosen_by_name_and_an_unknown_name_is_an_error() {
     );
     assert!(!png.exists(), "no output on error");
 }
+
+#[test]
+fn accuracy_command_writes_a_table_for_every_scene() {
+    let dir = fresh_dir("accuracy");
+    let csv = dir.join("acc.csv");
+    let out = glyphcast(&[
+        "accuracy",
+        "--size",
+        "48",
+        "--steps",
+        "0.05,0.3",
+        "--refine",
+        "secant:4",
+        "--csv",
+        csv.to_str().expect("path"),
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("| scene | method |"),
+        "Markdown table on stdout:\n{stdout}"
+    );
+    let text = std::fs::read_to_string(&csv).expect("CSV written");
+    let rows: Vec<Vec<&str>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    let scenes = glyphcast::accuracy::suite::suite(48).len();
+    assert_eq!(rows.len(), 2 * scenes, "one row per scene and step");
+    for row in &rows {
+        assert_eq!(row.len(), 11, "{row:?}");
+        let holes: usize = row[4].parse().expect("holes is a count");
+        let median: f64 = row[6].parse().expect("median is a number");
+        if row[2] == "0.05" {
+            assert_eq!(holes, 0, "step 0.05 has no holes at 48 px: {row:?}");
+            assert!(median < 1e-4, "{row:?}");
+        }
+    }
+    // The coarse step is worse somewhere: the table tells the settings apart.
+    assert!(
+        rows.iter().any(|r| r[2] == "0.3" && r[4] != "0"),
+        "step 0.3 leaves holes somewhere"
+    );
+}

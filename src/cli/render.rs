@@ -144,8 +144,11 @@ pub fn render(mut scene: Scene, output: &OutputArgs, options: &RenderArgs) -> Re
     let (w, h) = (scene.image.width, scene.image.height);
     let image = renderer.render(&gpu, &sets, &scene.camera, w, h, &settings)?;
     let glyphs: usize = sets.iter().map(|s| s.len()).sum();
+    let gpu_time = image
+        .gpu_ms
+        .map_or_else(|| "n/a".to_owned(), |ms| format!("{ms:.1} ms"));
     eprintln!(
-        "rendered {glyphs} glyphs at {w}x{h}: prepare {:.1} ms, render {:.1} ms",
+        "rendered {glyphs} glyphs at {w}x{h}: prepare {:.1} ms, render {:.1} ms (GPU {gpu_time})",
         prepared.as_secs_f64() * 1e3,
         begun.elapsed().as_secs_f64() * 1e3
     );

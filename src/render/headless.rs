@@ -6,7 +6,7 @@ use crate::render::frame::{FrameParams, SceneExtent};
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::raycast::{RayCastPass, TargetFormats};
 use crate::render::settings::RenderSettings;
-use crate::vk::{Buffer, Gpu, Image, OneShot};
+use crate::vk::{Buffer, Gpu, GpuTimer, Image, OneShot};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
@@ -25,6 +25,8 @@ pub struct RenderedImage {
     pub distance: Vec<f32>,
     /// Instanced draws recorded: one per glyph set, more where a set was split.
     pub draws: usize,
+    /// GPU time of the glyph pass (timestamps around the rendering), if the queue has them.
+    pub gpu_ms: Option<f64>,
 }
 
 /// The offscreen targets of one image size, with their readback buffers.
@@ -105,6 +107,7 @@ fn barrier(
 pub struct HeadlessRenderer {
     pass: RayCastPass,
     commands: OneShot,
+    timer: Option<GpuTimer>,
 }
 
 impl HeadlessRenderer {
@@ -117,6 +120,7 @@ impl HeadlessRenderer {
         Ok(HeadlessRenderer {
             pass: RayCastPass::new(gpu.device(), formats)?,
             commands: OneShot::new(gpu)?,
+            timer: GpuTimer::new(gpu)?,
         })
     }
 
@@ -151,11 +155,15 @@ impl HeadlessRenderer {
         let targets = Targets::new(gpu, size)?;
         let background = settings.background;
         let pass = &mut self.pass;
+        let timer = self.timer.as_ref();
         self.commands.run(gpu, |cmd| {
-            record_frame(pass, gpu, cmd, &scene, &targets, size, background, settings)
+            record_frame(
+                pass, timer, gpu, cmd, &scene, &targets, size, background, settings,
+            )
         })?;
         let mut image = read_back(&targets, width, height)?;
         image.draws = scene.sets.len();
+        image.gpu_ms = self.timer.as_ref().map(GpuTimer::elapsed_ms).transpose()?;
         gpu.check_validation()?;
         Ok(image)
     }
@@ -164,6 +172,7 @@ impl HeadlessRenderer {
 #[allow(clippy::too_many_arguments)]
 fn record_frame(
     pass: &mut RayCastPass,
+    timer: Option<&GpuTimer>,
     gpu: &Gpu,
     cmd: vk::CommandBuffer,
     scene: &crate::render::raycast::SceneGpu,
@@ -291,12 +300,23 @@ fn record_frame(
             cmd,
             &vk::DependencyInfo::default().image_memory_barriers(&to_attachment),
         );
-        d.cmd_begin_rendering(cmd, &rendering);
     }
+    // The timed span is the glyph pass: from the cleared attachments to the last fragment.
+    if let Some(timer) = timer {
+        timer.start(cmd);
+    }
+    // SAFETY: as above.
+    unsafe { d.cmd_begin_rendering(cmd, &rendering) };
     pass.record(cmd, scene, extent, settings.method)?;
     // SAFETY: as above.
     unsafe {
         d.cmd_end_rendering(cmd);
+    }
+    if let Some(timer) = timer {
+        timer.stop(cmd);
+    }
+    // SAFETY: as above.
+    unsafe {
         d.cmd_pipeline_barrier2(
             cmd,
             &vk::DependencyInfo::default().image_memory_barriers(&to_transfer),
@@ -340,5 +360,6 @@ fn read_back(t: &Targets, width: u32, height: u32) -> Result<RenderedImage> {
         rgba,
         distance,
         draws: 0,
+        gpu_ms: None,
     })
 }

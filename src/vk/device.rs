@@ -12,6 +12,8 @@ pub struct DeviceInfo {
     pub api_version: String,
     pub max_storage_buffer_range: u64,
     pub timestamp_period_ns: f32,
+    /// Valid bits of timestamps on the chosen queue family (0: no timestamps).
+    pub timestamp_valid_bits: u32,
 }
 
 impl std::fmt::Display for DeviceInfo {
@@ -71,6 +73,15 @@ fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> DeviceInfo {
         ),
         max_storage_buffer_range: props.limits.max_storage_buffer_range as u64,
         timestamp_period_ns: props.limits.timestamp_period,
+        timestamp_valid_bits: graphics_queue_family(instance, pd)
+            .and_then(|family| {
+                // SAFETY: `pd` was enumerated from this instance.
+                let families = unsafe { instance.get_physical_device_queue_family_properties(pd) };
+                families
+                    .get(family as usize)
+                    .map(|f| f.timestamp_valid_bits)
+            })
+            .unwrap_or(0),
     }
 }
 

@@ -11,12 +11,14 @@ mod debug;
 mod device;
 mod image;
 mod instance;
+mod timer;
 
 pub use buffer::Buffer;
 pub use commands::OneShot;
 pub use debug::ValidationLog;
 pub use device::{DeviceInfo, choose_physical_device};
 pub use image::Image;
+pub use timer::GpuTimer;
 
 use crate::error::{Error, Result, VkContext};
 use ash::vk;

@@ -1,0 +1,137 @@
+//! `glyphcast accuracy`: every requested method and setting on every suite scene, each
+//! depth map compared with the float64 reference (computed once per scene), with the
+//! GPU time of the glyph pass; printed as Markdown and CSV.
+use super::compare::{DepthComparison, compare_depth};
+use super::suite::SuiteScene;
+use crate::Result;
+use crate::glyph::reference::reference_depth;
+use crate::render::glyph_data::prepare_scene;
+use crate::render::headless::HeadlessRenderer;
+use crate::render::{Method, Refinement, RenderSettings};
+use crate::vk::Gpu;
+use std::fmt::Write as _;
+
+/// One measured combination.
+#[derive(Clone, Debug)]
+pub struct AccuracyRow {
+    pub scene: String,
+    pub method: Method,
+    pub step: f32,
+    pub refinement: Refinement,
+    pub comparison: DepthComparison,
+    pub gpu_ms: Option<f64>,
+}
+
+/// Renders every scene with every settings variant and compares with the reference.
+/// `progress` is told each finished row.
+pub fn run(
+    gpu: &Gpu,
+    scenes: &[SuiteScene],
+    variants: &[RenderSettings],
+    mut progress: impl FnMut(&AccuracyRow),
+) -> Result<Vec<AccuracyRow>> {
+    let mut renderer = HeadlessRenderer::new(gpu)?;
+    let mut rows = Vec::new();
+    for suite_scene in scenes {
+        let scene = &suite_scene.scene;
+        let (w, h) = (scene.image.width, scene.image.height);
+        let sets = prepare_scene(scene, 0.0)?;
+        let world: Vec<_> = sets.iter().flat_map(|s| s.world.iter().cloned()).collect();
+        let reference = reference_depth(&world, &scene.camera, w, h);
+        let scale = world.iter().map(|g| g.scale * g.bound).fold(0.0, f64::max);
+        for settings in variants {
+            let image = renderer.render(gpu, &sets, &scene.camera, w, h, settings)?;
+            let comparison =
+                compare_depth(&image.distance, &reference, w as usize, h as usize, scale);
+            let row = AccuracyRow {
+                scene: suite_scene.name.to_owned(),
+                method: settings.method,
+                step: settings.step,
+                refinement: settings.refinement,
+                comparison,
+                gpu_ms: image.gpu_ms,
+            };
+            progress(&row);
+            rows.push(row);
+        }
+    }
+    Ok(rows)
+}
+
+pub fn method_name(method: Method) -> &'static str {
+    match method {
+        Method::Fixed => "fixed",
+    }
+}
+
+pub fn refinement_name(r: Refinement) -> String {
+    match r {
+        Refinement::None => "none".into(),
+        Refinement::Bisect(k) => format!("bisect:{k}"),
+        Refinement::Interpolate => "interp".into(),
+        Refinement::Secant(k) => format!("secant:{k}"),
+    }
+}
+
+fn cells(row: &AccuracyRow) -> [String; 9] {
+    let c = &row.comparison;
+    [
+        row.scene.clone(),
+        method_name(row.method).to_owned(),
+        format!("{}", row.step),
+        refinement_name(row.refinement),
+        c.holes.to_string(),
+        c.false_hits.to_string(),
+        format!("{:.2e}", c.median_error),
+        format!("{:.2e}", c.p99_error),
+        row.gpu_ms
+            .map_or_else(|| "n/a".into(), |ms| format!("{ms:.2}")),
+    ]
+}
+
+const HEADER: [&str; 9] = [
+    "scene",
+    "method",
+    "step",
+    "refine",
+    "holes",
+    "false hits",
+    "median err",
+    "p99 err",
+    "GPU ms",
+];
+
+/// A Markdown table; errors are in units of the glyph scale.
+pub fn markdown(rows: &[AccuracyRow]) -> String {
+    let mut out = format!("| {} |\n", HEADER.join(" | "));
+    let _ = writeln!(out, "|{}", "---|".repeat(HEADER.len()));
+    for row in rows {
+        let _ = writeln!(out, "| {} |", cells(row).join(" | "));
+    }
+    out
+}
+
+pub fn csv(rows: &[AccuracyRow]) -> String {
+    let mut out = String::from(
+        "scene,method,step,refine,holes,false_hits,median_error,p99_error,gpu_ms,covered,band\n",
+    );
+    for row in rows {
+        let c = &row.comparison;
+        let _ = writeln!(
+            out,
+            "{},{},{},{},{},{},{:e},{:e},{},{},{}",
+            row.scene,
+            method_name(row.method),
+            row.step,
+            refinement_name(row.refinement),
+            c.holes,
+            c.false_hits,
+            c.median_error,
+            c.p99_error,
+            row.gpu_ms.map_or_else(String::new, |ms| format!("{ms:.4}")),
+            c.covered,
+            c.band
+        );
+    }
+    out
+}

@@ -1,0 +1,165 @@
+//! The accuracy suite: scenes on which fixed-step ray casting is known to struggle.
+//! Thin crossing lobes, a slightly tilted copy of a glyph (the seed's Fig. 1), a glyph
+//! that touches its centre seen down its pinch, order 12, a non-symmetric stiffness
+//! tensor, and negative lobes shown and hidden.
+use crate::camera::{Camera, Projection};
+use crate::demo::{direction, fibre_tensor, glyph_set, symmetric};
+use crate::glyph::{NegativeMode, Symmetry, TensorLayout};
+use crate::io::scene::{GlyphKind, GlyphSet, ImageSize, Scene};
+use glam::{DMat3, DVec3};
+
+/// One named scene of the suite.
+pub struct SuiteScene {
+    pub name: &'static str,
+    pub scene: Scene,
+}
+
+fn scene(sets: Vec<GlyphSet>, eye: DVec3, size: u32) -> Scene {
+    Scene {
+        glyph_sets: sets,
+        camera: Camera {
+            projection: Projection::Perspective { fov_y_deg: 30.0 },
+            eye,
+            target: DVec3::ZERO,
+            up: DVec3::Z,
+        },
+        image: ImageSize {
+            width: size,
+            height: size,
+        },
+    }
+}
+
+/// Two populations at 50 degrees, order 10: lobes a few pixels wide.
+pub fn thin_crossing_lobes(size: u32) -> Scene {
+    let t = fibre_tensor(
+        10,
+        &[(direction(0.0, 0.0), 1.0), (direction(50.0, 10.0), 0.9)],
+    );
+    let set = glyph_set(symmetric(10), vec![DVec3::ZERO], 1.0, vec![t]);
+    scene(vec![set], DVec3::new(0.5, -1.0, 4.5), size)
+}
+
+/// The same order-8 glyph twice, the second turned by 2 degrees about a skew axis.
+pub fn tilted_copy(size: u32) -> Scene {
+    let fibres = [(direction(20.0, 0.0), 1.0), (direction(110.0, 0.0), 1.0)];
+    let turn = DMat3::from_axis_angle(DVec3::new(1.0, 2.0, 3.0).normalize(), 2f64.to_radians());
+    let turned: Vec<_> = fibres.iter().map(|(d, w)| (turn * *d, *w)).collect();
+    let coeffs = vec![fibre_tensor(8, &fibres), fibre_tensor(8, &turned)];
+    let centers = vec![DVec3::new(-1.05, 0.0, 0.0), DVec3::new(1.05, 0.0, 0.0)];
+    let set = glyph_set(symmetric(8), centers, 1.0, coeffs);
+    scene(vec![set], DVec3::new(0.3, -1.0, 7.5), size)
+}
+
+/// Order 8, two orthogonal populations: the surface pinches to the centre along z, and
+/// the camera looks almost straight down that axis.
+pub fn touching_centre(size: u32) -> Scene {
+    let t = fibre_tensor(
+        8,
+        &[(direction(0.0, 0.0), 1.0), (direction(90.0, 0.0), 1.0)],
+    );
+    let set = glyph_set(symmetric(8), vec![DVec3::ZERO], 1.0, vec![t]);
+    scene(vec![set], DVec3::new(0.2, -0.3, 4.0), size)
+}
+
+/// Order 12, three populations.
+pub fn order_12(size: u32) -> Scene {
+    let fibres = [
+        (direction(0.0, 0.0), 1.0),
+        (direction(60.0, 20.0), 0.8),
+        (direction(130.0, -30.0), 0.7),
+    ];
+    let set = glyph_set(
+        symmetric(12),
+        vec![DVec3::ZERO],
+        1.0,
+        vec![fibre_tensor(12, &fibres)],
+    );
+    scene(vec![set], DVec3::new(1.0, -3.0, 2.5), size)
+}
+
+/// Stiffness tensor C_ijkl of a cubic crystal from its three Voigt constants, turned by
+/// `rotation`: C'_ijkl = R_ia R_jb R_kc R_ld C_abcd, 81 entries, l fastest.
+pub fn cubic_stiffness(c11: f64, c12: f64, c44: f64, rotation: DMat3) -> Vec<f64> {
+    let voigt = |i: usize, j: usize| match (i, j) {
+        (a, b) if a == b => a,
+        (0, 1) | (1, 0) => 5,
+        (0, 2) | (2, 0) => 4,
+        _ => 3,
+    };
+    let c = |p: usize, q: usize| match (p, q) {
+        (p, q) if p == q && p < 3 => c11,
+        (p, q) if p < 3 && q < 3 => c12,
+        (p, q) if p == q => c44,
+        _ => 0.0,
+    };
+    let index = |flat: usize| [flat / 27, (flat / 9) % 3, (flat / 3) % 3, flat % 3];
+    (0..81)
+        .map(|flat| {
+            let i = index(flat);
+            (0..81)
+                .map(|src| {
+                    let a = index(src);
+                    let r: f64 = (0..4).map(|k| rotation.col(a[k])[i[k]]).product();
+                    r * c(voigt(a[0], a[1]), voigt(a[2], a[3]))
+                })
+                .sum()
+        })
+        .collect()
+}
+
+/// Cubic copper (C11 168.4, C12 121.4, C44 75.4 GPa, divided by C11), all 81 entries.
+pub fn stiffness(size: u32) -> Scene {
+    let rotation = DMat3::from_euler(glam::EulerRot::ZYX, 0.4, 0.3, 0.2);
+    let coeffs = cubic_stiffness(1.0, 121.4 / 168.4, 75.4 / 168.4, rotation);
+    let kind = GlyphKind::Tensor(TensorLayout {
+        order: 4,
+        symmetry: Symmetry::NonSymmetric,
+    });
+    let set = glyph_set(kind, vec![DVec3::ZERO], 1.0, vec![coeffs]);
+    scene(vec![set], DVec3::new(2.0, -3.0, 2.0), size)
+}
+
+/// f = (u.d1)^4 - 0.8 (u.d2)^4: a positive and a negative pair of lobes.
+pub fn negative_lobes(size: u32, negative: NegativeMode) -> Scene {
+    let pos = fibre_tensor(4, &[(direction(10.0, 15.0), 1.0)]);
+    let neg = fibre_tensor(4, &[(direction(100.0, -10.0), 0.8)]);
+    let coeffs: Vec<f64> = pos.iter().zip(&neg).map(|(p, n)| p - n).collect();
+    let mut set = glyph_set(symmetric(4), vec![DVec3::ZERO], 1.0, vec![coeffs]);
+    set.negative = negative;
+    scene(vec![set], DVec3::new(0.4, -0.6, 4.0), size)
+}
+
+/// Every scene of the suite at `size` x `size` pixels.
+pub fn suite(size: u32) -> Vec<SuiteScene> {
+    vec![
+        SuiteScene {
+            name: "thin-lobes",
+            scene: thin_crossing_lobes(size),
+        },
+        SuiteScene {
+            name: "tilted-copy",
+            scene: tilted_copy(size),
+        },
+        SuiteScene {
+            name: "centre-order8",
+            scene: touching_centre(size),
+        },
+        SuiteScene {
+            name: "order12",
+            scene: order_12(size),
+        },
+        SuiteScene {
+            name: "stiffness",
+            scene: stiffness(size),
+        },
+        SuiteScene {
+            name: "negative-abs",
+            scene: negative_lobes(size, NegativeMode::Abs),
+        },
+        SuiteScene {
+            name: "negative-hide",
+            scene: negative_lobes(size, NegativeMode::Hide),
+        },
+    ]
+}

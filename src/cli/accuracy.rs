@@ -1,0 +1,100 @@
+//! `glyphcast accuracy`: the accuracy suite as a table (Markdown on stdout, CSV optional).
+use clap::Args;
+use glyphcast::accuracy::{report, suite};
+use glyphcast::render::{Method, Refinement, RenderSettings};
+use glyphcast::vk::{Gpu, GpuOptions};
+use glyphcast::{Error, Result};
+use std::path::PathBuf;
+
+#[derive(Args)]
+pub struct AccuracyArgs {
+    /// Image side in pixels for every scene.
+    #[arg(long, default_value_t = 160)]
+    size: u32,
+    /// Methods to measure, comma separated.
+    #[arg(long, default_value = "fixed", value_delimiter = ',')]
+    methods: Vec<String>,
+    /// March steps of the fixed-step method, comma separated.
+    #[arg(long, default_value = "0.01,0.02,0.05,0.1,0.2", value_delimiter = ',')]
+    steps: Vec<f32>,
+    /// Refinements of the fixed-step method, comma separated.
+    #[arg(
+        long,
+        default_value = "none,bisect:1,bisect:3,interp,secant:4",
+        value_delimiter = ','
+    )]
+    refine: Vec<String>,
+    /// Also write the table as Markdown to this file.
+    #[arg(long, value_name = "FILE")]
+    markdown: Option<PathBuf>,
+    /// Also write the table as CSV to this file.
+    #[arg(long, value_name = "FILE")]
+    csv: Option<PathBuf>,
+    /// Vulkan device: part of its name or its index.
+    #[arg(long)]
+    device: Option<String>,
+}
+
+impl AccuracyArgs {
+    fn variants(&self) -> Result<Vec<RenderSettings>> {
+        let mut variants = Vec::new();
+        for method in &self.methods {
+            let method = method.parse::<Method>()?;
+            match method {
+                Method::Fixed => {
+                    for &step in &self.steps {
+                        for refine in &self.refine {
+                            let refinement = refine.parse::<Refinement>()?;
+                            variants.push(RenderSettings {
+                                method,
+                                step,
+                                refinement,
+                                ..Default::default()
+                            });
+                        }
+                    }
+                }
+            }
+        }
+        for v in &variants {
+            v.validate()?;
+        }
+        Ok(variants)
+    }
+}
+
+pub fn run(args: &AccuracyArgs) -> Result<()> {
+    if !(16..=4096).contains(&args.size) {
+        return Err(Error::Invalid(format!(
+            "--size: {} must be in 16..=4096",
+            args.size
+        )));
+    }
+    let variants = args.variants()?;
+    let mut options = GpuOptions::from_env();
+    if args.device.is_some() {
+        options.device = args.device.clone();
+    }
+    let gpu = Gpu::headless(&options)?;
+    eprintln!("device: {}", gpu.info);
+    let scenes = suite::suite(args.size);
+    let total = scenes.len() * variants.len();
+    let mut done = 0;
+    let rows = report::run(&gpu, &scenes, &variants, |row| {
+        done += 1;
+        eprintln!(
+            "[{done}/{total}] {} {}",
+            row.scene,
+            report::method_name(row.method)
+        );
+    })?;
+    let markdown = format!("Device: {}\n\n{}", gpu.info, report::markdown(&rows));
+    if let Some(path) = &args.markdown {
+        glyphcast::io::atomic::write_atomic(path, markdown.as_bytes())?;
+    }
+    if let Some(path) = &args.csv {
+        glyphcast::io::atomic::write_atomic(path, report::csv(&rows).as_bytes())?;
+    }
+    print!("{markdown}");
+    Ok(())
+}
