@@ -1,5 +1,6 @@
 //! glyphcast: GPU ray casting of higher-order tensor and spherical-harmonic glyphs.
 pub mod accuracy;
+pub mod bench;
 pub mod camera;
 pub mod demo;
 pub mod error;

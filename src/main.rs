@@ -39,6 +39,8 @@ enum Command {
     },
     /// Measure every method against the float64 reference on the accuracy suite.
     Accuracy(cli::accuracy::AccuracyArgs),
+    /// GPU timings of the glyph pass: one scene or workload, or a sweep.
+    Bench(cli::bench::BenchArgs),
 }
 
 fn main() {
@@ -71,5 +73,6 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
             cli::render::render(scene, &output, &options)
         }
         Command::Accuracy(args) => cli::accuracy::run(&args),
+        Command::Bench(args) => cli::bench::run(&args),
     }
 }

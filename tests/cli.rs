@@ -298,3 +298,57 @@ fn accuracy_command_writes_a_table_for_every_scene() {
         "step 0.3 leaves holes somewhere"
     );
 }
+
+#[test]
+fn bench_quick_writes_valid_csv_and_json() {
+    let dir = fresh_dir("bench");
+    let out = glyphcast(&[
+        "bench",
+        "--quick",
+        "--sweep",
+        "steps",
+        "--workload",
+        "grid:4:6",
+        "--width",
+        "48",
+        "--height",
+        "40",
+        "--out",
+        dir.to_str().expect("path"),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("results.json")).expect("results.json"),
+    )
+    .expect("valid JSON");
+    let results = json["results"].as_array().expect("results array");
+    // Quick steps sweep: 2 steps x 6 refinements x 2 centre modes.
+    assert_eq!(results.len(), 24);
+    for r in results {
+        let median = r["gpu_ms_median"].as_f64().expect("median");
+        let (min, max) = (
+            r["gpu_ms_min"].as_f64().expect("min"),
+            r["gpu_ms_max"].as_f64().expect("max"),
+        );
+        assert!(min > 0.0 && min <= median && median <= max, "{r}");
+        assert_eq!(r["glyphs"], 4);
+        assert_eq!(
+            r["coefficient_bytes"],
+            4 * 28 * 4,
+            "order 6 has 28 floats per glyph"
+        );
+        assert_eq!(r["instance_bytes"], 4 * 16);
+    }
+    let csv = std::fs::read_to_string(dir.join("results.csv")).expect("results.csv");
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines.len(), 25);
+    let columns = lines[0].split(',').count();
+    assert!(
+        lines.iter().all(|l| l.split(',').count() == columns),
+        "every CSV row has {columns} fields"
+    );
+}

@@ -1,4 +1,6 @@
 //! Subcommands of the `glyphcast` binary.
 pub mod accuracy;
+pub mod bench;
+pub mod progress;
 pub mod render;
 pub mod volume;

@@ -4,7 +4,7 @@ use crate::camera::Camera;
 use crate::error::Result;
 use crate::render::frame::{FrameParams, SceneExtent};
 use crate::render::glyph_data::GlyphSetData;
-use crate::render::raycast::{RayCastPass, TargetFormats};
+use crate::render::raycast::{RayCastPass, SceneGpu, TargetFormats};
 use crate::render::settings::RenderSettings;
 use crate::vk::{Buffer, Gpu, GpuTimer, Image, OneShot};
 use ash::vk;
@@ -139,48 +139,87 @@ impl HeadlessRenderer {
         height: u32,
         settings: &RenderSettings,
     ) -> Result<RenderedImage> {
+        let frame = self.prepare(gpu, sets, camera, width, height, settings)?;
+        let gpu_ms = self.draw(gpu, &frame)?;
+        let mut image = read_back(&frame.targets, width, height)?;
+        image.draws = frame.scene.sets.len();
+        image.gpu_ms = gpu_ms;
+        gpu.check_validation()?;
+        Ok(image)
+    }
+
+    /// Uploads the glyph sets and creates the targets: everything a frame needs, so that
+    /// it can be drawn many times (benchmarks) without uploading again.
+    pub fn prepare(
+        &mut self,
+        gpu: &Gpu,
+        sets: &[GlyphSetData],
+        camera: &Camera,
+        width: u32,
+        height: u32,
+        settings: &RenderSettings,
+    ) -> Result<PreparedFrame> {
         settings.validate()?;
         let extent = SceneExtent::of_spheres(
             camera,
             sets.iter().flat_map(|s| s.instances.iter()).map(|i| {
-                (
-                    [i[0] as f64, i[1] as f64, i[2] as f64],
-                    i[3] as f64 * 3f64.sqrt(),
-                )
+                // The box's half-diagonal: what the rasterised cube can reach.
+                let center = [i[0] as f64, i[1] as f64, i[2] as f64];
+                (center, i[3] as f64 * 3f64.sqrt())
             }),
         );
-        let frame = FrameParams::new(camera, width, height, &extent, settings);
-        let scene = self.pass.upload(gpu, sets, &frame, settings.method)?;
+        let params = FrameParams::new(camera, width, height, &extent, settings);
+        let scene = self.pass.upload(gpu, sets, &params, settings.method)?;
         let size = vk::Extent2D { width, height };
-        let targets = Targets::new(gpu, size)?;
-        let background = settings.background;
+        Ok(PreparedFrame {
+            scene,
+            targets: Targets::new(gpu, size)?,
+            size,
+            settings: *settings,
+        })
+    }
+
+    /// Draws a prepared frame and waits for it; returns the glyph pass's GPU time.
+    pub fn draw(&mut self, gpu: &Gpu, frame: &PreparedFrame) -> Result<Option<f64>> {
         let pass = &mut self.pass;
         let timer = self.timer.as_ref();
-        self.commands.run(gpu, |cmd| {
-            record_frame(
-                pass, timer, gpu, cmd, &scene, &targets, size, background, settings,
-            )
-        })?;
-        let mut image = read_back(&targets, width, height)?;
-        image.draws = scene.sets.len();
-        image.gpu_ms = self.timer.as_ref().map(GpuTimer::elapsed_ms).transpose()?;
+        self.commands
+            .run(gpu, |cmd| record_frame(pass, timer, gpu, cmd, frame))?;
+        self.timer.as_ref().map(GpuTimer::elapsed_ms).transpose()
+    }
+
+    /// The image of the last `draw` of `frame`.
+    pub fn read(&self, gpu: &Gpu, frame: &PreparedFrame) -> Result<RenderedImage> {
+        let mut image = read_back(&frame.targets, frame.size.width, frame.size.height)?;
+        image.draws = frame.scene.sets.len();
         gpu.check_validation()?;
         Ok(image)
     }
 }
 
-#[allow(clippy::too_many_arguments)]
+/// A frame ready to draw: the uploaded glyph sets and the offscreen targets.
+pub struct PreparedFrame {
+    scene: SceneGpu,
+    targets: Targets,
+    size: vk::Extent2D,
+    settings: RenderSettings,
+}
+
+impl PreparedFrame {
+    /// Instanced draws per frame.
+    pub fn draws(&self) -> usize {
+        self.scene.sets.len()
+    }
+}
+
 fn record_frame(
     pass: &mut RayCastPass,
     timer: Option<&GpuTimer>,
     gpu: &Gpu,
     cmd: vk::CommandBuffer,
-    scene: &crate::render::raycast::SceneGpu,
-    t: &Targets,
-    extent: vk::Extent2D,
-    background: [f32; 3],
-    settings: &RenderSettings,
+    frame: &PreparedFrame,
 ) -> Result<()> {
+    let (t, extent, background) = (&frame.targets, frame.size, frame.settings.background);
     let d = gpu.device();
     let none = (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE);
     let color_out = (
@@ -307,7 +346,7 @@ fn record_frame(
     }
     // SAFETY: as above.
     unsafe { d.cmd_begin_rendering(cmd, &rendering) };
-    pass.record(cmd, scene, extent, settings.method)?;
+    pass.record(cmd, &frame.scene, extent, frame.settings.method)?;
     // SAFETY: as above.
     unsafe {
         d.cmd_end_rendering(cmd);
