@@ -21,10 +21,11 @@ pub fn evaluate_on_gpu(
         .ok_or_else(|| Error::Invalid(format!("no evaluation shader for {layout:?}")))?;
     let device = gpu.device();
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-    let coeff_buffer = Buffer::with_data(gpu, "eval coefficients", coefficients, storage)?;
-    let point_buffer = Buffer::with_data(gpu, "eval points", points, storage)?;
+    let coeff_buffer =
+        Buffer::with_data(gpu.context(), "eval coefficients", coefficients, storage)?;
+    let point_buffer = Buffer::with_data(gpu.context(), "eval points", points, storage)?;
     let result_buffer = Buffer::new(
-        gpu,
+        gpu.context(),
         "eval results",
         16 * points.len() as u64,
         storage,

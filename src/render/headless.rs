@@ -44,7 +44,7 @@ impl Targets {
         let pixels = extent.width as u64 * extent.height as u64;
         Ok(Targets {
             color: Image::new(
-                gpu,
+                gpu.context(),
                 "colour",
                 extent,
                 COLOR_FORMAT,
@@ -52,7 +52,7 @@ impl Targets {
                 vk::ImageAspectFlags::COLOR,
             )?,
             distance: Image::new(
-                gpu,
+                gpu.context(),
                 "distance",
                 extent,
                 DISTANCE_FORMAT,
@@ -60,7 +60,7 @@ impl Targets {
                 vk::ImageAspectFlags::COLOR,
             )?,
             depth: Image::new(
-                gpu,
+                gpu.context(),
                 "depth",
                 extent,
                 DEPTH_FORMAT,
@@ -68,14 +68,14 @@ impl Targets {
                 vk::ImageAspectFlags::DEPTH,
             )?,
             color_readback: Buffer::new(
-                gpu,
+                gpu.context(),
                 "colour readback",
                 4 * pixels,
                 vk::BufferUsageFlags::TRANSFER_DST,
                 MemoryLocation::GpuToCpu,
             )?,
             distance_readback: Buffer::new(
-                gpu,
+                gpu.context(),
                 "distance readback",
                 4 * pixels,
                 vk::BufferUsageFlags::TRANSFER_DST,
@@ -169,7 +169,9 @@ impl HeadlessRenderer {
             }),
         );
         let params = FrameParams::new(camera, width, height, &extent, settings);
-        let scene = self.pass.upload(gpu, sets, &params, settings.method)?;
+        let scene = self
+            .pass
+            .upload(gpu.context(), sets, &params, settings.method)?;
         let size = vk::Extent2D { width, height };
         Ok(PreparedFrame {
             scene,

@@ -10,7 +10,7 @@ use crate::render::Method;
 use crate::render::frame::FrameParams;
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::shaders::{RAYCAST_VERTEX, raycast_shader};
-use crate::vk::{Buffer, Gpu};
+use crate::vk::{Buffer, DeviceContext};
 use ash::vk;
 use std::collections::HashMap;
 
@@ -214,21 +214,21 @@ impl RayCastPass {
     /// Uploads glyph sets and the frame parameters; creates their descriptor sets.
     pub fn upload(
         &mut self,
-        gpu: &Gpu,
+        ctx: &DeviceContext,
         sets: &[GlyphSetData],
         frame: &FrameParams,
         method: Method,
     ) -> Result<SceneGpu> {
-        let device = gpu.device();
+        let device = &ctx.device;
         let frame_buffer = Buffer::with_data(
-            gpu,
+            ctx,
             "frame",
             std::slice::from_ref(frame),
             vk::BufferUsageFlags::UNIFORM_BUFFER,
         )?;
         // Glyph sets larger than one storage buffer are split into chunks, each with its
         // own buffers, descriptor set and draw (the seed's "render successively").
-        let limit = self.storage_buffer_limit(gpu);
+        let limit = self.storage_buffer_limit(ctx);
         let mut chunks = Vec::new();
         for (index, data) in sets.iter().enumerate().filter(|(_, d)| !d.is_empty()) {
             self.pipeline(data.layout, method)?;
@@ -268,7 +268,7 @@ impl RayCastPass {
             sets: Vec::new(),
         };
         for (data, range) in chunks {
-            let set = upload_chunk(gpu, &scene, self.set_layout, data, range)?;
+            let set = upload_chunk(ctx, &scene, self.set_layout, data, range)?;
             scene.sets.push(set);
         }
         Ok(scene)
@@ -280,8 +280,8 @@ impl RayCastPass {
         self.buffer_limit = bytes;
     }
 
-    fn storage_buffer_limit(&self, gpu: &Gpu) -> u64 {
-        let device = gpu.info.max_storage_buffer_range;
+    fn storage_buffer_limit(&self, ctx: &DeviceContext) -> u64 {
+        let device = ctx.max_storage_buffer_range;
         self.buffer_limit.map_or(device, |cap| cap.min(device))
     }
 
@@ -340,7 +340,7 @@ impl RayCastPass {
 
 /// Uploads glyphs `range` of a set into buffers of their own.
 fn upload_chunk(
-    gpu: &Gpu,
+    ctx: &DeviceContext,
     scene: &SceneGpu,
     set_layout: vk::DescriptorSetLayout,
     data: &GlyphSetData,
@@ -348,13 +348,13 @@ fn upload_chunk(
 ) -> Result<GlyphSetGpu> {
     let n = data.layout.coefficient_count();
     let instances = Buffer::with_data(
-        gpu,
+        ctx,
         "instances",
         &data.instances[range.clone()],
         vk::BufferUsageFlags::VERTEX_BUFFER,
     )?;
     let coefficients = Buffer::with_data(
-        gpu,
+        ctx,
         "coefficients",
         &data.coefficients[range.start * n..range.end * n],
         vk::BufferUsageFlags::STORAGE_BUFFER,
@@ -363,7 +363,7 @@ fn upload_chunk(
     let alloc = vk::DescriptorSetAllocateInfo::default()
         .descriptor_pool(scene.pool)
         .set_layouts(&layouts);
-    let device = gpu.device();
+    let device = &ctx.device;
     // SAFETY: the pool was sized for one set per chunk.
     let descriptor_set =
         unsafe { device.allocate_descriptor_sets(&alloc) }.vk("vkAllocateDescriptorSets")?[0];

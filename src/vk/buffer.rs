@@ -16,14 +16,14 @@ pub struct Buffer {
 
 impl Buffer {
     pub fn new(
-        gpu: &super::Gpu,
+        ctx: &super::DeviceContext,
         name: &str,
         size: u64,
         usage: vk::BufferUsageFlags,
         location: MemoryLocation,
     ) -> Result<Buffer> {
-        let device = gpu.device().clone();
-        let allocator = gpu.allocator()?;
+        let device = ctx.device.clone();
+        let allocator = ctx.allocator.clone();
         let info = vk::BufferCreateInfo::default()
             .size(size.max(4))
             .usage(usage)
@@ -100,14 +100,14 @@ impl Buffer {
 
     /// A host-visible buffer holding `data`.
     pub fn with_data<T: bytemuck::Pod>(
-        gpu: &super::Gpu,
+        ctx: &super::DeviceContext,
         name: &str,
         data: &[T],
         usage: vk::BufferUsageFlags,
     ) -> Result<Buffer> {
         let bytes: &[u8] = bytemuck::cast_slice(data);
         let mut buffer = Buffer::new(
-            gpu,
+            ctx,
             name,
             bytes.len() as u64,
             usage,

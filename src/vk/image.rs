@@ -18,15 +18,15 @@ pub struct Image {
 
 impl Image {
     pub fn new(
-        gpu: &super::Gpu,
+        ctx: &super::DeviceContext,
         name: &str,
         extent: vk::Extent2D,
         format: vk::Format,
         usage: vk::ImageUsageFlags,
         aspect: vk::ImageAspectFlags,
     ) -> Result<Image> {
-        let device = gpu.device().clone();
-        let allocator = gpu.allocator()?;
+        let device = ctx.device.clone();
+        let allocator = ctx.allocator.clone();
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
             .format(format)

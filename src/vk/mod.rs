@@ -85,13 +85,45 @@ impl Drop for DeviceOwner {
     }
 }
 
+/// What buffers, images and render passes need of a device: the device, an allocator
+/// for it, and its limits. [`Gpu`] makes one for itself; an engine that owns its Vulkan
+/// device builds one around its own objects with [`DeviceContext::new`], and glyphcast
+/// then creates no instance or device of its own.
+#[derive(Clone)]
+pub struct DeviceContext {
+    pub device: ash::Device,
+    pub allocator: Arc<Mutex<Allocator>>,
+    /// The device's maxStorageBufferRange: coefficient buffers are split to fit it.
+    pub max_storage_buffer_range: u64,
+}
+
+impl DeviceContext {
+    /// Wraps a caller's device and allocator; the limits are read from `physical_device`.
+    pub fn new(
+        instance: &ash::Instance,
+        physical_device: vk::PhysicalDevice,
+        device: ash::Device,
+        allocator: Arc<Mutex<Allocator>>,
+    ) -> DeviceContext {
+        // SAFETY: the caller's physical device belongs to the caller's instance.
+        let limits = unsafe { instance.get_physical_device_properties(physical_device) }.limits;
+        DeviceContext {
+            device,
+            allocator,
+            max_storage_buffer_range: limits.max_storage_buffer_range as u64,
+        }
+    }
+}
+
 /// An instance, one device with a graphics+compute queue, and a memory allocator.
 pub struct Gpu {
     pub physical_device: vk::PhysicalDevice,
     pub queue: vk::Queue,
     pub queue_family: u32,
     pub info: DeviceInfo,
-    // Declaration order is drop order: device before instance.
+    // Declaration order is drop order: the context's allocator handle, then the device
+    // (which frees the allocator's memory first), then the instance.
+    context: DeviceContext,
     device_owner: DeviceOwner,
     instance_owner: InstanceOwner,
 }
@@ -133,7 +165,14 @@ impl Gpu {
             buffer_device_address: false,
             allocation_sizes: Default::default(),
         })?;
-        device_owner.allocator = Some(Arc::new(Mutex::new(allocator)));
+        let allocator = Arc::new(Mutex::new(allocator));
+        device_owner.allocator = Some(allocator.clone());
+        let context = DeviceContext::new(
+            instance,
+            physical_device,
+            device_owner.device.clone(),
+            allocator,
+        );
         // SAFETY: the queue family was requested with one queue when the device was created.
         let queue = unsafe { device_owner.device.get_device_queue(queue_family, 0) };
         Ok(Gpu {
@@ -141,6 +180,7 @@ impl Gpu {
             queue,
             queue_family,
             info,
+            context,
             device_owner,
             instance_owner,
         })
@@ -158,12 +198,9 @@ impl Gpu {
         &self.instance_owner.entry
     }
 
-    /// The shared allocator, for buffers and images of this device.
-    pub fn allocator(&self) -> Result<Arc<Mutex<Allocator>>> {
-        self.device_owner
-            .allocator
-            .clone()
-            .ok_or_else(|| Error::Setup("the GPU has no allocator".into()))
+    /// Device, allocator and limits, for buffers, images and passes.
+    pub fn context(&self) -> &DeviceContext {
+        &self.context
     }
 
     /// Validation errors reported so far (empty when validation is off).
