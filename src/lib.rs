@@ -8,5 +8,6 @@ pub mod glyph;
 pub mod io;
 pub mod render;
 pub mod vk;
+pub mod volume;
 
 pub use error::{Error, Result};

@@ -21,7 +21,7 @@ enum Command {
     /// Render a scene file (SCENE-FORMAT.md) or a volume to a PNG, and optionally a depth map.
     Render {
         #[command(flatten)]
-        source: SceneSource,
+        source: Box<SceneSource>,
         #[command(flatten)]
         output: OutputArgs,
         #[command(flatten)]
@@ -58,8 +58,8 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
             output,
             options,
         } => {
-            let scene = source.load()?;
-            cli::render::render(scene, &output, &options)
+            let scene = source.load(options.image_request()?)?;
+            cli::render::render(scene, &output, &options, source.save_scene())
         }
         Command::Demo {
             output,
@@ -67,10 +67,7 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
             save_scene,
         } => {
             let scene = glyphcast::demo::demo_scene();
-            if let Some(path) = save_scene {
-                glyphcast::io::atomic::write_atomic(&path, scene.to_json().as_bytes())?;
-            }
-            cli::render::render(scene, &output, &options)
+            cli::render::render(scene, &output, &options, save_scene.as_deref())
         }
         Command::Accuracy(args) => cli::accuracy::run(&args),
         Command::Bench(args) => cli::bench::run(&args),

@@ -5,6 +5,7 @@ use glyphcast::render::glyph_data::prepare_scene;
 use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
 use glyphcast::render::{ColorMode, Method, Refinement, RenderSettings};
 use glyphcast::vk::{Gpu, GpuOptions};
+use glyphcast::volume::ImageRequest;
 use glyphcast::{Error, Result};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -20,7 +21,8 @@ pub struct SceneSource {
 }
 
 impl SceneSource {
-    pub fn load(&self) -> Result<Scene> {
+    /// The scene to render; `image` (from --width/--height) sizes a volume's framing.
+    pub fn load(&self, image: ImageRequest) -> Result<Scene> {
         match &self.scene {
             Some(path) => {
                 if self.volume.is_given() {
@@ -28,10 +30,20 @@ impl SceneSource {
                         "give either a scene file or a volume (--sh/--tensor), not both".into(),
                     ));
                 }
+                if let Some(flag) = self.volume.volume_only_flag() {
+                    return Err(Error::Invalid(format!(
+                        "{flag} applies to volume input (--sh/--tensor), not to a scene file"
+                    )));
+                }
                 Scene::load(path)
             }
-            None => self.volume.scene(),
+            None => self.volume.scene(image),
         }
+    }
+
+    /// Where --save-scene asks the rendered scene to be written.
+    pub fn save_scene(&self) -> Option<&Path> {
+        self.volume.save_scene.as_deref()
     }
 }
 
@@ -85,6 +97,21 @@ pub struct RenderArgs {
 }
 
 impl RenderArgs {
+    /// --width and --height, each checked to be in 1..=16384.
+    pub fn image_request(&self) -> Result<ImageRequest> {
+        for (name, value) in [("--width", self.width), ("--height", self.height)] {
+            if let Some(v) = value
+                && (v == 0 || v > 16384)
+            {
+                return Err(Error::Invalid(format!("{name}: {v} must be in 1..=16384")));
+            }
+        }
+        Ok(ImageRequest {
+            width: self.width,
+            height: self.height,
+        })
+    }
+
     fn settings(&self) -> Result<RenderSettings> {
         let mut s = RenderSettings {
             method: self.method.parse::<Method>()?,
@@ -123,17 +150,21 @@ impl RenderArgs {
     }
 }
 
-pub fn render(mut scene: Scene, output: &OutputArgs, options: &RenderArgs) -> Result<()> {
-    for (name, value) in [("--width", options.width), ("--height", options.height)] {
-        if let Some(v) = value
-            && (v == 0 || v > 16384)
-        {
-            return Err(Error::Invalid(format!("{name}: {v} must be in 1..=16384")));
-        }
-    }
-    scene.image.width = options.width.unwrap_or(scene.image.width);
-    scene.image.height = options.height.unwrap_or(scene.image.height);
+/// Renders `scene` and writes the outputs. `save_scene` receives the scene as rendered
+/// (image size included), once every option has been checked and before the GPU work.
+pub fn render(
+    mut scene: Scene,
+    output: &OutputArgs,
+    options: &RenderArgs,
+    save_scene: Option<&Path>,
+) -> Result<()> {
+    let image = options.image_request()?;
+    scene.image.width = image.width.unwrap_or(scene.image.width);
+    scene.image.height = image.height.unwrap_or(scene.image.height);
     let settings = options.settings()?;
+    if let Some(path) = save_scene {
+        glyphcast::io::atomic::write_atomic(path, scene.to_json().as_bytes())?;
+    }
     let started = Instant::now();
     let sets = prepare_scene(&scene, settings.offset as f64)?;
     let prepared = started.elapsed();

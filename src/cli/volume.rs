@@ -1,21 +1,74 @@
-//! Volume input for `glyphcast render` (NIfTI SH and tensor fields). Not built yet: the
-//! flags exist so that the scene source has one place to grow.
+//! Volume input for `glyphcast render`: a slice of a 4D NIfTI volume of SH coefficients
+//! (`--sh`) or Cartesian tensor coefficients (`--tensor`) becomes the scene; the work is
+//! in `glyphcast::volume`, this file turns flags into its options and reports what was
+//! left out.
+//!
+//! `--basis` has no default: a file does not say which SH basis it uses, and guessing
+//! wrong draws plausible but wrong glyphs.
 use clap::Args;
-use glyphcast::io::scene::Scene;
+use glyphcast::glyph::{Symmetry, TensorLayout};
+use glyphcast::io::scene::{Scene, ShBasis};
+use glyphcast::volume::{
+    ImageRequest, ViewProjection, VolumeKind, VolumeOptions, VolumeScene, load_mask, load_volume,
+    volume_scene,
+};
 use glyphcast::{Error, Result};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Flags that make a scene file unnecessary.
 pub const VOLUME_FLAGS: [&str; 2] = ["sh", "tensor"];
 
 #[derive(Args)]
 pub struct VolumeArgs {
-    /// 4D NIfTI of SH coefficients.
-    #[arg(long, value_name = "NIFTI")]
+    /// 4D NIfTI of SH coefficients, [x, y, z, (L+1)(L+2)/2] for an even band L <= 12.
+    #[arg(long, value_name = "NIFTI", help_heading = "Volume input")]
     pub sh: Option<PathBuf>,
-    /// 4D NIfTI of Cartesian tensor coefficients.
-    #[arg(long, value_name = "NIFTI")]
+    /// SH basis of --sh: tournier07 (MRtrix3) or descoteaux07 (DIPY).
+    #[arg(long, value_name = "BASIS", help_heading = "Volume input")]
+    pub basis: Option<String>,
+    /// The legacy variant of --basis (DIPY's legacy=True; MRtrix 0.2 for tournier07).
+    #[arg(long, help_heading = "Volume input")]
+    pub legacy: bool,
+    /// Draw SH bands up to L only.
+    #[arg(long, value_name = "L", help_heading = "Volume input")]
+    pub lmax: Option<u32>,
+    /// 4D NIfTI of Cartesian tensor coefficients in the scene format's order
+    /// (order 2: xx, xy, xz, yy, yz, zz).
+    #[arg(long, value_name = "NIFTI", help_heading = "Volume input")]
     pub tensor: Option<PathBuf>,
+    /// Tensor order of --tensor (1 to 12).
+    #[arg(long, value_name = "N", help_heading = "Volume input")]
+    pub order: Option<u32>,
+    /// --tensor holds all 3^N entries, row-major, instead of the unique ones.
+    #[arg(long, help_heading = "Volume input")]
+    pub nonsymmetric: bool,
+    /// Slice to draw: axial, coronal or sagittal (constant k, j or i), optionally :INDEX
+    /// (default: the middle axial slice).
+    #[arg(long, value_name = "AXIS[:INDEX]", help_heading = "Volume input")]
+    pub slice: Option<String>,
+    /// Voxel index ranges i0:i1,j0:j1,k0:k1 (end exclusive, ends optional), intersected
+    /// with the slice.
+    #[arg(long, value_name = "RANGES", help_heading = "Volume input")]
+    pub voxels: Option<String>,
+    /// 3D NIfTI mask of the volume's shape: glyphs only where it is nonzero.
+    #[arg(long, value_name = "NIFTI", help_heading = "Volume input")]
+    pub mask: Option<PathBuf>,
+    /// World radius of the largest glyph (default: 0.45 times the smallest voxel size).
+    #[arg(long, value_name = "S", help_heading = "Volume input")]
+    pub scale: Option<f64>,
+    /// Glyph sizes: global (one factor for all), per-glyph (all the same size) or none
+    /// (amplitude times --scale). Default global.
+    #[arg(long, value_name = "MODE", help_heading = "Volume input")]
+    pub norm: Option<String>,
+    /// Leave out glyphs whose largest radius is below A (data units).
+    #[arg(long, value_name = "A", help_heading = "Volume input")]
+    pub min_amplitude: Option<f64>,
+    /// Perspective camera instead of orthographic.
+    #[arg(long, help_heading = "Volume input")]
+    pub perspective: bool,
+    /// Also write the scene that is rendered as a scene file (before rendering).
+    #[arg(long, value_name = "FILE")]
+    pub save_scene: Option<PathBuf>,
 }
 
 impl VolumeArgs {
@@ -23,7 +76,150 @@ impl VolumeArgs {
         self.sh.is_some() || self.tensor.is_some()
     }
 
-    pub fn scene(&self) -> Result<Scene> {
-        Err(Error::Invalid("volume input is not supported yet".into()))
+    /// The first flag given that only means something for volume input.
+    pub fn volume_only_flag(&self) -> Option<&'static str> {
+        let given = [
+            ("--basis", self.basis.is_some()),
+            ("--legacy", self.legacy),
+            ("--lmax", self.lmax.is_some()),
+            ("--order", self.order.is_some()),
+            ("--nonsymmetric", self.nonsymmetric),
+            ("--slice", self.slice.is_some()),
+            ("--voxels", self.voxels.is_some()),
+            ("--mask", self.mask.is_some()),
+            ("--scale", self.scale.is_some()),
+            ("--norm", self.norm.is_some()),
+            ("--min-amplitude", self.min_amplitude.is_some()),
+            ("--perspective", self.perspective),
+        ];
+        given.iter().find(|(_, on)| *on).map(|(name, _)| *name)
     }
+
+    /// The scene of the volume view; `image` is the size asked for with --width/--height.
+    pub fn scene(&self, image: ImageRequest) -> Result<Scene> {
+        let (path, kind) = self.input()?;
+        let mut options = self.options(image)?;
+        let volume = load_volume(path, kind)?;
+        options.mask = self.mask.as_deref().map(load_mask).transpose()?;
+        let view = volume_scene(&volume, &options)?;
+        report(&view, &volume.file);
+        Ok(view.scene)
+    }
+
+    fn input(&self) -> Result<(&Path, VolumeKind)> {
+        let misplaced = |flag: &str, input: &str| {
+            Err(Error::Invalid(format!(
+                "{flag} applies to {input} input only"
+            )))
+        };
+        match (&self.sh, &self.tensor) {
+            (Some(_), Some(_)) => Err(Error::Invalid(
+                "give either --sh or --tensor, not both".into(),
+            )),
+            (Some(path), None) => {
+                if self.order.is_some() {
+                    return misplaced("--order", "--tensor");
+                }
+                if self.nonsymmetric {
+                    return misplaced("--nonsymmetric", "--tensor");
+                }
+                let basis = self.basis()?;
+                let legacy = self.legacy;
+                Ok((path, VolumeKind::Sh { basis, legacy }))
+            }
+            (None, Some(path)) => {
+                for (flag, given) in [
+                    ("--basis", self.basis.is_some()),
+                    ("--legacy", self.legacy),
+                    ("--lmax", self.lmax.is_some()),
+                ] {
+                    if given {
+                        return misplaced(flag, "--sh");
+                    }
+                }
+                let Some(order) = self.order else {
+                    return Err(Error::Invalid(
+                        "--tensor needs --order N (the tensor order of the file)".into(),
+                    ));
+                };
+                let symmetry = if self.nonsymmetric {
+                    Symmetry::NonSymmetric
+                } else {
+                    Symmetry::Symmetric
+                };
+                Ok((path, VolumeKind::Tensor(TensorLayout { order, symmetry })))
+            }
+            (None, None) => Err(Error::Invalid("give a scene file, --sh or --tensor".into())),
+        }
+    }
+
+    fn basis(&self) -> Result<ShBasis> {
+        match self.basis.as_deref() {
+            Some("tournier07") => Ok(ShBasis::Tournier07),
+            Some("descoteaux07") => Ok(ShBasis::Descoteaux07),
+            Some(other) => Err(Error::Invalid(format!(
+                "--basis '{other}': expected tournier07 or descoteaux07"
+            ))),
+            None => Err(Error::Invalid(
+                "--sh needs --basis tournier07 or descoteaux07 (a file does not say which)".into(),
+            )),
+        }
+    }
+
+    /// Everything but the mask, which is read after the volume.
+    fn options(&self, image: ImageRequest) -> Result<VolumeOptions> {
+        Ok(VolumeOptions {
+            slice: self
+                .slice
+                .as_deref()
+                .map(str::parse)
+                .transpose()?
+                .unwrap_or_default(),
+            voxels: self
+                .voxels
+                .as_deref()
+                .map(str::parse)
+                .transpose()?
+                .unwrap_or_default(),
+            mask: None,
+            scale: self.scale,
+            norm: self
+                .norm
+                .as_deref()
+                .map(str::parse)
+                .transpose()?
+                .unwrap_or_default(),
+            min_amplitude: self.min_amplitude.unwrap_or(0.0),
+            lmax: self.lmax,
+            projection: if self.perspective {
+                ViewProjection::Perspective
+            } else {
+                ViewProjection::Orthographic
+            },
+            image,
+        })
+    }
+}
+
+/// One summary line, and a warning when voxels were left out for bad values.
+fn report(view: &VolumeScene, file: &str) {
+    let r = &view.report;
+    if r.non_finite > 0 {
+        eprintln!(
+            "warning: {file}: {} voxel(s) with NaN or infinite coefficients left out",
+            r.non_finite
+        );
+    }
+    let axis = ["i", "j", "k"][view.region.slice.voxel_axis()];
+    eprintln!(
+        "volume: {file}: slice {axis}={}: {} glyphs from {} voxels ({} masked out, {} not \
+         finite, {} zero, {} below --min-amplitude)",
+        view.region.index,
+        r.drawn,
+        r.selected,
+        r.masked_out,
+        r.non_finite,
+        r.zero,
+        r.below_min_amplitude
+    );
 }

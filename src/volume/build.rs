@@ -1,0 +1,263 @@
+//! A volume slice as a [`Scene`]: select voxels, reorient each glyph into world axes,
+//! measure it, drop what cannot or should not be drawn, scale, and frame.
+//!
+//! Left out, and counted in the [`VolumeReport`] rather than failing: voxels outside the
+//! mask, voxels with a NaN or infinite coefficient (the usual background of a fit; the
+//! CLI prints their count as a warning), glyphs that are exactly zero (nothing to draw)
+//! and glyphs whose max radius is below `min_amplitude`. A selection that leaves no glyph
+//! at all is an error: an empty picture would look like a rendering fault.
+use std::str::FromStr;
+
+use glam::DVec3;
+
+use super::amplitude::max_radius;
+use super::framing::{ImageRequest, ViewProjection, frame_region};
+use super::input::{Mask, Volume, show_shape};
+use super::reorient::Reorientation;
+use super::selection::{Slice, SliceRegion, VoxelRanges};
+use crate::glyph::NegativeMode;
+use crate::io::scene::{GlyphKind, GlyphSet, Scene};
+use crate::{Error, Result};
+
+/// Default world radius of the largest glyph, as a fraction of the smallest voxel size:
+/// the largest glyph spans 0.9 of a voxel.
+pub const DEFAULT_SCALE_FRACTION: f64 = 0.45;
+
+/// How glyph sizes relate to the data.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Normalisation {
+    /// One factor for all drawn glyphs: the largest has radius `scale`.
+    #[default]
+    Global,
+    /// Every glyph's max radius becomes `scale`.
+    PerGlyph,
+    /// Radius = amplitude * `scale` (data units times `scale`).
+    None,
+}
+
+/// Everything about a volume view except the volume itself.
+#[derive(Clone, Debug, Default)]
+pub struct VolumeOptions {
+    pub slice: Slice,
+    pub voxels: VoxelRanges,
+    pub mask: Option<Mask>,
+    /// World radius of the largest glyph (default: 0.45 * the smallest voxel size).
+    pub scale: Option<f64>,
+    pub norm: Normalisation,
+    /// Glyphs with max radius below this (data units) are left out.
+    pub min_amplitude: f64,
+    /// SH only: drop bands above this one.
+    pub lmax: Option<u32>,
+    pub projection: ViewProjection,
+    pub image: ImageRequest,
+}
+
+/// What happened to the voxels of the selection.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct VolumeReport {
+    /// Voxels of the slice within the ranges.
+    pub selected: usize,
+    pub masked_out: usize,
+    /// Voxels with a NaN or infinite coefficient.
+    pub non_finite: usize,
+    /// Glyphs that are zero everywhere.
+    pub zero: usize,
+    pub below_min_amplitude: usize,
+    pub drawn: usize,
+}
+
+/// The scene of a volume view, and how it was selected.
+#[derive(Clone, Debug)]
+pub struct VolumeScene {
+    pub scene: Scene,
+    pub report: VolumeReport,
+    pub region: SliceRegion,
+}
+
+impl FromStr for Normalisation {
+    type Err = Error;
+
+    fn from_str(text: &str) -> Result<Self> {
+        match text {
+            "global" => Ok(Normalisation::Global),
+            "per-glyph" => Ok(Normalisation::PerGlyph),
+            "none" => Ok(Normalisation::None),
+            _ => Err(Error::Invalid(format!(
+                "--norm '{text}': expected global, per-glyph or none"
+            ))),
+        }
+    }
+}
+
+/// One glyph on its way into the scene.
+struct Glyph {
+    center: DVec3,
+    coeffs: Vec<f64>,
+    radius: f64,
+}
+
+/// The scene showing `options.slice` of `volume`.
+pub fn volume_scene(volume: &Volume, options: &VolumeOptions) -> Result<VolumeScene> {
+    check_options(volume, options)?;
+    let region = SliceRegion::new(volume.dims, options.slice, &options.voxels, &volume.file)?;
+    let kind = truncated_kind(volume, options.lmax)?;
+    let map = &volume.voxel_to_world;
+    let rotation = map.orthogonal_factor().ok_or_else(|| {
+        Error::input(
+            &volume.file,
+            "affine",
+            "the polar decomposition of the affine did not converge",
+        )
+    })?;
+    let reorientation = Reorientation::new(rotation);
+    let mut report = VolumeReport {
+        selected: region.len(),
+        ..Default::default()
+    };
+    let mut glyphs = Vec::new();
+    for voxel in region.voxels() {
+        if options.mask.as_ref().is_some_and(|mask| !mask.keeps(voxel)) {
+            report.masked_out += 1;
+            continue;
+        }
+        let mut coeffs = volume.coefficients(voxel);
+        if coeffs.iter().any(|c| !c.is_finite()) {
+            report.non_finite += 1;
+            continue;
+        }
+        coeffs.truncate(kind.coefficient_count());
+        let coeffs = reorientation.apply(kind, &coeffs)?;
+        let radius = max_radius(kind, &coeffs)?;
+        if radius <= 0.0 {
+            report.zero += 1;
+        } else if radius < options.min_amplitude {
+            report.below_min_amplitude += 1;
+        } else {
+            let center = map.voxel_center(DVec3::from_array(voxel.map(|v| v as f64)));
+            glyphs.push(Glyph {
+                center,
+                coeffs,
+                radius,
+            });
+        }
+    }
+    report.drawn = glyphs.len();
+    if glyphs.is_empty() {
+        return Err(nothing_to_draw(volume, &region, &report));
+    }
+    let scale = options
+        .scale
+        .unwrap_or_else(|| DEFAULT_SCALE_FRACTION * map.voxel_sizes().min_element());
+    let framing = frame_region(&region, map, options.projection, options.image)?;
+    let set = glyph_set(kind, glyphs, scale, options.norm);
+    Ok(VolumeScene {
+        scene: Scene {
+            glyph_sets: vec![set],
+            camera: framing.camera,
+            image: framing.image,
+        },
+        report,
+        region,
+    })
+}
+
+fn check_options(volume: &Volume, options: &VolumeOptions) -> Result<()> {
+    if let Some(scale) = options.scale
+        && !(scale.is_finite() && scale > 0.0)
+    {
+        return Err(Error::Invalid(format!(
+            "--scale {scale}: must be a positive number"
+        )));
+    }
+    if !(options.min_amplitude.is_finite() && options.min_amplitude >= 0.0) {
+        return Err(Error::Invalid(format!(
+            "--min-amplitude {}: must be a number >= 0",
+            options.min_amplitude
+        )));
+    }
+    if let Some(mask) = &options.mask
+        && mask.dims != volume.dims
+    {
+        return Err(Error::input(
+            &mask.file,
+            "dim",
+            format!(
+                "the mask is {} but the volume {} is {}",
+                show_shape(&mask.dims),
+                volume.file,
+                show_shape(&volume.dims)
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The volume's kind with SH bands above `lmax` dropped.
+fn truncated_kind(volume: &Volume, lmax: Option<u32>) -> Result<GlyphKind> {
+    match (volume.kind, lmax) {
+        (_, None) => Ok(volume.kind),
+        (
+            GlyphKind::Sh {
+                band,
+                basis,
+                legacy,
+            },
+            Some(lmax),
+        ) => {
+            if lmax % 2 != 0 || lmax > band {
+                return Err(Error::input(
+                    &volume.file,
+                    "--lmax",
+                    format!("{lmax} must be even and at most the file's band {band}"),
+                ));
+            }
+            Ok(GlyphKind::Sh {
+                band: lmax,
+                basis,
+                legacy,
+            })
+        }
+        (GlyphKind::Tensor(_), Some(_)) => Err(Error::Invalid(
+            "--lmax applies to SH volumes (--sh) only".into(),
+        )),
+    }
+}
+
+fn nothing_to_draw(volume: &Volume, region: &SliceRegion, report: &VolumeReport) -> Error {
+    Error::input(
+        &volume.file,
+        "voxels",
+        format!(
+            "no glyph to draw in the {} voxels selected ({} of them masked out, {} not finite, \
+             {} zero, {} below --min-amplitude) in slice {} of axis {}",
+            report.selected,
+            report.masked_out,
+            report.non_finite,
+            report.zero,
+            report.below_min_amplitude,
+            region.index,
+            ["i", "j", "k"][region.slice.voxel_axis()],
+        ),
+    )
+}
+
+/// The glyphs as one set, sized by `norm` so that the largest radius is `scale`.
+fn glyph_set(kind: GlyphKind, glyphs: Vec<Glyph>, scale: f64, norm: Normalisation) -> GlyphSet {
+    let largest = glyphs.iter().map(|g| g.radius).fold(0.0, f64::max);
+    let scales = glyphs
+        .iter()
+        .map(|g| match norm {
+            Normalisation::Global => scale / largest,
+            Normalisation::PerGlyph => scale / g.radius,
+            Normalisation::None => scale,
+        })
+        .collect();
+    let (centers, coeffs) = glyphs.into_iter().map(|g| (g.center, g.coeffs)).unzip();
+    GlyphSet {
+        kind,
+        negative: NegativeMode::Abs,
+        centers,
+        scales,
+        coeffs,
+    }
+}

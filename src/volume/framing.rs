@@ -1,0 +1,190 @@
+//! The camera that shows a slice face on, with the whole slice in view.
+//!
+//! The view looks along the world axis closest to the slice's normal (after the affine),
+//! from a fixed side per axis (world axes in the NIfTI RAS+ sense: +x right, +y anterior,
+//! +z superior):
+//! - z: from superior (+z) looking down, anterior (+y) up; the subject's right is on the
+//!   image's right;
+//! - y: from anterior (+y) looking back, superior (+z) up; facing the subject, so its
+//!   right is on the image's left;
+//! - x: from the subject's left (-x) looking right, superior up, so that anterior is on
+//!   the left of the image as in FSLeyes' and most viewers' sagittal panes.
+//!
+//! The framed region is the slice's voxel boxes (centres +- half a voxel), so glyphs that
+//! fill their voxel stay inside. Without a requested size the image takes the region's
+//! aspect with its longer side 1024 pixels; with one side requested the other follows
+//! the aspect; with both, the region is fitted inside (the rest is background).
+//! `--perspective` puts a 30 degree camera on the same axis at the distance where the
+//! region's front face fills the same view.
+use glam::DVec3;
+
+use super::selection::SliceRegion;
+use crate::camera::{Camera, Projection};
+use crate::io::nifti::VoxelToWorld;
+use crate::io::scene::ImageSize;
+use crate::{Error, Result};
+
+/// Longer image side when no size is requested.
+pub const DEFAULT_LONG_SIDE: u32 = 1024;
+/// Largest image side accepted (as for `--width`/`--height`).
+pub const MAX_SIDE: u32 = 16384;
+/// Vertical field of view of `--perspective`.
+pub const PERSPECTIVE_FOV_DEG: f64 = 30.0;
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ViewProjection {
+    #[default]
+    Orthographic,
+    Perspective,
+}
+
+/// Image size asked for on the command line; a missing side follows the slice's aspect.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ImageRequest {
+    pub width: Option<u32>,
+    pub height: Option<u32>,
+}
+
+/// Camera and image size of a slice view.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Framing {
+    pub camera: Camera,
+    pub image: ImageSize,
+}
+
+/// Forward and up directions of the view along world axis `axis` (0 = x, 1 = y, 2 = z).
+pub fn view_directions(axis: usize) -> (DVec3, DVec3) {
+    match axis {
+        0 => (DVec3::X, DVec3::Z),
+        1 => (DVec3::NEG_Y, DVec3::Z),
+        _ => (DVec3::NEG_Z, DVec3::Y),
+    }
+}
+
+/// The world axis closest to the normal of `region`'s slice plane.
+pub fn view_axis(region: &SliceRegion, map: &VoxelToWorld) -> usize {
+    let a = map.linear();
+    let normal = match region.slice.voxel_axis() {
+        0 => a.y_axis.cross(a.z_axis),
+        1 => a.z_axis.cross(a.x_axis),
+        _ => a.x_axis.cross(a.y_axis),
+    };
+    normal.abs().max_position()
+}
+
+/// Frames `region` of a volume mapped by `map`.
+pub fn frame_region(
+    region: &SliceRegion,
+    map: &VoxelToWorld,
+    projection: ViewProjection,
+    request: ImageRequest,
+) -> Result<Framing> {
+    let (fwd, up) = view_directions(view_axis(region, map));
+    let right = fwd.cross(up);
+    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    for corner in 0..8 {
+        let voxel = DVec3::from_array(std::array::from_fn(|axis| {
+            let range = &region.ranges[axis];
+            let end = if corner & (1 << axis) == 0 {
+                range.start
+            } else {
+                range.end
+            };
+            end as f64 - 0.5
+        }));
+        let p = map.voxel_center(voxel);
+        let view = DVec3::new(right.dot(p), up.dot(p), fwd.dot(p));
+        lo = lo.min(view);
+        hi = hi.max(view);
+    }
+    let extent = hi - lo;
+    let image = image_size(extent.x, extent.y, request)?;
+    let aspect = f64::from(image.width) / f64::from(image.height);
+    let view_height = extent.y.max(extent.x / aspect);
+    let middle = 0.5 * (lo + hi);
+    let front = right * middle.x + up * middle.y + fwd * lo.z;
+    let target = front + fwd * (0.5 * extent.z);
+    let (eye, projection) = match projection {
+        ViewProjection::Orthographic => (
+            front - fwd * view_height.max(extent.z),
+            Projection::Orthographic {
+                height: view_height,
+            },
+        ),
+        ViewProjection::Perspective => {
+            let half_fov = (0.5 * PERSPECTIVE_FOV_DEG).to_radians();
+            (
+                front - fwd * (0.5 * view_height / half_fov.tan()),
+                Projection::Perspective {
+                    fov_y_deg: PERSPECTIVE_FOV_DEG,
+                },
+            )
+        }
+    };
+    Ok(Framing {
+        camera: Camera {
+            projection,
+            eye,
+            target,
+            up,
+        },
+        image,
+    })
+}
+
+/// The image size for a view `width` x `height` world units wide and high.
+fn image_size(width: f64, height: f64, request: ImageRequest) -> Result<ImageSize> {
+    for (name, side) in [("width", request.width), ("height", request.height)] {
+        if let Some(side) = side
+            && !(1..=MAX_SIDE).contains(&side)
+        {
+            return Err(Error::Invalid(format!(
+                "image {name} {side} must be in 1..={MAX_SIDE}"
+            )));
+        }
+    }
+    let aspect = width / height;
+    let side = |value: f64| (value.round() as u32).clamp(1, MAX_SIDE);
+    let long = f64::from(DEFAULT_LONG_SIDE);
+    let (w, h) = match (request.width, request.height) {
+        (Some(w), Some(h)) => (w, h),
+        (Some(w), None) => (w, side(f64::from(w) / aspect)),
+        (None, Some(h)) => (side(f64::from(h) * aspect), h),
+        (None, None) if aspect >= 1.0 => (DEFAULT_LONG_SIDE, side(long / aspect)),
+        (None, None) => (side(long * aspect), DEFAULT_LONG_SIDE),
+    };
+    Ok(ImageSize {
+        width: w,
+        height: h,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn image_follows_the_aspect_unless_both_sides_are_given() {
+        let size = |w, h, request| {
+            let s = image_size(w, h, request).unwrap();
+            (s.width, s.height)
+        };
+        assert_eq!(size(20.0, 10.0, ImageRequest::default()), (1024, 512));
+        assert_eq!(size(10.0, 40.0, ImageRequest::default()), (256, 1024));
+        let width = ImageRequest {
+            width: Some(100),
+            height: None,
+        };
+        assert_eq!(size(20.0, 10.0, width), (100, 50));
+        let both = ImageRequest {
+            width: Some(32),
+            height: Some(32),
+        };
+        assert_eq!(size(20.0, 10.0, both), (32, 32));
+        let zero = ImageRequest {
+            width: Some(0),
+            height: None,
+        };
+        assert!(image_size(1.0, 1.0, zero).is_err());
+    }
+}

@@ -1,0 +1,214 @@
+//! Coefficient volumes and masks read from NIfTI-1 files, checked against what the
+//! user said they hold: a 4D volume [x, y, z, N] whose N matches the SH band or the
+//! tensor layout, a 3D mask. Every mismatch names the file and the dimension.
+use std::path::Path;
+
+use ndarray::{Array3, Array4, ArrayD, Axis, Ix3, Ix4};
+
+use super::sh_shim as sh;
+use crate::glyph::TensorLayout;
+use crate::io::nifti::{NiftiImage, VoxelToWorld, read_nifti};
+use crate::io::scene::{GlyphKind, ShBasis};
+use crate::{Error, Result};
+
+/// Highest SH band and tensor order of the scene format.
+pub const MAX_ORDER: u32 = 12;
+
+/// What the user says a volume holds; the SH band is read off the file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VolumeKind {
+    Sh { basis: ShBasis, legacy: bool },
+    Tensor(TensorLayout),
+}
+
+/// A 4D volume of glyph coefficients: one coefficient list per voxel.
+#[derive(Clone, Debug)]
+pub struct Volume {
+    /// The file it came from, for messages.
+    pub file: String,
+    /// Voxels along i, j, k.
+    pub dims: [usize; 3],
+    /// The glyph kind of every voxel (for SH, the band deduced from the file).
+    pub kind: GlyphKind,
+    pub voxel_to_world: VoxelToWorld,
+    /// Shape [x, y, z, coefficients].
+    data: Array4<f64>,
+}
+
+/// Which voxels a mask keeps: nonzero values (NaN counts as zero).
+#[derive(Clone, Debug)]
+pub struct Mask {
+    pub file: String,
+    pub dims: [usize; 3],
+    keep: Array3<bool>,
+}
+
+/// Reads a coefficient volume and checks it against `kind`.
+pub fn load_volume(path: &Path, kind: VolumeKind) -> Result<Volume> {
+    Volume::from_image(read_nifti(path)?, kind)
+}
+
+/// Reads a 3D mask ([x, y, z] or [x, y, z, 1]).
+pub fn load_mask(path: &Path) -> Result<Mask> {
+    Mask::from_image(read_nifti(path)?)
+}
+
+impl Volume {
+    /// A volume from values of shape [x, y, z, coefficients]; `file` names errors.
+    pub fn new(
+        file: impl Into<String>,
+        data: Array4<f64>,
+        kind: VolumeKind,
+        voxel_to_world: VoxelToWorld,
+    ) -> Result<Self> {
+        let file = file.into();
+        let shape = data.shape();
+        let dims = [shape[0], shape[1], shape[2]];
+        let kind = glyph_kind(&file, kind, shape[3])?;
+        Ok(Self {
+            file,
+            dims,
+            kind,
+            voxel_to_world,
+            data,
+        })
+    }
+
+    fn from_image(image: NiftiImage, kind: VolumeKind) -> Result<Self> {
+        let shape = image.shape(4);
+        if shape.len() != 4 {
+            return Err(Error::input(
+                &image.file,
+                "dim",
+                format!(
+                    "a {}D image ({}) where a 4D volume [x, y, z, coefficients] is needed",
+                    shape.len(),
+                    show_shape(&shape)
+                ),
+            ));
+        }
+        let data = squeeze(image.data, 4)
+            .into_dimensionality::<Ix4>()
+            .map_err(|err| Error::input(&image.file, "dim", err.to_string()))?;
+        Self::new(image.file, data, kind, image.voxel_to_world)
+    }
+
+    /// Coefficients per voxel.
+    pub fn coefficient_count(&self) -> usize {
+        self.data.shape()[3]
+    }
+
+    /// The coefficients of voxel (i, j, k), in the file's order.
+    pub fn coefficients(&self, voxel: [usize; 3]) -> Vec<f64> {
+        let [i, j, k] = voxel;
+        (0..self.coefficient_count())
+            .map(|c| self.data[[i, j, k, c]])
+            .collect()
+    }
+}
+
+impl Mask {
+    /// A mask from values of shape [x, y, z]; `file` names errors.
+    pub fn new(file: impl Into<String>, values: &Array3<f64>) -> Self {
+        let shape = values.shape();
+        Self {
+            file: file.into(),
+            dims: [shape[0], shape[1], shape[2]],
+            keep: values.mapv(|v| v != 0.0 && !v.is_nan()),
+        }
+    }
+
+    fn from_image(image: NiftiImage) -> Result<Self> {
+        let shape = image.shape(3);
+        if shape.len() != 3 {
+            return Err(Error::input(
+                &image.file,
+                "dim",
+                format!(
+                    "a {}D image ({}) where a 3D mask is needed",
+                    shape.len(),
+                    show_shape(&shape)
+                ),
+            ));
+        }
+        let values = squeeze(image.data, 3)
+            .into_dimensionality::<Ix3>()
+            .map_err(|err| Error::input(&image.file, "dim", err.to_string()))?;
+        Ok(Self::new(image.file, &values))
+    }
+
+    /// Whether voxel (i, j, k) is kept; the caller has checked the shape.
+    pub fn keeps(&self, voxel: [usize; 3]) -> bool {
+        self.keep.get(voxel).copied().unwrap_or(false)
+    }
+}
+
+/// Drops trailing axes of length 1 down to `rank` axes and pads to `rank` axes, as
+/// [`NiftiImage::shape`] does (the caller has checked that this leaves `rank` axes).
+fn squeeze(mut data: ArrayD<f64>, rank: usize) -> ArrayD<f64> {
+    while data.ndim() > rank && data.shape().last() == Some(&1) {
+        let last = Axis(data.ndim() - 1);
+        data = data.index_axis_move(last, 0);
+    }
+    while data.ndim() < rank {
+        data.insert_axis_inplace(Axis(data.ndim()));
+    }
+    data
+}
+
+pub(crate) fn show_shape(shape: &[usize]) -> String {
+    let parts: Vec<String> = shape.iter().map(usize::to_string).collect();
+    parts.join("x")
+}
+
+/// The glyph kind of a volume with `count` coefficients per voxel, or an error naming
+/// the file's fourth dimension.
+fn glyph_kind(file: &str, kind: VolumeKind, count: usize) -> Result<GlyphKind> {
+    match kind {
+        VolumeKind::Sh { basis, legacy } => {
+            let band = (0..=MAX_ORDER)
+                .step_by(2)
+                .find(|&band| sh::sh_count(band) == count);
+            let Some(band) = band else {
+                let valid: Vec<String> = (0..=MAX_ORDER)
+                    .step_by(2)
+                    .map(|band| format!("{} (L={band})", sh::sh_count(band)))
+                    .collect();
+                return Err(Error::input(
+                    file,
+                    "dim[4]",
+                    format!(
+                        "{count} coefficients per voxel is not (L+1)(L+2)/2 for an even SH band \
+                         L <= {MAX_ORDER}; expected one of {}",
+                        valid.join(", ")
+                    ),
+                ));
+            };
+            Ok(GlyphKind::Sh {
+                band,
+                basis,
+                legacy,
+            })
+        }
+        VolumeKind::Tensor(layout) => {
+            if !(1..=MAX_ORDER).contains(&layout.order) {
+                return Err(Error::Invalid(format!(
+                    "tensor order {} is outside 1..={MAX_ORDER}",
+                    layout.order
+                )));
+            }
+            let expected = layout.coefficient_count();
+            if count != expected {
+                return Err(Error::input(
+                    file,
+                    "dim[4]",
+                    format!(
+                        "{count} coefficients per voxel, but a {} needs {expected}",
+                        GlyphKind::Tensor(layout)
+                    ),
+                ));
+            }
+            Ok(GlyphKind::Tensor(layout))
+        }
+    }
+}

@@ -1,0 +1,33 @@
+//! Volume input: a slice of a 4D NIfTI volume of SH or tensor coefficients as a scene.
+//!
+//! The pipeline, one file per step: `input` reads the volume (and a mask) and checks the
+//! coefficient count against what the user says the file holds; `selection` picks the
+//! voxels (slice, index ranges, mask); `reorient` turns each glyph from voxel axes into
+//! world axes with the orthogonal polar factor R of the affine, g(u) = f(R^T u);
+//! `amplitude` measures glyphs for normalisation; `framing` places the camera; `build`
+//! puts it together into a [`Scene`](crate::io::scene::Scene) and a [`VolumeReport`].
+//!
+//! Glyph centres are the affine applied to the voxel indices (NIfTI-1's sform, else
+//! qform, else pixdim: [`crate::io::nifti::affine`]); glyph shapes use only the affine's
+//! orthogonal factor, so anisotropic voxels do not stretch the glyphs, but a rotated or
+//! reflected grid turns them with it.
+//!
+//! `sh_shim` is temporary: stand-ins for `crate::glyph::sh` until the SH work is merged.
+mod amplitude;
+mod build;
+mod framing;
+mod input;
+mod reorient;
+mod selection;
+mod sh_shim;
+
+pub use build::{
+    DEFAULT_SCALE_FRACTION, Normalisation, VolumeOptions, VolumeReport, VolumeScene, volume_scene,
+};
+pub use framing::{
+    DEFAULT_LONG_SIDE, Framing, ImageRequest, PERSPECTIVE_FOV_DEG, ViewProjection, frame_region,
+    view_axis, view_directions,
+};
+pub use input::{MAX_ORDER, Mask, Volume, VolumeKind, load_mask, load_volume};
+pub use reorient::{Reorientation, rotate_full_tensor};
+pub use selection::{Slice, SliceAxis, SliceRegion, VoxelRanges};

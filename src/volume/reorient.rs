@@ -1,0 +1,185 @@
+//! Turning a glyph from voxel axes into world axes: g(u) = f(R^T u), where R is the
+//! orthogonal polar factor of the affine's linear part (FURY issue 10 is what happens
+//! without it: glyphs drawn in voxel axes on a rotated grid).
+//!
+//! The coefficients of a volume are taken to be in the voxel frame, the convention of
+//! DIPY and of FSL's bvecs. R may be a reflection (det -1, e.g. qfac -1). For an even
+//! function (every SH series, every even-order tensor) f(-u) = f(u), so R and -R give the
+//! same glyph; those are rotated by whichever of the two is a proper rotation, which is
+//! what SH rotation (Wigner matrices) is defined for. Odd-order tensors are not even and
+//! take R itself, reflection included: a tensor rotates index by index for any orthogonal
+//! matrix. A factor within 1e-9 of the identity is skipped, which spares the common
+//! axis-aligned volumes both the work and the rounding.
+use glam::DMat3;
+
+use super::sh_shim as sh;
+use crate::glyph::{Symmetry, TensorLayout};
+use crate::io::scene::GlyphKind;
+use crate::{Error, Result};
+
+/// Largest entry difference from the identity below which no rotation is applied.
+const IDENTITY_TOLERANCE: f64 = 1e-9;
+
+/// The orthogonal factor of a volume's affine, in the two forms the glyph kinds need.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Reorientation {
+    /// R: voxel axes to world axes, det +1 or -1.
+    pub orthogonal: DMat3,
+    /// R or -R, whichever has det +1: the same map for even functions.
+    pub proper: DMat3,
+}
+
+impl Reorientation {
+    pub fn new(orthogonal: DMat3) -> Self {
+        let proper = if orthogonal.determinant() < 0.0 {
+            -orthogonal
+        } else {
+            orthogonal
+        };
+        Self { orthogonal, proper }
+    }
+
+    /// The glyph of `coeffs` (of kind `kind`, in voxel axes) in world axes.
+    pub fn apply(&self, kind: GlyphKind, coeffs: &[f64]) -> Result<Vec<f64>> {
+        match kind {
+            GlyphKind::Sh {
+                band,
+                basis,
+                legacy,
+            } => match non_identity(self.proper) {
+                Some(r) => sh::rotate_sh(band, basis, legacy, coeffs, r),
+                None => Ok(coeffs.to_vec()),
+            },
+            GlyphKind::Tensor(TensorLayout { order, symmetry }) => {
+                let r = if order % 2 == 0 {
+                    self.proper
+                } else {
+                    self.orthogonal
+                };
+                match (non_identity(r), symmetry) {
+                    (None, _) => Ok(coeffs.to_vec()),
+                    (Some(r), Symmetry::Symmetric) => sh::rotate_symmetric_tensor(order, coeffs, r),
+                    (Some(r), Symmetry::NonSymmetric) => rotate_full_tensor(order, coeffs, r),
+                }
+            }
+        }
+    }
+}
+
+fn non_identity(r: DMat3) -> Option<DMat3> {
+    let difference = (r - DMat3::IDENTITY).to_cols_array();
+    let largest = difference.iter().fold(0.0f64, |m, d| m.max(d.abs()));
+    (largest > IDENTITY_TOLERANCE).then_some(r)
+}
+
+/// g(u) = f(R^T u) for a full tensor of order n stored row-major (i1 most significant):
+/// T'[i1..in] = sum over j of R[i1][j1] ... R[in][jn] T[j1..jn], applied one index at a
+/// time (n passes of 3 multiply-adds per entry instead of 3^n per entry).
+pub fn rotate_full_tensor(order: u32, coeffs: &[f64], r: DMat3) -> Result<Vec<f64>> {
+    let count = 3usize.pow(order);
+    if coeffs.len() != count {
+        return Err(Error::Invalid(format!(
+            "non-symmetric tensor of order {order} needs {count} coefficients, got {}",
+            coeffs.len()
+        )));
+    }
+    // rows[i][j] = R_ij (glam stores columns).
+    let rows = [r.row(0), r.row(1), r.row(2)];
+    let mut current = coeffs.to_vec();
+    let mut next = vec![0.0; count];
+    for axis in 0..order {
+        let stride = 3usize.pow(order - 1 - axis);
+        for (flat, out) in next.iter_mut().enumerate() {
+            let i = (flat / stride) % 3;
+            let base = flat - i * stride;
+            *out = (0..3)
+                .map(|j| rows[i][j] * current[base + j * stride])
+                .sum();
+        }
+        std::mem::swap(&mut current, &mut next);
+    }
+    Ok(current)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::glyph::polynomial::GlyphPolynomial;
+    use glam::DVec3;
+
+    fn layout(order: u32, symmetry: Symmetry) -> TensorLayout {
+        TensorLayout { order, symmetry }
+    }
+
+    /// A rotation and a reflection that move every axis.
+    fn matrices() -> [DMat3; 2] {
+        let rotation = DMat3::from_axis_angle(DVec3::new(1.0, 2.0, -0.5).normalize(), 0.7);
+        [
+            rotation,
+            rotation * DMat3::from_diagonal(DVec3::new(1.0, 1.0, -1.0)),
+        ]
+    }
+
+    fn directions() -> impl Iterator<Item = DVec3> {
+        (0..40).map(|k| {
+            let t = k as f64 * 0.61;
+            DVec3::new(t.cos(), (1.3 * t).sin(), (0.7 * t).cos() - 0.2).normalize()
+        })
+    }
+
+    fn pseudo_random(count: usize) -> Vec<f64> {
+        (0..count)
+            .map(|k| ((k * 7919 % 113) as f64 / 56.0) - 1.0)
+            .collect()
+    }
+
+    fn assert_rotated(kind: TensorLayout, coeffs: &[f64], r: DMat3) {
+        let rotated = Reorientation::new(r)
+            .apply(GlyphKind::Tensor(kind), coeffs)
+            .unwrap();
+        let f = GlyphPolynomial::from_tensor(kind, coeffs).unwrap();
+        let g = GlyphPolynomial::from_tensor(kind, &rotated).unwrap();
+        for u in directions() {
+            let (expected, got) = (f.eval(r.transpose() * u), g.eval(u));
+            assert!(
+                (expected - got).abs() < 1e-12 * (1.0 + expected.abs()),
+                "{kind:?} at {u}: {got} vs {expected}"
+            );
+        }
+    }
+
+    #[test]
+    fn tensors_rotate_as_g_of_u_equals_f_of_r_transpose_u() {
+        for r in matrices() {
+            for order in 1..=5 {
+                for symmetry in [Symmetry::Symmetric, Symmetry::NonSymmetric] {
+                    let kind = layout(order, symmetry);
+                    assert_rotated(kind, &pseudo_random(kind.coefficient_count()), r);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn odd_orders_keep_the_reflection() {
+        // A vector along voxel z under a reflection of z points to world -z.
+        let flip = DMat3::from_diagonal(DVec3::new(1.0, 1.0, -1.0));
+        let kind = GlyphKind::Tensor(layout(1, Symmetry::Symmetric));
+        let rotated = Reorientation::new(flip)
+            .apply(kind, &[0.0, 0.0, 1.0])
+            .unwrap();
+        assert_eq!(rotated, vec![0.0, 0.0, -1.0]);
+        // An even order is rotated by -R = diag(-1, -1, 1) instead, a proper rotation
+        // that maps the same even glyph: a z-lobe stays a z-lobe.
+        let kind = GlyphKind::Tensor(layout(2, Symmetry::Symmetric));
+        let lobe = [0.1, 0.0, 0.0, 0.1, 0.0, 1.0];
+        let rotated = Reorientation::new(flip).apply(kind, &lobe).unwrap();
+        assert!(rotated.iter().zip(lobe).all(|(a, b)| (a - b).abs() < 1e-15));
+    }
+
+    #[test]
+    fn wrong_length_is_an_error() {
+        let err = rotate_full_tensor(2, &[1.0; 8], DMat3::IDENTITY).unwrap_err();
+        assert!(err.to_string().contains("needs 9"), "{err}");
+    }
+}

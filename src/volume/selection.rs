@@ -1,0 +1,278 @@
+//! Which voxels become glyphs: one slice, optionally cut down by voxel index ranges,
+//! then by a mask.
+//!
+//! Slice names follow the voxel axes, as DIPY and FURY do: sagittal is a slice of
+//! constant i, coronal of constant j, axial of constant k. For a volume stored in an
+//! unusual orientation the named slice may therefore not be anatomically axial; the
+//! camera still looks at it face on (see `framing`).
+use std::fmt;
+use std::ops::Range;
+use std::str::FromStr;
+
+use super::input::show_shape;
+use crate::{Error, Result};
+
+/// The voxel axis a slice is perpendicular to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SliceAxis {
+    /// Constant i.
+    Sagittal,
+    /// Constant j.
+    Coronal,
+    /// Constant k.
+    Axial,
+}
+
+/// A slice of the volume; `index` None is the middle slice (n / 2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Slice {
+    pub axis: SliceAxis,
+    pub index: Option<usize>,
+}
+
+/// Half-open index ranges per voxel axis; None is the whole axis.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct VoxelRanges {
+    pub axes: [Option<(Option<usize>, Option<usize>)>; 3],
+}
+
+/// The voxels of a slice within the ranges: a box of voxel indices, one voxel thick
+/// along the slice axis.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SliceRegion {
+    pub slice: SliceAxis,
+    pub index: usize,
+    /// Index ranges along i, j, k.
+    pub ranges: [Range<usize>; 3],
+}
+
+impl SliceAxis {
+    /// The voxel axis (0 = i, 1 = j, 2 = k) the slice is perpendicular to.
+    pub fn voxel_axis(self) -> usize {
+        match self {
+            SliceAxis::Sagittal => 0,
+            SliceAxis::Coronal => 1,
+            SliceAxis::Axial => 2,
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            SliceAxis::Sagittal => "sagittal",
+            SliceAxis::Coronal => "coronal",
+            SliceAxis::Axial => "axial",
+        }
+    }
+}
+
+impl Default for Slice {
+    /// The middle axial slice.
+    fn default() -> Self {
+        Slice {
+            axis: SliceAxis::Axial,
+            index: None,
+        }
+    }
+}
+
+impl fmt::Display for Slice {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.index {
+            Some(index) => write!(f, "{}:{index}", self.axis.name()),
+            None => write!(f, "{} (middle)", self.axis.name()),
+        }
+    }
+}
+
+impl FromStr for Slice {
+    type Err = Error;
+
+    /// `axial`, `coronal` or `sagittal`, optionally followed by `:INDEX`.
+    fn from_str(text: &str) -> Result<Self> {
+        let (name, index) = match text.split_once(':') {
+            Some((name, index)) => (name, Some(index)),
+            None => (text, None),
+        };
+        let axis = match name {
+            "sagittal" => SliceAxis::Sagittal,
+            "coronal" => SliceAxis::Coronal,
+            "axial" => SliceAxis::Axial,
+            _ => {
+                return Err(Error::Invalid(format!(
+                    "--slice '{text}': expected axial, coronal or sagittal, optionally :INDEX"
+                )));
+            }
+        };
+        let index = index
+            .map(|index| {
+                index.parse::<usize>().map_err(|_| {
+                    Error::Invalid(format!(
+                        "--slice '{text}': index '{index}' is not a voxel index (0, 1, 2, ...)"
+                    ))
+                })
+            })
+            .transpose()?;
+        Ok(Slice { axis, index })
+    }
+}
+
+impl FromStr for VoxelRanges {
+    type Err = Error;
+
+    /// `i0:i1,j0:j1,k0:k1`, half-open; either end of a range may be left out (`:`, `4:`,
+    /// `:9`).
+    fn from_str(text: &str) -> Result<Self> {
+        let invalid = |why: &str| Error::Invalid(format!("--voxels '{text}': {why}"));
+        let parts: Vec<&str> = text.split(',').collect();
+        if parts.len() != 3 {
+            return Err(invalid("expected three ranges i0:i1,j0:j1,k0:k1"));
+        }
+        let mut axes = [None; 3];
+        for (axis, part) in axes.iter_mut().zip(parts) {
+            let (lo, hi) = part
+                .split_once(':')
+                .ok_or_else(|| invalid(&format!("'{part}' is not a range START:END")))?;
+            let bound = |s: &str| -> Result<Option<usize>> {
+                let s = s.trim();
+                if s.is_empty() {
+                    return Ok(None);
+                }
+                s.parse::<usize>()
+                    .map(Some)
+                    .map_err(|_| invalid(&format!("'{s}' is not a voxel index")))
+            };
+            let (lo, hi) = (bound(lo)?, bound(hi)?);
+            if let (Some(lo), Some(hi)) = (lo, hi)
+                && lo >= hi
+            {
+                return Err(invalid(&format!(
+                    "range {lo}:{hi} is empty (the end is exclusive)"
+                )));
+            }
+            *axis = Some((lo, hi));
+        }
+        Ok(VoxelRanges { axes })
+    }
+}
+
+impl SliceRegion {
+    /// The voxels of `slice` within `ranges` in a volume of `dims` voxels; `file` names
+    /// errors: an index outside the volume, or ranges that leave no voxel of the slice.
+    pub fn new(dims: [usize; 3], slice: Slice, ranges: &VoxelRanges, file: &str) -> Result<Self> {
+        let axis = slice.axis.voxel_axis();
+        let length = dims[axis];
+        let index = slice.index.unwrap_or(length / 2);
+        if index >= length {
+            return Err(Error::input(
+                file,
+                format!("dim[{}]", axis + 1),
+                format!(
+                    "--slice {slice}: index {index} is outside the volume's {} voxels along {} \
+                     (0..={})",
+                    length,
+                    ["i", "j", "k"][axis],
+                    length.saturating_sub(1)
+                ),
+            ));
+        }
+        let mut region: [Range<usize>; 3] = [0..dims[0], 0..dims[1], 0..dims[2]];
+        region[axis] = index..index + 1;
+        for (range, wanted) in region.iter_mut().zip(ranges.axes) {
+            if let Some((lo, hi)) = wanted {
+                let lo = lo.unwrap_or(0).max(range.start);
+                let hi = hi.unwrap_or(usize::MAX).min(range.end);
+                *range = lo..hi.max(lo);
+            }
+        }
+        if region.iter().any(|r| r.is_empty()) {
+            return Err(Error::input(
+                file,
+                "--voxels",
+                format!(
+                    "the ranges leave no voxel of the {slice} slice of this {} volume",
+                    show_shape(&dims)
+                ),
+            ));
+        }
+        Ok(SliceRegion {
+            slice: slice.axis,
+            index,
+            ranges: region,
+        })
+    }
+
+    /// The voxels, i fastest (the file's order).
+    pub fn voxels(&self) -> impl Iterator<Item = [usize; 3]> + '_ {
+        let [ri, rj, rk] = self.ranges.clone();
+        rk.flat_map(move |k| {
+            let ri = ri.clone();
+            rj.clone()
+                .flat_map(move |j| ri.clone().map(move |i| [i, j, k]))
+        })
+    }
+
+    pub fn len(&self) -> usize {
+        self.ranges.iter().map(|r| r.len()).product()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_slices_and_ranges() {
+        let s: Slice = "coronal:3".parse().unwrap();
+        assert_eq!((s.axis, s.index), (SliceAxis::Coronal, Some(3)));
+        assert_eq!("axial".parse::<Slice>().unwrap(), Slice::default());
+        for bad in ["transverse:1", "axial:-1", "axial:x"] {
+            assert!(bad.parse::<Slice>().is_err(), "{bad}");
+        }
+        let r: VoxelRanges = "1:4,:,5:".parse().unwrap();
+        assert_eq!(r.axes[0], Some((Some(1), Some(4))));
+        assert_eq!(r.axes[1], Some((None, None)));
+        assert_eq!(r.axes[2], Some((Some(5), None)));
+        for bad in ["1:4,2:3", "4:4,:,:", "1-4,:,:", "a:3,:,:"] {
+            assert!(bad.parse::<VoxelRanges>().is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn region_is_the_slice_cut_by_the_ranges() {
+        let ranges: VoxelRanges = "1:3,:,0:100".parse().unwrap();
+        let slice = Slice {
+            axis: SliceAxis::Coronal,
+            index: Some(2),
+        };
+        let region = SliceRegion::new([4, 5, 6], slice, &ranges, "v.nii").unwrap();
+        assert_eq!(region.ranges, [1..3, 2..3, 0..6]);
+        assert_eq!(region.len(), 12);
+        assert_eq!(region.voxels().count(), 12);
+        assert_eq!(region.voxels().next(), Some([1, 2, 0]));
+        assert_eq!(region.voxels().nth(1), Some([2, 2, 0]));
+        let middle =
+            SliceRegion::new([4, 5, 6], Slice::default(), &Default::default(), "v").unwrap();
+        assert_eq!(middle.ranges, [0..4, 0..5, 3..4]);
+    }
+
+    #[test]
+    fn out_of_range_index_and_empty_regions_are_errors() {
+        let slice = Slice {
+            axis: SliceAxis::Axial,
+            index: Some(6),
+        };
+        let err = SliceRegion::new([4, 5, 6], slice, &Default::default(), "v.nii")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("v.nii") && err.contains("dim[3]"), "{err}");
+        let ranges: VoxelRanges = "10:12,:,:".parse().unwrap();
+        let err = SliceRegion::new([4, 5, 6], Slice::default(), &ranges, "v.nii")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("--voxels"), "{err}");
+    }
+}

@@ -1,0 +1,154 @@
+//! Real files from DIPY (tests/data/dipy, BSD-3-Clause, see LICENSE-DIPY there).
+use glam::{DMat3, DVec3};
+use glyphcast::io::nifti::{AffineSource, VoxelToWorld, read_nifti};
+use glyphcast::io::scene::{GlyphKind, ShBasis};
+use glyphcast::volume::{VolumeKind, load_volume};
+use nalgebra::{Quaternion, UnitQuaternion};
+use nifti::NiftiHeader;
+use std::path::PathBuf;
+
+fn data(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/dipy")
+        .join(name)
+}
+
+/// The qform of small_64D.nii from its raw header fields, with nalgebra's quaternion
+/// rotation (not the library's formula): R(q) diag(pixdim1, pixdim2, qfac pixdim3) and the
+/// quaternion offsets.
+fn independent_qform(h: &NiftiHeader) -> (DMat3, DVec3) {
+    let (b, c, d) = (h.quatern_b as f64, h.quatern_c as f64, h.quatern_d as f64);
+    let a = (1.0 - b * b - c * c - d * d).max(0.0).sqrt();
+    let rotation =
+        UnitQuaternion::from_quaternion(Quaternion::new(a, b, c, d)).to_rotation_matrix();
+    let m = rotation.matrix();
+    let qfac = if h.pixdim[0] < 0.0 { -1.0 } else { 1.0 };
+    let sizes = [
+        h.pixdim[1] as f64,
+        h.pixdim[2] as f64,
+        qfac * h.pixdim[3] as f64,
+    ];
+    let col = |j: usize| DVec3::new(m[(0, j)], m[(1, j)], m[(2, j)]) * sizes[j];
+    (
+        DMat3::from_cols(col(0), col(1), col(2)),
+        DVec3::new(h.quatern_x as f64, h.quatern_y as f64, h.quatern_z as f64),
+    )
+}
+
+#[test]
+fn small_64d_affine_matches_its_qform_with_qfac_minus_one() {
+    let image = read_nifti(&data("small_64D.nii")).expect("reading small_64D.nii");
+    let h = &image.header;
+    // Known facts of this file: 10x10x10x65, 2 mm voxels, qfac -1, both codes set.
+    assert_eq!(&h.dim[..5], &[4, 10, 10, 10, 65]);
+    assert_eq!(h.pixdim[0], -1.0);
+    assert_eq!(&h.pixdim[1..4], &[2.0, 2.0, 2.0]);
+    assert!(h.qform_code > 0 && h.sform_code > 0);
+
+    let (linear, offset) = independent_qform(h);
+    assert!(
+        linear.determinant() < 0.0,
+        "qfac -1 makes the affine a reflection"
+    );
+    let check = |map: &VoxelToWorld, what: &str| {
+        for voxel in [
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::Y,
+            DVec3::Z,
+            DVec3::new(9.0, 4.0, 7.0),
+        ] {
+            let expected = linear * voxel + offset;
+            let got = map.voxel_center(voxel);
+            assert!(
+                (got - expected).length() < 1e-4,
+                "{what} {voxel}: {got} vs {expected}"
+            );
+        }
+        let sizes = map.voxel_sizes();
+        assert!(
+            (sizes - DVec3::splat(2.0)).abs().max_element() < 1e-5,
+            "{sizes}"
+        );
+    };
+    // The file's sform (used, since sform_code > 0) agrees with its qform...
+    assert_eq!(image.voxel_to_world.source, AffineSource::Sform);
+    check(&image.voxel_to_world, "sform");
+    // ...and the library's qform path, forced, gives the same affine.
+    let qform_only = NiftiHeader {
+        sform_code: 0,
+        ..h.clone()
+    };
+    let map = VoxelToWorld::from_header(&qform_only, "small_64D.nii").expect("qform");
+    assert_eq!(map.source, AffineSource::Qform);
+    check(&map, "qform");
+    // The rotation glyphs get is a reflection too, and orthogonal.
+    let r = map.orthogonal_factor().expect("polar factor");
+    assert!((r.determinant() + 1.0).abs() < 1e-9);
+    assert!(
+        (r * r.transpose() - DMat3::IDENTITY)
+            .to_cols_array()
+            .iter()
+            .all(|e| e.abs() < 1e-9)
+    );
+    let expected_r = DMat3::from_cols(
+        linear.x_axis / 2.0,
+        linear.y_axis / 2.0,
+        linear.z_axis / 2.0,
+    );
+    assert!(
+        (r - expected_r)
+            .to_cols_array()
+            .iter()
+            .all(|e| e.abs() < 1e-5)
+    );
+}
+
+#[test]
+fn small_64d_is_not_a_coefficient_volume() {
+    let kind = VolumeKind::Sh {
+        basis: ShBasis::Descoteaux07,
+        legacy: false,
+    };
+    let err = load_volume(&data("small_64D.nii"), kind)
+        .expect_err("65 is no SH count")
+        .to_string();
+    assert!(
+        err.contains("small_64D.nii") && err.contains("dim[4]") && err.contains("65"),
+        "{err}"
+    );
+}
+
+#[test]
+fn func_coef_is_a_band_8_volume() {
+    let kind = VolumeKind::Sh {
+        basis: ShBasis::Tournier07,
+        legacy: true,
+    };
+    let volume = load_volume(&data("func_coef.nii.gz"), kind).expect("reading func_coef");
+    assert_eq!(volume.dims, [2, 3, 4]);
+    assert_eq!(
+        volume.kind,
+        GlyphKind::Sh {
+            band: 8,
+            basis: ShBasis::Tournier07,
+            legacy: true
+        }
+    );
+    assert_eq!(volume.coefficient_count(), 45);
+    assert_eq!(volume.voxel_to_world.source, AffineSource::Sform);
+    assert_eq!(
+        volume
+            .voxel_to_world
+            .voxel_center(DVec3::new(1.0, 2.0, 3.0)),
+        DVec3::new(1.0, 2.0, 3.0)
+    );
+    // Data, not padding: every voxel has a positive l = 0 term.
+    for i in 0..2 {
+        for j in 0..3 {
+            for k in 0..4 {
+                assert!(volume.coefficients([i, j, k])[0] > 0.0);
+            }
+        }
+    }
+}

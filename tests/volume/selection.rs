@@ -1,0 +1,176 @@
+//! Which voxels become glyphs (slice, ranges, mask, bad values) and how big they are.
+use crate::fixtures::*;
+use glyphcast::glyph::{Symmetry, TensorLayout};
+use glyphcast::volume::{
+    Mask, Normalisation, Slice, SliceAxis, Volume, VolumeKind, VolumeOptions, VolumeReport,
+    load_mask, load_volume, volume_scene,
+};
+use ndarray::Array3;
+use std::collections::BTreeSet;
+
+const DIMS: [usize; 3] = [4, 5, 6];
+
+fn labelled(name: &str, edit: impl Fn([usize; 3], Vec<f64>) -> Vec<f64>) -> Volume {
+    let data = volume(DIMS, 6, |v| edit(v, labelled_sphere(v)));
+    let path = scratch(name).join("labelled.nii");
+    write4(&path, Storage::Sform, &data);
+    let kind = VolumeKind::Tensor(TensorLayout {
+        order: 2,
+        symmetry: Symmetry::Symmetric,
+    });
+    load_volume(&path, kind).expect("loading")
+}
+
+fn drawn_voxels(volume: &Volume, options: &VolumeOptions) -> (BTreeSet<[usize; 3]>, VolumeReport) {
+    let view = volume_scene(volume, options).expect("scene");
+    let set = &view.scene.glyph_sets[0];
+    let voxels = set.coeffs.iter().map(|c| label_voxel(c[0])).collect();
+    (voxels, view.report)
+}
+
+#[test]
+fn slice_ranges_and_mask_pick_exactly_their_voxels() {
+    let volume = labelled("pick", |_, c| c);
+    let keep = |[i, _, k]: [usize; 3]| (i + k) % 2 == 0;
+    let mask_values = Array3::from_shape_fn((DIMS[0], DIMS[1], DIMS[2]), |(i, j, k)| {
+        if keep([i, j, k]) { 1.0 } else { 0.0 }
+    });
+    let mask_path = scratch("pick-mask").join("mask.nii.gz");
+    write_mask(&mask_path, Storage::Sform, &mask_values);
+    let options = VolumeOptions {
+        slice: Slice {
+            axis: SliceAxis::Coronal,
+            index: Some(2),
+        },
+        voxels: "1:3,:,2:".parse().expect("ranges"),
+        mask: Some(load_mask(&mask_path).expect("mask")),
+        ..Default::default()
+    };
+    let (voxels, report) = drawn_voxels(&volume, &options);
+    let mut expected = BTreeSet::new();
+    let mut selected = 0;
+    for i in 1..3 {
+        for k in 2..6 {
+            selected += 1;
+            if keep([i, 2, k]) {
+                expected.insert([i, 2, k]);
+            }
+        }
+    }
+    assert_eq!(voxels, expected);
+    assert_eq!(report.selected, selected);
+    assert_eq!(report.masked_out, selected - expected.len());
+    assert_eq!(report.drawn, expected.len());
+
+    // The default: the middle axial slice, every voxel.
+    let (voxels, _) = drawn_voxels(&volume, &VolumeOptions::default());
+    assert_eq!(voxels.len(), 4 * 5);
+    assert!(voxels.iter().all(|v| v[2] == 3));
+}
+
+#[test]
+fn a_mask_of_another_shape_is_refused_naming_both_shapes() {
+    let volume = labelled("shape", |_, c| c);
+    let mask = Mask::new("small-mask.nii", &Array3::ones((4, 5, 5)));
+    let options = VolumeOptions {
+        mask: Some(mask),
+        ..Default::default()
+    };
+    let err = volume_scene(&volume, &options)
+        .expect_err("shape mismatch")
+        .to_string();
+    assert!(
+        err.contains("small-mask.nii") && err.contains("4x5x5") && err.contains("4x5x6"),
+        "{err}"
+    );
+    assert!(err.contains("labelled.nii"), "{err}");
+}
+
+#[test]
+fn bad_values_zero_glyphs_and_small_glyphs_are_left_out_and_counted() {
+    // Axial slice k = 0: labels 1 + i + 10 j. Voxel (0,0) is NaN, (1,0) infinite in one
+    // entry, (2,0) zero.
+    let volume = labelled("values", |[i, j, k], mut c| {
+        match (i, j, k) {
+            (0, 0, 0) => c[0] = f64::NAN,
+            (1, 0, 0) => c[4] = f64::INFINITY,
+            (2, 0, 0) => c = vec![0.0; 6],
+            _ => {}
+        }
+        c
+    });
+    let base = VolumeOptions {
+        slice: Slice {
+            axis: SliceAxis::Axial,
+            index: Some(0),
+        },
+        ..Default::default()
+    };
+    let (voxels, report) = drawn_voxels(&volume, &base);
+    assert_eq!(report.non_finite, 2);
+    assert_eq!(report.zero, 1);
+    assert_eq!(report.drawn, 20 - 3);
+    assert!(!voxels.contains(&[0, 0, 0]) && !voxels.contains(&[2, 0, 0]));
+
+    let options = VolumeOptions {
+        min_amplitude: 12.0,
+        ..base.clone()
+    };
+    let (voxels, report) = drawn_voxels(&volume, &options);
+    // Labels below 12: 4 (i = 3, j = 0) and 11 (0, 1).
+    assert_eq!(report.below_min_amplitude, 2);
+    assert!(voxels.iter().all(|&v| voxel_label(v) >= 12.0));
+
+    let options = VolumeOptions {
+        min_amplitude: 1e9,
+        ..base
+    };
+    let err = volume_scene(&volume, &options)
+        .expect_err("nothing left")
+        .to_string();
+    assert!(
+        err.contains("labelled.nii") && err.contains("no glyph"),
+        "{err}"
+    );
+}
+
+#[test]
+fn normalisation_sizes_glyphs_as_asked() {
+    let volume = labelled("norm", |_, c| c);
+    let slice = Slice {
+        axis: SliceAxis::Axial,
+        index: Some(1),
+    };
+    // Labels 101 + i + 10 j; the largest, (3, 4), is 144. A sphere c I has radius c.
+    let largest = 144.0;
+    for (norm, scale) in [
+        (Normalisation::Global, None),
+        (Normalisation::Global, Some(1.5)),
+        (Normalisation::PerGlyph, Some(1.5)),
+        (Normalisation::None, Some(0.01)),
+    ] {
+        let options = VolumeOptions {
+            slice,
+            norm,
+            scale,
+            ..Default::default()
+        };
+        let scene = volume_scene(&volume, &options).expect("scene").scene;
+        let set = &scene.glyph_sets[0];
+        // Default: 0.45 of the smallest voxel size (2 mm).
+        let s = scale.unwrap_or(0.9);
+        for (coeffs, &glyph_scale) in set.coeffs.iter().zip(&set.scales) {
+            let radius = coeffs[0];
+            let world_radius = glyph_scale * radius;
+            let expected = match norm {
+                Normalisation::Global => s * radius / largest,
+                Normalisation::PerGlyph => s,
+                Normalisation::None => s * radius,
+            };
+            assert!(
+                (world_radius - expected).abs() < 1e-3 * expected,
+                "{norm:?}: label {radius}: world radius {world_radius}, expected {expected}"
+            );
+        }
+    }
+}
