@@ -3,6 +3,7 @@ pub mod accuracy;
 pub mod camera;
 pub mod demo;
 pub mod error;
+pub mod fit;
 pub mod glyph;
 pub mod io;
 pub mod render;

@@ -29,6 +29,9 @@ enum Command {
     },
     /// Render the built-in demo scene (a field of crossing-fibre glyphs).
     Demo {
+        /// Show a field of rotated copper crystals as stiffness-tensor glyphs instead.
+        #[arg(long)]
+        stiffness: bool,
         #[command(flatten)]
         output: OutputArgs,
         #[command(flatten)]
@@ -37,6 +40,10 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         save_scene: Option<PathBuf>,
     },
+    /// Fit tensor or SH coefficients to a DWI series (writes a 4D NIfTI).
+    Fit(cli::fit::FitArgs),
+    /// Write a one-glyph scene file from a Voigt stiffness matrix (CSV or JSON).
+    Stiffness(cli::stiffness::StiffnessArgs),
 }
 
 fn main() {
@@ -58,15 +65,22 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
             cli::render::render(scene, &output, &options)
         }
         Command::Demo {
+            stiffness,
             output,
             options,
             save_scene,
         } => {
-            let scene = glyphcast::demo::demo_scene();
+            let scene = if stiffness {
+                glyphcast::demo::stiffness_demo_scene()
+            } else {
+                glyphcast::demo::demo_scene()
+            };
             if let Some(path) = save_scene {
                 glyphcast::io::atomic::write_atomic(&path, scene.to_json().as_bytes())?;
             }
             cli::render::render(scene, &output, &options)
         }
+        Command::Fit(args) => cli::fit::run(args),
+        Command::Stiffness(args) => cli::stiffness::run(args),
     }
 }
