@@ -1,15 +1,20 @@
-//! Built-in scenes: the demo that `glyphcast demo` renders, and fibre-like glyphs that
-//! tests and benchmarks build on.
+//! Built-in scenes: the demo that `glyphcast demo` renders, fibre-like glyphs that
+//! tests and benchmarks build on, and stiffness-tensor scenes (`glyphcast demo
+//! --stiffness`, `glyphcast stiffness`).
 //!
 //! A fibre population with unit directions d_i and weights w_i gives the symmetric tensor
 //! T = sum_i w_i d_i (x) ... (x) d_i, whose glyph function is f(u) = sum_i w_i (u . d_i)^n:
 //! even orders give crossing lobes that sharpen as n grows and that touch the centre
 //! wherever u is orthogonal to every d_i.
 use crate::camera::{Camera, Projection};
+use crate::glyph::bounds::bounding_radius;
 use crate::glyph::monomials::monomials;
+use crate::glyph::polynomial::GlyphPolynomial;
+use crate::glyph::stiffness::{VoigtStiffness, rotate_order4};
 use crate::glyph::{NegativeMode, Symmetry, TensorLayout};
 use crate::io::scene::{GlyphKind, GlyphSet, ImageSize, Scene};
-use glam::DVec3;
+use crate::{Error, Result};
+use glam::{DMat3, DVec3};
 
 /// Unique coefficients (scene order) of sum_i w_i d_i^(x)n.
 pub fn fibre_tensor(order: u32, fibres: &[(DVec3, f64)]) -> Vec<f64> {
@@ -98,5 +103,98 @@ pub fn demo_scene() -> Scene {
             width: 800,
             height: 600,
         },
+    }
+}
+
+/// Cubic copper, GPa: C11, C12, C44.
+pub const COPPER_GPA: (f64, f64, f64) = (168.4, 121.4, 75.4);
+
+/// Stiffness glyphs are scaled so that their largest radius is this fraction of the
+/// grid spacing.
+const STIFFNESS_GLYPH_SIZE: f64 = 0.45;
+
+/// The `--stiffness` demo: a 5 x 5 field of copper crystals as non-symmetric order-4
+/// glyphs (all 81 C_ijkl). Orientations are graded: along x the crystal turns about z by
+/// 0 to 45 degrees (a quarter of the cubic period of 90), along y it tilts about x by 0
+/// to 54.7 degrees (the angle between [001] and [111]), so the corner glyphs show the
+/// cube axes, a <110> and a <111> direction facing up.
+pub fn stiffness_demo_scene() -> Scene {
+    let (c11, c12, c44) = COPPER_GPA;
+    let crystal = VoigtStiffness::cubic(c11, c12, c44).full_tensor();
+    let largest = max_radius(4, Symmetry::NonSymmetric, &crystal).unwrap_or(1.0);
+    let tilt_max = (2f64.sqrt()).atan();
+    let mut centers = Vec::new();
+    let mut coeffs = Vec::new();
+    for row in 0..5 {
+        for col in 0..5 {
+            let turn = std::f64::consts::FRAC_PI_4 * col as f64 / 4.0;
+            let tilt = tilt_max * row as f64 / 4.0;
+            let rotation = DMat3::from_rotation_z(turn) * DMat3::from_rotation_x(tilt);
+            centers.push(DVec3::new(col as f64 - 2.0, row as f64 - 2.0, 0.0));
+            coeffs.push(rotate_order4(&crystal, rotation));
+        }
+    }
+    let kind = GlyphKind::Tensor(TensorLayout {
+        order: 4,
+        symmetry: Symmetry::NonSymmetric,
+    });
+    Scene {
+        glyph_sets: vec![glyph_set(
+            kind,
+            centers,
+            STIFFNESS_GLYPH_SIZE / largest,
+            coeffs,
+        )],
+        camera: Camera {
+            projection: Projection::Perspective { fov_y_deg: 30.0 },
+            eye: DVec3::new(0.0, -7.6, 7.4),
+            target: DVec3::new(0.0, 0.2, 0.0),
+            up: DVec3::Z,
+        },
+        image: ImageSize {
+            width: 800,
+            height: 680,
+        },
+    }
+}
+
+/// One stiffness glyph at the origin, scaled to radius 1 at its largest, as all 81
+/// entries (non-symmetric order 4) or as the 15 of its fully symmetric part.
+pub fn stiffness_scene(stiffness: &VoigtStiffness, symmetric_part: bool) -> Result<Scene> {
+    let (symmetry, coeffs) = if symmetric_part {
+        (Symmetry::Symmetric, stiffness.symmetric_part())
+    } else {
+        (Symmetry::NonSymmetric, stiffness.full_tensor())
+    };
+    let largest = max_radius(4, symmetry, &coeffs)?;
+    let kind = GlyphKind::Tensor(TensorLayout { order: 4, symmetry });
+    Ok(Scene {
+        glyph_sets: vec![glyph_set(
+            kind,
+            vec![DVec3::ZERO],
+            1.0 / largest,
+            vec![coeffs],
+        )],
+        camera: Camera {
+            projection: Projection::Perspective { fov_y_deg: 30.0 },
+            eye: DVec3::new(2.4, -3.6, 2.2),
+            target: DVec3::ZERO,
+            up: DVec3::Z,
+        },
+        image: ImageSize::default(),
+    })
+}
+
+/// A guaranteed bound of max |f(u)| over unit u; an error for a zero tensor, which has
+/// no glyph to draw.
+fn max_radius(order: u32, symmetry: Symmetry, coeffs: &[f64]) -> Result<f64> {
+    let poly = GlyphPolynomial::from_tensor(TensorLayout { order, symmetry }, coeffs)?;
+    let radius = bounding_radius(&poly, NegativeMode::Abs);
+    if radius > 0.0 {
+        Ok(radius)
+    } else {
+        Err(Error::Invalid(
+            "the stiffness tensor is zero: there is no glyph to draw".into(),
+        ))
     }
 }

@@ -4,6 +4,7 @@ pub mod bench;
 pub mod camera;
 pub mod demo;
 pub mod error;
+pub mod fit;
 pub mod glyph;
 pub mod io;
 pub mod render;

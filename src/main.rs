@@ -29,6 +29,9 @@ enum Command {
     },
     /// Render the built-in demo scene (a field of crossing-fibre glyphs).
     Demo {
+        /// Show a field of rotated copper crystals as stiffness-tensor glyphs instead.
+        #[arg(long)]
+        stiffness: bool,
         #[command(flatten)]
         output: OutputArgs,
         #[command(flatten)]
@@ -41,6 +44,10 @@ enum Command {
     Accuracy(cli::accuracy::AccuracyArgs),
     /// GPU timings of the glyph pass: one scene or workload, or a sweep.
     Bench(cli::bench::BenchArgs),
+    /// Fit tensor or SH coefficients to a DWI series (writes a 4D NIfTI).
+    Fit(cli::fit::FitArgs),
+    /// Write a one-glyph scene file from a Voigt stiffness matrix (CSV or JSON).
+    Stiffness(cli::stiffness::StiffnessArgs),
 }
 
 fn main() {
@@ -62,14 +69,21 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
             cli::render::render(scene, &output, &options, source.save_scene())
         }
         Command::Demo {
+            stiffness,
             output,
             options,
             save_scene,
         } => {
-            let scene = glyphcast::demo::demo_scene();
+            let scene = if stiffness {
+                glyphcast::demo::stiffness_demo_scene()
+            } else {
+                glyphcast::demo::demo_scene()
+            };
             cli::render::render(scene, &output, &options, save_scene.as_deref())
         }
         Command::Accuracy(args) => cli::accuracy::run(&args),
         Command::Bench(args) => cli::bench::run(&args),
+        Command::Fit(args) => cli::fit::run(args),
+        Command::Stiffness(args) => cli::stiffness::run(args),
     }
 }

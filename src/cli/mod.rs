@@ -1,6 +1,8 @@
 //! Subcommands of the `glyphcast` binary.
 pub mod accuracy;
 pub mod bench;
+pub mod fit;
 pub mod progress;
 pub mod render;
+pub mod stiffness;
 pub mod volume;

@@ -5,6 +5,7 @@ pub mod intersect;
 pub mod monomials;
 pub mod polynomial;
 pub mod reference;
+pub mod stiffness;
 
 /// Whether a Cartesian tensor is stored by its unique entries (Eq. 5) or in full (Eq. 4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

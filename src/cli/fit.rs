@@ -1,0 +1,109 @@
+//! `glyphcast fit`: tensor or SH coefficients from a DWI series (see `glyphcast::fit`).
+//!
+//! Flags are checked first, then every input file, and only then is anything fitted or
+//! written, so a bad input costs no time and leaves no file.
+use clap::Args;
+use glyphcast::Result;
+use glyphcast::fit::output::{check_output_path, write_coefficients};
+use glyphcast::fit::{DEFAULT_LAMBDA, FitFiles, FitInputs, FitModel, fit, parse_basis};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::PathBuf;
+
+#[derive(Args)]
+pub struct FitArgs {
+    /// Diffusion-weighted series: 4D NIfTI (.nii or .nii.gz).
+    #[arg(value_name = "DWI")]
+    dwi: PathBuf,
+    /// b-values, FSL format (one row or one column, s/mm^2).
+    #[arg(long, value_name = "FILE")]
+    bval: PathBuf,
+    /// Gradient directions, FSL format (3 rows of n, or n rows of 3).
+    #[arg(long, value_name = "FILE")]
+    bvec: PathBuf,
+    /// Tensor order (even, 2 to 12), or the highest SH band with --sh (even, 0 to 12).
+    #[arg(long)]
+    order: u32,
+    /// Output: 4D float32 NIfTI of coefficients (.nii or .nii.gz).
+    #[arg(short = 'o', long = "output", value_name = "NIFTI")]
+    output: PathBuf,
+    /// Fit real spherical harmonics to S/S0 instead of a tensor to the ADCs.
+    #[arg(long)]
+    sh: bool,
+    /// SH basis: tournier07 (MRtrix3) or descoteaux07 (DIPY).
+    #[arg(long, requires = "sh", default_value = "tournier07")]
+    basis: String,
+    /// DIPY's legacy variant of the SH basis.
+    #[arg(long, requires = "sh")]
+    legacy: bool,
+    /// Laplace-Beltrami regularisation weight of the SH fit.
+    #[arg(long, requires = "sh", default_value_t = DEFAULT_LAMBDA)]
+    lambda: f64,
+    /// Fit only where this 3D NIfTI is non-zero (same spatial shape as the DWI).
+    #[arg(long, value_name = "NIFTI")]
+    mask: Option<PathBuf>,
+    /// No progress bar and no summary line.
+    #[arg(long)]
+    quiet: bool,
+}
+
+impl FitArgs {
+    fn model(&self) -> Result<FitModel> {
+        let model = if self.sh {
+            FitModel::Sh {
+                band: self.order,
+                basis: parse_basis(&self.basis)?,
+                legacy: self.legacy,
+                lambda: self.lambda,
+            }
+        } else {
+            FitModel::Tensor { order: self.order }
+        };
+        model.validate()?;
+        Ok(model)
+    }
+}
+
+pub fn run(args: FitArgs) -> Result<()> {
+    let model = args.model()?;
+    check_output_path(&args.output)?;
+    let inputs = FitInputs::load(FitFiles {
+        dwi: args.dwi.clone(),
+        bval: args.bval.clone(),
+        bvec: args.bvec.clone(),
+        mask: args.mask.clone(),
+    })?;
+    let bar = progress_bar(inputs.voxel_count() as u64, args.quiet);
+    let fitted = fit(&inputs, &model, &mut |done| bar.inc(done));
+    bar.finish_and_clear();
+    let coeffs = fitted?;
+    write_coefficients(
+        &args.output,
+        &coeffs,
+        &inputs.dwi.header,
+        &model.description(),
+    )?;
+    if !args.quiet {
+        let [x, y, z] = inputs.dwi.spatial_shape();
+        eprintln!(
+            "wrote {}: {x}x{y}x{z} voxels x {} coefficients ({} voxels in the mask)",
+            args.output.display(),
+            model.coefficient_count(),
+            inputs.voxel_count()
+        );
+    }
+    Ok(())
+}
+
+/// A bar on stderr when a person is watching; hidden with --quiet or when stderr is
+/// redirected (tests, pipelines, logs).
+fn progress_bar(voxels: u64, quiet: bool) -> ProgressBar {
+    if quiet || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(voxels);
+    match ProgressStyle::with_template("fitting {wide_bar} {pos}/{len} voxels, {eta} left") {
+        Ok(style) => bar.with_style(style),
+        Err(_) => bar,
+    }
+}

@@ -1,0 +1,262 @@
+//! FSL gradient tables: a `.bval` file of b-values (s/mm^2) and a `.bvec` file of
+//! gradient directions, one of each per DWI volume.
+//!
+//! FSL writes both as rows (`.bval` one row, `.bvec` three rows of n), other tools as
+//! columns (`.bval` one column, `.bvec` n rows of three); both layouts are read, and a
+//! 3 x 3 table (three volumes) is taken in FSL's layout. Numbers are separated by
+//! whitespace or commas; blank lines are skipped.
+//!
+//! A volume with b <= [`B0_THRESHOLD`] is a b=0 volume: its direction is ignored, since
+//! scanners write anything there (DIPY's small_64D has `nan nan nan`). Every other
+//! direction must be finite and non-zero and is normalised to unit length; the b-value
+//! is kept as written (no rescaling by |g|^2). Volumes are counted from 0, as in FSL's
+//! `fslroi` and nibabel.
+use glam::DVec3;
+use std::path::Path;
+
+use crate::{Error, Result};
+
+/// b-values at or below this (s/mm^2) count as b=0 volumes. Scanners report small
+/// non-zero b-values for their unweighted volumes (b = 5 to 10 is common); 50 is the
+/// threshold DIPY's `gradient_table` uses (`b0_threshold=50`).
+pub const B0_THRESHOLD: f64 = 50.0;
+
+/// Directions shorter than this are taken as zero vectors.
+const MIN_DIRECTION_LENGTH: f64 = 1e-6;
+
+/// b-value and unit gradient direction of every DWI volume.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GradientTable {
+    pub bvals: Vec<f64>,
+    /// `None` for the b=0 volumes.
+    pub directions: Vec<Option<DVec3>>,
+}
+
+impl GradientTable {
+    /// Reads both files; `volumes` is the DWI's fourth dimension and `dwi` its name,
+    /// both used in the count errors.
+    pub fn read(bval: &Path, bvec: &Path, volumes: usize, dwi: &str) -> Result<Self> {
+        let bvals = read_bvals(bval, volumes, dwi)?;
+        let vectors = read_bvecs(bvec, volumes, dwi)?;
+        let file = bvec.display().to_string();
+        let directions = bvals
+            .iter()
+            .zip(vectors)
+            .enumerate()
+            .map(|(volume, (&b, v))| unit_direction(&file, volume, b, v))
+            .collect::<Result<Vec<_>>>()?;
+        let table = GradientTable { bvals, directions };
+        if table.b0_volumes().is_empty() {
+            return Err(Error::input(
+                bval.display().to_string(),
+                "b-values",
+                format!(
+                    "no b=0 volume (b <= {B0_THRESHOLD} s/mm^2); S0 is needed to normalise the signal"
+                ),
+            ));
+        }
+        Ok(table)
+    }
+
+    /// Indices of the b=0 volumes.
+    pub fn b0_volumes(&self) -> Vec<usize> {
+        (0..self.bvals.len())
+            .filter(|&i| self.directions[i].is_none())
+            .collect()
+    }
+
+    /// Indices of the diffusion-weighted volumes, with their b-values and directions.
+    pub fn weighted(&self) -> Vec<(usize, f64, DVec3)> {
+        self.directions
+            .iter()
+            .enumerate()
+            .filter_map(|(i, d)| d.map(|d| (i, self.bvals[i], d)))
+            .collect()
+    }
+}
+
+fn unit_direction(file: &str, volume: usize, b: f64, v: [f64; 3]) -> Result<Option<DVec3>> {
+    if b <= B0_THRESHOLD {
+        return Ok(None);
+    }
+    let field = format!("volume {volume}");
+    let v = DVec3::from_array(v);
+    if !v.is_finite() {
+        return Err(Error::input(
+            file,
+            field,
+            format!(
+                "direction {v} is not finite, and b = {b} s/mm^2 is above the b=0 threshold {B0_THRESHOLD}"
+            ),
+        ));
+    }
+    let length = v.length();
+    if length < MIN_DIRECTION_LENGTH {
+        return Err(Error::input(
+            file,
+            field,
+            format!("zero-length direction for b = {b} s/mm^2"),
+        ));
+    }
+    Ok(Some(v / length))
+}
+
+fn read_bvals(path: &Path, volumes: usize, dwi: &str) -> Result<Vec<f64>> {
+    let file = path.display().to_string();
+    let rows = read_table(path)?;
+    let bvals: Vec<f64> = match (rows.len(), rows.first().map_or(0, Vec::len)) {
+        (1, _) => rows.into_iter().flatten().collect(),
+        (_, 1) => rows.into_iter().flatten().collect(),
+        (r, c) => {
+            return Err(Error::input(
+                file,
+                "layout",
+                format!("expected one row or one column of b-values, got {r} rows of {c}"),
+            ));
+        }
+    };
+    if bvals.len() != volumes {
+        return Err(Error::input(
+            file,
+            "count",
+            format!("{} b-values, but {dwi} has {volumes} volumes", bvals.len()),
+        ));
+    }
+    if let Some((i, b)) = bvals
+        .iter()
+        .enumerate()
+        .find(|(_, b)| !b.is_finite() || **b < 0.0)
+    {
+        return Err(Error::input(
+            file,
+            format!("volume {i}"),
+            format!("b-value {b} is not a finite number >= 0"),
+        ));
+    }
+    Ok(bvals)
+}
+
+fn read_bvecs(path: &Path, volumes: usize, dwi: &str) -> Result<Vec<[f64; 3]>> {
+    let file = path.display().to_string();
+    let rows = read_table(path)?;
+    let columns = rows.first().map_or(0, Vec::len);
+    let count = match (rows.len(), columns) {
+        (3, n) => n,
+        (n, 3) => n,
+        (r, c) => {
+            return Err(Error::input(
+                file,
+                "layout",
+                format!("expected 3 rows of n numbers or n rows of 3, got {r} rows of {c}"),
+            ));
+        }
+    };
+    if count != volumes {
+        return Err(Error::input(
+            file,
+            "count",
+            format!("{count} directions, but {dwi} has {volumes} volumes"),
+        ));
+    }
+    if rows.len() == 3 {
+        Ok((0..count)
+            .map(|i| [rows[0][i], rows[1][i], rows[2][i]])
+            .collect())
+    } else {
+        Ok(rows.iter().map(|r| [r[0], r[1], r[2]]).collect())
+    }
+}
+
+/// Rows of numbers, all of the same length; `nan` is accepted (b=0 rows).
+fn read_table(path: &Path) -> Result<Vec<Vec<f64>>> {
+    let text = std::fs::read_to_string(path).map_err(|err| Error::io(path, err))?;
+    let file = path.display().to_string();
+    let mut rows: Vec<Vec<f64>> = Vec::new();
+    for (index, line) in text.lines().enumerate() {
+        let field = || format!("line {}", index + 1);
+        let row = line
+            .split(|c: char| c.is_whitespace() || c == ',')
+            .filter(|token| !token.is_empty())
+            .map(|token| {
+                token
+                    .parse::<f64>()
+                    .map_err(|_| Error::input(&file, field(), format!("'{token}' is not a number")))
+            })
+            .collect::<Result<Vec<f64>>>()?;
+        if row.is_empty() {
+            continue;
+        }
+        if let Some(first) = rows.first()
+            && first.len() != row.len()
+        {
+            return Err(Error::input(
+                &file,
+                field(),
+                format!(
+                    "{} numbers, but the first row has {}",
+                    row.len(),
+                    first.len()
+                ),
+            ));
+        }
+        rows.push(row);
+    }
+    if rows.is_empty() {
+        return Err(Error::input(file, "content", "no numbers in the file"));
+    }
+    Ok(rows)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::io::atomic::tests::scratch_dir;
+
+    fn table(bval: &str, bvec: &str, volumes: usize) -> Result<GradientTable> {
+        let dir = scratch_dir("gradients");
+        let (bval_path, bvec_path) = (dir.join("g.bval"), dir.join("g.bvec"));
+        std::fs::write(&bval_path, bval).unwrap();
+        std::fs::write(&bvec_path, bvec).unwrap();
+        let table = GradientTable::read(&bval_path, &bvec_path, volumes, "dwi.nii");
+        std::fs::remove_dir_all(&dir).unwrap();
+        table
+    }
+
+    #[test]
+    fn both_layouts_give_the_same_table() {
+        let rows = table("0 1000 1000 5\n", "0 2 0 nan\n0 0 0 nan\n0 0 -0.5 nan\n", 4);
+        let columns = table(
+            "0\n1000\n1000\n5\n",
+            "0 0 0\n2 0 0\n0,0,-0.5\nnan nan nan\n",
+            4,
+        );
+        let rows = rows.unwrap();
+        assert_eq!(rows, columns.unwrap());
+        assert_eq!(rows.directions[1], Some(DVec3::X));
+        assert_eq!(rows.directions[2], Some(-DVec3::Z));
+        assert_eq!(rows.b0_volumes(), vec![0, 3]);
+        assert_eq!(rows.weighted().len(), 2);
+    }
+
+    #[test]
+    fn three_by_three_is_read_in_fsl_layout() {
+        let t = table("0 1000 1000", "0 1 0\n0 0 0\n0 0 1\n", 3).unwrap();
+        assert_eq!(t.directions[1], Some(DVec3::X));
+        assert_eq!(t.directions[2], Some(DVec3::Z));
+    }
+
+    #[test]
+    fn bad_tables_name_the_problem() {
+        let err = |bval, bvec, n| table(bval, bvec, n).unwrap_err().to_string();
+        assert!(err("0 1000", "0 1\n0 0\n0 0", 3).contains("2 b-values"));
+        assert!(err("0 1000 1000", "0 1\n0 0\n0 0", 3).contains("2 directions"));
+        assert!(err("0 x 1000", "", 3).contains("'x' is not a number"));
+        assert!(err("0 1000 1000", "0 1 0\n0 0\n0 0 1", 3).contains("line 2"));
+        assert!(err("1000 1000", "1 0\n0 1\n0 0", 2).contains("no b=0 volume"));
+        assert!(err("0 1000", "0 0\n0 0\n0 0", 2).contains("zero-length"));
+        assert!(err("0 1000", "0 nan\n0 0\n0 0", 2).contains("not finite"));
+        assert!(err("0 -1", "0 1\n0 0\n0 0", 2).contains("volume 1"));
+        assert!(err("0 1\n0 1", "0 1\n0 0\n0 0", 2).contains("one row or one column"));
+        assert!(err("", "", 2).contains("no numbers"));
+    }
+}

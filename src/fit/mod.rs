@@ -1,0 +1,134 @@
+//! Fitting glyph coefficients to diffusion-weighted MRI: `glyphcast fit`.
+//!
+//! Two models, both linear least squares on a design that depends only on the gradient
+//! directions, so the solve is factorised once and each voxel costs one matrix-vector
+//! product:
+//! - a symmetric tensor of even order n fitted to the apparent diffusion coefficients
+//!   (generalised DTI, Özarslan and Mareci 2003; see `tensor`), output as the
+//!   (n+1)(n+2)/2 unique coefficients of the scene format, in mm^2/s when the b-values
+//!   are in s/mm^2;
+//! - real SH up to an even band L fitted to the normalised signal S/S0 with
+//!   Laplace-Beltrami regularisation (Descoteaux et al. 2007), in the scene format's
+//!   SH bases.
+//!
+//! Signal conventions (`voxel`): S0 is the mean of the b=0 volumes (b <= 50 s/mm^2,
+//! [`gradients::B0_THRESHOLD`]). A voxel whose S0 is not positive, or that holds a
+//! non-finite sample, is left out: all its coefficients are 0. A sample at or below
+//! zero is raised to [`voxel::SIGNAL_FLOOR`] S0 (0.1 % of S0) before use, so that the
+//! logarithm of the ADC stays finite; the clamped direction then reads
+//! ADC = ln(1000)/b, about 6.9e-3 mm^2/s at b = 1000, faster than free water, which is
+//! what a signal lost in the noise floor means. The SH fit uses the same clamped ratio.
+//!
+//! Everything is validated before any voxel is fitted, and the output is written to a
+//! temporary file next to the target and renamed (`output`), so a failed run leaves no
+//! file behind.
+pub mod dwi;
+pub mod gradients;
+pub mod inputs;
+pub mod output;
+// TEMPORARY until `crate::glyph::sh` lands (see the file's notes): at the merge, delete
+// `sh_shim.rs` and these two lines become `use crate::glyph::sh;`.
+mod sh_shim;
+use sh_shim as sh;
+pub mod tensor;
+pub mod voxel;
+
+pub use inputs::{FitFiles, FitInputs};
+pub use voxel::{VoxelFitter, fit};
+
+use crate::io::scene::ShBasis;
+use crate::{Error, Result};
+use sh::sh_count;
+
+/// The highest tensor order and SH band the scene format can draw.
+pub const MAX_ORDER: u32 = 12;
+
+/// Default Laplace-Beltrami weight (Descoteaux et al. 2007 use 0.006).
+pub const DEFAULT_LAMBDA: f64 = 0.006;
+
+/// What to fit in each voxel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FitModel {
+    /// Symmetric tensor of even order 2..=12 fitted to the ADCs.
+    Tensor { order: u32 },
+    /// Real SH of even bands 0..=`band` fitted to S/S0.
+    Sh {
+        band: u32,
+        basis: ShBasis,
+        legacy: bool,
+        lambda: f64,
+    },
+}
+
+impl FitModel {
+    /// Checks the options on their own (before any file is read); errors name the flag.
+    pub fn validate(&self) -> Result<()> {
+        match *self {
+            FitModel::Tensor { order } => {
+                if !(2..=MAX_ORDER).contains(&order) || order % 2 == 1 {
+                    return Err(Error::Invalid(format!(
+                        "--order {order}: a diffusion tensor needs an even order from 2 to {MAX_ORDER} (the ADC profile is antipodally symmetric)"
+                    )));
+                }
+            }
+            FitModel::Sh { band, lambda, .. } => {
+                if band > MAX_ORDER || band % 2 == 1 {
+                    return Err(Error::Invalid(format!(
+                        "--order {band}: an SH fit needs an even band from 0 to {MAX_ORDER} (the signal is antipodally symmetric)"
+                    )));
+                }
+                if !(lambda.is_finite() && lambda >= 0.0) {
+                    return Err(Error::Invalid(format!(
+                        "--lambda {lambda}: the regularisation weight must be a finite number >= 0"
+                    )));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Coefficients per voxel: (n+1)(n+2)/2 for both models.
+    pub fn coefficient_count(&self) -> usize {
+        match *self {
+            FitModel::Tensor { order } => crate::glyph::monomials::symmetric_count(order),
+            FitModel::Sh { band, .. } => sh_count(band),
+        }
+    }
+
+    /// A short description for the NIfTI header's `descrip` (at most 80 bytes).
+    pub fn description(&self) -> String {
+        match *self {
+            FitModel::Tensor { order } => format!("glyphcast fit: symmetric tensor order {order}"),
+            FitModel::Sh {
+                band,
+                basis,
+                legacy,
+                lambda,
+            } => {
+                let basis = basis_name(basis);
+                let legacy = if legacy { " legacy" } else { "" };
+                format!("glyphcast fit: SH band {band} {basis}{legacy} lambda {lambda}")
+            }
+        }
+    }
+}
+
+/// The scene format's name of a basis.
+pub fn basis_name(basis: ShBasis) -> &'static str {
+    match basis {
+        ShBasis::Tournier07 => "tournier07",
+        ShBasis::Descoteaux07 => "descoteaux07",
+    }
+}
+
+/// Parses a basis name (`--basis`).
+pub fn parse_basis(name: &str) -> Result<ShBasis> {
+    [ShBasis::Tournier07, ShBasis::Descoteaux07]
+        .into_iter()
+        .find(|&b| basis_name(b) == name)
+        .ok_or_else(|| {
+            Error::Invalid(format!(
+                "--basis {name}: unknown SH basis, expected tournier07 or descoteaux07"
+            ))
+        })
+}
