@@ -26,10 +26,7 @@ pub mod dwi;
 pub mod gradients;
 pub mod inputs;
 pub mod output;
-// TEMPORARY until `crate::glyph::sh` lands (see the file's notes): at the merge, delete
-// `sh_shim.rs` and these two lines become `use crate::glyph::sh;`.
-mod sh_shim;
-use sh_shim as sh;
+use crate::glyph::sh;
 pub mod tensor;
 pub mod voxel;
 

@@ -1,10 +1,14 @@
 //! CPU mathematics of glyphs in float64: tensors in monomial form, bounds and the exact
-//! ray intersection that serves as the reference for every GPU result.
+//! ray intersection that serves as the reference for every GPU result, and the real
+//! spherical harmonics (`sh`) with their map to tensors.
 pub mod bounds;
+pub(crate) mod homogeneous;
 pub mod intersect;
 pub mod monomials;
 pub mod polynomial;
 pub mod reference;
+pub mod rotate;
+pub mod sh;
 pub mod stiffness;
 
 /// Whether a Cartesian tensor is stored by its unique entries (Eq. 5) or in full (Eq. 4).

@@ -7,9 +7,11 @@
 use crate::glyph::bounds::bounding_radius;
 use crate::glyph::intersect::WorldGlyph;
 use crate::glyph::polynomial::GlyphPolynomial;
-use crate::glyph::{NegativeMode, TensorLayout};
+use crate::glyph::sh::sh_to_tensor;
+use crate::glyph::{NegativeMode, Symmetry, TensorLayout};
 use crate::io::scene::{GlyphKind, GlyphSet, Scene};
 use crate::{Error, Result};
+use std::borrow::Cow;
 
 /// One glyph set, ready for upload.
 #[derive(Clone, Debug)]
@@ -39,12 +41,27 @@ impl GlyphSetData {
     }
 }
 
-fn tensor_layout(set: &GlyphSet, index: usize) -> Result<TensorLayout> {
+/// The tensor layout a set is drawn with: its own, or for SH glyphs the symmetric tensor
+/// of order max(L, 2) that the seed's map t = M w turns the series into.
+fn tensor_layout(set: &GlyphSet) -> TensorLayout {
     match set.kind {
-        GlyphKind::Tensor(layout) => Ok(layout),
-        GlyphKind::Sh { .. } => Err(Error::Invalid(format!(
-            "glyphs[{index}]: kind \"sh\" is not supported by this build yet"
-        ))),
+        GlyphKind::Tensor(layout) => layout,
+        GlyphKind::Sh { band, .. } => TensorLayout {
+            order: band.max(2),
+            symmetry: Symmetry::Symmetric,
+        },
+    }
+}
+
+/// One glyph's tensor coefficients in the set's drawing layout.
+fn tensor_coefficients<'a>(set: &GlyphSet, coeffs: &'a [f64]) -> Result<Cow<'a, [f64]>> {
+    match set.kind {
+        GlyphKind::Tensor(_) => Ok(Cow::Borrowed(coeffs)),
+        GlyphKind::Sh {
+            band,
+            basis,
+            legacy,
+        } => Ok(Cow::Owned(sh_to_tensor(band, basis, legacy, coeffs)?.1)),
     }
 }
 
@@ -60,7 +77,7 @@ pub fn prepare_scene(scene: &Scene, offset: f64) -> Result<Vec<GlyphSetData>> {
 }
 
 fn prepare_set(set: &GlyphSet, index: usize, offset: f64) -> Result<GlyphSetData> {
-    let layout = tensor_layout(set, index)?;
+    let layout = tensor_layout(set);
     let mut data = GlyphSetData {
         layout,
         negative: set.negative,
@@ -69,7 +86,9 @@ fn prepare_set(set: &GlyphSet, index: usize, offset: f64) -> Result<GlyphSetData
         world: Vec::with_capacity(set.len()),
     };
     for ((center, scale), coeffs) in set.centers.iter().zip(&set.scales).zip(&set.coeffs) {
-        let poly = GlyphPolynomial::from_tensor(layout, coeffs)?;
+        let coeffs = tensor_coefficients(set, coeffs)
+            .map_err(|e| Error::Invalid(format!("glyphs[{index}]: {e}")))?;
+        let poly = GlyphPolynomial::from_tensor(layout, &coeffs)?;
         let bound = bounding_radius(&poly, set.negative);
         if !(bound > 0.0 && bound.is_finite()) {
             continue;

@@ -4,10 +4,10 @@
 //! enough to size glyphs, and cheap enough for every voxel of a slice. (The renderer
 //! computes its own guaranteed bound for the ray casting; this number only scales.)
 //! SH glyphs are measured through their exact tensor form.
-use super::sh_shim as sh;
 use crate::Result;
 use crate::glyph::bounds::sampled_max_radius;
 use crate::glyph::polynomial::GlyphPolynomial;
+use crate::glyph::sh;
 use crate::glyph::{NegativeMode, Symmetry, TensorLayout};
 use crate::io::scene::GlyphKind;
 

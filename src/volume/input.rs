@@ -5,8 +5,8 @@ use std::path::Path;
 
 use ndarray::{Array3, Array4, ArrayD, Axis, Ix3, Ix4};
 
-use super::sh_shim as sh;
 use crate::glyph::TensorLayout;
+use crate::glyph::sh;
 use crate::io::nifti::{NiftiImage, VoxelToWorld, read_nifti};
 use crate::io::scene::{GlyphKind, ShBasis};
 use crate::{Error, Result};

@@ -11,15 +11,13 @@
 //! qform, else pixdim: [`crate::io::nifti::affine`]); glyph shapes use only the affine's
 //! orthogonal factor, so anisotropic voxels do not stretch the glyphs, but a rotated or
 //! reflected grid turns them with it.
-//!
-//! `sh_shim` is temporary: stand-ins for `crate::glyph::sh` until the SH work is merged.
+
 mod amplitude;
 mod build;
 mod framing;
 mod input;
 mod reorient;
 mod selection;
-mod sh_shim;
 
 pub use build::{
     DEFAULT_SCALE_FRACTION, Normalisation, VolumeOptions, VolumeReport, VolumeScene, volume_scene,

@@ -12,7 +12,7 @@
 //! axis-aligned volumes both the work and the rounding.
 use glam::DMat3;
 
-use super::sh_shim as sh;
+use crate::glyph::sh;
 use crate::glyph::{Symmetry, TensorLayout};
 use crate::io::scene::GlyphKind;
 use crate::{Error, Result};

@@ -1,0 +1,86 @@
+//! Rotation of a symmetric tensor glyph: the tensor t' with f'(u) = f(R^T u), i.e.
+//! t'_(j1..jn) = sum R_(j1 i1) ... R_(jn in) t_(i1..in).
+//!
+//! Instead of contracting the full 3^n tensor n times, the polynomial is rotated by
+//! substitution: q_i = (R^T u)_i is the linear form with the coefficients of column i of
+//! R, and f(R^T u) = sum_k c_k q_0^a_k q_1^b_k q_2^c_k expands exactly with the powers of
+//! the three linear forms (`Homogeneous`). No fit is involved, so nothing depends on the
+//! conditioning of the monomial basis.
+use glam::DMat3;
+
+use super::homogeneous::Homogeneous;
+use super::monomials::{self, symmetric_count};
+use crate::{Error, Result};
+
+/// Highest order accepted: the u64 multiplicities are exact up to 20.
+const MAX_ORDER: u32 = 20;
+
+/// Largest accepted deviation |R^T R - I| (entrywise) of a rotation matrix.
+const ORTHOGONALITY_TOLERANCE: f64 = 1e-9;
+
+/// The symmetric tensor (unique coefficients, scene order) of f'(u) = f(R^T u) for
+/// R orthogonal (det +1 or -1).
+pub fn rotate_symmetric_tensor(order: u32, coeffs: &[f64], r: DMat3) -> Result<Vec<f64>> {
+    check_tensor(order, coeffs)?;
+    check_orthogonal(r)?;
+    let forms: Vec<Vec<Homogeneous>> = (0..3)
+        .map(|i| {
+            let form = Homogeneous::linear(r.col(i).to_array());
+            let mut powers = vec![Homogeneous::constant(1.0)];
+            for p in 1..=order as usize {
+                let next = powers[p - 1].mul(&form);
+                powers.push(next);
+            }
+            powers
+        })
+        .collect();
+    let f = Homogeneous::from_symmetric_tensor(order, coeffs);
+    let mut rotated = Homogeneous::zero(order);
+    for (m, c) in monomials::monomials(order).into_iter().zip(&f.coeffs) {
+        if *c == 0.0 {
+            continue;
+        }
+        let term = forms[0][m.a as usize]
+            .mul(&forms[1][m.b as usize])
+            .mul(&forms[2][m.c as usize]);
+        rotated = rotated.combine(1.0, &term, *c);
+    }
+    Ok(rotated.to_symmetric_tensor())
+}
+
+fn check_tensor(order: u32, coeffs: &[f64]) -> Result<()> {
+    if order > MAX_ORDER {
+        return Err(Error::Invalid(format!(
+            "symmetric tensor order {order} is outside 0..={MAX_ORDER}"
+        )));
+    }
+    let expected = symmetric_count(order);
+    if coeffs.len() != expected {
+        return Err(Error::Invalid(format!(
+            "expected {expected} coefficients for a symmetric tensor of order {order}, found {}",
+            coeffs.len()
+        )));
+    }
+    if let Some(i) = coeffs.iter().position(|c| !c.is_finite()) {
+        return Err(Error::Invalid(format!(
+            "tensor coefficient {i} is not finite ({})",
+            coeffs[i]
+        )));
+    }
+    Ok(())
+}
+
+/// Err unless R^T R = I to within `ORTHOGONALITY_TOLERANCE` (and R is finite).
+pub(crate) fn check_orthogonal(r: DMat3) -> Result<()> {
+    let deviation = (r.transpose() * r - DMat3::IDENTITY)
+        .to_cols_array()
+        .iter()
+        .fold(0.0f64, |acc, v| acc.max(v.abs()));
+    // f64::max skips NaN, so non-finite entries are tested on their own.
+    if !r.is_finite() || deviation > ORTHOGONALITY_TOLERANCE {
+        return Err(Error::Invalid(format!(
+            "rotation matrix is not orthogonal: |R^T R - I| = {deviation:.3e}"
+        )));
+    }
+    Ok(())
+}
