@@ -1,11 +1,11 @@
 //! The accuracy suite: scenes on which fixed-step ray casting is known to struggle.
 //! Thin crossing lobes, a slightly tilted copy of a glyph (the seed's Fig. 1), a glyph
 //! that touches its centre seen down its pinch, order 12, a non-symmetric stiffness
-//! tensor, and negative lobes shown and hidden.
+//! tensor, negative lobes shown and hidden, and real SH data.
 use crate::camera::{Camera, Projection};
 use crate::demo::{direction, fibre_tensor, glyph_set, symmetric};
 use crate::glyph::{NegativeMode, Symmetry, TensorLayout};
-use crate::io::scene::{GlyphKind, GlyphSet, ImageSize, Scene};
+use crate::io::scene::{GlyphKind, GlyphSet, ImageSize, Scene, ShBasis};
 use glam::{DMat3, DVec3};
 
 /// One named scene of the suite.
@@ -130,6 +130,39 @@ pub fn negative_lobes(size: u32, negative: NegativeMode) -> Scene {
     scene(vec![set], DVec3::new(0.4, -0.6, 4.0), size)
 }
 
+/// Two voxels of DIPY's `func_coef.nii.gz` (BSD-3-Clause, see tests/data/dipy/): band-8
+/// SH series in the legacy tournier07 basis, as MRtrix `dwi2SH` wrote them.
+pub const FUNC_COEF_VOXELS: [[f64; 45]; 2] = [
+    [
+        8.7864, 0.342276, 0.442553, 0.270174, 0.928213, 0.139285, 0.592551, 0.199409, 0.897911,
+        0.96843, 0.288806, 0.598305, 0.481065, 0.10044, 0.253468, 0.00571739, 0.750511, 0.0663764,
+        0.306417, 0.731513, 0.905236, 0.04207, 0.492066, 0.570545, 0.41929, 0.972574, 0.534756,
+        0.569755, 0.320661, 0.945923, 0.403049, 0.581058, 0.478956, 0.0366745, 0.755427, 0.889492,
+        0.822498, 0.368287, 0.984448, 0.674553, 0.0348767, 0.950024, 0.502195, 0.48926, 0.762025,
+    ],
+    [
+        8.13892, 0.0686394, 0.363406, 0.879801, 0.0185506, 0.87856, 0.802459, 0.365453, 0.745288,
+        0.250596, 0.642608, 0.865265, 0.931002, 0.796405, 0.741693, 0.794433, 0.657056, 0.0228288,
+        0.786322, 0.552605, 0.898643, 0.179245, 0.306459, 0.57976, 0.822872, 0.8825, 0.391304,
+        0.89064, 0.936283, 0.831922, 0.650757, 0.72865, 0.260964, 0.672358, 0.183581, 0.753542,
+        0.753822, 0.509775, 0.267283, 0.0639749, 0.452839, 0.830839, 0.544745, 0.69062, 0.362052,
+    ],
+];
+
+/// Real SH data: the two `func_coef` voxels as SH glyphs side by side.
+pub fn sh_func_coef(size: u32) -> Scene {
+    let kind = GlyphKind::Sh {
+        band: 8,
+        basis: ShBasis::Tournier07,
+        legacy: true,
+    };
+    let centers = vec![DVec3::new(-0.55, 0.0, 0.0), DVec3::new(0.55, 0.0, 0.0)];
+    let coeffs = FUNC_COEF_VOXELS.iter().map(|c| c.to_vec()).collect();
+    // Radii reach about 3.4 in these units; scale them to half a unit.
+    let set = glyph_set(kind, centers, 0.15, coeffs);
+    scene(vec![set], DVec3::new(0.5, -2.5, 2.0), size)
+}
+
 /// Every scene of the suite at `size` x `size` pixels.
 pub fn suite(size: u32) -> Vec<SuiteScene> {
     vec![
@@ -160,6 +193,10 @@ pub fn suite(size: u32) -> Vec<SuiteScene> {
         SuiteScene {
             name: "negative-hide",
             scene: negative_lobes(size, NegativeMode::Hide),
+        },
+        SuiteScene {
+            name: "sh-func-coef",
+            scene: sh_func_coef(size),
         },
     ]
 }
