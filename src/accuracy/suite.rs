@@ -4,6 +4,7 @@
 //! tensor, negative lobes shown and hidden, and real SH data.
 use crate::camera::{Camera, Projection};
 use crate::demo::{direction, fibre_tensor, glyph_set, symmetric};
+use crate::glyph::stiffness::{VoigtStiffness, rotate_order4};
 use crate::glyph::{NegativeMode, Symmetry, TensorLayout};
 use crate::io::scene::{GlyphKind, GlyphSet, ImageSize, Scene, ShBasis};
 use glam::{DMat3, DVec3};
@@ -78,40 +79,11 @@ pub fn order_12(size: u32) -> Scene {
     scene(vec![set], DVec3::new(1.0, -3.0, 2.5), size)
 }
 
-/// Stiffness tensor C_ijkl of a cubic crystal from its three Voigt constants, turned by
-/// `rotation`: C'_ijkl = R_ia R_jb R_kc R_ld C_abcd, 81 entries, l fastest.
-pub fn cubic_stiffness(c11: f64, c12: f64, c44: f64, rotation: DMat3) -> Vec<f64> {
-    let voigt = |i: usize, j: usize| match (i, j) {
-        (a, b) if a == b => a,
-        (0, 1) | (1, 0) => 5,
-        (0, 2) | (2, 0) => 4,
-        _ => 3,
-    };
-    let c = |p: usize, q: usize| match (p, q) {
-        (p, q) if p == q && p < 3 => c11,
-        (p, q) if p < 3 && q < 3 => c12,
-        (p, q) if p == q => c44,
-        _ => 0.0,
-    };
-    let index = |flat: usize| [flat / 27, (flat / 9) % 3, (flat / 3) % 3, flat % 3];
-    (0..81)
-        .map(|flat| {
-            let i = index(flat);
-            (0..81)
-                .map(|src| {
-                    let a = index(src);
-                    let r: f64 = (0..4).map(|k| rotation.col(a[k])[i[k]]).product();
-                    r * c(voigt(a[0], a[1]), voigt(a[2], a[3]))
-                })
-                .sum()
-        })
-        .collect()
-}
-
 /// Cubic copper (C11 168.4, C12 121.4, C44 75.4 GPa, divided by C11), all 81 entries.
 pub fn stiffness(size: u32) -> Scene {
     let rotation = DMat3::from_euler(glam::EulerRot::ZYX, 0.4, 0.3, 0.2);
-    let coeffs = cubic_stiffness(1.0, 121.4 / 168.4, 75.4 / 168.4, rotation);
+    let crystal = VoigtStiffness::cubic(1.0, 121.4 / 168.4, 75.4 / 168.4).full_tensor();
+    let coeffs = rotate_order4(&crystal, rotation);
     let kind = GlyphKind::Tensor(TensorLayout {
         order: 4,
         symmetry: Symmetry::NonSymmetric,
