@@ -127,6 +127,7 @@ fn missing_file_and_bad_options_fail_cleanly() {
         ("--step", "-1"),
         ("--color", "rainbow"),
         ("--method", "magic"),
+        ("--precision", "0"),
     ] {
         let line = expect_failure(&sphere, &[&format!("{option}={value}")], &dir);
         assert!(line.contains(option), "{option} {value}: {line}");

@@ -1,9 +1,12 @@
-//! CPU mathematics of glyphs in float64: tensors in monomial form, bounds and the exact
-//! ray intersection that serves as the reference for every GPU result.
+//! CPU mathematics of glyphs in float64: tensors in monomial form, bounds, the exact
+//! ray intersection that serves as the reference for every GPU result, and the CPU
+//! mirror of the shaders' interval and affine ranges.
 pub mod bounds;
 pub mod intersect;
+pub mod interval;
 pub mod monomials;
 pub mod polynomial;
+pub mod range_rounding;
 pub mod reference;
 
 /// Whether a Cartesian tensor is stored by its unique entries (Eq. 5) or in full (Eq. 4).
