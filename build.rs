@@ -7,6 +7,8 @@
 //! computed once and every monomial reuses them, so there is no per-order code by hand.
 //! Symmetric tensors fold their multiplicities (Eq. 5) into the coefficients when they are
 //! loaded; non-symmetric ones (Eq. 4) add their 3^n entries into the same monomials.
+//! Methods that bound f over ray segments (`interval`, `affine`) also get the range
+//! functions of `build/range.rs`, as does the range compute shader of their variants.
 
 // Debian's static shaderc lacks glslang: this crate's build script adds those link lines.
 extern crate glyphcast_shaderc_link;
@@ -14,6 +16,12 @@ extern crate glyphcast_shaderc_link;
 #[path = "src/glyph/monomials.rs"]
 #[allow(dead_code)]
 mod monomials;
+
+// The interval and affine ranges of the robust methods.
+#[path = "build/range.rs"]
+mod range;
+#[path = "src/glyph/range_rounding.rs"]
+mod range_rounding;
 
 use monomials::{Monomial, monomials, multiplicity, nonsymmetric_entry_monomial};
 use std::collections::BTreeMap;
@@ -323,6 +331,7 @@ fn main() {
     let glsl_dir = root.join("glsl");
     println!("cargo:rerun-if-changed=glsl");
     println!("cargo:rerun-if-changed=src/glyph/monomials.rs");
+    println!("cargo:rerun-if-changed=src/glyph/range_rounding.rs");
 
     let manifest = std::fs::read_to_string(glsl_dir.join("manifest.txt"))
         .unwrap_or_else(|e| fail(format!("glsl/manifest.txt: {e}")));
@@ -361,6 +370,7 @@ fn main() {
         words_literal(&vertex)
     );
     let mut eval_rows = String::new();
+    let mut range_rows = String::new();
     let mut raycast_rows = String::new();
     for ((symmetry, order), methods) in &variants {
         let (sym_name, sym_label) = match symmetry {
@@ -384,12 +394,33 @@ fn main() {
         let mut methods = methods.clone();
         methods.sort();
         methods.dedup();
+        let with_range = methods
+            .iter()
+            .any(|m| range::uses_range(m))
+            .then(|| format!("{generated}{}", range::range_functions(*order, *symmetry)));
+        if let Some(with_range) = &with_range {
+            let spirv = compiler.compile(
+                "glyph_range.comp",
+                shaderc::ShaderKind::Compute,
+                with_range,
+                &format!("{label}_range"),
+            );
+            let _ = writeln!(
+                range_rows,
+                "    RangeShader {{ layout: {layout}, spirv: {} }},",
+                words_literal(&spirv)
+            );
+        }
         for method in methods {
             let file = format!("raycast_{method}.frag");
+            let source = match &with_range {
+                Some(with_range) if range::uses_range(&method) => with_range,
+                _ => &generated,
+            };
             let fragment = compiler.compile(
                 &file,
                 shaderc::ShaderKind::Fragment,
-                &generated,
+                source,
                 &format!("{label}_{method}"),
             );
             let _ = writeln!(
@@ -403,6 +434,10 @@ fn main() {
     let _ = writeln!(
         table,
         "pub static EVAL_SHADERS: &[EvalShader] = &[\n{eval_rows}];\n"
+    );
+    let _ = writeln!(
+        table,
+        "pub static RANGE_SHADERS: &[RangeShader] = &[\n{range_rows}];\n"
     );
     let _ = writeln!(
         table,

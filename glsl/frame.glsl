@@ -13,6 +13,8 @@ layout(std140, set = 0, binding = 0) uniform FrameParams {
     vec4 magnitude_range; // x: low end, y: 1 / (high - low)
     vec4 uniform_color;   // rgb, linear
     vec4 light;           // xyz: unit direction towards the light, world space
+    vec4 robust;          // interval/affine: x: precision (pixels) * one pixel's footprint
+                          // (world units at unit distance, or world units if orthographic)
 } frame;
 
 layout(std430, set = 0, binding = 1) readonly buffer Coefficients {

@@ -127,6 +127,7 @@ fn missing_file_and_bad_options_fail_cleanly() {
         ("--step", "-1"),
         ("--color", "rainbow"),
         ("--method", "magic"),
+        ("--precision", "0"),
     ] {
         let line = expect_failure(&sphere, &[&format!("{option}={value}")], &dir);
         assert!(line.contains(option), "{option} {value}: {line}");
@@ -282,13 +283,14 @@ fn accuracy_command_writes_a_table_for_every_scene() {
         .map(|l| l.split(',').collect())
         .collect();
     let scenes = glyphcast::accuracy::suite::suite(48).len();
-    assert_eq!(rows.len(), 2 * scenes, "one row per scene and step");
+    // Fixed: one row per step; interval and affine: one row each.
+    assert_eq!(rows.len(), 4 * scenes, "rows per scene: two steps and two robust methods");
     for row in &rows {
         assert_eq!(row.len(), 11, "{row:?}");
         let holes: usize = row[4].parse().expect("holes is a count");
         let median: f64 = row[6].parse().expect("median is a number");
-        if row[2] == "0.05" {
-            assert_eq!(holes, 0, "step 0.05 has no holes at 48 px: {row:?}");
+        if row[1] != "fixed" || row[2] == "0.05" {
+            assert_eq!(holes, 0, "no holes at 48 px: {row:?}");
             assert!(median < 1e-4, "{row:?}");
         }
     }

@@ -1,6 +1,7 @@
 //! Features of the ray caster beyond plain depth: negative lobes shown and hidden,
 //! glyphs that cut each other, the isotropic offset, the orthographic camera, colour
-//! modes, and glyph sets split across storage buffers.
+//! modes, and glyph sets split across storage buffers. The depth scenes are also held to
+//! the reference with the robust methods (interval, affine).
 mod common;
 use glam::DVec3;
 use glyphcast::camera::{Camera, Projection};
@@ -9,7 +10,7 @@ use glyphcast::glyph::NegativeMode;
 use glyphcast::io::scene::{GlyphSet, ImageSize, Scene};
 use glyphcast::render::glyph_data::prepare_scene;
 use glyphcast::render::headless::HeadlessRenderer;
-use glyphcast::render::{ColorMode, RenderSettings};
+use glyphcast::render::{ColorMode, Method, RenderSettings};
 
 fn scene(sets: Vec<GlyphSet>, eye: DVec3, projection: Projection) -> Scene {
     Scene {
@@ -57,17 +58,21 @@ fn assert_matches_reference(
     r
 }
 
+fn signed_scene(negative: NegativeMode) -> Scene {
+    let eye = DVec3::new(0.4, -0.6, 4.0);
+    scene(vec![signed_glyph(negative)], eye, PERSPECTIVE)
+}
+
 #[test]
 fn negative_lobes_abs_and_hide() {
-    let eye = DVec3::new(0.4, -0.6, 4.0);
     let abs = assert_matches_reference(
         "negative_abs",
-        &scene(vec![signed_glyph(NegativeMode::Abs)], eye, PERSPECTIVE),
+        &signed_scene(NegativeMode::Abs),
         &RenderSettings::default(),
     );
     let hide = assert_matches_reference(
         "negative_hide",
-        &scene(vec![signed_glyph(NegativeMode::Hide)], eye, PERSPECTIVE),
+        &signed_scene(NegativeMode::Hide),
         &RenderSettings::default(),
     );
     // Hiding the negative pair removes a large part of the picture.
@@ -75,8 +80,7 @@ fn negative_lobes_abs_and_hide() {
     assert!(h * 10 < a * 8, "hide covers {h} px, abs {a} px");
 }
 
-#[test]
-fn glyphs_that_cut_each_other() {
+fn cutting_scene() -> Scene {
     let t = fibre_tensor(
         6,
         &[(direction(0.0, 0.0), 1.0), (direction(90.0, 0.0), 0.7)],
@@ -88,35 +92,37 @@ fn glyphs_that_cut_each_other() {
         1.0,
         vec![t, u],
     );
-    let r = assert_matches_reference(
-        "cutting",
-        &scene(vec![set], DVec3::new(0.5, -2.0, 3.5), PERSPECTIVE),
-        &RenderSettings::default(),
-    );
+    scene(vec![set], DVec3::new(0.5, -2.0, 3.5), PERSPECTIVE)
+}
+
+#[test]
+fn glyphs_that_cut_each_other() {
+    let r = assert_matches_reference("cutting", &cutting_scene(), &RenderSettings::default());
     // Both glyphs are visible in the result: depths from both centres' neighbourhoods.
     assert!(r.comparison.p99_error < 1e-2, "{}", r.comparison);
 }
 
-#[test]
-fn isotropic_offset_matches_reference() {
+fn offset_scene() -> Scene {
     let t = fibre_tensor(
         8,
         &[(direction(0.0, 0.0), 1.0), (direction(90.0, 0.0), 1.0)],
     );
     let set = glyph_set(symmetric(8), vec![DVec3::ZERO], 1.0, vec![t]);
-    let settings = RenderSettings {
-        offset: 0.15,
-        ..Default::default()
-    };
-    assert_matches_reference(
-        "offset",
-        &scene(vec![set], DVec3::new(0.2, -0.3, 4.0), PERSPECTIVE),
-        &settings,
-    );
+    scene(vec![set], DVec3::new(0.2, -0.3, 4.0), PERSPECTIVE)
 }
 
+const OFFSET: f32 = 0.15;
+
 #[test]
-fn orthographic_camera_matches_reference() {
+fn isotropic_offset_matches_reference() {
+    let settings = RenderSettings {
+        offset: OFFSET,
+        ..Default::default()
+    };
+    assert_matches_reference("offset", &offset_scene(), &settings);
+}
+
+fn orthographic_scene() -> Scene {
     let t = fibre_tensor(
         4,
         &[(direction(30.0, 20.0), 1.0), (direction(120.0, 0.0), 0.6)],
@@ -129,11 +135,43 @@ fn orthographic_camera_matches_reference() {
         vec![t, u],
     );
     let ortho = Projection::Orthographic { height: 2.4 };
+    scene(vec![set], DVec3::new(1.0, -3.0, 2.0), ortho)
+}
+
+#[test]
+fn orthographic_camera_matches_reference() {
     assert_matches_reference(
         "orthographic",
-        &scene(vec![set], DVec3::new(1.0, -3.0, 2.0), ortho),
+        &orthographic_scene(),
         &RenderSettings::default(),
     );
+}
+
+/// The robust methods on the same scenes: negative lobes shown and hidden (h = |f| and
+/// max(f, 0) in the ranges), glyphs cutting each other, the offset (the w |q|^n term of
+/// the ranges) and the orthographic camera (a constant pixel footprint).
+#[test]
+fn robust_methods_match_reference_on_feature_scenes() {
+    for method in [Method::Interval, Method::Affine] {
+        let plain = RenderSettings {
+            method,
+            ..Default::default()
+        };
+        let offset = RenderSettings {
+            offset: OFFSET,
+            ..plain
+        };
+        let cases = [
+            ("negative_abs", signed_scene(NegativeMode::Abs), plain),
+            ("negative_hide", signed_scene(NegativeMode::Hide), plain),
+            ("cutting", cutting_scene(), plain),
+            ("offset", offset_scene(), offset),
+            ("orthographic", orthographic_scene(), plain),
+        ];
+        for (name, scene, settings) in cases {
+            assert_matches_reference(&format!("{name}-{method:?}"), &scene, &settings);
+        }
+    }
 }
 
 /// Uniform colour: every covered pixel is grey; direction colour: a lobe along x is red;

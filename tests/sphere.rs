@@ -1,15 +1,15 @@
 //! The order-2 identity tensor is a sphere: its render must match the analytic sphere to
 //! float32 precision, under perspective and orthographic cameras, and the pixel
-//! coverage must be that of the analytic sphere.
+//! coverage must be that of the analytic sphere, with every intersection method.
 mod common;
 use glam::DVec3;
 use glyphcast::accuracy::silhouette_band;
 use glyphcast::camera::{Camera, Projection};
 use glyphcast::demo::{glyph_set, symmetric};
 use glyphcast::io::scene::{ImageSize, Scene};
-use glyphcast::render::RenderSettings;
 use glyphcast::render::glyph_data::prepare_scene;
 use glyphcast::render::headless::HeadlessRenderer;
+use glyphcast::render::{Method, RenderSettings};
 
 const CENTER: DVec3 = DVec3::new(0.3, -0.2, 0.1);
 const RADIUS: f64 = 0.8;
@@ -51,16 +51,31 @@ fn check(projection: Projection) {
         },
     };
     let sets = prepare_scene(&scene, 0.0).expect("prepare");
-    let image = renderer
-        .render(&gpu, &sets, &camera, w, h, &RenderSettings::default())
-        .expect("render");
     let exact: Vec<f64> = (0..h)
         .flat_map(|j| (0..w).map(move |i| (i, j)))
         .map(|(i, j)| analytic(&camera, i, j, w, h))
         .collect();
     let band = silhouette_band(&exact, w as usize, h as usize);
+    for method in [Method::Fixed, Method::Interval, Method::Affine] {
+        let settings = RenderSettings {
+            method,
+            ..Default::default()
+        };
+        let image = renderer
+            .render(&gpu, &sets, &camera, w, h, &settings)
+            .expect("render");
+        check_image(
+            &format!("{projection:?} {method:?}"),
+            &image.distance,
+            &exact,
+            &band,
+        );
+    }
+}
+
+fn check_image(name: &str, distance: &[f32], exact: &[f64], band: &[bool]) {
     let (mut worst, mut covered, mut coverage_mismatch) = (0.0f64, 0, 0);
-    for (k, (&d, &e)) in image.distance.iter().zip(&exact).enumerate() {
+    for (k, (&d, &e)) in distance.iter().zip(exact).enumerate() {
         if band[k] {
             continue;
         }
@@ -72,16 +87,19 @@ fn check(projection: Projection) {
         }
     }
     eprintln!(
-        "{projection:?}: covered {covered}, mismatches {coverage_mismatch}, worst relative error {worst:.2e}"
+        "{name}: covered {covered}, mismatches {coverage_mismatch}, worst relative error {worst:.2e}"
     );
-    assert!(covered > 2000, "the sphere covers {covered} pixels");
+    assert!(covered > 2000, "{name}: the sphere covers {covered} pixels");
     assert_eq!(
         coverage_mismatch, 0,
-        "coverage differs from the analytic sphere away from its silhouette"
+        "{name}: coverage differs from the analytic sphere away from its silhouette"
     );
     // float32 carries 6e-8 relative; the distance is assembled from a few float32
     // operations on numbers of the size of the camera distance, so allow a few ulps.
-    assert!(worst < 2e-6, "worst relative depth error {worst:.2e}");
+    assert!(
+        worst < 2e-6,
+        "{name}: worst relative depth error {worst:.2e}"
+    );
 }
 
 #[test]

@@ -58,12 +58,6 @@ pub fn run(
     Ok(rows)
 }
 
-pub fn method_name(method: Method) -> &'static str {
-    match method {
-        Method::Fixed => "fixed",
-    }
-}
-
 pub fn refinement_name(r: Refinement) -> String {
     match r {
         Refinement::None => "none".into(),
@@ -77,7 +71,7 @@ fn cells(row: &AccuracyRow) -> [String; 9] {
     let c = &row.comparison;
     [
         row.scene.clone(),
-        method_name(row.method).to_owned(),
+        row.method.name().to_owned(),
         format!("{}", row.step),
         refinement_name(row.refinement),
         c.holes.to_string(),
@@ -121,7 +115,7 @@ pub fn csv(rows: &[AccuracyRow]) -> String {
             out,
             "{},{},{},{},{},{},{:e},{:e},{},{},{}",
             row.scene,
-            method_name(row.method),
+            row.method.name(),
             row.step,
             refinement_name(row.refinement),
             c.holes,

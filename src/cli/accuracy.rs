@@ -12,7 +12,7 @@ pub struct AccuracyArgs {
     #[arg(long, default_value_t = 160)]
     size: u32,
     /// Methods to measure, comma separated.
-    #[arg(long, default_value = "fixed", value_delimiter = ',')]
+    #[arg(long, default_value = "fixed,interval,affine", value_delimiter = ',')]
     methods: Vec<String>,
     /// March steps of the fixed-step method, comma separated.
     #[arg(long, default_value = "0.01,0.02,0.05,0.1,0.2", value_delimiter = ',')]
@@ -40,20 +40,24 @@ impl AccuracyArgs {
         let mut variants = Vec::new();
         for method in &self.methods {
             let method = method.parse::<Method>()?;
-            match method {
-                Method::Fixed => {
-                    for &step in &self.steps {
-                        for refine in &self.refine {
-                            let refinement = refine.parse::<Refinement>()?;
-                            variants.push(RenderSettings {
-                                method,
-                                step,
-                                refinement,
-                                ..Default::default()
-                            });
-                        }
+            if method == Method::Fixed {
+                for &step in &self.steps {
+                    for refine in &self.refine {
+                        let refinement = refine.parse::<Refinement>()?;
+                        variants.push(RenderSettings {
+                            method,
+                            step,
+                            refinement,
+                            ..Default::default()
+                        });
                     }
                 }
+            } else {
+                // The robust methods subdivide by ranges, not by steps: their defaults.
+                variants.push(RenderSettings {
+                    method,
+                    ..Default::default()
+                });
             }
         }
         for v in &variants {
@@ -82,11 +86,7 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
     let mut done = 0;
     let rows = report::run(&gpu, &scenes, &variants, |row| {
         done += 1;
-        eprintln!(
-            "[{done}/{total}] {} {}",
-            row.scene,
-            report::method_name(row.method)
-        );
+        eprintln!("[{done}/{total}] {} {}", row.scene, row.method.name());
     })?;
     let markdown = format!("Device: {}\n\n{}", gpu.info, report::markdown(&rows));
     if let Some(path) = &args.markdown {

@@ -70,9 +70,12 @@ pub struct RenderArgs {
     /// Image height in pixels (default: the scene's).
     #[arg(long)]
     height: Option<u32>,
-    /// Intersection method.
+    /// Intersection method: fixed, interval or affine.
     #[arg(long, default_value = "fixed")]
     method: String,
+    /// Robust methods: segment length limit, in pixels at the segment's depth.
+    #[arg(long, value_name = "PX")]
+    precision: Option<f32>,
     /// March step, in units of each glyph's bounding radius.
     #[arg(long)]
     step: Option<f32>,
@@ -119,6 +122,9 @@ impl RenderArgs {
         };
         if let Some(step) = self.step {
             s.step = step;
+        }
+        if let Some(precision) = self.precision {
+            s.precision_px = precision;
         }
         if let Some(refine) = &self.refine {
             s.refinement = refine.parse::<Refinement>()?;

@@ -1,11 +1,14 @@
-//! CPU mathematics of glyphs in float64: tensors in monomial form, bounds and the exact
-//! ray intersection that serves as the reference for every GPU result, and the real
-//! spherical harmonics (`sh`) with their map to tensors.
+//! CPU mathematics of glyphs in float64: tensors in monomial form, bounds, the exact
+//! ray intersection that serves as the reference for every GPU result, the real
+//! spherical harmonics (`sh`) with their map to tensors, and the CPU mirror of the
+//! shaders' interval and affine ranges.
 pub mod bounds;
 pub(crate) mod homogeneous;
 pub mod intersect;
+pub mod interval;
 pub mod monomials;
 pub mod polynomial;
+pub mod range_rounding;
 pub mod reference;
 pub mod rotate;
 pub mod sh;

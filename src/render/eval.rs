@@ -19,7 +19,6 @@ pub fn evaluate_on_gpu(
 ) -> Result<Vec<[f32; 4]>> {
     let shader = eval_shader(layout)
         .ok_or_else(|| Error::Invalid(format!("no evaluation shader for {layout:?}")))?;
-    let device = gpu.device();
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
     let coeff_buffer =
         Buffer::with_data(gpu.context(), "eval coefficients", coefficients, storage)?;
@@ -31,14 +30,41 @@ pub fn evaluate_on_gpu(
         storage,
         MemoryLocation::GpuToCpu,
     )?;
-    let objects = ComputeObjects::new(device, shader.spirv)?;
-    let infos = [&coeff_buffer, &point_buffer, &result_buffer].map(|b| {
-        [vk::DescriptorBufferInfo {
-            buffer: b.handle,
-            offset: 0,
-            range: vk::WHOLE_SIZE,
-        }]
-    });
+    let count = points.len() as u32;
+    dispatch(
+        gpu,
+        shader.spirv,
+        &[&coeff_buffer, &point_buffer, &result_buffer],
+        &count.to_ne_bytes(),
+        count,
+    )?;
+    Ok(bytemuck::pod_collect_to_vec::<u8, [f32; 4]>(
+        result_buffer.read()?,
+    ))
+}
+
+/// Runs a compute shader of local size 64 over `count` invocations, with `buffers` bound
+/// as storage buffers 0, 1, ... and `push` as its push constants; waits for it and checks
+/// the validation layer.
+pub(crate) fn dispatch(
+    gpu: &Gpu,
+    spirv: &[u32],
+    buffers: &[&Buffer],
+    push: &[u8],
+    count: u32,
+) -> Result<()> {
+    let device = gpu.device();
+    let objects = ComputeObjects::new(device, spirv, buffers.len() as u32, push.len() as u32)?;
+    let infos: Vec<_> = buffers
+        .iter()
+        .map(|b| {
+            [vk::DescriptorBufferInfo {
+                buffer: b.handle,
+                offset: 0,
+                range: vk::WHOLE_SIZE,
+            }]
+        })
+        .collect();
     let writes: Vec<_> = infos
         .iter()
         .enumerate()
@@ -52,7 +78,6 @@ pub fn evaluate_on_gpu(
         .collect();
     // SAFETY: the set and buffers are alive and unused by any command buffer.
     unsafe { device.update_descriptor_sets(&writes, &[]) };
-    let count = points.len() as u32;
     let commands = OneShot::new(gpu)?;
     commands.run(gpu, |cmd| {
         let host_read = [vk::MemoryBarrier2::default()
@@ -71,13 +96,7 @@ pub fn evaluate_on_gpu(
                 &[objects.set],
                 &[],
             );
-            device.cmd_push_constants(
-                cmd,
-                objects.layout,
-                vk::ShaderStageFlags::COMPUTE,
-                0,
-                &count.to_ne_bytes(),
-            );
+            device.cmd_push_constants(cmd, objects.layout, vk::ShaderStageFlags::COMPUTE, 0, push);
             device.cmd_dispatch(cmd, count.div_ceil(64), 1, 1);
             device.cmd_pipeline_barrier2(
                 cmd,
@@ -86,9 +105,7 @@ pub fn evaluate_on_gpu(
         }
         Ok(())
     })?;
-    let results = bytemuck::pod_collect_to_vec::<u8, [f32; 4]>(result_buffer.read()?);
-    gpu.check_validation()?;
-    Ok(results)
+    gpu.check_validation()
 }
 
 /// Layouts, pipeline and descriptor set of the evaluation shader; destroyed on drop.
@@ -102,7 +119,12 @@ struct ComputeObjects {
 }
 
 impl ComputeObjects {
-    fn new(device: &ash::Device, spirv: &[u32]) -> Result<ComputeObjects> {
+    fn new(
+        device: &ash::Device,
+        spirv: &[u32],
+        binding_count: u32,
+        push_bytes: u32,
+    ) -> Result<ComputeObjects> {
         let mut o = ComputeObjects {
             device: device.clone(),
             set_layout: vk::DescriptorSetLayout::null(),
@@ -111,7 +133,7 @@ impl ComputeObjects {
             pool: vk::DescriptorPool::null(),
             set: vk::DescriptorSet::null(),
         };
-        let bindings: Vec<_> = (0..3)
+        let bindings: Vec<_> = (0..binding_count)
             .map(|i| {
                 vk::DescriptorSetLayoutBinding::default()
                     .binding(i)
@@ -130,7 +152,7 @@ impl ComputeObjects {
                 .vk("vkCreateDescriptorSetLayout")?;
             let push = [vk::PushConstantRange::default()
                 .stage_flags(vk::ShaderStageFlags::COMPUTE)
-                .size(4)];
+                .size(push_bytes)];
             let set_layouts = [o.set_layout];
             o.layout = device
                 .create_pipeline_layout(
@@ -160,7 +182,7 @@ impl ComputeObjects {
                 .unwrap_or_default();
             let sizes = [vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_BUFFER,
-                descriptor_count: 3,
+                descriptor_count: binding_count,
             }];
             o.pool = device
                 .create_descriptor_pool(

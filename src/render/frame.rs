@@ -18,6 +18,7 @@ pub struct FrameParams {
     pub magnitude_range: [f32; 4],
     pub uniform_color: [f32; 4],
     pub light: [f32; 4],
+    pub robust: [f32; 4],
 }
 
 /// Depth range and magnitude range of what is drawn, from the glyphs' bounding spheres.
@@ -112,6 +113,14 @@ impl FrameParams {
             magnitude_range: [range.0, 1.0 / (range.1 - range.0).max(1e-30), 0.0, 0.0],
             uniform_color: [uniform[0], uniform[1], uniform[2], 1.0],
             light: v4(light, 0.0),
+            // One pixel spans 2 scale / height: at unit distance (perspective) or in world
+            // units (orthographic).
+            robust: [
+                settings.precision_px * (2.0 * scale / height as f64) as f32,
+                0.0,
+                0.0,
+                0.0,
+            ],
         }
     }
 }

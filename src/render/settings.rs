@@ -72,12 +72,16 @@ impl std::str::FromStr for ColorMode {
 impl std::str::FromStr for Method {
     type Err = Error;
     fn from_str(s: &str) -> Result<Self> {
-        match s {
-            "fixed" => Ok(Method::Fixed),
-            _ => Err(Error::Invalid(format!(
-                "--method: '{s}' is not one of fixed"
-            ))),
-        }
+        Method::ALL
+            .into_iter()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| {
+                let names: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
+                Error::Invalid(format!(
+                    "--method: '{s}' is not one of {}",
+                    names.join(", ")
+                ))
+            })
     }
 }
 
@@ -96,6 +100,9 @@ pub struct RenderSettings {
     pub color: ColorMode,
     /// Background colour (linear RGB, opaque).
     pub background: [f32; 3],
+    /// Robust methods (interval, affine): segments are split until their length is below
+    /// this many pixels' footprint at their depth.
+    pub precision_px: f32,
 }
 
 impl Default for RenderSettings {
@@ -109,6 +116,7 @@ impl Default for RenderSettings {
             offset: 0.0,
             color: ColorMode::Direction,
             background: [0.02, 0.02, 0.025],
+            precision_px: 0.25,
         }
     }
 }
@@ -125,6 +133,7 @@ impl RenderSettings {
         };
         positive("--step", self.step, 2.0)?;
         positive("centre step factor", self.centre_step_factor, 1.0)?;
+        positive("--precision", self.precision_px, 64.0)?;
         if !(self.centre_zone.is_finite() && self.centre_zone >= 0.0) {
             return Err(Error::Invalid(format!(
                 "centre zone: {} must be >= 0",
@@ -155,5 +164,36 @@ impl RenderSettings {
         let zone = 2.0 * self.centre_zone.min(1.0 + self.offset);
         let steps = chord / self.step + zone / (self.step * self.centre_step_factor) + 4.0;
         steps.ceil().min(1.0e6) as i32
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_method_parses_and_the_error_lists_them() {
+        for (name, method) in [
+            ("fixed", Method::Fixed),
+            ("interval", Method::Interval),
+            ("affine", Method::Affine),
+        ] {
+            assert_eq!(name.parse::<Method>().ok(), Some(method));
+        }
+        let error = "magic"
+            .parse::<Method>()
+            .expect_err("unknown method")
+            .to_string();
+        assert!(error.contains("fixed, interval, affine"), "{error}");
+    }
+
+    #[test]
+    fn precision_must_be_positive() {
+        let zero = RenderSettings {
+            precision_px: 0.0,
+            ..Default::default()
+        };
+        assert!(zero.validate().is_err());
+        assert!(RenderSettings::default().validate().is_ok());
     }
 }

@@ -8,6 +8,13 @@ pub struct EvalShader {
     pub spirv: &'static [u32],
 }
 
+/// Compute shader that evaluates the interval and affine ranges of f and G over ray
+/// segments (for tests of the robust methods).
+pub struct RangeShader {
+    pub layout: TensorLayout,
+    pub spirv: &'static [u32],
+}
+
 /// Ray-casting fragment shader of one tensor layout and intersection method.
 pub struct RaycastShader {
     pub layout: TensorLayout,
@@ -25,6 +32,10 @@ pub fn raycast_shader(layout: TensorLayout, method: Method) -> Option<&'static R
 
 pub fn eval_shader(layout: TensorLayout) -> Option<&'static EvalShader> {
     EVAL_SHADERS.iter().find(|s| s.layout == layout)
+}
+
+pub fn range_shader(layout: TensorLayout) -> Option<&'static RangeShader> {
+    RANGE_SHADERS.iter().find(|s| s.layout == layout)
 }
 
 /// Every tensor layout that has shaders.

@@ -1,0 +1,132 @@
+// What every ray-casting method shares (Hlawitschka et al., Sec. 4): the pixel's ray in the
+// glyph's normalised local frame, the radial sign function, refinement of a bracketed
+// sign change, and the shading and outputs of a hit. A method's fragment shader includes
+// this file and only decides how to find the first sign change along the chord.
+//
+// The sign function is the radial form g(q) = h(f(q/|q|)) + offset - |q| (h = abs, or
+// max(., 0) to hide negative lobes), which has the zero set of the seed's Eq. 3 but stays
+// well scaled near the centre.
+#include "frame.glsl"
+#include "glyph_function.glsl"
+#include "shading.glsl"
+
+layout(location = 0) flat in uint v_glyph;
+layout(location = 1) flat in vec4 v_center_radius;
+
+layout(location = 0) out vec4 out_color;
+layout(location = 1) out float out_distance;
+layout(depth_greater) out float gl_FragDepth;
+
+float shape(float f) {
+    return glyph_set.hide_negative != 0u ? max(f, 0.0) : abs(f);
+}
+
+// g > 0 inside the glyph. Coordinates are normalised so the bound is 1 + offset.
+float inside(vec3 q) {
+    float len = length(q);
+    if (len < 1e-20) {
+        return frame.march.w;
+    }
+    return shape(glyph_f(q / len)) + frame.march.w - len;
+}
+
+// The pixel-centre ray of the scene format's camera, in world space.
+void pixel_ray(out vec3 origin, out vec3 dir) {
+    vec2 s = vec2((2.0 * gl_FragCoord.x * frame.viewport.x - 1.0) * frame.right.w,
+                  1.0 - 2.0 * gl_FragCoord.y * frame.viewport.y);
+    vec3 offset = s.x * frame.right.xyz + s.y * frame.up.xyz;
+    if (frame.eye.w > 0.5) {
+        origin = frame.eye.xyz + offset;
+        dir = frame.fwd.xyz;
+    } else {
+        origin = frame.eye.xyz;
+        dir = normalize(frame.fwd.xyz + offset);
+    }
+}
+
+// The pixel's ray clipped to the glyph's bounding sphere, in the local frame
+// q = (p - c) / rho, where rho maps normalised glyph units to world units. Points are
+// q(s) = mid + s * dir, with s measured from the point `mid` of the ray closest to the
+// centre, so that q stays well conditioned however far the camera is.
+struct GlyphRay {
+    vec3 origin;    // world
+    vec3 dir;       // world and local (unit)
+    vec3 mid;       // local
+    float t_mid;    // local distance from the origin to mid
+    float rho;
+    float s_start;  // chord entry, never behind the ray origin
+    float s_end;    // chord exit
+};
+
+// False when the ray misses the bounding sphere (or it lies behind the origin).
+bool glyph_ray(out GlyphRay ray) {
+    pixel_ray(ray.origin, ray.dir);
+    // The box half-size is rho * bound.
+    float bound = 1.0 + frame.march.w;
+    ray.rho = v_center_radius.w / bound;
+    vec3 o = (ray.origin - v_center_radius.xyz) / ray.rho;
+    ray.t_mid = -dot(o, ray.dir);
+    ray.mid = o + ray.t_mid * ray.dir;
+    float half_chord2 = bound * bound - dot(ray.mid, ray.mid);
+    if (half_chord2 <= 0.0) {
+        return false;
+    }
+    float half_chord = sqrt(half_chord2);
+    ray.s_end = half_chord;
+    ray.s_start = max(-half_chord, -ray.t_mid);
+    return ray.s_start < ray.s_end;
+}
+
+// Refines a bracket [s0, s1] with g(s0) <= 0 < g(s1) along q(s) = mid + s * dir.
+float refine(vec3 mid, vec3 dir, float s0, float g0, float s1, float g1) {
+    int mode = frame.modes.x;
+    if (mode == 1) {
+        for (int i = 0; i < frame.modes.y; ++i) {
+            float sm = 0.5 * (s0 + s1);
+            float gm = inside(mid + sm * dir);
+            if (gm > 0.0) { s1 = sm; g1 = gm; } else { s0 = sm; g0 = gm; }
+        }
+        return 0.5 * (s0 + s1);
+    } else if (mode == 2) {
+        return s0 + (s1 - s0) * (g0 / (g0 - g1));
+    } else if (mode == 3) {
+        // Regula falsi, Illinois variant: halve the weight of an end that stays put.
+        int stuck = 0;
+        for (int i = 0; i < frame.modes.y; ++i) {
+            float sm = s0 + (s1 - s0) * (g0 / (g0 - g1));
+            float gm = inside(mid + sm * dir);
+            if (gm > 0.0) {
+                s1 = sm; g1 = gm;
+                if (stuck == 1) { g0 *= 0.5; }
+                stuck = 1;
+            } else {
+                s0 = sm; g0 = gm;
+                if (stuck == -1) { g1 *= 0.5; }
+                stuck = -1;
+            }
+        }
+        return s0 + (s1 - s0) * (g0 / (g0 - g1));
+    }
+    return s1;
+}
+
+// Normal, colour, depth and ray distance of the hit at q(s_hit).
+void shade_hit(GlyphRay ray, float s_hit) {
+    vec3 q = ray.mid + s_hit * ray.dir;
+    float len = max(length(q), 1e-20);
+    vec3 q_dir = q / len;
+    vec3 grad;
+    float f = glyph_f_grad(q_dir, grad);
+    float sgn = (glyph_set.hide_negative != 0u || f >= 0.0) ? 1.0 : -1.0;
+    // Outward normal of g = 0: (|q| + n |f|) q^ - sgn grad f(q^) (Euler's identity).
+    vec3 normal = normalize((len + float(GLYPH_ORDER) * abs(f)) * q_dir - sgn * grad);
+
+    float distance = (ray.t_mid + s_hit) * ray.rho;
+    vec3 world = ray.origin + distance * ray.dir;
+    vec4 clip = frame.view_proj * vec4(world, 1.0);
+    gl_FragDepth = clamp(clip.z / clip.w, 0.0, 1.0);
+
+    vec3 base = glyph_color(q_dir, len * ray.rho);
+    out_color = vec4(blinn_phong(base, normal, -ray.dir), 1.0);
+    out_distance = distance;
+}
