@@ -13,7 +13,9 @@ layout(location = 0) flat in uint v_glyph;
 layout(location = 1) flat in vec4 v_center_radius;
 
 layout(location = 0) out vec4 out_color;
+#ifndef GLYPHCAST_NO_DISTANCE  // build.rs: the variant for a colour attachment only
 layout(location = 1) out float out_distance;
+#endif
 layout(depth_greater) out float gl_FragDepth;
 
 float shape(float f) {
@@ -144,5 +146,7 @@ void main() {
 
     vec3 base = glyph_color(q_dir, len * rho);
     out_color = vec4(blinn_phong(base, normal, -dir), 1.0);
+#ifndef GLYPHCAST_NO_DISTANCE
     out_distance = distance;
+#endif
 }
