@@ -231,6 +231,18 @@ impl Compiler {
         generated: &str,
         label: &str,
     ) -> Vec<u32> {
+        self.compile_with(file, kind, generated, label, &[])
+    }
+
+    /// As `compile`, with preprocessor `defines` (each defined with no value).
+    fn compile_with(
+        &self,
+        file: &str,
+        kind: shaderc::ShaderKind,
+        generated: &str,
+        label: &str,
+        defines: &[&str],
+    ) -> Vec<u32> {
         let path = self.glsl_dir.join(file);
         let source = std::fs::read_to_string(&path)
             .unwrap_or_else(|e| fail(format!("{}: {e}", path.display())));
@@ -243,6 +255,9 @@ impl Compiler {
             shaderc::EnvVersion::Vulkan1_3 as u32,
         );
         options.set_optimization_level(shaderc::OptimizationLevel::Performance);
+        for define in defines {
+            options.add_macro_definition(define, None);
+        }
         options.set_include_callback(move |name, _, _, _| {
             let content = if name == "glyph_function.glsl" {
                 generated_owned.clone()
@@ -301,6 +316,25 @@ impl Compiler {
         out
     }
 }
+
+/// Defined when a ray-casting fragment shader is compiled for a colour attachment only:
+/// the shader then leaves out its `out_distance` output (location 1).
+const NO_DISTANCE_DEFINE: &str = "GLYPHCAST_NO_DISTANCE";
+
+/// Shaders that are not glyph variants, compiled once each into a named static: the
+/// ground plane of `examples/embed/` (an engine's own geometry drawn beside the glyphs).
+const NAMED_SHADERS: &[(&str, shaderc::ShaderKind, &str)] = &[
+    (
+        "example_plane.vert",
+        shaderc::ShaderKind::Vertex,
+        "EXAMPLE_PLANE_VERTEX",
+    ),
+    (
+        "example_plane.frag",
+        shaderc::ShaderKind::Fragment,
+        "EXAMPLE_PLANE_FRAGMENT",
+    ),
+];
 
 fn words_literal(words: &[u32]) -> String {
     let mut s = String::from("&[");
@@ -423,13 +457,32 @@ fn main() {
                 source,
                 &format!("{label}_{method}"),
             );
+            // The same shader without the distance output, for renderings that have only
+            // a colour attachment (a window's swapchain, an engine's target).
+            let color_only = compiler.compile_with(
+                &file,
+                shaderc::ShaderKind::Fragment,
+                source,
+                &format!("{label}_{method}_color_only"),
+                &[NO_DISTANCE_DEFINE],
+            );
             let _ = writeln!(
                 raycast_rows,
-                "    RaycastShader {{ layout: {layout}, method: Method::{}, fragment: {} }},",
+                "    RaycastShader {{ layout: {layout}, method: Method::{}, fragment: {}, \
+                 color_only_fragment: {} }},",
                 method_variant(&method),
-                words_literal(&fragment)
+                words_literal(&fragment),
+                words_literal(&color_only)
             );
         }
+    }
+    for (file, kind, name) in NAMED_SHADERS {
+        let spirv = compiler.compile(file, *kind, "", &name.to_lowercase());
+        let _ = writeln!(
+            table,
+            "pub static {name}: &[u32] = {};\n",
+            words_literal(&spirv)
+        );
     }
     let _ = writeln!(
         table,

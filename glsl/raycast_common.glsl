@@ -14,7 +14,9 @@ layout(location = 0) flat in uint v_glyph;
 layout(location = 1) flat in vec4 v_center_radius;
 
 layout(location = 0) out vec4 out_color;
+#ifndef GLYPHCAST_NO_DISTANCE  // build.rs: the variant for a colour attachment only
 layout(location = 1) out float out_distance;
+#endif
 layout(depth_greater) out float gl_FragDepth;
 
 float shape(float f) {
@@ -128,5 +130,7 @@ void shade_hit(GlyphRay ray, float s_hit) {
 
     vec3 base = glyph_color(q_dir, len * ray.rho);
     out_color = vec4(blinn_phong(base, normal, -ray.dir), 1.0);
+#ifndef GLYPHCAST_NO_DISTANCE
     out_distance = distance;
+#endif
 }

@@ -1,4 +1,96 @@
 //! glyphcast: GPU ray casting of higher-order tensor and spherical-harmonic glyphs.
+//!
+//! # Embedding the ray caster in an engine
+//!
+//! An engine that owns its Vulkan instance, device, allocator and frame can draw glyphs
+//! into its own rendering; glyphcast then creates no instance or device:
+//!
+//! 1. Wrap the engine's device and [`gpu_allocator`] allocator in a
+//!    [`vk::DeviceContext`].
+//! 2. Create a [`RayCastPass`](render::raycast::RayCastPass) for the engine's attachment
+//!    formats ([`TargetFormats`](render::raycast::TargetFormats)): colour, depth, and
+//!    optionally an R32_SFLOAT attachment for the ray distance. Without one (`distance:
+//!    None`) the pass uses fragment shaders that have no distance output.
+//! 3. Turn a [`Scene`](io::scene::Scene) into glyph data on the CPU
+//!    ([`prepare_scene`](render::glyph_data::prepare_scene)) and upload it with
+//!    [`RayCastPass::upload`](render::raycast::RayCastPass::upload), which gives a
+//!    [`SceneGpu`](render::raycast::SceneGpu) (buffers, descriptor sets) and creates the
+//!    pipelines the glyph sets need.
+//! 4. Per frame, write the camera with
+//!    [`SceneGpu::set_frame`](render::raycast::SceneGpu::set_frame) (the buffer is
+//!    host-visible and written at once: only after the frames that read it completed),
+//!    and inside the engine's dynamic rendering call
+//!    [`RayCastPass::record`](render::raycast::RayCastPass::record).
+//!
+//! What the pass asks of the engine: a Vulkan 1.3 device with `dynamicRendering`;
+//! rendering begun with attachments of the formats given at creation; a depth buffer
+//! cleared to 1 and tested with LESS (0 is near). The glyph shaders write
+//! `gl_FragDepth` from [`FrameParams::view_proj`](render::frame::FrameParams), so the
+//! engine's own geometry must be drawn with that same matrix (build it with
+//! [`FrameParams::new`](render::frame::FrameParams::new) from a
+//! [`Camera`](camera::Camera) and the engine's near and far planes in a
+//! [`SceneExtent`](render::frame::SceneExtent)); glyphs and geometry then occlude each
+//! other per pixel through the shared depth buffer. `record` binds its own pipelines,
+//! descriptor sets and vertex buffers and sets viewport and scissor to the extent.
+//! `examples/embed/` is a complete engine in plain ash with its own ground plane, and a
+//! test of the depth compositing against the float64 reference.
+//!
+//! ```no_run
+//! use ash::vk;
+//! use glyphcast::camera::Camera;
+//! use glyphcast::io::scene::Scene;
+//! use glyphcast::render::RenderSettings;
+//! use glyphcast::render::frame::{FrameParams, SceneExtent};
+//! use glyphcast::render::glyph_data::prepare_scene;
+//! use glyphcast::render::raycast::{RayCastPass, SceneGpu, TargetFormats};
+//! use glyphcast::vk::DeviceContext;
+//! use gpu_allocator::vulkan::Allocator;
+//! use std::sync::{Arc, Mutex};
+//!
+//! /// Once: glyphcast on the engine's device, for its colour and depth formats.
+//! fn add_glyphs(
+//!     instance: &ash::Instance,
+//!     physical_device: vk::PhysicalDevice,
+//!     device: &ash::Device,
+//!     allocator: Arc<Mutex<Allocator>>,
+//!     scene: &Scene,
+//!     (width, height): (u32, u32),
+//! ) -> glyphcast::Result<(RayCastPass, SceneGpu)> {
+//!     let context = DeviceContext::new(instance, physical_device, device.clone(), allocator);
+//!     let formats = TargetFormats {
+//!         color: vk::Format::B8G8R8A8_SRGB,
+//!         depth: vk::Format::D32_SFLOAT,
+//!         distance: None,
+//!     };
+//!     let mut pass = RayCastPass::new(device, formats)?;
+//!     let settings = RenderSettings::default();
+//!     let sets = prepare_scene(scene, settings.offset as f64)?;
+//!     let frame = engine_frame(&scene.camera, (width, height), &settings);
+//!     let glyphs = pass.upload(&context, &sets, &frame, settings.method)?;
+//!     Ok((pass, glyphs))
+//! }
+//!
+//! /// The glyphs' frame parameters with the engine's depth range (near 0.1, far 100).
+//! fn engine_frame(camera: &Camera, (w, h): (u32, u32), settings: &RenderSettings) -> FrameParams {
+//!     let extent = SceneExtent { near: 0.1, far: 100.0, max_radius: 1.0 };
+//!     FrameParams::new(camera, w, h, &extent, settings)
+//! }
+//!
+//! /// Each frame, inside the engine's dynamic rendering (after its own geometry, drawn
+//! /// with `frame.view_proj` into the same depth buffer).
+//! fn draw_glyphs(
+//!     pass: &mut RayCastPass,
+//!     glyphs: &mut SceneGpu,
+//!     cmd: vk::CommandBuffer,
+//!     camera: &Camera,
+//!     extent: vk::Extent2D,
+//! ) -> glyphcast::Result<()> {
+//!     let settings = RenderSettings::default();
+//!     // Only once the frame that last read the parameters has completed.
+//!     glyphs.set_frame(&engine_frame(camera, (extent.width, extent.height), &settings))?;
+//!     pass.record(cmd, glyphs, extent, settings.method)
+//! }
+//! ```
 pub mod accuracy;
 pub mod bench;
 pub mod camera;
@@ -8,6 +100,7 @@ pub mod fit;
 pub mod glyph;
 pub mod io;
 pub mod render;
+pub mod viewer;
 pub mod vk;
 pub mod volume;
 

@@ -27,6 +27,9 @@ enum Command {
         #[command(flatten)]
         options: RenderArgs,
     },
+    /// Show a scene file or a volume in a window: orbit, pan and zoom with the mouse,
+    /// keys for the method, step, refinement, colour, negative lobes and the slice.
+    View(Box<cli::view::ViewArgs>),
     /// Render the built-in demo scene (a field of crossing-fibre glyphs).
     Demo {
         /// Show a field of rotated copper crystals as stiffness-tensor glyphs instead.
@@ -68,6 +71,7 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
             let scene = source.load(options.image_request()?)?;
             cli::render::render(scene, &output, &options, source.save_scene())
         }
+        Command::View(args) => cli::view::run(&args),
         Command::Demo {
             stiffness,
             output,

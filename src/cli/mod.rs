@@ -5,4 +5,5 @@ pub mod fit;
 pub mod progress;
 pub mod render;
 pub mod stiffness;
+pub mod view;
 pub mod volume;

@@ -4,6 +4,7 @@ use glyphcast::io::scene::Scene;
 use glyphcast::render::glyph_data::prepare_scene;
 use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
 use glyphcast::render::{ColorMode, Method, Refinement, RenderSettings};
+use glyphcast::viewer::ViewSource;
 use glyphcast::vk::{Gpu, GpuOptions};
 use glyphcast::volume::ImageRequest;
 use glyphcast::{Error, Result};
@@ -24,21 +25,38 @@ impl SceneSource {
     /// The scene to render; `image` (from --width/--height) sizes a volume's framing.
     pub fn load(&self, image: ImageRequest) -> Result<Scene> {
         match &self.scene {
-            Some(path) => {
-                if self.volume.is_given() {
-                    return Err(Error::Invalid(
-                        "give either a scene file or a volume (--sh/--tensor), not both".into(),
-                    ));
-                }
-                if let Some(flag) = self.volume.volume_only_flag() {
-                    return Err(Error::Invalid(format!(
-                        "{flag} applies to volume input (--sh/--tensor), not to a scene file"
-                    )));
-                }
-                Scene::load(path)
-            }
+            Some(path) => self.load_scene_file(path),
             None => self.volume.scene(image),
         }
+    }
+
+    /// As [`SceneSource::load`], keeping a volume so that the viewer can move its slice.
+    pub fn load_for_view(&self, image: ImageRequest) -> Result<ViewSource> {
+        match &self.scene {
+            Some(path) => self.load_scene_file(path).map(ViewSource::Scene),
+            None => {
+                let (volume, options, view) = self.volume.view(image)?;
+                Ok(ViewSource::Volume {
+                    volume: Box::new(volume),
+                    options,
+                    view: Box::new(view),
+                })
+            }
+        }
+    }
+
+    fn load_scene_file(&self, path: &Path) -> Result<Scene> {
+        if self.volume.is_given() {
+            return Err(Error::Invalid(
+                "give either a scene file or a volume (--sh/--tensor), not both".into(),
+            ));
+        }
+        if let Some(flag) = self.volume.volume_only_flag() {
+            return Err(Error::Invalid(format!(
+                "{flag} applies to volume input (--sh/--tensor), not to a scene file"
+            )));
+        }
+        Scene::load(path)
     }
 
     /// Where --save-scene asks the rendered scene to be written.
@@ -115,7 +133,7 @@ impl RenderArgs {
         })
     }
 
-    fn settings(&self) -> Result<RenderSettings> {
+    pub fn settings(&self) -> Result<RenderSettings> {
         let mut s = RenderSettings {
             method: self.method.parse::<Method>()?,
             ..Default::default()
@@ -146,7 +164,7 @@ impl RenderArgs {
         Ok(s)
     }
 
-    fn gpu_options(&self) -> GpuOptions {
+    pub fn gpu_options(&self) -> GpuOptions {
         let mut options = GpuOptions::from_env();
         options.validation |= self.validation;
         if self.device.is_some() {

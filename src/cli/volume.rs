@@ -9,8 +9,8 @@ use clap::Args;
 use glyphcast::glyph::{Symmetry, TensorLayout};
 use glyphcast::io::scene::{Scene, ShBasis};
 use glyphcast::volume::{
-    ImageRequest, ViewProjection, VolumeKind, VolumeOptions, VolumeScene, load_mask, load_volume,
-    volume_scene,
+    ImageRequest, ViewProjection, Volume, VolumeKind, VolumeOptions, VolumeScene, load_mask,
+    load_volume, volume_scene,
 };
 use glyphcast::{Error, Result};
 use std::path::{Path, PathBuf};
@@ -97,13 +97,19 @@ impl VolumeArgs {
 
     /// The scene of the volume view; `image` is the size asked for with --width/--height.
     pub fn scene(&self, image: ImageRequest) -> Result<Scene> {
+        Ok(self.view(image)?.2.scene)
+    }
+
+    /// The volume, the options its view was made with and the view (reported on stderr):
+    /// what the viewer needs to move the slice later.
+    pub fn view(&self, image: ImageRequest) -> Result<(Volume, VolumeOptions, VolumeScene)> {
         let (path, kind) = self.input()?;
         let mut options = self.options(image)?;
         let volume = load_volume(path, kind)?;
         options.mask = self.mask.as_deref().map(load_mask).transpose()?;
         let view = volume_scene(&volume, &options)?;
         report(&view, &volume.file);
-        Ok(view.scene)
+        Ok((volume, options, view))
     }
 
     fn input(&self) -> Result<(&Path, VolumeKind)> {

@@ -1,6 +1,7 @@
 //! The frame's uniform block, laid out exactly as `FrameParams` in glsl/frame.glsl (std140:
 //! a mat4 and vec4/ivec4 members only, so there is no padding to get wrong).
 use crate::camera::{Camera, Projection};
+use crate::render::glyph_data::GlyphSetData;
 use crate::render::settings::{ColorMode, Refinement, RenderSettings};
 use bytemuck::{Pod, Zeroable};
 
@@ -30,6 +31,18 @@ pub struct SceneExtent {
 }
 
 impl SceneExtent {
+    /// From the boxes of prepared glyph sets: each box's half-diagonal bounds what its
+    /// rasterised cube can reach. The headless renderer and the viewer frame with this.
+    pub fn of_glyph_sets(camera: &Camera, sets: &[GlyphSetData]) -> SceneExtent {
+        SceneExtent::of_spheres(
+            camera,
+            sets.iter().flat_map(|s| s.instances.iter()).map(|i| {
+                let center = [i[0] as f64, i[1] as f64, i[2] as f64];
+                (center, i[3] as f64 * 3f64.sqrt())
+            }),
+        )
+    }
+
     /// From bounding spheres (centre, radius) seen by `camera`.
     pub fn of_spheres(
         camera: &Camera,

@@ -160,14 +160,7 @@ impl HeadlessRenderer {
         settings: &RenderSettings,
     ) -> Result<PreparedFrame> {
         settings.validate()?;
-        let extent = SceneExtent::of_spheres(
-            camera,
-            sets.iter().flat_map(|s| s.instances.iter()).map(|i| {
-                // The box's half-diagonal: what the rasterised cube can reach.
-                let center = [i[0] as f64, i[1] as f64, i[2] as f64];
-                (center, i[3] as f64 * 3f64.sqrt())
-            }),
-        );
+        let extent = SceneExtent::of_glyph_sets(camera, sets);
         let params = FrameParams::new(camera, width, height, &extent, settings);
         let scene = self
             .pass

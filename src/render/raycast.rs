@@ -20,6 +20,7 @@ pub struct TargetFormats {
     pub color: vk::Format,
     pub depth: vk::Format,
     /// A second colour attachment that receives the ray distance (R32_SFLOAT), if any.
+    /// Without one, the pass uses fragment shaders that have no distance output.
     pub distance: Option<vk::Format>,
 }
 
@@ -112,7 +113,11 @@ impl RayCastPass {
                 layout.symmetry, layout.order
             ))
         })?;
-        let pipeline = self.create_pipeline(shader.fragment)?;
+        let fragment = match self.formats.distance {
+            Some(_) => shader.fragment,
+            None => shader.color_only_fragment,
+        };
+        let pipeline = self.create_pipeline(fragment)?;
         self.pipelines.insert((layout, method), pipeline);
         Ok(pipeline)
     }

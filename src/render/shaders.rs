@@ -19,7 +19,12 @@ pub struct RangeShader {
 pub struct RaycastShader {
     pub layout: TensorLayout,
     pub method: Method,
+    /// Writes colour (location 0) and the ray distance (location 1).
     pub fragment: &'static [u32],
+    /// The same shader compiled without the distance output, for renderings with a
+    /// colour attachment only: a fragment output with no attachment to receive it is
+    /// reported by the validation layer (and wastes the write).
+    pub color_only_fragment: &'static [u32],
 }
 
 include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
@@ -38,6 +43,15 @@ pub fn range_shader(layout: TensorLayout) -> Option<&'static RangeShader> {
     RANGE_SHADERS.iter().find(|s| s.layout == layout)
 }
 
+/// The intersection methods that have a shader for every layout in `layouts`, sorted.
+pub fn methods_for(layouts: &[TensorLayout]) -> Vec<Method> {
+    let mut methods: Vec<Method> = RAYCAST_SHADERS.iter().map(|s| s.method).collect();
+    methods.sort();
+    methods.dedup();
+    methods.retain(|m| layouts.iter().all(|l| raycast_shader(*l, *m).is_some()));
+    methods
+}
+
 /// Every tensor layout that has shaders.
 pub fn layouts() -> impl Iterator<Item = TensorLayout> {
     EVAL_SHADERS.iter().map(|s| s.layout)
@@ -45,3 +59,50 @@ pub fn layouts() -> impl Iterator<Item = TensorLayout> {
 
 #[allow(dead_code)]
 const _: Symmetry = Symmetry::Symmetric;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Locations of the fragment outputs a SPIR-V module declares.
+    fn output_locations(spirv: &[u32]) -> Vec<u32> {
+        const OP_DECORATE: u32 = 71;
+        const OP_VARIABLE: u32 = 59;
+        const DECORATION_LOCATION: u32 = 30;
+        const STORAGE_OUTPUT: u32 = 3;
+        let (mut locations, mut outputs) = (Vec::new(), Vec::new());
+        let mut at = 5; // past the header
+        while at < spirv.len() {
+            let (count, opcode) = ((spirv[at] >> 16) as usize, spirv[at] & 0xffff);
+            let words = &spirv[at..at + count.max(1)];
+            if opcode == OP_DECORATE && words.len() == 4 && words[2] == DECORATION_LOCATION {
+                locations.push((words[1], words[3]));
+            } else if opcode == OP_VARIABLE && words.len() >= 4 && words[3] == STORAGE_OUTPUT {
+                outputs.push(words[2]);
+            }
+            at += count.max(1);
+        }
+        let mut found: Vec<u32> = locations
+            .iter()
+            .filter(|(id, _)| outputs.contains(id))
+            .map(|(_, location)| *location)
+            .collect();
+        found.sort();
+        found
+    }
+
+    /// Guards new methods' shaders: each must wrap its distance output in
+    /// `#ifndef GLYPHCAST_NO_DISTANCE` so that the colour-only variant has none.
+    #[test]
+    fn colour_only_variants_write_location_0_only() {
+        for shader in RAYCAST_SHADERS {
+            let what = format!("{:?} {:?}", shader.layout, shader.method);
+            assert_eq!(output_locations(shader.fragment), [0, 1], "{what}");
+            assert_eq!(
+                output_locations(shader.color_only_fragment),
+                [0],
+                "{what}: wrap out_distance in #ifndef GLYPHCAST_NO_DISTANCE"
+            );
+        }
+    }
+}

@@ -2,6 +2,7 @@
 //! and logical-device creation with the Vulkan 1.3 features the passes use.
 use crate::error::{Error, Result, VkContext};
 use ash::vk;
+use std::ffi::CStr;
 
 /// What the chosen device is, for printing and for reports.
 #[derive(Clone, Debug, Default)]
@@ -85,6 +86,18 @@ fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> DeviceInfo {
     }
 }
 
+fn has_extensions(instance: &ash::Instance, pd: vk::PhysicalDevice, names: &[&CStr]) -> bool {
+    // SAFETY: `pd` was enumerated from this instance.
+    let Ok(available) = (unsafe { instance.enumerate_device_extension_properties(pd) }) else {
+        return false;
+    };
+    names.iter().all(|name| {
+        available
+            .iter()
+            .any(|e| e.extension_name_as_c_str().is_ok_and(|n| n == *name))
+    })
+}
+
 fn supports_required_features(instance: &ash::Instance, pd: vk::PhysicalDevice) -> bool {
     let mut v13 = vk::PhysicalDeviceVulkan13Features::default();
     let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut v13);
@@ -103,6 +116,15 @@ pub fn choose_physical_device(
     instance: &ash::Instance,
     wanted: Option<&str>,
 ) -> Result<(vk::PhysicalDevice, DeviceInfo)> {
+    choose_with_extensions(instance, wanted, &[])
+}
+
+/// As [`choose_physical_device`], among the devices that have `extensions` too.
+pub(crate) fn choose_with_extensions(
+    instance: &ash::Instance,
+    wanted: Option<&str>,
+    extensions: &[&CStr],
+) -> Result<(vk::PhysicalDevice, DeviceInfo)> {
     // SAFETY: the instance is valid.
     let devices =
         unsafe { instance.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
@@ -110,9 +132,14 @@ pub fn choose_physical_device(
     for (index, pd) in devices.iter().copied().enumerate() {
         let info = describe(instance, pd);
         let usable = supports_required_features(instance, pd)
-            && graphics_queue_family(instance, pd).is_some();
+            && graphics_queue_family(instance, pd).is_some()
+            && has_extensions(instance, pd, extensions);
         candidates.push((index, pd, info, usable));
     }
+    let needs = std::iter::once("Vulkan 1.3 dynamic rendering and synchronization2".to_owned())
+        .chain(extensions.iter().map(|e| e.to_string_lossy().into_owned()))
+        .collect::<Vec<_>>()
+        .join(", ");
     let names = || {
         candidates
             .iter()
@@ -129,7 +156,7 @@ pub fn choose_physical_device(
         return match found {
             Some((_, pd, info, true)) => Ok((*pd, info.clone())),
             Some((_, _, info, false)) => Err(Error::Setup(format!(
-                "device '{}' lacks Vulkan 1.3 dynamic rendering or synchronization2",
+                "device '{}' lacks one of: {needs}",
                 info.name
             ))),
             None => Err(Error::Setup(format!(
@@ -149,16 +176,18 @@ pub fn choose_physical_device(
         .map(|(_, pd, info, _)| (*pd, info.clone()))
         .ok_or_else(|| {
             Error::Setup(format!(
-                "no Vulkan 1.3 device with dynamic rendering and synchronization2; devices: [{}]",
+                "no Vulkan device with {needs}; devices: [{}]",
                 names()
             ))
         })
 }
 
-/// Creates the logical device with one graphics+compute queue.
+/// Creates the logical device with one graphics+compute queue and `extensions` (none
+/// headless; VK_KHR_swapchain for a window).
 pub(crate) fn create(
     instance: &ash::Instance,
     pd: vk::PhysicalDevice,
+    extensions: &[&CStr],
 ) -> Result<(ash::Device, u32)> {
     let family = graphics_queue_family(instance, pd)
         .ok_or_else(|| Error::Setup("the device has no graphics+compute queue".into()))?;
@@ -173,8 +202,10 @@ pub(crate) fn create(
         .synchronization2(true)
         .maintenance4(true);
     let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut v13);
+    let extension_names: Vec<_> = extensions.iter().map(|e| e.as_ptr()).collect();
     let info = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queues)
+        .enabled_extension_names(&extension_names)
         .push_next(&mut features);
     // SAFETY: all pointers refer to locals alive during the call; features were checked.
     let device = unsafe { instance.create_device(pd, &info, None) }.vk("vkCreateDevice")?;

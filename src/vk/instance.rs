@@ -1,9 +1,9 @@
 //! Instance creation: Vulkan 1.3, VK_EXT_debug_utils and the Khronos validation layer
-//! when asked for.
+//! when asked for, and the surface extensions of a window system when there is a window.
 use super::debug::{ValidationLog, messenger_info};
 use crate::error::{Error, Result, VkContext};
 use ash::vk;
-use std::ffi::CStr;
+use std::ffi::{CStr, c_char};
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 
@@ -27,11 +27,13 @@ fn has_extension(entry: &ash::Entry, name: &CStr) -> Result<bool> {
 
 /// Creates the instance, and the debug messenger when `validation` is on. The messenger
 /// info is also chained into instance creation so that messages from
-/// vkCreateInstance/vkDestroyInstance are caught.
+/// vkCreateInstance/vkDestroyInstance are caught. `surface_extensions` are those a window
+/// system needs (none when headless).
 pub(crate) fn create(
     entry: &ash::Entry,
     validation: bool,
     log: &ValidationLog,
+    surface_extensions: &[*const c_char],
 ) -> Result<(ash::Instance, Option<vk::DebugUtilsMessengerEXT>)> {
     // SAFETY: querying the loader's version has no preconditions.
     let version = unsafe { entry.try_enumerate_instance_version() }
@@ -62,11 +64,10 @@ pub(crate) fn create(
     } else {
         vec![]
     };
-    let extensions = if use_debug_utils {
-        vec![debug_utils.as_ptr()]
-    } else {
-        vec![]
-    };
+    let mut extensions = surface_extensions.to_vec();
+    if use_debug_utils {
+        extensions.push(debug_utils.as_ptr());
+    }
     let mut chained = messenger_info(log);
     let mut info = vk::InstanceCreateInfo::default()
         .application_info(&app)
@@ -79,6 +80,9 @@ pub(crate) fn create(
     let instance = unsafe { entry.create_instance(&info, None) }.map_err(|result| match result {
         vk::Result::ERROR_INCOMPATIBLE_DRIVER => Error::Setup(
             "no Vulkan driver found (install mesa-vulkan-drivers for lavapipe, or a GPU driver)".into(),
+        ),
+        vk::Result::ERROR_EXTENSION_NOT_PRESENT => Error::Setup(
+            "the Vulkan loader lacks the surface extensions of this window system".into(),
         ),
         result => Error::Vulkan { call: "vkCreateInstance", result },
     })?;

@@ -1,9 +1,11 @@
 //! The thin ash layer: instance and validation, device choice, buffers, images and
 //! one-shot command submission. Nothing here knows about glyphs.
 //!
-//! [`Gpu`] owns what it created. Headless tools and tests use [`Gpu::headless`]; an
-//! engine that already has a device hands it to the render passes directly (they only
-//! need an `ash::Device` and an allocator), so this module never insists on owning the
+//! [`Gpu`] owns what it created. Headless tools and tests use [`Gpu::headless`]; the
+//! viewer uses [`Gpu::for_window`], the same construction plus the window system's surface
+//! extensions and VK_KHR_swapchain ([`Surface`], [`Swapchain`]). An engine that already
+//! has a device hands it to the render passes directly (they only need an `ash::Device`
+//! and an allocator, see [`DeviceContext`]), so this module never insists on owning the
 //! instance.
 mod buffer;
 mod commands;
@@ -11,6 +13,8 @@ mod debug;
 mod device;
 mod image;
 mod instance;
+mod surface;
+mod swapchain;
 mod timer;
 
 pub use buffer::Buffer;
@@ -18,11 +22,15 @@ pub use commands::OneShot;
 pub use debug::ValidationLog;
 pub use device::{DeviceInfo, choose_physical_device};
 pub use image::Image;
+pub use surface::Surface;
+pub use swapchain::{Acquired, Swapchain, color_range};
 pub use timer::GpuTimer;
 
 use crate::error::{Error, Result, VkContext};
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+use raw_window_handle::RawDisplayHandle;
+use std::ffi::{CStr, c_char};
 use std::sync::{Arc, Mutex};
 
 /// What to ask of [`Gpu::headless`].
@@ -131,6 +139,28 @@ pub struct Gpu {
 impl Gpu {
     /// Creates everything needed to render offscreen, with no window system.
     pub fn headless(options: &GpuOptions) -> Result<Gpu> {
+        Gpu::create(options, &[], &[])
+    }
+
+    /// As [`Gpu::headless`], plus what presenting to windows of `display` needs: the
+    /// window system's surface extensions on the instance and VK_KHR_swapchain on the
+    /// device (devices without it are passed over). Whether the queue can present to a
+    /// particular window is checked when its [`Surface`] is created.
+    pub fn for_window(options: &GpuOptions, display: RawDisplayHandle) -> Result<Gpu> {
+        let surface_extensions =
+            ash_window::enumerate_required_extensions(display).map_err(|result| {
+                Error::Setup(format!(
+                    "no Vulkan surface support for this window system ({result})"
+                ))
+            })?;
+        Gpu::create(options, surface_extensions, &[ash::khr::swapchain::NAME])
+    }
+
+    fn create(
+        options: &GpuOptions,
+        surface_extensions: &[*const c_char],
+        device_extensions: &[&CStr],
+    ) -> Result<Gpu> {
         // SAFETY: loading the Vulkan loader library has no preconditions beyond the
         // library itself being a conforming loader.
         let entry = unsafe { ash::Entry::load() }.map_err(|e| {
@@ -139,7 +169,8 @@ impl Gpu {
             ))
         })?;
         let log = ValidationLog::default();
-        let (instance, messenger) = instance::create(&entry, options.validation, &log)?;
+        let (instance, messenger) =
+            instance::create(&entry, options.validation, &log, surface_extensions)?;
         let validation = messenger.map(|handle| debug::Messenger {
             loader: ash::ext::debug_utils::Instance::new(&entry, &instance),
             handle,
@@ -151,8 +182,9 @@ impl Gpu {
             validation,
         };
         let instance = &instance_owner.instance;
-        let (physical_device, info) = choose_physical_device(instance, options.device.as_deref())?;
-        let (device, queue_family) = device::create(instance, physical_device)?;
+        let (physical_device, info) =
+            device::choose_with_extensions(instance, options.device.as_deref(), device_extensions)?;
+        let (device, queue_family) = device::create(instance, physical_device, device_extensions)?;
         let mut device_owner = DeviceOwner {
             device,
             allocator: None,

@@ -1,0 +1,468 @@
+//! The winit event loop: window events become [`Action`]s and camera moves; a redraw
+//! uploads changed glyph data, renders through the [`Presenter`] and updates the title
+//! with the frame's GPU time. Scripted runs (`--frames`) apply one script event per frame
+//! and finish with the screenshot and the window capture.
+use super::ViewerOptions;
+use super::content::Content;
+use super::controls::{self, Action, HELP, color_name, refinement_name};
+use super::orbit;
+use super::presenter::{Outcome, Presenter};
+use crate::render::headless::HeadlessRenderer;
+use crate::render::raycast::SceneGpu;
+use crate::render::shaders::methods_for;
+use crate::vk::Gpu;
+use crate::{Error, Result};
+use ash::vk;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use winit::application::ApplicationHandler;
+use winit::dpi::{PhysicalPosition, PhysicalSize};
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::raw_window_handle::{HasDisplayHandle, HasWindowHandle};
+use winit::window::{Window, WindowId};
+
+/// Frames a scripted run may add, past `--frames`, while waiting for the window to take
+/// the size a `resize:` event asked for.
+const SETTLE_FRAMES: u32 = 300;
+
+/// Mouse state between events.
+#[derive(Default)]
+struct Pointer {
+    position: Option<PhysicalPosition<f64>>,
+    orbiting: bool,
+    panning: bool,
+    shift: bool,
+}
+
+struct App {
+    // Declaration order is drop order: GPU objects before the window they present to,
+    // and all of them before the Gpu.
+    scene_gpu: Option<SceneGpu>,
+    headless: Option<HeadlessRenderer>,
+    presenter: Option<Presenter>,
+    window: Option<Window>,
+    content: Content,
+    options: ViewerOptions,
+    uploaded: Option<u64>,
+    pointer: Pointer,
+    /// Frames presented, and the script's next event.
+    presented: u32,
+    script_next: usize,
+    /// The size the last `resize:` event asked for, until the window has it.
+    pending_size: Option<(u32, u32)>,
+    last_extent: Option<vk::Extent2D>,
+    gpu_ms: Option<f64>,
+    screenshots: u32,
+    dirty: bool,
+    error: Option<Error>,
+    gpu: Gpu,
+}
+
+pub fn run(content: Content, options: ViewerOptions) -> Result<()> {
+    let event_loop = EventLoop::new()
+        .map_err(|e| Error::Setup(format!("cannot open a window (is DISPLAY set?): {e}")))?;
+    let display = event_loop
+        .display_handle()
+        .map_err(|e| Error::Setup(format!("no display handle: {e}")))?
+        .as_raw();
+    let gpu = Gpu::for_window(&options.gpu, display)?;
+    eprintln!("device: {}", gpu.info);
+    if options.frames.is_none() {
+        eprintln!("{HELP}");
+    }
+    let mut app = App {
+        scene_gpu: None,
+        headless: None,
+        presenter: None,
+        window: None,
+        content,
+        options,
+        uploaded: None,
+        pointer: Pointer::default(),
+        presented: 0,
+        script_next: 0,
+        pending_size: None,
+        last_extent: None,
+        gpu_ms: None,
+        screenshots: 0,
+        dirty: true,
+        error: None,
+        gpu,
+    };
+    event_loop
+        .run_app(&mut app)
+        .map_err(|e| Error::Setup(format!("window event loop: {e}")))?;
+    if let Some(e) = app.error.take() {
+        return Err(e);
+    }
+    app.gpu.wait_idle()?;
+    app.gpu.check_validation()
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.window.is_none()
+            && let Err(e) = self.open_window(event_loop)
+        {
+            self.fail(event_loop, e);
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
+        if let Err(e) = self.on_event(event_loop, event) {
+            self.fail(event_loop, e);
+        }
+    }
+
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        let scripted = self.options.frames.is_some();
+        event_loop.set_control_flow(if scripted {
+            ControlFlow::Poll
+        } else {
+            ControlFlow::Wait
+        });
+        if let Some(window) = &self.window
+            && (scripted || std::mem::take(&mut self.dirty))
+        {
+            window.request_redraw();
+        }
+    }
+}
+
+impl App {
+    fn fail(&mut self, event_loop: &ActiveEventLoop, error: Error) {
+        self.error.get_or_insert(error);
+        event_loop.exit();
+    }
+
+    fn open_window(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
+        let attributes = Window::default_attributes()
+            .with_title("glyphcast")
+            .with_inner_size(PhysicalSize::new(self.options.width, self.options.height));
+        let window = event_loop
+            .create_window(attributes)
+            .map_err(|e| Error::Setup(format!("cannot create the window: {e}")))?;
+        let display = window
+            .display_handle()
+            .map_err(|e| Error::Setup(format!("no display handle: {e}")))?
+            .as_raw();
+        let handle = window
+            .window_handle()
+            .map_err(|e| Error::Setup(format!("no window handle: {e}")))?
+            .as_raw();
+        let unthrottled = self.options.frames.is_some();
+        // SAFETY: the window lives in `self.window`, declared after the presenter, so it
+        // outlives the surface; the Gpu was created for this event loop's display.
+        let presenter = unsafe { Presenter::new(&self.gpu, display, handle, unthrottled)? };
+        self.presenter = Some(presenter);
+        self.window = Some(window);
+        Ok(())
+    }
+
+    fn on_event(&mut self, event_loop: &ActiveEventLoop, event: WindowEvent) -> Result<()> {
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::Resized(_) | WindowEvent::ScaleFactorChanged { .. } => {
+                if let Some(p) = self.presenter.as_mut() {
+                    p.mark_stale();
+                }
+                self.dirty = true;
+            }
+            WindowEvent::RedrawRequested => self.redraw(event_loop)?,
+            WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Pressed => {
+                // Scripted runs ignore the keyboard: their sequence is the script.
+                if self.options.frames.is_none()
+                    && let Some(action) = controls::key_action(&event.logical_key)
+                {
+                    // A key that cannot be carried out (a screenshot path that cannot
+                    // be written, ...) is reported; the session goes on.
+                    match self.apply(event_loop, action) {
+                        Err(e @ (Error::Io { .. } | Error::Invalid(_) | Error::Input { .. })) => {
+                            eprintln!("error: {e}")
+                        }
+                        result => result?,
+                    }
+                }
+            }
+            WindowEvent::ModifiersChanged(modifiers) => {
+                self.pointer.shift = modifiers.state().shift_key();
+            }
+            WindowEvent::MouseInput { state, button, .. } => {
+                let pressed = state == ElementState::Pressed;
+                match button {
+                    MouseButton::Left => self.pointer.orbiting = pressed,
+                    MouseButton::Right | MouseButton::Middle => self.pointer.panning = pressed,
+                    _ => {}
+                }
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                let previous = self.pointer.position.replace(position);
+                if let Some(previous) = previous {
+                    let (dx, dy) = (position.x - previous.x, position.y - previous.y);
+                    let p = &self.pointer;
+                    if p.panning || (p.orbiting && p.shift) {
+                        self.apply(event_loop, Action::Pan(dx, dy))?;
+                    } else if p.orbiting {
+                        self.apply(event_loop, Action::Orbit(dx, dy))?;
+                    }
+                }
+            }
+            WindowEvent::MouseWheel { delta, .. } => {
+                let lines = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => f64::from(y),
+                    MouseScrollDelta::PixelDelta(p) => p.y / 40.0,
+                };
+                self.apply(event_loop, Action::Zoom(0.9f64.powf(lines)))?;
+            }
+            WindowEvent::Occluded(false) => self.dirty = true,
+            _ => {}
+        }
+        Ok(())
+    }
+
+    fn window_size(&self) -> vk::Extent2D {
+        let size = self
+            .window
+            .as_ref()
+            .map_or(PhysicalSize::new(0, 0), Window::inner_size);
+        vk::Extent2D {
+            width: size.width,
+            height: size.height,
+        }
+    }
+
+    fn apply(&mut self, event_loop: &ActiveEventLoop, action: Action) -> Result<()> {
+        let height = self.window_size().height;
+        let content = &mut self.content;
+        let settings = &mut content.settings;
+        match action {
+            Action::Resize(width, height) => {
+                if let Some(window) = &self.window {
+                    let _ = window.request_inner_size(PhysicalSize::new(width, height));
+                }
+                self.pending_size = Some((width, height));
+            }
+            Action::Method(method) => self.set_method(method)?,
+            Action::NextMethod => {
+                let methods = self.methods();
+                let current = self.content.settings.method;
+                let at = methods.iter().position(|m| *m == current).unwrap_or(0);
+                if let Some(next) = methods.get((at + 1) % methods.len().max(1)) {
+                    self.set_method(*next)?;
+                }
+            }
+            Action::Step(step) => {
+                let old = settings.step;
+                settings.step = step;
+                if let Err(e) = settings.validate() {
+                    settings.step = old;
+                    return Err(e);
+                }
+            }
+            Action::ScaleStep(factor) => settings.step = (settings.step * factor).clamp(1e-3, 2.0),
+            Action::Refine(refinement) => settings.refinement = refinement,
+            Action::NextRefinement => {
+                settings.refinement = controls::next_refinement(settings.refinement)
+            }
+            Action::Color(color) => settings.color = color,
+            Action::NextColor => settings.color = controls::next_color(settings.color),
+            Action::Negative(mode) => content.set_negative(Some(mode))?,
+            Action::ToggleNegative => content.set_negative(None)?,
+            Action::Slice(delta) => {
+                content.move_slice(delta)?;
+            }
+            Action::Orbit(dx, dy) => orbit::orbit(&mut content.camera, dx, dy, height),
+            Action::Pan(dx, dy) => orbit::pan(&mut content.camera, dx, dy, height),
+            Action::Zoom(factor) => orbit::zoom(&mut content.camera, factor),
+            Action::ResetCamera => content.camera = content.home,
+            Action::Screenshot => {
+                let path = self.options.screenshot.clone().unwrap_or_else(|| {
+                    self.screenshots += 1;
+                    PathBuf::from(format!("glyphcast-view-{}.png", self.screenshots))
+                });
+                self.screenshot(&path)?;
+            }
+            Action::Help => eprintln!("{HELP}"),
+            Action::Quit => event_loop.exit(),
+            Action::Wait => {}
+        }
+        self.dirty = true;
+        Ok(())
+    }
+
+    /// Methods that have shaders for every glyph set on screen.
+    fn methods(&self) -> Vec<crate::render::Method> {
+        let layouts: Vec<_> = self.content.sets.iter().map(|s| s.layout).collect();
+        methods_for(&layouts)
+    }
+
+    fn set_method(&mut self, method: crate::render::Method) -> Result<()> {
+        if !self.methods().contains(&method) {
+            return Err(Error::Invalid(format!(
+                "method {method:?} has no shader for these glyphs"
+            )));
+        }
+        self.content.settings.method = method;
+        Ok(())
+    }
+
+    fn redraw(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
+        let scripted = self.options.frames.is_some();
+        if scripted && self.script_next == self.presented as usize {
+            if let Some(action) = self.options.script.get(self.script_next).cloned() {
+                self.apply(event_loop, action)?;
+            }
+            self.script_next += 1;
+        }
+        let size = self.window_size();
+        let minimised = self.window.as_ref().and_then(Window::is_minimized) == Some(true);
+        let Some(presenter) = self.presenter.as_mut() else {
+            return Ok(());
+        };
+        if minimised {
+            return Ok(());
+        }
+        let Some(rebuilt) = presenter.prepare(&self.gpu, size)? else {
+            return Ok(()); // no area: nothing to render into
+        };
+        let content = &self.content;
+        if rebuilt || self.uploaded != Some(content.version) {
+            self.scene_gpu = None;
+            let frame = content.frame_params(size.width, size.height);
+            let scene = presenter.pass_mut().upload(
+                self.gpu.context(),
+                &content.sets,
+                &frame,
+                content.settings.method,
+            )?;
+            self.scene_gpu = Some(scene);
+            self.uploaded = Some(content.version);
+        }
+        let Some(scene) = self.scene_gpu.as_mut() else {
+            return Ok(());
+        };
+        let capture = self.options.capture_window.is_some();
+        let frame = |extent: vk::Extent2D| content.frame_params(extent.width, extent.height);
+        let outcome = presenter.render(&self.gpu, scene, frame, &content.settings, capture)?;
+        // Waiting here keeps one frame in flight and gives this frame's GPU time at once;
+        // rendering is on demand, so there is little overlap to lose.
+        let gpu_ms = presenter.wait_previous()?;
+        match outcome {
+            Outcome::Presented { extent } => {
+                self.presented += 1;
+                self.last_extent = Some(extent);
+                self.gpu_ms = gpu_ms.or(self.gpu_ms);
+                self.update_title();
+            }
+            Outcome::Skipped => self.dirty = true,
+        }
+        if scripted {
+            self.finish_if_done(event_loop)?;
+        }
+        Ok(())
+    }
+
+    fn update_title(&self) {
+        let Some(window) = &self.window else { return };
+        let s = &self.content.settings;
+        let slice = self
+            .content
+            .slice_label()
+            .map_or_else(String::new, |l| format!(" | slice {l}"));
+        let time = self
+            .gpu_ms
+            .map_or_else(|| "n/a".to_owned(), |ms| format!("{ms:.2} ms"));
+        window.set_title(&format!(
+            "glyphcast | {} step {:.4} {} | {} | negative {}{slice} | GPU {time}",
+            format!("{:?}", s.method).to_lowercase(),
+            s.step,
+            refinement_name(s.refinement),
+            color_name(s.color),
+            self.content.negative_name(),
+        ));
+    }
+
+    /// A scripted run ends after its frames and script, once the window has the size
+    /// the last `resize:` asked for: then the capture and the screenshot are written.
+    fn finish_if_done(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
+        let Some(frames) = self.options.frames else {
+            return Ok(());
+        };
+        let script_done = self.script_next >= self.options.script.len();
+        let settled = self.pending_size.is_none_or(|(w, h)| {
+            self.last_extent
+                == Some(vk::Extent2D {
+                    width: w,
+                    height: h,
+                })
+        });
+        if self.presented < frames || !script_done {
+            return Ok(());
+        }
+        if !settled {
+            if self.presented >= frames + SETTLE_FRAMES {
+                let (w, h) = self.pending_size.unwrap_or_default();
+                return Err(Error::Setup(format!(
+                    "the window did not take the size {w}x{h} asked for"
+                )));
+            }
+            return Ok(());
+        }
+        if let Some(path) = self.options.capture_window.clone() {
+            let capture = self
+                .presenter
+                .as_ref()
+                .map(Presenter::capture)
+                .transpose()?
+                .flatten()
+                .ok_or_else(|| Error::Setup("no frame was captured".into()))?;
+            crate::io::png::write_png_rgba8(&path, capture.width, capture.height, &capture.rgba)?;
+            eprintln!("wrote {}", path.display());
+        }
+        if let Some(path) = self.options.screenshot.clone() {
+            self.screenshot(&path)?;
+        }
+        event_loop.exit();
+        Ok(())
+    }
+
+    /// Renders the current view through the headless renderer at the window's size and
+    /// writes it as a PNG (and the scene as shown, with --save-scene).
+    fn screenshot(&mut self, path: &Path) -> Result<()> {
+        let size = self.last_extent.unwrap_or_else(|| self.window_size());
+        if size.width == 0 || size.height == 0 {
+            eprintln!("screenshot: the window has no area");
+            return Ok(());
+        }
+        if self.headless.is_none() {
+            self.headless = Some(HeadlessRenderer::new(&self.gpu)?);
+        }
+        let Some(renderer) = self.headless.as_mut() else {
+            return Ok(());
+        };
+        let c = &self.content;
+        let started = Instant::now();
+        let image = renderer.render(
+            &self.gpu,
+            &c.sets,
+            &c.camera,
+            size.width,
+            size.height,
+            &c.settings,
+        )?;
+        crate::io::png::write_png_rgba8(path, image.width, image.height, &image.rgba)?;
+        if let Some(scene_path) = &self.options.save_scene {
+            let scene = c.shown_scene(size.width, size.height);
+            crate::io::atomic::write_atomic(scene_path, scene.to_json().as_bytes())?;
+        }
+        eprintln!(
+            "wrote {} ({}x{}, {:.0} ms)",
+            path.display(),
+            size.width,
+            size.height,
+            started.elapsed().as_secs_f64() * 1e3
+        );
+        Ok(())
+    }
+}

@@ -1,0 +1,256 @@
+//! What the user can do, as [`Action`]s: keys map to them, and a test script
+//! (`--script`) is a list of them applied one per frame, so scripted runs go through the
+//! same code as a person at the keyboard.
+use crate::glyph::NegativeMode;
+use crate::render::{ColorMode, Method, Refinement};
+use crate::{Error, Result};
+use winit::keyboard::{Key, NamedKey};
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Action {
+    /// Ask for a window of this inner size (physical pixels).
+    Resize(u32, u32),
+    Method(Method),
+    NextMethod,
+    Step(f32),
+    /// Multiply the march step.
+    ScaleStep(f32),
+    Refine(Refinement),
+    NextRefinement,
+    Color(ColorMode),
+    NextColor,
+    Negative(NegativeMode),
+    ToggleNegative,
+    /// Move through the volume by this many slices.
+    Slice(i64),
+    /// Drag in pixels: turn about the target, or slide the view.
+    Orbit(f64, f64),
+    Pan(f64, f64),
+    /// Multiply the distance to the target (perspective) or the view height (orthographic).
+    Zoom(f64),
+    ResetCamera,
+    Screenshot,
+    Help,
+    Quit,
+    /// Nothing (a script's pause of one frame).
+    Wait,
+}
+
+/// The key bindings, printed at start and by `H`.
+pub const HELP: &str = "\
+mouse: left drag orbit, right/middle drag or shift+left drag pan, wheel zoom
+keys:  M method   [ ] march step finer/coarser   F refinement   C colour   N negative lobes
+       Up/PageUp, Down/PageDown slice +1/-1   R reset camera   S screenshot   H help   Q/Esc quit";
+
+/// Refinements `F` steps through.
+const REFINEMENTS: [Refinement; 4] = [
+    Refinement::None,
+    Refinement::Bisect(3),
+    Refinement::Interpolate,
+    Refinement::Secant(4),
+];
+
+/// The action of a key press, if any.
+pub fn key_action(key: &Key) -> Option<Action> {
+    let action = match key {
+        Key::Named(NamedKey::ArrowUp | NamedKey::PageUp) => Action::Slice(1),
+        Key::Named(NamedKey::ArrowDown | NamedKey::PageDown) => Action::Slice(-1),
+        Key::Named(NamedKey::Escape) => Action::Quit,
+        Key::Named(NamedKey::Home) => Action::ResetCamera,
+        Key::Character(c) => match c.to_lowercase().as_str() {
+            "m" => Action::NextMethod,
+            "[" => Action::ScaleStep(std::f32::consts::FRAC_1_SQRT_2),
+            "]" => Action::ScaleStep(std::f32::consts::SQRT_2),
+            "f" => Action::NextRefinement,
+            "c" => Action::NextColor,
+            "n" => Action::ToggleNegative,
+            "r" => Action::ResetCamera,
+            "s" => Action::Screenshot,
+            "h" => Action::Help,
+            "q" => Action::Quit,
+            _ => return None,
+        },
+        _ => return None,
+    };
+    Some(action)
+}
+
+/// The refinement after `current` in the `F` cycle.
+pub fn next_refinement(current: Refinement) -> Refinement {
+    let at = REFINEMENTS.iter().position(|r| *r == current);
+    REFINEMENTS[at.map_or(0, |i| (i + 1) % REFINEMENTS.len())]
+}
+
+/// The colour mode after `current` in the `C` cycle.
+pub fn next_color(current: ColorMode) -> ColorMode {
+    match current {
+        ColorMode::Direction => ColorMode::Magnitude { range: None },
+        ColorMode::Magnitude { .. } => ColorMode::Uniform([0.8, 0.8, 0.8]),
+        ColorMode::Uniform(_) => ColorMode::Direction,
+    }
+}
+
+/// Short names for the window title.
+pub fn refinement_name(r: Refinement) -> String {
+    match r {
+        Refinement::None => "none".into(),
+        Refinement::Bisect(k) => format!("bisect:{k}"),
+        Refinement::Interpolate => "interp".into(),
+        Refinement::Secant(k) => format!("secant:{k}"),
+    }
+}
+
+pub fn color_name(c: ColorMode) -> &'static str {
+    match c {
+        ColorMode::Direction => "direction",
+        ColorMode::Magnitude { .. } => "magnitude",
+        ColorMode::Uniform(_) => "uniform",
+    }
+}
+
+/// Parses `--script`: comma-separated events, each applied on its own frame:
+/// `resize:WxH`, `method:NAME`, `step:S`, `refine:SPEC`, `color:MODE`,
+/// `negative:abs|hide|toggle`, `slice:+N|-N`, `orbit:DX:DY`, `pan:DX:DY`, `zoom:F`,
+/// `reset`, `screenshot`, `wait`.
+pub fn parse_script(text: &str) -> Result<Vec<Action>> {
+    text.split(',')
+        .map(str::trim)
+        .filter(|item| !item.is_empty())
+        .map(parse_event)
+        .collect()
+}
+
+fn parse_event(item: &str) -> Result<Action> {
+    let bad = |why: &str| Error::Invalid(format!("--script: '{item}': {why}"));
+    let (name, value) = item.split_once(':').unwrap_or((item, ""));
+    let number = |text: &str| -> Result<f64> {
+        text.parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| bad(&format!("'{text}' is not a number")))
+    };
+    let pair = |text: &str| -> Result<(f64, f64)> {
+        let (a, b) = text
+            .split_once(':')
+            .ok_or_else(|| bad("expected two numbers DX:DY"))?;
+        Ok((number(a)?, number(b)?))
+    };
+    let reparse = |e: Error| bad(&e.to_string());
+    Ok(match name {
+        "resize" => {
+            let size = value
+                .split_once('x')
+                .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)));
+            match size {
+                Some((w, h)) if (1..=16384).contains(&w) && (1..=16384).contains(&h) => {
+                    Action::Resize(w, h)
+                }
+                _ => return Err(bad("expected WIDTHxHEIGHT, each in 1..=16384")),
+            }
+        }
+        "method" => Action::Method(value.parse().map_err(reparse)?),
+        "step" => Action::Step(number(value)? as f32),
+        "refine" => Action::Refine(value.parse().map_err(reparse)?),
+        "color" => Action::Color(value.parse().map_err(reparse)?),
+        "negative" => match value {
+            "abs" => Action::Negative(NegativeMode::Abs),
+            "hide" => Action::Negative(NegativeMode::Hide),
+            "toggle" => Action::ToggleNegative,
+            _ => return Err(bad("expected abs, hide or toggle")),
+        },
+        "slice" => {
+            let delta = (value.starts_with('+') || value.starts_with('-'))
+                .then(|| value.parse::<i64>().ok())
+                .flatten()
+                .ok_or_else(|| bad("expected a signed slice count such as +1 or -2"))?;
+            Action::Slice(delta)
+        }
+        "orbit" => {
+            let (dx, dy) = pair(value)?;
+            Action::Orbit(dx, dy)
+        }
+        "pan" => {
+            let (dx, dy) = pair(value)?;
+            Action::Pan(dx, dy)
+        }
+        "zoom" => {
+            let factor = number(value)?;
+            if factor <= 0.0 {
+                return Err(bad("the zoom factor must be positive"));
+            }
+            Action::Zoom(factor)
+        }
+        "reset" => Action::ResetCamera,
+        "screenshot" => Action::Screenshot,
+        "wait" => Action::Wait,
+        _ => {
+            return Err(bad(
+                "unknown event; expected resize, method, step, refine, color, negative, slice, \
+                 orbit, pan, zoom, reset, screenshot or wait",
+            ));
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_the_events_of_a_script() {
+        let script = parse_script(
+            "resize:300x200, method:fixed,step:0.05,slice:+1,slice:-2,color:magnitude,\
+             refine:bisect:2,negative:hide,orbit:30:-10,pan:5:5,zoom:0.8,reset,wait",
+        )
+        .unwrap();
+        assert_eq!(
+            script,
+            [
+                Action::Resize(300, 200),
+                Action::Method(Method::Fixed),
+                Action::Step(0.05),
+                Action::Slice(1),
+                Action::Slice(-2),
+                Action::Color(ColorMode::Magnitude { range: None }),
+                Action::Refine(Refinement::Bisect(2)),
+                Action::Negative(NegativeMode::Hide),
+                Action::Orbit(30.0, -10.0),
+                Action::Pan(5.0, 5.0),
+                Action::Zoom(0.8),
+                Action::ResetCamera,
+                Action::Wait,
+            ]
+        );
+    }
+
+    #[test]
+    fn bad_events_name_themselves() {
+        for bad in [
+            "resize:300",
+            "resize:0x10",
+            "method:magic",
+            "step:x",
+            "slice:1",
+            "orbit:3",
+            "zoom:-1",
+            "explode",
+        ] {
+            let err = parse_script(bad).unwrap_err().to_string();
+            assert!(
+                err.contains("--script") && err.contains(bad),
+                "{bad}: {err}"
+            );
+        }
+    }
+
+    #[test]
+    fn cycles_wrap_around() {
+        let mut r = Refinement::Secant(4);
+        for _ in 0..REFINEMENTS.len() {
+            r = next_refinement(r);
+        }
+        assert_eq!(r, Refinement::Secant(4));
+        let c = next_color(next_color(next_color(ColorMode::Direction)));
+        assert_eq!(c, ColorMode::Direction);
+    }
+}

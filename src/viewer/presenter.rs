@@ -1,0 +1,500 @@
+//! The window's frames: swapchain, depth buffer, one command buffer and its sync objects,
+//! and the ray-cast pass for the swapchain's format, with no distance attachment (the
+//! pass then uses its colour-only fragment shaders).
+//!
+//! One frame is in flight: each frame first waits for the previous one, which makes it
+//! safe to rewrite the scene's uniform buffer and to read the previous frame's GPU time.
+//! Before each frame the swapchain is compared with the window's current size and
+//! recreated if it differs or was reported stale (a resize event, OUT_OF_DATE from
+//! acquire or present, SUBOPTIMAL), and frames are skipped while the window has no area
+//! (minimised), so nothing is rendered into a swapchain known to be stale. An image
+//! acquired as SUBOPTIMAL is still drawn and presented (presenting is how it is given
+//! back), and the swapchain is recreated before the next frame.
+use crate::error::{Result, VkContext};
+use crate::render::RenderSettings;
+use crate::render::frame::FrameParams;
+use crate::render::raycast::{RayCastPass, SceneGpu, TargetFormats};
+use crate::vk::{Acquired, Buffer, Gpu, GpuTimer, Image, Surface, Swapchain, color_range};
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
+
+const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
+/// What [`Presenter::render`] did.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Outcome {
+    Presented {
+        extent: vk::Extent2D,
+    },
+    /// Nothing rendered: the window has no area, or the swapchain had to be recreated.
+    Skipped,
+}
+
+/// A read-back of the last presented image (`--capture-window`).
+pub struct Capture {
+    pub width: u32,
+    pub height: u32,
+    /// RGBA8, sRGB-encoded as on screen.
+    pub rgba: Vec<u8>,
+}
+
+pub struct Presenter {
+    // Declaration order is drop order: the pass and images before the swapchain, the
+    // swapchain before its surface.
+    pass: RayCastPass,
+    timer: Option<GpuTimer>,
+    capture: Option<(Buffer, vk::Extent2D)>,
+    depth: Option<Image>,
+    swapchain: Option<Swapchain>,
+    surface: Surface,
+    device: ash::Device,
+    pool: vk::CommandPool,
+    cmd: vk::CommandBuffer,
+    acquired: vk::Semaphore,
+    in_flight: vk::Fence,
+    /// The last submitted frame wrote timestamps.
+    timed: bool,
+    stale: bool,
+    unthrottled: bool,
+}
+
+impl Presenter {
+    /// # Safety
+    /// As [`Surface::new`]: the handles belong to a live window that outlives the
+    /// presenter, and `gpu` was made for its display and outlives it too.
+    pub unsafe fn new(
+        gpu: &Gpu,
+        display: RawDisplayHandle,
+        window: RawWindowHandle,
+        unthrottled: bool,
+    ) -> Result<Presenter> {
+        // SAFETY: the caller's promise.
+        let surface = unsafe { Surface::new(gpu, display, window)? };
+        let device = gpu.device().clone();
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(gpu.queue_family)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        // SAFETY: valid device and create infos; everything is destroyed in Drop. The
+        // fence starts signalled: there is no previous frame to wait for.
+        let (pool, acquired, in_flight) = unsafe {
+            (
+                device
+                    .create_command_pool(&pool_info, None)
+                    .vk("vkCreateCommandPool")?,
+                device
+                    .create_semaphore(&vk::SemaphoreCreateInfo::default(), None)
+                    .vk("vkCreateSemaphore")?,
+                device
+                    .create_fence(
+                        &vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED),
+                        None,
+                    )
+                    .vk("vkCreateFence")?,
+            )
+        };
+        let alloc = vk::CommandBufferAllocateInfo::default()
+            .command_pool(pool)
+            .level(vk::CommandBufferLevel::PRIMARY)
+            .command_buffer_count(1);
+        // SAFETY: the pool was just created from this device.
+        let cmd =
+            unsafe { device.allocate_command_buffers(&alloc) }.vk("vkAllocateCommandBuffers")?[0];
+        // The swapchain's format is only known once it exists; until then the pass has
+        // the most likely one and is rebuilt if the swapchain picks another.
+        let formats = TargetFormats {
+            color: vk::Format::B8G8R8A8_SRGB,
+            depth: DEPTH_FORMAT,
+            distance: None,
+        };
+        Ok(Presenter {
+            pass: RayCastPass::new(gpu.device(), formats)?,
+            timer: GpuTimer::new(gpu)?,
+            capture: None,
+            depth: None,
+            swapchain: None,
+            surface,
+            device,
+            pool,
+            cmd,
+            acquired,
+            in_flight,
+            timed: false,
+            stale: true,
+            unthrottled,
+        })
+    }
+
+    /// The pass, to upload scenes with. Its formats may change when the swapchain is
+    /// created: [`Presenter::prepare`] says when uploads must be redone.
+    pub fn pass_mut(&mut self) -> &mut RayCastPass {
+        &mut self.pass
+    }
+
+    /// The swapchain no longer fits the window (a resize was reported).
+    pub fn mark_stale(&mut self) {
+        self.stale = true;
+    }
+
+    /// Waits for the previous frame; returns its GPU time if it was timed.
+    pub fn wait_previous(&mut self) -> Result<Option<f64>> {
+        // SAFETY: the fence belongs to this device.
+        unsafe {
+            self.device
+                .wait_for_fences(&[self.in_flight], true, u64::MAX)
+                .vk("vkWaitForFences")?;
+        }
+        if std::mem::take(&mut self.timed) {
+            return self.timer.as_ref().map(GpuTimer::elapsed_ms).transpose();
+        }
+        Ok(None)
+    }
+
+    /// Makes the swapchain match a window of `size`: recreates it if stale or of another
+    /// size. Returns None while the window has no area, else whether the pass was rebuilt
+    /// for a new colour format (scenes uploaded with the old pass must be uploaded again).
+    pub fn prepare(&mut self, gpu: &Gpu, size: vk::Extent2D) -> Result<Option<bool>> {
+        if size.width == 0 || size.height == 0 {
+            return Ok(None);
+        }
+        let fits = self
+            .swapchain
+            .as_ref()
+            .is_some_and(|s| s.extent == size && !self.stale);
+        if fits {
+            return Ok(Some(false));
+        }
+        gpu.wait_idle()?;
+        let old = self.swapchain.take();
+        self.depth = None;
+        let Some(swapchain) =
+            Swapchain::new(gpu, &self.surface, size, self.unthrottled, old.as_ref())?
+        else {
+            return Ok(None);
+        };
+        drop(old);
+        self.depth = Some(Image::new(
+            gpu.context(),
+            "window depth",
+            swapchain.extent,
+            DEPTH_FORMAT,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+            vk::ImageAspectFlags::DEPTH,
+        )?);
+        let mut rebuilt = false;
+        if swapchain.format != self.pass.formats().color {
+            let formats = TargetFormats {
+                color: swapchain.format,
+                ..self.pass.formats()
+            };
+            self.pass = RayCastPass::new(gpu.device(), formats)?;
+            rebuilt = true;
+        }
+        if !matches!(
+            swapchain.format,
+            vk::Format::B8G8R8A8_SRGB | vk::Format::R8G8B8A8_SRGB
+        ) {
+            eprintln!(
+                "warning: the window has no sRGB format ({:?}); colours will look darker",
+                swapchain.format
+            );
+        }
+        self.swapchain = Some(swapchain);
+        self.stale = false;
+        Ok(Some(rebuilt))
+    }
+
+    /// Renders and presents one frame of `scene` (after [`Presenter::prepare`] and
+    /// [`Presenter::wait_previous`]). `frame` gives the frame parameters for the
+    /// swapchain's extent; `capture` also copies the image for [`Presenter::capture`].
+    pub fn render(
+        &mut self,
+        gpu: &Gpu,
+        scene: &mut SceneGpu,
+        frame: impl FnOnce(vk::Extent2D) -> FrameParams,
+        settings: &RenderSettings,
+        capture: bool,
+    ) -> Result<Outcome> {
+        let Some(swapchain) = self.swapchain.as_ref() else {
+            return Ok(Outcome::Skipped);
+        };
+        let extent = swapchain.extent;
+        let index = match swapchain.acquire(self.acquired)? {
+            Acquired::OutOfDate => {
+                self.stale = true;
+                return Ok(Outcome::Skipped);
+            }
+            Acquired::Image { index, suboptimal } => {
+                self.stale |= suboptimal;
+                index
+            }
+        };
+        // The previous frame is done (wait_previous), so the uniform buffer is free.
+        scene.set_frame(&frame(extent))?;
+        if capture {
+            self.ensure_capture_buffer(gpu, extent)?;
+        }
+        // SAFETY: the fence is signalled and about to be reused by this submission.
+        unsafe { self.device.reset_fences(&[self.in_flight]) }.vk("vkResetFences")?;
+        self.record(index, scene, settings, capture)?;
+        let Some(swapchain) = self.swapchain.as_ref() else {
+            return Ok(Outcome::Skipped);
+        };
+        let wait = [vk::SemaphoreSubmitInfo::default()
+            .semaphore(self.acquired)
+            .stage_mask(vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT)];
+        let signal = [vk::SemaphoreSubmitInfo::default()
+            .semaphore(swapchain.render_finished[index as usize])
+            .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)];
+        let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(self.cmd)];
+        let submit = [vk::SubmitInfo2::default()
+            .wait_semaphore_infos(&wait)
+            .command_buffer_infos(&cmds)
+            .signal_semaphore_infos(&signal)];
+        // SAFETY: the command buffer is recorded; the semaphores and fence are ours.
+        unsafe {
+            self.device
+                .queue_submit2(gpu.queue, &submit, self.in_flight)
+        }
+        .vk("vkQueueSubmit2")?;
+        self.timed = self.timer.is_some();
+        if !swapchain.present(gpu.queue, index)? {
+            self.stale = true;
+        }
+        Ok(Outcome::Presented { extent })
+    }
+
+    fn ensure_capture_buffer(&mut self, gpu: &Gpu, extent: vk::Extent2D) -> Result<()> {
+        if self.capture.as_ref().is_some_and(|(_, e)| *e == extent) {
+            return Ok(());
+        }
+        let readable = self.swapchain.as_ref().is_some_and(|s| s.readable);
+        if !readable {
+            return Err(crate::Error::Setup(
+                "this window's swapchain images cannot be read back (no TRANSFER_SRC usage)".into(),
+            ));
+        }
+        let bytes = 4 * u64::from(extent.width) * u64::from(extent.height);
+        let buffer = Buffer::new(
+            gpu.context(),
+            "window capture",
+            bytes,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        self.capture = Some((buffer, extent));
+        Ok(())
+    }
+
+    /// The image of the last frame rendered with `capture`, once it completed
+    /// (after [`Presenter::wait_previous`]), as RGBA.
+    pub fn capture(&self) -> Result<Option<Capture>> {
+        let (Some((buffer, extent)), Some(swapchain)) = (&self.capture, &self.swapchain) else {
+            return Ok(None);
+        };
+        let mut rgba = buffer.read()?.to_vec();
+        if matches!(
+            swapchain.format,
+            vk::Format::B8G8R8A8_SRGB | vk::Format::B8G8R8A8_UNORM
+        ) {
+            for pixel in rgba.chunks_exact_mut(4) {
+                pixel.swap(0, 2);
+            }
+        }
+        Ok(Some(Capture {
+            width: extent.width,
+            height: extent.height,
+            rgba,
+        }))
+    }
+
+    fn record(
+        &mut self,
+        index: u32,
+        scene: &SceneGpu,
+        settings: &RenderSettings,
+        capture: bool,
+    ) -> Result<()> {
+        let (Some(swapchain), Some(depth)) = (self.swapchain.as_ref(), self.depth.as_ref()) else {
+            return Ok(());
+        };
+        let (d, cmd) = (&self.device, self.cmd);
+        let image = swapchain.images[index as usize];
+        let extent = swapchain.extent;
+        let color_out = (
+            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+            vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+        );
+        let depth_stages = vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+            | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS;
+        let depth_access = vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
+            | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE;
+        let to_attachment = [
+            // The acquire semaphore is waited on at COLOR_ATTACHMENT_OUTPUT; the layout
+            // change waits there too.
+            image_barrier(image, color_range())
+                .src_stage_mask(vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT)
+                .dst_stage_mask(color_out.0)
+                .dst_access_mask(color_out.1)
+                .old_layout(vk::ImageLayout::UNDEFINED)
+                .new_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
+            // The previous frame's depth writes are done before this frame clears.
+            image_barrier(depth.handle, depth.subresource_range())
+                .src_stage_mask(depth_stages)
+                .src_access_mask(vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE)
+                .dst_stage_mask(depth_stages)
+                .dst_access_mask(depth_access)
+                .old_layout(vk::ImageLayout::UNDEFINED)
+                .new_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL),
+        ];
+        let bg = settings.background;
+        let color_attachment = [vk::RenderingAttachmentInfo::default()
+            .image_view(swapchain.views[index as usize])
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue {
+                color: vk::ClearColorValue {
+                    float32: [bg[0], bg[1], bg[2], 1.0],
+                },
+            })];
+        let depth_attachment = vk::RenderingAttachmentInfo::default()
+            .image_view(depth.view)
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: 1.0,
+                    stencil: 0,
+                },
+            });
+        let rendering = vk::RenderingInfo::default()
+            .render_area(extent.into())
+            .layer_count(1)
+            .color_attachments(&color_attachment)
+            .depth_attachment(&depth_attachment);
+        let begin = vk::CommandBufferBeginInfo::default()
+            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+        // SAFETY: the previous submission of `cmd` completed (wait_previous); every
+        // handle recorded lives until this frame completes.
+        unsafe {
+            d.reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())
+                .vk("vkResetCommandBuffer")?;
+            d.begin_command_buffer(cmd, &begin)
+                .vk("vkBeginCommandBuffer")?;
+            d.cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default().image_memory_barriers(&to_attachment),
+            );
+        }
+        if let Some(timer) = &self.timer {
+            timer.start(cmd);
+        }
+        // SAFETY: as above.
+        unsafe { d.cmd_begin_rendering(cmd, &rendering) };
+        self.pass.record(cmd, scene, extent, settings.method)?;
+        // SAFETY: as above.
+        unsafe { d.cmd_end_rendering(cmd) };
+        if let Some(timer) = &self.timer {
+            timer.stop(cmd);
+        }
+        let readback = self
+            .capture
+            .as_ref()
+            .filter(|_| capture)
+            .map(|(b, _)| b.handle);
+        record_present_transition(d, cmd, image, extent, readback);
+        // SAFETY: recording began above.
+        unsafe { d.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")?;
+        Ok(())
+    }
+}
+
+fn image_barrier(
+    image: vk::Image,
+    range: vk::ImageSubresourceRange,
+) -> vk::ImageMemoryBarrier2<'static> {
+    vk::ImageMemoryBarrier2::default()
+        .image(image)
+        .subresource_range(range)
+}
+
+/// Colour attachment to PRESENT_SRC, through a copy into `readback` when given.
+fn record_present_transition(
+    d: &ash::Device,
+    cmd: vk::CommandBuffer,
+    image: vk::Image,
+    extent: vk::Extent2D,
+    readback: Option<vk::Buffer>,
+) {
+    let from_attachment = image_barrier(image, color_range())
+        .src_stage_mask(vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT)
+        .src_access_mask(vk::AccessFlags2::COLOR_ATTACHMENT_WRITE)
+        .old_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL);
+    let Some(buffer) = readback else {
+        // Presentation waits on the semaphore; no destination stage is needed.
+        let to_present = [from_attachment.new_layout(vk::ImageLayout::PRESENT_SRC_KHR)];
+        // SAFETY: `cmd` is recording outside rendering; the image is the acquired one.
+        unsafe {
+            d.cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default().image_memory_barriers(&to_present),
+            );
+        }
+        return;
+    };
+    let to_transfer = [from_attachment
+        .new_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
+        .dst_stage_mask(vk::PipelineStageFlags2::COPY)
+        .dst_access_mask(vk::AccessFlags2::TRANSFER_READ)];
+    let to_present = [image_barrier(image, color_range())
+        .src_stage_mask(vk::PipelineStageFlags2::COPY)
+        .old_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
+        .new_layout(vk::ImageLayout::PRESENT_SRC_KHR)];
+    let host_read = [vk::MemoryBarrier2::default()
+        .src_stage_mask(vk::PipelineStageFlags2::COPY)
+        .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+        .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+        .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+    let copy = vk::BufferImageCopy::default()
+        .image_subresource(vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        })
+        .image_extent(extent.into());
+    // SAFETY: as above; the buffer holds width * height * 4 bytes.
+    unsafe {
+        d.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().image_memory_barriers(&to_transfer),
+        );
+        d.cmd_copy_image_to_buffer(
+            cmd,
+            image,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            buffer,
+            &[copy],
+        );
+        d.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default()
+                .image_memory_barriers(&to_present)
+                .memory_barriers(&host_read),
+        );
+    }
+}
+
+impl Drop for Presenter {
+    fn drop(&mut self) {
+        // SAFETY: waiting for the device leaves nothing in flight that uses these.
+        unsafe {
+            let _ = self.device.device_wait_idle();
+            self.device.destroy_fence(self.in_flight, None);
+            self.device.destroy_semaphore(self.acquired, None);
+            self.device.destroy_command_pool(self.pool, None);
+        }
+    }
+}

@@ -1,0 +1,343 @@
+//! `glyphcast view` in a real window on a virtual X server (Xvfb), run by script:
+//! the window shows what the headless renderer draws for the same camera, and the
+//! validation layer stays clean through resizes, slice moves and setting switches.
+//!
+//! Each test starts its own Xvfb (`-displayfd` picks a free display and says when it is
+//! ready). Where Xvfb is missing the tests are skipped with a message, except in CI
+//! (CI=true), where a missing Xvfb fails them: tools/install-deps.sh installs it.
+use glyphcast::io::png::read_png_rgba8;
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+
+const BIN: &str = env!("CARGO_BIN_EXE_glyphcast");
+
+/// A virtual X server for one test, stopped when dropped.
+struct Xvfb {
+    child: Child,
+    display: String,
+}
+
+impl Xvfb {
+    /// None (with a message) where Xvfb is not installed, outside CI.
+    fn start(test: &str) -> Option<Xvfb> {
+        let spawned = Command::new("Xvfb")
+            .args([
+                "-displayfd",
+                "1",
+                "-screen",
+                "0",
+                "1024x768x24",
+                "-nolisten",
+                "tcp",
+            ])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn();
+        let mut child = match spawned {
+            Ok(child) => child,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                let ci = std::env::var("CI").is_ok_and(|v| v == "true" || v == "1");
+                assert!(
+                    !ci,
+                    "{test}: Xvfb is not installed, and CI must run the viewer tests \
+                     (tools/install-deps.sh installs xvfb)"
+                );
+                eprintln!("SKIPPED {test}: Xvfb is not installed (Debian: apt-get install xvfb)");
+                return None;
+            }
+            Err(e) => panic!("{test}: starting Xvfb: {e}"),
+        };
+        // Xvfb writes the display number once it accepts connections.
+        let mut line = String::new();
+        let stdout = child.stdout.take().expect("Xvfb's stdout");
+        BufReader::new(stdout)
+            .read_line(&mut line)
+            .expect("reading Xvfb's display number");
+        let number = line.trim();
+        assert!(
+            !number.is_empty() && number.chars().all(|c| c.is_ascii_digit()),
+            "{test}: Xvfb did not start (said {line:?})"
+        );
+        Some(Xvfb {
+            display: format!(":{number}"),
+            child,
+        })
+    }
+
+    /// Runs `glyphcast view` with `args` on this display, validation on.
+    fn view(&self, args: &[&str]) -> Output {
+        let output = Command::new(BIN)
+            .arg("view")
+            .args(args)
+            .arg("--validation")
+            .env("DISPLAY", &self.display)
+            .output()
+            .expect("running glyphcast view");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        eprintln!("glyphcast view {}:\n{stderr}", args.join(" "));
+        output
+    }
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn out(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("viewer");
+    std::fs::create_dir_all(&dir).expect("creating the test output folder");
+    dir.join(name)
+}
+
+fn data(path: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(path)
+        .display()
+        .to_string()
+}
+
+fn path_str(p: &Path) -> &str {
+    p.to_str().expect("UTF-8 test path")
+}
+
+/// Asserts a clean exit with no validation message on stderr.
+fn assert_clean(output: &Output) {
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "glyphcast view failed: {stderr}");
+    assert!(
+        !stderr.contains("validation error") && !stderr.contains("validation:"),
+        "the validation layer spoke: {stderr}"
+    );
+}
+
+/// Renders `scene` with `glyphcast render` and the given options; returns the PNG path.
+fn render(scene: &Path, name: &str, options: &[&str]) -> PathBuf {
+    let png = out(name);
+    let status = Command::new(BIN)
+        .arg("render")
+        .arg(scene)
+        .arg("-o")
+        .arg(&png)
+        .args(options)
+        .arg("--validation")
+        .status()
+        .expect("running glyphcast render");
+    assert!(status.success(), "glyphcast render {}", scene.display());
+    png
+}
+
+/// Pixels whose channels differ by more than `threshold`, and the largest difference.
+fn differing_pixels(a: &Path, b: &Path, threshold: u8) -> (usize, u8, (u32, u32)) {
+    let (wa, ha, pa) = read_png_rgba8(a).expect("reading the first image");
+    let (wb, hb, pb) = read_png_rgba8(b).expect("reading the second image");
+    assert_eq!((wa, ha), (wb, hb), "{} and {}", a.display(), b.display());
+    let mut worst = 0;
+    let count = pa
+        .chunks_exact(4)
+        .zip(pb.chunks_exact(4))
+        .filter(|(x, y)| {
+            let d = x
+                .iter()
+                .zip(*y)
+                .map(|(p, q)| p.abs_diff(*q))
+                .max()
+                .unwrap_or(0);
+            worst = worst.max(d);
+            d > threshold
+        })
+        .count();
+    (count, worst, (wa, ha))
+}
+
+/// The window against the headless render. The window's pipeline runs the colour-only
+/// build of the same fragment shader, into a B8G8R8A8_SRGB swapchain image instead of
+/// the R8G8B8A8_SRGB target: the same float colour is encoded the same way, so a pixel
+/// may differ by one step of rounding (threshold 1) where the two builds order float
+/// operations differently. Such differences can also move a hit by an ulp at a grazing
+/// silhouette ray and change a whole pixel: a budget of 0.5% of the pixels allows a
+/// thin rim of those and nothing like a wrong camera, size or setting, which changes
+/// most glyph pixels (each scene covers well over 5% of its image).
+const CHANNEL_THRESHOLD: u8 = 1;
+const PIXEL_BUDGET_FRACTION: f64 = 0.005;
+
+fn assert_window_matches(window: &Path, headless: &Path) {
+    let (count, worst, (w, h)) = differing_pixels(window, headless, CHANNEL_THRESHOLD);
+    let budget = (PIXEL_BUDGET_FRACTION * f64::from(w * h)) as usize;
+    eprintln!(
+        "window vs headless: {count} of {} pixels differ by more than {CHANNEL_THRESHOLD} \
+         (largest difference {worst}); budget {budget}",
+        w * h
+    );
+    if count > budget {
+        let diff = window.with_extension("diff.png");
+        write_diff(window, headless, &diff);
+        panic!(
+            "the window ({}) differs from the headless render ({}) in {count} pixels; \
+             differences in red: {}",
+            window.display(),
+            headless.display(),
+            diff.display()
+        );
+    }
+}
+
+/// Red where the images differ by more than the threshold, grey elsewhere.
+fn write_diff(a: &Path, b: &Path, diff: &Path) {
+    let (w, h, pa) = read_png_rgba8(a).expect("reading the first image");
+    let (_, _, pb) = read_png_rgba8(b).expect("reading the second image");
+    let pixels: Vec<u8> = pa
+        .chunks_exact(4)
+        .zip(pb.chunks_exact(4))
+        .flat_map(|(x, y)| {
+            let d = x
+                .iter()
+                .zip(y)
+                .map(|(p, q)| p.abs_diff(*q))
+                .max()
+                .unwrap_or(0);
+            if d > CHANNEL_THRESHOLD {
+                [255, 0, 0, 255]
+            } else {
+                [x[0] / 3, x[1] / 3, x[2] / 3, 255]
+            }
+        })
+        .collect();
+    let _ = glyphcast::io::png::write_png_rgba8(diff, w, h, &pixels);
+}
+
+#[test]
+fn window_shows_what_the_headless_renderer_draws() {
+    let Some(x) = Xvfb::start("window_shows_what_the_headless_renderer_draws") else {
+        return;
+    };
+    let scene = data("tests/scenes/order4_pair.json");
+    let (shot, window) = (out("pair-shot.png"), out("pair-window.png"));
+    let output = x.view(&[
+        &scene,
+        "--width",
+        "200",
+        "--height",
+        "150",
+        "--frames",
+        "3",
+        "--screenshot",
+        path_str(&shot),
+        "--capture-window",
+        path_str(&window),
+    ]);
+    assert_clean(&output);
+    // The screenshot is the render command's picture at the window's size: exactly.
+    let expected = render(
+        Path::new(&scene),
+        "pair-render.png",
+        &["--width", "200", "--height", "150"],
+    );
+    assert_eq!(differing_pixels(&shot, &expected, 0).0, 0);
+    assert_window_matches(&window, &expected);
+}
+
+#[test]
+fn scripted_session_stays_validation_clean() {
+    let Some(x) = Xvfb::start("scripted_session_stays_validation_clean") else {
+        return;
+    };
+    let volume = data("tests/data/dipy/func_coef.nii.gz");
+    let (shot, window, seen) = (
+        out("script-shot.png"),
+        out("script-window.png"),
+        out("script-scene.json"),
+    );
+    let script = "resize:300x200,method:fixed,step:0.05,slice:+1,color:magnitude,\
+                  negative:hide,refine:bisect:2,orbit:30:10,zoom:0.8,pan:5:-3,resize:320x240";
+    let mut args = vec![
+        "--sh",
+        &volume,
+        "--basis",
+        "tournier07",
+        "--legacy",
+        "--width",
+        "240",
+        "--height",
+        "180",
+        "--frames",
+        "14",
+        "--script",
+        script,
+    ];
+    args.extend([
+        "--screenshot",
+        path_str(&shot),
+        "--capture-window",
+        path_str(&window),
+        "--save-scene",
+        path_str(&seen),
+    ]);
+    let output = x.view(&args);
+    assert_clean(&output);
+    let (w, h, _) = read_png_rgba8(&shot).expect("reading the screenshot");
+    assert_eq!(
+        (w, h),
+        (320, 240),
+        "the last resize is the screenshot's size"
+    );
+
+    // The slice moved from the middle (k = 2 of 4) to k = 3: the scene as shown holds
+    // the glyphs the render command draws for that slice.
+    let slice_3 = out("slice-3.json");
+    let status = Command::new(BIN)
+        .args([
+            "render",
+            "--sh",
+            &volume,
+            "--basis",
+            "tournier07",
+            "--legacy",
+        ])
+        .args(["--slice", "axial:3", "--width", "32", "--save-scene"])
+        .arg(&slice_3)
+        .arg("-o")
+        .arg(out("slice-3.png"))
+        .status()
+        .expect("running glyphcast render");
+    assert!(status.success());
+    let centers = |path: &Path| {
+        let text = std::fs::read_to_string(path).expect("reading a scene file");
+        let json: serde_json::Value = serde_json::from_str(&text).expect("scene JSON");
+        json["glyphs"].clone()
+    };
+    let (shown, expected) = (centers(&seen), centers(&slice_3));
+    assert_eq!(shown[0]["centers"], expected[0]["centers"]);
+    assert_eq!(shown[0]["coeffs"], expected[0]["coeffs"]);
+    assert_eq!(shown[0]["negative"], "hide");
+
+    // The scene as shown, rendered with the script's settings, is the screenshot, and
+    // the window showed it too.
+    let settings = [
+        "--step",
+        "0.05",
+        "--refine",
+        "bisect:2",
+        "--color",
+        "magnitude",
+    ];
+    let expected = render(&seen, "script-render.png", &settings);
+    assert_eq!(differing_pixels(&shot, &expected, 0).0, 0);
+    assert_window_matches(&window, &expected);
+}
+
+#[test]
+fn bad_script_is_refused_before_a_window_opens() {
+    let output = Command::new(BIN)
+        .args(["view", &data("tests/scenes/sphere.json"), "--frames", "2"])
+        .args(["--script", "resize:300x200,explode"])
+        .env_remove("DISPLAY")
+        .output()
+        .expect("running glyphcast view");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("--script: 'explode'"), "{stderr}");
+}
