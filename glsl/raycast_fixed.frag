@@ -7,6 +7,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "frame.glsl"
 #include "glyph_function.glsl"
+#include "pixel_ray.glsl"
 #include "shading.glsl"
 
 layout(location = 0) flat in uint v_glyph;
@@ -27,20 +28,6 @@ float inside(vec3 q) {
         return frame.march.w;
     }
     return shape(glyph_f(q / len)) + frame.march.w - len;
-}
-
-// The pixel-centre ray of the scene format's camera, in world space.
-void pixel_ray(out vec3 origin, out vec3 dir) {
-    vec2 s = vec2((2.0 * gl_FragCoord.x * frame.viewport.x - 1.0) * frame.right.w,
-                  1.0 - 2.0 * gl_FragCoord.y * frame.viewport.y);
-    vec3 offset = s.x * frame.right.xyz + s.y * frame.up.xyz;
-    if (frame.eye.w > 0.5) {
-        origin = frame.eye.xyz + offset;
-        dir = frame.fwd.xyz;
-    } else {
-        origin = frame.eye.xyz;
-        dir = normalize(frame.fwd.xyz + offset);
-    }
 }
 
 // Refines a bracket [s0, s1] with g(s0) <= 0 < g(s1) along q(s) = mid + s * dir.
@@ -83,11 +70,10 @@ void main() {
     float bound = 1.0 + frame.march.w;
     float rho = v_center_radius.w / bound;
 
-    // Local frame: q = (p - c) / rho. March in s, measured from the point of the ray
-    // closest to the centre, so that q stays well conditioned however far the camera is.
-    vec3 o = (origin - v_center_radius.xyz) / rho;
-    float t_mid = -dot(o, dir);
-    vec3 mid = o + t_mid * dir;
+    // Local frame: q = (p - c) / rho; march in s from the point closest to the centre.
+    float t_mid;
+    vec3 mid;
+    ray_in_glyph_frame(origin, dir, v_center_radius.xyz, rho, t_mid, mid);
     float half_chord2 = bound * bound - dot(mid, mid);
     if (half_chord2 <= 0.0) {
         discard;
@@ -139,8 +125,7 @@ void main() {
 
     float distance = (t_mid + s_hit) * rho;
     vec3 world = origin + distance * dir;
-    vec4 clip = frame.view_proj * vec4(world, 1.0);
-    gl_FragDepth = clamp(clip.z / clip.w, 0.0, 1.0);
+    gl_FragDepth = window_depth(world);
 
     vec3 base = glyph_color(q_dir, len * rho);
     out_color = vec4(blinn_phong(base, normal, -dir), 1.0);

@@ -11,7 +11,7 @@ pub struct AccuracyArgs {
     /// Image side in pixels for every scene.
     #[arg(long, default_value_t = 160)]
     size: u32,
-    /// Methods to measure, comma separated.
+    /// Methods to measure, comma separated: fixed, impostor, mesh:LEVEL, latlong:N.
     #[arg(long, default_value = "fixed", value_delimiter = ',')]
     methods: Vec<String>,
     /// March steps of the fixed-step method, comma separated.
@@ -54,6 +54,10 @@ impl AccuracyArgs {
                         }
                     }
                 }
+                other => variants.push(RenderSettings {
+                    method: other,
+                    ..Default::default()
+                }),
             }
         }
         for v in &variants {

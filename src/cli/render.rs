@@ -70,7 +70,8 @@ pub struct RenderArgs {
     /// Image height in pixels (default: the scene's).
     #[arg(long)]
     height: Option<u32>,
-    /// Intersection method.
+    /// How glyphs are drawn: fixed (ray casting), impostor (bounding spheres),
+    /// mesh:LEVEL (icosphere, 0 to 7) or latlong:N (N latitude bands) tessellations.
     #[arg(long, default_value = "fixed")]
     method: String,
     /// March step, in units of each glyph's bounding radius.
@@ -183,6 +184,16 @@ pub fn render(
         prepared.as_secs_f64() * 1e3,
         begun.elapsed().as_secs_f64() * 1e3
     );
+    if let Some(mesh) = &image.mesh {
+        eprintln!(
+            "{}: {} triangles ({} per glyph), generated in {:.1} ms, {:.1} MiB on the GPU",
+            mesh.kind,
+            mesh.triangles(),
+            mesh.triangles_per_glyph,
+            mesh.generate_ms,
+            mesh.gpu_bytes() as f64 / (1024.0 * 1024.0)
+        );
+    }
     write_outputs(&image, output)
 }
 

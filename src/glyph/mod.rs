@@ -1,6 +1,7 @@
 //! CPU mathematics of glyphs in float64: tensors in monomial form, bounds and the exact
-//! ray intersection that serves as the reference for every GPU result, and the real
-//! spherical harmonics (`sh`) with their map to tensors.
+//! ray intersection that serves as the reference for every GPU result, the real
+//! spherical harmonics (`sh`) with their map to tensors, and the tessellated glyphs of
+//! the mesh baseline (`tessellate`).
 pub mod bounds;
 pub(crate) mod homogeneous;
 pub mod intersect;
@@ -10,6 +11,7 @@ pub mod reference;
 pub mod rotate;
 pub mod sh;
 pub mod stiffness;
+pub mod tessellate;
 
 /// Whether a Cartesian tensor is stored by its unique entries (Eq. 5) or in full (Eq. 4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

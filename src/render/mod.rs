@@ -1,17 +1,43 @@
-//! Render passes and their settings.
+//! Render passes and their settings: the ray caster and the sphere impostor share the
+//! instanced boxes of `raycast`; the tessellated baseline has its own pass in `mesh`.
 pub mod eval;
 pub mod frame;
 pub mod glyph_data;
 pub mod headless;
+pub mod mesh;
 pub mod raycast;
 pub mod settings;
 pub mod shaders;
 
+pub use crate::glyph::tessellate::MeshKind;
 pub use settings::{ColorMode, Refinement, RenderSettings};
 
-/// Ray-glyph intersection method (`--method`).
+/// How glyphs are drawn (`--method`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Method {
     /// The seed's fixed-step sign test with refinement.
     Fixed,
+    /// The bounding sphere of each glyph on the ray caster's boxes: the cost floor of a
+    /// box-proxy ray caster, not the glyph.
+    Impostor,
+    /// Rasterised triangle meshes on a tessellated sphere (the FURY/DIPY/MRtrix baseline).
+    Mesh(MeshKind),
+}
+
+impl Method {
+    /// Whether the method marches rays through the glyph function (and so reads the
+    /// march settings: step, refinement, centre zone).
+    pub fn marches(self) -> bool {
+        matches!(self, Method::Fixed)
+    }
+}
+
+impl std::fmt::Display for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Method::Fixed => f.write_str("fixed"),
+            Method::Impostor => f.write_str("impostor"),
+            Method::Mesh(kind) => write!(f, "{kind}"),
+        }
+    }
 }
