@@ -8,6 +8,7 @@
 // well scaled near the centre.
 #include "frame.glsl"
 #include "glyph_function.glsl"
+#include "pixel_ray.glsl"
 #include "shading.glsl"
 
 layout(location = 0) flat in uint v_glyph;
@@ -32,20 +33,6 @@ float inside(vec3 q) {
     return shape(glyph_f(q / len)) + frame.march.w - len;
 }
 
-// The pixel-centre ray of the scene format's camera, in world space.
-void pixel_ray(out vec3 origin, out vec3 dir) {
-    vec2 s = vec2((2.0 * gl_FragCoord.x * frame.viewport.x - 1.0) * frame.right.w,
-                  1.0 - 2.0 * gl_FragCoord.y * frame.viewport.y);
-    vec3 offset = s.x * frame.right.xyz + s.y * frame.up.xyz;
-    if (frame.eye.w > 0.5) {
-        origin = frame.eye.xyz + offset;
-        dir = frame.fwd.xyz;
-    } else {
-        origin = frame.eye.xyz;
-        dir = normalize(frame.fwd.xyz + offset);
-    }
-}
-
 // The pixel's ray clipped to the glyph's bounding sphere, in the local frame
 // q = (p - c) / rho, where rho maps normalised glyph units to world units. Points are
 // q(s) = mid + s * dir, with s measured from the point `mid` of the ray closest to the
@@ -66,9 +53,7 @@ bool glyph_ray(out GlyphRay ray) {
     // The box half-size is rho * bound.
     float bound = 1.0 + frame.march.w;
     ray.rho = v_center_radius.w / bound;
-    vec3 o = (ray.origin - v_center_radius.xyz) / ray.rho;
-    ray.t_mid = -dot(o, ray.dir);
-    ray.mid = o + ray.t_mid * ray.dir;
+    ray_in_glyph_frame(ray.origin, ray.dir, v_center_radius.xyz, ray.rho, ray.t_mid, ray.mid);
     float half_chord2 = bound * bound - dot(ray.mid, ray.mid);
     if (half_chord2 <= 0.0) {
         return false;
@@ -125,8 +110,7 @@ void shade_hit(GlyphRay ray, float s_hit) {
 
     float distance = (ray.t_mid + s_hit) * ray.rho;
     vec3 world = ray.origin + distance * ray.dir;
-    vec4 clip = frame.view_proj * vec4(world, 1.0);
-    gl_FragDepth = clamp(clip.z / clip.w, 0.0, 1.0);
+    gl_FragDepth = window_depth(world);
 
     vec3 base = glyph_color(q_dir, len * ray.rho);
     out_color = vec4(blinn_phong(base, normal, -ray.dir), 1.0);

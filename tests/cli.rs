@@ -128,6 +128,8 @@ fn missing_file_and_bad_options_fail_cleanly() {
         ("--color", "rainbow"),
         ("--method", "magic"),
         ("--precision", "0"),
+        ("--method", "mesh:9"),
+        ("--method", "latlong:1"),
     ] {
         let line = expect_failure(&sphere, &[&format!("{option}={value}")], &dir);
         assert!(line.contains(option), "{option} {value}: {line}");
@@ -284,9 +286,13 @@ fn accuracy_command_writes_a_table_for_every_scene() {
         .collect();
     let scenes = glyphcast::accuracy::suite::suite(48).len();
     // Fixed: one row per step; interval and affine: one row each.
-    assert_eq!(rows.len(), 4 * scenes, "rows per scene: two steps and two robust methods");
+    assert_eq!(
+        rows.len(),
+        4 * scenes,
+        "rows per scene: two steps and two robust methods"
+    );
     for row in &rows {
-        assert_eq!(row.len(), 11, "{row:?}");
+        assert_eq!(row.len(), 12, "{row:?}");
         let holes: usize = row[4].parse().expect("holes is a count");
         let median: f64 = row[6].parse().expect("median is a number");
         if row[1] != "fixed" || row[2] == "0.05" {
@@ -353,4 +359,122 @@ fn bench_quick_writes_valid_csv_and_json() {
         lines.iter().all(|l| l.split(',').count() == columns),
         "every CSV row has {columns} fields"
     );
+}
+
+/// The baselines draw from the command line: tessellations report their triangle count and
+/// generation time, and every method writes an image and a depth map of the sphere.
+#[test]
+fn render_draws_meshes_and_impostors() {
+    let dir = fresh_dir("render-methods");
+    let scene = scenes().join("sphere.json");
+    for method in ["mesh:3", "latlong:12", "impostor"] {
+        let png = dir.join(format!("{method}.png").replace(':', "-"));
+        let npy = dir.join(format!("{method}.npy").replace(':', "-"));
+        let out = glyphcast(&[
+            "render",
+            scene.to_str().expect("path"),
+            "-o",
+            png.to_str().expect("path"),
+            "--depth-out",
+            npy.to_str().expect("path"),
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--method",
+            method,
+        ]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{method}:\n{stderr}");
+        assert_eq!(
+            stderr.contains("triangles"),
+            method != "impostor",
+            "{method}: the mesh statistics are printed for meshes:\n{stderr}"
+        );
+        let (shape, depth) = glyphcast::io::npy::read_npy_f32(&npy).expect("depth map");
+        assert_eq!(shape, vec![48, 64]);
+        let hits = depth.iter().filter(|d| !d.is_nan()).count();
+        assert!(hits > 50 && hits < depth.len(), "{method}: {hits} hits");
+    }
+}
+
+/// `bench --quick --sweep table2`: the ray caster, the impostor and icosphere levels 1 to
+/// 6 on a small workload, each held against the float64 reference, written as CSV and
+/// JSON with the ratios.
+#[test]
+fn bench_quick_table2_writes_valid_csv_and_json() {
+    let dir = fresh_dir("bench-table2");
+    let out = glyphcast(&[
+        "bench",
+        "--quick",
+        "--sweep",
+        "table2",
+        "--workload",
+        "grid:4:6",
+        "--width",
+        "48",
+        "--height",
+        "40",
+        "--out",
+        dir.to_str().expect("path"),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("results.json")).expect("results.json"),
+    )
+    .expect("valid JSON");
+    let results = json["results"].as_array().expect("results array");
+    let methods: Vec<&str> = results
+        .iter()
+        .map(|r| r["method"].as_str().expect("method"))
+        .collect();
+    assert_eq!(
+        methods,
+        [
+            "fixed", "interval", "affine", "impostor", "mesh:1", "mesh:2", "mesh:3", "mesh:4",
+            "mesh:5", "mesh:6"
+        ]
+    );
+    let error = |r: &serde_json::Value| r["accuracy"]["error_px"].as_f64().expect("error_px");
+    for r in results {
+        let median = r["gpu_ms_median"].as_f64().expect("median");
+        assert!(median > 0.0, "{r}");
+        assert!(error(r) >= 0.0, "{r}");
+        assert_eq!(r["glyphs"], 4);
+    }
+    for (level, r) in results[4..].iter().enumerate() {
+        let triangles = 4 * 20 * 4u64.pow(level as u32 + 1);
+        assert_eq!(r["triangles"].as_u64(), Some(triangles), "{r}");
+        assert!(r["generate_ms"].as_f64().expect("generation time") >= 0.0);
+        assert_eq!(r["coefficient_bytes"], 0, "meshes need no coefficients");
+    }
+    // The ray caster is far below a pixel; the coarsest mesh is not, the finest is.
+    for r in &results[..3] {
+        assert!(
+            error(r) < 0.1,
+            "ray casting is below a tenth of a pixel: {r}"
+        );
+    }
+    assert!(error(&results[4]) > error(&results[9]));
+    let ratios = json["ratios"].as_array().expect("ratios array");
+    assert!(
+        ratios
+            .iter()
+            .any(|r| r["name"] == "ray-cast / impostor GPU time" && r["value"].as_f64() > Some(0.0)),
+        "{ratios:?}"
+    );
+    let csv = std::fs::read_to_string(dir.join("results.csv")).expect("results.csv");
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines.len(), 11);
+    let columns = lines[0].split(',').count();
+    assert!(
+        lines.iter().all(|l| l.split(',').count() == columns),
+        "every CSV row has {columns} fields"
+    );
+    let markdown = std::fs::read_to_string(dir.join("results.md")).expect("results.md");
+    assert!(markdown.contains("Ratios"), "{markdown}");
 }

@@ -1,7 +1,9 @@
 //! `glyphcast accuracy`: every requested method and setting on every suite scene, each
 //! depth map compared with the float64 reference (computed once per scene), with the
-//! GPU time of the glyph pass; printed as Markdown and CSV.
+//! geometric error in pixels and the GPU time of the glyph pass; printed as Markdown and
+//! CSV.
 use super::compare::{DepthComparison, compare_depth};
+use super::geometric::{GeometricError, geometric_error};
 use super::suite::SuiteScene;
 use crate::Result;
 use crate::glyph::reference::reference_depth;
@@ -19,6 +21,7 @@ pub struct AccuracyRow {
     pub step: f32,
     pub refinement: Refinement,
     pub comparison: DepthComparison,
+    pub geometric: GeometricError,
     pub gpu_ms: Option<f64>,
 }
 
@@ -43,12 +46,15 @@ pub fn run(
             let image = renderer.render(gpu, &sets, &scene.camera, w, h, settings)?;
             let comparison =
                 compare_depth(&image.distance, &reference, w as usize, h as usize, scale);
+            let geometric =
+                geometric_error(&image.distance, &reference, &world, &scene.camera, w, h);
             let row = AccuracyRow {
                 scene: suite_scene.name.to_owned(),
                 method: settings.method,
                 step: settings.step,
                 refinement: settings.refinement,
                 comparison,
+                geometric,
                 gpu_ms: image.gpu_ms,
             };
             progress(&row);
@@ -56,6 +62,11 @@ pub fn run(
         }
     }
     Ok(rows)
+}
+
+/// The method as `--method` spells it.
+pub fn method_name(method: Method) -> String {
+    method.to_string()
 }
 
 pub fn refinement_name(r: Refinement) -> String {
@@ -67,23 +78,33 @@ pub fn refinement_name(r: Refinement) -> String {
     }
 }
 
-fn cells(row: &AccuracyRow) -> [String; 9] {
+/// Step and refinement mean something only for methods that march.
+fn march_cell(row: &AccuracyRow, value: String) -> String {
+    if row.method.marches() {
+        value
+    } else {
+        "-".into()
+    }
+}
+
+fn cells(row: &AccuracyRow) -> [String; 10] {
     let c = &row.comparison;
     [
         row.scene.clone(),
-        row.method.name().to_owned(),
-        format!("{}", row.step),
-        refinement_name(row.refinement),
+        method_name(row.method),
+        march_cell(row, format!("{}", row.step)),
+        march_cell(row, refinement_name(row.refinement)),
         c.holes.to_string(),
         c.false_hits.to_string(),
         format!("{:.2e}", c.median_error),
         format!("{:.2e}", c.p99_error),
+        format!("{:.3}", row.geometric.pixels()),
         row.gpu_ms
             .map_or_else(|| "n/a".into(), |ms| format!("{ms:.2}")),
     ]
 }
 
-const HEADER: [&str; 9] = [
+const HEADER: [&str; 10] = [
     "scene",
     "method",
     "step",
@@ -92,10 +113,12 @@ const HEADER: [&str; 9] = [
     "false hits",
     "median err",
     "p99 err",
+    "error px",
     "GPU ms",
 ];
 
-/// A Markdown table; errors are in units of the glyph scale.
+/// A Markdown table; depth errors are in units of the glyph scale, the geometric error
+/// (see `accuracy::geometric`) in pixels.
 pub fn markdown(rows: &[AccuracyRow]) -> String {
     let mut out = format!("| {} |\n", HEADER.join(" | "));
     let _ = writeln!(out, "|{}", "---|".repeat(HEADER.len()));
@@ -107,24 +130,25 @@ pub fn markdown(rows: &[AccuracyRow]) -> String {
 
 pub fn csv(rows: &[AccuracyRow]) -> String {
     let mut out = String::from(
-        "scene,method,step,refine,holes,false_hits,median_error,p99_error,gpu_ms,covered,band\n",
+        "scene,method,step,refine,holes,false_hits,median_error,p99_error,gpu_ms,covered,band,error_px\n",
     );
     for row in rows {
         let c = &row.comparison;
         let _ = writeln!(
             out,
-            "{},{},{},{},{},{},{:e},{:e},{},{},{}",
+            "{},{},{},{},{},{},{:e},{:e},{},{},{},{:e}",
             row.scene,
-            row.method.name(),
-            row.step,
-            refinement_name(row.refinement),
+            method_name(row.method),
+            march_cell(row, row.step.to_string()),
+            march_cell(row, refinement_name(row.refinement)),
             c.holes,
             c.false_hits,
             c.median_error,
             c.p99_error,
             row.gpu_ms.map_or_else(String::new, |ms| format!("{ms:.4}")),
             c.covered,
-            c.band
+            c.band,
+            row.geometric.pixels()
         );
     }
     out

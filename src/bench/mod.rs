@@ -1,17 +1,27 @@
 //! Benchmarks: GPU time of the glyph pass from timestamp queries (warm-up frames, then N
-//! measured frames; median, min, max), CPU time of preparation and upload, rays and
-//! glyphs per second, and the GPU memory that coefficients and instances take.
+//! measured frames; median, min, max), CPU time of preparation, mesh generation and
+//! upload, rays and glyphs per second, the GPU memory that coefficients, instances and
+//! meshes take, and optionally the accuracy of the frame against the float64 reference
+//! (holes, depth error, geometric error in pixels), so that the ray caster, the sphere
+//! impostor and tessellations compare in one table. [`ratios`] condenses such tables.
 //! Timings are reports for a person to read, never test assertions.
+pub mod ratios;
+pub mod tables;
 pub mod workload;
 
 use crate::Result;
+use crate::accuracy::{GeometricError, compare_depth, geometric_error};
 use crate::camera::Camera;
+use crate::glyph::intersect::WorldGlyph;
+use crate::glyph::reference::reference_depth;
 use crate::io::scene::Scene;
 use crate::render::RenderSettings;
 use crate::render::glyph_data::{GlyphSetData, prepare_scene};
-use crate::render::headless::HeadlessRenderer;
+use crate::render::headless::{HeadlessRenderer, RenderedImage};
 use crate::vk::Gpu;
 use std::time::Instant;
+
+pub use tables::{csv, markdown};
 
 /// How many frames to draw.
 #[derive(Clone, Copy, Debug)]
@@ -24,13 +34,23 @@ pub struct BenchFrames {
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct BenchResult {
     pub label: String,
+    /// The scene measured (configurations of one scene share it), for [`ratios`].
+    pub scene: String,
+    /// `--method` as spelled on the command line.
+    pub method: String,
     pub glyphs: usize,
     pub width: u32,
     pub height: u32,
     /// CPU time to turn the scene into GPU data (bounds, normalisation), ms.
     pub prepare_ms: f64,
-    /// CPU time of upload and target creation, ms.
+    /// CPU time of upload and target creation, ms (mesh generation not included).
     pub upload_ms: f64,
+    /// Wall-clock time of the CPU mesh generation (parallel), ms; meshes only.
+    pub generate_ms: Option<f64>,
+    /// Triangles per frame; meshes only.
+    pub triangles: Option<usize>,
+    /// Mesh vertices and the shared index buffer, bytes; meshes only.
+    pub mesh_bytes: Option<usize>,
     pub gpu_ms_median: f64,
     pub gpu_ms_min: f64,
     pub gpu_ms_max: f64,
@@ -40,51 +60,115 @@ pub struct BenchResult {
     pub glyphs_per_second: f64,
     pub coefficient_bytes: usize,
     pub instance_bytes: usize,
+    /// GPU bytes of glyph data per glyph: coefficients, instance and mesh (with its share
+    /// of the index buffer).
+    pub bytes_per_glyph: f64,
     pub draws: usize,
+    /// Against the float64 reference, when one was given.
+    pub accuracy: Option<BenchAccuracy>,
 }
 
-/// Measures `scene` with `settings`. Errors if the device has no timestamps.
+/// How a benchmarked frame compares with the float64 reference.
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct BenchAccuracy {
+    /// Away from the one-pixel silhouette band (see `accuracy::compare_depth`).
+    pub holes: usize,
+    pub false_hits: usize,
+    /// Depth errors along the rays, in units of the largest glyph's bounding radius.
+    pub median_depth_error: f64,
+    pub p99_depth_error: f64,
+    pub geometric: GeometricError,
+    /// `geometric.pixels()`: the larger of the surface and silhouette errors, pixels.
+    pub error_px: f64,
+}
+
+/// The float64 reference of a scene: computed once, held against every configuration.
+pub struct Reference {
+    pub depth: Vec<f64>,
+    pub glyphs: Vec<WorldGlyph>,
+    /// The largest world bounding radius: depth errors are in its units.
+    pub scale: f64,
+}
+
+impl Reference {
+    /// The reference of `scene` drawn without offset (as every sweep draws it).
+    pub fn of(scene: &Scene) -> Result<Reference> {
+        let sets = prepare_scene(scene, 0.0)?;
+        let glyphs: Vec<WorldGlyph> = sets.iter().flat_map(|s| s.world.iter().cloned()).collect();
+        let (w, h) = (scene.image.width, scene.image.height);
+        let depth = reference_depth(&glyphs, &scene.camera, w, h);
+        let scale = glyphs
+            .iter()
+            .map(WorldGlyph::world_radius)
+            .fold(0.0, f64::max);
+        Ok(Reference {
+            depth,
+            glyphs,
+            scale,
+        })
+    }
+
+    fn compare(&self, image: &RenderedImage, camera: &Camera) -> BenchAccuracy {
+        let (w, h) = (image.width, image.height);
+        let depth = compare_depth(
+            &image.distance,
+            &self.depth,
+            w as usize,
+            h as usize,
+            self.scale,
+        );
+        let geometric = geometric_error(&image.distance, &self.depth, &self.glyphs, camera, w, h);
+        BenchAccuracy {
+            holes: depth.holes,
+            false_hits: depth.false_hits,
+            median_depth_error: depth.median_error,
+            p99_depth_error: depth.p99_error,
+            geometric,
+            error_px: geometric.pixels(),
+        }
+    }
+}
+
+/// What to measure: a scene (named, for [`ratios`]) with settings, under a label.
+pub struct BenchCase<'a> {
+    pub label: &'a str,
+    pub scene_name: &'a str,
+    pub scene: &'a Scene,
+    pub settings: &'a RenderSettings,
+    /// The scene's reference (drawn without offset), to measure accuracy against.
+    pub reference: Option<&'a Reference>,
+}
+
+/// Measures one case. Errors if the device has no timestamps.
 pub fn run(
     gpu: &Gpu,
     renderer: &mut HeadlessRenderer,
-    label: &str,
-    scene: &Scene,
-    settings: &RenderSettings,
+    case: &BenchCase,
     frames: BenchFrames,
 ) -> Result<BenchResult> {
     let started = Instant::now();
-    let sets = prepare_scene(scene, settings.offset as f64)?;
+    let sets = prepare_scene(case.scene, case.settings.offset as f64)?;
     let prepare_ms = started.elapsed().as_secs_f64() * 1e3;
-    measure_prepared(
-        gpu,
-        renderer,
-        label,
-        &sets,
-        &scene.camera,
-        scene.image.width,
-        scene.image.height,
-        settings,
-        frames,
-        prepare_ms,
-    )
+    let mut result = measure_prepared(gpu, renderer, case, &sets, frames, prepare_ms)?;
+    result.scene = case.scene_name.to_owned();
+    Ok(result)
 }
 
-#[allow(clippy::too_many_arguments)]
 fn measure_prepared(
     gpu: &Gpu,
     renderer: &mut HeadlessRenderer,
-    label: &str,
+    case: &BenchCase,
     sets: &[GlyphSetData],
-    camera: &Camera,
-    width: u32,
-    height: u32,
-    settings: &RenderSettings,
     frames: BenchFrames,
     prepare_ms: f64,
 ) -> Result<BenchResult> {
+    let (camera, settings) = (&case.scene.camera, case.settings);
+    let (width, height) = (case.scene.image.width, case.scene.image.height);
     let started = Instant::now();
     let frame = renderer.prepare(gpu, sets, camera, width, height, settings)?;
-    let upload_ms = started.elapsed().as_secs_f64() * 1e3;
+    let mesh = frame.mesh_stats().copied();
+    let generate_ms = mesh.map(|m| m.generate_ms);
+    let upload_ms = started.elapsed().as_secs_f64() * 1e3 - generate_ms.unwrap_or(0.0);
     for _ in 0..frames.warmup {
         renderer.draw(gpu, &frame)?;
     }
@@ -102,81 +186,37 @@ fn measure_prepared(
     let median = times[times.len() / 2];
     let covered = image.distance.iter().filter(|d| !d.is_nan()).count();
     let glyphs: usize = sets.iter().map(GlyphSetData::len).sum();
+    let (coefficient_bytes, instance_bytes, mesh_bytes) = match &mesh {
+        Some(m) => (0, m.instance_bytes, Some(m.vertex_bytes + m.index_bytes)),
+        None => (
+            sets.iter().map(|s| 4 * s.coefficients.len()).sum(),
+            sets.iter().map(|s| 16 * s.instances.len()).sum(),
+            None,
+        ),
+    };
+    let total_bytes = coefficient_bytes + instance_bytes + mesh_bytes.unwrap_or(0);
     Ok(BenchResult {
-        label: label.to_owned(),
+        label: case.label.to_owned(),
+        scene: String::new(),
+        method: settings.method.to_string(),
         glyphs,
         width,
         height,
         prepare_ms,
         upload_ms,
+        generate_ms,
+        triangles: mesh.map(|m| m.triangles()),
+        mesh_bytes,
         gpu_ms_median: median,
         gpu_ms_min: times[0],
         gpu_ms_max: times[times.len() - 1],
         covered_pixels: covered,
         rays_per_second: covered as f64 / (median * 1e-3),
         glyphs_per_second: glyphs as f64 / (median * 1e-3),
-        coefficient_bytes: sets.iter().map(|s| 4 * s.coefficients.len()).sum(),
-        instance_bytes: sets.iter().map(|s| 16 * s.instances.len()).sum(),
+        coefficient_bytes,
+        instance_bytes,
+        bytes_per_glyph: total_bytes as f64 / glyphs.max(1) as f64,
         draws: image.draws,
+        accuracy: case.reference.map(|r| r.compare(&image, camera)),
     })
-}
-
-const COLUMNS: [&str; 12] = [
-    "label",
-    "glyphs",
-    "size",
-    "GPU ms (median)",
-    "min",
-    "max",
-    "prepare ms",
-    "upload ms",
-    "Mrays/s",
-    "glyphs/s",
-    "coeff bytes",
-    "instance bytes",
-];
-
-/// A readable Markdown table.
-pub fn markdown(results: &[BenchResult]) -> String {
-    let mut out = format!(
-        "| {} |\n|{}\n",
-        COLUMNS.join(" | "),
-        "---|".repeat(COLUMNS.len())
-    );
-    for r in results {
-        out.push_str(&format!(
-            "| {} | {} | {}x{} | {:.3} | {:.3} | {:.3} | {:.1} | {:.1} | {:.2} | {:.0} | {} | {} |\n",
-            r.label, r.glyphs, r.width, r.height, r.gpu_ms_median, r.gpu_ms_min, r.gpu_ms_max,
-            r.prepare_ms, r.upload_ms, r.rays_per_second * 1e-6, r.glyphs_per_second,
-            r.coefficient_bytes, r.instance_bytes
-        ));
-    }
-    out
-}
-
-pub fn csv(results: &[BenchResult]) -> String {
-    let mut out = String::from(
-        "label,glyphs,width,height,gpu_ms_median,gpu_ms_min,gpu_ms_max,prepare_ms,upload_ms,covered_pixels,rays_per_second,glyphs_per_second,coefficient_bytes,instance_bytes,draws\n",
-    );
-    for r in results {
-        out.push_str(&format!(
-            "{},{},{},{},{:.6},{:.6},{:.6},{:.3},{:.3},{},{:.1},{:.1},{},{},{}\n",
-            r.label,
-            r.glyphs,
-            r.width,
-            r.height,
-            r.gpu_ms_median,
-            r.gpu_ms_min,
-            r.gpu_ms_max,
-            r.prepare_ms,
-            r.upload_ms,
-            r.covered_pixels,
-            r.rays_per_second,
-            r.glyphs_per_second,
-            r.coefficient_bytes,
-            r.instance_bytes,
-            r.draws
-        ));
-    }
-    out
 }

@@ -11,7 +11,8 @@ pub struct AccuracyArgs {
     /// Image side in pixels for every scene.
     #[arg(long, default_value_t = 160)]
     size: u32,
-    /// Methods to measure, comma separated.
+    /// Methods to measure, comma separated: fixed, interval, affine, impostor,
+    /// mesh:LEVEL, latlong:N.
     #[arg(long, default_value = "fixed,interval,affine", value_delimiter = ',')]
     methods: Vec<String>,
     /// March steps of the fixed-step method, comma separated.
@@ -53,7 +54,7 @@ impl AccuracyArgs {
                     }
                 }
             } else {
-                // The robust methods subdivide by ranges, not by steps: their defaults.
+                // The other methods do not march at a fixed step: their defaults.
                 variants.push(RenderSettings {
                     method,
                     ..Default::default()
@@ -86,7 +87,7 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
     let mut done = 0;
     let rows = report::run(&gpu, &scenes, &variants, |row| {
         done += 1;
-        eprintln!("[{done}/{total}] {} {}", row.scene, row.method.name());
+        eprintln!("[{done}/{total}] {} {}", row.scene, row.method);
     })?;
     let markdown = format!("Device: {}\n\n{}", gpu.info, report::markdown(&rows));
     if let Some(path) = &args.markdown {

@@ -1,13 +1,17 @@
 //! `glyphcast bench`: GPU timings of the glyph pass on a scene, a generated workload, or
-//! a sweep, written as a table (stdout) and as CSV and JSON (`--out DIR`).
+//! a sweep, written as a table (stdout) and as CSV and JSON (`--out DIR`). Sweeps that
+//! compare methods also measure each frame against the float64 reference (computed once
+//! per scene) and print the ratios of `bench::ratios`.
 use clap::Args;
-use glyphcast::bench::{self, BenchFrames, BenchResult, workload};
+use glyphcast::accuracy::suite;
+use glyphcast::bench::{self, BenchCase, BenchFrames, BenchResult, Reference, ratios, workload};
 use glyphcast::io::scene::Scene;
 use glyphcast::render::headless::HeadlessRenderer;
-use glyphcast::render::{Refinement, RenderSettings};
+use glyphcast::render::{MeshKind, Method, Refinement, RenderSettings};
 use glyphcast::vk::{Gpu, GpuOptions};
 use glyphcast::{Error, Result};
 use std::path::PathBuf;
+use std::time::Instant;
 
 #[derive(Args)]
 pub struct BenchArgs {
@@ -17,10 +21,18 @@ pub struct BenchArgs {
     /// Generated workload: grid:COUNT:ORDER.
     #[arg(long, default_value = "grid:100:8")]
     workload: String,
-    /// A sweep instead of one measurement: steps (the seed's Table 1) or scaling
-    /// (glyph count, order, resolution).
+    /// A sweep instead of one measurement: steps (the seed's Table 1), scaling (glyph
+    /// count, order, resolution), table2 (ray casting against tessellation levels 1 to 6,
+    /// with geometric error), methods (every method on the accuracy suite) or ratios
+    /// (ray cast against impostor and against tessellation at equal error, orders 4, 8, 12).
     #[arg(long)]
     sweep: Option<String>,
+    /// Method of a single measurement: fixed, impostor, mesh:LEVEL or latlong:N.
+    #[arg(long, default_value = "fixed")]
+    method: String,
+    /// Also compare a single measurement with the float64 reference.
+    #[arg(long)]
+    accuracy: bool,
     /// Measured frames (after the warm-up).
     #[arg(long, default_value_t = 20)]
     frames: usize,
@@ -81,13 +93,93 @@ impl BenchArgs {
     }
 }
 
-/// The configurations of a run: (label, scene, settings).
-fn configurations(args: &BenchArgs) -> Result<Vec<(String, Scene, RenderSettings)>> {
+/// One configuration: a scene of the plan (by index), settings, and whether to hold the
+/// frame against the reference.
+struct Case {
+    label: String,
+    scene: usize,
+    settings: RenderSettings,
+    accuracy: bool,
+}
+
+/// What a run measures: named scenes and the configurations drawn on them.
+#[derive(Default)]
+struct Plan {
+    scenes: Vec<(String, Scene)>,
+    cases: Vec<Case>,
+}
+
+impl Plan {
+    fn scene(&mut self, name: impl Into<String>, scene: Scene) -> usize {
+        self.scenes.push((name.into(), scene));
+        self.scenes.len() - 1
+    }
+
+    fn case(&mut self, label: impl Into<String>, scene: usize, settings: RenderSettings) {
+        self.cases.push(Case {
+            label: label.into(),
+            scene,
+            settings,
+            accuracy: false,
+        });
+    }
+
+    /// The ray caster, the impostor and the given tessellations on `scene`, each held
+    /// against the reference; labels start with `prefix`.
+    fn methods(&mut self, prefix: &str, scene: usize, methods: &[Method]) {
+        for &method in methods {
+            let label = if prefix.is_empty() {
+                method.to_string()
+            } else {
+                format!("{prefix} {method}")
+            };
+            self.cases.push(Case {
+                label,
+                scene,
+                settings: RenderSettings {
+                    method,
+                    ..Default::default()
+                },
+                accuracy: true,
+            });
+        }
+    }
+}
+
+/// The ray-casting methods, the impostor, then the icosphere levels and lat-long spheres
+/// given.
+fn method_list(levels: std::ops::RangeInclusive<u32>, lat_long: &[u32]) -> Vec<Method> {
+    let mut methods = Method::RAY_CASTING.to_vec();
+    methods.push(Method::Impostor);
+    methods.extend(levels.map(|l| Method::Mesh(MeshKind::Icosphere(l))));
+    methods.extend(lat_long.iter().map(|&n| Method::Mesh(MeshKind::LatLong(n))));
+    methods
+}
+
+fn plan(args: &BenchArgs) -> Result<Plan> {
     let defaults = RenderSettings::default();
+    let mut plan = Plan::default();
+    let base_name = || match &args.scene {
+        Some(path) => path.display().to_string(),
+        None => args.workload.clone(),
+    };
     match args.sweep.as_deref() {
-        None => Ok(vec![("default".into(), args.base_scene()?, defaults)]),
+        None => {
+            let settings = RenderSettings {
+                method: args.method.parse()?,
+                ..defaults
+            };
+            settings.validate()?;
+            let scene = plan.scene(base_name(), args.base_scene()?);
+            plan.cases.push(Case {
+                label: "default".into(),
+                scene,
+                settings,
+                accuracy: args.accuracy,
+            });
+        }
         Some("steps") => {
-            let scene = args.base_scene()?;
+            let scene = plan.scene(base_name(), args.base_scene()?);
             let steps: &[f32] = if args.quick {
                 &[0.02, 0.1]
             } else {
@@ -96,7 +188,6 @@ fn configurations(args: &BenchArgs) -> Result<Vec<(String, Scene, RenderSettings
             let refinements = [
                 "none", "bisect:1", "bisect:2", "bisect:3", "interp", "secant:4",
             ];
-            let mut out = Vec::new();
             for &step in steps {
                 for r in refinements {
                     let refinement = r.parse::<Refinement>()?;
@@ -107,11 +198,10 @@ fn configurations(args: &BenchArgs) -> Result<Vec<(String, Scene, RenderSettings
                             centre_step_factor: factor,
                             ..defaults
                         };
-                        out.push((format!("step {step} {r} {centre}"), scene.clone(), settings));
+                        plan.case(format!("step {step} {r} {centre}"), scene, settings);
                     }
                 }
             }
-            Ok(out)
         }
         Some("scaling") => {
             let (counts, orders, sizes): (&[usize], &[u32], &[u32]) = if args.quick {
@@ -123,38 +213,69 @@ fn configurations(args: &BenchArgs) -> Result<Vec<(String, Scene, RenderSettings
                     &[512, 1024, 2048],
                 )
             };
-            let mut out = Vec::new();
+            let mut add = |label: String, scene: Scene| {
+                let index = plan.scene(label.clone(), scene);
+                plan.case(label, index, defaults);
+            };
             for &n in counts {
-                out.push((
+                add(
                     format!("glyphs {n} (order 8)"),
                     workload::grid(n, 8, sizes[0], sizes[0])?,
-                    defaults,
-                ));
+                );
             }
             for &order in orders {
-                out.push((
+                add(
                     format!("order {order} (100 glyphs)"),
                     workload::grid(100, order, sizes[0], sizes[0])?,
-                    defaults,
-                ));
+                );
             }
             for &size in sizes {
-                out.push((
+                add(
                     format!("{size}^2 (100 glyphs, order 8)"),
                     workload::grid(100, 8, size, size)?,
-                    defaults,
-                ));
+                );
             }
-            Ok(out)
         }
-        Some(other) => Err(Error::Invalid(format!(
-            "--sweep: '{other}' is not one of steps, scaling"
-        ))),
+        Some("table2") => {
+            // The seed's Table 2: ray casting against tessellation levels 1 to 6.
+            let scene = plan.scene(base_name(), args.base_scene()?);
+            plan.methods("", scene, &method_list(1..=6, &[]));
+        }
+        Some("methods") => {
+            let (size, lat_long): (u32, &[u32]) = if args.quick {
+                (args.width.unwrap_or(64), &[16])
+            } else {
+                (args.width.unwrap_or(160), &[16, 64])
+            };
+            for suite_scene in suite::suite(size) {
+                let name = suite_scene.name;
+                let scene = plan.scene(name, suite_scene.scene);
+                plan.methods(name, scene, &method_list(1..=6, lat_long));
+            }
+        }
+        Some("ratios") => {
+            let (count, size, levels) = if args.quick {
+                (16, args.width.unwrap_or(160), 1..=5)
+            } else {
+                (100, args.width.unwrap_or(512), 1..=6)
+            };
+            for order in [4, 8, 12] {
+                let name = format!("grid:{count}:{order}");
+                let scene = plan.scene(name.clone(), workload::grid(count, order, size, size)?);
+                plan.methods(&name, scene, &method_list(levels.clone(), &[]));
+            }
+        }
+        Some(other) => {
+            return Err(Error::Invalid(format!(
+                "--sweep: '{other}' is not one of steps, scaling, table2, methods, ratios"
+            )));
+        }
     }
+    Ok(plan)
 }
 
 pub fn run(args: &BenchArgs) -> Result<()> {
-    let configurations = configurations(args)?;
+    let plan = plan(args)?;
     let mut options = GpuOptions::from_env();
     if args.device.is_some() {
         options.device = args.device.clone();
@@ -162,25 +283,55 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let gpu = Gpu::headless(&options)?;
     eprintln!("device: {}", gpu.info);
     let mut renderer = HeadlessRenderer::new(&gpu)?;
-    let progress = super::progress::bar(configurations.len() as u64, "bench");
+    let mut references: Vec<Option<Reference>> = plan.scenes.iter().map(|_| None).collect();
+    let progress = super::progress::bar(plan.cases.len() as u64, "bench");
     let mut results: Vec<BenchResult> = Vec::new();
-    for (label, scene, settings) in &configurations {
-        progress.set_message(label.clone());
-        results.push(bench::run(
-            &gpu,
-            &mut renderer,
-            label,
+    for case in &plan.cases {
+        let (scene_name, scene) = &plan.scenes[case.scene];
+        progress.set_message(case.label.clone());
+        let reference = match (&mut references[case.scene], case.accuracy) {
+            (slot @ None, true) => {
+                let started = Instant::now();
+                let reference = slot.insert(Reference::of(scene)?);
+                progress.suspend(|| {
+                    eprintln!(
+                        "float64 reference of {scene_name}: {:.1} s",
+                        started.elapsed().as_secs_f64()
+                    )
+                });
+                Some(&*reference)
+            }
+            (slot, true) => slot.as_ref(),
+            (_, false) => None,
+        };
+        let bench_case = BenchCase {
+            label: &case.label,
+            scene_name,
             scene,
-            settings,
-            args.frames(),
-        )?);
+            settings: &case.settings,
+            reference,
+        };
+        results.push(bench::run(&gpu, &mut renderer, &bench_case, args.frames())?);
         progress.inc(1);
     }
     progress.finish_and_clear();
-    let table = format!("Device: {}\n\n{}", gpu.info, bench::markdown(&results));
+    let ratios = ratios::ratios(&results);
+    let mut table = format!("Device: {}\n\n{}", gpu.info, bench::markdown(&results));
+    if !ratios.is_empty() {
+        table.push_str(&format!(
+            "\nRatios (tessellation at equal error: the coarsest mesh below {} px):\n\n{}",
+            ratios::EQUAL_ERROR_PX,
+            ratios::markdown(&ratios)
+        ));
+    }
     if let Some(dir) = &args.out {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-        let json = serde_json::json!({ "device": gpu.info.to_string(), "results": results });
+        let json = serde_json::json!({
+            "device": gpu.info.to_string(),
+            "sweep": args.sweep,
+            "results": results,
+            "ratios": ratios,
+        });
         let json =
             serde_json::to_string_pretty(&json).map_err(|e| Error::Invalid(e.to_string()))?;
         glyphcast::io::atomic::write_atomic(&dir.join("results.json"), json.as_bytes())?;

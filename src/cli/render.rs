@@ -88,7 +88,9 @@ pub struct RenderArgs {
     /// Image height in pixels (default: the scene's).
     #[arg(long)]
     height: Option<u32>,
-    /// Intersection method: fixed, interval or affine.
+    /// How glyphs are drawn: fixed (ray casting at a fixed step), interval or affine
+    /// (robust ray casting by range arithmetic), impostor (bounding spheres), mesh:LEVEL
+    /// (icosphere, 0 to 7) or latlong:N (N latitude bands) tessellations.
     #[arg(long, default_value = "fixed")]
     method: String,
     /// Robust methods: segment length limit, in pixels at the segment's depth.
@@ -207,6 +209,16 @@ pub fn render(
         prepared.as_secs_f64() * 1e3,
         begun.elapsed().as_secs_f64() * 1e3
     );
+    if let Some(mesh) = &image.mesh {
+        eprintln!(
+            "{}: {} triangles ({} per glyph), generated in {:.1} ms, {:.1} MiB on the GPU",
+            mesh.kind,
+            mesh.triangles(),
+            mesh.triangles_per_glyph,
+            mesh.generate_ms,
+            mesh.gpu_bytes() as f64 / (1024.0 * 1024.0)
+        );
+    }
     write_outputs(&image, output)
 }
 

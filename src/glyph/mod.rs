@@ -1,7 +1,7 @@
 //! CPU mathematics of glyphs in float64: tensors in monomial form, bounds, the exact
 //! ray intersection that serves as the reference for every GPU result, the real
-//! spherical harmonics (`sh`) with their map to tensors, and the CPU mirror of the
-//! shaders' interval and affine ranges.
+//! spherical harmonics (`sh`) with their map to tensors, the CPU mirror of the shaders'
+//! interval and affine ranges, and the tessellated glyphs of the mesh baseline.
 pub mod bounds;
 pub(crate) mod homogeneous;
 pub mod intersect;
@@ -13,6 +13,7 @@ pub mod reference;
 pub mod rotate;
 pub mod sh;
 pub mod stiffness;
+pub mod tessellate;
 
 /// Whether a Cartesian tensor is stored by its unique entries (Eq. 5) or in full (Eq. 4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

@@ -1,9 +1,13 @@
 //! Offscreen rendering: colour (RGBA8 sRGB), ray distance (R32F) and D32 depth targets,
-//! the ray-cast pass recorded between them, and a readback of colour and distance.
+//! the glyph pass of the settings' method recorded between them (the ray-cast pass for
+//! the ray caster and the sphere impostor, the mesh pass for tessellated glyphs), and a
+//! readback of colour and distance.
 use crate::camera::Camera;
 use crate::error::Result;
+use crate::render::Method;
 use crate::render::frame::{FrameParams, SceneExtent};
 use crate::render::glyph_data::GlyphSetData;
+use crate::render::mesh::{GlyphMeshes, MeshPass, MeshSceneGpu, MeshStats};
 use crate::render::raycast::{RayCastPass, SceneGpu, TargetFormats};
 use crate::render::settings::RenderSettings;
 use crate::vk::{Buffer, Gpu, GpuTimer, Image, OneShot};
@@ -27,6 +31,8 @@ pub struct RenderedImage {
     pub draws: usize,
     /// GPU time of the glyph pass (timestamps around the rendering), if the queue has them.
     pub gpu_ms: Option<f64>,
+    /// Sizes and generation time of the meshes, for tessellated glyphs.
+    pub mesh: Option<MeshStats>,
 }
 
 /// The offscreen targets of one image size, with their readback buffers.
@@ -103,9 +109,10 @@ fn barrier(
         .dst_access_mask(dst.1)
 }
 
-/// Renders glyph sets headless. Owns its pass so pipelines are reused across renders.
+/// Renders glyph sets headless. Owns its passes so pipelines are reused across renders.
 pub struct HeadlessRenderer {
     pass: RayCastPass,
+    mesh: MeshPass,
     commands: OneShot,
     timer: Option<GpuTimer>,
 }
@@ -119,6 +126,7 @@ impl HeadlessRenderer {
         };
         Ok(HeadlessRenderer {
             pass: RayCastPass::new(gpu.device(), formats)?,
+            mesh: MeshPass::new(gpu.device(), formats)?,
             commands: OneShot::new(gpu)?,
             timer: GpuTimer::new(gpu)?,
         })
@@ -127,6 +135,11 @@ impl HeadlessRenderer {
     /// The ray-cast pass, for settings such as the storage buffer limit.
     pub fn pass_mut(&mut self) -> &mut RayCastPass {
         &mut self.pass
+    }
+
+    /// The mesh pass, for settings such as the storage buffer limit.
+    pub fn mesh_pass_mut(&mut self) -> &mut MeshPass {
+        &mut self.mesh
     }
 
     /// Renders `sets` seen by `camera` into a `width` x `height` image.
@@ -142,14 +155,16 @@ impl HeadlessRenderer {
         let frame = self.prepare(gpu, sets, camera, width, height, settings)?;
         let gpu_ms = self.draw(gpu, &frame)?;
         let mut image = read_back(&frame.targets, width, height)?;
-        image.draws = frame.scene.sets.len();
+        image.draws = frame.draws();
+        image.mesh = frame.mesh_stats().copied();
         image.gpu_ms = gpu_ms;
         gpu.check_validation()?;
         Ok(image)
     }
 
-    /// Uploads the glyph sets and creates the targets: everything a frame needs, so that
-    /// it can be drawn many times (benchmarks) without uploading again.
+    /// Uploads the glyph sets (tessellated first, for the mesh methods) and creates the
+    /// targets: everything a frame needs, so that it can be drawn many times (benchmarks)
+    /// without uploading again.
     pub fn prepare(
         &mut self,
         gpu: &Gpu,
@@ -162,9 +177,22 @@ impl HeadlessRenderer {
         settings.validate()?;
         let extent = SceneExtent::of_glyph_sets(camera, sets);
         let params = FrameParams::new(camera, width, height, &extent, settings);
-        let scene = self
-            .pass
-            .upload(gpu.context(), sets, &params, settings.method)?;
+        let scene = match settings.method {
+            Method::Mesh(kind) => {
+                let meshes = GlyphMeshes::build(sets, kind)?;
+                GlyphsOnGpu::Mesh(Box::new(self.mesh.upload(
+                    gpu.context(),
+                    &meshes,
+                    &params,
+                )?))
+            }
+            method => GlyphsOnGpu::RayCast(Box::new(self.pass.upload(
+                gpu.context(),
+                sets,
+                &params,
+                method,
+            )?)),
+        };
         let size = vk::Extent2D { width, height };
         Ok(PreparedFrame {
             scene,
@@ -176,25 +204,33 @@ impl HeadlessRenderer {
 
     /// Draws a prepared frame and waits for it; returns the glyph pass's GPU time.
     pub fn draw(&mut self, gpu: &Gpu, frame: &PreparedFrame) -> Result<Option<f64>> {
-        let pass = &mut self.pass;
+        let passes = (&mut self.pass, &mut self.mesh);
         let timer = self.timer.as_ref();
         self.commands
-            .run(gpu, |cmd| record_frame(pass, timer, gpu, cmd, frame))?;
+            .run(gpu, |cmd| record_frame(passes, timer, gpu, cmd, frame))?;
         self.timer.as_ref().map(GpuTimer::elapsed_ms).transpose()
     }
 
     /// The image of the last `draw` of `frame`.
     pub fn read(&self, gpu: &Gpu, frame: &PreparedFrame) -> Result<RenderedImage> {
         let mut image = read_back(&frame.targets, frame.size.width, frame.size.height)?;
-        image.draws = frame.scene.sets.len();
+        image.draws = frame.draws();
+        image.mesh = frame.mesh_stats().copied();
         gpu.check_validation()?;
         Ok(image)
     }
 }
 
+/// The glyphs of a frame as the method's pass holds them (boxed: gpu-allocator's
+/// allocations make both kilobytes large).
+enum GlyphsOnGpu {
+    RayCast(Box<SceneGpu>),
+    Mesh(Box<MeshSceneGpu>),
+}
+
 /// A frame ready to draw: the uploaded glyph sets and the offscreen targets.
 pub struct PreparedFrame {
-    scene: SceneGpu,
+    scene: GlyphsOnGpu,
     targets: Targets,
     size: vk::Extent2D,
     settings: RenderSettings,
@@ -203,12 +239,23 @@ pub struct PreparedFrame {
 impl PreparedFrame {
     /// Instanced draws per frame.
     pub fn draws(&self) -> usize {
-        self.scene.sets.len()
+        match &self.scene {
+            GlyphsOnGpu::RayCast(scene) => scene.sets.len(),
+            GlyphsOnGpu::Mesh(scene) => scene.draws(),
+        }
+    }
+
+    /// Sizes and generation time of the meshes, for tessellated glyphs.
+    pub fn mesh_stats(&self) -> Option<&MeshStats> {
+        match &self.scene {
+            GlyphsOnGpu::RayCast(_) => None,
+            GlyphsOnGpu::Mesh(scene) => Some(&scene.stats),
+        }
     }
 }
 
 fn record_frame(
-    pass: &mut RayCastPass,
+    (pass, mesh): (&mut RayCastPass, &mut MeshPass),
     timer: Option<&GpuTimer>,
     gpu: &Gpu,
     cmd: vk::CommandBuffer,
@@ -341,7 +388,10 @@ fn record_frame(
     }
     // SAFETY: as above.
     unsafe { d.cmd_begin_rendering(cmd, &rendering) };
-    pass.record(cmd, &frame.scene, extent, frame.settings.method)?;
+    match &frame.scene {
+        GlyphsOnGpu::RayCast(scene) => pass.record(cmd, scene, extent, frame.settings.method)?,
+        GlyphsOnGpu::Mesh(scene) => mesh.record(cmd, scene, extent)?,
+    }
     // SAFETY: as above.
     unsafe {
         d.cmd_end_rendering(cmd);
@@ -395,5 +445,6 @@ fn read_back(t: &Targets, width: u32, height: u32) -> Result<RenderedImage> {
         distance,
         draws: 0,
         gpu_ms: None,
+        mesh: None,
     })
 }

@@ -1,16 +1,19 @@
-//! Render passes and their settings.
+//! Render passes and their settings: the ray caster and the sphere impostor share the
+//! instanced boxes of `raycast`; the tessellated baseline has its own pass in `mesh`.
 pub mod eval;
 pub mod frame;
 pub mod glyph_data;
 pub mod headless;
+pub mod mesh;
 pub mod range_eval;
 pub mod raycast;
 pub mod settings;
 pub mod shaders;
 
+pub use crate::glyph::tessellate::MeshKind;
 pub use settings::{ColorMode, Refinement, RenderSettings};
 
-/// Ray-glyph intersection method (`--method`).
+/// How glyphs are drawn (`--method`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Method {
     /// The seed's fixed-step sign test with refinement.
@@ -19,18 +22,32 @@ pub enum Method {
     Interval,
     /// Robust traversal bounded by reduced affine arithmetic (glsl/raycast_affine.frag).
     Affine,
+    /// The bounding sphere of each glyph on the ray caster's boxes: the cost floor of a
+    /// box-proxy ray caster, not the glyph.
+    Impostor,
+    /// Rasterised triangle meshes on a tessellated sphere (the FURY/DIPY/MRtrix baseline).
+    Mesh(MeshKind),
 }
 
 impl Method {
-    /// Every method, in the order reports list them.
-    pub const ALL: [Method; 3] = [Method::Fixed, Method::Interval, Method::Affine];
+    /// The methods that ray-cast the glyph function, in the order reports list them.
+    pub const RAY_CASTING: [Method; 3] = [Method::Fixed, Method::Interval, Method::Affine];
 
-    /// The name `--method` takes.
-    pub fn name(self) -> &'static str {
+    /// Whether the method marches rays through the glyph function at a fixed step (and so
+    /// reads the march settings: step, refinement, centre zone).
+    pub fn marches(self) -> bool {
+        matches!(self, Method::Fixed)
+    }
+}
+
+impl std::fmt::Display for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Method::Fixed => "fixed",
-            Method::Interval => "interval",
-            Method::Affine => "affine",
+            Method::Fixed => f.write_str("fixed"),
+            Method::Interval => f.write_str("interval"),
+            Method::Affine => f.write_str("affine"),
+            Method::Impostor => f.write_str("impostor"),
+            Method::Mesh(kind) => write!(f, "{kind}"),
         }
     }
 }

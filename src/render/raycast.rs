@@ -1,5 +1,7 @@
 //! The ray-casting pass: one instanced draw of bounding boxes per glyph set, the ray cast
-//! in the fragment shader of the set's (tensor layout, method) variant.
+//! in the fragment shader of the set's (tensor layout, method) variant. The sphere
+//! impostor (`Method::Impostor`) is the same pass with one fragment shader for every
+//! layout.
 //!
 //! The pass records into a command buffer it is given, inside dynamic rendering the caller
 //! began, with the colour/depth formats it was told at creation. The headless renderer,
@@ -9,7 +11,7 @@ use crate::glyph::TensorLayout;
 use crate::render::Method;
 use crate::render::frame::FrameParams;
 use crate::render::glyph_data::GlyphSetData;
-use crate::render::shaders::{RAYCAST_VERTEX, raycast_shader};
+use crate::render::shaders::{IMPOSTOR_FRAGMENT, RAYCAST_VERTEX, raycast_shader};
 use crate::vk::{Buffer, DeviceContext};
 use ash::vk;
 use std::collections::HashMap;
@@ -31,7 +33,8 @@ pub struct RayCastPass {
     set_layout: vk::DescriptorSetLayout,
     pipeline_layout: vk::PipelineLayout,
     vertex: vk::ShaderModule,
-    pipelines: HashMap<(TensorLayout, Method), vk::Pipeline>,
+    /// Keyed by layout and method; the impostor's pipeline by method alone.
+    pipelines: HashMap<(Option<TensorLayout>, Method), vk::Pipeline>,
     buffer_limit: Option<u64>,
 }
 
@@ -104,21 +107,41 @@ impl RayCastPass {
 
     /// The pipeline for a variant, created on first use.
     pub fn pipeline(&mut self, layout: TensorLayout, method: Method) -> Result<vk::Pipeline> {
-        if let Some(p) = self.pipelines.get(&(layout, method)) {
+        let key = match method {
+            Method::Impostor => (None, method),
+            _ => (Some(layout), method),
+        };
+        if let Some(p) = self.pipelines.get(&key) {
             return Ok(*p);
         }
-        let shader = raycast_shader(layout, method).ok_or_else(|| {
-            Error::Invalid(format!(
-                "no shader for a {:?} tensor of order {} with method {method:?}",
-                layout.symmetry, layout.order
-            ))
-        })?;
-        let fragment = match self.formats.distance {
-            Some(_) => shader.fragment,
-            None => shader.color_only_fragment,
+        let fragment = match method {
+            Method::Impostor if self.formats.distance.is_none() => {
+                return Err(Error::Invalid(
+                    "the impostor pass is a benchmark floor and needs the distance attachment"
+                        .into(),
+                ));
+            }
+            Method::Impostor => IMPOSTOR_FRAGMENT,
+            Method::Mesh(_) => {
+                return Err(Error::Invalid(format!(
+                    "{method} is drawn by the mesh pass, not the ray-casting pass"
+                )));
+            }
+            Method::Fixed | Method::Interval | Method::Affine => {
+                let shader = raycast_shader(layout, method).ok_or_else(|| {
+                    Error::Invalid(format!(
+                        "no shader for a {:?} tensor of order {} with method {method}",
+                        layout.symmetry, layout.order
+                    ))
+                })?;
+                match self.formats.distance {
+                    Some(_) => shader.fragment,
+                    None => shader.color_only_fragment,
+                }
+            }
         };
         let pipeline = self.create_pipeline(fragment)?;
-        self.pipelines.insert((layout, method), pipeline);
+        self.pipelines.insert(key, pipeline);
         Ok(pipeline)
     }
 
@@ -142,78 +165,7 @@ impl RayCastPass {
                 .module(fragment)
                 .name(c"main"),
         ];
-        let instance_binding = [vk::VertexInputBindingDescription {
-            binding: 0,
-            stride: 16,
-            input_rate: vk::VertexInputRate::INSTANCE,
-        }];
-        let instance_attribute = [vk::VertexInputAttributeDescription {
-            location: 0,
-            binding: 0,
-            format: vk::Format::R32G32B32A32_SFLOAT,
-            offset: 0,
-        }];
-        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
-            .vertex_binding_descriptions(&instance_binding)
-            .vertex_attribute_descriptions(&instance_attribute);
-        let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
-            .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
-        let viewport = vk::PipelineViewportStateCreateInfo::default()
-            .viewport_count(1)
-            .scissor_count(1);
-        // Front faces only: the box faces the ray enters through (the seed's choice).
-        let raster = vk::PipelineRasterizationStateCreateInfo::default()
-            .polygon_mode(vk::PolygonMode::FILL)
-            .cull_mode(vk::CullModeFlags::BACK)
-            .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
-            .line_width(1.0);
-        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
-        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-            .depth_test_enable(true)
-            .depth_write_enable(true)
-            .depth_compare_op(vk::CompareOp::LESS);
-        let mut color_formats = vec![self.formats.color];
-        color_formats.extend(self.formats.distance);
-        let blend_attachments: Vec<_> = color_formats
-            .iter()
-            .map(|_| {
-                vk::PipelineColorBlendAttachmentState::default()
-                    .color_write_mask(vk::ColorComponentFlags::RGBA)
-            })
-            .collect();
-        let blend =
-            vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
-        let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
-        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
-        let mut rendering = vk::PipelineRenderingCreateInfo::default()
-            .color_attachment_formats(&color_formats)
-            .depth_attachment_format(self.formats.depth);
-        let info = vk::GraphicsPipelineCreateInfo::default()
-            .stages(&stages)
-            .vertex_input_state(&vertex_input)
-            .input_assembly_state(&assembly)
-            .viewport_state(&viewport)
-            .rasterization_state(&raster)
-            .multisample_state(&multisample)
-            .depth_stencil_state(&depth)
-            .color_blend_state(&blend)
-            .dynamic_state(&dynamic)
-            .layout(self.pipeline_layout)
-            .push_next(&mut rendering);
-        // SAFETY: all referenced state lives until the call returns.
-        let pipelines = unsafe {
-            self.device
-                .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
-        }
-        .map_err(|(_, result)| Error::Vulkan {
-            call: "vkCreateGraphicsPipelines",
-            result,
-        })?;
-        pipelines
-            .first()
-            .copied()
-            .ok_or_else(|| Error::Setup("vkCreateGraphicsPipelines returned no pipeline".into()))
+        glyph_pipeline(&self.device, self.formats, self.pipeline_layout, &stages)
     }
 
     /// Uploads glyph sets and the frame parameters; creates their descriptor sets.
@@ -299,18 +251,7 @@ impl RayCastPass {
         extent: vk::Extent2D,
         method: Method,
     ) -> Result<()> {
-        let viewport = vk::Viewport {
-            x: 0.0,
-            y: 0.0,
-            width: extent.width as f32,
-            height: extent.height as f32,
-            min_depth: 0.0,
-            max_depth: 1.0,
-        };
-        let scissor = vk::Rect2D {
-            offset: vk::Offset2D::default(),
-            extent,
-        };
+        let (viewport, scissor) = viewport_and_scissor(extent);
         for set in &scene.sets {
             let pipeline = self.pipeline(set.layout, method)?;
             let hide = u32::from(set.hide_negative);
@@ -341,6 +282,106 @@ impl RayCastPass {
         }
         Ok(())
     }
+}
+
+/// A graphics pipeline of the glyph passes: the 16-byte glyph instance (centre, box
+/// half-size) as a per-instance attribute at location 0, triangle lists with back faces
+/// culled (counter-clockwise is front), depth test and write, and the colour (and
+/// distance) targets of `formats`. The ray caster's boxes and the tessellated meshes
+/// differ only in their shader stages and layouts.
+pub(crate) fn glyph_pipeline(
+    device: &ash::Device,
+    formats: TargetFormats,
+    layout: vk::PipelineLayout,
+    stages: &[vk::PipelineShaderStageCreateInfo],
+) -> Result<vk::Pipeline> {
+    let instance_binding = [vk::VertexInputBindingDescription {
+        binding: 0,
+        stride: 16,
+        input_rate: vk::VertexInputRate::INSTANCE,
+    }];
+    let instance_attribute = [vk::VertexInputAttributeDescription {
+        location: 0,
+        binding: 0,
+        format: vk::Format::R32G32B32A32_SFLOAT,
+        offset: 0,
+    }];
+    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+        .vertex_binding_descriptions(&instance_binding)
+        .vertex_attribute_descriptions(&instance_attribute);
+    let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+        .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+    let viewport = vk::PipelineViewportStateCreateInfo::default()
+        .viewport_count(1)
+        .scissor_count(1);
+    // Front faces only: the box faces the ray enters through (the seed's choice), and
+    // the outside of a closed mesh.
+    let raster = vk::PipelineRasterizationStateCreateInfo::default()
+        .polygon_mode(vk::PolygonMode::FILL)
+        .cull_mode(vk::CullModeFlags::BACK)
+        .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+        .line_width(1.0);
+    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+        .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+    let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+        .depth_test_enable(true)
+        .depth_write_enable(true)
+        .depth_compare_op(vk::CompareOp::LESS);
+    let mut color_formats = vec![formats.color];
+    color_formats.extend(formats.distance);
+    let blend_attachments: Vec<_> = color_formats
+        .iter()
+        .map(|_| {
+            vk::PipelineColorBlendAttachmentState::default()
+                .color_write_mask(vk::ColorComponentFlags::RGBA)
+        })
+        .collect();
+    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
+    let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+    let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+    let mut rendering = vk::PipelineRenderingCreateInfo::default()
+        .color_attachment_formats(&color_formats)
+        .depth_attachment_format(formats.depth);
+    let info = vk::GraphicsPipelineCreateInfo::default()
+        .stages(stages)
+        .vertex_input_state(&vertex_input)
+        .input_assembly_state(&assembly)
+        .viewport_state(&viewport)
+        .rasterization_state(&raster)
+        .multisample_state(&multisample)
+        .depth_stencil_state(&depth)
+        .color_blend_state(&blend)
+        .dynamic_state(&dynamic)
+        .layout(layout)
+        .push_next(&mut rendering);
+    // SAFETY: all referenced state lives until the call returns.
+    let pipelines =
+        unsafe { device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) }
+            .map_err(|(_, result)| Error::Vulkan {
+                call: "vkCreateGraphicsPipelines",
+                result,
+            })?;
+    pipelines
+        .first()
+        .copied()
+        .ok_or_else(|| Error::Setup("vkCreateGraphicsPipelines returned no pipeline".into()))
+}
+
+/// The whole target as viewport (depth 0 to 1) and scissor.
+pub(crate) fn viewport_and_scissor(extent: vk::Extent2D) -> (vk::Viewport, vk::Rect2D) {
+    let viewport = vk::Viewport {
+        x: 0.0,
+        y: 0.0,
+        width: extent.width as f32,
+        height: extent.height as f32,
+        min_depth: 0.0,
+        max_depth: 1.0,
+    };
+    let scissor = vk::Rect2D {
+        offset: vk::Offset2D::default(),
+        extent,
+    };
+    (viewport, scissor)
 }
 
 /// Uploads glyphs `range` of a set into buffers of their own.

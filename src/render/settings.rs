@@ -1,6 +1,6 @@
 //! Run-time settings of the ray caster. None of them needs a new shader permutation:
 //! they reach the shaders through the frame's uniform buffer.
-use crate::render::Method;
+use crate::render::{MeshKind, Method};
 use crate::{Error, Result};
 
 /// How the first sign change along the ray is refined (`--refine`).
@@ -72,16 +72,30 @@ impl std::str::FromStr for ColorMode {
 impl std::str::FromStr for Method {
     type Err = Error;
     fn from_str(s: &str) -> Result<Self> {
-        Method::ALL
-            .into_iter()
-            .find(|m| m.name() == s)
-            .ok_or_else(|| {
-                let names: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
-                Error::Invalid(format!(
-                    "--method: '{s}' is not one of {}",
-                    names.join(", ")
-                ))
-            })
+        let bad = || {
+            Error::Invalid(format!(
+                "--method: '{s}' is not one of fixed, interval, affine, impostor, mesh:LEVEL (icosphere, 0..={}), \
+                 latlong:N (latitude bands, 2..={})",
+                crate::glyph::tessellate::MAX_ICOSPHERE_LEVEL,
+                crate::glyph::tessellate::MAX_LAT_LONG_RINGS
+            ))
+        };
+        let count = |prefix: &str| s.strip_prefix(prefix).and_then(|n| n.parse::<u32>().ok());
+        let method = match s {
+            "fixed" => Method::Fixed,
+            "interval" => Method::Interval,
+            "affine" => Method::Affine,
+            "impostor" => Method::Impostor,
+            _ => count("mesh:")
+                .map(MeshKind::Icosphere)
+                .or_else(|| count("latlong:").map(MeshKind::LatLong))
+                .map(Method::Mesh)
+                .ok_or_else(bad)?,
+        };
+        if let Method::Mesh(kind) = method {
+            kind.validate().map_err(|_| bad())?;
+        }
+        Ok(method)
     }
 }
 
@@ -124,6 +138,9 @@ impl Default for RenderSettings {
 impl RenderSettings {
     /// Checks the numbers a user can set.
     pub fn validate(&self) -> Result<()> {
+        if let Method::Mesh(kind) = self.method {
+            kind.validate()?;
+        }
         let positive = |name: &str, v: f32, max: f32| {
             if v.is_finite() && v > 0.0 && v <= max {
                 Ok(())

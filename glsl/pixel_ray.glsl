@@ -1,0 +1,33 @@
+// The pixel ray and the depth of a surface point: what every pass that shades the scene
+// format's camera rays needs (the ray casters, the sphere impostor, the tessellated
+// meshes). Include after frame.glsl; fragment shaders only (gl_FragCoord).
+
+// The pixel-centre ray of the scene format's camera, in world space.
+void pixel_ray(out vec3 origin, out vec3 dir) {
+    vec2 s = vec2((2.0 * gl_FragCoord.x * frame.viewport.x - 1.0) * frame.right.w,
+                  1.0 - 2.0 * gl_FragCoord.y * frame.viewport.y);
+    vec3 offset = s.x * frame.right.xyz + s.y * frame.up.xyz;
+    if (frame.eye.w > 0.5) {
+        origin = frame.eye.xyz + offset;
+        dir = frame.fwd.xyz;
+    } else {
+        origin = frame.eye.xyz;
+        dir = normalize(frame.fwd.xyz + offset);
+    }
+}
+
+// The ray in a glyph's frame q = (p - centre) / rho, measured from the point of the ray
+// closest to the centre (q(s) = mid + s * dir, world distance (t_mid + s) * rho), so
+// that q stays well conditioned however far the camera is.
+void ray_in_glyph_frame(vec3 origin, vec3 dir, vec3 centre, float rho,
+                        out float t_mid, out vec3 mid) {
+    vec3 o = (origin - centre) / rho;
+    t_mid = -dot(o, dir);
+    mid = o + t_mid * dir;
+}
+
+// Window depth of a world point: what the rasteriser would have written there.
+float window_depth(vec3 world) {
+    vec4 clip = frame.view_proj * vec4(world, 1.0);
+    return clamp(clip.z / clip.w, 0.0, 1.0);
+}

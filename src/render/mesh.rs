@@ -1,0 +1,420 @@
+//! The tessellated-glyph pass: the baseline that FURY/DIPY's `odf_slicer` and MRtrix's
+//! `mrview` stand for, drawn into the same colour, distance and depth targets as the ray
+//! caster so that images and depth maps compare directly.
+//!
+//! Design: the unit sphere's triangulation ([`SphereMesh`]) is one index buffer shared by
+//! every glyph; the vertices (offset from the centre and normal, 24 bytes, generated on
+//! the CPU by [`tessellate`]) sit glyph-major in a storage buffer that the vertex shader
+//! pulls from by instance and vertex index, and the glyph centres come from the ray
+//! caster's own 16-byte instances. So a whole set is one instanced indexed draw, however
+//! many glyphs it has, and the index buffer does not grow with the glyph count (one index
+//! buffer per glyph with absolute indices would, by 12 bytes a triangle). The number of
+//! vertices per glyph is a specialization constant, so there is one pipeline per mesh
+//! kind. Sets larger than one storage buffer are split, as the ray caster splits its
+//! coefficients.
+use crate::error::{Error, Result, VkContext};
+use crate::glyph::intersect::WorldGlyph;
+use crate::glyph::tessellate::{MeshKind, MeshVertex, SphereMesh, tessellate};
+use crate::render::frame::FrameParams;
+use crate::render::glyph_data::GlyphSetData;
+use crate::render::raycast::{TargetFormats, glyph_pipeline, shader_module, viewport_and_scissor};
+use crate::render::shaders::{MESH_FRAGMENT, MESH_VERTEX};
+use crate::vk::{Buffer, DeviceContext};
+use ash::vk;
+use std::collections::HashMap;
+use std::time::Instant;
+
+/// The meshes of every glyph of a scene, ready for upload.
+pub struct GlyphMeshes {
+    pub sphere: SphereMesh,
+    /// Glyph-major: glyph i owns `vertices[i * V..(i + 1) * V]`.
+    pub vertices: Vec<MeshVertex>,
+    /// The ray caster's instances (centre, box half-size), in the same glyph order.
+    pub instances: Vec<[f32; 4]>,
+    /// Wall-clock time of the vertex generation (all threads), ms.
+    pub generate_ms: f64,
+}
+
+impl GlyphMeshes {
+    /// Tessellates every glyph of `sets` on `kind`'s sphere. Sets of any tensor layout
+    /// share one draw: the mesh no longer depends on the layout.
+    pub fn build(sets: &[GlyphSetData], kind: MeshKind) -> Result<GlyphMeshes> {
+        let sphere = SphereMesh::new(kind)?;
+        let glyphs: Vec<WorldGlyph> = sets.iter().flat_map(|s| s.world.iter().cloned()).collect();
+        let instances = sets
+            .iter()
+            .flat_map(|s| s.instances.iter().copied())
+            .collect();
+        let started = Instant::now();
+        let vertices = tessellate(&glyphs, &sphere);
+        let generate_ms = started.elapsed().as_secs_f64() * 1e3;
+        Ok(GlyphMeshes {
+            sphere,
+            vertices,
+            instances,
+            generate_ms,
+        })
+    }
+
+    pub fn glyphs(&self) -> usize {
+        self.instances.len()
+    }
+}
+
+/// What a tessellated scene costs: sizes and the CPU generation time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeshStats {
+    pub kind: MeshKind,
+    pub glyphs: usize,
+    pub vertices_per_glyph: usize,
+    pub triangles_per_glyph: usize,
+    pub generate_ms: f64,
+    /// Vertex storage on the GPU (24 bytes a vertex).
+    pub vertex_bytes: usize,
+    /// The shared index buffer (4 bytes an index), once per scene.
+    pub index_bytes: usize,
+    /// Glyph instances (16 bytes each).
+    pub instance_bytes: usize,
+}
+
+impl MeshStats {
+    pub fn triangles(&self) -> usize {
+        self.glyphs * self.triangles_per_glyph
+    }
+
+    pub fn gpu_bytes(&self) -> usize {
+        self.vertex_bytes + self.index_bytes + self.instance_bytes
+    }
+}
+
+/// Pipelines and layouts of the mesh pass; created once per device and formats.
+pub struct MeshPass {
+    device: ash::Device,
+    formats: TargetFormats,
+    set_layout: vk::DescriptorSetLayout,
+    pipeline_layout: vk::PipelineLayout,
+    vertex: vk::ShaderModule,
+    fragment: vk::ShaderModule,
+    /// Keyed by vertices per glyph (the specialization constant).
+    pipelines: HashMap<u32, vk::Pipeline>,
+    buffer_limit: Option<u64>,
+}
+
+/// Glyphs of one storage buffer's worth.
+struct MeshChunk {
+    count: u32,
+    instances: Buffer,
+    _vertices: Buffer,
+    descriptor_set: vk::DescriptorSet,
+}
+
+/// A tessellated scene on the GPU.
+pub struct MeshSceneGpu {
+    device: ash::Device,
+    frame: Buffer,
+    pool: vk::DescriptorPool,
+    indices: Buffer,
+    index_count: u32,
+    vertices_per_glyph: u32,
+    chunks: Vec<MeshChunk>,
+    pub stats: MeshStats,
+}
+
+impl MeshSceneGpu {
+    /// Instanced draws per frame.
+    pub fn draws(&self) -> usize {
+        self.chunks.len()
+    }
+
+    /// Replaces the frame parameters (camera, settings); not while a frame is in flight.
+    pub fn set_frame(&mut self, frame: &FrameParams) -> Result<()> {
+        self.frame.write(bytemuck::bytes_of(frame))
+    }
+}
+
+const FRAME_BINDING: u32 = 0;
+/// Binding 1 is the coefficient buffer in glsl/frame.glsl, which the mesh shaders include
+/// for the frame block; the vertices take the next one.
+const VERTEX_BINDING: u32 = 2;
+
+impl MeshPass {
+    pub fn new(device: &ash::Device, formats: TargetFormats) -> Result<MeshPass> {
+        let bindings = [
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(FRAME_BINDING)
+                .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT),
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(VERTEX_BINDING)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::VERTEX),
+        ];
+        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
+        let mut pass = MeshPass {
+            device: device.clone(),
+            formats,
+            set_layout: vk::DescriptorSetLayout::null(),
+            pipeline_layout: vk::PipelineLayout::null(),
+            vertex: vk::ShaderModule::null(),
+            fragment: vk::ShaderModule::null(),
+            pipelines: HashMap::new(),
+            buffer_limit: None,
+        };
+        // SAFETY: valid device and create infos; objects are destroyed in Drop (null
+        // handles are ignored there if a later step fails).
+        unsafe {
+            pass.set_layout = device
+                .create_descriptor_set_layout(&info, None)
+                .vk("vkCreateDescriptorSetLayout")?;
+            let layouts = [pass.set_layout];
+            let layout_info = vk::PipelineLayoutCreateInfo::default().set_layouts(&layouts);
+            pass.pipeline_layout = device
+                .create_pipeline_layout(&layout_info, None)
+                .vk("vkCreatePipelineLayout")?;
+            // SAFETY: the SPIR-V comes from build.rs and was validated by glslang.
+            pass.vertex = shader_module(device, MESH_VERTEX)?;
+            pass.fragment = shader_module(device, MESH_FRAGMENT)?;
+        }
+        Ok(pass)
+    }
+
+    /// The pipeline for meshes of `vertices_per_glyph` vertices, created on first use.
+    fn pipeline(&mut self, vertices_per_glyph: u32) -> Result<vk::Pipeline> {
+        if let Some(p) = self.pipelines.get(&vertices_per_glyph) {
+            return Ok(*p);
+        }
+        let entries = [vk::SpecializationMapEntry {
+            constant_id: 0,
+            offset: 0,
+            size: 4,
+        }];
+        let data = vertices_per_glyph.to_ne_bytes();
+        let specialization = vk::SpecializationInfo::default()
+            .map_entries(&entries)
+            .data(&data);
+        let stages = [
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::VERTEX)
+                .module(self.vertex)
+                .name(c"main")
+                .specialization_info(&specialization),
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::FRAGMENT)
+                .module(self.fragment)
+                .name(c"main"),
+        ];
+        let pipeline = glyph_pipeline(&self.device, self.formats, self.pipeline_layout, &stages)?;
+        self.pipelines.insert(vertices_per_glyph, pipeline);
+        Ok(pipeline)
+    }
+
+    /// Caps the bytes of vertices per storage buffer below the device's
+    /// maxStorageBufferRange (tests use it to force the split path); `None` lifts the cap.
+    pub fn set_storage_buffer_limit(&mut self, bytes: Option<u64>) {
+        self.buffer_limit = bytes;
+    }
+
+    /// Uploads the meshes, the shared indices and the frame parameters.
+    pub fn upload(
+        &mut self,
+        ctx: &DeviceContext,
+        meshes: &GlyphMeshes,
+        frame: &FrameParams,
+    ) -> Result<MeshSceneGpu> {
+        let per_glyph = meshes.sphere.directions.len();
+        let vertices_per_glyph = u32::try_from(per_glyph)
+            .map_err(|_| Error::Invalid(format!("{per_glyph} vertices per glyph")))?;
+        self.pipeline(vertices_per_glyph)?;
+        let glyph_bytes = (per_glyph * size_of::<MeshVertex>()) as u64;
+        let limit = self
+            .buffer_limit
+            .map_or(ctx.max_storage_buffer_range, |cap| {
+                cap.min(ctx.max_storage_buffer_range)
+            });
+        let per_chunk = (limit / glyph_bytes).min(u32::MAX as u64) as usize;
+        if per_chunk == 0 {
+            return Err(Error::Invalid(format!(
+                "{}: one glyph's {glyph_bytes} vertex bytes exceed the storage buffer limit \
+                 of {limit} bytes",
+                meshes.sphere.kind
+            )));
+        }
+        let ranges: Vec<_> = (0..meshes.glyphs())
+            .step_by(per_chunk)
+            .map(|start| start..(start + per_chunk).min(meshes.glyphs()))
+            .collect();
+        let indices: Vec<u32> = meshes.sphere.triangles.iter().flatten().copied().collect();
+        let frame_buffer = Buffer::with_data(
+            ctx,
+            "frame",
+            std::slice::from_ref(frame),
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+        )?;
+        let index_buffer = Buffer::with_data(
+            ctx,
+            "mesh indices",
+            &indices,
+            vk::BufferUsageFlags::INDEX_BUFFER,
+        )?;
+        let count = ranges.len().max(1) as u32;
+        let sizes = [
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::UNIFORM_BUFFER,
+                descriptor_count: count,
+            },
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::STORAGE_BUFFER,
+                descriptor_count: count,
+            },
+        ];
+        let pool_info = vk::DescriptorPoolCreateInfo::default()
+            .max_sets(count)
+            .pool_sizes(&sizes);
+        // SAFETY: valid create info.
+        let pool = unsafe { ctx.device.create_descriptor_pool(&pool_info, None) }
+            .vk("vkCreateDescriptorPool")?;
+        let mut scene = MeshSceneGpu {
+            device: ctx.device.clone(),
+            frame: frame_buffer,
+            pool,
+            indices: index_buffer,
+            index_count: indices.len() as u32,
+            vertices_per_glyph,
+            chunks: Vec::with_capacity(ranges.len()),
+            stats: MeshStats {
+                kind: meshes.sphere.kind,
+                glyphs: meshes.glyphs(),
+                vertices_per_glyph: per_glyph,
+                triangles_per_glyph: meshes.sphere.triangles.len(),
+                generate_ms: meshes.generate_ms,
+                vertex_bytes: meshes.vertices.len() * size_of::<MeshVertex>(),
+                index_bytes: indices.len() * 4,
+                instance_bytes: meshes.instances.len() * 16,
+            },
+        };
+        for range in ranges {
+            let chunk = self.upload_chunk(ctx, &scene, meshes, range)?;
+            scene.chunks.push(chunk);
+        }
+        Ok(scene)
+    }
+
+    fn upload_chunk(
+        &self,
+        ctx: &DeviceContext,
+        scene: &MeshSceneGpu,
+        meshes: &GlyphMeshes,
+        range: std::ops::Range<usize>,
+    ) -> Result<MeshChunk> {
+        let per_glyph = meshes.sphere.directions.len();
+        let instances = Buffer::with_data(
+            ctx,
+            "mesh instances",
+            &meshes.instances[range.clone()],
+            vk::BufferUsageFlags::VERTEX_BUFFER,
+        )?;
+        let vertices = Buffer::with_data(
+            ctx,
+            "mesh vertices",
+            &meshes.vertices[range.start * per_glyph..range.end * per_glyph],
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let layouts = [self.set_layout];
+        let alloc = vk::DescriptorSetAllocateInfo::default()
+            .descriptor_pool(scene.pool)
+            .set_layouts(&layouts);
+        // SAFETY: the pool was sized for one set per chunk.
+        let descriptor_set = unsafe { ctx.device.allocate_descriptor_sets(&alloc) }
+            .vk("vkAllocateDescriptorSets")?[0];
+        let frame_info = [vk::DescriptorBufferInfo {
+            buffer: scene.frame.handle,
+            offset: 0,
+            range: vk::WHOLE_SIZE,
+        }];
+        let vertex_info = [vk::DescriptorBufferInfo {
+            buffer: vertices.handle,
+            offset: 0,
+            range: vk::WHOLE_SIZE,
+        }];
+        let writes = [
+            vk::WriteDescriptorSet::default()
+                .dst_set(descriptor_set)
+                .dst_binding(FRAME_BINDING)
+                .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
+                .buffer_info(&frame_info),
+            vk::WriteDescriptorSet::default()
+                .dst_set(descriptor_set)
+                .dst_binding(VERTEX_BINDING)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .buffer_info(&vertex_info),
+        ];
+        // SAFETY: the set and buffers are alive; no command buffer uses the set yet.
+        unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
+        Ok(MeshChunk {
+            count: range.len() as u32,
+            instances,
+            _vertices: vertices,
+            descriptor_set,
+        })
+    }
+
+    /// Records the draws of a tessellated scene. The caller has begun dynamic rendering
+    /// with attachments of this pass's formats, of size `extent`.
+    pub fn record(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        scene: &MeshSceneGpu,
+        extent: vk::Extent2D,
+    ) -> Result<()> {
+        let pipeline = self.pipeline(scene.vertices_per_glyph)?;
+        let (viewport, scissor) = viewport_and_scissor(extent);
+        // SAFETY: recording state is the caller's; all handles are alive.
+        unsafe {
+            let d = &self.device;
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+            d.cmd_set_viewport(cmd, 0, &[viewport]);
+            d.cmd_set_scissor(cmd, 0, &[scissor]);
+            d.cmd_bind_index_buffer(cmd, scene.indices.handle, 0, vk::IndexType::UINT32);
+            for chunk in &scene.chunks {
+                d.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    self.pipeline_layout,
+                    0,
+                    &[chunk.descriptor_set],
+                    &[],
+                );
+                d.cmd_bind_vertex_buffers(cmd, 0, &[chunk.instances.handle], &[0]);
+                d.cmd_draw_indexed(cmd, scene.index_count, chunk.count, 0, 0, 0);
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Drop for MeshSceneGpu {
+    fn drop(&mut self) {
+        // SAFETY: the owner has waited for the frames that used these sets.
+        unsafe { self.device.destroy_descriptor_pool(self.pool, None) };
+    }
+}
+
+impl Drop for MeshPass {
+    fn drop(&mut self) {
+        // SAFETY: the owner has waited for every frame recorded with this pass; null
+        // handles are ignored by the destroy calls.
+        unsafe {
+            for p in self.pipelines.values() {
+                self.device.destroy_pipeline(*p, None);
+            }
+            self.device.destroy_shader_module(self.vertex, None);
+            self.device.destroy_shader_module(self.fragment, None);
+            self.device
+                .destroy_pipeline_layout(self.pipeline_layout, None);
+            self.device
+                .destroy_descriptor_set_layout(self.set_layout, None);
+        }
+    }
+}
