@@ -221,6 +221,7 @@ fn coarse_settings_are_detected() {
     let gpu = common::gpu();
     let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
     let coarse = RenderSettings {
+        method: Method::Fixed,
         step: 0.25,
         refinement: Refinement::None,
         centre_step_factor: 1.0,
@@ -282,5 +283,26 @@ fn robust_methods_at_coarse_precision_leave_no_holes() {
             let r = common::render_and_compare(&gpu, &mut renderer, &scene, &settings);
             assert_accurate(&format!("{name}-{method:?}-precision-4"), &r);
         }
+    }
+}
+
+/// The default settings (the fastest method with no holes on the suite when it was
+/// chosen) keep that property on every scene of the accuracy suite.
+#[test]
+fn default_settings_leave_no_holes_on_the_whole_suite() {
+    let gpu = common::gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    for entry in glyphcast::accuracy::suite::suite(128) {
+        let r = common::render_and_compare(
+            &gpu,
+            &mut renderer,
+            &entry.scene,
+            &RenderSettings::default(),
+        );
+        let c = r.comparison;
+        eprintln!("{}: {c}", entry.name);
+        assert!(c.covered > 300, "{}: {c}", entry.name);
+        assert_eq!((c.holes, c.false_hits), (0, 0), "{}: {c}", entry.name);
+        assert!(c.median_error < 1e-4, "{}: {c}", entry.name);
     }
 }

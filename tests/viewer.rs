@@ -317,6 +317,8 @@ fn scripted_session_stays_validation_clean() {
     // The scene as shown, rendered with the script's settings, is the screenshot, and
     // the window showed it too.
     let settings = [
+        "--method",
+        "fixed",
         "--step",
         "0.05",
         "--refine",

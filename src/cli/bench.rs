@@ -27,8 +27,9 @@ pub struct BenchArgs {
     /// (ray cast against impostor and against tessellation at equal error, orders 4, 8, 12).
     #[arg(long)]
     sweep: Option<String>,
-    /// Method of a single measurement: fixed, impostor, mesh:LEVEL or latlong:N.
-    #[arg(long, default_value = "fixed")]
+    /// Method of a single measurement: fixed, interval, affine, impostor, mesh:LEVEL or
+    /// latlong:N.
+    #[arg(long, default_value = "affine")]
     method: String,
     /// Also compare a single measurement with the float64 reference.
     #[arg(long)]

@@ -91,7 +91,7 @@ pub struct RenderArgs {
     /// How glyphs are drawn: fixed (ray casting at a fixed step), interval or affine
     /// (robust ray casting by range arithmetic), impostor (bounding spheres), mesh:LEVEL
     /// (icosphere, 0 to 7) or latlong:N (N latitude bands) tessellations.
-    #[arg(long, default_value = "fixed")]
+    #[arg(long, default_value = "affine")]
     method: String,
     /// Robust methods: segment length limit, in pixels at the segment's depth.
     #[arg(long, value_name = "PX")]
