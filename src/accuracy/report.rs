@@ -153,3 +153,43 @@ pub fn csv(rows: &[AccuracyRow]) -> String {
     }
     out
 }
+
+/// One line per settings over the whole suite: total holes and false hits, the worst
+/// median and 99th-percentile depth errors, and the total GPU time, fastest first.
+pub fn summary_markdown(rows: &[AccuracyRow]) -> String {
+    let mut groups: Vec<(String, String, String, Vec<&AccuracyRow>)> = Vec::new();
+    for row in rows {
+        let key = (
+            method_name(row.method),
+            march_cell(row, row.step.to_string()),
+            march_cell(row, refinement_name(row.refinement)),
+        );
+        match groups
+            .iter_mut()
+            .find(|g| (&g.0, &g.1, &g.2) == (&key.0, &key.1, &key.2))
+        {
+            Some(group) => group.3.push(row),
+            None => groups.push((key.0, key.1, key.2, vec![row])),
+        }
+    }
+    let total_ms = |g: &[&AccuracyRow]| g.iter().filter_map(|r| r.gpu_ms).sum::<f64>();
+    groups.sort_by(|a, b| total_ms(&a.3).total_cmp(&total_ms(&b.3)));
+    let mut out = String::from(
+        "| method | step | refine | scenes | holes | false hits | worst median err | worst p99 err | total GPU ms |\n\
+         |---|---|---|---|---|---|---|---|---|\n",
+    );
+    for (method, step, refine, g) in &groups {
+        let worst = |f: fn(&AccuracyRow) -> f64| g.iter().map(|r| f(r)).fold(0.0, f64::max);
+        let _ = writeln!(
+            out,
+            "| {method} | {step} | {refine} | {} | {} | {} | {:.2e} | {:.2e} | {:.1} |",
+            g.len(),
+            g.iter().map(|r| r.comparison.holes).sum::<usize>(),
+            g.iter().map(|r| r.comparison.false_hits).sum::<usize>(),
+            worst(|r| r.comparison.median_error),
+            worst(|r| r.comparison.p99_error),
+            total_ms(g)
+        );
+    }
+    out
+}

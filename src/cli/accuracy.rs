@@ -89,7 +89,12 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
         done += 1;
         eprintln!("[{done}/{total}] {} {}", row.scene, row.method);
     })?;
-    let markdown = format!("Device: {}\n\n{}", gpu.info, report::markdown(&rows));
+    let markdown = format!(
+        "Device: {}\n\n{}\nSummary over the suite, fastest first:\n\n{}",
+        gpu.info,
+        report::markdown(&rows),
+        report::summary_markdown(&rows)
+    );
     if let Some(path) = &args.markdown {
         glyphcast::io::atomic::write_atomic(path, markdown.as_bytes())?;
     }
