@@ -1,47 +1,9 @@
 #version 450
 // The seed's ray caster (Hlawitschka et al., Sec. 4): the pixel's ray in the glyph's local
-// frame, bounding-sphere exit, fixed-step sign test with finer steps near the centre, and
-// refinement of the first sign change. The sign function is the radial form
-// g(q) = h(f(q/|q|)) + offset - |q| (h = abs, or max(., 0) to hide negative lobes), which has
-// the zero set of the seed's Eq. 3 but stays well scaled near the centre.
+// frame, bounding-sphere exit, fixed-step sign test of the radial form g (raycast_common.glsl)
+// with finer steps near the centre, and refinement of the first sign change.
 #extension GL_GOOGLE_include_directive : require
-#include "frame.glsl"
-#include "glyph_function.glsl"
-#include "shading.glsl"
-
-layout(location = 0) flat in uint v_glyph;
-layout(location = 1) flat in vec4 v_center_radius;
-
-layout(location = 0) out vec4 out_color;
-layout(location = 1) out float out_distance;
-layout(depth_greater) out float gl_FragDepth;
-
-float shape(float f) {
-    return glyph_set.hide_negative != 0u ? max(f, 0.0) : abs(f);
-}
-
-// g > 0 inside the glyph. Coordinates are normalised so the bound is 1 + offset.
-float inside(vec3 q) {
-    float len = length(q);
-    if (len < 1e-20) {
-        return frame.march.w;
-    }
-    return shape(glyph_f(q / len)) + frame.march.w - len;
-}
-
-// The pixel-centre ray of the scene format's camera, in world space.
-void pixel_ray(out vec3 origin, out vec3 dir) {
-    vec2 s = vec2((2.0 * gl_FragCoord.x * frame.viewport.x - 1.0) * frame.right.w,
-                  1.0 - 2.0 * gl_FragCoord.y * frame.viewport.y);
-    vec3 offset = s.x * frame.right.xyz + s.y * frame.up.xyz;
-    if (frame.eye.w > 0.5) {
-        origin = frame.eye.xyz + offset;
-        dir = frame.fwd.xyz;
-    } else {
-        origin = frame.eye.xyz;
-        dir = normalize(frame.fwd.xyz + offset);
-    }
-}
+#include "raycast_common.glsl"
 
 // Refines a bracket [s0, s1] with g(s0) <= 0 < g(s1) along q(s) = mid + s * dir.
 float refine(vec3 mid, vec3 dir, float s0, float g0, float s1, float g1) {
@@ -77,27 +39,14 @@ float refine(vec3 mid, vec3 dir, float s0, float g0, float s1, float g1) {
 }
 
 void main() {
-    vec3 origin, dir;
-    pixel_ray(origin, dir);
-    // The box half-size is rho * bound: rho maps normalised glyph units to world units.
-    float bound = 1.0 + frame.march.w;
-    float rho = v_center_radius.w / bound;
-
-    // Local frame: q = (p - c) / rho. March in s, measured from the point of the ray
-    // closest to the centre, so that q stays well conditioned however far the camera is.
-    vec3 o = (origin - v_center_radius.xyz) / rho;
-    float t_mid = -dot(o, dir);
-    vec3 mid = o + t_mid * dir;
-    float half_chord2 = bound * bound - dot(mid, mid);
-    if (half_chord2 <= 0.0) {
+    GlyphRay ray;
+    if (!glyph_ray(1.0 + frame.march.w, ray)) {
         discard;
     }
-    float half_chord = sqrt(half_chord2);
-    float s_end = half_chord;
-    float s = max(-half_chord, -t_mid);  // never behind the ray origin
-    if (s >= s_end) {
-        discard;
-    }
+    vec3 mid = ray.mid;
+    vec3 dir = ray.dir;
+    float s = ray.s_start;
+    float s_end = ray.half_chord;
 
     glyph_load(v_glyph);
     float step = frame.march.x;
@@ -127,22 +76,5 @@ void main() {
     if (!found) {
         discard;
     }
-
-    vec3 q = mid + s_hit * dir;
-    float len = max(length(q), 1e-20);
-    vec3 q_dir = q / len;
-    vec3 grad;
-    float f = glyph_f_grad(q_dir, grad);
-    float sgn = (glyph_set.hide_negative != 0u || f >= 0.0) ? 1.0 : -1.0;
-    // Outward normal of g = 0: (|q| + n |f|) q^ - sgn grad f(q^) (Euler's identity).
-    vec3 normal = normalize((len + float(GLYPH_ORDER) * abs(f)) * q_dir - sgn * grad);
-
-    float distance = (t_mid + s_hit) * rho;
-    vec3 world = origin + distance * dir;
-    vec4 clip = frame.view_proj * vec4(world, 1.0);
-    gl_FragDepth = clamp(clip.z / clip.w, 0.0, 1.0);
-
-    vec3 base = glyph_color(q_dir, len * rho);
-    out_color = vec4(blinn_phong(base, normal, -dir), 1.0);
-    out_distance = distance;
+    emit_hit(ray, s_hit);
 }

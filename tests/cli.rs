@@ -131,6 +131,42 @@ fn missing_file_and_bad_options_fail_cleanly() {
         let line = expect_failure(&sphere, &[&format!("{option}={value}")], &dir);
         assert!(line.contains(option), "{option} {value}: {line}");
     }
+    // An unknown method is answered with every method there is.
+    let line = expect_failure(&sphere, &["--method=magic"], &dir);
+    assert!(line.contains("fixed, exact"), "{line}");
+    // Offset glyphs are not polynomial surfaces: exact refuses them, naming both options.
+    let line = expect_failure(&sphere, &["--method=exact", "--offset=0.1"], &dir);
+    assert!(
+        line.contains("--offset") && line.contains("exact"),
+        "{line}"
+    );
+}
+
+#[test]
+fn exact_method_renders() {
+    let dir = fresh_dir("render-exact");
+    let png = dir.join("sphere.png");
+    let npy = dir.join("sphere.npy");
+    let scene = scenes().join("sphere.json");
+    let out = glyphcast(&[
+        "render",
+        scene.to_str().expect("path"),
+        "-o",
+        png.to_str().expect("path"),
+        "--depth-out",
+        npy.to_str().expect("path"),
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--method",
+        "exact",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "render failed:\n{stderr}");
+    let (_, depth) = glyphcast::io::npy::read_npy_f32(&npy).expect("reading the depth map");
+    let hits = depth.iter().filter(|d| !d.is_nan()).count();
+    assert!(hits > 50 && hits < depth.len(), "{hits} hits");
 }
 
 #[test]

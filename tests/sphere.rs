@@ -1,15 +1,16 @@
 //! The order-2 identity tensor is a sphere: its render must match the analytic sphere to
-//! float32 precision, under perspective and orthographic cameras, and the pixel
-//! coverage must be that of the analytic sphere.
+//! float32 precision, under perspective and orthographic cameras and with every method,
+//! and the pixel coverage must be that of the analytic sphere. The sphere touches its
+//! bounding sphere everywhere, the hardest case for where a method starts its search.
 mod common;
 use glam::DVec3;
 use glyphcast::accuracy::silhouette_band;
 use glyphcast::camera::{Camera, Projection};
 use glyphcast::demo::{glyph_set, symmetric};
 use glyphcast::io::scene::{ImageSize, Scene};
-use glyphcast::render::RenderSettings;
 use glyphcast::render::glyph_data::prepare_scene;
 use glyphcast::render::headless::HeadlessRenderer;
+use glyphcast::render::{Method, RenderSettings};
 
 const CENTER: DVec3 = DVec3::new(0.3, -0.2, 0.1);
 const RADIUS: f64 = 0.8;
@@ -26,7 +27,7 @@ fn analytic(camera: &Camera, i: u32, j: u32, w: u32, h: u32) -> f64 {
     }
 }
 
-fn check(projection: Projection) {
+fn check(projection: Projection, method: Method) {
     let gpu = common::gpu();
     let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
     let identity = vec![1.0, 0.0, 0.0, 1.0, 0.0, 1.0];
@@ -52,7 +53,17 @@ fn check(projection: Projection) {
     };
     let sets = prepare_scene(&scene, 0.0).expect("prepare");
     let image = renderer
-        .render(&gpu, &sets, &camera, w, h, &RenderSettings::default())
+        .render(
+            &gpu,
+            &sets,
+            &camera,
+            w,
+            h,
+            &RenderSettings {
+                method,
+                ..Default::default()
+            },
+        )
         .expect("render");
     let exact: Vec<f64> = (0..h)
         .flat_map(|j| (0..w).map(move |i| (i, j)))
@@ -72,7 +83,7 @@ fn check(projection: Projection) {
         }
     }
     eprintln!(
-        "{projection:?}: covered {covered}, mismatches {coverage_mismatch}, worst relative error {worst:.2e}"
+        "{projection:?}, {method:?}: covered {covered}, mismatches {coverage_mismatch}, worst relative error {worst:.2e}"
     );
     assert!(covered > 2000, "the sphere covers {covered} pixels");
     assert_eq!(
@@ -86,10 +97,20 @@ fn check(projection: Projection) {
 
 #[test]
 fn sphere_matches_analytic_perspective() {
-    check(Projection::Perspective { fov_y_deg: 30.0 });
+    check(Projection::Perspective { fov_y_deg: 30.0 }, Method::Fixed);
 }
 
 #[test]
 fn sphere_matches_analytic_orthographic() {
-    check(Projection::Orthographic { height: 2.5 });
+    check(Projection::Orthographic { height: 2.5 }, Method::Fixed);
+}
+
+#[test]
+fn sphere_matches_analytic_perspective_exact() {
+    check(Projection::Perspective { fov_y_deg: 30.0 }, Method::Exact);
+}
+
+#[test]
+fn sphere_matches_analytic_orthographic_exact() {
+    check(Projection::Orthographic { height: 2.5 }, Method::Exact);
 }

@@ -58,7 +58,8 @@ pub struct RenderArgs {
     /// Image height in pixels (default: the scene's).
     #[arg(long)]
     height: Option<u32>,
-    /// Intersection method.
+    /// Intersection method: fixed (march and refine) or exact (real-root isolation;
+    /// offset 0 only).
     #[arg(long, default_value = "fixed")]
     method: String,
     /// March step, in units of each glyph's bounding radius.

@@ -1,5 +1,6 @@
 //! CPU mathematics of glyphs in float64: tensors in monomial form, bounds and the exact
 //! ray intersection that serves as the reference for every GPU result.
+pub mod bernstein;
 pub mod bounds;
 pub mod intersect;
 pub mod monomials;

@@ -72,12 +72,16 @@ impl std::str::FromStr for ColorMode {
 impl std::str::FromStr for Method {
     type Err = Error;
     fn from_str(s: &str) -> Result<Self> {
-        match s {
-            "fixed" => Ok(Method::Fixed),
-            _ => Err(Error::Invalid(format!(
-                "--method: '{s}' is not one of fixed"
-            ))),
-        }
+        Method::ALL
+            .into_iter()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| {
+                let names: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
+                Error::Invalid(format!(
+                    "--method: '{s}' is not one of {}",
+                    names.join(", ")
+                ))
+            })
     }
 }
 
@@ -137,6 +141,14 @@ impl RenderSettings {
                 self.offset
             )));
         }
+        // A glyph with an offset is no polynomial surface: there is no ray polynomial to solve.
+        if self.method == Method::Exact && self.offset != 0.0 {
+            return Err(Error::Invalid(format!(
+                "--offset {}: --method exact needs offset 0 (offset glyphs are not \
+                 polynomial surfaces); use --method fixed",
+                self.offset
+            )));
+        }
         if let ColorMode::Magnitude {
             range: Some((lo, hi)),
         } = self.color
@@ -155,5 +167,48 @@ impl RenderSettings {
         let zone = 2.0 * self.centre_zone.min(1.0 + self.offset);
         let steps = chord / self.step + zone / (self.step * self.centre_step_factor) + 4.0;
         steps.ceil().min(1.0e6) as i32
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn methods_parse_by_name_and_an_unknown_one_lists_them_all() {
+        for method in Method::ALL {
+            assert_eq!(method.name().parse::<Method>().ok(), Some(method));
+        }
+        let error = "magic"
+            .parse::<Method>()
+            .expect_err("unknown method")
+            .to_string();
+        assert!(error.contains("'magic'"), "{error}");
+        for method in Method::ALL {
+            assert!(error.contains(method.name()), "{error}");
+        }
+    }
+
+    #[test]
+    fn exact_refuses_an_offset() {
+        let exact = RenderSettings {
+            method: Method::Exact,
+            ..Default::default()
+        };
+        assert!(exact.validate().is_ok());
+        let with_offset = RenderSettings {
+            offset: 0.1,
+            ..exact
+        };
+        let error = with_offset.validate().expect_err("offset").to_string();
+        assert!(
+            error.contains("--offset") && error.contains("exact"),
+            "{error}"
+        );
+        let fixed = RenderSettings {
+            method: Method::Fixed,
+            ..with_offset
+        };
+        assert!(fixed.validate().is_ok());
     }
 }
