@@ -47,14 +47,14 @@ struct GlyphRay {
     float s_end;    // chord exit
 };
 
-// False when the ray misses the bounding sphere (or it lies behind the origin).
-bool glyph_ray(out GlyphRay ray) {
+// The ray against the sphere |q| = radius of the normalised frame; false when it misses
+// the sphere or the sphere lies behind the origin.
+bool glyph_ray_within(float radius, out GlyphRay ray) {
     pixel_ray(ray.origin, ray.dir);
-    // The box half-size is rho * bound.
-    float bound = 1.0 + frame.march.w;
-    ray.rho = v_center_radius.w / bound;
+    // The box half-size is rho * (1 + offset).
+    ray.rho = v_center_radius.w / (1.0 + frame.march.w);
     ray_in_glyph_frame(ray.origin, ray.dir, v_center_radius.xyz, ray.rho, ray.t_mid, ray.mid);
-    float half_chord2 = bound * bound - dot(ray.mid, ray.mid);
+    float half_chord2 = radius * radius - dot(ray.mid, ray.mid);
     if (half_chord2 <= 0.0) {
         return false;
     }
@@ -62,6 +62,11 @@ bool glyph_ray(out GlyphRay ray) {
     ray.s_end = half_chord;
     ray.s_start = max(-half_chord, -ray.t_mid);
     return ray.s_start < ray.s_end;
+}
+
+// The ray against the glyph's bounding sphere.
+bool glyph_ray(out GlyphRay ray) {
+    return glyph_ray_within(1.0 + frame.march.w, ray);
 }
 
 // Refines a bracket [s0, s1] with g(s0) <= 0 < g(s1) along q(s) = mid + s * dir.

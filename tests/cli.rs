@@ -134,6 +134,45 @@ fn missing_file_and_bad_options_fail_cleanly() {
         let line = expect_failure(&sphere, &[&format!("{option}={value}")], &dir);
         assert!(line.contains(option), "{option} {value}: {line}");
     }
+    // An unknown method is answered with every method there is.
+    let line = expect_failure(&sphere, &["--method=magic"], &dir);
+    assert!(
+        line.contains("fixed, interval, affine, exact, impostor"),
+        "{line}"
+    );
+    // Offset glyphs are not polynomial surfaces: exact refuses them, naming both options.
+    let line = expect_failure(&sphere, &["--method=exact", "--offset=0.1"], &dir);
+    assert!(
+        line.contains("--offset") && line.contains("exact"),
+        "{line}"
+    );
+}
+
+#[test]
+fn exact_method_renders() {
+    let dir = fresh_dir("render-exact");
+    let png = dir.join("sphere.png");
+    let npy = dir.join("sphere.npy");
+    let scene = scenes().join("sphere.json");
+    let out = glyphcast(&[
+        "render",
+        scene.to_str().expect("path"),
+        "-o",
+        png.to_str().expect("path"),
+        "--depth-out",
+        npy.to_str().expect("path"),
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--method",
+        "exact",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "render failed:\n{stderr}");
+    let (_, depth) = glyphcast::io::npy::read_npy_f32(&npy).expect("reading the depth map");
+    let hits = depth.iter().filter(|d| !d.is_nan()).count();
+    assert!(hits > 50 && hits < depth.len(), "{hits} hits");
 }
 
 #[test]
@@ -285,11 +324,11 @@ fn accuracy_command_writes_a_table_for_every_scene() {
         .map(|l| l.split(',').collect())
         .collect();
     let scenes = glyphcast::accuracy::suite::suite(48).len();
-    // Fixed: one row per step; interval and affine: one row each.
+    // Fixed: one row per step; interval, affine and exact: one row each.
     assert_eq!(
         rows.len(),
-        4 * scenes,
-        "rows per scene: two steps and two robust methods"
+        5 * scenes,
+        "rows per scene: two steps and three other methods"
     );
     for row in &rows {
         assert_eq!(row.len(), 12, "{row:?}");
@@ -435,8 +474,8 @@ fn bench_quick_table2_writes_valid_csv_and_json() {
     assert_eq!(
         methods,
         [
-            "fixed", "interval", "affine", "impostor", "mesh:1", "mesh:2", "mesh:3", "mesh:4",
-            "mesh:5", "mesh:6"
+            "fixed", "interval", "affine", "exact", "impostor", "mesh:1", "mesh:2", "mesh:3",
+            "mesh:4", "mesh:5", "mesh:6"
         ]
     );
     let error = |r: &serde_json::Value| r["accuracy"]["error_px"].as_f64().expect("error_px");
@@ -446,7 +485,7 @@ fn bench_quick_table2_writes_valid_csv_and_json() {
         assert!(error(r) >= 0.0, "{r}");
         assert_eq!(r["glyphs"], 4);
     }
-    for (level, r) in results[4..].iter().enumerate() {
+    for (level, r) in results[5..].iter().enumerate() {
         let triangles = 4 * 20 * 4u64.pow(level as u32 + 1);
         assert_eq!(r["triangles"].as_u64(), Some(triangles), "{r}");
         assert!(r["generate_ms"].as_f64().expect("generation time") >= 0.0);
@@ -469,7 +508,7 @@ fn bench_quick_table2_writes_valid_csv_and_json() {
     );
     let csv = std::fs::read_to_string(dir.join("results.csv")).expect("results.csv");
     let lines: Vec<&str> = csv.lines().collect();
-    assert_eq!(lines.len(), 11);
+    assert_eq!(lines.len(), 12);
     let columns = lines[0].split(',').count();
     assert!(
         lines.iter().all(|l| l.split(',').count() == columns),

@@ -56,7 +56,7 @@ fn check(projection: Projection) {
         .map(|(i, j)| analytic(&camera, i, j, w, h))
         .collect();
     let band = silhouette_band(&exact, w as usize, h as usize);
-    for method in [Method::Fixed, Method::Interval, Method::Affine] {
+    for method in Method::RAY_CASTING {
         let settings = RenderSettings {
             method,
             ..Default::default()

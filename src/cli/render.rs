@@ -89,8 +89,9 @@ pub struct RenderArgs {
     #[arg(long)]
     height: Option<u32>,
     /// How glyphs are drawn: fixed (ray casting at a fixed step), interval or affine
-    /// (robust ray casting by range arithmetic), impostor (bounding spheres), mesh:LEVEL
-    /// (icosphere, 0 to 7) or latlong:N (N latitude bands) tessellations.
+    /// (robust ray casting by range arithmetic), exact (first real root of the ray
+    /// polynomial; offset 0 only), impostor (bounding spheres), mesh:LEVEL (icosphere,
+    /// 0 to 7) or latlong:N (N latitude bands) tessellations.
     #[arg(long, default_value = "affine")]
     method: String,
     /// Robust methods: segment length limit, in pixels at the segment's depth.

@@ -1,7 +1,9 @@
 //! CPU mathematics of glyphs in float64: tensors in monomial form, bounds, the exact
 //! ray intersection that serves as the reference for every GPU result, the real
 //! spherical harmonics (`sh`) with their map to tensors, the CPU mirror of the shaders'
-//! interval and affine ranges, and the tessellated glyphs of the mesh baseline.
+//! interval and affine ranges and of the exact method's Bernstein root isolation, and
+//! the tessellated glyphs of the mesh baseline.
+pub mod bernstein;
 pub mod bounds;
 pub(crate) mod homogeneous;
 pub mod intersect;

@@ -22,6 +22,9 @@ pub enum Method {
     Interval,
     /// Robust traversal bounded by reduced affine arithmetic (glsl/raycast_affine.frag).
     Affine,
+    /// The first real root of the ray polynomial, isolated by Bernstein subdivision
+    /// (glsl/raycast_exact.frag); offset 0 only.
+    Exact,
     /// The bounding sphere of each glyph on the ray caster's boxes: the cost floor of a
     /// box-proxy ray caster, not the glyph.
     Impostor,
@@ -31,7 +34,12 @@ pub enum Method {
 
 impl Method {
     /// The methods that ray-cast the glyph function, in the order reports list them.
-    pub const RAY_CASTING: [Method; 3] = [Method::Fixed, Method::Interval, Method::Affine];
+    pub const RAY_CASTING: [Method; 4] = [
+        Method::Fixed,
+        Method::Interval,
+        Method::Affine,
+        Method::Exact,
+    ];
 
     /// Whether the method marches rays through the glyph function at a fixed step (and so
     /// reads the march settings: step, refinement, centre zone).
@@ -46,6 +54,7 @@ impl std::fmt::Display for Method {
             Method::Fixed => f.write_str("fixed"),
             Method::Interval => f.write_str("interval"),
             Method::Affine => f.write_str("affine"),
+            Method::Exact => f.write_str("exact"),
             Method::Impostor => f.write_str("impostor"),
             Method::Mesh(kind) => write!(f, "{kind}"),
         }

@@ -127,7 +127,7 @@ impl RayCastPass {
                     "{method} is drawn by the mesh pass, not the ray-casting pass"
                 )));
             }
-            Method::Fixed | Method::Interval | Method::Affine => {
+            Method::Fixed | Method::Interval | Method::Affine | Method::Exact => {
                 let shader = raycast_shader(layout, method).ok_or_else(|| {
                     Error::Invalid(format!(
                         "no shader for a {:?} tensor of order {} with method {method}",

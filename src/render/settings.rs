@@ -74,7 +74,7 @@ impl std::str::FromStr for Method {
     fn from_str(s: &str) -> Result<Self> {
         let bad = || {
             Error::Invalid(format!(
-                "--method: '{s}' is not one of fixed, interval, affine, impostor, mesh:LEVEL (icosphere, 0..={}), \
+                "--method: '{s}' is not one of fixed, interval, affine, exact, impostor, mesh:LEVEL (icosphere, 0..={}), \
                  latlong:N (latitude bands, 2..={})",
                 crate::glyph::tessellate::MAX_ICOSPHERE_LEVEL,
                 crate::glyph::tessellate::MAX_LAT_LONG_RINGS
@@ -85,6 +85,7 @@ impl std::str::FromStr for Method {
             "fixed" => Method::Fixed,
             "interval" => Method::Interval,
             "affine" => Method::Affine,
+            "exact" => Method::Exact,
             "impostor" => Method::Impostor,
             _ => count("mesh:")
                 .map(MeshKind::Icosphere)
@@ -165,6 +166,14 @@ impl RenderSettings {
                 self.offset
             )));
         }
+        // A glyph with an offset is no polynomial surface: there is no ray polynomial to solve.
+        if self.method == Method::Exact && self.offset != 0.0 {
+            return Err(Error::Invalid(format!(
+                "--offset {}: --method exact needs offset 0 (offset glyphs are not \
+                 polynomial surfaces); use --method fixed",
+                self.offset
+            )));
+        }
         if let ColorMode::Magnitude {
             range: Some((lo, hi)),
         } = self.color
@@ -196,6 +205,7 @@ mod tests {
             ("fixed", Method::Fixed),
             ("interval", Method::Interval),
             ("affine", Method::Affine),
+            ("exact", Method::Exact),
         ] {
             assert_eq!(name.parse::<Method>().ok(), Some(method));
         }
@@ -203,7 +213,7 @@ mod tests {
             .parse::<Method>()
             .expect_err("unknown method")
             .to_string();
-        assert!(error.contains("fixed, interval, affine"), "{error}");
+        assert!(error.contains("fixed, interval, affine, exact"), "{error}");
     }
 
     #[test]
@@ -214,5 +224,28 @@ mod tests {
         };
         assert!(zero.validate().is_err());
         assert!(RenderSettings::default().validate().is_ok());
+    }
+
+    #[test]
+    fn exact_refuses_an_offset() {
+        let exact = RenderSettings {
+            method: Method::Exact,
+            ..Default::default()
+        };
+        assert!(exact.validate().is_ok());
+        let with_offset = RenderSettings {
+            offset: 0.1,
+            ..exact
+        };
+        let error = with_offset.validate().expect_err("offset").to_string();
+        assert!(
+            error.contains("--offset") && error.contains("exact"),
+            "{error}"
+        );
+        let fixed = RenderSettings {
+            method: Method::Fixed,
+            ..with_offset
+        };
+        assert!(fixed.validate().is_ok());
     }
 }

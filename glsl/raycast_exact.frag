@@ -1,0 +1,511 @@
+#version 450
+// --method exact: the first real root of the ray polynomial, isolated in float32 (after
+// Peters et al., "Ray Tracing Spherical Harmonics Glyphs", VMV 2023, who make the ray
+// polynomial exact and isolate its roots, and Yuksel, HPG 2022, for bracketing each root
+// before a safeguarded Newton step).
+//
+// Along the ray, q(tau) = mid + tau d (|d| = half chord, mid . d = 0). Inside the glyph
+// |f(q)| > |q|^(n+1), so the crossings are the real roots of the degree D = 2n + 2 polynomial
+//     F = f(q)^2 - (q . q)^(n+1),
+// and, for `negative: hide`, only the roots where f(q) > 0 count: each isolated root is
+// checked, and one where f < 0 (the edge of a hidden lobe) is passed over. (For odd n,
+// (q . q)^((n+1)/2) is itself a polynomial, so hide could solve f - (q . q)^((n+1)/2) of
+// degree n + 1 and abs the product of that and f + (q . q)^((n+1)/2); one code path for
+// every order was preferred, as even orders, the common case, have no such factoring.)
+//
+// 1. p(tau) = f(q(tau)) is expanded once per ray from the monomials of f, by Horner's
+//    scheme on linear polynomials in tau (ray_polynomial). That is exact algebra: each
+//    coefficient is rounded relative to the size of its own terms, ~|mid|^(n-k) |d|^k, so
+//    F keeps its relative accuracy down to |q| ~ 1e-2. (The alternative, f at n + 1
+//    Chebyshev nodes times an inverse Vandermonde matrix, rounds every coefficient
+//    relative to the largest value of p: measured in float32 on the scenes of
+//    tests/depth_accuracy.rs, median depth errors of 1e-5 to 3e-3 of the glyph and false
+//    hits at order 12, against 2e-7 and none.)
+// 2. The chord is cut at mid into halves on which |q| is monotone (one polynomial over
+//    the whole chord cancels away the small values near mid: hundreds of holes per
+//    scene). On each, p is re-expanded about the end nearer mid and F is formed in the
+//    half's Bernstein basis (segment_polynomials).
+// 3. Descartes' rule of signs in the Bernstein basis bounds the number of roots of F on
+//    any piece [u0, u1] of a half by the sign changes of its Bernstein coefficients
+//    (de Casteljau from the half's). The pieces are visited in ray order as the dyadic
+//    intervals of a binary tree, stacklessly: 0 changes drop a piece, one isolates a
+//    root, more split it. The first isolated root is the answer; Newton on
+//    F / |q|^(2n), kept in the bracket, refines it (node_root).
+// 4. Near the centre F ~ |q|^(2n+2) leaves float32's range: where the ray passes within
+//    CENTRE_RADIUS of the centre (|q|^D >= 2^-100 outside it), that part of the chord is
+//    sampled instead, with the well-conditioned radial form g of raycast_common.glsl
+//    (measured by the CPU port, src/glyph/bernstein.rs: exact outside the zone; without
+//    it, 77 of 200 rays passing 1e-3 from an order-12 glyph's centre lose their hit).
+//
+// Offset glyphs are not polynomial; the CPU rejects --offset with this method.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
+#include "raycast_common.glsl"
+
+const int N = int(GLYPH_ORDER);
+const int D = 2 * N + 2;
+// The chord is that of the bounding sphere enlarged by 2^-10, so that F < 0 at both of its
+// ends even for a glyph that touches its bound (g <= -2^-10 there).
+const float CHORD_RADIUS = 1.0 + 1.0 / 1024.0;
+// |q|^D >= 2^-100 outside this radius, which leaves F and its Bernstein coefficients
+// 2^26 of float32's normal range: 0.07 at order 12, 0.021 at order 8, 0.001 at order 4.
+const float CENTRE_RADIUS = exp2(-100.0 / float(D));
+// g samples across the centre zone (at most 2 CENTRE_RADIUS long).
+const int CENTRE_SAMPLES = 64;
+// Subdivision depth (pieces of 2^-20 of a segment) and budget of pieces per segment.
+const int MAX_LEVEL = 20;
+const int MAX_NODES = 64;
+const int NEWTON_STEPS = 40;
+const int ILLINOIS_STEPS = 8;
+
+// Loops over coefficients have constant bounds and skip what they do not need with
+// conditions on the counters, so that spirv-opt unrolls them completely ([[unroll]] only
+// works on constant trip counts) and every array index becomes a constant: lavapipe
+// indexes arrays with variable indices through memory, several times slower. And they
+// count upwards: Mesa 22.3's lavapipe miscompiles descending loops such as
+// `for (int i = m; i >= 1; --i)` whose start is an outer loop's counter (the updated array
+// read back as zeros), so updates that must run from the top index down use i = top - step.
+
+float binomial[D + 1];     // C(D, k)
+float binomial_n[N + 1];   // C(n, k)
+float ray_p[N + 1];        // f(mid + tau d) = sum_k ray_p[k] tau^k
+float segment_p[N + 1];    // f(s a + t b) = sum_i segment_p[i] s^(n-i) t^i
+float segment_f[D + 1];    // F on the segment, Bernstein basis
+float node_f[D + 1];       // F on the current piece of the segment, Bernstein basis
+
+void init_binomials() {
+    uint c = 1u;
+    [[unroll]] for (int k = 0; k <= D; ++k) {
+        binomial[k] = float(c);  // exact: C(26, 13) < 2^24
+        c = c * uint(D - k) / uint(k + 1);
+    }
+    c = 1u;
+    [[unroll]] for (int k = 0; k <= N; ++k) {
+        binomial_n[k] = float(c);
+        c = c * uint(N - k) / uint(k + 1);
+    }
+}
+
+// p <- p (c0 + c1 tau) for p of degree < top (p[top] = 0 on entry).
+void times_linear(inout float p[N + 1], int top, float c0, float c1) {
+    [[unroll]] for (int step = 0; step < N; ++step) {
+        int i = top - step;
+        if (i >= 1) {
+            p[i] = p[i] * c0 + p[i - 1] * c1;
+        }
+    }
+    p[0] *= c0;
+}
+
+// ray_p: the coefficients of f(a + tau b), called with a = mid and b = d.
+void ray_polynomial(vec3 a, vec3 b) {
+    // f = sum over x powers (descending) of x^(n-m) P_m(y, z), Horner in x; each P_m is
+    // Horner in y with z powers growing (glyph_c's monomial order, as in
+    // GlyphPolynomial::along_line). Numbers become linear polynomials in tau. This is
+    // exact algebra: each coefficient is rounded relative to the sizes of its own terms,
+    // ~|mid|^(n-k) |d|^k, so the small ones near the centre stay accurate.
+    [[unroll]] for (int i = 0; i <= N; ++i) {
+        ray_p[i] = 0.0;
+    }
+    // (a.z + tau b.z)^j, shared by every P_m.
+    float z_pow[N + 1][N + 1];
+    [[unroll]] for (int j = 0; j <= N; ++j) {
+        [[unroll]] for (int i = 0; i <= N; ++i) {
+            z_pow[j][i] = i == 0 && j == 0 ? 1.0 : 0.0;
+        }
+        if (j > 0) {
+            z_pow[j] = z_pow[j - 1];
+            times_linear(z_pow[j], j, a.z, b.z);
+        }
+    }
+    int k = 0;
+    [[unroll]] for (int m = 0; m <= N; ++m) {
+        float yz[N + 1];
+        [[unroll]] for (int i = 0; i <= N; ++i) {
+            yz[i] = 0.0;
+        }
+        [[unroll]] for (int j = 0; j <= N; ++j) {
+            if (j <= m) {
+                times_linear(yz, j, a.y, b.y);
+                float c = glyph_c[k];
+                k += 1;
+                [[unroll]] for (int i = 0; i <= N; ++i) {
+                    if (i <= j) {
+                        yz[i] += c * z_pow[j][i];
+                    }
+                }
+            }
+        }
+        times_linear(ray_p, m, a.x, b.x);
+        [[unroll]] for (int i = 0; i <= N; ++i) {
+            if (i <= m) {
+                ray_p[i] += yz[i];
+            }
+        }
+    }
+}
+
+// segment_p and segment_f for the segment tau in [tau0, tau1] (ray order), which does not
+// pass mid. p is re-expanded about the segment's end nearer mid (a Taylor shift, small
+// there) and scaled to u in [0, 1], then turned into the Bernstein basis by prefix sums,
+// and into the coefficients of the form of degree n in (s, t) = (1 - u, u).
+void segment_polynomials(vec3 mid, vec3 d, float tau0, float tau1) {
+    bool reversed = abs(tau1) < abs(tau0);
+    float near = reversed ? tau1 : tau0;
+    float width = reversed ? tau0 - tau1 : tau1 - tau0;
+    float e[N + 1] = ray_p;
+    [[unroll]] for (int i = 0; i < N; ++i) {
+        [[unroll]] for (int step = 0; step < N; ++step) {
+            int j = N - 1 - step;
+            if (j >= i) {
+                e[j] += near * e[j + 1];
+            }
+        }
+    }
+    float width_pow = 1.0;
+    [[unroll]] for (int j = 0; j <= N; ++j) {
+        e[j] *= width_pow / binomial_n[j];
+        width_pow *= width;
+    }
+    [[unroll]] for (int r = 0; r < N; ++r) {
+        [[unroll]] for (int step = 0; step < N; ++step) {
+            int i = N - step;
+            if (i > r) {
+                e[i] += e[i - 1];
+            }
+        }
+    }
+    [[unroll]] for (int i = 0; i <= N; ++i) {
+        segment_p[i] = binomial_n[i] * (reversed ? e[N - i] : e[i]);
+    }
+    vec3 a = mid + tau0 * d;
+    vec3 b = mid + tau1 * d;
+
+    // F = p^2 (s + t)^2 - (q . q)^(n+1) as a form of degree D; (s + t)^2 = 1 lifts p^2 to
+    // degree D. q . q = a.a s^2 + 2 a.b s t + b.b t^2 has positive coefficients on a
+    // segment that does not pass mid, so its power is computed without cancellation.
+    float form[D + 1];
+    float radial[D + 1];
+    [[unroll]] for (int i = 0; i <= D; ++i) {
+        form[i] = 0.0;
+        radial[i] = 0.0;
+    }
+    [[unroll]] for (int i = 0; i <= N; ++i) {
+        [[unroll]] for (int j = 0; j <= N; ++j) {
+            form[i + j] += segment_p[i] * segment_p[j];
+        }
+    }
+    [[unroll]] for (int step = 0; step < D - 1; ++step) {
+        int i = D - step;
+        form[i] += 2.0 * form[i - 1] + form[i - 2];
+    }
+    form[1] += 2.0 * form[0];
+    vec3 q = vec3(dot(a, a), 2.0 * dot(a, b), dot(b, b));
+    radial[0] = 1.0;
+    [[unroll]] for (int m = 0; m <= N; ++m) {
+        [[unroll]] for (int step = 0; step < D - 1; ++step) {
+            int i = 2 * m + 2 - step;
+            if (i >= 2) {
+                radial[i] = radial[i] * q.x + radial[i - 1] * q.y + radial[i - 2] * q.z;
+            }
+        }
+        radial[1] = radial[1] * q.x + radial[0] * q.y;
+        radial[0] *= q.x;
+    }
+    [[unroll]] for (int i = 0; i <= D; ++i) {
+        segment_f[i] = (form[i] - radial[i]) / binomial[i];
+    }
+}
+
+// node_f <- F on [u0, u1] of the segment: two de Casteljau splits of segment_f.
+void node_polynomial(float u0, float u1) {
+    [[unroll]] for (int i = 0; i <= D; ++i) {
+        node_f[i] = segment_f[i];
+    }
+    if (u1 < 1.0) {
+        // Keep [0, u1]: after pass r, node_f[r] is the left end of de Casteljau's row r.
+        [[unroll]] for (int r = 1; r <= D; ++r) {
+            [[unroll]] for (int step = 0; step < D; ++step) {
+                int i = D - step;
+                if (i >= r) {
+                    node_f[i] = mix(node_f[i - 1], node_f[i], u1);
+                }
+            }
+        }
+    }
+    if (u0 > 0.0) {
+        // Keep [u0 / u1, 1] of that: node_f[i] ends as the right end of row D - i.
+        float s = u0 / u1;
+        [[unroll]] for (int r = 1; r <= D; ++r) {
+            [[unroll]] for (int i = 0; i < D; ++i) {
+                if (i <= D - r) {
+                    node_f[i] = mix(node_f[i], node_f[i + 1], s);
+                }
+            }
+        }
+    }
+}
+
+// Sign changes of node_f, zeros skipped: an upper bound on the number of roots of F on
+// the piece, of the same parity (Descartes' rule in the Bernstein basis).
+int sign_changes() {
+    int changes = 0;
+    float last = 0.0;
+    [[unroll]] for (int i = 0; i <= D; ++i) {
+        float b = node_f[i];
+        if (b != 0.0) {
+            changes += (last != 0.0 && (b > 0.0) != (last > 0.0)) ? 1 : 0;
+            last = b;
+        }
+    }
+    return changes;
+}
+
+// Value (its sign) and Newton step v / v' of the piece's polynomial at x in (0, 1), in
+// O(D): v = (1 - y)^D P(y / (1 - y)), P = sum C(D, k) b_k r^k, with y = x and b = node_f
+// for x <= 1/2, or the mirror image y = 1 - x and b reversed, so that the powers never
+// overflow and need not be formed (one Horner pass for every lane).
+void node_newton(float x, out float value, out float step) {
+    bool mirror = x > 0.5;
+    float y = mirror ? 1.0 - x : x;
+    float r = y / (1.0 - y);
+    value = 0.0;
+    float slope = 0.0;
+    [[unroll]] for (int i = 0; i <= D; ++i) {
+        int k = D - i;
+        slope = slope * r + value;
+        value = value * r + binomial[k] * (mirror ? node_f[D - k] : node_f[k]);
+    }
+    // dv/dy = (1 - y)^(D-2) (P' - D (1 - y) P), and dx = -dy in the mirror.
+    float step_y = (1.0 - y) * (1.0 - y) * value / (slope - float(D) * (1.0 - y) * value);
+    step = mirror ? -step_y : step_y;
+}
+
+// The root in (0, 1) of the piece's polynomial, whose end values differ in sign; the piece
+// spans tau = tau_at_0 + x tau_per_x. Newton starts where the control polygon first
+// crosses zero and steps on G = F / |q|^(2n) = f(q^)^2 - |q|^2 rather than on F: G is
+// O(1) and nearly linear where F spans the |q|^(2n) orders of magnitude between the centre
+// and the sphere, which slows Newton on F to a crawl. With R = |q|^2 = |mid|^2 + tau^2 |d|^2,
+// G / G' = F / (F' - n F R' / R). Bracketed: bisection when a step leaves the bracket or
+// fails to halve. Measured: 3 to 5 steps, at most ~12, to float resolution.
+float node_root(float tau_at_0, float tau_per_x, float mid2, float d2) {
+    float lo = 0.0;
+    float hi = 1.0;
+    bool lo_positive = node_f[0] > 0.0;
+    float x = 0.5;
+    bool crossed = false;
+    [[unroll]] for (int i = 0; i < D; ++i) {
+        float b0 = node_f[i];
+        float b1 = node_f[i + 1];
+        if (!crossed && (b1 > 0.0) != lo_positive) {
+            x = (float(i) + b0 / (b0 - b1)) / float(D);
+            crossed = true;
+        }
+    }
+    x = clamp(x, 1e-6, 1.0 - 1e-6);
+    float step_before = 1.0;
+    for (int i = 0; i < NEWTON_STEPS; ++i) {
+        float value, step_f;
+        node_newton(x, value, step_f);
+        if ((value > 0.0) == lo_positive) {
+            lo = x;
+        } else {
+            hi = x;
+        }
+        float tau = tau_at_0 + x * tau_per_x;
+        float r = mid2 + tau * tau * d2;
+        float r_slope = 2.0 * d2 * tau * tau_per_x;
+        float step = step_f / (1.0 - float(N) * r_slope / r * step_f);
+        // Done when the step is below float resolution (about 2 ulps of x).
+        float resolution = 1.2e-7 * max(x, 0.25);
+        if (abs(step) <= resolution) {
+            x = clamp(x - step, lo, hi);
+            break;
+        }
+        float next = x - step;
+        // Newton only while it stays in the bracket and at least halves its step.
+        if (!(next > lo && next < hi && abs(step) < 0.5 * step_before)) {
+            next = 0.5 * (lo + hi);
+        }
+        step_before = abs(next - x);
+        bool stalled = next == x;
+        x = next;
+        if (stalled || hi - lo <= resolution) {
+            break;
+        }
+    }
+    return x;
+}
+
+// Sign of f at u on the segment (the hide filter), from the form's coefficients.
+float segment_p_sign(float u) {
+    float value = 0.0;
+    if (u <= 0.5) {
+        float r = u / (1.0 - u);
+        [[unroll]] for (int step = 0; step <= N; ++step) {
+            value = value * r + segment_p[N - step];
+        }
+    } else {
+        float w = (1.0 - u) / u;
+        [[unroll]] for (int i = 0; i <= N; ++i) {
+            value = value * w + segment_p[i];
+        }
+    }
+    return value;
+}
+
+bool hide_negative() {
+    return glyph_set.hide_negative != 0u;
+}
+
+// Inside at an end of the segment (u = 0 or 1), from the end coefficients.
+bool segment_inside(bool at_end) {
+    float f = at_end ? segment_f[D] : segment_f[0];
+    float p = at_end ? segment_p[N] : segment_p[0];
+    return f > 0.0 && (!hide_negative() || p > 0.0);
+}
+
+// First sign change of g on [tau0, tau1], sampled at `samples` steps and refined by
+// regula falsi (Illinois). `state` is the inside state before tau0 (-1: unknown) and
+// becomes the one at tau1.
+bool march_piece(vec3 mid, vec3 d, float tau0, float tau1, int samples, inout int state,
+                 out float tau) {
+    tau = tau0;
+    float t_prev = tau0;
+    float g_prev = inside(mid + tau0 * d);
+    if (state >= 0 && (g_prev > 0.0) != (state == 1)) {
+        return true;
+    }
+    for (int i = 1; i <= samples; ++i) {
+        float t = mix(tau0, tau1, float(i) / float(samples));
+        float g = inside(mid + t * d);
+        if ((g > 0.0) != (g_prev > 0.0)) {
+            float t0 = t_prev, g0 = g_prev, t1 = t, g1 = g;
+            int stuck = 0;
+            for (int k = 0; k < ILLINOIS_STEPS; ++k) {
+                float tm = t0 + (t1 - t0) * (g0 / (g0 - g1));
+                float gm = inside(mid + tm * d);
+                if ((gm > 0.0) == (g1 > 0.0)) {
+                    t1 = tm; g1 = gm;
+                    if (stuck == 1) { g0 *= 0.5; }
+                    stuck = 1;
+                } else {
+                    t0 = tm; g0 = gm;
+                    if (stuck == -1) { g1 *= 0.5; }
+                    stuck = -1;
+                }
+            }
+            tau = t0 + (t1 - t0) * (g0 / (g0 - g1));
+            return true;
+        }
+        t_prev = t;
+        g_prev = g;
+    }
+    state = g_prev > 0.0 ? 1 : 0;
+    return false;
+}
+
+// First crossing on the segment tau in [tau0, tau1] (not passing mid) by Bernstein
+// subdivision; `state` as for march_piece. If the budget of pieces runs out, the part of
+// the segment from `unsolved` on is left to the caller (otherwise unsolved = tau1).
+bool polynomial_piece(vec3 mid, vec3 d, float tau0, float tau1, inout int state,
+                      out float tau, out float unsolved) {
+    tau = tau0;
+    unsolved = tau1;
+    segment_polynomials(mid, d, tau0, tau1);
+    bool start_inside = segment_inside(false);
+    if (state >= 0 && start_inside != (state == 1)) {
+        return true;  // the crossing is at the junction with the previous piece
+    }
+    // Pieces are visited in ray order; `before` is the sign of F where the last one ended,
+    // so that a root on a shared end, rounded differently by the two pieces, is not lost.
+    int level = 0;
+    uint index = 0u;
+    bool before = segment_f[0] > 0.0;
+    for (int visited = 0; visited < MAX_NODES; ++visited) {
+        float width = exp2(-float(level));
+        float u0 = float(index) * width;
+        float u1 = u0 + width;
+        node_polynomial(u0, u1);
+        if (visited > 0 && (node_f[0] > 0.0) != before) {
+            float u = u0;
+            if (!hide_negative() || segment_p_sign(u) > 0.0) {
+                tau = mix(tau0, tau1, u);
+                return true;
+            }
+        }
+        int changes = sign_changes();
+        if (changes >= 2 && level < MAX_LEVEL) {
+            level += 1;
+            index *= 2u;
+            continue;
+        }
+        // An odd number of roots on the piece: one, when it is fully split.
+        if (changes >= 1 && (node_f[0] > 0.0) != (node_f[D] > 0.0)) {
+            float u = mix(u0, u1, node_root(mix(tau0, tau1, u0), (tau1 - tau0) * (u1 - u0),
+                                             dot(mid, mid), dot(d, d)));
+            if (!hide_negative() || segment_p_sign(u) > 0.0) {
+                tau = mix(tau0, tau1, u);
+                return true;
+            }
+        }
+        before = node_f[D] > 0.0;
+        while ((index & 1u) == 1u) {
+            index >>= 1;
+            level -= 1;
+        }
+        if (level == 0) {
+            state = segment_inside(true) ? 1 : 0;
+            return false;
+        }
+        index += 1u;
+    }
+    // Out of budget (never seen in the tests): the rest of the segment is sampled.
+    unsolved = mix(tau0, tau1, float(index) * exp2(-float(level)));
+    state = -1;
+    return false;
+}
+
+// First crossing along q = mid + tau d, tau in [tau_start, 1], through three pieces:
+// polynomial on [tau_start, -tau_c], sampled in the centre zone [-tau_c, tau_c] (empty when
+// the ray passes farther than CENTRE_RADIUS from the centre), polynomial on [tau_c, 1].
+// One loop with one call of each kind keeps the unrolled shader half as long.
+bool first_crossing(vec3 mid, vec3 d, float tau_start, out float tau) {
+    float a = dot(mid, mid);
+    float r2 = CENTRE_RADIUS * CENTRE_RADIUS;
+    float tau_c = a < r2 ? sqrt(r2 - a) / length(d) : 0.0;
+    int state = -1;
+    tau = tau_start;
+    for (int piece = 0; piece < 3; ++piece) {
+        float lo = max(tau_start, piece == 0 ? -1.0 : (piece == 1 ? -tau_c : tau_c));
+        float hi = piece == 0 ? -tau_c : (piece == 1 ? tau_c : 1.0);
+        if (lo >= hi) {
+            continue;
+        }
+        float unsolved = lo;
+        if (piece != 1 && polynomial_piece(mid, d, lo, hi, state, tau, unsolved)) {
+            return true;
+        }
+        if (unsolved < hi
+                && march_piece(mid, d, unsolved, hi, CENTRE_SAMPLES, state, tau)) {
+            return true;
+        }
+    }
+    return false;
+}
+
+void main() {
+    GlyphRay ray;
+    if (!glyph_ray_within(CHORD_RADIUS, ray)) {
+        discard;
+    }
+    init_binomials();
+    glyph_load(v_glyph);
+    float h = ray.s_end;  // the half chord
+    ray_polynomial(ray.mid, h * ray.dir);
+    float tau;
+    if (!first_crossing(ray.mid, h * ray.dir, ray.s_start / h, tau)) {
+        discard;
+    }
+    shade_hit(ray, tau * h);
+}
