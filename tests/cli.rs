@@ -517,3 +517,40 @@ fn bench_quick_table2_writes_valid_csv_and_json() {
     let markdown = std::fs::read_to_string(dir.join("results.md")).expect("results.md");
     assert!(markdown.contains("Ratios"), "{markdown}");
 }
+
+/// Without --method the default is exact; with an --offset it is affine (exact refuses
+/// offsets), and the render matches the float64 reference either way.
+#[test]
+fn the_default_method_follows_the_offset() {
+    let dir = fresh_dir("default-method");
+    let scene = scenes().join("order4_pair.json");
+    for offset in ["0", "0.1"] {
+        let npy = dir.join(format!("d{offset}.npy"));
+        let png = dir.join(format!("d{offset}.png"));
+        let out = glyphcast(&[
+            "render",
+            scene.to_str().expect("path"),
+            "-o",
+            png.to_str().expect("path"),
+            "--depth-out",
+            npy.to_str().expect("path"),
+            "--offset",
+            offset,
+            "--width",
+            "64",
+            "--height",
+            "48",
+        ]);
+        assert!(
+            out.status.success(),
+            "offset {offset}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let (shape, depth) = glyphcast::io::npy::read_npy_f32(&npy).expect("depth");
+        assert_eq!(shape, vec![48, 64]);
+        assert!(
+            depth.iter().filter(|d| !d.is_nan()).count() > 100,
+            "offset {offset}: glyphs drawn"
+        );
+    }
+}

@@ -13,7 +13,11 @@ pub struct AccuracyArgs {
     size: u32,
     /// Methods to measure, comma separated: fixed, interval, affine, impostor,
     /// mesh:LEVEL, latlong:N.
-    #[arg(long, default_value = "fixed,interval,affine,exact", value_delimiter = ',')]
+    #[arg(
+        long,
+        default_value = "fixed,interval,affine,exact",
+        value_delimiter = ','
+    )]
     methods: Vec<String>,
     /// March steps of the fixed-step method, comma separated.
     #[arg(long, default_value = "0.01,0.02,0.05,0.1,0.2", value_delimiter = ',')]

@@ -29,7 +29,7 @@ pub struct BenchArgs {
     sweep: Option<String>,
     /// Method of a single measurement: fixed, interval, affine, impostor, mesh:LEVEL or
     /// latlong:N.
-    #[arg(long, default_value = "affine")]
+    #[arg(long, default_value = "exact")]
     method: String,
     /// Also compare a single measurement with the float64 reference.
     #[arg(long)]

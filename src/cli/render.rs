@@ -91,9 +91,10 @@ pub struct RenderArgs {
     /// How glyphs are drawn: fixed (ray casting at a fixed step), interval or affine
     /// (robust ray casting by range arithmetic), exact (first real root of the ray
     /// polynomial; offset 0 only), impostor (bounding spheres), mesh:LEVEL (icosphere,
-    /// 0 to 7) or latlong:N (N latitude bands) tessellations.
-    #[arg(long, default_value = "affine")]
-    method: String,
+    /// 0 to 7) or latlong:N (N latitude bands) tessellations. Default: exact, or affine
+    /// with an --offset (offset glyphs are no polynomial surfaces).
+    #[arg(long)]
+    method: Option<String>,
     /// Robust methods: segment length limit, in pixels at the segment's depth.
     #[arg(long, value_name = "PX")]
     precision: Option<f32>,
@@ -137,8 +138,13 @@ impl RenderArgs {
     }
 
     pub fn settings(&self) -> Result<RenderSettings> {
+        let method = match &self.method {
+            Some(name) => name.parse::<Method>()?,
+            None if self.offset != 0.0 => Method::Affine,
+            None => RenderSettings::default().method,
+        };
         let mut s = RenderSettings {
-            method: self.method.parse::<Method>()?,
+            method,
             ..Default::default()
         };
         if let Some(step) = self.step {
