@@ -85,14 +85,44 @@ fn prepare_set(set: &GlyphSet, index: usize, offset: f64) -> Result<GlyphSetData
         coefficients: Vec::with_capacity(set.len() * layout.coefficient_count()),
         world: Vec::with_capacity(set.len()),
     };
-    for ((center, scale), coeffs) in set.centers.iter().zip(&set.scales).zip(&set.coeffs) {
-        let coeffs = tensor_coefficients(set, coeffs)
-            .map_err(|e| Error::Invalid(format!("glyphs[{index}]: {e}")))?;
-        let poly = GlyphPolynomial::from_tensor(layout, &coeffs)?;
-        let bound = bounding_radius(&poly, set.negative);
-        if !(bound > 0.0 && bound.is_finite()) {
+    // The bound of each glyph is the costly part (up to a few ms at order 12): glyphs
+    // are bounded on every core, in contiguous chunks so the order is kept.
+    let threads = std::thread::available_parallelism().map_or(1, usize::from);
+    let chunk = set.len().div_ceil(threads).max(1);
+    let bounded: Vec<Result<Vec<Option<Bounded>>>> = std::thread::scope(|scope| {
+        let workers: Vec<_> = set
+            .coeffs
+            .chunks(chunk)
+            .map(|coeffs| {
+                scope.spawn(move || {
+                    coeffs
+                        .iter()
+                        .map(|c| bound_glyph(set, layout, index, c))
+                        .collect()
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            .map(|w| {
+                w.join()
+                    .unwrap_or_else(|_| Err(Error::Invalid("glyph bounding thread failed".into())))
+            })
+            .collect()
+    });
+    let mut bounded_glyphs = Vec::with_capacity(set.len());
+    for part in bounded {
+        bounded_glyphs.extend(part?);
+    }
+    for ((center, scale), glyph) in set.centers.iter().zip(&set.scales).zip(bounded_glyphs) {
+        let Some(Bounded {
+            coeffs,
+            poly,
+            bound,
+        }) = glyph
+        else {
             continue;
-        }
+        };
         let half_size = scale * bound * (1.0 + offset);
         data.instances.push([
             center.x as f32,
@@ -112,4 +142,30 @@ fn prepare_set(set: &GlyphSet, index: usize, offset: f64) -> Result<GlyphSetData
         });
     }
     Ok(data)
+}
+
+/// A glyph's tensor coefficients, polynomial and bound B.
+struct Bounded {
+    coeffs: Vec<f64>,
+    poly: GlyphPolynomial,
+    bound: f64,
+}
+
+/// `None` for a glyph with an empty surface (zero tensor).
+fn bound_glyph(
+    set: &GlyphSet,
+    layout: TensorLayout,
+    index: usize,
+    coeffs: &[f64],
+) -> Result<Option<Bounded>> {
+    let coeffs = tensor_coefficients(set, coeffs)
+        .map_err(|e| Error::Invalid(format!("glyphs[{index}]: {e}")))?
+        .into_owned();
+    let poly = GlyphPolynomial::from_tensor(layout, &coeffs)?;
+    let bound = bounding_radius(&poly, set.negative);
+    Ok((bound > 0.0 && bound.is_finite()).then_some(Bounded {
+        coeffs,
+        poly,
+        bound,
+    }))
 }
