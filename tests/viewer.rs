@@ -343,3 +343,62 @@ fn bad_script_is_refused_before_a_window_opens() {
     assert_eq!(output.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("--script: 'explode'"), "{stderr}");
 }
+
+#[test]
+fn three_slices_move_one_at_a_time() {
+    let Some(x) = Xvfb::start("three_slices_move_one_at_a_time") else {
+        return;
+    };
+    let volume = data("tests/data/dipy/func_coef.nii.gz");
+    let (shot, seen) = (out("slices-shot.png"), out("slices-scene.json"));
+    // From the middles: the coronal slice one on, the axial one back.
+    let script = "active:2,slice:+1,active:3,slice:-1,wait";
+    let args = [
+        "--sh",
+        &volume,
+        "--basis",
+        "tournier07",
+        "--legacy",
+        "--slices",
+        "mid",
+        "--width",
+        "160",
+        "--height",
+        "120",
+        "--frames",
+        "8",
+        "--script",
+        script,
+        "--screenshot",
+        path_str(&shot),
+        "--save-scene",
+        path_str(&seen),
+    ];
+    let output = x.view(&args);
+    assert_clean(&output);
+
+    let sh = glyphcast::volume::VolumeKind::Sh {
+        basis: glyphcast::io::scene::ShBasis::Tournier07,
+        legacy: true,
+    };
+    let loaded = glyphcast::volume::load_volume(Path::new(&volume), sh).expect("the volume");
+    let middle = loaded.dims.map(|n| n / 2);
+    let planes = [middle[0], middle[1] + 1, middle[2] - 1];
+    let map = &loaded.voxel_to_world;
+    let (origin, inverse) = (map.voxel_center(glam::DVec3::ZERO), map.linear().inverse());
+    let scene = glyphcast::io::scene::Scene::load(&seen).expect("the saved scene");
+    assert_eq!(scene.glyph_sets.len(), 3, "one glyph set per slice");
+    for (axis, set) in scene.glyph_sets.iter().enumerate() {
+        assert!(!set.centers.is_empty(), "set {axis} is empty");
+        for center in &set.centers {
+            let voxel = inverse * (*center - origin);
+            assert!(
+                (voxel[axis] - planes[axis] as f64).abs() < 1e-6,
+                "set {axis}: a glyph at voxel {voxel} is off the plane {}",
+                planes[axis]
+            );
+        }
+    }
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!stderr.contains("active slice: only"), "{stderr}");
+}

@@ -38,7 +38,7 @@ impl SceneSource {
                 let (volume, options, view) = self.volume.view(image)?;
                 Ok(ViewSource::Volume {
                     volume: Box::new(volume),
-                    options,
+                    options: Box::new(options),
                     view: Box::new(view),
                 })
             }

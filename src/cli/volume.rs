@@ -46,6 +46,11 @@ pub struct VolumeArgs {
     /// (default: the middle axial slice).
     #[arg(long, value_name = "AXIS[:INDEX]", help_heading = "Volume input")]
     pub slice: Option<String>,
+    /// Three orthogonal slices at once instead of --slice: voxel indices I,J,K of the
+    /// sagittal, coronal and axial slice, or mid (the middle of each); seen in perspective
+    /// from anterior-superior-left.
+    #[arg(long, value_name = "I,J,K|mid", help_heading = "Volume input")]
+    pub slices: Option<String>,
     /// Voxel index ranges i0:i1,j0:j1,k0:k1 (end exclusive, ends optional), intersected
     /// with the slice.
     #[arg(long, value_name = "RANGES", help_heading = "Volume input")]
@@ -85,6 +90,7 @@ impl VolumeArgs {
             ("--order", self.order.is_some()),
             ("--nonsymmetric", self.nonsymmetric),
             ("--slice", self.slice.is_some()),
+            ("--slices", self.slices.is_some()),
             ("--voxels", self.voxels.is_some()),
             ("--mask", self.mask.is_some()),
             ("--scale", self.scale.is_some()),
@@ -174,7 +180,13 @@ impl VolumeArgs {
 
     /// Everything but the mask, which is read after the volume.
     fn options(&self, image: ImageRequest) -> Result<VolumeOptions> {
+        if self.slice.is_some() && self.slices.is_some() {
+            return Err(Error::Invalid(
+                "give either --slice or --slices, not both".into(),
+            ));
+        }
         Ok(VolumeOptions {
+            slices: self.slices.as_deref().map(str::parse).transpose()?,
             slice: self
                 .slice
                 .as_deref()
@@ -216,11 +228,15 @@ fn report(view: &VolumeScene, file: &str) {
             r.non_finite
         );
     }
-    let axis = ["i", "j", "k"][view.region.slice.voxel_axis()];
+    let slices: Vec<String> = view
+        .regions
+        .iter()
+        .map(|r| format!("{}={}", ["i", "j", "k"][r.slice.voxel_axis()], r.index))
+        .collect();
     eprintln!(
-        "volume: {file}: slice {axis}={}: {} glyphs from {} voxels ({} masked out, {} not \
+        "volume: {file}: slice {}: {} glyphs from {} voxels ({} masked out, {} not \
          finite, {} zero, {} below --min-amplitude)",
-        view.region.index,
+        slices.join(" "),
         r.drawn,
         r.selected,
         r.masked_out,

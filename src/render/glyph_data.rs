@@ -76,7 +76,8 @@ pub fn prepare_scene(scene: &Scene, offset: f64) -> Result<Vec<GlyphSetData>> {
         .collect()
 }
 
-fn prepare_set(set: &GlyphSet, index: usize, offset: f64) -> Result<GlyphSetData> {
+/// Prepares one glyph set, the `index`-th of its scene.
+pub fn prepare_set(set: &GlyphSet, index: usize, offset: f64) -> Result<GlyphSetData> {
     let layout = tensor_layout(set);
     let mut data = GlyphSetData {
         layout,

@@ -272,6 +272,9 @@ impl App {
             Action::Slice(delta) => {
                 content.move_slice(delta)?;
             }
+            Action::ActiveSlice(axis) => {
+                content.set_active_slice(axis);
+            }
             Action::Orbit(dx, dy) => orbit::orbit(&mut content.camera, dx, dy, height),
             Action::Pan(dx, dy) => orbit::pan(&mut content.camera, dx, dy, height),
             Action::Zoom(factor) => orbit::zoom(&mut content.camera, factor),

@@ -9,7 +9,7 @@ use crate::glyph::NegativeMode;
 use crate::io::scene::Scene;
 use crate::render::RenderSettings;
 use crate::render::frame::{FrameParams, SceneExtent};
-use crate::render::glyph_data::{GlyphSetData, prepare_scene};
+use crate::render::glyph_data::{GlyphSetData, prepare_scene, prepare_set};
 use crate::volume::{SliceRegion, Volume, VolumeOptions, VolumeScene, frame_region, volume_scene};
 use crate::{Error, Result};
 use std::ops::Range;
@@ -22,18 +22,20 @@ pub enum ViewSource {
     /// caller has shown); the slice can then be moved through the volume.
     Volume {
         volume: Box<Volume>,
-        options: VolumeOptions,
+        options: Box<VolumeOptions>,
         view: Box<VolumeScene>,
     },
 }
 
-/// The volume behind a volume view, and where its slice is.
+/// The volume behind a volume view, and where its slice (or three slices) are.
 struct VolumeSlice {
     volume: Box<Volume>,
     options: VolumeOptions,
-    /// The slice's index along its voxel axis, and the indices it may take.
-    index: usize,
-    indices: Range<usize>,
+    /// Each voxel axis's slice index, and the indices it may take; only the `active`
+    /// axis's is shown unless `options.slices` is set.
+    index: [usize; 3],
+    indices: [Range<usize>; 3],
+    active: usize,
     /// The framing camera's target for the current slice: moving the slice moves the
     /// camera by the change of this point, so the view stays on the slice.
     framed_target: glam::DVec3,
@@ -62,16 +64,22 @@ impl Content {
                 options,
                 view,
             } => {
-                let axis = view.region.slice.voxel_axis();
-                let (lo, hi) = options.voxels.axes[axis].unwrap_or((None, None));
-                let length = volume.dims[axis];
-                let indices = lo.unwrap_or(0).min(length)..hi.unwrap_or(length).min(length);
+                let indices = std::array::from_fn(|axis| {
+                    let (lo, hi) = options.voxels.axes[axis].unwrap_or((None, None));
+                    let length = volume.dims[axis];
+                    lo.unwrap_or(0).min(length)..hi.unwrap_or(length).min(length)
+                });
+                let mut index = [0; 3];
+                for region in &view.regions {
+                    index[region.slice.voxel_axis()] = region.index;
+                }
                 let slice = VolumeSlice {
                     framed_target: view.scene.camera.target,
-                    index: view.region.index,
+                    index,
                     indices,
+                    active: view.region.slice.voxel_axis(),
                     volume,
-                    options,
+                    options: *options,
                 };
                 (view.scene, Some(slice))
             }
@@ -106,51 +114,94 @@ impl Content {
         scene
     }
 
-    /// "k=3 of 0..4" for a volume, None for a scene file.
+    /// "k=3 of 0..4" for a volume ("i=1 j=2 [k=3]" with three slices, the active one in
+    /// brackets), None for a scene file.
     pub fn slice_label(&self) -> Option<String> {
         self.volume.as_ref().map(|v| {
-            let axis = ["i", "j", "k"][v.options.slice.axis.voxel_axis()];
             let empty = if self.sets.iter().all(|s| s.is_empty()) {
                 " (empty)"
             } else {
                 ""
             };
-            format!(
-                "{axis}={} of {}..{}{empty}",
-                v.index, v.indices.start, v.indices.end
-            )
+            let name = |axis: usize| format!("{}={}", ["i", "j", "k"][axis], v.index[axis]);
+            if v.options.slices.is_some() {
+                let names: Vec<String> = (0..3)
+                    .map(|axis| {
+                        if axis == v.active {
+                            format!("[{}]", name(axis))
+                        } else {
+                            name(axis)
+                        }
+                    })
+                    .collect();
+                format!("{}{empty}", names.join(" "))
+            } else {
+                let range = &v.indices[v.active];
+                format!(
+                    "{} of {}..{}{empty}",
+                    name(v.active),
+                    range.start,
+                    range.end
+                )
+            }
         })
     }
 
-    /// Moves the slice by `delta` (clamped to the volume and --voxels); returns whether it
-    /// moved. A slice with nothing to draw is shown empty, with the reason on stderr.
+    /// With three slices, makes the slice perpendicular to voxel axis `axis` (0 = i,
+    /// sagittal; 1 = j, coronal; 2 = k, axial) the one that moves; returns whether it
+    /// changed.
+    pub fn set_active_slice(&mut self, axis: usize) -> bool {
+        match self.volume.as_mut() {
+            Some(v) if v.options.slices.is_some() && axis < 3 => {
+                let changed = v.active != axis;
+                v.active = axis;
+                changed
+            }
+            _ => {
+                eprintln!("active slice: only a view of three slices (--slices) has one to choose");
+                false
+            }
+        }
+    }
+
+    /// Moves the (active) slice by `delta` (clamped to the volume and --voxels); returns
+    /// whether it moved. A slice with nothing to draw is shown empty, with the reason on
+    /// stderr.
     pub fn move_slice(&mut self, delta: i64) -> Result<bool> {
         let Some(v) = self.volume.as_mut() else {
             eprintln!("slice: a scene file has no slices to move through");
             return Ok(false);
         };
-        let last = v.indices.end.saturating_sub(1) as i64;
-        let index = (v.index as i64 + delta).clamp(v.indices.start as i64, last) as usize;
-        if index == v.index {
+        let axis = v.active;
+        let range = &v.indices[axis];
+        let last = range.end.saturating_sub(1) as i64;
+        let index = (v.index[axis] as i64 + delta).clamp(range.start as i64, last) as usize;
+        if index == v.index[axis] {
             return Ok(false);
         }
         let mut options = v.options.clone();
-        options.slice.index = Some(index);
         let volume = &v.volume;
-        let region = SliceRegion::new(volume.dims, options.slice, &options.voxels, &volume.file)?;
-        let framing = frame_region(
-            &region,
-            &volume.voxel_to_world,
-            options.projection,
-            options.image,
-        )?;
-        let shift = framing.camera.target - v.framed_target;
-        self.camera.eye += shift;
-        self.camera.target += shift;
-        self.home = framing.camera;
-        v.framed_target = framing.camera.target;
-        v.index = index;
-        self.scene.glyph_sets = match volume_scene(volume, &options) {
+        if let Some(slices) = options.slices.as_mut() {
+            // The three-slice camera frames the whole volume: it stays where it is.
+            slices.indices[axis] = Some(index);
+        } else {
+            options.slice.index = Some(index);
+            let region =
+                SliceRegion::new(volume.dims, options.slice, &options.voxels, &volume.file)?;
+            let framing = frame_region(
+                &region,
+                &volume.voxel_to_world,
+                options.projection,
+                options.image,
+            )?;
+            let shift = framing.camera.target - v.framed_target;
+            self.camera.eye += shift;
+            self.camera.target += shift;
+            self.home = framing.camera;
+            v.framed_target = framing.camera.target;
+        }
+        v.index[axis] = index;
+        let glyph_sets = match volume_scene(volume, &options) {
             Ok(view) => view.scene.glyph_sets,
             Err(Error::Input { message, .. }) => {
                 eprintln!("slice {index}: {message}");
@@ -158,7 +209,33 @@ impl Content {
             }
             Err(e) => return Err(e),
         };
-        self.rebuild()?;
+        v.options = options;
+        self.replace_sets(glyph_sets)
+    }
+
+    /// Puts `glyph_sets` into the scene, preparing only the sets that changed (with three
+    /// slices, moving one leaves the others' glyphs as they were).
+    fn replace_sets(&mut self, mut glyph_sets: Vec<crate::io::scene::GlyphSet>) -> Result<bool> {
+        if let Some(mode) = self.negative {
+            for set in &mut glyph_sets {
+                set.negative = mode;
+            }
+        }
+        let mut old: Vec<Option<GlyphSetData>> = std::mem::take(&mut self.sets)
+            .into_iter()
+            .map(Some)
+            .collect();
+        let mut sets = Vec::with_capacity(glyph_sets.len());
+        for (index, set) in glyph_sets.iter().enumerate() {
+            let same = self.scene.glyph_sets.get(index) == Some(set);
+            match old.get_mut(index).and_then(Option::take) {
+                Some(data) if same => sets.push(data),
+                _ => sets.push(prepare_set(set, index, self.settings.offset as f64)?),
+            }
+        }
+        self.scene.glyph_sets = glyph_sets;
+        self.sets = sets;
+        self.version += 1;
         Ok(true)
     }
 

@@ -23,6 +23,8 @@ pub enum Action {
     ToggleNegative,
     /// Move through the volume by this many slices.
     Slice(i64),
+    /// With three slices: the one that slice moves move (0 sagittal, 1 coronal, 2 axial).
+    ActiveSlice(usize),
     /// Drag in pixels: turn about the target, or slide the view.
     Orbit(f64, f64),
     Pan(f64, f64),
@@ -40,7 +42,7 @@ pub enum Action {
 pub const HELP: &str = "\
 mouse: left drag orbit, right/middle drag or shift+left drag pan, wheel zoom
 keys:  M method   [ ] march step finer/coarser   F refinement   C colour   N negative lobes
-       Up/PageUp, Down/PageDown slice +1/-1   R reset camera   S screenshot   H help   Q/Esc quit";
+       Up/PageUp, Down/PageDown slice +1/-1   1/2/3 active slice (--slices)   R reset camera   S screenshot   H help   Q/Esc quit";
 
 /// Refinements `F` steps through.
 const REFINEMENTS: [Refinement; 4] = [
@@ -68,6 +70,9 @@ pub fn key_action(key: &Key) -> Option<Action> {
             "s" => Action::Screenshot,
             "h" => Action::Help,
             "q" => Action::Quit,
+            "1" => Action::ActiveSlice(0),
+            "2" => Action::ActiveSlice(1),
+            "3" => Action::ActiveSlice(2),
             _ => return None,
         },
         _ => return None,
@@ -110,7 +115,8 @@ pub fn color_name(c: ColorMode) -> &'static str {
 
 /// Parses `--script`: comma-separated events, each applied on its own frame:
 /// `resize:WxH`, `method:NAME`, `step:S`, `refine:SPEC`, `color:MODE`,
-/// `negative:abs|hide|toggle`, `slice:+N|-N`, `orbit:DX:DY`, `pan:DX:DY`, `zoom:F`,
+/// `negative:abs|hide|toggle`, `slice:+N|-N`, `active:1|2|3` (sagittal, coronal, axial
+/// slice of `--slices`), `orbit:DX:DY`, `pan:DX:DY`, `zoom:F`,
 /// `reset`, `screenshot`, `wait`.
 pub fn parse_script(text: &str) -> Result<Vec<Action>> {
     text.split(',')
@@ -165,6 +171,12 @@ fn parse_event(item: &str) -> Result<Action> {
                 .ok_or_else(|| bad("expected a signed slice count such as +1 or -2"))?;
             Action::Slice(delta)
         }
+        "active" => match value {
+            "1" => Action::ActiveSlice(0),
+            "2" => Action::ActiveSlice(1),
+            "3" => Action::ActiveSlice(2),
+            _ => return Err(bad("expected 1, 2 or 3 (sagittal, coronal, axial)")),
+        },
         "orbit" => {
             let (dx, dy) = pair(value)?;
             Action::Orbit(dx, dy)
@@ -186,7 +198,7 @@ fn parse_event(item: &str) -> Result<Action> {
         _ => {
             return Err(bad(
                 "unknown event; expected resize, method, step, refine, color, negative, slice, \
-                 orbit, pan, zoom, reset, screenshot or wait",
+                 active, orbit, pan, zoom, reset, screenshot or wait",
             ));
         }
     })
@@ -195,6 +207,19 @@ fn parse_event(item: &str) -> Result<Action> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn active_slice_events_and_keys_choose_sagittal_coronal_axial() {
+        let script = parse_script("active:1,active:2,active:3").unwrap();
+        assert_eq!(
+            script,
+            [0, 1, 2].map(Action::ActiveSlice).to_vec(),
+            "active:N is 1-based"
+        );
+        assert!(parse_script("active:4").is_err());
+        let key = Key::Character("2".into());
+        assert_eq!(key_action(&key), Some(Action::ActiveSlice(1)));
+    }
 
     #[test]
     fn parses_the_events_of_a_script() {

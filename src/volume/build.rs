@@ -11,10 +11,10 @@ use std::str::FromStr;
 use glam::DVec3;
 
 use super::amplitude::max_radius;
-use super::framing::{ImageRequest, ViewProjection, frame_region};
+use super::framing::{ImageRequest, ViewProjection, frame_region, frame_volume};
 use super::input::{Mask, Volume, show_shape};
 use super::reorient::Reorientation;
-use super::selection::{Slice, SliceRegion, VoxelRanges};
+use super::selection::{Slice, SliceRegion, Slices, VoxelRanges};
 use crate::glyph::NegativeMode;
 use crate::io::scene::{GlyphKind, GlyphSet, Scene};
 use crate::{Error, Result};
@@ -39,6 +39,10 @@ pub enum Normalisation {
 #[derive(Clone, Debug, Default)]
 pub struct VolumeOptions {
     pub slice: Slice,
+    /// Three orthogonal slices instead of `slice`: one glyph set per slice (sagittal,
+    /// coronal, axial; a slice with nothing to draw has none), framed by a perspective
+    /// camera from anterior-superior-left whatever `projection` says.
+    pub slices: Option<Slices>,
     pub voxels: VoxelRanges,
     pub mask: Option<Mask>,
     /// World radius of the largest glyph (default: 0.45 * the smallest voxel size).
@@ -55,7 +59,7 @@ pub struct VolumeOptions {
 /// What happened to the voxels of the selection.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct VolumeReport {
-    /// Voxels of the slice within the ranges.
+    /// Voxels of the slice (or slices, each voxel once) within the ranges.
     pub selected: usize,
     pub masked_out: usize,
     /// Voxels with a NaN or infinite coefficient.
@@ -71,7 +75,10 @@ pub struct VolumeReport {
 pub struct VolumeScene {
     pub scene: Scene,
     pub report: VolumeReport,
+    /// The slice's region; with three slices, the first (sagittal) one.
     pub region: SliceRegion,
+    /// Every slice's region: one, or sagittal, coronal and axial.
+    pub regions: Vec<SliceRegion>,
 }
 
 impl FromStr for Normalisation {
@@ -96,10 +103,16 @@ struct Glyph {
     radius: f64,
 }
 
-/// The scene showing `options.slice` of `volume`.
+/// The scene showing `options.slice` (or `options.slices`) of `volume`.
 pub fn volume_scene(volume: &Volume, options: &VolumeOptions) -> Result<VolumeScene> {
     check_options(volume, options)?;
-    let region = SliceRegion::new(volume.dims, options.slice, &options.voxels, &volume.file)?;
+    let region = |slice| SliceRegion::new(volume.dims, slice, &options.voxels, &volume.file);
+    let regions = match options.slices {
+        Some(slices) => (0..3)
+            .map(|axis| region(slices.slice(axis)))
+            .collect::<Result<Vec<_>>>()?,
+        None => vec![region(options.slice)?],
+    };
     let kind = truncated_kind(volume, options.lmax)?;
     let map = &volume.voxel_to_world;
     let rotation = map.orthogonal_factor().ok_or_else(|| {
@@ -110,54 +123,82 @@ pub fn volume_scene(volume: &Volume, options: &VolumeOptions) -> Result<VolumeSc
         )
     })?;
     let reorientation = Reorientation::new(rotation);
-    let mut report = VolumeReport {
-        selected: region.len(),
-        ..Default::default()
-    };
-    let mut glyphs = Vec::new();
-    for voxel in region.voxels() {
-        if options.mask.as_ref().is_some_and(|mask| !mask.keeps(voxel)) {
-            report.masked_out += 1;
-            continue;
+    let mut report = VolumeReport::default();
+    let mut glyphs: Vec<Vec<Glyph>> = Vec::with_capacity(regions.len());
+    for (n, region) in regions.iter().enumerate() {
+        let mut drawn = Vec::new();
+        // A voxel where two slices cross belongs to the first of them only.
+        for voxel in region.voxels() {
+            if regions[..n].iter().any(|earlier| earlier.contains(voxel)) {
+                continue;
+            }
+            report.selected += 1;
+            if options.mask.as_ref().is_some_and(|mask| !mask.keeps(voxel)) {
+                report.masked_out += 1;
+                continue;
+            }
+            let mut coeffs = volume.coefficients(voxel);
+            if coeffs.iter().any(|c| !c.is_finite()) {
+                report.non_finite += 1;
+                continue;
+            }
+            coeffs.truncate(kind.coefficient_count());
+            let coeffs = reorientation.apply(kind, &coeffs)?;
+            let radius = max_radius(kind, &coeffs)?;
+            if radius <= 0.0 {
+                report.zero += 1;
+            } else if radius < options.min_amplitude {
+                report.below_min_amplitude += 1;
+            } else {
+                let center = map.voxel_center(DVec3::from_array(voxel.map(|v| v as f64)));
+                drawn.push(Glyph {
+                    center,
+                    coeffs,
+                    radius,
+                });
+            }
         }
-        let mut coeffs = volume.coefficients(voxel);
-        if coeffs.iter().any(|c| !c.is_finite()) {
-            report.non_finite += 1;
-            continue;
-        }
-        coeffs.truncate(kind.coefficient_count());
-        let coeffs = reorientation.apply(kind, &coeffs)?;
-        let radius = max_radius(kind, &coeffs)?;
-        if radius <= 0.0 {
-            report.zero += 1;
-        } else if radius < options.min_amplitude {
-            report.below_min_amplitude += 1;
-        } else {
-            let center = map.voxel_center(DVec3::from_array(voxel.map(|v| v as f64)));
-            glyphs.push(Glyph {
-                center,
-                coeffs,
-                radius,
-            });
-        }
+        glyphs.push(drawn);
     }
-    report.drawn = glyphs.len();
-    if glyphs.is_empty() {
-        return Err(nothing_to_draw(volume, &region, &report));
+    report.drawn = glyphs.iter().map(Vec::len).sum();
+    if report.drawn == 0 {
+        return Err(nothing_to_draw(volume, &regions, &report));
     }
     let scale = options
         .scale
         .unwrap_or_else(|| DEFAULT_SCALE_FRACTION * map.voxel_sizes().min_element());
-    let framing = frame_region(&region, map, options.projection, options.image)?;
-    let set = glyph_set(kind, glyphs, scale, options.norm);
+    let framing = match options.slices {
+        Some(_) => {
+            // The box the three slices span: each region is whole along the other axes.
+            let span = [
+                regions[1].ranges[0].clone(),
+                regions[0].ranges[1].clone(),
+                regions[0].ranges[2].clone(),
+            ];
+            frame_volume(&span, map, options.image)?
+        }
+        None => frame_region(&regions[0], map, options.projection, options.image)?,
+    };
+    // Global normalisation is over all slices together.
+    let largest = glyphs
+        .iter()
+        .flatten()
+        .map(|g| g.radius)
+        .fold(0.0, f64::max);
+    let glyph_sets = glyphs
+        .into_iter()
+        .filter(|g| !g.is_empty())
+        .map(|g| glyph_set(kind, g, scale, largest, options.norm))
+        .collect();
     Ok(VolumeScene {
         scene: Scene {
-            glyph_sets: vec![set],
+            glyph_sets,
             camera: framing.camera,
             image: framing.image,
         },
         report,
-        region,
+        region: regions[0].clone(),
+        regions,
     })
 }
 
@@ -223,27 +264,35 @@ fn truncated_kind(volume: &Volume, lmax: Option<u32>) -> Result<GlyphKind> {
     }
 }
 
-fn nothing_to_draw(volume: &Volume, region: &SliceRegion, report: &VolumeReport) -> Error {
+fn nothing_to_draw(volume: &Volume, regions: &[SliceRegion], report: &VolumeReport) -> Error {
+    let slices: Vec<String> = regions
+        .iter()
+        .map(|r| format!("{}={}", ["i", "j", "k"][r.slice.voxel_axis()], r.index))
+        .collect();
     Error::input(
         &volume.file,
         "voxels",
         format!(
             "no glyph to draw in the {} voxels selected ({} of them masked out, {} not finite, \
-             {} zero, {} below --min-amplitude) in slice {} of axis {}",
+             {} zero, {} below --min-amplitude) in slice {}",
             report.selected,
             report.masked_out,
             report.non_finite,
             report.zero,
             report.below_min_amplitude,
-            region.index,
-            ["i", "j", "k"][region.slice.voxel_axis()],
+            slices.join(", "),
         ),
     )
 }
 
-/// The glyphs as one set, sized by `norm` so that the largest radius is `scale`.
-fn glyph_set(kind: GlyphKind, glyphs: Vec<Glyph>, scale: f64, norm: Normalisation) -> GlyphSet {
-    let largest = glyphs.iter().map(|g| g.radius).fold(0.0, f64::max);
+/// The glyphs as one set, sized by `norm` so that the `largest` radius becomes `scale`.
+fn glyph_set(
+    kind: GlyphKind,
+    glyphs: Vec<Glyph>,
+    scale: f64,
+    largest: f64,
+    norm: Normalisation,
+) -> GlyphSet {
     let scales = glyphs
         .iter()
         .map(|g| match norm {

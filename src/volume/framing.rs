@@ -132,6 +132,57 @@ pub fn frame_region(
     })
 }
 
+/// Direction from the volume's centre to the camera of a three-slice view: anterior,
+/// superior and from the subject's left, so that all three planes are seen obliquely.
+const OBLIQUE_FROM: DVec3 = DVec3::new(-1.0, 1.0, 1.0);
+
+/// Frames the voxel box `ranges` (index ranges along i, j, k) for three orthogonal
+/// slices: a perspective camera looking at the box's centre from anterior-superior-left,
+/// at the distance where the box's bounding sphere fills the view. Without a requested
+/// size the image is square, 1024 pixels.
+pub fn frame_volume(
+    ranges: &[std::ops::Range<usize>; 3],
+    map: &VoxelToWorld,
+    request: ImageRequest,
+) -> Result<Framing> {
+    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    for corner in 0..8 {
+        let voxel = DVec3::from_array(std::array::from_fn(|axis| {
+            let range = &ranges[axis];
+            let end = if corner & (1 << axis) == 0 {
+                range.start
+            } else {
+                range.end
+            };
+            end as f64 - 0.5
+        }));
+        let p = map.voxel_center(voxel);
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    let image = image_size(1.0, 1.0, request)?;
+    let aspect = f64::from(image.width) / f64::from(image.height);
+    let target = 0.5 * (lo + hi);
+    let radius = (0.5 * (hi - lo).length()).max(f64::MIN_POSITIVE);
+    let half_fov = (0.5 * PERSPECTIVE_FOV_DEG).to_radians();
+    // The narrower of the two fields of view must hold the sphere.
+    let half = half_fov.tan().min(half_fov.tan() * aspect).atan();
+    let from = OBLIQUE_FROM.normalize();
+    let eye = target + from * (radius / half.sin());
+    let up = (DVec3::Z - from * from.z).normalize();
+    Ok(Framing {
+        camera: Camera {
+            projection: Projection::Perspective {
+                fov_y_deg: PERSPECTIVE_FOV_DEG,
+            },
+            eye,
+            target,
+            up,
+        },
+        image,
+    })
+}
+
 /// The image size for a view `width` x `height` world units wide and high.
 fn image_size(width: f64, height: f64, request: ImageRequest) -> Result<ImageSize> {
     for (name, side) in [("width", request.width), ("height", request.height)] {

@@ -1,4 +1,4 @@
-//! Volume input: a slice of a 4D NIfTI volume of SH or tensor coefficients as a scene.
+//! Volume input: a slice (or three orthogonal ones) of a 4D NIfTI volume of SH or tensor coefficients as a scene.
 //!
 //! The pipeline, one file per step: `input` reads the volume (and a mask) and checks the
 //! coefficient count against what the user says the file holds; `selection` picks the
@@ -24,8 +24,8 @@ pub use build::{
 };
 pub use framing::{
     DEFAULT_LONG_SIDE, Framing, ImageRequest, PERSPECTIVE_FOV_DEG, ViewProjection, frame_region,
-    view_axis, view_directions,
+    frame_volume, view_axis, view_directions,
 };
 pub use input::{MAX_ORDER, Mask, Volume, VolumeKind, load_mask, load_volume};
 pub use reorient::{Reorientation, rotate_full_tensor};
-pub use selection::{Slice, SliceAxis, SliceRegion, VoxelRanges};
+pub use selection::{Slice, SliceAxis, SliceRegion, Slices, VoxelRanges};

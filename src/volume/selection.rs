@@ -30,6 +30,13 @@ pub struct Slice {
     pub index: Option<usize>,
 }
 
+/// Three orthogonal slices at once: the voxel indices of the sagittal (constant i),
+/// coronal (constant j) and axial (constant k) slice; None is the middle (n / 2).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Slices {
+    pub indices: [Option<usize>; 3],
+}
+
 /// Half-open index ranges per voxel axis; None is the whole axis.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct VoxelRanges {
@@ -53,6 +60,15 @@ impl SliceAxis {
             SliceAxis::Sagittal => 0,
             SliceAxis::Coronal => 1,
             SliceAxis::Axial => 2,
+        }
+    }
+
+    /// The slice perpendicular to voxel axis `axis` (0 = i, 1 = j, anything else k).
+    pub fn of_voxel_axis(axis: usize) -> SliceAxis {
+        match axis {
+            0 => SliceAxis::Sagittal,
+            1 => SliceAxis::Coronal,
+            _ => SliceAxis::Axial,
         }
     }
 
@@ -113,6 +129,41 @@ impl FromStr for Slice {
             })
             .transpose()?;
         Ok(Slice { axis, index })
+    }
+}
+
+impl Slices {
+    /// The slice perpendicular to voxel axis `axis` (0 = i, 1 = j, 2 = k).
+    pub fn slice(&self, axis: usize) -> Slice {
+        Slice {
+            axis: SliceAxis::of_voxel_axis(axis),
+            index: self.indices[axis],
+        }
+    }
+}
+
+impl FromStr for Slices {
+    type Err = Error;
+
+    /// `mid` (the middle of each axis) or `I,J,K`, voxel indices.
+    fn from_str(text: &str) -> Result<Self> {
+        if text == "mid" {
+            return Ok(Slices::default());
+        }
+        let invalid = |why: &str| Error::Invalid(format!("--slices '{text}': {why}"));
+        let parts: Vec<&str> = text.split(',').collect();
+        if parts.len() != 3 {
+            return Err(invalid("expected mid or three voxel indices I,J,K"));
+        }
+        let mut indices = [None; 3];
+        for (index, part) in indices.iter_mut().zip(parts) {
+            let part = part.trim();
+            *index =
+                Some(part.parse::<usize>().map_err(|_| {
+                    invalid(&format!("'{part}' is not a voxel index (0, 1, 2, ...)"))
+                })?);
+        }
+        Ok(Slices { indices })
     }
 }
 
@@ -218,6 +269,11 @@ impl SliceRegion {
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
+
+    /// Whether `voxel` lies in this region.
+    pub fn contains(&self, voxel: [usize; 3]) -> bool {
+        self.ranges.iter().zip(voxel).all(|(r, v)| r.contains(&v))
+    }
 }
 
 #[cfg(test)]
@@ -238,6 +294,19 @@ mod tests {
         assert_eq!(r.axes[2], Some((Some(5), None)));
         for bad in ["1:4,2:3", "4:4,:,:", "1-4,:,:", "a:3,:,:"] {
             assert!(bad.parse::<VoxelRanges>().is_err(), "{bad}");
+        }
+        assert_eq!("mid".parse::<Slices>().unwrap(), Slices::default());
+        let three: Slices = "1, 2,3".parse().unwrap();
+        assert_eq!(three.indices, [Some(1), Some(2), Some(3)]);
+        assert_eq!(
+            three.slice(1),
+            Slice {
+                axis: SliceAxis::Coronal,
+                index: Some(2)
+            }
+        );
+        for bad in ["1,2", "1,2,x", "middle", "1,2,3,4"] {
+            assert!(bad.parse::<Slices>().is_err(), "{bad}");
         }
     }
 

@@ -354,3 +354,78 @@ fn nan_voxels_are_left_out_with_a_warning_and_perspective_renders() {
         "the perspective view shows glyphs"
     );
 }
+
+#[test]
+fn three_slices_render_and_the_saved_scene_holds_the_three_planes() {
+    let case = Case::new("cli-slices");
+    let path = case.input("dti.nii.gz");
+    write_tensor_volume(&path, |_, c| c);
+    let png = case.outputs.join("out.png");
+    let scene = case.outputs.join("scene.json");
+    let file = text(&path);
+    let out = glyphcast(&[
+        "render",
+        "--tensor",
+        file,
+        "--order",
+        "2",
+        "--slices",
+        "mid",
+        "--width",
+        "64",
+        "-o",
+        text(&png),
+        "--save-scene",
+        text(&scene),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "render failed:\n{stderr}");
+    // 3 x 4 x 5 voxels, middles 1, 2, 2: 20 + 15 + 12 on the planes, less the 12 on two
+    // planes' lines, plus the one on all three.
+    assert!(stderr.contains("36 glyphs from 36 voxels"), "{stderr}");
+    let (w, _, rgba) = glyphcast::io::png::read_png_rgba8(&png).expect("PNG");
+    assert_eq!(w, 64);
+    assert!(
+        rgba.chunks(4).any(|p| p[..3] != rgba[..3]),
+        "something drawn"
+    );
+
+    let saved = Scene::load(&scene).expect("the saved scene");
+    let volume = load_volume(&path, tensor_kind()).expect("loading");
+    let map = &volume.voxel_to_world;
+    let middle = TENSOR_DIMS.map(|n| n / 2);
+    assert_eq!(saved.glyph_sets.len(), 3);
+    let mut all = Vec::new();
+    for (axis, set) in saved.glyph_sets.iter().enumerate() {
+        for center in &set.centers {
+            let voxel = (0..TENSOR_DIMS.iter().product::<usize>())
+                .map(|n| {
+                    [
+                        n % TENSOR_DIMS[0],
+                        n / TENSOR_DIMS[0] % TENSOR_DIMS[1],
+                        n / (TENSOR_DIMS[0] * TENSOR_DIMS[1]),
+                    ]
+                })
+                .find(|v| {
+                    let p = map.voxel_center(DVec3::from_array(v.map(|i| i as f64)));
+                    (p - *center).length() < 1e-6
+                })
+                .expect("a glyph at a voxel centre");
+            assert_eq!(voxel[axis], middle[axis], "set {axis}: {voxel:?}");
+            all.push(voxel);
+        }
+    }
+    let unique: std::collections::BTreeSet<_> = all.iter().collect();
+    assert_eq!((unique.len(), all.len()), (36, 36));
+
+    for done in [&png, &scene] {
+        std::fs::remove_file(done).expect("clearing the outputs");
+    }
+    let both = case.expect_failure(&[
+        "--tensor", file, "--order", "2", "--slice", "axial", "--slices", "mid",
+    ]);
+    assert!(
+        both.contains("--slice ") && both.contains("--slices"),
+        "{both}"
+    );
+}

@@ -2,7 +2,7 @@
 use crate::fixtures::*;
 use glyphcast::glyph::{Symmetry, TensorLayout};
 use glyphcast::volume::{
-    Mask, Normalisation, Slice, SliceAxis, Volume, VolumeKind, VolumeOptions, VolumeReport,
+    Mask, Normalisation, Slice, SliceAxis, Slices, Volume, VolumeKind, VolumeOptions, VolumeReport,
     load_mask, load_volume, volume_scene,
 };
 use ndarray::Array3;
@@ -173,4 +173,65 @@ fn normalisation_sizes_glyphs_as_asked() {
             );
         }
     }
+}
+
+#[test]
+fn three_slices_pick_the_voxels_of_their_planes_each_once() {
+    let volume = labelled("three", |_, c| c);
+    let planes = [1, 2, 3];
+    let options = VolumeOptions {
+        slices: Some(Slices {
+            indices: planes.map(Some),
+        }),
+        ..Default::default()
+    };
+    let view = volume_scene(&volume, &options).expect("scene");
+    assert_eq!(view.scene.glyph_sets.len(), 3, "one glyph set per slice");
+    let drawn: Vec<[usize; 3]> = view
+        .scene
+        .glyph_sets
+        .iter()
+        .flat_map(|set| set.coeffs.iter().map(|c| label_voxel(c[0])))
+        .collect();
+    let unique: BTreeSet<[usize; 3]> = drawn.iter().copied().collect();
+    assert_eq!(unique.len(), drawn.len(), "a voxel drawn twice");
+    let mut expected = BTreeSet::new();
+    for i in 0..DIMS[0] {
+        for j in 0..DIMS[1] {
+            for k in 0..DIMS[2] {
+                let v = [i, j, k];
+                if (0..3).any(|axis| v[axis] == planes[axis]) {
+                    expected.insert(v);
+                }
+            }
+        }
+    }
+    assert_eq!(unique, expected);
+    assert_eq!(view.report.selected, expected.len());
+    assert_eq!(view.report.drawn, expected.len());
+    // Each set holds its own plane's voxels, in sagittal, coronal, axial order.
+    for (axis, set) in view.scene.glyph_sets.iter().enumerate() {
+        assert!(
+            set.coeffs
+                .iter()
+                .all(|c| label_voxel(c[0])[axis] == planes[axis]),
+            "set {axis}"
+        );
+    }
+    // The camera is in perspective, off every axis, looking at the volume's centre.
+    let camera = view.scene.camera;
+    assert!(matches!(
+        camera.projection,
+        glyphcast::camera::Projection::Perspective { .. }
+    ));
+    let dir = (camera.eye - camera.target).normalize();
+    assert!(dir.abs().min_element() > 0.3, "{dir}");
+    // mid is the middle of each axis.
+    let options = VolumeOptions {
+        slices: Some("mid".parse().expect("mid")),
+        ..Default::default()
+    };
+    let view = volume_scene(&volume, &options).expect("scene");
+    let middles: Vec<usize> = view.regions.iter().map(|r| r.index).collect();
+    assert_eq!(middles, [2, 2, 3]);
 }
