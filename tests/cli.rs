@@ -516,6 +516,14 @@ fn bench_quick_table2_writes_valid_csv_and_json() {
     );
     let markdown = std::fs::read_to_string(dir.join("results.md")).expect("results.md");
     assert!(markdown.contains("Ratios"), "{markdown}");
+    // The plots: valid PNGs of the promised size.
+    for name in ["gpu_time.png", "error_vs_time.png"] {
+        let file = std::fs::File::open(dir.join(name)).expect(name);
+        let decoder = png::Decoder::new(std::io::BufReader::new(file));
+        let reader = decoder.read_info().expect("a valid PNG");
+        let info = reader.info();
+        assert_eq!((info.width, info.height), (900, 500), "{name}");
+    }
 }
 
 /// Without --method the default is exact; with an --offset it is affine (exact refuses

@@ -6,7 +6,9 @@ pkgs=(mesa-vulkan-drivers libvulkan-dev vulkan-validationlayers
       libshaderc-dev glslang-dev spirv-tools pkg-config
       # `glyphcast view`: the X11 libraries winit loads at run time, and Xvfb, the
       # virtual X server its tests open their windows on.
-      libx11-6 libx11-xcb1 libxcursor1 libxi6 libxrandr2 libxkbcommon-x11-0 xvfb)
+      libx11-6 libx11-xcb1 libxcursor1 libxi6 libxrandr2 libxkbcommon-x11-0 xvfb
+      # `glyphcast bench --out`: the font of the PNG plots.
+      fonts-dejavu-core)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")

@@ -341,6 +341,13 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             bench::csv(&results).as_bytes(),
         )?;
         glyphcast::io::atomic::write_atomic(&dir.join("results.md"), table.as_bytes())?;
+        let title = args.sweep.as_deref().unwrap_or("bench");
+        match bench::plot::write_plots(dir, title, &results) {
+            Ok(files) => eprintln!("plots: {}", files.join(", ")),
+            // Plots are a view of the tables just written: without a font they are
+            // left out with a warning rather than failing the measurements.
+            Err(e) => eprintln!("warning: no plots: {e}"),
+        }
     }
     print!("{table}");
     Ok(())
