@@ -137,10 +137,10 @@ fn header_slice(bytes: &[u8]) -> std::result::Result<&str, String> {
 fn parse_header(text: &str) -> std::result::Result<Vec<usize>, String> {
     let mut cursor = HeaderCursor { rest: text };
     let (mut descr, mut fortran_order, mut shape) = (None, None, None);
-    cursor.expect('{')?;
+    cursor.expect_char('{')?;
     while !cursor.eat('}') {
         let key = cursor.quoted()?;
-        cursor.expect(':')?;
+        cursor.expect_char(':')?;
         let duplicate = match key {
             "descr" => descr.replace(cursor.quoted()?).is_some(),
             "fortran_order" => fortran_order.replace(cursor.word()).is_some(),
@@ -151,7 +151,7 @@ fn parse_header(text: &str) -> std::result::Result<Vec<usize>, String> {
             return Err(format!("duplicate key '{key}'"));
         }
         if !cursor.eat(',') {
-            cursor.expect('}')?;
+            cursor.expect_char('}')?;
             break;
         }
     }
@@ -195,7 +195,7 @@ impl<'h> HeaderCursor<'h> {
         }
     }
 
-    fn expect(&mut self, token: char) -> std::result::Result<(), String> {
+    fn expect_char(&mut self, token: char) -> std::result::Result<(), String> {
         if self.eat(token) {
             Ok(())
         } else {
@@ -237,7 +237,7 @@ impl<'h> HeaderCursor<'h> {
 
     /// A tuple of non-negative integers: `()`, `(3,)`, `(2, 3)`.
     fn tuple(&mut self) -> std::result::Result<Vec<usize>, String> {
-        self.expect('(')?;
+        self.expect_char('(')?;
         let mut dims = Vec::new();
         while !self.eat(')') {
             let word = self.word();
@@ -246,7 +246,7 @@ impl<'h> HeaderCursor<'h> {
                 .map_err(|_| format!("shape entry '{word}' is not a non-negative integer"))?;
             dims.push(dim);
             if !self.eat(',') {
-                self.expect(')')?;
+                self.expect_char(')')?;
                 break;
             }
         }
