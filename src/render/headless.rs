@@ -319,17 +319,7 @@ fn record_frame(
                 },
             }),
     ];
-    let depth_attachment = vk::RenderingAttachmentInfo::default()
-        .image_view(t.depth.view)
-        .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-        .load_op(vk::AttachmentLoadOp::CLEAR)
-        .store_op(vk::AttachmentStoreOp::DONT_CARE)
-        .clear_value(vk::ClearValue {
-            depth_stencil: vk::ClearDepthStencilValue {
-                depth: 1.0,
-                stencil: 0,
-            },
-        });
+    let depth_attachment = crate::vk::cleared_depth_attachment(t.depth.view);
     let rendering = vk::RenderingInfo::default()
         .render_area(vk::Rect2D {
             offset: vk::Offset2D::default(),

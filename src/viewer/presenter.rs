@@ -358,17 +358,7 @@ impl Presenter {
                     float32: [bg[0], bg[1], bg[2], 1.0],
                 },
             })];
-        let depth_attachment = vk::RenderingAttachmentInfo::default()
-            .image_view(depth.view)
-            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::DONT_CARE)
-            .clear_value(vk::ClearValue {
-                depth_stencil: vk::ClearDepthStencilValue {
-                    depth: 1.0,
-                    stencil: 0,
-                },
-            });
+        let depth_attachment = crate::vk::cleared_depth_attachment(depth.view);
         let rendering = vk::RenderingInfo::default()
             .render_area(extent.into())
             .layer_count(1)

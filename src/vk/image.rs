@@ -123,3 +123,19 @@ impl Drop for Image {
         }
     }
 }
+
+/// A depth attachment cleared to the far plane whose contents are not kept: what every
+/// pass that draws glyphs into its own depth buffer begins with.
+pub fn cleared_depth_attachment(view: vk::ImageView) -> vk::RenderingAttachmentInfo<'static> {
+    vk::RenderingAttachmentInfo::default()
+        .image_view(view)
+        .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+        .load_op(vk::AttachmentLoadOp::CLEAR)
+        .store_op(vk::AttachmentStoreOp::DONT_CARE)
+        .clear_value(vk::ClearValue {
+            depth_stencil: vk::ClearDepthStencilValue {
+                depth: 1.0,
+                stencil: 0,
+            },
+        })
+}

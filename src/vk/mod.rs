@@ -21,7 +21,7 @@ pub use buffer::Buffer;
 pub use commands::OneShot;
 pub use debug::ValidationLog;
 pub use device::{DeviceInfo, choose_physical_device};
-pub use image::Image;
+pub use image::{Image, cleared_depth_attachment};
 pub use surface::Surface;
 pub use swapchain::{Acquired, Swapchain, color_range};
 pub use timer::GpuTimer;
