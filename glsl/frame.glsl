@@ -6,7 +6,8 @@ layout(std140, set = 0, binding = 0) uniform FrameParams {
     vec4 right;           // xyz: right * tan(fov/2) (or height/2); w: aspect W/H
     vec4 up;              // xyz: corrected up, scaled as right
     vec4 fwd;             // xyz: forward
-    vec4 viewport;        // x: 1/width, y: 1/height
+    vec4 viewport;        // x: 1/width, y: 1/height, z: near plane distance (perspective; 0
+                          // orthographic)
     vec4 march;           // x: step, y: centre step factor, z: centre zone radius, w: offset
     ivec4 modes;          // x: refinement (0 none, 1 bisect, 2 interp, 3 secant), y: its steps,
                           // z: colour (0 direction, 1 magnitude, 2 uniform), w: max steps

@@ -10,6 +10,9 @@
 
 layout(location = 0) flat in uint v_glyph;
 layout(location = 1) flat in vec4 v_center_radius;
+// The box of raycast.vert, which this pass draws as the cube around the sphere.
+layout(location = 2) flat in vec4 v_box_rotation;
+layout(location = 3) flat in vec3 v_box_extent;
 
 layout(location = 0) out vec4 out_color;
 layout(location = 1) out float out_distance;

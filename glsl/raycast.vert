@@ -1,14 +1,30 @@
 #version 450
-// Instanced unit bounding box: one cube per glyph, scaled to the glyph's bounding radius
-// (computed on the CPU and guaranteed to contain it). Faces wind counter-clockwise seen
-// from outside; only front faces are drawn.
+// Instanced proxy box: one box per glyph, oriented and sized by guaranteed bounds computed
+// on the CPU (src/glyph/proxy.rs), so that far fewer fragments run than with the cube
+// around the bounding sphere. Faces wind counter-clockwise seen from outside; only front
+// faces are drawn.
+//
+// A box that the near plane cuts (the camera inside it, or just in front of it) would lose
+// the fragments of its clipped front faces: such a box is drawn inside out instead. Its
+// corners are mirrored through the centre, which turns the far faces towards the camera,
+// and they are put on the near plane (clip z = 0), which keeps their screen position. The
+// far faces of a convex box cover exactly the pixels whose rays meet the box in front of
+// the eye, and at depth 0 they stay below every ray-cast depth (the fragment shaders
+// write depth_greater).
 #extension GL_GOOGLE_include_directive : require
 #include "frame.glsl"
 
-layout(location = 0) in vec4 center_radius;
+layout(location = 0) in vec4 center_radius;  // centre, radius of the bounding sphere
+layout(location = 1) in vec4 box_rotation;   // unit quaternion (x, y, z, w), box to world
+layout(location = 2) in vec4 box_extent;     // half extents, in units of center_radius.w
+
+// false: the cube around the bounding sphere (the sphere impostor's proxy).
+layout(constant_id = 0) const bool ORIENTED_BOX = true;
 
 layout(location = 0) flat out uint v_glyph;
 layout(location = 1) flat out vec4 v_center_radius;
+layout(location = 2) flat out vec4 v_box_rotation;
+layout(location = 3) flat out vec3 v_box_extent;
 
 // 12 triangles of the cube [-1, 1]^3, as corner indices (bit 0: x, bit 1: y, bit 2: z).
 const uint CUBE[36] = uint[36](
@@ -20,11 +36,43 @@ const uint CUBE[36] = uint[36](
     1, 3, 7, 1, 7, 5    // +x
 );
 
+vec3 rotate(vec4 q, vec3 v) {
+    return v + 2.0 * cross(q.xyz, cross(q.xyz, v) + q.w * v);
+}
+
 void main() {
+    vec4 rotation = ORIENTED_BOX ? normalize(box_rotation) : vec4(0.0, 0.0, 0.0, 1.0);
+    vec3 extent = ORIENTED_BOX ? box_extent.xyz : vec3(1.0);
+    vec3 half_axes[3] = vec3[3](
+        rotate(rotation, vec3(center_radius.w * extent.x, 0.0, 0.0)),
+        rotate(rotation, vec3(0.0, center_radius.w * extent.y, 0.0)),
+        rotate(rotation, vec3(0.0, 0.0, center_radius.w * extent.z)));
+
     uint corner = CUBE[gl_VertexIndex];
     vec3 unit = vec3(corner & 1u, (corner >> 1) & 1u, (corner >> 2) & 1u) * 2.0 - 1.0;
-    vec3 world = center_radius.xyz + center_radius.w * unit;
+
+    // The box's nearest point along the view direction, against the near plane (with a
+    // margin for the rounding of the projection). Orthographic views place the near plane
+    // in front of every glyph.
+    bool cut = false;
+    if (frame.eye.w < 0.5) {
+        float reach = abs(dot(frame.fwd.xyz, half_axes[0]))
+                    + abs(dot(frame.fwd.xyz, half_axes[1]))
+                    + abs(dot(frame.fwd.xyz, half_axes[2]));
+        float nearest = dot(frame.fwd.xyz, center_radius.xyz - frame.eye.xyz) - reach;
+        cut = nearest <= frame.viewport.z * 1.001;
+    }
+    if (cut) {
+        unit = -unit;
+    }
+    vec3 world = center_radius.xyz
+        + unit.x * half_axes[0] + unit.y * half_axes[1] + unit.z * half_axes[2];
     gl_Position = frame.view_proj * vec4(world, 1.0);
+    if (cut) {
+        gl_Position.z = 0.0;
+    }
     v_glyph = gl_InstanceIndex;
     v_center_radius = center_radius;
+    v_box_rotation = rotation;
+    v_box_extent = extent;
 }

@@ -13,6 +13,8 @@
 
 layout(location = 0) flat in uint v_glyph;
 layout(location = 1) flat in vec4 v_center_radius;
+layout(location = 2) flat in vec4 v_box_rotation;  // box to world (raycast.vert)
+layout(location = 3) flat in vec3 v_box_extent;    // in units of v_center_radius.w
 
 layout(location = 0) out vec4 out_color;
 #ifndef GLYPHCAST_NO_DISTANCE  // build.rs: the variant for a colour attachment only
@@ -33,35 +35,55 @@ float inside(vec3 q) {
     return shape(glyph_f(q / len)) + frame.march.w - len;
 }
 
-// The pixel's ray clipped to the glyph's bounding sphere, in the local frame
-// q = (p - c) / rho, where rho maps normalised glyph units to world units. Points are
-// q(s) = mid + s * dir, with s measured from the point `mid` of the ray closest to the
-// centre, so that q stays well conditioned however far the camera is.
+// The pixel's ray clipped to the glyph's bounding sphere and to its oriented box, in the
+// local frame q = (p - c) / rho, where rho maps normalised glyph units to world units.
+// Points are q(s) = mid + s * dir, with s measured from the point `mid` of the ray closest
+// to the centre, so that q stays well conditioned however far the camera is.
 struct GlyphRay {
-    vec3 origin;    // world
-    vec3 dir;       // world and local (unit)
-    vec3 mid;       // local
-    float t_mid;    // local distance from the origin to mid
+    vec3 origin;      // world
+    vec3 dir;         // world and local (unit)
+    vec3 mid;         // local
+    float t_mid;      // local distance from the origin to mid
     float rho;
-    float s_start;  // chord entry, never behind the ray origin
-    float s_end;    // chord exit
+    float half_chord; // of the sphere: the chord is [-half_chord, half_chord] before clipping
+    float s_start;    // chord entry, never behind the ray origin
+    float s_end;      // chord exit
 };
 
-// The ray against the sphere |q| = radius of the normalised frame; false when it misses
-// the sphere or the sphere lies behind the origin.
+// v rotated by the inverse of the unit quaternion q.
+vec3 rotate_inverse(vec4 q, vec3 v) {
+    return v - 2.0 * cross(q.xyz, q.w * v - cross(q.xyz, v));
+}
+
+// The ray against the sphere |q| = radius of the normalised frame, and against the box
+// scaled as the sphere is (its extents times radius / (1 + offset)); false when it misses
+// them or they lie behind the origin.
 bool glyph_ray_within(float radius, out GlyphRay ray) {
     pixel_ray(ray.origin, ray.dir);
-    // The box half-size is rho * (1 + offset).
+    // The sphere's radius is rho * (1 + offset).
     ray.rho = v_center_radius.w / (1.0 + frame.march.w);
     ray_in_glyph_frame(ray.origin, ray.dir, v_center_radius.xyz, ray.rho, ray.t_mid, ray.mid);
     float half_chord2 = radius * radius - dot(ray.mid, ray.mid);
     if (half_chord2 <= 0.0) {
         return false;
     }
-    float half_chord = sqrt(half_chord2);
-    ray.s_end = half_chord;
-    ray.s_start = max(-half_chord, -ray.t_mid);
-    return ray.s_start < ray.s_end;
+    ray.half_chord = sqrt(half_chord2);
+    float lo = max(-ray.half_chord, -ray.t_mid);
+    float hi = ray.half_chord;
+    // Slabs of the box, in its own frame.
+    vec3 extent = v_box_extent * radius;
+    vec3 m = rotate_inverse(v_box_rotation, ray.mid);
+    vec3 d = rotate_inverse(v_box_rotation, ray.dir);
+    for (int i = 0; i < 3; ++i) {
+        float di = abs(d[i]) < 1e-20 ? 1e-20 : d[i];
+        float a = (-extent[i] - m[i]) / di;
+        float b = (extent[i] - m[i]) / di;
+        lo = max(lo, min(a, b));
+        hi = min(hi, max(a, b));
+    }
+    ray.s_start = lo;
+    ray.s_end = hi;
+    return lo < hi;
 }
 
 // The ray against the glyph's bounding sphere.

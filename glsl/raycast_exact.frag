@@ -466,11 +466,12 @@ bool polynomial_piece(vec3 mid, vec3 d, float tau0, float tau1, inout int state,
     return false;
 }
 
-// First crossing along q = mid + tau d, tau in [tau_start, 1], through three pieces:
-// polynomial on [tau_start, -tau_c], sampled in the centre zone [-tau_c, tau_c] (empty when
-// the ray passes farther than CENTRE_RADIUS from the centre), polynomial on [tau_c, 1].
-// One loop with one call of each kind keeps the unrolled shader half as long.
-bool first_crossing(vec3 mid, vec3 d, float tau_start, out float tau) {
+// First crossing along q = mid + tau d, tau in [tau_start, tau_end] (within [-1, 1], the
+// box's part of the chord), through three pieces: polynomial up to -tau_c, sampled in the
+// centre zone [-tau_c, tau_c] (empty when the ray passes farther than CENTRE_RADIUS from
+// the centre), polynomial from tau_c on. One loop with one call of each kind keeps the
+// unrolled shader half as long.
+bool first_crossing(vec3 mid, vec3 d, float tau_start, float tau_end, out float tau) {
     float a = dot(mid, mid);
     float r2 = CENTRE_RADIUS * CENTRE_RADIUS;
     float tau_c = a < r2 ? sqrt(r2 - a) / length(d) : 0.0;
@@ -478,7 +479,7 @@ bool first_crossing(vec3 mid, vec3 d, float tau_start, out float tau) {
     tau = tau_start;
     for (int piece = 0; piece < 3; ++piece) {
         float lo = max(tau_start, piece == 0 ? -1.0 : (piece == 1 ? -tau_c : tau_c));
-        float hi = piece == 0 ? -tau_c : (piece == 1 ? tau_c : 1.0);
+        float hi = min(tau_end, piece == 0 ? -tau_c : (piece == 1 ? tau_c : 1.0));
         if (lo >= hi) {
             continue;
         }
@@ -501,10 +502,10 @@ void main() {
     }
     init_binomials();
     glyph_load(v_glyph);
-    float h = ray.s_end;  // the half chord
+    float h = ray.half_chord;
     ray_polynomial(ray.mid, h * ray.dir);
     float tau;
-    if (!first_crossing(ray.mid, h * ray.dir, ray.s_start / h, tau)) {
+    if (!first_crossing(ray.mid, h * ray.dir, ray.s_start / h, ray.s_end / h, tau)) {
         discard;
     }
     shade_hit(ray, tau * h);

@@ -388,7 +388,11 @@ fn bench_quick_writes_valid_csv_and_json() {
             4 * 28 * 4,
             "order 6 has 28 floats per glyph"
         );
-        assert_eq!(r["instance_bytes"], 4 * 16);
+        assert_eq!(
+            r["instance_bytes"],
+            4 * (16 + 32),
+            "a 16-byte instance and a 32-byte box per glyph"
+        );
     }
     let csv = std::fs::read_to_string(dir.join("results.csv")).expect("results.csv");
     let lines: Vec<&str> = csv.lines().collect();

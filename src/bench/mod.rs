@@ -191,7 +191,9 @@ fn measure_prepared(
         Some(m) => (0, m.instance_bytes, Some(m.vertex_bytes + m.index_bytes)),
         None => (
             sets.iter().map(|s| 4 * s.coefficients.len()).sum(),
-            sets.iter().map(|s| 16 * s.instances.len()).sum(),
+            sets.iter()
+                .map(|s| 16 * s.instances.len() + 32 * s.boxes.len())
+                .sum(),
             None,
         ),
     };

@@ -1,8 +1,13 @@
 //! Generated workloads: square grids of fibre glyphs of one order, framed by a camera
 //! that sees the whole grid, so glyph count, order and resolution can be swept alone.
+//!
+//! - `grid:COUNT:ORDER`: symmetric fibre tensors (two or three crossing populations);
+//! - `fodf:COUNT:BAND`: fibre ODFs as SH series (tournier07, MRtrix3's basis) with one to
+//!   three random fibres each, the common case of real HARDI data.
 use crate::camera::{Camera, Projection};
 use crate::demo::{direction, fibre_tensor, glyph_set, symmetric};
-use crate::io::scene::{ImageSize, Scene};
+use crate::glyph::sh::{sh_basis_values, sh_orders};
+use crate::io::scene::{GlyphKind, ImageSize, Scene, ShBasis};
 use crate::{Error, Result};
 use glam::DVec3;
 
@@ -52,17 +57,128 @@ pub fn grid(count: usize, order: u32, width: u32, height: u32) -> Result<Scene> 
     })
 }
 
-/// Parses `grid:COUNT:ORDER`.
+/// SplitMix64: a small deterministic generator, so that workloads are the same on every
+/// machine and run.
+struct SplitMix(u64);
+
+impl SplitMix {
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1).
+    fn unit(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Uniform on the unit sphere.
+    fn direction(&mut self) -> DVec3 {
+        let z = 2.0 * self.unit() - 1.0;
+        let phi = 2.0 * std::f64::consts::PI * self.unit();
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        DVec3::new(r * phi.cos(), r * phi.sin(), z)
+    }
+}
+
+/// SH coefficients (tournier07, band `band`) of a fibre ODF: a sum over fibres of a sharp
+/// zonal kernel about each direction, sum_i w_i sum_l k_l sum_m Y_lm(d_i) Y_lm(u) (the
+/// addition theorem), with a Gaussian taper k_l = exp(-2 l(l+1) / (L(L+1))) that keeps
+/// the lobes as sharp as band L allows with little ringing.
+pub fn fodf_coefficients(band: u32, fibres: &[(DVec3, f64)]) -> Vec<f64> {
+    let top = (band * (band + 1)).max(1) as f64;
+    let mut coeffs = vec![0.0; sh_orders(band).count()];
+    for (d, w) in fibres {
+        let y = sh_basis_values(band, ShBasis::Tournier07, false, *d);
+        for ((c, (l, _)), y) in coeffs.iter_mut().zip(sh_orders(band)).zip(y) {
+            let k = (-2.0 * (l * (l + 1)) as f64 / top).exp();
+            *c += w * k * y;
+        }
+    }
+    coeffs
+}
+
+/// `count` fibre ODFs of SH band `band` (even, 2..=12) on a square grid of unit spacing:
+/// one to three fibres each (40 %, 40 %, 20 %) in random directions with weights 1 and
+/// 0.4 to 0.9, each glyph scaled to a peak radius of about 0.45; seen as `grid` is.
+pub fn fodf(count: usize, band: u32, width: u32, height: u32) -> Result<Scene> {
+    if count == 0 || count > 4_000_000 {
+        return Err(Error::Invalid(format!(
+            "workload: {count} glyphs is not in 1..=4000000"
+        )));
+    }
+    if !(2..=12).contains(&band) || !band.is_multiple_of(2) {
+        return Err(Error::Invalid(format!(
+            "workload: SH band {band} is not one of 2, 4, ..., 12"
+        )));
+    }
+    let side = (count as f64).sqrt().ceil() as usize;
+    let mut rng = SplitMix(0x5eed_f0df ^ (count as u64) << 8 ^ band as u64);
+    let mut centers = Vec::with_capacity(count);
+    let mut coeffs = Vec::with_capacity(count);
+    for k in 0..count {
+        let (i, j) = (k % side, k / side);
+        let draw = rng.unit();
+        let fibre_count = if draw < 0.4 {
+            1
+        } else if draw < 0.8 {
+            2
+        } else {
+            3
+        };
+        let fibres: Vec<(DVec3, f64)> = (0..fibre_count)
+            .map(|f| {
+                let weight = if f == 0 { 1.0 } else { 0.4 + 0.5 * rng.unit() };
+                (rng.direction(), weight)
+            })
+            .collect();
+        // The peak of the dominant fibre's kernel, for a size that does not depend on
+        // how many fibres cross.
+        let c = fodf_coefficients(band, &fibres);
+        let peak = fibres
+            .iter()
+            .map(|(d, _)| crate::glyph::sh::sh_eval(band, ShBasis::Tournier07, false, &c, *d).abs())
+            .fold(0.0, f64::max);
+        centers.push(DVec3::new(
+            i as f64 - 0.5 * (side - 1) as f64,
+            j as f64 - 0.5 * (side - 1) as f64,
+            0.0,
+        ));
+        coeffs.push(c.iter().map(|v| v * 0.45 / peak.max(1e-12)).collect());
+    }
+    let extent = side as f64;
+    let kind = GlyphKind::Sh {
+        band,
+        basis: ShBasis::Tournier07,
+        legacy: false,
+    };
+    Ok(Scene {
+        glyph_sets: vec![glyph_set(kind, centers, 1.0, coeffs)],
+        camera: Camera {
+            projection: Projection::Perspective { fov_y_deg: 30.0 },
+            eye: DVec3::new(0.0, -1.2 * extent, 1.6 * extent + 2.0),
+            target: DVec3::ZERO,
+            up: DVec3::Z,
+        },
+        image: ImageSize { width, height },
+    })
+}
+
+/// Parses `grid:COUNT:ORDER` or `fodf:COUNT:BAND`.
 pub fn parse(spec: &str, width: u32, height: u32) -> Result<Scene> {
     let parts: Vec<&str> = spec.split(':').collect();
-    let bad = || Error::Invalid(format!("--workload: '{spec}' is not grid:COUNT:ORDER"));
+    let bad = || {
+        Error::Invalid(format!(
+            "--workload: '{spec}' is not grid:COUNT:ORDER or fodf:COUNT:BAND"
+        ))
+    };
+    let number = |s: &str| s.parse::<usize>().map_err(|_| bad());
     match parts.as_slice() {
-        ["grid", count, order] => grid(
-            count.parse().map_err(|_| bad())?,
-            order.parse().map_err(|_| bad())?,
-            width,
-            height,
-        ),
+        ["grid", count, order] => grid(number(count)?, number(order)? as u32, width, height),
+        ["fodf", count, band] => fodf(number(count)?, number(band)? as u32, width, height),
         _ => Err(bad()),
     }
 }

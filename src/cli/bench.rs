@@ -18,7 +18,7 @@ pub struct BenchArgs {
     /// Scene file to measure (default: the --workload).
     #[arg(value_name = "SCENE")]
     scene: Option<PathBuf>,
-    /// Generated workload: grid:COUNT:ORDER.
+    /// Generated workload: grid:COUNT:ORDER (fibre tensors) or fodf:COUNT:BAND (SH fODFs).
     #[arg(long, default_value = "grid:100:8")]
     workload: String,
     /// A sweep instead of one measurement: steps (the seed's Table 1), scaling (glyph
@@ -51,6 +51,10 @@ pub struct BenchArgs {
     /// Folder for results.csv, results.json and results.md.
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
+    /// Also write the measured scene (a workload, at its size) as a scene file, to render
+    /// or inspect it.
+    #[arg(long, value_name = "FILE")]
+    save_scene: Option<PathBuf>,
     /// Vulkan device: part of its name or its index.
     #[arg(long)]
     device: Option<String>,
@@ -171,7 +175,11 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
                 ..defaults
             };
             settings.validate()?;
-            let scene = plan.scene(base_name(), args.base_scene()?);
+            let base = args.base_scene()?;
+            if let Some(path) = &args.save_scene {
+                glyphcast::io::atomic::write_atomic(path, base.to_json().as_bytes())?;
+            }
+            let scene = plan.scene(base_name(), base);
             plan.cases.push(Case {
                 label: "default".into(),
                 scene,

@@ -10,6 +10,7 @@ pub mod intersect;
 pub mod interval;
 pub mod monomials;
 pub mod polynomial;
+pub mod proxy;
 pub mod range_rounding;
 pub mod reference;
 pub mod rotate;

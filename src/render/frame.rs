@@ -115,7 +115,14 @@ impl FrameParams {
             right: v4(f.right * scale, (width as f64 / height as f64) as f32),
             up: v4(f.up * scale, 0.0),
             fwd: v4(f.fwd, 0.0),
-            viewport: [1.0 / width as f32, 1.0 / height as f32, 0.0, 0.0],
+            // z: the near plane's distance along the view direction (perspective), which
+            // the box pass uses to draw glyphs that the near plane cuts.
+            viewport: [
+                1.0 / width as f32,
+                1.0 / height as f32,
+                if ortho > 0.0 { 0.0 } else { extent.near as f32 },
+                0.0,
+            ],
             march: [
                 settings.step,
                 settings.centre_step_factor,

@@ -1,12 +1,13 @@
 //! Scene glyph sets turned into what the passes and the reference consume: per glyph a
-//! bounding radius B (a guaranteed upper bound of r(u), computed once on the CPU),
-//! coefficients divided by B (so every glyph's bound is 1 in its normalised frame, and
-//! the shader's numbers stay near 1 whatever the data's units), and one 16-byte instance
-//! (centre, world half-size of the box). The float64 [`WorldGlyph`]s describe the same
-//! surfaces for the reference.
-use crate::glyph::bounds::bounding_radius;
+//! bounding radius B and an oriented box (guaranteed bounds of r(u), computed once on the
+//! CPU by [`glyph_bounds`] in microseconds), coefficients divided by B (so every glyph's
+//! bound is 1 in its normalised frame, and the shader's numbers stay near 1 whatever the
+//! data's units), one 16-byte instance (centre, world radius of the bounding sphere) and
+//! one 32-byte box (rotation, half extents). The float64 [`WorldGlyph`]s describe the
+//! same surfaces for the reference.
 use crate::glyph::intersect::WorldGlyph;
 use crate::glyph::polynomial::GlyphPolynomial;
+use crate::glyph::proxy::{GlyphBounds, glyph_bounds};
 use crate::glyph::sh::sh_to_tensor;
 use crate::glyph::{NegativeMode, Symmetry, TensorLayout};
 use crate::io::scene::{GlyphKind, GlyphSet, Scene};
@@ -18,8 +19,13 @@ use std::borrow::Cow;
 pub struct GlyphSetData {
     pub layout: TensorLayout,
     pub negative: NegativeMode,
-    /// Per drawn glyph: centre xyz and the world half-size of its box, scale * B * (1 + offset).
+    /// Per drawn glyph: centre xyz and the world radius of its bounding sphere,
+    /// scale * B * (1 + offset) (the half-size of the cube around it).
     pub instances: Vec<[f32; 4]>,
+    /// Per drawn glyph: its oriented box, the unit quaternion (x, y, z, w) from the box's
+    /// frame to the world's, then the half extents along the box axes in units of the
+    /// sphere radius (each at most 1; w unused). The ray-casting pass draws this box.
+    pub boxes: Vec<[f32; 8]>,
     /// Per drawn glyph: the tensor's coefficients divided by B, `layout.coefficient_count()` each.
     pub coefficients: Vec<f32>,
     /// The same glyphs in float64, for the reference.
@@ -35,9 +41,9 @@ impl GlyphSetData {
         self.instances.is_empty()
     }
 
-    /// Bytes the GPU holds for this set: coefficients plus instances.
+    /// Bytes the GPU holds for this set: coefficients, instances and boxes.
     pub fn gpu_bytes(&self) -> usize {
-        4 * self.coefficients.len() + 16 * self.instances.len()
+        4 * self.coefficients.len() + 16 * self.instances.len() + 32 * self.boxes.len()
     }
 }
 
@@ -83,6 +89,7 @@ pub fn prepare_set(set: &GlyphSet, index: usize, offset: f64) -> Result<GlyphSet
         layout,
         negative: set.negative,
         instances: Vec::with_capacity(set.len()),
+        boxes: Vec::with_capacity(set.len()),
         coefficients: Vec::with_capacity(set.len() * layout.coefficient_count()),
         world: Vec::with_capacity(set.len()),
     };
@@ -119,12 +126,14 @@ pub fn prepare_set(set: &GlyphSet, index: usize, offset: f64) -> Result<GlyphSet
         let Some(Bounded {
             coeffs,
             poly,
-            bound,
+            bounds,
         }) = glyph
         else {
             continue;
         };
+        let bound = bounds.radius;
         let half_size = scale * bound * (1.0 + offset);
+        data.boxes.push(box_instance(&bounds, offset));
         data.instances.push([
             center.x as f32,
             center.y as f32,
@@ -145,11 +154,40 @@ pub fn prepare_set(set: &GlyphSet, index: usize, offset: f64) -> Result<GlyphSet
     Ok(data)
 }
 
-/// A glyph's tensor coefficients, polynomial and bound B.
+/// Relative enlargement of the oriented box, so that the glyph never touches its faces
+/// (the ray casters need g < 0 where the chord starts and ends) and the float32 box
+/// stays outside the float64 one.
+const BOX_PADDING: f64 = 1.0 / 4096.0;
+
+/// The least half extent, in units of the sphere radius: far above the float32 rounding
+/// of the rotation (about 1e-7), so that even a flat glyph's box holds it.
+const BOX_MIN_EXTENT: f64 = 1.0 / 65536.0;
+
+/// The GPU box of a glyph: rotation and half extents in units of the bounding-sphere
+/// radius B (1 + offset), an offset glyph's box grown by the offset.
+fn box_instance(bounds: &GlyphBounds, offset: f64) -> [f32; 8] {
+    let q = bounds.rotation();
+    let extent = |e: f64| {
+        let relative = (e / bounds.radius + offset) / (1.0 + offset);
+        (relative * (1.0 + BOX_PADDING) + BOX_MIN_EXTENT).min(1.0) as f32
+    };
+    [
+        q.x as f32,
+        q.y as f32,
+        q.z as f32,
+        q.w as f32,
+        extent(bounds.extents[0]),
+        extent(bounds.extents[1]),
+        extent(bounds.extents[2]),
+        0.0,
+    ]
+}
+
+/// A glyph's tensor coefficients, polynomial and bounds (radius B and box).
 struct Bounded {
     coeffs: Vec<f64>,
     poly: GlyphPolynomial,
-    bound: f64,
+    bounds: GlyphBounds,
 }
 
 /// `None` for a glyph with an empty surface (zero tensor).
@@ -163,10 +201,11 @@ fn bound_glyph(
         .map_err(|e| Error::Invalid(format!("glyphs[{index}]: {e}")))?
         .into_owned();
     let poly = GlyphPolynomial::from_tensor(layout, &coeffs)?;
-    let bound = bounding_radius(&poly, set.negative);
-    Ok((bound > 0.0 && bound.is_finite()).then_some(Bounded {
-        coeffs,
-        poly,
-        bound,
-    }))
+    Ok(glyph_bounds(&poly)
+        .filter(|b| b.radius > 0.0 && b.radius.is_finite())
+        .map(|bounds| Bounded {
+            coeffs,
+            poly,
+            bounds,
+        }))
 }

@@ -17,7 +17,9 @@ use crate::glyph::intersect::WorldGlyph;
 use crate::glyph::tessellate::{MeshKind, MeshVertex, SphereMesh, tessellate};
 use crate::render::frame::FrameParams;
 use crate::render::glyph_data::GlyphSetData;
-use crate::render::raycast::{TargetFormats, glyph_pipeline, shader_module, viewport_and_scissor};
+use crate::render::raycast::{
+    InstanceInput, TargetFormats, glyph_pipeline, shader_module, viewport_and_scissor,
+};
 use crate::render::shaders::{MESH_FRAGMENT, MESH_VERTEX};
 use crate::vk::{Buffer, DeviceContext};
 use ash::vk;
@@ -205,7 +207,13 @@ impl MeshPass {
                 .module(self.fragment)
                 .name(c"main"),
         ];
-        let pipeline = glyph_pipeline(&self.device, self.formats, self.pipeline_layout, &stages)?;
+        let pipeline = glyph_pipeline(
+            &self.device,
+            self.formats,
+            self.pipeline_layout,
+            &stages,
+            InstanceInput::Instance,
+        )?;
         self.pipelines.insert(vertices_per_glyph, pipeline);
         Ok(pipeline)
     }

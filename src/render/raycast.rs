@@ -38,12 +38,17 @@ pub struct RayCastPass {
     buffer_limit: Option<u64>,
 }
 
+/// Specialisation constant 0 of raycast.vert (`ORIENTED_BOX`): 1 draws each glyph's
+/// oriented box, 0 the cube around its bounding sphere (the sphere impostor's proxy).
+const ORIENTED_BOX_CONSTANT: u32 = 0;
+
 /// One glyph set on the GPU.
 pub struct GlyphSetGpu {
     pub layout: TensorLayout,
     pub hide_negative: bool,
     pub count: u32,
     instances: Buffer,
+    boxes: Buffer,
     _coefficients: Buffer,
     descriptor_set: vk::DescriptorSet,
 }
@@ -140,32 +145,53 @@ impl RayCastPass {
                 }
             }
         };
-        let pipeline = self.create_pipeline(fragment)?;
+        let pipeline = self.create_pipeline(fragment, method != Method::Impostor)?;
         self.pipelines.insert(key, pipeline);
         Ok(pipeline)
     }
 
-    fn create_pipeline(&self, fragment_spirv: &[u32]) -> Result<vk::Pipeline> {
+    fn create_pipeline(&self, fragment_spirv: &[u32], oriented: bool) -> Result<vk::Pipeline> {
         // SAFETY: the SPIR-V comes from build.rs and was validated by glslang.
         let fragment = unsafe { shader_module(&self.device, fragment_spirv)? };
-        let result = self.create_pipeline_with(fragment);
+        let result = self.create_pipeline_with(fragment, oriented);
         // SAFETY: modules may be destroyed once the pipeline exists.
         unsafe { self.device.destroy_shader_module(fragment, None) };
         result
     }
 
-    fn create_pipeline_with(&self, fragment: vk::ShaderModule) -> Result<vk::Pipeline> {
+    fn create_pipeline_with(
+        &self,
+        fragment: vk::ShaderModule,
+        oriented: bool,
+    ) -> Result<vk::Pipeline> {
+        let entries = [vk::SpecializationMapEntry {
+            constant_id: ORIENTED_BOX_CONSTANT,
+            offset: 0,
+            size: 4,
+        }];
+        // A SPIR-V boolean specialisation constant takes a 32-bit value.
+        let value = u32::from(oriented).to_ne_bytes();
+        let specialization = vk::SpecializationInfo::default()
+            .map_entries(&entries)
+            .data(&value);
         let stages = [
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::VERTEX)
                 .module(self.vertex)
-                .name(c"main"),
+                .name(c"main")
+                .specialization_info(&specialization),
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::FRAGMENT)
                 .module(fragment)
                 .name(c"main"),
         ];
-        glyph_pipeline(&self.device, self.formats, self.pipeline_layout, &stages)
+        glyph_pipeline(
+            &self.device,
+            self.formats,
+            self.pipeline_layout,
+            &stages,
+            InstanceInput::WithBoxes,
+        )
     }
 
     /// Uploads glyph sets and the frame parameters; creates their descriptor sets.
@@ -276,7 +302,12 @@ impl RayCastPass {
                     0,
                     &hide.to_ne_bytes(),
                 );
-                d.cmd_bind_vertex_buffers(cmd, 0, &[set.instances.handle], &[0]);
+                d.cmd_bind_vertex_buffers(
+                    cmd,
+                    0,
+                    &[set.instances.handle, set.boxes.handle],
+                    &[0, 0],
+                );
                 d.cmd_draw(cmd, 36, set.count, 0, 0);
             }
         }
@@ -284,31 +315,54 @@ impl RayCastPass {
     }
 }
 
-/// A graphics pipeline of the glyph passes: the 16-byte glyph instance (centre, box
-/// half-size) as a per-instance attribute at location 0, triangle lists with back faces
-/// culled (counter-clockwise is front), depth test and write, and the colour (and
-/// distance) targets of `formats`. The ray caster's boxes and the tessellated meshes
-/// differ only in their shader stages and layouts.
+/// The per-instance vertex input of a glyph pipeline.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum InstanceInput {
+    /// Binding 0: the 16-byte glyph instance (centre, sphere radius) at location 0.
+    Instance,
+    /// Binding 0 as above, and binding 1: the 32-byte oriented box (rotation quaternion
+    /// at location 1, half extents at location 2).
+    WithBoxes,
+}
+
+/// A graphics pipeline of the glyph passes: per-instance attributes of `input`, triangle
+/// lists with back faces culled (counter-clockwise is front), depth test and write, and
+/// the colour (and distance) targets of `formats`. The ray caster's boxes and the
+/// tessellated meshes differ only in their shader stages, layouts and instance input.
 pub(crate) fn glyph_pipeline(
     device: &ash::Device,
     formats: TargetFormats,
     layout: vk::PipelineLayout,
     stages: &[vk::PipelineShaderStageCreateInfo],
+    input: InstanceInput,
 ) -> Result<vk::Pipeline> {
-    let instance_binding = [vk::VertexInputBindingDescription {
-        binding: 0,
-        stride: 16,
-        input_rate: vk::VertexInputRate::INSTANCE,
-    }];
-    let instance_attribute = [vk::VertexInputAttributeDescription {
-        location: 0,
-        binding: 0,
-        format: vk::Format::R32G32B32A32_SFLOAT,
-        offset: 0,
-    }];
+    let bindings = [
+        vk::VertexInputBindingDescription {
+            binding: 0,
+            stride: 16,
+            input_rate: vk::VertexInputRate::INSTANCE,
+        },
+        vk::VertexInputBindingDescription {
+            binding: 1,
+            stride: 32,
+            input_rate: vk::VertexInputRate::INSTANCE,
+        },
+    ];
+    let attribute =
+        |location: u32, binding: u32, offset: u32| vk::VertexInputAttributeDescription {
+            location,
+            binding,
+            format: vk::Format::R32G32B32A32_SFLOAT,
+            offset,
+        };
+    let attributes = [attribute(0, 0, 0), attribute(1, 1, 0), attribute(2, 1, 16)];
+    let (bindings, attributes) = match input {
+        InstanceInput::Instance => (&bindings[..1], &attributes[..1]),
+        InstanceInput::WithBoxes => (&bindings[..], &attributes[..]),
+    };
     let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
-        .vertex_binding_descriptions(&instance_binding)
-        .vertex_attribute_descriptions(&instance_attribute);
+        .vertex_binding_descriptions(bindings)
+        .vertex_attribute_descriptions(attributes);
     let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
         .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
     let viewport = vk::PipelineViewportStateCreateInfo::default()
@@ -399,6 +453,12 @@ fn upload_chunk(
         &data.instances[range.clone()],
         vk::BufferUsageFlags::VERTEX_BUFFER,
     )?;
+    let boxes = Buffer::with_data(
+        ctx,
+        "boxes",
+        &data.boxes[range.clone()],
+        vk::BufferUsageFlags::VERTEX_BUFFER,
+    )?;
     let coefficients = Buffer::with_data(
         ctx,
         "coefficients",
@@ -442,6 +502,7 @@ fn upload_chunk(
         hide_negative: data.negative == crate::glyph::NegativeMode::Hide,
         count: range.len() as u32,
         instances,
+        boxes,
         _coefficients: coefficients,
         descriptor_set,
     })

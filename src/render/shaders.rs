@@ -27,6 +27,29 @@ pub struct RaycastShader {
     pub color_only_fragment: &'static [u32],
 }
 
+/// SPIR-V bytes with the alignment of words, so they can be read as `&[u32]`.
+#[repr(C)]
+struct WordAligned<const N: usize> {
+    _words: [u32; 0],
+    bytes: [u8; N],
+}
+
+/// A SPIR-V file of `$OUT_DIR` (build.rs writes whole little-endian words, and fails the
+/// build for big-endian targets) as a static slice of words.
+macro_rules! spirv {
+    ($file:literal) => {{
+        const BYTES: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), $file));
+        static ALIGNED: WordAligned<{ BYTES.len() }> = WordAligned {
+            _words: [],
+            bytes: *include_bytes!(concat!(env!("OUT_DIR"), $file)),
+        };
+        // SAFETY: the bytes are aligned for u32 (the zero-length [u32; 0] field), live
+        // for the whole program, and are BYTES.len() / 4 whole words (build.rs writes
+        // only whole words).
+        unsafe { std::slice::from_raw_parts(ALIGNED.bytes.as_ptr().cast::<u32>(), BYTES.len() / 4) }
+    }};
+}
+
 include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
 
 pub fn raycast_shader(layout: TensorLayout, method: Method) -> Option<&'static RaycastShader> {

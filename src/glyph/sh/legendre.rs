@@ -41,12 +41,12 @@ pub(super) fn three_term(l: u32, m: u32) -> (f64, f64) {
 }
 
 /// Flat index of (l, m), 0 <= m <= l, in a table over every l (odd ones included).
-pub(super) fn table_index(l: u32, m: u32) -> usize {
+pub(crate) fn table_index(l: u32, m: u32) -> usize {
     (l * (l + 1) / 2 + m) as usize
 }
 
 /// Q_l^m(z) for every 0 <= m <= l <= band, at index `table_index(l, m)`.
-pub(super) fn q_table(band: u32, z: f64) -> Vec<f64> {
+pub(crate) fn q_table(band: u32, z: f64) -> Vec<f64> {
     let mut q = vec![0.0; table_index(band, band) + 1];
     let mut sectoral = q00();
     for m in 0..=band {

@@ -1,0 +1,249 @@
+//! GLSL to SPIR-V: every shader job of the build, compiled on every core, each result
+//! kept in a cache keyed by its preprocessed source.
+//!
+//! A job is preprocessed first (includes resolved, macros expanded, comments gone; a few
+//! milliseconds), and the text, less its line directives and blank lines, is hashed with
+//! the job's stage and defines. A job whose hash is in the cache is not compiled again:
+//! editing a comment or one shader recompiles only what that edit reaches. The cache lives
+//! beside the build profiles (`target/glyphcast-spirv-cache`), so that `cargo build`,
+//! `cargo test` and `cargo clippy` share it.
+use crate::fail;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// Bumped when anything that shapes the SPIR-V but not the preprocessed text changes
+/// (compiler options below).
+const CACHE_VERSION: &str = "glyphcast-spirv-cache 1: vulkan1.3 performance";
+
+/// One shader to compile.
+pub struct Job {
+    /// Unique name; the SPIR-V is written to `<label>.spv`.
+    pub label: String,
+    /// Source file in glsl/.
+    pub file: String,
+    pub kind: shaderc::ShaderKind,
+    /// Served as "glyph_function.glsl" to the source's includes.
+    pub generated: String,
+    /// Preprocessor names defined (without a value).
+    pub defines: Vec<&'static str>,
+    /// Relative cost, so that the longest jobs start first.
+    pub weight: u32,
+}
+
+/// Where the build reads and writes.
+pub struct Dirs {
+    pub glsl: PathBuf,
+    /// The generated glyph functions, for reading compile errors.
+    pub generated: PathBuf,
+    pub cache: PathBuf,
+    /// `<label>.spv` of every job, for the table's include_bytes!.
+    pub spirv: PathBuf,
+}
+
+/// What a build did, for the build log.
+#[derive(Default)]
+pub struct Summary {
+    pub compiled: usize,
+    pub cached: usize,
+}
+
+/// The cache directory: beside the profile directories when OUT_DIR has cargo's layout
+/// (`<target>/<profile>/build/<package>-<hash>/out`), else inside OUT_DIR.
+pub fn cache_dir(out_dir: &Path) -> PathBuf {
+    let mut ancestors = out_dir.ancestors();
+    let build = ancestors.nth(2);
+    let target = ancestors.nth(1);
+    match (build, target) {
+        (Some(build), Some(target)) if build.file_name().is_some_and(|n| n == "build") => {
+            target.join("glyphcast-spirv-cache")
+        }
+        _ => out_dir.join("spirv-cache"),
+    }
+}
+
+/// Compiles every job (or takes it from the cache) and writes `<label>.spv` into
+/// `dirs.spirv`, in little-endian byte order. Exits the build with the compiler's message,
+/// the offending lines shown, on the first error.
+pub fn compile_all(jobs: &mut [Job], dirs: &Dirs) -> Summary {
+    for dir in [&dirs.generated, &dirs.cache, &dirs.spirv] {
+        if let Err(e) = std::fs::create_dir_all(dir) {
+            fail(format!("creating {}: {e}", dir.display()));
+        }
+    }
+    jobs.sort_by(|a, b| b.weight.cmp(&a.weight).then_with(|| a.label.cmp(&b.label)));
+    let next = AtomicUsize::new(0);
+    let compiled = AtomicUsize::new(0);
+    let threads = std::thread::available_parallelism().map_or(1, usize::from);
+    let jobs = &*jobs;
+    let failure: Option<String> = std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..threads.min(jobs.len()))
+            .map(|_| {
+                scope.spawn(|| -> Result<(), String> {
+                    let compiler =
+                        shaderc::Compiler::new().map_err(|e| format!("shaderc compiler: {e}"))?;
+                    loop {
+                        let index = next.fetch_add(1, Ordering::Relaxed);
+                        let Some(job) = jobs.get(index) else {
+                            return Ok(());
+                        };
+                        if run(&compiler, job, dirs)? {
+                            compiled.fetch_add(1, Ordering::Relaxed);
+                        }
+                    }
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            .filter_map(|w| match w.join() {
+                Ok(Ok(())) => None,
+                Ok(Err(message)) => Some(message),
+                Err(_) => Some("a shader compiler thread panicked".to_owned()),
+            })
+            .next()
+    });
+    if let Some(message) = failure {
+        fail(message);
+    }
+    let compiled = compiled.into_inner();
+    Summary {
+        compiled,
+        cached: jobs.len() - compiled,
+    }
+}
+
+fn options<'a>(job: &'a Job, glsl_dir: &'a Path) -> Result<shaderc::CompileOptions<'a>, String> {
+    let mut options =
+        shaderc::CompileOptions::new().map_err(|e| format!("shaderc options: {e}"))?;
+    options.set_target_env(
+        shaderc::TargetEnv::Vulkan,
+        shaderc::EnvVersion::Vulkan1_3 as u32,
+    );
+    options.set_optimization_level(shaderc::OptimizationLevel::Performance);
+    for define in &job.defines {
+        options.add_macro_definition(define, None);
+    }
+    options.set_include_callback(move |name, _, _, _| {
+        let content = if name == "glyph_function.glsl" {
+            job.generated.clone()
+        } else {
+            std::fs::read_to_string(glsl_dir.join(name)).map_err(|e| format!("{name}: {e}"))?
+        };
+        Ok(shaderc::ResolvedInclude {
+            resolved_name: name.to_owned(),
+            content,
+        })
+    });
+    Ok(options)
+}
+
+/// One job; true when it was compiled, false when the cache had it.
+fn run(compiler: &shaderc::Compiler, job: &Job, dirs: &Dirs) -> Result<bool, String> {
+    let path = dirs.glsl.join(&job.file);
+    let source = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let generated_path = dirs
+        .generated
+        .join(format!("{}.glyph_function.glsl", job.label));
+    let _ = std::fs::write(&generated_path, &job.generated);
+    let explain = |message: String| explain(&message, job, &dirs.glsl, &generated_path);
+
+    let preprocessed = compiler
+        .preprocess(&source, &job.file, "main", Some(&options(job, &dirs.glsl)?))
+        .map_err(|e| explain(e.to_string()))?;
+    let key = cache_key(job, &preprocessed.as_text());
+    let cached = dirs.cache.join(format!("{key:016x}.spv"));
+    let target = dirs.spirv.join(format!("{}.spv", job.label));
+    let hit = std::fs::read(&cached)
+        .ok()
+        .filter(|bytes| !bytes.is_empty() && bytes.len() % 4 == 0);
+    let (bytes, compiled) = match hit {
+        Some(bytes) => (bytes, false),
+        None => {
+            let artifact = compiler
+                .compile_into_spirv(
+                    &source,
+                    job.kind,
+                    &job.file,
+                    "main",
+                    Some(&options(job, &dirs.glsl)?),
+                )
+                .map_err(|e| explain(e.to_string()))?;
+            let bytes: Vec<u8> = artifact
+                .as_binary()
+                .iter()
+                .flat_map(|w| w.to_le_bytes())
+                .collect();
+            write_replacing(&cached, &bytes)?;
+            (bytes, true)
+        }
+    };
+    // Unchanged outputs keep their times, so cargo sees nothing new in them.
+    if std::fs::read(&target).ok().as_deref() != Some(&bytes[..]) {
+        write_replacing(&target, &bytes)?;
+    }
+    Ok(compiled)
+}
+
+/// FNV-1a (64 bit) of the cache version, the stage, the defines and the preprocessed
+/// text without line directives, blank lines or indentation.
+fn cache_key(job: &Job, preprocessed: &str) -> u64 {
+    let mut hash = 0xcbf2_9ce4_8422_2325_u64;
+    let mut feed = |bytes: &[u8]| {
+        for b in bytes {
+            hash ^= u64::from(*b);
+            hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+        hash ^= 0xff;
+        hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
+    };
+    feed(CACHE_VERSION.as_bytes());
+    feed(format!("{:?}", job.kind).as_bytes());
+    for define in &job.defines {
+        feed(define.as_bytes());
+    }
+    for line in preprocessed.lines() {
+        let line = line.trim();
+        if !line.is_empty() && !line.starts_with("#line") {
+            feed(line.as_bytes());
+        }
+    }
+    hash
+}
+
+/// Writes through a temporary file and a rename, so that a build killed half way never
+/// leaves a truncated SPIR-V file behind.
+fn write_replacing(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    let temporary = path.with_extension(format!("tmp{}", std::process::id()));
+    std::fs::write(&temporary, bytes)
+        .and_then(|()| std::fs::rename(&temporary, path))
+        .map_err(|e| format!("writing {}: {e}", path.display()))
+}
+
+/// glslang's messages read `name:line: ...`; shows the offending source lines.
+fn explain(message: &str, job: &Job, glsl_dir: &Path, generated_path: &Path) -> String {
+    let mut out = format!("GLSL compile error in variant {}:\n{message}\n", job.label);
+    for line in message.lines() {
+        let mut parts = line.splitn(3, ':');
+        let (Some(name), Some(number)) = (parts.next(), parts.next()) else {
+            continue;
+        };
+        let name = name.trim().trim_start_matches("ERROR").trim();
+        let Ok(number) = number.trim().parse::<usize>() else {
+            continue;
+        };
+        let text = if name == "glyph_function.glsl" {
+            Some(job.generated.clone())
+        } else {
+            std::fs::read_to_string(glsl_dir.join(name)).ok()
+        };
+        if let Some(line_text) = text
+            .as_deref()
+            .and_then(|t| t.lines().nth(number.saturating_sub(1)))
+        {
+            let _ = writeln!(out, "  {name}:{number}: {}", line_text.trim());
+        }
+    }
+    let _ = writeln!(out, "generated source: {}", generated_path.display());
+    out
+}
