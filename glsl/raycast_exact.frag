@@ -467,28 +467,40 @@ bool polynomial_piece(vec3 mid, vec3 d, float tau0, float tau1, inout int state,
 }
 
 // First crossing along q = mid + tau d, tau in [tau_start, tau_end] (within [-1, 1], the
-// box's part of the chord), through three pieces: polynomial up to -tau_c, sampled in the
+// box's part of the chord): polynomial on the half before mid up to -tau_c, sampled in the
 // centre zone [-tau_c, tau_c] (empty when the ray passes farther than CENTRE_RADIUS from
-// the centre), polynomial from tau_c on. One loop with one call of each kind keeps the
-// unrolled shader half as long.
+// the centre), polynomial on the half after mid from tau_c on. One loop over the two
+// halves, each call written once, keeps the unrolled shader short; that matters on
+// lavapipe, which runs every instruction of a loop body for every fragment of a SIMD
+// batch, its lanes masked, whether or not any lane needs it.
 bool first_crossing(vec3 mid, vec3 d, float tau_start, float tau_end, out float tau) {
     float a = dot(mid, mid);
     float r2 = CENTRE_RADIUS * CENTRE_RADIUS;
     float tau_c = a < r2 ? sqrt(r2 - a) / length(d) : 0.0;
     int state = -1;
     tau = tau_start;
-    for (int piece = 0; piece < 3; ++piece) {
-        float lo = max(tau_start, piece == 0 ? -1.0 : (piece == 1 ? -tau_c : tau_c));
-        float hi = min(tau_end, piece == 0 ? -tau_c : (piece == 1 ? tau_c : 1.0));
-        if (lo >= hi) {
-            continue;
+    for (int half_index = 0; half_index < 2; ++half_index) {
+        float lo = max(tau_start, half_index == 0 ? -1.0 : tau_c);
+        float hi = min(tau_end, half_index == 0 ? -tau_c : 1.0);
+        // The part of the chord to sample: what the subdivision left (its budget spent),
+        // then, after the first half, the centre zone.
+        float march_lo = hi;
+        float march_hi = hi;
+        if (lo < hi) {
+            if (polynomial_piece(mid, d, lo, hi, state, tau, march_lo)) {
+                return true;
+            }
         }
-        float unsolved = lo;
-        if (piece != 1 && polynomial_piece(mid, d, lo, hi, state, tau, unsolved)) {
-            return true;
+        if (half_index == 0) {
+            float centre_lo = max(tau_start, -tau_c);
+            float centre_hi = min(tau_end, tau_c);
+            if (centre_lo < centre_hi) {
+                march_lo = march_lo < hi ? march_lo : centre_lo;
+                march_hi = centre_hi;
+            }
         }
-        if (unsolved < hi
-                && march_piece(mid, d, unsolved, hi, CENTRE_SAMPLES, state, tau)) {
+        if (march_lo < march_hi
+                && march_piece(mid, d, march_lo, march_hi, CENTRE_SAMPLES, state, tau)) {
             return true;
         }
     }

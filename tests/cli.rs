@@ -510,6 +510,14 @@ fn bench_quick_table2_writes_valid_csv_and_json() {
             .any(|r| r["name"] == "ray-cast / impostor GPU time" && r["value"].as_f64() > Some(0.0)),
         "{ratios:?}"
     );
+    // The ratios hold the default method (exact) against the others.
+    assert!(
+        ratios
+            .iter()
+            .all(|r| r["value"].is_null()
+                || r["detail"].as_str().is_some_and(|d| d.contains("exact"))),
+        "{ratios:?}"
+    );
     let csv = std::fs::read_to_string(dir.join("results.csv")).expect("results.csv");
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(lines.len(), 12);
@@ -528,6 +536,57 @@ fn bench_quick_table2_writes_valid_csv_and_json() {
         let info = reader.info();
         assert_eq!((info.width, info.height), (900, 500), "{name}");
     }
+}
+
+/// The generated fODF workload (one to three fibres per glyph, SH band 8): drawn with the
+/// default method, it matches the float64 reference, and the scene it saves is a valid
+/// scene file of that many SH glyphs.
+#[test]
+fn bench_fodf_workload_matches_the_reference() {
+    let dir = fresh_dir("bench-fodf");
+    let saved = dir.join("fodf.json");
+    let out = glyphcast(&[
+        "bench",
+        "--workload",
+        "fodf:24:8",
+        "--width",
+        "160",
+        "--height",
+        "90",
+        "--frames",
+        "1",
+        "--warmup",
+        "0",
+        "--accuracy",
+        "--save-scene",
+        saved.to_str().expect("path"),
+        "--out",
+        dir.to_str().expect("path"),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("results.json")).expect("results.json"),
+    )
+    .expect("valid JSON");
+    let r = &json["results"][0];
+    assert_eq!(r["glyphs"], 24, "{r}");
+    assert_eq!(r["method"], "exact", "{r}");
+    assert_eq!(r["accuracy"]["holes"], 0, "{r}");
+    assert_eq!(r["accuracy"]["false_hits"], 0, "{r}");
+    let scene = glyphcast::io::scene::Scene::load(&saved).expect("the saved scene");
+    assert_eq!(scene.glyph_sets.len(), 1);
+    assert_eq!(scene.glyph_sets[0].len(), 24);
+    let bad = glyphcast(&["bench", "--workload", "fodf:24:7"]);
+    assert!(!bad.status.success());
+    assert!(
+        String::from_utf8_lossy(&bad.stderr).contains("band 7"),
+        "{}",
+        String::from_utf8_lossy(&bad.stderr)
+    );
 }
 
 /// Without --method the default is exact; with an --offset it is affine (exact refuses

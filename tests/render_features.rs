@@ -288,3 +288,52 @@ fn split_storage_buffers_leave_the_image_unchanged() {
         .expect_err("too small a limit");
     assert!(err.to_string().contains("storage buffer"), "{err}");
 }
+
+/// The camera inside a glyph's oriented box, outside the glyph (the accuracy suite's
+/// `camera-inside-box`): the box is cut by the near plane and drawn inside out. The scene
+/// must really put the eye in the box, the glyph around the eye must be seen (before the
+/// fix, its box's front faces were clipped and nothing of it was drawn), and the depth
+/// must match the reference.
+#[test]
+fn camera_inside_a_glyph_box() {
+    let scene = glyphcast::accuracy::suite::camera_inside_box(160);
+    let sets = prepare_scene(&scene, 0.0).expect("preparing");
+    let set = &sets[0];
+    let [x, y, z, w, ex, ey, ez, _] = set.boxes[0];
+    let rotation = glam::DQuat::from_xyzw(x as f64, y as f64, z as f64, w as f64);
+    let [cx, cy, cz, radius] = set.instances[0].map(f64::from);
+    let local = rotation.inverse() * (scene.camera.eye - DVec3::new(cx, cy, cz)) / radius;
+    let extent = DVec3::new(ex as f64, ey as f64, ez as f64);
+    assert!(
+        local.abs().cmplt(extent).all(),
+        "the eye is outside the box: {local} against {extent}"
+    );
+    let glyph = &set.world[0];
+    let offset = scene.camera.eye - glyph.center;
+    let surface = glyph.scale * glyph.poly.eval(offset.normalize()).abs();
+    assert!(
+        offset.length() > 2.0 * surface,
+        "the eye must be outside the glyph: {} against {surface}",
+        offset.length()
+    );
+
+    let r = assert_matches_reference("camera-inside-box", &scene, &RenderSettings::default());
+    let image = glyphcast::io::png::write_png_rgba8(
+        &common::output_dir().join("camera-inside-box.png"),
+        r.image.width,
+        r.image.height,
+        &r.image.rgba,
+    );
+    assert!(image.is_ok(), "{image:?}");
+    // Depths within the first glyph's bounding sphere around the eye: that glyph is seen.
+    let near = r
+        .image
+        .distance
+        .iter()
+        .filter(|d| d.is_finite() && (**d as f64) < radius)
+        .count();
+    assert!(
+        near > r.image.distance.len() / 10,
+        "only {near} pixels show the glyph around the eye"
+    );
+}

@@ -1,7 +1,7 @@
 //! The accuracy suite: scenes on which fixed-step ray casting is known to struggle.
 //! Thin crossing lobes, a slightly tilted copy of a glyph (the seed's Fig. 1), a glyph
 //! that touches its centre seen down its pinch, order 12, a non-symmetric stiffness
-//! tensor, negative lobes shown and hidden, and real SH data.
+//! tensor, negative lobes shown and hidden, real SH data, and a camera inside a glyph's box.
 use crate::camera::{Camera, Projection};
 use crate::demo::{direction, fibre_tensor, glyph_set, symmetric};
 use crate::glyph::stiffness::{VoigtStiffness, rotate_order4};
@@ -135,6 +135,23 @@ pub fn sh_func_coef(size: u32) -> Scene {
     scene(vec![set], DVec3::new(0.5, -2.5, 2.0), size)
 }
 
+/// The camera inside a glyph's bounding box (zooming into a glyph with the viewer): an
+/// order-8 crossing of two orthogonal fibres, the eye between its lobes, where the glyph
+/// is thin, looking past its centre at a second glyph behind it. The near plane cuts the
+/// first glyph's box, which is drawn inside out (raycast.vert).
+pub fn camera_inside_box(size: u32) -> Scene {
+    let crossing = fibre_tensor(
+        8,
+        &[(direction(90.0, 0.0), 1.0), (direction(90.0, 90.0), 1.0)],
+    );
+    let single = fibre_tensor(8, &[(direction(60.0, 30.0), 1.0)]);
+    let centers = vec![DVec3::ZERO, DVec3::new(-0.3, -1.8, -1.8)];
+    let set = glyph_set(symmetric(8), centers, 1.0, vec![crossing, single]);
+    let mut scene = scene(vec![set], DVec3::new(0.02, 0.3, 0.3), size);
+    scene.camera.projection = Projection::Perspective { fov_y_deg: 75.0 };
+    scene
+}
+
 /// Every scene of the suite at `size` x `size` pixels.
 pub fn suite(size: u32) -> Vec<SuiteScene> {
     vec![
@@ -169,6 +186,10 @@ pub fn suite(size: u32) -> Vec<SuiteScene> {
         SuiteScene {
             name: "sh-func-coef",
             scene: sh_func_coef(size),
+        },
+        SuiteScene {
+            name: "camera-inside-box",
+            scene: camera_inside_box(size),
         },
     ]
 }

@@ -4,9 +4,11 @@
 //!   and a trivial fragment shader;
 //! - tessellation time at equal geometric error / ray-cast time: the coarsest mesh (fewest
 //!   triangles) whose geometric error is below [`EQUAL_ERROR_PX`] pixels, against the
-//!   default ray caster, on GPU frame time (the CPU generation time is given beside it);
+//!   default ray caster (`RenderSettings::default().method`, `exact`), on GPU frame time
+//!   (the CPU generation time is given beside it);
 //! - memory per glyph of that mesh / of the ray caster (coefficients and instance).
 use super::BenchResult;
+use crate::render::RenderSettings;
 use std::fmt::Write as _;
 
 /// The geometric error (pixels) a tessellation must stay below to count as equal to the
@@ -36,6 +38,7 @@ pub fn ratios(results: &[BenchResult]) -> Vec<Ratio> {
             scenes.push(&r.scene);
         }
     }
+    let default_method = RenderSettings::default().method.to_string();
     let mut out = Vec::new();
     for scene in scenes {
         let rows: Vec<&BenchResult> = results.iter().filter(|r| r.scene == scene).collect();
@@ -46,16 +49,16 @@ pub fn ratios(results: &[BenchResult]) -> Vec<Ratio> {
             value,
             detail,
         };
-        let Some(fixed) = find("fixed") else {
+        let Some(ray_cast) = find(&default_method) else {
             continue;
         };
         if let Some(impostor) = find("impostor") {
             out.push(ratio(
                 RAY_CAST_OVER_IMPOSTOR,
-                Some(fixed.gpu_ms_median / impostor.gpu_ms_median),
+                Some(ray_cast.gpu_ms_median / impostor.gpu_ms_median),
                 format!(
-                    "{:.3} ms / {:.3} ms",
-                    fixed.gpu_ms_median, impostor.gpu_ms_median
+                    "{} {:.3} ms / {:.3} ms",
+                    default_method, ray_cast.gpu_ms_median, impostor.gpu_ms_median
                 ),
             ));
         }
@@ -68,7 +71,7 @@ pub fn ratios(results: &[BenchResult]) -> Vec<Ratio> {
             continue;
         }
         let error = |r: &BenchResult| r.accuracy.map_or(f64::INFINITY, |a| a.error_px);
-        let fixed_error = fixed
+        let ray_cast_error = ray_cast
             .accuracy
             .map_or_else(String::new, |a| format!(", {:.3} px", a.error_px));
         let equal = meshes
@@ -79,24 +82,25 @@ pub fn ratios(results: &[BenchResult]) -> Vec<Ratio> {
             Some(mesh) => {
                 out.push(ratio(
                     MESH_OVER_RAY_CAST,
-                    Some(mesh.gpu_ms_median / fixed.gpu_ms_median),
+                    Some(mesh.gpu_ms_median / ray_cast.gpu_ms_median),
                     format!(
-                        "{}: {:.3} ms ({} triangles, {:.3} px; generation {:.1} ms) / fixed {:.3} ms{}",
+                        "{}: {:.3} ms ({} triangles, {:.3} px; generation {:.1} ms) / {} {:.3} ms{}",
                         mesh.method,
                         mesh.gpu_ms_median,
                         mesh.triangles.unwrap_or(0),
                         error(mesh),
                         mesh.generate_ms.unwrap_or(0.0),
-                        fixed.gpu_ms_median,
-                        fixed_error
+                        default_method,
+                        ray_cast.gpu_ms_median,
+                        ray_cast_error
                     ),
                 ));
                 out.push(ratio(
                     MESH_MEMORY_OVER_RAY_CAST,
-                    Some(mesh.bytes_per_glyph / fixed.bytes_per_glyph),
+                    Some(mesh.bytes_per_glyph / ray_cast.bytes_per_glyph),
                     format!(
-                        "{}: {:.0} B / fixed {:.0} B (coefficients + instance)",
-                        mesh.method, mesh.bytes_per_glyph, fixed.bytes_per_glyph
+                        "{}: {:.0} B / {} {:.0} B (coefficients, instance and box)",
+                        mesh.method, mesh.bytes_per_glyph, default_method, ray_cast.bytes_per_glyph
                     ),
                 ));
             }

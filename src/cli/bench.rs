@@ -24,7 +24,8 @@ pub struct BenchArgs {
     /// A sweep instead of one measurement: steps (the seed's Table 1), scaling (glyph
     /// count, order, resolution), table2 (ray casting against tessellation levels 1 to 6,
     /// with geometric error), methods (every method on the accuracy suite) or ratios
-    /// (ray cast against impostor and against tessellation at equal error, orders 4, 8, 12).
+    /// (the default ray caster against the impostor and against tessellation at equal
+    /// error: grids of orders 4, 8 and 12, and band-8 fODFs).
     #[arg(long)]
     sweep: Option<String>,
     /// Method of a single measurement: fixed, interval, affine, impostor, mesh:LEVEL or
@@ -273,6 +274,15 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
                 let scene = plan.scene(name.clone(), workload::grid(count, order, size, size)?);
                 plan.methods(&name, scene, &method_list(levels.clone(), &[]));
             }
+            // The common case of real data: one to three fibres per voxel, band 8.
+            let (count, width, height) = if args.quick {
+                (16, args.width.unwrap_or(160), args.height.unwrap_or(90))
+            } else {
+                (256, args.width.unwrap_or(1280), args.height.unwrap_or(720))
+            };
+            let name = format!("fodf:{count}:8");
+            let scene = plan.scene(name.clone(), workload::fodf(count, 8, width, height)?);
+            plan.methods(&name, scene, &method_list(levels, &[]));
         }
         Some(other) => {
             return Err(Error::Invalid(format!(
