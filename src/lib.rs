@@ -99,6 +99,7 @@ pub mod error;
 pub mod fit;
 pub mod glyph;
 pub mod io;
+pub mod parallel;
 pub mod render;
 pub mod viewer;
 pub mod vk;

@@ -93,35 +93,10 @@ pub fn prepare_set(set: &GlyphSet, index: usize, offset: f64) -> Result<GlyphSet
         coefficients: Vec::with_capacity(set.len() * layout.coefficient_count()),
         world: Vec::with_capacity(set.len()),
     };
-    // The bound of each glyph is the costly part (up to a few ms at order 12): glyphs
-    // are bounded on every core, in contiguous chunks so the order is kept.
-    let threads = std::thread::available_parallelism().map_or(1, usize::from);
-    let chunk = set.len().div_ceil(threads).max(1);
-    let bounded: Vec<Result<Vec<Option<Bounded>>>> = std::thread::scope(|scope| {
-        let workers: Vec<_> = set
-            .coeffs
-            .chunks(chunk)
-            .map(|coeffs| {
-                scope.spawn(move || {
-                    coeffs
-                        .iter()
-                        .map(|c| bound_glyph(set, layout, index, c))
-                        .collect()
-                })
-            })
-            .collect();
-        workers
-            .into_iter()
-            .map(|w| {
-                w.join()
-                    .unwrap_or_else(|_| Err(Error::Invalid("glyph bounding thread failed".into())))
-            })
-            .collect()
-    });
-    let mut bounded_glyphs = Vec::with_capacity(set.len());
-    for part in bounded {
-        bounded_glyphs.extend(part?);
-    }
+    // The bounds of each glyph are the costly part: glyphs are bounded on every core.
+    let bounded_glyphs = crate::parallel::map_chunks(&set.coeffs, "glyph bounds", |c| {
+        bound_glyph(set, layout, index, c)
+    })?;
     for ((center, scale), glyph) in set.centers.iter().zip(&set.scales).zip(bounded_glyphs) {
         let Some(Bounded {
             coeffs,

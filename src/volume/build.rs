@@ -122,11 +122,11 @@ pub fn volume_scene(volume: &Volume, options: &VolumeOptions) -> Result<VolumeSc
             "the polar decomposition of the affine did not converge",
         )
     })?;
-    let reorientation = Reorientation::new(rotation);
+    let reorientation = Reorientation::new(rotation).for_kind(kind)?;
     let mut report = VolumeReport::default();
     let mut glyphs: Vec<Vec<Glyph>> = Vec::with_capacity(regions.len());
     for (n, region) in regions.iter().enumerate() {
-        let mut drawn = Vec::new();
+        let mut candidates = Vec::new();
         // A voxel where two slices cross belongs to the first of them only.
         for voxel in region.voxels() {
             if regions[..n].iter().any(|earlier| earlier.contains(voxel)) {
@@ -143,8 +143,14 @@ pub fn volume_scene(volume: &Volume, options: &VolumeOptions) -> Result<VolumeSc
                 continue;
             }
             coeffs.truncate(kind.coefficient_count());
-            let coeffs = reorientation.apply(kind, &coeffs)?;
-            let radius = max_radius(kind, &coeffs)?;
+            let coeffs = reorientation.apply(&coeffs)?;
+            candidates.push((voxel, coeffs));
+        }
+        let radii = crate::parallel::map_chunks(&candidates, "glyph sizes", |(_, coeffs)| {
+            max_radius(kind, coeffs)
+        })?;
+        let mut drawn = Vec::new();
+        for ((voxel, coeffs), radius) in candidates.into_iter().zip(radii) {
             if radius <= 0.0 {
                 report.zero += 1;
             } else if radius < options.min_amplitude {
