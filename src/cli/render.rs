@@ -199,8 +199,14 @@ pub fn render(
         glyphcast::io::atomic::write_atomic(path, scene.to_json().as_bytes())?;
     }
     let started = Instant::now();
-    let sets = prepare_scene(&scene, settings.offset as f64)?;
+    let mut sets = prepare_scene(&scene, settings.offset as f64)?;
     let prepared = started.elapsed();
+    // What the ray casters do not read is freed before the GPU work (a million glyphs:
+    // the scene's coefficients and the float64 glyphs are most of a gigabyte).
+    scene.glyph_sets = Vec::new();
+    if !matches!(settings.method, Method::Mesh(_)) {
+        sets.iter_mut().for_each(|s| s.drop_reference_glyphs());
+    }
     let gpu = Gpu::headless(&options.gpu_options())?;
     eprintln!("device: {}", gpu.info);
     let mut renderer = HeadlessRenderer::new(&gpu)?;

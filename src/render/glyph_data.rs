@@ -41,6 +41,12 @@ impl GlyphSetData {
         self.instances.is_empty()
     }
 
+    /// Frees the float64 glyphs, which only the reference and the mesh pass read: a
+    /// million band-8 glyphs hold about half a gigabyte there.
+    pub fn drop_reference_glyphs(&mut self) {
+        self.world = Vec::new();
+    }
+
     /// Bytes the GPU holds for this set: coefficients, instances and boxes.
     pub fn gpu_bytes(&self) -> usize {
         4 * self.coefficients.len() + 16 * self.instances.len() + 32 * self.boxes.len()
@@ -99,7 +105,7 @@ pub fn prepare_set(set: &GlyphSet, index: usize, offset: f64) -> Result<GlyphSet
     })?;
     for ((center, scale), glyph) in set.centers.iter().zip(&set.scales).zip(bounded_glyphs) {
         let Some(Bounded {
-            coeffs,
+            gpu_coefficients,
             poly,
             bounds,
         }) = glyph
@@ -115,8 +121,7 @@ pub fn prepare_set(set: &GlyphSet, index: usize, offset: f64) -> Result<GlyphSet
             center.z as f32,
             half_size as f32,
         ]);
-        data.coefficients
-            .extend(coeffs.iter().map(|c| (c / bound) as f32));
+        data.coefficients.extend_from_slice(&gpu_coefficients);
         data.world.push(WorldGlyph {
             center: *center,
             scale: *scale,
@@ -158,9 +163,10 @@ fn box_instance(bounds: &GlyphBounds, offset: f64) -> [f32; 8] {
     ]
 }
 
-/// A glyph's tensor coefficients, polynomial and bounds (radius B and box).
+/// A glyph's tensor coefficients divided by B in float32 (what the GPU reads),
+/// polynomial and bounds (radius B and box).
 struct Bounded {
-    coeffs: Vec<f64>,
+    gpu_coefficients: Vec<f32>,
     poly: GlyphPolynomial,
     bounds: GlyphBounds,
 }
@@ -173,13 +179,12 @@ fn bound_glyph(
     coeffs: &[f64],
 ) -> Result<Option<Bounded>> {
     let coeffs = tensor_coefficients(set, coeffs)
-        .map_err(|e| Error::Invalid(format!("glyphs[{index}]: {e}")))?
-        .into_owned();
+        .map_err(|e| Error::Invalid(format!("glyphs[{index}]: {e}")))?;
     let poly = GlyphPolynomial::from_tensor(layout, &coeffs)?;
     Ok(glyph_bounds(&poly)
         .filter(|b| b.radius > 0.0 && b.radius.is_finite())
         .map(|bounds| Bounded {
-            coeffs,
+            gpu_coefficients: coeffs.iter().map(|c| (c / bounds.radius) as f32).collect(),
             poly,
             bounds,
         }))

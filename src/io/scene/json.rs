@@ -88,6 +88,8 @@ impl<'de> Visitor<'de> for JsonVisitor {
         while let Some(item) = seq.next_element()? {
             items.push(item);
         }
+        // Glyph lists are most of a large scene: no spare capacity kept.
+        items.shrink_to_fit();
         Ok(Json::Array(items))
     }
 
@@ -103,6 +105,12 @@ impl<'de> Visitor<'de> for JsonVisitor {
         }
         Ok(Json::Object(entries))
     }
+}
+
+/// Parses a document as it is read; None on any error (the caller reads the text and
+/// parses it with [`parse_document`] for the message).
+pub(super) fn parse_reader(reader: impl std::io::Read) -> Option<Json> {
+    serde_json::from_reader(reader).ok()
 }
 
 /// Parses the text; a syntax error names its line and column as the field.

@@ -142,8 +142,24 @@ impl Scene {
     /// [`Error::Input`] naming the file and the JSON path of the field; a file that
     /// cannot be read is an [`Error::Io`].
     pub fn load(path: &Path) -> Result<Scene> {
-        let text = std::fs::read_to_string(path).map_err(|err| Error::io(path, err))?;
-        Self::from_json_str(&text, &path.display().to_string())
+        use std::io::BufRead as _;
+        // Parsed as it is read, so that a large scene (10^6 glyphs is a 1 GB file) is
+        // never held as text beside its tree; on an error the text is read after all,
+        // for the message that names the line and what is wrong there.
+        let name = path.display().to_string();
+        let file = std::fs::File::open(path).map_err(|err| Error::io(path, err))?;
+        let mut reader = std::io::BufReader::with_capacity(1 << 20, file);
+        let bom = reader.fill_buf().map_err(|err| Error::io(path, err))?;
+        if bom.starts_with("\u{feff}".as_bytes()) {
+            reader.consume(3);
+        }
+        match json::parse_reader(reader) {
+            Some(document) => read::read_scene(&Field::root(&name, &document)),
+            None => {
+                let text = std::fs::read_to_string(path).map_err(|err| Error::io(path, err))?;
+                Self::from_json_str(&text, &name)
+            }
+        }
     }
 
     /// Same as [`Scene::load`], from text; `file` is the name used in errors.
