@@ -16,7 +16,7 @@ layout(location = 3) flat in vec3 v_box_extent;
 
 layout(location = 0) out vec4 out_color;
 layout(location = 1) out float out_distance;
-layout(depth_greater) out float gl_FragDepth;
+layout(depth_less) out float gl_FragDepth;  // reversed depth: hits lie behind the proxy
 
 void main() {
     vec3 origin, dir;

@@ -9,8 +9,8 @@
 // corners are mirrored through the centre, which turns the far faces towards the camera,
 // and they are put on the near plane (clip z = 0), which keeps their screen position. The
 // far faces of a convex box cover exactly the pixels whose rays meet the box in front of
-// the eye, and at depth 0 they stay below every ray-cast depth (the fragment shaders
-// write depth_greater).
+// the eye, and at depth 1 (the near plane of the reversed depth) they stay above every
+// ray-cast depth (the fragment shaders write depth_less).
 #extension GL_GOOGLE_include_directive : require
 #include "frame.glsl"
 
@@ -69,7 +69,7 @@ void main() {
         + unit.x * half_axes[0] + unit.y * half_axes[1] + unit.z * half_axes[2];
     gl_Position = frame.view_proj * vec4(world, 1.0);
     if (cut) {
-        gl_Position.z = 0.0;
+        gl_Position.z = gl_Position.w;
     }
     v_glyph = gl_InstanceIndex;
     v_center_radius = center_radius;

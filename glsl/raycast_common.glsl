@@ -20,7 +20,7 @@ layout(location = 0) out vec4 out_color;
 #ifndef GLYPHCAST_NO_DISTANCE  // build.rs: the variant for a colour attachment only
 layout(location = 1) out float out_distance;
 #endif
-layout(depth_greater) out float gl_FragDepth;
+layout(depth_less) out float gl_FragDepth;  // reversed depth: hits lie behind the proxy
 
 float shape(float f) {
     return glyph_set.hide_negative != 0u ? max(f, 0.0) : abs(f);

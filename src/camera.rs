@@ -69,9 +69,12 @@ impl Camera {
         }
     }
 
-    /// World to Vulkan clip space (y down, depth 0 at `near` to 1 at `far` along the
-    /// forward axis), written from the ray definition above so that pixel centres see
-    /// exactly the rays of [`Camera::ray`].
+    /// World to Vulkan clip space (y down), written from the ray definition above so that
+    /// pixel centres see exactly the rays of [`Camera::ray`]. Depth is reversed: 1 at
+    /// `near` along the forward axis, falling towards 0 far away. In perspective it is
+    /// near / e for eye depth e, with no far plane, so float32 depth keeps the same
+    /// relative precision at every distance (scenes whose sizes and distances span 10^6
+    /// and more); orthographic depth falls linearly from 1 at `near` to 0 at `far`.
     pub fn view_projection(&self, width: u32, height: u32, near: f64, far: f64) -> DMat4 {
         let f = self.frame();
         let aspect = width as f64 / height as f64;
@@ -81,20 +84,15 @@ impl Camera {
         let rows = match self.projection {
             Projection::Perspective { fov_y_deg } => {
                 let k = (fov_y_deg.to_radians() * 0.5).tan();
-                let depth = far / (far - near);
-                [
-                    ex / (k * aspect),
-                    -ey / k,
-                    ez * depth - DVec4::W * depth * near,
-                    ez,
-                ]
+                let _ = far;
+                [ex / (k * aspect), -ey / k, DVec4::W * near, ez]
             }
             Projection::Orthographic { height } => {
                 let half = 0.5 * height;
                 [
                     ex / (half * aspect),
                     -ey / half,
-                    (ez - DVec4::W * near) / (far - near),
+                    (DVec4::W * far - ez) / (far - near),
                     DVec4::W,
                 ]
             }

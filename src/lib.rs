@@ -24,7 +24,9 @@
 //!
 //! What the pass asks of the engine: a Vulkan 1.3 device with `dynamicRendering`;
 //! rendering begun with attachments of the formats given at creation; a depth buffer
-//! cleared to 1 and tested with LESS (0 is near). The glyph shaders write
+//! with reversed depth: cleared to 0 and tested with GREATER (1 is the near plane, and
+//! perspective depth is near / e for eye depth e, with no far plane, so that float32
+//! depth holds its precision at every distance). The glyph shaders write
 //! `gl_FragDepth` from [`FrameParams::view_proj`](render::frame::FrameParams), so the
 //! engine's own geometry must be drawn with that same matrix (build it with
 //! [`FrameParams::new`](render::frame::FrameParams::new) from a

@@ -337,3 +337,32 @@ fn camera_inside_a_glyph_box() {
         "only {near} pixels show the glyph around the eye"
     );
 }
+
+/// Sizes and distances over 10^6 in one view (the accuracy suite's `scale-range-1e6`):
+/// each of the three glyphs, at distances near 0.01, 10 and 10^4, is drawn (before
+/// reversed depth, the near plane sat at 1e-5 of the far one and cut the nearest away)
+/// and the depth matches the reference.
+#[test]
+fn sizes_and_distances_over_a_million() {
+    let scene = glyphcast::accuracy::suite::scale_range(160);
+    let r = assert_matches_reference("scale-range", &scene, &RenderSettings::default());
+    let image = glyphcast::io::png::write_png_rgba8(
+        &common::output_dir().join("scale-range.png"),
+        r.image.width,
+        r.image.height,
+        &r.image.rgba,
+    );
+    assert!(image.is_ok(), "{image:?}");
+    for (near, far) in [(0.005, 0.02), (5.0, 20.0), (5e3, 2e4)] {
+        let pixels = r
+            .image
+            .distance
+            .iter()
+            .filter(|d| (near..far).contains(&(**d as f64)))
+            .count();
+        assert!(
+            pixels > 100,
+            "only {pixels} pixels at distances {near} to {far}"
+        );
+    }
+}

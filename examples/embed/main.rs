@@ -189,7 +189,7 @@ fn render_with(
             .store_op(vk::AttachmentStoreOp::STORE)
             .clear_value(vk::ClearValue {
                 depth_stencil: vk::ClearDepthStencilValue {
-                    depth: 1.0,
+                    depth: 0.0,
                     stencil: 0,
                 },
             });
@@ -308,19 +308,19 @@ impl Attachment {
 }
 
 /// Depth-buffer values back to distances along each pixel's ray. The camera's
-/// perspective depth is z = far / (far - near) * (1 - near / e) for eye depth e along
-/// the forward axis ([`Camera::view_projection`]); a cleared 1.0 is a miss.
+/// perspective depth is reversed, z = near / e for eye depth e along the forward axis
+/// ([`Camera::view_projection`]); a cleared 0 is a miss.
 fn depth_to_distance(depth: &[f32], camera: &Camera) -> Vec<f64> {
     let fwd = camera.frame().fwd;
     depth
         .iter()
         .enumerate()
         .map(|(k, &z)| {
-            if z >= 1.0 {
+            if z <= 0.0 {
                 return f64::NAN;
             }
             let (i, j) = ((k as u32) % WIDTH, (k as u32) / WIDTH);
-            let eye_depth = NEAR / (1.0 - z as f64 * (FAR - NEAR) / FAR);
+            let eye_depth = NEAR / z as f64;
             eye_depth / camera.ray(i, j, WIDTH, HEIGHT).dir.dot(fwd)
         })
         .collect()

@@ -79,11 +79,11 @@ impl PlanePass {
             .line_width(1.0);
         let multisample = vk::PipelineMultisampleStateCreateInfo::default()
             .rasterization_samples(vk::SampleCountFlags::TYPE_1);
-        // The same depth convention as the glyphs: 0 near, 1 far, LESS wins.
+        // The same depth convention as the glyphs: reversed, 1 near, 0 far, GREATER wins.
         let depth_state = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(true)
             .depth_write_enable(true)
-            .depth_compare_op(vk::CompareOp::LESS);
+            .depth_compare_op(vk::CompareOp::GREATER);
         let blend_attachment = [vk::PipelineColorBlendAttachmentState::default()
             .color_write_mask(vk::ColorComponentFlags::RGBA)];
         let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachment);

@@ -1,7 +1,7 @@
 //! The accuracy suite: scenes on which fixed-step ray casting is known to struggle.
 //! Thin crossing lobes, a slightly tilted copy of a glyph (the seed's Fig. 1), a glyph
 //! that touches its centre seen down its pinch, order 12, a non-symmetric stiffness
-//! tensor, negative lobes shown and hidden, real SH data, and a camera inside a glyph's box.
+//! tensor, negative lobes shown and hidden, real SH data, a camera inside a glyph's box, and sizes and distances over 10^6.
 use crate::camera::{Camera, Projection};
 use crate::demo::{direction, fibre_tensor, glyph_set, symmetric};
 use crate::glyph::stiffness::{VoigtStiffness, rotate_order4};
@@ -152,6 +152,32 @@ pub fn camera_inside_box(size: u32) -> Scene {
     scene
 }
 
+/// Sizes and distances spanning a factor of 10^6 in one view: a crossing of scale 1e-3 at
+/// distance 0.01, a glyph of scale 1 at distance 10 and one of scale 1e3 at distance 1e4.
+/// Depth must hold all three (the near plane at the smallest distance, no far plane to
+/// lose precision to).
+pub fn scale_range(size: u32) -> Scene {
+    let tiny = fibre_tensor(
+        8,
+        &[(direction(0.0, 20.0), 1.0), (direction(70.0, -10.0), 0.8)],
+    );
+    let middle = fibre_tensor(8, &[(direction(30.0, 40.0), 1.0)]);
+    let huge = fibre_tensor(
+        8,
+        &[(direction(100.0, 0.0), 1.0), (direction(10.0, 60.0), 0.7)],
+    );
+    let centers = vec![
+        DVec3::new(-1.2e-3, 0.01, 0.0),
+        DVec3::new(0.0, 10.0, 1.4),
+        DVec3::new(1.3e3, 1.0e4, -0.2e3),
+    ];
+    let mut set = glyph_set(symmetric(8), centers, 1.0, vec![tiny, middle, huge]);
+    set.scales = vec![1e-3, 1.0, 1e3];
+    let mut scene = scene(vec![set], DVec3::ZERO, size);
+    scene.camera.target = DVec3::Y;
+    scene
+}
+
 /// Every scene of the suite at `size` x `size` pixels.
 pub fn suite(size: u32) -> Vec<SuiteScene> {
     vec![
@@ -190,6 +216,10 @@ pub fn suite(size: u32) -> Vec<SuiteScene> {
         SuiteScene {
             name: "camera-inside-box",
             scene: camera_inside_box(size),
+        },
+        SuiteScene {
+            name: "scale-range-1e6",
+            scene: scale_range(size),
         },
     ]
 }

@@ -65,8 +65,17 @@ impl SceneExtent {
         }
         let far = hi * 1.01 + 1e-6;
         let near = match camera.projection {
-            // Perspective depth needs near > 0; glyphs that reach behind the eye are cut there.
-            Projection::Perspective { .. } => (lo * 0.99).max(far * 1e-5),
+            // Perspective depth needs near > 0. Reversed depth (near / e) keeps its
+            // relative precision at any distance, so near can be tiny: only what lies
+            // nearer than it is cut, and a box that the near plane cuts is still drawn
+            // (raycast.vert), its ray-cast depths clamped to 1.
+            Projection::Perspective { .. } => {
+                if lo > 0.0 {
+                    (lo * 0.99).max(far * 1e-9)
+                } else {
+                    far * 1e-9
+                }
+            }
             Projection::Orthographic { .. } => lo - 0.01 * (hi - lo) - 1e-6,
         };
         SceneExtent {

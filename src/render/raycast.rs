@@ -380,7 +380,7 @@ pub(crate) fn glyph_pipeline(
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(true)
         .depth_write_enable(true)
-        .depth_compare_op(vk::CompareOp::LESS);
+        .depth_compare_op(vk::CompareOp::GREATER);
     let mut color_formats = vec![formats.color];
     color_formats.extend(formats.distance);
     let blend_attachments: Vec<_> = color_formats

@@ -134,7 +134,7 @@ pub fn cleared_depth_attachment(view: vk::ImageView) -> vk::RenderingAttachmentI
         .store_op(vk::AttachmentStoreOp::DONT_CARE)
         .clear_value(vk::ClearValue {
             depth_stencil: vk::ClearDepthStencilValue {
-                depth: 1.0,
+                depth: 0.0,
                 stencil: 0,
             },
         })
