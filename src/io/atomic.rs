@@ -2,6 +2,10 @@
 //! target's own directory and then renamed over the target. A rename within one
 //! directory is atomic on POSIX file systems, so a reader (or a crash) sees either the
 //! old file or the complete new one, never a half-written output (STYLE.md, Errors).
+//!
+//! What the user's path names is kept: a symbolic link is followed and the file it names
+//! is replaced (the link stays), and a special file (`/dev/null`, `/dev/stdout`, a named
+//! pipe) is written through, never replaced by a regular file.
 use std::fs::{self, OpenOptions};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -15,6 +19,19 @@ static TEMPORARY_COUNTER: AtomicU64 = AtomicU64::new(0);
 /// Writes `bytes` to `path` atomically; on failure the target is untouched and the
 /// temporary file is removed.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    let path = &follow_links(path)?;
+    match fs::metadata(path) {
+        Ok(meta) if meta.is_dir() => return Err(Error::io(path, "is a directory")),
+        Ok(meta) if !meta.is_file() => {
+            // A device or a pipe: written through, in place.
+            let written = OpenOptions::new()
+                .write(true)
+                .open(path)
+                .and_then(|mut file| file.write_all(bytes).and_then(|()| file.flush()));
+            return written.map_err(|err| Error::io(path, err));
+        }
+        _ => {}
+    }
     let temporary = temporary_path(path)?;
     let written = write_synced(&temporary, bytes).and_then(|()| fs::rename(&temporary, path));
     written.map_err(|err| {
@@ -25,19 +42,46 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     })
 }
 
+/// Links followed at most (the limit of Linux's own resolution).
+const MAX_LINKS: usize = 40;
+
+/// The path with its last component's symbolic links followed (to a file that may not
+/// exist yet); the path itself when it is no link.
+fn follow_links(path: &Path) -> Result<PathBuf> {
+    let mut current = path.to_path_buf();
+    for _ in 0..MAX_LINKS {
+        match fs::symlink_metadata(&current) {
+            Ok(meta) if meta.file_type().is_symlink() => {
+                let link = fs::read_link(&current).map_err(|err| Error::io(&current, err))?;
+                current = match current.parent() {
+                    Some(parent) if link.is_relative() => parent.join(link),
+                    _ => link,
+                };
+            }
+            _ => return Ok(current),
+        }
+    }
+    Err(Error::io(path, "too many levels of symbolic links"))
+}
+
+/// File names longer than this (bytes) are refused by most file systems.
+const NAME_MAX: usize = 255;
+
 /// `.NAME.PID.N.tmp` next to the target: same directory, so the rename cannot cross
-/// file systems; hidden, so a half-written file does not look like an output.
+/// file systems; hidden, so a half-written file does not look like an output. NAME is
+/// shortened where the whole would pass NAME_MAX.
 fn temporary_path(path: &Path) -> Result<PathBuf> {
     let name = path
         .file_name()
         .ok_or_else(|| Error::io(path, "not a file path"))?;
     let serial = TEMPORARY_COUNTER.fetch_add(1, Ordering::Relaxed);
-    let temporary_name = format!(
-        ".{}.{}.{serial}.tmp",
-        name.to_string_lossy(),
-        std::process::id()
-    );
-    Ok(path.with_file_name(temporary_name))
+    let suffix = format!(".{}.{serial}.tmp", std::process::id());
+    let name = name.to_string_lossy();
+    let mut keep = name.len().min(NAME_MAX - 1 - suffix.len());
+    while !name.is_char_boundary(keep) {
+        keep -= 1;
+    }
+    Ok(path.with_file_name(format!(".{}{suffix}", &name[..keep])))
 }
 
 /// Creates `path` (which must not exist yet), writes `bytes` and flushes them to disk
@@ -87,14 +131,71 @@ pub(crate) mod tests {
     #[test]
     fn failed_rename_removes_the_temporary() {
         let dir = scratch_dir("atomic-fail");
-        // A non-empty directory cannot be replaced by a file: the rename fails after
-        // the temporary was written.
+        // A directory is never replaced by a file: refused, and nothing is left behind.
         let target = dir.join("occupied");
         fs::create_dir_all(target.join("inside")).unwrap();
         let err = write_atomic(&target, b"data").unwrap_err();
         assert!(matches!(err, Error::Io { .. }), "{err}");
         assert!(err.to_string().contains("occupied"), "{err}");
         assert_eq!(entries(&dir), vec!["occupied".to_string()]);
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A link to an output is kept, and the file it names gets the new bytes.
+    #[test]
+    fn symbolic_links_are_kept() {
+        let dir = scratch_dir("atomic-link");
+        let real = dir.join("real.png");
+        fs::write(&real, b"old").unwrap();
+        let link = dir.join("link.png");
+        std::os::unix::fs::symlink("real.png", &link).unwrap();
+        write_atomic(&link, b"new").unwrap();
+        assert!(
+            fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(fs::read(&real).unwrap(), b"new");
+        assert_eq!(
+            entries(&dir),
+            vec!["link.png".to_string(), "real.png".to_string()]
+        );
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A special file (here a named pipe, as /dev/null is a device) is written through and
+    /// stays what it was, never replaced by a regular file.
+    #[test]
+    fn special_files_are_written_through() {
+        use std::os::unix::fs::FileTypeExt;
+        let dir = scratch_dir("atomic-fifo");
+        let fifo = dir.join("pipe");
+        let made = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap();
+        assert!(made.success(), "mkfifo failed");
+        let reader = {
+            let fifo = fifo.clone();
+            std::thread::spawn(move || fs::read(fifo).unwrap())
+        };
+        write_atomic(&fifo, b"through the pipe").unwrap();
+        // Checked before joining: a replaced pipe would leave the reader waiting.
+        assert!(fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo());
+        assert_eq!(reader.join().unwrap(), b"through the pipe");
+        assert_eq!(entries(&dir), vec!["pipe".to_string()]);
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// The longest valid file name works: the temporary name is shortened to fit.
+    #[test]
+    fn a_255_byte_name_works() {
+        let dir = scratch_dir("atomic-long");
+        let target = dir.join(format!("{}.png", "g".repeat(251)));
+        write_atomic(&target, b"data").unwrap();
+        assert_eq!(fs::read(&target).unwrap(), b"data");
+        assert_eq!(entries(&dir).len(), 1);
         fs::remove_dir_all(&dir).unwrap();
     }
 
