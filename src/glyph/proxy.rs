@@ -248,7 +248,14 @@ pub fn glyph_bounds(poly: &GlyphPolynomial) -> Option<GlyphBounds> {
     })
 }
 
-/// Eigenvectors of A = integral of f^2 u u^T over the sphere, as a right-handed frame.
+/// Below this ratio of the largest to the smallest eigenvalue of the second moment, a
+/// glyph counts as round: its moment axes say little (they are as good as random), and
+/// the world axes are taken instead, which views along an axis (slices, the common case)
+/// see face on: a box turned at random shows up to sqrt(3) times the area of one face.
+const ROUND_GLYPH_RATIO: f64 = 1.5;
+
+/// The box axes: eigenvectors of A = integral of f^2 u u^T over the sphere as a
+/// right-handed frame, or the world axes for a round glyph (see ROUND_GLYPH_RATIO).
 fn moment_axes(tables: &DegreeTables, coeffs: &[f64]) -> [DVec3; 3] {
     let mut square = vec![0.0; tables.moments.len()];
     for &(i, j, k) in &tables.square_pairs {
@@ -266,6 +273,15 @@ fn moment_axes(tables: &DegreeTables, coeffs: &[f64]) -> [DVec3; 3] {
         return [DVec3::X, DVec3::Y, DVec3::Z];
     }
     let eigen = nalgebra::SymmetricEigen::new(matrix);
+    let (smallest, largest) = eigen
+        .eigenvalues
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
+            (lo.min(*v), hi.max(*v))
+        });
+    if !(largest > ROUND_GLYPH_RATIO * smallest) {
+        return [DVec3::X, DVec3::Y, DVec3::Z];
+    }
     let column = |k: usize| {
         let v = eigen.eigenvectors.column(k);
         DVec3::new(v[0], v[1], v[2]).normalize_or_zero()
@@ -526,5 +542,25 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// A round glyph (three equal orthogonal fibres, second moment nearly isotropic) gets
+    /// the world axes; a crossing of two fibres keeps its moment axes (one along the
+    /// normal of its plane).
+    #[test]
+    fn round_glyphs_take_the_world_axes() {
+        let round = fibre_poly(4, &[(DVec3::X, 1.0), (DVec3::Y, 1.0), (DVec3::Z, 1.0)]);
+        let bounds = glyph_bounds(&round).expect("non-zero glyph");
+        assert_eq!(bounds.axes, [DVec3::X, DVec3::Y, DVec3::Z]);
+        let a = DVec3::new(1.0, 1.0, 0.2).normalize();
+        let b = DVec3::new(-1.0, 1.0, 0.3).normalize();
+        let crossing = fibre_poly(8, &[(a, 1.0), (b, 1.0)]);
+        let bounds = glyph_bounds(&crossing).expect("non-zero glyph");
+        let normal = a.cross(b).normalize();
+        assert!(
+            bounds.axes.iter().any(|axis| axis.dot(normal).abs() > 0.99),
+            "{:?}",
+            bounds.axes
+        );
     }
 }
