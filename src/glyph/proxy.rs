@@ -279,7 +279,9 @@ fn moment_axes(tables: &DegreeTables, coeffs: &[f64]) -> [DVec3; 3] {
         .fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
             (lo.min(*v), hi.max(*v))
         });
-    if !(largest > ROUND_GLYPH_RATIO * smallest) {
+    // NaN eigenvalues (never seen; rounding of huge coefficients) count as round too.
+    let anisotropic = largest > ROUND_GLYPH_RATIO * smallest;
+    if !anisotropic {
         return [DVec3::X, DVec3::Y, DVec3::Z];
     }
     let column = |k: usize| {
