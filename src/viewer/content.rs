@@ -201,6 +201,7 @@ impl Content {
             v.framed_target = framing.camera.target;
         }
         v.index[axis] = index;
+        let started = std::time::Instant::now();
         let glyph_sets = match volume_scene(volume, &options) {
             Ok(view) => view.scene.glyph_sets,
             Err(Error::Input { message, .. }) => {
@@ -210,7 +211,13 @@ impl Content {
             Err(e) => return Err(e),
         };
         v.options = options;
-        self.replace_sets(glyph_sets)
+        let glyphs: usize = glyph_sets.iter().map(|s| s.len()).sum();
+        let moved = self.replace_sets(glyph_sets)?;
+        eprintln!(
+            "slice {index}: {glyphs} glyphs ready in {:.0} ms",
+            started.elapsed().as_secs_f64() * 1e3
+        );
+        Ok(moved)
     }
 
     /// Puts `glyph_sets` into the scene, preparing only the sets that changed (with three
