@@ -103,6 +103,7 @@ pub mod glyph;
 pub mod io;
 pub mod parallel;
 pub mod render;
+pub mod rng;
 pub mod viewer;
 pub mod vk;
 pub mod volume;

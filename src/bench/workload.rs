@@ -7,7 +7,8 @@
 use crate::camera::{Camera, Projection};
 use crate::demo::{direction, fibre_tensor, glyph_set, symmetric};
 use crate::glyph::sh::{sh_basis_values, sh_orders};
-use crate::io::scene::{GlyphKind, ImageSize, Scene, ShBasis};
+use crate::io::scene::{GlyphKind, GlyphSet, ImageSize, Scene, ShBasis};
+use crate::rng::SplitMix64;
 use crate::{Error, Result};
 use glam::DVec3;
 
@@ -44,9 +45,16 @@ pub fn grid(count: usize, order: u32, width: u32, height: u32) -> Result<Scene> 
         ));
         coeffs.push(fibre_tensor(order, &fibres));
     }
+    let set = glyph_set(symmetric(order), centers, 0.48, coeffs);
+    Ok(field_scene(set, side, width, height))
+}
+
+/// A square field of `side` x `side` glyphs at unit spacing, seen from above at an angle
+/// by a camera that frames it whole.
+fn field_scene(set: GlyphSet, side: usize, width: u32, height: u32) -> Scene {
     let extent = side as f64;
-    Ok(Scene {
-        glyph_sets: vec![glyph_set(symmetric(order), centers, 0.48, coeffs)],
+    Scene {
+        glyph_sets: vec![set],
         camera: Camera {
             projection: Projection::Perspective { fov_y_deg: 30.0 },
             eye: DVec3::new(0.0, -1.2 * extent, 1.6 * extent + 2.0),
@@ -54,33 +62,6 @@ pub fn grid(count: usize, order: u32, width: u32, height: u32) -> Result<Scene> 
             up: DVec3::Z,
         },
         image: ImageSize { width, height },
-    })
-}
-
-/// SplitMix64: a small deterministic generator, so that workloads are the same on every
-/// machine and run.
-struct SplitMix(u64);
-
-impl SplitMix {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1).
-    fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// Uniform on the unit sphere.
-    fn direction(&mut self) -> DVec3 {
-        let z = 2.0 * self.unit() - 1.0;
-        let phi = 2.0 * std::f64::consts::PI * self.unit();
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        DVec3::new(r * phi.cos(), r * phi.sin(), z)
     }
 }
 
@@ -116,7 +97,7 @@ pub fn fodf(count: usize, band: u32, width: u32, height: u32) -> Result<Scene> {
         )));
     }
     let side = (count as f64).sqrt().ceil() as usize;
-    let mut rng = SplitMix(0x5eed_f0df ^ (count as u64) << 8 ^ band as u64);
+    let mut rng = SplitMix64::new(0x5eed_f0df ^ (count as u64) << 8 ^ band as u64);
     let mut centers = Vec::with_capacity(count);
     let mut coeffs = Vec::with_capacity(count);
     for k in 0..count {
@@ -149,22 +130,17 @@ pub fn fodf(count: usize, band: u32, width: u32, height: u32) -> Result<Scene> {
         ));
         coeffs.push(c.iter().map(|v| v * 0.45 / peak.max(1e-12)).collect());
     }
-    let extent = side as f64;
     let kind = GlyphKind::Sh {
         band,
         basis: ShBasis::Tournier07,
         legacy: false,
     };
-    Ok(Scene {
-        glyph_sets: vec![glyph_set(kind, centers, 1.0, coeffs)],
-        camera: Camera {
-            projection: Projection::Perspective { fov_y_deg: 30.0 },
-            eye: DVec3::new(0.0, -1.2 * extent, 1.6 * extent + 2.0),
-            target: DVec3::ZERO,
-            up: DVec3::Z,
-        },
-        image: ImageSize { width, height },
-    })
+    Ok(field_scene(
+        glyph_set(kind, centers, 1.0, coeffs),
+        side,
+        width,
+        height,
+    ))
 }
 
 /// Parses `grid:COUNT:ORDER` or `fodf:COUNT:BAND`.

@@ -274,25 +274,16 @@ pub(crate) mod univariate {
 pub(crate) mod test_support {
     use glam::DVec3;
 
-    pub(crate) struct Rng(u64);
+    pub(crate) struct Rng(crate::rng::SplitMix64);
 
     impl Rng {
         pub(crate) fn new(seed: u64) -> Self {
-            Self(seed)
-        }
-
-        pub(crate) fn next_u64(&mut self) -> u64 {
-            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = self.0;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^ (z >> 31)
+            Self(crate::rng::SplitMix64::new(seed))
         }
 
         /// Uniform in [lo, hi).
         pub(crate) fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-            let unit = (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
-            lo + (hi - lo) * unit
+            lo + (hi - lo) * self.0.unit()
         }
 
         pub(crate) fn vector(&mut self, lo: f64, hi: f64) -> DVec3 {

@@ -20,24 +20,16 @@ const ALL_BASES: [(ShBasis, bool); 4] = [
 ];
 
 /// A small deterministic generator (SplitMix64), so failures reproduce.
-struct Rng(u64);
+struct Rng(crate::rng::SplitMix64);
 
 impl Rng {
     fn new(seed: u64) -> Self {
-        Self(seed)
-    }
-
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
+        Self(crate::rng::SplitMix64::new(seed))
     }
 
     /// Uniform in [-1, 1).
     fn signed(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+        2.0 * self.0.unit() - 1.0
     }
 
     fn coefficients(&mut self, n: usize) -> Vec<f64> {
