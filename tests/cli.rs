@@ -363,15 +363,7 @@ fn bench_quick_writes_valid_csv_and_json() {
         "--out",
         dir.to_str().expect("path"),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let json: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(dir.join("results.json")).expect("results.json"),
-    )
-    .expect("valid JSON");
+    let json = bench_results(&out, &dir);
     let results = json["results"].as_array().expect("results array");
     // Quick steps sweep: 2 steps x 6 refinements x 2 centre modes.
     assert_eq!(results.len(), 24);
@@ -461,15 +453,7 @@ fn bench_quick_table2_writes_valid_csv_and_json() {
         "--out",
         dir.to_str().expect("path"),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let json: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(dir.join("results.json")).expect("results.json"),
-    )
-    .expect("valid JSON");
+    let json = bench_results(&out, &dir);
     let results = json["results"].as_array().expect("results array");
     let methods: Vec<&str> = results
         .iter()
@@ -563,15 +547,7 @@ fn bench_fodf_workload_matches_the_reference() {
         "--out",
         dir.to_str().expect("path"),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let json: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(dir.join("results.json")).expect("results.json"),
-    )
-    .expect("valid JSON");
+    let json = bench_results(&out, &dir);
     let r = &json["results"][0];
     assert_eq!(r["glyphs"], 24, "{r}");
     assert_eq!(r["method"], "exact", "{r}");
@@ -624,4 +600,15 @@ fn the_default_method_follows_the_offset() {
             "offset {offset}: glyphs drawn"
         );
     }
+}
+
+/// The `results.json` a successful `bench --out DIR` run wrote.
+fn bench_results(out: &std::process::Output, dir: &std::path::Path) -> serde_json::Value {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_str(&std::fs::read_to_string(dir.join("results.json")).expect("results.json"))
+        .expect("valid JSON")
 }

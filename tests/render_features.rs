@@ -318,13 +318,7 @@ fn camera_inside_a_glyph_box() {
     );
 
     let r = assert_matches_reference("camera-inside-box", &scene, &RenderSettings::default());
-    let image = glyphcast::io::png::write_png_rgba8(
-        &common::output_dir().join("camera-inside-box.png"),
-        r.image.width,
-        r.image.height,
-        &r.image.rgba,
-    );
-    assert!(image.is_ok(), "{image:?}");
+    save_image("camera-inside-box", &r);
     // Depths within the first glyph's bounding sphere around the eye: that glyph is seen.
     let near = r
         .image
@@ -346,13 +340,7 @@ fn camera_inside_a_glyph_box() {
 fn sizes_and_distances_over_a_million() {
     let scene = glyphcast::accuracy::suite::scale_range(160);
     let r = assert_matches_reference("scale-range", &scene, &RenderSettings::default());
-    let image = glyphcast::io::png::write_png_rgba8(
-        &common::output_dir().join("scale-range.png"),
-        r.image.width,
-        r.image.height,
-        &r.image.rgba,
-    );
-    assert!(image.is_ok(), "{image:?}");
+    save_image("scale-range", &r);
     for (near, far) in [(0.005, 0.02), (5.0, 20.0), (5e3, 2e4)] {
         let pixels = r
             .image
@@ -365,4 +353,12 @@ fn sizes_and_distances_over_a_million() {
             "only {pixels} pixels at distances {near} to {far}"
         );
     }
+}
+
+/// Writes the rendered image to the tests' output folder, to look at.
+fn save_image(name: &str, r: &common::Rendered) {
+    let path = common::output_dir().join(format!("{name}.png"));
+    let written =
+        glyphcast::io::png::write_png_rgba8(&path, r.image.width, r.image.height, &r.image.rgba);
+    assert!(written.is_ok(), "{}: {written:?}", path.display());
 }
