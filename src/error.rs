@@ -34,6 +34,10 @@ pub enum Error {
     /// A request that cannot be carried out as asked (settings, sizes, limits).
     #[error("{0}")]
     Invalid(String),
+    /// A command line that asks for something contradictory (exit code 2, as for
+    /// clap's own usage errors).
+    #[error("{0}")]
+    Usage(String),
 }
 
 impl Error {

@@ -57,7 +57,12 @@ fn main() {
     let cli = Cli::parse();
     if let Err(e) = run(cli) {
         eprintln!("error: {e}");
-        std::process::exit(1);
+        let code = if matches!(e, glyphcast::Error::Usage(_)) {
+            2
+        } else {
+            1
+        };
+        std::process::exit(code);
     }
 }
 
@@ -68,6 +73,7 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
             output,
             options,
         } => {
+            cli::render::check_outputs(&output, source.save_scene())?;
             let scene = source.load(options.image_request()?)?;
             cli::render::render(scene, &output, &options, source.save_scene())
         }
@@ -78,6 +84,7 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
             options,
             save_scene,
         } => {
+            cli::render::check_outputs(&output, save_scene.as_deref())?;
             let scene = if stiffness {
                 glyphcast::demo::stiffness_demo_scene()
             } else {

@@ -612,3 +612,102 @@ fn bench_results(out: &std::process::Output, dir: &std::path::Path) -> serde_jso
     serde_json::from_str(&std::fs::read_to_string(dir.join("results.json")).expect("results.json"))
         .expect("valid JSON")
 }
+
+/// Output paths are checked before any work, and a set of outputs is written all or
+/// nothing: a missing folder fails at once (before a device is opened) and writes
+/// nothing; the same file for two outputs is a usage error (exit 2); when one output
+/// cannot be written (here /dev/full, which a root user's run must also leave a device),
+/// the user's earlier outputs keep their contents and no temporary is left.
+#[test]
+fn outputs_are_checked_first_and_written_together() {
+    let dir = fresh_dir("outputs");
+    let scene = scenes().join("sphere.json");
+    let scene = scene.to_str().expect("path");
+    let path = |name: &str| dir.join(name).to_str().expect("path").to_owned();
+
+    let missing = glyphcast(&["render", scene, "-o", &path("no-such-folder/out.png")]);
+    assert_eq!(missing.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&missing.stderr);
+    assert!(
+        stderr.contains("no-such-folder") && stderr.contains("does not exist"),
+        "{stderr}"
+    );
+    assert!(
+        !stderr.contains("device:"),
+        "checked only after opening a device: {stderr}"
+    );
+
+    let twice = glyphcast(&[
+        "render",
+        scene,
+        "-o",
+        &path("a.png"),
+        "--depth-out",
+        &path("a.png"),
+    ]);
+    assert_eq!(
+        twice.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&twice.stderr)
+    );
+    assert!(String::from_utf8_lossy(&twice.stderr).contains("same file"));
+    assert!(
+        std::fs::read_dir(&dir).expect("folder").next().is_none(),
+        "nothing written"
+    );
+
+    std::fs::write(dir.join("old.png"), b"the user's image").expect("old image");
+    std::fs::write(dir.join("old.json"), b"the user's scene").expect("old scene");
+    let full = Path::new("/dev/full");
+    let is_device = |p: &Path| {
+        use std::os::unix::fs::FileTypeExt;
+        std::fs::symlink_metadata(p).is_ok_and(|m| m.file_type().is_char_device())
+    };
+    if is_device(full) {
+        let failed = glyphcast(&[
+            "render",
+            scene,
+            "-o",
+            &path("old.png"),
+            "--save-scene",
+            &path("old.json"),
+            "--depth-out",
+            "/dev/full",
+        ]);
+        assert_eq!(failed.status.code(), Some(1));
+        assert!(is_device(full), "/dev/full must stay a device");
+        assert_eq!(
+            std::fs::read(dir.join("old.png")).expect("old"),
+            b"the user's image"
+        );
+        assert_eq!(
+            std::fs::read(dir.join("old.json")).expect("old"),
+            b"the user's scene"
+        );
+        let mut names: Vec<String> = std::fs::read_dir(&dir)
+            .expect("folder")
+            .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        assert_eq!(names, ["old.json", "old.png"], "no temporary left");
+    }
+    let written = glyphcast(&[
+        "render",
+        scene,
+        "-o",
+        &path("old.png"),
+        "--save-scene",
+        &path("old.json"),
+    ]);
+    assert!(
+        written.status.success(),
+        "{}",
+        String::from_utf8_lossy(&written.stderr)
+    );
+    assert_ne!(
+        std::fs::read(dir.join("old.png")).expect("new"),
+        b"the user's image"
+    );
+    assert!(glyphcast::io::scene::Scene::load(&dir.join("old.json")).is_ok());
+}

@@ -183,8 +183,17 @@ impl RenderArgs {
     }
 }
 
-/// Renders `scene` and writes the outputs. `save_scene` receives the scene as rendered
-/// (image size included), once every option has been checked and before the GPU work.
+/// Checks every output path of a render before any work (`io::atomic::check_outputs`).
+pub fn check_outputs(output: &OutputArgs, save_scene: Option<&Path>) -> Result<()> {
+    let mut paths: Vec<&Path> = vec![&output.output];
+    paths.extend(output.depth_out.as_deref());
+    paths.extend(save_scene);
+    glyphcast::io::atomic::check_outputs(&paths)
+}
+
+/// Renders `scene` and writes the outputs (checked first with [`check_outputs`]);
+/// `save_scene` receives the scene as rendered (image size included), written with the
+/// image and the depth map, all or nothing.
 pub fn render(
     mut scene: Scene,
     output: &OutputArgs,
@@ -195,9 +204,8 @@ pub fn render(
     scene.image.width = image.width.unwrap_or(scene.image.width);
     scene.image.height = image.height.unwrap_or(scene.image.height);
     let settings = options.settings()?;
-    if let Some(path) = save_scene {
-        glyphcast::io::atomic::write_atomic(path, scene.to_json().as_bytes())?;
-    }
+    // Written with the image and the depth map, all or nothing.
+    let scene_file = save_scene.map(|path| (path, scene.to_json()));
     let started = Instant::now();
     let mut sets = prepare_scene(&scene, settings.offset as f64)?;
     let prepared = started.elapsed();
@@ -232,25 +240,28 @@ pub fn render(
             mesh.gpu_bytes() as f64 / (1024.0 * 1024.0)
         );
     }
-    write_outputs(&image, output)
+    write_outputs(&image, output, scene_file)
 }
 
-/// Writes the PNG and the depth map; if the second write fails, the first is removed so
-/// that no partial output stays behind.
-fn write_outputs(image: &RenderedImage, output: &OutputArgs) -> Result<()> {
-    glyphcast::io::png::write_png_rgba8(&output.output, image.width, image.height, &image.rgba)?;
+/// Writes the PNG, the depth map and the scene file together: either all are new or all
+/// are as they were (`io::atomic::write_all_atomic`).
+fn write_outputs(
+    image: &RenderedImage,
+    output: &OutputArgs,
+    scene_file: Option<(&Path, String)>,
+) -> Result<()> {
+    let (w, h) = (image.width, image.height);
+    let png = glyphcast::io::png::encode_png_rgba8(&output.output, w, h, &image.rgba)?;
+    let mut files: Vec<(&Path, Vec<u8>)> = vec![(&output.output, png)];
     if let Some(depth) = &output.depth_out {
-        let written =
-            glyphcast::io::npy::write_depth_npy(depth, image.width, image.height, &image.distance);
-        if let Err(e) = written {
-            remove_quietly(&output.output);
-            return Err(e);
-        }
+        let npy = glyphcast::io::npy::encode_depth_npy(depth, w, h, &image.distance)?;
+        files.push((depth, npy));
     }
+    if let Some((path, json)) = scene_file {
+        files.push((path, json.into_bytes()));
+    }
+    let set: Vec<(&Path, &[u8])> = files.iter().map(|(p, b)| (*p, b.as_slice())).collect();
+    glyphcast::io::atomic::write_all_atomic(&set)?;
     eprintln!("wrote {}", output.output.display());
     Ok(())
-}
-
-fn remove_quietly(path: &Path) {
-    let _ = std::fs::remove_file(path);
 }

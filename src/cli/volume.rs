@@ -71,7 +71,8 @@ pub struct VolumeArgs {
     /// Perspective camera instead of orthographic.
     #[arg(long, help_heading = "Volume input")]
     pub perspective: bool,
-    /// Also write the scene that is rendered as a scene file (before rendering).
+    /// Also write the scene that is rendered as a scene file (with the image, all or
+    /// nothing).
     #[arg(long, value_name = "FILE")]
     pub save_scene: Option<PathBuf>,
 }

@@ -19,27 +19,108 @@ static TEMPORARY_COUNTER: AtomicU64 = AtomicU64::new(0);
 /// Writes `bytes` to `path` atomically; on failure the target is untouched and the
 /// temporary file is removed.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let path = &follow_links(path)?;
-    match fs::metadata(path) {
-        Ok(meta) if meta.is_dir() => return Err(Error::io(path, "is a directory")),
-        Ok(meta) if !meta.is_file() => {
-            // A device or a pipe: written through, in place.
-            let written = OpenOptions::new()
-                .write(true)
-                .open(path)
-                .and_then(|mut file| file.write_all(bytes).and_then(|()| file.flush()));
-            return written.map_err(|err| Error::io(path, err));
+    write_all_atomic(&[(path, bytes)])
+}
+
+/// Writes a set of outputs so that either all are new or all are as they were: every
+/// regular file is first written in full to a temporary beside it, special files are
+/// written through, and only then are the temporaries renamed over their targets. A
+/// failure before the renames removes every temporary and leaves the targets untouched
+/// (a special file cannot take its bytes back: those are written first, so that a
+/// failing one stops the set before anything is replaced).
+pub fn write_all_atomic(outputs: &[(&Path, &[u8])]) -> Result<()> {
+    let mut regular = Vec::new();
+    let mut special = Vec::new();
+    for (path, bytes) in outputs {
+        let path = follow_links(path)?;
+        match fs::metadata(&path) {
+            Ok(meta) if meta.is_dir() => return Err(Error::io(&path, "is a directory")),
+            Ok(meta) if !meta.is_file() => special.push((path, *bytes)),
+            _ => regular.push((path, *bytes)),
         }
-        _ => {}
     }
-    let temporary = temporary_path(path)?;
-    let written = write_synced(&temporary, bytes).and_then(|()| fs::rename(&temporary, path));
-    written.map_err(|err| {
-        // Best effort: the temporary may not exist if creating it was what failed, and
-        // the original error is the one worth reporting.
-        let _ = fs::remove_file(&temporary);
-        Error::io(path, err)
-    })
+    let mut temporaries: Vec<(PathBuf, PathBuf)> = Vec::with_capacity(regular.len());
+    let remove_all = |temporaries: &[(PathBuf, PathBuf)]| {
+        for (temporary, _) in temporaries {
+            // Best effort: the original error is the one worth reporting.
+            let _ = fs::remove_file(temporary);
+        }
+    };
+    for (path, bytes) in &regular {
+        let temporary = match temporary_path(path) {
+            Ok(t) => t,
+            Err(e) => {
+                remove_all(&temporaries);
+                return Err(e);
+            }
+        };
+        if let Err(err) = write_synced(&temporary, bytes) {
+            let _ = fs::remove_file(&temporary);
+            remove_all(&temporaries);
+            return Err(Error::io(path, err));
+        }
+        temporaries.push((temporary, path.clone()));
+    }
+    for (path, bytes) in &special {
+        // A device or a pipe: written through, in place.
+        let written = OpenOptions::new()
+            .write(true)
+            .open(path)
+            .and_then(|mut file| file.write_all(bytes).and_then(|()| file.flush()));
+        if let Err(err) = written {
+            remove_all(&temporaries);
+            return Err(Error::io(path, err));
+        }
+    }
+    for (index, (temporary, path)) in temporaries.iter().enumerate() {
+        if let Err(err) = fs::rename(temporary, path) {
+            remove_all(&temporaries[index..]);
+            return Err(Error::io(path, err));
+        }
+    }
+    Ok(())
+}
+
+/// Checks a command's output paths before any work: each names a file (not a
+/// directory) in an existing directory, and no two name the same file (links
+/// followed). The same file twice is a usage error.
+pub fn check_outputs(paths: &[&Path]) -> Result<()> {
+    let mut seen: Vec<(PathBuf, &Path)> = Vec::with_capacity(paths.len());
+    for path in paths {
+        let resolved = follow_links(path)?;
+        let Some(name) = resolved.file_name() else {
+            return Err(Error::io(path, "not a file path"));
+        };
+        let parent = match resolved.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        let folder = fs::canonicalize(&parent).map_err(|_| {
+            Error::io(
+                path,
+                format!("the folder {} does not exist", parent.display()),
+            )
+        })?;
+        if !folder.is_dir() {
+            return Err(Error::io(
+                path,
+                format!("{} is not a folder", parent.display()),
+            ));
+        }
+        if resolved.is_dir() {
+            return Err(Error::io(path, "is a directory"));
+        }
+        let identity = folder.join(name);
+        if let Some((_, first)) = seen.iter().find(|(other, _)| *other == identity) {
+            return Err(Error::Usage(format!(
+                "{} and {} name the same file: give each output its own path",
+                first.display(),
+                path.display()
+            )));
+        }
+        seen.push((identity, path));
+    }
+    Ok(())
 }
 
 /// Links followed at most (the limit of Linux's own resolution).
@@ -185,6 +266,48 @@ pub(crate) mod tests {
         assert!(fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo());
         assert_eq!(reader.join().unwrap(), b"through the pipe");
         assert_eq!(entries(&dir), vec!["pipe".to_string()]);
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A set of outputs is all or nothing: when one cannot be written, the others keep
+    /// their old contents and no temporary is left.
+    #[test]
+    fn a_set_of_outputs_is_all_or_nothing() {
+        let dir = scratch_dir("atomic-set");
+        let (a, b) = (dir.join("a.png"), dir.join("b.npy"));
+        fs::write(&a, b"old a").unwrap();
+        fs::write(&b, b"old b").unwrap();
+        let missing = dir.join("missing").join("c.json");
+        let err = write_all_atomic(&[(&a, b"new a"), (&b, b"new b"), (&missing, b"c")]);
+        assert!(err.is_err());
+        assert_eq!(fs::read(&a).unwrap(), b"old a");
+        assert_eq!(fs::read(&b).unwrap(), b"old b");
+        assert_eq!(
+            entries(&dir),
+            vec!["a.png".to_string(), "b.npy".to_string()]
+        );
+        write_all_atomic(&[(&a, b"new a"), (&b, b"new b")]).unwrap();
+        assert_eq!(fs::read(&a).unwrap(), b"new a");
+        assert_eq!(fs::read(&b).unwrap(), b"new b");
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Output paths are checked up front: a missing folder, a directory and the same
+    /// file twice (also through a link) are refused, distinct files pass.
+    #[test]
+    fn output_paths_are_checked_before_work() {
+        let dir = scratch_dir("atomic-check");
+        let (a, b) = (dir.join("a.png"), dir.join("b.npy"));
+        check_outputs(&[&a, &b]).unwrap();
+        let missing = dir.join("missing").join("c.png");
+        let err = check_outputs(&[&a, &missing]).unwrap_err();
+        assert!(err.to_string().contains("does not exist"), "{err}");
+        assert!(check_outputs(&[&dir]).is_err());
+        let err = check_outputs(&[&a, &dir.join(".").join("a.png")]).unwrap_err();
+        assert!(matches!(err, Error::Usage(_)), "{err}");
+        std::os::unix::fs::symlink("a.png", dir.join("link.png")).unwrap();
+        let err = check_outputs(&[&a, &dir.join("link.png")]).unwrap_err();
+        assert!(matches!(err, Error::Usage(_)), "{err}");
         fs::remove_dir_all(&dir).unwrap();
     }
 

@@ -19,6 +19,12 @@ const F32_DESCR: &str = "<f4";
 /// Writes a depth map of `height` rows and `width` columns (row 0 at the top) as a
 /// `.npy` file of shape (height, width), atomically.
 pub fn write_depth_npy(path: &Path, width: u32, height: u32, depth: &[f32]) -> Result<()> {
+    write_atomic(path, &encode_depth_npy(path, width, height, depth)?)
+}
+
+/// The `.npy` file [`write_depth_npy`] writes, as bytes (for a set of outputs written
+/// together); `path` names it in errors.
+pub fn encode_depth_npy(path: &Path, width: u32, height: u32, depth: &[f32]) -> Result<Vec<u8>> {
     let shape = [height as usize, width as usize];
     let expected = shape[0].checked_mul(shape[1]);
     if expected != Some(depth.len()) {
@@ -28,7 +34,7 @@ pub fn write_depth_npy(path: &Path, width: u32, height: u32, depth: &[f32]) -> R
             depth.len()
         )));
     }
-    write_atomic(path, &encode_f32(&shape, depth))
+    Ok(encode_f32(&shape, depth))
 }
 
 /// Reads a `.npy` file of little-endian f32 values in C order, as written by

@@ -15,9 +15,14 @@ const RGBA_BYTES: usize = 4;
 
 /// Writes `rgba` (rows top to bottom, 4 bytes per pixel, sRGB-encoded) as a PNG file.
 pub fn write_png_rgba8(path: &Path, width: u32, height: u32, rgba: &[u8]) -> Result<()> {
+    write_atomic(path, &encode_png_rgba8(path, width, height, rgba)?)
+}
+
+/// The PNG file [`write_png_rgba8`] writes, as bytes (for a set of outputs written
+/// together); `path` names it in errors.
+pub fn encode_png_rgba8(path: &Path, width: u32, height: u32, rgba: &[u8]) -> Result<Vec<u8>> {
     check_size(path, width, height, rgba.len())?;
-    let encoded = encode(width, height, rgba).map_err(|err| Error::io(path, err))?;
-    write_atomic(path, &encoded)
+    encode(width, height, rgba).map_err(|err| Error::io(path, err))
 }
 
 /// Reads an 8-bit RGBA PNG; returns width, height and the pixels, rows top to bottom.
