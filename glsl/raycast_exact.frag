@@ -44,6 +44,9 @@
 
 const int N = int(GLYPH_ORDER);
 const int D = 2 * N + 2;
+// The power n + 1 of q . q in F, and its highest set bit (n + 1 is 2 to 13).
+const int POWER = N + 1;
+const int POWER_TOP_BIT = POWER >= 8 ? 3 : (POWER >= 4 ? 2 : 1);
 // The chord is that of the bounding sphere enlarged by 2^-10, so that F < 0 at both of its
 // ends even for a glyph that touches its bound (g <= -2^-10 there).
 const float CHORD_RADIUS = 1.0 + 1.0 / 1024.0;
@@ -201,16 +204,41 @@ void segment_polynomials(vec3 mid, vec3 d, float tau0, float tau1) {
     }
     form[1] += 2.0 * form[0];
     vec3 q = vec3(dot(a, a), 2.0 * dot(a, b), dot(b, b));
-    radial[0] = 1.0;
-    [[unroll]] for (int m = 0; m <= N; ++m) {
-        [[unroll]] for (int step = 0; step < D - 1; ++step) {
-            int i = 2 * m + 2 - step;
-            if (i >= 2) {
-                radial[i] = radial[i] * q.x + radial[i - 1] * q.y + radial[i - 2] * q.z;
+    // (q . q)^(n+1) by squaring, from the top bit of n + 1 down: about a third of the
+    // multiplications of n + 1 products by q . q (the unrolled code is what every
+    // fragment pays on lavapipe). Every coefficient stays a sum of positive terms.
+    radial[0] = q.x;
+    radial[1] = q.y;
+    radial[2] = q.z;
+    int degree = 2;
+    [[unroll]] for (int step = 0; step < 3; ++step) {
+        int bit = POWER_TOP_BIT - 1 - step;
+        if (bit >= 0) {
+            float square[D + 1];
+            [[unroll]] for (int i = 0; i <= D; ++i) {
+                square[i] = 0.0;
+            }
+            [[unroll]] for (int i = 0; i <= D; ++i) {
+                [[unroll]] for (int j = 0; j <= D; ++j) {
+                    if (i <= degree && j <= degree && i + j <= D) {
+                        square[i + j] += radial[i] * radial[j];
+                    }
+                }
+            }
+            radial = square;
+            degree *= 2;
+            if (((POWER >> bit) & 1) == 1) {
+                [[unroll]] for (int top = 0; top < D - 1; ++top) {
+                    int i = D - top;
+                    if (i >= 2) {
+                        radial[i] = radial[i] * q.x + radial[i - 1] * q.y + radial[i - 2] * q.z;
+                    }
+                }
+                radial[1] = radial[1] * q.x + radial[0] * q.y;
+                radial[0] *= q.x;
+                degree += 2;
             }
         }
-        radial[1] = radial[1] * q.x + radial[0] * q.y;
-        radial[0] *= q.x;
     }
     [[unroll]] for (int i = 0; i <= D; ++i) {
         segment_f[i] = (form[i] - radial[i]) / binomial[i];
