@@ -10,7 +10,7 @@
 use crate::fail;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 /// Bumped when anything that shapes the SPIR-V but not the preprocessed text changes
 /// (compiler options below).
@@ -74,6 +74,9 @@ pub fn compile_all(jobs: &mut [Job], dirs: &Dirs) -> Summary {
     jobs.sort_by(|a, b| b.weight.cmp(&a.weight).then_with(|| a.label.cmp(&b.label)));
     let next = AtomicUsize::new(0);
     let compiled = AtomicUsize::new(0);
+    // Set by the first failing job, so that the other workers stop instead of compiling
+    // the rest of a build that will fail.
+    let stop = AtomicBool::new(false);
     let threads = std::thread::available_parallelism().map_or(1, usize::from);
     let jobs = &*jobs;
     let failure: Option<String> = std::thread::scope(|scope| {
@@ -87,8 +90,18 @@ pub fn compile_all(jobs: &mut [Job], dirs: &Dirs) -> Summary {
                         let Some(job) = jobs.get(index) else {
                             return Ok(());
                         };
-                        if run(&compiler, job, dirs)? {
-                            compiled.fetch_add(1, Ordering::Relaxed);
+                        if stop.load(Ordering::Relaxed) {
+                            return Ok(());
+                        }
+                        match run(&compiler, job, dirs) {
+                            Ok(true) => {
+                                compiled.fetch_add(1, Ordering::Relaxed);
+                            }
+                            Ok(false) => {}
+                            Err(message) => {
+                                stop.store(true, Ordering::Relaxed);
+                                return Err(message);
+                            }
                         }
                     }
                 })

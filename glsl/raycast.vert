@@ -7,10 +7,10 @@
 // A box that the near plane cuts (the camera inside it, or just in front of it) would lose
 // the fragments of its clipped front faces: such a box is drawn inside out instead. Its
 // corners are mirrored through the centre, which turns the far faces towards the camera,
-// and they are put on the near plane (clip z = 0), which keeps their screen position. The
-// far faces of a convex box cover exactly the pixels whose rays meet the box in front of
-// the eye, and at depth 1 (the near plane of the reversed depth) they stay above every
-// ray-cast depth (the fragment shaders write depth_less).
+// and they are put on the near plane (clip z = w: depth 1, the near plane of the
+// reversed depth), which keeps their screen position. The far faces of a convex box cover
+// exactly the pixels whose rays meet the box in front of the eye, and at depth 1 they
+// stay above every ray-cast depth (the fragment shaders write depth_less).
 #extension GL_GOOGLE_include_directive : require
 #include "frame.glsl"
 

@@ -84,7 +84,6 @@ impl Camera {
         let rows = match self.projection {
             Projection::Perspective { fov_y_deg } => {
                 let k = (fov_y_deg.to_radians() * 0.5).tan();
-                let _ = far;
                 [ex / (k * aspect), -ey / k, DVec4::W * near, ez]
             }
             Projection::Orthographic { height } => {

@@ -556,6 +556,18 @@ fn bench_fodf_workload_matches_the_reference() {
     let scene = glyphcast::io::scene::Scene::load(&saved).expect("the saved scene");
     assert_eq!(scene.glyph_sets.len(), 1);
     assert_eq!(scene.glyph_sets[0].len(), 24);
+    let with_sweep = glyphcast(&[
+        "bench",
+        "--sweep",
+        "ratios",
+        "--save-scene",
+        saved.to_str().expect("path"),
+    ]);
+    assert_eq!(
+        with_sweep.status.code(),
+        Some(2),
+        "--save-scene with a sweep is refused"
+    );
     let bad = glyphcast(&["bench", "--workload", "fodf:24:7"]);
     assert!(!bad.status.success());
     assert!(

@@ -169,6 +169,12 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
         Some(path) => path.display().to_string(),
         None => args.workload.clone(),
     };
+    if let (Some(sweep), Some(_)) = (&args.sweep, &args.save_scene) {
+        return Err(Error::Usage(format!(
+            "--save-scene writes the scene of a single measurement; --sweep {sweep} \
+             measures several"
+        )));
+    }
     match args.sweep.as_deref() {
         None => {
             let settings = RenderSettings {

@@ -108,9 +108,9 @@ const CLIMB_RESOLUTION: f64 = 1e-4;
 /// max of h(f(u)) over unit u, for sizing glyphs: the best points of `lattice`, each of
 /// the best `starts` then climbed to its local maximum along great circles (Newton in the
 /// angle along the gradient, from a parabola through two values and the slope, until a
-/// step is below CLIMB_RESOLUTION). A lower
-/// bound of the true maximum, which it reaches (to about 1e-7) whenever the lattice
-/// lands in the highest lobe's basin. Some 10 us at band 8.
+/// step is below CLIMB_RESOLUTION). A lower bound of the true maximum, which it reaches
+/// (to about 1e-7) whenever the lattice lands in the highest lobe's basin. Some 10 us at
+/// band 8.
 pub fn climbed_max_radius(
     poly: &GlyphPolynomial,
     negative: NegativeMode,
@@ -180,7 +180,7 @@ pub fn climbed_max_radius(
 }
 
 /// The `count` nearly evenly spaced points of a spherical Fibonacci lattice.
-fn fibonacci_sphere(count: usize) -> impl Iterator<Item = DVec3> {
+pub(crate) fn fibonacci_sphere(count: usize) -> impl Iterator<Item = DVec3> {
     let golden_angle = std::f64::consts::PI * (3.0 - 5f64.sqrt());
     (0..count).map(move |i| {
         let z = 1.0 - (2.0 * i as f64 + 1.0) / count as f64;
@@ -432,7 +432,7 @@ mod tests {
     }
 
     /// The climbed maximum is at least the maximum over 20,000 lattice points (less
-    /// 1e-6; the climbs start from the 200 of the sizing lattice) and at most the
+    /// 1e-9; the climbs start from the 200 of the sizing lattice) and at most the
     /// guaranteed bound, for random tensors and thin lobes of every order, |f| and f > 0.
     #[test]
     fn climbed_maximum_reaches_the_true_maximum() {

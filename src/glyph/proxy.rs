@@ -209,16 +209,6 @@ fn degree_tables(degree: u32) -> &'static DegreeTables {
     TABLES[index].get_or_init(|| DegreeTables::new(index as u32))
 }
 
-/// A guaranteed upper bound of max |f(u)| over unit u (module notes); 0 for f = 0.
-pub fn fast_radius(poly: &GlyphPolynomial) -> f64 {
-    let s = poly.abs_coefficient_sum();
-    if s.is_nan() || s <= 0.0 {
-        return 0.0;
-    }
-    let bound = degree_tables(poly.order).projector.band_bound(&poly.coeffs);
-    (bound + ROUNDING_SLACK * s).min(s)
-}
-
 /// The glyph's radius bound and oriented box (module notes). None for a zero or
 /// non-finite polynomial.
 pub fn glyph_bounds(poly: &GlyphPolynomial) -> Option<GlyphBounds> {
@@ -394,15 +384,7 @@ mod tests {
     }
 
     fn fibonacci(count: usize) -> Vec<DVec3> {
-        let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-        (0..count)
-            .map(|i| {
-                let z = 1.0 - (2.0 * i as f64 + 1.0) / count as f64;
-                let r = (1.0 - z * z).sqrt();
-                let phi = golden * i as f64;
-                DVec3::new(r * phi.cos(), r * phi.sin(), z)
-            })
-            .collect()
+        crate::glyph::bounds::fibonacci_sphere(count).collect()
     }
 
     fn fibre_poly(order: u32, fibres: &[(DVec3, f64)]) -> GlyphPolynomial {

@@ -1,9 +1,9 @@
 //! The size of a glyph for normalisation: max over unit u of |f(u)|, from the best points
 //! of a spherical Fibonacci lattice climbed to their local maxima
 //! ([`climbed_max_radius`]): the lobe's peak itself (to about 1e-7 of its value), in
-//! about 10 us at band 8, cheap enough for every voxel of a brain slice. (The renderer computes its
-//! own guaranteed bound for the ray casting; this number only scales.) SH glyphs are
-//! measured through their exact tensor form.
+//! about 10 us at band 8, cheap enough for every voxel of a brain slice. (The renderer
+//! computes its own guaranteed bound for the ray casting; this number only scales.) SH
+//! glyphs are measured through their exact tensor form.
 use crate::Result;
 use crate::glyph::bounds::{climbed_max_radius, sizing_lattice};
 use crate::glyph::polynomial::GlyphPolynomial;
@@ -14,7 +14,8 @@ use crate::io::scene::GlyphKind;
 /// How many of the best lattice points are climbed.
 const CLIMBS: usize = 3;
 
-/// Max of |f(u)| over the unit sphere (climbed from the lattice), for a glyph of `kind` with coefficients `coeffs`.
+/// Max of |f(u)| over the unit sphere (climbed from the lattice), for a glyph of `kind`
+/// with coefficients `coeffs`.
 pub fn max_radius(kind: GlyphKind, coeffs: &[f64]) -> Result<f64> {
     let poly = match kind {
         GlyphKind::Tensor(layout) => GlyphPolynomial::from_tensor(layout, coeffs)?,

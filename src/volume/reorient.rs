@@ -41,27 +41,30 @@ impl Reorientation {
 
     /// The glyph of `coeffs` (of kind `kind`, in voxel axes) in world axes.
     pub fn apply(&self, kind: GlyphKind, coeffs: &[f64]) -> Result<Vec<f64>> {
+        let Some(r) = self.rotation_for(kind) else {
+            return Ok(coeffs.to_vec());
+        };
         match kind {
             GlyphKind::Sh {
                 band,
                 basis,
                 legacy,
-            } => match non_identity(self.proper) {
-                Some(r) => sh::rotate_sh(band, basis, legacy, coeffs, r),
-                None => Ok(coeffs.to_vec()),
+            } => sh::rotate_sh(band, basis, legacy, coeffs, r),
+            GlyphKind::Tensor(TensorLayout { order, symmetry }) => match symmetry {
+                Symmetry::Symmetric => sh::rotate_symmetric_tensor(order, coeffs, r),
+                Symmetry::NonSymmetric => rotate_full_tensor(order, coeffs, r),
             },
-            GlyphKind::Tensor(TensorLayout { order, symmetry }) => {
-                let r = if order % 2 == 0 {
-                    self.proper
-                } else {
-                    self.orthogonal
-                };
-                match (non_identity(r), symmetry) {
-                    (None, _) => Ok(coeffs.to_vec()),
-                    (Some(r), Symmetry::Symmetric) => sh::rotate_symmetric_tensor(order, coeffs, r),
-                    (Some(r), Symmetry::NonSymmetric) => rotate_full_tensor(order, coeffs, r),
-                }
+        }
+    }
+
+    /// The matrix that turns glyphs of `kind`: the proper one for even functions (SH
+    /// series, even-order tensors), R itself for odd orders; None near the identity.
+    fn rotation_for(&self, kind: GlyphKind) -> Option<DMat3> {
+        match kind {
+            GlyphKind::Tensor(TensorLayout { order, .. }) if order % 2 == 1 => {
+                non_identity(self.orthogonal)
             }
+            _ => non_identity(self.proper),
         }
     }
 }
@@ -106,18 +109,7 @@ impl Reorientation {
     /// This reorientation prepared for the glyphs of `kind` (see [`KindReorientation`]).
     pub fn for_kind(&self, kind: GlyphKind) -> Result<KindReorientation> {
         let count = kind.coefficient_count();
-        let rotates = match kind {
-            GlyphKind::Sh { .. } => non_identity(self.proper).is_some(),
-            GlyphKind::Tensor(TensorLayout { order, .. }) => {
-                let r = if order % 2 == 0 {
-                    self.proper
-                } else {
-                    self.orthogonal
-                };
-                non_identity(r).is_some()
-            }
-        };
-        let matrix = if rotates && count <= MATRIX_LIMIT {
+        let matrix = if self.rotation_for(kind).is_some() && count <= MATRIX_LIMIT {
             let mut matrix = vec![0.0; count * count];
             let mut unit = vec![0.0; count];
             for j in 0..count {
