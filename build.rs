@@ -161,6 +161,16 @@ fn main() {
             &generated,
             *order,
         ));
+        // The proxy boxes' vertex shader of this layout: it also passes the glyph's
+        // coefficients to the ray-casting fragment shaders.
+        let vertex = format!("{label}_vertex");
+        jobs.push(job(
+            vertex.clone(),
+            "raycast.vert",
+            shaderc::ShaderKind::Vertex,
+            &generated,
+            1,
+        ));
         let mut methods = methods.clone();
         methods.sort();
         methods.dedup();
@@ -190,9 +200,10 @@ fn main() {
             let color_only = format!("{label}_{method}_color_only");
             let _ = writeln!(
                 raycast_rows,
-                "    RaycastShader {{ layout: {layout}, method: Method::{}, fragment: {}, \
-                 color_only_fragment: {} }},",
+                "    RaycastShader {{ layout: {layout}, method: Method::{}, vertex: {}, \
+                 fragment: {}, color_only_fragment: {} }},",
                 method_variant(&method),
+                spirv_entry(&vertex),
                 spirv_entry(&fragment),
                 spirv_entry(&color_only)
             );

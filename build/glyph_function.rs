@@ -35,7 +35,10 @@ pub fn glyph_function(order: u32, symmetry: Symmetry) -> String {
     );
     let _ = writeln!(s, "const uint GLYPH_ORDER = {order}u;");
     let _ = writeln!(s, "const uint GLYPH_STRIDE = {stride}u;");
-    let _ = writeln!(s, "float glyph_c[{}];\n", monos.len());
+    // A macro, so that raycast.vert (shared by every layout when compiled without a
+    // glyph function) can test for it: the number of monomial coefficients.
+    let _ = writeln!(s, "#define GLYPH_MONOMIALS {}", monos.len());
+    let _ = writeln!(s, "float glyph_c[GLYPH_MONOMIALS];\n");
 
     // Loading folds the multiplicities (or sums the non-symmetric entries) into one
     // coefficient per monomial, once per fragment instead of once per sample.

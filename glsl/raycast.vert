@@ -12,7 +12,11 @@
 // exactly the pixels whose rays meet the box in front of the eye, and at depth 1 they
 // stay above every ray-cast depth (the fragment shaders write depth_less).
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 #include "frame.glsl"
+// Empty for the shared variant (the sphere impostor's); a tensor layout's variant passes
+// its glyph's monomial coefficients to the fragment shader (raycast_common.glsl).
+#include "glyph_function.glsl"
 
 layout(location = 0) in vec4 center_radius;  // centre, radius of the bounding sphere
 layout(location = 1) in vec4 box_rotation;   // unit quaternion (x, y, z, w), box to world
@@ -25,6 +29,9 @@ layout(location = 0) flat out uint v_glyph;
 layout(location = 1) flat out vec4 v_center_radius;
 layout(location = 2) flat out vec4 v_box_rotation;
 layout(location = 3) flat out vec3 v_box_extent;
+#ifdef GLYPH_MONOMIALS
+layout(location = 4) flat out vec4 v_coeffs[(GLYPH_MONOMIALS + 3) / 4];
+#endif
 
 // 12 triangles of the cube [-1, 1]^3, as corner indices (bit 0: x, bit 1: y, bit 2: z).
 const uint CUBE[36] = uint[36](
@@ -75,4 +82,16 @@ void main() {
     v_center_radius = center_radius;
     v_box_rotation = rotation;
     v_box_extent = extent;
+#ifdef GLYPH_MONOMIALS
+    glyph_load(gl_InstanceIndex);
+    [[unroll]] for (int i = 0; i < (GLYPH_MONOMIALS + 3) / 4; ++i) {
+        vec4 c = vec4(0.0);
+        [[unroll]] for (int j = 0; j < 4; ++j) {
+            if (4 * i + j < GLYPH_MONOMIALS) {
+                c[j] = glyph_c[4 * i + j];
+            }
+        }
+        v_coeffs[i] = c;
+    }
+#endif
 }

@@ -15,12 +15,26 @@ layout(location = 0) flat in uint v_glyph;
 layout(location = 1) flat in vec4 v_center_radius;
 layout(location = 2) flat in vec4 v_box_rotation;  // box to world (raycast.vert)
 layout(location = 3) flat in vec3 v_box_extent;    // in units of v_center_radius.w
+// The glyph's monomial coefficients (glyph_c), from raycast.vert. On lavapipe a fragment
+// shader reads a storage buffer at a per-fragment index as a gather per lane, and the
+// coefficients' loads alone were a quarter of the exact method's time; flat inputs are
+// set up once per triangle. 4 + GLYPH_COEFF_VEC4S locations (27 at order 12).
+const int GLYPH_COEFF_VEC4S = (GLYPH_MONOMIALS + 3) / 4;
+layout(location = 4) flat in vec4 v_coeffs[GLYPH_COEFF_VEC4S];
 
 layout(location = 0) out vec4 out_color;
 #ifndef GLYPHCAST_NO_DISTANCE  // build.rs: the variant for a colour attachment only
 layout(location = 1) out float out_distance;
 #endif
 layout(depth_less) out float gl_FragDepth;  // reversed depth: hits lie behind the proxy
+
+// glyph_c of this fragment's glyph (glyph_load of the vertex shader, multiplicities
+// folded in).
+void glyph_load_inputs() {
+    [[unroll]] for (int k = 0; k < GLYPH_MONOMIALS; ++k) {
+        glyph_c[k] = v_coeffs[k / 4][k % 4];
+    }
+}
 
 float shape(float f) {
     return glyph_set.hide_negative != 0u ? max(f, 0.0) : abs(f);

@@ -541,7 +541,7 @@ void main() {
         discard;
     }
     init_binomials();
-    glyph_load(v_glyph);
+    glyph_load_inputs();
     float h = ray.half_chord;
     ray_polynomial(ray.mid, h * ray.dir);
     float tau;

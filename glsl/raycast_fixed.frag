@@ -3,6 +3,7 @@
 // form g along the chord, finer steps near the centre, and refinement of the first sign
 // change. Ray setup, g, refinement and shading live in raycast_common.glsl.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 #include "raycast_common.glsl"
 
 // The first s in [s_start, s_end] where g > 0, refined; false when the march finds none.
@@ -39,7 +40,7 @@ void main() {
     if (!glyph_ray(ray)) {
         discard;
     }
-    glyph_load(v_glyph);
+    glyph_load_inputs();
     float s_hit;
     if (!fixed_march(ray, s_hit)) {
         discard;

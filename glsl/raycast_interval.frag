@@ -3,5 +3,6 @@
 // of x, y and z (the natural interval extension of the generated monomial sum).
 // Traversal: raycast_robust.glsl.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 #define GLYPH_SEGMENT_RANGE glyph_range_interval
 #include "raycast_robust.glsl"

@@ -100,7 +100,7 @@ void main() {
     if (!glyph_ray(ray)) {
         discard;
     }
-    glyph_load(v_glyph);
+    glyph_load_inputs();
     float s_hit;
     if (!robust_first_hit(ray, s_hit)) {
         discard;

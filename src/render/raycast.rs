@@ -73,7 +73,7 @@ impl RayCastPass {
                 .binding(1)
                 .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
                 .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::FRAGMENT),
+                .stage_flags(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT),
         ];
         let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
         let mut pass = RayCastPass {
@@ -119,14 +119,14 @@ impl RayCastPass {
         if let Some(p) = self.pipelines.get(&key) {
             return Ok(*p);
         }
-        let fragment = match method {
+        let (vertex, fragment) = match method {
             Method::Impostor if self.formats.distance.is_none() => {
                 return Err(Error::Invalid(
                     "the impostor pass is a benchmark floor and needs the distance attachment"
                         .into(),
                 ));
             }
-            Method::Impostor => IMPOSTOR_FRAGMENT,
+            Method::Impostor => (None, IMPOSTOR_FRAGMENT),
             Method::Mesh(_) => {
                 return Err(Error::Invalid(format!(
                     "{method} is drawn by the mesh pass, not the ray-casting pass"
@@ -139,28 +139,54 @@ impl RayCastPass {
                         layout.symmetry, layout.order
                     ))
                 })?;
-                match self.formats.distance {
+                let fragment = match self.formats.distance {
                     Some(_) => shader.fragment,
                     None => shader.color_only_fragment,
-                }
+                };
+                (Some(shader.vertex), fragment)
             }
         };
-        let pipeline = self.create_pipeline(fragment, method != Method::Impostor)?;
+        let pipeline = self.create_pipeline(vertex, fragment, method != Method::Impostor)?;
         self.pipelines.insert(key, pipeline);
         Ok(pipeline)
     }
 
-    fn create_pipeline(&self, fragment_spirv: &[u32], oriented: bool) -> Result<vk::Pipeline> {
+    /// A pipeline of the given fragment shader and vertex shader (`None`: the shared one,
+    /// which passes no coefficients).
+    fn create_pipeline(
+        &self,
+        vertex_spirv: Option<&[u32]>,
+        fragment_spirv: &[u32],
+        oriented: bool,
+    ) -> Result<vk::Pipeline> {
         // SAFETY: the SPIR-V comes from build.rs and was validated by glslang.
         let fragment = unsafe { shader_module(&self.device, fragment_spirv)? };
-        let result = self.create_pipeline_with(fragment, oriented);
-        // SAFETY: modules may be destroyed once the pipeline exists.
-        unsafe { self.device.destroy_shader_module(fragment, None) };
+        let vertex = match vertex_spirv {
+            // SAFETY: as above.
+            Some(spirv) => match unsafe { shader_module(&self.device, spirv) } {
+                Ok(module) => Some(module),
+                Err(e) => {
+                    // SAFETY: the module is not used by anything.
+                    unsafe { self.device.destroy_shader_module(fragment, None) };
+                    return Err(e);
+                }
+            },
+            None => None,
+        };
+        let result = self.create_pipeline_with(vertex.unwrap_or(self.vertex), fragment, oriented);
+        // SAFETY: modules may be destroyed once the pipeline exists (or failed).
+        unsafe {
+            self.device.destroy_shader_module(fragment, None);
+            if let Some(vertex) = vertex {
+                self.device.destroy_shader_module(vertex, None);
+            }
+        }
         result
     }
 
     fn create_pipeline_with(
         &self,
+        vertex: vk::ShaderModule,
         fragment: vk::ShaderModule,
         oriented: bool,
     ) -> Result<vk::Pipeline> {
@@ -177,7 +203,7 @@ impl RayCastPass {
         let stages = [
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::VERTEX)
-                .module(self.vertex)
+                .module(vertex)
                 .name(c"main")
                 .specialization_info(&specialization),
             vk::PipelineShaderStageCreateInfo::default()

@@ -19,6 +19,9 @@ pub struct RangeShader {
 pub struct RaycastShader {
     pub layout: TensorLayout,
     pub method: Method,
+    /// The proxy boxes' vertex shader of this layout, which passes the glyph's monomial
+    /// coefficients to the fragment shader as flat inputs (locations 4 and up).
+    pub vertex: &'static [u32],
     /// Writes colour (location 0) and the ray distance (location 1).
     pub fragment: &'static [u32],
     /// The same shader compiled without the distance output, for renderings with a
