@@ -44,6 +44,9 @@ fn fail(message: String) -> ! {
 /// Defined when a ray-casting fragment shader is compiled for a colour attachment only:
 /// the shader then leaves out its `out_distance` output (location 1).
 const NO_DISTANCE_DEFINE: &str = "GLYPHCAST_NO_DISTANCE";
+/// The vertex shader variant that also passes the glyph's index (the robust methods read
+/// the stored entries; an output no fragment shader reads is a validation warning).
+const GLYPH_INDEX_DEFINE: &str = "GLYPHCAST_GLYPH_INDEX";
 
 /// The table entry of a job's SPIR-V: its file in `$OUT_DIR/spirv/`, included as words.
 fn spirv_entry(label: &str) -> String {
@@ -161,9 +164,14 @@ fn main() {
             &generated,
             *order,
         ));
+        let mut methods = methods.clone();
+        methods.sort();
+        methods.dedup();
         // The proxy boxes' vertex shader of this layout: it also passes the glyph's
-        // coefficients to the ray-casting fragment shaders.
+        // coefficients to the ray-casting fragment shaders, and in a second variant the
+        // glyph's index for the robust methods.
         let vertex = format!("{label}_vertex");
+        let vertex_index = format!("{label}_vertex_index");
         jobs.push(job(
             vertex.clone(),
             "raycast.vert",
@@ -171,9 +179,17 @@ fn main() {
             &generated,
             1,
         ));
-        let mut methods = methods.clone();
-        methods.sort();
-        methods.dedup();
+        if methods.iter().any(|m| range::uses_range(m)) {
+            let mut with_index = job(
+                vertex_index.clone(),
+                "raycast.vert",
+                shaderc::ShaderKind::Vertex,
+                &generated,
+                1,
+            );
+            with_index.defines.push(GLYPH_INDEX_DEFINE);
+            jobs.push(with_index);
+        }
         let with_range = methods
             .iter()
             .any(|m| range::uses_range(m))
@@ -203,7 +219,11 @@ fn main() {
                 "    RaycastShader {{ layout: {layout}, method: Method::{}, vertex: {}, \
                  fragment: {}, color_only_fragment: {} }},",
                 method_variant(&method),
-                spirv_entry(&vertex),
+                spirv_entry(if range::uses_range(&method) {
+                    &vertex_index
+                } else {
+                    &vertex
+                }),
                 spirv_entry(&fragment),
                 spirv_entry(&color_only)
             );

@@ -25,7 +25,12 @@ layout(location = 2) in vec4 box_extent;     // half extents, in units of center
 // false: the cube around the bounding sphere (the sphere impostor's proxy).
 layout(constant_id = 0) const bool ORIENTED_BOX = true;
 
+// The shared variant and the robust methods' (GLYPHCAST_GLYPH_INDEX, build.rs) pass the
+// glyph's index; exact and fixed need only the coefficients.
+#if !defined(GLYPH_MONOMIALS) || defined(GLYPHCAST_GLYPH_INDEX)
+#define RAYCAST_GLYPH_INDEX
 layout(location = 0) flat out uint v_glyph;
+#endif
 layout(location = 1) flat out vec4 v_center_radius;
 layout(location = 2) flat out vec4 v_box_rotation;
 layout(location = 3) flat out vec3 v_box_extent;
@@ -78,7 +83,9 @@ void main() {
     if (cut) {
         gl_Position.z = gl_Position.w;
     }
+#ifdef RAYCAST_GLYPH_INDEX
     v_glyph = gl_InstanceIndex;
+#endif
     v_center_radius = center_radius;
     v_box_rotation = rotation;
     v_box_extent = extent;

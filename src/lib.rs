@@ -64,7 +64,7 @@
 //!         depth: vk::Format::D32_SFLOAT,
 //!         distance: None,
 //!     };
-//!     let mut pass = RayCastPass::new(device, formats)?;
+//!     let mut pass = RayCastPass::new(&context, formats)?;
 //!     let settings = RenderSettings::default();
 //!     let sets = prepare_scene(scene, settings.offset as f64)?;
 //!     let frame = engine_frame(&scene.camera, (width, height), &settings);

@@ -362,3 +362,45 @@ fn save_image(name: &str, r: &common::Rendered) {
         glyphcast::io::png::write_png_rgba8(&path, r.image.width, r.image.height, &r.image.rgba);
     assert!(written.is_ok(), "{}: {written:?}", path.display());
 }
+
+/// The coefficients reach the fragment shader as flat inputs: a device that takes fewer
+/// components than a layout needs gets an error that names the limit, not a pipeline
+/// that breaks the limit. 64 is the Vulkan minimum and what order 8 needs.
+#[test]
+fn too_few_varying_components_is_a_clear_error() {
+    use ash::vk;
+    use glyphcast::glyph::{Symmetry, TensorLayout};
+    use glyphcast::render::raycast::{RayCastPass, TargetFormats, varying_components};
+    let gpu = common::gpu();
+    let layout = |order| TensorLayout {
+        order,
+        symmetry: Symmetry::Symmetric,
+    };
+    assert_eq!(varying_components(layout(8)), 64);
+    assert_eq!(varying_components(layout(12)), 108);
+    assert!(gpu.context().max_varying_components >= varying_components(layout(12)));
+    let mut context = gpu.context().clone();
+    context.max_varying_components = 64;
+    let formats = TargetFormats {
+        color: vk::Format::R8G8B8A8_UNORM,
+        depth: vk::Format::D32_SFLOAT,
+        distance: None,
+    };
+    let mut pass = RayCastPass::new(&context, formats).expect("pass");
+    pass.pipeline(layout(8), Method::Exact)
+        .expect("order 8 fits");
+    let err = pass
+        .pipeline(layout(10), Method::Exact)
+        .expect_err("order 10 needs 84 components");
+    let text = err.to_string();
+    assert!(
+        text.contains("order 10") && text.contains("maxVertexOutputComponents"),
+        "{text}"
+    );
+    drop(pass);
+    assert!(
+        gpu.validation_errors().is_empty(),
+        "{:?}",
+        gpu.validation_errors()
+    );
+}

@@ -120,7 +120,7 @@ fn render_with(
         depth: DEPTH_FORMAT,
         distance: None,
     };
-    let mut glyphs = RayCastPass::new(&engine.device, formats)?;
+    let mut glyphs = RayCastPass::new(&context, formats)?;
     let plane = PlanePass::new(&engine.device, COLOR_FORMAT, DEPTH_FORMAT)?;
     let settings = RenderSettings::default();
     let sets = prepare_scene(scene, settings.offset as f64)?;

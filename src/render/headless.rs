@@ -125,7 +125,7 @@ impl HeadlessRenderer {
             distance: Some(DISTANCE_FORMAT),
         };
         Ok(HeadlessRenderer {
-            pass: RayCastPass::new(gpu.device(), formats)?,
+            pass: RayCastPass::new(gpu.context(), formats)?,
             mesh: MeshPass::new(gpu.device(), formats)?,
             commands: OneShot::new(gpu)?,
             timer: GpuTimer::new(gpu)?,

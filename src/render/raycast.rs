@@ -36,6 +36,16 @@ pub struct RayCastPass {
     /// Keyed by layout and method; the impostor's pipeline by method alone.
     pipelines: HashMap<(Option<TensorLayout>, Method), vk::Pipeline>,
     buffer_limit: Option<u64>,
+    max_varying_components: u32,
+}
+
+/// Components the proxy boxes' vertex shader passes to a ray-casting fragment shader of
+/// a layout: four flat vec4/uint locations (glyph index, sphere, rotation, extent) and
+/// the monomial coefficients four to a location (raycast.vert), counted as whole
+/// locations.
+pub fn varying_components(layout: TensorLayout) -> u32 {
+    let monomials = crate::glyph::monomials::symmetric_count(layout.order) as u32;
+    4 * (4 + monomials.div_ceil(4))
 }
 
 /// Specialisation constant 0 of raycast.vert (`ORIENTED_BOX`): 1 draws each glyph's
@@ -62,7 +72,8 @@ pub struct SceneGpu {
 }
 
 impl RayCastPass {
-    pub fn new(device: &ash::Device, formats: TargetFormats) -> Result<RayCastPass> {
+    pub fn new(ctx: &DeviceContext, formats: TargetFormats) -> Result<RayCastPass> {
+        let device = &ctx.device;
         let bindings = [
             vk::DescriptorSetLayoutBinding::default()
                 .binding(0)
@@ -84,6 +95,7 @@ impl RayCastPass {
             vertex: vk::ShaderModule::null(),
             pipelines: HashMap::new(),
             buffer_limit: None,
+            max_varying_components: ctx.max_varying_components,
         };
         // SAFETY: valid device and create infos; objects are destroyed in Drop.
         unsafe {
@@ -133,6 +145,15 @@ impl RayCastPass {
                 )));
             }
             Method::Fixed | Method::Interval | Method::Affine | Method::Exact => {
+                let needed = varying_components(layout);
+                if needed > self.max_varying_components {
+                    return Err(Error::Invalid(format!(
+                        "a {:?} tensor of order {} passes {needed} components from the vertex \
+                         to the fragment shader, and this device takes {} \
+                         (maxVertexOutputComponents, maxFragmentInputComponents)",
+                        layout.symmetry, layout.order, self.max_varying_components
+                    )));
+                }
                 let shader = raycast_shader(layout, method).ok_or_else(|| {
                     Error::Invalid(format!(
                         "no shader for a {:?} tensor of order {} with method {method}",

@@ -108,7 +108,7 @@ impl Presenter {
             distance: None,
         };
         Ok(Presenter {
-            pass: RayCastPass::new(gpu.device(), formats)?,
+            pass: RayCastPass::new(gpu.context(), formats)?,
             timer: GpuTimer::new(gpu)?,
             capture: None,
             depth: None,
@@ -187,7 +187,7 @@ impl Presenter {
                 color: swapchain.format,
                 ..self.pass.formats()
             };
-            self.pass = RayCastPass::new(gpu.device(), formats)?;
+            self.pass = RayCastPass::new(gpu.context(), formats)?;
             rebuilt = true;
         }
         if !matches!(

@@ -103,6 +103,10 @@ pub struct DeviceContext {
     pub allocator: Arc<Mutex<Allocator>>,
     /// The device's maxStorageBufferRange: coefficient buffers are split to fit it.
     pub max_storage_buffer_range: u64,
+    /// Components a vertex shader may pass to a fragment shader: the smaller of
+    /// maxVertexOutputComponents and maxFragmentInputComponents. The ray-casting passes
+    /// hand each glyph's coefficients over as flat inputs, 108 components at order 12.
+    pub max_varying_components: u32,
 }
 
 impl DeviceContext {
@@ -119,6 +123,9 @@ impl DeviceContext {
             device,
             allocator,
             max_storage_buffer_range: limits.max_storage_buffer_range as u64,
+            max_varying_components: limits
+                .max_vertex_output_components
+                .min(limits.max_fragment_input_components),
         }
     }
 }
