@@ -74,6 +74,11 @@ float binomial_n[N + 1];   // C(n, k)
 float ray_p[N + 1];        // f(mid + tau d) = sum_k ray_p[k] tau^k
 float segment_p[N + 1];    // f(s a + t b) = sum_i segment_p[i] s^(n-i) t^i
 float segment_f[D + 1];    // F on the segment, Bernstein basis
+// segment_p and segment_f of the chord's two halves (0: before mid, 1: after).
+float half_p0[N + 1];
+float half_p1[N + 1];
+float half_f0[D + 1];
+float half_f1[D + 1];
 float node_f[D + 1];       // F on the current piece of the segment, Bernstein basis
 
 void init_binomials() {
@@ -245,10 +250,10 @@ void segment_polynomials(vec3 mid, vec3 d, float tau0, float tau1) {
     }
 }
 
-// node_f <- F on [u0, u1] of the segment: two de Casteljau splits of segment_f.
-void node_polynomial(float u0, float u1) {
+// node_f <- F on [u0, u1] of a half: two de Casteljau splits of its half_f.
+void node_polynomial(int half_index, float u0, float u1) {
     [[unroll]] for (int i = 0; i <= D; ++i) {
-        node_f[i] = segment_f[i];
+        node_f[i] = half_index == 0 ? half_f0[i] : half_f1[i];
     }
     if (u1 < 1.0) {
         // Keep [0, u1]: after pass r, node_f[r] is the left end of de Casteljau's row r.
@@ -365,32 +370,21 @@ float node_root(float tau_at_0, float tau_per_x, float mid2, float d2) {
     return x;
 }
 
-// Sign of f at u on the segment (the hide filter), from the form's coefficients.
-float segment_p_sign(float u) {
-    float value = 0.0;
-    if (u <= 0.5) {
-        float r = u / (1.0 - u);
-        [[unroll]] for (int step = 0; step <= N; ++step) {
-            value = value * r + segment_p[N - step];
-        }
-    } else {
-        float w = (1.0 - u) / u;
-        [[unroll]] for (int i = 0; i <= N; ++i) {
-            value = value * w + segment_p[i];
-        }
+// Sign of f at u on a half (the hide filter), from the form's coefficients.
+float half_p_sign(int half_index, float u) {
+    float r = u / (1.0 - u);
+    float w = (1.0 - u) / u;
+    float from_start = 0.0;
+    float from_end = 0.0;
+    [[unroll]] for (int step = 0; step <= N; ++step) {
+        from_start = from_start * r + (half_index == 0 ? half_p0[N - step] : half_p1[N - step]);
+        from_end = from_end * w + (half_index == 0 ? half_p0[step] : half_p1[step]);
     }
-    return value;
+    return u <= 0.5 ? from_start : from_end;
 }
 
 bool hide_negative() {
     return glyph_set.hide_negative != 0u;
-}
-
-// Inside at an end of the segment (u = 0 or 1), from the end coefficients.
-bool segment_inside(bool at_end) {
-    float f = at_end ? segment_f[D] : segment_f[0];
-    float p = at_end ? segment_p[N] : segment_p[0];
-    return f > 0.0 && (!hide_negative() || p > 0.0);
 }
 
 // First sign change of g on [tau0, tau1], sampled at `samples` steps and refined by
@@ -433,104 +427,192 @@ bool march_piece(vec3 mid, vec3 d, float tau0, float tau1, int samples, inout in
     return false;
 }
 
-// First crossing on the segment tau in [tau0, tau1] (not passing mid) by Bernstein
-// subdivision; `state` as for march_piece. If the budget of pieces runs out, the part of
-// the segment from `unsolved` on is left to the caller (otherwise unsolved = tau1).
-bool polynomial_piece(vec3 mid, vec3 d, float tau0, float tau1, inout int state,
-                      out float tau, out float unsolved) {
-    tau = tau0;
-    unsolved = tau1;
-    segment_polynomials(mid, d, tau0, tau1);
-    bool start_inside = segment_inside(false);
-    if (state >= 0 && start_inside != (state == 1)) {
-        return true;  // the crossing is at the junction with the previous piece
+// The traversal of the pieces of both halves in ray order (step 3). One loop visits the
+// pieces of both halves, and the Newton refinement and the hide filter run after it, not
+// in its body: lavapipe runs every instruction of a loop body for every fragment of a
+// SIMD batch, its lanes masked, so the body's length times the batch's largest number of
+// visits is what a fragment pays.
+int visit_half;       // the half being traversed; 2: both done
+int visit_level;      // the piece is [index, index + 1] 2^-level of the half
+uint visit_index;
+int visit_count;      // pieces visited in this half, against MAX_NODES
+bool visit_before;    // the sign of F where the previous piece of the half ended
+bool half1_valid;
+// Where a half's budget of pieces ran out (the rest is sampled), else its end.
+bool exhausted0;
+bool exhausted1;
+float leftover0;
+float leftover1;
+
+void next_half() {
+    visit_half = visit_half == 0 && half1_valid ? 1 : 2;
+    visit_level = 0;
+    visit_index = 0u;
+    visit_count = 0;
+    visit_before = half_f1[0] > 0.0;
+}
+
+// On to the piece after the one just visited, in ray order, or to the next half.
+void next_piece() {
+    visit_before = node_f[D] > 0.0;
+    int up = findLSB(~visit_index);  // the right children to climb out of
+    visit_index >>= uint(up);
+    visit_level -= up;
+    visit_index += 1u;
+    if (visit_level == 0) {
+        next_half();
     }
-    // Pieces are visited in ray order; `before` is the sign of F where the last one ended,
-    // so that a root on a shared end, rounded differently by the two pieces, is not lost.
-    int level = 0;
-    uint index = 0u;
-    bool before = segment_f[0] > 0.0;
-    for (int visited = 0; visited < MAX_NODES; ++visited) {
-        float width = exp2(-float(level));
-        float u0 = float(index) * width;
-        float u1 = u0 + width;
-        node_polynomial(u0, u1);
-        if (visited > 0 && (node_f[0] > 0.0) != before) {
-            float u = u0;
-            if (!hide_negative() || segment_p_sign(u) > 0.0) {
-                tau = mix(tau0, tau1, u);
-                return true;
+}
+
+// The next candidate root: 1 at the start u0 of the current piece, 2 in its inside
+// (node_f holds it, its ends differ in sign), 0 none left.
+int next_candidate(float lo0, float hi0, float lo1, float hi1, out float u0, out float u1) {
+    u0 = 0.0;
+    u1 = 1.0;
+    for (int step = 0; step < 2 * MAX_NODES + 2; ++step) {
+        if (visit_half < 2 && visit_count >= MAX_NODES) {
+            // Out of budget (never seen in the tests): the rest of the half is sampled.
+            float rest = float(visit_index) * exp2(-float(visit_level));
+            if (visit_half == 0) {
+                exhausted0 = true;
+                leftover0 = mix(lo0, hi0, rest);
+            } else {
+                exhausted1 = true;
+                leftover1 = mix(lo1, hi1, rest);
             }
+            next_half();
         }
+        if (visit_half >= 2) {
+            return 0;
+        }
+        float width = exp2(-float(visit_level));
+        u0 = float(visit_index) * width;
+        u1 = u0 + width;
+        node_polynomial(visit_half, u0, u1);
+        // A root on the end shared with the previous piece, rounded differently by the two.
+        if (u0 > 0.0 && (node_f[0] > 0.0) != visit_before) {
+            return 1;
+        }
+        visit_count += 1;
         int changes = sign_changes();
-        if (changes >= 2 && level < MAX_LEVEL) {
-            level += 1;
-            index *= 2u;
+        if (changes >= 2 && visit_level < MAX_LEVEL) {
+            visit_level += 1;
+            visit_index *= 2u;
             continue;
         }
         // An odd number of roots on the piece: one, when it is fully split.
         if (changes >= 1 && (node_f[0] > 0.0) != (node_f[D] > 0.0)) {
-            float u = mix(u0, u1, node_root(mix(tau0, tau1, u0), (tau1 - tau0) * (u1 - u0),
-                                             dot(mid, mid), dot(d, d)));
-            if (!hide_negative() || segment_p_sign(u) > 0.0) {
-                tau = mix(tau0, tau1, u);
-                return true;
-            }
+            return 2;
         }
-        before = node_f[D] > 0.0;
-        while ((index & 1u) == 1u) {
-            index >>= 1;
-            level -= 1;
-        }
-        if (level == 0) {
-            state = segment_inside(true) ? 1 : 0;
-            return false;
-        }
-        index += 1u;
+        next_piece();
     }
-    // Out of budget (never seen in the tests): the rest of the segment is sampled.
-    unsolved = mix(tau0, tau1, float(index) * exp2(-float(level)));
-    state = -1;
-    return false;
+    return 0;
 }
 
 // First crossing along q = mid + tau d, tau in [tau_start, tau_end] (within [-1, 1], the
-// box's part of the chord): polynomial on the half before mid up to -tau_c, sampled in the
-// centre zone [-tau_c, tau_c] (empty when the ray passes farther than CENTRE_RADIUS from
-// the centre), polynomial on the half after mid from tau_c on. One loop over the two
-// halves, each call written once, keeps the unrolled shader short; that matters on
-// lavapipe, which runs every instruction of a loop body for every fragment of a SIMD
-// batch, its lanes masked, whether or not any lane needs it.
+// box's part of the chord): by subdivision on the half before mid up to -tau_c, sampled in
+// the centre zone [-tau_c, tau_c] (empty when the ray passes farther than CENTRE_RADIUS
+// from the centre), by subdivision on the half after mid from tau_c on. Both halves are
+// traversed first; the centre zone and what a spent budget left are sampled after, and a
+// crossing there wins over one in the second half.
 bool first_crossing(vec3 mid, vec3 d, float tau_start, float tau_end, out float tau) {
     float a = dot(mid, mid);
     float r2 = CENTRE_RADIUS * CENTRE_RADIUS;
     float tau_c = a < r2 ? sqrt(r2 - a) / length(d) : 0.0;
-    int state = -1;
     tau = tau_start;
-    for (int half_index = 0; half_index < 2; ++half_index) {
-        float lo = max(tau_start, half_index == 0 ? -1.0 : tau_c);
-        float hi = min(tau_end, half_index == 0 ? -tau_c : 1.0);
-        // The part of the chord to sample: what the subdivision left (its budget spent),
-        // then, after the first half, the centre zone.
-        float march_lo = hi;
-        float march_hi = hi;
-        if (lo < hi) {
-            if (polynomial_piece(mid, d, lo, hi, state, tau, march_lo)) {
-                return true;
-            }
+    float lo0 = max(tau_start, -1.0);
+    float hi0 = min(tau_end, -tau_c);
+    float lo1 = max(tau_start, tau_c);
+    float hi1 = min(tau_end, 1.0);
+    bool half0_valid = lo0 < hi0;
+    half1_valid = lo1 < hi1;
+    segment_polynomials(mid, d, lo0, hi0);
+    half_f0 = segment_f;
+    half_p0 = segment_p;
+    segment_polynomials(mid, d, lo1, hi1);
+    half_f1 = segment_f;
+    half_p1 = segment_p;
+    bool hide = hide_negative();
+    // Inside at the end of half 0 and at the start of half 1.
+    bool end0_inside = half_f0[D] > 0.0 && (!hide || half_p0[N] > 0.0);
+    bool start1_inside = half_f1[0] > 0.0 && (!hide || half_p1[0] > 0.0);
+
+    exhausted0 = false;
+    exhausted1 = false;
+    leftover0 = hi0;
+    leftover1 = hi1;
+    visit_half = half0_valid ? 0 : (half1_valid ? 1 : 2);
+    visit_level = 0;
+    visit_index = 0u;
+    visit_count = 0;
+    visit_before = visit_half == 0 ? half_f0[0] > 0.0 : half_f1[0] > 0.0;
+    bool found = false;
+    int found_half = 0;
+    // Each candidate that the hide filter rejects (the edge of a hidden lobe) costs one
+    // round; the traversal goes on where it stopped.
+    // Every second round at least visits a piece, so the bound is never reached.
+    for (int round = 0; round < 4 * MAX_NODES + 4; ++round) {
+        float u0, u1;
+        int kind = next_candidate(lo0, hi0, lo1, hi1, u0, u1);
+        if (kind == 0) {
+            break;
         }
-        if (half_index == 0) {
-            float centre_lo = max(tau_start, -tau_c);
-            float centre_hi = min(tau_end, tau_c);
-            if (centre_lo < centre_hi) {
-                march_lo = march_lo < hi ? march_lo : centre_lo;
-                march_hi = centre_hi;
-            }
+        float lo = visit_half == 0 ? lo0 : lo1;
+        float hi = visit_half == 0 ? hi0 : hi1;
+        float u = u0;
+        if (kind == 2) {
+            u = mix(u0, u1, node_root(mix(lo, hi, u0), (hi - lo) * (u1 - u0), a, dot(d, d)));
         }
+        if (!hide || half_p_sign(visit_half, u) > 0.0) {
+            found = true;
+            found_half = visit_half;
+            tau = mix(lo, hi, u);
+            break;
+        }
+        if (kind == 1) {
+            visit_before = node_f[0] > 0.0;  // visit the piece itself next
+        } else {
+            next_piece();
+        }
+    }
+    if (found && found_half == 0) {
+        return true;
+    }
+    float found_tau = tau;
+    // Sampled after half 0: what its budget left, then the centre zone; after half 1, what
+    // its budget left. `state` is the inside state where the sampling starts (-1: unknown).
+    int state = half0_valid && !exhausted0 ? (end0_inside ? 1 : 0) : -1;
+    float march_lo = leftover0;
+    float march_hi = hi0;
+    float centre_lo = max(tau_start, -tau_c);
+    float centre_hi = min(tau_end, tau_c);
+    if (centre_lo < centre_hi) {
+        march_lo = exhausted0 ? march_lo : centre_lo;
+        march_hi = centre_hi;
+    }
+    for (int pass = 0; pass < 2; ++pass) {
         if (march_lo < march_hi
                 && march_piece(mid, d, march_lo, march_hi, CENTRE_SAMPLES, state, tau)) {
             return true;
         }
+        if (pass == 1) {
+            break;
+        }
+        // The crossing is at the junction with half 1.
+        if (half1_valid && state >= 0 && start1_inside != (state == 1)) {
+            tau = lo1;
+            return true;
+        }
+        if (found) {
+            tau = found_tau;
+            return true;
+        }
+        if (!exhausted1) {
+            break;
+        }
+        march_lo = leftover1;
+        march_hi = hi1;
+        state = -1;
     }
     return false;
 }
