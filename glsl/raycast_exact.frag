@@ -250,32 +250,27 @@ void segment_polynomials(vec3 mid, vec3 d, float tau0, float tau1) {
     }
 }
 
-// node_f <- F on [u0, u1] of a half: two de Casteljau splits of its half_f.
-void node_polynomial(int half_index, float u0, float u1) {
-    [[unroll]] for (int i = 0; i <= D; ++i) {
-        node_f[i] = half_index == 0 ? half_f0[i] : half_f1[i];
-    }
-    if (u1 < 1.0) {
-        // Keep [0, u1]: after pass r, node_f[r] is the left end of de Casteljau's row r.
-        [[unroll]] for (int r = 1; r <= D; ++r) {
-            [[unroll]] for (int step = 0; step < D; ++step) {
-                int i = D - step;
-                if (i >= r) {
-                    node_f[i] = mix(node_f[i - 1], node_f[i], u1);
-                }
+// The traversal keeps F on the part of the half not yet visited, [rest_start, 1], in
+// rest_f. The next piece [rest_start, u1] is its left part at s = (u1 - rest_start) /
+// (1 - rest_start): one de Casteljau pass gives the piece (node_f) and the part after it
+// (split_f), the rest once the piece is done. Consecutive pieces then share their end
+// coefficient exactly, and a piece costs one pass instead of the two that cut it out of
+// the whole half.
+float rest_f[D + 1];
+float split_f[D + 1];
+
+void split_rest(float s) {
+    split_f = rest_f;
+    node_f[0] = split_f[0];
+    [[unroll]] for (int r = 1; r <= D; ++r) {
+        // After pass r, split_f[0] is the left end of de Casteljau's row r and
+        // split_f[D - r] the right end, which no later pass touches.
+        [[unroll]] for (int i = 0; i < D; ++i) {
+            if (i <= D - r) {
+                split_f[i] = mix(split_f[i], split_f[i + 1], s);
             }
         }
-    }
-    if (u0 > 0.0) {
-        // Keep [u0 / u1, 1] of that: node_f[i] ends as the right end of row D - i.
-        float s = u0 / u1;
-        [[unroll]] for (int r = 1; r <= D; ++r) {
-            [[unroll]] for (int i = 0; i < D; ++i) {
-                if (i <= D - r) {
-                    node_f[i] = mix(node_f[i], node_f[i + 1], s);
-                }
-            }
-        }
+        node_f[r] = split_f[0];
     }
 }
 
@@ -436,7 +431,7 @@ int visit_half;       // the half being traversed; 2: both done
 int visit_level;      // the piece is [index, index + 1] 2^-level of the half
 uint visit_index;
 int visit_count;      // pieces visited in this half, against MAX_NODES
-bool visit_before;    // the sign of F where the previous piece of the half ended
+float rest_start;     // where the part of the half not yet visited starts
 bool half1_valid;
 // Where a half's budget of pieces ran out (the rest is sampled), else its end.
 bool exhausted0;
@@ -449,12 +444,15 @@ void next_half() {
     visit_level = 0;
     visit_index = 0u;
     visit_count = 0;
-    visit_before = half_f1[0] > 0.0;
+    rest_start = 0.0;
+    rest_f = half_f1;
 }
 
-// On to the piece after the one just visited, in ray order, or to the next half.
-void next_piece() {
-    visit_before = node_f[D] > 0.0;
+// On to the piece after the one just visited ([rest_start, u1]), in ray order, or to the
+// next half.
+void next_piece(float u1) {
+    rest_f = split_f;
+    rest_start = u1;
     int up = findLSB(~visit_index);  // the right children to climb out of
     visit_index >>= uint(up);
     visit_level -= up;
@@ -464,35 +462,27 @@ void next_piece() {
     }
 }
 
-// The next candidate root: 1 at the start u0 of the current piece, 2 in its inside
-// (node_f holds it, its ends differ in sign), 0 none left.
-int next_candidate(float lo0, float hi0, float lo1, float hi1, out float u0, out float u1) {
-    u0 = 0.0;
+// The next piece [rest_start, u1] that isolates a root (node_f holds it, its ends differ
+// in sign); false when none is left.
+bool next_candidate(float lo0, float hi0, float lo1, float hi1, out float u1) {
     u1 = 1.0;
     for (int step = 0; step < 2 * MAX_NODES + 2; ++step) {
         if (visit_half < 2 && visit_count >= MAX_NODES) {
             // Out of budget (never seen in the tests): the rest of the half is sampled.
-            float rest = float(visit_index) * exp2(-float(visit_level));
             if (visit_half == 0) {
                 exhausted0 = true;
-                leftover0 = mix(lo0, hi0, rest);
+                leftover0 = mix(lo0, hi0, rest_start);
             } else {
                 exhausted1 = true;
-                leftover1 = mix(lo1, hi1, rest);
+                leftover1 = mix(lo1, hi1, rest_start);
             }
             next_half();
         }
         if (visit_half >= 2) {
-            return 0;
+            return false;
         }
-        float width = exp2(-float(visit_level));
-        u0 = float(visit_index) * width;
-        u1 = u0 + width;
-        node_polynomial(visit_half, u0, u1);
-        // A root on the end shared with the previous piece, rounded differently by the two.
-        if (u0 > 0.0 && (node_f[0] > 0.0) != visit_before) {
-            return 1;
-        }
+        u1 = float(visit_index + 1u) * exp2(-float(visit_level));
+        split_rest(u1 >= 1.0 ? 1.0 : (u1 - rest_start) / (1.0 - rest_start));
         visit_count += 1;
         int changes = sign_changes();
         if (changes >= 2 && visit_level < MAX_LEVEL) {
@@ -502,11 +492,11 @@ int next_candidate(float lo0, float hi0, float lo1, float hi1, out float u0, out
         }
         // An odd number of roots on the piece: one, when it is fully split.
         if (changes >= 1 && (node_f[0] > 0.0) != (node_f[D] > 0.0)) {
-            return 2;
+            return true;
         }
-        next_piece();
+        next_piece(u1);
     }
-    return 0;
+    return false;
 }
 
 // First crossing along q = mid + tau d, tau in [tau_start, tau_end] (within [-1, 1], the
@@ -545,35 +535,32 @@ bool first_crossing(vec3 mid, vec3 d, float tau_start, float tau_end, out float 
     visit_level = 0;
     visit_index = 0u;
     visit_count = 0;
-    visit_before = visit_half == 0 ? half_f0[0] > 0.0 : half_f1[0] > 0.0;
+    rest_start = 0.0;
+    rest_f = half_f0;
+    if (visit_half != 0) {
+        rest_f = half_f1;
+    }
     bool found = false;
     int found_half = 0;
-    // Each candidate that the hide filter rejects (the edge of a hidden lobe) costs one
-    // round; the traversal goes on where it stopped.
-    // Every second round at least visits a piece, so the bound is never reached.
-    for (int round = 0; round < 4 * MAX_NODES + 4; ++round) {
-        float u0, u1;
-        int kind = next_candidate(lo0, hi0, lo1, hi1, u0, u1);
-        if (kind == 0) {
+    // Each root that the hide filter rejects (the edge of a hidden lobe) costs one round;
+    // the traversal goes on after it. Every round visits a piece, so the bound is never
+    // reached.
+    for (int round = 0; round < 2 * MAX_NODES + 2; ++round) {
+        float u1;
+        if (!next_candidate(lo0, hi0, lo1, hi1, u1)) {
             break;
         }
         float lo = visit_half == 0 ? lo0 : lo1;
         float hi = visit_half == 0 ? hi0 : hi1;
-        float u = u0;
-        if (kind == 2) {
-            u = mix(u0, u1, node_root(mix(lo, hi, u0), (hi - lo) * (u1 - u0), a, dot(d, d)));
-        }
+        float u0 = rest_start;
+        float u = mix(u0, u1, node_root(mix(lo, hi, u0), (hi - lo) * (u1 - u0), a, dot(d, d)));
         if (!hide || half_p_sign(visit_half, u) > 0.0) {
             found = true;
             found_half = visit_half;
             tau = mix(lo, hi, u);
             break;
         }
-        if (kind == 1) {
-            visit_before = node_f[0] > 0.0;  // visit the piece itself next
-        } else {
-            next_piece();
-        }
+        next_piece(u1);
     }
     if (found && found_half == 0) {
         return true;
