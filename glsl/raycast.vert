@@ -38,16 +38,6 @@ layout(location = 3) flat out vec3 v_box_extent;
 layout(location = 4) flat out vec4 v_coeffs[(GLYPH_MONOMIALS + 3) / 4];
 #endif
 
-// 12 triangles of the cube [-1, 1]^3, as corner indices (bit 0: x, bit 1: y, bit 2: z).
-const uint CUBE[36] = uint[36](
-    0, 2, 3, 0, 3, 1,   // -z
-    4, 5, 7, 4, 7, 6,   // +z
-    0, 1, 5, 0, 5, 4,   // -y
-    2, 6, 7, 2, 7, 3,   // +y
-    0, 4, 6, 0, 6, 2,   // -x
-    1, 3, 7, 1, 7, 5    // +x
-);
-
 vec3 rotate(vec4 q, vec3 v) {
     return v + 2.0 * cross(q.xyz, cross(q.xyz, v) + q.w * v);
 }
@@ -60,7 +50,10 @@ void main() {
         rotate(rotation, vec3(0.0, center_radius.w * extent.y, 0.0)),
         rotate(rotation, vec3(0.0, 0.0, center_radius.w * extent.z)));
 
-    uint corner = CUBE[gl_VertexIndex];
+    // The vertex index is the box corner (bit 0: x, bit 1: y, bit 2: z); the pass draws
+    // the 12 triangles by an index buffer (CUBE_INDICES of src/render/raycast.rs) that
+    // starts every triangle at corner 0 or corner 7.
+    uint corner = uint(gl_VertexIndex);
     vec3 unit = vec3(corner & 1u, (corner >> 1) & 1u, (corner >> 2) & 1u) * 2.0 - 1.0;
 
     // The box's nearest point along the view direction, against the near plane (with a
@@ -90,11 +83,17 @@ void main() {
     v_box_rotation = rotation;
     v_box_extent = extent;
 #ifdef GLYPH_MONOMIALS
-    glyph_load(gl_InstanceIndex);
+    // Flat outputs come from a triangle's first (provoking) vertex, corner 0 or 7; the
+    // other corners' are never read. (Loading for every vertex of 36 made the vertex
+    // stage of a million glyphs 7 times slower than their drawing on lavapipe.)
+    bool provoking = corner == 0u || corner == 7u;
+    if (provoking) {
+        glyph_load(gl_InstanceIndex);
+    }
     [[unroll]] for (int i = 0; i < (GLYPH_MONOMIALS + 3) / 4; ++i) {
         vec4 c = vec4(0.0);
         [[unroll]] for (int j = 0; j < 4; ++j) {
-            if (4 * i + j < GLYPH_MONOMIALS) {
+            if (provoking && 4 * i + j < GLYPH_MONOMIALS) {
                 c[j] = glyph_c[4 * i + j];
             }
         }

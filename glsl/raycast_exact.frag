@@ -26,11 +26,14 @@
 //    scene). On each, p is re-expanded about the end nearer mid and F is formed in the
 //    half's Bernstein basis (segment_polynomials).
 // 3. Descartes' rule of signs in the Bernstein basis bounds the number of roots of F on
-//    any piece [u0, u1] of a half by the sign changes of its Bernstein coefficients
-//    (de Casteljau from the half's). The pieces are visited in ray order as the dyadic
-//    intervals of a binary tree, stacklessly: 0 changes drop a piece, one isolates a
-//    root, more split it. The first isolated root is the answer; Newton on
-//    F / |q|^(2n), kept in the bracket, refines it (node_root).
+//    any piece [u0, u1] of a half by the sign changes of its Bernstein coefficients.
+//    The pieces are visited in ray order as the dyadic intervals of a binary tree,
+//    stacklessly, each cut by one de Casteljau pass off the part of the half not yet
+//    visited (split_rest): 0 changes drop a piece, one isolates a root, more split it.
+//    Both halves are traversed by one loop; the first isolated root that the hide filter
+//    keeps is the answer, refined by Newton on F / |q|^(2n) kept in the bracket
+//    (node_root). (src/glyph/bernstein.rs is the CPU port; it cuts each piece out of the
+//    whole half, which gives the same pieces.)
 // 4. Near the centre F ~ |q|^(2n+2) leaves float32's range: where the ray passes within
 //    CENTRE_RADIUS of the centre (|q|^D >= 2^-100 outside it), that part of the chord is
 //    sampled instead, with the well-conditioned radial form g of raycast_common.glsl

@@ -37,7 +37,23 @@ pub struct RayCastPass {
     pipelines: HashMap<(Option<TensorLayout>, Method), vk::Pipeline>,
     buffer_limit: Option<u64>,
     max_varying_components: u32,
+    /// CUBE_INDICES, for every box.
+    indices: Buffer,
 }
+
+/// The 12 triangles of a box as corner indices (bit 0: x, bit 1: y, bit 2: z), counter-
+/// clockwise seen from outside. Every triangle starts at corner 0 or corner 7, its
+/// provoking vertex: only those two corners load the glyph's coefficients for the flat
+/// inputs of the fragment shader (raycast.vert), and the indexed draw lets the eight
+/// corners be shaded once each per box.
+const CUBE_INDICES: [u16; 36] = [
+    0, 2, 3, 0, 3, 1, // -z
+    7, 4, 5, 7, 6, 4, // +z
+    0, 1, 5, 0, 5, 4, // -y
+    7, 2, 6, 7, 3, 2, // +y
+    0, 4, 6, 0, 6, 2, // -x
+    7, 1, 3, 7, 5, 1, // +x
+];
 
 /// Components the proxy boxes' vertex shader passes to a ray-casting fragment shader of
 /// a layout: four flat vec4/uint locations (glyph index, sphere, rotation, extent) and
@@ -96,6 +112,12 @@ impl RayCastPass {
             pipelines: HashMap::new(),
             buffer_limit: None,
             max_varying_components: ctx.max_varying_components,
+            indices: Buffer::with_data(
+                ctx,
+                "box indices",
+                &CUBE_INDICES,
+                vk::BufferUsageFlags::INDEX_BUFFER,
+            )?,
         };
         // SAFETY: valid device and create infos; objects are destroyed in Drop.
         unsafe {
@@ -355,7 +377,8 @@ impl RayCastPass {
                     &[set.instances.handle, set.boxes.handle],
                     &[0, 0],
                 );
-                d.cmd_draw(cmd, 36, set.count, 0, 0);
+                d.cmd_bind_index_buffer(cmd, self.indices.handle, 0, vk::IndexType::UINT16);
+                d.cmd_draw_indexed(cmd, CUBE_INDICES.len() as u32, set.count, 0, 0, 0);
             }
         }
         Ok(())
