@@ -52,7 +52,8 @@ use std::collections::BinaryHeap;
 use glam::DVec3;
 
 use super::NegativeMode;
-use super::polynomial::GlyphPolynomial;
+use super::monomials::symmetric_count;
+use super::polynomial::{GlyphPolynomial, monomial_values};
 
 /// Relative gap between the bound and the best sample at which refinement stops.
 const TOLERANCE: f64 = 0.01;
@@ -94,11 +95,69 @@ pub fn sampled_max_radius(poly: &GlyphPolynomial, negative: NegativeMode, sample
         .fold(0.0, f64::max)
 }
 
-/// Lattice points [`climbed_max_radius`] starts from when sizing glyphs: 200 points,
-/// about 15 degrees apart, against band-8 lobes some 40 degrees wide.
-pub fn sizing_lattice() -> &'static [DVec3] {
-    static LATTICE: std::sync::OnceLock<Vec<DVec3>> = std::sync::OnceLock::new();
-    LATTICE.get_or_init(|| fibonacci_sphere(200).collect())
+/// Points on the sphere that [`climbed_max_radius`] starts from, with the values of
+/// every monomial at them, tabulated once per order: h(f) at all of them is then one
+/// product of that table with the coefficients, whose sums run side by side (Horner's
+/// scheme per point is a chain of dependent steps, several times slower).
+pub struct Lattice {
+    points: Vec<DVec3>,
+    /// Per order (index), monomial-major: the values of monomial k at every point
+    /// occupy [k * points, (k + 1) * points).
+    tables: Vec<std::sync::OnceLock<Vec<f64>>>,
+}
+
+/// Orders whose monomial tables a lattice keeps (about 150 KB at order 12 for 200
+/// points); higher orders are evaluated point by point.
+const TABLED_ORDERS: u32 = 12;
+
+impl Lattice {
+    pub fn new(points: Vec<DVec3>) -> Lattice {
+        Lattice {
+            points,
+            tables: (0..=TABLED_ORDERS)
+                .map(|_| std::sync::OnceLock::new())
+                .collect(),
+        }
+    }
+
+    pub fn points(&self) -> &[DVec3] {
+        &self.points
+    }
+
+    /// f at every point, into `values`.
+    fn values(&self, poly: &GlyphPolynomial, values: &mut Vec<f64>) {
+        values.clear();
+        let Some(cell) = self.tables.get(poly.order as usize) else {
+            values.extend(self.points.iter().map(|&u| poly.eval(u)));
+            return;
+        };
+        let count = self.points.len();
+        let table = cell.get_or_init(|| {
+            let mut table = vec![0.0; symmetric_count(poly.order) * count];
+            for (i, &u) in self.points.iter().enumerate() {
+                for (k, value) in monomial_values(poly.order, u).enumerate() {
+                    table[k * count + i] = value;
+                }
+            }
+            table
+        });
+        values.resize(count, 0.0);
+        for (column, &c) in table
+            .chunks_exact(count)
+            .zip(poly.monomial_coefficients())
+        {
+            for (value, &m) in values.iter_mut().zip(column) {
+                *value += c * m;
+            }
+        }
+    }
+}
+
+/// The lattice [`climbed_max_radius`] starts from when sizing glyphs: 200 points, about
+/// 15 degrees apart, against band-8 lobes some 40 degrees wide.
+pub fn sizing_lattice() -> &'static Lattice {
+    static LATTICE: std::sync::OnceLock<Lattice> = std::sync::OnceLock::new();
+    LATTICE.get_or_init(|| Lattice::new(fibonacci_sphere(200).collect()))
 }
 
 /// Where a climb stops: steps below this angle (rad) gain less than about
@@ -114,13 +173,15 @@ const CLIMB_RESOLUTION: f64 = 1e-4;
 pub fn climbed_max_radius(
     poly: &GlyphPolynomial,
     negative: NegativeMode,
-    lattice: &[DVec3],
+    lattice: &Lattice,
     starts: usize,
 ) -> f64 {
     let value = |u: DVec3| shaped(poly.eval(u), negative);
     let mut best: Vec<(f64, DVec3)> = Vec::with_capacity(starts + 1);
-    for &u in lattice {
-        let v = value(u);
+    let mut values = Vec::new();
+    lattice.values(poly, &mut values);
+    for (&u, &f) in lattice.points().iter().zip(&values) {
+        let v = shaped(f, negative);
         if best.len() < starts || v > best[best.len() - 1].0 {
             let at = best.partition_point(|(b, _)| *b >= v);
             best.insert(at, (v, u));
@@ -458,6 +519,28 @@ mod tests {
         let sphere = symmetric(2, &[1.0, 0.0, 0.0, 1.0, 0.0, 1.0]);
         let climbed = climbed_max_radius(&sphere, NegativeMode::Abs, sizing_lattice(), 3);
         assert!((climbed - 1.0).abs() < 1e-12, "{climbed}");
+    }
+
+    /// The tabled lattice values are f at the lattice points, for every tabled order
+    /// and past it (evaluated point by point).
+    #[test]
+    fn lattice_values_are_f_at_the_points() {
+        let mut rng = Rng::new(5);
+        let lattice = sizing_lattice();
+        let mut values = Vec::new();
+        for order in 1..=TABLED_ORDERS + 2 {
+            let poly = symmetric(order, &rng.values(symmetric_count(order), -1.0, 1.0));
+            lattice.values(&poly, &mut values);
+            assert_eq!(values.len(), lattice.points().len());
+            for (&u, &v) in lattice.points().iter().zip(&values) {
+                let scale = poly.abs_eval(u);
+                assert!(
+                    (v - poly.eval(u)).abs() <= 1e-13 * scale,
+                    "order {order} at {u}: {v} against {}",
+                    poly.eval(u)
+                );
+            }
+        }
     }
 
     #[test]

@@ -125,6 +125,12 @@ impl GlyphPolynomial {
 
     /// The coefficients followed by zeros, so that a hand-built polynomial whose `coeffs`
     /// is too short evaluates as if padded instead of panicking.
+    /// The coefficients in monomial order (x powers descending, then y powers
+    /// descending), the order of [`monomial_values`].
+    pub fn monomial_coefficients(&self) -> &[f64] {
+        &self.coeffs
+    }
+
     fn coefficients(&self) -> impl Iterator<Item = f64> + '_ {
         self.coeffs.iter().copied().chain(std::iter::repeat(0.0))
     }
@@ -147,6 +153,17 @@ fn nonsymmetric_coefficients(order: u32, tensor: &[f64]) -> Vec<f64> {
         coeffs[monomials::monomial_index(order, m)] += t;
     }
     coeffs
+}
+
+/// The value of every monomial of degree `order` at q, in the coefficients' order: f(q)
+/// is the dot product of these with [`GlyphPolynomial::monomial_coefficients`].
+pub fn monomial_values(order: u32, q: DVec3) -> impl Iterator<Item = f64> {
+    (0..=order).rev().flat_map(move |a| {
+        let m = order - a;
+        (0..=m)
+            .rev()
+            .map(move |b| q.x.powi(a as i32) * q.y.powi(b as i32) * q.z.powi((m - b) as i32))
+    })
 }
 
 /// Nested Horner evaluation of sum_k c_k x^a y^b z^c in monomial order.
