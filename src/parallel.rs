@@ -1,10 +1,62 @@
 //! Work spread over every core with scoped threads, results in input order.
 use crate::{Error, Result};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// How far a long preparation has come, for a progress display on another thread: the
+/// current phase's name, its items done and its item count.
+#[derive(Debug, Default)]
+pub struct Progress {
+    phase: std::sync::Mutex<&'static str>,
+    done: AtomicUsize,
+    total: AtomicUsize,
+}
+
+impl Progress {
+    /// Starts a phase of `total` items.
+    pub fn start(&self, phase: &'static str, total: usize) {
+        if let Ok(mut p) = self.phase.lock() {
+            *p = phase;
+        }
+        self.done.store(0, Ordering::Relaxed);
+        self.total.store(total, Ordering::Relaxed);
+    }
+
+    /// The phase's name and the fraction of its items done.
+    pub fn get(&self) -> (&'static str, f64) {
+        let phase = self.phase.lock().map_or("", |p| *p);
+        let total = self.total.load(Ordering::Relaxed);
+        let done = self.done.load(Ordering::Relaxed);
+        (
+            phase,
+            if total == 0 {
+                0.0
+            } else {
+                (done as f64 / total as f64).min(1.0)
+            },
+        )
+    }
+}
 
 /// `f` of every item, computed on `available_parallelism` scoped threads over contiguous
 /// chunks, in the order of `items`; the first error (in item order) wins. `what` names
 /// the work in the error of a thread that panicked.
-pub fn map_chunks<I, T, F>(items: &[I], what: &str, f: F) -> Result<Vec<T>>
+pub fn map_chunks<I, T, F>(items: &[I], what: &'static str, f: F) -> Result<Vec<T>>
+where
+    I: Sync,
+    T: Send,
+    F: Fn(&I) -> Result<T> + Sync,
+{
+    map_chunks_with_progress(items, what, None, f)
+}
+
+/// [`map_chunks`], which also starts a phase named `what` in `progress` and counts the
+/// items done there.
+pub fn map_chunks_with_progress<I, T, F>(
+    items: &[I],
+    what: &'static str,
+    progress: Option<&Progress>,
+    f: F,
+) -> Result<Vec<T>>
 where
     I: Sync,
     T: Send,
@@ -12,7 +64,16 @@ where
 {
     let threads = std::thread::available_parallelism().map_or(1, usize::from);
     let chunk = items.len().div_ceil(threads).max(1);
-    let f = &f;
+    if let Some(p) = progress {
+        p.start(what, items.len());
+    }
+    let f = &|item: &I| {
+        let result = f(item);
+        if let Some(p) = progress {
+            p.done.fetch_add(1, Ordering::Relaxed);
+        }
+        result
+    };
     let parts: Vec<Result<Vec<T>>> = std::thread::scope(|scope| {
         let workers: Vec<_> = items
             .chunks(chunk)
@@ -50,6 +111,11 @@ mod tests {
             }
         });
         assert!(matches!(failed, Err(Error::Invalid(m)) if m == "item 700"));
+        let progress = Progress::default();
+        map_chunks_with_progress(&items, "counting", Some(&progress), |i| Ok(*i)).unwrap();
+        assert_eq!(progress.get(), ("counting", 1.0));
+        progress.start("next", 4);
+        assert_eq!(progress.get(), ("next", 0.0));
         assert!(
             map_chunks(&[] as &[u32], "nothing", |i| Ok(*i))
                 .unwrap()

@@ -142,10 +142,7 @@ impl Lattice {
             table
         });
         values.resize(count, 0.0);
-        for (column, &c) in table
-            .chunks_exact(count)
-            .zip(poly.monomial_coefficients())
-        {
+        for (column, &c) in table.chunks_exact(count).zip(poly.monomial_coefficients()) {
             for (value, &m) in values.iter_mut().zip(column) {
                 *value += c * m;
             }

@@ -11,6 +11,7 @@ use crate::glyph::proxy::{GlyphBounds, glyph_bounds};
 use crate::glyph::sh::sh_to_tensor;
 use crate::glyph::{NegativeMode, Symmetry, TensorLayout};
 use crate::io::scene::{GlyphKind, GlyphSet, Scene};
+use crate::parallel::{Progress, map_chunks_with_progress};
 use crate::{Error, Result};
 use std::borrow::Cow;
 
@@ -90,6 +91,16 @@ pub fn prepare_scene(scene: &Scene, offset: f64) -> Result<Vec<GlyphSetData>> {
 
 /// Prepares one glyph set, the `index`-th of its scene.
 pub fn prepare_set(set: &GlyphSet, index: usize, offset: f64) -> Result<GlyphSetData> {
+    prepare_set_with_progress(set, index, offset, None)
+}
+
+/// [`prepare_set`], reporting the bounding of the glyphs to `progress`.
+pub fn prepare_set_with_progress(
+    set: &GlyphSet,
+    index: usize,
+    offset: f64,
+    progress: Option<&Progress>,
+) -> Result<GlyphSetData> {
     let layout = tensor_layout(set);
     let mut data = GlyphSetData {
         layout,
@@ -100,7 +111,7 @@ pub fn prepare_set(set: &GlyphSet, index: usize, offset: f64) -> Result<GlyphSet
         world: Vec::with_capacity(set.len()),
     };
     // The bounds of each glyph are the costly part: glyphs are bounded on every core.
-    let bounded_glyphs = crate::parallel::map_chunks(&set.coeffs, "glyph bounds", |c| {
+    let bounded_glyphs = map_chunks_with_progress(&set.coeffs, "bounds", progress, |c| {
         bound_glyph(set, layout, index, c)
     })?;
     for ((center, scale), glyph) in set.centers.iter().zip(&set.scales).zip(bounded_glyphs) {

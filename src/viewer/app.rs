@@ -18,13 +18,20 @@ use std::time::Instant;
 use winit::application::ApplicationHandler;
 use winit::dpi::{PhysicalPosition, PhysicalSize};
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
-use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop, EventLoopProxy};
 use winit::raw_window_handle::{HasDisplayHandle, HasWindowHandle};
 use winit::window::{Window, WindowId};
 
 /// Frames a scripted run may add, past `--frames`, while waiting for the window to take
 /// the size a `resize:` event asked for.
 const SETTLE_FRAMES: u32 = 300;
+
+/// How often the title shows the progress of a glyph preparation.
+const PROGRESS_INTERVAL: std::time::Duration = std::time::Duration::from_millis(100);
+
+/// The worker's signal that prepared glyphs are ready.
+#[derive(Clone, Copy, Debug)]
+struct GlyphsReady;
 
 /// Mouse state between events.
 #[derive(Default)]
@@ -59,9 +66,18 @@ struct App {
     gpu: Gpu,
 }
 
-pub fn run(content: Content, options: ViewerOptions) -> Result<()> {
-    let event_loop = EventLoop::new()
+pub fn run(mut content: Content, options: ViewerOptions) -> Result<()> {
+    let event_loop = EventLoop::<GlyphsReady>::with_user_event()
+        .build()
         .map_err(|e| Error::Setup(format!("cannot open a window (is DISPLAY set?): {e}")))?;
+    let proxy: std::sync::Mutex<EventLoopProxy<GlyphsReady>> =
+        std::sync::Mutex::new(event_loop.create_proxy());
+    content.set_waker(std::sync::Arc::new(move || {
+        if let Ok(proxy) = proxy.lock() {
+            // A closed event loop no longer wants the glyphs.
+            let _ = proxy.send_event(GlyphsReady);
+        }
+    }));
     let display = event_loop
         .display_handle()
         .map_err(|e| Error::Setup(format!("no display handle: {e}")))?
@@ -100,7 +116,7 @@ pub fn run(content: Content, options: ViewerOptions) -> Result<()> {
     app.gpu.check_validation()
 }
 
-impl ApplicationHandler for App {
+impl ApplicationHandler<GlyphsReady> for App {
     fn resumed(&mut self, event_loop: &ActiveEventLoop) {
         if self.window.is_none()
             && let Err(e) = self.open_window(event_loop)
@@ -115,13 +131,30 @@ impl ApplicationHandler for App {
         }
     }
 
+    fn user_event(&mut self, event_loop: &ActiveEventLoop, _: GlyphsReady) {
+        if let Err(e) = self.take_glyphs(false) {
+            self.fail(event_loop, e);
+        }
+    }
+
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        if let Err(e) = self.take_glyphs(false) {
+            self.fail(event_loop, e);
+            return;
+        }
         let scripted = self.options.frames.is_some();
+        let busy = self.content.busy().is_some();
         event_loop.set_control_flow(if scripted {
             ControlFlow::Poll
+        } else if busy {
+            // Wakes up to show the preparation's progress.
+            ControlFlow::WaitUntil(Instant::now() + PROGRESS_INTERVAL)
         } else {
             ControlFlow::Wait
         });
+        if busy {
+            self.update_title();
+        }
         if let Some(window) = &self.window
             && (scripted || std::mem::take(&mut self.dirty))
         {
@@ -131,6 +164,25 @@ impl ApplicationHandler for App {
 }
 
 impl App {
+    /// Takes the glyphs of a finished preparation, if any. A preparation that failed on
+    /// its input is reported and the glyphs shown stay; other errors end the session.
+    fn take_glyphs(&mut self, wait: bool) -> Result<()> {
+        match self.content.poll(wait) {
+            Ok(true) => {
+                self.dirty = true;
+                self.update_title();
+                Ok(())
+            }
+            Ok(false) => Ok(()),
+            Err(e @ (Error::Io { .. } | Error::Invalid(_) | Error::Input { .. })) => {
+                eprintln!("error: {e}");
+                self.update_title();
+                Ok(())
+            }
+            Err(e) => Err(e),
+        }
+    }
+
     fn fail(&mut self, event_loop: &ActiveEventLoop, error: Error) {
         self.error.get_or_insert(error);
         event_loop.exit();
@@ -312,6 +364,11 @@ impl App {
 
     fn redraw(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
         let scripted = self.options.frames.is_some();
+        // A script waits for each preparation, so that every event meets the glyphs its
+        // predecessors made.
+        if scripted && self.content.busy().is_some() {
+            self.take_glyphs(true)?;
+        }
         if scripted && self.script_next == self.presented as usize {
             if let Some(action) = self.options.script.get(self.script_next).cloned() {
                 self.apply(event_loop, action)?;
@@ -376,8 +433,12 @@ impl App {
         let time = self
             .gpu_ms
             .map_or_else(|| "n/a".to_owned(), |ms| format!("{ms:.2} ms"));
+        let busy = self
+            .content
+            .busy()
+            .map_or_else(String::new, |b| format!(" | {b}"));
         window.set_title(&format!(
-            "glyphcast | {} step {:.4} {} | {} | negative {}{slice} | GPU {time}",
+            "glyphcast | {} step {:.4} {} | {} | negative {}{slice} | GPU {time}{busy}",
             format!("{:?}", s.method).to_lowercase(),
             s.step,
             refinement_name(s.refinement),
@@ -400,7 +461,7 @@ impl App {
                     height: h,
                 })
         });
-        if self.presented < frames || !script_done {
+        if self.presented < frames || !script_done || self.content.busy().is_some() {
             return Ok(());
         }
         if !settled {

@@ -4,15 +4,28 @@
 //! Moving the slice or switching the negative-lobe mode rebuilds only the glyph data
 //! (coefficients and bounds, on the CPU) and bumps [`Content::version`] so that the
 //! window re-uploads it; the tensor layout stays the same, so no pipeline is created.
+//! The rebuild runs on a worker thread: the window keeps drawing the glyphs it has, shows
+//! the preparation's progress in its title, and takes the new glyphs when
+//! [`Content::poll`] finds them ready. A move asked for while one is prepared waits, and
+//! only the latest of those is prepared next.
 use crate::camera::Camera;
 use crate::glyph::NegativeMode;
-use crate::io::scene::Scene;
+use crate::io::scene::{GlyphSet, Scene};
+use crate::parallel::Progress;
 use crate::render::RenderSettings;
 use crate::render::frame::{FrameParams, SceneExtent};
-use crate::render::glyph_data::{GlyphSetData, prepare_scene, prepare_set};
-use crate::volume::{SliceRegion, Volume, VolumeOptions, VolumeScene, frame_region, volume_scene};
+use crate::render::glyph_data::{GlyphSetData, prepare_scene, prepare_set_with_progress};
+use crate::volume::{
+    SliceRegion, Volume, VolumeOptions, VolumeScene, frame_region, volume_scene_with_progress,
+};
 use crate::{Error, Result};
 use std::ops::Range;
+use std::sync::{Arc, mpsc};
+use std::time::Instant;
+
+/// Called from the worker thread when a preparation has finished (the window's event
+/// loop proxy, so that the window wakes up to take the result).
+pub type Waker = Arc<dyn Fn() + Send + Sync>;
 
 /// Where the viewer's glyphs come from.
 pub enum ViewSource {
@@ -29,7 +42,7 @@ pub enum ViewSource {
 
 /// The volume behind a volume view, and where its slice (or three slices) are.
 struct VolumeSlice {
-    volume: Box<Volume>,
+    volume: Arc<Volume>,
     options: VolumeOptions,
     /// Each voxel axis's slice index, and the indices it may take; only the `active`
     /// axis's is shown unless `options.slices` is set.
@@ -52,6 +65,38 @@ pub struct Content {
     pub version: u64,
     negative: Option<NegativeMode>,
     volume: Option<VolumeSlice>,
+    job: Option<Job>,
+    queued: Option<Rebuild>,
+    waker: Option<Waker>,
+}
+
+/// A rebuild of the glyph data. A slice move also applies the current negative mode, so
+/// it stands for a negative-mode rebuild queued before it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Rebuild {
+    Slice,
+    Negative,
+}
+
+/// A rebuild running on a worker thread.
+struct Job {
+    what: String,
+    started: Instant,
+    progress: Arc<Progress>,
+    result: mpsc::Receiver<Result<Prepared>>,
+}
+
+/// What a job hands back: the new glyph sets and, for each, its prepared data, or None
+/// where the set is unchanged and keeps the data it has.
+struct Prepared {
+    glyph_sets: Vec<GlyphSet>,
+    data: Vec<Option<GlyphSetData>>,
+}
+
+/// Where a job's glyph sets come from.
+enum Source {
+    Volume(Arc<Volume>, Box<VolumeOptions>),
+    Sets(Vec<GlyphSet>),
 }
 
 impl Content {
@@ -78,7 +123,7 @@ impl Content {
                     index,
                     indices,
                     active: view.region.slice.voxel_axis(),
-                    volume,
+                    volume: Arc::from(volume),
                     options: *options,
                 };
                 (view.scene, Some(slice))
@@ -94,7 +139,60 @@ impl Content {
             version: 0,
             negative: None,
             volume,
+            job: None,
+            queued: None,
+            waker: None,
         })
+    }
+
+    /// What the worker calls when a rebuild is ready.
+    pub fn set_waker(&mut self, waker: Waker) {
+        self.waker = Some(waker);
+    }
+
+    /// "preparing slice k=7: bounds 40 %" while a rebuild runs.
+    pub fn busy(&self) -> Option<String> {
+        self.job.as_ref().map(|job| {
+            let (phase, done) = job.progress.get();
+            format!("preparing {}: {phase} {:.0} %", job.what, 100.0 * done)
+        })
+    }
+
+    /// Takes the result of the running rebuild if it is ready (and starts the one asked
+    /// for meanwhile); true when the glyph data changed. `wait` blocks until it is.
+    pub fn poll(&mut self, wait: bool) -> Result<bool> {
+        let Some(job) = &self.job else {
+            return Ok(false);
+        };
+        let result = if wait {
+            job.result.recv().map_err(|_| ())
+        } else {
+            match job.result.try_recv() {
+                Err(mpsc::TryRecvError::Empty) => return Ok(false),
+                received => received.map_err(|_| ()),
+            }
+        };
+        let result = result.unwrap_or_else(|()| {
+            Err(Error::Setup(
+                "the glyph preparation thread stopped without a result".into(),
+            ))
+        });
+        let Some(job) = self.job.take() else {
+            return Ok(false);
+        };
+        let applied = result.and_then(|prepared| self.take_prepared(prepared));
+        if applied.is_ok() {
+            let glyphs: usize = self.scene.glyph_sets.iter().map(|s| s.len()).sum();
+            eprintln!(
+                "{}: {glyphs} glyphs ready in {:.0} ms",
+                job.what,
+                job.started.elapsed().as_secs_f64() * 1e3
+            );
+        }
+        if let Some(next) = self.queued.take() {
+            self.start(next)?;
+        }
+        applied.map(|()| true)
     }
 
     /// Frame parameters for an image of `width` x `height` with the current camera, as
@@ -201,49 +299,93 @@ impl Content {
             v.framed_target = framing.camera.target;
         }
         v.index[axis] = index;
-        let started = std::time::Instant::now();
-        let glyph_sets = match volume_scene(volume, &options) {
-            Ok(view) => view.scene.glyph_sets,
-            Err(Error::Input { message, .. }) => {
-                eprintln!("slice {index}: {message}");
-                Vec::new()
-            }
-            Err(e) => return Err(e),
-        };
         v.options = options;
-        let glyphs: usize = glyph_sets.iter().map(|s| s.len()).sum();
-        let moved = self.replace_sets(glyph_sets)?;
-        eprintln!(
-            "slice {index}: {glyphs} glyphs ready in {:.0} ms",
-            started.elapsed().as_secs_f64() * 1e3
-        );
-        Ok(moved)
+        self.request(Rebuild::Slice)?;
+        Ok(true)
     }
 
-    /// Puts `glyph_sets` into the scene, preparing only the sets that changed (with three
-    /// slices, moving one leaves the others' glyphs as they were).
-    fn replace_sets(&mut self, mut glyph_sets: Vec<crate::io::scene::GlyphSet>) -> Result<bool> {
-        if let Some(mode) = self.negative {
-            for set in &mut glyph_sets {
-                set.negative = mode;
+    /// Starts a rebuild, or queues it behind the running one.
+    fn request(&mut self, rebuild: Rebuild) -> Result<()> {
+        if self.job.is_some() {
+            if self.queued != Some(Rebuild::Slice) {
+                self.queued = Some(rebuild);
             }
+            return Ok(());
         }
+        self.start(rebuild)
+    }
+
+    fn start(&mut self, rebuild: Rebuild) -> Result<()> {
+        let (what, source) = match (rebuild, &self.volume) {
+            (Rebuild::Slice, Some(v)) => {
+                let axis = v.active;
+                let name = ["i", "j", "k"][axis];
+                (
+                    format!("slice {name}={}", v.index[axis]),
+                    Source::Volume(v.volume.clone(), Box::new(v.options.clone())),
+                )
+            }
+            _ => (
+                "negative lobes".to_owned(),
+                Source::Sets(self.scene.glyph_sets.clone()),
+            ),
+        };
+        let old = self.scene.glyph_sets.clone();
+        let negative = self.negative;
+        let offset = self.settings.offset as f64;
+        let progress = Arc::new(Progress::default());
+        let (sender, result) = mpsc::channel();
+        let waker = self.waker.clone();
+        let worker_progress = progress.clone();
+        let worker_what = what.clone();
+        std::thread::Builder::new()
+            .name("glyphcast-prepare".into())
+            .spawn(move || {
+                let prepared = prepare(
+                    &worker_what,
+                    source,
+                    &old,
+                    negative,
+                    offset,
+                    &worker_progress,
+                );
+                // The window may have closed meanwhile; then nobody wants the result.
+                let _ = sender.send(prepared);
+                if let Some(wake) = waker {
+                    wake();
+                }
+            })
+            .map_err(|e| Error::Setup(format!("cannot start the preparation thread: {e}")))?;
+        self.job = Some(Job {
+            what,
+            started: Instant::now(),
+            progress,
+            result,
+        });
+        Ok(())
+    }
+
+    /// Puts a job's glyph sets into the scene, keeping the data of the unchanged ones.
+    fn take_prepared(&mut self, prepared: Prepared) -> Result<()> {
         let mut old: Vec<Option<GlyphSetData>> = std::mem::take(&mut self.sets)
             .into_iter()
             .map(Some)
             .collect();
-        let mut sets = Vec::with_capacity(glyph_sets.len());
-        for (index, set) in glyph_sets.iter().enumerate() {
-            let same = self.scene.glyph_sets.get(index) == Some(set);
-            match old.get_mut(index).and_then(Option::take) {
-                Some(data) if same => sets.push(data),
-                _ => sets.push(prepare_set(set, index, self.settings.offset as f64)?),
+        let mut sets = Vec::with_capacity(prepared.data.len());
+        for (index, data) in prepared.data.into_iter().enumerate() {
+            match data.or_else(|| old.get_mut(index).and_then(Option::take)) {
+                Some(data) => sets.push(data),
+                None => {
+                    return Err(Error::Setup(format!(
+                        "glyph set {index} was kept but has no prepared data"
+                    )));
+                }
             }
         }
-        self.scene.glyph_sets = glyph_sets;
+        self.scene.glyph_sets = prepared.glyph_sets;
         self.sets = sets;
         self.version += 1;
-        Ok(true)
+        Ok(())
     }
 
     /// Sets every glyph set's negative-lobe mode (`None`: toggle between abs and hide).
@@ -256,7 +398,7 @@ impl Content {
             _ => NegativeMode::Hide,
         });
         self.negative = Some(mode);
-        self.rebuild()
+        self.request(Rebuild::Negative)
     }
 
     pub fn negative_name(&self) -> &'static str {
@@ -268,16 +410,47 @@ impl Content {
             _ => "abs",
         }
     }
+}
 
-    /// Applies the negative mode and prepares the glyph data again (bounds depend on it).
-    fn rebuild(&mut self) -> Result<()> {
-        if let Some(mode) = self.negative {
-            for set in &mut self.scene.glyph_sets {
-                set.negative = mode;
+/// The worker's part of a rebuild: the glyph sets (a volume slice, sized and normalised,
+/// or the sets as they are), the negative mode, and the bounds of every set that changed.
+fn prepare(
+    what: &str,
+    source: Source,
+    old: &[GlyphSet],
+    negative: Option<NegativeMode>,
+    offset: f64,
+    progress: &Progress,
+) -> Result<Prepared> {
+    let mut glyph_sets = match source {
+        Source::Volume(volume, options) => {
+            match volume_scene_with_progress(&volume, &options, Some(progress)) {
+                Ok(view) => view.scene.glyph_sets,
+                // A slice with nothing to draw is shown empty, with the reason.
+                Err(Error::Input { message, .. }) => {
+                    eprintln!("{what}: {message}");
+                    Vec::new()
+                }
+                Err(e) => return Err(e),
             }
         }
-        self.sets = prepare_scene(&self.scene, self.settings.offset as f64)?;
-        self.version += 1;
-        Ok(())
+        Source::Sets(sets) => sets,
+    };
+    if let Some(mode) = negative {
+        for set in &mut glyph_sets {
+            set.negative = mode;
+        }
     }
+    let data = glyph_sets
+        .iter()
+        .enumerate()
+        .map(|(index, set)| {
+            if old.get(index) == Some(set) {
+                Ok(None)
+            } else {
+                prepare_set_with_progress(set, index, offset, Some(progress)).map(Some)
+            }
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(Prepared { glyph_sets, data })
 }

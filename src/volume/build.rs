@@ -6,6 +6,7 @@
 //! CLI prints their count as a warning), glyphs that are exactly zero (nothing to draw)
 //! and glyphs whose max radius is below `min_amplitude`. A selection that leaves no glyph
 //! at all is an error: an empty picture would look like a rendering fault.
+use crate::parallel::{Progress, map_chunks_with_progress};
 use std::str::FromStr;
 
 use glam::DVec3;
@@ -105,6 +106,15 @@ struct Glyph {
 
 /// The scene showing `options.slice` (or `options.slices`) of `volume`.
 pub fn volume_scene(volume: &Volume, options: &VolumeOptions) -> Result<VolumeScene> {
+    volume_scene_with_progress(volume, options, None)
+}
+
+/// [`volume_scene`], reporting the sizing of the glyphs to `progress`.
+pub fn volume_scene_with_progress(
+    volume: &Volume,
+    options: &VolumeOptions,
+    progress: Option<&Progress>,
+) -> Result<VolumeScene> {
     check_options(volume, options)?;
     let region = |slice| SliceRegion::new(volume.dims, slice, &options.voxels, &volume.file);
     let regions = match options.slices {
@@ -146,7 +156,7 @@ pub fn volume_scene(volume: &Volume, options: &VolumeOptions) -> Result<VolumeSc
             let coeffs = reorientation.apply(&coeffs)?;
             candidates.push((voxel, coeffs));
         }
-        let radii = crate::parallel::map_chunks(&candidates, "glyph sizes", |(_, coeffs)| {
+        let radii = map_chunks_with_progress(&candidates, "sizing", progress, |(_, coeffs)| {
             max_radius(kind, coeffs)
         })?;
         let mut drawn = Vec::new();

@@ -21,6 +21,7 @@ mod selection;
 
 pub use build::{
     DEFAULT_SCALE_FRACTION, Normalisation, VolumeOptions, VolumeReport, VolumeScene, volume_scene,
+    volume_scene_with_progress,
 };
 pub use framing::{
     DEFAULT_LONG_SIDE, Framing, ImageRequest, PERSPECTIVE_FOV_DEG, ViewProjection, frame_region,

@@ -152,3 +152,70 @@ fn func_coef_is_a_band_8_volume() {
         }
     }
 }
+
+/// A slice move in the viewer prepares the new glyphs on a worker thread: `move_slice`
+/// returns with the preparation under way (the window goes on drawing what it has), a
+/// move asked for meanwhile waits for it, and the glyphs handed back are exactly those
+/// of preparing that slice directly.
+#[test]
+fn viewer_slice_moves_are_prepared_in_the_background() {
+    use glyphcast::render::RenderSettings;
+    use glyphcast::render::glyph_data::prepare_scene;
+    use glyphcast::viewer::{Content, ViewSource};
+    use glyphcast::volume::{Slice, SliceAxis, VolumeOptions, volume_scene};
+    let kind = VolumeKind::Sh {
+        basis: ShBasis::Tournier07,
+        legacy: true,
+    };
+    let volume = load_volume(&data("func_coef.nii.gz"), kind).expect("reading func_coef");
+    let slice = |index| Slice {
+        axis: SliceAxis::Axial,
+        index: Some(index),
+    };
+    let mut options = VolumeOptions {
+        slice: slice(0),
+        ..VolumeOptions::default()
+    };
+    let view = volume_scene(&volume, &options).expect("slice 0");
+    let source = ViewSource::Volume {
+        volume: Box::new(volume.clone()),
+        options: Box::new(options.clone()),
+        view: Box::new(view),
+    };
+    let mut content = Content::new(source, RenderSettings::default()).expect("content");
+    let version = content.version;
+    assert!(content.move_slice(1).expect("move to 1"));
+    assert!(content.busy().is_some(), "no preparation under way");
+    assert_eq!(
+        content.version, version,
+        "the glyphs changed before they were ready"
+    );
+    // Asked for while slice 1 is prepared: waits for it, then runs.
+    assert!(content.move_slice(1).expect("move to 2"));
+    assert!(content.poll(true).expect("slice 1"));
+    assert!(content.busy().is_some(), "the queued move did not start");
+    assert!(content.poll(true).expect("slice 2"));
+    assert!(content.busy().is_none());
+    assert_eq!(content.version, version + 2);
+    options.slice = slice(2);
+    let direct = volume_scene(&volume, &options).expect("slice 2");
+    assert_eq!(content.scene.glyph_sets, direct.scene.glyph_sets);
+    let direct_sets = prepare_scene(&direct.scene, 0.0).expect("preparing slice 2");
+    assert_eq!(content.sets.len(), direct_sets.len());
+    for (shown, expected) in content.sets.iter().zip(&direct_sets) {
+        assert_eq!(shown.instances, expected.instances);
+        assert_eq!(shown.boxes, expected.boxes);
+        assert_eq!(shown.coefficients, expected.coefficients);
+    }
+    // The negative-lobe switch is prepared the same way.
+    content.set_negative(None).expect("negative switch");
+    assert!(content.busy().is_some());
+    assert!(content.poll(true).expect("negative lobes"));
+    assert!(
+        content
+            .scene
+            .glyph_sets
+            .iter()
+            .all(|s| s.negative == glyphcast::glyph::NegativeMode::Hide)
+    );
+}
