@@ -6,7 +6,9 @@
 //! into its own rendering; glyphcast then creates no instance or device:
 //!
 //! 1. Wrap the engine's device and [`gpu_allocator`] allocator in a
-//!    [`vk::DeviceContext`].
+//!    [`vk::DeviceContext`]. This is `unsafe`: glyphcast never destroys the engine's
+//!    objects, so the engine must keep its device, instance and allocator until every
+//!    glyphcast object made with the context is dropped.
 //! 2. Create a [`RayCastPass`](render::raycast::RayCastPass) for the engine's attachment
 //!    formats ([`TargetFormats`](render::raycast::TargetFormats)): colour, depth, and
 //!    optionally an R32_SFLOAT attachment for the ray distance. Without one (`distance:
@@ -50,7 +52,11 @@
 //! use std::sync::{Arc, Mutex};
 //!
 //! /// Once: glyphcast on the engine's device, for its colour and depth formats.
-//! fn add_glyphs(
+//! ///
+//! /// # Safety
+//! /// The engine keeps `instance`, `device` and `allocator` until it has dropped the
+//! /// pass and the glyphs (at shutdown, before destroying its own objects).
+//! unsafe fn add_glyphs(
 //!     instance: &ash::Instance,
 //!     physical_device: vk::PhysicalDevice,
 //!     device: &ash::Device,
@@ -58,7 +64,10 @@
 //!     scene: &Scene,
 //!     (width, height): (u32, u32),
 //! ) -> glyphcast::Result<(RayCastPass, SceneGpu)> {
-//!     let context = DeviceContext::new(instance, physical_device, device.clone(), allocator);
+//!     // SAFETY: `device` comes from `physical_device` of `instance`, `allocator` is its
+//!     // own, and the caller keeps all three for as long as the pass and glyphs live.
+//!     let context =
+//!         unsafe { DeviceContext::new(instance, physical_device, device.clone(), allocator) };
 //!     let formats = TargetFormats {
 //!         color: vk::Format::B8G8R8A8_SRGB,
 //!         depth: vk::Format::D32_SFLOAT,

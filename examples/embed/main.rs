@@ -109,12 +109,18 @@ fn render_with(
     square: &Square,
 ) -> Result<(Vec<u8>, Vec<f32>, Vec<GlyphSetData>)> {
     // glyphcast on the engine's device and allocator: no instance or device of its own.
-    let context = DeviceContext::new(
-        &engine.instance,
-        engine.physical_device,
-        engine.device.clone(),
-        engine.allocator(),
-    );
+    // SAFETY: the device was made from this physical device and instance with dynamic
+    // rendering, and the allocator is its own. The context, pass and scene are locals of
+    // this function, which borrows the engine: they are dropped before the engine can
+    // destroy its allocator, device and instance.
+    let context = unsafe {
+        DeviceContext::new(
+            &engine.instance,
+            engine.physical_device,
+            engine.device.clone(),
+            engine.allocator(),
+        )
+    };
     let formats = TargetFormats {
         color: COLOR_FORMAT,
         depth: DEPTH_FORMAT,

@@ -35,8 +35,9 @@ struct PlanePush {
     square: [f32; 4],
 }
 
-pub struct PlanePass {
-    device: ash::Device,
+/// Borrows the engine's device: the borrow checker keeps the pass from outliving it.
+pub struct PlanePass<'a> {
+    device: &'a ash::Device,
     layout: vk::PipelineLayout,
     pipeline: vk::Pipeline,
 }
@@ -47,8 +48,8 @@ fn module(device: &ash::Device, spirv: &[u32]) -> Result<vk::ShaderModule> {
     Ok(unsafe { device.create_shader_module(&info, None)? })
 }
 
-impl PlanePass {
-    pub fn new(device: &ash::Device, color: vk::Format, depth: vk::Format) -> Result<PlanePass> {
+impl<'a> PlanePass<'a> {
+    pub fn new(device: &'a ash::Device, color: vk::Format, depth: vk::Format) -> Result<Self> {
         let push = [vk::PushConstantRange::default()
             .stage_flags(vk::ShaderStageFlags::VERTEX)
             .size(std::mem::size_of::<PlanePush>() as u32)];
@@ -114,7 +115,7 @@ impl PlanePass {
             created.map_err(|(_, e)| e)?[0]
         };
         Ok(PlanePass {
-            device: device.clone(),
+            device,
             layout,
             pipeline,
         })
@@ -146,7 +147,7 @@ impl PlanePass {
         };
         // SAFETY: `cmd` is inside dynamic rendering with formats matching the pipeline.
         unsafe {
-            let d = &self.device;
+            let d = self.device;
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
             d.cmd_set_viewport(cmd, 0, &[viewport]);
             d.cmd_set_scissor(cmd, 0, &[extent.into()]);
@@ -162,7 +163,7 @@ impl PlanePass {
     }
 }
 
-impl Drop for PlanePass {
+impl Drop for PlanePass<'_> {
     fn drop(&mut self) {
         // SAFETY: the frames recorded with the pipeline have completed.
         unsafe {

@@ -4,7 +4,7 @@ use crate::error::{Error, Result, VkContext};
 use crate::glyph::TensorLayout;
 use crate::render::raycast::shader_module;
 use crate::render::shaders::eval_shader;
-use crate::vk::{Buffer, Gpu, OneShot};
+use crate::vk::{Buffer, DeviceContext, Gpu, OneShot};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
@@ -54,7 +54,12 @@ pub(crate) fn dispatch(
     count: u32,
 ) -> Result<()> {
     let device = gpu.device();
-    let objects = ComputeObjects::new(device, spirv, buffers.len() as u32, push.len() as u32)?;
+    let objects = ComputeObjects::new(
+        gpu.context(),
+        spirv,
+        buffers.len() as u32,
+        push.len() as u32,
+    )?;
     let infos: Vec<_> = buffers
         .iter()
         .map(|b| {
@@ -110,7 +115,7 @@ pub(crate) fn dispatch(
 
 /// Layouts, pipeline and descriptor set of the evaluation shader; destroyed on drop.
 struct ComputeObjects {
-    device: ash::Device,
+    ctx: DeviceContext,
     set_layout: vk::DescriptorSetLayout,
     layout: vk::PipelineLayout,
     pipeline: vk::Pipeline,
@@ -120,13 +125,14 @@ struct ComputeObjects {
 
 impl ComputeObjects {
     fn new(
-        device: &ash::Device,
+        ctx: &DeviceContext,
         spirv: &[u32],
         binding_count: u32,
         push_bytes: u32,
     ) -> Result<ComputeObjects> {
+        let device = ctx.device();
         let mut o = ComputeObjects {
-            device: device.clone(),
+            ctx: ctx.clone(),
             set_layout: vk::DescriptorSetLayout::null(),
             layout: vk::PipelineLayout::null(),
             pipeline: vk::Pipeline::null(),
@@ -206,13 +212,14 @@ impl ComputeObjects {
 
 impl Drop for ComputeObjects {
     fn drop(&mut self) {
-        // SAFETY: the one-shot submission has completed; destroying null handles is a no-op.
+        let device = self.ctx.device();
+        // SAFETY: the one-shot submission has completed; destroying null handles is a
+        // no-op; the device is alive while `self.ctx` is.
         unsafe {
-            self.device.destroy_descriptor_pool(self.pool, None);
-            self.device.destroy_pipeline(self.pipeline, None);
-            self.device.destroy_pipeline_layout(self.layout, None);
-            self.device
-                .destroy_descriptor_set_layout(self.set_layout, None);
+            device.destroy_descriptor_pool(self.pool, None);
+            device.destroy_pipeline(self.pipeline, None);
+            device.destroy_pipeline_layout(self.layout, None);
+            device.destroy_descriptor_set_layout(self.set_layout, None);
         }
     }
 }

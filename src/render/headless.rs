@@ -126,7 +126,7 @@ impl HeadlessRenderer {
         };
         Ok(HeadlessRenderer {
             pass: RayCastPass::new(gpu.context(), formats)?,
-            mesh: MeshPass::new(gpu.device(), formats)?,
+            mesh: MeshPass::new(gpu.context(), formats)?,
             commands: OneShot::new(gpu)?,
             timer: GpuTimer::new(gpu)?,
         })

@@ -11,7 +11,8 @@
 //! buffer per glyph with absolute indices would, by 12 bytes a triangle). The number of
 //! vertices per glyph is a specialization constant, so there is one pipeline per mesh
 //! kind. Sets larger than one storage buffer are split, as the ray caster splits its
-//! coefficients.
+//! coefficients. The pass and its scenes keep a [`DeviceContext`], so the device
+//! outlives them.
 use crate::error::{Error, Result, VkContext};
 use crate::glyph::intersect::WorldGlyph;
 use crate::glyph::tessellate::{MeshKind, MeshVertex, SphereMesh, tessellate};
@@ -91,7 +92,7 @@ impl MeshStats {
 
 /// Pipelines and layouts of the mesh pass; created once per device and formats.
 pub struct MeshPass {
-    device: ash::Device,
+    ctx: DeviceContext,
     formats: TargetFormats,
     set_layout: vk::DescriptorSetLayout,
     pipeline_layout: vk::PipelineLayout,
@@ -112,7 +113,7 @@ struct MeshChunk {
 
 /// A tessellated scene on the GPU.
 pub struct MeshSceneGpu {
-    device: ash::Device,
+    ctx: DeviceContext,
     frame: Buffer,
     pool: vk::DescriptorPool,
     indices: Buffer,
@@ -140,7 +141,8 @@ const FRAME_BINDING: u32 = 0;
 const VERTEX_BINDING: u32 = 2;
 
 impl MeshPass {
-    pub fn new(device: &ash::Device, formats: TargetFormats) -> Result<MeshPass> {
+    pub fn new(ctx: &DeviceContext, formats: TargetFormats) -> Result<MeshPass> {
+        let device = ctx.device();
         let bindings = [
             vk::DescriptorSetLayoutBinding::default()
                 .binding(FRAME_BINDING)
@@ -155,7 +157,7 @@ impl MeshPass {
         ];
         let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
         let mut pass = MeshPass {
-            device: device.clone(),
+            ctx: ctx.clone(),
             formats,
             set_layout: vk::DescriptorSetLayout::null(),
             pipeline_layout: vk::PipelineLayout::null(),
@@ -208,7 +210,7 @@ impl MeshPass {
                 .name(c"main"),
         ];
         let pipeline = glyph_pipeline(
-            &self.device,
+            self.ctx.device(),
             self.formats,
             self.pipeline_layout,
             &stages,
@@ -236,11 +238,10 @@ impl MeshPass {
             .map_err(|_| Error::Invalid(format!("{per_glyph} vertices per glyph")))?;
         self.pipeline(vertices_per_glyph)?;
         let glyph_bytes = (per_glyph * size_of::<MeshVertex>()) as u64;
+        let device_limit = ctx.max_storage_buffer_range();
         let limit = self
             .buffer_limit
-            .map_or(ctx.max_storage_buffer_range, |cap| {
-                cap.min(ctx.max_storage_buffer_range)
-            });
+            .map_or(device_limit, |cap| cap.min(device_limit));
         let per_chunk = (limit / glyph_bytes).min(u32::MAX as u64) as usize;
         if per_chunk == 0 {
             return Err(Error::Invalid(format!(
@@ -281,10 +282,10 @@ impl MeshPass {
             .max_sets(count)
             .pool_sizes(&sizes);
         // SAFETY: valid create info.
-        let pool = unsafe { ctx.device.create_descriptor_pool(&pool_info, None) }
+        let pool = unsafe { ctx.device().create_descriptor_pool(&pool_info, None) }
             .vk("vkCreateDescriptorPool")?;
         let mut scene = MeshSceneGpu {
-            device: ctx.device.clone(),
+            ctx: ctx.clone(),
             frame: frame_buffer,
             pool,
             indices: index_buffer,
@@ -334,7 +335,7 @@ impl MeshPass {
             .descriptor_pool(scene.pool)
             .set_layouts(&layouts);
         // SAFETY: the pool was sized for one set per chunk.
-        let descriptor_set = unsafe { ctx.device.allocate_descriptor_sets(&alloc) }
+        let descriptor_set = unsafe { ctx.device().allocate_descriptor_sets(&alloc) }
             .vk("vkAllocateDescriptorSets")?[0];
         let frame_info = [vk::DescriptorBufferInfo {
             buffer: scene.frame.handle,
@@ -359,7 +360,7 @@ impl MeshPass {
                 .buffer_info(&vertex_info),
         ];
         // SAFETY: the set and buffers are alive; no command buffer uses the set yet.
-        unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
+        unsafe { ctx.device().update_descriptor_sets(&writes, &[]) };
         Ok(MeshChunk {
             count: range.len() as u32,
             instances,
@@ -380,7 +381,7 @@ impl MeshPass {
         let (viewport, scissor) = viewport_and_scissor(extent);
         // SAFETY: recording state is the caller's; all handles are alive.
         unsafe {
-            let d = &self.device;
+            let d = self.ctx.device();
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
             d.cmd_set_viewport(cmd, 0, &[viewport]);
             d.cmd_set_scissor(cmd, 0, &[scissor]);
@@ -404,25 +405,26 @@ impl MeshPass {
 
 impl Drop for MeshSceneGpu {
     fn drop(&mut self) {
-        // SAFETY: the owner has waited for the frames that used these sets.
-        unsafe { self.device.destroy_descriptor_pool(self.pool, None) };
+        // SAFETY: the owner has waited for the frames that used these sets; the device is
+        // alive while `self.ctx` is.
+        unsafe { self.ctx.device().destroy_descriptor_pool(self.pool, None) };
     }
 }
 
 impl Drop for MeshPass {
     fn drop(&mut self) {
+        let device = self.ctx.device();
         // SAFETY: the owner has waited for every frame recorded with this pass; null
-        // handles are ignored by the destroy calls.
+        // handles are ignored by the destroy calls; the device is alive while `self.ctx`
+        // is.
         unsafe {
             for p in self.pipelines.values() {
-                self.device.destroy_pipeline(*p, None);
+                device.destroy_pipeline(*p, None);
             }
-            self.device.destroy_shader_module(self.vertex, None);
-            self.device.destroy_shader_module(self.fragment, None);
-            self.device
-                .destroy_pipeline_layout(self.pipeline_layout, None);
-            self.device
-                .destroy_descriptor_set_layout(self.set_layout, None);
+            device.destroy_shader_module(self.vertex, None);
+            device.destroy_shader_module(self.fragment, None);
+            device.destroy_pipeline_layout(self.pipeline_layout, None);
+            device.destroy_descriptor_set_layout(self.set_layout, None);
         }
     }
 }

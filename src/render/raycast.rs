@@ -6,6 +6,7 @@
 //! The pass records into a command buffer it is given, inside dynamic rendering the caller
 //! began, with the colour/depth formats it was told at creation. The headless renderer,
 //! tests, benchmarks and an embedding engine all go through [`RayCastPass::record`].
+//! The pass and the scenes keep a [`DeviceContext`], so the device outlives them.
 use crate::error::{Error, Result, VkContext};
 use crate::glyph::TensorLayout;
 use crate::render::Method;
@@ -28,7 +29,7 @@ pub struct TargetFormats {
 
 /// Pipelines and layouts; created once per device and formats.
 pub struct RayCastPass {
-    device: ash::Device,
+    ctx: DeviceContext,
     formats: TargetFormats,
     set_layout: vk::DescriptorSetLayout,
     pipeline_layout: vk::PipelineLayout,
@@ -36,7 +37,6 @@ pub struct RayCastPass {
     /// Keyed by layout and method; the impostor's pipeline by method alone.
     pipelines: HashMap<(Option<TensorLayout>, Method), vk::Pipeline>,
     buffer_limit: Option<u64>,
-    max_varying_components: u32,
     /// CUBE_INDICES, for every box.
     indices: Buffer,
 }
@@ -81,7 +81,7 @@ pub struct GlyphSetGpu {
 
 /// Everything a scene needs on the GPU: the frame's uniform buffer and the glyph sets.
 pub struct SceneGpu {
-    device: ash::Device,
+    ctx: DeviceContext,
     frame: Buffer,
     pool: vk::DescriptorPool,
     pub sets: Vec<GlyphSetGpu>,
@@ -89,7 +89,7 @@ pub struct SceneGpu {
 
 impl RayCastPass {
     pub fn new(ctx: &DeviceContext, formats: TargetFormats) -> Result<RayCastPass> {
-        let device = &ctx.device;
+        let device = ctx.device();
         let bindings = [
             vk::DescriptorSetLayoutBinding::default()
                 .binding(0)
@@ -104,14 +104,13 @@ impl RayCastPass {
         ];
         let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
         let mut pass = RayCastPass {
-            device: device.clone(),
+            ctx: ctx.clone(),
             formats,
             set_layout: vk::DescriptorSetLayout::null(),
             pipeline_layout: vk::PipelineLayout::null(),
             vertex: vk::ShaderModule::null(),
             pipelines: HashMap::new(),
             buffer_limit: None,
-            max_varying_components: ctx.max_varying_components,
             indices: Buffer::with_data(
                 ctx,
                 "box indices",
@@ -168,12 +167,13 @@ impl RayCastPass {
             }
             Method::Fixed | Method::Interval | Method::Affine | Method::Exact => {
                 let needed = varying_components(layout);
-                if needed > self.max_varying_components {
+                let available = self.ctx.max_varying_components();
+                if needed > available {
                     return Err(Error::Invalid(format!(
                         "a {:?} tensor of order {} passes {needed} components from the vertex \
                          to the fragment shader, and this device takes {} \
                          (maxVertexOutputComponents, maxFragmentInputComponents)",
-                        layout.symmetry, layout.order, self.max_varying_components
+                        layout.symmetry, layout.order, available
                     )));
                 }
                 let shader = raycast_shader(layout, method).ok_or_else(|| {
@@ -202,15 +202,16 @@ impl RayCastPass {
         fragment_spirv: &[u32],
         oriented: bool,
     ) -> Result<vk::Pipeline> {
+        let device = self.ctx.device();
         // SAFETY: the SPIR-V comes from build.rs and was validated by glslang.
-        let fragment = unsafe { shader_module(&self.device, fragment_spirv)? };
+        let fragment = unsafe { shader_module(device, fragment_spirv)? };
         let vertex = match vertex_spirv {
             // SAFETY: as above.
-            Some(spirv) => match unsafe { shader_module(&self.device, spirv) } {
+            Some(spirv) => match unsafe { shader_module(device, spirv) } {
                 Ok(module) => Some(module),
                 Err(e) => {
                     // SAFETY: the module is not used by anything.
-                    unsafe { self.device.destroy_shader_module(fragment, None) };
+                    unsafe { device.destroy_shader_module(fragment, None) };
                     return Err(e);
                 }
             },
@@ -219,9 +220,9 @@ impl RayCastPass {
         let result = self.create_pipeline_with(vertex.unwrap_or(self.vertex), fragment, oriented);
         // SAFETY: modules may be destroyed once the pipeline exists (or failed).
         unsafe {
-            self.device.destroy_shader_module(fragment, None);
+            device.destroy_shader_module(fragment, None);
             if let Some(vertex) = vertex {
-                self.device.destroy_shader_module(vertex, None);
+                device.destroy_shader_module(vertex, None);
             }
         }
         result
@@ -255,7 +256,7 @@ impl RayCastPass {
                 .name(c"main"),
         ];
         glyph_pipeline(
-            &self.device,
+            self.ctx.device(),
             self.formats,
             self.pipeline_layout,
             &stages,
@@ -271,7 +272,7 @@ impl RayCastPass {
         frame: &FrameParams,
         method: Method,
     ) -> Result<SceneGpu> {
-        let device = &ctx.device;
+        let device = ctx.device();
         let frame_buffer = Buffer::with_data(
             ctx,
             "frame",
@@ -314,7 +315,7 @@ impl RayCastPass {
         let pool = unsafe { device.create_descriptor_pool(&pool_info, None) }
             .vk("vkCreateDescriptorPool")?;
         let mut scene = SceneGpu {
-            device: device.clone(),
+            ctx: ctx.clone(),
             frame: frame_buffer,
             pool,
             sets: Vec::new(),
@@ -333,7 +334,7 @@ impl RayCastPass {
     }
 
     fn storage_buffer_limit(&self, ctx: &DeviceContext) -> u64 {
-        let device = ctx.max_storage_buffer_range;
+        let device = ctx.max_storage_buffer_range();
         self.buffer_limit.map_or(device, |cap| cap.min(device))
     }
 
@@ -352,7 +353,7 @@ impl RayCastPass {
             let hide = u32::from(set.hide_negative);
             // SAFETY: recording state is the caller's; all handles are alive.
             unsafe {
-                let d = &self.device;
+                let d = self.ctx.device();
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
                 d.cmd_set_viewport(cmd, 0, &[viewport]);
                 d.cmd_set_scissor(cmd, 0, &[scissor]);
@@ -539,7 +540,7 @@ fn upload_chunk(
     let alloc = vk::DescriptorSetAllocateInfo::default()
         .descriptor_pool(scene.pool)
         .set_layouts(&layouts);
-    let device = &ctx.device;
+    let device = ctx.device();
     // SAFETY: the pool was sized for one set per chunk.
     let descriptor_set =
         unsafe { device.allocate_descriptor_sets(&alloc) }.vk("vkAllocateDescriptorSets")?[0];
@@ -598,23 +599,24 @@ pub(crate) unsafe fn shader_module(
 
 impl Drop for SceneGpu {
     fn drop(&mut self) {
-        // SAFETY: the owner has waited for the frames that used these sets.
-        unsafe { self.device.destroy_descriptor_pool(self.pool, None) };
+        // SAFETY: the owner has waited for the frames that used these sets; the device is
+        // alive while `self.ctx` is.
+        unsafe { self.ctx.device().destroy_descriptor_pool(self.pool, None) };
     }
 }
 
 impl Drop for RayCastPass {
     fn drop(&mut self) {
-        // SAFETY: the owner has waited for every frame recorded with this pass.
+        let device = self.ctx.device();
+        // SAFETY: the owner has waited for every frame recorded with this pass; the device
+        // is alive while `self.ctx` is.
         unsafe {
             for p in self.pipelines.values() {
-                self.device.destroy_pipeline(*p, None);
+                device.destroy_pipeline(*p, None);
             }
-            self.device.destroy_shader_module(self.vertex, None);
-            self.device
-                .destroy_pipeline_layout(self.pipeline_layout, None);
-            self.device
-                .destroy_descriptor_set_layout(self.set_layout, None);
+            device.destroy_shader_module(self.vertex, None);
+            device.destroy_pipeline_layout(self.pipeline_layout, None);
+            device.destroy_descriptor_set_layout(self.set_layout, None);
         }
     }
 }

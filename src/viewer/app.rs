@@ -43,8 +43,9 @@ struct Pointer {
 }
 
 struct App {
-    // Declaration order is drop order: GPU objects before the window they present to,
-    // and all of them before the Gpu.
+    // Declaration order is drop order: the presenter (its surface) before the window it
+    // presents to. GPU objects keep the device alive themselves, so the Gpu may go at
+    // any point.
     scene_gpu: Option<SceneGpu>,
     headless: Option<HeadlessRenderer>,
     presenter: Option<Presenter>,

@@ -14,7 +14,9 @@ use crate::error::{Result, VkContext};
 use crate::render::RenderSettings;
 use crate::render::frame::FrameParams;
 use crate::render::raycast::{RayCastPass, SceneGpu, TargetFormats};
-use crate::vk::{Acquired, Buffer, Gpu, GpuTimer, Image, Surface, Swapchain, color_range};
+use crate::vk::{
+    Acquired, Buffer, DeviceContext, Gpu, GpuTimer, Image, Surface, Swapchain, color_range,
+};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
@@ -39,16 +41,17 @@ pub struct Capture {
     pub rgba: Vec<u8>,
 }
 
+/// Every member keeps what it was made from alive (the device through its context, a
+/// swapchain its surface), so no drop order is needed for soundness; `Drop` waits for
+/// the device to be idle before any of them goes.
 pub struct Presenter {
-    // Declaration order is drop order: the pass and images before the swapchain, the
-    // swapchain before its surface.
     pass: RayCastPass,
     timer: Option<GpuTimer>,
     capture: Option<(Buffer, vk::Extent2D)>,
     depth: Option<Image>,
     swapchain: Option<Swapchain>,
     surface: Surface,
-    device: ash::Device,
+    ctx: DeviceContext,
     pool: vk::CommandPool,
     cmd: vk::CommandBuffer,
     acquired: vk::Semaphore,
@@ -62,7 +65,7 @@ pub struct Presenter {
 impl Presenter {
     /// # Safety
     /// As [`Surface::new`]: the handles belong to a live window that outlives the
-    /// presenter, and `gpu` was made for its display and outlives it too.
+    /// presenter, and `gpu` was made for its display.
     pub unsafe fn new(
         gpu: &Gpu,
         display: RawDisplayHandle,
@@ -71,7 +74,7 @@ impl Presenter {
     ) -> Result<Presenter> {
         // SAFETY: the caller's promise.
         let surface = unsafe { Surface::new(gpu, display, window)? };
-        let device = gpu.device().clone();
+        let device = gpu.device();
         let pool_info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(gpu.queue_family)
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
@@ -114,7 +117,7 @@ impl Presenter {
             depth: None,
             swapchain: None,
             surface,
-            device,
+            ctx: gpu.context().clone(),
             pool,
             cmd,
             acquired,
@@ -140,7 +143,8 @@ impl Presenter {
     pub fn wait_previous(&mut self) -> Result<Option<f64>> {
         // SAFETY: the fence belongs to this device.
         unsafe {
-            self.device
+            self.ctx
+                .device()
                 .wait_for_fences(&[self.in_flight], true, u64::MAX)
                 .vk("vkWaitForFences")?;
         }
@@ -235,7 +239,7 @@ impl Presenter {
             self.ensure_capture_buffer(gpu, extent)?;
         }
         // SAFETY: the fence is signalled and about to be reused by this submission.
-        unsafe { self.device.reset_fences(&[self.in_flight]) }.vk("vkResetFences")?;
+        unsafe { self.ctx.device().reset_fences(&[self.in_flight]) }.vk("vkResetFences")?;
         self.record(index, scene, settings, capture)?;
         let Some(swapchain) = self.swapchain.as_ref() else {
             return Ok(Outcome::Skipped);
@@ -253,7 +257,8 @@ impl Presenter {
             .signal_semaphore_infos(&signal)];
         // SAFETY: the command buffer is recorded; the semaphores and fence are ours.
         unsafe {
-            self.device
+            self.ctx
+                .device()
                 .queue_submit2(gpu.queue, &submit, self.in_flight)
         }
         .vk("vkQueueSubmit2")?;
@@ -318,7 +323,7 @@ impl Presenter {
         let (Some(swapchain), Some(depth)) = (self.swapchain.as_ref(), self.depth.as_ref()) else {
             return Ok(());
         };
-        let (d, cmd) = (&self.device, self.cmd);
+        let (d, cmd) = (self.ctx.device(), self.cmd);
         let image = swapchain.images[index as usize];
         let extent = swapchain.extent;
         let color_out = (
@@ -479,12 +484,14 @@ fn record_present_transition(
 
 impl Drop for Presenter {
     fn drop(&mut self) {
-        // SAFETY: waiting for the device leaves nothing in flight that uses these.
+        let device = self.ctx.device();
+        // SAFETY: waiting for the device leaves nothing in flight that uses these (nor the
+        // members dropped after this body); the device is alive while `self.ctx` is.
         unsafe {
-            let _ = self.device.device_wait_idle();
-            self.device.destroy_fence(self.in_flight, None);
-            self.device.destroy_semaphore(self.acquired, None);
-            self.device.destroy_command_pool(self.pool, None);
+            let _ = device.device_wait_idle();
+            device.destroy_fence(self.in_flight, None);
+            device.destroy_semaphore(self.acquired, None);
+            device.destroy_command_pool(self.pool, None);
         }
     }
 }

@@ -1,29 +1,29 @@
 //! Buffers backed by gpu-allocator. Host-visible ones are written and read through their
-//! persistent mapping; device-local ones are filled by a staging copy.
+//! persistent mapping; device-local ones are filled by a staging copy. A buffer keeps
+//! its [`DeviceContext`], so the device outlives it.
+use super::DeviceContext;
 use crate::error::{Error, Result, VkContext};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme, Allocator};
-use std::sync::{Arc, Mutex};
+use std::sync::Mutex;
 
 pub struct Buffer {
     pub handle: vk::Buffer,
     pub size: u64,
     allocation: Option<Allocation>,
-    device: ash::Device,
-    allocator: Arc<Mutex<Allocator>>,
+    ctx: DeviceContext,
 }
 
 impl Buffer {
     pub fn new(
-        ctx: &super::DeviceContext,
+        ctx: &DeviceContext,
         name: &str,
         size: u64,
         usage: vk::BufferUsageFlags,
         location: MemoryLocation,
     ) -> Result<Buffer> {
-        let device = ctx.device.clone();
-        let allocator = ctx.allocator.clone();
+        let device = ctx.device();
         let info = vk::BufferCreateInfo::default()
             .size(size.max(4))
             .usage(usage)
@@ -32,7 +32,7 @@ impl Buffer {
         let handle = unsafe { device.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
         // SAFETY: `handle` was just created from this device.
         let requirements = unsafe { device.get_buffer_memory_requirements(handle) };
-        let allocation = lock(&allocator)?.allocate(&AllocationCreateDesc {
+        let allocation = lock(ctx.allocator())?.allocate(&AllocationCreateDesc {
             name,
             requirements,
             location,
@@ -51,17 +51,12 @@ impl Buffer {
             handle,
             size,
             allocation: Some(allocation),
-            device,
-            allocator,
+            ctx: ctx.clone(),
         };
         let a = buffer.allocation()?;
         // SAFETY: the allocation satisfies the buffer's requirements and is not bound yet.
-        unsafe {
-            buffer
-                .device
-                .bind_buffer_memory(handle, a.memory(), a.offset())
-        }
-        .vk("vkBindBufferMemory")?;
+        unsafe { device.bind_buffer_memory(handle, a.memory(), a.offset()) }
+            .vk("vkBindBufferMemory")?;
         Ok(buffer)
     }
 
@@ -100,7 +95,7 @@ impl Buffer {
 
     /// A host-visible buffer holding `data`.
     pub fn with_data<T: bytemuck::Pod>(
-        ctx: &super::DeviceContext,
+        ctx: &DeviceContext,
         name: &str,
         data: &[T],
         usage: vk::BufferUsageFlags,
@@ -126,9 +121,11 @@ fn lock(allocator: &Mutex<Allocator>) -> Result<std::sync::MutexGuard<'_, Alloca
 
 impl Drop for Buffer {
     fn drop(&mut self) {
-        // SAFETY: the owner guarantees the GPU no longer uses the buffer.
-        unsafe { self.device.destroy_buffer(self.handle, None) };
-        if let (Some(a), Ok(mut allocator)) = (self.allocation.take(), self.allocator.lock()) {
+        // SAFETY: the owner guarantees the GPU no longer uses the buffer; the device is
+        // alive while `self.ctx` is.
+        unsafe { self.ctx.device().destroy_buffer(self.handle, None) };
+        if let (Some(a), Ok(mut allocator)) = (self.allocation.take(), self.ctx.allocator().lock())
+        {
             let _ = allocator.free(a);
         }
     }

@@ -11,16 +11,49 @@ const IGNORED: &[(&str, &str)] = &[];
 /// the inner `Mutex`, which the `Arc` keeps alive for as long as the messenger exists.
 #[derive(Clone, Default)]
 pub struct ValidationLog {
-    errors: Arc<Mutex<Vec<String>>>,
+    entries: Arc<Mutex<Entries>>,
+}
+
+#[derive(Default)]
+struct Entries {
+    errors: Vec<String>,
+    /// How many of `errors` a caller has seen through [`ValidationLog::errors`].
+    read: usize,
 }
 
 impl ValidationLog {
+    /// Every error so far; they count as read from then on.
     pub fn errors(&self) -> Vec<String> {
-        self.errors.lock().map(|e| e.clone()).unwrap_or_default()
+        self.entries
+            .lock()
+            .map(|mut e| {
+                e.read = e.errors.len();
+                e.errors.clone()
+            })
+            .unwrap_or_default()
     }
 
     pub(crate) fn user_data(&self) -> *mut c_void {
-        Arc::as_ptr(&self.errors) as *mut c_void
+        Arc::as_ptr(&self.entries) as *mut c_void
+    }
+
+    /// Prints the errors no caller has read: those that arrived after the last check,
+    /// such as errors raised while the device and instance were destroyed after the
+    /// [`Gpu`](super::Gpu) itself was dropped.
+    pub(crate) fn report_unread(&self) {
+        let Ok(entries) = self.entries.lock() else {
+            return;
+        };
+        let unread = entries.errors.get(entries.read..).unwrap_or_default();
+        if !unread.is_empty() {
+            eprintln!(
+                "glyphcast: {} validation error(s) were never checked:",
+                unread.len()
+            );
+            for error in unread {
+                eprintln!("  {error}");
+            }
+        }
     }
 }
 
@@ -72,11 +105,13 @@ unsafe extern "system" fn on_message(
         && kind.contains(vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION)
     {
         eprintln!("validation error: {message}");
-        // SAFETY: `user` is the Mutex inside the log's Arc, alive while the messenger is.
-        if let Some(errors) = unsafe { (user as *const Mutex<Vec<String>>).as_ref() }
-            && let Ok(mut errors) = errors.lock()
+        // SAFETY: `user` is the Mutex inside the log's Arc, alive while the messenger is
+        // (and, for the messenger chained into instance creation, until the instance
+        // is destroyed).
+        if let Some(entries) = unsafe { (user as *const Mutex<Entries>).as_ref() }
+            && let Ok(mut entries) = entries.lock()
         {
-            errors.push(message);
+            entries.errors.push(message);
         }
     } else {
         eprintln!("validation: {message}");

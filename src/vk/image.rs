@@ -1,9 +1,10 @@
-//! Offscreen 2D images (colour and depth targets) backed by gpu-allocator.
+//! Offscreen 2D images (colour and depth targets) backed by gpu-allocator. An image
+//! keeps its [`DeviceContext`], so the device outlives it.
+use super::DeviceContext;
 use crate::error::{Error, Result, VkContext};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme, Allocator};
-use std::sync::{Arc, Mutex};
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 
 pub struct Image {
     pub handle: vk::Image,
@@ -12,21 +13,19 @@ pub struct Image {
     pub extent: vk::Extent2D,
     pub aspect: vk::ImageAspectFlags,
     allocation: Option<Allocation>,
-    device: ash::Device,
-    allocator: Arc<Mutex<Allocator>>,
+    ctx: DeviceContext,
 }
 
 impl Image {
     pub fn new(
-        ctx: &super::DeviceContext,
+        ctx: &DeviceContext,
         name: &str,
         extent: vk::Extent2D,
         format: vk::Format,
         usage: vk::ImageUsageFlags,
         aspect: vk::ImageAspectFlags,
     ) -> Result<Image> {
-        let device = ctx.device.clone();
-        let allocator = ctx.allocator.clone();
+        let device = ctx.device();
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
             .format(format)
@@ -63,13 +62,12 @@ impl Image {
             extent,
             aspect,
             allocation: None,
-            device,
-            allocator,
+            ctx: ctx.clone(),
         };
         // SAFETY: `handle` was created from this device.
-        let requirements = unsafe { image.device.get_image_memory_requirements(handle) };
-        let allocation = image
-            .allocator
+        let requirements = unsafe { device.get_image_memory_requirements(handle) };
+        let allocation = ctx
+            .allocator()
             .lock()
             .map_err(|_| Error::Setup("the allocator lock is poisoned".into()))?
             .allocate(&AllocationCreateDesc {
@@ -80,12 +78,8 @@ impl Image {
                 allocation_scheme: AllocationScheme::GpuAllocatorManaged,
             })?;
         // SAFETY: the allocation satisfies the image's requirements.
-        unsafe {
-            image
-                .device
-                .bind_image_memory(handle, allocation.memory(), allocation.offset())
-        }
-        .vk("vkBindImageMemory")?;
+        unsafe { device.bind_image_memory(handle, allocation.memory(), allocation.offset()) }
+            .vk("vkBindImageMemory")?;
         image.allocation = Some(allocation);
         let view_info = vk::ImageViewCreateInfo::default()
             .image(handle)
@@ -94,7 +88,7 @@ impl Image {
             .subresource_range(image.subresource_range());
         // SAFETY: the image has memory bound and a compatible format.
         image.view =
-            unsafe { image.device.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
+            unsafe { device.create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
         Ok(image)
     }
 
@@ -111,14 +105,17 @@ impl Image {
 
 impl Drop for Image {
     fn drop(&mut self) {
-        // SAFETY: the owner guarantees the GPU no longer uses the image.
+        let device = self.ctx.device();
+        // SAFETY: the owner guarantees the GPU no longer uses the image; the device is
+        // alive while `self.ctx` is.
         unsafe {
             if self.view != vk::ImageView::null() {
-                self.device.destroy_image_view(self.view, None);
+                device.destroy_image_view(self.view, None);
             }
-            self.device.destroy_image(self.handle, None);
+            device.destroy_image(self.handle, None);
         }
-        if let (Some(a), Ok(mut allocator)) = (self.allocation.take(), self.allocator.lock()) {
+        if let (Some(a), Ok(mut allocator)) = (self.allocation.take(), self.ctx.allocator().lock())
+        {
             let _ = allocator.free(a);
         }
     }

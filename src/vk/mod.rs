@@ -1,14 +1,18 @@
 //! The thin ash layer: instance and validation, device choice, buffers, images and
 //! one-shot command submission. Nothing here knows about glyphs.
 //!
-//! [`Gpu`] owns what it created. Headless tools and tests use [`Gpu::headless`]; the
-//! viewer uses [`Gpu::for_window`], the same construction plus the window system's surface
-//! extensions and VK_KHR_swapchain ([`Surface`], [`Swapchain`]). An engine that already
-//! has a device hands it to the render passes directly (they only need an `ash::Device`
-//! and an allocator, see [`DeviceContext`]), so this module never insists on owning the
-//! instance.
+//! [`Gpu`] creates an instance and a device. Headless tools and tests use
+//! [`Gpu::headless`]; the viewer uses [`Gpu::for_window`], the same construction plus the
+//! window system's surface extensions and VK_KHR_swapchain ([`Surface`], [`Swapchain`]).
+//! An engine that already has a device hands it to the render passes directly (they only
+//! need a device and an allocator, see [`DeviceContext`]), so this module never insists
+//! on owning the instance.
+//!
+//! Ownership is shared (`context.rs`): every object made from a device keeps it alive,
+//! so dropping the [`Gpu`] before its buffers, images or passes is safe.
 mod buffer;
 mod commands;
+mod context;
 mod debug;
 mod device;
 mod image;
@@ -19,6 +23,7 @@ mod timer;
 
 pub use buffer::Buffer;
 pub use commands::OneShot;
+pub use context::DeviceContext;
 pub use debug::ValidationLog;
 pub use device::{DeviceInfo, choose_physical_device};
 pub use image::{Image, cleared_depth_attachment};
@@ -28,10 +33,11 @@ pub use timer::GpuTimer;
 
 use crate::error::{Error, Result, VkContext};
 use ash::vk;
+use context::InstanceOwner;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use raw_window_handle::RawDisplayHandle;
 use std::ffi::{CStr, c_char};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 /// What to ask of [`Gpu::headless`].
 #[derive(Clone, Debug, Default)]
@@ -55,92 +61,18 @@ impl GpuOptions {
     }
 }
 
-/// Owns the instance and the debug messenger; destroys them last.
-struct InstanceOwner {
-    entry: ash::Entry,
-    instance: ash::Instance,
-    validation: Option<debug::Messenger>,
-}
-
-impl Drop for InstanceOwner {
-    fn drop(&mut self) {
-        // SAFETY: the device owner is declared before this field in `Gpu`, so every
-        // child object is gone by the time the instance is destroyed.
-        unsafe {
-            if let Some(m) = &self.validation {
-                m.loader.destroy_debug_utils_messenger(m.handle, None);
-            }
-            self.instance.destroy_instance(None);
-        }
-    }
-}
-
-/// Owns the logical device; the allocator's memory must be freed before it goes.
-struct DeviceOwner {
-    device: ash::Device,
-    allocator: Option<Arc<Mutex<Allocator>>>,
-}
-
-impl Drop for DeviceOwner {
-    fn drop(&mut self) {
-        // SAFETY: objects created from the device borrow the `Gpu`, so they are gone;
-        // after waiting for idle the allocator frees its blocks and the device can go.
-        unsafe {
-            let _ = self.device.device_wait_idle();
-            self.allocator = None;
-            self.device.destroy_device(None);
-        }
-    }
-}
-
-/// What buffers, images and render passes need of a device: the device, an allocator
-/// for it, and its limits. [`Gpu`] makes one for itself; an engine that owns its Vulkan
-/// device builds one around its own objects with [`DeviceContext::new`], and glyphcast
-/// then creates no instance or device of its own.
-#[derive(Clone)]
-pub struct DeviceContext {
-    pub device: ash::Device,
-    pub allocator: Arc<Mutex<Allocator>>,
-    /// The device's maxStorageBufferRange: coefficient buffers are split to fit it.
-    pub max_storage_buffer_range: u64,
-    /// Components a vertex shader may pass to a fragment shader: the smaller of
-    /// maxVertexOutputComponents and maxFragmentInputComponents. The ray-casting passes
-    /// hand each glyph's coefficients over as flat inputs, 108 components at order 12.
-    pub max_varying_components: u32,
-}
-
-impl DeviceContext {
-    /// Wraps a caller's device and allocator; the limits are read from `physical_device`.
-    pub fn new(
-        instance: &ash::Instance,
-        physical_device: vk::PhysicalDevice,
-        device: ash::Device,
-        allocator: Arc<Mutex<Allocator>>,
-    ) -> DeviceContext {
-        // SAFETY: the caller's physical device belongs to the caller's instance.
-        let limits = unsafe { instance.get_physical_device_properties(physical_device) }.limits;
-        DeviceContext {
-            device,
-            allocator,
-            max_storage_buffer_range: limits.max_storage_buffer_range as u64,
-            max_varying_components: limits
-                .max_vertex_output_components
-                .min(limits.max_fragment_input_components),
-        }
-    }
-}
-
 /// An instance, one device with a graphics+compute queue, and a memory allocator.
+/// Buffers, images and passes made from it keep the device (and the instance) alive, so
+/// the `Gpu` may be dropped before them; the last one destroys the device.
 pub struct Gpu {
     pub physical_device: vk::PhysicalDevice,
     pub queue: vk::Queue,
     pub queue_family: u32,
     pub info: DeviceInfo,
-    // Declaration order is drop order: the context's allocator handle, then the device
-    // (which frees the allocator's memory first), then the instance.
+    /// Shares the device with everything made from it; the last holder destroys it.
     context: DeviceContext,
-    device_owner: DeviceOwner,
-    instance_owner: InstanceOwner,
+    /// Shared with the device's owner and the window surfaces in the same way.
+    instance: Arc<InstanceOwner>,
 }
 
 impl Gpu {
@@ -183,58 +115,60 @@ impl Gpu {
             handle,
             log,
         });
-        let instance_owner = InstanceOwner {
+        let instance_owner = Arc::new(InstanceOwner {
             entry,
             instance,
             validation,
-        };
+        });
         let instance = &instance_owner.instance;
         let (physical_device, info) =
             device::choose_with_extensions(instance, options.device.as_deref(), device_extensions)?;
         let (device, queue_family) = device::create(instance, physical_device, device_extensions)?;
-        let mut device_owner = DeviceOwner {
-            device,
-            allocator: None,
-        };
         let allocator = Allocator::new(&AllocatorCreateDesc {
             instance: instance.clone(),
-            device: device_owner.device.clone(),
+            device: device.clone(),
             physical_device,
             debug_settings: Default::default(),
             buffer_device_address: false,
             allocation_sizes: Default::default(),
-        })?;
-        let allocator = Arc::new(Mutex::new(allocator));
-        device_owner.allocator = Some(allocator.clone());
-        let context = DeviceContext::new(
-            instance,
-            physical_device,
-            device_owner.device.clone(),
-            allocator,
-        );
+        });
+        let allocator = match allocator {
+            Ok(allocator) => allocator,
+            Err(e) => {
+                // SAFETY: nothing was created from the device yet.
+                unsafe { device.destroy_device(None) };
+                return Err(e.into());
+            }
+        };
         // SAFETY: the queue family was requested with one queue when the device was created.
-        let queue = unsafe { device_owner.device.get_device_queue(queue_family, 0) };
+        let queue = unsafe { device.get_device_queue(queue_family, 0) };
+        let context =
+            DeviceContext::created(instance_owner.clone(), physical_device, device, allocator);
         Ok(Gpu {
             physical_device,
             queue,
             queue_family,
             info,
             context,
-            device_owner,
-            instance_owner,
+            instance: instance_owner,
         })
     }
 
     pub fn device(&self) -> &ash::Device {
-        &self.device_owner.device
+        self.context.device()
     }
 
     pub fn instance(&self) -> &ash::Instance {
-        &self.instance_owner.instance
+        &self.instance.instance
     }
 
     pub fn entry(&self) -> &ash::Entry {
-        &self.instance_owner.entry
+        &self.instance.entry
+    }
+
+    /// The instance's owner, for objects made from the instance (window surfaces).
+    pub(crate) fn instance_owner(&self) -> &Arc<InstanceOwner> {
+        &self.instance
     }
 
     /// Device, allocator and limits, for buffers, images and passes.
@@ -244,15 +178,20 @@ impl Gpu {
 
     /// Validation errors reported so far (empty when validation is off).
     pub fn validation_errors(&self) -> Vec<String> {
-        self.instance_owner
-            .validation
-            .as_ref()
-            .map(|m| m.log.errors())
+        self.validation_log()
+            .map(|log| log.errors())
             .unwrap_or_default()
     }
 
+    /// A handle to the validation errors that stays readable after the `Gpu` is dropped
+    /// (errors raised while the objects that outlive it are destroyed arrive there too);
+    /// `None` when validation is off.
+    pub fn validation_log(&self) -> Option<ValidationLog> {
+        self.instance.validation.as_ref().map(|m| m.log.clone())
+    }
+
     pub fn validation_enabled(&self) -> bool {
-        self.instance_owner.validation.is_some()
+        self.instance.validation.is_some()
     }
 
     /// Fails with [`Error::Validation`] if the validation layer reported any error.
@@ -266,7 +205,7 @@ impl Gpu {
     }
 
     pub fn wait_idle(&self) -> Result<()> {
-        // SAFETY: the device is alive for as long as `self`.
+        // SAFETY: the device is alive for as long as the context `self` holds.
         unsafe { self.device().device_wait_idle() }.vk("vkDeviceWaitIdle")
     }
 }

@@ -5,9 +5,13 @@
 //! Each image has its own "rendering finished" semaphore: a present's wait on it is only
 //! known to be over when that image is acquired again, so one semaphore shared by all
 //! images could be signalled again while a present still waits on it.
-use super::surface::Surface;
+//!
+//! A swapchain keeps its device (through a [`DeviceContext`]) and its surface alive.
+use super::DeviceContext;
+use super::surface::{Surface, SurfaceOwner};
 use crate::error::{Result, VkContext};
 use ash::vk;
+use std::sync::Arc;
 
 pub struct Swapchain {
     pub handle: vk::SwapchainKHR,
@@ -20,7 +24,9 @@ pub struct Swapchain {
     /// The images can be copied from (TRANSFER_SRC), to read back what the window shows.
     pub readable: bool,
     loader: ash::khr::swapchain::Device,
-    device: ash::Device,
+    ctx: DeviceContext,
+    /// Destroyed after the swapchain (after `Drop::drop` runs).
+    _surface: Arc<SurfaceOwner>,
 }
 
 /// What vkAcquireNextImageKHR gave.
@@ -62,20 +68,18 @@ impl Swapchain {
         unthrottled: bool,
         old: Option<&Swapchain>,
     ) -> Result<Option<Swapchain>> {
-        let (pd, s) = (gpu.physical_device, surface.handle);
+        let (pd, s) = (gpu.physical_device, surface.handle());
+        let surface_loader = &surface.owner().loader;
         // SAFETY: the surface belongs to the Gpu's instance; `pd` is the Gpu's device.
         let (caps, formats, modes) = unsafe {
             (
-                surface
-                    .loader
+                surface_loader
                     .get_physical_device_surface_capabilities(pd, s)
                     .vk("vkGetPhysicalDeviceSurfaceCapabilitiesKHR")?,
-                surface
-                    .loader
+                surface_loader
                     .get_physical_device_surface_formats(pd, s)
                     .vk("vkGetPhysicalDeviceSurfaceFormatsKHR")?,
-                surface
-                    .loader
+                surface_loader
                     .get_physical_device_surface_present_modes(pd, s)
                     .vk("vkGetPhysicalDeviceSurfacePresentModesKHR")?,
             )
@@ -145,7 +149,8 @@ impl Swapchain {
             render_finished: Vec::new(),
             readable,
             loader,
-            device: gpu.device().clone(),
+            ctx: gpu.context().clone(),
+            _surface: surface.owner().clone(),
         };
         swapchain.create_views()?;
         Ok(Some(swapchain))
@@ -162,12 +167,13 @@ impl Swapchain {
                 .format(self.format)
                 .subresource_range(color_range());
             // SAFETY: the image belongs to the swapchain, which outlives its views.
-            let view =
-                unsafe { self.device.create_image_view(&info, None) }.vk("vkCreateImageView")?;
+            let view = unsafe { self.ctx.device().create_image_view(&info, None) }
+                .vk("vkCreateImageView")?;
             self.views.push(view);
             // SAFETY: valid device; destroyed in Drop.
             let semaphore = unsafe {
-                self.device
+                self.ctx
+                    .device()
                     .create_semaphore(&vk::SemaphoreCreateInfo::default(), None)
             }
             .vk("vkCreateSemaphore")?;
@@ -235,14 +241,16 @@ pub fn color_range() -> vk::ImageSubresourceRange {
 
 impl Drop for Swapchain {
     fn drop(&mut self) {
+        let device = self.ctx.device();
         // SAFETY: the owner waited for the device to be idle, so no submission or present
-        // uses the views, semaphores or images.
+        // uses the views, semaphores or images. The device and the surface are alive
+        // while `self.ctx` and `self._surface` are.
         unsafe {
             for &view in &self.views {
-                self.device.destroy_image_view(view, None);
+                device.destroy_image_view(view, None);
             }
             for &semaphore in &self.render_finished {
-                self.device.destroy_semaphore(semaphore, None);
+                device.destroy_semaphore(semaphore, None);
             }
             self.loader.destroy_swapchain(self.handle, None);
         }

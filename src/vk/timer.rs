@@ -1,10 +1,12 @@
 //! GPU time of a span of commands from two timestamp queries, scaled by the device's
 //! timestamp period. Wall clocks around a submit would time the driver and the queue too.
+use super::DeviceContext;
 use crate::error::{Result, VkContext};
 use ash::vk;
 
 pub struct GpuTimer {
-    device: ash::Device,
+    /// Keeps the device alive as long as the query pool.
+    ctx: DeviceContext,
     pool: vk::QueryPool,
     period_ns: f64,
     valid_bits: u32,
@@ -23,7 +25,7 @@ impl GpuTimer {
         let pool =
             unsafe { gpu.device().create_query_pool(&info, None) }.vk("vkCreateQueryPool")?;
         Ok(Some(GpuTimer {
-            device: gpu.device().clone(),
+            ctx: gpu.context().clone(),
             pool,
             period_ns: gpu.info.timestamp_period_ns as f64,
             valid_bits: gpu.info.timestamp_valid_bits,
@@ -34,8 +36,8 @@ impl GpuTimer {
     pub fn start(&self, cmd: vk::CommandBuffer) {
         // SAFETY: `cmd` is recording outside a render pass instance; the pool is alive.
         unsafe {
-            self.device.cmd_reset_query_pool(cmd, self.pool, 0, 2);
-            self.device.cmd_write_timestamp2(
+            self.ctx.device().cmd_reset_query_pool(cmd, self.pool, 0, 2);
+            self.ctx.device().cmd_write_timestamp2(
                 cmd,
                 vk::PipelineStageFlags2::ALL_COMMANDS,
                 self.pool,
@@ -48,7 +50,7 @@ impl GpuTimer {
     pub fn stop(&self, cmd: vk::CommandBuffer) {
         // SAFETY: as in `start`.
         unsafe {
-            self.device.cmd_write_timestamp2(
+            self.ctx.device().cmd_write_timestamp2(
                 cmd,
                 vk::PipelineStageFlags2::ALL_COMMANDS,
                 self.pool,
@@ -62,7 +64,7 @@ impl GpuTimer {
         let mut stamps = [0u64; 2];
         // SAFETY: both queries were written by a completed submission.
         unsafe {
-            self.device.get_query_pool_results(
+            self.ctx.device().get_query_pool_results(
                 self.pool,
                 0,
                 &mut stamps,
@@ -82,7 +84,8 @@ impl GpuTimer {
 
 impl Drop for GpuTimer {
     fn drop(&mut self) {
-        // SAFETY: the submissions that used the pool have completed.
-        unsafe { self.device.destroy_query_pool(self.pool, None) };
+        // SAFETY: the submissions that used the pool have completed; the device is alive
+        // while `self.ctx` is.
+        unsafe { self.ctx.device().destroy_query_pool(self.pool, None) };
     }
 }

@@ -1,0 +1,173 @@
+//! Who destroys the instance and the device, and when.
+//!
+//! Every buffer, image, command pool and pass keeps a [`DeviceContext`], a clone of one
+//! `Arc<DeviceOwner>`; the device goes when the last of them (or the [`Gpu`](super::Gpu))
+//! goes, whatever the order in which safe code drops them. The owner of a device that
+//! glyphcast created also holds the [`InstanceOwner`], so the teardown is always: the
+//! allocator's memory, the device, the debug messenger, the instance. Nothing relies on
+//! the declaration order of fields.
+//!
+//! A device an engine made ([`DeviceContext::new`]) has an owner that destroys nothing:
+//! the engine promises to keep its device and allocator until glyphcast's objects are gone.
+use super::debug;
+use ash::vk;
+use gpu_allocator::vulkan::Allocator;
+use std::mem::ManuallyDrop;
+use std::sync::{Arc, Mutex};
+
+/// An instance glyphcast created, with its validation messenger. Shared by the
+/// [`Gpu`](super::Gpu), the device owner and the window surfaces; the last of them
+/// destroys it.
+pub(crate) struct InstanceOwner {
+    pub entry: ash::Entry,
+    pub instance: ash::Instance,
+    pub validation: Option<debug::Messenger>,
+}
+
+impl Drop for InstanceOwner {
+    fn drop(&mut self) {
+        // SAFETY: the device and the surfaces hold an Arc of this owner, so they were
+        // destroyed before the last Arc went; nothing else was created from the instance.
+        unsafe {
+            if let Some(m) = &self.validation {
+                m.loader.destroy_debug_utils_messenger(m.handle, None);
+            }
+            // The messenger chained into instance creation still reports into the log,
+            // which lives in `self.validation` until after this call.
+            self.instance.destroy_instance(None);
+        }
+        if let Some(m) = &self.validation {
+            m.log.report_unread();
+        }
+    }
+}
+
+/// The device, its allocator, and what to destroy when the last context goes.
+struct DeviceOwner {
+    device: ash::Device,
+    /// Dropped by hand in `Drop`, before the device. When glyphcast made the device this
+    /// is the only handle of the allocator (it is never handed out), so the allocator
+    /// frees its memory there; an engine's allocator is the engine's to drop.
+    allocator: ManuallyDrop<Arc<Mutex<Allocator>>>,
+    /// The instance of a device glyphcast created: the device is destroyed, and the
+    /// instance kept alive until then. `None` for an engine's device.
+    created: Option<Arc<InstanceOwner>>,
+}
+
+impl Drop for DeviceOwner {
+    fn drop(&mut self) {
+        if self.created.is_some() {
+            // SAFETY: the device is alive; nothing made from it is left (each holds an
+            // Arc of this owner), so this only waits for work already submitted.
+            let _ = unsafe { self.device.device_wait_idle() };
+        }
+        // SAFETY: the allocator is not used after this, and dropped nowhere else.
+        unsafe { ManuallyDrop::drop(&mut self.allocator) };
+        if self.created.is_some() {
+            // SAFETY: every object made from the device held an Arc of this owner and is
+            // gone; the allocator freed its memory above; the instance is kept alive by
+            // `self.created` until after this body.
+            unsafe { self.device.destroy_device(None) };
+        }
+    }
+}
+
+/// What buffers, images and render passes need of a device: the device, an allocator
+/// for it, and its limits. Cloning is cheap (an `Arc`), and every object made with a
+/// context keeps a clone, so the device outlives them all. [`Gpu`](super::Gpu) makes one
+/// for itself; an engine that owns its Vulkan device builds one around its own objects
+/// with [`DeviceContext::new`], and glyphcast then creates no instance or device of its
+/// own.
+#[derive(Clone)]
+pub struct DeviceContext {
+    owner: Arc<DeviceOwner>,
+    max_storage_buffer_range: u64,
+    max_varying_components: u32,
+}
+
+impl DeviceContext {
+    /// Wraps a caller's device and allocator; the limits are read from `physical_device`.
+    /// glyphcast destroys none of them.
+    ///
+    /// # Safety
+    /// `device` was created from `physical_device` of `instance` with the features the
+    /// passes need (Vulkan 1.3 dynamic rendering), and `allocator` allocates for that
+    /// device. The device, the instance and the allocator stay alive until every
+    /// glyphcast object made with this context (or a clone of it) has been dropped: the
+    /// context, passes, scenes, buffers and images. glyphcast never destroys them, and
+    /// its clone of `allocator` must not be the last handle to it when the device goes.
+    pub unsafe fn new(
+        instance: &ash::Instance,
+        physical_device: vk::PhysicalDevice,
+        device: ash::Device,
+        allocator: Arc<Mutex<Allocator>>,
+    ) -> DeviceContext {
+        let owner = DeviceOwner {
+            device,
+            allocator: ManuallyDrop::new(allocator),
+            created: None,
+        };
+        DeviceContext::with_owner(instance, physical_device, owner)
+    }
+
+    /// The context of a device glyphcast created from `instance`: the last clone
+    /// destroys the allocator, the device and (if no one else holds it) the instance.
+    pub(crate) fn created(
+        instance: Arc<InstanceOwner>,
+        physical_device: vk::PhysicalDevice,
+        device: ash::Device,
+        allocator: Allocator,
+    ) -> DeviceContext {
+        let handle = instance.instance.clone();
+        let owner = DeviceOwner {
+            device,
+            allocator: ManuallyDrop::new(Arc::new(Mutex::new(allocator))),
+            created: Some(instance),
+        };
+        DeviceContext::with_owner(&handle, physical_device, owner)
+    }
+
+    fn with_owner(
+        instance: &ash::Instance,
+        physical_device: vk::PhysicalDevice,
+        owner: DeviceOwner,
+    ) -> DeviceContext {
+        // SAFETY: the physical device belongs to the instance (the callers' promise).
+        let limits = unsafe { instance.get_physical_device_properties(physical_device) }.limits;
+        DeviceContext {
+            owner: Arc::new(owner),
+            max_storage_buffer_range: limits.max_storage_buffer_range as u64,
+            max_varying_components: limits
+                .max_vertex_output_components
+                .min(limits.max_fragment_input_components),
+        }
+    }
+
+    pub fn device(&self) -> &ash::Device {
+        &self.owner.device
+    }
+
+    pub fn allocator(&self) -> &Mutex<Allocator> {
+        &self.owner.allocator
+    }
+
+    /// The device's maxStorageBufferRange: coefficient buffers are split to fit it.
+    pub fn max_storage_buffer_range(&self) -> u64 {
+        self.max_storage_buffer_range
+    }
+
+    /// Components a vertex shader may pass to a fragment shader: the smaller of
+    /// maxVertexOutputComponents and maxFragmentInputComponents. The ray-casting passes
+    /// hand each glyph's coefficients over as flat inputs, 108 components at order 12.
+    pub fn max_varying_components(&self) -> u32 {
+        self.max_varying_components
+    }
+
+    /// This context with at most `components` varying components, as if the device
+    /// had fewer (tests of the limit). Limits can only be lowered: a context never
+    /// promises more than the device has.
+    pub fn with_max_varying_components(mut self, components: u32) -> DeviceContext {
+        self.max_varying_components = self.max_varying_components.min(components);
+        self
+    }
+}
