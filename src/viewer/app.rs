@@ -323,7 +323,12 @@ impl App {
             Action::Negative(mode) => content.set_negative(Some(mode))?,
             Action::ToggleNegative => content.set_negative(None)?,
             Action::Slice(delta) => {
-                content.move_slice(delta)?;
+                if content.move_slice(delta)? {
+                    // Nothing new to show until the slice's glyphs are ready, and on a
+                    // CPU renderer (lavapipe) drawing the old ones would take the cores
+                    // the preparation needs.
+                    return Ok(());
+                }
             }
             Action::ActiveSlice(axis) => {
                 content.set_active_slice(axis);
@@ -365,16 +370,16 @@ impl App {
 
     fn redraw(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
         let scripted = self.options.frames.is_some();
-        // A script waits for each preparation, so that every event meets the glyphs its
-        // predecessors made.
-        if scripted && self.content.busy().is_some() {
-            self.take_glyphs(true)?;
-        }
         if scripted && self.script_next == self.presented as usize {
             if let Some(action) = self.options.script.get(self.script_next).cloned() {
                 self.apply(event_loop, action)?;
             }
             self.script_next += 1;
+        }
+        // A script waits for each preparation, so that its frame shows the glyphs the
+        // event made (and is not drawn while they are prepared).
+        if scripted && self.content.busy().is_some() {
+            self.take_glyphs(true)?;
         }
         let size = self.window_size();
         let minimised = self.window.as_ref().and_then(Window::is_minimized) == Some(true);
