@@ -38,6 +38,8 @@ pub fn glyph_function(order: u32, symmetry: Symmetry) -> String {
     // A macro, so that raycast.vert (shared by every layout when compiled without a
     // glyph function) can test for it: the number of monomial coefficients.
     let _ = writeln!(s, "#define GLYPH_MONOMIALS {}", monos.len());
+    // The order as a macro too, for checks at compile time (raycast_exact.frag).
+    let _ = writeln!(s, "#define GLYPH_ORDER_MACRO {order}");
     let _ = writeln!(s, "float glyph_c[GLYPH_MONOMIALS];\n");
 
     // Loading folds the multiplicities (or sums the non-symmetric entries) into one

@@ -45,6 +45,12 @@
 #extension GL_EXT_control_flow_attributes : require
 #include "raycast_common.glsl"
 
+// binomial[] holds C(2n + 2, k) as float32, exact while it stays below 2^24: C(26, 13) =
+// 10,400,600 at order 12, but C(28, 14) = 40,116,600 at order 13.
+#if GLYPH_ORDER_MACRO > 12
+#error "the exact method's binomials are exact in float32 only up to order 12"
+#endif
+
 const int N = int(GLYPH_ORDER);
 const int D = 2 * N + 2;
 // The power n + 1 of q . q in F, and its highest set bit (n + 1 is 2 to 13).
