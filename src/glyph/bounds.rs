@@ -161,12 +161,18 @@ pub fn sizing_lattice() -> &'static Lattice {
 /// n^2 angle^2 / 2 of the value, 3e-7 at band 8, far below what sizing needs.
 const CLIMB_RESOLUTION: f64 = 1e-4;
 
-/// max of h(f(u)) over unit u, for sizing glyphs: the best points of `lattice`, each of
-/// the best `starts` then climbed to its local maximum along great circles (Newton in the
-/// angle along the gradient, from a parabola through two values and the slope, until a
-/// step is below CLIMB_RESOLUTION). A lower bound of the true maximum, which it reaches
-/// (to about 1e-7) whenever the lattice lands in the highest lobe's basin. Some 10 us at
-/// band 8.
+/// Lattice points this close to a start already climbed (or to its antipode, where |f|
+/// takes the same values) lie in its lobe: they are passed over, and a farther one is
+/// climbed instead. Twice the sizing lattice's spacing.
+const SAME_LOBE_COS: f64 = 0.866; // cos 30 degrees
+
+/// max of h(f(u)) over unit u, for sizing glyphs: the best points of `lattice`, up to
+/// `starts` of them in different lobes (see SAME_LOBE_COS) among the best 3 `starts`,
+/// each climbed to its local maximum along great circles (Newton in the angle along the
+/// gradient, from a parabola through two values and the slope, until a step is below
+/// CLIMB_RESOLUTION). A lower bound of the true maximum, which it reaches (to about
+/// 1e-7) whenever the lattice lands in the highest lobe's basin. A one-fibre fODF costs
+/// one climb: some 5 us at band 8.
 pub fn climbed_max_radius(
     poly: &GlyphPolynomial,
     negative: NegativeMode,
@@ -174,20 +180,27 @@ pub fn climbed_max_radius(
     starts: usize,
 ) -> f64 {
     let value = |u: DVec3| shaped(poly.eval(u), negative);
-    let mut best: Vec<(f64, DVec3)> = Vec::with_capacity(starts + 1);
+    let candidates = 3 * starts;
+    let mut best: Vec<(f64, DVec3)> = Vec::with_capacity(candidates + 1);
     let mut values = Vec::new();
     lattice.values(poly, &mut values);
     for (&u, &f) in lattice.points().iter().zip(&values) {
         let v = shaped(f, negative);
-        if best.len() < starts || v > best[best.len() - 1].0 {
+        if best.len() < candidates || v > best[best.len() - 1].0 {
             let at = best.partition_point(|(b, _)| *b >= v);
             best.insert(at, (v, u));
-            best.truncate(starts);
+            best.truncate(candidates);
+        }
+    }
+    let mut chosen: Vec<DVec3> = Vec::with_capacity(starts);
+    for (_, u) in best {
+        if chosen.len() < starts && chosen.iter().all(|c| c.dot(u).abs() < SAME_LOBE_COS) {
+            chosen.push(u);
         }
     }
     let order = poly.order as f64;
     let mut max = 0.0f64;
-    for (_, mut u) in best {
+    for mut u in chosen {
         let mut v = 0.0;
         let mut trial = 0.05f64;
         for _ in 0..40 {
