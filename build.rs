@@ -143,6 +143,7 @@ fn main() {
     let mut eval_rows = String::new();
     let mut range_rows = String::new();
     let mut raycast_rows = String::new();
+    let mut compute_rows = String::new();
     for ((symmetry, order), methods) in &variants {
         let (sym_name, sym_label) = match symmetry {
             Symmetry::Symmetric => ("Symmetric", "sym"),
@@ -234,6 +235,19 @@ fn main() {
             let mut color_only = job(color_only, &file, kind, source, weight);
             color_only.defines.push(NO_DISTANCE_DEFINE);
             jobs.push(color_only);
+            // The compute ray caster (--path compute) of the methods that have one.
+            let compute_file = format!("raycast_{method}.comp");
+            if glsl_dir.join(&compute_file).exists() {
+                let compute = format!("{label}_{method}_compute");
+                let _ = writeln!(
+                    compute_rows,
+                    "    ComputeRaycastShader {{ layout: {layout}, method: Method::{}, spirv: {} }},",
+                    method_variant(&method),
+                    spirv_entry(&compute)
+                );
+                let kind = shaderc::ShaderKind::Compute;
+                jobs.push(job(compute, &compute_file, kind, source, weight));
+            }
         }
     }
     let _ = writeln!(
@@ -247,6 +261,10 @@ fn main() {
     let _ = writeln!(
         table,
         "pub static RAYCAST_SHADERS: &[RaycastShader] = &[\n{raycast_rows}];"
+    );
+    let _ = writeln!(
+        table,
+        "pub static COMPUTE_RAYCAST_SHADERS: &[ComputeRaycastShader] = &[\n{compute_rows}];"
     );
 
     let dirs = Dirs {

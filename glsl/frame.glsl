@@ -24,4 +24,11 @@ layout(std430, set = 0, binding = 1) readonly buffer Coefficients {
 
 layout(push_constant) uniform GlyphSetParams {
     uint hide_negative;   // scene format `negative`: 0 abs, 1 hide
+#ifdef GLYPHCAST_COMPUTE
+    // The compute ray caster's dispatch (src/render/compute.rs, ComputeParams): which
+    // slice of each tile's list it walks, and the image size.
+    uint slice;
+    uint width;
+    uint height;
+#endif
 } glyph_set;

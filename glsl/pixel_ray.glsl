@@ -1,11 +1,13 @@
 // The pixel ray and the depth of a surface point: what every pass that shades the scene
 // format's camera rays needs (the ray casters, the sphere impostor, the tessellated
-// meshes). Include after frame.glsl; fragment shaders only (gl_FragCoord).
+// meshes). Include after frame.glsl. pixel_ray reads gl_FragCoord: a compute shader
+// defines GLYPHCAST_COMPUTE and calls pixel_ray_through with its pixel.
 
-// The pixel-centre ray of the scene format's camera, in world space.
-void pixel_ray(out vec3 origin, out vec3 dir) {
-    vec2 s = vec2((2.0 * gl_FragCoord.x * frame.viewport.x - 1.0) * frame.right.w,
-                  1.0 - 2.0 * gl_FragCoord.y * frame.viewport.y);
+// The ray through window position `pixel` (a pixel centre is at its index + 0.5) of the
+// scene format's camera, in world space.
+void pixel_ray_through(vec2 pixel, out vec3 origin, out vec3 dir) {
+    vec2 s = vec2((2.0 * pixel.x * frame.viewport.x - 1.0) * frame.right.w,
+                  1.0 - 2.0 * pixel.y * frame.viewport.y);
     vec3 offset = s.x * frame.right.xyz + s.y * frame.up.xyz;
     if (frame.eye.w > 0.5) {
         origin = frame.eye.xyz + offset;
@@ -15,6 +17,13 @@ void pixel_ray(out vec3 origin, out vec3 dir) {
         dir = normalize(frame.fwd.xyz + offset);
     }
 }
+
+#ifndef GLYPHCAST_COMPUTE
+// The pixel-centre ray of the scene format's camera, in world space.
+void pixel_ray(out vec3 origin, out vec3 dir) {
+    pixel_ray_through(gl_FragCoord.xy, origin, dir);
+}
+#endif
 
 // The ray in a glyph's frame q = (p - centre) / rho, measured from the point of the ray
 // closest to the centre (q(s) = mid + s * dir, world distance (t_mid + s) * rho), so

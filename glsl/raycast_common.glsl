@@ -1,7 +1,9 @@
 // What every ray-casting method shares (Hlawitschka et al., Sec. 4): the pixel's ray in the
 // glyph's normalised local frame, the radial sign function, refinement of a bracketed
 // sign change, and the shading and outputs of a hit. A method's fragment shader includes
-// this file and only decides how to find the first sign change along the chord.
+// this file and only decides how to find the first sign change along the chord. The
+// parts without fragment inputs and outputs (the ray in the glyph's frame, g, the shading
+// of a hit) are in glyph_ray.glsl, which the compute ray caster shares.
 //
 // The sign function is the radial form g(q) = h(f(q/|q|)) + offset - |q| (h = abs, or
 // max(., 0) to hide negative lobes), which has the zero set of the seed's Eq. 3 but stays
@@ -10,6 +12,7 @@
 #include "glyph_function.glsl"
 #include "pixel_ray.glsl"
 #include "shading.glsl"
+#include "glyph_ray.glsl"
 
 layout(location = 0) flat in uint v_glyph;
 layout(location = 1) flat in vec4 v_center_radius;
@@ -36,68 +39,11 @@ void glyph_load_inputs() {
     }
 }
 
-float shape(float f) {
-    return glyph_set.hide_negative != 0u ? max(f, 0.0) : abs(f);
-}
-
-// g > 0 inside the glyph. Coordinates are normalised so the bound is 1 + offset.
-float inside(vec3 q) {
-    float len = length(q);
-    if (len < 1e-20) {
-        return frame.march.w;
-    }
-    return shape(glyph_f(q / len)) + frame.march.w - len;
-}
-
-// The pixel's ray clipped to the glyph's bounding sphere and to its oriented box, in the
-// local frame q = (p - c) / rho, where rho maps normalised glyph units to world units.
-// Points are q(s) = mid + s * dir, with s measured from the point `mid` of the ray closest
-// to the centre, so that q stays well conditioned however far the camera is.
-struct GlyphRay {
-    vec3 origin;      // world
-    vec3 dir;         // world and local (unit)
-    vec3 mid;         // local
-    float t_mid;      // local distance from the origin to mid
-    float rho;
-    float half_chord; // of the sphere: the chord is [-half_chord, half_chord] before clipping
-    float s_start;    // chord entry, never behind the ray origin
-    float s_end;      // chord exit
-};
-
-// v rotated by the inverse of the unit quaternion q.
-vec3 rotate_inverse(vec4 q, vec3 v) {
-    return v - 2.0 * cross(q.xyz, q.w * v - cross(q.xyz, v));
-}
-
-// The ray against the sphere |q| = radius of the normalised frame, and against the box
-// scaled as the sphere is (its extents times radius / (1 + offset)); false when it misses
-// them or they lie behind the origin.
+// The ray through this fragment's pixel against its glyph's sphere of the given radius
+// and its box (glyph_ray_clip).
 bool glyph_ray_within(float radius, out GlyphRay ray) {
     pixel_ray(ray.origin, ray.dir);
-    // The sphere's radius is rho * (1 + offset).
-    ray.rho = v_center_radius.w / (1.0 + frame.march.w);
-    ray_in_glyph_frame(ray.origin, ray.dir, v_center_radius.xyz, ray.rho, ray.t_mid, ray.mid);
-    float half_chord2 = radius * radius - dot(ray.mid, ray.mid);
-    if (half_chord2 <= 0.0) {
-        return false;
-    }
-    ray.half_chord = sqrt(half_chord2);
-    float lo = max(-ray.half_chord, -ray.t_mid);
-    float hi = ray.half_chord;
-    // Slabs of the box, in its own frame.
-    vec3 extent = v_box_extent * radius;
-    vec3 m = rotate_inverse(v_box_rotation, ray.mid);
-    vec3 d = rotate_inverse(v_box_rotation, ray.dir);
-    for (int i = 0; i < 3; ++i) {
-        float di = abs(d[i]) < 1e-20 ? 1e-20 : d[i];
-        float a = (-extent[i] - m[i]) / di;
-        float b = (extent[i] - m[i]) / di;
-        lo = max(lo, min(a, b));
-        hi = min(hi, max(a, b));
-    }
-    ray.s_start = lo;
-    ray.s_end = hi;
-    return lo < hi;
+    return glyph_ray_clip(v_center_radius, v_box_rotation, v_box_extent, radius, ray);
 }
 
 // The ray against the glyph's bounding sphere.
@@ -138,23 +84,14 @@ float refine(vec3 mid, vec3 dir, float s0, float g0, float s1, float g1) {
     return s1;
 }
 
-// Normal, colour, depth and ray distance of the hit at q(s_hit).
+// Colour, depth and ray distance of the hit at q(s_hit), to the fragment's outputs.
 void shade_hit(GlyphRay ray, float s_hit) {
-    vec3 q = ray.mid + s_hit * ray.dir;
-    float len = max(length(q), 1e-20);
-    vec3 q_dir = q / len;
-    vec3 grad;
-    float f = glyph_f_grad(q_dir, grad);
-    float sgn = (glyph_set.hide_negative != 0u || f >= 0.0) ? 1.0 : -1.0;
-    // Outward normal of g = 0: (|q| + n |f|) q^ - sgn grad f(q^) (Euler's identity).
-    vec3 normal = normalize((len + float(GLYPH_ORDER) * abs(f)) * q_dir - sgn * grad);
-
-    float distance = (ray.t_mid + s_hit) * ray.rho;
-    vec3 world = ray.origin + distance * ray.dir;
-    gl_FragDepth = window_depth(world);
-
-    vec3 base = glyph_color(q_dir, len * ray.rho);
-    out_color = vec4(blinn_phong(base, normal, -ray.dir), 1.0);
+    vec4 color;
+    float depth;
+    float distance;
+    shade_surface(ray, s_hit, color, depth, distance);
+    gl_FragDepth = depth;
+    out_color = color;
 #ifndef GLYPHCAST_NO_DISTANCE
     out_distance = distance;
 #endif

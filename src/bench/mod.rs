@@ -16,9 +16,9 @@ use crate::camera::Camera;
 use crate::glyph::intersect::WorldGlyph;
 use crate::glyph::reference::reference_depth;
 use crate::io::scene::Scene;
-use crate::render::RenderSettings;
 use crate::render::glyph_data::{GlyphSetData, prepare_scene};
 use crate::render::headless::{HeadlessRenderer, RenderedImage};
+use crate::render::{RenderPath, RenderSettings};
 use crate::vk::Gpu;
 use std::time::Instant;
 
@@ -37,7 +37,7 @@ pub struct BenchResult {
     pub label: String,
     /// The scene measured (configurations of one scene share it), for [`ratios`].
     pub scene: String,
-    /// `--method` as spelled on the command line.
+    /// `--method` as spelled on the command line, with " (compute)" for `--path compute`.
     pub method: String,
     pub glyphs: usize,
     pub width: u32,
@@ -201,7 +201,10 @@ fn measure_prepared(
     Ok(BenchResult {
         label: case.label.to_owned(),
         scene: String::new(),
-        method: settings.method.to_string(),
+        method: match settings.path {
+            RenderPath::Fragment => settings.method.to_string(),
+            RenderPath::Compute => format!("{} (compute)", settings.method),
+        },
         glyphs,
         width,
         height,

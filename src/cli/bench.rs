@@ -32,6 +32,10 @@ pub struct BenchArgs {
     /// latlong:N.
     #[arg(long, default_value = "exact")]
     method: String,
+    /// Ray caster of a single measurement: fragment (proxy boxes) or compute (a compute
+    /// shader per pixel over screen tiles; exact only).
+    #[arg(long, default_value = "fragment")]
+    path: String,
     /// Also compare a single measurement with the float64 reference.
     #[arg(long)]
     accuracy: bool,
@@ -179,6 +183,7 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
         None => {
             let settings = RenderSettings {
                 method: args.method.parse()?,
+                path: args.path.parse()?,
                 ..defaults
             };
             settings.validate()?;

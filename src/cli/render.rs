@@ -95,6 +95,10 @@ pub struct RenderArgs {
     /// with an --offset (offset glyphs are no polynomial surfaces).
     #[arg(long)]
     method: Option<String>,
+    /// Ray caster: fragment (proxy boxes, the default) or compute (a compute shader per
+    /// pixel over screen tiles; --method exact only).
+    #[arg(long, default_value = "fragment")]
+    path: String,
     /// Robust methods: segment length limit, in pixels at the segment's depth.
     #[arg(long, value_name = "PX")]
     precision: Option<f32>,
@@ -145,6 +149,7 @@ impl RenderArgs {
         };
         let mut s = RenderSettings {
             method,
+            path: self.path.parse()?,
             ..Default::default()
         };
         if let Some(step) = self.step {

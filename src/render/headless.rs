@@ -1,15 +1,18 @@
 //! Offscreen rendering: colour (RGBA8 sRGB), ray distance (R32F) and D32 depth targets,
 //! the glyph pass of the settings' method recorded between them (the ray-cast pass for
 //! the ray caster and the sphere impostor, the mesh pass for tessellated glyphs), and a
-//! readback of colour and distance.
+//! readback of colour and distance. With `--path compute` the exact method runs as the
+//! compute ray caster instead, whose colour and distance buffers are read back the same
+//! way.
 use crate::camera::Camera;
 use crate::error::Result;
-use crate::render::Method;
+use crate::render::compute::{ComputeRayCastPass, ComputeSceneGpu};
 use crate::render::frame::{FrameParams, SceneExtent};
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::mesh::{GlyphMeshes, MeshPass, MeshSceneGpu, MeshStats};
 use crate::render::raycast::{RayCastPass, SceneGpu, TargetFormats};
 use crate::render::settings::RenderSettings;
+use crate::render::{Method, RenderPath};
 use crate::vk::{Buffer, Gpu, GpuTimer, Image, OneShot};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
@@ -113,6 +116,7 @@ fn barrier(
 pub struct HeadlessRenderer {
     pass: RayCastPass,
     mesh: MeshPass,
+    compute: ComputeRayCastPass,
     commands: OneShot,
     timer: Option<GpuTimer>,
 }
@@ -127,6 +131,7 @@ impl HeadlessRenderer {
         Ok(HeadlessRenderer {
             pass: RayCastPass::new(gpu.context(), formats)?,
             mesh: MeshPass::new(gpu.context(), formats)?,
+            compute: ComputeRayCastPass::new(gpu.context())?,
             commands: OneShot::new(gpu)?,
             timer: GpuTimer::new(gpu)?,
         })
@@ -140,6 +145,11 @@ impl HeadlessRenderer {
     /// The mesh pass, for settings such as the storage buffer limit.
     pub fn mesh_pass_mut(&mut self) -> &mut MeshPass {
         &mut self.mesh
+    }
+
+    /// The compute ray caster, for settings such as the storage buffer limit.
+    pub fn compute_pass_mut(&mut self) -> &mut ComputeRayCastPass {
+        &mut self.compute
     }
 
     /// Renders `sets` seen by `camera` into a `width` x `height` image.
@@ -178,6 +188,17 @@ impl HeadlessRenderer {
         let extent = SceneExtent::of_glyph_sets(camera, sets);
         let params = FrameParams::new(camera, width, height, &extent, settings);
         let scene = match settings.method {
+            _ if settings.path == RenderPath::Compute => {
+                GlyphsOnGpu::Compute(Box::new(self.compute.upload(
+                    gpu.context(),
+                    sets,
+                    &params,
+                    camera,
+                    width,
+                    height,
+                    settings.background,
+                )?))
+            }
             Method::Mesh(kind) => {
                 let meshes = GlyphMeshes::build(sets, kind)?;
                 GlyphsOnGpu::Mesh(Box::new(self.mesh.upload(
@@ -204,7 +225,7 @@ impl HeadlessRenderer {
 
     /// Draws a prepared frame and waits for it; returns the glyph pass's GPU time.
     pub fn draw(&mut self, gpu: &Gpu, frame: &PreparedFrame) -> Result<Option<f64>> {
-        let passes = (&mut self.pass, &mut self.mesh);
+        let passes = (&mut self.pass, &mut self.mesh, &mut self.compute);
         let timer = self.timer.as_ref();
         self.commands
             .run(gpu, |cmd| record_frame(passes, timer, gpu, cmd, frame))?;
@@ -226,6 +247,7 @@ impl HeadlessRenderer {
 enum GlyphsOnGpu {
     RayCast(Box<SceneGpu>),
     Mesh(Box<MeshSceneGpu>),
+    Compute(Box<ComputeSceneGpu>),
 }
 
 /// A frame ready to draw: the uploaded glyph sets and the offscreen targets.
@@ -237,30 +259,34 @@ pub struct PreparedFrame {
 }
 
 impl PreparedFrame {
-    /// Instanced draws per frame.
+    /// Instanced draws per frame (dispatches for the compute ray caster).
     pub fn draws(&self) -> usize {
         match &self.scene {
             GlyphsOnGpu::RayCast(scene) => scene.sets.len(),
             GlyphsOnGpu::Mesh(scene) => scene.draws(),
+            GlyphsOnGpu::Compute(scene) => scene.dispatches(),
         }
     }
 
     /// Sizes and generation time of the meshes, for tessellated glyphs.
     pub fn mesh_stats(&self) -> Option<&MeshStats> {
         match &self.scene {
-            GlyphsOnGpu::RayCast(_) => None,
+            GlyphsOnGpu::RayCast(_) | GlyphsOnGpu::Compute(_) => None,
             GlyphsOnGpu::Mesh(scene) => Some(&scene.stats),
         }
     }
 }
 
 fn record_frame(
-    (pass, mesh): (&mut RayCastPass, &mut MeshPass),
+    (pass, mesh, compute): (&mut RayCastPass, &mut MeshPass, &mut ComputeRayCastPass),
     timer: Option<&GpuTimer>,
     gpu: &Gpu,
     cmd: vk::CommandBuffer,
     frame: &PreparedFrame,
 ) -> Result<()> {
+    if let GlyphsOnGpu::Compute(scene) = &frame.scene {
+        return record_compute(compute, timer, gpu, cmd, frame, scene);
+    }
     let (t, extent, background) = (&frame.targets, frame.size, frame.settings.background);
     let d = gpu.device();
     let none = (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE);
@@ -381,6 +407,7 @@ fn record_frame(
     match &frame.scene {
         GlyphsOnGpu::RayCast(scene) => pass.record(cmd, scene, extent, frame.settings.method)?,
         GlyphsOnGpu::Mesh(scene) => mesh.record(cmd, scene, extent)?,
+        GlyphsOnGpu::Compute(_) => {}
     }
     // SAFETY: as above.
     unsafe {
@@ -408,6 +435,54 @@ fn record_frame(
             vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
             t.distance_readback.handle,
             &[copy],
+        );
+        d.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().memory_barriers(&host_read),
+        );
+    }
+    Ok(())
+}
+
+/// The compute ray caster's frame: its clears and dispatches (the timed span), then the
+/// copies of its colour and distance buffers into the readback buffers.
+fn record_compute(
+    compute: &mut ComputeRayCastPass,
+    timer: Option<&GpuTimer>,
+    gpu: &Gpu,
+    cmd: vk::CommandBuffer,
+    frame: &PreparedFrame,
+    scene: &ComputeSceneGpu,
+) -> Result<()> {
+    let t = &frame.targets;
+    let bytes = 4 * frame.size.width as u64 * frame.size.height as u64;
+    if let Some(timer) = timer {
+        timer.start(cmd);
+    }
+    compute.record(cmd, scene)?;
+    if let Some(timer) = timer {
+        timer.stop(cmd);
+    }
+    let host_read = [vk::MemoryBarrier2::default()
+        .src_stage_mask(vk::PipelineStageFlags2::COPY)
+        .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+        .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+        .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+    let copy = [vk::BufferCopy {
+        src_offset: 0,
+        dst_offset: 0,
+        size: bytes,
+    }];
+    let d = gpu.device();
+    // SAFETY: `cmd` is recording; every handle is alive until the submission completes;
+    // `record` made the outputs readable by transfers.
+    unsafe {
+        d.cmd_copy_buffer(cmd, scene.colors.handle, t.color_readback.handle, &copy);
+        d.cmd_copy_buffer(
+            cmd,
+            scene.distances.handle,
+            t.distance_readback.handle,
+            &copy,
         );
         d.cmd_pipeline_barrier2(
             cmd,

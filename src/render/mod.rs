@@ -1,5 +1,8 @@
 //! Render passes and their settings: the ray caster and the sphere impostor share the
 //! instanced boxes of `raycast`; the tessellated baseline has its own pass in `mesh`.
+//! `compute` is a second path for the exact method: a compute shader per pixel over the
+//! screen tiles of `tiles`.
+pub mod compute;
 pub mod eval;
 pub mod frame;
 pub mod glyph_data;
@@ -9,9 +12,10 @@ pub mod range_eval;
 pub mod raycast;
 pub mod settings;
 pub mod shaders;
+pub mod tiles;
 
 pub use crate::glyph::tessellate::MeshKind;
-pub use settings::{ColorMode, Refinement, RenderSettings};
+pub use settings::{ColorMode, Refinement, RenderPath, RenderSettings};
 
 /// How glyphs are drawn (`--method`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

@@ -100,9 +100,45 @@ impl std::str::FromStr for Method {
     }
 }
 
+/// Which ray caster runs the method (`--path`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum RenderPath {
+    /// Instanced proxy boxes whose fragment shader ray-casts the glyph
+    /// ([`RayCastPass`](crate::render::raycast::RayCastPass)); what engines embed.
+    #[default]
+    Fragment,
+    /// A compute shader per pixel walking its screen tile's glyphs front to back
+    /// ([`ComputeRayCastPass`](crate::render::compute::ComputeRayCastPass)); exact only.
+    Compute,
+}
+
+impl std::str::FromStr for RenderPath {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "fragment" => Ok(RenderPath::Fragment),
+            "compute" => Ok(RenderPath::Compute),
+            _ => Err(Error::Invalid(format!(
+                "--path: '{s}' is not one of fragment, compute"
+            ))),
+        }
+    }
+}
+
+impl std::fmt::Display for RenderPath {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            RenderPath::Fragment => "fragment",
+            RenderPath::Compute => "compute",
+        })
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RenderSettings {
     pub method: Method,
+    /// The ray caster that runs `method`.
+    pub path: RenderPath,
     /// March step in units of the glyph's bounding radius.
     pub step: f32,
     pub refinement: Refinement,
@@ -128,6 +164,7 @@ impl Default for RenderSettings {
             // real root of the ray polynomial. It refuses an offset; the command line
             // then takes affine, the next fastest.
             method: Method::Exact,
+            path: RenderPath::Fragment,
             step: 0.02,
             refinement: Refinement::Secant(4),
             centre_step_factor: 1.0 / 3.0,
@@ -174,6 +211,12 @@ impl RenderSettings {
                 "--offset {}: --method exact needs offset 0 (offset glyphs are not \
                  polynomial surfaces); use --method fixed",
                 self.offset
+            )));
+        }
+        if self.path == RenderPath::Compute && self.method != Method::Exact {
+            return Err(Error::Invalid(format!(
+                "--path compute: only --method exact has a compute ray caster, not {}",
+                self.method
             )));
         }
         if let ColorMode::Magnitude {
@@ -226,6 +269,22 @@ mod tests {
         };
         assert!(zero.validate().is_err());
         assert!(RenderSettings::default().validate().is_ok());
+    }
+
+    #[test]
+    fn the_compute_path_is_exact_only() {
+        let compute = RenderSettings {
+            path: "compute".parse().expect("compute"),
+            ..Default::default()
+        };
+        assert!(compute.validate().is_ok());
+        let fixed = RenderSettings {
+            method: Method::Fixed,
+            ..compute
+        };
+        let error = fixed.validate().expect_err("fixed").to_string();
+        assert!(error.contains("--path compute"), "{error}");
+        assert!("vertex".parse::<RenderPath>().is_err());
     }
 
     #[test]

@@ -30,6 +30,14 @@ pub struct RaycastShader {
     pub color_only_fragment: &'static [u32],
 }
 
+/// Compute ray caster of one tensor layout and intersection method (`--path compute`,
+/// glsl/raycast_<method>.comp): one invocation per pixel walks its screen tile's glyphs.
+pub struct ComputeRaycastShader {
+    pub layout: TensorLayout,
+    pub method: Method,
+    pub spirv: &'static [u32],
+}
+
 /// SPIR-V bytes with the alignment of words, so they can be read as `&[u32]`.
 #[repr(C)]
 struct WordAligned<const N: usize> {
@@ -57,6 +65,15 @@ include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
 
 pub fn raycast_shader(layout: TensorLayout, method: Method) -> Option<&'static RaycastShader> {
     RAYCAST_SHADERS
+        .iter()
+        .find(|s| s.layout == layout && s.method == method)
+}
+
+pub fn compute_raycast_shader(
+    layout: TensorLayout,
+    method: Method,
+) -> Option<&'static ComputeRaycastShader> {
+    COMPUTE_RAYCAST_SHADERS
         .iter()
         .find(|s| s.layout == layout && s.method == method)
 }

@@ -1,0 +1,572 @@
+// The exact method's root isolation (raycast_exact.frag's steps 1 to 4): the ray polynomial
+// of the glyph, its first real root on a chord of the bounding sphere, and the sampled
+// centre zone. Shared by the fragment shader (raycast_exact.frag) and the compute ray
+// caster (raycast_exact.comp). Include after glyph_ray.glsl (inside(), glyph_set) and the
+// glyph function (glyph_c).
+// binomial[] holds C(2n + 2, k) as float32, exact while it stays below 2^24: C(26, 13) =
+// 10,400,600 at order 12, but C(28, 14) = 40,116,600 at order 13.
+#if GLYPH_ORDER_MACRO > 12
+#error "the exact method's binomials are exact in float32 only up to order 12"
+#endif
+
+const int N = int(GLYPH_ORDER);
+const int D = 2 * N + 2;
+// The power n + 1 of q . q in F, and its highest set bit (n + 1 is 2 to 13).
+const int POWER = N + 1;
+const int POWER_TOP_BIT = POWER >= 8 ? 3 : (POWER >= 4 ? 2 : 1);
+// The chord is that of the bounding sphere enlarged by 2^-10, so that F < 0 at both of its
+// ends even for a glyph that touches its bound (g <= -2^-10 there).
+const float CHORD_RADIUS = 1.0 + 1.0 / 1024.0;
+// |q|^D >= 2^-100 outside this radius, which leaves F and its Bernstein coefficients
+// 2^26 of float32's normal range: 0.07 at order 12, 0.021 at order 8, 0.001 at order 4.
+const float CENTRE_RADIUS = exp2(-100.0 / float(D));
+// g samples across the centre zone (at most 2 CENTRE_RADIUS long).
+const int CENTRE_SAMPLES = 64;
+// Subdivision depth (pieces of 2^-20 of a segment) and budget of pieces per segment.
+const int MAX_LEVEL = 20;
+const int MAX_NODES = 64;
+const int NEWTON_STEPS = 40;
+const int ILLINOIS_STEPS = 8;
+
+// Loops over coefficients have constant bounds and skip what they do not need with
+// conditions on the counters, so that spirv-opt unrolls them completely ([[unroll]] only
+// works on constant trip counts) and every array index becomes a constant: lavapipe
+// indexes arrays with variable indices through memory, several times slower. And they
+// count upwards: Mesa 22.3's lavapipe miscompiles descending loops such as
+// `for (int i = m; i >= 1; --i)` whose start is an outer loop's counter (the updated array
+// read back as zeros), so updates that must run from the top index down use i = top - step.
+
+float binomial[D + 1];     // C(D, k)
+float binomial_n[N + 1];   // C(n, k)
+float ray_p[N + 1];        // f(mid + tau d) = sum_k ray_p[k] tau^k
+float segment_p[N + 1];    // f(s a + t b) = sum_i segment_p[i] s^(n-i) t^i
+float segment_f[D + 1];    // F on the segment, Bernstein basis
+// segment_p and segment_f of the chord's two halves (0: before mid, 1: after).
+float half_p0[N + 1];
+float half_p1[N + 1];
+float half_f0[D + 1];
+float half_f1[D + 1];
+float node_f[D + 1];       // F on the current piece of the segment, Bernstein basis
+
+void init_binomials() {
+    uint c = 1u;
+    [[unroll]] for (int k = 0; k <= D; ++k) {
+        binomial[k] = float(c);  // exact: C(26, 13) < 2^24
+        c = c * uint(D - k) / uint(k + 1);
+    }
+    c = 1u;
+    [[unroll]] for (int k = 0; k <= N; ++k) {
+        binomial_n[k] = float(c);
+        c = c * uint(N - k) / uint(k + 1);
+    }
+}
+
+// p <- p (c0 + c1 tau) for p of degree < top (p[top] = 0 on entry).
+void times_linear(inout float p[N + 1], int top, float c0, float c1) {
+    [[unroll]] for (int step = 0; step < N; ++step) {
+        int i = top - step;
+        if (i >= 1) {
+            p[i] = p[i] * c0 + p[i - 1] * c1;
+        }
+    }
+    p[0] *= c0;
+}
+
+// ray_p: the coefficients of f(a + tau b), called with a = mid and b = d.
+void ray_polynomial(vec3 a, vec3 b) {
+    // f = sum over x powers (descending) of x^(n-m) P_m(y, z), Horner in x; each P_m is
+    // Horner in y with z powers growing (glyph_c's monomial order, as in
+    // GlyphPolynomial::along_line). Numbers become linear polynomials in tau. This is
+    // exact algebra: each coefficient is rounded relative to the sizes of its own terms,
+    // ~|mid|^(n-k) |d|^k, so the small ones near the centre stay accurate.
+    [[unroll]] for (int i = 0; i <= N; ++i) {
+        ray_p[i] = 0.0;
+    }
+    // (a.z + tau b.z)^j, shared by every P_m.
+    float z_pow[N + 1][N + 1];
+    [[unroll]] for (int j = 0; j <= N; ++j) {
+        [[unroll]] for (int i = 0; i <= N; ++i) {
+            z_pow[j][i] = i == 0 && j == 0 ? 1.0 : 0.0;
+        }
+        if (j > 0) {
+            z_pow[j] = z_pow[j - 1];
+            times_linear(z_pow[j], j, a.z, b.z);
+        }
+    }
+    int k = 0;
+    [[unroll]] for (int m = 0; m <= N; ++m) {
+        float yz[N + 1];
+        [[unroll]] for (int i = 0; i <= N; ++i) {
+            yz[i] = 0.0;
+        }
+        [[unroll]] for (int j = 0; j <= N; ++j) {
+            if (j <= m) {
+                times_linear(yz, j, a.y, b.y);
+                float c = glyph_c[k];
+                k += 1;
+                [[unroll]] for (int i = 0; i <= N; ++i) {
+                    if (i <= j) {
+                        yz[i] += c * z_pow[j][i];
+                    }
+                }
+            }
+        }
+        times_linear(ray_p, m, a.x, b.x);
+        [[unroll]] for (int i = 0; i <= N; ++i) {
+            if (i <= m) {
+                ray_p[i] += yz[i];
+            }
+        }
+    }
+}
+
+// segment_p and segment_f for the segment tau in [tau0, tau1] (ray order), which does not
+// pass mid. p is re-expanded about the segment's end nearer mid (a Taylor shift, small
+// there) and scaled to u in [0, 1], then turned into the Bernstein basis by prefix sums,
+// and into the coefficients of the form of degree n in (s, t) = (1 - u, u).
+void segment_polynomials(vec3 mid, vec3 d, float tau0, float tau1) {
+    bool reversed = abs(tau1) < abs(tau0);
+    float near = reversed ? tau1 : tau0;
+    float width = reversed ? tau0 - tau1 : tau1 - tau0;
+    float e[N + 1] = ray_p;
+    [[unroll]] for (int i = 0; i < N; ++i) {
+        [[unroll]] for (int step = 0; step < N; ++step) {
+            int j = N - 1 - step;
+            if (j >= i) {
+                e[j] += near * e[j + 1];
+            }
+        }
+    }
+    float width_pow = 1.0;
+    [[unroll]] for (int j = 0; j <= N; ++j) {
+        e[j] *= width_pow / binomial_n[j];
+        width_pow *= width;
+    }
+    [[unroll]] for (int r = 0; r < N; ++r) {
+        [[unroll]] for (int step = 0; step < N; ++step) {
+            int i = N - step;
+            if (i > r) {
+                e[i] += e[i - 1];
+            }
+        }
+    }
+    [[unroll]] for (int i = 0; i <= N; ++i) {
+        segment_p[i] = binomial_n[i] * (reversed ? e[N - i] : e[i]);
+    }
+    vec3 a = mid + tau0 * d;
+    vec3 b = mid + tau1 * d;
+
+    // F = p^2 (s + t)^2 - (q . q)^(n+1) as a form of degree D; (s + t)^2 = 1 lifts p^2 to
+    // degree D. q . q = a.a s^2 + 2 a.b s t + b.b t^2 has positive coefficients on a
+    // segment that does not pass mid, so its power is computed without cancellation.
+    float form[D + 1];
+    float radial[D + 1];
+    [[unroll]] for (int i = 0; i <= D; ++i) {
+        form[i] = 0.0;
+        radial[i] = 0.0;
+    }
+    [[unroll]] for (int i = 0; i <= N; ++i) {
+        [[unroll]] for (int j = 0; j <= N; ++j) {
+            form[i + j] += segment_p[i] * segment_p[j];
+        }
+    }
+    [[unroll]] for (int step = 0; step < D - 1; ++step) {
+        int i = D - step;
+        form[i] += 2.0 * form[i - 1] + form[i - 2];
+    }
+    form[1] += 2.0 * form[0];
+    vec3 q = vec3(dot(a, a), 2.0 * dot(a, b), dot(b, b));
+    // (q . q)^(n+1) by squaring, from the top bit of n + 1 down: about a third of the
+    // multiplications of n + 1 products by q . q (the unrolled code is what every
+    // fragment pays on lavapipe). Every coefficient stays a sum of positive terms.
+    radial[0] = q.x;
+    radial[1] = q.y;
+    radial[2] = q.z;
+    int degree = 2;
+    [[unroll]] for (int step = 0; step < 3; ++step) {
+        int bit = POWER_TOP_BIT - 1 - step;
+        if (bit >= 0) {
+            float square[D + 1];
+            [[unroll]] for (int i = 0; i <= D; ++i) {
+                square[i] = 0.0;
+            }
+            [[unroll]] for (int i = 0; i <= D; ++i) {
+                [[unroll]] for (int j = 0; j <= D; ++j) {
+                    if (i <= degree && j <= degree && i + j <= D) {
+                        square[i + j] += radial[i] * radial[j];
+                    }
+                }
+            }
+            radial = square;
+            degree *= 2;
+            if (((POWER >> bit) & 1) == 1) {
+                [[unroll]] for (int top = 0; top < D - 1; ++top) {
+                    int i = D - top;
+                    if (i >= 2) {
+                        radial[i] = radial[i] * q.x + radial[i - 1] * q.y + radial[i - 2] * q.z;
+                    }
+                }
+                radial[1] = radial[1] * q.x + radial[0] * q.y;
+                radial[0] *= q.x;
+                degree += 2;
+            }
+        }
+    }
+    [[unroll]] for (int i = 0; i <= D; ++i) {
+        segment_f[i] = (form[i] - radial[i]) / binomial[i];
+    }
+}
+
+// The traversal keeps F on the part of the half not yet visited, [rest_start, 1], in
+// rest_f. The next piece [rest_start, u1] is its left part at s = (u1 - rest_start) /
+// (1 - rest_start): one de Casteljau pass gives the piece (node_f) and the part after it
+// (split_f), the rest once the piece is done. Consecutive pieces then share their end
+// coefficient exactly, and a piece costs one pass instead of the two that cut it out of
+// the whole half.
+float rest_f[D + 1];
+float split_f[D + 1];
+
+void split_rest(float s) {
+    split_f = rest_f;
+    node_f[0] = split_f[0];
+    [[unroll]] for (int r = 1; r <= D; ++r) {
+        // After pass r, split_f[0] is the left end of de Casteljau's row r and
+        // split_f[D - r] the right end, which no later pass touches.
+        [[unroll]] for (int i = 0; i < D; ++i) {
+            if (i <= D - r) {
+                split_f[i] = mix(split_f[i], split_f[i + 1], s);
+            }
+        }
+        node_f[r] = split_f[0];
+    }
+}
+
+// Sign changes of node_f, zeros skipped: an upper bound on the number of roots of F on
+// the piece, of the same parity (Descartes' rule in the Bernstein basis).
+int sign_changes() {
+    int changes = 0;
+    float last = 0.0;
+    [[unroll]] for (int i = 0; i <= D; ++i) {
+        float b = node_f[i];
+        if (b != 0.0) {
+            changes += (last != 0.0 && (b > 0.0) != (last > 0.0)) ? 1 : 0;
+            last = b;
+        }
+    }
+    return changes;
+}
+
+// Value (its sign) and Newton step v / v' of the piece's polynomial at x in (0, 1), in
+// O(D): v = (1 - y)^D P(y / (1 - y)), P = sum C(D, k) b_k r^k, with y = x and b = node_f
+// for x <= 1/2, or the mirror image y = 1 - x and b reversed, so that the powers never
+// overflow and need not be formed (one Horner pass for every lane).
+void node_newton(float x, out float value, out float step) {
+    bool mirror = x > 0.5;
+    float y = mirror ? 1.0 - x : x;
+    float r = y / (1.0 - y);
+    value = 0.0;
+    float slope = 0.0;
+    [[unroll]] for (int i = 0; i <= D; ++i) {
+        int k = D - i;
+        slope = slope * r + value;
+        value = value * r + binomial[k] * (mirror ? node_f[D - k] : node_f[k]);
+    }
+    // dv/dy = (1 - y)^(D-2) (P' - D (1 - y) P), and dx = -dy in the mirror.
+    float step_y = (1.0 - y) * (1.0 - y) * value / (slope - float(D) * (1.0 - y) * value);
+    step = mirror ? -step_y : step_y;
+}
+
+// The root in (0, 1) of the piece's polynomial, whose end values differ in sign; the piece
+// spans tau = tau_at_0 + x tau_per_x. Newton starts where the control polygon first
+// crosses zero and steps on G = F / |q|^(2n) = f(q^)^2 - |q|^2 rather than on F: G is
+// O(1) and nearly linear where F spans the |q|^(2n) orders of magnitude between the centre
+// and the sphere, which slows Newton on F to a crawl. With R = |q|^2 = |mid|^2 + tau^2 |d|^2,
+// G / G' = F / (F' - n F R' / R). Bracketed: bisection when a step leaves the bracket or
+// fails to halve. Measured: 3 to 5 steps, at most ~12, to float resolution.
+float node_root(float tau_at_0, float tau_per_x, float mid2, float d2) {
+    float lo = 0.0;
+    float hi = 1.0;
+    bool lo_positive = node_f[0] > 0.0;
+    float x = 0.5;
+    bool crossed = false;
+    [[unroll]] for (int i = 0; i < D; ++i) {
+        float b0 = node_f[i];
+        float b1 = node_f[i + 1];
+        if (!crossed && (b1 > 0.0) != lo_positive) {
+            x = (float(i) + b0 / (b0 - b1)) / float(D);
+            crossed = true;
+        }
+    }
+    x = clamp(x, 1e-6, 1.0 - 1e-6);
+    float step_before = 1.0;
+    for (int i = 0; i < NEWTON_STEPS; ++i) {
+        float value, step_f;
+        node_newton(x, value, step_f);
+        if ((value > 0.0) == lo_positive) {
+            lo = x;
+        } else {
+            hi = x;
+        }
+        float tau = tau_at_0 + x * tau_per_x;
+        float r = mid2 + tau * tau * d2;
+        float r_slope = 2.0 * d2 * tau * tau_per_x;
+        float step = step_f / (1.0 - float(N) * r_slope / r * step_f);
+        // Done when the step is below float resolution (about 2 ulps of x).
+        float resolution = 1.2e-7 * max(x, 0.25);
+        if (abs(step) <= resolution) {
+            x = clamp(x - step, lo, hi);
+            break;
+        }
+        float next = x - step;
+        // Newton only while it stays in the bracket and at least halves its step.
+        if (!(next > lo && next < hi && abs(step) < 0.5 * step_before)) {
+            next = 0.5 * (lo + hi);
+        }
+        step_before = abs(next - x);
+        bool stalled = next == x;
+        x = next;
+        if (stalled || hi - lo <= resolution) {
+            break;
+        }
+    }
+    return x;
+}
+
+// Sign of f at u on a half (the hide filter), from the form's coefficients.
+float half_p_sign(int half_index, float u) {
+    float r = u / (1.0 - u);
+    float w = (1.0 - u) / u;
+    float from_start = 0.0;
+    float from_end = 0.0;
+    [[unroll]] for (int step = 0; step <= N; ++step) {
+        from_start = from_start * r + (half_index == 0 ? half_p0[N - step] : half_p1[N - step]);
+        from_end = from_end * w + (half_index == 0 ? half_p0[step] : half_p1[step]);
+    }
+    return u <= 0.5 ? from_start : from_end;
+}
+
+bool hide_negative() {
+    return glyph_set.hide_negative != 0u;
+}
+
+// First sign change of g on [tau0, tau1], sampled at `samples` steps and refined by
+// regula falsi (Illinois). `state` is the inside state before tau0 (-1: unknown) and
+// becomes the one at tau1.
+bool march_piece(vec3 mid, vec3 d, float tau0, float tau1, int samples, inout int state,
+                 out float tau) {
+    tau = tau0;
+    float t_prev = tau0;
+    float g_prev = inside(mid + tau0 * d);
+    if (state >= 0 && (g_prev > 0.0) != (state == 1)) {
+        return true;
+    }
+    for (int i = 1; i <= samples; ++i) {
+        float t = mix(tau0, tau1, float(i) / float(samples));
+        float g = inside(mid + t * d);
+        if ((g > 0.0) != (g_prev > 0.0)) {
+            float t0 = t_prev, g0 = g_prev, t1 = t, g1 = g;
+            int stuck = 0;
+            for (int k = 0; k < ILLINOIS_STEPS; ++k) {
+                float tm = t0 + (t1 - t0) * (g0 / (g0 - g1));
+                float gm = inside(mid + tm * d);
+                if ((gm > 0.0) == (g1 > 0.0)) {
+                    t1 = tm; g1 = gm;
+                    if (stuck == 1) { g0 *= 0.5; }
+                    stuck = 1;
+                } else {
+                    t0 = tm; g0 = gm;
+                    if (stuck == -1) { g1 *= 0.5; }
+                    stuck = -1;
+                }
+            }
+            tau = t0 + (t1 - t0) * (g0 / (g0 - g1));
+            return true;
+        }
+        t_prev = t;
+        g_prev = g;
+    }
+    state = g_prev > 0.0 ? 1 : 0;
+    return false;
+}
+
+// The traversal of the pieces of both halves in ray order (step 3). One loop visits the
+// pieces of both halves, and the Newton refinement and the hide filter run after it, not
+// in its body: lavapipe runs every instruction of a loop body for every fragment of a
+// SIMD batch, its lanes masked, so the body's length times the batch's largest number of
+// visits is what a fragment pays.
+int visit_half;       // the half being traversed; 2: both done
+int visit_level;      // the piece is [index, index + 1] 2^-level of the half
+uint visit_index;
+int visit_count;      // pieces visited in this half, against MAX_NODES
+float rest_start;     // where the part of the half not yet visited starts
+bool half1_valid;
+// Where a half's budget of pieces ran out (the rest is sampled), else its end.
+bool exhausted0;
+bool exhausted1;
+float leftover0;
+float leftover1;
+
+void next_half() {
+    visit_half = visit_half == 0 && half1_valid ? 1 : 2;
+    visit_level = 0;
+    visit_index = 0u;
+    visit_count = 0;
+    rest_start = 0.0;
+    rest_f = half_f1;
+}
+
+// On to the piece after the one just visited ([rest_start, u1]), in ray order, or to the
+// next half.
+void next_piece(float u1) {
+    rest_f = split_f;
+    rest_start = u1;
+    int up = findLSB(~visit_index);  // the right children to climb out of
+    visit_index >>= uint(up);
+    visit_level -= up;
+    visit_index += 1u;
+    if (visit_level == 0) {
+        next_half();
+    }
+}
+
+// The next piece [rest_start, u1] that isolates a root (node_f holds it, its ends differ
+// in sign); false when none is left.
+bool next_candidate(float lo0, float hi0, float lo1, float hi1, out float u1) {
+    u1 = 1.0;
+    for (int step = 0; step < 2 * MAX_NODES + 2; ++step) {
+        if (visit_half < 2 && visit_count >= MAX_NODES) {
+            // Out of budget (never seen in the tests): the rest of the half is sampled.
+            if (visit_half == 0) {
+                exhausted0 = true;
+                leftover0 = mix(lo0, hi0, rest_start);
+            } else {
+                exhausted1 = true;
+                leftover1 = mix(lo1, hi1, rest_start);
+            }
+            next_half();
+        }
+        if (visit_half >= 2) {
+            return false;
+        }
+        u1 = float(visit_index + 1u) * exp2(-float(visit_level));
+        split_rest(u1 >= 1.0 ? 1.0 : (u1 - rest_start) / (1.0 - rest_start));
+        visit_count += 1;
+        int changes = sign_changes();
+        if (changes >= 2 && visit_level < MAX_LEVEL) {
+            visit_level += 1;
+            visit_index *= 2u;
+            continue;
+        }
+        // An odd number of roots on the piece: one, when it is fully split.
+        if (changes >= 1 && (node_f[0] > 0.0) != (node_f[D] > 0.0)) {
+            return true;
+        }
+        next_piece(u1);
+    }
+    return false;
+}
+
+// First crossing along q = mid + tau d, tau in [tau_start, tau_end] (within [-1, 1], the
+// box's part of the chord): by subdivision on the half before mid up to -tau_c, sampled in
+// the centre zone [-tau_c, tau_c] (empty when the ray passes farther than CENTRE_RADIUS
+// from the centre), by subdivision on the half after mid from tau_c on. Both halves are
+// traversed first; the centre zone and what a spent budget left are sampled after, and a
+// crossing there wins over one in the second half.
+bool first_crossing(vec3 mid, vec3 d, float tau_start, float tau_end, out float tau) {
+    float a = dot(mid, mid);
+    float r2 = CENTRE_RADIUS * CENTRE_RADIUS;
+    float tau_c = a < r2 ? sqrt(r2 - a) / length(d) : 0.0;
+    tau = tau_start;
+    float lo0 = max(tau_start, -1.0);
+    float hi0 = min(tau_end, -tau_c);
+    float lo1 = max(tau_start, tau_c);
+    float hi1 = min(tau_end, 1.0);
+    bool half0_valid = lo0 < hi0;
+    half1_valid = lo1 < hi1;
+    segment_polynomials(mid, d, lo0, hi0);
+    half_f0 = segment_f;
+    half_p0 = segment_p;
+    segment_polynomials(mid, d, lo1, hi1);
+    half_f1 = segment_f;
+    half_p1 = segment_p;
+    bool hide = hide_negative();
+    // Inside at the end of half 0 and at the start of half 1.
+    bool end0_inside = half_f0[D] > 0.0 && (!hide || half_p0[N] > 0.0);
+    bool start1_inside = half_f1[0] > 0.0 && (!hide || half_p1[0] > 0.0);
+
+    exhausted0 = false;
+    exhausted1 = false;
+    leftover0 = hi0;
+    leftover1 = hi1;
+    visit_half = half0_valid ? 0 : (half1_valid ? 1 : 2);
+    visit_level = 0;
+    visit_index = 0u;
+    visit_count = 0;
+    rest_start = 0.0;
+    rest_f = half_f0;
+    if (visit_half != 0) {
+        rest_f = half_f1;
+    }
+    bool found = false;
+    int found_half = 0;
+    // Each root that the hide filter rejects (the edge of a hidden lobe) costs one round;
+    // the traversal goes on after it. Every round visits a piece, so the bound is never
+    // reached.
+    for (int round = 0; round < 2 * MAX_NODES + 2; ++round) {
+        float u1;
+        if (!next_candidate(lo0, hi0, lo1, hi1, u1)) {
+            break;
+        }
+        float lo = visit_half == 0 ? lo0 : lo1;
+        float hi = visit_half == 0 ? hi0 : hi1;
+        float u0 = rest_start;
+        float u = mix(u0, u1, node_root(mix(lo, hi, u0), (hi - lo) * (u1 - u0), a, dot(d, d)));
+        if (!hide || half_p_sign(visit_half, u) > 0.0) {
+            found = true;
+            found_half = visit_half;
+            tau = mix(lo, hi, u);
+            break;
+        }
+        next_piece(u1);
+    }
+    if (found && found_half == 0) {
+        return true;
+    }
+    float found_tau = tau;
+    // Sampled after half 0: what its budget left, then the centre zone; after half 1, what
+    // its budget left. `state` is the inside state where the sampling starts (-1: unknown).
+    int state = half0_valid && !exhausted0 ? (end0_inside ? 1 : 0) : -1;
+    float march_lo = leftover0;
+    float march_hi = hi0;
+    float centre_lo = max(tau_start, -tau_c);
+    float centre_hi = min(tau_end, tau_c);
+    if (centre_lo < centre_hi) {
+        march_lo = exhausted0 ? march_lo : centre_lo;
+        march_hi = centre_hi;
+    }
+    for (int pass = 0; pass < 2; ++pass) {
+        if (march_lo < march_hi
+                && march_piece(mid, d, march_lo, march_hi, CENTRE_SAMPLES, state, tau)) {
+            return true;
+        }
+        if (pass == 1) {
+            break;
+        }
+        // The crossing is at the junction with half 1.
+        if (half1_valid && state >= 0 && start1_inside != (state == 1)) {
+            tau = lo1;
+            return true;
+        }
+        if (found) {
+            tau = found_tau;
+            return true;
+        }
+        if (!exhausted1) {
+            break;
+        }
+        march_lo = leftover1;
+        march_hi = hi1;
+        state = -1;
+    }
+    return false;
+}

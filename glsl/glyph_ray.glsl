@@ -1,0 +1,92 @@
+// A pixel's ray in one glyph's normalised local frame, the radial sign function, and the
+// shading of a hit: what the ray-casting fragment shaders (raycast_common.glsl, which
+// feeds it the flat inputs of the proxy box) and the compute ray caster
+// (raycast_exact.comp, which reads the glyph's instance and box from storage buffers)
+// share. Include after frame.glsl, the glyph function and shading.glsl.
+
+float shape(float f) {
+    return glyph_set.hide_negative != 0u ? max(f, 0.0) : abs(f);
+}
+
+// g > 0 inside the glyph. Coordinates are normalised so the bound is 1 + offset.
+float inside(vec3 q) {
+    float len = length(q);
+    if (len < 1e-20) {
+        return frame.march.w;
+    }
+    return shape(glyph_f(q / len)) + frame.march.w - len;
+}
+
+// The pixel's ray clipped to the glyph's bounding sphere and to its oriented box, in the
+// local frame q = (p - c) / rho, where rho maps normalised glyph units to world units.
+// Points are q(s) = mid + s * dir, with s measured from the point `mid` of the ray closest
+// to the centre, so that q stays well conditioned however far the camera is.
+struct GlyphRay {
+    vec3 origin;      // world
+    vec3 dir;         // world and local (unit)
+    vec3 mid;         // local
+    float t_mid;      // local distance from the origin to mid
+    float rho;
+    float half_chord; // of the sphere: the chord is [-half_chord, half_chord] before clipping
+    float s_start;    // chord entry, never behind the ray origin
+    float s_end;      // chord exit
+};
+
+// v rotated by the inverse of the unit quaternion q.
+vec3 rotate_inverse(vec4 q, vec3 v) {
+    return v - 2.0 * cross(q.xyz, q.w * v - cross(q.xyz, v));
+}
+
+// The ray (ray.origin, ray.dir set by the caller) against the sphere |q| = radius of the
+// normalised frame of the glyph with bounding sphere `center_radius` (centre, world
+// radius of rho (1 + offset)), and against its box (unit quaternion `box_rotation` from
+// the box to the world, half extents `box_extent` in units of the sphere radius) scaled
+// as the sphere is (its extents times radius / (1 + offset)); false when it misses them
+// or they lie behind the origin.
+bool glyph_ray_clip(vec4 center_radius, vec4 box_rotation, vec3 box_extent, float radius,
+                    inout GlyphRay ray) {
+    // The sphere's radius is rho * (1 + offset).
+    ray.rho = center_radius.w / (1.0 + frame.march.w);
+    ray_in_glyph_frame(ray.origin, ray.dir, center_radius.xyz, ray.rho, ray.t_mid, ray.mid);
+    float half_chord2 = radius * radius - dot(ray.mid, ray.mid);
+    if (half_chord2 <= 0.0) {
+        return false;
+    }
+    ray.half_chord = sqrt(half_chord2);
+    float lo = max(-ray.half_chord, -ray.t_mid);
+    float hi = ray.half_chord;
+    // Slabs of the box, in its own frame.
+    vec3 extent = box_extent * radius;
+    vec3 m = rotate_inverse(box_rotation, ray.mid);
+    vec3 d = rotate_inverse(box_rotation, ray.dir);
+    for (int i = 0; i < 3; ++i) {
+        float di = abs(d[i]) < 1e-20 ? 1e-20 : d[i];
+        float a = (-extent[i] - m[i]) / di;
+        float b = (extent[i] - m[i]) / di;
+        lo = max(lo, min(a, b));
+        hi = min(hi, max(a, b));
+    }
+    ray.s_start = lo;
+    ray.s_end = hi;
+    return lo < hi;
+}
+
+// Colour (linear RGB, alpha 1), window depth and ray distance of the hit at q(s_hit).
+void shade_surface(GlyphRay ray, float s_hit, out vec4 color, out float depth,
+                   out float distance) {
+    vec3 q = ray.mid + s_hit * ray.dir;
+    float len = max(length(q), 1e-20);
+    vec3 q_dir = q / len;
+    vec3 grad;
+    float f = glyph_f_grad(q_dir, grad);
+    float sgn = (glyph_set.hide_negative != 0u || f >= 0.0) ? 1.0 : -1.0;
+    // Outward normal of g = 0: (|q| + n |f|) q^ - sgn grad f(q^) (Euler's identity).
+    vec3 normal = normalize((len + float(GLYPH_ORDER) * abs(f)) * q_dir - sgn * grad);
+
+    distance = (ray.t_mid + s_hit) * ray.rho;
+    vec3 world = ray.origin + distance * ray.dir;
+    depth = window_depth(world);
+
+    vec3 base = glyph_color(q_dir, len * ray.rho);
+    color = vec4(blinn_phong(base, normal, -ray.dir), 1.0);
+}

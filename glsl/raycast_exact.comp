@@ -1,0 +1,134 @@
+#version 450
+// --path compute: the exact method (raycast_exact.frag) as a compute ray caster. One
+// invocation per pixel, one workgroup per screen tile of 16 x 16 pixels. The CPU listed
+// in each tile every glyph whose oriented box may cover it, sorted by the nearest depth
+// the box can be hit at (src/render/tiles.rs). A pixel walks its tile's list front to
+// back: it clips its ray to each glyph's sphere and box (glyph_ray_clip), runs the
+// fragment shader's root isolation (exact_root.glsl) where the ray enters the box before
+// its best hit, keeps the nearest hit, and stops at the first glyph whose nearest depth
+// lies behind it. Only the nearest hit is shaded, once, after the walk.
+//
+// lavapipe ends an invocation after 65,535 loop iterations in all, so one dispatch walks
+// at most WALK_PER_DISPATCH entries of a list (slice `glyph_set.slice`); a longer list
+// takes more dispatches, each starting from the nearest hits the earlier ones stored.
+// Glyph sets (and parts of sets that one storage buffer cannot hold) are dispatched one
+// after another into the same outputs, which compose by ray distance as a depth test
+// would.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
+#define GLYPHCAST_COMPUTE
+#include "frame.glsl"
+#include "glyph_function.glsl"
+#include "pixel_ray.glsl"
+#include "shading.glsl"
+#include "glyph_ray.glsl"
+#include "exact_root.glsl"
+
+// A tile is a workgroup: src/render/tiles.rs TILE_SIZE.
+layout(local_size_x = 16, local_size_y = 16) in;
+// src/render/tiles.rs WALK_PER_DISPATCH, set by the pipeline.
+layout(constant_id = 0) const uint WALK_PER_DISPATCH = 32u;
+
+// Per glyph: centre and world radius of the bounding sphere; the box's rotation (box to
+// world, x y z w) and half extents in units of that radius (GlyphSetData).
+layout(std430, set = 0, binding = 2) readonly buffer Instances {
+    vec4 instances[];
+};
+layout(std430, set = 0, binding = 3) readonly buffer Boxes {
+    vec4 boxes[];
+};
+// Per tile (row-major): first entry of its list, length.
+layout(std430, set = 0, binding = 4) readonly buffer TileRanges {
+    uvec2 tile_ranges[];
+};
+// Per entry: glyph, bits of its nearest depth (world ray distance), sorted by the latter.
+layout(std430, set = 0, binding = 5) readonly buffer TileEntries {
+    uvec2 tile_entries[];
+};
+// Per pixel, row-major from the top-left: RGBA8 sRGB (the colour target's bytes), and
+// the ray distance of the nearest hit (< 0: none yet).
+layout(std430, set = 0, binding = 6) buffer Colors {
+    uint colors[];
+};
+layout(std430, set = 0, binding = 7) buffer Distances {
+    float distances[];
+};
+
+// The pixel's ray in the frame of `glyph`, clipped to its chord and box.
+bool clip_to_glyph(uint glyph, vec3 origin, vec3 dir, out GlyphRay ray) {
+    ray.origin = origin;
+    ray.dir = dir;
+    // raycast.vert normalises the rotation before the fragment shader sees it.
+    return glyph_ray_clip(instances[glyph], normalize(boxes[2u * glyph]),
+                          boxes[2u * glyph + 1u].xyz, CHORD_RADIUS, ray);
+}
+
+// The 8-bit sRGB encoding that an R8G8B8A8_SRGB attachment applies to a written colour.
+uint srgb_byte(float linear) {
+    float c = clamp(linear, 0.0, 1.0);
+    float encoded = c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055;
+    return uint(encoded * 255.0 + 0.5);
+}
+
+void main() {
+    uvec2 pixel = gl_GlobalInvocationID.xy;
+    if (pixel.x >= glyph_set.width || pixel.y >= glyph_set.height) {
+        return;
+    }
+    uint tile = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    uvec2 range = tile_ranges[tile];
+    uint skip = glyph_set.slice * WALK_PER_DISPATCH;
+    if (range.y <= skip) {
+        return;
+    }
+    uint first = range.x + skip;
+    uint count = min(range.y - skip, WALK_PER_DISPATCH);
+    uint index = pixel.y * glyph_set.width + pixel.x;
+    float best = distances[index];
+    vec3 origin, dir;
+    pixel_ray_through(vec2(pixel) + 0.5, origin, dir);
+    init_binomials();
+    const uint NONE = 0xffffffffu;
+    uint best_glyph = NONE;
+    float best_tau = 0.0;
+    for (uint i = 0u; i < count; ++i) {
+        uvec2 entry = tile_entries[first + i];
+        if (best >= 0.0 && uintBitsToFloat(entry.y) >= best) {
+            break;  // this glyph and every later one lie behind the best hit
+        }
+        GlyphRay ray;
+        if (!clip_to_glyph(entry.x, origin, dir, ray)) {
+            continue;
+        }
+        // Where the ray enters the box bounds the glyph's hits too.
+        if (best >= 0.0 && (ray.t_mid + ray.s_start) * ray.rho >= best) {
+            continue;
+        }
+        glyph_load(entry.x);
+        float h = ray.half_chord;
+        ray_polynomial(ray.mid, h * ray.dir);
+        float tau;
+        if (first_crossing(ray.mid, h * ray.dir, ray.s_start / h, ray.s_end / h, tau)) {
+            // shade_surface's distance of the hit, as the fragment shader writes it.
+            float distance = (ray.t_mid + tau * h) * ray.rho;
+            if (best < 0.0 || distance < best) {
+                best = distance;
+                best_glyph = entry.x;
+                best_tau = tau;
+            }
+        }
+    }
+    if (best_glyph == NONE) {
+        return;
+    }
+    GlyphRay ray;
+    clip_to_glyph(best_glyph, origin, dir, ray);
+    glyph_load(best_glyph);
+    vec4 color;
+    float depth;
+    float distance;
+    shade_surface(ray, best_tau * ray.half_chord, color, depth, distance);
+    colors[index] = srgb_byte(color.r) | (srgb_byte(color.g) << 8) | (srgb_byte(color.b) << 16)
+                  | (255u << 24);
+    distances[index] = distance;
+}

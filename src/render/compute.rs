@@ -1,0 +1,527 @@
+//! The compute ray caster (`--path compute`): a second path beside the proxy boxes of
+//! [`raycast`](crate::render::raycast), for the exact method. The CPU bins each glyph's
+//! oriented box into screen tiles, sorted front to back ([`tiles`](crate::render::tiles));
+//! a compute shader per tensor layout (glsl/raycast_exact.comp) runs one invocation per
+//! pixel that walks its tile's list with the fragment shader's root isolation
+//! (glsl/exact_root.glsl) and stops behind its nearest hit.
+//!
+//! The outputs are two storage buffers of the image's size, colour (RGBA8 sRGB, the
+//! colour target's bytes) and ray distance (negative: no hit), that [`ComputeRayCastPass::record`]
+//! clears and the dispatches fill; the caller copies them out. Every part of every glyph
+//! set is dispatched into the same outputs, one slice of the tile lists at a time, and
+//! each dispatch starts from the distances the earlier ones stored, so the parts compose
+//! as a depth test would. A glyph set is split into parts where its coefficients or
+//! boxes would exceed one storage buffer (maxStorageBufferRange); lavapipe has no
+//! descriptor indexing, so every part has its own descriptor set.
+use crate::camera::Camera;
+use crate::error::{Error, Result, VkContext};
+use crate::glyph::TensorLayout;
+use crate::render::Method;
+use crate::render::frame::FrameParams;
+use crate::render::glyph_data::GlyphSetData;
+use crate::render::raycast::shader_module;
+use crate::render::shaders::compute_raycast_shader;
+use crate::render::tiles::{ScreenView, TileBins, WALK_PER_DISPATCH, bin_glyphs};
+use crate::vk::{Buffer, DeviceContext};
+use ash::vk;
+use bytemuck::{Pod, Zeroable};
+use gpu_allocator::MemoryLocation;
+use std::collections::HashMap;
+
+/// Push constants of glsl/raycast_exact.comp (`GlyphSetParams` of glsl/frame.glsl with
+/// GLYPHCAST_COMPUTE defined).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct ComputeParams {
+    hide_negative: u32,
+    /// Which [`WALK_PER_DISPATCH`] entries of each tile's list this dispatch walks.
+    slice: u32,
+    width: u32,
+    height: u32,
+}
+
+/// Storage buffers of a part, at bindings 1 to 5 (0 is the frame's uniform buffer, 6 and
+/// 7 the outputs).
+const INPUT_BINDINGS: u32 = 5;
+/// Every binding: frame, five inputs, two outputs.
+const BINDINGS: u32 = 1 + INPUT_BINDINGS + 2;
+
+/// Pipelines and layouts of the compute ray caster; created once per device.
+pub struct ComputeRayCastPass {
+    ctx: DeviceContext,
+    set_layout: vk::DescriptorSetLayout,
+    pipeline_layout: vk::PipelineLayout,
+    pipelines: HashMap<TensorLayout, vk::Pipeline>,
+    buffer_limit: Option<u64>,
+}
+
+/// One part of a glyph set on the GPU, with its tile lists.
+struct ComputePartGpu {
+    layout: TensorLayout,
+    hide_negative: bool,
+    /// Dispatches that walk its longest tile list.
+    slices: u32,
+    descriptor_set: vk::DescriptorSet,
+    /// Coefficients, instances, boxes, tile ranges and tile entries, kept alive for the
+    /// descriptor set.
+    _inputs: Vec<Buffer>,
+}
+
+/// A scene uploaded for the compute ray caster at one image size and camera (the tile
+/// lists depend on both).
+pub struct ComputeSceneGpu {
+    ctx: DeviceContext,
+    frame: Buffer,
+    pool: vk::DescriptorPool,
+    parts: Vec<ComputePartGpu>,
+    /// RGBA8 sRGB per pixel, row-major from the top-left.
+    pub colors: Buffer,
+    /// Ray distance per pixel (f32), negative for a miss.
+    pub distances: Buffer,
+    width: u32,
+    height: u32,
+    tiles: (u32, u32),
+    /// The background as the colour target's clear would store it.
+    background: u32,
+    /// Tile list entries over every part, for reports.
+    pub tile_entries: usize,
+}
+
+impl ComputeSceneGpu {
+    /// Parts dispatched (glyph sets, split where a storage buffer could not hold one).
+    pub fn parts(&self) -> usize {
+        self.parts.len()
+    }
+
+    /// Dispatches per frame.
+    pub fn dispatches(&self) -> usize {
+        self.parts.iter().map(|p| p.slices as usize).sum()
+    }
+}
+
+/// The 8-bit sRGB encoding of a linear value, as an sRGB colour target stores it.
+fn srgb_byte(linear: f32) -> u32 {
+    let c = linear.clamp(0.0, 1.0);
+    let encoded = if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
+    (encoded * 255.0 + 0.5) as u32
+}
+
+/// An opaque linear RGB colour as the bytes of an R8G8B8A8_SRGB pixel, in one word.
+pub fn packed_srgb(rgb: [f32; 3]) -> u32 {
+    srgb_byte(rgb[0]) | srgb_byte(rgb[1]) << 8 | srgb_byte(rgb[2]) << 16 | 255 << 24
+}
+
+impl ComputeRayCastPass {
+    pub fn new(ctx: &DeviceContext) -> Result<ComputeRayCastPass> {
+        let device = ctx.device();
+        let bindings: Vec<_> = (0..BINDINGS)
+            .map(|binding| {
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(binding)
+                    .descriptor_type(if binding == 0 {
+                        vk::DescriptorType::UNIFORM_BUFFER
+                    } else {
+                        vk::DescriptorType::STORAGE_BUFFER
+                    })
+                    .descriptor_count(1)
+                    .stage_flags(vk::ShaderStageFlags::COMPUTE)
+            })
+            .collect();
+        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
+        let mut pass = ComputeRayCastPass {
+            ctx: ctx.clone(),
+            set_layout: vk::DescriptorSetLayout::null(),
+            pipeline_layout: vk::PipelineLayout::null(),
+            pipelines: HashMap::new(),
+            buffer_limit: None,
+        };
+        // SAFETY: valid device and create infos; objects are destroyed in Drop.
+        unsafe {
+            pass.set_layout = device
+                .create_descriptor_set_layout(&info, None)
+                .vk("vkCreateDescriptorSetLayout")?;
+            let push = [vk::PushConstantRange::default()
+                .stage_flags(vk::ShaderStageFlags::COMPUTE)
+                .offset(0)
+                .size(std::mem::size_of::<ComputeParams>() as u32)];
+            let layouts = [pass.set_layout];
+            let layout_info = vk::PipelineLayoutCreateInfo::default()
+                .set_layouts(&layouts)
+                .push_constant_ranges(&push);
+            pass.pipeline_layout = device
+                .create_pipeline_layout(&layout_info, None)
+                .vk("vkCreatePipelineLayout")?;
+        }
+        Ok(pass)
+    }
+
+    /// Caps the bytes of coefficients and boxes per part below the device's
+    /// maxStorageBufferRange (tests use it to force the split into parts); `None` lifts
+    /// the cap. The outputs and tile lists are held against the device's limit.
+    pub fn set_storage_buffer_limit(&mut self, bytes: Option<u64>) {
+        self.buffer_limit = bytes;
+    }
+
+    fn storage_buffer_limit(&self) -> u64 {
+        let device = self.ctx.max_storage_buffer_range();
+        self.buffer_limit.map_or(device, |cap| cap.min(device))
+    }
+
+    /// The compute pipeline of a tensor layout, created on first use.
+    pub fn pipeline(&mut self, layout: TensorLayout) -> Result<vk::Pipeline> {
+        if let Some(p) = self.pipelines.get(&layout) {
+            return Ok(*p);
+        }
+        let shader = compute_raycast_shader(layout, Method::Exact).ok_or_else(|| {
+            Error::Invalid(format!(
+                "no compute ray caster for a {:?} tensor of order {}",
+                layout.symmetry, layout.order
+            ))
+        })?;
+        let device = self.ctx.device();
+        // SAFETY: the SPIR-V comes from build.rs and was validated by glslang.
+        let module = unsafe { shader_module(device, shader.spirv)? };
+        let entries = [vk::SpecializationMapEntry {
+            constant_id: 0,
+            offset: 0,
+            size: 4,
+        }];
+        let walk = WALK_PER_DISPATCH.to_ne_bytes();
+        let specialization = vk::SpecializationInfo::default()
+            .map_entries(&entries)
+            .data(&walk);
+        let stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(module)
+            .name(c"main")
+            .specialization_info(&specialization);
+        let info = vk::ComputePipelineCreateInfo::default()
+            .stage(stage)
+            .layout(self.pipeline_layout);
+        // SAFETY: all referenced state lives until the call returns.
+        let created =
+            unsafe { device.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) };
+        // SAFETY: a module may be destroyed once the pipeline exists (or failed).
+        unsafe { device.destroy_shader_module(module, None) };
+        let pipeline = created
+            .map_err(|(_, result)| Error::Vulkan {
+                call: "vkCreateComputePipelines",
+                result,
+            })?
+            .first()
+            .copied()
+            .ok_or_else(|| Error::Setup("vkCreateComputePipelines returned no pipeline".into()))?;
+        self.pipelines.insert(layout, pipeline);
+        Ok(pipeline)
+    }
+
+    /// Bins and uploads glyph sets for `camera` at `width` x `height`, with the frame
+    /// parameters and the output buffers.
+    #[allow(clippy::too_many_arguments)]
+    pub fn upload(
+        &mut self,
+        ctx: &DeviceContext,
+        sets: &[GlyphSetData],
+        frame: &FrameParams,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+        background: [f32; 3],
+    ) -> Result<ComputeSceneGpu> {
+        let device = ctx.device();
+        let limit = self.storage_buffer_limit();
+        let view = ScreenView::new(camera, width, height);
+        // Parts: glyph ranges whose coefficients and boxes fit one storage buffer each.
+        let mut parts = Vec::new();
+        for (index, data) in sets.iter().enumerate().filter(|(_, d)| !d.is_empty()) {
+            self.pipeline(data.layout)?;
+            let glyph_bytes = (4 * data.layout.coefficient_count() as u64).max(32);
+            let per_part = (limit / glyph_bytes).min(u32::MAX as u64) as usize;
+            if per_part == 0 {
+                return Err(Error::Invalid(format!(
+                    "glyph set {index}: one glyph's {glyph_bytes} bytes exceed the storage \
+                     buffer limit of {limit} bytes"
+                )));
+            }
+            for start in (0..data.len()).step_by(per_part) {
+                parts.push((data, start..(start + per_part).min(data.len())));
+            }
+        }
+        let device_limit = ctx.max_storage_buffer_range();
+        let pixels = width as u64 * height as u64;
+        if 4 * pixels > device_limit {
+            return Err(Error::Invalid(format!(
+                "--path compute: a {width} x {height} image exceeds the storage buffer limit \
+                 of {device_limit} bytes"
+            )));
+        }
+        let count = parts.len().max(1) as u32;
+        let sizes = [
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::UNIFORM_BUFFER,
+                descriptor_count: count,
+            },
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::STORAGE_BUFFER,
+                descriptor_count: count * (BINDINGS - 1),
+            },
+        ];
+        let pool_info = vk::DescriptorPoolCreateInfo::default()
+            .max_sets(count)
+            .pool_sizes(&sizes);
+        // SAFETY: valid create info.
+        let pool = unsafe { device.create_descriptor_pool(&pool_info, None) }
+            .vk("vkCreateDescriptorPool")?;
+        let output = |name: &str| {
+            Buffer::new(
+                ctx,
+                name,
+                4 * pixels,
+                vk::BufferUsageFlags::STORAGE_BUFFER
+                    | vk::BufferUsageFlags::TRANSFER_SRC
+                    | vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuOnly,
+            )
+        };
+        let mut scene = ComputeSceneGpu {
+            ctx: ctx.clone(),
+            frame: Buffer::with_data(
+                ctx,
+                "frame",
+                std::slice::from_ref(frame),
+                vk::BufferUsageFlags::UNIFORM_BUFFER,
+            )?,
+            pool,
+            parts: Vec::new(),
+            colors: output("compute colour")?,
+            distances: output("compute distance")?,
+            width,
+            height,
+            tiles: (view.tiles_x(), view.tiles_y()),
+            background: packed_srgb(background),
+            tile_entries: 0,
+        };
+        for (data, range) in parts {
+            let bins = bin_glyphs(
+                &view,
+                &data.instances[range.clone()],
+                &data.boxes[range.clone()],
+            );
+            let entry_bytes = 8 * bins.entries.len() as u64;
+            if entry_bytes > device_limit {
+                return Err(Error::Invalid(format!(
+                    "--path compute: the tile lists take {entry_bytes} bytes, more than the \
+                     storage buffer limit of {device_limit} bytes"
+                )));
+            }
+            scene.tile_entries += bins.entries.len();
+            let part = upload_part(ctx, &scene, self.set_layout, data, range, &bins)?;
+            scene.parts.push(part);
+        }
+        Ok(scene)
+    }
+
+    /// Records the clearing of the outputs and every dispatch, then a barrier that makes
+    /// the outputs readable by transfers (the caller copies them out).
+    pub fn record(&mut self, cmd: vk::CommandBuffer, scene: &ComputeSceneGpu) -> Result<()> {
+        let pipelines = scene
+            .parts
+            .iter()
+            .map(|part| self.pipeline(part.layout))
+            .collect::<Result<Vec<_>>>()?;
+        let d = self.ctx.device();
+        let no_hit = (-1.0f32).to_bits();
+        let after_fill = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::CLEAR)
+            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+            .dst_access_mask(
+                vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            )];
+        // Each dispatch reads the distances the one before wrote.
+        let between = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+            .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+            .dst_access_mask(
+                vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            )];
+        let to_transfer = [vk::MemoryBarrier2::default()
+            .src_stage_mask(
+                vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::CLEAR,
+            )
+            .src_access_mask(
+                vk::AccessFlags2::SHADER_STORAGE_WRITE | vk::AccessFlags2::TRANSFER_WRITE,
+            )
+            .dst_stage_mask(vk::PipelineStageFlags2::COPY)
+            .dst_access_mask(vk::AccessFlags2::TRANSFER_READ)];
+        // SAFETY: recording state is the caller's; all handles are alive.
+        unsafe {
+            d.cmd_fill_buffer(
+                cmd,
+                scene.colors.handle,
+                0,
+                vk::WHOLE_SIZE,
+                scene.background,
+            );
+            d.cmd_fill_buffer(cmd, scene.distances.handle, 0, vk::WHOLE_SIZE, no_hit);
+            d.cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default().memory_barriers(&after_fill),
+            );
+        }
+        let mut first = true;
+        for (part, &pipeline) in scene.parts.iter().zip(&pipelines) {
+            for slice in 0..part.slices {
+                let params = ComputeParams {
+                    hide_negative: u32::from(part.hide_negative),
+                    slice,
+                    width: scene.width,
+                    height: scene.height,
+                };
+                // SAFETY: as above.
+                unsafe {
+                    if !first {
+                        d.cmd_pipeline_barrier2(
+                            cmd,
+                            &vk::DependencyInfo::default().memory_barriers(&between),
+                        );
+                    }
+                    d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
+                    d.cmd_bind_descriptor_sets(
+                        cmd,
+                        vk::PipelineBindPoint::COMPUTE,
+                        self.pipeline_layout,
+                        0,
+                        &[part.descriptor_set],
+                        &[],
+                    );
+                    d.cmd_push_constants(
+                        cmd,
+                        self.pipeline_layout,
+                        vk::ShaderStageFlags::COMPUTE,
+                        0,
+                        bytemuck::bytes_of(&params),
+                    );
+                    d.cmd_dispatch(cmd, scene.tiles.0, scene.tiles.1, 1);
+                }
+                first = false;
+            }
+        }
+        // SAFETY: as above.
+        unsafe {
+            d.cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default().memory_barriers(&to_transfer),
+            );
+        }
+        Ok(())
+    }
+}
+
+/// Uploads glyphs `range` of a set and their tile lists into buffers of their own.
+fn upload_part(
+    ctx: &DeviceContext,
+    scene: &ComputeSceneGpu,
+    set_layout: vk::DescriptorSetLayout,
+    data: &GlyphSetData,
+    range: std::ops::Range<usize>,
+    bins: &TileBins,
+) -> Result<ComputePartGpu> {
+    let n = data.layout.coefficient_count();
+    let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+    let inputs = vec![
+        Buffer::with_data(
+            ctx,
+            "coefficients",
+            &data.coefficients[range.start * n..range.end * n],
+            storage,
+        )?,
+        Buffer::with_data(ctx, "instances", &data.instances[range.clone()], storage)?,
+        Buffer::with_data(ctx, "boxes", &data.boxes[range.clone()], storage)?,
+        Buffer::with_data(ctx, "tile ranges", &bins.ranges, storage)?,
+        Buffer::with_data(ctx, "tile entries", &bins.entries, storage)?,
+    ];
+    let layouts = [set_layout];
+    let alloc = vk::DescriptorSetAllocateInfo::default()
+        .descriptor_pool(scene.pool)
+        .set_layouts(&layouts);
+    let device = ctx.device();
+    // SAFETY: the pool was sized for one set per part.
+    let descriptor_set =
+        unsafe { device.allocate_descriptor_sets(&alloc) }.vk("vkAllocateDescriptorSets")?[0];
+    let whole = |buffer: &Buffer| {
+        [vk::DescriptorBufferInfo {
+            buffer: buffer.handle,
+            offset: 0,
+            range: vk::WHOLE_SIZE,
+        }]
+    };
+    let infos: Vec<[vk::DescriptorBufferInfo; 1]> = std::iter::once(&scene.frame)
+        .chain(&inputs)
+        .chain([&scene.colors, &scene.distances])
+        .map(whole)
+        .collect();
+    let writes: Vec<_> = infos
+        .iter()
+        .enumerate()
+        .map(|(binding, info)| {
+            vk::WriteDescriptorSet::default()
+                .dst_set(descriptor_set)
+                .dst_binding(binding as u32)
+                .descriptor_type(if binding == 0 {
+                    vk::DescriptorType::UNIFORM_BUFFER
+                } else {
+                    vk::DescriptorType::STORAGE_BUFFER
+                })
+                .buffer_info(info)
+        })
+        .collect();
+    // SAFETY: the set and buffers are alive; no command buffer uses the set yet.
+    unsafe { device.update_descriptor_sets(&writes, &[]) };
+    Ok(ComputePartGpu {
+        layout: data.layout,
+        hide_negative: data.negative == crate::glyph::NegativeMode::Hide,
+        slices: bins.slices,
+        descriptor_set,
+        _inputs: inputs,
+    })
+}
+
+impl Drop for ComputeSceneGpu {
+    fn drop(&mut self) {
+        // SAFETY: the owner has waited for the frames that used these sets; the device is
+        // alive while `self.ctx` is.
+        unsafe { self.ctx.device().destroy_descriptor_pool(self.pool, None) };
+    }
+}
+
+impl Drop for ComputeRayCastPass {
+    fn drop(&mut self) {
+        let device = self.ctx.device();
+        // SAFETY: the owner has waited for every frame recorded with this pass; the device
+        // is alive while `self.ctx` is.
+        unsafe {
+            for p in self.pipelines.values() {
+                device.destroy_pipeline(*p, None);
+            }
+            device.destroy_pipeline_layout(self.pipeline_layout, None);
+            device.destroy_descriptor_set_layout(self.set_layout, None);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn srgb_bytes_of_the_ends_and_the_middle() {
+        assert_eq!(packed_srgb([0.0, 1.0, 0.5]), 0xff_bc_ff_00);
+        assert_eq!(srgb_byte(0.002), 7); // the linear segment: 12.92 * 0.002 * 255 = 6.6
+    }
+}

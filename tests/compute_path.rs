@@ -1,0 +1,208 @@
+//! The compute ray caster (`--path compute`) against the float64 reference and against
+//! the fragment path (the same exact root isolation, glsl/exact_root.glsl, behind proxy
+//! boxes): on the accuracy suite (a camera inside a glyph's box among its scenes), on a
+//! dense generated fODF field, on a stack of overlapping glyphs deeper than one dispatch's
+//! walk (front-to-back order and slices), with the stack split into parts by a small
+//! storage buffer limit, and with two glyph sets of different layouts.
+//!
+//! Both paths run the same float32 code on the same pixel rays, so they should agree
+//! to the bit on almost every pixel: the tolerances below allow float32 rounding of the
+//! distance (1e-5 of the glyph scale) and one unit of the 8-bit sRGB encoding (the
+//! compute shader encodes it itself, the colour target's conversion may round the
+//! other way), and no pixel may be covered by one path and not the other.
+mod common;
+use glam::DVec3;
+use glyphcast::accuracy::suite;
+use glyphcast::bench::workload;
+use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
+use glyphcast::io::scene::Scene;
+use glyphcast::render::glyph_data::prepare_scene;
+use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
+use glyphcast::render::tiles::WALK_PER_DISPATCH;
+use glyphcast::render::{RenderPath, RenderSettings};
+use glyphcast::vk::Gpu;
+
+const SIZE: u32 = 128;
+
+fn settings(path: RenderPath) -> RenderSettings {
+    RenderSettings {
+        path,
+        ..Default::default()
+    }
+}
+
+/// Compute against the reference: no holes, no false hits, float32 depth.
+fn assert_accurate(name: &str, r: &common::Rendered) {
+    let c = r.comparison;
+    eprintln!("{name} (compute): {c}");
+    assert!(c.covered > 0, "{name}: nothing to compare: {c}");
+    if c.holes != 0 || c.false_hits != 0 || c.median_error >= 1e-4 {
+        common::save_failure_images(&format!("{name}-compute"), r);
+        panic!("{name}: {c}");
+    }
+}
+
+/// Compute against fragment, pixel by pixel.
+fn assert_same_image(name: &str, compute: &RenderedImage, fragment: &RenderedImage, scale: f64) {
+    let mut coverage = 0;
+    let mut far = 0;
+    let mut colour = 0;
+    for (p, (c, f)) in compute.distance.iter().zip(&fragment.distance).enumerate() {
+        match (c.is_nan(), f.is_nan()) {
+            (true, true) => {}
+            (false, false) => {
+                far += usize::from(((c - f) as f64).abs() > 1e-5 * scale);
+            }
+            _ => coverage += 1,
+        }
+        let (a, b) = (
+            &compute.rgba[4 * p..4 * p + 4],
+            &fragment.rgba[4 * p..4 * p + 4],
+        );
+        colour += usize::from(a.iter().zip(b).any(|(x, y)| x.abs_diff(*y) > 1));
+    }
+    eprintln!(
+        "{name}: compute and fragment differ in coverage {coverage}, distance {far}, colour {colour}"
+    );
+    if coverage + far + colour != 0 {
+        let dir = common::output_dir();
+        for (path, image) in [("compute", compute), ("fragment", fragment)] {
+            let _ = glyphcast::io::png::write_png_rgba8(
+                &dir.join(format!("{name}-{path}.png")),
+                image.width,
+                image.height,
+                &image.rgba,
+            );
+        }
+        panic!("{name}: the paths differ (images in {})", dir.display());
+    }
+}
+
+/// Renders `scene` on both paths, checks the compute image against the reference and
+/// against the fragment image; returns the compute image.
+fn check_scene(
+    gpu: &Gpu,
+    renderer: &mut HeadlessRenderer,
+    name: &str,
+    scene: &Scene,
+) -> RenderedImage {
+    let r = common::render_and_compare(gpu, renderer, scene, &settings(RenderPath::Compute));
+    assert_accurate(name, &r);
+    let fragment =
+        common::render_and_compare(gpu, renderer, scene, &settings(RenderPath::Fragment));
+    assert_same_image(name, &r.image, &fragment.image, r.scale);
+    r.image
+}
+
+#[test]
+fn compute_matches_reference_and_fragment_on_the_accuracy_suite() {
+    let gpu = common::gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    for entry in suite::suite(SIZE) {
+        check_scene(&gpu, &mut renderer, entry.name, &entry.scene);
+    }
+}
+
+#[test]
+fn compute_matches_on_a_dense_fodf_field() {
+    let gpu = common::gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    let scene = workload::fodf(64, 8, 160, 120).expect("workload");
+    check_scene(&gpu, &mut renderer, "fodf-64", &scene);
+}
+
+/// More glyphs than one dispatch walks, overlapping along the view: crossings of two
+/// fibres, one behind the other and slightly offset, seen from the front so that every
+/// pixel's list is longer than WALK_PER_DISPATCH and front-to-back order decides what
+/// is seen.
+fn glyph_stack() -> Scene {
+    let count = WALK_PER_DISPATCH as usize + 12;
+    let mut scene = suite::thin_crossing_lobes(SIZE);
+    let eye = DVec3::new(0.3, -6.0, 0.4);
+    let fwd = (-eye).normalize();
+    let centers: Vec<DVec3> = (0..count)
+        .map(|k| {
+            let t = k as f64 / count as f64;
+            DVec3::new(0.25 * (7.0 * t).sin(), 0.0, 0.25 * (5.0 * t).cos())
+                + fwd * (0.12 * k as f64)
+        })
+        .collect();
+    let tensors = (0..count)
+        .map(|k| {
+            fibre_tensor(
+                6,
+                &[
+                    (direction(20.0 * k as f64, 10.0), 1.0),
+                    (direction(20.0 * k as f64 + 80.0, -30.0), 0.8),
+                ],
+            )
+        })
+        .collect();
+    scene.glyph_sets = vec![glyph_set(symmetric(6), centers, 0.5, tensors)];
+    scene.camera.eye = eye;
+    scene
+}
+
+#[test]
+fn compute_walks_a_stack_deeper_than_one_dispatch_front_to_back() {
+    let gpu = common::gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    let scene = glyph_stack();
+    let whole = check_scene(&gpu, &mut renderer, "stack", &scene);
+    assert!(
+        whole.draws >= 2,
+        "{} dispatches: the stack must take slices",
+        whole.draws
+    );
+
+    // Parts of 10 glyphs each (order 6: 28 coefficients, 112 bytes a glyph).
+    renderer
+        .compute_pass_mut()
+        .set_storage_buffer_limit(Some(10 * 112));
+    let sets = prepare_scene(&scene, 0.0).expect("prepare");
+    let (w, h) = (scene.image.width, scene.image.height);
+    let parts = renderer
+        .render(
+            &gpu,
+            &sets,
+            &scene.camera,
+            w,
+            h,
+            &settings(RenderPath::Compute),
+        )
+        .expect("render in parts");
+    renderer.compute_pass_mut().set_storage_buffer_limit(None);
+    assert!(parts.draws > whole.draws, "{} dispatches", parts.draws);
+    assert_eq!(parts.rgba, whole.rgba, "parts change the image");
+    let same = parts
+        .distance
+        .iter()
+        .zip(&whole.distance)
+        .all(|(a, b)| a.to_bits() == b.to_bits());
+    assert!(same, "parts change the distances");
+}
+
+/// Two glyph sets of different tensor layouts (a symmetric order-4 and the non-symmetric
+/// stiffness tensor), interleaved in depth: each set is its own dispatch, and the second
+/// composes with the first by distance.
+#[test]
+fn compute_composes_glyph_sets_of_different_layouts() {
+    let gpu = common::gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    let mut scene = suite::stiffness(SIZE);
+    let crossing = fibre_tensor(
+        4,
+        &[(direction(0.0, 0.0), 1.0), (direction(90.0, 0.0), 0.7)],
+    );
+    let centers = vec![DVec3::new(0.2, 0.3, 0.1), DVec3::new(-0.3, -0.4, -0.1)];
+    scene.glyph_sets.push(glyph_set(
+        symmetric(4),
+        centers,
+        0.6,
+        vec![crossing.clone(), crossing],
+    ));
+    let sets = prepare_scene(&scene, 0.0).expect("prepare");
+    assert_eq!(sets.len(), 2);
+    assert_ne!(sets[0].layout, sets[1].layout);
+    check_scene(&gpu, &mut renderer, "two-layouts", &scene);
+}
