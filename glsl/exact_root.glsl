@@ -5,7 +5,9 @@
 // glyph function (glyph_c).
 // binomial[] holds C(2n + 2, k) as float32, exact while it stays below 2^24: C(26, 13) =
 // 10,400,600 at order 12, but C(28, 14) = 40,116,600 at order 13.
-#if GLYPH_ORDER_MACRO > 12
+#ifndef GLYPH_ORDER_MACRO
+#error "exact_root.glsl needs glyph_function.glsl first"
+#elif GLYPH_ORDER_MACRO > 12
 #error "the exact method's binomials are exact in float32 only up to order 12"
 #endif
 
