@@ -22,8 +22,8 @@ fn data(name: &str) -> PathBuf {
 fn files() -> FitFiles {
     FitFiles {
         dwi: data("small_64D.nii"),
-        bval: data("small_64D.bval"),
-        bvec: data("small_64D.bvec"),
+        bval: Some(data("small_64D.bval")),
+        bvec: Some(data("small_64D.bvec")),
         mask: None,
     }
 }
