@@ -573,7 +573,7 @@ fn bad_inputs_fail_cleanly_naming_the_file() {
         (
             "unknown-basis",
             good,
-            vec!["--order", "4", "--sh", "--basis", "mrtrix"],
+            vec!["--order", "4", "--sh", "--basis", "fsl"],
             "--basis".into(),
         ),
         (

@@ -421,3 +421,49 @@ fn parse_dw_scheme(lines: &[String], file: &str) -> Result<Option<Vec<[f64; 4]>>
         .collect::<Result<Vec<_>>>()
         .map(Some)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const HEADER: &str = "mrtrix image\r\nDim: 4,5,6\nvox: 1,2,3\nlayout: -0,+2,+1\n\
+        datatype: UInt8\ntransform: 1,0,0,1\ntransform: 0,1,0,2\ntransform: 0,0,1,3\n\
+        mrtrix_version: 3.0\nfile: my data.dat 12\nEND\nbinary";
+
+    #[test]
+    fn keys_layout_and_file_are_read() {
+        let h = MifHeader::parse(HEADER.as_bytes(), "h.mih").unwrap();
+        assert_eq!(h.dims, vec![4, 5, 6]);
+        let layout = [(0, true), (2, false), (1, false)]
+            .map(|(rank, reversed)| AxisLayout { rank, reversed });
+        assert_eq!(h.layout, layout);
+        assert_eq!(h.transform.unwrap()[2], [0.0, 0.0, 1.0, 3.0]);
+        assert_eq!(
+            h.file,
+            DataFile {
+                name: "my data.dat".into(),
+                offset: 12
+            }
+        );
+        assert_eq!(h.scaling, (0.0, 1.0));
+        assert_eq!(h.other, vec![("mrtrix_version".into(), "3.0".into())]);
+        assert_eq!(&HEADER.as_bytes()[h.length..], b"binary");
+    }
+
+    #[test]
+    fn broken_headers_name_the_key() {
+        let broken = |from: &str, to: &str| {
+            let text = HEADER.replace(from, to);
+            MifHeader::parse(text.as_bytes(), "h.mih")
+                .unwrap_err()
+                .to_string()
+        };
+        assert!(broken("Dim: 4,5,6\n", "").contains("dim: missing"));
+        assert!(broken("layout: -0,+2,+1", "layout: 0,2,x").contains("layout"));
+        assert!(broken("transform: 0,0,1,3\n", "").contains("transform: 8 numbers"));
+        assert!(broken("file: my data.dat 12\n", "").contains("file: missing"));
+        assert!(broken("vox: 1,2,3", "vox: 1,2,3\nvox: 1,2,3").contains("vox: given twice"));
+        assert!(broken("datatype: UInt8", "datatype UInt8").contains("line 5"));
+        assert!(broken("END\nbinary", "").contains("END: the header has no"));
+    }
+}
