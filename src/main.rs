@@ -47,7 +47,7 @@ enum Command {
     Accuracy(cli::accuracy::AccuracyArgs),
     /// GPU timings of the glyph pass: one scene or workload, or a sweep.
     Bench(cli::bench::BenchArgs),
-    /// Fit tensor or SH coefficients to a DWI series (writes a 4D NIfTI).
+    /// Fit tensor or SH coefficients to a DWI series (writes a 4D NIfTI or MRtrix image).
     Fit(cli::fit::FitArgs),
     /// Write a one-glyph scene file from a Voigt stiffness matrix (CSV or JSON).
     Stiffness(cli::stiffness::StiffnessArgs),

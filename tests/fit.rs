@@ -22,8 +22,8 @@ fn data(name: &str) -> PathBuf {
 fn files() -> FitFiles {
     FitFiles {
         dwi: data("small_64D.nii"),
-        bval: data("small_64D.bval"),
-        bvec: data("small_64D.bvec"),
+        bval: Some(data("small_64D.bval")),
+        bvec: Some(data("small_64D.bvec")),
         mask: None,
     }
 }
@@ -573,7 +573,7 @@ fn bad_inputs_fail_cleanly_naming_the_file() {
         (
             "unknown-basis",
             good,
-            vec!["--order", "4", "--sh", "--basis", "mrtrix"],
+            vec!["--order", "4", "--sh", "--basis", "fsl"],
             "--basis".into(),
         ),
         (

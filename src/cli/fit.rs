@@ -4,7 +4,7 @@
 //! written, so a bad input costs no time and leaves no file.
 use clap::Args;
 use glyphcast::Result;
-use glyphcast::fit::output::{check_output_path, write_coefficients};
+use glyphcast::fit::output::{check_output_path, write_output};
 use glyphcast::fit::{DEFAULT_LAMBDA, FitFiles, FitInputs, FitModel, fit, parse_basis};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
@@ -12,35 +12,40 @@ use std::path::PathBuf;
 
 #[derive(Args)]
 pub struct FitArgs {
-    /// Diffusion-weighted series: 4D NIfTI (.nii or .nii.gz).
+    /// Diffusion-weighted series: 4D NIfTI (.nii, .nii.gz) or MRtrix image (.mif,
+    /// .mif.gz, .mih).
     #[arg(value_name = "DWI")]
     dwi: PathBuf,
-    /// b-values, FSL format (one row or one column, s/mm^2).
-    #[arg(long, value_name = "FILE")]
-    bval: PathBuf,
-    /// Gradient directions, FSL format (3 rows of n, or n rows of 3).
-    #[arg(long, value_name = "FILE")]
-    bvec: PathBuf,
+    /// b-values, FSL format (one row or one column, s/mm^2). Leave out --bval and --bvec
+    /// for an MRtrix DWI that carries its table (dw_scheme, scanner coordinates).
+    #[arg(long, value_name = "FILE", requires = "bvec")]
+    bval: Option<PathBuf>,
+    /// Gradient directions, FSL format (3 rows of n, or n rows of 3), in voxel axes.
+    #[arg(long, value_name = "FILE", requires = "bval")]
+    bvec: Option<PathBuf>,
     /// Tensor order (even, 2 to 12), or the highest SH band with --sh (even, 0 to 12).
     #[arg(long)]
     order: u32,
-    /// Output: 4D float32 NIfTI of coefficients (.nii or .nii.gz).
-    #[arg(short = 'o', long = "output", value_name = "NIFTI")]
+    /// Output: 4D float32 image of coefficients, NIfTI (.nii, .nii.gz) or MRtrix (.mif,
+    /// .mif.gz, with the basis in its header).
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
     output: PathBuf,
     /// Fit real spherical harmonics to S/S0 instead of a tensor to the ADCs.
     #[arg(long)]
     sh: bool,
-    /// SH basis: tournier07 (MRtrix3) or descoteaux07 (DIPY).
+    /// SH basis: tournier07 or descoteaux07, or the aliases mrtrix (tournier07), dipy
+    /// (descoteaux07 legacy, DIPY's default) and dipy-new (descoteaux07).
     #[arg(long, requires = "sh", default_value = "tournier07")]
     basis: String,
-    /// DIPY's legacy variant of the SH basis.
+    /// The legacy variant of the SH basis (DIPY's legacy=True; implied by --basis dipy).
     #[arg(long, requires = "sh")]
     legacy: bool,
     /// Laplace-Beltrami regularisation weight of the SH fit.
     #[arg(long, requires = "sh", default_value_t = DEFAULT_LAMBDA)]
     lambda: f64,
-    /// Fit only where this 3D NIfTI is non-zero (same spatial shape as the DWI).
-    #[arg(long, value_name = "NIFTI")]
+    /// Fit only where this 3D NIfTI or MRtrix image is non-zero (same spatial shape as
+    /// the DWI).
+    #[arg(long, value_name = "IMAGE")]
     mask: Option<PathBuf>,
     /// No progress bar and no summary line.
     #[arg(long)]
@@ -50,10 +55,11 @@ pub struct FitArgs {
 impl FitArgs {
     fn model(&self) -> Result<FitModel> {
         let model = if self.sh {
+            let (basis, legacy) = parse_basis(&self.basis, self.legacy)?;
             FitModel::Sh {
                 band: self.order,
-                basis: parse_basis(&self.basis)?,
-                legacy: self.legacy,
+                basis,
+                legacy,
                 lambda: self.lambda,
             }
         } else {
@@ -77,12 +83,7 @@ pub fn run(args: FitArgs) -> Result<()> {
     let fitted = fit(&inputs, &model, &mut |done| bar.inc(done));
     bar.finish_and_clear();
     let coeffs = fitted?;
-    write_coefficients(
-        &args.output,
-        &coeffs,
-        &inputs.dwi.header,
-        &model.description(),
-    )?;
+    write_output(&args.output, &coeffs, &inputs.dwi, &model)?;
     if !args.quiet {
         let [x, y, z] = inputs.dwi.spatial_shape();
         eprintln!(

@@ -1,4 +1,4 @@
-//! Volume input for `glyphcast render`: a slice of a 4D NIfTI volume of SH coefficients
+//! Volume input for `glyphcast render`: a slice of a 4D NIfTI or MRtrix volume of SH coefficients
 //! (`--sh`) or Cartesian tensor coefficients (`--tensor`) becomes the scene; the work is
 //! in `glyphcast::volume`, this file turns flags into its options and reports what was
 //! left out.
@@ -6,6 +6,7 @@
 //! `--basis` has no default: a file does not say which SH basis it uses, and guessing
 //! wrong draws plausible but wrong glyphs.
 use clap::Args;
+use glyphcast::fit::parse_basis;
 use glyphcast::glyph::{Symmetry, TensorLayout};
 use glyphcast::io::scene::{Scene, ShBasis};
 use glyphcast::volume::{
@@ -20,10 +21,13 @@ pub const VOLUME_FLAGS: [&str; 2] = ["sh", "tensor"];
 
 #[derive(Args)]
 pub struct VolumeArgs {
-    /// 4D NIfTI of SH coefficients, [x, y, z, (L+1)(L+2)/2] for an even band L <= 12.
-    #[arg(long, value_name = "NIFTI", help_heading = "Volume input")]
+    /// 4D image of SH coefficients, [x, y, z, (L+1)(L+2)/2] for an even band L <= 12:
+    /// NIfTI (.nii, .nii.gz) or MRtrix (.mif, .mif.gz, .mih), taken in voxel axes.
+    #[arg(long, value_name = "IMAGE", help_heading = "Volume input")]
     pub sh: Option<PathBuf>,
-    /// SH basis of --sh: tournier07 (MRtrix3) or descoteaux07 (DIPY).
+    /// SH basis of --sh: tournier07 or descoteaux07 (with --legacy for the legacy
+    /// variant), or mrtrix (= tournier07, dwi2fod's output), dipy (= descoteaux07
+    /// legacy, DIPY's default) or dipy-new (= descoteaux07).
     #[arg(long, value_name = "BASIS", help_heading = "Volume input")]
     pub basis: Option<String>,
     /// The legacy variant of --basis (DIPY's legacy=True; MRtrix 0.2 for tournier07).
@@ -32,9 +36,9 @@ pub struct VolumeArgs {
     /// Draw SH bands up to L only.
     #[arg(long, value_name = "L", help_heading = "Volume input")]
     pub lmax: Option<u32>,
-    /// 4D NIfTI of Cartesian tensor coefficients in the scene format's order
-    /// (order 2: xx, xy, xz, yy, yz, zz).
-    #[arg(long, value_name = "NIFTI", help_heading = "Volume input")]
+    /// 4D NIfTI or MRtrix image of Cartesian tensor coefficients in the scene format's
+    /// order (order 2: xx, xy, xz, yy, yz, zz).
+    #[arg(long, value_name = "IMAGE", help_heading = "Volume input")]
     pub tensor: Option<PathBuf>,
     /// Tensor order of --tensor (1 to 12).
     #[arg(long, value_name = "N", help_heading = "Volume input")]
@@ -55,8 +59,8 @@ pub struct VolumeArgs {
     /// with the slice.
     #[arg(long, value_name = "RANGES", help_heading = "Volume input")]
     pub voxels: Option<String>,
-    /// 3D NIfTI mask of the volume's shape: glyphs only where it is nonzero.
-    #[arg(long, value_name = "NIFTI", help_heading = "Volume input")]
+    /// 3D NIfTI or MRtrix mask of the volume's shape: glyphs only where it is nonzero.
+    #[arg(long, value_name = "IMAGE", help_heading = "Volume input")]
     pub mask: Option<PathBuf>,
     /// World radius of the largest glyph (default: 0.45 times the smallest voxel size).
     #[arg(long, value_name = "S", help_heading = "Volume input")]
@@ -136,8 +140,7 @@ impl VolumeArgs {
                 if self.nonsymmetric {
                     return misplaced("--nonsymmetric", "--tensor");
                 }
-                let basis = self.basis()?;
-                let legacy = self.legacy;
+                let (basis, legacy) = self.basis()?;
                 Ok((path, VolumeKind::Sh { basis, legacy }))
             }
             (None, Some(path)) => {
@@ -166,15 +169,12 @@ impl VolumeArgs {
         }
     }
 
-    fn basis(&self) -> Result<ShBasis> {
+    /// The basis and its legacy flag (`--basis` aliases name both; see `fit::parse_basis`).
+    fn basis(&self) -> Result<(ShBasis, bool)> {
         match self.basis.as_deref() {
-            Some("tournier07") => Ok(ShBasis::Tournier07),
-            Some("descoteaux07") => Ok(ShBasis::Descoteaux07),
-            Some(other) => Err(Error::Invalid(format!(
-                "--basis '{other}': expected tournier07 or descoteaux07"
-            ))),
+            Some(name) => parse_basis(name, self.legacy),
             None => Err(Error::Invalid(
-                "--sh needs --basis tournier07 or descoteaux07 (a file does not say which)".into(),
+                "--sh needs --basis tournier07, descoteaux07, mrtrix, dipy or dipy-new (a file does not say which)".into(),
             )),
         }
     }

@@ -1,20 +1,35 @@
-//! Reading the DWI series and the optional brain mask (NIfTI-1, `.nii` or `.nii.gz`).
+//! Reading the DWI series and the optional brain mask: NIfTI-1 (`.nii`, `.nii.gz`) or
+//! MRtrix (`.mif`, `.mif.gz`, `.mih`), by the file name.
 //!
 //! The `nifti` crate applies `scl_slope`/`scl_inter` and returns the voxels as an
-//! ndarray of shape [x, y, z, t] whatever the stored type. The header is kept as read,
-//! so that the output can copy it (affine, voxel size, units).
+//! ndarray of shape [x, y, z, t] whatever the stored type. A NIfTI header is kept as
+//! read, so that a NIfTI output can copy it (affine, voxel size, units); an MRtrix input
+//! keeps its exact affine and its `dw_scheme`, and gets a NIfTI header built from the
+//! affine ([`nifti_header_for`]).
+use glam::DMat3;
 use ndarray::{Array3, Array4, Axis, Ix3, Ix4};
 use nifti::{IntoNdArray, NiftiError, NiftiHeader, NiftiObject, ReaderOptions};
 use std::path::Path;
 
+use crate::io::image::is_mrtrix;
+use crate::io::mif::read_mif;
+use crate::io::nifti::VoxelToWorld;
 use crate::{Error, Result};
 
 /// A 4D diffusion-weighted series.
 #[derive(Clone, Debug)]
 pub struct Dwi {
+    /// The path as given, for messages.
+    pub file: String,
+    /// The NIfTI header a NIfTI output copies: the file's own, or for an MRtrix input
+    /// one built from its affine.
     pub header: NiftiHeader,
     /// Signal per voxel and volume, [x, y, z, volume].
     pub signal: Array4<f64>,
+    /// The affine of an MRtrix input (a NIfTI one is derived from `header` when needed).
+    pub mrtrix_affine: Option<VoxelToWorld>,
+    /// An MRtrix input's `dw_scheme`: gx, gy, gz (scanner coordinates), b per volume.
+    pub dw_scheme: Option<Vec<[f64; 4]>>,
 }
 
 impl Dwi {
@@ -27,11 +42,31 @@ impl Dwi {
     pub fn volume_count(&self) -> usize {
         self.signal.shape()[3]
     }
+
+    /// The voxel-to-world map: an MRtrix input's, or the NIfTI header's (sform, qform or
+    /// pixdim; an error names the field when it is unusable).
+    pub fn voxel_to_world(&self) -> Result<VoxelToWorld> {
+        match self.mrtrix_affine {
+            Some(map) => Ok(map),
+            None => VoxelToWorld::from_header(&self.header, &self.file),
+        }
+    }
 }
 
-/// Reads a 4D NIfTI; a file of any other dimensionality is an error naming it.
+/// Reads a 4D NIfTI or MRtrix image; a file of any other dimensionality is an error
+/// naming it.
 pub fn read_dwi(path: &Path) -> Result<Dwi> {
-    let (header, data) = read_volume(path)?;
+    let file = path.display().to_string();
+    let (header, data, mrtrix_affine, dw_scheme) = if is_mrtrix(path) {
+        let image = read_mif(path)?;
+        let header = nifti_header_for(&image.voxel_to_world);
+        let scheme = image.header.dw_scheme.clone();
+        let data = squeeze_past(image.data, 4);
+        (header, data, Some(image.voxel_to_world), scheme)
+    } else {
+        let (header, data) = read_volume(path)?;
+        (header, data, None, None)
+    };
     if data.ndim() != 4 {
         return Err(Error::input(
             path.display().to_string(),
@@ -46,14 +81,60 @@ pub fn read_dwi(path: &Path) -> Result<Dwi> {
     let signal = data
         .into_dimensionality::<Ix4>()
         .map_err(|err| Error::io(path, err))?;
-    Ok(Dwi { header, signal })
+    Ok(Dwi {
+        file,
+        header,
+        signal,
+        mrtrix_affine,
+        dw_scheme,
+    })
+}
+
+/// Drops trailing axes of length 1 beyond `rank` (an MRtrix header may list them).
+fn squeeze_past(mut data: ndarray::ArrayD<f64>, rank: usize) -> ndarray::ArrayD<f64> {
+    while data.ndim() > rank && data.shape().last() == Some(&1) {
+        let last = Axis(data.ndim() - 1);
+        data = data.index_axis_move(last, 0);
+    }
+    data
+}
+
+/// A NIfTI-1 header holding `map` as its sform (code 1, scanner), with the voxel sizes
+/// in pixdim and millimetre units; the qform is left unset.
+pub fn nifti_header_for(map: &VoxelToWorld) -> NiftiHeader {
+    let rows = map.affine.transpose();
+    let row = |r: glam::DVec4| [r.x as f32, r.y as f32, r.z as f32, r.w as f32];
+    let sizes = map.voxel_sizes();
+    let mut header = NiftiHeader {
+        sform_code: 1,
+        qform_code: 0,
+        srow_x: row(rows.x_axis),
+        srow_y: row(rows.y_axis),
+        srow_z: row(rows.z_axis),
+        scl_slope: 1.0,
+        scl_inter: 0.0,
+        xyzt_units: 2,
+        magic: *b"n+1\0",
+        ..NiftiHeader::default()
+    };
+    header.pixdim[0] = if DMat3::from_mat4(map.affine).determinant() < 0.0 {
+        -1.0
+    } else {
+        1.0
+    };
+    header.pixdim[1..4].copy_from_slice(&[sizes.x as f32, sizes.y as f32, sizes.z as f32]);
+    header
 }
 
 /// Reads a mask of spatial shape `shape`: a 3D volume (or 4D with one volume), where any
 /// non-zero voxel is inside.
 pub fn read_mask(path: &Path, shape: [usize; 3], dwi: &str) -> Result<Array3<bool>> {
     let file = path.display().to_string();
-    let (_, data) = read_volume(path)?;
+    let data = if is_mrtrix(path) {
+        read_mif(path)?.data
+    } else {
+        read_volume(path)?.1
+    };
     let dims = data.shape().to_vec();
     let spatial_ok = dims.len() >= 3 && dims[..3] == shape;
     if !spatial_ok || dims[3.min(dims.len())..].iter().any(|&d| d != 1) {

@@ -11,7 +11,10 @@
 //! direction must be finite and non-zero and is normalised to unit length; the b-value
 //! is kept as written (no rescaling by |g|^2). Volumes are counted from 0, as in FSL's
 //! `fslroi` and nibabel.
-use glam::DVec3;
+//!
+//! An MRtrix image may carry its table instead (`dw_scheme`, [`GradientTable::from_dw_scheme`]);
+//! its directions are in scanner coordinates and are turned into voxel axes here.
+use glam::{DMat3, DVec3};
 use std::path::Path;
 
 use crate::{Error, Result};
@@ -38,18 +41,77 @@ impl GradientTable {
     pub fn read(bval: &Path, bvec: &Path, volumes: usize, dwi: &str) -> Result<Self> {
         let bvals = read_bvals(bval, volumes, dwi)?;
         let vectors = read_bvecs(bvec, volumes, dwi)?;
-        let file = bvec.display().to_string();
         let directions = bvals
             .iter()
             .zip(vectors)
             .enumerate()
-            .map(|(volume, (&b, v))| unit_direction(&file, volume, b, v))
+            .map(|(volume, (&b, v))| {
+                unit_direction(
+                    &bvec.display().to_string(),
+                    format!("volume {volume}"),
+                    b,
+                    v,
+                )
+            })
             .collect::<Result<Vec<_>>>()?;
+        Self::checked(bvals, directions, &bval.display().to_string(), "b-values")
+    }
+
+    /// The table of an MRtrix `dw_scheme` (gx, gy, gz, b per volume, the direction in
+    /// scanner coordinates) of the image `dwi` with `volumes` volumes, the directions
+    /// turned into the image's voxel axes: d_voxel = R^T d_world, R the orthogonal factor
+    /// of its voxel-to-world affine ([`crate::io::nifti::VoxelToWorld::orthogonal_factor`]). That is the
+    /// frame `.bvec` directions are taken in, so both give coefficients in voxel axes.
+    pub fn from_dw_scheme(
+        rows: &[[f64; 4]],
+        volumes: usize,
+        rotation: DMat3,
+        dwi: &str,
+    ) -> Result<Self> {
+        if rows.len() != volumes {
+            return Err(Error::input(
+                dwi,
+                "dw_scheme",
+                format!("{} rows, but the image has {volumes} volumes", rows.len()),
+            ));
+        }
+        let bvals: Vec<f64> = rows.iter().map(|row| row[3]).collect();
+        if let Some((i, b)) = bvals
+            .iter()
+            .enumerate()
+            .find(|(_, b)| !b.is_finite() || **b < 0.0)
+        {
+            return Err(Error::input(
+                dwi,
+                "dw_scheme",
+                format!("volume {i}: b-value {b} is not a finite number >= 0"),
+            ));
+        }
+        let world_to_voxel = rotation.transpose();
+        let directions = rows
+            .iter()
+            .enumerate()
+            .map(|(volume, &[x, y, z, b])| {
+                let field = format!("dw_scheme: volume {volume}");
+                let direction = unit_direction(dwi, field, b, [x, y, z])?;
+                Ok(direction.map(|d| world_to_voxel * d))
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Self::checked(bvals, directions, dwi, "dw_scheme")
+    }
+
+    /// The table, or an error naming `file` and `field` when it has no b=0 volume.
+    fn checked(
+        bvals: Vec<f64>,
+        directions: Vec<Option<DVec3>>,
+        file: &str,
+        field: &str,
+    ) -> Result<Self> {
         let table = GradientTable { bvals, directions };
         if table.b0_volumes().is_empty() {
             return Err(Error::input(
-                bval.display().to_string(),
-                "b-values",
+                file,
+                field,
                 format!(
                     "no b=0 volume (b <= {B0_THRESHOLD} s/mm^2); S0 is needed to normalise the signal"
                 ),
@@ -75,11 +137,10 @@ impl GradientTable {
     }
 }
 
-fn unit_direction(file: &str, volume: usize, b: f64, v: [f64; 3]) -> Result<Option<DVec3>> {
+fn unit_direction(file: &str, field: String, b: f64, v: [f64; 3]) -> Result<Option<DVec3>> {
     if b <= B0_THRESHOLD {
         return Ok(None);
     }
-    let field = format!("volume {volume}");
     let v = DVec3::from_array(v);
     if !v.is_finite() {
         return Err(Error::input(

@@ -4,15 +4,23 @@ use std::path::PathBuf;
 
 use super::dwi::{Dwi, read_dwi, read_mask};
 use super::gradients::GradientTable;
-use crate::Result;
+use crate::{Error, Result};
 
-/// Where the inputs come from.
+/// Where the inputs come from. Without `bval` and `bvec` the gradient table is the
+/// DWI's own (`dw_scheme` of an MRtrix image).
 #[derive(Clone, Debug)]
 pub struct FitFiles {
     pub dwi: PathBuf,
-    pub bval: PathBuf,
-    pub bvec: PathBuf,
+    pub bval: Option<PathBuf>,
+    pub bvec: Option<PathBuf>,
     pub mask: Option<PathBuf>,
+}
+
+/// The file that errors about the directions and the b-values name.
+#[derive(Clone, Debug)]
+pub struct GradientOrigin {
+    pub directions: String,
+    pub bvals: String,
 }
 
 /// The DWI series, its gradient table and the optional mask, mutually consistent: one
@@ -22,6 +30,7 @@ pub struct FitInputs {
     pub files: FitFiles,
     pub dwi: Dwi,
     pub gradients: GradientTable,
+    pub origin: GradientOrigin,
     pub mask: Option<Array3<bool>>,
 }
 
@@ -29,7 +38,43 @@ impl FitInputs {
     pub fn load(files: FitFiles) -> Result<Self> {
         let dwi = read_dwi(&files.dwi)?;
         let name = files.dwi.display().to_string();
-        let gradients = GradientTable::read(&files.bval, &files.bvec, dwi.volume_count(), &name)?;
+        let (gradients, origin) = match (&files.bval, &files.bvec) {
+            (Some(bval), Some(bvec)) => (
+                GradientTable::read(bval, bvec, dwi.volume_count(), &name)?,
+                GradientOrigin {
+                    directions: bvec.display().to_string(),
+                    bvals: bval.display().to_string(),
+                },
+            ),
+            (None, None) => {
+                let Some(rows) = &dwi.dw_scheme else {
+                    return Err(Error::Invalid(format!(
+                        "{name} carries no gradient table (dw_scheme of an MRtrix image): give --bval and --bvec"
+                    )));
+                };
+                let rotation = dwi.voxel_to_world()?.orthogonal_factor().ok_or_else(|| {
+                    Error::input(
+                        &name,
+                        "transform",
+                        "no rotation can be taken from the affine",
+                    )
+                })?;
+                let table =
+                    GradientTable::from_dw_scheme(rows, dwi.volume_count(), rotation, &name)?;
+                (
+                    table,
+                    GradientOrigin {
+                        directions: name.clone(),
+                        bvals: name.clone(),
+                    },
+                )
+            }
+            _ => {
+                return Err(Error::Usage(
+                    "give both --bval and --bvec, or neither (an MRtrix DWI's dw_scheme)".into(),
+                ));
+            }
+        };
         let mask = match &files.mask {
             Some(path) => Some(read_mask(path, dwi.spatial_shape(), &name)?),
             None => None,
@@ -38,6 +83,7 @@ impl FitInputs {
             files,
             dwi,
             gradients,
+            origin,
             mask,
         })
     }

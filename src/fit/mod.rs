@@ -118,14 +118,56 @@ pub fn basis_name(basis: ShBasis) -> &'static str {
     }
 }
 
-/// Parses a basis name (`--basis`).
-pub fn parse_basis(name: &str) -> Result<ShBasis> {
+/// Parses `--basis NAME` together with `--legacy` into the basis and its variant.
+/// Besides the scene format's names (tournier07, descoteaux07; `--legacy` picks the
+/// legacy variant) three aliases name a variant themselves: `mrtrix` (tournier07, as
+/// MRtrix3 writes it), `dipy` (descoteaux07 legacy, DIPY's default) and `dipy-new`
+/// (descoteaux07, DIPY's `legacy=False`). `--legacy` with `mrtrix` or `dipy-new`
+/// contradicts the alias and is an error; with `dipy` it changes nothing.
+pub fn parse_basis(name: &str, legacy: bool) -> Result<(ShBasis, bool)> {
+    let alias = match name {
+        "mrtrix" => Some((ShBasis::Tournier07, false)),
+        "dipy" => Some((ShBasis::Descoteaux07, true)),
+        "dipy-new" => Some((ShBasis::Descoteaux07, false)),
+        _ => None,
+    };
+    if let Some((basis, alias_legacy)) = alias {
+        if legacy && !alias_legacy {
+            return Err(Error::Invalid(format!(
+                "--basis {name} names the non-legacy {} basis; leave out --legacy (or give --basis {} --legacy)",
+                basis_name(basis),
+                basis_name(basis)
+            )));
+        }
+        return Ok((basis, alias_legacy));
+    }
     [ShBasis::Tournier07, ShBasis::Descoteaux07]
         .into_iter()
         .find(|&b| basis_name(b) == name)
+        .map(|basis| (basis, legacy))
         .ok_or_else(|| {
             Error::Invalid(format!(
-                "--basis {name}: unknown SH basis, expected tournier07 or descoteaux07"
+                "--basis {name}: unknown SH basis, expected tournier07, descoteaux07, mrtrix, dipy or dipy-new"
             ))
         })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn basis_aliases_name_their_variant() {
+        let parse = |name, legacy| parse_basis(name, legacy).unwrap();
+        assert_eq!(parse("mrtrix", false), (ShBasis::Tournier07, false));
+        assert_eq!(parse("dipy", false), (ShBasis::Descoteaux07, true));
+        assert_eq!(parse("dipy", true), (ShBasis::Descoteaux07, true));
+        assert_eq!(parse("dipy-new", false), (ShBasis::Descoteaux07, false));
+        assert_eq!(parse("tournier07", true), (ShBasis::Tournier07, true));
+        assert_eq!(parse("descoteaux07", false), (ShBasis::Descoteaux07, false));
+        for (name, legacy) in [("mrtrix", true), ("dipy-new", true), ("fsl", false)] {
+            let err = parse_basis(name, legacy).unwrap_err().to_string();
+            assert!(err.contains(name), "{err}");
+        }
+    }
 }

@@ -1,5 +1,8 @@
-//! Writing a coefficient volume as a 4D float32 NIfTI-1 file with the DWI's header
-//! (affine, qform/sform codes, voxel size, units), atomically.
+//! Writing a coefficient volume, atomically: as a 4D float32 NIfTI-1 file with the DWI's
+//! header (affine, qform/sform codes, voxel size, units), or, when the name ends in
+//! `.mif` or `.mif.gz`, as an MRtrix image with the DWI's affine (`io::mif::write`) and
+//! the model in its header (`comments`, `glyphcast_sh_basis` or `glyphcast_tensor_order`,
+//! and `glyphcast_frame: voxel`: the coefficients are in voxel axes, see `gradients`).
 //!
 //! The `nifti` crate writes only to a path, and derives compression and the final file
 //! name from that path's extension, so the temporary file keeps the target's `.nii` or
@@ -13,6 +16,9 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
+use super::dwi::Dwi;
+use super::{FitModel, basis_name};
+use crate::io::mif::{MifKind, MifWrite, write_mif};
 use crate::{Error, Result};
 
 static TEMPORARY_COUNTER: AtomicU64 = AtomicU64::new(0);
@@ -20,9 +26,46 @@ static TEMPORARY_COUNTER: AtomicU64 = AtomicU64::new(0);
 /// The NIfTI endings the writer understands; anything else would be renamed by it.
 const ENDINGS: [&str; 2] = [".nii.gz", ".nii"];
 
-/// Checks that `path` names a `.nii` or `.nii.gz` file (before any work is done).
+/// Checks that `path` names a `.nii`, `.nii.gz`, `.mif` or `.mif.gz` file (before any
+/// work is done).
 pub fn check_output_path(path: &Path) -> Result<()> {
-    nifti_ending(path).map(|_| ())
+    match MifKind::of(path) {
+        Some(MifKind::Mif | MifKind::MifGz) => Ok(()),
+        _ => nifti_ending(path).map(|_| ()),
+    }
+}
+
+/// Writes the fitted `coeffs` of `dwi` to `path`, as MRtrix or NIfTI by its name.
+pub fn write_output(path: &Path, coeffs: &Array4<f64>, dwi: &Dwi, model: &FitModel) -> Result<()> {
+    match MifKind::of(path) {
+        Some(MifKind::Mif | MifKind::MifGz) => {
+            let voxel_to_world = dwi.voxel_to_world()?;
+            let mut keys = vec![("comments", model.description())];
+            match *model {
+                FitModel::Sh { basis, legacy, .. } => {
+                    let legacy = if legacy { " legacy" } else { "" };
+                    keys.push((
+                        "glyphcast_sh_basis",
+                        format!("{}{legacy}", basis_name(basis)),
+                    ));
+                }
+                FitModel::Tensor { order } => {
+                    keys.push(("glyphcast_tensor_order", order.to_string()));
+                }
+            }
+            keys.push(("glyphcast_frame", "voxel".to_string()));
+            let data = coeffs.clone().into_dyn();
+            write_mif(
+                path,
+                &MifWrite {
+                    data: &data,
+                    voxel_to_world: &voxel_to_world,
+                    keys: &keys,
+                },
+            )
+        }
+        _ => write_coefficients(path, coeffs, &dwi.header, &model.description()),
+    }
 }
 
 /// Writes `coeffs` ([x, y, z, coefficient]) as float32, copying `reference`'s header
@@ -76,7 +119,7 @@ fn nifti_ending(path: &Path) -> Result<&'static str> {
             Error::input(
                 path.display().to_string(),
                 "output",
-                "expected a file name ending in .nii or .nii.gz",
+                "expected a file name ending in .nii, .nii.gz, .mif or .mif.gz",
             )
         })
 }
@@ -111,8 +154,10 @@ mod tests {
             assert_eq!(stripped.with_extension(&ending[1..]), temporary, "{target}");
             assert_eq!(temporary.parent(), path.parent());
         }
-        assert!(check_output_path(Path::new("out.nii.gz")).is_ok());
-        for bad in ["out.png", "out", ".nii", "out.nii.bak"] {
+        for good in ["out.nii.gz", "out.mif", "out.mif.gz", "OUT.MIF"] {
+            assert!(check_output_path(Path::new(good)).is_ok(), "{good}");
+        }
+        for bad in ["out.png", "out", ".nii", "out.nii.bak", "out.mih", ".mif"] {
             assert!(check_output_path(Path::new(bad)).is_err(), "{bad}");
         }
     }

@@ -80,7 +80,7 @@ impl VoxelFitter {
         let table = inputs.gradients.weighted();
         let directions: Vec<DVec3> = table.iter().map(|w| w.2).collect();
         let bvals: Vec<f64> = table.iter().map(|w| w.1).collect();
-        let bvec_file = inputs.files.bvec.display().to_string();
+        let bvec_file = inputs.origin.directions.clone();
         let unknowns = model.coefficient_count();
         if directions.len() < unknowns {
             return Err(Error::input(
@@ -103,7 +103,7 @@ impl VoxelFitter {
                 legacy,
                 lambda,
             } => {
-                check_single_shell(&bvals, &inputs.files.bval.display().to_string())?;
+                check_single_shell(&bvals, &inputs.origin.bvals)?;
                 Solve::Sh {
                     fitter: ShFitter::new(band, basis, legacy, &directions, lambda)
                         .map_err(to_input)?,

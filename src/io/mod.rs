@@ -1,5 +1,7 @@
-//! Files in and out: scene JSON, NIfTI volumes, PNG images and NumPy depth maps.
+//! Files in and out: scene JSON, NIfTI and MRtrix volumes, PNG images and NumPy depth maps.
 pub mod atomic;
+pub mod image;
+pub mod mif;
 pub mod nifti;
 pub mod npy;
 pub mod png;

@@ -1,4 +1,4 @@
-//! Coefficient volumes and masks read from NIfTI-1 files, checked against what the
+//! Coefficient volumes and masks read from NIfTI-1 or MRtrix files (`io::image`), checked against what the
 //! user said they hold: a 4D volume [x, y, z, N] whose N matches the SH band or the
 //! tensor layout, a 3D mask. Every mismatch names the file and the dimension.
 use std::path::Path;
@@ -7,7 +7,8 @@ use ndarray::{Array3, Array4, ArrayD, Axis, Ix3, Ix4};
 
 use crate::glyph::TensorLayout;
 use crate::glyph::sh;
-use crate::io::nifti::{NiftiImage, VoxelToWorld, read_nifti};
+use crate::io::image::{Image, read_image};
+use crate::io::nifti::VoxelToWorld;
 use crate::io::scene::{GlyphKind, ShBasis};
 use crate::{Error, Result};
 
@@ -45,12 +46,12 @@ pub struct Mask {
 
 /// Reads a coefficient volume and checks it against `kind`.
 pub fn load_volume(path: &Path, kind: VolumeKind) -> Result<Volume> {
-    Volume::from_image(read_nifti(path)?, kind)
+    Volume::from_image(read_image(path)?, kind)
 }
 
 /// Reads a 3D mask ([x, y, z] or [x, y, z, 1]).
 pub fn load_mask(path: &Path) -> Result<Mask> {
-    Mask::from_image(read_nifti(path)?)
+    Mask::from_image(read_image(path)?)
 }
 
 impl Volume {
@@ -74,7 +75,7 @@ impl Volume {
         })
     }
 
-    fn from_image(image: NiftiImage, kind: VolumeKind) -> Result<Self> {
+    fn from_image(image: Image, kind: VolumeKind) -> Result<Self> {
         let shape = image.shape(4);
         if shape.len() != 4 {
             return Err(Error::input(
@@ -118,7 +119,7 @@ impl Mask {
         }
     }
 
-    fn from_image(image: NiftiImage) -> Result<Self> {
+    fn from_image(image: Image) -> Result<Self> {
         let shape = image.shape(3);
         if shape.len() != 3 {
             return Err(Error::input(
@@ -144,7 +145,7 @@ impl Mask {
 }
 
 /// Drops trailing axes of length 1 down to `rank` axes and pads to `rank` axes, as
-/// [`NiftiImage::shape`] does (the caller has checked that this leaves `rank` axes).
+/// [`Image::shape`] does (the caller has checked that this leaves `rank` axes).
 fn squeeze(mut data: ArrayD<f64>, rank: usize) -> ArrayD<f64> {
     while data.ndim() > rank && data.shape().last() == Some(&1) {
         let last = Axis(data.ndim() - 1);

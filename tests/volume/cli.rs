@@ -201,8 +201,10 @@ fn every_bad_volume_input_fails_cleanly_naming_the_file() {
             vec!["--tensor", small_64d, "--order", "2"],
             vec!["small_64D.nii", "65"],
         ),
+        (vec!["--sh", sh6, "--basis", "fsl"], vec!["--basis", "fsl"]),
         (
-            vec!["--sh", sh6, "--basis", "mrtrix"],
+            // The alias names the non-legacy basis.
+            vec!["--sh", sh6, "--basis", "mrtrix", "--legacy"],
             vec!["--basis", "mrtrix"],
         ),
         (vec!["--sh", sh6], vec!["--basis"]),

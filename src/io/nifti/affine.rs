@@ -24,6 +24,8 @@ pub enum AffineSource {
     Qform,
     /// Neither code set: pixdim scaling only.
     Pixdim,
+    /// An MRtrix header's `transform` and `vox` (see `io::mif`).
+    MrtrixTransform,
 }
 
 /// A volume's voxel-to-world map.
@@ -49,6 +51,12 @@ impl VoxelToWorld {
         } else {
             (pixdim_affine(header, file)?, AffineSource::Pixdim, "pixdim")
         };
+        Self::new(affine, source, file, field)
+    }
+
+    /// Checks `affine`: Err naming `file` and `field` when it is not finite or its linear
+    /// part is singular.
+    pub fn new(affine: DMat4, source: AffineSource, file: &str, field: &str) -> Result<Self> {
         if !affine.is_finite() {
             return Err(Error::input(file, field, "the affine is not finite"));
         }

@@ -32,14 +32,7 @@ impl NiftiImage {
     /// The shape with trailing dimensions of size 1 dropped down to `rank` entries, and a
     /// 1D or 2D image padded to 3 ([x, y] is [x, y, 1]).
     pub fn shape(&self, rank: usize) -> Vec<usize> {
-        let mut shape = self.data.shape().to_vec();
-        while shape.len() > rank && shape.last() == Some(&1) {
-            shape.pop();
-        }
-        while shape.len() < 3 {
-            shape.push(1);
-        }
-        shape
+        crate::io::image::trimmed_shape(self.data.shape(), rank)
     }
 }
 
