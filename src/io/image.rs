@@ -65,6 +65,29 @@ impl Image {
     pub fn shape(&self, rank: usize) -> Vec<usize> {
         trimmed_shape(self.data.shape(), rank)
     }
+
+    /// The free-text description the file carries: a NIfTI header's `descrip`, or an
+    /// MRtrix header's `comments` lines joined by newlines. `None` when empty. glyphcast's
+    /// `fit` records its model and SH basis here.
+    pub fn description(&self) -> Option<String> {
+        let text = match &self.header {
+            ImageHeader::Nifti(header) => header
+                .descrip
+                .iter()
+                .take_while(|&&b| b != 0)
+                .map(|&b| b as char)
+                .collect::<String>(),
+            ImageHeader::Mrtrix(header) => header
+                .other
+                .iter()
+                .filter(|(key, _)| key == "comments")
+                .map(|(_, value)| value.as_str())
+                .collect::<Vec<_>>()
+                .join("\n"),
+        };
+        let text = text.trim().to_string();
+        (!text.is_empty()).then_some(text)
+    }
 }
 
 /// `shape` with trailing 1s dropped down to `rank` entries and padded to 3 entries.
