@@ -49,6 +49,9 @@ where
     map_chunks_with_progress(items, what, None, f)
 }
 
+/// Lists at most this long are mapped on the calling thread.
+const INLINE_ITEMS: usize = 16;
+
 /// [`map_chunks`], which also starts a phase named `what` in `progress` and counts the
 /// items done there.
 pub fn map_chunks_with_progress<I, T, F>(
@@ -74,6 +77,10 @@ where
         }
         result
     };
+    // A few items cost less than starting threads (a scene of many one-glyph sets).
+    if items.len() <= INLINE_ITEMS {
+        return items.iter().map(f).collect();
+    }
     let parts: Vec<Result<Vec<T>>> = std::thread::scope(|scope| {
         let workers: Vec<_> = items
             .chunks(chunk)

@@ -10,7 +10,7 @@ use glyphcast::glyph::NegativeMode;
 use glyphcast::io::scene::{GlyphSet, ImageSize, Scene};
 use glyphcast::render::glyph_data::prepare_scene;
 use glyphcast::render::headless::HeadlessRenderer;
-use glyphcast::render::{ColorMode, Method, RenderSettings};
+use glyphcast::render::{ColorMode, Method, RenderPath, RenderSettings};
 
 fn scene(sets: Vec<GlyphSet>, eye: DVec3, projection: Projection) -> Scene {
     Scene {
@@ -287,6 +287,81 @@ fn split_storage_buffers_leave_the_image_unchanged() {
         .render(&gpu, &prepared, &s.camera, 144, 144, &settings)
         .expect_err("too small a limit");
     assert!(err.to_string().contains("storage buffer"), "{err}");
+}
+
+/// Glyph sets that share a layout and a negative mode share buffers and one draw, on the
+/// box pass and on the compute path: thirty one-glyph sets render exactly as one set of
+/// thirty, and a scene mixing layouts and modes draws once per layout and mode and still
+/// matches the reference.
+#[test]
+fn glyph_sets_that_share_a_pipeline_share_a_draw() {
+    let gpu = common::gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    let glyphs: Vec<(DVec3, Vec<f64>)> = (0..30)
+        .map(|k| {
+            let (x, y) = ((k % 6) as f64 - 2.5, (k / 6) as f64 - 2.0);
+            let fibres = [
+                (direction(12.0 * k as f64, 10.0), 1.0),
+                (direction(12.0 * k as f64 + 80.0, 0.0), 0.6),
+            ];
+            (DVec3::new(x, y, 0.0), fibre_tensor(4, &fibres))
+        })
+        .collect();
+    let one_set = vec![glyph_set(
+        symmetric(4),
+        glyphs.iter().map(|g| g.0).collect(),
+        0.45,
+        glyphs.iter().map(|g| g.1.clone()).collect(),
+    )];
+    let many_sets: Vec<GlyphSet> = glyphs
+        .iter()
+        .map(|(c, t)| glyph_set(symmetric(4), vec![*c], 0.45, vec![t.clone()]))
+        .collect();
+    let eye = DVec3::new(0.0, -6.0, 6.0);
+    for path in [RenderPath::Fragment, RenderPath::Compute] {
+        let settings = RenderSettings {
+            path,
+            ..RenderSettings::default()
+        };
+        let mut render = |sets: Vec<GlyphSet>| {
+            let s = scene(sets, eye, PERSPECTIVE);
+            let prepared = prepare_scene(&s, 0.0).expect("prepare");
+            renderer
+                .render(&gpu, &prepared, &s.camera, 144, 144, &settings)
+                .expect("render")
+        };
+        let whole = render(one_set.clone());
+        let split = render(many_sets.clone());
+        assert_eq!(
+            whole.draws, split.draws,
+            "{path:?}: one draw for all thirty sets"
+        );
+        assert!(whole.rgba == split.rgba, "{path:?}: colour differs");
+        let same = whole
+            .distance
+            .iter()
+            .zip(&split.distance)
+            .all(|(a, b)| a.to_bits() == b.to_bits());
+        assert!(same, "{path:?}: depth differs");
+    }
+    // Order 2 and order 4 with abs and hide, interleaved: three draws.
+    let mut mixed = many_sets;
+    for (k, set) in mixed.iter_mut().enumerate() {
+        if k % 3 == 1 {
+            set.negative = NegativeMode::Hide;
+        }
+    }
+    for k in 0..5 {
+        let tensor = fibre_tensor(2, &[(direction(30.0 * k as f64, 0.0), 1.0)]);
+        let center = DVec3::new(k as f64 - 2.0, 2.5, 0.5);
+        mixed.insert(
+            4 * k,
+            glyph_set(symmetric(2), vec![center], 0.4, vec![tensor]),
+        );
+    }
+    let s = scene(mixed, eye, PERSPECTIVE);
+    let r = assert_matches_reference("mixed-sets", &s, &RenderSettings::default());
+    assert_eq!(r.image.draws, 3);
 }
 
 /// The camera inside a glyph's oriented box, outside the glyph (the accuracy suite's

@@ -17,6 +17,7 @@ use crate::camera::Camera;
 use crate::error::{Error, Result, VkContext};
 use crate::glyph::TensorLayout;
 use crate::render::Method;
+use crate::render::batch::{Batch, batches};
 use crate::render::frame::FrameParams;
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::raycast::shader_module;
@@ -235,21 +236,13 @@ impl ComputeRayCastPass {
         let device = ctx.device();
         let limit = self.storage_buffer_limit();
         let view = ScreenView::new(camera, width, height);
-        // Parts: glyph ranges whose coefficients and boxes fit one storage buffer each.
-        let mut parts = Vec::new();
-        for (index, data) in sets.iter().enumerate().filter(|(_, d)| !d.is_empty()) {
-            self.pipeline(data.layout)?;
-            let glyph_bytes = (4 * data.layout.coefficient_count() as u64).max(32);
-            let per_part = (limit / glyph_bytes).min(u32::MAX as u64) as usize;
-            if per_part == 0 {
-                return Err(Error::Invalid(format!(
-                    "glyph set {index}: one glyph's {glyph_bytes} bytes exceed the storage \
-                     buffer limit of {limit} bytes"
-                )));
-            }
-            for start in (0..data.len()).step_by(per_part) {
-                parts.push((data, start..(start + per_part).min(data.len())));
-            }
+        // Parts: batches of glyphs whose coefficients and boxes fit one storage buffer
+        // each, sets that share a pipeline together.
+        let parts = batches(sets, limit, |layout| {
+            (4 * layout.coefficient_count() as u64).max(32)
+        })?;
+        for part in &parts {
+            self.pipeline(part.layout)?;
         }
         let device_limit = ctx.max_storage_buffer_range();
         let pixels = width as u64 * height as u64;
@@ -305,12 +298,9 @@ impl ComputeRayCastPass {
             background: packed_srgb(background),
             tile_entries: 0,
         };
-        for (data, range) in parts {
-            let bins = bin_glyphs(
-                &view,
-                &data.instances[range.clone()],
-                &data.boxes[range.clone()],
-            );
+        for part in &parts {
+            let (instances, boxes) = (part.instances()?, part.boxes()?);
+            let bins = bin_glyphs(&view, &instances, &boxes);
             let entry_bytes = 8 * bins.entries.len() as u64;
             if entry_bytes > device_limit {
                 return Err(Error::Invalid(format!(
@@ -319,7 +309,12 @@ impl ComputeRayCastPass {
                 )));
             }
             scene.tile_entries += bins.entries.len();
-            let part = upload_part(ctx, &scene, self.set_layout, data, range, &bins)?;
+            let glyphs = PartGlyphs {
+                batch: part,
+                instances: &instances,
+                boxes: &boxes,
+            };
+            let part = upload_part(ctx, &scene, self.set_layout, glyphs, &bins)?;
             scene.parts.push(part);
         }
         Ok(scene)
@@ -423,26 +418,26 @@ impl ComputeRayCastPass {
     }
 }
 
-/// Uploads glyphs `range` of a set and their tile lists into buffers of their own.
+/// A batch of glyphs with its instances and boxes (gathered once: binning reads them too).
+struct PartGlyphs<'a> {
+    batch: &'a Batch<'a>,
+    instances: &'a [[f32; 4]],
+    boxes: &'a [[f32; 8]],
+}
+
+/// Uploads a batch of glyphs and their tile lists into buffers of their own.
 fn upload_part(
     ctx: &DeviceContext,
     scene: &ComputeSceneGpu,
     set_layout: vk::DescriptorSetLayout,
-    data: &GlyphSetData,
-    range: std::ops::Range<usize>,
+    glyphs: PartGlyphs,
     bins: &TileBins,
 ) -> Result<ComputePartGpu> {
-    let n = data.layout.coefficient_count();
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
     let inputs = vec![
-        Buffer::with_data(
-            ctx,
-            "coefficients",
-            &data.coefficients[range.start * n..range.end * n],
-            storage,
-        )?,
-        Buffer::with_data(ctx, "instances", &data.instances[range.clone()], storage)?,
-        Buffer::with_data(ctx, "boxes", &data.boxes[range.clone()], storage)?,
+        Buffer::with_data(ctx, "coefficients", &glyphs.batch.coefficients()?, storage)?,
+        Buffer::with_data(ctx, "instances", glyphs.instances, storage)?,
+        Buffer::with_data(ctx, "boxes", glyphs.boxes, storage)?,
         Buffer::with_data(ctx, "tile ranges", &bins.ranges, storage)?,
         Buffer::with_data(ctx, "tile entries", &bins.entries, storage)?,
     ];
@@ -484,8 +479,8 @@ fn upload_part(
     // SAFETY: the set and buffers are alive; no command buffer uses the set yet.
     unsafe { device.update_descriptor_sets(&writes, &[]) };
     Ok(ComputePartGpu {
-        layout: data.layout,
-        hide_negative: data.negative == crate::glyph::NegativeMode::Hide,
+        layout: glyphs.batch.layout,
+        hide_negative: glyphs.batch.negative == crate::glyph::NegativeMode::Hide,
         slices: bins.slices,
         descriptor_set,
         _inputs: inputs,

@@ -2,6 +2,7 @@
 //! instanced boxes of `raycast`; the tessellated baseline has its own pass in `mesh`.
 //! `compute` is a second path for the exact method: a compute shader per pixel over the
 //! screen tiles of `tiles`.
+pub mod batch;
 pub mod compute;
 pub mod eval;
 pub mod frame;

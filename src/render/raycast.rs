@@ -10,6 +10,7 @@
 use crate::error::{Error, Result, VkContext};
 use crate::glyph::TensorLayout;
 use crate::render::Method;
+use crate::render::batch::{Batch, batches};
 use crate::render::frame::FrameParams;
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::shaders::{IMPOSTOR_FRAGMENT, RAYCAST_VERTEX, raycast_shader};
@@ -279,23 +280,12 @@ impl RayCastPass {
             std::slice::from_ref(frame),
             vk::BufferUsageFlags::UNIFORM_BUFFER,
         )?;
-        // Glyph sets larger than one storage buffer are split into chunks, each with its
-        // own buffers, descriptor set and draw (the seed's "render successively").
+        // Sets that share a pipeline share buffers and a draw; a batch larger than one
+        // storage buffer is split (the method's "render successively").
         let limit = self.storage_buffer_limit(ctx);
-        let mut chunks = Vec::new();
-        for (index, data) in sets.iter().enumerate().filter(|(_, d)| !d.is_empty()) {
-            self.pipeline(data.layout, method)?;
-            let glyph_bytes = 4 * data.layout.coefficient_count() as u64;
-            let per_chunk = (limit / glyph_bytes).min(u32::MAX as u64) as usize;
-            if per_chunk == 0 {
-                return Err(Error::Invalid(format!(
-                    "glyph set {index}: one glyph's {glyph_bytes} coefficient bytes exceed the \
-                     storage buffer limit of {limit} bytes"
-                )));
-            }
-            for start in (0..data.len()).step_by(per_chunk) {
-                chunks.push((data, start..(start + per_chunk).min(data.len())));
-            }
+        let chunks = batches(sets, limit, |layout| 4 * layout.coefficient_count() as u64)?;
+        for chunk in &chunks {
+            self.pipeline(chunk.layout, method)?;
         }
         let count = chunks.len().max(1) as u32;
         let sizes = [
@@ -320,8 +310,8 @@ impl RayCastPass {
             pool,
             sets: Vec::new(),
         };
-        for (data, range) in chunks {
-            let set = upload_chunk(ctx, &scene, self.set_layout, data, range)?;
+        for chunk in &chunks {
+            let set = upload_chunk(ctx, &scene, self.set_layout, chunk)?;
             scene.sets.push(set);
         }
         Ok(scene)
@@ -509,31 +499,20 @@ pub(crate) fn viewport_and_scissor(extent: vk::Extent2D) -> (vk::Viewport, vk::R
     (viewport, scissor)
 }
 
-/// Uploads glyphs `range` of a set into buffers of their own.
+/// Uploads one batch of glyphs into buffers of its own.
 fn upload_chunk(
     ctx: &DeviceContext,
     scene: &SceneGpu,
     set_layout: vk::DescriptorSetLayout,
-    data: &GlyphSetData,
-    range: std::ops::Range<usize>,
+    batch: &Batch,
 ) -> Result<GlyphSetGpu> {
-    let n = data.layout.coefficient_count();
-    let instances = Buffer::with_data(
-        ctx,
-        "instances",
-        &data.instances[range.clone()],
-        vk::BufferUsageFlags::VERTEX_BUFFER,
-    )?;
-    let boxes = Buffer::with_data(
-        ctx,
-        "boxes",
-        &data.boxes[range.clone()],
-        vk::BufferUsageFlags::VERTEX_BUFFER,
-    )?;
+    let vertex = vk::BufferUsageFlags::VERTEX_BUFFER;
+    let instances = Buffer::with_data(ctx, "instances", &batch.instances()?, vertex)?;
+    let boxes = Buffer::with_data(ctx, "boxes", &batch.boxes()?, vertex)?;
     let coefficients = Buffer::with_data(
         ctx,
         "coefficients",
-        &data.coefficients[range.start * n..range.end * n],
+        &batch.coefficients()?,
         vk::BufferUsageFlags::STORAGE_BUFFER,
     )?;
     let layouts = [set_layout];
@@ -569,9 +548,9 @@ fn upload_chunk(
     // SAFETY: the set and buffers are alive; no command buffer uses the set yet.
     unsafe { device.update_descriptor_sets(&writes, &[]) };
     Ok(GlyphSetGpu {
-        layout: data.layout,
-        hide_negative: data.negative == crate::glyph::NegativeMode::Hide,
-        count: range.len() as u32,
+        layout: batch.layout,
+        hide_negative: batch.negative == crate::glyph::NegativeMode::Hide,
+        count: batch.len() as u32,
         instances,
         boxes,
         _coefficients: coefficients,

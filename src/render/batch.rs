@@ -1,0 +1,223 @@
+//! Glyph sets grouped into draws. Every glyph set that shares a pipeline (tensor layout)
+//! and a negative mode is drawn by the same instanced draw from the same buffers, so a
+//! scene of ten thousand one-glyph sets costs one draw, not ten thousand; a group larger
+//! than one storage buffer is cut into several batches. The ray-casting pass and the
+//! compute path both upload batches.
+use std::borrow::Cow;
+use std::ops::Range;
+
+use crate::glyph::{NegativeMode, TensorLayout};
+use crate::render::glyph_data::GlyphSetData;
+use crate::{Error, Result};
+
+/// Glyphs of one or more sets that share a layout and a negative mode, drawn together.
+#[derive(Clone, Debug)]
+pub struct Batch<'a> {
+    pub layout: TensorLayout,
+    pub negative: NegativeMode,
+    /// The glyph ranges of the sets this batch draws, in order.
+    pieces: Vec<(&'a GlyphSetData, Range<usize>)>,
+    len: usize,
+}
+
+impl<'a> Batch<'a> {
+    /// Glyphs in the batch.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Per glyph: centre and bounding-sphere radius ([`GlyphSetData::instances`]).
+    pub fn instances(&self) -> Result<Cow<'a, [[f32; 4]]>> {
+        self.gather(1, |d| &d.instances)
+    }
+
+    /// Per glyph: the oriented box ([`GlyphSetData::boxes`]).
+    pub fn boxes(&self) -> Result<Cow<'a, [[f32; 8]]>> {
+        self.gather(1, |d| &d.boxes)
+    }
+
+    /// The glyphs' float32 coefficients, `layout.coefficient_count()` per glyph.
+    pub fn coefficients(&self) -> Result<Cow<'a, [f32]>> {
+        self.gather(self.layout.coefficient_count(), |d| &d.coefficients)
+    }
+
+    /// The batch's entries of one per-glyph array, `per_glyph` values each: borrowed when
+    /// the batch is one piece of one set, else copied into one allocation (made fallibly,
+    /// so that a lack of memory is an error).
+    fn gather<T: Clone>(
+        &self,
+        per_glyph: usize,
+        field: impl Fn(&'a GlyphSetData) -> &'a [T],
+    ) -> Result<Cow<'a, [T]>> {
+        let slice = |(data, range): &(&'a GlyphSetData, Range<usize>)| {
+            &field(data)[range.start * per_glyph..range.end * per_glyph]
+        };
+        if let [piece] = self.pieces.as_slice() {
+            return Ok(Cow::Borrowed(slice(piece)));
+        }
+        let mut values = Vec::new();
+        values
+            .try_reserve_exact(self.len * per_glyph)
+            .map_err(|_| {
+                Error::Invalid(format!(
+                    "out of memory gathering {} glyphs for one draw",
+                    self.len
+                ))
+            })?;
+        for piece in &self.pieces {
+            values.extend_from_slice(slice(piece));
+        }
+        Ok(Cow::Owned(values))
+    }
+}
+
+/// Groups the glyphs of `sets` into batches: one per layout and negative mode (in the
+/// order the sets first use them), cut so that no batch holds more than
+/// `limit / glyph_bytes(layout)` glyphs. A glyph larger than `limit` is an error naming
+/// its set.
+pub fn batches<'a>(
+    sets: &'a [GlyphSetData],
+    limit: u64,
+    glyph_bytes: impl Fn(TensorLayout) -> u64,
+) -> Result<Vec<Batch<'a>>> {
+    let mut groups: Vec<Vec<(usize, &'a GlyphSetData)>> = Vec::new();
+    for (index, data) in sets.iter().enumerate().filter(|(_, d)| !d.is_empty()) {
+        let key = (data.layout, data.negative);
+        match groups
+            .iter_mut()
+            .find(|group| (group[0].1.layout, group[0].1.negative) == key)
+        {
+            Some(group) => group.push((index, data)),
+            None => groups.push(vec![(index, data)]),
+        }
+    }
+    let mut batches = Vec::new();
+    for group in groups {
+        let (first_index, first) = group[0];
+        let bytes = glyph_bytes(first.layout);
+        let per_batch = (limit / bytes.max(1)).min(u32::MAX as u64) as usize;
+        if per_batch == 0 {
+            return Err(Error::Invalid(format!(
+                "glyph set {first_index}: one glyph's {bytes} bytes exceed the storage \
+                 buffer limit of {limit} bytes"
+            )));
+        }
+        let empty = Batch {
+            layout: first.layout,
+            negative: first.negative,
+            pieces: Vec::new(),
+            len: 0,
+        };
+        let mut current = empty.clone();
+        for (_, data) in group {
+            let mut start = 0;
+            while start < data.len() {
+                let end = data.len().min(start + per_batch - current.len);
+                current.pieces.push((data, start..end));
+                current.len += end - start;
+                start = end;
+                if current.len == per_batch {
+                    batches.push(std::mem::replace(&mut current, empty.clone()));
+                }
+            }
+        }
+        if !current.is_empty() {
+            batches.push(current);
+        }
+    }
+    Ok(batches)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::glyph::Symmetry;
+
+    fn set(order: u32, negative: NegativeMode, glyphs: usize, first: f32) -> GlyphSetData {
+        let layout = TensorLayout {
+            order,
+            symmetry: Symmetry::Symmetric,
+        };
+        let n = layout.coefficient_count();
+        GlyphSetData {
+            layout,
+            negative,
+            instances: (0..glyphs)
+                .map(|i| [first + i as f32, 0.0, 0.0, 1.0])
+                .collect(),
+            boxes: vec![[0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 0.0]; glyphs],
+            coefficients: (0..glyphs * n).map(|i| first + i as f32).collect(),
+            world: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn sets_sharing_a_layout_and_mode_share_a_batch_in_set_order() {
+        let sets = [
+            set(4, NegativeMode::Abs, 2, 0.0),
+            set(2, NegativeMode::Abs, 1, 100.0),
+            set(4, NegativeMode::Abs, 3, 10.0),
+            set(4, NegativeMode::Hide, 1, 20.0),
+            set(4, NegativeMode::Abs, 0, 30.0),
+        ];
+        let batches = batches(&sets, u64::MAX, |_| 4).unwrap();
+        let shape: Vec<_> = batches
+            .iter()
+            .map(|b| (b.layout.order, b.negative, b.len()))
+            .collect();
+        assert_eq!(
+            shape,
+            [
+                (4, NegativeMode::Abs, 5),
+                (2, NegativeMode::Abs, 1),
+                (4, NegativeMode::Hide, 1)
+            ]
+        );
+        let x: Vec<f32> = batches[0]
+            .instances()
+            .unwrap()
+            .iter()
+            .map(|i| i[0])
+            .collect();
+        assert_eq!(x, [0.0, 1.0, 10.0, 11.0, 12.0]);
+        let coefficients = batches[0].coefficients().unwrap();
+        assert_eq!(coefficients.len(), 5 * 15);
+        assert_eq!(coefficients[30], 10.0);
+        assert!(matches!(
+            batches[1].coefficients().unwrap(),
+            Cow::Borrowed(_)
+        ));
+    }
+
+    #[test]
+    fn batches_are_cut_at_the_buffer_limit_across_sets() {
+        let sets = [
+            set(2, NegativeMode::Abs, 5, 0.0),
+            set(2, NegativeMode::Abs, 4, 50.0),
+        ];
+        // 6 glyphs of 24 bytes fit a 150-byte buffer.
+        let batches = batches(&sets, 150, |l| 4 * l.coefficient_count() as u64).unwrap();
+        let lengths: Vec<_> = batches.iter().map(Batch::len).collect();
+        assert_eq!(lengths, [6, 3]);
+        let x: Vec<f32> = batches
+            .iter()
+            .flat_map(|b| {
+                b.instances()
+                    .unwrap()
+                    .iter()
+                    .map(|i| i[0])
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        assert_eq!(x, [0.0, 1.0, 2.0, 3.0, 4.0, 50.0, 51.0, 52.0, 53.0]);
+        let coefficients = batches[1].coefficients().unwrap();
+        assert_eq!(coefficients.len(), 3 * 6);
+        assert_eq!(coefficients[0], 50.0 + 6.0);
+        let too_small = super::batches(&sets, 20, |l| 4 * l.coefficient_count() as u64);
+        assert!(too_small.unwrap_err().to_string().contains("glyph set 0"));
+    }
+}
