@@ -1,5 +1,11 @@
-//! glsl/manifest.txt: which tensor layouts get which intersection methods.
-use crate::fail;
+//! The shader variants to build, from the table of orders and methods in
+//! `src/catalog.rs`: every symmetric order up to `MAX_SYMMETRIC_ORDER` and every
+//! non-symmetric order up to `MAX_NONSYMMETRIC_ORDER`, each with every ray-casting
+//! method.
+use crate::catalog::{
+    MAX_NONSYMMETRIC_ORDER, MAX_SYMMETRIC_ORDER, RAY_CAST_METHODS, RayCastMethod,
+};
+use std::collections::BTreeMap;
 
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Symmetry {
@@ -7,41 +13,17 @@ pub enum Symmetry {
     NonSymmetric,
 }
 
-pub struct Family {
-    pub symmetry: Symmetry,
-    pub orders: std::ops::RangeInclusive<u32>,
-    pub methods: Vec<String>,
-}
-
-pub fn parse_manifest(text: &str) -> Vec<Family> {
-    let mut families = Vec::new();
-    for (number, line) in text.lines().enumerate() {
-        let line = line.split('#').next().unwrap_or("").trim();
-        if line.is_empty() {
-            continue;
-        }
-        let where_ = format!("glsl/manifest.txt:{}", number + 1);
-        let words: Vec<&str> = line.split_whitespace().collect();
-        let [kind, symmetry, orders, methods] = words[..] else {
-            fail(format!("{where_}: expected `kind symmetry orders methods`"));
-        };
-        if kind != "tensor" {
-            fail(format!("{where_}: unknown kind `{kind}`"));
-        }
-        let symmetry = match symmetry {
-            "symmetric" => Symmetry::Symmetric,
-            "nonsymmetric" => Symmetry::NonSymmetric,
-            other => fail(format!("{where_}: unknown symmetry `{other}`")),
-        };
-        let (lo, hi) = orders
-            .split_once('-')
-            .and_then(|(a, b)| Some((a.parse::<u32>().ok()?, b.parse::<u32>().ok()?)))
-            .unwrap_or_else(|| fail(format!("{where_}: orders must read like 1-12")));
-        families.push(Family {
-            symmetry,
-            orders: lo..=hi,
-            methods: methods.split(',').map(str::to_owned).collect(),
-        });
-    }
+/// Per tensor layout (symmetry, order), sorted so that the table and the build are
+/// reproducible: the methods to compile.
+pub fn variants() -> BTreeMap<(Symmetry, u32), &'static [RayCastMethod]> {
+    let families = [
+        (Symmetry::Symmetric, MAX_SYMMETRIC_ORDER),
+        (Symmetry::NonSymmetric, MAX_NONSYMMETRIC_ORDER),
+    ];
     families
+        .into_iter()
+        .flat_map(|(symmetry, max)| {
+            (1..=max).map(move |order| ((symmetry, order), &RAY_CAST_METHODS[..]))
+        })
+        .collect()
 }

@@ -11,11 +11,6 @@ use std::fmt::Write as _;
 /// Float32 unit roundoff.
 const UNIT_ROUNDOFF: f64 = 1.0 / 16_777_216.0;
 
-/// Whether a method's fragment shader needs the range functions.
-pub fn uses_range(method: &str) -> bool {
-    matches!(method, "interval" | "affine")
-}
-
 /// Names of the powers a monomial multiplies, e.g. ["x2", "z1"].
 fn factors(m: Monomial) -> Vec<String> {
     [('x', m.a), ('y', m.b), ('z', m.c)]

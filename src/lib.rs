@@ -105,6 +105,7 @@
 pub mod accuracy;
 pub mod bench;
 pub mod camera;
+pub mod catalog;
 pub mod demo;
 pub mod error;
 pub mod fit;

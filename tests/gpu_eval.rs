@@ -1,4 +1,4 @@
-//! The generated GLSL glyph functions (every variant of glsl/manifest.txt) against the
+//! The generated GLSL glyph functions (every variant build.rs compiles from src/catalog.rs) against the
 //! float64 reference at thousands of random points.
 mod common;
 use glam::DVec3;

@@ -5,6 +5,7 @@
 //! - `fodf:COUNT:BAND`: fibre ODFs as SH series (tournier07, MRtrix3's basis) with one to
 //!   three random fibres each, the common case of real HARDI data.
 use crate::camera::{Camera, Projection};
+use crate::catalog::{MAX_SH_BAND, MAX_SYMMETRIC_ORDER};
 use crate::demo::{direction, fibre_tensor, glyph_set, symmetric};
 use crate::glyph::sh::{sh_basis_values, sh_orders};
 use crate::io::scene::{GlyphKind, GlyphSet, ImageSize, Scene, ShBasis};
@@ -20,9 +21,9 @@ pub fn grid(count: usize, order: u32, width: u32, height: u32) -> Result<Scene> 
             "workload: {count} glyphs is not in 1..=4000000"
         )));
     }
-    if !(1..=12).contains(&order) {
+    if !(1..=MAX_SYMMETRIC_ORDER).contains(&order) {
         return Err(Error::Invalid(format!(
-            "workload: order {order} is not in 1..=12"
+            "workload: order {order} is not in 1..={MAX_SYMMETRIC_ORDER}"
         )));
     }
     let side = (count as f64).sqrt().ceil() as usize;
@@ -91,9 +92,9 @@ pub fn fodf(count: usize, band: u32, width: u32, height: u32) -> Result<Scene> {
             "workload: {count} glyphs is not in 1..=4000000"
         )));
     }
-    if !(2..=12).contains(&band) || !band.is_multiple_of(2) {
+    if !(2..=MAX_SH_BAND).contains(&band) || !band.is_multiple_of(2) {
         return Err(Error::Invalid(format!(
-            "workload: SH band {band} is not one of 2, 4, ..., 12"
+            "workload: SH band {band} is not one of 2, 4, ..., {MAX_SH_BAND}"
         )));
     }
     let side = (count as f64).sqrt().ceil() as usize;

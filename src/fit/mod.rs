@@ -38,7 +38,7 @@ use crate::{Error, Result};
 use sh::sh_count;
 
 /// The highest tensor order and SH band the scene format can draw.
-pub const MAX_ORDER: u32 = 12;
+pub const MAX_ORDER: u32 = crate::catalog::MAX_SYMMETRIC_ORDER;
 
 /// Default Laplace-Beltrami weight (Descoteaux et al. 2007 use 0.006).
 pub const DEFAULT_LAMBDA: f64 = 0.006;

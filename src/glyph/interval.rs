@@ -397,9 +397,10 @@ impl<T: Real> RangePolynomial<T> {
     /// storage order (Eq. 4), in T.
     pub fn from_tensor(layout: TensorLayout, tensor: &[f64]) -> Result<Self> {
         let order = layout.order;
-        if !(1..=12).contains(&order) || tensor.len() != layout.coefficient_count() {
+        let max = crate::catalog::max_order(layout.symmetry == crate::glyph::Symmetry::Symmetric);
+        if !(1..=max).contains(&order) || tensor.len() != layout.coefficient_count() {
             return Err(Error::Invalid(format!(
-                "range polynomial: {layout:?} needs order 1..=12 and {} coefficients, got {}",
+                "range polynomial: {layout:?} needs order 1..={max} and {} coefficients, got {}",
                 layout.coefficient_count(),
                 tensor.len()
             )));

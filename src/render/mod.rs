@@ -15,6 +15,7 @@ pub mod settings;
 pub mod shaders;
 pub mod tiles;
 
+use crate::catalog::{RAY_CAST_METHODS, RayCastMethod};
 pub use crate::glyph::tessellate::MeshKind;
 pub use settings::{ColorMode, Refinement, RenderPath, RenderSettings};
 
@@ -46,20 +47,27 @@ impl Method {
         Method::Exact,
     ];
 
+    /// The method's entry in the table of ray-casting methods ([`crate::catalog`]):
+    /// name, shaders, what it reads. `None` for the impostor and the meshes.
+    pub fn ray_cast_entry(self) -> Option<&'static RayCastMethod> {
+        let index = Method::RAY_CASTING.iter().position(|&m| m == self)?;
+        RAY_CAST_METHODS.get(index)
+    }
+
     /// Whether the method marches rays through the glyph function at a fixed step (and so
     /// reads the march settings: step, refinement, centre zone).
     pub fn marches(self) -> bool {
-        matches!(self, Method::Fixed)
+        self.ray_cast_entry().is_some_and(|entry| entry.marches)
     }
 }
 
 impl std::fmt::Display for Method {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Method::Fixed => f.write_str("fixed"),
-            Method::Interval => f.write_str("interval"),
-            Method::Affine => f.write_str("affine"),
-            Method::Exact => f.write_str("exact"),
+            Method::Fixed | Method::Interval | Method::Affine | Method::Exact => {
+                let entry = self.ray_cast_entry().ok_or(std::fmt::Error)?;
+                f.write_str(entry.name)
+            }
             Method::Impostor => f.write_str("impostor"),
             Method::Mesh(kind) => write!(f, "{kind}"),
         }

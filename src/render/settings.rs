@@ -74,20 +74,21 @@ impl std::str::FromStr for Method {
     fn from_str(s: &str) -> Result<Self> {
         let bad = || {
             Error::Invalid(format!(
-                "--method: '{s}' is not one of fixed, interval, affine, exact, impostor, mesh:LEVEL (icosphere, 0..={}), \
+                "--method: '{s}' is not one of {}, impostor, mesh:LEVEL (icosphere, 0..={}), \
                  latlong:N (latitude bands, 2..={})",
+                crate::catalog::RAY_CAST_METHODS.map(|m| m.name).join(", "),
                 crate::glyph::tessellate::MAX_ICOSPHERE_LEVEL,
                 crate::glyph::tessellate::MAX_LAT_LONG_RINGS
             ))
         };
         let count = |prefix: &str| s.strip_prefix(prefix).and_then(|n| n.parse::<u32>().ok());
-        let method = match s {
-            "fixed" => Method::Fixed,
-            "interval" => Method::Interval,
-            "affine" => Method::Affine,
-            "exact" => Method::Exact,
-            "impostor" => Method::Impostor,
-            _ => count("mesh:")
+        let ray_cast = Method::RAY_CASTING
+            .into_iter()
+            .find(|m| m.ray_cast_entry().is_some_and(|entry| entry.name == s));
+        let method = match (ray_cast, s) {
+            (Some(method), _) => method,
+            (None, "impostor") => Method::Impostor,
+            (None, _) => count("mesh:")
                 .map(MeshKind::Icosphere)
                 .or_else(|| count("latlong:").map(MeshKind::LatLong))
                 .map(Method::Mesh)
@@ -259,6 +260,32 @@ mod tests {
             .expect_err("unknown method")
             .to_string();
         assert!(error.contains("fixed, interval, affine, exact"), "{error}");
+    }
+
+    /// The enum, the parser, the names and the compiled shaders all follow the one table
+    /// of methods and orders in `crate::catalog`.
+    #[test]
+    fn methods_and_shaders_follow_the_catalog() {
+        use crate::catalog::{RAY_CAST_METHODS, max_order};
+        use crate::glyph::{Symmetry, TensorLayout};
+        use crate::render::shaders::{compute_raycast_shader, raycast_shader};
+        assert_eq!(Method::RAY_CASTING.len(), RAY_CAST_METHODS.len());
+        for (method, entry) in Method::RAY_CASTING.into_iter().zip(RAY_CAST_METHODS) {
+            assert_eq!(format!("{method:?}").to_lowercase(), entry.name);
+            assert_eq!(method.to_string(), entry.name);
+            assert_eq!(entry.name.parse::<Method>().ok(), Some(method));
+            assert_eq!(method.marches(), entry.marches);
+            for symmetry in [Symmetry::Symmetric, Symmetry::NonSymmetric] {
+                let max = max_order(symmetry == Symmetry::Symmetric);
+                for order in 1..=max + 1 {
+                    let layout = TensorLayout { order, symmetry };
+                    let drawable = order <= max;
+                    assert_eq!(raycast_shader(layout, method).is_some(), drawable);
+                    let compute = compute_raycast_shader(layout, method).is_some();
+                    assert_eq!(compute, drawable && entry.compute.is_some());
+                }
+            }
+        }
     }
 
     #[test]

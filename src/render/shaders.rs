@@ -1,4 +1,5 @@
-//! The SPIR-V that build.rs generated from `glsl/manifest.txt`, as a typed table.
+//! The SPIR-V that build.rs generated for the orders and methods of `crate::catalog`, as
+//! a typed table.
 use crate::glyph::{Symmetry, TensorLayout};
 use crate::render::Method;
 

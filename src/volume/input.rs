@@ -13,7 +13,8 @@ use crate::io::scene::{GlyphKind, ShBasis};
 use crate::{Error, Result};
 
 /// Highest SH band and tensor order of the scene format.
-pub const MAX_ORDER: u32 = 12;
+/// Highest tensor order or SH band of a volume (the table in [`crate::catalog`]).
+pub const MAX_ORDER: u32 = crate::catalog::MAX_SYMMETRIC_ORDER;
 
 /// What the user says a volume holds; the SH band is read off the file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -9,9 +9,7 @@ use crate::Result;
 use crate::camera::{Camera, Projection};
 use crate::glyph::{Symmetry, TensorLayout};
 
-const MAX_SYMMETRIC_ORDER: u32 = 12;
-const MAX_NONSYMMETRIC_ORDER: u32 = 4;
-const MAX_SH_BAND: u32 = 12;
+use crate::catalog::{MAX_NONSYMMETRIC_ORDER, MAX_SH_BAND, MAX_SYMMETRIC_ORDER};
 const MAX_IMAGE_SIDE: u32 = 16384;
 const DEFAULT_FOV_Y_DEG: f64 = 30.0;
 const DEFAULT_UP: DVec3 = DVec3::Z;
