@@ -1,5 +1,6 @@
 // Frame-wide parameters and the coefficient buffer of one glyph set.
-// Mirrored on the CPU by src/render/frame.rs (FrameParams); keep both in step.
+// Mirrored on the CPU by src/render/frame.rs (FrameParams); src/render/interface.rs
+// checks member names, offsets and bindings against the compiled SPIR-V.
 layout(std140, set = 0, binding = 0) uniform FrameParams {
     mat4 view_proj;
     vec4 eye;             // xyz: eye; w: 1 for orthographic, 0 for perspective

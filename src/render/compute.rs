@@ -33,19 +33,19 @@ use std::collections::HashMap;
 /// GLYPHCAST_COMPUTE defined).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-struct ComputeParams {
-    hide_negative: u32,
+pub(crate) struct ComputeParams {
+    pub(crate) hide_negative: u32,
     /// Which [`WALK_PER_DISPATCH`] entries of each tile's list this dispatch walks.
-    slice: u32,
-    width: u32,
-    height: u32,
+    pub(crate) slice: u32,
+    pub(crate) width: u32,
+    pub(crate) height: u32,
 }
 
 /// Storage buffers of a part, at bindings 1 to 5 (0 is the frame's uniform buffer, 6 and
 /// 7 the outputs).
 const INPUT_BINDINGS: u32 = 5;
 /// Every binding: frame, five inputs, two outputs.
-const BINDINGS: u32 = 1 + INPUT_BINDINGS + 2;
+pub(crate) const BINDINGS: u32 = 1 + INPUT_BINDINGS + 2;
 
 /// Pipelines and layouts of the compute ray caster; created once per device.
 pub struct ComputeRayCastPass {

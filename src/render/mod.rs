@@ -8,6 +8,8 @@ pub mod eval;
 pub mod frame;
 pub mod glyph_data;
 pub mod headless;
+#[cfg(test)]
+mod interface;
 pub mod mesh;
 pub mod range_eval;
 pub mod raycast;

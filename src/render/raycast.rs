@@ -65,6 +65,12 @@ pub fn varying_components(layout: TensorLayout) -> u32 {
     4 * (4 + monomials.div_ceil(4))
 }
 
+/// Binding of the frame's uniform block (glsl/frame.glsl `FrameParams`); the test in
+/// `render::interface` holds the shaders to it.
+pub(crate) const FRAME_BINDING: u32 = 0;
+/// Binding of a glyph batch's coefficients (glsl/frame.glsl `Coefficients`).
+pub(crate) const COEFFICIENTS_BINDING: u32 = 1;
+
 /// Specialisation constant 0 of raycast.vert (`ORIENTED_BOX`): 1 draws each glyph's
 /// oriented box, 0 the cube around its bounding sphere (the sphere impostor's proxy).
 const ORIENTED_BOX_CONSTANT: u32 = 0;
@@ -93,12 +99,12 @@ impl RayCastPass {
         let device = ctx.device();
         let bindings = [
             vk::DescriptorSetLayoutBinding::default()
-                .binding(0)
+                .binding(FRAME_BINDING)
                 .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
                 .descriptor_count(1)
                 .stage_flags(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT),
             vk::DescriptorSetLayoutBinding::default()
-                .binding(1)
+                .binding(COEFFICIENTS_BINDING)
                 .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
                 .descriptor_count(1)
                 .stage_flags(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT),
@@ -536,12 +542,12 @@ fn upload_chunk(
     let writes = [
         vk::WriteDescriptorSet::default()
             .dst_set(descriptor_set)
-            .dst_binding(0)
+            .dst_binding(FRAME_BINDING)
             .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
             .buffer_info(&frame_info),
         vk::WriteDescriptorSet::default()
             .dst_set(descriptor_set)
-            .dst_binding(1)
+            .dst_binding(COEFFICIENTS_BINDING)
             .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
             .buffer_info(&coeff_info),
     ];

@@ -1,0 +1,209 @@
+//! Holds the Rust side of the shader interface to the compiled SPIR-V: the uniform block
+//! `FrameParams` (member count and byte offsets against the `#[repr(C)]` struct), the
+//! descriptor bindings each pass creates, and the push-constant blocks. The GLSL is
+//! written by hand beside the Rust structs; these tests read the blocks back out of every
+//! shader build.rs compiled, so a change on one side alone fails here. (The optimiser
+//! strips names from the SPIR-V, so blocks are known by storage class and binding.)
+use std::collections::HashMap;
+use std::mem::offset_of;
+
+use crate::render::compute::ComputeParams;
+use crate::render::frame::FrameParams;
+use crate::render::raycast::{COEFFICIENTS_BINDING, FRAME_BINDING};
+use crate::render::shaders::{
+    COMPUTE_RAYCAST_SHADERS, IMPOSTOR_FRAGMENT, MESH_FRAGMENT, MESH_VERTEX, RAYCAST_SHADERS,
+    RAYCAST_VERTEX,
+};
+
+/// A block (uniform, storage or push-constant) as the SPIR-V declares it.
+#[derive(Debug, Default)]
+struct Block {
+    storage_class: u32,
+    set: Option<u32>,
+    binding: Option<u32>,
+    /// Member byte offsets, in declaration order.
+    offsets: Vec<u32>,
+}
+
+const OP_TYPE_STRUCT: u32 = 30;
+const OP_TYPE_POINTER: u32 = 32;
+const OP_VARIABLE: u32 = 59;
+const OP_DECORATE: u32 = 71;
+const OP_MEMBER_DECORATE: u32 = 72;
+const DECORATION_BINDING: u32 = 33;
+const DECORATION_SET: u32 = 34;
+const DECORATION_OFFSET: u32 = 35;
+const UNIFORM: u32 = 2;
+const PUSH_CONSTANT: u32 = 9;
+const STORAGE_BUFFER: u32 = 12;
+
+/// Every uniform, storage or push-constant variable of `spirv` whose type is a pointer to
+/// a struct: its block.
+fn blocks(spirv: &[u32]) -> Vec<Block> {
+    assert_eq!(spirv.first(), Some(&0x0723_0203), "SPIR-V magic");
+    let mut offsets: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut member_counts = HashMap::new();
+    let mut pointers = HashMap::new();
+    let mut decorations: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut variables = Vec::new();
+    let mut at = 5;
+    while at < spirv.len() {
+        let (count, op) = ((spirv[at] >> 16) as usize, spirv[at] & 0xffff);
+        assert!(count > 0 && at + count <= spirv.len(), "malformed SPIR-V");
+        let args = &spirv[at + 1..at + count];
+        match op {
+            OP_TYPE_STRUCT => {
+                member_counts.insert(args[0], args.len() as u32 - 1);
+            }
+            OP_TYPE_POINTER => {
+                pointers.insert(args[0], args[2]);
+            }
+            OP_VARIABLE => variables.push((args[0], args[1], args[2])),
+            OP_DECORATE if args.len() >= 3 => {
+                decorations.insert((args[0], args[1]), args[2]);
+            }
+            OP_MEMBER_DECORATE if args[2] == DECORATION_OFFSET => {
+                offsets.insert((args[0], args[1]), args[3]);
+            }
+            _ => {}
+        }
+        at += count;
+    }
+    variables
+        .into_iter()
+        .filter(|&(_, _, class)| [UNIFORM, STORAGE_BUFFER, PUSH_CONSTANT].contains(&class))
+        .filter_map(|(pointer, variable, storage_class)| {
+            let structure = *pointers.get(&pointer)?;
+            let count = *member_counts.get(&structure)?;
+            let offsets = (0..count)
+                .map(|m| offsets.get(&(structure, m)).copied().unwrap_or(u32::MAX))
+                .collect();
+            Some(Block {
+                storage_class,
+                set: decorations.get(&(variable, DECORATION_SET)).copied(),
+                binding: decorations.get(&(variable, DECORATION_BINDING)).copied(),
+                offsets,
+            })
+        })
+        .collect()
+}
+
+/// Byte offsets of a `#[repr(C)]` struct's fields, in order.
+macro_rules! offsets {
+    ($ty:ty: $($field:ident),*) => {
+        vec![$(offset_of!($ty, $field) as u32),*]
+    };
+}
+
+/// `FrameParams`'s field offsets on the Rust side.
+fn frame_params_rust() -> Vec<u32> {
+    offsets!(FrameParams:
+        view_proj,
+        eye,
+        right,
+        up,
+        fwd,
+        viewport,
+        march,
+        modes,
+        magnitude_range,
+        uniform_color,
+        light,
+        robust
+    )
+}
+
+/// Checks the frame block of one shader, if it reads it (the one uniform block), and
+/// returns the other blocks and whether it had one.
+fn check_frame(what: &str, spirv: &[u32]) -> (Vec<Block>, bool) {
+    let (frame, others): (Vec<Block>, Vec<Block>) = blocks(spirv)
+        .into_iter()
+        .partition(|b| b.storage_class == UNIFORM);
+    assert!(frame.len() <= 1, "{what}: one uniform block");
+    for block in &frame {
+        let place = (block.set, block.binding);
+        assert_eq!(place, (Some(0), Some(FRAME_BINDING)), "{what}");
+        assert_eq!(
+            block.offsets,
+            frame_params_rust(),
+            "{what}: FrameParams offsets"
+        );
+        // std140 vec4/mat4 members: the struct ends 16 bytes after the last one.
+        let last = block.offsets.last().copied().unwrap_or(0);
+        assert_eq!(last as usize + 16, size_of::<FrameParams>(), "{what}: size");
+    }
+    (others, !frame.is_empty())
+}
+
+#[test]
+fn the_ray_casting_shaders_read_the_structs_and_bindings_the_passes_write() {
+    let mut frames_seen = 0;
+    let mut coefficients_seen = 0;
+    for shader in RAYCAST_SHADERS {
+        let what = format!("{:?} {}", shader.layout, shader.method);
+        for spirv in [shader.vertex, shader.fragment, shader.color_only_fragment] {
+            let (others, frame) = check_frame(&what, spirv);
+            frames_seen += usize::from(frame);
+            for block in others {
+                match block.storage_class {
+                    STORAGE_BUFFER => {
+                        let place = (block.set, block.binding);
+                        assert_eq!(place, (Some(0), Some(COEFFICIENTS_BINDING)), "{what}");
+                        assert_eq!(block.offsets, [0], "{what}: float coeffs[]");
+                        coefficients_seen += 1;
+                    }
+                    // raycast.rs pushes one u32: hide_negative.
+                    PUSH_CONSTANT => assert_eq!(block.offsets, [0], "{what}: push constants"),
+                    other => panic!("{what}: unexpected block of storage class {other}"),
+                }
+            }
+        }
+    }
+    // Every vertex shader reads the coefficients (it hands them on as varyings), and the
+    // robust methods' fragment shaders read them again.
+    assert!(
+        coefficients_seen >= RAYCAST_SHADERS.len(),
+        "the coefficients are read"
+    );
+    assert!(
+        frames_seen >= 2 * RAYCAST_SHADERS.len(),
+        "the frame block is read"
+    );
+    for (what, spirv) in [
+        ("raycast.vert", RAYCAST_VERTEX),
+        ("impostor.frag", IMPOSTOR_FRAGMENT),
+        ("mesh.vert", MESH_VERTEX),
+        ("mesh.frag", MESH_FRAGMENT),
+    ] {
+        check_frame(what, spirv);
+    }
+}
+
+#[test]
+fn the_compute_ray_caster_reads_the_buffers_in_the_order_they_are_bound() {
+    let push = offsets!(ComputeParams: hide_negative, slice, width, height);
+    assert_eq!(size_of::<ComputeParams>(), 16);
+    assert!(!COMPUTE_RAYCAST_SHADERS.is_empty());
+    for shader in COMPUTE_RAYCAST_SHADERS {
+        let what = format!("{:?} {} compute", shader.layout, shader.method);
+        let (others, frame) = check_frame(&what, shader.spirv);
+        assert!(frame, "{what}: reads the frame at binding {FRAME_BINDING}");
+        let mut storage = Vec::new();
+        for block in others {
+            match block.storage_class {
+                PUSH_CONSTANT => assert_eq!(block.offsets, push, "{what}: ComputeParams"),
+                STORAGE_BUFFER => {
+                    assert_eq!(block.set, Some(0), "{what}");
+                    storage.push(block.binding.unwrap_or(u32::MAX));
+                }
+                other => panic!("{what}: unexpected block of storage class {other}"),
+            }
+        }
+        // compute.rs binds the frame, then its five inputs and two outputs at
+        // 1..BINDINGS, the coefficients first, at the ray caster's binding.
+        storage.sort();
+        let expected: Vec<u32> = (1..crate::render::compute::BINDINGS).collect();
+        assert_eq!(storage, expected, "{what}: storage bindings");
+        assert_eq!(expected[0], COEFFICIENTS_BINDING);
+    }
+}
