@@ -1,5 +1,14 @@
 //! glyphcast: GPU ray casting of higher-order tensor and spherical-harmonic glyphs.
 //!
+//! # Features
+//!
+//! The core (glyph math, scenes, the Vulkan layer, the passes and the headless renderer)
+//! builds alone: an engine depends on `glyphcast = { default-features = false }` and its
+//! dependency tree then holds none of winit, plotters, nifti, clap or indicatif. The
+//! default feature `cli` adds the command line and everything it uses: `volume` (NIfTI
+//! and MRtrix images, volume slices, the DWI fits), `viewer` (winit windows) and `plots`
+//! (benchmark plots).
+//!
 //! # Embedding the ray caster in an engine
 //!
 //! An engine that owns its Vulkan instance, device, allocator and frame can draw glyphs
@@ -108,14 +117,17 @@ pub mod camera;
 pub mod catalog;
 pub mod demo;
 pub mod error;
+#[cfg(feature = "volume")]
 pub mod fit;
 pub mod glyph;
 pub mod io;
 pub mod parallel;
 pub mod render;
 pub mod rng;
+#[cfg(feature = "viewer")]
 pub mod viewer;
 pub mod vk;
+#[cfg(feature = "volume")]
 pub mod volume;
 
 pub use error::{Error, Result};

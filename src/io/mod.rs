@@ -1,7 +1,10 @@
 //! Files in and out: scene JSON, NIfTI and MRtrix volumes, PNG images and NumPy depth maps.
 pub mod atomic;
+#[cfg(feature = "volume")]
 pub mod image;
+#[cfg(feature = "volume")]
 pub mod mif;
+#[cfg(feature = "volume")]
 pub mod nifti;
 pub mod npy;
 pub mod png;

@@ -17,7 +17,9 @@ mod debug;
 mod device;
 mod image;
 mod instance;
+#[cfg(feature = "viewer")]
 mod surface;
+#[cfg(feature = "viewer")]
 mod swapchain;
 mod timer;
 
@@ -27,7 +29,9 @@ pub use context::DeviceContext;
 pub use debug::ValidationLog;
 pub use device::{DeviceInfo, choose_physical_device};
 pub use image::{Image, cleared_depth_attachment};
+#[cfg(feature = "viewer")]
 pub use surface::Surface;
+#[cfg(feature = "viewer")]
 pub use swapchain::{Acquired, Swapchain, color_range};
 pub use timer::GpuTimer;
 
@@ -35,6 +39,7 @@ use crate::error::{Error, Result, VkContext};
 use ash::vk;
 use context::InstanceOwner;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+#[cfg(feature = "viewer")]
 use raw_window_handle::RawDisplayHandle;
 use std::ffi::{CStr, c_char};
 use std::sync::Arc;
@@ -85,6 +90,7 @@ impl Gpu {
     /// window system's surface extensions on the instance and VK_KHR_swapchain on the
     /// device (devices without it are passed over). Whether the queue can present to a
     /// particular window is checked when its [`Surface`] is created.
+    #[cfg(feature = "viewer")]
     pub fn for_window(options: &GpuOptions, display: RawDisplayHandle) -> Result<Gpu> {
         let surface_extensions =
             ash_window::enumerate_required_extensions(display).map_err(|result| {
@@ -167,6 +173,7 @@ impl Gpu {
     }
 
     /// The instance's owner, for objects made from the instance (window surfaces).
+    #[cfg(feature = "viewer")]
     pub(crate) fn instance_owner(&self) -> &Arc<InstanceOwner> {
         &self.instance
     }
