@@ -12,7 +12,7 @@ use crate::glyph::monomials::monomials;
 use crate::glyph::polynomial::GlyphPolynomial;
 use crate::glyph::stiffness::{VoigtStiffness, rotate_order4};
 use crate::glyph::{NegativeMode, Symmetry, TensorLayout};
-use crate::io::scene::{GlyphKind, GlyphSet, ImageSize, Scene};
+use crate::scene::{GlyphKind, GlyphSet, ImageSize, Scene};
 use crate::{Error, Result};
 use glam::{DMat3, DVec3};
 

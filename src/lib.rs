@@ -51,7 +51,7 @@
 //! ```no_run
 //! use ash::vk;
 //! use glyphcast::camera::Camera;
-//! use glyphcast::io::scene::Scene;
+//! use glyphcast::scene::Scene;
 //! use glyphcast::render::RenderSettings;
 //! use glyphcast::render::frame::{FrameParams, SceneExtent};
 //! use glyphcast::render::glyph_data::prepare_scene;
@@ -124,6 +124,7 @@ pub mod io;
 pub mod parallel;
 pub mod render;
 pub mod rng;
+pub mod scene;
 #[cfg(feature = "viewer")]
 pub mod viewer;
 pub mod vk;

@@ -8,10 +8,10 @@ use glyphcast::camera::{Camera, Projection};
 use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
 use glyphcast::glyph::NegativeMode;
 use glyphcast::glyph::tessellate::{MeshKind, SphereMesh};
-use glyphcast::io::scene::{GlyphSet, ImageSize, Scene};
 use glyphcast::render::glyph_data::prepare_scene;
 use glyphcast::render::headless::HeadlessRenderer;
 use glyphcast::render::{Method, RenderSettings};
+use glyphcast::scene::{GlyphSet, ImageSize, Scene};
 
 const CENTER: DVec3 = DVec3::new(0.3, -0.2, 0.1);
 const RADIUS: f64 = 0.8;

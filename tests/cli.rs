@@ -553,7 +553,7 @@ fn bench_fodf_workload_matches_the_reference() {
     assert_eq!(r["method"], "exact", "{r}");
     assert_eq!(r["accuracy"]["holes"], 0, "{r}");
     assert_eq!(r["accuracy"]["false_hits"], 0, "{r}");
-    let scene = glyphcast::io::scene::Scene::load(&saved).expect("the saved scene");
+    let scene = glyphcast::scene::Scene::load(&saved).expect("the saved scene");
     assert_eq!(scene.glyph_sets.len(), 1);
     assert_eq!(scene.glyph_sets[0].len(), 24);
     let with_sweep = glyphcast(&[
@@ -721,5 +721,5 @@ fn outputs_are_checked_first_and_written_together() {
         std::fs::read(dir.join("old.png")).expect("new"),
         b"the user's image"
     );
-    assert!(glyphcast::io::scene::Scene::load(&dir.join("old.json")).is_ok());
+    assert!(glyphcast::scene::Scene::load(&dir.join("old.json")).is_ok());
 }

@@ -15,11 +15,11 @@ use glam::DVec3;
 use glyphcast::accuracy::suite;
 use glyphcast::bench::workload;
 use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
-use glyphcast::io::scene::Scene;
 use glyphcast::render::glyph_data::prepare_scene;
 use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
 use glyphcast::render::tiles::WALK_PER_DISPATCH;
 use glyphcast::render::{RenderPath, RenderSettings};
+use glyphcast::scene::Scene;
 use glyphcast::vk::Gpu;
 
 const SIZE: u32 = 128;

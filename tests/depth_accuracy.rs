@@ -14,9 +14,9 @@ use glam::DVec3;
 use glyphcast::accuracy::suite::{self, SuiteScene};
 use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
 use glyphcast::glyph::NegativeMode;
-use glyphcast::io::scene::{ImageSize, Scene};
 use glyphcast::render::headless::HeadlessRenderer;
 use glyphcast::render::{Method, Refinement, RenderSettings};
+use glyphcast::scene::{ImageSize, Scene};
 
 const SIZE: u32 = 160;
 

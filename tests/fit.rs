@@ -7,7 +7,7 @@ use glyphcast::fit::voxel::SIGNAL_FLOOR;
 use glyphcast::fit::{FitFiles, FitInputs, FitModel, VoxelFitter, fit};
 use glyphcast::glyph::polynomial::GlyphPolynomial;
 use glyphcast::glyph::{Symmetry, TensorLayout};
-use glyphcast::io::scene::ShBasis;
+use glyphcast::scene::ShBasis;
 use nalgebra::{DMatrix, DVector};
 use ndarray::{Array4, Ix4};
 use nifti::{IntoNdArray, NiftiObject, ReaderOptions};

@@ -10,7 +10,7 @@ mod common;
 use glam::{DMat3, DMat4, DVec3};
 use glyphcast::io::image::{ImageHeader, read_image};
 use glyphcast::io::mif::read_mif;
-use glyphcast::io::scene::ShBasis;
+use glyphcast::scene::ShBasis;
 use glyphcast::volume::{VolumeKind, load_mask, load_volume};
 use ndarray::{Array3, ArrayD, IxDyn};
 use std::io::Write;

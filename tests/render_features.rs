@@ -7,10 +7,10 @@ use glam::DVec3;
 use glyphcast::camera::{Camera, Projection};
 use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
 use glyphcast::glyph::NegativeMode;
-use glyphcast::io::scene::{GlyphSet, ImageSize, Scene};
 use glyphcast::render::glyph_data::prepare_scene;
 use glyphcast::render::headless::HeadlessRenderer;
 use glyphcast::render::{ColorMode, Method, RenderPath, RenderSettings};
+use glyphcast::scene::{GlyphSet, ImageSize, Scene};
 
 fn scene(sets: Vec<GlyphSet>, eye: DVec3, projection: Projection) -> Scene {
     Scene {

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use glam::DVec3;
 use glyphcast::glyph::sh::{ShFitter, sh_count, sh_eval, sh_orders};
-use glyphcast::io::scene::ShBasis;
+use glyphcast::scene::ShBasis;
 use ndarray::{ArrayD, IxDyn};
 use nifti::{IntoNdArray, NiftiObject, ReaderOptions};
 

@@ -5,10 +5,10 @@ use glyphcast::accuracy::compare_depth;
 use glyphcast::accuracy::suite::sh_func_coef;
 use glyphcast::glyph::sh::{convert_basis, sh_to_tensor};
 use glyphcast::glyph::{Symmetry, TensorLayout};
-use glyphcast::io::scene::{GlyphKind, Scene, ShBasis};
 use glyphcast::render::RenderSettings;
 use glyphcast::render::glyph_data::prepare_scene;
 use glyphcast::render::headless::HeadlessRenderer;
+use glyphcast::scene::{GlyphKind, Scene, ShBasis};
 
 const SIZE: u32 = 160;
 

@@ -6,10 +6,10 @@ use glam::DVec3;
 use glyphcast::accuracy::silhouette_band;
 use glyphcast::camera::{Camera, Projection};
 use glyphcast::demo::{glyph_set, symmetric};
-use glyphcast::io::scene::{ImageSize, Scene};
 use glyphcast::render::glyph_data::prepare_scene;
 use glyphcast::render::headless::HeadlessRenderer;
 use glyphcast::render::{Method, RenderSettings};
+use glyphcast::scene::{ImageSize, Scene};
 
 const CENTER: DVec3 = DVec3::new(0.3, -0.2, 0.1);
 const RADIUS: f64 = 0.8;

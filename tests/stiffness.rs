@@ -5,9 +5,9 @@
 mod common;
 use glyphcast::demo::stiffness_demo_scene;
 use glyphcast::glyph::Symmetry;
-use glyphcast::io::scene::{GlyphKind, Scene};
 use glyphcast::render::RenderSettings;
 use glyphcast::render::headless::HeadlessRenderer;
+use glyphcast::scene::{GlyphKind, Scene};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 

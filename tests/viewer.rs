@@ -378,7 +378,7 @@ fn three_slices_move_one_at_a_time() {
     assert_clean(&output);
 
     let sh = glyphcast::volume::VolumeKind::Sh {
-        basis: glyphcast::io::scene::ShBasis::Tournier07,
+        basis: glyphcast::scene::ShBasis::Tournier07,
         legacy: true,
     };
     let loaded = glyphcast::volume::load_volume(Path::new(&volume), sh).expect("the volume");
@@ -386,7 +386,7 @@ fn three_slices_move_one_at_a_time() {
     let planes = [middle[0], middle[1] + 1, middle[2] - 1];
     let map = &loaded.voxel_to_world;
     let (origin, inverse) = (map.voxel_center(glam::DVec3::ZERO), map.linear().inverse());
-    let scene = glyphcast::io::scene::Scene::load(&seen).expect("the saved scene");
+    let scene = glyphcast::scene::Scene::load(&seen).expect("the saved scene");
     assert_eq!(scene.glyph_sets.len(), 3, "one glyph set per slice");
     for (axis, set) in scene.glyph_sets.iter().enumerate() {
         assert!(!set.centers.is_empty(), "set {axis} is empty");

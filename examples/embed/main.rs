@@ -21,11 +21,11 @@ use glam::DVec3;
 use glyphcast::camera::{Camera, Projection};
 use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
 use glyphcast::glyph::reference::reference_depth;
-use glyphcast::io::scene::{ImageSize, Scene};
 use glyphcast::render::RenderSettings;
 use glyphcast::render::frame::{FrameParams, SceneExtent};
 use glyphcast::render::glyph_data::{GlyphSetData, prepare_scene};
 use glyphcast::render::raycast::{RayCastPass, TargetFormats};
+use glyphcast::scene::{ImageSize, Scene};
 use glyphcast::vk::DeviceContext;
 use plane::{PlanePass, Square};
 

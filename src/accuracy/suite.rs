@@ -6,7 +6,7 @@ use crate::camera::{Camera, Projection};
 use crate::demo::{direction, fibre_tensor, glyph_set, symmetric};
 use crate::glyph::stiffness::{VoigtStiffness, rotate_order4};
 use crate::glyph::{NegativeMode, Symmetry, TensorLayout};
-use crate::io::scene::{GlyphKind, GlyphSet, ImageSize, Scene, ShBasis};
+use crate::scene::{GlyphKind, GlyphSet, ImageSize, Scene, ShBasis};
 use glam::{DMat3, DVec3};
 
 /// One named scene of the suite.

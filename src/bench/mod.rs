@@ -16,10 +16,10 @@ use crate::accuracy::{GeometricError, compare_depth, geometric_error};
 use crate::camera::Camera;
 use crate::glyph::intersect::WorldGlyph;
 use crate::glyph::reference::reference_depth;
-use crate::io::scene::Scene;
 use crate::render::glyph_data::{GlyphSetData, prepare_scene};
 use crate::render::headless::{HeadlessRenderer, RenderedImage};
 use crate::render::{RenderPath, RenderSettings};
+use crate::scene::Scene;
 use crate::vk::Gpu;
 use std::time::Instant;
 

@@ -8,8 +8,8 @@ use crate::camera::{Camera, Projection};
 use crate::catalog::{MAX_SH_BAND, MAX_SYMMETRIC_ORDER};
 use crate::demo::{direction, fibre_tensor, glyph_set, symmetric};
 use crate::glyph::sh::{sh_basis_values, sh_orders};
-use crate::io::scene::{GlyphKind, GlyphSet, ImageSize, Scene, ShBasis};
 use crate::rng::SplitMix64;
+use crate::scene::{GlyphKind, GlyphSet, ImageSize, Scene, ShBasis};
 use crate::{Error, Result};
 use glam::DVec3;
 

@@ -5,9 +5,9 @@
 use clap::Args;
 use glyphcast::accuracy::suite;
 use glyphcast::bench::{self, BenchCase, BenchFrames, BenchResult, Reference, ratios, workload};
-use glyphcast::io::scene::Scene;
 use glyphcast::render::headless::HeadlessRenderer;
 use glyphcast::render::{MeshKind, Method, Refinement, RenderSettings};
+use glyphcast::scene::Scene;
 use glyphcast::vk::{Gpu, GpuOptions};
 use glyphcast::{Error, Result};
 use std::path::PathBuf;

@@ -1,9 +1,9 @@
 //! `glyphcast render` and `glyphcast demo`: options, rendering and writing the outputs.
 use clap::Args;
-use glyphcast::io::scene::Scene;
 use glyphcast::render::glyph_data::prepare_scene;
 use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
 use glyphcast::render::{ColorMode, Method, Refinement, RenderSettings};
+use glyphcast::scene::Scene;
 use glyphcast::viewer::ViewSource;
 use glyphcast::vk::{Gpu, GpuOptions};
 use glyphcast::volume::ImageRequest;

@@ -8,7 +8,7 @@
 use clap::Args;
 use glyphcast::fit::parse_basis;
 use glyphcast::glyph::{Symmetry, TensorLayout};
-use glyphcast::io::scene::{Scene, ShBasis};
+use glyphcast::scene::{Scene, ShBasis};
 use glyphcast::volume::{
     ImageRequest, ViewProjection, Volume, VolumeKind, VolumeOptions, VolumeScene, load_mask,
     load_volume, volume_scene,

@@ -33,7 +33,7 @@ pub mod voxel;
 pub use inputs::{FitFiles, FitInputs};
 pub use voxel::{VoxelFitter, fit};
 
-use crate::io::scene::ShBasis;
+use crate::scene::ShBasis;
 use crate::{Error, Result};
 use sh::sh_count;
 

@@ -10,8 +10,8 @@ use crate::glyph::polynomial::GlyphPolynomial;
 use crate::glyph::proxy::{GlyphBounds, glyph_bounds};
 use crate::glyph::sh::sh_to_tensor;
 use crate::glyph::{NegativeMode, Symmetry, TensorLayout};
-use crate::io::scene::{GlyphKind, GlyphSet, Scene};
 use crate::parallel::{Progress, map_chunks_with_progress};
+use crate::scene::{GlyphKind, GlyphSet, Scene};
 use crate::{Error, Result};
 use std::borrow::Cow;
 

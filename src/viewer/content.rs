@@ -10,11 +10,11 @@
 //! only the latest of those is prepared next.
 use crate::camera::Camera;
 use crate::glyph::NegativeMode;
-use crate::io::scene::{GlyphSet, Scene};
 use crate::parallel::Progress;
 use crate::render::RenderSettings;
 use crate::render::frame::{FrameParams, SceneExtent};
 use crate::render::glyph_data::{GlyphSetData, prepare_scene, prepare_set_with_progress};
+use crate::scene::{GlyphSet, Scene};
 use crate::volume::{
     SliceRegion, Volume, VolumeOptions, VolumeScene, frame_region, volume_scene_with_progress,
 };

@@ -9,7 +9,7 @@ use crate::glyph::bounds::{climbed_max_radius, sizing_lattice};
 use crate::glyph::polynomial::GlyphPolynomial;
 use crate::glyph::sh;
 use crate::glyph::{NegativeMode, Symmetry, TensorLayout};
-use crate::io::scene::GlyphKind;
+use crate::scene::GlyphKind;
 
 /// How many of the best lattice points are climbed.
 const CLIMBS: usize = 3;

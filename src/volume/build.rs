@@ -17,7 +17,7 @@ use super::input::{Mask, Volume, show_shape};
 use super::reorient::Reorientation;
 use super::selection::{Slice, SliceRegion, Slices, VoxelRanges};
 use crate::glyph::NegativeMode;
-use crate::io::scene::{GlyphKind, GlyphSet, Scene};
+use crate::scene::{GlyphKind, GlyphSet, Scene};
 use crate::{Error, Result};
 
 /// Default world radius of the largest glyph, as a fraction of the smallest voxel size:

@@ -21,7 +21,7 @@ use glam::DVec3;
 use super::selection::SliceRegion;
 use crate::camera::{Camera, Projection};
 use crate::io::nifti::VoxelToWorld;
-use crate::io::scene::ImageSize;
+use crate::scene::ImageSize;
 use crate::{Error, Result};
 
 /// Longer image side when no size is requested.

@@ -9,7 +9,7 @@ use crate::glyph::TensorLayout;
 use crate::glyph::sh;
 use crate::io::image::{Image, read_image};
 use crate::io::nifti::VoxelToWorld;
-use crate::io::scene::{GlyphKind, ShBasis};
+use crate::scene::{GlyphKind, ShBasis};
 use crate::{Error, Result};
 
 /// Highest SH band and tensor order of the scene format.

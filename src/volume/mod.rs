@@ -5,7 +5,7 @@
 //! voxels (slice, index ranges, mask); `reorient` turns each glyph from voxel axes into
 //! world axes with the orthogonal polar factor R of the affine, g(u) = f(R^T u);
 //! `amplitude` measures glyphs for normalisation; `framing` places the camera; `build`
-//! puts it together into a [`Scene`](crate::io::scene::Scene) and a [`VolumeReport`].
+//! puts it together into a [`Scene`](crate::scene::Scene) and a [`VolumeReport`].
 //!
 //! Glyph centres are the affine applied to the voxel indices (NIfTI-1's sform, else
 //! qform, else pixdim: [`crate::io::nifti::affine`]); glyph shapes use only the affine's

@@ -14,7 +14,7 @@ use glam::DMat3;
 
 use crate::glyph::sh;
 use crate::glyph::{Symmetry, TensorLayout};
-use crate::io::scene::GlyphKind;
+use crate::scene::GlyphKind;
 use crate::{Error, Result};
 
 /// Largest entry difference from the identity below which no rotation is applied.
@@ -251,7 +251,7 @@ mod tests {
     fn prepared_matrix_matches_apply() {
         let sh = GlyphKind::Sh {
             band: 8,
-            basis: crate::io::scene::ShBasis::Tournier07,
+            basis: crate::scene::ShBasis::Tournier07,
             legacy: false,
         };
         let kinds = [

@@ -3,10 +3,10 @@
 #![allow(dead_code)]
 use glyphcast::accuracy::{DepthComparison, compare_depth};
 use glyphcast::glyph::reference::reference_depth;
-use glyphcast::io::scene::Scene;
 use glyphcast::render::RenderSettings;
 use glyphcast::render::glyph_data::{GlyphSetData, prepare_scene};
 use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
+use glyphcast::scene::Scene;
 use glyphcast::vk::{Gpu, GpuOptions};
 use std::path::PathBuf;
 

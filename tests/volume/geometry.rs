@@ -6,7 +6,7 @@ use glyphcast::camera::Projection;
 use glyphcast::glyph::polynomial::GlyphPolynomial;
 use glyphcast::glyph::{Symmetry, TensorLayout};
 use glyphcast::io::nifti::AffineSource;
-use glyphcast::io::scene::{GlyphKind, Scene};
+use glyphcast::scene::{GlyphKind, Scene};
 use glyphcast::volume::{
     ImageRequest, Slice, SliceAxis, ViewProjection, Volume, VolumeKind, VolumeOptions, load_volume,
     volume_scene,

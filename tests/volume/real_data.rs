@@ -1,7 +1,7 @@
 //! Real files from DIPY (tests/data/dipy, BSD-3-Clause, see LICENSE-DIPY there).
 use glam::{DMat3, DVec3};
 use glyphcast::io::nifti::{AffineSource, VoxelToWorld, read_nifti};
-use glyphcast::io::scene::{GlyphKind, ShBasis};
+use glyphcast::scene::{GlyphKind, ShBasis};
 use glyphcast::volume::{VolumeKind, load_volume};
 use nalgebra::{Quaternion, UnitQuaternion};
 use nifti::NiftiHeader;

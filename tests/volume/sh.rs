@@ -4,7 +4,7 @@
 //! `cargo test --test volume -- --ignored` after the merge).
 use crate::fixtures::*;
 use glam::{DMat3, DVec3};
-use glyphcast::io::scene::{GlyphKind, ShBasis};
+use glyphcast::scene::{GlyphKind, ShBasis};
 use glyphcast::volume::{VolumeKind, VolumeOptions, load_volume, volume_scene};
 use std::f64::consts::PI;
 

@@ -1,4 +1,6 @@
-//! Scene files (SCENE-FORMAT.md, version 1): reading with full validation, and writing.
+//! Scene files (docs/scene-format.md, version 1): reading with full validation, and
+//! writing. The scene itself ([`Scene`], [`GlyphSet`], ...) is the domain model of
+//! `crate::scene`; this module only reads and writes it.
 //!
 //! The reader does not deserialise into serde structs. It parses into a small JSON tree
 //! of its own (`Json`), which keeps key order and refuses duplicate keys (serde_json
@@ -12,18 +14,11 @@
 //! `json` holds the tree and its parser, `field` the path-tracking walk over it, `names`
 //! the format's names for enumerated values; `read` validates a tree into a [`Scene`],
 //! `write` turns a [`Scene`] back into text.
-use std::fmt;
 use std::path::Path;
 
-use glam::DVec3;
-
-use crate::camera::Camera;
-use crate::glyph::monomials::symmetric_count;
-use crate::glyph::{NegativeMode, Symmetry, TensorLayout};
 use crate::{Error, Result};
 
 use field::Field;
-use names::Named;
 
 mod field;
 mod json;
@@ -34,108 +29,9 @@ mod write;
 #[cfg(test)]
 mod tests;
 
-/// The real SH basis convention of a coefficient list (SCENE-FORMAT.md).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ShBasis {
-    /// MRtrix3's basis.
-    Tournier07,
-    /// DIPY's default basis.
-    Descoteaux07,
-}
+pub use crate::scene::{GlyphKind, GlyphSet, ImageSize, Scene, ShBasis};
 
-/// What the coefficients of a glyph set describe.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum GlyphKind {
-    Tensor(TensorLayout),
-    /// Even bands 0, 2, ..., `band`; `legacy` is DIPY's `legacy=True` variant.
-    Sh {
-        band: u32,
-        basis: ShBasis,
-        legacy: bool,
-    },
-}
-
-/// Glyphs sharing kind, order and options; one center, scale and coefficient list each.
-#[derive(Clone, Debug, PartialEq)]
-pub struct GlyphSet {
-    pub kind: GlyphKind,
-    pub negative: NegativeMode,
-    pub centers: Vec<DVec3>,
-    /// One per glyph, expanded from `scale` when the file gives a single value.
-    pub scales: Vec<f64>,
-    pub coeffs: Vec<Vec<f64>>,
-}
-
-/// Output image size in pixels.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct ImageSize {
-    pub width: u32,
-    pub height: u32,
-}
-
-/// A validated scene file.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Scene {
-    pub glyph_sets: Vec<GlyphSet>,
-    pub camera: Camera,
-    pub image: ImageSize,
-}
 const FORMAT_VERSION: i128 = 1;
-const DEFAULT_IMAGE_SIDE: u32 = 512;
-
-impl GlyphKind {
-    /// Coefficients per glyph: (n+1)(n+2)/2 symmetric, 3^n non-symmetric, and for SH
-    /// up to band L the same (L+1)(L+2)/2 as a symmetric tensor of order L.
-    pub fn coefficient_count(&self) -> usize {
-        match self {
-            GlyphKind::Tensor(layout) => layout.coefficient_count(),
-            GlyphKind::Sh { band, .. } => symmetric_count(*band),
-        }
-    }
-}
-
-impl fmt::Display for GlyphKind {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            GlyphKind::Tensor(TensorLayout { order, symmetry }) => {
-                let symmetry = match symmetry {
-                    Symmetry::Symmetric => "symmetric",
-                    Symmetry::NonSymmetric => "non-symmetric",
-                };
-                write!(f, "{symmetry} tensor of order {order}")
-            }
-            GlyphKind::Sh {
-                band,
-                basis,
-                legacy,
-            } => {
-                let legacy = if *legacy { "legacy " } else { "" };
-                write!(f, "SH up to band {band}, {legacy}{} basis", basis.name())
-            }
-        }
-    }
-}
-
-impl GlyphSet {
-    /// Number of glyphs.
-    pub fn len(&self) -> usize {
-        self.centers.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.centers.is_empty()
-    }
-}
-
-impl Default for ImageSize {
-    /// The format's default, 512 x 512.
-    fn default() -> Self {
-        ImageSize {
-            width: DEFAULT_IMAGE_SIDE,
-            height: DEFAULT_IMAGE_SIDE,
-        }
-    }
-}
 
 impl Scene {
     /// Reads and validates a scene file. Every problem with the content is an

@@ -13,10 +13,7 @@ pub(super) trait Named: Copy + 'static {
 impl Named for ShBasis {
     const ALL: &'static [Self] = &[ShBasis::Tournier07, ShBasis::Descoteaux07];
     fn name(self) -> &'static str {
-        match self {
-            ShBasis::Tournier07 => "tournier07",
-            ShBasis::Descoteaux07 => "descoteaux07",
-        }
+        ShBasis::name(self)
     }
 }
 

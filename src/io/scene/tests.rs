@@ -1,7 +1,9 @@
 use super::field::Field;
 use super::json::Json;
 use super::*;
-use crate::camera::Projection;
+use crate::camera::{Camera, Projection};
+use crate::glyph::{NegativeMode, Symmetry, TensorLayout};
+use glam::DVec3;
 use serde_json::{Value, json};
 
 const FILE: &str = "case.json";

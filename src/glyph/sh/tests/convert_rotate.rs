@@ -7,7 +7,7 @@ use crate::glyph::polynomial::GlyphPolynomial;
 use crate::glyph::rotate::rotate_symmetric_tensor;
 use crate::glyph::sh::{convert_basis, rotate_sh, sh_count, sh_eval, sh_to_tensor};
 use crate::glyph::{Symmetry, TensorLayout};
-use crate::io::scene::ShBasis;
+use crate::scene::ShBasis;
 
 fn ok<T>(r: crate::Result<T>) -> T {
     match r {

@@ -1,0 +1,125 @@
+//! The domain model: a scene of glyph sets (kind, order, options, and per glyph a
+//! centre, a scale and coefficients), a camera and an image size. File formats read and
+//! write it (`io::scene`), volumes build it (`volume`), and the renderers draw it after
+//! `render::glyph_data` prepared it; none of this module does I/O.
+use std::fmt;
+
+use glam::DVec3;
+
+use crate::camera::Camera;
+use crate::glyph::monomials::symmetric_count;
+use crate::glyph::{NegativeMode, Symmetry, TensorLayout};
+
+/// The real SH basis convention of a coefficient list (SCENE-FORMAT.md).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShBasis {
+    /// MRtrix3's basis.
+    Tournier07,
+    /// DIPY's default basis.
+    Descoteaux07,
+}
+
+impl ShBasis {
+    /// The basis's name, as the scene format and the command line write it.
+    pub fn name(self) -> &'static str {
+        match self {
+            ShBasis::Tournier07 => "tournier07",
+            ShBasis::Descoteaux07 => "descoteaux07",
+        }
+    }
+}
+
+/// What the coefficients of a glyph set describe.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GlyphKind {
+    Tensor(TensorLayout),
+    /// Even bands 0, 2, ..., `band`; `legacy` is DIPY's `legacy=True` variant.
+    Sh {
+        band: u32,
+        basis: ShBasis,
+        legacy: bool,
+    },
+}
+
+/// Glyphs sharing kind, order and options; one center, scale and coefficient list each.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GlyphSet {
+    pub kind: GlyphKind,
+    pub negative: NegativeMode,
+    pub centers: Vec<DVec3>,
+    /// One per glyph, expanded from `scale` when the file gives a single value.
+    pub scales: Vec<f64>,
+    pub coeffs: Vec<Vec<f64>>,
+}
+
+/// Output image size in pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ImageSize {
+    pub width: u32,
+    pub height: u32,
+}
+
+/// Glyph sets seen by a camera, drawn at an image size (a validated scene file, or one
+/// built from a volume or by code).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    pub glyph_sets: Vec<GlyphSet>,
+    pub camera: Camera,
+    pub image: ImageSize,
+}
+/// The scene format's default image side, in pixels.
+const DEFAULT_IMAGE_SIDE: u32 = 512;
+
+impl GlyphKind {
+    /// Coefficients per glyph: (n+1)(n+2)/2 symmetric, 3^n non-symmetric, and for SH
+    /// up to band L the same (L+1)(L+2)/2 as a symmetric tensor of order L.
+    pub fn coefficient_count(&self) -> usize {
+        match self {
+            GlyphKind::Tensor(layout) => layout.coefficient_count(),
+            GlyphKind::Sh { band, .. } => symmetric_count(*band),
+        }
+    }
+}
+
+impl fmt::Display for GlyphKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            GlyphKind::Tensor(TensorLayout { order, symmetry }) => {
+                let symmetry = match symmetry {
+                    Symmetry::Symmetric => "symmetric",
+                    Symmetry::NonSymmetric => "non-symmetric",
+                };
+                write!(f, "{symmetry} tensor of order {order}")
+            }
+            GlyphKind::Sh {
+                band,
+                basis,
+                legacy,
+            } => {
+                let legacy = if *legacy { "legacy " } else { "" };
+                write!(f, "SH up to band {band}, {legacy}{} basis", basis.name())
+            }
+        }
+    }
+}
+
+impl GlyphSet {
+    /// Number of glyphs.
+    pub fn len(&self) -> usize {
+        self.centers.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.centers.is_empty()
+    }
+}
+
+impl Default for ImageSize {
+    /// The format's default, 512 x 512.
+    fn default() -> Self {
+        ImageSize {
+            width: DEFAULT_IMAGE_SIDE,
+            height: DEFAULT_IMAGE_SIDE,
+        }
+    }
+}
