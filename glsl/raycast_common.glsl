@@ -6,7 +6,7 @@
 // of a hit) are in glyph_ray.glsl, which the compute ray caster shares.
 //
 // The sign function is the radial form g(q) = h(f(q/|q|)) + offset - |q| (h = abs, or
-// max(., 0) to hide negative lobes), which has the zero set of the seed's Eq. 3 but stays
+// max(., 0) to hide negative lobes), which has the zero set of the paper's Eq. 3 but stays
 // well scaled near the centre.
 #include "frame.glsl"
 #include "glyph_function.glsl"

@@ -1,5 +1,5 @@
 #version 450
-// The seed's ray caster (Hlawitschka et al., Sec. 4): fixed-step sign test of the radial
+// The paper's ray caster (Hlawitschka et al., Sec. 4): fixed-step sign test of the radial
 // form g along the chord, finer steps near the centre, and refinement of the first sign
 // change. Ray setup, g, refinement and shading live in raycast_common.glsl.
 #extension GL_GOOGLE_include_directive : require

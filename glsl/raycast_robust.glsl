@@ -1,5 +1,5 @@
 // Robust ray casting by range arithmetic (Knoll et al., "Fast and robust ray tracing of
-// general implicits on the GPU"; the seed's Sec. 5), shared by raycast_interval.frag and
+// general implicits on the GPU"; the paper's Sec. 5), shared by raycast_interval.frag and
 // raycast_affine.frag, which define GLYPH_SEGMENT_RANGE as glyph_range_interval or
 // glyph_range_affine before including this file.
 //

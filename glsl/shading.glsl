@@ -19,7 +19,7 @@ vec3 viridis(float t) {
 vec3 glyph_color(vec3 dir, float radius) {
     int mode = frame.modes.z;
     if (mode == 0) {
-        // The seed's |p^|: red x, green y, blue z, read as sRGB values.
+        // The paper's |p^|: red x, green y, blue z, read as sRGB values.
         return pow(abs(dir), vec3(2.2));
     } else if (mode == 1) {
         return viridis((radius - frame.magnitude_range.x) * frame.magnitude_range.y);

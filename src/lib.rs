@@ -1,5 +1,9 @@
 //! glyphcast: GPU ray casting of higher-order tensor and spherical-harmonic glyphs.
 //!
+//! The method is that of Hlawitschka, Hijazi, Knoll and Hamann, "Towards a High-quality
+//! Visualization of Higher-order Reynold's Glyphs"; where the code says "the paper", it
+//! means this one. `docs/architecture.md` maps the modules.
+//!
 //! # Features
 //!
 //! The core (glyph math, scenes, the Vulkan layer, the passes and the headless renderer)

@@ -1,5 +1,5 @@
 //! The accuracy suite: scenes on which fixed-step ray casting is known to struggle.
-//! Thin crossing lobes, a slightly tilted copy of a glyph (the seed's Fig. 1), a glyph
+//! Thin crossing lobes, a slightly tilted copy of a glyph (the paper's Fig. 1), a glyph
 //! that touches its centre seen down its pinch, order 12, a non-symmetric stiffness
 //! tensor, negative lobes shown and hidden, real SH data, a camera inside a glyph's box, and sizes and distances over 10^6.
 use crate::camera::{Camera, Projection};

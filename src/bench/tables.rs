@@ -1,6 +1,6 @@
 //! Benchmark results as Markdown (for a person) and CSV (for a plot): the timings of
 //! every configuration, then, where a sweep drew meshes or measured accuracy, the table
-//! that sets cost against geometric error (the seed's Table 2 layout).
+//! that sets cost against geometric error (the paper's Table 2 layout).
 use super::BenchResult;
 use std::fmt::Write as _;
 

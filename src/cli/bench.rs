@@ -21,7 +21,7 @@ pub struct BenchArgs {
     /// Generated workload: grid:COUNT:ORDER (fibre tensors) or fodf:COUNT:BAND (SH fODFs).
     #[arg(long, default_value = "grid:100:8")]
     workload: String,
-    /// A sweep instead of one measurement: steps (the seed's Table 1), scaling (glyph
+    /// A sweep instead of one measurement: steps (the paper's Table 1), scaling (glyph
     /// count, order, resolution), table2 (ray casting against tessellation levels 1 to 6,
     /// with geometric error), methods (every method on the accuracy suite) or ratios
     /// (the default ray caster against the impostor and against tessellation at equal
@@ -258,7 +258,7 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
             }
         }
         Some("table2") => {
-            // The seed's Table 2: ray casting against tessellation levels 1 to 6.
+            // The paper's Table 2: ray casting against tessellation levels 1 to 6.
             let scene = plan.scene(base_name(), args.base_scene()?);
             plan.methods("", scene, &method_list(1..=6, &[]));
         }

@@ -8,7 +8,7 @@
 //! ```
 //!
 //! is positive (inside) and its surface is where g changes sign. With offset = 0 and
-//! q(t) = a + t b, the function F(t) = f(q(t))^2 - (q.q)^(n+1) (the seed's Eq. 3, squared)
+//! q(t) = a + t b, the function F(t) = f(q(t))^2 - (q.q)^(n+1) (the paper's Eq. 3, squared)
 //! is a polynomial of degree 2n + 2 with the sign of g wherever q != 0 (for Hide, g's sign
 //! changes are the roots of F where f > 0). F is used only to isolate roots, g to decide:
 //!

@@ -28,7 +28,7 @@ pub enum Symmetry {
 /// How negative values of f are drawn (scene format `negative`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum NegativeMode {
-    /// r(u) = |f(u)|: the seed's norm.
+    /// r(u) = |f(u)|: the paper's norm.
     #[default]
     Abs,
     /// Only the part where f(u) > 0.

@@ -6,7 +6,7 @@
 //! Monomial k of degree n corresponds to the sorted index tuple k of the symmetric
 //! tensor (0 = x, 1 = y, 2 = z), in lexicographic order of those tuples; its powers
 //! (a, b, c) count the 0s, 1s and 2s. The multiplicity n!/(a! b! c!) is the number of
-//! index orderings of that tuple (the seed's Eq. 5 weight).
+//! index orderings of that tuple (the paper's Eq. 5 weight).
 
 /// Powers (a, b, c) of x, y, z for one monomial x^a y^b z^c.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

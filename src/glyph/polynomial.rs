@@ -4,7 +4,7 @@
 //!
 //! Both tensor layouts reduce to this one form, so everything downstream (bounds, the ray
 //! intersection, the GPU coefficient buffers) sees a single representation:
-//! - symmetric (the seed's Eq. 5): c_k = multiplicity(m_k) * t_k;
+//! - symmetric (the paper's Eq. 5): c_k = multiplicity(m_k) * t_k;
 //! - non-symmetric (Eq. 4): c_k = sum of the entries T[i1..in] whose index multiset is
 //!   monomial k.
 //!

@@ -24,7 +24,7 @@ pub use settings::{ColorMode, Refinement, RenderPath, RenderSettings};
 /// How glyphs are drawn (`--method`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Method {
-    /// The seed's fixed-step sign test with refinement.
+    /// The paper's fixed-step sign test with refinement.
     Fixed,
     /// Robust traversal bounded by interval arithmetic (glsl/raycast_interval.frag).
     Interval,

@@ -435,7 +435,7 @@ pub(crate) fn glyph_pipeline(
     let viewport = vk::PipelineViewportStateCreateInfo::default()
         .viewport_count(1)
         .scissor_count(1);
-    // Front faces only: the box faces the ray enters through (the seed's choice), and
+    // Front faces only: the box faces the ray enters through (the paper's choice), and
     // the outside of a closed mesh.
     let raster = vk::PipelineRasterizationStateCreateInfo::default()
         .polygon_mode(vk::PolygonMode::FILL)

@@ -8,7 +8,7 @@ use crate::{Error, Result};
 pub enum Refinement {
     /// The first sample found inside the glyph.
     None,
-    /// K bisection steps (0 to 3 in the seed), then the midpoint of the bracket.
+    /// K bisection steps (0 to 3 in the paper), then the midpoint of the bracket.
     Bisect(u32),
     /// Linear interpolation of the last two samples (one secant step).
     Interpolate,
@@ -46,7 +46,7 @@ impl std::str::FromStr for Refinement {
 /// Glyph colouring (`--color`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ColorMode {
-    /// The seed's |p^|: absolute components of the direction from the centre.
+    /// The paper's |p^|: absolute components of the direction from the centre.
     Direction,
     /// A perceptual colormap of the surface point's distance from the centre (world
     /// units) over `range`, or over the scene's largest glyph when `None`.
@@ -143,7 +143,7 @@ pub struct RenderSettings {
     /// March step in units of the glyph's bounding radius.
     pub step: f32,
     pub refinement: Refinement,
-    /// Step factor inside the centre zone (the seed uses a third).
+    /// Step factor inside the centre zone (the paper uses a third).
     pub centre_step_factor: f32,
     /// Radius of the centre zone, in units of the glyph's bounding radius.
     pub centre_zone: f32,

@@ -1,5 +1,5 @@
 //! Real spherical harmonics of even bands in the conventions of SCENE-FORMAT.md, and the
-//! linear maps around them: evaluation, the seed's SH-to-tensor map t = M w
+//! linear maps around them: evaluation, the paper's SH-to-tensor map t = M w
 //! (Hlawitschka et al.), basis conversion, rotation and a regularised fit.
 //!
 //! Conventions (the scene format's contract): coefficient (l, m) of a series up to band

@@ -1,4 +1,4 @@
-//! The seed's linear map t = M w (Hlawitschka et al.) from an SH series of band L to the
+//! The paper's linear map t = M w (Hlawitschka et al.) from an SH series of band L to the
 //! symmetric tensor of order n = max(L, 2) that equals it on the unit sphere.
 //!
 //! M is built in closed form, column by column: each basis function
