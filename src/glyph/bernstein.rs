@@ -13,73 +13,13 @@
 //! sampled with the radial form g instead.
 //!
 //! [`first_hit`]: super::intersect::first_hit
-use std::ops::{Add, Div, Mul, Neg, Sub};
 
 use glam::DVec3;
 
 use super::NegativeMode;
 use super::intersect::WorldGlyph;
+pub use super::real::Real;
 use crate::camera::Ray;
-
-/// The float types the port runs in.
-pub trait Real:
-    Copy
-    + PartialOrd
-    + Add<Output = Self>
-    + Sub<Output = Self>
-    + Mul<Output = Self>
-    + Div<Output = Self>
-    + Neg<Output = Self>
-{
-    /// log2 of the smallest |q|^D that the polynomial pieces handle (the centre zone's
-    /// radius is 2^(EXPONENT / D)): far enough above the type's smallest normal number
-    /// for F's Bernstein coefficients, ~|q|^D times binomial weights, to stay normal.
-    const ZONE_EXPONENT: f64;
-    /// About two units in the last place of 1: where Newton stops.
-    const RESOLUTION: f64;
-    fn of(x: f64) -> Self;
-    fn f64(self) -> f64;
-    fn sqrt(self) -> Self {
-        Self::of(self.f64().sqrt())
-    }
-    fn abs(self) -> Self {
-        Self::of(self.f64().abs())
-    }
-}
-
-impl Real for f32 {
-    const ZONE_EXPONENT: f64 = -100.0;
-    const RESOLUTION: f64 = 1.2e-7;
-    fn of(x: f64) -> Self {
-        x as f32
-    }
-    fn f64(self) -> f64 {
-        self as f64
-    }
-    fn sqrt(self) -> Self {
-        f32::sqrt(self)
-    }
-    fn abs(self) -> Self {
-        f32::abs(self)
-    }
-}
-
-impl Real for f64 {
-    const ZONE_EXPONENT: f64 = -1000.0;
-    const RESOLUTION: f64 = 4.5e-16;
-    fn of(x: f64) -> Self {
-        x
-    }
-    fn f64(self) -> f64 {
-        self
-    }
-    fn sqrt(self) -> Self {
-        f64::sqrt(self)
-    }
-    fn abs(self) -> Self {
-        f64::abs(self)
-    }
-}
 
 /// Where the chord ends: the bounding sphere enlarged by 2^-10 (F < 0 at both ends).
 pub const CHORD_RADIUS: f64 = 1.0 + 1.0 / 1024.0;
@@ -100,7 +40,7 @@ fn binomial(n: usize, k: usize) -> f64 {
 }
 
 fn zero<T: Real>() -> T {
-    T::of(0.0)
+    T::from_f64(0.0)
 }
 
 /// A glyph in its normalised frame (coefficients divided by its bound), in type T.
@@ -121,7 +61,7 @@ impl<T: Real> ExactGlyph<T> {
                 .poly
                 .coeffs
                 .iter()
-                .map(|c| T::of(c / glyph.bound))
+                .map(|c| T::from_f64(c / glyph.bound))
                 .collect(),
             hide_negative: glyph.negative == NegativeMode::Hide,
         }
@@ -142,7 +82,7 @@ impl<T: Real> ExactGlyph<T> {
             p[0] = p[0] * c0;
         };
         let mut z_pow = vec![vec![zero::<T>(); n + 1]; n + 1];
-        z_pow[0][0] = T::of(1.0);
+        z_pow[0][0] = T::from_f64(1.0);
         for j in 1..=n {
             z_pow[j] = z_pow[j - 1].clone();
             times_linear(&mut z_pow[j], j, a[2], b[2]);
@@ -169,7 +109,7 @@ impl<T: Real> ExactGlyph<T> {
     /// g(q) = h(f(q^)) - |q| (raycast_common.glsl's `inside`).
     fn inside(&self, q: [T; 3]) -> T {
         let len = dot(q, q).sqrt();
-        if len.f64() < 1e-20 {
+        if len.to_f64() < 1e-20 {
             return zero();
         }
         let unit = q.map(|v| v / len);
@@ -192,7 +132,7 @@ fn along<T: Real>(mid: [T; 3], d: [T; 3], tau: T) -> [T; 3] {
 }
 
 fn mix<T: Real>(a: T, b: T, t: T) -> T {
-    a * (T::of(1.0) - t) + b * t
+    a * (T::from_f64(1.0) - t) + b * t
 }
 
 /// One ray against one glyph: the state the shader keeps in its globals.
@@ -225,9 +165,9 @@ impl<T: Real> RayCast<'_, T> {
                 e[j] = e[j] + near * e[j + 1];
             }
         }
-        let mut width_pow = T::of(1.0);
+        let mut width_pow = T::from_f64(1.0);
         for (j, v) in e.iter_mut().enumerate() {
-            *v = *v * width_pow / T::of(binomial(n, j));
+            *v = *v * width_pow / T::from_f64(binomial(n, j));
             width_pow = width_pow * width;
         }
         for r in 0..n {
@@ -238,7 +178,9 @@ impl<T: Real> RayCast<'_, T> {
         if reversed {
             e.reverse();
         }
-        self.segment_p = (0..=n).map(|i| T::of(binomial(n, i)) * e[i]).collect();
+        self.segment_p = (0..=n)
+            .map(|i| T::from_f64(binomial(n, i)) * e[i])
+            .collect();
 
         let big_d = self.degree();
         let mut form = vec![zero::<T>(); big_d + 1];
@@ -249,13 +191,13 @@ impl<T: Real> RayCast<'_, T> {
         }
         for i in (1..=big_d).rev() {
             let lower = if i >= 2 { form[i - 2] } else { zero() };
-            form[i] = form[i] + T::of(2.0) * form[i - 1] + lower;
+            form[i] = form[i] + T::from_f64(2.0) * form[i - 1] + lower;
         }
         let a = along(self.mid, self.d, tau0);
         let b = along(self.mid, self.d, tau1);
-        let q = [dot(a, a), T::of(2.0) * dot(a, b), dot(b, b)];
+        let q = [dot(a, a), T::from_f64(2.0) * dot(a, b), dot(b, b)];
         let mut radial = vec![zero::<T>(); big_d + 1];
-        radial[0] = T::of(1.0);
+        radial[0] = T::from_f64(1.0);
         for m in 0..=n {
             for i in (0..=2 * m + 2).rev() {
                 let mut v = radial[i] * q[0];
@@ -269,7 +211,7 @@ impl<T: Real> RayCast<'_, T> {
             }
         }
         self.segment_f = (0..=big_d)
-            .map(|k| (form[k] - radial[k]) / T::of(binomial(big_d, k)))
+            .map(|k| (form[k] - radial[k]) / T::from_f64(binomial(big_d, k)))
             .collect();
     }
 
@@ -277,7 +219,7 @@ impl<T: Real> RayCast<'_, T> {
     fn node_polynomial(&self, u0: T, u1: T) -> Vec<T> {
         let big_d = self.degree();
         let mut b = self.segment_f.clone();
-        if u1 < T::of(1.0) {
+        if u1 < T::from_f64(1.0) {
             for r in 1..=big_d {
                 for i in (r..=big_d).rev() {
                     b[i] = mix(b[i - 1], b[i], u1);
@@ -297,15 +239,15 @@ impl<T: Real> RayCast<'_, T> {
 
     /// segment_p_sign: the sign of f at u on the segment (the hide filter).
     fn segment_p_positive(&self, u: T) -> bool {
-        let half = T::of(0.5);
+        let half = T::from_f64(0.5);
         let value = if u <= half {
-            let r = u / (T::of(1.0) - u);
+            let r = u / (T::from_f64(1.0) - u);
             self.segment_p
                 .iter()
                 .rev()
                 .fold(zero::<T>(), |v, c| v * r + *c)
         } else {
-            let w = (T::of(1.0) - u) / u;
+            let w = (T::from_f64(1.0) - u) / u;
             self.segment_p.iter().fold(zero::<T>(), |v, c| v * w + *c)
         };
         value > zero()
@@ -329,7 +271,7 @@ impl<T: Real> RayCast<'_, T> {
             return Some(tau0);
         }
         for i in 1..=CENTRE_SAMPLES {
-            let t = mix(tau0, tau1, T::of(i as f64 / CENTRE_SAMPLES as f64));
+            let t = mix(tau0, tau1, T::from_f64(i as f64 / CENTRE_SAMPLES as f64));
             let g_t = g(t);
             if (g_t > zero()) != (g_prev > zero()) {
                 let (mut t0, mut g0, mut t1, mut g1) = (t_prev, g_prev, t, g_t);
@@ -340,13 +282,13 @@ impl<T: Real> RayCast<'_, T> {
                     if (gm > zero()) == (g1 > zero()) {
                         (t1, g1) = (tm, gm);
                         if stuck == 1 {
-                            g0 = g0 * T::of(0.5);
+                            g0 = g0 * T::from_f64(0.5);
                         }
                         stuck = 1;
                     } else {
                         (t0, g0) = (tm, gm);
                         if stuck == -1 {
-                            g1 = g1 * T::of(0.5);
+                            g1 = g1 * T::from_f64(0.5);
                         }
                         stuck = -1;
                     }
@@ -378,8 +320,8 @@ impl<T: Real> RayCast<'_, T> {
         for visited in 0..MAX_NODES {
             let width = (-(level as f64)).exp2();
             let (u0, u1) = (
-                T::of(index as f64 * width),
-                T::of((index + 1) as f64 * width),
+                T::from_f64(index as f64 * width),
+                T::from_f64((index + 1) as f64 * width),
             );
             let node = self.node_polynomial(u0, u1);
             if visited > 0 && (node[0] > zero()) != before && (!hide || self.segment_p_positive(u0))
@@ -414,21 +356,21 @@ impl<T: Real> RayCast<'_, T> {
         Err(mix(
             tau0,
             tau1,
-            T::of(index as f64 * (-(level as f64)).exp2()),
+            T::from_f64(index as f64 * (-(level as f64)).exp2()),
         ))
     }
 
     /// node_root: Newton on G = F / |q|^(2n), bracketed, from the control polygon's zero.
     fn node_root(&self, node: &[T], tau_at_0: T, tau_per_x: T) -> T {
         let big_d = node.len() - 1;
-        let (mut lo, mut hi) = (zero::<T>(), T::of(1.0));
+        let (mut lo, mut hi) = (zero::<T>(), T::from_f64(1.0));
         let lo_positive = node[0] > zero();
         let crossing = (0..big_d).find(|&i| (node[i + 1] > zero()) != lo_positive);
-        let mut x = crossing.map_or(T::of(0.5), |i| {
-            (T::of(i as f64) + node[i] / (node[i] - node[i + 1])) / T::of(big_d as f64)
+        let mut x = crossing.map_or(T::from_f64(0.5), |i| {
+            (T::from_f64(i as f64) + node[i] / (node[i] - node[i + 1])) / T::from_f64(big_d as f64)
         });
-        x = T::of(x.f64().clamp(1e-6, 1.0 - 1e-6));
-        let mut step_before = T::of(1.0);
+        x = T::from_f64(x.to_f64().clamp(1e-6, 1.0 - 1e-6));
+        let mut step_before = T::from_f64(1.0);
         let (mid2, d2) = (dot(self.mid, self.mid), dot(self.d, self.d));
         for _ in 0..NEWTON_STEPS {
             let (value, step_f) = node_newton(node, x);
@@ -439,10 +381,10 @@ impl<T: Real> RayCast<'_, T> {
             }
             let tau = tau_at_0 + x * tau_per_x;
             let r = mid2 + tau * tau * d2;
-            let r_slope = T::of(2.0) * d2 * tau * tau_per_x;
-            let step =
-                step_f / (T::of(1.0) - T::of(self.glyph.order as f64) * r_slope / r * step_f);
-            let resolution = T::of(T::RESOLUTION * x.f64().max(0.25));
+            let r_slope = T::from_f64(2.0) * d2 * tau * tau_per_x;
+            let step = step_f
+                / (T::from_f64(1.0) - T::from_f64(self.glyph.order as f64) * r_slope / r * step_f);
+            let resolution = T::from_f64(T::RESOLUTION * x.to_f64().max(0.25));
             if step.abs() <= resolution {
                 let next = x - step;
                 return if next < lo {
@@ -454,8 +396,8 @@ impl<T: Real> RayCast<'_, T> {
                 };
             }
             let mut next = x - step;
-            if !(next > lo && next < hi && step.abs() < T::of(0.5) * step_before) {
-                next = T::of(0.5) * (lo + hi);
+            if !(next > lo && next < hi && step.abs() < T::from_f64(0.5) * step_before) {
+                next = T::from_f64(0.5) * (lo + hi);
             }
             step_before = (next - x).abs();
             let stalled = next == x;
@@ -470,7 +412,7 @@ impl<T: Real> RayCast<'_, T> {
     /// first_crossing: the three pieces of [tau_start, 1].
     fn first_crossing(&mut self, tau_start: T) -> Option<T> {
         let a = dot(self.mid, self.mid);
-        let r2 = T::of(centre_radius::<T>(self.glyph.order).powi(2));
+        let r2 = T::from_f64(centre_radius::<T>(self.glyph.order).powi(2));
         let tau_c = if a < r2 {
             (r2 - a).sqrt() / dot(self.d, self.d).sqrt()
         } else {
@@ -482,7 +424,7 @@ impl<T: Real> RayCast<'_, T> {
             let lo = max(
                 tau_start,
                 match piece {
-                    0 => T::of(-1.0),
+                    0 => T::from_f64(-1.0),
                     1 => -tau_c,
                     _ => tau_c,
                 },
@@ -490,7 +432,7 @@ impl<T: Real> RayCast<'_, T> {
             let hi = match piece {
                 0 => -tau_c,
                 1 => tau_c,
-                _ => T::of(1.0),
+                _ => T::from_f64(1.0),
             };
             if lo >= hi {
                 continue;
@@ -517,7 +459,7 @@ impl<T: Real> RayCast<'_, T> {
 fn sign_changes<T: Real>(b: &[T]) -> usize {
     let mut last: Option<bool> = None;
     let mut changes = 0;
-    for v in b.iter().filter(|v| v.f64() != 0.0) {
+    for v in b.iter().filter(|v| v.to_f64() != 0.0) {
         let positive = *v > zero();
         changes += usize::from(last.is_some_and(|l| l != positive));
         last = Some(positive);
@@ -528,17 +470,17 @@ fn sign_changes<T: Real>(b: &[T]) -> usize {
 /// node_newton: the value and the Newton step F / F' of a Bernstein polynomial at x.
 fn node_newton<T: Real>(node: &[T], x: T) -> (T, T) {
     let big_d = node.len() - 1;
-    let mirror = x > T::of(0.5);
-    let y = if mirror { T::of(1.0) - x } else { x };
-    let r = y / (T::of(1.0) - y);
+    let mirror = x > T::from_f64(0.5);
+    let y = if mirror { T::from_f64(1.0) - x } else { x };
+    let r = y / (T::from_f64(1.0) - y);
     let (mut value, mut slope) = (zero::<T>(), zero::<T>());
     for k in (0..=big_d).rev() {
         let b = if mirror { node[big_d - k] } else { node[k] };
         slope = slope * r + value;
-        value = value * r + T::of(binomial(big_d, k)) * b;
+        value = value * r + T::from_f64(binomial(big_d, k)) * b;
     }
-    let one_y = T::of(1.0) - y;
-    let step_y = one_y * one_y * value / (slope - T::of(big_d as f64) * one_y * value);
+    let one_y = T::from_f64(1.0) - y;
+    let step_y = one_y * one_y * value / (slope - T::from_f64(big_d as f64) * one_y * value);
     (value, if mirror { -step_y } else { step_y })
 }
 
@@ -551,22 +493,22 @@ pub fn first_crossing<T: Real>(
     exact: &ExactGlyph<T>,
 ) -> Option<f64> {
     let rho = glyph.scale * glyph.bound;
-    let v = |x: DVec3| [T::of(x.x), T::of(x.y), T::of(x.z)];
+    let v = |x: DVec3| [T::from_f64(x.x), T::from_f64(x.y), T::from_f64(x.z)];
     let origin = v((ray.origin - glyph.center) / rho);
     let dir = v(ray.dir);
     let t_mid = -dot(origin, dir);
     let mid = along(origin, dir, t_mid);
-    let half2 = T::of(CHORD_RADIUS * CHORD_RADIUS) - dot(mid, mid);
+    let half2 = T::from_f64(CHORD_RADIUS * CHORD_RADIUS) - dot(mid, mid);
     if half2 <= zero() {
         return None;
     }
     let half = half2.sqrt();
-    let tau_start = if -t_mid / half > T::of(-1.0) {
+    let tau_start = if -t_mid / half > T::from_f64(-1.0) {
         -t_mid / half
     } else {
-        T::of(-1.0)
+        T::from_f64(-1.0)
     };
-    if tau_start >= T::of(1.0) {
+    if tau_start >= T::from_f64(1.0) {
         return None;
     }
     let d = dir.map(|c| c * half);
@@ -579,7 +521,7 @@ pub fn first_crossing<T: Real>(
         segment_f: Vec::new(),
     };
     let tau = cast.first_crossing(tau_start)?;
-    Some((t_mid + tau * half).f64() * rho)
+    Some((t_mid + tau * half).to_f64() * rho)
 }
 
 #[cfg(test)]

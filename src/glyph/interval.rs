@@ -14,65 +14,14 @@
 //! remainder into a radius r; its over-estimate shrinks with the square of the segment
 //! length where IA's shrinks linearly.
 use std::fmt::Debug;
-use std::ops::{Add, Div, Mul, Neg, Sub};
+use std::ops::{Add, Mul};
 
 use super::monomials::{Monomial, monomials, multiplicity, nonsymmetric_entry_monomial};
 use super::range_rounding::{f_rounding_units, radius_rounding_units};
 use super::{NegativeMode, Symmetry, TensorLayout};
 use crate::{Error, Result};
 
-/// The float types the ranges are computed in.
-pub trait Real:
-    Copy
-    + PartialOrd
-    + Debug
-    + Add<Output = Self>
-    + Sub<Output = Self>
-    + Mul<Output = Self>
-    + Div<Output = Self>
-    + Neg<Output = Self>
-{
-    const ZERO: Self;
-    const ONE: Self;
-    /// Unit roundoff: 2^-24 for f32, 2^-53 for f64.
-    const UNIT_ROUNDOFF: f64;
-    fn from_f64(v: f64) -> Self;
-    fn to_f64(self) -> f64;
-    fn abs(self) -> Self;
-    fn sqrt(self) -> Self;
-    fn min(self, other: Self) -> Self;
-    fn max(self, other: Self) -> Self;
-}
-
-macro_rules! impl_real {
-    ($t:ty, $u:expr) => {
-        impl Real for $t {
-            const ZERO: Self = 0.0;
-            const ONE: Self = 1.0;
-            const UNIT_ROUNDOFF: f64 = $u;
-            fn from_f64(v: f64) -> Self {
-                v as $t
-            }
-            fn to_f64(self) -> f64 {
-                self as f64
-            }
-            fn abs(self) -> Self {
-                <$t>::abs(self)
-            }
-            fn sqrt(self) -> Self {
-                <$t>::sqrt(self)
-            }
-            fn min(self, other: Self) -> Self {
-                <$t>::min(self, other)
-            }
-            fn max(self, other: Self) -> Self {
-                <$t>::max(self, other)
-            }
-        }
-    };
-}
-impl_real!(f32, 1.0 / 16_777_216.0);
-impl_real!(f64, 1.0 / 9_007_199_254_740_992.0);
+pub use super::real::Real;
 
 fn half<T: Real>() -> T {
     T::from_f64(0.5)

@@ -12,6 +12,7 @@ pub mod monomials;
 pub mod polynomial;
 pub mod proxy;
 pub mod range_rounding;
+pub mod real;
 pub mod reference;
 pub mod rotate;
 pub mod sh;
