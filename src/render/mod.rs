@@ -7,6 +7,7 @@ pub mod eval;
 pub mod frame;
 pub mod glyph_data;
 pub mod headless;
+pub mod labels;
 pub mod mesh;
 pub mod range_eval;
 pub mod raycast;
