@@ -75,7 +75,13 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
         } => {
             cli::render::check_outputs(&output, source.save_scene())?;
             let scene = source.load(options.image_request()?)?;
-            cli::render::render(scene, &output, &options, source.save_scene(), source.labels())
+            cli::render::render(
+                scene,
+                &output,
+                &options,
+                source.save_scene(),
+                source.labels(),
+            )
         }
         Command::View(args) => cli::view::run(&args),
         Command::Demo {

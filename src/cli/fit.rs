@@ -28,7 +28,12 @@ pub struct FitArgs {
     /// Frame of --bvec: fsl (voxel axes with x negated when the affine's determinant is
     /// positive, as FSL and MRtrix read bvecs), voxel (voxel axes as stored) or world
     /// (scanner axes).
-    #[arg(long, value_name = "CONVENTION", requires = "bvec", default_value = "fsl")]
+    #[arg(
+        long,
+        value_name = "CONVENTION",
+        requires = "bvec",
+        default_value = "fsl"
+    )]
     bvec_convention: String,
     /// Tensor order (even, 2 to 12), or the highest SH band with --sh (even, 0 to 12).
     #[arg(long)]

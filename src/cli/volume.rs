@@ -141,7 +141,14 @@ impl VolumeArgs {
     pub fn view(&self, image: ImageRequest) -> Result<(Volume, VolumeOptions, VolumeScene)> {
         let path = self.input()?;
         let mut options = self.options(image)?;
-        let frame = self.frame.as_deref().map(str::parse).transpose()?;
+        let frame = self
+            .frame
+            .as_deref()
+            .map(|text| {
+                text.parse()
+                    .map_err(|err| Error::Invalid(format!("--frame: {err}")))
+            })
+            .transpose()?;
         let given_basis = self.given_basis()?;
         let file = read_image(path)?;
         let kind = self.kind(&file, given_basis)?;

@@ -68,12 +68,13 @@ impl BvecConvention {
                 Ok(DMat3::from_diagonal(DVec3::new(-1.0, 1.0, 1.0)))
             }
             BvecConvention::Fsl => Ok(DMat3::IDENTITY),
-            BvecConvention::World => map
-                .orthogonal_factor()
-                .map(|r| r.transpose())
-                .ok_or_else(|| {
-                    Error::input(dwi, "affine", "no rotation can be taken from the affine")
-                }),
+            BvecConvention::World => {
+                map.orthogonal_factor()
+                    .map(|r| r.transpose())
+                    .ok_or_else(|| {
+                        Error::input(dwi, "affine", "no rotation can be taken from the affine")
+                    })
+            }
         }
     }
 }
@@ -391,7 +392,10 @@ mod tests {
         assert_eq!(voxel(BvecConvention::Fsl, &las), d);
         assert_eq!(voxel(BvecConvention::Voxel, &ras), d);
         let world = voxel(BvecConvention::World, &las);
-        assert!((world - DVec3::new(-0.6, 0.8, 0.0)).length() < 1e-12, "{world}");
+        assert!(
+            (world - DVec3::new(-0.6, 0.8, 0.0)).length() < 1e-12,
+            "{world}"
+        );
         let t = table("0 1000", "0 0.6\n0 0.8\n0 0", 2).unwrap();
         let flipped = t.transformed(DMat3::from_diagonal(DVec3::new(-1.0, 1.0, 1.0)));
         assert_eq!(flipped.directions[1], Some(DVec3::new(-0.6, 0.8, 0.0)));

@@ -71,7 +71,12 @@ pub fn edge_labels(camera: &Camera) -> EdgeLabels {
 
 /// Draws `labels` onto `rgba` (`width` x `height`, row-major RGBA8), white with a dark
 /// shadow so that they read on any background, each centred on its edge.
-pub fn draw_edge_labels(rgba: &mut [u8], width: u32, height: u32, labels: &EdgeLabels) -> Result<()> {
+pub fn draw_edge_labels(
+    rgba: &mut [u8],
+    width: u32,
+    height: u32,
+    labels: &EdgeLabels,
+) -> Result<()> {
     if rgba.len() != 4 * width as usize * height as usize {
         return Err(Error::Invalid(format!(
             "labels: {} bytes for a {width}x{height} RGBA image",
@@ -93,11 +98,27 @@ pub fn draw_edge_labels(rgba: &mut [u8], width: u32, height: u32, labels: &EdgeL
     let cap = 0.73 * scaled.ascent();
     let placements = [
         (&labels.left, margin, 0.5 * (h + cap)),
-        (&labels.right, w - margin - text_width(&labels.right), 0.5 * (h + cap)),
-        (&labels.top, 0.5 * (w - text_width(&labels.top)), margin + cap),
-        (&labels.bottom, 0.5 * (w - text_width(&labels.bottom)), h - margin),
+        (
+            &labels.right,
+            w - margin - text_width(&labels.right),
+            0.5 * (h + cap),
+        ),
+        (
+            &labels.top,
+            0.5 * (w - text_width(&labels.top)),
+            margin + cap,
+        ),
+        (
+            &labels.bottom,
+            0.5 * (w - text_width(&labels.bottom)),
+            h - margin,
+        ),
     ];
-    let mut canvas = Canvas { rgba, width, height };
+    let mut canvas = Canvas {
+        rgba,
+        width,
+        height,
+    };
     for (text, x, baseline) in placements {
         let shadow = (1.0f32).max(0.06 * size);
         canvas.text(&font, size, text, x + shadow, baseline + shadow, [0, 0, 0]);
@@ -114,7 +135,15 @@ struct Canvas<'a> {
 
 impl Canvas<'_> {
     /// Blends `text` in `colour` with its baseline starting at (x, baseline).
-    fn text(&mut self, font: &FontRef, size: f32, text: &str, x: f32, baseline: f32, colour: [u8; 3]) {
+    fn text(
+        &mut self,
+        font: &FontRef,
+        size: f32,
+        text: &str,
+        x: f32,
+        baseline: f32,
+        colour: [u8; 3],
+    ) {
         let scaled = font.as_scaled(PxScale::from(size));
         let mut pen = x;
         for c in text.chars() {

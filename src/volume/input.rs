@@ -148,9 +148,10 @@ impl CoefficientFrame {
         };
         match header.other.iter().find(|(key, _)| key == FRAME_KEY) {
             None => Ok(CoefficientFrame::World),
-            Some((_, value)) => value.trim().parse().map_err(|err: Error| {
-                Error::input(&image.file, FRAME_KEY, err.to_string())
-            }),
+            Some((_, value)) => value
+                .trim()
+                .parse()
+                .map_err(|err: Error| Error::input(&image.file, FRAME_KEY, err.to_string())),
         }
     }
 
@@ -178,7 +179,7 @@ impl FromStr for CoefficientFrame {
             "voxel" => Ok(CoefficientFrame::Voxel),
             "world" => Ok(CoefficientFrame::World),
             _ => Err(Error::Invalid(format!(
-                "frame '{text}': expected voxel or world"
+                "'{text}' is not a frame: expected voxel or world"
             ))),
         }
     }

@@ -69,9 +69,7 @@ pub fn resolve_basis(
 ) -> Result<(ShBasis, bool)> {
     let recorded = recorded_basis(image);
     match (given, recorded) {
-        (Some(given), Some(recorded))
-            if !force && given != (recorded.basis, recorded.legacy) =>
-        {
+        (Some(given), Some(recorded)) if !force && given != (recorded.basis, recorded.legacy) => {
             Err(Error::input(
                 &image.file,
                 recorded.field,
@@ -111,8 +109,7 @@ mod tests {
     fn commented(text: &str) -> Image {
         let data = ndarray::ArrayD::zeros(ndarray::IxDyn(&[1, 1, 1]));
         let voxel_to_world =
-            VoxelToWorld::new(DMat4::IDENTITY, AffineSource::Pixdim, "f.mif", "transform")
-                .unwrap();
+            VoxelToWorld::new(DMat4::IDENTITY, AffineSource::Pixdim, "f.mif", "transform").unwrap();
         let bytes = mif_bytes(&MifWrite {
             data: &data,
             voxel_to_world: &voxel_to_world,
@@ -149,7 +146,10 @@ mod tests {
         }
         let tensor = FitModel::Tensor { order: 4 }.description();
         assert_eq!(recorded_basis(&commented(&tensor)), None);
-        assert_eq!(recorded_basis(&commented("glyphcast fit: SH band 8 fsl")), None);
+        assert_eq!(
+            recorded_basis(&commented("glyphcast fit: SH band 8 fsl")),
+            None
+        );
     }
 
     #[test]
@@ -158,13 +158,21 @@ mod tests {
         let dipy_new = (ShBasis::Descoteaux07, false);
         let mrtrix = (ShBasis::Tournier07, false);
         assert_eq!(resolve_basis(&image, None, false).unwrap(), dipy_new);
-        assert_eq!(resolve_basis(&image, Some(dipy_new), false).unwrap(), dipy_new);
-        let err = resolve_basis(&image, Some(mrtrix), false).unwrap_err().to_string();
+        assert_eq!(
+            resolve_basis(&image, Some(dipy_new), false).unwrap(),
+            dipy_new
+        );
+        let err = resolve_basis(&image, Some(mrtrix), false)
+            .unwrap_err()
+            .to_string();
         assert!(err.starts_with("f.mif: comments: "), "{err}");
         assert_eq!(resolve_basis(&image, Some(mrtrix), true).unwrap(), mrtrix);
         // An MRtrix file without a record is tournier07, and any --basis goes.
         let plain = commented("made by dwi2fod");
         assert_eq!(resolve_basis(&plain, None, false).unwrap(), mrtrix);
-        assert_eq!(resolve_basis(&plain, Some(dipy_new), false).unwrap(), dipy_new);
+        assert_eq!(
+            resolve_basis(&plain, Some(dipy_new), false).unwrap(),
+            dipy_new
+        );
     }
 }
