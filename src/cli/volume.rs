@@ -14,7 +14,7 @@ use glyphcast::io::image::{Image, read_image};
 use glyphcast::io::scene::{Scene, ShBasis};
 use glyphcast::volume::{
     ImageRequest, ViewProjection, Volume, VolumeKind, VolumeOptions, VolumeScene, load_mask,
-    resolve_basis, volume_scene,
+    resolve_basis, view_axis, volume_scene,
 };
 use glyphcast::{Error, Result};
 use std::path::{Path, PathBuf};
@@ -65,7 +65,7 @@ pub struct VolumeArgs {
     pub slice: Option<String>,
     /// Three orthogonal slices at once instead of --slice: voxel indices I,J,K of the
     /// sagittal, coronal and axial slice, or mid (the middle of each); seen in perspective
-    /// from anterior-superior-left.
+    /// from superior-left, anterior (radiological) or posterior (neurological).
     #[arg(long, value_name = "I,J,K|mid", help_heading = "Volume input")]
     pub slices: Option<String>,
     /// Voxel index ranges i0:i1,j0:j1,k0:k1 (end exclusive, ends optional), intersected
@@ -157,6 +157,7 @@ impl VolumeArgs {
         options.mask = self.mask.as_deref().map(load_mask).transpose()?;
         let view = volume_scene(&volume, &options)?;
         report(&view, &volume.file);
+        note_anatomical_plane(&view, &volume);
         Ok((volume, options, view))
     }
 
@@ -279,6 +280,26 @@ impl VolumeArgs {
                 .unwrap_or_default(),
             image,
         })
+    }
+}
+
+/// A note when a slice named by its voxel axis (axial = constant k) is another plane in
+/// the world, as in a volume stored sagittally: the view and its labels follow the world.
+fn note_anatomical_plane(view: &VolumeScene, volume: &Volume) {
+    const PLANES: [&str; 3] = ["sagittal", "coronal", "axial"];
+    for region in &view.regions {
+        let voxel_axis = region.slice.voxel_axis();
+        let world_axis = view_axis(region, &volume.voxel_to_world);
+        if voxel_axis != world_axis {
+            eprintln!(
+                "note: {}: the {} slice (constant {}) is a {} plane in the world; it is shown \
+                 as one",
+                volume.file,
+                PLANES[voxel_axis],
+                ["i", "j", "k"][voxel_axis],
+                PLANES[world_axis]
+            );
+        }
     }
 }
 

@@ -4,8 +4,8 @@
 //! The letter at an edge names the world direction (scanner RAS+: +x right, +y anterior,
 //! +z superior) that points towards that edge on screen: the camera's right vector for
 //! the right edge, its up vector for the top, their negatives for the others. A direction
-//! between axes (the oblique three-slice view) gets the letters of every axis within
-//! half of its largest component, largest first ("LP").
+//! between axes (the oblique three-slice view) gets the letters of every axis above
+//! 0.6 of its largest component, largest first ("LP").
 use ab_glyph::{Font, FontRef, PxScale, ScaleFont, point};
 use glam::DVec3;
 use std::sync::OnceLock;
@@ -18,6 +18,9 @@ pub const FONT_PATHS: [&str; 2] = [
     "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
     "/usr/share/fonts/TTF/DejaVuSans.ttf",
 ];
+
+/// A direction's component above this fraction of its largest one adds its letter.
+const MIXED_AXIS_FRACTION: f64 = 0.6;
 
 /// Letter height as a fraction of the image's shorter side, and the least in pixels.
 const LETTER_FRACTION: f32 = 0.05;
@@ -48,7 +51,9 @@ pub struct EdgeLabels {
 /// The anatomical letters of world direction `d`.
 fn letters(d: DVec3) -> String {
     let largest = d.abs().max_element();
-    let mut axes: Vec<usize> = (0..3).filter(|&a| d[a].abs() >= 0.5 * largest).collect();
+    let mut axes: Vec<usize> = (0..3)
+        .filter(|&a| d[a].abs() > MIXED_AXIS_FRACTION * largest)
+        .collect();
     axes.sort_by(|&a, &b| d[b].abs().total_cmp(&d[a].abs()));
     axes.iter()
         .map(|&a| {
@@ -187,5 +192,7 @@ mod tests {
         assert_eq!(letters(DVec3::new(0.1, -1.0, 0.0)), "P");
         assert_eq!(letters(DVec3::new(-1.0, -0.9, 0.2)), "LP");
         assert_eq!(letters(DVec3::new(0.0, 0.3, 0.9)), "S");
+        // The three-slice view's up vector: superior, a little right and posterior.
+        assert_eq!(letters(DVec3::new(1.0, -1.0, 2.0)), "S");
     }
 }
