@@ -14,7 +14,7 @@ use glyphcast::io::image::{Image, read_image};
 use glyphcast::io::scene::{Scene, ShBasis};
 use glyphcast::volume::{
     ImageRequest, ViewProjection, Volume, VolumeKind, VolumeOptions, VolumeScene, load_mask,
-    resolve_basis, view_axis, volume_scene,
+    resolve_basis, volume_scene,
 };
 use glyphcast::{Error, Result};
 use std::path::{Path, PathBuf};
@@ -59,8 +59,9 @@ pub struct VolumeArgs {
     /// --tensor holds all 3^N entries, row-major, instead of the unique ones.
     #[arg(long, help_heading = "Volume input")]
     pub nonsymmetric: bool,
-    /// Slice to draw: axial, coronal or sagittal (constant k, j or i), optionally :INDEX
-    /// (default: the middle axial slice).
+    /// Slice to draw: axial, coronal or sagittal, the world's planes (across scanner z, y
+    /// or x; the voxel plane closest to it: constant k, j or i for an axial acquisition),
+    /// optionally :INDEX along that voxel axis (default: the middle axial slice).
     #[arg(long, value_name = "AXIS[:INDEX]", help_heading = "Volume input")]
     pub slice: Option<String>,
     /// Three orthogonal slices at once instead of --slice: voxel indices I,J,K of the
@@ -154,11 +155,27 @@ impl VolumeArgs {
         let kind = self.kind(&file, given_basis)?;
         let mut volume = Volume::from_image(file, kind)?;
         volume.frame = frame.unwrap_or(volume.frame);
+        self.slice_in_voxels(&mut options, &volume);
         options.mask = self.mask.as_deref().map(load_mask).transpose()?;
         let view = volume_scene(&volume, &options)?;
         report(&view, &volume.file);
-        note_anatomical_plane(&view, &volume);
         Ok((volume, options, view))
+    }
+
+    /// Turns the world plane `--slice` names into the voxel axis closest to it, with a
+    /// note when that is not the axis of the same name (a volume not stored axially).
+    fn slice_in_voxels(&self, options: &mut VolumeOptions, volume: &Volume) {
+        let named = options.slice.axis;
+        let axis = named.world_plane_in_voxels(volume.voxel_to_world.linear());
+        if axis != named && options.slices.is_none() {
+            eprintln!(
+                "note: {}: the {} plane is the slice of constant {} in this volume",
+                volume.file,
+                named.name(),
+                ["i", "j", "k"][axis.voxel_axis()]
+            );
+        }
+        options.slice.axis = axis;
     }
 
     /// The volume's file, once the flags are checked to fit --sh or --tensor.
@@ -280,26 +297,6 @@ impl VolumeArgs {
                 .unwrap_or_default(),
             image,
         })
-    }
-}
-
-/// A note when a slice named by its voxel axis (axial = constant k) is another plane in
-/// the world, as in a volume stored sagittally: the view and its labels follow the world.
-fn note_anatomical_plane(view: &VolumeScene, volume: &Volume) {
-    const PLANES: [&str; 3] = ["sagittal", "coronal", "axial"];
-    for region in &view.regions {
-        let voxel_axis = region.slice.voxel_axis();
-        let world_axis = view_axis(region, &volume.voxel_to_world);
-        if voxel_axis != world_axis {
-            eprintln!(
-                "note: {}: the {} slice (constant {}) is a {} plane in the world; it is shown \
-                 as one",
-                volume.file,
-                PLANES[voxel_axis],
-                ["i", "j", "k"][voxel_axis],
-                PLANES[world_axis]
-            );
-        }
     }
 }
 
