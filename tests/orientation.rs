@@ -180,6 +180,50 @@ fn every_view_follows_the_convention_in_world_terms() {
     }
 }
 
+/// A volume stored sagittally (voxel i along world y, j along z, k along x): `--slice
+/// axial` is still the world's axial plane (here constant j), and every view shows a
+/// glyph at the subject's right, posterior, superior corner where the convention says.
+#[test]
+fn slice_names_are_world_planes_whatever_the_storage() {
+    let dir = fresh_dir("sagittal-storage");
+    let (ras, affine) = one_glyph([2, 0, 2]);
+    let stored = ras.clone().permuted_axes(IxDyn(&[1, 2, 0, 3]));
+    let stored_affine =
+        DMat4::from_cols(affine.y_axis, affine.z_axis, affine.x_axis, affine.w_axis);
+    let path = dir.join("sagittal.nii.gz");
+    write_nifti(&path, &stored, stored_affine);
+    let voxel = glyph_voxel(&stored);
+    let side = anatomical_side(voxel, stored_affine);
+    assert_eq!(
+        side,
+        DVec3::new(1.0, -1.0, 1.0),
+        "right, posterior, superior"
+    );
+    for (view, world_axis) in [("axial", 2), ("coronal", 1), ("sagittal", 0)] {
+        // The voxel axis that runs along the plane's normal.
+        let along = (0..3)
+            .find(|&c| stored_affine.col(c)[world_axis] != 0.0)
+            .expect("a permutation");
+        let slice = format!("{view}:{}", voxel[along]);
+        for convention in ["radiological", "neurological"] {
+            let name = format!("{view}-{convention}");
+            let args = [
+                "--tensor",
+                text(&path),
+                "--order",
+                "2",
+                "--slice",
+                &slice,
+                "--orientation",
+                convention,
+            ];
+            let measured = centroid(&dir, &name, &args);
+            let expected = expected_place(view, convention == "radiological", side);
+            assert_side(&name, measured, expected);
+        }
+    }
+}
+
 /// Radiological is the default: no --orientation draws what --orientation radiological
 /// draws, with the subject's right on the left of an axial view.
 #[test]

@@ -155,7 +155,7 @@ impl VolumeArgs {
         let kind = self.kind(&file, given_basis)?;
         let mut volume = Volume::from_image(file, kind)?;
         volume.frame = frame.unwrap_or(volume.frame);
-        self.slice_in_voxels(&mut options, &volume);
+        self.slice_in_voxels(&mut options, &volume)?;
         options.mask = self.mask.as_deref().map(load_mask).transpose()?;
         let view = volume_scene(&volume, &options)?;
         report(&view, &volume.file);
@@ -163,19 +163,39 @@ impl VolumeArgs {
     }
 
     /// Turns the world plane `--slice` names into the voxel axis closest to it, with a
-    /// note when that is not the axis of the same name (a volume not stored axially).
-    fn slice_in_voxels(&self, options: &mut VolumeOptions, volume: &Volume) {
-        let named = options.slice.axis;
-        let axis = named.world_plane_in_voxels(volume.voxel_to_world.linear());
-        if axis != named && options.slices.is_none() {
-            eprintln!(
-                "note: {}: the {} plane is the slice of constant {} in this volume",
-                volume.file,
-                named.name(),
-                ["i", "j", "k"][axis.voxel_axis()]
-            );
-        }
+    /// note when that is not the axis of the same name (a volume not stored axially), and
+    /// an error in the plane's terms when the index is outside that axis.
+    fn slice_in_voxels(&self, options: &mut VolumeOptions, volume: &Volume) -> Result<()> {
+        let named = options.slice;
+        let axis = named
+            .axis
+            .world_plane_in_voxels(volume.voxel_to_world.linear());
         options.slice.axis = axis;
+        if axis == named.axis || options.slices.is_some() {
+            return Ok(());
+        }
+        let voxel = axis.voxel_axis();
+        let (letter, length) = (["i", "j", "k"][voxel], volume.dims[voxel]);
+        if let Some(index) = named.index
+            && index >= length
+        {
+            return Err(Error::input(
+                &volume.file,
+                format!("dim[{}]", voxel + 1),
+                format!(
+                    "--slice {named}: the {} plane is the slice of constant {letter} in this \
+                     volume, which has {length} voxels along {letter} (0..={})",
+                    named.axis.name(),
+                    length.saturating_sub(1)
+                ),
+            ));
+        }
+        eprintln!(
+            "note: {}: the {} plane is the slice of constant {letter} in this volume",
+            volume.file,
+            named.axis.name(),
+        );
+        Ok(())
     }
 
     /// The volume's file, once the flags are checked to fit --sh or --tensor.
