@@ -352,24 +352,28 @@ fn render_takes_the_basis_fit_recorded_and_refuses_a_contradiction() {
     }
 }
 
+/// Writes func_coef as a `.mif` with its affine and the header line `key: value`;
+/// returns its values and affine.
+fn func_coef_as_mif(path: &Path, (key, value): (&str, &str)) -> (ArrayD<f64>, DMat4) {
+    let fod = read_image(&data("func_coef.nii.gz")).expect("func_coef");
+    let (values, affine) = (fod.data, fod.voxel_to_world.affine);
+    let keys = [(key, value.to_string())];
+    let image = MifWrite {
+        data: &values,
+        voxel_to_world: &map(affine),
+        keys: &keys,
+    };
+    write_mif(path, &image).expect("writing the .mif");
+    (values, affine)
+}
+
 /// Without a record: an MRtrix file is tournier07 (MRtrix's basis), a NIfTI file needs
 /// --basis (a usage error, exit 2, naming the file).
 #[test]
 fn without_a_record_mrtrix_means_tournier07_and_nifti_needs_basis() {
     let dir = fresh_dir("unrecorded");
-    let fod = read_image(&data("func_coef.nii.gz")).expect("func_coef");
-    let (values, affine) = (fod.data, fod.voxel_to_world.affine);
     let mif = dir.join("plain.mif");
-    let keys = [("comments", "no basis here".to_string())];
-    write_mif(
-        &mif,
-        &MifWrite {
-            data: &values,
-            voxel_to_world: &map(affine),
-            keys: &keys,
-        },
-    )
-    .expect("plain.mif");
+    let (values, affine) = func_coef_as_mif(&mif, ("comments", "no basis here"));
     let volume = ["--sh", text(&mif), "--slice", "axial:2"];
     let default = depth(&dir, "default", &volume);
     let mut tournier = volume.to_vec();
@@ -397,19 +401,8 @@ fn without_a_record_mrtrix_means_tournier07_and_nifti_needs_basis() {
 #[test]
 fn bad_frames_are_refused() {
     let dir = fresh_dir("bad-frame");
-    let fod = read_image(&data("func_coef.nii.gz")).expect("func_coef");
-    let (values, affine) = (fod.data, fod.voxel_to_world.affine);
     let mif = dir.join("odd.mif");
-    let keys = [("glyphcast_frame", "scanner".to_string())];
-    write_mif(
-        &mif,
-        &MifWrite {
-            data: &values,
-            voxel_to_world: &map(affine),
-            keys: &keys,
-        },
-    )
-    .expect("odd.mif");
+    func_coef_as_mif(&mif, ("glyphcast_frame", "scanner"));
     let (code, error) = render_failure(&dir, &["--sh", text(&mif)]);
     assert_eq!(code, 1, "{error}");
     assert!(error.contains("odd.mif: glyphcast_frame:"), "{error}");

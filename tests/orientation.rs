@@ -140,6 +140,36 @@ fn assert_side(name: &str, measured: (f64, f64), expected: (f64, f64)) {
     }
 }
 
+/// Renders the slice of each plane through the glyph at `voxel` of `path` (mapped by
+/// `affine`, a permutation of axes with signs and sizes) in both conventions, and checks
+/// where the glyph lands against its world side.
+fn check_views(dir: &Path, storage: &str, path: &Path, voxel: [usize; 3], affine: DMat4) {
+    let side = anatomical_side(voxel, affine);
+    for (view, world_axis) in [("axial", 2), ("coronal", 1), ("sagittal", 0)] {
+        // The voxel axis that runs along the plane's normal.
+        let along = (0..3)
+            .find(|&c| affine.col(c)[world_axis] != 0.0)
+            .expect("a permutation");
+        let slice = format!("{view}:{}", voxel[along]);
+        for convention in ["radiological", "neurological"] {
+            let name = format!("{storage}-{view}-{convention}");
+            let args = [
+                "--tensor",
+                text(path),
+                "--order",
+                "2",
+                "--slice",
+                &slice,
+                "--orientation",
+                convention,
+            ];
+            let measured = centroid(dir, &name, &args);
+            let expected = expected_place(view, convention == "radiological", side);
+            assert_side(&name, measured, expected);
+        }
+    }
+}
+
 /// The glyph at the subject's right, anterior, superior corner, stored RAS and LAS: each
 /// view in each convention shows it where the convention says, the same for both
 /// storages.
@@ -158,25 +188,7 @@ fn every_view_follows_the_convention_in_world_terms() {
             DVec3::ONE,
             "{storage}: the glyph is right, anterior, superior"
         );
-        for (view, axis) in [("axial", 2), ("coronal", 1), ("sagittal", 0)] {
-            let slice = format!("{view}:{}", voxel[axis]);
-            for convention in ["radiological", "neurological"] {
-                let name = format!("{storage}-{view}-{convention}");
-                let args = [
-                    "--tensor",
-                    text(&path),
-                    "--order",
-                    "2",
-                    "--slice",
-                    &slice,
-                    "--orientation",
-                    convention,
-                ];
-                let measured = centroid(&dir, &name, &args);
-                let expected = expected_place(view, convention == "radiological", side);
-                assert_side(&name, measured, expected);
-            }
-        }
+        check_views(&dir, storage, &path, voxel, affine);
     }
 }
 
@@ -199,29 +211,7 @@ fn slice_names_are_world_planes_whatever_the_storage() {
         DVec3::new(1.0, -1.0, 1.0),
         "right, posterior, superior"
     );
-    for (view, world_axis) in [("axial", 2), ("coronal", 1), ("sagittal", 0)] {
-        // The voxel axis that runs along the plane's normal.
-        let along = (0..3)
-            .find(|&c| stored_affine.col(c)[world_axis] != 0.0)
-            .expect("a permutation");
-        let slice = format!("{view}:{}", voxel[along]);
-        for convention in ["radiological", "neurological"] {
-            let name = format!("{view}-{convention}");
-            let args = [
-                "--tensor",
-                text(&path),
-                "--order",
-                "2",
-                "--slice",
-                &slice,
-                "--orientation",
-                convention,
-            ];
-            let measured = centroid(&dir, &name, &args);
-            let expected = expected_place(view, convention == "radiological", side);
-            assert_side(&name, measured, expected);
-        }
-    }
+    check_views(&dir, "sagittal", &path, voxel, stored_affine);
 }
 
 /// Radiological is the default: no --orientation draws what --orientation radiological
