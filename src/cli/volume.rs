@@ -229,11 +229,7 @@ impl VolumeArgs {
                         return misplaced(flag, "--sh");
                     }
                 }
-                if self.order.is_none() {
-                    return Err(Error::Invalid(
-                        "--tensor needs --order N (the tensor order of the file)".into(),
-                    ));
-                }
+                self.tensor_order()?;
                 Ok(path)
             }
             (None, None) => Err(Error::Invalid("give a scene file, --sh or --tensor".into())),
@@ -243,20 +239,24 @@ impl VolumeArgs {
     /// What the file holds: for --sh the basis from `--basis` and the file's record
     /// (`resolve_basis`), for --tensor the layout from --order and --nonsymmetric.
     fn kind(&self, file: &Image, given_basis: Option<(ShBasis, bool)>) -> Result<VolumeKind> {
-        match self.order {
-            Some(order) if self.tensor.is_some() => {
-                let symmetry = if self.nonsymmetric {
-                    Symmetry::NonSymmetric
-                } else {
-                    Symmetry::Symmetric
-                };
-                Ok(VolumeKind::Tensor(TensorLayout { order, symmetry }))
-            }
-            _ => {
-                let (basis, legacy) = resolve_basis(file, given_basis, self.force_basis)?;
-                Ok(VolumeKind::Sh { basis, legacy })
-            }
+        if self.sh.is_some() {
+            let (basis, legacy) = resolve_basis(file, given_basis, self.force_basis)?;
+            return Ok(VolumeKind::Sh { basis, legacy });
         }
+        let order = self.tensor_order()?;
+        let symmetry = if self.nonsymmetric {
+            Symmetry::NonSymmetric
+        } else {
+            Symmetry::Symmetric
+        };
+        Ok(VolumeKind::Tensor(TensorLayout { order, symmetry }))
+    }
+
+    /// `--order`, which --tensor needs.
+    fn tensor_order(&self) -> Result<u32> {
+        self.order.ok_or_else(|| {
+            Error::Invalid("--tensor needs --order N (the tensor order of the file)".into())
+        })
     }
 
     /// `--basis` with `--legacy` (aliases name both; see `fit::parse_basis`), if given.

@@ -10,9 +10,9 @@
 //! radiological or neurological convention; `build` puts it together into a [`Scene`](crate::io::scene::Scene) and a [`VolumeReport`].
 //!
 //! Glyph centres are the affine applied to the voxel indices (NIfTI-1's sform, else
-//! qform, else pixdim: [`crate::io::nifti::affine`]); glyph shapes use only the affine's
-//! orthogonal factor, so anisotropic voxels do not stretch the glyphs, but a rotated or
-//! reflected grid turns them with it.
+//! qform, else pixdim: [`crate::io::nifti::affine`]); voxel-frame glyph shapes use only
+//! the affine's orthogonal factor, so anisotropic voxels do not stretch the glyphs, but a
+//! rotated or reflected grid turns them with it; world-frame shapes ignore the affine.
 
 mod amplitude;
 mod build;
