@@ -26,7 +26,7 @@
 //!    formats ([`TargetFormats`](render::raycast::TargetFormats)): colour, depth, and
 //!    optionally an R32_SFLOAT attachment for the ray distance. Without one (`distance:
 //!    None`) the pass uses fragment shaders that have no distance output.
-//! 3. Turn a [`Scene`](io::scene::Scene) into glyph data on the CPU
+//! 3. Turn a [`Scene`](scene::Scene) into glyph data on the CPU
 //!    ([`prepare_scene`](render::glyph_data::prepare_scene)) and upload it with
 //!    [`RayCastPass::upload`](render::raycast::RayCastPass::upload), which gives a
 //!    [`SceneGpu`](render::raycast::SceneGpu) (buffers, descriptor sets) and creates the

@@ -75,7 +75,13 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
         } => {
             cli::render::check_outputs(&output, source.save_scene())?;
             let scene = source.load(options.image_request()?)?;
-            cli::render::render(scene, &output, &options, source.save_scene())
+            cli::render::render(
+                scene,
+                &output,
+                &options,
+                source.save_scene(),
+                source.labels(),
+            )
         }
         Command::View(args) => cli::view::run(&args),
         Command::Demo {
@@ -90,7 +96,7 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
             } else {
                 glyphcast::demo::demo_scene()
             };
-            cli::render::render(scene, &output, &options, save_scene.as_deref())
+            cli::render::render(scene, &output, &options, save_scene.as_deref(), false)
         }
         Command::Accuracy(args) => cli::accuracy::run(&args),
         Command::Bench(args) => cli::bench::run(&args),

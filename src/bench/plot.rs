@@ -9,29 +9,20 @@ use plotters::prelude::*;
 use std::path::Path;
 use std::sync::OnceLock;
 
-const FONT_PATHS: [&str; 2] = [
-    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
-    "/usr/share/fonts/TTF/DejaVuSans.ttf",
-];
-
-/// Registers the font once; an error names the paths tried.
+/// Registers the font (`render::labels::dejavu_sans`) once; an error names the paths
+/// tried.
 fn register_font() -> Result<()> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
+    let bytes = crate::render::labels::dejavu_sans()?;
     let ok = *REGISTERED.get_or_init(|| {
-        let Some(bytes) = FONT_PATHS.iter().find_map(|p| std::fs::read(p).ok()) else {
-            return false;
-        };
-        // plotters keeps fonts for the whole process.
-        let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
         plotters::style::register_font("sans-serif", FontStyle::Normal, bytes).is_ok()
     });
     if ok {
         Ok(())
     } else {
-        Err(Error::Setup(format!(
-            "plots need DejaVu Sans (Debian: fonts-dejavu-core); looked in {}",
-            FONT_PATHS.join(", ")
-        )))
+        Err(Error::Setup(
+            "plots: DejaVu Sans could not be registered with plotters".into(),
+        ))
     }
 }
 

@@ -4,6 +4,7 @@
 //! written, so a bad input costs no time and leaves no file.
 use clap::Args;
 use glyphcast::Result;
+use glyphcast::fit::gradients::BvecConvention;
 use glyphcast::fit::output::{check_output_path, write_output};
 use glyphcast::fit::{DEFAULT_LAMBDA, FitFiles, FitInputs, FitModel, fit, parse_basis};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -20,9 +21,20 @@ pub struct FitArgs {
     /// for an MRtrix DWI that carries its table (dw_scheme, scanner coordinates).
     #[arg(long, value_name = "FILE", requires = "bvec")]
     bval: Option<PathBuf>,
-    /// Gradient directions, FSL format (3 rows of n, or n rows of 3), in voxel axes.
+    /// Gradient directions, FSL format (3 rows of n, or n rows of 3), in the frame of
+    /// --bvec-convention.
     #[arg(long, value_name = "FILE", requires = "bval")]
     bvec: Option<PathBuf>,
+    /// Frame of --bvec: fsl (voxel axes with x negated when the affine's determinant is
+    /// positive, as FSL and MRtrix read bvecs), voxel (voxel axes as stored) or world
+    /// (scanner axes).
+    #[arg(
+        long,
+        value_name = "CONVENTION",
+        requires = "bvec",
+        default_value = "fsl"
+    )]
+    bvec_convention: String,
     /// Tensor order (even, 2 to 12), or the highest SH band with --sh (even, 0 to 12).
     #[arg(long)]
     order: u32,
@@ -72,13 +84,19 @@ impl FitArgs {
 
 pub fn run(args: FitArgs) -> Result<()> {
     let model = args.model()?;
+    let convention: BvecConvention = args.bvec_convention.parse()?;
     check_output_path(&args.output)?;
-    let inputs = FitInputs::load(FitFiles {
+    let mut inputs = FitInputs::load(FitFiles {
         dwi: args.dwi.clone(),
         bval: args.bval.clone(),
         bvec: args.bvec.clone(),
         mask: args.mask.clone(),
     })?;
+    if args.bvec.is_some() {
+        let map = inputs.dwi.voxel_to_world()?;
+        let to_voxel = convention.to_voxel_axes(&map, &inputs.dwi.file)?;
+        inputs.gradients = inputs.gradients.transformed(to_voxel);
+    }
     let bar = progress_bar(inputs.voxel_count() as u64, args.quiet);
     let fitted = fit(&inputs, &model, &mut |done| bar.inc(done));
     bar.finish_and_clear();

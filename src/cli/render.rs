@@ -2,6 +2,7 @@
 use clap::Args;
 use glyphcast::render::glyph_data::prepare_scene;
 use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
+use glyphcast::render::labels::{draw_edge_labels, edge_labels};
 use glyphcast::render::{ColorMode, Method, Refinement, RenderSettings};
 use glyphcast::scene::Scene;
 use glyphcast::viewer::ViewSource;
@@ -57,6 +58,11 @@ impl SceneSource {
             )));
         }
         Scene::load(path)
+    }
+
+    /// Whether --labels asks for the anatomical directions at the image's edges.
+    pub fn labels(&self) -> bool {
+        self.volume.labels
     }
 
     /// Where --save-scene asks the rendered scene to be written.
@@ -198,12 +204,14 @@ pub fn check_outputs(output: &OutputArgs, save_scene: Option<&Path>) -> Result<(
 
 /// Renders `scene` and writes the outputs (checked first with [`check_outputs`]);
 /// `save_scene` receives the scene as rendered (image size included), written with the
-/// image and the depth map, all or nothing.
+/// image and the depth map, all or nothing. `labels` writes the anatomical directions at
+/// the image's edges (`render::labels`; volume input only).
 pub fn render(
     mut scene: Scene,
     output: &OutputArgs,
     options: &RenderArgs,
     save_scene: Option<&Path>,
+    labels: bool,
 ) -> Result<()> {
     let image = options.image_request()?;
     scene.image.width = image.width.unwrap_or(scene.image.width);
@@ -225,7 +233,11 @@ pub fn render(
     let mut renderer = HeadlessRenderer::new(&gpu)?;
     let begun = Instant::now();
     let (w, h) = (scene.image.width, scene.image.height);
-    let image = renderer.render(&gpu, &sets, &scene.camera, w, h, &settings)?;
+    let mut image = renderer.render(&gpu, &sets, &scene.camera, w, h, &settings)?;
+    if labels {
+        let edges = edge_labels(&scene.camera);
+        draw_edge_labels(&mut image.rgba, w, h, &edges)?;
+    }
     let glyphs: usize = sets.iter().map(|s| s.len()).sum();
     let gpu_time = image
         .gpu_ms

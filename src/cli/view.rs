@@ -32,6 +32,13 @@ pub struct ViewArgs {
 }
 
 pub fn run(args: &ViewArgs) -> Result<()> {
+    if args.source.labels() {
+        return Err(glyphcast::Error::Usage(
+            "--labels applies to render; the viewer names its orientation convention in the \
+             window title"
+                .into(),
+        ));
+    }
     let image = args.options.image_request()?;
     let settings = args.options.settings()?;
     let script = args

@@ -3,15 +3,18 @@
 //! in `glyphcast::volume`, this file turns flags into its options and reports what was
 //! left out.
 //!
-//! `--basis` has no default: a file does not say which SH basis it uses, and guessing
-//! wrong draws plausible but wrong glyphs.
+//! `--basis` has no default of its own: it is what the file records (`glyphcast fit`'s
+//! description; tournier07 for MRtrix images, MRtrix's only basis), and without a record
+//! it must be given, since guessing wrong draws plausible but wrong glyphs
+//! (`glyphcast::volume::resolve_basis`).
 use clap::Args;
 use glyphcast::fit::parse_basis;
 use glyphcast::glyph::{Symmetry, TensorLayout};
+use glyphcast::io::image::{Image, read_image};
 use glyphcast::scene::{Scene, ShBasis};
 use glyphcast::volume::{
     ImageRequest, ViewProjection, Volume, VolumeKind, VolumeOptions, VolumeScene, load_mask,
-    load_volume, volume_scene,
+    resolve_basis, volume_scene,
 };
 use glyphcast::{Error, Result};
 use std::path::{Path, PathBuf};
@@ -22,14 +25,24 @@ pub const VOLUME_FLAGS: [&str; 2] = ["sh", "tensor"];
 #[derive(Args)]
 pub struct VolumeArgs {
     /// 4D image of SH coefficients, [x, y, z, (L+1)(L+2)/2] for an even band L <= 12:
-    /// NIfTI (.nii, .nii.gz) or MRtrix (.mif, .mif.gz, .mih), taken in voxel axes.
+    /// NIfTI (.nii, .nii.gz) or MRtrix (.mif, .mif.gz, .mih); see --frame.
     #[arg(long, value_name = "IMAGE", help_heading = "Volume input")]
     pub sh: Option<PathBuf>,
     /// SH basis of --sh: tournier07 or descoteaux07 (with --legacy for the legacy
     /// variant), or mrtrix (= tournier07, dwi2fod's output), dipy (= descoteaux07
-    /// legacy, DIPY's default) or dipy-new (= descoteaux07).
+    /// legacy, DIPY's default) or dipy-new (= descoteaux07). Default: the basis the file
+    /// records (glyphcast fit writes it), tournier07 for MRtrix images without a record.
     #[arg(long, value_name = "BASIS", help_heading = "Volume input")]
     pub basis: Option<String>,
+    /// Use --basis even where the file records another basis.
+    #[arg(long, help_heading = "Volume input")]
+    pub force_basis: bool,
+    /// Axes of the coefficients: voxel (the image's voxel axes, as DIPY writes them;
+    /// glyphs are turned by the affine's rotation) or world (scanner axes, as MRtrix
+    /// stores them). Default: voxel for NIfTI, world for MRtrix images (unless the header
+    /// says glyphcast_frame: voxel, as glyphcast fit writes).
+    #[arg(long, value_name = "FRAME", help_heading = "Volume input")]
+    pub frame: Option<String>,
     /// The legacy variant of --basis (DIPY's legacy=True; MRtrix 0.2 for tournier07).
     #[arg(long, help_heading = "Volume input")]
     pub legacy: bool,
@@ -46,13 +59,14 @@ pub struct VolumeArgs {
     /// --tensor holds all 3^N entries, row-major, instead of the unique ones.
     #[arg(long, help_heading = "Volume input")]
     pub nonsymmetric: bool,
-    /// Slice to draw: axial, coronal or sagittal (constant k, j or i), optionally :INDEX
-    /// (default: the middle axial slice).
+    /// Slice to draw: axial, coronal or sagittal, the world's planes (across scanner z, y
+    /// or x; the voxel plane closest to it: constant k, j or i for an axial acquisition),
+    /// optionally :INDEX along that voxel axis (default: the middle axial slice).
     #[arg(long, value_name = "AXIS[:INDEX]", help_heading = "Volume input")]
     pub slice: Option<String>,
     /// Three orthogonal slices at once instead of --slice: voxel indices I,J,K of the
     /// sagittal, coronal and axial slice, or mid (the middle of each); seen in perspective
-    /// from anterior-superior-left.
+    /// from superior-left, anterior (radiological) or posterior (neurological).
     #[arg(long, value_name = "I,J,K|mid", help_heading = "Volume input")]
     pub slices: Option<String>,
     /// Voxel index ranges i0:i1,j0:j1,k0:k1 (end exclusive, ends optional), intersected
@@ -75,6 +89,14 @@ pub struct VolumeArgs {
     /// Perspective camera instead of orthographic.
     #[arg(long, help_heading = "Volume input")]
     pub perspective: bool,
+    /// radiological (the subject's right on the image's left in axial and coronal views,
+    /// as mrview shows them; the default) or neurological (right on the right). Sagittal
+    /// views have anterior on the left in both.
+    #[arg(long, value_name = "CONVENTION", help_heading = "Volume input")]
+    pub orientation: Option<String>,
+    /// Write the anatomical directions (L/R, A/P, S/I) at the image's edges.
+    #[arg(long, help_heading = "Volume input")]
+    pub labels: bool,
     /// Also write the scene that is rendered as a scene file (with the image, all or
     /// nothing).
     #[arg(long, value_name = "FILE")]
@@ -90,6 +112,8 @@ impl VolumeArgs {
     pub fn volume_only_flag(&self) -> Option<&'static str> {
         let given = [
             ("--basis", self.basis.is_some()),
+            ("--force-basis", self.force_basis),
+            ("--frame", self.frame.is_some()),
             ("--legacy", self.legacy),
             ("--lmax", self.lmax.is_some()),
             ("--order", self.order.is_some()),
@@ -102,6 +126,8 @@ impl VolumeArgs {
             ("--norm", self.norm.is_some()),
             ("--min-amplitude", self.min_amplitude.is_some()),
             ("--perspective", self.perspective),
+            ("--orientation", self.orientation.is_some()),
+            ("--labels", self.labels),
         ];
         given.iter().find(|(_, on)| *on).map(|(name, _)| *name)
     }
@@ -114,16 +140,66 @@ impl VolumeArgs {
     /// The volume, the options its view was made with and the view (reported on stderr):
     /// what the viewer needs to move the slice later.
     pub fn view(&self, image: ImageRequest) -> Result<(Volume, VolumeOptions, VolumeScene)> {
-        let (path, kind) = self.input()?;
+        let path = self.input()?;
         let mut options = self.options(image)?;
-        let volume = load_volume(path, kind)?;
+        let frame = self
+            .frame
+            .as_deref()
+            .map(|text| {
+                text.parse()
+                    .map_err(|err| Error::Invalid(format!("--frame: {err}")))
+            })
+            .transpose()?;
+        let given_basis = self.given_basis()?;
+        let file = read_image(path)?;
+        let kind = self.kind(&file, given_basis)?;
+        let mut volume = Volume::from_image(file, kind)?;
+        volume.frame = frame.unwrap_or(volume.frame);
+        self.slice_in_voxels(&mut options, &volume)?;
         options.mask = self.mask.as_deref().map(load_mask).transpose()?;
         let view = volume_scene(&volume, &options)?;
         report(&view, &volume.file);
         Ok((volume, options, view))
     }
 
-    fn input(&self) -> Result<(&Path, VolumeKind)> {
+    /// Turns the world plane `--slice` names into the voxel axis closest to it, with a
+    /// note when that is not the axis of the same name (a volume not stored axially), and
+    /// an error in the plane's terms when the index is outside that axis.
+    fn slice_in_voxels(&self, options: &mut VolumeOptions, volume: &Volume) -> Result<()> {
+        let named = options.slice;
+        let axis = named
+            .axis
+            .world_plane_in_voxels(volume.voxel_to_world.linear());
+        options.slice.axis = axis;
+        if axis == named.axis || options.slices.is_some() {
+            return Ok(());
+        }
+        let voxel = axis.voxel_axis();
+        let (letter, length) = (["i", "j", "k"][voxel], volume.dims[voxel]);
+        if let Some(index) = named.index
+            && index >= length
+        {
+            return Err(Error::input(
+                &volume.file,
+                format!("dim[{}]", voxel + 1),
+                format!(
+                    "--slice {named}: the {} plane is the slice of constant {letter} in this \
+                     volume, which has {length} voxels along {letter} (0..={})",
+                    named.axis.name(),
+                    length.saturating_sub(1)
+                ),
+            ));
+        }
+        eprintln!(
+            "note: {}: the {} plane is the slice of constant {letter} in this volume",
+            volume.file,
+            named.axis.name(),
+        );
+        Ok(())
+    }
+
+    /// The volume's file, once the flags are checked to fit --sh or --tensor.
+    fn input(&self) -> Result<&Path> {
         let misplaced = |flag: &str, input: &str| {
             Err(Error::Invalid(format!(
                 "{flag} applies to {input} input only"
@@ -140,12 +216,12 @@ impl VolumeArgs {
                 if self.nonsymmetric {
                     return misplaced("--nonsymmetric", "--tensor");
                 }
-                let (basis, legacy) = self.basis()?;
-                Ok((path, VolumeKind::Sh { basis, legacy }))
+                Ok(path)
             }
             (None, Some(path)) => {
                 for (flag, given) in [
                     ("--basis", self.basis.is_some()),
+                    ("--force-basis", self.force_basis),
                     ("--legacy", self.legacy),
                     ("--lmax", self.lmax.is_some()),
                 ] {
@@ -153,29 +229,47 @@ impl VolumeArgs {
                         return misplaced(flag, "--sh");
                     }
                 }
-                let Some(order) = self.order else {
-                    return Err(Error::Invalid(
-                        "--tensor needs --order N (the tensor order of the file)".into(),
-                    ));
-                };
-                let symmetry = if self.nonsymmetric {
-                    Symmetry::NonSymmetric
-                } else {
-                    Symmetry::Symmetric
-                };
-                Ok((path, VolumeKind::Tensor(TensorLayout { order, symmetry })))
+                self.tensor_order()?;
+                Ok(path)
             }
             (None, None) => Err(Error::Invalid("give a scene file, --sh or --tensor".into())),
         }
     }
 
-    /// The basis and its legacy flag (`--basis` aliases name both; see `fit::parse_basis`).
-    fn basis(&self) -> Result<(ShBasis, bool)> {
+    /// What the file holds: for --sh the basis from `--basis` and the file's record
+    /// (`resolve_basis`), for --tensor the layout from --order and --nonsymmetric.
+    fn kind(&self, file: &Image, given_basis: Option<(ShBasis, bool)>) -> Result<VolumeKind> {
+        if self.sh.is_some() {
+            let (basis, legacy) = resolve_basis(file, given_basis, self.force_basis)?;
+            return Ok(VolumeKind::Sh { basis, legacy });
+        }
+        let order = self.tensor_order()?;
+        let symmetry = if self.nonsymmetric {
+            Symmetry::NonSymmetric
+        } else {
+            Symmetry::Symmetric
+        };
+        Ok(VolumeKind::Tensor(TensorLayout { order, symmetry }))
+    }
+
+    /// `--order`, which --tensor needs.
+    fn tensor_order(&self) -> Result<u32> {
+        self.order.ok_or_else(|| {
+            Error::Invalid("--tensor needs --order N (the tensor order of the file)".into())
+        })
+    }
+
+    /// `--basis` with `--legacy` (aliases name both; see `fit::parse_basis`), if given.
+    fn given_basis(&self) -> Result<Option<(ShBasis, bool)>> {
         match self.basis.as_deref() {
-            Some(name) => parse_basis(name, self.legacy),
-            None => Err(Error::Invalid(
-                "--sh needs --basis tournier07, descoteaux07, mrtrix, dipy or dipy-new (a file does not say which)".into(),
+            Some(name) => parse_basis(name, self.legacy).map(Some),
+            None if self.legacy => Err(Error::Usage(
+                "--legacy qualifies --basis: give --basis too".into(),
             )),
+            None if self.force_basis => Err(Error::Usage(
+                "--force-basis needs --basis (the basis to force)".into(),
+            )),
+            None => Ok(None),
         }
     }
 
@@ -215,6 +309,12 @@ impl VolumeArgs {
             } else {
                 ViewProjection::Orthographic
             },
+            orientation: self
+                .orientation
+                .as_deref()
+                .map(str::parse)
+                .transpose()?
+                .unwrap_or_default(),
             image,
         })
     }

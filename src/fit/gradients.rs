@@ -14,10 +14,70 @@
 //!
 //! An MRtrix image may carry its table instead (`dw_scheme`, [`GradientTable::from_dw_scheme`]);
 //! its directions are in scanner coordinates and are turned into voxel axes here.
+//!
+//! Whatever the source, the table ends up in the image's voxel axes, the frame of the
+//! fitted coefficients (what `render --sh` takes a NIfTI's coefficients to be in). A
+//! `.bvec` is read in a [`BvecConvention`], FSL's by default, as FSL and MRtrix read it:
+//! FSL's voxel frame is the image's voxel axes with x reversed when the affine's
+//! determinant is positive (FSL shows every image with a negative determinant, the
+//! "radiological" storage, and flips the others in x to get there), so a direction's x
+//! is negated on such images; on images with a negative determinant (what scanners and
+//! dcm2niix usually write) FSL's and plain voxel axes agree.
 use glam::{DMat3, DVec3};
 use std::path::Path;
+use std::str::FromStr;
 
+use crate::io::nifti::VoxelToWorld;
 use crate::{Error, Result};
+
+/// The frame the directions of a `.bvec` file are written in.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum BvecConvention {
+    /// FSL's: voxel axes, x negated when the affine's determinant is positive.
+    #[default]
+    Fsl,
+    /// The image's voxel axes as stored (what DIPY assumes).
+    Voxel,
+    /// Scanner (world) axes, as MRtrix's `dw_scheme`.
+    World,
+}
+
+impl FromStr for BvecConvention {
+    type Err = Error;
+
+    /// `fsl`, `voxel` or `world`.
+    fn from_str(text: &str) -> Result<Self> {
+        match text {
+            "fsl" => Ok(BvecConvention::Fsl),
+            "voxel" => Ok(BvecConvention::Voxel),
+            "world" => Ok(BvecConvention::World),
+            _ => Err(Error::Usage(format!(
+                "--bvec-convention '{text}': expected fsl, voxel or world"
+            ))),
+        }
+    }
+}
+
+impl BvecConvention {
+    /// The matrix that takes a direction in this convention to the voxel axes of an image
+    /// mapped by `map`; `dwi` names the error when the affine has no rotation.
+    pub fn to_voxel_axes(self, map: &VoxelToWorld, dwi: &str) -> Result<DMat3> {
+        match self {
+            BvecConvention::Voxel => Ok(DMat3::IDENTITY),
+            BvecConvention::Fsl if map.linear().determinant() > 0.0 => {
+                Ok(DMat3::from_diagonal(DVec3::new(-1.0, 1.0, 1.0)))
+            }
+            BvecConvention::Fsl => Ok(DMat3::IDENTITY),
+            BvecConvention::World => {
+                map.orthogonal_factor()
+                    .map(|r| r.transpose())
+                    .ok_or_else(|| {
+                        Error::input(dwi, "affine", "no rotation can be taken from the affine")
+                    })
+            }
+        }
+    }
+}
 
 /// b-values at or below this (s/mm^2) count as b=0 volumes. Scanners report small
 /// non-zero b-values for their unweighted volumes (b = 5 to 10 is common); 50 is the
@@ -118,6 +178,20 @@ impl GradientTable {
             ));
         }
         Ok(table)
+    }
+
+    /// The table with every direction d replaced by `to_voxel` d (see
+    /// [`BvecConvention::to_voxel_axes`]).
+    pub fn transformed(self, to_voxel: DMat3) -> Self {
+        let directions = self
+            .directions
+            .into_iter()
+            .map(|d| d.map(|d| to_voxel * d))
+            .collect();
+        GradientTable {
+            bvals: self.bvals,
+            directions,
+        }
     }
 
     /// Indices of the b=0 volumes.
@@ -297,6 +371,35 @@ mod tests {
         assert_eq!(rows.directions[2], Some(-DVec3::Z));
         assert_eq!(rows.b0_volumes(), vec![0, 3]);
         assert_eq!(rows.weighted().len(), 2);
+    }
+
+    /// FSL's frame is the voxel frame flipped in x on images with a positive determinant
+    /// only; the world convention undoes the affine's rotation.
+    #[test]
+    fn conventions_turn_directions_into_voxel_axes() {
+        use crate::io::nifti::AffineSource;
+        use glam::DMat4;
+        let map = |linear: DMat3| {
+            VoxelToWorld::new(DMat4::from_mat3(linear), AffineSource::Sform, "d", "s").unwrap()
+        };
+        let ras = map(DMat3::from_diagonal(DVec3::splat(2.0)));
+        let las = map(DMat3::from_diagonal(DVec3::new(-2.0, 2.0, 2.0)));
+        let d = DVec3::new(0.6, 0.8, 0.0);
+        let voxel = |convention: BvecConvention, m: &VoxelToWorld| {
+            convention.to_voxel_axes(m, "d").unwrap() * d
+        };
+        assert_eq!(voxel(BvecConvention::Fsl, &ras), DVec3::new(-0.6, 0.8, 0.0));
+        assert_eq!(voxel(BvecConvention::Fsl, &las), d);
+        assert_eq!(voxel(BvecConvention::Voxel, &ras), d);
+        let world = voxel(BvecConvention::World, &las);
+        assert!(
+            (world - DVec3::new(-0.6, 0.8, 0.0)).length() < 1e-12,
+            "{world}"
+        );
+        let t = table("0 1000", "0 0.6\n0 0.8\n0 0", 2).unwrap();
+        let flipped = t.transformed(DMat3::from_diagonal(DVec3::new(-1.0, 1.0, 1.0)));
+        assert_eq!(flipped.directions[1], Some(DVec3::new(-0.6, 0.8, 0.0)));
+        assert!("radiological".parse::<BvecConvention>().is_err());
     }
 
     #[test]

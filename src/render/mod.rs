@@ -10,6 +10,7 @@ pub mod glyph_data;
 pub mod headless;
 #[cfg(test)]
 mod interface;
+pub mod labels;
 pub mod mesh;
 pub mod range_eval;
 pub mod raycast;

@@ -436,6 +436,10 @@ impl App {
             .content
             .slice_label()
             .map_or_else(String::new, |l| format!(" | slice {l}"));
+        let orientation = self
+            .content
+            .orientation_name()
+            .map_or_else(String::new, |name| format!(" | {name}"));
         let time = self
             .gpu_ms
             .map_or_else(|| "n/a".to_owned(), |ms| format!("{ms:.2} ms"));
@@ -444,7 +448,7 @@ impl App {
             .busy()
             .map_or_else(String::new, |b| format!(" | {b}"));
         window.set_title(&format!(
-            "glyphcast | {} step {:.4} {} | {} | negative {}{slice} | GPU {time}{busy}",
+            "glyphcast | {} step {:.4} {} | {} | negative {}{slice}{orientation} | GPU {time}{busy}",
             format!("{:?}", s.method).to_lowercase(),
             s.step,
             refinement_name(s.refinement),

@@ -212,6 +212,12 @@ impl Content {
         scene
     }
 
+    /// The orientation convention of a volume's views ("radiological"), None for a scene
+    /// file.
+    pub fn orientation_name(&self) -> Option<&'static str> {
+        self.volume.as_ref().map(|v| v.options.orientation.name())
+    }
+
     /// "k=3 of 0..4" for a volume ("i=1 j=2 [k=3]" with three slices, the active one in
     /// brackets), None for a scene file.
     pub fn slice_label(&self) -> Option<String> {
@@ -290,6 +296,7 @@ impl Content {
                 &region,
                 &volume.voxel_to_world,
                 options.projection,
+                options.orientation,
                 options.image,
             )?;
             let shift = framing.camera.target - v.framed_target;

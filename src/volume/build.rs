@@ -1,4 +1,5 @@
-//! A volume slice as a [`Scene`]: select voxels, reorient each glyph into world axes,
+//! A volume slice as a [`Scene`]: select voxels, reorient each glyph into world axes
+//! (voxel-frame coefficients only),
 //! measure it, drop what cannot or should not be drawn, scale, and frame.
 //!
 //! Left out, and counted in the [`VolumeReport`] rather than failing: voxels outside the
@@ -12,8 +13,8 @@ use std::str::FromStr;
 use glam::DVec3;
 
 use super::amplitude::max_radius;
-use super::framing::{ImageRequest, ViewProjection, frame_region, frame_volume};
-use super::input::{Mask, Volume, show_shape};
+use super::framing::{ImageRequest, Orientation, ViewProjection, frame_region, frame_volume};
+use super::input::{CoefficientFrame, Mask, Volume, show_shape};
 use super::reorient::Reorientation;
 use super::selection::{Slice, SliceRegion, Slices, VoxelRanges};
 use crate::glyph::NegativeMode;
@@ -54,6 +55,8 @@ pub struct VolumeOptions {
     /// SH only: drop bands above this one.
     pub lmax: Option<u32>,
     pub projection: ViewProjection,
+    /// Which side of the image the subject's right is on, in every view.
+    pub orientation: Orientation,
     pub image: ImageRequest,
 }
 
@@ -125,14 +128,7 @@ pub fn volume_scene_with_progress(
     };
     let kind = truncated_kind(volume, options.lmax)?;
     let map = &volume.voxel_to_world;
-    let rotation = map.orthogonal_factor().ok_or_else(|| {
-        Error::input(
-            &volume.file,
-            "affine",
-            "the polar decomposition of the affine did not converge",
-        )
-    })?;
-    let reorientation = Reorientation::new(rotation).for_kind(kind)?;
+    let reorientation = reorientation(volume)?.for_kind(kind)?;
     let mut report = VolumeReport::default();
     let mut glyphs: Vec<Vec<Glyph>> = Vec::with_capacity(regions.len());
     for (n, region) in regions.iter().enumerate() {
@@ -191,9 +187,15 @@ pub fn volume_scene_with_progress(
                 regions[0].ranges[1].clone(),
                 regions[0].ranges[2].clone(),
             ];
-            frame_volume(&span, map, options.image)?
+            frame_volume(&span, map, options.orientation, options.image)?
         }
-        None => frame_region(&regions[0], map, options.projection, options.image)?,
+        None => frame_region(
+            &regions[0],
+            map,
+            options.projection,
+            options.orientation,
+            options.image,
+        )?,
     };
     // Global normalisation is over all slices together.
     let largest = glyphs
@@ -216,6 +218,22 @@ pub fn volume_scene_with_progress(
         region: regions[0].clone(),
         regions,
     })
+}
+
+/// What turns the volume's glyphs into world axes: the affine's orthogonal factor for
+/// voxel-frame coefficients, nothing for world-frame ones.
+fn reorientation(volume: &Volume) -> Result<Reorientation> {
+    if volume.frame == CoefficientFrame::World {
+        return Ok(Reorientation::new(glam::DMat3::IDENTITY));
+    }
+    let rotation = volume.voxel_to_world.orthogonal_factor().ok_or_else(|| {
+        Error::input(
+            &volume.file,
+            "affine",
+            "the polar decomposition of the affine did not converge",
+        )
+    })?;
+    Ok(Reorientation::new(rotation))
 }
 
 fn check_options(volume: &Volume, options: &VolumeOptions) -> Result<()> {

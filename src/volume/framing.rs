@@ -1,14 +1,16 @@
 //! The camera that shows a slice face on, with the whole slice in view.
 //!
 //! The view looks along the world axis closest to the slice's normal (after the affine),
-//! from a fixed side per axis (world axes in the NIfTI RAS+ sense: +x right, +y anterior,
-//! +z superior):
-//! - z: from superior (+z) looking down, anterior (+y) up; the subject's right is on the
-//!   image's right;
-//! - y: from anterior (+y) looking back, superior (+z) up; facing the subject, so its
-//!   right is on the image's left;
-//! - x: from the subject's left (-x) looking right, superior up, so that anterior is on
-//!   the left of the image as in FSLeyes' and most viewers' sagittal panes.
+//! from a side set by the [`Orientation`] in world terms (scanner RAS+: +x the subject's
+//! right, +y anterior, +z superior), whatever the voxel order of the file:
+//! - z (axial), anterior up: radiological looks from inferior (+z), so the subject's
+//!   right is on the image's left, as mrview shows it; neurological looks down from
+//!   superior, right on the right;
+//! - y (coronal), superior up: radiological looks from anterior (facing the subject,
+//!   its right on the image's left); neurological from posterior;
+//! - x (sagittal), superior up: both look from the subject's left, so that anterior is on
+//!   the left of the image, as in mrview's and FSLeyes' sagittal panes (left and right do
+//!   not appear in a sagittal image).
 //!
 //! The framed region is the slice's voxel boxes (centres +- half a voxel), so glyphs that
 //! fill their voxel stay inside. Without a requested size the image takes the region's
@@ -38,6 +40,41 @@ pub enum ViewProjection {
     Perspective,
 }
 
+/// Which side of the image the subject's right is on (see the module notes).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Orientation {
+    /// The subject's right on the image's left (mrview, radiology).
+    #[default]
+    Radiological,
+    /// The subject's right on the image's right.
+    Neurological,
+}
+
+impl Orientation {
+    /// The name used by `--orientation` and in the viewer's title.
+    pub fn name(self) -> &'static str {
+        match self {
+            Orientation::Radiological => "radiological",
+            Orientation::Neurological => "neurological",
+        }
+    }
+}
+
+impl std::str::FromStr for Orientation {
+    type Err = Error;
+
+    /// `radiological` or `neurological`.
+    fn from_str(text: &str) -> Result<Self> {
+        match text {
+            "radiological" => Ok(Orientation::Radiological),
+            "neurological" => Ok(Orientation::Neurological),
+            _ => Err(Error::Invalid(format!(
+                "--orientation '{text}': expected radiological or neurological"
+            ))),
+        }
+    }
+}
+
 /// Image size asked for on the command line; a missing side follows the slice's aspect.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ImageRequest {
@@ -52,11 +89,15 @@ pub struct Framing {
     pub image: ImageSize,
 }
 
-/// Forward and up directions of the view along world axis `axis` (0 = x, 1 = y, 2 = z).
-pub fn view_directions(axis: usize) -> (DVec3, DVec3) {
+/// Forward and up directions of the view along world axis `axis` (0 = x, 1 = y, 2 = z)
+/// in `orientation`.
+pub fn view_directions(axis: usize, orientation: Orientation) -> (DVec3, DVec3) {
+    let radiological = orientation == Orientation::Radiological;
     match axis {
         0 => (DVec3::X, DVec3::Z),
-        1 => (DVec3::NEG_Y, DVec3::Z),
+        1 if radiological => (DVec3::NEG_Y, DVec3::Z),
+        1 => (DVec3::Y, DVec3::Z),
+        _ if radiological => (DVec3::Z, DVec3::Y),
         _ => (DVec3::NEG_Z, DVec3::Y),
     }
 }
@@ -77,9 +118,10 @@ pub fn frame_region(
     region: &SliceRegion,
     map: &VoxelToWorld,
     projection: ViewProjection,
+    orientation: Orientation,
     request: ImageRequest,
 ) -> Result<Framing> {
-    let (fwd, up) = view_directions(view_axis(region, map));
+    let (fwd, up) = view_directions(view_axis(region, map), orientation);
     let right = fwd.cross(up);
     let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
     for corner in 0..8 {
@@ -132,17 +174,25 @@ pub fn frame_region(
     })
 }
 
-/// Direction from the volume's centre to the camera of a three-slice view: anterior,
-/// superior and from the subject's left, so that all three planes are seen obliquely.
-const OBLIQUE_FROM: DVec3 = DVec3::new(-1.0, 1.0, 1.0);
+/// Direction from the volume's centre to the camera of a three-slice view, superior and
+/// from the subject's left, so that all three planes are seen obliquely, anterior on the
+/// left as in the sagittal view: radiological from anterior (the subject's right on the
+/// image's left, as in the coronal view), neurological from posterior.
+fn oblique_from(orientation: Orientation) -> DVec3 {
+    match orientation {
+        Orientation::Radiological => DVec3::new(-1.0, 1.0, 1.0),
+        Orientation::Neurological => DVec3::new(-1.0, -1.0, 1.0),
+    }
+}
 
 /// Frames the voxel box `ranges` (index ranges along i, j, k) for three orthogonal
-/// slices: a perspective camera looking at the box's centre from anterior-superior-left,
-/// at the distance where the box's bounding sphere fills the view. Without a requested
-/// size the image is square, 1024 pixels.
+/// slices: a perspective camera looking at the box's centre from [`oblique_from`], at the
+/// distance where the box's bounding sphere fills the view. Without a requested size the
+/// image is square, 1024 pixels.
 pub fn frame_volume(
     ranges: &[std::ops::Range<usize>; 3],
     map: &VoxelToWorld,
+    orientation: Orientation,
     request: ImageRequest,
 ) -> Result<Framing> {
     let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
@@ -167,7 +217,7 @@ pub fn frame_volume(
     let half_fov = (0.5 * PERSPECTIVE_FOV_DEG).to_radians();
     // The narrower of the two fields of view must hold the sphere.
     let half = half_fov.tan().min(half_fov.tan() * aspect).atan();
-    let from = OBLIQUE_FROM.normalize();
+    let from = oblique_from(orientation).normalize();
     let eye = target + from * (radius / half.sin());
     let up = (DVec3::Z - from * from.z).normalize();
     Ok(Framing {

@@ -1,13 +1,20 @@
 //! Coefficient volumes and masks read from NIfTI-1 or MRtrix files (`io::image`), checked against what the
 //! user said they hold: a 4D volume [x, y, z, N] whose N matches the SH band or the
 //! tensor layout, a 3D mask. Every mismatch names the file and the dimension.
+//!
+//! A volume also knows the frame its coefficients are in ([`CoefficientFrame`]): NIfTI
+//! files are taken in voxel axes (as DIPY writes them), MRtrix files in scanner axes (as
+//! MRtrix stores and mrview draws them) unless their header says `glyphcast_frame: voxel`
+//! (what `glyphcast fit` writes into a `.mif`).
+use std::fmt;
 use std::path::Path;
+use std::str::FromStr;
 
 use ndarray::{Array3, Array4, ArrayD, Axis, Ix3, Ix4};
 
 use crate::glyph::TensorLayout;
 use crate::glyph::sh;
-use crate::io::image::{Image, read_image};
+use crate::io::image::{Image, ImageHeader, read_image};
 use crate::io::nifti::VoxelToWorld;
 use crate::scene::{GlyphKind, ShBasis};
 use crate::{Error, Result};
@@ -23,6 +30,21 @@ pub enum VolumeKind {
     Tensor(TensorLayout),
 }
 
+/// The axes a volume's coefficients are expressed in.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CoefficientFrame {
+    /// The image's voxel axes (DIPY, FSL): glyphs are turned by the affine's orthogonal
+    /// factor on the way to the world.
+    #[default]
+    Voxel,
+    /// Scanner (world) axes (MRtrix): glyphs are drawn as stored; only their centres go
+    /// through the affine.
+    World,
+}
+
+/// The header key in which `glyphcast fit` records the frame of a `.mif` it writes.
+const FRAME_KEY: &str = "glyphcast_frame";
+
 /// A 4D volume of glyph coefficients: one coefficient list per voxel.
 #[derive(Clone, Debug)]
 pub struct Volume {
@@ -33,6 +55,8 @@ pub struct Volume {
     /// The glyph kind of every voxel (for SH, the band deduced from the file).
     pub kind: GlyphKind,
     pub voxel_to_world: VoxelToWorld,
+    /// The frame of the coefficients: the file's default, or what the user said.
+    pub frame: CoefficientFrame,
     /// Shape [x, y, z, coefficients].
     data: Array4<f64>,
 }
@@ -72,11 +96,15 @@ impl Volume {
             dims,
             kind,
             voxel_to_world,
+            frame: CoefficientFrame::Voxel,
             data,
         })
     }
 
-    fn from_image(image: Image, kind: VolumeKind) -> Result<Self> {
+    /// The volume of an image read with [`read_image`], checked against `kind`, in the
+    /// image's default frame ([`CoefficientFrame::of_image`]).
+    pub fn from_image(image: Image, kind: VolumeKind) -> Result<Self> {
+        let frame = CoefficientFrame::of_image(&image)?;
         let shape = image.shape(4);
         if shape.len() != 4 {
             return Err(Error::input(
@@ -92,7 +120,9 @@ impl Volume {
         let data = squeeze(image.data, 4)
             .into_dimensionality::<Ix4>()
             .map_err(|err| Error::input(&image.file, "dim", err.to_string()))?;
-        Self::new(image.file, data, kind, image.voxel_to_world)
+        let mut volume = Self::new(image.file, data, kind, image.voxel_to_world)?;
+        volume.frame = frame;
+        Ok(volume)
     }
 
     /// Coefficients per voxel.
@@ -106,6 +136,53 @@ impl Volume {
         (0..self.coefficient_count())
             .map(|c| self.data[[i, j, k, c]])
             .collect()
+    }
+}
+
+impl CoefficientFrame {
+    /// The frame a file's coefficients are taken in when the user does not say: voxel
+    /// axes for NIfTI, scanner axes for MRtrix unless its `glyphcast_frame` key says
+    /// otherwise.
+    pub fn of_image(image: &Image) -> Result<Self> {
+        let ImageHeader::Mrtrix(header) = &image.header else {
+            return Ok(CoefficientFrame::Voxel);
+        };
+        match header.other.iter().find(|(key, _)| key == FRAME_KEY) {
+            None => Ok(CoefficientFrame::World),
+            Some((_, value)) => value
+                .trim()
+                .parse()
+                .map_err(|err: Error| Error::input(&image.file, FRAME_KEY, err.to_string())),
+        }
+    }
+
+    /// The name used by `--frame` and in the `.mif` key.
+    pub fn name(self) -> &'static str {
+        match self {
+            CoefficientFrame::Voxel => "voxel",
+            CoefficientFrame::World => "world",
+        }
+    }
+}
+
+impl fmt::Display for CoefficientFrame {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for CoefficientFrame {
+    type Err = Error;
+
+    /// `voxel` or `world`.
+    fn from_str(text: &str) -> Result<Self> {
+        match text {
+            "voxel" => Ok(CoefficientFrame::Voxel),
+            "world" => Ok(CoefficientFrame::World),
+            _ => Err(Error::Invalid(format!(
+                "'{text}' is not a frame: expected voxel or world"
+            ))),
+        }
     }
 }
 

@@ -3,19 +3,22 @@
 //! The pipeline, one file per step: `input` reads the volume (and a mask) and checks the
 //! coefficient count against what the user says the file holds; `selection` picks the
 //! voxels (slice, index ranges, mask); `reorient` turns each glyph from voxel axes into
-//! world axes with the orthogonal polar factor R of the affine, g(u) = f(R^T u);
-//! `amplitude` measures glyphs for normalisation; `framing` places the camera; `build`
-//! puts it together into a [`Scene`](crate::scene::Scene) and a [`VolumeReport`].
+//! world axes with the orthogonal polar factor R of the affine, g(u) = f(R^T u) (only for
+//! coefficients in the voxel frame; world-frame ones, MRtrix's, are drawn as stored);
+//! `recorded` reads the SH basis a file records;
+//! `amplitude` measures glyphs for normalisation; `framing` places the camera in the
+//! radiological or neurological convention; `build` puts it together into a [`Scene`](crate::scene::Scene) and a [`VolumeReport`].
 //!
 //! Glyph centres are the affine applied to the voxel indices (NIfTI-1's sform, else
-//! qform, else pixdim: [`crate::io::nifti::affine`]); glyph shapes use only the affine's
-//! orthogonal factor, so anisotropic voxels do not stretch the glyphs, but a rotated or
-//! reflected grid turns them with it.
+//! qform, else pixdim: [`crate::io::nifti::affine`]); voxel-frame glyph shapes use only
+//! the affine's orthogonal factor, so anisotropic voxels do not stretch the glyphs, but a
+//! rotated or reflected grid turns them with it; world-frame shapes ignore the affine.
 
 mod amplitude;
 mod build;
 mod framing;
 mod input;
+mod recorded;
 mod reorient;
 mod selection;
 
@@ -24,9 +27,10 @@ pub use build::{
     volume_scene_with_progress,
 };
 pub use framing::{
-    DEFAULT_LONG_SIDE, Framing, ImageRequest, PERSPECTIVE_FOV_DEG, ViewProjection, frame_region,
-    frame_volume, view_axis, view_directions,
+    DEFAULT_LONG_SIDE, Framing, ImageRequest, Orientation, PERSPECTIVE_FOV_DEG, ViewProjection,
+    frame_region, frame_volume, view_axis, view_directions,
 };
-pub use input::{MAX_ORDER, Mask, Volume, VolumeKind, load_mask, load_volume};
+pub use input::{CoefficientFrame, MAX_ORDER, Mask, Volume, VolumeKind, load_mask, load_volume};
+pub use recorded::{RecordedBasis, recorded_basis, resolve_basis};
 pub use reorient::{Reorientation, rotate_full_tensor};
 pub use selection::{Slice, SliceAxis, SliceRegion, Slices, VoxelRanges};

@@ -1,10 +1,12 @@
 //! Which voxels become glyphs: one slice, optionally cut down by voxel index ranges,
 //! then by a mask.
 //!
-//! Slice names follow the voxel axes, as DIPY and FURY do: sagittal is a slice of
-//! constant i, coronal of constant j, axial of constant k. For a volume stored in an
-//! unusual orientation the named slice may therefore not be anatomically axial; the
-//! camera still looks at it face on (see `framing`).
+//! A [`Slice`] names a voxel axis, as DIPY and FURY do: sagittal is a slice of constant
+//! i, coronal of constant j, axial of constant k. The command line means the world's
+//! planes instead (mrview's way): [`SliceAxis::world_plane_in_voxels`] finds the voxel
+//! axis closest to the world axis a plane name stands for, which for the usual axial
+//! acquisitions is the same axis. The camera looks at the slice face on (see `framing`).
+use glam::DMat3;
 use std::fmt;
 use std::ops::Range;
 use std::str::FromStr;
@@ -72,7 +74,40 @@ impl SliceAxis {
         }
     }
 
-    fn name(self) -> &'static str {
+    /// The slice of the voxel axis closest to the world plane `self` names (sagittal
+    /// across world x, coronal across y, axial across z) in a volume whose affine has the
+    /// linear part `linear`. Voxel axes are matched to world axes by the permutation that
+    /// aligns them best (the largest sum of |cosines|), so the three planes stay three
+    /// different voxel axes even on an oblique grid.
+    pub fn world_plane_in_voxels(self, linear: DMat3) -> SliceAxis {
+        const PERMUTATIONS: [[usize; 3]; 6] = [
+            [0, 1, 2],
+            [0, 2, 1],
+            [1, 0, 2],
+            [1, 2, 0],
+            [2, 0, 1],
+            [2, 1, 0],
+        ];
+        // world_of[c]: the world axis voxel axis c is matched to.
+        let alignment = |world_of: &[usize; 3]| -> f64 {
+            (0..3)
+                .map(|c| {
+                    let column = linear.col(c);
+                    column[world_of[c]].abs() / column.length()
+                })
+                .sum()
+        };
+        let best = PERMUTATIONS
+            .iter()
+            .max_by(|a, b| alignment(a).total_cmp(&alignment(b)))
+            .unwrap_or(&PERMUTATIONS[0]);
+        let world = self.voxel_axis();
+        let voxel = best.iter().position(|&w| w == world).unwrap_or(world);
+        SliceAxis::of_voxel_axis(voxel)
+    }
+
+    /// The plane's name: sagittal, coronal or axial.
+    pub fn name(self) -> &'static str {
         match self {
             SliceAxis::Sagittal => "sagittal",
             SliceAxis::Coronal => "coronal",
@@ -307,6 +342,31 @@ mod tests {
         );
         for bad in ["1,2", "1,2,x", "middle", "1,2,3,4"] {
             assert!(bad.parse::<Slices>().is_err(), "{bad}");
+        }
+    }
+
+    /// A volume stored sagittally (i along world y, j along z, k along x) has its axial
+    /// plane at constant j; a slightly oblique axial one keeps the identity.
+    #[test]
+    fn world_planes_find_their_voxel_axes() {
+        use glam::DVec3;
+        let sagittal_storage = DMat3::from_cols(2.0 * DVec3::Y, 2.0 * DVec3::Z, -3.0 * DVec3::X);
+        let plane = |axis: SliceAxis, linear| axis.world_plane_in_voxels(linear);
+        assert_eq!(
+            plane(SliceAxis::Axial, sagittal_storage),
+            SliceAxis::Coronal
+        );
+        assert_eq!(
+            plane(SliceAxis::Coronal, sagittal_storage),
+            SliceAxis::Sagittal
+        );
+        assert_eq!(
+            plane(SliceAxis::Sagittal, sagittal_storage),
+            SliceAxis::Axial
+        );
+        let oblique = DMat3::from_axis_angle(DVec3::new(1.0, 1.0, 0.0).normalize(), 0.3);
+        for axis in [SliceAxis::Sagittal, SliceAxis::Coronal, SliceAxis::Axial] {
+            assert_eq!(plane(axis, oblique), axis);
         }
     }
 

@@ -90,3 +90,57 @@ pub fn save_failure_images(name: &str, r: &Rendered) {
     let _ = glyphcast::io::png::write_png_rgba8(&dir.join(format!("{name}-diff.png")), w, h, &diff);
     eprintln!("{name}: images in {}", dir.display());
 }
+
+/// Runs the glyphcast binary with `args`, validation on.
+pub fn run_glyphcast(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_glyphcast"))
+        .args(args)
+        .env("GLYPHCAST_VALIDATION", "1")
+        .output()
+        .expect("running glyphcast")
+}
+
+/// Writes `data` (first three axes spatial) as a float32 NIfTI-1 file whose sform
+/// (code 1, scanner) is `affine`, with an empty description.
+pub fn write_nifti(path: &std::path::Path, data: &ndarray::ArrayD<f64>, affine: glam::DMat4) {
+    let linear = glam::DMat3::from_mat4(affine);
+    let row = |r: usize| affine.row(r).to_array().map(|v| v as f32);
+    let header = nifti::NiftiHeader {
+        pixdim: [
+            1.0,
+            linear.x_axis.length() as f32,
+            linear.y_axis.length() as f32,
+            linear.z_axis.length() as f32,
+            1.0,
+            1.0,
+            1.0,
+            1.0,
+        ],
+        sform_code: 1,
+        qform_code: 0,
+        srow_x: row(0),
+        srow_y: row(1),
+        srow_z: row(2),
+        ..nifti::NiftiHeader::default()
+    };
+    nifti::writer::WriterOptions::new(path)
+        .reference_header(&header)
+        // The writer takes C or Fortran order, not the negative strides of a flip.
+        .write_nifti(&data.mapv(|v| v as f32).as_standard_layout())
+        .expect("writing a test NIfTI");
+}
+
+/// `data` reversed along its first (x) axis, and the affine of the same world grid for
+/// it: the x column negated, the origin moved to the old last column (i' = n - 1 - i).
+pub fn flipped_in_x(
+    data: &ndarray::ArrayD<f64>,
+    affine: glam::DMat4,
+) -> (ndarray::ArrayD<f64>, glam::DMat4) {
+    let n = data.shape()[0] as f64;
+    let mut flipped = data.clone();
+    flipped.invert_axis(ndarray::Axis(0));
+    let mut flipped_affine = affine;
+    flipped_affine.w_axis += affine.x_axis * (n - 1.0);
+    flipped_affine.x_axis = -affine.x_axis;
+    (flipped, flipped_affine)
+}

@@ -217,8 +217,10 @@ fn every_bad_volume_input_fails_cleanly_naming_the_file() {
             vec!["good.nii.gz", "axial", "dim[3]"],
         ),
         (
+            // This volume's voxel axis i runs along world y: the coronal plane is constant
+            // i, 3 voxels.
             vec!["--tensor", &good, "--order", "2", "--slice", "coronal:4"],
-            vec!["good.nii.gz", "dim[2]"],
+            vec!["good.nii.gz", "dim[1]", "coronal:4", "constant i"],
         ),
         (
             vec!["--tensor", &good, "--order", "2", "--slice", "oblique:1"],

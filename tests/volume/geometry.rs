@@ -211,7 +211,7 @@ fn every_tensor_kind_turns_with_the_affine_rotation() {
 }
 
 #[test]
-fn axial_view_looks_down_with_anterior_up_and_fits_the_slice() {
+fn axial_view_is_radiological_with_anterior_up_and_fits_the_slice() {
     let data = volume([3, 4, 5], 6, labelled_sphere);
     let volume = round_trip(
         "framing",
@@ -221,11 +221,8 @@ fn axial_view_looks_down_with_anterior_up_and_fits_the_slice() {
     );
     let scene = scene_of(&volume, Slice::default());
     let frame = scene.camera.frame();
-    assert!(
-        (frame.fwd - DVec3::NEG_Z).length() < 1e-12,
-        "{:?}",
-        frame.fwd
-    );
+    // Radiological by default: seen from inferior, the subject's right on the left.
+    assert!((frame.fwd - DVec3::Z).length() < 1e-12, "{:?}", frame.fwd);
     assert!((frame.up - DVec3::Y).length() < 1e-12, "{:?}", frame.up);
     // The slice spans 3 voxels of 2 mm along world y and 4 of 3 mm along x.
     assert_eq!((scene.image.width, scene.image.height), (1024, 512));

@@ -1,0 +1,178 @@
+//! The SH basis a coefficient file records, and how it meets `--basis`.
+//!
+//! glyphcast's `fit` writes its model into the file's description (NIfTI `descrip`,
+//! MRtrix `comments`): "glyphcast fit: SH band 8 descoteaux07 legacy lambda 0.006"
+//! ([`crate::fit::FitModel::description`]); the basis is read back from there. MRtrix
+//! itself records no basis: its SH images are always tournier07 (non-legacy), so an
+//! MRtrix file that records nothing is taken as that. A NIfTI file that records nothing
+//! says nothing, and `--basis` is then required.
+use crate::fit::parse_basis;
+use crate::io::image::{Image, ImageHeader};
+use crate::scene::ShBasis;
+use crate::{Error, Result};
+
+/// What starts the SH description `fit` writes, before the band.
+const FIT_SH_PREFIX: &str = "glyphcast fit: SH band ";
+
+/// A basis read from a file's header.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RecordedBasis {
+    pub basis: ShBasis,
+    pub legacy: bool,
+    /// The header field it was read from: `descrip` (NIfTI) or `comments` (MRtrix).
+    pub field: &'static str,
+}
+
+/// The header field that holds a file's description.
+fn description_field(image: &Image) -> &'static str {
+    match image.header {
+        ImageHeader::Nifti(_) => "descrip",
+        ImageHeader::Mrtrix(_) => "comments",
+    }
+}
+
+/// The basis `image` records in its description, if any (a description of another kind,
+/// or with a basis name glyphcast does not know, records none).
+pub fn recorded_basis(image: &Image) -> Option<RecordedBasis> {
+    let description = image.description()?;
+    description.lines().find_map(|line| {
+        let rest = &line[line.find(FIT_SH_PREFIX)? + FIT_SH_PREFIX.len()..];
+        let mut words = rest.split_whitespace().skip(1);
+        let name = words.next()?;
+        let legacy = words.next() == Some("legacy");
+        let (basis, legacy) = parse_basis(name, legacy).ok()?;
+        Some(RecordedBasis {
+            basis,
+            legacy,
+            field: description_field(image),
+        })
+    })
+}
+
+fn show(basis: ShBasis, legacy: bool) -> String {
+    let name = crate::fit::basis_name(basis);
+    if legacy {
+        format!("{name} --legacy")
+    } else {
+        name.to_string()
+    }
+}
+
+/// The basis to draw `image` in: `given` (from `--basis`) when it agrees with what the
+/// file records or `force` is set, else the recorded one, else tournier07 for an MRtrix
+/// file. A contradiction is an error naming the file and the field; no basis at all is
+/// a usage error.
+pub fn resolve_basis(
+    image: &Image,
+    given: Option<(ShBasis, bool)>,
+    force: bool,
+) -> Result<(ShBasis, bool)> {
+    let recorded = recorded_basis(image);
+    match (given, recorded) {
+        (Some(given), Some(recorded)) if !force && given != (recorded.basis, recorded.legacy) => {
+            Err(Error::input(
+                &image.file,
+                recorded.field,
+                format!(
+                    "the file records the SH basis {} but --basis gives {}; leave out --basis, \
+                     or add --force-basis to draw in {} anyway",
+                    show(recorded.basis, recorded.legacy),
+                    show(given.0, given.1),
+                    show(given.0, given.1),
+                ),
+            ))
+        }
+        (Some(given), _) => Ok(given),
+        (None, Some(recorded)) => Ok((recorded.basis, recorded.legacy)),
+        (None, None) => match image.header {
+            ImageHeader::Mrtrix(_) => Ok((ShBasis::Tournier07, false)),
+            ImageHeader::Nifti(_) => Err(Error::Usage(format!(
+                "--sh needs --basis tournier07, descoteaux07, mrtrix, dipy or dipy-new: {} \
+                 records no SH basis in its {}",
+                image.file,
+                description_field(image)
+            ))),
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fit::FitModel;
+    use crate::io::mif::write::mif_bytes;
+    use crate::io::mif::{MifHeader, MifWrite};
+    use crate::io::nifti::{AffineSource, VoxelToWorld};
+    use glam::DMat4;
+
+    /// An MRtrix image whose `comments` hold `text`, through our writer and the parser.
+    fn commented(text: &str) -> Image {
+        let data = ndarray::ArrayD::zeros(ndarray::IxDyn(&[1, 1, 1]));
+        let voxel_to_world =
+            VoxelToWorld::new(DMat4::IDENTITY, AffineSource::Pixdim, "f.mif", "transform").unwrap();
+        let bytes = mif_bytes(&MifWrite {
+            data: &data,
+            voxel_to_world: &voxel_to_world,
+            keys: &[("comments", text.to_string())],
+        })
+        .unwrap();
+        let header = MifHeader::parse(&bytes, "f.mif").unwrap();
+        Image {
+            file: "f.mif".into(),
+            data,
+            voxel_to_world,
+            header: ImageHeader::Mrtrix(Box::new(header)),
+        }
+    }
+
+    /// What `fit` writes reads back as the basis it was fitted in.
+    #[test]
+    fn fit_descriptions_read_back() {
+        for (basis, legacy) in [
+            (ShBasis::Tournier07, false),
+            (ShBasis::Tournier07, true),
+            (ShBasis::Descoteaux07, false),
+            (ShBasis::Descoteaux07, true),
+        ] {
+            let model = FitModel::Sh {
+                band: 8,
+                basis,
+                legacy,
+                lambda: 0.006,
+            };
+            let recorded = recorded_basis(&commented(&model.description())).unwrap();
+            assert_eq!((recorded.basis, recorded.legacy), (basis, legacy));
+            assert_eq!(recorded.field, "comments");
+        }
+        let tensor = FitModel::Tensor { order: 4 }.description();
+        assert_eq!(recorded_basis(&commented(&tensor)), None);
+        assert_eq!(
+            recorded_basis(&commented("glyphcast fit: SH band 8 fsl")),
+            None
+        );
+    }
+
+    #[test]
+    fn given_and_recorded_must_agree_unless_forced() {
+        let image = commented("glyphcast fit: SH band 4 descoteaux07 lambda 0");
+        let dipy_new = (ShBasis::Descoteaux07, false);
+        let mrtrix = (ShBasis::Tournier07, false);
+        assert_eq!(resolve_basis(&image, None, false).unwrap(), dipy_new);
+        assert_eq!(
+            resolve_basis(&image, Some(dipy_new), false).unwrap(),
+            dipy_new
+        );
+        let err = resolve_basis(&image, Some(mrtrix), false)
+            .unwrap_err()
+            .to_string();
+        assert!(err.starts_with("f.mif: comments: "), "{err}");
+        assert_eq!(resolve_basis(&image, Some(mrtrix), true).unwrap(), mrtrix);
+        // An MRtrix file without a record is tournier07, and any --basis goes.
+        let plain = commented("made by dwi2fod");
+        assert_eq!(resolve_basis(&plain, None, false).unwrap(), mrtrix);
+        assert_eq!(
+            resolve_basis(&plain, Some(dipy_new), false).unwrap(),
+            dipy_new
+        );
+    }
+}
