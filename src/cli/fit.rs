@@ -4,9 +4,7 @@
 //! written, so a bad input costs no time and leaves no file.
 use clap::Args;
 use glyphcast::fit::output::{check_output_path, write_output};
-use glyphcast::fit::{
-    DEFAULT_LAMBDA, FitFiles, FitInputs, FitModel, fit_with_report, parse_basis,
-};
+use glyphcast::fit::{DEFAULT_LAMBDA, FitFiles, FitInputs, FitModel, fit_with_report, parse_basis};
 use glyphcast::{Error, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;

@@ -1,12 +1,13 @@
 //! `glyphcast render` and `glyphcast demo`: options, rendering and writing the outputs.
 use clap::Args;
+use glyphcast::io::atomic::check_ending;
 use glyphcast::io::scene::Scene;
 use glyphcast::render::glyph_data::prepare_scene;
 use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
 use glyphcast::render::{ColorMode, Method, Refinement, RenderSettings};
 use glyphcast::viewer::ViewSource;
 use glyphcast::vk::{Gpu, GpuOptions};
-use glyphcast::volume::ImageRequest;
+use glyphcast::volume::{ImageRequest, MAX_SIDE};
 use glyphcast::{Error, Result};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -47,12 +48,12 @@ impl SceneSource {
 
     fn load_scene_file(&self, path: &Path) -> Result<Scene> {
         if self.volume.is_given() {
-            return Err(Error::Invalid(
+            return Err(Error::Usage(
                 "give either a scene file or a volume (--sh/--tensor), not both".into(),
             ));
         }
         if let Some(flag) = self.volume.volume_only_flag() {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Usage(format!(
                 "{flag} applies to volume input (--sh/--tensor), not to a scene file"
             )));
         }
@@ -126,13 +127,17 @@ pub struct RenderArgs {
 }
 
 impl RenderArgs {
-    /// --width and --height, each checked to be in 1..=16384.
+    /// --width and --height, each checked to be in 1..=[`MAX_SIDE`] (a usage
+    /// error); the device's own limit is checked when it is known
+    /// (`HeadlessRenderer::render`).
     pub fn image_request(&self) -> Result<ImageRequest> {
         for (name, value) in [("--width", self.width), ("--height", self.height)] {
             if let Some(v) = value
-                && (v == 0 || v > 16384)
+                && (v == 0 || v > MAX_SIDE)
             {
-                return Err(Error::Invalid(format!("{name}: {v} must be in 1..=16384")));
+                return Err(Error::Usage(format!(
+                    "{name} {v}: must be in 1 to {MAX_SIDE}"
+                )));
             }
         }
         Ok(ImageRequest {
@@ -141,7 +146,12 @@ impl RenderArgs {
         })
     }
 
+    /// The render settings of the flags; any error is a usage error (exit 2).
     pub fn settings(&self) -> Result<RenderSettings> {
+        self.parse_settings().map_err(Error::into_usage)
+    }
+
+    fn parse_settings(&self) -> Result<RenderSettings> {
         let method = match &self.method {
             Some(name) => name.parse::<Method>()?,
             None if self.offset != 0.0 => Method::Affine,
@@ -188,8 +198,13 @@ impl RenderArgs {
     }
 }
 
-/// Checks every output path of a render before any work (`io::atomic::check_outputs`).
+/// Checks every output path of a render before any work (`io::atomic::check_outputs`),
+/// and that each name's ending says what it gets (PNG, NumPy, JSON).
 pub fn check_outputs(output: &OutputArgs, save_scene: Option<&Path>) -> Result<()> {
+    check_ending(&output.output, "-o/--output", &[".png"])?;
+    if let Some(depth) = &output.depth_out {
+        check_ending(depth, "--depth-out", &[".npy"])?;
+    }
     let mut paths: Vec<&Path> = vec![&output.output];
     paths.extend(output.depth_out.as_deref());
     paths.extend(save_scene);

@@ -114,8 +114,8 @@ impl VolumeArgs {
     /// The volume, the options its view was made with and the view (reported on stderr):
     /// what the viewer needs to move the slice later.
     pub fn view(&self, image: ImageRequest) -> Result<(Volume, VolumeOptions, VolumeScene)> {
-        let (path, kind) = self.input()?;
-        let mut options = self.options(image)?;
+        let (path, kind) = self.input().map_err(Error::into_usage)?;
+        let mut options = self.options(image).map_err(Error::into_usage)?;
         let volume = load_volume(path, kind)?;
         options.mask = self.mask.as_deref().map(load_mask).transpose()?;
         let view = volume_scene(&volume, &options)?;

@@ -283,7 +283,12 @@ impl VoxelFitter {
     /// raised to SIGNAL_FLOOR S0. The voxel is left out if S0 <= 0 or a sample is not
     /// finite.
     pub fn normalised_signal(&self, series: ArrayView1<f64>, ratio: &mut [f64]) -> VoxelOutcome {
-        if self.b0.iter().chain(&self.weighted).any(|&v| !series[v].is_finite()) {
+        if self
+            .b0
+            .iter()
+            .chain(&self.weighted)
+            .any(|&v| !series[v].is_finite())
+        {
             return VoxelOutcome::NonFinite;
         }
         let s0 = self.b0.iter().map(|&v| series[v]).sum::<f64>() / self.b0.len() as f64;

@@ -24,8 +24,8 @@ pub use build::{
     volume_scene_with_progress,
 };
 pub use framing::{
-    DEFAULT_LONG_SIDE, Framing, ImageRequest, PERSPECTIVE_FOV_DEG, ViewProjection, frame_region,
-    frame_volume, view_axis, view_directions,
+    DEFAULT_LONG_SIDE, Framing, ImageRequest, MAX_SIDE, PERSPECTIVE_FOV_DEG, ViewProjection,
+    frame_region, frame_volume, view_axis, view_directions,
 };
 pub use input::{MAX_ORDER, Mask, Volume, VolumeKind, load_mask, load_volume};
 pub use reorient::{Reorientation, rotate_full_tensor};

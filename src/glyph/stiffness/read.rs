@@ -66,8 +66,7 @@ fn read_csv(text: &str, file: &str) -> Result<Matrix> {
             .split(|c: char| c.is_whitespace() || c == ',')
             .filter(|t| !t.is_empty())
             .map(|t| {
-                t.parse::<f64>()
-                    .map_err(|_| {
+                t.parse::<f64>().map_err(|_| {
                     Error::input(file, field(), format!("'{}' is not a number", quoted(t)))
                 })
             })
@@ -123,7 +122,10 @@ fn read_json(text: &str, file: &str) -> Result<(Matrix, Option<ShearOrder>)> {
             Error::input(
                 file,
                 "shear_order",
-                format!("{}: expected \"23,13,12\" or \"12,13,23\"", quoted(&v.to_string())),
+                format!(
+                    "{}: expected \"23,13,12\" or \"12,13,23\"",
+                    quoted(&v.to_string())
+                ),
             )
         })?),
     };

@@ -99,7 +99,10 @@ impl<'de> Visitor<'de> for JsonVisitor {
         let mut seen = HashSet::new();
         while let Some(key) = map.next_key::<String>()? {
             if !seen.insert(key.clone()) {
-                return Err(de::Error::custom(format!("duplicate key \"{}\"", quoted(&key))));
+                return Err(de::Error::custom(format!(
+                    "duplicate key \"{}\"",
+                    quoted(&key)
+                )));
             }
             let value = map.next_value()?;
             entries.push((key, value));
