@@ -34,7 +34,13 @@ pub fn encode_depth_npy(path: &Path, width: u32, height: u32, depth: &[f32]) -> 
             depth.len()
         )));
     }
-    Ok(encode_f32(&shape, depth))
+    encode_f32(&shape, depth).ok_or_else(|| {
+        Error::Invalid(format!(
+            "{}: the {width} x {height} depth map needs {} MiB of memory to encode, which could not be allocated",
+            path.display(),
+            depth.len() >> 18
+        ))
+    })
 }
 
 /// Reads a `.npy` file of little-endian f32 values in C order, as written by
@@ -45,9 +51,13 @@ pub fn read_npy_f32(path: &Path) -> Result<(Vec<usize>, Vec<f32>)> {
 }
 
 /// The complete file: header and values.
-fn encode_f32(shape: &[usize], values: &[f32]) -> Vec<u8> {
+/// The file's bytes; None when their buffer cannot be allocated.
+fn encode_f32(shape: &[usize], values: &[f32]) -> Option<Vec<u8>> {
     let header = header_text(shape);
-    let mut bytes = Vec::with_capacity(PREAMBLE_LEN + header.len() + 4 * values.len());
+    let mut bytes = Vec::new();
+    bytes
+        .try_reserve_exact(PREAMBLE_LEN + header.len() + 4 * values.len())
+        .ok()?;
     bytes.extend_from_slice(MAGIC);
     bytes.extend_from_slice(&[1, 0]);
     // header_text keeps PREAMBLE_LEN + len a multiple of 64 and far below u16::MAX for
@@ -57,7 +67,7 @@ fn encode_f32(shape: &[usize], values: &[f32]) -> Vec<u8> {
     for value in values {
         bytes.extend_from_slice(&value.to_le_bytes());
     }
-    bytes
+    Some(bytes)
 }
 
 /// The dict literal as `numpy.save` writes it, padded with spaces and ended by `\n`.
@@ -267,7 +277,7 @@ mod tests {
 
     #[test]
     fn header_bytes_match_numpy_save() {
-        let bytes = encode_f32(&[2, 3], &[0.0; 6]);
+        let bytes = encode_f32(&[2, 3], &[0.0; 6]).unwrap();
         let dict = "{'descr': '<f4', 'fortran_order': False, 'shape': (2, 3), }";
         // 10 preamble bytes + 59 + 58 spaces + '\n' = 128: the data starts at 2 x 64.
         let mut expected = b"\x93NUMPY\x01\x00\x76\x00".to_vec();

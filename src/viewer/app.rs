@@ -521,11 +521,18 @@ impl App {
             size.height,
             &c.settings,
         )?;
-        crate::io::png::write_png_rgba8(path, image.width, image.height, &image.rgba)?;
-        if let Some(scene_path) = &self.options.save_scene {
-            let scene = c.shown_scene(size.width, size.height);
-            crate::io::atomic::write_atomic(scene_path, scene.to_json().as_bytes())?;
+        // The screenshot and the scene as shown: both new, or both as they were.
+        let png = crate::io::png::encode_png_rgba8(path, image.width, image.height, &image.rgba)?;
+        let scene = self
+            .options
+            .save_scene
+            .as_ref()
+            .map(|scene_path| (scene_path, c.shown_scene(size.width, size.height).to_json()));
+        let mut files: Vec<(&Path, &[u8])> = vec![(path, &png)];
+        if let Some((scene_path, json)) = &scene {
+            files.push((scene_path.as_path(), json.as_bytes()));
         }
+        crate::io::atomic::write_all_atomic(&files)?;
         eprintln!(
             "wrote {} ({}x{}, {:.0} ms)",
             path.display(),
