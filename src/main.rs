@@ -85,7 +85,7 @@ fn remove_temporaries_on_interrupt() {
     };
     std::thread::spawn(move || {
         if let Some(signal) = signals.forever().next() {
-            glyphcast::io::atomic::exit_removing_temporaries(128 + signal);
+            glyphcast::io::atomic::exit_removing_temporaries(128 + signal)
         }
     });
 }

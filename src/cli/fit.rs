@@ -72,7 +72,8 @@ impl FitArgs {
 
 pub fn run(args: FitArgs) -> Result<()> {
     let model = args.model().map_err(Error::into_usage)?;
-    check_output_path(&args.output).map_err(Error::into_usage)?;
+    // An output name of another format is a usage error, whatever kind the check gives.
+    check_output_path(&args.output).map_err(|e| Error::Usage(e.to_string()))?;
     glyphcast::io::atomic::check_outputs(&[&args.output])?;
     let inputs = FitInputs::load(FitFiles {
         dwi: args.dwi.clone(),

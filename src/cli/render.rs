@@ -201,14 +201,15 @@ impl RenderArgs {
 /// Checks every output path of a render before any work (`io::atomic::check_outputs`),
 /// and that each name's ending says what it gets (PNG, NumPy, JSON).
 pub fn check_outputs(output: &OutputArgs, save_scene: Option<&Path>) -> Result<()> {
+    let mut paths: Vec<&Path> = vec![&output.output];
+    paths.extend(output.depth_out.as_deref());
+    paths.extend(save_scene);
+    glyphcast::io::atomic::check_outputs(&paths)?;
     check_ending(&output.output, "-o/--output", &[".png"])?;
     if let Some(depth) = &output.depth_out {
         check_ending(depth, "--depth-out", &[".npy"])?;
     }
-    let mut paths: Vec<&Path> = vec![&output.output];
-    paths.extend(output.depth_out.as_deref());
-    paths.extend(save_scene);
-    glyphcast::io::atomic::check_outputs(&paths)
+    Ok(())
 }
 
 /// Renders `scene` and writes the outputs (checked first with [`check_outputs`]);

@@ -36,14 +36,16 @@ fn live_temporaries() -> MutexGuard<'static, Vec<PathBuf>> {
 
 /// Removes every temporary of a write in progress and ends the process with `code`;
 /// waits first for a set whose renames have begun, so that the set ends all new. For
-/// the binary's SIGINT/SIGTERM handler.
+/// the binary's SIGINT/SIGTERM handler: the process ends at once (`_exit`), without the
+/// exit handlers of libraries whose other threads may still be working (the Vulkan
+/// driver's).
 pub fn exit_removing_temporaries(code: i32) -> ! {
     // Held until the process ends: no write can start or rename after this point.
     let live = live_temporaries();
     for temporary in live.iter() {
         let _ = fs::remove_file(temporary);
     }
-    std::process::exit(code)
+    signal_hook::low_level::exit(code)
 }
 
 /// Forgets `temporaries` (renamed or removed).

@@ -90,3 +90,27 @@ pub fn save_failure_images(name: &str, r: &Rendered) {
     let _ = glyphcast::io::png::write_png_rgba8(&dir.join(format!("{name}-diff.png")), w, h, &diff);
     eprintln!("{name}: images in {}", dir.display());
 }
+
+/// Runs the real `glyphcast` binary (validation on) and returns what it did.
+pub fn glyphcast(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_glyphcast"))
+        .args(args)
+        .env("GLYPHCAST_VALIDATION", "1")
+        .output()
+        .expect("running glyphcast")
+}
+
+/// A fresh, empty folder under the test output folder.
+pub fn fresh_dir(name: &str) -> PathBuf {
+    let dir = output_dir().join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("creating a test folder");
+    dir
+}
+
+/// A file of the DIPY test data (tests/data/dipy).
+pub fn dipy_data(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/dipy")
+        .join(name)
+}
