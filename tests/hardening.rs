@@ -32,7 +32,11 @@ fn names_in(dir: &Path) -> Vec<String> {
 /// `dir` but the files in `keep`; returns the error line.
 fn expect_error(out: &Output, code: i32, dir: &Path, keep: &[&str]) -> String {
     let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert_eq!(out.status.code(), Some(code), "exit code; stderr:\n{stderr}");
+    assert_eq!(
+        out.status.code(),
+        Some(code),
+        "exit code; stderr:\n{stderr}"
+    );
     assert!(!stderr.contains("panicked"), "panic:\n{stderr}");
     let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
     assert_eq!(errors.len(), 1, "one error line expected:\n{stderr}");
@@ -116,7 +120,10 @@ fn fit_refuses_data_with_nothing_to_fit_and_counts_what_it_drops() {
         let out_dir = fresh_dir(&format!("hardening-fit-{name}-out"));
         let run = fit(&dwi, &bvec, &out_dir.join("out.nii.gz"), &[]);
         let line = expect_error(&run, 1, &out_dir, &[]);
-        assert!(line.contains(path_str(&dwi)), "{name}: file not named: {line}");
+        assert!(
+            line.contains(path_str(&dwi)),
+            "{name}: file not named: {line}"
+        );
         assert!(line.contains(word), "{name}: '{word}' not said: {line}");
         let run = fit(&dwi, &bvec, &out_dir.join("out.nii.gz"), &["--sh"]);
         expect_error(&run, 1, &out_dir, &[]);
@@ -202,10 +209,18 @@ fn render_usage_errors_exit_2_before_any_work() {
     let cases: Vec<(Vec<String>, &str)> = vec![
         (vec!["-o".into(), out("out.jpg")], "-o/--output"),
         (
-            vec!["-o".into(), out("a.png"), "--depth-out".into(), out("d.png")],
+            vec![
+                "-o".into(),
+                out("a.png"),
+                "--depth-out".into(),
+                out("d.png"),
+            ],
             "--depth-out",
         ),
-        (vec!["--method=fixed".into(), "--step=1e-4".into()], "--step"),
+        (
+            vec!["--method=fixed".into(), "--step=1e-4".into()],
+            "--step",
+        ),
         (
             vec!["--method=interval".into(), "--precision=1e-6".into()],
             "--precision",
@@ -267,7 +282,10 @@ fn scene_keys_in_messages_are_escaped_and_cut_short() {
         let line = expect_error(&run, 1, &out_dir, &[]);
         assert_eq!(stderr.lines().count(), 1, "{name}: one line:\n{stderr}");
         assert!(!stderr.contains('\u{1b}'), "{name}: raw escape: {stderr}");
-        assert!(line.contains(name) && line.contains("unknown key"), "{line}");
+        assert!(
+            line.contains(name) && line.contains("unknown key"),
+            "{line}"
+        );
         assert!(line.len() < 600, "{name}: {} bytes", line.len());
     }
 }
@@ -412,7 +430,10 @@ fn interrupt_during_write(signal: &str, code: i32) {
         std::fs::read(&png).expect("png") == b"old image",
         std::fs::read(&npy).expect("npy") == b"old depth",
     );
-    assert!(old.0 == old.1, "{signal}: half of the set replaced: {old:?}");
+    assert!(
+        old.0 == old.1,
+        "{signal}: half of the set replaced: {old:?}"
+    );
     if !old.0 {
         glyphcast::io::png::read_png_rgba8(&png).expect("a complete new image");
     }

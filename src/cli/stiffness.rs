@@ -25,12 +25,13 @@ pub struct StiffnessArgs {
 pub fn run(args: StiffnessArgs) -> Result<()> {
     let shear = match &args.shear_order {
         Some(text) => Some(ShearOrder::parse(text).ok_or_else(|| {
-            Error::Invalid(format!(
+            Error::Usage(format!(
                 "--shear-order {text}: expected 23,13,12 or 12,13,23"
             ))
         })?),
         None => None,
     };
+    glyphcast::io::atomic::check_outputs(&[&args.output])?;
     let stiffness = VoigtStiffness::load(&args.input, shear)?;
     let scene = stiffness_scene(&stiffness, args.symmetric_part)
         .map_err(|e| Error::input(args.input.display().to_string(), "voigt", e.to_string()))?;

@@ -8,8 +8,8 @@ use super::controls::{self, Action, HELP, color_name, refinement_name};
 use super::orbit;
 use super::presenter::{Outcome, Presenter};
 use crate::render::headless::HeadlessRenderer;
-use crate::render::settings::STEP_RANGE;
 use crate::render::raycast::SceneGpu;
+use crate::render::settings::STEP_RANGE;
 use crate::render::shaders::methods_for;
 use crate::vk::Gpu;
 use crate::{Error, Result};
@@ -314,7 +314,9 @@ impl App {
                     return Err(e);
                 }
             }
-            Action::ScaleStep(factor) => settings.step = (settings.step * factor).clamp(STEP_RANGE.0, STEP_RANGE.1),
+            Action::ScaleStep(factor) => {
+                settings.step = (settings.step * factor).clamp(STEP_RANGE.0, STEP_RANGE.1)
+            }
             Action::Refine(refinement) => settings.refinement = refinement,
             Action::NextRefinement => {
                 settings.refinement = controls::next_refinement(settings.refinement)
