@@ -297,7 +297,8 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
         }
         Some(other) => {
             return Err(Error::Usage(format!(
-                "--sweep: '{other}' is not one of steps, scaling, table2, methods, ratios"
+                "--sweep: '{}' is not one of steps, scaling, table2, methods, ratios",
+                glyphcast::error::quoted(other)
             )));
         }
     }

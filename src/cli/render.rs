@@ -1,5 +1,6 @@
 //! `glyphcast render` and `glyphcast demo`: options, rendering and writing the outputs.
 use clap::Args;
+use glyphcast::error::quoted;
 use glyphcast::io::atomic::check_ending;
 use glyphcast::io::scene::Scene;
 use glyphcast::render::glyph_data::prepare_scene;
@@ -178,7 +179,8 @@ impl RenderArgs {
                 .and_then(|(lo, hi)| Some((lo.parse::<f32>().ok()?, hi.parse::<f32>().ok()?)));
             let Some(pair) = parsed else {
                 return Err(Error::Invalid(format!(
-                    "--magnitude-range: '{range}' is not LOW:HIGH"
+                    "--magnitude-range: '{}' is not LOW:HIGH",
+                    quoted(range)
                 )));
             };
             s.color = ColorMode::Magnitude { range: Some(pair) };

@@ -2,6 +2,7 @@
 //! JSON, see `glyphcast::glyph::stiffness`), to render with `glyphcast render`.
 use clap::Args;
 use glyphcast::demo::stiffness_scene;
+use glyphcast::error::quoted;
 use glyphcast::glyph::stiffness::{ShearOrder, VoigtStiffness};
 use glyphcast::{Error, Result};
 use std::path::PathBuf;
@@ -26,7 +27,8 @@ pub fn run(args: StiffnessArgs) -> Result<()> {
     let shear = match &args.shear_order {
         Some(text) => Some(ShearOrder::parse(text).ok_or_else(|| {
             Error::Usage(format!(
-                "--shear-order {text}: expected 23,13,12 or 12,13,23"
+                "--shear-order {}: expected 23,13,12 or 12,13,23",
+                quoted(text)
             ))
         })?),
         None => None,

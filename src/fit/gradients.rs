@@ -17,6 +17,7 @@
 use glam::{DMat3, DVec3};
 use std::path::Path;
 
+use crate::error::quoted;
 use crate::{Error, Result};
 
 /// b-values at or below this (s/mm^2) count as b=0 volumes. Scanners report small
@@ -239,9 +240,13 @@ fn read_table(path: &Path) -> Result<Vec<Vec<f64>>> {
             .split(|c: char| c.is_whitespace() || c == ',')
             .filter(|token| !token.is_empty())
             .map(|token| {
-                token
-                    .parse::<f64>()
-                    .map_err(|_| Error::input(&file, field(), format!("'{token}' is not a number")))
+                token.parse::<f64>().map_err(|_| {
+                    Error::input(
+                        &file,
+                        field(),
+                        format!("'{}' is not a number", quoted(token)),
+                    )
+                })
             })
             .collect::<Result<Vec<f64>>>()?;
         if row.is_empty() {

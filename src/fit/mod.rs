@@ -155,7 +155,8 @@ pub fn parse_basis(name: &str, legacy: bool) -> Result<(ShBasis, bool)> {
         .map(|basis| (basis, legacy))
         .ok_or_else(|| {
             Error::Invalid(format!(
-                "--basis {name}: unknown SH basis, expected tournier07, descoteaux07, mrtrix, dipy or dipy-new"
+                "--basis {}: unknown SH basis, expected tournier07, descoteaux07, mrtrix, dipy or dipy-new",
+                crate::error::quoted(name)
             ))
         })
 }

@@ -6,6 +6,7 @@
 //! read differently.
 use std::path::Path;
 
+use crate::error::quoted;
 pub use crate::io::atomic::write_atomic;
 use crate::{Error, Result};
 
@@ -161,10 +162,10 @@ fn parse_header(text: &str) -> std::result::Result<Vec<usize>, String> {
             "descr" => descr.replace(cursor.quoted()?).is_some(),
             "fortran_order" => fortran_order.replace(cursor.word()).is_some(),
             "shape" => shape.replace(cursor.tuple()?).is_some(),
-            other => return Err(format!("unexpected key '{other}'")),
+            other => return Err(format!("unexpected key '{}'", quoted(other))),
         };
         if duplicate {
-            return Err(format!("duplicate key '{key}'"));
+            return Err(format!("duplicate key '{}'", quoted(key)));
         }
         if !cursor.eat(',') {
             cursor.expect_char('}')?;
@@ -179,11 +180,13 @@ fn parse_header(text: &str) -> std::result::Result<Vec<usize>, String> {
         (Some(F32_DESCR), Some("False"), Some(shape)) => Ok(shape),
         (Some(F32_DESCR), Some("False"), None) => Err("missing key 'shape'".into()),
         (Some(F32_DESCR), Some(order), _) => Err(format!(
-            "fortran_order {order} is not supported; expected False (C order)"
+            "fortran_order {} is not supported; expected False (C order)",
+            quoted(order)
         )),
         (Some(F32_DESCR), None, _) => Err("missing key 'fortran_order'".into()),
         (Some(other), _, _) => Err(format!(
-            "dtype '{other}' is not supported; expected '{F32_DESCR}' (little-endian float32)"
+            "dtype '{}' is not supported; expected '{F32_DESCR}' (little-endian float32)",
+            quoted(other)
         )),
         (None, _, _) => Err("missing key 'descr'".into()),
     }
@@ -217,7 +220,7 @@ impl<'h> HeaderCursor<'h> {
         } else {
             Err(format!(
                 "expected '{token}' at \"{}\"",
-                self.rest.trim_end()
+                quoted(self.rest.trim_end())
             ))
         }
     }
@@ -257,9 +260,12 @@ impl<'h> HeaderCursor<'h> {
         let mut dims = Vec::new();
         while !self.eat(')') {
             let word = self.word();
-            let dim = word
-                .parse::<usize>()
-                .map_err(|_| format!("shape entry '{word}' is not a non-negative integer"))?;
+            let dim = word.parse::<usize>().map_err(|_| {
+                format!(
+                    "shape entry '{}' is not a non-negative integer",
+                    quoted(word)
+                )
+            })?;
             dims.push(dim);
             if !self.eat(',') {
                 self.expect_char(')')?;

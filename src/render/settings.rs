@@ -1,5 +1,6 @@
 //! Run-time settings of the ray caster. None of them needs a new shader permutation:
 //! they reach the shaders through the frame's uniform buffer.
+use crate::error::quoted;
 use crate::render::{MeshKind, Method};
 use crate::{Error, Result};
 
@@ -35,7 +36,8 @@ impl std::str::FromStr for Refinement {
                     .or_else(|| count("secant:").map(Refinement::Secant))
                     .ok_or_else(|| {
                         Error::Invalid(format!(
-                            "--refine: '{s}' is not one of bisect:K, secant:K (K = 0..16), interp, none"
+                            "--refine: '{}' is not one of bisect:K, secant:K (K = 0..16), interp, none",
+                            quoted(s)
                         ))
                     })
             }
@@ -63,7 +65,8 @@ impl std::str::FromStr for ColorMode {
             "magnitude" => Ok(ColorMode::Magnitude { range: None }),
             "uniform" => Ok(ColorMode::Uniform([0.8, 0.8, 0.8])),
             _ => Err(Error::Invalid(format!(
-                "--color: '{s}' is not one of direction, magnitude, uniform"
+                "--color: '{}' is not one of direction, magnitude, uniform",
+                quoted(s)
             ))),
         }
     }
@@ -74,8 +77,9 @@ impl std::str::FromStr for Method {
     fn from_str(s: &str) -> Result<Self> {
         let bad = || {
             Error::Invalid(format!(
-                "--method: '{s}' is not one of fixed, interval, affine, exact, impostor, mesh:LEVEL (icosphere, 0..={}), \
+                "--method: '{}' is not one of fixed, interval, affine, exact, impostor, mesh:LEVEL (icosphere, 0..={}), \
                  latlong:N (latitude bands, 2..={})",
+                quoted(s),
                 crate::glyph::tessellate::MAX_ICOSPHERE_LEVEL,
                 crate::glyph::tessellate::MAX_LAT_LONG_RINGS
             ))
@@ -119,7 +123,8 @@ impl std::str::FromStr for RenderPath {
             "fragment" => Ok(RenderPath::Fragment),
             "compute" => Ok(RenderPath::Compute),
             _ => Err(Error::Invalid(format!(
-                "--path: '{s}' is not one of fragment, compute"
+                "--path: '{}' is not one of fragment, compute",
+                quoted(s)
             ))),
         }
     }
