@@ -13,7 +13,9 @@
 //!
 //! Signal conventions (`voxel`): S0 is the mean of the b=0 volumes (b <= 50 s/mm^2,
 //! [`gradients::B0_THRESHOLD`]). A voxel whose S0 is not positive, or that holds a
-//! non-finite sample, is left out: all its coefficients are 0. A sample at or below
+//! non-finite sample, is left out: all its coefficients are 0. Left-out voxels are
+//! counted by reason ([`FitReport`], which the command turns into warnings), and data in
+//! which no voxel can be fitted is an error rather than an all-zero output. A sample at or below
 //! zero is raised to [`voxel::SIGNAL_FLOOR`] S0 (0.1 % of S0) before use, so that the
 //! logarithm of the ADC stays finite; the clamped direction then reads
 //! ADC = ln(1000)/b, about 6.9e-3 mm^2/s at b = 1000, faster than free water, which is

@@ -388,6 +388,23 @@ pub(crate) mod tests {
         fs::remove_dir_all(&dir).unwrap();
     }
 
+    /// A name's ending must be one of the format's; none at all and special files pass.
+    #[test]
+    fn output_endings_name_the_format() {
+        let png = [".png"];
+        check_ending(Path::new("out.png"), "-o", &png).unwrap();
+        check_ending(Path::new("OUT.PNG"), "-o", &png).unwrap();
+        check_ending(Path::new("out"), "-o", &png).unwrap();
+        check_ending(Path::new("/dev/null"), "-o", &png).unwrap();
+        let err = check_ending(Path::new("out.jpg"), "-o", &png).unwrap_err();
+        assert!(matches!(err, Error::Usage(_)), "{err}");
+        let text = err.to_string();
+        assert!(
+            text.contains("-o") && text.contains(".png") && text.contains("jpg"),
+            "{text}"
+        );
+    }
+
     /// The longest valid file name works: the temporary name is shortened to fit.
     #[test]
     fn a_255_byte_name_works() {
