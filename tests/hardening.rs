@@ -226,6 +226,10 @@ fn render_usage_errors_exit_2_before_any_work() {
             "--precision",
         ),
         (vec!["--width=16385".into()], "--width"),
+        (
+            vec!["--save-scene".into(), out("scene.png")],
+            "--save-scene",
+        ),
     ];
     let default_output = out("out.png");
     for (extra, named) in cases {

@@ -211,6 +211,9 @@ pub fn check_outputs(output: &OutputArgs, save_scene: Option<&Path>) -> Result<(
     if let Some(depth) = &output.depth_out {
         check_ending(depth, "--depth-out", &[".npy"])?;
     }
+    if let Some(scene) = save_scene {
+        check_ending(scene, "--save-scene", &[".json"])?;
+    }
     Ok(())
 }
 

@@ -79,6 +79,9 @@ fn check_outputs(options: &ViewerOptions) -> Result<()> {
             check_ending(path, option, &[".png"])?;
         }
     }
+    if let Some(scene) = &options.save_scene {
+        check_ending(scene, "--save-scene", &[".json"])?;
+    }
     let paths: Vec<&Path> = images
         .iter()
         .filter_map(|(_, path)| *path)
