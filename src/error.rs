@@ -59,6 +59,39 @@ impl Error {
             message: err.to_string(),
         }
     }
+
+    /// The same error as a usage error (exit code 2) when it is about the request itself
+    /// ([`Error::Invalid`]); for command-line checks whose library code cannot know that
+    /// its settings came from flags. Other kinds are returned unchanged.
+    pub fn into_usage(self) -> Self {
+        match self {
+            Error::Invalid(message) => Error::Usage(message),
+            other => other,
+        }
+    }
+}
+
+/// Characters of user text quoted in a message before it is cut short.
+const QUOTED_CHARS: usize = 60;
+
+/// User text (a scene key, a name, a value) as a message may quote it: on one line, with
+/// control characters escaped (`\n`, `\u{1b}`) and anything past [`QUOTED_CHARS`]
+/// characters replaced by a count, so that a hostile or mistaken input cannot forge
+/// lines, move the terminal's cursor or flood the screen.
+pub fn quoted(text: &str) -> String {
+    let mut out = String::new();
+    for (count, c) in text.chars().enumerate() {
+        if count == QUOTED_CHARS {
+            out.push_str(&format!("... ({} bytes in all)", text.len()));
+            break;
+        }
+        if c.is_control() {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    out
 }
 
 /// Attach the name of the failing Vulkan call to a `vk::Result`.
@@ -69,5 +102,21 @@ pub trait VkContext<T> {
 impl<T> VkContext<T> for std::result::Result<T, vk::Result> {
     fn vk(self, call: &'static str) -> Result<T> {
         self.map_err(|result| Error::Vulkan { call, result })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::quoted;
+
+    #[test]
+    fn quoted_text_is_one_short_line() {
+        assert_eq!(quoted("scale"), "scale");
+        assert_eq!(quoted("a\nb\u{1b}[2J"), "a\\nb\\u{1b}[2J");
+        let long = "k".repeat(2_000_000);
+        let shown = quoted(&long);
+        assert!(shown.len() < 100, "{shown}");
+        assert!(shown.ends_with("(2000000 bytes in all)"), "{shown}");
+        assert_eq!(quoted("é".repeat(60).as_str()), "é".repeat(60));
     }
 }

@@ -55,6 +55,7 @@ enum Command {
 
 fn main() {
     let cli = Cli::parse();
+    remove_temporaries_on_interrupt();
     if let Err(e) = run(cli) {
         eprintln!("error: {e}");
         let code = if matches!(e, glyphcast::Error::Usage(_)) {
@@ -64,6 +65,29 @@ fn main() {
         };
         std::process::exit(code);
     }
+}
+
+/// SIGINT and SIGTERM end the process as they would by default (exit 130 or 143, as a
+/// shell reports a death by signal), but first remove the temporaries of a write in
+/// progress and let a set of outputs finish its renames (`io::atomic`). Without the
+/// handler (should installing it fail) the defaults stay, with the old risk of a stray
+/// hidden temporary; that is reported.
+fn remove_temporaries_on_interrupt() {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let mut signals = match signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) {
+        Ok(signals) => signals,
+        Err(err) => {
+            eprintln!(
+                "warning: no interrupt handler ({err}): an interrupted write may leave a temporary file"
+            );
+            return;
+        }
+    };
+    std::thread::spawn(move || {
+        if let Some(signal) = signals.forever().next() {
+            glyphcast::io::atomic::exit_removing_temporaries(128 + signal)
+        }
+    });
 }
 
 fn run(cli: Cli) -> glyphcast::Result<()> {

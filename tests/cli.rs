@@ -2,26 +2,11 @@
 //! and the field, a non-zero exit and no output files; good input writes a PNG and a
 //! depth map in the scene format's .npy layout.
 mod common;
+use common::{fresh_dir, glyphcast};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn glyphcast(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_glyphcast"))
-        .args(args)
-        .env("GLYPHCAST_VALIDATION", "1")
-        .output()
-        .expect("running glyphcast")
-}
 
 fn scenes() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes")
-}
-
-fn fresh_dir(name: &str) -> PathBuf {
-    let dir = common::output_dir().join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("creating a test folder");
-    dir
 }
 
 /// Runs `render` on `scene`, expects failure, and returns the error line.

@@ -11,7 +11,7 @@
 //!   asks for `--basis` (exit 2) when a NIfTI records nothing.
 mod common;
 
-use common::{flipped_in_x, run_glyphcast, write_nifti};
+use common::{flipped_in_x, glyphcast, write_nifti};
 use glam::DMat4;
 use glyphcast::io::image::read_image;
 use glyphcast::io::mif::write::mif_bytes;
@@ -57,7 +57,7 @@ fn depth(dir: &Path, name: &str, args: &[&str]) -> Vec<f32> {
     all.extend(args);
     all.extend(["--width", "64", "--height", "64", "-o", text(&png)]);
     all.extend(["--depth-out", text(&npy)]);
-    succeeded(&run_glyphcast(&all), name);
+    succeeded(&glyphcast(&all), name);
     let (shape, values) = read_npy_f32(&npy).expect("reading the depth map");
     assert_eq!(shape, vec![64, 64]);
     values
@@ -226,7 +226,7 @@ fn an_x_flipped_dwi_with_fsl_bvecs_fits_the_same_glyphs() {
         ];
         args.extend(["--sh", "--order", "4", "--quiet", "-o", text(output)]);
         args.extend(extra);
-        succeeded(&run_glyphcast(&args), &format!("fit {}", output.display()));
+        succeeded(&glyphcast(&args), &format!("fit {}", output.display()));
     };
     let outputs = [
         ("original", &original_path, &[][..]),
@@ -280,7 +280,7 @@ fn render_failure(dir: &Path, args: &[&str]) -> (i32, String) {
     let mut all = vec!["render"];
     all.extend(args);
     all.extend(["--width", "32", "--height", "32", "-o", text(&png)]);
-    let out = run_glyphcast(&all);
+    let out = glyphcast(&all);
     let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
     assert!(!png.exists(), "{args:?}: no output on failure");
     let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
@@ -314,7 +314,7 @@ fn render_takes_the_basis_fit_recorded_and_refuses_a_contradiction() {
             "-o",
             text(&fitted),
         ];
-        succeeded(&run_glyphcast(&args), "fit");
+        succeeded(&glyphcast(&args), "fit");
         let volume = ["--sh", text(&fitted), "--slice", "axial:5"];
         let with = |extra: &[&'static str]| {
             let mut args: Vec<&str> = volume.to_vec();

@@ -5,7 +5,7 @@
 //! writes letters at the image's edges and nowhere else.
 mod common;
 
-use common::{flipped_in_x, run_glyphcast, write_nifti};
+use common::{flipped_in_x, glyphcast, write_nifti};
 use glam::{DMat4, DVec3};
 use glyphcast::io::npy::read_npy_f32;
 use glyphcast::io::png::read_png_rgba8;
@@ -61,7 +61,7 @@ fn centroid(dir: &Path, name: &str, args: &[&str]) -> (f64, f64) {
     all.extend(args);
     all.extend(["--width", &side, "--height", &side, "-o", text(&png)]);
     all.extend(["--depth-out", text(&npy)]);
-    let out = run_glyphcast(&all);
+    let out = glyphcast(&all);
     assert!(
         out.status.success(),
         "{name}: {}",
@@ -300,7 +300,7 @@ fn labels_are_drawn_at_the_four_edges_only() {
         args.extend(["--slice", "axial:1", "--width", &side, "--height", &side]);
         args.extend(["-o", text(&png)]);
         args.extend(extra);
-        let out = run_glyphcast(&args);
+        let out = glyphcast(&args);
         assert!(
             out.status.success(),
             "{}",
@@ -389,7 +389,7 @@ fn labels_and_orientation_need_a_volume() {
         let png = dir.join("x.png");
         let mut args = vec!["render", text(&first), "-o", text(&png)];
         args.extend(flag);
-        let out = run_glyphcast(&args);
+        let out = glyphcast(&args);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(1), "{stderr}");
         assert!(

@@ -340,7 +340,7 @@ fn bad_script_is_refused_before_a_window_opens() {
         .output()
         .expect("running glyphcast view");
     let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains("--script: 'explode'"), "{stderr}");
 }
 

@@ -74,12 +74,12 @@ impl AccuracyArgs {
 
 pub fn run(args: &AccuracyArgs) -> Result<()> {
     if !(16..=4096).contains(&args.size) {
-        return Err(Error::Invalid(format!(
+        return Err(Error::Usage(format!(
             "--size: {} must be in 16..=4096",
             args.size
         )));
     }
-    let variants = args.variants()?;
+    let variants = args.variants().map_err(Error::into_usage)?;
     let mut options = GpuOptions::from_env();
     if args.device.is_some() {
         options.device = args.device.clone();

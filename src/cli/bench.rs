@@ -182,11 +182,11 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
     match args.sweep.as_deref() {
         None => {
             let settings = RenderSettings {
-                method: args.method.parse()?,
-                path: args.path.parse()?,
+                method: args.method.parse().map_err(Error::into_usage)?,
+                path: args.path.parse().map_err(Error::into_usage)?,
                 ..defaults
             };
-            settings.validate()?;
+            settings.validate().map_err(Error::into_usage)?;
             let base = args.base_scene()?;
             if let Some(path) = &args.save_scene {
                 glyphcast::io::atomic::write_atomic(path, base.to_json().as_bytes())?;
@@ -296,8 +296,9 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
             plan.methods(&name, scene, &method_list(levels, &[]));
         }
         Some(other) => {
-            return Err(Error::Invalid(format!(
-                "--sweep: '{other}' is not one of steps, scaling, table2, methods, ratios"
+            return Err(Error::Usage(format!(
+                "--sweep: '{}' is not one of steps, scaling, table2, methods, ratios",
+                glyphcast::error::quoted(other)
             )));
         }
     }

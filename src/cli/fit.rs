@@ -3,10 +3,10 @@
 //! Flags are checked first, then every input file, and only then is anything fitted or
 //! written, so a bad input costs no time and leaves no file.
 use clap::Args;
-use glyphcast::Result;
 use glyphcast::fit::gradients::BvecConvention;
 use glyphcast::fit::output::{check_output_path, write_output};
-use glyphcast::fit::{DEFAULT_LAMBDA, FitFiles, FitInputs, FitModel, fit, parse_basis};
+use glyphcast::fit::{DEFAULT_LAMBDA, FitFiles, FitInputs, FitModel, fit_with_report, parse_basis};
+use glyphcast::{Error, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -83,9 +83,11 @@ impl FitArgs {
 }
 
 pub fn run(args: FitArgs) -> Result<()> {
-    let model = args.model()?;
+    let model = args.model().map_err(Error::into_usage)?;
     let convention: BvecConvention = args.bvec_convention.parse()?;
-    check_output_path(&args.output)?;
+    // An output name of another format is a usage error, whatever kind the check gives.
+    check_output_path(&args.output).map_err(|e| Error::Usage(e.to_string()))?;
+    glyphcast::io::atomic::check_outputs(&[&args.output])?;
     let mut inputs = FitInputs::load(FitFiles {
         dwi: args.dwi.clone(),
         bval: args.bval.clone(),
@@ -98,17 +100,22 @@ pub fn run(args: FitArgs) -> Result<()> {
         inputs.gradients = inputs.gradients.transformed(to_voxel);
     }
     let bar = progress_bar(inputs.voxel_count() as u64, args.quiet);
-    let fitted = fit(&inputs, &model, &mut |done| bar.inc(done));
+    let fitted = fit_with_report(&inputs, &model, &mut |done| bar.inc(done));
     bar.finish_and_clear();
-    let coeffs = fitted?;
+    let (coeffs, report) = fitted?;
+    // Data that was dropped or changed is reported even with --quiet.
+    for line in report.warnings(&args.dwi.display().to_string()) {
+        eprintln!("warning: {line}");
+    }
     write_output(&args.output, &coeffs, &inputs.dwi, &model)?;
     if !args.quiet {
         let [x, y, z] = inputs.dwi.spatial_shape();
         eprintln!(
-            "wrote {}: {x}x{y}x{z} voxels x {} coefficients ({} voxels in the mask)",
+            "wrote {}: {x}x{y}x{z} voxels x {} coefficients ({} voxels fitted, {} with no b=0 signal left at 0)",
             args.output.display(),
             model.coefficient_count(),
-            inputs.voxel_count()
+            report.fitted(),
+            report.zero_s0
         );
     }
     Ok(())

@@ -1,5 +1,7 @@
 //! `glyphcast render` and `glyphcast demo`: options, rendering and writing the outputs.
 use clap::Args;
+use glyphcast::error::quoted;
+use glyphcast::io::atomic::check_ending;
 use glyphcast::render::glyph_data::prepare_scene;
 use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
 use glyphcast::render::labels::{draw_edge_labels, edge_labels};
@@ -7,7 +9,7 @@ use glyphcast::render::{ColorMode, Method, Refinement, RenderSettings};
 use glyphcast::scene::Scene;
 use glyphcast::viewer::ViewSource;
 use glyphcast::vk::{Gpu, GpuOptions};
-use glyphcast::volume::ImageRequest;
+use glyphcast::volume::{ImageRequest, MAX_SIDE};
 use glyphcast::{Error, Result};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -48,12 +50,12 @@ impl SceneSource {
 
     fn load_scene_file(&self, path: &Path) -> Result<Scene> {
         if self.volume.is_given() {
-            return Err(Error::Invalid(
+            return Err(Error::Usage(
                 "give either a scene file or a volume (--sh/--tensor), not both".into(),
             ));
         }
         if let Some(flag) = self.volume.volume_only_flag() {
-            return Err(Error::Invalid(format!(
+            return Err(Error::Usage(format!(
                 "{flag} applies to volume input (--sh/--tensor), not to a scene file"
             )));
         }
@@ -132,13 +134,17 @@ pub struct RenderArgs {
 }
 
 impl RenderArgs {
-    /// --width and --height, each checked to be in 1..=16384.
+    /// --width and --height, each checked to be in 1..=[`MAX_SIDE`] (a usage
+    /// error); the device's own limit is checked when it is known
+    /// (`HeadlessRenderer::render`).
     pub fn image_request(&self) -> Result<ImageRequest> {
         for (name, value) in [("--width", self.width), ("--height", self.height)] {
             if let Some(v) = value
-                && (v == 0 || v > 16384)
+                && (v == 0 || v > MAX_SIDE)
             {
-                return Err(Error::Invalid(format!("{name}: {v} must be in 1..=16384")));
+                return Err(Error::Usage(format!(
+                    "{name} {v}: must be in 1 to {MAX_SIDE}"
+                )));
             }
         }
         Ok(ImageRequest {
@@ -147,7 +153,12 @@ impl RenderArgs {
         })
     }
 
+    /// The render settings of the flags; any error is a usage error (exit 2).
     pub fn settings(&self) -> Result<RenderSettings> {
+        self.parse_settings().map_err(Error::into_usage)
+    }
+
+    fn parse_settings(&self) -> Result<RenderSettings> {
         let method = match &self.method {
             Some(name) => name.parse::<Method>()?,
             None if self.offset != 0.0 => Method::Affine,
@@ -174,7 +185,8 @@ impl RenderArgs {
                 .and_then(|(lo, hi)| Some((lo.parse::<f32>().ok()?, hi.parse::<f32>().ok()?)));
             let Some(pair) = parsed else {
                 return Err(Error::Invalid(format!(
-                    "--magnitude-range: '{range}' is not LOW:HIGH"
+                    "--magnitude-range: '{}' is not LOW:HIGH",
+                    quoted(range)
                 )));
             };
             s.color = ColorMode::Magnitude { range: Some(pair) };
@@ -194,12 +206,21 @@ impl RenderArgs {
     }
 }
 
-/// Checks every output path of a render before any work (`io::atomic::check_outputs`).
+/// Checks every output path of a render before any work (`io::atomic::check_outputs`),
+/// and that each name's ending says what it gets (PNG, NumPy, JSON).
 pub fn check_outputs(output: &OutputArgs, save_scene: Option<&Path>) -> Result<()> {
     let mut paths: Vec<&Path> = vec![&output.output];
     paths.extend(output.depth_out.as_deref());
     paths.extend(save_scene);
-    glyphcast::io::atomic::check_outputs(&paths)
+    glyphcast::io::atomic::check_outputs(&paths)?;
+    check_ending(&output.output, "-o/--output", &[".png"])?;
+    if let Some(depth) = &output.depth_out {
+        check_ending(depth, "--depth-out", &[".npy"])?;
+    }
+    if let Some(scene) = save_scene {
+        check_ending(scene, "--save-scene", &[".json"])?;
+    }
+    Ok(())
 }
 
 /// Renders `scene` and writes the outputs (checked first with [`check_outputs`]);

@@ -2,6 +2,7 @@
 //! JSON, see `glyphcast::glyph::stiffness`), to render with `glyphcast render`.
 use clap::Args;
 use glyphcast::demo::stiffness_scene;
+use glyphcast::error::quoted;
 use glyphcast::glyph::stiffness::{ShearOrder, VoigtStiffness};
 use glyphcast::{Error, Result};
 use std::path::PathBuf;
@@ -25,12 +26,15 @@ pub struct StiffnessArgs {
 pub fn run(args: StiffnessArgs) -> Result<()> {
     let shear = match &args.shear_order {
         Some(text) => Some(ShearOrder::parse(text).ok_or_else(|| {
-            Error::Invalid(format!(
-                "--shear-order {text}: expected 23,13,12 or 12,13,23"
+            Error::Usage(format!(
+                "--shear-order {}: expected 23,13,12 or 12,13,23",
+                quoted(text)
             ))
         })?),
         None => None,
     };
+    glyphcast::io::atomic::check_outputs(&[&args.output])?;
+    glyphcast::io::atomic::check_ending(&args.output, "-o/--output", &[".json"])?;
     let stiffness = VoigtStiffness::load(&args.input, shear)?;
     let scene = stiffness_scene(&stiffness, args.symmetric_part)
         .map_err(|e| Error::input(args.input.display().to_string(), "voigt", e.to_string()))?;

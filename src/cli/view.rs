@@ -2,8 +2,8 @@
 //! command's scene source and options. The window's work is in `glyphcast::viewer`.
 use super::render::{RenderArgs, SceneSource};
 use clap::Args;
-use glyphcast::Result;
 use glyphcast::viewer::{ViewerOptions, parse_script};
+use glyphcast::{Error, Result};
 use std::path::PathBuf;
 
 #[derive(Args)]
@@ -45,7 +45,8 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         .script
         .as_deref()
         .map(parse_script)
-        .transpose()?
+        .transpose()
+        .map_err(Error::into_usage)?
         .unwrap_or_default();
     let source = args.source.load_for_view(image)?;
     let (width, height) = match &source {

@@ -140,14 +140,14 @@ impl VolumeArgs {
     /// The volume, the options its view was made with and the view (reported on stderr):
     /// what the viewer needs to move the slice later.
     pub fn view(&self, image: ImageRequest) -> Result<(Volume, VolumeOptions, VolumeScene)> {
-        let path = self.input()?;
-        let mut options = self.options(image)?;
+        let path = self.input().map_err(Error::into_usage)?;
+        let mut options = self.options(image).map_err(Error::into_usage)?;
         let frame = self
             .frame
             .as_deref()
             .map(|text| {
                 text.parse()
-                    .map_err(|err| Error::Invalid(format!("--frame: {err}")))
+                    .map_err(|err| Error::Usage(format!("--frame: {err}")))
             })
             .transpose()?;
         let given_basis = self.given_basis()?;

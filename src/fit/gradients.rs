@@ -27,6 +27,7 @@ use glam::{DMat3, DVec3};
 use std::path::Path;
 use std::str::FromStr;
 
+use crate::error::quoted;
 use crate::io::nifti::VoxelToWorld;
 use crate::{Error, Result};
 
@@ -313,9 +314,13 @@ fn read_table(path: &Path) -> Result<Vec<Vec<f64>>> {
             .split(|c: char| c.is_whitespace() || c == ',')
             .filter(|token| !token.is_empty())
             .map(|token| {
-                token
-                    .parse::<f64>()
-                    .map_err(|_| Error::input(&file, field(), format!("'{token}' is not a number")))
+                token.parse::<f64>().map_err(|_| {
+                    Error::input(
+                        &file,
+                        field(),
+                        format!("'{}' is not a number", quoted(token)),
+                    )
+                })
             })
             .collect::<Result<Vec<f64>>>()?;
         if row.is_empty() {

@@ -13,7 +13,9 @@
 //!
 //! Signal conventions (`voxel`): S0 is the mean of the b=0 volumes (b <= 50 s/mm^2,
 //! [`gradients::B0_THRESHOLD`]). A voxel whose S0 is not positive, or that holds a
-//! non-finite sample, is left out: all its coefficients are 0. A sample at or below
+//! non-finite sample, is left out: all its coefficients are 0. Left-out voxels are
+//! counted by reason ([`FitReport`], which the command turns into warnings), and data in
+//! which no voxel can be fitted is an error rather than an all-zero output. A sample at or below
 //! zero is raised to [`voxel::SIGNAL_FLOOR`] S0 (0.1 % of S0) before use, so that the
 //! logarithm of the ADC stays finite; the clamped direction then reads
 //! ADC = ln(1000)/b, about 6.9e-3 mm^2/s at b = 1000, faster than free water, which is
@@ -31,7 +33,7 @@ pub mod tensor;
 pub mod voxel;
 
 pub use inputs::{FitFiles, FitInputs};
-pub use voxel::{VoxelFitter, fit};
+pub use voxel::{FitReport, VoxelFitter, fit, fit_with_report};
 
 use crate::scene::ShBasis;
 use crate::{Error, Result};
@@ -42,6 +44,14 @@ pub const MAX_ORDER: u32 = crate::catalog::MAX_SYMMETRIC_ORDER;
 
 /// Default Laplace-Beltrami weight (Descoteaux et al. 2007 use 0.006).
 pub const DEFAULT_LAMBDA: f64 = 0.006;
+
+/// Largest accepted Laplace-Beltrami weight. With n evenly spread directions
+/// (B^T B about n/(4 pi) I) the penalty divides a band-l coefficient by about
+/// 1 + 4 pi lambda l^2 (l+1)^2 / n: at 1000 even band 2 keeps less than 0.1 % of itself
+/// with 64 directions, so larger weights only flatten the glyph further; and from about
+/// 1e16 the stacked system's condition number (about 70 sqrt(lambda)) passes the fit's
+/// limit of 1e10, where the error would wrongly blame the directions.
+pub const MAX_LAMBDA: f64 = 1000.0;
 
 /// What to fit in each voxel.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -74,9 +84,9 @@ impl FitModel {
                         "--order {band}: an SH fit needs an even band from 0 to {MAX_ORDER} (the signal is antipodally symmetric)"
                     )));
                 }
-                if !(lambda.is_finite() && lambda >= 0.0) {
+                if !(0.0..=MAX_LAMBDA).contains(&lambda) {
                     return Err(Error::Invalid(format!(
-                        "--lambda {lambda}: the regularisation weight must be a finite number >= 0"
+                        "--lambda {lambda}: the regularisation weight must be in 0 to {MAX_LAMBDA}"
                     )));
                 }
             }
@@ -147,7 +157,8 @@ pub fn parse_basis(name: &str, legacy: bool) -> Result<(ShBasis, bool)> {
         .map(|basis| (basis, legacy))
         .ok_or_else(|| {
             Error::Invalid(format!(
-                "--basis {name}: unknown SH basis, expected tournier07, descoteaux07, mrtrix, dipy or dipy-new"
+                "--basis {}: unknown SH basis, expected tournier07, descoteaux07, mrtrix, dipy or dipy-new",
+                crate::error::quoted(name)
             ))
         })
 }

@@ -45,6 +45,24 @@ pub fn design_row(order: u32, g: DVec3) -> Vec<f64> {
         .collect()
 }
 
+/// A: one [`design_row`] per direction.
+fn design_matrix(order: u32, directions: &[DVec3]) -> DMatrix<f64> {
+    let rows: Vec<f64> = directions
+        .iter()
+        .flat_map(|&g| design_row(order, g))
+        .collect();
+    DMatrix::from_row_slice(directions.len(), symmetric_count(order), &rows)
+}
+
+/// How many of the (n+1)(n+2)/2 coefficients of an order-n tensor the directions
+/// determine: the numerical rank of the design matrix. It is also the number of even
+/// SH up to band n that they determine, as both span the homogeneous polynomials of
+/// degree n restricted to the sphere.
+pub fn design_rank(order: u32, directions: &[DVec3]) -> usize {
+    let svd = design_matrix(order, directions).svd(false, false);
+    svd.rank(RANK_TOLERANCE * svd.singular_values.max())
+}
+
 impl TensorFitter {
     /// Err(Error::Invalid) for an odd or zero order, fewer directions than unknowns, or
     /// directions that leave the design rank-deficient.
@@ -61,14 +79,9 @@ impl TensorFitter {
                 directions.len()
             )));
         }
-        let rows: Vec<f64> = directions
-            .iter()
-            .flat_map(|&g| design_row(order, g))
-            .collect();
-        let design = DMatrix::from_row_slice(directions.len(), unknowns, &rows);
+        let design = design_matrix(order, directions);
         let svd = design.clone().svd(true, true);
-        let largest = svd.singular_values.max();
-        let eps = RANK_TOLERANCE * largest;
+        let eps = RANK_TOLERANCE * svd.singular_values.max();
         let rank = svd.rank(eps);
         if rank < unknowns {
             return Err(Error::Invalid(format!(

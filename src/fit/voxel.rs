@@ -5,7 +5,7 @@ use glam::DVec3;
 use ndarray::{Array4, ArrayView1, s};
 
 use super::sh::ShFitter;
-use super::tensor::TensorFitter;
+use super::tensor::{TensorFitter, design_rank};
 use super::{FitInputs, FitModel};
 use crate::{Error, Result};
 
@@ -35,31 +35,145 @@ pub struct VoxelFitter {
     bvals: Vec<f64>,
 }
 
+/// Voxels of a fit that were left out (coefficients 0) or had samples raised to the
+/// floor, by reason.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FitReport {
+    /// Voxels visited (in the mask).
+    pub visited: usize,
+    /// Left out: a NaN or infinite sample.
+    pub non_finite: usize,
+    /// Left out: the mean b=0 signal is negative.
+    pub negative_s0: usize,
+    /// Left out: the mean b=0 signal is zero (background).
+    pub zero_s0: usize,
+    /// Fitted, with samples at or below zero raised to [`SIGNAL_FLOOR`] S0.
+    pub floored: usize,
+}
+
+impl FitReport {
+    /// Voxels that got coefficients.
+    pub fn fitted(&self) -> usize {
+        self.visited - self.non_finite - self.negative_s0 - self.zero_s0
+    }
+
+    fn count(&mut self, outcome: VoxelOutcome) {
+        self.visited += 1;
+        match outcome {
+            VoxelOutcome::Fitted => {}
+            VoxelOutcome::Floored => self.floored += 1,
+            VoxelOutcome::NonFinite => self.non_finite += 1,
+            VoxelOutcome::NegativeS0 => self.negative_s0 += 1,
+            VoxelOutcome::ZeroS0 => self.zero_s0 += 1,
+        }
+    }
+
+    /// Warnings for data that was changed or dropped without being background, one line
+    /// each, naming `file` and the number of voxels.
+    pub fn warnings(&self, file: &str) -> Vec<String> {
+        let mut lines = Vec::new();
+        if self.non_finite > 0 {
+            lines.push(format!(
+                "{file}: {} voxel(s) with NaN or infinite signal were set to 0",
+                self.non_finite
+            ));
+        }
+        if self.negative_s0 > 0 {
+            lines.push(format!(
+                "{file}: {} voxel(s) with a negative b=0 signal were set to 0",
+                self.negative_s0
+            ));
+        }
+        if self.floored > 0 {
+            lines.push(format!(
+                "{file}: {} voxel(s) had samples at or below 0, raised to {} of S0",
+                self.floored, SIGNAL_FLOOR
+            ));
+        }
+        lines
+    }
+
+    /// Err when no voxel could be fitted: the output would be all zeros. Names `file`
+    /// and why the voxels were left out.
+    fn check_any_fitted(&self, file: &str) -> Result<()> {
+        if self.visited == 0 {
+            return Err(Error::input(
+                file,
+                "mask",
+                "the mask selects no voxel: nothing to fit",
+            ));
+        }
+        if self.fitted() > 0 {
+            return Ok(());
+        }
+        Err(Error::input(
+            file,
+            "signal",
+            format!(
+                "no voxel can be fitted ({} with NaN or infinite samples, {} with a negative and {} with a zero b=0 signal): the output would be all zeros",
+                self.non_finite, self.negative_s0, self.zero_s0
+            ),
+        ))
+    }
+}
+
+/// What became of one voxel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VoxelOutcome {
+    Fitted,
+    /// Fitted, with samples raised to the floor.
+    Floored,
+    NonFinite,
+    NegativeS0,
+    ZeroS0,
+}
+
+impl VoxelOutcome {
+    /// Whether the voxel got coefficients.
+    pub fn is_fitted(self) -> bool {
+        matches!(self, VoxelOutcome::Fitted | VoxelOutcome::Floored)
+    }
+}
+
 /// Fits every voxel in the mask; returns [x, y, z, coefficient], zeros outside the
 /// mask and in left-out voxels. `progress` is told how many voxels were done since its
-/// last call.
+/// last call. Err when no voxel can be fitted (see [`fit_with_report`]).
 pub fn fit(
     inputs: &FitInputs,
     model: &FitModel,
     progress: &mut dyn FnMut(u64),
 ) -> Result<Array4<f64>> {
+    fit_with_report(inputs, model, progress).map(|(coefficients, _)| coefficients)
+}
+
+/// [`fit`], with the count of voxels left out or floored. Err (naming the DWI, or the
+/// mask when it selects nothing) when no voxel can be fitted: an all-NaN, all-zero or
+/// negative series is an error, not an all-zero output.
+pub fn fit_with_report(
+    inputs: &FitInputs,
+    model: &FitModel,
+    progress: &mut dyn FnMut(u64),
+) -> Result<(Array4<f64>, FitReport)> {
     let fitter = VoxelFitter::new(inputs, model)?;
     let [nx, ny, nz] = inputs.dwi.spatial_shape();
     let mut out = Array4::<f64>::zeros((nx, ny, nz, model.coefficient_count()));
     let mut scratch = vec![0.0; fitter.weighted.len()];
+    let mut report = FitReport::default();
     let mut pending = 0;
     for z in 0..nz {
         for y in 0..ny {
             for x in (0..nx).filter(|&x| inputs.in_mask(x, y, z)) {
                 let series = inputs.dwi.signal.slice(s![x, y, z, ..]);
                 let mut coeffs = out.slice_mut(s![x, y, z, ..]);
-                if let Some(coeffs) = coeffs.as_slice_mut() {
-                    fitter.fit_voxel(series, &mut scratch, coeffs);
+                let outcome = if let Some(coeffs) = coeffs.as_slice_mut() {
+                    fitter.fit_voxel(series, &mut scratch, coeffs)
                 } else {
                     let mut buffer = coeffs.to_vec();
-                    fitter.fit_voxel(series, &mut scratch, &mut buffer);
+                    let outcome = fitter.fit_voxel(series, &mut scratch, &mut buffer);
                     coeffs.iter_mut().zip(buffer).for_each(|(o, c)| *o = c);
-                }
+                    outcome
+                };
+                report.count(outcome);
                 pending += 1;
                 if pending == PROGRESS_CHUNK {
                     progress(pending);
@@ -69,7 +183,12 @@ pub fn fit(
         }
     }
     progress(pending);
-    Ok(out)
+    let culprit = match (&inputs.files.mask, report.visited) {
+        (Some(mask), 0) => mask.display().to_string(),
+        _ => inputs.files.dwi.display().to_string(),
+    };
+    report.check_any_fitted(&culprit)?;
+    Ok((out, report))
 }
 
 impl VoxelFitter {
@@ -104,6 +223,7 @@ impl VoxelFitter {
                 lambda,
             } => {
                 check_single_shell(&bvals, &inputs.origin.bvals)?;
+                check_sh_directions(band, &directions, &bvec_file)?;
                 Solve::Sh {
                     fitter: ShFitter::new(band, basis, legacy, &directions, lambda)
                         .map_err(to_input)?,
@@ -119,16 +239,17 @@ impl VoxelFitter {
     }
 
     /// Fits one voxel's series (all volumes) into `coeffs`; `scratch` holds one value
-    /// per weighted volume. A left-out voxel gets zeros and `false`.
+    /// per weighted volume. A left-out voxel gets zeros.
     pub fn fit_voxel(
         &self,
         series: ArrayView1<f64>,
         scratch: &mut [f64],
         coeffs: &mut [f64],
-    ) -> bool {
-        if !self.normalised_signal(series, scratch) {
+    ) -> VoxelOutcome {
+        let outcome = self.normalised_signal(series, scratch);
+        if !outcome.is_fitted() {
             coeffs.iter_mut().for_each(|c| *c = 0.0);
-            return false;
+            return outcome;
         }
         match &self.solve {
             Solve::Tensor { fitter } => {
@@ -141,7 +262,7 @@ impl VoxelFitter {
             }
             Solve::Sh { fitter } => coeffs.copy_from_slice(&fitter.fit(scratch)),
         }
-        true
+        outcome
     }
 
     /// The model's S/S0 at the weighted volumes (volume order) for `coeffs`:
@@ -159,27 +280,58 @@ impl VoxelFitter {
     }
 
     /// S_i / S0 for the weighted volumes into `ratio`, with samples at or below zero
-    /// raised to SIGNAL_FLOOR S0. False (voxel left out) if S0 <= 0 or a sample is not
+    /// raised to SIGNAL_FLOOR S0. The voxel is left out if S0 <= 0 or a sample is not
     /// finite.
-    pub fn normalised_signal(&self, series: ArrayView1<f64>, ratio: &mut [f64]) -> bool {
-        let s0 = self.b0.iter().map(|&v| series[v]).sum::<f64>() / self.b0.len() as f64;
-        if !(s0.is_finite() && s0 > 0.0) {
-            return false;
+    pub fn normalised_signal(&self, series: ArrayView1<f64>, ratio: &mut [f64]) -> VoxelOutcome {
+        if self
+            .b0
+            .iter()
+            .chain(&self.weighted)
+            .any(|&v| !series[v].is_finite())
+        {
+            return VoxelOutcome::NonFinite;
         }
+        let s0 = self.b0.iter().map(|&v| series[v]).sum::<f64>() / self.b0.len() as f64;
+        if s0 < 0.0 {
+            return VoxelOutcome::NegativeS0;
+        }
+        if s0 <= 0.0 {
+            return VoxelOutcome::ZeroS0;
+        }
+        let mut outcome = VoxelOutcome::Fitted;
         for (r, &v) in ratio.iter_mut().zip(&self.weighted) {
             let s = series[v];
-            if !s.is_finite() {
-                return false;
+            if s <= SIGNAL_FLOOR * s0 {
+                outcome = VoxelOutcome::Floored;
             }
             *r = s.max(SIGNAL_FLOOR * s0) / s0;
         }
-        true
+        outcome
     }
 
     /// Number of diffusion-weighted volumes.
     pub fn weighted_count(&self) -> usize {
         self.weighted.len()
     }
+}
+
+/// The SH fit's regularisation makes even identical directions solvable, with the
+/// penalty alone choosing the coefficients; refused here as the tensor fit refuses them,
+/// by the rank of the unregularised design (`tensor::design_rank`).
+fn check_sh_directions(band: u32, directions: &[DVec3], bvec_file: &str) -> Result<()> {
+    let unknowns = super::sh::sh_count(band);
+    let rank = design_rank(band, directions);
+    if rank < unknowns {
+        return Err(Error::input(
+            bvec_file,
+            "directions",
+            format!(
+                "the {} directions determine only {rank} of the {unknowns} coefficients of an SH series of band {band} (repeated directions, or all on one great circle?)",
+                directions.len()
+            ),
+        ));
+    }
+    Ok(())
 }
 
 fn check_single_shell(bvals: &[f64], bval_file: &str) -> Result<()> {

@@ -3,6 +3,12 @@
 //! directory is atomic on POSIX file systems, so a reader (or a crash) sees either the
 //! old file or the complete new one, never a half-written output (STYLE.md, Errors).
 //!
+//! An interrupt (SIGINT, SIGTERM) must not leave temporaries or a half-replaced set:
+//! every temporary is entered in [`LIVE_TEMPORARIES`] before it is created, and the
+//! renames of a set run with that registry locked. [`exit_removing_temporaries`], which
+//! the binary's signal handler calls, takes the same lock, so it either waits for a set's
+//! renames to finish (all new) or removes the temporaries before any rename (all old).
+//!
 //! What the user's path names is kept: a symbolic link is followed and the file it names
 //! is replaced (the link stays), and a special file (`/dev/null`, `/dev/stdout`, a named
 //! pipe) is written through, never replaced by a regular file.
@@ -10,11 +16,42 @@ use std::fs::{self, OpenOptions};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Mutex, MutexGuard, PoisonError};
 
 use crate::{Error, Result};
 
 /// Distinguishes temporary files of concurrent writes from one process.
 static TEMPORARY_COUNTER: AtomicU64 = AtomicU64::new(0);
+
+/// Temporary files that exist (or are about to) and are not yet renamed or removed.
+static LIVE_TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// The registry, also after a panic in another thread (a list of paths cannot be left
+/// inconsistent by one).
+fn live_temporaries() -> MutexGuard<'static, Vec<PathBuf>> {
+    LIVE_TEMPORARIES
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+}
+
+/// Removes every temporary of a write in progress and ends the process with `code`;
+/// waits first for a set whose renames have begun, so that the set ends all new. For
+/// the binary's SIGINT/SIGTERM handler: the process ends at once (`_exit`), without the
+/// exit handlers of libraries whose other threads may still be working (the Vulkan
+/// driver's).
+pub fn exit_removing_temporaries(code: i32) -> ! {
+    // Held until the process ends: no write can start or rename after this point.
+    let live = live_temporaries();
+    for temporary in live.iter() {
+        let _ = fs::remove_file(temporary);
+    }
+    signal_hook::low_level::exit(code)
+}
+
+/// Forgets `temporaries` (renamed or removed).
+fn forget(temporaries: &[(PathBuf, PathBuf)]) {
+    live_temporaries().retain(|live| !temporaries.iter().any(|(t, _)| t == live));
+}
 
 /// Writes `bytes` to `path` atomically; on failure the target is untouched and the
 /// temporary file is removed.
@@ -45,6 +82,7 @@ pub fn write_all_atomic(outputs: &[(&Path, &[u8])]) -> Result<()> {
             // Best effort: the original error is the one worth reporting.
             let _ = fs::remove_file(temporary);
         }
+        forget(temporaries);
     };
     for (path, bytes) in &regular {
         let temporary = match temporary_path(path) {
@@ -54,12 +92,11 @@ pub fn write_all_atomic(outputs: &[(&Path, &[u8])]) -> Result<()> {
                 return Err(e);
             }
         };
+        temporaries.push((temporary.clone(), path.clone()));
         if let Err(err) = write_synced(&temporary, bytes) {
-            let _ = fs::remove_file(&temporary);
             remove_all(&temporaries);
             return Err(Error::io(path, err));
         }
-        temporaries.push((temporary, path.clone()));
     }
     for (path, bytes) in &special {
         // A device or a pipe: written through, in place.
@@ -72,13 +109,47 @@ pub fn write_all_atomic(outputs: &[(&Path, &[u8])]) -> Result<()> {
             return Err(Error::io(path, err));
         }
     }
+    // An interrupt waits for the renames (see the module notes).
+    let mut live = live_temporaries();
+    let renamed = rename_all(&temporaries);
+    live.retain(|l| !temporaries.iter().any(|(t, _)| t == l));
+    renamed
+}
+
+/// Renames each temporary over its target; after a failure removes the rest.
+fn rename_all(temporaries: &[(PathBuf, PathBuf)]) -> Result<()> {
     for (index, (temporary, path)) in temporaries.iter().enumerate() {
         if let Err(err) = fs::rename(temporary, path) {
-            remove_all(&temporaries[index..]);
+            for (rest, _) in &temporaries[index..] {
+                let _ = fs::remove_file(rest);
+            }
             return Err(Error::io(path, err));
         }
     }
     Ok(())
+}
+
+/// Checks that an output's name ends in one of `endings` (`.png`), so that `-o out.jpg`
+/// does not get PNG bytes under a JPEG name: a usage error naming `option`. A name
+/// without an ending and a special file (`/dev/null`, a pipe) pass.
+pub fn check_ending(path: &Path, option: &str, endings: &[&str]) -> Result<()> {
+    let Some(ending) = path.extension() else {
+        return Ok(());
+    };
+    let special = fs::metadata(path).is_ok_and(|meta| !meta.is_file() && !meta.is_dir());
+    let known = endings
+        .iter()
+        .any(|e| ending.eq_ignore_ascii_case(e.trim_start_matches('.')));
+    if known || special {
+        return Ok(());
+    }
+    Err(Error::Usage(format!(
+        "{option} {}: writes {}, so the name must end in {} (.{} would mislabel the file)",
+        crate::error::quoted(&path.display().to_string()),
+        endings[0].trim_start_matches('.').to_uppercase(),
+        endings.join(" or "),
+        crate::error::quoted(&ending.to_string_lossy()),
+    )))
 }
 
 /// Checks a command's output paths before any work: each names a file (not a
@@ -168,7 +239,13 @@ fn temporary_path(path: &Path) -> Result<PathBuf> {
 /// Creates `path` (which must not exist yet), writes `bytes` and flushes them to disk
 /// so that the rename publishes complete data.
 fn write_synced(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let mut file = OpenOptions::new().write(true).create_new(true).open(path)?;
+    let mut file = {
+        // Entered before it exists, under the lock an interrupt takes: a temporary is
+        // never created after the interrupt's clean-up.
+        let mut live = live_temporaries();
+        live.push(path.to_path_buf());
+        OpenOptions::new().write(true).create_new(true).open(path)?
+    };
     file.write_all(bytes)?;
     file.sync_all()
 }
@@ -309,6 +386,23 @@ pub(crate) mod tests {
         let err = check_outputs(&[&a, &dir.join("link.png")]).unwrap_err();
         assert!(matches!(err, Error::Usage(_)), "{err}");
         fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A name's ending must be one of the format's; none at all and special files pass.
+    #[test]
+    fn output_endings_name_the_format() {
+        let png = [".png"];
+        check_ending(Path::new("out.png"), "-o", &png).unwrap();
+        check_ending(Path::new("OUT.PNG"), "-o", &png).unwrap();
+        check_ending(Path::new("out"), "-o", &png).unwrap();
+        check_ending(Path::new("/dev/null"), "-o", &png).unwrap();
+        let err = check_ending(Path::new("out.jpg"), "-o", &png).unwrap_err();
+        assert!(matches!(err, Error::Usage(_)), "{err}");
+        let text = err.to_string();
+        assert!(
+            text.contains("-o") && text.contains(".png") && text.contains("jpg"),
+            "{text}"
+        );
     }
 
     /// The longest valid file name works: the temporary name is shortened to fit.

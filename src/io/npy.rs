@@ -6,6 +6,7 @@
 //! read differently.
 use std::path::Path;
 
+use crate::error::quoted;
 pub use crate::io::atomic::write_atomic;
 use crate::{Error, Result};
 
@@ -34,7 +35,13 @@ pub fn encode_depth_npy(path: &Path, width: u32, height: u32, depth: &[f32]) -> 
             depth.len()
         )));
     }
-    Ok(encode_f32(&shape, depth))
+    encode_f32(&shape, depth).ok_or_else(|| {
+        Error::Invalid(format!(
+            "{}: the {width} x {height} depth map needs {} MiB of memory to encode, which could not be allocated",
+            path.display(),
+            depth.len() >> 18
+        ))
+    })
 }
 
 /// Reads a `.npy` file of little-endian f32 values in C order, as written by
@@ -45,9 +52,13 @@ pub fn read_npy_f32(path: &Path) -> Result<(Vec<usize>, Vec<f32>)> {
 }
 
 /// The complete file: header and values.
-fn encode_f32(shape: &[usize], values: &[f32]) -> Vec<u8> {
+/// The file's bytes; None when their buffer cannot be allocated.
+fn encode_f32(shape: &[usize], values: &[f32]) -> Option<Vec<u8>> {
     let header = header_text(shape);
-    let mut bytes = Vec::with_capacity(PREAMBLE_LEN + header.len() + 4 * values.len());
+    let mut bytes = Vec::new();
+    bytes
+        .try_reserve_exact(PREAMBLE_LEN + header.len() + 4 * values.len())
+        .ok()?;
     bytes.extend_from_slice(MAGIC);
     bytes.extend_from_slice(&[1, 0]);
     // header_text keeps PREAMBLE_LEN + len a multiple of 64 and far below u16::MAX for
@@ -57,7 +68,7 @@ fn encode_f32(shape: &[usize], values: &[f32]) -> Vec<u8> {
     for value in values {
         bytes.extend_from_slice(&value.to_le_bytes());
     }
-    bytes
+    Some(bytes)
 }
 
 /// The dict literal as `numpy.save` writes it, padded with spaces and ended by `\n`.
@@ -151,10 +162,10 @@ fn parse_header(text: &str) -> std::result::Result<Vec<usize>, String> {
             "descr" => descr.replace(cursor.quoted()?).is_some(),
             "fortran_order" => fortran_order.replace(cursor.word()).is_some(),
             "shape" => shape.replace(cursor.tuple()?).is_some(),
-            other => return Err(format!("unexpected key '{other}'")),
+            other => return Err(format!("unexpected key '{}'", quoted(other))),
         };
         if duplicate {
-            return Err(format!("duplicate key '{key}'"));
+            return Err(format!("duplicate key '{}'", quoted(key)));
         }
         if !cursor.eat(',') {
             cursor.expect_char('}')?;
@@ -169,11 +180,13 @@ fn parse_header(text: &str) -> std::result::Result<Vec<usize>, String> {
         (Some(F32_DESCR), Some("False"), Some(shape)) => Ok(shape),
         (Some(F32_DESCR), Some("False"), None) => Err("missing key 'shape'".into()),
         (Some(F32_DESCR), Some(order), _) => Err(format!(
-            "fortran_order {order} is not supported; expected False (C order)"
+            "fortran_order {} is not supported; expected False (C order)",
+            quoted(order)
         )),
         (Some(F32_DESCR), None, _) => Err("missing key 'fortran_order'".into()),
         (Some(other), _, _) => Err(format!(
-            "dtype '{other}' is not supported; expected '{F32_DESCR}' (little-endian float32)"
+            "dtype '{}' is not supported; expected '{F32_DESCR}' (little-endian float32)",
+            quoted(other)
         )),
         (None, _, _) => Err("missing key 'descr'".into()),
     }
@@ -207,7 +220,7 @@ impl<'h> HeaderCursor<'h> {
         } else {
             Err(format!(
                 "expected '{token}' at \"{}\"",
-                self.rest.trim_end()
+                quoted(self.rest.trim_end())
             ))
         }
     }
@@ -247,9 +260,12 @@ impl<'h> HeaderCursor<'h> {
         let mut dims = Vec::new();
         while !self.eat(')') {
             let word = self.word();
-            let dim = word
-                .parse::<usize>()
-                .map_err(|_| format!("shape entry '{word}' is not a non-negative integer"))?;
+            let dim = word.parse::<usize>().map_err(|_| {
+                format!(
+                    "shape entry '{}' is not a non-negative integer",
+                    quoted(word)
+                )
+            })?;
             dims.push(dim);
             if !self.eat(',') {
                 self.expect_char(')')?;
@@ -267,7 +283,7 @@ mod tests {
 
     #[test]
     fn header_bytes_match_numpy_save() {
-        let bytes = encode_f32(&[2, 3], &[0.0; 6]);
+        let bytes = encode_f32(&[2, 3], &[0.0; 6]).unwrap();
         let dict = "{'descr': '<f4', 'fortran_order': False, 'shape': (2, 3), }";
         // 10 preamble bytes + 59 + 58 spaces + '\n' = 128: the data starts at 2 x 64.
         let mut expected = b"\x93NUMPY\x01\x00\x76\x00".to_vec();

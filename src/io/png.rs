@@ -22,7 +22,28 @@ pub fn write_png_rgba8(path: &Path, width: u32, height: u32, rgba: &[u8]) -> Res
 /// together); `path` names it in errors.
 pub fn encode_png_rgba8(path: &Path, width: u32, height: u32, rgba: &[u8]) -> Result<Vec<u8>> {
     check_size(path, width, height, rgba.len())?;
+    check_encoding_memory(path, rgba.len())?;
     encode(width, height, rgba).map_err(|err| Error::io(path, err))
+}
+
+/// The encoder's working memory (a filtered copy of the image and the compressed
+/// stream, each up to the image's size) is allocated inside the `png` crate, where a
+/// failure aborts the process. So much is asked for here first, fallibly, and given
+/// back: under a memory limit (`ulimit -v`) a large image is then an error naming the
+/// file instead of an abort.
+fn check_encoding_memory(path: &Path, image_bytes: usize) -> Result<()> {
+    let mut probe: Vec<u8> = Vec::new();
+    probe
+        .try_reserve_exact(image_bytes.saturating_mul(2))
+        .map_err(|_| {
+            Error::io(
+                path,
+                format!(
+                    "encoding the PNG needs about {} MiB of memory, which could not be allocated",
+                    image_bytes.saturating_mul(2) >> 20
+                ),
+            )
+        })
 }
 
 /// Reads an 8-bit RGBA PNG; returns width, height and the pixels, rows top to bottom.

@@ -5,7 +5,7 @@
 //! compute ray caster instead, whose colour and distance buffers are read back the same
 //! way.
 use crate::camera::Camera;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::render::compute::{ComputeRayCastPass, ComputeSceneGpu};
 use crate::render::frame::{FrameParams, SceneExtent};
 use crate::render::glyph_data::GlyphSetData;
@@ -185,6 +185,7 @@ impl HeadlessRenderer {
         settings: &RenderSettings,
     ) -> Result<PreparedFrame> {
         settings.validate()?;
+        check_image_size(gpu, width, height)?;
         let extent = SceneExtent::of_glyph_sets(camera, sets);
         let params = FrameParams::new(camera, width, height, &extent, settings);
         let scene = match settings.method {
@@ -492,17 +493,19 @@ fn record_compute(
     Ok(())
 }
 
+/// Copies the readback buffers into host memory. The buffers are allocated fallibly: a
+/// large image (16384 x 16384 is 1 GiB per buffer) under a memory limit is an error,
+/// not an abort.
 fn read_back(t: &Targets, width: u32, height: u32) -> Result<RenderedImage> {
-    let rgba = t.color_readback.read()?.to_vec();
-    let distance = t
-        .distance_readback
-        .read()?
-        .chunks_exact(4)
-        .map(|b| {
-            let d = f32::from_ne_bytes([b[0], b[1], b[2], b[3]]);
-            if d < 0.0 { f32::NAN } else { d }
-        })
-        .collect();
+    let colors = t.color_readback.read()?;
+    let mut rgba = host_buffer::<u8>(colors.len(), width, height)?;
+    rgba.extend_from_slice(colors);
+    let distances = t.distance_readback.read()?;
+    let mut distance = host_buffer::<f32>(distances.len() / 4, width, height)?;
+    distance.extend(distances.chunks_exact(4).map(|b| {
+        let d = f32::from_ne_bytes([b[0], b[1], b[2], b[3]]);
+        if d < 0.0 { f32::NAN } else { d }
+    }));
     Ok(RenderedImage {
         width,
         height,
@@ -512,4 +515,34 @@ fn read_back(t: &Targets, width: u32, height: u32) -> Result<RenderedImage> {
         gpu_ms: None,
         mesh: None,
     })
+}
+
+/// An empty vector with room for `len` values, or an error naming the image size when
+/// the host cannot provide it.
+fn host_buffer<T>(len: usize, width: u32, height: u32) -> Result<Vec<T>> {
+    let mut buffer = Vec::new();
+    buffer.try_reserve_exact(len).map_err(|_| {
+        Error::Invalid(format!(
+            "a {width} x {height} image needs {} MiB of host memory for its read-back, which could not be allocated: ask for a smaller --width/--height",
+            (len * std::mem::size_of::<T>()) >> 20
+        ))
+    })?;
+    Ok(buffer)
+}
+
+/// Refuses a size beyond the device's largest 2D image before anything is allocated.
+fn check_image_size(gpu: &Gpu, width: u32, height: u32) -> Result<()> {
+    // SAFETY: `gpu.physical_device` was enumerated from `gpu.instance()`.
+    let properties = unsafe {
+        gpu.instance()
+            .get_physical_device_properties(gpu.physical_device)
+    };
+    let largest = properties.limits.max_image_dimension2_d;
+    if width > largest || height > largest {
+        return Err(Error::Usage(format!(
+            "--width/--height {width} x {height}: {} draws images of at most {largest} pixels per side",
+            gpu.info.name
+        )));
+    }
+    Ok(())
 }

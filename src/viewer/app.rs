@@ -9,6 +9,7 @@ use super::orbit;
 use super::presenter::{Outcome, Presenter};
 use crate::render::headless::HeadlessRenderer;
 use crate::render::raycast::SceneGpu;
+use crate::render::settings::STEP_RANGE;
 use crate::render::shaders::methods_for;
 use crate::vk::Gpu;
 use crate::{Error, Result};
@@ -313,7 +314,9 @@ impl App {
                     return Err(e);
                 }
             }
-            Action::ScaleStep(factor) => settings.step = (settings.step * factor).clamp(1e-3, 2.0),
+            Action::ScaleStep(factor) => {
+                settings.step = (settings.step * factor).clamp(STEP_RANGE.0, STEP_RANGE.1)
+            }
             Action::Refine(refinement) => settings.refinement = refinement,
             Action::NextRefinement => {
                 settings.refinement = controls::next_refinement(settings.refinement)
@@ -525,11 +528,18 @@ impl App {
             size.height,
             &c.settings,
         )?;
-        crate::io::png::write_png_rgba8(path, image.width, image.height, &image.rgba)?;
-        if let Some(scene_path) = &self.options.save_scene {
-            let scene = c.shown_scene(size.width, size.height);
-            crate::io::atomic::write_atomic(scene_path, scene.to_json().as_bytes())?;
+        // The screenshot and the scene as shown: both new, or both as they were.
+        let png = crate::io::png::encode_png_rgba8(path, image.width, image.height, &image.rgba)?;
+        let scene = self
+            .options
+            .save_scene
+            .as_ref()
+            .map(|scene_path| (scene_path, c.shown_scene(size.width, size.height).to_json()));
+        let mut files: Vec<(&Path, &[u8])> = vec![(path, &png)];
+        if let Some((scene_path, json)) = &scene {
+            files.push((scene_path.as_path(), json.as_bytes()));
         }
+        crate::io::atomic::write_all_atomic(&files)?;
         eprintln!(
             "wrote {} ({}x{}, {:.0} ms)",
             path.display(),

@@ -1,6 +1,7 @@
 //! What the user can do, as [`Action`]s: keys map to them, and a test script
 //! (`--script`) is a list of them applied one per frame, so scripted runs go through the
 //! same code as a person at the keyboard.
+use crate::error::quoted;
 use crate::glyph::NegativeMode;
 use crate::render::{ColorMode, Method, Refinement};
 use crate::{Error, Result};
@@ -127,13 +128,13 @@ pub fn parse_script(text: &str) -> Result<Vec<Action>> {
 }
 
 fn parse_event(item: &str) -> Result<Action> {
-    let bad = |why: &str| Error::Invalid(format!("--script: '{item}': {why}"));
+    let bad = |why: &str| Error::Invalid(format!("--script: '{}': {why}", quoted(item)));
     let (name, value) = item.split_once(':').unwrap_or((item, ""));
     let number = |text: &str| -> Result<f64> {
         text.parse::<f64>()
             .ok()
             .filter(|v| v.is_finite())
-            .ok_or_else(|| bad(&format!("'{text}' is not a number")))
+            .ok_or_else(|| bad(&format!("'{}' is not a number", quoted(text))))
     };
     let pair = |text: &str| -> Result<(f64, f64)> {
         let (a, b) = text

@@ -22,10 +22,12 @@ pub use content::{Content, ViewSource};
 pub use controls::{Action, HELP, parse_script};
 pub use orbit::{orbit, pan, zoom};
 
-use crate::render::RenderSettings;
+use crate::io::atomic::check_ending;
+use crate::render::shaders::methods_for;
+use crate::render::{RenderPath, RenderSettings};
 use crate::vk::GpuOptions;
 use crate::{Error, Result};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// How to run the viewer.
 #[derive(Clone, Debug, Default)]
@@ -55,10 +57,57 @@ pub struct ViewerOptions {
 pub fn run(source: ViewSource, options: ViewerOptions) -> Result<()> {
     if options.frames.is_none() && (!options.script.is_empty() || options.capture_window.is_some())
     {
-        return Err(Error::Invalid(
+        return Err(Error::Usage(
             "--script and --capture-window need --frames N".into(),
         ));
     }
+    check_outputs(&options)?;
     let content = Content::new(source, options.settings)?;
+    check_method(&content, &options.settings)?;
     app::run(content, options)
+}
+
+/// The outputs of a run go through the same checks as a render's, before the window
+/// opens: PNG names for the images, existing folders, no file named twice.
+fn check_outputs(options: &ViewerOptions) -> Result<()> {
+    let images = [
+        ("--screenshot", options.screenshot.as_deref()),
+        ("--capture-window", options.capture_window.as_deref()),
+    ];
+    for (option, path) in images {
+        if let Some(path) = path {
+            check_ending(path, option, &[".png"])?;
+        }
+    }
+    if let Some(scene) = &options.save_scene {
+        check_ending(scene, "--save-scene", &[".json"])?;
+    }
+    let paths: Vec<&Path> = images
+        .iter()
+        .filter_map(|(_, path)| *path)
+        .chain(options.save_scene.as_deref())
+        .collect();
+    crate::io::atomic::check_outputs(&paths)
+}
+
+/// The window draws with the fragment ray caster only, and a method only where every
+/// glyph set has its shader: anything else is refused before the window opens.
+fn check_method(content: &Content, settings: &RenderSettings) -> Result<()> {
+    if settings.path != RenderPath::Fragment {
+        return Err(Error::Usage(format!(
+            "--path {}: the viewer draws with the fragment ray caster only (use render for the compute path)",
+            settings.path
+        )));
+    }
+    let layouts: Vec<_> = content.sets.iter().map(|s| s.layout).collect();
+    let methods = methods_for(&layouts);
+    if !methods.contains(&settings.method) {
+        let names: Vec<String> = methods.iter().map(ToString::to_string).collect();
+        return Err(Error::Usage(format!(
+            "--method {}: the viewer draws these glyphs with {} only",
+            settings.method,
+            names.join(", ")
+        )));
+    }
+    Ok(())
 }

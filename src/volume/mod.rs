@@ -27,8 +27,8 @@ pub use build::{
     volume_scene_with_progress,
 };
 pub use framing::{
-    DEFAULT_LONG_SIDE, Framing, ImageRequest, Orientation, PERSPECTIVE_FOV_DEG, ViewProjection,
-    frame_region, frame_volume, view_axis, view_directions,
+    DEFAULT_LONG_SIDE, Framing, ImageRequest, MAX_SIDE, Orientation, PERSPECTIVE_FOV_DEG,
+    ViewProjection, frame_region, frame_volume, view_axis, view_directions,
 };
 pub use input::{CoefficientFrame, MAX_ORDER, Mask, Volume, VolumeKind, load_mask, load_volume};
 pub use recorded::{RecordedBasis, recorded_basis, resolve_basis};

@@ -91,8 +91,8 @@ pub fn save_failure_images(name: &str, r: &Rendered) {
     eprintln!("{name}: images in {}", dir.display());
 }
 
-/// Runs the glyphcast binary with `args`, validation on.
-pub fn run_glyphcast(args: &[&str]) -> std::process::Output {
+/// Runs the real `glyphcast` binary (validation on) and returns what it did.
+pub fn glyphcast(args: &[&str]) -> std::process::Output {
     std::process::Command::new(env!("CARGO_BIN_EXE_glyphcast"))
         .args(args)
         .env("GLYPHCAST_VALIDATION", "1")
@@ -143,4 +143,19 @@ pub fn flipped_in_x(
     flipped_affine.w_axis += affine.x_axis * (n - 1.0);
     flipped_affine.x_axis = -affine.x_axis;
     (flipped, flipped_affine)
+}
+
+/// A fresh, empty folder under the test output folder.
+pub fn fresh_dir(name: &str) -> PathBuf {
+    let dir = output_dir().join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("creating a test folder");
+    dir
+}
+
+/// A file of the DIPY test data (tests/data/dipy).
+pub fn dipy_data(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/dipy")
+        .join(name)
 }

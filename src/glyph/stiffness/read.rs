@@ -3,13 +3,16 @@
 //! - CSV: 6 lines of 6 numbers separated by commas and/or whitespace; `#` starts a
 //!   comment; blank lines are skipped.
 //! - JSON: `{"voigt": [[6 numbers] x 6], "shear_order": "23,13,12"}`; `shear_order` is
-//!   optional, and no other key is allowed (a misspelt key would otherwise be ignored).
+//!   optional, and no other key is allowed (a misspelt key would otherwise be ignored);
+//!   or the bare list `[[6 numbers] x 6]`.
 //!
-//! A file whose first non-blank character is `{` is JSON, anything else CSV.
+//! A file named `.json`, or whose first non-blank character is `{` or `[`, is JSON;
+//! anything else CSV (so a JSON list is never misread as CSV lines).
 use serde_json::Value;
 use std::path::Path;
 
 use super::{ShearOrder, VoigtStiffness};
+use crate::error::quoted;
 use crate::{Error, Result};
 
 type Matrix = [[f64; 6]; 6];
@@ -19,13 +22,22 @@ impl VoigtStiffness {
     /// `shear`, else standard; a file and a `shear` that disagree are an error.
     pub fn load(path: &Path, shear: Option<ShearOrder>) -> Result<Self> {
         let text = std::fs::read_to_string(path).map_err(|err| Error::io(path, err))?;
-        Self::from_text(&text, &path.display().to_string(), shear)
+        let named_json = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+        Self::read(&text, &path.display().to_string(), shear, named_json)
     }
 
     /// Same as [`VoigtStiffness::load`], from text; `file` is the name used in errors.
     pub fn from_text(text: &str, file: &str, shear: Option<ShearOrder>) -> Result<Self> {
+        Self::read(text, file, shear, false)
+    }
+
+    /// JSON when `named_json` or when the text opens with `{` or `[`, else CSV.
+    fn read(text: &str, file: &str, shear: Option<ShearOrder>, named_json: bool) -> Result<Self> {
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-        let (matrix, written) = if text.trim_start().starts_with('{') {
+        let opening = text.trim_start().chars().next();
+        let (matrix, written) = if named_json || matches!(opening, Some('{' | '[')) {
             read_json(text, file)?
         } else {
             (read_csv(text, file)?, None)
@@ -54,8 +66,9 @@ fn read_csv(text: &str, file: &str) -> Result<Matrix> {
             .split(|c: char| c.is_whitespace() || c == ',')
             .filter(|t| !t.is_empty())
             .map(|t| {
-                t.parse::<f64>()
-                    .map_err(|_| Error::input(file, field(), format!("'{t}' is not a number")))
+                t.parse::<f64>().map_err(|_| {
+                    Error::input(file, field(), format!("'{}' is not a number", quoted(t)))
+                })
             })
             .collect::<Result<Vec<f64>>>()?;
         if row.is_empty() {
@@ -85,13 +98,21 @@ fn read_csv(text: &str, file: &str) -> Result<Matrix> {
 fn read_json(text: &str, file: &str) -> Result<(Matrix, Option<ShearOrder>)> {
     let value: Value =
         serde_json::from_str(text).map_err(|err| Error::input(file, "JSON", err.to_string()))?;
-    let Value::Object(object) = value else {
-        return Err(Error::input(file, "JSON", "expected an object"));
+    let object = match value {
+        Value::Object(object) => object,
+        Value::Array(rows) => return Ok((voigt_rows(&Value::Array(rows), file)?, None)),
+        _ => {
+            return Err(Error::input(
+                file,
+                "JSON",
+                "expected an object with \"voigt\" or a list of 6 rows of 6 numbers",
+            ));
+        }
     };
     if let Some(key) = object.keys().find(|k| *k != "voigt" && *k != "shear_order") {
         return Err(Error::input(
             file,
-            key.as_str(),
+            quoted(key),
             "unknown key (expected voigt and optionally shear_order)",
         ));
     }
@@ -101,16 +122,23 @@ fn read_json(text: &str, file: &str) -> Result<(Matrix, Option<ShearOrder>)> {
             Error::input(
                 file,
                 "shear_order",
-                format!("{v}: expected \"23,13,12\" or \"12,13,23\""),
+                format!(
+                    "{}: expected \"23,13,12\" or \"12,13,23\"",
+                    quoted(&v.to_string())
+                ),
             )
         })?),
     };
-    let not_six = || Error::input(file, "voigt", "expected 6 rows of 6 numbers");
-    let rows = object
+    let voigt = object
         .get("voigt")
-        .ok_or_else(|| Error::input(file, "voigt", "missing"))?
-        .as_array()
-        .ok_or_else(not_six)?;
+        .ok_or_else(|| Error::input(file, "voigt", "missing"))?;
+    Ok((voigt_rows(voigt, file)?, shear))
+}
+
+/// The 6 x 6 matrix of a JSON list of rows (the `voigt` value, or the whole file).
+fn voigt_rows(voigt: &Value, file: &str) -> Result<Matrix> {
+    let not_six = || Error::input(file, "voigt", "expected 6 rows of 6 numbers");
+    let rows = voigt.as_array().ok_or_else(not_six)?;
     let rows = rows
         .iter()
         .enumerate()
@@ -126,14 +154,14 @@ fn read_json(text: &str, file: &str) -> Result<(Matrix, Option<ShearOrder>)> {
                         Error::input(
                             file,
                             format!("voigt[{p}][{q}]"),
-                            format!("{v} is not a number"),
+                            format!("{} is not a number", quoted(&v.to_string())),
                         )
                     })
                 })
                 .collect::<Result<Vec<f64>>>()
         })
         .collect::<Result<Vec<_>>>()?;
-    Ok((to_matrix(&rows).ok_or_else(not_six)?, shear))
+    to_matrix(&rows).ok_or_else(not_six)
 }
 
 fn to_matrix(rows: &[Vec<f64>]) -> Option<Matrix> {

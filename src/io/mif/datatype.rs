@@ -3,6 +3,7 @@
 //! matched without regard to case, as MRtrix does. `Bit` packs eight voxels per byte,
 //! the first in the most significant bit. Complex types are refused: glyph coefficients
 //! and DWI signals are real.
+use crate::error::quoted;
 use crate::{Error, Result};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -53,7 +54,10 @@ impl DataType {
             return Err(Error::input(
                 file,
                 "datatype",
-                format!("{text}: complex values cannot be read as real coefficients or signals"),
+                format!(
+                    "{}: complex values cannot be read as real coefficients or signals",
+                    quoted(text)
+                ),
             ));
         }
         let (stem, big_endian) = if let Some(stem) = lower.strip_suffix("le") {
@@ -77,8 +81,9 @@ impl DataType {
                 file,
                 "datatype",
                 format!(
-                    "unknown data type '{text}'; expected Bit, Int8, UInt8, (U)Int16/32/64 or \
-                     Float32/64, with LE or BE for the multi-byte ones"
+                    "unknown data type '{}'; expected Bit, Int8, UInt8, (U)Int16/32/64 or \
+                     Float32/64, with LE or BE for the multi-byte ones",
+                    quoted(text)
                 ),
             )),
         }

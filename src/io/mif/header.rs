@@ -3,6 +3,7 @@
 //! and `file` may repeat (one line each per row, volume or data file); keys glyphcast
 //! does not use are kept in `other`.
 use super::datatype::DataType;
+use crate::error::quoted;
 use crate::{Error, Result};
 
 /// The first line of every MRtrix image header.
@@ -148,7 +149,7 @@ fn split_lines(bytes: &[u8], file: &str) -> Result<(Entries, usize)> {
             return Err(Error::input(
                 file,
                 format!("line {number}"),
-                format!("expected 'key: value', got '{}'", shorten(line)),
+                format!("expected 'key: value', got '{}'", quoted(line)),
             ));
         };
         let (key, value) = (key.trim().to_ascii_lowercase(), value.trim().to_string());
@@ -185,21 +186,13 @@ fn split_lines(bytes: &[u8], file: &str) -> Result<(Entries, usize)> {
     ))
 }
 
-fn shorten(text: &str) -> String {
-    if text.chars().count() > 40 {
-        format!("{}...", text.chars().take(40).collect::<String>())
-    } else {
-        text.to_string()
-    }
-}
-
 /// Comma-separated numbers of `key`.
 fn numbers(text: &str, key: &str, file: &str) -> Result<Vec<f64>> {
     text.split(',')
         .map(|token| {
             let token = token.trim();
             token.parse::<f64>().map_err(|_| {
-                Error::input(file, key, format!("'{}' is not a number", shorten(token)))
+                Error::input(file, key, format!("'{}' is not a number", quoted(token)))
             })
         })
         .collect()
@@ -214,7 +207,7 @@ fn parse_dims(text: Option<&str>, file: &str) -> Result<Vec<usize>> {
             _ => Err(Error::input(
                 file,
                 "dim",
-                format!("'{}' is not a positive whole number", shorten(token.trim())),
+                format!("'{}' is not a positive whole number", quoted(token.trim())),
             )),
         })
         .collect::<Result<Vec<_>>>()?;
@@ -275,7 +268,7 @@ fn parse_layout(text: Option<&str>, axes: usize, file: &str) -> Result<Vec<AxisL
                         "layout",
                         format!(
                             "'{}' is not a signed axis rank such as +0 or -2",
-                            shorten(token)
+                            quoted(token)
                         ),
                     )
                 })
@@ -295,7 +288,8 @@ fn parse_layout(text: Option<&str>, axes: usize, file: &str) -> Result<Vec<AxisL
                 file,
                 "layout",
                 format!(
-                    "'{text}' is not an order of the axes: the ranks must be 0 to {} once each",
+                    "'{}' is not an order of the axes: the ranks must be 0 to {} once each",
+                    quoted(text),
                     axes - 1
                 ),
             ));
@@ -375,9 +369,13 @@ fn parse_file(lines: &[String], file: &str) -> Result<DataFile> {
     // NAME [OFFSET]: the name may hold spaces, the offset is the last word.
     let (name, offset) = match line.rsplit_once(char::is_whitespace) {
         Some((name, last)) if last.chars().all(|c| c.is_ascii_digit()) => {
-            let offset = last
-                .parse::<u64>()
-                .map_err(|_| Error::input(file, "file", format!("offset '{last}' is too large")))?;
+            let offset = last.parse::<u64>().map_err(|_| {
+                Error::input(
+                    file,
+                    "file",
+                    format!("offset '{}' is too large", quoted(last)),
+                )
+            })?;
             (name.trim(), offset)
         }
         _ => (line.as_str(), 0),

@@ -7,6 +7,7 @@ use glam::DVec3;
 
 use super::json::Json;
 use super::names::Named;
+use crate::error::quoted;
 use crate::{Error, Result};
 
 /// One step from a value to a child: a key of an object or an index into a list.
@@ -32,8 +33,8 @@ impl fmt::Display for JsonPath<'_> {
             write!(f, "{parent}")?;
         }
         match step {
-            Step::Key(key) if under_root => f.write_str(key),
-            Step::Key(key) => write!(f, ".{key}"),
+            Step::Key(key) if under_root => f.write_str(&quoted(key)),
+            Step::Key(key) => write!(f, ".{}", quoted(key)),
             Step::Index(index) => write!(f, "[{index}]"),
         }
     }
@@ -150,7 +151,8 @@ impl<'a> Field<'a> {
             .find(|value| value.name() == name)
             .ok_or_else(|| {
                 self.error(format!(
-                    "unknown value {name:?}; expected one of {}",
+                    "unknown value \"{}\"; expected one of {}",
+                    quoted(name),
                     quoted_names::<T>()
                 ))
             })
@@ -235,7 +237,8 @@ impl<'b> Object<'b> {
             Some((key, _)) => Err(self.error_at(
                 key,
                 format!(
-                    "unknown key \"{key}\"; expected one of: {}",
+                    "unknown key \"{}\"; expected one of: {}",
+                    quoted(key),
                     allowed.join(", ")
                 ),
             )),

@@ -6,6 +6,7 @@ use std::fmt;
 
 use serde::de::{self, Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
 
+use crate::error::quoted;
 use crate::{Error, Result};
 
 /// A parsed JSON document: key order kept, duplicate keys refused, integers kept apart
@@ -29,7 +30,7 @@ impl Json {
             Json::Bool(b) => format!("the boolean {b}"),
             Json::Integer(i) => format!("the number {i}"),
             Json::Float(x) => format!("the number {x:?}"),
-            Json::String(s) => format!("the string {s:?}"),
+            Json::String(s) => format!("the string \"{}\"", quoted(s)),
             Json::Array(items) => format!("a list of {} items", items.len()),
             Json::Object(_) => "an object".into(),
         }
@@ -98,7 +99,10 @@ impl<'de> Visitor<'de> for JsonVisitor {
         let mut seen = HashSet::new();
         while let Some(key) = map.next_key::<String>()? {
             if !seen.insert(key.clone()) {
-                return Err(de::Error::custom(format!("duplicate key \"{key}\"")));
+                return Err(de::Error::custom(format!(
+                    "duplicate key \"{}\"",
+                    quoted(&key)
+                )));
             }
             let value = map.next_value()?;
             entries.push((key, value));
