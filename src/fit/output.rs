@@ -79,7 +79,12 @@ pub fn write_coefficients(
     (header.cal_min, header.cal_max) = (0.0, 0.0);
     header.set_description(description);
     let file = path.display().to_string();
-    let bytes = nifti1_bytes(&header, coeffs.view().into_dyn(), ending == ".nii.gz", &file)?;
+    let bytes = nifti1_bytes(
+        &header,
+        coeffs.view().into_dyn(),
+        ending == ".nii.gz",
+        &file,
+    )?;
     write_atomic(path, &bytes)
 }
 
@@ -106,7 +111,14 @@ mod tests {
 
     #[test]
     fn output_names_are_checked() {
-        for good in ["out.nii", "out.nii.gz", "a.b.c.nii.gz", "out.mif", "out.mif.gz", "OUT.MIF"] {
+        for good in [
+            "out.nii",
+            "out.nii.gz",
+            "a.b.c.nii.gz",
+            "out.mif",
+            "out.mif.gz",
+            "OUT.MIF",
+        ] {
             assert!(check_output_path(Path::new(good)).is_ok(), "{good}");
         }
         for bad in ["out.png", "out", ".nii", "out.nii.bak", "out.mih", ".mif"] {

@@ -297,9 +297,12 @@ impl NiftiHeader {
             NiftiVersion::One => (b"n+1\0", b"ni1\0"),
             NiftiVersion::Two => (b"n+2\0\r\n\x1a\n", b"ni2\0\r\n\x1a\n"),
         };
-        let shown = String::from_utf8_lossy(self.magic.get(..3).unwrap_or(&self.magic)).into_owned();
+        let shown =
+            String::from_utf8_lossy(self.magic.get(..3).unwrap_or(&self.magic)).into_owned();
         let message = if self.magic == single && pair {
-            format!("\"{shown}\" marks a single-file .nii, but this is the header of a .hdr/.img pair")
+            format!(
+                "\"{shown}\" marks a single-file .nii, but this is the header of a .hdr/.img pair"
+            )
         } else if self.magic == separate && !pair {
             format!(
                 "\"{shown}\" marks the header of a .hdr/.img pair: name the file .hdr, with \

@@ -21,6 +21,8 @@ pub mod datatype;
 pub mod header;
 pub mod layout;
 pub mod stream;
+#[cfg(test)]
+mod tests;
 pub mod write;
 
 pub use affine::{AffineSource, VoxelToWorld};
@@ -88,7 +90,10 @@ fn read_single(mut stream: ByteStream) -> Result<NiftiImage> {
 /// The `.img` (or `.img.gz`) beside a `.hdr` (or `.hdr.gz`), whichever exists.
 fn image_path(header: &Path) -> Result<PathBuf> {
     let name = header.display().to_string();
-    let stem_length = name.to_ascii_lowercase().rfind(".hdr").unwrap_or(name.len());
+    let stem_length = name
+        .to_ascii_lowercase()
+        .rfind(".hdr")
+        .unwrap_or(name.len());
     let stem = &name[..stem_length];
     let upper = name[stem_length..].starts_with(".HDR");
     let candidates: Vec<PathBuf> = [".img", ".img.gz"]
@@ -159,7 +164,11 @@ fn read_data(
     check_input_size(
         &file,
         (layout.count as u64).saturating_mul(8),
-        &format!("{} {} voxels as float64", shape_text(&layout.shape), layout.datatype.name()),
+        &format!(
+            "{} {} voxels as float64",
+            shape_text(&layout.shape),
+            layout.datatype.name()
+        ),
     )?;
     let voxel_to_world = VoxelToWorld::from_header(&header, &file)?;
     let reached = stream.skip_to(layout.offset)?;

@@ -92,7 +92,10 @@ pub fn encode_nifti1(h: &NiftiHeader) -> [u8; NIFTI1_HEADER_SIZE] {
     put(108, &f32s(&[h.vox_offset, h.scl_slope, h.scl_inter]));
     put(120, &i16_of(h.slice_end));
     put(122, &[h.slice_code as u8, h.xyzt_units as u8]);
-    put(124, &f32s(&[h.cal_max, h.cal_min, h.slice_duration, h.toffset]));
+    put(
+        124,
+        &f32s(&[h.cal_max, h.cal_min, h.slice_duration, h.toffset]),
+    );
     put(148, &h.descrip);
     put(228, &h.aux_file);
     put(252, &i16_of(h.qform_code.into()));
