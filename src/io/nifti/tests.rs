@@ -292,7 +292,7 @@ fn vox_offset_is_honoured_without_extensions() {
     let far = read_nifti_bytes(&at(1024.0), "b.nii").unwrap();
     assert_eq!(near.data, far.data);
     assert_eq!(
-        far.data.iter().copied().collect::<Vec<_>>(),
+        far.data.t().iter().copied().collect::<Vec<_>>(),
         [1.0, 2.0, 3.0, 4.0]
     );
     let far_gz = read_nifti_bytes(&gzip(&at(1024.0)), "b.nii.gz").unwrap();
