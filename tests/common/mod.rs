@@ -10,6 +10,8 @@ use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
 use glyphcast::vk::{Gpu, GpuOptions};
 use std::path::PathBuf;
 
+pub mod nifti;
+
 /// A GPU with the validation layer on (tests never run without it). The device is the
 /// one GLYPHCAST_DEVICE names, else the best available: lavapipe in CI.
 pub fn gpu() -> Gpu {
