@@ -103,6 +103,11 @@ const FLOATS: [f64; 9] = [
     1e-45,
 ];
 
+/// A fair coin.
+fn coin(rng: &mut SplitMix64) -> bool {
+    rng.next_u64() >> 63 == 0
+}
+
 /// One mutation step on `bytes`; `others` are the corpus, for splicing, `tokens` the
 /// reader's dictionary.
 fn mutate(rng: &mut SplitMix64, bytes: &mut Vec<u8>, others: &[Vec<u8>], tokens: &[&str]) {
@@ -140,7 +145,7 @@ fn mutate(rng: &mut SplitMix64, bytes: &mut Vec<u8>, others: &[Vec<u8>], tokens:
         }
         7 => {
             let value = FLOATS[below(rng, FLOATS.len())];
-            if rng.next_u64() % 2 == 0 {
+            if coin(rng) {
                 overwrite(rng, bytes, &(value as f32).to_le_bytes(), 4);
             } else {
                 overwrite(rng, bytes, &value.to_le_bytes(), 8);
@@ -160,14 +165,14 @@ fn overwrite(rng: &mut SplitMix64, bytes: &mut [u8], word: &[u8], width: usize) 
     if bytes.len() < width {
         return;
     }
-    let span = if rng.next_u64() % 2 == 0 {
+    let span = if coin(rng) {
         bytes.len().min(544)
     } else {
         bytes.len()
     };
     let at = ((rng.next_u64() as usize) % (span - width + 1)) / width * width;
     let mut word = word.to_vec();
-    if rng.next_u64() % 2 == 0 {
+    if coin(rng) {
         word.reverse();
     }
     bytes[at..at + width].copy_from_slice(&word);
@@ -188,7 +193,7 @@ fn input(
         SplitMix64::new(seed ^ reader_key.rotate_left(17) ^ iteration.wrapping_mul(0x9e37_79b9));
     let (name, original) = &files[(rng.next_u64() % files.len() as u64) as usize];
     let others: Vec<Vec<u8>> = files.iter().map(|(_, b)| b.clone()).collect();
-    let inside = gzip_name(name) && rng.next_u64() % 2 == 0;
+    let inside = gzip_name(name) && coin(&mut rng);
     let mut bytes = if inside {
         gunzip(original)
     } else {

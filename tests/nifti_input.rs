@@ -309,7 +309,7 @@ fn a_tiny_file_declaring_a_huge_volume_is_refused_without_allocating_it() {
         for args in every_reader(text(path), &outputs).into_iter().step_by(3) {
             // 1 GiB of address space: allocating the 512 GiB volume (or a third of it)
             // would fail, and an abort would show as a signal, not exit 1.
-            let line = format!("ulimit -v 1048576; exec \"$0\" \"$@\"");
+            let line = "ulimit -v 1048576; exec \"$0\" \"$@\"";
             let started = Instant::now();
             let run = Command::new("sh")
                 .arg("-c")
