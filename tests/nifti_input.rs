@@ -9,11 +9,12 @@
 mod common;
 
 use common::nifti::{gzip, nifti2_bytes, set_f32, set_i16, with_vox_offset};
+use common::{expect_failure, glyphcast};
 use glyphcast::io::image::read_image;
 use glyphcast::io::nifti::read_nifti;
 use glyphcast::io::nifti::write::nifti1_bytes;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 use std::time::Instant;
 
 fn data(name: &str) -> PathBuf {
@@ -24,14 +25,6 @@ fn data(name: &str) -> PathBuf {
 
 fn text(path: &Path) -> &str {
     path.to_str().expect("utf-8 path")
-}
-
-fn glyphcast(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_glyphcast"))
-        .args(args)
-        .env("GLYPHCAST_VALIDATION", "1")
-        .output()
-        .expect("running glyphcast")
 }
 
 /// A fresh folder with `in` and `out` inside.
@@ -86,31 +79,6 @@ fn every_reader(file: &str, out: &Path) -> Vec<Vec<String>> {
     ]
 }
 
-/// Runs `args`; expects exit 1, one `error:` line holding every word of `words`, and
-/// nothing in `out`. Returns the line.
-fn expect_failure(args: &[String], out: &Path, words: &[&str]) -> String {
-    let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    let run = glyphcast(&args);
-    let stderr = String::from_utf8_lossy(&run.stderr).into_owned();
-    assert_eq!(run.status.code(), Some(1), "{args:?}:\n{stderr}");
-    let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
-    assert_eq!(
-        errors.len(),
-        1,
-        "{args:?}: one error line expected:\n{stderr}"
-    );
-    for word in words {
-        assert!(
-            errors[0].contains(word),
-            "{args:?}: no {word:?} in {}",
-            errors[0]
-        );
-    }
-    let left: Vec<_> = std::fs::read_dir(out).expect("listing").collect();
-    assert!(left.is_empty(), "{args:?}: output left behind: {left:?}");
-    errors[0].to_string()
-}
-
 #[test]
 fn complex_and_colour_data_fail_every_reading_path_naming_datatype() {
     let (inputs, outputs) = folders("refused-types");
@@ -129,6 +97,7 @@ fn complex_and_colour_data_fail_every_reading_path_naming_datatype() {
         std::fs::write(&path, &bytes).expect("writing");
         let file = text(&path);
         for args in every_reader(file, &outputs) {
+            let args: Vec<&str> = args.iter().map(String::as_str).collect();
             expect_failure(&args, &outputs, &[file, "datatype", name]);
         }
     }
@@ -284,9 +253,10 @@ fn broken_files_fail_with_exit_1_naming_file_and_field() {
         let path = inputs.join(name);
         std::fs::write(&path, bytes).expect("writing");
         let args = &every_reader(text(&path), &outputs)[0];
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
         let mut words = words.clone();
         words.push(text(&path));
-        expect_failure(args, &outputs, &words);
+        expect_failure(&args, &outputs, &words);
     }
 }
 

@@ -8,7 +8,8 @@ use glyphcast::render::RenderSettings;
 use glyphcast::render::glyph_data::{GlyphSetData, prepare_scene};
 use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
 use glyphcast::vk::{Gpu, GpuOptions};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
 
 pub mod nifti;
 
@@ -91,4 +92,41 @@ pub fn save_failure_images(name: &str, r: &Rendered) {
     }
     let _ = glyphcast::io::png::write_png_rgba8(&dir.join(format!("{name}-diff.png")), w, h, &diff);
     eprintln!("{name}: images in {}", dir.display());
+}
+
+/// Runs the glyphcast binary with the validation layer on.
+pub fn glyphcast(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_glyphcast"))
+        .args(args)
+        .env("GLYPHCAST_VALIDATION", "1")
+        .output()
+        .expect("running glyphcast")
+}
+
+/// Runs `args` (writing into `out_dir`); expects exit code 1 (bad data), no panic, one
+/// `error:` line holding every word of `words`, and nothing in `out_dir`. Returns the line.
+pub fn expect_failure(args: &[&str], out_dir: &Path, words: &[&str]) -> String {
+    let run = glyphcast(args);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{args:?}:\n{stderr}");
+    assert!(!stderr.contains("panicked"), "{args:?}: panic:\n{stderr}");
+    let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
+    assert_eq!(
+        errors.len(),
+        1,
+        "{args:?}: one error line expected:\n{stderr}"
+    );
+    for word in words {
+        assert!(
+            errors[0].contains(word),
+            "{args:?}: '{word}' not in: {}",
+            errors[0]
+        );
+    }
+    let leftovers: Vec<_> = std::fs::read_dir(out_dir).expect("listing").collect();
+    assert!(
+        leftovers.is_empty(),
+        "{args:?}: output left behind: {leftovers:?}"
+    );
+    errors[0].to_string()
 }

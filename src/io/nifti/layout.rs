@@ -2,8 +2,9 @@
 //! the type (datatype, bitpix), the scaling (scl_slope, scl_inter) and where the data
 //! starts (vox_offset). Sizes are computed with overflow checks, and every message shows
 //! the header's own numbers.
-use super::datatype::DataType;
+use super::datatype::{name, voxel_type};
 use super::header::{EXTENSION_FLAG_SIZE, NiftiHeader};
+use crate::io::mif::datatype::DataType;
 use crate::{Error, Result};
 
 /// Where and how the voxels are stored.
@@ -27,7 +28,7 @@ impl DataLayout {
     /// `.img` (where vox_offset may be 0). Errors name `file` and the field.
     pub fn of(header: &NiftiHeader, pair: bool, file: &str) -> Result<Self> {
         let shape = shape(header, file)?;
-        let datatype = DataType::from_header(header.datatype, header.bitpix, file)?;
+        let datatype = voxel_type(header.datatype, header.bitpix, header.big_endian, file)?;
         let too_big = || {
             Error::input(
                 file,
@@ -35,7 +36,7 @@ impl DataLayout {
                 format!(
                     "{} voxels of {} are too many to address",
                     shape_text(&shape),
-                    datatype.name()
+                    name(datatype)
                 ),
             )
         };
@@ -45,7 +46,7 @@ impl DataLayout {
             .ok_or_else(too_big)?;
         let data_bytes = u64::try_from(count)
             .ok()
-            .and_then(|n| n.checked_mul(datatype.size() as u64))
+            .and_then(|n| n.checked_mul(datatype.width() as u64))
             .ok_or_else(too_big)?;
         Ok(Self {
             shape,
@@ -60,6 +61,11 @@ impl DataLayout {
     /// Bytes from the start of the data file to the end of the last voxel.
     pub fn end(&self) -> u64 {
         self.offset.saturating_add(self.data_bytes)
+    }
+
+    /// `2x3x4x45 float32`, for messages.
+    pub fn describe(&self) -> String {
+        format!("{} {}", shape_text(&self.shape), name(self.datatype))
     }
 }
 

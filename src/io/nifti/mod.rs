@@ -27,7 +27,7 @@ pub mod write;
 
 pub use affine::{AffineSource, VoxelToWorld};
 pub use header::{NiftiHeader, NiftiVersion};
-use layout::{DataLayout, shape_text};
+use layout::DataLayout;
 use stream::ByteStream;
 
 /// Bytes decoded at a time.
@@ -164,18 +164,14 @@ fn read_data(
     check_input_size(
         &file,
         (layout.count as u64).saturating_mul(8),
-        &format!(
-            "{} {} voxels as float64",
-            shape_text(&layout.shape),
-            layout.datatype.name()
-        ),
+        &format!("{} voxels as float64", layout.describe()),
     )?;
     let voxel_to_world = VoxelToWorld::from_header(&header, &file)?;
     let reached = stream.skip_to(layout.offset)?;
     if reached < layout.offset {
         return Err(offset_beyond_end(&stream.file, layout.offset, reached));
     }
-    let values = read_values(&mut stream, &layout, header.big_endian)?;
+    let values = read_values(&mut stream, &layout)?;
     stream.finish()?;
     let data = ArrayD::from_shape_vec(IxDyn(&layout.shape).f(), values)
         .map_err(|err| Error::input(&file, "dim", err.to_string()))?;
@@ -204,10 +200,9 @@ fn check_room(layout: &DataLayout, stream: &ByteStream, file: &str) -> Result<()
             &stream.file,
             "data",
             format!(
-                "truncated: the header of {file} declares {} {} voxels ({} bytes from byte \
-                 {}), but {held}",
-                shape_text(&layout.shape),
-                layout.datatype.name(),
+                "truncated: the header of {file} declares {} voxels ({} bytes from byte {}), \
+                 but {held}",
+                layout.describe(),
                 layout.data_bytes,
                 layout.offset
             ),
@@ -225,9 +220,9 @@ fn offset_beyond_end(file: &str, offset: u64, length: u64) -> Error {
 }
 
 /// The voxels as f64 (scaled), read in chunks into one buffer of the final size.
-fn read_values(stream: &mut ByteStream, layout: &DataLayout, big_endian: bool) -> Result<Vec<f64>> {
+fn read_values(stream: &mut ByteStream, layout: &DataLayout) -> Result<Vec<f64>> {
     let mut values = try_vec(layout.count, &stream.file)?;
-    let size = layout.datatype.size();
+    let size = layout.datatype.width();
     let mut chunk = vec![0u8; CHUNK_BYTES - CHUNK_BYTES % size];
     let mut remaining = layout.data_bytes;
     while remaining > 0 {
@@ -239,18 +234,15 @@ fn read_values(stream: &mut ByteStream, layout: &DataLayout, big_endian: bool) -
                 &stream.file,
                 "data",
                 format!(
-                    "truncated: {} {} voxels need {} bytes from byte {}, but the data ends \
+                    "truncated: {} voxels need {} bytes from byte {}, but the data ends \
                      after {have}",
-                    shape_text(&layout.shape),
-                    layout.datatype.name(),
+                    layout.describe(),
                     layout.data_bytes,
                     layout.offset
                 ),
             ));
         }
-        layout
-            .datatype
-            .decode_into(&chunk[..want], big_endian, &mut values);
+        layout.datatype.decode_into(&chunk[..want], &mut values);
         remaining -= want as u64;
     }
     if let Some((slope, inter)) = layout.scaling {
