@@ -182,15 +182,18 @@ pub fn detect(first: [u8; 4], file: &str) -> Result<(NiftiVersion, bool)> {
             return Ok((version, true));
         }
     }
-    Err(Error::input(
-        file,
-        "sizeof_hdr",
+    let message = if first[..2] == [0x1f, 0x8b] {
+        "not a NIfTI file as it stands: it is gzip-compressed, but its name does not end in \
+         .gz"
+        .to_string()
+    } else {
         format!(
             "not a NIfTI file: sizeof_hdr is {} (a NIfTI-1 header has 348, a NIfTI-2 header \
              540, in either byte order)",
             i32::from_le_bytes(first)
-        ),
-    ))
+        )
+    };
+    Err(Error::input(file, "sizeof_hdr", message))
 }
 
 impl NiftiHeader {

@@ -397,6 +397,11 @@ fn declared_sizes_are_checked_before_allocating() {
 fn non_nifti_files_are_named_as_such() {
     let err = error(b"tiny", "t.nii");
     assert!(err.contains("t.nii: sizeof_hdr: not a NIfTI file"), "{err}");
+    let err = error(&gzip(&[0u8; 400]), "t.nii");
+    assert!(
+        err.contains("t.nii: sizeof_hdr:") && err.contains("gzip"),
+        "{err}"
+    );
     let err = error(&[0u8; 2], "t.nii");
     assert!(err.contains("ends after 2 bytes"), "{err}");
     let mut analyze = nifti1_file(&NiftiHeader::default(), &[0; 4]);
