@@ -379,6 +379,17 @@ fn fuzz_gradients() {
     });
 }
 
+/// The harness itself: a reader that panics on any input not in its corpus must fail
+/// the run with the harness's message.
+#[test]
+#[should_panic(expected = "stiffness: panic on input")]
+fn a_panicking_reader_fails_the_run() {
+    let originals: Vec<Vec<u8>> = corpus("stiffness").into_iter().map(|(_, b)| b).collect();
+    fuzz("stiffness", &[], |_, bytes| {
+        assert!(originals.iter().any(|o| o == bytes), "a mutated input");
+    });
+}
+
 /// Rewrites the NIfTI and MRtrix corpus with our writers from DIPY's func_coef (SH,
 /// 2x3x4x45) and a corner of small_64D (DWI); the scene, stiffness and gradient corpus
 /// are copies of tests/scenes, tests/stiffness.rs's copper and DIPY's small_64D tables.

@@ -298,18 +298,27 @@ fn a_tiny_file_declaring_a_huge_volume_is_refused_without_allocating_it() {
             assert!(seconds < 3.0, "{args:?}: took {seconds} s");
         }
     }
-    // A volume that fits in the file but not under the memory cap.
-    let run = Command::new(env!("CARGO_BIN_EXE_glyphcast"))
-        .args(&every_reader(text(&data("func_coef.nii.gz")), &outputs)[0])
-        .env("GLYPHCAST_MAX_INPUT_BYTES", "1000")
-        .output()
-        .expect("running glyphcast");
-    let stderr = String::from_utf8_lossy(&run.stderr);
-    assert_eq!(run.status.code(), Some(1), "{stderr}");
-    assert!(
-        stderr.contains("GLYPHCAST_MAX_INPUT_BYTES") && stderr.contains("func_coef.nii.gz: dim"),
-        "{stderr}"
-    );
+    // Volumes that fit in their files but not under the memory cap (NIfTI, and MRtrix
+    // plain and compressed).
+    let corpus = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fuzz/corpus/mif");
+    for path in [
+        data("func_coef.nii.gz"),
+        corpus.join("func_coef.mif"),
+        corpus.join("dwi_corner.mif.gz"),
+    ] {
+        let run = Command::new(env!("CARGO_BIN_EXE_glyphcast"))
+            .args(&every_reader(text(&path), &outputs)[0])
+            .env("GLYPHCAST_MAX_INPUT_BYTES", "1000")
+            .output()
+            .expect("running glyphcast");
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{stderr}");
+        assert!(
+            stderr.contains("GLYPHCAST_MAX_INPUT_BYTES")
+                && stderr.contains(&format!("{}: dim", text(&path))),
+            "{stderr}"
+        );
+    }
 }
 
 #[test]
