@@ -7,6 +7,8 @@
 //! with one line naming the file and the field.
 mod common;
 
+use common::{expect_failure, glyphcast};
+
 use glam::{DMat3, DMat4, DVec3};
 use glyphcast::io::image::{ImageHeader, read_image};
 use glyphcast::io::mif::read_mif;
@@ -15,7 +17,6 @@ use glyphcast::volume::{VolumeKind, load_mask, load_volume};
 use ndarray::{Array3, ArrayD, IxDyn};
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -32,14 +33,6 @@ fn fresh_dir(name: &str) -> PathBuf {
 
 fn text(path: &Path) -> &str {
     path.to_str().expect("utf-8 path")
-}
-
-fn glyphcast(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_glyphcast"))
-        .args(args)
-        .env("GLYPHCAST_VALIDATION", "1")
-        .output()
-        .expect("running glyphcast")
 }
 
 /// How a fixture stores its values.
@@ -457,34 +450,6 @@ fn fit_reads_mrtrix_dwis_and_writes_mrtrix_output() {
     }
 }
 
-/// Runs `args` (with `-o DIR/out...`), expects one `error:` line holding every word of
-/// `named`, a non-zero exit, no panic and an empty output folder.
-fn expect_failure(case: &str, args: &[&str], out_dir: &Path, named: &[&str]) {
-    let run = glyphcast(args);
-    let stderr = String::from_utf8_lossy(&run.stderr);
-    assert!(!run.status.success(), "{case}: expected failure:\n{stderr}");
-    assert!(!stderr.contains("panicked"), "{case}: panic:\n{stderr}");
-    let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
-    assert_eq!(
-        errors.len(),
-        1,
-        "{case}: one error line expected:\n{stderr}"
-    );
-    for word in named {
-        assert!(
-            errors[0].contains(word),
-            "{case}: '{word}' not in: {}",
-            errors[0]
-        );
-    }
-    let leftovers: Vec<_> = std::fs::read_dir(out_dir).unwrap().collect();
-    assert!(
-        leftovers.is_empty(),
-        "{case}: output left behind: {leftovers:?}"
-    );
-    eprintln!("{case}: {}", errors[0]);
-}
-
 #[test]
 fn bad_mrtrix_files_fail_cleanly_naming_file_and_field() {
     let dir = fresh_dir("bad");
@@ -573,7 +538,7 @@ fn bad_mrtrix_files_fail_cleanly_naming_file_and_field() {
         std::fs::write(&path, bytes).unwrap();
         let args = render(&path);
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
-        expect_failure(name, &args, &out_dir, &[name, field]);
+        expect_failure(&args, &out_dir, &[name, field]);
     }
     // Data problems: truncated, an offset inside the header, a missing .mih data file,
     // an unreadable gzip stream.
@@ -596,7 +561,7 @@ fn bad_mrtrix_files_fail_cleanly_naming_file_and_field() {
         let args = render(path);
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
         let name = path.file_name().unwrap().to_str().unwrap();
-        expect_failure(name, &args, &out_dir, &[name, field]);
+        expect_failure(&args, &out_dir, &[name, field]);
     }
 
     // fit: a dw_scheme that does not match the volumes.
@@ -611,7 +576,6 @@ fn bad_mrtrix_files_fail_cleanly_naming_file_and_field() {
     );
     let output = out_dir.join("fit.mif");
     expect_failure(
-        "short dw_scheme",
         &["fit", text(&dwi), "-o", text(&output), "--order", "2"],
         &out_dir,
         &["short_scheme.mif", "dw_scheme", "5 rows"],

@@ -391,7 +391,7 @@ fn labels_and_orientation_need_a_volume() {
         args.extend(flag);
         let out = glyphcast(&args);
         let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(1), "{stderr}");
+        assert_eq!(out.status.code(), Some(2), "{stderr}");
         assert!(
             stderr.contains(flag[0]) && stderr.contains("volume input"),
             "{stderr}"

@@ -1,19 +1,18 @@
-//! Reading the DWI series and the optional brain mask: NIfTI-1 (`.nii`, `.nii.gz`) or
-//! MRtrix (`.mif`, `.mif.gz`, `.mih`), by the file name.
+//! Reading the DWI series and the optional brain mask: NIfTI (`.nii`, `.nii.gz`,
+//! `.hdr`/`.img`, read by `io::nifti`) or MRtrix (`.mif`, `.mif.gz`, `.mih`), by the
+//! file name.
 //!
-//! The `nifti` crate applies `scl_slope`/`scl_inter` and returns the voxels as an
-//! ndarray of shape [x, y, z, t] whatever the stored type. A NIfTI header is kept as
-//! read, so that a NIfTI output can copy it (affine, voxel size, units); an MRtrix input
+//! Both readers apply the stored scaling and return the voxels as f64 of shape
+//! [x, y, z, t] whatever the stored type. A NIfTI header is kept as read, so that a NIfTI output can copy it (affine, voxel size, units); an MRtrix input
 //! keeps its exact affine and its `dw_scheme`, and gets a NIfTI header built from the
 //! affine ([`nifti_header_for`]).
 use glam::DMat3;
 use ndarray::{Array3, Array4, Axis, Ix3, Ix4};
-use nifti::{IntoNdArray, NiftiError, NiftiHeader, NiftiObject, ReaderOptions};
 use std::path::Path;
 
 use crate::io::image::is_mrtrix;
 use crate::io::mif::read_mif;
-use crate::io::nifti::VoxelToWorld;
+use crate::io::nifti::{NiftiHeader, VoxelToWorld, read_nifti};
 use crate::{Error, Result};
 
 /// A 4D diffusion-weighted series.
@@ -64,8 +63,8 @@ pub fn read_dwi(path: &Path) -> Result<Dwi> {
         let data = squeeze_past(image.data, 4);
         (header, data, Some(image.voxel_to_world), scheme)
     } else {
-        let (header, data) = read_volume(path)?;
-        (header, data, None, None)
+        let image = read_nifti(path)?;
+        (image.header, image.data, None, None)
     };
     if data.ndim() != 4 {
         return Err(Error::input(
@@ -103,18 +102,14 @@ fn squeeze_past(mut data: ndarray::ArrayD<f64>, rank: usize) -> ndarray::ArrayD<
 /// in pixdim and millimetre units; the qform is left unset.
 pub fn nifti_header_for(map: &VoxelToWorld) -> NiftiHeader {
     let rows = map.affine.transpose();
-    let row = |r: glam::DVec4| [r.x as f32, r.y as f32, r.z as f32, r.w as f32];
     let sizes = map.voxel_sizes();
     let mut header = NiftiHeader {
         sform_code: 1,
         qform_code: 0,
-        srow_x: row(rows.x_axis),
-        srow_y: row(rows.y_axis),
-        srow_z: row(rows.z_axis),
-        scl_slope: 1.0,
-        scl_inter: 0.0,
+        srow_x: rows.x_axis.to_array(),
+        srow_y: rows.y_axis.to_array(),
+        srow_z: rows.z_axis.to_array(),
         xyzt_units: 2,
-        magic: *b"n+1\0",
         ..NiftiHeader::default()
     };
     header.pixdim[0] = if DMat3::from_mat4(map.affine).determinant() < 0.0 {
@@ -122,7 +117,7 @@ pub fn nifti_header_for(map: &VoxelToWorld) -> NiftiHeader {
     } else {
         1.0
     };
-    header.pixdim[1..4].copy_from_slice(&[sizes.x as f32, sizes.y as f32, sizes.z as f32]);
+    header.pixdim[1..4].copy_from_slice(&sizes.to_array());
     header
 }
 
@@ -133,7 +128,7 @@ pub fn read_mask(path: &Path, shape: [usize; 3], dwi: &str) -> Result<Array3<boo
     let data = if is_mrtrix(path) {
         read_mif(path)?.data
     } else {
-        read_volume(path)?.1
+        read_nifti(path)?.data
     };
     let dims = data.shape().to_vec();
     let spatial_ok = dims.len() >= 3 && dims[..3] == shape;
@@ -156,26 +151,6 @@ pub fn read_mask(path: &Path, shape: [usize; 3], dwi: &str) -> Result<Array3<boo
         .into_dimensionality::<Ix3>()
         .map_err(|err| Error::io(path, err))?;
     Ok(data.mapv(|v| v != 0.0))
-}
-
-fn read_volume(path: &Path) -> Result<(NiftiHeader, ndarray::ArrayD<f64>)> {
-    let object = ReaderOptions::new()
-        .read_file(path)
-        .map_err(|err| nifti_error(path, err))?;
-    let header = object.header().clone();
-    let data = object
-        .into_volume()
-        .into_ndarray::<f64>()
-        .map_err(|err| nifti_error(path, err))?;
-    Ok((header, data))
-}
-
-/// The crate's `Display` of an I/O error is its `Debug` form; report the I/O error's own.
-fn nifti_error(path: &Path, err: NiftiError) -> Error {
-    match err {
-        NiftiError::Io(io) => Error::io(path, io),
-        other => Error::io(path, format!("not a readable NIfTI-1 file: {other}")),
-    }
 }
 
 fn shape_text(shape: &[usize]) -> String {

@@ -1,5 +1,5 @@
 //! Volumes from any supported file format, chosen by the file name: MRtrix (`.mif`,
-//! `.mif.gz`, `.mih`, see `io::mif`) or else NIfTI-1 (`io::nifti`). Both give the voxel
+//! `.mif.gz`, `.mih`, see `io::mif`) or else NIfTI-1 or NIfTI-2 (`io::nifti`). Both give the voxel
 //! values as f64 indexed by the file's voxel axes and the voxel-to-world affine, so every
 //! consumer (`--sh`, `--tensor`, `--mask`, the DWI of `fit`) takes either.
 use std::path::Path;
@@ -8,12 +8,12 @@ use ndarray::ArrayD;
 
 use crate::Result;
 use crate::io::mif::{MifHeader, MifKind, read_mif};
-use crate::io::nifti::{NiftiImage, VoxelToWorld, read_nifti};
+use crate::io::nifti::{NiftiHeader, NiftiImage, VoxelToWorld, read_nifti};
 
 /// What the header said besides the geometry.
 #[derive(Clone, Debug)]
 pub enum ImageHeader {
-    Nifti(Box<::nifti::NiftiHeader>),
+    Nifti(Box<NiftiHeader>),
     Mrtrix(Box<MifHeader>),
 }
 
@@ -71,12 +71,7 @@ impl Image {
     /// `fit` records its model and SH basis here.
     pub fn description(&self) -> Option<String> {
         let text = match &self.header {
-            ImageHeader::Nifti(header) => header
-                .descrip
-                .iter()
-                .take_while(|&&b| b != 0)
-                .map(|&b| b as char)
-                .collect::<String>(),
+            ImageHeader::Nifti(header) => header.description(),
             ImageHeader::Mrtrix(header) => header
                 .other
                 .iter()

@@ -3,6 +3,8 @@ pub mod atomic;
 #[cfg(feature = "volume")]
 pub mod image;
 #[cfg(feature = "volume")]
+pub mod input_limit;
+#[cfg(feature = "volume")]
 pub mod mif;
 #[cfg(feature = "volume")]
 pub mod nifti;

@@ -8,7 +8,10 @@ use glyphcast::render::glyph_data::{GlyphSetData, prepare_scene};
 use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
 use glyphcast::scene::Scene;
 use glyphcast::vk::{Gpu, GpuOptions};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+pub mod nifti;
 
 /// A GPU with the validation layer on (tests never run without it). The device is the
 /// one GLYPHCAST_DEVICE names, else the best available: lavapipe in CI.
@@ -91,9 +94,9 @@ pub fn save_failure_images(name: &str, r: &Rendered) {
     eprintln!("{name}: images in {}", dir.display());
 }
 
-/// Runs the real `glyphcast` binary (validation on) and returns what it did.
-pub fn glyphcast(args: &[&str]) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_glyphcast"))
+/// Runs the glyphcast binary with the validation layer on.
+pub fn glyphcast(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_glyphcast"))
         .args(args)
         .env("GLYPHCAST_VALIDATION", "1")
         .output()
@@ -105,7 +108,7 @@ pub fn glyphcast(args: &[&str]) -> std::process::Output {
 pub fn write_nifti(path: &std::path::Path, data: &ndarray::ArrayD<f64>, affine: glam::DMat4) {
     let linear = glam::DMat3::from_mat4(affine);
     let row = |r: usize| affine.row(r).to_array().map(|v| v as f32);
-    let header = nifti::NiftiHeader {
+    let header = ::nifti::NiftiHeader {
         pixdim: [
             1.0,
             linear.x_axis.length() as f32,
@@ -121,9 +124,9 @@ pub fn write_nifti(path: &std::path::Path, data: &ndarray::ArrayD<f64>, affine: 
         srow_x: row(0),
         srow_y: row(1),
         srow_z: row(2),
-        ..nifti::NiftiHeader::default()
+        ..::nifti::NiftiHeader::default()
     };
-    nifti::writer::WriterOptions::new(path)
+    ::nifti::writer::WriterOptions::new(path)
         .reference_header(&header)
         // The writer takes C or Fortran order, not the negative strides of a flip.
         .write_nifti(&data.mapv(|v| v as f32).as_standard_layout())
@@ -158,4 +161,32 @@ pub fn dipy_data(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data/dipy")
         .join(name)
+}
+
+/// Runs `args` (writing into `out_dir`); expects exit code 1 (bad data), no panic, one
+/// `error:` line holding every word of `words`, and nothing in `out_dir`. Returns the line.
+pub fn expect_failure(args: &[&str], out_dir: &Path, words: &[&str]) -> String {
+    let run = glyphcast(args);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{args:?}:\n{stderr}");
+    assert!(!stderr.contains("panicked"), "{args:?}: panic:\n{stderr}");
+    let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
+    assert_eq!(
+        errors.len(),
+        1,
+        "{args:?}: one error line expected:\n{stderr}"
+    );
+    for word in words {
+        assert!(
+            errors[0].contains(word),
+            "{args:?}: '{word}' not in: {}",
+            errors[0]
+        );
+    }
+    let leftovers: Vec<_> = std::fs::read_dir(out_dir).expect("listing").collect();
+    assert!(
+        leftovers.is_empty(),
+        "{args:?}: output left behind: {leftovers:?}"
+    );
+    errors[0].to_string()
 }

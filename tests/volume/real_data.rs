@@ -1,10 +1,9 @@
 //! Real files from DIPY (tests/data/dipy, BSD-3-Clause, see LICENSE-DIPY there).
 use glam::{DMat3, DVec3};
-use glyphcast::io::nifti::{AffineSource, VoxelToWorld, read_nifti};
+use glyphcast::io::nifti::{AffineSource, NiftiHeader, VoxelToWorld, read_nifti};
 use glyphcast::scene::{GlyphKind, ShBasis};
 use glyphcast::volume::{VolumeKind, load_volume};
 use nalgebra::{Quaternion, UnitQuaternion};
-use nifti::NiftiHeader;
 use std::path::PathBuf;
 
 fn data(name: &str) -> PathBuf {
@@ -17,21 +16,17 @@ fn data(name: &str) -> PathBuf {
 /// rotation (not the library's formula): R(q) diag(pixdim1, pixdim2, qfac pixdim3) and the
 /// quaternion offsets.
 fn independent_qform(h: &NiftiHeader) -> (DMat3, DVec3) {
-    let (b, c, d) = (h.quatern_b as f64, h.quatern_c as f64, h.quatern_d as f64);
+    let (b, c, d) = (h.quatern_b, h.quatern_c, h.quatern_d);
     let a = (1.0 - b * b - c * c - d * d).max(0.0).sqrt();
     let rotation =
         UnitQuaternion::from_quaternion(Quaternion::new(a, b, c, d)).to_rotation_matrix();
     let m = rotation.matrix();
     let qfac = if h.pixdim[0] < 0.0 { -1.0 } else { 1.0 };
-    let sizes = [
-        h.pixdim[1] as f64,
-        h.pixdim[2] as f64,
-        qfac * h.pixdim[3] as f64,
-    ];
+    let sizes = [h.pixdim[1], h.pixdim[2], qfac * h.pixdim[3]];
     let col = |j: usize| DVec3::new(m[(0, j)], m[(1, j)], m[(2, j)]) * sizes[j];
     (
         DMat3::from_cols(col(0), col(1), col(2)),
-        DVec3::new(h.quatern_x as f64, h.quatern_y as f64, h.quatern_z as f64),
+        DVec3::new(h.quatern_x, h.quatern_y, h.quatern_z),
     )
 }
 

@@ -108,7 +108,7 @@ impl DataType {
     }
 
     /// Bytes per value (Bit: 0, see [`DataType::byte_count`]).
-    fn width(&self) -> usize {
+    pub fn width(&self) -> usize {
         match self.number {
             Number::Bit => 0,
             Number::I8 | Number::U8 => 1,
@@ -140,6 +140,16 @@ impl DataType {
             .chunks_exact(width)
             .map(|chunk| scaled(self.value(chunk)))
             .collect()
+    }
+
+    /// Appends the unscaled values of `bytes` to `out`, one per `width` bytes (not for
+    /// `Bit`; the NIfTI reader decodes its data in chunks with this).
+    pub fn decode_into(&self, bytes: &[u8], out: &mut Vec<f64>) {
+        out.extend(
+            bytes
+                .chunks_exact(self.width().max(1))
+                .map(|c| self.value(c)),
+        );
     }
 
     fn value(&self, chunk: &[u8]) -> f64 {

@@ -27,6 +27,7 @@ use std::path::{Path, PathBuf};
 use glam::{DMat3, DMat4, DVec3};
 use ndarray::{ArrayD, Axis, IxDyn, ShapeBuilder};
 
+use crate::io::input_limit::{check_input_size, max_input_bytes};
 use crate::io::nifti::{AffineSource, VoxelToWorld};
 use crate::{Error, Result};
 
@@ -79,9 +80,14 @@ pub fn read_mif(path: &Path) -> Result<MifImage> {
     let mut bytes = Vec::new();
     let opened = std::fs::File::open(path).map_err(|err| Error::io(path, err))?;
     if MifKind::of(path) == Some(MifKind::MifGz) {
+        // Decompressed no further than the input cap allows (a small file can expand
+        // a thousandfold).
+        let limit = max_input_bytes()?;
         flate2::read::MultiGzDecoder::new(opened)
+            .take(limit.saturating_add(1))
             .read_to_end(&mut bytes)
             .map_err(|err| Error::input(&file, "gzip", format!("not readable: {err}")))?;
+        check_input_size(&file, bytes.len() as u64, "the decompressed file")?;
     } else {
         let mut opened = opened;
         opened
@@ -96,6 +102,11 @@ pub fn read_mif(path: &Path) -> Result<MifImage> {
         .datatype
         .byte_count(count)
         .ok_or_else(|| Error::input(&file, "dim", "too many voxels to address"))?;
+    check_input_size(
+        &file,
+        (count as u64).saturating_mul(8),
+        "the voxels as float64",
+    )?;
     let values = if header.file.name == "." {
         let offset = header.file.offset;
         if offset < header.length as u64 {

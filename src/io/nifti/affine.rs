@@ -1,14 +1,12 @@
-//! Voxel to world coordinates of a NIfTI-1 file, chosen the way the standard's
+//! Voxel to world coordinates of a NIfTI-1 or NIfTI-2 file, chosen the way the standard's
 //! `nifti1.h` describes: the sform when `sform_code` > 0 (method 3), else the qform when
 //! `qform_code` > 0 (method 2: quaternion b, c, d with a = sqrt(1 - b^2 - c^2 - d^2),
 //! voxel sizes pixdim[1..3] and qfac = the sign of pixdim[0], which flips the third
 //! axis), else plain scaling by pixdim (method 1, no offset). Voxel (i, j, k) lands at
 //! affine * (i, j, k, 1).
-//!
-//! The affine is computed here from the raw header fields rather than with the `nifti`
-//! crate's helpers: those sit behind a feature this crate does not enable, and they panic
-//! on a bad pixdim where a clear error is wanted.
-use ::nifti::NiftiHeader;
+//! A NIfTI-1 header's float32 fields are widened to f64 exactly, so both versions go
+//! through the same code.
+use super::header::NiftiHeader;
 use glam::{DMat3, DMat4, DVec3, DVec4};
 use nalgebra::Matrix3;
 
@@ -119,11 +117,10 @@ fn show_rows(affine: DMat4) -> String {
 
 /// Method 3: the rows srow_x, srow_y, srow_z.
 fn sform_affine(header: &NiftiHeader) -> DMat4 {
-    let row = |r: [f32; 4]| DVec4::new(r[0].into(), r[1].into(), r[2].into(), r[3].into());
     DMat4::from_cols(
-        row(header.srow_x),
-        row(header.srow_y),
-        row(header.srow_z),
+        DVec4::from_array(header.srow_x),
+        DVec4::from_array(header.srow_y),
+        DVec4::from_array(header.srow_z),
         DVec4::W,
     )
     .transpose()
@@ -131,11 +128,7 @@ fn sform_affine(header: &NiftiHeader) -> DMat4 {
 
 /// Method 2: R(quaternion) * diag(dx, dy, qfac dz) + (qoffset_x, qoffset_y, qoffset_z).
 fn qform_affine(header: &NiftiHeader, file: &str) -> Result<DMat4> {
-    let (mut b, mut c, mut d) = (
-        f64::from(header.quatern_b),
-        f64::from(header.quatern_c),
-        f64::from(header.quatern_d),
-    );
+    let (mut b, mut c, mut d) = (header.quatern_b, header.quatern_c, header.quatern_d);
     let sum = b * b + c * c + d * d;
     if !sum.is_finite() || sum > 1.0 + QUATERNION_SLACK {
         return Err(Error::input(
@@ -173,11 +166,7 @@ fn qform_affine(header: &NiftiHeader, file: &str) -> Result<DMat4> {
     let qfac = if header.pixdim[0] < 0.0 { -1.0 } else { 1.0 };
     let sizes = pixdim_sizes(header, file)? * DVec3::new(1.0, 1.0, qfac);
     let linear = rotation * DMat3::from_diagonal(sizes);
-    let offset = DVec3::new(
-        header.quatern_x.into(),
-        header.quatern_y.into(),
-        header.quatern_z.into(),
-    );
+    let offset = DVec3::new(header.quatern_x, header.quatern_y, header.quatern_z);
     Ok(DMat4::from_cols(
         linear.x_axis.extend(0.0),
         linear.y_axis.extend(0.0),
@@ -194,7 +183,7 @@ fn pixdim_affine(header: &NiftiHeader, file: &str) -> Result<DMat4> {
 fn pixdim_sizes(header: &NiftiHeader, file: &str) -> Result<DVec3> {
     let mut sizes = [0.0; 3];
     for (axis, size) in sizes.iter_mut().enumerate() {
-        let value = f64::from(header.pixdim[axis + 1]);
+        let value = header.pixdim[axis + 1];
         if !(value.is_finite() && value > 0.0) {
             return Err(Error::input(
                 file,
@@ -230,7 +219,7 @@ mod tests {
 
     #[test]
     fn qform_rotates_90_degrees_about_z() {
-        let half = std::f32::consts::FRAC_1_SQRT_2;
+        let half = std::f64::consts::FRAC_1_SQRT_2;
         let h = NiftiHeader {
             qform_code: 1,
             quatern_d: half,
