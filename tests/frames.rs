@@ -417,3 +417,52 @@ fn bad_frames_are_refused() {
     let (_, error) = render_failure(&dir, &args);
     assert!(error.contains("expected voxel or world"), "{error}");
 }
+
+/// On an oblique grid, `fit -o X.mif` writes the glyphs in scanner axes (MRtrix's frame:
+/// the coefficients differ from the voxel-axes NIfTI of the same fit) and both files draw
+/// the same glyphs with their default frames.
+#[test]
+fn fit_writes_mif_in_scanner_axes_on_an_oblique_grid() {
+    let dir = fresh_dir("oblique");
+    let (dwi, affine) = small_64d();
+    let turn = DMat4::from_rotation_z(0.5) * DMat4::from_rotation_x(0.2);
+    let oblique = dir.join("oblique.nii.gz");
+    write_nifti(&oblique, &dwi, turn * affine);
+    let (bval, bvec) = (data("small_64D.bval"), data("small_64D.bvec"));
+    let mut maps = Vec::new();
+    let mut coefficients = Vec::new();
+    for name in ["sh.nii.gz", "sh.mif"] {
+        let output = dir.join(name);
+        let args = [
+            "fit",
+            text(&oblique),
+            "--bval",
+            text(&bval),
+            "--bvec",
+            text(&bvec),
+            "--sh",
+            "--order",
+            "4",
+            "--quiet",
+            "-o",
+            text(&output),
+        ];
+        succeeded(&glyphcast(&args), name);
+        coefficients.push(read_image(&output).expect("reading the fit").data);
+        let render = ["--sh", text(&output), "--slice", "axial:5"];
+        maps.push(depth(&dir, name, &render));
+    }
+    let (voxel, world) = (&coefficients[0], &coefficients[1]);
+    assert_eq!(voxel.shape(), world.shape());
+    let scale = voxel.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let moved = voxel
+        .iter()
+        .zip(world.iter())
+        .filter(|(v, w)| (*v - *w).abs() > 1e-3 * scale)
+        .count();
+    assert!(moved > voxel.len() / 4, "only {moved} coefficients changed");
+    let (one_only, largest, hits) = compare(&maps[0], &maps[1]);
+    assert!(hits > 200, "the glyphs cover {hits} pixels");
+    assert!(one_only <= 4, "{one_only} pixels differ in coverage");
+    assert!(largest < 1e-3, "depth differs by {largest}");
+}

@@ -12,8 +12,9 @@ use common::{expect_failure, glyphcast};
 use glam::{DMat3, DMat4, DVec3};
 use glyphcast::io::image::{ImageHeader, read_image};
 use glyphcast::io::mif::read_mif;
-use glyphcast::scene::ShBasis;
-use glyphcast::volume::{VolumeKind, load_mask, load_volume};
+use glyphcast::io::nifti::{AffineSource, VoxelToWorld};
+use glyphcast::scene::{GlyphKind, ShBasis};
+use glyphcast::volume::{Reorientation, VolumeKind, load_mask, load_volume};
 use ndarray::{Array3, ArrayD, IxDyn};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -401,13 +402,32 @@ fn fit_reads_mrtrix_dwis_and_writes_mrtrix_output() {
     };
     fit(&data("small_64D.nii"), true, &nifti_out);
     let (want, nifti_affine) = read_back(&nifti_out);
+    // A .mif holds the same glyphs in scanner axes (MRtrix's frame): each voxel's series
+    // turned by the affine's orthogonal factor, as `render` turns a voxel-frame volume.
+    let want_world = to_scanner_axes(&want, nifti_affine);
+    let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let assert_close = |got: &ArrayD<f64>, want: &ArrayD<f64>, what: &str| {
+        assert_eq!(got.shape(), want.shape(), "{what}");
+        for ((index, g), w) in got.indexed_iter().zip(want.iter()) {
+            assert!(
+                (g - w).abs() <= 1e-5 * scale,
+                "{what} {index:?}: {g} vs {w}"
+            );
+        }
+    };
+    assert!(
+        want.iter()
+            .zip(want_world.iter())
+            .any(|(v, w)| (v - w).abs() > 1e-3 * scale),
+        "small_64D's affine turns the glyphs"
+    );
 
-    // The same fit written as .mif and .mif.gz reads back the same.
+    // The same fit written as .mif and .mif.gz reads back in scanner axes.
     for name in ["out.mif", "out.mif.gz"] {
         let output = dir.join(name);
         fit(&data("small_64D.nii"), true, &output);
         let (got, affine) = read_back(&output);
-        assert_eq!(got, want, "{name}");
+        assert_close(&got, &want_world, name);
         assert_affines_match(affine, nifti_affine, name);
         let image = read_mif(&output).unwrap();
         let keys = &image.header.other;
@@ -444,10 +464,31 @@ fn fit_reads_mrtrix_dwis_and_writes_mrtrix_output() {
     fit(&dwi, false, &output);
     let (got, affine) = read_back(&output);
     assert_affines_match(affine, nifti_affine, "dw_scheme fit");
-    let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    for ((index, g), w) in got.indexed_iter().zip(want.iter()) {
-        assert!((g - w).abs() <= 1e-5 * scale, "{index:?}: {g} vs {w}");
+    assert_close(&got, &want_world, "dw_scheme fit");
+}
+
+/// Band-4 tournier07 coefficients [x, y, z, 15] in the voxel axes of `affine`, turned
+/// into scanner axes with the library's reorientation.
+fn to_scanner_axes(voxel: &ArrayD<f64>, affine: DMat4) -> ArrayD<f64> {
+    let map = VoxelToWorld::new(affine, AffineSource::Sform, "test", "affine").unwrap();
+    let rotation = map.orthogonal_factor().expect("a rotation");
+    let kind = GlyphKind::Sh {
+        band: 4,
+        basis: ShBasis::Tournier07,
+        legacy: false,
+    };
+    let turn = Reorientation::new(rotation).for_kind(kind).unwrap();
+    let mut world = voxel.clone();
+    for mut glyph in world.lanes_mut(ndarray::Axis(3)) {
+        let series: Vec<f64> = glyph.iter().copied().collect();
+        if series.iter().all(|&c| c == 0.0) {
+            continue;
+        }
+        for (out, value) in glyph.iter_mut().zip(turn.apply(&series).unwrap()) {
+            *out = value;
+        }
     }
+    world
 }
 
 #[test]

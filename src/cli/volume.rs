@@ -39,8 +39,8 @@ pub struct VolumeArgs {
     pub force_basis: bool,
     /// Axes of the coefficients: voxel (the image's voxel axes, as DIPY writes them;
     /// glyphs are turned by the affine's rotation) or world (scanner axes, as MRtrix
-    /// stores them). Default: voxel for NIfTI, world for MRtrix images (unless the header
-    /// says glyphcast_frame: voxel, as glyphcast fit writes).
+    /// stores them and glyphcast fit writes them). Default: voxel for NIfTI, world for
+    /// MRtrix images (unless the header says glyphcast_frame: voxel).
     #[arg(long, value_name = "FRAME", help_heading = "Volume input")]
     pub frame: Option<String>,
     /// The legacy variant of --basis (DIPY's legacy=True; MRtrix 0.2 for tournier07).

@@ -1,12 +1,15 @@
 //! Writing a coefficient volume, atomically: as a 4D float32 NIfTI-1 file with the DWI's
 //! header (affine, qform/sform codes, voxel size, units), or, when the name ends in
 //! `.mif` or `.mif.gz`, as an MRtrix image with the DWI's affine (`io::mif::write`) and
-//! the model in its header (`comments`, `glyphcast_sh_basis` or `glyphcast_tensor_order`,
-//! and `glyphcast_frame: voxel`: the coefficients are in voxel axes, see `gradients`).
+//! the model in its header (`comments`, `glyphcast_sh_basis` or `glyphcast_tensor_order`).
+//! The fit's coefficients are in the DWI's voxel axes (see `gradients`); a NIfTI keeps
+//! them so (DIPY's convention), while a `.mif` gets them turned into scanner axes, the
+//! frame MRtrix stores and mrview draws (the same rotation `render` applies to a
+//! voxel-frame volume, `volume::reorient`).
 //!
 //! The NIfTI file is encoded in memory (`io::nifti::write`) and written with
 //! `io::atomic`: to a temporary beside the target, flushed, then renamed over it.
-use ndarray::Array4;
+use ndarray::{Array4, Axis};
 use std::path::Path;
 
 use super::dwi::Dwi;
@@ -14,7 +17,10 @@ use super::{FitModel, basis_name};
 use crate::io::atomic::write_atomic;
 use crate::io::mif::{MifKind, MifWrite, write_mif};
 use crate::io::nifti::NiftiHeader;
+use crate::io::nifti::VoxelToWorld;
 use crate::io::nifti::write::nifti1_bytes;
+use crate::scene::GlyphKind;
+use crate::volume::Reorientation;
 use crate::{Error, Result};
 
 /// The NIfTI endings written.
@@ -47,8 +53,7 @@ pub fn write_output(path: &Path, coeffs: &Array4<f64>, dwi: &Dwi, model: &FitMod
                     keys.push(("glyphcast_tensor_order", order.to_string()));
                 }
             }
-            keys.push(("glyphcast_frame", "voxel".to_string()));
-            let data = coeffs.clone().into_dyn();
+            let data = to_world_frame(coeffs, &voxel_to_world, model, &dwi.file)?.into_dyn();
             write_mif(
                 path,
                 &MifWrite {
@@ -60,6 +65,51 @@ pub fn write_output(path: &Path, coeffs: &Array4<f64>, dwi: &Dwi, model: &FitMod
         }
         _ => write_coefficients(path, coeffs, &dwi.header, &model.description()),
     }
+}
+
+/// `coeffs` ([x, y, z, coefficient], in the DWI's voxel axes) turned into scanner axes:
+/// each voxel's glyph g(u) = f(R^T u), R the orthogonal factor of `map`.
+fn to_world_frame(
+    coeffs: &Array4<f64>,
+    map: &VoxelToWorld,
+    model: &FitModel,
+    dwi: &str,
+) -> Result<Array4<f64>> {
+    let rotation = map.orthogonal_factor().ok_or_else(|| {
+        Error::input(
+            dwi,
+            "affine",
+            "the polar decomposition of the affine did not converge",
+        )
+    })?;
+    let kind = match *model {
+        FitModel::Tensor { order } => GlyphKind::Tensor(crate::glyph::TensorLayout {
+            order,
+            symmetry: crate::glyph::Symmetry::Symmetric,
+        }),
+        FitModel::Sh {
+            band,
+            basis,
+            legacy,
+            ..
+        } => GlyphKind::Sh {
+            band,
+            basis,
+            legacy,
+        },
+    };
+    let rotate = Reorientation::new(rotation).for_kind(kind)?;
+    let mut world = coeffs.clone();
+    for mut glyph in world.lanes_mut(Axis(3)) {
+        if glyph.iter().all(|&c| c == 0.0) {
+            continue;
+        }
+        let voxel: Vec<f64> = glyph.iter().copied().collect();
+        for (out, value) in glyph.iter_mut().zip(rotate.apply(&voxel)?) {
+            *out = value;
+        }
+    }
+    Ok(world)
 }
 
 /// Writes `coeffs` ([x, y, z, coefficient]) as float32, copying `reference`'s header

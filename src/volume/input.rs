@@ -4,8 +4,8 @@
 //!
 //! A volume also knows the frame its coefficients are in ([`CoefficientFrame`]): NIfTI
 //! files are taken in voxel axes (as DIPY writes them), MRtrix files in scanner axes (as
-//! MRtrix stores and mrview draws them) unless their header says `glyphcast_frame: voxel`
-//! (what `glyphcast fit` writes into a `.mif`).
+//! MRtrix stores, mrview draws and `glyphcast fit` writes them) unless their header says
+//! `glyphcast_frame: voxel`.
 use std::fmt;
 use std::path::Path;
 use std::str::FromStr;
