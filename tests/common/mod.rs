@@ -104,33 +104,26 @@ pub fn glyphcast(args: &[&str]) -> Output {
 }
 
 /// Writes `data` (first three axes spatial) as a float32 NIfTI-1 file whose sform
-/// (code 1, scanner) is `affine`, with an empty description.
-pub fn write_nifti(path: &std::path::Path, data: &ndarray::ArrayD<f64>, affine: glam::DMat4) {
+/// (code 1, scanner) is `affine`, with an empty description, through glyphcast's own
+/// writer (gzip-compressed when the name ends in `.gz`).
+pub fn write_nifti(path: &Path, data: &ndarray::ArrayD<f64>, affine: glam::DMat4) {
     let linear = glam::DMat3::from_mat4(affine);
-    let row = |r: usize| affine.row(r).to_array().map(|v| v as f32);
-    let header = ::nifti::NiftiHeader {
-        pixdim: [
-            1.0,
-            linear.x_axis.length() as f32,
-            linear.y_axis.length() as f32,
-            linear.z_axis.length() as f32,
-            1.0,
-            1.0,
-            1.0,
-            1.0,
-        ],
+    let row = |r: usize| affine.row(r).to_array();
+    let lengths = [linear.x_axis, linear.y_axis, linear.z_axis].map(|c| c.length());
+    let header = glyphcast::io::nifti::NiftiHeader {
+        pixdim: [1.0, lengths[0], lengths[1], lengths[2], 1.0, 1.0, 1.0, 1.0],
         sform_code: 1,
         qform_code: 0,
         srow_x: row(0),
         srow_y: row(1),
         srow_z: row(2),
-        ..::nifti::NiftiHeader::default()
+        ..Default::default()
     };
-    ::nifti::writer::WriterOptions::new(path)
-        .reference_header(&header)
-        // The writer takes C or Fortran order, not the negative strides of a flip.
-        .write_nifti(&data.mapv(|v| v as f32).as_standard_layout())
-        .expect("writing a test NIfTI");
+    let gzip = path.extension().is_some_and(|e| e == "gz");
+    let name = path.display().to_string();
+    let bytes = glyphcast::io::nifti::write::nifti1_bytes(&header, data.view(), gzip, &name)
+        .expect("encoding a test NIfTI");
+    std::fs::write(path, bytes).expect("writing a test NIfTI");
 }
 
 /// `data` reversed along its first (x) axis, and the affine of the same world grid for
