@@ -28,6 +28,10 @@ pub enum Error {
     /// GPU memory allocation failed.
     #[error("GPU memory: {0}")]
     Allocation(#[from] gpu_allocator::AllocationError),
+    /// Host memory for a large buffer (an image's read-back, a volume's voxels, an
+    /// encoded output) could not be allocated; the message says what needed it.
+    #[error("out of memory: {0}")]
+    OutOfMemory(String),
     /// The validation layer reported errors (only when validation is on).
     #[error("Vulkan validation reported {} error(s); first: {}", .0.len(), .0.first().map(String::as_str).unwrap_or(""))]
     Validation(Vec<String>),
@@ -58,6 +62,34 @@ impl Error {
             path: path.as_ref().display().to_string(),
             message: err.to_string(),
         }
+    }
+
+    /// Whether the error is a lack of memory, host or GPU: a caller may free some and
+    /// try again, or ask for less (a smaller image, fewer glyphs).
+    pub fn is_out_of_memory(&self) -> bool {
+        match self {
+            Error::OutOfMemory(_) => true,
+            Error::Allocation(err) => {
+                matches!(err, gpu_allocator::AllocationError::OutOfMemory)
+            }
+            Error::Vulkan { result, .. } => matches!(
+                *result,
+                vk::Result::ERROR_OUT_OF_HOST_MEMORY | vk::Result::ERROR_OUT_OF_DEVICE_MEMORY
+            ),
+            _ => false,
+        }
+    }
+
+    /// Whether the device was lost (driver reset, GPU hang): every object made with it
+    /// must be dropped and the device created again.
+    pub fn is_device_lost(&self) -> bool {
+        matches!(
+            self,
+            Error::Vulkan {
+                result: vk::Result::ERROR_DEVICE_LOST,
+                ..
+            }
+        )
     }
 
     /// The same error as a usage error (exit code 2) when it is about the request itself
@@ -107,7 +139,28 @@ impl<T> VkContext<T> for std::result::Result<T, vk::Result> {
 
 #[cfg(test)]
 mod tests {
-    use super::quoted;
+    use super::{Error, quoted, vk};
+
+    #[test]
+    fn memory_and_device_loss_are_told_apart_from_other_errors() {
+        let host = Error::OutOfMemory("a 16384 x 16384 read-back".into());
+        let gpu = Error::Allocation(gpu_allocator::AllocationError::OutOfMemory);
+        let device_memory = Error::Vulkan {
+            call: "vkAllocateMemory",
+            result: vk::Result::ERROR_OUT_OF_DEVICE_MEMORY,
+        };
+        let lost = Error::Vulkan {
+            call: "vkQueueSubmit",
+            result: vk::Result::ERROR_DEVICE_LOST,
+        };
+        let input = Error::input("a.nii", "dim", "too large");
+        for err in [&host, &gpu, &device_memory] {
+            assert!(err.is_out_of_memory() && !err.is_device_lost(), "{err}");
+        }
+        assert!(lost.is_device_lost() && !lost.is_out_of_memory());
+        assert!(!input.is_out_of_memory() && !input.is_device_lost());
+        assert!(host.to_string().starts_with("out of memory: "));
+    }
 
     #[test]
     fn quoted_text_is_one_short_line() {

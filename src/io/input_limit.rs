@@ -47,11 +47,9 @@ pub fn check_input_size(file: &str, bytes: u64, what: &str) -> Result<()> {
 pub fn try_vec<T>(count: usize, file: &str) -> Result<Vec<T>> {
     let mut values = Vec::new();
     values.try_reserve_exact(count).map_err(|err| {
-        Error::input(
-            file,
-            "dim",
-            format!("cannot allocate memory for {count} values: {err}"),
-        )
+        Error::OutOfMemory(format!(
+            "{file}: {count} values, as the header declares: {err}"
+        ))
     })?;
     Ok(values)
 }

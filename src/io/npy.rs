@@ -36,7 +36,7 @@ pub fn encode_depth_npy(path: &Path, width: u32, height: u32, depth: &[f32]) -> 
         )));
     }
     encode_f32(&shape, depth).ok_or_else(|| {
-        Error::Invalid(format!(
+        Error::OutOfMemory(format!(
             "{}: the {width} x {height} depth map needs {} MiB of memory to encode, which could not be allocated",
             path.display(),
             depth.len() >> 18

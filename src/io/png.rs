@@ -36,13 +36,11 @@ fn check_encoding_memory(path: &Path, image_bytes: usize) -> Result<()> {
     probe
         .try_reserve_exact(image_bytes.saturating_mul(2))
         .map_err(|_| {
-            Error::io(
-                path,
-                format!(
-                    "encoding the PNG needs about {} MiB of memory, which could not be allocated",
-                    image_bytes.saturating_mul(2) >> 20
-                ),
-            )
+            Error::OutOfMemory(format!(
+                "{}: encoding the PNG needs about {} MiB of memory, which could not be allocated",
+                path.display(),
+                image_bytes.saturating_mul(2) >> 20
+            ))
         })
 }
 

@@ -63,10 +63,7 @@ impl<'a> Batch<'a> {
         values
             .try_reserve_exact(self.len * per_glyph)
             .map_err(|_| {
-                Error::Invalid(format!(
-                    "out of memory gathering {} glyphs for one draw",
-                    self.len
-                ))
+                Error::OutOfMemory(format!("gathering {} glyphs for one draw", self.len))
             })?;
         for piece in &self.pieces {
             values.extend_from_slice(slice(piece));

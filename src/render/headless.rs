@@ -522,7 +522,7 @@ fn read_back(t: &Targets, width: u32, height: u32) -> Result<RenderedImage> {
 fn host_buffer<T>(len: usize, width: u32, height: u32) -> Result<Vec<T>> {
     let mut buffer = Vec::new();
     buffer.try_reserve_exact(len).map_err(|_| {
-        Error::Invalid(format!(
+        Error::OutOfMemory(format!(
             "a {width} x {height} image needs {} MiB of host memory for its read-back, which could not be allocated: ask for a smaller --width/--height",
             (len * std::mem::size_of::<T>()) >> 20
         ))
