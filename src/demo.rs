@@ -10,7 +10,7 @@ use crate::camera::{Camera, Projection};
 use crate::glyph::bounds::bounding_radius;
 use crate::glyph::monomials::monomials;
 use crate::glyph::polynomial::GlyphPolynomial;
-use crate::glyph::stiffness::{VoigtStiffness, rotate_order4};
+use crate::glyph::stiffness::VoigtStiffness;
 use crate::glyph::{NegativeMode, Symmetry, TensorLayout};
 use crate::scene::{GlyphKind, GlyphSet, ImageSize, Scene};
 use crate::{Error, Result};
@@ -120,8 +120,8 @@ const STIFFNESS_GLYPH_SIZE: f64 = 0.45;
 /// cube axes, a <110> and a <111> direction facing up.
 pub fn stiffness_demo_scene() -> Scene {
     let (c11, c12, c44) = COPPER_GPA;
-    let crystal = VoigtStiffness::cubic(c11, c12, c44).full_tensor();
-    let largest = max_radius(4, Symmetry::NonSymmetric, &crystal).unwrap_or(1.0);
+    let copper = VoigtStiffness::cubic(c11, c12, c44);
+    let largest = max_radius(4, Symmetry::NonSymmetric, &copper.full_tensor()).unwrap_or(1.0);
     let tilt_max = (2f64.sqrt()).atan();
     let mut centers = Vec::new();
     let mut coeffs = Vec::new();
@@ -131,7 +131,7 @@ pub fn stiffness_demo_scene() -> Scene {
             let tilt = tilt_max * row as f64 / 4.0;
             let rotation = DMat3::from_rotation_z(turn) * DMat3::from_rotation_x(tilt);
             centers.push(DVec3::new(col as f64 - 2.0, row as f64 - 2.0, 0.0));
-            coeffs.push(rotate_order4(&crystal, rotation));
+            coeffs.push(copper.rotated(rotation));
         }
     }
     let kind = GlyphKind::Tensor(TensorLayout {

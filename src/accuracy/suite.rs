@@ -4,7 +4,7 @@
 //! tensor, negative lobes shown and hidden, real SH data, a camera inside a glyph's box, and sizes and distances over 10^6.
 use crate::camera::{Camera, Projection};
 use crate::demo::{direction, fibre_tensor, glyph_set, symmetric};
-use crate::glyph::stiffness::{VoigtStiffness, rotate_order4};
+use crate::glyph::stiffness::VoigtStiffness;
 use crate::glyph::{NegativeMode, Symmetry, TensorLayout};
 use crate::scene::{GlyphKind, GlyphSet, ImageSize, Scene, ShBasis};
 use glam::{DMat3, DVec3};
@@ -82,8 +82,8 @@ pub fn order_12(size: u32) -> Scene {
 /// Cubic copper (C11 168.4, C12 121.4, C44 75.4 GPa, divided by C11), all 81 entries.
 pub fn stiffness(size: u32) -> Scene {
     let rotation = DMat3::from_euler(glam::EulerRot::ZYX, 0.4, 0.3, 0.2);
-    let crystal = VoigtStiffness::cubic(1.0, 121.4 / 168.4, 75.4 / 168.4).full_tensor();
-    let coeffs = rotate_order4(&crystal, rotation);
+    let crystal = VoigtStiffness::cubic(1.0, 121.4 / 168.4, 75.4 / 168.4);
+    let coeffs = crystal.rotated(rotation);
     let kind = GlyphKind::Tensor(TensorLayout {
         order: 4,
         symmetry: Symmetry::NonSymmetric,

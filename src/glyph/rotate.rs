@@ -1,5 +1,8 @@
-//! Rotation of a symmetric tensor glyph: the tensor t' with f'(u) = f(R^T u), i.e.
-//! t'_(j1..jn) = sum R_(j1 i1) ... R_(jn in) t_(i1..in).
+//! Rotation of tensor glyphs, the one place for it: the tensor t' with f'(u) = f(R^T u),
+//! i.e. t'_(j1..jn) = sum R_(j1 i1) ... R_(jn in) t_(i1..in), for symmetric tensors
+//! ([`rotate_symmetric_tensor`]) and full ones ([`rotate_full_tensor`]: non-symmetric
+//! glyphs, stiffness tensors). SH series rotate by their own matrices
+//! ([`crate::glyph::sh::rotate_sh`]); `volume::reorient` picks the one a glyph kind needs.
 //!
 //! Instead of contracting the full 3^n tensor n times, the polynomial is rotated by
 //! substitution: q_i = (R^T u)_i is the linear form with the coefficients of column i of
@@ -83,4 +86,38 @@ pub(crate) fn check_orthogonal(r: DMat3) -> Result<()> {
         )));
     }
     Ok(())
+}
+/// g(u) = f(R^T u) for a full tensor of order n stored row-major (i1 most significant):
+/// T'[i1..in] = sum over j of R[i1][j1] ... R[in][jn] T[j1..jn], applied one index at a
+/// time (n passes of 3 multiply-adds per entry instead of 3^n per entry).
+pub fn rotate_full_tensor(order: u32, coeffs: &[f64], r: DMat3) -> Result<Vec<f64>> {
+    let count = 3usize.pow(order);
+    if coeffs.len() != count {
+        return Err(Error::Invalid(format!(
+            "non-symmetric tensor of order {order} needs {count} coefficients, got {}",
+            coeffs.len()
+        )));
+    }
+    Ok(turn_each_index(order, coeffs, r))
+}
+
+/// [`rotate_full_tensor`] once the length is known to be 3^order.
+pub(crate) fn turn_each_index(order: u32, coeffs: &[f64], r: DMat3) -> Vec<f64> {
+    let count = coeffs.len();
+    // rows[i][j] = R_ij (glam stores columns).
+    let rows = [r.row(0), r.row(1), r.row(2)];
+    let mut current = coeffs.to_vec();
+    let mut next = vec![0.0; count];
+    for axis in 0..order {
+        let stride = 3usize.pow(order - 1 - axis);
+        for (flat, out) in next.iter_mut().enumerate() {
+            let i = (flat / stride) % 3;
+            let base = flat - i * stride;
+            *out = (0..3)
+                .map(|j| rows[i][j] * current[base + j * stride])
+                .sum();
+        }
+        std::mem::swap(&mut current, &mut next);
+    }
+    current
 }

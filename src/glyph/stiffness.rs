@@ -159,6 +159,12 @@ impl VoigtStiffness {
             .collect()
     }
 
+    /// All 81 entries of the crystal turned by `rotation`: C'_ijkl = R_ia R_jb R_kc R_ld
+    /// C_abcd ([`crate::glyph::rotate`]).
+    pub fn rotated(&self, rotation: DMat3) -> Vec<f64> {
+        crate::glyph::rotate::turn_each_index(4, &self.full_tensor(), rotation)
+    }
+
     /// The 15 unique coefficients of the fully symmetric part, in the scene order.
     pub fn symmetric_part(&self) -> Vec<f64> {
         fully_symmetric_part(4, &self.full_tensor())
@@ -184,24 +190,6 @@ pub fn fully_symmetric_part(order: u32, full: &[f64]) -> Vec<f64> {
         .zip(sums)
         .map(|(m, sum)| sum / multiplicity(m) as f64)
         .collect()
-}
-
-/// C'_ijkl = R_ia R_jb R_kc R_ld C_abcd: the tensor of the crystal turned by `rotation`.
-/// One index is transformed at a time (4 x 81 x 3 products, not 81 x 81 x 4).
-pub fn rotate_order4(full: &[f64], rotation: DMat3) -> Vec<f64> {
-    let r = |i: usize, a: usize| rotation.col(a)[i];
-    let mut current = full.to_vec();
-    for slot in 0..4 {
-        let stride = 3usize.pow(3 - slot);
-        let mut next = vec![0.0; 81];
-        for (flat, out) in next.iter_mut().enumerate() {
-            let i = flat / stride % 3;
-            let base = flat - i * stride;
-            *out = (0..3).map(|a| r(i, a) * current[base + a * stride]).sum();
-        }
-        current = next;
-    }
-    current
 }
 
 #[cfg(test)]

@@ -32,5 +32,5 @@ pub use framing::{
 };
 pub use input::{CoefficientFrame, MAX_ORDER, Mask, Volume, VolumeKind, load_mask, load_volume};
 pub use recorded::{RecordedBasis, recorded_basis, resolve_basis};
-pub use reorient::{Reorientation, rotate_full_tensor};
+pub use reorient::Reorientation;
 pub use selection::{Slice, SliceAxis, SliceRegion, Slices, VoxelRanges};

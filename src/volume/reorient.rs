@@ -12,6 +12,7 @@
 //! axis-aligned volumes both the work and the rounding.
 use glam::DMat3;
 
+use crate::glyph::rotate::rotate_full_tensor;
 use crate::glyph::sh;
 use crate::glyph::{Symmetry, TensorLayout};
 use crate::scene::GlyphKind;
@@ -137,35 +138,6 @@ fn non_identity(r: DMat3) -> Option<DMat3> {
     let difference = (r - DMat3::IDENTITY).to_cols_array();
     let largest = difference.iter().fold(0.0f64, |m, d| m.max(d.abs()));
     (largest > IDENTITY_TOLERANCE).then_some(r)
-}
-
-/// g(u) = f(R^T u) for a full tensor of order n stored row-major (i1 most significant):
-/// T'[i1..in] = sum over j of R[i1][j1] ... R[in][jn] T[j1..jn], applied one index at a
-/// time (n passes of 3 multiply-adds per entry instead of 3^n per entry).
-pub fn rotate_full_tensor(order: u32, coeffs: &[f64], r: DMat3) -> Result<Vec<f64>> {
-    let count = 3usize.pow(order);
-    if coeffs.len() != count {
-        return Err(Error::Invalid(format!(
-            "non-symmetric tensor of order {order} needs {count} coefficients, got {}",
-            coeffs.len()
-        )));
-    }
-    // rows[i][j] = R_ij (glam stores columns).
-    let rows = [r.row(0), r.row(1), r.row(2)];
-    let mut current = coeffs.to_vec();
-    let mut next = vec![0.0; count];
-    for axis in 0..order {
-        let stride = 3usize.pow(order - 1 - axis);
-        for (flat, out) in next.iter_mut().enumerate() {
-            let i = (flat / stride) % 3;
-            let base = flat - i * stride;
-            *out = (0..3)
-                .map(|j| rows[i][j] * current[base + j * stride])
-                .sum();
-        }
-        std::mem::swap(&mut current, &mut next);
-    }
-    Ok(current)
 }
 
 #[cfg(test)]

@@ -82,10 +82,7 @@ fn symmetric_part_is_the_same_glyph_function() {
     let rotation = DMat3::from_axis_angle(DVec3::new(1.0, 2.0, 0.5).normalize(), 0.7);
     let general = VoigtStiffness::from_matrix(general_matrix(), ShearOrder::Standard, "g").unwrap();
     for stiffness in [copper(), general] {
-        for full in [
-            stiffness.full_tensor(),
-            rotate_order4(&stiffness.full_tensor(), rotation),
-        ] {
+        for full in [stiffness.full_tensor(), stiffness.rotated(rotation)] {
             let sym = fully_symmetric_part(4, &full);
             let f_full = polynomial(Symmetry::NonSymmetric, &full);
             let f_sym = polynomial(Symmetry::Symmetric, &sym);
@@ -106,7 +103,7 @@ fn symmetric_part_is_the_same_glyph_function() {
 fn rotation_turns_the_glyph_and_keeps_the_symmetries() {
     let rotation = DMat3::from_rotation_z(0.4) * DMat3::from_rotation_x(-1.1);
     let c = copper().full_tensor();
-    let turned = rotate_order4(&c, rotation);
+    let turned = copper().rotated(rotation);
     let f = polynomial(Symmetry::NonSymmetric, &c);
     let g = polynomial(Symmetry::NonSymmetric, &turned);
     let mut rng = Rng::new(41);
