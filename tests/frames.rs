@@ -11,7 +11,7 @@
 //!   asks for `--basis` (exit 2) when a NIfTI records nothing.
 mod common;
 
-use common::{flipped_in_x, glyphcast, write_nifti};
+use common::{dipy_data, flipped_in_x, glyphcast, text, write_nifti};
 use glam::DMat4;
 use glyphcast::io::image::read_image;
 use glyphcast::io::mif::write::mif_bytes;
@@ -22,21 +22,9 @@ use ndarray::ArrayD;
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
-fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/dipy")
-        .join(name)
-}
-
+/// A fresh folder for one test of this file.
 fn fresh_dir(name: &str) -> PathBuf {
-    let dir = common::output_dir().join("frames").join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("creating a test folder");
-    dir
-}
-
-fn text(path: &Path) -> &str {
-    path.to_str().expect("utf-8 path")
+    common::fresh_dir(&format!("frames/{name}"))
 }
 
 fn succeeded(out: &Output, what: &str) {
@@ -121,7 +109,7 @@ fn write_volume_axis_first(path: &Path, data: &ArrayD<f64>, affine: DMat4) {
 #[test]
 fn a_world_frame_fod_draws_the_same_whatever_its_storage() {
     let dir = fresh_dir("storage");
-    let fod = read_image(&data("func_coef.nii.gz"))
+    let fod = read_image(&dipy_data("func_coef.nii.gz"))
         .expect("func_coef")
         .data;
     assert_eq!(fod.shape(), &[2, 3, 4, 45]);
@@ -190,7 +178,7 @@ fn a_world_frame_fod_draws_the_same_whatever_its_storage() {
 
 /// The DWI, and its affine, as glyphcast reads them.
 fn small_64d() -> (ArrayD<f64>, DMat4) {
-    let image = read_image(&data("small_64D.nii")).expect("small_64D");
+    let image = read_image(&dipy_data("small_64D.nii")).expect("small_64D");
     (image.data, image.voxel_to_world.affine)
 }
 
@@ -214,7 +202,7 @@ fn an_x_flipped_dwi_with_fsl_bvecs_fits_the_same_glyphs() {
     let flipped_path = dir.join("flipped.nii.gz");
     write_nifti(&original_path, &dwi, affine);
     write_nifti(&flipped_path, &flipped, flipped_affine);
-    let (bval, bvec) = (data("small_64D.bval"), data("small_64D.bvec"));
+    let (bval, bvec) = (dipy_data("small_64D.bval"), dipy_data("small_64D.bvec"));
     let fit = |dwi: &Path, output: &Path, extra: &[&str]| {
         let mut args = vec![
             "fit",
@@ -294,8 +282,8 @@ fn render_failure(dir: &Path, args: &[&str]) -> (i32, String) {
 #[test]
 fn render_takes_the_basis_fit_recorded_and_refuses_a_contradiction() {
     let dir = fresh_dir("basis");
-    let dwi = data("small_64D.nii");
-    let (bval, bvec) = (data("small_64D.bval"), data("small_64D.bvec"));
+    let dwi = dipy_data("small_64D.nii");
+    let (bval, bvec) = (dipy_data("small_64D.bval"), dipy_data("small_64D.bvec"));
     for (output, field) in [("fitted.nii.gz", "descrip"), ("fitted.mif", "comments")] {
         let fitted = dir.join(output);
         let args = [
@@ -355,7 +343,7 @@ fn render_takes_the_basis_fit_recorded_and_refuses_a_contradiction() {
 /// Writes func_coef as a `.mif` with its affine and the header line `key: value`;
 /// returns its values and affine.
 fn func_coef_as_mif(path: &Path, (key, value): (&str, &str)) -> (ArrayD<f64>, DMat4) {
-    let fod = read_image(&data("func_coef.nii.gz")).expect("func_coef");
+    let fod = read_image(&dipy_data("func_coef.nii.gz")).expect("func_coef");
     let (values, affine) = (fod.data, fod.voxel_to_world.affine);
     let keys = [(key, value.to_string())];
     let image = MifWrite {
@@ -428,7 +416,7 @@ fn fit_writes_mif_in_scanner_axes_on_an_oblique_grid() {
     let turn = DMat4::from_rotation_z(0.5) * DMat4::from_rotation_x(0.2);
     let oblique = dir.join("oblique.nii.gz");
     write_nifti(&oblique, &dwi, turn * affine);
-    let (bval, bvec) = (data("small_64D.bval"), data("small_64D.bvec"));
+    let (bval, bvec) = (dipy_data("small_64D.bval"), dipy_data("small_64D.bvec"));
     let mut maps = Vec::new();
     let mut coefficients = Vec::new();
     for name in ["sh.nii.gz", "sh.mif"] {

@@ -7,7 +7,7 @@
 //! with one line naming the file and the field.
 mod common;
 
-use common::{expect_failure, glyphcast};
+use common::{dipy_data, expect_failure, glyphcast, text};
 
 use glam::{DMat3, DMat4, DVec3};
 use glyphcast::io::image::{ImageHeader, read_image};
@@ -19,21 +19,9 @@ use ndarray::{Array3, ArrayD, IxDyn};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/dipy")
-        .join(name)
-}
-
+/// A fresh folder for one test of this file.
 fn fresh_dir(name: &str) -> PathBuf {
-    let dir = common::output_dir().join("mif").join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("creating a test folder");
-    dir
-}
-
-fn text(path: &Path) -> &str {
-    path.to_str().expect("utf-8 path")
+    common::fresh_dir(&format!("mif/{name}"))
 }
 
 /// How a fixture stores its values.
@@ -212,7 +200,7 @@ fn assert_affines_match(got: DMat4, want: DMat4, what: &str) {
 #[test]
 fn func_coef_reads_the_same_in_every_layout_and_type() {
     let dir = fresh_dir("func-coef");
-    let nifti = read_image(&data("func_coef.nii.gz")).expect("reading the NIfTI");
+    let nifti = read_image(&dipy_data("func_coef.nii.gz")).expect("reading the NIfTI");
     let values = nifti.data.clone();
     assert_eq!(values.shape(), &[2, 3, 4, 45]);
     let affine = nifti.voxel_to_world.affine;
@@ -253,7 +241,7 @@ fn func_coef_reads_the_same_in_every_layout_and_type() {
             legacy: false,
         };
         let volume = load_volume(&path, kind).expect("as a volume");
-        let reference = load_volume(&data("func_coef.nii.gz"), kind).unwrap();
+        let reference = load_volume(&dipy_data("func_coef.nii.gz"), kind).unwrap();
         assert_eq!(volume.kind, reference.kind, "{name}");
         assert_eq!(volume.dims, reference.dims, "{name}");
     }
@@ -329,7 +317,7 @@ fn a_bit_mask_reads_as_the_nifti_mask_does() {
 /// its gradient table as dw_scheme in scanner coordinates: d_world = R d_bvec, R the
 /// orthogonal factor of the affine (the bvecs are in voxel axes).
 fn small_64d_mif(dir: &Path, name: &str, layout: &'static str, with_scheme: bool) -> PathBuf {
-    let nifti = read_image(&data("small_64D.nii")).unwrap();
+    let nifti = read_image(&dipy_data("small_64D.nii")).unwrap();
     let storage = Storage {
         layout,
         datatype: "Int16LE",
@@ -339,7 +327,7 @@ fn small_64d_mif(dir: &Path, name: &str, layout: &'static str, with_scheme: bool
     if with_scheme {
         let rotation = nifti.voxel_to_world.orthogonal_factor().unwrap();
         let numbers = |name: &str| -> Vec<f64> {
-            std::fs::read_to_string(data(name))
+            std::fs::read_to_string(dipy_data(name))
                 .unwrap()
                 .split_whitespace()
                 .map(|t| t.parse().unwrap())
@@ -389,7 +377,7 @@ fn read_back(path: &Path) -> (ArrayD<f64>, DMat4) {
 #[test]
 fn fit_reads_mrtrix_dwis_and_writes_mrtrix_output() {
     let dir = fresh_dir("fit");
-    let (bval, bvec) = (data("small_64D.bval"), data("small_64D.bvec"));
+    let (bval, bvec) = (dipy_data("small_64D.bval"), dipy_data("small_64D.bvec"));
     let nifti_out = dir.join("nifti.nii");
     let sh = ["--sh", "--order", "4", "--basis", "mrtrix", "--quiet"];
     let fit = |dwi: &Path, tables: bool, output: &Path| {
@@ -400,7 +388,7 @@ fn fit_reads_mrtrix_dwis_and_writes_mrtrix_output() {
         args.extend(sh);
         run_ok(&args);
     };
-    fit(&data("small_64D.nii"), true, &nifti_out);
+    fit(&dipy_data("small_64D.nii"), true, &nifti_out);
     let (want, nifti_affine) = read_back(&nifti_out);
     // A .mif holds the same glyphs in scanner axes (MRtrix's frame): each voxel's series
     // turned by the affine's orthogonal factor, as `render` turns a voxel-frame volume.
@@ -425,7 +413,7 @@ fn fit_reads_mrtrix_dwis_and_writes_mrtrix_output() {
     // The same fit written as .mif and .mif.gz reads back in scanner axes.
     for name in ["out.mif", "out.mif.gz"] {
         let output = dir.join(name);
-        fit(&data("small_64D.nii"), true, &output);
+        fit(&dipy_data("small_64D.nii"), true, &output);
         let (got, affine) = read_back(&output);
         assert_close(&got, &want_world, name);
         assert_affines_match(affine, nifti_affine, name);
@@ -626,7 +614,7 @@ fn bad_mrtrix_files_fail_cleanly_naming_file_and_field() {
 #[test]
 fn render_takes_an_mrtrix_sh_volume_with_the_mrtrix_basis() {
     let dir = fresh_dir("render");
-    let nifti = read_image(&data("func_coef.nii.gz")).unwrap();
+    let nifti = read_image(&dipy_data("func_coef.nii.gz")).unwrap();
     let storage = Storage {
         layout: "+1,+2,+3,+0",
         datatype: "Float32LE",
@@ -655,7 +643,10 @@ fn render_takes_an_mrtrix_sh_volume_with_the_mrtrix_basis() {
         "",
     );
     let scenes = ["mif.json", "nii.json"].map(|n| dir.join(n));
-    for (input, scene) in [(&path, &scenes[0]), (&data("func_coef.nii.gz"), &scenes[1])] {
+    for (input, scene) in [
+        (&path, &scenes[0]),
+        (&dipy_data("func_coef.nii.gz"), &scenes[1]),
+    ] {
         let png = dir.join("out.png");
         run_ok(&[
             "render",

@@ -5,7 +5,7 @@
 //! writes letters at the image's edges and nowhere else.
 mod common;
 
-use common::{flipped_in_x, glyphcast, write_nifti};
+use common::{flipped_in_x, glyphcast, text, write_nifti};
 use glam::{DMat4, DVec3};
 use glyphcast::io::npy::read_npy_f32;
 use glyphcast::io::png::read_png_rgba8;
@@ -14,15 +14,9 @@ use std::path::{Path, PathBuf};
 
 const SIDE: usize = 48;
 
+/// A fresh folder for one test of this file.
 fn fresh_dir(name: &str) -> PathBuf {
-    let dir = common::output_dir().join("orientation").join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("creating a test folder");
-    dir
-}
-
-fn text(path: &Path) -> &str {
-    path.to_str().expect("utf-8 path")
+    common::fresh_dir(&format!("orientation/{name}"))
 }
 
 /// A 3 x 3 x 3 volume of order-2 tensors, zero but for a sphere at `voxel`, with 2 mm

@@ -3,12 +3,13 @@
 //! (on lavapipe, with the validation layer), and the same field rendered in the library
 //! matches the float64 reference.
 mod common;
+use common::text;
 use glyphcast::demo::stiffness_demo_scene;
 use glyphcast::glyph::Symmetry;
 use glyphcast::render::RenderSettings;
 use glyphcast::render::headless::HeadlessRenderer;
 use glyphcast::scene::{GlyphKind, Scene};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::{Command, Output};
 
 const LAVAPIPE: &str = "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json";
@@ -22,15 +23,9 @@ fn glyphcast(args: &[&str]) -> Output {
         .expect("running glyphcast")
 }
 
+/// A fresh folder for one test of this file.
 fn fresh_dir(name: &str) -> PathBuf {
-    let dir = common::output_dir().join("stiffness").join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("creating a test folder");
-    dir
-}
-
-fn path_str(path: &Path) -> &str {
-    path.to_str().expect("utf-8 path")
+    common::fresh_dir(&format!("stiffness/{name}"))
 }
 
 const COPPER_CSV: &str = "# copper, GPa, standard Voigt order\n\
@@ -58,7 +53,7 @@ fn stiffness_command_writes_a_one_glyph_scene() {
         ),
     ] {
         let scene_path = dir.join(name);
-        let mut args = vec!["stiffness", path_str(&csv), "-o", path_str(&scene_path)];
+        let mut args = vec!["stiffness", text(&csv), "-o", text(&scene_path)];
         args.extend(extra);
         let out = glyphcast(&args);
         assert!(
@@ -108,10 +103,10 @@ fn stiffness_command_rejects_bad_files() {
         ("zero.csv", "0 0 0 0 0 0\n".repeat(6), "zero"),
         ("bad.json", "{\"voigt\": [[1, 2]]}".to_string(), "voigt"),
     ];
-    for (name, text, word) in cases {
+    for (name, content, word) in cases {
         let input = dir.join(name);
-        std::fs::write(&input, text).unwrap();
-        let out = glyphcast(&["stiffness", path_str(&input), "-o", path_str(&output)]);
+        std::fs::write(&input, content).unwrap();
+        let out = glyphcast(&["stiffness", text(&input), "-o", text(&output)]);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success(), "{name}: expected failure");
         let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
@@ -131,9 +126,9 @@ fn stiffness_command_rejects_bad_files() {
     std::fs::write(&input, COPPER_CSV).unwrap();
     let out = glyphcast(&[
         "stiffness",
-        path_str(&input),
+        text(&input),
         "-o",
-        path_str(&output),
+        text(&output),
         "--shear-order",
         "1,2,3",
     ]);
@@ -153,7 +148,7 @@ fn demo_stiffness_renders() {
         "demo",
         "--stiffness",
         "-o",
-        path_str(&png),
+        text(&png),
         "--width",
         "64",
         "--height",

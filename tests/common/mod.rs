@@ -141,6 +141,11 @@ pub fn flipped_in_x(
     (flipped, flipped_affine)
 }
 
+/// A path as the `&str` a command line takes (test paths are UTF-8).
+pub fn text(path: &Path) -> &str {
+    path.to_str().expect("utf-8 path")
+}
+
 /// A fresh, empty folder under the test output folder.
 pub fn fresh_dir(name: &str) -> PathBuf {
     let dir = output_dir().join(name);
