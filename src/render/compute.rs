@@ -23,7 +23,7 @@ use crate::render::glyph_data::GlyphSetData;
 use crate::render::raycast::shader_module;
 use crate::render::shaders::compute_raycast_shader;
 use crate::render::tiles::{ScreenView, TileBins, WALK_PER_DISPATCH, bin_glyphs};
-use crate::vk::{Buffer, DeviceContext};
+use crate::vk::{Buffer, BufferBinding, DescriptorPool, DeviceContext};
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use gpu_allocator::MemoryLocation;
@@ -71,9 +71,8 @@ struct ComputePartGpu {
 /// A scene uploaded for the compute ray caster at one image size and camera (the tile
 /// lists depend on both).
 pub struct ComputeSceneGpu {
-    ctx: DeviceContext,
     frame: Buffer,
-    pool: vk::DescriptorPool,
+    pool: DescriptorPool,
     parts: Vec<ComputePartGpu>,
     /// RGBA8 sRGB per pixel, row-major from the top-left.
     pub colors: Buffer,
@@ -233,7 +232,6 @@ impl ComputeRayCastPass {
         height: u32,
         background: [f32; 3],
     ) -> Result<ComputeSceneGpu> {
-        let device = ctx.device();
         let limit = self.storage_buffer_limit();
         let view = ScreenView::new(camera, width, height);
         // Parts: batches of glyphs whose coefficients and boxes fit one storage buffer
@@ -252,23 +250,7 @@ impl ComputeRayCastPass {
                  of {device_limit} bytes"
             )));
         }
-        let count = parts.len().max(1) as u32;
-        let sizes = [
-            vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::UNIFORM_BUFFER,
-                descriptor_count: count,
-            },
-            vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::STORAGE_BUFFER,
-                descriptor_count: count * (BINDINGS - 1),
-            },
-        ];
-        let pool_info = vk::DescriptorPoolCreateInfo::default()
-            .max_sets(count)
-            .pool_sizes(&sizes);
-        // SAFETY: valid create info.
-        let pool = unsafe { device.create_descriptor_pool(&pool_info, None) }
-            .vk("vkCreateDescriptorPool")?;
+        let pool = DescriptorPool::new(ctx, parts.len(), 1, BINDINGS - 1)?;
         let output = |name: &str| {
             Buffer::new(
                 ctx,
@@ -281,7 +263,6 @@ impl ComputeRayCastPass {
             )
         };
         let mut scene = ComputeSceneGpu {
-            ctx: ctx.clone(),
             frame: Buffer::with_data(
                 ctx,
                 "frame",
@@ -441,43 +422,18 @@ fn upload_part(
         Buffer::with_data(ctx, "tile ranges", &bins.ranges, storage)?,
         Buffer::with_data(ctx, "tile entries", &bins.entries, storage)?,
     ];
-    let layouts = [set_layout];
-    let alloc = vk::DescriptorSetAllocateInfo::default()
-        .descriptor_pool(scene.pool)
-        .set_layouts(&layouts);
-    let device = ctx.device();
-    // SAFETY: the pool was sized for one set per part.
-    let descriptor_set =
-        unsafe { device.allocate_descriptor_sets(&alloc) }.vk("vkAllocateDescriptorSets")?[0];
-    let whole = |buffer: &Buffer| {
-        [vk::DescriptorBufferInfo {
-            buffer: buffer.handle,
-            offset: 0,
-            range: vk::WHOLE_SIZE,
-        }]
-    };
-    let infos: Vec<[vk::DescriptorBufferInfo; 1]> = std::iter::once(&scene.frame)
+    // The frame, then the inputs and the outputs, at bindings 0, 1, 2, ... in order.
+    let buffers = std::iter::once(&scene.frame)
         .chain(&inputs)
-        .chain([&scene.colors, &scene.distances])
-        .map(whole)
-        .collect();
-    let writes: Vec<_> = infos
-        .iter()
+        .chain([&scene.colors, &scene.distances]);
+    let bindings: Vec<BufferBinding> = buffers
         .enumerate()
-        .map(|(binding, info)| {
-            vk::WriteDescriptorSet::default()
-                .dst_set(descriptor_set)
-                .dst_binding(binding as u32)
-                .descriptor_type(if binding == 0 {
-                    vk::DescriptorType::UNIFORM_BUFFER
-                } else {
-                    vk::DescriptorType::STORAGE_BUFFER
-                })
-                .buffer_info(info)
+        .map(|(binding, buffer)| match binding {
+            0 => BufferBinding::uniform(0, buffer),
+            _ => BufferBinding::storage(binding as u32, buffer),
         })
         .collect();
-    // SAFETY: the set and buffers are alive; no command buffer uses the set yet.
-    unsafe { device.update_descriptor_sets(&writes, &[]) };
+    let descriptor_set = scene.pool.buffer_set(set_layout, &bindings)?;
     Ok(ComputePartGpu {
         layout: glyphs.batch.layout,
         hide_negative: glyphs.batch.negative == crate::glyph::NegativeMode::Hide,
@@ -485,14 +441,6 @@ fn upload_part(
         descriptor_set,
         _inputs: inputs,
     })
-}
-
-impl Drop for ComputeSceneGpu {
-    fn drop(&mut self) {
-        // SAFETY: the owner has waited for the frames that used these sets; the device is
-        // alive while `self.ctx` is.
-        unsafe { self.ctx.device().destroy_descriptor_pool(self.pool, None) };
-    }
 }
 
 impl Drop for ComputeRayCastPass {

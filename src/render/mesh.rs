@@ -22,7 +22,7 @@ use crate::render::raycast::{
     InstanceInput, TargetFormats, glyph_pipeline, shader_module, viewport_and_scissor,
 };
 use crate::render::shaders::{MESH_FRAGMENT, MESH_VERTEX};
-use crate::vk::{Buffer, DeviceContext};
+use crate::vk::{Buffer, BufferBinding, DescriptorPool, DeviceContext};
 use ash::vk;
 use std::collections::HashMap;
 use std::time::Instant;
@@ -113,9 +113,8 @@ struct MeshChunk {
 
 /// A tessellated scene on the GPU.
 pub struct MeshSceneGpu {
-    ctx: DeviceContext,
     frame: Buffer,
-    pool: vk::DescriptorPool,
+    pool: DescriptorPool,
     indices: Buffer,
     index_count: u32,
     vertices_per_glyph: u32,
@@ -267,25 +266,8 @@ impl MeshPass {
             &indices,
             vk::BufferUsageFlags::INDEX_BUFFER,
         )?;
-        let count = ranges.len().max(1) as u32;
-        let sizes = [
-            vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::UNIFORM_BUFFER,
-                descriptor_count: count,
-            },
-            vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::STORAGE_BUFFER,
-                descriptor_count: count,
-            },
-        ];
-        let pool_info = vk::DescriptorPoolCreateInfo::default()
-            .max_sets(count)
-            .pool_sizes(&sizes);
-        // SAFETY: valid create info.
-        let pool = unsafe { ctx.device().create_descriptor_pool(&pool_info, None) }
-            .vk("vkCreateDescriptorPool")?;
+        let pool = DescriptorPool::new(ctx, ranges.len(), 1, 1)?;
         let mut scene = MeshSceneGpu {
-            ctx: ctx.clone(),
             frame: frame_buffer,
             pool,
             indices: index_buffer,
@@ -330,37 +312,13 @@ impl MeshPass {
             &meshes.vertices[range.start * per_glyph..range.end * per_glyph],
             vk::BufferUsageFlags::STORAGE_BUFFER,
         )?;
-        let layouts = [self.set_layout];
-        let alloc = vk::DescriptorSetAllocateInfo::default()
-            .descriptor_pool(scene.pool)
-            .set_layouts(&layouts);
-        // SAFETY: the pool was sized for one set per chunk.
-        let descriptor_set = unsafe { ctx.device().allocate_descriptor_sets(&alloc) }
-            .vk("vkAllocateDescriptorSets")?[0];
-        let frame_info = [vk::DescriptorBufferInfo {
-            buffer: scene.frame.handle,
-            offset: 0,
-            range: vk::WHOLE_SIZE,
-        }];
-        let vertex_info = [vk::DescriptorBufferInfo {
-            buffer: vertices.handle,
-            offset: 0,
-            range: vk::WHOLE_SIZE,
-        }];
-        let writes = [
-            vk::WriteDescriptorSet::default()
-                .dst_set(descriptor_set)
-                .dst_binding(FRAME_BINDING)
-                .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
-                .buffer_info(&frame_info),
-            vk::WriteDescriptorSet::default()
-                .dst_set(descriptor_set)
-                .dst_binding(VERTEX_BINDING)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .buffer_info(&vertex_info),
-        ];
-        // SAFETY: the set and buffers are alive; no command buffer uses the set yet.
-        unsafe { ctx.device().update_descriptor_sets(&writes, &[]) };
+        let descriptor_set = scene.pool.buffer_set(
+            self.set_layout,
+            &[
+                BufferBinding::uniform(FRAME_BINDING, &scene.frame),
+                BufferBinding::storage(VERTEX_BINDING, &vertices),
+            ],
+        )?;
         Ok(MeshChunk {
             count: range.len() as u32,
             instances,
@@ -400,14 +358,6 @@ impl MeshPass {
             }
         }
         Ok(())
-    }
-}
-
-impl Drop for MeshSceneGpu {
-    fn drop(&mut self) {
-        // SAFETY: the owner has waited for the frames that used these sets; the device is
-        // alive while `self.ctx` is.
-        unsafe { self.ctx.device().destroy_descriptor_pool(self.pool, None) };
     }
 }
 

@@ -14,7 +14,7 @@ use crate::render::batch::{Batch, batches};
 use crate::render::frame::FrameParams;
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::shaders::{IMPOSTOR_FRAGMENT, RAYCAST_VERTEX, raycast_shader};
-use crate::vk::{Buffer, DeviceContext};
+use crate::vk::{Buffer, BufferBinding, DescriptorPool, DeviceContext};
 use ash::vk;
 use std::collections::HashMap;
 
@@ -88,9 +88,8 @@ pub struct GlyphSetGpu {
 
 /// Everything a scene needs on the GPU: the frame's uniform buffer and the glyph sets.
 pub struct SceneGpu {
-    ctx: DeviceContext,
     frame: Buffer,
-    pool: vk::DescriptorPool,
+    pool: DescriptorPool,
     pub sets: Vec<GlyphSetGpu>,
 }
 
@@ -279,7 +278,6 @@ impl RayCastPass {
         frame: &FrameParams,
         method: Method,
     ) -> Result<SceneGpu> {
-        let device = ctx.device();
         let frame_buffer = Buffer::with_data(
             ctx,
             "frame",
@@ -293,25 +291,8 @@ impl RayCastPass {
         for chunk in &chunks {
             self.pipeline(chunk.layout, method)?;
         }
-        let count = chunks.len().max(1) as u32;
-        let sizes = [
-            vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::UNIFORM_BUFFER,
-                descriptor_count: count,
-            },
-            vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::STORAGE_BUFFER,
-                descriptor_count: count,
-            },
-        ];
-        let pool_info = vk::DescriptorPoolCreateInfo::default()
-            .max_sets(count)
-            .pool_sizes(&sizes);
-        // SAFETY: valid create info.
-        let pool = unsafe { device.create_descriptor_pool(&pool_info, None) }
-            .vk("vkCreateDescriptorPool")?;
+        let pool = DescriptorPool::new(ctx, chunks.len(), 1, 1)?;
         let mut scene = SceneGpu {
-            ctx: ctx.clone(),
             frame: frame_buffer,
             pool,
             sets: Vec::new(),
@@ -521,38 +502,13 @@ fn upload_chunk(
         &batch.coefficients()?,
         vk::BufferUsageFlags::STORAGE_BUFFER,
     )?;
-    let layouts = [set_layout];
-    let alloc = vk::DescriptorSetAllocateInfo::default()
-        .descriptor_pool(scene.pool)
-        .set_layouts(&layouts);
-    let device = ctx.device();
-    // SAFETY: the pool was sized for one set per chunk.
-    let descriptor_set =
-        unsafe { device.allocate_descriptor_sets(&alloc) }.vk("vkAllocateDescriptorSets")?[0];
-    let frame_info = [vk::DescriptorBufferInfo {
-        buffer: scene.frame.handle,
-        offset: 0,
-        range: vk::WHOLE_SIZE,
-    }];
-    let coeff_info = [vk::DescriptorBufferInfo {
-        buffer: coefficients.handle,
-        offset: 0,
-        range: vk::WHOLE_SIZE,
-    }];
-    let writes = [
-        vk::WriteDescriptorSet::default()
-            .dst_set(descriptor_set)
-            .dst_binding(FRAME_BINDING)
-            .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
-            .buffer_info(&frame_info),
-        vk::WriteDescriptorSet::default()
-            .dst_set(descriptor_set)
-            .dst_binding(COEFFICIENTS_BINDING)
-            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-            .buffer_info(&coeff_info),
-    ];
-    // SAFETY: the set and buffers are alive; no command buffer uses the set yet.
-    unsafe { device.update_descriptor_sets(&writes, &[]) };
+    let descriptor_set = scene.pool.buffer_set(
+        set_layout,
+        &[
+            BufferBinding::uniform(FRAME_BINDING, &scene.frame),
+            BufferBinding::storage(COEFFICIENTS_BINDING, &coefficients),
+        ],
+    )?;
     Ok(GlyphSetGpu {
         layout: batch.layout,
         hide_negative: batch.negative == crate::glyph::NegativeMode::Hide,
@@ -580,14 +536,6 @@ pub(crate) unsafe fn shader_module(
     let info = vk::ShaderModuleCreateInfo::default().code(spirv);
     // SAFETY: the caller vouches for the SPIR-V.
     unsafe { device.create_shader_module(&info, None) }.vk("vkCreateShaderModule")
-}
-
-impl Drop for SceneGpu {
-    fn drop(&mut self) {
-        // SAFETY: the owner has waited for the frames that used these sets; the device is
-        // alive while `self.ctx` is.
-        unsafe { self.ctx.device().destroy_descriptor_pool(self.pool, None) };
-    }
 }
 
 impl Drop for RayCastPass {

@@ -14,6 +14,7 @@ mod buffer;
 mod commands;
 mod context;
 mod debug;
+mod descriptors;
 mod device;
 mod image;
 mod instance;
@@ -27,6 +28,7 @@ pub use buffer::Buffer;
 pub use commands::OneShot;
 pub use context::DeviceContext;
 pub use debug::ValidationLog;
+pub use descriptors::{BufferBinding, DescriptorPool};
 pub use device::{DeviceInfo, choose_physical_device};
 pub use image::{Image, cleared_depth_attachment};
 #[cfg(feature = "viewer")]
