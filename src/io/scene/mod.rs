@@ -29,7 +29,7 @@ mod write;
 #[cfg(test)]
 mod tests;
 
-pub use crate::scene::{GlyphKind, GlyphSet, ImageSize, Scene, ShBasis};
+use crate::scene::{GlyphKind, GlyphSet, ImageSize, Scene, ShBasis};
 
 const FORMAT_VERSION: i128 = 1;
 
