@@ -321,7 +321,14 @@ impl App {
             Action::NextRefinement => {
                 settings.refinement = controls::next_refinement(settings.refinement)
             }
-            Action::Color(color) => settings.color = color,
+            Action::Color(color) => {
+                let old = settings.color;
+                settings.color = color;
+                if let Err(e) = settings.validate() {
+                    settings.color = old;
+                    return Err(e);
+                }
+            }
             Action::NextColor => settings.color = controls::next_color(settings.color),
             Action::Negative(mode) => content.set_negative(Some(mode))?,
             Action::ToggleNegative => content.set_negative(None)?,
@@ -367,7 +374,13 @@ impl App {
                 "method {method:?} has no shader for these glyphs"
             )));
         }
-        self.content.settings.method = method;
+        // The other settings may refuse the method (--color sign and meshes).
+        let changed = crate::render::RenderSettings {
+            method,
+            ..self.content.settings
+        };
+        changed.validate()?;
+        self.content.settings = changed;
         Ok(())
     }
 
