@@ -95,9 +95,16 @@ fn negative_flag_hides_as_the_scene_file_does() {
     let (h, a) = (covered(&from_flag), covered(&abs_depth));
     assert!(h * 10 < a * 8, "hide covers {h} px, abs {a} px");
     // The hidden image itself matches the float64 reference of the hide scene.
-    render_exactly(&signed_scene(NegativeMode::Hide), &RenderSettings::default());
+    render_exactly(
+        &signed_scene(NegativeMode::Hide),
+        &RenderSettings::default(),
+    );
     let run = common::glyphcast(&["render", &abs, "--negative", "half"]);
-    assert_eq!(run.status.code(), Some(2), "a bad --negative is a usage error");
+    assert_eq!(
+        run.status.code(),
+        Some(2),
+        "a bad --negative is a usage error"
+    );
 }
 
 /// The sign of f at each pixel's float64 hit point (None for a miss or where |f| is
@@ -144,7 +151,12 @@ fn sign_colouring_follows_the_sign_of_f_at_the_reference_hits() {
             let scene = signed_scene(negative);
             let r = render_exactly(&scene, &settings);
             let (mut red, mut blue) = (0, 0);
-            for (pixel, sign) in r.image.rgba.chunks_exact(4).zip(reference_signs(&scene, &r, 0.02)) {
+            for (pixel, sign) in r
+                .image
+                .rgba
+                .chunks_exact(4)
+                .zip(reference_signs(&scene, &r, 0.02))
+            {
                 let (rr, b) = (pixel[0] as i32, pixel[2] as i32);
                 match sign {
                     Some(true) => {
@@ -170,7 +182,10 @@ fn sign_colouring_follows_the_sign_of_f_at_the_reference_hits() {
         method: "mesh:3".parse().expect("mesh"),
         ..exact
     };
-    let error = mesh.validate().expect_err("meshes have no sign").to_string();
+    let error = mesh
+        .validate()
+        .expect_err("meshes have no sign")
+        .to_string();
     assert!(error.contains("--color sign"), "{error}");
 }
 
@@ -275,5 +290,8 @@ fn magnitude_range_ends_at_the_largest_glyph_radius_drawn() {
     // The box's half-diagonal (the old default) is far above: the picture is darker.
     let diagonal = with_range(largest * 3f64.sqrt());
     let changed = difference(&default.image.rgba, &diagonal);
-    assert!(changed > Some(40), "0:{largest} against the diagonal: {changed:?}");
+    assert!(
+        changed > Some(40),
+        "0:{largest} against the diagonal: {changed:?}"
+    );
 }

@@ -1,11 +1,11 @@
 //! `glyphcast render` and `glyphcast demo`: options, rendering and writing the outputs.
 use clap::Args;
 use glyphcast::error::quoted;
+use glyphcast::glyph::NegativeMode;
 use glyphcast::io::atomic::check_ending;
 use glyphcast::render::glyph_data::prepare_scene;
 use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
 use glyphcast::render::labels::{draw_edge_labels, edge_labels};
-use glyphcast::glyph::NegativeMode;
 use glyphcast::render::settings::parse_background;
 use glyphcast::render::{ColorMode, Method, Refinement, RenderSettings};
 use glyphcast::scene::Scene;
@@ -267,7 +267,10 @@ pub fn render(
     scene.image.height = image.height.unwrap_or(scene.image.height);
     let settings = options.settings()?;
     if let Some(mode) = options.negative()? {
-        scene.glyph_sets.iter_mut().for_each(|set| set.negative = mode);
+        scene
+            .glyph_sets
+            .iter_mut()
+            .for_each(|set| set.negative = mode);
     }
     // Written with the image and the depth map, all or nothing.
     let scene_file = save_scene.map(|path| (path, scene.to_json()));

@@ -232,7 +232,8 @@ pub fn parse_background(text: &str) -> Result<[f32; 4]> {
             }
             Some(_) => None,
             None => {
-                let parts: Vec<Option<u8>> = text.split(',').map(|v| v.trim().parse().ok()).collect();
+                let parts: Vec<Option<u8>> =
+                    text.split(',').map(|v| v.trim().parse().ok()).collect();
                 match parts[..] {
                     [Some(r), Some(g), Some(b)] => Some([r, g, b]),
                     _ => None,

@@ -136,7 +136,10 @@ impl Content {
             }
         };
         if let Some(mode) = negative {
-            scene.glyph_sets.iter_mut().for_each(|set| set.negative = mode);
+            scene
+                .glyph_sets
+                .iter_mut()
+                .for_each(|set| set.negative = mode);
         }
         let sets = prepare_scene(&scene, settings.offset as f64)?;
         Ok(Content {

@@ -22,10 +22,10 @@ pub use content::{Content, ViewSource};
 pub use controls::{Action, HELP, parse_script};
 pub use orbit::{orbit, pan, zoom};
 
+use crate::glyph::NegativeMode;
 use crate::io::atomic::check_ending;
 use crate::render::shaders::methods_for;
 use crate::render::{RenderPath, RenderSettings};
-use crate::glyph::NegativeMode;
 use crate::vk::GpuOptions;
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};
