@@ -217,7 +217,7 @@ pub fn srgb_to_linear(byte: u8) -> f32 {
 /// grey or gray), `#rrggbb` or `r,g,b` (0 to 255 each). The 8-bit values are sRGB, as
 /// written in the PNG; the result is linear RGB and alpha.
 pub fn parse_background(text: &str) -> Result<[f32; 4]> {
-    let srgb = |[r, g, b]: [u8; 3]| [r, g, b].map(srgb_to_linear);
+    let srgb = |bytes: [u8; 3]| bytes.map(srgb_to_linear);
     let bytes = match text {
         "none" => return Ok([0.0; 4]),
         "dark" => return Ok(DARK_BACKGROUND),
