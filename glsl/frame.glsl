@@ -11,12 +11,14 @@ layout(std140, set = 0, binding = 0) uniform FrameParams {
                           // orthographic)
     vec4 march;           // x: step, y: centre step factor, z: centre zone radius, w: offset
     ivec4 modes;          // x: refinement (0 none, 1 bisect, 2 interp, 3 secant), y: its steps,
-                          // z: colour (0 direction, 1 magnitude, 2 uniform), w: max steps
+                          // z: colour (0 direction, 1 magnitude, 2 uniform, 3 sign), w: max
+                          // steps
     vec4 magnitude_range; // x: low end, y: 1 / (high - low)
-    vec4 uniform_color;   // rgb, linear
+    vec4 uniform_color;   // rgb, linear (sign colouring: the positive lobes')
     vec4 light;           // xyz: unit direction towards the light, world space
     vec4 robust;          // interval/affine: x: precision (pixels) * one pixel's footprint
                           // (world units at unit distance, or world units if orthographic)
+    vec4 negative_color;  // sign colouring: the negative lobes' rgb, linear
 } frame;
 
 layout(std430, set = 0, binding = 1) readonly buffer Coefficients {

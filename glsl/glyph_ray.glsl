@@ -87,6 +87,6 @@ void shade_surface(GlyphRay ray, float s_hit, out vec4 color, out float depth,
     vec3 world = ray.origin + distance * ray.dir;
     depth = window_depth(world);
 
-    vec3 base = glyph_color(q_dir, len * ray.rho);
+    vec3 base = glyph_color(q_dir, len * ray.rho, f);
     color = vec4(blinn_phong(base, normal, -ray.dir), 1.0);
 }

@@ -43,6 +43,6 @@ void main() {
     gl_FragDepth = window_depth(world);
 
     vec3 normal = normalize(q);
-    out_color = vec4(blinn_phong(glyph_color(normal, rho), normal, -dir), 1.0);
+    out_color = vec4(blinn_phong(glyph_color(normal, rho, 1.0), normal, -dir), 1.0);
     out_distance = distance;
 }

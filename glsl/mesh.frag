@@ -24,5 +24,5 @@ void main() {
     float radius = length(v_offset);
     vec3 from_centre = radius > 0.0 ? v_offset / radius : vec3(0.0, 0.0, 1.0);
     vec3 normal = normalize(v_normal);
-    out_color = vec4(blinn_phong(glyph_color(from_centre, radius), normal, -dir), 1.0);
+    out_color = vec4(blinn_phong(glyph_color(from_centre, radius, 1.0), normal, -dir), 1.0);
 }

@@ -15,14 +15,17 @@ vec3 viridis(float t) {
 }
 
 // Colour of a surface point: `dir` is the unit direction from the glyph centre,
-// `radius` the world distance from the centre.
-vec3 glyph_color(vec3 dir, float radius) {
+// `radius` the world distance from the centre, `f` the glyph function there (its sign
+// picks the sign colouring's colour; passes that do not know it give 1).
+vec3 glyph_color(vec3 dir, float radius, float f) {
     int mode = frame.modes.z;
     if (mode == 0) {
         // The paper's |p^|: red x, green y, blue z, read as sRGB values.
         return pow(abs(dir), vec3(2.2));
     } else if (mode == 1) {
         return viridis((radius - frame.magnitude_range.x) * frame.magnitude_range.y);
+    } else if (mode == 3) {
+        return f < 0.0 ? frame.negative_color.rgb : frame.uniform_color.rgb;
     }
     return frame.uniform_color.rgb;
 }

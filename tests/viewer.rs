@@ -402,3 +402,55 @@ fn three_slices_move_one_at_a_time() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(!stderr.contains("active slice: only"), "{stderr}");
 }
+
+#[test]
+fn view_takes_the_figure_options_as_render_does() {
+    let Some(x) = Xvfb::start("view_takes_the_figure_options_as_render_does") else {
+        return;
+    };
+    // f = x^2 - 0.6 y^2 + 0.3 z^2: a negative pair of lobes along y.
+    let scene = out("signed.json");
+    std::fs::write(
+        &scene,
+        r#"{"version": 1,
+  "glyphs": [{"kind": "tensor", "order": 2, "symmetric": true, "negative": "abs",
+    "centers": [[0, 0, 0]], "scale": 1, "coeffs": [[1, 0, 0, -0.6, 0, 0.3]]}],
+  "camera": {"projection": "perspective", "eye": [1.5, -3, 2], "target": [0, 0, 0],
+    "up": [0, 0, 1], "fov_y_deg": 40},
+  "image": {"width": 160, "height": 120}}"#,
+    )
+    .expect("writing the scene");
+    let figure = [
+        "--negative",
+        "hide",
+        "--color",
+        "sign",
+        "--background",
+        "white",
+    ];
+    let shot = out("signed-shot.png");
+    let mut args = vec![
+        path_str(&scene),
+        "--frames",
+        "3",
+        "--screenshot",
+        path_str(&shot),
+    ];
+    args.extend(figure);
+    assert_clean(&x.view(&args));
+    let expected = render(&scene, "signed-render.png", &figure);
+    assert_eq!(differing_pixels(&shot, &expected, 0).0, 0);
+    let abs = [
+        "--negative",
+        "abs",
+        "--color",
+        "sign",
+        "--background",
+        "white",
+    ];
+    let shown = render(&scene, "signed-abs.png", &abs);
+    assert!(
+        differing_pixels(&shot, &shown, 40).0 > 100,
+        "--negative hide changed nothing"
+    );
+}

@@ -1,10 +1,12 @@
 //! `glyphcast render` and `glyphcast demo`: options, rendering and writing the outputs.
 use clap::Args;
 use glyphcast::error::quoted;
+use glyphcast::glyph::NegativeMode;
 use glyphcast::io::atomic::check_ending;
 use glyphcast::render::glyph_data::prepare_scene;
 use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
 use glyphcast::render::labels::{draw_edge_labels, edge_labels};
+use glyphcast::render::settings::parse_background;
 use glyphcast::render::{ColorMode, Method, Refinement, RenderSettings};
 use glyphcast::scene::Scene;
 use glyphcast::viewer::ViewSource;
@@ -116,12 +118,22 @@ pub struct RenderArgs {
     /// Refinement of the first sign change: bisect:K, interp or none.
     #[arg(long)]
     refine: Option<String>,
-    /// Glyph colour: direction, magnitude or uniform.
+    /// Glyph colour: direction, magnitude, uniform or sign (positive lobes red,
+    /// negative ones blue; ray-casting methods only).
     #[arg(long, default_value = "direction")]
     color: String,
-    /// Magnitude colormap range LOW:HIGH in world units (default: 0 to the largest glyph).
+    /// Magnitude colormap range LOW:HIGH in world units (default: 0 to the largest glyph
+    /// radius drawn, so that the largest glyph's tip takes the map's top colour).
     #[arg(long, value_name = "LOW:HIGH")]
     magnitude_range: Option<String>,
+    /// Negative lobes: abs (drawn as |f|) or hide. Sets every glyph set's mode, replacing
+    /// a scene file's `negative` (default: the scene's; abs for volumes).
+    #[arg(long, value_name = "abs|hide")]
+    negative: Option<String>,
+    /// Background: none (transparent PNG), dark (the default), black, white, grey,
+    /// #rrggbb or r,g,b (sRGB, 0-255, as written in the PNG).
+    #[arg(long, value_name = "COLOR")]
+    background: Option<String>,
     /// Isotropic offset added to every glyph, as a fraction of its bounding radius.
     #[arg(long, default_value_t = 0.0)]
     offset: f32,
@@ -191,9 +203,25 @@ impl RenderArgs {
             };
             s.color = ColorMode::Magnitude { range: Some(pair) };
         }
+        if let Some(background) = &self.background {
+            s.background = parse_background(background)?;
+        }
         s.offset = self.offset;
         s.validate()?;
         Ok(s)
+    }
+
+    /// `--negative`, if given; an unknown mode is a usage error.
+    pub fn negative(&self) -> Result<Option<NegativeMode>> {
+        let parse = |text: &str| match text {
+            "abs" => Ok(NegativeMode::Abs),
+            "hide" => Ok(NegativeMode::Hide),
+            _ => Err(Error::Usage(format!(
+                "--negative: '{}' is not one of abs, hide",
+                quoted(text)
+            ))),
+        };
+        self.negative.as_deref().map(parse).transpose()
     }
 
     pub fn gpu_options(&self) -> GpuOptions {
@@ -238,6 +266,12 @@ pub fn render(
     scene.image.width = image.width.unwrap_or(scene.image.width);
     scene.image.height = image.height.unwrap_or(scene.image.height);
     let settings = options.settings()?;
+    if let Some(mode) = options.negative()? {
+        scene
+            .glyph_sets
+            .iter_mut()
+            .for_each(|set| set.negative = mode);
+    }
     // Written with the image and the depth map, all or nothing.
     let scene_file = save_scene.map(|path| (path, scene.to_json()));
     let started = Instant::now();

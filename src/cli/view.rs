@@ -41,6 +41,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     }
     let image = args.options.image_request()?;
     let settings = args.options.settings()?;
+    let negative = args.options.negative()?;
     let script = args
         .script
         .as_deref()
@@ -58,6 +59,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     let options = ViewerOptions {
         gpu: args.options.gpu_options(),
         settings,
+        negative,
         width: image.width.unwrap_or(width),
         height: image.height.unwrap_or(height),
         frames: args.frames,

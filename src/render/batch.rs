@@ -149,6 +149,7 @@ mod tests {
             boxes: vec![[0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 0.0]; glyphs],
             coefficients: (0..glyphs * n).map(|i| first + i as f32).collect(),
             world: Vec::new(),
+            largest_radius: 0.0,
         }
     }
 

@@ -110,9 +110,11 @@ fn srgb_byte(linear: f32) -> u32 {
     (encoded * 255.0 + 0.5) as u32
 }
 
-/// An opaque linear RGB colour as the bytes of an R8G8B8A8_SRGB pixel, in one word.
-pub fn packed_srgb(rgb: [f32; 3]) -> u32 {
-    srgb_byte(rgb[0]) | srgb_byte(rgb[1]) << 8 | srgb_byte(rgb[2]) << 16 | 255 << 24
+/// A linear RGB colour with its alpha as the bytes of an R8G8B8A8_SRGB pixel, in one
+/// word (alpha is stored linearly).
+pub fn packed_srgb(rgba: [f32; 4]) -> u32 {
+    let alpha = (rgba[3].clamp(0.0, 1.0) * 255.0 + 0.5) as u32;
+    srgb_byte(rgba[0]) | srgb_byte(rgba[1]) << 8 | srgb_byte(rgba[2]) << 16 | alpha << 24
 }
 
 impl ComputeRayCastPass {
@@ -230,7 +232,7 @@ impl ComputeRayCastPass {
         camera: &Camera,
         width: u32,
         height: u32,
-        background: [f32; 3],
+        background: [f32; 4],
     ) -> Result<ComputeSceneGpu> {
         let limit = self.storage_buffer_limit();
         let view = ScreenView::new(camera, width, height);
@@ -464,7 +466,7 @@ mod tests {
 
     #[test]
     fn srgb_bytes_of_the_ends_and_the_middle() {
-        assert_eq!(packed_srgb([0.0, 1.0, 0.5]), 0xff_bc_ff_00);
+        assert_eq!(packed_srgb([0.0, 1.0, 0.5, 1.0]), 0xff_bc_ff_00);
         assert_eq!(srgb_byte(0.002), 7); // the linear segment: 12.92 * 0.002 * 255 = 6.6
     }
 }

@@ -20,30 +20,47 @@ pub struct FrameParams {
     pub uniform_color: [f32; 4],
     pub light: [f32; 4],
     pub robust: [f32; 4],
+    /// `--color sign`: the negative lobes' colour (rgb, linear); `uniform_color` holds the
+    /// positive lobes'.
+    pub negative_color: [f32; 4],
 }
 
-/// Depth range and magnitude range of what is drawn, from the glyphs' bounding spheres.
+/// Depth range and magnitude range of what is drawn.
 #[derive(Clone, Copy, Debug)]
 pub struct SceneExtent {
     pub near: f64,
     pub far: f64,
+    /// The largest glyph radius drawn (world units): the top of `--color magnitude`'s
+    /// default range, which starts at 0.
     pub max_radius: f64,
 }
 
 impl SceneExtent {
     /// From the boxes of prepared glyph sets: each box's half-diagonal bounds what its
-    /// rasterised cube can reach. The headless renderer and the viewer frame with this.
+    /// rasterised cube can reach; the largest radius is the sets' own
+    /// ([`GlyphSetData::largest_radius`]), so that the largest glyph reaches the top of
+    /// the colour map. The headless renderer and the viewer frame with this.
     pub fn of_glyph_sets(camera: &Camera, sets: &[GlyphSetData]) -> SceneExtent {
-        SceneExtent::of_spheres(
+        let largest = sets.iter().map(|s| s.largest_radius).fold(0.0, f64::max);
+        let boxes = SceneExtent::of_spheres(
             camera,
             sets.iter().flat_map(|s| s.instances.iter()).map(|i| {
                 let center = [i[0] as f64, i[1] as f64, i[2] as f64];
                 (center, i[3] as f64 * 3f64.sqrt())
             }),
-        )
+        );
+        SceneExtent {
+            max_radius: if largest > 0.0 {
+                largest
+            } else {
+                boxes.max_radius
+            },
+            ..boxes
+        }
     }
 
-    /// From bounding spheres (centre, radius) seen by `camera`.
+    /// From bounding spheres (centre, radius) seen by `camera`; the largest sphere's
+    /// radius stands for the largest glyph's.
     pub fn of_spheres(
         camera: &Camera,
         spheres: impl Iterator<Item = ([f64; 3], f64)>,
@@ -106,14 +123,16 @@ impl FrameParams {
             Refinement::Interpolate => (2, 0),
             Refinement::Secant(k) => (3, k as i32),
         };
-        let (color_mode, range, uniform) = match settings.color {
-            ColorMode::Direction => (0, (0.0, 1.0), [0.0; 3]),
+        let (color_mode, range, uniform, negative) = match settings.color {
+            ColorMode::Direction => (0, (0.0, 1.0), [0.0; 3], [0.0; 3]),
             ColorMode::Magnitude { range } => (
                 1,
                 range.unwrap_or((0.0, extent.max_radius as f32)),
                 [0.0; 3],
+                [0.0; 3],
             ),
-            ColorMode::Uniform(rgb) => (2, (0.0, 1.0), rgb),
+            ColorMode::Uniform(rgb) => (2, (0.0, 1.0), rgb, [0.0; 3]),
+            ColorMode::Sign { positive, negative } => (3, (0.0, 1.0), positive, negative),
         };
         let light = (-f.fwd + 0.5 * f.up + 0.35 * f.right).normalize();
         FrameParams {
@@ -150,6 +169,7 @@ impl FrameParams {
                 0.0,
                 0.0,
             ],
+            negative_color: [negative[0], negative[1], negative[2], 1.0],
         }
     }
 }

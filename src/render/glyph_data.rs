@@ -5,6 +5,7 @@
 //! data's units), one 16-byte instance (centre, world radius of the bounding sphere) and
 //! one 32-byte box (rotation, half extents). The float64 [`WorldGlyph`]s describe the
 //! same surfaces for the reference.
+use crate::glyph::bounds::{climbed_max_radius, sizing_lattice};
 use crate::glyph::intersect::WorldGlyph;
 use crate::glyph::polynomial::GlyphPolynomial;
 use crate::glyph::proxy::{GlyphBounds, glyph_bounds};
@@ -31,6 +32,9 @@ pub struct GlyphSetData {
     pub coefficients: Vec<f32>,
     /// The same glyphs in float64, for the reference.
     pub world: Vec<WorldGlyph>,
+    /// World radius of the set's largest glyph as drawn, offset included (0 for an empty
+    /// set): the top of `--color magnitude`'s default range ([`largest_radius`]).
+    pub largest_radius: f64,
 }
 
 impl GlyphSetData {
@@ -109,6 +113,7 @@ pub fn prepare_set_with_progress(
         boxes: Vec::with_capacity(set.len()),
         coefficients: Vec::with_capacity(set.len() * layout.coefficient_count()),
         world: Vec::with_capacity(set.len()),
+        largest_radius: 0.0,
     };
     // The bounds of each glyph are the costly part: glyphs are bounded on every core.
     let bounded_glyphs = map_chunks_with_progress(&set.coeffs, "bounds", progress, |c| {
@@ -142,7 +147,27 @@ pub fn prepare_set_with_progress(
             bound: bound * (1.0 + offset),
         });
     }
+    data.largest_radius = largest_radius(&data.world);
     Ok(data)
+}
+
+/// The largest world radius scale (max r(u) + offset) of `glyphs`. The bound B is an
+/// upper bound of max r(u), often well above it; so the glyphs are taken by decreasing
+/// scale B, and each is climbed to its true maximum ([`climbed_max_radius`], to about
+/// 1e-7) until the next one's bound is below the largest found: few glyphs are climbed.
+pub fn largest_radius(glyphs: &[WorldGlyph]) -> f64 {
+    let upper = |g: &WorldGlyph| g.scale * g.bound;
+    let mut by_bound: Vec<&WorldGlyph> = glyphs.iter().collect();
+    by_bound.sort_unstable_by(|a, b| upper(b).total_cmp(&upper(a)));
+    let mut largest = 0.0f64;
+    for glyph in by_bound {
+        if upper(glyph) <= largest {
+            break;
+        }
+        let radius = climbed_max_radius(&glyph.poly, glyph.negative, sizing_lattice(), 3);
+        largest = largest.max(glyph.scale * (radius + glyph.offset));
+    }
+    largest
 }
 
 /// Relative enlargement of the oriented box, so that the glyph never touches its faces

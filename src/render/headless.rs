@@ -332,7 +332,7 @@ fn record_frame(
             .store_op(vk::AttachmentStoreOp::STORE)
             .clear_value(vk::ClearValue {
                 color: vk::ClearColorValue {
-                    float32: [background[0], background[1], background[2], 1.0],
+                    float32: background,
                 },
             }),
         vk::RenderingAttachmentInfo::default()

@@ -109,7 +109,8 @@ fn frame_params_rust() -> Vec<u32> {
         magnitude_range,
         uniform_color,
         light,
-        robust
+        robust,
+        negative_color
     )
 }
 

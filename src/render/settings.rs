@@ -55,7 +55,17 @@ pub enum ColorMode {
     Magnitude { range: Option<(f32, f32)> },
     /// One colour for every glyph (linear RGB).
     Uniform([f32; 3]),
+    /// Two colours (linear RGB) by the sign of the glyph function at the surface point:
+    /// positive lobes and negative ones (shown with `NegativeMode::Abs`), as FURY draws
+    /// signed glyphs. Ray-casting methods only: meshes and impostors do not know the sign.
+    Sign {
+        positive: [f32; 3],
+        negative: [f32; 3],
+    },
 }
+
+/// `--color sign`'s colours, linear RGB: a red for positive lobes, a blue for negative.
+pub const SIGN_COLORS: ([f32; 3], [f32; 3]) = ([0.8, 0.03, 0.03], [0.03, 0.1, 0.8]);
 
 impl std::str::FromStr for ColorMode {
     type Err = Error;
@@ -64,8 +74,12 @@ impl std::str::FromStr for ColorMode {
             "direction" => Ok(ColorMode::Direction),
             "magnitude" => Ok(ColorMode::Magnitude { range: None }),
             "uniform" => Ok(ColorMode::Uniform([0.8, 0.8, 0.8])),
+            "sign" => Ok(ColorMode::Sign {
+                positive: SIGN_COLORS.0,
+                negative: SIGN_COLORS.1,
+            }),
             _ => Err(Error::Invalid(format!(
-                "--color: '{}' is not one of direction, magnitude, uniform",
+                "--color: '{}' is not one of direction, magnitude, uniform, sign",
                 quoted(s)
             ))),
         }
@@ -155,8 +169,9 @@ pub struct RenderSettings {
     /// Isotropic offset added to every radius, as a fraction of the glyph's bounding radius.
     pub offset: f32,
     pub color: ColorMode,
-    /// Background colour (linear RGB, opaque).
-    pub background: [f32; 3],
+    /// Background colour: linear RGB and alpha (1 opaque, 0 transparent: `--background
+    /// none`); see [`parse_background`].
+    pub background: [f32; 4],
     /// Robust methods (interval, affine): segments are split until their length is below
     /// this many pixels' footprint at their depth.
     pub precision_px: f32,
@@ -177,10 +192,62 @@ impl Default for RenderSettings {
             centre_zone: 0.3,
             offset: 0.0,
             color: ColorMode::Direction,
-            background: [0.02, 0.02, 0.025],
+            background: DARK_BACKGROUND,
             precision_px: 0.25,
         }
     }
+}
+
+/// The default background, `--background dark`: a near-black grey (linear RGB, opaque).
+pub const DARK_BACKGROUND: [f32; 4] = [0.02, 0.02, 0.025, 1.0];
+
+/// The linear value of an 8-bit sRGB-encoded value (the sRGB transfer function), so
+/// that an sRGB colour target writes `byte` back.
+pub fn srgb_to_linear(byte: u8) -> f32 {
+    let c = byte as f64 / 255.0;
+    let linear = if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    };
+    linear as f32
+}
+
+/// `--background`: `none` (transparent), a name (dark, the default; black, white,
+/// grey or gray), `#rrggbb` or `r,g,b` (0 to 255 each). The 8-bit values are sRGB, as
+/// written in the PNG; the result is linear RGB and alpha.
+pub fn parse_background(text: &str) -> Result<[f32; 4]> {
+    let srgb = |bytes: [u8; 3]| bytes.map(srgb_to_linear);
+    let bytes = match text {
+        "none" => return Ok([0.0; 4]),
+        "dark" => return Ok(DARK_BACKGROUND),
+        "black" => Some([0, 0, 0]),
+        "white" => Some([255, 255, 255]),
+        "grey" | "gray" => Some([128, 128, 128]),
+        _ => match text.strip_prefix('#') {
+            Some(hex) if hex.len() == 6 && hex.bytes().all(|b| b.is_ascii_hexdigit()) => {
+                u32::from_str_radix(hex, 16)
+                    .ok()
+                    .map(|v| [(v >> 16) as u8, (v >> 8) as u8, v as u8])
+            }
+            Some(_) => None,
+            None => {
+                let parts: Vec<Option<u8>> =
+                    text.split(',').map(|v| v.trim().parse().ok()).collect();
+                match parts[..] {
+                    [Some(r), Some(g), Some(b)] => Some([r, g, b]),
+                    _ => None,
+                }
+            }
+        },
+    };
+    let [r, g, b] = bytes.map(srgb).ok_or_else(|| {
+        Error::Invalid(format!(
+            "--background: '{}' is not none, dark, black, white, grey, #rrggbb or r,g,b (0-255)",
+            quoted(text)
+        ))
+    })?;
+    Ok([r, g, b, 1.0])
 }
 
 /// The fixed-step march's step (bounding radii) that float32 draws reliably. Measured
@@ -241,6 +308,21 @@ impl RenderSettings {
                 "--offset {}: --method exact needs offset 0 (offset glyphs are not \
                  polynomial surfaces); use --method fixed",
                 self.offset
+            )));
+        }
+        if matches!(self.color, ColorMode::Sign { .. })
+            && matches!(self.method, Method::Mesh(_) | Method::Impostor)
+        {
+            return Err(Error::Invalid(format!(
+                "--color sign: --method {} does not know the sign of the glyph function; \
+                 use a ray-casting method (exact, fixed, interval, affine)",
+                self.method
+            )));
+        }
+        if !(self.background.iter().all(|c| (0.0..=1.0).contains(c))) {
+            return Err(Error::Invalid(format!(
+                "background {:?}: every component must be in 0 to 1",
+                self.background
             )));
         }
         if self.path == RenderPath::Compute && self.method != Method::Exact {

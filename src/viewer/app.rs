@@ -9,7 +9,7 @@ use super::orbit;
 use super::presenter::{Outcome, Presenter};
 use crate::render::headless::HeadlessRenderer;
 use crate::render::raycast::SceneGpu;
-use crate::render::settings::STEP_RANGE;
+use crate::render::settings::{RenderSettings, STEP_RANGE};
 use crate::render::shaders::methods_for;
 use crate::vk::Gpu;
 use crate::{Error, Result};
@@ -306,14 +306,7 @@ impl App {
                     self.set_method(*next)?;
                 }
             }
-            Action::Step(step) => {
-                let old = settings.step;
-                settings.step = step;
-                if let Err(e) = settings.validate() {
-                    settings.step = old;
-                    return Err(e);
-                }
-            }
+            Action::Step(step) => change_checked(settings, |s| s.step = step)?,
             Action::ScaleStep(factor) => {
                 settings.step = (settings.step * factor).clamp(STEP_RANGE.0, STEP_RANGE.1)
             }
@@ -321,7 +314,7 @@ impl App {
             Action::NextRefinement => {
                 settings.refinement = controls::next_refinement(settings.refinement)
             }
-            Action::Color(color) => settings.color = color,
+            Action::Color(color) => change_checked(settings, |s| s.color = color)?,
             Action::NextColor => settings.color = controls::next_color(settings.color),
             Action::Negative(mode) => content.set_negative(Some(mode))?,
             Action::ToggleNegative => content.set_negative(None)?,
@@ -367,8 +360,8 @@ impl App {
                 "method {method:?} has no shader for these glyphs"
             )));
         }
-        self.content.settings.method = method;
-        Ok(())
+        // The other settings may refuse the method (--color sign and meshes).
+        change_checked(&mut self.content.settings, |s| s.method = method)
     }
 
     fn redraw(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
@@ -549,4 +542,17 @@ impl App {
         );
         Ok(())
     }
+}
+
+/// Applies `change` to `settings` if the result passes validation; otherwise leaves them
+/// as they were and returns the validation's error.
+fn change_checked(
+    settings: &mut RenderSettings,
+    change: impl FnOnce(&mut RenderSettings),
+) -> Result<()> {
+    let mut changed = *settings;
+    change(&mut changed);
+    changed.validate()?;
+    *settings = changed;
+    Ok(())
 }

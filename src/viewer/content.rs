@@ -100,9 +100,15 @@ enum Source {
 }
 
 impl Content {
-    pub fn new(source: ViewSource, settings: RenderSettings) -> Result<Content> {
+    /// `negative`, when given, replaces every glyph set's negative-lobe mode, now and
+    /// after each slice move (`--negative`).
+    pub fn new(
+        source: ViewSource,
+        settings: RenderSettings,
+        negative: Option<NegativeMode>,
+    ) -> Result<Content> {
         settings.validate()?;
-        let (scene, volume) = match source {
+        let (mut scene, volume) = match source {
             ViewSource::Scene(scene) => (scene, None),
             ViewSource::Volume {
                 volume,
@@ -129,6 +135,12 @@ impl Content {
                 (view.scene, Some(slice))
             }
         };
+        if let Some(mode) = negative {
+            scene
+                .glyph_sets
+                .iter_mut()
+                .for_each(|set| set.negative = mode);
+        }
         let sets = prepare_scene(&scene, settings.offset as f64)?;
         Ok(Content {
             camera: scene.camera,
@@ -137,7 +149,7 @@ impl Content {
             sets,
             settings,
             version: 0,
-            negative: None,
+            negative,
             volume,
             job: None,
             queued: None,

@@ -92,7 +92,8 @@ pub fn next_color(current: ColorMode) -> ColorMode {
     match current {
         ColorMode::Direction => ColorMode::Magnitude { range: None },
         ColorMode::Magnitude { .. } => ColorMode::Uniform([0.8, 0.8, 0.8]),
-        ColorMode::Uniform(_) => ColorMode::Direction,
+        // Sign colouring is a start-up choice (--color sign): meshes cannot draw it.
+        ColorMode::Uniform(_) | ColorMode::Sign { .. } => ColorMode::Direction,
     }
 }
 
@@ -111,6 +112,7 @@ pub fn color_name(c: ColorMode) -> &'static str {
         ColorMode::Direction => "direction",
         ColorMode::Magnitude { .. } => "magnitude",
         ColorMode::Uniform(_) => "uniform",
+        ColorMode::Sign { .. } => "sign",
     }
 }
 

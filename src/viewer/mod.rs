@@ -22,6 +22,7 @@ pub use content::{Content, ViewSource};
 pub use controls::{Action, HELP, parse_script};
 pub use orbit::{orbit, pan, zoom};
 
+use crate::glyph::NegativeMode;
 use crate::io::atomic::check_ending;
 use crate::render::shaders::methods_for;
 use crate::render::{RenderPath, RenderSettings};
@@ -34,6 +35,8 @@ use std::path::{Path, PathBuf};
 pub struct ViewerOptions {
     pub gpu: GpuOptions,
     pub settings: RenderSettings,
+    /// Replaces every glyph set's negative-lobe mode (`--negative`), if given.
+    pub negative: Option<NegativeMode>,
     /// The window's initial inner size (physical pixels).
     pub width: u32,
     pub height: u32,
@@ -62,7 +65,7 @@ pub fn run(source: ViewSource, options: ViewerOptions) -> Result<()> {
         ));
     }
     check_outputs(&options)?;
-    let content = Content::new(source, options.settings)?;
+    let content = Content::new(source, options.settings, options.negative)?;
     check_method(&content, &options.settings)?;
     app::run(content, options)
 }

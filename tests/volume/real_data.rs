@@ -177,7 +177,7 @@ fn viewer_slice_moves_are_prepared_in_the_background() {
         options: Box::new(options.clone()),
         view: Box::new(view),
     };
-    let mut content = Content::new(source, RenderSettings::default()).expect("content");
+    let mut content = Content::new(source, RenderSettings::default(), None).expect("content");
     let version = content.version;
     assert!(content.move_slice(1).expect("move to 1"));
     assert!(content.busy().is_some(), "no preparation under way");
