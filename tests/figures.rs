@@ -266,7 +266,7 @@ fn magnitude_range_ends_at_the_largest_glyph_radius_drawn() {
         .iter()
         .map(|g| g.scale * sampled_max_radius(&g.poly, g.negative, 200_000))
         .fold(0.0, f64::max);
-    let extent = SceneExtent::of_glyph_sets(&scene.camera, &default.sets);
+    let extent = SceneExtent::for_settings(&scene.camera, &default.sets, &magnitude);
     let relative = extent.max_radius / largest - 1.0;
     // The sampling is a lower bound within about 1e-5 of the maximum.
     assert!(

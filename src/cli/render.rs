@@ -3,7 +3,7 @@ use clap::Args;
 use glyphcast::error::quoted;
 use glyphcast::glyph::NegativeMode;
 use glyphcast::io::atomic::check_ending;
-use glyphcast::render::glyph_data::prepare_scene;
+use glyphcast::render::glyph_data::{measure_largest_radius, prepare_scene};
 use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
 use glyphcast::render::labels::{draw_edge_labels, edge_labels};
 use glyphcast::render::settings::parse_background;
@@ -276,6 +276,9 @@ pub fn render(
     let scene_file = save_scene.map(|path| (path, scene.to_json()));
     let started = Instant::now();
     let mut sets = prepare_scene(&scene, settings.offset as f64)?;
+    if settings.needs_largest_radius() {
+        measure_largest_radius(&mut sets);
+    }
     let prepared = started.elapsed();
     // What the ray casters do not read is freed before the GPU work (a million glyphs:
     // the scene's coefficients and the float64 glyphs are most of a gigabyte).

@@ -38,8 +38,8 @@ pub struct SceneExtent {
 impl SceneExtent {
     /// From the boxes of prepared glyph sets: each box's half-diagonal bounds what its
     /// rasterised cube can reach; the largest radius is the sets' own
-    /// ([`GlyphSetData::largest_radius`]), so that the largest glyph reaches the top of
-    /// the colour map. The headless renderer and the viewer frame with this.
+    /// ([`GlyphSetData::largest_radius`]) where it was measured, so that the largest glyph
+    /// reaches the top of the colour map, else the largest box's.
     pub fn of_glyph_sets(camera: &Camera, sets: &[GlyphSetData]) -> SceneExtent {
         let largest = sets.iter().map(|s| s.largest_radius).fold(0.0, f64::max);
         let boxes = SceneExtent::of_spheres(
@@ -57,6 +57,28 @@ impl SceneExtent {
             },
             ..boxes
         }
+    }
+
+    /// [`SceneExtent::of_glyph_sets`] for a frame drawn with `settings`: when they need the
+    /// largest glyph radius and no set has it yet, it is measured here from the float64
+    /// glyphs (the headless renderer and the viewer frame with this).
+    pub fn for_settings(
+        camera: &Camera,
+        sets: &[GlyphSetData],
+        settings: &RenderSettings,
+    ) -> SceneExtent {
+        let mut extent = SceneExtent::of_glyph_sets(camera, sets);
+        let measured = sets.iter().any(|s| s.largest_radius > 0.0);
+        if settings.needs_largest_radius() && !measured {
+            let largest = sets
+                .iter()
+                .map(|s| crate::render::glyph_data::largest_radius(&s.world))
+                .fold(0.0, f64::max);
+            if largest > 0.0 {
+                extent.max_radius = largest;
+            }
+        }
+        extent
     }
 
     /// From bounding spheres (centre, radius) seen by `camera`; the largest sphere's

@@ -33,7 +33,8 @@ pub struct GlyphSetData {
     /// The same glyphs in float64, for the reference.
     pub world: Vec<WorldGlyph>,
     /// World radius of the set's largest glyph as drawn, offset included (0 for an empty
-    /// set): the top of `--color magnitude`'s default range ([`largest_radius`]).
+    /// set): the top of `--color magnitude`'s default range ([`largest_radius`]); 0 until
+    /// [`measure_largest_radius`] measured it.
     pub largest_radius: f64,
 }
 
@@ -147,8 +148,18 @@ pub fn prepare_set_with_progress(
             bound: bound * (1.0 + offset),
         });
     }
-    data.largest_radius = largest_radius(&data.world);
     Ok(data)
+}
+
+/// Fills in each set's [`GlyphSetData::largest_radius`] from its float64 glyphs (sets
+/// whose glyphs were dropped keep theirs). Only `--color magnitude` without a range reads
+/// it, and it costs about 2 us a glyph, so it is measured on demand
+/// ([`crate::render::RenderSettings::needs_largest_radius`]), before the float64 glyphs
+/// are freed.
+pub fn measure_largest_radius(sets: &mut [GlyphSetData]) {
+    for set in sets.iter_mut().filter(|s| !s.world.is_empty()) {
+        set.largest_radius = largest_radius(&set.world);
+    }
 }
 
 /// The largest world radius scale (max r(u) + offset) of `glyphs`. The bound B is an

@@ -186,7 +186,7 @@ impl HeadlessRenderer {
     ) -> Result<PreparedFrame> {
         settings.validate()?;
         check_image_size(gpu, width, height)?;
-        let extent = SceneExtent::of_glyph_sets(camera, sets);
+        let extent = SceneExtent::for_settings(camera, sets, settings);
         let params = FrameParams::new(camera, width, height, &extent, settings);
         let scene = match settings.method {
             _ if settings.path == RenderPath::Compute => {

@@ -266,6 +266,12 @@ pub const STEP_RANGE: (f32, f32) = (1e-3, 2.0);
 pub const PRECISION_RANGE: (f32, f32) = (0.01, 64.0);
 
 impl RenderSettings {
+    /// Whether frames read the largest glyph radius: `--color magnitude` without an
+    /// explicit range, whose default range ends there.
+    pub fn needs_largest_radius(&self) -> bool {
+        matches!(self.color, ColorMode::Magnitude { range: None })
+    }
+
     /// Checks the numbers a user can set.
     pub fn validate(&self) -> Result<()> {
         if let Method::Mesh(kind) = self.method {

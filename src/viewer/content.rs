@@ -13,7 +13,9 @@ use crate::glyph::NegativeMode;
 use crate::parallel::Progress;
 use crate::render::RenderSettings;
 use crate::render::frame::{FrameParams, SceneExtent};
-use crate::render::glyph_data::{GlyphSetData, prepare_scene, prepare_set_with_progress};
+use crate::render::glyph_data::{
+    GlyphSetData, measure_largest_radius, prepare_scene, prepare_set_with_progress,
+};
 use crate::scene::{GlyphSet, Scene};
 use crate::volume::{
     SliceRegion, Volume, VolumeOptions, VolumeScene, frame_region, volume_scene_with_progress,
@@ -210,7 +212,7 @@ impl Content {
     /// Frame parameters for an image of `width` x `height` with the current camera, as
     /// the headless renderer computes them.
     pub fn frame_params(&self, width: u32, height: u32) -> FrameParams {
-        let extent = SceneExtent::of_glyph_sets(&self.camera, &self.sets);
+        let extent = SceneExtent::for_settings(&self.camera, &self.sets, &self.settings);
         FrameParams::new(&self.camera, width, height, &extent, &self.settings)
     }
 
@@ -391,7 +393,11 @@ impl Content {
             .map(Some)
             .collect();
         let mut sets = Vec::with_capacity(prepared.data.len());
-        for (index, data) in prepared.data.into_iter().enumerate() {
+        for (index, mut data) in prepared.data.into_iter().enumerate() {
+            // New sets are measured once here (about 2 us a glyph), not in every frame.
+            if let Some(fresh) = data.as_mut() {
+                measure_largest_radius(std::slice::from_mut(fresh));
+            }
             match data.or_else(|| old.get_mut(index).and_then(Option::take)) {
                 Some(data) => sets.push(data),
                 None => {
