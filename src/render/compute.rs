@@ -116,6 +116,7 @@ pub fn packed_srgb(rgb: [f32; 3]) -> u32 {
 }
 
 impl ComputeRayCastPass {
+    /// The descriptor-set and pipeline layouts; pipelines are created when first needed.
     pub fn new(ctx: &DeviceContext) -> Result<ComputeRayCastPass> {
         let device = ctx.device();
         let bindings: Vec<_> = (0..BINDINGS)
