@@ -11,7 +11,7 @@ pub enum Error {
     /// A scene or data file that does not follow the format.
     #[error("{file}: {field}: {message}")]
     Input {
-        /// The file (or the flag or table) the bad value came from.
+        /// The file the bad value came from.
         file: String,
         /// The field, key or record that is wrong.
         field: String,

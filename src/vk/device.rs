@@ -11,7 +11,7 @@ pub struct DeviceInfo {
     pub name: String,
     /// "discrete GPU", "integrated GPU", "virtual GPU", "CPU" or "other".
     pub kind: String,
-    /// The driver's info string (version and build).
+    /// The driver's info string (VkPhysicalDeviceDriverProperties::driverInfo).
     pub driver: String,
     /// The Vulkan version the device supports, "major.minor.patch".
     pub api_version: String,
