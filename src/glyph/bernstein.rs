@@ -50,7 +50,7 @@ pub struct ExactGlyph<T> {
     pub order: u32,
     /// Monomial coefficients, in the order of `monomials::monomials`.
     pub coeffs: Vec<T>,
-    /// Whether only f > 0 is drawn ([`NegativeMode::Hide`](crate::glyph::NegativeMode::Hide)).
+    /// Whether only f > 0 is drawn ([`NegativeMode::Hide`]).
     pub hide_negative: bool,
 }
 
