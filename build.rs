@@ -124,7 +124,7 @@ fn main() {
         let label = name.to_lowercase();
         let _ = writeln!(
             table,
-            "pub static {name}: &[u32] = {};\n",
+            "/// SPIR-V of glsl/{file}.\npub static {name}: &[u32] = {};\n",
             spirv_entry(&label)
         );
         jobs.push(job(label, file, kind, "", 1));
@@ -237,19 +237,23 @@ fn main() {
     }
     let _ = writeln!(
         table,
-        "pub static EVAL_SHADERS: &[EvalShader] = &[\n{eval_rows}];\n"
+        "/// The evaluation shader of every tensor layout the catalog lists.\n\
+         pub static EVAL_SHADERS: &[EvalShader] = &[\n{eval_rows}];\n"
     );
     let _ = writeln!(
         table,
-        "pub static RANGE_SHADERS: &[RangeShader] = &[\n{range_rows}];\n"
+        "/// The range shader of every tensor layout with a method that uses ranges.\n\
+         pub static RANGE_SHADERS: &[RangeShader] = &[\n{range_rows}];\n"
     );
     let _ = writeln!(
         table,
-        "pub static RAYCAST_SHADERS: &[RaycastShader] = &[\n{raycast_rows}];"
+        "/// The ray-casting shaders of every (tensor layout, method) the catalog lists.\n\
+         pub static RAYCAST_SHADERS: &[RaycastShader] = &[\n{raycast_rows}];"
     );
     let _ = writeln!(
         table,
-        "pub static COMPUTE_RAYCAST_SHADERS: &[ComputeRaycastShader] = &[\n{compute_rows}];"
+        "/// The compute ray casters of every (tensor layout, method) that has one.\n\
+         pub static COMPUTE_RAYCAST_SHADERS: &[ComputeRaycastShader] = &[\n{compute_rows}];"
     );
 
     let dirs = Dirs {

@@ -2,36 +2,56 @@
 //! view-projection so that the rasterised bounding boxes cover exactly those rays.
 use glam::{DMat4, DVec3, DVec4, Mat4};
 
+/// How the camera maps pixels to rays.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Projection {
-    Perspective { fov_y_deg: f64 },
-    Orthographic { height: f64 },
+    /// Rays from the eye through a view plane.
+    Perspective {
+        /// Full vertical field of view, in degrees.
+        fov_y_deg: f64,
+    },
+    /// Parallel rays along the forward axis, from a rectangle centred on the eye.
+    Orthographic {
+        /// Height of the visible rectangle, in world units (its width follows the aspect).
+        height: f64,
+    },
 }
 
+/// A camera as the scene format gives it, in world coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
+    /// Perspective or orthographic, with its extent.
     pub projection: Projection,
+    /// Eye position: the ray origin in perspective, the view centre in orthographic.
     pub eye: DVec3,
+    /// A point the camera looks at; the forward axis is `target - eye`.
     pub target: DVec3,
+    /// Approximate up direction; [`Camera::frame`] makes it orthogonal to forward.
     pub up: DVec3,
 }
 
 /// A ray with unit direction; points are origin + t * dir.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ray {
+    /// Start point of the ray.
     pub origin: DVec3,
+    /// Unit direction.
     pub dir: DVec3,
 }
 
 /// Orthonormal camera frame: forward, right and the corrected up (scene format).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CameraFrame {
+    /// Unit vector from the eye towards the target.
     pub fwd: DVec3,
+    /// Unit vector `fwd x up`: screen x grows along it.
     pub right: DVec3,
+    /// Unit vector `right x fwd`: screen y grows along it.
     pub up: DVec3,
 }
 
 impl Camera {
+    /// The orthonormal frame of this camera (forward, right, corrected up).
     pub fn frame(&self) -> CameraFrame {
         let fwd = (self.target - self.eye).normalize();
         let right = fwd.cross(self.up).normalize();

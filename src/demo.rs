@@ -38,6 +38,7 @@ pub fn direction(deg: f64, elev: f64) -> DVec3 {
     DVec3::new(a.cos() * e.cos(), a.sin() * e.cos(), e.sin())
 }
 
+/// The kind of fully symmetric tensor glyphs of the given order.
 pub fn symmetric(order: u32) -> GlyphKind {
     GlyphKind::Tensor(TensorLayout {
         order,

@@ -2,24 +2,36 @@
 //! Vulkan failures name the call that failed.
 use ash::vk;
 
+/// The crate's result type, with [`Error`] as the default error.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
+/// Every failure the library reports; the `Display` text is the one-line message users see.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
     /// A scene or data file that does not follow the format.
     #[error("{file}: {field}: {message}")]
     Input {
+        /// The file the bad value came from.
         file: String,
+        /// The field, key or record that is wrong.
         field: String,
+        /// What is wrong and what was expected.
         message: String,
     },
     /// Reading or writing a file failed.
     #[error("{path}: {message}")]
-    Io { path: String, message: String },
+    Io {
+        /// The file or directory involved.
+        path: String,
+        /// The operating system's (or the codec's) message.
+        message: String,
+    },
     /// A Vulkan call returned an error code.
     #[error("Vulkan {call} failed: {result}")]
     Vulkan {
+        /// The name of the failing call (e.g. `vkCreateBuffer`).
         call: &'static str,
+        /// The code the call returned.
         result: vk::Result,
     },
     /// The Vulkan loader or a required feature, layer or device is missing.
@@ -45,6 +57,7 @@ pub enum Error {
 }
 
 impl Error {
+    /// An [`Error::Input`] for `field` of `file`.
     pub fn input(
         file: impl Into<String>,
         field: impl Into<String>,
@@ -57,6 +70,7 @@ impl Error {
         }
     }
 
+    /// An [`Error::Io`] for `path`, with `err`'s message.
     pub fn io(path: impl AsRef<std::path::Path>, err: impl std::fmt::Display) -> Self {
         Error::Io {
             path: path.as_ref().display().to_string(),
@@ -128,6 +142,7 @@ pub fn quoted(text: &str) -> String {
 
 /// Attach the name of the failing Vulkan call to a `vk::Result`.
 pub trait VkContext<T> {
+    /// The result with a Vulkan error turned into [`Error::Vulkan`] naming `call`.
     fn vk(self, call: &'static str) -> Result<T>;
 }
 

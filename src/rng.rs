@@ -2,13 +2,16 @@
 //! same on every machine and run, and failing randomised tests reproduce.
 use glam::DVec3;
 
+/// The SplitMix64 generator; its state is one 64-bit counter.
 pub struct SplitMix64(u64);
 
 impl SplitMix64 {
+    /// A generator whose sequence is fixed by `seed`.
     pub fn new(seed: u64) -> Self {
         Self(seed)
     }
 
+    /// The next 64 uniformly distributed bits.
     pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
         let mut z = self.0;

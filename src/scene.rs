@@ -32,11 +32,15 @@ impl ShBasis {
 /// What the coefficients of a glyph set describe.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum GlyphKind {
+    /// A Cartesian tensor of the given order and symmetry, in monomial coefficients.
     Tensor(TensorLayout),
     /// Even bands 0, 2, ..., `band`; `legacy` is DIPY's `legacy=True` variant.
     Sh {
+        /// The highest band L, even.
         band: u32,
+        /// The basis convention of the coefficients.
         basis: ShBasis,
+        /// Whether the basis is the legacy variant (no sqrt2 factors, other phases).
         legacy: bool,
     },
 }
@@ -44,18 +48,26 @@ pub enum GlyphKind {
 /// Glyphs sharing kind, order and options; one center, scale and coefficient list each.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GlyphSet {
+    /// What the coefficients describe; fixes the count per glyph.
     pub kind: GlyphKind,
+    /// How negative values of f are drawn.
     pub negative: NegativeMode,
+    /// Per glyph its centre, in world units.
     pub centers: Vec<DVec3>,
     /// One per glyph, expanded from `scale` when the file gives a single value.
+    /// The world length of radius 1.
     pub scales: Vec<f64>,
+    /// Per glyph its [`GlyphKind::coefficient_count`] coefficients, in the scene format's
+    /// order.
     pub coeffs: Vec<Vec<f64>>,
 }
 
 /// Output image size in pixels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ImageSize {
+    /// Columns, in pixels.
     pub width: u32,
+    /// Rows, in pixels.
     pub height: u32,
 }
 
@@ -63,8 +75,11 @@ pub struct ImageSize {
 /// built from a volume or by code).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
+    /// The glyphs, grouped by kind and options.
     pub glyph_sets: Vec<GlyphSet>,
+    /// The camera the image is seen through.
     pub camera: Camera,
+    /// The output image size.
     pub image: ImageSize,
 }
 /// The scene format's default image side, in pixels.
@@ -109,6 +124,7 @@ impl GlyphSet {
         self.centers.len()
     }
 
+    /// Whether the set has no glyphs.
     pub fn is_empty(&self) -> bool {
         self.centers.is_empty()
     }

@@ -6,15 +6,21 @@
 /// The outcome of one comparison. Errors are in units of `scale` (the glyph scale).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct DepthComparison {
+    /// Pixels in the image.
     pub pixels: usize,
     /// Pixels the reference covers, outside the silhouette band.
     pub covered: usize,
+    /// Pixels the reference hits and the render misses, outside the band.
     pub holes: usize,
+    /// Pixels the render hits and the reference misses, outside the band.
     pub false_hits: usize,
     /// Pixels in the silhouette band (not judged).
     pub band: usize,
+    /// Median |rendered - reference| ray distance over pixels both hit.
     pub median_error: f64,
+    /// 99th percentile of the same errors.
     pub p99_error: f64,
+    /// Largest of the same errors (0 when no pixel is hit by both).
     pub max_error: f64,
 }
 

@@ -29,6 +29,7 @@ pub struct GeometricError {
     /// The same distances in pixels at the point's depth: the largest and the 99th
     /// percentile.
     pub surface_max_px: f64,
+    /// The 99th percentile of those distances in pixels (see `surface_max_px`).
     pub surface_p99_px: f64,
     /// Pixels whose coverage differs from the reference.
     pub coverage_mismatch: usize,

@@ -16,12 +16,19 @@ use std::fmt::Write as _;
 /// One measured combination.
 #[derive(Clone, Debug)]
 pub struct AccuracyRow {
+    /// The suite scene's name.
     pub scene: String,
+    /// The ray-casting method.
     pub method: Method,
+    /// March step in units of the glyph's bounding radius.
     pub step: f32,
+    /// How the hit was refined after the march.
     pub refinement: Refinement,
+    /// Holes, false hits and depth errors against the float64 reference.
     pub comparison: DepthComparison,
+    /// Surface distance and coverage errors against the reference.
     pub geometric: GeometricError,
+    /// GPU time of the glyph pass, None when the queue has no timestamps.
     pub gpu_ms: Option<f64>,
 }
 
@@ -69,6 +76,7 @@ pub fn method_name(method: Method) -> String {
     method.to_string()
 }
 
+/// The refinement as `--refine` spells it (`none`, `bisect:K`, `interp`, `secant:K`).
 pub fn refinement_name(r: Refinement) -> String {
     match r {
         Refinement::None => "none".into(),
@@ -128,6 +136,7 @@ pub fn markdown(rows: &[AccuracyRow]) -> String {
     out
 }
 
+/// The rows as CSV with a header line, one line per row.
 pub fn csv(rows: &[AccuracyRow]) -> String {
     let mut out = String::from(
         "scene,method,step,refine,holes,false_hits,median_error,p99_error,gpu_ms,covered,band,error_px\n",

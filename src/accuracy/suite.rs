@@ -11,7 +11,9 @@ use glam::{DMat3, DVec3};
 
 /// One named scene of the suite.
 pub struct SuiteScene {
+    /// Its name in reports.
     pub name: &'static str,
+    /// The scene itself.
     pub scene: Scene,
 }
 

@@ -28,20 +28,26 @@ pub use tables::{csv, markdown};
 /// How many frames to draw.
 #[derive(Clone, Copy, Debug)]
 pub struct BenchFrames {
+    /// Frames drawn first and not timed.
     pub warmup: usize,
+    /// Frames timed; the result gives their median, min and max.
     pub measured: usize,
 }
 
 /// The measurements of one configuration.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct BenchResult {
+    /// The configuration's label in tables.
     pub label: String,
     /// The scene measured (configurations of one scene share it), for [`ratios`].
     pub scene: String,
     /// `--method` as spelled on the command line, with " (compute)" for `--path compute`.
     pub method: String,
+    /// Glyphs drawn.
     pub glyphs: usize,
+    /// Image width, pixels.
     pub width: u32,
+    /// Image height, pixels.
     pub height: u32,
     /// CPU time to turn the scene into GPU data (bounds, normalisation), ms.
     pub prepare_ms: f64,
@@ -53,18 +59,26 @@ pub struct BenchResult {
     pub triangles: Option<usize>,
     /// Mesh vertices and the shared index buffer, bytes; meshes only.
     pub mesh_bytes: Option<usize>,
+    /// Median GPU time of the glyph pass over the measured frames, ms.
     pub gpu_ms_median: f64,
+    /// Shortest of those times, ms.
     pub gpu_ms_min: f64,
+    /// Longest of those times, ms.
     pub gpu_ms_max: f64,
     /// Pixels with a glyph hit: one ray each that found a surface.
     pub covered_pixels: usize,
+    /// Covered pixels per second of median GPU time.
     pub rays_per_second: f64,
+    /// Glyphs per second of median GPU time.
     pub glyphs_per_second: f64,
+    /// GPU bytes of glyph coefficients (0 for meshes).
     pub coefficient_bytes: usize,
+    /// GPU bytes of per-glyph instance data (and, for the ray caster, its boxes).
     pub instance_bytes: usize,
     /// GPU bytes of glyph data per glyph: coefficients, instance and mesh (with its share
     /// of the index buffer).
     pub bytes_per_glyph: f64,
+    /// Draw calls per frame.
     pub draws: usize,
     /// Against the float64 reference, when one was given.
     pub accuracy: Option<BenchAccuracy>,
@@ -75,10 +89,13 @@ pub struct BenchResult {
 pub struct BenchAccuracy {
     /// Away from the one-pixel silhouette band (see `accuracy::compare_depth`).
     pub holes: usize,
+    /// Pixels drawn where the reference has no glyph, away from the same band.
     pub false_hits: usize,
     /// Depth errors along the rays, in units of the largest glyph's bounding radius.
     pub median_depth_error: f64,
+    /// 99th percentile of the same depth errors.
     pub p99_depth_error: f64,
+    /// Surface distance and coverage errors.
     pub geometric: GeometricError,
     /// `geometric.pixels()`: the larger of the surface and silhouette errors, pixels.
     pub error_px: f64,
@@ -86,7 +103,9 @@ pub struct BenchAccuracy {
 
 /// The float64 reference of a scene: computed once, held against every configuration.
 pub struct Reference {
+    /// Ray distance per pixel, row-major; NaN where no glyph is hit.
     pub depth: Vec<f64>,
+    /// The scene's glyphs placed in the world.
     pub glyphs: Vec<WorldGlyph>,
     /// The largest world bounding radius: depth errors are in its units.
     pub scale: f64,
@@ -133,9 +152,13 @@ impl Reference {
 
 /// What to measure: a scene (named, for [`ratios`]) with settings, under a label.
 pub struct BenchCase<'a> {
+    /// The configuration's label in tables.
     pub label: &'a str,
+    /// The scene's name, copied into [`BenchResult::scene`].
     pub scene_name: &'a str,
+    /// The scene to draw.
     pub scene: &'a Scene,
+    /// How to draw it.
     pub settings: &'a RenderSettings,
     /// The scene's reference (drawn without offset), to measure accuracy against.
     pub reference: Option<&'a Reference>,

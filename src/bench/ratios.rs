@@ -18,7 +18,9 @@ pub const EQUAL_ERROR_PX: f64 = 0.5;
 /// One ratio of one scene.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Ratio {
+    /// The scene the ratio is of.
     pub scene: String,
+    /// Which ratio: one of the `*_OVER_*` constants of this module.
     pub name: &'static str,
     /// None where the sweep has no configuration that qualifies.
     pub value: Option<f64>,
@@ -26,8 +28,11 @@ pub struct Ratio {
     pub detail: String,
 }
 
+/// Name of the ratio of ray-cast to impostor GPU time.
 pub const RAY_CAST_OVER_IMPOSTOR: &str = "ray-cast / impostor GPU time";
+/// Name of the ratio of tessellation to ray-cast GPU time at equal geometric error.
 pub const MESH_OVER_RAY_CAST: &str = "tessellation / ray-cast GPU time at equal error";
+/// Name of the ratio of GPU memory per glyph, tessellation to ray cast.
 pub const MESH_MEMORY_OVER_RAY_CAST: &str = "memory per glyph, tessellation / ray cast";
 
 /// The ratios of every scene of `results` that has the rows they need.

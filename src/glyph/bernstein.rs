@@ -46,9 +46,11 @@ fn zero<T: Real>() -> T {
 /// A glyph in its normalised frame (coefficients divided by its bound), in type T.
 #[derive(Clone, Debug)]
 pub struct ExactGlyph<T> {
+    /// The degree n.
     pub order: u32,
     /// Monomial coefficients, in the order of `monomials::monomials`.
     pub coeffs: Vec<T>,
+    /// Whether only f > 0 is drawn ([`NegativeMode::Hide`]).
     pub hide_negative: bool,
 }
 

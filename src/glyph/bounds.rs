@@ -111,6 +111,8 @@ pub struct Lattice {
 const TABLED_ORDERS: u32 = 12;
 
 impl Lattice {
+    /// A lattice of the given points, with no tables built yet (they are built per order
+    /// on first use).
     pub fn new(points: Vec<DVec3>) -> Lattice {
         Lattice {
             points,
@@ -120,6 +122,7 @@ impl Lattice {
         }
     }
 
+    /// The lattice's points.
     pub fn points(&self) -> &[DVec3] {
         &self.points
     }

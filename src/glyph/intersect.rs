@@ -57,10 +57,15 @@ const MAX_ITERATIONS: usize = 200;
 /// A glyph placed in the world: center + scale * r(u) * u.
 #[derive(Clone, Debug)]
 pub struct WorldGlyph {
+    /// Centre, in world units.
     pub center: DVec3,
+    /// World length of one local unit (radius 1).
     pub scale: f64,
+    /// f, in monomial coefficients.
     pub poly: GlyphPolynomial,
+    /// Whether r(u) is |f(u)| or only the part where f(u) > 0.
     pub negative: NegativeMode,
+    /// Added to r(u), in local units (0 for the scene format's glyphs).
     pub offset: f64,
     /// upper bound of r(u) over the sphere in local units, offset included
     /// (bounding_radius + offset)

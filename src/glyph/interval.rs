@@ -30,11 +30,14 @@ fn half<T: Real>() -> T {
 /// The closed interval [lo, hi].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Interval<T> {
+    /// Lower end.
     pub lo: T,
+    /// Upper end, >= `lo`.
     pub hi: T,
 }
 
 impl<T: Real> Interval<T> {
+    /// The interval between `a` and `b`, in either order.
     pub fn new(a: T, b: T) -> Self {
         Interval {
             lo: a.min(b),
@@ -72,6 +75,7 @@ impl<T: Real> Interval<T> {
         }
     }
 
+    /// {c x : x in self}, for either sign of c.
     pub fn scale(self, c: T) -> Self {
         if c >= T::ZERO {
             Interval {
@@ -86,6 +90,7 @@ impl<T: Real> Interval<T> {
         }
     }
 
+    /// [lo - by, hi + by].
     pub fn widen(self, by: T) -> Self {
         Interval {
             lo: self.lo - by,
@@ -112,10 +117,12 @@ impl<T: Real> Interval<T> {
         }
     }
 
+    /// Whether `v` lies in [lo - slack, hi + slack] (ends compared in f64).
     pub fn contains(&self, v: f64, slack: f64) -> bool {
         self.lo.to_f64() - slack <= v && v <= self.hi.to_f64() + slack
     }
 
+    /// hi - lo, in f64.
     pub fn width(&self) -> f64 {
         self.hi.to_f64() - self.lo.to_f64()
     }
@@ -124,12 +131,16 @@ impl<T: Real> Interval<T> {
 /// The reduced affine form c + e eps + [-r, r], eps in [-1, 1] the segment's noise symbol.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Affine<T> {
+    /// The centre value c.
     pub c: T,
+    /// The coefficient e of the noise symbol eps.
     pub e: T,
+    /// The radius r >= 0 of the remainder interval.
     pub r: T,
 }
 
 impl<T: Real> Affine<T> {
+    /// c + e eps, with no remainder.
     pub const fn exact(c: T, e: T) -> Self {
         Affine { c, e, r: T::ZERO }
     }
@@ -146,6 +157,7 @@ impl<T: Real> Affine<T> {
         }
     }
 
+    /// k times the form.
     pub fn scale(self, k: T) -> Self {
         Affine {
             c: k * self.c,
@@ -154,6 +166,7 @@ impl<T: Real> Affine<T> {
         }
     }
 
+    /// The interval the form covers for eps in [-1, 1]: c -+ (|e| + r).
     pub fn range(self) -> Interval<T> {
         let w = self.e.abs() + self.r;
         Interval {
@@ -225,13 +238,18 @@ impl<T: Real> Add for Affine<T> {
 /// A ray segment q(s) = mid + s dir, s in [s0, s1], in a glyph's normalised frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RaySegment<T> {
+    /// The point at s = 0.
     pub mid: [T; 3],
+    /// The direction (not necessarily unit).
     pub dir: [T; 3],
+    /// Start parameter.
     pub s0: T,
+    /// End parameter.
     pub s1: T,
 }
 
 impl<T: Real> RaySegment<T> {
+    /// q(s) = mid + s dir.
     pub fn point(&self, s: T) -> [T; 3] {
         std::array::from_fn(|i| self.mid[i] + s * self.dir[i])
     }
@@ -315,7 +333,9 @@ fn radius_power_affine<T: Real>(k3: [T; 3], s0: T, s1: T, k: u32) -> Affine<T> {
 /// (normalised units).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GlyphShape<T> {
+    /// |f| or max(f, 0).
     pub negative: NegativeMode,
+    /// The offset w, in normalised units.
     pub offset: T,
 }
 
@@ -323,20 +343,24 @@ pub struct GlyphShape<T> {
 /// rounding allowance.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GlyphRange<T> {
+    /// The range of f(q).
     pub f: Interval<T>,
+    /// The range of G.
     pub g: Interval<T>,
 }
 
 /// f in monomial form with the coefficients as the shaders load them, in type T.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RangePolynomial<T> {
+    /// The degree n.
     pub order: u32,
     /// c_k, in the order of `monomials(order)`.
     pub coeffs: Vec<T>,
     /// sum of |stored entry| * multiplicity: abs_sum * m^n bounds sum_k |c_k| |monomial_k|.
     pub abs_sum: T,
-    /// Rounding allowances of f's range and of the |q| powers (unit roundoffs times u).
+    /// Rounding allowance of f's range (unit roundoffs times u).
     pub gamma_f: T,
+    /// Rounding allowance of the |q| powers (unit roundoffs times u).
     pub gamma_r: T,
 }
 

@@ -22,7 +22,9 @@ pub mod tessellate;
 /// Whether a Cartesian tensor is stored by its unique entries (Eq. 5) or in full (Eq. 4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Symmetry {
+    /// The (n+1)(n+2)/2 unique entries, as monomial coefficients.
     Symmetric,
+    /// All 3^n entries.
     NonSymmetric,
 }
 
@@ -39,11 +41,14 @@ pub enum NegativeMode {
 /// A Cartesian tensor layout: order and symmetry.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct TensorLayout {
+    /// The tensor order n, the degree of its polynomial.
     pub order: u32,
+    /// Unique entries or all of them.
     pub symmetry: Symmetry,
 }
 
 impl TensorLayout {
+    /// Coefficients per glyph: (n+1)(n+2)/2 symmetric, 3^n non-symmetric.
     pub const fn coefficient_count(&self) -> usize {
         match self.symmetry {
             Symmetry::Symmetric => monomials::symmetric_count(self.order),

@@ -11,8 +11,11 @@
 /// Powers (a, b, c) of x, y, z for one monomial x^a y^b z^c.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Monomial {
+    /// Power of x.
     pub a: u32,
+    /// Power of y.
     pub b: u32,
+    /// Power of z.
     pub c: u32,
 }
 

@@ -28,7 +28,9 @@ const MAX_ORDER: u32 = 20;
 /// f(q) = sum_k coeffs[k] x^a_k y^b_k z^c_k over `monomials(order)`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GlyphPolynomial {
+    /// The degree n.
     pub order: u32,
+    /// One per monomial, in the order of `monomials(order)`.
     pub coeffs: Vec<f64>,
 }
 

@@ -15,7 +15,9 @@ pub trait Real:
     + Div<Output = Self>
     + Neg<Output = Self>
 {
+    /// 0 in this type.
     const ZERO: Self;
+    /// 1 in this type.
     const ONE: Self;
     /// Unit roundoff: 2^-24 for f32, 2^-53 for f64.
     const UNIT_ROUNDOFF: f64;
@@ -26,11 +28,17 @@ pub trait Real:
     const ZONE_EXPONENT: f64;
     /// About two units in the last place of 1: where Newton stops.
     const RESOLUTION: f64;
+    /// `v` rounded to this type.
     fn from_f64(v: f64) -> Self;
+    /// The value as f64 (exact).
     fn to_f64(self) -> f64;
+    /// Absolute value.
     fn abs(self) -> Self;
+    /// Square root (NaN below 0).
     fn sqrt(self) -> Self;
+    /// The smaller of the two.
     fn min(self, other: Self) -> Self;
+    /// The larger of the two.
     fn max(self, other: Self) -> Self;
 }
 

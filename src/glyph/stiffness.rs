@@ -51,6 +51,7 @@ impl ShearOrder {
         }
     }
 
+    /// The order as [`ShearOrder::parse`] reads it, without spaces.
     pub fn name(self) -> &'static str {
         match self {
             ShearOrder::Standard => "23,13,12",
@@ -79,6 +80,7 @@ pub fn voigt_index(i: usize, j: usize) -> usize {
 /// A symmetric 6 x 6 stiffness matrix in the standard shear order.
 #[derive(Clone, Debug, PartialEq)]
 pub struct VoigtStiffness {
+    /// C_pq, row p and column q in the Voigt order 11 22 33 23 13 12.
     pub matrix: [[f64; 6]; 6],
 }
 

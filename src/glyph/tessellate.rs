@@ -53,6 +53,7 @@ impl MeshKind {
         }
     }
 
+    /// Vertices of the sphere mesh of this kind.
     pub fn vertex_count(self) -> usize {
         match self {
             MeshKind::Icosphere(level) => 10 * 4usize.pow(level) + 2,
@@ -60,6 +61,7 @@ impl MeshKind {
         }
     }
 
+    /// Triangles of the sphere mesh of this kind.
     pub fn triangle_count(self) -> usize {
         match self {
             MeshKind::Icosphere(level) => 20 * 4usize.pow(level),
@@ -81,12 +83,16 @@ impl std::fmt::Display for MeshKind {
 /// counter-clockwise seen from outside.
 #[derive(Clone, Debug)]
 pub struct SphereMesh {
+    /// The tessellation it was built with.
     pub kind: MeshKind,
+    /// Unit vertex directions.
     pub directions: Vec<DVec3>,
+    /// Vertex indices into `directions`, counter-clockwise from outside.
     pub triangles: Vec<[u32; 3]>,
 }
 
 impl SphereMesh {
+    /// The mesh of `kind`; Err(Error::Invalid) if its level or ring count is out of range.
     pub fn new(kind: MeshKind) -> Result<SphereMesh> {
         kind.validate()?;
         let (directions, mut triangles) = match kind {
@@ -239,7 +245,9 @@ fn lat_long(rings: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct MeshVertex {
+    /// Position relative to the glyph centre, world units.
     pub offset: [f32; 3],
+    /// Outward unit normal.
     pub normal: [f32; 3],
 }
 

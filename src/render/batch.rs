@@ -13,7 +13,9 @@ use crate::{Error, Result};
 /// Glyphs of one or more sets that share a layout and a negative mode, drawn together.
 #[derive(Clone, Debug)]
 pub struct Batch<'a> {
+    /// The tensor layout every glyph of the batch shares.
     pub layout: TensorLayout,
+    /// The negative mode every glyph of the batch shares.
     pub negative: NegativeMode,
     /// The glyph ranges of the sets this batch draws, in order.
     pieces: Vec<(&'a GlyphSetData, Range<usize>)>,
@@ -26,6 +28,7 @@ impl<'a> Batch<'a> {
         self.len
     }
 
+    /// Whether the batch has no glyph.
     pub fn is_empty(&self) -> bool {
         self.len == 0
     }

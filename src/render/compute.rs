@@ -118,6 +118,7 @@ pub fn packed_srgb(rgba: [f32; 4]) -> u32 {
 }
 
 impl ComputeRayCastPass {
+    /// The descriptor-set and pipeline layouts; pipelines are created when first needed.
     pub fn new(ctx: &DeviceContext) -> Result<ComputeRayCastPass> {
         let device = ctx.device();
         let bindings: Vec<_> = (0..BINDINGS)

@@ -19,7 +19,9 @@ use std::borrow::Cow;
 /// One glyph set, ready for upload.
 #[derive(Clone, Debug)]
 pub struct GlyphSetData {
+    /// The tensor layout of `coefficients` (an SH set's is its symmetric tensor's).
     pub layout: TensorLayout,
+    /// How negative values of f are drawn.
     pub negative: NegativeMode,
     /// Per drawn glyph: centre xyz and the world radius of its bounding sphere,
     /// scale * B * (1 + offset) (the half-size of the cube around it).
@@ -39,10 +41,12 @@ pub struct GlyphSetData {
 }
 
 impl GlyphSetData {
+    /// Number of drawn glyphs.
     pub fn len(&self) -> usize {
         self.instances.len()
     }
 
+    /// Whether the set draws no glyph.
     pub fn is_empty(&self) -> bool {
         self.instances.is_empty()
     }

@@ -42,9 +42,13 @@ pub fn dejavu_sans() -> Result<&'static [u8]> {
 /// The letters of the four image edges.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct EdgeLabels {
+    /// Letters of the direction the left edge faces (e.g. "R", "LP").
     pub left: String,
+    /// Letters of the right edge's direction.
     pub right: String,
+    /// Letters of the top edge's direction.
     pub top: String,
+    /// Letters of the bottom edge's direction.
     pub bottom: String,
 }
 

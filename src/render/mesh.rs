@@ -29,6 +29,7 @@ use std::time::Instant;
 
 /// The meshes of every glyph of a scene, ready for upload.
 pub struct GlyphMeshes {
+    /// The unit sphere every glyph deforms; V is its vertex count.
     pub sphere: SphereMesh,
     /// Glyph-major: glyph i owns `vertices[i * V..(i + 1) * V]`.
     pub vertices: Vec<MeshVertex>,
@@ -59,6 +60,7 @@ impl GlyphMeshes {
         })
     }
 
+    /// Number of glyphs.
     pub fn glyphs(&self) -> usize {
         self.instances.len()
     }
@@ -67,10 +69,15 @@ impl GlyphMeshes {
 /// What a tessellated scene costs: sizes and the CPU generation time.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MeshStats {
+    /// The tessellation.
     pub kind: MeshKind,
+    /// Glyphs drawn.
     pub glyphs: usize,
+    /// Vertices of the sphere mesh.
     pub vertices_per_glyph: usize,
+    /// Triangles of the sphere mesh.
     pub triangles_per_glyph: usize,
+    /// Wall-clock time of the vertex generation (all threads), ms.
     pub generate_ms: f64,
     /// Vertex storage on the GPU (24 bytes a vertex).
     pub vertex_bytes: usize,
@@ -81,10 +88,12 @@ pub struct MeshStats {
 }
 
 impl MeshStats {
+    /// Triangles per frame, all glyphs.
     pub fn triangles(&self) -> usize {
         self.glyphs * self.triangles_per_glyph
     }
 
+    /// Vertex, index and instance bytes on the GPU.
     pub fn gpu_bytes(&self) -> usize {
         self.vertex_bytes + self.index_bytes + self.instance_bytes
     }
@@ -119,6 +128,7 @@ pub struct MeshSceneGpu {
     index_count: u32,
     vertices_per_glyph: u32,
     chunks: Vec<MeshChunk>,
+    /// Its sizes and generation time.
     pub stats: MeshStats,
 }
 
@@ -140,6 +150,8 @@ const FRAME_BINDING: u32 = 0;
 const VERTEX_BINDING: u32 = 2;
 
 impl MeshPass {
+    /// Layouts and shader modules for attachments of `formats`; the pipeline of a mesh
+    /// kind is made at its first upload.
     pub fn new(ctx: &DeviceContext, formats: TargetFormats) -> Result<MeshPass> {
         let device = ctx.device();
         let bindings = [

@@ -24,6 +24,7 @@ pub struct RangeQuery {
     pub hide_negative: u32,
     /// Isotropic offset w, normalised units.
     pub offset: f32,
+    /// Padding to 16-byte alignment; 0.
     pub pad: u32,
 }
 
@@ -32,7 +33,9 @@ pub struct RangeQuery {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct RangeResult {
+    /// By interval arithmetic.
     pub interval: [f32; 4],
+    /// By the reduced affine forms.
     pub affine: [f32; 4],
 }
 

@@ -21,7 +21,9 @@ use std::collections::HashMap;
 /// Attachment formats of the rendering the pass is recorded into.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TargetFormats {
+    /// The colour attachment's format.
     pub color: vk::Format,
+    /// The depth attachment's format.
     pub depth: vk::Format,
     /// A second colour attachment that receives the ray distance (R32_SFLOAT), if any.
     /// Without one, the pass uses fragment shaders that have no distance output.
@@ -75,10 +77,14 @@ pub(crate) const COEFFICIENTS_BINDING: u32 = 1;
 /// oriented box, 0 the cube around its bounding sphere (the sphere impostor's proxy).
 const ORIENTED_BOX_CONSTANT: u32 = 0;
 
-/// One glyph set on the GPU.
+/// One glyph set on the GPU: a batch of glyphs that share a pipeline and one draw (a
+/// set larger than a storage buffer is split into several).
 pub struct GlyphSetGpu {
+    /// The tensor layout of its coefficients.
     pub layout: TensorLayout,
+    /// Whether only f > 0 is drawn.
     pub hide_negative: bool,
+    /// Glyphs in the batch (instances drawn).
     pub count: u32,
     instances: Buffer,
     boxes: Buffer,
@@ -90,10 +96,13 @@ pub struct GlyphSetGpu {
 pub struct SceneGpu {
     frame: Buffer,
     pool: DescriptorPool,
+    /// The batches, one draw each.
     pub sets: Vec<GlyphSetGpu>,
 }
 
 impl RayCastPass {
+    /// Layouts and the proxy boxes' shaders for attachments of `formats`; pipelines are
+    /// created when first needed.
     pub fn new(ctx: &DeviceContext, formats: TargetFormats) -> Result<RayCastPass> {
         let device = ctx.device();
         let bindings = [
@@ -145,6 +154,7 @@ impl RayCastPass {
         Ok(pass)
     }
 
+    /// The attachment formats the pass was made for.
     pub fn formats(&self) -> TargetFormats {
         self.formats
     }

@@ -5,20 +5,26 @@ use crate::render::Method;
 
 /// Compute shader that evaluates f and its gradient at given points (for tests).
 pub struct EvalShader {
+    /// The tensor layout it is generated for.
     pub layout: TensorLayout,
+    /// Its SPIR-V (glsl/glyph_eval.comp).
     pub spirv: &'static [u32],
 }
 
 /// Compute shader that evaluates the interval and affine ranges of f and G over ray
 /// segments (for tests of the robust methods).
 pub struct RangeShader {
+    /// The tensor layout it is generated for.
     pub layout: TensorLayout,
+    /// Its SPIR-V (glsl/glyph_range.comp).
     pub spirv: &'static [u32],
 }
 
 /// Ray-casting fragment shader of one tensor layout and intersection method.
 pub struct RaycastShader {
+    /// The tensor layout it is generated for.
     pub layout: TensorLayout,
+    /// The intersection method of its fragment shaders.
     pub method: Method,
     /// The proxy boxes' vertex shader of this layout, which passes the glyph's monomial
     /// coefficients to the fragment shader as flat inputs (locations 4 and up).
@@ -34,8 +40,11 @@ pub struct RaycastShader {
 /// Compute ray caster of one tensor layout and intersection method (`--path compute`,
 /// glsl/raycast_<method>.comp): one invocation per pixel walks its screen tile's glyphs.
 pub struct ComputeRaycastShader {
+    /// The tensor layout it is generated for.
     pub layout: TensorLayout,
+    /// Its intersection method.
     pub method: Method,
+    /// Its SPIR-V.
     pub spirv: &'static [u32],
 }
 
@@ -64,12 +73,14 @@ macro_rules! spirv {
 
 include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
 
+/// The ray-casting shaders of `layout` and `method`; None if the catalog has none.
 pub fn raycast_shader(layout: TensorLayout, method: Method) -> Option<&'static RaycastShader> {
     RAYCAST_SHADERS
         .iter()
         .find(|s| s.layout == layout && s.method == method)
 }
 
+/// The compute ray caster of `layout` and `method`; None if the catalog has none.
 pub fn compute_raycast_shader(
     layout: TensorLayout,
     method: Method,
@@ -79,10 +90,12 @@ pub fn compute_raycast_shader(
         .find(|s| s.layout == layout && s.method == method)
 }
 
+/// The evaluation shader of `layout`; None if the catalog has none.
 pub fn eval_shader(layout: TensorLayout) -> Option<&'static EvalShader> {
     EVAL_SHADERS.iter().find(|s| s.layout == layout)
 }
 
+/// The range shader of `layout`; None if no method of the layout uses ranges.
 pub fn range_shader(layout: TensorLayout) -> Option<&'static RangeShader> {
     RANGE_SHADERS.iter().find(|s| s.layout == layout)
 }

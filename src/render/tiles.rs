@@ -48,6 +48,7 @@ pub struct ScreenView {
 }
 
 impl ScreenView {
+    /// The view of `camera` on an image of `width` x `height` pixels.
     pub fn new(camera: &Camera, width: u32, height: u32) -> ScreenView {
         let f = camera.frame();
         let (scale, orthographic) = match camera.projection {
@@ -66,10 +67,12 @@ impl ScreenView {
         }
     }
 
+    /// Tile columns: width / [`TILE_SIZE`], rounded up.
     pub fn tiles_x(&self) -> u32 {
         self.width.div_ceil(TILE_SIZE)
     }
 
+    /// Tile rows: height / [`TILE_SIZE`], rounded up.
     pub fn tiles_y(&self) -> u32 {
         self.height.div_ceil(TILE_SIZE)
     }
@@ -97,7 +100,9 @@ impl ScreenView {
 /// The tile lists of one glyph set (or part of one), as the compute shader reads them.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TileBins {
+    /// Tile columns.
     pub tiles_x: u32,
+    /// Tile rows.
     pub tiles_y: u32,
     /// Per tile (row-major from the top-left): the first entry of its list and its length.
     pub ranges: Vec<[u32; 2]>,

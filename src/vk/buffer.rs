@@ -8,14 +8,19 @@ use gpu_allocator::MemoryLocation;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme, Allocator};
 use std::sync::Mutex;
 
+/// A Vulkan buffer with its memory; both are freed on drop.
 pub struct Buffer {
+    /// The Vulkan buffer.
     pub handle: vk::Buffer,
+    /// Size asked for, bytes (the buffer itself has at least 4).
     pub size: u64,
     allocation: Option<Allocation>,
     ctx: DeviceContext,
 }
 
 impl Buffer {
+    /// A buffer of `size` bytes with `usage`, in memory at `location`; `name` labels the
+    /// allocation.
     pub fn new(
         ctx: &DeviceContext,
         name: &str,

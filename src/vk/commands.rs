@@ -4,6 +4,8 @@ use super::DeviceContext;
 use crate::error::{Result, VkContext};
 use ash::vk;
 
+/// A command pool and fence for recording, submitting and waiting on one command buffer
+/// at a time.
 pub struct OneShot {
     pool: vk::CommandPool,
     fence: vk::Fence,
@@ -12,6 +14,7 @@ pub struct OneShot {
 }
 
 impl OneShot {
+    /// A pool on the queue family of `gpu`, and its fence.
     pub fn new(gpu: &super::Gpu) -> Result<OneShot> {
         let device = gpu.device();
         let pool_info = vk::CommandPoolCreateInfo::default()

@@ -143,10 +143,12 @@ impl DeviceContext {
         }
     }
 
+    /// The logical device.
     pub fn device(&self) -> &ash::Device {
         &self.owner.device
     }
 
+    /// The allocator every buffer and image of this context takes memory from.
     pub fn allocator(&self) -> &Mutex<Allocator> {
         &self.owner.allocator
     }

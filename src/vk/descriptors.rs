@@ -9,12 +9,16 @@ use crate::error::{Result, VkContext};
 /// What a set holds at one binding: a whole buffer, as a uniform or a storage buffer.
 #[derive(Clone, Copy)]
 pub struct BufferBinding<'a> {
+    /// The binding number in the set layout.
     pub binding: u32,
+    /// `UNIFORM_BUFFER` or `STORAGE_BUFFER`.
     pub kind: vk::DescriptorType,
+    /// The buffer bound, whole.
     pub buffer: &'a Buffer,
 }
 
 impl<'a> BufferBinding<'a> {
+    /// `buffer` as a uniform buffer at `binding`.
     pub fn uniform(binding: u32, buffer: &'a Buffer) -> Self {
         Self {
             binding,
@@ -23,6 +27,7 @@ impl<'a> BufferBinding<'a> {
         }
     }
 
+    /// `buffer` as a storage buffer at `binding`.
     pub fn storage(binding: u32, buffer: &'a Buffer) -> Self {
         Self {
             binding,

@@ -7,11 +7,17 @@ use std::ffi::CStr;
 /// What the chosen device is, for printing and for reports.
 #[derive(Clone, Debug, Default)]
 pub struct DeviceInfo {
+    /// The device name the driver reports.
     pub name: String,
+    /// "discrete GPU", "integrated GPU", "virtual GPU", "CPU" or "other".
     pub kind: String,
+    /// The driver's info string (VkPhysicalDeviceDriverProperties::driverInfo).
     pub driver: String,
+    /// The Vulkan version the device supports, "major.minor.patch".
     pub api_version: String,
+    /// maxStorageBufferRange, bytes.
     pub max_storage_buffer_range: u64,
+    /// Nanoseconds per timestamp tick.
     pub timestamp_period_ns: f32,
     /// Valid bits of timestamps on the chosen queue family (0: no timestamps).
     pub timestamp_valid_bits: u32,

@@ -6,17 +6,25 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 
+/// A device-local 2D image (one mip level, one layer) with its view; freed on drop.
 pub struct Image {
+    /// The Vulkan image.
     pub handle: vk::Image,
+    /// A 2D view of the whole image.
     pub view: vk::ImageView,
+    /// Its pixel format.
     pub format: vk::Format,
+    /// Its size, pixels.
     pub extent: vk::Extent2D,
+    /// Colour or depth, as its view and barriers see it.
     pub aspect: vk::ImageAspectFlags,
     allocation: Option<Allocation>,
     ctx: DeviceContext,
 }
 
 impl Image {
+    /// An optimal-tiling image of `extent` and `format` with `usage`, and its view of
+    /// `aspect`; `name` labels the allocation and out-of-memory errors.
     pub fn new(
         ctx: &DeviceContext,
         name: &str,
@@ -92,6 +100,7 @@ impl Image {
         Ok(image)
     }
 
+    /// The whole image (its one level and layer) in its aspect.
     pub fn subresource_range(&self) -> vk::ImageSubresourceRange {
         vk::ImageSubresourceRange {
             aspect_mask: self.aspect,

@@ -72,9 +72,13 @@ impl GpuOptions {
 /// Buffers, images and passes made from it keep the device (and the instance) alive, so
 /// the `Gpu` may be dropped before them; the last one destroys the device.
 pub struct Gpu {
+    /// The chosen physical device.
     pub physical_device: vk::PhysicalDevice,
+    /// The graphics+compute queue every submit goes to.
     pub queue: vk::Queue,
+    /// The queue's family index.
     pub queue_family: u32,
+    /// What the device is, for printing and reports.
     pub info: DeviceInfo,
     /// Shares the device with everything made from it; the last holder destroys it.
     context: DeviceContext,
@@ -162,14 +166,17 @@ impl Gpu {
         })
     }
 
+    /// The logical device.
     pub fn device(&self) -> &ash::Device {
         self.context.device()
     }
 
+    /// The Vulkan instance.
     pub fn instance(&self) -> &ash::Instance {
         &self.instance.instance
     }
 
+    /// The loaded Vulkan entry points.
     pub fn entry(&self) -> &ash::Entry {
         &self.instance.entry
     }
@@ -199,6 +206,7 @@ impl Gpu {
         self.instance.validation.as_ref().map(|m| m.log.clone())
     }
 
+    /// Whether the validation layer is on.
     pub fn validation_enabled(&self) -> bool {
         self.instance.validation.is_some()
     }
@@ -213,6 +221,7 @@ impl Gpu {
         }
     }
 
+    /// Waits until the device has finished all submitted work.
     pub fn wait_idle(&self) -> Result<()> {
         // SAFETY: the device is alive for as long as the context `self` holds.
         unsafe { self.device().device_wait_idle() }.vk("vkDeviceWaitIdle")

@@ -4,6 +4,7 @@ use super::DeviceContext;
 use crate::error::{Result, VkContext};
 use ash::vk;
 
+/// Two timestamp queries around a span of commands.
 pub struct GpuTimer {
     /// Keeps the device alive as long as the query pool.
     ctx: DeviceContext,

@@ -66,14 +66,17 @@ impl ShFitter {
         })
     }
 
+    /// The highest band L of the fitted series.
     pub fn band(&self) -> u32 {
         self.band
     }
 
+    /// The basis of the fitted coefficients, and whether it is the legacy variant.
     pub fn basis(&self) -> (ShBasis, bool) {
         (self.basis, self.legacy)
     }
 
+    /// The weight of the Laplace-Beltrami regularisation (0: plain least squares).
     pub fn lambda(&self) -> f64 {
         self.lambda
     }

@@ -27,8 +27,11 @@ use crate::scene::ShBasis;
 /// columns, row-major. Row k is tensor coefficient k in the scene format's order.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ShToTensor {
+    /// The highest SH band L.
     pub band: u32,
+    /// The tensor order, max(L, 2).
     pub order: u32,
+    /// M's entries, row-major.
     pub matrix: Vec<f64>,
 }
 
