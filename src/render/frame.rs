@@ -5,20 +5,37 @@ use crate::render::glyph_data::GlyphSetData;
 use crate::render::settings::{ColorMode, Refinement, RenderSettings};
 use bytemuck::{Pod, Zeroable};
 
+/// The frame's uniform block (glsl/frame.glsl `FrameParams`, std140): camera, march
+/// settings, colour and lighting. `render::interface` holds the offsets to the SPIR-V.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct FrameParams {
+    /// World to clip space, column-major, with reversed depth (near plane at 1).
     pub view_proj: [[f32; 4]; 4],
+    /// xyz: the eye; w: 1 for an orthographic camera, 0 for a perspective one.
     pub eye: [f32; 4],
+    /// xyz: the camera's right axis times tan(fov/2) (or the half height); w: aspect W/H.
     pub right: [f32; 4],
+    /// xyz: the camera's up axis, scaled as `right`.
     pub up: [f32; 4],
+    /// xyz: the viewing direction (unit).
     pub fwd: [f32; 4],
+    /// x: 1/width, y: 1/height (pixels); z: the near plane's distance (0 orthographic).
     pub viewport: [f32; 4],
+    /// x: step, y: centre step factor, z: centre zone radius (units of the bound), w:
+    /// offset.
     pub march: [f32; 4],
+    /// x: refinement (0 none, 1 bisect, 2 interp, 3 secant), y: its steps, z: colour mode
+    /// (0 direction, 1 magnitude, 2 uniform, 3 sign), w: the march's step limit.
     pub modes: [i32; 4],
+    /// x: the magnitude range's low end, y: 1 / (high - low) (world units).
     pub magnitude_range: [f32; 4],
+    /// rgb (linear): the uniform colour, or `--color sign`'s positive lobes'.
     pub uniform_color: [f32; 4],
+    /// xyz: unit direction towards the light, world space.
     pub light: [f32; 4],
+    /// x: the robust methods' segment limit, the precision in pixels times one pixel's
+    /// footprint at unit distance (world units if orthographic).
     pub robust: [f32; 4],
     /// `--color sign`: the negative lobes' colour (rgb, linear); `uniform_color` holds the
     /// positive lobes'.
@@ -28,7 +45,9 @@ pub struct FrameParams {
 /// Depth range and magnitude range of what is drawn.
 #[derive(Clone, Copy, Debug)]
 pub struct SceneExtent {
+    /// Nearest eye depth any glyph's box reaches (world units along the view direction).
     pub near: f64,
+    /// Farthest eye depth any glyph's box reaches.
     pub far: f64,
     /// The largest glyph radius drawn (world units): the top of `--color magnitude`'s
     /// default range, which starts at 0.
@@ -126,6 +145,8 @@ impl SceneExtent {
 }
 
 impl FrameParams {
+    /// The block for `camera` at `width` x `height` pixels, with the depth and magnitude
+    /// ranges of `extent` and the march, colour and lighting of `settings`.
     pub fn new(
         camera: &Camera,
         width: u32,

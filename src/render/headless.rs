@@ -17,14 +17,19 @@ use crate::vk::{Buffer, Gpu, GpuTimer, Image, OneShot};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
+/// The offscreen colour target: 8-bit sRGB RGBA, as the PNG is written.
 pub const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
+/// The ray-distance target (the depth map's values; negative where no glyph is hit).
 pub const DISTANCE_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
+/// The depth buffer (reversed: cleared to 0, tested with GREATER).
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
 /// What a headless render produces.
 #[derive(Clone, Debug)]
 pub struct RenderedImage {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
     /// sRGB-encoded RGBA, row-major from the top-left.
     pub rgba: Vec<u8>,
@@ -122,6 +127,7 @@ pub struct HeadlessRenderer {
 }
 
 impl HeadlessRenderer {
+    /// The passes and command buffers for offscreen frames on `gpu`.
     pub fn new(gpu: &Gpu) -> Result<HeadlessRenderer> {
         let formats = TargetFormats {
             color: COLOR_FORMAT,

@@ -52,14 +52,19 @@ pub enum ColorMode {
     Direction,
     /// A perceptual colormap of the surface point's distance from the centre (world
     /// units) over `range`, or over the scene's largest glyph when `None`.
-    Magnitude { range: Option<(f32, f32)> },
+    Magnitude {
+        /// Low and high end of the map, world units; `None`: 0 to the largest radius.
+        range: Option<(f32, f32)>,
+    },
     /// One colour for every glyph (linear RGB).
     Uniform([f32; 3]),
     /// Two colours (linear RGB) by the sign of the glyph function at the surface point:
     /// positive lobes and negative ones (shown with `NegativeMode::Abs`), as FURY draws
     /// signed glyphs. Ray-casting methods only: meshes and impostors do not know the sign.
     Sign {
+        /// Colour of the lobes where f > 0 (linear RGB).
         positive: [f32; 3],
+        /// Colour of the lobes where f < 0 (linear RGB).
         negative: [f32; 3],
     },
 }
@@ -154,13 +159,17 @@ impl std::fmt::Display for RenderPath {
     }
 }
 
+/// Everything that decides how glyphs are drawn, beside the scene and the camera: the
+/// command line's drawing options.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RenderSettings {
+    /// How each pixel's surface point is found.
     pub method: Method,
     /// The ray caster that runs `method`.
     pub path: RenderPath,
     /// March step in units of the glyph's bounding radius.
     pub step: f32,
+    /// How a sign change of the fixed march is refined to the surface.
     pub refinement: Refinement,
     /// Step factor inside the centre zone (the paper uses a third).
     pub centre_step_factor: f32,
@@ -168,6 +177,7 @@ pub struct RenderSettings {
     pub centre_zone: f32,
     /// Isotropic offset added to every radius, as a fraction of the glyph's bounding radius.
     pub offset: f32,
+    /// How surface points are coloured.
     pub color: ColorMode,
     /// Background colour: linear RGB and alpha (1 opaque, 0 transparent: `--background
     /// none`); see [`parse_background`].
