@@ -5,7 +5,6 @@
 //! glyph radius drawn.
 mod common;
 use glam::DVec3;
-use glyphcast::camera::{Camera, Projection};
 use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
 use glyphcast::glyph::NegativeMode;
 use glyphcast::glyph::bounds::sampled_max_radius;
@@ -15,23 +14,12 @@ use glyphcast::render::frame::SceneExtent;
 use glyphcast::render::headless::HeadlessRenderer;
 use glyphcast::render::settings::{SIGN_COLORS, parse_background};
 use glyphcast::render::{ColorMode, Method, RenderPath, RenderSettings};
-use glyphcast::scene::{GlyphSet, ImageSize, Scene};
+use glyphcast::scene::{GlyphSet, Scene};
 use std::path::Path;
 
+/// The test scenes' framing: the accuracy suite's, at 128 x 128.
 fn scene(sets: Vec<GlyphSet>, eye: DVec3) -> Scene {
-    Scene {
-        glyph_sets: sets,
-        camera: Camera {
-            projection: Projection::Perspective { fov_y_deg: 30.0 },
-            eye,
-            target: DVec3::ZERO,
-            up: DVec3::Z,
-        },
-        image: ImageSize {
-            width: 128,
-            height: 128,
-        },
-    }
+    glyphcast::accuracy::suite::scene(sets, eye, 128)
 }
 
 /// One glyph with a positive pair of lobes and a negative pair (weight 0.8).

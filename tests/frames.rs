@@ -177,6 +177,23 @@ fn a_world_frame_fod_draws_the_same_whatever_its_storage() {
 }
 
 /// The DWI, and its affine, as glyphcast reads them.
+/// Fits `dwi` (small_64D's data, or a copy of it) with small_64D's bval/bvec to SH band 4
+/// into `output`, with `extra` flags; the fit must succeed.
+fn fit_small_64d(dwi: &Path, output: &Path, extra: &[&str]) {
+    let (bval, bvec) = (dipy_data("small_64D.bval"), dipy_data("small_64D.bvec"));
+    let mut args = vec![
+        "fit",
+        text(dwi),
+        "--bval",
+        text(&bval),
+        "--bvec",
+        text(&bvec),
+    ];
+    args.extend(["--sh", "--order", "4", "--quiet", "-o", text(output)]);
+    args.extend(extra);
+    succeeded(&glyphcast(&args), &format!("fit {}", output.display()));
+}
+
 fn small_64d() -> (ArrayD<f64>, DMat4) {
     let image = read_image(&dipy_data("small_64D.nii")).expect("small_64D");
     (image.data, image.voxel_to_world.affine)
@@ -202,20 +219,6 @@ fn an_x_flipped_dwi_with_fsl_bvecs_fits_the_same_glyphs() {
     let flipped_path = dir.join("flipped.nii.gz");
     write_nifti(&original_path, &dwi, affine);
     write_nifti(&flipped_path, &flipped, flipped_affine);
-    let (bval, bvec) = (dipy_data("small_64D.bval"), dipy_data("small_64D.bvec"));
-    let fit = |dwi: &Path, output: &Path, extra: &[&str]| {
-        let mut args = vec![
-            "fit",
-            text(dwi),
-            "--bval",
-            text(&bval),
-            "--bvec",
-            text(&bvec),
-        ];
-        args.extend(["--sh", "--order", "4", "--quiet", "-o", text(output)]);
-        args.extend(extra);
-        succeeded(&glyphcast(&args), &format!("fit {}", output.display()));
-    };
     let outputs = [
         ("original", &original_path, &[][..]),
         ("flipped", &flipped_path, &[][..]),
@@ -234,7 +237,7 @@ fn an_x_flipped_dwi_with_fsl_bvecs_fits_the_same_glyphs() {
             "nii.gz"
         };
         let coefficients = dir.join(format!("{name}-sh.{ending}"));
-        fit(input, &coefficients, extra);
+        fit_small_64d(input, &coefficients, extra);
         // No --basis: the file records it (see the basis tests below).
         let args = ["--sh", text(&coefficients), "--slice", "axial:5"];
         maps.push((name, depth(&dir, name, &args)));
@@ -283,26 +286,9 @@ fn render_failure(dir: &Path, args: &[&str]) -> (i32, String) {
 fn render_takes_the_basis_fit_recorded_and_refuses_a_contradiction() {
     let dir = fresh_dir("basis");
     let dwi = dipy_data("small_64D.nii");
-    let (bval, bvec) = (dipy_data("small_64D.bval"), dipy_data("small_64D.bvec"));
     for (output, field) in [("fitted.nii.gz", "descrip"), ("fitted.mif", "comments")] {
         let fitted = dir.join(output);
-        let args = [
-            "fit",
-            text(&dwi),
-            "--bval",
-            text(&bval),
-            "--bvec",
-            text(&bvec),
-            "--sh",
-            "--order",
-            "4",
-            "--basis",
-            "dipy",
-            "--quiet",
-            "-o",
-            text(&fitted),
-        ];
-        succeeded(&glyphcast(&args), "fit");
+        fit_small_64d(&dwi, &fitted, &["--basis", "dipy"]);
         let volume = ["--sh", text(&fitted), "--slice", "axial:5"];
         let with = |extra: &[&'static str]| {
             let mut args: Vec<&str> = volume.to_vec();
@@ -416,26 +402,11 @@ fn fit_writes_mif_in_scanner_axes_on_an_oblique_grid() {
     let turn = DMat4::from_rotation_z(0.5) * DMat4::from_rotation_x(0.2);
     let oblique = dir.join("oblique.nii.gz");
     write_nifti(&oblique, &dwi, turn * affine);
-    let (bval, bvec) = (dipy_data("small_64D.bval"), dipy_data("small_64D.bvec"));
     let mut maps = Vec::new();
     let mut coefficients = Vec::new();
     for name in ["sh.nii.gz", "sh.mif"] {
         let output = dir.join(name);
-        let args = [
-            "fit",
-            text(&oblique),
-            "--bval",
-            text(&bval),
-            "--bvec",
-            text(&bvec),
-            "--sh",
-            "--order",
-            "4",
-            "--quiet",
-            "-o",
-            text(&output),
-        ];
-        succeeded(&glyphcast(&args), name);
+        fit_small_64d(&oblique, &output, &[]);
         coefficients.push(read_image(&output).expect("reading the fit").data);
         let render = ["--sh", text(&output), "--slice", "axial:5"];
         maps.push(depth(&dir, name, &render));

@@ -381,6 +381,7 @@ fn a_large_image_under_a_memory_limit_is_an_error() {
     );
     let run = std::process::Command::new("sh")
         .args(["-c", &command])
+        .env("GLYPHCAST_VALIDATION", "1")
         .output()
         .expect("running glyphcast under a memory limit");
     let line = expect_error(&run, 1, &dir, &[]);
@@ -408,6 +409,7 @@ fn interrupt_during_write(signal: &str, code: i32) {
             "--depth-out",
             path_str(&npy),
         ])
+        .env("GLYPHCAST_VALIDATION", "1")
         .stdout(std::process::Stdio::null())
         .stderr(std::process::Stdio::null())
         .spawn()

@@ -17,7 +17,10 @@ pub struct SuiteScene {
     pub scene: Scene,
 }
 
-fn scene(sets: Vec<GlyphSet>, eye: DVec3, size: u32) -> Scene {
+/// `sets` seen from `eye` by a 30-degree perspective camera aimed at the origin with z up,
+/// in a `size` x `size` image: the framing of the suite's scenes (tests build theirs
+/// with it too).
+pub fn scene(sets: Vec<GlyphSet>, eye: DVec3, size: u32) -> Scene {
     Scene {
         glyph_sets: sets,
         camera: Camera {

@@ -35,7 +35,7 @@ pub mod voxel;
 pub use inputs::{FitFiles, FitInputs};
 pub use voxel::{FitReport, VoxelFitter, fit, fit_with_report};
 
-use crate::scene::ShBasis;
+use crate::scene::{GlyphKind, ShBasis};
 use crate::{Error, Result};
 use sh::sh_count;
 
@@ -99,6 +99,27 @@ impl FitModel {
         match *self {
             FitModel::Tensor { order } => crate::glyph::monomials::symmetric_count(order),
             FitModel::Sh { band, .. } => sh_count(band),
+        }
+    }
+
+    /// The glyph kind of the fitted coefficients: a symmetric tensor, or the SH series in
+    /// its basis.
+    pub fn glyph_kind(&self) -> GlyphKind {
+        match *self {
+            FitModel::Tensor { order } => GlyphKind::Tensor(crate::glyph::TensorLayout {
+                order,
+                symmetry: crate::glyph::Symmetry::Symmetric,
+            }),
+            FitModel::Sh {
+                band,
+                basis,
+                legacy,
+                ..
+            } => GlyphKind::Sh {
+                band,
+                basis,
+                legacy,
+            },
         }
     }
 

@@ -19,7 +19,6 @@ use crate::io::mif::{MifKind, MifWrite, write_mif};
 use crate::io::nifti::NiftiHeader;
 use crate::io::nifti::VoxelToWorld;
 use crate::io::nifti::write::nifti1_bytes;
-use crate::scene::GlyphKind;
 use crate::volume::Reorientation;
 use crate::{Error, Result};
 
@@ -82,23 +81,7 @@ fn to_world_frame(
             "the polar decomposition of the affine did not converge",
         )
     })?;
-    let kind = match *model {
-        FitModel::Tensor { order } => GlyphKind::Tensor(crate::glyph::TensorLayout {
-            order,
-            symmetry: crate::glyph::Symmetry::Symmetric,
-        }),
-        FitModel::Sh {
-            band,
-            basis,
-            legacy,
-            ..
-        } => GlyphKind::Sh {
-            band,
-            basis,
-            legacy,
-        },
-    };
-    let rotate = Reorientation::new(rotation).for_kind(kind)?;
+    let rotate = Reorientation::new(rotation).for_kind(model.glyph_kind())?;
     let mut world = coeffs.clone();
     for mut glyph in world.lanes_mut(Axis(3)) {
         if glyph.iter().all(|&c| c == 0.0) {
