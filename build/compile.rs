@@ -140,6 +140,8 @@ fn options<'a>(job: &'a Job, glsl_dir: &'a Path) -> Result<shaderc::CompileOptio
     options.set_include_callback(move |name, _, _, _| {
         let content = if name == "glyph_function.glsl" {
             job.generated.clone()
+        } else if name == "codes.glsl" {
+            crate::catalog::codes_glsl()
         } else {
             std::fs::read_to_string(glsl_dir.join(name)).map_err(|e| format!("{name}: {e}"))?
         };

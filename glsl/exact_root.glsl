@@ -348,7 +348,7 @@ float half_p_sign(int half_index, float u) {
 }
 
 bool hide_negative() {
-    return glyph_set.hide_negative != 0u;
+    return glyph_set.hide_negative == NEGATIVE_HIDE;
 }
 
 // First sign change of g on [tau0, tau1], sampled at `samples` steps and refined by

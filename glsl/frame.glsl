@@ -1,6 +1,9 @@
 // Frame-wide parameters and the coefficient buffer of one glyph set.
 // Mirrored on the CPU by src/render/frame.rs (FrameParams); src/render/interface.rs
-// checks member names, offsets and bindings against the compiled SPIR-V.
+// checks member names, offsets and bindings against the compiled SPIR-V. The mode codes
+// come from src/catalog.rs (codes), which build.rs serves as codes.glsl.
+#include "codes.glsl"
+
 layout(std140, set = 0, binding = 0) uniform FrameParams {
     mat4 view_proj;
     vec4 eye;             // xyz: eye; w: 1 for orthographic, 0 for perspective
@@ -10,9 +13,8 @@ layout(std140, set = 0, binding = 0) uniform FrameParams {
     vec4 viewport;        // x: 1/width, y: 1/height, z: near plane distance (perspective; 0
                           // orthographic)
     vec4 march;           // x: step, y: centre step factor, z: centre zone radius, w: offset
-    ivec4 modes;          // x: refinement (0 none, 1 bisect, 2 interp, 3 secant), y: its steps,
-                          // z: colour (0 direction, 1 magnitude, 2 uniform, 3 sign), w: max
-                          // steps
+    ivec4 modes;          // x: refinement (REFINE_*), y: its steps, z: colour (COLOR_*),
+                          // w: max steps
     vec4 magnitude_range; // x: low end, y: 1 / (high - low)
     vec4 uniform_color;   // rgb, linear (sign colouring: the positive lobes')
     vec4 light;           // xyz: unit direction towards the light, world space
@@ -26,7 +28,7 @@ layout(std430, set = 0, binding = 1) readonly buffer Coefficients {
 };
 
 layout(push_constant) uniform GlyphSetParams {
-    uint hide_negative;   // scene format `negative`: 0 abs, 1 hide
+    uint hide_negative;   // scene format `negative`: NEGATIVE_ABS or NEGATIVE_HIDE
 #ifdef GLYPHCAST_COMPUTE
     // The compute ray caster's dispatch (src/render/compute.rs, ComputeParams): which
     // slice of each tile's list it walks, and the image size.

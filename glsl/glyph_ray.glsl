@@ -5,7 +5,7 @@
 // share. Include after frame.glsl, the glyph function and shading.glsl.
 
 float shape(float f) {
-    return glyph_set.hide_negative != 0u ? max(f, 0.0) : abs(f);
+    return glyph_set.hide_negative == NEGATIVE_HIDE ? max(f, 0.0) : abs(f);
 }
 
 // g > 0 inside the glyph. Coordinates are normalised so the bound is 1 + offset.
@@ -79,7 +79,7 @@ void shade_surface(GlyphRay ray, float s_hit, out vec4 color, out float depth,
     vec3 q_dir = q / len;
     vec3 grad;
     float f = glyph_f_grad(q_dir, grad);
-    float sgn = (glyph_set.hide_negative != 0u || f >= 0.0) ? 1.0 : -1.0;
+    float sgn = (glyph_set.hide_negative == NEGATIVE_HIDE || f >= 0.0) ? 1.0 : -1.0;
     // Outward normal of g = 0: (|q| + n |f|) q^ - sgn grad f(q^) (Euler's identity).
     vec3 normal = normalize((len + float(GLYPH_ORDER) * abs(f)) * q_dir - sgn * grad);
 

@@ -54,16 +54,16 @@ bool glyph_ray(out GlyphRay ray) {
 // Refines a bracket [s0, s1] with g(s0) <= 0 < g(s1) along q(s) = mid + s * dir.
 float refine(vec3 mid, vec3 dir, float s0, float g0, float s1, float g1) {
     int mode = frame.modes.x;
-    if (mode == 1) {
+    if (mode == REFINE_BISECT) {
         for (int i = 0; i < frame.modes.y; ++i) {
             float sm = 0.5 * (s0 + s1);
             float gm = inside(mid + sm * dir);
             if (gm > 0.0) { s1 = sm; g1 = gm; } else { s0 = sm; g0 = gm; }
         }
         return 0.5 * (s0 + s1);
-    } else if (mode == 2) {
+    } else if (mode == REFINE_INTERP) {
         return s0 + (s1 - s0) * (g0 / (g0 - g1));
-    } else if (mode == 3) {
+    } else if (mode == REFINE_SECANT) {
         // Regula falsi, Illinois variant: halve the weight of an end that stays put.
         int stuck = 0;
         for (int i = 0; i < frame.modes.y; ++i) {

@@ -63,7 +63,7 @@ bool robust_first_hit(GlyphRay ray, out float s_hit) {
     if (inside(ray.mid + ray.s_start * ray.dir) > 0.0) {
         return true;
     }
-    bool hide = glyph_set.hide_negative != 0u;
+    bool hide = glyph_set.hide_negative == NEGATIVE_HIDE;
     float offset = frame.march.w;
     float abs_sum = glyph_abs_sum(v_glyph);
     float chord = ray.s_end - ray.s_start;

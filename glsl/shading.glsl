@@ -19,12 +19,12 @@ vec3 viridis(float t) {
 // picks the sign colouring's colour; passes that do not know it give 1).
 vec3 glyph_color(vec3 dir, float radius, float f) {
     int mode = frame.modes.z;
-    if (mode == 0) {
+    if (mode == COLOR_DIRECTION) {
         // The paper's |p^|: red x, green y, blue z, read as sRGB values.
         return pow(abs(dir), vec3(2.2));
-    } else if (mode == 1) {
+    } else if (mode == COLOR_MAGNITUDE) {
         return viridis((radius - frame.magnitude_range.x) * frame.magnitude_range.y);
-    } else if (mode == 3) {
+    } else if (mode == COLOR_SIGN) {
         return f < 0.0 ? frame.negative_color.rgb : frame.uniform_color.rgb;
     }
     return frame.uniform_color.rgb;

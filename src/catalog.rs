@@ -77,3 +77,54 @@ pub const fn max_order(symmetric: bool) -> u32 {
         MAX_NONSYMMETRIC_ORDER
     }
 }
+
+/// The integer codes the Rust side writes into the frame's and the glyph sets' uniform
+/// blocks and the shaders compare against. `build.rs` serves [`SHADER_CODES`] to every
+/// shader as `#include "codes.glsl"` (one `#define NAME VALUE` each), so that both sides
+/// read these numbers from here.
+pub mod codes {
+    /// `FrameParams.modes.x`: no refinement of a bracketed root.
+    pub const REFINE_NONE: i32 = 0;
+    /// `FrameParams.modes.x`: bisection, `modes.y` steps.
+    pub const REFINE_BISECT: i32 = 1;
+    /// `FrameParams.modes.x`: one linear interpolation.
+    pub const REFINE_INTERP: i32 = 2;
+    /// `FrameParams.modes.x`: regula falsi (Illinois), `modes.y` steps.
+    pub const REFINE_SECANT: i32 = 3;
+    /// `FrameParams.modes.z`: colour by the direction from the glyph centre.
+    pub const COLOR_DIRECTION: i32 = 0;
+    /// `FrameParams.modes.z`: colour by the radius through a colour map.
+    pub const COLOR_MAGNITUDE: i32 = 1;
+    /// `FrameParams.modes.z`: one colour.
+    pub const COLOR_UNIFORM: i32 = 2;
+    /// `FrameParams.modes.z`: two colours by the sign of f at the hit.
+    pub const COLOR_SIGN: i32 = 3;
+    /// A glyph set's `hide_negative`: negative lobes drawn as |f| (scene `negative: abs`).
+    pub const NEGATIVE_ABS: u32 = 0;
+    /// A glyph set's `hide_negative`: negative lobes hidden (scene `negative: hide`).
+    pub const NEGATIVE_HIDE: u32 = 1;
+}
+
+/// Every entry of [`codes`] with its GLSL name, for `build.rs`'s `codes.glsl`.
+pub const SHADER_CODES: [(&str, i64); 10] = [
+    ("REFINE_NONE", codes::REFINE_NONE as i64),
+    ("REFINE_BISECT", codes::REFINE_BISECT as i64),
+    ("REFINE_INTERP", codes::REFINE_INTERP as i64),
+    ("REFINE_SECANT", codes::REFINE_SECANT as i64),
+    ("COLOR_DIRECTION", codes::COLOR_DIRECTION as i64),
+    ("COLOR_MAGNITUDE", codes::COLOR_MAGNITUDE as i64),
+    ("COLOR_UNIFORM", codes::COLOR_UNIFORM as i64),
+    ("COLOR_SIGN", codes::COLOR_SIGN as i64),
+    ("NEGATIVE_ABS", codes::NEGATIVE_ABS as i64),
+    ("NEGATIVE_HIDE", codes::NEGATIVE_HIDE as i64),
+];
+
+/// The text of `codes.glsl`: `#define NAME VALUE` for every entry of [`SHADER_CODES`]
+/// (int literals; GLSL 4.5 converts them where a uint is compared).
+pub fn codes_glsl() -> String {
+    let mut text = String::from("// Generated from src/catalog.rs (codes). Do not edit.\n");
+    for (name, value) in SHADER_CODES {
+        text.push_str(&format!("#define {name} {value}\n"));
+    }
+    text
+}

@@ -352,7 +352,7 @@ fn gpu_ranges_contain_float64_samples_for_every_variant() {
                     mid_s0: [seg.mid[0], seg.mid[1], seg.mid[2], seg.s0],
                     dir_s1: [seg.dir[0], seg.dir[1], seg.dir[2], seg.s1],
                     glyph: glyph as u32,
-                    hide_negative: u32::from(shape.negative == NegativeMode::Hide),
+                    hide_negative: shape.negative.shader_code(),
                     offset: shape.offset as f32,
                     pad: 0,
                 });

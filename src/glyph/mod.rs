@@ -38,6 +38,17 @@ pub enum NegativeMode {
     Hide,
 }
 
+impl NegativeMode {
+    /// The shaders' code for this mode (`catalog::codes::NEGATIVE_*`), as pushed per
+    /// glyph set.
+    pub fn shader_code(self) -> u32 {
+        match self {
+            NegativeMode::Abs => crate::catalog::codes::NEGATIVE_ABS,
+            NegativeMode::Hide => crate::catalog::codes::NEGATIVE_HIDE,
+        }
+    }
+}
+
 /// A Cartesian tensor layout: order and symmetry.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct TensorLayout {

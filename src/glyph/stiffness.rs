@@ -15,15 +15,13 @@
 //! permutations of (i, j, k, l): the same quartic form, in 15 unique coefficients. They
 //! differ as tensors (sym(C)_1122 = (C12 + 2 C44) / 3, not C12) but not as glyphs.
 //!
-//! `read` reads the matrix from CSV or JSON files.
+//! `io::stiffness` reads the matrix from CSV or JSON files.
 use glam::DMat3;
 
 use crate::glyph::monomials::{
     monomial_index, monomials, multiplicity, nonsymmetric_entry_monomial,
 };
 use crate::{Error, Result};
-
-mod read;
 
 /// Entries that differ from their transpose by more than this fraction of the largest
 /// entry make the matrix "not symmetric". Tables typed from papers are exactly

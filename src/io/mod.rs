@@ -1,4 +1,5 @@
-//! Files in and out: scene JSON, NIfTI and MRtrix volumes, PNG images and NumPy depth maps.
+//! Files in and out: scene JSON, NIfTI and MRtrix volumes, Voigt stiffness files, PNG
+//! images and NumPy depth maps.
 pub mod atomic;
 #[cfg(feature = "volume")]
 pub mod image;
@@ -11,3 +12,4 @@ pub mod nifti;
 pub mod npy;
 pub mod png;
 pub mod scene;
+pub mod stiffness;

@@ -59,7 +59,7 @@ pub struct ComputeRayCastPass {
 /// One part of a glyph set on the GPU, with its tile lists.
 struct ComputePartGpu {
     layout: TensorLayout,
-    hide_negative: bool,
+    negative: crate::glyph::NegativeMode,
     /// Dispatches that walk its longest tile list.
     slices: u32,
     descriptor_set: vk::DescriptorSet,
@@ -357,7 +357,7 @@ impl ComputeRayCastPass {
         for (part, &pipeline) in scene.parts.iter().zip(&pipelines) {
             for slice in 0..part.slices {
                 let params = ComputeParams {
-                    hide_negative: u32::from(part.hide_negative),
+                    hide_negative: part.negative.shader_code(),
                     slice,
                     width: scene.width,
                     height: scene.height,
@@ -439,7 +439,7 @@ fn upload_part(
     let descriptor_set = scene.pool.buffer_set(set_layout, &bindings)?;
     Ok(ComputePartGpu {
         layout: glyphs.batch.layout,
-        hide_negative: glyphs.batch.negative == crate::glyph::NegativeMode::Hide,
+        negative: glyphs.batch.negative,
         slices: bins.slices,
         descriptor_set,
         _inputs: inputs,

@@ -1,6 +1,7 @@
 //! The frame's uniform block, laid out exactly as `FrameParams` in glsl/frame.glsl (std140:
 //! a mat4 and vec4/ivec4 members only, so there is no padding to get wrong).
 use crate::camera::{Camera, Projection};
+use crate::catalog::codes;
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::settings::{ColorMode, Refinement, RenderSettings};
 use bytemuck::{Pod, Zeroable};
@@ -25,8 +26,8 @@ pub struct FrameParams {
     /// x: step, y: centre step factor, z: centre zone radius (units of the bound), w:
     /// offset.
     pub march: [f32; 4],
-    /// x: refinement (0 none, 1 bisect, 2 interp, 3 secant), y: its steps, z: colour mode
-    /// (0 direction, 1 magnitude, 2 uniform, 3 sign), w: the march's step limit.
+    /// x: refinement (`catalog::codes::REFINE_*`), y: its steps, z: colour mode
+    /// (`catalog::codes::COLOR_*`), w: the march's step limit.
     pub modes: [i32; 4],
     /// x: the magnitude range's low end, y: 1 / (high - low) (world units).
     pub magnitude_range: [f32; 4],
@@ -161,21 +162,23 @@ impl FrameParams {
         };
         let v4 = |v: glam::DVec3, w: f32| [v.x as f32, v.y as f32, v.z as f32, w];
         let (refine_mode, bisections) = match settings.refinement {
-            Refinement::None => (0, 0),
-            Refinement::Bisect(k) => (1, k as i32),
-            Refinement::Interpolate => (2, 0),
-            Refinement::Secant(k) => (3, k as i32),
+            Refinement::None => (codes::REFINE_NONE, 0),
+            Refinement::Bisect(k) => (codes::REFINE_BISECT, k as i32),
+            Refinement::Interpolate => (codes::REFINE_INTERP, 0),
+            Refinement::Secant(k) => (codes::REFINE_SECANT, k as i32),
         };
         let (color_mode, range, uniform, negative) = match settings.color {
-            ColorMode::Direction => (0, (0.0, 1.0), [0.0; 3], [0.0; 3]),
+            ColorMode::Direction => (codes::COLOR_DIRECTION, (0.0, 1.0), [0.0; 3], [0.0; 3]),
             ColorMode::Magnitude { range } => (
-                1,
+                codes::COLOR_MAGNITUDE,
                 range.unwrap_or((0.0, extent.max_radius as f32)),
                 [0.0; 3],
                 [0.0; 3],
             ),
-            ColorMode::Uniform(rgb) => (2, (0.0, 1.0), rgb, [0.0; 3]),
-            ColorMode::Sign { positive, negative } => (3, (0.0, 1.0), positive, negative),
+            ColorMode::Uniform(rgb) => (codes::COLOR_UNIFORM, (0.0, 1.0), rgb, [0.0; 3]),
+            ColorMode::Sign { positive, negative } => {
+                (codes::COLOR_SIGN, (0.0, 1.0), positive, negative)
+            }
         };
         let light = (-f.fwd + 0.5 * f.up + 0.35 * f.right).normalize();
         FrameParams {

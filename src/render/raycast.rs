@@ -82,8 +82,8 @@ const ORIENTED_BOX_CONSTANT: u32 = 0;
 pub struct GlyphSetGpu {
     /// The tensor layout of its coefficients.
     pub layout: TensorLayout,
-    /// Whether only f > 0 is drawn.
-    pub hide_negative: bool,
+    /// How negative lobes are drawn.
+    pub negative: crate::glyph::NegativeMode,
     /// Glyphs in the batch (instances drawn).
     pub count: u32,
     instances: Buffer,
@@ -337,7 +337,7 @@ impl RayCastPass {
         let (viewport, scissor) = viewport_and_scissor(extent);
         for set in &scene.sets {
             let pipeline = self.pipeline(set.layout, method)?;
-            let hide = u32::from(set.hide_negative);
+            let hide = set.negative.shader_code();
             // SAFETY: recording state is the caller's; all handles are alive.
             unsafe {
                 let d = self.ctx.device();
@@ -521,7 +521,7 @@ fn upload_chunk(
     )?;
     Ok(GlyphSetGpu {
         layout: batch.layout,
-        hide_negative: batch.negative == crate::glyph::NegativeMode::Hide,
+        negative: batch.negative,
         count: batch.len() as u32,
         instances,
         boxes,

@@ -1,4 +1,5 @@
-//! Voigt stiffness files.
+//! Voigt stiffness files, read into [`VoigtStiffness`] (the math lives in
+//! `glyph::stiffness`).
 //!
 //! - CSV: 6 lines of 6 numbers separated by commas and/or whitespace; `#` starts a
 //!   comment; blank lines are skipped.
@@ -11,8 +12,8 @@
 use serde_json::Value;
 use std::path::Path;
 
-use super::{ShearOrder, VoigtStiffness};
 use crate::error::quoted;
+use crate::glyph::stiffness::{ShearOrder, VoigtStiffness};
 use crate::{Error, Result};
 
 type Matrix = [[f64; 6]; 6];
