@@ -14,6 +14,24 @@
 //! and MRtrix images, volume slices, the DWI fits), `viewer` (winit windows) and `plots`
 //! (benchmark plots).
 //!
+//! # Rendering offscreen
+//!
+//! The names most programs need are re-exported at the root. Rendering a scene file's
+//! glyphs to pixels and the ray distance per pixel:
+//!
+//! ```no_run
+//! use glyphcast::{Gpu, GpuOptions, HeadlessRenderer, RenderSettings, prepare_scene};
+//!
+//! fn render(scene: &glyphcast::Scene) -> glyphcast::Result<glyphcast::RenderedImage> {
+//!     let gpu = Gpu::headless(&GpuOptions::from_env())?;
+//!     let mut renderer = HeadlessRenderer::new(&gpu)?;
+//!     let settings = RenderSettings::default();
+//!     let sets = prepare_scene(scene, settings.offset as f64)?;
+//!     let (w, h) = (scene.image.width, scene.image.height);
+//!     renderer.render(&gpu, &sets, &scene.camera, w, h, &settings)
+//! }
+//! ```
+//!
 //! # Embedding the ray caster in an engine
 //!
 //! An engine that owns its Vulkan instance, device, allocator and frame can draw glyphs
@@ -55,13 +73,10 @@
 //!
 //! ```no_run
 //! use ash::vk;
-//! use glyphcast::camera::Camera;
-//! use glyphcast::scene::Scene;
-//! use glyphcast::render::RenderSettings;
-//! use glyphcast::render::frame::{FrameParams, SceneExtent};
-//! use glyphcast::render::glyph_data::prepare_scene;
-//! use glyphcast::render::raycast::{RayCastPass, SceneGpu, TargetFormats};
-//! use glyphcast::vk::DeviceContext;
+//! use glyphcast::{
+//!     Camera, DeviceContext, FrameParams, RayCastPass, RenderSettings, Scene, SceneExtent,
+//!     SceneGpu, TargetFormats, prepare_scene,
+//! };
 //! use gpu_allocator::vulkan::Allocator;
 //! use std::sync::{Arc, Mutex};
 //!
@@ -137,3 +152,14 @@ pub mod vk;
 pub mod volume;
 
 pub use error::{Error, Result};
+
+// The names most programs need, at the root; everything else stays in its module.
+pub use camera::{Camera, Projection};
+pub use glyph::NegativeMode;
+pub use render::frame::{FrameParams, SceneExtent};
+pub use render::glyph_data::{GlyphSetData, prepare_scene};
+pub use render::headless::{HeadlessRenderer, RenderedImage};
+pub use render::raycast::{RayCastPass, SceneGpu, TargetFormats};
+pub use render::{ColorMode, Method, RenderPath, RenderSettings};
+pub use scene::{GlyphKind, GlyphSet, ImageSize, Scene, ShBasis};
+pub use vk::{DeviceContext, Gpu, GpuOptions};

@@ -18,15 +18,12 @@ mod plane;
 use ash::vk;
 use engine::{Engine, subresource_range};
 use glam::DVec3;
-use glyphcast::camera::{Camera, Projection};
 use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
 use glyphcast::glyph::reference::reference_depth;
-use glyphcast::render::RenderSettings;
-use glyphcast::render::frame::{FrameParams, SceneExtent};
-use glyphcast::render::glyph_data::{GlyphSetData, prepare_scene};
-use glyphcast::render::raycast::{RayCastPass, TargetFormats};
-use glyphcast::scene::{ImageSize, Scene};
-use glyphcast::vk::DeviceContext;
+use glyphcast::{
+    Camera, DeviceContext, FrameParams, GlyphSetData, ImageSize, Projection, RayCastPass,
+    RenderSettings, Scene, SceneExtent, TargetFormats, prepare_scene,
+};
 use plane::{PlanePass, Square};
 
 type Result<T> = std::result::Result<T, Box<dyn std::error::Error>>;

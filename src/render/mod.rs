@@ -4,6 +4,9 @@
 //! screen tiles of `tiles`.
 pub mod batch;
 pub mod compute;
+// Test harnesses: they run the generated GLSL at given points or segments so that the
+// integration tests can hold it to the float64 code. Public for those tests only.
+#[doc(hidden)]
 pub mod eval;
 pub mod frame;
 pub mod glyph_data;
@@ -12,6 +15,7 @@ pub mod headless;
 mod interface;
 pub mod labels;
 pub mod mesh;
+#[doc(hidden)]
 pub mod range_eval;
 pub mod raycast;
 pub mod settings;
