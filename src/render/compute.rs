@@ -14,20 +14,21 @@
 //! boxes would exceed one storage buffer (maxStorageBufferRange); lavapipe has no
 //! descriptor indexing, so every part has its own descriptor set.
 use crate::camera::Camera;
-use crate::error::{Error, Result, VkContext};
+use crate::error::{Error, Result};
 use crate::glyph::TensorLayout;
 use crate::render::Method;
 use crate::render::batch::{Batch, batches};
 use crate::render::frame::FrameParams;
 use crate::render::glyph_data::GlyphSetData;
-use crate::render::raycast::shader_module;
 use crate::render::shaders::compute_raycast_shader;
 use crate::render::tiles::{ScreenView, TileBins, WALK_PER_DISPATCH, bin_glyphs};
-use crate::vk::{Buffer, BufferBinding, DescriptorPool, DeviceContext};
+use crate::vk::{
+    Buffer, BufferBinding, DescriptorPool, DeviceContext, PipelineLayout, Pipelines,
+    buffer_binding, compute_pipeline,
+};
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use gpu_allocator::MemoryLocation;
-use std::collections::HashMap;
 
 /// Push constants of glsl/raycast_exact.comp (`GlyphSetParams` of glsl/frame.glsl with
 /// GLYPHCAST_COMPUTE defined).
@@ -50,9 +51,8 @@ pub(crate) const BINDINGS: u32 = 1 + INPUT_BINDINGS + 2;
 /// Pipelines and layouts of the compute ray caster; created once per device.
 pub struct ComputeRayCastPass {
     ctx: DeviceContext,
-    set_layout: vk::DescriptorSetLayout,
-    pipeline_layout: vk::PipelineLayout,
-    pipelines: HashMap<TensorLayout, vk::Pipeline>,
+    layout: PipelineLayout,
+    pipelines: Pipelines<TensorLayout>,
     buffer_limit: Option<u64>,
 }
 
@@ -120,46 +120,23 @@ pub fn packed_srgb(rgba: [f32; 4]) -> u32 {
 impl ComputeRayCastPass {
     /// The descriptor-set and pipeline layouts; pipelines are created when first needed.
     pub fn new(ctx: &DeviceContext) -> Result<ComputeRayCastPass> {
-        let device = ctx.device();
         let bindings: Vec<_> = (0..BINDINGS)
             .map(|binding| {
-                vk::DescriptorSetLayoutBinding::default()
-                    .binding(binding)
-                    .descriptor_type(if binding == 0 {
-                        vk::DescriptorType::UNIFORM_BUFFER
-                    } else {
-                        vk::DescriptorType::STORAGE_BUFFER
-                    })
-                    .descriptor_count(1)
-                    .stage_flags(vk::ShaderStageFlags::COMPUTE)
+                let kind = if binding == 0 {
+                    vk::DescriptorType::UNIFORM_BUFFER
+                } else {
+                    vk::DescriptorType::STORAGE_BUFFER
+                };
+                buffer_binding(binding, kind, vk::ShaderStageFlags::COMPUTE)
             })
             .collect();
-        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
-        let mut pass = ComputeRayCastPass {
+        let push = std::mem::size_of::<ComputeParams>() as u32;
+        Ok(ComputeRayCastPass {
             ctx: ctx.clone(),
-            set_layout: vk::DescriptorSetLayout::null(),
-            pipeline_layout: vk::PipelineLayout::null(),
-            pipelines: HashMap::new(),
+            layout: PipelineLayout::new(ctx, &bindings, vk::ShaderStageFlags::COMPUTE, push)?,
+            pipelines: Pipelines::new(ctx),
             buffer_limit: None,
-        };
-        // SAFETY: valid device and create infos; objects are destroyed in Drop.
-        unsafe {
-            pass.set_layout = device
-                .create_descriptor_set_layout(&info, None)
-                .vk("vkCreateDescriptorSetLayout")?;
-            let push = [vk::PushConstantRange::default()
-                .stage_flags(vk::ShaderStageFlags::COMPUTE)
-                .offset(0)
-                .size(std::mem::size_of::<ComputeParams>() as u32)];
-            let layouts = [pass.set_layout];
-            let layout_info = vk::PipelineLayoutCreateInfo::default()
-                .set_layouts(&layouts)
-                .push_constant_ranges(&push);
-            pass.pipeline_layout = device
-                .create_pipeline_layout(&layout_info, None)
-                .vk("vkCreatePipelineLayout")?;
-        }
-        Ok(pass)
+        })
     }
 
     /// Caps the bytes of coefficients and boxes per part below the device's
@@ -177,7 +154,7 @@ impl ComputeRayCastPass {
     /// The compute pipeline of a tensor layout, created on first use.
     pub fn pipeline(&mut self, layout: TensorLayout) -> Result<vk::Pipeline> {
         if let Some(p) = self.pipelines.get(&layout) {
-            return Ok(*p);
+            return Ok(p);
         }
         let shader = compute_raycast_shader(layout, Method::Exact).ok_or_else(|| {
             Error::Invalid(format!(
@@ -185,9 +162,6 @@ impl ComputeRayCastPass {
                 layout.symmetry, layout.order
             ))
         })?;
-        let device = self.ctx.device();
-        // SAFETY: the SPIR-V comes from build.rs and was validated by glslang.
-        let module = unsafe { shader_module(device, shader.spirv)? };
         let entries = [vk::SpecializationMapEntry {
             constant_id: 0,
             offset: 0,
@@ -197,27 +171,16 @@ impl ComputeRayCastPass {
         let specialization = vk::SpecializationInfo::default()
             .map_entries(&entries)
             .data(&walk);
-        let stage = vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::COMPUTE)
-            .module(module)
-            .name(c"main")
-            .specialization_info(&specialization);
-        let info = vk::ComputePipelineCreateInfo::default()
-            .stage(stage)
-            .layout(self.pipeline_layout);
-        // SAFETY: all referenced state lives until the call returns.
-        let created =
-            unsafe { device.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) };
-        // SAFETY: a module may be destroyed once the pipeline exists (or failed).
-        unsafe { device.destroy_shader_module(module, None) };
-        let pipeline = created
-            .map_err(|(_, result)| Error::Vulkan {
-                call: "vkCreateComputePipelines",
-                result,
-            })?
-            .first()
-            .copied()
-            .ok_or_else(|| Error::Setup("vkCreateComputePipelines returned no pipeline".into()))?;
+        // SAFETY: the SPIR-V comes from build.rs and was validated by glslang; it declares
+        // the bindings and push constants of this layout.
+        let pipeline = unsafe {
+            compute_pipeline(
+                &self.ctx,
+                self.layout.handle(),
+                shader.spirv,
+                Some(&specialization),
+            )?
+        };
         self.pipelines.insert(layout, pipeline);
         Ok(pipeline)
     }
@@ -298,7 +261,7 @@ impl ComputeRayCastPass {
                 instances: &instances,
                 boxes: &boxes,
             };
-            let part = upload_part(ctx, &scene, self.set_layout, glyphs, &bins)?;
+            let part = upload_part(ctx, &scene, self.layout.set_layout(), glyphs, &bins)?;
             scene.parts.push(part);
         }
         Ok(scene)
@@ -374,14 +337,14 @@ impl ComputeRayCastPass {
                     d.cmd_bind_descriptor_sets(
                         cmd,
                         vk::PipelineBindPoint::COMPUTE,
-                        self.pipeline_layout,
+                        self.layout.handle(),
                         0,
                         &[part.descriptor_set],
                         &[],
                     );
                     d.cmd_push_constants(
                         cmd,
-                        self.pipeline_layout,
+                        self.layout.handle(),
                         vk::ShaderStageFlags::COMPUTE,
                         0,
                         bytemuck::bytes_of(&params),
@@ -444,21 +407,6 @@ fn upload_part(
         descriptor_set,
         _inputs: inputs,
     })
-}
-
-impl Drop for ComputeRayCastPass {
-    fn drop(&mut self) {
-        let device = self.ctx.device();
-        // SAFETY: the owner has waited for every frame recorded with this pass; the device
-        // is alive while `self.ctx` is.
-        unsafe {
-            for p in self.pipelines.values() {
-                device.destroy_pipeline(*p, None);
-            }
-            device.destroy_pipeline_layout(self.pipeline_layout, None);
-            device.destroy_descriptor_set_layout(self.set_layout, None);
-        }
-    }
 }
 
 #[cfg(test)]

@@ -1,10 +1,12 @@
 //! Runs a variant's generated glyph function on the GPU at given points (compute shader
 //! glsl/glyph_eval.comp), so the generated GLSL can be held against the float64 reference.
-use crate::error::{Error, Result, VkContext};
+use crate::error::{Error, Result};
 use crate::glyph::TensorLayout;
-use crate::render::raycast::shader_module;
 use crate::render::shaders::eval_shader;
-use crate::vk::{Buffer, DeviceContext, Gpu, OneShot};
+use crate::vk::{
+    Buffer, BufferBinding, DescriptorPool, Gpu, OneShot, PipelineLayout, Pipelines, buffer_binding,
+    compute_pipeline,
+};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
@@ -54,35 +56,34 @@ pub(crate) fn dispatch(
     count: u32,
 ) -> Result<()> {
     let device = gpu.device();
-    let objects = ComputeObjects::new(
-        gpu.context(),
-        spirv,
-        buffers.len() as u32,
+    let ctx = gpu.context();
+    let bindings: Vec<_> = (0..buffers.len() as u32)
+        .map(|i| {
+            buffer_binding(
+                i,
+                vk::DescriptorType::STORAGE_BUFFER,
+                vk::ShaderStageFlags::COMPUTE,
+            )
+        })
+        .collect();
+    let layout = PipelineLayout::new(
+        ctx,
+        &bindings,
+        vk::ShaderStageFlags::COMPUTE,
         push.len() as u32,
     )?;
-    let infos: Vec<_> = buffers
-        .iter()
-        .map(|b| {
-            [vk::DescriptorBufferInfo {
-                buffer: b.handle,
-                offset: 0,
-                range: vk::WHOLE_SIZE,
-            }]
-        })
-        .collect();
-    let writes: Vec<_> = infos
+    // SAFETY: the caller's SPIR-V comes from build.rs and declares these bindings.
+    let handle = unsafe { compute_pipeline(ctx, layout.handle(), spirv, None)? };
+    // Owns the pipeline, which it destroys when this function returns.
+    let mut pipelines = Pipelines::new(ctx);
+    pipelines.insert((), handle);
+    let pool = DescriptorPool::new(ctx, 1, 0, buffers.len() as u32)?;
+    let storage: Vec<_> = buffers
         .iter()
         .enumerate()
-        .map(|(i, info)| {
-            vk::WriteDescriptorSet::default()
-                .dst_set(objects.set)
-                .dst_binding(i as u32)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .buffer_info(info)
-        })
+        .map(|(i, b)| BufferBinding::storage(i as u32, b))
         .collect();
-    // SAFETY: the set and buffers are alive and unused by any command buffer.
-    unsafe { device.update_descriptor_sets(&writes, &[]) };
+    let set = pool.buffer_set(layout.set_layout(), &storage)?;
     let commands = OneShot::new(gpu)?;
     commands.run(gpu, |cmd| {
         let host_read = [vk::MemoryBarrier2::default()
@@ -92,16 +93,16 @@ pub(crate) fn dispatch(
             .dst_access_mask(vk::AccessFlags2::HOST_READ)];
         // SAFETY: `cmd` is recording; objects live until the submission completes.
         unsafe {
-            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, objects.pipeline);
+            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, handle);
             device.cmd_bind_descriptor_sets(
                 cmd,
                 vk::PipelineBindPoint::COMPUTE,
-                objects.layout,
+                layout.handle(),
                 0,
-                &[objects.set],
+                &[set],
                 &[],
             );
-            device.cmd_push_constants(cmd, objects.layout, vk::ShaderStageFlags::COMPUTE, 0, push);
+            device.cmd_push_constants(cmd, layout.handle(), vk::ShaderStageFlags::COMPUTE, 0, push);
             device.cmd_dispatch(cmd, count.div_ceil(64), 1, 1);
             device.cmd_pipeline_barrier2(
                 cmd,
@@ -111,115 +112,4 @@ pub(crate) fn dispatch(
         Ok(())
     })?;
     gpu.check_validation()
-}
-
-/// Layouts, pipeline and descriptor set of the evaluation shader; destroyed on drop.
-struct ComputeObjects {
-    ctx: DeviceContext,
-    set_layout: vk::DescriptorSetLayout,
-    layout: vk::PipelineLayout,
-    pipeline: vk::Pipeline,
-    pool: vk::DescriptorPool,
-    set: vk::DescriptorSet,
-}
-
-impl ComputeObjects {
-    fn new(
-        ctx: &DeviceContext,
-        spirv: &[u32],
-        binding_count: u32,
-        push_bytes: u32,
-    ) -> Result<ComputeObjects> {
-        let device = ctx.device();
-        let mut o = ComputeObjects {
-            ctx: ctx.clone(),
-            set_layout: vk::DescriptorSetLayout::null(),
-            layout: vk::PipelineLayout::null(),
-            pipeline: vk::Pipeline::null(),
-            pool: vk::DescriptorPool::null(),
-            set: vk::DescriptorSet::null(),
-        };
-        let bindings: Vec<_> = (0..binding_count)
-            .map(|i| {
-                vk::DescriptorSetLayoutBinding::default()
-                    .binding(i)
-                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                    .descriptor_count(1)
-                    .stage_flags(vk::ShaderStageFlags::COMPUTE)
-            })
-            .collect();
-        // SAFETY: valid infos; every object is destroyed in Drop, also on early return.
-        unsafe {
-            o.set_layout = device
-                .create_descriptor_set_layout(
-                    &vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings),
-                    None,
-                )
-                .vk("vkCreateDescriptorSetLayout")?;
-            let push = [vk::PushConstantRange::default()
-                .stage_flags(vk::ShaderStageFlags::COMPUTE)
-                .size(push_bytes)];
-            let set_layouts = [o.set_layout];
-            o.layout = device
-                .create_pipeline_layout(
-                    &vk::PipelineLayoutCreateInfo::default()
-                        .set_layouts(&set_layouts)
-                        .push_constant_ranges(&push),
-                    None,
-                )
-                .vk("vkCreatePipelineLayout")?;
-            let module = shader_module(device, spirv)?;
-            let stage = vk::PipelineShaderStageCreateInfo::default()
-                .stage(vk::ShaderStageFlags::COMPUTE)
-                .module(module)
-                .name(c"main");
-            let info = vk::ComputePipelineCreateInfo::default()
-                .stage(stage)
-                .layout(o.layout);
-            let created = device.create_compute_pipelines(vk::PipelineCache::null(), &[info], None);
-            device.destroy_shader_module(module, None);
-            o.pipeline = created
-                .map_err(|(_, result)| Error::Vulkan {
-                    call: "vkCreateComputePipelines",
-                    result,
-                })?
-                .first()
-                .copied()
-                .unwrap_or_default();
-            let sizes = [vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::STORAGE_BUFFER,
-                descriptor_count: binding_count,
-            }];
-            o.pool = device
-                .create_descriptor_pool(
-                    &vk::DescriptorPoolCreateInfo::default()
-                        .max_sets(1)
-                        .pool_sizes(&sizes),
-                    None,
-                )
-                .vk("vkCreateDescriptorPool")?;
-            o.set = device
-                .allocate_descriptor_sets(
-                    &vk::DescriptorSetAllocateInfo::default()
-                        .descriptor_pool(o.pool)
-                        .set_layouts(&set_layouts),
-                )
-                .vk("vkAllocateDescriptorSets")?[0];
-        }
-        Ok(o)
-    }
-}
-
-impl Drop for ComputeObjects {
-    fn drop(&mut self) {
-        let device = self.ctx.device();
-        // SAFETY: the one-shot submission has completed; destroying null handles is a
-        // no-op; the device is alive while `self.ctx` is.
-        unsafe {
-            device.destroy_descriptor_pool(self.pool, None);
-            device.destroy_pipeline(self.pipeline, None);
-            device.destroy_pipeline_layout(self.layout, None);
-            device.destroy_descriptor_set_layout(self.set_layout, None);
-        }
-    }
 }

@@ -13,18 +13,18 @@
 //! kind. Sets larger than one storage buffer are split, as the ray caster splits its
 //! coefficients. The pass and its scenes keep a [`DeviceContext`], so the device
 //! outlives them.
-use crate::error::{Error, Result, VkContext};
+use crate::error::{Error, Result};
 use crate::glyph::intersect::WorldGlyph;
 use crate::glyph::tessellate::{MeshKind, MeshVertex, SphereMesh, tessellate};
 use crate::render::frame::FrameParams;
 use crate::render::glyph_data::GlyphSetData;
-use crate::render::raycast::{
-    InstanceInput, TargetFormats, glyph_pipeline, shader_module, viewport_and_scissor,
-};
+use crate::render::raycast::{InstanceInput, TargetFormats, glyph_pipeline, viewport_and_scissor};
 use crate::render::shaders::{MESH_FRAGMENT, MESH_VERTEX};
-use crate::vk::{Buffer, BufferBinding, DescriptorPool, DeviceContext};
+use crate::vk::{
+    Buffer, BufferBinding, DescriptorPool, DeviceContext, PipelineLayout, Pipelines, ShaderModule,
+    buffer_binding,
+};
 use ash::vk;
-use std::collections::HashMap;
 use std::time::Instant;
 
 /// The meshes of every glyph of a scene, ready for upload.
@@ -103,12 +103,11 @@ impl MeshStats {
 pub struct MeshPass {
     ctx: DeviceContext,
     formats: TargetFormats,
-    set_layout: vk::DescriptorSetLayout,
-    pipeline_layout: vk::PipelineLayout,
-    vertex: vk::ShaderModule,
-    fragment: vk::ShaderModule,
+    layout: PipelineLayout,
+    vertex: ShaderModule,
+    fragment: ShaderModule,
     /// Keyed by vertices per glyph (the specialization constant).
-    pipelines: HashMap<u32, vk::Pipeline>,
+    pipelines: Pipelines<u32>,
     buffer_limit: Option<u64>,
 }
 
@@ -153,52 +152,36 @@ impl MeshPass {
     /// Layouts and shader modules for attachments of `formats`; the pipeline of a mesh
     /// kind is made at its first upload.
     pub fn new(ctx: &DeviceContext, formats: TargetFormats) -> Result<MeshPass> {
-        let device = ctx.device();
         let bindings = [
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(FRAME_BINDING)
-                .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
-                .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT),
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(VERTEX_BINDING)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::VERTEX),
+            buffer_binding(
+                FRAME_BINDING,
+                vk::DescriptorType::UNIFORM_BUFFER,
+                vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+            ),
+            buffer_binding(
+                VERTEX_BINDING,
+                vk::DescriptorType::STORAGE_BUFFER,
+                vk::ShaderStageFlags::VERTEX,
+            ),
         ];
-        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
-        let mut pass = MeshPass {
+        let layout = PipelineLayout::new(ctx, &bindings, vk::ShaderStageFlags::empty(), 0)?;
+        Ok(MeshPass {
             ctx: ctx.clone(),
             formats,
-            set_layout: vk::DescriptorSetLayout::null(),
-            pipeline_layout: vk::PipelineLayout::null(),
-            vertex: vk::ShaderModule::null(),
-            fragment: vk::ShaderModule::null(),
-            pipelines: HashMap::new(),
-            buffer_limit: None,
-        };
-        // SAFETY: valid device and create infos; objects are destroyed in Drop (null
-        // handles are ignored there if a later step fails).
-        unsafe {
-            pass.set_layout = device
-                .create_descriptor_set_layout(&info, None)
-                .vk("vkCreateDescriptorSetLayout")?;
-            let layouts = [pass.set_layout];
-            let layout_info = vk::PipelineLayoutCreateInfo::default().set_layouts(&layouts);
-            pass.pipeline_layout = device
-                .create_pipeline_layout(&layout_info, None)
-                .vk("vkCreatePipelineLayout")?;
+            layout,
             // SAFETY: the SPIR-V comes from build.rs and was validated by glslang.
-            pass.vertex = shader_module(device, MESH_VERTEX)?;
-            pass.fragment = shader_module(device, MESH_FRAGMENT)?;
-        }
-        Ok(pass)
+            vertex: unsafe { ShaderModule::new(ctx, MESH_VERTEX)? },
+            // SAFETY: as above.
+            fragment: unsafe { ShaderModule::new(ctx, MESH_FRAGMENT)? },
+            pipelines: Pipelines::new(ctx),
+            buffer_limit: None,
+        })
     }
 
     /// The pipeline for meshes of `vertices_per_glyph` vertices, created on first use.
     fn pipeline(&mut self, vertices_per_glyph: u32) -> Result<vk::Pipeline> {
         if let Some(p) = self.pipelines.get(&vertices_per_glyph) {
-            return Ok(*p);
+            return Ok(p);
         }
         let entries = [vk::SpecializationMapEntry {
             constant_id: 0,
@@ -212,18 +195,18 @@ impl MeshPass {
         let stages = [
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::VERTEX)
-                .module(self.vertex)
+                .module(self.vertex.handle())
                 .name(c"main")
                 .specialization_info(&specialization),
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::FRAGMENT)
-                .module(self.fragment)
+                .module(self.fragment.handle())
                 .name(c"main"),
         ];
         let pipeline = glyph_pipeline(
             self.ctx.device(),
             self.formats,
-            self.pipeline_layout,
+            self.layout.handle(),
             &stages,
             InstanceInput::Instance,
         )?;
@@ -325,7 +308,7 @@ impl MeshPass {
             vk::BufferUsageFlags::STORAGE_BUFFER,
         )?;
         let descriptor_set = scene.pool.buffer_set(
-            self.set_layout,
+            self.layout.set_layout(),
             &[
                 BufferBinding::uniform(FRAME_BINDING, &scene.frame),
                 BufferBinding::storage(VERTEX_BINDING, &vertices),
@@ -360,7 +343,7 @@ impl MeshPass {
                 d.cmd_bind_descriptor_sets(
                     cmd,
                     vk::PipelineBindPoint::GRAPHICS,
-                    self.pipeline_layout,
+                    self.layout.handle(),
                     0,
                     &[chunk.descriptor_set],
                     &[],
@@ -370,23 +353,5 @@ impl MeshPass {
             }
         }
         Ok(())
-    }
-}
-
-impl Drop for MeshPass {
-    fn drop(&mut self) {
-        let device = self.ctx.device();
-        // SAFETY: the owner has waited for every frame recorded with this pass; null
-        // handles are ignored by the destroy calls; the device is alive while `self.ctx`
-        // is.
-        unsafe {
-            for p in self.pipelines.values() {
-                device.destroy_pipeline(*p, None);
-            }
-            device.destroy_shader_module(self.vertex, None);
-            device.destroy_shader_module(self.fragment, None);
-            device.destroy_pipeline_layout(self.pipeline_layout, None);
-            device.destroy_descriptor_set_layout(self.set_layout, None);
-        }
     }
 }

@@ -7,16 +7,18 @@
 //! began, with the colour/depth formats it was told at creation. The headless renderer,
 //! tests, benchmarks and an embedding engine all go through [`RayCastPass::record`].
 //! The pass and the scenes keep a [`DeviceContext`], so the device outlives them.
-use crate::error::{Error, Result, VkContext};
+use crate::error::{Error, Result};
 use crate::glyph::TensorLayout;
 use crate::render::Method;
 use crate::render::batch::{Batch, batches};
 use crate::render::frame::FrameParams;
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::shaders::{IMPOSTOR_FRAGMENT, RAYCAST_VERTEX, raycast_shader};
-use crate::vk::{Buffer, BufferBinding, DescriptorPool, DeviceContext};
+use crate::vk::{
+    Buffer, BufferBinding, DescriptorPool, DeviceContext, PipelineLayout, Pipelines, ShaderModule,
+    buffer_binding, first_pipeline,
+};
 use ash::vk;
-use std::collections::HashMap;
 
 /// Attachment formats of the rendering the pass is recorded into.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -34,11 +36,11 @@ pub struct TargetFormats {
 pub struct RayCastPass {
     ctx: DeviceContext,
     formats: TargetFormats,
-    set_layout: vk::DescriptorSetLayout,
-    pipeline_layout: vk::PipelineLayout,
-    vertex: vk::ShaderModule,
+    layout: PipelineLayout,
+    /// The boxes' vertex shader for methods that pass no coefficients (the impostor).
+    vertex: ShaderModule,
     /// Keyed by layout and method; the impostor's pipeline by method alone.
-    pipelines: HashMap<(Option<TensorLayout>, Method), vk::Pipeline>,
+    pipelines: Pipelines<(Option<TensorLayout>, Method)>,
     buffer_limit: Option<u64>,
     /// CUBE_INDICES, for every box.
     indices: Buffer,
@@ -104,27 +106,24 @@ impl RayCastPass {
     /// Layouts and the proxy boxes' shaders for attachments of `formats`; pipelines are
     /// created when first needed.
     pub fn new(ctx: &DeviceContext, formats: TargetFormats) -> Result<RayCastPass> {
-        let device = ctx.device();
+        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let bindings = [
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(FRAME_BINDING)
-                .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
-                .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT),
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(COEFFICIENTS_BINDING)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT),
+            buffer_binding(FRAME_BINDING, vk::DescriptorType::UNIFORM_BUFFER, stages),
+            buffer_binding(
+                COEFFICIENTS_BINDING,
+                vk::DescriptorType::STORAGE_BUFFER,
+                stages,
+            ),
         ];
-        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
-        let mut pass = RayCastPass {
+        // The fragment shaders' push constant: the glyph set's negative mode (one u32).
+        let layout = PipelineLayout::new(ctx, &bindings, vk::ShaderStageFlags::FRAGMENT, 4)?;
+        Ok(RayCastPass {
             ctx: ctx.clone(),
             formats,
-            set_layout: vk::DescriptorSetLayout::null(),
-            pipeline_layout: vk::PipelineLayout::null(),
-            vertex: vk::ShaderModule::null(),
-            pipelines: HashMap::new(),
+            layout,
+            // SAFETY: the SPIR-V comes from build.rs and was validated by glslang.
+            vertex: unsafe { ShaderModule::new(ctx, RAYCAST_VERTEX)? },
+            pipelines: Pipelines::new(ctx),
             buffer_limit: None,
             indices: Buffer::with_data(
                 ctx,
@@ -132,26 +131,7 @@ impl RayCastPass {
                 &CUBE_INDICES,
                 vk::BufferUsageFlags::INDEX_BUFFER,
             )?,
-        };
-        // SAFETY: valid device and create infos; objects are destroyed in Drop.
-        unsafe {
-            pass.set_layout = device
-                .create_descriptor_set_layout(&info, None)
-                .vk("vkCreateDescriptorSetLayout")?;
-            let push = [vk::PushConstantRange::default()
-                .stage_flags(vk::ShaderStageFlags::FRAGMENT)
-                .offset(0)
-                .size(4)];
-            let layouts = [pass.set_layout];
-            let layout_info = vk::PipelineLayoutCreateInfo::default()
-                .set_layouts(&layouts)
-                .push_constant_ranges(&push);
-            pass.pipeline_layout = device
-                .create_pipeline_layout(&layout_info, None)
-                .vk("vkCreatePipelineLayout")?;
-            pass.vertex = shader_module(device, RAYCAST_VERTEX)?;
-        }
-        Ok(pass)
+        })
     }
 
     /// The attachment formats the pass was made for.
@@ -166,7 +146,7 @@ impl RayCastPass {
             _ => (Some(layout), method),
         };
         if let Some(p) = self.pipelines.get(&key) {
-            return Ok(*p);
+            return Ok(p);
         }
         let (vertex, fragment) = match method {
             Method::Impostor if self.formats.distance.is_none() => {
@@ -218,30 +198,16 @@ impl RayCastPass {
         fragment_spirv: &[u32],
         oriented: bool,
     ) -> Result<vk::Pipeline> {
-        let device = self.ctx.device();
-        // SAFETY: the SPIR-V comes from build.rs and was validated by glslang.
-        let fragment = unsafe { shader_module(device, fragment_spirv)? };
+        // SAFETY: the SPIR-V comes from build.rs and was validated by glslang; the modules
+        // may go once the pipeline exists.
+        let fragment = unsafe { ShaderModule::new(&self.ctx, fragment_spirv)? };
         let vertex = match vertex_spirv {
             // SAFETY: as above.
-            Some(spirv) => match unsafe { shader_module(device, spirv) } {
-                Ok(module) => Some(module),
-                Err(e) => {
-                    // SAFETY: the module is not used by anything.
-                    unsafe { device.destroy_shader_module(fragment, None) };
-                    return Err(e);
-                }
-            },
+            Some(spirv) => Some(unsafe { ShaderModule::new(&self.ctx, spirv)? }),
             None => None,
         };
-        let result = self.create_pipeline_with(vertex.unwrap_or(self.vertex), fragment, oriented);
-        // SAFETY: modules may be destroyed once the pipeline exists (or failed).
-        unsafe {
-            device.destroy_shader_module(fragment, None);
-            if let Some(vertex) = vertex {
-                device.destroy_shader_module(vertex, None);
-            }
-        }
-        result
+        let vertex = vertex.as_ref().unwrap_or(&self.vertex);
+        self.create_pipeline_with(vertex.handle(), fragment.handle(), oriented)
     }
 
     fn create_pipeline_with(
@@ -274,7 +240,7 @@ impl RayCastPass {
         glyph_pipeline(
             self.ctx.device(),
             self.formats,
-            self.pipeline_layout,
+            self.layout.handle(),
             &stages,
             InstanceInput::WithBoxes,
         )
@@ -308,7 +274,7 @@ impl RayCastPass {
             sets: Vec::new(),
         };
         for chunk in &chunks {
-            let set = upload_chunk(ctx, &scene, self.set_layout, chunk)?;
+            let set = upload_chunk(ctx, &scene, self.layout.set_layout(), chunk)?;
             scene.sets.push(set);
         }
         Ok(scene)
@@ -347,14 +313,14 @@ impl RayCastPass {
                 d.cmd_bind_descriptor_sets(
                     cmd,
                     vk::PipelineBindPoint::GRAPHICS,
-                    self.pipeline_layout,
+                    self.layout.handle(),
                     0,
                     &[set.descriptor_set],
                     &[],
                 );
                 d.cmd_push_constants(
                     cmd,
-                    self.pipeline_layout,
+                    self.layout.handle(),
                     vk::ShaderStageFlags::FRAGMENT,
                     0,
                     &hide.to_ne_bytes(),
@@ -467,16 +433,9 @@ pub(crate) fn glyph_pipeline(
         .layout(layout)
         .push_next(&mut rendering);
     // SAFETY: all referenced state lives until the call returns.
-    let pipelines =
-        unsafe { device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) }
-            .map_err(|(_, result)| Error::Vulkan {
-                call: "vkCreateGraphicsPipelines",
-                result,
-            })?;
-    pipelines
-        .first()
-        .copied()
-        .ok_or_else(|| Error::Setup("vkCreateGraphicsPipelines returned no pipeline".into()))
+    let created =
+        unsafe { device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) };
+    first_pipeline(created, "vkCreateGraphicsPipelines")
 }
 
 /// The whole target as viewport (depth 0 to 1) and scissor.
@@ -534,32 +493,5 @@ impl SceneGpu {
     /// Replaces the frame parameters (camera, settings); not while a frame is in flight.
     pub fn set_frame(&mut self, frame: &FrameParams) -> Result<()> {
         self.frame.write(bytemuck::bytes_of(frame))
-    }
-}
-
-/// # Safety
-/// `spirv` must be valid SPIR-V for this device.
-pub(crate) unsafe fn shader_module(
-    device: &ash::Device,
-    spirv: &[u32],
-) -> Result<vk::ShaderModule> {
-    let info = vk::ShaderModuleCreateInfo::default().code(spirv);
-    // SAFETY: the caller vouches for the SPIR-V.
-    unsafe { device.create_shader_module(&info, None) }.vk("vkCreateShaderModule")
-}
-
-impl Drop for RayCastPass {
-    fn drop(&mut self) {
-        let device = self.ctx.device();
-        // SAFETY: the owner has waited for every frame recorded with this pass; the device
-        // is alive while `self.ctx` is.
-        unsafe {
-            for p in self.pipelines.values() {
-                device.destroy_pipeline(*p, None);
-            }
-            device.destroy_shader_module(self.vertex, None);
-            device.destroy_pipeline_layout(self.pipeline_layout, None);
-            device.destroy_descriptor_set_layout(self.set_layout, None);
-        }
     }
 }

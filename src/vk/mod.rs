@@ -1,5 +1,6 @@
-//! The thin ash layer: instance and validation, device choice, buffers, images and
-//! one-shot command submission. Nothing here knows about glyphs.
+//! The thin ash layer: instance and validation, device choice, buffers, images, descriptor
+//! sets, pipeline objects that destroy themselves, and one-shot command submission.
+//! Nothing here knows about glyphs.
 //!
 //! [`Gpu`] creates an instance and a device. Headless tools and tests use
 //! [`Gpu::headless`]; the viewer uses [`Gpu::for_window`], the same construction plus the
@@ -18,6 +19,7 @@ mod descriptors;
 mod device;
 mod image;
 mod instance;
+mod pipeline;
 #[cfg(feature = "viewer")]
 mod surface;
 #[cfg(feature = "viewer")]
@@ -31,6 +33,9 @@ pub use debug::ValidationLog;
 pub use descriptors::{BufferBinding, DescriptorPool};
 pub use device::{DeviceInfo, choose_physical_device};
 pub use image::{Image, cleared_depth_attachment};
+pub use pipeline::{
+    PipelineLayout, Pipelines, ShaderModule, buffer_binding, compute_pipeline, first_pipeline,
+};
 #[cfg(feature = "viewer")]
 pub use surface::Surface;
 #[cfg(feature = "viewer")]
