@@ -2,6 +2,7 @@
 //! instanced boxes of `raycast`; the tessellated baseline has its own pass in `mesh`.
 //! `compute` is a second path for the exact method: a compute shader per pixel over the
 //! screen tiles of `tiles`.
+pub mod antialias;
 pub mod batch;
 pub mod compute;
 pub mod eval;
@@ -17,6 +18,7 @@ pub mod raycast;
 pub mod settings;
 pub mod shaders;
 pub mod tiles;
+pub mod underlay;
 
 use crate::catalog::{RAY_CAST_METHODS, RayCastMethod};
 pub use crate::glyph::tessellate::MeshKind;
