@@ -4,6 +4,7 @@
 //! hides glyphs behind it), the percentile window, three planes with --slices, and the
 //! errors of the command line.
 mod common;
+use common::underlay::{scalar_underlay, tensor_volume};
 use glam::{DMat4, DQuat, DVec3};
 use glyphcast::camera::{Camera, Projection};
 use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
@@ -295,56 +296,6 @@ fn glyphs_and_the_plane_occlude_each_other() {
 }
 
 // ---- The command line: NIfTI files, slices and errors.
-
-/// A 6 x 5 x 4 volume of order-2 tensors (prolate along a direction that turns with i)
-/// with voxel size 2 mm and origin (-5, -4, -3).
-fn tensor_volume(dir: &Path) -> (String, DMat4) {
-    let dims = [6, 5, 4];
-    let mut data = ArrayD::<f64>::zeros(IxDyn(&[dims[0], dims[1], dims[2], 6]));
-    for i in 0..dims[0] {
-        for j in 0..dims[1] {
-            for k in 0..dims[2] {
-                let d = direction(30.0 * i as f64, 10.0 * j as f64);
-                let c = fibre_tensor(2, &[(d, 1.0)]);
-                for (n, v) in c.iter().enumerate() {
-                    data[[i, j, k, n]] = v + if n == 0 || n == 3 || n == 5 { 0.2 } else { 0.0 };
-                }
-            }
-        }
-    }
-    let affine = DMat4::from_scale_rotation_translation(
-        DVec3::splat(2.0),
-        DQuat::IDENTITY,
-        DVec3::new(-5.0, -4.0, -3.0),
-    );
-    let path = dir.join("tensors.nii");
-    common::write_nifti(&path, &data, affine);
-    (path.display().to_string(), affine)
-}
-
-/// A scalar underlay on a finer (1.3 mm), shifted and slightly rotated grid covering the
-/// tensor volume, with a smooth field plus noise.
-fn scalar_underlay(dir: &Path, name: &str) -> String {
-    let dims = [11, 10, 9];
-    let mut rng = SplitMix64::new(3);
-    let mut data = ArrayD::<f64>::zeros(IxDyn(&dims));
-    for k in 0..dims[2] {
-        for j in 0..dims[1] {
-            for i in 0..dims[0] {
-                let smooth = i as f64 * 7.0 + j as f64 * 3.0 - k as f64;
-                data[[i, j, k]] = smooth + 20.0 * rng.unit();
-            }
-        }
-    }
-    let affine = DMat4::from_scale_rotation_translation(
-        DVec3::splat(1.3),
-        DQuat::from_rotation_z(0.1),
-        DVec3::new(-6.5, -5.0, -5.0),
-    );
-    let path = dir.join(name);
-    common::write_nifti(&path, &data, affine);
-    path.display().to_string()
-}
 
 /// The nearest-rank percentile of the finite values, computed here on its own.
 fn percentile(values: &[f64], p: f64) -> f64 {

@@ -37,17 +37,20 @@ impl SceneSource {
         }
     }
 
-    /// As [`SceneSource::load_with_underlay`], keeping a volume so that the viewer can move its slice.
-    pub fn load_for_view(&self, image: ImageRequest) -> Result<ViewSource> {
+    /// As [`SceneSource::load_with_underlay`], keeping a volume so that the viewer can
+    /// move its slice (and the underlay with it).
+    pub fn load_for_view(&self, image: ImageRequest) -> Result<(ViewSource, Option<Underlay>)> {
         match &self.scene {
-            Some(path) => self.load_scene_file(path).map(ViewSource::Scene),
+            Some(path) => Ok((ViewSource::Scene(self.load_scene_file(path)?), None)),
             None => {
                 let (volume, options, view) = self.volume.view(image)?;
-                Ok(ViewSource::Volume {
+                let underlay = self.volume.underlay(&volume, &view.regions)?;
+                let source = ViewSource::Volume {
                     volume: Box::new(volume),
                     options: Box::new(options),
                     view: Box::new(view),
-                })
+                };
+                Ok((source, underlay))
             }
         }
     }

@@ -12,7 +12,9 @@ use crate::render::glyph_data::GlyphSetData;
 use crate::render::mesh::{GlyphMeshes, MeshPass, MeshSceneGpu, MeshStats};
 use crate::render::raycast::{RayCastPass, SceneGpu, TargetFormats};
 use crate::render::settings::RenderSettings;
-use crate::render::underlay::{Underlay, UnderlayGpu, UnderlayPass, UnderlayPlane};
+use crate::render::underlay::{
+    Underlay, UnderlayGpu, UnderlayPass, UnderlayPlane, extent_with_planes,
+};
 use crate::render::{Method, RenderPath};
 use crate::vk::{Buffer, Gpu, GpuTimer, Image, OneShot};
 use ash::vk;
@@ -282,7 +284,7 @@ impl HeadlessRenderer {
         }
         let mut extent = SceneExtent::for_settings(camera, sets, settings);
         if let Some(underlay) = underlay {
-            extent = with_planes(camera, extent, &underlay.planes);
+            extent = extent_with_planes(camera, extent, &underlay.planes);
         }
         let params = FrameParams::new(camera, width, height, &extent, settings);
         let scene = match settings.method {
@@ -389,29 +391,6 @@ impl PreparedFrame {
             GlyphsOnGpu::RayCast(_) | GlyphsOnGpu::Compute(_) => None,
             GlyphsOnGpu::Mesh(scene) => Some(&scene.stats),
         }
-    }
-}
-
-/// The extent of the glyphs widened to the underlay's plane corners, so that no plane is
-/// cut by the near or far plane; the magnitude range stays the glyphs'.
-fn with_planes(camera: &Camera, glyphs: SceneExtent, planes: &[UnderlayPlane]) -> SceneExtent {
-    let corners = planes
-        .iter()
-        .flat_map(|p| p.corners())
-        .map(|c| (c.to_array(), 0.0));
-    let fwd = camera.frame().fwd;
-    let seen = planes
-        .iter()
-        .flat_map(|p| p.corners())
-        .any(|c| fwd.dot(c - camera.eye) > 0.0);
-    if !seen {
-        return glyphs;
-    }
-    let planes = SceneExtent::of_spheres(camera, corners);
-    SceneExtent {
-        near: glyphs.near.min(planes.near),
-        far: glyphs.far.max(planes.far),
-        max_radius: glyphs.max_radius,
     }
 }
 

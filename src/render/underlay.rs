@@ -20,8 +20,9 @@
 //! arrays and hands it to
 //! [`HeadlessRenderer::render_with_underlay`](crate::render::headless::HeadlessRenderer::render_with_underlay)
 //! or records [`UnderlayPass::record`] into its own frame.
-use crate::camera::Ray;
+use crate::camera::{Camera, Ray};
 use crate::error::{Error, Result, VkContext};
+use crate::render::frame::SceneExtent;
 use crate::render::raycast::{TargetFormats, shader_module, viewport_and_scissor};
 use crate::render::shaders::{UNDERLAY_FRAGMENT, UNDERLAY_VERTEX};
 use crate::vk::{Buffer, BufferBinding, DescriptorPool, DeviceContext};
@@ -275,6 +276,33 @@ impl UnderlayPlane {
         let s = (pu * vv - pv * uv) / det;
         let r = (pv * uu - pu * uv) / det;
         ((0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&r) && t >= 0.0).then_some(t)
+    }
+}
+
+/// The extent of the glyphs widened to the underlay's plane corners, so that no plane is
+/// cut by the near or far plane; the magnitude range stays the glyphs'.
+pub fn extent_with_planes(
+    camera: &Camera,
+    glyphs: SceneExtent,
+    planes: &[UnderlayPlane],
+) -> SceneExtent {
+    let corners = planes
+        .iter()
+        .flat_map(|p| p.corners())
+        .map(|c| (c.to_array(), 0.0));
+    let fwd = camera.frame().fwd;
+    let seen = planes
+        .iter()
+        .flat_map(|p| p.corners())
+        .any(|c| fwd.dot(c - camera.eye) > 0.0);
+    if !seen {
+        return glyphs;
+    }
+    let planes = SceneExtent::of_spheres(camera, corners);
+    SceneExtent {
+        near: glyphs.near.min(planes.near),
+        far: glyphs.far.max(planes.far),
+        max_radius: glyphs.max_radius,
     }
 }
 
