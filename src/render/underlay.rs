@@ -309,25 +309,27 @@ pub fn extent_with_planes(
 /// The uniform block of glsl/underlay.vert/.frag (`UnderlayParams`, std140).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-struct UnderlayParams {
-    world_to_voxel: [[f32; 4]; 4],
-    dims: [i32; 4],
-    window: [f32; 4],
+pub(crate) struct UnderlayParams {
+    pub(crate) world_to_voxel: [[f32; 4]; 4],
+    pub(crate) dims: [i32; 4],
+    pub(crate) window: [f32; 4],
 }
 
 /// The push constants of glsl/underlay.vert (`Plane`): 112 bytes, within the 128 every
 /// device offers.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-struct PlanePush {
-    view_proj: [[f32; 4]; 4],
-    origin: [f32; 4],
-    u: [f32; 4],
-    v: [f32; 4],
+pub(crate) struct PlanePush {
+    pub(crate) view_proj: [[f32; 4]; 4],
+    pub(crate) origin: [f32; 4],
+    pub(crate) u: [f32; 4],
+    pub(crate) v: [f32; 4],
 }
 
-const PARAMS_BINDING: u32 = 0;
-const VALUES_BINDING: u32 = 1;
+/// Binding of the underlay's uniform block (`UnderlayParams`).
+pub(crate) const PARAMS_BINDING: u32 = 0;
+/// Binding of the underlay's values (`UnderlayValues`).
+pub(crate) const VALUES_BINDING: u32 = 1;
 
 /// The underlay's pipeline, for attachments of given formats; created once per device.
 pub struct UnderlayPass {
@@ -657,9 +659,11 @@ mod tests {
         let volume = ramp();
         // 24 values: the 2nd percentile is the smallest (rank 1), the 98th the largest.
         assert_eq!(volume.window(), (0.0, 123.0));
+        // The median is rank 12, 23 (the largest of slice k = 0); a window of one value
+        // is widened to (v, v + 1).
         assert_eq!(
             volume.percentile_window((50.0, 50.0)).ok(),
-            Some((21.0, 22.0))
+            Some((23.0, 24.0))
         );
         let mut v = volume.clone();
         assert!(v.set_window(f64::NAN, 1.0).is_err());
