@@ -42,6 +42,9 @@ pub struct Capture {
     pub rgba: Vec<u8>,
 }
 
+/// An underlay to draw: its volume on the GPU, its planes and the frame's view-projection.
+type UnderlayDraw<'a> = (&'a UnderlayGpu, &'a [UnderlayPlane], [[f32; 4]; 4]);
+
 /// Every member keeps what it was made from alive (the device through its context, a
 /// swapchain its surface), so no drop order is needed for soundness; `Drop` waits for
 /// the device to be idle before any of them goes.
@@ -332,7 +335,7 @@ impl Presenter {
         &mut self,
         index: u32,
         scene: &SceneGpu,
-        underlay: Option<(&UnderlayGpu, &[UnderlayPlane], [[f32; 4]; 4])>,
+        underlay: Option<UnderlayDraw>,
         settings: &RenderSettings,
         capture: bool,
     ) -> Result<()> {
