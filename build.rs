@@ -110,6 +110,16 @@ fn main() {
         ("MESH_VERTEX", "mesh.vert", shaderc::ShaderKind::Vertex),
         ("MESH_FRAGMENT", "mesh.frag", shaderc::ShaderKind::Fragment),
         (
+            "UNDERLAY_VERTEX",
+            "underlay.vert",
+            shaderc::ShaderKind::Vertex,
+        ),
+        (
+            "UNDERLAY_FRAGMENT",
+            "underlay.frag",
+            shaderc::ShaderKind::Fragment,
+        ),
+        (
             "EXAMPLE_PLANE_VERTEX",
             "example_plane.vert",
             shaderc::ShaderKind::Vertex,

@@ -98,13 +98,14 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
             options,
         } => {
             cli::render::check_outputs(&output, source.save_scene())?;
-            let scene = source.load(options.image_request()?)?;
+            let (scene, underlay) = source.load_with_underlay(options.image_request()?)?;
             cli::render::render(
                 scene,
                 &output,
                 &options,
                 source.save_scene(),
                 source.labels(),
+                underlay.as_ref(),
             )
         }
         Command::View(args) => cli::view::run(&args),
@@ -120,7 +121,7 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
             } else {
                 glyphcast::demo::demo_scene()
             };
-            cli::render::render(scene, &output, &options, save_scene.as_deref(), false)
+            cli::render::render(scene, &output, &options, save_scene.as_deref(), false, None)
         }
         Command::Accuracy(args) => cli::accuracy::run(&args),
         Command::Bench(args) => cli::bench::run(&args),

@@ -5,6 +5,7 @@
 //! Each test starts its own Xvfb (`-displayfd` picks a free display and says when it is
 //! ready). Where Xvfb is missing the tests are skipped with a message, except in CI
 //! (CI=true), where a missing Xvfb fails them: tools/install-deps.sh installs it.
+mod common;
 use glyphcast::io::png::read_png_rgba8;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
@@ -452,5 +453,65 @@ fn view_takes_the_figure_options_as_render_does() {
     assert!(
         differing_pixels(&shot, &shown, 40).0 > 100,
         "--negative hide changed nothing"
+    );
+}
+
+#[test]
+fn the_underlay_moves_with_the_slice() {
+    let Some(x) = Xvfb::start("the_underlay_moves_with_the_slice") else {
+        return;
+    };
+    let dir = out("underlay-files");
+    std::fs::create_dir_all(&dir).expect("folder");
+    let (tensors, _) = common::underlay::tensor_volume(&dir);
+    let fa = common::underlay::scalar_underlay(&dir, "fa.nii");
+    let (shot, window) = (out("underlay-shot.png"), out("underlay-window.png"));
+    let volume = [
+        "--tensor",
+        &tensors,
+        "--order",
+        "2",
+        "--underlay",
+        &fa,
+        "--width",
+        "120",
+        "--height",
+        "100",
+    ];
+    let mut args = volume.to_vec();
+    args.extend([
+        "--frames",
+        "4",
+        "--script",
+        "slice:+1,wait",
+        "--screenshot",
+        path_str(&shot),
+        "--capture-window",
+        path_str(&window),
+    ]);
+    assert_clean(&x.view(&args));
+    // The middle axial slice is k = 2; one on is k = 3, as render draws it.
+    let render_slice = |slice: &str, name: &str| -> PathBuf {
+        let png = out(name);
+        let status = Command::new(BIN)
+            .arg("render")
+            .args(volume)
+            .args(["--slice", slice, "--validation", "-o", path_str(&png)])
+            .status()
+            .expect("running glyphcast render");
+        assert!(status.success(), "glyphcast render --slice {slice}");
+        png
+    };
+    let moved = render_slice("axial:3", "underlay-k3.png");
+    let before = render_slice("axial:2", "underlay-k2.png");
+    assert_window_matches(&window, &shot);
+    let (count, worst, _) = differing_pixels(&shot, &moved, 1);
+    assert_eq!(
+        count, 0,
+        "the screenshot differs from render --slice axial:3 (largest {worst})"
+    );
+    assert!(
+        differing_pixels(&shot, &before, 10).0 > 500,
+        "the underlay did not move with the slice"
     );
 }

@@ -7,6 +7,7 @@ use glyphcast::render::glyph_data::{measure_largest_radius, prepare_scene};
 use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
 use glyphcast::render::labels::{draw_edge_labels, edge_labels};
 use glyphcast::render::settings::parse_background;
+use glyphcast::render::underlay::Underlay;
 use glyphcast::render::{ColorMode, Method, Refinement, RenderSettings};
 use glyphcast::scene::Scene;
 use glyphcast::viewer::ViewSource;
@@ -27,25 +28,29 @@ pub struct SceneSource {
 }
 
 impl SceneSource {
-    /// The scene to render; `image` (from --width/--height) sizes a volume's framing.
-    pub fn load(&self, image: ImageRequest) -> Result<Scene> {
+    /// The scene to render, with the volume's underlay (`--underlay`), if any; `image`
+    /// (from --width/--height) sizes a volume's framing.
+    pub fn load_with_underlay(&self, image: ImageRequest) -> Result<(Scene, Option<Underlay>)> {
         match &self.scene {
-            Some(path) => self.load_scene_file(path),
-            None => self.volume.scene(image),
+            Some(path) => Ok((self.load_scene_file(path)?, None)),
+            None => self.volume.scene_with_underlay(image),
         }
     }
 
-    /// As [`SceneSource::load`], keeping a volume so that the viewer can move its slice.
-    pub fn load_for_view(&self, image: ImageRequest) -> Result<ViewSource> {
+    /// As [`SceneSource::load_with_underlay`], keeping a volume so that the viewer can
+    /// move its slice (and the underlay with it).
+    pub fn load_for_view(&self, image: ImageRequest) -> Result<(ViewSource, Option<Underlay>)> {
         match &self.scene {
-            Some(path) => self.load_scene_file(path).map(ViewSource::Scene),
+            Some(path) => Ok((ViewSource::Scene(self.load_scene_file(path)?), None)),
             None => {
                 let (volume, options, view) = self.volume.view(image)?;
-                Ok(ViewSource::Volume {
+                let underlay = self.volume.underlay(&volume, &view.regions)?;
+                let source = ViewSource::Volume {
                     volume: Box::new(volume),
                     options: Box::new(options),
                     view: Box::new(view),
-                })
+                };
+                Ok((source, underlay))
             }
         }
     }
@@ -130,6 +135,10 @@ pub struct RenderArgs {
     /// a scene file's `negative` (default: the scene's; abs for volumes).
     #[arg(long, value_name = "abs|hide")]
     negative: Option<String>,
+    /// Samples per pixel: 1, 4 or 16 (supersampling: drawn at 2 or 4 times the width and
+    /// height, then averaged). The depth map stays one ray per pixel centre.
+    #[arg(long, default_value_t = 1, value_name = "1|4|16")]
+    samples: u32,
     /// Background: none (transparent PNG), dark (the default), black, white, grey,
     /// #rrggbb or r,g,b (sRGB, 0-255, as written in the PNG).
     #[arg(long, value_name = "COLOR")]
@@ -207,6 +216,7 @@ impl RenderArgs {
             s.background = parse_background(background)?;
         }
         s.offset = self.offset;
+        s.samples = self.samples;
         s.validate()?;
         Ok(s)
     }
@@ -254,13 +264,15 @@ pub fn check_outputs(output: &OutputArgs, save_scene: Option<&Path>) -> Result<(
 /// Renders `scene` and writes the outputs (checked first with [`check_outputs`]);
 /// `save_scene` receives the scene as rendered (image size included), written with the
 /// image and the depth map, all or nothing. `labels` writes the anatomical directions at
-/// the image's edges (`render::labels`; volume input only).
+/// the image's edges (`render::labels`; volume input only); `underlay` is drawn in the
+/// glyphs' depth buffer (volume input only).
 pub fn render(
     mut scene: Scene,
     output: &OutputArgs,
     options: &RenderArgs,
     save_scene: Option<&Path>,
     labels: bool,
+    underlay: Option<&Underlay>,
 ) -> Result<()> {
     let image = options.image_request()?;
     scene.image.width = image.width.unwrap_or(scene.image.width);
@@ -291,7 +303,8 @@ pub fn render(
     let mut renderer = HeadlessRenderer::new(&gpu)?;
     let begun = Instant::now();
     let (w, h) = (scene.image.width, scene.image.height);
-    let mut image = renderer.render(&gpu, &sets, &scene.camera, w, h, &settings)?;
+    let mut image =
+        renderer.render_with_underlay(&gpu, &sets, underlay, &scene.camera, w, h, &settings)?;
     if labels {
         let edges = edge_labels(&scene.camera);
         draw_edge_labels(&mut image.rgba, w, h, &edges)?;

@@ -49,7 +49,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         .transpose()
         .map_err(Error::into_usage)?
         .unwrap_or_default();
-    let source = args.source.load_for_view(image)?;
+    let (source, underlay) = args.source.load_for_view(image)?;
     let (width, height) = match &source {
         glyphcast::viewer::ViewSource::Scene(scene) => (scene.image.width, scene.image.height),
         glyphcast::viewer::ViewSource::Volume { view, .. } => {
@@ -67,6 +67,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         screenshot: args.screenshot.clone(),
         capture_window: args.capture_window.clone(),
         save_scene: args.source.save_scene().map(PathBuf::from),
+        underlay,
     };
     glyphcast::viewer::run(source, options)
 }

@@ -11,13 +11,15 @@ use clap::Args;
 use glyphcast::fit::parse_basis;
 use glyphcast::glyph::{Symmetry, TensorLayout};
 use glyphcast::io::image::{Image, read_image};
+use glyphcast::render::underlay::Underlay;
 use glyphcast::scene::{Scene, ShBasis};
 use glyphcast::volume::{
-    ImageRequest, ViewProjection, Volume, VolumeKind, VolumeOptions, VolumeScene, load_mask,
-    resolve_basis, volume_scene,
+    ImageRequest, SliceRegion, ViewProjection, Volume, VolumeKind, VolumeOptions, VolumeScene,
+    load_mask, load_underlay, resolve_basis, view_underlay, volume_scene,
 };
 use glyphcast::{Error, Result};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// Flags that make a scene file unnecessary.
 pub const VOLUME_FLAGS: [&str; 2] = ["sh", "tensor"];
@@ -94,6 +96,15 @@ pub struct VolumeArgs {
     /// views have anterior on the left in both.
     #[arg(long, value_name = "CONVENTION", help_heading = "Volume input")]
     pub orientation: Option<String>,
+    /// Anatomical underlay drawn as a plane through each slice, in the glyphs' depth
+    /// buffer: a 3D NIfTI or MRtrix image (FA, T1) or an RGB one [x, y, z, 3]
+    /// (colour-FA), sampled trilinearly through its own affine (the grids may differ).
+    #[arg(long, value_name = "IMAGE", help_heading = "Underlay")]
+    pub underlay: Option<PathBuf>,
+    /// The underlay's window: LOW is drawn black, HIGH white (each RGB channel alike).
+    /// Default: the 2nd to 98th percentile of its finite values.
+    #[arg(long, value_name = "LOW:HIGH", help_heading = "Underlay")]
+    pub underlay_range: Option<String>,
     /// Write the anatomical directions (L/R, A/P, S/I) at the image's edges.
     #[arg(long, help_heading = "Volume input")]
     pub labels: bool,
@@ -128,18 +139,69 @@ impl VolumeArgs {
             ("--perspective", self.perspective),
             ("--orientation", self.orientation.is_some()),
             ("--labels", self.labels),
+            ("--underlay", self.underlay.is_some()),
+            ("--underlay-range", self.underlay_range.is_some()),
         ];
         given.iter().find(|(_, on)| *on).map(|(name, _)| *name)
     }
 
-    /// The scene of the volume view; `image` is the size asked for with --width/--height.
-    pub fn scene(&self, image: ImageRequest) -> Result<Scene> {
-        Ok(self.view(image)?.2.scene)
+    /// The scene of the volume view and its underlay (`--underlay`), if any.
+    pub fn scene_with_underlay(&self, image: ImageRequest) -> Result<(Scene, Option<Underlay>)> {
+        let (volume, _, view) = self.view(image)?;
+        let underlay = self.underlay(&volume, &view.regions)?;
+        Ok((view.scene, underlay))
+    }
+
+    /// `--underlay-range`, parsed (usage errors name the flag).
+    fn underlay_range(&self) -> Result<Option<(f64, f64)>> {
+        let Some(text) = self.underlay_range.as_deref() else {
+            return Ok(None);
+        };
+        if self.underlay.is_none() {
+            return Err(Error::Usage(
+                "--underlay-range needs --underlay (the image it windows)".into(),
+            ));
+        }
+        let parsed = text.split_once(':').and_then(|(lo, hi)| {
+            Some((
+                lo.trim().parse::<f64>().ok()?,
+                hi.trim().parse::<f64>().ok()?,
+            ))
+        });
+        match parsed {
+            Some((lo, hi)) if lo.is_finite() && hi.is_finite() && lo < hi => Ok(Some((lo, hi))),
+            _ => Err(Error::Usage(format!(
+                "--underlay-range: '{}' is not LOW:HIGH with finite numbers, LOW < HIGH",
+                glyphcast::error::quoted(text)
+            ))),
+        }
+    }
+
+    /// The underlay of a view of `volume` with slices `regions` (`--underlay`), with its
+    /// window (`--underlay-range`, else the 2nd to 98th percentile).
+    pub fn underlay(&self, volume: &Volume, regions: &[SliceRegion]) -> Result<Option<Underlay>> {
+        let range = self.underlay_range()?;
+        let Some(path) = &self.underlay else {
+            return Ok(None);
+        };
+        let (mut underlay, source) = load_underlay(path)?;
+        if let Some((lo, hi)) = range {
+            underlay.set_window(lo, hi).map_err(Error::into_usage)?;
+        }
+        let (lo, hi) = underlay.window();
+        eprintln!(
+            "underlay: {}: {} voxel(s) of {} channel(s), window {lo}:{hi}",
+            underlay.file,
+            underlay.dims.map(|n| n.to_string()).join("x"),
+            underlay.channels
+        );
+        view_underlay(Arc::new(underlay), source, volume, regions).map(Some)
     }
 
     /// The volume, the options its view was made with and the view (reported on stderr):
     /// what the viewer needs to move the slice later.
     pub fn view(&self, image: ImageRequest) -> Result<(Volume, VolumeOptions, VolumeScene)> {
+        self.underlay_range()?;
         let path = self.input().map_err(Error::into_usage)?;
         let mut options = self.options(image).map_err(Error::into_usage)?;
         let frame = self

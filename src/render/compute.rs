@@ -134,7 +134,7 @@ impl ComputeRayCastPass {
         Ok(ComputeRayCastPass {
             ctx: ctx.clone(),
             layout: PipelineLayout::new(ctx, &bindings, vk::ShaderStageFlags::COMPUTE, push)?,
-            pipelines: Pipelines::new(ctx),
+            pipelines: Pipelines::new(),
             buffer_limit: None,
         })
     }
@@ -181,8 +181,7 @@ impl ComputeRayCastPass {
                 Some(&specialization),
             )?
         };
-        self.pipelines.insert(layout, pipeline);
-        Ok(pipeline)
+        Ok(self.pipelines.insert(layout, pipeline))
     }
 
     /// Bins and uploads glyph sets for `camera` at `width` x `height`, with the frame

@@ -4,7 +4,7 @@ use crate::error::{Error, Result};
 use crate::glyph::TensorLayout;
 use crate::render::shaders::eval_shader;
 use crate::vk::{
-    Buffer, BufferBinding, DescriptorPool, Gpu, OneShot, PipelineLayout, Pipelines, buffer_binding,
+    Buffer, BufferBinding, DescriptorPool, Gpu, OneShot, PipelineLayout, buffer_binding,
     compute_pipeline,
 };
 use ash::vk;
@@ -73,10 +73,8 @@ pub(crate) fn dispatch(
         push.len() as u32,
     )?;
     // SAFETY: the caller's SPIR-V comes from build.rs and declares these bindings.
-    let handle = unsafe { compute_pipeline(ctx, layout.handle(), spirv, None)? };
-    // Owns the pipeline, which it destroys when this function returns.
-    let mut pipelines = Pipelines::new(ctx);
-    pipelines.insert((), handle);
+    let pipeline = unsafe { compute_pipeline(ctx, layout.handle(), spirv, None)? };
+    let handle = pipeline.handle();
     let pool = DescriptorPool::new(ctx, 1, 0, buffers.len() as u32)?;
     let storage: Vec<_> = buffers
         .iter()

@@ -12,6 +12,9 @@ use crate::render::glyph_data::GlyphSetData;
 use crate::render::mesh::{GlyphMeshes, MeshPass, MeshSceneGpu, MeshStats};
 use crate::render::raycast::{RayCastPass, SceneGpu, TargetFormats};
 use crate::render::settings::RenderSettings;
+use crate::render::underlay::{
+    Underlay, UnderlayGpu, UnderlayPass, UnderlayPlane, extent_with_planes,
+};
 use crate::render::{Method, RenderPath};
 use crate::vk::{Buffer, Gpu, GpuTimer, Image, OneShot};
 use ash::vk;
@@ -122,6 +125,7 @@ pub struct HeadlessRenderer {
     pass: RayCastPass,
     mesh: MeshPass,
     compute: ComputeRayCastPass,
+    underlay: UnderlayPass,
     commands: OneShot,
     timer: Option<GpuTimer>,
 }
@@ -138,6 +142,7 @@ impl HeadlessRenderer {
             pass: RayCastPass::new(gpu.context(), formats)?,
             mesh: MeshPass::new(gpu.context(), formats)?,
             compute: ComputeRayCastPass::new(gpu.context())?,
+            underlay: UnderlayPass::new(gpu.context(), formats)?,
             commands: OneShot::new(gpu)?,
             timer: GpuTimer::new(gpu)?,
         })
@@ -158,7 +163,8 @@ impl HeadlessRenderer {
         &mut self.compute
     }
 
-    /// Renders `sets` seen by `camera` into a `width` x `height` image.
+    /// Renders `sets` seen by `camera` into a `width` x `height` image, with
+    /// `settings.samples` samples per pixel (see [`HeadlessRenderer::render_with_underlay`]).
     pub fn render(
         &mut self,
         gpu: &Gpu,
@@ -168,7 +174,67 @@ impl HeadlessRenderer {
         height: u32,
         settings: &RenderSettings,
     ) -> Result<RenderedImage> {
-        let frame = self.prepare(gpu, sets, camera, width, height, settings)?;
+        self.render_with_underlay(gpu, sets, None, camera, width, height, settings)
+    }
+
+    /// Renders `sets`, and `underlay`'s planes in the same depth buffer, seen by `camera`
+    /// into a `width` x `height` image.
+    ///
+    /// With `settings.samples` = s^2 > 1 (4 or 16) the colour is supersampled: drawn at s
+    /// times the size and box-filtered down (`render::antialias`), so that edge pixels
+    /// take the fraction of their s x s samples that glyphs (or the underlay) cover, in
+    /// linear light, and alpha is that coverage over a transparent background. The
+    /// distance map is drawn at the image's own size, one ray per pixel centre, so it
+    /// keeps the scene format's contract whatever the sample count.
+    #[allow(clippy::too_many_arguments)]
+    pub fn render_with_underlay(
+        &mut self,
+        gpu: &Gpu,
+        sets: &[GlyphSetData],
+        underlay: Option<&Underlay>,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+        settings: &RenderSettings,
+    ) -> Result<RenderedImage> {
+        let factor = crate::render::antialias::supersampling_factor(settings.samples)?;
+        if factor == 1 {
+            return self.render_once(gpu, sets, underlay, camera, width, height, settings);
+        }
+        let (big_w, big_h) =
+            crate::render::antialias::supersampled_size(width, height, factor, settings.samples)?;
+        check_image_size(gpu, big_w, big_h)?;
+        let single = RenderSettings {
+            samples: 1,
+            ..*settings
+        };
+        let big = self.render_once(gpu, sets, underlay, camera, big_w, big_h, &single)?;
+        let rgba = crate::render::antialias::box_filter(&big.rgba, width, height, factor)?;
+        let big_ms = big.gpu_ms;
+        drop(big);
+        let mut image = self.render_once(gpu, sets, underlay, camera, width, height, &single)?;
+        image.rgba = rgba;
+        image.gpu_ms = match (image.gpu_ms, big_ms) {
+            (Some(a), Some(b)) => Some(a + b),
+            _ => None,
+        };
+        Ok(image)
+    }
+
+    /// One render at one sample per pixel.
+    #[allow(clippy::too_many_arguments)]
+    fn render_once(
+        &mut self,
+        gpu: &Gpu,
+        sets: &[GlyphSetData],
+        underlay: Option<&Underlay>,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+        settings: &RenderSettings,
+    ) -> Result<RenderedImage> {
+        let frame =
+            self.prepare_with_underlay(gpu, sets, underlay, camera, width, height, settings)?;
         let gpu_ms = self.draw(gpu, &frame)?;
         let mut image = read_back(&frame.targets, width, height)?;
         image.draws = frame.draws();
@@ -190,9 +256,36 @@ impl HeadlessRenderer {
         height: u32,
         settings: &RenderSettings,
     ) -> Result<PreparedFrame> {
+        self.prepare_with_underlay(gpu, sets, None, camera, width, height, settings)
+    }
+
+    /// [`HeadlessRenderer::prepare`] with an underlay drawn in the glyphs' depth buffer;
+    /// the depth range covers its planes too. Not with `--path compute`, which has no
+    /// depth buffer to share.
+    #[allow(clippy::too_many_arguments)]
+    pub fn prepare_with_underlay(
+        &mut self,
+        gpu: &Gpu,
+        sets: &[GlyphSetData],
+        underlay: Option<&Underlay>,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+        settings: &RenderSettings,
+    ) -> Result<PreparedFrame> {
         settings.validate()?;
         check_image_size(gpu, width, height)?;
-        let extent = SceneExtent::for_settings(camera, sets, settings);
+        if underlay.is_some() && settings.path == RenderPath::Compute {
+            return Err(Error::Usage(
+                "--underlay: --path compute has no depth buffer to share with the underlay; \
+                 use --path fragment"
+                    .into(),
+            ));
+        }
+        let mut extent = SceneExtent::for_settings(camera, sets, settings);
+        if let Some(underlay) = underlay {
+            extent = extent_with_planes(camera, extent, &underlay.planes);
+        }
         let params = FrameParams::new(camera, width, height, &extent, settings);
         let scene = match settings.method {
             _ if settings.path == RenderPath::Compute => {
@@ -222,17 +315,30 @@ impl HeadlessRenderer {
             )?)),
         };
         let size = vk::Extent2D { width, height };
+        let underlay = underlay
+            .map(|u| -> Result<_> {
+                let on_gpu = self.underlay.upload(gpu.context(), &u.volume)?;
+                Ok((on_gpu, u.planes.clone()))
+            })
+            .transpose()?;
         Ok(PreparedFrame {
             scene,
             targets: Targets::new(gpu, size)?,
             size,
             settings: *settings,
+            underlay,
+            view_proj: params.view_proj,
         })
     }
 
     /// Draws a prepared frame and waits for it; returns the glyph pass's GPU time.
     pub fn draw(&mut self, gpu: &Gpu, frame: &PreparedFrame) -> Result<Option<f64>> {
-        let passes = (&mut self.pass, &mut self.mesh, &mut self.compute);
+        let passes = (
+            &mut self.pass,
+            &mut self.mesh,
+            &mut self.compute,
+            &self.underlay,
+        );
         let timer = self.timer.as_ref();
         self.commands
             .run(gpu, |cmd| record_frame(passes, timer, gpu, cmd, frame))?;
@@ -263,6 +369,10 @@ pub struct PreparedFrame {
     targets: Targets,
     size: vk::Extent2D,
     settings: RenderSettings,
+    /// The underlay's volume on the GPU and its planes, if any.
+    underlay: Option<(UnderlayGpu, Vec<UnderlayPlane>)>,
+    /// The frame's world-to-clip matrix, which the underlay's planes share.
+    view_proj: [[f32; 4]; 4],
 }
 
 impl PreparedFrame {
@@ -284,8 +394,15 @@ impl PreparedFrame {
     }
 }
 
+type Passes<'a> = (
+    &'a mut RayCastPass,
+    &'a mut MeshPass,
+    &'a mut ComputeRayCastPass,
+    &'a UnderlayPass,
+);
+
 fn record_frame(
-    (pass, mesh, compute): (&mut RayCastPass, &mut MeshPass, &mut ComputeRayCastPass),
+    (pass, mesh, compute, underlay): Passes,
     timer: Option<&GpuTimer>,
     gpu: &Gpu,
     cmd: vk::CommandBuffer,
@@ -411,6 +528,9 @@ fn record_frame(
     }
     // SAFETY: as above.
     unsafe { d.cmd_begin_rendering(cmd, &rendering) };
+    if let Some((volume, planes)) = &frame.underlay {
+        underlay.record(cmd, volume, planes, frame.view_proj, extent);
+    }
     match &frame.scene {
         GlyphsOnGpu::RayCast(scene) => pass.record(cmd, scene, extent, frame.settings.method)?,
         GlyphsOnGpu::Mesh(scene) => mesh.record(cmd, scene, extent)?,

@@ -12,8 +12,9 @@ use crate::render::frame::FrameParams;
 use crate::render::raycast::{COEFFICIENTS_BINDING, FRAME_BINDING};
 use crate::render::shaders::{
     COMPUTE_RAYCAST_SHADERS, IMPOSTOR_FRAGMENT, MESH_FRAGMENT, MESH_VERTEX, RAYCAST_SHADERS,
-    RAYCAST_VERTEX,
+    RAYCAST_VERTEX, UNDERLAY_FRAGMENT, UNDERLAY_VERTEX,
 };
+use crate::render::underlay::{PARAMS_BINDING, PlanePush, UnderlayParams, VALUES_BINDING};
 
 /// A block (uniform, storage or push-constant) as the SPIR-V declares it.
 #[derive(Debug, Default)]
@@ -207,4 +208,49 @@ fn the_compute_ray_caster_reads_the_buffers_in_the_order_they_are_bound() {
         assert_eq!(storage, expected, "{what}: storage bindings");
         assert_eq!(expected[0], COEFFICIENTS_BINDING);
     }
+}
+
+#[test]
+fn the_underlay_shaders_read_the_blocks_its_pass_writes() {
+    let params = offsets!(UnderlayParams: world_to_voxel, dims, window);
+    let push = offsets!(PlanePush: view_proj, origin, u, v);
+    assert_eq!(
+        size_of::<PlanePush>(),
+        112,
+        "within the 128 bytes every device offers"
+    );
+    let (mut params_seen, mut values_seen, mut push_seen) = (0, 0, 0);
+    for (what, spirv) in [
+        ("underlay.vert", UNDERLAY_VERTEX),
+        ("underlay.frag", UNDERLAY_FRAGMENT),
+    ] {
+        for block in blocks(spirv) {
+            match block.storage_class {
+                UNIFORM => {
+                    assert_eq!(
+                        (block.set, block.binding),
+                        (Some(0), Some(PARAMS_BINDING)),
+                        "{what}"
+                    );
+                    assert_eq!(block.offsets, params, "{what}: UnderlayParams");
+                    params_seen += 1;
+                }
+                STORAGE_BUFFER => {
+                    assert_eq!(
+                        (block.set, block.binding),
+                        (Some(0), Some(VALUES_BINDING)),
+                        "{what}"
+                    );
+                    assert_eq!(block.offsets, [0], "{what}: float values[]");
+                    values_seen += 1;
+                }
+                PUSH_CONSTANT => {
+                    assert_eq!(block.offsets, push, "{what}: PlanePush");
+                    push_seen += 1;
+                }
+                other => panic!("{what}: unexpected block of storage class {other}"),
+            }
+        }
+    }
+    assert_eq!((params_seen, values_seen, push_seen), (2, 1, 1));
 }

@@ -173,7 +173,7 @@ impl MeshPass {
             vertex: unsafe { ShaderModule::new(ctx, MESH_VERTEX)? },
             // SAFETY: as above.
             fragment: unsafe { ShaderModule::new(ctx, MESH_FRAGMENT)? },
-            pipelines: Pipelines::new(ctx),
+            pipelines: Pipelines::new(),
             buffer_limit: None,
         })
     }
@@ -204,14 +204,13 @@ impl MeshPass {
                 .name(c"main"),
         ];
         let pipeline = glyph_pipeline(
-            self.ctx.device(),
+            &self.ctx,
             self.formats,
             self.layout.handle(),
             &stages,
             InstanceInput::Instance,
         )?;
-        self.pipelines.insert(vertices_per_glyph, pipeline);
-        Ok(pipeline)
+        Ok(self.pipelines.insert(vertices_per_glyph, pipeline))
     }
 
     /// Caps the bytes of vertices per storage buffer below the device's

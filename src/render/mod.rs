@@ -2,6 +2,7 @@
 //! instanced boxes of `raycast`; the tessellated baseline has its own pass in `mesh`.
 //! `compute` is a second path for the exact method: a compute shader per pixel over the
 //! screen tiles of `tiles`.
+pub mod antialias;
 pub mod batch;
 pub mod compute;
 // Test harnesses: they run the generated GLSL at given points or segments so that the
@@ -21,6 +22,7 @@ pub mod raycast;
 pub mod settings;
 pub mod shaders;
 pub mod tiles;
+pub mod underlay;
 
 use crate::catalog::{RAY_CAST_METHODS, RayCastMethod};
 pub use crate::glyph::tessellate::MeshKind;

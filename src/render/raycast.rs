@@ -15,8 +15,8 @@ use crate::render::frame::FrameParams;
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::shaders::{IMPOSTOR_FRAGMENT, RAYCAST_VERTEX, raycast_shader};
 use crate::vk::{
-    Buffer, BufferBinding, DescriptorPool, DeviceContext, PipelineLayout, Pipelines, ShaderModule,
-    buffer_binding, first_pipeline,
+    Buffer, BufferBinding, DescriptorPool, DeviceContext, GraphicsPipelineDesc, Pipeline,
+    PipelineLayout, Pipelines, ShaderModule, buffer_binding, graphics_pipeline,
 };
 use ash::vk;
 
@@ -123,7 +123,7 @@ impl RayCastPass {
             layout,
             // SAFETY: the SPIR-V comes from build.rs and was validated by glslang.
             vertex: unsafe { ShaderModule::new(ctx, RAYCAST_VERTEX)? },
-            pipelines: Pipelines::new(ctx),
+            pipelines: Pipelines::new(),
             buffer_limit: None,
             indices: Buffer::with_data(
                 ctx,
@@ -186,8 +186,7 @@ impl RayCastPass {
             }
         };
         let pipeline = self.create_pipeline(vertex, fragment, method != Method::Impostor)?;
-        self.pipelines.insert(key, pipeline);
-        Ok(pipeline)
+        Ok(self.pipelines.insert(key, pipeline))
     }
 
     /// A pipeline of the given fragment shader and vertex shader (`None`: the shared one,
@@ -197,7 +196,7 @@ impl RayCastPass {
         vertex_spirv: Option<&[u32]>,
         fragment_spirv: &[u32],
         oriented: bool,
-    ) -> Result<vk::Pipeline> {
+    ) -> Result<Pipeline> {
         // SAFETY: the SPIR-V comes from build.rs and was validated by glslang; the modules
         // may go once the pipeline exists.
         let fragment = unsafe { ShaderModule::new(&self.ctx, fragment_spirv)? };
@@ -215,7 +214,7 @@ impl RayCastPass {
         vertex: vk::ShaderModule,
         fragment: vk::ShaderModule,
         oriented: bool,
-    ) -> Result<vk::Pipeline> {
+    ) -> Result<Pipeline> {
         let entries = [vk::SpecializationMapEntry {
             constant_id: ORIENTED_BOX_CONSTANT,
             offset: 0,
@@ -238,7 +237,7 @@ impl RayCastPass {
                 .name(c"main"),
         ];
         glyph_pipeline(
-            self.ctx.device(),
+            &self.ctx,
             self.formats,
             self.layout.handle(),
             &stages,
@@ -354,12 +353,12 @@ pub(crate) enum InstanceInput {
 /// the colour (and distance) targets of `formats`. The ray caster's boxes and the
 /// tessellated meshes differ only in their shader stages, layouts and instance input.
 pub(crate) fn glyph_pipeline(
-    device: &ash::Device,
+    ctx: &DeviceContext,
     formats: TargetFormats,
     layout: vk::PipelineLayout,
     stages: &[vk::PipelineShaderStageCreateInfo],
     input: InstanceInput,
-) -> Result<vk::Pipeline> {
+) -> Result<Pipeline> {
     let bindings = [
         vk::VertexInputBindingDescription {
             binding: 0,
@@ -384,58 +383,21 @@ pub(crate) fn glyph_pipeline(
         InstanceInput::Instance => (&bindings[..1], &attributes[..1]),
         InstanceInput::WithBoxes => (&bindings[..], &attributes[..]),
     };
-    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
-        .vertex_binding_descriptions(bindings)
-        .vertex_attribute_descriptions(attributes);
-    let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
-        .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
-    let viewport = vk::PipelineViewportStateCreateInfo::default()
-        .viewport_count(1)
-        .scissor_count(1);
-    // Front faces only: the box faces the ray enters through (the paper's choice), and
-    // the outside of a closed mesh.
-    let raster = vk::PipelineRasterizationStateCreateInfo::default()
-        .polygon_mode(vk::PolygonMode::FILL)
-        .cull_mode(vk::CullModeFlags::BACK)
-        .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
-        .line_width(1.0);
-    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-        .rasterization_samples(vk::SampleCountFlags::TYPE_1);
-    let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-        .depth_test_enable(true)
-        .depth_write_enable(true)
-        .depth_compare_op(vk::CompareOp::GREATER);
     let mut color_formats = vec![formats.color];
     color_formats.extend(formats.distance);
-    let blend_attachments: Vec<_> = color_formats
-        .iter()
-        .map(|_| {
-            vk::PipelineColorBlendAttachmentState::default()
-                .color_write_mask(vk::ColorComponentFlags::RGBA)
-        })
-        .collect();
-    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
-    let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
-    let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
-    let mut rendering = vk::PipelineRenderingCreateInfo::default()
-        .color_attachment_formats(&color_formats)
-        .depth_attachment_format(formats.depth);
-    let info = vk::GraphicsPipelineCreateInfo::default()
-        .stages(stages)
-        .vertex_input_state(&vertex_input)
-        .input_assembly_state(&assembly)
-        .viewport_state(&viewport)
-        .rasterization_state(&raster)
-        .multisample_state(&multisample)
-        .depth_stencil_state(&depth)
-        .color_blend_state(&blend)
-        .dynamic_state(&dynamic)
-        .layout(layout)
-        .push_next(&mut rendering);
-    // SAFETY: all referenced state lives until the call returns.
-    let created =
-        unsafe { device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) };
-    first_pipeline(created, "vkCreateGraphicsPipelines")
+    // Front faces only: the box faces the ray enters through (the paper's choice), and
+    // the outside of a closed mesh.
+    let desc = GraphicsPipelineDesc {
+        stages,
+        vertex_bindings: bindings,
+        vertex_attributes: attributes,
+        cull: vk::CullModeFlags::BACK,
+        color_formats: &color_formats,
+        depth_format: formats.depth,
+        layout,
+    };
+    // SAFETY: the callers' stages hold live modules of build.rs's SPIR-V for `layout`.
+    unsafe { graphics_pipeline(ctx, &desc) }
 }
 
 /// The whole target as viewport (depth 0 to 1) and scissor.

@@ -185,6 +185,9 @@ pub struct RenderSettings {
     /// Robust methods (interval, affine): segments are split until their length is below
     /// this many pixels' footprint at their depth.
     pub precision_px: f32,
+    /// Samples per pixel (`--samples`): 1, or 4 or 16 by supersampling
+    /// ([`crate::render::antialias`]).
+    pub samples: u32,
 }
 
 impl Default for RenderSettings {
@@ -204,6 +207,7 @@ impl Default for RenderSettings {
             color: ColorMode::Direction,
             background: DARK_BACKGROUND,
             precision_px: 0.25,
+            samples: 1,
         }
     }
 }
@@ -341,6 +345,7 @@ impl RenderSettings {
                 self.background
             )));
         }
+        crate::render::antialias::supersampling_factor(self.samples)?;
         if self.path == RenderPath::Compute && self.method != Method::Exact {
             return Err(Error::Invalid(format!(
                 "--path compute: only --method exact has a compute ray caster, not {}",

@@ -48,6 +48,8 @@ struct App {
     // presents to. GPU objects keep the device alive themselves, so the Gpu may go at
     // any point.
     scene_gpu: Option<SceneGpu>,
+    /// The underlay's volume on the GPU (uploaded once, again when the pass is rebuilt).
+    underlay_gpu: Option<crate::render::underlay::UnderlayGpu>,
     headless: Option<HeadlessRenderer>,
     presenter: Option<Presenter>,
     window: Option<Window>,
@@ -91,6 +93,7 @@ pub fn run(mut content: Content, options: ViewerOptions) -> Result<()> {
     }
     let mut app = App {
         scene_gpu: None,
+        underlay_gpu: None,
         headless: None,
         presenter: None,
         window: None,
@@ -389,6 +392,13 @@ impl App {
             return Ok(()); // no area: nothing to render into
         };
         let content = &self.content;
+        if rebuilt {
+            self.underlay_gpu = None;
+        }
+        if let (Some(underlay), None) = (&content.underlay, &self.underlay_gpu) {
+            let pass = presenter.underlay_pass();
+            self.underlay_gpu = Some(pass.upload(self.gpu.context(), &underlay.volume)?);
+        }
         if rebuilt || self.uploaded != Some(content.version) {
             self.scene_gpu = None;
             let frame = content.frame_params(size.width, size.height);
@@ -406,7 +416,19 @@ impl App {
         };
         let capture = self.options.capture_window.is_some();
         let frame = |extent: vk::Extent2D| content.frame_params(extent.width, extent.height);
-        let outcome = presenter.render(&self.gpu, scene, frame, &content.settings, capture)?;
+        let underlay = self
+            .underlay_gpu
+            .as_ref()
+            .zip(content.underlay.as_ref())
+            .map(|(volume, u)| (volume, u.planes.as_slice()));
+        let outcome = presenter.render(
+            &self.gpu,
+            scene,
+            underlay,
+            frame,
+            &content.settings,
+            capture,
+        )?;
         // Waiting here keeps one frame in flight and gives this frame's GPU time at once;
         // rendering is on demand, so there is little overlap to lose.
         let gpu_ms = presenter.wait_previous()?;
@@ -513,9 +535,10 @@ impl App {
         };
         let c = &self.content;
         let started = Instant::now();
-        let image = renderer.render(
+        let image = renderer.render_with_underlay(
             &self.gpu,
             &c.sets,
+            c.underlay.as_ref(),
             &c.camera,
             size.width,
             size.height,

@@ -16,9 +16,11 @@ use crate::render::frame::{FrameParams, SceneExtent};
 use crate::render::glyph_data::{
     GlyphSetData, measure_largest_radius, prepare_scene, prepare_set_with_progress,
 };
+use crate::render::underlay::{Underlay, extent_with_planes};
 use crate::scene::{GlyphSet, Scene};
 use crate::volume::{
-    SliceRegion, Volume, VolumeOptions, VolumeScene, frame_region, volume_scene_with_progress,
+    SliceRegion, Volume, VolumeOptions, VolumeScene, frame_region, slice_plane,
+    volume_scene_with_progress,
 };
 use crate::{Error, Result};
 use std::ops::Range;
@@ -65,6 +67,8 @@ pub struct Content {
     pub home: Camera,
     /// Bumped whenever `sets` change.
     pub version: u64,
+    /// The underlay, its planes on the current slices.
+    pub underlay: Option<Underlay>,
     negative: Option<NegativeMode>,
     volume: Option<VolumeSlice>,
     job: Option<Job>,
@@ -151,6 +155,7 @@ impl Content {
             sets,
             settings,
             version: 0,
+            underlay: None,
             negative,
             volume,
             job: None,
@@ -212,8 +217,43 @@ impl Content {
     /// Frame parameters for an image of `width` x `height` with the current camera, as
     /// the headless renderer computes them.
     pub fn frame_params(&self, width: u32, height: u32) -> FrameParams {
-        let extent = SceneExtent::for_settings(&self.camera, &self.sets, &self.settings);
+        let mut extent = SceneExtent::for_settings(&self.camera, &self.sets, &self.settings);
+        if let Some(underlay) = &self.underlay {
+            extent = extent_with_planes(&self.camera, extent, &underlay.planes);
+        }
         FrameParams::new(&self.camera, width, height, &extent, &self.settings)
+    }
+
+    /// Shows `underlay` on the volume's slices (and moves it with them); an underlay for
+    /// a scene file, which has no slices, is a usage error.
+    pub fn set_underlay(&mut self, underlay: Option<Underlay>) -> Result<()> {
+        if underlay.is_some() && self.volume.is_none() {
+            return Err(Error::Usage(
+                "--underlay applies to volume input (--sh/--tensor), not to a scene file".into(),
+            ));
+        }
+        self.underlay = underlay;
+        self.place_underlay()
+    }
+
+    /// Puts the underlay's planes on the current slices.
+    fn place_underlay(&mut self) -> Result<()> {
+        let (Some(underlay), Some(v)) = (self.underlay.as_mut(), self.volume.as_ref()) else {
+            return Ok(());
+        };
+        let (volume, options) = (&v.volume, &v.options);
+        let region = |slice| SliceRegion::new(volume.dims, slice, &options.voxels, &volume.file);
+        let regions = match options.slices {
+            Some(slices) => (0..3)
+                .map(|axis| region(slices.slice(axis)))
+                .collect::<Result<Vec<_>>>()?,
+            None => vec![region(options.slice)?],
+        };
+        underlay.planes = regions
+            .iter()
+            .map(|r| slice_plane(r, &volume.voxel_to_world))
+            .collect();
+        Ok(())
     }
 
     /// The scene as shown: the glyphs of the current slice and negative mode, the current
@@ -321,6 +361,7 @@ impl Content {
         }
         v.index[axis] = index;
         v.options = options;
+        self.place_underlay()?;
         self.request(Rebuild::Slice)?;
         Ok(true)
     }

@@ -54,6 +54,9 @@ pub struct ViewerOptions {
     /// With each screenshot, also write the scene as shown (glyphs of the current slice,
     /// camera, window size) as a scene file.
     pub save_scene: Option<PathBuf>,
+    /// The anatomical underlay (`--underlay`), drawn on the slice planes and moved with
+    /// them; volume input only.
+    pub underlay: Option<crate::render::underlay::Underlay>,
 }
 
 /// Opens the window and runs until it is closed, or for `options.frames` frames.
@@ -65,7 +68,8 @@ pub fn run(source: ViewSource, options: ViewerOptions) -> Result<()> {
         ));
     }
     check_outputs(&options)?;
-    let content = Content::new(source, options.settings, options.negative)?;
+    let mut content = Content::new(source, options.settings, options.negative)?;
+    content.set_underlay(options.underlay.clone())?;
     check_method(&content, &options.settings)?;
     app::run(content, options)
 }

@@ -14,6 +14,7 @@ use crate::error::{Result, VkContext};
 use crate::render::RenderSettings;
 use crate::render::frame::FrameParams;
 use crate::render::raycast::{RayCastPass, SceneGpu, TargetFormats};
+use crate::render::underlay::{UnderlayGpu, UnderlayPass, UnderlayPlane};
 use crate::vk::{
     Acquired, Buffer, DeviceContext, Gpu, GpuTimer, Image, Surface, Swapchain, color_range,
 };
@@ -41,11 +42,15 @@ pub struct Capture {
     pub rgba: Vec<u8>,
 }
 
+/// An underlay to draw: its volume on the GPU, its planes and the frame's view-projection.
+type UnderlayDraw<'a> = (&'a UnderlayGpu, &'a [UnderlayPlane], [[f32; 4]; 4]);
+
 /// Every member keeps what it was made from alive (the device through its context, a
 /// swapchain its surface), so no drop order is needed for soundness; `Drop` waits for
 /// the device to be idle before any of them goes.
 pub struct Presenter {
     pass: RayCastPass,
+    underlay: UnderlayPass,
     timer: Option<GpuTimer>,
     capture: Option<(Buffer, vk::Extent2D)>,
     depth: Option<Image>,
@@ -112,6 +117,7 @@ impl Presenter {
         };
         Ok(Presenter {
             pass: RayCastPass::new(gpu.context(), formats)?,
+            underlay: UnderlayPass::new(gpu.context(), formats)?,
             timer: GpuTimer::new(gpu)?,
             capture: None,
             depth: None,
@@ -126,6 +132,12 @@ impl Presenter {
             stale: true,
             unthrottled,
         })
+    }
+
+    /// The underlay's pass, to upload an underlay volume with; rebuilt with the glyph
+    /// pass (see [`Presenter::pass_mut`]).
+    pub fn underlay_pass(&self) -> &UnderlayPass {
+        &self.underlay
     }
 
     /// The pass, to upload scenes with. Its formats may change when the swapchain is
@@ -192,6 +204,7 @@ impl Presenter {
                 ..self.pass.formats()
             };
             self.pass = RayCastPass::new(gpu.context(), formats)?;
+            self.underlay = UnderlayPass::new(gpu.context(), formats)?;
             rebuilt = true;
         }
         if !matches!(
@@ -211,10 +224,13 @@ impl Presenter {
     /// Renders and presents one frame of `scene` (after [`Presenter::prepare`] and
     /// [`Presenter::wait_previous`]). `frame` gives the frame parameters for the
     /// swapchain's extent; `capture` also copies the image for [`Presenter::capture`].
+    /// `underlay`, uploaded with [`Presenter::underlay_pass`], is drawn on its planes.
+    #[allow(clippy::too_many_arguments)]
     pub fn render(
         &mut self,
         gpu: &Gpu,
         scene: &mut SceneGpu,
+        underlay: Option<(&UnderlayGpu, &[UnderlayPlane])>,
         frame: impl FnOnce(vk::Extent2D) -> FrameParams,
         settings: &RenderSettings,
         capture: bool,
@@ -234,13 +250,15 @@ impl Presenter {
             }
         };
         // The previous frame is done (wait_previous), so the uniform buffer is free.
-        scene.set_frame(&frame(extent))?;
+        let params = frame(extent);
+        scene.set_frame(&params)?;
         if capture {
             self.ensure_capture_buffer(gpu, extent)?;
         }
         // SAFETY: the fence is signalled and about to be reused by this submission.
         unsafe { self.ctx.device().reset_fences(&[self.in_flight]) }.vk("vkResetFences")?;
-        self.record(index, scene, settings, capture)?;
+        let underlay = underlay.map(|(volume, planes)| (volume, planes, params.view_proj));
+        self.record(index, scene, underlay, settings, capture)?;
         let Some(swapchain) = self.swapchain.as_ref() else {
             return Ok(Outcome::Skipped);
         };
@@ -317,6 +335,7 @@ impl Presenter {
         &mut self,
         index: u32,
         scene: &SceneGpu,
+        underlay: Option<UnderlayDraw>,
         settings: &RenderSettings,
         capture: bool,
     ) -> Result<()> {
@@ -388,6 +407,9 @@ impl Presenter {
         }
         // SAFETY: as above.
         unsafe { d.cmd_begin_rendering(cmd, &rendering) };
+        if let Some((volume, planes, view_proj)) = underlay {
+            self.underlay.record(cmd, volume, planes, view_proj, extent);
+        }
         self.pass.record(cmd, scene, extent, settings.method)?;
         // SAFETY: as above.
         unsafe { d.cmd_end_rendering(cmd) };

@@ -20,6 +20,7 @@ mod device;
 mod image;
 mod instance;
 mod pipeline;
+pub mod recording;
 #[cfg(feature = "viewer")]
 mod surface;
 #[cfg(feature = "viewer")]
@@ -34,7 +35,8 @@ pub use descriptors::{BufferBinding, DescriptorPool};
 pub use device::{DeviceInfo, choose_physical_device};
 pub use image::{Image, cleared_depth_attachment};
 pub use pipeline::{
-    PipelineLayout, Pipelines, ShaderModule, buffer_binding, compute_pipeline, first_pipeline,
+    GraphicsPipelineDesc, Pipeline, PipelineLayout, Pipelines, ShaderModule, buffer_binding,
+    compute_pipeline, graphics_pipeline,
 };
 #[cfg(feature = "viewer")]
 pub use surface::Surface;

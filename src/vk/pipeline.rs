@@ -1,5 +1,6 @@
 //! Pipeline objects that own themselves: a descriptor-set layout with its pipeline layout,
-//! shader modules and keyed pipelines, each destroyed when dropped. Passes hold these and
+//! shader modules, pipelines and keyed sets of them, each destroyed when dropped; and the
+//! creation of compute and graphics pipelines that the passes share. Passes hold these and
 //! need no teardown code of their own; since Vulkan lets a pipeline outlive its layout
 //! and its shader modules, the order in which they drop does not matter.
 use ash::vk;
@@ -123,33 +124,62 @@ impl Drop for ShaderModule {
     }
 }
 
+/// A pipeline, destroyed when dropped.
+pub struct Pipeline {
+    ctx: DeviceContext,
+    handle: vk::Pipeline,
+}
+
+impl Pipeline {
+    /// Takes ownership of `handle`.
+    ///
+    /// # Safety
+    /// `handle` must be a pipeline of `ctx`'s device that nothing else destroys.
+    pub unsafe fn from_raw(ctx: &DeviceContext, handle: vk::Pipeline) -> Pipeline {
+        Pipeline {
+            ctx: ctx.clone(),
+            handle,
+        }
+    }
+
+    /// The pipeline's handle.
+    pub fn handle(&self) -> vk::Pipeline {
+        self.handle
+    }
+}
+
+impl Drop for Pipeline {
+    fn drop(&mut self) {
+        // SAFETY: the owner has waited for every frame recorded with the pipeline; the
+        // device is alive while `self.ctx` is.
+        unsafe { self.ctx.device().destroy_pipeline(self.handle, None) };
+    }
+}
+
 /// Pipelines by key, each created once and destroyed with the map.
 pub struct Pipelines<K> {
-    ctx: DeviceContext,
-    map: HashMap<K, vk::Pipeline>,
+    map: HashMap<K, Pipeline>,
 }
 
 impl<K: Hash + Eq> Pipelines<K> {
     /// No pipelines yet.
-    pub fn new(ctx: &DeviceContext) -> Self {
+    pub fn new() -> Self {
         Pipelines {
-            ctx: ctx.clone(),
             map: HashMap::new(),
         }
     }
 
     /// The pipeline of `key`, if it was made.
     pub fn get(&self, key: &K) -> Option<vk::Pipeline> {
-        self.map.get(key).copied()
+        self.map.get(key).map(Pipeline::handle)
     }
 
-    /// Takes ownership of `pipeline` as `key`'s (a pipeline the key had is destroyed).
-    pub fn insert(&mut self, key: K, pipeline: vk::Pipeline) {
-        if let Some(old) = self.map.insert(key, pipeline) {
-            // SAFETY: the caller replaces a pipeline only between frames; the device is
-            // alive while `self.ctx` is.
-            unsafe { self.ctx.device().destroy_pipeline(old, None) };
-        }
+    /// Keeps `pipeline` as `key`'s (a pipeline the key had is dropped: only between
+    /// frames) and returns its handle.
+    pub fn insert(&mut self, key: K, pipeline: Pipeline) -> vk::Pipeline {
+        let handle = pipeline.handle();
+        self.map.insert(key, pipeline);
+        handle
     }
 
     /// How many pipelines were made.
@@ -163,16 +193,9 @@ impl<K: Hash + Eq> Pipelines<K> {
     }
 }
 
-impl<K> Drop for Pipelines<K> {
-    fn drop(&mut self) {
-        let device = self.ctx.device();
-        // SAFETY: the owner has waited for every frame recorded with these pipelines; the
-        // device is alive while `self.ctx` is.
-        unsafe {
-            for pipeline in self.map.values() {
-                device.destroy_pipeline(*pipeline, None);
-            }
-        }
+impl<K: Hash + Eq> Default for Pipelines<K> {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -185,7 +208,7 @@ pub unsafe fn compute_pipeline(
     layout: vk::PipelineLayout,
     spirv: &[u32],
     specialization: Option<&vk::SpecializationInfo>,
-) -> Result<vk::Pipeline> {
+) -> Result<Pipeline> {
     // SAFETY: the caller vouches for the SPIR-V.
     let module = unsafe { ShaderModule::new(ctx, spirv)? };
     let mut stage = vk::PipelineShaderStageCreateInfo::default()
@@ -203,11 +226,13 @@ pub unsafe fn compute_pipeline(
         ctx.device()
             .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
     };
-    first_pipeline(created, "vkCreateComputePipelines")
+    let handle = first_pipeline(created, "vkCreateComputePipelines")?;
+    // SAFETY: just made on `ctx`'s device, owned by nothing else.
+    Ok(unsafe { Pipeline::from_raw(ctx, handle) })
 }
 
 /// The one pipeline of a `vkCreate*Pipelines` call for one create info.
-pub fn first_pipeline(
+fn first_pipeline(
     created: std::result::Result<Vec<vk::Pipeline>, (Vec<vk::Pipeline>, vk::Result)>,
     call: &'static str,
 ) -> Result<vk::Pipeline> {
@@ -216,4 +241,89 @@ pub fn first_pipeline(
         .first()
         .copied()
         .ok_or_else(|| Error::Setup(format!("{call} returned no pipeline")))
+}
+
+/// What differs between the graphics pipelines of the passes; everything else is shared:
+/// triangle lists, dynamic viewport and scissor, one sample, depth tested GREATER and
+/// written (reversed depth), every colour attachment written whole without blending, and
+/// dynamic rendering with the given attachment formats.
+pub struct GraphicsPipelineDesc<'a> {
+    /// The vertex and fragment stages.
+    pub stages: &'a [vk::PipelineShaderStageCreateInfo<'a>],
+    /// Vertex buffer bindings (none: the vertex shader makes its own positions).
+    pub vertex_bindings: &'a [vk::VertexInputBindingDescription],
+    /// Vertex attributes of those bindings.
+    pub vertex_attributes: &'a [vk::VertexInputAttributeDescription],
+    /// Faces culled (front faces are counter-clockwise).
+    pub cull: vk::CullModeFlags,
+    /// The colour attachments' formats, in attachment order.
+    pub color_formats: &'a [vk::Format],
+    /// The depth attachment's format.
+    pub depth_format: vk::Format,
+    /// The pipeline layout.
+    pub layout: vk::PipelineLayout,
+}
+
+/// A graphics pipeline for dynamic rendering, as `desc` describes.
+///
+/// # Safety
+/// The stages' modules must be live and their SPIR-V valid for this device and `layout`.
+pub unsafe fn graphics_pipeline(
+    ctx: &DeviceContext,
+    desc: &GraphicsPipelineDesc,
+) -> Result<Pipeline> {
+    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+        .vertex_binding_descriptions(desc.vertex_bindings)
+        .vertex_attribute_descriptions(desc.vertex_attributes);
+    let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+        .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+    let viewport = vk::PipelineViewportStateCreateInfo::default()
+        .viewport_count(1)
+        .scissor_count(1);
+    let raster = vk::PipelineRasterizationStateCreateInfo::default()
+        .polygon_mode(vk::PolygonMode::FILL)
+        .cull_mode(desc.cull)
+        .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+        .line_width(1.0);
+    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+        .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+    let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+        .depth_test_enable(true)
+        .depth_write_enable(true)
+        .depth_compare_op(vk::CompareOp::GREATER);
+    let blend_attachments: Vec<_> = desc
+        .color_formats
+        .iter()
+        .map(|_| {
+            vk::PipelineColorBlendAttachmentState::default()
+                .color_write_mask(vk::ColorComponentFlags::RGBA)
+        })
+        .collect();
+    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
+    let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+    let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+    let mut rendering = vk::PipelineRenderingCreateInfo::default()
+        .color_attachment_formats(desc.color_formats)
+        .depth_attachment_format(desc.depth_format);
+    let info = vk::GraphicsPipelineCreateInfo::default()
+        .stages(desc.stages)
+        .vertex_input_state(&vertex_input)
+        .input_assembly_state(&assembly)
+        .viewport_state(&viewport)
+        .rasterization_state(&raster)
+        .multisample_state(&multisample)
+        .depth_stencil_state(&depth)
+        .color_blend_state(&blend)
+        .dynamic_state(&dynamic)
+        .layout(desc.layout)
+        .push_next(&mut rendering);
+    // SAFETY: all referenced state lives until the call returns; the caller vouches for
+    // the stages.
+    let created = unsafe {
+        ctx.device()
+            .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+    };
+    let handle = first_pipeline(created, "vkCreateGraphicsPipelines")?;
+    // SAFETY: just made on `ctx`'s device, owned by nothing else.
+    Ok(unsafe { Pipeline::from_raw(ctx, handle) })
 }

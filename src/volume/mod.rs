@@ -21,6 +21,7 @@ mod input;
 mod recorded;
 mod reorient;
 mod selection;
+mod underlay;
 
 pub use build::{
     DEFAULT_SCALE_FRACTION, Normalisation, VolumeOptions, VolumeReport, VolumeScene, volume_scene,
@@ -34,3 +35,4 @@ pub use input::{CoefficientFrame, MAX_ORDER, Mask, Volume, VolumeKind, load_mask
 pub use recorded::{RecordedBasis, recorded_basis, resolve_basis};
 pub use reorient::Reorientation;
 pub use selection::{Slice, SliceAxis, SliceRegion, Slices, VoxelRanges};
+pub use underlay::{load_underlay, slice_plane, underlay_of_image, view_underlay};

@@ -1,0 +1,32 @@
+#version 450
+// The anatomical underlay (src/render/underlay.rs): one plane of the underlay volume, a
+// world-space parallelogram origin + s u + t v (s, t in [0, 1]) drawn as two triangles
+// made from gl_VertexIndex (no vertex buffer), into the glyphs' depth buffer. The
+// underlay's voxel coordinate is an affine function of the world point, so it is
+// computed per corner and interpolated (perspective-correct, hence exact up to rounding).
+layout(std140, set = 0, binding = 0) uniform UnderlayParams {
+    mat4 world_to_voxel;  // world point to the underlay's voxel coordinates (i, j, k)
+    ivec4 dims;           // xyz: voxels along i, j, k; w: channels (1 grey, 3 RGB)
+    vec4 window;          // x: the window's low end, y: 1 / (high - low)
+} underlay;
+
+layout(push_constant) uniform Plane {
+    mat4 view_proj;       // the glyph pass's FrameParams.view_proj
+    vec4 origin;          // xyz: a corner of the plane, world space
+    vec4 u;               // xyz: the edge from it along s
+    vec4 v;               // xyz: the edge from it along t
+} plane;
+
+layout(location = 0) out vec3 v_voxel;
+
+const vec2 CORNERS[6] = vec2[6](
+    vec2(0.0, 0.0), vec2(1.0, 0.0), vec2(1.0, 1.0),
+    vec2(0.0, 0.0), vec2(1.0, 1.0), vec2(0.0, 1.0)
+);
+
+void main() {
+    vec2 st = CORNERS[gl_VertexIndex];
+    vec3 world = plane.origin.xyz + st.x * plane.u.xyz + st.y * plane.v.xyz;
+    v_voxel = (underlay.world_to_voxel * vec4(world, 1.0)).xyz;
+    gl_Position = plane.view_proj * vec4(world, 1.0);
+}

@@ -1,0 +1,92 @@
+//! Pieces of frame recording that the headless renderer and the viewer share: image
+//! layout transitions, cleared attachments, and copies of a colour image into a buffer
+//! that the host then reads.
+use ash::vk;
+
+/// A pipeline stage and the accesses in it, one side of a barrier.
+pub type Access = (vk::PipelineStageFlags2, vk::AccessFlags2);
+
+/// Nothing to wait for (an image whose old contents are discarded).
+pub const NOTHING: Access = (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE);
+
+/// Colour attachment writes.
+pub const COLOR_OUTPUT: Access = (
+    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+);
+
+/// Depth tests and writes (reversed depth: cleared, tested, written).
+pub const DEPTH_TESTS: Access = (
+    vk::PipelineStageFlags2::from_raw(
+        vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS.as_raw()
+            | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS.as_raw(),
+    ),
+    vk::AccessFlags2::from_raw(
+        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ.as_raw()
+            | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw(),
+    ),
+);
+
+/// Reads by a copy command.
+pub const COPY_READ: Access = (
+    vk::PipelineStageFlags2::COPY,
+    vk::AccessFlags2::TRANSFER_READ,
+);
+
+/// A layout transition of `image` (the subresources of `range`) from `old` to `new`,
+/// after `src` and before `dst`.
+pub fn layout_transition(
+    image: vk::Image,
+    range: vk::ImageSubresourceRange,
+    (old, new): (vk::ImageLayout, vk::ImageLayout),
+    src: Access,
+    dst: Access,
+) -> vk::ImageMemoryBarrier2<'static> {
+    vk::ImageMemoryBarrier2::default()
+        .image(image)
+        .subresource_range(range)
+        .old_layout(old)
+        .new_layout(new)
+        .src_stage_mask(src.0)
+        .src_access_mask(src.1)
+        .dst_stage_mask(dst.0)
+        .dst_access_mask(dst.1)
+}
+
+/// A colour attachment of `view` in COLOR_ATTACHMENT_OPTIMAL, cleared to `clear` and
+/// stored.
+pub fn cleared_color_attachment(
+    view: vk::ImageView,
+    clear: [f32; 4],
+) -> vk::RenderingAttachmentInfo<'static> {
+    vk::RenderingAttachmentInfo::default()
+        .image_view(view)
+        .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+        .load_op(vk::AttachmentLoadOp::CLEAR)
+        .store_op(vk::AttachmentStoreOp::STORE)
+        .clear_value(vk::ClearValue {
+            color: vk::ClearColorValue { float32: clear },
+        })
+}
+
+/// The copy of a whole single-layer colour image of `extent` into a tightly packed
+/// buffer.
+pub fn color_image_copy(extent: vk::Extent2D) -> vk::BufferImageCopy {
+    vk::BufferImageCopy::default()
+        .image_subresource(vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        })
+        .image_extent(extent.into())
+}
+
+/// Makes copy writes visible to the host (before it maps and reads the buffer).
+pub fn copies_to_host() -> vk::MemoryBarrier2<'static> {
+    vk::MemoryBarrier2::default()
+        .src_stage_mask(vk::PipelineStageFlags2::COPY)
+        .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+        .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+        .dst_access_mask(vk::AccessFlags2::HOST_READ)
+}

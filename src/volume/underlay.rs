@@ -1,0 +1,158 @@
+//! The underlay of a volume view (`--underlay`): a 3D scalar image (FA, T1) or an RGB
+//! one (colour-FA: a 4th axis of 3 values) read with the one image reader, and one plane
+//! per slice of the view, through the voxel centres of the slice and out to the outer
+//! voxel edges of its region, placed in world space by the glyph volume's affine. The
+//! underlay is sampled through its own affine (`render::underlay`), so the two grids
+//! may differ; they must both be placed in world space, and must overlap there.
+use std::path::Path;
+use std::sync::Arc;
+
+use glam::DVec3;
+
+use super::input::{Volume, show_shape};
+use super::selection::SliceRegion;
+use crate::io::image::{Image, read_image};
+use crate::io::nifti::{AffineSource, VoxelToWorld};
+use crate::render::underlay::{Underlay, UnderlayPlane, UnderlayVolume};
+use crate::{Error, Result};
+
+/// Reads an underlay image: [x, y, z] (scalar) or [x, y, z, 3] (RGB), any other shape an
+/// error naming the file and its dimensions; with the source of its affine, which
+/// [`view_underlay`] checks.
+pub fn load_underlay(path: &Path) -> Result<(UnderlayVolume, AffineSource)> {
+    underlay_of_image(read_image(path)?)
+}
+
+/// The underlay volume of an image read with [`read_image`] (values as float32), and
+/// the source of its affine.
+pub fn underlay_of_image(image: Image) -> Result<(UnderlayVolume, AffineSource)> {
+    let shape = image.shape(3);
+    let channels = match shape.len() {
+        3 => 1,
+        4 if shape[3] == 3 => 3,
+        _ => {
+            return Err(Error::input(
+                &image.file,
+                "dim",
+                format!(
+                    "a {}D image ({}) where an underlay is 3D [x, y, z] (FA, T1) or RGB \
+                     [x, y, z, 3] (colour-FA)",
+                    shape.len(),
+                    show_shape(&shape)
+                ),
+            ));
+        }
+    };
+    let dims = [shape[0], shape[1], shape[2]];
+    let mut values = Vec::new();
+    values
+        .try_reserve_exact(dims.iter().product::<usize>() * channels)
+        .map_err(|_| Error::OutOfMemory(format!("{}: the underlay does not fit", image.file)))?;
+    // The stored axes beyond the trimmed shape all have length 1: index 0 there.
+    let mut index = vec![0usize; image.data.ndim()];
+    for k in 0..dims[2] {
+        for j in 0..dims[1] {
+            for i in 0..dims[0] {
+                for c in 0..channels {
+                    for (axis, value) in [i, j, k, c].into_iter().enumerate() {
+                        if let Some(slot) = index.get_mut(axis) {
+                            *slot = value;
+                        }
+                    }
+                    let value = image.data.get(index.as_slice()).copied().ok_or_else(|| {
+                        Error::input(&image.file, "dim", "voxel index outside the data")
+                    })?;
+                    values.push(value as f32);
+                }
+            }
+        }
+    }
+    let source = image.voxel_to_world.source;
+    let volume = UnderlayVolume::new(
+        image.file,
+        dims,
+        channels,
+        values,
+        image.voxel_to_world.affine,
+    )?;
+    Ok((volume, source))
+}
+
+/// The plane of `region`'s slice: through the voxel centres of its index along the
+/// slice axis, spanning its ranges along the two other axes out to the voxel edges, in
+/// world space by `map`.
+pub fn slice_plane(region: &SliceRegion, map: &VoxelToWorld) -> UnderlayPlane {
+    let axis = region.slice.voxel_axis();
+    let (b, c) = ((axis + 1) % 3, (axis + 2) % 3);
+    let mut origin = [0.0; 3];
+    origin[axis] = region.index as f64;
+    origin[b] = region.ranges[b].start as f64 - 0.5;
+    origin[c] = region.ranges[c].start as f64 - 0.5;
+    let mut u = [0.0; 3];
+    u[b] = region.ranges[b].len() as f64;
+    let mut v = [0.0; 3];
+    v[c] = region.ranges[c].len() as f64;
+    UnderlayPlane {
+        origin: map.affine.transform_point3(DVec3::from(origin)),
+        u: map.affine.transform_vector3(DVec3::from(u)),
+        v: map.affine.transform_vector3(DVec3::from(v)),
+    }
+}
+
+/// The underlay of a view of `volume` whose slices are `regions`: one plane per slice.
+/// Errors name the underlay's file: an image placed by pixdim alone (no sform or qform)
+/// beside a volume that has an affine, and an underlay that reaches none of the planes
+/// in world space (a mismatched affine, or an image of another subject or space).
+pub fn view_underlay(
+    underlay: Arc<UnderlayVolume>,
+    source: AffineSource,
+    volume: &Volume,
+    regions: &[SliceRegion],
+) -> Result<Underlay> {
+    let glyph_source = volume.voxel_to_world.source;
+    if source == AffineSource::Pixdim && glyph_source != AffineSource::Pixdim {
+        return Err(Error::input(
+            &underlay.file,
+            "sform_code/qform_code",
+            format!(
+                "the underlay has no sform or qform, so its place in world space is unknown, \
+                 while {} has one; give it the affine of the volume it was computed from",
+                volume.file
+            ),
+        ));
+    }
+    let planes: Vec<UnderlayPlane> = regions
+        .iter()
+        .map(|r| slice_plane(r, &volume.voxel_to_world))
+        .collect();
+    if !planes.iter().any(|p| reaches(&underlay, p)) {
+        return Err(Error::input(
+            &underlay.file,
+            "affine",
+            format!(
+                "the underlay ({} voxels) does not reach the slice plane(s) of {} in world \
+                 space: are both images of the same subject and space?",
+                show_shape(&underlay.dims),
+                volume.file
+            ),
+        ));
+    }
+    Ok(Underlay {
+        volume: underlay,
+        planes,
+    })
+}
+
+/// Whether the box of the plane's corners, in the underlay's voxel coordinates, meets
+/// the underlay's box (a necessary condition for any pixel of the plane to show it).
+fn reaches(underlay: &UnderlayVolume, plane: &UnderlayPlane) -> bool {
+    let corners = plane.corners().map(|c| underlay.voxel_of(c));
+    (0..3).all(|a| {
+        let lo = corners.iter().map(|c| c[a]).fold(f64::INFINITY, f64::min);
+        let hi = corners
+            .iter()
+            .map(|c| c[a])
+            .fold(f64::NEG_INFINITY, f64::max);
+        hi >= -0.5 && lo <= underlay.dims[a] as f64 - 0.5
+    })
+}
