@@ -16,6 +16,10 @@ use crate::render::underlay::{
     Underlay, UnderlayGpu, UnderlayPass, UnderlayPlane, extent_with_planes,
 };
 use crate::render::{Method, RenderPath};
+use crate::vk::recording::{
+    COLOR_OUTPUT, COPY_READ, DEPTH_TESTS, NOTHING, cleared_color_attachment, color_image_copy,
+    copies_to_host, layout_transition,
+};
 use crate::vk::{Buffer, Gpu, GpuTimer, Image, OneShot};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
@@ -100,24 +104,6 @@ impl Targets {
             )?,
         })
     }
-}
-
-fn barrier(
-    image: &Image,
-    old: vk::ImageLayout,
-    new: vk::ImageLayout,
-    src: (vk::PipelineStageFlags2, vk::AccessFlags2),
-    dst: (vk::PipelineStageFlags2, vk::AccessFlags2),
-) -> vk::ImageMemoryBarrier2<'static> {
-    vk::ImageMemoryBarrier2::default()
-        .image(image.handle)
-        .subresource_range(image.subresource_range())
-        .old_layout(old)
-        .new_layout(new)
-        .src_stage_mask(src.0)
-        .src_access_mask(src.1)
-        .dst_stage_mask(dst.0)
-        .dst_access_mask(dst.1)
 }
 
 /// Renders glyph sets headless. Owns its passes so pipelines are reused across renders.
@@ -411,122 +397,25 @@ fn record_frame(
     if let GlyphsOnGpu::Compute(scene) = &frame.scene {
         return record_compute(compute, timer, gpu, cmd, frame, scene);
     }
-    let (t, extent, background) = (&frame.targets, frame.size, frame.settings.background);
-    let d = gpu.device();
-    let none = (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE);
-    let color_out = (
-        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-    );
-    let depth_out = (
-        vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-            | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE
-            | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ,
-    );
-    let to_attachment = [
-        barrier(
-            &t.color,
-            vk::ImageLayout::UNDEFINED,
-            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            none,
-            color_out,
-        ),
-        barrier(
-            &t.distance,
-            vk::ImageLayout::UNDEFINED,
-            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            none,
-            color_out,
-        ),
-        barrier(
-            &t.depth,
-            vk::ImageLayout::UNDEFINED,
-            vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-            none,
-            depth_out,
-        ),
-    ];
-    let color_attachments = [
-        vk::RenderingAttachmentInfo::default()
-            .image_view(t.color.view)
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue {
-                color: vk::ClearColorValue {
-                    float32: background,
-                },
-            }),
-        vk::RenderingAttachmentInfo::default()
-            .image_view(t.distance.view)
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue {
-                color: vk::ClearColorValue {
-                    float32: [-1.0, 0.0, 0.0, 0.0],
-                },
-            }),
-    ];
-    let depth_attachment = crate::vk::cleared_depth_attachment(t.depth.view);
-    let rendering = vk::RenderingInfo::default()
-        .render_area(vk::Rect2D {
-            offset: vk::Offset2D::default(),
-            extent,
-        })
-        .layer_count(1)
-        .color_attachments(&color_attachments)
-        .depth_attachment(&depth_attachment);
-    let transfer_read = (
-        vk::PipelineStageFlags2::COPY,
-        vk::AccessFlags2::TRANSFER_READ,
-    );
-    let to_transfer = [
-        barrier(
-            &t.color,
-            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            color_out,
-            transfer_read,
-        ),
-        barrier(
-            &t.distance,
-            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            color_out,
-            transfer_read,
-        ),
-    ];
-    let copy = vk::BufferImageCopy::default()
-        .image_subresource(vk::ImageSubresourceLayers {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            mip_level: 0,
-            base_array_layer: 0,
-            layer_count: 1,
-        })
-        .image_extent(vk::Extent3D {
-            width: extent.width,
-            height: extent.height,
-            depth: 1,
-        });
-    let host_read = [vk::MemoryBarrier2::default()
-        .src_stage_mask(vk::PipelineStageFlags2::COPY)
-        .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-        .dst_stage_mask(vk::PipelineStageFlags2::HOST)
-        .dst_access_mask(vk::AccessFlags2::HOST_READ)];
-    // SAFETY: `cmd` is recording; every handle is alive until the submission completes.
-    unsafe {
-        d.cmd_pipeline_barrier2(
-            cmd,
-            &vk::DependencyInfo::default().image_memory_barriers(&to_attachment),
-        );
-    }
+    let (d, extent) = (gpu.device(), frame.size);
+    begin_targets(d, cmd, &frame.targets);
     // The timed span is the glyph pass: from the cleared attachments to the last fragment.
     if let Some(timer) = timer {
         timer.start(cmd);
     }
-    // SAFETY: as above.
+    let targets = &frame.targets;
+    let color_attachments = [
+        cleared_color_attachment(targets.color.view, frame.settings.background),
+        // -1: no glyph along the ray (read back as NaN).
+        cleared_color_attachment(targets.distance.view, [-1.0, 0.0, 0.0, 0.0]),
+    ];
+    let depth_attachment = crate::vk::cleared_depth_attachment(targets.depth.view);
+    let rendering = vk::RenderingInfo::default()
+        .render_area(extent.into())
+        .layer_count(1)
+        .color_attachments(&color_attachments)
+        .depth_attachment(&depth_attachment);
+    // SAFETY: `cmd` is recording; every handle is alive until the submission completes.
     unsafe { d.cmd_begin_rendering(cmd, &rendering) };
     if let Some((volume, planes)) = &frame.underlay {
         underlay.record(cmd, volume, planes, frame.view_proj, extent);
@@ -537,38 +426,90 @@ fn record_frame(
         GlyphsOnGpu::Compute(_) => {}
     }
     // SAFETY: as above.
-    unsafe {
-        d.cmd_end_rendering(cmd);
-    }
+    unsafe { d.cmd_end_rendering(cmd) };
     if let Some(timer) = timer {
         timer.stop(cmd);
     }
-    // SAFETY: as above.
+    copy_targets_to_host(d, cmd, targets, extent);
+    Ok(())
+}
+
+/// The attachments from any earlier contents to cleared attachment layouts.
+fn begin_targets(d: &ash::Device, cmd: vk::CommandBuffer, t: &Targets) {
+    let to_attachment = |image: &Image, layout| {
+        let access = if layout == vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL {
+            DEPTH_TESTS
+        } else {
+            COLOR_OUTPUT
+        };
+        let layouts = (vk::ImageLayout::UNDEFINED, layout);
+        layout_transition(
+            image.handle,
+            image.subresource_range(),
+            layouts,
+            NOTHING,
+            access,
+        )
+    };
+    let barriers = [
+        to_attachment(&t.color, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
+        to_attachment(&t.distance, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
+        to_attachment(&t.depth, vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL),
+    ];
+    // SAFETY: `cmd` is recording outside rendering; the images are alive.
     unsafe {
         d.cmd_pipeline_barrier2(
             cmd,
-            &vk::DependencyInfo::default().image_memory_barriers(&to_transfer),
+            &vk::DependencyInfo::default().image_memory_barriers(&barriers),
         );
-        d.cmd_copy_image_to_buffer(
-            cmd,
-            t.color.handle,
+    }
+}
+
+/// The colour and distance attachments copied into their read-back buffers, and the
+/// copies made visible to the host.
+fn copy_targets_to_host(
+    d: &ash::Device,
+    cmd: vk::CommandBuffer,
+    t: &Targets,
+    extent: vk::Extent2D,
+) {
+    let to_transfer = |image: &Image| {
+        let layouts = (
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
             vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            t.color_readback.handle,
-            &[copy],
         );
+        layout_transition(
+            image.handle,
+            image.subresource_range(),
+            layouts,
+            COLOR_OUTPUT,
+            COPY_READ,
+        )
+    };
+    let barriers = [to_transfer(&t.color), to_transfer(&t.distance)];
+    let copy = [color_image_copy(extent)];
+    let host_read = [copies_to_host()];
+    let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+    // SAFETY: `cmd` is recording outside rendering; images and buffers are alive until the
+    // submission completes, and each buffer holds its image's bytes.
+    unsafe {
+        d.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().image_memory_barriers(&barriers),
+        );
+        d.cmd_copy_image_to_buffer(cmd, t.color.handle, src, t.color_readback.handle, &copy);
         d.cmd_copy_image_to_buffer(
             cmd,
             t.distance.handle,
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            src,
             t.distance_readback.handle,
-            &[copy],
+            &copy,
         );
         d.cmd_pipeline_barrier2(
             cmd,
             &vk::DependencyInfo::default().memory_barriers(&host_read),
         );
     }
-    Ok(())
 }
 
 /// The compute ray caster's frame: its clears and dispatches (the timed span), then the
@@ -590,11 +531,7 @@ fn record_compute(
     if let Some(timer) = timer {
         timer.stop(cmd);
     }
-    let host_read = [vk::MemoryBarrier2::default()
-        .src_stage_mask(vk::PipelineStageFlags2::COPY)
-        .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-        .dst_stage_mask(vk::PipelineStageFlags2::HOST)
-        .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+    let host_read = [copies_to_host()];
     let copy = [vk::BufferCopy {
         src_offset: 0,
         dst_offset: 0,

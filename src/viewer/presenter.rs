@@ -15,6 +15,10 @@ use crate::render::RenderSettings;
 use crate::render::frame::FrameParams;
 use crate::render::raycast::{RayCastPass, SceneGpu, TargetFormats};
 use crate::render::underlay::{UnderlayGpu, UnderlayPass, UnderlayPlane};
+use crate::vk::recording::{
+    COLOR_OUTPUT, COPY_READ, DEPTH_TESTS, NOTHING, cleared_color_attachment, color_image_copy,
+    copies_to_host, layout_transition,
+};
 use crate::vk::{
     Acquired, Buffer, DeviceContext, Gpu, GpuTimer, Image, Surface, Swapchain, color_range,
 };
@@ -345,43 +349,40 @@ impl Presenter {
         let (d, cmd) = (self.ctx.device(), self.cmd);
         let image = swapchain.images[index as usize];
         let extent = swapchain.extent;
-        let color_out = (
-            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-            vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-        );
-        let depth_stages = vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-            | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS;
-        let depth_access = vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
-            | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE;
+        let color_out = COLOR_OUTPUT;
         let to_attachment = [
             // The acquire semaphore is waited on at COLOR_ATTACHMENT_OUTPUT; the layout
             // change waits there too.
-            image_barrier(image, color_range())
-                .src_stage_mask(vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT)
-                .dst_stage_mask(color_out.0)
-                .dst_access_mask(color_out.1)
-                .old_layout(vk::ImageLayout::UNDEFINED)
-                .new_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
+            layout_transition(
+                image,
+                color_range(),
+                (
+                    vk::ImageLayout::UNDEFINED,
+                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                ),
+                (color_out.0, vk::AccessFlags2::NONE),
+                color_out,
+            ),
             // The previous frame's depth writes are done before this frame clears.
-            image_barrier(depth.handle, depth.subresource_range())
-                .src_stage_mask(depth_stages)
-                .src_access_mask(vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE)
-                .dst_stage_mask(depth_stages)
-                .dst_access_mask(depth_access)
-                .old_layout(vk::ImageLayout::UNDEFINED)
-                .new_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL),
+            layout_transition(
+                depth.handle,
+                depth.subresource_range(),
+                (
+                    vk::ImageLayout::UNDEFINED,
+                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                ),
+                (
+                    DEPTH_TESTS.0,
+                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                ),
+                DEPTH_TESTS,
+            ),
         ];
         let bg = settings.background;
-        let color_attachment = [vk::RenderingAttachmentInfo::default()
-            .image_view(swapchain.views[index as usize])
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue {
-                color: vk::ClearColorValue {
-                    float32: [bg[0], bg[1], bg[2], 1.0],
-                },
-            })];
+        let color_attachment = [cleared_color_attachment(
+            swapchain.views[index as usize],
+            [bg[0], bg[1], bg[2], 1.0],
+        )];
         let depth_attachment = crate::vk::cleared_depth_attachment(depth.view);
         let rendering = vk::RenderingInfo::default()
             .render_area(extent.into())
@@ -428,15 +429,6 @@ impl Presenter {
     }
 }
 
-fn image_barrier(
-    image: vk::Image,
-    range: vk::ImageSubresourceRange,
-) -> vk::ImageMemoryBarrier2<'static> {
-    vk::ImageMemoryBarrier2::default()
-        .image(image)
-        .subresource_range(range)
-}
-
 /// Colour attachment to PRESENT_SRC, through a copy into `readback` when given.
 fn record_present_transition(
     d: &ash::Device,
@@ -445,13 +437,13 @@ fn record_present_transition(
     extent: vk::Extent2D,
     readback: Option<vk::Buffer>,
 ) {
-    let from_attachment = image_barrier(image, color_range())
-        .src_stage_mask(vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT)
-        .src_access_mask(vk::AccessFlags2::COLOR_ATTACHMENT_WRITE)
-        .old_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL);
+    let from_attachment = |new, dst| {
+        let layouts = (vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, new);
+        layout_transition(image, color_range(), layouts, COLOR_OUTPUT, dst)
+    };
     let Some(buffer) = readback else {
         // Presentation waits on the semaphore; no destination stage is needed.
-        let to_present = [from_attachment.new_layout(vk::ImageLayout::PRESENT_SRC_KHR)];
+        let to_present = [from_attachment(vk::ImageLayout::PRESENT_SRC_KHR, NOTHING)];
         // SAFETY: `cmd` is recording outside rendering; the image is the acquired one.
         unsafe {
             d.cmd_pipeline_barrier2(
@@ -461,27 +453,22 @@ fn record_present_transition(
         }
         return;
     };
-    let to_transfer = [from_attachment
-        .new_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
-        .dst_stage_mask(vk::PipelineStageFlags2::COPY)
-        .dst_access_mask(vk::AccessFlags2::TRANSFER_READ)];
-    let to_present = [image_barrier(image, color_range())
-        .src_stage_mask(vk::PipelineStageFlags2::COPY)
-        .old_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
-        .new_layout(vk::ImageLayout::PRESENT_SRC_KHR)];
-    let host_read = [vk::MemoryBarrier2::default()
-        .src_stage_mask(vk::PipelineStageFlags2::COPY)
-        .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-        .dst_stage_mask(vk::PipelineStageFlags2::HOST)
-        .dst_access_mask(vk::AccessFlags2::HOST_READ)];
-    let copy = vk::BufferImageCopy::default()
-        .image_subresource(vk::ImageSubresourceLayers {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            mip_level: 0,
-            base_array_layer: 0,
-            layer_count: 1,
-        })
-        .image_extent(extent.into());
+    let to_transfer = [from_attachment(
+        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+        COPY_READ,
+    )];
+    let to_present = [layout_transition(
+        image,
+        color_range(),
+        (
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            vk::ImageLayout::PRESENT_SRC_KHR,
+        ),
+        (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::NONE),
+        NOTHING,
+    )];
+    let host_read = [copies_to_host()];
+    let copy = color_image_copy(extent);
     // SAFETY: as above; the buffer holds width * height * 4 bytes.
     unsafe {
         d.cmd_pipeline_barrier2(
