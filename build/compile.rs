@@ -74,6 +74,9 @@ pub fn compile_all(jobs: &mut [Job], dirs: &Dirs) -> Summary {
     jobs.sort_by(|a, b| b.weight.cmp(&a.weight).then_with(|| a.label.cmp(&b.label)));
     let next = AtomicUsize::new(0);
     let compiled = AtomicUsize::new(0);
+    // Seconds each compiled job took, written to `$OUT_DIR/shader-times.txt` (slowest first)
+    // for whoever works on the build's time.
+    let times = std::sync::Mutex::new(Vec::new());
     // Set by the first failing job, so that the other workers stop instead of compiling
     // the rest of a build that will fail.
     let stop = AtomicBool::new(false);
@@ -93,9 +96,14 @@ pub fn compile_all(jobs: &mut [Job], dirs: &Dirs) -> Summary {
                         if stop.load(Ordering::Relaxed) {
                             return Ok(());
                         }
+                        let started = std::time::Instant::now();
                         match run(&compiler, job, dirs) {
                             Ok(true) => {
                                 compiled.fetch_add(1, Ordering::Relaxed);
+                                let seconds = started.elapsed().as_secs_f64();
+                                if let Ok(mut times) = times.lock() {
+                                    times.push((seconds, job.label.clone()));
+                                }
                             }
                             Ok(false) => {}
                             Err(message) => {
@@ -118,6 +126,15 @@ pub fn compile_all(jobs: &mut [Job], dirs: &Dirs) -> Summary {
     });
     if let Some(message) = failure {
         fail(message);
+    }
+    let mut times = times.into_inner().unwrap_or_default();
+    if !times.is_empty() {
+        times.sort_by(|a, b| b.0.total_cmp(&a.0));
+        let text: String = times
+            .iter()
+            .map(|(seconds, label)| format!("{seconds:8.3} {label}\n"))
+            .collect();
+        let _ = std::fs::write(dirs.generated.with_file_name("shader-times.txt"), text);
     }
     let compiled = compiled.into_inner();
     Summary {
