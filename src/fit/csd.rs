@@ -1,0 +1,171 @@
+//! Constrained spherical deconvolution (Tournier et al. 2007, NeuroImage 35, Sec. 2):
+//! the signal is the fODF convolved with the single-fibre response, which in SH is a
+//! per-band factor (Funk-Hecke): S_lm = sqrt(4 pi / (2l+1)) r_l f_lm. With
+//! X = B diag(sqrt(4 pi/(2l+1)) r_l) (B: the basis at the acquisition directions), the
+//! fODF f minimises |X f - S|^2 + |H f|^2, where H holds the rows lambda' B_reg(u) of the
+//! constraint sphere's directions u at which the current estimate falls below
+//! tau times its mean. Starting from the unconstrained fit, truncated to l <= 4 for the
+//! first choice of rows, the choice and the solve alternate until the rows stop
+//! changing (at most [`MAX_ITERATIONS`]).
+//!
+//! Parameters and their scaling follow DIPY's `ConstrainedSphericalDeconvModel`, so
+//! that its defaults mean the same here: tau = 0.1 and lambda = 1, with
+//! lambda' = lambda k r'_0 / (sqrt(N) sqrt(362)), k the number of coefficients, N the
+//! number of constraint directions and r'_0 = sqrt(4 pi) r_0 the band-0 factor. The
+//! constraint sphere is the geodesic sphere of 362 directions (`sphere`).
+//!
+//! The signal is deconvolved in signal units (S, not S/S0), as the response is; an fODF
+//! amplitude is then proportional to the voxel's signal (apparent fibre density).
+use glam::DVec3;
+use nalgebra::{DMatrix, DVector};
+
+use super::odf::{WORK_BASIS, basis_change};
+use super::response::Response;
+use super::sphere::GeodesicSphere;
+use crate::glyph::sh::{sh_basis_values, sh_count, sh_orders};
+use crate::scene::ShBasis;
+use crate::{Error, Result};
+
+/// Default weight of the non-negativity constraint.
+pub const DEFAULT_CSD_LAMBDA: f64 = 1.0;
+
+/// Default threshold, as a fraction of the mean fODF amplitude, below which a direction
+/// is constrained.
+pub const DEFAULT_CSD_TAU: f64 = 0.1;
+
+/// Iterations of the constraint before giving up (the last estimate is kept).
+pub const MAX_ITERATIONS: usize = 50;
+
+/// Frequency of the constraint sphere: 10 * 6^2 + 2 = 362 directions.
+const CONSTRAINT_SPHERE_FREQUENCY: usize = 6;
+
+/// The band of the low-order first estimate.
+const FIRST_ESTIMATE_BAND: u32 = 4;
+
+/// A CSD solve prepared for one gradient table and response.
+#[derive(Clone, Debug)]
+pub struct CsdFitter {
+    /// X = B R, directions x coefficients (work basis).
+    design: DMatrix<f64>,
+    /// X^T X.
+    normal: DMatrix<f64>,
+    /// lambda' B at the constraint directions.
+    constraint: DMatrix<f64>,
+    tau: f64,
+    /// Work basis to the requested basis.
+    output: DMatrix<f64>,
+}
+
+impl CsdFitter {
+    /// The solve for `directions` (one per diffusion-weighted volume), `response` and
+    /// the fODF up to `band` in `basis`. Err when the directions do not determine the
+    /// series, or the response has no positive band 0.
+    pub fn new(
+        band: u32,
+        basis: (ShBasis, bool),
+        directions: &[DVec3],
+        response: &Response,
+        lambda: f64,
+        tau: f64,
+    ) -> Result<Self> {
+        let k = sh_count(band);
+        let factors: Vec<f64> = sh_orders(band)
+            .map(|(l, _)| response.convolution_factor(l))
+            .collect();
+        if !(factors[0] > 0.0) {
+            return Err(Error::Invalid(format!(
+                "the response's band-0 coefficient must be positive, found {}",
+                response.zonal.first().copied().unwrap_or(0.0)
+            )));
+        }
+        let rows: Vec<f64> = directions
+            .iter()
+            .flat_map(|u| {
+                sh_basis_values(band, WORK_BASIS.0, WORK_BASIS.1, *u)
+                    .into_iter()
+                    .zip(&factors)
+                    .map(|(b, r)| b * r)
+            })
+            .collect();
+        let design = DMatrix::from_row_slice(directions.len(), k, &rows);
+        let normal = design.transpose() * &design;
+        let sphere = GeodesicSphere::new(CONSTRAINT_SPHERE_FREQUENCY);
+        let n_reg = sphere.vertices.len() as f64;
+        let scaled = lambda * k as f64 * factors[0] / (n_reg.sqrt() * 362f64.sqrt());
+        let rows: Vec<f64> = sphere
+            .vertices
+            .iter()
+            .flat_map(|u| sh_basis_values(band, WORK_BASIS.0, WORK_BASIS.1, *u))
+            .map(|v| v * scaled)
+            .collect();
+        let constraint = DMatrix::from_row_slice(sphere.vertices.len(), k, &rows);
+        Ok(Self {
+            design,
+            normal,
+            constraint,
+            tau,
+            output: basis_change(band, basis)?,
+        })
+    }
+
+    /// The fODF of one voxel's diffusion-weighted signal (one value per direction, signal
+    /// units) into `coeffs`; returns the number of constraint iterations.
+    pub fn fit_into(&self, signal: &[f64], coeffs: &mut [f64]) -> usize {
+        let k = self.normal.nrows();
+        let z = self.design.tr_mul(&DVector::from_column_slice(signal));
+        let mut f = solve(self.normal.clone(), &z);
+        // The threshold: tau times the mean amplitude, f_00 Y_00 (scaled like the rows).
+        let threshold = self.constraint[(0, 0)] * f[0] * self.tau;
+        let low = sh_count(FIRST_ESTIMATE_BAND).min(k);
+        let mut small = self.below(&f, low, threshold);
+        if small.is_empty() {
+            small = self.below(&f, k, threshold);
+        }
+        let mut iterations = 0;
+        while !small.is_empty() && iterations < MAX_ITERATIONS {
+            iterations += 1;
+            let mut q = self.normal.clone();
+            for &i in &small {
+                let row = self.constraint.row(i);
+                q += row.transpose() * row;
+            }
+            f = solve(q, &z);
+            let next = self.below(&f, k, threshold);
+            if next == small {
+                break;
+            }
+            small = next;
+        }
+        let out = &self.output * f;
+        coeffs.copy_from_slice(out.as_slice());
+        iterations
+    }
+
+    /// Constraint directions where the series truncated to its first `count`
+    /// coefficients is below `threshold`.
+    fn below(&self, f: &DVector<f64>, count: usize, threshold: f64) -> Vec<usize> {
+        (0..self.constraint.nrows())
+            .filter(|&i| {
+                let row = self.constraint.row(i);
+                let value: f64 = (0..count).map(|j| row[j] * f[j]).sum();
+                value < threshold
+            })
+            .collect()
+    }
+}
+
+/// Solves the symmetric positive definite system q x = z by Cholesky, with a small ridge
+/// when q is singular to working precision (DIPY adds 1e-5 I in that case).
+fn solve(q: DMatrix<f64>, z: &DVector<f64>) -> DVector<f64> {
+    let k = q.nrows();
+    match q.clone().cholesky() {
+        Some(c) => c.solve(z),
+        None => {
+            let ridge = q + DMatrix::identity(k, k) * 1e-5;
+            ridge
+                .cholesky()
+                .map(|c| c.solve(z))
+                .unwrap_or_else(|| DVector::zeros(k))
+        }
+    }
+}
