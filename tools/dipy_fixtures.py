@@ -17,7 +17,7 @@ import dipy
 import nibabel as nib
 import numpy as np
 from dipy.core.gradients import gradient_table
-from dipy.data import default_sphere, get_sphere
+from dipy.data import default_sphere
 from dipy.direction import peak_directions
 from dipy.reconst.csdeconv import ConstrainedSphericalDeconvModel, auto_response_ssst
 from dipy.reconst.dti import TensorModel, fractional_anisotropy
@@ -65,14 +65,17 @@ def main(data_dir, out_path):
     csd_model = ConstrainedSphericalDeconvModel(
         gtab, response, sh_order_max=CSD_ORDER, lambda_=CSD_LAMBDA, tau=CSD_TAU
     )
+    # DIPY's peaks are sphere vertices (no refinement): a subdivided default sphere keeps
+    # their discretisation (about 1 degree) well below the 5 degrees the test allows.
+    peak_sphere = default_sphere.subdivide(n=2)
     records = []
     for v in voxels:
         x, y, z = (int(i) for i in v)
         csd_fit = csd_model.fit(data[x, y, z])
-        odf = csd_fit.odf(default_sphere)
+        odf = csd_fit.odf(peak_sphere)
         dirs, values, _ = peak_directions(
             odf,
-            default_sphere,
+            peak_sphere,
             relative_peak_threshold=RELATIVE_PEAK,
             min_separation_angle=MIN_SEPARATION,
         )
@@ -100,9 +103,13 @@ def main(data_dir, out_path):
         "csd": {"model": "ConstrainedSphericalDeconvModel", "sh_order_max": CSD_ORDER,
                 "lambda_": CSD_LAMBDA, "tau": CSD_TAU, "reg_sphere": "small_sphere (symmetric362)",
                 "response": "auto_response_ssst(roi_radii=10, fa_thr=0.7)",
-                "response_evals": response[0].tolist(), "response_s0": float(response[1])},
-        "peaks": {"function": "peak_directions", "sphere": "default_sphere",
-                  "sphere_vertices": int(len(default_sphere.vertices)),
+                "response_evals": response[0].tolist(), "response_s0": float(response[1]),
+                # The response as the model uses it: sqrt(4 pi/(2l+1)) r_l per even l.
+                "response_rh": [float(csd_model.R[i, i]) for i in np.unique(
+                    [int(l * (l - 1) / 2) for l in range(0, CSD_ORDER + 1, 2)])],
+                "constraint_directions": np.round(csd_model.sphere.vertices, 12).tolist()},
+        "peaks": {"function": "peak_directions", "sphere": "default_sphere.subdivide(n=2)",
+                  "sphere_vertices": int(len(peak_sphere.vertices)),
                   "relative_peak_threshold": RELATIVE_PEAK,
                   "min_separation_angle": MIN_SEPARATION},
         "dti": {"model": "TensorModel (WLS)", "fa_threshold_of_the_test": FA_TEST},

@@ -12,7 +12,9 @@
 //! that its defaults mean the same here: tau = 0.1 and lambda = 1, with
 //! lambda' = lambda k r'_0 / (sqrt(N) sqrt(362)), k the number of coefficients, N the
 //! number of constraint directions and r'_0 = sqrt(4 pi) r_0 the band-0 factor. The
-//! constraint sphere is the geodesic sphere of 362 directions (`sphere`).
+//! constraint directions are one hemisphere (181) of the geodesic sphere of 362
+//! directions (`sphere`): the fODF is antipodally symmetric, so the other half would
+//! repeat each row.
 //!
 //! The signal is deconvolved in signal units (S, not S/S0), as the response is; an fODF
 //! amplitude is then proportional to the voxel's signal (apparent fibre density).
@@ -68,6 +70,26 @@ impl CsdFitter {
         lambda: f64,
         tau: f64,
     ) -> Result<Self> {
+        let sphere = GeodesicSphere::new(CONSTRAINT_SPHERE_FREQUENCY);
+        let hemisphere: Vec<DVec3> = sphere
+            .vertices
+            .into_iter()
+            .filter(|v| (v.z, v.y, v.x) > (0.0, 0.0, 0.0))
+            .collect();
+        Self::with_constraint(band, basis, directions, response, lambda, tau, &hemisphere)
+    }
+
+    /// [`CsdFitter::new`] with the constraint enforced at `constraint` (unit vectors)
+    /// instead of the geodesic hemisphere.
+    pub fn with_constraint(
+        band: u32,
+        basis: (ShBasis, bool),
+        directions: &[DVec3],
+        response: &Response,
+        lambda: f64,
+        tau: f64,
+        constraint: &[DVec3],
+    ) -> Result<Self> {
         let k = sh_count(band);
         let factors: Vec<f64> = sh_orders(band)
             .map(|(l, _)| response.convolution_factor(l))
@@ -89,16 +111,17 @@ impl CsdFitter {
             .collect();
         let design = DMatrix::from_row_slice(directions.len(), k, &rows);
         let normal = design.transpose() * &design;
-        let sphere = GeodesicSphere::new(CONSTRAINT_SPHERE_FREQUENCY);
-        let n_reg = sphere.vertices.len() as f64;
+        if constraint.is_empty() {
+            return Err(Error::Invalid("CSD needs constraint directions".into()));
+        }
+        let n_reg = constraint.len() as f64;
         let scaled = lambda * k as f64 * factors[0] / (n_reg.sqrt() * 362f64.sqrt());
-        let rows: Vec<f64> = sphere
-            .vertices
+        let rows: Vec<f64> = constraint
             .iter()
             .flat_map(|u| sh_basis_values(band, WORK_BASIS.0, WORK_BASIS.1, *u))
             .map(|v| v * scaled)
             .collect();
-        let constraint = DMatrix::from_row_slice(sphere.vertices.len(), k, &rows);
+        let constraint = DMatrix::from_row_slice(constraint.len(), k, &rows);
         Ok(Self {
             design,
             normal,

@@ -56,8 +56,8 @@ mod tests {
     #[test]
     fn prolate_tensor_has_its_axis_and_fa() {
         // Eigenvalues (1.7, 0.3, 0.3) e-3 with the long axis along y.
-        let t = DiffusionTensor::from_coefficients(&[0.3e-3, 0.0, 0.0, 1.7e-3, 0.0, 0.3e-3])
-            .unwrap();
+        let t =
+            DiffusionTensor::from_coefficients(&[0.3e-3, 0.0, 0.0, 1.7e-3, 0.0, 0.3e-3]).unwrap();
         assert!((t.principal.y.abs() - 1.0).abs() < 1e-12);
         assert!((t.eigenvalues[0] - 1.7e-3).abs() < 1e-15);
         let (a, b) = (1.7f64, 0.3f64);

@@ -201,7 +201,9 @@ impl FitModel {
                 } else {
                     String::new()
                 };
-                format!("glyphcast fit: SH band {band} {basis}{legacy} {method} ODF lambda {lambda}{tau}")
+                format!(
+                    "glyphcast fit: SH band {band} {basis}{legacy} {method} ODF lambda {lambda}{tau}"
+                )
             }
         }
     }

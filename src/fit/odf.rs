@@ -205,7 +205,12 @@ mod tests {
     #[test]
     fn qball_of_a_prolate_tensor_peaks_on_its_axis() {
         let sphere = super::super::sphere::GeodesicSphere::new(5);
-        let directions: Vec<DVec3> = sphere.vertices.iter().copied().filter(|v| v.z > 0.0 || (v.z == 0.0 && v.y > 0.0)).collect();
+        let directions: Vec<DVec3> = sphere
+            .vertices
+            .iter()
+            .copied()
+            .filter(|v| v.z > 0.0 || (v.z == 0.0 && v.y > 0.0))
+            .collect();
         let axis = DVec3::new(1.0, 2.0, 0.5).normalize();
         let e: Vec<f64> = directions
             .iter()

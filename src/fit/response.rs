@@ -53,7 +53,8 @@ impl Response {
     /// The response of a prolate tensor with eigenvalues (`parallel`, `perpendicular`,
     /// `perpendicular`) and b=0 signal `s0`, at b-value `b`, up to band `band`.
     pub fn from_tensor(parallel: f64, perpendicular: f64, s0: f64, b: f64, band: u32) -> Self {
-        let signal = |z: f64| s0 * (-b * (perpendicular + (parallel - perpendicular) * z * z)).exp();
+        let signal =
+            |z: f64| s0 * (-b * (perpendicular + (parallel - perpendicular) * z * z)).exp();
         let zonal = (0..=band)
             .step_by(2)
             .map(|l| {
@@ -79,19 +80,26 @@ impl Response {
                 .split(|c: char| c.is_whitespace() || c == ',')
                 .filter(|w| !w.is_empty())
                 .map(|w| {
-                    w.parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| {
-                        Error::input(
-                            &file,
-                            format!("line {}", number + 1),
-                            format!("{} is not a finite number", crate::error::quoted(w)),
-                        )
-                    })
+                    w.parse::<f64>()
+                        .ok()
+                        .filter(|v| v.is_finite())
+                        .ok_or_else(|| {
+                            Error::input(
+                                &file,
+                                format!("line {}", number + 1),
+                                format!("{} is not a finite number", crate::error::quoted(w)),
+                            )
+                        })
                 })
                 .collect::<Result<Vec<f64>>>()?;
             rows.push((number + 1, values));
         }
         match rows.as_slice() {
-            [] => Err(Error::input(&file, "response", "the file holds no coefficients")),
+            [] => Err(Error::input(
+                &file,
+                "response",
+                "the file holds no coefficients",
+            )),
             [(_, zonal)] => {
                 if zonal[0] <= 0.0 {
                     return Err(Error::input(
@@ -149,12 +157,17 @@ fn simpson(f: impl Fn(f64) -> f64, a: f64, b: f64) -> f64 {
 /// Estimates the response from `inputs` (see the module notes), up to band `band`.
 /// Err, naming the DWI, when no voxel of the central region has FA above
 /// `fa_threshold`.
-pub fn estimate_response(inputs: &FitInputs, band: u32, fa_threshold: f64) -> Result<ResponseEstimate> {
+pub fn estimate_response(
+    inputs: &FitInputs,
+    band: u32,
+    fa_threshold: f64,
+) -> Result<ResponseEstimate> {
     let dti = VoxelFitter::new(inputs, &FitModel::Tensor { order: 2 })?;
     let shape = inputs.dwi.spatial_shape();
     let range = |axis: usize| {
         let centre = shape[axis] / 2;
-        centre.saturating_sub(RESPONSE_ROI_RADIUS)..(centre + RESPONSE_ROI_RADIUS + 1).min(shape[axis])
+        centre.saturating_sub(RESPONSE_ROI_RADIUS)
+            ..(centre + RESPONSE_ROI_RADIUS + 1).min(shape[axis])
     };
     let b0 = inputs.gradients.b0_volumes();
     let mut scratch = vec![0.0; dti.weighted_count()];
@@ -190,7 +203,11 @@ pub fn estimate_response(inputs: &FitInputs, band: u32, fa_threshold: f64) -> Re
                 side(0),
                 side(1),
                 side(2),
-                if inputs.mask.is_some() { " (in the mask)" } else { "" }
+                if inputs.mask.is_some() {
+                    " (in the mask)"
+                } else {
+                    ""
+                }
             ),
         ));
     }
@@ -216,7 +233,11 @@ mod tests {
         let r = Response::from_tensor(1e-3, 1e-3, 100.0, 1000.0, 8);
         let expected = (4.0 * std::f64::consts::PI).sqrt() * 100.0 * (-1.0f64).exp();
         assert!((r.zonal[0] - expected).abs() < 1e-9 * expected);
-        assert!(r.zonal[1..].iter().all(|v| v.abs() < 1e-9 * expected), "{:?}", r.zonal);
+        assert!(
+            r.zonal[1..].iter().all(|v| v.abs() < 1e-9 * expected),
+            "{:?}",
+            r.zonal
+        );
         // A fibre along z: the signal is low along z, so r_2 < 0, and bands alternate.
         let fibre = Response::from_tensor(1.7e-3, 0.3e-3, 100.0, 1000.0, 8);
         assert!(fibre.zonal[1] < 0.0 && fibre.zonal[2] > 0.0 && fibre.zonal[3] < 0.0);
@@ -231,10 +252,16 @@ mod tests {
         std::fs::write(&file, "# Shells: 1000\n 512.5 -200.25 50 -8.5\n").unwrap();
         let r = Response::read(&file).unwrap();
         assert_eq!(r.zonal, vec![512.5, -200.25, 50.0, -8.5]);
-        assert_eq!(Response::read(&file).unwrap().to_text(), "512.5 -200.25 50 -8.5\n");
+        assert_eq!(
+            Response::read(&file).unwrap().to_text(),
+            "512.5 -200.25 50 -8.5\n"
+        );
         std::fs::write(&file, "500 -200 50\n600 -100 20\n").unwrap();
         let err = Response::read(&file).unwrap_err().to_string();
-        assert!(err.contains("multi-shell") && err.contains("wm.txt"), "{err}");
+        assert!(
+            err.contains("multi-shell") && err.contains("wm.txt"),
+            "{err}"
+        );
         std::fs::write(&file, "500 abc\n").unwrap();
         let err = Response::read(&file).unwrap_err().to_string();
         assert!(err.contains("line 1") && err.contains("abc"), "{err}");

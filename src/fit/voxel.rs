@@ -216,7 +216,9 @@ pub fn fit_with_response(
         }
         drop(sender);
         for (index, coeffs, outcomes) in receiver {
-            for ((&[x, y, z], c), outcome) in chunks[index].iter().zip(coeffs.chunks(k)).zip(outcomes) {
+            for ((&[x, y, z], c), outcome) in
+                chunks[index].iter().zip(coeffs.chunks(k)).zip(outcomes)
+            {
                 out.slice_mut(s![x, y, z, ..])
                     .iter_mut()
                     .zip(c)
