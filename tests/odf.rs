@@ -3,7 +3,7 @@
 //!
 //! - CSA and Q-ball coefficients agree with DIPY's `CsaOdfModel` and `QballModel`, and
 //!   CSD's peaks with those of DIPY's `ConstrainedSphericalDeconvModel`, read from
-//!   `tests/data/odf-dipy.json` (computed once by `tools/dipy_fixtures.py`, which records
+//!   `tests/data/dipy/odf-dipy.json` (computed once by `tools/dipy_fixtures.py`, which records
 //!   the DIPY version and every parameter; CI does not run DIPY).
 //! - CSD and CSA peaks follow the DTI principal direction where FA > 0.6, which the
 //!   signal's own SH series does not (its largest lobe lies across the fibre).
@@ -40,7 +40,7 @@ fn inputs() -> FitInputs {
 }
 
 fn fixture() -> Value {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/odf-dipy.json");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/dipy/odf-dipy.json");
     let text = std::fs::read_to_string(&path).expect("reading the DIPY fixture");
     serde_json::from_str(&text).expect("parsing the DIPY fixture")
 }
@@ -616,4 +616,98 @@ fn bad_odf_input_fails_cleanly() {
         );
         assert!(std::fs::read_dir(&out_dir).unwrap().next().is_none());
     }
+}
+
+/// The fODF of the real DWI renders (validation layer on) as the float64 reference of
+/// the same scene draws it: coverage and depth agree, and the CSD glyphs are slimmer
+/// than those of the signal's own series (fibre lobes, not blobs).
+#[test]
+fn fodf_glyphs_render_as_the_reference_draws_them() {
+    use glyphcast::accuracy::compare_depth;
+    use glyphcast::glyph::reference::reference_depth;
+    use glyphcast::render::glyph_data::prepare_scene;
+    use glyphcast::scene::Scene;
+    let dir = fresh_dir("odf-render");
+    let mut coverage = Vec::new();
+    for series in ["--odf=csd", "--sh"] {
+        let name = series.trim_start_matches("--").replace('=', "-");
+        let volume = dir.join(format!("{name}.nii.gz"));
+        let (dwi, bval, bvec) = (
+            dipy_data("small_64D.nii"),
+            dipy_data("small_64D.bval"),
+            dipy_data("small_64D.bvec"),
+        );
+        let run = glyphcast(&[
+            "fit",
+            text(&dwi),
+            "--bval",
+            text(&bval),
+            "--bvec",
+            text(&bvec),
+            "--order",
+            "8",
+            "--quiet",
+            "-o",
+            text(&volume),
+            series,
+        ]);
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let (png, depth, scene) = (
+            dir.join(format!("{name}.png")),
+            dir.join(format!("{name}.npy")),
+            dir.join(format!("{name}.json")),
+        );
+        let run = glyphcast(&[
+            "render",
+            "--sh",
+            text(&volume),
+            "--slice",
+            "axial",
+            "--voxels",
+            "2:6,2:6,:",
+            "--norm",
+            "per-glyph",
+            "--negative",
+            "hide",
+            "--width",
+            "160",
+            "--height",
+            "160",
+            "-o",
+            text(&png),
+            "--depth-out",
+            text(&depth),
+            "--save-scene",
+            text(&scene),
+        ]);
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert!(run.status.success(), "{stderr}");
+        assert!(!stderr.contains("VUID"), "{stderr}");
+        let saved = Scene::load(&scene).expect("the saved scene");
+        let (shape, rendered) = glyphcast::io::npy::read_npy_f32(&depth).expect("depth map");
+        assert_eq!(shape, vec![160, 160]);
+        let sets = prepare_scene(&saved, 0.0).expect("preparing");
+        let world: Vec<_> = sets.iter().flat_map(|s| s.world.iter().cloned()).collect();
+        assert_eq!(world.len(), 16);
+        let reference = reference_depth(&world, &saved.camera, 160, 160);
+        let scale = world.iter().map(|g| g.scale * g.bound).fold(0.0, f64::max);
+        let c = compare_depth(&rendered, &reference, 160, 160, scale);
+        eprintln!("{name}: {c}");
+        assert!(
+            c.holes == 0 && c.false_hits == 0 && c.median_error < 1e-3,
+            "{name}: {c}"
+        );
+        coverage.push(c.covered as f64);
+    }
+    // Each glyph scaled to the same largest radius: thin fibre lobes cover far fewer
+    // pixels than the signal's rounded profiles.
+    eprintln!(
+        "covered pixels: fODF {}, signal {}",
+        coverage[0], coverage[1]
+    );
+    assert!(coverage[0] < 0.6 * coverage[1], "{coverage:?}");
 }

@@ -4,7 +4,7 @@
 Run once by hand (CI never runs it; the tests read the JSON it writes):
 
     python3 -m venv /work/venv-dipy && /work/venv-dipy/bin/pip install dipy
-    /work/venv-dipy/bin/python tools/dipy_fixtures.py tests/data/dipy tests/data/odf-dipy.json
+    /work/venv-dipy/bin/python tools/dipy_fixtures.py tests/data/dipy tests/data/dipy/odf-dipy.json
 
 The b-vectors are used as stored (DIPY's frame: the voxel axes), so the Rust side must
 read them with the library's FitInputs (no --bvec-convention transform). The model
