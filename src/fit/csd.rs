@@ -94,7 +94,7 @@ impl CsdFitter {
         let factors: Vec<f64> = sh_orders(band)
             .map(|(l, _)| response.convolution_factor(l))
             .collect();
-        if !(factors[0] > 0.0) {
+        if factors[0].is_nan() || factors[0] <= 0.0 {
             return Err(Error::Invalid(format!(
                 "the response's band-0 coefficient must be positive, found {}",
                 response.zonal.first().copied().unwrap_or(0.0)

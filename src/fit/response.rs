@@ -196,7 +196,7 @@ pub fn estimate_response(
     if count == 0 {
         let side = |axis: usize| range(axis).len();
         return Err(Error::input(
-            &inputs.files.dwi.display().to_string(),
+            inputs.files.dwi.display().to_string(),
             "signal",
             format!(
                 "no voxel of the central {}x{}x{} region{} has FA above {fa_threshold}, so no single-fibre response can be estimated: give --response FILE, or a lower --response-fa",
