@@ -595,6 +595,14 @@ fn bad_odf_input_fails_cleanly() {
         let line = expect_failure(&args, &out_dir, &words);
         eprintln!("{case}: {line}");
     }
+    // `peaks` on an image that is no SH series: 65 volumes is no (L+1)(L+2)/2.
+    let out_dir = fresh_dir("odf-bad-peaks");
+    let out = out_dir.join("peaks.nii");
+    expect_failure(
+        &["peaks", text(&dwi), "-o", text(&out)],
+        &out_dir,
+        &["small_64D.nii", "65 coefficients"],
+    );
     // Flags of CSD with another model, and unknown models, are usage errors (exit 2).
     let out_dir = fresh_dir("odf-bad-usage");
     let out = out_dir.join("odf.nii");

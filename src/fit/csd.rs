@@ -192,3 +192,61 @@ fn solve(q: DMatrix<f64>, z: &DVector<f64>) -> DVector<f64> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fit::peaks::{PeakFinder, PeakOptions};
+
+    /// Signal of fibres along `fibres` (weights), each with the response of a prolate
+    /// tensor, sampled at `directions`.
+    fn crossing_signal(directions: &[DVec3], fibres: &[(DVec3, f64)]) -> Vec<f64> {
+        let (b, s0, parallel, perpendicular) = (1000.0, 200.0, 1.7e-3, 0.3e-3);
+        directions
+            .iter()
+            .map(|g| {
+                fibres
+                    .iter()
+                    .map(|(d, w)| {
+                        let c = g.dot(d.normalize());
+                        w * s0 * (-b * (perpendicular + (parallel - perpendicular) * c * c)).exp()
+                    })
+                    .sum()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn resolves_a_known_crossing_that_the_signal_blurs() {
+        let sphere = GeodesicSphere::new(4);
+        let directions: Vec<DVec3> = sphere
+            .vertices
+            .iter()
+            .copied()
+            .filter(|v| (v.z, v.y, v.x) > (0.0, 0.0, 0.0))
+            .collect();
+        assert_eq!(directions.len(), 81);
+        let one = DVec3::new(1.0, 0.2, 0.1).normalize();
+        // 60 degrees from `one`, in a plane through it.
+        let normal = one.any_orthonormal_vector();
+        let two = one * 0.5 + normal * (3f64.sqrt() / 2.0);
+        let signal = crossing_signal(&directions, &[(one, 0.6), (two, 0.4)]);
+        let response = Response::from_tensor(1.7e-3, 0.3e-3, 200.0, 1000.0, 8);
+        let basis = (ShBasis::Tournier07, false);
+        let fitter = CsdFitter::new(8, basis, &directions, &response, 1.0, 0.1).unwrap();
+        assert_eq!(fitter.constraint.nrows(), 181);
+        let mut coeffs = vec![0.0; sh_count(8)];
+        let iterations = fitter.fit_into(&signal, &mut coeffs);
+        assert!(iterations < MAX_ITERATIONS);
+        let finder = PeakFinder::new(8, basis.0, basis.1, PeakOptions::default()).unwrap();
+        let peaks = finder.find(&coeffs);
+        assert_eq!(peaks.len(), 2, "{peaks:?}");
+        let angle = |a: DVec3, b: DVec3| a.dot(b).abs().min(1.0).acos().to_degrees();
+        assert!(angle(peaks[0].direction, one) < 3.0, "{peaks:?}");
+        assert!(angle(peaks[1].direction, two) < 3.0, "{peaks:?}");
+        // The fODF integrates to the fibres' total weight: f_00 sqrt(4 pi) = 1 in units
+        // of the response (the signal was made with weights 0.6 + 0.4).
+        let total = coeffs[0] * (4.0 * std::f64::consts::PI).sqrt();
+        assert!((total - 1.0).abs() < 0.05, "{total}");
+    }
+}
