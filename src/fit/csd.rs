@@ -53,6 +53,8 @@ pub struct CsdFitter {
     normal: DMatrix<f64>,
     /// lambda' B at the constraint directions.
     constraint: DMatrix<f64>,
+    /// Its transpose: one constraint row per column.
+    constraint_rows: DMatrix<f64>,
     tau: f64,
     /// Work basis to the requested basis.
     output: DMatrix<f64>,
@@ -125,6 +127,7 @@ impl CsdFitter {
         Ok(Self {
             design,
             normal,
+            constraint_rows: constraint.transpose(),
             constraint,
             tau,
             output: basis_change(band, basis)?,
@@ -145,14 +148,18 @@ impl CsdFitter {
             small = self.below(&f, k, threshold);
         }
         let mut iterations = 0;
+        // Q = X^T X + H^T H, updated by the rows that enter or leave the set: between
+        // iterations the set changes by a few directions, not all of them.
+        let mut q = self.normal.clone();
+        let mut active: Vec<usize> = Vec::new();
         while !small.is_empty() && iterations < MAX_ITERATIONS {
             iterations += 1;
-            let mut q = self.normal.clone();
-            for &i in &small {
-                let row = self.constraint.row(i);
-                q += row.transpose() * row;
+            for (i, sign) in set_changes(&active, &small) {
+                let row = self.constraint_rows.column(i);
+                q.ger(sign, &row, &row, 1.0);
             }
-            f = solve(q, &z);
+            active.clone_from(&small);
+            f = solve(q.clone(), &z);
             let next = self.below(&f, k, threshold);
             if next == small {
                 break;
@@ -167,14 +174,28 @@ impl CsdFitter {
     /// Constraint directions where the series truncated to its first `count`
     /// coefficients is below `threshold`.
     fn below(&self, f: &DVector<f64>, count: usize, threshold: f64) -> Vec<usize> {
-        (0..self.constraint.nrows())
-            .filter(|&i| {
-                let row = self.constraint.row(i);
-                let value: f64 = (0..count).map(|j| row[j] * f[j]).sum();
-                value < threshold
-            })
+        let values = self.constraint.columns(0, count) * f.rows(0, count);
+        values
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| **v < threshold)
+            .map(|(i, _)| i)
             .collect()
     }
+}
+
+/// The members of sorted `next` missing from sorted `current` (sign 1) and those of
+/// `current` missing from `next` (sign -1).
+fn set_changes(current: &[usize], next: &[usize]) -> Vec<(usize, f64)> {
+    let added = next
+        .iter()
+        .filter(|i| current.binary_search(i).is_err())
+        .map(|&i| (i, 1.0));
+    let removed = current
+        .iter()
+        .filter(|i| next.binary_search(i).is_err())
+        .map(|&i| (i, -1.0));
+    added.chain(removed).collect()
 }
 
 /// Solves the symmetric positive definite system q x = z by Cholesky, with a small ridge

@@ -1,8 +1,9 @@
 //! Maxima of an ODF's SH series: `glyphcast peaks`.
 //!
-//! The series is evaluated on a geodesic sphere of 2562 directions (about 4 degrees
-//! apart); every vertex at least as high as its neighbours is a candidate, refined by
-//! hill climbing on the sphere with a step that halves down to 1e-6 radians. Candidates
+//! The series is evaluated on a geodesic sphere of 2562 directions (at most 4.6 degrees
+//! apart); every vertex of one hemisphere at least as high as its neighbours is a
+//! candidate, and those that can reach the relative threshold are refined by hill
+//! climbing on the sphere with a step that halves down to 1e-6 radians. Candidates
 //! are taken from the highest down; one within the minimum separation angle of a peak
 //! already taken (antipodes count as the same direction), or below the relative
 //! threshold times the highest, or not positive, is dropped.
@@ -31,6 +32,9 @@ const SEARCH_FREQUENCY: usize = 16;
 /// A bound on the angle between neighbouring vertices of the search sphere (radians;
 /// measured 4.6 degrees, `sphere` tests).
 const SEARCH_SPACING: f64 = 5.0 * std::f64::consts::PI / 180.0;
+/// Fraction of the largest vertex value by which a candidate below the relative
+/// threshold is still refined.
+const REFINE_MARGIN: f64 = 0.1;
 /// The refinement stops when its step falls below this angle (radians).
 const REFINE_TOLERANCE: f64 = 1e-6;
 
@@ -137,14 +141,27 @@ impl PeakFinder {
             .row_iter()
             .map(|row| row.iter().zip(coeffs).map(|(a, b)| a * b).sum())
             .collect();
-        let mut candidates: Vec<Peak> = (0..on_sphere.len())
+        // Maxima come in antipodal pairs: one hemisphere's vertices are enough.
+        let maxima: Vec<usize> = (0..on_sphere.len())
             .filter(|&i| {
-                let v = on_sphere[i];
-                v > 0.0
+                let (u, v) = (self.sphere.vertices[i], on_sphere[i]);
+                (u.z, u.y, u.x) > (0.0, 0.0, 0.0)
+                    && v > 0.0
                     && self.sphere.neighbours[i]
                         .iter()
                         .all(|&j| v > on_sphere[j] || (v == on_sphere[j] && i < j))
             })
+            .collect();
+        let Some(top) = maxima.iter().map(|&i| on_sphere[i]).reduce(f64::max) else {
+            return Vec::new();
+        };
+        // Refining raises a vertex's value by far less than REFINE_MARGIN of the largest
+        // (the vertices are 4.6 degrees apart at most), so maxima below this cannot
+        // reach the relative threshold and are not refined.
+        let floor = (self.options.relative_threshold - REFINE_MARGIN) * top;
+        let mut candidates: Vec<Peak> = maxima
+            .into_iter()
+            .filter(|&i| on_sphere[i] >= floor)
             .map(|i| self.refine(coeffs, self.sphere.vertices[i], on_sphere[i]))
             .collect();
         candidates.sort_by(|a, b| b.value.total_cmp(&a.value));
@@ -177,15 +194,15 @@ impl PeakFinder {
         peaks
     }
 
-    /// Hill climbing from `start`: tries steps along two tangent directions and their
-    /// diagonals, moves to the best improvement, and halves the step when none improves.
+    /// Hill climbing from `start`: tries a step either way along two tangent directions,
+    /// moves to the best improvement, and halves the step when none improves.
     fn refine(&self, coeffs: &[f64], start: DVec3, value: f64) -> Peak {
         let (mut u, mut best) = (start, value);
         let mut step = SEARCH_SPACING / 2.0;
         while step > REFINE_TOLERANCE {
             let e1 = u.any_orthonormal_vector();
             let e2 = u.cross(e1);
-            let moves = [e1, -e1, e2, -e2, e1 + e2, e1 - e2, -e1 + e2, -e1 - e2];
+            let moves = [e1, -e1, e2, -e2];
             let better = moves
                 .iter()
                 .map(|m| (u + *m * step).normalize())
