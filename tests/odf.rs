@@ -719,3 +719,49 @@ fn fodf_glyphs_render_as_the_reference_draws_them() {
     );
     assert!(coverage[0] < 0.6 * coverage[1], "{coverage:?}");
 }
+
+/// `peaks` on a NIfTI file that records no basis (MRtrix's func_coef, legacy
+/// tournier07) needs `--basis` (exit 2 without it), and then finds the same peaks as the
+/// library in that basis.
+#[test]
+fn peaks_of_an_unrecorded_basis_need_basis() {
+    let dir = fresh_dir("odf-peaks-basis");
+    let odf = dipy_data("func_coef.nii.gz");
+    let out = dir.join("peaks.nii.gz");
+    let run = glyphcast(&["peaks", text(&odf), "-o", text(&out)]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("func_coef.nii.gz") && stderr.contains("--basis"),
+        "{stderr}"
+    );
+    assert!(std::fs::read_dir(&dir).unwrap().next().is_none());
+    let run = glyphcast(&[
+        "peaks",
+        text(&odf),
+        "--basis",
+        "tournier07",
+        "--legacy",
+        "-o",
+        text(&out),
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let coeffs = read_nifti(&odf);
+    let peaks = read_nifti(&out);
+    assert_eq!(peaks.shape(), &[2, 3, 4, 9]);
+    let finder = PeakFinder::new(8, ShBasis::Tournier07, true, PeakOptions::default()).unwrap();
+    let c: Vec<f64> = (0..45).map(|k| coeffs[[1, 2, 3, k]]).collect();
+    let expected = finder.find(&c);
+    assert!(!expected.is_empty());
+    let v = DVec3::new(
+        peaks[[1, 2, 3, 0]],
+        peaks[[1, 2, 3, 1]],
+        peaks[[1, 2, 3, 2]],
+    );
+    assert!(axis_angle(v, expected[0].direction) < 0.01);
+    assert!((v.length() - expected[0].value).abs() < 1e-4 * expected[0].value);
+}

@@ -15,7 +15,7 @@ use glyphcast::fit::peaks::{
 use glyphcast::glyph::sh::sh_count;
 use glyphcast::io::image::{ImageHeader, read_image};
 use glyphcast::io::mif::{MifKind, MifWrite, write_mif};
-use glyphcast::volume::resolve_basis;
+use glyphcast::volume::{recorded_basis, resolve_basis};
 use glyphcast::{Error, Result};
 use ndarray::Array4;
 use std::path::PathBuf;
@@ -101,6 +101,15 @@ pub fn run(args: PeaksArgs) -> Result<()> {
                 ),
             )
         })?;
+    if given.is_none()
+        && recorded_basis(&image).is_none()
+        && matches!(image.header, ImageHeader::Nifti(_))
+    {
+        return Err(Error::Usage(format!(
+            "{} records no SH basis: give --basis tournier07, descoteaux07, mrtrix, dipy or dipy-new",
+            image.file
+        )));
+    }
     let (basis, legacy) = resolve_basis(&image, given, args.force_basis)?;
     let finder = PeakFinder::new(band, basis, legacy, options)?;
     let peaks = peak_volume(&coeffs, &finder)?;

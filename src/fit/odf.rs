@@ -110,7 +110,7 @@ pub struct LinearOdfFitter {
     method: OdfMethod,
     /// One row per output coefficient (requested basis), one column per direction.
     matrix: DMatrix<f64>,
-    /// The output index of the l = 0 coefficient's fixed value (CSA), if any.
+    /// The fixed value of the l = 0 coefficient (CSA: 1/(2 sqrt(pi))), if any.
     fixed_dc: Option<f64>,
 }
 

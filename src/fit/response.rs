@@ -100,12 +100,13 @@ impl Response {
                 "response",
                 "the file holds no coefficients",
             )),
-            [(_, zonal)] => {
-                if zonal[0] <= 0.0 {
+            [(line, zonal)] => {
+                let first = zonal.first().copied().unwrap_or(0.0);
+                if first <= 0.0 {
                     return Err(Error::input(
                         &file,
-                        "line 1",
-                        format!("the l=0 coefficient must be positive, found {}", zonal[0]),
+                        format!("line {line}"),
+                        format!("the l=0 coefficient must be positive, found {first}"),
                     ));
                 }
                 Ok(Self {
@@ -265,6 +266,9 @@ mod tests {
         std::fs::write(&file, "500 abc\n").unwrap();
         let err = Response::read(&file).unwrap_err().to_string();
         assert!(err.contains("line 1") && err.contains("abc"), "{err}");
+        std::fs::write(&file, ",,\n").unwrap();
+        let err = Response::read(&file).unwrap_err().to_string();
+        assert!(err.contains("l=0"), "{err}");
         std::fs::write(&file, "# nothing\n").unwrap();
         assert!(Response::read(&file).is_err());
         std::fs::remove_dir_all(&dir).unwrap();
