@@ -47,8 +47,11 @@ enum Command {
     Accuracy(cli::accuracy::AccuracyArgs),
     /// GPU timings of the glyph pass: one scene or workload, or a sweep.
     Bench(cli::bench::BenchArgs),
-    /// Fit tensor or SH coefficients to a DWI series (writes a 4D NIfTI or MRtrix image).
+    /// Fit tensor, SH or fibre-ODF (CSD, CSA, Q-ball) coefficients to a DWI series
+    /// (writes a 4D NIfTI or MRtrix image).
     Fit(cli::fit::FitArgs),
+    /// Find up to N maxima per voxel of an ODF image (MRtrix sh2peaks' layout).
+    Peaks(cli::peaks::PeaksArgs),
     /// Write a one-glyph scene file from a Voigt stiffness matrix (CSV or JSON).
     Stiffness(cli::stiffness::StiffnessArgs),
 }
@@ -126,6 +129,7 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
         Command::Accuracy(args) => cli::accuracy::run(&args),
         Command::Bench(args) => cli::bench::run(&args),
         Command::Fit(args) => cli::fit::run(args),
+        Command::Peaks(args) => cli::peaks::run(args),
         Command::Stiffness(args) => cli::stiffness::run(args),
     }
 }

@@ -218,7 +218,9 @@ fn sh_fit_matches_the_signal_to_within_noise() {
             let Some(ratio) = measured.ratio(voxel) else {
                 continue;
             };
-            let predicted = fitter.fitted_signal(&coefficients(&volume, voxel));
+            let predicted = fitter
+                .fitted_signal(&coefficients(&volume, voxel))
+                .expect("an SH fit predicts the signal");
             residual += ratio
                 .iter()
                 .zip(&predicted)

@@ -1,17 +1,24 @@
-//! `glyphcast fit`: tensor or SH coefficients from a DWI series (see `glyphcast::fit`).
+//! `glyphcast fit`: tensor, SH or fibre-ODF coefficients from a DWI series (see
+//! `glyphcast::fit`).
 //!
 //! Flags are checked first, then every input file, and only then is anything fitted or
 //! written, so a bad input costs no time and leaves no file.
-use clap::Args;
+use clap::{ArgGroup, Args};
+use glyphcast::fit::csd::{DEFAULT_CSD_LAMBDA, DEFAULT_CSD_TAU};
 use glyphcast::fit::gradients::BvecConvention;
 use glyphcast::fit::output::{check_output_path, write_output};
-use glyphcast::fit::{DEFAULT_LAMBDA, FitFiles, FitInputs, FitModel, fit_with_report, parse_basis};
+use glyphcast::fit::response::{DEFAULT_RESPONSE_FA, estimate_response};
+use glyphcast::fit::{
+    DEFAULT_LAMBDA, FitFiles, FitInputs, FitModel, OdfMethod, Response, fit_with_response,
+    parse_basis,
+};
 use glyphcast::{Error, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 
 #[derive(Args)]
+#[command(group(ArgGroup::new("series").args(["sh", "odf"])))]
 pub struct FitArgs {
     /// Diffusion-weighted series: 4D NIfTI (.nii, .nii.gz) or MRtrix image (.mif,
     /// .mif.gz, .mih).
@@ -35,7 +42,8 @@ pub struct FitArgs {
         default_value = "fsl"
     )]
     bvec_convention: String,
-    /// Tensor order (even, 2 to 12), or the highest SH band with --sh (even, 0 to 12).
+    /// Tensor order (even, 2 to 12), or the highest SH band with --sh or --odf (even,
+    /// 0 to 12).
     #[arg(long)]
     order: u32,
     /// Output: 4D float32 image of coefficients, NIfTI (.nii, .nii.gz) or MRtrix (.mif,
@@ -45,16 +53,33 @@ pub struct FitArgs {
     /// Fit real spherical harmonics to S/S0 instead of a tensor to the ADCs.
     #[arg(long)]
     sh: bool,
+    /// Fit a fibre ODF as SH: csd (constrained spherical deconvolution, single shell),
+    /// csa (constant solid angle) or qball.
+    #[arg(long, value_name = "MODEL", conflicts_with = "sh")]
+    odf: Option<String>,
     /// SH basis: tournier07 or descoteaux07, or the aliases mrtrix (tournier07), dipy
     /// (descoteaux07 legacy, DIPY's default) and dipy-new (descoteaux07).
-    #[arg(long, requires = "sh", default_value = "tournier07")]
+    #[arg(long, requires = "series", default_value = "tournier07")]
     basis: String,
     /// The legacy variant of the SH basis (DIPY's legacy=True; implied by --basis dipy).
-    #[arg(long, requires = "sh")]
+    #[arg(long, requires = "series")]
     legacy: bool,
-    /// Laplace-Beltrami regularisation weight of the SH fit.
-    #[arg(long, requires = "sh", default_value_t = DEFAULT_LAMBDA)]
-    lambda: f64,
+    /// Regularisation weight: Laplace-Beltrami for --sh, csa and qball (default 0.006),
+    /// the non-negativity constraint's for csd (default 1).
+    #[arg(long, requires = "series")]
+    lambda: Option<f64>,
+    /// CSD: directions where the fODF is below this fraction of its mean are
+    /// constrained.
+    #[arg(long, requires = "odf", default_value_t = DEFAULT_CSD_TAU)]
+    tau: f64,
+    /// CSD: the single-fibre response, MRtrix's text format (one row of zonal SH
+    /// coefficients, as dwi2response writes). Default: estimated from the voxels with
+    /// FA above --response-fa in the centre of the volume.
+    #[arg(long, value_name = "FILE", requires = "odf")]
+    response: Option<PathBuf>,
+    /// CSD: FA threshold of the voxels the response is estimated from.
+    #[arg(long, value_name = "FA", requires = "odf", conflicts_with = "response", default_value_t = DEFAULT_RESPONSE_FA)]
+    response_fa: f64,
     /// Fit only where this 3D NIfTI or MRtrix image is non-zero (same spatial shape as
     /// the DWI).
     #[arg(long, value_name = "IMAGE")]
@@ -66,13 +91,47 @@ pub struct FitArgs {
 
 impl FitArgs {
     fn model(&self) -> Result<FitModel> {
-        let model = if self.sh {
+        let model = if let Some(name) = &self.odf {
+            let method = OdfMethod::parse(name)?;
+            let (basis, legacy) = parse_basis(&self.basis, self.legacy)?;
+            let csd_only = [
+                ("--response", self.response.is_some()),
+                ("--tau", self.tau != DEFAULT_CSD_TAU),
+                ("--response-fa", self.response_fa != DEFAULT_RESPONSE_FA),
+            ];
+            if method != OdfMethod::Csd
+                && let Some((flag, _)) = csd_only.iter().find(|(_, given)| *given)
+            {
+                return Err(Error::Usage(format!(
+                    "{flag} belongs to --odf csd, not --odf {}",
+                    method.name()
+                )));
+            }
+            if !(self.response_fa > 0.0 && self.response_fa < 1.0) {
+                return Err(Error::Usage(format!(
+                    "--response-fa {}: an FA threshold must be between 0 and 1",
+                    self.response_fa
+                )));
+            }
+            let default_lambda = match method {
+                OdfMethod::Csd => DEFAULT_CSD_LAMBDA,
+                _ => DEFAULT_LAMBDA,
+            };
+            FitModel::Odf {
+                method,
+                band: self.order,
+                basis,
+                legacy,
+                lambda: self.lambda.unwrap_or(default_lambda),
+                tau: self.tau,
+            }
+        } else if self.sh {
             let (basis, legacy) = parse_basis(&self.basis, self.legacy)?;
             FitModel::Sh {
                 band: self.order,
                 basis,
                 legacy,
-                lambda: self.lambda,
+                lambda: self.lambda.unwrap_or(DEFAULT_LAMBDA),
             }
         } else {
             FitModel::Tensor { order: self.order }
@@ -99,8 +158,11 @@ pub fn run(args: FitArgs) -> Result<()> {
         let to_voxel = convention.to_voxel_axes(&map, &inputs.dwi.file)?;
         inputs.gradients = inputs.gradients.transformed(to_voxel);
     }
+    let response = csd_response(&args, &model, &inputs)?;
     let bar = progress_bar(inputs.voxel_count() as u64, args.quiet);
-    let fitted = fit_with_report(&inputs, &model, &mut |done| bar.inc(done));
+    let fitted = fit_with_response(&inputs, &model, response.as_ref(), &mut |done| {
+        bar.inc(done)
+    });
     bar.finish_and_clear();
     let (coeffs, report) = fitted?;
     // Data that was dropped or changed is reported even with --quiet.
@@ -119,6 +181,45 @@ pub fn run(args: FitArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// CSD's response: read from --response (its bands checked against --order), or
+/// estimated from the data and reported; `None` for the other models.
+fn csd_response(args: &FitArgs, model: &FitModel, inputs: &FitInputs) -> Result<Option<Response>> {
+    let FitModel::Odf {
+        method: OdfMethod::Csd,
+        band,
+        ..
+    } = *model
+    else {
+        return Ok(None);
+    };
+    if let Some(path) = &args.response {
+        let response = Response::read(path)?;
+        if response.band() < band {
+            return Err(Error::input(
+                path.display().to_string(),
+                "response",
+                format!(
+                    "the response has bands up to {} but --order {band} needs them up to {band}",
+                    response.band()
+                ),
+            ));
+        }
+        return Ok(Some(response));
+    }
+    let estimate = estimate_response(inputs, band, args.response_fa)?;
+    if !args.quiet {
+        let [l1, l2, _] = estimate.eigenvalues;
+        eprintln!(
+            "response: {} voxels with FA > {}: eigenvalues {l1:.3e} {l2:.3e} {l2:.3e}, S0 {:.1}; zonal SH {}",
+            estimate.voxels,
+            args.response_fa,
+            estimate.s0,
+            estimate.response.to_text().trim()
+        );
+    }
+    Ok(Some(estimate.response))
 }
 
 /// A bar on stderr when a person is watching; hidden with --quiet or when stderr is

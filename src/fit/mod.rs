@@ -9,7 +9,10 @@
 //!   are in s/mm^2;
 //! - real SH up to an even band L fitted to the normalised signal S/S0 with
 //!   Laplace-Beltrami regularisation (Descoteaux et al. 2007), in the scene format's
-//!   SH bases.
+//!   SH bases;
+//! - fibre ODFs as SH series (`odf`): CSA and Q-ball, linear in the same regularised SH
+//!   fit, and constrained spherical deconvolution (`csd`) with a response estimated from
+//!   high-FA voxels or read from a file (`response`); `peaks` finds their maxima.
 //!
 //! Signal conventions (`voxel`): S0 is the mean of the b=0 volumes (b <= 50 s/mm^2,
 //! [`gradients::B0_THRESHOLD`]). A voxel whose S0 is not positive, or that holds a
@@ -24,16 +27,24 @@
 //! Everything is validated before any voxel is fitted, and the output is written to a
 //! temporary file next to the target and renamed (`output`), so a failed run leaves no
 //! file behind.
+pub mod csd;
+pub mod dti;
 pub mod dwi;
 pub mod gradients;
 pub mod inputs;
+pub mod odf;
 pub mod output;
+pub mod peaks;
+pub mod response;
+pub mod sphere;
 use crate::glyph::sh;
 pub mod tensor;
 pub mod voxel;
 
 pub use inputs::{FitFiles, FitInputs};
-pub use voxel::{FitReport, VoxelFitter, fit, fit_with_report};
+pub use odf::OdfMethod;
+pub use response::Response;
+pub use voxel::{FitReport, VoxelFitter, fit, fit_with_report, fit_with_response};
 
 use crate::scene::{GlyphKind, ShBasis};
 use crate::{Error, Result};
@@ -65,6 +76,17 @@ pub enum FitModel {
         legacy: bool,
         lambda: f64,
     },
+    /// A fibre ODF as real SH of even bands 0..=`band` (`odf`). `lambda` is the
+    /// Laplace-Beltrami weight of CSA and Q-ball, and the constraint weight of CSD;
+    /// `tau` is CSD's threshold (a fraction of the mean fODF), unused by the others.
+    Odf {
+        method: OdfMethod,
+        band: u32,
+        basis: ShBasis,
+        legacy: bool,
+        lambda: f64,
+        tau: f64,
+    },
 }
 
 impl FitModel {
@@ -90,6 +112,25 @@ impl FitModel {
                     )));
                 }
             }
+            FitModel::Odf {
+                band, lambda, tau, ..
+            } => {
+                if band > MAX_ORDER || band % 2 == 1 {
+                    return Err(Error::Invalid(format!(
+                        "--order {band}: an ODF needs an even band from 0 to {MAX_ORDER} (the ODF is antipodally symmetric)"
+                    )));
+                }
+                if !(0.0..=MAX_LAMBDA).contains(&lambda) {
+                    return Err(Error::Invalid(format!(
+                        "--lambda {lambda}: the regularisation weight must be in 0 to {MAX_LAMBDA}"
+                    )));
+                }
+                if !(0.0..1.0).contains(&tau) {
+                    return Err(Error::Invalid(format!(
+                        "--tau {tau}: CSD's threshold is a fraction of the mean fODF, in 0 to 1"
+                    )));
+                }
+            }
         }
         Ok(())
     }
@@ -98,7 +139,7 @@ impl FitModel {
     pub fn coefficient_count(&self) -> usize {
         match *self {
             FitModel::Tensor { order } => crate::glyph::monomials::symmetric_count(order),
-            FitModel::Sh { band, .. } => sh_count(band),
+            FitModel::Sh { band, .. } | FitModel::Odf { band, .. } => sh_count(band),
         }
     }
 
@@ -111,6 +152,12 @@ impl FitModel {
                 symmetry: crate::glyph::Symmetry::Symmetric,
             }),
             FitModel::Sh {
+                band,
+                basis,
+                legacy,
+                ..
+            }
+            | FitModel::Odf {
                 band,
                 basis,
                 legacy,
@@ -136,6 +183,27 @@ impl FitModel {
                 let basis = basis_name(basis);
                 let legacy = if legacy { " legacy" } else { "" };
                 format!("glyphcast fit: SH band {band} {basis}{legacy} lambda {lambda}")
+            }
+            // The same start as `Sh`, so that `volume::recorded_basis` reads the basis.
+            FitModel::Odf {
+                method,
+                band,
+                basis,
+                legacy,
+                lambda,
+                tau,
+            } => {
+                let basis = basis_name(basis);
+                let legacy = if legacy { " legacy" } else { "" };
+                let method = method.name();
+                let tau = if method == "csd" {
+                    format!(" tau {tau}")
+                } else {
+                    String::new()
+                };
+                format!(
+                    "glyphcast fit: SH band {band} {basis}{legacy} {method} ODF lambda {lambda}{tau}"
+                )
             }
         }
     }

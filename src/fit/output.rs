@@ -41,7 +41,7 @@ pub fn write_output(path: &Path, coeffs: &Array4<f64>, dwi: &Dwi, model: &FitMod
             let voxel_to_world = dwi.voxel_to_world()?;
             let mut keys = vec![("comments", model.description())];
             match *model {
-                FitModel::Sh { basis, legacy, .. } => {
+                FitModel::Sh { basis, legacy, .. } | FitModel::Odf { basis, legacy, .. } => {
                     let legacy = if legacy { " legacy" } else { "" };
                     keys.push((
                         "glyphcast_sh_basis",

@@ -1,9 +1,15 @@
 //! The per-voxel work: normalise the signal by S0, fit, store. [`VoxelFitter`] holds
-//! the model's solve (pseudo-inverse or regularised normal equations), prepared once for
-//! all voxels; [`fit`] runs it over the volume.
+//! the model's solve (pseudo-inverse, regularised normal equations, an ODF transform or
+//! CSD's deconvolution), prepared once for all voxels; [`fit`] runs it over the volume
+//! on every core: worker threads take chunks of voxels in turn and send the results to
+//! the calling thread, which stores them and reports progress.
 use glam::DVec3;
 use ndarray::{Array4, ArrayView1, s};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
+use super::csd::CsdFitter;
+use super::odf::{LinearOdfFitter, OdfMethod};
+use super::response::{DEFAULT_RESPONSE_FA, Response, estimate_response};
 use super::sh::ShFitter;
 use super::tensor::{TensorFitter, design_rank};
 use super::{FitInputs, FitModel};
@@ -24,6 +30,8 @@ const PROGRESS_CHUNK: u64 = 1024;
 enum Solve {
     Tensor { fitter: TensorFitter },
     Sh { fitter: ShFitter },
+    LinearOdf { fitter: LinearOdfFitter },
+    Csd { fitter: Box<CsdFitter> },
 }
 
 /// A model ready to be applied voxel by voxel, for one gradient table.
@@ -154,35 +162,72 @@ pub fn fit_with_report(
     model: &FitModel,
     progress: &mut dyn FnMut(u64),
 ) -> Result<(Array4<f64>, FitReport)> {
-    let fitter = VoxelFitter::new(inputs, model)?;
+    fit_with_response(inputs, model, None, progress)
+}
+
+/// [`fit_with_report`], with CSD's single-fibre response given (`None`: estimated from
+/// the data, `response::estimate_response` with its defaults). Other models ignore it.
+pub fn fit_with_response(
+    inputs: &FitInputs,
+    model: &FitModel,
+    response: Option<&Response>,
+    progress: &mut dyn FnMut(u64),
+) -> Result<(Array4<f64>, FitReport)> {
+    let fitter = VoxelFitter::with_response(inputs, model, response)?;
     let [nx, ny, nz] = inputs.dwi.spatial_shape();
-    let mut out = Array4::<f64>::zeros((nx, ny, nz, model.coefficient_count()));
-    let mut scratch = vec![0.0; fitter.weighted.len()];
+    let k = model.coefficient_count();
+    let mut out = Array4::<f64>::zeros((nx, ny, nz, k));
+    let voxels: Vec<[usize; 3]> = (0..nz)
+        .flat_map(|z| (0..ny).flat_map(move |y| (0..nx).map(move |x| [x, y, z])))
+        .filter(|&[x, y, z]| inputs.in_mask(x, y, z))
+        .collect();
+    let chunks: Vec<&[[usize; 3]]> = voxels.chunks(PROGRESS_CHUNK as usize).collect();
+    let next = AtomicUsize::new(0);
+    let threads = std::thread::available_parallelism()
+        .map_or(1, usize::from)
+        .min(chunks.len().max(1));
     let mut report = FitReport::default();
-    let mut pending = 0;
-    for z in 0..nz {
-        for y in 0..ny {
-            for x in (0..nx).filter(|&x| inputs.in_mask(x, y, z)) {
-                let series = inputs.dwi.signal.slice(s![x, y, z, ..]);
-                let mut coeffs = out.slice_mut(s![x, y, z, ..]);
-                let outcome = if let Some(coeffs) = coeffs.as_slice_mut() {
-                    fitter.fit_voxel(series, &mut scratch, coeffs)
-                } else {
-                    let mut buffer = coeffs.to_vec();
-                    let outcome = fitter.fit_voxel(series, &mut scratch, &mut buffer);
-                    coeffs.iter_mut().zip(buffer).for_each(|(o, c)| *o = c);
-                    outcome
-                };
-                report.count(outcome);
-                pending += 1;
-                if pending == PROGRESS_CHUNK {
-                    progress(pending);
-                    pending = 0;
+    std::thread::scope(|scope| {
+        let (sender, receiver) = std::sync::mpsc::channel();
+        for _ in 0..threads {
+            let sender = sender.clone();
+            let (fitter, chunks, next) = (&fitter, &chunks, &next);
+            scope.spawn(move || {
+                let mut scratch = vec![0.0; fitter.weighted.len()];
+                loop {
+                    let index = next.fetch_add(1, Ordering::Relaxed);
+                    let Some(chunk) = chunks.get(index) else {
+                        break;
+                    };
+                    let mut coeffs = vec![0.0; chunk.len() * k];
+                    let outcomes: Vec<VoxelOutcome> = chunk
+                        .iter()
+                        .zip(coeffs.chunks_mut(k))
+                        .map(|(&[x, y, z], c)| {
+                            let series = inputs.dwi.signal.slice(s![x, y, z, ..]);
+                            fitter.fit_voxel(series, &mut scratch, c)
+                        })
+                        .collect();
+                    if sender.send((index, coeffs, outcomes)).is_err() {
+                        break;
+                    }
                 }
-            }
+            });
         }
-    }
-    progress(pending);
+        drop(sender);
+        for (index, coeffs, outcomes) in receiver {
+            for ((&[x, y, z], c), outcome) in
+                chunks[index].iter().zip(coeffs.chunks(k)).zip(outcomes)
+            {
+                out.slice_mut(s![x, y, z, ..])
+                    .iter_mut()
+                    .zip(c)
+                    .for_each(|(o, v)| *o = *v);
+                report.count(outcome);
+            }
+            progress(chunks[index].len() as u64);
+        }
+    });
     let culprit = match (&inputs.files.mask, report.visited) {
         (Some(mask), 0) => mask.display().to_string(),
         _ => inputs.files.dwi.display().to_string(),
@@ -195,6 +240,15 @@ impl VoxelFitter {
     /// Builds the model's solve for the inputs' directions; errors name the bvec or bval
     /// file.
     pub fn new(inputs: &FitInputs, model: &FitModel) -> Result<Self> {
+        Self::with_response(inputs, model, None)
+    }
+
+    /// [`VoxelFitter::new`] with CSD's response given (`None`: estimated from the data).
+    pub fn with_response(
+        inputs: &FitInputs,
+        model: &FitModel,
+        response: Option<&Response>,
+    ) -> Result<Self> {
         model.validate()?;
         let table = inputs.gradients.weighted();
         let directions: Vec<DVec3> = table.iter().map(|w| w.2).collect();
@@ -222,11 +276,55 @@ impl VoxelFitter {
                 legacy,
                 lambda,
             } => {
-                check_single_shell(&bvals, &inputs.origin.bvals)?;
+                check_single_shell(&bvals, &inputs.origin.bvals, "the SH fit")?;
                 check_sh_directions(band, &directions, &bvec_file)?;
                 Solve::Sh {
                     fitter: ShFitter::new(band, basis, legacy, &directions, lambda)
                         .map_err(to_input)?,
+                }
+            }
+            FitModel::Odf {
+                method,
+                band,
+                basis,
+                legacy,
+                lambda,
+                tau,
+            } => {
+                let what = match method {
+                    OdfMethod::Csd => "single-shell CSD",
+                    OdfMethod::Csa => "the CSA ODF",
+                    OdfMethod::Qball => "the Q-ball ODF",
+                };
+                check_single_shell(&bvals, &inputs.origin.bvals, what)?;
+                check_sh_directions(band, &directions, &bvec_file)?;
+                if method == OdfMethod::Csd {
+                    let estimated;
+                    let response = match response {
+                        Some(r) => r,
+                        None => {
+                            estimated =
+                                estimate_response(inputs, band, DEFAULT_RESPONSE_FA)?.response;
+                            &estimated
+                        }
+                    };
+                    let fitter =
+                        CsdFitter::new(band, (basis, legacy), &directions, response, lambda, tau)
+                            .map_err(to_input)?;
+                    Solve::Csd {
+                        fitter: Box::new(fitter),
+                    }
+                } else {
+                    Solve::LinearOdf {
+                        fitter: LinearOdfFitter::new(
+                            method,
+                            band,
+                            (basis, legacy),
+                            &directions,
+                            lambda,
+                        )
+                        .map_err(to_input)?,
+                    }
                 }
             }
         };
@@ -246,7 +344,7 @@ impl VoxelFitter {
         scratch: &mut [f64],
         coeffs: &mut [f64],
     ) -> VoxelOutcome {
-        let outcome = self.normalised_signal(series, scratch);
+        let (outcome, s0) = self.normalise(series, scratch);
         if !outcome.is_fitted() {
             coeffs.iter_mut().for_each(|c| *c = 0.0);
             return outcome;
@@ -261,14 +359,21 @@ impl VoxelFitter {
                 fitter.fit_into(scratch, coeffs);
             }
             Solve::Sh { fitter } => coeffs.copy_from_slice(&fitter.fit(scratch)),
+            Solve::LinearOdf { fitter } => fitter.fit_into(scratch, coeffs),
+            Solve::Csd { fitter } => {
+                // CSD deconvolves the signal in the response's units.
+                scratch.iter_mut().for_each(|r| *r *= s0);
+                fitter.fit_into(scratch, coeffs);
+            }
         }
         outcome
     }
 
     /// The model's S/S0 at the weighted volumes (volume order) for `coeffs`:
-    /// exp(-b_i D(g_i)) for a tensor, the SH series for SH.
-    pub fn fitted_signal(&self, coeffs: &[f64]) -> Vec<f64> {
-        match &self.solve {
+    /// exp(-b_i D(g_i)) for a tensor, the SH series for SH; `None` for an ODF, which is
+    /// not a signal.
+    pub fn fitted_signal(&self, coeffs: &[f64]) -> Option<Vec<f64>> {
+        Some(match &self.solve {
             Solve::Tensor { fitter } => fitter
                 .fitted_values(coeffs)
                 .iter()
@@ -276,27 +381,33 @@ impl VoxelFitter {
                 .map(|(d, b)| (-b * d).exp())
                 .collect(),
             Solve::Sh { fitter } => fitter.fitted_values(coeffs),
-        }
+            Solve::LinearOdf { .. } | Solve::Csd { .. } => return None,
+        })
     }
 
     /// S_i / S0 for the weighted volumes into `ratio`, with samples at or below zero
     /// raised to SIGNAL_FLOOR S0. The voxel is left out if S0 <= 0 or a sample is not
     /// finite.
     pub fn normalised_signal(&self, series: ArrayView1<f64>, ratio: &mut [f64]) -> VoxelOutcome {
+        self.normalise(series, ratio).0
+    }
+
+    /// [`VoxelFitter::normalised_signal`], with S0.
+    fn normalise(&self, series: ArrayView1<f64>, ratio: &mut [f64]) -> (VoxelOutcome, f64) {
         if self
             .b0
             .iter()
             .chain(&self.weighted)
             .any(|&v| !series[v].is_finite())
         {
-            return VoxelOutcome::NonFinite;
+            return (VoxelOutcome::NonFinite, 0.0);
         }
         let s0 = self.b0.iter().map(|&v| series[v]).sum::<f64>() / self.b0.len() as f64;
         if s0 < 0.0 {
-            return VoxelOutcome::NegativeS0;
+            return (VoxelOutcome::NegativeS0, s0);
         }
         if s0 <= 0.0 {
-            return VoxelOutcome::ZeroS0;
+            return (VoxelOutcome::ZeroS0, s0);
         }
         let mut outcome = VoxelOutcome::Fitted;
         for (r, &v) in ratio.iter_mut().zip(&self.weighted) {
@@ -306,7 +417,7 @@ impl VoxelFitter {
             }
             *r = s.max(SIGNAL_FLOOR * s0) / s0;
         }
-        outcome
+        (outcome, s0)
     }
 
     /// Number of diffusion-weighted volumes.
@@ -334,7 +445,8 @@ fn check_sh_directions(band: u32, directions: &[DVec3], bvec_file: &str) -> Resu
     Ok(())
 }
 
-fn check_single_shell(bvals: &[f64], bval_file: &str) -> Result<()> {
+/// Err unless the weighted b-values form one shell; `what` names the model in the error.
+fn check_single_shell(bvals: &[f64], bval_file: &str, what: &str) -> Result<()> {
     let (low, high) = bvals.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &b| {
         (lo.min(b), hi.max(b))
     });
@@ -343,7 +455,7 @@ fn check_single_shell(bvals: &[f64], bval_file: &str) -> Result<()> {
             bval_file,
             "b-values",
             format!(
-                "the SH fit needs one shell, but the diffusion-weighted b-values range from {low} to {high} s/mm^2"
+                "{what} needs one shell, but the diffusion-weighted b-values range from {low} to {high} s/mm^2 (multi-shell data)"
             ),
         ));
     }

@@ -1,0 +1,157 @@
+//! `glyphcast peaks`: the largest maxima of each voxel's ODF (`glyphcast::fit::peaks`),
+//! written in MRtrix `sh2peaks`' layout: 3 N values per voxel, each peak's unit
+//! direction times its amplitude, highest first, NaN for missing peaks.
+//!
+//! The basis comes from the file's record (as `render --sh` takes it), or `--basis`.
+//! Directions are in the frame of the coefficients: the voxel axes for a NIfTI file
+//! written by `glyphcast fit` or DIPY, scanner axes for an MRtrix image.
+use clap::Args;
+use glyphcast::fit::output::check_output_path;
+use glyphcast::fit::parse_basis;
+use glyphcast::fit::peaks::{
+    DEFAULT_MIN_SEPARATION, DEFAULT_PEAK_COUNT, DEFAULT_RELATIVE_THRESHOLD, PeakFinder,
+    PeakOptions, peak_volume,
+};
+use glyphcast::glyph::sh::sh_count;
+use glyphcast::io::image::{ImageHeader, read_image};
+use glyphcast::io::mif::{MifKind, MifWrite, write_mif};
+use glyphcast::volume::{recorded_basis, resolve_basis};
+use glyphcast::{Error, Result};
+use ndarray::Array4;
+use std::path::PathBuf;
+
+#[derive(Args)]
+pub struct PeaksArgs {
+    /// 4D image of ODF SH coefficients, [x, y, z, (L+1)(L+2)/2] for an even L <= 12
+    /// (glyphcast fit --odf, dwi2fod, DIPY): NIfTI or MRtrix.
+    #[arg(value_name = "ODF")]
+    odf: PathBuf,
+    /// Output: 4D float32 image of 3 N values per voxel, NIfTI (.nii, .nii.gz) or MRtrix
+    /// (.mif, .mif.gz).
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    output: PathBuf,
+    /// SH basis of the ODF (as render --basis). Default: the one the file records,
+    /// tournier07 for MRtrix images without a record.
+    #[arg(long, value_name = "BASIS")]
+    basis: Option<String>,
+    /// The legacy variant of --basis.
+    #[arg(long, requires = "basis")]
+    legacy: bool,
+    /// Use --basis even where the file records another basis.
+    #[arg(long, requires = "basis")]
+    force_basis: bool,
+    /// Peaks per voxel (N).
+    #[arg(long, default_value_t = DEFAULT_PEAK_COUNT)]
+    count: usize,
+    /// Peaks below this fraction of the voxel's largest are left out.
+    #[arg(long, value_name = "FRACTION", default_value_t = DEFAULT_RELATIVE_THRESHOLD)]
+    relative_threshold: f64,
+    /// Peaks within this angle (degrees) of a larger one are left out.
+    #[arg(long, value_name = "DEGREES", default_value_t = DEFAULT_MIN_SEPARATION)]
+    min_separation: f64,
+    /// No summary line.
+    #[arg(long)]
+    quiet: bool,
+}
+
+pub fn run(args: PeaksArgs) -> Result<()> {
+    let options = PeakOptions {
+        count: args.count,
+        relative_threshold: args.relative_threshold,
+        min_separation_degrees: args.min_separation,
+    };
+    options.validate()?;
+    let given = args
+        .basis
+        .as_deref()
+        .map(|name| parse_basis(name, args.legacy))
+        .transpose()
+        .map_err(Error::into_usage)?;
+    check_output_path(&args.output).map_err(|e| Error::Usage(e.to_string()))?;
+    glyphcast::io::atomic::check_outputs(&[&args.output])?;
+    let image = read_image(&args.odf)?;
+    let shape = image.shape(4);
+    if shape.len() != 4 {
+        return Err(Error::input(
+            &image.file,
+            "dim",
+            format!("expected a 4D image of SH coefficients, found shape {shape:?}"),
+        ));
+    }
+    // Trailing axes of size 1 are indexed at 0.
+    let rank = image.data.ndim();
+    let coeffs = Array4::from_shape_fn((shape[0], shape[1], shape[2], shape[3]), |(x, y, z, t)| {
+        let mut index = vec![0; rank];
+        for (slot, i) in index.iter_mut().zip([x, y, z, t]) {
+            *slot = i;
+        }
+        image.data[index.as_slice()]
+    });
+    let count = shape[3];
+    let band = (0..=glyphcast::fit::MAX_ORDER)
+        .step_by(2)
+        .find(|&l| sh_count(l) == count)
+        .ok_or_else(|| {
+            Error::input(
+                &image.file,
+                "dim",
+                format!(
+                    "{count} coefficients per voxel is not (L+1)(L+2)/2 for an even L up to {}",
+                    glyphcast::fit::MAX_ORDER
+                ),
+            )
+        })?;
+    if given.is_none()
+        && recorded_basis(&image).is_none()
+        && matches!(image.header, ImageHeader::Nifti(_))
+    {
+        return Err(Error::Usage(format!(
+            "{} records no SH basis: give --basis tournier07, descoteaux07, mrtrix, dipy or dipy-new",
+            image.file
+        )));
+    }
+    let (basis, legacy) = resolve_basis(&image, given, args.force_basis)?;
+    let finder = PeakFinder::new(band, basis, legacy, options)?;
+    let peaks = peak_volume(&coeffs, &finder)?;
+    let description = format!(
+        "glyphcast peaks: {} per voxel, xyz times amplitude, NaN if none",
+        options.count
+    );
+    match MifKind::of(&args.output) {
+        Some(MifKind::Mif | MifKind::MifGz) => write_mif(
+            &args.output,
+            &MifWrite {
+                data: &peaks.clone().into_dyn(),
+                voxel_to_world: &image.voxel_to_world,
+                keys: &[("comments", description)],
+            },
+        )?,
+        _ => {
+            let header = match &image.header {
+                ImageHeader::Nifti(header) => (**header).clone(),
+                ImageHeader::Mrtrix(_) => {
+                    glyphcast::fit::dwi::nifti_header_for(&image.voxel_to_world)
+                }
+            };
+            glyphcast::fit::output::write_coefficients(
+                &args.output,
+                &peaks,
+                &header,
+                &description,
+            )?;
+        }
+    }
+    if !args.quiet {
+        let found = peaks
+            .lanes(ndarray::Axis(3))
+            .into_iter()
+            .filter(|lane| lane[0].is_finite())
+            .count();
+        eprintln!(
+            "wrote {}: up to {} peaks in {found} voxels (band {band})",
+            args.output.display(),
+            options.count
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,145 @@
+//! Geodesic spheres: the icosahedron with each face cut into f^2 triangles, projected
+//! onto the unit sphere (10 f^2 + 2 vertices). CSD enforces its constraint on one
+//! (f = 6: 362 directions, as many as DIPY's default constraint sphere) and the peak
+//! finder searches a denser one, walking its edges to find local maxima.
+//!
+//! The set is antipodally symmetric (the icosahedron is), so an antipodally symmetric
+//! function has its maxima in pairs.
+use glam::DVec3;
+use std::collections::HashMap;
+
+/// Vertices of a geodesic sphere and which vertices share an edge.
+#[derive(Clone, Debug)]
+pub struct GeodesicSphere {
+    /// Unit vectors, 10 f^2 + 2 of them.
+    pub vertices: Vec<DVec3>,
+    /// For each vertex, the indices of its 5 or 6 neighbours.
+    pub neighbours: Vec<Vec<usize>>,
+}
+
+fn icosahedron() -> ([DVec3; 12], [[usize; 3]; 20]) {
+    let t = (1.0 + 5f64.sqrt()) / 2.0;
+    let v = [
+        DVec3::new(-1.0, t, 0.0),
+        DVec3::new(1.0, t, 0.0),
+        DVec3::new(-1.0, -t, 0.0),
+        DVec3::new(1.0, -t, 0.0),
+        DVec3::new(0.0, -1.0, t),
+        DVec3::new(0.0, 1.0, t),
+        DVec3::new(0.0, -1.0, -t),
+        DVec3::new(0.0, 1.0, -t),
+        DVec3::new(t, 0.0, -1.0),
+        DVec3::new(t, 0.0, 1.0),
+        DVec3::new(-t, 0.0, -1.0),
+        DVec3::new(-t, 0.0, 1.0),
+    ]
+    .map(|p| p.normalize());
+    let faces = [
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    (v, faces)
+}
+
+impl GeodesicSphere {
+    /// The sphere of frequency `frequency` (at least 1): 10 f^2 + 2 vertices.
+    pub fn new(frequency: usize) -> Self {
+        let f = frequency.max(1);
+        let (corners, faces) = icosahedron();
+        let mut vertices = Vec::new();
+        let mut index_of: HashMap<[i64; 3], usize> = HashMap::new();
+        let mut edges: Vec<(usize, usize)> = Vec::new();
+        // Points on shared face edges are generated twice; a quantised key merges them.
+        let mut vertex = |p: DVec3| -> usize {
+            let p = p.normalize();
+            let key = [p.x, p.y, p.z].map(|c| (c * 1e9).round() as i64);
+            *index_of.entry(key).or_insert_with(|| {
+                vertices.push(p);
+                vertices.len() - 1
+            })
+        };
+        for [a, b, c] in faces {
+            let (a, b, c) = (corners[a], corners[b], corners[c]);
+            let mut grid = vec![vec![0usize; f + 1]; f + 1];
+            for (i, row) in grid.iter_mut().enumerate() {
+                for (j, slot) in row.iter_mut().enumerate().take(f + 1 - i) {
+                    let (i, j) = (i as f64, j as f64);
+                    let p = (a * (f as f64 - i - j) + b * i + c * j) / f as f64;
+                    *slot = vertex(p);
+                }
+            }
+            for i in 0..f {
+                for j in 0..f - i {
+                    let (p, q, r) = (grid[i][j], grid[i + 1][j], grid[i][j + 1]);
+                    edges.extend([(p, q), (q, r), (r, p)]);
+                }
+            }
+        }
+        let mut neighbours = vec![Vec::new(); vertices.len()];
+        for (p, q) in edges {
+            if !neighbours[p].contains(&q) {
+                neighbours[p].push(q);
+                neighbours[q].push(p);
+            }
+        }
+        Self {
+            vertices,
+            neighbours,
+        }
+    }
+
+    /// The largest angle (radians) between a vertex and its nearest neighbour: the
+    /// resolution of a search over the vertices.
+    pub fn spacing(&self) -> f64 {
+        self.vertices
+            .iter()
+            .zip(&self.neighbours)
+            .map(|(v, n)| {
+                n.iter()
+                    .map(|&i| v.dot(self.vertices[i]).clamp(-1.0, 1.0).acos())
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .fold(0.0, f64::max)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn geodesic_spheres_have_the_expected_counts_and_symmetry() {
+        for (f, n) in [(1, 12), (6, 362), (16, 2562)] {
+            let s = GeodesicSphere::new(f);
+            assert_eq!(s.vertices.len(), n, "frequency {f}");
+            // Euler: 30 f^2 edges, each counted from both ends.
+            let degree: usize = s.neighbours.iter().map(Vec::len).sum();
+            assert_eq!(degree, 60 * f * f);
+            assert!(s.neighbours.iter().all(|v| v.len() == 5 || v.len() == 6));
+            for v in &s.vertices {
+                assert!((v.length() - 1.0).abs() < 1e-12);
+                assert!(s.vertices.iter().any(|w| (*w + *v).length() < 1e-9));
+            }
+        }
+        let spacing = GeodesicSphere::new(16).spacing().to_degrees();
+        assert!(spacing < 5.0, "{spacing}");
+    }
+}
