@@ -3,6 +3,7 @@
 //! `compute` is a second path for the exact method: a compute shader per pixel over the
 //! screen tiles of `tiles`.
 pub mod batch;
+pub mod colorbar;
 pub mod compute;
 pub mod eval;
 pub mod frame;
@@ -18,7 +19,7 @@ pub mod settings;
 pub mod shaders;
 pub mod tiles;
 
-use crate::catalog::{RAY_CAST_METHODS, RayCastMethod};
+use crate::catalog::{ELLIPSOID_METHOD, RAY_CAST_METHODS, RayCastMethod};
 pub use crate::glyph::tessellate::MeshKind;
 pub use settings::{ColorMode, Refinement, RenderPath, RenderSettings};
 
@@ -34,6 +35,9 @@ pub enum Method {
     /// The first real root of the ray polynomial, isolated by Bernstein subdivision
     /// (glsl/raycast_exact.frag); offset 0 only.
     Exact,
+    /// The closed-form intersection of the DTI ellipsoid (glsl/raycast_ellipsoid.frag):
+    /// what ellipsoid glyph sets are drawn with, whatever `--method` says for the others.
+    Ellipsoid,
     /// The bounding sphere of each glyph on the ray caster's boxes: the cost floor of a
     /// box-proxy ray caster, not the glyph.
     Impostor,
@@ -53,6 +57,9 @@ impl Method {
     /// The method's entry in the table of ray-casting methods ([`crate::catalog`]):
     /// name, shaders, what it reads. `None` for the impostor and the meshes.
     pub fn ray_cast_entry(self) -> Option<&'static RayCastMethod> {
+        if self == Method::Ellipsoid {
+            return Some(&ELLIPSOID_METHOD);
+        }
         let index = Method::RAY_CASTING.iter().position(|&m| m == self)?;
         RAY_CAST_METHODS.get(index)
     }
@@ -67,7 +74,11 @@ impl Method {
 impl std::fmt::Display for Method {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Method::Fixed | Method::Interval | Method::Affine | Method::Exact => {
+            Method::Fixed
+            | Method::Interval
+            | Method::Affine
+            | Method::Exact
+            | Method::Ellipsoid => {
                 let entry = self.ray_cast_entry().ok_or(std::fmt::Error)?;
                 f.write_str(entry.name)
             }

@@ -8,7 +8,7 @@
 //! tests, benchmarks and an embedding engine all go through [`RayCastPass::record`].
 //! The pass and the scenes keep a [`DeviceContext`], so the device outlives them.
 use crate::error::{Error, Result, VkContext};
-use crate::glyph::TensorLayout;
+use crate::glyph::{GlyphShape, TensorLayout};
 use crate::render::Method;
 use crate::render::batch::{Batch, batches};
 use crate::render::frame::FrameParams;
@@ -84,6 +84,8 @@ pub struct GlyphSetGpu {
     pub layout: TensorLayout,
     /// Whether only f > 0 is drawn.
     pub hide_negative: bool,
+    /// Whether the batch holds polynomial glyphs or ellipsoids ([`batch_method`]).
+    pub shape: GlyphShape,
     /// Glyphs in the batch (instances drawn).
     pub count: u32,
     instances: Buffer,
@@ -181,7 +183,11 @@ impl RayCastPass {
                     "{method} is drawn by the mesh pass, not the ray-casting pass"
                 )));
             }
-            Method::Fixed | Method::Interval | Method::Affine | Method::Exact => {
+            Method::Fixed
+            | Method::Interval
+            | Method::Affine
+            | Method::Exact
+            | Method::Ellipsoid => {
                 let needed = varying_components(layout);
                 let available = self.ctx.max_varying_components();
                 if needed > available {
@@ -299,7 +305,7 @@ impl RayCastPass {
         let limit = self.storage_buffer_limit(ctx);
         let chunks = batches(sets, limit, |layout| 4 * layout.coefficient_count() as u64)?;
         for chunk in &chunks {
-            self.pipeline(chunk.layout, method)?;
+            self.pipeline(chunk.layout, batch_method(chunk.shape, method))?;
         }
         let pool = DescriptorPool::new(ctx, chunks.len(), 1, 1)?;
         let mut scene = SceneGpu {
@@ -336,7 +342,7 @@ impl RayCastPass {
     ) -> Result<()> {
         let (viewport, scissor) = viewport_and_scissor(extent);
         for set in &scene.sets {
-            let pipeline = self.pipeline(set.layout, method)?;
+            let pipeline = self.pipeline(set.layout, batch_method(set.shape, method))?;
             let hide = u32::from(set.hide_negative);
             // SAFETY: recording state is the caller's; all handles are alive.
             unsafe {
@@ -370,6 +376,17 @@ impl RayCastPass {
             }
         }
         Ok(())
+    }
+}
+
+/// The method a batch of `shape` is drawn with when the scene's is `method`: ellipsoids
+/// always by their closed-form shader (the other methods solve the polynomial glyph),
+/// except under the impostor, which draws every glyph's bounding sphere.
+pub fn batch_method(shape: GlyphShape, method: Method) -> Method {
+    match (shape, method) {
+        (GlyphShape::Ellipsoid, Method::Impostor) => Method::Impostor,
+        (GlyphShape::Ellipsoid, _) => Method::Ellipsoid,
+        (GlyphShape::Polynomial, method) => method,
     }
 }
 
@@ -522,6 +539,7 @@ fn upload_chunk(
     Ok(GlyphSetGpu {
         layout: batch.layout,
         hide_negative: batch.negative == crate::glyph::NegativeMode::Hide,
+        shape: batch.shape,
         count: batch.len() as u32,
         instances,
         boxes,
