@@ -395,3 +395,49 @@ fn what_has_no_ellipsoid_is_refused() {
         &["ellipsoid", "--offset"],
     );
 }
+
+/// `--color direction` colours each ellipsoid by its principal eigenvector |e1| (the DTI
+/// convention): lit by ambient light alone, every pixel of an ellipsoid is the colour
+/// |e1|^2.2 (linear) encoded to sRGB, whatever the surface direction there.
+#[test]
+fn direction_colour_is_the_principal_eigenvector() {
+    use glyphcast::glyph::ellipsoid::Ellipsoid;
+    use glyphcast::render::colorbar::srgb_byte;
+    use glyphcast::render::settings::Lighting;
+    let gpu = common::gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    let set = ellipsoid_set();
+    let scene = scene_of(set.clone(), DVec3::new(0.0, 0.01, 7.0));
+    let settings = RenderSettings {
+        lighting: Lighting {
+            ambient: 1.0,
+            specular: 0.0,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let r = common::render_and_compare(&gpu, &mut renderer, &scene, &settings);
+    let (w, h) = (scene.image.width, scene.image.height);
+    // Which glyph each pixel hits: the nearest analytic hit of that glyph alone.
+    for (k, (center, coeffs)) in set.centers.iter().zip(&set.coeffs).enumerate() {
+        let e1 = Ellipsoid::from_tensor(coeffs).expect("ellipsoid").principal_axis();
+        let expected = e1.abs().to_array().map(|c| srgb_byte((c.powf(2.2)) as f32));
+        let mut alone = set.clone();
+        alone.centers = vec![*center];
+        alone.coeffs = vec![coeffs.clone()];
+        alone.scales = vec![set.scales[k]];
+        let own = analytic_depth(&alone, &scene.camera, w, h);
+        let mut pixels = 0;
+        for (i, (&t, &all)) in own.iter().zip(&r.reference).enumerate() {
+            // Pixels this glyph is the front of, away from its silhouette.
+            if t.is_nan() || (t - all).abs() > 1e-9 || r.image.distance[i].is_nan() {
+                continue;
+            }
+            let rgb = &r.image.rgba[4 * i..4 * i + 3];
+            let steps = rgb.iter().zip(&expected).map(|(a, b)| a.abs_diff(*b)).max();
+            assert!(steps <= Some(1), "glyph {k}: {rgb:?} vs |e1| {expected:?}");
+            pixels += 1;
+        }
+        assert!(pixels > 20, "glyph {k}: {pixels} pixels");
+    }
+}
