@@ -238,6 +238,10 @@ fn dti_volume_renders_as_ellipsoids_through_the_cli() {
         "2",
         "--glyph",
         "ellipsoid",
+        // Ellipsoids have no negative lobes: the flag leaves them (and the saved scene)
+        // alone.
+        "--negative",
+        "hide",
         "--width",
         "200",
         "--height",
@@ -420,7 +424,9 @@ fn direction_colour_is_the_principal_eigenvector() {
     let (w, h) = (scene.image.width, scene.image.height);
     // Which glyph each pixel hits: the nearest analytic hit of that glyph alone.
     for (k, (center, coeffs)) in set.centers.iter().zip(&set.coeffs).enumerate() {
-        let e1 = Ellipsoid::from_tensor(coeffs).expect("ellipsoid").principal_axis();
+        let e1 = Ellipsoid::from_tensor(coeffs)
+            .expect("ellipsoid")
+            .principal_axis();
         let expected = e1.abs().to_array().map(|c| srgb_byte((c.powf(2.2)) as f32));
         let mut alone = set.clone();
         alone.centers = vec![*center];

@@ -1,7 +1,7 @@
 //! `glyphcast render` and `glyphcast demo`: options, rendering and writing the outputs.
 use clap::Args;
 use glyphcast::error::quoted;
-use glyphcast::glyph::NegativeMode;
+use glyphcast::glyph::{GlyphShape, NegativeMode};
 use glyphcast::io::atomic::check_ending;
 use glyphcast::render::colorbar::ColorBar;
 use glyphcast::render::frame::{SceneExtent, magnitude_range};
@@ -344,10 +344,7 @@ pub fn render(
     let settings = options.settings()?;
     options.check_colorbar(&settings)?;
     if let Some(mode) = options.negative()? {
-        scene
-            .glyph_sets
-            .iter_mut()
-            .for_each(|set| set.negative = mode);
+        set_negative(&mut scene, mode);
     }
     // Written with the image and the depth map, all or nothing.
     let scene_file = save_scene.map(|path| (path, scene.to_json()));
@@ -424,10 +421,7 @@ pub fn render_montage(
         scene.image.width = image.width.unwrap_or(scene.image.width);
         scene.image.height = image.height.unwrap_or(scene.image.height);
         if let Some(mode) = negative {
-            scene
-                .glyph_sets
-                .iter_mut()
-                .for_each(|set| set.negative = mode);
+            set_negative(scene, mode);
         }
         let mut sets = prepare_scene(scene, settings.offset as f64)?;
         if settings.needs_largest_radius() {
@@ -567,6 +561,16 @@ fn background_bytes(background: [f32; 4]) -> [u8; 4] {
         srgb(b),
         (a.clamp(0.0, 1.0) * 255.0).round() as u8,
     ]
+}
+
+/// `--negative`: sets every polynomial glyph set's mode (ellipsoids have no negative
+/// lobes, and a scene file refuses `hide` on them).
+fn set_negative(scene: &mut Scene, mode: NegativeMode) {
+    scene
+        .glyph_sets
+        .iter_mut()
+        .filter(|set| set.shape == GlyphShape::Polynomial)
+        .for_each(|set| set.negative = mode);
 }
 
 /// The scale every glyph of `scene` has, if they all have the same one.

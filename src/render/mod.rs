@@ -21,7 +21,7 @@ pub mod tiles;
 
 use crate::catalog::{ELLIPSOID_METHOD, RAY_CAST_METHODS, RayCastMethod};
 pub use crate::glyph::tessellate::MeshKind;
-pub use settings::{ColorMode, Refinement, RenderPath, RenderSettings};
+pub use settings::{ColorMode, Lighting, Refinement, RenderPath, RenderSettings};
 
 /// How glyphs are drawn (`--method`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
