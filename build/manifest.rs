@@ -1,9 +1,10 @@
 //! The shader variants to build, from the table of orders and methods in
 //! `src/catalog.rs`: every symmetric order up to `MAX_SYMMETRIC_ORDER` and every
 //! non-symmetric order up to `MAX_NONSYMMETRIC_ORDER`, each with every ray-casting
-//! method.
+//! method, and the ellipsoid's closed-form shader for the symmetric `ELLIPSOID_ORDER`.
 use crate::catalog::{
-    MAX_NONSYMMETRIC_ORDER, MAX_SYMMETRIC_ORDER, RAY_CAST_METHODS, RayCastMethod,
+    ELLIPSOID_METHOD, ELLIPSOID_ORDER, MAX_NONSYMMETRIC_ORDER, MAX_SYMMETRIC_ORDER,
+    RAY_CAST_METHODS, RayCastMethod,
 };
 use std::collections::BTreeMap;
 
@@ -15,15 +16,19 @@ pub enum Symmetry {
 
 /// Per tensor layout (symmetry, order), sorted so that the table and the build are
 /// reproducible: the methods to compile.
-pub fn variants() -> BTreeMap<(Symmetry, u32), &'static [RayCastMethod]> {
+pub fn variants() -> BTreeMap<(Symmetry, u32), Vec<RayCastMethod>> {
     let families = [
         (Symmetry::Symmetric, MAX_SYMMETRIC_ORDER),
         (Symmetry::NonSymmetric, MAX_NONSYMMETRIC_ORDER),
     ];
-    families
+    let mut variants: BTreeMap<_, _> = families
         .into_iter()
         .flat_map(|(symmetry, max)| {
-            (1..=max).map(move |order| ((symmetry, order), &RAY_CAST_METHODS[..]))
+            (1..=max).map(move |order| ((symmetry, order), RAY_CAST_METHODS.to_vec()))
         })
-        .collect()
+        .collect();
+    if let Some(methods) = variants.get_mut(&(Symmetry::Symmetric, ELLIPSOID_ORDER)) {
+        methods.push(ELLIPSOID_METHOD);
+    }
+    variants
 }

@@ -17,10 +17,12 @@ layout(std140, set = 0, binding = 0) uniform FrameParams {
                           // w: max steps
     vec4 magnitude_range; // x: low end, y: 1 / (high - low)
     vec4 uniform_color;   // rgb, linear (sign colouring: the positive lobes')
-    vec4 light;           // xyz: unit direction towards the light, world space
+    vec4 light;           // xyz: unit direction towards the light, world space (--light
+                          // is given in view space; src/render/frame.rs turns it)
     vec4 robust;          // interval/affine: x: precision (pixels) * one pixel's footprint
                           // (world units at unit distance, or world units if orthographic)
     vec4 negative_color;  // sign colouring: the negative lobes' rgb, linear
+    vec4 shading;         // Blinn-Phong: x ambient, y specular strength, z shininess
 } frame;
 
 layout(std430, set = 0, binding = 1) readonly buffer Coefficients {

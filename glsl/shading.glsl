@@ -30,11 +30,14 @@ vec3 glyph_color(vec3 dir, float radius, float f) {
     return frame.uniform_color.rgb;
 }
 
+// Blinn-Phong with the terms of --ambient, --specular and --shininess
+// (src/render/settings.rs, Lighting): the normal is turned towards the viewer.
 vec3 blinn_phong(vec3 base, vec3 normal, vec3 view_dir) {
     vec3 n = dot(normal, view_dir) < 0.0 ? -normal : normal;
     vec3 l = frame.light.xyz;
     vec3 h = normalize(l + view_dir);
+    float ambient = frame.shading.x;
     float diffuse = max(dot(n, l), 0.0);
-    float specular = pow(max(dot(n, h), 0.0), 48.0);
-    return base * (0.18 + 0.82 * diffuse) + vec3(0.25 * specular);
+    float specular = frame.shading.y * pow(max(dot(n, h), 0.0), frame.shading.z);
+    return base * (ambient + (1.0 - ambient) * diffuse) + vec3(specular);
 }

@@ -68,6 +68,21 @@ pub const RAY_CAST_METHODS: [RayCastMethod; 4] = [
     },
 ];
 
+/// The closed-form ray/quadric intersection of the diffusion-tensor ellipsoid
+/// (`--glyph ellipsoid`, `src/glyph/ellipsoid.rs`): not a `--method` but the shader every
+/// ellipsoid glyph set is drawn with, compiled for the symmetric layout of order
+/// [`ELLIPSOID_ORDER`] only.
+pub const ELLIPSOID_METHOD: RayCastMethod = RayCastMethod {
+    name: "ellipsoid",
+    fragment: "raycast_ellipsoid.frag",
+    compute: None,
+    uses_ranges: false,
+    marches: false,
+};
+
+/// The order of the symmetric tensors that have an ellipsoid (DTI).
+pub const ELLIPSOID_ORDER: u32 = 2;
+
 /// The highest tensor order of a layout: [`MAX_SYMMETRIC_ORDER`] or
 /// [`MAX_NONSYMMETRIC_ORDER`].
 pub const fn max_order(symmetric: bool) -> u32 {

@@ -11,7 +11,7 @@ use crate::glyph::bounds::bounding_radius;
 use crate::glyph::monomials::monomials;
 use crate::glyph::polynomial::GlyphPolynomial;
 use crate::glyph::stiffness::VoigtStiffness;
-use crate::glyph::{NegativeMode, Symmetry, TensorLayout};
+use crate::glyph::{GlyphShape, NegativeMode, Symmetry, TensorLayout};
 use crate::scene::{GlyphKind, GlyphSet, ImageSize, Scene};
 use crate::{Error, Result};
 use glam::{DMat3, DVec3};
@@ -56,6 +56,7 @@ pub fn glyph_set(
     GlyphSet {
         kind,
         negative: NegativeMode::Abs,
+        shape: GlyphShape::Polynomial,
         scales: vec![scale; centers.len()],
         centers,
         coeffs,

@@ -101,6 +101,26 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
             options,
         } => {
             cli::render::check_outputs(&output, source.save_scene())?;
+            if source.volume.is_montage() {
+                if source.save_scene().is_some() {
+                    return Err(glyphcast::Error::Usage(
+                        "--save-scene writes one scene: not with --views or --lightbox".into(),
+                    ));
+                }
+                if source.scene.is_some() {
+                    return Err(glyphcast::Error::Usage(
+                        "--views and --lightbox take volume input (--sh/--tensor)".into(),
+                    ));
+                }
+                let (scenes, columns) = source.volume.montage(options.image_request()?)?;
+                return cli::render::render_montage(
+                    scenes,
+                    columns,
+                    &output,
+                    &options,
+                    source.labels(),
+                );
+            }
             let (scene, underlay) = source.load_with_underlay(options.image_request()?)?;
             cli::render::render(
                 scene,

@@ -8,7 +8,7 @@ use glam::DVec3;
 
 use crate::camera::Camera;
 use crate::glyph::monomials::symmetric_count;
-use crate::glyph::{NegativeMode, Symmetry, TensorLayout};
+use crate::glyph::{GlyphShape, NegativeMode, Symmetry, TensorLayout};
 
 /// The real SH basis convention of a coefficient list (SCENE-FORMAT.md).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -52,6 +52,8 @@ pub struct GlyphSet {
     pub kind: GlyphKind,
     /// How negative values of f are drawn.
     pub negative: NegativeMode,
+    /// The polynomial glyph, or (order-2 symmetric tensors only) the DTI ellipsoid.
+    pub shape: GlyphShape,
     /// Per glyph its centre, in world units.
     pub centers: Vec<DVec3>,
     /// One per glyph, expanded from `scale` when the file gives a single value.

@@ -1,12 +1,14 @@
 //! `glyphcast render` and `glyphcast demo`: options, rendering and writing the outputs.
 use clap::Args;
 use glyphcast::error::quoted;
-use glyphcast::glyph::NegativeMode;
+use glyphcast::glyph::{GlyphShape, NegativeMode};
 use glyphcast::io::atomic::check_ending;
-use glyphcast::render::glyph_data::{measure_largest_radius, prepare_scene};
+use glyphcast::render::colorbar::ColorBar;
+use glyphcast::render::frame::{SceneExtent, magnitude_range};
+use glyphcast::render::glyph_data::{GlyphSetData, measure_largest_radius, prepare_scene};
 use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
 use glyphcast::render::labels::{draw_edge_labels, edge_labels};
-use glyphcast::render::settings::parse_background;
+use glyphcast::render::settings::{parse_background, parse_light};
 use glyphcast::render::underlay::Underlay;
 use glyphcast::render::{ColorMode, Method, Refinement, RenderSettings};
 use glyphcast::scene::Scene;
@@ -66,7 +68,9 @@ impl SceneSource {
                 "{flag} applies to volume input (--sh/--tensor), not to a scene file"
             )));
         }
-        Scene::load(path)
+        let mut scene = Scene::load(path)?;
+        self.volume.apply_shape(&mut scene)?;
+        Ok(scene)
     }
 
     /// Whether --labels asks for the anatomical directions at the image's edges.
@@ -131,6 +135,15 @@ pub struct RenderArgs {
     /// radius drawn, so that the largest glyph's tip takes the map's top colour).
     #[arg(long, value_name = "LOW:HIGH")]
     magnitude_range: Option<String>,
+    /// With --color magnitude: append a colour bar of the magnitude range on the right,
+    /// in a strip of its own (the PNG and the depth map grow by its width; the depth map
+    /// is NaN there). Values are glyph radii in data units (|f|, or an ellipsoid's
+    /// sqrt(eigenvalue)) when every glyph has the same scale, else in world units.
+    #[arg(long)]
+    colorbar: bool,
+    /// The colour bar's label (default: "radius (data units)" or "radius (world units)").
+    #[arg(long, value_name = "TEXT", requires = "colorbar")]
+    colorbar_label: Option<String>,
     /// Negative lobes: abs (drawn as |f|) or hide. Sets every glyph set's mode, replacing
     /// a scene file's `negative` (default: the scene's; abs for volumes).
     #[arg(long, value_name = "abs|hide")]
@@ -143,6 +156,20 @@ pub struct RenderArgs {
     /// #rrggbb or r,g,b (sRGB, 0-255, as written in the PNG).
     #[arg(long, value_name = "COLOR")]
     background: Option<String>,
+    /// Direction towards the light, X,Y,Z in view coordinates: x to the image's right, y
+    /// up, z towards the viewer (default 0.35,0.5,1: above right, in front). The light
+    /// moves with the camera.
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    light: Option<String>,
+    /// Ambient share of the base colour, 0 to 1 (default 0.18).
+    #[arg(long, value_name = "A")]
+    ambient: Option<f32>,
+    /// Strength of the white specular highlight, 0 to 1 (default 0.25; 0: matte).
+    #[arg(long, value_name = "S")]
+    specular: Option<f32>,
+    /// Blinn-Phong exponent of the highlight, 1 to 1024 (default 48).
+    #[arg(long, value_name = "E")]
+    shininess: Option<f32>,
     /// Isotropic offset added to every glyph, as a fraction of its bounding radius.
     #[arg(long, default_value_t = 0.0)]
     offset: f32,
@@ -215,10 +242,59 @@ impl RenderArgs {
         if let Some(background) = &self.background {
             s.background = parse_background(background)?;
         }
+        if let Some(light) = &self.light {
+            s.lighting.direction = parse_light(light)?;
+        }
+        s.lighting.ambient = self.ambient.unwrap_or(s.lighting.ambient);
+        s.lighting.specular = self.specular.unwrap_or(s.lighting.specular);
+        s.lighting.shininess = self.shininess.unwrap_or(s.lighting.shininess);
         s.offset = self.offset;
         s.samples = self.samples;
         s.validate()?;
         Ok(s)
+    }
+
+    /// Whether `--colorbar` was given.
+    pub fn wants_colorbar(&self) -> bool {
+        self.colorbar
+    }
+
+    /// Checks that `--colorbar` goes with `--color magnitude` (a usage error otherwise).
+    fn check_colorbar(&self, settings: &RenderSettings) -> Result<()> {
+        if self.colorbar && !matches!(settings.color, ColorMode::Magnitude { .. }) {
+            return Err(Error::Usage(format!(
+                "--colorbar shows the magnitude colour map: it needs --color magnitude, not \
+                 --color {}",
+                self.color
+            )));
+        }
+        Ok(())
+    }
+
+    /// The colour bar of a render of `sets` with `settings`, if `--colorbar`:
+    /// `common_scale` is the one scale of every glyph, if they share one (values are then
+    /// divided by it: data units).
+    fn colorbar(
+        &self,
+        settings: &RenderSettings,
+        sets: &[GlyphSetData],
+        camera: &glyphcast::camera::Camera,
+        common_scale: Option<f64>,
+    ) -> Option<ColorBar> {
+        if !self.colorbar {
+            return None;
+        }
+        let extent = SceneExtent::for_settings(camera, sets, settings);
+        let (low, high) = magnitude_range(settings, &extent)?;
+        let (unit, label) = match common_scale {
+            Some(scale) => (scale, "radius (data units)"),
+            None => (1.0, "radius (world units)"),
+        };
+        Some(ColorBar {
+            low: f64::from(low) / unit,
+            high: f64::from(high) / unit,
+            label: self.colorbar_label.clone().unwrap_or_else(|| label.into()),
+        })
     }
 
     /// `--negative`, if given; an unknown mode is a usage error.
@@ -278,11 +354,9 @@ pub fn render(
     scene.image.width = image.width.unwrap_or(scene.image.width);
     scene.image.height = image.height.unwrap_or(scene.image.height);
     let settings = options.settings()?;
+    options.check_colorbar(&settings)?;
     if let Some(mode) = options.negative()? {
-        scene
-            .glyph_sets
-            .iter_mut()
-            .for_each(|set| set.negative = mode);
+        set_negative(&mut scene, mode);
     }
     // Written with the image and the depth map, all or nothing.
     let scene_file = save_scene.map(|path| (path, scene.to_json()));
@@ -292,6 +366,7 @@ pub fn render(
         measure_largest_radius(&mut sets);
     }
     let prepared = started.elapsed();
+    let common_scale = common_scale(&scene);
     // What the ray casters do not read is freed before the GPU work (a million glyphs:
     // the scene's coefficients and the float64 glyphs are most of a gigabyte).
     scene.glyph_sets = Vec::new();
@@ -308,6 +383,11 @@ pub fn render(
     if labels {
         let edges = edge_labels(&scene.camera);
         draw_edge_labels(&mut image.rgba, w, h, &edges)?;
+    }
+    if let Some(bar) = options.colorbar(&settings, &sets, &scene.camera, common_scale) {
+        let (width, rgba, distance) =
+            bar.append(&image.rgba, &image.distance, w, h, settings.background)?;
+        (image.width, image.rgba, image.distance) = (width, rgba, distance);
     }
     let glyphs: usize = sets.iter().map(|s| s.len()).sum();
     let gpu_time = image
@@ -329,6 +409,188 @@ pub fn render(
         );
     }
     write_outputs(&image, output, scene_file)
+}
+
+/// Renders the panels of a montage (`--views`, `--lightbox`: `scenes` in reading order,
+/// `columns` to a row) into one image and writes it as [`render`] writes one view. Each
+/// panel is the image `render` makes of its scene alone, centred in a cell of the largest
+/// panel's size (cells without a panel, and the margins of smaller panels, are
+/// background with NaN depth), except that `--color magnitude` without a range maps one
+/// range, 0 to the largest glyph radius of all panels, so that colours compare across
+/// panels. `labels` labels every panel; a colour bar is appended to the whole montage.
+pub fn render_montage(
+    mut scenes: Vec<Scene>,
+    columns: usize,
+    output: &OutputArgs,
+    options: &RenderArgs,
+    labels: bool,
+) -> Result<()> {
+    let image = options.image_request()?;
+    let mut settings = options.settings()?;
+    options.check_colorbar(&settings)?;
+    let negative = options.negative()?;
+    let mut prepared = Vec::with_capacity(scenes.len());
+    for scene in &mut scenes {
+        scene.image.width = image.width.unwrap_or(scene.image.width);
+        scene.image.height = image.height.unwrap_or(scene.image.height);
+        if let Some(mode) = negative {
+            set_negative(scene, mode);
+        }
+        let mut sets = prepare_scene(scene, settings.offset as f64)?;
+        if settings.needs_largest_radius() {
+            measure_largest_radius(&mut sets);
+        }
+        if !matches!(settings.method, Method::Mesh(_)) {
+            sets.iter_mut().for_each(|s| s.drop_reference_glyphs());
+        }
+        prepared.push(sets);
+    }
+    let all_sets: Vec<GlyphSetData> = prepared.iter().flatten().cloned().collect();
+    if settings.needs_largest_radius() {
+        let largest = all_sets
+            .iter()
+            .map(|s| s.largest_radius)
+            .fold(0.0, f64::max);
+        settings.color = ColorMode::Magnitude {
+            range: Some((0.0, largest as f32)),
+        };
+    }
+    let cell_w = scenes.iter().map(|s| s.image.width).max().unwrap_or(1);
+    let cell_h = scenes.iter().map(|s| s.image.height).max().unwrap_or(1);
+    let columns = columns.clamp(1, scenes.len().max(1));
+    let rows = scenes.len().div_ceil(columns);
+    let mut montage = Montage::new(cell_w, cell_h, columns, rows, settings.background)?;
+    let gpu = Gpu::headless(&options.gpu_options())?;
+    eprintln!("device: {}", gpu.info);
+    let mut renderer = HeadlessRenderer::new(&gpu)?;
+    for (k, (scene, sets)) in scenes.iter().zip(&prepared).enumerate() {
+        let (w, h) = (scene.image.width, scene.image.height);
+        let mut panel = renderer.render(&gpu, sets, &scene.camera, w, h, &settings)?;
+        if labels {
+            draw_edge_labels(&mut panel.rgba, w, h, &edge_labels(&scene.camera))?;
+        }
+        montage.place(k, &panel);
+    }
+    let common = scenes
+        .iter()
+        .map(common_scale)
+        .collect::<Option<Vec<f64>>>();
+    let common = common.and_then(|scales| {
+        let first = *scales.first()?;
+        scales.iter().all(|s| *s == first).then_some(first)
+    });
+    let camera = &scenes
+        .first()
+        .ok_or_else(|| Error::Usage("no panel".into()))?
+        .camera;
+    let mut result = RenderedImage {
+        width: montage.width,
+        height: montage.height,
+        rgba: montage.rgba,
+        distance: montage.distance,
+        draws: 0,
+        gpu_ms: None,
+        mesh: None,
+    };
+    if let Some(bar) = options.colorbar(&settings, &all_sets, camera, common) {
+        let (width, rgba, distance) = bar.append(
+            &result.rgba,
+            &result.distance,
+            result.width,
+            result.height,
+            settings.background,
+        )?;
+        (result.width, result.rgba, result.distance) = (width, rgba, distance);
+    }
+    eprintln!(
+        "montage: {} panels of {cell_w}x{cell_h} in {columns} columns",
+        scenes.len()
+    );
+    write_outputs(&result, output, None)
+}
+
+/// The pixels and depth map of a montage being assembled.
+struct Montage {
+    cell: (u32, u32),
+    columns: usize,
+    width: u32,
+    height: u32,
+    rgba: Vec<u8>,
+    distance: Vec<f32>,
+}
+
+impl Montage {
+    /// A grid of `columns` x `rows` cells of `cell_w` x `cell_h`, all background.
+    fn new(
+        cell_w: u32,
+        cell_h: u32,
+        columns: usize,
+        rows: usize,
+        background: [f32; 4],
+    ) -> Result<Montage> {
+        let width = u64::from(cell_w) * columns as u64;
+        let height = u64::from(cell_h) * rows as u64;
+        if width > u64::from(MAX_SIDE) || height > u64::from(MAX_SIDE) {
+            return Err(Error::Usage(format!(
+                "the montage would be {width}x{height} pixels; at most {MAX_SIDE} a side: \
+                 give a smaller --width/--height"
+            )));
+        }
+        let (width, height) = (width as u32, height as u32);
+        let clear = background_bytes(background);
+        let pixels = width as usize * height as usize;
+        Ok(Montage {
+            cell: (cell_w, cell_h),
+            columns,
+            width,
+            height,
+            rgba: clear.iter().copied().cycle().take(4 * pixels).collect(),
+            distance: vec![f32::NAN; pixels],
+        })
+    }
+
+    /// Copies panel `k` into its cell, centred.
+    fn place(&mut self, k: usize, panel: &RenderedImage) {
+        let (cw, ch) = self.cell;
+        let x0 = (k % self.columns) as u32 * cw + (cw - panel.width.min(cw)) / 2;
+        let y0 = (k / self.columns) as u32 * ch + (ch - panel.height.min(ch)) / 2;
+        let w = panel.width as usize;
+        for row in 0..panel.height as usize {
+            let to = (y0 as usize + row) * self.width as usize + x0 as usize;
+            let from = row * w;
+            self.rgba[4 * to..4 * (to + w)].copy_from_slice(&panel.rgba[4 * from..4 * (from + w)]);
+            self.distance[to..to + w].copy_from_slice(&panel.distance[from..from + w]);
+        }
+    }
+}
+
+/// The PNG bytes of a background (linear RGBA), as the renderer clears to it.
+fn background_bytes(background: [f32; 4]) -> [u8; 4] {
+    let [r, g, b, a] = background;
+    let srgb = glyphcast::render::colorbar::srgb_byte;
+    [
+        srgb(r),
+        srgb(g),
+        srgb(b),
+        (a.clamp(0.0, 1.0) * 255.0).round() as u8,
+    ]
+}
+
+/// `--negative`: sets every polynomial glyph set's mode (ellipsoids have no negative
+/// lobes, and a scene file refuses `hide` on them).
+fn set_negative(scene: &mut Scene, mode: NegativeMode) {
+    scene
+        .glyph_sets
+        .iter_mut()
+        .filter(|set| set.shape == GlyphShape::Polynomial)
+        .for_each(|set| set.negative = mode);
+}
+
+/// The scale every glyph of `scene` has, if they all have the same one.
+fn common_scale(scene: &Scene) -> Option<f64> {
+    let mut scales = scene.glyph_sets.iter().flat_map(|s| s.scales.iter());
+    let first = *scales.next()?;
+    scales.all(|s| *s == first).then_some(first)
 }
 
 /// Writes the PNG, the depth map and the scene file together: either all are new or all

@@ -39,6 +39,11 @@ pub fn run(args: &ViewArgs) -> Result<()> {
                 .into(),
         ));
     }
+    if args.options.wants_colorbar() {
+        return Err(glyphcast::Error::Usage(
+            "--colorbar applies to render: the viewer draws no colour bar".into(),
+        ));
+    }
     let image = args.options.image_request()?;
     let settings = args.options.settings()?;
     let negative = args.options.negative()?;

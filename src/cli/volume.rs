@@ -9,13 +9,15 @@
 //! (`glyphcast::volume::resolve_basis`).
 use clap::Args;
 use glyphcast::fit::parse_basis;
-use glyphcast::glyph::{Symmetry, TensorLayout};
+use glyphcast::glyph::ellipsoid::ELLIPSOID_LAYOUT;
+use glyphcast::glyph::{GlyphShape, Symmetry, TensorLayout};
 use glyphcast::io::image::{Image, read_image};
 use glyphcast::render::underlay::Underlay;
+use glyphcast::scene::GlyphKind;
 use glyphcast::scene::{Scene, ShBasis};
 use glyphcast::volume::{
-    ImageRequest, SliceRegion, ViewProjection, Volume, VolumeKind, VolumeOptions, VolumeScene,
-    load_mask, load_underlay, resolve_basis, view_underlay, volume_scene,
+    ImageRequest, Slice, SliceRegion, ViewProjection, Volume, VolumeKind, VolumeOptions,
+    VolumeScene, load_mask, load_underlay, resolve_basis, view_underlay, volume_scene,
 };
 use glyphcast::{Error, Result};
 use std::path::{Path, PathBuf};
@@ -105,9 +107,25 @@ pub struct VolumeArgs {
     /// Default: the 2nd to 98th percentile of its finite values.
     #[arg(long, value_name = "LOW:HIGH", help_heading = "Underlay")]
     pub underlay_range: Option<String>,
-    /// Write the anatomical directions (L/R, A/P, S/I) at the image's edges.
+    /// Glyph surface: polynomial (the glyph of the tensor or SH series, the default) or
+    /// ellipsoid (order-2 tensors: the DTI ellipsoid { D^(1/2) u }, semi-axes
+    /// sqrt(eigenvalues), eigenvalues below 1e-6 of the largest raised to that floor).
+    /// For a scene file it sets every glyph set's `shape`.
+    #[arg(long, value_name = "SHAPE")]
+    pub glyph: Option<String>,
+    /// Write the anatomical directions (L/R, A/P, S/I) at the image's edges (of every
+    /// panel of a montage).
     #[arg(long, help_heading = "Volume input")]
     pub labels: bool,
+    /// render only: one image with a panel per view, left to right: a comma-separated
+    /// list of axial, coronal and sagittal (any subset, any order; each optionally
+    /// :INDEX as for --slice), each panel --width x --height.
+    #[arg(long, value_name = "VIEW,...", help_heading = "Volume input")]
+    pub views: Option<String>,
+    /// render only: N evenly spaced slices along the --slice plane (default axial) in a
+    /// grid of ceil(sqrt(N)) columns, each panel --width x --height.
+    #[arg(long, value_name = "N", help_heading = "Volume input")]
+    pub lightbox: Option<usize>,
     /// Also write the scene that is rendered as a scene file (with the image, all or
     /// nothing).
     #[arg(long, value_name = "FILE")]
@@ -141,6 +159,8 @@ impl VolumeArgs {
             ("--labels", self.labels),
             ("--underlay", self.underlay.is_some()),
             ("--underlay-range", self.underlay_range.is_some()),
+            ("--views", self.views.is_some()),
+            ("--lightbox", self.lightbox.is_some()),
         ];
         given.iter().find(|(_, on)| *on).map(|(name, _)| *name)
     }
@@ -198,10 +218,145 @@ impl VolumeArgs {
         view_underlay(Arc::new(underlay), source, volume, regions).map(Some)
     }
 
+    /// `--glyph`, if given; an unknown shape is a usage error.
+    pub fn shape(&self) -> Result<Option<GlyphShape>> {
+        let parse = |text: &str| match text {
+            "polynomial" => Ok(GlyphShape::Polynomial),
+            "ellipsoid" => Ok(GlyphShape::Ellipsoid),
+            _ => Err(Error::Usage(format!(
+                "--glyph: '{}' is not one of polynomial, ellipsoid",
+                glyphcast::error::quoted(text)
+            ))),
+        };
+        self.glyph.as_deref().map(parse).transpose()
+    }
+
+    /// Sets every glyph set of a scene file to `--glyph`'s shape: a usage error naming
+    /// the set when it is not an order-2 symmetric tensor set.
+    pub fn apply_shape(&self, scene: &mut Scene) -> Result<()> {
+        let Some(shape) = self.shape()? else {
+            return Ok(());
+        };
+        for (index, set) in scene.glyph_sets.iter_mut().enumerate() {
+            if shape == GlyphShape::Ellipsoid && set.kind != GlyphKind::Tensor(ELLIPSOID_LAYOUT) {
+                return Err(Error::Usage(format!(
+                    "--glyph ellipsoid draws symmetric tensors of order 2 (DTI), and glyph \
+                     set {index} is a {}",
+                    set.kind
+                )));
+            }
+            set.shape = shape;
+        }
+        Ok(())
+    }
+
     /// The volume, the options its view was made with and the view (reported on stderr):
     /// what the viewer needs to move the slice later.
     pub fn view(&self, image: ImageRequest) -> Result<(Volume, VolumeOptions, VolumeScene)> {
         self.underlay_range()?;
+        if self.is_montage() {
+            return Err(Error::Usage(
+                "--views and --lightbox make one image of several panels: `render` only".into(),
+            ));
+        }
+        let (volume, mut options) = self.load(image)?;
+        self.slice_in_voxels(&mut options, &volume)?;
+        let view = volume_scene(&volume, &options)?;
+        report(&view, &volume.file);
+        Ok((volume, options, view))
+    }
+
+    /// Whether --views or --lightbox asks for a montage.
+    pub fn is_montage(&self) -> bool {
+        self.views.is_some() || self.lightbox.is_some()
+    }
+
+    /// The scenes of the panels of `--views` or `--lightbox`, in reading order, and the
+    /// number of columns of their grid (one row for --views).
+    pub fn montage(&self, image: ImageRequest) -> Result<(Vec<Scene>, usize)> {
+        let panels = match (&self.views, self.lightbox) {
+            (Some(_), Some(_)) => {
+                return Err(Error::Usage(
+                    "give either --views or --lightbox, not both".into(),
+                ));
+            }
+            (Some(views), None) => parse_views(views).map_err(Error::into_usage)?,
+            (None, Some(count)) => {
+                if self.slices.is_some() {
+                    return Err(Error::Usage(
+                        "--lightbox takes --slice, not --slices".into(),
+                    ));
+                }
+                if count == 0 || count > MAX_PANELS {
+                    return Err(Error::Usage(format!(
+                        "--lightbox {count}: must be 1 to {MAX_PANELS} slices"
+                    )));
+                }
+                Vec::new()
+            }
+            (None, None) => return Err(Error::Usage("no --views or --lightbox".into())),
+        };
+        if self.underlay.is_some() {
+            return Err(Error::Usage(
+                "--underlay draws on one view's planes: not with --views or --lightbox".into(),
+            ));
+        }
+        if self.slices.is_some() || (self.views.is_some() && self.slice.is_some()) {
+            return Err(Error::Usage(
+                "--views names each panel's slice: give no --slice or --slices with it".into(),
+            ));
+        }
+        let (volume, options) = self.load(image)?;
+        let panels = match self.lightbox {
+            Some(count) => self.lightbox_slices(&volume, &options, count)?,
+            None => panels,
+        };
+        let mut scenes = Vec::with_capacity(panels.len());
+        for slice in &panels {
+            let mut options = options.clone();
+            options.slice = *slice;
+            self.slice_in_voxels(&mut options, &volume)?;
+            let view = volume_scene(&volume, &options)?;
+            report(&view, &volume.file);
+            scenes.push(view.scene);
+        }
+        let columns = match self.lightbox {
+            Some(count) => (count as f64).sqrt().ceil() as usize,
+            None => scenes.len(),
+        };
+        Ok((scenes, columns))
+    }
+
+    /// `count` slices of the --slice plane, evenly spaced: slice k at the centre of the
+    /// k-th of `count` equal parts of the axis, floor((k + 1/2) n / count).
+    fn lightbox_slices(
+        &self,
+        volume: &Volume,
+        options: &VolumeOptions,
+        count: usize,
+    ) -> Result<Vec<Slice>> {
+        let mut plane = options.clone();
+        self.slice_in_voxels(&mut plane, volume)?;
+        let axis = plane.slice.axis;
+        let length = volume.dims[axis.voxel_axis()];
+        if count > length {
+            return Err(Error::Usage(format!(
+                "--lightbox {count}: the {} plane has {length} slices in {}",
+                axis.name(),
+                volume.file
+            )));
+        }
+        Ok((0..count)
+            .map(|k| Slice {
+                axis: options.slice.axis,
+                index: Some(((2 * k + 1) * length) / (2 * count)),
+            })
+            .collect())
+    }
+
+    /// The volume and the options of the flags (mask read), before the slice is turned
+    /// into voxel axes.
+    fn load(&self, image: ImageRequest) -> Result<(Volume, VolumeOptions)> {
         let path = self.input().map_err(Error::into_usage)?;
         let mut options = self.options(image).map_err(Error::into_usage)?;
         let frame = self
@@ -215,13 +370,17 @@ impl VolumeArgs {
         let given_basis = self.given_basis()?;
         let file = read_image(path)?;
         let kind = self.kind(&file, given_basis)?;
+        if options.shape == GlyphShape::Ellipsoid && kind != VolumeKind::Tensor(ELLIPSOID_LAYOUT) {
+            return Err(Error::Usage(format!(
+                "--glyph ellipsoid draws order-2 symmetric tensors (DTI: --tensor with \
+                 --order 2), not {}",
+                file.file
+            )));
+        }
         let mut volume = Volume::from_image(file, kind)?;
         volume.frame = frame.unwrap_or(volume.frame);
-        self.slice_in_voxels(&mut options, &volume)?;
         options.mask = self.mask.as_deref().map(load_mask).transpose()?;
-        let view = volume_scene(&volume, &options)?;
-        report(&view, &volume.file);
-        Ok((volume, options, view))
+        Ok((volume, options))
     }
 
     /// Turns the world plane `--slice` names into the voxel axis closest to it, with a
@@ -357,6 +516,7 @@ impl VolumeArgs {
                 .transpose()?
                 .unwrap_or_default(),
             mask: None,
+            shape: self.shape()?.unwrap_or_default(),
             scale: self.scale,
             norm: self
                 .norm
@@ -380,6 +540,31 @@ impl VolumeArgs {
             image,
         })
     }
+}
+
+/// The most panels of a montage.
+pub const MAX_PANELS: usize = 64;
+
+/// `--views`: axial, coronal and sagittal (each optionally :INDEX), comma separated, each
+/// at most once.
+pub fn parse_views(text: &str) -> Result<Vec<Slice>> {
+    let mut slices: Vec<Slice> = Vec::new();
+    for item in text.split(',') {
+        let slice: Slice = item.trim().parse().map_err(|_| {
+            Error::Invalid(format!(
+                "--views '{text}': '{item}' is not axial, coronal or sagittal (optionally \
+                 :INDEX)"
+            ))
+        })?;
+        if slices.iter().any(|s| s.axis == slice.axis) {
+            return Err(Error::Invalid(format!(
+                "--views '{text}': {} is listed twice",
+                slice.axis.name()
+            )));
+        }
+        slices.push(slice);
+    }
+    Ok(slices)
 }
 
 /// One summary line, and a warning when voxels were left out for bad values.

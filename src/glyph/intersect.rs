@@ -30,6 +30,9 @@
 //! `OFFSET_SAMPLES` uniform points of the chord and the first sign change is bisected;
 //! features thinner than chord / 4096 along the ray can be missed there.
 //!
+//! An ellipsoid glyph ([`GlyphShape::Ellipsoid`]) is a quadric and is intersected in
+//! closed form instead ([`ellipsoid::first_hit`]), with the same conventions.
+//!
 //! Conventions: the returned distance is the first root of g with t > 0 along the ray.
 //! For a ray that starts outside the glyph this is the entry point; for a ray that starts
 //! inside it is the first exit (a camera inside a glyph sees that glyph's inner surface).
@@ -38,9 +41,11 @@
 //! counts as outside, and a lobe whose apex is the centre is entered there).
 use glam::DVec3;
 
-use super::NegativeMode;
 use super::bounds::bounding_radius;
+use super::ellipsoid::{self, Ellipsoid};
 use super::polynomial::{GlyphPolynomial, univariate};
+use super::{GlyphShape, NegativeMode};
+use crate::Result;
 use crate::camera::Ray;
 
 /// Uniform sign-test points added to the critical points of F (step 4 above).
@@ -61,8 +66,11 @@ pub struct WorldGlyph {
     pub center: DVec3,
     /// World length of one local unit (radius 1).
     pub scale: f64,
-    /// f, in monomial coefficients.
+    /// f, in monomial coefficients; for an ellipsoid, its quadric form x^T D^-1 x
+    /// ([`Ellipsoid::quadric_polynomial`]), whose level set 1 is the surface.
     pub poly: GlyphPolynomial,
+    /// The polynomial glyph of f, or the ellipsoid of an order-2 tensor.
+    pub shape: GlyphShape,
     /// Whether r(u) is |f(u)| or only the part where f(u) > 0.
     pub negative: NegativeMode,
     /// Added to r(u), in local units (0 for the scene format's glyphs).
@@ -86,10 +94,24 @@ impl WorldGlyph {
             center,
             scale,
             poly,
+            shape: GlyphShape::Polynomial,
             negative,
             offset,
             bound,
         }
+    }
+
+    /// The ellipsoid of an order-2 tensor, placed at `center` with `scale`.
+    pub fn ellipsoid(center: DVec3, scale: f64, ellipsoid: &Ellipsoid) -> Result<Self> {
+        Ok(Self {
+            center,
+            scale,
+            poly: ellipsoid.quadric_polynomial(1.0)?,
+            shape: GlyphShape::Ellipsoid,
+            negative: NegativeMode::Abs,
+            offset: 0.0,
+            bound: ellipsoid.radius(),
+        })
     }
 
     /// Radius of the world bounding sphere around `center`.
@@ -118,6 +140,11 @@ impl WorldGlyph {
 pub fn first_hit(ray: &Ray, glyph: &WorldGlyph) -> Option<f64> {
     if !(glyph.scale > 0.0 && glyph.bound > 0.0) {
         return None;
+    }
+    if glyph.shape == GlyphShape::Ellipsoid {
+        // Local q = (p - c) / scale, so local t is world t / scale.
+        let a = (ray.origin - glyph.center) / glyph.scale;
+        return ellipsoid::first_hit(&glyph.poly, a, ray.dir).map(|t| t * glyph.scale);
     }
     let chord = Chord::new(ray, glyph)?;
     if glyph.offset == 0.0 {

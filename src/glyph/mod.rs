@@ -5,6 +5,7 @@
 //! the tessellated glyphs of the mesh baseline.
 pub mod bernstein;
 pub mod bounds;
+pub mod ellipsoid;
 pub(crate) mod homogeneous;
 pub mod intersect;
 pub mod interval;
@@ -45,6 +46,27 @@ impl NegativeMode {
         match self {
             NegativeMode::Abs => crate::catalog::codes::NEGATIVE_ABS,
             NegativeMode::Hide => crate::catalog::codes::NEGATIVE_HIDE,
+        }
+    }
+}
+
+/// Which surface a glyph set draws of its tensors (scene format `shape`, `--glyph`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
+pub enum GlyphShape {
+    /// The polynomial glyph r(u) = |f(u)| of the paper (for DTI, the "peanut").
+    #[default]
+    Polynomial,
+    /// The diffusion-tensor ellipsoid { D^(1/2) u } of an order-2 symmetric tensor
+    /// ([`ellipsoid`]), intersected in closed form.
+    Ellipsoid,
+}
+
+impl GlyphShape {
+    /// The shape's name in scene files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            GlyphShape::Polynomial => "polynomial",
+            GlyphShape::Ellipsoid => "ellipsoid",
         }
     }
 }

@@ -1,12 +1,12 @@
-//! Glyph sets grouped into draws. Every glyph set that shares a pipeline (tensor layout)
-//! and a negative mode is drawn by the same instanced draw from the same buffers, so a
+//! Glyph sets grouped into draws. Every glyph set that shares a pipeline (tensor layout
+//! and shape) and a negative mode is drawn by the same instanced draw from the same buffers, so a
 //! scene of ten thousand one-glyph sets costs one draw, not ten thousand; a group larger
 //! than one storage buffer is cut into several batches. The ray-casting pass and the
 //! compute path both upload batches.
 use std::borrow::Cow;
 use std::ops::Range;
 
-use crate::glyph::{NegativeMode, TensorLayout};
+use crate::glyph::{GlyphShape, NegativeMode, TensorLayout};
 use crate::render::glyph_data::GlyphSetData;
 use crate::{Error, Result};
 
@@ -17,6 +17,8 @@ pub struct Batch<'a> {
     pub layout: TensorLayout,
     /// The negative mode every glyph of the batch shares.
     pub negative: NegativeMode,
+    /// The shape every glyph of the batch shares: ellipsoids have their own shader.
+    pub shape: GlyphShape,
     /// The glyph ranges of the sets this batch draws, in order.
     pieces: Vec<(&'a GlyphSetData, Range<usize>)>,
     len: usize,
@@ -75,7 +77,7 @@ impl<'a> Batch<'a> {
     }
 }
 
-/// Groups the glyphs of `sets` into batches: one per layout and negative mode (in the
+/// Groups the glyphs of `sets` into batches: one per layout, shape and negative mode (in the
 /// order the sets first use them), cut so that no batch holds more than
 /// `limit / glyph_bytes(layout)` glyphs. A glyph larger than `limit` is an error naming
 /// its set.
@@ -86,11 +88,8 @@ pub fn batches<'a>(
 ) -> Result<Vec<Batch<'a>>> {
     let mut groups: Vec<Vec<(usize, &'a GlyphSetData)>> = Vec::new();
     for (index, data) in sets.iter().enumerate().filter(|(_, d)| !d.is_empty()) {
-        let key = (data.layout, data.negative);
-        match groups
-            .iter_mut()
-            .find(|group| (group[0].1.layout, group[0].1.negative) == key)
-        {
+        let key = |d: &GlyphSetData| (d.layout, d.shape, d.negative);
+        match groups.iter_mut().find(|group| key(group[0].1) == key(data)) {
             Some(group) => group.push((index, data)),
             None => groups.push(vec![(index, data)]),
         }
@@ -109,6 +108,7 @@ pub fn batches<'a>(
         let empty = Batch {
             layout: first.layout,
             negative: first.negative,
+            shape: first.shape,
             pieces: Vec::new(),
             len: 0,
         };
@@ -146,6 +146,7 @@ mod tests {
         GlyphSetData {
             layout,
             negative,
+            shape: GlyphShape::Polynomial,
             instances: (0..glyphs)
                 .map(|i| [first + i as f32, 0.0, 0.0, 1.0])
                 .collect(),
@@ -164,18 +165,24 @@ mod tests {
             set(4, NegativeMode::Abs, 3, 10.0),
             set(4, NegativeMode::Hide, 1, 20.0),
             set(4, NegativeMode::Abs, 0, 30.0),
+            GlyphSetData {
+                shape: GlyphShape::Ellipsoid,
+                ..set(2, NegativeMode::Abs, 2, 40.0)
+            },
         ];
         let batches = batches(&sets, u64::MAX, |_| 4).unwrap();
         let shape: Vec<_> = batches
             .iter()
-            .map(|b| (b.layout.order, b.negative, b.len()))
+            .map(|b| (b.layout.order, b.shape, b.negative, b.len()))
             .collect();
+        let polynomial = GlyphShape::Polynomial;
         assert_eq!(
             shape,
             [
-                (4, NegativeMode::Abs, 5),
-                (2, NegativeMode::Abs, 1),
-                (4, NegativeMode::Hide, 1)
+                (4, polynomial, NegativeMode::Abs, 5),
+                (2, polynomial, NegativeMode::Abs, 1),
+                (4, polynomial, NegativeMode::Hide, 1),
+                (2, GlyphShape::Ellipsoid, NegativeMode::Abs, 2),
             ]
         );
         let x: Vec<f32> = batches[0]

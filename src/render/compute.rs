@@ -15,7 +15,7 @@
 //! descriptor indexing, so every part has its own descriptor set.
 use crate::camera::Camera;
 use crate::error::{Error, Result};
-use crate::glyph::TensorLayout;
+use crate::glyph::{GlyphShape, TensorLayout};
 use crate::render::Method;
 use crate::render::batch::{Batch, batches};
 use crate::render::frame::FrameParams;
@@ -205,6 +205,13 @@ impl ComputeRayCastPass {
             (4 * layout.coefficient_count() as u64).max(32)
         })?;
         for part in &parts {
+            if part.shape == GlyphShape::Ellipsoid {
+                return Err(Error::Invalid(
+                    "--path compute has no ellipsoid shader: draw ellipsoids with \
+                     --path fragment"
+                        .into(),
+                ));
+            }
             self.pipeline(part.layout)?;
         }
         let device_limit = ctx.max_storage_buffer_range();

@@ -41,6 +41,9 @@ pub struct FrameParams {
     /// `--color sign`: the negative lobes' colour (rgb, linear); `uniform_color` holds the
     /// positive lobes'.
     pub negative_color: [f32; 4],
+    /// Blinn-Phong terms ([`crate::render::settings::Lighting`]): x ambient, y specular
+    /// strength, z shininess.
+    pub shading: [f32; 4],
 }
 
 /// Depth range and magnitude range of what is drawn.
@@ -145,6 +148,16 @@ impl SceneExtent {
     }
 }
 
+/// The range `--color magnitude` maps onto its colours (world units): the settings' own,
+/// or 0 to the largest glyph radius of `extent`; `None` for the other colour modes. The
+/// colour bar reads it from here, so that it shows the range the shaders use.
+pub fn magnitude_range(settings: &RenderSettings, extent: &SceneExtent) -> Option<(f32, f32)> {
+    match settings.color {
+        ColorMode::Magnitude { range } => Some(range.unwrap_or((0.0, extent.max_radius as f32))),
+        _ => None,
+    }
+}
+
 impl FrameParams {
     /// The block for `camera` at `width` x `height` pixels, with the depth and magnitude
     /// ranges of `extent` and the march, colour and lighting of `settings`.
@@ -169,9 +182,9 @@ impl FrameParams {
         };
         let (color_mode, range, uniform, negative) = match settings.color {
             ColorMode::Direction => (codes::COLOR_DIRECTION, (0.0, 1.0), [0.0; 3], [0.0; 3]),
-            ColorMode::Magnitude { range } => (
+            ColorMode::Magnitude { .. } => (
                 codes::COLOR_MAGNITUDE,
-                range.unwrap_or((0.0, extent.max_radius as f32)),
+                magnitude_range(settings, extent).unwrap_or((0.0, 1.0)),
                 [0.0; 3],
                 [0.0; 3],
             ),
@@ -180,7 +193,10 @@ impl FrameParams {
                 (codes::COLOR_SIGN, (0.0, 1.0), positive, negative)
             }
         };
-        let light = (-f.fwd + 0.5 * f.up + 0.35 * f.right).normalize();
+        // The light is given in view coordinates (x right, y up, z towards the viewer).
+        let lighting = &settings.lighting;
+        let [lx, ly, lz] = lighting.unit_direction().map(f64::from);
+        let light = (lx * f.right + ly * f.up - lz * f.fwd).normalize();
         FrameParams {
             view_proj: camera
                 .view_projection_f32(width, height, extent.near, extent.far)
@@ -216,6 +232,7 @@ impl FrameParams {
                 0.0,
             ],
             negative_color: [negative[0], negative[1], negative[2], 1.0],
+            shading: [lighting.ambient, lighting.specular, lighting.shininess, 0.0],
         }
     }
 }

@@ -6,11 +6,12 @@
 //! one 32-byte box (rotation, half extents). The float64 [`WorldGlyph`]s describe the
 //! same surfaces for the reference.
 use crate::glyph::bounds::{climbed_max_radius, sizing_lattice};
+use crate::glyph::ellipsoid::Ellipsoid;
 use crate::glyph::intersect::WorldGlyph;
 use crate::glyph::polynomial::GlyphPolynomial;
 use crate::glyph::proxy::{GlyphBounds, glyph_bounds};
 use crate::glyph::sh::sh_to_tensor;
-use crate::glyph::{NegativeMode, Symmetry, TensorLayout};
+use crate::glyph::{GlyphShape, NegativeMode, Symmetry, TensorLayout};
 use crate::parallel::{Progress, map_chunks_with_progress};
 use crate::scene::{GlyphKind, GlyphSet, Scene};
 use crate::{Error, Result};
@@ -23,6 +24,9 @@ pub struct GlyphSetData {
     pub layout: TensorLayout,
     /// How negative values of f are drawn.
     pub negative: NegativeMode,
+    /// The polynomial glyph, or the ellipsoid, whose `coefficients` are then those of its
+    /// quadric form ([`Ellipsoid::quadric`] in units of B): x^T A x = 1 on the surface.
+    pub shape: GlyphShape,
     /// Per drawn glyph: centre xyz and the world radius of its bounding sphere,
     /// scale * B * (1 + offset) (the half-size of the cube around it).
     pub instances: Vec<[f32; 4]>,
@@ -111,9 +115,15 @@ pub fn prepare_set_with_progress(
     progress: Option<&Progress>,
 ) -> Result<GlyphSetData> {
     let layout = tensor_layout(set);
+    if set.shape == GlyphShape::Ellipsoid && offset != 0.0 {
+        return Err(Error::Invalid(format!(
+            "glyphs[{index}]: ellipsoid glyphs take no --offset (found {offset})"
+        )));
+    }
     let mut data = GlyphSetData {
         layout,
         negative: set.negative,
+        shape: set.shape,
         instances: Vec::with_capacity(set.len()),
         boxes: Vec::with_capacity(set.len()),
         coefficients: Vec::with_capacity(set.len() * layout.coefficient_count()),
@@ -147,6 +157,7 @@ pub fn prepare_set_with_progress(
             center: *center,
             scale: *scale,
             poly,
+            shape: set.shape,
             negative: set.negative,
             offset: offset * bound,
             bound: bound * (1.0 + offset),
@@ -179,7 +190,13 @@ pub fn largest_radius(glyphs: &[WorldGlyph]) -> f64 {
         if upper(glyph) <= largest {
             break;
         }
-        let radius = climbed_max_radius(&glyph.poly, glyph.negative, sizing_lattice(), 3);
+        // An ellipsoid's bound is exact: its longest semi-axis.
+        let radius = match glyph.shape {
+            GlyphShape::Ellipsoid => glyph.bound,
+            GlyphShape::Polynomial => {
+                climbed_max_radius(&glyph.poly, glyph.negative, sizing_lattice(), 3)
+            }
+        };
         largest = largest.max(glyph.scale * (radius + glyph.offset));
     }
     largest
@@ -215,7 +232,8 @@ fn box_instance(bounds: &GlyphBounds, offset: f64) -> [f32; 8] {
 }
 
 /// A glyph's tensor coefficients divided by B in float32 (what the GPU reads),
-/// polynomial and bounds (radius B and box).
+/// polynomial and bounds (radius B and box). For an ellipsoid: the quadric form's
+/// entries in units of B, the quadric form, and its exact bounds.
 struct Bounded {
     gpu_coefficients: Vec<f32>,
     poly: GlyphPolynomial,
@@ -229,6 +247,10 @@ fn bound_glyph(
     index: usize,
     coeffs: &[f64],
 ) -> Result<Option<Bounded>> {
+    if set.shape == GlyphShape::Ellipsoid {
+        return bound_ellipsoid(coeffs)
+            .map_err(|e| Error::Invalid(format!("glyphs[{index}]: {e}")));
+    }
     let coeffs = tensor_coefficients(set, coeffs)
         .map_err(|e| Error::Invalid(format!("glyphs[{index}]: {e}")))?;
     let poly = GlyphPolynomial::from_tensor(layout, &coeffs)?;
@@ -239,4 +261,23 @@ fn bound_glyph(
             poly,
             bounds,
         }))
+}
+
+/// The ellipsoid of an order-2 tensor: `None` for one without (no positive eigenvalue).
+/// The GPU reads the quadric's matrix in units of the bound B, whose eigenvalues
+/// (B / s_i)^2 are at least 1 and at most 1 / [`crate::glyph::ellipsoid::EIGENVALUE_FLOOR`].
+fn bound_ellipsoid(coeffs: &[f64]) -> Result<Option<Bounded>> {
+    let Some(ellipsoid) = Ellipsoid::from_tensor(coeffs) else {
+        return Ok(None);
+    };
+    let bounds = ellipsoid.bounds();
+    let a = ellipsoid.quadric(bounds.radius);
+    let entries = [
+        a.x_axis.x, a.y_axis.x, a.z_axis.x, a.y_axis.y, a.z_axis.y, a.z_axis.z,
+    ];
+    Ok(Some(Bounded {
+        gpu_coefficients: entries.iter().map(|&c| c as f32).collect(),
+        poly: ellipsoid.quadric_polynomial(1.0)?,
+        bounds,
+    }))
 }

@@ -111,7 +111,8 @@ fn frame_params_rust() -> Vec<u32> {
         uniform_color,
         light,
         robust,
-        negative_color
+        negative_color,
+        shading
     )
 }
 

@@ -136,15 +136,16 @@ pub fn draw_edge_labels(
     Ok(())
 }
 
-struct Canvas<'a> {
-    rgba: &'a mut [u8],
-    width: u32,
-    height: u32,
+/// RGBA8 pixels that text is blended onto (the labels here, the colour bar's ticks).
+pub(crate) struct Canvas<'a> {
+    pub(crate) rgba: &'a mut [u8],
+    pub(crate) width: u32,
+    pub(crate) height: u32,
 }
 
 impl Canvas<'_> {
     /// Blends `text` in `colour` with its baseline starting at (x, baseline).
-    fn text(
+    pub(crate) fn text(
         &mut self,
         font: &FontRef,
         size: f32,
@@ -171,7 +172,7 @@ impl Canvas<'_> {
         }
     }
 
-    fn blend(&mut self, x: i64, y: i64, colour: [u8; 3], coverage: f32) {
+    pub(crate) fn blend(&mut self, x: i64, y: i64, colour: [u8; 3], coverage: f32) {
         if x < 0 || y < 0 || x >= i64::from(self.width) || y >= i64::from(self.height) {
             return;
         }

@@ -14,6 +14,7 @@
 //! coefficients. The pass and its scenes keep a [`DeviceContext`], so the device
 //! outlives them.
 use crate::error::{Error, Result};
+use crate::glyph::GlyphShape;
 use crate::glyph::intersect::WorldGlyph;
 use crate::glyph::tessellate::{MeshKind, MeshVertex, SphereMesh, tessellate};
 use crate::render::frame::FrameParams;
@@ -43,6 +44,12 @@ impl GlyphMeshes {
     /// Tessellates every glyph of `sets` on `kind`'s sphere. Sets of any tensor layout
     /// share one draw: the mesh no longer depends on the layout.
     pub fn build(sets: &[GlyphSetData], kind: MeshKind) -> Result<GlyphMeshes> {
+        if sets.iter().any(|s| s.shape == GlyphShape::Ellipsoid) {
+            return Err(Error::Invalid(format!(
+                "--method {kind}: ellipsoid glyphs are ray-cast in closed form, not \
+                 tessellated; leave --method out"
+            )));
+        }
         let sphere = SphereMesh::new(kind)?;
         let glyphs: Vec<WorldGlyph> = sets.iter().flat_map(|s| s.world.iter().cloned()).collect();
         let instances = sets

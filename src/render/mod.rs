@@ -4,6 +4,7 @@
 //! screen tiles of `tiles`.
 pub mod antialias;
 pub mod batch;
+pub mod colorbar;
 pub mod compute;
 // Test harnesses: they run the generated GLSL at given points or segments so that the
 // integration tests can hold it to the float64 code. Public for those tests only.
@@ -24,9 +25,9 @@ pub mod shaders;
 pub mod tiles;
 pub mod underlay;
 
-use crate::catalog::{RAY_CAST_METHODS, RayCastMethod};
+use crate::catalog::{ELLIPSOID_METHOD, RAY_CAST_METHODS, RayCastMethod};
 pub use crate::glyph::tessellate::MeshKind;
-pub use settings::{ColorMode, Refinement, RenderPath, RenderSettings};
+pub use settings::{ColorMode, Lighting, Refinement, RenderPath, RenderSettings};
 
 /// How glyphs are drawn (`--method`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -40,6 +41,9 @@ pub enum Method {
     /// The first real root of the ray polynomial, isolated by Bernstein subdivision
     /// (glsl/raycast_exact.frag); offset 0 only.
     Exact,
+    /// The closed-form intersection of the DTI ellipsoid (glsl/raycast_ellipsoid.frag):
+    /// what ellipsoid glyph sets are drawn with, whatever `--method` says for the others.
+    Ellipsoid,
     /// The bounding sphere of each glyph on the ray caster's boxes: the cost floor of a
     /// box-proxy ray caster, not the glyph.
     Impostor,
@@ -59,6 +63,9 @@ impl Method {
     /// The method's entry in the table of ray-casting methods ([`crate::catalog`]):
     /// name, shaders, what it reads. `None` for the impostor and the meshes.
     pub fn ray_cast_entry(self) -> Option<&'static RayCastMethod> {
+        if self == Method::Ellipsoid {
+            return Some(&ELLIPSOID_METHOD);
+        }
         let index = Method::RAY_CASTING.iter().position(|&m| m == self)?;
         RAY_CAST_METHODS.get(index)
     }
@@ -73,7 +80,11 @@ impl Method {
 impl std::fmt::Display for Method {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Method::Fixed | Method::Interval | Method::Affine | Method::Exact => {
+            Method::Fixed
+            | Method::Interval
+            | Method::Affine
+            | Method::Exact
+            | Method::Ellipsoid => {
                 let entry = self.ray_cast_entry().ok_or(std::fmt::Error)?;
                 f.write_str(entry.name)
             }

@@ -8,7 +8,7 @@
 //! tests, benchmarks and an embedding engine all go through [`RayCastPass::record`].
 //! The pass and the scenes keep a [`DeviceContext`], so the device outlives them.
 use crate::error::{Error, Result};
-use crate::glyph::TensorLayout;
+use crate::glyph::{GlyphShape, TensorLayout};
 use crate::render::Method;
 use crate::render::batch::{Batch, batches};
 use crate::render::frame::FrameParams;
@@ -86,6 +86,8 @@ pub struct GlyphSetGpu {
     pub layout: TensorLayout,
     /// How negative lobes are drawn.
     pub negative: crate::glyph::NegativeMode,
+    /// Whether the batch holds polynomial glyphs or ellipsoids ([`batch_method`]).
+    pub shape: GlyphShape,
     /// Glyphs in the batch (instances drawn).
     pub count: u32,
     instances: Buffer,
@@ -161,7 +163,11 @@ impl RayCastPass {
                     "{method} is drawn by the mesh pass, not the ray-casting pass"
                 )));
             }
-            Method::Fixed | Method::Interval | Method::Affine | Method::Exact => {
+            Method::Fixed
+            | Method::Interval
+            | Method::Affine
+            | Method::Exact
+            | Method::Ellipsoid => {
                 let needed = varying_components(layout);
                 let available = self.ctx.max_varying_components();
                 if needed > available {
@@ -264,7 +270,7 @@ impl RayCastPass {
         let limit = self.storage_buffer_limit(ctx);
         let chunks = batches(sets, limit, |layout| 4 * layout.coefficient_count() as u64)?;
         for chunk in &chunks {
-            self.pipeline(chunk.layout, method)?;
+            self.pipeline(chunk.layout, batch_method(chunk.shape, method))?;
         }
         let pool = DescriptorPool::new(ctx, chunks.len(), 1, 1)?;
         let mut scene = SceneGpu {
@@ -301,7 +307,7 @@ impl RayCastPass {
     ) -> Result<()> {
         let (viewport, scissor) = viewport_and_scissor(extent);
         for set in &scene.sets {
-            let pipeline = self.pipeline(set.layout, method)?;
+            let pipeline = self.pipeline(set.layout, batch_method(set.shape, method))?;
             let hide = set.negative.shader_code();
             // SAFETY: recording state is the caller's; all handles are alive.
             unsafe {
@@ -335,6 +341,17 @@ impl RayCastPass {
             }
         }
         Ok(())
+    }
+}
+
+/// The method a batch of `shape` is drawn with when the scene's is `method`: ellipsoids
+/// always by their closed-form shader (the other methods solve the polynomial glyph),
+/// except under the impostor, which draws every glyph's bounding sphere.
+pub fn batch_method(shape: GlyphShape, method: Method) -> Method {
+    match (shape, method) {
+        (GlyphShape::Ellipsoid, Method::Impostor) => Method::Impostor,
+        (GlyphShape::Ellipsoid, _) => Method::Ellipsoid,
+        (GlyphShape::Polynomial, method) => method,
     }
 }
 
@@ -443,6 +460,7 @@ fn upload_chunk(
     Ok(GlyphSetGpu {
         layout: batch.layout,
         negative: batch.negative,
+        shape: batch.shape,
         count: batch.len() as u32,
         instances,
         boxes,

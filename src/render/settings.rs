@@ -188,6 +188,94 @@ pub struct RenderSettings {
     /// Samples per pixel (`--samples`): 1, or 4 or 16 by supersampling
     /// ([`crate::render::antialias`]).
     pub samples: u32,
+    /// The light and the Blinn-Phong terms every pass shades with.
+    pub lighting: Lighting,
+}
+
+/// Blinn-Phong lighting (`--light`, `--ambient`, `--specular`, `--shininess`): a surface
+/// point of base colour c, unit normal n (turned towards the viewer) and view direction v
+/// is shaded
+///
+/// ```text
+///   c (ambient + (1 - ambient) max(n . l, 0)) + specular max(n . h, 0)^shininess,
+///   h = normalize(l + v),
+/// ```
+///
+/// with l the unit direction towards the light. The light is fixed to the camera: l is
+/// given in view coordinates (x to the right of the image, y up, z towards the viewer),
+/// so every view of a montage and every orbit of the viewer is lit alike.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lighting {
+    /// Direction towards the light in view coordinates (any length > 0).
+    pub direction: [f32; 3],
+    /// The share of the base colour that is lit whatever the normal, 0 to 1.
+    pub ambient: f32,
+    /// Strength of the white highlight, 0 to 1.
+    pub specular: f32,
+    /// Blinn-Phong exponent of the highlight, 1 to 1024.
+    pub shininess: f32,
+}
+
+impl Default for Lighting {
+    /// Above, right and in front of the viewer; a dim ambient and a small highlight.
+    fn default() -> Self {
+        Lighting {
+            direction: [0.35, 0.5, 1.0],
+            ambient: 0.18,
+            specular: 0.25,
+            shininess: 48.0,
+        }
+    }
+}
+
+/// The range of `--shininess`.
+pub const SHININESS_RANGE: (f32, f32) = (1.0, 1024.0);
+
+impl Lighting {
+    /// The unit direction towards the light in view coordinates.
+    pub fn unit_direction(&self) -> [f32; 3] {
+        let [x, y, z] = self.direction;
+        let length = (x * x + y * y + z * z).sqrt();
+        [x / length, y / length, z / length]
+    }
+
+    /// Checks the ranges: a finite non-zero direction, ambient and specular in 0 to 1,
+    /// shininess in [`SHININESS_RANGE`].
+    pub fn validate(&self) -> Result<()> {
+        let [x, y, z] = self.direction;
+        let length = (x * x + y * y + z * z).sqrt();
+        if !(length.is_finite() && length > 1e-6) {
+            return Err(Error::Invalid(format!(
+                "--light {x},{y},{z}: needs a finite direction of non-zero length"
+            )));
+        }
+        for (name, value) in [("--ambient", self.ambient), ("--specular", self.specular)] {
+            if !(0.0..=1.0).contains(&value) {
+                return Err(Error::Invalid(format!("{name} {value}: must be in 0 to 1")));
+            }
+        }
+        let (lo, hi) = SHININESS_RANGE;
+        if !(lo..=hi).contains(&self.shininess) {
+            return Err(Error::Invalid(format!(
+                "--shininess {}: must be in {lo} to {hi}",
+                self.shininess
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// `--light X,Y,Z`: three numbers, the direction towards the light in view coordinates.
+pub fn parse_light(text: &str) -> Result<[f32; 3]> {
+    let parts: Vec<Option<f32>> = text.split(',').map(|v| v.trim().parse().ok()).collect();
+    match parts[..] {
+        [Some(x), Some(y), Some(z)] => Ok([x, y, z]),
+        _ => Err(Error::Invalid(format!(
+            "--light: '{}' is not X,Y,Z (the direction towards the light: x right, y up, \
+             z towards the viewer)",
+            quoted(text)
+        ))),
+    }
 }
 
 impl Default for RenderSettings {
@@ -208,6 +296,7 @@ impl Default for RenderSettings {
             background: DARK_BACKGROUND,
             precision_px: 0.25,
             samples: 1,
+            lighting: Lighting::default(),
         }
     }
 }
@@ -307,6 +396,7 @@ impl RenderSettings {
                 )))
             }
         };
+        self.lighting.validate()?;
         reliable("--step", self.step, STEP_RANGE)?;
         positive("centre step factor", self.centre_step_factor, 1.0)?;
         reliable("--precision", self.precision_px, PRECISION_RANGE)?;

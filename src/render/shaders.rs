@@ -100,9 +100,14 @@ pub fn range_shader(layout: TensorLayout) -> Option<&'static RangeShader> {
     RANGE_SHADERS.iter().find(|s| s.layout == layout)
 }
 
-/// The intersection methods that have a shader for every layout in `layouts`, sorted.
+/// The intersection methods (`--method`) that have a shader for every layout in
+/// `layouts`, sorted; the ellipsoid's shader is not one.
 pub fn methods_for(layouts: &[TensorLayout]) -> Vec<Method> {
-    let mut methods: Vec<Method> = RAYCAST_SHADERS.iter().map(|s| s.method).collect();
+    let mut methods: Vec<Method> = RAYCAST_SHADERS
+        .iter()
+        .map(|s| s.method)
+        .filter(|m| Method::RAY_CASTING.contains(m))
+        .collect();
     methods.sort();
     methods.dedup();
     methods.retain(|m| layouts.iter().all(|l| raycast_shader(*l, *m).is_some()));

@@ -6,13 +6,23 @@
 //! glyphs are measured through their exact tensor form.
 use crate::Result;
 use crate::glyph::bounds::{climbed_max_radius, sizing_lattice};
+use crate::glyph::ellipsoid::Ellipsoid;
 use crate::glyph::polynomial::GlyphPolynomial;
 use crate::glyph::sh;
-use crate::glyph::{NegativeMode, Symmetry, TensorLayout};
+use crate::glyph::{GlyphShape, NegativeMode, Symmetry, TensorLayout};
 use crate::scene::GlyphKind;
 
 /// How many of the best lattice points are climbed.
 const CLIMBS: usize = 3;
+
+/// The size of a glyph drawn as `shape`: [`max_radius`] for the polynomial glyph, the
+/// longest semi-axis for the ellipsoid (0 for a tensor without one).
+pub fn shape_radius(kind: GlyphKind, shape: GlyphShape, coeffs: &[f64]) -> Result<f64> {
+    match shape {
+        GlyphShape::Polynomial => max_radius(kind, coeffs),
+        GlyphShape::Ellipsoid => Ok(Ellipsoid::from_tensor(coeffs).map_or(0.0, |e| e.radius())),
+    }
+}
 
 /// Max of |f(u)| over the unit sphere (climbed from the lattice), for a glyph of `kind`
 /// with coefficients `coeffs`.

@@ -12,12 +12,13 @@ use std::str::FromStr;
 
 use glam::DVec3;
 
-use super::amplitude::max_radius;
+use super::amplitude::shape_radius;
 use super::framing::{ImageRequest, Orientation, ViewProjection, frame_region, frame_volume};
 use super::input::{CoefficientFrame, Mask, Volume, show_shape};
 use super::reorient::Reorientation;
 use super::selection::{Slice, SliceRegion, Slices, VoxelRanges};
-use crate::glyph::NegativeMode;
+use crate::glyph::ellipsoid::ELLIPSOID_LAYOUT;
+use crate::glyph::{GlyphShape, NegativeMode};
 use crate::scene::{GlyphKind, GlyphSet, Scene};
 use crate::{Error, Result};
 
@@ -50,6 +51,9 @@ pub struct VolumeOptions {
     /// World radius of the largest glyph (default: 0.45 * the smallest voxel size).
     pub scale: Option<f64>,
     pub norm: Normalisation,
+    /// The polynomial glyph, or the DTI ellipsoid (order-2 tensor volumes only); the
+    /// ellipsoid's size is its longest semi-axis, sqrt(lambda_1).
+    pub shape: GlyphShape,
     /// Glyphs with max radius below this (data units) are left out.
     pub min_amplitude: f64,
     /// SH only: drop bands above this one.
@@ -153,7 +157,7 @@ pub fn volume_scene_with_progress(
             candidates.push((voxel, coeffs));
         }
         let radii = map_chunks_with_progress(&candidates, "sizing", progress, |(_, coeffs)| {
-            max_radius(kind, coeffs)
+            shape_radius(kind, options.shape, coeffs)
         })?;
         let mut drawn = Vec::new();
         for ((voxel, coeffs), radius) in candidates.into_iter().zip(radii) {
@@ -206,7 +210,7 @@ pub fn volume_scene_with_progress(
     let glyph_sets = glyphs
         .into_iter()
         .filter(|g| !g.is_empty())
-        .map(|g| glyph_set(kind, g, scale, largest, options.norm))
+        .map(|g| glyph_set(kind, g, scale, largest, options))
         .collect();
     Ok(VolumeScene {
         scene: Scene {
@@ -242,6 +246,13 @@ fn check_options(volume: &Volume, options: &VolumeOptions) -> Result<()> {
     {
         return Err(Error::Invalid(format!(
             "--scale {scale}: must be a positive number"
+        )));
+    }
+    if options.shape == GlyphShape::Ellipsoid && volume.kind != GlyphKind::Tensor(ELLIPSOID_LAYOUT)
+    {
+        return Err(Error::Invalid(format!(
+            "--glyph ellipsoid draws order-2 symmetric tensors (DTI), and {} holds a {}",
+            volume.file, volume.kind
         )));
     }
     if !(options.min_amplitude.is_finite() && options.min_amplitude >= 0.0) {
@@ -325,11 +336,11 @@ fn glyph_set(
     glyphs: Vec<Glyph>,
     scale: f64,
     largest: f64,
-    norm: Normalisation,
+    options: &VolumeOptions,
 ) -> GlyphSet {
     let scales = glyphs
         .iter()
-        .map(|g| match norm {
+        .map(|g| match options.norm {
             Normalisation::Global => scale / largest,
             Normalisation::PerGlyph => scale / g.radius,
             Normalisation::None => scale,
@@ -339,6 +350,7 @@ fn glyph_set(
     GlyphSet {
         kind,
         negative: NegativeMode::Abs,
+        shape: options.shape,
         centers,
         scales,
         coeffs,

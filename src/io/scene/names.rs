@@ -1,6 +1,6 @@
 //! The format's names for its enumerated values: one table, read by `read` and written
 //! by `write`, so the two cannot drift apart.
-use crate::glyph::NegativeMode;
+use crate::glyph::{GlyphShape, NegativeMode};
 
 use super::ShBasis;
 
@@ -24,6 +24,13 @@ impl Named for NegativeMode {
             NegativeMode::Abs => "abs",
             NegativeMode::Hide => "hide",
         }
+    }
+}
+
+impl Named for GlyphShape {
+    const ALL: &'static [Self] = &[GlyphShape::Polynomial, GlyphShape::Ellipsoid];
+    fn name(self) -> &'static str {
+        GlyphShape::name(self)
     }
 }
 

@@ -7,7 +7,8 @@ use super::names::{KindName, ProjectionName};
 use super::{FORMAT_VERSION, GlyphKind, GlyphSet, ImageSize, Scene, ShBasis};
 use crate::Result;
 use crate::camera::{Camera, Projection};
-use crate::glyph::{Symmetry, TensorLayout};
+use crate::glyph::ellipsoid::ELLIPSOID_LAYOUT;
+use crate::glyph::{GlyphShape, NegativeMode, Symmetry, TensorLayout};
 
 use crate::catalog::{MAX_NONSYMMETRIC_ORDER, MAX_SH_BAND, MAX_SYMMETRIC_ORDER};
 const MAX_IMAGE_SIDE: u32 = 16384;
@@ -25,6 +26,7 @@ const GLYPH_SET_KEYS: &[&str] = &[
     "basis",
     "legacy",
     "negative",
+    "shape",
     "centers",
     "scale",
     "scales",
@@ -66,6 +68,7 @@ fn read_glyph_set(field: &Field) -> Result<GlyphSet> {
     set.deny_unknown(GLYPH_SET_KEYS)?;
     let kind = read_glyph_kind(&set)?;
     let negative = set.optional("negative", Field::choice)?.unwrap_or_default();
+    let shape = read_shape(&set, kind, negative)?;
     let centers = set
         .require("centers")?
         .items()?
@@ -76,10 +79,32 @@ fn read_glyph_set(field: &Field) -> Result<GlyphSet> {
     Ok(GlyphSet {
         kind,
         negative,
+        shape,
         centers,
         scales,
         coeffs,
     })
+}
+
+/// `shape`: the ellipsoid is defined for order-2 symmetric tensors only, and has no
+/// negative lobes to hide.
+fn read_shape(set: &Object, kind: GlyphKind, negative: NegativeMode) -> Result<GlyphShape> {
+    let Some(field) = set.get("shape") else {
+        return Ok(GlyphShape::default());
+    };
+    let shape: GlyphShape = field.choice()?;
+    if shape == GlyphShape::Ellipsoid {
+        if kind != GlyphKind::Tensor(ELLIPSOID_LAYOUT) {
+            return Err(field.error(format!(
+                "\"ellipsoid\" applies only to symmetric tensors of order 2, not to a {kind}"
+            )));
+        }
+        if negative == NegativeMode::Hide {
+            return Err(field
+                .error("\"ellipsoid\" has no negative lobes to hide: use \"negative\": \"abs\""));
+        }
+    }
+    Ok(shape)
 }
 
 fn read_glyph_kind(set: &Object) -> Result<GlyphKind> {

@@ -2,7 +2,7 @@ use super::field::Field;
 use super::json::Json;
 use super::*;
 use crate::camera::{Camera, Projection};
-use crate::glyph::{NegativeMode, Symmetry, TensorLayout};
+use crate::glyph::{GlyphShape, NegativeMode, Symmetry, TensorLayout};
 use glam::DVec3;
 use serde_json::{Value, json};
 
@@ -204,6 +204,38 @@ fn only_version_1_is_read() {
     );
     let root = Scene::from_json_str("[1, 2]", FILE);
     assert_input_error(root, "(top level)", "expected an object");
+}
+
+#[test]
+fn the_ellipsoid_shape_is_for_order_2_symmetric_tensors_without_hiding() {
+    let order_2 = |doc: &mut Value| {
+        glyph_set(doc).insert("order".into(), json!(2));
+        glyph_set(doc).insert("coeffs".into(), json!([vec![1.0; 6], vec![2.0; 6]]));
+        glyph_set(doc).insert("shape".into(), json!("ellipsoid"));
+    };
+    let scene = parse(&edited(order_2)).expect("order-2 ellipsoids");
+    assert_eq!(scene.glyph_sets[0].shape, GlyphShape::Ellipsoid);
+    assert_eq!(
+        parse(&valid()).unwrap().glyph_sets[0].shape,
+        GlyphShape::Polynomial
+    );
+    let on_order_4 = edited(|doc| {
+        glyph_set(doc).insert("shape".into(), json!("ellipsoid"));
+    });
+    assert_input_error(parse(&on_order_4), "glyphs[0].shape", "order 2, not to a");
+    let hidden = edited(|doc| {
+        order_2(doc);
+        glyph_set(doc).insert("negative".into(), json!("hide"));
+    });
+    assert_input_error(parse(&hidden), "glyphs[0].shape", "no negative lobes");
+    let unknown = edited(|doc| {
+        glyph_set(doc).insert("shape".into(), json!("peanut"));
+    });
+    assert_input_error(
+        parse(&unknown),
+        "glyphs[0].shape",
+        "\"polynomial\", \"ellipsoid\"",
+    );
 }
 
 #[test]
@@ -462,6 +494,7 @@ fn mixed_scene() -> Scene {
             symmetry: Symmetry::Symmetric,
         }),
         negative: NegativeMode::Hide,
+        shape: GlyphShape::Polynomial,
         centers: vec![DVec3::new(0.5, -1.25, 3.0), DVec3::new(1e-3, 2e5, -7.75)],
         scales: vec![0.3, 0.3],
         coeffs: vec![vec![1.0, 0.1, -0.2, 2.0, 0.0, 0.5], vec![0.0; 6]],
@@ -472,6 +505,7 @@ fn mixed_scene() -> Scene {
             symmetry: Symmetry::NonSymmetric,
         }),
         negative: NegativeMode::Abs,
+        shape: GlyphShape::Polynomial,
         centers: vec![DVec3::ZERO],
         scales: vec![1.5],
         coeffs: vec![(0..81).map(|i| f64::from(i) * 0.125 - 3.0).collect()],
@@ -483,6 +517,7 @@ fn mixed_scene() -> Scene {
             legacy: true,
         },
         negative: NegativeMode::Abs,
+        shape: GlyphShape::Polynomial,
         centers: vec![DVec3::X, DVec3::Y, DVec3::Z],
         scales: vec![0.25, 0.5, 0.75],
         coeffs: vec![vec![0.28, 0.01, -0.02, 0.03, 0.04, 0.05]; 3],
@@ -493,8 +528,13 @@ fn mixed_scene() -> Scene {
         coeffs: vec![],
         ..sh.clone()
     };
+    let ellipsoids = GlyphSet {
+        negative: NegativeMode::Abs,
+        shape: GlyphShape::Ellipsoid,
+        ..symmetric.clone()
+    };
     Scene {
-        glyph_sets: vec![symmetric, stiffness, sh, empty],
+        glyph_sets: vec![symmetric, stiffness, sh, empty, ellipsoids],
         camera: Camera {
             projection: Projection::Orthographic { height: 4.5 },
             eye: DVec3::new(0.0, -6.0, 2.0),

@@ -6,7 +6,7 @@ use super::json::Json;
 use super::names::{KindName, Named, ProjectionName};
 use super::{FORMAT_VERSION, GlyphKind, GlyphSet, Scene};
 use crate::camera::{Camera, Projection};
-use crate::glyph::Symmetry;
+use crate::glyph::{GlyphShape, Symmetry};
 
 /// The text of [`Scene::to_json`].
 pub(super) fn to_json(scene: &Scene) -> String {
@@ -52,6 +52,9 @@ fn scene_json(scene: &Scene) -> Json {
 fn glyph_set_json(set: &GlyphSet) -> Json {
     let mut entries = kind_entries(set.kind);
     entries.push(("negative", name(set.negative)));
+    if set.shape != GlyphShape::default() {
+        entries.push(("shape", name(set.shape)));
+    }
     let centers = set.centers.iter().map(|c| floats(&c.to_array())).collect();
     entries.push(("centers", Json::Array(centers)));
     match set.scales.split_first() {

@@ -1,0 +1,291 @@
+//! The colour bar of `--color magnitude` (`--colorbar`): the colour map from the low to
+//! the high end of the magnitude range, with tick values and a label, drawn in a strip
+//! of its own appended to the right of the rendered image. The strip is reserved, so the
+//! bar never covers a glyph: the glyph pixels are those of the render without it, and the
+//! depth map is NaN (no glyph) across the strip, so that it keeps the image's size.
+//!
+//! The bar's colours are the shaders' (glsl/shading.glsl `viridis`): the same polynomial
+//! fit, the same power 2.2 to linear RGB, then the sRGB encoding the colour target
+//! applies, so the bar's top row is the map's top colour and its bottom row its bottom.
+use ab_glyph::{Font, FontRef, PxScale, ScaleFont};
+
+use crate::render::labels::{Canvas, dejavu_sans};
+use crate::{Error, Result};
+
+/// What a colour bar shows: the values at its bottom (map position 0) and top (1), and
+/// a label naming the quantity and its unit.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ColorBar {
+    /// The value at the bottom of the bar (the map's low end).
+    pub low: f64,
+    /// The value at the top of the bar (the map's high end).
+    pub high: f64,
+    /// Written above the bar.
+    pub label: String,
+}
+
+/// Tick values written beside the bar, ends included.
+pub const TICKS: usize = 5;
+
+/// Text height as a fraction of the image height, and the least in pixels.
+const TEXT_FRACTION: f32 = 0.045;
+const MIN_TEXT_PX: f32 = 11.0;
+
+/// The viridis fit of glsl/shading.glsl at t (clamped to 0..1), in linear RGB, computed
+/// in float32 as the shader does.
+pub fn viridis_linear(t: f32) -> [f32; 3] {
+    const C: [[f32; 3]; 7] = [
+        [0.277_727_33, 0.005_407_344_5, 0.334_099_8],
+        [0.105_093_04, 1.404_613_5, 1.384_590_2],
+        [-0.330_861_83, 0.214_847_56, 0.095_095_165],
+        [-4.634_230_5, -5.799_101, -19.332_441],
+        [6.228_27, 14.179_933, 56.690_55],
+        [4.776_385, -13.745_145, -65.353_035],
+        [-5.435_456, 4.645_852_6, 26.312_435],
+    ];
+    let t = t.clamp(0.0, 1.0);
+    let mut out = [0.0f32; 3];
+    for (channel, value) in out.iter_mut().enumerate() {
+        let srgb = C.iter().rev().fold(0.0f32, |acc, c| acc * t + c[channel]);
+        *value = srgb.clamp(0.0, 1.0).powf(2.2);
+    }
+    out
+}
+
+/// The 8-bit sRGB encoding of a linear value, as an sRGB colour target stores it.
+pub fn srgb_byte(linear: f32) -> u8 {
+    let c = f64::from(linear.clamp(0.0, 1.0));
+    let encoded = if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
+    (encoded * 255.0).round() as u8
+}
+
+/// The map's colour at t as the PNG stores it.
+pub fn viridis_srgb8(t: f32) -> [u8; 3] {
+    viridis_linear(t).map(srgb_byte)
+}
+
+/// `value` with about three significant digits, fixed-point where that stays short.
+pub fn tick_text(value: f64, largest: f64) -> String {
+    if value == 0.0 {
+        return "0".into();
+    }
+    let magnitude = largest.abs().max(value.abs());
+    if (1e-3..1e5).contains(&magnitude) {
+        let decimals = (2 - magnitude.log10().floor() as i32).clamp(0, 6) as usize;
+        format!("{value:.decimals$}")
+    } else {
+        format!("{value:.2e}")
+    }
+}
+
+/// Positions of the strip's parts, in pixels from the strip's top-left.
+struct Layout {
+    size: f32,
+    margin: f32,
+    bar_left: u32,
+    bar_width: u32,
+    bar_top: u32,
+    bar_bottom: u32,
+    width: u32,
+}
+
+impl ColorBar {
+    fn check(&self) -> Result<()> {
+        if !(self.low.is_finite() && self.high.is_finite() && self.high > self.low) {
+            return Err(Error::Invalid(format!(
+                "--colorbar: the range {}:{} needs finite ends, low < high",
+                self.low, self.high
+            )));
+        }
+        Ok(())
+    }
+
+    /// The tick values, low to high.
+    pub fn ticks(&self) -> Vec<f64> {
+        (0..TICKS)
+            .map(|k| self.low + (self.high - self.low) * k as f64 / (TICKS - 1) as f64)
+            .collect()
+    }
+
+    fn layout(&self, font: &FontRef, height: u32) -> Layout {
+        let size = (TEXT_FRACTION * height as f32).max(MIN_TEXT_PX);
+        let scaled = font.as_scaled(PxScale::from(size));
+        let text_width = |text: &str| -> f32 {
+            text.chars()
+                .map(|c| scaled.h_advance(font.glyph_id(c)))
+                .sum()
+        };
+        let margin = (0.6 * size).round();
+        let bar_width = (1.2 * size).round().max(8.0) as u32;
+        let largest = self.low.abs().max(self.high.abs());
+        let ticks = self
+            .ticks()
+            .iter()
+            .map(|&v| text_width(&tick_text(v, largest)))
+            .fold(0.0f32, f32::max);
+        let beside = margin + bar_width as f32 + 0.5 * margin + ticks + margin;
+        let width = beside.max(text_width(&self.label) + 2.0 * margin).ceil() as u32;
+        let bar_top = (margin + size * 1.6).round() as u32;
+        let bar_bottom = (height as f32 - margin - 0.5 * size)
+            .round()
+            .max(bar_top as f32 + 2.0);
+        Layout {
+            size,
+            margin,
+            bar_left: margin as u32,
+            bar_width,
+            bar_top,
+            bar_bottom: bar_bottom as u32,
+            width,
+        }
+    }
+
+    /// Width in pixels of the strip this bar takes beside an image of `height` rows.
+    pub fn strip_width(&self, height: u32) -> Result<u32> {
+        let font = font()?;
+        Ok(self.layout(&font, height).width)
+    }
+
+    /// The bar's rows from top (map position 1) to bottom (0), and its columns, in the
+    /// strip's coordinates: what tests read back.
+    pub fn bar_geometry(
+        &self,
+        height: u32,
+    ) -> Result<(std::ops::Range<u32>, std::ops::Range<u32>)> {
+        let font = font()?;
+        let l = self.layout(&font, height);
+        Ok((
+            l.bar_top..l.bar_bottom + 1,
+            l.bar_left..l.bar_left + l.bar_width,
+        ))
+    }
+
+    /// The image `rgba` (`width` x `height`) and its depth map with the bar's strip
+    /// appended on the right: the strip is `background` (linear RGB and alpha, as the
+    /// renderer cleared the image) with the bar, ticks and label; the depth map is NaN
+    /// there. Returns the new width, pixels and depth map.
+    pub fn append(
+        &self,
+        rgba: &[u8],
+        distance: &[f32],
+        width: u32,
+        height: u32,
+        background: [f32; 4],
+    ) -> Result<(u32, Vec<u8>, Vec<f32>)> {
+        self.check()?;
+        let pixels = width as usize * height as usize;
+        if rgba.len() != 4 * pixels || distance.len() != pixels {
+            return Err(Error::Invalid(format!(
+                "colour bar: {} bytes and {} depths for a {width}x{height} image",
+                rgba.len(),
+                distance.len()
+            )));
+        }
+        let font = font()?;
+        let l = self.layout(&font, height);
+        let total = width + l.width;
+        let [r, g, b, a] = background;
+        let clear = [
+            srgb_byte(r),
+            srgb_byte(g),
+            srgb_byte(b),
+            (a.clamp(0.0, 1.0) * 255.0).round() as u8,
+        ];
+        let mut out = Vec::with_capacity(4 * total as usize * height as usize);
+        let mut depth = Vec::with_capacity(total as usize * height as usize);
+        for row in 0..height as usize {
+            let start = row * width as usize;
+            out.extend_from_slice(&rgba[4 * start..4 * (start + width as usize)]);
+            depth.extend_from_slice(&distance[start..start + width as usize]);
+            for _ in 0..l.width {
+                out.extend_from_slice(&clear);
+                depth.push(f32::NAN);
+            }
+        }
+        let mut canvas = Canvas {
+            rgba: &mut out,
+            width: total,
+            height,
+        };
+        // The bar: row y holds map position (bottom - y) / (bottom - top).
+        let span = (l.bar_bottom - l.bar_top) as f32;
+        for y in l.bar_top..=l.bar_bottom {
+            let [cr, cg, cb] = viridis_srgb8((l.bar_bottom - y) as f32 / span);
+            for x in width + l.bar_left..width + l.bar_left + l.bar_width {
+                let at = 4 * (y as usize * total as usize + x as usize);
+                canvas.rgba[at..at + 4].copy_from_slice(&[cr, cg, cb, 255]);
+            }
+        }
+        // Dark text on a light background, light text on a dark or clear one.
+        let luminance = 0.2126 * r + 0.7152 * g + 0.0722 * b;
+        let ink = if a > 0.5 && luminance > 0.25 {
+            [0, 0, 0]
+        } else {
+            [255, 255, 255]
+        };
+        let scaled = font.as_scaled(PxScale::from(l.size));
+        let cap = 0.73 * scaled.ascent();
+        let x0 = (width + l.bar_left) as f32;
+        canvas.text(&font, l.size, &self.label, x0, l.margin + cap, ink);
+        let largest = self.low.abs().max(self.high.abs());
+        let text_x = x0 + l.bar_width as f32 + 0.5 * l.margin;
+        for (k, value) in self.ticks().iter().enumerate() {
+            let y = l.bar_bottom as f32 - span * k as f32 / (TICKS - 1) as f32;
+            let text = tick_text(*value, largest);
+            canvas.text(&font, l.size, &text, text_x, y + 0.5 * cap, ink);
+        }
+        Ok((total, out, depth))
+    }
+}
+
+fn font() -> Result<FontRef<'static>> {
+    FontRef::try_from_slice(dejavu_sans()?)
+        .map_err(|err| Error::Setup(format!("DejaVu Sans: {err}")))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ticks_are_short_and_span_the_range() {
+        assert_eq!(tick_text(0.0, 1.0), "0");
+        assert_eq!(tick_text(0.45, 0.9), "0.450");
+        assert_eq!(tick_text(12.5, 50.0), "12.5");
+        assert_eq!(tick_text(0.0017, 0.0017), "0.00170");
+        assert_eq!(tick_text(2.5e-5, 5e-5), "2.50e-5");
+        let bar = ColorBar {
+            low: -1.0,
+            high: 3.0,
+            label: "x".into(),
+        };
+        assert_eq!(bar.ticks(), [-1.0, 0.0, 1.0, 2.0, 3.0]);
+    }
+
+    #[test]
+    fn the_map_ends_are_the_shaders_polynomial_ends() {
+        // t = 0 is c0 and t = 1 the sum of the coefficients, each to the power 2.2.
+        let low = viridis_linear(0.0);
+        assert!((low[0] - 0.277_727_33f32.powf(2.2)).abs() < 1e-6);
+        assert_eq!(viridis_linear(-3.0), low);
+        assert_eq!(viridis_linear(7.0), viridis_linear(1.0));
+        // Viridis runs from a dark purple to a bright yellow.
+        let (bottom, top) = (viridis_srgb8(0.0), viridis_srgb8(1.0));
+        assert!(bottom[2] > bottom[1] && top[0] > 200 && top[1] > 200 && top[2] < 80);
+    }
+
+    #[test]
+    fn a_bad_range_is_refused() {
+        let bar = ColorBar {
+            low: 1.0,
+            high: 1.0,
+            label: String::new(),
+        };
+        let err = bar.append(&[0; 4], &[0.0], 1, 1, [0.0; 4]);
+        assert!(matches!(err, Err(Error::Invalid(m)) if m.contains("low < high")));
+    }
+}

@@ -1,0 +1,243 @@
+//! Montages (`--views`, `--lightbox`, issue 13): every panel of the montage is pixel for
+//! pixel, in colour and depth, the single-view render of the same view at the panel's
+//! size; the grid's geometry; the errors for bad lists.
+mod common;
+use common::{fresh_dir, glyphcast};
+use glyphcast::io::npy::read_npy_f32;
+use glyphcast::io::png::read_png_rgba8;
+use std::path::{Path, PathBuf};
+
+const W: u32 = 72;
+const H: u32 = 56;
+
+fn path_str(p: &Path) -> &str {
+    p.to_str().expect("utf-8 path")
+}
+
+/// `glyphcast fit --order 2` on DIPY's small_64D (10x10x10 voxels).
+fn fit_dti(dir: &Path) -> PathBuf {
+    let out = dir.join("dti.nii.gz");
+    let data = common::dipy_data;
+    let (dwi, bval, bvec) = (
+        data("small_64D.nii"),
+        data("small_64D.bval"),
+        data("small_64D.bvec"),
+    );
+    let run = glyphcast(&[
+        "fit",
+        path_str(&dwi),
+        "--bval",
+        path_str(&bval),
+        "--bvec",
+        path_str(&bvec),
+        "--order",
+        "2",
+        "--quiet",
+        "-o",
+        path_str(&out),
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    out
+}
+
+struct Picture {
+    width: u32,
+    height: u32,
+    rgba: Vec<u8>,
+    depth: Vec<f32>,
+}
+
+/// `glyphcast render --tensor DTI --order 2 --width W --height H` with `extra`.
+fn render(dir: &Path, dti: &Path, name: &str, extra: &[&str]) -> Picture {
+    let (png, npy) = (
+        dir.join(format!("{name}.png")),
+        dir.join(format!("{name}.npy")),
+    );
+    let (w, h) = (W.to_string(), H.to_string());
+    let mut args = vec![
+        "render",
+        "--tensor",
+        path_str(dti),
+        "--order",
+        "2",
+        "--width",
+        &w,
+        "--height",
+        &h,
+        "--labels",
+        "-o",
+        path_str(&png),
+        "--depth-out",
+        path_str(&npy),
+    ];
+    args.extend_from_slice(extra);
+    let run = glyphcast(&args);
+    assert!(
+        run.status.success(),
+        "{extra:?}: {}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let (width, height, rgba) = read_png_rgba8(&png).expect("png");
+    let (shape, depth) = read_npy_f32(&npy).expect("npy");
+    assert_eq!(shape, [height as usize, width as usize]);
+    Picture {
+        width,
+        height,
+        rgba,
+        depth,
+    }
+}
+
+/// Panel (column, row) of a montage against a single view: identical colour and depth
+/// (NaN where the single view has NaN).
+fn assert_panel(montage: &Picture, column: u32, row: u32, single: &Picture, what: &str) {
+    assert_eq!((single.width, single.height), (W, H), "{what}");
+    let mut glyph_pixels = 0;
+    for y in 0..H {
+        for x in 0..W {
+            let m = ((row * H + y) * montage.width + column * W + x) as usize;
+            let s = (y * W + x) as usize;
+            assert_eq!(
+                montage.rgba[4 * m..4 * m + 4],
+                single.rgba[4 * s..4 * s + 4],
+                "{what}: colour at ({x}, {y})"
+            );
+            let (a, b) = (montage.depth[m], single.depth[s]);
+            assert!(
+                a.to_bits() == b.to_bits(),
+                "{what}: depth {a} vs {b} at ({x}, {y})"
+            );
+            glyph_pixels += usize::from(!b.is_nan());
+        }
+    }
+    assert!(glyph_pixels > 100, "{what}: {glyph_pixels} glyph pixels");
+}
+
+#[test]
+fn each_panel_of_views_is_the_single_view_render() {
+    let dir = fresh_dir("montage-views");
+    let dti = fit_dti(&dir);
+    let montage = render(
+        &dir,
+        &dti,
+        "views",
+        &["--views", "sagittal,axial,coronal:3"],
+    );
+    assert_eq!((montage.width, montage.height), (3 * W, H));
+    for (column, slice) in ["sagittal", "axial", "coronal:3"].iter().enumerate() {
+        let single = render(&dir, &dti, slice, &["--slice", slice]);
+        assert_panel(&montage, column as u32, 0, &single, slice);
+    }
+    // The same with ellipsoids: panels are ordinary renders whatever is drawn.
+    let ellipsoids = render(
+        &dir,
+        &dti,
+        "ellipsoids",
+        &["--views", "coronal", "--glyph", "ellipsoid"],
+    );
+    let single = render(
+        &dir,
+        &dti,
+        "ellipsoid",
+        &["--slice", "coronal", "--glyph", "ellipsoid"],
+    );
+    assert_eq!((ellipsoids.width, ellipsoids.height), (W, H));
+    assert_panel(&ellipsoids, 0, 0, &single, "coronal ellipsoids");
+}
+
+#[test]
+fn lightbox_draws_evenly_spaced_slices_in_a_grid() {
+    let dir = fresh_dir("montage-lightbox");
+    let dti = fit_dti(&dir);
+    // 5 slices: 3 columns, 2 rows; the sixth cell is background with NaN depth.
+    let montage = render(
+        &dir,
+        &dti,
+        "lightbox",
+        &["--lightbox", "5", "--slice", "coronal"],
+    );
+    assert_eq!((montage.width, montage.height), (3 * W, 2 * H));
+    // 10 slices along j: floor((2k + 1) 10 / 10) = 1, 3, 5, 7, 9.
+    for (k, index) in [1, 3, 5, 7, 9].iter().enumerate() {
+        let slice = format!("coronal:{index}");
+        let single = render(&dir, &dti, &slice, &["--slice", &slice]);
+        assert_panel(&montage, k as u32 % 3, k as u32 / 3, &single, &slice);
+    }
+    let corner = montage.rgba[4 * ((H + 3) * montage.width + 2 * W + 3) as usize..][..4].to_vec();
+    let background = montage.rgba[..4].to_vec();
+    assert_eq!(corner, background, "the empty cell is background");
+    for y in H..2 * H {
+        for x in 2 * W..3 * W {
+            assert!(montage.depth[(y * montage.width + x) as usize].is_nan());
+        }
+    }
+}
+
+#[test]
+fn bad_montage_requests_are_usage_errors() {
+    let dir = fresh_dir("montage-errors");
+    let dti = fit_dti(&dir);
+    let png = dir.join("out").join("x.png");
+    std::fs::create_dir_all(png.parent().expect("parent")).expect("folder");
+    let scene = dir.join("scene.json");
+    std::fs::write(
+        &scene,
+        glyphcast::accuracy::suite::touching_centre(32).to_json(),
+    )
+    .expect("scene");
+    let tensor = ["--tensor", path_str(&dti), "--order", "2"];
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["--views", "axial,axial"], "listed twice"),
+        (vec!["--views", "axial,top"], "'top' is not axial"),
+        (vec!["--views", ""], "is not axial"),
+        (
+            vec!["--views", "axial", "--lightbox", "4"],
+            "either --views or --lightbox",
+        ),
+        (vec!["--views", "axial", "--slice", "coronal"], "no --slice"),
+        (vec!["--lightbox", "0"], "1 to 64"),
+        (vec!["--lightbox", "11"], "has 10 slices"),
+        (
+            vec!["--views", "axial", "--save-scene", "s.json"],
+            "--save-scene",
+        ),
+    ];
+    for (extra, words) in cases {
+        let mut args = vec!["render", "-o", path_str(&png)];
+        args.extend_from_slice(&tensor);
+        args.extend_from_slice(&extra);
+        let run = glyphcast(&args);
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(2), "{extra:?}: {stderr}");
+        assert!(
+            stderr.contains(words),
+            "{extra:?}: no '{words}' in {stderr}"
+        );
+        assert!(!png.exists());
+    }
+    let run = glyphcast(&[
+        "render",
+        path_str(&scene),
+        "--views",
+        "axial",
+        "-o",
+        path_str(&png),
+    ]);
+    assert_eq!(run.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&run.stderr).contains("volume input"));
+    let run = glyphcast(&[
+        "view",
+        "--tensor",
+        path_str(&dti),
+        "--order",
+        "2",
+        "--views",
+        "axial",
+    ]);
+    assert_eq!(run.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&run.stderr).contains("`render` only"));
+}
