@@ -8,13 +8,10 @@
 //! it must be given, since guessing wrong draws plausible but wrong glyphs
 //! (`glyphcast::volume::resolve_basis`).
 use clap::Args;
-use glyphcast::fit::parse_basis;
-use glyphcast::glyph::{Symmetry, TensorLayout};
-use glyphcast::io::image::{Image, read_image};
-use glyphcast::scene::{Scene, ShBasis};
+use glyphcast::io::image::read_image;
+use glyphcast::scene::Scene;
 use glyphcast::volume::{
-    ImageRequest, ViewProjection, Volume, VolumeKind, VolumeOptions, VolumeScene, load_mask,
-    resolve_basis, volume_scene,
+    ImageRequest, Volume, VolumeOptions, VolumeRequest, VolumeScene, load_mask,
 };
 use glyphcast::{Error, Result};
 use std::path::{Path, PathBuf};
@@ -137,65 +134,51 @@ impl VolumeArgs {
         Ok(self.view(image)?.2.scene)
     }
 
+    /// The flags as the library's volume request (shared with the Python module).
+    pub fn request(&self) -> VolumeRequest {
+        VolumeRequest {
+            basis: self.basis.clone(),
+            force_basis: self.force_basis,
+            frame: self.frame.clone(),
+            legacy: self.legacy,
+            lmax: self.lmax,
+            order: self.order,
+            nonsymmetric: self.nonsymmetric,
+            slice: self.slice.clone(),
+            slices: self.slices.clone(),
+            voxels: self.voxels.clone(),
+            scale: self.scale,
+            norm: self.norm.clone(),
+            min_amplitude: self.min_amplitude,
+            perspective: self.perspective,
+            orientation: self.orientation.clone(),
+        }
+    }
+
     /// The volume, the options its view was made with and the view (reported on stderr):
     /// what the viewer needs to move the slice later.
     pub fn view(&self, image: ImageRequest) -> Result<(Volume, VolumeOptions, VolumeScene)> {
+        let request = self.request();
         let path = self.input().map_err(Error::into_usage)?;
-        let mut options = self.options(image).map_err(Error::into_usage)?;
-        let frame = self
-            .frame
-            .as_deref()
-            .map(|text| {
-                text.parse()
-                    .map_err(|err| Error::Usage(format!("--frame: {err}")))
-            })
-            .transpose()?;
-        let given_basis = self.given_basis()?;
+        let mut options = request.options(image).map_err(Error::into_usage)?;
+        request.frame()?;
+        if self.sh.is_some() {
+            request.given_basis()?;
+        }
         let file = read_image(path)?;
-        let kind = self.kind(&file, given_basis)?;
-        let mut volume = Volume::from_image(file, kind)?;
-        volume.frame = frame.unwrap_or(volume.frame);
-        self.slice_in_voxels(&mut options, &volume)?;
+        let kind = if self.sh.is_some() {
+            request.sh_kind(Some(&file))?
+        } else {
+            request.tensor_kind()?
+        };
+        let volume = Volume::from_image(file, kind)?;
         options.mask = self.mask.as_deref().map(load_mask).transpose()?;
-        let view = volume_scene(&volume, &options)?;
-        report(&view, &volume.file);
-        Ok((volume, options, view))
-    }
-
-    /// Turns the world plane `--slice` names into the voxel axis closest to it, with a
-    /// note when that is not the axis of the same name (a volume not stored axially), and
-    /// an error in the plane's terms when the index is outside that axis.
-    fn slice_in_voxels(&self, options: &mut VolumeOptions, volume: &Volume) -> Result<()> {
-        let named = options.slice;
-        let axis = named
-            .axis
-            .world_plane_in_voxels(volume.voxel_to_world.linear());
-        options.slice.axis = axis;
-        if axis == named.axis || options.slices.is_some() {
-            return Ok(());
+        let view = request.view(volume, options)?;
+        if let Some(note) = &view.note {
+            eprintln!("note: {note}");
         }
-        let voxel = axis.voxel_axis();
-        let (letter, length) = (["i", "j", "k"][voxel], volume.dims[voxel]);
-        if let Some(index) = named.index
-            && index >= length
-        {
-            return Err(Error::input(
-                &volume.file,
-                format!("dim[{}]", voxel + 1),
-                format!(
-                    "--slice {named}: the {} plane is the slice of constant {letter} in this \
-                     volume, which has {length} voxels along {letter} (0..={})",
-                    named.axis.name(),
-                    length.saturating_sub(1)
-                ),
-            ));
-        }
-        eprintln!(
-            "note: {}: the {} plane is the slice of constant {letter} in this volume",
-            volume.file,
-            named.axis.name(),
-        );
-        Ok(())
+        report(&view.scene, &view.volume.file);
+        Ok((view.volume, view.options, view.scene))
     }
 
     /// The volume's file, once the flags are checked to fit --sh or --tensor.
@@ -229,94 +212,11 @@ impl VolumeArgs {
                         return misplaced(flag, "--sh");
                     }
                 }
-                self.tensor_order()?;
+                self.request().tensor_order()?;
                 Ok(path)
             }
             (None, None) => Err(Error::Invalid("give a scene file, --sh or --tensor".into())),
         }
-    }
-
-    /// What the file holds: for --sh the basis from `--basis` and the file's record
-    /// (`resolve_basis`), for --tensor the layout from --order and --nonsymmetric.
-    fn kind(&self, file: &Image, given_basis: Option<(ShBasis, bool)>) -> Result<VolumeKind> {
-        if self.sh.is_some() {
-            let (basis, legacy) = resolve_basis(file, given_basis, self.force_basis)?;
-            return Ok(VolumeKind::Sh { basis, legacy });
-        }
-        let order = self.tensor_order()?;
-        let symmetry = if self.nonsymmetric {
-            Symmetry::NonSymmetric
-        } else {
-            Symmetry::Symmetric
-        };
-        Ok(VolumeKind::Tensor(TensorLayout { order, symmetry }))
-    }
-
-    /// `--order`, which --tensor needs.
-    fn tensor_order(&self) -> Result<u32> {
-        self.order.ok_or_else(|| {
-            Error::Invalid("--tensor needs --order N (the tensor order of the file)".into())
-        })
-    }
-
-    /// `--basis` with `--legacy` (aliases name both; see `fit::parse_basis`), if given.
-    fn given_basis(&self) -> Result<Option<(ShBasis, bool)>> {
-        match self.basis.as_deref() {
-            Some(name) => parse_basis(name, self.legacy).map(Some),
-            None if self.legacy => Err(Error::Usage(
-                "--legacy qualifies --basis: give --basis too".into(),
-            )),
-            None if self.force_basis => Err(Error::Usage(
-                "--force-basis needs --basis (the basis to force)".into(),
-            )),
-            None => Ok(None),
-        }
-    }
-
-    /// Everything but the mask, which is read after the volume.
-    fn options(&self, image: ImageRequest) -> Result<VolumeOptions> {
-        if self.slice.is_some() && self.slices.is_some() {
-            return Err(Error::Invalid(
-                "give either --slice or --slices, not both".into(),
-            ));
-        }
-        Ok(VolumeOptions {
-            slices: self.slices.as_deref().map(str::parse).transpose()?,
-            slice: self
-                .slice
-                .as_deref()
-                .map(str::parse)
-                .transpose()?
-                .unwrap_or_default(),
-            voxels: self
-                .voxels
-                .as_deref()
-                .map(str::parse)
-                .transpose()?
-                .unwrap_or_default(),
-            mask: None,
-            scale: self.scale,
-            norm: self
-                .norm
-                .as_deref()
-                .map(str::parse)
-                .transpose()?
-                .unwrap_or_default(),
-            min_amplitude: self.min_amplitude.unwrap_or(0.0),
-            lmax: self.lmax,
-            projection: if self.perspective {
-                ViewProjection::Perspective
-            } else {
-                ViewProjection::Orthographic
-            },
-            orientation: self
-                .orientation
-                .as_deref()
-                .map(str::parse)
-                .transpose()?
-                .unwrap_or_default(),
-            image,
-        })
     }
 }
 

@@ -12,6 +12,7 @@ pub mod headless;
 mod interface;
 pub mod labels;
 pub mod mesh;
+pub mod options;
 pub mod range_eval;
 pub mod raycast;
 pub mod settings;

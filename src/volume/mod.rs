@@ -20,6 +20,7 @@ mod framing;
 mod input;
 mod recorded;
 mod reorient;
+mod request;
 mod selection;
 
 pub use build::{
@@ -33,4 +34,5 @@ pub use framing::{
 pub use input::{CoefficientFrame, MAX_ORDER, Mask, Volume, VolumeKind, load_mask, load_volume};
 pub use recorded::{RecordedBasis, recorded_basis, resolve_basis};
 pub use reorient::Reorientation;
+pub use request::{VolumeRequest, VolumeView};
 pub use selection::{Slice, SliceAxis, SliceRegion, Slices, VoxelRanges};
