@@ -58,7 +58,7 @@ pub struct VolumeArgs {
     pub nonsymmetric: bool,
     /// Slice to draw: axial, coronal or sagittal, the world's planes (across scanner z, y
     /// or x; the voxel plane closest to it: constant k, j or i for an axial acquisition),
-    /// optionally :INDEX along that voxel axis (default: the middle axial slice).
+    /// optionally :INDEX along that voxel axis or :mid (default: the middle axial slice).
     #[arg(long, value_name = "AXIS[:INDEX]", help_heading = "Volume input")]
     pub slice: Option<String>,
     /// Three orthogonal slices at once instead of --slice: voxel indices I,J,K of the

@@ -138,7 +138,7 @@ impl fmt::Display for Slice {
 impl FromStr for Slice {
     type Err = Error;
 
-    /// `axial`, `coronal` or `sagittal`, optionally followed by `:INDEX`.
+    /// `axial`, `coronal` or `sagittal`, optionally followed by `:INDEX` or `:mid`.
     fn from_str(text: &str) -> Result<Self> {
         let (name, index) = match text.split_once(':') {
             Some((name, index)) => (name, Some(index)),
@@ -154,11 +154,13 @@ impl FromStr for Slice {
                 )));
             }
         };
+        // `:mid` says the default (the middle) explicitly.
         let index = index
+            .filter(|&index| index != "mid")
             .map(|index| {
                 index.parse::<usize>().map_err(|_| {
                     Error::Invalid(format!(
-                        "--slice '{text}': index '{index}' is not a voxel index (0, 1, 2, ...)"
+                        "--slice '{text}': index '{index}' is not a voxel index (0, 1, 2, ...) or mid"
                     ))
                 })
             })
