@@ -20,12 +20,18 @@ if os.environ.get("GLYPHCAST_LAVAPIPE", "1") == "1" and LAVAPIPE.exists():
 
 
 @pytest.fixture(scope="session")
-def cli():
-    """Runs the built `glyphcast` binary (GLYPHCAST_BIN, else target/debug/glyphcast)
-    with the validation layer on; fails the test on a non-zero exit."""
+def cli_binary():
+    """The built `glyphcast` binary: GLYPHCAST_BIN, else target/debug/glyphcast."""
     binary = pathlib.Path(os.environ.get("GLYPHCAST_BIN", ROOT / "target/debug/glyphcast"))
     if not binary.exists():
         pytest.fail(f"{binary} is missing: build it first (cargo build --bin glyphcast)")
+    return binary
+
+
+@pytest.fixture(scope="session")
+def cli(cli_binary):
+    """Runs `glyphcast` with the validation layer on; fails the test on a non-zero exit."""
+    binary = cli_binary
 
     def run(*args):
         done = subprocess.run(

@@ -8,11 +8,12 @@ import numpy as np
 import pytest
 
 import glyphcast
+from conftest import ROOT
 
 
 @pytest.fixture(scope="module")
 def sh():
-    image = nib.load(__import__("conftest").ROOT / "tests/data/dipy/func_coef.nii.gz")
+    image = nib.load(ROOT / "tests/data/dipy/func_coef.nii.gz")
     return image.get_fdata(), image.affine
 
 
@@ -76,9 +77,9 @@ def test_bad_affine(sh):
            coeffs, np.full((4, 4), np.nan), basis="dipy")
 
 
-def test_options_keep_the_cli_messages(sh, tmp_path):
+def test_options_keep_the_cli_messages(sh, cli_binary, tmp_path):
     coeffs, affine = sh
-    root = __import__("conftest").ROOT
+    root = ROOT
     file = root / "tests/data/dipy/func_coef.nii.gz"
     for flag, keyword, value in [
         ("--basis", "basis", "nonsense"),
@@ -91,7 +92,7 @@ def test_options_keep_the_cli_messages(sh, tmp_path):
         options = {"basis": "dipy", keyword: value}
         args = [f"--{k.replace('_', '-')}={v}" for k, v in options.items()]
         done = subprocess.run(
-            [str(root / "target/debug/glyphcast"), "render", "--sh", str(file), *args,
+            [str(cli_binary), "render", "--sh", str(file), *args,
              "-o", str(tmp_path / "x.png")],
             capture_output=True, text=True,
         )

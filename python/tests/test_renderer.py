@@ -17,7 +17,7 @@ from conftest import assert_same_depth
 def rss_bytes():
     with open("/proc/self/statm") as statm:
         pages = int(statm.read().split()[1])
-    return pages * __import__("os").sysconf("SC_PAGE_SIZE")
+    return pages * os.sysconf("SC_PAGE_SIZE")
 
 
 def orbit(scene, angle):
