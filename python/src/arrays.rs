@@ -133,14 +133,20 @@ fn check_layout(what: &str, array: &Bound<'_, PyUntypedArray>) -> PyResult<()> {
     ))
 }
 
-/// The values of a float32 or float64 array as float64.
+/// The values of a float32 or float64 array as float64, in C order: the volume code
+/// reads a voxel's coefficients together, which in Fortran order (nibabel's) lie a whole
+/// volume apart (measured: a 100x100 slice of a 100x100x10 band-8 volume took 1 s more).
 fn floats(what: &str, value: &Bound<'_, PyAny>) -> PyResult<ndarray::ArrayD<f64>> {
     if let Ok(array) = value.cast::<PyArrayDyn<f64>>() {
-        return Ok(array.readonly().as_array().to_owned());
+        let array: PyReadonlyArrayDyn<'_, f64> = array.readonly();
+        return Ok(array.as_array().as_standard_layout().into_owned());
     }
     if let Ok(array) = value.cast::<PyArrayDyn<f32>>() {
         let array: PyReadonlyArrayDyn<'_, f32> = array.readonly();
-        return Ok(array.as_array().mapv(f64::from));
+        let view = array.as_array();
+        let mut values = ndarray::ArrayD::<f64>::zeros(view.raw_dim());
+        values.zip_mut_with(&view, |out, &v| *out = f64::from(v));
+        return Ok(values);
     }
     let dtype = value.getattr("dtype")?.str()?.to_string();
     Err(value_error(
