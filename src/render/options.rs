@@ -173,3 +173,57 @@ fn parse_range(range: &str) -> Result<(f32, f32)> {
         ))
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_the_render_settings_defaults() {
+        let settings = RenderOptions::default().settings().unwrap();
+        let expected = RenderSettings::default();
+        assert_eq!(settings.method, expected.method);
+        assert_eq!(settings.path, expected.path);
+        assert_eq!(settings.color, expected.color);
+        assert_eq!(settings.background, expected.background);
+        assert_eq!(RenderOptions::default().negative().unwrap(), None);
+    }
+
+    #[test]
+    fn options_reach_the_settings() {
+        let options = RenderOptions {
+            offset: 0.2,
+            magnitude_range: Some("0.5:2".into()),
+            negative: Some("hide".into()),
+            ..Default::default()
+        };
+        let settings = options.settings().unwrap();
+        // An offset glyph is no polynomial surface: affine, not exact.
+        assert_eq!(settings.method, Method::Affine);
+        assert_eq!(
+            settings.color,
+            ColorMode::Magnitude {
+                range: Some((0.5, 2.0))
+            }
+        );
+        assert_eq!(options.negative().unwrap(), Some(NegativeMode::Hide));
+    }
+
+    #[test]
+    fn bad_values_name_the_option() {
+        let bad = |options: RenderOptions| options.settings().unwrap_err().to_string();
+        let range = bad(RenderOptions {
+            magnitude_range: Some("1-2".into()),
+            ..Default::default()
+        });
+        assert_eq!(range, "--magnitude-range: '1-2' is not LOW:HIGH");
+        let negative = RenderOptions {
+            negative: Some("show".into()),
+            ..Default::default()
+        };
+        assert_eq!(
+            negative.negative().unwrap_err().to_string(),
+            "--negative: 'show' is not one of abs, hide"
+        );
+    }
+}

@@ -322,7 +322,16 @@ mod tests {
         let s: Slice = "coronal:3".parse().unwrap();
         assert_eq!((s.axis, s.index), (SliceAxis::Coronal, Some(3)));
         assert_eq!("axial".parse::<Slice>().unwrap(), Slice::default());
-        for bad in ["transverse:1", "axial:-1", "axial:x"] {
+        assert_eq!("axial:mid".parse::<Slice>().unwrap(), Slice::default());
+        let s: Slice = "sagittal:mid".parse().unwrap();
+        assert_eq!((s.axis, s.index), (SliceAxis::Sagittal, None));
+        for bad in [
+            "transverse:1",
+            "axial:-1",
+            "axial:x",
+            "axial:middle",
+            "axial:",
+        ] {
             assert!(bad.parse::<Slice>().is_err(), "{bad}");
         }
         let r: VoxelRanges = "1:4,:,5:".parse().unwrap();
