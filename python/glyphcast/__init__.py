@@ -201,15 +201,48 @@ def render_scene(scene, *, width=None, height=None, method=None, **options) -> R
     return renderer.render_scene(scene, width=width, height=height, method=method, **options)
 
 
-def render_sh(coeffs, affine=None, *, basis, **options) -> Rendering:
+def render_sh(
+    coeffs,
+    affine=None,
+    *,
+    basis,
+    legacy=False,
+    slice="axial:mid",
+    mask=None,
+    scale=None,
+    norm="global",
+    width=None,
+    height=None,
+    **options,
+) -> Rendering:
     """Renders a slice of an (X, Y, Z, K) SH volume as ``glyphcast render --sh`` does;
-    see :meth:`Renderer.render_sh` for the options."""
+    see :meth:`Renderer.render_sh`. ``device`` and ``validation`` pick the device."""
     renderer = Renderer(**_split_device(options))
-    return renderer.render_sh(coeffs, affine, basis=basis, **options)
+    return renderer.render_sh(
+        coeffs, affine, basis=basis, legacy=legacy, slice=slice, mask=mask, scale=scale,
+        norm=norm, width=width, height=height, **options,
+    )
 
 
-def render_tensor(coeffs, affine=None, *, order, **options) -> Rendering:
+def render_tensor(
+    coeffs,
+    affine=None,
+    *,
+    order,
+    symmetric=True,
+    slice="axial:mid",
+    mask=None,
+    scale=None,
+    norm="global",
+    width=None,
+    height=None,
+    **options,
+) -> Rendering:
     """Renders a slice of an (X, Y, Z, K) tensor volume as ``glyphcast render --tensor``
-    does; see :meth:`Renderer.render_tensor` for the options."""
+    does; see :meth:`Renderer.render_tensor`. ``device`` and ``validation`` pick the
+    device."""
     renderer = Renderer(**_split_device(options))
-    return renderer.render_tensor(coeffs, affine, order=order, **options)
+    return renderer.render_tensor(
+        coeffs, affine, order=order, symmetric=symmetric, slice=slice, mask=mask,
+        scale=scale, norm=norm, width=width, height=height, **options,
+    )
