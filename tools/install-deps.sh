@@ -8,7 +8,10 @@ pkgs=(mesa-vulkan-drivers libvulkan-dev vulkan-validationlayers
       # virtual X server its tests open their windows on.
       libx11-6 libx11-xcb1 libxcursor1 libxi6 libxrandr2 libxkbcommon-x11-0 xvfb
       # `glyphcast bench --out`: the font of the PNG plots.
-      fonts-dejavu-core)
+      fonts-dejavu-core
+      # The Python module (python/): a virtual environment to build and test it in
+      # (maturin, numpy, pytest and nibabel come from PyPI into it).
+      python3 python3-venv python3-pip)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")

@@ -2,7 +2,9 @@
 # Fresh machine to a passing test suite: installs what is missing, then runs every test
 # on lavapipe with the Vulkan validation layer on (the tests turn it on themselves), and
 # checks that the core builds, passes its tests and stays free of the front ends'
-# dependencies without the default features (what an embedding engine gets).
+# dependencies without the default features (what an embedding engine gets); then builds
+# the Python module into a virtual environment (target/py-venv, reused) and runs its
+# tests (python/tests) against the CLI.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/install-deps.sh
@@ -16,3 +18,16 @@ if cargo tree --locked --no-default-features -e normal --prefix none \
     exit 1
 fi
 cargo test --locked --no-default-features --lib --examples
+echo "== the Python module (python/)"
+# The CLI the Python tests compare with: built by `cargo test` above (a no-op then).
+cargo test --locked --no-run --test cli
+venv=target/py-venv
+[ -x "$venv/bin/python" ] || python3 -m venv "$venv"
+"$venv/bin/python" -m pip install -q --disable-pip-version-check \
+    'maturin>=1.9,<2' numpy pytest nibabel
+# A debug build in the shared target/ (the library with `volume` only, pyo3 and numpy:
+# minutes from cold, seconds when nothing changed).
+(cd python && VIRTUAL_ENV="$PWD/../$venv" PATH="$PWD/../$venv/bin:$PATH" \
+    maturin develop --locked --quiet)
+# conftest.py turns the validation layer on (GLYPHCAST_VALIDATION=1) and picks lavapipe.
+"$venv/bin/python" -m pytest -q python/tests

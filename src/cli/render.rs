@@ -1,16 +1,16 @@
 //! `glyphcast render` and `glyphcast demo`: options, rendering and writing the outputs.
 use clap::Args;
-use glyphcast::error::quoted;
 use glyphcast::glyph::{GlyphShape, NegativeMode};
 use glyphcast::io::atomic::check_ending;
+use glyphcast::render::RenderSettings;
 use glyphcast::render::colorbar::ColorBar;
 use glyphcast::render::frame::{SceneExtent, magnitude_range};
 use glyphcast::render::glyph_data::{GlyphSetData, measure_largest_radius, prepare_scene};
 use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
 use glyphcast::render::labels::{draw_edge_labels, edge_labels};
-use glyphcast::render::settings::{parse_background, parse_light};
+use glyphcast::render::options::{RenderOptions, prepare_render};
 use glyphcast::render::underlay::Underlay;
-use glyphcast::render::{ColorMode, Method, Refinement, RenderSettings};
+use glyphcast::render::{ColorMode, Method};
 use glyphcast::scene::Scene;
 use glyphcast::viewer::ViewSource;
 use glyphcast::vk::{Gpu, GpuOptions};
@@ -182,76 +182,37 @@ pub struct RenderArgs {
 }
 
 impl RenderArgs {
-    /// --width and --height, each checked to be in 1..=[`MAX_SIDE`] (a usage
-    /// error); the device's own limit is checked when it is known
-    /// (`HeadlessRenderer::render`).
+    /// --width and --height, checked (`ImageRequest::checked`; a usage error).
     pub fn image_request(&self) -> Result<ImageRequest> {
-        for (name, value) in [("--width", self.width), ("--height", self.height)] {
-            if let Some(v) = value
-                && (v == 0 || v > MAX_SIDE)
-            {
-                return Err(Error::Usage(format!(
-                    "{name} {v}: must be in 1 to {MAX_SIDE}"
-                )));
-            }
+        ImageRequest::checked(self.width, self.height).map_err(Error::into_usage)
+    }
+
+    /// The flags as the library's render options (shared with the Python module).
+    pub fn options(&self) -> RenderOptions {
+        RenderOptions {
+            method: self.method.clone(),
+            path: Some(self.path.clone()),
+            precision: self.precision,
+            step: self.step,
+            refine: self.refine.clone(),
+            color: Some(self.color.clone()),
+            magnitude_range: self.magnitude_range.clone(),
+            negative: self.negative.clone(),
+            background: self.background.clone(),
+            offset: self.offset,
+            light: self.light.clone(),
+            ambient: self.ambient,
+            specular: self.specular,
+            shininess: self.shininess,
+            samples: Some(self.samples),
+            device: self.device.clone(),
+            validation: self.validation,
         }
-        Ok(ImageRequest {
-            width: self.width,
-            height: self.height,
-        })
     }
 
     /// The render settings of the flags; any error is a usage error (exit 2).
     pub fn settings(&self) -> Result<RenderSettings> {
-        self.parse_settings().map_err(Error::into_usage)
-    }
-
-    fn parse_settings(&self) -> Result<RenderSettings> {
-        let method = match &self.method {
-            Some(name) => name.parse::<Method>()?,
-            None if self.offset != 0.0 => Method::Affine,
-            None => RenderSettings::default().method,
-        };
-        let mut s = RenderSettings {
-            method,
-            path: self.path.parse()?,
-            ..Default::default()
-        };
-        if let Some(step) = self.step {
-            s.step = step;
-        }
-        if let Some(precision) = self.precision {
-            s.precision_px = precision;
-        }
-        if let Some(refine) = &self.refine {
-            s.refinement = refine.parse::<Refinement>()?;
-        }
-        s.color = self.color.parse::<ColorMode>()?;
-        if let Some(range) = &self.magnitude_range {
-            let parsed = range
-                .split_once(':')
-                .and_then(|(lo, hi)| Some((lo.parse::<f32>().ok()?, hi.parse::<f32>().ok()?)));
-            let Some(pair) = parsed else {
-                return Err(Error::Invalid(format!(
-                    "--magnitude-range: '{}' is not LOW:HIGH",
-                    quoted(range)
-                )));
-            };
-            s.color = ColorMode::Magnitude { range: Some(pair) };
-        }
-        if let Some(background) = &self.background {
-            s.background = parse_background(background)?;
-        }
-        if let Some(light) = &self.light {
-            s.lighting.direction = parse_light(light)?;
-        }
-        s.lighting.ambient = self.ambient.unwrap_or(s.lighting.ambient);
-        s.lighting.specular = self.specular.unwrap_or(s.lighting.specular);
-        s.lighting.shininess = self.shininess.unwrap_or(s.lighting.shininess);
-        s.offset = self.offset;
-        s.samples = self.samples;
-        s.validate()?;
-        Ok(s)
+        self.options().settings().map_err(Error::into_usage)
     }
 
     /// Whether `--colorbar` was given.
@@ -299,24 +260,11 @@ impl RenderArgs {
 
     /// `--negative`, if given; an unknown mode is a usage error.
     pub fn negative(&self) -> Result<Option<NegativeMode>> {
-        let parse = |text: &str| match text {
-            "abs" => Ok(NegativeMode::Abs),
-            "hide" => Ok(NegativeMode::Hide),
-            _ => Err(Error::Usage(format!(
-                "--negative: '{}' is not one of abs, hide",
-                quoted(text)
-            ))),
-        };
-        self.negative.as_deref().map(parse).transpose()
+        self.options().negative().map_err(Error::into_usage)
     }
 
     pub fn gpu_options(&self) -> GpuOptions {
-        let mut options = GpuOptions::from_env();
-        options.validation |= self.validation;
-        if self.device.is_some() {
-            options.device = self.device.clone();
-        }
-        options
+        self.options().gpu_options()
     }
 }
 
@@ -355,47 +303,36 @@ pub fn render(
     scene.image.height = image.height.unwrap_or(scene.image.height);
     let settings = options.settings()?;
     options.check_colorbar(&settings)?;
-    if let Some(mode) = options.negative()? {
-        set_negative(&mut scene, mode);
-    }
+    let negative = options.negative()?;
     // Written with the image and the depth map, all or nothing.
     let scene_file = save_scene.map(|path| (path, scene.to_json()));
-    let started = Instant::now();
-    let mut sets = prepare_scene(&scene, settings.offset as f64)?;
-    if settings.needs_largest_radius() {
-        measure_largest_radius(&mut sets);
-    }
-    let prepared = started.elapsed();
     let common_scale = common_scale(&scene);
-    // What the ray casters do not read is freed before the GPU work (a million glyphs:
-    // the scene's coefficients and the float64 glyphs are most of a gigabyte).
-    scene.glyph_sets = Vec::new();
-    if !matches!(settings.method, Method::Mesh(_)) {
-        sets.iter_mut().for_each(|s| s.drop_reference_glyphs());
-    }
+    let started = Instant::now();
+    let prepared = prepare_render(scene, settings, negative)?;
+    let prepare_time = started.elapsed();
     let gpu = Gpu::headless(&options.gpu_options())?;
     eprintln!("device: {}", gpu.info);
     let mut renderer = HeadlessRenderer::new(&gpu)?;
     let begun = Instant::now();
-    let (w, h) = (scene.image.width, scene.image.height);
-    let mut image =
-        renderer.render_with_underlay(&gpu, &sets, underlay, &scene.camera, w, h, &settings)?;
+    let (w, h) = (prepared.width, prepared.height);
+    let (sets, camera) = (&prepared.sets, &prepared.camera);
+    let mut image = renderer.render_with_underlay(&gpu, sets, underlay, camera, w, h, &settings)?;
     if labels {
-        let edges = edge_labels(&scene.camera);
+        let edges = edge_labels(&prepared.camera);
         draw_edge_labels(&mut image.rgba, w, h, &edges)?;
     }
-    if let Some(bar) = options.colorbar(&settings, &sets, &scene.camera, common_scale) {
+    if let Some(bar) = options.colorbar(&settings, sets, camera, common_scale) {
         let (width, rgba, distance) =
             bar.append(&image.rgba, &image.distance, w, h, settings.background)?;
         (image.width, image.rgba, image.distance) = (width, rgba, distance);
     }
-    let glyphs: usize = sets.iter().map(|s| s.len()).sum();
+    let glyphs = prepared.glyph_count();
     let gpu_time = image
         .gpu_ms
         .map_or_else(|| "n/a".to_owned(), |ms| format!("{ms:.1} ms"));
     eprintln!(
         "rendered {glyphs} glyphs at {w}x{h}: prepare {:.1} ms, render {:.1} ms (GPU {gpu_time})",
-        prepared.as_secs_f64() * 1e3,
+        prepare_time.as_secs_f64() * 1e3,
         begun.elapsed().as_secs_f64() * 1e3
     );
     if let Some(mesh) = &image.mesh {

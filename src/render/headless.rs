@@ -371,6 +371,22 @@ impl PreparedFrame {
         }
     }
 
+    /// Moves the camera, keeping the uploaded glyphs (`sets` are the ones the frame was
+    /// prepared from): the next `draw` sees the glyphs from `camera`. Returns `false`,
+    /// changing nothing, on the compute path, whose tile lists depend on the camera
+    /// (prepare the frame again there). Not while a draw of the frame is in flight.
+    pub fn set_camera(&mut self, sets: &[GlyphSetData], camera: &Camera) -> Result<bool> {
+        let (width, height) = (self.size.width, self.size.height);
+        let extent = SceneExtent::for_settings(camera, sets, &self.settings);
+        let params = FrameParams::new(camera, width, height, &extent, &self.settings);
+        match &mut self.scene {
+            GlyphsOnGpu::RayCast(scene) => scene.set_frame(&params)?,
+            GlyphsOnGpu::Mesh(scene) => scene.set_frame(&params)?,
+            GlyphsOnGpu::Compute(_) => return Ok(false),
+        }
+        Ok(true)
+    }
+
     /// Sizes and generation time of the meshes, for tessellated glyphs.
     pub fn mesh_stats(&self) -> Option<&MeshStats> {
         match &self.scene {

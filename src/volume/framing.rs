@@ -82,6 +82,24 @@ pub struct ImageRequest {
     pub height: Option<u32>,
 }
 
+impl ImageRequest {
+    /// The size asked for (`--width`, `--height`), each side checked to be in
+    /// 1..=[`MAX_SIDE`]; the device's own limit is checked when it is known
+    /// (`HeadlessRenderer::render`).
+    pub fn checked(width: Option<u32>, height: Option<u32>) -> crate::Result<Self> {
+        for (name, value) in [("--width", width), ("--height", height)] {
+            if let Some(v) = value
+                && (v == 0 || v > MAX_SIDE)
+            {
+                return Err(crate::Error::Invalid(format!(
+                    "{name} {v}: must be in 1 to {MAX_SIDE}"
+                )));
+            }
+        }
+        Ok(Self { width, height })
+    }
+}
+
 /// Camera and image size of a slice view.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Framing {

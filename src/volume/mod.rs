@@ -20,6 +20,7 @@ mod framing;
 mod input;
 mod recorded;
 mod reorient;
+mod request;
 mod selection;
 mod underlay;
 
@@ -34,5 +35,6 @@ pub use framing::{
 pub use input::{CoefficientFrame, MAX_ORDER, Mask, Volume, VolumeKind, load_mask, load_volume};
 pub use recorded::{RecordedBasis, recorded_basis, resolve_basis};
 pub use reorient::Reorientation;
+pub use request::{VolumeRequest, VolumeView};
 pub use selection::{Slice, SliceAxis, SliceRegion, Slices, VoxelRanges};
 pub use underlay::{load_underlay, slice_plane, underlay_of_image, view_underlay};

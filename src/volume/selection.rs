@@ -138,7 +138,7 @@ impl fmt::Display for Slice {
 impl FromStr for Slice {
     type Err = Error;
 
-    /// `axial`, `coronal` or `sagittal`, optionally followed by `:INDEX`.
+    /// `axial`, `coronal` or `sagittal`, optionally followed by `:INDEX` or `:mid`.
     fn from_str(text: &str) -> Result<Self> {
         let (name, index) = match text.split_once(':') {
             Some((name, index)) => (name, Some(index)),
@@ -154,11 +154,13 @@ impl FromStr for Slice {
                 )));
             }
         };
+        // `:mid` says the default (the middle) explicitly.
         let index = index
+            .filter(|&index| index != "mid")
             .map(|index| {
                 index.parse::<usize>().map_err(|_| {
                     Error::Invalid(format!(
-                        "--slice '{text}': index '{index}' is not a voxel index (0, 1, 2, ...)"
+                        "--slice '{text}': index '{index}' is not a voxel index (0, 1, 2, ...) or mid"
                     ))
                 })
             })
@@ -320,7 +322,16 @@ mod tests {
         let s: Slice = "coronal:3".parse().unwrap();
         assert_eq!((s.axis, s.index), (SliceAxis::Coronal, Some(3)));
         assert_eq!("axial".parse::<Slice>().unwrap(), Slice::default());
-        for bad in ["transverse:1", "axial:-1", "axial:x"] {
+        assert_eq!("axial:mid".parse::<Slice>().unwrap(), Slice::default());
+        let s: Slice = "sagittal:mid".parse().unwrap();
+        assert_eq!((s.axis, s.index), (SliceAxis::Sagittal, None));
+        for bad in [
+            "transverse:1",
+            "axial:-1",
+            "axial:x",
+            "axial:middle",
+            "axial:",
+        ] {
             assert!(bad.parse::<Slice>().is_err(), "{bad}");
         }
         let r: VoxelRanges = "1:4,:,5:".parse().unwrap();

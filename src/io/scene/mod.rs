@@ -29,6 +29,7 @@ mod write;
 #[cfg(test)]
 mod tests;
 
+use crate::camera::Camera;
 use crate::scene::{GlyphKind, GlyphSet, ImageSize, Scene, ShBasis};
 
 const FORMAT_VERSION: i128 = 1;
@@ -64,6 +65,13 @@ impl Scene {
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let document = json::parse_document(text, file)?;
         read::read_scene(&Field::root(file, &document))
+    }
+
+    /// A scene's `camera` object alone, from text, validated as in a scene file;
+    /// `file` is the name used in errors.
+    pub fn camera_from_json_str(text: &str, file: &str) -> Result<Camera> {
+        let document = json::parse_document(text, file)?;
+        read::read_camera(&Field::root(file, &document))
     }
 
     /// Serialises to the scene format, version 1; [`Scene::from_json_str`] reads it

@@ -205,7 +205,7 @@ fn read_coeffs(field: &Field, kind: GlyphKind, count: usize) -> Result<Vec<Vec<f
         .collect()
 }
 
-fn read_camera(field: &Field) -> Result<Camera> {
+pub(super) fn read_camera(field: &Field) -> Result<Camera> {
     let camera = field.object()?;
     camera.deny_unknown(CAMERA_KEYS)?;
     let projection = read_projection(&camera)?;

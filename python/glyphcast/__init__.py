@@ -1,0 +1,248 @@
+"""glyphcast: exact GPU ray casting of fODF and higher-order tensor glyphs.
+
+numpy in, images out. Every function returns a :class:`Rendering`, a named tuple
+``(rgba, depth)``: ``rgba`` is uint8 (H, W, 4), sRGB; ``depth`` is float32 (H, W), the
+ray distance to the first hit, NaN for misses (what ``glyphcast render --depth-out``
+writes). A notebook shows a Rendering as its image.
+
+The keyword options are those of ``glyphcast render``, with ``-`` as ``_``
+(``magnitude_range`` for ``--magnitude-range``), with the same defaults; the messages of
+the errors are the CLI's. Bad input raises ValueError (OSError for a file that cannot be
+read), a device failure RuntimeError. ``validation=True`` (or GLYPHCAST_VALIDATION=1)
+turns on the Vulkan validation layer; any validation error then raises RuntimeError.
+"""
+import json
+import os
+import warnings
+from typing import NamedTuple
+
+import numpy as np
+
+from ._glyphcast import __version__, encode_png
+from ._glyphcast import Renderer as _Renderer
+
+__all__ = [
+    "Rendering",
+    "Renderer",
+    "render_scene",
+    "render_sh",
+    "render_tensor",
+    "encode_png",
+    "__version__",
+]
+
+
+class Rendering(NamedTuple):
+    """A rendered image: ``rgba`` uint8 (H, W, 4) and ``depth`` float32 (H, W)."""
+
+    rgba: np.ndarray
+    depth: np.ndarray
+
+    def png(self) -> bytes:
+        """The image as PNG bytes."""
+        return encode_png(self.rgba)
+
+    def save_png(self, path) -> None:
+        """Writes the image as a PNG file."""
+        with open(path, "wb") as file:
+            file.write(self.png())
+
+    def _repr_png_(self) -> bytes:
+        return self.png()
+
+
+def _scene_argument(scene):
+    """A scene dict as JSON text, or a path as text; returns (text, is_path)."""
+    if isinstance(scene, (str, os.PathLike)):
+        return os.fspath(scene), True
+    if isinstance(scene, dict):
+        return json.dumps(scene, default=_json_value, allow_nan=False), False
+    raise ValueError(
+        f"scene: a dict in the scene format or a path is needed, not {type(scene).__name__}"
+    )
+
+
+def _json_value(value):
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    raise TypeError(f"{type(value).__name__} is not JSON serialisable")
+
+
+def _float_array(value):
+    return None if value is None else np.asarray(value, dtype=np.float64)
+
+
+class Renderer:
+    """One Vulkan device, its pipelines and the glyphs last rendered, kept across calls.
+
+    ``render_scene``, ``render_sh`` and ``render_tensor`` load (prepare and upload) the
+    glyphs and draw them; ``render(camera=...)`` draws them again from another camera
+    without uploading again. Everything is freed when the object goes, or at
+    ``release()`` (glyphs) and ``close()`` (the device).
+    """
+
+    def __init__(self, *, device=None, validation=False):
+        self._native = _Renderer(device=device, validation=validation)
+
+    @property
+    def device(self) -> str:
+        """The Vulkan device, as the CLI prints it."""
+        return self._native.device
+
+    @property
+    def glyph_count(self) -> int:
+        """Glyphs loaded."""
+        return self._native.glyph_count
+
+    def render_scene(self, scene, *, width=None, height=None, method=None, **options):
+        """Renders a scene: a dict in the scene format, or the path of a scene file."""
+        text, is_path = _scene_argument(scene)
+        options.update(width=width, height=height, method=method)
+        self._native.load_scene(text, is_path, options)
+        return self.render()
+
+    def render_sh(
+        self,
+        coeffs,
+        affine=None,
+        *,
+        basis,
+        legacy=False,
+        slice="axial:mid",
+        mask=None,
+        scale=None,
+        norm="global",
+        width=None,
+        height=None,
+        **options,
+    ):
+        """Renders a slice of an (X, Y, Z, K) volume of SH coefficients (as nibabel's
+        ``get_fdata()`` gives it) with its 4x4 ``affine`` (identity if None), as
+        ``glyphcast render --sh`` does: ``basis`` is tournier07, descoteaux07, mrtrix,
+        dipy (DIPY's default, descoteaux07 legacy) or dipy-new."""
+        options.update(
+            basis=basis, legacy=legacy, mask=mask, scale=scale, norm=norm,
+            width=width, height=height,
+        )
+        if options.get("slices") is None:
+            options["slice"] = slice
+        return self._volume("sh", coeffs, affine, options)
+
+    def render_tensor(
+        self,
+        coeffs,
+        affine=None,
+        *,
+        order,
+        symmetric=True,
+        slice="axial:mid",
+        mask=None,
+        scale=None,
+        norm="global",
+        width=None,
+        height=None,
+        **options,
+    ):
+        """Renders a slice of an (X, Y, Z, K) volume of Cartesian tensor coefficients in
+        the scene format's order, as ``glyphcast render --tensor`` does (``symmetric``:
+        the unique entries, else all 3^order)."""
+        options.update(
+            order=order, symmetric=symmetric, mask=mask, scale=scale, norm=norm,
+            width=width, height=height,
+        )
+        if options.get("slices") is None:
+            options["slice"] = slice
+        return self._volume("tensor", coeffs, affine, options)
+
+    def render(self, camera=None) -> Rendering:
+        """Draws the loaded glyphs again, from their camera or from ``camera`` (a dict
+        like a scene's ``camera``: projection, eye, target, up, fov_y_deg or height)."""
+        text = None if camera is None else json.dumps(camera, default=_json_value)
+        rgba, depth = self._native.render(text)
+        return Rendering(rgba, depth)
+
+    def release(self) -> None:
+        """Frees the loaded glyphs (the device stays open)."""
+        self._native.release()
+
+    def close(self) -> None:
+        """Frees the glyphs and the device; the renderer cannot be used afterwards."""
+        self._native = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def _volume(self, kind, coeffs, affine, options):
+        if options.get("mask") is not None and not isinstance(options["mask"], np.ndarray):
+            options["mask"] = np.asarray(options["mask"])
+        note = self._native.load_volume(kind, coeffs, _float_array(affine), options)
+        if note:
+            warnings.warn(note, stacklevel=3)
+        return self.render()
+
+
+def _split_device(options):
+    return {
+        "device": options.pop("device", None),
+        "validation": bool(options.pop("validation", False)),
+    }
+
+
+def render_scene(scene, *, width=None, height=None, method=None, **options) -> Rendering:
+    """Renders a scene (a dict in the scene format, or a path) as ``glyphcast render
+    SCENE`` does. Options: those of the CLI (path, precision, step, refine, color,
+    magnitude_range, negative, background, offset, device, validation)."""
+    renderer = Renderer(**_split_device(options))
+    return renderer.render_scene(scene, width=width, height=height, method=method, **options)
+
+
+def render_sh(
+    coeffs,
+    affine=None,
+    *,
+    basis,
+    legacy=False,
+    slice="axial:mid",
+    mask=None,
+    scale=None,
+    norm="global",
+    width=None,
+    height=None,
+    **options,
+) -> Rendering:
+    """Renders a slice of an (X, Y, Z, K) SH volume as ``glyphcast render --sh`` does;
+    see :meth:`Renderer.render_sh`. ``device`` and ``validation`` pick the device."""
+    renderer = Renderer(**_split_device(options))
+    return renderer.render_sh(
+        coeffs, affine, basis=basis, legacy=legacy, slice=slice, mask=mask, scale=scale,
+        norm=norm, width=width, height=height, **options,
+    )
+
+
+def render_tensor(
+    coeffs,
+    affine=None,
+    *,
+    order,
+    symmetric=True,
+    slice="axial:mid",
+    mask=None,
+    scale=None,
+    norm="global",
+    width=None,
+    height=None,
+    **options,
+) -> Rendering:
+    """Renders a slice of an (X, Y, Z, K) tensor volume as ``glyphcast render --tensor``
+    does; see :meth:`Renderer.render_tensor`. ``device`` and ``validation`` pick the
+    device."""
+    renderer = Renderer(**_split_device(options))
+    return renderer.render_tensor(
+        coeffs, affine, order=order, symmetric=symmetric, slice=slice, mask=mask,
+        scale=scale, norm=norm, width=width, height=height, **options,
+    )

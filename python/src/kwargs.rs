@@ -1,0 +1,156 @@
+//! Keyword arguments into the library's requests: the render options
+//! ([`RenderOptions`]) and the volume options ([`VolumeRequest`]) under the names of the
+//! CLI's flags, with `-` as `_` (`magnitude_range` for `--magnitude-range`). A keyword
+//! the request does not know is a `TypeError`, as for any Python function.
+use glyphcast::render::options::RenderOptions;
+use glyphcast::volume::{ImageRequest, VolumeRequest};
+use pyo3::exceptions::PyTypeError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::errors::{to_py, value_error};
+
+/// The keyword arguments of one call, taken one by one; `None` counts as not given.
+pub struct Kwargs<'py> {
+    given: Vec<(String, Bound<'py, PyAny>)>,
+}
+
+impl<'py> Kwargs<'py> {
+    /// The entries of `dict` (none when absent).
+    pub fn new(dict: Option<&Bound<'py, PyDict>>) -> PyResult<Self> {
+        let mut given = Vec::new();
+        if let Some(dict) = dict {
+            for (key, value) in dict.iter() {
+                given.push((key.extract::<String>()?, value));
+            }
+        }
+        Ok(Self { given })
+    }
+
+    /// Removes `key` and returns its value unless it is absent or `None`.
+    fn take(&mut self, key: &str) -> Option<Bound<'py, PyAny>> {
+        let at = self.given.iter().position(|(k, _)| k == key)?;
+        let (_, value) = self.given.remove(at);
+        (!value.is_none()).then_some(value)
+    }
+
+    /// A text option (`method="exact"`).
+    pub fn text(&mut self, key: &str) -> PyResult<Option<String>> {
+        self.take(key)
+            .map(|v| {
+                v.extract::<String>()
+                    .map_err(|_| expected(key, "a string", &v))
+            })
+            .transpose()
+    }
+
+    /// A number (`step=0.02`).
+    pub fn float(&mut self, key: &str) -> PyResult<Option<f64>> {
+        self.take(key)
+            .map(|v| {
+                v.extract::<f64>()
+                    .map_err(|_| expected(key, "a number", &v))
+            })
+            .transpose()
+    }
+
+    /// A non-negative whole number (`lmax=6`).
+    pub fn count(&mut self, key: &str) -> PyResult<Option<u32>> {
+        self.take(key)
+            .map(|v| {
+                v.extract::<u32>()
+                    .map_err(|_| expected(key, "a whole number >= 0", &v))
+            })
+            .transpose()
+    }
+
+    /// A switch (`perspective=True`); absent is `default`.
+    pub fn flag(&mut self, key: &str, default: bool) -> PyResult<bool> {
+        self.take(key)
+            .map(|v| {
+                v.extract::<bool>()
+                    .map_err(|_| expected(key, "True or False", &v))
+            })
+            .transpose()
+            .map(|v| v.unwrap_or(default))
+    }
+
+    /// A value left to the caller (an array).
+    pub fn object(&mut self, key: &str) -> Option<Bound<'py, PyAny>> {
+        self.take(key)
+    }
+
+    /// A `TypeError` for the first keyword nobody took.
+    pub fn finish(self) -> PyResult<()> {
+        match self.given.first() {
+            Some((key, _)) => Err(PyTypeError::new_err(format!(
+                "unexpected keyword argument '{key}'"
+            ))),
+            None => Ok(()),
+        }
+    }
+
+    /// The image size: `width` and `height` (each side 1 to 16384; absent: the scene's,
+    /// or the slice's aspect).
+    pub fn image_request(&mut self) -> PyResult<ImageRequest> {
+        let (width, height) = (self.count("width")?, self.count("height")?);
+        ImageRequest::checked(width, height).map_err(to_py)
+    }
+
+    /// The render options: `method`, `path`, `precision`, `step`, `refine`, `color`,
+    /// `magnitude_range`, `negative`, `background`, `offset`, `light` ("x,y,z"),
+    /// `ambient`, `specular`, `shininess`, `samples` (the device is the renderer's).
+    pub fn render_options(&mut self) -> PyResult<RenderOptions> {
+        Ok(RenderOptions {
+            method: self.text("method")?,
+            path: self.text("path")?,
+            precision: self.float("precision")?.map(|v| v as f32),
+            step: self.float("step")?.map(|v| v as f32),
+            refine: self.text("refine")?,
+            color: self.text("color")?,
+            magnitude_range: self.text("magnitude_range")?,
+            negative: self.text("negative")?,
+            background: self.text("background")?,
+            offset: self.float("offset")?.unwrap_or(0.0) as f32,
+            light: self.text("light")?,
+            ambient: self.float("ambient")?.map(|v| v as f32),
+            specular: self.float("specular")?.map(|v| v as f32),
+            shininess: self.float("shininess")?.map(|v| v as f32),
+            samples: self.count("samples")?,
+            device: None,
+            validation: false,
+        })
+    }
+
+    /// The volume options: `basis`, `legacy`, `frame`, `lmax` (SH), `order`, `symmetric`
+    /// (tensors), `slice`, `slices`, `voxels`, `scale`, `norm`, `min_amplitude`,
+    /// `perspective`, `orientation`.
+    pub fn volume_request(&mut self) -> PyResult<VolumeRequest> {
+        Ok(VolumeRequest {
+            basis: self.text("basis")?,
+            force_basis: false,
+            frame: self.text("frame")?,
+            legacy: self.flag("legacy", false)?,
+            lmax: self.count("lmax")?,
+            order: self.count("order")?,
+            nonsymmetric: !self.flag("symmetric", true)?,
+            slice: self.text("slice")?,
+            slices: self.text("slices")?,
+            voxels: self.text("voxels")?,
+            scale: self.float("scale")?,
+            norm: self.text("norm")?,
+            min_amplitude: self.float("min_amplitude")?,
+            perspective: self.flag("perspective", false)?,
+            orientation: self.text("orientation")?,
+        })
+    }
+}
+
+fn expected(key: &str, what: &str, value: &Bound<'_, PyAny>) -> PyErr {
+    let type_name = value
+        .get_type()
+        .name()
+        .map(|name| name.to_string())
+        .unwrap_or_else(|_| "?".into());
+    value_error(key, format!("expected {what}, got {type_name}"))
+}

@@ -1,0 +1,123 @@
+"""Bad arrays and options raise ValueError (TypeError for an unknown keyword) with a
+message that names the argument; the CLI's own checks keep the CLI's text."""
+import json
+import subprocess
+
+import nibabel as nib
+import numpy as np
+import pytest
+
+import glyphcast
+from conftest import ROOT
+
+
+@pytest.fixture(scope="module")
+def sh():
+    image = nib.load(ROOT / "tests/data/dipy/func_coef.nii.gz")
+    return image.get_fdata(), image.affine
+
+
+def raises(exception, match, call, *args, **kwargs):
+    with pytest.raises(exception, match=match):
+        call(*args, **kwargs)
+
+
+def test_wrong_coefficient_count(sh):
+    coeffs, affine = sh
+    raises(ValueError, r"coeffs: dim\[4\]: 44 coefficients per voxel is not \(L\+1\)\(L\+2\)/2",
+           glyphcast.render_sh, coeffs[..., :44].copy(), affine, basis="dipy")
+    raises(ValueError, r"coeffs: dim\[4\]: 5 coefficients per voxel, but a .*needs 6",
+           glyphcast.render_tensor, np.ones((2, 2, 2, 5)), order=2)
+
+
+def test_nan_and_infinity_name_the_voxel(sh):
+    coeffs, affine = sh
+    bad = coeffs.copy()
+    bad[1, 2, 3, 7] = np.nan
+    raises(ValueError, r"coeffs\[1, 2, 3, 7\] is NaN: coefficients must be finite",
+           glyphcast.render_sh, bad, affine, basis="dipy")
+    bad[1, 2, 3, 7] = np.inf
+    raises(ValueError, r"coeffs\[1, 2, 3, 7\] is inf", glyphcast.render_sh, bad, affine,
+           basis="dipy")
+
+
+def test_wrong_dimensionality(sh):
+    coeffs, affine = sh
+    raises(ValueError, r"coeffs: a 3D array of shape \[2, 3, 4\] where a 4D array",
+           glyphcast.render_sh, coeffs[..., 0].copy(), affine, basis="dipy")
+    raises(ValueError, r"coeffs: a 5D array", glyphcast.render_sh, coeffs[..., None],
+           affine, basis="dipy")
+    raises(ValueError, r"affine: shape \[3, 3\] where a 4x4 matrix is needed",
+           glyphcast.render_sh, coeffs, np.eye(3), basis="dipy")
+    raises(ValueError, r"mask: a 2D array", glyphcast.render_sh, coeffs, affine,
+           basis="dipy", mask=np.ones((2, 3)))
+
+
+def test_non_contiguous(sh):
+    coeffs, affine = sh
+    strided = np.concatenate([coeffs, coeffs], axis=3)[..., ::2]
+    assert not strided.flags.c_contiguous and not strided.flags.f_contiguous
+    raises(ValueError, r"coeffs: not contiguous \(a strided view",
+           glyphcast.render_sh, strided, affine, basis="dipy")
+
+
+def test_wrong_dtype(sh):
+    coeffs, affine = sh
+    raises(ValueError, r"coeffs: dtype int64 where float32 or float64 is needed",
+           glyphcast.render_sh, coeffs.astype(np.int64), affine, basis="dipy")
+    raises(ValueError, r"coeffs: dtype float16", glyphcast.render_sh,
+           coeffs.astype(np.float16), affine, basis="dipy")
+    raises(ValueError, r"coeffs: a numpy array is needed, not list", glyphcast.render_sh,
+           coeffs.tolist(), affine, basis="dipy")
+
+
+def test_bad_affine(sh):
+    coeffs, _ = sh
+    raises(ValueError, r"affine: matrix: the affine is not finite", glyphcast.render_sh,
+           coeffs, np.full((4, 4), np.nan), basis="dipy")
+
+
+def test_options_keep_the_cli_messages(sh, cli_binary, tmp_path):
+    coeffs, affine = sh
+    root = ROOT
+    file = root / "tests/data/dipy/func_coef.nii.gz"
+    for flag, keyword, value in [
+        ("--basis", "basis", "nonsense"),
+        ("--slice", "slice", "diagonal"),
+        ("--method", "method", "magic"),
+        ("--norm", "norm", "loud"),
+        ("--background", "background", "mauve"),
+        ("--magnitude-range", "magnitude_range", "1-2"),
+    ]:
+        options = {"basis": "dipy", keyword: value}
+        args = [f"--{k.replace('_', '-')}={v}" for k, v in options.items()]
+        done = subprocess.run(
+            [str(cli_binary), "render", "--sh", str(file), *args,
+             "-o", str(tmp_path / "x.png")],
+            capture_output=True, text=True,
+        )
+        assert done.returncode in (1, 2), done.stderr
+        errors = [line for line in done.stderr.splitlines() if line.startswith("error: ")]
+        assert len(errors) == 1, done.stderr
+        with pytest.raises(ValueError) as caught:
+            glyphcast.render_sh(coeffs, affine, **options)
+        assert str(caught.value) == errors[0].removeprefix("error: ")
+
+
+def test_unknown_keyword_is_a_type_error(sh):
+    coeffs, affine = sh
+    raises(TypeError, "unexpected keyword argument 'colour'", glyphcast.render_sh, coeffs,
+           affine, basis="dipy", colour="sign")
+    raises(ValueError, r"step: expected a number, got str", glyphcast.render_sh, coeffs,
+           affine, basis="dipy", method="fixed", step="small")
+
+
+def test_bad_scenes(scenes, tmp_path):
+    scene = json.loads((scenes / "order4_pair.json").read_text())
+    scene["glyphs"][0]["coeffs"][1] = scene["glyphs"][0]["coeffs"][1][:-1]
+    raises(ValueError, r"^scene: glyphs\[0\]\.coeffs\[1\]", glyphcast.render_scene, scene)
+    raises(OSError, "missing.json", glyphcast.render_scene, tmp_path / "missing.json")
+    raises(ValueError, "scene: a dict in the scene format or a path is needed, not int",
+           glyphcast.render_scene, 3)
+    raises(ValueError, r"--width 0: must be in 1 to 16384", glyphcast.render_scene,
+           scenes / "order4_pair.json", width=0)

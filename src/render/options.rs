@@ -1,0 +1,247 @@
+//! The render options as the front ends take them (the CLI's flags, the Python module's
+//! keyword arguments): text and numbers, turned into [`RenderSettings`] with one set of
+//! defaults and one set of messages, so that both front ends read alike.
+use crate::camera::Camera;
+use crate::error::quoted;
+use crate::glyph::{GlyphShape, NegativeMode};
+use crate::render::glyph_data::{GlyphSetData, measure_largest_radius, prepare_scene};
+use crate::render::settings::{parse_background, parse_light};
+use crate::render::{ColorMode, Method, Refinement, RenderSettings};
+use crate::scene::Scene;
+use crate::vk::GpuOptions;
+use crate::{Error, Result};
+
+/// The render options, unparsed; `None` (or `false`) is the default. Messages name the
+/// CLI's flags (`--magnitude-range`), which the Python module's keywords mirror.
+#[derive(Clone, Debug, Default)]
+pub struct RenderOptions {
+    /// `--method`: fixed, interval, affine, exact, impostor, mesh:LEVEL or latlong:N.
+    /// Default exact, or affine with a nonzero offset.
+    pub method: Option<String>,
+    /// `--path`: fragment (the default) or compute.
+    pub path: Option<String>,
+    /// `--precision`: segment length limit of the robust methods, in pixels.
+    pub precision: Option<f32>,
+    /// `--step`: march step, in units of each glyph's bounding radius.
+    pub step: Option<f32>,
+    /// `--refine`: bisect:K, interp or none.
+    pub refine: Option<String>,
+    /// `--color`: direction (the default), magnitude, uniform or sign.
+    pub color: Option<String>,
+    /// `--magnitude-range`: LOW:HIGH in world units.
+    pub magnitude_range: Option<String>,
+    /// `--negative`: abs or hide, replacing every glyph set's mode.
+    pub negative: Option<String>,
+    /// `--background`: none, dark (the default), black, white, grey, #rrggbb or r,g,b.
+    pub background: Option<String>,
+    /// `--offset`: isotropic offset, as a fraction of each glyph's bounding radius.
+    pub offset: f32,
+    /// `--light`: X,Y,Z, the direction towards the light in view coordinates.
+    pub light: Option<String>,
+    /// `--ambient`: 0 to 1.
+    pub ambient: Option<f32>,
+    /// `--specular`: 0 to 1.
+    pub specular: Option<f32>,
+    /// `--shininess`: 1 to 1024.
+    pub shininess: Option<f32>,
+    /// `--samples`: 1, 4 or 16 samples per pixel.
+    pub samples: Option<u32>,
+    /// `--device`: part of the Vulkan device's name or its index (also GLYPHCAST_DEVICE).
+    pub device: Option<String>,
+    /// `--validation`: the Vulkan validation layer (also GLYPHCAST_VALIDATION=1).
+    pub validation: bool,
+}
+
+impl RenderOptions {
+    /// The render settings these options ask for; a bad value is an [`Error::Invalid`]
+    /// that names the option.
+    pub fn settings(&self) -> Result<RenderSettings> {
+        let method = match &self.method {
+            Some(name) => name.parse::<Method>()?,
+            None if self.offset != 0.0 => Method::Affine,
+            None => RenderSettings::default().method,
+        };
+        let mut s = RenderSettings {
+            method,
+            ..Default::default()
+        };
+        if let Some(path) = &self.path {
+            s.path = path.parse()?;
+        }
+        if let Some(step) = self.step {
+            s.step = step;
+        }
+        if let Some(precision) = self.precision {
+            s.precision_px = precision;
+        }
+        if let Some(refine) = &self.refine {
+            s.refinement = refine.parse::<Refinement>()?;
+        }
+        if let Some(color) = &self.color {
+            s.color = color.parse::<ColorMode>()?;
+        }
+        if let Some(range) = &self.magnitude_range {
+            s.color = ColorMode::Magnitude {
+                range: Some(parse_range(range)?),
+            };
+        }
+        if let Some(background) = &self.background {
+            s.background = parse_background(background)?;
+        }
+        if let Some(light) = &self.light {
+            s.lighting.direction = parse_light(light)?;
+        }
+        s.lighting.ambient = self.ambient.unwrap_or(s.lighting.ambient);
+        s.lighting.specular = self.specular.unwrap_or(s.lighting.specular);
+        s.lighting.shininess = self.shininess.unwrap_or(s.lighting.shininess);
+        s.samples = self.samples.unwrap_or(s.samples);
+        s.offset = self.offset;
+        s.validate()?;
+        Ok(s)
+    }
+
+    /// The negative-lobe mode asked for, if any.
+    pub fn negative(&self) -> Result<Option<NegativeMode>> {
+        let parse = |text: &str| match text {
+            "abs" => Ok(NegativeMode::Abs),
+            "hide" => Ok(NegativeMode::Hide),
+            _ => Err(Error::Invalid(format!(
+                "--negative: '{}' is not one of abs, hide",
+                quoted(text)
+            ))),
+        };
+        self.negative.as_deref().map(parse).transpose()
+    }
+
+    /// The device options: the environment's (GLYPHCAST_VALIDATION, GLYPHCAST_DEVICE),
+    /// with `validation` and `device` on top.
+    pub fn gpu_options(&self) -> GpuOptions {
+        let mut options = GpuOptions::from_env();
+        options.validation |= self.validation;
+        if self.device.is_some() {
+            options.device = self.device.clone();
+        }
+        options
+    }
+}
+
+/// A scene made ready for [`HeadlessRenderer`](crate::render::headless::HeadlessRenderer):
+/// its glyph sets prepared, with the camera, image size and settings to draw them with.
+pub struct PreparedScene {
+    /// The glyph sets, GPU-ready.
+    pub sets: Vec<GlyphSetData>,
+    /// The scene's camera.
+    pub camera: Camera,
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// How to draw.
+    pub settings: RenderSettings,
+}
+
+impl PreparedScene {
+    /// Glyphs in all sets.
+    pub fn glyph_count(&self) -> usize {
+        self.sets.iter().map(GlyphSetData::len).sum()
+    }
+}
+
+/// Prepares `scene` for rendering with `settings`, every polynomial set's negative mode
+/// replaced by `negative` if given (ellipsoids have no negative lobes): what `glyphcast render` and the Python module do before the GPU
+/// work. The scene's float64 glyphs are kept only where a mesh method tessellates them,
+/// and the scene is dropped (a million glyphs: most of a gigabyte).
+pub fn prepare_render(
+    mut scene: Scene,
+    settings: RenderSettings,
+    negative: Option<NegativeMode>,
+) -> Result<PreparedScene> {
+    if let Some(mode) = negative {
+        scene
+            .glyph_sets
+            .iter_mut()
+            .filter(|set| set.shape == GlyphShape::Polynomial)
+            .for_each(|set| set.negative = mode);
+    }
+    let mut sets = prepare_scene(&scene, settings.offset as f64)?;
+    if settings.needs_largest_radius() {
+        measure_largest_radius(&mut sets);
+    }
+    if !matches!(settings.method, Method::Mesh(_)) {
+        sets.iter_mut().for_each(|s| s.drop_reference_glyphs());
+    }
+    Ok(PreparedScene {
+        sets,
+        camera: scene.camera,
+        width: scene.image.width,
+        height: scene.image.height,
+        settings,
+    })
+}
+
+/// `LOW:HIGH`, two numbers.
+fn parse_range(range: &str) -> Result<(f32, f32)> {
+    let parsed = range
+        .split_once(':')
+        .and_then(|(lo, hi)| Some((lo.parse::<f32>().ok()?, hi.parse::<f32>().ok()?)));
+    parsed.ok_or_else(|| {
+        Error::Invalid(format!(
+            "--magnitude-range: '{}' is not LOW:HIGH",
+            quoted(range)
+        ))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_the_render_settings_defaults() {
+        let settings = RenderOptions::default().settings().unwrap();
+        let expected = RenderSettings::default();
+        assert_eq!(settings.method, expected.method);
+        assert_eq!(settings.path, expected.path);
+        assert_eq!(settings.color, expected.color);
+        assert_eq!(settings.background, expected.background);
+        assert_eq!(RenderOptions::default().negative().unwrap(), None);
+    }
+
+    #[test]
+    fn options_reach_the_settings() {
+        let options = RenderOptions {
+            offset: 0.2,
+            magnitude_range: Some("0.5:2".into()),
+            negative: Some("hide".into()),
+            ..Default::default()
+        };
+        let settings = options.settings().unwrap();
+        // An offset glyph is no polynomial surface: affine, not exact.
+        assert_eq!(settings.method, Method::Affine);
+        assert_eq!(
+            settings.color,
+            ColorMode::Magnitude {
+                range: Some((0.5, 2.0))
+            }
+        );
+        assert_eq!(options.negative().unwrap(), Some(NegativeMode::Hide));
+    }
+
+    #[test]
+    fn bad_values_name_the_option() {
+        let bad = |options: RenderOptions| options.settings().unwrap_err().to_string();
+        let range = bad(RenderOptions {
+            magnitude_range: Some("1-2".into()),
+            ..Default::default()
+        });
+        assert_eq!(range, "--magnitude-range: '1-2' is not LOW:HIGH");
+        let negative = RenderOptions {
+            negative: Some("show".into()),
+            ..Default::default()
+        };
+        assert_eq!(
+            negative.negative().unwrap_err().to_string(),
+            "--negative: 'show' is not one of abs, hide"
+        );
+    }
+}
