@@ -432,7 +432,8 @@ fn command_line_writes_odfs_and_peaks() {
             "voxel",
             "--odf",
             method,
-            "--order",
+            // --lmax is the name MRtrix and DIPY users know; it is --order's alias.
+            if method == "csa" { "--lmax" } else { "--order" },
             &band.to_string(),
             "--quiet",
             "-o",

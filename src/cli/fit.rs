@@ -44,7 +44,7 @@ pub struct FitArgs {
     bvec_convention: String,
     /// Tensor order (even, 2 to 12), or the highest SH band with --sh or --odf (even,
     /// 0 to 12).
-    #[arg(long)]
+    #[arg(long, visible_alias = "lmax")]
     order: u32,
     /// Output: 4D float32 image of coefficients, NIfTI (.nii, .nii.gz) or MRtrix (.mif,
     /// .mif.gz, with the basis in its header).
