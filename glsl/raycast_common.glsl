@@ -14,7 +14,12 @@
 #include "shading.glsl"
 #include "glyph_ray.glsl"
 
+// Declared only where it is read: the vertex variant of exact and fixed does not write
+// it (unoptimised SPIR-V keeps every declared input, and an input no stage writes is a
+// validation error).
+#ifdef RAYCAST_READS_GLYPH_INDEX
 layout(location = 0) flat in uint v_glyph;
+#endif
 layout(location = 1) flat in vec4 v_center_radius;
 layout(location = 2) flat in vec4 v_box_rotation;  // box to world (raycast.vert)
 layout(location = 3) flat in vec3 v_box_extent;    // in units of v_center_radius.w

@@ -20,6 +20,9 @@
 // precision / ROBUST_LEAF_SAMPLES pixels along the ray: a graze within a fraction of a
 // pixel of the silhouette. Every segment the range rejects is certified empty, so no
 // sign change wider than that is ever missed, however thin the lobe.
+// The robust methods read the glyph's stored entries, so they take its index
+// (raycast.vert passes it in their vertex variant, GLYPHCAST_GLYPH_INDEX).
+#define RAYCAST_READS_GLYPH_INDEX
 #include "raycast_common.glsl"
 #include "glyph_range.glsl"
 

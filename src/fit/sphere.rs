@@ -5,6 +5,7 @@
 //!
 //! The set is antipodally symmetric (the icosahedron is), so an antipodally symmetric
 //! function has its maxima in pairs.
+use crate::glyph::tessellate::icosahedron;
 use glam::DVec3;
 use std::collections::HashMap;
 
@@ -15,48 +16,6 @@ pub struct GeodesicSphere {
     pub vertices: Vec<DVec3>,
     /// For each vertex, the indices of its 5 or 6 neighbours.
     pub neighbours: Vec<Vec<usize>>,
-}
-
-fn icosahedron() -> ([DVec3; 12], [[usize; 3]; 20]) {
-    let t = (1.0 + 5f64.sqrt()) / 2.0;
-    let v = [
-        DVec3::new(-1.0, t, 0.0),
-        DVec3::new(1.0, t, 0.0),
-        DVec3::new(-1.0, -t, 0.0),
-        DVec3::new(1.0, -t, 0.0),
-        DVec3::new(0.0, -1.0, t),
-        DVec3::new(0.0, 1.0, t),
-        DVec3::new(0.0, -1.0, -t),
-        DVec3::new(0.0, 1.0, -t),
-        DVec3::new(t, 0.0, -1.0),
-        DVec3::new(t, 0.0, 1.0),
-        DVec3::new(-t, 0.0, -1.0),
-        DVec3::new(-t, 0.0, 1.0),
-    ]
-    .map(|p| p.normalize());
-    let faces = [
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
-    (v, faces)
 }
 
 impl GeodesicSphere {

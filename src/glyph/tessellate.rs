@@ -144,10 +144,11 @@ impl SphereMesh {
     }
 }
 
-/// Subdivides the icosahedron `level` times; shared edges share their midpoints.
-fn icosphere(level: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+/// The regular icosahedron on the unit sphere: 12 vertices and 20 faces, counter-clockwise
+/// seen from outside (also the start of `fit::sphere`'s geodesic spheres).
+pub fn icosahedron() -> ([DVec3; 12], [[usize; 3]; 20]) {
     let t = (1.0 + 5f64.sqrt()) / 2.0;
-    let mut directions: Vec<DVec3> = [
+    let vertices = [
         (-1.0, t, 0.0),
         (1.0, t, 0.0),
         (-1.0, -t, 0.0),
@@ -161,10 +162,8 @@ fn icosphere(level: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
         (-t, 0.0, -1.0),
         (-t, 0.0, 1.0),
     ]
-    .into_iter()
-    .map(|(x, y, z)| DVec3::new(x, y, z).normalize())
-    .collect();
-    let mut triangles: Vec<[u32; 3]> = vec![
+    .map(|(x, y, z)| DVec3::new(x, y, z).normalize());
+    let faces = [
         [0, 11, 5],
         [0, 5, 1],
         [0, 1, 7],
@@ -186,6 +185,14 @@ fn icosphere(level: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
         [8, 6, 7],
         [9, 8, 1],
     ];
+    (vertices, faces)
+}
+
+/// Subdivides the icosahedron `level` times; shared edges share their midpoints.
+fn icosphere(level: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let (corners, faces) = icosahedron();
+    let mut directions: Vec<DVec3> = corners.to_vec();
+    let mut triangles: Vec<[u32; 3]> = faces.iter().map(|f| f.map(|i| i as u32)).collect();
     for _ in 0..level {
         let mut midpoints: HashMap<(u32, u32), u32> = HashMap::new();
         let mut midpoint = |a: u32, b: u32, directions: &mut Vec<DVec3>| {
