@@ -193,42 +193,12 @@ fn path_str(p: &Path) -> &str {
     p.to_str().expect("utf-8 path")
 }
 
-/// `glyphcast fit --order 2` on DIPY's small_64D: the DTI volume of the CLI tests.
-fn fit_dti(dir: &Path) -> std::path::PathBuf {
-    let out = dir.join("dti.nii.gz");
-    let data = |name| common::dipy_data(name);
-    let (dwi, bval, bvec) = (
-        data("small_64D.nii"),
-        data("small_64D.bval"),
-        data("small_64D.bvec"),
-    );
-    let status = glyphcast(&[
-        "fit",
-        path_str(&dwi),
-        "--bval",
-        path_str(&bval),
-        "--bvec",
-        path_str(&bvec),
-        "--order",
-        "2",
-        "--quiet",
-        "-o",
-        path_str(&out),
-    ]);
-    assert!(
-        status.status.success(),
-        "{}",
-        String::from_utf8_lossy(&status.stderr)
-    );
-    out
-}
-
 /// A DTI volume drawn with `--glyph ellipsoid` through the CLI: its depth map matches the
 /// float64 reference of the scene it saved, which carries `"shape": "ellipsoid"`.
 #[test]
 fn dti_volume_renders_as_ellipsoids_through_the_cli() {
     let dir = fresh_dir("ellipsoid-cli");
-    let dti = fit_dti(&dir);
+    let dti = common::fit_dti_small_64d(&dir);
     let (png, npy, json) = (dir.join("e.png"), dir.join("e.npy"), dir.join("e.json"));
     let out = glyphcast(&[
         "render",

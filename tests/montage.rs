@@ -5,7 +5,7 @@ mod common;
 use common::{fresh_dir, glyphcast};
 use glyphcast::io::npy::read_npy_f32;
 use glyphcast::io::png::read_png_rgba8;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 const W: u32 = 72;
 const H: u32 = 56;
@@ -15,35 +15,6 @@ fn path_str(p: &Path) -> &str {
 }
 
 /// `glyphcast fit --order 2` on DIPY's small_64D (10x10x10 voxels).
-fn fit_dti(dir: &Path) -> PathBuf {
-    let out = dir.join("dti.nii.gz");
-    let data = common::dipy_data;
-    let (dwi, bval, bvec) = (
-        data("small_64D.nii"),
-        data("small_64D.bval"),
-        data("small_64D.bvec"),
-    );
-    let run = glyphcast(&[
-        "fit",
-        path_str(&dwi),
-        "--bval",
-        path_str(&bval),
-        "--bvec",
-        path_str(&bvec),
-        "--order",
-        "2",
-        "--quiet",
-        "-o",
-        path_str(&out),
-    ]);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
-    out
-}
-
 struct Picture {
     width: u32,
     height: u32,
@@ -120,7 +91,7 @@ fn assert_panel(montage: &Picture, column: u32, row: u32, single: &Picture, what
 #[test]
 fn each_panel_of_views_is_the_single_view_render() {
     let dir = fresh_dir("montage-views");
-    let dti = fit_dti(&dir);
+    let dti = common::fit_dti_small_64d(&dir);
     let montage = render(
         &dir,
         &dti,
@@ -152,7 +123,7 @@ fn each_panel_of_views_is_the_single_view_render() {
 #[test]
 fn lightbox_draws_evenly_spaced_slices_in_a_grid() {
     let dir = fresh_dir("montage-lightbox");
-    let dti = fit_dti(&dir);
+    let dti = common::fit_dti_small_64d(&dir);
     // 5 slices: 3 columns, 2 rows; the sixth cell is background with NaN depth.
     let montage = render(
         &dir,
@@ -180,7 +151,7 @@ fn lightbox_draws_evenly_spaced_slices_in_a_grid() {
 #[test]
 fn bad_montage_requests_are_usage_errors() {
     let dir = fresh_dir("montage-errors");
-    let dti = fit_dti(&dir);
+    let dti = common::fit_dti_small_64d(&dir);
     let png = dir.join("out").join("x.png");
     std::fs::create_dir_all(png.parent().expect("parent")).expect("folder");
     let scene = dir.join("scene.json");

@@ -189,3 +189,33 @@ pub fn expect_failure(args: &[&str], out_dir: &Path, words: &[&str]) -> String {
     );
     errors[0].to_string()
 }
+
+/// `glyphcast fit --order 2` on DIPY's small_64D into `dir/dti.nii.gz`: the DTI volume
+/// the ellipsoid and montage tests draw. Fails the test when the fit fails.
+pub fn fit_dti_small_64d(dir: &Path) -> PathBuf {
+    let out = dir.join("dti.nii.gz");
+    let (dwi, bval, bvec) = (
+        dipy_data("small_64D.nii"),
+        dipy_data("small_64D.bval"),
+        dipy_data("small_64D.bvec"),
+    );
+    let run = glyphcast(&[
+        "fit",
+        text(&dwi),
+        "--bval",
+        text(&bval),
+        "--bvec",
+        text(&bvec),
+        "--order",
+        "2",
+        "--quiet",
+        "-o",
+        text(&out),
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    out
+}
