@@ -51,8 +51,10 @@ pub(crate) const BINDINGS: u32 = 1 + INPUT_BINDINGS + 2;
 /// Pipelines and layouts of the compute ray caster; created once per device.
 pub struct ComputeRayCastPass {
     ctx: DeviceContext,
-    layout: PipelineLayout,
+    // Fields drop in order: the pipelines go before the modules and the layout they were
+    // made with, the order the validation layer expects.
     pipelines: Pipelines<TensorLayout>,
+    layout: PipelineLayout,
     buffer_limit: Option<u64>,
 }
 

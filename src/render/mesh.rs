@@ -110,11 +110,13 @@ impl MeshStats {
 pub struct MeshPass {
     ctx: DeviceContext,
     formats: TargetFormats,
-    layout: PipelineLayout,
-    vertex: ShaderModule,
-    fragment: ShaderModule,
+    // Fields drop in order: the pipelines go before the modules and the layout they were
+    // made with, the order the validation layer expects.
     /// Keyed by vertices per glyph (the specialization constant).
     pipelines: Pipelines<u32>,
+    vertex: ShaderModule,
+    fragment: ShaderModule,
+    layout: PipelineLayout,
     buffer_limit: Option<u64>,
 }
 

@@ -36,11 +36,13 @@ pub struct TargetFormats {
 pub struct RayCastPass {
     ctx: DeviceContext,
     formats: TargetFormats,
-    layout: PipelineLayout,
-    /// The boxes' vertex shader for methods that pass no coefficients (the impostor).
-    vertex: ShaderModule,
+    // Fields drop in order: the pipelines go before the modules and the layout they were
+    // made with, the order the validation layer expects.
     /// Keyed by layout and method; the impostor's pipeline by method alone.
     pipelines: Pipelines<(Option<TensorLayout>, Method)>,
+    /// The boxes' vertex shader for methods that pass no coefficients (the impostor).
+    vertex: ShaderModule,
+    layout: PipelineLayout,
     buffer_limit: Option<u64>,
     /// CUBE_INDICES, for every box.
     indices: Buffer,

@@ -337,8 +337,10 @@ pub(crate) const VALUES_BINDING: u32 = 1;
 /// The underlay's pipeline, for attachments of given formats; created once per device.
 pub struct UnderlayPass {
     ctx: DeviceContext,
-    layout: PipelineLayout,
+    // Fields drop in order: the pipelines go before the modules and the layout they were
+    // made with, the order the validation layer expects.
     pipeline: Pipeline,
+    layout: PipelineLayout,
 }
 
 /// An underlay volume on the GPU: its values and its uniform block.
