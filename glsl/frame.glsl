@@ -4,7 +4,12 @@
 // come from src/catalog.rs (codes), which build.rs serves as codes.glsl.
 #include "codes.glsl"
 
-layout(std140, set = 0, binding = 0) uniform FrameParams {
+// A read-only storage buffer, not a uniform buffer: lavapipe (Mesa 22.3) inlines the
+// values of uniform-buffer members that steer branches or loops into the shader and
+// compiles it again at every command buffer, 10 to 20 ms a frame for the exact method
+// and memory that grows with every frame. Storage-buffer loads are never inlined. All
+// members are vec4/ivec4/mat4, so std430 lays them out as std140 would.
+layout(std430, set = 0, binding = 0) readonly buffer FrameParams {
     mat4 view_proj;
     vec4 eye;             // xyz: eye; w: 1 for orthographic, 0 for perspective
     vec4 right;           // xyz: right * tan(fov/2) (or height/2); w: aspect W/H

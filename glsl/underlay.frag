@@ -7,7 +7,8 @@
 // neighbouring voxel is NaN, nothing is drawn: the background (or a glyph) shows.
 // Where the plane is drawn, the ray distance is "no glyph": the depth map keeps glyph
 // hits only, and a glyph behind the plane is not seen.
-layout(std140, set = 0, binding = 0) uniform UnderlayParams {
+// A storage buffer, as the frame block (frame.glsl says why).
+layout(std430, set = 0, binding = 0) readonly buffer UnderlayParams {
     mat4 world_to_voxel;
     ivec4 dims;
     vec4 window;

@@ -4,7 +4,8 @@
 // made from gl_VertexIndex (no vertex buffer), into the glyphs' depth buffer. The
 // underlay's voxel coordinate is an affine function of the world point, so it is
 // computed per corner and interpolated (perspective-correct, hence exact up to rounding).
-layout(std140, set = 0, binding = 0) uniform UnderlayParams {
+// A storage buffer, as the frame block (frame.glsl says why).
+layout(std430, set = 0, binding = 0) readonly buffer UnderlayParams {
     mat4 world_to_voxel;  // world point to the underlay's voxel coordinates (i, j, k)
     ivec4 dims;           // xyz: voxels along i, j, k; w: channels (1 grey, 3 RGB)
     vec4 window;          // x: the window's low end, y: 1 / (high - low)

@@ -18,7 +18,7 @@ use crate::error::{Error, Result};
 use crate::glyph::{GlyphShape, TensorLayout};
 use crate::render::Method;
 use crate::render::batch::{Batch, batches};
-use crate::render::frame::FrameParams;
+use crate::render::frame::{FrameParams, FRAME_DESCRIPTOR, FRAME_USAGE};
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::shaders::compute_raycast_shader;
 use crate::render::tiles::{ScreenView, TileBins, WALK_PER_DISPATCH, bin_glyphs};
@@ -42,7 +42,7 @@ pub(crate) struct ComputeParams {
     pub(crate) height: u32,
 }
 
-/// Storage buffers of a part, at bindings 1 to 5 (0 is the frame's uniform buffer, 6 and
+/// Storage buffers of a part, at bindings 1 to 5 (0 is the frame's parameter buffer, 6 and
 /// 7 the outputs).
 const INPUT_BINDINGS: u32 = 5;
 /// Every binding: frame, five inputs, two outputs.
@@ -124,12 +124,8 @@ impl ComputeRayCastPass {
     pub fn new(ctx: &DeviceContext) -> Result<ComputeRayCastPass> {
         let bindings: Vec<_> = (0..BINDINGS)
             .map(|binding| {
-                let kind = if binding == 0 {
-                    vk::DescriptorType::UNIFORM_BUFFER
-                } else {
-                    vk::DescriptorType::STORAGE_BUFFER
-                };
-                buffer_binding(binding, kind, vk::ShaderStageFlags::COMPUTE)
+                // The frame at 0 (FRAME_DESCRIPTOR: a storage buffer too), then storage.
+                buffer_binding(binding, FRAME_DESCRIPTOR, vk::ShaderStageFlags::COMPUTE)
             })
             .collect();
         let push = std::mem::size_of::<ComputeParams>() as u32;
@@ -224,7 +220,7 @@ impl ComputeRayCastPass {
                  of {device_limit} bytes"
             )));
         }
-        let pool = DescriptorPool::new(ctx, parts.len(), 1, BINDINGS - 1)?;
+        let pool = DescriptorPool::new(ctx, parts.len(), 0, BINDINGS)?;
         let output = |name: &str| {
             Buffer::new(
                 ctx,
@@ -241,7 +237,7 @@ impl ComputeRayCastPass {
                 ctx,
                 "frame",
                 std::slice::from_ref(frame),
-                vk::BufferUsageFlags::UNIFORM_BUFFER,
+                FRAME_USAGE,
             )?,
             pool,
             parts: Vec::new(),
@@ -402,10 +398,7 @@ fn upload_part(
         .chain([&scene.colors, &scene.distances]);
     let bindings: Vec<BufferBinding> = buffers
         .enumerate()
-        .map(|(binding, buffer)| match binding {
-            0 => BufferBinding::uniform(0, buffer),
-            _ => BufferBinding::storage(binding as u32, buffer),
-        })
+        .map(|(binding, buffer)| BufferBinding::storage(binding as u32, buffer))
         .collect();
     let descriptor_set = scene.pool.buffer_set(set_layout, &bindings)?;
     Ok(ComputePartGpu {

@@ -1,4 +1,4 @@
-//! The frame's uniform block, laid out exactly as `FrameParams` in glsl/frame.glsl (std140:
+//! The frame's parameter block, laid out exactly as `FrameParams` in glsl/frame.glsl (std140:
 //! a mat4 and vec4/ivec4 members only, so there is no padding to get wrong).
 use crate::camera::{Camera, Projection};
 use crate::catalog::codes;
@@ -6,7 +6,7 @@ use crate::render::glyph_data::GlyphSetData;
 use crate::render::settings::{ColorMode, Refinement, RenderSettings};
 use bytemuck::{Pod, Zeroable};
 
-/// The frame's uniform block (glsl/frame.glsl `FrameParams`, std140): camera, march
+/// The frame's parameter block (glsl/frame.glsl `FrameParams`, std430 = std140 here): camera, march
 /// settings, colour and lighting. `render::interface` holds the offsets to the SPIR-V.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -45,6 +45,17 @@ pub struct FrameParams {
     /// strength, z shininess.
     pub shading: [f32; 4],
 }
+
+/// How every pass binds the frame block (and the underlay its parameters): as a read-only
+/// storage buffer, not a uniform buffer. lavapipe (Mesa 22.3) inlines the values of
+/// uniform-buffer members that steer a branch or a loop into the shader and compiles it
+/// again for every command buffer: for the exact method 10 to 20 ms a frame whatever the
+/// image size, and memory that grew by megabytes a frame. Storage-buffer reads are left
+/// alone. glsl/frame.glsl declares the block to match; `render::interface` checks it.
+pub const FRAME_DESCRIPTOR: ash::vk::DescriptorType = ash::vk::DescriptorType::STORAGE_BUFFER;
+
+/// The usage of the buffer that holds the frame block ([`FRAME_DESCRIPTOR`]).
+pub const FRAME_USAGE: ash::vk::BufferUsageFlags = ash::vk::BufferUsageFlags::STORAGE_BUFFER;
 
 /// Depth range and magnitude range of what is drawn.
 #[derive(Clone, Copy, Debug)]

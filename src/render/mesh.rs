@@ -17,7 +17,7 @@ use crate::error::{Error, Result};
 use crate::glyph::GlyphShape;
 use crate::glyph::intersect::WorldGlyph;
 use crate::glyph::tessellate::{MeshKind, MeshVertex, SphereMesh, tessellate};
-use crate::render::frame::FrameParams;
+use crate::render::frame::{FrameParams, FRAME_DESCRIPTOR, FRAME_USAGE};
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::raycast::{InstanceInput, TargetFormats, glyph_pipeline, viewport_and_scissor};
 use crate::render::shaders::{MESH_FRAGMENT, MESH_VERTEX};
@@ -164,7 +164,7 @@ impl MeshPass {
         let bindings = [
             buffer_binding(
                 FRAME_BINDING,
-                vk::DescriptorType::UNIFORM_BUFFER,
+                FRAME_DESCRIPTOR,
                 vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
             ),
             buffer_binding(
@@ -261,7 +261,7 @@ impl MeshPass {
             ctx,
             "frame",
             std::slice::from_ref(frame),
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            FRAME_USAGE,
         )?;
         let index_buffer = Buffer::with_data(
             ctx,
@@ -269,7 +269,7 @@ impl MeshPass {
             &indices,
             vk::BufferUsageFlags::INDEX_BUFFER,
         )?;
-        let pool = DescriptorPool::new(ctx, ranges.len(), 1, 1)?;
+        let pool = DescriptorPool::new(ctx, ranges.len(), 0, 2)?;
         let mut scene = MeshSceneGpu {
             frame: frame_buffer,
             pool,
@@ -318,7 +318,7 @@ impl MeshPass {
         let descriptor_set = scene.pool.buffer_set(
             self.layout.set_layout(),
             &[
-                BufferBinding::uniform(FRAME_BINDING, &scene.frame),
+                BufferBinding::storage(FRAME_BINDING, &scene.frame),
                 BufferBinding::storage(VERTEX_BINDING, &vertices),
             ],
         )?;

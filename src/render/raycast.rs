@@ -11,7 +11,7 @@ use crate::error::{Error, Result};
 use crate::glyph::{GlyphShape, TensorLayout};
 use crate::render::Method;
 use crate::render::batch::{Batch, batches};
-use crate::render::frame::FrameParams;
+use crate::render::frame::{FrameParams, FRAME_DESCRIPTOR, FRAME_USAGE};
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::shaders::{IMPOSTOR_FRAGMENT, RAYCAST_VERTEX, raycast_shader};
 use crate::vk::{
@@ -71,7 +71,7 @@ pub fn varying_components(layout: TensorLayout) -> u32 {
     4 * (4 + monomials.div_ceil(4))
 }
 
-/// Binding of the frame's uniform block (glsl/frame.glsl `FrameParams`); the test in
+/// Binding of the frame's parameter block (glsl/frame.glsl `FrameParams`); the test in
 /// `render::interface` holds the shaders to it.
 pub(crate) const FRAME_BINDING: u32 = 0;
 /// Binding of a glyph batch's coefficients (glsl/frame.glsl `Coefficients`).
@@ -98,7 +98,7 @@ pub struct GlyphSetGpu {
     descriptor_set: vk::DescriptorSet,
 }
 
-/// Everything a scene needs on the GPU: the frame's uniform buffer and the glyph sets.
+/// Everything a scene needs on the GPU: the frame's parameter buffer and the glyph sets.
 pub struct SceneGpu {
     frame: Buffer,
     pool: DescriptorPool,
@@ -112,7 +112,7 @@ impl RayCastPass {
     pub fn new(ctx: &DeviceContext, formats: TargetFormats) -> Result<RayCastPass> {
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let bindings = [
-            buffer_binding(FRAME_BINDING, vk::DescriptorType::UNIFORM_BUFFER, stages),
+            buffer_binding(FRAME_BINDING, FRAME_DESCRIPTOR, stages),
             buffer_binding(
                 COEFFICIENTS_BINDING,
                 vk::DescriptorType::STORAGE_BUFFER,
@@ -265,7 +265,7 @@ impl RayCastPass {
             ctx,
             "frame",
             std::slice::from_ref(frame),
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            FRAME_USAGE,
         )?;
         // Sets that share a pipeline share buffers and a draw; a batch larger than one
         // storage buffer is split (the method's "render successively").
@@ -274,7 +274,7 @@ impl RayCastPass {
         for chunk in &chunks {
             self.pipeline(chunk.layout, batch_method(chunk.shape, method))?;
         }
-        let pool = DescriptorPool::new(ctx, chunks.len(), 1, 1)?;
+        let pool = DescriptorPool::new(ctx, chunks.len(), 0, 2)?;
         let mut scene = SceneGpu {
             frame: frame_buffer,
             pool,
@@ -455,7 +455,7 @@ fn upload_chunk(
     let descriptor_set = scene.pool.buffer_set(
         set_layout,
         &[
-            BufferBinding::uniform(FRAME_BINDING, &scene.frame),
+            BufferBinding::storage(FRAME_BINDING, &scene.frame),
             BufferBinding::storage(COEFFICIENTS_BINDING, &coefficients),
         ],
     )?;

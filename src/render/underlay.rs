@@ -22,7 +22,7 @@
 //! or records [`UnderlayPass::record`] into its own frame.
 use crate::camera::{Camera, Ray};
 use crate::error::{Error, Result};
-use crate::render::frame::SceneExtent;
+use crate::render::frame::{SceneExtent, FRAME_DESCRIPTOR, FRAME_USAGE};
 use crate::render::raycast::{TargetFormats, viewport_and_scissor};
 use crate::render::shaders::{UNDERLAY_FRAGMENT, UNDERLAY_VERTEX};
 use crate::vk::{
@@ -309,7 +309,7 @@ pub fn extent_with_planes(
     }
 }
 
-/// The uniform block of glsl/underlay.vert/.frag (`UnderlayParams`, std140).
+/// The parameter block of glsl/underlay.vert/.frag (`UnderlayParams`; a storage buffer, as the frame block).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub(crate) struct UnderlayParams {
@@ -329,7 +329,7 @@ pub(crate) struct PlanePush {
     pub(crate) v: [f32; 4],
 }
 
-/// Binding of the underlay's uniform block (`UnderlayParams`).
+/// Binding of the underlay's parameter block (`UnderlayParams`).
 pub(crate) const PARAMS_BINDING: u32 = 0;
 /// Binding of the underlay's values (`UnderlayValues`).
 pub(crate) const VALUES_BINDING: u32 = 1;
@@ -343,7 +343,7 @@ pub struct UnderlayPass {
     layout: PipelineLayout,
 }
 
-/// An underlay volume on the GPU: its values and its uniform block.
+/// An underlay volume on the GPU: its values and its parameter block.
 pub struct UnderlayGpu {
     _params: Buffer,
     _values: Buffer,
@@ -359,7 +359,7 @@ impl UnderlayPass {
         let bindings = [
             buffer_binding(
                 PARAMS_BINDING,
-                vk::DescriptorType::UNIFORM_BUFFER,
+                FRAME_DESCRIPTOR,
                 vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
             ),
             buffer_binding(
@@ -410,7 +410,7 @@ impl UnderlayPass {
             ctx,
             "underlay parameters",
             std::slice::from_ref(&params),
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            FRAME_USAGE,
         )?;
         let values = Buffer::with_data(
             ctx,
@@ -418,11 +418,11 @@ impl UnderlayPass {
             &volume.values,
             vk::BufferUsageFlags::STORAGE_BUFFER,
         )?;
-        let pool = DescriptorPool::new(ctx, 1, 1, 1)?;
+        let pool = DescriptorPool::new(ctx, 1, 0, 2)?;
         let descriptor_set = pool.buffer_set(
             self.layout.set_layout(),
             &[
-                BufferBinding::uniform(PARAMS_BINDING, &params),
+                BufferBinding::storage(PARAMS_BINDING, &params),
                 BufferBinding::storage(VALUES_BINDING, &values),
             ],
         )?;
