@@ -1,4 +1,4 @@
-//! Holds the Rust side of the shader interface to the compiled SPIR-V: the uniform block
+//! Holds the Rust side of the shader interface to the compiled SPIR-V: the frame block
 //! `FrameParams` (member count and byte offsets against the `#[repr(C)]` struct), the
 //! descriptor bindings each pass creates, and the push-constant blocks. The GLSL is
 //! written by hand beside the Rust structs; these tests read the blocks back out of every

@@ -1,5 +1,5 @@
 //! Run-time settings of the ray caster. None of them needs a new shader permutation:
-//! they reach the shaders through the frame's uniform buffer.
+//! they reach the shaders through the frame's parameter block.
 use crate::error::quoted;
 use crate::render::{MeshKind, Method};
 use crate::{Error, Result};
