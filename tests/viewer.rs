@@ -5,8 +5,7 @@
 //! The Xvfb runner and the image comparisons are in tests/common/window.rs.
 mod common;
 use common::window::{
-    BIN, Xvfb, assert_clean, assert_window_matches, data, differing_pixels, out, path_str,
-    render,
+    BIN, Xvfb, assert_clean, assert_window_matches, data, differing_pixels, out, path_str, render,
 };
 use glyphcast::io::png::read_png_rgba8;
 use std::path::{Path, PathBuf};

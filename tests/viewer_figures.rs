@@ -39,7 +39,11 @@ fn render(input: &[&str], name: &str, options: &[&str]) -> PathBuf {
 /// The RGBA pixels of the rectangle (x, y, w, h) of a PNG.
 fn crop(png: &Path, (x, y, w, h): (u32, u32, u32, u32)) -> Vec<u8> {
     let (width, height, rgba) = read_png_rgba8(png).expect("reading a PNG");
-    assert!(x + w <= width && y + h <= height, "{} is too small", png.display());
+    assert!(
+        x + w <= width && y + h <= height,
+        "{} is too small",
+        png.display()
+    );
     (y..y + h)
         .flat_map(|row| {
             let at = 4 * (row * width + x) as usize;
@@ -80,7 +84,10 @@ fn assert_shows(window: &Path, shot: &Path, rendered: &Path, strip_left: Option<
 /// The arguments of a scripted view: `frames` frames of `script`, writing the screenshot
 /// and the window capture named after `name`.
 fn scripted(name: &str, frames: u32, script: &str) -> (Vec<String>, PathBuf, PathBuf) {
-    let (shot, window) = (out(&format!("{name}-shot.png")), out(&format!("{name}-window.png")));
+    let (shot, window) = (
+        out(&format!("{name}-shot.png")),
+        out(&format!("{name}-window.png")),
+    );
     let mut args = vec!["--frames".to_owned(), frames.to_string()];
     if !script.is_empty() {
         args.extend(["--script".to_owned(), script.to_owned()]);
@@ -273,9 +280,8 @@ fn montages_and_bars_that_cannot_work_are_usage_errors() {
     let scene = data("tests/scenes/sphere.json");
     let volume = data("tests/data/dipy/func_coef.nii.gz");
     let sh = ["--sh", volume.as_str(), "--basis", "tournier07", "--legacy"];
-    let with_sh = |extra: &[&str]| -> Vec<String> {
-        sh.iter().chain(extra).map(|s| s.to_string()).collect()
-    };
+    let with_sh =
+        |extra: &[&str]| -> Vec<String> { sh.iter().chain(extra).map(|s| s.to_string()).collect() };
     let cases: Vec<(Vec<String>, &str)> = vec![
         (
             vec![scene.clone(), "--views".into(), "axial".into()],

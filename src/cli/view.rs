@@ -104,7 +104,8 @@ fn montage(volume_args: &VolumeArgs, image: ImageRequest) -> Result<(ViewSource,
     let mut cell = (image.width.unwrap_or(0), image.height.unwrap_or(0));
     if image.width.is_none() || image.height.is_none() {
         for options in &panels {
-            let region = SliceRegion::new(volume.dims, options.slice, &options.voxels, &volume.file)?;
+            let region =
+                SliceRegion::new(volume.dims, options.slice, &options.voxels, &volume.file)?;
             let framing = frame_region(
                 &region,
                 &volume.voxel_to_world,

@@ -333,13 +333,25 @@ mod tests {
             label: "x".into(),
         };
         let (width, rgba, depth) = bar
-            .append(&[7; 4 * 3 * 16], &[0.5; 3 * 16], 3, 16, [0.0, 0.0, 0.0, 1.0])
+            .append(
+                &[7; 4 * 3 * 16],
+                &[0.5; 3 * 16],
+                3,
+                16,
+                [0.0, 0.0, 0.0, 1.0],
+            )
             .unwrap();
         assert!(width > 3);
-        assert_eq!((rgba.len(), depth.len()), (64 * width as usize, 16 * width as usize));
+        assert_eq!(
+            (rgba.len(), depth.len()),
+            (64 * width as usize, 16 * width as usize)
+        );
         assert_eq!(rgba[..12], [7; 12]);
         let (strip_width, strip) = bar.strip(16, [0.0, 0.0, 0.0, 1.0]).unwrap();
-        assert_eq!((strip_width, strip.len()), (width - 3, 64 * (width - 3) as usize));
+        assert_eq!(
+            (strip_width, strip.len()),
+            (width - 3, 64 * (width - 3) as usize)
+        );
     }
 
     #[test]

@@ -5,13 +5,12 @@
 use super::ViewerOptions;
 use super::compose::{PanelDraw, StripDraw};
 use super::controls::{self, Action, HELP, color_name, refinement_name};
+use super::figure::Figure;
 use super::layout::WindowLayout;
 use super::orbit;
 use super::panels::Panels;
 use super::presenter::{Outcome, Presenter};
-use crate::render::colorbar::ColorBar;
-use crate::render::headless::{HeadlessRenderer, RenderedImage};
-use crate::render::montage::Montage;
+use crate::render::headless::HeadlessRenderer;
 use crate::render::raycast::SceneGpu;
 use crate::render::settings::{RenderSettings, STEP_RANGE};
 use crate::render::shaders::methods_for;
@@ -47,14 +46,6 @@ struct Pointer {
     shift: bool,
 }
 
-/// The colour bar's strip as last drawn, kept while the bar and its size stay the same.
-struct Strip {
-    bar: ColorBar,
-    height: u32,
-    width: u32,
-    rgba: Vec<u8>,
-}
-
 struct App {
     // Declaration order is drop order: the presenter (its surface) before the window it
     // presents to. GPU objects keep the device alive themselves, so the Gpu may go at
@@ -69,7 +60,7 @@ struct App {
     window: Option<Window>,
     panels: Panels,
     options: ViewerOptions,
-    strip: Option<Strip>,
+    figure: Figure,
     pointer: Pointer,
     /// Frames presented, and the script's next event.
     presented: u32,
@@ -115,7 +106,7 @@ pub fn run(mut panels: Panels, options: ViewerOptions) -> Result<()> {
         window: None,
         panels,
         options,
-        strip: None,
+        figure: Figure::default(),
         pointer: Pointer::default(),
         presented: 0,
         script_next: 0,
@@ -238,13 +229,7 @@ impl App {
     /// colour bar's strip beside them, as `render` lays out its image.
     fn initial_size(&self) -> Result<(u32, u32)> {
         let cell = (self.options.width, self.options.height);
-        let (width, height) =
-            WindowLayout::grid_size(cell, self.panels.panels.len(), self.panels.columns);
-        let strip = self
-            .colorbar()
-            .map(|bar| bar.strip_width(height))
-            .transpose()?;
-        Ok((width.saturating_add(strip.unwrap_or(0)), height))
+        Figure::window_size(&self.panels, &self.options, cell)
     }
 
     fn on_event(&mut self, event_loop: &ActiveEventLoop, event: WindowEvent) -> Result<()> {
@@ -319,56 +304,18 @@ impl App {
         }
     }
 
-    /// The colour bar the window shows now (`--colorbar` with `--color magnitude`).
-    fn colorbar(&self) -> Option<ColorBar> {
-        let label = self.options.colorbar_label.as_deref();
-        self.options
-            .colorbar
-            .then(|| self.panels.colorbar(label))
-            .flatten()
-    }
-
-    /// The layout of a window of `size`, and the colour bar's strip for it (drawn again
-    /// only when the bar or the height changed).
+    /// The layout of a window of `size`.
     fn layout(&mut self, size: vk::Extent2D) -> Result<WindowLayout> {
-        let bar = self.colorbar();
-        let height = size.height;
-        if let Some(bar) = bar {
-            let kept = self
-                .strip
-                .as_ref()
-                .is_some_and(|s| s.bar == bar && s.height == height);
-            if !kept {
-                let background = self.panels.settings().background;
-                // The window is opaque: its background, and so its strip, has alpha 1.
-                let opaque = [background[0], background[1], background[2], 1.0];
-                let (width, rgba) = bar.strip(height, opaque)?;
-                self.strip = Some(Strip {
-                    bar,
-                    height,
-                    width,
-                    rgba,
-                });
-            }
-        } else {
-            self.strip = None;
-        }
-        let strip_width = self.strip.as_ref().map(|s| s.width);
-        let panels = self.panels.panels.len();
-        Ok(WindowLayout::new(
-            size.width,
-            height,
-            panels,
-            self.panels.columns,
-            strip_width,
-        ))
+        self.figure.layout(&self.panels, &self.options, size)
     }
 
     /// The height of one panel's cell: camera drags are measured in it.
     fn cell_height(&self) -> u32 {
         let size = self.window_size();
-        let rows = self.panels.panels.len().div_ceil(self.panels.columns.max(1));
-        (size.height / rows.max(1) as u32).max(1)
+        let (panels, columns) = (self.panels.panels.len(), self.panels.columns);
+        // The strip takes width only, so the cells' height does not depend on it.
+        let layout = WindowLayout::new(size.width, size.height, panels, columns, None);
+        layout.grid.cell.1.max(1)
     }
 
     fn apply(&mut self, event_loop: &ActiveEventLoop, action: Action) -> Result<()> {
@@ -520,13 +467,10 @@ impl App {
             });
         }
         let strip = self
-            .strip
-            .as_ref()
+            .figure
+            .strip_pixels()
             .zip(layout.strip_rect())
-            .map(|(strip, rect)| StripDraw {
-                rgba: &strip.rgba,
-                rect,
-            });
+            .map(|(rgba, rect)| StripDraw { rgba, rect });
         let capture = self.options.capture_window.is_some();
         let outcome = presenter.render(&self.gpu, &mut draws, strip, &settings, capture)?;
         // Waiting here keeps one frame in flight and gives this frame's GPU time at once;
@@ -666,12 +610,19 @@ impl App {
         if self.headless.is_none() {
             self.headless = Some(HeadlessRenderer::new(&self.gpu)?);
         }
+        let Some(renderer) = self.headless.as_mut() else {
+            return Ok(());
+        };
         let started = Instant::now();
-        let image = self.render_headless(&layout)?;
+        let image = self
+            .figure
+            .render_headless(renderer, &self.gpu, &self.panels, &layout)?;
         // The screenshot and the scene as shown: both new, or both as they were.
         let png = crate::io::png::encode_png_rgba8(path, image.width, image.height, &image.rgba)?;
+        // The scene's image is the glyphs' area: without the colour bar's strip.
+        let (width, height) = (layout.grid.cell.0, layout.grid.cell.1);
         let scene = self.options.save_scene.as_ref().map(|scene_path| {
-            let shown = self.panels.first().shown_scene(image.width, image.height);
+            let shown = self.panels.first().shown_scene(width, height);
             (scene_path, shown.to_json())
         });
         let mut files: Vec<(&Path, &[u8])> = vec![(path, &png)];
@@ -687,47 +638,6 @@ impl App {
             started.elapsed().as_secs_f64() * 1e3
         );
         Ok(())
-    }
-
-    /// The picture of `layout` through the headless renderer.
-    fn render_headless(&mut self, layout: &WindowLayout) -> Result<RenderedImage> {
-        let Some(renderer) = self.headless.as_mut() else {
-            return Err(Error::Setup("no headless renderer".into()));
-        };
-        let settings = self.panels.frame_settings();
-        let (width, height) = (layout.panel_area_width(), layout.height);
-        let mut image = if self.panels.is_montage() {
-            let mut montage = Montage::new(layout.grid, width, height, settings.background);
-            for (k, panel) in self.panels.panels.iter().enumerate() {
-                let Some(cell) = layout.cell(k) else { continue };
-                let (w, h) = (cell.extent.width, cell.extent.height);
-                let shot = renderer.render(&self.gpu, &panel.sets, &panel.camera, w, h, &settings)?;
-                montage.place(k, &shot);
-            }
-            montage.finish()
-        } else {
-            let c = self.panels.first();
-            renderer.render_with_underlay(
-                &self.gpu,
-                &c.sets,
-                c.underlay.as_ref(),
-                &c.camera,
-                width,
-                height,
-                &settings,
-            )?
-        };
-        if let Some(strip) = self.strip.as_ref().filter(|_| layout.strip.is_some()) {
-            let (total, rgba, distance) = strip.bar.append(
-                &image.rgba,
-                &image.distance,
-                image.width,
-                image.height,
-                settings.background,
-            )?;
-            (image.width, image.rgba, image.distance) = (total, rgba, distance);
-        }
-        Ok(image)
     }
 }
 

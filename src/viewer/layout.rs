@@ -38,10 +38,7 @@ impl WindowLayout {
             .map(|w| (width - w, w));
         let area = strip.map_or(width, |(left, _)| left);
         let shape = Grid::new((1, 1), columns, panels);
-        let cell = (
-            area / shape.columns as u32,
-            height / shape.rows as u32,
-        );
+        let cell = (area / shape.columns as u32, height / shape.rows as u32);
         WindowLayout {
             width,
             height,
@@ -110,7 +107,10 @@ mod tests {
         assert_eq!(layout.strip, Some((200, 60)));
         assert_eq!(layout.grid.cell, (200, 200));
         let rect = layout.strip_rect().unwrap();
-        assert_eq!((rect.offset.x, rect.extent.width, rect.extent.height), (200, 60, 200));
+        assert_eq!(
+            (rect.offset.x, rect.extent.width, rect.extent.height),
+            (200, 60, 200)
+        );
         // Too narrow for the strip and a panel: no strip.
         let narrow = WindowLayout::new(50, 200, 1, 1, Some(60));
         assert_eq!((narrow.strip, narrow.grid.cell), (None, (50, 200)));

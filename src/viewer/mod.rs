@@ -2,29 +2,34 @@
 //! drawn by the same [`RayCastPass`](crate::render::raycast::RayCastPass) as everything
 //! else, recorded into the window's command buffer with no distance attachment.
 //!
-//! One file per concern: `content` is what is shown (scene or volume slice, settings,
-//! camera), `controls` maps keys and test scripts to [`Action`]s, `orbit` moves the
-//! camera, `presenter` owns the swapchain frames, `app` is the winit event loop.
+//! One file per concern: `content` is what one panel shows (scene or volume slice,
+//! settings, camera), `panels` the window's panels (one, or a montage's), `layout` and
+//! `figure` where panels and the colour bar's strip go (as `render` lays out its image),
+//! `controls` maps keys and test scripts to [`Action`]s, `orbit` moves the camera,
+//! `presenter` owns the swapchain frames and `compose` the panels and strip copied into
+//! them, `app` is the winit event loop.
 //!
 //! The window is an add-on to the headless path: screenshots are rendered by the
 //! [`HeadlessRenderer`](crate::render::headless::HeadlessRenderer) at the window's size
-//! with its camera and settings, and a scripted run (`--frames`, `--script`) can read
-//! back what the window showed (`--capture-window`) so tests can hold the two against
-//! each other. Rendering is on demand (after input or a resize), not continuous: on a
+//! with its cameras and settings (a montage's panels and the colour bar composed as
+//! `render` composes them), and a scripted run (`--frames`, `--script`) can read back
+//! what the window showed (`--capture-window`) so tests can hold the two against each
+//! other. Rendering is on demand (after input or a resize), not continuous: on a
 //! software rasteriser a busy loop would take every core.
 mod app;
 mod compose;
 mod content;
 mod controls;
+mod figure;
 mod layout;
 mod orbit;
 mod panels;
 mod presenter;
 
 pub use content::{Content, MontageSource, ViewSource};
-pub use panels::Panels;
 pub use controls::{Action, HELP, parse_script};
 pub use orbit::{orbit, pan, zoom};
+pub use panels::Panels;
 
 use crate::glyph::NegativeMode;
 use crate::io::atomic::check_ending;

@@ -1,6 +1,9 @@
 //! The window's frames: swapchain, depth buffer, one command buffer and its sync objects,
 //! and the ray-cast pass for the swapchain's format, with no distance attachment (the
-//! pass then uses its colour-only fragment shaders).
+//! pass then uses its colour-only fragment shaders). A frame draws the panel at the
+//! window's corner in place, with its cell as viewport; the other panels of a montage
+//! and the colour bar's strip are drawn offscreen or on the CPU and copied in
+//! (`compose`).
 //!
 //! One frame is in flight: each frame first waits for the previous one, which makes it
 //! safe to rewrite the scene's uniform buffer and to read the previous frame's GPU time.
@@ -10,11 +13,11 @@
 //! (minimised), so nothing is rendered into a swapchain known to be stale. An image
 //! acquired as SUBOPTIMAL is still drawn and presented (presenting is how it is given
 //! back), and the swapchain is recreated before the next frame.
+use super::compose::{Composer, PanelDraw, StripDraw, attachment_to_copies};
 use crate::error::{Result, VkContext};
 use crate::render::RenderSettings;
 use crate::render::raycast::{RayCastPass, TargetFormats};
 use crate::render::underlay::UnderlayPass;
-use super::compose::{Composer, PanelDraw, StripDraw, attachment_to_copies};
 use crate::vk::recording::{
     Access, COLOR_OUTPUT, COPY_READ, COPY_WRITE, DEPTH_TESTS, NOTHING, cleared_color_attachment,
     color_image_copy, copies_to_host, layout_transition,
