@@ -3,6 +3,7 @@
 use super::render::{RenderArgs, SceneSource};
 use super::volume::{VolumeArgs, panel_view};
 use clap::Args;
+use glyphcast::render::underlay::Underlay;
 use glyphcast::viewer::{MontageSource, ViewSource, ViewerOptions, parse_script};
 use glyphcast::volume::{ImageRequest, SliceRegion, frame_region};
 use glyphcast::{Error, Result};
@@ -52,30 +53,16 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         .transpose()
         .map_err(Error::into_usage)?
         .unwrap_or_default();
-    let ((source, underlay), (width, height)) = if args.source.volume.is_montage() {
+    let (source, underlay, (width, height)) = if args.source.volume.is_montage() {
         if args.source.scene.is_some() {
             return Err(Error::Usage(
                 "--views and --lightbox take volume input (--sh/--tensor)".into(),
             ));
         }
         let (montage, cell) = montage(&args.source.volume, image)?;
-        ((montage, None), cell)
+        (montage, None, cell)
     } else {
-        let (source, underlay) = args.source.load_for_view(image)?;
-        let size = match &source {
-            ViewSource::Volume { view, .. } => view.scene.image,
-            ViewSource::Scene(scene) => scene.image,
-            ViewSource::Montage(_) => {
-                return Err(Error::Invalid("a montage loaded as one view".into()));
-            }
-        };
-        (
-            (source, underlay),
-            (
-                image.width.unwrap_or(size.width),
-                image.height.unwrap_or(size.height),
-            ),
-        )
+        single_view(&args.source, image)?
     };
     let options = ViewerOptions {
         gpu: args.options.gpu_options(),
@@ -93,6 +80,25 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         underlay,
     };
     glyphcast::viewer::run(source, options)
+}
+
+/// The scene file or volume view (with its underlay) and the size of its image:
+/// `--width` x `--height`, a side not given the scene's or the volume framing's.
+fn single_view(
+    source: &SceneSource,
+    image: ImageRequest,
+) -> Result<(ViewSource, Option<Underlay>, (u32, u32))> {
+    let (source, underlay) = source.load_for_view(image)?;
+    let size = match &source {
+        ViewSource::Volume { view, .. } => view.scene.image,
+        ViewSource::Scene(scene) => scene.image,
+        ViewSource::Montage(_) => {
+            return Err(Error::Invalid("a montage loaded as one view".into()));
+        }
+    };
+    let width = image.width.unwrap_or(size.width);
+    let height = image.height.unwrap_or(size.height);
+    Ok((source, underlay, (width, height)))
 }
 
 /// The panels of `--views` or `--lightbox` as `render` makes them, and the size of their

@@ -138,7 +138,9 @@ impl Composer {
         draw: impl FnOnce() -> Result<()>,
     ) -> Result<()> {
         let Some((color, depth)) = self.target.as_ref() else {
-            return Err(Error::Setup("no offscreen target for a window panel".into()));
+            return Err(Error::Setup(
+                "no offscreen target for a window panel".into(),
+            ));
         };
         let to_attachment = [
             // After the previous panel's copy read the target.

@@ -85,12 +85,12 @@ pub fn run(source: ViewSource, options: ViewerOptions) -> Result<()> {
         ));
     }
     check_outputs(&options)?;
-    let mut panels = Panels::new(source, options.settings, options.negative)?;
-    if panels.is_montage() && options.save_scene.is_some() {
+    if matches!(source, ViewSource::Montage(_)) && options.save_scene.is_some() {
         return Err(Error::Usage(
             "--save-scene writes one scene: not with --views or --lightbox".into(),
         ));
     }
+    let mut panels = Panels::new(source, options.settings, options.negative)?;
     panels.set_underlay(options.underlay.clone())?;
     check_method(&panels, &options.settings)?;
     app::run(panels, options)
