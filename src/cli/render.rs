@@ -3,18 +3,19 @@ use clap::Args;
 use glyphcast::glyph::{GlyphShape, NegativeMode};
 use glyphcast::io::atomic::check_ending;
 use glyphcast::render::RenderSettings;
-use glyphcast::render::colorbar::ColorBar;
-use glyphcast::render::frame::{SceneExtent, magnitude_range};
+use glyphcast::render::colorbar::{ColorBar, common_scale};
+use glyphcast::render::frame::SceneExtent;
 use glyphcast::render::glyph_data::{GlyphSetData, measure_largest_radius, prepare_scene};
 use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
 use glyphcast::render::labels::{draw_edge_labels, edge_labels};
+use glyphcast::render::montage::{Grid, Montage, shared_magnitude_range};
 use glyphcast::render::options::{RenderOptions, prepare_render};
 use glyphcast::render::underlay::Underlay;
 use glyphcast::render::{ColorMode, Method};
 use glyphcast::scene::Scene;
 use glyphcast::viewer::ViewSource;
 use glyphcast::vk::{Gpu, GpuOptions};
-use glyphcast::volume::{ImageRequest, MAX_SIDE};
+use glyphcast::volume::ImageRequest;
 use glyphcast::{Error, Result};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -221,7 +222,7 @@ impl RenderArgs {
     }
 
     /// Checks that `--colorbar` goes with `--color magnitude` (a usage error otherwise).
-    fn check_colorbar(&self, settings: &RenderSettings) -> Result<()> {
+    pub fn check_colorbar(&self, settings: &RenderSettings) -> Result<()> {
         if self.colorbar && !matches!(settings.color, ColorMode::Magnitude { .. }) {
             return Err(Error::Usage(format!(
                 "--colorbar shows the magnitude colour map: it needs --color magnitude, not \
@@ -230,6 +231,11 @@ impl RenderArgs {
             )));
         }
         Ok(())
+    }
+
+    /// `--colorbar-label`, if given.
+    pub fn colorbar_label(&self) -> Option<&str> {
+        self.colorbar_label.as_deref()
     }
 
     /// The colour bar of a render of `sets` with `settings`, if `--colorbar`:
@@ -246,16 +252,7 @@ impl RenderArgs {
             return None;
         }
         let extent = SceneExtent::for_settings(camera, sets, settings);
-        let (low, high) = magnitude_range(settings, &extent)?;
-        let (unit, label) = match common_scale {
-            Some(scale) => (scale, "radius (data units)"),
-            None => (1.0, "radius (world units)"),
-        };
-        Some(ColorBar {
-            low: f64::from(low) / unit,
-            high: f64::from(high) / unit,
-            label: self.colorbar_label.clone().unwrap_or_else(|| label.into()),
-        })
+        ColorBar::of_magnitude(settings, &extent, common_scale, self.colorbar_label())
     }
 
     /// `--negative`, if given; an unknown mode is a usage error.
@@ -306,7 +303,7 @@ pub fn render(
     let negative = options.negative()?;
     // Written with the image and the depth map, all or nothing.
     let scene_file = save_scene.map(|path| (path, scene.to_json()));
-    let common_scale = common_scale(&scene);
+    let common_scale = common_scale([&scene]);
     let started = Instant::now();
     let prepared = prepare_render(scene, settings, negative)?;
     let prepare_time = started.elapsed();
@@ -363,7 +360,7 @@ pub fn render_montage(
     labels: bool,
 ) -> Result<()> {
     let image = options.image_request()?;
-    let mut settings = options.settings()?;
+    let settings = options.settings()?;
     options.check_colorbar(&settings)?;
     let negative = options.negative()?;
     let mut prepared = Vec::with_capacity(scenes.len());
@@ -382,21 +379,12 @@ pub fn render_montage(
         }
         prepared.push(sets);
     }
-    let all_sets: Vec<GlyphSetData> = prepared.iter().flatten().cloned().collect();
-    if settings.needs_largest_radius() {
-        let largest = all_sets
-            .iter()
-            .map(|s| s.largest_radius)
-            .fold(0.0, f64::max);
-        settings.color = ColorMode::Magnitude {
-            range: Some((0.0, largest as f32)),
-        };
-    }
+    let settings = shared_magnitude_range(&settings, prepared.iter().flatten());
     let cell_w = scenes.iter().map(|s| s.image.width).max().unwrap_or(1);
     let cell_h = scenes.iter().map(|s| s.image.height).max().unwrap_or(1);
-    let columns = columns.clamp(1, scenes.len().max(1));
-    let rows = scenes.len().div_ceil(columns);
-    let mut montage = Montage::new(cell_w, cell_h, columns, rows, settings.background)?;
+    let grid = Grid::new((cell_w, cell_h), columns, scenes.len());
+    let (width, height) = grid.size()?;
+    let mut montage = Montage::new(grid, width, height, settings.background);
     let gpu = Gpu::headless(&options.gpu_options())?;
     eprintln!("device: {}", gpu.info);
     let mut renderer = HeadlessRenderer::new(&gpu)?;
@@ -408,28 +396,13 @@ pub fn render_montage(
         }
         montage.place(k, &panel);
     }
-    let common = scenes
-        .iter()
-        .map(common_scale)
-        .collect::<Option<Vec<f64>>>();
-    let common = common.and_then(|scales| {
-        let first = *scales.first()?;
-        scales.iter().all(|s| *s == first).then_some(first)
-    });
     let camera = &scenes
         .first()
         .ok_or_else(|| Error::Usage("no panel".into()))?
         .camera;
-    let mut result = RenderedImage {
-        width: montage.width,
-        height: montage.height,
-        rgba: montage.rgba,
-        distance: montage.distance,
-        draws: 0,
-        gpu_ms: None,
-        mesh: None,
-    };
-    if let Some(bar) = options.colorbar(&settings, &all_sets, camera, common) {
+    let mut result = montage.finish();
+    let all_sets: Vec<GlyphSetData> = prepared.into_iter().flatten().collect();
+    if let Some(bar) = options.colorbar(&settings, &all_sets, camera, common_scale(&scenes)) {
         let (width, rgba, distance) = bar.append(
             &result.rgba,
             &result.distance,
@@ -440,77 +413,11 @@ pub fn render_montage(
         (result.width, result.rgba, result.distance) = (width, rgba, distance);
     }
     eprintln!(
-        "montage: {} panels of {cell_w}x{cell_h} in {columns} columns",
-        scenes.len()
+        "montage: {} panels of {cell_w}x{cell_h} in {} columns",
+        scenes.len(),
+        grid.columns
     );
     write_outputs(&result, output, None)
-}
-
-/// The pixels and depth map of a montage being assembled.
-struct Montage {
-    cell: (u32, u32),
-    columns: usize,
-    width: u32,
-    height: u32,
-    rgba: Vec<u8>,
-    distance: Vec<f32>,
-}
-
-impl Montage {
-    /// A grid of `columns` x `rows` cells of `cell_w` x `cell_h`, all background.
-    fn new(
-        cell_w: u32,
-        cell_h: u32,
-        columns: usize,
-        rows: usize,
-        background: [f32; 4],
-    ) -> Result<Montage> {
-        let width = u64::from(cell_w) * columns as u64;
-        let height = u64::from(cell_h) * rows as u64;
-        if width > u64::from(MAX_SIDE) || height > u64::from(MAX_SIDE) {
-            return Err(Error::Usage(format!(
-                "the montage would be {width}x{height} pixels; at most {MAX_SIDE} a side: \
-                 give a smaller --width/--height"
-            )));
-        }
-        let (width, height) = (width as u32, height as u32);
-        let clear = background_bytes(background);
-        let pixels = width as usize * height as usize;
-        Ok(Montage {
-            cell: (cell_w, cell_h),
-            columns,
-            width,
-            height,
-            rgba: clear.iter().copied().cycle().take(4 * pixels).collect(),
-            distance: vec![f32::NAN; pixels],
-        })
-    }
-
-    /// Copies panel `k` into its cell, centred.
-    fn place(&mut self, k: usize, panel: &RenderedImage) {
-        let (cw, ch) = self.cell;
-        let x0 = (k % self.columns) as u32 * cw + (cw - panel.width.min(cw)) / 2;
-        let y0 = (k / self.columns) as u32 * ch + (ch - panel.height.min(ch)) / 2;
-        let w = panel.width as usize;
-        for row in 0..panel.height as usize {
-            let to = (y0 as usize + row) * self.width as usize + x0 as usize;
-            let from = row * w;
-            self.rgba[4 * to..4 * (to + w)].copy_from_slice(&panel.rgba[4 * from..4 * (from + w)]);
-            self.distance[to..to + w].copy_from_slice(&panel.distance[from..from + w]);
-        }
-    }
-}
-
-/// The PNG bytes of a background (linear RGBA), as the renderer clears to it.
-fn background_bytes(background: [f32; 4]) -> [u8; 4] {
-    let [r, g, b, a] = background;
-    let srgb = glyphcast::render::colorbar::srgb_byte;
-    [
-        srgb(r),
-        srgb(g),
-        srgb(b),
-        (a.clamp(0.0, 1.0) * 255.0).round() as u8,
-    ]
 }
 
 /// `--negative`: sets every polynomial glyph set's mode (ellipsoids have no negative
@@ -521,13 +428,6 @@ fn set_negative(scene: &mut Scene, mode: NegativeMode) {
         .iter_mut()
         .filter(|set| set.shape == GlyphShape::Polynomial)
         .for_each(|set| set.negative = mode);
-}
-
-/// The scale every glyph of `scene` has, if they all have the same one.
-fn common_scale(scene: &Scene) -> Option<f64> {
-    let mut scales = scene.glyph_sets.iter().flat_map(|s| s.scales.iter());
-    let first = *scales.next()?;
-    scales.all(|s| *s == first).then_some(first)
 }
 
 /// Writes the PNG, the depth map and the scene file together: either all are new or all

@@ -1,8 +1,11 @@
 //! `glyphcast view`: the interactive viewer on a scene file or a volume, with the render
 //! command's scene source and options. The window's work is in `glyphcast::viewer`.
 use super::render::{RenderArgs, SceneSource};
+use super::volume::{VolumeArgs, panel_view};
 use clap::Args;
-use glyphcast::viewer::{ViewerOptions, parse_script};
+use glyphcast::render::underlay::Underlay;
+use glyphcast::viewer::{MontageSource, ViewSource, ViewerOptions, parse_script};
+use glyphcast::volume::{ImageRequest, SliceRegion, frame_region};
 use glyphcast::{Error, Result};
 use std::path::PathBuf;
 
@@ -17,8 +20,8 @@ pub struct ViewArgs {
     #[arg(long, value_name = "N", help_heading = "Scripted runs")]
     pub frames: Option<u32>,
     /// Events applied one per frame, comma-separated: resize:WxH, method:NAME, step:S,
-    /// refine:SPEC, color:MODE, negative:abs|hide|toggle, slice:+N|-N, orbit:DX:DY,
-    /// pan:DX:DY, zoom:F, reset, screenshot, wait. Needs --frames.
+    /// refine:SPEC, color:MODE, negative:abs|hide|toggle, slice:+N|-N, active:1|2|3,
+    /// orbit:DX:DY, pan:DX:DY, zoom:F, reset, screenshot, wait. Needs --frames.
     #[arg(long, value_name = "EVENTS", help_heading = "Scripted runs")]
     pub script: Option<String>,
     /// PNG for screenshots, rendered headless at the window's size and camera: written at
@@ -39,13 +42,9 @@ pub fn run(args: &ViewArgs) -> Result<()> {
                 .into(),
         ));
     }
-    if args.options.wants_colorbar() {
-        return Err(glyphcast::Error::Usage(
-            "--colorbar applies to render: the viewer draws no colour bar".into(),
-        ));
-    }
     let image = args.options.image_request()?;
     let settings = args.options.settings()?;
+    args.options.check_colorbar(&settings)?;
     let negative = args.options.negative()?;
     let script = args
         .script
@@ -54,19 +53,25 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         .transpose()
         .map_err(Error::into_usage)?
         .unwrap_or_default();
-    let (source, underlay) = args.source.load_for_view(image)?;
-    let (width, height) = match &source {
-        glyphcast::viewer::ViewSource::Scene(scene) => (scene.image.width, scene.image.height),
-        glyphcast::viewer::ViewSource::Volume { view, .. } => {
-            (view.scene.image.width, view.scene.image.height)
+    let (source, underlay, (width, height)) = if args.source.volume.is_montage() {
+        if args.source.scene.is_some() {
+            return Err(Error::Usage(
+                "--views and --lightbox take volume input (--sh/--tensor)".into(),
+            ));
         }
+        let (montage, cell) = montage(&args.source.volume, image)?;
+        (montage, None, cell)
+    } else {
+        single_view(&args.source, image)?
     };
     let options = ViewerOptions {
         gpu: args.options.gpu_options(),
         settings,
         negative,
-        width: image.width.unwrap_or(width),
-        height: image.height.unwrap_or(height),
+        width,
+        height,
+        colorbar: args.options.wants_colorbar(),
+        colorbar_label: args.options.colorbar_label().map(str::to_owned),
         frames: args.frames,
         script,
         screenshot: args.screenshot.clone(),
@@ -75,4 +80,63 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         underlay,
     };
     glyphcast::viewer::run(source, options)
+}
+
+/// The scene file or volume view (with its underlay) and the size of its image:
+/// `--width` x `--height`, a side not given the scene's or the volume framing's.
+fn single_view(
+    source: &SceneSource,
+    image: ImageRequest,
+) -> Result<(ViewSource, Option<Underlay>, (u32, u32))> {
+    let (source, underlay) = source.load_for_view(image)?;
+    let size = match &source {
+        ViewSource::Volume { view, .. } => view.scene.image,
+        ViewSource::Scene(scene) => scene.image,
+        ViewSource::Montage(_) => {
+            return Err(Error::Invalid("a montage loaded as one view".into()));
+        }
+    };
+    let width = image.width.unwrap_or(size.width);
+    let height = image.height.unwrap_or(size.height);
+    Ok((source, underlay, (width, height)))
+}
+
+/// The panels of `--views` or `--lightbox` as `render` makes them, and the size of their
+/// cells: `--width` x `--height`, else (a side not given) the largest panel's. Every
+/// panel is framed for the cell, as `render` frames it with `--width` and `--height`
+/// both given (without them, `render` centres a smaller panel in its cell instead).
+fn montage(volume_args: &VolumeArgs, image: ImageRequest) -> Result<(ViewSource, (u32, u32))> {
+    let (volume, mut panels, columns) = volume_args.montage_panels(image)?;
+    let mut cell = (image.width.unwrap_or(0), image.height.unwrap_or(0));
+    if image.width.is_none() || image.height.is_none() {
+        for options in &panels {
+            let region =
+                SliceRegion::new(volume.dims, options.slice, &options.voxels, &volume.file)?;
+            let framing = frame_region(
+                &region,
+                &volume.voxel_to_world,
+                options.projection,
+                options.orientation,
+                options.image,
+            )?;
+            cell.0 = cell.0.max(framing.image.width);
+            cell.1 = cell.1.max(framing.image.height);
+        }
+    }
+    let mut views = Vec::with_capacity(panels.len());
+    for mut options in panels.drain(..) {
+        options.image = ImageRequest {
+            width: Some(cell.0),
+            height: Some(cell.1),
+        };
+        let view = panel_view(&volume, &options)?;
+        views.push((options, view));
+    }
+    let source = ViewSource::Montage(Box::new(MontageSource {
+        volume,
+        panels: views,
+        columns,
+        lightbox: volume_args.lightbox.is_some(),
+    }));
+    Ok((source, cell))
 }

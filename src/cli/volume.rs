@@ -117,13 +117,13 @@ pub struct VolumeArgs {
     /// panel of a montage).
     #[arg(long, help_heading = "Volume input")]
     pub labels: bool,
-    /// render only: one image with a panel per view, left to right: a comma-separated
-    /// list of axial, coronal and sagittal (any subset, any order; each optionally
-    /// :INDEX as for --slice), each panel --width x --height.
+    /// One image (view: one window) with a panel per view, left to right: a
+    /// comma-separated list of axial, coronal and sagittal (any subset, any order; each
+    /// optionally :INDEX as for --slice), each panel --width x --height.
     #[arg(long, value_name = "VIEW,...", help_heading = "Volume input")]
     pub views: Option<String>,
-    /// render only: N evenly spaced slices along the --slice plane (default axial) in a
-    /// grid of ceil(sqrt(N)) columns, each panel --width x --height.
+    /// N evenly spaced slices along the --slice plane (default axial) in a grid of
+    /// ceil(sqrt(N)) columns, each panel --width x --height.
     #[arg(long, value_name = "N", help_heading = "Volume input")]
     pub lightbox: Option<usize>,
     /// Also write the scene that is rendered as a scene file (with the image, all or
@@ -256,7 +256,7 @@ impl VolumeArgs {
         self.underlay_range()?;
         if self.is_montage() {
             return Err(Error::Usage(
-                "--views and --lightbox make one image of several panels: `render` only".into(),
+                "--views and --lightbox make several panels, not one view".into(),
             ));
         }
         let (volume, mut options) = self.load(image)?;
@@ -274,6 +274,20 @@ impl VolumeArgs {
     /// The scenes of the panels of `--views` or `--lightbox`, in reading order, and the
     /// number of columns of their grid (one row for --views).
     pub fn montage(&self, image: ImageRequest) -> Result<(Vec<Scene>, usize)> {
+        let (volume, panels, columns) = self.montage_panels(image)?;
+        let mut scenes = Vec::with_capacity(panels.len());
+        for options in &panels {
+            scenes.push(panel_view(&volume, options)?.scene);
+        }
+        Ok((scenes, columns))
+    }
+
+    /// The volume of `--views` or `--lightbox`, each panel's options (its slice, in voxel
+    /// axes) in reading order, and the number of columns of their grid.
+    pub fn montage_panels(
+        &self,
+        image: ImageRequest,
+    ) -> Result<(Volume, Vec<VolumeOptions>, usize)> {
         let panels = match (&self.views, self.lightbox) {
             (Some(_), Some(_)) => {
                 return Err(Error::Usage(
@@ -311,20 +325,18 @@ impl VolumeArgs {
             Some(count) => self.lightbox_slices(&volume, &options, count)?,
             None => panels,
         };
-        let mut scenes = Vec::with_capacity(panels.len());
+        let mut panel_options = Vec::with_capacity(panels.len());
         for slice in &panels {
             let mut options = options.clone();
             options.slice = *slice;
             self.slice_in_voxels(&mut options, &volume)?;
-            let view = volume_scene(&volume, &options)?;
-            report(&view, &volume.file);
-            scenes.push(view.scene);
+            panel_options.push(options);
         }
         let columns = match self.lightbox {
             Some(count) => (count as f64).sqrt().ceil() as usize,
-            None => scenes.len(),
+            None => panel_options.len(),
         };
-        Ok((scenes, columns))
+        Ok((volume, panel_options, columns))
     }
 
     /// `count` slices of the --slice plane, evenly spaced: slice k at the centre of the
@@ -565,6 +577,14 @@ pub fn parse_views(text: &str) -> Result<Vec<Slice>> {
         slices.push(slice);
     }
     Ok(slices)
+}
+
+/// The view of one montage panel (`options` from [`VolumeArgs::montage_panels`]),
+/// reported.
+pub fn panel_view(volume: &Volume, options: &VolumeOptions) -> Result<VolumeScene> {
+    let view = volume_scene(volume, options)?;
+    report(&view, &volume.file);
+    Ok(view)
 }
 
 /// One summary line, and a warning when voxels were left out for bad values.

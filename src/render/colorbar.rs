@@ -9,7 +9,10 @@
 //! applies, so the bar's top row is the map's top colour and its bottom row its bottom.
 use ab_glyph::{Font, FontRef, PxScale, ScaleFont};
 
+use crate::render::frame::{SceneExtent, magnitude_range};
 use crate::render::labels::{Canvas, dejavu_sans};
+use crate::render::settings::RenderSettings;
+use crate::scene::Scene;
 use crate::{Error, Result};
 
 /// What a colour bar shows: the values at its bottom (map position 0) and top (1), and
@@ -94,6 +97,29 @@ struct Layout {
 }
 
 impl ColorBar {
+    /// The bar of a frame drawn with `settings` whose glyphs have `extent`: the range the
+    /// shaders map ([`magnitude_range`]), None unless the colour is magnitude. Where
+    /// every glyph has the same scale (`common_scale`, see [`common_scale`]) the values
+    /// are divided by it, glyph radii in data units; else they are world units. `label`
+    /// replaces the default label, which names the unit.
+    pub fn of_magnitude(
+        settings: &RenderSettings,
+        extent: &SceneExtent,
+        common_scale: Option<f64>,
+        label: Option<&str>,
+    ) -> Option<ColorBar> {
+        let (low, high) = magnitude_range(settings, extent)?;
+        let (unit, default_label) = match common_scale {
+            Some(scale) => (scale, "radius (data units)"),
+            None => (1.0, "radius (world units)"),
+        };
+        Some(ColorBar {
+            low: f64::from(low) / unit,
+            high: f64::from(high) / unit,
+            label: label.unwrap_or(default_label).to_owned(),
+        })
+    }
+
     fn check(&self) -> Result<()> {
         if !(self.low.is_finite() && self.high.is_finite() && self.high > self.low) {
             return Err(Error::Invalid(format!(
@@ -165,9 +191,9 @@ impl ColorBar {
     }
 
     /// The image `rgba` (`width` x `height`) and its depth map with the bar's strip
-    /// appended on the right: the strip is `background` (linear RGB and alpha, as the
-    /// renderer cleared the image) with the bar, ticks and label; the depth map is NaN
-    /// there. Returns the new width, pixels and depth map.
+    /// appended on the right: the strip is [`ColorBar::strip`] of `background` (linear
+    /// RGB and alpha, as the renderer cleared the image); the depth map is NaN there.
+    /// Returns the new width, pixels and depth map.
     pub fn append(
         &self,
         rgba: &[u8],
@@ -176,7 +202,6 @@ impl ColorBar {
         height: u32,
         background: [f32; 4],
     ) -> Result<(u32, Vec<u8>, Vec<f32>)> {
-        self.check()?;
         let pixels = width as usize * height as usize;
         if rgba.len() != 4 * pixels || distance.len() != pixels {
             return Err(Error::Invalid(format!(
@@ -185,9 +210,28 @@ impl ColorBar {
                 distance.len()
             )));
         }
+        let (strip_width, strip) = self.strip(height, background)?;
+        let total = width + strip_width;
+        let (row, strip_row) = (width as usize, strip_width as usize);
+        let mut out = Vec::with_capacity(4 * total as usize * height as usize);
+        let mut depth = Vec::with_capacity(total as usize * height as usize);
+        for y in 0..height as usize {
+            out.extend_from_slice(&rgba[4 * y * row..4 * (y + 1) * row]);
+            out.extend_from_slice(&strip[4 * y * strip_row..4 * (y + 1) * strip_row]);
+            depth.extend_from_slice(&distance[y * row..(y + 1) * row]);
+            depth.extend(std::iter::repeat_n(f32::NAN, strip_row));
+        }
+        Ok((total, out, depth))
+    }
+
+    /// The strip alone, [`ColorBar::strip_width`] x `height` RGBA pixels (sRGB-encoded as
+    /// the PNG stores them): `background` with the bar, its ticks and its label. The
+    /// render appends it to the image ([`ColorBar::append`]); the viewer copies it into
+    /// the window beside the glyphs, so both show the same pixels.
+    pub fn strip(&self, height: u32, background: [f32; 4]) -> Result<(u32, Vec<u8>)> {
+        self.check()?;
         let font = font()?;
         let l = self.layout(&font, height);
-        let total = width + l.width;
         let [r, g, b, a] = background;
         let clear = [
             srgb_byte(r),
@@ -195,28 +239,19 @@ impl ColorBar {
             srgb_byte(b),
             (a.clamp(0.0, 1.0) * 255.0).round() as u8,
         ];
-        let mut out = Vec::with_capacity(4 * total as usize * height as usize);
-        let mut depth = Vec::with_capacity(total as usize * height as usize);
-        for row in 0..height as usize {
-            let start = row * width as usize;
-            out.extend_from_slice(&rgba[4 * start..4 * (start + width as usize)]);
-            depth.extend_from_slice(&distance[start..start + width as usize]);
-            for _ in 0..l.width {
-                out.extend_from_slice(&clear);
-                depth.push(f32::NAN);
-            }
-        }
+        let pixels = l.width as usize * height as usize;
+        let mut out: Vec<u8> = clear.iter().copied().cycle().take(4 * pixels).collect();
         let mut canvas = Canvas {
             rgba: &mut out,
-            width: total,
+            width: l.width,
             height,
         };
         // The bar: row y holds map position (bottom - y) / (bottom - top).
         let span = (l.bar_bottom - l.bar_top) as f32;
-        for y in l.bar_top..=l.bar_bottom {
+        for y in l.bar_top..=l.bar_bottom.min(height.saturating_sub(1)) {
             let [cr, cg, cb] = viridis_srgb8((l.bar_bottom - y) as f32 / span);
-            for x in width + l.bar_left..width + l.bar_left + l.bar_width {
-                let at = 4 * (y as usize * total as usize + x as usize);
+            for x in l.bar_left..l.bar_left + l.bar_width {
+                let at = 4 * (y as usize * l.width as usize + x as usize);
                 canvas.rgba[at..at + 4].copy_from_slice(&[cr, cg, cb, 255]);
             }
         }
@@ -229,7 +264,7 @@ impl ColorBar {
         };
         let scaled = font.as_scaled(PxScale::from(l.size));
         let cap = 0.73 * scaled.ascent();
-        let x0 = (width + l.bar_left) as f32;
+        let x0 = l.bar_left as f32;
         canvas.text(&font, l.size, &self.label, x0, l.margin + cap, ink);
         let largest = self.low.abs().max(self.high.abs());
         let text_x = x0 + l.bar_width as f32 + 0.5 * l.margin;
@@ -238,8 +273,19 @@ impl ColorBar {
             let text = tick_text(*value, largest);
             canvas.text(&font, l.size, &text, text_x, y + 0.5 * cap, ink);
         }
-        Ok((total, out, depth))
+        Ok((l.width, out))
     }
+}
+
+/// The scale every glyph of `scenes` has, if they all have the same one (the unit of a
+/// colour bar in data units; see [`ColorBar::of_magnitude`]).
+pub fn common_scale<'a>(scenes: impl IntoIterator<Item = &'a Scene>) -> Option<f64> {
+    let mut scales = scenes
+        .into_iter()
+        .flat_map(|scene| scene.glyph_sets.iter())
+        .flat_map(|set| set.scales.iter());
+    let first = *scales.next()?;
+    scales.all(|s| *s == first).then_some(first)
 }
 
 fn font() -> Result<FontRef<'static>> {
@@ -276,6 +322,36 @@ mod tests {
         // Viridis runs from a dark purple to a bright yellow.
         let (bottom, top) = (viridis_srgb8(0.0), viridis_srgb8(1.0));
         assert!(bottom[2] > bottom[1] && top[0] > 200 && top[1] > 200 && top[2] < 80);
+    }
+
+    #[test]
+    fn a_short_image_keeps_what_fits() {
+        // 16 rows: the bar would start below the image (its text is at least 11 px).
+        let bar = ColorBar {
+            low: 0.0,
+            high: 1.0,
+            label: "x".into(),
+        };
+        let (width, rgba, depth) = bar
+            .append(
+                &[7; 4 * 3 * 16],
+                &[0.5; 3 * 16],
+                3,
+                16,
+                [0.0, 0.0, 0.0, 1.0],
+            )
+            .unwrap();
+        assert!(width > 3);
+        assert_eq!(
+            (rgba.len(), depth.len()),
+            (64 * width as usize, 16 * width as usize)
+        );
+        assert_eq!(rgba[..12], [7; 12]);
+        let (strip_width, strip) = bar.strip(16, [0.0, 0.0, 0.0, 1.0]).unwrap();
+        assert_eq!(
+            (strip_width, strip.len()),
+            (width - 3, 64 * (width - 3) as usize)
+        );
     }
 
     #[test]

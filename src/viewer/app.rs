@@ -3,9 +3,12 @@
 //! with the frame's GPU time. Scripted runs (`--frames`) apply one script event per frame
 //! and finish with the screenshot and the window capture.
 use super::ViewerOptions;
-use super::content::Content;
+use super::compose::{PanelDraw, StripDraw};
 use super::controls::{self, Action, HELP, color_name, refinement_name};
+use super::figure::Figure;
+use super::layout::WindowLayout;
 use super::orbit;
+use super::panels::Panels;
 use super::presenter::{Outcome, Presenter};
 use crate::render::headless::HeadlessRenderer;
 use crate::render::raycast::SceneGpu;
@@ -47,15 +50,17 @@ struct App {
     // Declaration order is drop order: the presenter (its surface) before the window it
     // presents to. GPU objects keep the device alive themselves, so the Gpu may go at
     // any point.
-    scene_gpu: Option<SceneGpu>,
+    /// Each panel's glyphs on the GPU, and the version of its content they hold.
+    scene_gpu: Vec<Option<SceneGpu>>,
+    uploaded: Vec<Option<u64>>,
     /// The underlay's volume on the GPU (uploaded once, again when the pass is rebuilt).
     underlay_gpu: Option<crate::render::underlay::UnderlayGpu>,
     headless: Option<HeadlessRenderer>,
     presenter: Option<Presenter>,
     window: Option<Window>,
-    content: Content,
+    panels: Panels,
     options: ViewerOptions,
-    uploaded: Option<u64>,
+    figure: Figure,
     pointer: Pointer,
     /// Frames presented, and the script's next event.
     presented: u32,
@@ -70,13 +75,13 @@ struct App {
     gpu: Gpu,
 }
 
-pub fn run(mut content: Content, options: ViewerOptions) -> Result<()> {
+pub fn run(mut panels: Panels, options: ViewerOptions) -> Result<()> {
     let event_loop = EventLoop::<GlyphsReady>::with_user_event()
         .build()
         .map_err(|e| Error::Setup(format!("cannot open a window (is DISPLAY set?): {e}")))?;
     let proxy: std::sync::Mutex<EventLoopProxy<GlyphsReady>> =
         std::sync::Mutex::new(event_loop.create_proxy());
-    content.set_waker(std::sync::Arc::new(move || {
+    panels.set_waker(std::sync::Arc::new(move || {
         if let Ok(proxy) = proxy.lock() {
             // A closed event loop no longer wants the glyphs.
             let _ = proxy.send_event(GlyphsReady);
@@ -91,15 +96,17 @@ pub fn run(mut content: Content, options: ViewerOptions) -> Result<()> {
     if options.frames.is_none() {
         eprintln!("{HELP}");
     }
+    let count = panels.panels.len();
     let mut app = App {
-        scene_gpu: None,
+        scene_gpu: (0..count).map(|_| None).collect(),
+        uploaded: vec![None; count],
         underlay_gpu: None,
         headless: None,
         presenter: None,
         window: None,
-        content,
+        panels,
         options,
-        uploaded: None,
+        figure: Figure::default(),
         pointer: Pointer::default(),
         presented: 0,
         script_next: 0,
@@ -148,7 +155,7 @@ impl ApplicationHandler<GlyphsReady> for App {
             return;
         }
         let scripted = self.options.frames.is_some();
-        let busy = self.content.busy().is_some();
+        let busy = self.panels.busy().is_some();
         event_loop.set_control_flow(if scripted {
             ControlFlow::Poll
         } else if busy {
@@ -172,7 +179,7 @@ impl App {
     /// Takes the glyphs of a finished preparation, if any. A preparation that failed on
     /// its input is reported and the glyphs shown stay; other errors end the session.
     fn take_glyphs(&mut self, wait: bool) -> Result<()> {
-        match self.content.poll(wait) {
+        match self.panels.poll(wait) {
             Ok(true) => {
                 self.dirty = true;
                 self.update_title();
@@ -194,9 +201,10 @@ impl App {
     }
 
     fn open_window(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
+        let (width, height) = self.initial_size()?;
         let attributes = Window::default_attributes()
             .with_title("glyphcast")
-            .with_inner_size(PhysicalSize::new(self.options.width, self.options.height));
+            .with_inner_size(PhysicalSize::new(width, height));
         let window = event_loop
             .create_window(attributes)
             .map_err(|e| Error::Setup(format!("cannot create the window: {e}")))?;
@@ -215,6 +223,13 @@ impl App {
         self.presenter = Some(presenter);
         self.window = Some(window);
         Ok(())
+    }
+
+    /// The window's first size: a cell of `--width` x `--height` for each panel, and the
+    /// colour bar's strip beside them, as `render` lays out its image.
+    fn initial_size(&self) -> Result<(u32, u32)> {
+        let cell = (self.options.width, self.options.height);
+        Figure::window_size(&self.panels, &self.options, cell)
     }
 
     fn on_event(&mut self, event_loop: &ActiveEventLoop, event: WindowEvent) -> Result<()> {
@@ -289,10 +304,23 @@ impl App {
         }
     }
 
+    /// The layout of a window of `size`.
+    fn layout(&mut self, size: vk::Extent2D) -> Result<WindowLayout> {
+        self.figure.layout(&self.panels, &self.options, size)
+    }
+
+    /// The height of one panel's cell: camera drags are measured in it.
+    fn cell_height(&self) -> u32 {
+        let size = self.window_size();
+        let (panels, columns) = (self.panels.panels.len(), self.panels.columns);
+        // The strip takes width only, so the cells' height does not depend on it.
+        let layout = WindowLayout::new(size.width, size.height, panels, columns, None);
+        layout.grid.cell.1.max(1)
+    }
+
     fn apply(&mut self, event_loop: &ActiveEventLoop, action: Action) -> Result<()> {
-        let height = self.window_size().height;
-        let content = &mut self.content;
-        let settings = &mut content.settings;
+        let height = self.cell_height();
+        let mut settings = self.panels.settings();
         match action {
             Action::Resize(width, height) => {
                 if let Some(window) = &self.window {
@@ -300,16 +328,18 @@ impl App {
                 }
                 self.pending_size = Some((width, height));
             }
-            Action::Method(method) => self.set_method(method)?,
+            Action::Method(method) => self.check_method(&mut settings, method)?,
             Action::NextMethod => {
                 let methods = self.methods();
-                let current = self.content.settings.method;
-                let at = methods.iter().position(|m| *m == current).unwrap_or(0);
+                let at = methods
+                    .iter()
+                    .position(|m| *m == settings.method)
+                    .unwrap_or(0);
                 if let Some(next) = methods.get((at + 1) % methods.len().max(1)) {
-                    self.set_method(*next)?;
+                    self.check_method(&mut settings, *next)?;
                 }
             }
-            Action::Step(step) => change_checked(settings, |s| s.step = step)?,
+            Action::Step(step) => change_checked(&mut settings, |s| s.step = step)?,
             Action::ScaleStep(factor) => {
                 settings.step = (settings.step * factor).clamp(STEP_RANGE.0, STEP_RANGE.1)
             }
@@ -317,12 +347,12 @@ impl App {
             Action::NextRefinement => {
                 settings.refinement = controls::next_refinement(settings.refinement)
             }
-            Action::Color(color) => change_checked(settings, |s| s.color = color)?,
+            Action::Color(color) => change_checked(&mut settings, |s| s.color = color)?,
             Action::NextColor => settings.color = controls::next_color(settings.color),
-            Action::Negative(mode) => content.set_negative(Some(mode))?,
-            Action::ToggleNegative => content.set_negative(None)?,
+            Action::Negative(mode) => self.panels.set_negative(Some(mode))?,
+            Action::ToggleNegative => self.panels.set_negative(None)?,
             Action::Slice(delta) => {
-                if content.move_slice(delta)? {
+                if self.panels.move_slice(delta)? {
                     // Nothing new to show until the slice's glyphs are ready, and on a
                     // CPU renderer (lavapipe) drawing the old ones would take the cores
                     // the preparation needs.
@@ -330,12 +360,18 @@ impl App {
                 }
             }
             Action::ActiveSlice(axis) => {
-                content.set_active_slice(axis);
+                self.panels.set_active_slice(axis);
             }
-            Action::Orbit(dx, dy) => orbit::orbit(&mut content.camera, dx, dy, height),
-            Action::Pan(dx, dy) => orbit::pan(&mut content.camera, dx, dy, height),
-            Action::Zoom(factor) => orbit::zoom(&mut content.camera, factor),
-            Action::ResetCamera => content.camera = content.home,
+            Action::Orbit(dx, dy) => self
+                .panels
+                .move_cameras(|camera| orbit::orbit(camera, dx, dy, height)),
+            Action::Pan(dx, dy) => self
+                .panels
+                .move_cameras(|camera| orbit::pan(camera, dx, dy, height)),
+            Action::Zoom(factor) => self
+                .panels
+                .move_cameras(|camera| orbit::zoom(camera, factor)),
+            Action::ResetCamera => self.panels.reset_cameras(),
             Action::Screenshot => {
                 let path = self.options.screenshot.clone().unwrap_or_else(|| {
                     self.screenshots += 1;
@@ -347,24 +383,36 @@ impl App {
             Action::Quit => event_loop.exit(),
             Action::Wait => {}
         }
+        self.panels.set_settings(settings);
         self.dirty = true;
         Ok(())
     }
 
     /// Methods that have shaders for every glyph set on screen.
     fn methods(&self) -> Vec<crate::render::Method> {
-        let layouts: Vec<_> = self.content.sets.iter().map(|s| s.layout).collect();
+        let layouts: Vec<_> = self
+            .panels
+            .panels
+            .iter()
+            .flat_map(|p| p.sets.iter().map(|s| s.layout))
+            .collect();
         methods_for(&layouts)
     }
 
-    fn set_method(&mut self, method: crate::render::Method) -> Result<()> {
+    /// Sets `settings.method` to `method` where every glyph set has its shader and the
+    /// other settings allow it.
+    fn check_method(
+        &self,
+        settings: &mut RenderSettings,
+        method: crate::render::Method,
+    ) -> Result<()> {
         if !self.methods().contains(&method) {
             return Err(Error::Invalid(format!(
                 "method {method:?} has no shader for these glyphs"
             )));
         }
         // The other settings may refuse the method (--color sign and meshes).
-        change_checked(&mut self.content.settings, |s| s.method = method)
+        change_checked(settings, |s| s.method = method)
     }
 
     fn redraw(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
@@ -377,7 +425,7 @@ impl App {
         }
         // A script waits for each preparation, so that its frame shows the glyphs the
         // event made (and is not drawn while they are prepared).
-        if scripted && self.content.busy().is_some() {
+        if scripted && self.panels.busy().is_some() {
             self.take_glyphs(true)?;
         }
         let size = self.window_size();
@@ -391,44 +439,40 @@ impl App {
         let Some(rebuilt) = presenter.prepare(&self.gpu, size)? else {
             return Ok(()); // no area: nothing to render into
         };
-        let content = &self.content;
-        if rebuilt {
-            self.underlay_gpu = None;
-        }
-        if let (Some(underlay), None) = (&content.underlay, &self.underlay_gpu) {
-            let pass = presenter.underlay_pass();
-            self.underlay_gpu = Some(pass.upload(self.gpu.context(), &underlay.volume)?);
-        }
-        if rebuilt || self.uploaded != Some(content.version) {
-            self.scene_gpu = None;
-            let frame = content.frame_params(size.width, size.height);
-            let scene = presenter.pass_mut().upload(
-                self.gpu.context(),
-                &content.sets,
-                &frame,
-                content.settings.method,
-            )?;
-            self.scene_gpu = Some(scene);
-            self.uploaded = Some(content.version);
-        }
-        let Some(scene) = self.scene_gpu.as_mut() else {
+        let Some(extent) = presenter.extent() else {
             return Ok(());
         };
-        let capture = self.options.capture_window.is_some();
-        let frame = |extent: vk::Extent2D| content.frame_params(extent.width, extent.height);
+        self.upload(rebuilt, extent)?;
+        let layout = self.layout(extent)?;
+        let Some(presenter) = self.presenter.as_mut() else {
+            return Ok(());
+        };
+        let settings = self.panels.frame_settings();
         let underlay = self
             .underlay_gpu
             .as_ref()
-            .zip(content.underlay.as_ref())
+            .zip(self.panels.first().underlay.as_ref())
             .map(|(volume, u)| (volume, u.planes.as_slice()));
-        let outcome = presenter.render(
-            &self.gpu,
-            scene,
-            underlay,
-            frame,
-            &content.settings,
-            capture,
-        )?;
+        let mut draws = Vec::with_capacity(self.scene_gpu.len());
+        for (k, scene) in self.scene_gpu.iter_mut().enumerate() {
+            let (Some(scene), Some(cell)) = (scene.as_mut(), layout.cell(k)) else {
+                continue;
+            };
+            let (w, h) = (cell.extent.width, cell.extent.height);
+            draws.push(PanelDraw {
+                scene,
+                underlay: if k == 0 { underlay } else { None },
+                frame: self.panels.frame_params(k, w, h, &settings),
+                cell,
+            });
+        }
+        let strip = self
+            .figure
+            .strip_pixels()
+            .zip(layout.strip_rect())
+            .map(|(rgba, rect)| StripDraw { rgba, rect });
+        let capture = self.options.capture_window.is_some();
+        let outcome = presenter.render(&self.gpu, &mut draws, strip, &settings, capture)?;
         // Waiting here keeps one frame in flight and gives this frame's GPU time at once;
         // rendering is on demand, so there is little overlap to lose.
         let gpu_ms = presenter.wait_previous()?;
@@ -447,22 +491,55 @@ impl App {
         Ok(())
     }
 
+    /// Uploads the underlay and each panel's glyphs where they changed, or all of them
+    /// when the pass was `rebuilt` for a new colour format.
+    fn upload(&mut self, rebuilt: bool, extent: vk::Extent2D) -> Result<()> {
+        let Some(presenter) = self.presenter.as_mut() else {
+            return Ok(());
+        };
+        if rebuilt {
+            self.underlay_gpu = None;
+        }
+        if let (Some(underlay), None) = (&self.panels.first().underlay, &self.underlay_gpu) {
+            let pass = presenter.underlay_pass();
+            self.underlay_gpu = Some(pass.upload(self.gpu.context(), &underlay.volume)?);
+        }
+        let settings = self.panels.frame_settings();
+        for (k, panel) in self.panels.panels.iter().enumerate() {
+            if !rebuilt && self.uploaded[k] == Some(panel.version) {
+                continue;
+            }
+            self.scene_gpu[k] = None;
+            // The frame block is written again before each frame, for the panel's cell.
+            let frame = panel.frame_params_with(extent.width, extent.height, &settings);
+            let scene = presenter.pass_mut().upload(
+                self.gpu.context(),
+                &panel.sets,
+                &frame,
+                settings.method,
+            )?;
+            self.scene_gpu[k] = Some(scene);
+            self.uploaded[k] = Some(panel.version);
+        }
+        Ok(())
+    }
+
     fn update_title(&self) {
         let Some(window) = &self.window else { return };
-        let s = &self.content.settings;
+        let s = self.panels.settings();
+        let first = self.panels.first();
         let slice = self
-            .content
+            .panels
             .slice_label()
             .map_or_else(String::new, |l| format!(" | slice {l}"));
-        let orientation = self
-            .content
+        let orientation = first
             .orientation_name()
             .map_or_else(String::new, |name| format!(" | {name}"));
         let time = self
             .gpu_ms
             .map_or_else(|| "n/a".to_owned(), |ms| format!("{ms:.2} ms"));
         let busy = self
-            .content
+            .panels
             .busy()
             .map_or_else(String::new, |b| format!(" | {b}"));
         window.set_title(&format!(
@@ -471,7 +548,7 @@ impl App {
             s.step,
             refinement_name(s.refinement),
             color_name(s.color),
-            self.content.negative_name(),
+            first.negative_name(),
         ));
     }
 
@@ -489,7 +566,7 @@ impl App {
                     height: h,
                 })
         });
-        if self.presented < frames || !script_done || self.content.busy().is_some() {
+        if self.presented < frames || !script_done || self.panels.busy().is_some() {
             return Ok(());
         }
         if !settled {
@@ -520,37 +597,34 @@ impl App {
     }
 
     /// Renders the current view through the headless renderer at the window's size and
-    /// writes it as a PNG (and the scene as shown, with --save-scene).
+    /// writes it as a PNG (and the scene as shown, with --save-scene): each panel at its
+    /// cell's size, composed as `render` composes a montage, with the colour bar's strip
+    /// appended as `render --colorbar` appends it, in the window's layout.
     fn screenshot(&mut self, path: &Path) -> Result<()> {
         let size = self.last_extent.unwrap_or_else(|| self.window_size());
         if size.width == 0 || size.height == 0 {
             eprintln!("screenshot: the window has no area");
             return Ok(());
         }
+        let layout = self.layout(size)?;
         if self.headless.is_none() {
             self.headless = Some(HeadlessRenderer::new(&self.gpu)?);
         }
         let Some(renderer) = self.headless.as_mut() else {
             return Ok(());
         };
-        let c = &self.content;
         let started = Instant::now();
-        let image = renderer.render_with_underlay(
-            &self.gpu,
-            &c.sets,
-            c.underlay.as_ref(),
-            &c.camera,
-            size.width,
-            size.height,
-            &c.settings,
-        )?;
+        let image = self
+            .figure
+            .render_headless(renderer, &self.gpu, &self.panels, &layout)?;
         // The screenshot and the scene as shown: both new, or both as they were.
         let png = crate::io::png::encode_png_rgba8(path, image.width, image.height, &image.rgba)?;
-        let scene = self
-            .options
-            .save_scene
-            .as_ref()
-            .map(|scene_path| (scene_path, c.shown_scene(size.width, size.height).to_json()));
+        // The scene's image is the glyphs' area: without the colour bar's strip.
+        let (width, height) = (layout.grid.cell.0, layout.grid.cell.1);
+        let scene = self.options.save_scene.as_ref().map(|scene_path| {
+            let shown = self.panels.first().shown_scene(width, height);
+            (scene_path, shown.to_json())
+        });
         let mut files: Vec<(&Path, &[u8])> = vec![(path, &png)];
         if let Some((scene_path, json)) = &scene {
             files.push((scene_path.as_path(), json.as_bytes()));
@@ -559,8 +633,8 @@ impl App {
         eprintln!(
             "wrote {} ({}x{}, {:.0} ms)",
             path.display(),
-            size.width,
-            size.height,
+            image.width,
+            image.height,
             started.elapsed().as_secs_f64() * 1e3
         );
         Ok(())

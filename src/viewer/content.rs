@@ -42,6 +42,21 @@ pub enum ViewSource {
         options: Box<VolumeOptions>,
         view: Box<VolumeScene>,
     },
+    /// A montage of slices of one volume (`--views`, `--lightbox`), shown through
+    /// [`Panels`](super::Panels).
+    Montage(Box<MontageSource>),
+}
+
+/// The panels of a montage: each panel's options (its slice) and first view, in reading
+/// order, as `render --views/--lightbox` makes them.
+pub struct MontageSource {
+    pub volume: Volume,
+    pub panels: Vec<(VolumeOptions, VolumeScene)>,
+    /// Panels to a row.
+    pub columns: usize,
+    /// `--lightbox`: the panels are slices of one plane that move together; else
+    /// (`--views`) each panel is a plane of its own, and slice moves move one of them.
+    pub lightbox: bool,
 }
 
 /// The volume behind a volume view, and where its slice (or three slices) are.
@@ -114,40 +129,64 @@ impl Content {
         negative: Option<NegativeMode>,
     ) -> Result<Content> {
         settings.validate()?;
-        let (mut scene, volume) = match source {
-            ViewSource::Scene(scene) => (scene, None),
+        match source {
+            ViewSource::Scene(scene) => Content::build(scene, None, settings, negative),
             ViewSource::Volume {
                 volume,
                 options,
                 view,
-            } => {
-                let indices = std::array::from_fn(|axis| {
-                    let (lo, hi) = options.voxels.axes[axis].unwrap_or((None, None));
-                    let length = volume.dims[axis];
-                    lo.unwrap_or(0).min(length)..hi.unwrap_or(length).min(length)
-                });
-                let mut index = [0; 3];
-                for region in &view.regions {
-                    index[region.slice.voxel_axis()] = region.index;
-                }
-                let slice = VolumeSlice {
-                    framed_target: view.scene.camera.target,
-                    index,
-                    indices,
-                    active: view.region.slice.voxel_axis(),
-                    volume: Arc::from(volume),
-                    options: *options,
-                };
-                (view.scene, Some(slice))
-            }
+            } => Content::for_slice(Arc::from(volume), *options, *view, settings, negative),
+            ViewSource::Montage(_) => Err(Error::Invalid(
+                "a montage has a panel per view: show it through viewer::Panels".into(),
+            )),
+        }
+    }
+
+    /// The content of a view of `volume` made with `options` (one slice, or three).
+    pub(crate) fn for_slice(
+        volume: Arc<Volume>,
+        options: VolumeOptions,
+        view: VolumeScene,
+        settings: RenderSettings,
+        negative: Option<NegativeMode>,
+    ) -> Result<Content> {
+        let indices = std::array::from_fn(|axis| {
+            let (lo, hi) = options.voxels.axes[axis].unwrap_or((None, None));
+            let length = volume.dims[axis];
+            lo.unwrap_or(0).min(length)..hi.unwrap_or(length).min(length)
+        });
+        let mut index = [0; 3];
+        for region in &view.regions {
+            index[region.slice.voxel_axis()] = region.index;
+        }
+        let slice = VolumeSlice {
+            framed_target: view.scene.camera.target,
+            index,
+            indices,
+            active: view.region.slice.voxel_axis(),
+            volume,
+            options,
         };
+        Content::build(view.scene, Some(slice), settings, negative)
+    }
+
+    fn build(
+        mut scene: Scene,
+        volume: Option<VolumeSlice>,
+        settings: RenderSettings,
+        negative: Option<NegativeMode>,
+    ) -> Result<Content> {
+        settings.validate()?;
         if let Some(mode) = negative {
             scene
                 .glyph_sets
                 .iter_mut()
                 .for_each(|set| set.negative = mode);
         }
-        let sets = prepare_scene(&scene, settings.offset as f64)?;
+        let mut sets = prepare_scene(&scene, settings.offset as f64)?;
+        // Measured once, as after each rebuild (`take_prepared`): the colour bar and a
+        // montage's shared magnitude range read it.
+        measure_largest_radius(&mut sets);
         Ok(Content {
             camera: scene.camera,
             home: scene.camera,
@@ -217,11 +256,29 @@ impl Content {
     /// Frame parameters for an image of `width` x `height` with the current camera, as
     /// the headless renderer computes them.
     pub fn frame_params(&self, width: u32, height: u32) -> FrameParams {
-        let mut extent = SceneExtent::for_settings(&self.camera, &self.sets, &self.settings);
+        self.frame_params_with(width, height, &self.settings)
+    }
+
+    /// [`Content::frame_params`] with `settings` in place of the content's own (a
+    /// montage's panels share one magnitude range).
+    pub fn frame_params_with(
+        &self,
+        width: u32,
+        height: u32,
+        settings: &RenderSettings,
+    ) -> FrameParams {
+        let extent = self.extent(settings);
+        FrameParams::new(&self.camera, width, height, &extent, settings)
+    }
+
+    /// The depth and magnitude ranges of a frame drawn with `settings`, the underlay's
+    /// planes included.
+    pub fn extent(&self, settings: &RenderSettings) -> SceneExtent {
+        let mut extent = SceneExtent::for_settings(&self.camera, &self.sets, settings);
         if let Some(underlay) = &self.underlay {
             extent = extent_with_planes(&self.camera, extent, &underlay.planes);
         }
-        FrameParams::new(&self.camera, width, height, &extent, &self.settings)
+        extent
     }
 
     /// Shows `underlay` on the volume's slices (and moves it with them); an underlay for
@@ -302,6 +359,25 @@ impl Content {
                     range.end
                 )
             }
+        })
+    }
+
+    /// "k=3": the voxel axis and index of the (active) slice; None for a scene file.
+    pub fn slice_name(&self) -> Option<String> {
+        self.volume
+            .as_ref()
+            .map(|v| format!("{}={}", ["i", "j", "k"][v.active], v.index[v.active]))
+    }
+
+    /// How many slices the (active) slice can move down and up within the volume and
+    /// --voxels; None for a scene file.
+    pub fn slice_room(&self) -> Option<(usize, usize)> {
+        self.volume.as_ref().map(|v| {
+            let (range, index) = (&v.indices[v.active], v.index[v.active]);
+            (
+                index.saturating_sub(range.start),
+                range.end.saturating_sub(1).saturating_sub(index),
+            )
         })
     }
 

@@ -24,7 +24,8 @@ pub enum Action {
     ToggleNegative,
     /// Move through the volume by this many slices.
     Slice(i64),
-    /// With three slices: the one that slice moves move (0 sagittal, 1 coronal, 2 axial).
+    /// With three slices: the one that slice moves move (0 sagittal, 1 coronal, 2 axial;
+    /// the slices across voxel axes i, j, k); with --views the panel (0 the first).
     ActiveSlice(usize),
     /// Drag in pixels: turn about the target, or slide the view.
     Orbit(f64, f64),
@@ -43,7 +44,9 @@ pub enum Action {
 pub const HELP: &str = "\
 mouse: left drag orbit, right/middle drag or shift+left drag pan, wheel zoom
 keys:  M method   [ ] march step finer/coarser   F refinement   C colour   N negative lobes
-       Up/PageUp, Down/PageDown slice +1/-1   1/2/3 active slice (--slices)   R reset camera   S screenshot   H help   Q/Esc quit";
+       Up/PageUp, Down/PageDown slice +1/-1   1/2/3 active slice (--slices) or panel (--views)
+       R reset camera   S screenshot   H help   Q/Esc quit
+montages: the mouse moves every panel's camera alike; lightbox slices move together";
 
 /// Refinements `F` steps through.
 const REFINEMENTS: [Refinement; 4] = [
@@ -119,7 +122,8 @@ pub fn color_name(c: ColorMode) -> &'static str {
 /// Parses `--script`: comma-separated events, each applied on its own frame:
 /// `resize:WxH`, `method:NAME`, `step:S`, `refine:SPEC`, `color:MODE`,
 /// `negative:abs|hide|toggle`, `slice:+N|-N`, `active:1|2|3` (sagittal, coronal, axial
-/// slice of `--slices`), `orbit:DX:DY`, `pan:DX:DY`, `zoom:F`,
+/// slice of `--slices`; first, second, third panel of `--views`), `orbit:DX:DY`,
+/// `pan:DX:DY`, `zoom:F`,
 /// `reset`, `screenshot`, `wait`.
 pub fn parse_script(text: &str) -> Result<Vec<Action>> {
     text.split(',')

@@ -2,25 +2,34 @@
 //! drawn by the same [`RayCastPass`](crate::render::raycast::RayCastPass) as everything
 //! else, recorded into the window's command buffer with no distance attachment.
 //!
-//! One file per concern: `content` is what is shown (scene or volume slice, settings,
-//! camera), `controls` maps keys and test scripts to [`Action`]s, `orbit` moves the
-//! camera, `presenter` owns the swapchain frames, `app` is the winit event loop.
+//! One file per concern: `content` is what one panel shows (scene or volume slice,
+//! settings, camera), `panels` the window's panels (one, or a montage's), `layout` and
+//! `figure` where panels and the colour bar's strip go (as `render` lays out its image),
+//! `controls` maps keys and test scripts to [`Action`]s, `orbit` moves the camera,
+//! `presenter` owns the swapchain frames and `compose` the panels and strip copied into
+//! them, `app` is the winit event loop.
 //!
 //! The window is an add-on to the headless path: screenshots are rendered by the
 //! [`HeadlessRenderer`](crate::render::headless::HeadlessRenderer) at the window's size
-//! with its camera and settings, and a scripted run (`--frames`, `--script`) can read
-//! back what the window showed (`--capture-window`) so tests can hold the two against
-//! each other. Rendering is on demand (after input or a resize), not continuous: on a
+//! with its cameras and settings (a montage's panels and the colour bar composed as
+//! `render` composes them), and a scripted run (`--frames`, `--script`) can read back
+//! what the window showed (`--capture-window`) so tests can hold the two against each
+//! other. Rendering is on demand (after input or a resize), not continuous: on a
 //! software rasteriser a busy loop would take every core.
 mod app;
+mod compose;
 mod content;
 mod controls;
+mod figure;
+mod layout;
 mod orbit;
+mod panels;
 mod presenter;
 
-pub use content::{Content, ViewSource};
+pub use content::{Content, MontageSource, ViewSource};
 pub use controls::{Action, HELP, parse_script};
 pub use orbit::{orbit, pan, zoom};
+pub use panels::Panels;
 
 use crate::glyph::NegativeMode;
 use crate::io::atomic::check_ending;
@@ -37,9 +46,17 @@ pub struct ViewerOptions {
     pub settings: RenderSettings,
     /// Replaces every glyph set's negative-lobe mode (`--negative`), if given.
     pub negative: Option<NegativeMode>,
-    /// The window's initial inner size (physical pixels).
+    /// The size of each panel's cell at the start (physical pixels): the window's inner
+    /// size for one view without a colour bar; a montage's window holds its grid of
+    /// cells, and the colour bar's strip is added on the right.
     pub width: u32,
     pub height: u32,
+    /// Show the colour bar of `--color magnitude` in a strip of its own on the right
+    /// (`--colorbar`), as `render --colorbar` appends it; while the colour is another
+    /// mode there is no strip.
+    pub colorbar: bool,
+    /// The colour bar's label (`--colorbar-label`), else it names the unit.
+    pub colorbar_label: Option<String>,
     /// Render this many frames, then finish (screenshot, capture) and exit: a scripted
     /// run for tests. None: run until the window is closed.
     pub frames: Option<u32>,
@@ -68,10 +85,15 @@ pub fn run(source: ViewSource, options: ViewerOptions) -> Result<()> {
         ));
     }
     check_outputs(&options)?;
-    let mut content = Content::new(source, options.settings, options.negative)?;
-    content.set_underlay(options.underlay.clone())?;
-    check_method(&content, &options.settings)?;
-    app::run(content, options)
+    if matches!(source, ViewSource::Montage(_)) && options.save_scene.is_some() {
+        return Err(Error::Usage(
+            "--save-scene writes one scene: not with --views or --lightbox".into(),
+        ));
+    }
+    let mut panels = Panels::new(source, options.settings, options.negative)?;
+    panels.set_underlay(options.underlay.clone())?;
+    check_method(&panels, &options.settings)?;
+    app::run(panels, options)
 }
 
 /// The outputs of a run go through the same checks as a render's, before the window
@@ -99,14 +121,18 @@ fn check_outputs(options: &ViewerOptions) -> Result<()> {
 
 /// The window draws with the fragment ray caster only, and a method only where every
 /// glyph set has its shader: anything else is refused before the window opens.
-fn check_method(content: &Content, settings: &RenderSettings) -> Result<()> {
+fn check_method(panels: &Panels, settings: &RenderSettings) -> Result<()> {
     if settings.path != RenderPath::Fragment {
         return Err(Error::Usage(format!(
             "--path {}: the viewer draws with the fragment ray caster only (use render for the compute path)",
             settings.path
         )));
     }
-    let layouts: Vec<_> = content.sets.iter().map(|s| s.layout).collect();
+    let layouts: Vec<_> = panels
+        .panels
+        .iter()
+        .flat_map(|p| p.sets.iter().map(|s| s.layout))
+        .collect();
     let methods = methods_for(&layouts);
     if !methods.contains(&settings.method) {
         let names: Vec<String> = methods.iter().map(ToString::to_string).collect();

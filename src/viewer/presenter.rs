@@ -1,6 +1,9 @@
 //! The window's frames: swapchain, depth buffer, one command buffer and its sync objects,
 //! and the ray-cast pass for the swapchain's format, with no distance attachment (the
-//! pass then uses its colour-only fragment shaders).
+//! pass then uses its colour-only fragment shaders). A frame draws the panel at the
+//! window's corner in place, with its cell as viewport; the other panels of a montage
+//! and the colour bar's strip are drawn offscreen or on the CPU and copied in
+//! (`compose`).
 //!
 //! One frame is in flight: each frame first waits for the previous one, which makes it
 //! safe to rewrite the scene's uniform buffer and to read the previous frame's GPU time.
@@ -10,14 +13,14 @@
 //! (minimised), so nothing is rendered into a swapchain known to be stale. An image
 //! acquired as SUBOPTIMAL is still drawn and presented (presenting is how it is given
 //! back), and the swapchain is recreated before the next frame.
+use super::compose::{Composer, PanelDraw, StripDraw, attachment_to_copies};
 use crate::error::{Result, VkContext};
 use crate::render::RenderSettings;
-use crate::render::frame::FrameParams;
-use crate::render::raycast::{RayCastPass, SceneGpu, TargetFormats};
-use crate::render::underlay::{UnderlayGpu, UnderlayPass, UnderlayPlane};
+use crate::render::raycast::{RayCastPass, TargetFormats};
+use crate::render::underlay::UnderlayPass;
 use crate::vk::recording::{
-    COLOR_OUTPUT, COPY_READ, DEPTH_TESTS, NOTHING, cleared_color_attachment, color_image_copy,
-    copies_to_host, layout_transition,
+    Access, COLOR_OUTPUT, COPY_READ, COPY_WRITE, DEPTH_TESTS, NOTHING, cleared_color_attachment,
+    color_image_copy, copies_to_host, layout_transition,
 };
 use crate::vk::{
     Acquired, Buffer, DeviceContext, Gpu, GpuTimer, Image, Surface, Swapchain, color_range,
@@ -46,9 +49,6 @@ pub struct Capture {
     pub rgba: Vec<u8>,
 }
 
-/// An underlay to draw: its volume on the GPU, its planes and the frame's view-projection.
-type UnderlayDraw<'a> = (&'a UnderlayGpu, &'a [UnderlayPlane], [[f32; 4]; 4]);
-
 /// Every member keeps what it was made from alive (the device through its context, a
 /// swapchain its surface), so no drop order is needed for soundness; `Drop` waits for
 /// the device to be idle before any of them goes.
@@ -57,6 +57,7 @@ pub struct Presenter {
     underlay: UnderlayPass,
     timer: Option<GpuTimer>,
     capture: Option<(Buffer, vk::Extent2D)>,
+    composer: Composer,
     depth: Option<Image>,
     swapchain: Option<Swapchain>,
     surface: Surface,
@@ -124,6 +125,7 @@ impl Presenter {
             underlay: UnderlayPass::new(gpu.context(), formats)?,
             timer: GpuTimer::new(gpu)?,
             capture: None,
+            composer: Composer::default(),
             depth: None,
             swapchain: None,
             surface,
@@ -209,6 +211,7 @@ impl Presenter {
             };
             self.pass = RayCastPass::new(gpu.context(), formats)?;
             self.underlay = UnderlayPass::new(gpu.context(), formats)?;
+            self.composer.reset();
             rebuilt = true;
         }
         if !matches!(
@@ -225,17 +228,21 @@ impl Presenter {
         Ok(Some(rebuilt))
     }
 
-    /// Renders and presents one frame of `scene` (after [`Presenter::prepare`] and
-    /// [`Presenter::wait_previous`]). `frame` gives the frame parameters for the
-    /// swapchain's extent; `capture` also copies the image for [`Presenter::capture`].
-    /// `underlay`, uploaded with [`Presenter::underlay_pass`], is drawn on its planes.
-    #[allow(clippy::too_many_arguments)]
+    /// The swapchain's extent, once [`Presenter::prepare`] made one.
+    pub fn extent(&self) -> Option<vk::Extent2D> {
+        self.swapchain.as_ref().map(|s| s.extent)
+    }
+
+    /// Renders and presents one frame (after [`Presenter::prepare`] and
+    /// [`Presenter::wait_previous`]): the `panels`, each in its cell (uploaded with
+    /// [`Presenter::pass_mut`], underlays with [`Presenter::underlay_pass`]), and the
+    /// colour bar's `strip`; the rest of the window is background. `capture` also copies
+    /// the image for [`Presenter::capture`].
     pub fn render(
         &mut self,
         gpu: &Gpu,
-        scene: &mut SceneGpu,
-        underlay: Option<(&UnderlayGpu, &[UnderlayPlane])>,
-        frame: impl FnOnce(vk::Extent2D) -> FrameParams,
+        panels: &mut [PanelDraw],
+        strip: Option<StripDraw>,
         settings: &RenderSettings,
         capture: bool,
     ) -> Result<Outcome> {
@@ -243,6 +250,15 @@ impl Presenter {
             return Ok(Outcome::Skipped);
         };
         let extent = swapchain.extent;
+        let copies = strip.is_some() || panels.iter().any(|p| !p.in_place());
+        if copies && !swapchain.writable {
+            return Err(crate::Error::Setup(
+                "this window's swapchain images cannot be copied into (no TRANSFER_DST \
+                 usage): the viewer cannot show a montage or a colour bar here"
+                    .into(),
+            ));
+        }
+        let format = swapchain.format;
         let index = match swapchain.acquire(self.acquired)? {
             Acquired::OutOfDate => {
                 self.stale = true;
@@ -253,16 +269,37 @@ impl Presenter {
                 index
             }
         };
-        // The previous frame is done (wait_previous), so the uniform buffer is free.
-        let params = frame(extent);
-        scene.set_frame(&params)?;
+        // The previous frame is done (wait_previous), so the frame blocks, the offscreen
+        // target and the strip's buffer are free.
+        for panel in panels.iter_mut() {
+            panel.scene.set_frame(&panel.frame)?;
+        }
+        let largest = panels
+            .iter()
+            .filter(|p| !p.in_place())
+            .map(|p| p.cell.extent)
+            .reduce(|a, b| vk::Extent2D {
+                width: a.width.max(b.width),
+                height: a.height.max(b.height),
+            });
+        if let Some(target) = largest {
+            self.composer
+                .ensure_target(gpu.context(), format, DEPTH_FORMAT, target)?;
+        }
+        if let Some(strip) = &strip {
+            let bgra = matches!(
+                format,
+                vk::Format::B8G8R8A8_SRGB | vk::Format::B8G8R8A8_UNORM
+            );
+            self.composer.stage_strip(gpu.context(), strip.rgba, bgra)?;
+        }
         if capture {
             self.ensure_capture_buffer(gpu, extent)?;
         }
         // SAFETY: the fence is signalled and about to be reused by this submission.
         unsafe { self.ctx.device().reset_fences(&[self.in_flight]) }.vk("vkResetFences")?;
-        let underlay = underlay.map(|(volume, planes)| (volume, planes, params.view_proj));
-        self.record(index, scene, underlay, settings, capture)?;
+        let strip = strip.map(|s| s.rect);
+        self.record(index, panels, strip, settings, capture)?;
         let Some(swapchain) = self.swapchain.as_ref() else {
             return Ok(Outcome::Skipped);
         };
@@ -338,8 +375,8 @@ impl Presenter {
     fn record(
         &mut self,
         index: u32,
-        scene: &SceneGpu,
-        underlay: Option<UnderlayDraw>,
+        panels: &[PanelDraw],
+        strip: Option<vk::Rect2D>,
         settings: &RenderSettings,
         capture: bool,
     ) -> Result<()> {
@@ -379,9 +416,10 @@ impl Presenter {
             ),
         ];
         let bg = settings.background;
+        let background = [bg[0], bg[1], bg[2], 1.0];
         let color_attachment = [cleared_color_attachment(
             swapchain.views[index as usize],
-            [bg[0], bg[1], bg[2], 1.0],
+            background,
         )];
         let depth_attachment = crate::vk::cleared_depth_attachment(depth.view);
         let rendering = vk::RenderingInfo::default()
@@ -408,12 +446,36 @@ impl Presenter {
         }
         // SAFETY: as above.
         unsafe { d.cmd_begin_rendering(cmd, &rendering) };
-        if let Some((volume, planes, view_proj)) = underlay {
-            self.underlay.record(cmd, volume, planes, view_proj, extent);
+        // The panel at the corner: its viewport is its cell.
+        for panel in panels.iter().filter(|p| p.in_place()) {
+            record_panel(&mut self.pass, &self.underlay, cmd, panel, settings)?;
         }
-        self.pass.record(cmd, scene, extent, settings.method)?;
         // SAFETY: as above.
         unsafe { d.cmd_end_rendering(cmd) };
+        let copied: Vec<&PanelDraw> = panels.iter().filter(|p| !p.in_place()).collect();
+        let last = if copied.is_empty() && strip.is_none() {
+            (vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, COLOR_OUTPUT)
+        } else {
+            let to_copies = [attachment_to_copies(image)];
+            // SAFETY: as above.
+            unsafe {
+                d.cmd_pipeline_barrier2(
+                    cmd,
+                    &vk::DependencyInfo::default().image_memory_barriers(&to_copies),
+                );
+            }
+            for panel in copied {
+                let (pass, underlay) = (&mut self.pass, &self.underlay);
+                self.composer
+                    .record_panel(d, cmd, image, panel.cell, background, || {
+                        record_panel(pass, underlay, cmd, panel, settings)
+                    })?;
+            }
+            if let Some(rect) = strip {
+                self.composer.record_strip(d, cmd, image, rect)?;
+            }
+            (vk::ImageLayout::TRANSFER_DST_OPTIMAL, COPY_WRITE)
+        };
         if let Some(timer) = &self.timer {
             timer.stop(cmd);
         }
@@ -422,24 +484,42 @@ impl Presenter {
             .as_ref()
             .filter(|_| capture)
             .map(|(b, _)| b.handle);
-        record_present_transition(d, cmd, image, extent, readback);
+        record_present_transition(d, cmd, image, extent, last, readback);
         // SAFETY: recording began above.
         unsafe { d.end_command_buffer(cmd) }.vk("vkEndCommandBuffer")?;
         Ok(())
     }
 }
 
-/// Colour attachment to PRESENT_SRC, through a copy into `readback` when given.
+/// Records `panel`'s underlay and glyphs, drawn into an attachment whose corner is the
+/// panel's (rendering has begun).
+fn record_panel(
+    pass: &mut RayCastPass,
+    underlay: &UnderlayPass,
+    cmd: vk::CommandBuffer,
+    panel: &PanelDraw,
+    settings: &RenderSettings,
+) -> Result<()> {
+    let extent = panel.cell.extent;
+    if let Some((volume, planes)) = panel.underlay {
+        underlay.record(cmd, volume, planes, panel.frame.view_proj, extent);
+    }
+    pass.record(cmd, panel.scene, extent, settings.method)
+}
+
+/// The image from its `last` layout (after the accesses there) to PRESENT_SRC, through a
+/// copy into `readback` when given.
 fn record_present_transition(
     d: &ash::Device,
     cmd: vk::CommandBuffer,
     image: vk::Image,
     extent: vk::Extent2D,
+    (last_layout, last_access): (vk::ImageLayout, Access),
     readback: Option<vk::Buffer>,
 ) {
     let from_attachment = |new, dst| {
-        let layouts = (vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, new);
-        layout_transition(image, color_range(), layouts, COLOR_OUTPUT, dst)
+        let layouts = (last_layout, new);
+        layout_transition(image, color_range(), layouts, last_access, dst)
     };
     let Some(buffer) = readback else {
         // Presentation waits on the semaphore; no destination stage is needed.

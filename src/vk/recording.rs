@@ -33,6 +33,12 @@ pub const COPY_READ: Access = (
     vk::AccessFlags2::TRANSFER_READ,
 );
 
+/// Writes by a copy command.
+pub const COPY_WRITE: Access = (
+    vk::PipelineStageFlags2::COPY,
+    vk::AccessFlags2::TRANSFER_WRITE,
+);
+
 /// A layout transition of `image` (the subresources of `range`) from `old` to `new`,
 /// after `src` and before `dst`.
 pub fn layout_transition(
@@ -80,6 +86,36 @@ pub fn color_image_copy(extent: vk::Extent2D) -> vk::BufferImageCopy {
             layer_count: 1,
         })
         .image_extent(extent.into())
+}
+
+/// The copy of the top-left `extent` of a single-layer colour image into another at
+/// `offset` (the viewer puts a panel drawn offscreen into its cell of the window).
+pub fn color_region_copy(extent: vk::Extent2D, offset: vk::Offset2D) -> vk::ImageCopy {
+    let layers = vk::ImageSubresourceLayers {
+        aspect_mask: vk::ImageAspectFlags::COLOR,
+        mip_level: 0,
+        base_array_layer: 0,
+        layer_count: 1,
+    };
+    vk::ImageCopy::default()
+        .src_subresource(layers)
+        .dst_subresource(layers)
+        .dst_offset(vk::Offset3D {
+            x: offset.x,
+            y: offset.y,
+            z: 0,
+        })
+        .extent(extent.into())
+}
+
+/// The copy of a tightly packed buffer of `rect.extent` pixels into the region `rect` of
+/// a single-layer colour image.
+pub fn buffer_to_color_region(rect: vk::Rect2D) -> vk::BufferImageCopy {
+    color_image_copy(rect.extent).image_offset(vk::Offset3D {
+        x: rect.offset.x,
+        y: rect.offset.y,
+        z: 0,
+    })
 }
 
 /// Makes copy writes visible to the host (before it maps and reads the buffer).

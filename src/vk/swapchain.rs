@@ -23,6 +23,9 @@ pub struct Swapchain {
     pub render_finished: Vec<vk::Semaphore>,
     /// The images can be copied from (TRANSFER_SRC), to read back what the window shows.
     pub readable: bool,
+    /// The images can be copied into (TRANSFER_DST): the viewer copies montage panels
+    /// and the colour bar's strip into them.
+    pub writable: bool,
     loader: ash::khr::swapchain::Device,
     ctx: DeviceContext,
     /// Destroyed after the swapchain (after `Drop::drop` runs).
@@ -109,9 +112,15 @@ impl Swapchain {
         let readable = caps
             .supported_usage_flags
             .contains(vk::ImageUsageFlags::TRANSFER_SRC);
+        let writable = caps
+            .supported_usage_flags
+            .contains(vk::ImageUsageFlags::TRANSFER_DST);
         let mut usage = vk::ImageUsageFlags::COLOR_ATTACHMENT;
         if readable {
             usage |= vk::ImageUsageFlags::TRANSFER_SRC;
+        }
+        if writable {
+            usage |= vk::ImageUsageFlags::TRANSFER_DST;
         }
         let alpha = [
             vk::CompositeAlphaFlagsKHR::OPAQUE,
@@ -148,6 +157,7 @@ impl Swapchain {
             views: Vec::new(),
             render_finished: Vec::new(),
             readable,
+            writable,
             loader,
             ctx: gpu.context().clone(),
             _surface: surface.owner().clone(),

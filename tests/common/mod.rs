@@ -13,6 +13,7 @@ use std::process::{Command, Output};
 
 pub mod nifti;
 pub mod underlay;
+pub mod window;
 
 /// A GPU with the validation layer on (tests never run without it). The device is the
 /// one GLYPHCAST_DEVICE names, else the best available: lavapipe in CI.

@@ -1,0 +1,318 @@
+//! The figure options of issue 13 in the viewer: the colour bar (`--colorbar`) and the
+//! montages (`--views`, `--lightbox`). A scripted `glyphcast view` under Xvfb shows, in
+//! its window (`--capture-window`) and in its screenshot, the image `glyphcast render`
+//! makes with the same options and panel size, also after slice moves and colour
+//! changes; combinations that cannot work are usage errors before a window opens.
+//!
+//! Tolerances: the screenshot is the headless renderer's image, so it must equal the
+//! render exactly. The window draws the glyphs with the colour-only build of the same
+//! shaders into a BGRA swapchain image (see `common::window::assert_window_matches`: one
+//! 8-bit level, and 0.5% of the pixels for silhouette rays); the colour bar's strip is
+//! copied into the window byte for byte, so the strip must be exact in the window too.
+mod common;
+use common::window::{
+    BIN, Xvfb, assert_clean, assert_window_matches, data, differing_pixels, out, path_str,
+};
+use glyphcast::io::png::read_png_rgba8;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// `glyphcast render` of a scene file or volume (`input`, as arguments) with `options`;
+/// returns the PNG.
+fn render(input: &[&str], name: &str, options: &[&str]) -> PathBuf {
+    let png = out(name);
+    let run = Command::new(BIN)
+        .arg("render")
+        .args(input)
+        .args(options)
+        .args(["--validation", "-o", path_str(&png)])
+        .output()
+        .expect("running glyphcast render");
+    assert!(
+        run.status.success(),
+        "glyphcast render {input:?} {options:?}: {}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    png
+}
+
+/// The RGBA pixels of the rectangle (x, y, w, h) of a PNG.
+fn crop(png: &Path, (x, y, w, h): (u32, u32, u32, u32)) -> Vec<u8> {
+    let (width, height, rgba) = read_png_rgba8(png).expect("reading a PNG");
+    assert!(
+        x + w <= width && y + h <= height,
+        "{} is too small",
+        png.display()
+    );
+    (y..y + h)
+        .flat_map(|row| {
+            let at = 4 * (row * width + x) as usize;
+            rgba[at..at + 4 * w as usize].to_vec()
+        })
+        .collect()
+}
+
+fn size(png: &Path) -> (u32, u32) {
+    let (w, h, _) = read_png_rgba8(png).expect("reading a PNG");
+    (w, h)
+}
+
+/// The screenshot equals the render; the window equals it within the window tolerance,
+/// and exactly in the colour bar's strip (columns from `strip_left` on), if any.
+fn assert_shows(window: &Path, shot: &Path, rendered: &Path, strip_left: Option<u32>) {
+    assert_eq!(size(window), size(rendered), "{}", window.display());
+    let (count, worst, _) = differing_pixels(shot, rendered, 0);
+    assert_eq!(
+        count,
+        0,
+        "the screenshot {} differs from the render {} (largest {worst})",
+        shot.display(),
+        rendered.display()
+    );
+    assert_window_matches(window, rendered);
+    if let Some(left) = strip_left {
+        let (w, h) = size(rendered);
+        let strip = (left, 0, w - left, h);
+        assert!(
+            crop(window, strip) == crop(rendered, strip),
+            "the window's colour bar strip differs from the render's ({})",
+            window.display()
+        );
+    }
+}
+
+/// The arguments of a scripted view: `frames` frames of `script`, writing the screenshot
+/// and the window capture named after `name`.
+fn scripted(name: &str, frames: u32, script: &str) -> (Vec<String>, PathBuf, PathBuf) {
+    let (shot, window) = (
+        out(&format!("{name}-shot.png")),
+        out(&format!("{name}-window.png")),
+    );
+    let mut args = vec!["--frames".to_owned(), frames.to_string()];
+    if !script.is_empty() {
+        args.extend(["--script".to_owned(), script.to_owned()]);
+    }
+    args.extend([
+        "--screenshot".to_owned(),
+        path_str(&shot).to_owned(),
+        "--capture-window".to_owned(),
+        path_str(&window).to_owned(),
+    ]);
+    (args, shot, window)
+}
+
+fn view(x: &Xvfb, input: &[&str], options: &[&str], run: &[String]) {
+    let mut args: Vec<&str> = input.to_vec();
+    args.extend_from_slice(options);
+    args.extend(run.iter().map(String::as_str));
+    assert_clean(&x.view(&args));
+}
+
+#[test]
+fn the_colour_bar_is_renders_and_follows_the_colour_mode() {
+    let Some(x) = Xvfb::start("the_colour_bar_is_renders_and_follows_the_colour_mode") else {
+        return;
+    };
+    let scene = data("tests/scenes/order4_pair.json");
+    let input = [scene.as_str()];
+    let bar = [
+        "--width",
+        "200",
+        "--height",
+        "150",
+        "--color",
+        "magnitude",
+        "--colorbar",
+        "--colorbar-label",
+        "|f| (mm)",
+    ];
+    let rendered = render(&input, "bar-render.png", &bar);
+    let (width, _) = size(&rendered);
+    assert!(width > 230, "the render has no strip: {width} px wide");
+
+    // The window is --width plus the strip, and shows what render appends.
+    let (run, shot, window) = scripted("bar", 3, "");
+    view(&x, &input, &bar, &run);
+    assert_shows(&window, &shot, &rendered, Some(200));
+
+    // From an explicit range to the default one: the bar's ticks follow the range the
+    // shaders map (the strip is exact, so its text must have changed with it).
+    let mut ranged = bar.to_vec();
+    ranged.extend(["--magnitude-range", "0:3"]);
+    let (run, shot, window) = scripted("bar-range", 3, "color:magnitude");
+    view(&x, &input, &ranged, &run);
+    assert_shows(&window, &shot, &rendered, Some(200));
+    let before = render(&input, "bar-range-render.png", &ranged);
+    assert!(
+        crop(&before, (200, 0, width - 200, 150)) != crop(&rendered, (200, 0, width - 200, 150)),
+        "the two ranges draw the same strip"
+    );
+
+    // Another colour mode has no bar: the glyphs take the whole window, as a render of
+    // that size without --colorbar draws them.
+    let (run, shot, window) = scripted("bar-off", 3, "color:direction");
+    view(&x, &input, &bar, &run);
+    let plain = render(
+        &input,
+        "bar-off-render.png",
+        &["--width", &width.to_string(), "--height", "150"],
+    );
+    assert_shows(&window, &shot, &plain, None);
+}
+
+/// `glyphcast fit --order 2` on DIPY's small_64D: 10 x 10 x 10 voxels.
+fn dti(dir: &str) -> String {
+    let dir = out(dir);
+    std::fs::create_dir_all(&dir).expect("folder");
+    path_str(&common::fit_dti_small_64d(&dir)).to_owned()
+}
+
+const PANEL: (u32, u32) = (72, 56);
+
+fn panel_size() -> [String; 4] {
+    [
+        "--width".into(),
+        PANEL.0.to_string(),
+        "--height".into(),
+        PANEL.1.to_string(),
+    ]
+}
+
+#[test]
+fn views_are_renders_panels_and_move_their_slices() {
+    let Some(x) = Xvfb::start("views_are_renders_panels_and_move_their_slices") else {
+        return;
+    };
+    let tensor = dti("viewer-views");
+    let input = ["--tensor", tensor.as_str(), "--order", "2"];
+    let size_args = panel_size();
+    let mut options: Vec<&str> = size_args.iter().map(String::as_str).collect();
+    options.extend(["--color", "magnitude", "--colorbar"]);
+    let mut views = options.clone();
+    views.extend(["--views", "axial:4,coronal:5,sagittal:5"]);
+    let rendered = render(&input, "views-render.png", &views);
+    assert_eq!(size(&rendered).1, PANEL.1);
+    let (run, shot, window) = scripted("views", 3, "");
+    view(&x, &input, &views, &run);
+    assert_shows(&window, &shot, &rendered, Some(3 * PANEL.0));
+
+    // `active:2` makes the second panel, the coronal one, the one that moves.
+    let (run, shot, window) = scripted("views-moved", 4, "active:2,slice:+1");
+    view(&x, &input, &views, &run);
+    let mut moved = options.clone();
+    moved.extend(["--views", "axial:4,coronal:6,sagittal:5"]);
+    let moved = render(&input, "views-moved-render.png", &moved);
+    assert_shows(&window, &shot, &moved, Some(3 * PANEL.0));
+    let coronal = (PANEL.0, 0, PANEL.0, PANEL.1);
+    assert!(
+        crop(&moved, coronal) != crop(&rendered, coronal),
+        "the coronal panel did not change"
+    );
+
+    // Resizes, camera moves and colour switches keep the window and the screenshot
+    // together (and the validation layer quiet): the offscreen target and the strip
+    // are made again for each size.
+    let script = "resize:300x120,orbit:20:10,zoom:0.8,color:direction,resize:250x90,\
+                  color:magnitude,pan:4:-2";
+    let (run, shot, window) = scripted("views-resized", 9, script);
+    view(&x, &input, &views, &run);
+    assert_eq!(size(&shot), (250, 90));
+    assert_window_matches(&window, &shot);
+}
+
+/// The voxel indices `--lightbox count` shows along an axis of `length` voxels.
+fn lightbox_slices(count: usize, length: usize) -> Vec<usize> {
+    (0..count)
+        .map(|k| (2 * k + 1) * length / (2 * count))
+        .collect()
+}
+
+#[test]
+fn a_lightbox_is_renders_and_its_slices_move_together() {
+    let Some(x) = Xvfb::start("a_lightbox_is_renders_and_its_slices_move_together") else {
+        return;
+    };
+    let tensor = dti("viewer-lightbox");
+    let input = ["--tensor", tensor.as_str(), "--order", "2"];
+    let size_args = panel_size();
+    let panel: Vec<&str> = size_args.iter().map(String::as_str).collect();
+    let mut options = panel.clone();
+    options.extend(["--lightbox", "4", "--color", "magnitude", "--colorbar"]);
+    let rendered = render(&input, "lightbox-render.png", &options);
+    assert_eq!(size(&rendered).1, 2 * PANEL.1, "two rows of two");
+    let (run, shot, window) = scripted("lightbox", 3, "");
+    view(&x, &input, &options, &run);
+    assert_shows(&window, &shot, &rendered, Some(2 * PANEL.0));
+
+    // One slice on: every panel shows the next slice, as a single view of it renders
+    // it (the panels of a montage are single views, tests/montage.rs; direction
+    // colours, since the montage's magnitude range is shared): the expected picture is
+    // the four single renders in the lightbox's grid.
+    let mut moved_options = panel.clone();
+    moved_options.extend(["--lightbox", "4"]);
+    let (run, shot, window) = scripted("lightbox-moved", 4, "slice:+1");
+    view(&x, &input, &moved_options, &run);
+    let slices = lightbox_slices(4, 10);
+    assert_eq!(slices, [1, 3, 6, 8]);
+    let (width, height) = (2 * PANEL.0, 2 * PANEL.1);
+    let mut expected = vec![0u8; (4 * width * height) as usize];
+    for (k, index) in slices.iter().enumerate() {
+        let slice = format!("axial:{}", index + 1);
+        let mut single = panel.clone();
+        single.extend(["--slice", slice.as_str()]);
+        let png = render(&input, &format!("lightbox-k{}.png", index + 1), &single);
+        let pixels = crop(&png, (0, 0, PANEL.0, PANEL.1));
+        let (x0, y0) = ((k as u32 % 2) * PANEL.0, (k as u32 / 2) * PANEL.1);
+        for (row, line) in pixels.chunks_exact(4 * PANEL.0 as usize).enumerate() {
+            let at = (4 * ((y0 + row as u32) * width + x0)) as usize;
+            expected[at..at + line.len()].copy_from_slice(line);
+        }
+    }
+    let composed = out("lightbox-moved-expected.png");
+    glyphcast::io::png::write_png_rgba8(&composed, width, height, &expected)
+        .expect("writing the expected picture");
+    assert_shows(&window, &shot, &composed, None);
+
+    // The last slice is at 8 + 1 = 9, the volume's end: a further move is refused
+    // whole, so the spacing stays.
+    let (run, end, _) = scripted("lightbox-end", 4, "slice:+1,slice:+1");
+    view(&x, &input, &moved_options, &run);
+    assert_eq!(differing_pixels(&end, &shot, 0).0, 0);
+}
+
+#[test]
+fn montages_and_bars_that_cannot_work_are_usage_errors() {
+    let scene = data("tests/scenes/sphere.json");
+    let volume = data("tests/data/dipy/func_coef.nii.gz");
+    let sh = ["--sh", volume.as_str(), "--basis", "tournier07", "--legacy"];
+    let with_sh =
+        |extra: &[&str]| -> Vec<String> { sh.iter().chain(extra).map(|s| s.to_string()).collect() };
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (
+            vec![scene.clone(), "--views".into(), "axial".into()],
+            "volume input",
+        ),
+        (with_sh(&["--colorbar"]), "--color magnitude"),
+        (
+            with_sh(&["--lightbox", "2", "--underlay", volume.as_str()]),
+            "--underlay",
+        ),
+        (with_sh(&["--lightbox", "2", "--slices", "mid"]), "--slice"),
+        (
+            with_sh(&["--views", "axial", "--save-scene", "x.json"]),
+            "--save-scene",
+        ),
+    ];
+    for (args, words) in cases {
+        let run = Command::new(BIN)
+            .arg("view")
+            .args(&args)
+            .args(["--frames", "1"])
+            .env_remove("DISPLAY")
+            .output()
+            .expect("running glyphcast view");
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains(words), "{args:?}: no '{words}' in {stderr}");
+    }
+}
