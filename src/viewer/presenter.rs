@@ -6,7 +6,7 @@
 //! (`compose`).
 //!
 //! One frame is in flight: each frame first waits for the previous one, which makes it
-//! safe to rewrite the scene's uniform buffer and to read the previous frame's GPU time.
+//! safe to rewrite the scene's frame block and to read the previous frame's GPU time.
 //! Before each frame the swapchain is compared with the window's current size and
 //! recreated if it differs or was reported stale (a resize event, OUT_OF_DATE from
 //! acquire or present, SUBOPTIMAL), and frames are skipped while the window has no area
