@@ -17,6 +17,7 @@ pub mod headless;
 mod interface;
 pub mod labels;
 pub mod mesh;
+pub mod montage;
 pub mod options;
 #[doc(hidden)]
 pub mod range_eval;

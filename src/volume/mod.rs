@@ -16,6 +16,7 @@
 
 mod amplitude;
 mod build;
+mod figure;
 mod framing;
 mod input;
 mod recorded;
@@ -35,6 +36,7 @@ pub use framing::{
 pub use input::{CoefficientFrame, MAX_ORDER, Mask, Volume, VolumeKind, load_mask, load_volume};
 pub use recorded::{RecordedBasis, recorded_basis, resolve_basis};
 pub use reorient::Reorientation;
-pub use request::{VolumeRequest, VolumeView};
+pub use figure::{VolumeFigure, VolumeMontage, VolumeView, parse_views};
+pub use request::{Coefficients, ImageSource, MAX_PANELS, VolumeRequest};
 pub use selection::{Slice, SliceAxis, SliceRegion, Slices, VoxelRanges};
 pub use underlay::{load_underlay, slice_plane, underlay_of_image, view_underlay};
