@@ -159,7 +159,7 @@ mod tests {
         for sub in command.get_subcommands() {
             longs.extend(sub.get_arguments().filter_map(|a| a.get_long()).map(|l| format!("--{l}")));
         }
-        for setting in Setting::ALL {
+        for &setting in Setting::ALL {
             let flag = super::cli::flags::flag(setting);
             assert!(longs.iter().any(|l| l == flag), "{setting:?}: no {flag}");
         }

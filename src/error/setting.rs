@@ -13,236 +13,143 @@
 //! marker.
 use std::fmt;
 
-/// An option of the library's requests ([`RenderOptions`](crate::render::options),
-/// `volume::VolumeRequest`, the fits and the benchmarks): what a message names when a
-/// value is refused or options do not go together.
-///
-/// Not `non_exhaustive`: the front ends spell every setting, and a new one must be
-/// spelled by each of them (their matches are exhaustive).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Setting {
+/// The enum, its list and its names from one table, so that none can miss a setting.
+macro_rules! settings {
+    ($($(#[doc = $doc:literal])* $variant:ident => $name:literal,)*) => {
+        /// An option of the library's requests ([`RenderOptions`](crate::render::options),
+        /// `volume::VolumeRequest`, the fits and the benchmarks): what a message names
+        /// when a value is refused or options do not go together.
+        ///
+        /// Not `non_exhaustive`: the front ends spell every setting, and a new one must
+        /// be spelled by each of them (their matches are exhaustive).
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum Setting {
+            $($(#[doc = $doc])* $variant,)*
+        }
+
+        impl Setting {
+            /// Every setting.
+            pub const ALL: &'static [Setting] = &[$(Setting::$variant,)*];
+
+            /// The setting in the library's own words: lower case, words apart
+            /// (`magnitude range`). Unique, and free of control characters.
+            pub fn name(self) -> &'static str {
+                match self {
+                    $(Setting::$variant => $name,)*
+                }
+            }
+        }
+    };
+}
+
+settings! {
     /// Image width in pixels.
-    Width,
+    Width => "width",
     /// Image height in pixels.
-    Height,
+    Height => "height",
     /// How glyphs are drawn (`fixed`, `exact`, `mesh:LEVEL`, ...).
-    Method,
+    Method => "method",
     /// Which ray caster runs the method: fragment or compute.
-    Path,
+    Path => "path",
     /// The robust methods' segment limit in pixels.
-    Precision,
+    Precision => "precision",
     /// The fixed-step march's step.
-    Step,
+    Step => "step",
     /// The refinement of the first sign change.
-    Refine,
+    Refine => "refine",
     /// Glyph colouring.
-    Color,
+    Color => "color",
     /// The magnitude colour map's range.
-    MagnitudeRange,
+    MagnitudeRange => "magnitude range",
     /// The magnitude colour bar.
-    Colorbar,
+    Colorbar => "colour bar",
     /// Negative lobes: abs or hide.
-    Negative,
+    Negative => "negative",
     /// Background colour.
-    Background,
+    Background => "background",
     /// Isotropic offset of every glyph.
-    Offset,
+    Offset => "offset",
     /// Direction towards the light.
-    Light,
+    Light => "light",
     /// Ambient share of the lighting.
-    Ambient,
+    Ambient => "ambient",
     /// Specular strength.
-    Specular,
+    Specular => "specular",
     /// Specular exponent.
-    Shininess,
+    Shininess => "shininess",
     /// Samples per pixel.
-    Samples,
+    Samples => "samples",
     /// SH basis of a volume.
-    Basis,
+    Basis => "basis",
     /// The legacy variant of the SH basis.
-    Legacy,
+    Legacy => "legacy",
     /// The given basis even where the file records another.
-    ForceBasis,
+    ForceBasis => "force basis",
     /// Axes of a volume's coefficients: voxel or world.
-    Frame,
+    Frame => "frame",
     /// Highest SH band drawn.
-    Lmax,
+    Lmax => "lmax",
     /// Tensor order (of a volume, or of a fit).
-    Order,
+    Order => "order",
     /// A tensor volume holds all 3^N entries.
-    Nonsymmetric,
+    Nonsymmetric => "nonsymmetric",
     /// The slice of a volume drawn.
-    Slice,
+    Slice => "slice",
     /// Three orthogonal slices.
-    Slices,
+    Slices => "slices",
     /// Voxel index ranges.
-    Voxels,
+    Voxels => "voxels",
     /// Mask of the voxels drawn.
-    Mask,
+    Mask => "mask",
     /// World radius of the largest glyph.
-    Scale,
+    Scale => "scale",
     /// Glyph size normalisation.
-    Norm,
+    Norm => "norm",
     /// Smallest glyph amplitude drawn.
-    MinAmplitude,
+    MinAmplitude => "minimum amplitude",
     /// A perspective camera.
-    Perspective,
+    Perspective => "perspective",
     /// Radiological or neurological orientation.
-    Orientation,
+    Orientation => "orientation",
     /// Anatomical direction labels.
-    Labels,
+    Labels => "labels",
     /// Anatomical underlay image.
-    Underlay,
+    Underlay => "underlay",
     /// The underlay's window.
-    UnderlayRange,
+    UnderlayRange => "underlay range",
     /// Glyph surface: polynomial or ellipsoid.
-    Glyph,
+    Glyph => "glyph",
     /// The views of a montage.
-    Views,
+    Views => "views",
     /// The slice count of a lightbox.
-    Lightbox,
+    Lightbox => "lightbox",
     /// A DWI's b-values.
-    Bval,
+    Bval => "b-values",
     /// A DWI's gradient directions.
-    Bvec,
+    Bvec => "b-vectors",
     /// The frame of the gradient directions.
-    BvecConvention,
+    BvecConvention => "b-vector convention",
     /// The fibre ODF model of a fit.
-    Odf,
+    Odf => "ODF model",
     /// A fit's regularisation weight.
-    Lambda,
+    Lambda => "lambda",
     /// CSD's threshold.
-    Tau,
+    Tau => "tau",
     /// CSD's fibre response file.
-    Response,
+    Response => "response",
     /// The FA threshold of the response estimate.
-    ResponseFa,
+    ResponseFa => "response FA",
     /// Peaks per voxel.
-    Count,
+    Count => "count",
     /// The relative threshold of peaks.
-    RelativeThreshold,
+    RelativeThreshold => "relative threshold",
     /// The smallest angle between peaks.
-    MinSeparation,
+    MinSeparation => "minimum separation",
     /// A benchmark's generated workload.
-    Workload,
+    Workload => "workload",
 }
 
 impl Setting {
-    /// Every setting.
-    pub const ALL: [Setting; 52] = [
-        Setting::Width,
-        Setting::Height,
-        Setting::Method,
-        Setting::Path,
-        Setting::Precision,
-        Setting::Step,
-        Setting::Refine,
-        Setting::Color,
-        Setting::MagnitudeRange,
-        Setting::Colorbar,
-        Setting::Negative,
-        Setting::Background,
-        Setting::Offset,
-        Setting::Light,
-        Setting::Ambient,
-        Setting::Specular,
-        Setting::Shininess,
-        Setting::Samples,
-        Setting::Basis,
-        Setting::Legacy,
-        Setting::ForceBasis,
-        Setting::Frame,
-        Setting::Lmax,
-        Setting::Order,
-        Setting::Nonsymmetric,
-        Setting::Slice,
-        Setting::Slices,
-        Setting::Voxels,
-        Setting::Mask,
-        Setting::Scale,
-        Setting::Norm,
-        Setting::MinAmplitude,
-        Setting::Perspective,
-        Setting::Orientation,
-        Setting::Labels,
-        Setting::Underlay,
-        Setting::UnderlayRange,
-        Setting::Glyph,
-        Setting::Views,
-        Setting::Lightbox,
-        Setting::Bval,
-        Setting::Bvec,
-        Setting::BvecConvention,
-        Setting::Odf,
-        Setting::Lambda,
-        Setting::Tau,
-        Setting::Response,
-        Setting::ResponseFa,
-        Setting::Count,
-        Setting::RelativeThreshold,
-        Setting::MinSeparation,
-        Setting::Workload,
-    ];
-
-    /// The setting in the library's own words: lower case, words apart
-    /// (`magnitude range`). Unique, and free of control characters.
-    pub fn name(self) -> &'static str {
-        match self {
-            Setting::Width => "width",
-            Setting::Height => "height",
-            Setting::Method => "method",
-            Setting::Path => "path",
-            Setting::Precision => "precision",
-            Setting::Step => "step",
-            Setting::Refine => "refine",
-            Setting::Color => "color",
-            Setting::MagnitudeRange => "magnitude range",
-            Setting::Colorbar => "colour bar",
-            Setting::Negative => "negative",
-            Setting::Background => "background",
-            Setting::Offset => "offset",
-            Setting::Light => "light",
-            Setting::Ambient => "ambient",
-            Setting::Specular => "specular",
-            Setting::Shininess => "shininess",
-            Setting::Samples => "samples",
-            Setting::Basis => "basis",
-            Setting::Legacy => "legacy",
-            Setting::ForceBasis => "force basis",
-            Setting::Frame => "frame",
-            Setting::Lmax => "lmax",
-            Setting::Order => "order",
-            Setting::Nonsymmetric => "nonsymmetric",
-            Setting::Slice => "slice",
-            Setting::Slices => "slices",
-            Setting::Voxels => "voxels",
-            Setting::Mask => "mask",
-            Setting::Scale => "scale",
-            Setting::Norm => "norm",
-            Setting::MinAmplitude => "minimum amplitude",
-            Setting::Perspective => "perspective",
-            Setting::Orientation => "orientation",
-            Setting::Labels => "labels",
-            Setting::Underlay => "underlay",
-            Setting::UnderlayRange => "underlay range",
-            Setting::Glyph => "glyph",
-            Setting::Views => "views",
-            Setting::Lightbox => "lightbox",
-            Setting::Bval => "b-values",
-            Setting::Bvec => "b-vectors",
-            Setting::BvecConvention => "b-vector convention",
-            Setting::Odf => "ODF model",
-            Setting::Lambda => "lambda",
-            Setting::Tau => "tau",
-            Setting::Response => "response",
-            Setting::ResponseFa => "response FA",
-            Setting::Count => "count",
-            Setting::RelativeThreshold => "relative threshold",
-            Setting::MinSeparation => "minimum separation",
-            Setting::Workload => "workload",
-        }
-    }
-
     /// The setting named in a message's text; front ends spell it as theirs
     /// (`--lmax`, `lmax=`).
     pub fn mention(self) -> Mention {
@@ -343,9 +250,10 @@ mod tests {
     use super::*;
 
     #[test]
-    fn names_are_unique_and_every_setting_is_listed() {
+    fn names_are_unique_and_read_as_words() {
         for (k, a) in Setting::ALL.iter().enumerate() {
-            assert!(!a.name().contains(['-', '_', '=']), "{a:?}");
+            assert!(!a.name().starts_with('-'), "{a:?}");
+            assert!(!a.name().contains(['_', '=']), "{a:?}");
             for b in &Setting::ALL[k + 1..] {
                 assert_ne!(a.name(), b.name(), "{a:?} and {b:?}");
             }

@@ -247,7 +247,7 @@ pub fn parse_basis(name: &str, legacy: bool) -> Result<(ShBasis, bool)> {
         if legacy && !alias_legacy {
             return Err(Error::setting_value(
                 Setting::Basis,
-                crate::error::quoted(name),
+                format!("'{}'", crate::error::quoted(name)),
                 format!(
                     "names the non-legacy {} basis; leave out {} (or give {} {})",
                     basis_name(basis),
@@ -266,7 +266,7 @@ pub fn parse_basis(name: &str, legacy: bool) -> Result<(ShBasis, bool)> {
         .ok_or_else(|| {
             Error::setting_value(
                 Setting::Basis,
-                crate::error::quoted(name),
+                format!("'{}'", crate::error::quoted(name)),
                 "unknown SH basis, expected tournier07, descoteaux07, mrtrix, dipy or dipy-new",
             )
         })

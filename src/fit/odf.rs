@@ -68,7 +68,7 @@ impl OdfMethod {
             .ok_or_else(|| {
                 Error::setting_value(
                     Setting::Odf,
-                    crate::error::quoted(name),
+                    format!("'{}'", crate::error::quoted(name)),
                     "unknown ODF model, expected csd, csa or qball",
                 )
             })
