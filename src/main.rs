@@ -157,7 +157,11 @@ mod tests {
         let command = Cli::command();
         let mut longs: Vec<String> = Vec::new();
         for sub in command.get_subcommands() {
-            longs.extend(sub.get_arguments().filter_map(|a| a.get_long()).map(|l| format!("--{l}")));
+            longs.extend(
+                sub.get_arguments()
+                    .filter_map(|a| a.get_long())
+                    .map(|l| format!("--{l}")),
+            );
         }
         for &setting in Setting::ALL {
             let flag = super::cli::flags::flag(setting);

@@ -99,7 +99,11 @@ pub fn underlay(values: &Bound<'_, PyAny>, voxel_to_world: DMat4) -> PyResult<Un
         for j in 0..dims[1] {
             for i in 0..dims[0] {
                 for c in 0..channels {
-                    let index: &[usize] = if channels == 1 { &[i, j, k] } else { &[i, j, k, c] };
+                    let index: &[usize] = if channels == 1 {
+                        &[i, j, k]
+                    } else {
+                        &[i, j, k, c]
+                    };
                     interleaved.push(values[index]);
                 }
             }

@@ -8,6 +8,7 @@
 use std::path::PathBuf;
 
 use glyphcast::Result;
+use glyphcast::glyph::GlyphShape;
 use glyphcast::render::headless::{HeadlessRenderer, PreparedFrame, RenderedImage};
 use glyphcast::render::labels::{draw_edge_labels, edge_labels};
 use glyphcast::render::montage::{PreparedMontage, prepare_montage};
@@ -99,12 +100,11 @@ impl Renderer {
     ) -> PyResult<()> {
         let mut kwargs = Kwargs::new(options)?;
         let image = kwargs.image_request()?;
-        let shape = glyphcast::volume::VolumeRequest {
-            glyph: kwargs.text("glyph")?,
-            ..Default::default()
-        }
-        .shape()
-        .map_err(to_py)?;
+        let shape = kwargs
+            .text("glyph")?
+            .map(|text| text.parse::<GlyphShape>())
+            .transpose()
+            .map_err(to_py)?;
         let render = kwargs.render_options()?;
         kwargs.finish()?;
         self.loaded = None;

@@ -167,3 +167,19 @@ def test_bad_figure_options_name_the_keyword(sh, underlay_file, tmp_path):
         glyphcast.render_sh(coeffs, affine, basis="dipy", symmetric=False)
     with pytest.raises(ValueError, match=r"^views: expected a string or a list of strings"):
         glyphcast.render_sh(coeffs, affine, basis="dipy", views=3)
+
+
+def test_glyph_sets_every_scene_set_as_the_cli_does(tmp_path, cli, cli_render, scenes):
+    # A scene of order-2 tensors: the DTI volume's view, as the CLI saves it.
+    _, _, volume = dti_volume(tmp_path)
+    scene = tmp_path / "dti.json"
+    cli("render", "--tensor", volume, "--order", 2, "--width", 80,
+        "-o", tmp_path / "dti.png", "--save-scene", scene)
+    expected = cli_render(scene, "--glyph", "ellipsoid")
+    ours = glyphcast.render_scene(scene, glyph="ellipsoid")
+    assert_same_image(ours, expected)
+    assert not np.array_equal(glyphcast.render_scene(scene).depth, ours.depth, equal_nan=True)
+    with pytest.raises(ValueError, match=r"^glyph=ellipsoid: draws symmetric tensors of "
+                                         r"order 2 \(DTI\), and glyph set 0 is a symmetric "
+                                         r"tensor of order 4$"):
+        glyphcast.render_scene(scenes / "order4_pair.json", glyph="ellipsoid")

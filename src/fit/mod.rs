@@ -99,7 +99,9 @@ impl FitModel {
                     return Err(Error::setting_value(
                         Setting::Order,
                         order,
-                        format!("a diffusion tensor needs an even order from 2 to {MAX_ORDER} (the ADC profile is antipodally symmetric)"),
+                        format!(
+                            "a diffusion tensor needs an even order from 2 to {MAX_ORDER} (the ADC profile is antipodally symmetric)"
+                        ),
                     ));
                 }
             }
@@ -108,7 +110,9 @@ impl FitModel {
                     return Err(Error::setting_value(
                         Setting::Order,
                         band,
-                        format!("an SH fit needs an even band from 0 to {MAX_ORDER} (the signal is antipodally symmetric)"),
+                        format!(
+                            "an SH fit needs an even band from 0 to {MAX_ORDER} (the signal is antipodally symmetric)"
+                        ),
                     ));
                 }
                 check_lambda(lambda)?;
@@ -120,7 +124,9 @@ impl FitModel {
                     return Err(Error::setting_value(
                         Setting::Order,
                         band,
-                        format!("an ODF needs an even band from 0 to {MAX_ORDER} (the ODF is antipodally symmetric)"),
+                        format!(
+                            "an ODF needs an even band from 0 to {MAX_ORDER} (the ODF is antipodally symmetric)"
+                        ),
                     ));
                 }
                 check_lambda(lambda)?;

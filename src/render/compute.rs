@@ -18,7 +18,7 @@ use crate::error::{Error, Result};
 use crate::glyph::{GlyphShape, TensorLayout};
 use crate::render::Method;
 use crate::render::batch::{Batch, batches};
-use crate::render::frame::{FrameParams, FRAME_DESCRIPTOR, FRAME_USAGE};
+use crate::render::frame::{FRAME_DESCRIPTOR, FRAME_USAGE, FrameParams};
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::shaders::compute_raycast_shader;
 use crate::render::tiles::{ScreenView, TileBins, WALK_PER_DISPATCH, bin_glyphs};
@@ -233,12 +233,7 @@ impl ComputeRayCastPass {
             )
         };
         let mut scene = ComputeSceneGpu {
-            frame: Buffer::with_data(
-                ctx,
-                "frame",
-                std::slice::from_ref(frame),
-                FRAME_USAGE,
-            )?,
+            frame: Buffer::with_data(ctx, "frame", std::slice::from_ref(frame), FRAME_USAGE)?,
             pool,
             parts: Vec::new(),
             colors: output("compute colour")?,

@@ -17,7 +17,7 @@ use crate::error::{Error, Result};
 use crate::glyph::GlyphShape;
 use crate::glyph::intersect::WorldGlyph;
 use crate::glyph::tessellate::{MeshKind, MeshVertex, SphereMesh, tessellate};
-use crate::render::frame::{FrameParams, FRAME_DESCRIPTOR, FRAME_USAGE};
+use crate::render::frame::{FRAME_DESCRIPTOR, FRAME_USAGE, FrameParams};
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::raycast::{InstanceInput, TargetFormats, glyph_pipeline, viewport_and_scissor};
 use crate::render::shaders::{MESH_FRAGMENT, MESH_VERTEX};
@@ -257,12 +257,8 @@ impl MeshPass {
             .map(|start| start..(start + per_chunk).min(meshes.glyphs()))
             .collect();
         let indices: Vec<u32> = meshes.sphere.triangles.iter().flatten().copied().collect();
-        let frame_buffer = Buffer::with_data(
-            ctx,
-            "frame",
-            std::slice::from_ref(frame),
-            FRAME_USAGE,
-        )?;
+        let frame_buffer =
+            Buffer::with_data(ctx, "frame", std::slice::from_ref(frame), FRAME_USAGE)?;
         let index_buffer = Buffer::with_data(
             ctx,
             "mesh indices",

@@ -143,7 +143,13 @@ struct Grid {
 impl Grid {
     /// A grid of `columns` x `rows` cells of `cell_w` x `cell_h`, all background (the
     /// size checked by [`prepare_montage`]).
-    fn new(cell_w: u32, cell_h: u32, columns: usize, rows: usize, settings: &RenderSettings) -> Grid {
+    fn new(
+        cell_w: u32,
+        cell_h: u32,
+        columns: usize,
+        rows: usize,
+        settings: &RenderSettings,
+    ) -> Grid {
         let width = cell_w * columns as u32;
         let height = cell_h * rows as u32;
         let [r, g, b, a] = settings.background;

@@ -246,7 +246,10 @@ mod tests {
         };
         let negative = negative.negative().unwrap_err();
         assert_eq!(negative.setting_of(), Some(Setting::Negative));
-        assert_eq!(negative.to_string(), "negative 'show': not one of abs, hide");
+        assert_eq!(
+            negative.to_string(),
+            "negative 'show': not one of abs, hide"
+        );
         // Every option's refusal names its setting, and no front end's spelling of it.
         for (options, setting) in [
             (

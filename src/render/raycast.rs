@@ -11,7 +11,7 @@ use crate::error::{Error, Result};
 use crate::glyph::{GlyphShape, TensorLayout};
 use crate::render::Method;
 use crate::render::batch::{Batch, batches};
-use crate::render::frame::{FrameParams, FRAME_DESCRIPTOR, FRAME_USAGE};
+use crate::render::frame::{FRAME_DESCRIPTOR, FRAME_USAGE, FrameParams};
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::shaders::{IMPOSTOR_FRAGMENT, RAYCAST_VERTEX, raycast_shader};
 use crate::vk::{
@@ -261,12 +261,8 @@ impl RayCastPass {
         frame: &FrameParams,
         method: Method,
     ) -> Result<SceneGpu> {
-        let frame_buffer = Buffer::with_data(
-            ctx,
-            "frame",
-            std::slice::from_ref(frame),
-            FRAME_USAGE,
-        )?;
+        let frame_buffer =
+            Buffer::with_data(ctx, "frame", std::slice::from_ref(frame), FRAME_USAGE)?;
         // Sets that share a pipeline share buffers and a draw; a batch larger than one
         // storage buffer is split (the method's "render successively").
         let limit = self.storage_buffer_limit(ctx);

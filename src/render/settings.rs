@@ -104,7 +104,7 @@ impl std::str::FromStr for Method {
                     "not one of {}, impostor, mesh:LEVEL (icosphere, 0..={}), latlong:N \
                      (latitude bands, 2..={})",
                     crate::catalog::RAY_CAST_METHODS.map(|m| m.name).join(", "),
-                crate::glyph::tessellate::MAX_ICOSPHERE_LEVEL,
+                    crate::glyph::tessellate::MAX_ICOSPHERE_LEVEL,
                     crate::glyph::tessellate::MAX_LAT_LONG_RINGS
                 ),
             )

@@ -22,7 +22,7 @@
 //! or records [`UnderlayPass::record`] into its own frame.
 use crate::camera::{Camera, Ray};
 use crate::error::{Error, Result, Setting};
-use crate::render::frame::{SceneExtent, FRAME_DESCRIPTOR, FRAME_USAGE};
+use crate::render::frame::{FRAME_DESCRIPTOR, FRAME_USAGE, SceneExtent};
 use crate::render::raycast::{TargetFormats, viewport_and_scissor};
 use crate::render::shaders::{UNDERLAY_FRAGMENT, UNDERLAY_VERTEX};
 use crate::vk::{

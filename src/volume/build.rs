@@ -312,10 +312,9 @@ fn truncated_kind(volume: &Volume, lmax: Option<u32>) -> Result<GlyphKind> {
                 legacy,
             })
         }
-        (GlyphKind::Tensor(_), Some(_)) => Err(Error::setting(
-            Setting::Lmax,
-            "applies to SH volumes only",
-        )),
+        (GlyphKind::Tensor(_), Some(_)) => {
+            Err(Error::setting(Setting::Lmax, "applies to SH volumes only"))
+        }
     }
 }
 

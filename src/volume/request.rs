@@ -168,16 +168,7 @@ impl VolumeRequest {
 
     /// The glyph shape, if given.
     pub fn shape(&self) -> Result<Option<GlyphShape>> {
-        let parse = |text: &str| match text {
-            "polynomial" => Ok(GlyphShape::Polynomial),
-            "ellipsoid" => Ok(GlyphShape::Ellipsoid),
-            _ => Err(Error::setting_value(
-                Setting::Glyph,
-                format!("'{}'", quoted(text)),
-                "not one of polynomial, ellipsoid",
-            )),
-        };
-        self.glyph.as_deref().map(parse).transpose()
+        self.glyph.as_deref().map(str::parse).transpose()
     }
 
     /// The coefficients' frame, if given.
@@ -220,7 +211,10 @@ impl VolumeRequest {
         if self.underlay.is_none() {
             return Err(Error::setting(
                 Setting::UnderlayRange,
-                format!("needs {} (the image it windows)", Setting::Underlay.mention()),
+                format!(
+                    "needs {} (the image it windows)",
+                    Setting::Underlay.mention()
+                ),
             ));
         }
         let parsed = text.split_once(':').and_then(|(lo, hi)| {
@@ -315,7 +309,8 @@ impl VolumeRequest {
 
     /// The ellipsoid needs an order-2 symmetric tensor volume.
     fn check_shape(&self, kind: VolumeKind, name: &str) -> Result<()> {
-        if self.shape()? == Some(GlyphShape::Ellipsoid) && kind != VolumeKind::Tensor(ELLIPSOID_LAYOUT)
+        if self.shape()? == Some(GlyphShape::Ellipsoid)
+            && kind != VolumeKind::Tensor(ELLIPSOID_LAYOUT)
         {
             return Err(Error::setting_value(
                 Setting::Glyph,
@@ -423,7 +418,11 @@ mod tests {
         };
         let cases: Vec<(VolumeRequest, Coefficients, Option<Setting>)> = vec![
             (base.clone(), Coefficients::Sh, Some(Setting::Order)),
-            (Default::default(), Coefficients::Tensor, Some(Setting::Order)),
+            (
+                Default::default(),
+                Coefficients::Tensor,
+                Some(Setting::Order),
+            ),
             (
                 VolumeRequest {
                     lmax: Some(4),
@@ -575,7 +574,9 @@ mod tests {
                 Setting::Slice,
             ),
         ] {
-            let err = request.options(ImageRequest::default()).expect_err("refused");
+            let err = request
+                .options(ImageRequest::default())
+                .expect_err("refused");
             assert_eq!(err.setting_of(), Some(setting), "{err}");
             assert!(!err.to_string().contains("--"), "{err}");
         }
