@@ -52,10 +52,11 @@ pub enum Error {
     OutOfMemory(String),
     /// The validation layer reported errors (only when validation is on).
     Validation(Vec<String>),
-    /// An option's value the library refuses, or options that do not go together,
-    /// whatever the data: `setting` is the option the caller should change (the command
-    /// line reports it as a usage error, exit code 2; Python raises ValueError naming
-    /// the keyword). Shown as `SETTING[ VALUE]: MESSAGE`.
+    /// An option's value the library refuses, or options that do not go together (also
+    /// where the data decide, as a lightbox of more slices than the volume has):
+    /// `setting` is the option the caller should change (the command line reports it as
+    /// a usage error, exit code 2; Python raises ValueError naming the keyword). Shown as
+    /// `SETTING[ VALUE]: MESSAGE`.
     Setting {
         /// The option.
         setting: Setting,
@@ -278,6 +279,38 @@ mod tests {
         assert!(lost.is_device_lost() && !lost.is_out_of_memory());
         assert!(!input.is_out_of_memory() && !input.is_device_lost());
         assert!(host.to_string().starts_with("out of memory: "));
+    }
+
+    #[test]
+    fn setting_errors_name_the_setting_in_each_front_ends_words() {
+        use super::Setting;
+        let step = Error::setting_value(Setting::Step, 0.0001, "must be in 0.001 to 2");
+        assert_eq!(step.setting_of(), Some(Setting::Step));
+        assert_eq!(step.to_string(), "step 0.0001: must be in 0.001 to 2");
+        let keyword = |s: Setting, v: Option<&str>| match v {
+            Some(v) => format!("{}={v}", s.name().replace(' ', "_")),
+            None => s.name().replace(' ', "_"),
+        };
+        assert_eq!(step.spelled(&keyword), "step=0.0001: must be in 0.001 to 2");
+        // Mentions in any variant's text, the field of an input error included.
+        let input = Error::input(
+            "fod.nii",
+            Setting::Lmax.mention().to_string(),
+            format!("3 is odd; see {}", Setting::MinAmplitude.with(0.5)),
+        );
+        assert_eq!(input.setting_of(), None);
+        assert_eq!(
+            input.to_string(),
+            "fod.nii: lmax: 3 is odd; see minimum amplitude 0.5"
+        );
+        assert_eq!(
+            input.spelled(&keyword),
+            "fod.nii: lmax: 3 is odd; see minimum_amplitude=0.5"
+        );
+        for err in [&step, &input] {
+            assert!(!err.to_string().contains("--"), "{err}");
+            assert!(!err.to_string().chars().any(char::is_control), "{err}");
+        }
     }
 
     #[test]
