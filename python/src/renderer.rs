@@ -270,16 +270,23 @@ fn open(options: &GpuOptions) -> Result<Renderer> {
 
 /// One frame of the loaded glyphs; a new camera is written into the uploaded frame
 /// (prepared again on the compute path, whose tiles follow the camera, and with an
-/// underlay, whose planes the depth range covers).
+/// underlay, whose planes the depth range covers). With more than one sample per pixel
+/// the frame is drawn as the CLI draws it (`HeadlessRenderer::render_with_underlay`: at
+/// s times the size, averaged down, and once more at 1x for the depth map), not from the
+/// uploaded one-sample frame.
 fn draw(
     renderer: &mut HeadlessRenderer,
     gpu: &Gpu,
     loaded: &mut Frame,
     camera: Option<glyphcast::camera::Camera>,
 ) -> Result<RenderedImage> {
+    let supersampled = loaded.scene.settings.samples > 1;
     if let Some(camera) = camera {
         loaded.scene.camera = camera;
-        if loaded.underlay.is_some() || !loaded.frame.set_camera(&loaded.scene.sets, &camera)? {
+        if !supersampled
+            && (loaded.underlay.is_some()
+                || !loaded.frame.set_camera(&loaded.scene.sets, &camera)?)
+        {
             let s = &loaded.scene;
             loaded.frame = renderer.prepare_with_underlay(
                 gpu,
@@ -292,8 +299,21 @@ fn draw(
             )?;
         }
     }
-    renderer.draw(gpu, &loaded.frame)?;
-    let mut image = renderer.read(gpu, &loaded.frame)?;
+    let mut image = if supersampled {
+        let s = &loaded.scene;
+        renderer.render_with_underlay(
+            gpu,
+            &s.sets,
+            loaded.underlay.as_ref(),
+            &s.camera,
+            s.width,
+            s.height,
+            &s.settings,
+        )?
+    } else {
+        renderer.draw(gpu, &loaded.frame)?;
+        renderer.read(gpu, &loaded.frame)?
+    };
     if loaded.labels {
         let edges = edge_labels(&loaded.scene.camera);
         draw_edge_labels(&mut image.rgba, image.width, image.height, &edges)?;
