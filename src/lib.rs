@@ -151,7 +151,7 @@ pub mod vk;
 #[cfg(feature = "volume")]
 pub mod volume;
 
-pub use error::{Error, Result};
+pub use error::{Error, Result, Setting};
 
 // The names most programs need, at the root; everything else stays in its module.
 pub use camera::{Camera, Projection};

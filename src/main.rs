@@ -60,13 +60,8 @@ fn main() {
     let cli = Cli::parse();
     remove_temporaries_on_interrupt();
     if let Err(e) = run(cli) {
-        eprintln!("error: {e}");
-        let code = if matches!(e, glyphcast::Error::Usage(_)) {
-            2
-        } else {
-            1
-        };
-        std::process::exit(code);
+        eprintln!("error: {}", cli::flags::message(&e));
+        std::process::exit(cli::flags::exit_code(&e));
     }
 }
 
@@ -112,24 +107,20 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
                         "--views and --lightbox take volume input (--sh/--tensor)".into(),
                     ));
                 }
-                let (scenes, columns) = source.volume.montage(options.image_request()?)?;
-                return cli::render::render_montage(
-                    scenes,
-                    columns,
+            }
+            match source.load(options.image_request()?)? {
+                cli::render::Loaded::Scene(scene, underlay) => cli::render::render(
+                    scene,
                     &output,
                     &options,
+                    source.save_scene(),
                     source.labels(),
-                );
+                    underlay.as_ref(),
+                ),
+                cli::render::Loaded::Montage(montage) => {
+                    cli::render::render_montage(montage, &output, &options, source.labels())
+                }
             }
-            let (scene, underlay) = source.load_with_underlay(options.image_request()?)?;
-            cli::render::render(
-                scene,
-                &output,
-                &options,
-                source.save_scene(),
-                source.labels(),
-                underlay.as_ref(),
-            )
         }
         Command::View(args) => cli::view::run(&args),
         Command::Demo {
@@ -151,5 +142,50 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
         Command::Fit(args) => cli::fit::run(args),
         Command::Peaks(args) => cli::peaks::run(args),
         Command::Stiffness(args) => cli::stiffness::run(args),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Cli;
+    use clap::CommandFactory;
+    use glyphcast::Setting;
+
+    /// Every setting the library names is spelled as a flag some subcommand has.
+    #[test]
+    fn every_setting_is_spelled_as_a_real_flag() {
+        let command = Cli::command();
+        let mut longs: Vec<String> = Vec::new();
+        for sub in command.get_subcommands() {
+            longs.extend(
+                sub.get_arguments()
+                    .filter_map(|a| a.get_long())
+                    .map(|l| format!("--{l}")),
+            );
+        }
+        for &setting in Setting::ALL {
+            let flag = super::cli::flags::flag(setting);
+            assert!(longs.iter().any(|l| l == flag), "{setting:?}: no {flag}");
+        }
+    }
+
+    #[test]
+    fn setting_errors_are_usage_errors_in_the_flags_words() {
+        let err = glyphcast::Error::setting_value(Setting::MagnitudeRange, "'1-2'", "not LOW:HIGH");
+        assert_eq!(
+            super::cli::flags::message(&err),
+            "--magnitude-range '1-2': not LOW:HIGH"
+        );
+        assert_eq!(super::cli::flags::exit_code(&err), 2);
+        let input = glyphcast::Error::input(
+            "v.nii",
+            Setting::Voxels.mention().to_string(),
+            format!("no voxel below {}", Setting::MinAmplitude.mention()),
+        );
+        assert_eq!(
+            super::cli::flags::message(&input),
+            "v.nii: --voxels: no voxel below --min-amplitude"
+        );
+        assert_eq!(super::cli::flags::exit_code(&input), 1);
     }
 }

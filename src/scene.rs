@@ -9,6 +9,7 @@ use glam::DVec3;
 use crate::camera::Camera;
 use crate::glyph::monomials::symmetric_count;
 use crate::glyph::{GlyphShape, NegativeMode, Symmetry, TensorLayout};
+use crate::{Error, Result, Setting};
 
 /// The real SH basis convention of a coefficient list (SCENE-FORMAT.md).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -86,6 +87,33 @@ pub struct Scene {
 }
 /// The scene format's default image side, in pixels.
 const DEFAULT_IMAGE_SIDE: u32 = 512;
+
+impl Scene {
+    /// Draws every glyph set as `shape` (the glyph setting, for a whole scene): the
+    /// ellipsoid only for symmetric tensors of order 2, else an [`Error::Setting`] naming
+    /// the first set that is not one, and the scene is left as it was.
+    pub fn set_shape(&mut self, shape: GlyphShape) -> Result<()> {
+        let ellipsoid = GlyphKind::Tensor(crate::glyph::ellipsoid::ELLIPSOID_LAYOUT);
+        if shape == GlyphShape::Ellipsoid
+            && let Some((index, set)) = self
+                .glyph_sets
+                .iter()
+                .enumerate()
+                .find(|(_, set)| set.kind != ellipsoid)
+        {
+            return Err(Error::setting_value(
+                Setting::Glyph,
+                "ellipsoid",
+                format!(
+                    "draws symmetric tensors of order 2 (DTI), and glyph set {index} is a {}",
+                    set.kind
+                ),
+            ));
+        }
+        self.glyph_sets.iter_mut().for_each(|set| set.shape = shape);
+        Ok(())
+    }
+}
 
 impl GlyphKind {
     /// Coefficients per glyph: (n+1)(n+2)/2 symmetric, 3^n non-symmetric, and for SH

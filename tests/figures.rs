@@ -170,11 +170,11 @@ fn sign_colouring_follows_the_sign_of_f_at_the_reference_hits() {
         method: "mesh:3".parse().expect("mesh"),
         ..exact
     };
-    let error = mesh
-        .validate()
-        .expect_err("meshes have no sign")
-        .to_string();
-    assert!(error.contains("--color sign"), "{error}");
+    let error = mesh.validate().expect_err("meshes have no sign");
+    // The library names the setting (the CLI spells it `--color sign`).
+    assert_eq!(error.setting_of(), Some(glyphcast::Setting::Color));
+    let error = error.to_string();
+    assert!(error.starts_with("color sign: method mesh:3 "), "{error}");
 }
 
 #[test]

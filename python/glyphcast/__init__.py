@@ -6,10 +6,26 @@ ray distance to the first hit, NaN for misses (what ``glyphcast render --depth-o
 writes). A notebook shows a Rendering as its image.
 
 The keyword options are those of ``glyphcast render``, with ``-`` as ``_``
-(``magnitude_range`` for ``--magnitude-range``), with the same defaults; the messages of
-the errors are the CLI's. Bad input raises ValueError (OSError for a file that cannot be
-read), a device failure RuntimeError. ``validation=True`` (or GLYPHCAST_VALIDATION=1)
-turns on the Vulkan validation layer; any validation error then raises RuntimeError.
+(``magnitude_range`` for ``--magnitude-range``), with the same defaults and checks:
+
+- drawing: ``method``, ``path``, ``precision``, ``step``, ``refine``, ``color``,
+  ``magnitude_range``, ``negative``, ``background``, ``offset``, ``light``, ``ambient``,
+  ``specular``, ``shininess``, ``samples``; ``glyph`` ("polynomial" or "ellipsoid": the
+  DTI ellipsoid of order-2 tensors);
+- volumes (``render_sh``, ``render_tensor``): ``slice``, ``slices``, ``voxels``,
+  ``mask`` (an (X, Y, Z) array or a path), ``scale``, ``norm``, ``min_amplitude``,
+  ``lmax``, ``frame``, ``perspective``, ``orientation``, ``labels``; ``underlay`` (an
+  anatomical image drawn on the slice planes: a NIfTI/MRtrix path, an (X, Y, Z) or
+  (X, Y, Z, 3) array on the coefficients' grid, or ``(array, affine)``) with
+  ``underlay_range`` ("LOW:HIGH" or ``(low, high)``); a montage of panels, each the
+  image of its view alone: ``views`` ("axial,coronal,sagittal" or a list, each
+  optionally ":INDEX") or ``lightbox`` (N evenly spaced slices of the ``slice`` plane).
+
+The messages of the errors are the CLI's, with each option named by its keyword
+(``step=0.0001: must be in 0.001 to 2 ...`` where the CLI says ``--step 0.0001``). Bad
+input raises ValueError (OSError for a file that cannot be read), a device failure
+RuntimeError. ``validation=True`` (or GLYPHCAST_VALIDATION=1) turns on the Vulkan
+validation layer; any validation error then raises RuntimeError.
 """
 import json
 import os
@@ -110,7 +126,7 @@ class Renderer:
         *,
         basis,
         legacy=False,
-        slice="axial:mid",
+        slice=None,
         mask=None,
         scale=None,
         norm="global",
@@ -121,13 +137,13 @@ class Renderer:
         """Renders a slice of an (X, Y, Z, K) volume of SH coefficients (as nibabel's
         ``get_fdata()`` gives it) with its 4x4 ``affine`` (identity if None), as
         ``glyphcast render --sh`` does: ``basis`` is tournier07, descoteaux07, mrtrix,
-        dipy (DIPY's default, descoteaux07 legacy) or dipy-new."""
+        dipy (DIPY's default, descoteaux07 legacy) or dipy-new; ``slice`` is
+        "AXIS[:INDEX]" (default: the middle axial slice). With ``views`` or ``lightbox``
+        the result is the montage's one image."""
         options.update(
-            basis=basis, legacy=legacy, mask=mask, scale=scale, norm=norm,
+            basis=basis, legacy=legacy, slice=slice, mask=mask, scale=scale, norm=norm,
             width=width, height=height,
         )
-        if options.get("slices") is None:
-            options["slice"] = slice
         return self._volume("sh", coeffs, affine, options)
 
     def render_tensor(
@@ -137,7 +153,7 @@ class Renderer:
         *,
         order,
         symmetric=True,
-        slice="axial:mid",
+        slice=None,
         mask=None,
         scale=None,
         norm="global",
@@ -147,18 +163,18 @@ class Renderer:
     ):
         """Renders a slice of an (X, Y, Z, K) volume of Cartesian tensor coefficients in
         the scene format's order, as ``glyphcast render --tensor`` does (``symmetric``:
-        the unique entries, else all 3^order)."""
+        the unique entries, else all 3^order; ``glyph="ellipsoid"`` draws order-2
+        tensors as DTI ellipsoids)."""
         options.update(
-            order=order, symmetric=symmetric, mask=mask, scale=scale, norm=norm,
-            width=width, height=height,
+            order=order, symmetric=symmetric, slice=slice, mask=mask, scale=scale,
+            norm=norm, width=width, height=height,
         )
-        if options.get("slices") is None:
-            options["slice"] = slice
         return self._volume("tensor", coeffs, affine, options)
 
     def render(self, camera=None) -> Rendering:
         """Draws the loaded glyphs again, from their camera or from ``camera`` (a dict
-        like a scene's ``camera``: projection, eye, target, up, fov_y_deg or height)."""
+        like a scene's ``camera``: projection, eye, target, up, fov_y_deg or height; not
+        for a montage, whose panels have a camera each)."""
         text = None if camera is None else json.dumps(camera, default=_json_value)
         rgba, depth = self._native.render(text)
         return Rendering(rgba, depth)
@@ -178,10 +194,15 @@ class Renderer:
         self.close()
 
     def _volume(self, kind, coeffs, affine, options):
-        if options.get("mask") is not None and not isinstance(options["mask"], np.ndarray):
-            options["mask"] = np.asarray(options["mask"])
-        note = self._native.load_volume(kind, coeffs, _float_array(affine), options)
-        if note:
+        for key in ("mask", "underlay"):
+            value = options.get(key)
+            if isinstance(value, (list, np.generic)):
+                options[key] = np.asarray(value)
+        if isinstance(options.get("underlay"), tuple) and len(options["underlay"]) == 2:
+            array, own_affine = options["underlay"]
+            options["underlay"] = (np.asarray(array), _float_array(own_affine))
+        notes = self._native.load_volume(kind, coeffs, _float_array(affine), options)
+        for note in notes:
             warnings.warn(note, stacklevel=3)
         return self.render()
 
@@ -196,7 +217,8 @@ def _split_device(options):
 def render_scene(scene, *, width=None, height=None, method=None, **options) -> Rendering:
     """Renders a scene (a dict in the scene format, or a path) as ``glyphcast render
     SCENE`` does. Options: those of the CLI (path, precision, step, refine, color,
-    magnitude_range, negative, background, offset, device, validation)."""
+    magnitude_range, negative, background, offset, light, ambient, specular, shininess,
+    samples, glyph, device, validation)."""
     renderer = Renderer(**_split_device(options))
     return renderer.render_scene(scene, width=width, height=height, method=method, **options)
 
@@ -207,7 +229,7 @@ def render_sh(
     *,
     basis,
     legacy=False,
-    slice="axial:mid",
+    slice=None,
     mask=None,
     scale=None,
     norm="global",
@@ -230,7 +252,7 @@ def render_tensor(
     *,
     order,
     symmetric=True,
-    slice="axial:mid",
+    slice=None,
     mask=None,
     scale=None,
     norm="global",

@@ -6,6 +6,7 @@
 use glam::DMat4;
 use glyphcast::io::nifti::{AffineSource, VoxelToWorld};
 use glyphcast::render::headless::RenderedImage;
+use glyphcast::render::underlay::UnderlayVolume;
 use glyphcast::volume::Mask;
 use ndarray::{Array3, Array4, ArrayViewD, Dimension, Ix3, Ix4};
 use numpy::{
@@ -63,9 +64,61 @@ pub fn mask(mask: &Bound<'_, PyAny>) -> PyResult<Mask> {
     Ok(Mask::new(what, &values))
 }
 
+/// An underlay in memory: a numeric (X, Y, Z) array (scalar: FA, T1) or (X, Y, Z, 3)
+/// (RGB: colour-FA), placed by `voxel_to_world`; NaN where there is no value.
+pub fn underlay(values: &Bound<'_, PyAny>, voxel_to_world: DMat4) -> PyResult<UnderlayVolume> {
+    let what = "underlay";
+    let array = numpy_array(what, values)?;
+    let shape = array.shape().to_vec();
+    let channels = match shape.len() {
+        3 => 1,
+        4 if shape[3] == 3 => 3,
+        _ => {
+            return Err(value_error(
+                what,
+                format!(
+                    "a {}D array of shape {shape:?} where (X, Y, Z) or (X, Y, Z, 3) is needed",
+                    shape.len()
+                ),
+            ));
+        }
+    };
+    let values = values
+        .call_method1("astype", ("float32",))?
+        .cast_into::<PyArrayDyn<f32>>()?
+        .readonly()
+        .as_array()
+        .to_owned();
+    let dims = [shape[0], shape[1], shape[2]];
+    // Channels interleaved, i fastest, then j, then k (the underlay's layout).
+    let mut interleaved = Vec::new();
+    interleaved
+        .try_reserve_exact(values.len())
+        .map_err(|_| value_error(what, "does not fit in memory"))?;
+    for k in 0..dims[2] {
+        for j in 0..dims[1] {
+            for i in 0..dims[0] {
+                for c in 0..channels {
+                    let index: &[usize] = if channels == 1 {
+                        &[i, j, k]
+                    } else {
+                        &[i, j, k, c]
+                    };
+                    interleaved.push(values[index]);
+                }
+            }
+        }
+    }
+    UnderlayVolume::new(what, dims, channels, interleaved, voxel_to_world).map_err(to_py)
+}
+
 /// The voxel-to-world affine: a 4x4 array (nibabel's `img.affine`), or the identity.
 pub fn affine(affine: Option<&Bound<'_, PyAny>>) -> PyResult<VoxelToWorld> {
-    let what = "affine";
+    affine_named("affine", affine)
+}
+
+/// [`affine`] for the argument `what`.
+pub fn affine_named(what: &str, affine: Option<&Bound<'_, PyAny>>) -> PyResult<VoxelToWorld> {
     let matrix = match affine {
         None => DMat4::IDENTITY,
         Some(affine) => {

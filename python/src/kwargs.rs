@@ -1,13 +1,19 @@
 //! Keyword arguments into the library's requests: the render options
 //! ([`RenderOptions`]) and the volume options ([`VolumeRequest`]) under the names of the
-//! CLI's flags, with `-` as `_` (`magnitude_range` for `--magnitude-range`). A keyword
-//! the request does not know is a `TypeError`, as for any Python function.
+//! CLI's flags, with `-` as `_` (`magnitude_range` for `--magnitude-range`); images the
+//! CLI reads from files (`mask`, `underlay`) may also be arrays. A keyword the request
+//! does not know is a `TypeError`, as for any Python function.
+use std::path::PathBuf;
+
+use glam::DMat4;
 use glyphcast::render::options::RenderOptions;
-use glyphcast::volume::{ImageRequest, VolumeRequest};
+use glyphcast::volume::{ImageRequest, ImageSource, VolumeRequest};
+use numpy::PyUntypedArray;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyList, PyTuple};
 
+use crate::arrays;
 use crate::errors::{to_py, value_error};
 
 /// The keyword arguments of one call, taken one by one; `None` counts as not given.
@@ -75,11 +81,6 @@ impl<'py> Kwargs<'py> {
             .map(|v| v.unwrap_or(default))
     }
 
-    /// A value left to the caller (an array).
-    pub fn object(&mut self, key: &str) -> Option<Bound<'py, PyAny>> {
-        self.take(key)
-    }
-
     /// A `TypeError` for the first keyword nobody took.
     pub fn finish(self) -> PyResult<()> {
         match self.given.first() {
@@ -122,10 +123,75 @@ impl<'py> Kwargs<'py> {
         })
     }
 
+    /// A text option that may also be a list or tuple of texts, joined by commas
+    /// (`views=["axial", "coronal"]` for `views="axial,coronal"`).
+    pub fn list(&mut self, key: &str) -> PyResult<Option<String>> {
+        let Some(value) = self.take(key) else {
+            return Ok(None);
+        };
+        if let Ok(text) = value.extract::<String>() {
+            return Ok(Some(text));
+        }
+        if value.is_instance_of::<PyList>() || value.is_instance_of::<PyTuple>() {
+            let items: Vec<String> = value
+                .extract()
+                .map_err(|_| expected(key, "a string or a list of strings", &value))?;
+            return Ok(Some(items.join(",")));
+        }
+        Err(expected(key, "a string or a list of strings", &value))
+    }
+
+    /// A range: "LOW:HIGH" or a pair of numbers (`underlay_range=(0, 0.8)`).
+    pub fn range(&mut self, key: &str) -> PyResult<Option<String>> {
+        let Some(value) = self.take(key) else {
+            return Ok(None);
+        };
+        if let Ok(text) = value.extract::<String>() {
+            return Ok(Some(text));
+        }
+        // Rust prints each number as the shortest text that reads back as it.
+        let (low, high): (f64, f64) = value
+            .extract()
+            .map_err(|_| expected(key, "\"LOW:HIGH\" or a pair of numbers", &value))?;
+        Ok(Some(format!("{low}:{high}")))
+    }
+
+    /// An image: a file (a path) or a numpy array, converted by `array`.
+    fn image<T>(
+        &mut self,
+        key: &str,
+        array: impl FnOnce(&Bound<'py, PyAny>) -> PyResult<T>,
+    ) -> PyResult<Option<ImageSource<T>>> {
+        let Some(value) = self.take(key) else {
+            return Ok(None);
+        };
+        if value.cast::<PyUntypedArray>().is_ok() || value.is_instance_of::<PyTuple>() {
+            return array(&value).map(|v| Some(ImageSource::Memory(v)));
+        }
+        match value.extract::<PathBuf>() {
+            Ok(path) => Ok(Some(ImageSource::File(path))),
+            Err(_) => Err(expected(key, "a path or a numpy array", &value)),
+        }
+    }
+
     /// The volume options: `basis`, `legacy`, `frame`, `lmax` (SH), `order`, `symmetric`
-    /// (tensors), `slice`, `slices`, `voxels`, `scale`, `norm`, `min_amplitude`,
-    /// `perspective`, `orientation`.
-    pub fn volume_request(&mut self) -> PyResult<VolumeRequest> {
+    /// (tensors), `slice`, `slices`, `voxels`, `mask` (a path or an (X, Y, Z) array),
+    /// `scale`, `norm`, `min_amplitude`, `perspective`, `orientation`, `glyph`,
+    /// `underlay` (a path, an array on the coefficients' grid, or (array, affine)),
+    /// `underlay_range` ("LOW:HIGH" or (low, high)), `views` ("axial,coronal" or a list)
+    /// and `lightbox`. `affine` is the coefficients' (an underlay array's default).
+    pub fn volume_request(&mut self, affine: DMat4) -> PyResult<VolumeRequest> {
+        let underlay = |value: &Bound<'py, PyAny>| match value.cast::<PyTuple>() {
+            Ok(pair) if pair.len() == 2 => {
+                let own = arrays::affine_named("underlay", Some(&pair.get_item(1)?))?;
+                arrays::underlay(&pair.get_item(0)?, own.affine)
+            }
+            Ok(_) => Err(value_error(
+                "underlay",
+                "a tuple must be (array, affine), the array with its own 4x4 affine",
+            )),
+            Err(_) => arrays::underlay(value, affine),
+        };
         Ok(VolumeRequest {
             basis: self.text("basis")?,
             force_basis: false,
@@ -140,8 +206,14 @@ impl<'py> Kwargs<'py> {
             scale: self.float("scale")?,
             norm: self.text("norm")?,
             min_amplitude: self.float("min_amplitude")?,
+            mask: self.image("mask", |value| arrays::mask(value))?,
             perspective: self.flag("perspective", false)?,
             orientation: self.text("orientation")?,
+            glyph: self.text("glyph")?,
+            underlay: self.image("underlay", underlay)?,
+            underlay_range: self.range("underlay_range")?,
+            views: self.list("views")?,
+            lightbox: self.count("lightbox")?.map(|n| n as usize),
         })
     }
 }

@@ -2,10 +2,11 @@
 //! `glyphcast._glyphcast`; the Python package `glyphcast` (python/glyphcast) wraps it
 //! with the documented functions, keyword defaults and notebook display.
 //!
-//! Nothing here renders or parses on its own: scenes, volume slices and render options
-//! go through the same library calls as `glyphcast render` (`render::options`,
-//! `volume::VolumeRequest`, `render::headless`), so the module and the CLI draw the same
-//! pixels with the same defaults and messages.
+//! Nothing here renders or parses on its own: scenes, volume slices, montages and render
+//! options go through the same library calls as `glyphcast render` (`render::options`,
+//! `volume::VolumeRequest`, `render::montage`, `render::headless`), so the module and
+//! the CLI draw the same pixels with the same defaults and checks; their messages name
+//! each option as this module's keyword where the CLI names its flag (`errors`).
 use glyphcast::io::png::encode_png_rgba8;
 use numpy::{PyReadonlyArray3, PyUntypedArrayMethods};
 use pyo3::prelude::*;

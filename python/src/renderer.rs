@@ -1,19 +1,23 @@
 //! `Renderer`: one Vulkan device with its pipelines, and the glyphs last loaded, kept on
 //! the GPU across frames. Loading prepares and uploads a scene (a scene file or dict, or
-//! a slice of a coefficient volume); `render` draws it, from the loaded camera or from a
-//! new one, without uploading again. The GIL is released for preparation, upload and
-//! drawing, so other Python threads run meanwhile; everything is freed when the object
-//! goes (or at `release`).
+//! a slice of a coefficient volume, with its underlay); `render` draws it, from the
+//! loaded camera or from a new one, without uploading again. A montage (`views`,
+//! `lightbox`) is kept prepared on the CPU and drawn panel by panel, as the CLI draws it.
+//! The GIL is released for preparation, upload and drawing, so other Python threads run
+//! meanwhile; everything is freed when the object goes (or at `release`).
 use std::path::PathBuf;
 
 use glyphcast::Result;
+use glyphcast::glyph::GlyphShape;
 use glyphcast::render::headless::{HeadlessRenderer, PreparedFrame, RenderedImage};
 use glyphcast::render::labels::{draw_edge_labels, edge_labels};
+use glyphcast::render::montage::{PreparedMontage, prepare_montage};
 use glyphcast::render::options::{PreparedScene, RenderOptions, prepare_render};
+use glyphcast::render::underlay::Underlay;
 use glyphcast::scene::Scene;
 use glyphcast::vk::{Gpu, GpuOptions};
-use glyphcast::volume::{Volume, VolumeKind, VolumeRequest};
-use pyo3::exceptions::PyRuntimeError;
+use glyphcast::volume::{Coefficients, VolumeFigure};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -31,10 +35,22 @@ pub struct Renderer {
     gpu: Gpu,
 }
 
-/// The glyphs loaded: prepared on the CPU (their bounds frame a new camera) and uploaded.
-struct Loaded {
+/// What is loaded.
+enum Loaded {
+    /// One scene: prepared on the CPU (its bounds frame a new camera) and uploaded.
+    Frame(Box<Frame>),
+    /// The panels of a montage, prepared on the CPU.
+    Montage {
+        montage: PreparedMontage,
+        labels: bool,
+    },
+}
+
+/// A scene's glyphs on the GPU, with its underlay.
+struct Frame {
     frame: PreparedFrame,
     scene: PreparedScene,
+    underlay: Option<Underlay>,
     labels: bool,
 }
 
@@ -64,11 +80,16 @@ impl Renderer {
     /// Glyphs loaded (0 before the first load).
     #[getter]
     fn glyph_count(&self) -> usize {
-        self.loaded.as_ref().map_or(0, |l| l.scene.glyph_count())
+        match &self.loaded {
+            None => 0,
+            Some(Loaded::Frame(frame)) => frame.scene.glyph_count(),
+            Some(Loaded::Montage { montage, .. }) => montage.glyph_count(),
+        }
     }
 
     /// Loads a scene in the scene format, given as JSON text, or as a file when
-    /// `is_path`; `options` are the image size (`width`, `height`) and the render options.
+    /// `is_path`; `options` are the image size (`width`, `height`), `glyph` (every set's
+    /// shape) and the render options.
     #[pyo3(signature = (scene, is_path, options=None))]
     fn load_scene(
         &mut self,
@@ -79,6 +100,11 @@ impl Renderer {
     ) -> PyResult<()> {
         let mut kwargs = Kwargs::new(options)?;
         let image = kwargs.image_request()?;
+        let shape = kwargs
+            .text("glyph")?
+            .map(|text| text.parse::<GlyphShape>())
+            .transpose()
+            .map_err(to_py)?;
         let render = kwargs.render_options()?;
         kwargs.finish()?;
         self.loaded = None;
@@ -88,18 +114,22 @@ impl Renderer {
             } else {
                 Scene::from_json_str(&scene, "scene")?
             };
+            if let Some(shape) = shape {
+                scene.set_shape(shape)?;
+            }
             scene.image.width = image.width.unwrap_or(scene.image.width);
             scene.image.height = image.height.unwrap_or(scene.image.height);
-            self.upload(scene, &render, false)
+            self.upload(scene, None, &render, false)
         });
         self.loaded = Some(loaded.map_err(to_py)?);
         Ok(())
     }
 
-    /// Loads a slice of a coefficient volume: `kind` is "sh" or "tensor", `coeffs` an
-    /// (X, Y, Z, K) array, `affine` its voxel-to-world matrix; `options` hold the image
-    /// size, the volume options, `mask`, `labels` and the render options. Returns the
-    /// note the CLI prints, if any (the plane asked for is another voxel axis).
+    /// Loads a slice (or a montage of slices) of a coefficient volume: `kind` is "sh"
+    /// or "tensor", `coeffs` an (X, Y, Z, K) array, `affine` its voxel-to-world matrix;
+    /// `options` hold the image size, the volume options (`mask`, `underlay`, `views`,
+    /// `lightbox` and the rest), `labels` and the render options. Returns the notes the
+    /// CLI prints (the plane asked for is another voxel axis).
     #[pyo3(signature = (kind, coeffs, affine=None, options=None))]
     fn load_volume(
         &mut self,
@@ -108,29 +138,53 @@ impl Renderer {
         coeffs: &Bound<'_, PyAny>,
         affine: Option<&Bound<'_, PyAny>>,
         options: Option<&Bound<'_, PyDict>>,
-    ) -> PyResult<Option<String>> {
+    ) -> PyResult<Vec<String>> {
+        let input = match kind {
+            "sh" => Coefficients::Sh,
+            "tensor" => Coefficients::Tensor,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "kind '{other}': expected sh or tensor"
+                )));
+            }
+        };
+        let voxel_to_world = arrays::affine(affine)?;
         let mut kwargs = Kwargs::new(options)?;
         let image = kwargs.image_request()?;
-        let request = kwargs.volume_request()?;
+        let request = kwargs.volume_request(voxel_to_world.affine)?;
         let render = kwargs.render_options()?;
         let labels = kwargs.flag("labels", false)?;
-        let mask = kwargs.object("mask");
         kwargs.finish()?;
-        let kind = volume_kind(kind, &request).map_err(to_py)?;
-        let mut volume_options = request.options(image).map_err(to_py)?;
-        volume_options.mask = mask.as_ref().map(arrays::mask).transpose()?;
-        let voxel_to_world = arrays::affine(affine)?;
+        // The options on their own first: refused before the array is converted.
+        request.check(input).map_err(to_py)?;
+        request.options(image).map_err(to_py)?;
         let data = arrays::coefficients(coeffs)?;
         self.loaded = None;
         let loaded = py.detach(|| {
-            let volume = Volume::new("coeffs", data, kind, voxel_to_world)?;
-            let view = request.view(volume, volume_options)?;
-            let note = view.note;
-            Ok((self.upload(view.scene.scene, &render, labels)?, note))
+            let volume = request.memory_volume(input, "coeffs", data, voxel_to_world)?;
+            match request.figure(volume, image)? {
+                VolumeFigure::View(view) => {
+                    let view = *view;
+                    let notes = view.note.into_iter().collect();
+                    let loaded = self.upload(view.scene.scene, view.underlay, &render, labels)?;
+                    Ok((loaded, notes))
+                }
+                VolumeFigure::Montage(montage) => {
+                    let scenes = montage.panels.into_iter().map(|p| p.scene).collect();
+                    let settings = render.settings()?;
+                    let prepared =
+                        prepare_montage(scenes, montage.columns, settings, render.negative()?)?;
+                    let loaded = Loaded::Montage {
+                        montage: prepared,
+                        labels,
+                    };
+                    Ok((loaded, montage.notes))
+                }
+            }
         });
-        let (loaded, note) = loaded.map_err(to_py)?;
+        let (loaded, notes) = loaded.map_err(to_py)?;
         self.loaded = Some(loaded);
-        Ok(note)
+        Ok(notes)
     }
 
     /// Draws the loaded glyphs, seen by the loaded camera or by `camera` (a scene's
@@ -145,15 +199,26 @@ impl Renderer {
             .map(|text| Scene::camera_from_json_str(&text, "camera"))
             .transpose()
             .map_err(to_py)?;
-        let Some(loaded) = self.loaded.as_mut() else {
-            return Err(PyRuntimeError::new_err(
-                "nothing loaded: load a scene or a volume first",
-            ));
-        };
         let (renderer, gpu) = (&mut self.renderer, &self.gpu);
-        let image = py
-            .detach(|| draw(renderer, gpu, loaded, camera))
-            .map_err(to_py)?;
+        let image = match self.loaded.as_mut() {
+            None => {
+                return Err(PyRuntimeError::new_err(
+                    "nothing loaded: load a scene or a volume first",
+                ));
+            }
+            Some(Loaded::Montage { .. }) if camera.is_some() => {
+                return Err(PyValueError::new_err(
+                    "camera: a montage (views, lightbox) has a camera per panel; draw it \
+                     again without one",
+                ));
+            }
+            Some(Loaded::Montage { montage, labels }) => py
+                .detach(|| montage.render(renderer, gpu, *labels))
+                .map_err(to_py)?,
+            Some(Loaded::Frame(frame)) => py
+                .detach(|| draw(renderer, gpu, frame, camera))
+                .map_err(to_py)?,
+        };
         arrays::image_arrays(py, image)
     }
 
@@ -164,23 +229,31 @@ impl Renderer {
 }
 
 impl Renderer {
-    /// Prepares and uploads `scene`.
-    fn upload(&mut self, scene: Scene, options: &RenderOptions, labels: bool) -> Result<Loaded> {
+    /// Prepares and uploads `scene`, with `underlay` on its planes.
+    fn upload(
+        &mut self,
+        scene: Scene,
+        underlay: Option<Underlay>,
+        options: &RenderOptions,
+        labels: bool,
+    ) -> Result<Loaded> {
         let settings = options.settings()?;
         let scene = prepare_render(scene, settings, options.negative()?)?;
-        let frame = self.renderer.prepare(
+        let frame = self.renderer.prepare_with_underlay(
             &self.gpu,
             &scene.sets,
+            underlay.as_ref(),
             &scene.camera,
             scene.width,
             scene.height,
             &scene.settings,
         )?;
-        Ok(Loaded {
+        Ok(Loaded::Frame(Box::new(Frame {
             frame,
             scene,
+            underlay,
             labels,
-        })
+        })))
     }
 }
 
@@ -196,37 +269,54 @@ fn open(options: &GpuOptions) -> Result<Renderer> {
 }
 
 /// One frame of the loaded glyphs; a new camera is written into the uploaded frame
-/// (prepared again only on the compute path, whose tiles follow the camera).
+/// (prepared again on the compute path, whose tiles follow the camera, and with an
+/// underlay, whose planes the depth range covers). With more than one sample per pixel
+/// the frame is drawn as the CLI draws it (`HeadlessRenderer::render_with_underlay`: at
+/// s times the size, averaged down, and once more at 1x for the depth map), not from the
+/// uploaded one-sample frame.
 fn draw(
     renderer: &mut HeadlessRenderer,
     gpu: &Gpu,
-    loaded: &mut Loaded,
+    loaded: &mut Frame,
     camera: Option<glyphcast::camera::Camera>,
 ) -> Result<RenderedImage> {
+    let supersampled = loaded.scene.settings.samples > 1;
     if let Some(camera) = camera {
         loaded.scene.camera = camera;
-        if !loaded.frame.set_camera(&loaded.scene.sets, &camera)? {
+        if !supersampled
+            && (loaded.underlay.is_some()
+                || !loaded.frame.set_camera(&loaded.scene.sets, &camera)?)
+        {
             let s = &loaded.scene;
-            loaded.frame =
-                renderer.prepare(gpu, &s.sets, &s.camera, s.width, s.height, &s.settings)?;
+            loaded.frame = renderer.prepare_with_underlay(
+                gpu,
+                &s.sets,
+                loaded.underlay.as_ref(),
+                &s.camera,
+                s.width,
+                s.height,
+                &s.settings,
+            )?;
         }
     }
-    renderer.draw(gpu, &loaded.frame)?;
-    let mut image = renderer.read(gpu, &loaded.frame)?;
+    let mut image = if supersampled {
+        let s = &loaded.scene;
+        renderer.render_with_underlay(
+            gpu,
+            &s.sets,
+            loaded.underlay.as_ref(),
+            &s.camera,
+            s.width,
+            s.height,
+            &s.settings,
+        )?
+    } else {
+        renderer.draw(gpu, &loaded.frame)?;
+        renderer.read(gpu, &loaded.frame)?
+    };
     if loaded.labels {
         let edges = edge_labels(&loaded.scene.camera);
         draw_edge_labels(&mut image.rgba, image.width, image.height, &edges)?;
     }
     Ok(image)
-}
-
-/// "sh" or "tensor", with the basis or the layout the request gives.
-fn volume_kind(kind: &str, request: &VolumeRequest) -> Result<VolumeKind> {
-    match kind {
-        "sh" => request.sh_kind(None),
-        "tensor" => request.tensor_kind(),
-        other => Err(glyphcast::Error::Invalid(format!(
-            "kind '{other}': expected sh or tensor"
-        ))),
-    }
 }

@@ -55,6 +55,18 @@ def cli_depth(cli, tmp_path):
     return render
 
 
+@pytest.fixture
+def cli_render(cli, tmp_path):
+    """The depth map and the PNG bytes of `glyphcast render ARGS`."""
+
+    def render(*args):
+        depth, png = tmp_path / "cli-depth.npy", tmp_path / "cli.png"
+        cli("render", *args, "-o", png, "--depth-out", depth)
+        return np.load(depth), png.read_bytes()
+
+    return render
+
+
 @pytest.fixture(scope="session")
 def scenes():
     return ROOT / "tests" / "scenes"

@@ -84,3 +84,19 @@ def test_render_tensor_matches_cli(cli_depth, tmp_path):
     cli = cli_depth("--tensor", path, "--order", 2, "--width", 90)
     ours = glyphcast.render_tensor(coeffs, affine, order=2, width=90)
     assert_same_depth(ours.depth, cli)
+
+
+def test_samples_supersample_as_the_cli_does(scenes, cli_render):
+    scene = scenes / "order4_pair.json"
+    depth, png = cli_render(scene, "--width", 64, "--height", 48, "--samples", 4)
+    renderer = glyphcast.Renderer(validation=True)
+    ours = renderer.render_scene(scene, width=64, height=48, samples=4)
+    assert_same_depth(ours.depth, depth)
+    assert ours.png() == png
+    # Anti-aliased: edge pixels are partly covered, unlike the one-sample image's.
+    single = glyphcast.render_scene(scene, width=64, height=48)
+    assert not np.array_equal(single.rgba, ours.rgba)
+    # Drawn again, and from a camera.
+    assert renderer.render().png() == png
+    camera = json.loads(scene.read_text())["camera"]
+    assert renderer.render(camera=camera).png() == png

@@ -77,7 +77,9 @@ def test_bad_affine(sh):
            coeffs, np.full((4, 4), np.nan), basis="dipy")
 
 
-def test_options_keep_the_cli_messages(sh, cli_binary, tmp_path):
+def test_options_are_named_by_keyword_where_the_cli_names_the_flag(sh, cli_binary, tmp_path):
+    """The CLI's message, each option spelled as the keyword: `--slice 'diagonal': ...`
+    there, `slice='diagonal': ...` here."""
     coeffs, affine = sh
     root = ROOT
     file = root / "tests/data/dipy/func_coef.nii.gz"
@@ -88,6 +90,10 @@ def test_options_keep_the_cli_messages(sh, cli_binary, tmp_path):
         ("--norm", "norm", "loud"),
         ("--background", "background", "mauve"),
         ("--magnitude-range", "magnitude_range", "1-2"),
+        ("--step", "step", "0.0001"),
+        ("--views", "views", "axial,axial"),
+        ("--lightbox", "lightbox", "0"),
+        ("--glyph", "glyph", "cuboid"),
     ]:
         options = {"basis": "dipy", keyword: value}
         args = [f"--{k.replace('_', '-')}={v}" for k, v in options.items()]
@@ -99,9 +105,16 @@ def test_options_keep_the_cli_messages(sh, cli_binary, tmp_path):
         assert done.returncode in (1, 2), done.stderr
         errors = [line for line in done.stderr.splitlines() if line.startswith("error: ")]
         assert len(errors) == 1, done.stderr
+        assert errors[0].startswith(f"error: {flag} "), errors[0]
+        if keyword in ("step", "lightbox"):
+            options[keyword] = float(value) if keyword == "step" else int(value)
         with pytest.raises(ValueError) as caught:
             glyphcast.render_sh(coeffs, affine, **options)
-        assert str(caught.value) == errors[0].removeprefix("error: ")
+        message = str(caught.value)
+        assert message.startswith(f"{keyword}="), message
+        assert "--" not in message, message
+        cli_words = errors[0].removeprefix(f"error: {flag} ")
+        assert message.removeprefix(f"{keyword}=") == cli_words
 
 
 def test_unknown_keyword_is_a_type_error(sh):
@@ -119,5 +132,5 @@ def test_bad_scenes(scenes, tmp_path):
     raises(OSError, "missing.json", glyphcast.render_scene, tmp_path / "missing.json")
     raises(ValueError, "scene: a dict in the scene format or a path is needed, not int",
            glyphcast.render_scene, 3)
-    raises(ValueError, r"--width 0: must be in 1 to 16384", glyphcast.render_scene,
+    raises(ValueError, r"^width=0: must be in 1 to 16384$", glyphcast.render_scene,
            scenes / "order4_pair.json", width=0)

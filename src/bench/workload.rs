@@ -10,7 +10,7 @@ use crate::demo::{direction, fibre_tensor, glyph_set, symmetric};
 use crate::glyph::sh::{sh_basis_values, sh_orders};
 use crate::rng::SplitMix64;
 use crate::scene::{GlyphKind, GlyphSet, ImageSize, Scene, ShBasis};
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 use glam::DVec3;
 
 /// `count` glyphs of `order` (even, 2..=12) on a square grid of unit spacing, two or three
@@ -148,9 +148,11 @@ pub fn fodf(count: usize, band: u32, width: u32, height: u32) -> Result<Scene> {
 pub fn parse(spec: &str, width: u32, height: u32) -> Result<Scene> {
     let parts: Vec<&str> = spec.split(':').collect();
     let bad = || {
-        Error::Invalid(format!(
-            "--workload: '{spec}' is not grid:COUNT:ORDER or fodf:COUNT:BAND"
-        ))
+        Error::setting_value(
+            Setting::Workload,
+            format!("'{}'", crate::error::quoted(spec)),
+            "not grid:COUNT:ORDER or fodf:COUNT:BAND",
+        )
     };
     let number = |s: &str| s.parse::<usize>().map_err(|_| bad());
     match parts.as_slice() {

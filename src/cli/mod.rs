@@ -2,6 +2,7 @@
 pub mod accuracy;
 pub mod bench;
 pub mod fit;
+pub mod flags;
 pub mod peaks;
 pub mod progress;
 pub mod render;

@@ -1,21 +1,21 @@
 //! `glyphcast render` and `glyphcast demo`: options, rendering and writing the outputs.
 use clap::Args;
-use glyphcast::glyph::{GlyphShape, NegativeMode};
+use glyphcast::glyph::NegativeMode;
 use glyphcast::io::atomic::check_ending;
+use glyphcast::render::ColorMode;
 use glyphcast::render::RenderSettings;
 use glyphcast::render::colorbar::{ColorBar, common_scale};
 use glyphcast::render::frame::SceneExtent;
-use glyphcast::render::glyph_data::{GlyphSetData, measure_largest_radius, prepare_scene};
+use glyphcast::render::glyph_data::GlyphSetData;
 use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
 use glyphcast::render::labels::{draw_edge_labels, edge_labels};
-use glyphcast::render::montage::{Grid, Montage, shared_magnitude_range};
+use glyphcast::render::montage::prepare_montage;
 use glyphcast::render::options::{RenderOptions, prepare_render};
 use glyphcast::render::underlay::Underlay;
-use glyphcast::render::{ColorMode, Method};
 use glyphcast::scene::Scene;
 use glyphcast::viewer::ViewSource;
 use glyphcast::vk::{Gpu, GpuOptions};
-use glyphcast::volume::ImageRequest;
+use glyphcast::volume::{ImageRequest, VolumeFigure, VolumeMontage, VolumeView};
 use glyphcast::{Error, Result};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -30,31 +30,55 @@ pub struct SceneSource {
     pub volume: super::volume::VolumeArgs,
 }
 
+/// What `render` draws: a scene (a scene file's, or a volume's view with its underlay)
+/// or the panels of a montage.
+pub enum Loaded {
+    /// One scene, with the volume's underlay if any.
+    Scene(Scene, Option<Underlay>),
+    /// The panels of `--views` or `--lightbox`.
+    Montage(VolumeMontage),
+}
+
 impl SceneSource {
-    /// The scene to render, with the volume's underlay (`--underlay`), if any; `image`
-    /// (from --width/--height) sizes a volume's framing.
-    pub fn load_with_underlay(&self, image: ImageRequest) -> Result<(Scene, Option<Underlay>)> {
-        match &self.scene {
-            Some(path) => Ok((self.load_scene_file(path)?, None)),
-            None => self.volume.scene_with_underlay(image),
+    /// What to render; `image` (from --width/--height) sizes a volume's framing.
+    pub fn load(&self, image: ImageRequest) -> Result<Loaded> {
+        if let Some(path) = &self.scene {
+            return Ok(Loaded::Scene(self.load_scene_file(path)?, None));
         }
+        Ok(match self.volume.figure(image)? {
+            VolumeFigure::View(view) => Loaded::Scene(view.scene.scene, view.underlay),
+            VolumeFigure::Montage(montage) => Loaded::Montage(montage),
+        })
     }
 
-    /// As [`SceneSource::load_with_underlay`], keeping a volume so that the viewer can
-    /// move its slice (and the underlay with it).
+    /// The scene to view, keeping a volume so that the viewer can move its slice (and
+    /// the underlay with it).
     pub fn load_for_view(&self, image: ImageRequest) -> Result<(ViewSource, Option<Underlay>)> {
-        match &self.scene {
-            Some(path) => Ok((ViewSource::Scene(self.load_scene_file(path)?), None)),
-            None => {
-                let (volume, options, view) = self.volume.view(image)?;
-                let underlay = self.volume.underlay(&volume, &view.regions)?;
+        if let Some(path) = &self.scene {
+            return Ok((ViewSource::Scene(self.load_scene_file(path)?), None));
+        }
+        if self.volume.is_montage() {
+            return Err(Error::Usage(
+                "--views and --lightbox make one image of several panels: `render` only".into(),
+            ));
+        }
+        match self.volume.figure(image)? {
+            VolumeFigure::View(view) => {
+                let VolumeView {
+                    volume,
+                    options,
+                    scene,
+                    underlay,
+                    ..
+                } = *view;
                 let source = ViewSource::Volume {
                     volume: Box::new(volume),
                     options: Box::new(options),
-                    view: Box::new(view),
+                    view: Box::new(scene),
                 };
                 Ok((source, underlay))
             }
+            VolumeFigure::Montage(_) => Err(Error::Usage("a montage has no single view".into())),
         }
     }
 
@@ -345,16 +369,11 @@ pub fn render(
     write_outputs(&image, output, scene_file)
 }
 
-/// Renders the panels of a montage (`--views`, `--lightbox`: `scenes` in reading order,
-/// `columns` to a row) into one image and writes it as [`render`] writes one view. Each
-/// panel is the image `render` makes of its scene alone, centred in a cell of the largest
-/// panel's size (cells without a panel, and the margins of smaller panels, are
-/// background with NaN depth), except that `--color magnitude` without a range maps one
-/// range, 0 to the largest glyph radius of all panels, so that colours compare across
-/// panels. `labels` labels every panel; a colour bar is appended to the whole montage.
+/// Renders the panels of a montage (`--views`, `--lightbox`) into one image
+/// (`render::montage`) and writes it as [`render`] writes one view; `labels` labels every
+/// panel, and a colour bar is appended to the whole montage.
 pub fn render_montage(
-    mut scenes: Vec<Scene>,
-    columns: usize,
+    montage: VolumeMontage,
     output: &OutputArgs,
     options: &RenderArgs,
     labels: bool,
@@ -363,71 +382,40 @@ pub fn render_montage(
     let settings = options.settings()?;
     options.check_colorbar(&settings)?;
     let negative = options.negative()?;
-    let mut prepared = Vec::with_capacity(scenes.len());
+    let mut scenes: Vec<Scene> = montage.panels.into_iter().map(|p| p.scene).collect();
     for scene in &mut scenes {
         scene.image.width = image.width.unwrap_or(scene.image.width);
         scene.image.height = image.height.unwrap_or(scene.image.height);
-        if let Some(mode) = negative {
-            set_negative(scene, mode);
-        }
-        let mut sets = prepare_scene(scene, settings.offset as f64)?;
-        if settings.needs_largest_radius() {
-            measure_largest_radius(&mut sets);
-        }
-        if !matches!(settings.method, Method::Mesh(_)) {
-            sets.iter_mut().for_each(|s| s.drop_reference_glyphs());
-        }
-        prepared.push(sets);
     }
-    let settings = shared_magnitude_range(&settings, prepared.iter().flatten());
-    let cell_w = scenes.iter().map(|s| s.image.width).max().unwrap_or(1);
-    let cell_h = scenes.iter().map(|s| s.image.height).max().unwrap_or(1);
-    let grid = Grid::new((cell_w, cell_h), columns, scenes.len());
-    let (width, height) = grid.size()?;
-    let mut montage = Montage::new(grid, width, height, settings.background);
-    let gpu = Gpu::headless(&options.gpu_options())?;
-    eprintln!("device: {}", gpu.info);
-    let mut renderer = HeadlessRenderer::new(&gpu)?;
-    for (k, (scene, sets)) in scenes.iter().zip(&prepared).enumerate() {
-        let (w, h) = (scene.image.width, scene.image.height);
-        let mut panel = renderer.render(&gpu, sets, &scene.camera, w, h, &settings)?;
-        if labels {
-            draw_edge_labels(&mut panel.rgba, w, h, &edge_labels(&scene.camera))?;
-        }
-        montage.place(k, &panel);
-    }
-    let camera = &scenes
+    let common = common_scale(&scenes);
+    let prepared = prepare_montage(scenes, montage.columns, settings, negative)?;
+    let camera = prepared
+        .panels
         .first()
         .ok_or_else(|| Error::Usage("no panel".into()))?
         .camera;
-    let mut result = montage.finish();
-    let all_sets: Vec<GlyphSetData> = prepared.into_iter().flatten().collect();
-    if let Some(bar) = options.colorbar(&settings, &all_sets, camera, common_scale(&scenes)) {
+    let gpu = Gpu::headless(&options.gpu_options())?;
+    eprintln!("device: {}", gpu.info);
+    let mut renderer = HeadlessRenderer::new(&gpu)?;
+    let mut result = prepared.render(&mut renderer, &gpu, labels)?;
+    let all_sets: Vec<GlyphSetData> = prepared.sets().cloned().collect();
+    if let Some(bar) = options.colorbar(&prepared.settings, &all_sets, &camera, common) {
         let (width, rgba, distance) = bar.append(
             &result.rgba,
             &result.distance,
             result.width,
             result.height,
-            settings.background,
+            prepared.settings.background,
         )?;
         (result.width, result.rgba, result.distance) = (width, rgba, distance);
     }
+    let (cell_w, cell_h) = prepared.cell();
     eprintln!(
         "montage: {} panels of {cell_w}x{cell_h} in {} columns",
-        scenes.len(),
-        grid.columns
+        prepared.panels.len(),
+        prepared.columns()
     );
     write_outputs(&result, output, None)
-}
-
-/// `--negative`: sets every polynomial glyph set's mode (ellipsoids have no negative
-/// lobes, and a scene file refuses `hide` on them).
-fn set_negative(scene: &mut Scene, mode: NegativeMode) {
-    scene
-        .glyph_sets
-        .iter_mut()
-        .filter(|set| set.shape == GlyphShape::Polynomial)
-        .for_each(|set| set.negative = mode);
 }
 
 /// Writes the PNG, the depth map and the scene file together: either all are new or all

@@ -106,7 +106,8 @@ fn single_view(
 /// panel is framed for the cell, as `render` frames it with `--width` and `--height`
 /// both given (without them, `render` centres a smaller panel in its cell instead).
 fn montage(volume_args: &VolumeArgs, image: ImageRequest) -> Result<(ViewSource, (u32, u32))> {
-    let (volume, mut panels, columns) = volume_args.montage_panels(image)?;
+    let (volume, plan) = volume_args.montage_panels(image)?;
+    let (mut panels, columns) = (plan.panels, plan.columns);
     let mut cell = (image.width.unwrap_or(0), image.height.unwrap_or(0));
     if image.width.is_none() || image.height.is_none() {
         for options in &panels {

@@ -1,27 +1,23 @@
-//! Volume input for `glyphcast render`: a slice of a 4D NIfTI or MRtrix volume of SH coefficients
-//! (`--sh`) or Cartesian tensor coefficients (`--tensor`) becomes the scene; the work is
-//! in `glyphcast::volume`, this file turns flags into its options and reports what was
-//! left out.
+//! Volume input for `glyphcast render` and `view`: a slice (or a montage of slices) of a
+//! 4D NIfTI or MRtrix volume of SH coefficients (`--sh`) or Cartesian tensor
+//! coefficients (`--tensor`) becomes the scene. The work, every option's parsing, default
+//! and check included, is `glyphcast::volume::VolumeRequest`'s, shared with the Python
+//! module; this file maps the flags onto a request and reports what was drawn and what
+//! was left out.
 //!
 //! `--basis` has no default of its own: it is what the file records (`glyphcast fit`'s
 //! description; tournier07 for MRtrix images, MRtrix's only basis), and without a record
 //! it must be given, since guessing wrong draws plausible but wrong glyphs
 //! (`glyphcast::volume::resolve_basis`).
 use clap::Args;
-use glyphcast::fit::parse_basis;
-use glyphcast::glyph::ellipsoid::ELLIPSOID_LAYOUT;
-use glyphcast::glyph::{GlyphShape, Symmetry, TensorLayout};
-use glyphcast::io::image::{Image, read_image};
-use glyphcast::render::underlay::Underlay;
-use glyphcast::scene::GlyphKind;
-use glyphcast::scene::{Scene, ShBasis};
+use glyphcast::Result;
+use glyphcast::scene::Scene;
 use glyphcast::volume::{
-    ImageRequest, Slice, SliceRegion, ViewProjection, Volume, VolumeKind, VolumeOptions,
-    VolumeScene, load_mask, load_underlay, resolve_basis, view_underlay, volume_scene,
+    Coefficients, ImageRequest, ImageSource, MontagePlan, Volume, VolumeFigure, VolumeOptions,
+    VolumeRequest, VolumeScene, volume_scene,
 };
-use glyphcast::{Error, Result};
+use glyphcast::{Error, Setting};
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 /// Flags that make a scene file unnecessary.
 pub const VOLUME_FLAGS: [&str; 2] = ["sh", "tensor"];
@@ -165,105 +161,31 @@ impl VolumeArgs {
         given.iter().find(|(_, on)| *on).map(|(name, _)| *name)
     }
 
-    /// The scene of the volume view and its underlay (`--underlay`), if any.
-    pub fn scene_with_underlay(&self, image: ImageRequest) -> Result<(Scene, Option<Underlay>)> {
-        let (volume, _, view) = self.view(image)?;
-        let underlay = self.underlay(&volume, &view.regions)?;
-        Ok((view.scene, underlay))
-    }
-
-    /// `--underlay-range`, parsed (usage errors name the flag).
-    fn underlay_range(&self) -> Result<Option<(f64, f64)>> {
-        let Some(text) = self.underlay_range.as_deref() else {
-            return Ok(None);
-        };
-        if self.underlay.is_none() {
-            return Err(Error::Usage(
-                "--underlay-range needs --underlay (the image it windows)".into(),
-            ));
+    /// The flags as the library's volume request.
+    pub fn request(&self) -> VolumeRequest {
+        VolumeRequest {
+            basis: self.basis.clone(),
+            force_basis: self.force_basis,
+            frame: self.frame.clone(),
+            legacy: self.legacy,
+            lmax: self.lmax,
+            order: self.order,
+            nonsymmetric: self.nonsymmetric,
+            slice: self.slice.clone(),
+            slices: self.slices.clone(),
+            voxels: self.voxels.clone(),
+            mask: self.mask.clone().map(ImageSource::File),
+            scale: self.scale,
+            norm: self.norm.clone(),
+            min_amplitude: self.min_amplitude,
+            perspective: self.perspective,
+            orientation: self.orientation.clone(),
+            glyph: self.glyph.clone(),
+            underlay: self.underlay.clone().map(ImageSource::File),
+            underlay_range: self.underlay_range.clone(),
+            views: self.views.clone(),
+            lightbox: self.lightbox,
         }
-        let parsed = text.split_once(':').and_then(|(lo, hi)| {
-            Some((
-                lo.trim().parse::<f64>().ok()?,
-                hi.trim().parse::<f64>().ok()?,
-            ))
-        });
-        match parsed {
-            Some((lo, hi)) if lo.is_finite() && hi.is_finite() && lo < hi => Ok(Some((lo, hi))),
-            _ => Err(Error::Usage(format!(
-                "--underlay-range: '{}' is not LOW:HIGH with finite numbers, LOW < HIGH",
-                glyphcast::error::quoted(text)
-            ))),
-        }
-    }
-
-    /// The underlay of a view of `volume` with slices `regions` (`--underlay`), with its
-    /// window (`--underlay-range`, else the 2nd to 98th percentile).
-    pub fn underlay(&self, volume: &Volume, regions: &[SliceRegion]) -> Result<Option<Underlay>> {
-        let range = self.underlay_range()?;
-        let Some(path) = &self.underlay else {
-            return Ok(None);
-        };
-        let (mut underlay, source) = load_underlay(path)?;
-        if let Some((lo, hi)) = range {
-            underlay.set_window(lo, hi).map_err(Error::into_usage)?;
-        }
-        let (lo, hi) = underlay.window();
-        eprintln!(
-            "underlay: {}: {} voxel(s) of {} channel(s), window {lo}:{hi}",
-            underlay.file,
-            underlay.dims.map(|n| n.to_string()).join("x"),
-            underlay.channels
-        );
-        view_underlay(Arc::new(underlay), source, volume, regions).map(Some)
-    }
-
-    /// `--glyph`, if given; an unknown shape is a usage error.
-    pub fn shape(&self) -> Result<Option<GlyphShape>> {
-        let parse = |text: &str| match text {
-            "polynomial" => Ok(GlyphShape::Polynomial),
-            "ellipsoid" => Ok(GlyphShape::Ellipsoid),
-            _ => Err(Error::Usage(format!(
-                "--glyph: '{}' is not one of polynomial, ellipsoid",
-                glyphcast::error::quoted(text)
-            ))),
-        };
-        self.glyph.as_deref().map(parse).transpose()
-    }
-
-    /// Sets every glyph set of a scene file to `--glyph`'s shape: a usage error naming
-    /// the set when it is not an order-2 symmetric tensor set.
-    pub fn apply_shape(&self, scene: &mut Scene) -> Result<()> {
-        let Some(shape) = self.shape()? else {
-            return Ok(());
-        };
-        for (index, set) in scene.glyph_sets.iter_mut().enumerate() {
-            if shape == GlyphShape::Ellipsoid && set.kind != GlyphKind::Tensor(ELLIPSOID_LAYOUT) {
-                return Err(Error::Usage(format!(
-                    "--glyph ellipsoid draws symmetric tensors of order 2 (DTI), and glyph \
-                     set {index} is a {}",
-                    set.kind
-                )));
-            }
-            set.shape = shape;
-        }
-        Ok(())
-    }
-
-    /// The volume, the options its view was made with and the view (reported on stderr):
-    /// what the viewer needs to move the slice later.
-    pub fn view(&self, image: ImageRequest) -> Result<(Volume, VolumeOptions, VolumeScene)> {
-        self.underlay_range()?;
-        if self.is_montage() {
-            return Err(Error::Usage(
-                "--views and --lightbox make several panels, not one view".into(),
-            ));
-        }
-        let (volume, mut options) = self.load(image)?;
-        self.slice_in_voxels(&mut options, &volume)?;
-        let view = volume_scene(&volume, &options)?;
-        report(&view, &volume.file);
-        Ok((volume, options, view))
     }
 
     /// Whether --views or --lightbox asks for a montage.
@@ -271,315 +193,78 @@ impl VolumeArgs {
         self.views.is_some() || self.lightbox.is_some()
     }
 
-    /// The scenes of the panels of `--views` or `--lightbox`, in reading order, and the
-    /// number of columns of their grid (one row for --views).
-    pub fn montage(&self, image: ImageRequest) -> Result<(Vec<Scene>, usize)> {
-        let (volume, panels, columns) = self.montage_panels(image)?;
-        let mut scenes = Vec::with_capacity(panels.len());
-        for options in &panels {
-            scenes.push(panel_view(&volume, options)?.scene);
-        }
-        Ok((scenes, columns))
-    }
-
-    /// The volume of `--views` or `--lightbox`, each panel's options (its slice, in voxel
-    /// axes) in reading order, and the number of columns of their grid.
-    pub fn montage_panels(
-        &self,
-        image: ImageRequest,
-    ) -> Result<(Volume, Vec<VolumeOptions>, usize)> {
-        let panels = match (&self.views, self.lightbox) {
-            (Some(_), Some(_)) => {
-                return Err(Error::Usage(
-                    "give either --views or --lightbox, not both".into(),
-                ));
-            }
-            (Some(views), None) => parse_views(views).map_err(Error::into_usage)?,
-            (None, Some(count)) => {
-                if self.slices.is_some() {
-                    return Err(Error::Usage(
-                        "--lightbox takes --slice, not --slices".into(),
-                    ));
+    /// The figure of the volume input at the size `image`, reported on stderr: one view
+    /// (with its underlay) or a montage's panels.
+    pub fn figure(&self, image: ImageRequest) -> Result<VolumeFigure> {
+        let (input, path) = self.input()?;
+        let request = self.request();
+        let volume = request.read_volume(input, path)?;
+        let figure = request.figure(volume, image)?;
+        match &figure {
+            VolumeFigure::View(view) => {
+                if let Some(note) = &view.note {
+                    eprintln!("note: {note}");
                 }
-                if count == 0 || count > MAX_PANELS {
-                    return Err(Error::Usage(format!(
-                        "--lightbox {count}: must be 1 to {MAX_PANELS} slices"
-                    )));
+                report(&view.scene, &view.volume.file);
+                if let Some(underlay) = &view.underlay {
+                    let volume = &underlay.volume;
+                    let (lo, hi) = volume.window();
+                    eprintln!(
+                        "underlay: {}: {} voxel(s) of {} channel(s), window {lo}:{hi}",
+                        volume.file,
+                        volume.dims.map(|n| n.to_string()).join("x"),
+                        volume.channels
+                    );
                 }
-                Vec::new()
             }
-            (None, None) => return Err(Error::Usage("no --views or --lightbox".into())),
-        };
-        if self.underlay.is_some() {
-            return Err(Error::Usage(
-                "--underlay draws on one view's planes: not with --views or --lightbox".into(),
-            ));
+            VolumeFigure::Montage(montage) => {
+                for note in &montage.notes {
+                    eprintln!("note: {note}");
+                }
+                for panel in &montage.panels {
+                    report(panel, &montage.file);
+                }
+            }
         }
-        if self.slices.is_some() || (self.views.is_some() && self.slice.is_some()) {
-            return Err(Error::Usage(
-                "--views names each panel's slice: give no --slice or --slices with it".into(),
-            ));
-        }
-        let (volume, options) = self.load(image)?;
-        let panels = match self.lightbox {
-            Some(count) => self.lightbox_slices(&volume, &options, count)?,
-            None => panels,
-        };
-        let mut panel_options = Vec::with_capacity(panels.len());
-        for slice in &panels {
-            let mut options = options.clone();
-            options.slice = *slice;
-            self.slice_in_voxels(&mut options, &volume)?;
-            panel_options.push(options);
-        }
-        let columns = match self.lightbox {
-            Some(count) => (count as f64).sqrt().ceil() as usize,
-            None => panel_options.len(),
-        };
-        Ok((volume, panel_options, columns))
+        Ok(figure)
     }
 
-    /// `count` slices of the --slice plane, evenly spaced: slice k at the centre of the
-    /// k-th of `count` equal parts of the axis, floor((k + 1/2) n / count).
-    fn lightbox_slices(
-        &self,
-        volume: &Volume,
-        options: &VolumeOptions,
-        count: usize,
-    ) -> Result<Vec<Slice>> {
-        let mut plane = options.clone();
-        self.slice_in_voxels(&mut plane, volume)?;
-        let axis = plane.slice.axis;
-        let length = volume.dims[axis.voxel_axis()];
-        if count > length {
-            return Err(Error::Usage(format!(
-                "--lightbox {count}: the {} plane has {length} slices in {}",
-                axis.name(),
-                volume.file
-            )));
+    /// The volume of `--views` or `--lightbox` and its panels' options, in reading order,
+    /// with the grid's columns, for the viewer (which builds each panel's scene, and
+    /// builds it again when the panel's slice moves: [`panel_view`]).
+    pub fn montage_panels(&self, image: ImageRequest) -> Result<(Volume, MontagePlan)> {
+        let (input, path) = self.input()?;
+        let request = self.request();
+        let volume = request.read_volume(input, path)?;
+        let plan = request.montage_plan(&volume, image)?;
+        for note in &plan.notes {
+            eprintln!("note: {note}");
         }
-        Ok((0..count)
-            .map(|k| Slice {
-                axis: options.slice.axis,
-                index: Some(((2 * k + 1) * length) / (2 * count)),
-            })
-            .collect())
+        Ok((volume, plan))
     }
 
-    /// The volume and the options of the flags (mask read), before the slice is turned
-    /// into voxel axes.
-    fn load(&self, image: ImageRequest) -> Result<(Volume, VolumeOptions)> {
-        let path = self.input().map_err(Error::into_usage)?;
-        let mut options = self.options(image).map_err(Error::into_usage)?;
-        let frame = self
-            .frame
-            .as_deref()
-            .map(|text| {
-                text.parse()
-                    .map_err(|err| Error::Usage(format!("--frame: {err}")))
-            })
-            .transpose()?;
-        let given_basis = self.given_basis()?;
-        let file = read_image(path)?;
-        let kind = self.kind(&file, given_basis)?;
-        if options.shape == GlyphShape::Ellipsoid && kind != VolumeKind::Tensor(ELLIPSOID_LAYOUT) {
-            return Err(Error::Usage(format!(
-                "--glyph ellipsoid draws order-2 symmetric tensors (DTI: --tensor with \
-                 --order 2), not {}",
-                file.file
-            )));
+    /// Sets every glyph set of a scene file to `--glyph`'s shape, if given.
+    pub fn apply_shape(&self, scene: &mut Scene) -> Result<()> {
+        match self.request().shape()? {
+            Some(shape) => scene.set_shape(shape),
+            None => Ok(()),
         }
-        let mut volume = Volume::from_image(file, kind)?;
-        volume.frame = frame.unwrap_or(volume.frame);
-        options.mask = self.mask.as_deref().map(load_mask).transpose()?;
-        Ok((volume, options))
     }
 
-    /// Turns the world plane `--slice` names into the voxel axis closest to it, with a
-    /// note when that is not the axis of the same name (a volume not stored axially), and
-    /// an error in the plane's terms when the index is outside that axis.
-    fn slice_in_voxels(&self, options: &mut VolumeOptions, volume: &Volume) -> Result<()> {
-        let named = options.slice;
-        let axis = named
-            .axis
-            .world_plane_in_voxels(volume.voxel_to_world.linear());
-        options.slice.axis = axis;
-        if axis == named.axis || options.slices.is_some() {
-            return Ok(());
-        }
-        let voxel = axis.voxel_axis();
-        let (letter, length) = (["i", "j", "k"][voxel], volume.dims[voxel]);
-        if let Some(index) = named.index
-            && index >= length
-        {
-            return Err(Error::input(
-                &volume.file,
-                format!("dim[{}]", voxel + 1),
-                format!(
-                    "--slice {named}: the {} plane is the slice of constant {letter} in this \
-                     volume, which has {length} voxels along {letter} (0..={})",
-                    named.axis.name(),
-                    length.saturating_sub(1)
-                ),
-            ));
-        }
-        eprintln!(
-            "note: {}: the {} plane is the slice of constant {letter} in this volume",
-            volume.file,
-            named.axis.name(),
-        );
-        Ok(())
-    }
-
-    /// The volume's file, once the flags are checked to fit --sh or --tensor.
-    fn input(&self) -> Result<&Path> {
-        let misplaced = |flag: &str, input: &str| {
-            Err(Error::Invalid(format!(
-                "{flag} applies to {input} input only"
-            )))
-        };
+    /// What --sh or --tensor says the file holds, and the file.
+    fn input(&self) -> Result<(Coefficients, &Path)> {
         match (&self.sh, &self.tensor) {
-            (Some(_), Some(_)) => Err(Error::Invalid(
+            (Some(_), Some(_)) => Err(Error::Usage(
                 "give either --sh or --tensor, not both".into(),
             )),
-            (Some(path), None) => {
-                if self.order.is_some() {
-                    return misplaced("--order", "--tensor");
-                }
-                if self.nonsymmetric {
-                    return misplaced("--nonsymmetric", "--tensor");
-                }
-                Ok(path)
-            }
-            (None, Some(path)) => {
-                for (flag, given) in [
-                    ("--basis", self.basis.is_some()),
-                    ("--force-basis", self.force_basis),
-                    ("--legacy", self.legacy),
-                    ("--lmax", self.lmax.is_some()),
-                ] {
-                    if given {
-                        return misplaced(flag, "--sh");
-                    }
-                }
-                self.tensor_order()?;
-                Ok(path)
-            }
-            (None, None) => Err(Error::Invalid("give a scene file, --sh or --tensor".into())),
+            (Some(path), None) => Ok((Coefficients::Sh, path)),
+            (None, Some(path)) => Ok((Coefficients::Tensor, path)),
+            (None, None) => Err(Error::Usage("give a scene file, --sh or --tensor".into())),
         }
-    }
-
-    /// What the file holds: for --sh the basis from `--basis` and the file's record
-    /// (`resolve_basis`), for --tensor the layout from --order and --nonsymmetric.
-    fn kind(&self, file: &Image, given_basis: Option<(ShBasis, bool)>) -> Result<VolumeKind> {
-        if self.sh.is_some() {
-            let (basis, legacy) = resolve_basis(file, given_basis, self.force_basis)?;
-            return Ok(VolumeKind::Sh { basis, legacy });
-        }
-        let order = self.tensor_order()?;
-        let symmetry = if self.nonsymmetric {
-            Symmetry::NonSymmetric
-        } else {
-            Symmetry::Symmetric
-        };
-        Ok(VolumeKind::Tensor(TensorLayout { order, symmetry }))
-    }
-
-    /// `--order`, which --tensor needs.
-    fn tensor_order(&self) -> Result<u32> {
-        self.order.ok_or_else(|| {
-            Error::Invalid("--tensor needs --order N (the tensor order of the file)".into())
-        })
-    }
-
-    /// `--basis` with `--legacy` (aliases name both; see `fit::parse_basis`), if given.
-    fn given_basis(&self) -> Result<Option<(ShBasis, bool)>> {
-        match self.basis.as_deref() {
-            Some(name) => parse_basis(name, self.legacy).map(Some),
-            None if self.legacy => Err(Error::Usage(
-                "--legacy qualifies --basis: give --basis too".into(),
-            )),
-            None if self.force_basis => Err(Error::Usage(
-                "--force-basis needs --basis (the basis to force)".into(),
-            )),
-            None => Ok(None),
-        }
-    }
-
-    /// Everything but the mask, which is read after the volume.
-    fn options(&self, image: ImageRequest) -> Result<VolumeOptions> {
-        if self.slice.is_some() && self.slices.is_some() {
-            return Err(Error::Invalid(
-                "give either --slice or --slices, not both".into(),
-            ));
-        }
-        Ok(VolumeOptions {
-            slices: self.slices.as_deref().map(str::parse).transpose()?,
-            slice: self
-                .slice
-                .as_deref()
-                .map(str::parse)
-                .transpose()?
-                .unwrap_or_default(),
-            voxels: self
-                .voxels
-                .as_deref()
-                .map(str::parse)
-                .transpose()?
-                .unwrap_or_default(),
-            mask: None,
-            shape: self.shape()?.unwrap_or_default(),
-            scale: self.scale,
-            norm: self
-                .norm
-                .as_deref()
-                .map(str::parse)
-                .transpose()?
-                .unwrap_or_default(),
-            min_amplitude: self.min_amplitude.unwrap_or(0.0),
-            lmax: self.lmax,
-            projection: if self.perspective {
-                ViewProjection::Perspective
-            } else {
-                ViewProjection::Orthographic
-            },
-            orientation: self
-                .orientation
-                .as_deref()
-                .map(str::parse)
-                .transpose()?
-                .unwrap_or_default(),
-            image,
-        })
     }
 }
 
-/// The most panels of a montage.
-pub const MAX_PANELS: usize = 64;
-
-/// `--views`: axial, coronal and sagittal (each optionally :INDEX), comma separated, each
-/// at most once.
-pub fn parse_views(text: &str) -> Result<Vec<Slice>> {
-    let mut slices: Vec<Slice> = Vec::new();
-    for item in text.split(',') {
-        let slice: Slice = item.trim().parse().map_err(|_| {
-            Error::Invalid(format!(
-                "--views '{text}': '{item}' is not axial, coronal or sagittal (optionally \
-                 :INDEX)"
-            ))
-        })?;
-        if slices.iter().any(|s| s.axis == slice.axis) {
-            return Err(Error::Invalid(format!(
-                "--views '{text}': {} is listed twice",
-                slice.axis.name()
-            )));
-        }
-        slices.push(slice);
-    }
-    Ok(slices)
-}
-
-/// The view of one montage panel (`options` from [`VolumeArgs::montage_panels`]),
+/// The scene of one montage panel (`options` from [`VolumeArgs::montage_panels`]),
 /// reported.
 pub fn panel_view(volume: &Volume, options: &VolumeOptions) -> Result<VolumeScene> {
     let view = volume_scene(volume, options)?;
@@ -603,13 +288,14 @@ fn report(view: &VolumeScene, file: &str) {
         .collect();
     eprintln!(
         "volume: {file}: slice {}: {} glyphs from {} voxels ({} masked out, {} not \
-         finite, {} zero, {} below --min-amplitude)",
+         finite, {} zero, {} below {})",
         slices.join(" "),
         r.drawn,
         r.selected,
         r.masked_out,
         r.non_finite,
         r.zero,
-        r.below_min_amplitude
+        r.below_min_amplitude,
+        super::flags::flag(Setting::MinAmplitude)
     );
 }

@@ -29,7 +29,7 @@ use std::str::FromStr;
 
 use crate::error::quoted;
 use crate::io::nifti::VoxelToWorld;
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 
 /// The frame the directions of a `.bvec` file are written in.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -52,9 +52,11 @@ impl FromStr for BvecConvention {
             "fsl" => Ok(BvecConvention::Fsl),
             "voxel" => Ok(BvecConvention::Voxel),
             "world" => Ok(BvecConvention::World),
-            _ => Err(Error::Usage(format!(
-                "--bvec-convention '{text}': expected fsl, voxel or world"
-            ))),
+            _ => Err(Error::setting_value(
+                Setting::BvecConvention,
+                format!("'{}'", quoted(text)),
+                "expected fsl, voxel or world",
+            )),
         }
     }
 }

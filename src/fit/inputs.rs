@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use super::dwi::{Dwi, read_dwi, read_mask};
 use super::gradients::GradientTable;
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 
 /// Where the inputs come from. Without `bval` and `bvec` the gradient table is the
 /// DWI's own (`dw_scheme` of an MRtrix image).
@@ -49,7 +49,9 @@ impl FitInputs {
             (None, None) => {
                 let Some(rows) = &dwi.dw_scheme else {
                     return Err(Error::Invalid(format!(
-                        "{name} carries no gradient table (dw_scheme of an MRtrix image): give --bval and --bvec"
+                        "{name} carries no gradient table (dw_scheme of an MRtrix image): give {} and {}",
+                        Setting::Bval.mention(),
+                        Setting::Bvec.mention()
                     )));
                 };
                 let rotation = dwi.voxel_to_world()?.orthogonal_factor().ok_or_else(|| {
@@ -70,9 +72,11 @@ impl FitInputs {
                 )
             }
             _ => {
-                return Err(Error::Usage(
-                    "give both --bval and --bvec, or neither (an MRtrix DWI's dw_scheme)".into(),
-                ));
+                return Err(Error::Usage(format!(
+                    "give both {} and {}, or neither (an MRtrix DWI's dw_scheme)",
+                    Setting::Bval.mention(),
+                    Setting::Bvec.mention()
+                )));
             }
         };
         let mask = match &files.mask {

@@ -47,7 +47,7 @@ pub use response::Response;
 pub use voxel::{FitReport, VoxelFitter, fit, fit_with_report, fit_with_response};
 
 use crate::scene::{GlyphKind, ShBasis};
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 use sh::sh_count;
 
 /// The highest tensor order and SH band the scene format can draw.
@@ -90,45 +90,52 @@ pub enum FitModel {
 }
 
 impl FitModel {
-    /// Checks the options on their own (before any file is read); errors name the flag.
+    /// Checks the options on their own (before any file is read); errors name the
+    /// [`Setting`].
     pub fn validate(&self) -> Result<()> {
         match *self {
             FitModel::Tensor { order } => {
                 if !(2..=MAX_ORDER).contains(&order) || order % 2 == 1 {
-                    return Err(Error::Invalid(format!(
-                        "--order {order}: a diffusion tensor needs an even order from 2 to {MAX_ORDER} (the ADC profile is antipodally symmetric)"
-                    )));
+                    return Err(Error::setting_value(
+                        Setting::Order,
+                        order,
+                        format!(
+                            "a diffusion tensor needs an even order from 2 to {MAX_ORDER} (the ADC profile is antipodally symmetric)"
+                        ),
+                    ));
                 }
             }
             FitModel::Sh { band, lambda, .. } => {
                 if band > MAX_ORDER || band % 2 == 1 {
-                    return Err(Error::Invalid(format!(
-                        "--order {band}: an SH fit needs an even band from 0 to {MAX_ORDER} (the signal is antipodally symmetric)"
-                    )));
+                    return Err(Error::setting_value(
+                        Setting::Order,
+                        band,
+                        format!(
+                            "an SH fit needs an even band from 0 to {MAX_ORDER} (the signal is antipodally symmetric)"
+                        ),
+                    ));
                 }
-                if !(0.0..=MAX_LAMBDA).contains(&lambda) {
-                    return Err(Error::Invalid(format!(
-                        "--lambda {lambda}: the regularisation weight must be in 0 to {MAX_LAMBDA}"
-                    )));
-                }
+                check_lambda(lambda)?;
             }
             FitModel::Odf {
                 band, lambda, tau, ..
             } => {
                 if band > MAX_ORDER || band % 2 == 1 {
-                    return Err(Error::Invalid(format!(
-                        "--order {band}: an ODF needs an even band from 0 to {MAX_ORDER} (the ODF is antipodally symmetric)"
-                    )));
+                    return Err(Error::setting_value(
+                        Setting::Order,
+                        band,
+                        format!(
+                            "an ODF needs an even band from 0 to {MAX_ORDER} (the ODF is antipodally symmetric)"
+                        ),
+                    ));
                 }
-                if !(0.0..=MAX_LAMBDA).contains(&lambda) {
-                    return Err(Error::Invalid(format!(
-                        "--lambda {lambda}: the regularisation weight must be in 0 to {MAX_LAMBDA}"
-                    )));
-                }
+                check_lambda(lambda)?;
                 if !(0.0..1.0).contains(&tau) {
-                    return Err(Error::Invalid(format!(
-                        "--tau {tau}: CSD's threshold is a fraction of the mean fODF, in 0 to 1"
-                    )));
+                    return Err(Error::setting_value(
+                        Setting::Tau,
+                        tau,
+                        "CSD's threshold is a fraction of the mean fODF, in 0 to 1",
+                    ));
                 }
             }
         }
@@ -209,6 +216,18 @@ impl FitModel {
     }
 }
 
+/// The regularisation weight in 0 to [`MAX_LAMBDA`].
+fn check_lambda(lambda: f64) -> Result<()> {
+    if (0.0..=MAX_LAMBDA).contains(&lambda) {
+        return Ok(());
+    }
+    Err(Error::setting_value(
+        Setting::Lambda,
+        lambda,
+        format!("the regularisation weight must be in 0 to {MAX_LAMBDA}"),
+    ))
+}
+
 /// The scene format's name of a basis.
 pub fn basis_name(basis: ShBasis) -> &'static str {
     match basis {
@@ -217,7 +236,7 @@ pub fn basis_name(basis: ShBasis) -> &'static str {
     }
 }
 
-/// Parses `--basis NAME` together with `--legacy` into the basis and its variant.
+/// Parses a basis name together with the legacy switch into the basis and its variant.
 /// Besides the scene format's names (tournier07, descoteaux07; `--legacy` picks the
 /// legacy variant) three aliases name a variant themselves: `mrtrix` (tournier07, as
 /// MRtrix3 writes it), `dipy` (descoteaux07 legacy, DIPY's default) and `dipy-new`
@@ -232,11 +251,17 @@ pub fn parse_basis(name: &str, legacy: bool) -> Result<(ShBasis, bool)> {
     };
     if let Some((basis, alias_legacy)) = alias {
         if legacy && !alias_legacy {
-            return Err(Error::Invalid(format!(
-                "--basis {name} names the non-legacy {} basis; leave out --legacy (or give --basis {} --legacy)",
-                basis_name(basis),
-                basis_name(basis)
-            )));
+            return Err(Error::setting_value(
+                Setting::Basis,
+                format!("'{}'", crate::error::quoted(name)),
+                format!(
+                    "names the non-legacy {} basis; leave out {} (or give {} {})",
+                    basis_name(basis),
+                    Setting::Legacy.mention(),
+                    Setting::Basis.with(basis_name(basis)),
+                    Setting::Legacy.mention()
+                ),
+            ));
         }
         return Ok((basis, alias_legacy));
     }
@@ -245,10 +270,11 @@ pub fn parse_basis(name: &str, legacy: bool) -> Result<(ShBasis, bool)> {
         .find(|&b| basis_name(b) == name)
         .map(|basis| (basis, legacy))
         .ok_or_else(|| {
-            Error::Invalid(format!(
-                "--basis {}: unknown SH basis, expected tournier07, descoteaux07, mrtrix, dipy or dipy-new",
-                crate::error::quoted(name)
-            ))
+            Error::setting_value(
+                Setting::Basis,
+                format!("'{}'", crate::error::quoted(name)),
+                "unknown SH basis, expected tournier07, descoteaux07, mrtrix, dipy or dipy-new",
+            )
         })
 }
 

@@ -27,7 +27,7 @@ use nalgebra::DMatrix;
 
 use crate::glyph::sh::{ShFitter, convert_basis, sh_count, sh_orders};
 use crate::scene::ShBasis;
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 
 pub use super::csd::CsdFitter;
 pub use super::response::{Response, ResponseEstimate};
@@ -60,16 +60,17 @@ impl OdfMethod {
         }
     }
 
-    /// Parses `--odf NAME`.
+    /// Parses the ODF model's name.
     pub fn parse(name: &str) -> Result<Self> {
         [OdfMethod::Csa, OdfMethod::Qball, OdfMethod::Csd]
             .into_iter()
             .find(|m| m.name() == name)
             .ok_or_else(|| {
-                Error::Usage(format!(
-                    "--odf {}: unknown ODF model, expected csd, csa or qball",
-                    crate::error::quoted(name)
-                ))
+                Error::setting_value(
+                    Setting::Odf,
+                    format!("'{}'", crate::error::quoted(name)),
+                    "unknown ODF model, expected csd, csa or qball",
+                )
             })
     }
 }

@@ -18,7 +18,7 @@ use ndarray::Array4;
 use super::sphere::GeodesicSphere;
 use crate::glyph::sh::{check_band, sh_basis_values, sh_count, sh_eval};
 use crate::scene::ShBasis;
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 
 /// Default number of peaks per voxel.
 pub const DEFAULT_PEAK_COUNT: usize = 3;
@@ -60,25 +60,28 @@ impl Default for PeakOptions {
 }
 
 impl PeakOptions {
-    /// Checks the options; errors name the flag.
+    /// Checks the options; errors name the [`Setting`].
     pub fn validate(&self) -> Result<()> {
         if !(1..=16).contains(&self.count) {
-            return Err(Error::Usage(format!(
-                "--count {}: the number of peaks must be from 1 to 16",
-                self.count
-            )));
+            return Err(Error::setting_value(
+                Setting::Count,
+                self.count,
+                "the number of peaks must be from 1 to 16",
+            ));
         }
         if !(0.0..=1.0).contains(&self.relative_threshold) {
-            return Err(Error::Usage(format!(
-                "--relative-threshold {}: must be in 0 to 1",
-                self.relative_threshold
-            )));
+            return Err(Error::setting_value(
+                Setting::RelativeThreshold,
+                self.relative_threshold,
+                "must be in 0 to 1",
+            ));
         }
         if !(0.0..=90.0).contains(&self.min_separation_degrees) {
-            return Err(Error::Usage(format!(
-                "--min-separation {}: must be in 0 to 90 degrees",
-                self.min_separation_degrees
-            )));
+            return Err(Error::setting_value(
+                Setting::MinSeparation,
+                self.min_separation_degrees,
+                "must be in 0 to 90 degrees",
+            ));
         }
         Ok(())
     }

@@ -15,7 +15,7 @@ use std::path::Path;
 use super::dti::DiffusionTensor;
 use super::odf::legendre;
 use super::{FitInputs, FitModel, VoxelFitter};
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 
 /// Default FA threshold for the voxels of the response estimate (DIPY's).
 pub const DEFAULT_RESPONSE_FA: f64 = 0.7;
@@ -200,7 +200,7 @@ pub fn estimate_response(
             inputs.files.dwi.display().to_string(),
             "signal",
             format!(
-                "no voxel of the central {}x{}x{} region{} has FA above {fa_threshold}, so no single-fibre response can be estimated: give --response FILE, or a lower --response-fa",
+                "no voxel of the central {}x{}x{} region{} has FA above {fa_threshold}, so no single-fibre response can be estimated: give {}, or a lower {}",
                 side(0),
                 side(1),
                 side(2),
@@ -208,7 +208,9 @@ pub fn estimate_response(
                     " (in the mask)"
                 } else {
                     ""
-                }
+                },
+                Setting::Response.with("FILE"),
+                Setting::ResponseFa.mention()
             ),
         ));
     }

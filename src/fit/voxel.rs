@@ -13,7 +13,7 @@ use super::response::{DEFAULT_RESPONSE_FA, Response, estimate_response};
 use super::sh::ShFitter;
 use super::tensor::{TensorFitter, design_rank};
 use super::{FitInputs, FitModel};
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 
 /// Samples at or below zero are raised to this fraction of S0 (see the module notes of
 /// `fit`).
@@ -260,8 +260,9 @@ impl VoxelFitter {
                 bvec_file,
                 "directions",
                 format!(
-                    "{} diffusion-weighted directions cannot determine the {unknowns} coefficients of the fit (--order too high)",
-                    directions.len()
+                    "{} diffusion-weighted directions cannot determine the {unknowns} coefficients of the fit ({} too high)",
+                    directions.len(),
+                    Setting::Order.mention()
                 ),
             ));
         }

@@ -61,6 +61,23 @@ pub enum GlyphShape {
     Ellipsoid,
 }
 
+impl std::str::FromStr for GlyphShape {
+    type Err = crate::Error;
+
+    /// `polynomial` or `ellipsoid`; other text is an error naming the glyph setting.
+    fn from_str(text: &str) -> crate::Result<Self> {
+        match text {
+            "polynomial" => Ok(GlyphShape::Polynomial),
+            "ellipsoid" => Ok(GlyphShape::Ellipsoid),
+            _ => Err(crate::Error::setting_value(
+                crate::Setting::Glyph,
+                format!("'{}'", crate::error::quoted(text)),
+                "not one of polynomial, ellipsoid",
+            )),
+        }
+    }
+}
+
 impl GlyphShape {
     /// The shape's name in scene files and on the command line.
     pub fn name(self) -> &'static str {

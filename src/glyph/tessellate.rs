@@ -18,7 +18,7 @@ use glam::DVec3;
 
 use super::NegativeMode;
 use super::intersect::WorldGlyph;
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 
 /// Highest icosphere subdivision level: level 7 has 163842 vertices per glyph.
 pub const MAX_ICOSPHERE_LEVEL: u32 = 7;
@@ -38,16 +38,21 @@ pub enum MeshKind {
 }
 
 impl MeshKind {
-    /// Err(Error::Invalid) if the level or ring count is out of range.
+    /// An [`Error::Setting`] naming the method if the level or ring count is out of
+    /// range.
     pub fn validate(self) -> Result<()> {
         match self {
-            MeshKind::Icosphere(level) if level > MAX_ICOSPHERE_LEVEL => Err(Error::Invalid(
-                format!("mesh:{level}: the icosphere level must be in 0..={MAX_ICOSPHERE_LEVEL}"),
+            MeshKind::Icosphere(level) if level > MAX_ICOSPHERE_LEVEL => Err(Error::setting_value(
+                Setting::Method,
+                format!("mesh:{level}"),
+                format!("the icosphere level must be in 0..={MAX_ICOSPHERE_LEVEL}"),
             )),
             MeshKind::LatLong(rings) if !(2..=MAX_LAT_LONG_RINGS).contains(&rings) => {
-                Err(Error::Invalid(format!(
-                    "latlong:{rings}: the number of latitude bands must be in 2..={MAX_LAT_LONG_RINGS}"
-                )))
+                Err(Error::setting_value(
+                    Setting::Method,
+                    format!("latlong:{rings}"),
+                    format!("the number of latitude bands must be in 2..={MAX_LAT_LONG_RINGS}"),
+                ))
             }
             _ => Ok(()),
         }

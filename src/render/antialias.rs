@@ -9,7 +9,7 @@
 //! covers, and its colour the mean colour of those samples, as a PNG's straight alpha
 //! wants it. The depth map is not averaged: it comes from a render at the image's own
 //! size (see `HeadlessRenderer::render_with_underlay`).
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Setting};
 use crate::render::settings::srgb_to_linear;
 
 /// The largest image side any render takes, samples included (`--width/--height` stop
@@ -17,15 +17,17 @@ use crate::render::settings::srgb_to_linear;
 pub const MAX_SUPERSAMPLED_SIDE: u32 = 16384;
 
 /// The supersampling factor s (samples per pixel s^2): 1, 2 or 4; other counts are an
-/// error naming `--samples`.
+/// error naming the samples setting.
 pub fn supersampling_factor(samples: u32) -> Result<u32> {
     match samples {
         1 => Ok(1),
         4 => Ok(2),
         16 => Ok(4),
-        _ => Err(Error::Usage(format!(
-            "--samples {samples}: must be 1, 4 or 16"
-        ))),
+        _ => Err(Error::setting_value(
+            Setting::Samples,
+            samples,
+            "must be 1, 4 or 16",
+        )),
     }
 }
 
@@ -34,12 +36,17 @@ pub fn supersampling_factor(samples: u32) -> Result<u32> {
 pub fn supersampled_size(width: u32, height: u32, factor: u32, samples: u32) -> Result<(u32, u32)> {
     let (w, h) = (width as u64 * factor as u64, height as u64 * factor as u64);
     if w > MAX_SUPERSAMPLED_SIDE as u64 || h > MAX_SUPERSAMPLED_SIDE as u64 {
-        return Err(Error::Usage(format!(
-            "--samples {samples} draws {width} x {height} at {factor} times the size, {w} x {h}, \
-             beyond {MAX_SUPERSAMPLED_SIDE} pixels per side: ask for fewer samples or a smaller \
-             image (at most {} pixels per side with --samples {samples})",
-            MAX_SUPERSAMPLED_SIDE / factor
-        )));
+        return Err(Error::setting_value(
+            Setting::Samples,
+            samples,
+            format!(
+                "draws {width} x {height} at {factor} times the size, {w} x {h}, beyond \
+                 {MAX_SUPERSAMPLED_SIDE} pixels per side: ask for fewer samples or a smaller \
+                 image (at most {} pixels per side with {})",
+                MAX_SUPERSAMPLED_SIDE / factor,
+                Setting::Samples.with(samples)
+            ),
+        ));
     }
     Ok((w as u32, h as u32))
 }

@@ -13,7 +13,7 @@ use crate::render::frame::{SceneExtent, magnitude_range};
 use crate::render::labels::{Canvas, dejavu_sans};
 use crate::render::settings::RenderSettings;
 use crate::scene::Scene;
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 
 /// What a colour bar shows: the values at its bottom (map position 0) and top (1), and
 /// a label naming the quantity and its unit.
@@ -123,8 +123,10 @@ impl ColorBar {
     fn check(&self) -> Result<()> {
         if !(self.low.is_finite() && self.high.is_finite() && self.high > self.low) {
             return Err(Error::Invalid(format!(
-                "--colorbar: the range {}:{} needs finite ends, low < high",
-                self.low, self.high
+                "{}: the range {}:{} needs finite ends, low < high",
+                Setting::Colorbar.mention(),
+                self.low,
+                self.high
             )));
         }
         Ok(())

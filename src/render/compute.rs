@@ -14,7 +14,7 @@
 //! boxes would exceed one storage buffer (maxStorageBufferRange); lavapipe has no
 //! descriptor indexing, so every part has its own descriptor set.
 use crate::camera::Camera;
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Setting};
 use crate::glyph::{GlyphShape, TensorLayout};
 use crate::render::Method;
 use crate::render::batch::{Batch, batches};
@@ -204,10 +204,13 @@ impl ComputeRayCastPass {
         })?;
         for part in &parts {
             if part.shape == GlyphShape::Ellipsoid {
-                return Err(Error::Invalid(
-                    "--path compute has no ellipsoid shader: draw ellipsoids with \
-                     --path fragment"
-                        .into(),
+                return Err(Error::setting_value(
+                    Setting::Path,
+                    "compute",
+                    format!(
+                        "no ellipsoid shader: draw ellipsoids with {}",
+                        Setting::Path.with("fragment")
+                    ),
                 ));
             }
             self.pipeline(part.layout)?;
@@ -215,10 +218,14 @@ impl ComputeRayCastPass {
         let device_limit = ctx.max_storage_buffer_range();
         let pixels = width as u64 * height as u64;
         if 4 * pixels > device_limit {
-            return Err(Error::Invalid(format!(
-                "--path compute: a {width} x {height} image exceeds the storage buffer limit \
-                 of {device_limit} bytes"
-            )));
+            return Err(Error::setting_value(
+                Setting::Path,
+                "compute",
+                format!(
+                    "a {width} x {height} image exceeds the storage buffer limit of \
+                     {device_limit} bytes"
+                ),
+            ));
         }
         let pool = DescriptorPool::new(ctx, parts.len(), 0, BINDINGS)?;
         let output = |name: &str| {
@@ -249,10 +256,14 @@ impl ComputeRayCastPass {
             let bins = bin_glyphs(&view, &instances, &boxes);
             let entry_bytes = 8 * bins.entries.len() as u64;
             if entry_bytes > device_limit {
-                return Err(Error::Invalid(format!(
-                    "--path compute: the tile lists take {entry_bytes} bytes, more than the \
-                     storage buffer limit of {device_limit} bytes"
-                )));
+                return Err(Error::setting_value(
+                    Setting::Path,
+                    "compute",
+                    format!(
+                        "the tile lists take {entry_bytes} bytes, more than the storage \
+                         buffer limit of {device_limit} bytes"
+                    ),
+                ));
             }
             scene.tile_entries += bins.entries.len();
             let glyphs = PartGlyphs {

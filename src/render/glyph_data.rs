@@ -14,7 +14,7 @@ use crate::glyph::sh::sh_to_tensor;
 use crate::glyph::{GlyphShape, NegativeMode, Symmetry, TensorLayout};
 use crate::parallel::{Progress, map_chunks_with_progress};
 use crate::scene::{GlyphKind, GlyphSet, Scene};
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 use std::borrow::Cow;
 
 /// One glyph set, ready for upload.
@@ -117,7 +117,8 @@ pub fn prepare_set_with_progress(
     let layout = tensor_layout(set);
     if set.shape == GlyphShape::Ellipsoid && offset != 0.0 {
         return Err(Error::Invalid(format!(
-            "glyphs[{index}]: ellipsoid glyphs take no --offset (found {offset})"
+            "glyphs[{index}]: ellipsoid glyphs take no {} (found {offset})",
+            Setting::Offset.mention()
         )));
     }
     let mut data = GlyphSetData {

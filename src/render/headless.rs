@@ -5,7 +5,7 @@
 //! compute ray caster instead, whose colour and distance buffers are read back the same
 //! way.
 use crate::camera::Camera;
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Setting};
 use crate::render::compute::{ComputeRayCastPass, ComputeSceneGpu};
 use crate::render::frame::{FrameParams, SceneExtent};
 use crate::render::glyph_data::GlyphSetData;
@@ -262,10 +262,13 @@ impl HeadlessRenderer {
         settings.validate()?;
         check_image_size(gpu, width, height)?;
         if underlay.is_some() && settings.path == RenderPath::Compute {
-            return Err(Error::Usage(
-                "--underlay: --path compute has no depth buffer to share with the underlay; \
-                 use --path fragment"
-                    .into(),
+            return Err(Error::setting(
+                Setting::Underlay,
+                format!(
+                    "{} has no depth buffer to share with the underlay; use {}",
+                    Setting::Path.with("compute"),
+                    Setting::Path.with("fragment")
+                ),
             ));
         }
         let mut extent = SceneExtent::for_settings(camera, sets, settings);
@@ -602,8 +605,10 @@ fn host_buffer<T>(len: usize, width: u32, height: u32) -> Result<Vec<T>> {
     let mut buffer = Vec::new();
     buffer.try_reserve_exact(len).map_err(|_| {
         Error::OutOfMemory(format!(
-            "a {width} x {height} image needs {} MiB of host memory for its read-back, which could not be allocated: ask for a smaller --width/--height",
-            (len * std::mem::size_of::<T>()) >> 20
+            "a {width} x {height} image needs {} MiB of host memory for its read-back, which could not be allocated: ask for a smaller {}/{}",
+            (len * std::mem::size_of::<T>()) >> 20,
+            Setting::Width.mention(),
+            Setting::Height.mention()
         ))
     })?;
     Ok(buffer)
@@ -619,7 +624,9 @@ fn check_image_size(gpu: &Gpu, width: u32, height: u32) -> Result<()> {
     let largest = properties.limits.max_image_dimension2_d;
     if width > largest || height > largest {
         return Err(Error::Usage(format!(
-            "--width/--height {width} x {height}: {} draws images of at most {largest} pixels per side",
+            "{}/{} {width} x {height}: {} draws images of at most {largest} pixels per side",
+            Setting::Width.mention(),
+            Setting::Height.mention(),
             gpu.info.name
         )));
     }

@@ -13,7 +13,7 @@
 //! kind. Sets larger than one storage buffer are split, as the ray caster splits its
 //! coefficients. The pass and its scenes keep a [`DeviceContext`], so the device
 //! outlives them.
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Setting};
 use crate::glyph::GlyphShape;
 use crate::glyph::intersect::WorldGlyph;
 use crate::glyph::tessellate::{MeshKind, MeshVertex, SphereMesh, tessellate};
@@ -45,10 +45,15 @@ impl GlyphMeshes {
     /// share one draw: the mesh no longer depends on the layout.
     pub fn build(sets: &[GlyphSetData], kind: MeshKind) -> Result<GlyphMeshes> {
         if sets.iter().any(|s| s.shape == GlyphShape::Ellipsoid) {
-            return Err(Error::Invalid(format!(
-                "--method {kind}: ellipsoid glyphs are ray-cast in closed form, not \
-                 tessellated; leave --method out"
-            )));
+            return Err(Error::setting_value(
+                Setting::Method,
+                kind,
+                format!(
+                    "ellipsoid glyphs are ray-cast in closed form, not tessellated; leave {} \
+                     out",
+                    Setting::Method.mention()
+                ),
+            ));
         }
         let sphere = SphereMesh::new(kind)?;
         let glyphs: Vec<WorldGlyph> = sets.iter().flat_map(|s| s.world.iter().cloned()).collect();

@@ -17,8 +17,6 @@ pub mod headless;
 mod interface;
 pub mod labels;
 pub mod mesh;
-// Montages are of volume slices (`--views`, `--lightbox`).
-#[cfg(feature = "volume")]
 pub mod montage;
 pub mod options;
 #[doc(hidden)]

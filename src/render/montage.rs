@@ -1,17 +1,25 @@
-//! Montages (`--views`, `--lightbox`): panels, each rendered on its own as a single view,
-//! laid out in a grid of equal cells in reading order. The render command composes the
-//! read-back panels here; the viewer draws each panel into the same cell of its window
-//! ([`Grid::cell_origin`]) and composes its screenshots here, so both put every panel at
-//! the same pixels.
+//! Montages (`--views`, `--lightbox`, the Python module's `views=`/`lightbox=`): panels,
+//! each rendered on its own as a single view, laid out in a grid of equal cells (the
+//! largest panel's size) in reading order, smaller panels centred, cells without a panel
+//! background with NaN depth. The render command and the Python module prepare and draw
+//! montages here ([`prepare_montage`]); the viewer draws each panel into the same cell of
+//! its window ([`Grid::cell_origin`]) and composes its screenshots here ([`Montage`]), so
+//! every front end puts every panel at the same pixels.
 //!
 //! Panels share one magnitude range ([`shared_magnitude_range`]) so that colours compare
 //! across them.
+use crate::Setting;
 use crate::error::{Error, Result};
+use crate::glyph::NegativeMode;
+use crate::render::antialias::MAX_SUPERSAMPLED_SIDE as MAX_SIDE;
 use crate::render::colorbar::srgb_byte;
 use crate::render::glyph_data::GlyphSetData;
-use crate::render::headless::RenderedImage;
+use crate::render::headless::{HeadlessRenderer, RenderedImage};
+use crate::render::labels::{draw_edge_labels, edge_labels};
+use crate::render::options::{PreparedScene, prepare_render};
 use crate::render::settings::{ColorMode, RenderSettings};
-use crate::volume::MAX_SIDE;
+use crate::scene::Scene;
+use crate::vk::Gpu;
 
 /// Cells of `cell` pixels, `columns` to a row, filled in reading order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -43,7 +51,9 @@ impl Grid {
         if width > u64::from(MAX_SIDE) || height > u64::from(MAX_SIDE) {
             return Err(Error::Usage(format!(
                 "the montage would be {width}x{height} pixels; at most {MAX_SIDE} a side: \
-                 give a smaller --width/--height"
+                 give a smaller {}/{}",
+                Setting::Width.mention(),
+                Setting::Height.mention()
             )));
         }
         Ok((width as u32, height as u32))
@@ -130,6 +140,88 @@ pub fn shared_magnitude_range<'a>(
             range: Some((0.0, largest as f32)),
         },
         ..*settings
+    }
+}
+
+/// The panels of a montage, prepared for rendering with one set of settings.
+pub struct PreparedMontage {
+    /// The panels, in reading order.
+    pub panels: Vec<PreparedScene>,
+    /// The settings every panel is drawn with (one magnitude range for all).
+    pub settings: RenderSettings,
+    grid: Grid,
+}
+
+/// Prepares the panels `scenes` (each sized already) for a grid of `columns` to a row,
+/// drawn with `settings` and the negative-lobe mode `negative` if given (as
+/// [`prepare_render`]); a usage error naming the size when the montage would be wider
+/// or higher than an image can be.
+pub fn prepare_montage(
+    scenes: Vec<Scene>,
+    columns: usize,
+    settings: RenderSettings,
+    negative: Option<NegativeMode>,
+) -> Result<PreparedMontage> {
+    let mut panels = scenes
+        .into_iter()
+        .map(|scene| prepare_render(scene, settings, negative))
+        .collect::<Result<Vec<_>>>()?;
+    let settings = shared_magnitude_range(&settings, panels.iter().flat_map(|p| &p.sets));
+    for panel in &mut panels {
+        panel.settings = settings;
+    }
+    let cell_w = panels.iter().map(|p| p.width).max().unwrap_or(1);
+    let cell_h = panels.iter().map(|p| p.height).max().unwrap_or(1);
+    let grid = Grid::new((cell_w, cell_h), columns, panels.len());
+    grid.size()?;
+    Ok(PreparedMontage {
+        panels,
+        settings,
+        grid,
+    })
+}
+
+impl PreparedMontage {
+    /// The size of each cell: the largest panel's.
+    pub fn cell(&self) -> (u32, u32) {
+        self.grid.cell
+    }
+
+    /// Panels to a row.
+    pub fn columns(&self) -> usize {
+        self.grid.columns
+    }
+
+    /// Glyphs in all panels.
+    pub fn glyph_count(&self) -> usize {
+        self.panels.iter().map(PreparedScene::glyph_count).sum()
+    }
+
+    /// The glyph sets of every panel.
+    pub fn sets(&self) -> impl Iterator<Item = &GlyphSetData> {
+        self.panels.iter().flat_map(|panel| &panel.sets)
+    }
+
+    /// Draws every panel into its cell, with the anatomical directions at each panel's
+    /// edges if `labels`.
+    pub fn render(
+        &self,
+        renderer: &mut HeadlessRenderer,
+        gpu: &Gpu,
+        labels: bool,
+    ) -> Result<RenderedImage> {
+        let (width, height) = self.grid.size()?;
+        let mut montage = Montage::new(self.grid, width, height, self.settings.background);
+        for (k, panel) in self.panels.iter().enumerate() {
+            let (w, h) = (panel.width, panel.height);
+            let mut image =
+                renderer.render(gpu, &panel.sets, &panel.camera, w, h, &self.settings)?;
+            if labels {
+                draw_edge_labels(&mut image.rgba, w, h, &edge_labels(&panel.camera))?;
+            }
+            montage.place(k, &image);
+        }
+        Ok(montage.finish())
     }
 }
 

@@ -1,6 +1,8 @@
 //! The render options as the front ends take them (the CLI's flags, the Python module's
 //! keyword arguments): text and numbers, turned into [`RenderSettings`] with one set of
-//! defaults and one set of messages, so that both front ends read alike.
+//! defaults and one set of checks, so that both front ends read alike. A refused value
+//! is an [`Error::Setting`] naming the [`Setting`]; each front end spells it (`--step`,
+//! `step=`).
 use crate::camera::Camera;
 use crate::error::quoted;
 use crate::glyph::{GlyphShape, NegativeMode};
@@ -9,10 +11,10 @@ use crate::render::settings::{parse_background, parse_light};
 use crate::render::{ColorMode, Method, Refinement, RenderSettings};
 use crate::scene::Scene;
 use crate::vk::GpuOptions;
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 
-/// The render options, unparsed; `None` (or `false`) is the default. Messages name the
-/// CLI's flags (`--magnitude-range`), which the Python module's keywords mirror.
+/// The render options, unparsed; `None` (or `false`) is the default. Each field is the
+/// [`Setting`] of the same name.
 #[derive(Clone, Debug, Default)]
 pub struct RenderOptions {
     /// `--method`: fixed, interval, affine, exact, impostor, mesh:LEVEL or latlong:N.
@@ -53,7 +55,7 @@ pub struct RenderOptions {
 }
 
 impl RenderOptions {
-    /// The render settings these options ask for; a bad value is an [`Error::Invalid`]
+    /// The render settings these options ask for; a bad value is an [`Error::Setting`]
     /// that names the option.
     pub fn settings(&self) -> Result<RenderSettings> {
         let method = match &self.method {
@@ -105,10 +107,11 @@ impl RenderOptions {
         let parse = |text: &str| match text {
             "abs" => Ok(NegativeMode::Abs),
             "hide" => Ok(NegativeMode::Hide),
-            _ => Err(Error::Invalid(format!(
-                "--negative: '{}' is not one of abs, hide",
-                quoted(text)
-            ))),
+            _ => Err(Error::setting_value(
+                Setting::Negative,
+                format!("'{}'", quoted(text)),
+                "not one of abs, hide",
+            )),
         };
         self.negative.as_deref().map(parse).transpose()
     }
@@ -185,10 +188,11 @@ fn parse_range(range: &str) -> Result<(f32, f32)> {
         .split_once(':')
         .and_then(|(lo, hi)| Some((lo.parse::<f32>().ok()?, hi.parse::<f32>().ok()?)));
     parsed.ok_or_else(|| {
-        Error::Invalid(format!(
-            "--magnitude-range: '{}' is not LOW:HIGH",
-            quoted(range)
-        ))
+        Error::setting_value(
+            Setting::MagnitudeRange,
+            format!("'{}'", quoted(range)),
+            "not LOW:HIGH",
+        )
     })
 }
 
@@ -229,19 +233,130 @@ mod tests {
 
     #[test]
     fn bad_values_name_the_option() {
-        let bad = |options: RenderOptions| options.settings().unwrap_err().to_string();
+        let bad = |options: RenderOptions| options.settings().unwrap_err();
         let range = bad(RenderOptions {
             magnitude_range: Some("1-2".into()),
             ..Default::default()
         });
-        assert_eq!(range, "--magnitude-range: '1-2' is not LOW:HIGH");
+        assert_eq!(range.setting_of(), Some(Setting::MagnitudeRange));
+        assert_eq!(range.to_string(), "magnitude range '1-2': not LOW:HIGH");
         let negative = RenderOptions {
             negative: Some("show".into()),
             ..Default::default()
         };
+        let negative = negative.negative().unwrap_err();
+        assert_eq!(negative.setting_of(), Some(Setting::Negative));
         assert_eq!(
-            negative.negative().unwrap_err().to_string(),
-            "--negative: 'show' is not one of abs, hide"
+            negative.to_string(),
+            "negative 'show': not one of abs, hide"
         );
+        // Every option's refusal names its setting, and no front end's spelling of it.
+        for (options, setting) in [
+            (
+                RenderOptions {
+                    step: Some(1e-5),
+                    ..Default::default()
+                },
+                Setting::Step,
+            ),
+            (
+                RenderOptions {
+                    precision: Some(100.0),
+                    ..Default::default()
+                },
+                Setting::Precision,
+            ),
+            (
+                RenderOptions {
+                    method: Some("exact".into()),
+                    offset: 0.1,
+                    ..Default::default()
+                },
+                Setting::Offset,
+            ),
+            (
+                RenderOptions {
+                    method: Some("magic".into()),
+                    ..Default::default()
+                },
+                Setting::Method,
+            ),
+            (
+                RenderOptions {
+                    method: Some("mesh:99".into()),
+                    ..Default::default()
+                },
+                Setting::Method,
+            ),
+            (
+                RenderOptions {
+                    refine: Some("bisect:99".into()),
+                    ..Default::default()
+                },
+                Setting::Refine,
+            ),
+            (
+                RenderOptions {
+                    path: Some("vertex".into()),
+                    ..Default::default()
+                },
+                Setting::Path,
+            ),
+            (
+                RenderOptions {
+                    color: Some("sign".into()),
+                    method: Some("impostor".into()),
+                    ..Default::default()
+                },
+                Setting::Color,
+            ),
+            (
+                RenderOptions {
+                    background: Some("mauve".into()),
+                    ..Default::default()
+                },
+                Setting::Background,
+            ),
+            (
+                RenderOptions {
+                    light: Some("0,0,0".into()),
+                    ..Default::default()
+                },
+                Setting::Light,
+            ),
+            (
+                RenderOptions {
+                    ambient: Some(2.0),
+                    ..Default::default()
+                },
+                Setting::Ambient,
+            ),
+            (
+                RenderOptions {
+                    shininess: Some(0.0),
+                    ..Default::default()
+                },
+                Setting::Shininess,
+            ),
+            (
+                RenderOptions {
+                    samples: Some(3),
+                    ..Default::default()
+                },
+                Setting::Samples,
+            ),
+        ] {
+            let err = bad(options);
+            assert_eq!(err.setting_of(), Some(setting), "{err}");
+            let text = err.to_string();
+            assert!(text.starts_with(setting.name()), "{text}");
+            assert!(!text.contains("--"), "{text}");
+            // A front end's spelling reaches every mention, the subject's and others.
+            let flags = err.spelled(&|s, v| match v {
+                Some(v) => format!("<{s} {v}>"),
+                None => format!("<{s}>"),
+            });
+            assert!(flags.starts_with(&format!("<{setting}")), "{flags}");
+        }
     }
 }

@@ -2,7 +2,7 @@
 //! they reach the shaders through the frame's parameter block.
 use crate::error::quoted;
 use crate::render::{MeshKind, Method};
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 
 /// How the first sign change along the ray is refined (`--refine`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -35,10 +35,11 @@ impl std::str::FromStr for Refinement {
                     .map(Refinement::Bisect)
                     .or_else(|| count("secant:").map(Refinement::Secant))
                     .ok_or_else(|| {
-                        Error::Invalid(format!(
-                            "--refine: '{}' is not one of bisect:K, secant:K (K = 0..16), interp, none",
-                            quoted(s)
-                        ))
+                        Error::setting_value(
+                            Setting::Refine,
+                            format!("'{}'", quoted(s)),
+                            "not one of bisect:K, secant:K (K = 0..16), interp, none",
+                        )
                     })
             }
         }
@@ -83,10 +84,11 @@ impl std::str::FromStr for ColorMode {
                 positive: SIGN_COLORS.0,
                 negative: SIGN_COLORS.1,
             }),
-            _ => Err(Error::Invalid(format!(
-                "--color: '{}' is not one of direction, magnitude, uniform, sign",
-                quoted(s)
-            ))),
+            _ => Err(Error::setting_value(
+                Setting::Color,
+                format!("'{}'", quoted(s)),
+                "not one of direction, magnitude, uniform, sign",
+            )),
         }
     }
 }
@@ -95,14 +97,17 @@ impl std::str::FromStr for Method {
     type Err = Error;
     fn from_str(s: &str) -> Result<Self> {
         let bad = || {
-            Error::Invalid(format!(
-                "--method: '{}' is not one of {}, impostor, mesh:LEVEL (icosphere, 0..={}), \
-                 latlong:N (latitude bands, 2..={})",
-                quoted(s),
-                crate::catalog::RAY_CAST_METHODS.map(|m| m.name).join(", "),
-                crate::glyph::tessellate::MAX_ICOSPHERE_LEVEL,
-                crate::glyph::tessellate::MAX_LAT_LONG_RINGS
-            ))
+            Error::setting_value(
+                Setting::Method,
+                format!("'{}'", quoted(s)),
+                format!(
+                    "not one of {}, impostor, mesh:LEVEL (icosphere, 0..={}), latlong:N \
+                     (latitude bands, 2..={})",
+                    crate::catalog::RAY_CAST_METHODS.map(|m| m.name).join(", "),
+                    crate::glyph::tessellate::MAX_ICOSPHERE_LEVEL,
+                    crate::glyph::tessellate::MAX_LAT_LONG_RINGS
+                ),
+            )
         };
         let count = |prefix: &str| s.strip_prefix(prefix).and_then(|n| n.parse::<u32>().ok());
         let ray_cast = Method::RAY_CASTING
@@ -142,10 +147,11 @@ impl std::str::FromStr for RenderPath {
         match s {
             "fragment" => Ok(RenderPath::Fragment),
             "compute" => Ok(RenderPath::Compute),
-            _ => Err(Error::Invalid(format!(
-                "--path: '{}' is not one of fragment, compute",
-                quoted(s)
-            ))),
+            _ => Err(Error::setting_value(
+                Setting::Path,
+                format!("'{}'", quoted(s)),
+                "not one of fragment, compute",
+            )),
         }
     }
 }
@@ -245,21 +251,27 @@ impl Lighting {
         let [x, y, z] = self.direction;
         let length = (x * x + y * y + z * z).sqrt();
         if !(length.is_finite() && length > 1e-6) {
-            return Err(Error::Invalid(format!(
-                "--light {x},{y},{z}: needs a finite direction of non-zero length"
-            )));
+            return Err(Error::setting_value(
+                Setting::Light,
+                format!("{x},{y},{z}"),
+                "needs a finite direction of non-zero length",
+            ));
         }
-        for (name, value) in [("--ambient", self.ambient), ("--specular", self.specular)] {
+        for (setting, value) in [
+            (Setting::Ambient, self.ambient),
+            (Setting::Specular, self.specular),
+        ] {
             if !(0.0..=1.0).contains(&value) {
-                return Err(Error::Invalid(format!("{name} {value}: must be in 0 to 1")));
+                return Err(Error::setting_value(setting, value, "must be in 0 to 1"));
             }
         }
         let (lo, hi) = SHININESS_RANGE;
         if !(lo..=hi).contains(&self.shininess) {
-            return Err(Error::Invalid(format!(
-                "--shininess {}: must be in {lo} to {hi}",
-                self.shininess
-            )));
+            return Err(Error::setting_value(
+                Setting::Shininess,
+                self.shininess,
+                format!("must be in {lo} to {hi}"),
+            ));
         }
         Ok(())
     }
@@ -270,11 +282,12 @@ pub fn parse_light(text: &str) -> Result<[f32; 3]> {
     let parts: Vec<Option<f32>> = text.split(',').map(|v| v.trim().parse().ok()).collect();
     match parts[..] {
         [Some(x), Some(y), Some(z)] => Ok([x, y, z]),
-        _ => Err(Error::Invalid(format!(
-            "--light: '{}' is not X,Y,Z (the direction towards the light: x right, y up, \
-             z towards the viewer)",
-            quoted(text)
-        ))),
+        _ => Err(Error::setting_value(
+            Setting::Light,
+            format!("'{}'", quoted(text)),
+            "not X,Y,Z (the direction towards the light: x right, y up, z towards the \
+             viewer)",
+        )),
     }
 }
 
@@ -345,10 +358,11 @@ pub fn parse_background(text: &str) -> Result<[f32; 4]> {
         },
     };
     let [r, g, b] = bytes.map(srgb).ok_or_else(|| {
-        Error::Invalid(format!(
-            "--background: '{}' is not none, dark, black, white, grey, #rrggbb or r,g,b (0-255)",
-            quoted(text)
-        ))
+        Error::setting_value(
+            Setting::Background,
+            format!("'{}'", quoted(text)),
+            "not none, dark, black, white, grey, #rrggbb or r,g,b (0-255)",
+        )
     })?;
     Ok([r, g, b, 1.0])
 }
@@ -387,19 +401,23 @@ impl RenderSettings {
                 Err(Error::Invalid(format!("{name}: {v} must be in (0, {max}]")))
             }
         };
-        let reliable = |name: &str, v: f32, (min, max): (f32, f32)| {
+        let reliable = |setting: Setting, v: f32, (min, max): (f32, f32)| {
             if v.is_finite() && (min..=max).contains(&v) {
                 Ok(())
             } else {
-                Err(Error::Invalid(format!(
-                    "{name} {v}: must be in {min} to {max} (the range float32 ray casting draws reliably)"
-                )))
+                Err(Error::setting_value(
+                    setting,
+                    v,
+                    format!(
+                        "must be in {min} to {max} (the range float32 ray casting draws reliably)"
+                    ),
+                ))
             }
         };
         self.lighting.validate()?;
-        reliable("--step", self.step, STEP_RANGE)?;
+        reliable(Setting::Step, self.step, STEP_RANGE)?;
         positive("centre step factor", self.centre_step_factor, 1.0)?;
-        reliable("--precision", self.precision_px, PRECISION_RANGE)?;
+        reliable(Setting::Precision, self.precision_px, PRECISION_RANGE)?;
         if !(self.centre_zone.is_finite() && self.centre_zone >= 0.0) {
             return Err(Error::Invalid(format!(
                 "centre zone: {} must be >= 0",
@@ -407,27 +425,36 @@ impl RenderSettings {
             )));
         }
         if !(self.offset.is_finite() && self.offset >= 0.0) {
-            return Err(Error::Invalid(format!(
-                "--offset: {} must be >= 0",
-                self.offset
-            )));
+            return Err(Error::setting_value(
+                Setting::Offset,
+                self.offset,
+                "must be >= 0",
+            ));
         }
         // A glyph with an offset is no polynomial surface: there is no ray polynomial to solve.
         if self.method == Method::Exact && self.offset != 0.0 {
-            return Err(Error::Invalid(format!(
-                "--offset {}: --method exact needs offset 0 (offset glyphs are not \
-                 polynomial surfaces); use --method fixed",
-                self.offset
-            )));
+            return Err(Error::setting_value(
+                Setting::Offset,
+                self.offset,
+                format!(
+                    "{} needs offset 0 (offset glyphs are not polynomial surfaces); use {}",
+                    Setting::Method.with("exact"),
+                    Setting::Method.with("fixed")
+                ),
+            ));
         }
         if matches!(self.color, ColorMode::Sign { .. })
             && matches!(self.method, Method::Mesh(_) | Method::Impostor)
         {
-            return Err(Error::Invalid(format!(
-                "--color sign: --method {} does not know the sign of the glyph function; \
-                 use a ray-casting method (exact, fixed, interval, affine)",
-                self.method
-            )));
+            return Err(Error::setting_value(
+                Setting::Color,
+                "sign",
+                format!(
+                    "{} does not know the sign of the glyph function; use a ray-casting \
+                     method (exact, fixed, interval, affine)",
+                    Setting::Method.with(self.method)
+                ),
+            ));
         }
         if !(self.background.iter().all(|c| (0.0..=1.0).contains(c))) {
             return Err(Error::Invalid(format!(
@@ -437,19 +464,26 @@ impl RenderSettings {
         }
         crate::render::antialias::supersampling_factor(self.samples)?;
         if self.path == RenderPath::Compute && self.method != Method::Exact {
-            return Err(Error::Invalid(format!(
-                "--path compute: only --method exact has a compute ray caster, not {}",
-                self.method
-            )));
+            return Err(Error::setting_value(
+                Setting::Path,
+                "compute",
+                format!(
+                    "only {} has a compute ray caster, not {}",
+                    Setting::Method.with("exact"),
+                    self.method
+                ),
+            ));
         }
         if let ColorMode::Magnitude {
             range: Some((lo, hi)),
         } = self.color
             && !(lo.is_finite() && hi.is_finite() && hi > lo)
         {
-            return Err(Error::Invalid(format!(
-                "--magnitude-range: {lo}:{hi} needs low < high"
-            )));
+            return Err(Error::setting_value(
+                Setting::MagnitudeRange,
+                format!("{lo}:{hi}"),
+                "needs low < high",
+            ));
         }
         Ok(())
     }
@@ -531,8 +565,11 @@ mod tests {
             method: Method::Fixed,
             ..compute
         };
-        let error = fixed.validate().expect_err("fixed").to_string();
-        assert!(error.contains("--path compute"), "{error}");
+        let error = fixed.validate().expect_err("fixed");
+        assert_eq!(error.setting_of(), Some(Setting::Path));
+        let error = error.to_string();
+        assert!(error.starts_with("path compute: "), "{error}");
+        assert!(!error.contains("--"), "{error}");
         assert!("vertex".parse::<RenderPath>().is_err());
     }
 
@@ -547,10 +584,12 @@ mod tests {
             offset: 0.1,
             ..exact
         };
-        let error = with_offset.validate().expect_err("offset").to_string();
-        assert!(
-            error.contains("--offset") && error.contains("exact"),
-            "{error}"
+        let error = with_offset.validate().expect_err("offset");
+        assert_eq!(error.setting_of(), Some(Setting::Offset));
+        assert_eq!(
+            error.to_string(),
+            "offset 0.1: method exact needs offset 0 (offset glyphs are not polynomial \
+             surfaces); use method fixed"
         );
         let fixed = RenderSettings {
             method: Method::Fixed,

@@ -21,7 +21,7 @@
 //! [`HeadlessRenderer::render_with_underlay`](crate::render::headless::HeadlessRenderer::render_with_underlay)
 //! or records [`UnderlayPass::record`] into its own frame.
 use crate::camera::{Camera, Ray};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Setting};
 use crate::render::frame::{FRAME_DESCRIPTOR, FRAME_USAGE, SceneExtent};
 use crate::render::raycast::{TargetFormats, viewport_and_scissor};
 use crate::render::shaders::{UNDERLAY_FRAGMENT, UNDERLAY_VERTEX};
@@ -148,9 +148,11 @@ impl UnderlayVolume {
     /// Sets the window; `low < high`, both finite (`--underlay-range`).
     pub fn set_window(&mut self, low: f64, high: f64) -> Result<()> {
         if !(low.is_finite() && high.is_finite() && low < high) {
-            return Err(Error::Invalid(format!(
-                "--underlay-range {low}:{high}: needs finite LOW < HIGH"
-            )));
+            return Err(Error::setting_value(
+                Setting::UnderlayRange,
+                format!("{low}:{high}"),
+                "needs finite LOW < HIGH",
+            ));
         }
         self.window = (low, high);
         Ok(())

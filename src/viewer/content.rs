@@ -22,7 +22,7 @@ use crate::volume::{
     SliceRegion, Volume, VolumeOptions, VolumeScene, frame_region, slice_plane,
     volume_scene_with_progress,
 };
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 use std::ops::Range;
 use std::sync::{Arc, mpsc};
 use std::time::Instant;
@@ -285,8 +285,9 @@ impl Content {
     /// a scene file, which has no slices, is a usage error.
     pub fn set_underlay(&mut self, underlay: Option<Underlay>) -> Result<()> {
         if underlay.is_some() && self.volume.is_none() {
-            return Err(Error::Usage(
-                "--underlay applies to volume input (--sh/--tensor), not to a scene file".into(),
+            return Err(Error::setting(
+                Setting::Underlay,
+                "applies to volume input, not to a scene file",
             ));
         }
         self.underlay = underlay;

@@ -36,7 +36,7 @@ use crate::io::atomic::check_ending;
 use crate::render::shaders::methods_for;
 use crate::render::{RenderPath, RenderSettings};
 use crate::vk::GpuOptions;
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 use std::path::{Path, PathBuf};
 
 /// How to run the viewer.
@@ -123,10 +123,12 @@ fn check_outputs(options: &ViewerOptions) -> Result<()> {
 /// glyph set has its shader: anything else is refused before the window opens.
 fn check_method(panels: &Panels, settings: &RenderSettings) -> Result<()> {
     if settings.path != RenderPath::Fragment {
-        return Err(Error::Usage(format!(
-            "--path {}: the viewer draws with the fragment ray caster only (use render for the compute path)",
-            settings.path
-        )));
+        return Err(Error::setting_value(
+            Setting::Path,
+            settings.path,
+            "the viewer draws with the fragment ray caster only (use render for the compute \
+             path)",
+        ));
     }
     let layouts: Vec<_> = panels
         .panels
@@ -136,11 +138,14 @@ fn check_method(panels: &Panels, settings: &RenderSettings) -> Result<()> {
     let methods = methods_for(&layouts);
     if !methods.contains(&settings.method) {
         let names: Vec<String> = methods.iter().map(ToString::to_string).collect();
-        return Err(Error::Usage(format!(
-            "--method {}: the viewer draws these glyphs with {} only",
+        return Err(Error::setting_value(
+            Setting::Method,
             settings.method,
-            names.join(", ")
-        )));
+            format!(
+                "the viewer draws these glyphs with {} only",
+                names.join(", ")
+            ),
+        ));
     }
     Ok(())
 }

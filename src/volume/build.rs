@@ -20,7 +20,7 @@ use super::selection::{Slice, SliceRegion, Slices, VoxelRanges};
 use crate::glyph::ellipsoid::ELLIPSOID_LAYOUT;
 use crate::glyph::{GlyphShape, NegativeMode};
 use crate::scene::{GlyphKind, GlyphSet, Scene};
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 
 /// Default world radius of the largest glyph, as a fraction of the smallest voxel size:
 /// the largest glyph spans 0.9 of a voxel.
@@ -97,9 +97,11 @@ impl FromStr for Normalisation {
             "global" => Ok(Normalisation::Global),
             "per-glyph" => Ok(Normalisation::PerGlyph),
             "none" => Ok(Normalisation::None),
-            _ => Err(Error::Invalid(format!(
-                "--norm '{text}': expected global, per-glyph or none"
-            ))),
+            _ => Err(Error::setting_value(
+                Setting::Norm,
+                format!("'{}'", crate::error::quoted(text)),
+                "expected global, per-glyph or none",
+            )),
         }
     }
 }
@@ -244,22 +246,29 @@ fn check_options(volume: &Volume, options: &VolumeOptions) -> Result<()> {
     if let Some(scale) = options.scale
         && !(scale.is_finite() && scale > 0.0)
     {
-        return Err(Error::Invalid(format!(
-            "--scale {scale}: must be a positive number"
-        )));
+        return Err(Error::setting_value(
+            Setting::Scale,
+            scale,
+            "must be a positive number",
+        ));
     }
     if options.shape == GlyphShape::Ellipsoid && volume.kind != GlyphKind::Tensor(ELLIPSOID_LAYOUT)
     {
-        return Err(Error::Invalid(format!(
-            "--glyph ellipsoid draws order-2 symmetric tensors (DTI), and {} holds a {}",
-            volume.file, volume.kind
-        )));
+        return Err(Error::setting_value(
+            Setting::Glyph,
+            "ellipsoid",
+            format!(
+                "draws order-2 symmetric tensors (DTI), and {} holds a {}",
+                volume.file, volume.kind
+            ),
+        ));
     }
     if !(options.min_amplitude.is_finite() && options.min_amplitude >= 0.0) {
-        return Err(Error::Invalid(format!(
-            "--min-amplitude {}: must be a number >= 0",
-            options.min_amplitude
-        )));
+        return Err(Error::setting_value(
+            Setting::MinAmplitude,
+            options.min_amplitude,
+            "must be a number >= 0",
+        ));
     }
     if let Some(mask) = &options.mask
         && mask.dims != volume.dims
@@ -293,7 +302,7 @@ fn truncated_kind(volume: &Volume, lmax: Option<u32>) -> Result<GlyphKind> {
             if lmax % 2 != 0 || lmax > band {
                 return Err(Error::input(
                     &volume.file,
-                    "--lmax",
+                    Setting::Lmax.mention().to_string(),
                     format!("{lmax} must be even and at most the file's band {band}"),
                 ));
             }
@@ -303,9 +312,9 @@ fn truncated_kind(volume: &Volume, lmax: Option<u32>) -> Result<GlyphKind> {
                 legacy,
             })
         }
-        (GlyphKind::Tensor(_), Some(_)) => Err(Error::Invalid(
-            "--lmax applies to SH volumes (--sh) only".into(),
-        )),
+        (GlyphKind::Tensor(_), Some(_)) => {
+            Err(Error::setting(Setting::Lmax, "applies to SH volumes only"))
+        }
     }
 }
 
@@ -319,12 +328,13 @@ fn nothing_to_draw(volume: &Volume, regions: &[SliceRegion], report: &VolumeRepo
         "voxels",
         format!(
             "no glyph to draw in the {} voxels selected ({} of them masked out, {} not finite, \
-             {} zero, {} below --min-amplitude) in slice {}",
+             {} zero, {} below {}) in slice {}",
             report.selected,
             report.masked_out,
             report.non_finite,
             report.zero,
             report.below_min_amplitude,
+            Setting::MinAmplitude.mention(),
             slices.join(", "),
         ),
     )

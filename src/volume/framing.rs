@@ -24,7 +24,7 @@ use super::selection::SliceRegion;
 use crate::camera::{Camera, Projection};
 use crate::io::nifti::VoxelToWorld;
 use crate::scene::ImageSize;
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 
 /// Longer image side when no size is requested.
 pub const DEFAULT_LONG_SIDE: u32 = 1024;
@@ -68,14 +68,17 @@ impl std::str::FromStr for Orientation {
         match text {
             "radiological" => Ok(Orientation::Radiological),
             "neurological" => Ok(Orientation::Neurological),
-            _ => Err(Error::Invalid(format!(
-                "--orientation '{text}': expected radiological or neurological"
-            ))),
+            _ => Err(Error::setting_value(
+                Setting::Orientation,
+                format!("'{}'", crate::error::quoted(text)),
+                "expected radiological or neurological",
+            )),
         }
     }
 }
 
-/// Image size asked for on the command line; a missing side follows the slice's aspect.
+/// Image size asked for (the width and height settings); a missing side follows the
+/// slice's aspect.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ImageRequest {
     pub width: Option<u32>,
@@ -83,17 +86,19 @@ pub struct ImageRequest {
 }
 
 impl ImageRequest {
-    /// The size asked for (`--width`, `--height`), each side checked to be in
+    /// The size asked for ([`Setting::Width`], [`Setting::Height`]), each side checked to be in
     /// 1..=[`MAX_SIDE`]; the device's own limit is checked when it is known
     /// (`HeadlessRenderer::render`).
     pub fn checked(width: Option<u32>, height: Option<u32>) -> crate::Result<Self> {
-        for (name, value) in [("--width", width), ("--height", height)] {
+        for (setting, value) in [(Setting::Width, width), (Setting::Height, height)] {
             if let Some(v) = value
                 && (v == 0 || v > MAX_SIDE)
             {
-                return Err(crate::Error::Invalid(format!(
-                    "{name} {v}: must be in 1 to {MAX_SIDE}"
-                )));
+                return Err(Error::setting_value(
+                    setting,
+                    v,
+                    format!("must be in 1 to {MAX_SIDE}"),
+                ));
             }
         }
         Ok(Self { width, height })

@@ -8,6 +8,11 @@
 //! `recorded` reads the SH basis a file records;
 //! `amplitude` measures glyphs for normalisation; `framing` places the camera in the
 //! radiological or neurological convention; `build` puts it together into a [`Scene`](crate::scene::Scene) and a [`VolumeReport`].
+//! `request` and `figure` are the front ends' way in: a [`VolumeRequest`] holds the
+//! options as the CLI's flags and the Python module's keywords give them, parses and
+//! checks each once (errors name the [`Setting`](crate::Setting)), reads or adopts the
+//! volume, and makes the [`VolumeFigure`]: one view with its underlay, or a montage's
+//! panels.
 //!
 //! Glyph centres are the affine applied to the voxel indices (NIfTI-1's sform, else
 //! qform, else pixdim: [`crate::io::nifti::affine`]); voxel-frame glyph shapes use only
@@ -16,6 +21,7 @@
 
 mod amplitude;
 mod build;
+mod figure;
 mod framing;
 mod input;
 mod recorded;
@@ -28,6 +34,7 @@ pub use build::{
     DEFAULT_SCALE_FRACTION, Normalisation, VolumeOptions, VolumeReport, VolumeScene, volume_scene,
     volume_scene_with_progress,
 };
+pub use figure::{MontagePlan, VolumeFigure, VolumeMontage, VolumeView, parse_views};
 pub use framing::{
     DEFAULT_LONG_SIDE, Framing, ImageRequest, MAX_SIDE, Orientation, PERSPECTIVE_FOV_DEG,
     ViewProjection, frame_region, frame_volume, view_axis, view_directions,
@@ -35,6 +42,6 @@ pub use framing::{
 pub use input::{CoefficientFrame, MAX_ORDER, Mask, Volume, VolumeKind, load_mask, load_volume};
 pub use recorded::{RecordedBasis, recorded_basis, resolve_basis};
 pub use reorient::Reorientation;
-pub use request::{VolumeRequest, VolumeView};
+pub use request::{Coefficients, ImageSource, MAX_PANELS, VolumeRequest};
 pub use selection::{Slice, SliceAxis, SliceRegion, Slices, VoxelRanges};
 pub use underlay::{load_underlay, slice_plane, underlay_of_image, view_underlay};

@@ -9,7 +9,7 @@
 use crate::fit::parse_basis;
 use crate::io::image::{Image, ImageHeader};
 use crate::scene::ShBasis;
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 
 /// What starts the SH description `fit` writes, before the band.
 const FIT_SH_PREFIX: &str = "glyphcast fit: SH band ";
@@ -52,16 +52,16 @@ pub fn recorded_basis(image: &Image) -> Option<RecordedBasis> {
 fn show(basis: ShBasis, legacy: bool) -> String {
     let name = crate::fit::basis_name(basis);
     if legacy {
-        format!("{name} --legacy")
+        format!("{name} {}", Setting::Legacy.mention())
     } else {
         name.to_string()
     }
 }
 
-/// The basis to draw `image` in: `given` (from `--basis`) when it agrees with what the
-/// file records or `force` is set, else the recorded one, else tournier07 for an MRtrix
-/// file. A contradiction is an error naming the file and the field; no basis at all is
-/// a usage error.
+/// The basis to draw `image` in: `given` (the basis setting) when it agrees with what
+/// the file records or `force` is set, else the recorded one, else tournier07 for an
+/// MRtrix file. A contradiction is an error naming the file and the field; no basis at
+/// all is an [`Error::Setting`] naming the basis.
 pub fn resolve_basis(
     image: &Image,
     given: Option<(ShBasis, bool)>,
@@ -74,10 +74,13 @@ pub fn resolve_basis(
                 &image.file,
                 recorded.field,
                 format!(
-                    "the file records the SH basis {} but --basis gives {}; leave out --basis, \
-                     or add --force-basis to draw in {} anyway",
+                    "the file records the SH basis {} but {} gives {}; leave out {}, or add {} \
+                     to draw in {} anyway",
                     show(recorded.basis, recorded.legacy),
+                    Setting::Basis.mention(),
                     show(given.0, given.1),
+                    Setting::Basis.mention(),
+                    Setting::ForceBasis.mention(),
                     show(given.0, given.1),
                 ),
             ))
@@ -86,12 +89,15 @@ pub fn resolve_basis(
         (None, Some(recorded)) => Ok((recorded.basis, recorded.legacy)),
         (None, None) => match image.header {
             ImageHeader::Mrtrix(_) => Ok((ShBasis::Tournier07, false)),
-            ImageHeader::Nifti(_) => Err(Error::Usage(format!(
-                "--sh needs --basis tournier07, descoteaux07, mrtrix, dipy or dipy-new: {} \
-                 records no SH basis in its {}",
-                image.file,
-                description_field(image)
-            ))),
+            ImageHeader::Nifti(_) => Err(Error::setting(
+                Setting::Basis,
+                format!(
+                    "an SH volume needs its basis, one of tournier07, descoteaux07, mrtrix, \
+                     dipy or dipy-new: {} records no SH basis in its {}",
+                    image.file,
+                    description_field(image)
+                ),
+            )),
         },
     }
 }

@@ -1,77 +1,157 @@
-//! A volume view as the front ends ask for it: the CLI's volume flags and the Python
-//! module's keyword arguments, as text and numbers, turned into the volume's kind and
-//! [`VolumeOptions`] with one set of defaults and messages (which name the CLI's flags,
-//! mirrored by the Python keywords), and the view made from them.
-use super::build::{VolumeOptions, VolumeScene, volume_scene};
-use super::framing::{ImageRequest, ViewProjection};
-use super::input::{CoefficientFrame, Volume, VolumeKind};
-use super::recorded::resolve_basis;
-use crate::fit::parse_basis;
-use crate::glyph::{Symmetry, TensorLayout};
-use crate::io::image::Image;
-use crate::scene::ShBasis;
-use crate::{Error, Result};
+//! A volume figure as the front ends ask for it: the CLI's volume flags and the Python
+//! module's keyword arguments, as text and numbers, turned into the volume's kind,
+//! [`VolumeOptions`] and the view or montage (`figure`) with one set of defaults and
+//! checks. A value that is refused, or options that do not go together, are errors that
+//! name the [`Setting`]s; each front end spells them (`--slice`, `slice=`).
+use std::path::{Path, PathBuf};
 
-/// The volume options, unparsed; `None` (or `false`) is the default.
-#[derive(Clone, Debug, Default)]
-pub struct VolumeRequest {
-    /// `--basis`: tournier07, descoteaux07, mrtrix, dipy or dipy-new.
-    pub basis: Option<String>,
-    /// `--force-basis`: `basis` even where the file records another.
-    pub force_basis: bool,
-    /// `--frame`: voxel or world.
-    pub frame: Option<String>,
-    /// `--legacy`: the legacy variant of `basis`.
-    pub legacy: bool,
-    /// `--lmax`: draw SH bands up to this one.
-    pub lmax: Option<u32>,
-    /// `--order`: the tensor order of a tensor volume.
-    pub order: Option<u32>,
-    /// `--nonsymmetric`: a tensor volume holds all 3^N entries.
-    pub nonsymmetric: bool,
-    /// `--slice`: AXIS[:INDEX].
-    pub slice: Option<String>,
-    /// `--slices`: I,J,K or mid.
-    pub slices: Option<String>,
-    /// `--voxels`: i0:i1,j0:j1,k0:k1.
-    pub voxels: Option<String>,
-    /// `--scale`: world radius of the largest glyph.
-    pub scale: Option<f64>,
-    /// `--norm`: global, per-glyph or none.
-    pub norm: Option<String>,
-    /// `--min-amplitude`: leave out glyphs below this largest radius.
-    pub min_amplitude: Option<f64>,
-    /// `--perspective`: a perspective camera.
-    pub perspective: bool,
-    /// `--orientation`: radiological or neurological.
-    pub orientation: Option<String>,
+use super::build::VolumeOptions;
+use super::framing::{ImageRequest, ViewProjection};
+use super::input::{CoefficientFrame, Mask, Volume, VolumeKind};
+use super::recorded::resolve_basis;
+use crate::error::quoted;
+use crate::fit::parse_basis;
+use crate::glyph::ellipsoid::ELLIPSOID_LAYOUT;
+use crate::glyph::{GlyphShape, Symmetry, TensorLayout};
+use crate::io::image::{Image, read_image};
+use crate::io::nifti::VoxelToWorld;
+use crate::render::underlay::UnderlayVolume;
+use crate::scene::ShBasis;
+use crate::{Error, Result, Setting};
+
+/// The most panels of a montage ([`Setting::Views`], [`Setting::Lightbox`]).
+pub const MAX_PANELS: usize = 64;
+
+/// What a volume's coefficients are, as the front end was asked: SH coefficients
+/// (`--sh`, `render_sh`) or Cartesian tensor coefficients (`--tensor`, `render_tensor`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Coefficients {
+    /// A real SH series per voxel.
+    Sh,
+    /// A tensor per voxel, of the order the request gives.
+    Tensor,
 }
 
-/// A volume's view: the scene and what it was made from.
-pub struct VolumeView {
-    /// The volume, in the frame asked for.
-    pub volume: Volume,
-    /// The options the view was made with (the slice in voxel axes).
-    pub options: VolumeOptions,
-    /// The scene and its report.
-    pub scene: VolumeScene,
-    /// A note for the user: the world plane asked for is another voxel axis.
-    pub note: Option<String>,
+/// An image a request names: a file to read, or one the caller holds in memory (placed
+/// in world space by an affine it was given).
+#[derive(Clone, Debug)]
+pub enum ImageSource<T> {
+    /// A NIfTI or MRtrix file, read with the one image reader.
+    File(PathBuf),
+    /// Values in memory.
+    Memory(T),
+}
+
+/// The volume options, unparsed; `None` (or `false`) is the default. Each field is the
+/// [`Setting`] of the same name.
+#[derive(Clone, Debug, Default)]
+pub struct VolumeRequest {
+    /// tournier07, descoteaux07, mrtrix, dipy or dipy-new.
+    pub basis: Option<String>,
+    /// `basis` even where the file records another.
+    pub force_basis: bool,
+    /// voxel or world.
+    pub frame: Option<String>,
+    /// The legacy variant of `basis`.
+    pub legacy: bool,
+    /// Draw SH bands up to this one.
+    pub lmax: Option<u32>,
+    /// The tensor order of a tensor volume.
+    pub order: Option<u32>,
+    /// A tensor volume holds all 3^N entries.
+    pub nonsymmetric: bool,
+    /// AXIS[:INDEX].
+    pub slice: Option<String>,
+    /// I,J,K or mid.
+    pub slices: Option<String>,
+    /// i0:i1,j0:j1,k0:k1.
+    pub voxels: Option<String>,
+    /// Glyphs only where the mask is nonzero.
+    pub mask: Option<ImageSource<Mask>>,
+    /// World radius of the largest glyph.
+    pub scale: Option<f64>,
+    /// global, per-glyph or none.
+    pub norm: Option<String>,
+    /// Leave out glyphs below this largest radius.
+    pub min_amplitude: Option<f64>,
+    /// A perspective camera.
+    pub perspective: bool,
+    /// radiological or neurological.
+    pub orientation: Option<String>,
+    /// polynomial or ellipsoid.
+    pub glyph: Option<String>,
+    /// An anatomical image drawn on the slice planes (single views only).
+    pub underlay: Option<ImageSource<UnderlayVolume>>,
+    /// LOW:HIGH, the underlay's window.
+    pub underlay_range: Option<String>,
+    /// A montage of views: axial, coronal and sagittal (each optionally :INDEX), comma
+    /// separated.
+    pub views: Option<String>,
+    /// A montage of this many evenly spaced slices of the slice plane.
+    pub lightbox: Option<usize>,
 }
 
 impl VolumeRequest {
-    /// Everything but the mask, which the caller reads.
-    pub fn options(&self, image: ImageRequest) -> Result<VolumeOptions> {
+    /// Checks that the options fit `input` and each other, before anything is read.
+    pub fn check(&self, input: Coefficients) -> Result<()> {
+        self.underlay_range()?;
+        self.check_input(input)?;
+        self.check_montage()?;
         if self.slice.is_some() && self.slices.is_some() {
-            return Err(Error::Invalid(
-                "give either --slice or --slices, not both".into(),
-            ));
+            return Err(Error::Usage(format!(
+                "give either {} or {}, not both",
+                Setting::Slice.mention(),
+                Setting::Slices.mention()
+            )));
         }
+        self.frame()?;
+        self.given_basis()?;
+        Ok(())
+    }
+
+    /// The options that belong to the other kind of coefficients are refused, and a
+    /// tensor volume needs its order.
+    fn check_input(&self, input: Coefficients) -> Result<()> {
+        let misplaced = |setting: Setting, kind: &str| {
+            Err(Error::setting(
+                setting,
+                format!("applies to {kind} volumes only"),
+            ))
+        };
+        match input {
+            Coefficients::Sh => {
+                if self.order.is_some() {
+                    return misplaced(Setting::Order, "tensor");
+                }
+                if self.nonsymmetric {
+                    return misplaced(Setting::Nonsymmetric, "tensor");
+                }
+            }
+            Coefficients::Tensor => {
+                for (setting, given) in [
+                    (Setting::Basis, self.basis.is_some()),
+                    (Setting::ForceBasis, self.force_basis),
+                    (Setting::Legacy, self.legacy),
+                    (Setting::Lmax, self.lmax.is_some()),
+                ] {
+                    if given {
+                        return misplaced(setting, "SH");
+                    }
+                }
+                self.tensor_order()?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Everything about the view but the mask, which [`VolumeRequest::figure`] reads.
+    pub fn options(&self, image: ImageRequest) -> Result<VolumeOptions> {
         Ok(VolumeOptions {
             slices: self.slices.as_deref().map(str::parse).transpose()?,
             slice: parse_or_default(self.slice.as_deref())?,
             voxels: parse_or_default(self.voxels.as_deref())?,
             mask: None,
+            shape: self.shape()?.unwrap_or_default(),
             scale: self.scale,
             norm: parse_or_default(self.norm.as_deref())?,
             min_amplitude: self.min_amplitude.unwrap_or(0.0),
@@ -82,80 +162,238 @@ impl VolumeRequest {
                 ViewProjection::Orthographic
             },
             orientation: parse_or_default(self.orientation.as_deref())?,
-            shape: Default::default(),
             image,
         })
     }
 
-    /// `--frame`, if given (a usage error when it is not voxel or world).
+    /// The glyph shape, if given.
+    pub fn shape(&self) -> Result<Option<GlyphShape>> {
+        self.glyph.as_deref().map(str::parse).transpose()
+    }
+
+    /// The coefficients' frame, if given.
     pub fn frame(&self) -> Result<Option<CoefficientFrame>> {
         self.frame
             .as_deref()
             .map(|text| {
                 text.parse()
-                    .map_err(|err| Error::Usage(format!("--frame: {err}")))
+                    .map_err(|err: Error| Error::setting(Setting::Frame, err.to_string()))
             })
             .transpose()
     }
 
-    /// `--basis` with `--legacy` (aliases name both; see `fit::parse_basis`), if given.
+    /// The basis with its legacy switch (aliases name both; see `fit::parse_basis`), if
+    /// given.
     pub fn given_basis(&self) -> Result<Option<(ShBasis, bool)>> {
         match self.basis.as_deref() {
             Some(name) => parse_basis(name, self.legacy).map(Some),
-            None if self.legacy => Err(Error::Usage(
-                "--legacy qualifies --basis: give --basis too".into(),
+            None if self.legacy => Err(Error::setting(
+                Setting::Legacy,
+                format!(
+                    "needs {} too (it picks the legacy variant of the basis)",
+                    Setting::Basis.mention()
+                ),
             )),
-            None if self.force_basis => Err(Error::Usage(
-                "--force-basis needs --basis (the basis to force)".into(),
+            None if self.force_basis => Err(Error::setting(
+                Setting::ForceBasis,
+                format!("needs {} (the basis to force)", Setting::Basis.mention()),
             )),
             None => Ok(None),
         }
     }
 
-    /// An SH volume's kind: the basis from `--basis` and what `file` records
-    /// ([`resolve_basis`]); without a file (coefficients from memory) `--basis` is needed.
-    pub fn sh_kind(&self, file: Option<&Image>) -> Result<VolumeKind> {
-        let given = self.given_basis()?;
-        let (basis, legacy) = match file {
-            Some(file) => resolve_basis(file, given, self.force_basis)?,
-            None => given.ok_or_else(|| {
-                Error::Usage("SH coefficients without a file need --basis".into())
-            })?,
+    /// The underlay's window, if given: LOW:HIGH, finite, LOW < HIGH; it needs an
+    /// underlay.
+    pub fn underlay_range(&self) -> Result<Option<(f64, f64)>> {
+        let Some(text) = self.underlay_range.as_deref() else {
+            return Ok(None);
         };
-        Ok(VolumeKind::Sh { basis, legacy })
+        if self.underlay.is_none() {
+            return Err(Error::setting(
+                Setting::UnderlayRange,
+                format!(
+                    "needs {} (the image it windows)",
+                    Setting::Underlay.mention()
+                ),
+            ));
+        }
+        let parsed = text.split_once(':').and_then(|(lo, hi)| {
+            Some((
+                lo.trim().parse::<f64>().ok()?,
+                hi.trim().parse::<f64>().ok()?,
+            ))
+        });
+        match parsed {
+            Some((lo, hi)) if lo.is_finite() && hi.is_finite() && lo < hi => Ok(Some((lo, hi))),
+            _ => Err(Error::setting_value(
+                Setting::UnderlayRange,
+                format!("'{}'", quoted(text)),
+                "not LOW:HIGH with finite numbers, LOW < HIGH",
+            )),
+        }
     }
 
-    /// A tensor volume's kind, from `--order` and `--nonsymmetric`.
-    pub fn tensor_kind(&self) -> Result<VolumeKind> {
-        let order = self.tensor_order()?;
-        let symmetry = if self.nonsymmetric {
-            Symmetry::NonSymmetric
-        } else {
-            Symmetry::Symmetric
-        };
-        Ok(VolumeKind::Tensor(TensorLayout { order, symmetry }))
+    /// The kind of the coefficients: for SH the basis given and what `file` records
+    /// ([`resolve_basis`]; coefficients from memory, with no file, need the basis), for
+    /// tensors the layout of the order and symmetry given.
+    pub fn kind(&self, input: Coefficients, file: Option<&Image>) -> Result<VolumeKind> {
+        match input {
+            Coefficients::Sh => {
+                let given = self.given_basis()?;
+                let (basis, legacy) = match file {
+                    Some(file) => resolve_basis(file, given, self.force_basis)?,
+                    None => given.ok_or_else(|| {
+                        Error::setting(
+                            Setting::Basis,
+                            "SH coefficients without a file need their basis: tournier07, \
+                             descoteaux07, mrtrix, dipy or dipy-new",
+                        )
+                    })?,
+                };
+                Ok(VolumeKind::Sh { basis, legacy })
+            }
+            Coefficients::Tensor => {
+                let order = self.tensor_order()?;
+                let symmetry = if self.nonsymmetric {
+                    Symmetry::NonSymmetric
+                } else {
+                    Symmetry::Symmetric
+                };
+                Ok(VolumeKind::Tensor(TensorLayout { order, symmetry }))
+            }
+        }
     }
 
-    /// `--order`, which a tensor volume needs.
+    /// The tensor order, which a tensor volume needs.
     pub fn tensor_order(&self) -> Result<u32> {
         self.order.ok_or_else(|| {
-            Error::Invalid("--tensor needs --order N (the tensor order of the file)".into())
+            Error::setting(
+                Setting::Order,
+                format!(
+                    "a tensor volume needs {} (the tensor order of its coefficients)",
+                    Setting::Order.with("N")
+                ),
+            )
         })
     }
 
-    /// The view of `volume` with `options` (from [`VolumeRequest::options`], with the
-    /// caller's mask): the volume in the frame `--frame` asks for, the slice's world
-    /// plane turned into the voxel axis closest to it, and the scene.
-    pub fn view(&self, mut volume: Volume, mut options: VolumeOptions) -> Result<VolumeView> {
+    /// Reads the volume of `input` from `path`, after [`VolumeRequest::check`]: its kind
+    /// from the options and the file ([`VolumeRequest::kind`]), in the frame asked for.
+    pub fn read_volume(&self, input: Coefficients, path: &Path) -> Result<Volume> {
+        self.check(input)?;
+        self.options(ImageRequest::default())?;
+        let file = read_image(path)?;
+        let kind = self.kind(input, Some(&file))?;
+        self.check_shape(kind, &file.file)?;
+        let volume = Volume::from_image(file, kind)?;
+        self.in_frame(volume)
+    }
+
+    /// The volume of `input` held in memory: `data` of shape [x, y, z, coefficients]
+    /// placed by `voxel_to_world` (`name` names it in messages), after
+    /// [`VolumeRequest::check`], in the frame asked for (voxel by default).
+    pub fn memory_volume(
+        &self,
+        input: Coefficients,
+        name: &str,
+        data: ndarray::Array4<f64>,
+        voxel_to_world: VoxelToWorld,
+    ) -> Result<Volume> {
+        self.check(input)?;
+        self.options(ImageRequest::default())?;
+        let kind = self.kind(input, None)?;
+        self.check_shape(kind, name)?;
+        let volume = Volume::new(name, data, kind, voxel_to_world)?;
+        self.in_frame(volume)
+    }
+
+    /// The ellipsoid needs an order-2 symmetric tensor volume.
+    fn check_shape(&self, kind: VolumeKind, name: &str) -> Result<()> {
+        if self.shape()? == Some(GlyphShape::Ellipsoid)
+            && kind != VolumeKind::Tensor(ELLIPSOID_LAYOUT)
+        {
+            return Err(Error::setting_value(
+                Setting::Glyph,
+                "ellipsoid",
+                format!(
+                    "draws order-2 symmetric tensors (DTI: a tensor volume with {}), not {name}",
+                    Setting::Order.with(2)
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// `volume` in the frame asked for, if any.
+    fn in_frame(&self, mut volume: Volume) -> Result<Volume> {
         volume.frame = self.frame()?.unwrap_or(volume.frame);
-        let note = slice_in_voxels(&mut options, &volume)?;
-        let scene = volume_scene(&volume, &options)?;
-        Ok(VolumeView {
-            volume,
-            options,
-            scene,
-            note,
-        })
+        Ok(volume)
+    }
+
+    /// Whether a montage (views or a lightbox) is asked for.
+    pub fn is_montage(&self) -> bool {
+        self.views.is_some() || self.lightbox.is_some()
+    }
+
+    /// The montage options on their own: one of views and lightbox, a lightbox count in
+    /// 1 to [`MAX_PANELS`] along the slice plane, no underlay, the slices left to views.
+    pub(super) fn check_montage(&self) -> Result<()> {
+        if !self.is_montage() {
+            return Ok(());
+        }
+        match (&self.views, self.lightbox) {
+            (Some(_), Some(_)) => {
+                return Err(Error::Usage(format!(
+                    "give either {} or {}, not both",
+                    Setting::Views.mention(),
+                    Setting::Lightbox.mention()
+                )));
+            }
+            (Some(views), None) => {
+                super::figure::parse_views(views)?;
+            }
+            (None, count) => {
+                let count = count.unwrap_or_default();
+                if self.slices.is_some() {
+                    return Err(Error::setting(
+                        Setting::Lightbox,
+                        format!(
+                            "takes {}, not {}",
+                            Setting::Slice.mention(),
+                            Setting::Slices.mention()
+                        ),
+                    ));
+                }
+                if count == 0 || count > MAX_PANELS {
+                    return Err(Error::setting_value(
+                        Setting::Lightbox,
+                        count,
+                        format!("must be 1 to {MAX_PANELS} slices"),
+                    ));
+                }
+            }
+        }
+        if self.underlay.is_some() {
+            return Err(Error::setting(
+                Setting::Underlay,
+                format!(
+                    "draws on one view's planes: not with {} or {}",
+                    Setting::Views.mention(),
+                    Setting::Lightbox.mention()
+                ),
+            ));
+        }
+        if self.slices.is_some() || (self.views.is_some() && self.slice.is_some()) {
+            return Err(Error::setting(
+                Setting::Views,
+                format!(
+                    "names each panel's slice: give no {} or {} with it",
+                    Setting::Slice.mention(),
+                    Setting::Slices.mention()
+                ),
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -166,37 +404,207 @@ where
     Ok(text.map(str::parse).transpose()?.unwrap_or_default())
 }
 
-/// Turns the world plane `--slice` names into the voxel axis closest to it, with a note
-/// when that is not the axis of the same name (a volume not stored axially), and an error
-/// in the plane's terms when the index is outside that axis.
-fn slice_in_voxels(options: &mut VolumeOptions, volume: &Volume) -> Result<Option<String>> {
-    let named = options.slice;
-    let axis = named
-        .axis
-        .world_plane_in_voxels(volume.voxel_to_world.linear());
-    options.slice.axis = axis;
-    if axis == named.axis || options.slices.is_some() {
-        return Ok(None);
-    }
-    let voxel = axis.voxel_axis();
-    let (letter, length) = (["i", "j", "k"][voxel], volume.dims[voxel]);
-    if let Some(index) = named.index
-        && index >= length
-    {
-        return Err(Error::input(
-            &volume.file,
-            format!("dim[{}]", voxel + 1),
-            format!(
-                "--slice {named}: the {} plane is the slice of constant {letter} in this \
-                 volume, which has {length} voxels along {letter} (0..={})",
-                named.axis.name(),
-                length.saturating_sub(1)
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every refusal names its setting (or the settings that clash), never a front end's
+    /// spelling of it.
+    #[test]
+    fn refusals_name_the_setting_and_no_flag() {
+        let base = VolumeRequest {
+            order: Some(2),
+            ..Default::default()
+        };
+        let cases: Vec<(VolumeRequest, Coefficients, Option<Setting>)> = vec![
+            (base.clone(), Coefficients::Sh, Some(Setting::Order)),
+            (
+                Default::default(),
+                Coefficients::Tensor,
+                Some(Setting::Order),
             ),
-        ));
+            (
+                VolumeRequest {
+                    lmax: Some(4),
+                    ..base.clone()
+                },
+                Coefficients::Tensor,
+                Some(Setting::Lmax),
+            ),
+            (
+                VolumeRequest {
+                    legacy: true,
+                    ..Default::default()
+                },
+                Coefficients::Sh,
+                Some(Setting::Legacy),
+            ),
+            (
+                VolumeRequest {
+                    basis: Some("fsl".into()),
+                    ..Default::default()
+                },
+                Coefficients::Sh,
+                Some(Setting::Basis),
+            ),
+            (
+                VolumeRequest {
+                    frame: Some("scanner".into()),
+                    ..base.clone()
+                },
+                Coefficients::Tensor,
+                Some(Setting::Frame),
+            ),
+            (
+                VolumeRequest {
+                    underlay_range: Some("0:1".into()),
+                    ..base.clone()
+                },
+                Coefficients::Tensor,
+                Some(Setting::UnderlayRange),
+            ),
+            (
+                VolumeRequest {
+                    underlay: Some(ImageSource::File("fa.nii".into())),
+                    underlay_range: Some("1:0".into()),
+                    ..base.clone()
+                },
+                Coefficients::Tensor,
+                Some(Setting::UnderlayRange),
+            ),
+            (
+                VolumeRequest {
+                    lightbox: Some(0),
+                    ..base.clone()
+                },
+                Coefficients::Tensor,
+                Some(Setting::Lightbox),
+            ),
+            (
+                VolumeRequest {
+                    lightbox: Some(4),
+                    slices: Some("mid".into()),
+                    ..base.clone()
+                },
+                Coefficients::Tensor,
+                Some(Setting::Lightbox),
+            ),
+            (
+                VolumeRequest {
+                    views: Some("axial,axial".into()),
+                    ..base.clone()
+                },
+                Coefficients::Tensor,
+                Some(Setting::Views),
+            ),
+            (
+                VolumeRequest {
+                    views: Some("axial".into()),
+                    slice: Some("coronal".into()),
+                    ..base.clone()
+                },
+                Coefficients::Tensor,
+                Some(Setting::Views),
+            ),
+            (
+                VolumeRequest {
+                    views: Some("axial".into()),
+                    underlay: Some(ImageSource::File("fa.nii".into())),
+                    ..base.clone()
+                },
+                Coefficients::Tensor,
+                Some(Setting::Underlay),
+            ),
+            (
+                VolumeRequest {
+                    views: Some("axial".into()),
+                    lightbox: Some(2),
+                    ..base.clone()
+                },
+                Coefficients::Tensor,
+                None,
+            ),
+            (
+                VolumeRequest {
+                    slice: Some("axial".into()),
+                    slices: Some("mid".into()),
+                    ..base.clone()
+                },
+                Coefficients::Tensor,
+                None,
+            ),
+        ];
+        for (request, input, setting) in cases {
+            let err = request.check(input).expect_err("refused");
+            assert_eq!(err.setting_of(), setting, "{err}");
+            let text = err.to_string();
+            assert!(!text.contains("--"), "{text}");
+            if let Some(setting) = setting {
+                assert!(text.starts_with(setting.name()), "{text}");
+            }
+        }
+        // Values the options cannot parse.
+        for (request, setting) in [
+            (
+                VolumeRequest {
+                    glyph: Some("cuboid".into()),
+                    ..Default::default()
+                },
+                Setting::Glyph,
+            ),
+            (
+                VolumeRequest {
+                    norm: Some("loud".into()),
+                    ..Default::default()
+                },
+                Setting::Norm,
+            ),
+            (
+                VolumeRequest {
+                    orientation: Some("upside-down".into()),
+                    ..Default::default()
+                },
+                Setting::Orientation,
+            ),
+            (
+                VolumeRequest {
+                    slice: Some("diagonal".into()),
+                    ..Default::default()
+                },
+                Setting::Slice,
+            ),
+        ] {
+            let err = request
+                .options(ImageRequest::default())
+                .expect_err("refused");
+            assert_eq!(err.setting_of(), Some(setting), "{err}");
+            assert!(!err.to_string().contains("--"), "{err}");
+        }
     }
-    Ok(Some(format!(
-        "{}: the {} plane is the slice of constant {letter} in this volume",
-        volume.file,
-        named.axis.name(),
-    )))
+
+    #[test]
+    fn an_ellipsoid_needs_an_order_2_tensor_volume() {
+        let request = VolumeRequest {
+            order: Some(4),
+            glyph: Some("ellipsoid".into()),
+            ..Default::default()
+        };
+        let data = ndarray::Array4::zeros((1, 1, 1, 15));
+        let map = VoxelToWorld::new(
+            glam::DMat4::IDENTITY,
+            crate::io::nifti::AffineSource::Sform,
+            "v",
+            "affine",
+        )
+        .expect("identity");
+        let err = request
+            .memory_volume(Coefficients::Tensor, "v", data, map)
+            .expect_err("order 4");
+        assert_eq!(err.setting_of(), Some(Setting::Glyph));
+        assert_eq!(
+            err.to_string(),
+            "glyph ellipsoid: draws order-2 symmetric tensors (DTI: a tensor volume with \
+             order 2), not v"
+        );
+    }
 }

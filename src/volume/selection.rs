@@ -12,7 +12,8 @@ use std::ops::Range;
 use std::str::FromStr;
 
 use super::input::show_shape;
-use crate::{Error, Result};
+use crate::error::quoted;
+use crate::{Error, Result, Setting};
 
 /// The voxel axis a slice is perpendicular to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -149,9 +150,11 @@ impl FromStr for Slice {
             "coronal" => SliceAxis::Coronal,
             "axial" => SliceAxis::Axial,
             _ => {
-                return Err(Error::Invalid(format!(
-                    "--slice '{text}': expected axial, coronal or sagittal, optionally :INDEX"
-                )));
+                return Err(Error::setting_value(
+                    Setting::Slice,
+                    format!("'{}'", quoted(text)),
+                    "expected axial, coronal or sagittal, optionally :INDEX",
+                ));
             }
         };
         // `:mid` says the default (the middle) explicitly.
@@ -159,9 +162,14 @@ impl FromStr for Slice {
             .filter(|&index| index != "mid")
             .map(|index| {
                 index.parse::<usize>().map_err(|_| {
-                    Error::Invalid(format!(
-                        "--slice '{text}': index '{index}' is not a voxel index (0, 1, 2, ...) or mid"
-                    ))
+                    Error::setting_value(
+                        Setting::Slice,
+                        format!("'{}'", quoted(text)),
+                        format!(
+                            "index '{}' is not a voxel index (0, 1, 2, ...) or mid",
+                            quoted(index)
+                        ),
+                    )
                 })
             })
             .transpose()?;
@@ -187,7 +195,8 @@ impl FromStr for Slices {
         if text == "mid" {
             return Ok(Slices::default());
         }
-        let invalid = |why: &str| Error::Invalid(format!("--slices '{text}': {why}"));
+        let invalid =
+            |why: &str| Error::setting_value(Setting::Slices, format!("'{}'", quoted(text)), why);
         let parts: Vec<&str> = text.split(',').collect();
         if parts.len() != 3 {
             return Err(invalid("expected mid or three voxel indices I,J,K"));
@@ -210,7 +219,8 @@ impl FromStr for VoxelRanges {
     /// `i0:i1,j0:j1,k0:k1`, half-open; either end of a range may be left out (`:`, `4:`,
     /// `:9`).
     fn from_str(text: &str) -> Result<Self> {
-        let invalid = |why: &str| Error::Invalid(format!("--voxels '{text}': {why}"));
+        let invalid =
+            |why: &str| Error::setting_value(Setting::Voxels, format!("'{}'", quoted(text)), why);
         let parts: Vec<&str> = text.split(',').collect();
         if parts.len() != 3 {
             return Err(invalid("expected three ranges i0:i1,j0:j1,k0:k1"));
@@ -255,8 +265,8 @@ impl SliceRegion {
                 file,
                 format!("dim[{}]", axis + 1),
                 format!(
-                    "--slice {slice}: index {index} is outside the volume's {} voxels along {} \
-                     (0..={})",
+                    "{}: index {index} is outside the volume's {} voxels along {} (0..={})",
+                    Setting::Slice.with(slice),
                     length,
                     ["i", "j", "k"][axis],
                     length.saturating_sub(1)
@@ -275,7 +285,7 @@ impl SliceRegion {
         if region.iter().any(|r| r.is_empty()) {
             return Err(Error::input(
                 file,
-                "--voxels",
+                Setting::Voxels.mention().to_string(),
                 format!(
                     "the ranges leave no voxel of the {slice} slice of this {} volume",
                     show_shape(&dims)
@@ -413,6 +423,16 @@ mod tests {
         let err = SliceRegion::new([4, 5, 6], Slice::default(), &ranges, "v.nii")
             .unwrap_err()
             .to_string();
-        assert!(err.contains("--voxels"), "{err}");
+        assert!(err.starts_with("v.nii: voxels: "), "{err}");
+        assert!(!err.contains("--"), "{err}");
+        // Text the library cannot read names the setting.
+        for (err, setting) in [
+            ("diagonal".parse::<Slice>().unwrap_err(), Setting::Slice),
+            ("1,2".parse::<Slices>().unwrap_err(), Setting::Slices),
+            ("1:2,3".parse::<VoxelRanges>().unwrap_err(), Setting::Voxels),
+        ] {
+            assert_eq!(err.setting_of(), Some(setting), "{err}");
+            assert!(!err.to_string().contains("--"), "{err}");
+        }
     }
 }

@@ -1,0 +1,291 @@
+//! The options a front end hands the library, named in errors by what they are rather
+//! than by how one front end spells them. The library's messages never write `--step` or
+//! `step=`: they carry [`Setting`]s, as the subject of an [`Error::Setting`](super::Error)
+//! or as [`Mention`]s inside any message's text, and each front end spells them its way
+//! ([`Error::spelled`](super::Error::spelled)): the command line as its flags
+//! (`--magnitude-range 0:1`), the Python module as its keywords (`magnitude_range=0:1`).
+//! Shown as they are (`Display`), they read in the library's own words
+//! (`magnitude range 0:1`).
+//!
+//! A mention travels inside the message text as a marker between two ASCII unit
+//! separators (U+001F). User text that a message quotes goes through
+//! [`quoted`](super::quoted), which escapes control characters, so no input can forge a
+//! marker.
+use std::fmt;
+
+/// The enum, its list and its names from one table, so that none can miss a setting.
+macro_rules! settings {
+    ($($(#[doc = $doc:literal])* $variant:ident => $name:literal,)*) => {
+        /// An option of the library's requests ([`RenderOptions`](crate::render::options),
+        /// `volume::VolumeRequest`, the fits and the benchmarks): what a message names
+        /// when a value is refused or options do not go together.
+        ///
+        /// Not `non_exhaustive`: the front ends spell every setting, and a new one must
+        /// be spelled by each of them (their matches are exhaustive).
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum Setting {
+            $($(#[doc = $doc])* $variant,)*
+        }
+
+        impl Setting {
+            /// Every setting.
+            pub const ALL: &'static [Setting] = &[$(Setting::$variant,)*];
+
+            /// The setting in the library's own words: lower case, words apart
+            /// (`magnitude range`). Unique, and free of control characters.
+            pub fn name(self) -> &'static str {
+                match self {
+                    $(Setting::$variant => $name,)*
+                }
+            }
+        }
+    };
+}
+
+settings! {
+    /// Image width in pixels.
+    Width => "width",
+    /// Image height in pixels.
+    Height => "height",
+    /// How glyphs are drawn (`fixed`, `exact`, `mesh:LEVEL`, ...).
+    Method => "method",
+    /// Which ray caster runs the method: fragment or compute.
+    Path => "path",
+    /// The robust methods' segment limit in pixels.
+    Precision => "precision",
+    /// The fixed-step march's step.
+    Step => "step",
+    /// The refinement of the first sign change.
+    Refine => "refine",
+    /// Glyph colouring.
+    Color => "color",
+    /// The magnitude colour map's range.
+    MagnitudeRange => "magnitude range",
+    /// The magnitude colour bar.
+    Colorbar => "colour bar",
+    /// Negative lobes: abs or hide.
+    Negative => "negative",
+    /// Background colour.
+    Background => "background",
+    /// Isotropic offset of every glyph.
+    Offset => "offset",
+    /// Direction towards the light.
+    Light => "light",
+    /// Ambient share of the lighting.
+    Ambient => "ambient",
+    /// Specular strength.
+    Specular => "specular",
+    /// Specular exponent.
+    Shininess => "shininess",
+    /// Samples per pixel.
+    Samples => "samples",
+    /// SH basis of a volume.
+    Basis => "basis",
+    /// The legacy variant of the SH basis.
+    Legacy => "legacy",
+    /// The given basis even where the file records another.
+    ForceBasis => "force basis",
+    /// Axes of a volume's coefficients: voxel or world.
+    Frame => "frame",
+    /// Highest SH band drawn.
+    Lmax => "lmax",
+    /// Tensor order (of a volume, or of a fit).
+    Order => "order",
+    /// A tensor volume holds all 3^N entries.
+    Nonsymmetric => "nonsymmetric",
+    /// The slice of a volume drawn.
+    Slice => "slice",
+    /// Three orthogonal slices.
+    Slices => "slices",
+    /// Voxel index ranges.
+    Voxels => "voxels",
+    /// Mask of the voxels drawn.
+    Mask => "mask",
+    /// World radius of the largest glyph.
+    Scale => "scale",
+    /// Glyph size normalisation.
+    Norm => "norm",
+    /// Smallest glyph amplitude drawn.
+    MinAmplitude => "minimum amplitude",
+    /// A perspective camera.
+    Perspective => "perspective",
+    /// Radiological or neurological orientation.
+    Orientation => "orientation",
+    /// Anatomical direction labels.
+    Labels => "labels",
+    /// Anatomical underlay image.
+    Underlay => "underlay",
+    /// The underlay's window.
+    UnderlayRange => "underlay range",
+    /// Glyph surface: polynomial or ellipsoid.
+    Glyph => "glyph",
+    /// The views of a montage.
+    Views => "views",
+    /// The slice count of a lightbox.
+    Lightbox => "lightbox",
+    /// A DWI's b-values.
+    Bval => "b-values",
+    /// A DWI's gradient directions.
+    Bvec => "b-vectors",
+    /// The frame of the gradient directions.
+    BvecConvention => "b-vector convention",
+    /// The fibre ODF model of a fit.
+    Odf => "ODF model",
+    /// A fit's regularisation weight.
+    Lambda => "lambda",
+    /// CSD's threshold.
+    Tau => "tau",
+    /// CSD's fibre response file.
+    Response => "response",
+    /// The FA threshold of the response estimate.
+    ResponseFa => "response FA",
+    /// Peaks per voxel.
+    Count => "count",
+    /// The relative threshold of peaks.
+    RelativeThreshold => "relative threshold",
+    /// The smallest angle between peaks.
+    MinSeparation => "minimum separation",
+    /// A benchmark's generated workload.
+    Workload => "workload",
+}
+
+impl Setting {
+    /// The setting named in a message's text; front ends spell it as theirs
+    /// (`--lmax`, `lmax=`).
+    pub fn mention(self) -> Mention {
+        Mention {
+            setting: self,
+            value: None,
+        }
+    }
+
+    /// The setting with a value, named in a message's text (`use {}`, with
+    /// `Setting::Method.with("fixed")`: `--method fixed`, `method=fixed`).
+    pub fn with(self, value: impl fmt::Display) -> Mention {
+        Mention {
+            setting: self,
+            value: Some(value.to_string()),
+        }
+    }
+
+    /// The library's own spelling: the name, then the value if any (`step 0.0001`).
+    pub fn plain(self, value: Option<&str>) -> String {
+        match value {
+            Some(value) => format!("{} {value}", self.name()),
+            None => self.name().to_owned(),
+        }
+    }
+}
+
+impl fmt::Display for Setting {
+    /// The name ([`Setting::name`]).
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A [`Setting`] (and maybe its value) inside a message's text: written into the text
+/// as a marker that [`spell`] replaces with a front end's spelling.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Mention {
+    setting: Setting,
+    value: Option<String>,
+}
+
+/// Around a marker.
+const MARK: char = '\u{1f}';
+/// Between a marker's setting and its value.
+const VALUE: char = '\u{1e}';
+
+impl fmt::Display for Mention {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{MARK}{}", self.setting.name())?;
+        if let Some(value) = &self.value {
+            // A control character would end the marker early: escaped, as quoted text is.
+            write!(f, "{VALUE}")?;
+            for c in value.chars() {
+                if c.is_control() {
+                    write!(f, "{}", c.escape_default())?;
+                } else {
+                    write!(f, "{c}")?;
+                }
+            }
+        }
+        write!(f, "{MARK}")
+    }
+}
+
+/// `text` with each mention's marker replaced by `spell(setting, value)`. A stray
+/// separator that starts no well-formed marker is dropped, so that no control character
+/// reaches the user.
+pub fn spell(text: &str, spell: &dyn Fn(Setting, Option<&str>) -> String) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(start) = rest.find(MARK) {
+        out.push_str(&rest[..start]);
+        let after = &rest[start + MARK.len_utf8()..];
+        let Some(end) = after.find(MARK) else {
+            out.push_str(after);
+            return out;
+        };
+        let inner = &after[..end];
+        let (name, value) = match inner.split_once(VALUE) {
+            Some((name, value)) => (name, Some(value)),
+            None => (inner, None),
+        };
+        match Setting::ALL.iter().find(|s| s.name() == name) {
+            Some(setting) => {
+                out.push_str(&spell(*setting, value));
+                rest = &after[end + MARK.len_utf8()..];
+            }
+            None => rest = after,
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_unique_and_read_as_words() {
+        for (k, a) in Setting::ALL.iter().enumerate() {
+            assert!(!a.name().starts_with('-'), "{a:?}");
+            assert!(!a.name().contains(['_', '=']), "{a:?}");
+            for b in &Setting::ALL[k + 1..] {
+                assert_ne!(a.name(), b.name(), "{a:?} and {b:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn mentions_are_spelled_by_the_front_end() {
+        let text = format!(
+            "{} needs offset 0; use {}",
+            Setting::Method.with("exact"),
+            Setting::Method.with("fixed")
+        );
+        let flag = |s: Setting, v: Option<&str>| match v {
+            Some(v) => format!("--{} {v}", s.name()),
+            None => format!("--{}", s.name()),
+        };
+        assert_eq!(
+            spell(&text, &flag),
+            "--method exact needs offset 0; use --method fixed"
+        );
+        assert_eq!(
+            spell(&text, &|s, v| s.plain(v)),
+            "method exact needs offset 0; use method fixed"
+        );
+    }
+
+    #[test]
+    fn values_cannot_break_a_marker_and_stray_separators_vanish() {
+        let text = format!("{} and \u{1f}nonsense", Setting::Slice.with("a\u{1f}b"));
+        let spelled = spell(&text, &|s, v| s.plain(v));
+        assert_eq!(spelled, "slice a\\u{1f}b and nonsense");
+        assert!(!spelled.chars().any(char::is_control));
+    }
+}
