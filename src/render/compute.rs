@@ -204,28 +204,23 @@ impl ComputeRayCastPass {
         })?;
         for part in &parts {
             if part.shape == GlyphShape::Ellipsoid {
-                return Err(Error::setting_value(
-                    Setting::Path,
-                    "compute",
-                    format!(
-                        "no ellipsoid shader: draw ellipsoids with {}",
-                        Setting::Path.with("fragment")
-                    ),
-                ));
+                // The data decide (exit code 1), so not a Setting error.
+                return Err(Error::Invalid(format!(
+                    "{}: no ellipsoid shader: draw ellipsoids with {}",
+                    Setting::Path.with("compute"),
+                    Setting::Path.with("fragment")
+                )));
             }
             self.pipeline(part.layout)?;
         }
         let device_limit = ctx.max_storage_buffer_range();
         let pixels = width as u64 * height as u64;
         if 4 * pixels > device_limit {
-            return Err(Error::setting_value(
-                Setting::Path,
-                "compute",
-                format!(
-                    "a {width} x {height} image exceeds the storage buffer limit of \
-                     {device_limit} bytes"
-                ),
-            ));
+            return Err(Error::Invalid(format!(
+                "{}: a {width} x {height} image exceeds the storage buffer limit of \
+                 {device_limit} bytes",
+                Setting::Path.with("compute")
+            )));
         }
         let pool = DescriptorPool::new(ctx, parts.len(), 0, BINDINGS)?;
         let output = |name: &str| {
@@ -256,14 +251,11 @@ impl ComputeRayCastPass {
             let bins = bin_glyphs(&view, &instances, &boxes);
             let entry_bytes = 8 * bins.entries.len() as u64;
             if entry_bytes > device_limit {
-                return Err(Error::setting_value(
-                    Setting::Path,
-                    "compute",
-                    format!(
-                        "the tile lists take {entry_bytes} bytes, more than the storage \
-                         buffer limit of {device_limit} bytes"
-                    ),
-                ));
+                return Err(Error::Invalid(format!(
+                    "{}: the tile lists take {entry_bytes} bytes, more than the storage \
+                     buffer limit of {device_limit} bytes",
+                    Setting::Path.with("compute")
+                )));
             }
             scene.tile_entries += bins.entries.len();
             let glyphs = PartGlyphs {

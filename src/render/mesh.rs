@@ -45,15 +45,13 @@ impl GlyphMeshes {
     /// share one draw: the mesh no longer depends on the layout.
     pub fn build(sets: &[GlyphSetData], kind: MeshKind) -> Result<GlyphMeshes> {
         if sets.iter().any(|s| s.shape == GlyphShape::Ellipsoid) {
-            return Err(Error::setting_value(
-                Setting::Method,
-                kind,
-                format!(
-                    "ellipsoid glyphs are ray-cast in closed form, not tessellated; leave {} \
-                     out",
-                    Setting::Method.mention()
-                ),
-            ));
+            // The data decide (exit code 1), so not a Setting error.
+            return Err(Error::Invalid(format!(
+                "{}: ellipsoid glyphs are ray-cast in closed form, not tessellated; leave {} \
+                 out",
+                Setting::Method.with(kind),
+                Setting::Method.mention()
+            )));
         }
         let sphere = SphereMesh::new(kind)?;
         let glyphs: Vec<WorldGlyph> = sets.iter().flat_map(|s| s.world.iter().cloned()).collect();
