@@ -134,7 +134,7 @@ pub fn parse_script(text: &str) -> Result<Vec<Action>> {
 }
 
 fn parse_event(item: &str) -> Result<Action> {
-    let bad = |why: &str| Error::Invalid(format!("--script: '{}': {why}", quoted(item)));
+    let bad = |why: &str| Error::Invalid(format!("event '{}': {why}", quoted(item)));
     let (name, value) = item.split_once(':').unwrap_or((item, ""));
     let number = |text: &str| -> Result<f64> {
         text.parse::<f64>()
@@ -269,7 +269,7 @@ mod tests {
         ] {
             let err = parse_script(bad).unwrap_err().to_string();
             assert!(
-                err.contains("--script") && err.contains(bad),
+                err.starts_with("event '") && err.contains(bad) && !err.contains("--"),
                 "{bad}: {err}"
             );
         }
