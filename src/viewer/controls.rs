@@ -44,7 +44,7 @@ pub enum Action {
 pub const HELP: &str = "\
 mouse: left drag orbit, right/middle drag or shift+left drag pan, wheel zoom
 keys:  M method   [ ] march step finer/coarser   F refinement   C colour   N negative lobes
-       Up/PageUp, Down/PageDown slice +1/-1   1/2/3 active slice (--slices) or panel (--views)
+       Up/PageUp, Down/PageDown slice +1/-1   1/2/3 active slice (of three) or panel (of views)
        R reset camera   S screenshot   H help   Q/Esc quit
 montages: the mouse moves every panel's camera alike; lightbox slices move together";
 
