@@ -7,7 +7,8 @@ use glyphcast::render::underlay::Underlay;
 use glyphcast::viewer::{MontageSource, ViewSource, ViewerOptions, parse_script};
 use glyphcast::volume::{ImageRequest, SliceRegion, frame_region};
 use glyphcast::{Error, Result};
-use std::path::PathBuf;
+use glyphcast::io::atomic::{check_ending, check_outputs};
+use std::path::{Path, PathBuf};
 
 #[derive(Args)]
 pub struct ViewArgs {
@@ -51,8 +52,9 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         .as_deref()
         .map(parse_script)
         .transpose()
-        .map_err(Error::into_usage)?
+        .map_err(|err| Error::Usage(format!("--script: {err}")))?
         .unwrap_or_default();
+    check_run(args, args.source.volume.is_montage())?;
     let (source, underlay, (width, height)) = if args.source.volume.is_montage() {
         if args.source.scene.is_some() {
             return Err(Error::Usage(
@@ -80,6 +82,42 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         underlay,
     };
     glyphcast::viewer::run(source, options)
+}
+
+/// The scripted-run and output flags, before the window opens: --script and
+/// --capture-window need --frames; the outputs go through a render's checks (PNG and
+/// JSON names, existing folders, no file named twice); a montage has no one scene to
+/// save.
+fn check_run(args: &ViewArgs, montage: bool) -> Result<()> {
+    if args.frames.is_none() && (args.script.is_some() || args.capture_window.is_some()) {
+        return Err(Error::Usage(
+            "--script and --capture-window need --frames N".into(),
+        ));
+    }
+    let save_scene = args.source.save_scene();
+    if montage && save_scene.is_some() {
+        return Err(Error::Usage(
+            "--save-scene writes one scene: not with --views or --lightbox".into(),
+        ));
+    }
+    let images = [
+        ("--screenshot", args.screenshot.as_deref()),
+        ("--capture-window", args.capture_window.as_deref()),
+    ];
+    for (flag, path) in images {
+        if let Some(path) = path {
+            check_ending(path, flag, &[".png"])?;
+        }
+    }
+    if let Some(scene) = save_scene {
+        check_ending(scene, "--save-scene", &[".json"])?;
+    }
+    let paths: Vec<&Path> = images
+        .iter()
+        .filter_map(|(_, path)| *path)
+        .chain(save_scene)
+        .collect();
+    check_outputs(&paths)
 }
 
 /// The scene file or volume view (with its underlay) and the size of its image:

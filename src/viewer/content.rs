@@ -393,7 +393,7 @@ impl Content {
                 changed
             }
             _ => {
-                eprintln!("active slice: only a view of three slices (--slices) has one to choose");
+                eprintln!("active slice: only a view of three slices has one to choose");
                 false
             }
         }

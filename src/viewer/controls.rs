@@ -44,7 +44,7 @@ pub enum Action {
 pub const HELP: &str = "\
 mouse: left drag orbit, right/middle drag or shift+left drag pan, wheel zoom
 keys:  M method   [ ] march step finer/coarser   F refinement   C colour   N negative lobes
-       Up/PageUp, Down/PageDown slice +1/-1   1/2/3 active slice (--slices) or panel (--views)
+       Up/PageUp, Down/PageDown slice +1/-1   1/2/3 active slice (of three) or panel (of views)
        R reset camera   S screenshot   H help   Q/Esc quit
 montages: the mouse moves every panel's camera alike; lightbox slices move together";
 
@@ -134,7 +134,7 @@ pub fn parse_script(text: &str) -> Result<Vec<Action>> {
 }
 
 fn parse_event(item: &str) -> Result<Action> {
-    let bad = |why: &str| Error::Invalid(format!("--script: '{}': {why}", quoted(item)));
+    let bad = |why: &str| Error::Invalid(format!("event '{}': {why}", quoted(item)));
     let (name, value) = item.split_once(':').unwrap_or((item, ""));
     let number = |text: &str| -> Result<f64> {
         text.parse::<f64>()
@@ -269,7 +269,7 @@ mod tests {
         ] {
             let err = parse_script(bad).unwrap_err().to_string();
             assert!(
-                err.contains("--script") && err.contains(bad),
+                err.starts_with("event '") && err.contains(bad) && !err.contains("--"),
                 "{bad}: {err}"
             );
         }

@@ -32,12 +32,11 @@ pub use orbit::{orbit, pan, zoom};
 pub use panels::Panels;
 
 use crate::glyph::NegativeMode;
-use crate::io::atomic::check_ending;
 use crate::render::shaders::methods_for;
 use crate::render::{RenderPath, RenderSettings};
 use crate::vk::GpuOptions;
 use crate::{Error, Result, Setting};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// How to run the viewer.
 #[derive(Clone, Debug, Default)]
@@ -76,47 +75,14 @@ pub struct ViewerOptions {
     pub underlay: Option<crate::render::underlay::Underlay>,
 }
 
-/// Opens the window and runs until it is closed, or for `options.frames` frames.
+/// Opens the window and runs until it is closed, or for `options.frames` frames. The
+/// caller has checked the outputs (names and folders, as a render's) and that a script
+/// and a window capture come with a frame count (the command line: `glyphcast view`).
 pub fn run(source: ViewSource, options: ViewerOptions) -> Result<()> {
-    if options.frames.is_none() && (!options.script.is_empty() || options.capture_window.is_some())
-    {
-        return Err(Error::Usage(
-            "--script and --capture-window need --frames N".into(),
-        ));
-    }
-    check_outputs(&options)?;
-    if matches!(source, ViewSource::Montage(_)) && options.save_scene.is_some() {
-        return Err(Error::Usage(
-            "--save-scene writes one scene: not with --views or --lightbox".into(),
-        ));
-    }
     let mut panels = Panels::new(source, options.settings, options.negative)?;
     panels.set_underlay(options.underlay.clone())?;
     check_method(&panels, &options.settings)?;
     app::run(panels, options)
-}
-
-/// The outputs of a run go through the same checks as a render's, before the window
-/// opens: PNG names for the images, existing folders, no file named twice.
-fn check_outputs(options: &ViewerOptions) -> Result<()> {
-    let images = [
-        ("--screenshot", options.screenshot.as_deref()),
-        ("--capture-window", options.capture_window.as_deref()),
-    ];
-    for (option, path) in images {
-        if let Some(path) = path {
-            check_ending(path, option, &[".png"])?;
-        }
-    }
-    if let Some(scene) = &options.save_scene {
-        check_ending(scene, "--save-scene", &[".json"])?;
-    }
-    let paths: Vec<&Path> = images
-        .iter()
-        .filter_map(|(_, path)| *path)
-        .chain(options.save_scene.as_deref())
-        .collect();
-    crate::io::atomic::check_outputs(&paths)
 }
 
 /// The window draws with the fragment ray caster only, and a method only where every

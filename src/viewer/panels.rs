@@ -230,7 +230,7 @@ impl Panels {
             }
             Arrangement::Views { .. } => {
                 eprintln!(
-                    "active slice: --views has {} panel(s), not {}",
+                    "active slice: the montage has {} panel(s), not {}",
                     self.panels.len(),
                     choice + 1
                 );
