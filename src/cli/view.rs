@@ -3,11 +3,11 @@
 use super::render::{RenderArgs, SceneSource};
 use super::volume::{VolumeArgs, panel_view};
 use clap::Args;
+use glyphcast::io::atomic::{check_ending, check_outputs};
 use glyphcast::render::underlay::Underlay;
 use glyphcast::viewer::{MontageSource, ViewSource, ViewerOptions, parse_script};
 use glyphcast::volume::{ImageRequest, SliceRegion, frame_region};
 use glyphcast::{Error, Result};
-use glyphcast::io::atomic::{check_ending, check_outputs};
 use std::path::{Path, PathBuf};
 
 #[derive(Args)]
