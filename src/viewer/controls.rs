@@ -134,7 +134,8 @@ pub fn parse_script(text: &str) -> Result<Vec<Action>> {
 }
 
 fn parse_event(item: &str) -> Result<Action> {
-    let bad = |why: &str| Error::Invalid(format!("event '{}': {why}", quoted(item)));
+    // The front end names the option the events came in (the command line: --script).
+    let bad = |why: &str| Error::Invalid(format!("'{}': {why}", quoted(item)));
     let (name, value) = item.split_once(':').unwrap_or((item, ""));
     let number = |text: &str| -> Result<f64> {
         text.parse::<f64>()
@@ -269,7 +270,7 @@ mod tests {
         ] {
             let err = parse_script(bad).unwrap_err().to_string();
             assert!(
-                err.starts_with("event '") && err.contains(bad) && !err.contains("--"),
+                err.starts_with(&format!("'{bad}': ")) && !err.contains("--"),
                 "{bad}: {err}"
             );
         }
