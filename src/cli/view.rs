@@ -6,7 +6,7 @@ use clap::Args;
 use glyphcast::io::atomic::{check_ending, check_outputs};
 use glyphcast::render::underlay::Underlay;
 use glyphcast::viewer::{MontageSource, ViewSource, ViewerOptions, parse_script};
-use glyphcast::volume::{ImageRequest, SliceRegion, frame_region};
+use glyphcast::volume::{ImageRequest, slice_framing};
 use glyphcast::{Error, Result};
 use std::path::{Path, PathBuf};
 
@@ -149,15 +149,7 @@ fn montage(volume_args: &VolumeArgs, image: ImageRequest) -> Result<(ViewSource,
     let mut cell = (image.width.unwrap_or(0), image.height.unwrap_or(0));
     if image.width.is_none() || image.height.is_none() {
         for options in &panels {
-            let region =
-                SliceRegion::new(volume.dims, options.slice, &options.voxels, &volume.file)?;
-            let framing = frame_region(
-                &region,
-                &volume.voxel_to_world,
-                options.projection,
-                options.orientation,
-                options.image,
-            )?;
+            let framing = slice_framing(&volume, options)?;
             cell.0 = cell.0.max(framing.image.width);
             cell.1 = cell.1.max(framing.image.height);
         }

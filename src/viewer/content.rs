@@ -19,7 +19,7 @@ use crate::render::glyph_data::{
 use crate::render::underlay::{Underlay, extent_with_planes};
 use crate::scene::{GlyphSet, Scene};
 use crate::volume::{
-    SliceRegion, Volume, VolumeOptions, VolumeScene, frame_region, slice_plane,
+    SliceRegion, Volume, VolumeOptions, VolumeScene, slice_framing, slice_plane,
     volume_scene_with_progress,
 };
 use crate::{Error, Result, Setting};
@@ -421,15 +421,7 @@ impl Content {
             slices.indices[axis] = Some(index);
         } else {
             options.slice.index = Some(index);
-            let region =
-                SliceRegion::new(volume.dims, options.slice, &options.voxels, &volume.file)?;
-            let framing = frame_region(
-                &region,
-                &volume.voxel_to_world,
-                options.projection,
-                options.orientation,
-                options.image,
-            )?;
+            let framing = slice_framing(volume, &options)?;
             let shift = framing.camera.target - v.framed_target;
             self.camera.eye += shift;
             self.camera.target += shift;

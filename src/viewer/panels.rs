@@ -17,7 +17,7 @@ use crate::render::frame::FrameParams;
 use crate::render::montage::shared_magnitude_range;
 use crate::render::settings::RenderSettings;
 use crate::render::underlay::Underlay;
-use crate::{Error, Result, Setting};
+use crate::{Error, Result};
 use std::sync::Arc;
 
 /// How slice moves act on the panels.
@@ -133,14 +133,7 @@ impl Panels {
     /// Shows `underlay` on the slices of a single view; a montage has none.
     pub fn set_underlay(&mut self, underlay: Option<Underlay>) -> Result<()> {
         if underlay.is_some() && self.is_montage() {
-            return Err(Error::setting(
-                Setting::Underlay,
-                format!(
-                    "draws on one view's planes: not with {} or {}",
-                    Setting::Views.mention(),
-                    Setting::Lightbox.mention()
-                ),
-            ));
+            return Err(crate::volume::underlay_with_montage());
         }
         self.panels[0].set_underlay(underlay)
     }

@@ -13,7 +13,9 @@ use std::str::FromStr;
 use glam::DVec3;
 
 use super::amplitude::shape_radius;
-use super::framing::{ImageRequest, Orientation, ViewProjection, frame_region, frame_volume};
+use super::framing::{
+    Framing, ImageRequest, Orientation, ViewProjection, frame_region, frame_volume,
+};
 use super::input::{CoefficientFrame, Mask, Volume, show_shape};
 use super::reorient::Reorientation;
 use super::selection::{Slice, SliceRegion, Slices, VoxelRanges};
@@ -111,6 +113,20 @@ struct Glyph {
     center: DVec3,
     coeffs: Vec<f64>,
     radius: f64,
+}
+
+/// The camera and image size of the single slice `options.slice` (with its voxel
+/// ranges) of `volume`, as [`volume_scene`] frames it, without building the glyphs: the
+/// viewer shifts its camera by it when a slice moves, and sizes a montage's cells by it.
+pub fn slice_framing(volume: &Volume, options: &VolumeOptions) -> Result<Framing> {
+    let region = SliceRegion::new(volume.dims, options.slice, &options.voxels, &volume.file)?;
+    frame_region(
+        &region,
+        &volume.voxel_to_world,
+        options.projection,
+        options.orientation,
+        options.image,
+    )
 }
 
 /// The scene showing `options.slice` (or `options.slices`) of `volume`.

@@ -31,8 +31,8 @@ mod selection;
 mod underlay;
 
 pub use build::{
-    DEFAULT_SCALE_FRACTION, Normalisation, VolumeOptions, VolumeReport, VolumeScene, volume_scene,
-    volume_scene_with_progress,
+    DEFAULT_SCALE_FRACTION, Normalisation, VolumeOptions, VolumeReport, VolumeScene, slice_framing,
+    volume_scene, volume_scene_with_progress,
 };
 pub use figure::{MontagePlan, VolumeFigure, VolumeMontage, VolumeView, parse_views};
 pub use framing::{
@@ -42,6 +42,6 @@ pub use framing::{
 pub use input::{CoefficientFrame, MAX_ORDER, Mask, Volume, VolumeKind, load_mask, load_volume};
 pub use recorded::{RecordedBasis, recorded_basis, resolve_basis};
 pub use reorient::Reorientation;
-pub use request::{Coefficients, ImageSource, MAX_PANELS, VolumeRequest};
+pub use request::{Coefficients, ImageSource, MAX_PANELS, VolumeRequest, underlay_with_montage};
 pub use selection::{Slice, SliceAxis, SliceRegion, Slices, VoxelRanges};
 pub use underlay::{load_underlay, slice_plane, underlay_of_image, view_underlay};

@@ -374,14 +374,7 @@ impl VolumeRequest {
             }
         }
         if self.underlay.is_some() {
-            return Err(Error::setting(
-                Setting::Underlay,
-                format!(
-                    "draws on one view's planes: not with {} or {}",
-                    Setting::Views.mention(),
-                    Setting::Lightbox.mention()
-                ),
-            ));
+            return Err(underlay_with_montage());
         }
         if self.slices.is_some() || (self.views.is_some() && self.slice.is_some()) {
             return Err(Error::setting(
@@ -402,6 +395,18 @@ where
     T: std::str::FromStr<Err = Error> + Default,
 {
     Ok(text.map(str::parse).transpose()?.unwrap_or_default())
+}
+
+/// The error for an underlay asked of a montage: it draws on one view's planes.
+pub fn underlay_with_montage() -> Error {
+    Error::setting(
+        Setting::Underlay,
+        format!(
+            "draws on one view's planes: not with {} or {}",
+            Setting::Views.mention(),
+            Setting::Lightbox.mention()
+        ),
+    )
 }
 
 #[cfg(test)]
