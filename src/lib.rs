@@ -158,7 +158,7 @@ pub use camera::{Camera, Projection};
 pub use glyph::NegativeMode;
 pub use render::frame::{FrameParams, SceneExtent};
 pub use render::glyph_data::{GlyphSetData, prepare_scene};
-pub use render::headless::{HeadlessRenderer, RenderedImage};
+pub use render::headless::{FrameView, HeadlessRenderer, RenderedImage};
 pub use render::raycast::{RayCastPass, SceneGpu, TargetFormats};
 pub use render::{ColorMode, Method, RenderPath, RenderSettings};
 pub use scene::{GlyphKind, GlyphSet, ImageSize, Scene, ShBasis};

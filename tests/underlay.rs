@@ -13,7 +13,7 @@ use glyphcast::io::npy::read_npy_f32;
 use glyphcast::io::png::read_png_rgba8;
 use glyphcast::render::RenderSettings;
 use glyphcast::render::glyph_data::prepare_scene;
-use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
+use glyphcast::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
 use glyphcast::render::settings::parse_background;
 use glyphcast::render::underlay::{Underlay, UnderlayPlane, UnderlayVolume};
 use glyphcast::rng::SplitMix64;
@@ -193,7 +193,12 @@ fn render(scene: &Scene, underlay: Option<&Underlay>) -> (RenderedImage, Vec<f64
     let sets = prepare_scene(scene, 0.0).expect("preparing");
     let (w, h) = (scene.image.width, scene.image.height);
     let image = renderer
-        .render_with_underlay(&gpu, &sets, underlay, &scene.camera, w, h, &settings())
+        .render_view(
+            &gpu,
+            &sets,
+            &FrameView::new(&scene.camera, w, h).with_underlay(underlay),
+            &settings(),
+        )
         .expect("rendering");
     let world: Vec<_> = sets.iter().flat_map(|s| s.world.iter().cloned()).collect();
     (image, reference_depth(&world, &scene.camera, w, h))

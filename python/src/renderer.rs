@@ -9,7 +9,7 @@ use std::path::PathBuf;
 
 use glyphcast::Result;
 use glyphcast::glyph::GlyphShape;
-use glyphcast::render::headless::{HeadlessRenderer, PreparedFrame, RenderedImage};
+use glyphcast::render::headless::{FrameView, HeadlessRenderer, PreparedFrame, RenderedImage};
 use glyphcast::render::labels::{draw_edge_labels, edge_labels};
 use glyphcast::render::montage::{PreparedMontage, prepare_montage};
 use glyphcast::render::options::{PreparedScene, RenderOptions, prepare_render};
@@ -239,15 +239,11 @@ impl Renderer {
     ) -> Result<Loaded> {
         let settings = options.settings()?;
         let scene = prepare_render(scene, settings, options.negative()?)?;
-        let frame = self.renderer.prepare_with_underlay(
-            &self.gpu,
-            &scene.sets,
-            underlay.as_ref(),
-            &scene.camera,
-            scene.width,
-            scene.height,
-            &scene.settings,
-        )?;
+        let view = FrameView::new(&scene.camera, scene.width, scene.height)
+            .with_underlay(underlay.as_ref());
+        let frame = self
+            .renderer
+            .prepare_view(&self.gpu, &scene.sets, &view, &scene.settings)?;
         Ok(Loaded::Frame(Box::new(Frame {
             frame,
             scene,
@@ -271,7 +267,7 @@ fn open(options: &GpuOptions) -> Result<Renderer> {
 /// One frame of the loaded glyphs; a new camera is written into the uploaded frame
 /// (prepared again on the compute path, whose tiles follow the camera, and with an
 /// underlay, whose planes the depth range covers). With more than one sample per pixel
-/// the frame is drawn as the CLI draws it (`HeadlessRenderer::render_with_underlay`: at
+/// the frame is drawn as the CLI draws it (`HeadlessRenderer::render_view`: at
 /// s times the size, averaged down, and once more at 1x for the depth map), not from the
 /// uploaded one-sample frame.
 fn draw(
@@ -288,28 +284,16 @@ fn draw(
                 || !loaded.frame.set_camera(&loaded.scene.sets, &camera)?)
         {
             let s = &loaded.scene;
-            loaded.frame = renderer.prepare_with_underlay(
-                gpu,
-                &s.sets,
-                loaded.underlay.as_ref(),
-                &s.camera,
-                s.width,
-                s.height,
-                &s.settings,
-            )?;
+            let view = FrameView::new(&s.camera, s.width, s.height)
+                .with_underlay(loaded.underlay.as_ref());
+            loaded.frame = renderer.prepare_view(gpu, &s.sets, &view, &s.settings)?;
         }
     }
     let mut image = if supersampled {
         let s = &loaded.scene;
-        renderer.render_with_underlay(
-            gpu,
-            &s.sets,
-            loaded.underlay.as_ref(),
-            &s.camera,
-            s.width,
-            s.height,
-            &s.settings,
-        )?
+        let view =
+            FrameView::new(&s.camera, s.width, s.height).with_underlay(loaded.underlay.as_ref());
+        renderer.render_view(gpu, &s.sets, &view, &s.settings)?
     } else {
         renderer.draw(gpu, &loaded.frame)?;
         renderer.read(gpu, &loaded.frame)?

@@ -7,7 +7,7 @@ use glyphcast::render::RenderSettings;
 use glyphcast::render::colorbar::{ColorBar, common_scale};
 use glyphcast::render::frame::SceneExtent;
 use glyphcast::render::glyph_data::GlyphSetData;
-use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
+use glyphcast::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
 use glyphcast::render::labels::{draw_edge_labels, edge_labels};
 use glyphcast::render::montage::prepare_montage;
 use glyphcast::render::options::{RenderOptions, prepare_render};
@@ -337,7 +337,8 @@ pub fn render(
     let begun = Instant::now();
     let (w, h) = (prepared.width, prepared.height);
     let (sets, camera) = (&prepared.sets, &prepared.camera);
-    let mut image = renderer.render_with_underlay(&gpu, sets, underlay, camera, w, h, &settings)?;
+    let view = FrameView::new(camera, w, h).with_underlay(underlay);
+    let mut image = renderer.render_view(&gpu, sets, &view, &settings)?;
     if labels {
         let edges = edge_labels(&prepared.camera);
         draw_edge_labels(&mut image.rgba, w, h, &edges)?;

@@ -8,7 +8,7 @@
 //! fraction of its samples that something (a glyph, the underlay, an opaque background)
 //! covers, and its colour the mean colour of those samples, as a PNG's straight alpha
 //! wants it. The depth map is not averaged: it comes from a render at the image's own
-//! size (see `HeadlessRenderer::render_with_underlay`).
+//! size (see `HeadlessRenderer::render_view`).
 use crate::error::{Error, Result, Setting};
 use crate::render::settings::srgb_to_linear;
 

@@ -31,6 +31,37 @@ pub const DISTANCE_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
 /// The depth buffer (reversed: cleared to 0, tested with GREATER).
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
+/// What a frame shows: the camera, the image size in pixels and, optionally, the
+/// anatomical underlay drawn in the glyphs' depth buffer.
+#[derive(Clone, Copy)]
+pub struct FrameView<'a> {
+    /// The camera.
+    pub camera: &'a Camera,
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// The underlay's planes, if any.
+    pub underlay: Option<&'a Underlay>,
+}
+
+impl<'a> FrameView<'a> {
+    /// `camera` on a `width` x `height` image, without an underlay.
+    pub fn new(camera: &'a Camera, width: u32, height: u32) -> Self {
+        FrameView {
+            camera,
+            width,
+            height,
+            underlay: None,
+        }
+    }
+
+    /// The same view with `underlay` drawn in it.
+    pub fn with_underlay(self, underlay: Option<&'a Underlay>) -> Self {
+        FrameView { underlay, ..self }
+    }
+}
+
 /// What a headless render produces.
 #[derive(Clone, Debug)]
 pub struct RenderedImage {
@@ -150,7 +181,7 @@ impl HeadlessRenderer {
     }
 
     /// Renders `sets` seen by `camera` into a `width` x `height` image, with
-    /// `settings.samples` samples per pixel (see [`HeadlessRenderer::render_with_underlay`]).
+    /// `settings.samples` samples per pixel (see [`HeadlessRenderer::render_view`]).
     pub fn render(
         &mut self,
         gpu: &Gpu,
@@ -160,11 +191,11 @@ impl HeadlessRenderer {
         height: u32,
         settings: &RenderSettings,
     ) -> Result<RenderedImage> {
-        self.render_with_underlay(gpu, sets, None, camera, width, height, settings)
+        self.render_view(gpu, sets, &FrameView::new(camera, width, height), settings)
     }
 
-    /// Renders `sets`, and `underlay`'s planes in the same depth buffer, seen by `camera`
-    /// into a `width` x `height` image.
+    /// Renders `sets`, and the view's underlay planes (if any) in the same depth buffer,
+    /// as `view` sees them.
     ///
     /// With `settings.samples` = s^2 > 1 (4 or 16) the colour is supersampled: drawn at s
     /// times the size and box-filtered down (`render::antialias`), so that edge pixels
@@ -172,33 +203,39 @@ impl HeadlessRenderer {
     /// linear light, and alpha is that coverage over a transparent background. The
     /// distance map is drawn at the image's own size, one ray per pixel centre, so it
     /// keeps the scene format's contract whatever the sample count.
-    #[allow(clippy::too_many_arguments)]
-    pub fn render_with_underlay(
+    pub fn render_view(
         &mut self,
         gpu: &Gpu,
         sets: &[GlyphSetData],
-        underlay: Option<&Underlay>,
-        camera: &Camera,
-        width: u32,
-        height: u32,
+        view: &FrameView,
         settings: &RenderSettings,
     ) -> Result<RenderedImage> {
         let factor = crate::render::antialias::supersampling_factor(settings.samples)?;
         if factor == 1 {
-            return self.render_once(gpu, sets, underlay, camera, width, height, settings);
+            return self.render_once(gpu, sets, view, settings);
         }
-        let (big_w, big_h) =
-            crate::render::antialias::supersampled_size(width, height, factor, settings.samples)?;
+        let (big_w, big_h) = crate::render::antialias::supersampled_size(
+            view.width,
+            view.height,
+            factor,
+            settings.samples,
+        )?;
         check_image_size(gpu, big_w, big_h)?;
         let single = RenderSettings {
             samples: 1,
             ..*settings
         };
-        let big = self.render_once(gpu, sets, underlay, camera, big_w, big_h, &single)?;
-        let rgba = crate::render::antialias::box_filter(&big.rgba, width, height, factor)?;
+        let big_view = FrameView {
+            width: big_w,
+            height: big_h,
+            ..*view
+        };
+        let big = self.render_once(gpu, sets, &big_view, &single)?;
+        let rgba =
+            crate::render::antialias::box_filter(&big.rgba, view.width, view.height, factor)?;
         let big_ms = big.gpu_ms;
         drop(big);
-        let mut image = self.render_once(gpu, sets, underlay, camera, width, height, &single)?;
+        let mut image = self.render_once(gpu, sets, view, &single)?;
         image.rgba = rgba;
         image.gpu_ms = match (image.gpu_ms, big_ms) {
             (Some(a), Some(b)) => Some(a + b),
@@ -208,21 +245,16 @@ impl HeadlessRenderer {
     }
 
     /// One render at one sample per pixel.
-    #[allow(clippy::too_many_arguments)]
     fn render_once(
         &mut self,
         gpu: &Gpu,
         sets: &[GlyphSetData],
-        underlay: Option<&Underlay>,
-        camera: &Camera,
-        width: u32,
-        height: u32,
+        view: &FrameView,
         settings: &RenderSettings,
     ) -> Result<RenderedImage> {
-        let frame =
-            self.prepare_with_underlay(gpu, sets, underlay, camera, width, height, settings)?;
+        let frame = self.prepare_view(gpu, sets, view, settings)?;
         let gpu_ms = self.draw(gpu, &frame)?;
-        let mut image = read_back(&frame.targets, width, height)?;
+        let mut image = read_back(&frame.targets, view.width, view.height)?;
         image.draws = frame.draws();
         image.mesh = frame.mesh_stats().copied();
         image.gpu_ms = gpu_ms;
@@ -242,23 +274,25 @@ impl HeadlessRenderer {
         height: u32,
         settings: &RenderSettings,
     ) -> Result<PreparedFrame> {
-        self.prepare_with_underlay(gpu, sets, None, camera, width, height, settings)
+        self.prepare_view(gpu, sets, &FrameView::new(camera, width, height), settings)
     }
 
-    /// [`HeadlessRenderer::prepare`] with an underlay drawn in the glyphs' depth buffer;
-    /// the depth range covers its planes too. Not with `--path compute`, which has no
-    /// depth buffer to share.
-    #[allow(clippy::too_many_arguments)]
-    pub fn prepare_with_underlay(
+    /// [`HeadlessRenderer::prepare`] for `view`, whose underlay, if any, is drawn in the
+    /// glyphs' depth buffer; the depth range covers its planes too. An underlay does not
+    /// go with the compute path, which has no depth buffer to share.
+    pub fn prepare_view(
         &mut self,
         gpu: &Gpu,
         sets: &[GlyphSetData],
-        underlay: Option<&Underlay>,
-        camera: &Camera,
-        width: u32,
-        height: u32,
+        view: &FrameView,
         settings: &RenderSettings,
     ) -> Result<PreparedFrame> {
+        let FrameView {
+            camera,
+            width,
+            height,
+            underlay,
+        } = *view;
         settings.validate()?;
         check_image_size(gpu, width, height)?;
         if underlay.is_some() && settings.path == RenderPath::Compute {

@@ -18,7 +18,7 @@
 //! `crate::volume::underlay` reads an underlay from a NIfTI or MRtrix file and places the
 //! planes on the slices of a volume view; an embedder builds an [`Underlay`] from its own
 //! arrays and hands it to
-//! [`HeadlessRenderer::render_with_underlay`](crate::render::headless::HeadlessRenderer::render_with_underlay)
+//! [`HeadlessRenderer::render_view`](crate::render::headless::HeadlessRenderer::render_view)
 //! or records [`UnderlayPass::record`] into its own frame.
 use crate::camera::{Camera, Ray};
 use crate::error::{Error, Result, Setting};

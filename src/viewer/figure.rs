@@ -8,7 +8,7 @@ use super::layout::WindowLayout;
 use super::panels::Panels;
 use crate::Result;
 use crate::render::colorbar::ColorBar;
-use crate::render::headless::{HeadlessRenderer, RenderedImage};
+use crate::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
 use crate::render::montage::Montage;
 use crate::vk::Gpu;
 use ash::vk;
@@ -110,15 +110,8 @@ impl Figure {
             montage.finish()
         } else {
             let c = panels.first();
-            renderer.render_with_underlay(
-                gpu,
-                &c.sets,
-                c.underlay.as_ref(),
-                &c.camera,
-                width,
-                height,
-                &settings,
-            )?
+            let view = FrameView::new(&c.camera, width, height).with_underlay(c.underlay.as_ref());
+            renderer.render_view(gpu, &c.sets, &view, &settings)?
         };
         if let Some(strip) = self.strip.as_ref().filter(|_| layout.strip.is_some()) {
             let (total, rgba, distance) = strip.bar.append(
