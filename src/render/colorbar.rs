@@ -270,13 +270,27 @@ impl ColorBar {
         canvas.text(&font, l.size, &self.label, x0, l.margin + cap, ink);
         let largest = self.low.abs().max(self.high.abs());
         let text_x = x0 + l.bar_width as f32 + 0.5 * l.margin;
-        for (k, value) in self.ticks().iter().enumerate() {
+        let ticks = self.ticks();
+        for k in shown_ticks(span, l.size) {
             let y = l.bar_bottom as f32 - span * k as f32 / (TICKS - 1) as f32;
-            let text = tick_text(*value, largest);
+            let text = tick_text(ticks[k], largest);
             canvas.text(&font, l.size, &text, text_x, y + 0.5 * cap, ink);
         }
         Ok((l.width, out))
     }
+}
+
+/// Which of the [`TICKS`] ticks are labelled on a bar `span` pixels tall with text of
+/// `size` pixels: every one where their labels are at least 1.2 text heights apart,
+/// else every other one, else the two ends only (a short image's bar; its labels would
+/// run into each other).
+fn shown_ticks(span: f32, size: f32) -> Vec<usize> {
+    let gap = |step: usize| span * step as f32 / (TICKS - 1) as f32;
+    let step = [1, 2]
+        .into_iter()
+        .find(|&step| gap(step) >= 1.2 * size)
+        .unwrap_or(TICKS - 1);
+    (0..TICKS).step_by(step).collect()
 }
 
 /// The scale every glyph of `scenes` has, if they all have the same one (the unit of a
@@ -298,6 +312,23 @@ fn font() -> Result<FontRef<'static>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn labels_of_a_short_bar_keep_apart() {
+        assert_eq!(shown_ticks(400.0, 11.0), [0, 1, 2, 3, 4]);
+        // 53 px between neighbours is just over 1.2 text heights at 44 px: all of them;
+        // 52 px is under: every other one.
+        assert_eq!(shown_ticks(4.0 * 53.0, 44.0), [0, 1, 2, 3, 4]);
+        assert_eq!(shown_ticks(4.0 * 52.0, 44.0), [0, 2, 4]);
+        assert_eq!(shown_ticks(40.0, 11.0), [0, 2, 4]);
+        assert_eq!(shown_ticks(20.0, 11.0), [0, 4]);
+        for span in 2..600 {
+            let shown = shown_ticks(span as f32, 11.0);
+            assert_eq!((shown[0], shown[shown.len() - 1]), (0, TICKS - 1), "{span}");
+            let step = span as f32 * (shown[1] - shown[0]) as f32 / (TICKS - 1) as f32;
+            assert!(shown.len() == 2 || step >= 1.2 * 11.0, "{span}: {shown:?}");
+        }
+    }
 
     #[test]
     fn ticks_are_short_and_span_the_range() {
