@@ -390,17 +390,18 @@ pub fn render_montage(
     }
     let common = common_scale(&scenes);
     let prepared = prepare_montage(scenes, montage.columns, settings, negative)?;
-    let camera = prepared
+    let first = prepared
         .panels
         .first()
-        .ok_or_else(|| Error::Usage("no panel".into()))?
-        .camera;
+        .ok_or_else(|| Error::Usage("no panel".into()))?;
     let gpu = Gpu::headless(&options.gpu_options())?;
     eprintln!("device: {}", gpu.info);
     let mut renderer = HeadlessRenderer::new(&gpu)?;
     let mut result = prepared.render(&mut renderer, &gpu, labels)?;
-    let all_sets: Vec<GlyphSetData> = prepared.sets().cloned().collect();
-    if let Some(bar) = options.colorbar(&prepared.settings, &all_sets, &camera, common) {
+    // The montage's settings carry its one magnitude range (prepare_montage), so the
+    // bar needs no extent of all panels' glyphs: the first panel's stands in, as in the
+    // viewer (viewer::Panels::colorbar), and no copy of every panel's sets is made.
+    if let Some(bar) = options.colorbar(&prepared.settings, &first.sets, &first.camera, common) {
         let (width, rgba, distance) = bar.append(
             &result.rgba,
             &result.distance,
