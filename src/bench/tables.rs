@@ -149,3 +149,51 @@ pub fn csv(results: &[BenchResult]) -> String {
     }
     out
 }
+
+/// Median GPU milliseconds with one row per field and image size and one column per
+/// method (as [`BenchResult::method`] spells it), "-" where a configuration was not
+/// measured; the last column gives the frames per second of the first method's time.
+pub fn pivot(results: &[BenchResult]) -> String {
+    let mut methods: Vec<&str> = Vec::new();
+    let mut rows: Vec<(usize, u32, u32)> = Vec::new();
+    for r in results {
+        if !methods.contains(&r.method.as_str()) {
+            methods.push(&r.method);
+        }
+        if !rows.contains(&(r.glyphs, r.width, r.height)) {
+            rows.push((r.glyphs, r.width, r.height));
+        }
+    }
+    let Some(first) = methods.first().copied() else {
+        return String::new();
+    };
+    let fps = format!("{first} fps");
+    let mut columns = vec!["glyphs", "size"];
+    columns.extend(methods.iter().copied());
+    columns.push(&fps);
+    let mut out = header(&columns);
+    for &(glyphs, width, height) in &rows {
+        let time = |method: &str| {
+            results
+                .iter()
+                .find(|r| {
+                    r.method == method && (r.glyphs, r.width, r.height) == (glyphs, width, height)
+                })
+                .map(|r| r.gpu_ms_median)
+        };
+        let _ = write!(out, "| {glyphs} | {width}x{height} |");
+        for method in &methods {
+            let _ = write!(
+                out,
+                " {} |",
+                optional(time(method), |ms| format!("{ms:.3}"))
+            );
+        }
+        let _ = writeln!(
+            out,
+            " {} |",
+            optional(time(first), |ms| format!("{:.0}", 1e3 / ms))
+        );
+    }
+    out
+}

@@ -25,7 +25,9 @@ pub struct BenchArgs {
     /// count, order, resolution), table2 (ray casting against tessellation levels 1 to 6,
     /// with geometric error), methods (every method on the accuracy suite) or ratios
     /// (the default ray caster against the impostor and against tessellation at equal
-    /// error: grids of orders 4, 8 and 12, and band-8 fODFs).
+    /// error: grids of orders 4, 8 and 12, and band-8 fODFs) or gpu[:COUNTS] (the GPU
+    /// report of tools/gpu-report.sh: band-8 fODF fields of 10^3 to 10^6 glyphs at three
+    /// sizes, every method and both paths; failures are reported, not fatal).
     #[arg(long)]
     sweep: Option<String>,
     /// Method of a single measurement: fixed, interval, affine, impostor, mesh:LEVEL or
@@ -117,6 +119,11 @@ struct Case {
 struct Plan {
     scenes: Vec<(String, Scene)>,
     cases: Vec<Case>,
+    /// Configurations left out, with the reason, for the report.
+    skipped: Vec<String>,
+    /// Whether a configuration that fails is reported and passed over (the GPU report,
+    /// which must finish on any device) instead of ending the run.
+    tolerate_failures: bool,
 }
 
 impl Plan {
@@ -295,14 +302,109 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
             let scene = plan.scene(name.clone(), workload::fodf(count, 8, width, height)?);
             plan.methods(&name, scene, &method_list(levels, &[]));
         }
+        Some(sweep) if sweep == "gpu" || sweep.starts_with("gpu:") => {
+            gpu_plan(args, &sweep["gpu".len()..], &mut plan)?;
+        }
         Some(other) => {
             return Err(Error::Usage(format!(
-                "--sweep: '{}' is not one of steps, scaling, table2, methods, ratios",
+                "--sweep: '{}' is not one of steps, scaling, table2, methods, ratios, \
+                 gpu[:COUNTS]",
                 glyphcast::error::quoted(other)
             )));
         }
     }
     Ok(plan)
+}
+
+/// Meshes of more triangles than this in one frame are left out of the GPU report: a
+/// million glyphs at icosphere level 5 would take 2 * 10^10 triangles (hundreds of GB).
+const GPU_REPORT_TRIANGLE_BUDGET: usize = 200_000_000;
+
+/// The GPU report's table (`tools/gpu-report.sh`): band-8 fODF fields of 10^3 to 10^6
+/// glyphs (or the comma-separated `counts` after `gpu:`) at 1280x720, 1920x1080 and
+/// 3840x2160; every method on the fragment path and `exact` on the compute path; meshes
+/// where their triangles fit [`GPU_REPORT_TRIANGLE_BUDGET`]; accuracy against the
+/// float64 reference on fields of at most 1000 glyphs at the smallest size. `--quick`:
+/// 100 and 1000 glyphs at 320x180 and 640x360.
+fn gpu_plan(args: &BenchArgs, counts: &str, plan: &mut Plan) -> Result<()> {
+    plan.tolerate_failures = true;
+    let (default_counts, sizes): (&[usize], &[(u32, u32)]) = if args.quick {
+        (&[100, 1000], &[(320, 180), (640, 360)])
+    } else {
+        (
+            &[1_000, 10_000, 100_000, 1_000_000],
+            &[(1280, 720), (1920, 1080), (3840, 2160)],
+        )
+    };
+    let counts: Vec<usize> = match counts.strip_prefix(':') {
+        None => default_counts.to_vec(),
+        Some(list) => list
+            .split(',')
+            .map(|c| {
+                c.trim()
+                    .parse::<usize>()
+                    .ok()
+                    .filter(|&n| n > 0)
+                    .ok_or_else(|| {
+                        Error::Usage(format!(
+                            "--sweep gpu:{list}: '{}' is not a glyph count",
+                            glyphcast::error::quoted(c)
+                        ))
+                    })
+            })
+            .collect::<Result<_>>()?,
+    };
+    let methods = [
+        "exact", "affine", "interval", "fixed", "impostor", "mesh:3", "mesh:5",
+    ];
+    for &count in &counts {
+        let (w0, h0) = sizes[0];
+        let base = workload::fodf(count, 8, w0, h0)?;
+        for (size_index, &(width, height)) in sizes.iter().enumerate() {
+            let mut scene = base.clone();
+            scene.image.width = width;
+            scene.image.height = height;
+            let name = format!("fodf:{count}:8 {width}x{height}");
+            let index = plan.scene(name.clone(), scene);
+            let accuracy = count <= 1000 && size_index == 0;
+            let mut add = |label: String, settings: RenderSettings| {
+                plan.cases.push(Case {
+                    label,
+                    scene: index,
+                    settings,
+                    accuracy,
+                })
+            };
+            for spelled in methods {
+                let method: Method = spelled.parse()?;
+                if let Method::Mesh(kind) = method {
+                    let triangles = kind.triangle_count() * count;
+                    if triangles > GPU_REPORT_TRIANGLE_BUDGET {
+                        plan.skipped.push(format!(
+                            "{name} {spelled}: {triangles} triangles, over the report's \
+                             budget of {GPU_REPORT_TRIANGLE_BUDGET}"
+                        ));
+                        continue;
+                    }
+                }
+                add(
+                    format!("{name} {spelled}"),
+                    RenderSettings {
+                        method,
+                        ..Default::default()
+                    },
+                );
+            }
+            add(
+                format!("{name} exact (compute)"),
+                RenderSettings {
+                    path: glyphcast::render::RenderPath::Compute,
+                    ..Default::default()
+                },
+            );
+        }
+    }
+    Ok(())
 }
 
 pub fn run(args: &BenchArgs) -> Result<()> {
@@ -317,6 +419,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let mut references: Vec<Option<Reference>> = plan.scenes.iter().map(|_| None).collect();
     let progress = super::progress::bar(plan.cases.len() as u64, "bench");
     let mut results: Vec<BenchResult> = Vec::new();
+    let mut failed: Vec<String> = Vec::new();
     for case in &plan.cases {
         let (scene_name, scene) = &plan.scenes[case.scene];
         progress.set_message(case.label.clone());
@@ -342,12 +445,31 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             settings: &case.settings,
             reference,
         };
-        results.push(bench::run(&gpu, &mut renderer, &bench_case, args.frames())?);
+        match bench::run(&gpu, &mut renderer, &bench_case, args.frames()) {
+            Ok(result) => results.push(result),
+            Err(e) if plan.tolerate_failures => {
+                progress.suspend(|| eprintln!("{}: failed: {e}", case.label));
+                failed.push(format!("{}: failed: {e}", case.label));
+            }
+            Err(e) => return Err(e),
+        }
         progress.inc(1);
     }
     progress.finish_and_clear();
     let ratios = ratios::ratios(&results);
     let mut table = format!("Device: {}\n\n{}", gpu.info, bench::markdown(&results));
+    if plan.tolerate_failures {
+        table.push_str(&format!(
+            "\nGPU milliseconds per frame (median), glyphs by size and method:\n\n{}",
+            bench::tables::pivot(&results)
+        ));
+    }
+    for line in plan.skipped.iter().chain(&failed) {
+        table.push_str(&format!("\n- {line}"));
+    }
+    if !plan.skipped.is_empty() || !failed.is_empty() {
+        table.push('\n');
+    }
     if !ratios.is_empty() {
         table.push_str(&format!(
             "\nRatios (tessellation at equal error: the coarsest mesh below {} px):\n\n{}",
@@ -362,6 +484,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             "sweep": args.sweep,
             "results": results,
             "ratios": ratios,
+            "skipped": plan.skipped,
+            "failed": failed,
         });
         let json =
             serde_json::to_string_pretty(&json).map_err(|e| Error::Invalid(e.to_string()))?;
