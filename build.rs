@@ -71,6 +71,7 @@ fn job(label: String, file: &str, kind: shaderc::ShaderKind, generated: &str, we
         generated: generated.to_owned(),
         defines: Vec::new(),
         weight,
+        optimize: false,
     }
 }
 
@@ -227,9 +228,16 @@ fn main() {
             // The exact and robust shaders unroll the most.
             let weight = if method.marches { *order } else { 4 * order };
             let kind = shaderc::ShaderKind::Fragment;
-            jobs.push(job(fragment, file, kind, source, weight));
+            // The default method's shaders are optimised (see build/compile.rs), which
+            // costs the most build time: they start first.
+            let optimize = method_name == "exact";
+            let weight = if optimize { 100 * weight } else { weight };
+            let mut fragment = job(fragment, file, kind, source, weight);
+            fragment.optimize = optimize;
+            jobs.push(fragment);
             let mut color_only = job(color_only, file, kind, source, weight);
             color_only.defines.push(NO_DISTANCE_DEFINE);
+            color_only.optimize = optimize;
             jobs.push(color_only);
             // The compute ray caster (--path compute) of the methods that have one.
             if let Some(compute_file) = method.compute {
@@ -279,6 +287,12 @@ fn main() {
         summary.compiled,
         summary.cached,
         started.elapsed().as_secs_f64()
+    );
+    let _ = writeln!(
+        table,
+        "\n/// A hash of every shader's source and compile options (keys the pipeline cache).\n\
+         pub const SHADERS_HASH: u64 = {:#018x};",
+        summary.hash
     );
     let path = out_dir.join("shaders.rs");
     if std::fs::read_to_string(&path).ok().as_deref() != Some(table.as_str())

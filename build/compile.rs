@@ -29,6 +29,8 @@ pub struct Job {
     pub defines: Vec<&'static str>,
     /// Relative cost, so that the longest jobs start first.
     pub weight: u32,
+    /// Whether spirv-opt's performance passes run on the SPIR-V (see `options`).
+    pub optimize: bool,
 }
 
 /// Where the build reads and writes.
@@ -46,6 +48,8 @@ pub struct Dirs {
 pub struct Summary {
     pub compiled: usize,
     pub cached: usize,
+    /// A hash of every job's cache key: changes whenever any shader's SPIR-V may have.
+    pub hash: u64,
 }
 
 /// The cache directory: beside the profile directories when OUT_DIR has cargo's layout
@@ -74,6 +78,8 @@ pub fn compile_all(jobs: &mut [Job], dirs: &Dirs) -> Summary {
     jobs.sort_by(|a, b| b.weight.cmp(&a.weight).then_with(|| a.label.cmp(&b.label)));
     let next = AtomicUsize::new(0);
     let compiled = AtomicUsize::new(0);
+    // The sum of the jobs' keys, which does not depend on the order the workers finish in.
+    let hash = std::sync::atomic::AtomicU64::new(0);
     // Seconds each compiled job took, written to `$OUT_DIR/shader-times.txt` (slowest first)
     // for whoever works on the build's time.
     let times = std::sync::Mutex::new(Vec::new());
@@ -97,7 +103,11 @@ pub fn compile_all(jobs: &mut [Job], dirs: &Dirs) -> Summary {
                             return Ok(());
                         }
                         let started = std::time::Instant::now();
-                        match run(&compiler, job, dirs) {
+                        let result = run(&compiler, job, dirs).map(|(compiled, key)| {
+                            hash.fetch_add(key, Ordering::Relaxed);
+                            compiled
+                        });
+                        match result {
                             Ok(true) => {
                                 compiled.fetch_add(1, Ordering::Relaxed);
                                 let seconds = started.elapsed().as_secs_f64();
@@ -140,6 +150,7 @@ pub fn compile_all(jobs: &mut [Job], dirs: &Dirs) -> Summary {
     Summary {
         compiled,
         cached: jobs.len() - compiled,
+        hash: hash.into_inner(),
     }
 }
 
@@ -150,11 +161,19 @@ fn options<'a>(job: &'a Job, glsl_dir: &'a Path) -> Result<shaderc::CompileOptio
         shaderc::TargetEnv::Vulkan,
         shaderc::EnvVersion::Vulkan1_3 as u32,
     );
-    // No SPIR-V optimisation: spirv-opt's performance passes took 97% of the shader
-    // build (about 430 s of CPU for the 214 variants, against 10 s without), and the
-    // drivers optimise anyway: on lavapipe the unoptimised shaders draw the fODF
-    // benchmark as fast (exact 60-63 ms against 61-63 ms, impostor 23 against 24-26 ms).
-    options.set_optimization_level(shaderc::OptimizationLevel::Zero);
+    // SPIR-V optimisation only where it pays at run time. spirv-opt's performance passes
+    // took 97% of the shader build when every variant had them (about 430 s of CPU for
+    // the 214 variants, against 10 s without), and the drivers optimise anyway: on
+    // lavapipe the unoptimised shaders draw the fODF benchmark as fast. But creating a
+    // pipeline of the default method's shader is 2.5 to 3.5 times faster from optimised
+    // SPIR-V (lavapipe's own NIR passes then have little left to unroll and fold: order 8
+    // 0.27 s against 0.65 to 1.0 s), and that creation is most of a one-shot render's
+    // time, so the `exact` fragment shaders are optimised (`Job::optimize`).
+    options.set_optimization_level(if job.optimize {
+        shaderc::OptimizationLevel::Performance
+    } else {
+        shaderc::OptimizationLevel::Zero
+    });
     for define in &job.defines {
         options.add_macro_definition(define, None);
     }
@@ -174,8 +193,8 @@ fn options<'a>(job: &'a Job, glsl_dir: &'a Path) -> Result<shaderc::CompileOptio
     Ok(options)
 }
 
-/// One job; true when it was compiled, false when the cache had it.
-fn run(compiler: &shaderc::Compiler, job: &Job, dirs: &Dirs) -> Result<bool, String> {
+/// One job; true when it was compiled, false when the cache had it; and its cache key.
+fn run(compiler: &shaderc::Compiler, job: &Job, dirs: &Dirs) -> Result<(bool, u64), String> {
     let path = dirs.glsl.join(&job.file);
     let source = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
     let generated_path = dirs
@@ -218,7 +237,7 @@ fn run(compiler: &shaderc::Compiler, job: &Job, dirs: &Dirs) -> Result<bool, Str
     if std::fs::read(&target).ok().as_deref() != Some(&bytes[..]) {
         write_replacing(&target, &bytes)?;
     }
-    Ok(compiled)
+    Ok((compiled, key))
 }
 
 /// FNV-1a (64 bit) of the cache version, the stage, the defines and the preprocessed
@@ -235,6 +254,11 @@ fn cache_key(job: &Job, preprocessed: &str) -> u64 {
     };
     feed(CACHE_VERSION.as_bytes());
     feed(format!("{:?}", job.kind).as_bytes());
+    feed(if job.optimize {
+        b"optimised"
+    } else {
+        b"unoptimised"
+    });
     for define in &job.defines {
         feed(define.as_bytes());
     }

@@ -145,14 +145,68 @@ impl RayCastPass {
 
     /// The pipeline for a variant, created on first use.
     pub fn pipeline(&mut self, layout: TensorLayout, method: Method) -> Result<vk::Pipeline> {
-        let key = match method {
-            Method::Impostor => (None, method),
-            _ => (Some(layout), method),
-        };
+        let key = pipeline_key(layout, method);
         if let Some(p) = self.pipelines.get(&key) {
             return Ok(p);
         }
-        let (vertex, fragment) = match method {
+        let (vertex, fragment) = self.shaders(layout, method)?;
+        let pipeline = self.create_pipeline(vertex, fragment, method != Method::Impostor)?;
+        Ok(self.pipelines.insert(key, pipeline))
+    }
+
+    /// Creates the pipelines of `variants` that do not exist yet, each on a thread of its
+    /// own: drivers compile a pipeline on the creating thread, and a scene of several
+    /// orders needs several (creating them is most of a one-shot render's time).
+    pub fn prepare_pipelines(&mut self, variants: &[(TensorLayout, Method)]) -> Result<()> {
+        type Missing = (
+            (Option<TensorLayout>, Method),
+            Option<&'static [u32]>,
+            &'static [u32],
+            bool,
+        );
+        let mut missing: Vec<Missing> = Vec::new();
+        for &(layout, method) in variants {
+            let key = pipeline_key(layout, method);
+            if self.pipelines.get(&key).is_none() && !missing.iter().any(|(k, ..)| *k == key) {
+                let (vertex, fragment) = self.shaders(layout, method)?;
+                missing.push((key, vertex, fragment, method != Method::Impostor));
+            }
+        }
+        let this = &*self;
+        let created: Vec<Result<Pipeline>> = std::thread::scope(|scope| {
+            let threads: Vec<_> = missing
+                .iter()
+                .skip(1)
+                .map(|&(_, vertex, fragment, oriented)| {
+                    scope.spawn(move || this.create_pipeline(vertex, fragment, oriented))
+                })
+                .collect();
+            let first = missing.first().map(|&(_, vertex, fragment, oriented)| {
+                this.create_pipeline(vertex, fragment, oriented)
+            });
+            first
+                .into_iter()
+                .chain(threads.into_iter().map(|t| {
+                    t.join().unwrap_or_else(|_| {
+                        Err(Error::Setup("a pipeline-creating thread panicked".into()))
+                    })
+                }))
+                .collect()
+        });
+        for ((key, ..), pipeline) in missing.into_iter().zip(created) {
+            self.pipelines.insert(key, pipeline?);
+        }
+        Ok(())
+    }
+
+    /// The vertex (`None`: the shared one) and fragment shaders of a variant, or why it
+    /// cannot be drawn by this pass on this device.
+    fn shaders(
+        &self,
+        layout: TensorLayout,
+        method: Method,
+    ) -> Result<(Option<&'static [u32]>, &'static [u32])> {
+        Ok(match method {
             Method::Impostor if self.formats.distance.is_none() => {
                 return Err(Error::Invalid(
                     "the impostor pass is a benchmark floor and needs the distance attachment"
@@ -192,9 +246,7 @@ impl RayCastPass {
                 };
                 (Some(shader.vertex), fragment)
             }
-        };
-        let pipeline = self.create_pipeline(vertex, fragment, method != Method::Impostor)?;
-        Ok(self.pipelines.insert(key, pipeline))
+        })
     }
 
     /// A pipeline of the given fragment shader and vertex shader (`None`: the shared one,
@@ -267,9 +319,11 @@ impl RayCastPass {
         // storage buffer is split (the method's "render successively").
         let limit = self.storage_buffer_limit(ctx);
         let chunks = batches(sets, limit, |layout| 4 * layout.coefficient_count() as u64)?;
-        for chunk in &chunks {
-            self.pipeline(chunk.layout, batch_method(chunk.shape, method))?;
-        }
+        let variants: Vec<_> = chunks
+            .iter()
+            .map(|chunk| (chunk.layout, batch_method(chunk.shape, method)))
+            .collect();
+        self.prepare_pipelines(&variants)?;
         let pool = DescriptorPool::new(ctx, chunks.len(), 0, 2)?;
         let mut scene = SceneGpu {
             frame: frame_buffer,
@@ -339,6 +393,14 @@ impl RayCastPass {
             }
         }
         Ok(())
+    }
+}
+
+/// The key of a variant's pipeline: one impostor pipeline serves every layout.
+fn pipeline_key(layout: TensorLayout, method: Method) -> (Option<TensorLayout>, Method) {
+    match method {
+        Method::Impostor => (None, method),
+        _ => (Some(layout), method),
     }
 }
 

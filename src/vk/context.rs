@@ -10,6 +10,7 @@
 //! A device an engine made ([`DeviceContext::new`]) has an owner that destroys nothing:
 //! the engine promises to keep its device and allocator until glyphcast's objects are gone.
 use super::debug;
+use super::pipeline_cache::PipelineCacheFile;
 use ash::vk;
 use gpu_allocator::vulkan::Allocator;
 use std::mem::ManuallyDrop;
@@ -52,6 +53,36 @@ struct DeviceOwner {
     /// The instance of a device glyphcast created: the device is destroyed, and the
     /// instance kept alive until then. `None` for an engine's device.
     created: Option<Arc<InstanceOwner>>,
+    /// Every pipeline is created through this cache (null: none), which glyphcast made
+    /// and destroys, and saves to `cache_file` first.
+    pipeline_cache: vk::PipelineCache,
+    cache_file: Option<PipelineCacheFile>,
+}
+
+impl DeviceOwner {
+    /// Saves the pipeline cache to its file (if it has one) and destroys it.
+    fn close_pipeline_cache(&mut self) {
+        if self.pipeline_cache == vk::PipelineCache::null() {
+            return;
+        }
+        if let Some(file) = &self.cache_file {
+            // SAFETY: the cache is alive and no pipeline is being created (the last
+            // context is going).
+            match unsafe { self.device.get_pipeline_cache_data(self.pipeline_cache) } {
+                Ok(data) => file.save(&data),
+                Err(e) => eprintln!(
+                    "note: {}: the pipeline cache was not saved ({e})",
+                    file.path().display()
+                ),
+            }
+        }
+        // SAFETY: made on this device by `with_pipeline_cache`; nothing uses it any more.
+        unsafe {
+            self.device
+                .destroy_pipeline_cache(self.pipeline_cache, None)
+        };
+        self.pipeline_cache = vk::PipelineCache::null();
+    }
 }
 
 impl Drop for DeviceOwner {
@@ -61,6 +92,7 @@ impl Drop for DeviceOwner {
             // Arc of this owner), so this only waits for work already submitted.
             let _ = unsafe { self.device.device_wait_idle() };
         }
+        self.close_pipeline_cache();
         // SAFETY: the allocator is not used after this, and dropped nowhere else.
         unsafe { ManuallyDrop::drop(&mut self.allocator) };
         if self.created.is_some() {
@@ -106,6 +138,8 @@ impl DeviceContext {
             device,
             allocator: ManuallyDrop::new(allocator),
             created: None,
+            pipeline_cache: vk::PipelineCache::null(),
+            cache_file: None,
         };
         DeviceContext::with_owner(instance, physical_device, owner)
     }
@@ -119,10 +153,16 @@ impl DeviceContext {
         allocator: Allocator,
     ) -> DeviceContext {
         let handle = instance.instance.clone();
+        // SAFETY: the physical device belongs to the instance.
+        let props = unsafe { handle.get_physical_device_properties(physical_device) };
+        let cache_file = PipelineCacheFile::open(&props);
+        let pipeline_cache = create_pipeline_cache(&device, cache_file.as_ref());
         let owner = DeviceOwner {
             device,
             allocator: ManuallyDrop::new(Arc::new(Mutex::new(allocator))),
             created: Some(instance),
+            pipeline_cache,
+            cache_file,
         };
         DeviceContext::with_owner(&handle, physical_device, owner)
     }
@@ -141,6 +181,13 @@ impl DeviceContext {
                 .max_vertex_output_components
                 .min(limits.max_fragment_input_components),
         }
+    }
+
+    /// The pipeline cache every pipeline of this context is created through (null when
+    /// there is none): glyphcast's on-disk cache for a device it created
+    /// (`vk::pipeline_cache`).
+    pub fn pipeline_cache(&self) -> vk::PipelineCache {
+        self.owner.pipeline_cache
     }
 
     /// The logical device.
@@ -172,4 +219,23 @@ impl DeviceContext {
         self.max_varying_components = self.max_varying_components.min(components);
         self
     }
+}
+
+/// A pipeline cache seeded with `file`'s data (empty when there is no file, or when the
+/// driver refuses the data); null when none can be made, which only costs time.
+fn create_pipeline_cache(
+    device: &ash::Device,
+    file: Option<&PipelineCacheFile>,
+) -> vk::PipelineCache {
+    let Some(file) = file else {
+        return vk::PipelineCache::null();
+    };
+    let create = |data: &[u8]| {
+        let info = vk::PipelineCacheCreateInfo::default().initial_data(data);
+        // SAFETY: valid create info; the data passed `pipeline_cache::parse`'s checks.
+        unsafe { device.create_pipeline_cache(&info, None) }
+    };
+    create(file.initial_data())
+        .or_else(|_| create(&[]))
+        .unwrap_or(vk::PipelineCache::null())
 }

@@ -20,6 +20,7 @@ mod device;
 mod image;
 mod instance;
 mod pipeline;
+mod pipeline_cache;
 pub mod recording;
 #[cfg(feature = "viewer")]
 mod surface;

@@ -224,7 +224,7 @@ pub unsafe fn compute_pipeline(
     // SAFETY: all referenced state lives until the call returns.
     let created = unsafe {
         ctx.device()
-            .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
+            .create_compute_pipelines(ctx.pipeline_cache(), &[info], None)
     };
     let handle = first_pipeline(created, "vkCreateComputePipelines")?;
     // SAFETY: just made on `ctx`'s device, owned by nothing else.
@@ -321,7 +321,7 @@ pub unsafe fn graphics_pipeline(
     // the stages.
     let created = unsafe {
         ctx.device()
-            .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+            .create_graphics_pipelines(ctx.pipeline_cache(), &[info], None)
     };
     let handle = first_pipeline(created, "vkCreateGraphicsPipelines")?;
     // SAFETY: just made on `ctx`'s device, owned by nothing else.
