@@ -21,6 +21,11 @@ impl Progress {
         self.total.store(total, Ordering::Relaxed);
     }
 
+    /// Counts `items` more done in the current phase (for work done in blocks).
+    pub fn advance(&self, items: usize) {
+        self.done.fetch_add(items, Ordering::Relaxed);
+    }
+
     /// The phase's name and the fraction of its items done.
     pub fn get(&self) -> (&'static str, f64) {
         let phase = self.phase.lock().map_or("", |p| *p);

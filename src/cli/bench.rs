@@ -62,6 +62,11 @@ pub struct BenchArgs {
     /// or inspect it.
     #[arg(long, value_name = "FILE")]
     save_scene: Option<PathBuf>,
+    /// With --save-scene: write each glyph set's centers, scales and coefficients as
+    /// float64 .npy files beside the scene file (SCENE.0.coeffs.npy, ...), which the
+    /// scene file names: a large scene then reads without parsing JSON numbers.
+    #[arg(long, requires = "save_scene")]
+    scene_arrays: bool,
     /// Vulkan device: part of its name or its index.
     #[arg(long)]
     device: Option<String>,
@@ -196,7 +201,7 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
             settings.validate().map_err(Error::into_usage)?;
             let base = args.base_scene()?;
             if let Some(path) = &args.save_scene {
-                glyphcast::io::atomic::write_atomic(path, base.to_json().as_bytes())?;
+                base.save(path, args.scene_arrays)?;
             }
             let scene = plan.scene(base_name(), base);
             plan.cases.push(Case {

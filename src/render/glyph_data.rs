@@ -12,7 +12,7 @@ use crate::glyph::polynomial::GlyphPolynomial;
 use crate::glyph::proxy::{GlyphBounds, glyph_bounds};
 use crate::glyph::sh::sh_to_tensor;
 use crate::glyph::{GlyphShape, NegativeMode, Symmetry, TensorLayout};
-use crate::parallel::{Progress, map_chunks_with_progress};
+use crate::parallel::{Progress, map_chunks};
 use crate::scene::{GlyphKind, GlyphSet, Scene};
 use crate::{Error, Result, Setting};
 use std::borrow::Cow;
@@ -131,11 +131,41 @@ pub fn prepare_set_with_progress(
         world: Vec::with_capacity(set.len()),
         largest_radius: 0.0,
     };
-    // The bounds of each glyph are the costly part: glyphs are bounded on every core.
-    let bounded_glyphs = map_chunks_with_progress(&set.coeffs, "bounds", progress, |c| {
-        bound_glyph(set, layout, index, c)
-    })?;
-    for ((center, scale), glyph) in set.centers.iter().zip(&set.scales).zip(bounded_glyphs) {
+    // The bounds of each glyph are the costly part: glyphs are bounded on every core, a
+    // block at a time, so that the bounded glyphs in flight (each with its own float32
+    // and float64 coefficients) never take more memory than one block's.
+    if let Some(p) = progress {
+        p.start("bounds", set.len());
+    }
+    let blocks = set
+        .coeffs
+        .chunks(BOUNDING_BLOCK)
+        .zip(set.centers.chunks(BOUNDING_BLOCK))
+        .zip(set.scales.chunks(BOUNDING_BLOCK));
+    for ((coeffs, centers), scales) in blocks {
+        let bounded = map_chunks(coeffs, "bounds", |c| bound_glyph(set, layout, index, c))?;
+        if let Some(p) = progress {
+            p.advance(coeffs.len());
+        }
+        add_bounded(&mut data, set, offset, centers, scales, bounded);
+    }
+    Ok(data)
+}
+
+/// Glyphs bounded at a time by [`prepare_set_with_progress`].
+const BOUNDING_BLOCK: usize = 1 << 16;
+
+/// Appends bounded glyphs (with their centres and scales) to `data`; empty glyphs are
+/// left out.
+fn add_bounded(
+    data: &mut GlyphSetData,
+    set: &GlyphSet,
+    offset: f64,
+    centers: &[glam::DVec3],
+    scales: &[f64],
+    bounded: Vec<Option<Bounded>>,
+) {
+    for ((center, scale), glyph) in centers.iter().zip(scales).zip(bounded) {
         let Some(Bounded {
             gpu_coefficients,
             poly,
@@ -164,7 +194,6 @@ pub fn prepare_set_with_progress(
             bound: bound * (1.0 + offset),
         });
     }
-    Ok(data)
 }
 
 /// Fills in each set's [`GlyphSetData::largest_radius`] from its float64 glyphs (sets

@@ -158,6 +158,19 @@ impl<'a> Field<'a> {
             })
     }
 
+    /// The text of a string value, or `None` for any other value.
+    pub(super) fn text(&self) -> Option<&'a str> {
+        match self.value {
+            Json::String(text) => Some(text),
+            _ => None,
+        }
+    }
+
+    /// The name of the file being read, as errors show it.
+    pub(super) fn file(&self) -> &'a str {
+        self.file
+    }
+
     /// A point or direction: a list of three finite numbers.
     pub(super) fn vec3(&self) -> Result<DVec3> {
         let xyz = self

@@ -23,6 +23,7 @@ use field::Field;
 mod field;
 mod json;
 mod names;
+mod npy_array;
 mod read;
 mod write;
 
@@ -82,5 +83,38 @@ impl Scene {
     /// one ulp off).
     pub fn to_json(&self) -> String {
         write::to_json(self)
+    }
+
+    /// The scene file with each set's `centers`, `coeffs` (and `scales`, unless one scale
+    /// serves every glyph) written as float64 `.npy` files beside it instead of JSON
+    /// lists: the JSON text and the arrays' (file name, bytes). The file names are
+    /// `<stem>.<set index>.<field>.npy`, relative to the scene file's folder, so `stem`
+    /// is usually the scene file's own stem. [`Scene::load`] reads the set back equal.
+    pub fn to_json_with_arrays(&self, stem: &str) -> (String, Vec<(String, Vec<u8>)>) {
+        write::to_json_with_arrays(self, stem)
+    }
+
+    /// Writes the scene to `path`, with its arrays beside it when `arrays` is true
+    /// ([`Scene::to_json_with_arrays`]), all files or none ([`crate::io::atomic`]).
+    pub fn save(&self, path: &Path, arrays: bool) -> Result<()> {
+        if !arrays {
+            return crate::io::atomic::write_atomic(path, self.to_json().as_bytes());
+        }
+        let stem = path
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .filter(|s| !s.is_empty())
+            .ok_or_else(|| Error::io(path, "the scene file needs a UTF-8 name for its arrays"))?;
+        let (json, files) = self.to_json_with_arrays(stem);
+        let folder = path.parent().unwrap_or(Path::new(""));
+        let paths: Vec<_> = files.iter().map(|(name, _)| folder.join(name)).collect();
+        let mut outputs: Vec<(&Path, &[u8])> = vec![(path, json.as_bytes())];
+        outputs.extend(
+            paths
+                .iter()
+                .zip(&files)
+                .map(|(p, (_, b))| (p.as_path(), b.as_slice())),
+        );
+        crate::io::atomic::write_all_atomic(&outputs)
     }
 }

@@ -1,9 +1,11 @@
 //! Validating a parsed tree into a [`Scene`]: glyph sets, camera and image, each field
 //! checked against SCENE-FORMAT.md with an error naming the field.
 use glam::DVec3;
+use std::path::Path;
 
 use super::field::{Field, Object};
 use super::names::{KindName, ProjectionName};
+use super::npy_array;
 use super::{FORMAT_VERSION, GlyphKind, GlyphSet, ImageSize, Scene, ShBasis};
 use crate::Result;
 use crate::camera::{Camera, Projection};
@@ -69,11 +71,17 @@ fn read_glyph_set(field: &Field) -> Result<GlyphSet> {
     let kind = read_glyph_kind(&set)?;
     let negative = set.optional("negative", Field::choice)?.unwrap_or_default();
     let shape = read_shape(&set, kind, negative)?;
-    let centers = set
-        .require("centers")?
-        .items()?
-        .map(|center| center.vec3())
-        .collect::<Result<Vec<_>>>()?;
+    let centers_field = set.require("centers")?;
+    let centers = match centers_field.text() {
+        Some(name) => read_array(&centers_field, name, None, 3, "centers")?
+            .into_iter()
+            .map(|row| DVec3::new(row[0], row[1], row[2]))
+            .collect(),
+        None => centers_field
+            .items()?
+            .map(|center| center.vec3())
+            .collect::<Result<Vec<_>>>()?,
+    };
     let scales = read_scales(&set, centers.len())?;
     let coeffs = read_coeffs(&set.require("coeffs")?, kind, centers.len())?;
     Ok(GlyphSet {
@@ -172,6 +180,19 @@ fn order_in(
 fn read_scales(set: &Object, count: usize) -> Result<Vec<f64>> {
     match (set.get("scale"), set.get("scales")) {
         (Some(scale), None) => Ok(vec![scale.positive()?; count]),
+        (None, Some(scales)) if scales.text().is_some() => {
+            let name = scales.text().unwrap_or_default();
+            let rows = read_array(&scales, name, Some(count), 1, "scales")?;
+            rows.into_iter()
+                .enumerate()
+                .map(|(glyph, row)| match row[0] {
+                    scale if scale > 0.0 => Ok(scale),
+                    scale => Err(scales.error(format!(
+                        "{name}: the scale of glyph {glyph} must be positive, found {scale:?}"
+                    ))),
+                })
+                .collect()
+        }
         (None, Some(scales)) => {
             let found = scales.list()?.len();
             if found != count {
@@ -192,6 +213,10 @@ fn read_scales(set: &Object, count: usize) -> Result<Vec<f64>> {
 }
 
 fn read_coeffs(field: &Field, kind: GlyphKind, count: usize) -> Result<Vec<Vec<f64>>> {
+    if let Some(name) = field.text() {
+        let what = format!("coefficients ({kind})");
+        return read_array(field, name, Some(count), kind.coefficient_count(), &what);
+    }
     let found = field.list()?.len();
     if found != count {
         return Err(field.error(format!(
@@ -318,4 +343,46 @@ fn read_image_side(field: &Field) -> Result<u32> {
                 "must be from 1 to {MAX_IMAGE_SIDE} pixels, found {pixels}"
             ))
         })
+}
+
+/// The rows of the `.npy` file `name` (relative to the scene file's folder) that `field`
+/// gives in place of a list: a float32 or float64 array of shape (rows, columns), or
+/// (rows,) for one column, in C or Fortran order; `rows` when the glyph count is known.
+/// Every value must be finite. Errors name the scene file, the field and the array file.
+fn read_array(
+    field: &Field,
+    name: &str,
+    rows: Option<usize>,
+    columns: usize,
+    what: &str,
+) -> Result<Vec<Vec<f64>>> {
+    let folder = Path::new(field.file()).parent().unwrap_or(Path::new(""));
+    let path = folder.join(name);
+    let fail = |message: String| field.error(format!("{name}: {message}"));
+    let array = npy_array::read_rows(&path, columns).map_err(|e| fail(e.to_string()))?;
+    let shape_ok = match array.shape[..] {
+        [n, k] => k == columns && rows.is_none_or(|rows| rows == n),
+        [n] => columns == 1 && rows.is_none_or(|rows| rows == n),
+        _ => false,
+    };
+    if !shape_ok {
+        let expected = match (rows, columns) {
+            (Some(rows), 1) => format!("({rows},) or ({rows}, 1)"),
+            (Some(rows), columns) => format!("({rows}, {columns})"),
+            (None, columns) => format!("(N, {columns})"),
+        };
+        return Err(fail(format!(
+            "expected {what} of shape {expected}, found shape {:?}",
+            array.shape
+        )));
+    }
+    for (row, values) in array.rows.iter().enumerate() {
+        if let Some(column) = values.iter().position(|v| !v.is_finite()) {
+            return Err(fail(format!(
+                "{what}: row {row}, column {column} is {:?}; every value must be finite",
+                values[column]
+            )));
+        }
+    }
+    Ok(array.rows)
 }

@@ -4,15 +4,27 @@ use std::fmt;
 
 use super::json::Json;
 use super::names::{KindName, Named, ProjectionName};
+use super::npy_array::encode_f64;
 use super::{FORMAT_VERSION, GlyphKind, GlyphSet, Scene};
 use crate::camera::{Camera, Projection};
 use crate::glyph::{GlyphShape, Symmetry};
 
 /// The text of [`Scene::to_json`].
 pub(super) fn to_json(scene: &Scene) -> String {
-    let document = scene_json(scene);
+    let document = scene_json(scene, None);
     format!("{}\n", Pretty::new(&document))
 }
+
+/// The text of [`Scene::to_json_with_arrays`] and its array files (name, bytes).
+pub(super) fn to_json_with_arrays(scene: &Scene, stem: &str) -> (String, Vec<(String, Vec<u8>)>) {
+    let mut arrays = Vec::new();
+    let document = scene_json(scene, Some((stem, &mut arrays)));
+    (format!("{}\n", Pretty::new(&document)), arrays)
+}
+
+/// Where a set's arrays go when they are written beside the scene: the file names'
+/// stem and the list of files written so far.
+type ArrayFiles<'a> = Option<(&'a str, &'a mut Vec<(String, Vec<u8>)>)>;
 
 fn object(entries: Vec<(&str, Json)>) -> Json {
     Json::Object(
@@ -31,13 +43,19 @@ fn floats(values: &[f64]) -> Json {
     Json::Array(values.iter().map(|&x| Json::Float(x)).collect())
 }
 
-fn scene_json(scene: &Scene) -> Json {
+fn scene_json(scene: &Scene, mut arrays: ArrayFiles) -> Json {
+    let sets = scene
+        .glyph_sets
+        .iter()
+        .enumerate()
+        .map(|(index, set)| {
+            let files = arrays.as_mut().map(|(stem, files)| (*stem, &mut **files));
+            glyph_set_json(set, index, files)
+        })
+        .collect();
     object(vec![
         ("version", Json::Integer(FORMAT_VERSION)),
-        (
-            "glyphs",
-            Json::Array(scene.glyph_sets.iter().map(glyph_set_json).collect()),
-        ),
+        ("glyphs", Json::Array(sets)),
         ("camera", camera_json(&scene.camera)),
         (
             "image",
@@ -49,22 +67,53 @@ fn scene_json(scene: &Scene) -> Json {
     ])
 }
 
-fn glyph_set_json(set: &GlyphSet) -> Json {
+fn glyph_set_json(set: &GlyphSet, index: usize, arrays: ArrayFiles) -> Json {
     let mut entries = kind_entries(set.kind);
     entries.push(("negative", name(set.negative)));
     if set.shape != GlyphShape::default() {
         entries.push(("shape", name(set.shape)));
     }
-    let centers = set.centers.iter().map(|c| floats(&c.to_array())).collect();
-    entries.push(("centers", Json::Array(centers)));
-    match set.scales.split_first() {
-        Some((first, rest)) if rest.iter().all(|s| s == first) => {
-            entries.push(("scale", Json::Float(*first)));
+    let n = set.centers.len();
+    let one_scale = match set.scales.split_first() {
+        Some((first, rest)) if rest.iter().all(|s| s == first) => Some(*first),
+        _ => None,
+    };
+    let Some((stem, files)) = arrays else {
+        let centers = set.centers.iter().map(|c| floats(&c.to_array())).collect();
+        entries.push(("centers", Json::Array(centers)));
+        match one_scale {
+            Some(scale) => entries.push(("scale", Json::Float(scale))),
+            None => entries.push(("scales", floats(&set.scales))),
         }
-        _ => entries.push(("scales", floats(&set.scales))),
+        let coeffs = set.coeffs.iter().map(|c| floats(c)).collect();
+        entries.push(("coeffs", Json::Array(coeffs)));
+        return object(entries);
+    };
+    let mut file = |field: &str, shape: &[usize], values: &mut dyn Iterator<Item = f64>| {
+        let name = format!("{stem}.{index}.{field}.npy");
+        files.push((name.clone(), encode_f64(shape, values)));
+        Json::String(name)
+    };
+    let centers = file(
+        "centers",
+        &[n, 3],
+        &mut set.centers.iter().flat_map(|c| c.to_array()),
+    );
+    entries.push(("centers", centers));
+    match one_scale {
+        Some(scale) => entries.push(("scale", Json::Float(scale))),
+        None => {
+            let scales = file("scales", &[n], &mut set.scales.iter().copied());
+            entries.push(("scales", scales));
+        }
     }
-    let coeffs = set.coeffs.iter().map(|c| floats(c)).collect();
-    entries.push(("coeffs", Json::Array(coeffs)));
+    let count = set.kind.coefficient_count();
+    let coeffs = file(
+        "coeffs",
+        &[n, count],
+        &mut set.coeffs.iter().flatten().copied(),
+    );
+    entries.push(("coeffs", coeffs));
     object(entries)
 }
 
