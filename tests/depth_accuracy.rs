@@ -1,6 +1,6 @@
 //! Rendered depth maps against the float64 reference (exact ray-polynomial roots) on the
 //! accuracy suite (`glyphcast::accuracy::suite`): thin crossing lobes, a slightly tilted
-//! copy of a glyph (the seed's Fig. 1), a glyph that touches its centre seen down its
+//! copy of a glyph (the paper's Fig. 1), a glyph that touches its centre seen down its
 //! pinch, order 12, a non-symmetric stiffness tensor, negative lobes shown and hidden,
 //! real SH data, plus an order-6 glyph whose negative lobe crosses the positive ones.
 //!
