@@ -49,10 +49,12 @@ def make_subject(number, inputs):
 
 
 def subject_files(subject, inputs, out_root):
-    """The DWI, its tables and the figure set's folder of `subject` (sub-XX)."""
+    """The DWI, its tables and the figure set's folder of `subject` (sub-XX), whose
+    parent is made here (glyphcast qc writes into an existing folder)."""
     import os
 
     stem = os.path.join(inputs, subject, "dwi", f"{subject}_dwi")
+    os.makedirs(os.path.join(out_root, subject), exist_ok=True)
     return (f"{stem}.nii.gz", f"{stem}.bval", f"{stem}.bvec",
             os.path.join(out_root, subject, "qc"))
 

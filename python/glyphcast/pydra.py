@@ -20,20 +20,31 @@ import typing as ty
 import attr
 from fileformats.generic import Directory, File
 from pydra import ShellCommandTask
-from pydra.engine.specs import ShellOutSpec, ShellSpec, SpecInfo
+from pydra.engine.specs import LazyField, ShellOutSpec, ShellSpec, SpecInfo
 
 from .nipype import QC_FIGURES, glyphcast_binary
 
 __all__ = ["fit_task", "peaks_task", "render_task", "qc_task"]
 
 
+def _given(value):
+    """Whether `value` is a value to check now: given, and not yet to come from another
+    task (a lazy field is checked by its own task)."""
+    return value is not attr.NOTHING and value is not None and not isinstance(value, LazyField)
+
+
 def _choice(*values):
-    return attr.validators.in_(values)
+    def check(_instance, attribute, value):
+        if _given(value) and value not in values:
+            choices = ", ".join(map(repr, values))
+            raise ValueError(f"{attribute.name}={value!r}: expected one of {choices}")
+
+    return check
 
 
 def _between(low, high):
     def check(_instance, attribute, value):
-        if value is not attr.NOTHING and not low <= value <= high:
+        if _given(value) and not low <= value <= high:
             raise ValueError(f"{attribute.name}={value}: must be {low} to {high}")
 
     return check
@@ -50,10 +61,9 @@ def _arg(kind, argstr, help_string, position=None, mandatory=False, validator=No
 
 
 def _optional(kind, argstr, help_string, validator=None):
-    wrapped = attr.validators.optional(validator) if validator else None
     return attr.ib(type=kind, default=attr.NOTHING,
                    metadata={"argstr": argstr, "help_string": help_string},
-                   validator=wrapped)
+                   validator=validator)
 
 
 def _output_template(template, help_string, position=-1):
