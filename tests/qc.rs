@@ -62,7 +62,10 @@ fn sidecar(dir: &Path) -> Value {
 
 /// SHA-256 by coreutils, independent of the crate's own.
 fn sha256sum(path: &Path) -> String {
-    let run = Command::new("sha256sum").arg(path).output().expect("sha256sum");
+    let run = Command::new("sha256sum")
+        .arg(path)
+        .output()
+        .expect("sha256sum");
     String::from_utf8_lossy(&run.stdout)
         .split_whitespace()
         .next()
@@ -124,13 +127,19 @@ fn the_set_is_its_fixed_files_described_by_its_sidecar_and_deterministic() {
     for name in &expected {
         if name != "qc.json" {
             let (a, b) = (first.join(name), second.join(name));
-            assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap(), "{name}");
+            assert_eq!(
+                std::fs::read(&a).unwrap(),
+                std::fs::read(&b).unwrap(),
+                "{name}"
+            );
         }
     }
     let (mut a, mut b) = (sidecar(&first), sidecar(&second));
     for doc in [&a, &b] {
         assert!(doc["run"]["device"].as_str().is_some_and(|d| !d.is_empty()));
-        for step in ["read", "survey", "build", "device", "render", "encode", "total"] {
+        for step in [
+            "read", "survey", "build", "device", "render", "encode", "total",
+        ] {
             assert!(doc["run"]["timings_ms"][step].as_f64().is_some(), "{step}");
         }
     }
@@ -175,7 +184,10 @@ fn the_set_is_its_fixed_files_described_by_its_sidecar_and_deterministic() {
         .iter()
         .map(|r| r["mean_gfa"].as_f64().unwrap())
         .collect();
-    assert!(gfa.windows(2).all(|w| w[0] >= w[1]), "ranked by GFA: {gfa:?}");
+    assert!(
+        gfa.windows(2).all(|w| w[0] >= w[1]),
+        "ranked by GFA: {gfa:?}"
+    );
     assert!(gfa.iter().all(|g| (0.0..=1.0).contains(g)));
     let figures = a["figures"].as_array().unwrap();
     assert_eq!(figures.len(), 4);
@@ -187,7 +199,10 @@ fn the_set_is_its_fixed_files_described_by_its_sidecar_and_deterministic() {
             Some(std::fs::metadata(&file).unwrap().len())
         );
         let (w, h, _) = decode(&file);
-        assert_eq!((figure["width"].as_u64(), figure["height"].as_u64()), (Some(w.into()), Some(h.into())));
+        assert_eq!(
+            (figure["width"].as_u64(), figure["height"].as_u64()),
+            (Some(w.into()), Some(h.into()))
+        );
     }
 
     // The mosaic: three rows of three panels, each of cells at most 128 pixels a side,
@@ -203,7 +218,13 @@ fn the_set_is_its_fixed_files_described_by_its_sidecar_and_deterministic() {
     }
     // The page shows every figure and names the input and the convention.
     let page = std::fs::read_to_string(first.join("index.html")).unwrap();
-    for figure in ["odf-mosaic.png", "zoom-1.png", "zoom-2.png", "zoom-3.png", "qc.json"] {
+    for figure in [
+        "odf-mosaic.png",
+        "zoom-1.png",
+        "zoom-2.png",
+        "zoom-3.png",
+        "qc.json",
+    ] {
         assert!(page.contains(&format!("\"{figure}\"")), "{figure}");
     }
     assert!(page.contains("qc-fod.nii.gz") && page.contains("Radiological convention"));
@@ -273,7 +294,11 @@ fn a_mask_underlay_and_peaks_are_used_and_recorded() {
         .flat_map(|r| (0..3).map(move |c| (c, r)))
         .map(|(c, r)| drawn_pixels(&mosaic, (w / 3, h / 3), c, r))
         .sum();
-    assert!(covered > (w * h / 6) as usize, "{covered} of {} pixels", w * h);
+    assert!(
+        covered > (w * h / 6) as usize,
+        "{covered} of {} pixels",
+        w * h
+    );
 }
 
 #[test]
@@ -286,12 +311,19 @@ fn bad_input_is_refused_before_any_output() {
         assert_eq!(run.status.code(), Some(code), "{args:?}: {message}");
         assert!(!message.contains("panicked"), "{message}");
         for word in words {
-            assert!(message.contains(word), "{args:?}: '{word}' not in {message}");
+            assert!(
+                message.contains(word),
+                "{args:?}: '{word}' not in {message}"
+            );
         }
         assert!(!out.exists(), "{args:?} left {}", out.display());
     };
     let missing = root.join("missing.nii.gz");
-    expect(&["qc", text(&missing), "-o", text(&out)], 1, &["missing.nii.gz"]);
+    expect(
+        &["qc", text(&missing), "-o", text(&out)],
+        1,
+        &["missing.nii.gz"],
+    );
     expect(
         &["qc", text(fod()), "--negative", "both", "-o", text(&out)],
         2,
@@ -367,8 +399,14 @@ fn four_processes_at_once_give_identical_outputs() {
         outputs.push((std::fs::read(png).unwrap(), std::fs::read(depth).unwrap()));
     }
     for other in &outputs[1..] {
-        assert!(other.0 == outputs[0].0, "PNG bytes differ between processes");
-        assert!(other.1 == outputs[0].1, "depth maps differ between processes");
+        assert!(
+            other.0 == outputs[0].0,
+            "PNG bytes differ between processes"
+        );
+        assert!(
+            other.1 == outputs[0].1,
+            "depth maps differ between processes"
+        );
     }
     // Something was drawn.
     assert!(outputs[0].1.len() > 128);

@@ -3,7 +3,7 @@
 //! checked before any work.
 use clap::Args;
 use glyphcast::Result;
-use glyphcast::qc::{DEFAULT_PANEL_SIZE, QcRequest, check_output, make_set};
+use glyphcast::qc::{QcRequest, check_output, make_set};
 use glyphcast::render::options::RenderOptions;
 use glyphcast::volume::{ImageSource, VolumeRequest};
 use std::path::PathBuf;
@@ -47,10 +47,10 @@ pub struct QcArgs {
     /// radiological (default, as mrview) or neurological.
     #[arg(long, value_name = "CONVENTION")]
     orientation: Option<String>,
-    /// Side of each panel in pixels (64 to 4096).
-    #[arg(long, value_name = "PX", default_value_t = DEFAULT_PANEL_SIZE,
-          value_parser = clap::value_parser!(u32).range(64..=4096))]
-    panel_size: u32,
+    /// Side of each panel in pixels, 64 to 4096 (default: 8 pixels per voxel of the
+    /// volume's longest side, 400 to 1024).
+    #[arg(long, value_name = "PX", value_parser = clap::value_parser!(u32).range(64..=4096))]
+    panel_size: Option<u32>,
     /// How glyphs are drawn, as for render --method (default exact).
     #[arg(long)]
     method: Option<String>,

@@ -6,7 +6,7 @@
 //!
 //! Every glyph of the set is sized on one scale, so that sizes compare across panels and
 //! figures: proportional to the glyph's largest radius, up to a full size that the
-//! largest 10 % of the set's glyphs share ([`size_alike`]).
+//! larger half of the set's glyphs share ([`size_alike`]).
 use std::sync::Arc;
 
 use super::survey::{PlaneCuts, Region};
@@ -116,7 +116,7 @@ pub fn zoom_plan(
         let voxel_plane = plane.world_plane_in_voxels(volume.voxel_to_world.linear());
         let axis = voxel_plane.voxel_axis();
         let mut options = base.clone();
-        options.voxels = ranges.clone();
+        options.voxels = ranges;
         options.slice = Slice {
             axis: voxel_plane,
             index: Some(centre[axis]),
@@ -167,14 +167,16 @@ pub fn build(volume: &Volume, plans: Vec<FigurePlan>) -> Result<Vec<BuiltFigure>
 }
 
 /// The share of the set's glyphs drawn smaller than full size (see [`size_alike`]).
-pub const FULL_SIZE_PERCENTILE: f64 = 0.9;
+pub const FULL_SIZE_PERCENTILE: f64 = 0.5;
 
 /// Sizes every glyph of `figures` on one scale (see the module notes): the panels were
 /// built with per-glyph sizing (every glyph's largest radius r made the default scale
 /// S: its scale factor is S / r), and each factor is now capped at S / R, with R the
 /// [`FULL_SIZE_PERCENTILE`] of r over every glyph of the set. A glyph is then drawn
 /// S r / R, proportional to its amplitude, up to the full size S (0.45 of a voxel)
-/// that the largest 10 % share: one outlier does not shrink every other glyph to a dot.
+/// that the larger half shares: the weaker half shows its amplitude, while outliers do
+/// not shrink every other glyph to a dot (a whole brain's mosaic at 8 pixels a voxel
+/// showed little more than dots with the 90th percentile).
 pub fn size_alike(figures: &mut [BuiltFigure]) {
     let mut inverse: Vec<f64> = figures
         .iter()

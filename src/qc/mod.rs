@@ -36,8 +36,20 @@ pub const SIDECAR: &str = "qc.json";
 /// The page's name.
 pub const PAGE: &str = "index.html";
 
-/// Default side of each panel, in pixels.
-pub const DEFAULT_PANEL_SIZE: u32 = 400;
+/// Default panel side: [`PIXELS_PER_VOXEL`] times the longest side of the volume in
+/// voxels, within these pixels (a 10^3 volume gets 400, a 100 x 100 x 60 brain 800).
+pub const DEFAULT_PANEL_SIZES: (u32, u32) = (400, 1024);
+
+/// Pixels per voxel of the default panel side: glyphs of 0.9 voxel then span about 7
+/// pixels in the mosaic, enough to see their colour and axis (the zoomed regions show
+/// their lobes).
+pub const PIXELS_PER_VOXEL: u32 = 8;
+
+/// The default panel side for a volume of `dims` voxels (see [`DEFAULT_PANEL_SIZES`]).
+pub fn default_panel_size(dims: [usize; 3]) -> u32 {
+    let longest = dims.into_iter().max().unwrap_or(1) as u32;
+    (PIXELS_PER_VOXEL.saturating_mul(longest)).clamp(DEFAULT_PANEL_SIZES.0, DEFAULT_PANEL_SIZES.1)
+}
 
 /// What to make a figure set of.
 #[derive(Clone, Debug, Default)]
@@ -55,8 +67,9 @@ pub struct QcRequest {
     pub volume: VolumeRequest,
     /// How glyphs are drawn (method, negative lobes, samples, device, validation).
     pub render: RenderOptions,
-    /// Each panel's side in pixels (the slice fitted inside).
-    pub panel_size: u32,
+    /// Each panel's side in pixels (the slice fitted inside); by default
+    /// [`default_panel_size`].
+    pub panel_size: Option<u32>,
 }
 
 /// A figure set in memory, ready to be written.
@@ -114,7 +127,9 @@ pub fn make_set(request: &QcRequest, progress: &dyn Fn(&str)) -> Result<QcSet> {
     let started = Instant::now();
     let settings = request.render.settings()?;
     let negative = request.render.negative()?;
-    check_panel_size(request.panel_size)?;
+    if let Some(size) = request.panel_size {
+        check_panel_size(size)?;
+    }
     let inputs = input_files(request);
     // Checksums run beside the reading and drawing (the files are read twice, the
     // second time from the page cache).
@@ -159,7 +174,9 @@ pub fn make_set(request: &QcRequest, progress: &dyn Fn(&str)) -> Result<QcSet> {
     ));
 
     let step = Instant::now();
-    let size = request.panel_size;
+    let size = request
+        .panel_size
+        .unwrap_or_else(|| default_panel_size(volume.dims));
     let mut base = request.volume.options(ImageRequest {
         width: Some(size),
         height: Some(size),
@@ -228,6 +245,7 @@ pub fn make_set(request: &QcRequest, progress: &dyn Fn(&str)) -> Result<QcSet> {
     timings.push(("total", ms(started)));
     let summary = page::Summary {
         request,
+        panel_size: size,
         inputs: &inputs,
         volume: &volume,
         survey: &survey,

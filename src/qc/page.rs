@@ -19,6 +19,8 @@ use crate::{Error, Result};
 /// Everything the page and the sidecar report.
 pub struct Summary<'a> {
     pub request: &'a QcRequest,
+    /// Each panel's side in pixels.
+    pub panel_size: u32,
     pub inputs: &'a [InputFile],
     pub volume: &'a Volume,
     pub survey: &'a Survey,
@@ -206,7 +208,7 @@ pub fn sidecar(summary: &Summary) -> Result<String> {
         "inputs": inputs,
         "volume": volume_json(summary.volume),
         "settings": {
-            "panel_size": request.panel_size,
+            "panel_size": summary.panel_size,
             "method": options.method.as_deref().unwrap_or("exact"),
             "negative": options.negative.as_deref().unwrap_or("abs"),
             "samples": options.samples.unwrap_or(1),
@@ -214,7 +216,7 @@ pub fn sidecar(summary: &Summary) -> Result<String> {
             "labels": true,
             "sizing": "one scale for every panel: glyph radius proportional to the ODF's \
                        largest radius, up to 0.45 of the smallest voxel size, which the \
-                       largest 10 % of the set's glyphs share",
+                       larger half of the set's glyphs share (radius at or above the median)",
             "color": "direction",
         },
         "selection": {
@@ -291,7 +293,7 @@ pub fn index_html(summary: &Summary) -> String {
         "<p>{} x {} x {} voxels of {:.2} x {:.2} x {:.2} mm, {}; {} voxels looked at ({}). \
          Glyphs coloured by direction (red left-right, green anterior-posterior, blue \
          superior-inferior); one size scale for every panel: proportional to the ODF's \
-         amplitude, up to a full size that the largest 10 % of the glyphs share.</p>\n",
+         amplitude below the set's median, full size at or above it.</p>\n",
         v.dims[0],
         v.dims[1],
         v.dims[2],
