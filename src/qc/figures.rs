@@ -269,3 +269,71 @@ pub fn peaks_mosaic(
     ));
     Ok(None)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{GlyphKind, GlyphSet, Scene};
+    use crate::volume::{SliceRegion, VolumeReport};
+
+    /// Per-glyph factors S / r for r = 1, 2, 3, 4 (S = 1): the median radius is 3 by
+    /// nearest rank, so the factor is capped at 1/3: radii 1 and 2 are drawn 1/3 and
+    /// 2/3, radii 3 and 4 full size.
+    #[test]
+    fn glyphs_are_sized_on_one_scale_up_to_the_median() {
+        let region = SliceRegion::new([1, 1, 1], Slice::default(), &VoxelRanges::default(), "v")
+            .expect("a region");
+        let set = |scales: Vec<f64>| GlyphSet {
+            kind: GlyphKind::Sh {
+                band: 0,
+                basis: crate::scene::ShBasis::Tournier07,
+                legacy: false,
+            },
+            negative: NegativeMode::Abs,
+            shape: Default::default(),
+            centers: vec![glam::DVec3::ZERO; scales.len()],
+            coeffs: vec![vec![1.0]; scales.len()],
+            scales,
+        };
+        let scene = |scales| VolumeScene {
+            scene: Scene {
+                glyph_sets: vec![set(scales)],
+                camera: crate::demo::demo_scene().camera,
+                image: crate::scene::ImageSize {
+                    width: 8,
+                    height: 8,
+                },
+            },
+            report: VolumeReport::default(),
+            region: region.clone(),
+            regions: vec![region.clone()],
+        };
+        let plan = || FigurePlan {
+            file: String::new(),
+            title: String::new(),
+            caption: String::new(),
+            panels: Vec::new(),
+            columns: 1,
+        };
+        let mut figures = vec![
+            BuiltFigure {
+                plan: plan(),
+                scenes: vec![scene(vec![1.0, 0.5])],
+            },
+            BuiltFigure {
+                plan: plan(),
+                scenes: vec![scene(vec![1.0 / 3.0, 0.25])],
+            },
+        ];
+        size_alike(&mut figures);
+        let scales: Vec<f64> = figures
+            .iter()
+            .flat_map(|f| &f.scenes[0].scene.glyph_sets[0].scales)
+            .copied()
+            .collect();
+        let expected = [1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0, 0.25];
+        for (got, want) in scales.iter().zip(expected) {
+            assert!((got - want).abs() < 1e-15, "{scales:?}");
+        }
+    }
+}

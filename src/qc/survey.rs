@@ -333,6 +333,63 @@ pub fn voxel_world(volume: &Volume, voxel: [usize; 3]) -> DVec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::io::nifti::{AffineSource, VoxelToWorld};
+    use crate::scene::ShBasis;
+    use crate::volume::VolumeKind;
+
+    /// GFA and amplitude from the coefficients: an isotropic ODF has GFA 0, a band-2
+    /// one sqrt(1 - c00^2 / (c00^2 + c20^2)) in every basis (its zonal term is the same
+    /// in all), legacy tournier07's m != 0 terms count half; the mask and non-finite or
+    /// non-positive voxels are left out.
+    #[test]
+    fn amplitude_and_gfa_come_from_the_coefficients() {
+        let mut data = ndarray::Array4::<f64>::zeros((4, 1, 1, 6));
+        data[[0, 0, 0, 0]] = 2.0; // isotropic
+        data[[1, 0, 0, 0]] = 1.0;
+        data[[1, 0, 0, 3]] = 1.0; // (l, m) = (2, 0)
+        data[[2, 0, 0, 0]] = 1.0;
+        data[[2, 0, 0, 1]] = 1.0; // (2, -2)
+        data[[3, 0, 0, 0]] = f64::NAN;
+        let map = VoxelToWorld::new(glam::DMat4::IDENTITY, AffineSource::Sform, "v", "affine")
+            .expect("identity");
+        for legacy in [false, true] {
+            let kind = VolumeKind::Sh {
+                basis: ShBasis::Tournier07,
+                legacy,
+            };
+            let volume = Volume::new("v", data.clone(), kind, map).expect("a volume");
+            let survey = Survey::of(&volume, None).expect("surveyed");
+            assert_eq!(survey.count, 3);
+            assert!(!survey.inside[3]);
+            assert!(
+                (survey.amplitude[0] - 2.0 / (4.0 * std::f64::consts::PI).sqrt()).abs() < 1e-15
+            );
+            assert_eq!(survey.gfa[0], 0.0);
+            assert!((survey.gfa[1] - 0.5f64.sqrt()).abs() < 1e-15);
+            let expected = if legacy {
+                (1.0f64 / 3.0).sqrt()
+            } else {
+                0.5f64.sqrt()
+            };
+            assert!((survey.gfa[2] - expected).abs() < 1e-15, "{legacy}");
+            let mask = Mask::new(
+                "m",
+                &ndarray::Array3::from_shape_vec((4, 1, 1), vec![0.0, 1.0, 0.0, 1.0])
+                    .expect("a mask"),
+            );
+            let masked = Survey::of(&volume, Some(&mask)).expect("masked");
+            assert_eq!(masked.count, 1);
+            assert!(masked.inside[1]);
+        }
+        let empty = ndarray::Array4::<f64>::zeros((2, 1, 1, 6));
+        let kind = VolumeKind::Sh {
+            basis: ShBasis::Tournier07,
+            legacy: false,
+        };
+        let volume = Volume::new("zeros.nii", empty, kind, map).expect("a volume");
+        let err = Survey::of(&volume, None).err().expect("nothing to look at");
+        assert!(err.to_string().contains("zeros.nii"), "{err}");
+    }
 
     #[test]
     fn quartiles_follow_the_weight_and_stay_distinct() {
