@@ -119,12 +119,12 @@ pub fn zoom_plan(
         options.voxels = ranges;
         options.slice = Slice {
             axis: voxel_plane,
-            index: Some(centre[axis]),
+            index: Some(region.slices[axis]),
         };
         let letter = ["i", "j", "k"][axis];
         panels.push((
             options,
-            format!("{} {letter}={}", plane.name(), centre[axis]),
+            format!("{} {letter}={}", plane.name(), region.slices[axis]),
         ));
     }
     FigurePlan {

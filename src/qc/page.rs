@@ -136,6 +136,7 @@ fn region_json(volume: &Volume, rank: usize, region: &Region) -> Value {
         "rank": rank + 1,
         "voxels": region.ranges_text(),
         "centre_voxel": region.centre(),
+        "slices_shown": region.slices,
         "centre_world_mm": voxel_world(volume, region.centre()).to_array(),
         "mean_gfa": region.mean_gfa,
         "mean_amplitude": region.mean_amplitude,

@@ -13,7 +13,8 @@
 //!   brain, not the field of view.
 //! - Regions: cubes of `side` voxels whose mean GFA (voxels not looked at count 0) is
 //!   highest, at least half of them looked at, none overlapping another; ties go to the
-//!   lowest voxel index, so the choice is deterministic.
+//!   lowest voxel index, so the choice is deterministic. Each zoomed panel shows the
+//!   cube's slice with the most voxels looked at (the nearest the centre among equals).
 use glam::DVec3;
 
 use crate::glyph::sh::orthonormal_factors;
@@ -65,6 +66,10 @@ pub struct Region {
     pub mean_gfa: f64,
     /// Mean amplitude over the voxels looked at in the cube.
     pub mean_amplitude: f64,
+    /// Per voxel axis, the slice of the cube its zoomed panel shows: the one with the
+    /// most voxels looked at, the nearest the centre among equals (a slice through the
+    /// centre may miss a mask with holes).
+    pub slices: [usize; 3],
 }
 
 impl Region {
@@ -227,11 +232,28 @@ impl Survey {
                 continue;
             }
             let inside = looked.sum(start, size).max(1.0);
+            let slices = [0, 1, 2].map(|axis| {
+                let centre = start[axis] + (size[axis] - 1) / 2;
+                (start[axis]..start[axis] + size[axis])
+                    .map(|index| {
+                        let mut from = start;
+                        let mut extent = size;
+                        (from[axis], extent[axis]) = (index, 1);
+                        (looked.sum(from, extent), index)
+                    })
+                    .max_by(|a, b| {
+                        a.0.total_cmp(&b.0)
+                            .then(b.1.abs_diff(centre).cmp(&a.1.abs_diff(centre)))
+                            .then(b.1.cmp(&a.1))
+                    })
+                    .map_or(centre, |(_, index)| index)
+            });
             chosen.push(Region {
                 start,
                 size,
                 mean_gfa: score,
                 mean_amplitude: amplitude.sum(start, size) / inside,
+                slices,
             });
         }
         chosen
@@ -451,6 +473,21 @@ mod tests {
         assert_eq!(regions[1].start, [0, 0, 0]);
         assert_eq!(regions[0].ranges_text(), "6:10,6:10,6:10");
         assert_eq!(regions[0].centre(), [7, 7, 7]);
+        assert_eq!(
+            regions[0].slices,
+            [7, 7, 7],
+            "every slice full: the centre's"
+        );
+        // A hole through the centre's slice: the panel moves to the nearest full slice.
+        for j in 0..12 {
+            for i in 0..12 {
+                let at = survey.index([i, j, 7]);
+                survey.inside[at] = false;
+            }
+        }
+        let moved = survey.regions(4);
+        assert_eq!(moved[0].start, [6, 6, 6]);
+        assert_eq!(moved[0].slices, [7, 7, 6]);
         for (a, r) in regions.iter().enumerate() {
             for s in &regions[a + 1..] {
                 assert!(
