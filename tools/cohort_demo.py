@@ -74,6 +74,8 @@ def workflow(subjects, inputs, out_root, panel_size):
     if os.environ.get("GLYPHCAST_VALIDATION") == "1":
         qc.inputs.validation = True
     wf = Workflow(name="glyphcast_cohort", base_dir=str(out_root / "work"))
+    # Crash files beside the cache, not in the caller's folder.
+    wf.config["execution"]["crashdump_dir"] = str(out_root / "work" / "crash")
     wf.connect([
         (source, files, [("subject", "subject")]),
         (files, fit, [("dwi", "dwi"), ("bval", "bval"), ("bvec", "bvec")]),
