@@ -24,7 +24,8 @@ use crate::render::headless::HeadlessRenderer;
 use crate::render::options::RenderOptions;
 use crate::vk::Gpu;
 use crate::volume::{
-    Coefficients, ImageRequest, Normalisation, VolumeRequest, load_mask, load_underlay,
+    Coefficients, ImageRequest, Mask, Normalisation, Volume, VolumeRequest, load_mask,
+    load_underlay,
 };
 use crate::{Error, Result};
 use figures::{DrawContext, Figure, SharedUnderlay};
@@ -139,19 +140,7 @@ pub fn make_set(request: &QcRequest, progress: &dyn Fn(&str)) -> Result<QcSet> {
     let step = Instant::now();
     let volume = request.volume.read_volume(Coefficients::Sh, &request.fod)?;
     let mask = request.mask.as_deref().map(load_mask).transpose()?;
-    let underlay = match &request.underlay {
-        None => None,
-        Some(path) => {
-            let (mut image, source) = load_underlay(path)?;
-            if let Some((lo, hi)) = request.volume.underlay_range()? {
-                image.set_window(lo, hi)?;
-            }
-            Some(SharedUnderlay {
-                volume: Arc::new(image),
-                source,
-            })
-        }
-    };
+    let underlay = read_underlay(request)?;
     let mut notes = Vec::new();
     if let Some(peaks) = &request.peaks {
         check_peaks(peaks, volume.dims)?;
@@ -177,18 +166,7 @@ pub fn make_set(request: &QcRequest, progress: &dyn Fn(&str)) -> Result<QcSet> {
     let size = request
         .panel_size
         .unwrap_or_else(|| default_panel_size(volume.dims));
-    let mut base = request.volume.options(ImageRequest {
-        width: Some(size),
-        height: Some(size),
-    })?;
-    base.mask = mask.clone();
-    // Sized per glyph first; `figures::size_alike` puts every glyph on one scale.
-    base.norm = Normalisation::PerGlyph;
-    let mut plans = vec![figures::mosaic_plan(&base, &cuts)];
-    for (rank, region) in regions.iter().enumerate() {
-        let world = voxel_world(&volume, region.centre()).to_array();
-        plans.push(figures::zoom_plan(&base, &volume, region, rank + 1, world));
-    }
+    let plans = plan_figures(request, &volume, mask, size, &cuts, &regions)?;
     let mut built = figures::build(&volume, plans)?;
     figures::size_alike(&mut built);
     timings.push(("build", ms(step)));
@@ -208,36 +186,25 @@ pub fn make_set(request: &QcRequest, progress: &dyn Fn(&str)) -> Result<QcSet> {
         underlay: underlay.as_ref(),
         volume: &volume,
     };
-    let mut drawn: Vec<Figure> = Vec::new();
-    let mut built = built.into_iter();
-    let mosaic = built
-        .next()
-        .ok_or_else(|| Error::Invalid("qc: no mosaic".into()))?;
-    let peaks_figure = match &request.peaks {
-        Some(peaks) => figures::peaks_mosaic(
-            &context,
-            &mut renderer,
-            &mosaic,
-            &peaks.display().to_string(),
-            &mut notes,
-        )?,
-        None => None,
-    };
-    drawn.push(figures::render(&context, &mut renderer, mosaic)?);
-    drawn.extend(peaks_figure);
-    for figure in built {
-        drawn.push(figures::render(&context, &mut renderer, figure)?);
-    }
+    let drawn = draw_figures(
+        &context,
+        &mut renderer,
+        built,
+        request.peaks.as_deref(),
+        &mut notes,
+    )?;
     timings.push(("render", ms(step)));
 
     let step = Instant::now();
-    let mut files = Vec::new();
-    for figure in &drawn {
-        let path = Path::new(&figure.file);
-        let image = &figure.image;
-        let png = crate::io::png::encode_png_rgba8(path, image.width, image.height, &image.rgba)?;
-        files.push((figure.file.clone(), png));
-    }
+    let mut files = drawn
+        .iter()
+        .map(|figure| {
+            let image = &figure.image;
+            let path = Path::new(&figure.file);
+            crate::io::png::encode_png_rgba8(path, image.width, image.height, &image.rgba)
+                .map(|png| (figure.file.clone(), png))
+        })
+        .collect::<Result<Vec<_>>>()?;
     timings.push(("encode", ms(step)));
     let inputs = hashing
         .join()
@@ -266,6 +233,74 @@ pub fn make_set(request: &QcRequest, progress: &dyn Fn(&str)) -> Result<QcSet> {
         notes,
         device,
     })
+}
+
+/// The underlay asked for, read once for every panel, with its window.
+fn read_underlay(request: &QcRequest) -> Result<Option<SharedUnderlay>> {
+    let Some(path) = &request.underlay else {
+        return Ok(None);
+    };
+    let (mut image, source) = load_underlay(path)?;
+    if let Some((lo, hi)) = request.volume.underlay_range()? {
+        image.set_window(lo, hi)?;
+    }
+    Ok(Some(SharedUnderlay {
+        volume: Arc::new(image),
+        source,
+    }))
+}
+
+/// The set's figures, the mosaic first, with panels of `size` pixels showing the voxels
+/// of `mask` (if any).
+fn plan_figures(
+    request: &QcRequest,
+    volume: &Volume,
+    mask: Option<Mask>,
+    size: u32,
+    cuts: &[survey::PlaneCuts],
+    regions: &[survey::Region],
+) -> Result<Vec<figures::FigurePlan>> {
+    let mut base = request.volume.options(ImageRequest {
+        width: Some(size),
+        height: Some(size),
+    })?;
+    base.mask = mask;
+    // Sized per glyph first; `figures::size_alike` puts every glyph on one scale.
+    base.norm = Normalisation::PerGlyph;
+    let mut plans = vec![figures::mosaic_plan(&base, cuts)];
+    for (rank, region) in regions.iter().enumerate() {
+        let world = voxel_world(volume, region.centre()).to_array();
+        plans.push(figures::zoom_plan(&base, volume, region, rank + 1, world));
+    }
+    Ok(plans)
+}
+
+/// Draws the built figures in order, the peaks mosaic (from `peaks`, if given) after the
+/// ODF mosaic.
+fn draw_figures(
+    context: &DrawContext,
+    renderer: &mut HeadlessRenderer,
+    built: Vec<figures::BuiltFigure>,
+    peaks: Option<&Path>,
+    notes: &mut Vec<String>,
+) -> Result<Vec<Figure>> {
+    let mut built = built.into_iter();
+    let mosaic = built
+        .next()
+        .ok_or_else(|| Error::Invalid("qc: no mosaic".into()))?;
+    let peaks_figure = match peaks {
+        Some(peaks) => {
+            let name = peaks.display().to_string();
+            figures::peaks_mosaic(context, renderer, &mosaic, &name, notes)?
+        }
+        None => None,
+    };
+    let mut drawn = vec![figures::render(context, renderer, mosaic)?];
+    drawn.extend(peaks_figure);
+    for figure in built {
+        drawn.push(figures::render(context, renderer, figure)?);
+    }
+    Ok(drawn)
 }
 
 /// The inputs the request names, in the sidecar's order.
