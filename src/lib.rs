@@ -142,6 +142,8 @@ pub mod fit;
 pub mod glyph;
 pub mod io;
 pub mod parallel;
+#[cfg(feature = "volume")]
+pub mod qc;
 pub mod render;
 pub mod rng;
 pub mod scene;

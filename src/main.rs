@@ -52,6 +52,9 @@ enum Command {
     Fit(cli::fit::FitArgs),
     /// Find up to N maxima per voxel of an ODF image (MRtrix sh2peaks' layout).
     Peaks(cli::peaks::PeaksArgs),
+    /// Write one subject's quality-control figure set of fibre ODFs into a folder: ODF
+    /// mosaic, zoomed regions, index.html and the qc.json sidecar.
+    Qc(Box<cli::qc::QcArgs>),
     /// Write a one-glyph scene file from a Voigt stiffness matrix (CSV or JSON).
     Stiffness(cli::stiffness::StiffnessArgs),
 }
@@ -141,6 +144,7 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
         Command::Bench(args) => cli::bench::run(&args),
         Command::Fit(args) => cli::fit::run(args),
         Command::Peaks(args) => cli::peaks::run(args),
+        Command::Qc(args) => cli::qc::run(&args),
         Command::Stiffness(args) => cli::stiffness::run(args),
     }
 }

@@ -4,7 +4,7 @@
 # checks that the core builds, passes its tests and stays free of the front ends'
 # dependencies without the default features (what an embedding engine gets); then builds
 # the Python module into a virtual environment (target/py-venv, reused) and runs its
-# tests (python/tests) against the CLI.
+# tests (python/tests) against the CLI, the workflow engines' (Nipype, pydra) included.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/install-deps.sh
@@ -24,7 +24,7 @@ cargo test --locked --no-run --test cli
 venv=target/py-venv
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
 "$venv/bin/python" -m pip install -q --disable-pip-version-check \
-    'maturin>=1.9,<2' numpy pytest nibabel
+    'maturin>=1.9,<2' numpy pytest nibabel nipype 'pydra>=0.25,<1'
 # A debug build in the shared target/ (the library with `volume` only, pyo3 and numpy:
 # minutes from cold, seconds when nothing changed).
 (cd python && VIRTUAL_ENV="$PWD/../$venv" PATH="$PWD/../$venv/bin:$PATH" \

@@ -5,6 +5,7 @@ pub mod fit;
 pub mod flags;
 pub mod peaks;
 pub mod progress;
+pub mod qc;
 pub mod render;
 pub mod stiffness;
 pub mod view;

@@ -28,7 +28,7 @@ static LIVE_TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
 /// The registry, also after a panic in another thread (a list of paths cannot be left
 /// inconsistent by one).
-fn live_temporaries() -> MutexGuard<'static, Vec<PathBuf>> {
+pub(super) fn live_temporaries() -> MutexGuard<'static, Vec<PathBuf>> {
     LIVE_TEMPORARIES
         .lock()
         .unwrap_or_else(PoisonError::into_inner)
@@ -43,9 +43,15 @@ pub fn exit_removing_temporaries(code: i32) -> ! {
     // Held until the process ends: no write can start or rename after this point.
     let live = live_temporaries();
     for temporary in live.iter() {
-        let _ = fs::remove_file(temporary);
+        // A temporary folder (`io::folder`) is removed with its contents.
+        let _ = fs::remove_file(temporary).or_else(|_| fs::remove_dir_all(temporary));
     }
     signal_hook::low_level::exit(code)
+}
+
+/// A number no other temporary of this process has.
+pub(super) fn temporary_serial() -> u64 {
+    TEMPORARY_COUNTER.fetch_add(1, Ordering::Relaxed)
 }
 
 /// Forgets `temporaries` (renamed or removed).
@@ -238,7 +244,7 @@ fn temporary_path(path: &Path) -> Result<PathBuf> {
 
 /// Creates `path` (which must not exist yet), writes `bytes` and flushes them to disk
 /// so that the rename publishes complete data.
-fn write_synced(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+pub(super) fn write_synced(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let mut file = {
         // Entered before it exists, under the lock an interrupt takes: a temporary is
         // never created after the interrupt's clean-up.

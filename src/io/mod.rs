@@ -1,6 +1,7 @@
 //! Files in and out: scene JSON, NIfTI and MRtrix volumes, Voigt stiffness files, PNG
 //! images and NumPy depth maps.
 pub mod atomic;
+pub mod folder;
 #[cfg(feature = "volume")]
 pub mod image;
 #[cfg(feature = "volume")]

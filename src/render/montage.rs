@@ -14,10 +14,11 @@ use crate::glyph::NegativeMode;
 use crate::render::antialias::MAX_SUPERSAMPLED_SIDE as MAX_SIDE;
 use crate::render::colorbar::srgb_byte;
 use crate::render::glyph_data::GlyphSetData;
-use crate::render::headless::{HeadlessRenderer, RenderedImage};
+use crate::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
 use crate::render::labels::{draw_edge_labels, edge_labels};
 use crate::render::options::{PreparedScene, prepare_render};
 use crate::render::settings::{ColorMode, RenderSettings};
+use crate::render::underlay::Underlay;
 use crate::scene::Scene;
 use crate::vk::Gpu;
 
@@ -210,12 +211,26 @@ impl PreparedMontage {
         gpu: &Gpu,
         labels: bool,
     ) -> Result<RenderedImage> {
+        self.render_with_underlays(renderer, gpu, labels, &[])
+    }
+
+    /// [`PreparedMontage::render`] with panel k's underlay `underlays[k]` drawn in its
+    /// depth buffer (a panel past the list's end has none): each panel's planes are its
+    /// own slice's (`volume::view_underlay` on the panel's regions).
+    pub fn render_with_underlays(
+        &self,
+        renderer: &mut HeadlessRenderer,
+        gpu: &Gpu,
+        labels: bool,
+        underlays: &[Option<Underlay>],
+    ) -> Result<RenderedImage> {
         let (width, height) = self.grid.size()?;
         let mut montage = Montage::new(self.grid, width, height, self.settings.background);
         for (k, panel) in self.panels.iter().enumerate() {
             let (w, h) = (panel.width, panel.height);
-            let mut image =
-                renderer.render(gpu, &panel.sets, &panel.camera, w, h, &self.settings)?;
+            let underlay = underlays.get(k).and_then(Option::as_ref);
+            let view = FrameView::new(&panel.camera, w, h).with_underlay(underlay);
+            let mut image = renderer.render_view(gpu, &panel.sets, &view, &self.settings)?;
             if labels {
                 draw_edge_labels(&mut image.rgba, w, h, &edge_labels(&panel.camera))?;
             }

@@ -130,6 +130,13 @@ impl Volume {
         self.data.shape()[3]
     }
 
+    /// The coefficients of voxel (i, j, k), in the file's order, without a copy (for
+    /// passes over every voxel).
+    pub fn coefficients_view(&self, voxel: [usize; 3]) -> ndarray::ArrayView1<'_, f64> {
+        let [i, j, k] = voxel;
+        self.data.slice(ndarray::s![i, j, k, ..])
+    }
+
     /// The coefficients of voxel (i, j, k), in the file's order.
     pub fn coefficients(&self, voxel: [usize; 3]) -> Vec<f64> {
         let [i, j, k] = voxel;

@@ -38,7 +38,7 @@ mod tests;
 
 pub use crate::glyph::rotate::rotate_symmetric_tensor;
 pub use basis::{sh_basis_values, sh_eval};
-pub use convert::convert_basis;
+pub use convert::{convert_basis, orthonormal_factors};
 pub use fit::ShFitter;
 pub(crate) use legendre::{q_table as legendre_table, table_index as legendre_index};
 pub use rotate::rotate_sh;

@@ -1,0 +1,150 @@
+"""glyphcast on workflow engines (issue 24): the cohort demo (N = 4 subjects through
+Nipype's MultiProc: fit, peaks, qc), a pydra workflow of the same tasks, the Nipype
+Render interface against the CLI, and the interfaces' checks of their inputs.
+
+Every run is real: the glyphcast binary (GLYPHCAST_BIN, else target/debug/glyphcast)
+draws on lavapipe with the validation layer on (conftest sets GLYPHCAST_VALIDATION=1).
+"""
+import json
+import os
+import pathlib
+import subprocess
+import sys
+
+import pytest
+
+nipype = pytest.importorskip("nipype", reason="the test venv installs nipype")
+pydra = pytest.importorskip("pydra", reason="the test venv installs pydra")
+
+from traits.api import TraitError  # noqa: E402
+
+from glyphcast.nipype import Fit, Peaks, Qc, Render  # noqa: E402
+from glyphcast.pydra import fit_task, peaks_task, qc_task  # noqa: E402
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+DIPY = ROOT / "tests" / "data" / "dipy"
+
+
+@pytest.fixture(autouse=True)
+def binary(cli_binary, monkeypatch):
+    """The interfaces run the binary the other tests compare with."""
+    monkeypatch.setenv("GLYPHCAST_BIN", str(cli_binary))
+    return cli_binary
+
+
+@pytest.fixture(scope="module")
+def fod(tmp_path_factory, cli_binary):
+    """CSD fODFs of small_64D, fitted by the CLI."""
+    out = tmp_path_factory.mktemp("fod") / "fod.nii.gz"
+    subprocess.run(
+        [str(cli_binary), "fit", str(DIPY / "small_64D.nii"), "--bval",
+         str(DIPY / "small_64D.bval"), "--bvec", str(DIPY / "small_64D.bvec"),
+         "--odf", "csd", "--order", "8", "--quiet", "-o", str(out)],
+        check=True, capture_output=True,
+    )
+    return out
+
+
+def test_cohort_demo_runs_four_subjects_through_nipype_multiproc(tmp_path, cli_binary):
+    out = tmp_path / "cohort"
+    env = dict(os.environ, GLYPHCAST_BIN=str(cli_binary), PYTHON=sys.executable)
+    done = subprocess.run(
+        ["bash", str(ROOT / "tools" / "cohort-demo.sh"), "4", str(out),
+         "--panel-size", "96", "--processes", "2"],
+        env=env, capture_output=True, text=True,
+    )
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    # MultiProc ran the workflow (not the Linear plugin).
+    assert "[MultiProc]" in done.stdout + done.stderr
+    checksums = set()
+    for n in range(1, 5):
+        folder = out / f"sub-{n:02d}" / "qc"
+        assert (folder / "index.html").is_file(), folder
+        names = {p.name for p in folder.iterdir()}
+        assert names == {"index.html", "qc.json", "odf-mosaic.png", "zoom-1.png",
+                         "zoom-2.png", "zoom-3.png"}, names
+        sidecar = json.loads((folder / "qc.json").read_text())
+        roles = [i["role"] for i in sidecar["inputs"]]
+        assert roles == ["fod", "peaks"], roles
+        assert any("peaks" in note for note in sidecar["notes"])
+        assert sidecar["settings"]["panel_size"] == 96
+        checksums.add(sidecar["inputs"][0]["sha256"])
+        page = (folder / "index.html").read_text()
+        assert f"sub-{n:02d}_dwi_fod.nii.gz" in page
+    # Each subject is its own perturbed copy: four different fits.
+    assert len(checksums) == 4
+
+
+def test_pydra_workflow_of_fit_peaks_qc(tmp_path):
+    wf = pydra.Workflow(name="odf_qc", input_spec=["dwi", "bval", "bvec"],
+                        cache_dir=str(tmp_path / "cache"))
+    wf.inputs.dwi = str(DIPY / "small_64D.nii")
+    wf.inputs.bval = str(DIPY / "small_64D.bval")
+    wf.inputs.bvec = str(DIPY / "small_64D.bvec")
+    wf.add(fit_task(name="fit", dwi=wf.lzin.dwi, bval=wf.lzin.bval, bvec=wf.lzin.bvec))
+    wf.add(peaks_task(name="peaks", in_file=wf.fit.lzout.out_file))
+    wf.add(qc_task(name="qc", fod=wf.fit.lzout.out_file, peaks=wf.peaks.lzout.out_file,
+                   panel_size=96, validation=True))
+    wf.set_output([("index_html", wf.qc.lzout.index_html),
+                   ("sidecar", wf.qc.lzout.sidecar),
+                   ("figures", wf.qc.lzout.figures)])
+    with pydra.Submitter(plugin="cf") as submitter:
+        submitter(wf)
+    result = wf.result()
+    assert not result.errored
+    page = pathlib.Path(str(result.output.index_html))
+    assert "small_64D_fod.nii.gz" in page.read_text()
+    sidecar = json.loads(pathlib.Path(str(result.output.sidecar)).read_text())
+    assert sidecar["volume"]["sh_band"] == 8
+    names = sorted(pathlib.Path(str(f)).name for f in result.output.figures)
+    assert names == ["odf-mosaic.png", "zoom-1.png", "zoom-2.png", "zoom-3.png"]
+
+
+def test_nipype_render_gives_the_cli_picture(tmp_path, fod, cli, monkeypatch):
+    node_dir = tmp_path / "node"
+    node_dir.mkdir()
+    monkeypatch.chdir(node_dir)
+    render = Render(sh=str(fod), views="axial,coronal", width=80, height=80, labels=True,
+                    negative="hide", validation=True)
+    assert render.cmdline.endswith("-o fod.png")
+    result = render.run()
+    made = pathlib.Path(result.outputs.out_file)
+    cli_png = tmp_path / "cli.png"
+    cli("render", "--sh", fod, "--views", "axial,coronal", "--width", "80", "--height",
+        "80", "--labels", "--negative", "hide", "-o", cli_png)
+    assert made.read_bytes() == cli_png.read_bytes()
+
+
+def test_nipype_interfaces_refuse_bad_inputs_before_running(tmp_path, fod):
+    missing = str(tmp_path / "missing.nii.gz")
+    with pytest.raises(TraitError):
+        Qc(fod=missing)
+    with pytest.raises(TraitError):
+        Qc(fod=str(fod), negative="both")
+    with pytest.raises(TraitError):
+        Qc(fod=str(fod), panel_size=10)
+    with pytest.raises(TraitError):
+        Fit(dwi=str(DIPY / "small_64D.nii"), odf="dti")
+    with pytest.raises(TraitError):
+        Peaks(in_file=missing)
+    with pytest.raises(TraitError):
+        Render(sh=str(fod), samples=3)
+    # Options that exclude each other are refused when the second is set, a mandatory
+    # input left out when the command line is made: before anything runs.
+    with pytest.raises(OSError, match="mutually exclusive"):
+        Render(sh=str(fod), views="axial", lightbox=4)
+    with pytest.raises(ValueError, match="fod"):
+        Qc().cmdline
+    assert not list(tmp_path.iterdir())
+
+
+def test_pydra_tasks_refuse_bad_inputs_before_running(tmp_path, fod):
+    with pytest.raises(Exception, match="missing.nii.gz"):
+        qc_task(fod=str(tmp_path / "missing.nii.gz"))
+    with pytest.raises(ValueError, match="negative"):
+        qc_task(fod=str(fod), negative="both")
+    with pytest.raises(ValueError, match="panel_size"):
+        qc_task(fod=str(fod), panel_size=10)
+    with pytest.raises(ValueError, match="odf"):
+        fit_task(dwi=str(DIPY / "small_64D.nii"), odf="dti")
+    assert not list(tmp_path.iterdir())
