@@ -49,7 +49,14 @@ fn module(device: &ash::Device, spirv: &[u32]) -> Result<vk::ShaderModule> {
 }
 
 impl<'a> PlanePass<'a> {
-    pub fn new(device: &'a ash::Device, color: vk::Format, depth: vk::Format) -> Result<Self> {
+    /// A pipeline for the engine's attachments: `samples` per pixel, depth tested with
+    /// `compare` (the engine's convention, which glyphcast is told too).
+    pub fn new(
+        device: &'a ash::Device,
+        (color, depth): (vk::Format, vk::Format),
+        samples: vk::SampleCountFlags,
+        compare: vk::CompareOp,
+    ) -> Result<Self> {
         let push = [vk::PushConstantRange::default()
             .stage_flags(vk::ShaderStageFlags::VERTEX)
             .size(std::mem::size_of::<PlanePush>() as u32)];
@@ -78,13 +85,12 @@ impl<'a> PlanePass<'a> {
             .polygon_mode(vk::PolygonMode::FILL)
             .cull_mode(vk::CullModeFlags::NONE)
             .line_width(1.0);
-        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
-        // The same depth convention as the glyphs: reversed, 1 near, 0 far, GREATER wins.
+        let multisample =
+            vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(samples);
         let depth_state = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(true)
             .depth_write_enable(true)
-            .depth_compare_op(vk::CompareOp::GREATER);
+            .depth_compare_op(compare);
         let blend_attachment = [vk::PipelineColorBlendAttachmentState::default()
             .color_write_mask(vk::ColorComponentFlags::RGBA)];
         let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachment);
@@ -121,8 +127,8 @@ impl<'a> PlanePass<'a> {
         })
     }
 
-    /// Draws the square inside the caller's dynamic rendering, with the glyph pass's
-    /// view-projection so that both write comparable depths.
+    /// Draws the square inside the caller's dynamic rendering, with the engine's
+    /// view-projection (the one glyphcast is given) so that both write comparable depths.
     pub fn record(
         &self,
         cmd: vk::CommandBuffer,

@@ -1,0 +1,345 @@
+//! The example engine under synchronization validation, against glyphcast's headless
+//! renderer of the same camera; `cargo test --example embed` runs these.
+use super::*;
+use glyphcast::{Gpu, GpuOptions, HeadlessRenderer, RenderedImage};
+
+fn options(depth: DepthConvention, samples: u32) -> Options {
+    Options {
+        frames: 60,
+        in_flight: 3,
+        depth,
+        samples,
+        validation: Validation::Sync,
+        screenshot: None,
+        plane: true,
+    }
+}
+
+fn headless(run: &Run, samples: u32) -> RenderedImage {
+    let gpu = Gpu::headless(&GpuOptions {
+        validation: true,
+        device: std::env::var("GLYPHCAST_DEVICE").ok(),
+    })
+    .expect("a Vulkan device with validation");
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("headless renderer");
+    // The engine's clear colour (linear, as a clear value of an sRGB image is).
+    let settings = RenderSettings {
+        samples,
+        background: [0.55, 0.65, 0.8, 1.0],
+        ..RenderSettings::default()
+    };
+    let image = renderer
+        .render(&gpu, &run.sets, &run.camera, WIDTH, HEIGHT, &settings)
+        .expect("headless render");
+    assert_eq!(gpu.validation_errors(), Vec::<String>::new());
+    image
+}
+
+/// The engine's last frame against the headless render of its camera (glyphs) and the
+/// analytic plane, at every pixel but those next to the plane's border and those where
+/// plane and glyph lie within `CROSSING` of each other.
+#[derive(Debug, Default)]
+struct GlyphMatch {
+    /// Pixels judged.
+    judged: usize,
+    /// Of those, pixels where a glyph is in front.
+    glyph: usize,
+    /// Pixels where the engine shows a glyph and the headless render none, or the other
+    /// way round.
+    coverage_differs: usize,
+    /// The largest depth difference at visible glyphs, in units of the glyph scale.
+    max_error: f64,
+}
+
+/// Plane and glyph closer than this (units of the glyph scale) are not judged: which one
+/// a depth test keeps there depends on float32 depth rounding.
+const CROSSING: f64 = 1e-3;
+
+fn glyph_match(run: &Run, reference: &RenderedImage) -> GlyphMatch {
+    let engine = depth_to_distance(&run.depth, &run.camera, &run.projection);
+    let scale = run
+        .sets
+        .iter()
+        .flat_map(|s| &s.world)
+        .map(|g| g.scale * g.bound)
+        .fold(0.0, f64::max);
+    let (w, h) = (WIDTH as usize, HEIGHT as usize);
+    let plane: Vec<f64> = (0..w * h)
+        .map(|k| {
+            let ray = run
+                .camera
+                .ray((k % w) as u32, (k / w) as u32, WIDTH, HEIGHT);
+            SQUARE.hit(ray.origin, ray.dir).unwrap_or(f64::NAN)
+        })
+        .collect();
+    let mut m = GlyphMatch::default();
+    for k in 0..w * h {
+        let (x, y) = (k % w, k / w);
+        let plane_border = (y.saturating_sub(1)..=(y + 1).min(h - 1))
+            .flat_map(|ny| (x.saturating_sub(1)..=(x + 1).min(w - 1)).map(move |nx| ny * w + nx))
+            .any(|n| plane[n].is_nan() != plane[k].is_nan());
+        let glyph = reference.distance[k] as f64;
+        if plane_border || (glyph - plane[k]).abs() < CROSSING * scale {
+            continue;
+        }
+        m.judged += 1;
+        // The nearer of glyph and plane is what the engine's depth buffer should hold.
+        let glyph_in_front = !glyph.is_nan() && !(plane[k] < glyph);
+        let engine_glyph = !engine[k].is_nan()
+            && (plane[k].is_nan() || engine[k] < plane[k] - 0.5 * CROSSING * scale);
+        if glyph_in_front != engine_glyph {
+            m.coverage_differs += 1;
+        } else if glyph_in_front {
+            m.glyph += 1;
+            m.max_error = m.max_error.max((engine[k] - glyph).abs() / scale);
+        }
+    }
+    m
+}
+
+/// Pixels whose RGBA differ between two pictures.
+fn differing(a: &[u8], b: &[u8]) -> usize {
+    a.chunks(4).zip(b.chunks(4)).filter(|(p, q)| p != q).count()
+}
+
+fn save(name: &str, rgba: &[u8]) {
+    let path = std::env::temp_dir().join(format!("embed-{name}.png"));
+    let _ = glyphcast::io::png::write_png_rgba8(&path, WIDTH, HEIGHT, rgba);
+    eprintln!("image: {}", path.display());
+}
+
+/// 60 frames, 3 in flight, camera moving every frame and the glyphs replaced once, under
+/// synchronization validation: no message, the retired glyphs released, and the last
+/// frame's glyphs where glyphcast's headless renderer puts them, in both depth
+/// conventions, which give the same picture.
+fn frames_in_flight_match_headless(samples: u32) {
+    let standard = run(&options(DepthConvention::Standard, samples)).expect("standard run");
+    let reversed = run(&options(DepthConvention::Reversed, samples)).expect("reversed run");
+    for (name, r) in [("standard", &standard), ("reversed", &reversed)] {
+        assert_eq!(r.validation, Vec::<String>::new(), "{name}");
+        assert_eq!(
+            r.retired_at_end, 0,
+            "{name}: the replaced glyphs were released"
+        );
+    }
+    // The same picture: the glyphs' colours do not depend on the depth convention; where
+    // the plane and a glyph meet, the two conventions' depth roundings may pick
+    // different winners (a float32 depth holds standard depth far more coarsely).
+    let changed = differing(&standard.rgba, &reversed.rgba);
+    if changed > 0 {
+        save(&format!("standard-{samples}"), &standard.rgba);
+        save(&format!("reversed-{samples}"), &reversed.rgba);
+    }
+    assert!(
+        changed <= 4,
+        "{changed} pixels differ between the conventions"
+    );
+    if samples > 1 {
+        // Depth of sample 0 lies off the pixel centre, where headless rays go: the
+        // multisampled glyphs are held to the supersampled render by the edge test.
+        return;
+    }
+    let reference = headless(&standard, 1);
+    for (name, r) in [("standard", &standard), ("reversed", &reversed)] {
+        let m = glyph_match(r, &reference);
+        eprintln!("{name}: {m:?}");
+        assert!(m.judged > 1000 && m.glyph > 300, "{name}: {m:?}");
+        assert_eq!(m.coverage_differs, 0, "{name}: {m:?}");
+        assert!(m.max_error < 1e-4, "{name}: {m:?}");
+    }
+}
+
+#[test]
+fn sixty_frames_three_in_flight_one_sample() {
+    frames_in_flight_match_headless(1);
+}
+
+#[test]
+fn sixty_frames_three_in_flight_four_samples() {
+    frames_in_flight_match_headless(4);
+}
+
+/// Mean difference (0-255, RGB) from the 16x supersampled headless render (drawn over
+/// the engine's clear colour) at the glyph silhouettes: pixels whose 3 x 3 neighbourhood
+/// holds both hits and misses of the reference's pixel-centre rays.
+fn edge_error(rgba: &[u8], reference: &RenderedImage) -> (f64, usize) {
+    let (w, h) = (WIDTH as usize, HEIGHT as usize);
+    let hit = |k: usize| !reference.distance[k].is_nan();
+    let mut total = 0.0;
+    let mut count = 0;
+    for k in 0..w * h {
+        let (x, y) = (k % w, k / w);
+        let edge = (y.saturating_sub(1)..=(y + 1).min(h - 1))
+            .flat_map(|ny| (x.saturating_sub(1)..=(x + 1).min(w - 1)).map(move |nx| ny * w + nx))
+            .any(|n| hit(n) != hit(k));
+        if !edge {
+            continue;
+        }
+        count += 1;
+        for c in 0..3 {
+            let (p, q) = (rgba[4 * k + c] as f64, reference.rgba[4 * k + c] as f64);
+            total += (p - q).abs() / 3.0;
+        }
+    }
+    (total / count.max(1) as f64, count)
+}
+
+/// Multisampled glyph silhouettes: at 4 samples the edges are at least twice as close to
+/// the 16x supersampled headless render as at 1 sample.
+#[test]
+fn four_samples_halve_the_edge_error() {
+    let mut errors = Vec::new();
+    let mut reference = None;
+    for samples in [1, 4] {
+        let r = run(&Options {
+            frames: 3,
+            in_flight: 2,
+            plane: false,
+            ..options(DepthConvention::Reversed, samples)
+        })
+        .expect("run");
+        assert_eq!(r.validation, Vec::<String>::new());
+        let reference = reference.get_or_insert_with(|| headless(&r, 16));
+        let (error, edges) = edge_error(&r.rgba, reference);
+        eprintln!("{samples} sample(s): mean edge error {error:.2} over {edges} pixels");
+        assert!(edges > 100);
+        save(&format!("msaa-{samples}"), &r.rgba);
+        errors.push(error);
+    }
+    assert!(errors[1] * 2.0 <= errors[0], "{errors:?}");
+}
+
+/// Two threads record the same prepared renderer, frame 0, into their own command
+/// buffers (from their own pools) at once; the two pictures are identical.
+#[test]
+fn two_threads_record_identical_pictures() {
+    let engine = Engine::new(Validation::Sync).expect("engine");
+    let depth = DepthConvention::Standard;
+    // SAFETY: as in `run_on`: the context and renderer are dropped before the engine.
+    let context = unsafe {
+        DeviceContext::new(
+            &engine.instance,
+            engine.physical_device,
+            engine.device.clone(),
+            engine.allocator(),
+        )
+    };
+    let settings = RenderSettings::default();
+    let sets = prepare_scene(&scene(0), settings.offset as f64).expect("scene");
+    let desc = RendererDesc {
+        formats: TargetFormats {
+            color: COLOR_FORMAT,
+            depth: DEPTH_FORMAT,
+            distance: None,
+        },
+        options: PassOptions {
+            depth,
+            ..PassOptions::default()
+        },
+        frames_in_flight: 1,
+        settings,
+    };
+    let mut glyphs = GlyphRenderer::new(&context, &desc).expect("renderer");
+    glyphs.set_glyphs(&sets).expect("glyphs");
+    let (view, projection) = host_matrices(&camera(0), depth);
+    let view = HostView::whole(view, projection, WIDTH, HEIGHT);
+    glyphs.set_view(0, &view).expect("view");
+    let one = vk::SampleCountFlags::TYPE_1;
+    let bytes = 4 * WIDTH as u64 * HEIGHT as u64;
+    let pools: Vec<_> = (0..2)
+        .map(|_| engine.create_command_pool().expect("pool"))
+        .collect();
+    let slots: Vec<_> = pools
+        .iter()
+        .map(|&pool| {
+            let alloc = vk::CommandBufferAllocateInfo::default()
+                .command_pool(pool)
+                .level(vk::CommandBufferLevel::PRIMARY)
+                .command_buffer_count(1);
+            // SAFETY: the pool belongs to the device; freed with the pool.
+            let cmd = unsafe { engine.device.allocate_command_buffers(&alloc) }.expect("cmd")[0];
+            let readbacks = (
+                engine.create_readback("colour", bytes).expect("readback"),
+                engine.create_readback("depth", bytes).expect("readback"),
+            );
+            (Slot::new(&engine, cmd, one).expect("slot"), readbacks)
+        })
+        .collect();
+    std::thread::scope(|scope| {
+        for (slot, (color, depth_readback)) in &slots {
+            let (engine, glyphs) = (&engine, &glyphs);
+            scope.spawn(move || {
+                let begin = vk::CommandBufferBeginInfo::default();
+                // SAFETY: each thread records its own command buffer of its own pool.
+                unsafe { engine.device.begin_command_buffer(slot.cmd, &begin) }.expect("begin");
+                record_frame(engine, slot, depth, |cmd| Ok(glyphs.record(cmd, 0)?))
+                    .expect("record");
+                record_readback(engine, slot, color, depth_readback);
+                // SAFETY: as above.
+                unsafe { engine.device.end_command_buffer(slot.cmd) }.expect("end");
+            });
+        }
+    });
+    let cmds: Vec<_> = slots.iter().map(|(slot, _)| slot.cmd).collect();
+    let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
+    // SAFETY: both recorded; waiting for idle before reading.
+    unsafe {
+        engine
+            .device
+            .queue_submit(engine.queue, &submit, vk::Fence::null())
+            .expect("submit");
+        engine.device.device_wait_idle().expect("wait");
+    }
+    let pictures: Vec<Vec<u8>> = slots
+        .iter()
+        .map(|(_, (color, _))| engine.read(color).expect("read").to_vec())
+        .collect();
+    let background = pictures[0]
+        .chunks(4)
+        .filter(|p| *p == &pictures[0][..4])
+        .count();
+    assert!(background < pictures[0].len() / 4 - 500, "glyphs are drawn");
+    assert_eq!(differing(&pictures[0], &pictures[1]), 0);
+    for (slot, (color, depth_readback)) in slots {
+        engine.destroy_readback(color).expect("free");
+        engine.destroy_readback(depth_readback).expect("free");
+        slot.destroy(&engine).expect("free");
+    }
+    drop(glyphs);
+    drop(context);
+    for pool in pools {
+        // SAFETY: the device is idle; the command buffers go with their pool.
+        unsafe { engine.device.destroy_command_pool(pool, None) };
+    }
+    assert_eq!(engine.validation_messages(), Vec::<String>::new());
+}
+
+#[test]
+fn unknown_options_and_bad_values_are_refused() {
+    let args = |a: &[&str]| a.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+    assert!(
+        parse(&args(&["--bogus"]))
+            .unwrap_err()
+            .contains("unknown option")
+    );
+    assert!(parse(&args(&["--samples", "3"])).is_err());
+    assert!(parse(&args(&["--depth", "inverted"])).is_err());
+    assert!(parse(&args(&["--frames"])).is_err());
+    let o = parse(&args(&[
+        "--frames",
+        "5",
+        "--in-flight",
+        "2",
+        "--depth",
+        "reversed",
+        "--samples",
+        "8",
+        "--sync-validation",
+        "--screenshot",
+        "x.png",
+    ]))
+    .expect("valid options");
+    assert_eq!((o.frames, o.in_flight, o.samples), (5, 2, 8));
+    assert_eq!(o.depth, DepthConvention::Reversed);
+    assert_eq!(o.validation, Validation::Sync);
+}
