@@ -57,6 +57,9 @@ struct Options {
     /// Whether the engine draws its plane (the tests that compare glyph edges leave it
     /// out; not a command-line option).
     plane: bool,
+    /// The rectangle of the target the frame is drawn in (an editor's viewport; a test's
+    /// option): the whole target if none.
+    viewport: Option<vk::Rect2D>,
 }
 
 impl Default for Options {
@@ -69,6 +72,7 @@ impl Default for Options {
             validation: Validation::Off,
             screenshot: None,
             plane: true,
+            viewport: None,
         }
     }
 }
@@ -171,9 +175,10 @@ fn camera(frame: u32) -> Camera {
 /// The engine's matrices for `camera`: a right-handed view, and a Vulkan projection (y
 /// down) in the engine's depth convention: finite far plane for standard depth, infinite
 /// for reversed (the two that engines commonly use).
-fn host_matrices(camera: &Camera, depth: DepthConvention) -> (DMat4, DMat4) {
+fn host_matrices(camera: &Camera, depth: DepthConvention, rect: vk::Rect2D) -> (DMat4, DMat4) {
     let view = look_at(camera.eye, camera.target, camera.up);
-    let (fov, aspect) = (FOV_Y_DEG.to_radians(), WIDTH as f64 / HEIGHT as f64);
+    let aspect = rect.extent.width as f64 / rect.extent.height as f64;
+    let fov = FOV_Y_DEG.to_radians();
     let far = match depth {
         DepthConvention::Standard => Some(FAR),
         DepthConvention::Reversed => None,
@@ -344,6 +349,7 @@ fn run_on(engine: &Engine, options: &Options) -> Result<Run> {
     let color_readback = engine.create_readback("colour readback", bytes)?;
     let depth_readback = engine.create_readback("depth readback", bytes)?;
     let last = options.frames - 1;
+    let rect = options.viewport.unwrap_or(extent().into());
     let mut sets = &first;
     let d = &engine.device;
     for frame in 0..options.frames {
@@ -360,9 +366,22 @@ fn run_on(engine: &Engine, options: &Options) -> Result<Run> {
             sets = &second;
         }
         let camera = camera(frame);
-        let (view, projection) = host_matrices(&camera, options.depth);
+        let (view, projection) = host_matrices(&camera, options.depth, rect);
         let index = frame as usize % options.in_flight;
-        glyphs.set_view(index, &HostView::whole(view, projection, WIDTH, HEIGHT))?;
+        let host_view = HostView {
+            view,
+            projection,
+            viewport: vk::Viewport {
+                x: rect.offset.x as f32,
+                y: rect.offset.y as f32,
+                width: rect.extent.width as f32,
+                height: rect.extent.height as f32,
+                min_depth: 0.0,
+                max_depth: 1.0,
+            },
+            scissor: rect,
+        };
+        glyphs.set_view(index, &host_view)?;
         let view_proj = (projection * view).as_mat4().to_cols_array_2d();
         // SAFETY: the slot's previous submission completed (its fence).
         unsafe {
@@ -373,7 +392,7 @@ fn run_on(engine: &Engine, options: &Options) -> Result<Run> {
         }
         record_frame(engine, slot, options.depth, |cmd| {
             if options.plane {
-                plane.record(cmd, extent(), view_proj, &SQUARE);
+                plane.record(cmd, rect, view_proj, &SQUARE);
             }
             glyphs.record(cmd, index)?;
             Ok(())
@@ -397,7 +416,7 @@ fn run_on(engine: &Engine, options: &Options) -> Result<Run> {
         validation: Vec::new(),
         retired_at_end: glyphs.retired_count(),
         camera: camera(last),
-        projection: host_matrices(&camera(last), options.depth).1,
+        projection: host_matrices(&camera(last), options.depth, rect).1,
         sets: sets.clone(),
     };
     engine.destroy_readback(color_readback)?;
@@ -612,10 +631,15 @@ impl Attachment {
     }
 }
 
-/// The engine's window depth back to the distance along each pixel's ray, NaN where the
-/// depth is the cleared far end. For a perspective projection (w = -z), window depth
-/// z_w = -P22 + P32 / e at eye depth e.
-fn depth_to_distance(depth: &[f32], camera: &Camera, projection: &DMat4) -> Vec<f64> {
+/// The engine's window depth of a `width` x `height` viewport back to the distance along
+/// each pixel's ray, NaN where the depth is the cleared far end. For a perspective
+/// projection (w = -z), window depth z_w = -P22 + P32 / e at eye depth e.
+fn depth_to_distance(
+    depth: &[f32],
+    camera: &Camera,
+    projection: &DMat4,
+    (width, height): (u32, u32),
+) -> Vec<f64> {
     let p = projection.to_cols_array_2d();
     let fwd = camera.frame().fwd;
     depth
@@ -626,8 +650,8 @@ fn depth_to_distance(depth: &[f32], camera: &Camera, projection: &DMat4) -> Vec<
             if !(eye_depth > 0.0 && eye_depth < FAR * 0.999) {
                 return f64::NAN;
             }
-            let (i, j) = ((k as u32) % WIDTH, (k as u32) / WIDTH);
-            eye_depth / camera.ray(i, j, WIDTH, HEIGHT).dir.dot(fwd)
+            let (i, j) = ((k as u32) % width, (k as u32) / width);
+            eye_depth / camera.ray(i, j, width, height).dir.dot(fwd)
         })
         .collect()
 }

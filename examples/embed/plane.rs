@@ -132,7 +132,7 @@ impl<'a> PlanePass<'a> {
     pub fn record(
         &self,
         cmd: vk::CommandBuffer,
-        extent: vk::Extent2D,
+        rect: vk::Rect2D,
         view_proj: [[f32; 4]; 4],
         square: &Square,
     ) {
@@ -146,17 +146,19 @@ impl<'a> PlanePass<'a> {
             ],
         };
         let viewport = vk::Viewport {
-            width: extent.width as f32,
-            height: extent.height as f32,
+            x: rect.offset.x as f32,
+            y: rect.offset.y as f32,
+            width: rect.extent.width as f32,
+            height: rect.extent.height as f32,
+            min_depth: 0.0,
             max_depth: 1.0,
-            ..Default::default()
         };
         // SAFETY: `cmd` is inside dynamic rendering with formats matching the pipeline.
         unsafe {
             let d = self.device;
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
             d.cmd_set_viewport(cmd, 0, &[viewport]);
-            d.cmd_set_scissor(cmd, 0, &[extent.into()]);
+            d.cmd_set_scissor(cmd, 0, &[rect]);
             d.cmd_push_constants(
                 cmd,
                 self.layout,

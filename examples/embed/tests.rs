@@ -12,6 +12,7 @@ fn options(depth: DepthConvention, samples: u32) -> Options {
         validation: Validation::Sync,
         screenshot: None,
         plane: true,
+        viewport: None,
     }
 }
 
@@ -56,7 +57,7 @@ struct GlyphMatch {
 const CROSSING: f64 = 1e-3;
 
 fn glyph_match(run: &Run, reference: &RenderedImage) -> GlyphMatch {
-    let engine = depth_to_distance(&run.depth, &run.camera, &run.projection);
+    let engine = depth_to_distance(&run.depth, &run.camera, &run.projection, (WIDTH, HEIGHT));
     let scale = run
         .sets
         .iter()
@@ -122,18 +123,15 @@ fn frames_in_flight_match_headless(samples: u32) {
             "{name}: the replaced glyphs were released"
         );
     }
-    // The same picture: the glyphs' colours do not depend on the depth convention; where
-    // the plane and a glyph meet, the two conventions' depth roundings may pick
-    // different winners (a float32 depth holds standard depth far more coarsely).
+    // The same picture: the rays and colours do not depend on the depth convention, and
+    // at this size no pixel of the plane-glyph crossings is decided differently by the
+    // two depth roundings (should one be, it is saved for a look).
     let changed = differing(&standard.rgba, &reversed.rgba);
     if changed > 0 {
         save(&format!("standard-{samples}"), &standard.rgba);
         save(&format!("reversed-{samples}"), &reversed.rgba);
     }
-    assert!(
-        changed <= 4,
-        "{changed} pixels differ between the conventions"
-    );
+    assert_eq!(changed, 0, "pixels differ between the conventions");
     if samples > 1 {
         // Depth of sample 0 lies off the pixel centre, where headless rays go: the
         // multisampled glyphs are held to the supersampled render by the edge test.
@@ -241,7 +239,7 @@ fn two_threads_record_identical_pictures() {
     };
     let mut glyphs = GlyphRenderer::new(&context, &desc).expect("renderer");
     glyphs.set_glyphs(&sets).expect("glyphs");
-    let (view, projection) = host_matrices(&camera(0), depth);
+    let (view, projection) = host_matrices(&camera(0), depth, extent().into());
     let view = HostView::whole(view, projection, WIDTH, HEIGHT);
     glyphs.set_view(0, &view).expect("view");
     let one = vk::SampleCountFlags::TYPE_1;
@@ -312,6 +310,68 @@ fn two_threads_record_identical_pictures() {
         unsafe { engine.device.destroy_command_pool(pool, None) };
     }
     assert_eq!(engine.validation_messages(), Vec::<String>::new());
+}
+
+/// The host's viewport and scissor, a sub-rectangle of its target (an editor's view): the
+/// glyphs inside it are the headless render at the rectangle's size, pixel for pixel
+/// (coverage identical, depth within 1e-4 of the glyph scale), and nothing is drawn
+/// outside it.
+#[test]
+fn a_sub_rectangle_viewport_draws_the_headless_picture_there() {
+    let rect = vk::Rect2D {
+        offset: vk::Offset2D { x: 40, y: 20 },
+        extent: vk::Extent2D {
+            width: 80,
+            height: 60,
+        },
+    };
+    let r = run(&Options {
+        frames: 2,
+        in_flight: 2,
+        plane: false,
+        viewport: Some(rect),
+        ..options(DepthConvention::Standard, 1)
+    })
+    .expect("run");
+    assert_eq!(r.validation, Vec::<String>::new());
+    let (w, h) = (rect.extent.width, rect.extent.height);
+    let inside = |k: usize| {
+        let (x, y) = ((k as u32 % WIDTH) as i32, (k as u32 / WIDTH) as i32);
+        (rect.offset.x..rect.offset.x + w as i32).contains(&x)
+            && (rect.offset.y..rect.offset.y + h as i32).contains(&y)
+    };
+    let (sub, outside): (Vec<_>, Vec<_>) = (0..r.depth.len()).partition(|&k| inside(k));
+    assert!(
+        outside.iter().all(|&k| r.depth[k] == 1.0),
+        "drawn outside the viewport"
+    );
+    let depth: Vec<f32> = sub.iter().map(|&k| r.depth[k]).collect();
+    let engine = depth_to_distance(&depth, &r.camera, &r.projection, (w, h));
+    let gpu = Gpu::headless(&GpuOptions {
+        validation: true,
+        device: std::env::var("GLYPHCAST_DEVICE").ok(),
+    })
+    .expect("a Vulkan device with validation");
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("headless renderer");
+    let reference = renderer
+        .render(&gpu, &r.sets, &r.camera, w, h, &RenderSettings::default())
+        .expect("headless render");
+    let scale = r
+        .sets
+        .iter()
+        .flat_map(|s| &s.world)
+        .map(|g| g.scale * g.bound);
+    let scale = scale.fold(0.0, f64::max);
+    let mut glyph = 0;
+    for (k, &distance) in engine.iter().enumerate() {
+        let expected = reference.distance[k] as f64;
+        assert_eq!(distance.is_nan(), expected.is_nan(), "coverage at {k}");
+        if !expected.is_nan() {
+            glyph += 1;
+            assert!((distance - expected).abs() < 1e-4 * scale, "depth at {k}");
+        }
+    }
+    assert!(glyph > 300, "{glyph} glyph pixels");
 }
 
 #[test]
