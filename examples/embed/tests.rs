@@ -1,6 +1,7 @@
 //! The example engine under synchronization validation, against glyphcast's headless
 //! renderer of the same camera; `cargo test --example embed` runs these.
 use super::*;
+use glyphcast::glyph::reference::reference_depth;
 use glyphcast::{Gpu, GpuOptions, HeadlessRenderer, RenderedImage};
 
 fn options(depth: DepthConvention, samples: u32) -> Options {
@@ -50,6 +51,9 @@ struct GlyphMatch {
     coverage_differs: usize,
     /// The largest depth difference at visible glyphs, in units of the glyph scale.
     max_error: f64,
+    /// The median difference from the float64 reference (exact intersections) at visible
+    /// glyphs where it has a hit too, in units of the glyph scale.
+    median_reference_error: f64,
 }
 
 /// Plane and glyph closer than this (units of the glyph scale) are not judged: which one
@@ -73,6 +77,9 @@ fn glyph_match(run: &Run, reference: &RenderedImage) -> GlyphMatch {
             SQUARE.hit(ray.origin, ray.dir).unwrap_or(f64::NAN)
         })
         .collect();
+    let world: Vec<_> = run.sets.iter().flat_map(|s| s.world.clone()).collect();
+    let exact = reference_depth(&world, &run.camera, WIDTH, HEIGHT);
+    let mut reference_errors = Vec::new();
     let mut m = GlyphMatch::default();
     for k in 0..w * h {
         let (x, y) = (k % w, k / w);
@@ -93,8 +100,13 @@ fn glyph_match(run: &Run, reference: &RenderedImage) -> GlyphMatch {
         } else if glyph_in_front {
             m.glyph += 1;
             m.max_error = m.max_error.max((engine[k] - glyph).abs() / scale);
+            if !exact[k].is_nan() {
+                reference_errors.push((engine[k] - exact[k]).abs() / scale);
+            }
         }
     }
+    reference_errors.sort_by(f64::total_cmp);
+    m.median_reference_error = reference_errors[reference_errors.len() / 2];
     m
 }
 
@@ -144,6 +156,8 @@ fn frames_in_flight_match_headless(samples: u32) {
         assert!(m.judged > 1000 && m.glyph > 300, "{name}: {m:?}");
         assert_eq!(m.coverage_differs, 0, "{name}: {m:?}");
         assert!(m.max_error < 1e-4, "{name}: {m:?}");
+        // The ray caster's error at default settings (tests/depth_accuracy.rs).
+        assert!(m.median_reference_error < 1e-3, "{name}: {m:?}");
     }
 }
 
