@@ -22,6 +22,7 @@ pub struct Engine {
     pub physical_device: vk::PhysicalDevice,
     pub device: ash::Device,
     pub queue: vk::Queue,
+    #[cfg_attr(not(test), allow(dead_code))]
     family: u32,
     /// Dropped by hand in `Drop`: its memory must be freed before the device goes.
     allocator: ManuallyDrop<Arc<Mutex<Allocator>>>,
@@ -285,6 +286,7 @@ impl Engine {
 
     /// A command pool of the engine's queue family for one recording thread (command
     /// pools are externally synchronised); the caller destroys it.
+    #[cfg(test)]
     pub fn create_command_pool(&self) -> Result<vk::CommandPool> {
         let info = vk::CommandPoolCreateInfo::default().queue_family_index(self.family);
         // SAFETY: valid device and family.

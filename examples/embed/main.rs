@@ -275,7 +275,9 @@ fn extent() -> vk::Extent2D {
     }
 }
 
-/// What the run leaves: the last frame's pictures and what the engine saw.
+/// What the run leaves: the last frame's pictures and what the engine saw (the tests
+/// read all of it; the program only the picture and the messages).
+#[cfg_attr(not(test), allow(dead_code))]
 struct Run {
     rgba: Vec<u8>,
     /// The last frame's window depth (sample 0 when multisampled).
@@ -634,6 +636,7 @@ impl Attachment {
 /// The engine's window depth of a `width` x `height` viewport back to the distance along
 /// each pixel's ray, NaN where the depth is the cleared far end. For a perspective
 /// projection (w = -z), window depth z_w = -P22 + P32 / e at eye depth e.
+#[cfg(test)]
 fn depth_to_distance(
     depth: &[f32],
     camera: &Camera,

@@ -5,7 +5,6 @@
 use super::Result;
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use glam::DVec3;
 use glyphcast::render::shaders::{EXAMPLE_PLANE_FRAGMENT, EXAMPLE_PLANE_VERTEX};
 
 /// A square in the plane z = `height`, centred at `center` (x, y) with half-size `half`.
@@ -18,7 +17,8 @@ pub struct Square {
 
 impl Square {
     /// Exact distance along the ray to the square, None for a miss (the analytic plane).
-    pub fn hit(&self, origin: DVec3, dir: DVec3) -> Option<f64> {
+    #[cfg(test)]
+    pub fn hit(&self, origin: glam::DVec3, dir: glam::DVec3) -> Option<f64> {
         let t = (self.height - origin.z) / dir.z;
         let p = origin + t * dir;
         let inside =

@@ -92,7 +92,7 @@ fn glyph_match(run: &Run, reference: &RenderedImage) -> GlyphMatch {
         }
         m.judged += 1;
         // The nearer of glyph and plane is what the engine's depth buffer should hold.
-        let glyph_in_front = !glyph.is_nan() && !(plane[k] < glyph);
+        let glyph_in_front = !glyph.is_nan() && (plane[k].is_nan() || plane[k] >= glyph);
         let engine_glyph = !engine[k].is_nan()
             && (plane[k].is_nan() || engine[k] < plane[k] - 0.5 * CROSSING * scale);
         if glyph_in_front != engine_glyph {

@@ -78,7 +78,7 @@ impl GlyphRenderer {
             pass,
             ctx: ctx.clone(),
             frames_in_flight: desc.frames_in_flight,
-            settings: desc.settings.clone(),
+            settings: desc.settings,
         })
     }
 
@@ -135,7 +135,7 @@ impl GlyphRenderer {
                 self.settings.method, settings.method
             )));
         }
-        self.settings = settings.clone();
+        self.settings = *settings;
         Ok(())
     }
 
