@@ -52,6 +52,10 @@ typedef struct GlyphcastRendererDesc {
   VkPipelineCache pipeline_cache;
   // How many frames the host records ahead of the GPU (frame indices 0 to n - 1).
   uint32_t frames_in_flight;
+  // A render pass of the host's and the subpass the glyphs are drawn in (attachments
+  // of the formats and samples above), or VK_NULL_HANDLE for dynamic rendering.
+  VkRenderPass render_pass;
+  uint32_t subpass;
 } GlyphcastRendererDesc;
 
 // The rectangle a frame is drawn in (viewport and scissor), in framebuffer pixels.
@@ -110,7 +114,8 @@ enum GlyphcastStatus glyphcast_renderer_set_view(struct GlyphcastRenderer *rende
                                                  const struct GlyphcastViewport *viewport);
 
 // Records frame `frame_index`'s glyphs into `command_buffer`, which is inside dynamic
-// rendering with the renderer's formats and samples. Records only; several threads may
+// rendering with the renderer's formats and samples (or inside the render pass's
+// subpass the renderer was made for). Records only; several threads may
 // call it at once with their own command buffers.
 //
 // # Safety

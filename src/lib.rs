@@ -92,6 +92,7 @@
 //!             samples: vk::SampleCountFlags::TYPE_4,
 //!             depth: DepthConvention::Standard,
 //!             pipeline_cache: vk::PipelineCache::null(),
+//!             ..PassOptions::default() // dynamic rendering, not a render pass
 //!         },
 //!         frames_in_flight: 2,
 //!         settings: RenderSettings::default(),

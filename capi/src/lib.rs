@@ -30,6 +30,7 @@ pub type VkPhysicalDevice = *mut c_void;
 pub type VkDevice = *mut c_void;
 pub type VkCommandBuffer = *mut c_void;
 pub type VkPipelineCache = u64;
+pub type VkRenderPass = u64;
 pub type VkFormat = i32;
 pub type PFN_vkGetInstanceProcAddr = Option<GetInstanceProcAddr>;
 /// vkGetInstanceProcAddr with the instance as a plain pointer.
@@ -81,6 +82,10 @@ pub struct GlyphcastRendererDesc {
     pub pipeline_cache: VkPipelineCache,
     /// How many frames the host records ahead of the GPU (frame indices 0 to n - 1).
     pub frames_in_flight: u32,
+    /// A render pass of the host's and the subpass the glyphs are drawn in (attachments
+    /// of the formats and samples above), or VK_NULL_HANDLE for dynamic rendering.
+    pub render_pass: VkRenderPass,
+    pub subpass: u32,
 }
 
 /// The rectangle a frame is drawn in (viewport and scissor), in framebuffer pixels.
@@ -246,6 +251,8 @@ unsafe fn create(
             samples: vk::SampleCountFlags::from_raw(desc.samples),
             depth,
             pipeline_cache: vk::PipelineCache::from_raw(desc.pipeline_cache),
+            render_pass: vk::RenderPass::from_raw(desc.render_pass),
+            subpass: desc.subpass,
         },
         frames_in_flight: desc.frames_in_flight as usize,
         settings: RenderSettings::default(),
@@ -424,7 +431,8 @@ pub unsafe extern "C" fn glyphcast_renderer_set_view(
 }
 
 /// Records frame `frame_index`'s glyphs into `command_buffer`, which is inside dynamic
-/// rendering with the renderer's formats and samples. Records only; several threads may
+/// rendering with the renderer's formats and samples (or inside the render pass's
+/// subpass the renderer was made for). Records only; several threads may
 /// call it at once with their own command buffers.
 ///
 /// # Safety

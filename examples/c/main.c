@@ -339,7 +339,8 @@ int main(int argc, char **argv) {
                                   .samples = 1,
                                   .depth = GLYPHCAST_DEPTH_STANDARD,
                                   .pipeline_cache = VK_NULL_HANDLE,
-                                  .frames_in_flight = IN_FLIGHT};
+                                  .frames_in_flight = IN_FLIGHT,
+                                  .render_pass = VK_NULL_HANDLE /* dynamic rendering */};
     GlyphcastRenderer *renderer = NULL;
     if (glyphcast_renderer_create(&desc, &renderer) != GLYPHCAST_STATUS_OK) {
         fprintf(stderr, "glyphcast_renderer_create: %s\n", glyphcast_last_error());

@@ -327,6 +327,7 @@ fn run_on(engine: &Engine, options: &Options) -> Result<Run> {
             samples,
             depth: options.depth,
             pipeline_cache: vk::PipelineCache::null(),
+            ..PassOptions::default()
         },
         frames_in_flight: options.in_flight,
         settings,

@@ -417,3 +417,198 @@ fn unknown_options_and_bad_values_are_refused() {
     assert_eq!(o.depth, DepthConvention::Reversed);
     assert_eq!(o.validation, Validation::Sync);
 }
+
+/// A render pass of the host's (Vulkan 1.0-1.2 style: colour and depth cleared and
+/// stored by one subpass) instead of dynamic rendering: the same picture as the engine's
+/// dynamic-rendering frame of that camera and those glyphs, under synchronization
+/// validation.
+#[test]
+fn a_host_render_pass_draws_the_dynamic_rendering_picture() {
+    let depth = DepthConvention::Standard;
+    let dynamic = run(&Options {
+        frames: 1,
+        in_flight: 1,
+        plane: false,
+        ..options(depth, 1)
+    })
+    .expect("dynamic rendering run");
+    let engine = Engine::new(Validation::Sync).expect("engine");
+    let d = &engine.device;
+    let render_pass = host_render_pass(d).expect("render pass");
+    // SAFETY: as in `run_on`: the context and renderer are dropped before the engine.
+    let context = unsafe {
+        DeviceContext::new(
+            &engine.instance,
+            engine.physical_device,
+            engine.device.clone(),
+            engine.allocator(),
+        )
+    };
+    let desc = RendererDesc {
+        formats: TargetFormats {
+            color: COLOR_FORMAT,
+            depth: DEPTH_FORMAT,
+            distance: None,
+        },
+        options: PassOptions {
+            depth,
+            render_pass,
+            subpass: 0,
+            ..PassOptions::default()
+        },
+        frames_in_flight: 1,
+        settings: RenderSettings::default(),
+    };
+    let mut glyphs = GlyphRenderer::new(&context, &desc).expect("renderer");
+    glyphs.set_glyphs(&dynamic.sets).expect("glyphs");
+    let (view, projection) = host_matrices(&camera(0), depth, extent().into());
+    let view = HostView::whole(view, projection, WIDTH, HEIGHT);
+    glyphs.set_view(0, &view).expect("view");
+    let cmd = engine.command_buffers(1).expect("cmd")[0];
+    let slot = Slot::new(&engine, cmd, vk::SampleCountFlags::TYPE_1).expect("slot");
+    let views = [slot.color.view, slot.depth.view];
+    let info = vk::FramebufferCreateInfo::default()
+        .render_pass(render_pass)
+        .attachments(&views)
+        .width(WIDTH)
+        .height(HEIGHT)
+        .layers(1);
+    // SAFETY: the views fit the render pass; destroyed below after the device is idle.
+    let framebuffer = unsafe { d.create_framebuffer(&info, None) }.expect("framebuffer");
+    let readback = engine
+        .create_readback("colour", 4 * WIDTH as u64 * HEIGHT as u64)
+        .expect("readback");
+    let clear = [
+        vk::ClearValue {
+            color: vk::ClearColorValue {
+                float32: [0.55, 0.65, 0.8, 1.0],
+            },
+        },
+        vk::ClearValue {
+            depth_stencil: vk::ClearDepthStencilValue {
+                depth: depth.clear_depth(),
+                stencil: 0,
+            },
+        },
+    ];
+    let begin_pass = vk::RenderPassBeginInfo::default()
+        .render_pass(render_pass)
+        .framebuffer(framebuffer)
+        .render_area(extent().into())
+        .clear_values(&clear);
+    let copy = [vk::BufferImageCopy::default()
+        .image_subresource(vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        })
+        .image_extent(extent().into())];
+    let to_transfer = [Attachment::Color.to_transfer(slot.color.image)];
+    let host_read = [vk::MemoryBarrier2::default()
+        .src_stage_mask(vk::PipelineStageFlags2::COPY)
+        .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+        .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+        .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+    // SAFETY: fresh command buffer; every handle lives until the device is idle.
+    unsafe {
+        d.begin_command_buffer(cmd, &vk::CommandBufferBeginInfo::default())
+            .expect("begin");
+        d.cmd_begin_render_pass(cmd, &begin_pass, vk::SubpassContents::INLINE);
+        glyphs.record(cmd, 0).expect("record");
+        d.cmd_end_render_pass(cmd);
+        d.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().image_memory_barriers(&to_transfer),
+        );
+        let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+        d.cmd_copy_image_to_buffer(cmd, slot.color.image, src, readback.buffer, &copy);
+        d.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().memory_barriers(&host_read),
+        );
+        d.end_command_buffer(cmd).expect("end");
+        let cmds = [cmd];
+        let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
+        d.queue_submit(engine.queue, &submit, vk::Fence::null())
+            .expect("submit");
+        d.device_wait_idle().expect("wait");
+    }
+    let rgba = engine.read(&readback).expect("read").to_vec();
+    if differing(&rgba, &dynamic.rgba) > 0 {
+        save("render-pass", &rgba);
+        save("dynamic-rendering", &dynamic.rgba);
+    }
+    assert_eq!(differing(&rgba, &dynamic.rgba), 0);
+    engine.destroy_readback(readback).expect("free");
+    // SAFETY: the device is idle.
+    unsafe {
+        d.destroy_framebuffer(framebuffer, None);
+        d.destroy_render_pass(render_pass, None);
+    }
+    slot.destroy(&engine).expect("free");
+    drop(glyphs);
+    drop(context);
+    assert_eq!(engine.validation_messages(), Vec::<String>::new());
+    assert_eq!(dynamic.validation, Vec::<String>::new());
+}
+
+/// One subpass drawing colour and depth, both cleared; the colour stays in the
+/// attachment layout for the copy that follows, made visible by the outgoing dependency.
+fn host_render_pass(d: &ash::Device) -> Result<vk::RenderPass> {
+    let attachment = |format, final_layout| {
+        vk::AttachmentDescription::default()
+            .format(format)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
+            .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .initial_layout(vk::ImageLayout::UNDEFINED)
+            .final_layout(final_layout)
+    };
+    let attachments = [
+        attachment(COLOR_FORMAT, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
+        attachment(
+            DEPTH_FORMAT,
+            vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+        ),
+    ];
+    let color = [vk::AttachmentReference {
+        attachment: 0,
+        layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+    }];
+    let depth = vk::AttachmentReference {
+        attachment: 1,
+        layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+    };
+    let subpass = [vk::SubpassDescription::default()
+        .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+        .color_attachments(&color)
+        .depth_stencil_attachment(&depth)];
+    let tests =
+        vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS;
+    let writes =
+        vk::AccessFlags::COLOR_ATTACHMENT_WRITE | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE;
+    let dependencies = [
+        vk::SubpassDependency::default()
+            .src_subpass(vk::SUBPASS_EXTERNAL)
+            .dst_subpass(0)
+            .src_stage_mask(vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT | tests)
+            .dst_stage_mask(vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT | tests)
+            .dst_access_mask(writes | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ),
+        vk::SubpassDependency::default()
+            .src_subpass(0)
+            .dst_subpass(vk::SUBPASS_EXTERNAL)
+            .src_stage_mask(vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT)
+            .src_access_mask(vk::AccessFlags::COLOR_ATTACHMENT_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags::TRANSFER)
+            .dst_access_mask(vk::AccessFlags::TRANSFER_READ),
+    ];
+    let info = vk::RenderPassCreateInfo::default()
+        .attachments(&attachments)
+        .subpasses(&subpass)
+        .dependencies(&dependencies);
+    // SAFETY: a complete create info; the caller destroys the render pass.
+    Ok(unsafe { d.create_render_pass(&info, None)? })
+}

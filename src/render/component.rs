@@ -161,7 +161,8 @@ impl GlyphRenderer {
     }
 
     /// Records frame `frame_index`'s glyphs into `cmd`, which is inside rendering with
-    /// the host's attachments (formats and samples as given at creation). Records only:
+    /// the host's attachments (formats and samples as given at creation): dynamic
+    /// rendering, or the subpass of the render pass given at creation. Records only:
     /// nothing is compiled, written, submitted or waited on, so several threads may
     /// record at once, each into its own command buffer.
     pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize) -> Result<()> {

@@ -51,15 +51,22 @@ pub struct PassOptions {
     pub depth: DepthConvention,
     /// A pipeline cache of the host's, or null.
     pub pipeline_cache: vk::PipelineCache,
+    /// A render pass of the host's and the subpass the glyphs are drawn in, whose
+    /// attachments have the formats and samples above (Vulkan 1.0-1.2 style); null: the
+    /// host draws in dynamic rendering.
+    pub render_pass: vk::RenderPass,
+    pub subpass: u32,
 }
 
 impl Default for PassOptions {
-    /// glyphcast's own targets: one sample, reversed depth, no cache.
+    /// glyphcast's own targets: one sample, reversed depth, no cache, dynamic rendering.
     fn default() -> Self {
         PassOptions {
             samples: vk::SampleCountFlags::TYPE_1,
             depth: DepthConvention::Reversed,
             pipeline_cache: vk::PipelineCache::null(),
+            render_pass: vk::RenderPass::null(),
+            subpass: 0,
         }
     }
 }
@@ -82,6 +89,8 @@ impl PassOptions {
             sample_shading: self.samples != vk::SampleCountFlags::TYPE_1,
             depth_compare: self.depth.compare_op(),
             cache: self.pipeline_cache,
+            render_pass: self.render_pass,
+            subpass: self.subpass,
         }
     }
 }

@@ -258,6 +258,10 @@ pub struct RasterTarget {
     pub depth_compare: vk::CompareOp,
     /// A pipeline cache of the host's, or null.
     pub cache: vk::PipelineCache,
+    /// A render pass of the host's and the subpass drawn in; null: dynamic rendering with
+    /// the attachment formats.
+    pub render_pass: vk::RenderPass,
+    pub subpass: u32,
 }
 
 impl Default for RasterTarget {
@@ -267,6 +271,8 @@ impl Default for RasterTarget {
             sample_shading: false,
             depth_compare: vk::CompareOp::GREATER,
             cache: vk::PipelineCache::null(),
+            render_pass: vk::RenderPass::null(),
+            subpass: 0,
         }
     }
 }
@@ -340,7 +346,7 @@ pub unsafe fn graphics_pipeline(
     let mut rendering = vk::PipelineRenderingCreateInfo::default()
         .color_attachment_formats(desc.color_formats)
         .depth_attachment_format(desc.depth_format);
-    let info = vk::GraphicsPipelineCreateInfo::default()
+    let mut info = vk::GraphicsPipelineCreateInfo::default()
         .stages(desc.stages)
         .vertex_input_state(&vertex_input)
         .input_assembly_state(&assembly)
@@ -350,8 +356,13 @@ pub unsafe fn graphics_pipeline(
         .depth_stencil_state(&depth)
         .color_blend_state(&blend)
         .dynamic_state(&dynamic)
-        .layout(desc.layout)
-        .push_next(&mut rendering);
+        .layout(desc.layout);
+    info = if desc.raster.render_pass == vk::RenderPass::null() {
+        info.push_next(&mut rendering)
+    } else {
+        info.render_pass(desc.raster.render_pass)
+            .subpass(desc.raster.subpass)
+    };
     // SAFETY: all referenced state lives until the call returns; the caller vouches for
     // the stages.
     let created = unsafe {
