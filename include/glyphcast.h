@@ -55,6 +55,7 @@ typedef struct GlyphcastRendererDesc {
   // A render pass of the host's and the subpass the glyphs are drawn in (attachments
   // of the formats and samples above), or VK_NULL_HANDLE for dynamic rendering.
   VkRenderPass render_pass;
+  // The subpass of `render_pass`.
   uint32_t subpass;
 } GlyphcastRendererDesc;
 

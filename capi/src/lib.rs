@@ -85,6 +85,7 @@ pub struct GlyphcastRendererDesc {
     /// A render pass of the host's and the subpass the glyphs are drawn in (attachments
     /// of the formats and samples above), or VK_NULL_HANDLE for dynamic rendering.
     pub render_pass: VkRenderPass,
+    /// The subpass of `render_pass`.
     pub subpass: u32,
 }
 

@@ -55,6 +55,7 @@ pub struct PassOptions {
     /// attachments have the formats and samples above (Vulkan 1.0-1.2 style); null: the
     /// host draws in dynamic rendering.
     pub render_pass: vk::RenderPass,
+    /// The subpass of `render_pass` the glyphs are drawn in.
     pub subpass: u32,
 }
 

@@ -261,6 +261,7 @@ pub struct RasterTarget {
     /// A render pass of the host's and the subpass drawn in; null: dynamic rendering with
     /// the attachment formats.
     pub render_pass: vk::RenderPass,
+    /// The subpass of `render_pass`.
     pub subpass: u32,
 }
 
