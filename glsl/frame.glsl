@@ -28,6 +28,9 @@ layout(std430, set = 0, binding = 0) readonly buffer FrameParams {
                           // (world units at unit distance, or world units if orthographic)
     vec4 negative_color;  // sign colouring: the negative lobes' rgb, linear
     vec4 shading;         // Blinn-Phong: x ambient, y specular strength, z shininess
+    vec4 window;          // xy: the viewport's origin in framebuffer pixels (a host's
+                          // sub-rectangle); z: window depth of the near plane (1 reversed,
+                          // 0 standard depth)
 } frame;
 
 layout(std430, set = 0, binding = 1) readonly buffer Coefficients {

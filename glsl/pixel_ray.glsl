@@ -19,9 +19,11 @@ void pixel_ray_through(vec2 pixel, out vec3 origin, out vec3 dir) {
 }
 
 #ifndef GLYPHCAST_COMPUTE
-// The pixel-centre ray of the scene format's camera, in world space.
+// The ray of this fragment of the scene format's camera, in world space: through the
+// pixel centre, or through the sample under per-sample shading (multisampled targets).
+// Window positions are taken relative to the viewport's origin.
 void pixel_ray(out vec3 origin, out vec3 dir) {
-    pixel_ray_through(gl_FragCoord.xy, origin, dir);
+    pixel_ray_through(gl_FragCoord.xy - frame.window.xy, origin, dir);
 }
 #endif
 

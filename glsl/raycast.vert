@@ -7,10 +7,12 @@
 // A box that the near plane cuts (the camera inside it, or just in front of it) would lose
 // the fragments of its clipped front faces: such a box is drawn inside out instead. Its
 // corners are mirrored through the centre, which turns the far faces towards the camera,
-// and they are put on the near plane (clip z = w: depth 1, the near plane of the
-// reversed depth), which keeps their screen position. The far faces of a convex box cover
-// exactly the pixels whose rays meet the box in front of the eye, and at depth 1 they
-// stay above every ray-cast depth (the fragment shaders write depth_less).
+// and they are put on the near plane (clip z = w * frame.window.z: depth 1, the near
+// plane of reversed depth, or 0 for standard depth), which keeps their screen position.
+// The far faces of a convex box cover exactly the pixels whose rays meet the box in front
+// of the eye, and on the near plane they stay in front of every ray-cast depth (the
+// fragment shaders write depth_less, or depth_greater for standard depth:
+// render::shaders::for_depth).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 #include "frame.glsl"
@@ -74,7 +76,7 @@ void main() {
         + unit.x * half_axes[0] + unit.y * half_axes[1] + unit.z * half_axes[2];
     gl_Position = frame.view_proj * vec4(world, 1.0);
     if (cut) {
-        gl_Position.z = gl_Position.w;
+        gl_Position.z = frame.window.z * gl_Position.w;
     }
 #ifdef RAYCAST_GLYPH_INDEX
     v_glyph = gl_InstanceIndex;

@@ -34,103 +34,93 @@
 //!
 //! # Embedding the ray caster in an engine
 //!
-//! An engine that owns its Vulkan instance, device, allocator and frame can draw glyphs
-//! into its own rendering; glyphcast then creates no instance or device:
+//! An engine that owns its Vulkan instance, device, allocator and frame loop draws glyphs
+//! into its own rendering with a [`GlyphRenderer`](render::component::GlyphRenderer);
+//! glyphcast then creates no instance or device and never submits, presents or waits.
+//! README "Embedding in an engine" has the whole contract; in short:
 //!
 //! 1. Wrap the engine's device and [`gpu_allocator`] allocator in a
-//!    [`vk::DeviceContext`]. This is `unsafe`: glyphcast never destroys the engine's
-//!    objects, so the engine must keep its device, instance and allocator until every
-//!    glyphcast object made with the context is dropped.
-//! 2. Create a [`RayCastPass`](render::raycast::RayCastPass) for the engine's attachment
-//!    formats ([`TargetFormats`](render::raycast::TargetFormats)): colour, depth, and
-//!    optionally an R32_SFLOAT attachment for the ray distance. Without one (`distance:
-//!    None`) the pass uses fragment shaders that have no distance output.
-//! 3. Turn a [`Scene`](scene::Scene) into glyph data on the CPU
-//!    ([`prepare_scene`](render::glyph_data::prepare_scene)) and upload it with
-//!    [`RayCastPass::upload`](render::raycast::RayCastPass::upload), which gives a
-//!    [`SceneGpu`](render::raycast::SceneGpu) (buffers, descriptor sets) and creates the
-//!    pipelines the glyph sets need.
-//! 4. Per frame, write the camera with
-//!    [`SceneGpu::set_frame`](render::raycast::SceneGpu::set_frame) (the buffer is
-//!    host-visible and written at once: only after the frames that read it completed),
-//!    and inside the engine's dynamic rendering call
-//!    [`RayCastPass::record`](render::raycast::RayCastPass::record).
-//!
-//! What the pass asks of the engine: a Vulkan 1.3 device with `dynamicRendering`;
-//! rendering begun with attachments of the formats given at creation; a depth buffer
-//! with reversed depth: cleared to 0 and tested with GREATER (1 is the near plane, and
-//! perspective depth is near / e for eye depth e, with no far plane, so that float32
-//! depth holds its precision at every distance). The glyph shaders write
-//! `gl_FragDepth` from [`FrameParams::view_proj`](render::frame::FrameParams), so the
-//! engine's own geometry must be drawn with that same matrix (build it with
-//! [`FrameParams::new`](render::frame::FrameParams::new) from a
-//! [`Camera`](camera::Camera) and the engine's near and far planes in a
-//! [`SceneExtent`](render::frame::SceneExtent)); glyphs and geometry then occlude each
-//! other per pixel through the shared depth buffer. `record` binds its own pipelines,
-//! descriptor sets and vertex buffers and sets viewport and scissor to the extent.
-//! `examples/embed/` is a complete engine in plain ash with its own ground plane, and a
-//! test of the depth compositing against the float64 reference.
+//!    [`vk::DeviceContext`] (`unsafe`: the engine keeps its device, instance and
+//!    allocator until every glyphcast object made with the context is dropped).
+//! 2. Once: [`GlyphRenderer::new`](render::component::GlyphRenderer::new) with a
+//!    [`RendererDesc`](render::component::RendererDesc): attachment formats, samples
+//!    (1, 2, 4, 8), depth convention (standard or reversed), an optional pipeline cache,
+//!    frames in flight and the render settings. `prepare` makes pipelines ahead of time.
+//! 3. `set_glyphs` uploads glyph data once for every frame in flight; calling it again
+//!    (a slice step) never waits: the old data is released after every frame index has
+//!    been begun again.
+//! 4. Each frame k, after the engine waited for frame k's fence: `set_view(k, &view)`
+//!    with its view and projection matrices, viewport and scissor
+//!    ([`HostView`](render::host_view::HostView)); then, inside the engine's dynamic
+//!    rendering, `record(cmd, k)` (`&self`: threads may record at once).
 //!
 //! ```no_run
 //! use ash::vk;
+//! use glam::DMat4;
 //! use glyphcast::{
-//!     Camera, DeviceContext, FrameParams, RayCastPass, RenderSettings, Scene, SceneExtent,
-//!     SceneGpu, TargetFormats, prepare_scene,
+//!     DepthConvention, DeviceContext, GlyphRenderer, HostView, PassOptions, RenderSettings,
+//!     RendererDesc, Scene, TargetFormats, prepare_scene,
 //! };
 //! use gpu_allocator::vulkan::Allocator;
 //! use std::sync::{Arc, Mutex};
 //!
-//! /// Once: glyphcast on the engine's device, for its colour and depth formats.
+//! /// Once: glyphcast on the engine's device, for its formats, 4x MSAA, standard depth
+//! /// and 2 frames in flight.
 //! ///
 //! /// # Safety
 //! /// The engine keeps `instance`, `device` and `allocator` until it has dropped the
-//! /// pass and the glyphs (at shutdown, before destroying its own objects).
+//! /// renderer (at shutdown, after waiting for its device, before destroying its own
+//! /// objects).
 //! unsafe fn add_glyphs(
 //!     instance: &ash::Instance,
 //!     physical_device: vk::PhysicalDevice,
 //!     device: &ash::Device,
 //!     allocator: Arc<Mutex<Allocator>>,
 //!     scene: &Scene,
-//!     (width, height): (u32, u32),
-//! ) -> glyphcast::Result<(RayCastPass, SceneGpu)> {
+//! ) -> glyphcast::Result<GlyphRenderer> {
 //!     // SAFETY: `device` comes from `physical_device` of `instance`, `allocator` is its
-//!     // own, and the caller keeps all three for as long as the pass and glyphs live.
+//!     // own, and the caller keeps all three for as long as the renderer lives.
 //!     let context =
 //!         unsafe { DeviceContext::new(instance, physical_device, device.clone(), allocator) };
-//!     let formats = TargetFormats {
-//!         color: vk::Format::B8G8R8A8_SRGB,
-//!         depth: vk::Format::D32_SFLOAT,
-//!         distance: None,
+//!     let desc = RendererDesc {
+//!         formats: TargetFormats {
+//!             color: vk::Format::B8G8R8A8_SRGB,
+//!             depth: vk::Format::D32_SFLOAT,
+//!             distance: None,
+//!         },
+//!         options: PassOptions {
+//!             samples: vk::SampleCountFlags::TYPE_4,
+//!             depth: DepthConvention::Standard,
+//!             pipeline_cache: vk::PipelineCache::null(),
+//!             ..PassOptions::default() // dynamic rendering, not a render pass
+//!         },
+//!         frames_in_flight: 2,
+//!         settings: RenderSettings::default(),
 //!     };
-//!     let mut pass = RayCastPass::new(&context, formats)?;
-//!     let settings = RenderSettings::default();
-//!     let sets = prepare_scene(scene, settings.offset as f64)?;
-//!     let frame = engine_frame(&scene.camera, (width, height), &settings);
-//!     let glyphs = pass.upload(&context, &sets, &frame, settings.method)?;
-//!     Ok((pass, glyphs))
+//!     let mut glyphs = GlyphRenderer::new(&context, &desc)?;
+//!     glyphs.set_glyphs(&prepare_scene(scene, desc.settings.offset as f64)?)?;
+//!     Ok(glyphs)
 //! }
 //!
-//! /// The glyphs' frame parameters with the engine's depth range (near 0.1, far 100).
-//! fn engine_frame(camera: &Camera, (w, h): (u32, u32), settings: &RenderSettings) -> FrameParams {
-//!     let extent = SceneExtent { near: 0.1, far: 100.0, max_radius: 1.0 };
-//!     FrameParams::new(camera, w, h, &extent, settings)
-//! }
-//!
-//! /// Each frame, inside the engine's dynamic rendering (after its own geometry, drawn
-//! /// with `frame.view_proj` into the same depth buffer).
+//! /// Each frame, after waiting for frame `k`'s fence, inside the engine's rendering.
 //! fn draw_glyphs(
-//!     pass: &mut RayCastPass,
-//!     glyphs: &mut SceneGpu,
+//!     glyphs: &mut GlyphRenderer,
 //!     cmd: vk::CommandBuffer,
-//!     camera: &Camera,
+//!     k: usize,
+//!     (view, projection): (DMat4, DMat4),
 //!     extent: vk::Extent2D,
 //! ) -> glyphcast::Result<()> {
-//!     let settings = RenderSettings::default();
-//!     // Only once the frame that last read the parameters has completed.
-//!     glyphs.set_frame(&engine_frame(camera, (extent.width, extent.height), &settings))?;
-//!     pass.record(cmd, glyphs, extent, settings.method)
+//!     glyphs.set_view(k, &HostView::whole(view, projection, extent.width, extent.height))?;
+//!     glyphs.record(cmd, k)
 //! }
 //! ```
+//!
+//! `examples/embed/` is a complete engine in plain ash with its own ground plane, frames
+//! in flight, MSAA and either depth convention, tested under synchronization validation
+//! against the headless renderer. The lower-level [`RayCastPass`](render::raycast::RayCastPass)
+//! (pipelines) and [`SceneGpu`](render::raycast::SceneGpu) (uploaded glyphs with one
+//! frame block per frame in flight) are what the renderer, the headless renderer and the
+//! viewer are built on.
 pub mod accuracy;
 pub mod bench;
 pub mod camera;
@@ -158,10 +148,13 @@ pub use error::{Error, Result, Setting};
 // The names most programs need, at the root; everything else stays in its module.
 pub use camera::{Camera, Projection};
 pub use glyph::NegativeMode;
+pub use render::component::{GlyphRenderer, RendererDesc};
 pub use render::frame::{FrameParams, SceneExtent};
 pub use render::glyph_data::{GlyphSetData, prepare_scene};
 pub use render::headless::{FrameView, HeadlessRenderer, RenderedImage};
-pub use render::raycast::{RayCastPass, SceneGpu, TargetFormats};
+pub use render::host_view::HostView;
+pub use render::raycast::{FrameTarget, PassOptions, RayCastPass, SceneGpu, TargetFormats};
+pub use render::shaders::DepthConvention;
 pub use render::{ColorMode, Method, RenderPath, RenderSettings};
 pub use scene::{GlyphKind, GlyphSet, ImageSize, Scene, ShBasis};
 pub use vk::{DeviceContext, Gpu, GpuOptions};

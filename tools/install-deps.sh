@@ -9,6 +9,8 @@ pkgs=(mesa-vulkan-drivers libvulkan-dev vulkan-validationlayers
       libx11-6 libx11-xcb1 libxcursor1 libxi6 libxrandr2 libxkbcommon-x11-0 xvfb
       # `glyphcast bench --out`: the font of the PNG plots.
       fonts-dejavu-core
+      # The C example engine (examples/c/, tools/c-example.sh): the system C compiler.
+      gcc libc6-dev
       # The Python module (python/): a virtual environment to build and test it in
       # (maturin, numpy, pytest and nibabel come from PyPI into it).
       python3 python3-venv python3-pip)

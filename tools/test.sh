@@ -2,7 +2,8 @@
 # Fresh machine to a passing test suite: installs what is missing, then runs every test
 # on lavapipe with the Vulkan validation layer on (the tests turn it on themselves), and
 # checks that the core builds, passes its tests and stays free of the front ends'
-# dependencies without the default features (what an embedding engine gets); then builds
+# dependencies without the default features (what an embedding engine gets); runs the C
+# API's tests (its generated header, the C example engine built with cc); then builds
 # the Python module into a virtual environment (target/py-venv, reused) and runs its
 # tests (python/tests) against the CLI, the workflow engines' (Nipype, pydra) included.
 set -euo pipefail
@@ -18,6 +19,8 @@ if cargo tree --locked --no-default-features -e normal --prefix none \
     exit 1
 fi
 cargo test --locked --no-default-features --lib --examples
+echo "== the C API (capi/): its header up to date, the C example engine (examples/c/)"
+cargo test --locked -p glyphcast-c
 echo "== the Python module (python/)"
 # The CLI the Python tests compare with: built by `cargo test` above (a no-op then).
 cargo test --locked --no-run --test cli

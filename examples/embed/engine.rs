@@ -22,6 +22,8 @@ pub struct Engine {
     pub physical_device: vk::PhysicalDevice,
     pub device: ash::Device,
     pub queue: vk::Queue,
+    #[cfg_attr(not(test), allow(dead_code))]
+    family: u32,
     /// Dropped by hand in `Drop`: its memory must be freed before the device goes.
     allocator: ManuallyDrop<Arc<Mutex<Allocator>>>,
     pool: vk::CommandPool,
@@ -67,9 +69,21 @@ unsafe extern "system" fn on_message(
     vk::FALSE
 }
 
+/// How the engine runs the validation layer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Validation {
+    Off,
+    /// The layer's core checks.
+    On,
+    /// The core checks and synchronization validation
+    /// (VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT).
+    Sync,
+}
+
 impl Engine {
-    /// Instance, first Vulkan 1.3 device with dynamic rendering, one graphics queue.
-    pub fn new(validation: bool) -> Result<Engine> {
+    /// Instance, first Vulkan 1.3 device with dynamic rendering (and sample-rate shading,
+    /// which glyphcast's multisampled glyphs need), one graphics queue.
+    pub fn new(validation: Validation) -> Result<Engine> {
         // SAFETY: loading the system's Vulkan loader.
         let entry = unsafe { ash::Entry::load()? };
         let messages = Arc::new(Messages::default());
@@ -78,12 +92,18 @@ impl Engine {
             .api_version(vk::API_VERSION_1_3);
         let layers = [VALIDATION_LAYER.as_ptr()];
         let extensions = [ash::ext::debug_utils::NAME.as_ptr()];
+        let sync = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
+        let mut features = vk::ValidationFeaturesEXT::default().enabled_validation_features(&sync);
         let mut info = vk::InstanceCreateInfo::default().application_info(&app);
-        if validation {
+        if validation != Validation::Off {
             info = info
                 .enabled_layer_names(&layers)
                 .enabled_extension_names(&extensions);
         }
+        if validation == Validation::Sync {
+            info = info.push_next(&mut features);
+        }
+        let validation = validation != Validation::Off;
         // SAFETY: every pointer in `info` outlives the call.
         let instance = unsafe { entry.create_instance(&info, None)? };
         let messenger = validation
@@ -113,8 +133,10 @@ impl Engine {
         let mut v13 = vk::PhysicalDeviceVulkan13Features::default()
             .dynamic_rendering(true)
             .synchronization2(true);
+        let core = vk::PhysicalDeviceFeatures::default().sample_rate_shading(true);
         let info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queues)
+            .enabled_features(&core)
             .push_next(&mut v13);
         // SAFETY: the features were checked in `pick_device`.
         let device = unsafe { instance.create_device(physical_device, &info, None)? };
@@ -128,7 +150,9 @@ impl Engine {
             buffer_device_address: false,
             allocation_sizes: Default::default(),
         })?;
-        let pool_info = vk::CommandPoolCreateInfo::default().queue_family_index(family);
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(family)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
         // SAFETY: valid device.
         let pool = unsafe { device.create_command_pool(&pool_info, None)? };
         Ok(Engine {
@@ -136,6 +160,7 @@ impl Engine {
             physical_device,
             device,
             queue,
+            family,
             allocator: ManuallyDrop::new(Arc::new(Mutex::new(allocator))),
             pool,
             messenger,
@@ -158,17 +183,18 @@ impl Engine {
         &self,
         name: &str,
         extent: vk::Extent2D,
-        format: vk::Format,
+        format: (vk::Format, vk::SampleCountFlags),
         usage: vk::ImageUsageFlags,
         aspect: vk::ImageAspectFlags,
     ) -> Result<Target> {
+        let (format, samples) = format;
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
             .format(format)
             .extent(extent.into())
             .mip_levels(1)
             .array_layers(1)
-            .samples(vk::SampleCountFlags::TYPE_1)
+            .samples(samples)
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(usage)
             .initial_layout(vk::ImageLayout::UNDEFINED);
@@ -258,30 +284,24 @@ impl Engine {
         Ok(allocator.free(allocation)?)
     }
 
-    /// Records one command buffer with `record`, submits it and waits.
-    pub fn submit(&self, record: impl FnOnce(vk::CommandBuffer) -> Result<()>) -> Result<()> {
+    /// A command pool of the engine's queue family for one recording thread (command
+    /// pools are externally synchronised); the caller destroys it.
+    #[cfg(test)]
+    pub fn create_command_pool(&self) -> Result<vk::CommandPool> {
+        let info = vk::CommandPoolCreateInfo::default().queue_family_index(self.family);
+        // SAFETY: valid device and family.
+        Ok(unsafe { self.device.create_command_pool(&info, None)? })
+    }
+
+    /// Command buffers from the engine's pool, one per frame in flight.
+    pub fn command_buffers(&self, count: u32) -> Result<Vec<vk::CommandBuffer>> {
         let alloc = vk::CommandBufferAllocateInfo::default()
             .command_pool(self.pool)
             .level(vk::CommandBufferLevel::PRIMARY)
-            .command_buffer_count(1);
-        // SAFETY: the pool belongs to this device; the buffer is freed after the wait.
-        let cmd = unsafe { self.device.allocate_command_buffers(&alloc)? }[0];
-        let begin = vk::CommandBufferBeginInfo::default()
-            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
-        // SAFETY: fresh command buffer.
-        unsafe { self.device.begin_command_buffer(cmd, &begin)? };
-        record(cmd)?;
-        let cmds = [cmd];
-        let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
-        // SAFETY: recorded above; waiting for idle ends its use before it is freed.
-        unsafe {
-            self.device.end_command_buffer(cmd)?;
-            self.device
-                .queue_submit(self.queue, &submit, vk::Fence::null())?;
-            self.device.queue_wait_idle(self.queue)?;
-            self.device.free_command_buffers(self.pool, &cmds);
-        }
-        Ok(())
+            .command_buffer_count(count);
+        // SAFETY: the pool belongs to this device (created resettable); the buffers go
+        // with the pool.
+        Ok(unsafe { self.device.allocate_command_buffers(&alloc)? })
     }
 }
 
@@ -312,7 +332,10 @@ fn pick_device(instance: &ash::Instance) -> Result<(vk::PhysicalDevice, u32)> {
         let family = families
             .iter()
             .position(|f| f.queue_flags.contains(vk::QueueFlags::GRAPHICS));
+        // SAFETY: `pd` comes from this instance.
+        let core = unsafe { instance.get_physical_device_features(pd) };
         if let Some(family) = family
+            && core.sample_rate_shading == vk::TRUE
             && api >= vk::API_VERSION_1_3
             && v13.dynamic_rendering == vk::TRUE
             && v13.synchronization2 == vk::TRUE

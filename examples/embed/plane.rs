@@ -5,7 +5,6 @@
 use super::Result;
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use glam::DVec3;
 use glyphcast::render::shaders::{EXAMPLE_PLANE_FRAGMENT, EXAMPLE_PLANE_VERTEX};
 
 /// A square in the plane z = `height`, centred at `center` (x, y) with half-size `half`.
@@ -18,7 +17,8 @@ pub struct Square {
 
 impl Square {
     /// Exact distance along the ray to the square, None for a miss (the analytic plane).
-    pub fn hit(&self, origin: DVec3, dir: DVec3) -> Option<f64> {
+    #[cfg(test)]
+    pub fn hit(&self, origin: glam::DVec3, dir: glam::DVec3) -> Option<f64> {
         let t = (self.height - origin.z) / dir.z;
         let p = origin + t * dir;
         let inside =
@@ -49,7 +49,14 @@ fn module(device: &ash::Device, spirv: &[u32]) -> Result<vk::ShaderModule> {
 }
 
 impl<'a> PlanePass<'a> {
-    pub fn new(device: &'a ash::Device, color: vk::Format, depth: vk::Format) -> Result<Self> {
+    /// A pipeline for the engine's attachments: `samples` per pixel, depth tested with
+    /// `compare` (the engine's convention, which glyphcast is told too).
+    pub fn new(
+        device: &'a ash::Device,
+        (color, depth): (vk::Format, vk::Format),
+        samples: vk::SampleCountFlags,
+        compare: vk::CompareOp,
+    ) -> Result<Self> {
         let push = [vk::PushConstantRange::default()
             .stage_flags(vk::ShaderStageFlags::VERTEX)
             .size(std::mem::size_of::<PlanePush>() as u32)];
@@ -78,13 +85,12 @@ impl<'a> PlanePass<'a> {
             .polygon_mode(vk::PolygonMode::FILL)
             .cull_mode(vk::CullModeFlags::NONE)
             .line_width(1.0);
-        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
-        // The same depth convention as the glyphs: reversed, 1 near, 0 far, GREATER wins.
+        let multisample =
+            vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(samples);
         let depth_state = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(true)
             .depth_write_enable(true)
-            .depth_compare_op(vk::CompareOp::GREATER);
+            .depth_compare_op(compare);
         let blend_attachment = [vk::PipelineColorBlendAttachmentState::default()
             .color_write_mask(vk::ColorComponentFlags::RGBA)];
         let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachment);
@@ -121,12 +127,12 @@ impl<'a> PlanePass<'a> {
         })
     }
 
-    /// Draws the square inside the caller's dynamic rendering, with the glyph pass's
-    /// view-projection so that both write comparable depths.
+    /// Draws the square inside the caller's dynamic rendering, with the engine's
+    /// view-projection (the one glyphcast is given) so that both write comparable depths.
     pub fn record(
         &self,
         cmd: vk::CommandBuffer,
-        extent: vk::Extent2D,
+        rect: vk::Rect2D,
         view_proj: [[f32; 4]; 4],
         square: &Square,
     ) {
@@ -140,17 +146,19 @@ impl<'a> PlanePass<'a> {
             ],
         };
         let viewport = vk::Viewport {
-            width: extent.width as f32,
-            height: extent.height as f32,
+            x: rect.offset.x as f32,
+            y: rect.offset.y as f32,
+            width: rect.extent.width as f32,
+            height: rect.extent.height as f32,
+            min_depth: 0.0,
             max_depth: 1.0,
-            ..Default::default()
         };
         // SAFETY: `cmd` is inside dynamic rendering with formats matching the pipeline.
         unsafe {
             let d = self.device;
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline);
             d.cmd_set_viewport(cmd, 0, &[viewport]);
-            d.cmd_set_scissor(cmd, 0, &[extent.into()]);
+            d.cmd_set_scissor(cmd, 0, &[rect]);
             d.cmd_push_constants(
                 cmd,
                 self.layout,

@@ -44,6 +44,10 @@ pub struct FrameParams {
     /// Blinn-Phong terms ([`crate::render::settings::Lighting`]): x ambient, y specular
     /// strength, z shininess.
     pub shading: [f32; 4],
+    /// xy: the viewport's origin in framebuffer pixels (0 but for a host's
+    /// sub-rectangle); z: the window depth of the near plane, where the ray-cast pass puts
+    /// boxes that the near plane cuts (1 for reversed depth, 0 for standard).
+    pub window: [f32; 4],
 }
 
 /// How every pass binds the frame block (and the underlay its parameters): as a read-only
@@ -185,25 +189,6 @@ impl FrameParams {
             Projection::Orthographic { height } => (1.0, 0.5 * height),
         };
         let v4 = |v: glam::DVec3, w: f32| [v.x as f32, v.y as f32, v.z as f32, w];
-        let (refine_mode, bisections) = match settings.refinement {
-            Refinement::None => (codes::REFINE_NONE, 0),
-            Refinement::Bisect(k) => (codes::REFINE_BISECT, k as i32),
-            Refinement::Interpolate => (codes::REFINE_INTERP, 0),
-            Refinement::Secant(k) => (codes::REFINE_SECANT, k as i32),
-        };
-        let (color_mode, range, uniform, negative) = match settings.color {
-            ColorMode::Direction => (codes::COLOR_DIRECTION, (0.0, 1.0), [0.0; 3], [0.0; 3]),
-            ColorMode::Magnitude { .. } => (
-                codes::COLOR_MAGNITUDE,
-                magnitude_range(settings, extent).unwrap_or((0.0, 1.0)),
-                [0.0; 3],
-                [0.0; 3],
-            ),
-            ColorMode::Uniform(rgb) => (codes::COLOR_UNIFORM, (0.0, 1.0), rgb, [0.0; 3]),
-            ColorMode::Sign { positive, negative } => {
-                (codes::COLOR_SIGN, (0.0, 1.0), positive, negative)
-            }
-        };
         // The light is given in view coordinates (x right, y up, z towards the viewer).
         let lighting = &settings.lighting;
         let [lx, ly, lz] = lighting.unit_direction().map(f64::from);
@@ -224,15 +209,6 @@ impl FrameParams {
                 if ortho > 0.0 { 0.0 } else { extent.near as f32 },
                 0.0,
             ],
-            march: [
-                settings.step,
-                settings.centre_step_factor,
-                settings.centre_zone,
-                settings.offset,
-            ],
-            modes: [refine_mode, bisections, color_mode, settings.max_steps()],
-            magnitude_range: [range.0, 1.0 / (range.1 - range.0).max(1e-30), 0.0, 0.0],
-            uniform_color: [uniform[0], uniform[1], uniform[2], 1.0],
             light: v4(light, 0.0),
             // One pixel spans 2 scale / height: at unit distance (perspective) or in world
             // units (orthographic).
@@ -242,8 +218,47 @@ impl FrameParams {
                 0.0,
                 0.0,
             ],
+            ..FrameParams::of_settings(extent, settings)
+        }
+    }
+
+    /// The block's members that the settings decide (march, colour, shading), the camera's
+    /// zero; the window at the origin with reversed depth.
+    pub(crate) fn of_settings(extent: &SceneExtent, settings: &RenderSettings) -> Self {
+        let (refine_mode, bisections) = match settings.refinement {
+            Refinement::None => (codes::REFINE_NONE, 0),
+            Refinement::Bisect(k) => (codes::REFINE_BISECT, k as i32),
+            Refinement::Interpolate => (codes::REFINE_INTERP, 0),
+            Refinement::Secant(k) => (codes::REFINE_SECANT, k as i32),
+        };
+        let (color_mode, range, uniform, negative) = match settings.color {
+            ColorMode::Direction => (codes::COLOR_DIRECTION, (0.0, 1.0), [0.0; 3], [0.0; 3]),
+            ColorMode::Magnitude { .. } => (
+                codes::COLOR_MAGNITUDE,
+                magnitude_range(settings, extent).unwrap_or((0.0, 1.0)),
+                [0.0; 3],
+                [0.0; 3],
+            ),
+            ColorMode::Uniform(rgb) => (codes::COLOR_UNIFORM, (0.0, 1.0), rgb, [0.0; 3]),
+            ColorMode::Sign { positive, negative } => {
+                (codes::COLOR_SIGN, (0.0, 1.0), positive, negative)
+            }
+        };
+        let lighting = &settings.lighting;
+        FrameParams {
+            march: [
+                settings.step,
+                settings.centre_step_factor,
+                settings.centre_zone,
+                settings.offset,
+            ],
+            modes: [refine_mode, bisections, color_mode, settings.max_steps()],
+            magnitude_range: [range.0, 1.0 / (range.1 - range.0).max(1e-30), 0.0, 0.0],
+            uniform_color: [uniform[0], uniform[1], uniform[2], 1.0],
             negative_color: [negative[0], negative[1], negative[2], 1.0],
             shading: [lighting.ambient, lighting.specular, lighting.shininess, 0.0],
+            window: [0.0, 0.0, 1.0, 0.0],
+            ..FrameParams::zeroed()
         }
     }
 }

@@ -112,7 +112,8 @@ fn frame_params_rust() -> Vec<u32> {
         light,
         robust,
         negative_color,
-        shading
+        shading,
+        window
     )
 }
 

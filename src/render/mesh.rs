@@ -22,8 +22,8 @@ use crate::render::glyph_data::GlyphSetData;
 use crate::render::raycast::{InstanceInput, TargetFormats, glyph_pipeline, viewport_and_scissor};
 use crate::render::shaders::{MESH_FRAGMENT, MESH_VERTEX};
 use crate::vk::{
-    Buffer, BufferBinding, DescriptorPool, DeviceContext, PipelineLayout, Pipelines, ShaderModule,
-    buffer_binding,
+    Buffer, BufferBinding, DescriptorPool, DeviceContext, PipelineLayout, Pipelines, RasterTarget,
+    ShaderModule, buffer_binding,
 };
 use ash::vk;
 use std::time::Instant;
@@ -221,6 +221,7 @@ impl MeshPass {
             self.layout.handle(),
             &stages,
             InstanceInput::Instance,
+            RasterTarget::default(),
         )?;
         Ok(self.pipelines.insert(vertices_per_glyph, pipeline))
     }

@@ -5,6 +5,7 @@
 pub mod antialias;
 pub mod batch;
 pub mod colorbar;
+pub mod component;
 pub mod compute;
 // Test harnesses: they run the generated GLSL at given points or segments so that the
 // integration tests can hold it to the float64 code. Public for those tests only.
@@ -13,6 +14,7 @@ pub mod eval;
 pub mod frame;
 pub mod glyph_data;
 pub mod headless;
+pub mod host_view;
 #[cfg(test)]
 mod interface;
 pub mod labels;

@@ -4,8 +4,14 @@
 //! layout.
 //!
 //! The pass records into a command buffer it is given, inside dynamic rendering the caller
-//! began, with the colour/depth formats it was told at creation. The headless renderer,
-//! tests, benchmarks and an embedding engine all go through [`RayCastPass::record`].
+//! began, with the colour/depth formats, sample count and depth convention it was told
+//! at creation ([`PassOptions`]). Pipelines are made by [`RayCastPass::prepare`] (and by
+//! [`RayCastPass::upload`] for the scene's sets), never while recording, so recording
+//! takes `&self` and several threads may record at once. A scene holds one frame block
+//! per frame in flight, and a descriptor set per (glyph batch, frame), so that the glyph
+//! data is uploaded once and frame k+1's camera can be written while frame k renders.
+//! The headless renderer, tests, benchmarks and an embedding engine
+//! ([`crate::render::component::GlyphRenderer`]) all go through [`RayCastPass::record_frame`].
 //! The pass and the scenes keep a [`DeviceContext`], so the device outlives them.
 use crate::error::{Error, Result};
 use crate::glyph::{GlyphShape, TensorLayout};
@@ -13,10 +19,12 @@ use crate::render::Method;
 use crate::render::batch::{Batch, batches};
 use crate::render::frame::{FRAME_DESCRIPTOR, FRAME_USAGE, FrameParams};
 use crate::render::glyph_data::GlyphSetData;
-use crate::render::shaders::{IMPOSTOR_FRAGMENT, RAYCAST_VERTEX, raycast_shader};
+use crate::render::shaders::{
+    DepthConvention, IMPOSTOR_FRAGMENT, RAYCAST_VERTEX, for_depth, raycast_shader,
+};
 use crate::vk::{
     Buffer, BufferBinding, DescriptorPool, DeviceContext, GraphicsPipelineDesc, Pipeline,
-    PipelineLayout, Pipelines, ShaderModule, buffer_binding, graphics_pipeline,
+    PipelineLayout, Pipelines, RasterTarget, ShaderModule, buffer_binding, graphics_pipeline,
 };
 use ash::vk;
 
@@ -32,10 +40,91 @@ pub struct TargetFormats {
     pub distance: Option<vk::Format>,
 }
 
-/// Pipelines and layouts; created once per device and formats.
+/// How the target the pass draws into is rasterised: what a host decides once.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PassOptions {
+    /// Samples per pixel of the attachments: 1, 2, 4 or 8. Above 1 the fragment shaders
+    /// run per sample (the device needs the sampleRateShading feature), each casting the
+    /// ray through its sample, so silhouettes are anti-aliased by the host's resolve.
+    pub samples: vk::SampleCountFlags,
+    /// Which end of the depth range is near; the glyphs write depth in it.
+    pub depth: DepthConvention,
+    /// A pipeline cache of the host's, or null.
+    pub pipeline_cache: vk::PipelineCache,
+    /// A render pass of the host's and the subpass the glyphs are drawn in, whose
+    /// attachments have the formats and samples above (Vulkan 1.0-1.2 style); null: the
+    /// host draws in dynamic rendering.
+    pub render_pass: vk::RenderPass,
+    /// The subpass of `render_pass` the glyphs are drawn in.
+    pub subpass: u32,
+}
+
+impl Default for PassOptions {
+    /// glyphcast's own targets: one sample, reversed depth, no cache, dynamic rendering.
+    fn default() -> Self {
+        PassOptions {
+            samples: vk::SampleCountFlags::TYPE_1,
+            depth: DepthConvention::Reversed,
+            pipeline_cache: vk::PipelineCache::null(),
+            render_pass: vk::RenderPass::null(),
+            subpass: 0,
+        }
+    }
+}
+
+impl PassOptions {
+    /// The sample count as a number; an error for counts other than 1, 2, 4 and 8.
+    pub fn sample_count(&self) -> Result<u32> {
+        let count = self.samples.as_raw();
+        match count {
+            1 | 2 | 4 | 8 => Ok(count),
+            _ => Err(Error::Invalid(format!(
+                "samples: {count} samples per pixel; the ray-cast pass takes 1, 2, 4 or 8"
+            ))),
+        }
+    }
+
+    fn raster(&self) -> RasterTarget {
+        RasterTarget {
+            samples: self.samples,
+            sample_shading: self.samples != vk::SampleCountFlags::TYPE_1,
+            depth_compare: self.depth.compare_op(),
+            cache: self.pipeline_cache,
+            render_pass: self.render_pass,
+            subpass: self.subpass,
+        }
+    }
+}
+
+/// Where in the target one frame is drawn, and with which frame block.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameTarget {
+    /// Which frame in flight (which of the scene's frame blocks).
+    pub frame_index: usize,
+    /// The viewport (depth range 0 to 1); it must be the one the frame block was made
+    /// for ([`FrameParams::window`]).
+    pub viewport: vk::Viewport,
+    /// The scissor rectangle.
+    pub scissor: vk::Rect2D,
+}
+
+impl FrameTarget {
+    /// Frame 0 over the whole of a target of size `extent`.
+    pub fn whole(extent: vk::Extent2D) -> FrameTarget {
+        let (viewport, scissor) = viewport_and_scissor(extent);
+        FrameTarget {
+            frame_index: 0,
+            viewport,
+            scissor,
+        }
+    }
+}
+
+/// Pipelines and layouts; created once per device, formats and [`PassOptions`].
 pub struct RayCastPass {
     ctx: DeviceContext,
     formats: TargetFormats,
+    options: PassOptions,
     // Fields drop in order: the pipelines go before the modules and the layout they were
     // made with, the order the validation layer expects.
     /// Keyed by layout and method; the impostor's pipeline by method alone.
@@ -95,21 +184,34 @@ pub struct GlyphSetGpu {
     instances: Buffer,
     boxes: Buffer,
     _coefficients: Buffer,
-    descriptor_set: vk::DescriptorSet,
+    /// One per frame in flight: the coefficients with that frame's block.
+    descriptor_sets: Vec<vk::DescriptorSet>,
 }
 
-/// Everything a scene needs on the GPU: the frame's parameter buffer and the glyph sets.
+/// Everything a scene needs on the GPU: the glyph sets, uploaded once, and one frame
+/// parameter buffer per frame in flight.
 pub struct SceneGpu {
-    frame: Buffer,
+    frames: Vec<Buffer>,
     pool: DescriptorPool,
     /// The batches, one draw each.
     pub sets: Vec<GlyphSetGpu>,
 }
 
 impl RayCastPass {
-    /// Layouts and the proxy boxes' shaders for attachments of `formats`; pipelines are
-    /// created when first needed.
+    /// Layouts and the proxy boxes' shaders for attachments of `formats` with one sample
+    /// and reversed depth; pipelines are made by [`RayCastPass::prepare`] and
+    /// [`RayCastPass::upload`].
     pub fn new(ctx: &DeviceContext, formats: TargetFormats) -> Result<RayCastPass> {
+        RayCastPass::with_options(ctx, formats, PassOptions::default())
+    }
+
+    /// [`RayCastPass::new`] for a host's samples, depth convention and pipeline cache.
+    pub fn with_options(
+        ctx: &DeviceContext,
+        formats: TargetFormats,
+        options: PassOptions,
+    ) -> Result<RayCastPass> {
+        options.sample_count()?;
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let bindings = [
             buffer_binding(FRAME_BINDING, FRAME_DESCRIPTOR, stages),
@@ -124,6 +226,7 @@ impl RayCastPass {
         Ok(RayCastPass {
             ctx: ctx.clone(),
             formats,
+            options,
             layout,
             // SAFETY: the SPIR-V comes from build.rs and was validated by glslang.
             vertex: unsafe { ShaderModule::new(ctx, RAYCAST_VERTEX)? },
@@ -143,7 +246,17 @@ impl RayCastPass {
         self.formats
     }
 
-    /// The pipeline for a variant, created on first use.
+    /// The samples, depth convention and cache the pass was made for.
+    pub fn options(&self) -> PassOptions {
+        self.options
+    }
+
+    /// Makes the pipeline of a variant if it is not made yet: what recording it needs.
+    pub fn prepare(&mut self, layout: TensorLayout, method: Method) -> Result<()> {
+        self.pipeline(layout, method).map(|_| ())
+    }
+
+    /// The pipeline of a variant, made now if it was not.
     pub fn pipeline(&mut self, layout: TensorLayout, method: Method) -> Result<vk::Pipeline> {
         let key = pipeline_key(layout, method);
         if let Some(p) = self.pipelines.get(&key) {
@@ -249,6 +362,20 @@ impl RayCastPass {
         })
     }
 
+    /// The pipeline of a prepared variant; an error (not a compile) if it was not made.
+    fn prepared(&self, layout: TensorLayout, method: Method) -> Result<vk::Pipeline> {
+        self.pipelines
+            .get(&pipeline_key(layout, method))
+            .ok_or_else(|| {
+                Error::Invalid(format!(
+                    "the ray-cast pipeline of a {:?} tensor of order {} with method {method} \
+                     was not prepared: RayCastPass::prepare (or upload) makes it before \
+                     recording",
+                    layout.symmetry, layout.order
+                ))
+            })
+    }
+
     /// A pipeline of the given fragment shader and vertex shader (`None`: the shared one,
     /// which passes no coefficients).
     fn create_pipeline(
@@ -257,9 +384,11 @@ impl RayCastPass {
         fragment_spirv: &[u32],
         oriented: bool,
     ) -> Result<Pipeline> {
+        // The host's depth convention is one word of the fragment shader's SPIR-V.
+        let fragment_spirv = for_depth(fragment_spirv, self.options.depth);
         // SAFETY: the SPIR-V comes from build.rs and was validated by glslang; the modules
         // may go once the pipeline exists.
-        let fragment = unsafe { ShaderModule::new(&self.ctx, fragment_spirv)? };
+        let fragment = unsafe { ShaderModule::new(&self.ctx, &fragment_spirv)? };
         let vertex = match vertex_spirv {
             // SAFETY: as above.
             Some(spirv) => Some(unsafe { ShaderModule::new(&self.ctx, spirv)? }),
@@ -302,10 +431,12 @@ impl RayCastPass {
             self.layout.handle(),
             &stages,
             InstanceInput::WithBoxes,
+            self.options.raster(),
         )
     }
 
-    /// Uploads glyph sets and the frame parameters; creates their descriptor sets.
+    /// Uploads glyph sets and the frame parameters for one frame in flight; prepares
+    /// their pipelines and creates their descriptor sets.
     pub fn upload(
         &mut self,
         ctx: &DeviceContext,
@@ -313,8 +444,27 @@ impl RayCastPass {
         frame: &FrameParams,
         method: Method,
     ) -> Result<SceneGpu> {
-        let frame_buffer =
-            Buffer::with_data(ctx, "frame", std::slice::from_ref(frame), FRAME_USAGE)?;
+        self.upload_in_flight(ctx, sets, frame, method, 1)
+    }
+
+    /// [`RayCastPass::upload`] for `frames_in_flight` frames: the glyphs once, and that
+    /// many frame blocks, each starting as `frame`.
+    pub fn upload_in_flight(
+        &mut self,
+        ctx: &DeviceContext,
+        sets: &[GlyphSetData],
+        frame: &FrameParams,
+        method: Method,
+        frames_in_flight: usize,
+    ) -> Result<SceneGpu> {
+        if frames_in_flight == 0 {
+            return Err(Error::Invalid(
+                "frames in flight: a scene needs at least one".into(),
+            ));
+        }
+        let frames = (0..frames_in_flight)
+            .map(|_| Buffer::with_data(ctx, "frame", std::slice::from_ref(frame), FRAME_USAGE))
+            .collect::<Result<Vec<_>>>()?;
         // Sets that share a pipeline share buffers and a draw; a batch larger than one
         // storage buffer is split (the method's "render successively").
         let limit = self.storage_buffer_limit(ctx);
@@ -324,9 +474,9 @@ impl RayCastPass {
             .map(|chunk| (chunk.layout, batch_method(chunk.shape, method)))
             .collect();
         self.prepare_pipelines(&variants)?;
-        let pool = DescriptorPool::new(ctx, chunks.len(), 0, 2)?;
+        let pool = DescriptorPool::new(ctx, chunks.len() * frames_in_flight, 0, 2)?;
         let mut scene = SceneGpu {
-            frame: frame_buffer,
+            frames,
             pool,
             sets: Vec::new(),
         };
@@ -348,18 +498,41 @@ impl RayCastPass {
         self.buffer_limit.map_or(device, |cap| cap.min(device))
     }
 
-    /// Records the draws of every glyph set. The caller has begun dynamic rendering with
-    /// attachments of this pass's formats, of size `extent`.
+    /// Records the draws of every glyph set with frame block 0 over the whole target. The
+    /// caller has begun dynamic rendering with attachments of this pass's formats, of
+    /// size `extent`.
     pub fn record(
-        &mut self,
+        &self,
         cmd: vk::CommandBuffer,
         scene: &SceneGpu,
         extent: vk::Extent2D,
         method: Method,
     ) -> Result<()> {
-        let (viewport, scissor) = viewport_and_scissor(extent);
+        self.record_frame(cmd, scene, &FrameTarget::whole(extent), method)
+    }
+
+    /// Records the draws of every glyph set with the frame block and viewport of
+    /// `target`. The caller has begun rendering with attachments of this pass's formats
+    /// and samples. Records only: no pipeline is made (an unprepared variant is an error),
+    /// nothing is written or submitted, so threads may record into their own command
+    /// buffers at once.
+    pub fn record_frame(
+        &self,
+        cmd: vk::CommandBuffer,
+        scene: &SceneGpu,
+        target: &FrameTarget,
+        method: Method,
+    ) -> Result<()> {
+        let frames = scene.frames.len();
+        if target.frame_index >= frames {
+            return Err(Error::Invalid(format!(
+                "frame index {} of a scene with {frames} frame(s) in flight",
+                target.frame_index
+            )));
+        }
+        let (viewport, scissor) = (target.viewport, target.scissor);
         for set in &scene.sets {
-            let pipeline = self.pipeline(set.layout, batch_method(set.shape, method))?;
+            let pipeline = self.prepared(set.layout, batch_method(set.shape, method))?;
             let hide = set.negative.shader_code();
             // SAFETY: recording state is the caller's; all handles are alive.
             unsafe {
@@ -372,7 +545,7 @@ impl RayCastPass {
                     vk::PipelineBindPoint::GRAPHICS,
                     self.layout.handle(),
                     0,
-                    &[set.descriptor_set],
+                    &[set.descriptor_sets[target.frame_index]],
                     &[],
                 );
                 d.cmd_push_constants(
@@ -396,7 +569,7 @@ impl RayCastPass {
     }
 }
 
-/// The key of a variant's pipeline: one impostor pipeline serves every layout.
+/// The key of a variant's pipeline: the impostor's is shared by every layout.
 fn pipeline_key(layout: TensorLayout, method: Method) -> (Option<TensorLayout>, Method) {
     match method {
         Method::Impostor => (None, method),
@@ -435,6 +608,7 @@ pub(crate) fn glyph_pipeline(
     layout: vk::PipelineLayout,
     stages: &[vk::PipelineShaderStageCreateInfo],
     input: InstanceInput,
+    raster: RasterTarget,
 ) -> Result<Pipeline> {
     let bindings = [
         vk::VertexInputBindingDescription {
@@ -472,6 +646,7 @@ pub(crate) fn glyph_pipeline(
         color_formats: &color_formats,
         depth_format: formats.depth,
         layout,
+        raster,
     };
     // SAFETY: the callers' stages hold live modules of build.rs's SPIR-V for `layout`.
     unsafe { graphics_pipeline(ctx, &desc) }
@@ -510,13 +685,19 @@ fn upload_chunk(
         &batch.coefficients()?,
         vk::BufferUsageFlags::STORAGE_BUFFER,
     )?;
-    let descriptor_set = scene.pool.buffer_set(
-        set_layout,
-        &[
-            BufferBinding::storage(FRAME_BINDING, &scene.frame),
-            BufferBinding::storage(COEFFICIENTS_BINDING, &coefficients),
-        ],
-    )?;
+    let descriptor_sets = scene
+        .frames
+        .iter()
+        .map(|frame| {
+            scene.pool.buffer_set(
+                set_layout,
+                &[
+                    BufferBinding::storage(FRAME_BINDING, frame),
+                    BufferBinding::storage(COEFFICIENTS_BINDING, &coefficients),
+                ],
+            )
+        })
+        .collect::<Result<Vec<_>>>()?;
     Ok(GlyphSetGpu {
         layout: batch.layout,
         negative: batch.negative,
@@ -525,13 +706,34 @@ fn upload_chunk(
         instances,
         boxes,
         _coefficients: coefficients,
-        descriptor_set,
+        descriptor_sets,
     })
 }
 
 impl SceneGpu {
-    /// Replaces the frame parameters (camera, settings); not while a frame is in flight.
+    /// Replaces the frame parameters (camera, settings) of every frame in flight; not
+    /// while a frame that reads them is in flight.
     pub fn set_frame(&mut self, frame: &FrameParams) -> Result<()> {
-        self.frame.write(bytemuck::bytes_of(frame))
+        for buffer in &mut self.frames {
+            buffer.write(bytemuck::bytes_of(frame))?;
+        }
+        Ok(())
+    }
+
+    /// Replaces frame `index`'s parameters: only once the host's last submission that
+    /// read that frame has completed (other frames may be in flight meanwhile).
+    pub fn set_frame_in_flight(&mut self, index: usize, frame: &FrameParams) -> Result<()> {
+        let frames = self.frames.len();
+        let buffer = self.frames.get_mut(index).ok_or_else(|| {
+            Error::Invalid(format!(
+                "frame index {index} of a scene with {frames} frame(s) in flight"
+            ))
+        })?;
+        buffer.write(bytemuck::bytes_of(frame))
+    }
+
+    /// How many frames in flight the scene was uploaded for.
+    pub fn frames_in_flight(&self) -> usize {
+        self.frames.len()
     }
 }

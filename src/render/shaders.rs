@@ -168,3 +168,106 @@ mod tests {
         }
     }
 }
+
+/// The depth convention of a target: which end of the depth range is near, and so which
+/// depth test keeps the nearer surface.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum DepthConvention {
+    /// Near at 1, far at 0 (or at infinity): cleared to 0, tested GREATER. glyphcast's own.
+    #[default]
+    Reversed,
+    /// Near at 0, far at 1: cleared to 1, tested LESS.
+    Standard,
+}
+
+impl DepthConvention {
+    /// The window depth of the near plane.
+    pub fn near_depth(self) -> f32 {
+        match self {
+            DepthConvention::Reversed => 1.0,
+            DepthConvention::Standard => 0.0,
+        }
+    }
+
+    /// The window depth a depth buffer is cleared to (the far end).
+    pub fn clear_depth(self) -> f32 {
+        1.0 - self.near_depth()
+    }
+
+    /// The depth test that keeps the nearer surface.
+    pub fn compare_op(self) -> ash::vk::CompareOp {
+        match self {
+            DepthConvention::Reversed => ash::vk::CompareOp::GREATER,
+            DepthConvention::Standard => ash::vk::CompareOp::LESS,
+        }
+    }
+}
+
+/// SPIR-V's OpExecutionMode and the conservative-depth modes it may carry.
+const OP_EXECUTION_MODE: u32 = 16;
+const DEPTH_GREATER: u32 = 14;
+const DEPTH_LESS: u32 = 15;
+
+/// A fragment shader's SPIR-V for targets of `depth`. The ray casters declare
+/// `layout(depth_less) out float gl_FragDepth` (a hit lies behind the box face the
+/// rasteriser produced, which under reversed depth is a smaller depth); under standard
+/// depth the same hit is a larger depth, so the promise becomes `depth_greater`. That is
+/// the one word the two variants differ in (the DepthLess execution mode becomes
+/// DepthGreater), so it is rewritten here rather than compiled twice in build.rs.
+pub fn for_depth(spirv: &[u32], depth: DepthConvention) -> Vec<u32> {
+    let mut words = spirv.to_vec();
+    if depth == DepthConvention::Reversed {
+        return words;
+    }
+    // The header is five words; every instruction starts with (word count << 16 | opcode).
+    let mut at = 5;
+    while at < words.len() {
+        let (count, opcode) = ((words[at] >> 16) as usize, words[at] & 0xffff);
+        if count == 0 {
+            break;
+        }
+        if opcode == OP_EXECUTION_MODE && count >= 3 && words[at + 2] == DEPTH_LESS {
+            words[at + 2] = DEPTH_GREATER;
+        }
+        at += count;
+    }
+    words
+}
+
+#[cfg(test)]
+mod depth_tests {
+    use super::*;
+
+    /// Execution modes of a SPIR-V module (mode words of every OpExecutionMode).
+    fn execution_modes(spirv: &[u32]) -> Vec<u32> {
+        let mut modes = Vec::new();
+        let mut at = 5;
+        while at < spirv.len() {
+            let (count, opcode) = ((spirv[at] >> 16) as usize, spirv[at] & 0xffff);
+            if opcode == OP_EXECUTION_MODE {
+                modes.push(spirv[at + 2]);
+            }
+            at += count.max(1);
+        }
+        modes
+    }
+
+    /// Every ray-casting fragment shader promises depth_less, and its standard-depth
+    /// variant depth_greater, differing in that word only.
+    #[test]
+    fn standard_depth_turns_depth_less_into_depth_greater() {
+        let shaders = RAYCAST_SHADERS
+            .iter()
+            .flat_map(|s| [s.fragment, s.color_only_fragment])
+            .chain([IMPOSTOR_FRAGMENT]);
+        for spirv in shaders {
+            assert!(execution_modes(spirv).contains(&DEPTH_LESS));
+            let standard = for_depth(spirv, DepthConvention::Standard);
+            let modes = execution_modes(&standard);
+            assert!(modes.contains(&DEPTH_GREATER) && !modes.contains(&DEPTH_LESS));
+            let changed = spirv.iter().zip(&standard).filter(|(a, b)| a != b).count();
+            assert_eq!(changed, 1);
+            assert_eq!(for_depth(spirv, DepthConvention::Reversed), spirv);
+        }
+    }
+}

@@ -27,7 +27,7 @@ use crate::render::raycast::{TargetFormats, viewport_and_scissor};
 use crate::render::shaders::{UNDERLAY_FRAGMENT, UNDERLAY_VERTEX};
 use crate::vk::{
     Buffer, BufferBinding, DescriptorPool, DeviceContext, GraphicsPipelineDesc, Pipeline,
-    PipelineLayout, ShaderModule, buffer_binding, graphics_pipeline,
+    PipelineLayout, RasterTarget, ShaderModule, buffer_binding, graphics_pipeline,
 };
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
@@ -517,6 +517,7 @@ fn create_pipeline(
         color_formats: &color_formats,
         depth_format: formats.depth,
         layout,
+        raster: RasterTarget::default(),
     };
     // SAFETY: the modules are alive until the call returns; their SPIR-V declares the
     // blocks of `layout` (render::interface checks them).

@@ -274,6 +274,14 @@ impl Presenter {
         for panel in panels.iter_mut() {
             panel.scene.set_frame(&panel.frame)?;
         }
+        // The pipelines of this frame's method (a key may have just switched it), made
+        // before recording: the pass never compiles while it records.
+        for panel in panels.iter() {
+            for set in &panel.scene.sets {
+                let method = crate::render::raycast::batch_method(set.shape, settings.method);
+                self.pass.prepare(set.layout, method)?;
+            }
+        }
         let largest = panels
             .iter()
             .filter(|p| !p.in_place())

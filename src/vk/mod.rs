@@ -36,8 +36,8 @@ pub use descriptors::{BufferBinding, DescriptorPool};
 pub use device::{DeviceInfo, choose_physical_device};
 pub use image::{Image, cleared_depth_attachment};
 pub use pipeline::{
-    GraphicsPipelineDesc, Pipeline, PipelineLayout, Pipelines, ShaderModule, buffer_binding,
-    compute_pipeline, graphics_pipeline,
+    GraphicsPipelineDesc, Pipeline, PipelineLayout, Pipelines, RasterTarget, ShaderModule,
+    buffer_binding, compute_pipeline, graphics_pipeline,
 };
 #[cfg(feature = "viewer")]
 pub use surface::Surface;

@@ -243,10 +243,45 @@ fn first_pipeline(
         .ok_or_else(|| Error::Setup(format!("{call} returned no pipeline")))
 }
 
+/// How the target a pipeline draws into is rasterised and depth-tested: what an
+/// embedding host decides (its sample count, its depth convention, its pipeline cache).
+/// The default is glyphcast's own: one sample, reversed depth tested GREATER, no cache.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RasterTarget {
+    /// Samples per pixel of the attachments.
+    pub samples: vk::SampleCountFlags,
+    /// Whether the fragment shader runs once per covered sample (minSampleShading 1): a
+    /// ray-cast fragment then casts the ray through its sample, so that multisampled
+    /// silhouettes and depths are exact per sample. Needs the sampleRateShading feature.
+    pub sample_shading: bool,
+    /// The depth test (GREATER for reversed depth, LESS for standard).
+    pub depth_compare: vk::CompareOp,
+    /// A pipeline cache of the host's, or null.
+    pub cache: vk::PipelineCache,
+    /// A render pass of the host's and the subpass drawn in; null: dynamic rendering with
+    /// the attachment formats.
+    pub render_pass: vk::RenderPass,
+    /// The subpass of `render_pass`.
+    pub subpass: u32,
+}
+
+impl Default for RasterTarget {
+    fn default() -> Self {
+        RasterTarget {
+            samples: vk::SampleCountFlags::TYPE_1,
+            sample_shading: false,
+            depth_compare: vk::CompareOp::GREATER,
+            cache: vk::PipelineCache::null(),
+            render_pass: vk::RenderPass::null(),
+            subpass: 0,
+        }
+    }
+}
+
 /// What differs between the graphics pipelines of the passes; everything else is shared:
-/// triangle lists, dynamic viewport and scissor, one sample, depth tested GREATER and
-/// written (reversed depth), every colour attachment written whole without blending, and
-/// dynamic rendering with the given attachment formats.
+/// triangle lists, dynamic viewport and scissor, depth tested and written, every colour
+/// attachment written whole without blending, and dynamic rendering with the given
+/// attachment formats.
 pub struct GraphicsPipelineDesc<'a> {
     /// The vertex and fragment stages.
     pub stages: &'a [vk::PipelineShaderStageCreateInfo<'a>],
@@ -262,6 +297,8 @@ pub struct GraphicsPipelineDesc<'a> {
     pub depth_format: vk::Format,
     /// The pipeline layout.
     pub layout: vk::PipelineLayout,
+    /// Samples, depth test and pipeline cache.
+    pub raster: RasterTarget,
 }
 
 /// A graphics pipeline for dynamic rendering, as `desc` describes.
@@ -285,12 +322,17 @@ pub unsafe fn graphics_pipeline(
         .cull_mode(desc.cull)
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0);
-    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-        .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+    let mut multisample = vk::PipelineMultisampleStateCreateInfo::default()
+        .rasterization_samples(desc.raster.samples);
+    if desc.raster.sample_shading {
+        multisample = multisample
+            .sample_shading_enable(true)
+            .min_sample_shading(1.0);
+    }
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(true)
         .depth_write_enable(true)
-        .depth_compare_op(vk::CompareOp::GREATER);
+        .depth_compare_op(desc.raster.depth_compare);
     let blend_attachments: Vec<_> = desc
         .color_formats
         .iter()
@@ -305,7 +347,7 @@ pub unsafe fn graphics_pipeline(
     let mut rendering = vk::PipelineRenderingCreateInfo::default()
         .color_attachment_formats(desc.color_formats)
         .depth_attachment_format(desc.depth_format);
-    let info = vk::GraphicsPipelineCreateInfo::default()
+    let mut info = vk::GraphicsPipelineCreateInfo::default()
         .stages(desc.stages)
         .vertex_input_state(&vertex_input)
         .input_assembly_state(&assembly)
@@ -315,13 +357,24 @@ pub unsafe fn graphics_pipeline(
         .depth_stencil_state(&depth)
         .color_blend_state(&blend)
         .dynamic_state(&dynamic)
-        .layout(desc.layout)
-        .push_next(&mut rendering);
+        .layout(desc.layout);
+    info = if desc.raster.render_pass == vk::RenderPass::null() {
+        info.push_next(&mut rendering)
+    } else {
+        info.render_pass(desc.raster.render_pass)
+            .subpass(desc.raster.subpass)
+    };
     // SAFETY: all referenced state lives until the call returns; the caller vouches for
     // the stages.
+    // The host's cache if it gave one, else glyphcast's own (on disk) for its devices.
+    let cache = if desc.raster.cache == vk::PipelineCache::null() {
+        ctx.pipeline_cache()
+    } else {
+        desc.raster.cache
+    };
     let created = unsafe {
         ctx.device()
-            .create_graphics_pipelines(ctx.pipeline_cache(), &[info], None)
+            .create_graphics_pipelines(cache, &[info], None)
     };
     let handle = first_pipeline(created, "vkCreateGraphicsPipelines")?;
     // SAFETY: just made on `ctx`'s device, owned by nothing else.

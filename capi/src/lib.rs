@@ -1,0 +1,533 @@
+//! The C API of glyphcast's engine component ([`glyphcast::GlyphRenderer`]): a C or C++
+//! engine passes its Vulkan handles (instance, physical device, device, the loader's
+//! `vkGetInstanceProcAddr`), formats, samples, depth convention, pipeline cache and frames
+//! in flight once, then per frame its camera and an open command buffer. The header is
+//! `include/glyphcast.h`, generated from this file by cbindgen.
+//!
+//! Every entry point returns a [`GlyphcastStatus`]; the message of the last failure is
+//! kept per renderer ([`glyphcast_renderer_last_error`]) and per thread for calls with no
+//! renderer ([`glyphcast_last_error`]). Every entry point catches panics, so none crosses
+//! into C (it is reported as [`GlyphcastStatus::Panic`]). Memory comes from a
+//! gpu-allocator allocator that the renderer makes on the host's device.
+#![allow(non_camel_case_types)]
+use ash::vk;
+use ash::vk::Handle;
+use glam::DMat4;
+use glyphcast::{
+    DepthConvention, DeviceContext, GlyphKind, GlyphRenderer, GlyphSet, HostView, PassOptions,
+    RenderSettings, RendererDesc, ShBasis, TargetFormats,
+};
+use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+use std::cell::RefCell;
+use std::ffi::{CStr, CString, c_char, c_void};
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::sync::{Arc, Mutex};
+
+// The Vulkan types as the C header names them (vulkan.h declares them; cbindgen.toml
+// keeps these aliases out of the header).
+pub type VkInstance = *mut c_void;
+pub type VkPhysicalDevice = *mut c_void;
+pub type VkDevice = *mut c_void;
+pub type VkCommandBuffer = *mut c_void;
+pub type VkPipelineCache = u64;
+pub type VkRenderPass = u64;
+pub type VkFormat = i32;
+pub type PFN_vkGetInstanceProcAddr = Option<GetInstanceProcAddr>;
+/// vkGetInstanceProcAddr with the instance as a plain pointer.
+type GetInstanceProcAddr =
+    unsafe extern "system" fn(VkInstance, *const c_char) -> Option<unsafe extern "system" fn()>;
+
+/// What a call returns.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GlyphcastStatus {
+    /// Done.
+    Ok = 0,
+    /// An argument was refused (a null pointer, an out-of-range value, glyph data or a
+    /// camera glyphcast cannot draw); the message says which.
+    InvalidArgument = 1,
+    /// A Vulkan call failed, or the device lacks something glyphcast needs.
+    Vulkan = 2,
+    /// glyphcast panicked (a bug); the renderer should not be used again.
+    Panic = 3,
+}
+
+/// The host's depth convention.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GlyphcastDepth {
+    /// Near at 0, far at 1 (or infinity): cleared to 1, tested LESS.
+    Standard = 0,
+    /// Near at 1, far at 0 (or infinity): cleared to 0, tested GREATER.
+    Reversed = 1,
+}
+
+/// What the host passes once.
+#[repr(C)]
+pub struct GlyphcastRendererDesc {
+    /// The loader's vkGetInstanceProcAddr (glyphcast loads every function through it).
+    pub get_instance_proc_addr: PFN_vkGetInstanceProcAddr,
+    pub instance: VkInstance,
+    pub physical_device: VkPhysicalDevice,
+    /// A Vulkan 1.3 device with dynamicRendering (and sampleRateShading when samples > 1).
+    pub device: VkDevice,
+    /// The colour attachment's format.
+    pub color_format: VkFormat,
+    /// The depth attachment's format.
+    pub depth_format: VkFormat,
+    /// Samples per pixel of the attachments: 1, 2, 4 or 8.
+    pub samples: u32,
+    pub depth: GlyphcastDepth,
+    /// A pipeline cache of the host's, or VK_NULL_HANDLE.
+    pub pipeline_cache: VkPipelineCache,
+    /// How many frames the host records ahead of the GPU (frame indices 0 to n - 1).
+    pub frames_in_flight: u32,
+    /// A render pass of the host's and the subpass the glyphs are drawn in (attachments
+    /// of the formats and samples above), or VK_NULL_HANDLE for dynamic rendering.
+    pub render_pass: VkRenderPass,
+    /// The subpass of `render_pass`.
+    pub subpass: u32,
+}
+
+/// The rectangle a frame is drawn in (viewport and scissor), in framebuffer pixels.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct GlyphcastViewport {
+    pub x: i32,
+    pub y: i32,
+    pub width: u32,
+    pub height: u32,
+}
+
+/// The renderer: opaque to C.
+pub struct GlyphcastRenderer {
+    // Dropped in order: the renderer before the context, the allocator last.
+    renderer: GlyphRenderer,
+    _context: DeviceContext,
+    _allocator: Arc<Mutex<Allocator>>,
+    last_error: Mutex<CString>,
+}
+
+thread_local! {
+    static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());
+}
+
+fn message(text: &str) -> CString {
+    CString::new(text.replace('\0', " ")).unwrap_or_default()
+}
+
+/// The status of a failure, and its message kept for the thread.
+fn fail(status: GlyphcastStatus, text: &str) -> GlyphcastStatus {
+    LAST_ERROR.with(|e| *e.borrow_mut() = message(text));
+    status
+}
+
+fn status_of(error: &glyphcast::Error) -> GlyphcastStatus {
+    match error {
+        glyphcast::Error::Vulkan { .. } | glyphcast::Error::Setup(_) => GlyphcastStatus::Vulkan,
+        _ => GlyphcastStatus::InvalidArgument,
+    }
+}
+
+/// Runs `body` with panics caught; a failure's message goes to the thread's last error
+/// and, with a renderer, to its own.
+fn guarded(
+    renderer: Option<&GlyphcastRenderer>,
+    body: impl FnOnce() -> Result<(), (GlyphcastStatus, String)>,
+) -> GlyphcastStatus {
+    let outcome = catch_unwind(AssertUnwindSafe(body)).unwrap_or_else(|_| {
+        Err((
+            GlyphcastStatus::Panic,
+            "glyphcast panicked (a bug; please report it)".into(),
+        ))
+    });
+    match outcome {
+        Ok(()) => GlyphcastStatus::Ok,
+        Err((status, text)) => {
+            if let Some(r) = renderer
+                && let Ok(mut last) = r.last_error.lock()
+            {
+                *last = message(&text);
+            }
+            fail(status, &text)
+        }
+    }
+}
+
+fn from_glyphcast(e: glyphcast::Error) -> (GlyphcastStatus, String) {
+    (status_of(&e), e.to_string())
+}
+
+fn invalid(text: impl Into<String>) -> (GlyphcastStatus, String) {
+    (GlyphcastStatus::InvalidArgument, text.into())
+}
+
+/// Creates a renderer on the host's device. `*out` receives it (or NULL on failure).
+///
+/// # Safety
+/// `desc` points to a valid description whose handles are live and belong together; the
+/// host keeps the instance and device until `glyphcast_renderer_destroy`. `out` is
+/// writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn glyphcast_renderer_create(
+    desc: *const GlyphcastRendererDesc,
+    out: *mut *mut GlyphcastRenderer,
+) -> GlyphcastStatus {
+    if out.is_null() {
+        return fail(GlyphcastStatus::InvalidArgument, "out is NULL");
+    }
+    // SAFETY: `out` is writable (the caller's promise).
+    unsafe { *out = std::ptr::null_mut() };
+    let mut created = None;
+    let status = guarded(None, || {
+        // SAFETY: the caller's promise about `desc`.
+        let desc = unsafe { desc.as_ref() }.ok_or_else(|| invalid("desc is NULL"))?;
+        // SAFETY: as above: the handles are live and belong together.
+        created = Some(unsafe { create(desc) }?);
+        Ok(())
+    });
+    if let Some(renderer) = created {
+        // SAFETY: `out` is writable.
+        unsafe { *out = Box::into_raw(Box::new(renderer)) };
+    }
+    status
+}
+
+/// # Safety
+/// As [`glyphcast_renderer_create`].
+unsafe fn create(
+    desc: &GlyphcastRendererDesc,
+) -> Result<GlyphcastRenderer, (GlyphcastStatus, String)> {
+    let get = desc
+        .get_instance_proc_addr
+        .ok_or_else(|| invalid("get_instance_proc_addr is NULL"))?;
+    if desc.instance.is_null() || desc.physical_device.is_null() || desc.device.is_null() {
+        return Err(invalid(
+            "instance, physical_device and device must not be NULL",
+        ));
+    }
+    let static_fn = ash::StaticFn {
+        // SAFETY: the loader's vkGetInstanceProcAddr has this signature (vulkan.h).
+        get_instance_proc_addr: unsafe {
+            std::mem::transmute::<GetInstanceProcAddr, vk::PFN_vkGetInstanceProcAddr>(get)
+        },
+    };
+    let instance_handle = vk::Instance::from_raw(desc.instance as u64);
+    // SAFETY: the host's live instance, loaded through its own loader.
+    let instance = unsafe { ash::Instance::load(&static_fn, instance_handle) };
+    let physical_device = vk::PhysicalDevice::from_raw(desc.physical_device as u64);
+    // SAFETY: the host's live device of that instance.
+    let device =
+        unsafe { ash::Device::load(instance.fp_v1_0(), vk::Device::from_raw(desc.device as u64)) };
+    let allocator = Allocator::new(&AllocatorCreateDesc {
+        instance: instance.clone(),
+        device: device.clone(),
+        physical_device,
+        debug_settings: Default::default(),
+        buffer_device_address: false,
+        allocation_sizes: Default::default(),
+    })
+    .map_err(|e| {
+        (
+            GlyphcastStatus::Vulkan,
+            format!("creating the allocator: {e}"),
+        )
+    })?;
+    let allocator = Arc::new(Mutex::new(allocator));
+    // SAFETY: the device comes from that physical device and instance; the allocator is
+    // ours and dropped after the renderer and context (field order).
+    let context =
+        unsafe { DeviceContext::new(&instance, physical_device, device, Arc::clone(&allocator)) };
+    let depth = match desc.depth {
+        GlyphcastDepth::Standard => DepthConvention::Standard,
+        GlyphcastDepth::Reversed => DepthConvention::Reversed,
+    };
+    let renderer_desc = RendererDesc {
+        formats: TargetFormats {
+            color: vk::Format::from_raw(desc.color_format),
+            depth: vk::Format::from_raw(desc.depth_format),
+            distance: None,
+        },
+        options: PassOptions {
+            samples: vk::SampleCountFlags::from_raw(desc.samples),
+            depth,
+            pipeline_cache: vk::PipelineCache::from_raw(desc.pipeline_cache),
+            render_pass: vk::RenderPass::from_raw(desc.render_pass),
+            subpass: desc.subpass,
+        },
+        frames_in_flight: desc.frames_in_flight as usize,
+        settings: RenderSettings::default(),
+    };
+    let renderer = GlyphRenderer::new(&context, &renderer_desc).map_err(from_glyphcast)?;
+    Ok(GlyphcastRenderer {
+        renderer,
+        _context: context,
+        _allocator: allocator,
+        last_error: Mutex::new(CString::default()),
+    })
+}
+
+/// Destroys a renderer (NULL is ignored).
+///
+/// # Safety
+/// `renderer` came from `glyphcast_renderer_create` and is not used again; the device has
+/// finished every frame recorded with it.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn glyphcast_renderer_destroy(renderer: *mut GlyphcastRenderer) {
+    if renderer.is_null() {
+        return;
+    }
+    let _ = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: made by Box::into_raw in create; not used again (the caller's promise).
+        drop(unsafe { Box::from_raw(renderer) });
+    }));
+}
+
+/// Replaces the glyphs (for every frame in flight, without waiting) with `count` glyphs
+/// of a spherical-harmonic series of even bands 0 to `band` in DIPY's descoteaux07 basis
+/// (the scene format's `sh` kind): `centers` holds 3 doubles per glyph, `scales` one,
+/// `coefficients` (band + 1)(band + 2) / 2 per glyph.
+///
+/// # Safety
+/// `renderer` is live; the arrays hold `count` glyphs' values.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn glyphcast_renderer_set_sh_glyphs(
+    renderer: *mut GlyphcastRenderer,
+    band: u32,
+    count: u32,
+    centers: *const f64,
+    scales: *const f64,
+    coefficients: *const f64,
+) -> GlyphcastStatus {
+    // SAFETY: the caller's promise.
+    let Some(r) = (unsafe { renderer.as_mut() }) else {
+        return fail(GlyphcastStatus::InvalidArgument, "renderer is NULL");
+    };
+    let per_glyph = ((band + 1) * (band + 2) / 2) as usize;
+    let n = count as usize;
+    let mut sets = Vec::new();
+    let status = guarded(None, || {
+        if !band.is_multiple_of(2) || band > 12 {
+            return Err(invalid(format!(
+                "band {band}: glyphcast draws even bands 0 to 12"
+            )));
+        }
+        if centers.is_null() || scales.is_null() || coefficients.is_null() {
+            return Err(invalid("centers, scales and coefficients must not be NULL"));
+        }
+        // SAFETY: the caller's promise about the arrays' lengths.
+        let (c, s, w) = unsafe {
+            (
+                std::slice::from_raw_parts(centers, 3 * n),
+                std::slice::from_raw_parts(scales, n),
+                std::slice::from_raw_parts(coefficients, per_glyph * n),
+            )
+        };
+        let set = GlyphSet {
+            kind: GlyphKind::Sh {
+                band,
+                basis: ShBasis::Descoteaux07,
+                legacy: false,
+            },
+            negative: glyphcast::NegativeMode::Abs,
+            shape: glyphcast::glyph::GlyphShape::Polynomial,
+            centers: c
+                .chunks(3)
+                .map(|p| glam::DVec3::new(p[0], p[1], p[2]))
+                .collect(),
+            scales: s.to_vec(),
+            coeffs: w.chunks(per_glyph.max(1)).map(<[f64]>::to_vec).collect(),
+        };
+        if !(c.iter().chain(w).all(|v| v.is_finite())
+            && s.iter().all(|&v| v > 0.0 && v.is_finite()))
+        {
+            return Err(invalid(
+                "centers and coefficients must be finite, scales finite and positive",
+            ));
+        }
+        sets.push(
+            glyphcast::render::glyph_data::prepare_set(&set, 0, 0.0).map_err(from_glyphcast)?,
+        );
+        Ok(())
+    });
+    if status != GlyphcastStatus::Ok {
+        return record_error(r, status);
+    }
+    let glyphs = &mut r.renderer;
+    let status = guarded(None, || glyphs.set_glyphs(&sets).map_err(from_glyphcast));
+    record_error(r, status)
+}
+
+/// Copies the thread's last message into the renderer's after a failure.
+fn record_error(r: &GlyphcastRenderer, status: GlyphcastStatus) -> GlyphcastStatus {
+    if status != GlyphcastStatus::Ok {
+        let text = LAST_ERROR.with(|e| e.borrow().clone());
+        if let Ok(mut last) = r.last_error.lock() {
+            *last = text;
+        }
+    }
+    status
+}
+
+/// Begins frame `frame_index`: its camera (column-major 4 x 4 doubles: `view` world to
+/// view, a rigid motion; `projection` view to Vulkan clip space, y down, centred, in the
+/// renderer's depth convention) and the rectangle it is drawn in. Call it once the
+/// host's previous submission of this frame index has completed.
+///
+/// # Safety
+/// `renderer` is live; `view` and `projection` point to 16 doubles; `viewport` is valid.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn glyphcast_renderer_set_view(
+    renderer: *mut GlyphcastRenderer,
+    frame_index: u32,
+    view: *const f64,
+    projection: *const f64,
+    viewport: *const GlyphcastViewport,
+) -> GlyphcastStatus {
+    // SAFETY: the caller's promise.
+    let Some(r) = (unsafe { renderer.as_mut() }) else {
+        return fail(GlyphcastStatus::InvalidArgument, "renderer is NULL");
+    };
+    let glyphs = &mut r.renderer;
+    let status = guarded(None, || {
+        if view.is_null() || projection.is_null() || viewport.is_null() {
+            return Err(invalid("view, projection and viewport must not be NULL"));
+        }
+        // SAFETY: the caller's promise: 16 doubles each, and a viewport.
+        let (view, projection, rect) = unsafe {
+            (
+                &*(view as *const [f64; 16]),
+                &*(projection as *const [f64; 16]),
+                *viewport,
+            )
+        };
+        let scissor = vk::Rect2D {
+            offset: vk::Offset2D {
+                x: rect.x,
+                y: rect.y,
+            },
+            extent: vk::Extent2D {
+                width: rect.width,
+                height: rect.height,
+            },
+        };
+        let host = HostView {
+            view: DMat4::from_cols_array(view),
+            projection: DMat4::from_cols_array(projection),
+            viewport: vk::Viewport {
+                x: rect.x as f32,
+                y: rect.y as f32,
+                width: rect.width as f32,
+                height: rect.height as f32,
+                min_depth: 0.0,
+                max_depth: 1.0,
+            },
+            scissor,
+        };
+        glyphs
+            .set_view(frame_index as usize, &host)
+            .map_err(from_glyphcast)
+    });
+    record_error(r, status)
+}
+
+/// Records frame `frame_index`'s glyphs into `command_buffer`, which is inside dynamic
+/// rendering with the renderer's formats and samples (or inside the render pass's
+/// subpass the renderer was made for). Records only; several threads may
+/// call it at once with their own command buffers.
+///
+/// # Safety
+/// `renderer` is live; `command_buffer` is recording.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn glyphcast_renderer_record(
+    renderer: *const GlyphcastRenderer,
+    command_buffer: VkCommandBuffer,
+    frame_index: u32,
+) -> GlyphcastStatus {
+    // SAFETY: the caller's promise.
+    let Some(r) = (unsafe { renderer.as_ref() }) else {
+        return fail(GlyphcastStatus::InvalidArgument, "renderer is NULL");
+    };
+    let cmd = vk::CommandBuffer::from_raw(command_buffer as u64);
+    guarded(Some(r), || {
+        r.renderer
+            .record(cmd, frame_index as usize)
+            .map_err(from_glyphcast)
+    })
+}
+
+/// The message of the renderer's last failure ("" if none); valid until its next call.
+///
+/// # Safety
+/// `renderer` is live or NULL.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn glyphcast_renderer_last_error(
+    renderer: *const GlyphcastRenderer,
+) -> *const c_char {
+    // SAFETY: the caller's promise.
+    match unsafe { renderer.as_ref() } {
+        Some(r) => match r.last_error.lock() {
+            Ok(last) => last.as_ptr(),
+            Err(_) => c"the renderer's error lock is poisoned".as_ptr(),
+        },
+        None => glyphcast_last_error(),
+    }
+}
+
+/// The message of this thread's last failure ("" if none), for calls that have no
+/// renderer (creation); valid until the thread's next call.
+#[unsafe(no_mangle)]
+pub extern "C" fn glyphcast_last_error() -> *const c_char {
+    LAST_ERROR.with(|e| e.borrow().as_ptr())
+}
+
+/// Writes `width` x `height` RGBA8 pixels (sRGB, row-major from the top-left) as a PNG.
+///
+/// # Safety
+/// `path` is a NUL-terminated string; `rgba` holds 4 * width * height bytes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn glyphcast_write_png(
+    path: *const c_char,
+    width: u32,
+    height: u32,
+    rgba: *const u8,
+) -> GlyphcastStatus {
+    guarded(None, || {
+        if path.is_null() || rgba.is_null() {
+            return Err(invalid("path and rgba must not be NULL"));
+        }
+        // SAFETY: the caller's promise.
+        let path = unsafe { CStr::from_ptr(path) }
+            .to_str()
+            .map_err(|_| invalid("path is not UTF-8"))?;
+        let len = 4 * width as usize * height as usize;
+        // SAFETY: the caller's promise.
+        let pixels = unsafe { std::slice::from_raw_parts(rgba, len) };
+        glyphcast::io::png::write_png_rgba8(path.as_ref(), width, height, pixels)
+            .map_err(from_glyphcast)
+    })
+}
+
+/// The SPIR-V of the example engines' ground plane (glsl/example_plane.vert when
+/// `fragment` is 0, .frag otherwise), `*words` words long: what the C example draws its
+/// own geometry with, so that it needs no shader compiler.
+///
+/// # Safety
+/// `words` is writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn glyphcast_example_plane_spirv(
+    fragment: u32,
+    words: *mut usize,
+) -> *const u32 {
+    use glyphcast::render::shaders::{EXAMPLE_PLANE_FRAGMENT, EXAMPLE_PLANE_VERTEX};
+    let spirv = if fragment == 0 {
+        EXAMPLE_PLANE_VERTEX
+    } else {
+        EXAMPLE_PLANE_FRAGMENT
+    };
+    if !words.is_null() {
+        // SAFETY: the caller's promise.
+        unsafe { *words = spirv.len() };
+    }
+    spirv.as_ptr()
+}

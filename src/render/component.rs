@@ -1,0 +1,235 @@
+//! The engine component: glyphs drawn into a host engine's frames, the way egui-ash-renderer
+//! or Dear ImGui's Vulkan backend are. The host passes its device (a [`DeviceContext`]),
+//! attachment formats, samples, depth convention, pipeline cache and frames in flight
+//! once; each frame it writes frame k's camera ([`GlyphRenderer::set_view`]) and records
+//! into an open command buffer ([`GlyphRenderer::record`]). glyphcast never submits,
+//! presents, waits or creates a device.
+//!
+//! Frames in flight: the glyphs are uploaded once per [`GlyphRenderer::set_glyphs`] and
+//! shared; each frame index has its own frame block (camera, settings). Replacing the
+//! glyphs never waits: the old ones are retired, and dropped once every frame index has
+//! been begun again with `set_view`, which the host calls only after that frame's previous
+//! submission completed (the fence it waits on before reusing frame k's command buffer).
+use crate::error::{Error, Result};
+use crate::glyph::{GlyphShape, TensorLayout};
+use crate::render::frame::FrameParams;
+use crate::render::glyph_data::{GlyphSetData, largest_radius};
+use crate::render::host_view::{HostView, host_frame};
+use crate::render::raycast::{FrameTarget, PassOptions, RayCastPass, SceneGpu, TargetFormats};
+use crate::render::settings::RenderSettings;
+use crate::vk::DeviceContext;
+use ash::vk;
+
+/// What the host decides once.
+#[derive(Clone, Debug)]
+pub struct RendererDesc {
+    /// Its attachments' formats (colour, depth; a distance attachment if it wants one).
+    pub formats: TargetFormats,
+    /// Its samples, depth convention and pipeline cache.
+    pub options: PassOptions,
+    /// How many frames it records ahead of the GPU (its frame-index range).
+    pub frames_in_flight: usize,
+    /// How the glyphs are drawn: method, march, colour, lighting.
+    pub settings: RenderSettings,
+}
+
+/// Glyphs uploaded once and shared by every frame in flight.
+struct Glyphs {
+    gpu: SceneGpu,
+    /// The largest glyph radius: the top of the magnitude colour range.
+    max_radius: f64,
+    /// Per frame index: the viewport and scissor its frame block was written for, or
+    /// `None` until `set_view` wrote it for these glyphs.
+    views: Vec<Option<(vk::Viewport, vk::Rect2D)>>,
+}
+
+/// Glyphs replaced while frames that read them may be in flight.
+struct Retired {
+    _gpu: SceneGpu,
+    /// Frame indices that may still read them: cleared as each is begun again.
+    pending: Vec<bool>,
+}
+
+/// The glyph renderer of one host target configuration.
+pub struct GlyphRenderer {
+    // Scenes drop before the pass (descriptor sets and buffers before pipelines and
+    // layouts): fields drop in order.
+    glyphs: Option<Glyphs>,
+    retired: Vec<Retired>,
+    pass: RayCastPass,
+    ctx: DeviceContext,
+    frames_in_flight: usize,
+    settings: RenderSettings,
+}
+
+impl GlyphRenderer {
+    /// A renderer for the host's device and target. Pipelines are made by
+    /// [`GlyphRenderer::prepare`] or [`GlyphRenderer::set_glyphs`], outside any frame.
+    pub fn new(ctx: &DeviceContext, desc: &RendererDesc) -> Result<GlyphRenderer> {
+        if desc.frames_in_flight == 0 {
+            return Err(Error::Invalid(
+                "frames in flight: the renderer needs at least one".into(),
+            ));
+        }
+        let pass = RayCastPass::with_options(ctx, desc.formats, desc.options)?;
+        Ok(GlyphRenderer {
+            glyphs: None,
+            retired: Vec::new(),
+            pass,
+            ctx: ctx.clone(),
+            frames_in_flight: desc.frames_in_flight,
+            settings: desc.settings,
+        })
+    }
+
+    /// Makes the pipelines that glyph sets of `layouts` need, so that the first
+    /// `set_glyphs` of such sets compiles nothing (for example at load time).
+    pub fn prepare(&mut self, layouts: &[(TensorLayout, GlyphShape)]) -> Result<()> {
+        for &(layout, shape) in layouts {
+            let method = crate::render::raycast::batch_method(shape, self.settings.method);
+            self.pass.prepare(layout, method)?;
+        }
+        Ok(())
+    }
+
+    /// Uploads new glyphs for every frame in flight (and makes any pipeline they need),
+    /// replacing the current ones without waiting: those are retired until each frame
+    /// index has been begun again. Each frame index needs a `set_view` before its next
+    /// `record`.
+    pub fn set_glyphs(&mut self, sets: &[GlyphSetData]) -> Result<()> {
+        let frame = FrameParams::of_settings(
+            &crate::render::frame::SceneExtent {
+                near: 0.0,
+                far: 0.0,
+                max_radius: 1.0,
+            },
+            &self.settings,
+        );
+        let gpu = self.pass.upload_in_flight(
+            &self.ctx,
+            sets,
+            &frame,
+            self.settings.method,
+            self.frames_in_flight,
+        )?;
+        let glyphs = Glyphs {
+            gpu,
+            max_radius: glyph_radius(sets, &self.settings),
+            views: vec![None; self.frames_in_flight],
+        };
+        if let Some(old) = self.glyphs.replace(glyphs) {
+            self.retired.push(Retired {
+                _gpu: old.gpu,
+                pending: vec![true; self.frames_in_flight],
+            });
+        }
+        Ok(())
+    }
+
+    /// Replaces the settings (march, colour, lighting) that the next `set_view` calls
+    /// write; the method must stay the one the renderer was made with.
+    pub fn set_settings(&mut self, settings: &RenderSettings) -> Result<()> {
+        if settings.method != self.settings.method {
+            return Err(Error::Invalid(format!(
+                "method: the renderer draws with {}; make a renderer for {}",
+                self.settings.method, settings.method
+            )));
+        }
+        self.settings = *settings;
+        Ok(())
+    }
+
+    /// Begins frame `frame_index`: writes its camera and settings. Call it once the
+    /// host's previous submission of this frame index has completed (its fence), and
+    /// before recording the frame; the other frame indices may be in flight meanwhile.
+    /// Retired glyphs that no frame index can still read are dropped here.
+    pub fn set_view(&mut self, frame_index: usize, view: &HostView) -> Result<()> {
+        self.check_index(frame_index)?;
+        for retired in &mut self.retired {
+            retired.pending[frame_index] = false;
+        }
+        self.retired.retain(|r| r.pending.iter().any(|&p| p));
+        let glyphs = self
+            .glyphs
+            .as_mut()
+            .ok_or_else(|| Error::Invalid("set_view before set_glyphs: no glyphs".into()))?;
+        let depth = self.pass.options().depth;
+        let frame = host_frame(view, depth, glyphs.max_radius, &self.settings)?;
+        glyphs.gpu.set_frame_in_flight(frame_index, &frame)?;
+        glyphs.views[frame_index] = Some((view.viewport, view.scissor));
+        Ok(())
+    }
+
+    /// Records frame `frame_index`'s glyphs into `cmd`, which is inside rendering with
+    /// the host's attachments (formats and samples as given at creation): dynamic
+    /// rendering, or the subpass of the render pass given at creation. Records only:
+    /// nothing is compiled, written, submitted or waited on, so several threads may
+    /// record at once, each into its own command buffer.
+    pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize) -> Result<()> {
+        self.check_index(frame_index)?;
+        let glyphs = self
+            .glyphs
+            .as_ref()
+            .ok_or_else(|| Error::Invalid("record before set_glyphs: no glyphs".into()))?;
+        let (viewport, scissor) = glyphs.views[frame_index].ok_or_else(|| {
+            Error::Invalid(format!(
+                "record of frame {frame_index} before its set_view for the current glyphs"
+            ))
+        })?;
+        let target = FrameTarget {
+            frame_index,
+            viewport,
+            scissor,
+        };
+        self.pass
+            .record_frame(cmd, &glyphs.gpu, &target, self.settings.method)
+    }
+
+    /// How many replaced glyph uploads are still kept for frames that may be in flight.
+    pub fn retired_count(&self) -> usize {
+        self.retired.len()
+    }
+
+    /// The frames in flight the renderer was made for.
+    pub fn frames_in_flight(&self) -> usize {
+        self.frames_in_flight
+    }
+
+    /// The ray-cast pass (its formats and options).
+    pub fn pass(&self) -> &RayCastPass {
+        &self.pass
+    }
+
+    fn check_index(&self, frame_index: usize) -> Result<()> {
+        if frame_index < self.frames_in_flight {
+            return Ok(());
+        }
+        Err(Error::Invalid(format!(
+            "frame index {frame_index} of a renderer with {} frames in flight",
+            self.frames_in_flight
+        )))
+    }
+}
+
+/// The largest glyph radius, as the headless renderer's magnitude range takes it
+/// ([`crate::render::frame::SceneExtent::for_settings`]): the sets' measured one, else
+/// measured here when the settings need it, else the largest bounding box's.
+fn glyph_radius(sets: &[GlyphSetData], settings: &RenderSettings) -> f64 {
+    let measured = sets.iter().map(|s| s.largest_radius).fold(0.0, f64::max);
+    if measured > 0.0 {
+        return measured;
+    }
+    if settings.needs_largest_radius() {
+        let largest = sets
+            .iter()
+            .map(|s| largest_radius(&s.world))
+            .fold(0.0, f64::max);
+        if largest > 0.0 {
+            return largest;
+        }
+    }
+    sets.iter()
+        .flat_map(|s| s.instances.iter())
+        .map(|i| i[3] as f64 * 3f64.sqrt())
+        .fold(0.0, f64::max)
+}
