@@ -32,6 +32,7 @@ pub fn flag(setting: Setting) -> &'static str {
         Setting::Lmax => "--lmax",
         Setting::Order => "--order",
         Setting::Nonsymmetric => "--nonsymmetric",
+        Setting::TensorOrder => "--tensor-order",
         Setting::Slice => "--slice",
         Setting::Slices => "--slices",
         Setting::Voxels => "--voxels",

@@ -13,6 +13,7 @@ use std::str::FromStr;
 use ndarray::{Array3, Array4, ArrayD, Axis, Ix3, Ix4};
 
 use crate::glyph::TensorLayout;
+use crate::glyph::tensor_order::{DTI_COUNT, OrderEvidence, TensorOrder};
 use crate::glyph::sh;
 use crate::io::image::{Image, ImageHeader, read_image};
 use crate::io::nifti::VoxelToWorld;
@@ -130,7 +131,33 @@ impl Volume {
         self.data.shape()[3]
     }
 
-    /// The coefficients of voxel (i, j, k), in the file's order.
+    /// Each voxel's six DTI entries, stored in `stored` order, put in glyphcast's order
+    /// (the caller has checked that the volume holds symmetric order-2 tensors).
+    pub fn reorder_tensors(&mut self, stored: TensorOrder) {
+        if stored.is_glyphcast() || self.coefficient_count() != DTI_COUNT {
+            return;
+        }
+        for mut lane in self.data.lanes_mut(Axis(3)) {
+            let values: [f64; DTI_COUNT] = std::array::from_fn(|k| lane[k]);
+            for (out, value) in lane.iter_mut().zip(stored.to_glyphcast(&values)) {
+                *out = value;
+            }
+        }
+    }
+
+    /// How many of the volume's six-entry tensors each stored order makes positive
+    /// definite (empty for other coefficient counts).
+    pub fn order_evidence(&self) -> OrderEvidence {
+        let mut evidence = OrderEvidence::default();
+        if self.coefficient_count() == DTI_COUNT {
+            for lane in self.data.lanes(Axis(3)) {
+                evidence.add(&std::array::from_fn(|k| lane[k]));
+            }
+        }
+        evidence
+    }
+
+    /// The coefficients of voxel (i, j, k), in glyphcast's order.
     pub fn coefficients(&self, voxel: [usize; 3]) -> Vec<f64> {
         let [i, j, k] = voxel;
         (0..self.coefficient_count())

@@ -8,15 +8,16 @@ use std::path::{Path, PathBuf};
 use super::build::VolumeOptions;
 use super::framing::{ImageRequest, ViewProjection};
 use super::input::{CoefficientFrame, Mask, Volume, VolumeKind};
-use super::recorded::resolve_basis;
+use super::recorded::{OrderSource, has_dti_entries, resolve_basis, resolve_tensor_order};
 use crate::error::quoted;
 use crate::fit::parse_basis;
 use crate::glyph::ellipsoid::ELLIPSOID_LAYOUT;
+use crate::glyph::tensor_order::TensorOrder;
 use crate::glyph::{GlyphShape, Symmetry, TensorLayout};
 use crate::io::image::{Image, read_image};
 use crate::io::nifti::VoxelToWorld;
 use crate::render::underlay::UnderlayVolume;
-use crate::scene::ShBasis;
+use crate::scene::{GlyphKind, ShBasis};
 use crate::{Error, Result, Setting};
 
 /// The most panels of a montage ([`Setting::Views`], [`Setting::Lightbox`]).
@@ -60,6 +61,8 @@ pub struct VolumeRequest {
     pub order: Option<u32>,
     /// A tensor volume holds all 3^N entries.
     pub nonsymmetric: bool,
+    /// The stored order of a DTI volume's six entries: glyphcast, mrtrix, fsl or dipy.
+    pub tensor_order: Option<String>,
     /// AXIS[:INDEX].
     pub slice: Option<String>,
     /// I,J,K or mid.
@@ -126,6 +129,9 @@ impl VolumeRequest {
                 if self.nonsymmetric {
                     return misplaced(Setting::Nonsymmetric, "tensor");
                 }
+                if self.tensor_order.is_some() {
+                    return misplaced(Setting::TensorOrder, "tensor");
+                }
             }
             Coefficients::Tensor => {
                 for (setting, given) in [
@@ -138,10 +144,18 @@ impl VolumeRequest {
                         return misplaced(setting, "SH");
                     }
                 }
-                self.tensor_order()?;
+                let order = self.tensor_order()?;
+                if let Some(stored) = self.given_tensor_order()? {
+                    stored.check_applies(order, !self.nonsymmetric)?;
+                }
             }
         }
         Ok(())
+    }
+
+    /// The stored order of a tensor volume's entries, if given.
+    pub fn given_tensor_order(&self) -> Result<Option<TensorOrder>> {
+        self.tensor_order.as_deref().map(str::parse).transpose()
     }
 
     /// Everything about the view but the mask, which [`VolumeRequest::figure`] reads.
@@ -285,7 +299,9 @@ impl VolumeRequest {
         let file = read_image(path)?;
         let kind = self.kind(input, Some(&file))?;
         self.check_shape(kind, &file.file)?;
+        let stored = self.stored_order(kind, Some(&file))?;
         let volume = Volume::from_image(file, kind)?;
+        let volume = in_glyphcast_order(volume, stored)?;
         self.in_frame(volume)
     }
 
@@ -303,8 +319,25 @@ impl VolumeRequest {
         self.options(ImageRequest::default())?;
         let kind = self.kind(input, None)?;
         self.check_shape(kind, name)?;
+        let stored = self.stored_order(kind, None)?;
         let volume = Volume::new(name, data, kind, voxel_to_world)?;
+        let volume = in_glyphcast_order(volume, stored)?;
         self.in_frame(volume)
+    }
+
+    /// The stored order of a tensor volume's entries and where it comes from
+    /// ([`resolve_tensor_order`]); `None` for SH.
+    fn stored_order(
+        &self,
+        kind: VolumeKind,
+        file: Option<&Image>,
+    ) -> Result<Option<(TensorOrder, OrderSource)>> {
+        match kind {
+            VolumeKind::Sh { .. } => Ok(None),
+            VolumeKind::Tensor(layout) => {
+                resolve_tensor_order(file, self.given_tensor_order()?, layout).map(Some)
+            }
+        }
     }
 
     /// The ellipsoid needs an order-2 symmetric tensor volume.
@@ -388,6 +421,51 @@ impl VolumeRequest {
         }
         Ok(())
     }
+}
+
+/// `volume`'s DTI entries put in glyphcast's order from `stored`; an order only assumed
+/// (neither given nor recorded) is refused when the values contradict it
+/// ([`OrderEvidence::contradicts`]), rather than drawn as indefinite tensors.
+fn in_glyphcast_order(
+    mut volume: Volume,
+    stored: Option<(TensorOrder, OrderSource)>,
+) -> Result<Volume> {
+    let Some((stored, source)) = stored else {
+        return Ok(volume);
+    };
+    let GlyphKind::Tensor(layout) = volume.kind else {
+        return Ok(volume);
+    };
+    if !has_dti_entries(layout) {
+        return Ok(volume);
+    }
+    if source == OrderSource::Assumed {
+        let evidence = volume.order_evidence();
+        if let Some(other) = evidence.contradicts(stored) {
+            return Err(Error::input(
+                &volume.file,
+                "values",
+                format!(
+                    "{} of {} tensors are not positive definite read in {}'s order \
+                     ({}), {} in {}'s ({}): the entries are not in {}'s order, and \
+                     nothing records theirs; give {} (or {} to draw them as they are read \
+                     now)",
+                    evidence.not_positive_in(stored),
+                    evidence.tensors,
+                    stored.owner(),
+                    stored.entries(),
+                    evidence.not_positive_in(other),
+                    other.owner(),
+                    other.entries(),
+                    stored.owner(),
+                    Setting::TensorOrder.with(other),
+                    Setting::TensorOrder.with(stored),
+                ),
+            ));
+        }
+    }
+    volume.reorder_tensors(stored);
+    Ok(volume)
 }
 
 fn parse_or_default<T>(text: Option<&str>) -> Result<T>
