@@ -226,10 +226,27 @@ fn csd_response(args: &FitArgs, model: &FitModel, inputs: &FitInputs) -> Result<
     let estimate = estimate_response(inputs, band, args.response_fa)?;
     if !args.quiet {
         let [l1, l2, _] = estimate.eigenvalues;
+        let tissue = match estimate.threshold {
+            Some(t) => format!("S0 above {t:.1} (Otsu's threshold of the b=0 image)"),
+            None => "S0 > 0 (no background found in the b=0 image)".to_string(),
+        };
+        let [i, j, k] = estimate.bounds;
         eprintln!(
-            "response: {} voxels with FA > {}: eigenvalues {l1:.3e} {l2:.3e} {l2:.3e}, S0 {:.1}; zonal SH {}",
+            "response: {} voxels with FA > {} among {} tissue voxels ({tissue}{}), in \
+             i {}..{}, j {}..{}, k {}..{}, S0 {:.1} to {:.1} (mean {:.1}): eigenvalues \
+             {l1:.3e} {l2:.3e} {l2:.3e}; zonal SH {}",
             estimate.voxels,
             args.response_fa,
+            estimate.tissue_voxels,
+            if args.mask.is_some() { ", in the mask" } else { "" },
+            i[0],
+            i[1],
+            j[0],
+            j[1],
+            k[0],
+            k[1],
+            estimate.s0_range.0,
+            estimate.s0_range.1,
             estimate.s0,
             estimate.response.to_text().trim()
         );

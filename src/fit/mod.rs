@@ -39,6 +39,7 @@ pub mod response;
 pub mod sphere;
 use crate::glyph::sh;
 pub mod tensor;
+pub mod tissue;
 pub mod voxel;
 
 pub use inputs::{FitFiles, FitInputs};
