@@ -71,6 +71,26 @@ fn automatic_response_chooses_tissue_and_says_which() {
     for (axis, bound) in estimate.bounds.iter().enumerate() {
         assert!(bound[0] >= 7 && bound[1] <= 16, "axis {axis}: {bound:?}");
     }
+    // Without the tissue mask the air would have counted: many of its noise tensors
+    // have FA above the threshold.
+    let inputs = small_64d(head.clone());
+    let dti = glyphcast::fit::fit(
+        &inputs,
+        &glyphcast::fit::FitModel::Tensor { order: 2 },
+        &mut |_| {},
+    )
+    .unwrap();
+    let noisy_air = (2..23)
+        .flat_map(|x| (2..23).flat_map(move |y| (2..23).map(move |z| [x, y, z])))
+        .filter(|v| v.iter().any(|&i| !(7..17).contains(&i)))
+        .filter(|&[x, y, z]| {
+            let c: Vec<f64> = (0..6).map(|k| dti[[x, y, z, k]]).collect();
+            glyphcast::fit::dti::DiffusionTensor::from_coefficients(&c).is_some_and(|t| {
+                t.eigenvalues[2] > 0.0 && t.fractional_anisotropy() > DEFAULT_RESPONSE_FA
+            })
+        })
+        .count();
+    assert!(noisy_air > 100, "{noisy_air} air voxels with high FA");
     // The brain alone has no background: no threshold, every voxel with S0 > 0 counts.
     assert_eq!(brain.threshold, None);
     let out = glyphcast(&[

@@ -1,21 +1,24 @@
 //! Which voxels of a DWI can only be tissue: the b=0 image (S0) split by Otsu's
 //! threshold, as DIPY's `median_otsu` splits its smoothed b=0 image (without the median
-//! filter: the threshold is only asked to separate the air around a head, whose S0 is a
-//! few percent of tissue's, from the head).
+//! filter, and on ln S0: the threshold is only asked to separate the air around a head,
+//! whose S0 is a few percent of tissue's, from the head; in linear units a large class of
+//! air is lumped with tissue and split from CSF).
 //!
 //! Inside a head the b=0 image is bimodal too (CSF is bright, white matter darker), and
 //! Otsu's threshold would then cut white matter away. So the split is taken as a
 //! background only when its darker class is dark: a mean below [`BACKGROUND_RATIO`]
-//! times the brighter class's. A volume cropped to the brain (DIPY's small_64D) has no
-//! such class, and every voxel with S0 > 0 counts as tissue.
+//! times the brighter class's. A volume cropped to the brain has no such class (DIPY's
+//! small_64D: tissue against CSF, 230 against 1120, a ratio of 0.21), and every voxel
+//! with S0 > 0 counts as tissue; air around a head (S0 about 10 to 30 against tissue's
+//! 300 and more) is below 0.1.
 use ndarray::{Array3, s};
 
 use super::FitInputs;
 
 /// The darker class of Otsu's split is background when its mean S0 is below this
-/// fraction of the brighter class's (air: a few percent of tissue; white matter against
-/// CSF: about a half).
-pub const BACKGROUND_RATIO: f64 = 0.25;
+/// fraction of the brighter class's (air: a few percent of tissue; tissue against CSF:
+/// a fifth or more).
+pub const BACKGROUND_RATIO: f64 = 0.1;
 
 /// Histogram bins of Otsu's threshold.
 const BINS: usize = 256;
@@ -46,7 +49,10 @@ impl TissueMask {
             .copied()
             .filter(|v| v.is_finite() && *v > 0.0)
             .collect();
-        let threshold = otsu_threshold(&positive).filter(|&t| {
+        // Otsu on ln S0: air, tissue and CSF are then classes of similar spread, and a
+        // large class of air is split from the head rather than from CSF.
+        let logs: Vec<f64> = positive.iter().map(|v| v.ln()).collect();
+        let threshold = otsu_threshold(&logs).map(f64::exp).filter(|&t| {
             let (dark, bright): (Vec<f64>, Vec<f64>) = positive.iter().partition(|&&v| v <= t);
             let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
             !dark.is_empty() && !bright.is_empty() && mean(&dark) < BACKGROUND_RATIO * mean(&bright)
