@@ -71,6 +71,11 @@ pub fn spell(setting: Setting, value: Option<&str>) -> String {
     }
 }
 
+/// A note's text (which may mention settings) in the command line's words.
+pub fn note(text: &str) -> String {
+    glyphcast::error::spell_mentions(text, &spell)
+}
+
 /// The one-line message of `err` in the command line's words.
 pub fn message(err: &Error) -> String {
     err.spelled(&spell)

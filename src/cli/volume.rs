@@ -208,6 +208,9 @@ impl VolumeArgs {
         let (input, path) = self.input()?;
         let request = self.request();
         let volume = request.read_volume(input, path)?;
+        for note in &volume.notes {
+            eprintln!("note: {}", super::flags::note(note));
+        }
         let figure = request.figure(volume, image)?;
         match &figure {
             VolumeFigure::View(view) => {
@@ -245,6 +248,9 @@ impl VolumeArgs {
         let (input, path) = self.input()?;
         let request = self.request();
         let volume = request.read_volume(input, path)?;
+        for note in &volume.notes {
+            eprintln!("note: {}", super::flags::note(note));
+        }
         let plan = request.montage_plan(&volume, image)?;
         for note in &plan.notes {
             eprintln!("note: {note}");

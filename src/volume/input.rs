@@ -60,6 +60,9 @@ pub struct Volume {
     pub frame: CoefficientFrame,
     /// Shape [x, y, z, coefficients].
     data: Array4<f64>,
+    /// What the user should know about how the file was read (a 6-volume SH file whose
+    /// name suggests a tensor); the front ends print them.
+    pub notes: Vec<String>,
 }
 
 /// Which voxels a mask keeps: nonzero values (NaN counts as zero).
@@ -99,6 +102,7 @@ impl Volume {
             voxel_to_world,
             frame: CoefficientFrame::Voxel,
             data,
+            notes: Vec::new(),
         })
     }
 
@@ -106,18 +110,7 @@ impl Volume {
     /// image's default frame ([`CoefficientFrame::of_image`]).
     pub fn from_image(image: Image, kind: VolumeKind) -> Result<Self> {
         let frame = CoefficientFrame::of_image(&image)?;
-        let shape = image.shape(4);
-        if shape.len() != 4 {
-            return Err(Error::input(
-                &image.file,
-                "dim",
-                format!(
-                    "a {}D image ({}) where a 4D volume [x, y, z, coefficients] is needed",
-                    shape.len(),
-                    show_shape(&shape)
-                ),
-            ));
-        }
+        check_four_d(&image)?;
         let data = squeeze(image.data, 4)
             .into_dimensionality::<Ix4>()
             .map_err(|err| Error::input(&image.file, "dim", err.to_string()))?;
@@ -164,6 +157,24 @@ impl Volume {
             .map(|c| self.data[[i, j, k, c]])
             .collect()
     }
+}
+
+/// Err, naming the file's `dim`, unless `image` is 4D [x, y, z, coefficients] (trailing
+/// axes of length 1 aside).
+pub fn check_four_d(image: &Image) -> Result<()> {
+    let shape = image.shape(4);
+    if shape.len() == 4 {
+        return Ok(());
+    }
+    Err(Error::input(
+        &image.file,
+        "dim",
+        format!(
+            "a {}D image ({}) where a 4D volume [x, y, z, coefficients] is needed",
+            shape.len(),
+            show_shape(&shape)
+        ),
+    ))
 }
 
 impl CoefficientFrame {

@@ -26,8 +26,8 @@ pub struct RecordedBasis {
     pub field: &'static str,
 }
 
-/// The header field that holds a file's description.
-fn description_field(image: &Image) -> &'static str {
+/// The header field that holds a file's description: `descrip` or `comments`.
+pub(crate) fn description_field(image: &Image) -> &'static str {
     match image.header {
         ImageHeader::Nifti(_) => "descrip",
         ImageHeader::Mrtrix(_) => "comments",

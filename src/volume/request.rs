@@ -8,13 +8,17 @@ use std::path::{Path, PathBuf};
 use super::build::VolumeOptions;
 use super::framing::{ImageRequest, ViewProjection};
 use super::input::{CoefficientFrame, Mask, Volume, VolumeKind};
-use super::recorded::{OrderSource, has_dti_entries, resolve_basis, resolve_tensor_order};
+use super::input::check_four_d;
+use super::recorded::{
+    OrderSource, description_field, has_dti_entries, recorded_tensor_order, resolve_basis,
+    resolve_tensor_order,
+};
 use crate::error::quoted;
 use crate::fit::parse_basis;
 use crate::glyph::ellipsoid::ELLIPSOID_LAYOUT;
 use crate::glyph::tensor_order::TensorOrder;
 use crate::glyph::{GlyphShape, Symmetry, TensorLayout};
-use crate::io::image::{Image, read_image};
+use crate::io::image::{Image, ImageHeader, read_image};
 use crate::io::nifti::VoxelToWorld;
 use crate::render::underlay::UnderlayVolume;
 use crate::scene::{GlyphKind, ShBasis};
@@ -297,10 +301,17 @@ impl VolumeRequest {
         self.check(input)?;
         self.options(ImageRequest::default())?;
         let file = read_image(path)?;
+        // The shape before the basis: a 3D file is not 4D, whatever it records.
+        check_four_d(&file)?;
+        let note = match input {
+            Coefficients::Sh => tensor_hint(&file)?,
+            Coefficients::Tensor => None,
+        };
         let kind = self.kind(input, Some(&file))?;
         self.check_shape(kind, &file.file)?;
         let stored = self.stored_order(kind, Some(&file))?;
-        let volume = Volume::from_image(file, kind)?;
+        let mut volume = Volume::from_image(file, kind)?;
+        volume.notes.extend(note);
         let volume = in_glyphcast_order(volume, stored)?;
         self.in_frame(volume)
     }
@@ -421,6 +432,49 @@ impl VolumeRequest {
         }
         Ok(())
     }
+}
+
+/// For six coefficients per voxel read as SH (band 2): an error when the file records a
+/// tensor fit (glyphcast's own record), a note when its header (NIfTI's symmetric-matrix
+/// intent) or its name (dt, dti, tensor) suggests a DTI tensor.
+fn tensor_hint(file: &Image) -> Result<Option<String>> {
+    if file.shape(4).get(3) != Some(&6) {
+        return Ok(None);
+    }
+    if recorded_tensor_order(file).is_some() {
+        return Err(Error::input(
+            &file.file,
+            description_field(file),
+            format!(
+                "records a symmetric order-2 tensor (glyphcast fit), not SH coefficients: draw \
+                 it as a tensor volume with {}",
+                Setting::Order.with(2)
+            ),
+        ));
+    }
+    const NIFTI_INTENT_SYMMATRIX: i32 = 1005;
+    let intent = matches!(&file.header, ImageHeader::Nifti(h) if h.intent_code == NIFTI_INTENT_SYMMATRIX);
+    let name = std::path::Path::new(&file.file)
+        .file_name()
+        .map(|n| n.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    let named = name
+        .split(|c: char| !c.is_ascii_alphanumeric())
+        .any(|word| matches!(word, "dt" | "dti" | "tensor" | "tensors" | "dtifit"))
+        || name.contains("tensor")
+        || name.contains("lower_triangular");
+    let why = match (intent, named) {
+        (true, _) => "its header's intent is a symmetric matrix",
+        (false, true) => "its name suggests a diffusion tensor",
+        (false, false) => return Ok(None),
+    };
+    Ok(Some(format!(
+        "{}: 6 coefficients per voxel, drawn as SH of band 2, but {why}: if it holds \
+         tensors, draw it as a tensor volume with {} (and {} naming the order of its entries)",
+        file.file,
+        Setting::Order.with(2),
+        Setting::TensorOrder.mention()
+    )))
 }
 
 /// `volume`'s DTI entries put in glyphcast's order from `stored`; an order only assumed
