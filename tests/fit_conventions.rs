@@ -35,7 +35,10 @@ fn head_with_background(dir: &Path) -> PathBuf {
     let mut data = ArrayD::from_shape_fn(IxDyn(&[24, 24, 24, volumes]), |_| {
         let (u, v): (f64, f64) = (1.0 - rng.unit(), rng.unit());
         let radius = (-2.0 * u.ln()).sqrt() * 10.0;
-        let (a, b) = (radius * (std::f64::consts::TAU * v).cos(), radius * (std::f64::consts::TAU * v).sin());
+        let (a, b) = (
+            radius * (std::f64::consts::TAU * v).cos(),
+            radius * (std::f64::consts::TAU * v).sin(),
+        );
         (a * a + b * b).sqrt()
     });
     for ((x, y, z, v), value) in brain.dwi.signal.indexed_iter() {
@@ -53,8 +56,12 @@ fn head_with_background(dir: &Path) -> PathBuf {
 fn automatic_response_chooses_tissue_and_says_which() {
     let dir = fresh_dir("fit-response-background");
     let head = head_with_background(&dir);
-    let brain = estimate_response(&small_64d(dipy_data("small_64D.nii")), 8, DEFAULT_RESPONSE_FA)
-        .expect("brain response");
+    let brain = estimate_response(
+        &small_64d(dipy_data("small_64D.nii")),
+        8,
+        DEFAULT_RESPONSE_FA,
+    )
+    .expect("brain response");
     let estimate =
         estimate_response(&small_64d(head.clone()), 8, DEFAULT_RESPONSE_FA).expect("response");
     let threshold = estimate.threshold.expect("a background threshold");
@@ -62,7 +69,10 @@ fn automatic_response_chooses_tissue_and_says_which() {
         "threshold {threshold:.1}, {} tissue voxels, {} chosen, S0 {:?}, bounds {:?}",
         estimate.tissue_voxels, estimate.voxels, estimate.s0_range, estimate.bounds
     );
-    assert!(threshold > 40.0 && threshold < estimate.s0_range.0, "{threshold}");
+    assert!(
+        threshold > 40.0 && threshold < estimate.s0_range.0,
+        "{threshold}"
+    );
     assert_eq!(estimate.voxels, brain.voxels);
     assert_eq!(estimate.s0_range, brain.s0_range);
     for (a, b) in estimate.response.zonal.iter().zip(&brain.response.zonal) {
@@ -115,7 +125,10 @@ fn automatic_response_chooses_tissue_and_says_which() {
         .unwrap_or_else(|| panic!("no response line: {stderr}"));
     let expected = format!("response: {} voxels with FA > 0.7", brain.voxels);
     assert!(line.starts_with(&expected), "{line}");
-    assert!(line.contains("Otsu") && line.contains(" i 7..") && line.contains("S0 "), "{line}");
+    assert!(
+        line.contains("Otsu") && line.contains(" i 7..") && line.contains("S0 "),
+        "{line}"
+    );
 }
 
 /// `fit --odf csd --order 12` with a response of bands up to 8 runs, as `dwi2fod -lmax
@@ -156,9 +169,8 @@ fn csd_order_12_from_an_order_8_response() {
     let (a, b) = (read_image(&low).unwrap(), read_image(&high).unwrap());
     assert_eq!(b.data.shape(), &[10, 10, 10, 91]);
     assert!(b.data.iter().all(|v| v.is_finite()));
-    let finder = |band| {
-        PeakFinder::new(band, ShBasis::Tournier07, false, PeakOptions::default()).unwrap()
-    };
+    let finder =
+        |band| PeakFinder::new(band, ShBasis::Tournier07, false, PeakOptions::default()).unwrap();
     let (f8, f12) = (finder(8), finder(12));
     let dti = glyphcast::fit::fit(
         &inputs,
@@ -186,7 +198,11 @@ fn csd_order_12_from_an_order_8_response() {
     }
     angles.sort_by(f64::total_cmp);
     let median = angles[angles.len() / 2];
-    eprintln!("{} voxels, median {median:.2} degrees, max {:.2}", angles.len(), angles[angles.len() - 1]);
+    eprintln!(
+        "{} voxels, median {median:.2} degrees, max {:.2}",
+        angles.len(),
+        angles[angles.len() - 1]
+    );
     assert!(angles.len() > 20 && median < 3.0, "{angles:?}");
 }
 
@@ -209,7 +225,10 @@ fn band_0_images_have_no_peaks() {
     ]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
-    assert!(stderr.contains("note: ") && stderr.contains("no peak"), "{stderr}");
+    assert!(
+        stderr.contains("note: ") && stderr.contains("no peak"),
+        "{stderr}"
+    );
     let peaks = read_image(&out_path).unwrap();
     assert!(peaks.data.iter().all(|v| v.is_nan()), "{:?}", peaks.data);
     // Band 2 with only band 0 set is isotropic too; a z-fibre term gives one peak.

@@ -50,10 +50,7 @@ fn fit(dir: &Path, name: &str, order: &str, extra: &[&str]) -> PathBuf {
 /// The file's values as stored, [x, y, z, volume].
 fn stored(path: &Path) -> Array4<f64> {
     let image = read_image(path).expect("image");
-    image
-        .data
-        .into_dimensionality()
-        .expect("a 4D image")
+    image.data.into_dimensionality().expect("a 4D image")
 }
 
 /// The volume as `render --tensor FILE --order N` reads it, with no other option.
@@ -92,7 +89,12 @@ fn each_convention_is_written_and_read_back() {
         ("dipy", [0, 1, 3, 2, 4, 5]),
         ("mrtrix", [0, 3, 5, 1, 2, 4]),
     ] {
-        let path = fit(&dir, &format!("{name}.nii.gz"), "2", &["--tensor-order", name]);
+        let path = fit(
+            &dir,
+            &format!("{name}.nii.gz"),
+            "2",
+            &["--tensor-order", name],
+        );
         let image = read_image(&path).expect("image");
         assert_eq!(
             image.description().as_deref(),
@@ -100,7 +102,10 @@ fn each_convention_is_written_and_read_back() {
         );
         let values = stored(&path);
         for (k, &p) in positions.iter().enumerate() {
-            let (a, b) = (values.index_axis(ndarray::Axis(3), k), base.index_axis(ndarray::Axis(3), p));
+            let (a, b) = (
+                values.index_axis(ndarray::Axis(3), k),
+                base.index_axis(ndarray::Axis(3), p),
+            );
             assert_eq!(a, b, "{name}: stored entry {k}");
         }
         let volume = read_back(&path, 2);
@@ -136,7 +141,10 @@ fn each_convention_is_written_and_read_back() {
         let got = eigenvalues(m(0), m(1), m(2), m(3), m(4), m(5));
         let scale = expected.iter().fold(1e-12f64, |m, v| m.max(v.abs()));
         for (a, b) in got.iter().zip(expected) {
-            assert!((a - b).abs() < 1e-5 * scale, "voxel {i},{j},{k}: {got:?} vs {expected:?}");
+            assert!(
+                (a - b).abs() < 1e-5 * scale,
+                "voxel {i},{j},{k}: {got:?} vs {expected:?}"
+            );
         }
         // Diagonal entries first: positive wherever the tensor is positive definite.
         if expected[0] > 0.0 {
@@ -214,7 +222,10 @@ fn higher_orders_read_back_what_glyphcast_writes() {
         .read_volume(Coefficients::Tensor, &bare)
         .unwrap_err()
         .to_string();
-    assert!(err.contains("dkt") && err.contains("tensor order glyphcast"), "{err}");
+    assert!(
+        err.contains("dkt") && err.contains("tensor order glyphcast"),
+        "{err}"
+    );
     let named = VolumeRequest {
         tensor_order: Some("glyphcast".into()),
         ..request
@@ -252,7 +263,12 @@ fn mrtrix_order_volume(tensors: &[([f64; 6], DVec3)]) -> ArrayD<f64> {
 
 /// The angle in degrees between the axis `a` (either sign) and `b`.
 fn axis_angle(a: DVec3, b: DVec3) -> f64 {
-    a.normalize().dot(b.normalize()).abs().min(1.0).acos().to_degrees()
+    a.normalize()
+        .dot(b.normalize())
+        .abs()
+        .min(1.0)
+        .acos()
+        .to_degrees()
 }
 
 /// An MRtrix-order tensor `.mif` drawn with `--glyph ellipsoid`: each ellipsoid's long
@@ -306,7 +322,7 @@ fn mrtrix_tensor_mif_draws_ellipsoids_along_the_eigenvectors() {
     assert_eq!(set.centers.len(), 3);
     let (_, depth) = read_npy_f32(&npy).expect("depth");
     // Per glyph, the hit point farthest from its centre.
-    let mut farthest = vec![(0.0f64, DVec3::ZERO); 3];
+    let mut farthest = [(0.0f64, DVec3::ZERO); 3];
     for j in 0..h {
         for i in 0..w {
             let t = depth[(j * w + i) as usize];
@@ -367,7 +383,11 @@ fn mrtrix_tensor_mif_draws_ellipsoids_along_the_eigenvectors() {
         "-o",
         text(&refused),
     ]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     // An order given where the file records another is refused.
     let recorded = fit(&dir, "dipy.nii", "2", &["--tensor-order", "dipy"]);
     let out = glyphcast(&[
@@ -383,7 +403,10 @@ fn mrtrix_tensor_mif_draws_ellipsoids_along_the_eigenvectors() {
     ]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
-    assert!(stderr.contains("descrip") && stderr.contains("DIPY"), "{stderr}");
+    assert!(
+        stderr.contains("descrip") && stderr.contains("DIPY"),
+        "{stderr}"
+    );
 }
 
 /// Volumes in memory (the Python module's path) are checked as NIfTI files are.
@@ -400,7 +423,7 @@ fn a_misordered_array_is_refused() {
         ..Default::default()
     };
     let err = request
-        .memory_volume(Coefficients::Tensor, "coeffs", dipy.clone(), map.clone())
+        .memory_volume(Coefficients::Tensor, "coeffs", dipy.clone(), map)
         .unwrap_err();
     let text = err.to_string();
     assert!(

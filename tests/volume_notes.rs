@@ -83,14 +83,17 @@ fn sh_input_says_what_the_file_is() {
     assert!(err.contains("flat.nii: dim: a 3D image"), "{err}");
     assert!(!err.contains("basis"), "{err}");
     // Six volumes named like a tensor: drawn as band 2, with a note.
-    let six = ArrayD::from_shape_fn(IxDyn(&[3, 3, 1, 6]), |i| [1.0, 0.1, 0.0, 0.2, 0.0, 0.3][i[3]]);
+    let six = ArrayD::from_shape_fn(IxDyn(&[3, 3, 1, 6]), |i| {
+        [1.0, 0.1, 0.0, 0.2, 0.0, 0.3][i[3]]
+    });
     let named = dir.join("sub-01_dti_tensor.nii");
     common::write_nifti(&named, &six, DMat4::IDENTITY);
     let out = render(&["--sh", text(&named), "--basis", "mrtrix"], &png);
     let err = stderr(&out);
     assert!(out.status.success(), "{err}");
     assert!(
-        err.contains("note: ") && err.contains("its name suggests a diffusion tensor")
+        err.contains("note: ")
+            && err.contains("its name suggests a diffusion tensor")
             && err.contains("--order 2"),
         "{err}"
     );
@@ -104,5 +107,43 @@ fn sh_input_says_what_the_file_is() {
     let out = render(&["--sh", text(&dti), "--basis", "mrtrix"], &png);
     let err = stderr(&out);
     assert_eq!(out.status.code(), Some(1), "{err}");
-    assert!(err.contains("descrip") && err.contains("symmetric order-2 tensor"), "{err}");
+    assert!(
+        err.contains("descrip") && err.contains("symmetric order-2 tensor"),
+        "{err}"
+    );
+}
+
+/// A `.mih` whose header ends with the file, without `END` (as MRtrix reads it), reads
+/// the same values as the `.mif` it was cut from.
+#[test]
+fn mih_without_end_reads_as_mrtrix_reads_it() {
+    use glyphcast::io::image::read_image;
+    use glyphcast::io::mif::{MifWrite, write_mif};
+    use glyphcast::io::nifti::{AffineSource, VoxelToWorld};
+    let dir = fresh_dir("volume-notes-mih");
+    let values = ArrayD::from_shape_fn(IxDyn(&[2, 3, 4, 5]), |i| {
+        (i[0] + 10 * i[1] + 100 * i[2] + 1000 * i[3]) as f64
+    });
+    let map = VoxelToWorld::new(DMat4::IDENTITY, AffineSource::Pixdim, "x", "transform").unwrap();
+    let mif = dir.join("full.mif");
+    write_mif(
+        &mif,
+        &MifWrite {
+            data: &values,
+            voxel_to_world: &map,
+            keys: &[],
+        },
+    )
+    .unwrap();
+    let bytes = std::fs::read(&mif).unwrap();
+    let text = String::from_utf8_lossy(&bytes);
+    let file_line = text.lines().find(|l| l.starts_with("file: . ")).unwrap();
+    let offset: usize = file_line["file: . ".len()..].parse().unwrap();
+    let header_end = text.find(file_line).unwrap();
+    let header = format!("{}# written by hand\nfile: data.dat", &text[..header_end]);
+    std::fs::write(dir.join("cut.mih"), header).unwrap();
+    std::fs::write(dir.join("data.dat"), &bytes[offset..]).unwrap();
+    let read = read_image(&dir.join("cut.mih")).expect("a .mih without END");
+    assert_eq!(read.data, read_image(&mif).unwrap().data);
+    assert_eq!(read.data, values);
 }

@@ -7,12 +7,12 @@ use clap::{ArgGroup, Args};
 use glyphcast::fit::csd::{DEFAULT_CSD_LAMBDA, DEFAULT_CSD_TAU};
 use glyphcast::fit::gradients::BvecConvention;
 use glyphcast::fit::output::{check_output_path, output_tensor_order, write_output};
-use glyphcast::glyph::tensor_order::TensorOrder;
 use glyphcast::fit::response::{DEFAULT_RESPONSE_FA, estimate_response};
 use glyphcast::fit::{
     DEFAULT_LAMBDA, FitFiles, FitInputs, FitModel, OdfMethod, Response, fit_with_response,
     parse_basis,
 };
+use glyphcast::glyph::tensor_order::TensorOrder;
 use glyphcast::{Error, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
@@ -159,7 +159,8 @@ pub fn run(args: FitArgs) -> Result<()> {
         .map(str::parse)
         .transpose()
         .map_err(Error::into_usage)?;
-    let stored = output_tensor_order(&args.output, &model, given_order).map_err(Error::into_usage)?;
+    let stored =
+        output_tensor_order(&args.output, &model, given_order).map_err(Error::into_usage)?;
     glyphcast::io::atomic::check_outputs(&[&args.output])?;
     let mut inputs = FitInputs::load(FitFiles {
         dwi: args.dwi.clone(),
@@ -238,7 +239,11 @@ fn csd_response(args: &FitArgs, model: &FitModel, inputs: &FitInputs) -> Result<
             estimate.voxels,
             args.response_fa,
             estimate.tissue_voxels,
-            if args.mask.is_some() { ", in the mask" } else { "" },
+            if args.mask.is_some() {
+                ", in the mask"
+            } else {
+                ""
+            },
             i[0],
             i[1],
             j[0],

@@ -65,16 +65,18 @@ pub fn output_tensor_order(
         given.check_applies(order, true)?;
     }
     match (is_mif(path) && order == 2, given) {
-        (true, Some(given)) if !given.stores_like(TensorOrder::Mrtrix) => Err(Error::setting_value(
-            Setting::TensorOrder,
-            given,
-            format!(
-                "a .mif tensor is stored in MRtrix's order ({}), which every MRtrix command \
+        (true, Some(given)) if !given.stores_like(TensorOrder::Mrtrix) => {
+            Err(Error::setting_value(
+                Setting::TensorOrder,
+                given,
+                format!(
+                    "a .mif tensor is stored in MRtrix's order ({}), which every MRtrix command \
                  reads; write NIfTI for {}'s order",
-                TensorOrder::Mrtrix.entries(),
-                given.owner()
-            ),
-        )),
+                    TensorOrder::Mrtrix.entries(),
+                    given.owner()
+                ),
+            ))
+        }
         (true, _) => Ok(TensorOrder::Mrtrix),
         (false, given) => Ok(given.unwrap_or_default()),
     }

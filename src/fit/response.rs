@@ -14,8 +14,8 @@
 use std::path::Path;
 
 use super::dti::DiffusionTensor;
-use super::tissue::TissueMask;
 use super::odf::legendre;
+use super::tissue::TissueMask;
 use super::{FitInputs, FitModel, VoxelFitter};
 use crate::{Error, Result, Setting};
 
@@ -223,7 +223,8 @@ pub fn estimate_response(
                 side(2),
                 match (inputs.mask.is_some(), tissue.threshold) {
                     (true, _) => " (in the mask)".to_string(),
-                    (false, Some(t)) => format!(" (S0 above {t:.1}, Otsu's threshold of the b=0 image)"),
+                    (false, Some(t)) =>
+                        format!(" (S0 above {t:.1}, Otsu's threshold of the b=0 image)"),
                     (false, None) => String::new(),
                 },
                 Setting::Response.with("FILE"),

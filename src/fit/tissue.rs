@@ -59,10 +59,7 @@ impl TissueMask {
         });
         let keep = Array3::from_shape_fn((nx, ny, nz), |(x, y, z)| {
             let v = s0[[x, y, z]];
-            v.is_finite()
-                && v > 0.0
-                && threshold.is_none_or(|t| v > t)
-                && inputs.in_mask(x, y, z)
+            v.is_finite() && v > 0.0 && threshold.is_none_or(|t| v > t) && inputs.in_mask(x, y, z)
         });
         Self {
             keep,
@@ -85,7 +82,8 @@ pub fn otsu_threshold(values: &[f64]) -> Option<f64> {
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
             (lo.min(v), hi.max(v))
         });
-    if !(hi > lo) {
+    // Also None when there are no values (lo infinite) or NaN got in.
+    if hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater) {
         return None;
     }
     let width = (hi - lo) / BINS as f64;

@@ -124,7 +124,11 @@ impl TensorOrder {
             format!(
                 "orders the six entries of DTI (symmetric order-2) tensors; {} tensors of \
                  order {order} are stored in glyphcast's order only",
-                if symmetric { "symmetric" } else { "non-symmetric" }
+                if symmetric {
+                    "symmetric"
+                } else {
+                    "non-symmetric"
+                }
             ),
         ))
     }
@@ -228,13 +232,25 @@ mod tests {
             let stored = order.from_glyphcast(&D);
             assert_eq!(order.to_glyphcast(&stored), D, "{order}");
             assert_eq!(order.name().parse::<TensorOrder>().unwrap(), order);
-            assert_eq!(order.name().to_uppercase().parse::<TensorOrder>().unwrap(), order);
+            assert_eq!(
+                order.name().to_uppercase().parse::<TensorOrder>().unwrap(),
+                order
+            );
         }
         // The stored sequences spelled by each writer's documentation.
         let [xx, xy, xz, yy, yz, zz] = D;
-        assert_eq!(TensorOrder::Mrtrix.from_glyphcast(&D), [xx, yy, zz, xy, xz, yz]);
-        assert_eq!(TensorOrder::Fsl.from_glyphcast(&D), [xx, xy, xz, yy, yz, zz]);
-        assert_eq!(TensorOrder::Dipy.from_glyphcast(&D), [xx, xy, yy, xz, yz, zz]);
+        assert_eq!(
+            TensorOrder::Mrtrix.from_glyphcast(&D),
+            [xx, yy, zz, xy, xz, yz]
+        );
+        assert_eq!(
+            TensorOrder::Fsl.from_glyphcast(&D),
+            [xx, xy, xz, yy, yz, zz]
+        );
+        assert_eq!(
+            TensorOrder::Dipy.from_glyphcast(&D),
+            [xx, xy, yy, xz, yz, zz]
+        );
         assert!("lower".parse::<TensorOrder>().is_err());
     }
 

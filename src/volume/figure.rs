@@ -240,7 +240,6 @@ fn nearest_slice_with_glyphs(
     (None, note)
 }
 
-
 /// The views of a montage: axial, coronal and sagittal (each optionally :INDEX), comma
 /// separated, each at most once.
 pub fn parse_views(text: &str) -> Result<Vec<Slice>> {

@@ -13,8 +13,8 @@ use std::str::FromStr;
 use ndarray::{Array3, Array4, ArrayD, Axis, Ix3, Ix4};
 
 use crate::glyph::TensorLayout;
-use crate::glyph::tensor_order::{DTI_COUNT, OrderEvidence, TensorOrder};
 use crate::glyph::sh;
+use crate::glyph::tensor_order::{DTI_COUNT, OrderEvidence, TensorOrder};
 use crate::io::image::{Image, ImageHeader, read_image};
 use crate::io::nifti::VoxelToWorld;
 use crate::scene::{GlyphKind, ShBasis};

@@ -150,9 +150,7 @@ pub fn resolve_tensor_order(
     }
     let recorded = image.and_then(|image| Some((image, recorded_tensor_order(image)?)));
     match (given, recorded) {
-        (Some(given), Some((image, recorded)))
-            if !given.stores_like(recorded) =>
-        {
+        (Some(given), Some((image, recorded))) if !given.stores_like(recorded) => {
             Err(Error::input(
                 &image.file,
                 description_field(image),

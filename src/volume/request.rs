@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 
 use super::build::VolumeOptions;
 use super::framing::{ImageRequest, ViewProjection};
-use super::input::{CoefficientFrame, Mask, Volume, VolumeKind};
 use super::input::check_four_d;
+use super::input::{CoefficientFrame, Mask, Volume, VolumeKind};
 use super::recorded::{
     OrderSource, description_field, has_dti_entries, recorded_tensor_order, resolve_basis,
     resolve_tensor_order,
@@ -453,7 +453,8 @@ fn tensor_hint(file: &Image) -> Result<Option<String>> {
         ));
     }
     const NIFTI_INTENT_SYMMATRIX: i32 = 1005;
-    let intent = matches!(&file.header, ImageHeader::Nifti(h) if h.intent_code == NIFTI_INTENT_SYMMATRIX);
+    let intent =
+        matches!(&file.header, ImageHeader::Nifti(h) if h.intent_code == NIFTI_INTENT_SYMMATRIX);
     let name = std::path::Path::new(&file.file)
         .file_name()
         .map(|n| n.to_string_lossy().to_ascii_lowercase())

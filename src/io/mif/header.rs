@@ -475,8 +475,14 @@ mod tests {
         // Comments, a line without a colon, an empty value, a repeated key (the last
         // wins), more text on the first line.
         let edited = HEADER
-            .replace("mrtrix image\r\n", "mrtrix image (written by hand)\n# a note\n")
-            .replace("vox: 1,2,3", "vox: 9,9,9\nvox: 1,2,3 # mm\nstray words\nempty:")
+            .replace(
+                "mrtrix image\r\n",
+                "mrtrix image (written by hand)\n# a note\n",
+            )
+            .replace(
+                "vox: 1,2,3",
+                "vox: 9,9,9\nvox: 1,2,3 # mm\nstray words\nempty:",
+            )
             .replace("END", "  END  # done");
         let h = read(&edited);
         assert_eq!(h.vox, vec![1.0, 2.0, 3.0]);
@@ -487,6 +493,11 @@ mod tests {
             .replace("Dim: 4,5,6", "dim: 4,5,6,7")
             .replace("-0,+2,+1", "-0,+2,+1,+3");
         assert!(read(&four_d).vox[3].is_nan());
-        assert_eq!(read(&HEADER.replace("vox: 1,2,3", "vox: 1,2,3,4")).vox.len(), 3);
+        assert_eq!(
+            read(&HEADER.replace("vox: 1,2,3", "vox: 1,2,3,4"))
+                .vox
+                .len(),
+            3
+        );
     }
 }
