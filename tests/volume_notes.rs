@@ -52,6 +52,26 @@ fn views_skip_an_empty_middle_slice_to_the_nearest_with_glyphs() {
     );
     let (w, h, _) = glyphcast::io::png::read_png_rgba8(&png).expect("png");
     assert_eq!((w, h), (3 * 64, 64));
+    // The viewer's plan (it builds each panel itself) moves the slice alike.
+    let request = glyphcast::volume::VolumeRequest {
+        order: Some(2),
+        tensor_order: Some("glyphcast".into()),
+        views: Some("axial,coronal".into()),
+        ..Default::default()
+    };
+    let volume = request
+        .read_volume(glyphcast::volume::Coefficients::Tensor, &path)
+        .expect("volume");
+    let plan = request
+        .montage_plan(&volume, glyphcast::volume::ImageRequest::default())
+        .expect("plan");
+    assert_eq!(plan.panels[0].slice.index, Some(1));
+    assert_eq!(plan.panels[1].slice.index, None);
+    assert!(
+        plan.notes.iter().any(|n| n.contains("drawn at k=1")),
+        "{:?}",
+        plan.notes
+    );
     // With an index the user named, an empty slice stays an error.
     let out = render(
         &[

@@ -130,7 +130,35 @@ impl VolumeRequest {
         }
         let mut options = self.options(image)?;
         options.mask = self.read_mask()?;
-        self.plan(volume, &options)
+        let mut plan = self.plan(volume, &options)?;
+        if self.views.is_some() {
+            // The viewer builds each panel itself: an empty middle slice is moved (or its
+            // view left out) here, as `montage` does for `render`.
+            let mut panels = Vec::with_capacity(plan.panels.len());
+            for mut options in plan.panels {
+                match volume_scene(volume, &options) {
+                    Err(err) if options.slice.index.is_none() && is_nothing_to_draw(&err) => {
+                        let (found, note) = nearest_slice_with_glyphs(volume, &options);
+                        plan.notes.push(note);
+                        if let Some((index, _)) = found {
+                            options.slice.index = Some(index);
+                            panels.push(options);
+                        }
+                    }
+                    Err(err) => return Err(err),
+                    Ok(_) => panels.push(options),
+                }
+            }
+            if panels.is_empty() {
+                return Err(Error::setting(
+                    Setting::Views,
+                    format!("no view of {} holds a glyph", volume.file),
+                ));
+            }
+            plan.columns = panels.len();
+            plan.panels = panels;
+        }
+        Ok(plan)
     }
 
     /// Each panel's options (from `options`, the montage's) and the grid's columns.
@@ -178,9 +206,9 @@ impl VolumeRequest {
                         && options.slice.index.is_none()
                         && is_nothing_to_draw(&err) =>
                 {
-                    let (scene, note) = nearest_slice_with_glyphs(volume, options);
+                    let (found, note) = nearest_slice_with_glyphs(volume, options);
                     plan.notes.push(note);
-                    panels.extend(scene);
+                    panels.extend(found.map(|(_, scene)| scene));
                     first_error.get_or_insert(err);
                 }
                 Err(err) => return Err(err),
@@ -205,12 +233,12 @@ impl VolumeRequest {
     }
 }
 
-/// The scene of the slice of `options`' plane nearest its middle that holds a glyph
-/// (`None` when no slice does), with a note that says which was drawn.
+/// The index and scene of the slice of `options`' plane nearest its middle that holds a
+/// glyph (`None` when no slice does), with a note that says which was drawn.
 fn nearest_slice_with_glyphs(
     volume: &Volume,
     options: &VolumeOptions,
-) -> (Option<VolumeScene>, String) {
+) -> (Option<(usize, VolumeScene)>, String) {
     let axis = options.slice.axis;
     let voxel = axis.voxel_axis();
     let (letter, length) = (["i", "j", "k"][voxel], volume.dims[voxel]);
@@ -229,7 +257,7 @@ fn nearest_slice_with_glyphs(
                 volume.file,
                 axis.name()
             );
-            return (Some(scene), note);
+            return (Some((index, scene)), note);
         }
     }
     let note = format!(
