@@ -6,6 +6,7 @@ use std::fmt;
 
 mod setting;
 
+pub use setting::spell as spell_mentions;
 pub use setting::{Mention, Setting};
 
 /// The crate's result type, with [`Error`] as the default error.

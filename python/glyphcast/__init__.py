@@ -14,7 +14,9 @@ The keyword options are those of ``glyphcast render``, with ``-`` as ``_``
   DTI ellipsoid of order-2 tensors);
 - volumes (``render_sh``, ``render_tensor``): ``slice``, ``slices``, ``voxels``,
   ``mask`` (an (X, Y, Z) array or a path), ``scale``, ``norm``, ``min_amplitude``,
-  ``lmax``, ``frame``, ``perspective``, ``orientation``, ``labels``; ``underlay`` (an
+  ``lmax``, ``frame``, ``perspective``, ``orientation``, ``labels``, ``tensor_order``
+  (the stored order of order-2 tensors' six entries: glyphcast, fsl, dipy or mrtrix);
+  ``underlay`` (an
   anatomical image drawn on the slice planes: a NIfTI/MRtrix path, an (X, Y, Z) or
   (X, Y, Z, 3) array on the coefficients' grid, or ``(array, affine)``) with
   ``underlay_range`` ("LOW:HIGH" or ``(low, high)``); a montage of panels, each the
@@ -161,14 +163,21 @@ class Renderer:
         height=None,
         **options,
     ):
-        """Renders a slice of an (X, Y, Z, K) volume of Cartesian tensor coefficients in
-        the scene format's order, as ``glyphcast render --tensor`` does (``symmetric``:
-        the unique entries, else all 3^order; ``glyph="ellipsoid"`` draws order-2
-        tensors as DTI ellipsoids)."""
+        """Renders a slice of an (X, Y, Z, K) volume of Cartesian tensor coefficients, as
+        ``glyphcast render --tensor`` does (``symmetric``: the unique entries, else all
+        3^order; ``glyph="ellipsoid"`` draws order-2 tensors as DTI ellipsoids).
+
+        Order-2 tensors: ``coeffs`` holds six entries per voxel in the order
+        ``tensor_order`` names, "glyphcast" (xx, xy, xz, yy, yz, zz; also "fsl"), "dipy"
+        (xx, xy, yy, xz, yz, zz: DIPY's ``lower_triangular()``) or "mrtrix" (xx, yy, zz,
+        xy, xz, yz); without it glyphcast's order is assumed, and refused where the values
+        show another. Or (X, Y, Z, 3, 3) symmetric matrices (DIPY's ``quadratic_form``),
+        which need no order. Higher orders are in glyphcast's order."""
         options.update(
             order=order, symmetric=symmetric, slice=slice, mask=mask, scale=scale,
             norm=norm, width=width, height=height,
         )
+        coeffs = _tensor_coefficients(coeffs, options)
         return self._volume("tensor", coeffs, affine, options)
 
     def render(self, camera=None) -> Rendering:
@@ -205,6 +214,42 @@ class Renderer:
         for note in notes:
             warnings.warn(note, stacklevel=3)
         return self.render()
+
+
+# The entries (row, column) of a symmetric 3x3 matrix in glyphcast's order.
+_GLYPHCAST_ENTRIES = ((0, 0, 0, 1, 1, 2), (0, 1, 2, 1, 2, 2))
+
+
+def _tensor_coefficients(coeffs, options):
+    """The tensor array as the native module takes it: (X, Y, Z, 3, 3) symmetric matrices
+    become their six entries in glyphcast's order (``tensor_order`` then set to it), and
+    an array neither C- nor Fortran-contiguous (``lower_triangular()`` is a strided view)
+    is copied once."""
+    array = np.asarray(coeffs)
+    if array.ndim == 5 and array.shape[3:] == (3, 3):
+        if options.get("tensor_order") is not None:
+            raise ValueError(
+                "tensor_order: (X, Y, Z, 3, 3) matrices have no stored order; leave it out"
+            )
+        if options.get("order") != 2:
+            raise ValueError(
+                f"order={options.get('order')!r}: (X, Y, Z, 3, 3) matrices are order-2 "
+                "tensors; give order=2"
+            )
+        asymmetry = np.abs(array - np.swapaxes(array, 3, 4))
+        largest = np.abs(array).max(initial=0.0)
+        if asymmetry.max(initial=0.0) > 1e-6 * largest:
+            i, j, k, _, _ = np.unravel_index(np.argmax(asymmetry), asymmetry.shape)
+            raise ValueError(
+                f"coeffs: the (X, Y, Z, 3, 3) matrices must be symmetric (as DIPY's "
+                f"quadratic_form is); voxel ({i}, {j}, {k}) is not"
+            )
+        rows, columns = _GLYPHCAST_ENTRIES
+        array = array[..., rows, columns]
+        options["tensor_order"] = "glyphcast"
+    if not (array.flags.c_contiguous or array.flags.f_contiguous):
+        array = np.ascontiguousarray(array)
+    return array
 
 
 def _split_device(options):

@@ -67,6 +67,7 @@ pub fn keyword(setting: Setting) -> &'static str {
         Setting::Lmax => "lmax",
         Setting::Order => "order",
         Setting::Nonsymmetric => "symmetric",
+        Setting::TensorOrder => "tensor_order",
         Setting::Slice => "slice",
         Setting::Slices => "slices",
         Setting::Voxels => "voxels",

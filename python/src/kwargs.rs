@@ -174,8 +174,8 @@ impl<'py> Kwargs<'py> {
         }
     }
 
-    /// The volume options: `basis`, `legacy`, `frame`, `lmax` (SH), `order`, `symmetric`
-    /// (tensors), `slice`, `slices`, `voxels`, `mask` (a path or an (X, Y, Z) array),
+    /// The volume options: `basis`, `legacy`, `frame`, `lmax` (SH), `order`, `symmetric`,
+    /// `tensor_order` (tensors), `slice`, `slices`, `voxels`, `mask` (a path or an (X, Y, Z) array),
     /// `scale`, `norm`, `min_amplitude`, `perspective`, `orientation`, `glyph`,
     /// `underlay` (a path, an array on the coefficients' grid, or (array, affine)),
     /// `underlay_range` ("LOW:HIGH" or (low, high)), `views` ("axial,coronal" or a list)
@@ -200,6 +200,7 @@ impl<'py> Kwargs<'py> {
             lmax: self.count("lmax")?,
             order: self.count("order")?,
             nonsymmetric: !self.flag("symmetric", true)?,
+            tensor_order: self.text("tensor_order")?,
             slice: self.text("slice")?,
             slices: self.text("slices")?,
             voxels: self.text("voxels")?,

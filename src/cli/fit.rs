@@ -6,12 +6,13 @@
 use clap::{ArgGroup, Args};
 use glyphcast::fit::csd::{DEFAULT_CSD_LAMBDA, DEFAULT_CSD_TAU};
 use glyphcast::fit::gradients::BvecConvention;
-use glyphcast::fit::output::{check_output_path, write_output};
+use glyphcast::fit::output::{check_output_path, output_tensor_order, write_output};
 use glyphcast::fit::response::{DEFAULT_RESPONSE_FA, estimate_response};
 use glyphcast::fit::{
     DEFAULT_LAMBDA, FitFiles, FitInputs, FitModel, OdfMethod, Response, fit_with_response,
     parse_basis,
 };
+use glyphcast::glyph::tensor_order::TensorOrder;
 use glyphcast::{Error, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
@@ -80,6 +81,12 @@ pub struct FitArgs {
     /// CSD: FA threshold of the voxels the response is estimated from.
     #[arg(long, value_name = "FA", requires = "odf", conflicts_with = "response", default_value_t = DEFAULT_RESPONSE_FA)]
     response_fa: f64,
+    /// Stored order of a DTI fit's six entries in a NIfTI output: glyphcast (xx, xy, xz,
+    /// yy, yz, zz, the default; FSL's dtifit order), fsl, dipy (xx, xy, yy, xz, yz, zz) or
+    /// mrtrix (xx, yy, zz, xy, xz, yz). A .mif output is always in MRtrix's order. The
+    /// order is recorded in the file's description.
+    #[arg(long, value_name = "ORDER")]
+    tensor_order: Option<String>,
     /// Fit only where this 3D NIfTI or MRtrix image is non-zero (same spatial shape as
     /// the DWI).
     #[arg(long, value_name = "IMAGE")]
@@ -146,6 +153,14 @@ pub fn run(args: FitArgs) -> Result<()> {
     let convention: BvecConvention = args.bvec_convention.parse()?;
     // An output name of another format is a usage error, whatever kind the check gives.
     check_output_path(&args.output).map_err(|e| Error::Usage(e.to_string()))?;
+    let given_order: Option<TensorOrder> = args
+        .tensor_order
+        .as_deref()
+        .map(str::parse)
+        .transpose()
+        .map_err(Error::into_usage)?;
+    let stored =
+        output_tensor_order(&args.output, &model, given_order).map_err(Error::into_usage)?;
     glyphcast::io::atomic::check_outputs(&[&args.output])?;
     let mut inputs = FitInputs::load(FitFiles {
         dwi: args.dwi.clone(),
@@ -169,7 +184,7 @@ pub fn run(args: FitArgs) -> Result<()> {
     for line in report.warnings(&args.dwi.display().to_string()) {
         eprintln!("warning: {line}");
     }
-    write_output(&args.output, &coeffs, &inputs.dwi, &model)?;
+    write_output(&args.output, &coeffs, &inputs.dwi, &model, stored)?;
     if !args.quiet {
         let [x, y, z] = inputs.dwi.spatial_shape();
         eprintln!(
@@ -195,26 +210,48 @@ fn csd_response(args: &FitArgs, model: &FitModel, inputs: &FitInputs) -> Result<
         return Ok(None);
     };
     if let Some(path) = &args.response {
+        // Bands past the response's last are zero (as dwi2fod -lmax takes them): the
+        // constraint alone shapes those bands of the fODF.
         let response = Response::read(path)?;
-        if response.band() < band {
-            return Err(Error::input(
-                path.display().to_string(),
-                "response",
-                format!(
-                    "the response has bands up to {} but --order {band} needs them up to {band}",
-                    response.band()
-                ),
-            ));
+        if response.band() < band && !args.quiet {
+            eprintln!(
+                "note: {}: the response has bands up to {}; bands {} to {band} of the fODF \
+                 are set by the non-negativity constraint alone (as dwi2fod -lmax {band} does)",
+                path.display(),
+                response.band(),
+                response.band() + 2
+            );
         }
         return Ok(Some(response));
     }
     let estimate = estimate_response(inputs, band, args.response_fa)?;
     if !args.quiet {
         let [l1, l2, _] = estimate.eigenvalues;
+        let tissue = match estimate.threshold {
+            Some(t) => format!("S0 above {t:.1} (Otsu's threshold of the b=0 image)"),
+            None => "S0 > 0 (no background found in the b=0 image)".to_string(),
+        };
+        let [i, j, k] = estimate.bounds;
         eprintln!(
-            "response: {} voxels with FA > {}: eigenvalues {l1:.3e} {l2:.3e} {l2:.3e}, S0 {:.1}; zonal SH {}",
+            "response: {} voxels with FA > {} among {} tissue voxels ({tissue}{}), in \
+             i {}..{}, j {}..{}, k {}..{}, S0 {:.1} to {:.1} (mean {:.1}): eigenvalues \
+             {l1:.3e} {l2:.3e} {l2:.3e}; zonal SH {}",
             estimate.voxels,
             args.response_fa,
+            estimate.tissue_voxels,
+            if args.mask.is_some() {
+                ", in the mask"
+            } else {
+                ""
+            },
+            i[0],
+            i[1],
+            j[0],
+            j[1],
+            k[0],
+            k[1],
+            estimate.s0_range.0,
+            estimate.s0_range.1,
             estimate.s0,
             estimate.response.to_text().trim()
         );

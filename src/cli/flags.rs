@@ -32,6 +32,7 @@ pub fn flag(setting: Setting) -> &'static str {
         Setting::Lmax => "--lmax",
         Setting::Order => "--order",
         Setting::Nonsymmetric => "--nonsymmetric",
+        Setting::TensorOrder => "--tensor-order",
         Setting::Slice => "--slice",
         Setting::Slices => "--slices",
         Setting::Voxels => "--voxels",
@@ -68,6 +69,11 @@ pub fn spell(setting: Setting, value: Option<&str>) -> String {
         Some(value) => format!("{} {value}", flag(setting)),
         None => flag(setting).to_owned(),
     }
+}
+
+/// A note's text (which may mention settings) in the command line's words.
+pub fn note(text: &str) -> String {
+    glyphcast::error::spell_mentions(text, &spell)
 }
 
 /// The one-line message of `err` in the command line's words.

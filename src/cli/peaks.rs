@@ -110,6 +110,14 @@ pub fn run(args: PeaksArgs) -> Result<()> {
             image.file
         )));
     }
+    if band == 0 {
+        eprintln!(
+            "note: {}: band 0 only (an isotropic tissue ODF, as multi-tissue CSD writes for \
+             grey matter and CSF): the same value in every direction, no peak; every voxel \
+             is NaN",
+            image.file
+        );
+    }
     let (basis, legacy) = resolve_basis(&image, given, args.force_basis)?;
     let finder = PeakFinder::new(band, basis, legacy, options)?;
     let peaks = peak_volume(&coeffs, &finder)?;

@@ -49,10 +49,17 @@ pub struct VolumeArgs {
     /// Draw SH bands up to L only.
     #[arg(long, value_name = "L", help_heading = "Volume input")]
     pub lmax: Option<u32>,
-    /// 4D NIfTI or MRtrix image of Cartesian tensor coefficients in the scene format's
-    /// order (order 2: xx, xy, xz, yy, yz, zz).
+    /// 4D NIfTI or MRtrix image of Cartesian tensor coefficients: order 2 in the order of
+    /// --tensor-order, higher orders in the scene format's order.
     #[arg(long, value_name = "IMAGE", help_heading = "Volume input")]
     pub tensor: Option<PathBuf>,
+    /// Stored order of an order-2 --tensor's six entries: glyphcast (xx, xy, xz, yy, yz,
+    /// zz; also FSL's dtifit), fsl, mrtrix (xx, yy, zz, xy, xz, yz; dwi2tensor) or dipy
+    /// (xx, xy, yy, xz, yz, zz; lower_triangular). Default: what the file records
+    /// (glyphcast fit writes it), mrtrix for .mif, else glyphcast, refused where the values
+    /// show another order.
+    #[arg(long, value_name = "ORDER", help_heading = "Volume input")]
+    pub tensor_order: Option<String>,
     /// Tensor order of --tensor (1 to 12).
     #[arg(long, value_name = "N", help_heading = "Volume input")]
     pub order: Option<u32>,
@@ -143,6 +150,7 @@ impl VolumeArgs {
             ("--lmax", self.lmax.is_some()),
             ("--order", self.order.is_some()),
             ("--nonsymmetric", self.nonsymmetric),
+            ("--tensor-order", self.tensor_order.is_some()),
             ("--slice", self.slice.is_some()),
             ("--slices", self.slices.is_some()),
             ("--voxels", self.voxels.is_some()),
@@ -171,6 +179,7 @@ impl VolumeArgs {
             lmax: self.lmax,
             order: self.order,
             nonsymmetric: self.nonsymmetric,
+            tensor_order: self.tensor_order.clone(),
             slice: self.slice.clone(),
             slices: self.slices.clone(),
             voxels: self.voxels.clone(),
@@ -199,6 +208,9 @@ impl VolumeArgs {
         let (input, path) = self.input()?;
         let request = self.request();
         let volume = request.read_volume(input, path)?;
+        for note in &volume.notes {
+            eprintln!("note: {}", super::flags::note(note));
+        }
         let figure = request.figure(volume, image)?;
         match &figure {
             VolumeFigure::View(view) => {
@@ -236,6 +248,9 @@ impl VolumeArgs {
         let (input, path) = self.input()?;
         let request = self.request();
         let volume = request.read_volume(input, path)?;
+        for note in &volume.notes {
+            eprintln!("note: {}", super::flags::note(note));
+        }
         let plan = request.montage_plan(&volume, image)?;
         for note in &plan.notes {
             eprintln!("note: {note}");

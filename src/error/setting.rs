@@ -93,6 +93,8 @@ settings! {
     Order => "order",
     /// A tensor volume holds all 3^N entries.
     Nonsymmetric => "nonsymmetric",
+    /// The stored order of a DTI tensor's six entries (glyphcast, mrtrix, fsl, dipy).
+    TensorOrder => "tensor order",
     /// The slice of a volume drawn.
     Slice => "slice",
     /// Three orthogonal slices.

@@ -42,7 +42,7 @@ pub const MAX_ITERATIONS: usize = 50;
 const CONSTRAINT_SPHERE_FREQUENCY: usize = 6;
 
 /// The band of the low-order first estimate.
-const FIRST_ESTIMATE_BAND: u32 = 4;
+pub(crate) const FIRST_ESTIMATE_BAND: u32 = 4;
 
 /// A CSD solve prepared for one gradient table and response.
 #[derive(Clone, Debug)]

@@ -39,6 +39,7 @@ pub mod response;
 pub mod sphere;
 use crate::glyph::sh;
 pub mod tensor;
+pub mod tissue;
 pub mod voxel;
 
 pub use inputs::{FitFiles, FitInputs};
@@ -180,7 +181,7 @@ impl FitModel {
     /// A short description for the NIfTI header's `descrip` (at most 80 bytes).
     pub fn description(&self) -> String {
         match *self {
-            FitModel::Tensor { order } => format!("glyphcast fit: symmetric tensor order {order}"),
+            FitModel::Tensor { order } => format!("{TENSOR_PREFIX}{order}"),
             FitModel::Sh {
                 band,
                 basis,
@@ -214,6 +215,17 @@ impl FitModel {
             }
         }
     }
+}
+
+/// What starts the description of a tensor fit, before the order.
+pub const TENSOR_PREFIX: &str = "glyphcast fit: symmetric tensor order ";
+
+/// The description of a tensor fit written with its entries in `stored` order: "glyphcast
+/// fit: symmetric tensor order 2 in mrtrix order" (`volume::recorded_tensor_order` reads
+/// it back; a description without " in NAME order", as glyphcast wrote before it
+/// recorded the order, means glyphcast's order).
+pub fn tensor_description(order: u32, stored: crate::glyph::tensor_order::TensorOrder) -> String {
+    format!("{TENSOR_PREFIX}{order} in {stored} order")
 }
 
 /// The regularisation weight in 0 to [`MAX_LAMBDA`].

@@ -2,6 +2,9 @@
 //! header (affine, qform/sform codes, voxel size, units), or, when the name ends in
 //! `.mif` or `.mif.gz`, as an MRtrix image with the DWI's affine (`io::mif::write`) and
 //! the model in its header (`comments`, `glyphcast_sh_basis` or `glyphcast_tensor_order`).
+//! A DTI tensor's six entries go into a `.mif` in MRtrix's order (xx, yy, zz, xy, xz,
+//! yz), into NIfTI in the order asked for (glyphcast's by default, which is FSL's); the
+//! description records it ("... in mrtrix order").
 //! The fit's coefficients are in the DWI's voxel axes (see `gradients`); a NIfTI keeps
 //! them so (DIPY's convention), while a `.mif` gets them turned into scanner axes, the
 //! frame MRtrix stores and mrview draws (the same rotation `render` applies to a
@@ -13,14 +16,15 @@ use ndarray::{Array4, Axis};
 use std::path::Path;
 
 use super::dwi::Dwi;
-use super::{FitModel, basis_name};
+use super::{FitModel, basis_name, tensor_description};
+use crate::glyph::tensor_order::{DTI_COUNT, TensorOrder};
 use crate::io::atomic::write_atomic;
 use crate::io::mif::{MifKind, MifWrite, write_mif};
 use crate::io::nifti::NiftiHeader;
 use crate::io::nifti::VoxelToWorld;
 use crate::io::nifti::write::nifti1_bytes;
 use crate::volume::Reorientation;
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 
 /// The NIfTI endings written.
 const ENDINGS: [&str; 2] = [".nii.gz", ".nii"];
@@ -34,12 +38,82 @@ pub fn check_output_path(path: &Path) -> Result<()> {
     }
 }
 
-/// Writes the fitted `coeffs` of `dwi` to `path`, as MRtrix or NIfTI by its name.
-pub fn write_output(path: &Path, coeffs: &Array4<f64>, dwi: &Dwi, model: &FitModel) -> Result<()> {
+/// Whether `path` names an MRtrix image (`.mif`, `.mif.gz`).
+fn is_mif(path: &Path) -> bool {
+    matches!(MifKind::of(path), Some(MifKind::Mif | MifKind::MifGz))
+}
+
+/// The stored order of a tensor fit's entries written to `path`: MRtrix's for an order-2
+/// `.mif` (as `dwi2tensor` writes and every MRtrix command reads it), `given` (the
+/// tensor order setting) or glyphcast's for NIfTI; every other tensor in glyphcast's
+/// order. Checked before any work: an order `.mif` cannot hold is refused.
+pub fn output_tensor_order(
+    path: &Path,
+    model: &FitModel,
+    given: Option<TensorOrder>,
+) -> Result<TensorOrder> {
+    let FitModel::Tensor { order } = *model else {
+        return match given {
+            Some(_) => Err(Error::setting(
+                Setting::TensorOrder,
+                "orders the entries of a tensor fit, not of an SH or ODF fit",
+            )),
+            None => Ok(TensorOrder::Glyphcast),
+        };
+    };
+    if let Some(given) = given {
+        given.check_applies(order, true)?;
+    }
+    match (is_mif(path) && order == 2, given) {
+        (true, Some(given)) if !given.stores_like(TensorOrder::Mrtrix) => {
+            Err(Error::setting_value(
+                Setting::TensorOrder,
+                given,
+                format!(
+                    "a .mif tensor is stored in MRtrix's order ({}), which every MRtrix command \
+                 reads; write NIfTI for {}'s order",
+                    TensorOrder::Mrtrix.entries(),
+                    given.owner()
+                ),
+            ))
+        }
+        (true, _) => Ok(TensorOrder::Mrtrix),
+        (false, given) => Ok(given.unwrap_or_default()),
+    }
+}
+
+/// `coeffs` with each voxel's six entries moved from glyphcast's order into `stored`.
+fn stored_in(mut coeffs: Array4<f64>, stored: TensorOrder) -> Array4<f64> {
+    if stored.is_glyphcast() || coeffs.shape()[3] != DTI_COUNT {
+        return coeffs;
+    }
+    for mut lane in coeffs.lanes_mut(Axis(3)) {
+        let values: [f64; DTI_COUNT] = std::array::from_fn(|k| lane[k]);
+        for (out, value) in lane.iter_mut().zip(stored.from_glyphcast(&values)) {
+            *out = value;
+        }
+    }
+    coeffs
+}
+
+/// Writes the fitted `coeffs` of `dwi` to `path`, as MRtrix or NIfTI by its name; a
+/// tensor's entries in `stored` order ([`output_tensor_order`]), recorded in the
+/// description.
+pub fn write_output(
+    path: &Path,
+    coeffs: &Array4<f64>,
+    dwi: &Dwi,
+    model: &FitModel,
+    stored: TensorOrder,
+) -> Result<()> {
+    let description = match *model {
+        FitModel::Tensor { order } => tensor_description(order, stored),
+        _ => model.description(),
+    };
     match MifKind::of(path) {
         Some(MifKind::Mif | MifKind::MifGz) => {
             let voxel_to_world = dwi.voxel_to_world()?;
-            let mut keys = vec![("comments", model.description())];
+            let mut keys = vec![("comments", description)];
             match *model {
                 FitModel::Sh { basis, legacy, .. } | FitModel::Odf { basis, legacy, .. } => {
                     let legacy = if legacy { " legacy" } else { "" };
@@ -52,7 +126,8 @@ pub fn write_output(path: &Path, coeffs: &Array4<f64>, dwi: &Dwi, model: &FitMod
                     keys.push(("glyphcast_tensor_order", order.to_string()));
                 }
             }
-            let data = to_world_frame(coeffs, &voxel_to_world, model, &dwi.file)?.into_dyn();
+            let world = to_world_frame(coeffs, &voxel_to_world, model, &dwi.file)?;
+            let data = stored_in(world, stored).into_dyn();
             write_mif(
                 path,
                 &MifWrite {
@@ -62,7 +137,12 @@ pub fn write_output(path: &Path, coeffs: &Array4<f64>, dwi: &Dwi, model: &FitMod
                 },
             )
         }
-        _ => write_coefficients(path, coeffs, &dwi.header, &model.description()),
+        _ => write_coefficients(
+            path,
+            &stored_in(coeffs.clone(), stored),
+            &dwi.header,
+            &description,
+        ),
     }
 }
 

@@ -134,9 +134,11 @@ impl PeakFinder {
         sh_eval(self.band, self.basis, self.legacy, coeffs, u)
     }
 
-    /// The peaks of the series `coeffs`, highest first (none for an all-zero series).
+    /// The peaks of the series `coeffs`, highest first: none for an all-zero series, and
+    /// none for an isotropic one (band 0 alone, as a grey-matter or CSF tissue ODF), which
+    /// has the same value in every direction and so no maximum.
     pub fn find(&self, coeffs: &[f64]) -> Vec<Peak> {
-        if coeffs.iter().all(|&c| c == 0.0) || coeffs.iter().any(|c| !c.is_finite()) {
+        if is_isotropic(coeffs) || coeffs.iter().any(|c| !c.is_finite()) {
             return Vec::new();
         }
         let on_sphere: Vec<f64> = self
@@ -222,6 +224,12 @@ impl PeakFinder {
             value: best,
         }
     }
+}
+
+/// Whether the SH series `coeffs` is constant on the sphere: every coefficient past
+/// band 0 is zero (also for the empty and the all-zero series).
+pub fn is_isotropic(coeffs: &[f64]) -> bool {
+    coeffs.iter().skip(1).all(|&c| c == 0.0)
 }
 
 /// The peaks of every voxel of `coeffs` ([x, y, z, coefficient]) in MRtrix's layout

@@ -5,8 +5,9 @@
 //!   shell, numbers separated by spaces or commas, `#` comment lines. Single-shell CSD
 //!   takes exactly one row.
 //! - Estimated from the data, as DIPY's `auto_response_ssst` does: a DTI fit in the
-//!   voxels of a cube of radius 10 voxels around the centre of the volume (and in the
-//!   mask), the voxels with FA above a threshold (0.7), and a prolate tensor with their
+//!   voxels of a cube of radius 10 voxels around the centre of the volume that can only
+//!   be tissue (in the mask if one is given, and above the b=0 image's background
+//!   threshold if it has a background: `tissue`), the voxels with FA above a threshold (0.7), and a prolate tensor with their
 //!   mean largest and mean second eigenvalue and their mean S0. Its signal
 //!   S0 exp(-b (l2 + (l1 - l2) z^2)) at the shell's mean b-value is projected onto
 //!   Y_l^0 by quadrature: r_l = 2 pi int_-1^1 S(z) Y_l^0(z) dz.
@@ -14,6 +15,7 @@ use std::path::Path;
 
 use super::dti::DiffusionTensor;
 use super::odf::legendre;
+use super::tissue::TissueMask;
 use super::{FitInputs, FitModel, VoxelFitter};
 use crate::{Error, Result, Setting};
 
@@ -47,6 +49,14 @@ pub struct ResponseEstimate {
     pub s0: f64,
     /// How many voxels were averaged.
     pub voxels: usize,
+    /// The smallest and largest S0 among them.
+    pub s0_range: (f64, f64),
+    /// Their bounding box: per voxel axis the first and last index.
+    pub bounds: [[usize; 2]; 3],
+    /// The tissue threshold on S0 they were chosen above (Otsu's, `tissue`), when the
+    /// volume has a background; and how many voxels the tissue mask keeps.
+    pub threshold: Option<f64>,
+    pub tissue_voxels: usize,
 }
 
 impl Response {
@@ -170,13 +180,15 @@ pub fn estimate_response(
         centre.saturating_sub(RESPONSE_ROI_RADIUS)
             ..(centre + RESPONSE_ROI_RADIUS + 1).min(shape[axis])
     };
-    let b0 = inputs.gradients.b0_volumes();
+    let tissue = TissueMask::of(inputs);
     let mut scratch = vec![0.0; dti.weighted_count()];
     let mut coeffs = [0.0; 6];
     let (mut sum_l1, mut sum_l2, mut sum_s0, mut count) = (0.0, 0.0, 0.0, 0usize);
+    let mut s0_range = (f64::INFINITY, f64::NEG_INFINITY);
+    let mut bounds = [[usize::MAX, 0]; 3];
     for z in range(2) {
         for y in range(1) {
-            for x in range(0).filter(|&x| inputs.in_mask(x, y, z)) {
+            for x in range(0).filter(|&x| tissue.keep[[x, y, z]]) {
                 let series = inputs.dwi.signal.slice(ndarray::s![x, y, z, ..]);
                 if !dti.fit_voxel(series, &mut scratch, &mut coeffs).is_fitted() {
                     continue;
@@ -189,7 +201,12 @@ pub fn estimate_response(
                 }
                 sum_l1 += tensor.eigenvalues[0];
                 sum_l2 += tensor.eigenvalues[1];
-                sum_s0 += b0.iter().map(|&v| series[v]).sum::<f64>() / b0.len() as f64;
+                let s0 = tissue.s0[[x, y, z]];
+                sum_s0 += s0;
+                s0_range = (s0_range.0.min(s0), s0_range.1.max(s0));
+                for (bound, index) in bounds.iter_mut().zip([x, y, z]) {
+                    *bound = [bound[0].min(index), bound[1].max(index)];
+                }
                 count += 1;
             }
         }
@@ -200,14 +217,15 @@ pub fn estimate_response(
             inputs.files.dwi.display().to_string(),
             "signal",
             format!(
-                "no voxel of the central {}x{}x{} region{} has FA above {fa_threshold}, so no single-fibre response can be estimated: give {}, or a lower {}",
+                "no tissue voxel of the central {}x{}x{} region{} has FA above {fa_threshold}, so no single-fibre response can be estimated: give {}, or a lower {}",
                 side(0),
                 side(1),
                 side(2),
-                if inputs.mask.is_some() {
-                    " (in the mask)"
-                } else {
-                    ""
+                match (inputs.mask.is_some(), tissue.threshold) {
+                    (true, _) => " (in the mask)".to_string(),
+                    (false, Some(t)) =>
+                        format!(" (S0 above {t:.1}, Otsu's threshold of the b=0 image)"),
+                    (false, None) => String::new(),
                 },
                 Setting::Response.with("FILE"),
                 Setting::ResponseFa.mention()
@@ -223,6 +241,10 @@ pub fn estimate_response(
         eigenvalues: [l1, l2, l2],
         s0,
         voxels: count,
+        s0_range,
+        bounds,
+        threshold: tissue.threshold,
+        tissue_voxels: tissue.count(),
     })
 }
 

@@ -7,7 +7,7 @@ use glam::DVec3;
 use ndarray::{Array4, ArrayView1, s};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use super::csd::CsdFitter;
+use super::csd::{CsdFitter, FIRST_ESTIMATE_BAND};
 use super::odf::{LinearOdfFitter, OdfMethod};
 use super::response::{DEFAULT_RESPONSE_FA, Response, estimate_response};
 use super::sh::ShFitter;
@@ -254,7 +254,22 @@ impl VoxelFitter {
         let directions: Vec<DVec3> = table.iter().map(|w| w.2).collect();
         let bvals: Vec<f64> = table.iter().map(|w| w.1).collect();
         let bvec_file = inputs.origin.directions.clone();
-        let unknowns = model.coefficient_count();
+        // CSD may ask for more coefficients than there are directions: the constraint
+        // determines the rest (super-resolved CSD, Tournier et al. 2007, as dwi2fod -lmax
+        // does); the directions must then determine the bands of its first estimate.
+        let super_resolved = matches!(
+            model,
+            FitModel::Odf {
+                method: OdfMethod::Csd,
+                ..
+            }
+        );
+        let unknowns = match *model {
+            FitModel::Odf { band, .. } if super_resolved => {
+                super::sh::sh_count(band.min(FIRST_ESTIMATE_BAND))
+            }
+            _ => model.coefficient_count(),
+        };
         if directions.len() < unknowns {
             return Err(Error::input(
                 bvec_file,
@@ -298,7 +313,12 @@ impl VoxelFitter {
                     OdfMethod::Qball => "the Q-ball ODF",
                 };
                 check_single_shell(&bvals, &inputs.origin.bvals, what)?;
-                check_sh_directions(band, &directions, &bvec_file)?;
+                let determined = if method == OdfMethod::Csd {
+                    determined_band(band, directions.len())
+                } else {
+                    band
+                };
+                check_sh_directions(determined, &directions, &bvec_file)?;
                 if method == OdfMethod::Csd {
                     let estimated;
                     let response = match response {
@@ -430,6 +450,15 @@ impl VoxelFitter {
 /// The SH fit's regularisation makes even identical directions solvable, with the
 /// penalty alone choosing the coefficients; refused here as the tensor fit refuses them,
 /// by the rank of the unregularised design (`tensor::design_rank`).
+/// The highest even band up to `band` whose SH series `count` directions can determine.
+fn determined_band(band: u32, count: usize) -> u32 {
+    (0..=band)
+        .step_by(2)
+        .filter(|&b| super::sh::sh_count(b) <= count)
+        .max()
+        .unwrap_or(0)
+}
+
 fn check_sh_directions(band: u32, directions: &[DVec3], bvec_file: &str) -> Result<()> {
     let unknowns = super::sh::sh_count(band);
     let rank = design_rank(band, directions);

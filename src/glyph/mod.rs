@@ -18,6 +18,7 @@ pub mod reference;
 pub mod rotate;
 pub mod sh;
 pub mod stiffness;
+pub mod tensor_order;
 pub mod tessellate;
 
 /// Whether a Cartesian tensor is stored by its unique entries (Eq. 5) or in full (Eq. 4).

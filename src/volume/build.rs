@@ -334,6 +334,15 @@ fn truncated_kind(volume: &Volume, lmax: Option<u32>) -> Result<GlyphKind> {
     }
 }
 
+/// How the error of a selection with no glyph starts ([`is_nothing_to_draw`]).
+const NOTHING_TO_DRAW: &str = "no glyph to draw in the ";
+
+/// Whether `err` is [`volume_scene`]'s refusal of a selection that holds no glyph.
+pub fn is_nothing_to_draw(err: &Error) -> bool {
+    matches!(err, Error::Input { field, message, .. }
+        if field == "voxels" && message.starts_with(NOTHING_TO_DRAW))
+}
+
 fn nothing_to_draw(volume: &Volume, regions: &[SliceRegion], report: &VolumeReport) -> Error {
     let slices: Vec<String> = regions
         .iter()
@@ -343,7 +352,7 @@ fn nothing_to_draw(volume: &Volume, regions: &[SliceRegion], report: &VolumeRepo
         &volume.file,
         "voxels",
         format!(
-            "no glyph to draw in the {} voxels selected ({} of them masked out, {} not finite, \
+            "{NOTHING_TO_DRAW}{} voxels selected ({} of them masked out, {} not finite, \
              {} zero, {} below {}) in slice {}",
             report.selected,
             report.masked_out,

@@ -4,7 +4,7 @@
 //! scene the single view of its slice would be. Both front ends draw what this gives.
 use std::sync::Arc;
 
-use super::build::{VolumeOptions, VolumeScene, volume_scene};
+use super::build::{VolumeOptions, VolumeScene, is_nothing_to_draw, volume_scene};
 use super::framing::ImageRequest;
 use super::input::{Mask, Volume, load_mask};
 use super::request::{ImageSource, VolumeRequest};
@@ -130,7 +130,35 @@ impl VolumeRequest {
         }
         let mut options = self.options(image)?;
         options.mask = self.read_mask()?;
-        self.plan(volume, &options)
+        let mut plan = self.plan(volume, &options)?;
+        if self.views.is_some() {
+            // The viewer builds each panel itself: an empty middle slice is moved (or its
+            // view left out) here, as `montage` does for `render`.
+            let mut panels = Vec::with_capacity(plan.panels.len());
+            for mut options in plan.panels {
+                match volume_scene(volume, &options) {
+                    Err(err) if options.slice.index.is_none() && is_nothing_to_draw(&err) => {
+                        let (found, note) = nearest_slice_with_glyphs(volume, &options);
+                        plan.notes.push(note);
+                        if let Some((index, _)) = found {
+                            options.slice.index = Some(index);
+                            panels.push(options);
+                        }
+                    }
+                    Err(err) => return Err(err),
+                    Ok(_) => panels.push(options),
+                }
+            }
+            if panels.is_empty() {
+                return Err(Error::setting(
+                    Setting::Views,
+                    format!("no view of {} holds a glyph", volume.file),
+                ));
+            }
+            plan.columns = panels.len();
+            plan.panels = panels;
+        }
+        Ok(plan)
     }
 
     /// Each panel's options (from `options`, the montage's) and the grid's columns.
@@ -162,21 +190,82 @@ impl VolumeRequest {
         })
     }
 
-    /// The panels of the views, or of the lightbox's slices.
+    /// The panels of the views, or of the lightbox's slices. A view at its default
+    /// (middle) slice that holds no glyph is drawn at the nearest slice that holds one,
+    /// or left out when none does, with a note either way; only a montage left with no
+    /// panel is an error.
     fn montage(&self, volume: &Volume, options: &VolumeOptions) -> Result<VolumeMontage> {
-        let plan = self.plan(volume, options)?;
-        let panels = plan
-            .panels
-            .iter()
-            .map(|options| volume_scene(volume, options))
-            .collect::<Result<Vec<_>>>()?;
+        let mut plan = self.plan(volume, options)?;
+        let mut panels = Vec::with_capacity(plan.panels.len());
+        let mut first_error = None;
+        for options in &plan.panels {
+            match volume_scene(volume, options) {
+                Ok(scene) => panels.push(scene),
+                Err(err)
+                    if self.views.is_some()
+                        && options.slice.index.is_none()
+                        && is_nothing_to_draw(&err) =>
+                {
+                    let (found, note) = nearest_slice_with_glyphs(volume, options);
+                    plan.notes.push(note);
+                    panels.extend(found.map(|(_, scene)| scene));
+                    first_error.get_or_insert(err);
+                }
+                Err(err) => return Err(err),
+            }
+        }
+        if panels.is_empty()
+            && let Some(err) = first_error
+        {
+            return Err(err);
+        }
+        let columns = if self.views.is_some() {
+            panels.len()
+        } else {
+            plan.columns
+        };
         Ok(VolumeMontage {
             file: volume.file.clone(),
             panels,
-            columns: plan.columns,
+            columns,
             notes: plan.notes,
         })
     }
+}
+
+/// The index and scene of the slice of `options`' plane nearest its middle that holds a
+/// glyph (`None` when no slice does), with a note that says which was drawn.
+fn nearest_slice_with_glyphs(
+    volume: &Volume,
+    options: &VolumeOptions,
+) -> (Option<(usize, VolumeScene)>, String) {
+    let axis = options.slice.axis;
+    let voxel = axis.voxel_axis();
+    let (letter, length) = (["i", "j", "k"][voxel], volume.dims[voxel]);
+    let middle = length / 2;
+    let nearest = (1..length)
+        .flat_map(|offset| [middle.checked_add(offset), middle.checked_sub(offset)])
+        .flatten()
+        .filter(|&index| index < length);
+    for index in nearest {
+        let mut moved = options.clone();
+        moved.slice.index = Some(index);
+        if let Ok(scene) = volume_scene(volume, &moved) {
+            let note = format!(
+                "{}: the middle {} slice ({letter}={middle}) holds no glyph; drawn at \
+                 {letter}={index}, the nearest that does",
+                volume.file,
+                axis.name()
+            );
+            return (Some((index, scene)), note);
+        }
+    }
+    let note = format!(
+        "{}: no {} slice holds a glyph; that view is left out",
+        volume.file,
+        axis.name()
+    );
+    (None, note)
 }
 
 /// The views of a montage: axial, coronal and sagittal (each optionally :INDEX), comma

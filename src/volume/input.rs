@@ -14,6 +14,7 @@ use ndarray::{Array3, Array4, ArrayD, Axis, Ix3, Ix4};
 
 use crate::glyph::TensorLayout;
 use crate::glyph::sh;
+use crate::glyph::tensor_order::{DTI_COUNT, OrderEvidence, TensorOrder};
 use crate::io::image::{Image, ImageHeader, read_image};
 use crate::io::nifti::VoxelToWorld;
 use crate::scene::{GlyphKind, ShBasis};
@@ -59,6 +60,9 @@ pub struct Volume {
     pub frame: CoefficientFrame,
     /// Shape [x, y, z, coefficients].
     data: Array4<f64>,
+    /// What the user should know about how the file was read (a 6-volume SH file whose
+    /// name suggests a tensor); the front ends print them.
+    pub notes: Vec<String>,
 }
 
 /// Which voxels a mask keeps: nonzero values (NaN counts as zero).
@@ -98,6 +102,7 @@ impl Volume {
             voxel_to_world,
             frame: CoefficientFrame::Voxel,
             data,
+            notes: Vec::new(),
         })
     }
 
@@ -105,18 +110,7 @@ impl Volume {
     /// image's default frame ([`CoefficientFrame::of_image`]).
     pub fn from_image(image: Image, kind: VolumeKind) -> Result<Self> {
         let frame = CoefficientFrame::of_image(&image)?;
-        let shape = image.shape(4);
-        if shape.len() != 4 {
-            return Err(Error::input(
-                &image.file,
-                "dim",
-                format!(
-                    "a {}D image ({}) where a 4D volume [x, y, z, coefficients] is needed",
-                    shape.len(),
-                    show_shape(&shape)
-                ),
-            ));
-        }
+        check_four_d(&image)?;
         let data = squeeze(image.data, 4)
             .into_dimensionality::<Ix4>()
             .map_err(|err| Error::input(&image.file, "dim", err.to_string()))?;
@@ -130,20 +124,64 @@ impl Volume {
         self.data.shape()[3]
     }
 
-    /// The coefficients of voxel (i, j, k), in the file's order, without a copy (for
+    /// The coefficients of voxel (i, j, k), in glyphcast's order, without a copy (for
     /// passes over every voxel).
     pub fn coefficients_view(&self, voxel: [usize; 3]) -> ndarray::ArrayView1<'_, f64> {
         let [i, j, k] = voxel;
         self.data.slice(ndarray::s![i, j, k, ..])
     }
 
-    /// The coefficients of voxel (i, j, k), in the file's order.
+    /// Each voxel's six DTI entries, stored in `stored` order, put in glyphcast's order
+    /// (the caller has checked that the volume holds symmetric order-2 tensors).
+    pub fn reorder_tensors(&mut self, stored: TensorOrder) {
+        if stored.is_glyphcast() || self.coefficient_count() != DTI_COUNT {
+            return;
+        }
+        for mut lane in self.data.lanes_mut(Axis(3)) {
+            let values: [f64; DTI_COUNT] = std::array::from_fn(|k| lane[k]);
+            for (out, value) in lane.iter_mut().zip(stored.to_glyphcast(&values)) {
+                *out = value;
+            }
+        }
+    }
+
+    /// How many of the volume's six-entry tensors each stored order makes positive
+    /// definite (empty for other coefficient counts).
+    pub fn order_evidence(&self) -> OrderEvidence {
+        let mut evidence = OrderEvidence::default();
+        if self.coefficient_count() == DTI_COUNT {
+            for lane in self.data.lanes(Axis(3)) {
+                evidence.add(&std::array::from_fn(|k| lane[k]));
+            }
+        }
+        evidence
+    }
+
+    /// The coefficients of voxel (i, j, k), in glyphcast's order.
     pub fn coefficients(&self, voxel: [usize; 3]) -> Vec<f64> {
         let [i, j, k] = voxel;
         (0..self.coefficient_count())
             .map(|c| self.data[[i, j, k, c]])
             .collect()
     }
+}
+
+/// Err, naming the file's `dim`, unless `image` is 4D [x, y, z, coefficients] (trailing
+/// axes of length 1 aside).
+pub fn check_four_d(image: &Image) -> Result<()> {
+    let shape = image.shape(4);
+    if shape.len() == 4 {
+        return Ok(());
+    }
+    Err(Error::input(
+        &image.file,
+        "dim",
+        format!(
+            "a {}D image ({}) where a 4D volume [x, y, z, coefficients] is needed",
+            shape.len(),
+            show_shape(&shape)
+        ),
+    ))
 }
 
 impl CoefficientFrame {

@@ -1,4 +1,5 @@
-//! The SH basis a coefficient file records, and how it meets `--basis`.
+//! The SH basis a coefficient file records, and how it meets `--basis`; the same for
+//! the stored order of a tensor file's entries and `--tensor-order`.
 //!
 //! glyphcast's `fit` writes its model into the file's description (NIfTI `descrip`,
 //! MRtrix `comments`): "glyphcast fit: SH band 8 descoteaux07 legacy lambda 0.006"
@@ -6,7 +7,9 @@
 //! itself records no basis: its SH images are always tournier07 (non-legacy), so an
 //! MRtrix file that records nothing is taken as that. A NIfTI file that records nothing
 //! says nothing, and `--basis` is then required.
-use crate::fit::parse_basis;
+use crate::fit::{TENSOR_PREFIX, parse_basis};
+use crate::glyph::tensor_order::TensorOrder;
+use crate::glyph::{Symmetry, TensorLayout};
 use crate::io::image::{Image, ImageHeader};
 use crate::scene::ShBasis;
 use crate::{Error, Result, Setting};
@@ -23,8 +26,8 @@ pub struct RecordedBasis {
     pub field: &'static str,
 }
 
-/// The header field that holds a file's description.
-fn description_field(image: &Image) -> &'static str {
+/// The header field that holds a file's description: `descrip` or `comments`.
+pub(crate) fn description_field(image: &Image) -> &'static str {
     match image.header {
         ImageHeader::Nifti(_) => "descrip",
         ImageHeader::Mrtrix(_) => "comments",
@@ -100,6 +103,93 @@ pub fn resolve_basis(
             )),
         },
     }
+}
+
+/// The stored order `image` records in its description (`fit::tensor_description`):
+/// the name of " in NAME order" after the tensor fit's prefix, glyphcast's when a tensor
+/// fit's description has none (glyphcast wrote that before it recorded the order), and
+/// `None` where there is no tensor fit's description (or the name is unknown).
+pub fn recorded_tensor_order(image: &Image) -> Option<TensorOrder> {
+    let description = image.description()?;
+    description.lines().find_map(|line| {
+        let rest = &line[line.find(TENSOR_PREFIX)? + TENSOR_PREFIX.len()..];
+        let mut words = rest.split_whitespace().skip(1);
+        match (words.next(), words.next(), words.next()) {
+            (None, ..) => Some(TensorOrder::Glyphcast),
+            (Some("in"), Some(name), Some("order")) => name.parse().ok(),
+            _ => None,
+        }
+    })
+}
+
+/// Where the stored order of a tensor volume's entries comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OrderSource {
+    /// The tensor order setting.
+    Given,
+    /// The file's description (a file glyphcast wrote).
+    Recorded,
+    /// The convention of the file's format (MRtrix for a `.mif`) or glyphcast's where
+    /// nothing says: to be checked against the values.
+    Assumed,
+}
+
+/// The stored order to read a tensor volume of `layout` in: `given` (the tensor order
+/// setting) unless the file records another; else the file's record; else MRtrix's for an
+/// order-2 `.mif` (every MRtrix tensor) and glyphcast's otherwise (`image` is `None` for
+/// coefficients in memory). An order-4 `.mif` without a record is refused: it may be
+/// `dwi2tensor -dkt`'s kurtosis tensor, in an order glyphcast does not read.
+pub fn resolve_tensor_order(
+    image: Option<&Image>,
+    given: Option<TensorOrder>,
+    layout: TensorLayout,
+) -> Result<(TensorOrder, OrderSource)> {
+    let symmetric = layout.symmetry == Symmetry::Symmetric;
+    if let Some(given) = given {
+        given.check_applies(layout.order, symmetric)?;
+    }
+    let recorded = image.and_then(|image| Some((image, recorded_tensor_order(image)?)));
+    match (given, recorded) {
+        (Some(given), Some((image, recorded))) if !given.stores_like(recorded) => {
+            Err(Error::input(
+                &image.file,
+                description_field(image),
+                format!(
+                    "the file records its tensor entries in {}'s order ({}) but {} \
+                     gives {given} ({}); leave it out",
+                    recorded.owner(),
+                    recorded.entries(),
+                    Setting::TensorOrder.mention(),
+                    given.entries()
+                ),
+            ))
+        }
+        (Some(given), _) => Ok((given, OrderSource::Given)),
+        (None, Some((_, recorded))) => Ok((recorded, OrderSource::Recorded)),
+        (None, None) => match image.map(|image| (image, &image.header)) {
+            Some((image, ImageHeader::Mrtrix(_))) if symmetric && layout.order == 4 => {
+                Err(Error::input(
+                    &image.file,
+                    "comments",
+                    format!(
+                        "an order-4 MRtrix image that glyphcast did not write may be \
+                         dwi2tensor -dkt's kurtosis tensor, whose order glyphcast does not \
+                         read; give {} if its entries are in glyphcast's order",
+                        Setting::TensorOrder.with("glyphcast")
+                    ),
+                ))
+            }
+            Some((_, ImageHeader::Mrtrix(_))) if symmetric && layout.order == 2 => {
+                Ok((TensorOrder::Mrtrix, OrderSource::Assumed))
+            }
+            _ => Ok((TensorOrder::Glyphcast, OrderSource::Assumed)),
+        },
+    }
+}
+
+/// Whether `layout` stores the six entries whose order can differ between writers.
+pub fn has_dti_entries(layout: TensorLayout) -> bool {
+    layout.order == 2 && layout.symmetry == Symmetry::Symmetric
 }
 
 #[cfg(test)]

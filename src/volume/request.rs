@@ -7,16 +7,21 @@ use std::path::{Path, PathBuf};
 
 use super::build::VolumeOptions;
 use super::framing::{ImageRequest, ViewProjection};
+use super::input::check_four_d;
 use super::input::{CoefficientFrame, Mask, Volume, VolumeKind};
-use super::recorded::resolve_basis;
+use super::recorded::{
+    OrderSource, description_field, has_dti_entries, recorded_tensor_order, resolve_basis,
+    resolve_tensor_order,
+};
 use crate::error::quoted;
 use crate::fit::parse_basis;
 use crate::glyph::ellipsoid::ELLIPSOID_LAYOUT;
+use crate::glyph::tensor_order::TensorOrder;
 use crate::glyph::{GlyphShape, Symmetry, TensorLayout};
-use crate::io::image::{Image, read_image};
+use crate::io::image::{Image, ImageHeader, read_image};
 use crate::io::nifti::VoxelToWorld;
 use crate::render::underlay::UnderlayVolume;
-use crate::scene::ShBasis;
+use crate::scene::{GlyphKind, ShBasis};
 use crate::{Error, Result, Setting};
 
 /// The most panels of a montage ([`Setting::Views`], [`Setting::Lightbox`]).
@@ -60,6 +65,8 @@ pub struct VolumeRequest {
     pub order: Option<u32>,
     /// A tensor volume holds all 3^N entries.
     pub nonsymmetric: bool,
+    /// The stored order of a DTI volume's six entries: glyphcast, mrtrix, fsl or dipy.
+    pub tensor_order: Option<String>,
     /// AXIS[:INDEX].
     pub slice: Option<String>,
     /// I,J,K or mid.
@@ -126,6 +133,9 @@ impl VolumeRequest {
                 if self.nonsymmetric {
                     return misplaced(Setting::Nonsymmetric, "tensor");
                 }
+                if self.tensor_order.is_some() {
+                    return misplaced(Setting::TensorOrder, "tensor");
+                }
             }
             Coefficients::Tensor => {
                 for (setting, given) in [
@@ -138,10 +148,18 @@ impl VolumeRequest {
                         return misplaced(setting, "SH");
                     }
                 }
-                self.tensor_order()?;
+                let order = self.tensor_order()?;
+                if let Some(stored) = self.given_tensor_order()? {
+                    stored.check_applies(order, !self.nonsymmetric)?;
+                }
             }
         }
         Ok(())
+    }
+
+    /// The stored order of a tensor volume's entries, if given.
+    pub fn given_tensor_order(&self) -> Result<Option<TensorOrder>> {
+        self.tensor_order.as_deref().map(str::parse).transpose()
     }
 
     /// Everything about the view but the mask, which [`VolumeRequest::figure`] reads.
@@ -283,9 +301,18 @@ impl VolumeRequest {
         self.check(input)?;
         self.options(ImageRequest::default())?;
         let file = read_image(path)?;
+        // The shape before the basis: a 3D file is not 4D, whatever it records.
+        check_four_d(&file)?;
+        let note = match input {
+            Coefficients::Sh => tensor_hint(&file)?,
+            Coefficients::Tensor => None,
+        };
         let kind = self.kind(input, Some(&file))?;
         self.check_shape(kind, &file.file)?;
-        let volume = Volume::from_image(file, kind)?;
+        let stored = self.stored_order(kind, Some(&file))?;
+        let mut volume = Volume::from_image(file, kind)?;
+        volume.notes.extend(note);
+        let volume = in_glyphcast_order(volume, stored)?;
         self.in_frame(volume)
     }
 
@@ -303,8 +330,25 @@ impl VolumeRequest {
         self.options(ImageRequest::default())?;
         let kind = self.kind(input, None)?;
         self.check_shape(kind, name)?;
+        let stored = self.stored_order(kind, None)?;
         let volume = Volume::new(name, data, kind, voxel_to_world)?;
+        let volume = in_glyphcast_order(volume, stored)?;
         self.in_frame(volume)
+    }
+
+    /// The stored order of a tensor volume's entries and where it comes from
+    /// ([`resolve_tensor_order`]); `None` for SH.
+    fn stored_order(
+        &self,
+        kind: VolumeKind,
+        file: Option<&Image>,
+    ) -> Result<Option<(TensorOrder, OrderSource)>> {
+        match kind {
+            VolumeKind::Sh { .. } => Ok(None),
+            VolumeKind::Tensor(layout) => {
+                resolve_tensor_order(file, self.given_tensor_order()?, layout).map(Some)
+            }
+        }
     }
 
     /// The ellipsoid needs an order-2 symmetric tensor volume.
@@ -388,6 +432,95 @@ impl VolumeRequest {
         }
         Ok(())
     }
+}
+
+/// For six coefficients per voxel read as SH (band 2): an error when the file records a
+/// tensor fit (glyphcast's own record), a note when its header (NIfTI's symmetric-matrix
+/// intent) or its name (dt, dti, tensor) suggests a DTI tensor.
+fn tensor_hint(file: &Image) -> Result<Option<String>> {
+    if file.shape(4).get(3) != Some(&6) {
+        return Ok(None);
+    }
+    if recorded_tensor_order(file).is_some() {
+        return Err(Error::input(
+            &file.file,
+            description_field(file),
+            format!(
+                "records a symmetric order-2 tensor (glyphcast fit), not SH coefficients: draw \
+                 it as a tensor volume with {}",
+                Setting::Order.with(2)
+            ),
+        ));
+    }
+    const NIFTI_INTENT_SYMMATRIX: i32 = 1005;
+    let intent =
+        matches!(&file.header, ImageHeader::Nifti(h) if h.intent_code == NIFTI_INTENT_SYMMATRIX);
+    let name = std::path::Path::new(&file.file)
+        .file_name()
+        .map(|n| n.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    let named = name
+        .split(|c: char| !c.is_ascii_alphanumeric())
+        .any(|word| matches!(word, "dt" | "dti" | "tensor" | "tensors" | "dtifit"))
+        || name.contains("tensor")
+        || name.contains("lower_triangular");
+    let why = match (intent, named) {
+        (true, _) => "its header's intent is a symmetric matrix",
+        (false, true) => "its name suggests a diffusion tensor",
+        (false, false) => return Ok(None),
+    };
+    Ok(Some(format!(
+        "{}: 6 coefficients per voxel, drawn as SH of band 2, but {why}: if it holds \
+         tensors, draw it as a tensor volume with {} (and {} naming the order of its entries)",
+        file.file,
+        Setting::Order.with(2),
+        Setting::TensorOrder.mention()
+    )))
+}
+
+/// `volume`'s DTI entries put in glyphcast's order from `stored`; an order only assumed
+/// (neither given nor recorded) is refused when the values contradict it
+/// ([`OrderEvidence::contradicts`]), rather than drawn as indefinite tensors.
+fn in_glyphcast_order(
+    mut volume: Volume,
+    stored: Option<(TensorOrder, OrderSource)>,
+) -> Result<Volume> {
+    let Some((stored, source)) = stored else {
+        return Ok(volume);
+    };
+    let GlyphKind::Tensor(layout) = volume.kind else {
+        return Ok(volume);
+    };
+    if !has_dti_entries(layout) {
+        return Ok(volume);
+    }
+    if source == OrderSource::Assumed {
+        let evidence = volume.order_evidence();
+        if let Some(other) = evidence.contradicts(stored) {
+            return Err(Error::input(
+                &volume.file,
+                "values",
+                format!(
+                    "{} of {} tensors are not positive definite read in {}'s order \
+                     ({}), {} in {}'s ({}): the entries are not in {}'s order, and \
+                     nothing records theirs; give {} (or {} to draw them as they are read \
+                     now)",
+                    evidence.not_positive_in(stored),
+                    evidence.tensors,
+                    stored.owner(),
+                    stored.entries(),
+                    evidence.not_positive_in(other),
+                    other.owner(),
+                    other.entries(),
+                    stored.owner(),
+                    Setting::TensorOrder.with(other),
+                    Setting::TensorOrder.with(stored),
+                ),
+            ));
+        }
+    }
+    volume.reorder_tensors(stored);
+    Ok(volume)
 }
 
 fn parse_or_default<T>(text: Option<&str>) -> Result<T>

@@ -1,7 +1,8 @@
 //! The text header of an MRtrix image: the line `mrtrix image`, then `key: value` lines
-//! up to a line `END`. Keys are matched without regard to case; `transform`, `dw_scheme`
-//! and `file` may repeat (one line each per row, volume or data file); keys glyphcast
-//! does not use are kept in `other`.
+//! up to a line `END` or the end of the file, read as MRtrix reads them (`split_lines`).
+//! Keys are matched without regard to case; `transform`, `dw_scheme` and `file` may
+//! repeat (one line each per row, volume or data file); keys glyphcast does not use are
+//! kept in `other`.
 use super::datatype::DataType;
 use crate::error::quoted;
 use crate::{Error, Result};
@@ -98,7 +99,12 @@ fn missing(file: &str, key: &str) -> Error {
     Error::input(file, key, "missing from the header (a required key)")
 }
 
-/// The key lines up to `END`, and the header's length in bytes.
+/// The key lines up to `END`, and the header's length in bytes, read by MRtrix's rules
+/// (`File::KeyValue`, documented with the format): the first line starts with `mrtrix
+/// image`; text from `#` on is a comment; a line that is empty, has no colon, or has no
+/// key or no value is skipped; `END` or the end of the file ends the header (a `.mih`
+/// often has no `END`); a required key given twice takes its last value. Bytes that are
+/// not text before an `END` are binary data the header forgot to end before: refused.
 fn split_lines(bytes: &[u8], file: &str) -> Result<(Entries, usize)> {
     let mut entries = Entries::default();
     let mut start = 0;
@@ -111,15 +117,16 @@ fn split_lines(bytes: &[u8], file: &str) -> Result<(Entries, usize)> {
         let raw = &bytes[start..end];
         let next = (end + 1).min(bytes.len());
         number += 1;
+        let not_mrtrix = || {
+            Error::input(
+                file,
+                "line 1",
+                "not an MRtrix image (the first line does not start with 'mrtrix image')",
+            )
+        };
         let line = match std::str::from_utf8(raw) {
-            Ok(line) => line.trim(),
-            Err(_) if number == 1 => {
-                return Err(Error::input(
-                    file,
-                    "line 1",
-                    "not an MRtrix image (the first line is not 'mrtrix image')",
-                ));
-            }
+            Ok(line) => line,
+            Err(_) if number == 1 => return Err(not_mrtrix()),
             Err(_) => {
                 return Err(Error::input(
                     file,
@@ -130,42 +137,28 @@ fn split_lines(bytes: &[u8], file: &str) -> Result<(Entries, usize)> {
         };
         start = next;
         if number == 1 {
-            if line != MAGIC {
-                return Err(Error::input(
-                    file,
-                    "line 1",
-                    "not an MRtrix image (the first line is not 'mrtrix image')",
-                ));
+            if !line.starts_with(MAGIC) {
+                return Err(not_mrtrix());
             }
             continue;
         }
+        let line = line.split('#').next().unwrap_or_default().trim();
         if line == "END" {
             return Ok((entries, next));
         }
-        if line.is_empty() {
-            continue;
-        }
         let Some((key, value)) = line.split_once(':') else {
-            return Err(Error::input(
-                file,
-                format!("line {number}"),
-                format!("expected 'key: value', got '{}'", quoted(line)),
-            ));
+            continue;
         };
         let (key, value) = (key.trim().to_ascii_lowercase(), value.trim().to_string());
-        let single = |slot: &mut Option<String>, value: String| {
-            if slot.is_some() {
-                return Err(Error::input(file, &key, "given twice"));
-            }
-            *slot = Some(value);
-            Ok(())
-        };
+        if key.is_empty() || value.is_empty() {
+            continue;
+        }
         match key.as_str() {
-            "dim" => single(&mut entries.dim, value)?,
-            "vox" => single(&mut entries.vox, value)?,
-            "layout" => single(&mut entries.layout, value)?,
-            "datatype" => single(&mut entries.datatype, value)?,
-            "scaling" => single(&mut entries.scaling, value)?,
+            "dim" => entries.dim = Some(value),
+            "vox" => entries.vox = Some(value),
+            "layout" => entries.layout = Some(value),
+            "datatype" => entries.datatype = Some(value),
+            "scaling" => entries.scaling = Some(value),
             "transform" => entries.transform.push(value),
             "file" => entries.files.push(value),
             "dw_scheme" => entries.dw_scheme.push(value),
@@ -179,11 +172,7 @@ fn split_lines(bytes: &[u8], file: &str) -> Result<(Entries, usize)> {
             "empty file, not an MRtrix image",
         ));
     }
-    Err(Error::input(
-        file,
-        "END",
-        "the header has no 'END' line (truncated file?)",
-    ))
+    Ok((entries, bytes.len()))
 }
 
 /// Comma-separated numbers of `key`.
@@ -223,14 +212,17 @@ fn parse_dims(text: Option<&str>, file: &str) -> Result<Vec<usize>> {
 
 fn parse_vox(text: Option<&str>, axes: usize, file: &str) -> Result<Vec<f64>> {
     let text = text.ok_or_else(|| missing(file, "vox"))?;
-    let vox = numbers(text, "vox", file)?;
-    if vox.len() != axes {
+    let mut vox = numbers(text, "vox", file)?;
+    // As MRtrix: sizes for the first three axes at least; the others' may be left out
+    // (NaN here) and sizes beyond dim's axes are ignored.
+    if vox.len() < axes.min(3) {
         return Err(Error::input(
             file,
             "vox",
             format!("{} voxel sizes for the {axes} axes of dim", vox.len()),
         ));
     }
+    vox.resize(axes, f64::NAN);
     // Only the spatial sizes are used: the others (volumes) are often NaN.
     if let Some((axis, size)) = vox
         .iter()
@@ -460,8 +452,52 @@ mod tests {
         assert!(broken("layout: -0,+2,+1", "layout: 0,2,x").contains("layout"));
         assert!(broken("transform: 0,0,1,3\n", "").contains("transform: 8 numbers"));
         assert!(broken("file: my data.dat 12\n", "").contains("file: missing"));
-        assert!(broken("vox: 1,2,3", "vox: 1,2,3\nvox: 1,2,3").contains("vox: given twice"));
-        assert!(broken("datatype: UInt8", "datatype UInt8").contains("line 5"));
-        assert!(broken("END\nbinary", "").contains("END: the header has no"));
+        // A line without a colon is skipped, as MRtrix skips it: the key is then missing.
+        assert!(broken("datatype: UInt8", "datatype UInt8").contains("datatype: missing"));
+        assert!(broken("vox: 1,2,3", "vox: 1,2").contains("vox: 2 voxel sizes"));
+        assert!(broken("mrtrix image", "nrrd image").contains("line 1"));
+        // Binary data where the header has not ended.
+        let mut binary = HEADER.replace("END\nbinary", "").into_bytes();
+        binary.extend_from_slice(&[0xff, 0xfe, 0x00, 0x3f]);
+        let err = MifHeader::parse(&binary, "h.mif").unwrap_err().to_string();
+        assert!(err.contains("END: no 'END' line"), "{err}");
+    }
+
+    /// What MRtrix's key/value reader accepts, glyphcast reads alike.
+    #[test]
+    fn mrtrix_reader_rules() {
+        let read = |text: &str| MifHeader::parse(text.as_bytes(), "h.mih").unwrap();
+        // A header that ends with the file, without END (a hand-written .mih).
+        let no_end = HEADER.replace("END\nbinary", "");
+        let h = read(&no_end);
+        assert_eq!(h.dims, vec![4, 5, 6]);
+        assert_eq!(h.length, no_end.len());
+        // Comments, a line without a colon, an empty value, a repeated key (the last
+        // wins), more text on the first line.
+        let edited = HEADER
+            .replace(
+                "mrtrix image\r\n",
+                "mrtrix image (written by hand)\n# a note\n",
+            )
+            .replace(
+                "vox: 1,2,3",
+                "vox: 9,9,9\nvox: 1,2,3 # mm\nstray words\nempty:",
+            )
+            .replace("END", "  END  # done");
+        let h = read(&edited);
+        assert_eq!(h.vox, vec![1.0, 2.0, 3.0]);
+        assert_eq!(h.other, vec![("mrtrix_version".into(), "3.0".into())]);
+        assert_eq!(&edited.as_bytes()[h.length..], b"binary");
+        // Voxel sizes for the three spatial axes suffice; more than dim has are ignored.
+        let four_d = HEADER
+            .replace("Dim: 4,5,6", "dim: 4,5,6,7")
+            .replace("-0,+2,+1", "-0,+2,+1,+3");
+        assert!(read(&four_d).vox[3].is_nan());
+        assert_eq!(
+            read(&HEADER.replace("vox: 1,2,3", "vox: 1,2,3,4"))
+                .vox
+                .len(),
+            3
+        );
     }
 }
