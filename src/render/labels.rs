@@ -136,6 +136,33 @@ pub fn draw_edge_labels(
     Ok(())
 }
 
+/// Draws `text` (a panel's slice, "k=12") in the top-left corner of `rgba` (`width` x
+/// `height`, row-major RGBA8), as the edge labels are drawn: white with a dark shadow,
+/// at their size.
+pub fn draw_caption(rgba: &mut [u8], width: u32, height: u32, text: &str) -> Result<()> {
+    if rgba.len() != 4 * width as usize * height as usize {
+        return Err(Error::Invalid(format!(
+            "caption: {} bytes for a {width}x{height} RGBA image",
+            rgba.len()
+        )));
+    }
+    let font = FontRef::try_from_slice(dejavu_sans()?)
+        .map_err(|err| Error::Setup(format!("DejaVu Sans: {err}")))?;
+    let size = (LETTER_FRACTION * width.min(height) as f32).max(MIN_LETTER_PX);
+    let scaled = font.as_scaled(PxScale::from(size));
+    let (margin, cap) = (0.3 * size, 0.73 * scaled.ascent());
+    let shadow = (1.0f32).max(0.06 * size);
+    let mut canvas = Canvas {
+        rgba,
+        width,
+        height,
+    };
+    let (x, baseline) = (margin, margin + cap);
+    canvas.text(&font, size, text, x + shadow, baseline + shadow, [0, 0, 0]);
+    canvas.text(&font, size, text, x, baseline, [255, 255, 255]);
+    Ok(())
+}
+
 /// RGBA8 pixels that text is blended onto (the labels here, the colour bar's ticks).
 pub(crate) struct Canvas<'a> {
     pub(crate) rgba: &'a mut [u8],

@@ -14,8 +14,9 @@ use crate::glyph::NegativeMode;
 use crate::render::antialias::MAX_SUPERSAMPLED_SIDE as MAX_SIDE;
 use crate::render::colorbar::srgb_byte;
 use crate::render::glyph_data::GlyphSetData;
-use crate::render::headless::{HeadlessRenderer, RenderedImage};
-use crate::render::labels::{draw_edge_labels, edge_labels};
+use crate::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
+use crate::render::labels::{draw_caption, draw_edge_labels, edge_labels};
+use crate::render::underlay::Underlay;
 use crate::render::options::{PreparedScene, prepare_render};
 use crate::render::settings::{ColorMode, RenderSettings};
 use crate::scene::Scene;
@@ -149,6 +150,10 @@ pub struct PreparedMontage {
     pub panels: Vec<PreparedScene>,
     /// The settings every panel is drawn with (one magnitude range for all).
     pub settings: RenderSettings,
+    /// Each panel's underlay, if any ([`PreparedMontage::with_underlays`]).
+    underlays: Vec<Option<Underlay>>,
+    /// Each panel's caption, if any ([`PreparedMontage::with_captions`]).
+    captions: Vec<Option<String>>,
     grid: Grid,
 }
 
@@ -175,6 +180,8 @@ pub fn prepare_montage(
     let grid = Grid::new((cell_w, cell_h), columns, panels.len());
     grid.size()?;
     Ok(PreparedMontage {
+        underlays: Vec::new(),
+        captions: Vec::new(),
         panels,
         settings,
         grid,
@@ -192,6 +199,18 @@ impl PreparedMontage {
         self.grid.columns
     }
 
+    /// Draws `underlays[k]` (if any) in panel k's depth buffer.
+    pub fn with_underlays(mut self, underlays: Vec<Option<Underlay>>) -> Self {
+        self.underlays = underlays;
+        self
+    }
+
+    /// Writes `captions[k]` (if any, the panel's slice) in panel k's top-left corner.
+    pub fn with_captions(mut self, captions: Vec<Option<String>>) -> Self {
+        self.captions = captions;
+        self
+    }
+
     /// Glyphs in all panels.
     pub fn glyph_count(&self) -> usize {
         self.panels.iter().map(PreparedScene::glyph_count).sum()
@@ -202,8 +221,8 @@ impl PreparedMontage {
         self.panels.iter().flat_map(|panel| &panel.sets)
     }
 
-    /// Draws every panel into its cell, with the anatomical directions at each panel's
-    /// edges if `labels`.
+    /// Draws every panel into its cell, with its underlay and caption if any, and the
+    /// anatomical directions at each panel's edges if `labels`.
     pub fn render(
         &self,
         renderer: &mut HeadlessRenderer,
@@ -214,10 +233,14 @@ impl PreparedMontage {
         let mut montage = Montage::new(self.grid, width, height, self.settings.background);
         for (k, panel) in self.panels.iter().enumerate() {
             let (w, h) = (panel.width, panel.height);
-            let mut image =
-                renderer.render(gpu, &panel.sets, &panel.camera, w, h, &self.settings)?;
+            let underlay = self.underlays.get(k).and_then(Option::as_ref);
+            let view = FrameView::new(&panel.camera, w, h).with_underlay(underlay);
+            let mut image = renderer.render_view(gpu, &panel.sets, &view, &self.settings)?;
             if labels {
                 draw_edge_labels(&mut image.rgba, w, h, &edge_labels(&panel.camera))?;
+            }
+            if let Some(Some(caption)) = self.captions.get(k) {
+                draw_caption(&mut image.rgba, w, h, caption)?;
             }
             montage.place(k, &image);
         }

@@ -57,6 +57,9 @@ pub struct Volume {
     pub voxel_to_world: VoxelToWorld,
     /// The frame of the coefficients: the file's default, or what the user said.
     pub frame: CoefficientFrame,
+    /// Notes for the user about how the file was read (a basis name that other tools
+    /// read otherwise), shown with the figure.
+    pub notes: Vec<String>,
     /// Shape [x, y, z, coefficients].
     data: Array4<f64>,
 }
@@ -97,6 +100,7 @@ impl Volume {
             kind,
             voxel_to_world,
             frame: CoefficientFrame::Voxel,
+            notes: Vec::new(),
             data,
         })
     }
