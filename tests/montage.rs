@@ -149,11 +149,12 @@ fn lightbox_draws_evenly_spaced_slices_in_a_grid() {
         &["--lightbox", "5", "--slice", "coronal"],
     );
     assert_eq!((montage.width, montage.height), (3 * W, 2 * H));
-    // 10 slices along j: floor((2k + 1) 10 / 10) = 1, 3, 5, 7, 9, each captioned.
+    // 10 slices: floor((2k + 1) 10 / 10) = 1, 3, 5, 7, 9, each captioned with its index
+    // along the voxel axis of the coronal plane (i in this rotated volume).
     for (k, index) in [1, 3, 5, 7, 9].iter().enumerate() {
         let slice = format!("coronal:{index}");
         let single = render(&dir, &dti, &slice, &["--slice", &slice]);
-        let caption = format!("j={index}");
+        let caption = format!("i={index}");
         assert_panel(&montage, k as u32 % 3, k as u32 / 3, &single, Some(&caption), &slice);
     }
     let corner = montage.rgba[4 * ((H + 3) * montage.width + 2 * W + 3) as usize..][..4].to_vec();
