@@ -23,7 +23,7 @@ from dipy.reconst.csdeconv import (  # noqa: E402
 )
 
 DATA = ROOT / "tests" / "data" / "dipy"
-SIZE = dict(width=96, height=96)
+SIZE = dict(width=128, height=128)
 
 
 @pytest.fixture(scope="module")
@@ -44,7 +44,7 @@ def csd():
 def test_descoteaux07_means_what_it_means_in_dipy(csd):
     coeffs, affine = csd
     dipy_default = glyphcast.render_sh(coeffs, affine, basis="dipy", **SIZE)
-    assert np.isfinite(dipy_default.depth).sum() > 500
+    assert np.isfinite(dipy_default.depth).sum() > 200
     for name in ("descoteaux07", "Descoteaux07", "DIPY", "dipy"):
         ours = glyphcast.render_sh(coeffs, affine, basis=name, **SIZE)
         assert_same_depth(ours.depth, dipy_default.depth)
@@ -58,6 +58,33 @@ def test_descoteaux07_means_what_it_means_in_dipy(csd):
     with pytest.raises(ValueError, match=r"^basis='dipy': names the legacy descoteaux07 "
                                          r"basis .*give basis=dipy-new$"):
         glyphcast.render_sh(coeffs, affine, basis="dipy", legacy=False)
+
+
+def test_the_command_line_says_how_it_reads_descoteaux07(csd, cli_binary, tmp_path):
+    """The command line keeps the scene format's meaning (non-legacy; files record their
+    basis with its variant) and says so, naming both choices, when the file records
+    none."""
+    coeffs, affine = csd
+    path = tmp_path / "fod.nii.gz"
+    nib.save(nib.Nifti1Image(coeffs.astype(np.float32), affine), path)
+
+    def run(*basis):
+        depth = tmp_path / "d.npy"
+        done = subprocess.run(
+            [str(cli_binary), "render", "--sh", str(path), *basis, "--width", "64",
+             "-o", str(tmp_path / "x.png"), "--depth-out", str(depth), "--validation"],
+            capture_output=True, text=True,
+        )
+        assert done.returncode == 0, done.stderr
+        return np.load(depth), done.stderr
+
+    plain, said = run("--basis", "descoteaux07")
+    new, quiet = run("--basis", "DIPY-new")
+    assert_same_depth(plain, new)
+    assert "--basis dipy" in said and "--basis dipy-new" in said and "--legacy" in said
+    assert "descoteaux07" not in quiet
+    legacy, _ = run("--basis", "Dipy")
+    assert not np.array_equal(legacy, plain, equal_nan=True)
 
 
 def test_sh_order_max_is_lmax(csd):
@@ -85,7 +112,7 @@ def test_views_of_arrays_equal_their_copies(csd):
         "float32 view": coeffs.astype(np.float32)[:, ::-1],
     }
     for what, view in views.items():
-        assert not view.flags.c_contiguous or what == "Fortran order" or what == "C[:, :, 1:2]", what
+        assert not view.flags.c_contiguous, what
         ours = glyphcast.render_sh(view, affine, basis="dipy", slice="axial:0", **SIZE)
         copy = glyphcast.render_sh(np.ascontiguousarray(view), affine, basis="dipy",
                                    slice="axial:0", **SIZE)
@@ -113,8 +140,8 @@ def test_nan_voxels_are_left_out_as_on_the_command_line(csd, cli_binary, tmp_pat
     nib.save(nib.Nifti1Image(bad, affine), path)
     depth = tmp_path / "depth.npy"
     done = subprocess.run(
-        [str(cli_binary), "render", "--sh", str(path), "--basis", "dipy", "--width", "96",
-         "--height", "96", "-o", str(tmp_path / "x.png"), "--depth-out", str(depth),
+        [str(cli_binary), "render", "--sh", str(path), "--basis", "dipy", "--width", "128",
+         "--height", "128", "-o", str(tmp_path / "x.png"), "--depth-out", str(depth),
          "--validation"],
         capture_output=True, text=True,
     )
@@ -142,7 +169,7 @@ def test_the_underlay_no_longer_hides_glyph_halves(csd):
     centre = glyphcast.render_sh(coeffs, affine, basis="dipy", underlay=fa_like,
                                  underlay_plane="centre", **SIZE)
     glyphs = np.isfinite(plain.depth)
-    assert glyphs.sum() > 500
+    assert glyphs.sum() > 200
     # Every glyph pixel stays a glyph pixel, at the same depth.
     assert np.isfinite(behind.depth[glyphs]).all()
     assert np.array_equal(behind.depth[glyphs], plain.depth[glyphs])
@@ -209,15 +236,16 @@ def test_figure_keywords_as_users_pass_them(csd, cli_binary, tmp_path):
     nib.save(nib.Nifti1Image(coeffs.astype(np.float32), affine), path)
     png, depth = tmp_path / "bar.png", tmp_path / "bar.npy"
     done = subprocess.run(
-        [str(cli_binary), "render", "--sh", str(path), "--basis", "dipy", "--width", "96",
-         "--height", "96", "--color", "magnitude", "--colorbar", "--colorbar-label", "fODF",
+        [str(cli_binary), "render", "--sh", str(path), "--basis", "dipy", "--width", "128",
+         "--height", "128", "--color", "magnitude", "--colorbar", "--colorbar-label", "fODF",
          "-o", str(png), "--depth-out", str(depth), "--validation"],
         capture_output=True, text=True,
     )
     assert done.returncode == 0, done.stderr
-    ours = glyphcast.render_sh(coeffs, affine, basis="dipy", color="magnitude",
-                               colorbar=True, colorbar_label="fODF", **SIZE)
-    assert ours.rgba.shape[1] > 96
+    ours = glyphcast.render_sh(coeffs.astype(np.float32), affine, basis="dipy",
+                               color="magnitude", colorbar=True, colorbar_label="fODF",
+                               **SIZE)
+    assert ours.rgba.shape[1] > 128
     assert_same_depth(ours.depth, np.load(depth))
     assert ours.png() == png.read_bytes()
     with pytest.raises(ValueError, match=r"^colorbar: shows the magnitude colour map: it "
