@@ -26,6 +26,9 @@ const MIXED_AXIS_FRACTION: f64 = 0.6;
 const LETTER_FRACTION: f32 = 0.05;
 const MIN_LETTER_PX: f32 = 12.0;
 
+/// Opacity of the dark box behind a panel's caption.
+const CAPTION_BOX_OPACITY: f32 = 0.6;
+
 /// DejaVu Sans, read once per process; an error names the paths tried.
 pub fn dejavu_sans() -> Result<&'static [u8]> {
     static FONT: OnceLock<Option<Vec<u8>>> = OnceLock::new();
@@ -158,6 +161,22 @@ pub fn draw_caption(rgba: &mut [u8], width: u32, height: u32, text: &str) -> Res
         height,
     };
     let (x, baseline) = (margin, margin + cap);
+    // A dark box behind the text, so that it reads over a bright underlay too.
+    let text_width: f32 = text
+        .chars()
+        .map(|c| scaled.h_advance(font.glyph_id(c)))
+        .sum();
+    let pad = 0.25 * size;
+    let (x0, y0) = ((x - pad).floor() as i64, (baseline - cap - pad).floor() as i64);
+    let (x1, y1) = (
+        (x + text_width + shadow + pad).ceil() as i64,
+        (baseline + shadow + pad).ceil() as i64,
+    );
+    for y in y0.max(0)..y1 {
+        for x in x0.max(0)..x1 {
+            canvas.blend(x, y, [0, 0, 0], CAPTION_BOX_OPACITY);
+        }
+    }
     canvas.text(&font, size, text, x + shadow, baseline + shadow, [0, 0, 0]);
     canvas.text(&font, size, text, x, baseline, [255, 255, 255]);
     Ok(())
