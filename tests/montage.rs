@@ -82,7 +82,10 @@ fn assert_panel(
         let written = (0..expected.len())
             .filter(|&n| expected[n] != single.rgba[n])
             .count();
-        assert!(written > 20, "{what}: the caption {caption} changes {written} bytes");
+        assert!(
+            written > 20,
+            "{what}: the caption {caption} changes {written} bytes"
+        );
     }
     let mut glyph_pixels = 0;
     for y in 0..H {
@@ -155,7 +158,14 @@ fn lightbox_draws_evenly_spaced_slices_in_a_grid() {
         let slice = format!("coronal:{index}");
         let single = render(&dir, &dti, &slice, &["--slice", &slice]);
         let caption = format!("i={index}");
-        assert_panel(&montage, k as u32 % 3, k as u32 / 3, &single, Some(&caption), &slice);
+        assert_panel(
+            &montage,
+            k as u32 % 3,
+            k as u32 / 3,
+            &single,
+            Some(&caption),
+            &slice,
+        );
     }
     let corner = montage.rgba[4 * ((H + 3) * montage.width + 2 * W + 3) as usize..][..4].to_vec();
     let background = montage.rgba[..4].to_vec();

@@ -607,7 +607,11 @@ fn underlay_errors_name_the_file_and_the_field() {
         &["--underlay-range"],
     );
     run(2, &["--underlay-range", "0:1"], &["--underlay"]);
-    run(2, &["--underlay-plane", "back"], &["--underlay-plane", "--underlay"]);
+    run(
+        2,
+        &["--underlay-plane", "back"],
+        &["--underlay-plane", "--underlay"],
+    );
     run(
         2,
         &["--underlay", &fa, "--underlay-plane", "middle"],

@@ -34,7 +34,12 @@ fn encode_png<'py>(
     }
     let (h, w) = (shape[0] as u32, shape[1] as u32);
     // Any strides (a view, a crop): copied into C order when not already in it.
-    let pixels = rgba.as_array().as_standard_layout().into_owned().into_raw_vec_and_offset().0;
+    let pixels = rgba
+        .as_array()
+        .as_standard_layout()
+        .into_owned()
+        .into_raw_vec_and_offset()
+        .0;
     let png = py
         .detach(|| encode_png_rgba8(std::path::Path::new("rgba"), w, h, &pixels))
         .map_err(to_py)?;

@@ -11,7 +11,6 @@ use glyphcast::error::spell_settings;
 use glyphcast::glyph::GlyphShape;
 use glyphcast::render::colorbar::{ColorBar, check_colorbar, common_scale};
 use glyphcast::render::glyph_data::GlyphSetData;
-use glyphcast::{RenderSettings, Result, SceneExtent};
 use glyphcast::render::headless::{FrameView, HeadlessRenderer, PreparedFrame, RenderedImage};
 use glyphcast::render::labels::{draw_edge_labels, edge_labels};
 use glyphcast::render::montage::{PreparedMontage, prepare_montage};
@@ -20,6 +19,7 @@ use glyphcast::render::underlay::Underlay;
 use glyphcast::scene::Scene;
 use glyphcast::vk::{Gpu, GpuOptions};
 use glyphcast::volume::{Coefficients, VolumeFigure};
+use glyphcast::{RenderSettings, Result, SceneExtent};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -44,7 +44,7 @@ enum Loaded {
     Frame(Box<Frame>),
     /// The panels of a montage, prepared on the CPU.
     Montage {
-        montage: PreparedMontage,
+        montage: Box<PreparedMontage>,
         extras: Extras,
     },
 }
@@ -234,7 +234,10 @@ impl Renderer {
             let figure = request.figure(volume, image)?;
             let (notes, warnings) = figure.messages();
             let spelled = |lines: &[String]| -> Vec<String> {
-                lines.iter().map(|line| spell_settings(line, &spell)).collect()
+                lines
+                    .iter()
+                    .map(|line| spell_settings(line, &spell))
+                    .collect()
             };
             let messages = (spelled(notes), spelled(warnings));
             match figure {
@@ -245,8 +248,7 @@ impl Renderer {
                     Ok((loaded, messages))
                 }
                 VolumeFigure::Montage(montage) => {
-                    let scenes: Vec<Scene> =
-                        montage.panels.into_iter().map(|p| p.scene).collect();
+                    let scenes: Vec<Scene> = montage.panels.into_iter().map(|p| p.scene).collect();
                     extras.common_scale = common_scale(&scenes);
                     let settings = render.settings()?;
                     let prepared =
@@ -254,7 +256,7 @@ impl Renderer {
                             .with_underlays(montage.underlays)
                             .with_captions(montage.captions);
                     let loaded = Loaded::Montage {
-                        montage: prepared,
+                        montage: Box::new(prepared),
                         extras,
                     };
                     Ok((loaded, messages))

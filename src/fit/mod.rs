@@ -316,7 +316,9 @@ mod tests {
         assert_eq!(parse("Descoteaux07", true), (ShBasis::Descoteaux07, true));
         assert_eq!(parse("MRtrix", false), (ShBasis::Tournier07, false));
         // An explicit non-legacy choice contradicts `dipy`.
-        let err = parse_basis_choice("dipy", Some(false)).unwrap_err().to_string();
+        let err = parse_basis_choice("dipy", Some(false))
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("dipy-new"), "{err}");
         assert_eq!(
             parse_basis_choice("dipy-new", Some(false)).unwrap(),

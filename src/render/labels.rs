@@ -167,7 +167,10 @@ pub fn draw_caption(rgba: &mut [u8], width: u32, height: u32, text: &str) -> Res
         .map(|c| scaled.h_advance(font.glyph_id(c)))
         .sum();
     let pad = 0.25 * size;
-    let (x0, y0) = ((x - pad).floor() as i64, (baseline - cap - pad).floor() as i64);
+    let (x0, y0) = (
+        (x - pad).floor() as i64,
+        (baseline - cap - pad).floor() as i64,
+    );
     let (x1, y1) = (
         (x + text_width + shadow + pad).ceil() as i64,
         (baseline + shadow + pad).ceil() as i64,

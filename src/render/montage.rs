@@ -16,9 +16,9 @@ use crate::render::colorbar::srgb_byte;
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
 use crate::render::labels::{draw_caption, draw_edge_labels, edge_labels};
-use crate::render::underlay::Underlay;
 use crate::render::options::{PreparedScene, prepare_render};
 use crate::render::settings::{ColorMode, RenderSettings};
+use crate::render::underlay::Underlay;
 use crate::scene::Scene;
 use crate::vk::Gpu;
 

@@ -320,7 +320,11 @@ pub fn robust_reference(radii: &[f64]) -> f64 {
     sorted.sort_by(f64::total_cmp);
     let rank = ((ROBUST_PERCENTILE / 100.0) * (sorted.len() - 1) as f64).floor() as usize;
     let limit = ROBUST_FACTOR * sorted[rank];
-    if limit > 0.0 { largest.min(limit) } else { largest }
+    if limit > 0.0 {
+        largest.min(limit)
+    } else {
+        largest
+    }
 }
 
 /// What turns the volume's glyphs into world axes: the affine's orthogonal factor for

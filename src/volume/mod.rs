@@ -31,8 +31,9 @@ mod selection;
 mod underlay;
 
 pub use build::{
-    DEFAULT_SCALE_FRACTION, Normalisation, ROBUST_FACTOR, ROBUST_PERCENTILE, VolumeOptions, VolumeReport, VolumeScene, slice_framing,
-    robust_reference, volume_scene, volume_scene_with_progress,
+    DEFAULT_SCALE_FRACTION, Normalisation, ROBUST_FACTOR, ROBUST_PERCENTILE, VolumeOptions,
+    VolumeReport, VolumeScene, robust_reference, slice_framing, volume_scene,
+    volume_scene_with_progress,
 };
 pub use figure::{MontagePlan, VolumeFigure, VolumeMontage, VolumeView, parse_views};
 pub use framing::{

@@ -247,7 +247,10 @@ impl VolumeRequest {
         if self.underlay.is_none() {
             return Err(Error::setting(
                 Setting::UnderlayPlane,
-                format!("needs {} (the image it places)", Setting::Underlay.mention()),
+                format!(
+                    "needs {} (the image it places)",
+                    Setting::Underlay.mention()
+                ),
             ));
         }
         text.parse()

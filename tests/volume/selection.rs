@@ -216,11 +216,16 @@ fn an_outlier_does_not_shrink_the_other_glyphs_by_default() {
     assert_eq!(report.capped, 1);
     let warnings = report.warnings("spiked.nii");
     assert!(
-        warnings.iter().any(|w| w.contains("1 glyph(s) larger than")),
+        warnings
+            .iter()
+            .any(|w| w.contains("1 glyph(s) larger than")),
         "{warnings:?}"
     );
     let largest = after.iter().map(|r| r.1).fold(0.0, f64::max);
-    assert!((largest - 0.9).abs() < 1e-9, "the outlier at the scale: {largest}");
+    assert!(
+        (largest - 0.9).abs() < 1e-9,
+        "the outlier at the scale: {largest}"
+    );
     let mut compared = 0;
     for ((centre, a), (same, b)) in before.iter().zip(&after) {
         assert_eq!(centre, same);
