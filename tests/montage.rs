@@ -168,7 +168,9 @@ fn lightbox_draws_evenly_spaced_slices_in_a_grid() {
         );
     }
     let corner = montage.rgba[4 * ((H + 3) * montage.width + 2 * W + 3) as usize..][..4].to_vec();
-    let background = montage.rgba[..4].to_vec();
+    // (The top-left pixel is under panel 0's caption: the background is the renderer's.)
+    let settings = glyphcast::render::RenderSettings::default();
+    let background = glyphcast::render::montage::background_bytes(settings.background).to_vec();
     assert_eq!(corner, background, "the empty cell is background");
     for y in H..2 * H {
         for x in 2 * W..3 * W {
