@@ -16,6 +16,8 @@ layout(push_constant) uniform Plane {
     vec4 origin;          // xyz: a corner of the plane, world space
     vec4 u;               // xyz: the edge from it along s
     vec4 v;               // xyz: the edge from it along t
+    // (origin.w, u.w, v.w): the sample offset: the volume is sampled at world - offset
+    // (a plane moved behind the glyphs still shows its slice).
 } plane;
 
 layout(location = 0) out vec3 v_voxel;
@@ -28,6 +30,7 @@ const vec2 CORNERS[6] = vec2[6](
 void main() {
     vec2 st = CORNERS[gl_VertexIndex];
     vec3 world = plane.origin.xyz + st.x * plane.u.xyz + st.y * plane.v.xyz;
-    v_voxel = (underlay.world_to_voxel * vec4(world, 1.0)).xyz;
+    vec3 offset = vec3(plane.origin.w, plane.u.w, plane.v.w);
+    v_voxel = (underlay.world_to_voxel * vec4(world - offset, 1.0)).xyz;
     gl_Position = plane.view_proj * vec4(world, 1.0);
 }

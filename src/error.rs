@@ -7,7 +7,7 @@ use std::fmt;
 mod setting;
 
 pub use setting::spell as spell_mentions;
-pub use setting::{Mention, Setting};
+pub use setting::{Mention, Setting, spell as spell_settings};
 
 /// The crate's result type, with [`Error`] as the default error.
 pub type Result<T, E = Error> = std::result::Result<T, E>;

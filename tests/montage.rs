@@ -1,6 +1,7 @@
 //! Montages (`--views`, `--lightbox`, issue 13): every panel of the montage is pixel for
 //! pixel, in colour and depth, the single-view render of the same view at the panel's
-//! size; the grid's geometry; the errors for bad lists.
+//! size (a lightbox panel with its slice written in its corner, issue 28), with the
+//! same underlay; the grid's geometry; the errors for bad lists.
 mod common;
 use common::{fresh_dir, glyphcast};
 use glyphcast::io::npy::read_npy_f32;
@@ -64,9 +65,28 @@ fn render(dir: &Path, dti: &Path, name: &str, extra: &[&str]) -> Picture {
 }
 
 /// Panel (column, row) of a montage against a single view: identical colour and depth
-/// (NaN where the single view has NaN).
-fn assert_panel(montage: &Picture, column: u32, row: u32, single: &Picture, what: &str) {
+/// (NaN where the single view has NaN), the single view's colour with `caption` written
+/// in its corner (`render::labels::draw_caption`) if given, which must change pixels.
+fn assert_panel(
+    montage: &Picture,
+    column: u32,
+    row: u32,
+    single: &Picture,
+    caption: Option<&str>,
+    what: &str,
+) {
     assert_eq!((single.width, single.height), (W, H), "{what}");
+    let mut expected = single.rgba.clone();
+    if let Some(caption) = caption {
+        glyphcast::render::labels::draw_caption(&mut expected, W, H, caption).expect("caption");
+        let written = (0..expected.len())
+            .filter(|&n| expected[n] != single.rgba[n])
+            .count();
+        assert!(
+            written > 20,
+            "{what}: the caption {caption} changes {written} bytes"
+        );
+    }
     let mut glyph_pixels = 0;
     for y in 0..H {
         for x in 0..W {
@@ -74,7 +94,7 @@ fn assert_panel(montage: &Picture, column: u32, row: u32, single: &Picture, what
             let s = (y * W + x) as usize;
             assert_eq!(
                 montage.rgba[4 * m..4 * m + 4],
-                single.rgba[4 * s..4 * s + 4],
+                expected[4 * s..4 * s + 4],
                 "{what}: colour at ({x}, {y})"
             );
             let (a, b) = (montage.depth[m], single.depth[s]);
@@ -101,7 +121,7 @@ fn each_panel_of_views_is_the_single_view_render() {
     assert_eq!((montage.width, montage.height), (3 * W, H));
     for (column, slice) in ["sagittal", "axial", "coronal:3"].iter().enumerate() {
         let single = render(&dir, &dti, slice, &["--slice", slice]);
-        assert_panel(&montage, column as u32, 0, &single, slice);
+        assert_panel(&montage, column as u32, 0, &single, None, slice);
     }
     // The same with ellipsoids: panels are ordinary renders whatever is drawn.
     let ellipsoids = render(
@@ -117,7 +137,7 @@ fn each_panel_of_views_is_the_single_view_render() {
         &["--slice", "coronal", "--glyph", "ellipsoid"],
     );
     assert_eq!((ellipsoids.width, ellipsoids.height), (W, H));
-    assert_panel(&ellipsoids, 0, 0, &single, "coronal ellipsoids");
+    assert_panel(&ellipsoids, 0, 0, &single, None, "coronal ellipsoids");
 }
 
 #[test]
@@ -132,19 +152,90 @@ fn lightbox_draws_evenly_spaced_slices_in_a_grid() {
         &["--lightbox", "5", "--slice", "coronal"],
     );
     assert_eq!((montage.width, montage.height), (3 * W, 2 * H));
-    // 10 slices along j: floor((2k + 1) 10 / 10) = 1, 3, 5, 7, 9.
+    // 10 slices: floor((2k + 1) 10 / 10) = 1, 3, 5, 7, 9, each captioned with its index
+    // along the voxel axis of the coronal plane (i in this rotated volume).
     for (k, index) in [1, 3, 5, 7, 9].iter().enumerate() {
         let slice = format!("coronal:{index}");
         let single = render(&dir, &dti, &slice, &["--slice", &slice]);
-        assert_panel(&montage, k as u32 % 3, k as u32 / 3, &single, &slice);
+        let caption = format!("i={index}");
+        assert_panel(
+            &montage,
+            k as u32 % 3,
+            k as u32 / 3,
+            &single,
+            Some(&caption),
+            &slice,
+        );
     }
     let corner = montage.rgba[4 * ((H + 3) * montage.width + 2 * W + 3) as usize..][..4].to_vec();
-    let background = montage.rgba[..4].to_vec();
+    // (The top-left pixel is under panel 0's caption: the background is the renderer's.)
+    let settings = glyphcast::render::RenderSettings::default();
+    let background = glyphcast::render::montage::background_bytes(settings.background).to_vec();
     assert_eq!(corner, background, "the empty cell is background");
     for y in H..2 * H {
         for x in 2 * W..3 * W {
             assert!(montage.depth[(y * montage.width + x) as usize].is_nan());
         }
+    }
+}
+
+/// An FA map of the DTI volume `dti` (on its grid, with its affine), computed here.
+fn fa_map(dir: &Path, dti: &Path) -> std::path::PathBuf {
+    let image = glyphcast::io::image::read_image(dti).expect("dti");
+    let shape = image.shape(4);
+    let mut fa = ndarray::ArrayD::<f64>::zeros(ndarray::IxDyn(&shape[..3]));
+    for ((i, j, k), value) in fa
+        .view_mut()
+        .into_dimensionality::<ndarray::Ix3>()
+        .expect("3D")
+        .indexed_iter_mut()
+    {
+        let d: Vec<f64> = (0..6)
+            .map(|n| image.data[[i, j, k, n].as_slice()])
+            .collect();
+        // xx, xy, xz, yy, yz, zz: FA = sqrt(3/2) |D - tr/3 I| / |D|.
+        let mean = (d[0] + d[3] + d[5]) / 3.0;
+        let dev = (d[0] - mean).powi(2) + (d[3] - mean).powi(2) + (d[5] - mean).powi(2);
+        let off = 2.0 * (d[1] * d[1] + d[2] * d[2] + d[4] * d[4]);
+        let norm = d[0] * d[0] + d[3] * d[3] + d[5] * d[5] + off;
+        *value = if norm > 0.0 {
+            (1.5 * (dev + off) / norm).sqrt()
+        } else {
+            0.0
+        };
+    }
+    let path = dir.join("fa.nii");
+    common::write_nifti(&path, &fa, image.voxel_to_world.affine);
+    path
+}
+
+/// An underlay goes under every panel of a montage (issue 28): each panel of a lightbox
+/// and of the three views is the single view with the same underlay.
+#[test]
+fn a_montage_draws_the_underlay_under_every_panel() {
+    let dir = fresh_dir("montage-underlay");
+    let dti = common::fit_dti_small_64d(&dir);
+    let fa = fa_map(&dir, &dti);
+    let under = ["--underlay", path_str(&fa)];
+    let with = |extra: &[&str]| -> Vec<String> {
+        under.iter().chain(extra).map(|s| s.to_string()).collect()
+    };
+    let run = |name: &str, extra: &[&str]| {
+        let args = with(extra);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        render(&dir, &dti, name, &args)
+    };
+    let lightbox = run("lightbox", &["--lightbox", "2", "--slice", "axial"]);
+    for (k, index) in [2, 7].iter().enumerate() {
+        let slice = format!("axial:{index}");
+        let single = run(&slice, &["--slice", &slice]);
+        let caption = format!("k={index}");
+        assert_panel(&lightbox, k as u32, 0, &single, Some(&caption), &slice);
+    }
+    let views = run("views", &["--views", "axial,coronal,sagittal"]);
+    for (column, slice) in ["axial", "coronal", "sagittal"].iter().enumerate() {
+        let single = run(slice, &["--slice", slice]);
+        assert_panel(&views, column as u32, 0, &single, None, slice);
     }
 }
 

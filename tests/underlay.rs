@@ -73,18 +73,21 @@ fn expected_plane_pixel(
             origin: plane.origin + margin * (plane.u + plane.v),
             u: plane.u * (1.0 - 2.0 * margin),
             v: plane.v * (1.0 - 2.0 * margin),
+            sample_offset: DVec3::ZERO,
         };
         let grown = UnderlayPlane {
             origin: plane.origin - margin * (plane.u + plane.v),
             u: plane.u * (1.0 + 2.0 * margin),
             v: plane.v * (1.0 + 2.0 * margin),
+            sample_offset: DVec3::ZERO,
         };
         if shrunk.intersect(ray).is_some() != grown.intersect(ray).is_some() {
             return None;
         }
     }
-    for (t, _) in hits {
-        let point = ray.origin + t * ray.dir;
+    for (t, plane) in hits {
+        // The volume is sampled on the slice the plane was moved off.
+        let point = ray.origin + t * ray.dir - plane.sample_offset;
         let p = volume.voxel_of(point).to_array();
         let near_edge = (0..3).any(|a| {
             let edge = volume.dims[a] as f64 - 0.5;
@@ -184,6 +187,7 @@ fn square(z: f64) -> UnderlayPlane {
         origin: DVec3::new(-1.5, -1.5, z),
         u: DVec3::new(3.0, 0.0, 0.0),
         v: DVec3::new(0.0, 3.0, 0.0),
+        sample_offset: DVec3::ZERO,
     }
 }
 
@@ -337,9 +341,10 @@ fn render_cli(dir: &Path, args: &[&str]) -> (RenderedImage, Scene) {
     (image, scene)
 }
 
-/// `--underlay` on the middle axial slice: the plane through the slice's voxel centres
-/// (z = -3 + 2 * 2 = 1), over the slice's voxel edges; the default window is the 2nd to
-/// 98th percentile, `--underlay-range` replaces it.
+/// `--underlay` on the middle axial slice with `--underlay-plane centre`: the plane
+/// through the slice's voxel centres (z = -3 + 2 * 2 = 1), over the slice's voxel
+/// edges; the default window is the 2nd to 98th percentile, `--underlay-range` replaces
+/// it.
 #[test]
 fn the_command_line_draws_the_underlay_on_the_slice() {
     let dir = common::fresh_dir("underlay-cli");
@@ -353,6 +358,7 @@ fn the_command_line_draws_the_underlay_on_the_slice() {
         origin: DVec3::new(-6.0, -5.0, 1.0),
         u: DVec3::new(12.0, 0.0, 0.0),
         v: DVec3::new(0.0, 10.0, 0.0),
+        sample_offset: DVec3::ZERO,
     };
     let base = [
         "--tensor",
@@ -361,6 +367,8 @@ fn the_command_line_draws_the_underlay_on_the_slice() {
         "2",
         "--underlay",
         &fa,
+        "--underlay-plane",
+        "centre",
         "--width",
         "120",
         "--height",
@@ -393,8 +401,9 @@ fn the_command_line_draws_the_underlay_on_the_slice() {
     assert!(check_plane_pixels(&image, &scene.camera, &underlay) > 1000);
 }
 
-/// With --slices, three planes: sagittal, coronal and axial through the voxel centres of
-/// the chosen indices, each over its slice's extent; each pixel shows the nearest.
+/// With --slices and `--underlay-plane centre`, three planes: sagittal, coronal and
+/// axial through the voxel centres of the chosen indices, each over its slice's extent;
+/// each pixel shows the nearest.
 #[test]
 fn three_slices_draw_three_planes() {
     let dir = common::fresh_dir("underlay-slices");
@@ -410,6 +419,8 @@ fn three_slices_draw_three_planes() {
             "2",
             "--underlay",
             &fa,
+            "--underlay-plane",
+            "centre",
             "--slices",
             "2,3,1",
             "--width",
@@ -434,16 +445,19 @@ fn three_slices_draw_three_planes() {
             origin: DVec3::new(-1.0, -5.0, -4.0),
             u: DVec3::new(0.0, 10.0, 0.0),
             v: DVec3::new(0.0, 0.0, 8.0),
+            sample_offset: DVec3::ZERO,
         },
         UnderlayPlane {
             origin: DVec3::new(-6.0, 2.0, -4.0),
             u: DVec3::new(12.0, 0.0, 0.0),
             v: DVec3::new(0.0, 0.0, 8.0),
+            sample_offset: DVec3::ZERO,
         },
         UnderlayPlane {
             origin: DVec3::new(-6.0, -5.0, -1.0),
             u: DVec3::new(12.0, 0.0, 0.0),
             v: DVec3::new(0.0, 10.0, 0.0),
+            sample_offset: DVec3::ZERO,
         },
     ];
     let underlay = Underlay {
@@ -452,6 +466,69 @@ fn three_slices_draw_three_planes() {
     };
     let compared = check_plane_pixels(&image, &scene.camera, &underlay);
     assert!(compared > 1500, "{compared}");
+}
+
+/// By default the underlay lies behind the glyphs: the plane of the slice moved away
+/// from the camera by the largest glyph's radius (the default scale, 0.45 of the 2 mm
+/// voxels) and 2 % more, where it shows the volume on the slice itself (sampled where
+/// the plane was before it moved), as the float64 plane does; every
+/// glyph pixel of the render without underlay is a glyph pixel with it, at the same
+/// depth, where the plane through the centres hides some (the far halves).
+#[test]
+fn the_underlay_lies_behind_the_glyphs() {
+    let dir = common::fresh_dir("underlay-behind");
+    let (tensors, _) = tensor_volume(&dir);
+    let fa = scalar_underlay(&dir, "fa.nii");
+    let (volume, _) = load_underlay(Path::new(&fa)).expect("underlay");
+    let base = [
+        "--tensor",
+        &tensors,
+        "--order",
+        "2",
+        "--width",
+        "120",
+        "--height",
+        "100",
+        "--background",
+        "black",
+    ];
+    let (bare, _) = render_cli(&dir, &base);
+    let mut behind_args = base.to_vec();
+    behind_args.extend_from_slice(&["--underlay", &fa]);
+    let (behind, scene) = render_cli(&dir, &behind_args);
+    let mut centre_args = behind_args.clone();
+    centre_args.extend_from_slice(&["--underlay-plane", "centre"]);
+    let (centre, _) = render_cli(&dir, &centre_args);
+    save("behind", &behind);
+    let glyph_pixels: Vec<usize> = (0..bare.distance.len())
+        .filter(|&n| bare.distance[n].is_finite())
+        .collect();
+    assert!(glyph_pixels.len() > 500, "{}", glyph_pixels.len());
+    for &n in &glyph_pixels {
+        let (a, b) = (bare.distance[n], behind.distance[n]);
+        assert!(
+            b.is_finite() && (a - b).abs() <= 1e-4 * a.abs().max(1.0),
+            "pixel {n}: glyph at {a} without the underlay, {b} with it"
+        );
+    }
+    let hidden = glyph_pixels
+        .iter()
+        .filter(|&&n| !centre.distance[n].is_finite())
+        .count();
+    assert!(hidden > 50, "the centre plane hides far halves: {hidden}");
+    // The plane itself: the slice z = 1 moved away from the camera.
+    let away = (scene.camera.target - scene.camera.eye).z.signum();
+    let plane = UnderlayPlane {
+        origin: DVec3::new(-6.0, -5.0, 1.0 + away * 0.9 * 1.02),
+        u: DVec3::new(12.0, 0.0, 0.0),
+        v: DVec3::new(0.0, 10.0, 0.0),
+        sample_offset: DVec3::new(0.0, 0.0, away * 0.9 * 1.02),
+    };
+    let underlay = Underlay {
+        volume: Arc::new(volume),
+        planes: vec![plane],
+    };
+    assert!(check_plane_pixels(&behind, &scene.camera, &underlay) > 1000);
 }
 
 /// Exits with `code`, one error line holding each of `words`, no output written.
@@ -530,6 +607,16 @@ fn underlay_errors_name_the_file_and_the_field() {
         &["--underlay-range"],
     );
     run(2, &["--underlay-range", "0:1"], &["--underlay"]);
+    run(
+        2,
+        &["--underlay-plane", "back"],
+        &["--underlay-plane", "--underlay"],
+    );
+    run(
+        2,
+        &["--underlay", &fa, "--underlay-plane", "middle"],
+        &["--underlay-plane", "back", "centre"],
+    );
     run(
         2,
         &["--underlay", &fa, "--path", "compute"],

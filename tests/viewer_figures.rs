@@ -52,6 +52,26 @@ fn crop(png: &Path, (x, y, w, h): (u32, u32, u32, u32)) -> Vec<u8> {
         .collect()
 }
 
+/// `png` with `captions[k]` drawn onto panel k of a grid of two columns of PANEL cells
+/// (`render::labels::draw_caption`, as `render` captions a lightbox), written as `name`.
+fn with_captions(png: &Path, captions: &[&str], name: &str) -> PathBuf {
+    let (width, height, mut rgba) = read_png_rgba8(png).expect("reading a PNG");
+    let (w, h) = PANEL;
+    assert!(height >= 2 * h, "{}: two rows of panels", png.display());
+    for (k, caption) in captions.iter().enumerate() {
+        let (x0, y0) = ((k as u32 % 2) * w, (k as u32 / 2) * h);
+        let mut cell = crop(png, (x0, y0, w, h));
+        glyphcast::render::labels::draw_caption(&mut cell, w, h, caption).expect("caption");
+        for (row, line) in cell.chunks_exact(4 * w as usize).enumerate() {
+            let at = (4 * ((y0 + row as u32) * width + x0)) as usize;
+            rgba[at..at + line.len()].copy_from_slice(line);
+        }
+    }
+    let path = out(name);
+    glyphcast::io::png::write_png_rgba8(&path, width, height, &rgba).expect("writing");
+    path
+}
+
 fn size(png: &Path) -> (u32, u32) {
     let (w, h, _) = read_png_rgba8(png).expect("reading a PNG");
     (w, h)
@@ -242,6 +262,11 @@ fn a_lightbox_is_renders_and_its_slices_move_together() {
     assert_eq!(size(&rendered).1, 2 * PANEL.1, "two rows of two");
     let (run, shot, window) = scripted("lightbox", 3, "");
     view(&x, &input, &options, &run);
+    // `render` captions each lightbox panel with its slice (issue 28); the viewer does
+    // not yet: its pictures with those captions drawn on are the render's.
+    let captions = ["k=1", "k=3", "k=6", "k=8"];
+    let window = with_captions(&window, &captions, "lightbox-window-captioned.png");
+    let shot = with_captions(&shot, &captions, "lightbox-shot-captioned.png");
     assert_shows(&window, &shot, &rendered, Some(2 * PANEL.0));
 
     // One slice on: every panel shows the next slice, as a single view of it renders

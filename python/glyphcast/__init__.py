@@ -12,16 +12,33 @@ The keyword options are those of ``glyphcast render``, with ``-`` as ``_``
   ``magnitude_range``, ``negative``, ``background``, ``offset``, ``light``, ``ambient``,
   ``specular``, ``shininess``, ``samples``; ``glyph`` ("polynomial" or "ellipsoid": the
   DTI ellipsoid of order-2 tensors);
-- volumes (``render_sh``, ``render_tensor``): ``slice``, ``slices``, ``voxels``,
-  ``mask`` (an (X, Y, Z) array or a path), ``scale``, ``norm``, ``min_amplitude``,
-  ``lmax``, ``frame``, ``perspective``, ``orientation``, ``labels``, ``tensor_order``
-  (the stored order of order-2 tensors' six entries: glyphcast, fsl, dipy or mrtrix);
-  ``underlay`` (an
-  anatomical image drawn on the slice planes: a NIfTI/MRtrix path, an (X, Y, Z) or
-  (X, Y, Z, 3) array on the coefficients' grid, or ``(array, affine)``) with
-  ``underlay_range`` ("LOW:HIGH" or ``(low, high)``); a montage of panels, each the
-  image of its view alone: ``views`` ("axial,coronal,sagittal" or a list, each
-  optionally ":INDEX") or ``lightbox`` (N evenly spaced slices of the ``slice`` plane).
+- the image: ``labels`` (anatomical directions at the edges), ``colorbar`` (with
+  ``color="magnitude"``: the colour bar on the right) and ``colorbar_label``;
+- volumes (``render_sh``, ``render_tensor``): ``slice`` ("AXIS[:INDEX]", or an int:
+  that axial index), ``slices``, ``voxels``, ``mask`` (an (X, Y, Z) array or a path),
+  ``scale``, ``norm`` ("robust", the default, "global", "per-glyph", "none"; or
+  FURY's ``True`` for "per-glyph", ``False`` for "none"), ``min_amplitude``, ``lmax``
+  (or DIPY's ``sh_order_max``), ``frame``, ``perspective``, ``orientation``,
+  ``tensor_order`` (the stored order of order-2 tensors' six entries: glyphcast, fsl,
+  dipy or mrtrix; (..., 3, 3) matrices are taken as they are);
+  ``underlay`` (an anatomical image drawn behind the glyphs of each slice: a
+  NIfTI/MRtrix path, an (X, Y, Z) or (X, Y, Z, 3) array on the coefficients' grid, or
+  ``(array, affine)``) with ``underlay_range`` ("LOW:HIGH" or ``(low, high)``) and
+  ``underlay_plane`` ("back", the default, or "centre": through the glyph centres); a
+  montage of panels, each the image of its view alone (with its underlay): ``views``
+  ("axial,coronal,sagittal" or a list, each optionally ":INDEX") or ``lightbox`` (N
+  evenly spaced slices of the ``slice`` plane, each captioned with its slice).
+
+Arrays are taken as they come: float32 or float64, C or Fortran order, strided or
+reversed views (``shm_coeff[..., :28]``), each copied once. A voxel with a NaN or
+infinite coefficient is left out with one warning that counts them, as the command
+line does; warnings point at the caller's line.
+
+Basis names are DIPY's and any case: ``basis="descoteaux07"`` is DIPY 1.x's
+descoteaux07 with its default ``legacy=True`` unless ``legacy=False`` is given (the
+command line and scene files read ``descoteaux07`` as the non-legacy basis, see the
+README); ``"dipy"`` is the same legacy basis, ``"dipy-new"`` the non-legacy one,
+``"tournier07"``/``"mrtrix"`` MRtrix3's.
 
 The messages of the errors are the CLI's, with each option named by its keyword
 (``step=0.0001: must be in 0.001 to 2 ...`` where the CLI says ``--step 0.0001``). Bad
@@ -31,6 +48,7 @@ validation layer; any validation error then raises RuntimeError.
 """
 import json
 import os
+import sys
 import warnings
 from typing import NamedTuple
 
@@ -92,6 +110,20 @@ def _float_array(value):
     return None if value is None else np.asarray(value, dtype=np.float64)
 
 
+_PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
+
+
+def _warn(message):
+    """Warns with the line of the first caller outside this package (``stacklevel``
+    counted at run time: the public functions reach here through different depths)."""
+    frame, level = sys._getframe(1), 2
+    while frame is not None and os.path.dirname(
+        os.path.abspath(frame.f_code.co_filename)
+    ) == _PACKAGE_DIR:
+        frame, level = frame.f_back, level + 1
+    warnings.warn(message, UserWarning, stacklevel=level)
+
+
 class Renderer:
     """One Vulkan device, its pipelines and the glyphs last rendered, kept across calls.
 
@@ -127,20 +159,21 @@ class Renderer:
         affine=None,
         *,
         basis,
-        legacy=False,
+        legacy=None,
         slice=None,
         mask=None,
         scale=None,
-        norm="global",
+        norm=None,
         width=None,
         height=None,
         **options,
     ):
         """Renders a slice of an (X, Y, Z, K) volume of SH coefficients (as nibabel's
         ``get_fdata()`` gives it) with its 4x4 ``affine`` (identity if None), as
-        ``glyphcast render --sh`` does: ``basis`` is tournier07, descoteaux07, mrtrix,
-        dipy (DIPY's default, descoteaux07 legacy) or dipy-new; ``slice`` is
-        "AXIS[:INDEX]" (default: the middle axial slice). With ``views`` or ``lightbox``
+        ``glyphcast render --sh`` does: ``basis`` is tournier07, descoteaux07 (as in DIPY:
+        legacy unless ``legacy=False``), mrtrix, dipy (DIPY's default, descoteaux07
+        legacy) or dipy-new (descoteaux07, ``legacy=False``), in any case; ``slice`` is
+        "AXIS[:INDEX]" or an axial index (default: the middle axial slice). With ``views`` or ``lightbox``
         the result is the montage's one image."""
         options.update(
             basis=basis, legacy=legacy, slice=slice, mask=mask, scale=scale, norm=norm,
@@ -158,7 +191,7 @@ class Renderer:
         slice=None,
         mask=None,
         scale=None,
-        norm="global",
+        norm=None,
         width=None,
         height=None,
         **options,
@@ -210,9 +243,9 @@ class Renderer:
         if isinstance(options.get("underlay"), tuple) and len(options["underlay"]) == 2:
             array, own_affine = options["underlay"]
             options["underlay"] = (np.asarray(array), _float_array(own_affine))
-        notes = self._native.load_volume(kind, coeffs, _float_array(affine), options)
-        for note in notes:
-            warnings.warn(note, stacklevel=3)
+        notes, warned = self._native.load_volume(kind, coeffs, _float_array(affine), options)
+        for message in list(notes) + list(warned):
+            _warn(message)
         return self.render()
 
 
@@ -263,7 +296,7 @@ def render_scene(scene, *, width=None, height=None, method=None, **options) -> R
     """Renders a scene (a dict in the scene format, or a path) as ``glyphcast render
     SCENE`` does. Options: those of the CLI (path, precision, step, refine, color,
     magnitude_range, negative, background, offset, light, ambient, specular, shininess,
-    samples, glyph, device, validation)."""
+    samples, glyph, labels, colorbar, colorbar_label, device, validation)."""
     renderer = Renderer(**_split_device(options))
     return renderer.render_scene(scene, width=width, height=height, method=method, **options)
 
@@ -273,11 +306,11 @@ def render_sh(
     affine=None,
     *,
     basis,
-    legacy=False,
+    legacy=None,
     slice=None,
     mask=None,
     scale=None,
-    norm="global",
+    norm=None,
     width=None,
     height=None,
     **options,
@@ -300,7 +333,7 @@ def render_tensor(
     slice=None,
     mask=None,
     scale=None,
-    norm="global",
+    norm=None,
     width=None,
     height=None,
     **options,

@@ -1,14 +1,17 @@
 //! numpy arrays in and out. Coefficients come as (X, Y, Z, K) float32 or float64 arrays
-//! in C or Fortran order (nibabel's `get_fdata()` gives Fortran order); any other layout,
-//! dtype or shape is a `ValueError` that says what was given and what is needed, as is a
-//! NaN or infinite coefficient. Images go out as arrays that own the rendered pixels
-//! (no copy).
+//! in any layout: C or Fortran order (nibabel's `get_fdata()` gives Fortran order),
+//! strided or reversed views (`shm_coeff[..., :28]`, `C[::-1]`), each copied once into
+//! the float64 C-order volume the library reads; another dtype or shape is a
+//! `ValueError` that says what was given and what is needed. A voxel with a NaN or
+//! infinite coefficient is left out with a warning, as on the command line
+//! (`volume::VolumeReport::warnings`). Images go out as arrays that own the rendered
+//! pixels (no copy).
 use glam::DMat4;
 use glyphcast::io::nifti::{AffineSource, VoxelToWorld};
 use glyphcast::render::headless::RenderedImage;
 use glyphcast::render::underlay::UnderlayVolume;
 use glyphcast::volume::Mask;
-use ndarray::{Array3, Array4, ArrayViewD, Dimension, Ix3, Ix4};
+use ndarray::{Array3, Array4, Ix3, Ix4};
 use numpy::{
     PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArray, PyUntypedArrayMethods,
 };
@@ -31,9 +34,7 @@ pub fn coefficients(coeffs: &Bound<'_, PyAny>) -> PyResult<Array4<f64>> {
             ),
         ));
     }
-    check_layout(what, array)?;
     let data = floats(what, coeffs)?;
-    check_finite(what, data.view())?;
     data.into_dimensionality::<Ix4>()
         .map_err(|err| value_error(what, err))
 }
@@ -166,29 +167,10 @@ fn numpy_array<'a, 'py>(
     })
 }
 
-/// C or Fortran order only: a strided view would be copied behind the caller's back.
-fn check_layout(what: &str, array: &Bound<'_, PyUntypedArray>) -> PyResult<()> {
-    let c_order = array
-        .getattr("flags")?
-        .getattr("c_contiguous")?
-        .extract::<bool>()?;
-    let f_order = array
-        .getattr("flags")?
-        .getattr("f_contiguous")?
-        .extract::<bool>()?;
-    if c_order || f_order {
-        return Ok(());
-    }
-    Err(value_error(
-        what,
-        "not contiguous (a strided view, such as a[::2]); pass numpy.ascontiguousarray(...) \
-         of it",
-    ))
-}
-
-/// The values of a float32 or float64 array as float64, in C order: the volume code
-/// reads a voxel's coefficients together, which in Fortran order (nibabel's) lie a whole
-/// volume apart (measured: a 100x100 slice of a 100x100x10 band-8 volume took 1 s more).
+/// The values of a float32 or float64 array of any strides as float64, in C order, in
+/// one copy: the volume code reads a voxel's coefficients together, which in Fortran
+/// order (nibabel's) lie a whole volume apart (measured: a 100x100 slice of a
+/// 100x100x10 band-8 volume took 1 s more).
 fn floats(what: &str, value: &Bound<'_, PyAny>) -> PyResult<ndarray::ArrayD<f64>> {
     if let Ok(array) = value.cast::<PyArrayDyn<f64>>() {
         let array: PyReadonlyArrayDyn<'_, f64> = array.readonly();
@@ -205,21 +187,5 @@ fn floats(what: &str, value: &Bound<'_, PyAny>) -> PyResult<ndarray::ArrayD<f64>
     Err(value_error(
         what,
         format!("dtype {dtype} where float32 or float64 is needed"),
-    ))
-}
-
-/// Every value finite; else the index of the first that is not.
-fn check_finite(what: &str, values: ArrayViewD<'_, f64>) -> PyResult<()> {
-    let Some((index, value)) = values.indexed_iter().find(|(_, v)| !v.is_finite()) else {
-        return Ok(());
-    };
-    let index: Vec<String> = index.slice().iter().map(usize::to_string).collect();
-    Err(value_error(
-        what,
-        format!(
-            "{what}[{}] is {value}: coefficients must be finite (give a voxel all-zero \
-             coefficients to leave it out)",
-            index.join(", ")
-        ),
     ))
 }

@@ -79,6 +79,7 @@ pub fn keyword(setting: Setting) -> &'static str {
         Setting::Orientation => "orientation",
         Setting::Labels => "labels",
         Setting::Underlay => "underlay",
+        Setting::UnderlayPlane => "underlay_plane",
         Setting::UnderlayRange => "underlay_range",
         Setting::Glyph => "glyph",
         Setting::Views => "views",

@@ -81,6 +81,65 @@ impl<'py> Kwargs<'py> {
             .map(|v| v.unwrap_or(default))
     }
 
+    /// A switch that may be left out (`legacy=False` differs from no `legacy`).
+    fn optional_flag(&mut self, key: &str) -> PyResult<Option<bool>> {
+        self.take(key)
+            .map(|v| {
+                v.extract::<bool>()
+                    .map_err(|_| expected(key, "True or False", &v))
+            })
+            .transpose()
+    }
+
+    /// `lmax`, or DIPY's name for it, `sh_order_max` (not both).
+    fn lmax(&mut self) -> PyResult<Option<u32>> {
+        let lmax = self.count("lmax")?;
+        let sh_order_max = self.count("sh_order_max")?;
+        match (lmax, sh_order_max) {
+            (Some(_), Some(_)) => Err(value_error(
+                "sh_order_max",
+                "is DIPY's name for lmax: give one of them",
+            )),
+            (lmax, sh_order_max) => Ok(lmax.or(sh_order_max)),
+        }
+    }
+
+    /// `slice`: "AXIS[:INDEX]", or a whole number: that index of the default plane
+    /// (`slice=5` is "axial:5").
+    fn slice(&mut self) -> PyResult<Option<String>> {
+        let Some(value) = self.take("slice") else {
+            return Ok(None);
+        };
+        if let Ok(text) = value.extract::<String>() {
+            return Ok(Some(text));
+        }
+        if !value.is_instance_of::<pyo3::types::PyBool>()
+            && let Ok(index) = value.extract::<u64>()
+        {
+            return Ok(Some(format!("axial:{index}")));
+        }
+        Err(expected(
+            "slice",
+            "\"AXIS[:INDEX]\" or a whole number >= 0 (an axial index)",
+            &value,
+        ))
+    }
+
+    /// `norm`: "robust", "global", "per-glyph" or "none", or FURY's switch: True is
+    /// "per-glyph" (every glyph scaled to its own maximum), False is "none".
+    fn norm(&mut self) -> PyResult<Option<String>> {
+        let Some(value) = self.take("norm") else {
+            return Ok(None);
+        };
+        if let Ok(text) = value.extract::<String>() {
+            return Ok(Some(text));
+        }
+        if let Ok(on) = value.extract::<bool>() {
+            return Ok(Some(if on { "per-glyph" } else { "none" }.into()));
+        }
+        Err(expected("norm", "a string or True/False", &value))
+    }
+
     /// A `TypeError` for the first keyword nobody took.
     pub fn finish(self) -> PyResult<()> {
         match self.given.first() {
@@ -192,20 +251,22 @@ impl<'py> Kwargs<'py> {
             )),
             Err(_) => arrays::underlay(value, affine),
         };
+        let basis = self.text("basis")?;
+        let legacy = self.optional_flag("legacy")?;
         Ok(VolumeRequest {
-            basis: self.text("basis")?,
+            legacy: dipy_legacy_default(basis.as_deref(), legacy),
+            basis,
             force_basis: false,
             frame: self.text("frame")?,
-            legacy: self.flag("legacy", false)?,
-            lmax: self.count("lmax")?,
+            lmax: self.lmax()?,
             order: self.count("order")?,
             nonsymmetric: !self.flag("symmetric", true)?,
             tensor_order: self.text("tensor_order")?,
-            slice: self.text("slice")?,
+            slice: self.slice()?,
             slices: self.text("slices")?,
             voxels: self.text("voxels")?,
             scale: self.float("scale")?,
-            norm: self.text("norm")?,
+            norm: self.norm()?,
             min_amplitude: self.float("min_amplitude")?,
             mask: self.image("mask", |value| arrays::mask(value))?,
             perspective: self.flag("perspective", false)?,
@@ -213,9 +274,24 @@ impl<'py> Kwargs<'py> {
             glyph: self.text("glyph")?,
             underlay: self.image("underlay", underlay)?,
             underlay_range: self.range("underlay_range")?,
+            underlay_plane: self.text("underlay_plane")?,
             views: self.list("views")?,
             lightbox: self.count("lightbox")?.map(|n| n as usize),
         })
+    }
+}
+
+/// The legacy choice with Python's default: `descoteaux07` without `legacy` means what
+/// it means in DIPY 1.x, whose `descoteaux07` defaults to `legacy=True` (the basis of
+/// every `shm_coeff` DIPY returns unless told otherwise); the command line and scene
+/// files keep the scene format's meaning (non-legacy unless `legacy` says so), since
+/// files record their basis with its variant.
+fn dipy_legacy_default(basis: Option<&str>, legacy: Option<bool>) -> Option<bool> {
+    match basis {
+        Some(name) if legacy.is_none() && name.trim().eq_ignore_ascii_case("descoteaux07") => {
+            Some(true)
+        }
+        _ => legacy,
     }
 }
 

@@ -33,14 +33,15 @@ fn encode_png<'py>(
         ));
     }
     let (h, w) = (shape[0] as u32, shape[1] as u32);
-    let pixels = rgba.as_slice().map_err(|_| {
-        value_error(
-            "rgba",
-            "not C-contiguous; pass numpy.ascontiguousarray(...)",
-        )
-    })?;
+    // Any strides (a view, a crop): copied into C order when not already in it.
+    let pixels = rgba
+        .as_array()
+        .as_standard_layout()
+        .into_owned()
+        .into_raw_vec_and_offset()
+        .0;
     let png = py
-        .detach(|| encode_png_rgba8(std::path::Path::new("rgba"), w, h, pixels))
+        .detach(|| encode_png_rgba8(std::path::Path::new("rgba"), w, h, &pixels))
         .map_err(to_py)?;
     Ok(PyBytes::new(py, &png))
 }

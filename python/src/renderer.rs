@@ -7,8 +7,10 @@
 //! meanwhile; everything is freed when the object goes (or at `release`).
 use std::path::PathBuf;
 
-use glyphcast::Result;
+use glyphcast::error::spell_settings;
 use glyphcast::glyph::GlyphShape;
+use glyphcast::render::colorbar::{ColorBar, check_colorbar, common_scale};
+use glyphcast::render::glyph_data::GlyphSetData;
 use glyphcast::render::headless::{FrameView, HeadlessRenderer, PreparedFrame, RenderedImage};
 use glyphcast::render::labels::{draw_edge_labels, edge_labels};
 use glyphcast::render::montage::{PreparedMontage, prepare_montage};
@@ -17,12 +19,13 @@ use glyphcast::render::underlay::Underlay;
 use glyphcast::scene::Scene;
 use glyphcast::vk::{Gpu, GpuOptions};
 use glyphcast::volume::{Coefficients, VolumeFigure};
+use glyphcast::{RenderSettings, Result, SceneExtent};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::arrays;
-use crate::errors::to_py;
+use crate::errors::{spell, to_py};
 use crate::kwargs::Kwargs;
 
 /// A headless renderer on one Vulkan device.
@@ -41,9 +44,66 @@ enum Loaded {
     Frame(Box<Frame>),
     /// The panels of a montage, prepared on the CPU.
     Montage {
-        montage: PreparedMontage,
-        labels: bool,
+        montage: Box<PreparedMontage>,
+        extras: Extras,
     },
+}
+
+/// What is drawn onto the rendered image: the anatomical directions (`labels`) and the
+/// colour bar (`colorbar`, with its label, and the scale all glyphs share, if one).
+#[derive(Clone, Default)]
+struct Extras {
+    labels: bool,
+    colorbar: Option<Option<String>>,
+    common_scale: Option<f64>,
+}
+
+impl Extras {
+    /// The keywords `labels`, `colorbar` and `colorbar_label`.
+    fn from_kwargs(kwargs: &mut Kwargs<'_>) -> PyResult<Extras> {
+        let labels = kwargs.flag("labels", false)?;
+        let colorbar = kwargs.flag("colorbar", false)?;
+        let label = kwargs.text("colorbar_label")?;
+        if label.is_some() && !colorbar {
+            return Err(PyValueError::new_err(
+                "colorbar_label: labels the colour bar: give colorbar=True too",
+            ));
+        }
+        Ok(Extras {
+            labels,
+            colorbar: colorbar.then_some(label),
+            common_scale: None,
+        })
+    }
+
+    /// Appends the colour bar, if asked for, of glyphs `sets` seen by `camera` drawn
+    /// with `settings`, as `glyphcast render --colorbar` does.
+    fn append_colorbar(
+        &self,
+        image: &mut RenderedImage,
+        settings: &RenderSettings,
+        sets: &[GlyphSetData],
+        camera: &glyphcast::camera::Camera,
+    ) -> Result<()> {
+        let Some(label) = &self.colorbar else {
+            return Ok(());
+        };
+        let extent = SceneExtent::for_settings(camera, sets, settings);
+        let Some(bar) =
+            ColorBar::of_magnitude(settings, &extent, self.common_scale, label.as_deref())
+        else {
+            return Ok(());
+        };
+        let (width, rgba, distance) = bar.append(
+            &image.rgba,
+            &image.distance,
+            image.width,
+            image.height,
+            settings.background,
+        )?;
+        (image.width, image.rgba, image.distance) = (width, rgba, distance);
+        Ok(())
+    }
 }
 
 /// A scene's glyphs on the GPU, with its underlay.
@@ -51,7 +111,7 @@ struct Frame {
     frame: PreparedFrame,
     scene: PreparedScene,
     underlay: Option<Underlay>,
-    labels: bool,
+    extras: Extras,
 }
 
 #[pymethods]
@@ -106,7 +166,11 @@ impl Renderer {
             .transpose()
             .map_err(to_py)?;
         let render = kwargs.render_options()?;
+        let mut extras = Extras::from_kwargs(&mut kwargs)?;
         kwargs.finish()?;
+        if extras.colorbar.is_some() {
+            check_colorbar(&render.settings().map_err(to_py)?).map_err(to_py)?;
+        }
         self.loaded = None;
         let loaded = py.detach(|| {
             let mut scene = if is_path {
@@ -119,7 +183,8 @@ impl Renderer {
             }
             scene.image.width = image.width.unwrap_or(scene.image.width);
             scene.image.height = image.height.unwrap_or(scene.image.height);
-            self.upload(scene, None, &render, false)
+            extras.common_scale = common_scale([&scene]);
+            self.upload(scene, None, &render, extras)
         });
         self.loaded = Some(loaded.map_err(to_py)?);
         Ok(())
@@ -128,8 +193,9 @@ impl Renderer {
     /// Loads a slice (or a montage of slices) of a coefficient volume: `kind` is "sh"
     /// or "tensor", `coeffs` an (X, Y, Z, K) array, `affine` its voxel-to-world matrix;
     /// `options` hold the image size, the volume options (`mask`, `underlay`, `views`,
-    /// `lightbox` and the rest), `labels` and the render options. Returns the notes the
-    /// CLI prints (the plane asked for is another voxel axis).
+    /// `lightbox` and the rest), `labels`, `colorbar`, `colorbar_label` and the render
+    /// options. Returns the notes and the warnings the CLI prints (the plane asked for is
+    /// another voxel axis; voxels left out for NaN coefficients), in this module's words.
     #[pyo3(signature = (kind, coeffs, affine=None, options=None))]
     fn load_volume(
         &mut self,
@@ -138,7 +204,7 @@ impl Renderer {
         coeffs: &Bound<'_, PyAny>,
         affine: Option<&Bound<'_, PyAny>>,
         options: Option<&Bound<'_, PyDict>>,
-    ) -> PyResult<Vec<String>> {
+    ) -> PyResult<(Vec<String>, Vec<String>)> {
         let input = match kind {
             "sh" => Coefficients::Sh,
             "tensor" => Coefficients::Tensor,
@@ -153,38 +219,53 @@ impl Renderer {
         let image = kwargs.image_request()?;
         let request = kwargs.volume_request(voxel_to_world.affine)?;
         let render = kwargs.render_options()?;
-        let labels = kwargs.flag("labels", false)?;
+        let mut extras = Extras::from_kwargs(&mut kwargs)?;
         kwargs.finish()?;
         // The options on their own first: refused before the array is converted.
         request.check(input).map_err(to_py)?;
         request.options(image).map_err(to_py)?;
+        if extras.colorbar.is_some() {
+            check_colorbar(&render.settings().map_err(to_py)?).map_err(to_py)?;
+        }
         let data = arrays::coefficients(coeffs)?;
         self.loaded = None;
         let loaded = py.detach(|| {
             let volume = request.memory_volume(input, "coeffs", data, voxel_to_world)?;
-            match request.figure(volume, image)? {
+            let figure = request.figure(volume, image)?;
+            let (notes, warnings) = figure.messages();
+            let spelled = |lines: &[String]| -> Vec<String> {
+                lines
+                    .iter()
+                    .map(|line| spell_settings(line, &spell))
+                    .collect()
+            };
+            let messages = (spelled(notes), spelled(warnings));
+            match figure {
                 VolumeFigure::View(view) => {
                     let view = *view;
-                    let notes = view.note.into_iter().collect();
-                    let loaded = self.upload(view.scene.scene, view.underlay, &render, labels)?;
-                    Ok((loaded, notes))
+                    extras.common_scale = common_scale([&view.scene.scene]);
+                    let loaded = self.upload(view.scene.scene, view.underlay, &render, extras)?;
+                    Ok((loaded, messages))
                 }
                 VolumeFigure::Montage(montage) => {
-                    let scenes = montage.panels.into_iter().map(|p| p.scene).collect();
+                    let scenes: Vec<Scene> = montage.panels.into_iter().map(|p| p.scene).collect();
+                    extras.common_scale = common_scale(&scenes);
                     let settings = render.settings()?;
                     let prepared =
-                        prepare_montage(scenes, montage.columns, settings, render.negative()?)?;
+                        prepare_montage(scenes, montage.columns, settings, render.negative()?)?
+                            .with_underlays(montage.underlays)
+                            .with_captions(montage.captions);
                     let loaded = Loaded::Montage {
-                        montage: prepared,
-                        labels,
+                        montage: Box::new(prepared),
+                        extras,
                     };
-                    Ok((loaded, montage.notes))
+                    Ok((loaded, messages))
                 }
             }
         });
-        let (loaded, notes) = loaded.map_err(to_py)?;
+        let (loaded, messages) = loaded.map_err(to_py)?;
         self.loaded = Some(loaded);
-        Ok(notes)
+        Ok(messages)
     }
 
     /// Draws the loaded glyphs, seen by the loaded camera or by `camera` (a scene's
@@ -212,8 +293,21 @@ impl Renderer {
                      again without one",
                 ));
             }
-            Some(Loaded::Montage { montage, labels }) => py
-                .detach(|| montage.render(renderer, gpu, *labels))
+            Some(Loaded::Montage { montage, extras }) => py
+                .detach(|| {
+                    let mut image = montage.render(renderer, gpu, extras.labels)?;
+                    // One range for all panels (prepare_montage): the first panel's
+                    // extent stands in for them, as in `glyphcast render`.
+                    if let Some(first) = montage.panels.first() {
+                        extras.append_colorbar(
+                            &mut image,
+                            &montage.settings,
+                            &first.sets,
+                            &first.camera,
+                        )?;
+                    }
+                    Ok(image)
+                })
                 .map_err(to_py)?,
             Some(Loaded::Frame(frame)) => py
                 .detach(|| draw(renderer, gpu, frame, camera))
@@ -235,7 +329,7 @@ impl Renderer {
         scene: Scene,
         underlay: Option<Underlay>,
         options: &RenderOptions,
-        labels: bool,
+        extras: Extras,
     ) -> Result<Loaded> {
         let settings = options.settings()?;
         let scene = prepare_render(scene, settings, options.negative()?)?;
@@ -248,7 +342,7 @@ impl Renderer {
             frame,
             scene,
             underlay,
-            labels,
+            extras,
         })))
     }
 }
@@ -298,9 +392,13 @@ fn draw(
         renderer.draw(gpu, &loaded.frame)?;
         renderer.read(gpu, &loaded.frame)?
     };
-    if loaded.labels {
-        let edges = edge_labels(&loaded.scene.camera);
+    let s = &loaded.scene;
+    if loaded.extras.labels {
+        let edges = edge_labels(&s.camera);
         draw_edge_labels(&mut image.rgba, image.width, image.height, &edges)?;
     }
+    loaded
+        .extras
+        .append_colorbar(&mut image, &s.settings, &s.sets, &s.camera)?;
     Ok(image)
 }

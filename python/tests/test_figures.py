@@ -144,8 +144,13 @@ def test_bad_figure_options_name_the_keyword(sh, underlay_file, tmp_path):
         (dict(lightbox=0), r"^lightbox=0: must be 1 to 64 slices$"),
         (dict(lightbox=9), r"^lightbox=9: the axial plane has 4 slices in coeffs$"),
         (dict(lightbox=2, slices="mid"), r"^lightbox: takes slice, not slices$"),
-        (dict(lightbox=2, underlay=path), r"^underlay: draws on one view's planes: not "
-                                          r"with views or lightbox$"),
+        (dict(underlay_plane="back"), r"^underlay_plane: needs underlay \(the image it "
+                                      r"places\)$"),
+        (dict(underlay=path, underlay_plane="middle"), r"^underlay_plane='middle': expected "
+                                                       r"back .* or centre"),
+        (dict(slice=True), r"^slice: expected \"AXIS\[:INDEX\]\" or a whole number"),
+        (dict(colorbar_label="x"), r"^colorbar_label: labels the colour bar: give "
+                                   r"colorbar=True too$"),
         (dict(underlay_range="0:1"), r"^underlay_range: needs underlay \(the image it "
                                      r"windows\)$"),
         (dict(underlay=path, underlay_range="1-2"), r"^underlay_range='1-2': not LOW:HIGH"),

@@ -45,6 +45,7 @@ pub fn flag(setting: Setting) -> &'static str {
         Setting::Labels => "--labels",
         Setting::Underlay => "--underlay",
         Setting::UnderlayRange => "--underlay-range",
+        Setting::UnderlayPlane => "--underlay-plane",
         Setting::Glyph => "--glyph",
         Setting::Views => "--views",
         Setting::Lightbox => "--lightbox",

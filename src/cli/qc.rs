@@ -81,7 +81,7 @@ impl QcArgs {
             underlay: self.underlay.clone(),
             volume: VolumeRequest {
                 basis: self.basis.clone(),
-                legacy: self.legacy,
+                legacy: self.legacy.then_some(true),
                 force_basis: self.force_basis,
                 frame: self.frame.clone(),
                 orientation: self.orientation.clone(),

@@ -389,7 +389,9 @@ pub fn render_montage(
         scene.image.height = image.height.unwrap_or(scene.image.height);
     }
     let common = common_scale(&scenes);
-    let prepared = prepare_montage(scenes, montage.columns, settings, negative)?;
+    let prepared = prepare_montage(scenes, montage.columns, settings, negative)?
+        .with_underlays(montage.underlays)
+        .with_captions(montage.captions);
     let first = prepared
         .panels
         .first()

@@ -61,6 +61,9 @@ pub fn run(args: &ViewArgs) -> Result<()> {
                 "--views and --lightbox take volume input (--sh/--tensor)".into(),
             ));
         }
+        if args.source.volume.underlay.is_some() {
+            return Err(glyphcast::volume::underlay_with_montage());
+        }
         let (montage, cell) = montage(&args.source.volume, image)?;
         (montage, None, cell)
     } else {

@@ -86,8 +86,11 @@ pub struct VolumeArgs {
     /// World radius of the largest glyph (default: 0.45 times the smallest voxel size).
     #[arg(long, value_name = "S", help_heading = "Volume input")]
     pub scale: Option<f64>,
-    /// Glyph sizes: global (one factor for all), per-glyph (all the same size) or none
-    /// (amplitude times --scale). Default global.
+    /// Glyph sizes: robust (one factor for all, the largest glyph at --scale unless it
+    /// is an outlier, more than 1.5 times the 99th percentile of the glyph sizes: then
+    /// that limit is drawn at --scale and the outliers are capped at it; the default),
+    /// global (one factor for all, the largest at --scale), per-glyph (all the same
+    /// size) or none (amplitude times --scale).
     #[arg(long, value_name = "MODE", help_heading = "Volume input")]
     pub norm: Option<String>,
     /// Leave out glyphs whose largest radius is below A (data units).
@@ -101,15 +104,21 @@ pub struct VolumeArgs {
     /// views have anterior on the left in both.
     #[arg(long, value_name = "CONVENTION", help_heading = "Volume input")]
     pub orientation: Option<String>,
-    /// Anatomical underlay drawn as a plane through each slice, in the glyphs' depth
-    /// buffer: a 3D NIfTI or MRtrix image (FA, T1) or an RGB one [x, y, z, 3]
-    /// (colour-FA), sampled trilinearly through its own affine (the grids may differ).
+    /// Anatomical underlay drawn as a plane behind each slice's glyphs (of every panel
+    /// of --views/--lightbox), in the glyphs' depth buffer: a 3D NIfTI or MRtrix image
+    /// (FA, T1) or an RGB one [x, y, z, 3] (colour-FA), sampled trilinearly through its
+    /// own affine (the grids may differ).
     #[arg(long, value_name = "IMAGE", help_heading = "Underlay")]
     pub underlay: Option<PathBuf>,
     /// The underlay's window: LOW is drawn black, HIGH white (each RGB channel alike).
     /// Default: the 2nd to 98th percentile of its finite values.
     #[arg(long, value_name = "LOW:HIGH", help_heading = "Underlay")]
     pub underlay_range: Option<String>,
+    /// Where the underlay's plane lies: back (behind the glyphs: as far behind the
+    /// slice, seen from the camera, as the largest glyph reaches; the default) or centre
+    /// (through the voxel centres, hiding each glyph's far half).
+    #[arg(long, value_name = "back|centre", help_heading = "Underlay")]
+    pub underlay_plane: Option<String>,
     /// Glyph surface: polynomial (the glyph of the tensor or SH series, the default) or
     /// ellipsoid (order-2 tensors: the DTI ellipsoid { D^(1/2) u }, semi-axes
     /// sqrt(eigenvalues), eigenvalues below 1e-6 of the largest raised to that floor).
@@ -163,6 +172,7 @@ impl VolumeArgs {
             ("--labels", self.labels),
             ("--underlay", self.underlay.is_some()),
             ("--underlay-range", self.underlay_range.is_some()),
+            ("--underlay-plane", self.underlay_plane.is_some()),
             ("--views", self.views.is_some()),
             ("--lightbox", self.lightbox.is_some()),
         ];
@@ -175,7 +185,7 @@ impl VolumeArgs {
             basis: self.basis.clone(),
             force_basis: self.force_basis,
             frame: self.frame.clone(),
-            legacy: self.legacy,
+            legacy: self.legacy.then_some(true),
             lmax: self.lmax,
             order: self.order,
             nonsymmetric: self.nonsymmetric,
@@ -192,6 +202,7 @@ impl VolumeArgs {
             glyph: self.glyph.clone(),
             underlay: self.underlay.clone().map(ImageSource::File),
             underlay_range: self.underlay_range.clone(),
+            underlay_plane: self.underlay_plane.clone(),
             views: self.views.clone(),
             lightbox: self.lightbox,
         }
@@ -212,11 +223,15 @@ impl VolumeArgs {
             eprintln!("note: {}", super::flags::note(note));
         }
         let figure = request.figure(volume, image)?;
+        let (notes, warnings) = figure.messages();
+        for note in notes {
+            eprintln!("note: {}", spelled(note));
+        }
+        for warning in warnings {
+            eprintln!("warning: {}", spelled(warning));
+        }
         match &figure {
             VolumeFigure::View(view) => {
-                if let Some(note) = &view.note {
-                    eprintln!("note: {note}");
-                }
                 report(&view.scene, &view.volume.file);
                 if let Some(underlay) = &view.underlay {
                     let volume = &underlay.volume;
@@ -230,9 +245,6 @@ impl VolumeArgs {
                 }
             }
             VolumeFigure::Montage(montage) => {
-                for note in &montage.notes {
-                    eprintln!("note: {note}");
-                }
                 for panel in &montage.panels {
                     report(panel, &montage.file);
                 }
@@ -252,8 +264,8 @@ impl VolumeArgs {
             eprintln!("note: {}", super::flags::note(note));
         }
         let plan = request.montage_plan(&volume, image)?;
-        for note in &plan.notes {
-            eprintln!("note: {note}");
+        for note in volume.notes.iter().chain(&plan.notes) {
+            eprintln!("note: {}", spelled(note));
         }
         Ok((volume, plan))
     }
@@ -280,22 +292,24 @@ impl VolumeArgs {
 }
 
 /// The scene of one montage panel (`options` from [`VolumeArgs::montage_panels`]),
-/// reported.
+/// reported with its warnings.
 pub fn panel_view(volume: &Volume, options: &VolumeOptions) -> Result<VolumeScene> {
     let view = volume_scene(volume, options)?;
+    for warning in view.report.warnings(&volume.file) {
+        eprintln!("warning: {}", spelled(&warning));
+    }
     report(&view, &volume.file);
     Ok(view)
 }
 
-/// One summary line, and a warning when voxels were left out for bad values.
+/// A library message with the settings it mentions spelled as flags.
+fn spelled(text: &str) -> String {
+    glyphcast::error::spell_settings(text, &super::flags::spell)
+}
+
+/// One summary line (the warnings are the figure's: `VolumeFigure::messages`).
 fn report(view: &VolumeScene, file: &str) {
     let r = &view.report;
-    if r.non_finite > 0 {
-        eprintln!(
-            "warning: {file}: {} voxel(s) with NaN or infinite coefficients left out",
-            r.non_finite
-        );
-    }
     let slices: Vec<String> = view
         .regions
         .iter()

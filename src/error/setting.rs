@@ -119,6 +119,8 @@ settings! {
     Underlay => "underlay",
     /// The underlay's window.
     UnderlayRange => "underlay range",
+    /// Where the underlay's plane lies: behind the glyphs or through their centres.
+    UnderlayPlane => "underlay plane",
     /// Glyph surface: polynomial or ellipsoid.
     Glyph => "glyph",
     /// The views of a montage.

@@ -17,6 +17,7 @@ use crate::render::headless::{HeadlessRenderer, RenderedImage};
 use crate::render::montage::prepare_montage;
 use crate::render::underlay::{Underlay, UnderlayVolume};
 use crate::vk::Gpu;
+use crate::volume::UnderlayPlacement;
 use crate::volume::{Slice, SliceAxis, Volume, VolumeOptions, VolumeScene, VoxelRanges};
 use crate::volume::{view_underlay, volume_scene};
 use crate::{Error, Result};
@@ -222,11 +223,13 @@ pub fn render(
         Some(shared) => scenes
             .iter()
             .map(|scene| {
+                // Behind the glyphs, as every slice view draws it by default.
                 view_underlay(
                     shared.volume.clone(),
                     shared.source,
                     context.volume,
-                    &scene.regions,
+                    scene,
+                    UnderlayPlacement::default(),
                 )
                 .map(Some)
             })

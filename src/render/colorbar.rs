@@ -11,7 +11,7 @@ use ab_glyph::{Font, FontRef, PxScale, ScaleFont};
 
 use crate::render::frame::{SceneExtent, magnitude_range};
 use crate::render::labels::{Canvas, dejavu_sans};
-use crate::render::settings::RenderSettings;
+use crate::render::settings::{ColorMode, RenderSettings};
 use crate::scene::Scene;
 use crate::{Error, Result, Setting};
 
@@ -291,6 +291,20 @@ fn shown_ticks(span: f32, size: f32) -> Vec<usize> {
         .find(|&step| gap(step) >= 1.2 * size)
         .unwrap_or(TICKS - 1);
     (0..TICKS).step_by(step).collect()
+}
+
+/// Checks that a colour bar is asked of a magnitude colouring (the bar shows its map).
+pub fn check_colorbar(settings: &RenderSettings) -> Result<()> {
+    if matches!(settings.color, ColorMode::Magnitude { .. }) {
+        return Ok(());
+    }
+    Err(Error::setting(
+        Setting::Colorbar,
+        format!(
+            "shows the magnitude colour map: it needs {}",
+            Setting::Color.with("magnitude")
+        ),
+    ))
 }
 
 /// The scale every glyph of `scenes` has, if they all have the same one (the unit of a

@@ -26,6 +26,9 @@ const MIXED_AXIS_FRACTION: f64 = 0.6;
 const LETTER_FRACTION: f32 = 0.05;
 const MIN_LETTER_PX: f32 = 12.0;
 
+/// Opacity of the dark box behind a panel's caption.
+const CAPTION_BOX_OPACITY: f32 = 0.6;
+
 /// DejaVu Sans, read once per process; an error names the paths tried.
 pub fn dejavu_sans() -> Result<&'static [u8]> {
     static FONT: OnceLock<Option<Vec<u8>>> = OnceLock::new();
@@ -133,6 +136,52 @@ pub fn draw_edge_labels(
         canvas.text(&font, size, text, x + shadow, baseline + shadow, [0, 0, 0]);
         canvas.text(&font, size, text, x, baseline, [255, 255, 255]);
     }
+    Ok(())
+}
+
+/// Draws `text` (a panel's slice, "k=12") in the top-left corner of `rgba` (`width` x
+/// `height`, row-major RGBA8), as the edge labels are drawn: white with a dark shadow,
+/// at their size.
+pub fn draw_caption(rgba: &mut [u8], width: u32, height: u32, text: &str) -> Result<()> {
+    if rgba.len() != 4 * width as usize * height as usize {
+        return Err(Error::Invalid(format!(
+            "caption: {} bytes for a {width}x{height} RGBA image",
+            rgba.len()
+        )));
+    }
+    let font = FontRef::try_from_slice(dejavu_sans()?)
+        .map_err(|err| Error::Setup(format!("DejaVu Sans: {err}")))?;
+    let size = (LETTER_FRACTION * width.min(height) as f32).max(MIN_LETTER_PX);
+    let scaled = font.as_scaled(PxScale::from(size));
+    let (margin, cap) = (0.3 * size, 0.73 * scaled.ascent());
+    let shadow = (1.0f32).max(0.06 * size);
+    let mut canvas = Canvas {
+        rgba,
+        width,
+        height,
+    };
+    let (x, baseline) = (margin, margin + cap);
+    // A dark box behind the text, so that it reads over a bright underlay too.
+    let text_width: f32 = text
+        .chars()
+        .map(|c| scaled.h_advance(font.glyph_id(c)))
+        .sum();
+    let pad = 0.25 * size;
+    let (x0, y0) = (
+        (x - pad).floor() as i64,
+        (baseline - cap - pad).floor() as i64,
+    );
+    let (x1, y1) = (
+        (x + text_width + shadow + pad).ceil() as i64,
+        (baseline + shadow + pad).ceil() as i64,
+    );
+    for y in y0.max(0)..y1 {
+        for x in x0.max(0)..x1 {
+            canvas.blend(x, y, [0, 0, 0], CAPTION_BOX_OPACITY);
+        }
+    }
+    canvas.text(&font, size, text, x + shadow, baseline + shadow, [0, 0, 0]);
+    canvas.text(&font, size, text, x, baseline, [255, 255, 255]);
     Ok(())
 }
 

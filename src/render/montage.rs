@@ -15,7 +15,7 @@ use crate::render::antialias::MAX_SUPERSAMPLED_SIDE as MAX_SIDE;
 use crate::render::colorbar::srgb_byte;
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
-use crate::render::labels::{draw_edge_labels, edge_labels};
+use crate::render::labels::{draw_caption, draw_edge_labels, edge_labels};
 use crate::render::options::{PreparedScene, prepare_render};
 use crate::render::settings::{ColorMode, RenderSettings};
 use crate::render::underlay::Underlay;
@@ -150,6 +150,10 @@ pub struct PreparedMontage {
     pub panels: Vec<PreparedScene>,
     /// The settings every panel is drawn with (one magnitude range for all).
     pub settings: RenderSettings,
+    /// Each panel's underlay, if any ([`PreparedMontage::with_underlays`]).
+    underlays: Vec<Option<Underlay>>,
+    /// Each panel's caption, if any ([`PreparedMontage::with_captions`]).
+    captions: Vec<Option<String>>,
     grid: Grid,
 }
 
@@ -176,6 +180,8 @@ pub fn prepare_montage(
     let grid = Grid::new((cell_w, cell_h), columns, panels.len());
     grid.size()?;
     Ok(PreparedMontage {
+        underlays: Vec::new(),
+        captions: Vec::new(),
         panels,
         settings,
         grid,
@@ -193,6 +199,18 @@ impl PreparedMontage {
         self.grid.columns
     }
 
+    /// Draws `underlays[k]` (if any) in panel k's depth buffer.
+    pub fn with_underlays(mut self, underlays: Vec<Option<Underlay>>) -> Self {
+        self.underlays = underlays;
+        self
+    }
+
+    /// Writes `captions[k]` (if any, the panel's slice) in panel k's top-left corner.
+    pub fn with_captions(mut self, captions: Vec<Option<String>>) -> Self {
+        self.captions = captions;
+        self
+    }
+
     /// Glyphs in all panels.
     pub fn glyph_count(&self) -> usize {
         self.panels.iter().map(PreparedScene::glyph_count).sum()
@@ -203,8 +221,8 @@ impl PreparedMontage {
         self.panels.iter().flat_map(|panel| &panel.sets)
     }
 
-    /// Draws every panel into its cell, with the anatomical directions at each panel's
-    /// edges if `labels`.
+    /// Draws every panel into its cell, with its underlay and caption if any, and the
+    /// anatomical directions at each panel's edges if `labels`.
     pub fn render(
         &self,
         renderer: &mut HeadlessRenderer,
@@ -215,8 +233,9 @@ impl PreparedMontage {
     }
 
     /// [`PreparedMontage::render`] with panel k's underlay `underlays[k]` drawn in its
-    /// depth buffer (a panel past the list's end has none): each panel's planes are its
-    /// own slice's (`volume::view_underlay` on the panel's regions).
+    /// depth buffer (a panel past the list's end has the one of
+    /// [`PreparedMontage::with_underlays`], if any): each panel's planes are its own
+    /// slice's (`volume::view_underlay` on the panel's regions).
     pub fn render_with_underlays(
         &self,
         renderer: &mut HeadlessRenderer,
@@ -228,11 +247,17 @@ impl PreparedMontage {
         let mut montage = Montage::new(self.grid, width, height, self.settings.background);
         for (k, panel) in self.panels.iter().enumerate() {
             let (w, h) = (panel.width, panel.height);
-            let underlay = underlays.get(k).and_then(Option::as_ref);
+            let underlay = underlays
+                .get(k)
+                .and_then(Option::as_ref)
+                .or_else(|| self.underlays.get(k).and_then(Option::as_ref));
             let view = FrameView::new(&panel.camera, w, h).with_underlay(underlay);
             let mut image = renderer.render_view(gpu, &panel.sets, &view, &self.settings)?;
             if labels {
                 draw_edge_labels(&mut image.rgba, w, h, &edge_labels(&panel.camera))?;
+            }
+            if let Some(Some(caption)) = self.captions.get(k) {
+                draw_caption(&mut image.rgba, w, h, caption)?;
             }
             montage.place(k, &image);
         }

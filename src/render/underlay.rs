@@ -55,7 +55,9 @@ pub struct UnderlayVolume {
 }
 
 /// One plane of an underlay: the world-space parallelogram `origin + s u + t v` for s, t
-/// in [0, 1].
+/// in [0, 1], showing the volume at each of its points p at p - `sample_offset` (zero
+/// for a plane on its slice; a plane moved behind a slab of glyphs still shows the
+/// slice).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct UnderlayPlane {
     /// A corner, world space.
@@ -64,6 +66,8 @@ pub struct UnderlayPlane {
     pub u: DVec3,
     /// The edge from `origin` along t.
     pub v: DVec3,
+    /// What is subtracted from a point of the plane where the volume is sampled.
+    pub sample_offset: DVec3,
 }
 
 /// An underlay ready to draw: the volume (shared, so that a viewer can move the planes
@@ -449,7 +453,8 @@ impl UnderlayPass {
     ) {
         let (viewport, scissor) = viewport_and_scissor(extent);
         let d = self.ctx.device();
-        let v4 = |v: DVec3| [v.x as f32, v.y as f32, v.z as f32, 0.0];
+        // The w components carry the sample offset (glsl/underlay.vert).
+        let v4 = |v: DVec3, w: f64| [v.x as f32, v.y as f32, v.z as f32, w as f32];
         // SAFETY: recording state is the caller's; every handle is alive.
         unsafe {
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.handle());
@@ -467,9 +472,9 @@ impl UnderlayPass {
         for plane in planes {
             let push = PlanePush {
                 view_proj,
-                origin: v4(plane.origin),
-                u: v4(plane.u),
-                v: v4(plane.v),
+                origin: v4(plane.origin, plane.sample_offset.x),
+                u: v4(plane.u, plane.sample_offset.y),
+                v: v4(plane.v, plane.sample_offset.z),
             };
             // SAFETY: as above; the push range covers the whole block.
             unsafe {
@@ -610,6 +615,7 @@ mod tests {
             origin: DVec3::new(-1.0, -1.0, 0.0),
             u: DVec3::new(2.0, 0.0, 0.0),
             v: DVec3::new(0.0, 2.0, 0.0),
+            sample_offset: DVec3::ZERO,
         };
         let ray = |x: f64| Ray {
             origin: DVec3::new(x, 0.5, 5.0),

@@ -16,7 +16,7 @@ use crate::render::frame::{FrameParams, SceneExtent};
 use crate::render::glyph_data::{
     GlyphSetData, measure_largest_radius, prepare_scene, prepare_set_with_progress,
 };
-use crate::render::underlay::{Underlay, extent_with_planes};
+use crate::render::underlay::{Underlay, UnderlayPlane, extent_with_planes};
 use crate::scene::{GlyphSet, Scene};
 use crate::volume::{
     SliceRegion, Volume, VolumeOptions, VolumeScene, slice_framing, slice_plane,
@@ -307,9 +307,22 @@ impl Content {
                 .collect::<Result<Vec<_>>>()?,
             None => vec![region(options.slice)?],
         };
+        // Each plane keeps the offset from its slice it was made with (behind the
+        // glyphs, `volume::UnderlayPlacement`): the slice moves along the plane's normal
+        // and the camera with it, so the glyphs stay in front of it.
+        let offsets: Vec<glam::DVec3> = underlay.planes.iter().map(|p| p.sample_offset).collect();
         underlay.planes = regions
             .iter()
-            .map(|r| slice_plane(r, &volume.voxel_to_world))
+            .enumerate()
+            .map(|(k, r)| {
+                let plane = slice_plane(r, &volume.voxel_to_world);
+                let offset = offsets.get(k).copied().unwrap_or_default();
+                UnderlayPlane {
+                    origin: plane.origin + offset,
+                    sample_offset: offset,
+                    ..plane
+                }
+            })
             .collect();
         Ok(())
     }

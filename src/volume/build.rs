@@ -28,11 +28,22 @@ use crate::{Error, Result, Setting};
 /// the largest glyph spans 0.9 of a voxel.
 pub const DEFAULT_SCALE_FRACTION: f64 = 0.45;
 
+/// The robust normalisation's reference: this percentile of the glyphs' max radii ...
+pub const ROBUST_PERCENTILE: f64 = 99.0;
+/// ... times this factor, if that is below the largest radius.
+pub const ROBUST_FACTOR: f64 = 1.5;
+
 /// How glyph sizes relate to the data.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Normalisation {
-    /// One factor for all drawn glyphs: the largest has radius `scale`.
+    /// One factor for all drawn glyphs, robust to a few outliers: the largest radius
+    /// becomes `scale` unless it exceeds [`ROBUST_FACTOR`] times the
+    /// [`ROBUST_PERCENTILE`]th percentile of the radii; then that limit becomes `scale`
+    /// and the glyphs above it (the outliers, counted in the report) are drawn with
+    /// radius `scale`. For data without outliers this is [`Normalisation::Global`].
     #[default]
+    Robust,
+    /// One factor for all drawn glyphs: the largest has radius `scale`.
     Global,
     /// Every glyph's max radius becomes `scale`.
     PerGlyph,
@@ -78,6 +89,45 @@ pub struct VolumeReport {
     pub zero: usize,
     pub below_min_amplitude: usize,
     pub drawn: usize,
+    /// Glyphs larger than the robust normalisation's limit, drawn at the limit's size.
+    pub capped: usize,
+}
+
+impl VolumeReport {
+    /// Adds `other`'s counts to these (the panels of a montage, reported as one).
+    pub fn add(&mut self, other: &VolumeReport) {
+        self.selected += other.selected;
+        self.masked_out += other.masked_out;
+        self.non_finite += other.non_finite;
+        self.zero += other.zero;
+        self.below_min_amplitude += other.below_min_amplitude;
+        self.drawn += other.drawn;
+        self.capped += other.capped;
+    }
+
+    /// What the user is warned of about the voxels of `file`, one line each, the same in
+    /// every front end (the command line prints them, Python warns): voxels left out
+    /// for NaN or infinite coefficients, and outliers capped by the robust
+    /// normalisation. Lines may mention settings, which each front end spells.
+    pub fn warnings(&self, file: &str) -> Vec<String> {
+        let mut lines = Vec::new();
+        if self.non_finite > 0 {
+            lines.push(format!(
+                "{file}: {} voxel(s) with NaN or infinite coefficients left out",
+                self.non_finite
+            ));
+        }
+        if self.capped > 0 {
+            lines.push(format!(
+                "{file}: {} glyph(s) larger than {ROBUST_FACTOR} times the \
+                 {ROBUST_PERCENTILE}th percentile of the glyph sizes drawn at that size \
+                 (outliers; {} sizes every glyph by one factor)",
+                self.capped,
+                Setting::Norm.with("global")
+            ));
+        }
+        lines
+    }
 }
 
 /// The scene of a volume view, and how it was selected.
@@ -89,6 +139,9 @@ pub struct VolumeScene {
     pub region: SliceRegion,
     /// Every slice's region: one, or sagittal, coronal and axial.
     pub regions: Vec<SliceRegion>,
+    /// The largest world radius of a drawn glyph: how far the glyphs reach out of
+    /// their slice plane (an underlay drawn behind them goes that far back).
+    pub glyph_radius: f64,
 }
 
 impl FromStr for Normalisation {
@@ -96,13 +149,14 @@ impl FromStr for Normalisation {
 
     fn from_str(text: &str) -> Result<Self> {
         match text {
+            "robust" => Ok(Normalisation::Robust),
             "global" => Ok(Normalisation::Global),
             "per-glyph" => Ok(Normalisation::PerGlyph),
             "none" => Ok(Normalisation::None),
             _ => Err(Error::setting_value(
                 Setting::Norm,
                 format!("'{}'", crate::error::quoted(text)),
-                "expected global, per-glyph or none",
+                "expected robust, global, per-glyph or none",
             )),
         }
     }
@@ -220,16 +274,25 @@ pub fn volume_scene_with_progress(
         )?,
     };
     // Global normalisation is over all slices together.
-    let largest = glyphs
-        .iter()
-        .flatten()
-        .map(|g| g.radius)
-        .fold(0.0, f64::max);
-    let glyph_sets = glyphs
+    let radii: Vec<f64> = glyphs.iter().flatten().map(|g| g.radius).collect();
+    let reference = match options.norm {
+        Normalisation::Robust => robust_reference(&radii),
+        _ => radii.iter().copied().fold(0.0, f64::max),
+    };
+    if options.norm == Normalisation::Robust {
+        report.capped = radii.iter().filter(|&&r| r > reference).count();
+    }
+    let glyph_sets: Vec<GlyphSet> = glyphs
         .into_iter()
         .filter(|g| !g.is_empty())
-        .map(|g| glyph_set(kind, g, scale, largest, options))
+        .map(|g| glyph_set(kind, g, scale, reference, options))
         .collect();
+    let glyph_radius = glyph_sets
+        .iter()
+        .flat_map(|set| set.scales.iter())
+        .zip(&radii)
+        .map(|(scale, radius)| scale * radius)
+        .fold(0.0, f64::max);
     Ok(VolumeScene {
         scene: Scene {
             glyph_sets,
@@ -239,7 +302,29 @@ pub fn volume_scene_with_progress(
         report,
         region: regions[0].clone(),
         regions,
+        glyph_radius,
     })
+}
+
+/// The radius that [`Normalisation::Robust`] draws at `scale`: the largest of `radii`,
+/// or [`ROBUST_FACTOR`] times their [`ROBUST_PERCENTILE`]th percentile if that is
+/// smaller. The percentile is the lower nearest rank (the value at index
+/// floor(p/100 (n - 1)) of the sorted radii), so that one outlier among few glyphs is
+/// never its own reference.
+pub fn robust_reference(radii: &[f64]) -> f64 {
+    let largest = radii.iter().copied().fold(0.0, f64::max);
+    if radii.len() < 2 {
+        return largest;
+    }
+    let mut sorted = radii.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let rank = ((ROBUST_PERCENTILE / 100.0) * (sorted.len() - 1) as f64).floor() as usize;
+    let limit = ROBUST_FACTOR * sorted[rank];
+    if limit > 0.0 {
+        largest.min(limit)
+    } else {
+        largest
+    }
 }
 
 /// What turns the volume's glyphs into world axes: the affine's orthogonal factor for
@@ -365,18 +450,20 @@ fn nothing_to_draw(volume: &Volume, regions: &[SliceRegion], report: &VolumeRepo
     )
 }
 
-/// The glyphs as one set, sized by `norm` so that the `largest` radius becomes `scale`.
+/// The glyphs as one set, sized by `norm` so that the `reference` radius becomes
+/// `scale` (a robust one caps the glyphs above it at `scale`).
 fn glyph_set(
     kind: GlyphKind,
     glyphs: Vec<Glyph>,
     scale: f64,
-    largest: f64,
+    reference: f64,
     options: &VolumeOptions,
 ) -> GlyphSet {
     let scales = glyphs
         .iter()
         .map(|g| match options.norm {
-            Normalisation::Global => scale / largest,
+            Normalisation::Robust => scale / g.radius.max(reference),
+            Normalisation::Global => scale / reference,
             Normalisation::PerGlyph => scale / g.radius,
             Normalisation::None => scale,
         })

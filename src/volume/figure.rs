@@ -8,11 +8,11 @@ use super::build::{VolumeOptions, VolumeScene, is_nothing_to_draw, volume_scene}
 use super::framing::ImageRequest;
 use super::input::{Mask, Volume, load_mask};
 use super::request::{ImageSource, VolumeRequest};
-use super::selection::{Slice, SliceRegion};
+use super::selection::Slice;
 use super::underlay::{load_underlay, view_underlay};
 use crate::error::quoted;
 use crate::io::nifti::AffineSource;
-use crate::render::underlay::Underlay;
+use crate::render::underlay::{Underlay, UnderlayVolume};
 use crate::{Error, Result, Setting};
 
 /// What a request makes of a volume.
@@ -33,8 +33,11 @@ pub struct VolumeView {
     pub scene: VolumeScene,
     /// The underlay on the view's slice planes, if one was asked for.
     pub underlay: Option<Underlay>,
-    /// A note for the user: the world plane asked for is another voxel axis.
-    pub note: Option<String>,
+    /// Notes for the user (the world plane asked for is another voxel axis; a basis
+    /// name read as another front end reads it).
+    pub notes: Vec<String>,
+    /// Warnings for the user ([`super::VolumeReport::warnings`]).
+    pub warnings: Vec<String>,
 }
 
 /// The panels of a montage before their scenes are built
@@ -54,10 +57,27 @@ pub struct VolumeMontage {
     pub file: String,
     /// Each panel's scene and report, in reading order (left to right, then down).
     pub panels: Vec<VolumeScene>,
+    /// Each panel's underlay on its slice plane, if one was asked for.
+    pub underlays: Vec<Option<Underlay>>,
+    /// Each panel's caption: the slice it shows ("k=12"), for a lightbox.
+    pub captions: Vec<Option<String>>,
     /// Panels to a row: all of them for views, ceil(sqrt(N)) for a lightbox of N.
     pub columns: usize,
     /// Notes for the user (a world plane that is another voxel axis), each once.
     pub notes: Vec<String>,
+    /// Warnings for the user, for all panels together
+    /// ([`super::VolumeReport::warnings`]).
+    pub warnings: Vec<String>,
+}
+
+impl VolumeFigure {
+    /// The figure's notes and warnings.
+    pub fn messages(&self) -> (&[String], &[String]) {
+        match self {
+            VolumeFigure::View(view) => (&view.notes, &view.warnings),
+            VolumeFigure::Montage(montage) => (&montage.notes, &montage.warnings),
+        }
+    }
 }
 
 impl VolumeRequest {
@@ -79,15 +99,18 @@ impl VolumeRequest {
     /// mask if any): the slice's world plane turned into the voxel axis closest to it,
     /// the scene, and the underlay on its planes.
     pub fn view(&self, volume: Volume, mut options: VolumeOptions) -> Result<VolumeView> {
-        let note = slice_in_voxels(&mut options, &volume)?;
+        let mut notes = volume.notes.clone();
+        notes.extend(slice_in_voxels(&mut options, &volume)?);
         let scene = volume_scene(&volume, &options)?;
-        let underlay = self.underlay(&volume, &scene.regions)?;
+        let underlay = self.underlay(&volume, &scene)?;
+        let warnings = scene.report.warnings(&volume.file);
         Ok(VolumeView {
             volume,
             options,
             scene,
             underlay,
-            note,
+            notes,
+            warnings,
         })
     }
 
@@ -100,9 +123,9 @@ impl VolumeRequest {
         }
     }
 
-    /// The underlay of a view of `volume` with slices `regions`, with its window (the
-    /// underlay range, else the 2nd to 98th percentile).
-    fn underlay(&self, volume: &Volume, regions: &[SliceRegion]) -> Result<Option<Underlay>> {
+    /// The underlay asked for, read once and windowed (the underlay range, else the 2nd
+    /// to 98th percentile), with the source of its affine.
+    fn underlay_volume(&self) -> Result<Option<(Arc<UnderlayVolume>, AffineSource)>> {
         let range = self.underlay_range()?;
         let (mut underlay, source) = match &self.underlay {
             None => return Ok(None),
@@ -112,7 +135,17 @@ impl VolumeRequest {
         if let Some((lo, hi)) = range {
             underlay.set_window(lo, hi)?;
         }
-        view_underlay(Arc::new(underlay), source, volume, regions).map(Some)
+        Ok(Some((Arc::new(underlay), source)))
+    }
+
+    /// The underlay of the view `scene` of `volume`, on its slice planes placed as the
+    /// underlay plane setting says (behind the glyphs by default).
+    fn underlay(&self, volume: &Volume, scene: &VolumeScene) -> Result<Option<Underlay>> {
+        let Some((underlay, source)) = self.underlay_volume()? else {
+            return Ok(None);
+        };
+        let placement = self.underlay_placement()?;
+        view_underlay(underlay, source, volume, scene, placement).map(Some)
     }
 
     /// The panels of a montage of `volume` at the image size `image` (the views, or the
@@ -190,10 +223,10 @@ impl VolumeRequest {
         })
     }
 
-    /// The panels of the views, or of the lightbox's slices. A view at its default
-    /// (middle) slice that holds no glyph is drawn at the nearest slice that holds one,
-    /// or left out when none does, with a note either way; only a montage left with no
-    /// panel is an error.
+    /// The panels of the views, or of the lightbox's slices (captioned with their
+    /// slice), each with the underlay on its plane. A view at its default (middle) slice
+    /// that holds no glyph is drawn at the nearest slice that holds one, or left out when
+    /// none does, with a note either way; only a montage left with no panel is an error.
     fn montage(&self, volume: &Volume, options: &VolumeOptions) -> Result<VolumeMontage> {
         let mut plan = self.plan(volume, options)?;
         let mut panels = Vec::with_capacity(plan.panels.len());
@@ -224,11 +257,41 @@ impl VolumeRequest {
         } else {
             plan.columns
         };
+        let underlay = self.underlay_volume()?;
+        let placement = self.underlay_placement()?;
+        let underlays = panels
+            .iter()
+            .map(|scene| match &underlay {
+                Some((underlay, source)) => {
+                    view_underlay(underlay.clone(), *source, volume, scene, placement).map(Some)
+                }
+                None => Ok(None),
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let captions = panels
+            .iter()
+            .map(|scene| {
+                let region = &scene.region;
+                let letter = ["i", "j", "k"][region.slice.voxel_axis()];
+                self.lightbox
+                    .is_some()
+                    .then(|| format!("{letter}={}", region.index))
+            })
+            .collect();
+        let mut report = super::VolumeReport::default();
+        for panel in &panels {
+            report.add(&panel.report);
+        }
+        let mut notes = volume.notes.clone();
+        notes.extend(plan.notes);
         Ok(VolumeMontage {
             file: volume.file.clone(),
+            warnings: report.warnings(&volume.file),
             panels,
+            underlays,
+            captions,
             columns,
-            notes: plan.notes,
+            notes,
         })
     }
 }

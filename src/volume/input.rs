@@ -58,11 +58,12 @@ pub struct Volume {
     pub voxel_to_world: VoxelToWorld,
     /// The frame of the coefficients: the file's default, or what the user said.
     pub frame: CoefficientFrame,
+    /// Notes for the user about how the file was read (a basis name that other tools
+    /// read otherwise, a 6-volume SH file whose name suggests a tensor); the front ends
+    /// print them with the figure.
+    pub notes: Vec<String>,
     /// Shape [x, y, z, coefficients].
     data: Array4<f64>,
-    /// What the user should know about how the file was read (a 6-volume SH file whose
-    /// name suggests a tensor); the front ends print them.
-    pub notes: Vec<String>,
 }
 
 /// Which voxels a mask keeps: nonzero values (NaN counts as zero).
@@ -101,8 +102,8 @@ impl Volume {
             kind,
             voxel_to_world,
             frame: CoefficientFrame::Voxel,
-            data,
             notes: Vec::new(),
+            data,
         })
     }
 

@@ -31,8 +31,9 @@ mod selection;
 mod underlay;
 
 pub use build::{
-    DEFAULT_SCALE_FRACTION, Normalisation, VolumeOptions, VolumeReport, VolumeScene, slice_framing,
-    volume_scene, volume_scene_with_progress,
+    DEFAULT_SCALE_FRACTION, Normalisation, ROBUST_FACTOR, ROBUST_PERCENTILE, VolumeOptions,
+    VolumeReport, VolumeScene, robust_reference, slice_framing, volume_scene,
+    volume_scene_with_progress,
 };
 pub use figure::{MontagePlan, VolumeFigure, VolumeMontage, VolumeView, parse_views};
 pub use framing::{
@@ -44,4 +45,7 @@ pub use recorded::{RecordedBasis, recorded_basis, resolve_basis};
 pub use reorient::Reorientation;
 pub use request::{Coefficients, ImageSource, MAX_PANELS, VolumeRequest, underlay_with_montage};
 pub use selection::{Slice, SliceAxis, SliceRegion, Slices, VoxelRanges};
-pub use underlay::{load_underlay, slice_plane, underlay_of_image, view_underlay};
+pub use underlay::{
+    UnderlayPlacement, load_underlay, plane_behind, slice_plane, slice_planes, underlay_of_image,
+    view_underlay,
+};

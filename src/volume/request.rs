@@ -10,11 +10,12 @@ use super::framing::{ImageRequest, ViewProjection};
 use super::input::check_four_d;
 use super::input::{CoefficientFrame, Mask, Volume, VolumeKind};
 use super::recorded::{
-    OrderSource, description_field, has_dti_entries, recorded_tensor_order, resolve_basis,
-    resolve_tensor_order,
+    OrderSource, description_field, has_dti_entries, recorded_basis, recorded_tensor_order,
+    resolve_basis, resolve_tensor_order,
 };
+use super::underlay::UnderlayPlacement;
 use crate::error::quoted;
-use crate::fit::parse_basis;
+use crate::fit::parse_basis_choice;
 use crate::glyph::ellipsoid::ELLIPSOID_LAYOUT;
 use crate::glyph::tensor_order::TensorOrder;
 use crate::glyph::{GlyphShape, Symmetry, TensorLayout};
@@ -57,8 +58,9 @@ pub struct VolumeRequest {
     pub force_basis: bool,
     /// voxel or world.
     pub frame: Option<String>,
-    /// The legacy variant of `basis`.
-    pub legacy: bool,
+    /// The variant of `basis`: `Some(true)` the legacy one, `Some(false)` the
+    /// non-legacy one, `None` the name's own (an alias's, else non-legacy).
+    pub legacy: Option<bool>,
     /// Draw SH bands up to this one.
     pub lmax: Option<u32>,
     /// The tensor order of a tensor volume.
@@ -77,7 +79,7 @@ pub struct VolumeRequest {
     pub mask: Option<ImageSource<Mask>>,
     /// World radius of the largest glyph.
     pub scale: Option<f64>,
-    /// global, per-glyph or none.
+    /// robust, global, per-glyph or none.
     pub norm: Option<String>,
     /// Leave out glyphs below this largest radius.
     pub min_amplitude: Option<f64>,
@@ -87,10 +89,12 @@ pub struct VolumeRequest {
     pub orientation: Option<String>,
     /// polynomial or ellipsoid.
     pub glyph: Option<String>,
-    /// An anatomical image drawn on the slice planes (single views only).
+    /// An anatomical image drawn on the slice planes (of every panel of a montage).
     pub underlay: Option<ImageSource<UnderlayVolume>>,
     /// LOW:HIGH, the underlay's window.
     pub underlay_range: Option<String>,
+    /// back or centre: where the underlay's plane lies.
+    pub underlay_plane: Option<String>,
     /// A montage of views: axial, coronal and sagittal (each optionally :INDEX), comma
     /// separated.
     pub views: Option<String>,
@@ -102,6 +106,7 @@ impl VolumeRequest {
     /// Checks that the options fit `input` and each other, before anything is read.
     pub fn check(&self, input: Coefficients) -> Result<()> {
         self.underlay_range()?;
+        self.underlay_placement()?;
         self.check_input(input)?;
         self.check_montage()?;
         if self.slice.is_some() && self.slices.is_some() {
@@ -141,7 +146,7 @@ impl VolumeRequest {
                 for (setting, given) in [
                     (Setting::Basis, self.basis.is_some()),
                     (Setting::ForceBasis, self.force_basis),
-                    (Setting::Legacy, self.legacy),
+                    (Setting::Legacy, self.legacy.is_some()),
                     (Setting::Lmax, self.lmax.is_some()),
                 ] {
                     if given {
@@ -200,12 +205,12 @@ impl VolumeRequest {
             .transpose()
     }
 
-    /// The basis with its legacy switch (aliases name both; see `fit::parse_basis`), if
+    /// The basis with its legacy choice (aliases name both; see `fit::parse_basis_choice`), if
     /// given.
     pub fn given_basis(&self) -> Result<Option<(ShBasis, bool)>> {
         match self.basis.as_deref() {
-            Some(name) => parse_basis(name, self.legacy).map(Some),
-            None if self.legacy => Err(Error::setting(
+            Some(name) => parse_basis_choice(name, self.legacy).map(Some),
+            None if self.legacy.is_some() => Err(Error::setting(
                 Setting::Legacy,
                 format!(
                     "needs {} too (it picks the legacy variant of the basis)",
@@ -249,6 +254,46 @@ impl VolumeRequest {
                 "not LOW:HIGH with finite numbers, LOW < HIGH",
             )),
         }
+    }
+
+    /// Where the underlay's plane lies (default: behind the glyphs); it needs an
+    /// underlay.
+    pub fn underlay_placement(&self) -> Result<UnderlayPlacement> {
+        let Some(text) = self.underlay_plane.as_deref() else {
+            return Ok(UnderlayPlacement::default());
+        };
+        if self.underlay.is_none() {
+            return Err(Error::setting(
+                Setting::UnderlayPlane,
+                format!(
+                    "needs {} (the image it places)",
+                    Setting::Underlay.mention()
+                ),
+            ));
+        }
+        text.parse()
+    }
+
+    /// A note when the basis is named `descoteaux07` with no legacy choice and `file`
+    /// records no basis: the command line then reads the non-legacy basis (the scene
+    /// format's meaning), while DIPY 1.x writes the legacy one unless told otherwise.
+    fn basis_note(&self, file: &Image) -> Option<String> {
+        let name = self.basis.as_deref()?;
+        let ambiguous = name.trim().eq_ignore_ascii_case("descoteaux07")
+            && self.legacy.is_none()
+            && recorded_basis(file).is_none();
+        ambiguous.then(|| {
+            format!(
+                "{}: {} is read as the non-legacy descoteaux07 basis (DIPY's legacy=False); \
+                 DIPY 1.x writes the legacy one unless told otherwise: give {} (or {}) for \
+                 that, {} to say non-legacy",
+                file.file,
+                Setting::Basis.with("descoteaux07"),
+                Setting::Basis.with("dipy"),
+                Setting::Legacy.mention(),
+                Setting::Basis.with("dipy-new")
+            )
+        })
     }
 
     /// The kind of the coefficients: for SH the basis given and what `file` records
@@ -310,8 +355,10 @@ impl VolumeRequest {
         let kind = self.kind(input, Some(&file))?;
         self.check_shape(kind, &file.file)?;
         let stored = self.stored_order(kind, Some(&file))?;
+        let basis_note = self.basis_note(&file);
         let mut volume = Volume::from_image(file, kind)?;
         volume.notes.extend(note);
+        volume.notes.extend(basis_note);
         let volume = in_glyphcast_order(volume, stored)?;
         self.in_frame(volume)
     }
@@ -380,7 +427,7 @@ impl VolumeRequest {
     }
 
     /// The montage options on their own: one of views and lightbox, a lightbox count in
-    /// 1 to [`MAX_PANELS`] along the slice plane, no underlay, the slices left to views.
+    /// 1 to [`MAX_PANELS`] along the slice plane, the slices left to views.
     pub(super) fn check_montage(&self) -> Result<()> {
         if !self.is_montage() {
             return Ok(());
@@ -416,9 +463,6 @@ impl VolumeRequest {
                     ));
                 }
             }
-        }
-        if self.underlay.is_some() {
-            return Err(underlay_with_montage());
         }
         if self.slices.is_some() || (self.views.is_some() && self.slice.is_some()) {
             return Err(Error::setting(
@@ -530,12 +574,14 @@ where
     Ok(text.map(str::parse).transpose()?.unwrap_or_default())
 }
 
-/// The error for an underlay asked of a montage: it draws on one view's planes.
+/// The error for an underlay asked of the viewer's montage, whose panels move their
+/// slices on their own (`render` and Python draw one under every panel).
 pub fn underlay_with_montage() -> Error {
     Error::setting(
         Setting::Underlay,
         format!(
-            "draws on one view's planes: not with {} or {}",
+            "is drawn under a montage's panels by render and the Python module; the \
+             viewer shows it on single views only: not with {} or {}",
             Setting::Views.mention(),
             Setting::Lightbox.mention()
         ),
@@ -571,7 +617,7 @@ mod tests {
             ),
             (
                 VolumeRequest {
-                    legacy: true,
+                    legacy: Some(true),
                     ..Default::default()
                 },
                 Coefficients::Sh,
@@ -646,12 +692,11 @@ mod tests {
             ),
             (
                 VolumeRequest {
-                    views: Some("axial".into()),
-                    underlay: Some(ImageSource::File("fa.nii".into())),
+                    underlay_plane: Some("centre".into()),
                     ..base.clone()
                 },
                 Coefficients::Tensor,
-                Some(Setting::Underlay),
+                Some(Setting::UnderlayPlane),
             ),
             (
                 VolumeRequest {

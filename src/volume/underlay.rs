@@ -1,20 +1,61 @@
 //! The underlay of a volume view (`--underlay`): a 3D scalar image (FA, T1) or an RGB
 //! one (colour-FA: a 4th axis of 3 values) read with the one image reader, and one plane
-//! per slice of the view, through the voxel centres of the slice and out to the outer
-//! voxel edges of its region, placed in world space by the glyph volume's affine. The
-//! underlay is sampled through its own affine (`render::underlay`), so the two grids
-//! may differ; they must both be placed in world space, and must overlap there.
+//! per slice of the view, out to the outer voxel edges of its region, placed in world
+//! space by the glyph volume's affine. The underlay is sampled through its own affine
+//! (`render::underlay`), so the two grids may differ; they must both be placed in world
+//! space, and must overlap there.
+//!
+//! Where the plane lies along the slice's normal is [`UnderlayPlacement`]: by default
+//! at the back of the glyph slab (as far behind the voxel centres, seen from the
+//! camera, as the largest glyph reaches, and a little more), so that no glyph is cut by
+//! it: a plane through the centres hides every glyph's far half, which makes symmetric
+//! fODFs look one-sided and tilted ellipsoids thin. The plane still samples the
+//! underlay on the slice itself: it is shifted, not resampled.
 use std::path::Path;
 use std::sync::Arc;
 
+use std::str::FromStr;
+
 use glam::DVec3;
 
+use super::build::VolumeScene;
 use super::input::{Volume, show_shape};
 use super::selection::SliceRegion;
+use crate::camera::{Camera, Projection};
 use crate::io::image::{Image, read_image};
 use crate::io::nifti::{AffineSource, VoxelToWorld};
 use crate::render::underlay::{Underlay, UnderlayPlane, UnderlayVolume};
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
+
+/// How much further back than the largest glyph's radius a plane behind the glyphs lies:
+/// a glyph that touches the plane would otherwise fight it for the depth of its tip.
+const BEHIND_MARGIN: f64 = 0.02;
+
+/// Where a slice's underlay plane lies ([`Setting::UnderlayPlane`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum UnderlayPlacement {
+    /// Behind the glyphs: at the back of the glyph slab, seen from the camera.
+    #[default]
+    Back,
+    /// Through the voxel centres of the slice (glyphs are cut in half by it).
+    Centre,
+}
+
+impl FromStr for UnderlayPlacement {
+    type Err = Error;
+
+    fn from_str(text: &str) -> Result<Self> {
+        match text {
+            "back" => Ok(UnderlayPlacement::Back),
+            "centre" | "center" => Ok(UnderlayPlacement::Centre),
+            _ => Err(Error::setting_value(
+                Setting::UnderlayPlane,
+                format!("'{}'", crate::error::quoted(text)),
+                "expected back (behind the glyphs) or centre (through the voxel centres)",
+            )),
+        }
+    }
+}
 
 /// Reads an underlay image: [x, y, z] (scalar) or [x, y, z, 3] (RGB), any other shape an
 /// error naming the file and its dimensions; with the source of its affine, which
@@ -96,18 +137,64 @@ pub fn slice_plane(region: &SliceRegion, map: &VoxelToWorld) -> UnderlayPlane {
         origin: map.affine.transform_point3(DVec3::from(origin)),
         u: map.affine.transform_vector3(DVec3::from(u)),
         v: map.affine.transform_vector3(DVec3::from(v)),
+        sample_offset: DVec3::ZERO,
     }
 }
 
-/// The underlay of a view of `volume` whose slices are `regions`: one plane per slice.
-/// Errors name the underlay's file: an image placed by pixdim alone (no sform or qform)
-/// beside a volume that has an affine, and an underlay that reaches none of the planes
-/// in world space (a mismatched affine, or an image of another subject or space).
+/// `plane` moved along its normal by `depth`, away from `camera`: to the back of a slab
+/// of glyphs that reach `depth` out of it.
+pub fn plane_behind(plane: UnderlayPlane, camera: &Camera, depth: f64) -> UnderlayPlane {
+    let normal = plane.u.cross(plane.v).normalize_or_zero();
+    let centre = plane.origin + 0.5 * (plane.u + plane.v);
+    let towards = match camera.projection {
+        Projection::Orthographic { .. } => camera.target - camera.eye,
+        Projection::Perspective { .. } => centre - camera.eye,
+    };
+    let away = if normal.dot(towards) < 0.0 {
+        -normal
+    } else {
+        normal
+    };
+    let shift = away * depth * (1.0 + BEHIND_MARGIN);
+    UnderlayPlane {
+        origin: plane.origin + shift,
+        sample_offset: plane.sample_offset + shift,
+        ..plane
+    }
+}
+
+/// The planes of the slices `regions` of `volume`, placed by `placement` for glyphs
+/// seen by `camera` that reach `glyph_radius` out of their plane.
+pub fn slice_planes(
+    regions: &[SliceRegion],
+    volume: &Volume,
+    camera: &Camera,
+    glyph_radius: f64,
+    placement: UnderlayPlacement,
+) -> Vec<UnderlayPlane> {
+    regions
+        .iter()
+        .map(|r| {
+            let plane = slice_plane(r, &volume.voxel_to_world);
+            match placement {
+                UnderlayPlacement::Back => plane_behind(plane, camera, glyph_radius),
+                UnderlayPlacement::Centre => plane,
+            }
+        })
+        .collect()
+}
+
+/// The underlay of the view `scene` of `volume`: one plane per slice, placed by
+/// `placement`. Errors name the underlay's file: an image placed by pixdim alone (no
+/// sform or qform) beside a volume that has an affine, and an underlay that reaches none
+/// of the planes in world space (a mismatched affine, or an image of another subject or
+/// space).
 pub fn view_underlay(
     underlay: Arc<UnderlayVolume>,
     source: AffineSource,
     volume: &Volume,
-    regions: &[SliceRegion],
+    scene: &VolumeScene,
+    placement: UnderlayPlacement,
 ) -> Result<Underlay> {
     let glyph_source = volume.voxel_to_world.source;
     if source == AffineSource::Pixdim && glyph_source != AffineSource::Pixdim {
@@ -121,10 +208,14 @@ pub fn view_underlay(
             ),
         ));
     }
-    let planes: Vec<UnderlayPlane> = regions
-        .iter()
-        .map(|r| slice_plane(r, &volume.voxel_to_world))
-        .collect();
+    let camera = &scene.scene.camera;
+    let planes = slice_planes(
+        &scene.regions,
+        volume,
+        camera,
+        scene.glyph_radius,
+        placement,
+    );
     if !planes.iter().any(|p| reaches(&underlay, p)) {
         return Err(Error::input(
             &underlay.file,
@@ -146,7 +237,9 @@ pub fn view_underlay(
 /// Whether the box of the plane's corners, in the underlay's voxel coordinates, meets
 /// the underlay's box (a necessary condition for any pixel of the plane to show it).
 fn reaches(underlay: &UnderlayVolume, plane: &UnderlayPlane) -> bool {
-    let corners = plane.corners().map(|c| underlay.voxel_of(c));
+    let corners = plane
+        .corners()
+        .map(|c| underlay.voxel_of(c - plane.sample_offset));
     (0..3).all(|a| {
         let lo = corners.iter().map(|c| c[a]).fold(f64::INFINITY, f64::min);
         let hi = corners

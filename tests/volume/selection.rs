@@ -144,6 +144,7 @@ fn normalisation_sizes_glyphs_as_asked() {
     // Labels 101 + i + 10 j; the largest, (3, 4), is 144. A sphere c I has radius c.
     let largest = 144.0;
     for (norm, scale) in [
+        (Normalisation::Robust, None),
         (Normalisation::Global, None),
         (Normalisation::Global, Some(1.5)),
         (Normalisation::PerGlyph, Some(1.5)),
@@ -163,7 +164,8 @@ fn normalisation_sizes_glyphs_as_asked() {
             let radius = coeffs[0];
             let world_radius = glyph_scale * radius;
             let expected = match norm {
-                Normalisation::Global => s * radius / largest,
+                // No outlier here: 144 is within 1.5 times the 99th percentile.
+                Normalisation::Robust | Normalisation::Global => s * radius / largest,
                 Normalisation::PerGlyph => s,
                 Normalisation::None => s * radius,
             };
@@ -173,6 +175,72 @@ fn normalisation_sizes_glyphs_as_asked() {
             );
         }
     }
+}
+
+/// One glyph ten times larger than the rest (a CSF-like voxel) changes the others'
+/// drawn size by at most 2x under the default (robust) normalisation, and is itself
+/// drawn at the largest size, counted and warned of; under global normalisation it
+/// shrinks them by 7x.
+#[test]
+fn an_outlier_does_not_shrink_the_other_glyphs_by_default() {
+    let outlier = [1, 1, 1];
+    let plain = labelled("plain", |_, c| c);
+    let spiked = labelled("spiked", |v, c| {
+        if v == outlier {
+            c.iter().map(|x| 10.0 * x).collect()
+        } else {
+            c
+        }
+    });
+    let world_radii = |volume: &Volume, norm: Normalisation| {
+        let options = VolumeOptions {
+            slice: Slice {
+                axis: SliceAxis::Axial,
+                index: Some(1),
+            },
+            norm,
+            ..Default::default()
+        };
+        let view = volume_scene(volume, &options).expect("scene");
+        let set = &view.scene.glyph_sets[0];
+        let radii: Vec<(glam::DVec3, f64)> = set
+            .centers
+            .iter()
+            .zip(set.coeffs.iter().zip(&set.scales))
+            .map(|(&centre, (c, &scale))| (centre, scale * c[0]))
+            .collect();
+        (radii, view.report)
+    };
+    let (before, _) = world_radii(&plain, Normalisation::default());
+    let (after, report) = world_radii(&spiked, Normalisation::default());
+    assert_eq!(report.capped, 1);
+    let warnings = report.warnings("spiked.nii");
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("1 glyph(s) larger than")),
+        "{warnings:?}"
+    );
+    let largest = after.iter().map(|r| r.1).fold(0.0, f64::max);
+    assert!(
+        (largest - 0.9).abs() < 1e-9,
+        "the outlier at the scale: {largest}"
+    );
+    let mut compared = 0;
+    for ((centre, a), (same, b)) in before.iter().zip(&after) {
+        assert_eq!(centre, same);
+        if (*b - largest).abs() < 1e-12 {
+            continue;
+        }
+        let ratio = a / b;
+        assert!((1.0..=2.0).contains(&ratio), "{centre}: {a} then {b}");
+        compared += 1;
+    }
+    assert_eq!(compared, DIMS[0] * DIMS[1] - 1);
+    // Global normalisation: the outlier takes the scale, the rest shrink by 1011 / 144.
+    let (global, _) = world_radii(&spiked, Normalisation::Global);
+    let shrunk = before[0].1 / global[0].1;
+    assert!(shrunk > 5.0, "{shrunk}");
 }
 
 #[test]
