@@ -372,10 +372,7 @@ pub unsafe fn graphics_pipeline(
     } else {
         desc.raster.cache
     };
-    let created = unsafe {
-        ctx.device()
-            .create_graphics_pipelines(cache, &[info], None)
-    };
+    let created = unsafe { ctx.device().create_graphics_pipelines(cache, &[info], None) };
     let handle = first_pipeline(created, "vkCreateGraphicsPipelines")?;
     // SAFETY: just made on `ctx`'s device, owned by nothing else.
     Ok(unsafe { Pipeline::from_raw(ctx, handle) })
