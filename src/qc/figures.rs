@@ -310,6 +310,7 @@ mod tests {
             report: VolumeReport::default(),
             region: region.clone(),
             regions: vec![region.clone()],
+            glyph_radius: 0.0,
         };
         let plan = || FigurePlan {
             file: String::new(),
