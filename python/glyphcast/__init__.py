@@ -19,7 +19,11 @@ The keyword options are those of ``glyphcast render``, with ``-`` as ``_``
   (X, Y, Z, 3) array on the coefficients' grid, or ``(array, affine)``) with
   ``underlay_range`` ("LOW:HIGH" or ``(low, high)``); a montage of panels, each the
   image of its view alone: ``views`` ("axial,coronal,sagittal" or a list, each
-  optionally ":INDEX") or ``lightbox`` (N evenly spaced slices of the ``slice`` plane).
+  optionally ":INDEX") or ``lightbox`` (N evenly spaced slices of the ``slice`` plane);
+  ``peaks`` (a peak image's path: 3 values per peak, direction times amplitude, as
+  ``glyphcast peaks`` and MRtrix ``sh2peaks`` write it; with ``peak_values``, a path,
+  DIPY's unit ``peak_dirs``) drawn as capsules through the voxel centres, with
+  ``peaks_color``, ``peaks_norm``, ``peaks_scale`` and ``peaks_width``.
 
 The messages of the errors are the CLI's, with each option named by its keyword
 (``step=0.0001: must be in 0.001 to 2 ...`` where the CLI says ``--step 0.0001``). Bad

@@ -50,6 +50,16 @@ impl<'py> Kwargs<'py> {
             .transpose()
     }
 
+    /// A file path (`peak_values="values.nii.gz"`).
+    pub fn path(&mut self, key: &str) -> PyResult<Option<PathBuf>> {
+        self.take(key)
+            .map(|v| {
+                v.extract::<PathBuf>()
+                    .map_err(|_| expected(key, "a path", &v))
+            })
+            .transpose()
+    }
+
     /// A number (`step=0.02`).
     pub fn float(&mut self, key: &str) -> PyResult<Option<f64>> {
         self.take(key)
@@ -179,7 +189,9 @@ impl<'py> Kwargs<'py> {
     /// `scale`, `norm`, `min_amplitude`, `perspective`, `orientation`, `glyph`,
     /// `underlay` (a path, an array on the coefficients' grid, or (array, affine)),
     /// `underlay_range` ("LOW:HIGH" or (low, high)), `views` ("axial,coronal" or a list)
-    /// and `lightbox`. `affine` is the coefficients' (an underlay array's default).
+    /// and `lightbox`; `peaks` (a path), `peak_values` (a path: DIPY's layout),
+    /// `peaks_color`, `peaks_norm`, `peaks_scale` and `peaks_width`. `affine` is the
+    /// coefficients' (an underlay array's default).
     pub fn volume_request(&mut self, affine: DMat4) -> PyResult<VolumeRequest> {
         let underlay = |value: &Bound<'py, PyAny>| match value.cast::<PyTuple>() {
             Ok(pair) if pair.len() == 2 => {
@@ -214,6 +226,17 @@ impl<'py> Kwargs<'py> {
             underlay_range: self.range("underlay_range")?,
             views: self.list("views")?,
             lightbox: self.count("lightbox")?.map(|n| n as usize),
+            peaks: self.image("peaks", |_| {
+                Err(value_error(
+                    "peaks",
+                    "a peak image is given by its path (NIfTI or MRtrix)",
+                ))
+            })?,
+            peak_values: self.path("peak_values")?,
+            peaks_color: self.text("peaks_color")?,
+            peaks_norm: self.text("peaks_norm")?,
+            peaks_scale: self.float("peaks_scale")?,
+            peaks_width: self.float("peaks_width")?,
         })
     }
 }

@@ -18,6 +18,7 @@ mod interface;
 pub mod labels;
 pub mod mesh;
 pub mod montage;
+pub mod peaks;
 pub mod options;
 #[doc(hidden)]
 pub mod range_eval;

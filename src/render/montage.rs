@@ -14,7 +14,7 @@ use crate::glyph::NegativeMode;
 use crate::render::antialias::MAX_SUPERSAMPLED_SIDE as MAX_SIDE;
 use crate::render::colorbar::srgb_byte;
 use crate::render::glyph_data::GlyphSetData;
-use crate::render::headless::{HeadlessRenderer, RenderedImage};
+use crate::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
 use crate::render::labels::{draw_edge_labels, edge_labels};
 use crate::render::options::{PreparedScene, prepare_render};
 use crate::render::settings::{ColorMode, RenderSettings};
@@ -214,8 +214,8 @@ impl PreparedMontage {
         let mut montage = Montage::new(self.grid, width, height, self.settings.background);
         for (k, panel) in self.panels.iter().enumerate() {
             let (w, h) = (panel.width, panel.height);
-            let mut image =
-                renderer.render(gpu, &panel.sets, &panel.camera, w, h, &self.settings)?;
+            let view = FrameView::new(&panel.camera, w, h).with_peaks(panel.peaks.as_ref());
+            let mut image = renderer.render_view(gpu, &panel.sets, &view, &self.settings)?;
             if labels {
                 draw_edge_labels(&mut image.rgba, w, h, &edge_labels(&panel.camera))?;
             }

@@ -3,6 +3,7 @@
 //! defaults and one set of checks, so that both front ends read alike. A refused value
 //! is an [`Error::Setting`] naming the [`Setting`]; each front end spells it (`--step`,
 //! `step=`).
+use crate::render::peaks::PeakSet;
 use crate::camera::Camera;
 use crate::error::quoted;
 use crate::glyph::{GlyphShape, NegativeMode};
@@ -141,6 +142,8 @@ pub struct PreparedScene {
     pub height: u32,
     /// How to draw.
     pub settings: RenderSettings,
+    /// Fibre peaks drawn with the glyphs, if any (the caller's: a volume view's).
+    pub peaks: Option<PeakSet>,
 }
 
 impl PreparedScene {
@@ -179,6 +182,7 @@ pub fn prepare_render(
         width: scene.image.width,
         height: scene.image.height,
         settings,
+        peaks: None,
     })
 }
 

@@ -18,7 +18,9 @@ use super::framing::{
 };
 use super::input::{CoefficientFrame, Mask, Volume, show_shape};
 use super::reorient::Reorientation;
+use super::peaks::{ViewPeaks, peak_set};
 use super::selection::{Slice, SliceRegion, Slices, VoxelRanges};
+use crate::render::peaks::PeakSet;
 use crate::glyph::ellipsoid::ELLIPSOID_LAYOUT;
 use crate::glyph::{GlyphShape, NegativeMode};
 use crate::scene::{GlyphKind, GlyphSet, Scene};
@@ -64,6 +66,9 @@ pub struct VolumeOptions {
     /// Which side of the image the subject's right is on, in every view.
     pub orientation: Orientation,
     pub image: ImageRequest,
+    /// Fibre peaks drawn in the voxels of the slices, if any (on the volume's grid;
+    /// alone where the volume only stands for their grid, [`Volume::grid_of_peaks`]).
+    pub peaks: Option<ViewPeaks>,
 }
 
 /// What happened to the voxels of the selection.
@@ -89,6 +94,8 @@ pub struct VolumeScene {
     pub region: SliceRegion,
     /// Every slice's region: one, or sagittal, coronal and axial.
     pub regions: Vec<SliceRegion>,
+    /// The peaks of the slices, if asked for.
+    pub peaks: Option<PeakSet>,
 }
 
 impl FromStr for Normalisation {
@@ -157,7 +164,7 @@ pub fn volume_scene_with_progress(
         let mut candidates = Vec::new();
         // A voxel where two slices cross belongs to the first of them only.
         for voxel in region.voxels() {
-            if regions[..n].iter().any(|earlier| earlier.contains(voxel)) {
+            if volume.is_peaks_grid() || regions[..n].iter().any(|earlier| earlier.contains(voxel)) {
                 continue;
             }
             report.selected += 1;
@@ -195,7 +202,7 @@ pub fn volume_scene_with_progress(
         glyphs.push(drawn);
     }
     report.drawn = glyphs.iter().map(Vec::len).sum();
-    if report.drawn == 0 {
+    if report.drawn == 0 && !volume.is_peaks_grid() {
         return Err(nothing_to_draw(volume, &regions, &report));
     }
     let scale = options
@@ -219,6 +226,17 @@ pub fn volume_scene_with_progress(
             options.image,
         )?,
     };
+    let peaks = options
+        .peaks
+        .as_ref()
+        .map(|peaks| {
+            let (camera, height) = (&framing.camera, framing.image.height);
+            peak_set(peaks, &regions, options.mask.as_ref(), camera, height)
+        })
+        .transpose()?;
+    if volume.is_peaks_grid() && peaks.as_ref().is_none_or(|p| p.segments.is_empty()) {
+        return Err(no_peak_to_draw(volume, &regions));
+    }
     // Global normalisation is over all slices together.
     let largest = glyphs
         .iter()
@@ -239,6 +257,7 @@ pub fn volume_scene_with_progress(
         report,
         region: regions[0].clone(),
         regions,
+        peaks,
     })
 }
 
@@ -259,6 +278,11 @@ fn reorientation(volume: &Volume) -> Result<Reorientation> {
 }
 
 fn check_options(volume: &Volume, options: &VolumeOptions) -> Result<()> {
+    if let Some(peaks) = &options.peaks {
+        peaks
+            .volume
+            .check_grid(&volume.file, volume.dims, &volume.voxel_to_world)?;
+    }
     if let Some(scale) = options.scale
         && !(scale.is_finite() && scale > 0.0)
     {
@@ -352,6 +376,21 @@ fn nothing_to_draw(volume: &Volume, regions: &[SliceRegion], report: &VolumeRepo
             report.below_min_amplitude,
             Setting::MinAmplitude.mention(),
             slices.join(", "),
+        ),
+    )
+}
+
+fn no_peak_to_draw(volume: &Volume, regions: &[SliceRegion]) -> Error {
+    let slices: Vec<String> = regions
+        .iter()
+        .map(|r| format!("{}={}", ["i", "j", "k"][r.slice.voxel_axis()], r.index))
+        .collect();
+    Error::input(
+        &volume.file,
+        "data",
+        format!(
+            "no peak to draw in slice {} (NaN or masked out everywhere there)",
+            slices.join(", ")
         ),
     )
 }

@@ -68,6 +68,7 @@ impl VolumeRequest {
         self.check_montage()?;
         let mut options = self.options(image)?;
         options.mask = self.read_mask()?;
+        options.peaks = self.read_peaks()?;
         if self.is_montage() {
             return self.montage(&volume, &options).map(VolumeFigure::Montage);
         }
@@ -130,6 +131,7 @@ impl VolumeRequest {
         }
         let mut options = self.options(image)?;
         options.mask = self.read_mask()?;
+        options.peaks = self.read_peaks()?;
         self.plan(volume, &options)
     }
 

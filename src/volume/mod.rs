@@ -24,6 +24,7 @@ mod build;
 mod figure;
 mod framing;
 mod input;
+mod peaks;
 mod recorded;
 mod reorient;
 mod request;
@@ -41,6 +42,10 @@ pub use framing::{
 };
 pub use input::{CoefficientFrame, MAX_ORDER, Mask, Volume, VolumeKind, load_mask, load_volume};
 pub use recorded::{RecordedBasis, recorded_basis, resolve_basis};
+pub use peaks::{
+    DEFAULT_PEAKS_SCALE_FRACTION, DEFAULT_PEAKS_WIDTH, PeakStyle, PeakVolume, PeaksColor,
+    PeaksNorm, ViewPeaks, load_peaks, peak_set, pixel_size,
+};
 pub use reorient::Reorientation;
 pub use request::{Coefficients, ImageSource, MAX_PANELS, VolumeRequest, underlay_with_montage};
 pub use selection::{Slice, SliceAxis, SliceRegion, Slices, VoxelRanges};
