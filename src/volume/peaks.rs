@@ -261,6 +261,7 @@ impl PeakVolume {
                 format!("no peak anywhere: {what}"),
             ));
         }
+        drop(vector);
         Ok(PeakVolume {
             file: image.file,
             dims,
