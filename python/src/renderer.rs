@@ -172,8 +172,11 @@ impl Renderer {
                     Ok((loaded, notes))
                 }
                 VolumeFigure::Montage(montage) => {
-                    let (scenes, peaks): (Vec<_>, Vec<_>) =
-                        montage.panels.into_iter().map(|p| (p.scene, p.peaks)).unzip();
+                    let (scenes, peaks): (Vec<_>, Vec<_>) = montage
+                        .panels
+                        .into_iter()
+                        .map(|p| (p.scene, p.peaks))
+                        .unzip();
                     let settings = render.settings()?;
                     let mut prepared =
                         prepare_montage(scenes, montage.columns, settings, render.negative()?)?;

@@ -389,8 +389,11 @@ pub fn render_montage(
     let settings = options.settings()?;
     options.check_colorbar(&settings)?;
     let negative = options.negative()?;
-    let (mut scenes, peaks): (Vec<Scene>, Vec<Option<PeakSet>>) =
-        montage.panels.into_iter().map(|p| (p.scene, p.peaks)).unzip();
+    let (mut scenes, peaks): (Vec<Scene>, Vec<Option<PeakSet>>) = montage
+        .panels
+        .into_iter()
+        .map(|p| (p.scene, p.peaks))
+        .unzip();
     for scene in &mut scenes {
         scene.image.width = image.width.unwrap_or(scene.image.width);
         scene.image.height = image.height.unwrap_or(scene.image.height);

@@ -194,7 +194,10 @@ mod tests {
                 (hit, t) => {
                     // A graze within the march's step of the silhouette only.
                     let p = r.origin + hit.map_or(t.unwrap_or(0.0), |h| h.t) * r.dir;
-                    assert!((distance(p) - capsule.radius).abs() < 1e-3, "{x}: {hit:?} {t:?}");
+                    assert!(
+                        (distance(p) - capsule.radius).abs() < 1e-3,
+                        "{x}: {hit:?} {t:?}"
+                    );
                 }
             }
         }

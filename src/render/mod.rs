@@ -18,8 +18,8 @@ mod interface;
 pub mod labels;
 pub mod mesh;
 pub mod montage;
-pub mod peaks;
 pub mod options;
+pub mod peaks;
 #[doc(hidden)]
 pub mod range_eval;
 pub mod raycast;

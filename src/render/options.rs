@@ -3,11 +3,11 @@
 //! defaults and one set of checks, so that both front ends read alike. A refused value
 //! is an [`Error::Setting`] naming the [`Setting`]; each front end spells it (`--step`,
 //! `step=`).
-use crate::render::peaks::PeakSet;
 use crate::camera::Camera;
 use crate::error::quoted;
 use crate::glyph::{GlyphShape, NegativeMode};
 use crate::render::glyph_data::{GlyphSetData, measure_largest_radius, prepare_scene};
+use crate::render::peaks::PeakSet;
 use crate::render::settings::{parse_background, parse_light};
 use crate::render::{ColorMode, Method, Refinement, RenderSettings};
 use crate::scene::Scene;

@@ -167,7 +167,8 @@ impl PeaksPass {
             &instances,
             vk::BufferUsageFlags::VERTEX_BUFFER,
         )?;
-        let frame = Buffer::with_data(ctx, "peaks frame", std::slice::from_ref(frame), FRAME_USAGE)?;
+        let frame =
+            Buffer::with_data(ctx, "peaks frame", std::slice::from_ref(frame), FRAME_USAGE)?;
         let pool = DescriptorPool::new(ctx, 1, 0, 1)?;
         let descriptor_set = pool.buffer_set(
             self.layout.set_layout(),

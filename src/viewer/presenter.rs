@@ -16,8 +16,8 @@
 use super::compose::{Composer, PanelDraw, StripDraw, attachment_to_copies};
 use crate::error::{Result, VkContext};
 use crate::render::RenderSettings;
-use crate::render::raycast::{RayCastPass, TargetFormats};
 use crate::render::peaks::PeaksPass;
+use crate::render::raycast::{RayCastPass, TargetFormats};
 use crate::render::underlay::UnderlayPass;
 use crate::vk::recording::{
     Access, COLOR_OUTPUT, COPY_READ, COPY_WRITE, DEPTH_TESTS, NOTHING, cleared_color_attachment,

@@ -17,12 +17,12 @@ use super::framing::{
     Framing, ImageRequest, Orientation, ViewProjection, frame_region, frame_volume,
 };
 use super::input::{CoefficientFrame, Mask, Volume, show_shape};
-use super::reorient::Reorientation;
 use super::peaks::{ViewPeaks, peak_set};
+use super::reorient::Reorientation;
 use super::selection::{Slice, SliceRegion, Slices, VoxelRanges};
-use crate::render::peaks::PeakSet;
 use crate::glyph::ellipsoid::ELLIPSOID_LAYOUT;
 use crate::glyph::{GlyphShape, NegativeMode};
+use crate::render::peaks::PeakSet;
 use crate::scene::{GlyphKind, GlyphSet, Scene};
 use crate::{Error, Result, Setting};
 
@@ -164,7 +164,8 @@ pub fn volume_scene_with_progress(
         let mut candidates = Vec::new();
         // A voxel where two slices cross belongs to the first of them only.
         for voxel in region.voxels() {
-            if volume.is_peaks_grid() || regions[..n].iter().any(|earlier| earlier.contains(voxel)) {
+            if volume.is_peaks_grid() || regions[..n].iter().any(|earlier| earlier.contains(voxel))
+            {
                 continue;
             }
             report.selected += 1;

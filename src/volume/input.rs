@@ -16,8 +16,8 @@ use crate::glyph::TensorLayout;
 use crate::glyph::sh;
 use crate::io::image::{Image, ImageHeader, read_image};
 use crate::io::nifti::VoxelToWorld;
-use crate::volume::PeakVolume;
 use crate::scene::{GlyphKind, ShBasis};
+use crate::volume::PeakVolume;
 use crate::{Error, Result};
 
 /// Highest SH band and tensor order of the scene format.

@@ -41,11 +41,11 @@ pub use framing::{
     ViewProjection, frame_region, frame_volume, view_axis, view_directions,
 };
 pub use input::{CoefficientFrame, MAX_ORDER, Mask, Volume, VolumeKind, load_mask, load_volume};
-pub use recorded::{RecordedBasis, recorded_basis, resolve_basis};
 pub use peaks::{
     DEFAULT_PEAKS_SCALE_FRACTION, DEFAULT_PEAKS_WIDTH, PeakStyle, PeakVolume, PeaksColor,
     PeaksNorm, ViewPeaks, load_peaks, peak_set, pixel_size,
 };
+pub use recorded::{RecordedBasis, recorded_basis, resolve_basis};
 pub use reorient::Reorientation;
 pub use request::{Coefficients, ImageSource, MAX_PANELS, VolumeRequest, underlay_with_montage};
 pub use selection::{Slice, SliceAxis, SliceRegion, Slices, VoxelRanges};

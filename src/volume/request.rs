@@ -16,10 +16,10 @@ use crate::glyph::{GlyphShape, Symmetry, TensorLayout};
 use crate::io::image::{Image, read_image};
 use crate::io::nifti::VoxelToWorld;
 use crate::render::underlay::UnderlayVolume;
-use crate::volume::peaks::{DEFAULT_PEAKS_WIDTH, PeakStyle, PeakVolume, ViewPeaks, load_peaks};
-use std::sync::Arc;
 use crate::scene::ShBasis;
+use crate::volume::peaks::{DEFAULT_PEAKS_WIDTH, PeakStyle, PeakVolume, ViewPeaks, load_peaks};
 use crate::{Error, Result, Setting};
+use std::sync::Arc;
 
 /// The most panels of a montage ([`Setting::Views`], [`Setting::Lightbox`]).
 pub const MAX_PANELS: usize = 64;
@@ -139,7 +139,10 @@ impl VolumeRequest {
         {
             return Err(Error::setting(
                 *setting,
-                format!("needs {} (the peaks it applies to)", Setting::Peaks.mention()),
+                format!(
+                    "needs {} (the peaks it applies to)",
+                    Setting::Peaks.mention()
+                ),
             ));
         }
         if matches!(self.peaks, Some(ImageSource::Memory(_))) && self.peak_values.is_some() {
@@ -159,7 +162,12 @@ impl VolumeRequest {
             .unwrap_or_default();
         let style = PeakStyle {
             color,
-            norm: self.peaks_norm.as_deref().map(str::parse).transpose()?.unwrap_or_default(),
+            norm: self
+                .peaks_norm
+                .as_deref()
+                .map(str::parse)
+                .transpose()?
+                .unwrap_or_default(),
             scale: self.peaks_scale,
             width: self.peaks_width.unwrap_or(DEFAULT_PEAKS_WIDTH),
         };
