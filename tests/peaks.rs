@@ -399,7 +399,7 @@ fn dipy_layout(peaks: &glyphcast::io::image::Image, dir: &Path, five: bool) -> (
     for ((i, j, k), _) in ndarray::Array3::<u8>::zeros((s[0], s[1], s[2])).indexed_iter() {
         for p in 0..n {
             let v = DVec3::from_array(std::array::from_fn(|c| peaks.data[[i, j, k, 3 * p + c]]));
-            if !(v.length() > 0.0) {
+            if v.is_nan() || v.length() == 0.0 {
                 continue;
             }
             values[[i, j, k, p]] = v.length();

@@ -306,7 +306,7 @@ impl PeakVolume {
             .zip(b)
             .map(|(x, y)| (x - y).abs())
             .fold(0.0, f64::max);
-        if !(worst <= tolerance) {
+        if worst.is_nan() || worst > tolerance {
             return Err(Error::input(
                 &self.file,
                 "affine",
@@ -411,11 +411,14 @@ pub fn pixel_size(camera: &Camera, image_height: u32) -> f64 {
     height / f64::from(image_height.max(1))
 }
 
+/// A grid, a peak count, and the vectors by voxel and peak.
+type Directions<F> = ([usize; 3], usize, F);
+
 /// The grid and peak count of a directions image, and its vectors by voxel and peak.
-fn directions(image: &Image) -> Result<([usize; 3], usize, impl Fn([usize; 3], usize) -> DVec3)> {
+fn directions(image: &Image) -> Result<Directions<impl Fn([usize; 3], usize) -> DVec3 + '_>> {
     let shape = image.shape(4);
     let (dims, count, five) = match shape.len() {
-        4 if shape[3] % 3 == 0 => ([shape[0], shape[1], shape[2]], shape[3] / 3, false),
+        4 if shape[3].is_multiple_of(3) => ([shape[0], shape[1], shape[2]], shape[3] / 3, false),
         4 => {
             return Err(Error::input(
                 &image.file,
