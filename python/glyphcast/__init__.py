@@ -20,10 +20,12 @@ The keyword options are those of ``glyphcast render``, with ``-`` as ``_``
   ``underlay_range`` ("LOW:HIGH" or ``(low, high)``); a montage of panels, each the
   image of its view alone: ``views`` ("axial,coronal,sagittal" or a list, each
   optionally ":INDEX") or ``lightbox`` (N evenly spaced slices of the ``slice`` plane);
-  ``peaks`` (a peak image's path: 3 values per peak, direction times amplitude, as
-  ``glyphcast peaks`` and MRtrix ``sh2peaks`` write it; with ``peak_values``, a path,
-  DIPY's unit ``peak_dirs``) drawn as capsules through the voxel centres, with
-  ``peaks_color``, ``peaks_norm``, ``peaks_scale`` and ``peaks_width``.
+  ``peaks`` (a peak image's path, or an array on the coefficients' grid, directions in
+  the coefficients' frame: 3 values per peak, direction times amplitude, (X, Y, Z, 3N)
+  as ``glyphcast peaks`` and MRtrix ``sh2peaks`` write it; with ``peak_values``, DIPY's
+  unit ``peak_dirs`` (X, Y, Z, N, 3) and ``peak_values`` (X, Y, Z, N), both paths or
+  both arrays) drawn as capsules through the voxel centres, with ``peaks_color``,
+  ``peaks_norm``, ``peaks_scale`` and ``peaks_width``.
 
 The messages of the errors are the CLI's, with each option named by its keyword
 (``step=0.0001: must be in 0.001 to 2 ...`` where the CLI says ``--step 0.0001``). Bad

@@ -42,8 +42,8 @@ pub use framing::{
 };
 pub use input::{CoefficientFrame, MAX_ORDER, Mask, Volume, VolumeKind, load_mask, load_volume};
 pub use peaks::{
-    DEFAULT_PEAKS_SCALE_FRACTION, DEFAULT_PEAKS_WIDTH, PeakStyle, PeakVolume, PeaksColor,
-    PeaksNorm, ViewPeaks, load_peaks, peak_set, pixel_size,
+    DEFAULT_PEAKS_SCALE_FRACTION, DEFAULT_PEAKS_WIDTH, PeakArray, PeakStyle, PeakVolume,
+    PeaksColor, PeaksNorm, ViewPeaks, load_peaks, peak_set, pixel_size,
 };
 pub use recorded::{RecordedBasis, recorded_basis, resolve_basis};
 pub use reorient::Reorientation;

@@ -21,13 +21,14 @@ use std::str::FromStr;
 use std::sync::Arc;
 
 use glam::{DMat3, DVec3};
+use ndarray::ArrayD;
 
 use super::input::{CoefficientFrame, Mask, show_shape};
 use super::selection::SliceRegion;
 use crate::camera::{Camera, Projection};
 use crate::error::quoted;
 use crate::glyph::capsule::Capsule;
-use crate::io::image::{Image, read_image};
+use crate::io::image::{Image, read_image, trimmed_shape};
 use crate::io::nifti::VoxelToWorld;
 use crate::render::peaks::{PeakSegment, PeakSet};
 use crate::{Error, Result, Setting};
@@ -199,10 +200,49 @@ pub fn load_peaks(path: &Path, values: Option<&Path>) -> Result<PeakVolume> {
     PeakVolume::from_images(read_image(path)?, values)
 }
 
+/// The values of a peak image and where they lie, from a file or from memory.
+#[derive(Clone, Debug)]
+pub struct PeakArray {
+    /// The file or the argument, for messages.
+    pub file: String,
+    /// [x, y, z, 3N], [x, y, z, N, 3] (directions) or [x, y, z, N] (values).
+    pub data: ArrayD<f64>,
+    pub voxel_to_world: VoxelToWorld,
+}
+
+impl From<Image> for PeakArray {
+    fn from(image: Image) -> Self {
+        PeakArray {
+            file: image.file,
+            data: image.data,
+            voxel_to_world: image.voxel_to_world,
+        }
+    }
+}
+
+impl PeakArray {
+    /// The shape with trailing axes of size 1 dropped down to `rank` entries (as
+    /// [`Image::shape`]).
+    fn shape(&self, rank: usize) -> Vec<usize> {
+        trimmed_shape(self.data.shape(), rank)
+    }
+}
+
 impl PeakVolume {
-    /// The peaks of an image read with [`read_image`] (see the module's layouts).
+    /// The peaks of an image read with [`read_image`] (see the module's layouts), in the
+    /// file's frame ([`CoefficientFrame::of_image`]).
     pub fn from_images(image: Image, values: Option<Image>) -> Result<PeakVolume> {
         let frame = CoefficientFrame::of_image(&image)?;
+        PeakVolume::from_arrays(image.into(), values.map(PeakArray::from), frame)
+    }
+
+    /// The peaks of `directions` (the layouts of the module), with the amplitudes of a
+    /// DIPY layout if `values` is given, their directions in `frame`.
+    pub fn from_arrays(
+        image: PeakArray,
+        values: Option<PeakArray>,
+        frame: CoefficientFrame,
+    ) -> Result<PeakVolume> {
         let (dims, count, vector) = directions(&image)?;
         let amplitude: Box<dyn Fn([usize; 3], usize) -> f64> = match &values {
             None => Box::new(|_, _| 1.0),
@@ -415,7 +455,7 @@ pub fn pixel_size(camera: &Camera, image_height: u32) -> f64 {
 type Directions<F> = ([usize; 3], usize, F);
 
 /// The grid and peak count of a directions image, and its vectors by voxel and peak.
-fn directions(image: &Image) -> Result<Directions<impl Fn([usize; 3], usize) -> DVec3 + '_>> {
+fn directions(image: &PeakArray) -> Result<Directions<impl Fn([usize; 3], usize) -> DVec3 + '_>> {
     let shape = image.shape(4);
     let (dims, count, five) = match shape.len() {
         4 if shape[3].is_multiple_of(3) => ([shape[0], shape[1], shape[2]], shape[3] / 3, false),
@@ -458,7 +498,7 @@ fn directions(image: &Image) -> Result<Directions<impl Fn([usize; 3], usize) -> 
 }
 
 /// The value at `index` (trailing axes of size 1 at 0); NaN outside the data.
-fn at(image: &Image, index: &[usize]) -> f64 {
+fn at(image: &PeakArray, index: &[usize]) -> f64 {
     let rank = image.data.ndim();
     let mut full = vec![0usize; rank];
     for (slot, i) in full.iter_mut().zip(index) {
@@ -468,7 +508,12 @@ fn at(image: &Image, index: &[usize]) -> f64 {
 }
 
 /// A values image must be [x, y, z, N] on the directions' grid.
-fn check_values(values: &Image, directions: &Image, dims: [usize; 3], count: usize) -> Result<()> {
+fn check_values(
+    values: &PeakArray,
+    directions: &PeakArray,
+    dims: [usize; 3],
+    count: usize,
+) -> Result<()> {
     let shape = values.shape(4);
     let expected = [dims[0], dims[1], dims[2], count];
     let matches = shape.len() == 4 && shape[..] == expected[..]
