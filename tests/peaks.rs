@@ -355,6 +355,22 @@ fn peaks_of_glyphcast_peaks_lie_along_the_drawn_lobes() {
     // The test's NIfTI writer records no basis: the fit's is given.
     let checked = assert_peaks_along_lobes(&fod_r, &peaks_r, Some("dipy"));
     assert!(checked > 50, "{checked} peaks checked on the turned grid");
+    // `glyphcast peaks` of that oblique NIfTI fODF written as `.mif` (scanner axes, as
+    // MRtrix reads it): drawn over the same fODF, along its lobes too.
+    let peaks_mif = dir.join("peaks-r.mif");
+    peaks_of(&fod_r, &peaks_mif, &["--basis", "dipy"]);
+    let checked = assert_peaks_along_lobes(&fod_r, &peaks_mif, Some("dipy"));
+    assert!(
+        checked > 50,
+        "{checked} .mif peaks checked on the turned grid"
+    );
+    // And the other way: an fODF in scanner axes (a `.mif` as `glyphcast fit` writes
+    // it), its peaks written as NIfTI (voxel axes, as DIPY reads them).
+    let fod_mif = world_frame_mif(&fod_r, &dir.join("fod-r.mif"));
+    let peaks_nii = dir.join("peaks-of-mif.nii.gz");
+    peaks_of(&fod_mif, &peaks_nii, &[]);
+    let checked = assert_peaks_along_lobes(&fod_mif, &peaks_nii, None);
+    assert!(checked > 50, "{checked} NIfTI peaks of a .mif fODF checked");
     // The picture: the fODFs, their peaks and the depth map, written by the CLI.
     let out = dir.join("fod-peaks.png");
     let run = glyphcast(&[
@@ -373,6 +389,58 @@ fn peaks_of_glyphcast_peaks_lie_along_the_drawn_lobes() {
         "{}",
         String::from_utf8_lossy(&run.stderr)
     );
+}
+
+/// `glyphcast peaks ODF -o OUT EXTRA`.
+fn peaks_of(odf: &Path, out: &Path, extra: &[&str]) {
+    let mut args = vec!["peaks", text(odf), "-o", text(out), "--quiet"];
+    args.extend_from_slice(extra);
+    let run = glyphcast(&args);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+}
+
+/// The DIPY-basis NIfTI fODF `fod` (voxel axes) as a `.mif` at `to` in scanner axes,
+/// recording its basis, as `glyphcast fit -o X.mif` writes one.
+fn world_frame_mif(fod: &Path, to: &Path) -> PathBuf {
+    let image = read_image(fod).expect("fod");
+    let s = image.data.shape().to_vec();
+    let band = (0..=12)
+        .step_by(2)
+        .find(|&l| (l + 1) * (l + 2) / 2 == s[3] as u32);
+    let kind = GlyphKind::Sh {
+        band: band.expect("an SH band"),
+        basis: glyphcast::scene::ShBasis::Descoteaux07,
+        legacy: true,
+    };
+    let r = image.voxel_to_world.orthogonal_factor().expect("R");
+    let turn = glyphcast::volume::Reorientation::new(r);
+    let mut world = image.data.clone();
+    for mut lane in world.lanes_mut(ndarray::Axis(3)) {
+        let voxel: Vec<f64> = lane.iter().copied().collect();
+        if voxel.iter().all(|c| *c == 0.0) {
+            continue;
+        }
+        for (out, v) in lane
+            .iter_mut()
+            .zip(turn.apply(kind, &voxel).expect("turned"))
+        {
+            *out = v;
+        }
+    }
+    glyphcast::io::mif::write_mif(
+        to,
+        &glyphcast::io::mif::MifWrite {
+            data: &world,
+            voxel_to_world: &image.voxel_to_world,
+            keys: &[("glyphcast_sh_basis", "descoteaux07 legacy".to_string())],
+        },
+    )
+    .expect("writing the .mif");
+    to.to_path_buf()
 }
 
 /// Writes `data` with `image`'s affine at `to`.
