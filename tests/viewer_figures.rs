@@ -362,6 +362,13 @@ fn peaks_are_renders_and_follow_the_slice() {
         let (changed, _, _) = differing_pixels(&moved, &rendered, 0);
         assert!(changed > 100, "{name}: the next slice looks the same");
     }
+    // In a montage, each panel's peaks, in the window and in the screenshot.
+    let mut views = options.clone();
+    views.extend(["--views", "axial,coronal"]);
+    let rendered = render(&glyphs, "peaks-views-render.png", &views);
+    let (run, shot, window) = scripted("peaks-views", 3, "");
+    view(&x, &glyphs, &views, &run);
+    assert_shows(&window, &shot, &rendered, None);
     // The peaks are in the picture: without them it differs.
     let plain = render(
         &glyphs,
