@@ -104,6 +104,24 @@ def test_dipy_arrays_draw_what_the_cli_draws_from_dipy_files(fod_and_peaks, cli_
     assert not np.array_equal(unit.depth, depth, equal_nan=True)
 
 
+def test_peaks_in_a_montage_draw_what_the_cli_draws(fod_and_peaks, cli_render):
+    fod, peaks = fod_and_peaks
+    image = nib.load(fod)
+    sh2peaks = nib.load(peaks).get_fdata()
+    depth, png = cli_render(
+        "--sh", fod, "--basis", "dipy", "--scale", 0.3, "--width", 80, "--height", 64,
+        "--views", "axial,coronal", "--peaks", peaks, "--peaks-color", "white",
+    )
+    ours = glyphcast.render_sh(
+        image.get_fdata(), image.affine, basis="dipy", scale=0.3, width=80, height=64,
+        views=["axial", "coronal"], peaks=sh2peaks, peaks_color="white",
+    )
+    assert_same_depth(ours.depth, depth)
+    assert ours.png() == png
+    white = (ours.rgba[..., :3].min(axis=-1) > 200).sum(axis=0)
+    assert white[:80].sum() > 20 and white[80:].sum() > 20, "peaks in both panels"
+
+
 def raises(match, **kwargs):
     def check(coeffs, affine):
         with pytest.raises(ValueError, match=match):
