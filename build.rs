@@ -120,6 +120,12 @@ fn main() {
             "underlay.frag",
             shaderc::ShaderKind::Fragment,
         ),
+        ("PEAKS_VERTEX", "peaks.vert", shaderc::ShaderKind::Vertex),
+        (
+            "PEAKS_FRAGMENT",
+            "peaks.frag",
+            shaderc::ShaderKind::Fragment,
+        ),
         (
             "EXAMPLE_PLANE_VERTEX",
             "example_plane.vert",

@@ -112,13 +112,14 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
                 }
             }
             match source.load(options.image_request()?)? {
-                cli::render::Loaded::Scene(scene, underlay) => cli::render::render(
+                cli::render::Loaded::Scene(scene, underlay, peaks) => cli::render::render(
                     scene,
                     &output,
                     &options,
                     source.save_scene(),
                     source.labels(),
                     underlay.as_ref(),
+                    peaks.as_ref(),
                 ),
                 cli::render::Loaded::Montage(montage) => {
                     cli::render::render_montage(montage, &output, &options, source.labels())
@@ -138,7 +139,15 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
             } else {
                 glyphcast::demo::demo_scene()
             };
-            cli::render::render(scene, &output, &options, save_scene.as_deref(), false, None)
+            cli::render::render(
+                scene,
+                &output,
+                &options,
+                save_scene.as_deref(),
+                false,
+                None,
+                None,
+            )
         }
         Command::Accuracy(args) => cli::accuracy::run(&args),
         Command::Bench(args) => cli::bench::run(&args),

@@ -341,3 +341,66 @@ fn montages_and_bars_that_cannot_work_are_usage_errors() {
         assert!(stderr.contains(words), "{args:?}: no '{words}' in {stderr}");
     }
 }
+
+/// `glyphcast peaks` of DIPY's func_coef (2 x 3 x 4 voxels, the DIPY basis).
+fn func_coef_peaks(dir: &str) -> (String, String) {
+    let dir = out(dir);
+    std::fs::create_dir_all(&dir).expect("folder");
+    let fod = data("tests/data/dipy/func_coef.nii.gz");
+    let peaks = dir.join("peaks.nii.gz");
+    let run = Command::new(BIN)
+        .args(["peaks", &fod, "--basis", "dipy", "--quiet", "-o"])
+        .arg(&peaks)
+        .output()
+        .expect("running glyphcast peaks");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    (fod, path_str(&peaks).to_owned())
+}
+
+#[test]
+fn peaks_are_renders_and_follow_the_slice() {
+    let Some(x) = Xvfb::start("peaks_are_renders_and_follow_the_slice") else {
+        return;
+    };
+    let (fod, peaks) = func_coef_peaks("viewer-peaks");
+    let size_args = panel_size();
+    let mut options: Vec<&str> = size_args.iter().map(String::as_str).collect();
+    options.extend(["--peaks", peaks.as_str(), "--peaks-width", "3"]);
+    let glyphs = ["--sh", fod.as_str(), "--basis", "dipy", "--scale", "0.3"];
+    // With glyphs (axial slice 2 of 0..3, then 3), and alone (the peaks' grid).
+    for (name, input) in [("peaks-glyphs", &glyphs[..]), ("peaks-alone", &[][..])] {
+        let rendered = render(input, &format!("{name}-render.png"), &options);
+        let (run, shot, window) = scripted(name, 3, "");
+        view(&x, input, &options, &run);
+        assert_shows(&window, &shot, &rendered, None);
+
+        let (run, shot, window) = scripted(&format!("{name}-moved"), 4, "slice:+1");
+        view(&x, input, &options, &run);
+        let mut moved = options.clone();
+        moved.extend(["--slice", "axial:3"]);
+        let moved = render(input, &format!("{name}-moved-render.png"), &moved);
+        assert_shows(&window, &shot, &moved, None);
+        let (changed, _, _) = differing_pixels(&moved, &rendered, 0);
+        assert!(changed > 100, "{name}: the next slice looks the same");
+    }
+    // In a montage, each panel's peaks, in the window and in the screenshot.
+    let mut views = options.clone();
+    views.extend(["--views", "axial,coronal"]);
+    let rendered = render(&glyphs, "peaks-views-render.png", &views);
+    let (run, shot, window) = scripted("peaks-views", 3, "");
+    view(&x, &glyphs, &views, &run);
+    assert_shows(&window, &shot, &rendered, None);
+    // The peaks are in the picture: without them it differs.
+    let plain = render(
+        &glyphs,
+        "peaks-none-render.png",
+        &panel_size().each_ref().map(String::as_str),
+    );
+    let with = render(&glyphs, "peaks-glyphs-again.png", &options);
+    let (count, _, _) = differing_pixels(&plain, &with, 0);
+    assert!(count > 100, "the peaks change {count} pixels");
+}

@@ -39,6 +39,12 @@ descoteaux07 with its default ``legacy=True`` unless ``legacy=False`` is given (
 command line and scene files read ``descoteaux07`` as the non-legacy basis, see the
 README); ``"dipy"`` is the same legacy basis, ``"dipy-new"`` the non-legacy one,
 ``"tournier07"``/``"mrtrix"`` MRtrix3's.
+- peaks: ``peaks`` (a peak image's path, or an array on the coefficients' grid,
+  directions in the coefficients' frame: (X, Y, Z, 3N) as ``glyphcast peaks`` and MRtrix
+  ``sh2peaks`` write it; with ``peak_values``, DIPY's unit ``peak_dirs`` (X, Y, Z, N, 3)
+  and ``peak_values`` (X, Y, Z, N), both paths or both arrays) drawn as capsules through
+  the voxel centres, with ``peaks_color``, ``peaks_norm``, ``peaks_scale`` and
+  ``peaks_width``.
 
 The messages of the errors are the CLI's, with each option named by its keyword
 (``step=0.0001: must be in 0.001 to 2 ...`` where the CLI says ``--step 0.0001``). Bad

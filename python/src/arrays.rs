@@ -10,8 +10,8 @@ use glam::DMat4;
 use glyphcast::io::nifti::{AffineSource, VoxelToWorld};
 use glyphcast::render::headless::RenderedImage;
 use glyphcast::render::underlay::UnderlayVolume;
-use glyphcast::volume::Mask;
-use ndarray::{Array3, Array4, Ix3, Ix4};
+use glyphcast::volume::{Mask, PeakArray};
+use ndarray::{Array3, Array4, ArrayViewD, Dimension, Ix3, Ix4};
 use numpy::{
     PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArray, PyUntypedArrayMethods,
 };
@@ -111,6 +111,20 @@ pub fn underlay(values: &Bound<'_, PyAny>, voxel_to_world: DMat4) -> PyResult<Un
         }
     }
     UnderlayVolume::new(what, dims, channels, interleaved, voxel_to_world).map_err(to_py)
+}
+
+/// A peak array `what` (`peaks`: directions, (X, Y, Z, 3N) or (X, Y, Z, N, 3);
+/// `peak_values`: amplitudes, (X, Y, Z, N)) on the coefficients' grid, placed by
+/// `voxel_to_world`: float32 or float64, NaN where a peak is absent; the layouts and
+/// shapes are checked by `PeakVolume::from_arrays`.
+pub fn peaks(what: &str, values: &Bound<'_, PyAny>, voxel_to_world: DMat4) -> PyResult<PeakArray> {
+    numpy_array(what, values)?;
+    Ok(PeakArray {
+        file: what.to_string(),
+        data: floats(what, values)?,
+        voxel_to_world: VoxelToWorld::new(voxel_to_world, AffineSource::Sform, what, "matrix")
+            .map_err(to_py)?,
+    })
 }
 
 /// The voxel-to-world affine: a 4x4 array (nibabel's `img.affine`), or the identity.

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use glam::DMat4;
 use glyphcast::render::options::RenderOptions;
-use glyphcast::volume::{ImageRequest, ImageSource, VolumeRequest};
+use glyphcast::volume::{CoefficientFrame, ImageRequest, ImageSource, PeakVolume, VolumeRequest};
 use numpy::PyUntypedArray;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
@@ -238,7 +238,11 @@ impl<'py> Kwargs<'py> {
     /// `scale`, `norm`, `min_amplitude`, `perspective`, `orientation`, `glyph`,
     /// `underlay` (a path, an array on the coefficients' grid, or (array, affine)),
     /// `underlay_range` ("LOW:HIGH" or (low, high)), `views` ("axial,coronal" or a list)
-    /// and `lightbox`. `affine` is the coefficients' (an underlay array's default).
+    /// and `lightbox`; `peaks` (a path, or an array on the coefficients' grid: (X, Y, Z,
+    /// 3N) as sh2peaks writes it, or DIPY's (X, Y, Z, N, 3) `peak_dirs`), `peak_values`
+    /// (DIPY's amplitudes: a path with a peaks path, an array with a peaks array),
+    /// `peaks_color`, `peaks_norm`, `peaks_scale` and `peaks_width`. `affine` is the
+    /// coefficients' (an underlay array's default).
     pub fn volume_request(&mut self, affine: DMat4) -> PyResult<VolumeRequest> {
         let underlay = |value: &Bound<'py, PyAny>| match value.cast::<PyTuple>() {
             Ok(pair) if pair.len() == 2 => {
@@ -253,7 +257,7 @@ impl<'py> Kwargs<'py> {
         };
         let basis = self.text("basis")?;
         let legacy = self.optional_flag("legacy")?;
-        Ok(VolumeRequest {
+        let mut request = VolumeRequest {
             legacy: dipy_legacy_default(basis.as_deref(), legacy),
             basis,
             force_basis: false,
@@ -277,7 +281,59 @@ impl<'py> Kwargs<'py> {
             underlay_plane: self.text("underlay_plane")?,
             views: self.list("views")?,
             lightbox: self.count("lightbox")?.map(|n| n as usize),
-        })
+            peaks: None,
+            peak_values: None,
+            peaks_color: self.text("peaks_color")?,
+            peaks_norm: self.text("peaks_norm")?,
+            peaks_scale: self.float("peaks_scale")?,
+            peaks_width: self.float("peaks_width")?,
+        };
+        // Peak arrays are in the coefficients' frame: what `frame` says, else voxel axes.
+        let frame = request.frame().map_err(to_py)?.unwrap_or_default();
+        (request.peaks, request.peak_values) = self.peaks(affine, frame)?;
+        Ok(request)
+    }
+
+    /// `peaks` and `peak_values`: paths, or arrays on the coefficients' grid (placed by
+    /// `affine`, directions in `frame`), the values going with directions of the same
+    /// kind.
+    fn peaks(
+        &mut self,
+        affine: DMat4,
+        frame: CoefficientFrame,
+    ) -> PyResult<(Option<ImageSource<PeakVolume>>, Option<PathBuf>)> {
+        let values = self.take("peak_values");
+        let is_array = |v: &Bound<'py, PyAny>| v.cast::<PyUntypedArray>().is_ok();
+        let peaks = self.image("peaks", |array| {
+            let values = match &values {
+                Some(v) if is_array(v) => Some(arrays::peaks("peak_values", v, affine)?),
+                Some(v) => return Err(expected("peak_values", "a numpy array (as peaks)", v)),
+                None => None,
+            };
+            let directions = arrays::peaks("peaks", array, affine)?;
+            PeakVolume::from_arrays(directions, values, frame).map_err(to_py)
+        })?;
+        let path = match (&peaks, values) {
+            (Some(ImageSource::Memory(_)), _) | (_, None) => None,
+            (None, Some(_)) => {
+                return Err(value_error(
+                    "peak_values",
+                    "needs peaks (the directions the values belong to)",
+                ));
+            }
+            (_, Some(v)) if is_array(&v) => {
+                return Err(value_error(
+                    "peak_values",
+                    "an array goes with a peaks array; with a peaks path, give the values' \
+                     path",
+                ));
+            }
+            (_, Some(v)) => Some(
+                v.extract::<PathBuf>()
+                    .map_err(|_| expected("peak_values", "a path or a numpy array", &v))?,
+            ),
+        };
+        Ok((peaks, path))
     }
 }
 

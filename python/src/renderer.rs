@@ -15,6 +15,7 @@ use glyphcast::render::headless::{FrameView, HeadlessRenderer, PreparedFrame, Re
 use glyphcast::render::labels::{draw_edge_labels, edge_labels};
 use glyphcast::render::montage::{PreparedMontage, prepare_montage};
 use glyphcast::render::options::{PreparedScene, RenderOptions, prepare_render};
+use glyphcast::render::peaks::PeakSet;
 use glyphcast::render::underlay::Underlay;
 use glyphcast::scene::Scene;
 use glyphcast::vk::{Gpu, GpuOptions};
@@ -184,7 +185,7 @@ impl Renderer {
             scene.image.width = image.width.unwrap_or(scene.image.width);
             scene.image.height = image.height.unwrap_or(scene.image.height);
             extras.common_scale = common_scale([&scene]);
-            self.upload(scene, None, &render, extras)
+            self.upload(scene, (None, None), &render, extras)
         });
         self.loaded = Some(loaded.map_err(to_py)?);
         Ok(())
@@ -244,17 +245,25 @@ impl Renderer {
                 VolumeFigure::View(view) => {
                     let view = *view;
                     extras.common_scale = common_scale([&view.scene.scene]);
-                    let loaded = self.upload(view.scene.scene, view.underlay, &render, extras)?;
+                    let overlays = (view.underlay, view.scene.peaks);
+                    let loaded = self.upload(view.scene.scene, overlays, &render, extras)?;
                     Ok((loaded, messages))
                 }
                 VolumeFigure::Montage(montage) => {
-                    let scenes: Vec<Scene> = montage.panels.into_iter().map(|p| p.scene).collect();
+                    let (scenes, peaks): (Vec<Scene>, Vec<_>) = montage
+                        .panels
+                        .into_iter()
+                        .map(|p| (p.scene, p.peaks))
+                        .unzip();
                     extras.common_scale = common_scale(&scenes);
                     let settings = render.settings()?;
-                    let prepared =
+                    let mut prepared =
                         prepare_montage(scenes, montage.columns, settings, render.negative()?)?
                             .with_underlays(montage.underlays)
                             .with_captions(montage.captions);
+                    for (panel, peaks) in prepared.panels.iter_mut().zip(peaks) {
+                        panel.peaks = peaks;
+                    }
                     let loaded = Loaded::Montage {
                         montage: Box::new(prepared),
                         extras,
@@ -323,18 +332,20 @@ impl Renderer {
 }
 
 impl Renderer {
-    /// Prepares and uploads `scene`, with `underlay` on its planes.
+    /// Prepares and uploads `scene`, with `underlay` on its planes and its `peaks`.
     fn upload(
         &mut self,
         scene: Scene,
-        underlay: Option<Underlay>,
+        (underlay, peaks): (Option<Underlay>, Option<PeakSet>),
         options: &RenderOptions,
         extras: Extras,
     ) -> Result<Loaded> {
         let settings = options.settings()?;
-        let scene = prepare_render(scene, settings, options.negative()?)?;
+        let mut scene = prepare_render(scene, settings, options.negative()?)?;
+        scene.peaks = peaks;
         let view = FrameView::new(&scene.camera, scene.width, scene.height)
-            .with_underlay(underlay.as_ref());
+            .with_underlay(underlay.as_ref())
+            .with_peaks(scene.peaks.as_ref());
         let frame = self
             .renderer
             .prepare_view(&self.gpu, &scene.sets, &view, &scene.settings)?;
@@ -379,14 +390,16 @@ fn draw(
         {
             let s = &loaded.scene;
             let view = FrameView::new(&s.camera, s.width, s.height)
-                .with_underlay(loaded.underlay.as_ref());
+                .with_underlay(loaded.underlay.as_ref())
+                .with_peaks(s.peaks.as_ref());
             loaded.frame = renderer.prepare_view(gpu, &s.sets, &view, &s.settings)?;
         }
     }
     let mut image = if supersampled {
         let s = &loaded.scene;
-        let view =
-            FrameView::new(&s.camera, s.width, s.height).with_underlay(loaded.underlay.as_ref());
+        let view = FrameView::new(&s.camera, s.width, s.height)
+            .with_underlay(loaded.underlay.as_ref())
+            .with_peaks(s.peaks.as_ref());
         renderer.render_view(gpu, &s.sets, &view, &s.settings)?
     } else {
         renderer.draw(gpu, &loaded.frame)?;

@@ -3,19 +3,24 @@
 //! direction times its amplitude, highest first, NaN for missing peaks.
 //!
 //! The basis comes from the file's record (as `render --sh` takes it), or `--basis`.
-//! Directions are in the frame of the coefficients: the voxel axes for a NIfTI file
-//! written by `glyphcast fit` or DIPY, scanner axes for an MRtrix image.
+//! The peaks are found in the frame of the coefficients (the voxel axes for a NIfTI file
+//! written by `glyphcast fit` or DIPY, scanner axes for an MRtrix image unless its
+//! `glyphcast_frame` key says voxel) and written in the frame the output's format is
+//! read in: scanner axes in a `.mif` (as `sh2peaks` writes and mrview reads them), voxel
+//! axes in a NIfTI file (DIPY's); the affine's orthogonal factor turns them from one to
+//! the other where the two differ, so `render --peaks` and other readers take them as
+//! meant.
 use clap::Args;
 use glyphcast::fit::output::check_output_path;
 use glyphcast::fit::parse_basis;
 use glyphcast::fit::peaks::{
     DEFAULT_MIN_SEPARATION, DEFAULT_PEAK_COUNT, DEFAULT_RELATIVE_THRESHOLD, PeakFinder,
-    PeakOptions, peak_volume,
+    PeakOptions, peak_volume, rotate_peaks,
 };
 use glyphcast::glyph::sh::sh_count;
 use glyphcast::io::image::{ImageHeader, read_image};
 use glyphcast::io::mif::{MifKind, MifWrite, write_mif};
-use glyphcast::volume::{recorded_basis, resolve_basis};
+use glyphcast::volume::{CoefficientFrame, recorded_basis, resolve_basis};
 use glyphcast::{Error, Result};
 use ndarray::Array4;
 use std::path::PathBuf;
@@ -120,34 +125,46 @@ pub fn run(args: PeaksArgs) -> Result<()> {
     }
     let (basis, legacy) = resolve_basis(&image, given, args.force_basis)?;
     let finder = PeakFinder::new(band, basis, legacy, options)?;
-    let peaks = peak_volume(&coeffs, &finder)?;
+    let mut peaks = peak_volume(&coeffs, &finder)?;
+    let mif = matches!(
+        MifKind::of(&args.output),
+        Some(MifKind::Mif | MifKind::MifGz)
+    );
+    let written = if mif {
+        CoefficientFrame::World
+    } else {
+        CoefficientFrame::Voxel
+    };
+    if CoefficientFrame::of_image(&image)? != written {
+        let r = image.voxel_to_world.orthogonal_factor().ok_or_else(|| {
+            Error::input(
+                &image.file,
+                "affine",
+                "the polar decomposition of the affine did not converge",
+            )
+        })?;
+        // Voxel-frame directions reach the world through R, world ones go back by R^T.
+        rotate_peaks(&mut peaks, if mif { r } else { r.transpose() });
+    }
     let description = format!(
         "glyphcast peaks: {} per voxel, xyz times amplitude, NaN if none",
         options.count
     );
-    match MifKind::of(&args.output) {
-        Some(MifKind::Mif | MifKind::MifGz) => write_mif(
+    if mif {
+        write_mif(
             &args.output,
             &MifWrite {
                 data: &peaks.clone().into_dyn(),
                 voxel_to_world: &image.voxel_to_world,
                 keys: &[("comments", description)],
             },
-        )?,
-        _ => {
-            let header = match &image.header {
-                ImageHeader::Nifti(header) => (**header).clone(),
-                ImageHeader::Mrtrix(_) => {
-                    glyphcast::fit::dwi::nifti_header_for(&image.voxel_to_world)
-                }
-            };
-            glyphcast::fit::output::write_coefficients(
-                &args.output,
-                &peaks,
-                &header,
-                &description,
-            )?;
-        }
+        )?;
+    } else {
+        let header = match &image.header {
+            ImageHeader::Nifti(header) => (**header).clone(),
+            ImageHeader::Mrtrix(_) => glyphcast::fit::dwi::nifti_header_for(&image.voxel_to_world),
+        };
+        glyphcast::fit::output::write_coefficients(&args.output, &peaks, &header, &description)?;
     }
     if !args.quiet {
         let found = peaks

@@ -11,6 +11,7 @@ use glyphcast::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
 use glyphcast::render::labels::{draw_edge_labels, edge_labels};
 use glyphcast::render::montage::prepare_montage;
 use glyphcast::render::options::{RenderOptions, prepare_render};
+use glyphcast::render::peaks::PeakSet;
 use glyphcast::render::underlay::Underlay;
 use glyphcast::scene::Scene;
 use glyphcast::viewer::ViewSource;
@@ -33,8 +34,8 @@ pub struct SceneSource {
 /// What `render` draws: a scene (a scene file's, or a volume's view with its underlay)
 /// or the panels of a montage.
 pub enum Loaded {
-    /// One scene, with the volume's underlay if any.
-    Scene(Scene, Option<Underlay>),
+    /// One scene, with the volume's underlay and peaks if any.
+    Scene(Scene, Option<Underlay>, Option<PeakSet>),
     /// The panels of `--views` or `--lightbox`.
     Montage(VolumeMontage),
 }
@@ -43,10 +44,12 @@ impl SceneSource {
     /// What to render; `image` (from --width/--height) sizes a volume's framing.
     pub fn load(&self, image: ImageRequest) -> Result<Loaded> {
         if let Some(path) = &self.scene {
-            return Ok(Loaded::Scene(self.load_scene_file(path)?, None));
+            return Ok(Loaded::Scene(self.load_scene_file(path)?, None, None));
         }
         Ok(match self.volume.figure(image)? {
-            VolumeFigure::View(view) => Loaded::Scene(view.scene.scene, view.underlay),
+            VolumeFigure::View(view) => {
+                Loaded::Scene(view.scene.scene, view.underlay, view.scene.peaks)
+            }
             VolumeFigure::Montage(montage) => Loaded::Montage(montage),
         })
     }
@@ -309,8 +312,8 @@ pub fn check_outputs(output: &OutputArgs, save_scene: Option<&Path>) -> Result<(
 /// Renders `scene` and writes the outputs (checked first with [`check_outputs`]);
 /// `save_scene` receives the scene as rendered (image size included), written with the
 /// image and the depth map, all or nothing. `labels` writes the anatomical directions at
-/// the image's edges (`render::labels`; volume input only); `underlay` is drawn in the
-/// glyphs' depth buffer (volume input only).
+/// the image's edges (`render::labels`; volume input only); `underlay` and `peaks` are
+/// drawn in the glyphs' depth buffer (volume input only).
 pub fn render(
     mut scene: Scene,
     output: &OutputArgs,
@@ -318,6 +321,7 @@ pub fn render(
     save_scene: Option<&Path>,
     labels: bool,
     underlay: Option<&Underlay>,
+    peaks: Option<&PeakSet>,
 ) -> Result<()> {
     let image = options.image_request()?;
     scene.image.width = image.width.unwrap_or(scene.image.width);
@@ -337,7 +341,9 @@ pub fn render(
     let begun = Instant::now();
     let (w, h) = (prepared.width, prepared.height);
     let (sets, camera) = (&prepared.sets, &prepared.camera);
-    let view = FrameView::new(camera, w, h).with_underlay(underlay);
+    let view = FrameView::new(camera, w, h)
+        .with_underlay(underlay)
+        .with_peaks(peaks);
     let mut image = renderer.render_view(&gpu, sets, &view, &settings)?;
     if labels {
         let edges = edge_labels(&prepared.camera);
@@ -383,15 +389,22 @@ pub fn render_montage(
     let settings = options.settings()?;
     options.check_colorbar(&settings)?;
     let negative = options.negative()?;
-    let mut scenes: Vec<Scene> = montage.panels.into_iter().map(|p| p.scene).collect();
+    let (mut scenes, peaks): (Vec<Scene>, Vec<Option<PeakSet>>) = montage
+        .panels
+        .into_iter()
+        .map(|p| (p.scene, p.peaks))
+        .unzip();
     for scene in &mut scenes {
         scene.image.width = image.width.unwrap_or(scene.image.width);
         scene.image.height = image.height.unwrap_or(scene.image.height);
     }
     let common = common_scale(&scenes);
-    let prepared = prepare_montage(scenes, montage.columns, settings, negative)?
+    let mut prepared = prepare_montage(scenes, montage.columns, settings, negative)?
         .with_underlays(montage.underlays)
         .with_captions(montage.captions);
+    for (panel, peaks) in prepared.panels.iter_mut().zip(peaks) {
+        panel.peaks = peaks;
+    }
     let first = prepared
         .panels
         .first()

@@ -20,7 +20,7 @@ use glyphcast::{Error, Setting};
 use std::path::{Path, PathBuf};
 
 /// Flags that make a scene file unnecessary.
-pub const VOLUME_FLAGS: [&str; 2] = ["sh", "tensor"];
+pub const VOLUME_FLAGS: [&str; 3] = ["sh", "tensor", "peaks"];
 
 #[derive(Args)]
 pub struct VolumeArgs {
@@ -138,6 +138,35 @@ pub struct VolumeArgs {
     /// ceil(sqrt(N)) columns, each panel --width x --height.
     #[arg(long, value_name = "N", help_heading = "Volume input")]
     pub lightbox: Option<usize>,
+    /// Fibre peaks drawn in the voxels of the slices, as capsules through the voxel
+    /// centres in the glyphs' depth buffer: a 4D image of 3 values per peak, direction
+    /// times amplitude, NaN where absent (glyphcast peaks, MRtrix sh2peaks), or with
+    /// --peak-values DIPY's unit peak_dirs (4D [x, y, z, 3N] or 5D [x, y, z, N, 3]). On
+    /// the glyphs' grid; alone (without --sh/--tensor) the peaks' grid frames the view.
+    /// Directions are in the frame --frame describes for the file's type.
+    #[arg(long, value_name = "IMAGE", help_heading = "Peaks")]
+    pub peaks: Option<PathBuf>,
+    /// DIPY's peak_values [x, y, z, N]: the amplitudes of --peaks, whose directions are
+    /// then unit vectors (the DIPY layout).
+    #[arg(long, value_name = "IMAGE", help_heading = "Peaks")]
+    pub peak_values: Option<PathBuf>,
+    /// Peak colour: direction (RGB = |x|, |y|, |z| of the world direction, the default),
+    /// a name (white, black, grey, red, green, blue, yellow, cyan, magenta), #rrggbb or
+    /// r,g,b (0-255).
+    #[arg(long, value_name = "COLOR", help_heading = "Peaks")]
+    pub peaks_color: Option<String>,
+    /// Peak lengths: global (proportional to the amplitude, the longest drawn gets
+    /// --peaks-scale; the default), unit (all --peaks-scale) or none (amplitude times
+    /// --peaks-scale).
+    #[arg(long, value_name = "MODE", help_heading = "Peaks")]
+    pub peaks_norm: Option<String>,
+    /// World half length of the longest peak (default: 0.5 times the smallest voxel size,
+    /// so that it spans its voxel).
+    #[arg(long, value_name = "S", help_heading = "Peaks")]
+    pub peaks_scale: Option<f64>,
+    /// Peak diameter in pixels (default 2; at the target in a perspective view).
+    #[arg(long, value_name = "PX", help_heading = "Peaks")]
+    pub peaks_width: Option<f64>,
     /// Also write the scene that is rendered as a scene file (with the image, all or
     /// nothing).
     #[arg(long, value_name = "FILE")]
@@ -146,7 +175,7 @@ pub struct VolumeArgs {
 
 impl VolumeArgs {
     pub fn is_given(&self) -> bool {
-        self.sh.is_some() || self.tensor.is_some()
+        self.sh.is_some() || self.tensor.is_some() || self.peaks.is_some()
     }
 
     /// The first flag given that only means something for volume input.
@@ -175,6 +204,11 @@ impl VolumeArgs {
             ("--underlay-plane", self.underlay_plane.is_some()),
             ("--views", self.views.is_some()),
             ("--lightbox", self.lightbox.is_some()),
+            ("--peak-values", self.peak_values.is_some()),
+            ("--peaks-color", self.peaks_color.is_some()),
+            ("--peaks-norm", self.peaks_norm.is_some()),
+            ("--peaks-scale", self.peaks_scale.is_some()),
+            ("--peaks-width", self.peaks_width.is_some()),
         ];
         given.iter().find(|(_, on)| *on).map(|(name, _)| *name)
     }
@@ -205,6 +239,12 @@ impl VolumeArgs {
             underlay_plane: self.underlay_plane.clone(),
             views: self.views.clone(),
             lightbox: self.lightbox,
+            peaks: self.peaks.clone().map(ImageSource::File),
+            peak_values: self.peak_values.clone(),
+            peaks_color: self.peaks_color.clone(),
+            peaks_norm: self.peaks_norm.clone(),
+            peaks_scale: self.peaks_scale,
+            peaks_width: self.peaks_width,
         }
     }
 
@@ -216,9 +256,8 @@ impl VolumeArgs {
     /// The figure of the volume input at the size `image`, reported on stderr: one view
     /// (with its underlay) or a montage's panels.
     pub fn figure(&self, image: ImageRequest) -> Result<VolumeFigure> {
-        let (input, path) = self.input()?;
         let request = self.request();
-        let volume = request.read_volume(input, path)?;
+        let volume = self.read_volume(&request)?;
         for note in &volume.notes {
             eprintln!("note: {}", super::flags::note(note));
         }
@@ -257,9 +296,8 @@ impl VolumeArgs {
     /// with the grid's columns, for the viewer (which builds each panel's scene, and
     /// builds it again when the panel's slice moves: [`panel_view`]).
     pub fn montage_panels(&self, image: ImageRequest) -> Result<(Volume, MontagePlan)> {
-        let (input, path) = self.input()?;
         let request = self.request();
-        let volume = request.read_volume(input, path)?;
+        let volume = self.read_volume(&request)?;
         for note in &volume.notes {
             eprintln!("note: {}", super::flags::note(note));
         }
@@ -276,6 +314,16 @@ impl VolumeArgs {
             Some(shape) => scene.set_shape(shape),
             None => Ok(()),
         }
+    }
+
+    /// The volume of --sh or --tensor, or, with --peaks alone, the stand-in of the
+    /// peaks' grid.
+    fn read_volume(&self, request: &VolumeRequest) -> Result<Volume> {
+        if self.sh.is_none() && self.tensor.is_none() && self.peaks.is_some() {
+            return request.peaks_grid();
+        }
+        let (input, path) = self.input()?;
+        request.read_volume(input, path)
     }
 
     /// What --sh or --tensor says the file holds, and the file.
@@ -307,8 +355,15 @@ fn spelled(text: &str) -> String {
     glyphcast::error::spell_settings(text, &super::flags::spell)
 }
 
-/// One summary line (the warnings are the figure's: `VolumeFigure::messages`).
+/// One summary line of the glyphs (none for peaks alone: nothing was selected) and one
+/// line of the peaks (the warnings are the figure's: `VolumeFigure::messages`).
 fn report(view: &VolumeScene, file: &str) {
+    if let Some(peaks) = &view.peaks {
+        eprintln!("peaks: {file}: {} peaks drawn", peaks.segments.len());
+    }
+    if view.report.selected == 0 {
+        return;
+    }
     let r = &view.report;
     let slices: Vec<String> = view
         .regions

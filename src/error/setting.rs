@@ -121,6 +121,18 @@ settings! {
     UnderlayRange => "underlay range",
     /// Where the underlay's plane lies: behind the glyphs or through their centres.
     UnderlayPlane => "underlay plane",
+    /// Fibre peaks drawn over the glyphs (a peaks image).
+    Peaks => "peaks",
+    /// The amplitudes of unit peak directions (DIPY's peak_values).
+    PeakValues => "peak values",
+    /// The peaks' colour: direction or one colour.
+    PeaksColor => "peaks colour",
+    /// How peak lengths follow their amplitudes.
+    PeaksNorm => "peaks norm",
+    /// World half length of the longest peak.
+    PeaksScale => "peaks scale",
+    /// The peaks' width in pixels.
+    PeaksWidth => "peaks width",
     /// Glyph surface: polynomial or ellipsoid.
     Glyph => "glyph",
     /// The views of a montage.

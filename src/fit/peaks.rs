@@ -264,10 +264,60 @@ pub fn peak_volume(coeffs: &Array4<f64>, finder: &PeakFinder) -> Result<Array4<f
     Ok(out)
 }
 
+/// `peaks` (the layout of [`peak_volume`]) with every peak vector turned by `rotation`
+/// (from the ODF's frame into the frame the output file is read in), again with z >= 0;
+/// NaN (absent) peaks stay NaN.
+pub fn rotate_peaks(peaks: &mut Array4<f64>, rotation: glam::DMat3) {
+    for mut lane in peaks.lanes_mut(ndarray::Axis(3)) {
+        for k in 0..lane.len() / 3 {
+            let v = DVec3::new(lane[3 * k], lane[3 * k + 1], lane[3 * k + 2]);
+            if !v.is_finite() {
+                continue;
+            }
+            let turned = rotation * v;
+            let turned = if turned.z < 0.0 { -turned } else { turned };
+            lane[3 * k] = turned.x;
+            lane[3 * k + 1] = turned.y;
+            lane[3 * k + 2] = turned.z;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::glyph::sh::ShFitter;
+
+    #[test]
+    fn rotated_peaks_keep_nan_lengths_and_z_up() {
+        let mut peaks = Array4::from_elem((1, 1, 1, 6), f64::NAN);
+        for (c, v) in [0.0, 0.6, 0.8].into_iter().enumerate() {
+            peaks[[0, 0, 0, c]] = 2.0 * v;
+        }
+        // A half turn about x: (0, 1.2, 1.6) -> (0, -1.2, -1.6) -> flipped to z >= 0.
+        rotate_peaks(
+            &mut peaks,
+            glam::DMat3::from_rotation_x(std::f64::consts::PI),
+        );
+        let v = DVec3::new(
+            peaks[[0, 0, 0, 0]],
+            peaks[[0, 0, 0, 1]],
+            peaks[[0, 0, 0, 2]],
+        );
+        assert!((v - DVec3::new(0.0, 1.2, 1.6)).length() < 1e-12, "{v}");
+        assert!((3..6).all(|c| peaks[[0, 0, 0, c]].is_nan()));
+        // A quarter turn about y: (0, 1.2, 1.6) -> (1.6, 1.2, 0).
+        rotate_peaks(
+            &mut peaks,
+            glam::DMat3::from_rotation_y(std::f64::consts::FRAC_PI_2),
+        );
+        let v = DVec3::new(
+            peaks[[0, 0, 0, 0]],
+            peaks[[0, 0, 0, 1]],
+            peaks[[0, 0, 0, 2]],
+        );
+        assert!((v - DVec3::new(1.6, 1.2, 0.0)).length() < 1e-12, "{v}");
+    }
 
     /// An fODF of sharp lobes (u . d)^20 with weights, fitted to band 8.
     fn lobes(fibres: &[(DVec3, f64)], basis: (ShBasis, bool)) -> Vec<f64> {

@@ -5,6 +5,7 @@
 //! the tessellated glyphs of the mesh baseline.
 pub mod bernstein;
 pub mod bounds;
+pub mod capsule;
 pub mod ellipsoid;
 pub(crate) mod homogeneous;
 pub mod intersect;

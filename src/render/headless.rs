@@ -10,6 +10,7 @@ use crate::render::compute::{ComputeRayCastPass, ComputeSceneGpu};
 use crate::render::frame::{FrameParams, SceneExtent};
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::mesh::{GlyphMeshes, MeshPass, MeshSceneGpu, MeshStats};
+use crate::render::peaks::{PeakSet, PeaksGpu, PeaksPass};
 use crate::render::raycast::{RayCastPass, SceneGpu, TargetFormats};
 use crate::render::settings::RenderSettings;
 use crate::render::underlay::{
@@ -32,7 +33,7 @@ pub const DISTANCE_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
 /// What a frame shows: the camera, the image size in pixels and, optionally, the
-/// anatomical underlay drawn in the glyphs' depth buffer.
+/// anatomical underlay and the fibre peaks drawn in the glyphs' depth buffer.
 #[derive(Clone, Copy)]
 pub struct FrameView<'a> {
     /// The camera.
@@ -43,6 +44,8 @@ pub struct FrameView<'a> {
     pub height: u32,
     /// The underlay's planes, if any.
     pub underlay: Option<&'a Underlay>,
+    /// The fibre peaks, if any.
+    pub peaks: Option<&'a PeakSet>,
 }
 
 impl<'a> FrameView<'a> {
@@ -53,12 +56,18 @@ impl<'a> FrameView<'a> {
             width,
             height,
             underlay: None,
+            peaks: None,
         }
     }
 
     /// The same view with `underlay` drawn in it.
     pub fn with_underlay(self, underlay: Option<&'a Underlay>) -> Self {
         FrameView { underlay, ..self }
+    }
+
+    /// The same view with `peaks` drawn in it.
+    pub fn with_peaks(self, peaks: Option<&'a PeakSet>) -> Self {
+        FrameView { peaks, ..self }
     }
 }
 
@@ -143,6 +152,7 @@ pub struct HeadlessRenderer {
     mesh: MeshPass,
     compute: ComputeRayCastPass,
     underlay: UnderlayPass,
+    peaks: PeaksPass,
     commands: OneShot,
     timer: Option<GpuTimer>,
 }
@@ -160,6 +170,7 @@ impl HeadlessRenderer {
             mesh: MeshPass::new(gpu.context(), formats)?,
             compute: ComputeRayCastPass::new(gpu.context())?,
             underlay: UnderlayPass::new(gpu.context(), formats)?,
+            peaks: PeaksPass::new(gpu.context(), formats)?,
             commands: OneShot::new(gpu)?,
             timer: GpuTimer::new(gpu)?,
         })
@@ -277,9 +288,9 @@ impl HeadlessRenderer {
         self.prepare_view(gpu, sets, &FrameView::new(camera, width, height), settings)
     }
 
-    /// [`HeadlessRenderer::prepare`] for `view`, whose underlay, if any, is drawn in the
-    /// glyphs' depth buffer; the depth range covers its planes too. An underlay does not
-    /// go with the compute path, which has no depth buffer to share.
+    /// [`HeadlessRenderer::prepare`] for `view`, whose underlay and peaks, if any, are
+    /// drawn in the glyphs' depth buffer; the depth range covers them too. Neither goes
+    /// with the compute path, which has no depth buffer to share.
     pub fn prepare_view(
         &mut self,
         gpu: &Gpu,
@@ -292,6 +303,7 @@ impl HeadlessRenderer {
             width,
             height,
             underlay,
+            peaks,
         } = *view;
         settings.validate()?;
         check_image_size(gpu, width, height)?;
@@ -305,10 +317,17 @@ impl HeadlessRenderer {
                 ),
             ));
         }
-        let mut extent = SceneExtent::for_settings(camera, sets, settings);
-        if let Some(underlay) = underlay {
-            extent = extent_with_planes(camera, extent, &underlay.planes);
+        if peaks.is_some() && settings.path == RenderPath::Compute {
+            return Err(Error::setting(
+                Setting::Peaks,
+                format!(
+                    "{} has no depth buffer to share with the peaks; use {}",
+                    Setting::Path.with("compute"),
+                    Setting::Path.with("fragment")
+                ),
+            ));
         }
+        let extent = frame_extent(camera, sets, settings, underlay, peaks);
         let params = FrameParams::new(camera, width, height, &extent, settings);
         let scene = match settings.method {
             _ if settings.path == RenderPath::Compute => {
@@ -344,12 +363,17 @@ impl HeadlessRenderer {
                 Ok((on_gpu, u.planes.clone()))
             })
             .transpose()?;
+        let peaks_gpu = match peaks {
+            Some(p) => self.peaks.upload(gpu.context(), p, &params)?,
+            None => None,
+        };
         Ok(PreparedFrame {
             scene,
             targets: Targets::new(gpu, size)?,
             size,
             settings: *settings,
             underlay,
+            peaks: peaks_gpu.map(|on_gpu| (on_gpu, peaks.cloned().unwrap_or_default())),
             view_proj: params.view_proj,
         })
     }
@@ -361,6 +385,7 @@ impl HeadlessRenderer {
             &mut self.mesh,
             &mut self.compute,
             &self.underlay,
+            &self.peaks,
         );
         let timer = self.timer.as_ref();
         self.commands
@@ -394,6 +419,8 @@ pub struct PreparedFrame {
     settings: RenderSettings,
     /// The underlay's volume on the GPU and its planes, if any.
     underlay: Option<(UnderlayGpu, Vec<UnderlayPlane>)>,
+    /// The peaks on the GPU and as given, if any.
+    peaks: Option<(PeaksGpu, PeakSet)>,
     /// The frame's world-to-clip matrix, which the underlay's planes share.
     view_proj: [[f32; 4]; 4],
 }
@@ -414,8 +441,17 @@ impl PreparedFrame {
     /// (prepare the frame again there). Not while a draw of the frame is in flight.
     pub fn set_camera(&mut self, sets: &[GlyphSetData], camera: &Camera) -> Result<bool> {
         let (width, height) = (self.size.width, self.size.height);
-        let extent = SceneExtent::for_settings(camera, sets, &self.settings);
+        let mut extent = SceneExtent::for_settings(camera, sets, &self.settings);
+        if let Some((_, planes)) = &self.underlay {
+            extent = extent_with_planes(camera, extent, planes);
+        }
+        if let Some((_, peaks)) = &self.peaks {
+            extent = peaks.widen(camera, extent);
+        }
         let params = FrameParams::new(camera, width, height, &extent, &self.settings);
+        if let Some((on_gpu, _)) = &mut self.peaks {
+            on_gpu.set_frame(&params)?;
+        }
         match &mut self.scene {
             GlyphsOnGpu::RayCast(scene) => scene.set_frame(&params)?,
             GlyphsOnGpu::Mesh(scene) => scene.set_frame(&params)?,
@@ -438,10 +474,11 @@ type Passes<'a> = (
     &'a mut MeshPass,
     &'a mut ComputeRayCastPass,
     &'a UnderlayPass,
+    &'a PeaksPass,
 );
 
 fn record_frame(
-    (pass, mesh, compute, underlay): Passes,
+    (pass, mesh, compute, underlay, peaks): Passes,
     timer: Option<&GpuTimer>,
     gpu: &Gpu,
     cmd: vk::CommandBuffer,
@@ -478,6 +515,9 @@ fn record_frame(
         GlyphsOnGpu::Mesh(scene) => mesh.record(cmd, scene, extent)?,
         GlyphsOnGpu::Compute(_) => {}
     }
+    if let Some((on_gpu, _)) = &frame.peaks {
+        peaks.record(cmd, on_gpu, extent);
+    }
     // SAFETY: as above.
     unsafe { d.cmd_end_rendering(cmd) };
     if let Some(timer) = timer {
@@ -485,6 +525,25 @@ fn record_frame(
     }
     copy_targets_to_host(d, cmd, targets, extent);
     Ok(())
+}
+
+/// The depth range of a frame: the glyphs', widened to the underlay's planes and the
+/// peaks' capsules.
+fn frame_extent(
+    camera: &Camera,
+    sets: &[GlyphSetData],
+    settings: &RenderSettings,
+    underlay: Option<&Underlay>,
+    peaks: Option<&PeakSet>,
+) -> SceneExtent {
+    let mut extent = SceneExtent::for_settings(camera, sets, settings);
+    if let Some(underlay) = underlay {
+        extent = extent_with_planes(camera, extent, &underlay.planes);
+    }
+    if let Some(peaks) = peaks {
+        extent = peaks.widen(camera, extent);
+    }
+    extent
 }
 
 /// The attachments from any earlier contents to cleared attachment layouts.

@@ -21,6 +21,7 @@ pub mod labels;
 pub mod mesh;
 pub mod montage;
 pub mod options;
+pub mod peaks;
 #[doc(hidden)]
 pub mod range_eval;
 pub mod raycast;

@@ -251,7 +251,9 @@ impl PreparedMontage {
                 .get(k)
                 .and_then(Option::as_ref)
                 .or_else(|| self.underlays.get(k).and_then(Option::as_ref));
-            let view = FrameView::new(&panel.camera, w, h).with_underlay(underlay);
+            let view = FrameView::new(&panel.camera, w, h)
+                .with_underlay(underlay)
+                .with_peaks(panel.peaks.as_ref());
             let mut image = renderer.render_view(gpu, &panel.sets, &view, &self.settings)?;
             if labels {
                 draw_edge_labels(&mut image.rgba, w, h, &edge_labels(&panel.camera))?;

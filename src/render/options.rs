@@ -7,6 +7,7 @@ use crate::camera::Camera;
 use crate::error::quoted;
 use crate::glyph::{GlyphShape, NegativeMode};
 use crate::render::glyph_data::{GlyphSetData, measure_largest_radius, prepare_scene};
+use crate::render::peaks::PeakSet;
 use crate::render::settings::{parse_background, parse_light};
 use crate::render::{ColorMode, Method, Refinement, RenderSettings};
 use crate::scene::Scene;
@@ -141,6 +142,8 @@ pub struct PreparedScene {
     pub height: u32,
     /// How to draw.
     pub settings: RenderSettings,
+    /// Fibre peaks drawn with the glyphs, if any (the caller's: a volume view's).
+    pub peaks: Option<PeakSet>,
 }
 
 impl PreparedScene {
@@ -179,6 +182,7 @@ pub fn prepare_render(
         width: scene.image.width,
         height: scene.image.height,
         settings,
+        peaks: None,
     })
 }
 

@@ -52,6 +52,8 @@ struct App {
     // any point.
     /// Each panel's glyphs on the GPU, and the version of its content they hold.
     scene_gpu: Vec<Option<SceneGpu>>,
+    /// Each panel's peaks on the GPU, uploaded with its glyphs.
+    peaks_gpu: Vec<Option<crate::render::peaks::PeaksGpu>>,
     uploaded: Vec<Option<u64>>,
     /// The underlay's volume on the GPU (uploaded once, again when the pass is rebuilt).
     underlay_gpu: Option<crate::render::underlay::UnderlayGpu>,
@@ -99,6 +101,7 @@ pub fn run(mut panels: Panels, options: ViewerOptions) -> Result<()> {
     let count = panels.panels.len();
     let mut app = App {
         scene_gpu: (0..count).map(|_| None).collect(),
+        peaks_gpu: (0..count).map(|_| None).collect(),
         uploaded: vec![None; count],
         underlay_gpu: None,
         headless: None,
@@ -454,7 +457,8 @@ impl App {
             .zip(self.panels.first().underlay.as_ref())
             .map(|(volume, u)| (volume, u.planes.as_slice()));
         let mut draws = Vec::with_capacity(self.scene_gpu.len());
-        for (k, scene) in self.scene_gpu.iter_mut().enumerate() {
+        let on_gpu = self.scene_gpu.iter_mut().zip(self.peaks_gpu.iter_mut());
+        for (k, (scene, peaks)) in on_gpu.enumerate() {
             let (Some(scene), Some(cell)) = (scene.as_mut(), layout.cell(k)) else {
                 continue;
             };
@@ -462,6 +466,7 @@ impl App {
             draws.push(PanelDraw {
                 scene,
                 underlay: if k == 0 { underlay } else { None },
+                peaks: peaks.as_mut(),
                 frame: self.panels.frame_params(k, w, h, &settings),
                 cell,
             });
@@ -519,6 +524,12 @@ impl App {
                 settings.method,
             )?;
             self.scene_gpu[k] = Some(scene);
+            self.peaks_gpu[k] = match &panel.peaks {
+                Some(peaks) => presenter
+                    .peaks_pass()
+                    .upload(self.gpu.context(), peaks, &frame)?,
+                None => None,
+            };
             self.uploaded[k] = Some(panel.version);
         }
         Ok(())

@@ -11,6 +11,7 @@
 //! appends) and copied in from a host-visible buffer, byte for byte.
 use crate::error::{Error, Result};
 use crate::render::frame::FrameParams;
+use crate::render::peaks::PeaksGpu;
 use crate::render::raycast::SceneGpu;
 use crate::render::underlay::{UnderlayGpu, UnderlayPlane};
 use crate::vk::recording::{
@@ -26,6 +27,8 @@ use gpu_allocator::MemoryLocation;
 pub struct PanelDraw<'a> {
     pub scene: &'a mut SceneGpu,
     pub underlay: Option<(&'a UnderlayGpu, &'a [UnderlayPlane])>,
+    /// Its fibre peaks, if any.
+    pub peaks: Option<&'a mut PeaksGpu>,
     /// The frame block for the cell's size.
     pub frame: FrameParams,
     /// Where the panel goes in the window.

@@ -16,6 +16,7 @@ use crate::render::frame::{FrameParams, SceneExtent};
 use crate::render::glyph_data::{
     GlyphSetData, measure_largest_radius, prepare_scene, prepare_set_with_progress,
 };
+use crate::render::peaks::PeakSet;
 use crate::render::underlay::{Underlay, UnderlayPlane, extent_with_planes};
 use crate::scene::{GlyphSet, Scene};
 use crate::volume::{
@@ -84,6 +85,8 @@ pub struct Content {
     pub version: u64,
     /// The underlay, its planes on the current slices.
     pub underlay: Option<Underlay>,
+    /// The fibre peaks of the current slices, if any.
+    pub peaks: Option<PeakSet>,
     negative: Option<NegativeMode>,
     volume: Option<VolumeSlice>,
     job: Option<Job>,
@@ -112,6 +115,8 @@ struct Job {
 struct Prepared {
     glyph_sets: Vec<GlyphSet>,
     data: Vec<Option<GlyphSetData>>,
+    /// A volume slice's peaks (`None`: kept as they are).
+    peaks: Option<Option<PeakSet>>,
 }
 
 /// Where a job's glyph sets come from.
@@ -167,7 +172,9 @@ impl Content {
             volume,
             options,
         };
-        Content::build(view.scene, Some(slice), settings, negative)
+        let mut content = Content::build(view.scene, Some(slice), settings, negative)?;
+        content.peaks = view.peaks;
+        Ok(content)
     }
 
     fn build(
@@ -195,6 +202,7 @@ impl Content {
             settings,
             version: 0,
             underlay: None,
+            peaks: None,
             negative,
             volume,
             job: None,
@@ -277,6 +285,9 @@ impl Content {
         let mut extent = SceneExtent::for_settings(&self.camera, &self.sets, settings);
         if let Some(underlay) = &self.underlay {
             extent = extent_with_planes(&self.camera, extent, &underlay.planes);
+        }
+        if let Some(peaks) = &self.peaks {
+            extent = peaks.widen(&self.camera, extent);
         }
         extent
     }
@@ -532,6 +543,9 @@ impl Content {
         }
         self.scene.glyph_sets = prepared.glyph_sets;
         self.sets = sets;
+        if let Some(peaks) = prepared.peaks {
+            self.peaks = peaks;
+        }
         self.version += 1;
         Ok(())
     }
@@ -570,19 +584,19 @@ fn prepare(
     offset: f64,
     progress: &Progress,
 ) -> Result<Prepared> {
-    let mut glyph_sets = match source {
+    let (mut glyph_sets, peaks) = match source {
         Source::Volume(volume, options) => {
             match volume_scene_with_progress(&volume, &options, Some(progress)) {
-                Ok(view) => view.scene.glyph_sets,
+                Ok(view) => (view.scene.glyph_sets, Some(view.peaks)),
                 // A slice with nothing to draw is shown empty, with the reason.
                 Err(Error::Input { message, .. }) => {
                     eprintln!("{what}: {message}");
-                    Vec::new()
+                    (Vec::new(), Some(None))
                 }
                 Err(e) => return Err(e),
             }
         }
-        Source::Sets(sets) => sets,
+        Source::Sets(sets) => (sets, None),
     };
     if let Some(mode) = negative {
         for set in &mut glyph_sets {
@@ -600,5 +614,9 @@ fn prepare(
             }
         })
         .collect::<Result<Vec<_>>>()?;
-    Ok(Prepared { glyph_sets, data })
+    Ok(Prepared {
+        glyph_sets,
+        data,
+        peaks,
+    })
 }

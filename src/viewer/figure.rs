@@ -104,13 +104,16 @@ impl Figure {
             for (k, panel) in panels.panels.iter().enumerate() {
                 let Some(cell) = layout.cell(k) else { continue };
                 let (w, h) = (cell.extent.width, cell.extent.height);
-                let shot = renderer.render(gpu, &panel.sets, &panel.camera, w, h, &settings)?;
+                let view = FrameView::new(&panel.camera, w, h).with_peaks(panel.peaks.as_ref());
+                let shot = renderer.render_view(gpu, &panel.sets, &view, &settings)?;
                 montage.place(k, &shot);
             }
             montage.finish()
         } else {
             let c = panels.first();
-            let view = FrameView::new(&c.camera, width, height).with_underlay(c.underlay.as_ref());
+            let view = FrameView::new(&c.camera, width, height)
+                .with_underlay(c.underlay.as_ref())
+                .with_peaks(c.peaks.as_ref());
             renderer.render_view(gpu, &c.sets, &view, &settings)?
         };
         if let Some(strip) = self.strip.as_ref().filter(|_| layout.strip.is_some()) {

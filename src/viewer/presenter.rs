@@ -16,6 +16,7 @@
 use super::compose::{Composer, PanelDraw, StripDraw, attachment_to_copies};
 use crate::error::{Result, VkContext};
 use crate::render::RenderSettings;
+use crate::render::peaks::PeaksPass;
 use crate::render::raycast::{RayCastPass, TargetFormats};
 use crate::render::underlay::UnderlayPass;
 use crate::vk::recording::{
@@ -55,6 +56,7 @@ pub struct Capture {
 pub struct Presenter {
     pass: RayCastPass,
     underlay: UnderlayPass,
+    peaks: PeaksPass,
     timer: Option<GpuTimer>,
     capture: Option<(Buffer, vk::Extent2D)>,
     composer: Composer,
@@ -123,6 +125,7 @@ impl Presenter {
         Ok(Presenter {
             pass: RayCastPass::new(gpu.context(), formats)?,
             underlay: UnderlayPass::new(gpu.context(), formats)?,
+            peaks: PeaksPass::new(gpu.context(), formats)?,
             timer: GpuTimer::new(gpu)?,
             capture: None,
             composer: Composer::default(),
@@ -144,6 +147,11 @@ impl Presenter {
     /// pass (see [`Presenter::pass_mut`]).
     pub fn underlay_pass(&self) -> &UnderlayPass {
         &self.underlay
+    }
+
+    /// The peaks' pass, to upload a panel's peaks with; rebuilt with the glyph pass.
+    pub fn peaks_pass(&self) -> &PeaksPass {
+        &self.peaks
     }
 
     /// The pass, to upload scenes with. Its formats may change when the swapchain is
@@ -211,6 +219,7 @@ impl Presenter {
             };
             self.pass = RayCastPass::new(gpu.context(), formats)?;
             self.underlay = UnderlayPass::new(gpu.context(), formats)?;
+            self.peaks = PeaksPass::new(gpu.context(), formats)?;
             self.composer.reset();
             rebuilt = true;
         }
@@ -273,6 +282,9 @@ impl Presenter {
         // target and the strip's buffer are free.
         for panel in panels.iter_mut() {
             panel.scene.set_frame(&panel.frame)?;
+            if let Some(peaks) = panel.peaks.as_mut() {
+                peaks.set_frame(&panel.frame)?;
+            }
         }
         // The pipelines of this frame's method (a key may have just switched it), made
         // before recording: the pass never compiles while it records.
@@ -456,7 +468,8 @@ impl Presenter {
         unsafe { d.cmd_begin_rendering(cmd, &rendering) };
         // The panel at the corner: its viewport is its cell.
         for panel in panels.iter().filter(|p| p.in_place()) {
-            record_panel(&mut self.pass, &self.underlay, cmd, panel, settings)?;
+            let passes = (&mut self.pass, &self.underlay, &self.peaks);
+            record_panel(passes, cmd, panel, settings)?;
         }
         // SAFETY: as above.
         unsafe { d.cmd_end_rendering(cmd) };
@@ -473,10 +486,10 @@ impl Presenter {
                 );
             }
             for panel in copied {
-                let (pass, underlay) = (&mut self.pass, &self.underlay);
+                let passes = (&mut self.pass, &self.underlay, &self.peaks);
                 self.composer
                     .record_panel(d, cmd, image, panel.cell, background, || {
-                        record_panel(pass, underlay, cmd, panel, settings)
+                        record_panel(passes, cmd, panel, settings)
                     })?;
             }
             if let Some(rect) = strip {
@@ -499,11 +512,10 @@ impl Presenter {
     }
 }
 
-/// Records `panel`'s underlay and glyphs, drawn into an attachment whose corner is the
-/// panel's (rendering has begun).
+/// Records `panel`'s underlay, glyphs and peaks, drawn into an attachment whose corner
+/// is the panel's (rendering has begun).
 fn record_panel(
-    pass: &mut RayCastPass,
-    underlay: &UnderlayPass,
+    (pass, underlay, peaks): (&mut RayCastPass, &UnderlayPass, &PeaksPass),
     cmd: vk::CommandBuffer,
     panel: &PanelDraw,
     settings: &RenderSettings,
@@ -512,7 +524,11 @@ fn record_panel(
     if let Some((volume, planes)) = panel.underlay {
         underlay.record(cmd, volume, planes, panel.frame.view_proj, extent);
     }
-    pass.record(cmd, panel.scene, extent, settings.method)
+    pass.record(cmd, panel.scene, extent, settings.method)?;
+    if let Some(on_gpu) = panel.peaks.as_deref() {
+        peaks.record(cmd, on_gpu, extent);
+    }
+    Ok(())
 }
 
 /// The image from its `last` layout (after the accesses there) to PRESENT_SRC, through a

@@ -17,10 +17,12 @@ use super::framing::{
     Framing, ImageRequest, Orientation, ViewProjection, frame_region, frame_volume,
 };
 use super::input::{CoefficientFrame, Mask, Volume, show_shape};
+use super::peaks::{ViewPeaks, peak_set};
 use super::reorient::Reorientation;
 use super::selection::{Slice, SliceRegion, Slices, VoxelRanges};
 use crate::glyph::ellipsoid::ELLIPSOID_LAYOUT;
 use crate::glyph::{GlyphShape, NegativeMode};
+use crate::render::peaks::PeakSet;
 use crate::scene::{GlyphKind, GlyphSet, Scene};
 use crate::{Error, Result, Setting};
 
@@ -75,6 +77,9 @@ pub struct VolumeOptions {
     /// Which side of the image the subject's right is on, in every view.
     pub orientation: Orientation,
     pub image: ImageRequest,
+    /// Fibre peaks drawn in the voxels of the slices, if any (on the volume's grid;
+    /// alone where the volume only stands for their grid, [`Volume::grid_of_peaks`]).
+    pub peaks: Option<ViewPeaks>,
 }
 
 /// What happened to the voxels of the selection.
@@ -142,6 +147,8 @@ pub struct VolumeScene {
     /// The largest world radius of a drawn glyph: how far the glyphs reach out of
     /// their slice plane (an underlay drawn behind them goes that far back).
     pub glyph_radius: f64,
+    /// The peaks of the slices, if asked for.
+    pub peaks: Option<PeakSet>,
 }
 
 impl FromStr for Normalisation {
@@ -211,7 +218,8 @@ pub fn volume_scene_with_progress(
         let mut candidates = Vec::new();
         // A voxel where two slices cross belongs to the first of them only.
         for voxel in region.voxels() {
-            if regions[..n].iter().any(|earlier| earlier.contains(voxel)) {
+            if volume.is_peaks_grid() || regions[..n].iter().any(|earlier| earlier.contains(voxel))
+            {
                 continue;
             }
             report.selected += 1;
@@ -249,7 +257,7 @@ pub fn volume_scene_with_progress(
         glyphs.push(drawn);
     }
     report.drawn = glyphs.iter().map(Vec::len).sum();
-    if report.drawn == 0 {
+    if report.drawn == 0 && !volume.is_peaks_grid() {
         return Err(nothing_to_draw(volume, &regions, &report));
     }
     let scale = options
@@ -273,6 +281,17 @@ pub fn volume_scene_with_progress(
             options.image,
         )?,
     };
+    let peaks = options
+        .peaks
+        .as_ref()
+        .map(|peaks| {
+            let (camera, height) = (&framing.camera, framing.image.height);
+            peak_set(peaks, &regions, options.mask.as_ref(), camera, height)
+        })
+        .transpose()?;
+    if volume.is_peaks_grid() && peaks.as_ref().is_none_or(|p| p.segments.is_empty()) {
+        return Err(no_peak_to_draw(volume, &regions));
+    }
     // Global normalisation is over all slices together.
     let radii: Vec<f64> = glyphs.iter().flatten().map(|g| g.radius).collect();
     let reference = match options.norm {
@@ -303,6 +322,7 @@ pub fn volume_scene_with_progress(
         region: regions[0].clone(),
         regions,
         glyph_radius,
+        peaks,
     })
 }
 
@@ -344,6 +364,11 @@ fn reorientation(volume: &Volume) -> Result<Reorientation> {
 }
 
 fn check_options(volume: &Volume, options: &VolumeOptions) -> Result<()> {
+    if let Some(peaks) = &options.peaks {
+        peaks
+            .volume
+            .check_grid(&volume.file, volume.dims, &volume.voxel_to_world)?;
+    }
     if let Some(scale) = options.scale
         && !(scale.is_finite() && scale > 0.0)
     {
@@ -446,6 +471,21 @@ fn nothing_to_draw(volume: &Volume, regions: &[SliceRegion], report: &VolumeRepo
             report.below_min_amplitude,
             Setting::MinAmplitude.mention(),
             slices.join(", "),
+        ),
+    )
+}
+
+fn no_peak_to_draw(volume: &Volume, regions: &[SliceRegion]) -> Error {
+    let slices: Vec<String> = regions
+        .iter()
+        .map(|r| format!("{}={}", ["i", "j", "k"][r.slice.voxel_axis()], r.index))
+        .collect();
+    Error::input(
+        &volume.file,
+        "data",
+        format!(
+            "no peak to draw in slice {} (NaN or masked out everywhere there)",
+            slices.join(", ")
         ),
     )
 }

@@ -18,6 +18,7 @@ use crate::glyph::tensor_order::{DTI_COUNT, OrderEvidence, TensorOrder};
 use crate::io::image::{Image, ImageHeader, read_image};
 use crate::io::nifti::VoxelToWorld;
 use crate::scene::{GlyphKind, ShBasis};
+use crate::volume::PeakVolume;
 use crate::{Error, Result};
 
 /// Highest SH band and tensor order of the scene format.
@@ -64,6 +65,8 @@ pub struct Volume {
     pub notes: Vec<String>,
     /// Shape [x, y, z, coefficients].
     data: Array4<f64>,
+    /// No glyphs: the volume stands for a peak image's grid ([`Volume::grid_of_peaks`]).
+    peaks_grid: bool,
 }
 
 /// Which voxels a mask keeps: nonzero values (NaN counts as zero).
@@ -104,7 +107,28 @@ impl Volume {
             frame: CoefficientFrame::Voxel,
             notes: Vec::new(),
             data,
+            peaks_grid: false,
         })
+    }
+
+    /// A volume without glyphs that stands for the grid of `peaks` (file, dimensions,
+    /// affine): a view of peaks alone is selected and framed as one of this volume, and
+    /// draws no glyph.
+    pub fn grid_of_peaks(peaks: &PeakVolume) -> Result<Self> {
+        let [x, y, z] = peaks.dims;
+        let kind = VolumeKind::Sh {
+            basis: ShBasis::Tournier07,
+            legacy: false,
+        };
+        let data = Array4::zeros((x, y, z, 1));
+        let mut volume = Self::new(&peaks.file, data, kind, peaks.voxel_to_world)?;
+        volume.peaks_grid = true;
+        Ok(volume)
+    }
+
+    /// Whether the volume only stands for a peak image's grid.
+    pub fn is_peaks_grid(&self) -> bool {
+        self.peaks_grid
     }
 
     /// The volume of an image read with [`read_image`], checked against `kind`, in the

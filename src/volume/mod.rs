@@ -24,6 +24,7 @@ mod build;
 mod figure;
 mod framing;
 mod input;
+mod peaks;
 mod recorded;
 mod reorient;
 mod request;
@@ -41,6 +42,10 @@ pub use framing::{
     ViewProjection, frame_region, frame_volume, view_axis, view_directions,
 };
 pub use input::{CoefficientFrame, MAX_ORDER, Mask, Volume, VolumeKind, load_mask, load_volume};
+pub use peaks::{
+    DEFAULT_PEAKS_SCALE_FRACTION, DEFAULT_PEAKS_WIDTH, PeakArray, PeakStyle, PeakVolume,
+    PeaksColor, PeaksNorm, ViewPeaks, load_peaks, peak_set, pixel_size,
+};
 pub use recorded::{RecordedBasis, recorded_basis, resolve_basis};
 pub use reorient::Reorientation;
 pub use request::{Coefficients, ImageSource, MAX_PANELS, VolumeRequest, underlay_with_montage};

@@ -23,7 +23,9 @@ use crate::io::image::{Image, ImageHeader, read_image};
 use crate::io::nifti::VoxelToWorld;
 use crate::render::underlay::UnderlayVolume;
 use crate::scene::{GlyphKind, ShBasis};
+use crate::volume::peaks::{DEFAULT_PEAKS_WIDTH, PeakStyle, PeakVolume, ViewPeaks, load_peaks};
 use crate::{Error, Result, Setting};
+use std::sync::Arc;
 
 /// The most panels of a montage ([`Setting::Views`], [`Setting::Lightbox`]).
 pub const MAX_PANELS: usize = 64;
@@ -100,6 +102,19 @@ pub struct VolumeRequest {
     pub views: Option<String>,
     /// A montage of this many evenly spaced slices of the slice plane.
     pub lightbox: Option<usize>,
+    /// Fibre peaks drawn in the slices' voxels: a peak image (see `volume::peaks` for
+    /// the layouts), or one in memory.
+    pub peaks: Option<ImageSource<PeakVolume>>,
+    /// The amplitudes of DIPY's unit peak directions: names the DIPY layout (files only).
+    pub peak_values: Option<PathBuf>,
+    /// direction, or one colour (a name, #rrggbb or r,g,b).
+    pub peaks_color: Option<String>,
+    /// global, unit or none.
+    pub peaks_norm: Option<String>,
+    /// World half length of the longest peak.
+    pub peaks_scale: Option<f64>,
+    /// Peak diameter in pixels.
+    pub peaks_width: Option<f64>,
 }
 
 impl VolumeRequest {
@@ -118,7 +133,102 @@ impl VolumeRequest {
         }
         self.frame()?;
         self.given_basis()?;
+        self.peak_style()?;
         Ok(())
+    }
+
+    /// How the peaks are drawn; the style options need the peaks, values need a file.
+    pub fn peak_style(&self) -> Result<PeakStyle> {
+        let given = [
+            (Setting::PeakValues, self.peak_values.is_some()),
+            (Setting::PeaksColor, self.peaks_color.is_some()),
+            (Setting::PeaksNorm, self.peaks_norm.is_some()),
+            (Setting::PeaksScale, self.peaks_scale.is_some()),
+            (Setting::PeaksWidth, self.peaks_width.is_some()),
+        ];
+        if self.peaks.is_none()
+            && let Some((setting, _)) = given.iter().find(|(_, on)| *on)
+        {
+            return Err(Error::setting(
+                *setting,
+                format!(
+                    "needs {} (the peaks it applies to)",
+                    Setting::Peaks.mention()
+                ),
+            ));
+        }
+        if matches!(self.peaks, Some(ImageSource::Memory(_))) && self.peak_values.is_some() {
+            return Err(Error::setting(
+                Setting::PeakValues,
+                format!(
+                    "goes with a peak file; peaks in memory carry their amplitudes ({})",
+                    Setting::Peaks.mention()
+                ),
+            ));
+        }
+        let color = self
+            .peaks_color
+            .as_deref()
+            .map(str::parse)
+            .transpose()?
+            .unwrap_or_default();
+        let style = PeakStyle {
+            color,
+            norm: self
+                .peaks_norm
+                .as_deref()
+                .map(str::parse)
+                .transpose()?
+                .unwrap_or_default(),
+            scale: self.peaks_scale,
+            width: self.peaks_width.unwrap_or(DEFAULT_PEAKS_WIDTH),
+        };
+        style.validate()?;
+        Ok(style)
+    }
+
+    /// The peaks asked for, read if they are a file, with their style.
+    pub fn read_peaks(&self) -> Result<Option<ViewPeaks>> {
+        let style = self.peak_style()?;
+        let volume = match &self.peaks {
+            None => return Ok(None),
+            Some(ImageSource::File(path)) => load_peaks(path, self.peak_values.as_deref())?,
+            Some(ImageSource::Memory(peaks)) => peaks.clone(),
+        };
+        Ok(Some(ViewPeaks {
+            volume: Arc::new(volume),
+            style,
+        }))
+    }
+
+    /// The stand-in volume of a view of the peaks alone: their grid, no glyphs
+    /// ([`Volume::grid_of_peaks`]); the options that belong to glyphs are refused.
+    pub fn peaks_grid(&self) -> Result<Volume> {
+        let glyph_only = [
+            (Setting::Basis, self.basis.is_some()),
+            (Setting::ForceBasis, self.force_basis),
+            (Setting::Legacy, self.legacy.is_some()),
+            (Setting::Lmax, self.lmax.is_some()),
+            (Setting::Order, self.order.is_some()),
+            (Setting::Nonsymmetric, self.nonsymmetric),
+            (Setting::Frame, self.frame.is_some()),
+            (Setting::Glyph, self.glyph.is_some()),
+            (Setting::Scale, self.scale.is_some()),
+            (Setting::Norm, self.norm.is_some()),
+            (Setting::MinAmplitude, self.min_amplitude.is_some()),
+        ];
+        if let Some((setting, _)) = glyph_only.iter().find(|(_, on)| *on) {
+            return Err(Error::setting(
+                *setting,
+                "applies to glyphs, and only peaks are drawn",
+            ));
+        }
+        self.underlay_range()?;
+        self.check_montage()?;
+        let peaks = self.read_peaks()?.ok_or_else(|| {
+            Error::setting(Setting::Peaks, "a view of peaks alone needs the peaks")
+        })?;
+        Volume::grid_of_peaks(&peaks.volume)
     }
 
     /// The options that belong to the other kind of coefficients are refused, and a
@@ -186,6 +296,7 @@ impl VolumeRequest {
             },
             orientation: parse_or_default(self.orientation.as_deref())?,
             image,
+            peaks: None,
         })
     }
 

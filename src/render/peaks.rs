@@ -1,0 +1,280 @@
+//! Fibre peaks (`--peaks`): each peak a thin capsule through its voxel's centre, ray-cast
+//! in the glyphs' depth buffer, so that a peak and the lobe it comes from cut each other
+//! where they meet (as mrview draws fixels: lines through the voxel centres).
+//!
+//! A pass of its own, beside the glyph pass and the underlay's: one instanced draw of a
+//! box per capsule (glsl/peaks.vert), whose fragments intersect the pixel's ray with the
+//! capsule in closed form (glsl/peaks.frag) and write colour, depth and the ray
+//! distance (the depth map holds the first glyph or peak a ray meets). Capsules need no
+//! per-order shaders, so they are not a glyph kind of the catalog. The float64 reference
+//! is [`crate::glyph::capsule`]; [`PeakSet::intersect`] ray-casts a whole set with it.
+//!
+//! `crate::volume` reads peak files and turns the peaks of a view's slices into a
+//! [`PeakSet`]; an embedder builds one from its own segments and hands it to
+//! [`FrameView::with_peaks`](crate::render::headless::FrameView::with_peaks) or records
+//! [`PeaksPass::record`] into its own frame.
+use crate::camera::{Camera, Ray};
+use crate::error::Result;
+use crate::glyph::capsule::{Capsule, CapsuleHit};
+use crate::render::frame::{FRAME_DESCRIPTOR, FRAME_USAGE, FrameParams, SceneExtent};
+use crate::render::raycast::{TargetFormats, viewport_and_scissor};
+use crate::render::shaders::{PEAKS_FRAGMENT, PEAKS_VERTEX};
+use crate::vk::{
+    Buffer, BufferBinding, DescriptorPool, DeviceContext, GraphicsPipelineDesc, Pipeline,
+    PipelineLayout, ShaderModule, buffer_binding, graphics_pipeline,
+};
+use ash::vk;
+use bytemuck::{Pod, Zeroable};
+
+/// One peak as drawn: its capsule and its colour.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PeakSegment {
+    /// The capsule, world space.
+    pub capsule: Capsule,
+    /// sRGB colour, each channel 0 to 1 (as the PNG stores round(255 c)).
+    pub color: [f64; 3],
+}
+
+/// The peaks of a frame.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PeakSet {
+    /// Every capsule drawn.
+    pub segments: Vec<PeakSegment>,
+}
+
+impl PeakSet {
+    /// The nearest capsule entry along `ray` and the index of its segment (float64: the
+    /// reference of the pass).
+    pub fn intersect(&self, ray: &Ray) -> Option<(CapsuleHit, usize)> {
+        self.segments
+            .iter()
+            .enumerate()
+            .filter_map(|(n, s)| s.capsule.intersect(ray).map(|hit| (hit, n)))
+            .min_by(|a, b| a.0.t.total_cmp(&b.0.t))
+    }
+
+    /// `extent` (the glyphs') widened to the capsules' bounding spheres, so that no peak
+    /// is cut by the near or far plane; the magnitude range stays the glyphs'.
+    pub fn widen(&self, camera: &Camera, extent: SceneExtent) -> SceneExtent {
+        if self.segments.is_empty() {
+            return extent;
+        }
+        let spheres = self.segments.iter().map(|s| {
+            (
+                s.capsule.center().to_array(),
+                s.capsule.bounding_radius() * 1.01,
+            )
+        });
+        let peaks = SceneExtent::of_spheres(camera, spheres);
+        let fwd = camera.frame().fwd;
+        let seen = self
+            .segments
+            .iter()
+            .any(|s| fwd.dot(s.capsule.center() - camera.eye) > 0.0);
+        if !seen {
+            return extent;
+        }
+        SceneExtent {
+            near: extent.near.min(peaks.near),
+            far: extent.far.max(peaks.far),
+            max_radius: extent.max_radius,
+        }
+    }
+}
+
+/// The per-instance input of glsl/peaks.vert: 48 bytes per capsule.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub(crate) struct CapsuleInstance {
+    /// xyz: end a; w: radius.
+    pub(crate) end_a_radius: [f32; 4],
+    /// xyz: end b.
+    pub(crate) end_b: [f32; 4],
+    /// rgb: linear colour.
+    pub(crate) color: [f32; 4],
+}
+
+/// The 12 triangles of a box, counter-clockwise seen from outside (as the glyph boxes').
+const BOX_INDICES: [u16; 36] = [
+    0, 2, 3, 0, 3, 1, // -z
+    7, 4, 5, 7, 6, 4, // +z
+    0, 1, 5, 0, 5, 4, // -y
+    7, 2, 6, 7, 3, 2, // +y
+    0, 4, 6, 0, 6, 2, // -x
+    7, 1, 3, 7, 5, 1, // +x
+];
+
+/// Binding of the frame's parameter block (glsl/frame.glsl), as in the glyph passes.
+pub(crate) const PEAKS_FRAME_BINDING: u32 = 0;
+
+/// The peaks' pipeline, for attachments of given formats; created once per device.
+pub struct PeaksPass {
+    ctx: DeviceContext,
+    // Fields drop in order: the pipeline before the layout it was made with.
+    pipeline: Pipeline,
+    layout: PipelineLayout,
+    indices: Buffer,
+}
+
+/// A peak set on the GPU: its capsules and its own copy of the frame block.
+pub struct PeaksGpu {
+    instances: Buffer,
+    frame: Buffer,
+    _pool: DescriptorPool,
+    descriptor_set: vk::DescriptorSet,
+    count: u32,
+}
+
+impl PeaksPass {
+    /// The pipeline for attachments of `formats`: the glyphs' depth test (reversed,
+    /// GREATER) and outputs.
+    pub fn new(ctx: &DeviceContext, formats: TargetFormats) -> Result<PeaksPass> {
+        let bindings = [buffer_binding(
+            PEAKS_FRAME_BINDING,
+            FRAME_DESCRIPTOR,
+            vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+        )];
+        let layout = PipelineLayout::new(ctx, &bindings, vk::ShaderStageFlags::empty(), 0)?;
+        let pipeline = create_pipeline(ctx, formats, layout.handle())?;
+        Ok(PeaksPass {
+            ctx: ctx.clone(),
+            pipeline,
+            layout,
+            indices: Buffer::with_data(
+                ctx,
+                "peak box indices",
+                &BOX_INDICES,
+                vk::BufferUsageFlags::INDEX_BUFFER,
+            )?,
+        })
+    }
+
+    /// Uploads `peaks` with the frame block `frame` (the glyph pass's); `None` when
+    /// there is no segment to draw.
+    pub fn upload(
+        &self,
+        ctx: &DeviceContext,
+        peaks: &PeakSet,
+        frame: &FrameParams,
+    ) -> Result<Option<PeaksGpu>> {
+        if peaks.segments.is_empty() {
+            return Ok(None);
+        }
+        let instances: Vec<CapsuleInstance> = peaks.segments.iter().map(instance).collect();
+        let instances = Buffer::with_data(
+            ctx,
+            "peak capsules",
+            &instances,
+            vk::BufferUsageFlags::VERTEX_BUFFER,
+        )?;
+        let frame =
+            Buffer::with_data(ctx, "peaks frame", std::slice::from_ref(frame), FRAME_USAGE)?;
+        let pool = DescriptorPool::new(ctx, 1, 0, 1)?;
+        let descriptor_set = pool.buffer_set(
+            self.layout.set_layout(),
+            &[BufferBinding::storage(PEAKS_FRAME_BINDING, &frame)],
+        )?;
+        Ok(Some(PeaksGpu {
+            instances,
+            frame,
+            _pool: pool,
+            descriptor_set,
+            count: peaks.segments.len() as u32,
+        }))
+    }
+
+    /// Records the draw of every capsule. The caller has begun dynamic rendering with
+    /// attachments of this pass's formats, of size `extent`.
+    pub fn record(&self, cmd: vk::CommandBuffer, peaks: &PeaksGpu, extent: vk::Extent2D) {
+        let (viewport, scissor) = viewport_and_scissor(extent);
+        let d = self.ctx.device();
+        // SAFETY: recording state is the caller's; every handle is alive.
+        unsafe {
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.handle());
+            d.cmd_set_viewport(cmd, 0, &[viewport]);
+            d.cmd_set_scissor(cmd, 0, &[scissor]);
+            d.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                self.layout.handle(),
+                0,
+                &[peaks.descriptor_set],
+                &[],
+            );
+            d.cmd_bind_vertex_buffers(cmd, 0, &[peaks.instances.handle], &[0]);
+            d.cmd_bind_index_buffer(cmd, self.indices.handle, 0, vk::IndexType::UINT16);
+            d.cmd_draw_indexed(cmd, BOX_INDICES.len() as u32, peaks.count, 0, 0, 0);
+        }
+    }
+}
+
+impl PeaksGpu {
+    /// Replaces the frame block (camera, lighting); not while a frame is in flight.
+    pub fn set_frame(&mut self, frame: &FrameParams) -> Result<()> {
+        self.frame.write(bytemuck::bytes_of(frame))
+    }
+}
+
+/// The GPU instance of a segment: float32 ends and radius, the colour in linear light
+/// (the shaders' sRGB decoding, c^2.2, as the glyphs' direction colour).
+fn instance(segment: &PeakSegment) -> CapsuleInstance {
+    let c = segment.capsule;
+    let [r, g, b] = segment.color.map(|v| v.clamp(0.0, 1.0).powf(2.2) as f32);
+    CapsuleInstance {
+        end_a_radius: [c.a.x as f32, c.a.y as f32, c.a.z as f32, c.radius as f32],
+        end_b: [c.b.x as f32, c.b.y as f32, c.b.z as f32, 0.0],
+        color: [r, g, b, 1.0],
+    }
+}
+
+/// The peaks' pipeline: instanced boxes (one 48-byte instance each), front faces only,
+/// the glyphs' attachments and depth test.
+fn create_pipeline(
+    ctx: &DeviceContext,
+    formats: TargetFormats,
+    layout: vk::PipelineLayout,
+) -> Result<Pipeline> {
+    // SAFETY: the SPIR-V comes from build.rs and was validated by glslang.
+    let vertex = unsafe { ShaderModule::new(ctx, PEAKS_VERTEX)? };
+    // SAFETY: as above.
+    let fragment = unsafe { ShaderModule::new(ctx, PEAKS_FRAGMENT)? };
+    let stages = [
+        vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::VERTEX)
+            .module(vertex.handle())
+            .name(c"main"),
+        vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::FRAGMENT)
+            .module(fragment.handle())
+            .name(c"main"),
+    ];
+    let bindings = [vk::VertexInputBindingDescription {
+        binding: 0,
+        stride: std::mem::size_of::<CapsuleInstance>() as u32,
+        input_rate: vk::VertexInputRate::INSTANCE,
+    }];
+    let attributes: Vec<_> = (0..3)
+        .map(|location| vk::VertexInputAttributeDescription {
+            location,
+            binding: 0,
+            format: vk::Format::R32G32B32A32_SFLOAT,
+            offset: 16 * location,
+        })
+        .collect();
+    let mut color_formats = vec![formats.color];
+    color_formats.extend(formats.distance);
+    let desc = GraphicsPipelineDesc {
+        stages: &stages,
+        vertex_bindings: &bindings,
+        vertex_attributes: &attributes,
+        cull: vk::CullModeFlags::BACK,
+        color_formats: &color_formats,
+        depth_format: formats.depth,
+        layout,
+        // glyphcast's own targets: one sample, reversed depth (the headless renderer's).
+        raster: crate::vk::RasterTarget::default(),
+    };
+    // SAFETY: the modules are alive until the call returns; their SPIR-V declares the
+    // frame block of `layout` (render::interface checks it).
+    unsafe { graphics_pipeline(ctx, &desc) }
+}
