@@ -311,6 +311,7 @@ mod tests {
             region: region.clone(),
             regions: vec![region.clone()],
             glyph_radius: 0.0,
+            peaks: None,
         };
         let plan = || FigurePlan {
             file: String::new(),
