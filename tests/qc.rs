@@ -258,10 +258,25 @@ fn a_mask_underlay_and_peaks_are_used_and_recorded() {
         text(&out),
     ]);
     assert!(run.status.success(), "{}", stderr(&run));
+    // The peaks mosaic: the ODF mosaic's panels with white capsules drawn over them.
+    let odf = glyphcast::io::png::read_png_rgba8(&out.join("odf-mosaic.png")).expect("odf");
+    let peaks_png = glyphcast::io::png::read_png_rgba8(&out.join("peaks-mosaic.png"))
+        .expect("the peaks mosaic is written");
+    assert_eq!(
+        (odf.0, odf.1),
+        (peaks_png.0, peaks_png.1),
+        "the same panels"
+    );
+    let white = |rgba: &[u8]| {
+        rgba.chunks(4)
+            .filter(|p| p[0] > 240 && p[1] > 240 && p[2] > 240)
+            .count()
+    };
     assert!(
-        stderr(&run).contains("peaks are not drawn"),
-        "the missing peaks mosaic is said: {}",
-        stderr(&run)
+        white(&peaks_png.2) > white(&odf.2) + 100,
+        "peaks drawn: {} white pixels against {}",
+        white(&peaks_png.2),
+        white(&odf.2)
     );
     let doc = sidecar(&out);
     let roles: Vec<&str> = doc["inputs"]
@@ -272,7 +287,13 @@ fn a_mask_underlay_and_peaks_are_used_and_recorded() {
         .collect();
     assert_eq!(roles, ["fod", "mask", "underlay", "peaks"]);
     assert_eq!(doc["selection"]["voxels"], 500);
-    assert!(doc["notes"][0].as_str().unwrap().contains("peaks"));
+    let figures: Vec<&str> = doc["figures"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["file"].as_str().unwrap())
+        .collect();
+    assert!(figures.contains(&"peaks-mosaic.png"), "{figures:?}");
     // Every region lies mostly inside the mask: its centre voxel is.
     for region in doc["selection"]["regions"].as_array().unwrap() {
         let i = region["centre_voxel"][0].as_u64().unwrap();

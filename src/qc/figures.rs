@@ -7,6 +7,7 @@
 //! Every glyph of the set is sized on one scale, so that sizes compare across panels and
 //! figures: proportional to the glyph's largest radius, up to a full size that the
 //! larger half of the set's glyphs share ([`size_alike`]).
+use std::path::Path;
 use std::sync::Arc;
 
 use super::survey::{PlaneCuts, Region};
@@ -18,6 +19,7 @@ use crate::render::montage::prepare_montage;
 use crate::render::underlay::{Underlay, UnderlayVolume};
 use crate::vk::Gpu;
 use crate::volume::UnderlayPlacement;
+use crate::volume::{PeakStyle, PeaksColor, ViewPeaks, load_peaks, peak_set};
 use crate::volume::{Slice, SliceAxis, Volume, VolumeOptions, VolumeScene, VoxelRanges};
 use crate::volume::{view_underlay, volume_scene};
 use crate::{Error, Result};
@@ -236,8 +238,11 @@ pub fn render(
             .collect::<Result<Vec<Option<Underlay>>>>()?,
     };
     let glyphs = scenes.iter().map(|s| s.report.drawn).sum();
-    let scenes = scenes.into_iter().map(|s| s.scene).collect();
-    let prepared = prepare_montage(scenes, plan.columns, context.settings, context.negative)?;
+    let (scenes, peaks): (Vec<_>, Vec<_>) = scenes.into_iter().map(|s| (s.scene, s.peaks)).unzip();
+    let mut prepared = prepare_montage(scenes, plan.columns, context.settings, context.negative)?;
+    for (panel, peaks) in prepared.panels.iter_mut().zip(peaks) {
+        panel.peaks = peaks;
+    }
     let image = prepared.render_with_underlays(renderer, context.gpu, true, &underlays)?;
     if image.width == 0 || image.height == 0 {
         return Err(Error::Invalid(format!("{}: an empty figure", plan.file)));
@@ -254,23 +259,41 @@ pub fn render(
 }
 
 /// The peaks mosaic: the ODF mosaic's panels (`mosaic`, built and sized with the rest)
-/// with the peaks of `peaks` drawn over the glyphs in the same depth buffer.
-///
-/// Drawing peaks (`render --peaks`, issue 24's first item) is being built on another
-/// branch; until it is joined here this figure is left out of the set, with `notes`
-/// saying so, and `peaks` is only checked against the ODFs' grid (by the caller).
+/// with the peaks of the image at `peaks` (checked against the ODFs' grid by the
+/// caller) drawn over the glyphs in the same depth buffer, as `render --peaks` draws
+/// them: capsules through the voxel centres, white so that they stand out from the
+/// direction-coloured lobes, lengths proportional to the amplitudes.
 pub fn peaks_mosaic(
-    _context: &DrawContext,
-    _renderer: &mut HeadlessRenderer,
-    _mosaic: &BuiltFigure,
-    peaks: &str,
-    notes: &mut Vec<String>,
-) -> Result<Option<Figure>> {
-    notes.push(format!(
-        "{peaks}: peaks are not drawn by this build of glyphcast yet; the set has the ODF \
-         mosaic without a peaks mosaic"
-    ));
-    Ok(None)
+    context: &DrawContext,
+    renderer: &mut HeadlessRenderer,
+    mosaic: &BuiltFigure,
+    peaks: &Path,
+) -> Result<Figure> {
+    let view = ViewPeaks {
+        volume: Arc::new(load_peaks(peaks, None)?),
+        style: PeakStyle {
+            color: PeaksColor::Uniform([1.0, 1.0, 1.0]),
+            ..PeakStyle::default()
+        },
+    };
+    let mut scenes = mosaic.scenes.clone();
+    for scene in &mut scenes {
+        let camera = &scene.scene.camera;
+        let height = scene.scene.image.height;
+        scene.peaks = Some(peak_set(&view, &scene.regions, None, camera, height)?);
+    }
+    let plan = FigurePlan {
+        file: "peaks-mosaic.png".into(),
+        title: "Peaks mosaic".into(),
+        caption: format!(
+            "The ODF mosaic's panels with the peaks of {} drawn over the glyphs (white \
+             capsules through the voxel centres, lengths proportional to the amplitudes).",
+            peaks.display()
+        ),
+        panels: mosaic.plan.panels.clone(),
+        columns: mosaic.plan.columns,
+    };
+    render(context, renderer, BuiltFigure { plan, scenes })
 }
 
 #[cfg(test)]

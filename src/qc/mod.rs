@@ -141,7 +141,7 @@ pub fn make_set(request: &QcRequest, progress: &dyn Fn(&str)) -> Result<QcSet> {
     let volume = request.volume.read_volume(Coefficients::Sh, &request.fod)?;
     let mask = request.mask.as_deref().map(load_mask).transpose()?;
     let underlay = read_underlay(request)?;
-    let mut notes = Vec::new();
+    let notes: Vec<String> = Vec::new();
     if let Some(peaks) = &request.peaks {
         check_peaks(peaks, volume.dims)?;
     }
@@ -186,13 +186,7 @@ pub fn make_set(request: &QcRequest, progress: &dyn Fn(&str)) -> Result<QcSet> {
         underlay: underlay.as_ref(),
         volume: &volume,
     };
-    let drawn = draw_figures(
-        &context,
-        &mut renderer,
-        built,
-        request.peaks.as_deref(),
-        &mut notes,
-    )?;
+    let drawn = draw_figures(&context, &mut renderer, built, request.peaks.as_deref())?;
     timings.push(("render", ms(step)));
 
     let step = Instant::now();
@@ -282,17 +276,13 @@ fn draw_figures(
     renderer: &mut HeadlessRenderer,
     built: Vec<figures::BuiltFigure>,
     peaks: Option<&Path>,
-    notes: &mut Vec<String>,
 ) -> Result<Vec<Figure>> {
     let mut built = built.into_iter();
     let mosaic = built
         .next()
         .ok_or_else(|| Error::Invalid("qc: no mosaic".into()))?;
     let peaks_figure = match peaks {
-        Some(peaks) => {
-            let name = peaks.display().to_string();
-            figures::peaks_mosaic(context, renderer, &mosaic, &name, notes)?
-        }
+        Some(peaks) => Some(figures::peaks_mosaic(context, renderer, &mosaic, peaks)?),
         None => None,
     };
     let mut drawn = vec![figures::render(context, renderer, mosaic)?];
