@@ -11,7 +11,7 @@ use glyphcast::io::nifti::{AffineSource, VoxelToWorld};
 use glyphcast::render::headless::RenderedImage;
 use glyphcast::render::underlay::UnderlayVolume;
 use glyphcast::volume::{Mask, PeakArray};
-use ndarray::{Array3, Array4, ArrayViewD, Dimension, Ix3, Ix4};
+use ndarray::{Array3, Array4, Ix3, Ix4};
 use numpy::{
     PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArray, PyUntypedArrayMethods,
 };
