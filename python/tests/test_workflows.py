@@ -61,12 +61,13 @@ def test_cohort_demo_runs_four_subjects_through_nipype_multiproc(tmp_path, cli_b
         folder = out / f"sub-{n:02d}" / "qc"
         assert (folder / "index.html").is_file(), folder
         names = {p.name for p in folder.iterdir()}
-        assert names == {"index.html", "qc.json", "odf-mosaic.png", "zoom-1.png",
-                         "zoom-2.png", "zoom-3.png"}, names
+        # The peaks of `peaks` drawn over the mosaic's panels: peaks-mosaic.png.
+        assert names == {"index.html", "qc.json", "odf-mosaic.png", "peaks-mosaic.png",
+                         "zoom-1.png", "zoom-2.png", "zoom-3.png"}, names
         sidecar = json.loads((folder / "qc.json").read_text())
         roles = [i["role"] for i in sidecar["inputs"]]
         assert roles == ["fod", "peaks"], roles
-        assert any("peaks" in note for note in sidecar["notes"])
+        assert "peaks-mosaic.png" in [f["file"] for f in sidecar["figures"]]
         assert sidecar["settings"]["panel_size"] == 96
         checksums.add(sidecar["inputs"][0]["sha256"])
         page = (folder / "index.html").read_text()
@@ -97,7 +98,8 @@ def test_pydra_workflow_of_fit_peaks_qc(tmp_path):
     sidecar = json.loads(pathlib.Path(str(result.output.sidecar)).read_text())
     assert sidecar["volume"]["sh_band"] == 8
     names = sorted(pathlib.Path(str(f)).name for f in result.output.figures)
-    assert names == ["odf-mosaic.png", "zoom-1.png", "zoom-2.png", "zoom-3.png"]
+    assert names == ["odf-mosaic.png", "peaks-mosaic.png", "zoom-1.png", "zoom-2.png",
+                     "zoom-3.png"]
 
 
 def test_nipype_render_gives_the_cli_picture(tmp_path, fod, cli, monkeypatch):
