@@ -329,6 +329,26 @@ pub fn srgb_to_linear(byte: u8) -> f32 {
     linear as f32
 }
 
+/// A colour written `#rrggbb` or `r,g,b` (0 to 255 each), as 8-bit values; `None` for
+/// anything else (the callers add their own names).
+pub fn parse_rgb8(text: &str) -> Option<[u8; 3]> {
+    match text.strip_prefix('#') {
+        Some(hex) if hex.len() == 6 && hex.bytes().all(|b| b.is_ascii_hexdigit()) => {
+            u32::from_str_radix(hex, 16)
+                .ok()
+                .map(|v| [(v >> 16) as u8, (v >> 8) as u8, v as u8])
+        }
+        Some(_) => None,
+        None => {
+            let parts: Vec<Option<u8>> = text.split(',').map(|v| v.trim().parse().ok()).collect();
+            match parts[..] {
+                [Some(r), Some(g), Some(b)] => Some([r, g, b]),
+                _ => None,
+            }
+        }
+    }
+}
+
 /// `--background`: `none` (transparent), a name (dark, the default; black, white,
 /// grey or gray), `#rrggbb` or `r,g,b` (0 to 255 each). The 8-bit values are sRGB, as
 /// written in the PNG; the result is linear RGB and alpha.
@@ -340,22 +360,7 @@ pub fn parse_background(text: &str) -> Result<[f32; 4]> {
         "black" => Some([0, 0, 0]),
         "white" => Some([255, 255, 255]),
         "grey" | "gray" => Some([128, 128, 128]),
-        _ => match text.strip_prefix('#') {
-            Some(hex) if hex.len() == 6 && hex.bytes().all(|b| b.is_ascii_hexdigit()) => {
-                u32::from_str_radix(hex, 16)
-                    .ok()
-                    .map(|v| [(v >> 16) as u8, (v >> 8) as u8, v as u8])
-            }
-            Some(_) => None,
-            None => {
-                let parts: Vec<Option<u8>> =
-                    text.split(',').map(|v| v.trim().parse().ok()).collect();
-                match parts[..] {
-                    [Some(r), Some(g), Some(b)] => Some([r, g, b]),
-                    _ => None,
-                }
-            }
-        },
+        _ => parse_rgb8(text),
     };
     let [r, g, b] = bytes.map(srgb).ok_or_else(|| {
         Error::setting_value(

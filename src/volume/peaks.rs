@@ -107,22 +107,7 @@ impl FromStr for PeaksColor {
             "yellow" => Some([255, 255, 0]),
             "cyan" => Some([0, 255, 255]),
             "magenta" => Some([255, 0, 255]),
-            _ => match text.strip_prefix('#') {
-                Some(hex) if hex.len() == 6 && hex.bytes().all(|b| b.is_ascii_hexdigit()) => {
-                    u32::from_str_radix(hex, 16)
-                        .ok()
-                        .map(|v| [(v >> 16) as u8, (v >> 8) as u8, v as u8])
-                }
-                Some(_) => None,
-                None => {
-                    let parts: Vec<Option<u8>> =
-                        text.split(',').map(|v| v.trim().parse().ok()).collect();
-                    match parts[..] {
-                        [Some(r), Some(g), Some(b)] => Some([r, g, b]),
-                        _ => None,
-                    }
-                }
-            },
+            _ => crate::render::settings::parse_rgb8(text),
         };
         bytes
             .map(|b| PeaksColor::Uniform(b.map(|v| f64::from(v) / 255.0)))
