@@ -252,6 +252,9 @@ fn a_mask_underlay_and_peaks_are_used_and_recorded() {
         text(&mask_file),
         "--underlay",
         text(&mask_file),
+        // Mid grey: white pixels are the peaks'.
+        "--underlay-range",
+        "0:2",
         "--peaks",
         text(&peaks),
         "-o",

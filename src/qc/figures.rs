@@ -19,7 +19,7 @@ use crate::render::montage::prepare_montage;
 use crate::render::underlay::{Underlay, UnderlayVolume};
 use crate::vk::Gpu;
 use crate::volume::UnderlayPlacement;
-use crate::volume::{PeakStyle, PeaksColor, ViewPeaks, load_peaks, peak_set};
+use crate::volume::{PeakStyle, PeaksColor, PeaksNorm, ViewPeaks, load_peaks, peak_set};
 use crate::volume::{Slice, SliceAxis, Volume, VolumeOptions, VolumeScene, VoxelRanges};
 use crate::volume::{view_underlay, volume_scene};
 use crate::{Error, Result};
@@ -258,21 +258,36 @@ pub fn render(
     })
 }
 
+/// How large the glyphs of the peaks mosaic are drawn against the ODF mosaic's, so that
+/// the peaks reach out of the lobes they lie on.
+pub const PEAKS_MOSAIC_GLYPH_SIZE: f64 = 0.75;
+
+/// The share of the mosaic's peaks drawn shorter than full length (see [`peaks_mosaic`]).
+pub const FULL_LENGTH_PERCENTILE: f64 = 0.5;
+
 /// The peaks mosaic: the ODF mosaic's panels (`mosaic`, built and sized with the rest)
 /// with the peaks of the image at `peaks` (checked against the ODFs' grid by the
 /// caller) drawn over the glyphs in the same depth buffer, as `render --peaks` draws
-/// them: capsules through the voxel centres, white so that they stand out from the
-/// direction-coloured lobes, lengths proportional to the amplitudes.
+/// them: white capsules through the voxel centres. The peaks are sized as the glyphs
+/// are: in proportion to the amplitude up to a full length (half a voxel each way) that
+/// the larger half of the drawn peaks share, so that a spurious small peak stays short
+/// while an outlier does not shrink every other peak into its lobe; the glyphs are
+/// drawn at [`PEAKS_MOSAIC_GLYPH_SIZE`] of their size in the ODF mosaic, so that every
+/// full-length peak reaches out of its lobe.
 pub fn peaks_mosaic(
     context: &DrawContext,
     renderer: &mut HeadlessRenderer,
     mosaic: &BuiltFigure,
     peaks: &Path,
 ) -> Result<Figure> {
+    let volume = Arc::new(load_peaks(peaks, None)?);
+    let full = 0.5 * volume.voxel_to_world.voxel_sizes().min_element();
     let view = ViewPeaks {
-        volume: Arc::new(load_peaks(peaks, None)?),
+        volume,
         style: PeakStyle {
             color: PeaksColor::Uniform([1.0, 1.0, 1.0]),
+            norm: PeaksNorm::None,
+            scale: Some(1.0),
             ..PeakStyle::default()
         },
     };
@@ -281,14 +296,23 @@ pub fn peaks_mosaic(
         let camera = &scene.scene.camera;
         let height = scene.scene.image.height;
         scene.peaks = Some(peak_set(&view, &scene.regions, None, camera, height)?);
+        for set in &mut scene.scene.glyph_sets {
+            set.scales
+                .iter_mut()
+                .for_each(|s| *s *= PEAKS_MOSAIC_GLYPH_SIZE);
+        }
     }
+    size_peaks_alike(&mut scenes, full);
     let plan = FigurePlan {
         file: "peaks-mosaic.png".into(),
         title: "Peaks mosaic".into(),
         caption: format!(
-            "The ODF mosaic's panels with the peaks of {} drawn over the glyphs (white \
-             capsules through the voxel centres, lengths proportional to the amplitudes).",
-            peaks.display()
+            "The ODF mosaic's panels with the peaks of {} drawn over the glyphs: white \
+             capsules through the voxel centres, in proportion to the amplitude up to half \
+             a voxel each way, which the larger half of the peaks reach; the glyphs at {} \
+             times their size in the ODF mosaic.",
+            peaks.display(),
+            PEAKS_MOSAIC_GLYPH_SIZE
         ),
         panels: mosaic.plan.panels.clone(),
         columns: mosaic.plan.columns,
@@ -296,11 +320,88 @@ pub fn peaks_mosaic(
     render(context, renderer, BuiltFigure { plan, scenes })
 }
 
+/// Rescales every peak of `scenes` (drawn with half length = amplitude) to
+/// `full` times min(1, amplitude / R), with R the [`FULL_LENGTH_PERCENTILE`] of the
+/// amplitudes of every peak drawn.
+fn size_peaks_alike(scenes: &mut [VolumeScene], full: f64) {
+    let mut amplitudes: Vec<f64> = scenes
+        .iter()
+        .flat_map(|s| s.peaks.iter().flat_map(|p| &p.segments))
+        .map(|s| 0.5 * (s.capsule.b - s.capsule.a).length())
+        .filter(|a| *a > 0.0)
+        .collect();
+    if amplitudes.is_empty() {
+        return;
+    }
+    amplitudes.sort_by(f64::total_cmp);
+    let reference =
+        amplitudes[((amplitudes.len() - 1) as f64 * FULL_LENGTH_PERCENTILE).round() as usize];
+    for segment in scenes
+        .iter_mut()
+        .flat_map(|s| s.peaks.iter_mut().flat_map(|p| &mut p.segments))
+    {
+        let capsule = &mut segment.capsule;
+        let center = 0.5 * (capsule.a + capsule.b);
+        let half = 0.5 * (capsule.b - capsule.a);
+        let length = half.length();
+        if length > 0.0 {
+            let scaled = half * (full * (length / reference).min(1.0) / length);
+            capsule.a = center - scaled;
+            capsule.b = center + scaled;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::scene::{GlyphKind, GlyphSet, Scene};
     use crate::volume::{SliceRegion, VolumeReport};
+
+    /// Peaks of amplitudes 1, 2, 3, 4 (the median 3 by nearest rank) with full length 0.5:
+    /// half lengths 1/6, 2/6, then 0.5 for 3 and 4; centres and directions kept.
+    #[test]
+    fn peaks_are_sized_on_one_scale_up_to_the_median() {
+        use crate::glyph::capsule::Capsule;
+        use crate::render::peaks::{PeakSegment, PeakSet};
+        use glam::DVec3;
+        let center = DVec3::new(1.0, 2.0, 3.0);
+        let direction = DVec3::new(0.0, 0.6, 0.8);
+        let segments = [1.0, 2.0, 3.0, 4.0]
+            .map(|a| PeakSegment {
+                capsule: Capsule::through(center, a * direction, 0.1),
+                color: [1.0; 3],
+            })
+            .to_vec();
+        let region = SliceRegion::new([1, 1, 1], Slice::default(), &VoxelRanges::default(), "v")
+            .expect("a region");
+        let mut scene = VolumeScene {
+            scene: crate::demo::demo_scene(),
+            report: VolumeReport::default(),
+            region: region.clone(),
+            regions: vec![region],
+            glyph_radius: 0.0,
+            peaks: Some(PeakSet { segments }),
+        };
+        size_peaks_alike(std::slice::from_mut(&mut scene), 0.5);
+        let got: Vec<f64> = scene
+            .peaks
+            .as_ref()
+            .unwrap()
+            .segments
+            .iter()
+            .map(|s| {
+                let half = 0.5 * (s.capsule.b - s.capsule.a);
+                assert!((0.5 * (s.capsule.a + s.capsule.b) - center).length() < 1e-15);
+                assert!((half.normalize() - direction).length() < 1e-12);
+                half.length()
+            })
+            .collect();
+        let want = [0.5 / 3.0, 1.0 / 3.0, 0.5, 0.5];
+        for (g, w) in got.iter().zip(want) {
+            assert!((g - w).abs() < 1e-12, "{got:?}");
+        }
+    }
 
     /// Per-glyph factors S / r for r = 1, 2, 3, 4 (S = 1): the median radius is 3 by
     /// nearest rank, so the factor is capped at 1/3: radii 1 and 2 are drawn 1/3 and
