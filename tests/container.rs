@@ -77,7 +77,7 @@ fn the_recipes_build_context_is_a_whole_workspace() {
         copy_tree(&from, &context.join(&path));
     }
     let run = Command::new(env!("CARGO"))
-        .args(["metadata", "--locked", "--offline", "--format-version", "1"])
+        .args(["metadata", "--locked", "--format-version", "1"])
         .current_dir(&context)
         .output()
         .expect("running cargo metadata");
