@@ -65,16 +65,21 @@ impl OdfMethod {
 
     /// Parses the ODF model's name.
     pub fn parse(name: &str) -> Result<Self> {
-        [OdfMethod::Csa, OdfMethod::Qball, OdfMethod::Csd, OdfMethod::Msmt]
-            .into_iter()
-            .find(|m| m.name() == name)
-            .ok_or_else(|| {
-                Error::setting_value(
-                    Setting::Odf,
-                    format!("'{}'", crate::error::quoted(name)),
-                    "unknown ODF model, expected csd, msmt, csa or qball",
-                )
-            })
+        [
+            OdfMethod::Csa,
+            OdfMethod::Qball,
+            OdfMethod::Csd,
+            OdfMethod::Msmt,
+        ]
+        .into_iter()
+        .find(|m| m.name() == name)
+        .ok_or_else(|| {
+            Error::setting_value(
+                Setting::Odf,
+                format!("'{}'", crate::error::quoted(name)),
+                "unknown ODF model, expected csd, msmt, csa or qball",
+            )
+        })
     }
 }
 

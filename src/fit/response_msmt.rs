@@ -19,12 +19,12 @@
 //!   isotropic signal's whole band 0; DIPY takes exp(-b l1) of the tensor instead).
 use std::path::Path;
 
+use super::FitInputs;
 use super::dti::DiffusionTensor;
 use super::msmt::{SHELL_GAP, Shells, TissueResponses};
 use super::response::{RESPONSE_ROI_RADIUS, Response, response_rows};
 use super::tensor::TensorFitter;
 use super::tissue::TissueMask;
-use super::FitInputs;
 use crate::{Error, Result};
 
 /// FA below which a voxel may be GM or CSF.
@@ -93,7 +93,11 @@ fn read_rows(path: &Path, shells: &Shells) -> Result<Vec<Vec<f64>>> {
                 format!(
                     "the file is for {} shells ({}), the DWI has {} (b = {})",
                     listed.len(),
-                    listed.iter().map(|b| format!("{b}")).collect::<Vec<_>>().join(", "),
+                    listed
+                        .iter()
+                        .map(|b| format!("{b}"))
+                        .collect::<Vec<_>>()
+                        .join(", "),
                     shells.len(),
                     shells.list()
                 ),
@@ -128,7 +132,11 @@ fn read_rows(path: &Path, shells: &Shells) -> Result<Vec<Vec<f64>>> {
 /// The b-values of MRtrix's `# Shells: 0,1000,...` comment, if the file has one.
 fn listed_shells(text: &str) -> Option<Vec<f64>> {
     text.lines().find_map(|line| {
-        let rest = line.trim().strip_prefix('#')?.trim().strip_prefix("Shells:")?;
+        let rest = line
+            .trim()
+            .strip_prefix('#')?
+            .trim()
+            .strip_prefix("Shells:")?;
         rest.split(|c: char| c == ',' || c.is_whitespace())
             .filter(|w| !w.is_empty())
             .map(|w| w.parse::<f64>().ok())
@@ -203,7 +211,8 @@ pub fn estimate_responses(
     let shape = inputs.dwi.spatial_shape();
     let range = |axis: usize| {
         let centre = shape[axis] / 2;
-        centre.saturating_sub(RESPONSE_ROI_RADIUS)..(centre + RESPONSE_ROI_RADIUS + 1).min(shape[axis])
+        centre.saturating_sub(RESPONSE_ROI_RADIUS)
+            ..(centre + RESPONSE_ROI_RADIUS + 1).min(shape[axis])
     };
     let b0 = inputs.gradients.b0_volumes();
     // Per tissue: voxel count, S0 sum; WM: per shell (l1, l2) sums; GM, CSF: per shell
@@ -225,7 +234,10 @@ pub fn estimate_responses(
                 let Some(dti) = per_shell[0].tensor(&series, s0) else {
                     continue;
                 };
-                let (fa, md) = (dti.fractional_anisotropy(), dti.eigenvalues.iter().sum::<f64>() / 3.0);
+                let (fa, md) = (
+                    dti.fractional_anisotropy(),
+                    dti.eigenvalues.iter().sum::<f64>() / 3.0,
+                );
                 let class = if fa > wm_fa && dti.eigenvalues[2] > 0.0 {
                     0
                 } else if fa < ISO_FA && md > 0.0 && md < GM_MAX_MD {
@@ -288,7 +300,12 @@ pub fn estimate_responses(
             Response::from_tensor(l1, l2, wm_s0, shells.bvals[s], band).zonal
         })
         .collect();
-    let iso = |t: usize| -> Vec<f64> { iso_mean[t].iter().map(|m| sqrt_4pi * m / n[t + 1]).collect() };
+    let iso = |t: usize| -> Vec<f64> {
+        iso_mean[t]
+            .iter()
+            .map(|m| sqrt_4pi * m / n[t + 1])
+            .collect()
+    };
     Ok(EstimatedResponses {
         responses: TissueResponses {
             wm,

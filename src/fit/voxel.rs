@@ -493,7 +493,10 @@ fn check_single_shell(bvals: &[f64], bval_file: &str, what: &str) -> Result<()> 
             format!(
                 "{what} needs one shell, but the diffusion-weighted b-values range from {low} to {high} s/mm^2 (multi-shell data){}",
                 if what == "single-shell CSD" {
-                    format!(": fit it with {} (multi-shell multi-tissue CSD)", Setting::Odf.with("msmt"))
+                    format!(
+                        ": fit it with {} (multi-shell multi-tissue CSD)",
+                        Setting::Odf.with("msmt")
+                    )
                 } else {
                     String::new()
                 }
