@@ -58,7 +58,8 @@ pub struct FitArgs {
     #[arg(long)]
     sh: bool,
     /// Fit a fibre ODF as SH: csd (constrained spherical deconvolution, single shell),
-    /// csa (constant solid angle) or qball.
+    /// msmt (multi-shell multi-tissue CSD: WM fODF to -o, GM and CSF beside it), csa
+    /// (constant solid angle) or qball.
     #[arg(long, value_name = "MODEL", conflicts_with = "sh")]
     odf: Option<String>,
     /// SH basis: tournier07 or descoteaux07, or the aliases mrtrix (tournier07), dipy
@@ -78,7 +79,8 @@ pub struct FitArgs {
     tau: f64,
     /// CSD: the single-fibre response, MRtrix's text format (one row of zonal SH
     /// coefficients, as dwi2response writes). Default: estimated from the voxels with
-    /// FA above --response-fa in the centre of the volume.
+    /// FA above --response-fa in the centre of the volume. With msmt: the WM response,
+    /// one row per shell (b=0 first), with --response-gm and --response-csf.
     #[arg(long, value_name = "FILE", requires = "odf")]
     response: Option<PathBuf>,
     /// CSD: FA threshold of the voxels the response is estimated from.
