@@ -18,6 +18,9 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 
+#[path = "fit_msmt.rs"]
+mod msmt;
+
 #[derive(Args)]
 #[command(group(ArgGroup::new("series").args(["sh", "odf"])))]
 pub struct FitArgs {
@@ -55,7 +58,8 @@ pub struct FitArgs {
     #[arg(long)]
     sh: bool,
     /// Fit a fibre ODF as SH: csd (constrained spherical deconvolution, single shell),
-    /// csa (constant solid angle) or qball.
+    /// msmt (multi-shell multi-tissue CSD: WM fODF to -o, GM and CSF beside it), csa
+    /// (constant solid angle) or qball.
     #[arg(long, value_name = "MODEL", conflicts_with = "sh")]
     odf: Option<String>,
     /// SH basis: tournier07 or descoteaux07, or the aliases mrtrix (tournier07), dipy
@@ -75,7 +79,8 @@ pub struct FitArgs {
     tau: f64,
     /// CSD: the single-fibre response, MRtrix's text format (one row of zonal SH
     /// coefficients, as dwi2response writes). Default: estimated from the voxels with
-    /// FA above --response-fa in the centre of the volume.
+    /// FA above --response-fa in the centre of the volume. With msmt: the WM response,
+    /// one row per shell (b=0 first), with --response-gm and --response-csf.
     #[arg(long, value_name = "FILE", requires = "odf")]
     response: Option<PathBuf>,
     /// CSD: FA threshold of the voxels the response is estimated from.
@@ -87,6 +92,21 @@ pub struct FitArgs {
     /// order is recorded in the file's description.
     #[arg(long, value_name = "ORDER")]
     tensor_order: Option<String>,
+    /// msmt: the GM response, MRtrix's multi-shell format (one row per shell, b=0 first,
+    /// one column); with --response (WM, one row per shell) and --response-csf.
+    /// Default: all three estimated from the data.
+    #[arg(long, value_name = "FILE", requires_all = ["odf", "response", "response_csf"])]
+    response_gm: Option<PathBuf>,
+    /// msmt: the CSF response, as --response-gm.
+    #[arg(long, value_name = "FILE", requires_all = ["odf", "response", "response_gm"])]
+    response_csf: Option<PathBuf>,
+    /// msmt: the GM image (band 0). Default: beside -o, its name with _gm before the
+    /// extension (wm.nii.gz: wm_gm.nii.gz).
+    #[arg(long, value_name = "FILE", requires = "odf")]
+    gm: Option<PathBuf>,
+    /// msmt: the CSF image (band 0). Default: -o's name with _csf.
+    #[arg(long, value_name = "FILE", requires = "odf")]
+    csf: Option<PathBuf>,
     /// Fit only where this 3D NIfTI or MRtrix image is non-zero (same spatial shape as
     /// the DWI).
     #[arg(long, value_name = "IMAGE")]
@@ -101,19 +121,7 @@ impl FitArgs {
         let model = if let Some(name) = &self.odf {
             let method = OdfMethod::parse(name)?;
             let (basis, legacy) = parse_basis(&self.basis, self.legacy)?;
-            let csd_only = [
-                ("--response", self.response.is_some()),
-                ("--tau", self.tau != DEFAULT_CSD_TAU),
-                ("--response-fa", self.response_fa != DEFAULT_RESPONSE_FA),
-            ];
-            if method != OdfMethod::Csd
-                && let Some((flag, _)) = csd_only.iter().find(|(_, given)| *given)
-            {
-                return Err(Error::Usage(format!(
-                    "{flag} belongs to --odf csd, not --odf {}",
-                    method.name()
-                )));
-            }
+            msmt::check_flags(self, method)?;
             if !(self.response_fa > 0.0 && self.response_fa < 1.0) {
                 return Err(Error::Usage(format!(
                     "--response-fa {}: an FA threshold must be between 0 and 1",
@@ -151,6 +159,13 @@ impl FitArgs {
 pub fn run(args: FitArgs) -> Result<()> {
     let model = args.model().map_err(Error::into_usage)?;
     let convention: BvecConvention = args.bvec_convention.parse()?;
+    if let FitModel::Odf {
+        method: OdfMethod::Msmt,
+        ..
+    } = model
+    {
+        return msmt::run(&args, &model, convention);
+    }
     // An output name of another format is a usage error, whatever kind the check gives.
     check_output_path(&args.output).map_err(|e| Error::Usage(e.to_string()))?;
     let given_order: Option<TensorOrder> = args
@@ -162,17 +177,7 @@ pub fn run(args: FitArgs) -> Result<()> {
     let stored =
         output_tensor_order(&args.output, &model, given_order).map_err(Error::into_usage)?;
     glyphcast::io::atomic::check_outputs(&[&args.output])?;
-    let mut inputs = FitInputs::load(FitFiles {
-        dwi: args.dwi.clone(),
-        bval: args.bval.clone(),
-        bvec: args.bvec.clone(),
-        mask: args.mask.clone(),
-    })?;
-    if args.bvec.is_some() {
-        let map = inputs.dwi.voxel_to_world()?;
-        let to_voxel = convention.to_voxel_axes(&map, &inputs.dwi.file)?;
-        inputs.gradients = inputs.gradients.transformed(to_voxel);
-    }
+    let inputs = load_inputs(&args, convention)?;
     let response = csd_response(&args, &model, &inputs)?;
     let bar = progress_bar(inputs.voxel_count() as u64, args.quiet);
     let fitted = fit_with_response(&inputs, &model, response.as_ref(), &mut |done| {
@@ -196,6 +201,22 @@ pub fn run(args: FitArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// The DWI, its gradient table in the voxel axes, and the mask.
+fn load_inputs(args: &FitArgs, convention: BvecConvention) -> Result<FitInputs> {
+    let mut inputs = FitInputs::load(FitFiles {
+        dwi: args.dwi.clone(),
+        bval: args.bval.clone(),
+        bvec: args.bvec.clone(),
+        mask: args.mask.clone(),
+    })?;
+    if args.bvec.is_some() {
+        let map = inputs.dwi.voxel_to_world()?;
+        let to_voxel = convention.to_voxel_axes(&map, &inputs.dwi.file)?;
+        inputs.gradients = inputs.gradients.transformed(to_voxel);
+    }
+    Ok(inputs)
 }
 
 /// CSD's response: read from --response (its bands checked against --order), or

@@ -12,7 +12,9 @@
 //!   SH bases;
 //! - fibre ODFs as SH series (`odf`): CSA and Q-ball, linear in the same regularised SH
 //!   fit, and constrained spherical deconvolution (`csd`) with a response estimated from
-//!   high-FA voxels or read from a file (`response`); `peaks` finds their maxima.
+//!   high-FA voxels or read from a file (`response`); `peaks` finds their maxima;
+//! - multi-shell multi-tissue CSD (`msmt`): WM fODF, GM and CSF from all shells at once,
+//!   a QP per voxel, with per-shell tissue responses (`response_msmt`).
 //!
 //! Signal conventions (`voxel`): S0 is the mean of the b=0 volumes (b <= 50 s/mm^2,
 //! [`gradients::B0_THRESHOLD`]). A voxel whose S0 is not positive, or that holds a
@@ -32,10 +34,12 @@ pub mod dti;
 pub mod dwi;
 pub mod gradients;
 pub mod inputs;
+pub mod msmt;
 pub mod odf;
 pub mod output;
 pub mod peaks;
 pub mod response;
+pub mod response_msmt;
 pub mod sphere;
 use crate::glyph::sh;
 pub mod tensor;
@@ -209,6 +213,10 @@ impl FitModel {
                 } else {
                     String::new()
                 };
+                // Multi-tissue CSD has a hard constraint: no weight, no threshold.
+                if method == "msmt" {
+                    return format!("glyphcast fit: SH band {band} {basis}{legacy} msmt WM fODF");
+                }
                 format!(
                     "glyphcast fit: SH band {band} {basis}{legacy} {method} ODF lambda {lambda}{tau}"
                 )

@@ -48,6 +48,8 @@ pub enum OdfMethod {
     Qball,
     /// Constrained spherical deconvolution fibre ODF (Tournier et al. 2007).
     Csd,
+    /// Multi-shell multi-tissue CSD (Jeurissen et al. 2014): the WM fODF (`msmt`).
+    Msmt,
 }
 
 impl OdfMethod {
@@ -57,21 +59,27 @@ impl OdfMethod {
             OdfMethod::Csa => "csa",
             OdfMethod::Qball => "qball",
             OdfMethod::Csd => "csd",
+            OdfMethod::Msmt => "msmt",
         }
     }
 
     /// Parses the ODF model's name.
     pub fn parse(name: &str) -> Result<Self> {
-        [OdfMethod::Csa, OdfMethod::Qball, OdfMethod::Csd]
-            .into_iter()
-            .find(|m| m.name() == name)
-            .ok_or_else(|| {
-                Error::setting_value(
-                    Setting::Odf,
-                    format!("'{}'", crate::error::quoted(name)),
-                    "unknown ODF model, expected csd, csa or qball",
-                )
-            })
+        [
+            OdfMethod::Csa,
+            OdfMethod::Qball,
+            OdfMethod::Csd,
+            OdfMethod::Msmt,
+        ]
+        .into_iter()
+        .find(|m| m.name() == name)
+        .ok_or_else(|| {
+            Error::setting_value(
+                Setting::Odf,
+                format!("'{}'", crate::error::quoted(name)),
+                "unknown ODF model, expected csd, msmt, csa or qball",
+            )
+        })
     }
 }
 
@@ -145,9 +153,9 @@ impl LinearOdfFitter {
                     let laplace_beltrami = -f64::from(l * (l + 1));
                     funk_radon * laplace_beltrami / (16.0 * pi * pi)
                 }
-                OdfMethod::Csd => {
+                OdfMethod::Csd | OdfMethod::Msmt => {
                     return Err(Error::Invalid(
-                        "CSD is not a linear ODF: use CsdFitter".into(),
+                        "CSD is not a linear ODF: use CsdFitter or MsmtFitter".into(),
                     ));
                 }
             };

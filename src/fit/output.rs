@@ -19,7 +19,7 @@ use super::dwi::Dwi;
 use super::{FitModel, basis_name, tensor_description};
 use crate::glyph::tensor_order::{DTI_COUNT, TensorOrder};
 use crate::io::atomic::write_atomic;
-use crate::io::mif::{MifKind, MifWrite, write_mif};
+use crate::io::mif::{MifKind, MifWrite, mif_file_bytes};
 use crate::io::nifti::NiftiHeader;
 use crate::io::nifti::VoxelToWorld;
 use crate::io::nifti::write::nifti1_bytes;
@@ -110,6 +110,23 @@ pub fn write_output(
         FitModel::Tensor { order } => tensor_description(order, stored),
         _ => model.description(),
     };
+    write_atomic(
+        path,
+        &output_bytes(path, coeffs, dwi, model, stored, &description)?,
+    )
+}
+
+/// The bytes [`write_output`] writes, with `description` in the header, for outputs
+/// written as one set (`io::atomic::write_all_atomic`: multi-tissue CSD's three images).
+pub fn output_bytes(
+    path: &Path,
+    coeffs: &Array4<f64>,
+    dwi: &Dwi,
+    model: &FitModel,
+    stored: TensorOrder,
+    description: &str,
+) -> Result<Vec<u8>> {
+    let description = description.to_string();
     match MifKind::of(path) {
         Some(MifKind::Mif | MifKind::MifGz) => {
             let voxel_to_world = dwi.voxel_to_world()?;
@@ -128,7 +145,7 @@ pub fn write_output(
             }
             let world = to_world_frame(coeffs, &voxel_to_world, model, &dwi.file)?;
             let data = stored_in(world, stored).into_dyn();
-            write_mif(
+            mif_file_bytes(
                 path,
                 &MifWrite {
                     data: &data,
@@ -137,7 +154,7 @@ pub fn write_output(
                 },
             )
         }
-        _ => write_coefficients(
+        _ => coefficient_bytes(
             path,
             &stored_in(coeffs.clone(), stored),
             &dwi.header,
@@ -184,6 +201,19 @@ pub fn write_coefficients(
     reference: &NiftiHeader,
     description: &str,
 ) -> Result<()> {
+    write_atomic(
+        path,
+        &coefficient_bytes(path, coeffs, reference, description)?,
+    )
+}
+
+/// The bytes [`write_coefficients`] writes.
+fn coefficient_bytes(
+    path: &Path,
+    coeffs: &Array4<f64>,
+    reference: &NiftiHeader,
+    description: &str,
+) -> Result<Vec<u8>> {
     let ending = nifti_ending(path)?;
     let mut header = reference.clone();
     header.intent_code = 0;
@@ -192,13 +222,12 @@ pub fn write_coefficients(
     (header.cal_min, header.cal_max) = (0.0, 0.0);
     header.set_description(description);
     let file = path.display().to_string();
-    let bytes = nifti1_bytes(
+    nifti1_bytes(
         &header,
         coeffs.view().into_dyn(),
         ending == ".nii.gz",
         &file,
-    )?;
-    write_atomic(path, &bytes)
+    )
 }
 
 fn nifti_ending(path: &Path) -> Result<&'static str> {

@@ -80,30 +80,7 @@ impl Response {
     pub fn read(path: &Path) -> Result<Self> {
         let file = path.display().to_string();
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        let mut rows: Vec<(usize, Vec<f64>)> = Vec::new();
-        for (number, line) in text.lines().enumerate() {
-            let line = line.trim();
-            if line.is_empty() || line.starts_with('#') {
-                continue;
-            }
-            let values = line
-                .split(|c: char| c.is_whitespace() || c == ',')
-                .filter(|w| !w.is_empty())
-                .map(|w| {
-                    w.parse::<f64>()
-                        .ok()
-                        .filter(|v| v.is_finite())
-                        .ok_or_else(|| {
-                            Error::input(
-                                &file,
-                                format!("line {}", number + 1),
-                                format!("{} is not a finite number", crate::error::quoted(w)),
-                            )
-                        })
-                })
-                .collect::<Result<Vec<f64>>>()?;
-            rows.push((number + 1, values));
-        }
+        let rows = response_rows(&text, &file)?;
         match rows.as_slice() {
             [] => Err(Error::input(
                 &file,
@@ -127,8 +104,9 @@ impl Response {
                 &file,
                 format!("line {line}"),
                 format!(
-                    "{} rows of coefficients: a multi-shell response, but CSD here is single-shell (one row)",
-                    rows.len()
+                    "{} rows of coefficients: a multi-shell response, but CSD here is single-shell (one row); multi-shell data is fitted with {}",
+                    rows.len(),
+                    Setting::Odf.with("msmt")
                 ),
             )),
         }
@@ -151,6 +129,36 @@ impl Response {
         let row: Vec<String> = self.zonal.iter().map(|v| format!("{v}")).collect();
         format!("{}\n", row.join(" "))
     }
+}
+
+/// The rows of numbers of MRtrix's response format in `text` (of `file`), each with its
+/// line number; blank and `#` lines skipped. Errors name the file and the line.
+pub(crate) fn response_rows(text: &str, file: &str) -> Result<Vec<(usize, Vec<f64>)>> {
+    let mut rows: Vec<(usize, Vec<f64>)> = Vec::new();
+    for (number, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let values = line
+            .split(|c: char| c.is_whitespace() || c == ',')
+            .filter(|w| !w.is_empty())
+            .map(|w| {
+                w.parse::<f64>()
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .ok_or_else(|| {
+                        Error::input(
+                            file,
+                            format!("line {}", number + 1),
+                            format!("{} is not a finite number", crate::error::quoted(w)),
+                        )
+                    })
+            })
+            .collect::<Result<Vec<f64>>>()?;
+        rows.push((number + 1, values));
+    }
+    Ok(rows)
 }
 
 fn simpson(f: impl Fn(f64) -> f64, a: f64, b: f64) -> f64 {

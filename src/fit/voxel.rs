@@ -103,7 +103,7 @@ impl FitReport {
 
     /// Err when no voxel could be fitted: the output would be all zeros. Names `file`
     /// and why the voxels were left out.
-    fn check_any_fitted(&self, file: &str) -> Result<()> {
+    pub(crate) fn check_any_fitted(&self, file: &str) -> Result<()> {
         if self.visited == 0 {
             return Err(Error::input(
                 file,
@@ -308,6 +308,12 @@ impl VoxelFitter {
                 tau,
             } => {
                 let what = match method {
+                    OdfMethod::Msmt => {
+                        return Err(Error::Invalid(
+                            "multi-tissue CSD is fitted by fit::msmt::fit_msmt, not voxel by voxel here"
+                                .into(),
+                        ));
+                    }
                     OdfMethod::Csd => "single-shell CSD",
                     OdfMethod::Csa => "the CSA ODF",
                     OdfMethod::Qball => "the Q-ball ODF",
@@ -485,7 +491,15 @@ fn check_single_shell(bvals: &[f64], bval_file: &str, what: &str) -> Result<()> 
             bval_file,
             "b-values",
             format!(
-                "{what} needs one shell, but the diffusion-weighted b-values range from {low} to {high} s/mm^2 (multi-shell data)"
+                "{what} needs one shell, but the diffusion-weighted b-values range from {low} to {high} s/mm^2 (multi-shell data){}",
+                if what == "single-shell CSD" {
+                    format!(
+                        ": fit it with {} (multi-shell multi-tissue CSD)",
+                        Setting::Odf.with("msmt")
+                    )
+                } else {
+                    String::new()
+                }
             ),
         ));
     }

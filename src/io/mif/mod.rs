@@ -37,7 +37,7 @@ pub mod write;
 
 pub use datatype::DataType;
 pub use header::MifHeader;
-pub use write::{MifWrite, write_mif};
+pub use write::{MifWrite, mif_file_bytes, write_mif};
 
 /// Which MRtrix file a name is, by its ending.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -29,6 +29,12 @@ pub struct MifWrite<'a> {
 
 /// Writes `image` to `path`, compressed when the name ends in `.mif.gz`.
 pub fn write_mif(path: &Path, image: &MifWrite) -> Result<()> {
+    write_atomic(path, &mif_file_bytes(path, image)?)
+}
+
+/// The bytes [`write_mif`] writes to `path` (compressed for a `.mif.gz` name), for a
+/// caller that writes several files as one set (`io::atomic::write_all_atomic`).
+pub fn mif_file_bytes(path: &Path, image: &MifWrite) -> Result<Vec<u8>> {
     let bytes = mif_bytes(image)?;
     let bytes = if MifKind::of(path) == Some(MifKind::MifGz) {
         let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
@@ -39,7 +45,7 @@ pub fn write_mif(path: &Path, image: &MifWrite) -> Result<()> {
     } else {
         bytes
     };
-    write_atomic(path, &bytes)
+    Ok(bytes)
 }
 
 /// The file's bytes: header, padding, float32 values.
