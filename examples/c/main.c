@@ -8,7 +8,11 @@
  * the same rendering and depth buffer (standard depth: cleared to 1, tested LESS). No
  * window: the last frame is copied to a buffer and written as a PNG.
  *
- *   bash tools/c-example.sh OUT.png
+ *   bash tools/c-example.sh OUT.png [--plain-memory]
+ *
+ * With --plain-memory glyphcast's buffers take their memory from the engine's own
+ * allocation callbacks (GlyphcastAllocator: one vkAllocateMemory per block) instead of
+ * the gpu-allocator allocator glyphcast makes by default.
  *
  * Exit status: 0, or 1 on any failure or validation message. */
 #include "glyphcast.h"
@@ -190,6 +194,53 @@ static uint32_t memory_type(Engine *e, uint32_t bits, VkMemoryPropertyFlags flag
     exit(1);
 }
 
+/* The engine's allocation callbacks: one vkAllocateMemory per block, host-visible blocks
+ * mapped whole. `allocated` and `live` count the blocks, for the test. */
+typedef struct {
+    Engine *engine;
+    int allocated, live;
+} PlainMemory;
+
+static GlyphcastStatus plain_allocate(void *user, const GlyphcastMemoryRequest *request,
+                                      GlyphcastMemoryBlock *block) {
+    PlainMemory *plain = user;
+    VkPhysicalDeviceMemoryProperties props;
+    vkGetPhysicalDeviceMemoryProperties(plain->engine->physical_device, &props);
+    uint32_t type = UINT32_MAX;
+    VkMemoryPropertyFlags wanted[2] = {request->required_flags | request->preferred_flags,
+                                       request->required_flags};
+    for (int pass = 0; pass < 2 && type == UINT32_MAX; pass++)
+        for (uint32_t i = 0; i < props.memoryTypeCount; i++)
+            if ((request->memory_type_bits & (1u << i)) &&
+                (props.memoryTypes[i].propertyFlags & wanted[pass]) == wanted[pass]) {
+                type = i;
+                break;
+            }
+    if (type == UINT32_MAX) return GLYPHCAST_STATUS_VULKAN;
+    VkMemoryAllocateInfo info = {.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
+                                 .allocationSize = request->size,
+                                 .memoryTypeIndex = type};
+    VkDeviceMemory memory;
+    if (vkAllocateMemory(plain->engine->device, &info, NULL, &memory) != VK_SUCCESS)
+        return GLYPHCAST_STATUS_VULKAN;
+    void *mapped = NULL;
+    if (request->usage != GLYPHCAST_MEMORY_USE_DEVICE_LOCAL &&
+        vkMapMemory(plain->engine->device, memory, 0, VK_WHOLE_SIZE, 0, &mapped) != VK_SUCCESS) {
+        vkFreeMemory(plain->engine->device, memory, NULL);
+        return GLYPHCAST_STATUS_VULKAN;
+    }
+    *block = (GlyphcastMemoryBlock){.memory = memory, .offset = 0, .size = request->size,
+                                    .mapped = mapped, .token = 0};
+    plain->allocated++, plain->live++;
+    return GLYPHCAST_STATUS_OK;
+}
+
+static void plain_free(void *user, const GlyphcastMemoryBlock *block) {
+    PlainMemory *plain = user;
+    vkFreeMemory(plain->engine->device, block->memory, NULL); /* unmaps it too */
+    plain->live--;
+}
+
 static Image create_image(Engine *e, VkFormat format, VkImageUsageFlags usage,
                           VkImageAspectFlags aspect) {
     Image img;
@@ -327,8 +378,15 @@ static void glyphs(GlyphcastRenderer *renderer, double turn) {
 
 int main(int argc, char **argv) {
     const char *output = argc > 1 ? argv[1] : "c-example.png";
+    int plain_memory = argc > 2 && strcmp(argv[2], "--plain-memory") == 0;
+    if (argc > 3 || (argc == 3 && !plain_memory)) {
+        fprintf(stderr, "usage: c-example OUT.png [--plain-memory]\n");
+        return 2;
+    }
     Engine e;
     create_engine(&e);
+    PlainMemory plain = {.engine = &e};
+    GlyphcastAllocator callbacks = {.user = &plain, .allocate = plain_allocate, .free = plain_free};
 
     GlyphcastRendererDesc desc = {.get_instance_proc_addr = vkGetInstanceProcAddr,
                                   .instance = e.instance,
@@ -340,7 +398,8 @@ int main(int argc, char **argv) {
                                   .depth = GLYPHCAST_DEPTH_STANDARD,
                                   .pipeline_cache = VK_NULL_HANDLE,
                                   .frames_in_flight = IN_FLIGHT,
-                                  .render_pass = VK_NULL_HANDLE /* dynamic rendering */};
+                                  .render_pass = VK_NULL_HANDLE /* dynamic rendering */,
+                                  .allocator = plain_memory ? &callbacks : NULL};
     GlyphcastRenderer *renderer = NULL;
     if (glyphcast_renderer_create(&desc, &renderer) != GLYPHCAST_STATUS_OK) {
         fprintf(stderr, "glyphcast_renderer_create: %s\n", glyphcast_last_error());
@@ -514,6 +573,9 @@ int main(int argc, char **argv) {
            validation_messages);
 
     glyphcast_renderer_destroy(renderer);
+    if (plain_memory)
+        printf("plain memory: %d blocks for glyphcast, %d not given back\n", plain.allocated,
+               plain.live);
     vkDestroyPipeline(e.device, plane, NULL);
     vkDestroyPipelineLayout(e.device, plane_layout, NULL);
     vkDestroyBuffer(e.device, readback, NULL);
@@ -530,5 +592,5 @@ int main(int argc, char **argv) {
             e.instance, "vkDestroyDebugUtilsMessengerEXT");
     destroy_messenger(e.instance, e.messenger, NULL);
     vkDestroyInstance(e.instance, NULL);
-    return validation_messages == 0 && glyph_pixels > 200 ? 0 : 1;
+    return validation_messages == 0 && glyph_pixels > 200 && plain.live == 0 ? 0 : 1;
 }
