@@ -160,6 +160,23 @@ enum GlyphcastStatus glyphcast_renderer_set_sh_glyphs(struct GlyphcastRenderer *
                                                       const double *scales,
                                                       const double *coefficients);
 
+// Replaces the glyphs (for every frame in flight, without waiting) with `count`
+// Cartesian tensors of order `order`, as the scene format's `tensor` kind stores them:
+// `symmetric` 1 for the (order + 1)(order + 2) / 2 unique entries in lexicographic
+// order of their sorted index tuples (orders 1 to 12), 0 for all 3^order entries with
+// the last index running fastest (orders 1 to 4). `centers` holds 3 doubles per glyph,
+// `scales` one, `coefficients` the entries of each glyph in turn.
+//
+// # Safety
+// `renderer` is live; the arrays hold `count` glyphs' values.
+enum GlyphcastStatus glyphcast_renderer_set_tensor_glyphs(struct GlyphcastRenderer *renderer,
+                                                          uint32_t order,
+                                                          uint32_t symmetric,
+                                                          uint32_t count,
+                                                          const double *centers,
+                                                          const double *scales,
+                                                          const double *coefficients);
+
 // Begins frame `frame_index`: its camera (column-major 4 x 4 doubles: `view` world to
 // view, a rigid motion; `projection` view to Vulkan clip space, y down, centred, in the
 // renderer's depth convention) and the rectangle it is drawn in. Call it once the

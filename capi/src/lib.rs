@@ -468,19 +468,87 @@ pub unsafe extern "C" fn glyphcast_renderer_set_sh_glyphs(
     scales: *const f64,
     coefficients: *const f64,
 ) -> GlyphcastStatus {
+    let kind = if band.is_multiple_of(2) && band <= glyphcast::catalog::MAX_SH_BAND {
+        Ok(GlyphKind::Sh {
+            band,
+            basis: ShBasis::Descoteaux07,
+            legacy: false,
+        })
+    } else {
+        Err(format!(
+            "band {band}: glyphcast draws even bands 0 to {}",
+            glyphcast::catalog::MAX_SH_BAND
+        ))
+    };
+    // SAFETY: the caller's promise.
+    unsafe { set_glyphs(renderer, kind, count, (centers, scales, coefficients)) }
+}
+
+/// Replaces the glyphs (for every frame in flight, without waiting) with `count`
+/// Cartesian tensors of order `order`, as the scene format's `tensor` kind stores them:
+/// `symmetric` 1 for the (order + 1)(order + 2) / 2 unique entries in lexicographic
+/// order of their sorted index tuples (orders 1 to 12), 0 for all 3^order entries with
+/// the last index running fastest (orders 1 to 4). `centers` holds 3 doubles per glyph,
+/// `scales` one, `coefficients` the entries of each glyph in turn.
+///
+/// # Safety
+/// `renderer` is live; the arrays hold `count` glyphs' values.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn glyphcast_renderer_set_tensor_glyphs(
+    renderer: *mut GlyphcastRenderer,
+    order: u32,
+    symmetric: u32,
+    count: u32,
+    centers: *const f64,
+    scales: *const f64,
+    coefficients: *const f64,
+) -> GlyphcastStatus {
+    use glyphcast::glyph::{Symmetry, TensorLayout};
+    let kind = match symmetric {
+        0 | 1 => {
+            let largest = glyphcast::catalog::max_order(symmetric == 1);
+            let symmetry = if symmetric == 1 {
+                Symmetry::Symmetric
+            } else {
+                Symmetry::NonSymmetric
+            };
+            if (1..=largest).contains(&order) {
+                Ok(GlyphKind::Tensor(TensorLayout { order, symmetry }))
+            } else {
+                Err(format!(
+                    "order {order}: glyphcast draws {} tensors of orders 1 to {largest}",
+                    if symmetric == 1 { "symmetric" } else { "non-symmetric" }
+                ))
+            }
+        }
+        _ => Err(format!("symmetric {symmetric}: 1 or 0")),
+    };
+    // SAFETY: the caller's promise.
+    unsafe { set_glyphs(renderer, kind, count, (centers, scales, coefficients)) }
+}
+
+/// The glyph arrays of the `set_*_glyphs` calls: centres, scales, coefficients.
+type GlyphArrays = (*const f64, *const f64, *const f64);
+
+/// Replaces the renderer's glyphs with one set of `kind` (or fails with `kind`'s error).
+///
+/// # Safety
+/// `renderer` is live or NULL; the arrays hold `count` glyphs of `kind`.
+unsafe fn set_glyphs(
+    renderer: *mut GlyphcastRenderer,
+    kind: Result<GlyphKind, String>,
+    count: u32,
+    (centers, scales, coefficients): GlyphArrays,
+) -> GlyphcastStatus {
     // SAFETY: the caller's promise.
     let Some(r) = (unsafe { renderer.as_mut() }) else {
         return fail(GlyphcastStatus::InvalidArgument, "renderer is NULL");
     };
-    let per_glyph = ((band + 1) * (band + 2) / 2) as usize;
     let n = count as usize;
     let mut sets = Vec::new();
     let status = guarded(None, || {
-        if !band.is_multiple_of(2) || band > 12 {
-            return Err(invalid(format!(
-                "band {band}: glyphcast draws even bands 0 to 12"
-            )));
-        }
+        let kind = kind.map_err(invalid)?;
+        let per_glyph = kind.coefficient_count();
         if centers.is_null() || scales.is_null() || coefficients.is_null() {
             return Err(invalid("centers, scales and coefficients must not be NULL"));
         }
@@ -492,12 +560,15 @@ pub unsafe extern "C" fn glyphcast_renderer_set_sh_glyphs(
                 std::slice::from_raw_parts(coefficients, per_glyph * n),
             )
         };
+        if !(c.iter().chain(w).all(|v| v.is_finite())
+            && s.iter().all(|&v| v > 0.0 && v.is_finite()))
+        {
+            return Err(invalid(
+                "centers and coefficients must be finite, scales finite and positive",
+            ));
+        }
         let set = GlyphSet {
-            kind: GlyphKind::Sh {
-                band,
-                basis: ShBasis::Descoteaux07,
-                legacy: false,
-            },
+            kind,
             negative: glyphcast::NegativeMode::Abs,
             shape: glyphcast::glyph::GlyphShape::Polynomial,
             centers: c
@@ -507,13 +578,6 @@ pub unsafe extern "C" fn glyphcast_renderer_set_sh_glyphs(
             scales: s.to_vec(),
             coeffs: w.chunks(per_glyph.max(1)).map(<[f64]>::to_vec).collect(),
         };
-        if !(c.iter().chain(w).all(|v| v.is_finite())
-            && s.iter().all(|&v| v > 0.0 && v.is_finite()))
-        {
-            return Err(invalid(
-                "centers and coefficients must be finite, scales finite and positive",
-            ));
-        }
         sets.push(
             glyphcast::render::glyph_data::prepare_set(&set, 0, 0.0).map_err(from_glyphcast)?,
         );

@@ -3,7 +3,8 @@
  * The engine owns everything Vulkan: its instance (with the validation layer and a
  * messenger that counts messages), device, queue, command pool, two frames in flight
  * (a command buffer, a fence and colour and depth images each), and its own geometry: a
- * ground plane that cuts through the glyphs. glyphcast is handed the handles once and
+ * ground plane that cuts through the glyphs (SH glyphs, replaced halfway by tensor
+ * glyphs of order 4, as a slice step would). glyphcast is handed the handles once and
  * records its glyphs into the engine's command buffer each frame, after the plane, in
  * the same rendering and depth buffer (standard depth: cleared to 1, tested LESS). No
  * window: the last frame is copied to a buffer and written as a PNG.
@@ -376,6 +377,32 @@ static void glyphs(GlyphcastRenderer *renderer, double turn) {
                                                          coefficients));
 }
 
+/* The slice step's glyphs: nine symmetric tensors of order 4 (the scene format's unique
+ * entries, sorted index tuples in lexicographic order), each two crossing fibres d1 and
+ * d2: entry (i, j, k, l) = d1_i d1_j d1_k d1_l + 0.6 d2_i d2_j d2_k d2_l. */
+static void tensor_glyphs(GlyphcastRenderer *renderer, double turn) {
+    enum { N = 9, PER = 15 };
+    double centers[3 * N], scales[N], coefficients[PER * N];
+    for (int k = 0; k < N; k++) {
+        centers[3 * k] = 1.1 * (k % 3 - 1);
+        centers[3 * k + 1] = 1.1 * (k / 3 - 1);
+        centers[3 * k + 2] = 0.0;
+        scales[k] = 0.5;
+        double a = turn + 0.7 * k;
+        double d1[3] = {cos(a), sin(a), 0.3}, d2[3] = {-sin(a), cos(a), 0.8};
+        for (int v = 0; v < 3; v++) d1[v] /= sqrt(1.09), d2[v] /= sqrt(1.64);
+        int e = 0;
+        for (int i = 0; i < 3; i++)
+            for (int j = i; j < 3; j++)
+                for (int m = j; m < 3; m++)
+                    for (int l = m; l < 3; l++, e++)
+                        coefficients[PER * k + e] = d1[i] * d1[j] * d1[m] * d1[l] +
+                                                    0.6 * d2[i] * d2[j] * d2[m] * d2[l];
+    }
+    GLYPHCAST(renderer, glyphcast_renderer_set_tensor_glyphs(renderer, 4, 1, N, centers, scales,
+                                                             coefficients));
+}
+
 int main(int argc, char **argv) {
     const char *output = argc > 1 ? argv[1] : "c-example.png";
     int plain_memory = argc > 2 && strcmp(argv[2], "--plain-memory") == 0;
@@ -459,7 +486,7 @@ int main(int argc, char **argv) {
         int k = frame % IN_FLIGHT;
         CHECK(vkWaitForFences(e.device, 1, &fences[k], VK_TRUE, UINT64_MAX));
         CHECK(vkResetFences(e.device, 1, &fences[k]));
-        if (frame == FRAMES / 2) glyphs(renderer, 1.0); /* new glyphs, no wait */
+        if (frame == FRAMES / 2) tensor_glyphs(renderer, 1.0); /* new glyphs, no wait */
         double angle = -1.3 + 0.05 * frame;
         double eye[3] = {4.4 * cos(angle), 4.4 * sin(angle), 3.0}, target[3] = {0, 0, 0},
                up[3] = {0, 0, 1};

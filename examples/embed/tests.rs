@@ -424,6 +424,66 @@ fn a_host_memory_allocator_draws_the_same_frames() {
     assert_eq!(plain.depth, default.depth);
 }
 
+/// A host allocator that reports blocks one byte short of the request.
+struct ShortBlocks(Arc<PlainMemory>);
+
+impl glyphcast::vk::MemoryAllocator for ShortBlocks {
+    fn allocate(
+        &self,
+        request: &glyphcast::vk::MemoryRequest<'_>,
+    ) -> glyphcast::Result<glyphcast::vk::MemoryBlock> {
+        let mut block = self.0.allocate(request)?;
+        block.size -= 1;
+        Ok(block)
+    }
+
+    fn free(&self, block: glyphcast::vk::MemoryBlock) {
+        self.0.free(block)
+    }
+}
+
+/// A host allocator that breaks its contract (a block smaller than asked) is refused
+/// with an error naming the allocation, before anything is bound to the block, and the
+/// block is given back: no panic, no validation message.
+#[test]
+fn a_host_allocator_breaking_its_contract_is_refused() {
+    let engine = Engine::new(Validation::On).expect("engine");
+    let plain = Arc::new(PlainMemory::new(
+        &engine.instance,
+        engine.physical_device,
+        engine.device.clone(),
+    ));
+    // SAFETY: as in `run_on`: the context and renderer are dropped before the engine.
+    let context = unsafe {
+        DeviceContext::with_memory(
+            &engine.instance,
+            engine.physical_device,
+            engine.device.clone(),
+            Arc::new(ShortBlocks(plain.clone())),
+        )
+    };
+    let desc = RendererDesc {
+        formats: TargetFormats {
+            color: COLOR_FORMAT,
+            depth: DEPTH_FORMAT,
+            distance: None,
+        },
+        options: PassOptions::default(),
+        frames_in_flight: 2,
+        settings: RenderSettings::default(),
+    };
+    let error = match GlyphRenderer::new(&context, &desc) {
+        Ok(_) => panic!("a short block was accepted"),
+        Err(e) => e.to_string(),
+    };
+    assert!(error.contains("box indices"), "{error}");
+    assert!(error.contains("the memory allocator returned a block of"), "{error}");
+    drop(context);
+    let (allocated, live) = plain.counts();
+    assert_eq!((allocated, live), (1, 0));
+    assert_eq!(engine.validation_messages(), Vec::<String>::new());
+}
+
 #[test]
 fn unknown_options_and_bad_values_are_refused() {
     let args = |a: &[&str]| a.iter().map(|s| s.to_string()).collect::<Vec<_>>();
