@@ -75,8 +75,8 @@ typedef struct GlyphcastMemoryBlock {
 } GlyphcastMemoryBlock;
 
 // The host's allocation callbacks. glyphcast calls them only inside
-// `glyphcast_renderer_create`, `_set_sh_glyphs`, `_set_view` (which frees retired
-// glyphs) and `_destroy`, on the calling thread.
+// `glyphcast_renderer_create`, `_set_sh_glyphs`, `_set_tensor_glyphs`, `_set_view`
+// (which frees retired glyphs) and `_destroy`, on the calling thread.
 typedef struct GlyphcastAllocator {
   // Passed to both callbacks.
   void *user;

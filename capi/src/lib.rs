@@ -141,8 +141,8 @@ pub struct GlyphcastMemoryBlock {
 }
 
 /// The host's allocation callbacks. glyphcast calls them only inside
-/// `glyphcast_renderer_create`, `_set_sh_glyphs`, `_set_view` (which frees retired
-/// glyphs) and `_destroy`, on the calling thread.
+/// `glyphcast_renderer_create`, `_set_sh_glyphs`, `_set_tensor_glyphs`, `_set_view`
+/// (which frees retired glyphs) and `_destroy`, on the calling thread.
 #[repr(C)]
 #[derive(Clone, Copy)]
 pub struct GlyphcastAllocator {
@@ -517,7 +517,11 @@ pub unsafe extern "C" fn glyphcast_renderer_set_tensor_glyphs(
             } else {
                 Err(format!(
                     "order {order}: glyphcast draws {} tensors of orders 1 to {largest}",
-                    if symmetric == 1 { "symmetric" } else { "non-symmetric" }
+                    if symmetric == 1 {
+                        "symmetric"
+                    } else {
+                        "non-symmetric"
+                    }
                 ))
             }
         }

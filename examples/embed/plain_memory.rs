@@ -84,7 +84,11 @@ impl MemoryAllocator for PlainMemory {
     }
 
     fn free(&self, block: MemoryBlock) {
-        let memory = self.live.lock().ok().and_then(|mut l| l.remove(&block.token));
+        let memory = self
+            .live
+            .lock()
+            .ok()
+            .and_then(|mut l| l.remove(&block.token));
         if let Some(memory) = memory {
             // SAFETY: glyphcast destroyed the buffer or image bound to it and the GPU is
             // done with it (the trait's contract); freeing unmaps it.

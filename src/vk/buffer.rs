@@ -134,7 +134,7 @@ pub(super) fn checked_block(
             "a block of {} bytes for {} asked",
             block.size, requirements.size
         ))
-    } else if requirements.alignment > 0 && block.offset % requirements.alignment != 0 {
+    } else if requirements.alignment > 0 && !block.offset.is_multiple_of(requirements.alignment) {
         Some(format!(
             "offset {} is not a multiple of the alignment {}",
             block.offset, requirements.alignment

@@ -186,9 +186,9 @@ impl DeviceContext {
         let pipeline_cache = create_pipeline_cache(&device, cache_file.as_ref());
         let owner = DeviceOwner {
             device,
-            memory: ManuallyDrop::new(Arc::new(GpuAllocatorMemory::new(Arc::new(
-                Mutex::new(allocator),
-            )))),
+            memory: ManuallyDrop::new(Arc::new(GpuAllocatorMemory::new(Arc::new(Mutex::new(
+                allocator,
+            ))))),
             created: Some(instance),
             pipeline_cache,
             cache_file,

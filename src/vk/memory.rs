@@ -203,7 +203,11 @@ impl MemoryAllocator for GpuAllocatorMemory {
     }
 
     fn free(&self, block: MemoryBlock) {
-        let allocation = self.live.lock().ok().and_then(|mut l| l.remove(&block.token));
+        let allocation = self
+            .live
+            .lock()
+            .ok()
+            .and_then(|mut l| l.remove(&block.token));
         if let (Some(allocation), Ok(mut allocator)) = (allocation, self.allocator.lock()) {
             let _ = allocator.free(allocation);
         }
