@@ -30,8 +30,64 @@ typedef enum GlyphcastDepth {
   GLYPHCAST_DEPTH_REVERSED = 1,
 } GlyphcastDepth;
 
+// What a block of memory is for.
+typedef enum GlyphcastMemoryUse {
+  // Read by the GPU only (images).
+  GLYPHCAST_MEMORY_USE_DEVICE_LOCAL = 0,
+  // Written by the host through `mapped`, read by the GPU (glyph data, frame blocks).
+  GLYPHCAST_MEMORY_USE_UPLOAD = 1,
+  // Written by the GPU, read by the host through `mapped`.
+  GLYPHCAST_MEMORY_USE_READBACK = 2,
+} GlyphcastMemoryUse;
+
 // The renderer: opaque to C.
 typedef struct GlyphcastRenderer GlyphcastRenderer;
+
+// One allocation glyphcast asks the host for.
+typedef struct GlyphcastMemoryRequest {
+  // A label (NUL-terminated, valid during the call).
+  const char *name;
+  // The buffer's or image's VkMemoryRequirements.
+  uint64_t size;
+  uint64_t alignment;
+  uint32_t memory_type_bits;
+  enum GlyphcastMemoryUse usage;
+  // VkMemoryPropertyFlags the memory type must have (host-visible memory must be
+  // coherent: glyphcast neither flushes nor invalidates), and those it should have.
+  uint32_t required_flags;
+  uint32_t preferred_flags;
+  // 1 for a buffer, 0 for an optimal-tiling image (bufferImageGranularity).
+  uint32_t linear;
+} GlyphcastMemoryRequest;
+
+// A block of memory the host hands out.
+typedef struct GlyphcastMemoryBlock {
+  VkDeviceMemory memory;
+  // A multiple of the request's alignment.
+  uint64_t offset;
+  // At least the request's size.
+  uint64_t size;
+  // The host address of the block's first byte for the Upload and Readback uses
+  // (mapped until the block is freed); NULL for DeviceLocal.
+  void *mapped;
+  // The host's own name for the block, handed back to `free`.
+  uint64_t token;
+} GlyphcastMemoryBlock;
+
+// The host's allocation callbacks. glyphcast calls them only inside
+// `glyphcast_renderer_create`, `_set_sh_glyphs`, `_set_tensor_glyphs`, `_set_view`
+// (which frees retired glyphs) and `_destroy`, on the calling thread.
+typedef struct GlyphcastAllocator {
+  // Passed to both callbacks.
+  void *user;
+  // Fills `*block` for `*request` and returns GLYPHCAST_STATUS_OK, or returns another
+  // status (out of memory: GLYPHCAST_STATUS_VULKAN).
+  enum GlyphcastStatus (*allocate)(void *user,
+                                   const struct GlyphcastMemoryRequest *request,
+                                   struct GlyphcastMemoryBlock *block);
+  // Takes back a block (its buffer or image is destroyed, and the GPU is done with it).
+  void (*free)(void *user, const struct GlyphcastMemoryBlock *block);
+} GlyphcastAllocator;
 
 // What the host passes once.
 typedef struct GlyphcastRendererDesc {
@@ -57,6 +113,9 @@ typedef struct GlyphcastRendererDesc {
   VkRenderPass render_pass;
   // The subpass of `render_pass`.
   uint32_t subpass;
+  // The host's allocation callbacks, copied at creation, or NULL: glyphcast then makes
+  // a gpu-allocator allocator on the device.
+  const struct GlyphcastAllocator *allocator;
 } GlyphcastRendererDesc;
 
 // The rectangle a frame is drawn in (viewport and scissor), in framebuffer pixels.
@@ -75,8 +134,8 @@ extern "C" {
 //
 // # Safety
 // `desc` points to a valid description whose handles are live and belong together; the
-// host keeps the instance and device until `glyphcast_renderer_destroy`. `out` is
-// writable.
+// host keeps the instance and device (and its allocator's `user`, if it gave callbacks)
+// until `glyphcast_renderer_destroy`. `out` is writable.
 enum GlyphcastStatus glyphcast_renderer_create(const struct GlyphcastRendererDesc *desc,
                                                struct GlyphcastRenderer **out);
 
@@ -100,6 +159,23 @@ enum GlyphcastStatus glyphcast_renderer_set_sh_glyphs(struct GlyphcastRenderer *
                                                       const double *centers,
                                                       const double *scales,
                                                       const double *coefficients);
+
+// Replaces the glyphs (for every frame in flight, without waiting) with `count`
+// Cartesian tensors of order `order`, as the scene format's `tensor` kind stores them:
+// `symmetric` 1 for the (order + 1)(order + 2) / 2 unique entries in lexicographic
+// order of their sorted index tuples (orders 1 to 12), 0 for all 3^order entries with
+// the last index running fastest (orders 1 to 4). `centers` holds 3 doubles per glyph,
+// `scales` one, `coefficients` the entries of each glyph in turn.
+//
+// # Safety
+// `renderer` is live; the arrays hold `count` glyphs' values.
+enum GlyphcastStatus glyphcast_renderer_set_tensor_glyphs(struct GlyphcastRenderer *renderer,
+                                                          uint32_t order,
+                                                          uint32_t symmetric,
+                                                          uint32_t count,
+                                                          const double *centers,
+                                                          const double *scales,
+                                                          const double *coefficients);
 
 // Begins frame `frame_index`: its camera (column-major 4 x 4 doubles: `view` world to
 // view, a rigid motion; `projection` view to Vulkan clip space, y down, centred, in the

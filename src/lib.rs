@@ -117,10 +117,12 @@
 //!
 //! `examples/embed/` is a complete engine in plain ash with its own ground plane, frames
 //! in flight, MSAA and either depth convention, tested under synchronization validation
-//! against the headless renderer. The lower-level [`RayCastPass`](render::raycast::RayCastPass)
-//! (pipelines) and [`SceneGpu`](render::raycast::SceneGpu) (uploaded glyphs with one
-//! frame block per frame in flight) are what the renderer, the headless renderer and the
-//! viewer are built on.
+//! against the headless renderer, which draws its ray-cast glyphs through the same
+//! [`GlyphRenderer`]. An engine that does not use gpu-allocator gives glyphcast its own
+//! memory with [`DeviceContext::with_memory`] and a [`vk::MemoryAllocator`]. The
+//! lower-level [`RayCastPass`](render::raycast::RayCastPass) (pipelines) and
+//! [`SceneGpu`](render::raycast::SceneGpu) (uploaded glyphs with one frame block per
+//! frame in flight) are what the renderer and the viewer are built on.
 pub mod accuracy;
 pub mod bench;
 pub mod camera;
@@ -148,7 +150,7 @@ pub use error::{Error, Result, Setting};
 // The names most programs need, at the root; everything else stays in its module.
 pub use camera::{Camera, Projection};
 pub use glyph::NegativeMode;
-pub use render::component::{GlyphRenderer, RendererDesc};
+pub use render::component::{GlyphRenderer, RendererDesc, UploadedGlyphs};
 pub use render::frame::{FrameParams, SceneExtent};
 pub use render::glyph_data::{GlyphSetData, prepare_scene};
 pub use render::headless::{FrameView, HeadlessRenderer, RenderedImage};

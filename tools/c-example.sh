@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # Builds glyphcast's C API (capi/: libglyphcast_c) and the C example engine
 # (examples/c/main.c) with the system C compiler against include/glyphcast.h, and runs
-# it: `bash tools/c-example.sh OUT.png` writes the example's last frame. The example
+# it: `bash tools/c-example.sh OUT.png [--plain-memory]` writes the example's last frame
+# (--plain-memory: glyphcast's memory from the example's allocation callbacks). The example
 # exits non-zero on any failure or validation message. The library is built in the test
 # profile, so that `cargo test -p glyphcast-c` (which runs this script) and the script
 # share one build of glyphcast.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-out="${1:?usage: bash tools/c-example.sh OUT.png}"
+out="${1:?usage: bash tools/c-example.sh OUT.png [--plain-memory]}"
+shift
 . tools/env.sh
 export GLYPHCAST_LAVAPIPE="${GLYPHCAST_LAVAPIPE:-1}"
 lib="${CARGO_TARGET_DIR:-$PWD/target}/debug"
@@ -16,4 +18,4 @@ build="${CARGO_TARGET_DIR:-$PWD/target}/c-example"
 mkdir -p "$build"
 cc -std=c11 -Wall -Wextra -Werror -O1 -I include examples/c/main.c \
     -L "$lib" -lglyphcast_c -lvulkan -lm -Wl,-rpath,"$lib" -o "$build/c-example"
-"$build/c-example" "$out"
+"$build/c-example" "$out" "$@"

@@ -7,12 +7,14 @@
 //! Every entry point returns a [`GlyphcastStatus`]; the message of the last failure is
 //! kept per renderer ([`glyphcast_renderer_last_error`]) and per thread for calls with no
 //! renderer ([`glyphcast_last_error`]). Every entry point catches panics, so none crosses
-//! into C (it is reported as [`GlyphcastStatus::Panic`]). Memory comes from a
+//! into C (it is reported as [`GlyphcastStatus::Panic`]). Memory comes from the host's
+//! allocation callbacks ([`GlyphcastAllocator`]) if it gives them, else from a
 //! gpu-allocator allocator that the renderer makes on the host's device.
 #![allow(non_camel_case_types)]
 use ash::vk;
 use ash::vk::Handle;
 use glam::DMat4;
+use glyphcast::vk::{MemoryAllocator, MemoryBlock, MemoryRequest, MemoryUse};
 use glyphcast::{
     DepthConvention, DeviceContext, GlyphKind, GlyphRenderer, GlyphSet, HostView, PassOptions,
     RenderSettings, RendererDesc, ShBasis, TargetFormats,
@@ -31,6 +33,7 @@ pub type VkDevice = *mut c_void;
 pub type VkCommandBuffer = *mut c_void;
 pub type VkPipelineCache = u64;
 pub type VkRenderPass = u64;
+pub type VkDeviceMemory = u64;
 pub type VkFormat = i32;
 pub type PFN_vkGetInstanceProcAddr = Option<GetInstanceProcAddr>;
 /// vkGetInstanceProcAddr with the instance as a plain pointer.
@@ -87,6 +90,148 @@ pub struct GlyphcastRendererDesc {
     pub render_pass: VkRenderPass,
     /// The subpass of `render_pass`.
     pub subpass: u32,
+    /// The host's allocation callbacks, copied at creation, or NULL: glyphcast then makes
+    /// a gpu-allocator allocator on the device.
+    pub allocator: *const GlyphcastAllocator,
+}
+
+/// What a block of memory is for.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GlyphcastMemoryUse {
+    /// Read by the GPU only (images).
+    DeviceLocal = 0,
+    /// Written by the host through `mapped`, read by the GPU (glyph data, frame blocks).
+    Upload = 1,
+    /// Written by the GPU, read by the host through `mapped`.
+    Readback = 2,
+}
+
+/// One allocation glyphcast asks the host for.
+#[repr(C)]
+pub struct GlyphcastMemoryRequest {
+    /// A label (NUL-terminated, valid during the call).
+    pub name: *const c_char,
+    /// The buffer's or image's VkMemoryRequirements.
+    pub size: u64,
+    pub alignment: u64,
+    pub memory_type_bits: u32,
+    pub usage: GlyphcastMemoryUse,
+    /// VkMemoryPropertyFlags the memory type must have (host-visible memory must be
+    /// coherent: glyphcast neither flushes nor invalidates), and those it should have.
+    pub required_flags: u32,
+    pub preferred_flags: u32,
+    /// 1 for a buffer, 0 for an optimal-tiling image (bufferImageGranularity).
+    pub linear: u32,
+}
+
+/// A block of memory the host hands out.
+#[repr(C)]
+pub struct GlyphcastMemoryBlock {
+    pub memory: VkDeviceMemory,
+    /// A multiple of the request's alignment.
+    pub offset: u64,
+    /// At least the request's size.
+    pub size: u64,
+    /// The host address of the block's first byte for the Upload and Readback uses
+    /// (mapped until the block is freed); NULL for DeviceLocal.
+    pub mapped: *mut c_void,
+    /// The host's own name for the block, handed back to `free`.
+    pub token: u64,
+}
+
+/// The host's allocation callbacks. glyphcast calls them only inside
+/// `glyphcast_renderer_create`, `_set_sh_glyphs`, `_set_tensor_glyphs`, `_set_view`
+/// (which frees retired glyphs) and `_destroy`, on the calling thread.
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub struct GlyphcastAllocator {
+    /// Passed to both callbacks.
+    pub user: *mut c_void,
+    /// Fills `*block` for `*request` and returns GLYPHCAST_STATUS_OK, or returns another
+    /// status (out of memory: GLYPHCAST_STATUS_VULKAN).
+    pub allocate: Option<
+        unsafe extern "C" fn(
+            user: *mut c_void,
+            request: *const GlyphcastMemoryRequest,
+            block: *mut GlyphcastMemoryBlock,
+        ) -> GlyphcastStatus,
+    >,
+    /// Takes back a block (its buffer or image is destroyed, and the GPU is done with it).
+    pub free: Option<unsafe extern "C" fn(user: *mut c_void, block: *const GlyphcastMemoryBlock)>,
+}
+
+/// The host's callbacks as glyphcast's [`MemoryAllocator`].
+struct HostMemory(GlyphcastAllocator);
+
+// SAFETY: glyphcast calls the callbacks only from the C entry points listed on
+// `GlyphcastAllocator`, which the host calls for one renderer from one thread at a time
+// (they take the renderer mutably); the host vouches for `user` on that thread.
+unsafe impl Send for HostMemory {}
+// SAFETY: as above.
+unsafe impl Sync for HostMemory {}
+
+impl MemoryAllocator for HostMemory {
+    fn allocate(&self, request: &MemoryRequest<'_>) -> glyphcast::Result<MemoryBlock> {
+        let refused = |text: String| glyphcast::Error::Setup(text);
+        let allocate = self
+            .0
+            .allocate
+            .ok_or_else(|| refused("the host's allocate callback is NULL".into()))?;
+        let name = message(request.name);
+        let usage = match request.usage {
+            MemoryUse::DeviceLocal => GlyphcastMemoryUse::DeviceLocal,
+            MemoryUse::Upload => GlyphcastMemoryUse::Upload,
+            MemoryUse::Readback => GlyphcastMemoryUse::Readback,
+        };
+        let c_request = GlyphcastMemoryRequest {
+            name: name.as_ptr(),
+            size: request.requirements.size,
+            alignment: request.requirements.alignment,
+            memory_type_bits: request.requirements.memory_type_bits,
+            usage,
+            required_flags: request.usage.required_flags().as_raw(),
+            preferred_flags: request.usage.preferred_flags().as_raw(),
+            linear: u32::from(request.linear),
+        };
+        let mut block = GlyphcastMemoryBlock {
+            memory: 0,
+            offset: 0,
+            size: 0,
+            mapped: std::ptr::null_mut(),
+            token: 0,
+        };
+        // SAFETY: the host's callback, with valid pointers for the call.
+        let status = unsafe { allocate(self.0.user, &c_request, &mut block) };
+        if status != GlyphcastStatus::Ok {
+            return Err(refused(format!(
+                "{}: the host's allocator refused {} bytes ({status:?})",
+                request.name, request.requirements.size
+            )));
+        }
+        Ok(MemoryBlock {
+            memory: vk::DeviceMemory::from_raw(block.memory),
+            offset: block.offset,
+            size: block.size,
+            mapped: block.mapped.cast(),
+            token: block.token,
+        })
+    }
+
+    fn free(&self, block: MemoryBlock) {
+        let Some(free) = self.0.free else {
+            return;
+        };
+        let c_block = GlyphcastMemoryBlock {
+            memory: block.memory.as_raw(),
+            offset: block.offset,
+            size: block.size,
+            mapped: block.mapped.cast(),
+            token: block.token,
+        };
+        // SAFETY: the host's callback, with a block it handed out.
+        unsafe { free(self.0.user, &c_block) };
+    }
 }
 
 /// The rectangle a frame is drawn in (viewport and scissor), in framebuffer pixels.
@@ -104,7 +249,7 @@ pub struct GlyphcastRenderer {
     // Dropped in order: the renderer before the context, the allocator last.
     renderer: GlyphRenderer,
     _context: DeviceContext,
-    _allocator: Arc<Mutex<Allocator>>,
+    _allocator: Option<Arc<Mutex<Allocator>>>,
     last_error: Mutex<CString>,
 }
 
@@ -166,8 +311,8 @@ fn invalid(text: impl Into<String>) -> (GlyphcastStatus, String) {
 ///
 /// # Safety
 /// `desc` points to a valid description whose handles are live and belong together; the
-/// host keeps the instance and device until `glyphcast_renderer_destroy`. `out` is
-/// writable.
+/// host keeps the instance and device (and its allocator's `user`, if it gave callbacks)
+/// until `glyphcast_renderer_destroy`. `out` is writable.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn glyphcast_renderer_create(
     desc: *const GlyphcastRendererDesc,
@@ -219,25 +364,49 @@ unsafe fn create(
     // SAFETY: the host's live device of that instance.
     let device =
         unsafe { ash::Device::load(instance.fp_v1_0(), vk::Device::from_raw(desc.device as u64)) };
-    let allocator = Allocator::new(&AllocatorCreateDesc {
-        instance: instance.clone(),
-        device: device.clone(),
-        physical_device,
-        debug_settings: Default::default(),
-        buffer_device_address: false,
-        allocation_sizes: Default::default(),
-    })
-    .map_err(|e| {
-        (
-            GlyphcastStatus::Vulkan,
-            format!("creating the allocator: {e}"),
-        )
-    })?;
-    let allocator = Arc::new(Mutex::new(allocator));
-    // SAFETY: the device comes from that physical device and instance; the allocator is
-    // ours and dropped after the renderer and context (field order).
-    let context =
-        unsafe { DeviceContext::new(&instance, physical_device, device, Arc::clone(&allocator)) };
+    // SAFETY: the caller's promise: NULL or valid callbacks.
+    let callbacks = unsafe { desc.allocator.as_ref() }.copied();
+    let (context, allocator) = match callbacks {
+        Some(callbacks) => {
+            if callbacks.allocate.is_none() || callbacks.free.is_none() {
+                return Err(invalid("allocator: allocate and free must not be NULL"));
+            }
+            // SAFETY: the device comes from that physical device and instance; the
+            // host's callbacks allocate for it and outlive the renderer (its promise).
+            let context = unsafe {
+                DeviceContext::with_memory(
+                    &instance,
+                    physical_device,
+                    device,
+                    Arc::new(HostMemory(callbacks)),
+                )
+            };
+            (context, None)
+        }
+        None => {
+            let allocator = Allocator::new(&AllocatorCreateDesc {
+                instance: instance.clone(),
+                device: device.clone(),
+                physical_device,
+                debug_settings: Default::default(),
+                buffer_device_address: false,
+                allocation_sizes: Default::default(),
+            })
+            .map_err(|e| {
+                (
+                    GlyphcastStatus::Vulkan,
+                    format!("creating the allocator: {e}"),
+                )
+            })?;
+            let allocator = Arc::new(Mutex::new(allocator));
+            // SAFETY: the device comes from that physical device and instance; the
+            // allocator is ours and dropped after the renderer and context (field order).
+            let context = unsafe {
+                DeviceContext::new(&instance, physical_device, device, Arc::clone(&allocator))
+            };
+            (context, Some(allocator))
+        }
+    };
     let depth = match desc.depth {
         GlyphcastDepth::Standard => DepthConvention::Standard,
         GlyphcastDepth::Reversed => DepthConvention::Reversed,
@@ -299,19 +468,91 @@ pub unsafe extern "C" fn glyphcast_renderer_set_sh_glyphs(
     scales: *const f64,
     coefficients: *const f64,
 ) -> GlyphcastStatus {
+    let kind = if band.is_multiple_of(2) && band <= glyphcast::catalog::MAX_SH_BAND {
+        Ok(GlyphKind::Sh {
+            band,
+            basis: ShBasis::Descoteaux07,
+            legacy: false,
+        })
+    } else {
+        Err(format!(
+            "band {band}: glyphcast draws even bands 0 to {}",
+            glyphcast::catalog::MAX_SH_BAND
+        ))
+    };
+    // SAFETY: the caller's promise.
+    unsafe { set_glyphs(renderer, kind, count, (centers, scales, coefficients)) }
+}
+
+/// Replaces the glyphs (for every frame in flight, without waiting) with `count`
+/// Cartesian tensors of order `order`, as the scene format's `tensor` kind stores them:
+/// `symmetric` 1 for the (order + 1)(order + 2) / 2 unique entries in lexicographic
+/// order of their sorted index tuples (orders 1 to 12), 0 for all 3^order entries with
+/// the last index running fastest (orders 1 to 4). `centers` holds 3 doubles per glyph,
+/// `scales` one, `coefficients` the entries of each glyph in turn.
+///
+/// # Safety
+/// `renderer` is live; the arrays hold `count` glyphs' values.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn glyphcast_renderer_set_tensor_glyphs(
+    renderer: *mut GlyphcastRenderer,
+    order: u32,
+    symmetric: u32,
+    count: u32,
+    centers: *const f64,
+    scales: *const f64,
+    coefficients: *const f64,
+) -> GlyphcastStatus {
+    use glyphcast::glyph::{Symmetry, TensorLayout};
+    let kind = match symmetric {
+        0 | 1 => {
+            let largest = glyphcast::catalog::max_order(symmetric == 1);
+            let symmetry = if symmetric == 1 {
+                Symmetry::Symmetric
+            } else {
+                Symmetry::NonSymmetric
+            };
+            if (1..=largest).contains(&order) {
+                Ok(GlyphKind::Tensor(TensorLayout { order, symmetry }))
+            } else {
+                Err(format!(
+                    "order {order}: glyphcast draws {} tensors of orders 1 to {largest}",
+                    if symmetric == 1 {
+                        "symmetric"
+                    } else {
+                        "non-symmetric"
+                    }
+                ))
+            }
+        }
+        _ => Err(format!("symmetric {symmetric}: 1 or 0")),
+    };
+    // SAFETY: the caller's promise.
+    unsafe { set_glyphs(renderer, kind, count, (centers, scales, coefficients)) }
+}
+
+/// The glyph arrays of the `set_*_glyphs` calls: centres, scales, coefficients.
+type GlyphArrays = (*const f64, *const f64, *const f64);
+
+/// Replaces the renderer's glyphs with one set of `kind` (or fails with `kind`'s error).
+///
+/// # Safety
+/// `renderer` is live or NULL; the arrays hold `count` glyphs of `kind`.
+unsafe fn set_glyphs(
+    renderer: *mut GlyphcastRenderer,
+    kind: Result<GlyphKind, String>,
+    count: u32,
+    (centers, scales, coefficients): GlyphArrays,
+) -> GlyphcastStatus {
     // SAFETY: the caller's promise.
     let Some(r) = (unsafe { renderer.as_mut() }) else {
         return fail(GlyphcastStatus::InvalidArgument, "renderer is NULL");
     };
-    let per_glyph = ((band + 1) * (band + 2) / 2) as usize;
     let n = count as usize;
     let mut sets = Vec::new();
     let status = guarded(None, || {
-        if !band.is_multiple_of(2) || band > 12 {
-            return Err(invalid(format!(
-                "band {band}: glyphcast draws even bands 0 to 12"
-            )));
-        }
+        let kind = kind.map_err(invalid)?;
+        let per_glyph = kind.coefficient_count();
         if centers.is_null() || scales.is_null() || coefficients.is_null() {
             return Err(invalid("centers, scales and coefficients must not be NULL"));
         }
@@ -323,12 +564,15 @@ pub unsafe extern "C" fn glyphcast_renderer_set_sh_glyphs(
                 std::slice::from_raw_parts(coefficients, per_glyph * n),
             )
         };
+        if !(c.iter().chain(w).all(|v| v.is_finite())
+            && s.iter().all(|&v| v > 0.0 && v.is_finite()))
+        {
+            return Err(invalid(
+                "centers and coefficients must be finite, scales finite and positive",
+            ));
+        }
         let set = GlyphSet {
-            kind: GlyphKind::Sh {
-                band,
-                basis: ShBasis::Descoteaux07,
-                legacy: false,
-            },
+            kind,
             negative: glyphcast::NegativeMode::Abs,
             shape: glyphcast::glyph::GlyphShape::Polynomial,
             centers: c
@@ -338,13 +582,6 @@ pub unsafe extern "C" fn glyphcast_renderer_set_sh_glyphs(
             scales: s.to_vec(),
             coeffs: w.chunks(per_glyph.max(1)).map(<[f64]>::to_vec).collect(),
         };
-        if !(c.iter().chain(w).all(|v| v.is_finite())
-            && s.iter().all(|&v| v > 0.0 && v.is_finite()))
-        {
-            return Err(invalid(
-                "centers and coefficients must be finite, scales finite and positive",
-            ));
-        }
         sets.push(
             glyphcast::render::glyph_data::prepare_set(&set, 0, 0.0).map_err(from_glyphcast)?,
         );

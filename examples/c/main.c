@@ -3,12 +3,17 @@
  * The engine owns everything Vulkan: its instance (with the validation layer and a
  * messenger that counts messages), device, queue, command pool, two frames in flight
  * (a command buffer, a fence and colour and depth images each), and its own geometry: a
- * ground plane that cuts through the glyphs. glyphcast is handed the handles once and
+ * ground plane that cuts through the glyphs (SH glyphs, replaced halfway by tensor
+ * glyphs of order 4, as a slice step would). glyphcast is handed the handles once and
  * records its glyphs into the engine's command buffer each frame, after the plane, in
  * the same rendering and depth buffer (standard depth: cleared to 1, tested LESS). No
  * window: the last frame is copied to a buffer and written as a PNG.
  *
- *   bash tools/c-example.sh OUT.png
+ *   bash tools/c-example.sh OUT.png [--plain-memory]
+ *
+ * With --plain-memory glyphcast's buffers take their memory from the engine's own
+ * allocation callbacks (GlyphcastAllocator: one vkAllocateMemory per block) instead of
+ * the gpu-allocator allocator glyphcast makes by default.
  *
  * Exit status: 0, or 1 on any failure or validation message. */
 #include "glyphcast.h"
@@ -190,6 +195,53 @@ static uint32_t memory_type(Engine *e, uint32_t bits, VkMemoryPropertyFlags flag
     exit(1);
 }
 
+/* The engine's allocation callbacks: one vkAllocateMemory per block, host-visible blocks
+ * mapped whole. `allocated` and `live` count the blocks, for the test. */
+typedef struct {
+    Engine *engine;
+    int allocated, live;
+} PlainMemory;
+
+static GlyphcastStatus plain_allocate(void *user, const GlyphcastMemoryRequest *request,
+                                      GlyphcastMemoryBlock *block) {
+    PlainMemory *plain = user;
+    VkPhysicalDeviceMemoryProperties props;
+    vkGetPhysicalDeviceMemoryProperties(plain->engine->physical_device, &props);
+    uint32_t type = UINT32_MAX;
+    VkMemoryPropertyFlags wanted[2] = {request->required_flags | request->preferred_flags,
+                                       request->required_flags};
+    for (int pass = 0; pass < 2 && type == UINT32_MAX; pass++)
+        for (uint32_t i = 0; i < props.memoryTypeCount; i++)
+            if ((request->memory_type_bits & (1u << i)) &&
+                (props.memoryTypes[i].propertyFlags & wanted[pass]) == wanted[pass]) {
+                type = i;
+                break;
+            }
+    if (type == UINT32_MAX) return GLYPHCAST_STATUS_VULKAN;
+    VkMemoryAllocateInfo info = {.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
+                                 .allocationSize = request->size,
+                                 .memoryTypeIndex = type};
+    VkDeviceMemory memory;
+    if (vkAllocateMemory(plain->engine->device, &info, NULL, &memory) != VK_SUCCESS)
+        return GLYPHCAST_STATUS_VULKAN;
+    void *mapped = NULL;
+    if (request->usage != GLYPHCAST_MEMORY_USE_DEVICE_LOCAL &&
+        vkMapMemory(plain->engine->device, memory, 0, VK_WHOLE_SIZE, 0, &mapped) != VK_SUCCESS) {
+        vkFreeMemory(plain->engine->device, memory, NULL);
+        return GLYPHCAST_STATUS_VULKAN;
+    }
+    *block = (GlyphcastMemoryBlock){.memory = memory, .offset = 0, .size = request->size,
+                                    .mapped = mapped, .token = 0};
+    plain->allocated++, plain->live++;
+    return GLYPHCAST_STATUS_OK;
+}
+
+static void plain_free(void *user, const GlyphcastMemoryBlock *block) {
+    PlainMemory *plain = user;
+    vkFreeMemory(plain->engine->device, block->memory, NULL); /* unmaps it too */
+    plain->live--;
+}
+
 static Image create_image(Engine *e, VkFormat format, VkImageUsageFlags usage,
                           VkImageAspectFlags aspect) {
     Image img;
@@ -325,10 +377,43 @@ static void glyphs(GlyphcastRenderer *renderer, double turn) {
                                                          coefficients));
 }
 
+/* The slice step's glyphs: nine symmetric tensors of order 4 (the scene format's unique
+ * entries, sorted index tuples in lexicographic order), each two crossing fibres d1 and
+ * d2: entry (i, j, k, l) = d1_i d1_j d1_k d1_l + 0.6 d2_i d2_j d2_k d2_l. */
+static void tensor_glyphs(GlyphcastRenderer *renderer, double turn) {
+    enum { N = 9, PER = 15 };
+    double centers[3 * N], scales[N], coefficients[PER * N];
+    for (int k = 0; k < N; k++) {
+        centers[3 * k] = 1.1 * (k % 3 - 1);
+        centers[3 * k + 1] = 1.1 * (k / 3 - 1);
+        centers[3 * k + 2] = 0.0;
+        scales[k] = 0.5;
+        double a = turn + 0.7 * k;
+        double d1[3] = {cos(a), sin(a), 0.3}, d2[3] = {-sin(a), cos(a), 0.8};
+        for (int v = 0; v < 3; v++) d1[v] /= sqrt(1.09), d2[v] /= sqrt(1.64);
+        int e = 0;
+        for (int i = 0; i < 3; i++)
+            for (int j = i; j < 3; j++)
+                for (int m = j; m < 3; m++)
+                    for (int l = m; l < 3; l++, e++)
+                        coefficients[PER * k + e] = d1[i] * d1[j] * d1[m] * d1[l] +
+                                                    0.6 * d2[i] * d2[j] * d2[m] * d2[l];
+    }
+    GLYPHCAST(renderer, glyphcast_renderer_set_tensor_glyphs(renderer, 4, 1, N, centers, scales,
+                                                             coefficients));
+}
+
 int main(int argc, char **argv) {
     const char *output = argc > 1 ? argv[1] : "c-example.png";
+    int plain_memory = argc > 2 && strcmp(argv[2], "--plain-memory") == 0;
+    if (argc > 3 || (argc == 3 && !plain_memory)) {
+        fprintf(stderr, "usage: c-example OUT.png [--plain-memory]\n");
+        return 2;
+    }
     Engine e;
     create_engine(&e);
+    PlainMemory plain = {.engine = &e};
+    GlyphcastAllocator callbacks = {.user = &plain, .allocate = plain_allocate, .free = plain_free};
 
     GlyphcastRendererDesc desc = {.get_instance_proc_addr = vkGetInstanceProcAddr,
                                   .instance = e.instance,
@@ -340,7 +425,8 @@ int main(int argc, char **argv) {
                                   .depth = GLYPHCAST_DEPTH_STANDARD,
                                   .pipeline_cache = VK_NULL_HANDLE,
                                   .frames_in_flight = IN_FLIGHT,
-                                  .render_pass = VK_NULL_HANDLE /* dynamic rendering */};
+                                  .render_pass = VK_NULL_HANDLE /* dynamic rendering */,
+                                  .allocator = plain_memory ? &callbacks : NULL};
     GlyphcastRenderer *renderer = NULL;
     if (glyphcast_renderer_create(&desc, &renderer) != GLYPHCAST_STATUS_OK) {
         fprintf(stderr, "glyphcast_renderer_create: %s\n", glyphcast_last_error());
@@ -400,7 +486,7 @@ int main(int argc, char **argv) {
         int k = frame % IN_FLIGHT;
         CHECK(vkWaitForFences(e.device, 1, &fences[k], VK_TRUE, UINT64_MAX));
         CHECK(vkResetFences(e.device, 1, &fences[k]));
-        if (frame == FRAMES / 2) glyphs(renderer, 1.0); /* new glyphs, no wait */
+        if (frame == FRAMES / 2) tensor_glyphs(renderer, 1.0); /* new glyphs, no wait */
         double angle = -1.3 + 0.05 * frame;
         double eye[3] = {4.4 * cos(angle), 4.4 * sin(angle), 3.0}, target[3] = {0, 0, 0},
                up[3] = {0, 0, 1};
@@ -514,6 +600,9 @@ int main(int argc, char **argv) {
            validation_messages);
 
     glyphcast_renderer_destroy(renderer);
+    if (plain_memory)
+        printf("plain memory: %d blocks for glyphcast, %d not given back\n", plain.allocated,
+               plain.live);
     vkDestroyPipeline(e.device, plane, NULL);
     vkDestroyPipelineLayout(e.device, plane_layout, NULL);
     vkDestroyBuffer(e.device, readback, NULL);
@@ -530,5 +619,5 @@ int main(int argc, char **argv) {
             e.instance, "vkDestroyDebugUtilsMessengerEXT");
     destroy_messenger(e.instance, e.messenger, NULL);
     vkDestroyInstance(e.instance, NULL);
-    return validation_messages == 0 && glyph_pixels > 200 ? 0 : 1;
+    return validation_messages == 0 && glyph_pixels > 200 && plain.live == 0 ? 0 : 1;
 }

@@ -12,13 +12,20 @@
 //! glyphs are replaced (a slice step) while frames are in flight; the old ones are
 //! retired, not waited for.
 //!
+//! glyphcast's buffers and images take their memory from the engine: from its
+//! gpu-allocator allocator (`--allocator gpu-allocator`, the default), or from a second
+//! implementation of glyphcast's `MemoryAllocator` trait (`--allocator plain`,
+//! `plain_memory.rs`: one vkAllocateMemory per block).
+//!
 //! ```text
 //! cargo run --example embed -- [--frames N] [--in-flight K] [--depth standard|reversed]
-//!     [--samples 1|2|4|8] [--sync-validation] [--screenshot OUT.png]
+//!     [--samples 1|2|4|8] [--allocator gpu-allocator|plain] [--sync-validation]
+//!     [--screenshot OUT.png]
 //! ```
 //! Any validation message (errors and warnings; synchronization validation with
 //! `--sync-validation`) makes it exit with 1; an unknown option with 2.
 mod engine;
+mod plain_memory;
 mod plane;
 
 use ash::vk;
@@ -30,8 +37,10 @@ use glyphcast::{
     Camera, DepthConvention, DeviceContext, GlyphRenderer, GlyphSetData, HostView, ImageSize,
     PassOptions, Projection, RenderSettings, RendererDesc, Scene, TargetFormats, prepare_scene,
 };
+use plain_memory::PlainMemory;
 use plane::{PlanePass, Square};
 use std::path::PathBuf;
+use std::sync::Arc;
 
 type Result<T> = std::result::Result<T, Box<dyn std::error::Error>>;
 
@@ -52,6 +61,8 @@ struct Options {
     in_flight: usize,
     depth: DepthConvention,
     samples: u32,
+    /// Where glyphcast's buffers and images take their memory from.
+    allocator: MemorySource,
     validation: Validation,
     screenshot: Option<PathBuf>,
     /// Whether the engine draws its plane (the tests that compare glyph edges leave it
@@ -69,12 +80,22 @@ impl Default for Options {
             in_flight: 2,
             depth: DepthConvention::Standard,
             samples: 1,
+            allocator: MemorySource::GpuAllocator,
             validation: Validation::Off,
             screenshot: None,
             plane: true,
             viewport: None,
         }
     }
+}
+
+/// The engine's allocator that glyphcast's memory comes from (`--allocator`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum MemorySource {
+    /// The engine's gpu-allocator `Allocator`, shared.
+    GpuAllocator,
+    /// [`PlainMemory`]: one vkAllocateMemory per block.
+    Plain,
 }
 
 /// The options of `args`; GLYPHCAST_VALIDATION=1 turns the layer's core checks on when
@@ -105,6 +126,15 @@ fn parse(args: &[String]) -> std::result::Result<Options, String> {
                     "standard" => DepthConvention::Standard,
                     "reversed" => DepthConvention::Reversed,
                     other => return Err(format!("{arg}: '{other}' is not standard or reversed")),
+                }
+            }
+            "--allocator" => {
+                o.allocator = match value()?.as_str() {
+                    "gpu-allocator" => MemorySource::GpuAllocator,
+                    "plain" => MemorySource::Plain,
+                    other => {
+                        return Err(format!("{arg}: '{other}' is not gpu-allocator or plain"));
+                    }
                 }
             }
             "--sync-validation" => o.validation = Validation::Sync,
@@ -285,6 +315,9 @@ struct Run {
     validation: Vec<String>,
     /// Retired glyph uploads the renderer still held after the last frame.
     retired_at_end: usize,
+    /// With `--allocator plain`: (blocks glyphcast took from it, blocks not given back
+    /// once the renderer and context were dropped).
+    plain_blocks: Option<(usize, usize)>,
     /// The last frame's camera and projection, and the glyphs it showed.
     camera: Camera,
     projection: DMat4,
@@ -300,19 +333,48 @@ fn run(options: &Options) -> Result<Run> {
 }
 
 fn run_on(engine: &Engine, options: &Options) -> Result<Run> {
-    // glyphcast on the engine's device and allocator: no instance or device of its own.
-    // SAFETY: the device was made from this physical device and instance with dynamic
-    // rendering and sample-rate shading, and the allocator is its own. The context and
-    // renderer are locals of this function, which borrows the engine: they are dropped
-    // before the engine destroys its allocator, device and instance.
-    let context = unsafe {
-        DeviceContext::new(
+    let plain = (options.allocator == MemorySource::Plain).then(|| {
+        Arc::new(PlainMemory::new(
             &engine.instance,
             engine.physical_device,
             engine.device.clone(),
-            engine.allocator(),
-        )
-    };
+        ))
+    });
+    let mut run = draw_frames(engine, options, plain.clone())?;
+    // The renderer and context were dropped with `draw_frames`: every block is back.
+    run.plain_blocks = plain.map(|p| p.counts());
+    Ok(run)
+}
+
+/// glyphcast's context on the engine's device, with memory from `plain` if given, else
+/// from the engine's gpu-allocator allocator.
+fn context(engine: &Engine, plain: Option<Arc<PlainMemory>>) -> DeviceContext {
+    // SAFETY: the device was made from this physical device and instance with dynamic
+    // rendering and sample-rate shading, and both allocators allocate for it. Callers
+    // drop the context (and all made with it) before the engine destroys its allocator,
+    // device and instance.
+    unsafe {
+        match plain {
+            Some(plain) => DeviceContext::with_memory(
+                &engine.instance,
+                engine.physical_device,
+                engine.device.clone(),
+                plain,
+            ),
+            None => DeviceContext::new(
+                &engine.instance,
+                engine.physical_device,
+                engine.device.clone(),
+                engine.allocator(),
+            ),
+        }
+    }
+}
+
+fn draw_frames(engine: &Engine, options: &Options, plain: Option<Arc<PlainMemory>>) -> Result<Run> {
+    // glyphcast on the engine's device and memory: no instance or device of its own. The
+    // context and renderer are locals, dropped before this function returns.
+    let context = context(engine, plain);
     let samples = vk::SampleCountFlags::from_raw(options.samples);
     let settings = RenderSettings::default();
     let first = prepare_scene(&scene(0), settings.offset as f64)?;
@@ -418,6 +480,7 @@ fn run_on(engine: &Engine, options: &Options) -> Result<Run> {
         depth: bytemuck::pod_collect_to_vec::<u8, f32>(engine.read(&depth_readback)?),
         validation: Vec::new(),
         retired_at_end: glyphs.retired_count(),
+        plain_blocks: None,
         camera: camera(last),
         projection: host_matrices(&camera(last), options.depth, rect).1,
         sets: sets.clone(),
@@ -668,7 +731,8 @@ fn main() {
             eprintln!("embed: {message}");
             eprintln!(
                 "usage: embed [--frames N] [--in-flight K] [--depth standard|reversed] \
-                 [--samples 1|2|4|8] [--sync-validation] [--screenshot OUT.png]"
+                 [--samples 1|2|4|8] [--allocator gpu-allocator|plain] [--sync-validation] \
+                 [--screenshot OUT.png]"
             );
             std::process::exit(2);
         }
@@ -690,13 +754,21 @@ fn run_and_report(options: &Options) -> Result<()> {
         println!("wrote {}", path.display());
     }
     println!(
-        "{} frames, {} in flight, {:?} depth, {} sample(s): {} validation message(s)",
+        "{} frames, {} in flight, {:?} depth, {} sample(s), {:?} memory: {} validation \
+         message(s)",
         options.frames,
         options.in_flight,
         options.depth,
         options.samples,
+        options.allocator,
         run.validation.len()
     );
+    if let Some((allocated, live)) = run.plain_blocks {
+        println!("plain allocator: {allocated} blocks for glyphcast, {live} not given back");
+        if live > 0 {
+            return Err(format!("{live} memory block(s) not given back").into());
+        }
+    }
     if !run.validation.is_empty() {
         return Err(format!("{} validation message(s)", run.validation.len()).into());
     }

@@ -10,6 +10,7 @@ fn options(depth: DepthConvention, samples: u32) -> Options {
         in_flight: 3,
         depth,
         samples,
+        allocator: MemorySource::GpuAllocator,
         validation: Validation::Sync,
         screenshot: None,
         plane: true,
@@ -388,6 +389,110 @@ fn a_sub_rectangle_viewport_draws_the_headless_picture_there() {
     assert!(glyph > 300, "{glyph} glyph pixels");
 }
 
+/// glyphcast's buffers and images in the memory of a second `MemoryAllocator` (one
+/// vkAllocateMemory per block), under synchronization validation with the glyphs
+/// replaced while frames are in flight: no message, every block taken from it and given
+/// back, and the frames equal to those drawn in gpu-allocator's memory.
+#[test]
+fn a_host_memory_allocator_draws_the_same_frames() {
+    let base = Options {
+        frames: 8,
+        in_flight: 2,
+        ..options(DepthConvention::Standard, 1)
+    };
+    let default = run(&base).expect("gpu-allocator run");
+    let plain = run(&Options {
+        allocator: MemorySource::Plain,
+        ..base.clone()
+    })
+    .expect("plain run");
+    assert_eq!(default.validation, Vec::<String>::new());
+    assert_eq!(plain.validation, Vec::<String>::new());
+    assert_eq!(default.plain_blocks, None);
+    let (allocated, live) = plain.plain_blocks.expect("plain allocator counts");
+    // Two uploads of glyphs (instances, boxes, coefficients, one frame block per frame
+    // in flight: 5 blocks each) and the box indices: everything glyphcast made came
+    // from it.
+    let (uploads, indices) = (2 * (3 + 2), 1);
+    assert!(allocated >= uploads + indices, "{allocated} blocks");
+    assert_eq!(live, 0, "blocks not given back");
+    let background = plain
+        .rgba
+        .chunks(4)
+        .filter(|p| *p == &plain.rgba[..4])
+        .count();
+    assert!(background < plain.rgba.len() / 4 - 500, "glyphs are drawn");
+    if differing(&plain.rgba, &default.rgba) > 0 {
+        save("plain-memory", &plain.rgba);
+        save("gpu-allocator", &default.rgba);
+    }
+    assert_eq!(differing(&plain.rgba, &default.rgba), 0);
+    assert_eq!(plain.depth, default.depth);
+}
+
+/// A host allocator that reports blocks one byte short of the request.
+struct ShortBlocks(Arc<PlainMemory>);
+
+impl glyphcast::vk::MemoryAllocator for ShortBlocks {
+    fn allocate(
+        &self,
+        request: &glyphcast::vk::MemoryRequest<'_>,
+    ) -> glyphcast::Result<glyphcast::vk::MemoryBlock> {
+        let mut block = self.0.allocate(request)?;
+        block.size -= 1;
+        Ok(block)
+    }
+
+    fn free(&self, block: glyphcast::vk::MemoryBlock) {
+        self.0.free(block)
+    }
+}
+
+/// A host allocator that breaks its contract (a block smaller than asked) is refused
+/// with an error naming the allocation, before anything is bound to the block, and the
+/// block is given back: no panic, no validation message.
+#[test]
+fn a_host_allocator_breaking_its_contract_is_refused() {
+    let engine = Engine::new(Validation::On).expect("engine");
+    let plain = Arc::new(PlainMemory::new(
+        &engine.instance,
+        engine.physical_device,
+        engine.device.clone(),
+    ));
+    // SAFETY: as in `run_on`: the context and renderer are dropped before the engine.
+    let context = unsafe {
+        DeviceContext::with_memory(
+            &engine.instance,
+            engine.physical_device,
+            engine.device.clone(),
+            Arc::new(ShortBlocks(plain.clone())),
+        )
+    };
+    let desc = RendererDesc {
+        formats: TargetFormats {
+            color: COLOR_FORMAT,
+            depth: DEPTH_FORMAT,
+            distance: None,
+        },
+        options: PassOptions::default(),
+        frames_in_flight: 2,
+        settings: RenderSettings::default(),
+    };
+    let error = match GlyphRenderer::new(&context, &desc) {
+        Ok(_) => panic!("a short block was accepted"),
+        Err(e) => e.to_string(),
+    };
+    assert!(error.contains("box indices"), "{error}");
+    assert!(
+        error.contains("the memory allocator returned a block of"),
+        "{error}"
+    );
+    drop(context);
+    let (allocated, live) = plain.counts();
+    assert_eq!((allocated, live), (1, 0));
+    assert_eq!(engine.validation_messages(), Vec::<String>::new());
+}
+
 #[test]
 fn unknown_options_and_bad_values_are_refused() {
     let args = |a: &[&str]| a.iter().map(|s| s.to_string()).collect::<Vec<_>>();
@@ -399,6 +504,7 @@ fn unknown_options_and_bad_values_are_refused() {
     assert!(parse(&args(&["--samples", "3"])).is_err());
     assert!(parse(&args(&["--depth", "inverted"])).is_err());
     assert!(parse(&args(&["--frames"])).is_err());
+    assert!(parse(&args(&["--allocator", "vma"])).is_err());
     let o = parse(&args(&[
         "--frames",
         "5",
@@ -408,6 +514,8 @@ fn unknown_options_and_bad_values_are_refused() {
         "reversed",
         "--samples",
         "8",
+        "--allocator",
+        "plain",
         "--sync-validation",
         "--screenshot",
         "x.png",
@@ -416,6 +524,7 @@ fn unknown_options_and_bad_values_are_refused() {
     assert_eq!((o.frames, o.in_flight, o.samples), (5, 2, 8));
     assert_eq!(o.depth, DepthConvention::Reversed);
     assert_eq!(o.validation, Validation::Sync);
+    assert_eq!(o.allocator, MemorySource::Plain);
 }
 
 /// A render pass of the host's (Vulkan 1.0-1.2 style: colour and depth cleared and

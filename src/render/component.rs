@@ -10,6 +10,14 @@
 //! glyphs never waits: the old ones are retired, and dropped once every frame index has
 //! been begun again with `set_view`, which the host calls only after that frame's previous
 //! submission completed (the fence it waits on before reusing frame k's command buffer).
+//!
+//! glyphcast's own front ends draw through the same component: the headless renderer
+//! (one frame in flight) keeps each prepared frame's glyphs as [`UploadedGlyphs`] made by
+//! [`GlyphRenderer::upload`], writes their frame block from glyphcast's own camera
+//! ([`UploadedGlyphs::set_frame`]) and records them with
+//! [`GlyphRenderer::record_glyphs`], which is what [`GlyphRenderer::record`] calls for the
+//! renderer's current glyphs. Glyphs held that way are retired with
+//! [`GlyphRenderer::retire`] like replaced ones.
 use crate::error::{Error, Result};
 use crate::glyph::{GlyphShape, TensorLayout};
 use crate::render::frame::FrameParams;
@@ -33,19 +41,46 @@ pub struct RendererDesc {
     pub settings: RenderSettings,
 }
 
-/// Glyphs uploaded once and shared by every frame in flight.
-struct Glyphs {
+/// Glyphs uploaded once and shared by every frame in flight, with one frame block per
+/// frame index.
+pub struct UploadedGlyphs {
     gpu: SceneGpu,
+    /// The method the sets' pipelines were made for.
+    method: crate::render::Method,
     /// The largest glyph radius: the top of the magnitude colour range.
     max_radius: f64,
     /// Per frame index: the viewport and scissor its frame block was written for, or
-    /// `None` until `set_view` wrote it for these glyphs.
+    /// `None` until `set_view` (or `set_frame`) wrote it for these glyphs.
     views: Vec<Option<(vk::Viewport, vk::Rect2D)>>,
+}
+
+impl UploadedGlyphs {
+    /// Writes frame `frame_index`'s block as `frame` (glyphcast's own camera, made by
+    /// [`FrameParams::new`]), to be drawn in `target`'s viewport and scissor. Only once
+    /// the last submission that read that frame index has completed.
+    pub fn set_frame(&mut self, frame: &FrameParams, target: &FrameTarget) -> Result<()> {
+        let k = target.frame_index;
+        self.gpu.set_frame_in_flight(k, frame)?;
+        if let Some(view) = self.views.get_mut(k) {
+            *view = Some((target.viewport, target.scissor));
+        }
+        Ok(())
+    }
+
+    /// Instanced draws per frame (batches).
+    pub fn draws(&self) -> usize {
+        self.gpu.sets.len()
+    }
+
+    /// The uploaded batches.
+    pub fn scene(&self) -> &SceneGpu {
+        &self.gpu
+    }
 }
 
 /// Glyphs replaced while frames that read them may be in flight.
 struct Retired {
-    _gpu: SceneGpu,
+    _glyphs: UploadedGlyphs,
     /// Frame indices that may still read them: cleared as each is begun again.
     pending: Vec<bool>,
 }
@@ -54,7 +89,7 @@ struct Retired {
 pub struct GlyphRenderer {
     // Scenes drop before the pass (descriptor sets and buffers before pipelines and
     // layouts): fields drop in order.
-    glyphs: Option<Glyphs>,
+    glyphs: Option<UploadedGlyphs>,
     retired: Vec<Retired>,
     pass: RayCastPass,
     ctx: DeviceContext,
@@ -97,32 +132,67 @@ impl GlyphRenderer {
     /// index has been begun again. Each frame index needs a `set_view` before its next
     /// `record`.
     pub fn set_glyphs(&mut self, sets: &[GlyphSetData]) -> Result<()> {
+        let settings = self.settings;
+        let glyphs = self.upload(sets, &settings)?;
+        if let Some(old) = self.glyphs.replace(glyphs) {
+            self.retire(old);
+        }
+        Ok(())
+    }
+
+    /// Uploads glyphs to be drawn with `settings`' method (making the pipelines they
+    /// need) for every frame in flight, without making them the renderer's current
+    /// ones: the caller keeps them, writes their frame blocks
+    /// ([`UploadedGlyphs::set_frame`]) and records them with
+    /// [`GlyphRenderer::record_glyphs`]. The headless renderer holds its prepared frames'
+    /// glyphs this way.
+    pub fn upload(
+        &mut self,
+        sets: &[GlyphSetData],
+        settings: &RenderSettings,
+    ) -> Result<UploadedGlyphs> {
         let frame = FrameParams::of_settings(
             &crate::render::frame::SceneExtent {
                 near: 0.0,
                 far: 0.0,
                 max_radius: 1.0,
             },
-            &self.settings,
+            settings,
         );
         let gpu = self.pass.upload_in_flight(
             &self.ctx,
             sets,
             &frame,
-            self.settings.method,
+            settings.method,
             self.frames_in_flight,
         )?;
-        let glyphs = Glyphs {
+        Ok(UploadedGlyphs {
             gpu,
-            max_radius: glyph_radius(sets, &self.settings),
+            method: settings.method,
+            max_radius: glyph_radius(sets, settings),
             views: vec![None; self.frames_in_flight],
-        };
-        if let Some(old) = self.glyphs.replace(glyphs) {
-            self.retired.push(Retired {
-                _gpu: old.gpu,
-                pending: vec![true; self.frames_in_flight],
-            });
+        })
+    }
+
+    /// Keeps `glyphs` until every frame index has been begun again (`set_view` or
+    /// [`GlyphRenderer::begin_frame`]), then drops them: for glyphs replaced while frames
+    /// that read them may be in flight. Never waits.
+    pub fn retire(&mut self, glyphs: UploadedGlyphs) {
+        self.retired.push(Retired {
+            _glyphs: glyphs,
+            pending: vec![true; self.frames_in_flight],
+        });
+    }
+
+    /// Marks the start of frame `frame_index` (its previous submission has completed):
+    /// retired glyphs that no frame index can still read are dropped. `set_view` does
+    /// this itself.
+    pub fn begin_frame(&mut self, frame_index: usize) -> Result<()> {
+        self.check_index(frame_index)?;
+        for retired in &mut self.retired {
+            retired.pending[frame_index] = false;
         }
+        self.retired.retain(|r| r.pending.iter().any(|&p| p));
         Ok(())
     }
 
@@ -144,20 +214,19 @@ impl GlyphRenderer {
     /// before recording the frame; the other frame indices may be in flight meanwhile.
     /// Retired glyphs that no frame index can still read are dropped here.
     pub fn set_view(&mut self, frame_index: usize, view: &HostView) -> Result<()> {
-        self.check_index(frame_index)?;
-        for retired in &mut self.retired {
-            retired.pending[frame_index] = false;
-        }
-        self.retired.retain(|r| r.pending.iter().any(|&p| p));
+        self.begin_frame(frame_index)?;
         let glyphs = self
             .glyphs
             .as_mut()
             .ok_or_else(|| Error::Invalid("set_view before set_glyphs: no glyphs".into()))?;
         let depth = self.pass.options().depth;
         let frame = host_frame(view, depth, glyphs.max_radius, &self.settings)?;
-        glyphs.gpu.set_frame_in_flight(frame_index, &frame)?;
-        glyphs.views[frame_index] = Some((view.viewport, view.scissor));
-        Ok(())
+        let target = FrameTarget {
+            frame_index,
+            viewport: view.viewport,
+            scissor: view.scissor,
+        };
+        glyphs.set_frame(&frame, &target)
     }
 
     /// Records frame `frame_index`'s glyphs into `cmd`, which is inside rendering with
@@ -166,12 +235,24 @@ impl GlyphRenderer {
     /// nothing is compiled, written, submitted or waited on, so several threads may
     /// record at once, each into its own command buffer.
     pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize) -> Result<()> {
-        self.check_index(frame_index)?;
         let glyphs = self
             .glyphs
             .as_ref()
             .ok_or_else(|| Error::Invalid("record before set_glyphs: no glyphs".into()))?;
-        let (viewport, scissor) = glyphs.views[frame_index].ok_or_else(|| {
+        self.record_glyphs(cmd, glyphs, frame_index)
+    }
+
+    /// [`GlyphRenderer::record`] for glyphs the caller holds ([`GlyphRenderer::upload`]),
+    /// with the method they were uploaded for.
+    pub fn record_glyphs(
+        &self,
+        cmd: vk::CommandBuffer,
+        glyphs: &UploadedGlyphs,
+        frame_index: usize,
+    ) -> Result<()> {
+        self.check_index(frame_index)?;
+        let view = glyphs.views.get(frame_index).copied().flatten();
+        let (viewport, scissor) = view.ok_or_else(|| {
             Error::Invalid(format!(
                 "record of frame {frame_index} before its set_view for the current glyphs"
             ))
@@ -182,7 +263,7 @@ impl GlyphRenderer {
             scissor,
         };
         self.pass
-            .record_frame(cmd, &glyphs.gpu, &target, self.settings.method)
+            .record_frame(cmd, &glyphs.gpu, &target, glyphs.method)
     }
 
     /// How many replaced glyph uploads are still kept for frames that may be in flight.
@@ -198,6 +279,11 @@ impl GlyphRenderer {
     /// The ray-cast pass (its formats and options).
     pub fn pass(&self) -> &RayCastPass {
         &self.pass
+    }
+
+    /// The ray-cast pass, for settings such as the storage buffer limit.
+    pub fn pass_mut(&mut self) -> &mut RayCastPass {
+        &mut self.pass
     }
 
     fn check_index(&self, frame_index: usize) -> Result<()> {

@@ -4,14 +4,20 @@
 //! readback of colour and distance. With `--path compute` the exact method runs as the
 //! compute ray caster instead, whose colour and distance buffers are read back the same
 //! way.
+//!
+//! The ray-cast glyphs are drawn through the engine component
+//! ([`GlyphRenderer`], one frame in flight): each prepared frame holds its glyphs as
+//! [`UploadedGlyphs`] and records them with [`GlyphRenderer::record_glyphs`], the call an
+//! engine's `record` makes, so there is one way to draw.
 use crate::camera::Camera;
 use crate::error::{Error, Result, Setting};
+use crate::render::component::{GlyphRenderer, RendererDesc, UploadedGlyphs};
 use crate::render::compute::{ComputeRayCastPass, ComputeSceneGpu};
 use crate::render::frame::{FrameParams, SceneExtent};
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::mesh::{GlyphMeshes, MeshPass, MeshSceneGpu, MeshStats};
 use crate::render::peaks::{PeakSet, PeaksGpu, PeaksPass};
-use crate::render::raycast::{RayCastPass, SceneGpu, TargetFormats};
+use crate::render::raycast::{FrameTarget, PassOptions, RayCastPass, TargetFormats};
 use crate::render::settings::RenderSettings;
 use crate::render::underlay::{
     Underlay, UnderlayGpu, UnderlayPass, UnderlayPlane, extent_with_planes,
@@ -148,7 +154,8 @@ impl Targets {
 
 /// Renders glyph sets headless. Owns its passes so pipelines are reused across renders.
 pub struct HeadlessRenderer {
-    pass: RayCastPass,
+    /// The ray caster (and sphere impostor), one frame in flight.
+    glyphs: GlyphRenderer,
     mesh: MeshPass,
     compute: ComputeRayCastPass,
     underlay: UnderlayPass,
@@ -165,8 +172,15 @@ impl HeadlessRenderer {
             depth: DEPTH_FORMAT,
             distance: Some(DISTANCE_FORMAT),
         };
+        let desc = RendererDesc {
+            formats,
+            // glyphcast's own targets: one sample, reversed depth, dynamic rendering.
+            options: PassOptions::default(),
+            frames_in_flight: 1,
+            settings: RenderSettings::default(),
+        };
         Ok(HeadlessRenderer {
-            pass: RayCastPass::new(gpu.context(), formats)?,
+            glyphs: GlyphRenderer::new(gpu.context(), &desc)?,
             mesh: MeshPass::new(gpu.context(), formats)?,
             compute: ComputeRayCastPass::new(gpu.context())?,
             underlay: UnderlayPass::new(gpu.context(), formats)?,
@@ -178,7 +192,7 @@ impl HeadlessRenderer {
 
     /// The ray-cast pass, for settings such as the storage buffer limit.
     pub fn pass_mut(&mut self) -> &mut RayCastPass {
-        &mut self.pass
+        self.glyphs.pass_mut()
     }
 
     /// The mesh pass, for settings such as the storage buffer limit.
@@ -349,12 +363,12 @@ impl HeadlessRenderer {
                     &params,
                 )?))
             }
-            method => GlyphsOnGpu::RayCast(Box::new(self.pass.upload(
-                gpu.context(),
-                sets,
-                &params,
-                method,
-            )?)),
+            _ => {
+                let mut glyphs = self.glyphs.upload(sets, settings)?;
+                let whole = FrameTarget::whole(vk::Extent2D { width, height });
+                glyphs.set_frame(&params, &whole)?;
+                GlyphsOnGpu::RayCast(Box::new(glyphs))
+            }
         };
         let size = vk::Extent2D { width, height };
         let underlay = underlay
@@ -381,7 +395,7 @@ impl HeadlessRenderer {
     /// Draws a prepared frame and waits for it; returns the glyph pass's GPU time.
     pub fn draw(&mut self, gpu: &Gpu, frame: &PreparedFrame) -> Result<Option<f64>> {
         let passes = (
-            &mut self.pass,
+            &self.glyphs,
             &mut self.mesh,
             &mut self.compute,
             &self.underlay,
@@ -406,7 +420,7 @@ impl HeadlessRenderer {
 /// The glyphs of a frame as the method's pass holds them (boxed: gpu-allocator's
 /// allocations make both kilobytes large).
 enum GlyphsOnGpu {
-    RayCast(Box<SceneGpu>),
+    RayCast(Box<UploadedGlyphs>),
     Mesh(Box<MeshSceneGpu>),
     Compute(Box<ComputeSceneGpu>),
 }
@@ -429,7 +443,7 @@ impl PreparedFrame {
     /// Instanced draws per frame (dispatches for the compute ray caster).
     pub fn draws(&self) -> usize {
         match &self.scene {
-            GlyphsOnGpu::RayCast(scene) => scene.sets.len(),
+            GlyphsOnGpu::RayCast(glyphs) => glyphs.draws(),
             GlyphsOnGpu::Mesh(scene) => scene.draws(),
             GlyphsOnGpu::Compute(scene) => scene.dispatches(),
         }
@@ -453,7 +467,9 @@ impl PreparedFrame {
             on_gpu.set_frame(&params)?;
         }
         match &mut self.scene {
-            GlyphsOnGpu::RayCast(scene) => scene.set_frame(&params)?,
+            GlyphsOnGpu::RayCast(glyphs) => {
+                glyphs.set_frame(&params, &FrameTarget::whole(self.size))?
+            }
             GlyphsOnGpu::Mesh(scene) => scene.set_frame(&params)?,
             GlyphsOnGpu::Compute(_) => return Ok(false),
         }
@@ -470,7 +486,7 @@ impl PreparedFrame {
 }
 
 type Passes<'a> = (
-    &'a mut RayCastPass,
+    &'a GlyphRenderer,
     &'a mut MeshPass,
     &'a mut ComputeRayCastPass,
     &'a UnderlayPass,
@@ -478,7 +494,7 @@ type Passes<'a> = (
 );
 
 fn record_frame(
-    (pass, mesh, compute, underlay, peaks): Passes,
+    (glyphs, mesh, compute, underlay, peaks): Passes,
     timer: Option<&GpuTimer>,
     gpu: &Gpu,
     cmd: vk::CommandBuffer,
@@ -511,7 +527,7 @@ fn record_frame(
         underlay.record(cmd, volume, planes, frame.view_proj, extent);
     }
     match &frame.scene {
-        GlyphsOnGpu::RayCast(scene) => pass.record(cmd, scene, extent, frame.settings.method)?,
+        GlyphsOnGpu::RayCast(on_gpu) => glyphs.record_glyphs(cmd, on_gpu, 0)?,
         GlyphsOnGpu::Mesh(scene) => mesh.record(cmd, scene, extent)?,
         GlyphsOnGpu::Compute(_) => {}
     }

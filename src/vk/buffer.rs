@@ -1,12 +1,12 @@
-//! Buffers backed by gpu-allocator. Host-visible ones are written and read through their
-//! persistent mapping; device-local ones are filled by a staging copy. A buffer keeps
-//! its [`DeviceContext`], so the device outlives it.
+//! Buffers whose memory comes from the context's [`MemoryAllocator`](super::MemoryAllocator)
+//! (gpu-allocator unless the host gave its own). Host-visible ones are written and read
+//! through their persistent mapping; device-local ones are filled by a staging copy. A
+//! buffer keeps its [`DeviceContext`], so the device outlives it.
 use super::DeviceContext;
+use super::memory::{MemoryBlock, MemoryRequest, MemoryUse};
 use crate::error::{Error, Result, VkContext};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme, Allocator};
-use std::sync::Mutex;
 
 /// A Vulkan buffer with its memory; both are freed on drop.
 pub struct Buffer {
@@ -14,7 +14,7 @@ pub struct Buffer {
     pub handle: vk::Buffer,
     /// Size asked for, bytes (the buffer itself has at least 4).
     pub size: u64,
-    allocation: Option<Allocation>,
+    block: Option<MemoryBlock>,
     ctx: DeviceContext,
 }
 
@@ -37,47 +37,48 @@ impl Buffer {
         let handle = unsafe { device.create_buffer(&info, None) }.vk("vkCreateBuffer")?;
         // SAFETY: `handle` was just created from this device.
         let requirements = unsafe { device.get_buffer_memory_requirements(handle) };
-        let allocation = lock(ctx.allocator())?.allocate(&AllocationCreateDesc {
+        let usage = MemoryUse::from(location);
+        let block = ctx.memory().allocate(&MemoryRequest {
             name,
             requirements,
-            location,
+            usage,
             linear: true,
-            allocation_scheme: AllocationScheme::GpuAllocatorManaged,
         });
-        let allocation = match allocation {
-            Ok(a) => a,
+        let block = match block.and_then(|b| checked_block(ctx, name, b, &requirements, usage)) {
+            Ok(b) => b,
             Err(e) => {
                 // SAFETY: the buffer has no memory bound and is not in use.
                 unsafe { device.destroy_buffer(handle, None) };
-                return Err(e.into());
+                return Err(e);
             }
         };
+        let (memory, offset) = (block.memory, block.offset);
+        // Dropped from here on, the buffer gives the block back.
         let buffer = Buffer {
             handle,
             size,
-            allocation: Some(allocation),
+            block: Some(block),
             ctx: ctx.clone(),
         };
-        let a = buffer.allocation()?;
-        // SAFETY: the allocation satisfies the buffer's requirements and is not bound yet.
-        unsafe { device.bind_buffer_memory(handle, a.memory(), a.offset()) }
-            .vk("vkBindBufferMemory")?;
+        // SAFETY: the block satisfies the buffer's requirements and is not bound yet.
+        unsafe { device.bind_buffer_memory(handle, memory, offset) }.vk("vkBindBufferMemory")?;
         Ok(buffer)
     }
 
-    fn allocation(&self) -> Result<&Allocation> {
-        self.allocation
-            .as_ref()
-            .ok_or_else(|| Error::Setup("buffer memory was freed".into()))
+    /// The mapped bytes of a host-visible buffer's block.
+    fn mapped(&self) -> Option<(*mut u8, usize)> {
+        let block = self.block.as_ref()?;
+        (!block.mapped.is_null()).then_some((block.mapped, block.size as usize))
     }
 
     /// Copies `bytes` to the start of a host-visible buffer.
     pub fn write(&mut self, bytes: &[u8]) -> Result<()> {
-        let slice = self
-            .allocation
-            .as_mut()
-            .and_then(|a| a.mapped_slice_mut())
+        let (ptr, len) = self
+            .mapped()
             .ok_or_else(|| Error::Setup("buffer is not host visible".into()))?;
+        // SAFETY: the block maps `len` bytes for as long as it lives, and `&mut self`
+        // is its only writer (the caller keeps the GPU off it, as for any host write).
+        let slice = unsafe { std::slice::from_raw_parts_mut(ptr, len) };
         let capacity = slice.len();
         let target = slice.get_mut(..bytes.len()).ok_or_else(|| {
             Error::Invalid(format!(
@@ -91,10 +92,11 @@ impl Buffer {
 
     /// The contents of a host-visible buffer (after the GPU's writes were made visible).
     pub fn read(&self) -> Result<&[u8]> {
-        let slice = self
-            .allocation()?
-            .mapped_slice()
+        let (ptr, len) = self
+            .mapped()
             .ok_or_else(|| Error::Setup("buffer is not host visible".into()))?;
+        // SAFETY: the block maps `len` bytes for as long as `self` holds it.
+        let slice = unsafe { std::slice::from_raw_parts(ptr.cast_const(), len) };
         Ok(&slice[..(self.size as usize).min(slice.len())])
     }
 
@@ -118,10 +120,39 @@ impl Buffer {
     }
 }
 
-fn lock(allocator: &Mutex<Allocator>) -> Result<std::sync::MutexGuard<'_, Allocator>> {
-    allocator
-        .lock()
-        .map_err(|_| Error::Setup("the allocator lock is poisoned".into()))
+/// `block` if it satisfies what was asked (a host's allocator is held to its contract
+/// here rather than trusted), else an error naming the allocation; the block is freed.
+pub(super) fn checked_block(
+    ctx: &DeviceContext,
+    name: &str,
+    block: MemoryBlock,
+    requirements: &vk::MemoryRequirements,
+    usage: MemoryUse,
+) -> Result<MemoryBlock> {
+    let problem = if block.size < requirements.size {
+        Some(format!(
+            "a block of {} bytes for {} asked",
+            block.size, requirements.size
+        ))
+    } else if requirements.alignment > 0 && !block.offset.is_multiple_of(requirements.alignment) {
+        Some(format!(
+            "offset {} is not a multiple of the alignment {}",
+            block.offset, requirements.alignment
+        ))
+    } else if usage.mapped() && block.mapped.is_null() {
+        Some("host-visible memory came unmapped".into())
+    } else {
+        None
+    };
+    match problem {
+        None => Ok(block),
+        Some(problem) => {
+            ctx.memory().free(block);
+            Err(Error::Setup(format!(
+                "{name}: the memory allocator returned {problem}"
+            )))
+        }
+    }
 }
 
 impl Drop for Buffer {
@@ -129,9 +160,8 @@ impl Drop for Buffer {
         // SAFETY: the owner guarantees the GPU no longer uses the buffer; the device is
         // alive while `self.ctx` is.
         unsafe { self.ctx.device().destroy_buffer(self.handle, None) };
-        if let (Some(a), Ok(mut allocator)) = (self.allocation.take(), self.ctx.allocator().lock())
-        {
-            let _ = allocator.free(a);
+        if let Some(block) = self.block.take() {
+            self.ctx.memory().free(block);
         }
     }
 }

@@ -10,6 +10,7 @@
 //! A device an engine made ([`DeviceContext::new`]) has an owner that destroys nothing:
 //! the engine promises to keep its device and allocator until glyphcast's objects are gone.
 use super::debug;
+use super::memory::{GpuAllocatorMemory, MemoryAllocator};
 use super::pipeline_cache::PipelineCacheFile;
 use ash::vk;
 use gpu_allocator::vulkan::Allocator;
@@ -43,13 +44,13 @@ impl Drop for InstanceOwner {
     }
 }
 
-/// The device, its allocator, and what to destroy when the last context goes.
+/// The device, its memory allocator, and what to destroy when the last context goes.
 struct DeviceOwner {
     device: ash::Device,
     /// Dropped by hand in `Drop`, before the device. When glyphcast made the device this
     /// is the only handle of the allocator (it is never handed out), so the allocator
     /// frees its memory there; an engine's allocator is the engine's to drop.
-    allocator: ManuallyDrop<Arc<Mutex<Allocator>>>,
+    memory: ManuallyDrop<Arc<dyn MemoryAllocator>>,
     /// The instance of a device glyphcast created: the device is destroyed, and the
     /// instance kept alive until then. `None` for an engine's device.
     created: Option<Arc<InstanceOwner>>,
@@ -94,7 +95,7 @@ impl Drop for DeviceOwner {
         }
         self.close_pipeline_cache();
         // SAFETY: the allocator is not used after this, and dropped nowhere else.
-        unsafe { ManuallyDrop::drop(&mut self.allocator) };
+        unsafe { ManuallyDrop::drop(&mut self.memory) };
         if self.created.is_some() {
             // SAFETY: every object made from the device held an Arc of this owner and is
             // gone; the allocator freed its memory above; the instance is kept alive by
@@ -118,8 +119,9 @@ pub struct DeviceContext {
 }
 
 impl DeviceContext {
-    /// Wraps a caller's device and allocator; the limits are read from `physical_device`.
-    /// glyphcast destroys none of them.
+    /// Wraps a caller's device and gpu-allocator allocator (glyphcast's buffers and
+    /// images take their memory from it, through [`GpuAllocatorMemory`]); the limits are
+    /// read from `physical_device`. glyphcast destroys none of them.
     ///
     /// # Safety
     /// `device` was created from `physical_device` of `instance` with the features the
@@ -134,9 +136,34 @@ impl DeviceContext {
         device: ash::Device,
         allocator: Arc<Mutex<Allocator>>,
     ) -> DeviceContext {
+        // SAFETY: the caller's promises, the allocator's included.
+        unsafe {
+            DeviceContext::with_memory(
+                instance,
+                physical_device,
+                device,
+                Arc::new(GpuAllocatorMemory::new(allocator)),
+            )
+        }
+    }
+
+    /// [`DeviceContext::new`] with memory from the host's own [`MemoryAllocator`]:
+    /// every buffer and image glyphcast makes with this context takes its memory there
+    /// and gives it back when dropped.
+    ///
+    /// # Safety
+    /// As [`DeviceContext::new`], with `memory` in place of the allocator: it hands out
+    /// memory of `device` as its trait documents, and whatever it allocates from stays
+    /// alive until every glyphcast object made with this context has been dropped.
+    pub unsafe fn with_memory(
+        instance: &ash::Instance,
+        physical_device: vk::PhysicalDevice,
+        device: ash::Device,
+        memory: Arc<dyn MemoryAllocator>,
+    ) -> DeviceContext {
         let owner = DeviceOwner {
             device,
-            allocator: ManuallyDrop::new(allocator),
+            memory: ManuallyDrop::new(memory),
             created: None,
             pipeline_cache: vk::PipelineCache::null(),
             cache_file: None,
@@ -159,7 +186,9 @@ impl DeviceContext {
         let pipeline_cache = create_pipeline_cache(&device, cache_file.as_ref());
         let owner = DeviceOwner {
             device,
-            allocator: ManuallyDrop::new(Arc::new(Mutex::new(allocator))),
+            memory: ManuallyDrop::new(Arc::new(GpuAllocatorMemory::new(Arc::new(Mutex::new(
+                allocator,
+            ))))),
             created: Some(instance),
             pipeline_cache,
             cache_file,
@@ -196,8 +225,8 @@ impl DeviceContext {
     }
 
     /// The allocator every buffer and image of this context takes memory from.
-    pub fn allocator(&self) -> &Mutex<Allocator> {
-        &self.owner.allocator
+    pub fn memory(&self) -> &dyn MemoryAllocator {
+        &**self.owner.memory
     }
 
     /// The device's maxStorageBufferRange: coefficient buffers are split to fit it.

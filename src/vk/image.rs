@@ -1,10 +1,11 @@
-//! Offscreen 2D images (colour and depth targets) backed by gpu-allocator. An image
-//! keeps its [`DeviceContext`], so the device outlives it.
+//! Offscreen 2D images (colour and depth targets) whose memory comes from the context's
+//! [`MemoryAllocator`](super::MemoryAllocator). An image keeps its [`DeviceContext`], so
+//! the device outlives it.
 use super::DeviceContext;
+use super::buffer::checked_block;
+use super::memory::{MemoryBlock, MemoryRequest, MemoryUse};
 use crate::error::{Error, Result, VkContext};
 use ash::vk;
-use gpu_allocator::MemoryLocation;
-use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 
 /// A device-local 2D image (one mip level, one layer) with its view; freed on drop.
 pub struct Image {
@@ -18,7 +19,7 @@ pub struct Image {
     pub extent: vk::Extent2D,
     /// Colour or depth, as its view and barriers see it.
     pub aspect: vk::ImageAspectFlags,
-    allocation: Option<Allocation>,
+    block: Option<MemoryBlock>,
     ctx: DeviceContext,
 }
 
@@ -69,26 +70,24 @@ impl Image {
             format,
             extent,
             aspect,
-            allocation: None,
+            block: None,
             ctx: ctx.clone(),
         };
         // SAFETY: `handle` was created from this device.
         let requirements = unsafe { device.get_image_memory_requirements(handle) };
-        let allocation = ctx
-            .allocator()
-            .lock()
-            .map_err(|_| Error::Setup("the allocator lock is poisoned".into()))?
-            .allocate(&AllocationCreateDesc {
-                name,
-                requirements,
-                location: MemoryLocation::GpuOnly,
-                linear: false,
-                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-            })?;
-        // SAFETY: the allocation satisfies the image's requirements.
-        unsafe { device.bind_image_memory(handle, allocation.memory(), allocation.offset()) }
-            .vk("vkBindImageMemory")?;
-        image.allocation = Some(allocation);
+        let usage = MemoryUse::DeviceLocal;
+        let block = ctx.memory().allocate(&MemoryRequest {
+            name,
+            requirements,
+            usage,
+            linear: false,
+        })?;
+        let block = checked_block(ctx, name, block, &requirements, usage)?;
+        let (memory, offset) = (block.memory, block.offset);
+        // From here on, dropping the image gives the block back.
+        image.block = Some(block);
+        // SAFETY: the block satisfies the image's requirements (checked above).
+        unsafe { device.bind_image_memory(handle, memory, offset) }.vk("vkBindImageMemory")?;
         let view_info = vk::ImageViewCreateInfo::default()
             .image(handle)
             .view_type(vk::ImageViewType::TYPE_2D)
@@ -123,9 +122,8 @@ impl Drop for Image {
             }
             device.destroy_image(self.handle, None);
         }
-        if let (Some(a), Ok(mut allocator)) = (self.allocation.take(), self.ctx.allocator().lock())
-        {
-            let _ = allocator.free(a);
+        if let Some(block) = self.block.take() {
+            self.ctx.memory().free(block);
         }
     }
 }

@@ -19,6 +19,7 @@ mod descriptors;
 mod device;
 mod image;
 mod instance;
+pub mod memory;
 mod pipeline;
 mod pipeline_cache;
 pub mod recording;
@@ -35,6 +36,9 @@ pub use debug::ValidationLog;
 pub use descriptors::{BufferBinding, DescriptorPool};
 pub use device::{DeviceInfo, choose_physical_device};
 pub use image::{Image, cleared_depth_attachment};
+pub use memory::{
+    GpuAllocatorMemory, MemoryAllocator, MemoryBlock, MemoryRequest, MemoryUse, memory_type_index,
+};
 pub use pipeline::{
     GraphicsPipelineDesc, Pipeline, PipelineLayout, Pipelines, RasterTarget, ShaderModule,
     buffer_binding, compute_pipeline, graphics_pipeline,
