@@ -11,8 +11,9 @@
 //!   Laplace-Beltrami regularisation (Descoteaux et al. 2007), in the scene format's
 //!   SH bases;
 //! - fibre ODFs as SH series (`odf`): CSA and Q-ball, linear in the same regularised SH
-//!   fit, and constrained spherical deconvolution (`csd`) with a response estimated from
-//!   high-FA voxels or read from a file (`response`); `peaks` finds their maxima.
+//!   fit, and constrained spherical deconvolution, as MRtrix computes it (`csd_mrtrix`)
+//!   or as DIPY does (`csd`), with a response estimated from high-FA voxels or read from
+//!   a file (`response`); `peaks` finds their maxima.
 //!
 //! Signal conventions (`voxel`): S0 is the mean of the b=0 volumes (b <= 50 s/mm^2,
 //! [`gradients::B0_THRESHOLD`]). A voxel whose S0 is not positive, or that holds a
@@ -28,6 +29,7 @@
 //! temporary file next to the target and renamed (`output`), so a failed run leaves no
 //! file behind.
 pub mod csd;
+pub mod csd_mrtrix;
 pub mod dti;
 pub mod dwi;
 pub mod gradients;
@@ -42,6 +44,7 @@ pub mod tensor;
 pub mod tissue;
 pub mod voxel;
 
+pub use csd_mrtrix::CsdAlgorithm;
 pub use inputs::{FitFiles, FitInputs};
 pub use odf::OdfMethod;
 pub use response::Response;
@@ -79,7 +82,8 @@ pub enum FitModel {
     },
     /// A fibre ODF as real SH of even bands 0..=`band` (`odf`). `lambda` is the
     /// Laplace-Beltrami weight of CSA and Q-ball, and the constraint weight of CSD;
-    /// `tau` is CSD's threshold (a fraction of the mean fODF), unused by the others.
+    /// `tau` is CSD's threshold: DIPY's a fraction of the mean fODF, MRtrix's an
+    /// absolute amplitude (`csd` picks which). The others ignore `tau` and `csd`.
     Odf {
         method: OdfMethod,
         band: u32,
@@ -87,6 +91,7 @@ pub enum FitModel {
         legacy: bool,
         lambda: f64,
         tau: f64,
+        csd: CsdAlgorithm,
     },
 }
 
@@ -119,7 +124,11 @@ impl FitModel {
                 check_lambda(lambda)?;
             }
             FitModel::Odf {
-                band, lambda, tau, ..
+                band,
+                lambda,
+                tau,
+                csd,
+                ..
             } => {
                 if band > MAX_ORDER || band % 2 == 1 {
                     return Err(Error::setting_value(
@@ -131,13 +140,7 @@ impl FitModel {
                     ));
                 }
                 check_lambda(lambda)?;
-                if !(0.0..1.0).contains(&tau) {
-                    return Err(Error::setting_value(
-                        Setting::Tau,
-                        tau,
-                        "CSD's threshold is a fraction of the mean fODF, in 0 to 1",
-                    ));
-                }
+                check_tau(tau, csd)?;
             }
         }
         Ok(())
@@ -200,14 +203,16 @@ impl FitModel {
                 legacy,
                 lambda,
                 tau,
+                csd,
             } => {
                 let basis = basis_name(basis);
                 let legacy = if legacy { " legacy" } else { "" };
-                let method = method.name();
-                let tau = if method == "csd" {
-                    format!(" tau {tau}")
-                } else {
-                    String::new()
+                let (method, tau) = match (method, csd) {
+                    (OdfMethod::Csd, CsdAlgorithm::Dipy) => ("csd", format!(" tau {tau}")),
+                    (OdfMethod::Csd, CsdAlgorithm::Mrtrix) => {
+                        ("csd", format!(" mrtrix threshold {tau}"))
+                    }
+                    (method, _) => (method.name(), String::new()),
                 };
                 format!(
                     "glyphcast fit: SH band {band} {basis}{legacy} {method} ODF lambda {lambda}{tau}"
@@ -238,6 +243,32 @@ fn check_lambda(lambda: f64) -> Result<()> {
         lambda,
         format!("the regularisation weight must be in 0 to {MAX_LAMBDA}"),
     ))
+}
+
+/// CSD's threshold: DIPY's a fraction of the mean fODF in 0 to 1, MRtrix's an absolute
+/// amplitude in the range `dwi2fod -threshold` takes.
+fn check_tau(tau: f64, csd: CsdAlgorithm) -> Result<()> {
+    let (ok, why) = match csd {
+        CsdAlgorithm::Dipy => (
+            (0.0..1.0).contains(&tau),
+            "DIPY's CSD threshold is a fraction of the mean fODF, in 0 to 1".to_string(),
+        ),
+        CsdAlgorithm::Mrtrix => {
+            let range = csd_mrtrix::THRESHOLD_RANGE;
+            (
+                range.contains(&tau),
+                format!(
+                    "MRtrix's CSD threshold is an fODF amplitude, in {} to {} (as dwi2fod -threshold)",
+                    range.start(),
+                    range.end()
+                ),
+            )
+        }
+    };
+    if ok {
+        return Ok(());
+    }
+    Err(Error::setting_value(Setting::Tau, tau, why))
 }
 
 /// The scene format's name of a basis.
