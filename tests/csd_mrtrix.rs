@@ -9,7 +9,7 @@
 //!   built-in 300) puts first peaks within a degree of `sh2peaks`'.
 mod common;
 
-use common::{dipy_data, fresh_dir, glyphcast, text};
+use common::{dipy_data, expect_failure, fresh_dir, glyphcast, text};
 use glam::{DMat3, DVec3};
 use glyphcast::fit::csd_mrtrix::{
     MAX_ITERATIONS, MrtrixCsdFitter, MrtrixCsdParameters, default_constraint_directions,
@@ -257,7 +257,10 @@ fn the_command_comes_within_a_degree_of_dwi2fod() {
         let fod = read_image(&out).expect("the fODF");
         if algorithm.is_none() {
             let description = fod.description().unwrap_or_default();
-            assert!(description.contains("csd ODF lambda 1 mrtrix threshold 0"), "{description}");
+            assert!(
+                description.contains("csd ODF lambda 1 mrtrix threshold 0"),
+                "{description}"
+            );
         }
         let coefficients = |voxel: [usize; 3]| {
             let index = same_voxel(&map, &fod.voxel_to_world, voxel);
@@ -447,7 +450,59 @@ fn zonal(l: u32, z: f64) -> f64 {
     }
     for n in 1..l {
         let n = f64::from(n);
-        (previous, current) = (current, ((2.0 * n + 1.0) * z * current - n * previous) / (n + 1.0));
+        (previous, current) = (
+            current,
+            ((2.0 * n + 1.0) * z * current - n * previous) / (n + 1.0),
+        );
     }
     ((2.0 * f64::from(l) + 1.0) / (4.0 * std::f64::consts::PI)).sqrt() * current
+}
+
+/// `--csd-algorithm` and the threshold it gives `--tau` are checked before any work: an
+/// unknown name, the option without CSD and a threshold out of the algorithm's range
+/// are usage errors (exit 2); a response MRtrix's CSD cannot use (band 0 alone) is a
+/// data error naming the file (exit 1). Nothing is written.
+#[test]
+fn bad_csd_options_fail_cleanly() {
+    let dir = fresh_dir("csd-mrtrix-bad");
+    let files = ["small_64D.nii", "small_64D.bval", "small_64D.bvec"].map(dipy_data);
+    let out = dir.join("fod.nii");
+    let base = |extra: &[&str]| -> Vec<String> {
+        let mut args: Vec<String> = ["fit", text(&files[0]), "--bval", text(&files[1])]
+            .into_iter()
+            .chain(["--bvec", text(&files[2]), "--order", "8", "-o", text(&out)])
+            .map(String::from)
+            .collect();
+        args.extend(extra.iter().map(|s| s.to_string()));
+        args
+    };
+    for (extra, words) in [
+        (
+            vec!["--odf", "csd", "--csd-algorithm", "fsl"],
+            "mrtrix or dipy",
+        ),
+        (
+            vec!["--odf", "csa", "--csd-algorithm", "dipy"],
+            "--csd-algorithm",
+        ),
+        (vec!["--odf", "csd", "--tau", "20"], "dwi2fod -threshold"),
+        (
+            vec!["--odf", "csd", "--csd-algorithm", "dipy", "--tau", "2"],
+            "fraction of the mean",
+        ),
+    ] {
+        let args = base(&extra);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let run = glyphcast(&args);
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(2), "{extra:?}: {stderr}");
+        assert!(stderr.contains(words), "{extra:?}: {stderr}");
+        assert!(std::fs::read_dir(&dir).unwrap().next().is_none());
+    }
+    let scratch = fresh_dir("csd-mrtrix-bad-response");
+    let isotropic = scratch.join("iso.txt");
+    std::fs::write(&isotropic, "400\n").unwrap();
+    let args = base(&["--odf", "csd", "--response", text(&isotropic)]);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    expect_failure(&args, &dir, &["iso.txt", "anisotropic"]);
 }

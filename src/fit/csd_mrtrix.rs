@@ -35,6 +35,7 @@ use std::sync::OnceLock;
 use glam::DVec3;
 use nalgebra::{DMatrix, DVector};
 
+use super::csd::set_changes;
 use super::response::Response;
 use crate::glyph::sh::{convert_basis, sh_basis_values, sh_count, sh_orders};
 use crate::scene::ShBasis;
@@ -124,6 +125,8 @@ pub struct MrtrixCsdFitter {
     normal: DMatrix<f64>,
     /// The constraint directions' basis rows times the constraint weight.
     constraint: DMatrix<f64>,
+    /// Its transpose: one constraint row per column.
+    constraint_rows: DMatrix<f64>,
     /// The threshold in the constraint rows' units.
     threshold: f64,
     /// The solve basis to the requested basis.
@@ -193,12 +196,12 @@ impl MrtrixCsdFitter {
         for i in 0..normal.nrows() {
             normal[(i, i)] += norm;
         }
-        let weight =
-            parameters.neg_lambda * CONSTRAINT_SCALE * r0 / constraint.len() as f64;
+        let weight = parameters.neg_lambda * CONSTRAINT_SCALE * r0 / constraint.len() as f64;
         Ok(Self {
             first,
             design,
             normal,
+            constraint_rows: basis_matrix(band, constraint).transpose() * weight,
             constraint: basis_matrix(band, constraint) * weight,
             threshold: parameters.threshold * weight,
             output: basis_change(band, basis)?,
@@ -211,19 +214,23 @@ impl MrtrixCsdFitter {
         let signal = DVector::from_column_slice(signal);
         let rhs = self.design.tr_mul(&signal);
         let mut f = &self.first * &signal;
+        // No set yet: the first choice is solved even when it is empty.
         let mut previous: Option<Vec<usize>> = None;
+        // X^T X + norm I + H^T H, updated by the rows that enter or leave the set: between
+        // solves the set changes by a few directions, not all of them.
+        let mut q = self.normal.clone();
         let mut solves = 0;
         while solves < MAX_ITERATIONS {
             let below = self.below(&f);
             if previous.as_ref() == Some(&below) {
                 break;
             }
-            let mut q = self.normal.clone();
-            for &i in &below {
-                let row = self.constraint.row(i).transpose();
-                q.ger(1.0, &row, &row, 1.0);
+            let current = previous.as_deref().unwrap_or(&[]);
+            for (i, sign) in set_changes(current, &below) {
+                let row = self.constraint_rows.column(i);
+                q.ger(sign, &row, &row, 1.0);
             }
-            f = solve(q, &rhs);
+            f = solve(q.clone(), &rhs);
             previous = Some(below);
             solves += 1;
         }
@@ -403,7 +410,9 @@ mod tests {
             .collect();
         let (lo, hi) = nearest
             .iter()
-            .fold((f64::INFINITY, 0.0f64), |(lo, hi), &a| (lo.min(a), hi.max(a)));
+            .fold((f64::INFINITY, 0.0f64), |(lo, hi), &a| {
+                (lo.min(a), hi.max(a))
+            });
         eprintln!("nearest neighbour: {lo:.2} to {hi:.2} degrees");
         // 600 charges on the sphere: about 8.9 degrees apart on a perfect hexagonal grid.
         assert!(lo > 7.5 && hi < 10.5, "{lo} {hi}");
