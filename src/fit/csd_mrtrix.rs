@@ -26,6 +26,11 @@
 //! works in scanner axes, which changes only that damping (measured in
 //! tests/csd_mrtrix.rs: the fODFs agree to float32 rounding on small_64D).
 //!
+//! The signal is each voxel's diffusion-weighted samples in signal units, as `dwi2fod`
+//! takes them, with one difference shared with every fit (`voxel`): a sample at or
+//! below 0 is raised to 0.1 % of S0 where `dwi2fod` sets it to 0 (5 of small_64D's
+//! 1000 voxels hold one).
+//!
 //! MRtrix's 300 constraint directions are a table it ships; glyphcast makes its own set
 //! the same way ([`repulsion_directions`]: 300 axes spread by the repulsion of antipodal
 //! charge pairs, 1/r, as `dirgen` does), from a fixed start. Two such sets give first
