@@ -3,7 +3,7 @@
 //! solve the same problem: f minimises |X f - S|^2 + |H f|^2, X = B diag(R_l) the
 //! convolution with the response (R_l = sqrt(4 pi / (2l+1)) r_l, Funk-Hecke) and H the
 //! constraint rows of the directions where the estimate is negative. They differ in
-//! the details, which move peaks by a few degrees (issue 26.6: a median of 3.3):
+//! the details, which move peaks by a few degrees (a median of 3.6 on small_64D):
 //!
 //! | | MRtrix (here) | DIPY (`csd`) |
 //! |---|---|---|
@@ -12,6 +12,11 @@
 //! | constrained where | f(u) < threshold (0, absolute) | f(u) < tau (0.1) times the mean |
 //! | minimum norm | + 2e-4 (X^T X)_00 I (norm_lambda 1) | none |
 //! | first estimate | bands 0 to 4 of a damped lmax-L_i fit | the unconstrained fit |
+//!
+//! The response is read as MRtrix writes it (`response`: zonal coefficients r_l in
+//! signal units), and R_l is what MRtrix convolves with: r_l divided by Y_l^0 at the
+//! pole, sqrt((2l+1)/(4 pi)). So an fODF amplitude here is `dwi2fod`'s for the same
+//! response file.
 //!
 //! The first estimate (MRtrix's `-filter` 1 1 1): the basis matrix at the acquisition
 //! directions up to L_i = min(response band, the data's band, L) with 0.01 added to its

@@ -209,6 +209,11 @@ impl FitModel {
                 let legacy = if legacy { " legacy" } else { "" };
                 let (method, tau) = match (method, csd) {
                     (OdfMethod::Csd, CsdAlgorithm::Dipy) => ("csd", format!(" tau {tau}")),
+                    // The threshold only when it is not dwi2fod's 0, so that the
+                    // line fits the 80 bytes of a NIfTI description.
+                    (OdfMethod::Csd, CsdAlgorithm::Mrtrix) if tau == 0.0 => {
+                        ("csd", " mrtrix".to_string())
+                    }
                     (OdfMethod::Csd, CsdAlgorithm::Mrtrix) => {
                         ("csd", format!(" mrtrix threshold {tau}"))
                     }
