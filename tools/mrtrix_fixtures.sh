@@ -11,11 +11,16 @@
 # (dirgen, whose start is random). Delete them to make new ones.
 set -euo pipefail
 
-root="$(cd "$(dirname "$0")/.." && pwd)"
-data="$root/tests/data/dipy"
-out="$root/tests/data/mrtrix"
+# Relative paths from the repository root, so that the command history MRtrix writes into
+# each header is the same on every run and every machine: the outputs are byte for byte
+# reproducible.
+cd "$(dirname "$0")/.."
+data=tests/data/dipy
+out=tests/data/mrtrix
+tmp=tests/data/mrtrix-work
 mkdir -p "$out"
-tmp="$(mktemp -d)"
+rm -rf "$tmp"
+mkdir "$tmp"
 trap 'rm -rf "$tmp"' EXIT
 
 # The DWI with its gradient table in scanner coordinates, read from FSL's bvecs as
