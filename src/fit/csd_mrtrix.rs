@@ -8,7 +8,7 @@
 //! | | MRtrix (here) | DIPY (`csd`) |
 //! |---|---|---|
 //! | constraint directions | 300, electrostatic repulsion | 181 (geodesic hemisphere) |
-//! | constraint weight | neg_lambda 50 r_0 / 300 | lambda k R_0 / (sqrt(181) sqrt(362)) |
+//! | constraint weight | neg_lambda 50 r_0 / N (N = 300) | lambda k R_0 / (sqrt(N) sqrt(362)) (N = 181) |
 //! | constrained where | f(u) < threshold (0, absolute) | f(u) < tau (0.1) times the mean |
 //! | minimum norm | + 2e-4 (X^T X)_00 I (norm_lambda 1) | none |
 //! | first estimate | bands 0 to 4 of a damped lmax-L_i fit | the unconstrained fit |
@@ -164,8 +164,8 @@ impl Default for MrtrixCsdParameters {
 impl MrtrixCsdFitter {
     /// The solve for `directions` (one per diffusion-weighted volume), `response` and
     /// the fODF up to `band` in `basis`, constrained at glyphcast's 300 repulsion
-    /// directions. Err when the response has no anisotropic band, a band of the first
-    /// estimate is zero, or the directions do not determine the first estimate.
+    /// directions. Err when the response has no positive band 0, no anisotropic band,
+    /// or a zero among the bands of the first estimate ([`check_response`]).
     pub fn new(
         band: u32,
         basis: (ShBasis, bool),
@@ -196,23 +196,23 @@ impl MrtrixCsdFitter {
             .map(|(l, _)| response.convolution_factor(l))
             .collect();
         let first = first_estimate(band, directions, response)?;
-        let design = basis_matrix(band, directions).component_mul(&DMatrix::from_fn(
-            directions.len(),
-            factors.len(),
-            |_, j| factors[j],
-        ));
+        let mut design = basis_matrix(band, directions);
+        for (j, factor) in factors.iter().enumerate() {
+            design.column_mut(j).scale_mut(*factor);
+        }
         let mut normal = design.tr_mul(&design);
         let norm = parameters.norm_lambda * NORM_SCALE * normal[(0, 0)];
         for i in 0..normal.nrows() {
             normal[(i, i)] += norm;
         }
         let weight = parameters.neg_lambda * CONSTRAINT_SCALE * r0 / constraint.len() as f64;
+        let constraint = basis_matrix(band, constraint) * weight;
         Ok(Self {
             first,
             design,
             normal,
-            constraint_rows: basis_matrix(band, constraint).transpose() * weight,
-            constraint: basis_matrix(band, constraint) * weight,
+            constraint_rows: constraint.transpose(),
+            constraint,
             threshold: parameters.threshold * weight,
             output: basis_change(band, basis)?,
         })
