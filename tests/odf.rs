@@ -17,7 +17,9 @@ use glyphcast::fit::csd::CsdFitter;
 use glyphcast::fit::dti::DiffusionTensor;
 use glyphcast::fit::peaks::{PeakFinder, PeakOptions};
 use glyphcast::fit::response::{DEFAULT_RESPONSE_FA, estimate_response};
-use glyphcast::fit::{FitFiles, FitInputs, FitModel, OdfMethod, Response, fit, fit_with_response};
+use glyphcast::fit::{
+    CsdAlgorithm, FitFiles, FitInputs, FitModel, OdfMethod, Response, fit, fit_with_response,
+};
 use glyphcast::glyph::sh::{sh_count, sh_eval};
 use glyphcast::scene::ShBasis;
 use ndarray::Array4;
@@ -70,6 +72,8 @@ fn odf_model(method: OdfMethod, band: u32, lambda: f64) -> FitModel {
         legacy: DIPY_BASIS.1,
         lambda,
         tau: 0.1,
+        // The DIPY fixture's algorithm; `fit`'s default is MRtrix's (tests/csd_mrtrix.rs).
+        csd: CsdAlgorithm::Dipy,
     }
 }
 
@@ -377,6 +381,8 @@ fn a_response_file_gives_the_estimated_responses_fodf() {
         "voxel",
         "--odf",
         "csd",
+        "--csd-algorithm",
+        "dipy",
         "--basis",
         "dipy",
         "--order",

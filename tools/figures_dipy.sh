@@ -13,7 +13,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 mkdir -p "$out"
 dwi=("$data/small_64D.nii" --bval "$data/small_64D.bval" --bvec "$data/small_64D.bvec")
-"$bin" fit "${dwi[@]}" --odf csd --order 8 --basis dipy -o "$work/csd.nii" --quiet
+"$bin" fit "${dwi[@]}" --odf csd --csd-algorithm dipy --order 8 --basis dipy -o "$work/csd.nii" --quiet
 "$bin" fit "${dwi[@]}" --order 2 -o "$work/dti.nii" --quiet
 python3 tools/fa_map.py "$work/dti.nii" "$work/fa.nii"
 common=(--sh "$work/csd.nii" --underlay "$work/fa.nii" --underlay-range 0:1 --samples 16

@@ -5,6 +5,7 @@
 //! written, so a bad input costs no time and leaves no file.
 use clap::{ArgGroup, Args};
 use glyphcast::fit::csd::{DEFAULT_CSD_LAMBDA, DEFAULT_CSD_TAU};
+use glyphcast::fit::csd_mrtrix::{self, CsdAlgorithm};
 use glyphcast::fit::gradients::BvecConvention;
 use glyphcast::fit::output::{check_output_path, output_tensor_order, write_output};
 use glyphcast::fit::response::{DEFAULT_RESPONSE_FA, estimate_response};
@@ -70,13 +71,19 @@ pub struct FitArgs {
     #[arg(long, requires = "series")]
     legacy: bool,
     /// Regularisation weight: Laplace-Beltrami for --sh, csa and qball (default 0.006),
-    /// the non-negativity constraint's for csd (default 1).
+    /// the non-negativity constraint's for csd (default 1; MRtrix's -neg_lambda with
+    /// --csd-algorithm mrtrix).
     #[arg(long, requires = "series")]
     lambda: Option<f64>,
-    /// CSD: directions where the fODF is below this fraction of its mean are
-    /// constrained.
-    #[arg(long, requires = "odf", default_value_t = DEFAULT_CSD_TAU)]
-    tau: f64,
+    /// CSD: which algorithm: mrtrix (MRtrix3's dwi2fod csd, the default) or dipy (DIPY's
+    /// ConstrainedSphericalDeconvModel).
+    #[arg(long, value_name = "NAME", requires = "odf")]
+    csd_algorithm: Option<String>,
+    /// CSD: directions where the fODF is below the threshold are constrained. With
+    /// --csd-algorithm mrtrix an fODF amplitude (dwi2fod -threshold, default 0); with
+    /// dipy a fraction of the mean fODF (default 0.1).
+    #[arg(long, requires = "odf")]
+    tau: Option<f64>,
     /// CSD: the single-fibre response, MRtrix's text format (one row of zonal SH
     /// coefficients, as dwi2response writes). Default: estimated from the voxels with
     /// FA above --response-fa in the centre of the volume. With msmt: the WM response,
@@ -128,9 +135,17 @@ impl FitArgs {
                     self.response_fa
                 )));
             }
-            let default_lambda = match method {
-                OdfMethod::Csd => DEFAULT_CSD_LAMBDA,
-                _ => DEFAULT_LAMBDA,
+            let csd = match &self.csd_algorithm {
+                Some(name) => CsdAlgorithm::parse(name)?,
+                None => CsdAlgorithm::default(),
+            };
+            let (default_lambda, default_tau) = match (method, csd) {
+                (OdfMethod::Csd, CsdAlgorithm::Mrtrix) => (
+                    csd_mrtrix::DEFAULT_NEG_LAMBDA,
+                    csd_mrtrix::DEFAULT_THRESHOLD,
+                ),
+                (OdfMethod::Csd, CsdAlgorithm::Dipy) => (DEFAULT_CSD_LAMBDA, DEFAULT_CSD_TAU),
+                _ => (DEFAULT_LAMBDA, DEFAULT_CSD_TAU),
             };
             FitModel::Odf {
                 method,
@@ -138,7 +153,8 @@ impl FitArgs {
                 basis,
                 legacy,
                 lambda: self.lambda.unwrap_or(default_lambda),
-                tau: self.tau,
+                tau: self.tau.unwrap_or(default_tau),
+                csd,
             }
         } else if self.sh {
             let (basis, legacy) = parse_basis(&self.basis, self.legacy)?;
@@ -234,6 +250,14 @@ fn csd_response(args: &FitArgs, model: &FitModel, inputs: &FitInputs) -> Result<
         // Bands past the response's last are zero (as dwi2fod -lmax takes them): the
         // constraint alone shapes those bands of the fODF.
         let response = Response::read(path)?;
+        if let FitModel::Odf {
+            csd: CsdAlgorithm::Mrtrix,
+            ..
+        } = *model
+        {
+            csd_mrtrix::check_response(&response)
+                .map_err(|why| Error::input(path.display().to_string(), "response", why))?;
+        }
         if response.band() < band && !args.quiet {
             eprintln!(
                 "note: {}: the response has bands up to {}; bands {} to {band} of the fODF \

@@ -15,7 +15,6 @@ use glyphcast::glyph::tensor_order::TensorOrder;
 use glyphcast::{Error, Result};
 
 use super::{FitArgs, load_inputs, progress_bar};
-use glyphcast::fit::csd::DEFAULT_CSD_TAU;
 
 /// Flags that belong to one ODF model only: Err (usage) naming the first given with
 /// another.
@@ -29,7 +28,8 @@ pub(super) fn check_flags(args: &FitArgs, method: OdfMethod) -> Result<()> {
             csd || msmt,
             "csd or msmt",
         ),
-        ("--tau", args.tau != DEFAULT_CSD_TAU, csd, "csd"),
+        ("--tau", args.tau.is_some(), csd, "csd"),
+        ("--csd-algorithm", args.csd_algorithm.is_some(), csd, "csd"),
         (
             "--response-fa",
             args.response_fa != DEFAULT_RESPONSE_FA,
@@ -84,6 +84,7 @@ pub(super) fn run(args: &FitArgs, model: &FitModel, convention: BvecConvention) 
         legacy,
         lambda,
         tau,
+        csd,
     } = *model
     else {
         return Err(Error::Invalid("msmt::run takes the msmt model".into()));
@@ -141,6 +142,7 @@ pub(super) fn run(args: &FitArgs, model: &FitModel, convention: BvecConvention) 
         legacy,
         lambda,
         tau,
+        csd,
     };
     let glyphcast_order = TensorOrder::Glyphcast;
     let basis_text = format!(

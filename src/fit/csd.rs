@@ -186,7 +186,7 @@ impl CsdFitter {
 
 /// The members of sorted `next` missing from sorted `current` (sign 1) and those of
 /// `current` missing from `next` (sign -1).
-fn set_changes(current: &[usize], next: &[usize]) -> Vec<(usize, f64)> {
+pub(crate) fn set_changes(current: &[usize], next: &[usize]) -> Vec<(usize, f64)> {
     let added = next
         .iter()
         .filter(|i| current.binary_search(i).is_err())

@@ -11,8 +11,9 @@
 //!   Laplace-Beltrami regularisation (Descoteaux et al. 2007), in the scene format's
 //!   SH bases;
 //! - fibre ODFs as SH series (`odf`): CSA and Q-ball, linear in the same regularised SH
-//!   fit, and constrained spherical deconvolution (`csd`) with a response estimated from
-//!   high-FA voxels or read from a file (`response`); `peaks` finds their maxima;
+//!   fit, and constrained spherical deconvolution, as MRtrix computes it (`csd_mrtrix`)
+//!   or as DIPY does (`csd`), with a response estimated from high-FA voxels or read from
+//!   a file (`response`); `peaks` finds their maxima;
 //! - multi-shell multi-tissue CSD (`msmt`): WM fODF, GM and CSF from all shells at once,
 //!   a QP per voxel, with per-shell tissue responses (`response_msmt`).
 //!
@@ -30,6 +31,7 @@
 //! temporary file next to the target and renamed (`output`), so a failed run leaves no
 //! file behind.
 pub mod csd;
+pub mod csd_mrtrix;
 pub mod dti;
 pub mod dwi;
 pub mod gradients;
@@ -46,6 +48,7 @@ pub mod tensor;
 pub mod tissue;
 pub mod voxel;
 
+pub use csd_mrtrix::CsdAlgorithm;
 pub use inputs::{FitFiles, FitInputs};
 pub use odf::OdfMethod;
 pub use response::Response;
@@ -83,7 +86,8 @@ pub enum FitModel {
     },
     /// A fibre ODF as real SH of even bands 0..=`band` (`odf`). `lambda` is the
     /// Laplace-Beltrami weight of CSA and Q-ball, and the constraint weight of CSD;
-    /// `tau` is CSD's threshold (a fraction of the mean fODF), unused by the others.
+    /// `tau` is CSD's threshold: DIPY's a fraction of the mean fODF, MRtrix's an
+    /// absolute amplitude (`csd` picks which). The others ignore `tau` and `csd`.
     Odf {
         method: OdfMethod,
         band: u32,
@@ -91,6 +95,7 @@ pub enum FitModel {
         legacy: bool,
         lambda: f64,
         tau: f64,
+        csd: CsdAlgorithm,
     },
 }
 
@@ -123,7 +128,11 @@ impl FitModel {
                 check_lambda(lambda)?;
             }
             FitModel::Odf {
-                band, lambda, tau, ..
+                band,
+                lambda,
+                tau,
+                csd,
+                ..
             } => {
                 if band > MAX_ORDER || band % 2 == 1 {
                     return Err(Error::setting_value(
@@ -135,13 +144,7 @@ impl FitModel {
                     ));
                 }
                 check_lambda(lambda)?;
-                if !(0.0..1.0).contains(&tau) {
-                    return Err(Error::setting_value(
-                        Setting::Tau,
-                        tau,
-                        "CSD's threshold is a fraction of the mean fODF, in 0 to 1",
-                    ));
-                }
+                check_tau(tau, csd)?;
             }
         }
         Ok(())
@@ -204,14 +207,21 @@ impl FitModel {
                 legacy,
                 lambda,
                 tau,
+                csd,
             } => {
                 let basis = basis_name(basis);
                 let legacy = if legacy { " legacy" } else { "" };
-                let method = method.name();
-                let tau = if method == "csd" {
-                    format!(" tau {tau}")
-                } else {
-                    String::new()
+                let (method, tau) = match (method, csd) {
+                    (OdfMethod::Csd, CsdAlgorithm::Dipy) => ("csd", format!(" tau {tau}")),
+                    // The threshold only when it is not dwi2fod's 0, so that the
+                    // line fits the 80 bytes of a NIfTI description.
+                    (OdfMethod::Csd, CsdAlgorithm::Mrtrix) if tau == 0.0 => {
+                        ("csd", " mrtrix".to_string())
+                    }
+                    (OdfMethod::Csd, CsdAlgorithm::Mrtrix) => {
+                        ("csd", format!(" mrtrix threshold {tau}"))
+                    }
+                    (method, _) => (method.name(), String::new()),
                 };
                 // Multi-tissue CSD has a hard constraint: no weight, no threshold.
                 if method == "msmt" {
@@ -246,6 +256,32 @@ fn check_lambda(lambda: f64) -> Result<()> {
         lambda,
         format!("the regularisation weight must be in 0 to {MAX_LAMBDA}"),
     ))
+}
+
+/// CSD's threshold: DIPY's a fraction of the mean fODF in 0 to 1, MRtrix's an absolute
+/// amplitude in the range `dwi2fod -threshold` takes.
+fn check_tau(tau: f64, csd: CsdAlgorithm) -> Result<()> {
+    let (ok, why) = match csd {
+        CsdAlgorithm::Dipy => (
+            (0.0..1.0).contains(&tau),
+            "DIPY's CSD threshold is a fraction of the mean fODF, in 0 to 1".to_string(),
+        ),
+        CsdAlgorithm::Mrtrix => {
+            let range = csd_mrtrix::THRESHOLD_RANGE;
+            (
+                range.contains(&tau),
+                format!(
+                    "MRtrix's CSD threshold is an fODF amplitude, in {} to {} (as dwi2fod -threshold)",
+                    range.start(),
+                    range.end()
+                ),
+            )
+        }
+    };
+    if ok {
+        return Ok(());
+    }
+    Err(Error::setting_value(Setting::Tau, tau, why))
 }
 
 /// The scene format's name of a basis.

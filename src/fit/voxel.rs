@@ -8,6 +8,7 @@ use ndarray::{Array4, ArrayView1, s};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use super::csd::{CsdFitter, FIRST_ESTIMATE_BAND};
+use super::csd_mrtrix::{CsdAlgorithm, MrtrixCsdFitter, MrtrixCsdParameters};
 use super::odf::{LinearOdfFitter, OdfMethod};
 use super::response::{DEFAULT_RESPONSE_FA, Response, estimate_response};
 use super::sh::ShFitter;
@@ -32,6 +33,7 @@ enum Solve {
     Sh { fitter: ShFitter },
     LinearOdf { fitter: LinearOdfFitter },
     Csd { fitter: Box<CsdFitter> },
+    MrtrixCsd { fitter: Box<MrtrixCsdFitter> },
 }
 
 /// A model ready to be applied voxel by voxel, for one gradient table.
@@ -306,6 +308,7 @@ impl VoxelFitter {
                 legacy,
                 lambda,
                 tau,
+                csd,
             } => {
                 let what = match method {
                     OdfMethod::Msmt => {
@@ -335,11 +338,39 @@ impl VoxelFitter {
                             &estimated
                         }
                     };
-                    let fitter =
-                        CsdFitter::new(band, (basis, legacy), &directions, response, lambda, tau)
-                            .map_err(to_input)?;
-                    Solve::Csd {
-                        fitter: Box::new(fitter),
+                    match csd {
+                        CsdAlgorithm::Dipy => Solve::Csd {
+                            fitter: Box::new(
+                                CsdFitter::new(
+                                    band,
+                                    (basis, legacy),
+                                    &directions,
+                                    response,
+                                    lambda,
+                                    tau,
+                                )
+                                .map_err(to_input)?,
+                            ),
+                        },
+                        CsdAlgorithm::Mrtrix => {
+                            let parameters = MrtrixCsdParameters {
+                                neg_lambda: lambda,
+                                threshold: tau,
+                                ..MrtrixCsdParameters::default()
+                            };
+                            Solve::MrtrixCsd {
+                                fitter: Box::new(
+                                    MrtrixCsdFitter::new(
+                                        band,
+                                        (basis, legacy),
+                                        &directions,
+                                        response,
+                                        parameters,
+                                    )
+                                    .map_err(to_input)?,
+                                ),
+                            }
+                        }
                     }
                 } else {
                     Solve::LinearOdf {
@@ -392,6 +423,10 @@ impl VoxelFitter {
                 scratch.iter_mut().for_each(|r| *r *= s0);
                 fitter.fit_into(scratch, coeffs);
             }
+            Solve::MrtrixCsd { fitter } => {
+                scratch.iter_mut().for_each(|r| *r *= s0);
+                fitter.fit_into(scratch, coeffs);
+            }
         }
         outcome
     }
@@ -408,7 +443,7 @@ impl VoxelFitter {
                 .map(|(d, b)| (-b * d).exp())
                 .collect(),
             Solve::Sh { fitter } => fitter.fitted_values(coeffs),
-            Solve::LinearOdf { .. } | Solve::Csd { .. } => return None,
+            Solve::LinearOdf { .. } | Solve::Csd { .. } | Solve::MrtrixCsd { .. } => return None,
         })
     }
 
