@@ -73,7 +73,10 @@ fn the_recipes_build_context_is_a_whole_workspace() {
     let context = common::fresh_dir("container-context");
     for path in docker_context(&recipe("Dockerfile")) {
         let from = repo().join(&path);
-        assert!(from.exists(), "the Dockerfile copies {path}, which does not exist");
+        assert!(
+            from.exists(),
+            "the Dockerfile copies {path}, which does not exist"
+        );
         copy_tree(&from, &context.join(&path));
     }
     let run = Command::new(env!("CARGO"))
@@ -87,5 +90,8 @@ fn the_recipes_build_context_is_a_whole_workspace() {
         String::from_utf8_lossy(&run.stderr)
     );
     let metadata = String::from_utf8_lossy(&run.stdout);
-    assert!(metadata.contains("\"name\":\"glyphcast\""), "the glyphcast package");
+    assert!(
+        metadata.contains("\"name\":\"glyphcast\""),
+        "the glyphcast package"
+    );
 }
