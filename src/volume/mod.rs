@@ -46,7 +46,11 @@ pub use peaks::{
     DEFAULT_PEAKS_SCALE_FRACTION, DEFAULT_PEAKS_WIDTH, PeakArray, PeakStyle, PeakVolume,
     PeaksColor, PeaksNorm, ViewPeaks, load_peaks, peak_set, pixel_size,
 };
-pub use recorded::{RecordedBasis, recorded_basis, resolve_basis};
+#[cfg(test)]
+pub(crate) use recorded::commented_image;
+pub use recorded::{
+    RecordedBasis, TENSOR_PREFIX, recorded_basis, resolve_basis, tensor_description,
+};
 pub use reorient::Reorientation;
 pub use request::{Coefficients, ImageSource, MAX_PANELS, VolumeRequest, underlay_with_montage};
 pub use selection::{Slice, SliceAxis, SliceRegion, Slices, VoxelRanges};

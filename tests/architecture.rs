@@ -1,0 +1,109 @@
+//! The layering rules of docs/architecture.md, read from the sources: a module may
+//! import only the layers below it. Each rule names the folder and the modules it must
+//! not reach; a `crate::NAME` path anywhere in the folder's files (a `use`, a path in
+//! code, a grouped `use crate::{NAME, ...}`) breaks it.
+use std::collections::BTreeSet;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+/// Every `.rs` file below `dir`.
+fn sources(dir: &Path) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(dir) = stack.pop() {
+        for entry in fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                files.push(path);
+            }
+        }
+    }
+    files.sort();
+    files
+}
+
+fn is_ident(c: char) -> bool {
+    c.is_ascii_alphanumeric() || c == '_'
+}
+
+/// The top-level modules a source names through `crate::`, with the line of each:
+/// `crate::scene::X` gives `scene`, `crate::{scene, Error}` gives `scene` and `Error`.
+fn crate_modules(text: &str) -> Vec<(usize, String)> {
+    let mut found = Vec::new();
+    for (number, line) in text.lines().enumerate() {
+        let code = line.split("//").next().unwrap_or("");
+        let mut rest = code;
+        while let Some(at) = rest.find("crate::") {
+            let start = &rest[at + "crate::".len()..];
+            if let Some(group) = start.strip_prefix('{') {
+                // A grouped import: the top-level names up to the matching brace (one
+                // line is enough here: the grouped imports of a module's root names).
+                let mut depth = 0;
+                let mut name = String::new();
+                for c in group.chars() {
+                    match c {
+                        '{' => depth += 1,
+                        '}' if depth == 0 => break,
+                        '}' => depth -= 1,
+                        ',' if depth == 0 => {
+                            found.push((number + 1, std::mem::take(&mut name)));
+                        }
+                        c if depth == 0 && (is_ident(c) || c == ':') => name.push(c),
+                        _ => {}
+                    }
+                }
+                found.push((number + 1, name));
+            } else {
+                let name: String = start.chars().take_while(|&c| is_ident(c)).collect();
+                found.push((number + 1, name));
+            }
+            rest = start;
+        }
+    }
+    found
+        .into_iter()
+        .map(|(line, path)| (line, path.split("::").next().unwrap_or("").to_string()))
+        .filter(|(_, name)| !name.is_empty())
+        .collect()
+}
+
+/// The places below `folder` that reach one of `forbidden`.
+fn violations(folder: &str, forbidden: &[&str]) -> Vec<String> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut found = Vec::new();
+    for file in sources(&root.join(folder)) {
+        let text = fs::read_to_string(&file).unwrap();
+        for (line, name) in crate_modules(&text) {
+            if forbidden.contains(&name.as_str()) {
+                let shown = file.strip_prefix(root).unwrap().display();
+                found.push(format!("{shown}:{line} imports crate::{name}"));
+            }
+        }
+    }
+    found
+}
+
+#[test]
+fn the_reader_finds_grouped_and_nested_paths() {
+    let text = "use crate::{scene::ShBasis, Error};\nlet x = crate::fit::f(); // crate::io\n";
+    let names: BTreeSet<String> = crate_modules(text).into_iter().map(|(_, n)| n).collect();
+    let expected: BTreeSet<String> = ["scene", "Error", "fit"].map(String::from).into();
+    assert_eq!(names, expected);
+}
+
+/// The float64 mathematics sits below the domain model, the volumes, the passes and the
+/// file formats.
+#[test]
+fn glyph_imports_no_higher_layer() {
+    let found = violations("src/glyph", &["scene", "volume", "fit", "render", "io"]);
+    assert!(found.is_empty(), "{}", found.join("\n"));
+}
+
+/// `fit` writes volumes that `volume` reads: `fit` may use `volume`, never the reverse.
+#[test]
+fn volume_does_not_import_fit() {
+    let found = violations("src/volume", &["fit", "qc"]);
+    assert!(found.is_empty(), "{}", found.join("\n"));
+}
