@@ -47,6 +47,12 @@ pub struct GlyphSet {
     pub coeffs: Vec<Vec<f64>>,
 }
 
+/// The largest image side anything is drawn at, in pixels, supersampling's samples
+/// included: scene files, `--width`/`--height`, montages and the viewer stop here
+/// (devices commonly stop there too; a device's own smaller limit is checked when it is
+/// known, `DeviceContext::max_image_dimension_2d`).
+pub const MAX_IMAGE_SIDE: u32 = 16384;
+
 /// Output image size in pixels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ImageSize {

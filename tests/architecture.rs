@@ -107,3 +107,58 @@ fn volume_does_not_import_fit() {
     let found = violations("src/volume", &["fit", "qc"]);
     assert!(found.is_empty(), "{}", found.join("\n"));
 }
+
+/// The code of every library source below `src/` (comments, the trailing
+/// `#[cfg(test)] mod tests` and the test modules' own files left out), with its path.
+fn library_code() -> Vec<(String, Vec<(usize, String)>)> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    sources(&root.join("src"))
+        .into_iter()
+        .filter(|file| {
+            let is_tests = |part: &std::ffi::OsStr| part == "tests" || part == "tests.rs";
+            !file.strip_prefix(root).unwrap().iter().any(is_tests)
+        })
+        .map(|file| {
+            let text = fs::read_to_string(&file).unwrap();
+            let library = text.split("#[cfg(test)]\nmod tests").next().unwrap_or("");
+            let lines = library
+                .lines()
+                .enumerate()
+                .map(|(n, line)| (n + 1, line.split("//").next().unwrap_or("").to_string()))
+                .collect();
+            let shown = file.strip_prefix(root).unwrap().display().to_string();
+            (shown, lines)
+        })
+        .collect()
+}
+
+/// The code lines of the library that contain `needle`.
+fn code_lines_with(needle: &str) -> Vec<String> {
+    let mut found = Vec::new();
+    for (file, lines) in library_code() {
+        for (number, code) in lines {
+            if code.contains(needle) {
+                found.push(format!("{file}:{number}: {}", code.trim()));
+            }
+        }
+    }
+    found
+}
+
+/// The largest image side is one constant, `scene::MAX_IMAGE_SIDE`; every check names it.
+#[test]
+fn largest_image_side_is_written_once() {
+    let found = code_lines_with("16384");
+    assert_eq!(found.len(), 1, "{}", found.join("\n"));
+    assert!(found[0].starts_with("src/scene.rs"), "{}", found[0]);
+}
+
+/// The device's limits are read once, into `DeviceContext`; everything else asks it.
+#[test]
+fn device_limits_are_read_in_the_device_context() {
+    let found: Vec<String> = code_lines_with(".limits")
+        .into_iter()
+        .filter(|line| !line.starts_with("src/vk/context.rs"))
+        .collect();
+    assert!(found.is_empty(), "{}", found.join("\n"));
+}

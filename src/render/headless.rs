@@ -709,12 +709,7 @@ fn host_buffer<T>(len: usize, width: u32, height: u32) -> Result<Vec<T>> {
 
 /// Refuses a size beyond the device's largest 2D image before anything is allocated.
 fn check_image_size(gpu: &Gpu, width: u32, height: u32) -> Result<()> {
-    // SAFETY: `gpu.physical_device` was enumerated from `gpu.instance()`.
-    let properties = unsafe {
-        gpu.instance()
-            .get_physical_device_properties(gpu.physical_device)
-    };
-    let largest = properties.limits.max_image_dimension2_d;
+    let largest = gpu.context().max_image_dimension_2d();
     if width > largest || height > largest {
         return Err(Error::Usage(format!(
             "{}/{} {width} x {height}: {} draws images of at most {largest} pixels per side",

@@ -11,7 +11,6 @@
 use crate::Setting;
 use crate::error::{Error, Result};
 use crate::glyph::NegativeMode;
-use crate::render::antialias::MAX_SUPERSAMPLED_SIDE as MAX_SIDE;
 use crate::render::colorbar::srgb_byte;
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
@@ -19,6 +18,7 @@ use crate::render::labels::{draw_caption, draw_edge_labels, edge_labels};
 use crate::render::options::{PreparedScene, prepare_render};
 use crate::render::settings::{ColorMode, RenderSettings};
 use crate::render::underlay::Underlay;
+use crate::scene::MAX_IMAGE_SIDE as MAX_SIDE;
 use crate::scene::Scene;
 use crate::vk::Gpu;
 

@@ -38,8 +38,8 @@ pub use build::{
 };
 pub use figure::{MontagePlan, VolumeFigure, VolumeMontage, VolumeView, parse_views};
 pub use framing::{
-    DEFAULT_LONG_SIDE, Framing, ImageRequest, MAX_SIDE, Orientation, PERSPECTIVE_FOV_DEG,
-    ViewProjection, frame_region, frame_volume, view_axis, view_directions,
+    DEFAULT_LONG_SIDE, Framing, ImageRequest, Orientation, PERSPECTIVE_FOV_DEG, ViewProjection,
+    frame_region, frame_volume, view_axis, view_directions,
 };
 pub use input::{CoefficientFrame, MAX_ORDER, Mask, Volume, VolumeKind, load_mask, load_volume};
 pub use peaks::{
