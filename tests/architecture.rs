@@ -162,3 +162,42 @@ fn device_limits_are_read_in_the_device_context() {
         .collect();
     assert!(found.is_empty(), "{}", found.join("\n"));
 }
+
+/// `build.rs` stays a short main over the manifest (`build/manifest.rs`) and the
+/// generator (`build/table.rs`): the table's formatting lives in the generator.
+#[test]
+fn build_script_main_is_short() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = fs::read_to_string(root.join("build.rs")).unwrap();
+    let start = text.find("\nfn main() {").expect("build.rs has a main");
+    let body = &text[start + 1..];
+    let end = body
+        .find("\n}\n")
+        .expect("main ends with a closing brace at column 0");
+    let lines = body[..end].lines().count() + 1;
+    assert!(lines <= 60, "build.rs main is {lines} lines, at most 60");
+}
+
+/// The embedding examples compile their own shaders: no example shader in the library's
+/// shader table, nor in the library.
+#[test]
+fn library_shader_table_has_no_example_shaders() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = sources(&root.join("build"));
+    files.push(root.join("build.rs"));
+    files.extend(sources(&root.join("src")));
+    for file in files {
+        let text = fs::read_to_string(&file).unwrap().to_ascii_lowercase();
+        assert!(
+            !text.contains("example_plane") && !text.contains("examples/shaders"),
+            "{} builds or names an example's shader",
+            file.display()
+        );
+    }
+    let glsl: Vec<String> = fs::read_dir(root.join("glsl"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|name| name.starts_with("example"))
+        .collect();
+    assert!(glsl.is_empty(), "example shaders in glsl/: {glsl:?}");
+}
