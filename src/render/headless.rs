@@ -191,20 +191,6 @@ impl HeadlessRenderer {
         &mut self.compute
     }
 
-    /// Renders `sets` seen by `camera` into a `width` x `height` image, with
-    /// `settings.samples` samples per pixel (see [`HeadlessRenderer::render_view`]).
-    pub fn render(
-        &mut self,
-        gpu: &Gpu,
-        sets: &[GlyphSetData],
-        camera: &Camera,
-        width: u32,
-        height: u32,
-        settings: &RenderSettings,
-    ) -> Result<RenderedImage> {
-        self.render_view(gpu, sets, &FrameView::new(camera, width, height), settings)
-    }
-
     /// Renders `sets`, and the view's underlay planes (if any) in the same depth buffer,
     /// as `view` sees them.
     ///
@@ -275,21 +261,8 @@ impl HeadlessRenderer {
 
     /// Uploads the glyph sets (tessellated first, for the mesh methods) and creates the
     /// targets: everything a frame needs, so that it can be drawn many times (benchmarks)
-    /// without uploading again.
-    pub fn prepare(
-        &mut self,
-        gpu: &Gpu,
-        sets: &[GlyphSetData],
-        camera: &Camera,
-        width: u32,
-        height: u32,
-        settings: &RenderSettings,
-    ) -> Result<PreparedFrame> {
-        self.prepare_view(gpu, sets, &FrameView::new(camera, width, height), settings)
-    }
-
-    /// [`HeadlessRenderer::prepare`] for `view`, whose underlay and peaks, if any, are
-    /// drawn in the glyphs' depth buffer; the depth range covers them too. Neither goes
+    /// without uploading again. The view's underlay and peaks, if any, are drawn in the
+    /// glyphs' depth buffer; the depth range covers them too. Neither goes
     /// with the compute path, which has no depth buffer to share.
     pub fn prepare_view(
         &mut self,

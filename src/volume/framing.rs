@@ -86,7 +86,7 @@ pub struct ImageRequest {
 impl ImageRequest {
     /// The size asked for ([`Setting::Width`], [`Setting::Height`]), each side checked to be in
     /// 1..=[`MAX_IMAGE_SIDE`]; the device's own limit is checked when it is known
-    /// (`HeadlessRenderer::render`).
+    /// (`HeadlessRenderer::render_view`).
     pub fn checked(width: Option<u32>, height: Option<u32>) -> crate::Result<Self> {
         for (setting, value) in [(Setting::Width, width), (Setting::Height, height)] {
             if let Some(v) = value

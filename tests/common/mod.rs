@@ -56,7 +56,7 @@ pub fn render_and_compare(
     let sets = prepare_scene(scene, settings.offset as f64).expect("preparing the scene");
     let (w, h) = (scene.image.width, scene.image.height);
     let image = renderer
-        .render(gpu, &sets, &scene.camera, w, h, settings)
+        .render_view(gpu, &sets, &glyphcast::FrameView::new(&scene.camera, w, h), settings)
         .expect("rendering");
     let world: Vec<_> = sets.iter().flat_map(|s| s.world.iter().cloned()).collect();
     let reference = reference_depth(&world, &scene.camera, w, h);
