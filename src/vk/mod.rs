@@ -37,7 +37,7 @@ pub use device::{DeviceInfo, choose_physical_device};
 pub use image::{Image, cleared_depth_attachment};
 pub use pipeline::{
     GraphicsPipelineDesc, Pipeline, PipelineLayout, Pipelines, RasterTarget, ShaderModule,
-    buffer_binding, compute_pipeline, graphics_pipeline,
+    buffer_binding, compute_pipeline, graphics_pipeline, vertex_fragment_stages,
 };
 #[cfg(feature = "viewer")]
 pub use surface::Surface;
