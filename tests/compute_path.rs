@@ -162,7 +162,12 @@ fn compute_walks_a_stack_deeper_than_one_dispatch_front_to_back() {
     let sets = prepare_scene(&scene, 0.0).expect("prepare");
     let (w, h) = (scene.image.width, scene.image.height);
     let parts = renderer
-        .render_view(&gpu, &sets, &glyphcast::FrameView::new(&scene.camera, w, h), &settings(RenderPath::Compute))
+        .render_view(
+            &gpu,
+            &sets,
+            &glyphcast::FrameView::new(&scene.camera, w, h),
+            &settings(RenderPath::Compute),
+        )
         .expect("render in parts");
     renderer.compute_pass_mut().set_storage_buffer_limit(None);
     assert!(parts.draws > whole.draws, "{} dispatches", parts.draws);
