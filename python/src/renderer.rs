@@ -9,11 +9,11 @@ use std::path::PathBuf;
 
 use glyphcast::error::spell_settings;
 use glyphcast::glyph::GlyphShape;
-use glyphcast::render::colorbar::{ColorBar, check_colorbar, common_scale};
+use glyphcast::render::compose::colorbar::{ColorBar, check_colorbar, common_scale};
+use glyphcast::render::compose::labels::{draw_edge_labels, edge_labels};
+use glyphcast::render::compose::montage::{PreparedMontage, prepare_montage};
 use glyphcast::render::glyph_data::GlyphSetData;
 use glyphcast::render::headless::{FrameView, HeadlessRenderer, PreparedFrame, RenderedImage};
-use glyphcast::render::labels::{draw_edge_labels, edge_labels};
-use glyphcast::render::montage::{PreparedMontage, prepare_montage};
 use glyphcast::render::options::{PreparedScene, RenderOptions, prepare_render};
 use glyphcast::render::peaks::PeakSet;
 use glyphcast::render::underlay::Underlay;

@@ -9,11 +9,11 @@ use plotters::prelude::*;
 use std::path::Path;
 use std::sync::OnceLock;
 
-/// Registers the font (`render::labels::dejavu_sans`) once; an error names the paths
+/// Registers the font (`render::compose::labels::dejavu_sans`) once; an error names the paths
 /// tried.
 fn register_font() -> Result<()> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
-    let bytes = crate::render::labels::dejavu_sans()?;
+    let bytes = crate::render::compose::labels::dejavu_sans()?;
     let ok = *REGISTERED.get_or_init(|| {
         plotters::style::register_font("sans-serif", FontStyle::Normal, bytes).is_ok()
     });

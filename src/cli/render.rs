@@ -4,12 +4,12 @@ use glyphcast::glyph::NegativeMode;
 use glyphcast::io::atomic::check_ending;
 use glyphcast::render::ColorMode;
 use glyphcast::render::RenderSettings;
-use glyphcast::render::colorbar::{ColorBar, common_scale};
+use glyphcast::render::compose::colorbar::{ColorBar, common_scale};
+use glyphcast::render::compose::labels::{draw_edge_labels, edge_labels};
+use glyphcast::render::compose::montage::prepare_montage;
 use glyphcast::render::frame::SceneExtent;
 use glyphcast::render::glyph_data::GlyphSetData;
 use glyphcast::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
-use glyphcast::render::labels::{draw_edge_labels, edge_labels};
-use glyphcast::render::montage::prepare_montage;
 use glyphcast::render::options::{RenderOptions, prepare_render};
 use glyphcast::render::peaks::PeakSet;
 use glyphcast::render::underlay::Underlay;
@@ -312,7 +312,7 @@ pub fn check_outputs(output: &OutputArgs, save_scene: Option<&Path>) -> Result<(
 /// Renders `scene` and writes the outputs (checked first with [`check_outputs`]);
 /// `save_scene` receives the scene as rendered (image size included), written with the
 /// image and the depth map, all or nothing. `labels` writes the anatomical directions at
-/// the image's edges (`render::labels`; volume input only); `underlay` and `peaks` are
+/// the image's edges (`render::compose::labels`; volume input only); `underlay` and `peaks` are
 /// drawn in the glyphs' depth buffer (volume input only).
 pub fn render(
     mut scene: Scene,
@@ -377,7 +377,7 @@ pub fn render(
 }
 
 /// Renders the panels of a montage (`--views`, `--lightbox`) into one image
-/// (`render::montage`) and writes it as [`render`] writes one view; `labels` labels every
+/// (`render::compose::montage`) and writes it as [`render`] writes one view; `labels` labels every
 /// panel, and a colour bar is appended to the whole montage.
 pub fn render_montage(
     montage: VolumeMontage,

@@ -9,8 +9,8 @@
 //! applies, so the bar's top row is the map's top colour and its bottom row its bottom.
 use ab_glyph::{Font, FontRef, PxScale, ScaleFont};
 
+use crate::render::compose::labels::{Canvas, dejavu_sans};
 use crate::render::frame::{SceneExtent, magnitude_range};
-use crate::render::labels::{Canvas, dejavu_sans};
 use crate::render::settings::{ColorMode, RenderSettings};
 use crate::scene::Scene;
 use crate::{Error, Result, Setting};
