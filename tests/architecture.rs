@@ -201,3 +201,33 @@ fn library_shader_table_has_no_example_shaders() {
         .collect();
     assert!(glsl.is_empty(), "example shaders in glsl/: {glsl:?}");
 }
+
+/// `render/` holds the GPU passes; the CPU compositing of their images lives in
+/// `render/compose/` and the doc-hidden GLSL harnesses in `render/harness/`.
+#[test]
+fn render_keeps_each_kind_in_its_folder() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/render");
+    for (folder, files) in [
+        ("compose", &["antialias", "colorbar", "labels", "montage"][..]),
+        ("harness", &["eval", "range_eval"][..]),
+    ] {
+        for name in files {
+            let file = format!("{name}.rs");
+            assert!(root.join(folder).join(&file).is_file(), "{folder}/{file}");
+            assert!(!root.join(&file).exists(), "render/{file} belongs in {folder}/");
+        }
+    }
+}
+
+/// The colour bar is made from glyphs in one place (`ColorBar::of_glyphs`); only the
+/// viewer, which knows its panel's extent, calls `of_magnitude` itself.
+#[test]
+fn the_colour_bar_is_made_in_one_place() {
+    let found: Vec<String> = code_lines_with("ColorBar::of_magnitude(")
+        .into_iter()
+        .chain(code_lines_with(".append(&image.rgba"))
+        .filter(|line| !line.starts_with("src/render/compose/colorbar.rs"))
+        .collect();
+    assert!(found.len() <= 1, "{}", found.join("\n"));
+    assert!(found.iter().all(|l| l.starts_with("src/viewer/")), "{}", found.join("\n"));
+}
