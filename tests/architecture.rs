@@ -208,13 +208,19 @@ fn library_shader_table_has_no_example_shaders() {
 fn render_keeps_each_kind_in_its_folder() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/render");
     for (folder, files) in [
-        ("compose", &["antialias", "colorbar", "labels", "montage"][..]),
+        (
+            "compose",
+            &["antialias", "colorbar", "labels", "montage"][..],
+        ),
         ("harness", &["eval", "range_eval"][..]),
     ] {
         for name in files {
             let file = format!("{name}.rs");
             assert!(root.join(folder).join(&file).is_file(), "{folder}/{file}");
-            assert!(!root.join(&file).exists(), "render/{file} belongs in {folder}/");
+            assert!(
+                !root.join(&file).exists(),
+                "render/{file} belongs in {folder}/"
+            );
         }
     }
 }
@@ -229,5 +235,9 @@ fn the_colour_bar_is_made_in_one_place() {
         .filter(|line| !line.starts_with("src/render/compose/colorbar.rs"))
         .collect();
     assert!(found.len() <= 1, "{}", found.join("\n"));
-    assert!(found.iter().all(|l| l.starts_with("src/viewer/")), "{}", found.join("\n"));
+    assert!(
+        found.iter().all(|l| l.starts_with("src/viewer/")),
+        "{}",
+        found.join("\n")
+    );
 }
