@@ -628,25 +628,7 @@ fn fodf_glyphs_render_as_the_reference_draws_them() {
     for series in ["--odf=csd", "--sh"] {
         let name = series.trim_start_matches("--").replace('=', "-");
         let volume = dir.join(format!("{name}.nii.gz"));
-        let (dwi, bval, bvec) = (
-            dipy_data("small_64D.nii"),
-            dipy_data("small_64D.bval"),
-            dipy_data("small_64D.bvec"),
-        );
-        let run = glyphcast(&[
-            "fit",
-            text(&dwi),
-            "--bval",
-            text(&bval),
-            "--bvec",
-            text(&bvec),
-            "--order",
-            "8",
-            "--quiet",
-            "-o",
-            text(&volume),
-            series,
-        ]);
+        let run = fit_small_64d(&["--order", "8", "--quiet", series], &volume);
         assert!(
             run.status.success(),
             "{}",

@@ -200,24 +200,7 @@ pub fn expect_failure(args: &[&str], out_dir: &Path, words: &[&str]) -> String {
 /// the ellipsoid and montage tests draw. Fails the test when the fit fails.
 pub fn fit_dti_small_64d(dir: &Path) -> PathBuf {
     let out = dir.join("dti.nii.gz");
-    let (dwi, bval, bvec) = (
-        dipy_data("small_64D.nii"),
-        dipy_data("small_64D.bval"),
-        dipy_data("small_64D.bvec"),
-    );
-    let run = glyphcast(&[
-        "fit",
-        text(&dwi),
-        "--bval",
-        text(&bval),
-        "--bvec",
-        text(&bvec),
-        "--order",
-        "2",
-        "--quiet",
-        "-o",
-        text(&out),
-    ]);
+    let run = fit_small_64d(&["--order", "2", "--quiet"], &out);
     assert!(
         run.status.success(),
         "{}",
