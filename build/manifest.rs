@@ -32,3 +32,36 @@ pub fn variants() -> BTreeMap<(Symmetry, u32), Vec<RayCastMethod>> {
     }
     variants
 }
+
+/// The shaders that no glyph function enters, one each: (table name, file in glsl/,
+/// stage).
+pub const FIXED_SHADERS: [(&str, &str, shaderc::ShaderKind); 8] = [
+    (
+        "RAYCAST_VERTEX",
+        "raycast.vert",
+        shaderc::ShaderKind::Vertex,
+    ),
+    (
+        "IMPOSTOR_FRAGMENT",
+        "impostor.frag",
+        shaderc::ShaderKind::Fragment,
+    ),
+    ("MESH_VERTEX", "mesh.vert", shaderc::ShaderKind::Vertex),
+    ("MESH_FRAGMENT", "mesh.frag", shaderc::ShaderKind::Fragment),
+    (
+        "UNDERLAY_VERTEX",
+        "underlay.vert",
+        shaderc::ShaderKind::Vertex,
+    ),
+    (
+        "UNDERLAY_FRAGMENT",
+        "underlay.frag",
+        shaderc::ShaderKind::Fragment,
+    ),
+    ("PEAKS_VERTEX", "peaks.vert", shaderc::ShaderKind::Vertex),
+    (
+        "PEAKS_FRAGMENT",
+        "peaks.frag",
+        shaderc::ShaderKind::Fragment,
+    ),
+];

@@ -220,14 +220,6 @@ enum GlyphcastStatus glyphcast_write_png(const char *path,
                                          uint32_t height,
                                          const uint8_t *rgba);
 
-// The SPIR-V of the example engines' ground plane (glsl/example_plane.vert when
-// `fragment` is 0, .frag otherwise), `*words` words long: what the C example draws its
-// own geometry with, so that it needs no shader compiler.
-//
-// # Safety
-// `words` is writable.
-const uint32_t *glyphcast_example_plane_spirv(uint32_t fragment, uintptr_t *words);
-
 #ifdef __cplusplus
 }  // extern "C"
 #endif  // __cplusplus

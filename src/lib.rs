@@ -20,7 +20,7 @@
 //! glyphs to pixels and the ray distance per pixel:
 //!
 //! ```no_run
-//! use glyphcast::{Gpu, GpuOptions, HeadlessRenderer, RenderSettings, prepare_scene};
+//! use glyphcast::{FrameView, Gpu, GpuOptions, HeadlessRenderer, RenderSettings, prepare_scene};
 //!
 //! fn render(scene: &glyphcast::Scene) -> glyphcast::Result<glyphcast::RenderedImage> {
 //!     let gpu = Gpu::headless(&GpuOptions::from_env())?;
@@ -28,7 +28,7 @@
 //!     let settings = RenderSettings::default();
 //!     let sets = prepare_scene(scene, settings.offset as f64)?;
 //!     let (w, h) = (scene.image.width, scene.image.height);
-//!     renderer.render(&gpu, &sets, &scene.camera, w, h, &settings)
+//!     renderer.render_view(&gpu, &sets, &FrameView::new(&scene.camera, w, h), &settings)
 //! }
 //! ```
 //!

@@ -8,27 +8,9 @@ use glam::DVec3;
 
 use crate::camera::Camera;
 use crate::glyph::monomials::symmetric_count;
+pub use crate::glyph::sh::ShBasis;
 use crate::glyph::{GlyphShape, NegativeMode, Symmetry, TensorLayout};
 use crate::{Error, Result, Setting};
-
-/// The real SH basis convention of a coefficient list (SCENE-FORMAT.md).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ShBasis {
-    /// MRtrix3's basis.
-    Tournier07,
-    /// DIPY's default basis.
-    Descoteaux07,
-}
-
-impl ShBasis {
-    /// The basis's name, as the scene format and the command line write it.
-    pub fn name(self) -> &'static str {
-        match self {
-            ShBasis::Tournier07 => "tournier07",
-            ShBasis::Descoteaux07 => "descoteaux07",
-        }
-    }
-}
 
 /// What the coefficients of a glyph set describe.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -64,6 +46,12 @@ pub struct GlyphSet {
     /// order.
     pub coeffs: Vec<Vec<f64>>,
 }
+
+/// The largest image side anything is drawn at, in pixels, supersampling's samples
+/// included: scene files, `--width`/`--height`, montages and the viewer stop here
+/// (devices commonly stop there too; a device's own smaller limit is checked when it is
+/// known, `DeviceContext::max_image_dimension_2d`).
+pub const MAX_IMAGE_SIDE: u32 = 16384;
 
 /// Output image size in pixels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

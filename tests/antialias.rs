@@ -54,7 +54,12 @@ fn render(scene: &Scene, settings: &RenderSettings) -> RenderedImage {
     let sets = prepare_scene(scene, 0.0).expect("preparing");
     let (w, h) = (scene.image.width, scene.image.height);
     renderer
-        .render(&gpu, &sets, &scene.camera, w, h, settings)
+        .render_view(
+            &gpu,
+            &sets,
+            &glyphcast::FrameView::new(&scene.camera, w, h),
+            settings,
+        )
         .expect("rendering")
 }
 

@@ -249,14 +249,24 @@ fn lat_long_hidden_lobes_and_split_buffers() {
     let prepared = prepare_scene(&many, 0.0).expect("prepare");
     let level2 = mesh(2);
     let whole = renderer
-        .render(&gpu, &prepared, &many.camera, 144, 144, &level2)
+        .render_view(
+            &gpu,
+            &prepared,
+            &glyphcast::FrameView::new(&many.camera, 144, 144),
+            &level2,
+        )
         .expect("render");
     let per_glyph = MeshKind::Icosphere(2).vertex_count() as u64 * 24;
     renderer
         .mesh_pass_mut()
         .set_storage_buffer_limit(Some(4 * per_glyph));
     let split = renderer
-        .render(&gpu, &prepared, &many.camera, 144, 144, &level2)
+        .render_view(
+            &gpu,
+            &prepared,
+            &glyphcast::FrameView::new(&many.camera, 144, 144),
+            &level2,
+        )
         .expect("render");
     assert_eq!((whole.draws, split.draws), (1, 3));
     assert!(whole.rgba == split.rgba, "colour differs after splitting");
@@ -293,7 +303,12 @@ fn impostor_is_the_analytic_bounding_sphere() {
         let center = DVec3::new(instance[0] as f64, instance[1] as f64, instance[2] as f64);
         let radius = instance[3] as f64;
         let image = renderer
-            .render(&gpu, &sets, &s.camera, w, h, &settings)
+            .render_view(
+                &gpu,
+                &sets,
+                &glyphcast::FrameView::new(&s.camera, w, h),
+                &settings,
+            )
             .expect("render");
         let exact = analytic_sphere(&s.camera, center, radius, w, h);
         let band = silhouette_band(&exact, w as usize, h as usize);

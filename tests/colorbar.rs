@@ -9,7 +9,7 @@ use glam::DVec3;
 use glyphcast::demo::{glyph_set, symmetric};
 use glyphcast::io::npy::read_npy_f32;
 use glyphcast::io::png::read_png_rgba8;
-use glyphcast::render::colorbar::{ColorBar, viridis_srgb8};
+use glyphcast::render::compose::colorbar::{ColorBar, viridis_srgb8};
 use std::path::Path;
 
 const SIZE: u32 = 96;

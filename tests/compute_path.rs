@@ -162,12 +162,10 @@ fn compute_walks_a_stack_deeper_than_one_dispatch_front_to_back() {
     let sets = prepare_scene(&scene, 0.0).expect("prepare");
     let (w, h) = (scene.image.width, scene.image.height);
     let parts = renderer
-        .render(
+        .render_view(
             &gpu,
             &sets,
-            &scene.camera,
-            w,
-            h,
+            &glyphcast::FrameView::new(&scene.camera, w, h),
             &settings(RenderPath::Compute),
         )
         .expect("render in parts");

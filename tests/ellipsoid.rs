@@ -376,7 +376,7 @@ fn what_has_no_ellipsoid_is_refused() {
 #[test]
 fn direction_colour_is_the_principal_eigenvector() {
     use glyphcast::glyph::ellipsoid::Ellipsoid;
-    use glyphcast::render::colorbar::srgb_byte;
+    use glyphcast::render::compose::colorbar::srgb_byte;
     use glyphcast::render::settings::Lighting;
     let gpu = common::gpu();
     let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");

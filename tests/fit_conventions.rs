@@ -3,7 +3,7 @@
 //! a head with background chooses tissue only and says which voxels; the peaks of a
 //! band-0 (isotropic) image are none.
 mod common;
-use common::{dipy_data, fresh_dir, glyphcast, text};
+use common::{dipy_data, fit_small_64d, fresh_dir, glyphcast, text};
 use glam::{DMat4, DVec3};
 use glyphcast::fit::peaks::{PeakFinder, PeakOptions};
 use glyphcast::fit::response::{DEFAULT_RESPONSE_FA, estimate_response};
@@ -142,22 +142,15 @@ fn csd_order_12_from_an_order_8_response() {
     let estimate = estimate_response(&inputs, 8, DEFAULT_RESPONSE_FA).expect("response");
     std::fs::write(&response, estimate.response.to_text()).expect("response file");
     let run = |order: &str, out: &Path| {
-        let done = glyphcast(&[
-            "fit",
-            text(&dipy_data("small_64D.nii")),
-            "--bval",
-            text(&dipy_data("small_64D.bval")),
-            "--bvec",
-            text(&dipy_data("small_64D.bvec")),
+        let args = [
             "--odf",
             "csd",
             "--order",
             order,
             "--response",
             text(&response),
-            "-o",
-            text(out),
-        ]);
+        ];
+        let done = fit_small_64d(&args, out);
         let stderr = String::from_utf8_lossy(&done.stderr).into_owned();
         assert!(done.status.success(), "{stderr}");
         stderr

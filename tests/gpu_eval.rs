@@ -4,7 +4,7 @@ mod common;
 use glam::DVec3;
 use glyphcast::glyph::monomials::monomials;
 use glyphcast::glyph::polynomial::GlyphPolynomial;
-use glyphcast::render::eval::evaluate_on_gpu;
+use glyphcast::render::harness::eval::evaluate_on_gpu;
 use glyphcast::render::shaders::layouts;
 
 /// |grad| of sum_k |c_k| |x^a y^b z^c|: the scale of float32 rounding in the gradient.

@@ -66,7 +66,7 @@ fn render(dir: &Path, dti: &Path, name: &str, extra: &[&str]) -> Picture {
 
 /// Panel (column, row) of a montage against a single view: identical colour and depth
 /// (NaN where the single view has NaN), the single view's colour with `caption` written
-/// in its corner (`render::labels::draw_caption`) if given, which must change pixels.
+/// in its corner (`render::compose::labels::draw_caption`) if given, which must change pixels.
 fn assert_panel(
     montage: &Picture,
     column: u32,
@@ -78,7 +78,8 @@ fn assert_panel(
     assert_eq!((single.width, single.height), (W, H), "{what}");
     let mut expected = single.rgba.clone();
     if let Some(caption) = caption {
-        glyphcast::render::labels::draw_caption(&mut expected, W, H, caption).expect("caption");
+        glyphcast::render::compose::labels::draw_caption(&mut expected, W, H, caption)
+            .expect("caption");
         let written = (0..expected.len())
             .filter(|&n| expected[n] != single.rgba[n])
             .count();
@@ -170,7 +171,8 @@ fn lightbox_draws_evenly_spaced_slices_in_a_grid() {
     let corner = montage.rgba[4 * ((H + 3) * montage.width + 2 * W + 3) as usize..][..4].to_vec();
     // (The top-left pixel is under panel 0's caption: the background is the renderer's.)
     let settings = glyphcast::render::RenderSettings::default();
-    let background = glyphcast::render::montage::background_bytes(settings.background).to_vec();
+    let background =
+        glyphcast::render::compose::montage::background_bytes(settings.background).to_vec();
     assert_eq!(corner, background, "the empty cell is background");
     for y in H..2 * H {
         for x in 2 * W..3 * W {

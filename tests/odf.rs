@@ -11,7 +11,7 @@
 //!   and bad input fails cleanly.
 mod common;
 
-use common::{dipy_data, expect_failure, fresh_dir, glyphcast, text};
+use common::{dipy_data, expect_failure, fit_small_64d, fresh_dir, glyphcast, text};
 use glam::DVec3;
 use glyphcast::fit::csd::CsdFitter;
 use glyphcast::fit::dti::DiffusionTensor;
@@ -370,28 +370,23 @@ fn a_response_file_gives_the_estimated_responses_fodf() {
     let file = dir.join("wm.txt");
     std::fs::write(&file, estimate.response.to_text()).unwrap();
     let out = dir.join("fod.nii");
-    let run = glyphcast(&[
-        "fit",
-        text(&dipy_data("small_64D.nii")),
-        "--bval",
-        text(&dipy_data("small_64D.bval")),
-        "--bvec",
-        text(&dipy_data("small_64D.bvec")),
-        "--bvec-convention",
-        "voxel",
-        "--odf",
-        "csd",
-        "--csd-algorithm",
-        "dipy",
-        "--basis",
-        "dipy",
-        "--order",
-        "8",
-        "--response",
-        text(&file),
-        "-o",
-        text(&out),
-    ]);
+    let run = fit_small_64d(
+        &[
+            "--bvec-convention",
+            "voxel",
+            "--odf",
+            "csd",
+            "--csd-algorithm",
+            "dipy",
+            "--basis",
+            "dipy",
+            "--order",
+            "8",
+            "--response",
+            text(&file),
+        ],
+        &out,
+    );
     assert!(
         run.status.success(),
         "{}",
@@ -427,24 +422,19 @@ fn command_line_writes_odfs_and_peaks() {
     let inputs = inputs();
     for (method, band) in [("csd", 8), ("csa", 6), ("qball", 4)] {
         let odf = dir.join(format!("{method}.nii.gz"));
-        let run = glyphcast(&[
-            "fit",
-            text(&dipy_data("small_64D.nii")),
-            "--bval",
-            text(&dipy_data("small_64D.bval")),
-            "--bvec",
-            text(&dipy_data("small_64D.bvec")),
-            "--bvec-convention",
-            "voxel",
-            "--odf",
-            method,
-            // --lmax is the name MRtrix and DIPY users know; it is --order's alias.
-            if method == "csa" { "--lmax" } else { "--order" },
-            &band.to_string(),
-            "--quiet",
-            "-o",
-            text(&odf),
-        ]);
+        let run = fit_small_64d(
+            &[
+                "--bvec-convention",
+                "voxel",
+                "--odf",
+                method,
+                // --lmax is the name MRtrix and DIPY users know; it is --order's alias.
+                if method == "csa" { "--lmax" } else { "--order" },
+                &band.to_string(),
+                "--quiet",
+            ],
+            &odf,
+        );
         assert!(
             run.status.success(),
             "{}",
@@ -644,25 +634,7 @@ fn fodf_glyphs_render_as_the_reference_draws_them() {
     for series in ["--odf=csd", "--sh"] {
         let name = series.trim_start_matches("--").replace('=', "-");
         let volume = dir.join(format!("{name}.nii.gz"));
-        let (dwi, bval, bvec) = (
-            dipy_data("small_64D.nii"),
-            dipy_data("small_64D.bval"),
-            dipy_data("small_64D.bvec"),
-        );
-        let run = glyphcast(&[
-            "fit",
-            text(&dwi),
-            "--bval",
-            text(&bval),
-            "--bvec",
-            text(&bvec),
-            "--order",
-            "8",
-            "--quiet",
-            "-o",
-            text(&volume),
-            series,
-        ]);
+        let run = fit_small_64d(&["--order", "8", "--quiet", series], &volume);
         assert!(
             run.status.success(),
             "{}",

@@ -55,7 +55,12 @@ fn render_sphere(gpu: &Gpu, renderer: &mut HeadlessRenderer, method: Method) {
         ..RenderSettings::default()
     };
     let image = renderer
-        .render(gpu, &sets, &scene.camera, WIDTH, HEIGHT, &settings)
+        .render_view(
+            gpu,
+            &sets,
+            &glyphcast::FrameView::new(&scene.camera, WIDTH, HEIGHT),
+            &settings,
+        )
         .expect("rendering");
     assert!(
         image.distance.iter().any(|d| d.is_finite()),
@@ -98,7 +103,12 @@ fn objects_made_from_a_gpu_may_outlive_it() {
             ..RenderSettings::default()
         };
         let frame = renderer
-            .prepare(&gpu, &sets, &scene.camera, WIDTH, HEIGHT, &settings)
+            .prepare_view(
+                &gpu,
+                &sets,
+                &glyphcast::FrameView::new(&scene.camera, WIDTH, HEIGHT),
+                &settings,
+            )
             .expect("preparing a frame");
         renderer.draw(&gpu, &frame).expect("drawing");
         let rendered = renderer.read(&gpu, &frame).expect("reading back");

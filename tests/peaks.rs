@@ -3,7 +3,7 @@
 //! along the lobe it was found on, both peak layouts (MRtrix/glyphcast, DIPY), peaks
 //! alone and in montages, and the refusals of bad peak files.
 mod common;
-use common::{dipy_data, expect_failure, fresh_dir, glyphcast, gpu, text, write_nifti};
+use common::{expect_failure, fit_small_64d, fresh_dir, glyphcast, gpu, text, write_nifti};
 use glam::{DMat4, DQuat, DVec3};
 use glyphcast::camera::{Camera, Projection};
 use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
@@ -252,23 +252,10 @@ fn peaks_and_glyphs_share_one_depth_buffer() {
 /// and its peaks (MRtrix layout, NIfTI), made once per test that needs them.
 fn fod_and_peaks(dir: &Path) -> (PathBuf, PathBuf) {
     let fod = dir.join("fod.nii.gz");
-    let run = glyphcast(&[
-        "fit",
-        text(&dipy_data("small_64D.nii")),
-        "--bval",
-        text(&dipy_data("small_64D.bval")),
-        "--bvec",
-        text(&dipy_data("small_64D.bvec")),
-        "--odf",
-        "csd",
-        "--basis",
-        "dipy",
-        "--order",
-        "6",
-        "--quiet",
-        "-o",
-        text(&fod),
-    ]);
+    let run = fit_small_64d(
+        &["--odf", "csd", "--basis", "dipy", "--order", "6", "--quiet"],
+        &fod,
+    );
     assert!(
         run.status.success(),
         "{}",

@@ -3,7 +3,7 @@
 //! on (`common::glyphcast`) and draws CSD fODFs fitted from DIPY's small_64D.
 mod common;
 
-use common::{dipy_data, fresh_dir, glyphcast, output_dir, text, write_nifti};
+use common::{dipy_data, fit_small_64d, fresh_dir, glyphcast, output_dir, text, write_nifti};
 use serde_json::Value;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -18,21 +18,7 @@ fn fod() -> &'static Path {
     static FOD: OnceLock<PathBuf> = OnceLock::new();
     FOD.get_or_init(|| {
         let out = output_dir().join("qc-fod.nii.gz");
-        let run = glyphcast(&[
-            "fit",
-            text(&dipy_data("small_64D.nii")),
-            "--bval",
-            text(&dipy_data("small_64D.bval")),
-            "--bvec",
-            text(&dipy_data("small_64D.bvec")),
-            "--odf",
-            "csd",
-            "--order",
-            "8",
-            "--quiet",
-            "-o",
-            text(&out),
-        ]);
+        let run = fit_small_64d(&["--odf", "csd", "--order", "8", "--quiet"], &out);
         assert!(run.status.success(), "{}", stderr(&run));
         out
     })

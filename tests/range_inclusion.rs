@@ -24,7 +24,7 @@ use glyphcast::glyph::interval::{
 use glyphcast::glyph::monomials::monomials;
 use glyphcast::glyph::polynomial::GlyphPolynomial;
 use glyphcast::glyph::{NegativeMode, Symmetry, TensorLayout};
-use glyphcast::render::range_eval::{RangeQuery, ranges_on_gpu};
+use glyphcast::render::harness::range_eval::{RangeQuery, ranges_on_gpu};
 use glyphcast::render::shaders::layouts;
 
 const TENSORS_PER_VARIANT: usize = 3;

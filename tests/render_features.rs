@@ -195,7 +195,12 @@ fn colour_modes() {
             ..Default::default()
         };
         renderer
-            .render(&gpu, &sets, &s.camera, 144, 144, &settings)
+            .render_view(
+                &gpu,
+                &sets,
+                &glyphcast::FrameView::new(&s.camera, 144, 144),
+                &settings,
+            )
             .expect("render")
     };
     let uniform = render(ColorMode::Uniform([0.5, 0.5, 0.5]));
@@ -263,14 +268,24 @@ fn split_storage_buffers_leave_the_image_unchanged() {
     let prepared = prepare_scene(&s, 0.0).expect("prepare");
     let settings = RenderSettings::default();
     let whole = renderer
-        .render(&gpu, &prepared, &s.camera, 144, 144, &settings)
+        .render_view(
+            &gpu,
+            &prepared,
+            &glyphcast::FrameView::new(&s.camera, 144, 144),
+            &settings,
+        )
         .expect("render");
     // 7 glyphs of 15 float coefficients per buffer: 30 glyphs need 5 buffers.
     renderer
         .pass_mut()
         .set_storage_buffer_limit(Some(7 * 15 * 4));
     let split = renderer
-        .render(&gpu, &prepared, &s.camera, 144, 144, &settings)
+        .render_view(
+            &gpu,
+            &prepared,
+            &glyphcast::FrameView::new(&s.camera, 144, 144),
+            &settings,
+        )
         .expect("render");
     assert_eq!(whole.draws, 1);
     assert_eq!(split.draws, 5);
@@ -284,7 +299,12 @@ fn split_storage_buffers_leave_the_image_unchanged() {
     // A limit below one glyph is an error, not a crash.
     renderer.pass_mut().set_storage_buffer_limit(Some(8));
     let err = renderer
-        .render(&gpu, &prepared, &s.camera, 144, 144, &settings)
+        .render_view(
+            &gpu,
+            &prepared,
+            &glyphcast::FrameView::new(&s.camera, 144, 144),
+            &settings,
+        )
         .expect_err("too small a limit");
     assert!(err.to_string().contains("storage buffer"), "{err}");
 }
@@ -327,7 +347,12 @@ fn glyph_sets_that_share_a_pipeline_share_a_draw() {
             let s = scene(sets, eye, PERSPECTIVE);
             let prepared = prepare_scene(&s, 0.0).expect("prepare");
             renderer
-                .render(&gpu, &prepared, &s.camera, 144, 144, &settings)
+                .render_view(
+                    &gpu,
+                    &prepared,
+                    &glyphcast::FrameView::new(&s.camera, 144, 144),
+                    &settings,
+                )
                 .expect("render")
         };
         let whole = render(one_set.clone());

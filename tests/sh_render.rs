@@ -81,7 +81,12 @@ fn sh_in_another_basis_and_as_a_tensor_render_the_same() {
         .map(|s| {
             let sets = prepare_scene(s, 0.0).expect("prepare");
             renderer
-                .render(&gpu, &sets, &s.camera, SIZE, SIZE, &settings)
+                .render_view(
+                    &gpu,
+                    &sets,
+                    &glyphcast::FrameView::new(&s.camera, SIZE, SIZE),
+                    &settings,
+                )
                 .expect("render")
                 .distance
         })

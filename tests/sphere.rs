@@ -62,7 +62,12 @@ fn check(projection: Projection) {
             ..Default::default()
         };
         let image = renderer
-            .render(&gpu, &sets, &camera, w, h, &settings)
+            .render_view(
+                &gpu,
+                &sets,
+                &glyphcast::FrameView::new(&camera, w, h),
+                &settings,
+            )
             .expect("render");
         check_image(
             &format!("{projection:?} {method:?}"),

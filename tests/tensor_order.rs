@@ -4,7 +4,7 @@
 //! tensor `.mif` drawn as ellipsoids whose long axes, measured on the rendered surface,
 //! lie along the eigenvectors; a misordered NIfTI refused; higher orders round-trip.
 mod common;
-use common::{dipy_data, fresh_dir, glyphcast, text};
+use common::{fit_small_64d, fresh_dir, glyphcast, text};
 use glam::{DMat3, DMat4, DQuat, DVec3, EulerRot};
 use glyphcast::io::image::read_image;
 use glyphcast::io::mif::{MifWrite, write_mif};
@@ -19,26 +19,9 @@ use std::path::{Path, PathBuf};
 /// `glyphcast fit` of small_64D at `order` into `dir/NAME`, with `extra` flags.
 fn fit(dir: &Path, name: &str, order: &str, extra: &[&str]) -> PathBuf {
     let out = dir.join(name);
-    let (dwi, bval, bvec) = (
-        dipy_data("small_64D.nii"),
-        dipy_data("small_64D.bval"),
-        dipy_data("small_64D.bvec"),
-    );
-    let mut args = vec![
-        "fit",
-        text(&dwi),
-        "--bval",
-        text(&bval),
-        "--bvec",
-        text(&bvec),
-        "--order",
-        order,
-        "--quiet",
-        "-o",
-        text(&out),
-    ];
+    let mut args = vec!["--order", order, "--quiet"];
     args.extend_from_slice(extra);
-    let run = glyphcast(&args);
+    let run = fit_small_64d(&args, &out);
     assert!(
         run.status.success(),
         "{args:?}: {}",
@@ -160,20 +143,10 @@ fn each_convention_is_written_and_read_back() {
     let m = |k: usize| world[[5, 5, 5, k]];
     assert_eq!(c, vec![m(0), m(3), m(4), m(1), m(5), m(2)]);
     // A .mif cannot take another order.
-    let out = glyphcast(&[
-        "fit",
-        text(&dipy_data("small_64D.nii")),
-        "--bval",
-        text(&dipy_data("small_64D.bval")),
-        "--bvec",
-        text(&dipy_data("small_64D.bvec")),
-        "--order",
-        "2",
-        "--tensor-order",
-        "dipy",
-        "-o",
-        text(&dir.join("no.mif")),
-    ]);
+    let out = fit_small_64d(
+        &["--order", "2", "--tensor-order", "dipy"],
+        &dir.join("no.mif"),
+    );
     assert_eq!(out.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("--tensor-order dipy"), "{stderr}");

@@ -53,7 +53,7 @@ fn crop(png: &Path, (x, y, w, h): (u32, u32, u32, u32)) -> Vec<u8> {
 }
 
 /// `png` with `captions[k]` drawn onto panel k of a grid of two columns of PANEL cells
-/// (`render::labels::draw_caption`, as `render` captions a lightbox), written as `name`.
+/// (`render::compose::labels::draw_caption`, as `render` captions a lightbox), written as `name`.
 fn with_captions(png: &Path, captions: &[&str], name: &str) -> PathBuf {
     let (width, height, mut rgba) = read_png_rgba8(png).expect("reading a PNG");
     let (w, h) = PANEL;
@@ -61,7 +61,8 @@ fn with_captions(png: &Path, captions: &[&str], name: &str) -> PathBuf {
     for (k, caption) in captions.iter().enumerate() {
         let (x0, y0) = ((k as u32 % 2) * w, (k as u32 / 2) * h);
         let mut cell = crop(png, (x0, y0, w, h));
-        glyphcast::render::labels::draw_caption(&mut cell, w, h, caption).expect("caption");
+        glyphcast::render::compose::labels::draw_caption(&mut cell, w, h, caption)
+            .expect("caption");
         for (row, line) in cell.chunks_exact(4 * w as usize).enumerate() {
             let at = (4 * ((y0 + row as u32) * width + x0)) as usize;
             rgba[at..at + line.len()].copy_from_slice(line);

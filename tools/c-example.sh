@@ -16,6 +16,13 @@ lib="${CARGO_TARGET_DIR:-$PWD/target}/debug"
 cargo build --locked --profile test -p glyphcast-c
 build="${CARGO_TARGET_DIR:-$PWD/target}/c-example"
 mkdir -p "$build"
-cc -std=c11 -Wall -Wextra -Werror -O1 -I include examples/c/main.c \
-    -L "$lib" -lglyphcast_c -lvulkan -lm -Wl,-rpath,"$lib" -o "$build/c-example"
+# The example compiles its own plane shaders (examples/shaders/) with shaderc, linked
+# statically as build.rs links it: Debian's static shaderc leaves glslang and
+# SPIRV-Tools to the static libraries named here (the list tools/shaderc-link adds).
+glslang="-lglslang -lSPIRV -lMachineIndependent -lGenericCodeGen -lOSDependent -lOGLCompiler"
+glslang="$glslang -lSPIRV-Tools-opt -lSPIRV-Tools -lstdc++ -lpthread"
+cc -std=c11 -Wall -Wextra -Werror -O1 -I include \
+    -DPLANE_SHADER_DIR="\"$PWD/examples/shaders\"" examples/c/main.c \
+    -L "$lib" -lglyphcast_c -lvulkan -l:libshaderc_combined.a $glslang -lm -Wl,-rpath,"$lib" \
+    -o "$build/c-example"
 "$build/c-example" "$out" "$@"

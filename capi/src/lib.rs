@@ -744,27 +744,3 @@ pub unsafe extern "C" fn glyphcast_write_png(
             .map_err(from_glyphcast)
     })
 }
-
-/// The SPIR-V of the example engines' ground plane (glsl/example_plane.vert when
-/// `fragment` is 0, .frag otherwise), `*words` words long: what the C example draws its
-/// own geometry with, so that it needs no shader compiler.
-///
-/// # Safety
-/// `words` is writable.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn glyphcast_example_plane_spirv(
-    fragment: u32,
-    words: *mut usize,
-) -> *const u32 {
-    use glyphcast::render::shaders::{EXAMPLE_PLANE_FRAGMENT, EXAMPLE_PLANE_VERTEX};
-    let spirv = if fragment == 0 {
-        EXAMPLE_PLANE_VERTEX
-    } else {
-        EXAMPLE_PLANE_FRAGMENT
-    };
-    if !words.is_null() {
-        // SAFETY: the caller's promise.
-        unsafe { *words = spirv.len() };
-    }
-    spirv.as_ptr()
-}

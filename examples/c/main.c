@@ -19,6 +19,7 @@
 #include "glyphcast.h"
 
 #include <math.h>
+#include <shaderc/shaderc.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -279,14 +280,35 @@ static void destroy_image(Engine *e, Image *img) {
     vkFreeMemory(e->device, img->memory, NULL);
 }
 
+/* The engine's own shaders (examples/shaders/plane.*, in PLANE_SHADER_DIR), compiled
+ * here with shaderc's C API: glyphcast carries no shaders of an engine's own. */
 static VkShaderModule plane_module(Engine *e, uint32_t fragment) {
-    size_t words = 0;
-    const uint32_t *code = glyphcast_example_plane_spirv(fragment, &words);
-    VkShaderModuleCreateInfo info = {.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO,
-                                     .codeSize = words * 4,
-                                     .pCode = code};
+    const char *name = fragment ? PLANE_SHADER_DIR "/plane.frag" : PLANE_SHADER_DIR "/plane.vert";
+    FILE *file = fopen(name, "rb");
+    if (!file) {
+        fprintf(stderr, "cannot open %s\n", name);
+        exit(1);
+    }
+    char source[8192];
+    size_t length = fread(source, 1, sizeof source, file);
+    fclose(file);
+    shaderc_compiler_t compiler = shaderc_compiler_initialize();
+    shaderc_compilation_result_t result = shaderc_compile_into_spv(
+        compiler, source, length,
+        fragment ? shaderc_glsl_fragment_shader : shaderc_glsl_vertex_shader, name, "main",
+        NULL);
+    if (shaderc_result_get_compilation_status(result) != shaderc_compilation_status_success) {
+        fprintf(stderr, "%s: %s\n", name, shaderc_result_get_error_message(result));
+        exit(1);
+    }
+    VkShaderModuleCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO,
+        .codeSize = shaderc_result_get_length(result),
+        .pCode = (const uint32_t *)shaderc_result_get_bytes(result)};
     VkShaderModule module;
     CHECK(vkCreateShaderModule(e->device, &info, NULL, &module));
+    shaderc_result_release(result);
+    shaderc_compiler_release(compiler);
     return module;
 }
 

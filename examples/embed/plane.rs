@@ -1,11 +1,11 @@
 //! The engine's own geometry: a square ground plane with its own pipeline and shaders
-//! (glsl/example_plane.vert/.frag, compiled by glyphcast's build.rs into named statics).
+//! (examples/shaders/plane.vert/.frag, compiled here with shaderc when the pass is made:
+//! an engine's shaders are its own, not glyphcast's).
 //! It is drawn with an ordinary depth test and depth writes into the depth buffer the
 //! glyphs use afterwards.
 use super::Result;
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use glyphcast::render::shaders::{EXAMPLE_PLANE_FRAGMENT, EXAMPLE_PLANE_VERTEX};
 
 /// A square in the plane z = `height`, centred at `center` (x, y) with half-size `half`.
 #[derive(Clone, Copy, Debug)]
@@ -27,7 +27,7 @@ impl Square {
     }
 }
 
-/// The push constants of example_plane.vert.
+/// The push constants of plane.vert.
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct PlanePush {
@@ -42,11 +42,21 @@ pub struct PlanePass<'a> {
     pipeline: vk::Pipeline,
 }
 
-fn module(device: &ash::Device, spirv: &[u32]) -> Result<vk::ShaderModule> {
-    let info = vk::ShaderModuleCreateInfo::default().code(spirv);
-    // SAFETY: the SPIR-V was produced and checked by glslang in build.rs.
+/// A shader module of one of examples/shaders/plane.*, compiled from GLSL.
+fn module(
+    device: &ash::Device,
+    (name, source): (&str, &str),
+    kind: shaderc::ShaderKind,
+) -> Result<vk::ShaderModule> {
+    let compiler = shaderc::Compiler::new()?;
+    let spirv = compiler.compile_into_spirv(source, kind, name, "main", None)?;
+    let info = vk::ShaderModuleCreateInfo::default().code(spirv.as_binary());
+    // SAFETY: the SPIR-V was produced and checked by glslang just above.
     Ok(unsafe { device.create_shader_module(&info, None)? })
 }
+
+const PLANE_VERTEX: (&str, &str) = ("plane.vert", include_str!("../shaders/plane.vert"));
+const PLANE_FRAGMENT: (&str, &str) = ("plane.frag", include_str!("../shaders/plane.frag"));
 
 impl<'a> PlanePass<'a> {
     /// A pipeline for the engine's attachments: `samples` per pixel, depth tested with
@@ -63,8 +73,8 @@ impl<'a> PlanePass<'a> {
         let layout_info = vk::PipelineLayoutCreateInfo::default().push_constant_ranges(&push);
         // SAFETY: valid device; destroyed in Drop.
         let layout = unsafe { device.create_pipeline_layout(&layout_info, None)? };
-        let vertex = module(device, EXAMPLE_PLANE_VERTEX)?;
-        let fragment = module(device, EXAMPLE_PLANE_FRAGMENT)?;
+        let vertex = module(device, PLANE_VERTEX, shaderc::ShaderKind::Vertex)?;
+        let fragment = module(device, PLANE_FRAGMENT, shaderc::ShaderKind::Fragment)?;
         let stages = [
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::VERTEX)

@@ -32,7 +32,12 @@ fn headless(run: &Run, samples: u32) -> RenderedImage {
         ..RenderSettings::default()
     };
     let image = renderer
-        .render(&gpu, &run.sets, &run.camera, WIDTH, HEIGHT, &settings)
+        .render_view(
+            &gpu,
+            &run.sets,
+            &glyphcast::FrameView::new(&run.camera, WIDTH, HEIGHT),
+            &settings,
+        )
         .expect("headless render");
     assert_eq!(gpu.validation_errors(), Vec::<String>::new());
     image
@@ -369,7 +374,12 @@ fn a_sub_rectangle_viewport_draws_the_headless_picture_there() {
     .expect("a Vulkan device with validation");
     let mut renderer = HeadlessRenderer::new(&gpu).expect("headless renderer");
     let reference = renderer
-        .render(&gpu, &r.sets, &r.camera, w, h, &RenderSettings::default())
+        .render_view(
+            &gpu,
+            &r.sets,
+            &glyphcast::FrameView::new(&r.camera, w, h),
+            &RenderSettings::default(),
+        )
         .expect("headless render");
     let scale = r
         .sets

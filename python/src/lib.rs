@@ -4,7 +4,7 @@
 //!
 //! Nothing here renders or parses on its own: scenes, volume slices, montages and render
 //! options go through the same library calls as `glyphcast render` (`render::options`,
-//! `volume::VolumeRequest`, `render::montage`, `render::headless`), so the module and
+//! `volume::VolumeRequest`, `render::compose::montage`, `render::headless`), so the module and
 //! the CLI draw the same pixels with the same defaults and checks; their messages name
 //! each option as this module's keyword where the CLI names its flag (`errors`).
 use glyphcast::io::png::encode_png_rgba8;

@@ -9,18 +9,18 @@ use std::path::PathBuf;
 
 use glyphcast::error::spell_settings;
 use glyphcast::glyph::GlyphShape;
-use glyphcast::render::colorbar::{ColorBar, check_colorbar, common_scale};
+use glyphcast::render::compose::colorbar::{ColorBar, check_colorbar, common_scale};
+use glyphcast::render::compose::labels::{draw_edge_labels, edge_labels};
+use glyphcast::render::compose::montage::{PreparedMontage, prepare_montage};
 use glyphcast::render::glyph_data::GlyphSetData;
 use glyphcast::render::headless::{FrameView, HeadlessRenderer, PreparedFrame, RenderedImage};
-use glyphcast::render::labels::{draw_edge_labels, edge_labels};
-use glyphcast::render::montage::{PreparedMontage, prepare_montage};
 use glyphcast::render::options::{PreparedScene, RenderOptions, prepare_render};
 use glyphcast::render::peaks::PeakSet;
 use glyphcast::render::underlay::Underlay;
 use glyphcast::scene::Scene;
 use glyphcast::vk::{Gpu, GpuOptions};
 use glyphcast::volume::{Coefficients, VolumeFigure};
-use glyphcast::{RenderSettings, Result, SceneExtent};
+use glyphcast::{RenderSettings, Result};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -89,21 +89,16 @@ impl Extras {
         let Some(label) = &self.colorbar else {
             return Ok(());
         };
-        let extent = SceneExtent::for_settings(camera, sets, settings);
-        let Some(bar) =
-            ColorBar::of_magnitude(settings, &extent, self.common_scale, label.as_deref())
-        else {
-            return Ok(());
-        };
-        let (width, rgba, distance) = bar.append(
-            &image.rgba,
-            &image.distance,
-            image.width,
-            image.height,
-            settings.background,
-        )?;
-        (image.width, image.rgba, image.distance) = (width, rgba, distance);
-        Ok(())
+        let bar = ColorBar::of_glyphs(
+            settings,
+            (sets, camera),
+            self.common_scale,
+            label.as_deref(),
+        );
+        match bar {
+            Some(bar) => bar.append_to(image, settings.background),
+            None => Ok(()),
+        }
     }
 }
 

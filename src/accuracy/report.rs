@@ -50,7 +50,12 @@ pub fn run(
         let reference = reference_depth(&world, &scene.camera, w, h);
         let scale = world.iter().map(|g| g.scale * g.bound).fold(0.0, f64::max);
         for settings in variants {
-            let image = renderer.render(gpu, &sets, &scene.camera, w, h, settings)?;
+            let image = renderer.render_view(
+                gpu,
+                &sets,
+                &crate::render::headless::FrameView::new(&scene.camera, w, h),
+                settings,
+            )?;
             let comparison =
                 compare_depth(&image.distance, &reference, w as usize, h as usize, scale);
             let geometric =

@@ -195,7 +195,12 @@ fn measure_prepared(
     let (camera, settings) = (&case.scene.camera, case.settings);
     let (width, height) = (case.scene.image.width, case.scene.image.height);
     let started = Instant::now();
-    let frame = renderer.prepare(gpu, sets, camera, width, height, settings)?;
+    let frame = renderer.prepare_view(
+        gpu,
+        sets,
+        &crate::render::headless::FrameView::new(camera, width, height),
+        settings,
+    )?;
     let mesh = frame.mesh_stats().copied();
     let generate_ms = mesh.map(|m| m.generate_ms);
     let upload_ms = started.elapsed().as_secs_f64() * 1e3 - generate_ms.unwrap_or(0.0);

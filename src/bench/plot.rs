@@ -9,11 +9,11 @@ use plotters::prelude::*;
 use std::path::Path;
 use std::sync::OnceLock;
 
-/// Registers the font (`render::labels::dejavu_sans`) once; an error names the paths
+/// Registers the font (`render::compose::labels::dejavu_sans`) once; an error names the paths
 /// tried.
 fn register_font() -> Result<()> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
-    let bytes = crate::render::labels::dejavu_sans()?;
+    let bytes = crate::render::compose::labels::dejavu_sans()?;
     let ok = *REGISTERED.get_or_init(|| {
         plotters::style::register_font("sans-serif", FontStyle::Normal, bytes).is_ok()
     });
@@ -105,13 +105,7 @@ fn gpu_time(path: &Path, title: &str, results: &[BenchResult]) -> Result<()> {
             .label(method.to_owned())
             .legend(move |(x, y)| Circle::new((x + 8, y), 4, color.filled()));
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()
-        .map_err(plot_error)?;
-    root.present().map_err(plot_error)
+    finish(&mut chart, &root)
 }
 
 fn error_vs_time(path: &Path, title: &str, results: &[&BenchResult]) -> Result<()> {
@@ -155,6 +149,14 @@ fn error_vs_time(path: &Path, title: &str, results: &[&BenchResult]) -> Result<(
             .label(method.to_owned())
             .legend(move |(x, y)| Circle::new((x + 8, y), 4, color.filled()));
     }
+    finish(&mut chart, &root)
+}
+
+/// Draws the legend of the series and writes the plot: how every plot ends.
+fn finish<'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, BitMapBackend<'a>, CT>,
+    root: &DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>,
+) -> Result<()> {
     chart
         .configure_series_labels()
         .background_style(WHITE.mix(0.8))

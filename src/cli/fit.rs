@@ -11,8 +11,8 @@ use glyphcast::fit::output::{check_output_path, output_tensor_order, write_outpu
 use glyphcast::fit::response::{DEFAULT_RESPONSE_FA, estimate_response};
 use glyphcast::fit::{
     DEFAULT_LAMBDA, FitFiles, FitInputs, FitModel, OdfMethod, Response, fit_with_response,
-    parse_basis,
 };
+use glyphcast::glyph::sh::parse_basis;
 use glyphcast::glyph::tensor_order::TensorOrder;
 use glyphcast::{Error, Result};
 use indicatif::{ProgressBar, ProgressStyle};

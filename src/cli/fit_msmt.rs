@@ -147,7 +147,7 @@ pub(super) fn run(args: &FitArgs, model: &FitModel, convention: BvecConvention) 
     let glyphcast_order = TensorOrder::Glyphcast;
     let basis_text = format!(
         "{}{}",
-        glyphcast::fit::basis_name(basis),
+        basis.name(),
         if legacy { " legacy" } else { "" }
     );
     let tissue_description =

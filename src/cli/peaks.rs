@@ -12,11 +12,11 @@
 //! meant.
 use clap::Args;
 use glyphcast::fit::output::check_output_path;
-use glyphcast::fit::parse_basis;
 use glyphcast::fit::peaks::{
     DEFAULT_MIN_SEPARATION, DEFAULT_PEAK_COUNT, DEFAULT_RELATIVE_THRESHOLD, PeakFinder,
     PeakOptions, peak_volume, rotate_peaks,
 };
+use glyphcast::glyph::sh::parse_basis;
 use glyphcast::glyph::sh::sh_count;
 use glyphcast::io::image::{ImageHeader, read_image};
 use glyphcast::io::mif::{MifKind, MifWrite, write_mif};

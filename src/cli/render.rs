@@ -4,12 +4,11 @@ use glyphcast::glyph::NegativeMode;
 use glyphcast::io::atomic::check_ending;
 use glyphcast::render::ColorMode;
 use glyphcast::render::RenderSettings;
-use glyphcast::render::colorbar::{ColorBar, common_scale};
-use glyphcast::render::frame::SceneExtent;
+use glyphcast::render::compose::colorbar::{ColorBar, common_scale};
+use glyphcast::render::compose::labels::{draw_edge_labels, edge_labels};
+use glyphcast::render::compose::montage::prepare_montage;
 use glyphcast::render::glyph_data::GlyphSetData;
 use glyphcast::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
-use glyphcast::render::labels::{draw_edge_labels, edge_labels};
-use glyphcast::render::montage::prepare_montage;
 use glyphcast::render::options::{RenderOptions, prepare_render};
 use glyphcast::render::peaks::PeakSet;
 use glyphcast::render::underlay::Underlay;
@@ -278,8 +277,12 @@ impl RenderArgs {
         if !self.colorbar {
             return None;
         }
-        let extent = SceneExtent::for_settings(camera, sets, settings);
-        ColorBar::of_magnitude(settings, &extent, common_scale, self.colorbar_label())
+        ColorBar::of_glyphs(
+            settings,
+            (sets, camera),
+            common_scale,
+            self.colorbar_label(),
+        )
     }
 
     /// `--negative`, if given; an unknown mode is a usage error.
@@ -312,7 +315,7 @@ pub fn check_outputs(output: &OutputArgs, save_scene: Option<&Path>) -> Result<(
 /// Renders `scene` and writes the outputs (checked first with [`check_outputs`]);
 /// `save_scene` receives the scene as rendered (image size included), written with the
 /// image and the depth map, all or nothing. `labels` writes the anatomical directions at
-/// the image's edges (`render::labels`; volume input only); `underlay` and `peaks` are
+/// the image's edges (`render::compose::labels`; volume input only); `underlay` and `peaks` are
 /// drawn in the glyphs' depth buffer (volume input only).
 pub fn render(
     mut scene: Scene,
@@ -350,9 +353,7 @@ pub fn render(
         draw_edge_labels(&mut image.rgba, w, h, &edges)?;
     }
     if let Some(bar) = options.colorbar(&settings, sets, camera, common_scale) {
-        let (width, rgba, distance) =
-            bar.append(&image.rgba, &image.distance, w, h, settings.background)?;
-        (image.width, image.rgba, image.distance) = (width, rgba, distance);
+        bar.append_to(&mut image, settings.background)?;
     }
     let glyphs = prepared.glyph_count();
     let gpu_time = image
@@ -377,7 +378,7 @@ pub fn render(
 }
 
 /// Renders the panels of a montage (`--views`, `--lightbox`) into one image
-/// (`render::montage`) and writes it as [`render`] writes one view; `labels` labels every
+/// (`render::compose::montage`) and writes it as [`render`] writes one view; `labels` labels every
 /// panel, and a colour bar is appended to the whole montage.
 pub fn render_montage(
     montage: VolumeMontage,
@@ -417,14 +418,7 @@ pub fn render_montage(
     // bar needs no extent of all panels' glyphs: the first panel's stands in, as in the
     // viewer (viewer::Panels::colorbar), and no copy of every panel's sets is made.
     if let Some(bar) = options.colorbar(&prepared.settings, &first.sets, &first.camera, common) {
-        let (width, rgba, distance) = bar.append(
-            &result.rgba,
-            &result.distance,
-            result.width,
-            result.height,
-            prepared.settings.background,
-        )?;
-        (result.width, result.rgba, result.distance) = (width, rgba, distance);
+        bar.append_to(&mut result, prepared.settings.background)?;
     }
     let (cell_w, cell_h) = prepared.cell();
     eprintln!(

@@ -55,6 +55,7 @@ pub use response::Response;
 pub use voxel::{FitReport, VoxelFitter, fit, fit_with_report, fit_with_response};
 
 use crate::scene::{GlyphKind, ShBasis};
+use crate::volume::TENSOR_PREFIX;
 use crate::{Error, Result, Setting};
 use sh::sh_count;
 
@@ -195,7 +196,7 @@ impl FitModel {
                 legacy,
                 lambda,
             } => {
-                let basis = basis_name(basis);
+                let basis = basis.name();
                 let legacy = if legacy { " legacy" } else { "" };
                 format!("glyphcast fit: SH band {band} {basis}{legacy} lambda {lambda}")
             }
@@ -209,7 +210,7 @@ impl FitModel {
                 tau,
                 csd,
             } => {
-                let basis = basis_name(basis);
+                let basis = basis.name();
                 let legacy = if legacy { " legacy" } else { "" };
                 let (method, tau) = match (method, csd) {
                     (OdfMethod::Csd, CsdAlgorithm::Dipy) => ("csd", format!(" tau {tau}")),
@@ -233,17 +234,6 @@ impl FitModel {
             }
         }
     }
-}
-
-/// What starts the description of a tensor fit, before the order.
-pub const TENSOR_PREFIX: &str = "glyphcast fit: symmetric tensor order ";
-
-/// The description of a tensor fit written with its entries in `stored` order: "glyphcast
-/// fit: symmetric tensor order 2 in mrtrix order" (`volume::recorded_tensor_order` reads
-/// it back; a description without " in NAME order", as glyphcast wrote before it
-/// recorded the order, means glyphcast's order).
-pub fn tensor_description(order: u32, stored: crate::glyph::tensor_order::TensorOrder) -> String {
-    format!("{TENSOR_PREFIX}{order} in {stored} order")
 }
 
 /// The regularisation weight in 0 to [`MAX_LAMBDA`].
@@ -284,105 +274,32 @@ fn check_tau(tau: f64, csd: CsdAlgorithm) -> Result<()> {
     Err(Error::setting_value(Setting::Tau, tau, why))
 }
 
-/// The scene format's name of a basis.
-pub fn basis_name(basis: ShBasis) -> &'static str {
-    match basis {
-        ShBasis::Tournier07 => "tournier07",
-        ShBasis::Descoteaux07 => "descoteaux07",
-    }
-}
-
-/// Parses a basis name together with the legacy switch into the basis and its variant
-/// ([`parse_basis_choice`] with `--legacy` as `Some(true)` and its absence as `None`).
-pub fn parse_basis(name: &str, legacy: bool) -> Result<(ShBasis, bool)> {
-    parse_basis_choice(name, legacy.then_some(true))
-}
-
-/// Parses a basis name (any case: `DIPY`, `Descoteaux07`) together with the legacy
-/// choice into the basis and its variant. Besides the scene format's names (tournier07,
-/// descoteaux07; `legacy` picks the variant, absent is the non-legacy one) three aliases
-/// name a variant themselves: `mrtrix` (tournier07, as MRtrix3 writes it), `dipy`
-/// (descoteaux07 legacy, DIPY's default) and `dipy-new` (descoteaux07, DIPY's
-/// `legacy=False`). A legacy choice that contradicts the alias is an error; one that
-/// agrees changes nothing.
-pub fn parse_basis_choice(name: &str, legacy: Option<bool>) -> Result<(ShBasis, bool)> {
-    let lower = name.trim().to_ascii_lowercase();
-    let alias = match lower.as_str() {
-        "mrtrix" => Some((ShBasis::Tournier07, false)),
-        "dipy" => Some((ShBasis::Descoteaux07, true)),
-        "dipy-new" => Some((ShBasis::Descoteaux07, false)),
-        _ => None,
-    };
-    if let Some((basis, alias_legacy)) = alias {
-        if let Some(legacy) = legacy
-            && legacy != alias_legacy
-        {
-            let why = if alias_legacy {
-                format!(
-                    "names the legacy {} basis (DIPY's default); for the non-legacy one give {}",
-                    basis_name(basis),
-                    Setting::Basis.with("dipy-new")
-                )
-            } else {
-                format!(
-                    "names the non-legacy {} basis; leave out {} (or give {} {})",
-                    basis_name(basis),
-                    Setting::Legacy.mention(),
-                    Setting::Basis.with(basis_name(basis)),
-                    Setting::Legacy.mention()
-                )
-            };
-            return Err(Error::setting_value(
-                Setting::Basis,
-                format!("'{}'", crate::error::quoted(name)),
-                why,
-            ));
-        }
-        return Ok((basis, alias_legacy));
-    }
-    [ShBasis::Tournier07, ShBasis::Descoteaux07]
-        .into_iter()
-        .find(|&b| basis_name(b) == lower)
-        .map(|basis| (basis, legacy.unwrap_or(false)))
-        .ok_or_else(|| {
-            Error::setting_value(
-                Setting::Basis,
-                format!("'{}'", crate::error::quoted(name)),
-                "unknown SH basis, expected tournier07, descoteaux07, mrtrix, dipy or dipy-new \
-                 (any case)",
-            )
-        })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::volume::{commented_image, recorded_basis};
 
+    /// What `fit` writes reads back as the basis it was fitted in.
     #[test]
-    fn basis_aliases_name_their_variant() {
-        let parse = |name, legacy| parse_basis(name, legacy).unwrap();
-        assert_eq!(parse("mrtrix", false), (ShBasis::Tournier07, false));
-        assert_eq!(parse("dipy", false), (ShBasis::Descoteaux07, true));
-        assert_eq!(parse("dipy", true), (ShBasis::Descoteaux07, true));
-        assert_eq!(parse("dipy-new", false), (ShBasis::Descoteaux07, false));
-        assert_eq!(parse("tournier07", true), (ShBasis::Tournier07, true));
-        assert_eq!(parse("descoteaux07", false), (ShBasis::Descoteaux07, false));
-        // Names in any case, as users type them.
-        assert_eq!(parse("DIPY", false), (ShBasis::Descoteaux07, true));
-        assert_eq!(parse("Descoteaux07", true), (ShBasis::Descoteaux07, true));
-        assert_eq!(parse("MRtrix", false), (ShBasis::Tournier07, false));
-        // An explicit non-legacy choice contradicts `dipy`.
-        let err = parse_basis_choice("dipy", Some(false))
-            .unwrap_err()
-            .to_string();
-        assert!(err.contains("dipy-new"), "{err}");
-        assert_eq!(
-            parse_basis_choice("dipy-new", Some(false)).unwrap(),
-            (ShBasis::Descoteaux07, false)
-        );
-        for (name, legacy) in [("mrtrix", true), ("dipy-new", true), ("fsl", false)] {
-            let err = parse_basis(name, legacy).unwrap_err().to_string();
-            assert!(err.contains(name), "{err}");
+    fn fit_descriptions_read_back() {
+        for basis in ShBasis::ALL {
+            for legacy in [false, true] {
+                let model = FitModel::Sh {
+                    band: 8,
+                    basis,
+                    legacy,
+                    lambda: 0.006,
+                };
+                let recorded = recorded_basis(&commented_image(&model.description())).unwrap();
+                assert_eq!((recorded.basis, recorded.legacy), (basis, legacy));
+                assert_eq!(recorded.field, "comments");
+            }
         }
+        let tensor = FitModel::Tensor { order: 4 }.description();
+        assert_eq!(recorded_basis(&commented_image(&tensor)), None);
+        assert_eq!(
+            recorded_basis(&commented_image("glyphcast fit: SH band 8 fsl")),
+            None
+        );
     }
 }

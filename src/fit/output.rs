@@ -15,15 +15,15 @@
 use ndarray::{Array4, Axis};
 use std::path::Path;
 
+use super::FitModel;
 use super::dwi::Dwi;
-use super::{FitModel, basis_name, tensor_description};
 use crate::glyph::tensor_order::{DTI_COUNT, TensorOrder};
 use crate::io::atomic::write_atomic;
 use crate::io::mif::{MifKind, MifWrite, mif_file_bytes};
 use crate::io::nifti::NiftiHeader;
 use crate::io::nifti::VoxelToWorld;
 use crate::io::nifti::write::nifti1_bytes;
-use crate::volume::Reorientation;
+use crate::volume::{Reorientation, tensor_description};
 use crate::{Error, Result, Setting};
 
 /// The NIfTI endings written.
@@ -134,10 +134,7 @@ pub fn output_bytes(
             match *model {
                 FitModel::Sh { basis, legacy, .. } | FitModel::Odf { basis, legacy, .. } => {
                     let legacy = if legacy { " legacy" } else { "" };
-                    keys.push((
-                        "glyphcast_sh_basis",
-                        format!("{}{legacy}", basis_name(basis)),
-                    ));
+                    keys.push(("glyphcast_sh_basis", format!("{}{legacy}", basis.name())));
                 }
                 FitModel::Tensor { order } => {
                     keys.push(("glyphcast_tensor_order", order.to_string()));

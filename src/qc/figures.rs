@@ -1,4 +1,4 @@
-//! The figures of the set, each a montage (`render::montage`) of single-view panels
+//! The figures of the set, each a montage (`render::compose::montage`) of single-view panels
 //! built by `volume::volume_scene`, as `render --views` builds its panels: the ODF
 //! mosaic (rows axial, coronal, sagittal; three cuts each), the peaks mosaic (the same
 //! panels with the peaks drawn over them) and one zoomed figure per region (its cube
@@ -14,8 +14,8 @@ use super::survey::{PlaneCuts, Region};
 use crate::glyph::NegativeMode;
 use crate::io::nifti::AffineSource;
 use crate::render::RenderSettings;
+use crate::render::compose::montage::prepare_montage;
 use crate::render::headless::{HeadlessRenderer, RenderedImage};
-use crate::render::montage::prepare_montage;
 use crate::render::underlay::{Underlay, UnderlayVolume};
 use crate::vk::Gpu;
 use crate::volume::UnderlayPlacement;

@@ -205,25 +205,11 @@ impl HeadlessRenderer {
         &mut self.compute
     }
 
-    /// Renders `sets` seen by `camera` into a `width` x `height` image, with
-    /// `settings.samples` samples per pixel (see [`HeadlessRenderer::render_view`]).
-    pub fn render(
-        &mut self,
-        gpu: &Gpu,
-        sets: &[GlyphSetData],
-        camera: &Camera,
-        width: u32,
-        height: u32,
-        settings: &RenderSettings,
-    ) -> Result<RenderedImage> {
-        self.render_view(gpu, sets, &FrameView::new(camera, width, height), settings)
-    }
-
     /// Renders `sets`, and the view's underlay planes (if any) in the same depth buffer,
     /// as `view` sees them.
     ///
     /// With `settings.samples` = s^2 > 1 (4 or 16) the colour is supersampled: drawn at s
-    /// times the size and box-filtered down (`render::antialias`), so that edge pixels
+    /// times the size and box-filtered down (`render::compose::antialias`), so that edge pixels
     /// take the fraction of their s x s samples that glyphs (or the underlay) cover, in
     /// linear light, and alpha is that coverage over a transparent background. The
     /// distance map is drawn at the image's own size, one ray per pixel centre, so it
@@ -235,11 +221,11 @@ impl HeadlessRenderer {
         view: &FrameView,
         settings: &RenderSettings,
     ) -> Result<RenderedImage> {
-        let factor = crate::render::antialias::supersampling_factor(settings.samples)?;
+        let factor = crate::render::compose::antialias::supersampling_factor(settings.samples)?;
         if factor == 1 {
             return self.render_once(gpu, sets, view, settings);
         }
-        let (big_w, big_h) = crate::render::antialias::supersampled_size(
+        let (big_w, big_h) = crate::render::compose::antialias::supersampled_size(
             view.width,
             view.height,
             factor,
@@ -256,8 +242,12 @@ impl HeadlessRenderer {
             ..*view
         };
         let big = self.render_once(gpu, sets, &big_view, &single)?;
-        let rgba =
-            crate::render::antialias::box_filter(&big.rgba, view.width, view.height, factor)?;
+        let rgba = crate::render::compose::antialias::box_filter(
+            &big.rgba,
+            view.width,
+            view.height,
+            factor,
+        )?;
         let big_ms = big.gpu_ms;
         drop(big);
         let mut image = self.render_once(gpu, sets, view, &single)?;
@@ -289,21 +279,8 @@ impl HeadlessRenderer {
 
     /// Uploads the glyph sets (tessellated first, for the mesh methods) and creates the
     /// targets: everything a frame needs, so that it can be drawn many times (benchmarks)
-    /// without uploading again.
-    pub fn prepare(
-        &mut self,
-        gpu: &Gpu,
-        sets: &[GlyphSetData],
-        camera: &Camera,
-        width: u32,
-        height: u32,
-        settings: &RenderSettings,
-    ) -> Result<PreparedFrame> {
-        self.prepare_view(gpu, sets, &FrameView::new(camera, width, height), settings)
-    }
-
-    /// [`HeadlessRenderer::prepare`] for `view`, whose underlay and peaks, if any, are
-    /// drawn in the glyphs' depth buffer; the depth range covers them too. Neither goes
+    /// without uploading again. The view's underlay and peaks, if any, are drawn in the
+    /// glyphs' depth buffer; the depth range covers them too. Neither goes
     /// with the compute path, which has no depth buffer to share.
     pub fn prepare_view(
         &mut self,
@@ -725,12 +702,7 @@ fn host_buffer<T>(len: usize, width: u32, height: u32) -> Result<Vec<T>> {
 
 /// Refuses a size beyond the device's largest 2D image before anything is allocated.
 fn check_image_size(gpu: &Gpu, width: u32, height: u32) -> Result<()> {
-    // SAFETY: `gpu.physical_device` was enumerated from `gpu.instance()`.
-    let properties = unsafe {
-        gpu.instance()
-            .get_physical_device_properties(gpu.physical_device)
-    };
-    let largest = properties.limits.max_image_dimension2_d;
+    let largest = gpu.context().max_image_dimension_2d();
     if width > largest || height > largest {
         return Err(Error::Usage(format!(
             "{}/{} {width} x {height}: {} draws images of at most {largest} pixels per side",

@@ -23,7 +23,7 @@ use crate::render::raycast::{InstanceInput, TargetFormats, glyph_pipeline, viewp
 use crate::render::shaders::{MESH_FRAGMENT, MESH_VERTEX};
 use crate::vk::{
     Buffer, BufferBinding, DescriptorPool, DeviceContext, PipelineLayout, Pipelines, RasterTarget,
-    ShaderModule, buffer_binding,
+    ShaderModule, buffer_binding, vertex_fragment_stages,
 };
 use ash::vk;
 use std::time::Instant;
@@ -204,17 +204,8 @@ impl MeshPass {
         let specialization = vk::SpecializationInfo::default()
             .map_entries(&entries)
             .data(&data);
-        let stages = [
-            vk::PipelineShaderStageCreateInfo::default()
-                .stage(vk::ShaderStageFlags::VERTEX)
-                .module(self.vertex.handle())
-                .name(c"main")
-                .specialization_info(&specialization),
-            vk::PipelineShaderStageCreateInfo::default()
-                .stage(vk::ShaderStageFlags::FRAGMENT)
-                .module(self.fragment.handle())
-                .name(c"main"),
-        ];
+        let (vertex, fragment) = (self.vertex.handle(), self.fragment.handle());
+        let stages = vertex_fragment_stages(vertex, fragment, Some(&specialization));
         let pipeline = glyph_pipeline(
             &self.ctx,
             self.formats,

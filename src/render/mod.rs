@@ -1,29 +1,23 @@
 //! Render passes and their settings: the ray caster and the sphere impostor share the
 //! instanced boxes of `raycast`; the tessellated baseline has its own pass in `mesh`.
 //! `compute` is a second path for the exact method: a compute shader per pixel over the
-//! screen tiles of `tiles`.
-pub mod antialias;
+//! screen tiles of `tiles`. The CPU compositing of the drawn images (box filter, colour
+//! bar, labels, montage) is in `compose`; the GLSL test harnesses are in `harness`.
 pub mod batch;
-pub mod colorbar;
 pub mod component;
+pub mod compose;
 pub mod compute;
-// Test harnesses: they run the generated GLSL at given points or segments so that the
-// integration tests can hold it to the float64 code. Public for those tests only.
-#[doc(hidden)]
-pub mod eval;
 pub mod frame;
 pub mod glyph_data;
+#[doc(hidden)]
+pub mod harness;
 pub mod headless;
 pub mod host_view;
 #[cfg(test)]
 mod interface;
-pub mod labels;
 pub mod mesh;
-pub mod montage;
 pub mod options;
 pub mod peaks;
-#[doc(hidden)]
-pub mod range_eval;
 pub mod raycast;
 pub mod settings;
 pub mod shaders;

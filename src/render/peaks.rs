@@ -17,11 +17,13 @@ use crate::camera::{Camera, Ray};
 use crate::error::Result;
 use crate::glyph::capsule::{Capsule, CapsuleHit};
 use crate::render::frame::{FRAME_DESCRIPTOR, FRAME_USAGE, FrameParams, SceneExtent};
-use crate::render::raycast::{TargetFormats, viewport_and_scissor};
+// The capsules' boxes are indexed as the glyphs' boxes.
+use crate::render::raycast::{CUBE_INDICES, TargetFormats, viewport_and_scissor};
 use crate::render::shaders::{PEAKS_FRAGMENT, PEAKS_VERTEX};
+use crate::vk::recording::bind_graphics;
 use crate::vk::{
     Buffer, BufferBinding, DescriptorPool, DeviceContext, GraphicsPipelineDesc, Pipeline,
-    PipelineLayout, ShaderModule, buffer_binding, graphics_pipeline,
+    PipelineLayout, ShaderModule, buffer_binding, graphics_pipeline, vertex_fragment_stages,
 };
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
@@ -94,16 +96,6 @@ pub(crate) struct CapsuleInstance {
     pub(crate) color: [f32; 4],
 }
 
-/// The 12 triangles of a box, counter-clockwise seen from outside (as the glyph boxes').
-const BOX_INDICES: [u16; 36] = [
-    0, 2, 3, 0, 3, 1, // -z
-    7, 4, 5, 7, 6, 4, // +z
-    0, 1, 5, 0, 5, 4, // -y
-    7, 2, 6, 7, 3, 2, // +y
-    0, 4, 6, 0, 6, 2, // -x
-    7, 1, 3, 7, 5, 1, // +x
-];
-
 /// Binding of the frame's parameter block (glsl/frame.glsl), as in the glyph passes.
 pub(crate) const PEAKS_FRAME_BINDING: u32 = 0;
 
@@ -143,7 +135,7 @@ impl PeaksPass {
             indices: Buffer::with_data(
                 ctx,
                 "peak box indices",
-                &BOX_INDICES,
+                &CUBE_INDICES,
                 vk::BufferUsageFlags::INDEX_BUFFER,
             )?,
         })
@@ -190,20 +182,11 @@ impl PeaksPass {
         let d = self.ctx.device();
         // SAFETY: recording state is the caller's; every handle is alive.
         unsafe {
-            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.handle());
-            d.cmd_set_viewport(cmd, 0, &[viewport]);
-            d.cmd_set_scissor(cmd, 0, &[scissor]);
-            d.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.layout.handle(),
-                0,
-                &[peaks.descriptor_set],
-                &[],
-            );
+            let pipeline = (self.pipeline.handle(), self.layout.handle());
+            bind_graphics(d, cmd, pipeline, peaks.descriptor_set, (viewport, scissor));
             d.cmd_bind_vertex_buffers(cmd, 0, &[peaks.instances.handle], &[0]);
             d.cmd_bind_index_buffer(cmd, self.indices.handle, 0, vk::IndexType::UINT16);
-            d.cmd_draw_indexed(cmd, BOX_INDICES.len() as u32, peaks.count, 0, 0, 0);
+            d.cmd_draw_indexed(cmd, CUBE_INDICES.len() as u32, peaks.count, 0, 0, 0);
         }
     }
 }
@@ -238,16 +221,7 @@ fn create_pipeline(
     let vertex = unsafe { ShaderModule::new(ctx, PEAKS_VERTEX)? };
     // SAFETY: as above.
     let fragment = unsafe { ShaderModule::new(ctx, PEAKS_FRAGMENT)? };
-    let stages = [
-        vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::VERTEX)
-            .module(vertex.handle())
-            .name(c"main"),
-        vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::FRAGMENT)
-            .module(fragment.handle())
-            .name(c"main"),
-    ];
+    let stages = vertex_fragment_stages(vertex.handle(), fragment.handle(), None);
     let bindings = [vk::VertexInputBindingDescription {
         binding: 0,
         stride: std::mem::size_of::<CapsuleInstance>() as u32,

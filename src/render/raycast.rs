@@ -22,9 +22,11 @@ use crate::render::glyph_data::GlyphSetData;
 use crate::render::shaders::{
     DepthConvention, IMPOSTOR_FRAGMENT, RAYCAST_VERTEX, for_depth, raycast_shader,
 };
+use crate::vk::recording::bind_graphics;
 use crate::vk::{
     Buffer, BufferBinding, DescriptorPool, DeviceContext, GraphicsPipelineDesc, Pipeline,
     PipelineLayout, Pipelines, RasterTarget, ShaderModule, buffer_binding, graphics_pipeline,
+    vertex_fragment_stages,
 };
 use ash::vk;
 
@@ -142,7 +144,7 @@ pub struct RayCastPass {
 /// provoking vertex: only those two corners load the glyph's coefficients for the flat
 /// inputs of the fragment shader (raycast.vert), and the indexed draw lets the eight
 /// corners be shaded once each per box.
-const CUBE_INDICES: [u16; 36] = [
+pub(crate) const CUBE_INDICES: [u16; 36] = [
     0, 2, 3, 0, 3, 1, // -z
     7, 4, 5, 7, 6, 4, // +z
     0, 1, 5, 0, 5, 4, // -y
@@ -414,17 +416,7 @@ impl RayCastPass {
         let specialization = vk::SpecializationInfo::default()
             .map_entries(&entries)
             .data(&value);
-        let stages = [
-            vk::PipelineShaderStageCreateInfo::default()
-                .stage(vk::ShaderStageFlags::VERTEX)
-                .module(vertex)
-                .name(c"main")
-                .specialization_info(&specialization),
-            vk::PipelineShaderStageCreateInfo::default()
-                .stage(vk::ShaderStageFlags::FRAGMENT)
-                .module(fragment)
-                .name(c"main"),
-        ];
+        let stages = vertex_fragment_stages(vertex, fragment, Some(&specialization));
         glyph_pipeline(
             &self.ctx,
             self.formats,
@@ -537,17 +529,9 @@ impl RayCastPass {
             // SAFETY: recording state is the caller's; all handles are alive.
             unsafe {
                 let d = self.ctx.device();
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
-                d.cmd_set_viewport(cmd, 0, &[viewport]);
-                d.cmd_set_scissor(cmd, 0, &[scissor]);
-                d.cmd_bind_descriptor_sets(
-                    cmd,
-                    vk::PipelineBindPoint::GRAPHICS,
-                    self.layout.handle(),
-                    0,
-                    &[set.descriptor_sets[target.frame_index]],
-                    &[],
-                );
+                let descriptor_set = set.descriptor_sets[target.frame_index];
+                let pipeline = (pipeline, self.layout.handle());
+                bind_graphics(d, cmd, pipeline, descriptor_set, (viewport, scissor));
                 d.cmd_push_constants(
                     cmd,
                     self.layout.handle(),

@@ -192,7 +192,7 @@ pub struct RenderSettings {
     /// this many pixels' footprint at their depth.
     pub precision_px: f32,
     /// Samples per pixel (`--samples`): 1, or 4 or 16 by supersampling
-    /// ([`crate::render::antialias`]).
+    /// ([`crate::render::compose::antialias`]).
     pub samples: u32,
     /// The light and the Blinn-Phong terms every pass shades with.
     pub lighting: Lighting,
@@ -467,7 +467,7 @@ impl RenderSettings {
                 self.background
             )));
         }
-        crate::render::antialias::supersampling_factor(self.samples)?;
+        crate::render::compose::antialias::supersampling_factor(self.samples)?;
         if self.path == RenderPath::Compute && self.method != Method::Exact {
             return Err(Error::setting_value(
                 Setting::Path,

@@ -25,9 +25,11 @@ use crate::error::{Error, Result, Setting};
 use crate::render::frame::{FRAME_DESCRIPTOR, FRAME_USAGE, SceneExtent};
 use crate::render::raycast::{TargetFormats, viewport_and_scissor};
 use crate::render::shaders::{UNDERLAY_FRAGMENT, UNDERLAY_VERTEX};
+use crate::vk::recording::bind_graphics;
 use crate::vk::{
     Buffer, BufferBinding, DescriptorPool, DeviceContext, GraphicsPipelineDesc, Pipeline,
     PipelineLayout, RasterTarget, ShaderModule, buffer_binding, graphics_pipeline,
+    vertex_fragment_stages,
 };
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
@@ -457,17 +459,8 @@ impl UnderlayPass {
         let v4 = |v: DVec3, w: f64| [v.x as f32, v.y as f32, v.z as f32, w as f32];
         // SAFETY: recording state is the caller's; every handle is alive.
         unsafe {
-            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.handle());
-            d.cmd_set_viewport(cmd, 0, &[viewport]);
-            d.cmd_set_scissor(cmd, 0, &[scissor]);
-            d.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.layout.handle(),
-                0,
-                &[volume.descriptor_set],
-                &[],
-            );
+            let pipeline = (self.pipeline.handle(), self.layout.handle());
+            bind_graphics(d, cmd, pipeline, volume.descriptor_set, (viewport, scissor));
         }
         for plane in planes {
             let push = PlanePush {
@@ -502,16 +495,7 @@ fn create_pipeline(
     let vertex = unsafe { ShaderModule::new(ctx, UNDERLAY_VERTEX)? };
     // SAFETY: as above.
     let fragment = unsafe { ShaderModule::new(ctx, UNDERLAY_FRAGMENT)? };
-    let stages = [
-        vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::VERTEX)
-            .module(vertex.handle())
-            .name(c"main"),
-        vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::FRAGMENT)
-            .module(fragment.handle())
-            .name(c"main"),
-    ];
+    let stages = vertex_fragment_stages(vertex.handle(), fragment.handle(), None);
     let mut color_formats = vec![formats.color];
     color_formats.extend(formats.distance);
     let desc = GraphicsPipelineDesc {

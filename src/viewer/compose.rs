@@ -7,7 +7,7 @@
 //! in place (its viewport is its cell); every other panel is drawn, as the headless
 //! renderer draws it, at the corner of an offscreen target of the swapchain's format, and
 //! copied into its cell. One target serves all panels in turn (they share a cell size).
-//! The strip is drawn on the CPU (`render::colorbar`, the pixels `render --colorbar`
+//! The strip is drawn on the CPU (`render::compose::colorbar`, the pixels `render --colorbar`
 //! appends) and copied in from a host-visible buffer, byte for byte.
 use crate::error::{Error, Result};
 use crate::render::frame::FrameParams;

@@ -4,6 +4,7 @@
 use crate::error::quoted;
 use crate::glyph::NegativeMode;
 use crate::render::{ColorMode, Method, Refinement};
+use crate::scene::MAX_IMAGE_SIDE;
 use crate::{Error, Result};
 use winit::keyboard::{Key, NamedKey};
 
@@ -156,10 +157,16 @@ fn parse_event(item: &str) -> Result<Action> {
                 .split_once('x')
                 .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)));
             match size {
-                Some((w, h)) if (1..=16384).contains(&w) && (1..=16384).contains(&h) => {
+                Some((w, h))
+                    if (1..=MAX_IMAGE_SIDE).contains(&w) && (1..=MAX_IMAGE_SIDE).contains(&h) =>
+                {
                     Action::Resize(w, h)
                 }
-                _ => return Err(bad("expected WIDTHxHEIGHT, each in 1..=16384")),
+                _ => {
+                    return Err(bad(&format!(
+                        "expected WIDTHxHEIGHT, each in 1..={MAX_IMAGE_SIDE}"
+                    )));
+                }
             }
         }
         "method" => Action::Method(value.parse().map_err(reparse)?),

@@ -7,9 +7,9 @@ use super::ViewerOptions;
 use super::layout::WindowLayout;
 use super::panels::Panels;
 use crate::Result;
-use crate::render::colorbar::ColorBar;
+use crate::render::compose::colorbar::ColorBar;
+use crate::render::compose::montage::Montage;
 use crate::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
-use crate::render::montage::Montage;
 use crate::vk::Gpu;
 use ash::vk;
 

@@ -3,7 +3,7 @@
 //! as `render --views/--lightbox` lays them out) in the rest. The screenshot composes
 //! the same layout, so window and screenshot put every panel and the strip at the same
 //! pixels.
-use crate::render::montage::Grid;
+use crate::render::compose::montage::Grid;
 use ash::vk;
 
 /// The layout of a window of a given size.

@@ -12,9 +12,9 @@
 use super::content::{Content, ViewSource, Waker};
 use crate::camera::Camera;
 use crate::glyph::NegativeMode;
-use crate::render::colorbar::{ColorBar, common_scale};
+use crate::render::compose::colorbar::{ColorBar, common_scale};
+use crate::render::compose::montage::shared_magnitude_range;
 use crate::render::frame::FrameParams;
-use crate::render::montage::shared_magnitude_range;
 use crate::render::settings::RenderSettings;
 use crate::render::underlay::Underlay;
 use crate::{Error, Result};

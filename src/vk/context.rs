@@ -116,6 +116,8 @@ pub struct DeviceContext {
     owner: Arc<DeviceOwner>,
     max_storage_buffer_range: u64,
     max_varying_components: u32,
+    max_image_dimension_2d: u32,
+    timestamp_period_ns: f32,
 }
 
 impl DeviceContext {
@@ -209,6 +211,8 @@ impl DeviceContext {
             max_varying_components: limits
                 .max_vertex_output_components
                 .min(limits.max_fragment_input_components),
+            max_image_dimension_2d: limits.max_image_dimension2_d,
+            timestamp_period_ns: limits.timestamp_period,
         }
     }
 
@@ -239,6 +243,16 @@ impl DeviceContext {
     /// hand each glyph's coefficients over as flat inputs, 108 components at order 12.
     pub fn max_varying_components(&self) -> u32 {
         self.max_varying_components
+    }
+
+    /// The device's maxImageDimension2D: the largest side of an image it draws.
+    pub fn max_image_dimension_2d(&self) -> u32 {
+        self.max_image_dimension_2d
+    }
+
+    /// Nanoseconds per timestamp tick (the device's timestampPeriod).
+    pub fn timestamp_period_ns(&self) -> f32 {
+        self.timestamp_period_ns
     }
 
     /// This context with at most `components` varying components, as if the device

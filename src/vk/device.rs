@@ -15,10 +15,6 @@ pub struct DeviceInfo {
     pub driver: String,
     /// The Vulkan version the device supports, "major.minor.patch".
     pub api_version: String,
-    /// maxStorageBufferRange, bytes.
-    pub max_storage_buffer_range: u64,
-    /// Nanoseconds per timestamp tick.
-    pub timestamp_period_ns: f32,
     /// Valid bits of timestamps on the chosen queue family (0: no timestamps).
     pub timestamp_valid_bits: u32,
 }
@@ -78,8 +74,6 @@ fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> DeviceInfo {
             vk::api_version_minor(v),
             vk::api_version_patch(v)
         ),
-        max_storage_buffer_range: props.limits.max_storage_buffer_range as u64,
-        timestamp_period_ns: props.limits.timestamp_period,
         timestamp_valid_bits: graphics_queue_family(instance, pd)
             .and_then(|family| {
                 // SAFETY: `pd` was enumerated from this instance.

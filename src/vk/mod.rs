@@ -41,7 +41,7 @@ pub use memory::{
 };
 pub use pipeline::{
     GraphicsPipelineDesc, Pipeline, PipelineLayout, Pipelines, RasterTarget, ShaderModule,
-    buffer_binding, compute_pipeline, graphics_pipeline,
+    buffer_binding, compute_pipeline, graphics_pipeline, vertex_fragment_stages,
 };
 #[cfg(feature = "viewer")]
 pub use surface::Surface;

@@ -301,6 +301,29 @@ pub struct GraphicsPipelineDesc<'a> {
     pub raster: RasterTarget,
 }
 
+/// The vertex and fragment stages of a graphics pipeline, both entering at `main`; the
+/// vertex stage with `specialization`, where there is one.
+pub fn vertex_fragment_stages<'a>(
+    vertex: vk::ShaderModule,
+    fragment: vk::ShaderModule,
+    specialization: Option<&'a vk::SpecializationInfo<'a>>,
+) -> [vk::PipelineShaderStageCreateInfo<'a>; 2] {
+    let mut vertex_stage = vk::PipelineShaderStageCreateInfo::default()
+        .stage(vk::ShaderStageFlags::VERTEX)
+        .module(vertex)
+        .name(c"main");
+    if let Some(specialization) = specialization {
+        vertex_stage = vertex_stage.specialization_info(specialization);
+    }
+    [
+        vertex_stage,
+        vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::FRAGMENT)
+            .module(fragment)
+            .name(c"main"),
+    ]
+}
+
 /// A graphics pipeline for dynamic rendering, as `desc` describes.
 ///
 /// # Safety

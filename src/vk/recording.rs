@@ -126,3 +126,33 @@ pub fn copies_to_host() -> vk::MemoryBarrier2<'static> {
         .dst_stage_mask(vk::PipelineStageFlags2::HOST)
         .dst_access_mask(vk::AccessFlags2::HOST_READ)
 }
+
+/// Binds a graphics `pipeline` with `set` as its descriptor set 0 and sets the dynamic
+/// viewport and scissor: how each pass drawn into the glyphs' depth buffer (glyph boxes,
+/// underlay planes, peaks) opens its draws.
+///
+/// # Safety
+/// `cmd` is recording inside dynamic rendering; `pipeline`, `layout` and `set` are alive,
+/// and `set` matches set 0 of `layout`.
+pub unsafe fn bind_graphics(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    (pipeline, layout): (vk::Pipeline, vk::PipelineLayout),
+    set: vk::DescriptorSet,
+    (viewport, scissor): (vk::Viewport, vk::Rect2D),
+) {
+    // SAFETY: the caller's promise.
+    unsafe {
+        device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+        device.cmd_set_viewport(cmd, 0, &[viewport]);
+        device.cmd_set_scissor(cmd, 0, &[scissor]);
+        device.cmd_bind_descriptor_sets(
+            cmd,
+            vk::PipelineBindPoint::GRAPHICS,
+            layout,
+            0,
+            &[set],
+            &[],
+        );
+    }
+}

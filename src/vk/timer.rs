@@ -16,7 +16,7 @@ pub struct GpuTimer {
 impl GpuTimer {
     /// `None` if the queue cannot write timestamps.
     pub fn new(gpu: &super::Gpu) -> Result<Option<GpuTimer>> {
-        if gpu.info.timestamp_valid_bits == 0 || gpu.info.timestamp_period_ns <= 0.0 {
+        if gpu.info.timestamp_valid_bits == 0 || gpu.context().timestamp_period_ns() <= 0.0 {
             return Ok(None);
         }
         let info = vk::QueryPoolCreateInfo::default()
@@ -28,7 +28,7 @@ impl GpuTimer {
         Ok(Some(GpuTimer {
             ctx: gpu.context().clone(),
             pool,
-            period_ns: gpu.info.timestamp_period_ns as f64,
+            period_ns: gpu.context().timestamp_period_ns() as f64,
             valid_bits: gpu.info.timestamp_valid_bits,
         }))
     }

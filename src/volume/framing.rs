@@ -23,13 +23,11 @@ use glam::DVec3;
 use super::selection::SliceRegion;
 use crate::camera::{Camera, Projection};
 use crate::io::nifti::VoxelToWorld;
-use crate::scene::ImageSize;
+use crate::scene::{ImageSize, MAX_IMAGE_SIDE};
 use crate::{Error, Result, Setting};
 
 /// Longer image side when no size is requested.
 pub const DEFAULT_LONG_SIDE: u32 = 1024;
-/// Largest image side accepted (as for `--width`/`--height`).
-pub const MAX_SIDE: u32 = 16384;
 /// Vertical field of view of `--perspective`.
 pub const PERSPECTIVE_FOV_DEG: f64 = 30.0;
 
@@ -87,17 +85,17 @@ pub struct ImageRequest {
 
 impl ImageRequest {
     /// The size asked for ([`Setting::Width`], [`Setting::Height`]), each side checked to be in
-    /// 1..=[`MAX_SIDE`]; the device's own limit is checked when it is known
-    /// (`HeadlessRenderer::render`).
+    /// 1..=[`MAX_IMAGE_SIDE`]; the device's own limit is checked when it is known
+    /// (`HeadlessRenderer::render_view`).
     pub fn checked(width: Option<u32>, height: Option<u32>) -> crate::Result<Self> {
         for (setting, value) in [(Setting::Width, width), (Setting::Height, height)] {
             if let Some(v) = value
-                && (v == 0 || v > MAX_SIDE)
+                && (v == 0 || v > MAX_IMAGE_SIDE)
             {
                 return Err(Error::setting_value(
                     setting,
                     v,
-                    format!("must be in 1 to {MAX_SIDE}"),
+                    format!("must be in 1 to {MAX_IMAGE_SIDE}"),
                 ));
             }
         }
@@ -260,15 +258,15 @@ pub fn frame_volume(
 fn image_size(width: f64, height: f64, request: ImageRequest) -> Result<ImageSize> {
     for (name, side) in [("width", request.width), ("height", request.height)] {
         if let Some(side) = side
-            && !(1..=MAX_SIDE).contains(&side)
+            && !(1..=MAX_IMAGE_SIDE).contains(&side)
         {
             return Err(Error::Invalid(format!(
-                "image {name} {side} must be in 1..={MAX_SIDE}"
+                "image {name} {side} must be in 1..={MAX_IMAGE_SIDE}"
             )));
         }
     }
     let aspect = width / height;
-    let side = |value: f64| (value.round() as u32).clamp(1, MAX_SIDE);
+    let side = |value: f64| (value.round() as u32).clamp(1, MAX_IMAGE_SIDE);
     let long = f64::from(DEFAULT_LONG_SIDE);
     let (w, h) = match (request.width, request.height) {
         (Some(w), Some(h)) => (w, h),

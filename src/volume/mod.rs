@@ -38,15 +38,19 @@ pub use build::{
 };
 pub use figure::{MontagePlan, VolumeFigure, VolumeMontage, VolumeView, parse_views};
 pub use framing::{
-    DEFAULT_LONG_SIDE, Framing, ImageRequest, MAX_SIDE, Orientation, PERSPECTIVE_FOV_DEG,
-    ViewProjection, frame_region, frame_volume, view_axis, view_directions,
+    DEFAULT_LONG_SIDE, Framing, ImageRequest, Orientation, PERSPECTIVE_FOV_DEG, ViewProjection,
+    frame_region, frame_volume, view_axis, view_directions,
 };
 pub use input::{CoefficientFrame, MAX_ORDER, Mask, Volume, VolumeKind, load_mask, load_volume};
 pub use peaks::{
     DEFAULT_PEAKS_SCALE_FRACTION, DEFAULT_PEAKS_WIDTH, PeakArray, PeakStyle, PeakVolume,
     PeaksColor, PeaksNorm, ViewPeaks, load_peaks, peak_set, pixel_size,
 };
-pub use recorded::{RecordedBasis, recorded_basis, resolve_basis};
+#[cfg(test)]
+pub(crate) use recorded::commented_image;
+pub use recorded::{
+    RecordedBasis, TENSOR_PREFIX, recorded_basis, resolve_basis, tensor_description,
+};
 pub use reorient::Reorientation;
 pub use request::{Coefficients, ImageSource, MAX_PANELS, VolumeRequest, underlay_with_montage};
 pub use selection::{Slice, SliceAxis, SliceRegion, Slices, VoxelRanges};

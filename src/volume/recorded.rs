@@ -3,19 +3,29 @@
 //!
 //! glyphcast's `fit` writes its model into the file's description (NIfTI `descrip`,
 //! MRtrix `comments`): "glyphcast fit: SH band 8 descoteaux07 legacy lambda 0.006"
-//! ([`crate::fit::FitModel::description`]); the basis is read back from there. MRtrix
+//! (`fit::FitModel::description`); the basis is read back from there. MRtrix
 //! itself records no basis: its SH images are always tournier07 (non-legacy), so an
 //! MRtrix file that records nothing is taken as that. A NIfTI file that records nothing
 //! says nothing, and `--basis` is then required.
-use crate::fit::{TENSOR_PREFIX, parse_basis};
+use crate::glyph::sh::{ShBasis, parse_basis};
 use crate::glyph::tensor_order::TensorOrder;
 use crate::glyph::{Symmetry, TensorLayout};
 use crate::io::image::{Image, ImageHeader};
-use crate::scene::ShBasis;
 use crate::{Error, Result, Setting};
 
 /// What starts the SH description `fit` writes, before the band.
 const FIT_SH_PREFIX: &str = "glyphcast fit: SH band ";
+
+/// What starts the description of a tensor fit, before the order.
+pub const TENSOR_PREFIX: &str = "glyphcast fit: symmetric tensor order ";
+
+/// The description of a tensor fit written with its entries in `stored` order: "glyphcast
+/// fit: symmetric tensor order 2 in mrtrix order" ([`recorded_tensor_order`] reads
+/// it back; a description without " in NAME order", as glyphcast wrote before it
+/// recorded the order, means glyphcast's order).
+pub fn tensor_description(order: u32, stored: TensorOrder) -> String {
+    format!("{TENSOR_PREFIX}{order} in {stored} order")
+}
 
 /// A basis read from a file's header.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -53,7 +63,7 @@ pub fn recorded_basis(image: &Image) -> Option<RecordedBasis> {
 }
 
 fn show(basis: ShBasis, legacy: bool) -> String {
-    let name = crate::fit::basis_name(basis);
+    let name = basis.name();
     if legacy {
         format!("{name} {}", Setting::Legacy.mention())
     } else {
@@ -105,7 +115,7 @@ pub fn resolve_basis(
     }
 }
 
-/// The stored order `image` records in its description (`fit::tensor_description`):
+/// The stored order `image` records in its description ([`tensor_description`]):
 /// the name of " in NAME order" after the tensor fit's prefix, glyphcast's when a tensor
 /// fit's description has none (glyphcast wrote that before it recorded the order), and
 /// `None` where there is no tensor fit's description (or the name is unknown).
@@ -193,64 +203,37 @@ pub fn has_dti_entries(layout: TensorLayout) -> bool {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::fit::FitModel;
+/// For tests: an MRtrix image whose `comments` hold `text`, through our writer and the parser.
+pub(crate) fn commented_image(text: &str) -> Image {
     use crate::io::mif::write::mif_bytes;
     use crate::io::mif::{MifHeader, MifWrite};
     use crate::io::nifti::{AffineSource, VoxelToWorld};
     use glam::DMat4;
-
-    /// An MRtrix image whose `comments` hold `text`, through our writer and the parser.
-    fn commented(text: &str) -> Image {
-        let data = ndarray::ArrayD::zeros(ndarray::IxDyn(&[1, 1, 1]));
-        let voxel_to_world =
-            VoxelToWorld::new(DMat4::IDENTITY, AffineSource::Pixdim, "f.mif", "transform").unwrap();
-        let bytes = mif_bytes(&MifWrite {
-            data: &data,
-            voxel_to_world: &voxel_to_world,
-            keys: &[("comments", text.to_string())],
-        })
-        .unwrap();
-        let header = MifHeader::parse(&bytes, "f.mif").unwrap();
-        Image {
-            file: "f.mif".into(),
-            data,
-            voxel_to_world,
-            header: ImageHeader::Mrtrix(Box::new(header)),
-        }
+    let data = ndarray::ArrayD::zeros(ndarray::IxDyn(&[1, 1, 1]));
+    let voxel_to_world =
+        VoxelToWorld::new(DMat4::IDENTITY, AffineSource::Pixdim, "f.mif", "transform").unwrap();
+    let bytes = mif_bytes(&MifWrite {
+        data: &data,
+        voxel_to_world: &voxel_to_world,
+        keys: &[("comments", text.to_string())],
+    })
+    .unwrap();
+    let header = MifHeader::parse(&bytes, "f.mif").unwrap();
+    Image {
+        file: "f.mif".into(),
+        data,
+        voxel_to_world,
+        header: ImageHeader::Mrtrix(Box::new(header)),
     }
+}
 
-    /// What `fit` writes reads back as the basis it was fitted in.
-    #[test]
-    fn fit_descriptions_read_back() {
-        for (basis, legacy) in [
-            (ShBasis::Tournier07, false),
-            (ShBasis::Tournier07, true),
-            (ShBasis::Descoteaux07, false),
-            (ShBasis::Descoteaux07, true),
-        ] {
-            let model = FitModel::Sh {
-                band: 8,
-                basis,
-                legacy,
-                lambda: 0.006,
-            };
-            let recorded = recorded_basis(&commented(&model.description())).unwrap();
-            assert_eq!((recorded.basis, recorded.legacy), (basis, legacy));
-            assert_eq!(recorded.field, "comments");
-        }
-        let tensor = FitModel::Tensor { order: 4 }.description();
-        assert_eq!(recorded_basis(&commented(&tensor)), None);
-        assert_eq!(
-            recorded_basis(&commented("glyphcast fit: SH band 8 fsl")),
-            None
-        );
-    }
+#[cfg(test)]
+mod tests {
+    use super::*;
 
     #[test]
     fn given_and_recorded_must_agree_unless_forced() {
-        let image = commented("glyphcast fit: SH band 4 descoteaux07 lambda 0");
+        let image = commented_image("glyphcast fit: SH band 4 descoteaux07 lambda 0");
         let dipy_new = (ShBasis::Descoteaux07, false);
         let mrtrix = (ShBasis::Tournier07, false);
         assert_eq!(resolve_basis(&image, None, false).unwrap(), dipy_new);
@@ -264,7 +247,7 @@ mod tests {
         assert!(err.starts_with("f.mif: comments: "), "{err}");
         assert_eq!(resolve_basis(&image, Some(mrtrix), true).unwrap(), mrtrix);
         // An MRtrix file without a record is tournier07, and any --basis goes.
-        let plain = commented("made by dwi2fod");
+        let plain = commented_image("made by dwi2fod");
         assert_eq!(resolve_basis(&plain, None, false).unwrap(), mrtrix);
         assert_eq!(
             resolve_basis(&plain, Some(dipy_new), false).unwrap(),

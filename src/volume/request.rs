@@ -15,8 +15,8 @@ use super::recorded::{
 };
 use super::underlay::UnderlayPlacement;
 use crate::error::quoted;
-use crate::fit::parse_basis_choice;
 use crate::glyph::ellipsoid::ELLIPSOID_LAYOUT;
+use crate::glyph::sh::parse_basis_choice;
 use crate::glyph::tensor_order::TensorOrder;
 use crate::glyph::{GlyphShape, Symmetry, TensorLayout};
 use crate::io::image::{Image, ImageHeader, read_image};
@@ -316,7 +316,7 @@ impl VolumeRequest {
             .transpose()
     }
 
-    /// The basis with its legacy choice (aliases name both; see `fit::parse_basis_choice`), if
+    /// The basis with its legacy choice (aliases name both; see `glyph::sh::parse_basis_choice`), if
     /// given.
     pub fn given_basis(&self) -> Result<Option<(ShBasis, bool)>> {
         match self.basis.as_deref() {

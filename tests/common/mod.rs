@@ -56,7 +56,12 @@ pub fn render_and_compare(
     let sets = prepare_scene(scene, settings.offset as f64).expect("preparing the scene");
     let (w, h) = (scene.image.width, scene.image.height);
     let image = renderer
-        .render(gpu, &sets, &scene.camera, w, h, settings)
+        .render_view(
+            gpu,
+            &sets,
+            &glyphcast::FrameView::new(&scene.camera, w, h),
+            settings,
+        )
         .expect("rendering");
     let world: Vec<_> = sets.iter().flat_map(|s| s.world.iter().cloned()).collect();
     let reference = reference_depth(&world, &scene.camera, w, h);
@@ -195,28 +200,32 @@ pub fn expect_failure(args: &[&str], out_dir: &Path, words: &[&str]) -> String {
 /// the ellipsoid and montage tests draw. Fails the test when the fit fails.
 pub fn fit_dti_small_64d(dir: &Path) -> PathBuf {
     let out = dir.join("dti.nii.gz");
-    let (dwi, bval, bvec) = (
-        dipy_data("small_64D.nii"),
-        dipy_data("small_64D.bval"),
-        dipy_data("small_64D.bvec"),
-    );
-    let run = glyphcast(&[
-        "fit",
-        text(&dwi),
-        "--bval",
-        text(&bval),
-        "--bvec",
-        text(&bvec),
-        "--order",
-        "2",
-        "--quiet",
-        "-o",
-        text(&out),
-    ]);
+    let run = fit_small_64d(&["--order", "2", "--quiet"], &out);
     assert!(
         run.status.success(),
         "{}",
         String::from_utf8_lossy(&run.stderr)
     );
     out
+}
+
+/// `glyphcast fit` of DIPY's small_64D (its b-values and b-vectors) with `args` (the
+/// model: `--odf csd`, `--order`, `--basis` ...) into `out`; the run's output.
+pub fn fit_small_64d(args: &[&str], out: &Path) -> Output {
+    let (dwi, bval, bvec) = (
+        dipy_data("small_64D.nii"),
+        dipy_data("small_64D.bval"),
+        dipy_data("small_64D.bvec"),
+    );
+    let mut all = vec![
+        "fit",
+        text(&dwi),
+        "--bval",
+        text(&bval),
+        "--bvec",
+        text(&bvec),
+    ];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["-o", text(out)]);
+    glyphcast(&all)
 }

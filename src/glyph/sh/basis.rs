@@ -9,7 +9,7 @@ use glam::DVec3;
 
 use super::legendre::{q_table, table_index};
 use super::{sh_count, sh_orders};
-use crate::scene::ShBasis;
+use crate::glyph::sh::ShBasis;
 
 /// Which part of (x + iy)^|m| = sin^|m|(theta) e^(i |m| phi) a basis function carries.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -10,7 +10,7 @@ use std::hash::Hash;
 use std::sync::{Arc, Mutex, OnceLock};
 
 use crate::Result;
-use crate::scene::ShBasis;
+use crate::glyph::sh::ShBasis;
 
 /// (band, basis, legacy) as a hashable key (`ShBasis` itself is not `Hash`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

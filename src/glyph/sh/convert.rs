@@ -7,7 +7,7 @@
 use super::basis::{basis_term, signed_order};
 use super::{check_coefficients, sh_index, sh_orders};
 use crate::Result;
-use crate::scene::ShBasis;
+use crate::glyph::sh::ShBasis;
 
 /// The coefficients in basis `to` (basis, legacy) of the series given in `from`.
 pub fn convert_basis(

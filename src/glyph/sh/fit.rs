@@ -14,7 +14,7 @@ use glam::DVec3;
 use nalgebra::DMatrix;
 
 use super::{check_band, sh_basis_values, sh_count, sh_orders};
-use crate::scene::ShBasis;
+use crate::glyph::sh::ShBasis;
 use crate::{Error, Result};
 
 /// Largest accepted condition number (estimate) of the stacked system; above it the

@@ -30,6 +30,7 @@ mod cache;
 mod convert;
 mod fit;
 mod legendre;
+mod names;
 mod rotate;
 mod tensor;
 
@@ -41,6 +42,7 @@ pub use basis::{sh_basis_values, sh_eval};
 pub use convert::{convert_basis, orthonormal_factors};
 pub use fit::ShFitter;
 pub(crate) use legendre::{q_table as legendre_table, table_index as legendre_index};
+pub use names::{ShBasis, parse_basis, parse_basis_choice};
 pub use rotate::rotate_sh;
 pub use tensor::{ShToTensor, sh_to_tensor, sh_to_tensor_matrix};
 

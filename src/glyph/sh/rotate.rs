@@ -13,7 +13,7 @@ use super::cache::{BasisKey, Cache, cached};
 use super::{ShFitter, check_coefficients, sh_count, sh_eval};
 use crate::Result;
 use crate::glyph::rotate::check_orthogonal;
-use crate::scene::ShBasis;
+use crate::glyph::sh::ShBasis;
 
 static FITTERS: Cache<BasisKey, ShFitter> = Cache::new();
 

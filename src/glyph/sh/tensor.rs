@@ -21,7 +21,7 @@ use super::{check_band, check_coefficients, sh_count, sh_index};
 use crate::Result;
 use crate::glyph::homogeneous::Homogeneous;
 use crate::glyph::monomials::symmetric_count;
-use crate::scene::ShBasis;
+use crate::glyph::sh::ShBasis;
 
 /// M of one (band, basis, legacy): `symmetric_count(order)` rows by `sh_count(band)`
 /// columns, row-major. Row k is tensor coefficient k in the scene format's order.

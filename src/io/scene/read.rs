@@ -11,9 +11,9 @@ use crate::Result;
 use crate::camera::{Camera, Projection};
 use crate::glyph::ellipsoid::ELLIPSOID_LAYOUT;
 use crate::glyph::{GlyphShape, NegativeMode, Symmetry, TensorLayout};
+use crate::scene::MAX_IMAGE_SIDE;
 
 use crate::catalog::{MAX_NONSYMMETRIC_ORDER, MAX_SH_BAND, MAX_SYMMETRIC_ORDER};
-const MAX_IMAGE_SIDE: u32 = 16384;
 const DEFAULT_FOV_Y_DEG: f64 = 30.0;
 const DEFAULT_UP: DVec3 = DVec3::Z;
 /// Below this sine of the angle between `up` and the view direction the camera frame

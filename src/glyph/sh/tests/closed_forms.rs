@@ -8,8 +8,8 @@ use std::f64::consts::{PI, SQRT_2};
 use glam::DVec3;
 
 use super::{ALL_BASES, Rng, test_directions};
+use crate::glyph::sh::ShBasis;
 use crate::glyph::sh::{sh_basis_values, sh_count, sh_eval, sh_index, sh_orders};
-use crate::scene::ShBasis;
 
 /// A complex number as (re, im).
 type Complex = (f64, f64);

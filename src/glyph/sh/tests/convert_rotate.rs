@@ -5,9 +5,9 @@ use super::{ALL_BASES, Rng, test_directions};
 use crate::Error;
 use crate::glyph::polynomial::GlyphPolynomial;
 use crate::glyph::rotate::rotate_symmetric_tensor;
+use crate::glyph::sh::ShBasis;
 use crate::glyph::sh::{convert_basis, rotate_sh, sh_count, sh_eval, sh_to_tensor};
 use crate::glyph::{Symmetry, TensorLayout};
-use crate::scene::ShBasis;
 
 fn ok<T>(r: crate::Result<T>) -> T {
     match r {

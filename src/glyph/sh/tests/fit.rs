@@ -5,9 +5,9 @@ use nalgebra::{DMatrix, DVector};
 
 use super::{ALL_BASES, Rng};
 use crate::Error;
+use crate::glyph::sh::ShBasis;
 use crate::glyph::sh::rotate::fibonacci_sphere;
 use crate::glyph::sh::{ShFitter, sh_basis_values, sh_count, sh_orders};
-use crate::scene::ShBasis;
 
 fn fitter(band: u32, basis: ShBasis, legacy: bool, dirs: &[DVec3], lambda: f64) -> ShFitter {
     match ShFitter::new(band, basis, legacy, dirs, lambda) {

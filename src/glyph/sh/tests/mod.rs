@@ -4,7 +4,7 @@
 //! series (`convert_rotate`) and direct solves of the fit (`fit`).
 use glam::{DMat3, DQuat, DVec3};
 
-use crate::scene::ShBasis;
+use crate::glyph::sh::ShBasis;
 
 mod closed_forms;
 mod convert_rotate;

@@ -7,10 +7,10 @@ use super::{ALL_BASES, Rng, test_directions};
 use crate::Error;
 use crate::glyph::monomials::{monomials, multiplicity, symmetric_count};
 use crate::glyph::polynomial::GlyphPolynomial;
+use crate::glyph::sh::ShBasis;
 use crate::glyph::sh::rotate::fibonacci_sphere;
 use crate::glyph::sh::{sh_basis_values, sh_count, sh_eval, sh_to_tensor, sh_to_tensor_matrix};
 use crate::glyph::{Symmetry, TensorLayout};
-use crate::scene::ShBasis;
 
 fn tensor_value(order: u32, t: &[f64], u: glam::DVec3) -> f64 {
     let layout = TensorLayout {

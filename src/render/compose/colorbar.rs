@@ -9,8 +9,11 @@
 //! applies, so the bar's top row is the map's top colour and its bottom row its bottom.
 use ab_glyph::{Font, FontRef, PxScale, ScaleFont};
 
+use crate::camera::Camera;
+use crate::render::compose::labels::{Canvas, dejavu_sans};
 use crate::render::frame::{SceneExtent, magnitude_range};
-use crate::render::labels::{Canvas, dejavu_sans};
+use crate::render::glyph_data::GlyphSetData;
+use crate::render::headless::RenderedImage;
 use crate::render::settings::{ColorMode, RenderSettings};
 use crate::scene::Scene;
 use crate::{Error, Result, Setting};
@@ -120,6 +123,19 @@ impl ColorBar {
         })
     }
 
+    /// The bar of glyphs `sets` seen by `camera` and drawn with `settings`
+    /// ([`ColorBar::of_magnitude`] of their extent): the one the command line and Python
+    /// append to a render.
+    pub fn of_glyphs(
+        settings: &RenderSettings,
+        (sets, camera): (&[GlyphSetData], &Camera),
+        common_scale: Option<f64>,
+        label: Option<&str>,
+    ) -> Option<ColorBar> {
+        let extent = SceneExtent::for_settings(camera, sets, settings);
+        ColorBar::of_magnitude(settings, &extent, common_scale, label)
+    }
+
     fn check(&self) -> Result<()> {
         if !(self.low.is_finite() && self.high.is_finite() && self.high > self.low) {
             return Err(Error::Invalid(format!(
@@ -224,6 +240,20 @@ impl ColorBar {
             depth.extend(std::iter::repeat_n(f32::NAN, strip_row));
         }
         Ok((total, out, depth))
+    }
+
+    /// [`ColorBar::append`] to a rendered image, in place: its width, pixels and depth
+    /// map take the strip.
+    pub fn append_to(&self, image: &mut RenderedImage, background: [f32; 4]) -> Result<()> {
+        let (width, rgba, distance) = self.append(
+            &image.rgba,
+            &image.distance,
+            image.width,
+            image.height,
+            background,
+        )?;
+        (image.width, image.rgba, image.distance) = (width, rgba, distance);
+        Ok(())
     }
 
     /// The strip alone, [`ColorBar::strip_width`] x `height` RGBA pixels (sRGB-encoded as

@@ -3,7 +3,7 @@
 //! the float64 values of f and G they claim to bound.
 use crate::error::{Error, Result};
 use crate::glyph::TensorLayout;
-use crate::render::eval::dispatch;
+use crate::render::harness::eval::dispatch;
 use crate::render::shaders::range_shader;
 use crate::vk::{Buffer, Gpu};
 use ash::vk;

@@ -11,10 +11,7 @@
 //! size (see `HeadlessRenderer::render_view`).
 use crate::error::{Error, Result, Setting};
 use crate::render::settings::srgb_to_linear;
-
-/// The largest image side any render takes, samples included (`--width/--height` stop
-/// at `crate::volume::MAX_SIDE`, 16384; devices commonly stop there too).
-pub const MAX_SUPERSAMPLED_SIDE: u32 = 16384;
+use crate::scene::MAX_IMAGE_SIDE;
 
 /// The supersampling factor s (samples per pixel s^2): 1, 2 or 4; other counts are an
 /// error naming the samples setting.
@@ -32,18 +29,18 @@ pub fn supersampling_factor(samples: u32) -> Result<u32> {
 }
 
 /// The size drawn for `width` x `height` at `factor` (s): an error naming the sizes when
-/// a side would exceed [`MAX_SUPERSAMPLED_SIDE`].
+/// a side would exceed [`MAX_IMAGE_SIDE`].
 pub fn supersampled_size(width: u32, height: u32, factor: u32, samples: u32) -> Result<(u32, u32)> {
     let (w, h) = (width as u64 * factor as u64, height as u64 * factor as u64);
-    if w > MAX_SUPERSAMPLED_SIDE as u64 || h > MAX_SUPERSAMPLED_SIDE as u64 {
+    if w > MAX_IMAGE_SIDE as u64 || h > MAX_IMAGE_SIDE as u64 {
         return Err(Error::setting_value(
             Setting::Samples,
             samples,
             format!(
                 "draws {width} x {height} at {factor} times the size, {w} x {h}, beyond \
-                 {MAX_SUPERSAMPLED_SIDE} pixels per side: ask for fewer samples or a smaller \
+                 {MAX_IMAGE_SIDE} pixels per side: ask for fewer samples or a smaller \
                  image (at most {} pixels per side with {})",
-                MAX_SUPERSAMPLED_SIDE / factor,
+                MAX_IMAGE_SIDE / factor,
                 Setting::Samples.with(samples)
             ),
         ));

@@ -11,14 +11,14 @@
 use crate::Setting;
 use crate::error::{Error, Result};
 use crate::glyph::NegativeMode;
-use crate::render::antialias::MAX_SUPERSAMPLED_SIDE as MAX_SIDE;
-use crate::render::colorbar::srgb_byte;
+use crate::render::compose::colorbar::srgb_byte;
+use crate::render::compose::labels::{draw_caption, draw_edge_labels, edge_labels};
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
-use crate::render::labels::{draw_caption, draw_edge_labels, edge_labels};
 use crate::render::options::{PreparedScene, prepare_render};
 use crate::render::settings::{ColorMode, RenderSettings};
 use crate::render::underlay::Underlay;
+use crate::scene::MAX_IMAGE_SIDE as MAX_SIDE;
 use crate::scene::Scene;
 use crate::vk::Gpu;
 

@@ -1,0 +1,8 @@
+//! CPU image compositing around the GPU passes: supersampling's box filter
+//! (`antialias`), the magnitude colour bar (`colorbar`), text, edge labels and lightbox
+//! captions (`labels`), and the grid of `--views`/`--lightbox` panels (`montage`), which
+//! draws each panel with the headless renderer and lays the pixels out.
+pub mod antialias;
+pub mod colorbar;
+pub mod labels;
+pub mod montage;

@@ -1,0 +1,243 @@
+//! The layering rules of docs/architecture.md, read from the sources: a module may
+//! import only the layers below it. Each rule names the folder and the modules it must
+//! not reach; a `crate::NAME` path anywhere in the folder's files (a `use`, a path in
+//! code, a grouped `use crate::{NAME, ...}`) breaks it.
+use std::collections::BTreeSet;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+/// Every `.rs` file below `dir`.
+fn sources(dir: &Path) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(dir) = stack.pop() {
+        for entry in fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                files.push(path);
+            }
+        }
+    }
+    files.sort();
+    files
+}
+
+fn is_ident(c: char) -> bool {
+    c.is_ascii_alphanumeric() || c == '_'
+}
+
+/// The top-level modules a source names through `crate::`, with the line of each:
+/// `crate::scene::X` gives `scene`, `crate::{scene, Error}` gives `scene` and `Error`.
+fn crate_modules(text: &str) -> Vec<(usize, String)> {
+    let mut found = Vec::new();
+    for (number, line) in text.lines().enumerate() {
+        let code = line.split("//").next().unwrap_or("");
+        let mut rest = code;
+        while let Some(at) = rest.find("crate::") {
+            let start = &rest[at + "crate::".len()..];
+            if let Some(group) = start.strip_prefix('{') {
+                // A grouped import: the top-level names up to the matching brace (one
+                // line is enough here: the grouped imports of a module's root names).
+                let mut depth = 0;
+                let mut name = String::new();
+                for c in group.chars() {
+                    match c {
+                        '{' => depth += 1,
+                        '}' if depth == 0 => break,
+                        '}' => depth -= 1,
+                        ',' if depth == 0 => {
+                            found.push((number + 1, std::mem::take(&mut name)));
+                        }
+                        c if depth == 0 && (is_ident(c) || c == ':') => name.push(c),
+                        _ => {}
+                    }
+                }
+                found.push((number + 1, name));
+            } else {
+                let name: String = start.chars().take_while(|&c| is_ident(c)).collect();
+                found.push((number + 1, name));
+            }
+            rest = start;
+        }
+    }
+    found
+        .into_iter()
+        .map(|(line, path)| (line, path.split("::").next().unwrap_or("").to_string()))
+        .filter(|(_, name)| !name.is_empty())
+        .collect()
+}
+
+/// The places below `folder` that reach one of `forbidden`.
+fn violations(folder: &str, forbidden: &[&str]) -> Vec<String> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut found = Vec::new();
+    for file in sources(&root.join(folder)) {
+        let text = fs::read_to_string(&file).unwrap();
+        for (line, name) in crate_modules(&text) {
+            if forbidden.contains(&name.as_str()) {
+                let shown = file.strip_prefix(root).unwrap().display();
+                found.push(format!("{shown}:{line} imports crate::{name}"));
+            }
+        }
+    }
+    found
+}
+
+#[test]
+fn the_reader_finds_grouped_and_nested_paths() {
+    let text = "use crate::{scene::ShBasis, Error};\nlet x = crate::fit::f(); // crate::io\n";
+    let names: BTreeSet<String> = crate_modules(text).into_iter().map(|(_, n)| n).collect();
+    let expected: BTreeSet<String> = ["scene", "Error", "fit"].map(String::from).into();
+    assert_eq!(names, expected);
+}
+
+/// The float64 mathematics sits below the domain model, the volumes, the passes and the
+/// file formats.
+#[test]
+fn glyph_imports_no_higher_layer() {
+    let found = violations("src/glyph", &["scene", "volume", "fit", "render", "io"]);
+    assert!(found.is_empty(), "{}", found.join("\n"));
+}
+
+/// `fit` writes volumes that `volume` reads: `fit` may use `volume`, never the reverse.
+#[test]
+fn volume_does_not_import_fit() {
+    let found = violations("src/volume", &["fit", "qc"]);
+    assert!(found.is_empty(), "{}", found.join("\n"));
+}
+
+/// The code of every library source below `src/` (comments, the trailing
+/// `#[cfg(test)] mod tests` and the test modules' own files left out), with its path.
+fn library_code() -> Vec<(String, Vec<(usize, String)>)> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    sources(&root.join("src"))
+        .into_iter()
+        .filter(|file| {
+            let is_tests = |part: &std::ffi::OsStr| part == "tests" || part == "tests.rs";
+            !file.strip_prefix(root).unwrap().iter().any(is_tests)
+        })
+        .map(|file| {
+            let text = fs::read_to_string(&file).unwrap();
+            let library = text.split("#[cfg(test)]\nmod tests").next().unwrap_or("");
+            let lines = library
+                .lines()
+                .enumerate()
+                .map(|(n, line)| (n + 1, line.split("//").next().unwrap_or("").to_string()))
+                .collect();
+            let shown = file.strip_prefix(root).unwrap().display().to_string();
+            (shown, lines)
+        })
+        .collect()
+}
+
+/// The code lines of the library that contain `needle`.
+fn code_lines_with(needle: &str) -> Vec<String> {
+    let mut found = Vec::new();
+    for (file, lines) in library_code() {
+        for (number, code) in lines {
+            if code.contains(needle) {
+                found.push(format!("{file}:{number}: {}", code.trim()));
+            }
+        }
+    }
+    found
+}
+
+/// The largest image side is one constant, `scene::MAX_IMAGE_SIDE`; every check names it.
+#[test]
+fn largest_image_side_is_written_once() {
+    let found = code_lines_with("16384");
+    assert_eq!(found.len(), 1, "{}", found.join("\n"));
+    assert!(found[0].starts_with("src/scene.rs"), "{}", found[0]);
+}
+
+/// The device's limits are read once, into `DeviceContext`; everything else asks it.
+#[test]
+fn device_limits_are_read_in_the_device_context() {
+    let found: Vec<String> = code_lines_with(".limits")
+        .into_iter()
+        .filter(|line| !line.starts_with("src/vk/context.rs"))
+        .collect();
+    assert!(found.is_empty(), "{}", found.join("\n"));
+}
+
+/// `build.rs` stays a short main over the manifest (`build/manifest.rs`) and the
+/// generator (`build/table.rs`): the table's formatting lives in the generator.
+#[test]
+fn build_script_main_is_short() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = fs::read_to_string(root.join("build.rs")).unwrap();
+    let start = text.find("\nfn main() {").expect("build.rs has a main");
+    let body = &text[start + 1..];
+    let end = body
+        .find("\n}\n")
+        .expect("main ends with a closing brace at column 0");
+    let lines = body[..end].lines().count() + 1;
+    assert!(lines <= 60, "build.rs main is {lines} lines, at most 60");
+}
+
+/// The embedding examples compile their own shaders: no example shader in the library's
+/// shader table, nor in the library.
+#[test]
+fn library_shader_table_has_no_example_shaders() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = sources(&root.join("build"));
+    files.push(root.join("build.rs"));
+    files.extend(sources(&root.join("src")));
+    for file in files {
+        let text = fs::read_to_string(&file).unwrap().to_ascii_lowercase();
+        assert!(
+            !text.contains("example_plane") && !text.contains("examples/shaders"),
+            "{} builds or names an example's shader",
+            file.display()
+        );
+    }
+    let glsl: Vec<String> = fs::read_dir(root.join("glsl"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|name| name.starts_with("example"))
+        .collect();
+    assert!(glsl.is_empty(), "example shaders in glsl/: {glsl:?}");
+}
+
+/// `render/` holds the GPU passes; the CPU compositing of their images lives in
+/// `render/compose/` and the doc-hidden GLSL harnesses in `render/harness/`.
+#[test]
+fn render_keeps_each_kind_in_its_folder() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/render");
+    for (folder, files) in [
+        (
+            "compose",
+            &["antialias", "colorbar", "labels", "montage"][..],
+        ),
+        ("harness", &["eval", "range_eval"][..]),
+    ] {
+        for name in files {
+            let file = format!("{name}.rs");
+            assert!(root.join(folder).join(&file).is_file(), "{folder}/{file}");
+            assert!(
+                !root.join(&file).exists(),
+                "render/{file} belongs in {folder}/"
+            );
+        }
+    }
+}
+
+/// The colour bar is made from glyphs in one place (`ColorBar::of_glyphs`); only the
+/// viewer, which knows its panel's extent, calls `of_magnitude` itself.
+#[test]
+fn the_colour_bar_is_made_in_one_place() {
+    let found: Vec<String> = code_lines_with("ColorBar::of_magnitude(")
+        .into_iter()
+        .chain(code_lines_with(".append(&image.rgba"))
+        .filter(|line| !line.starts_with("src/render/compose/colorbar.rs"))
+        .collect();
+    assert!(found.len() <= 1, "{}", found.join("\n"));
+    assert!(
+        found.iter().all(|l| l.starts_with("src/viewer/")),
+        "{}",
+        found.join("\n")
+    );
+}
