@@ -145,11 +145,7 @@ pub(super) fn run(args: &FitArgs, model: &FitModel, convention: BvecConvention) 
         csd,
     };
     let glyphcast_order = TensorOrder::Glyphcast;
-    let basis_text = format!(
-        "{}{}",
-        basis.name(),
-        if legacy { " legacy" } else { "" }
-    );
+    let basis_text = format!("{}{}", basis.name(), if legacy { " legacy" } else { "" });
     let tissue_description =
         |tissue: &str| format!("glyphcast fit: SH band 0 {basis_text} msmt {tissue} ODF");
     let files = [
