@@ -67,11 +67,17 @@ impl Xvfb {
 
     /// Runs `glyphcast view` with `args` on this display, validation on.
     pub fn view(&self, args: &[&str]) -> Output {
+        self.view_with_env(args, &[])
+    }
+
+    /// [`Xvfb::view`] with extra environment variables (GLYPHCAST_SYNC_VALIDATION=1).
+    pub fn view_with_env(&self, args: &[&str], env: &[(&str, &str)]) -> Output {
         let output = Command::new(BIN)
             .arg("view")
             .args(args)
             .arg("--validation")
             .env("DISPLAY", &self.display)
+            .envs(env.iter().copied())
             .output()
             .expect("running glyphcast view");
         let stderr = String::from_utf8_lossy(&output.stderr);
