@@ -402,7 +402,7 @@ fn two_frames_in_flight_stay_clean_under_synchronization_validation() {
         "--frames",
         "5",
         "--script",
-        "slice:+1,orbit:10:0",
+        "wait,slice:+1,orbit:10:0",
         "--screenshot",
         path_str(&shot),
         "--capture-window",
