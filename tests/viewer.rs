@@ -393,9 +393,17 @@ fn two_frames_in_flight_stay_clean_under_synchronization_validation() {
     // what they show.
     let one = out("in-flight-one-window.png");
     let mut single = args.clone();
-    let at = single.iter().position(|a| *a == "--frames-in-flight").expect("the option") + 1;
+    let at = single
+        .iter()
+        .position(|a| *a == "--frames-in-flight")
+        .expect("the option")
+        + 1;
     single[at] = "1";
-    let at = single.iter().position(|a| *a == "--capture-window").expect("the option") + 1;
+    let at = single
+        .iter()
+        .position(|a| *a == "--capture-window")
+        .expect("the option")
+        + 1;
     single[at] = path_str(&one);
     let output = x.view(&single);
     assert_clean(&output);
@@ -405,7 +413,10 @@ fn two_frames_in_flight_stay_clean_under_synchronization_validation() {
 
     // A montage with the colour bar: every slot's offscreen target and strip buffer,
     // through a slice step, under synchronization validation too.
-    let (shot, window) = (out("in-flight-views-shot.png"), out("in-flight-views-window.png"));
+    let (shot, window) = (
+        out("in-flight-views-shot.png"),
+        out("in-flight-views-window.png"),
+    );
     let mut args = sh.to_vec();
     args.extend([
         "--views",

@@ -10,8 +10,8 @@ use super::layout::WindowLayout;
 use super::orbit;
 use super::panels::Panels;
 use super::presenter::{Outcome, Presenter};
-use crate::render::headless::HeadlessRenderer;
 use crate::render::component::UploadedGlyphs;
+use crate::render::headless::HeadlessRenderer;
 use crate::render::peaks::PeaksGpu;
 use crate::render::settings::{RenderSettings, STEP_RANGE};
 use crate::render::shaders::methods_for;
@@ -110,7 +110,9 @@ pub fn run(mut panels: Panels, options: ViewerOptions) -> Result<()> {
     let mut app = App {
         scene_gpu: (0..count).map(|_| None).collect(),
         uploaded: vec![None; count],
-        peaks_gpu: (0..slots).map(|_| (0..count).map(|_| None).collect()).collect(),
+        peaks_gpu: (0..slots)
+            .map(|_| (0..count).map(|_| None).collect())
+            .collect(),
         peaks_uploaded: vec![vec![None; count]; slots],
         replaced: (0, 0),
         underlay_gpu: None,
@@ -234,9 +236,8 @@ impl App {
         let settings = self.panels.frame_settings();
         // SAFETY: the window lives in `self.window`, declared after the presenter, so it
         // outlives the surface; the Gpu was created for this event loop's display.
-        let presenter = unsafe {
-            Presenter::new(&self.gpu, (display, handle), unthrottled, slots, &settings)?
-        };
+        let presenter =
+            unsafe { Presenter::new(&self.gpu, (display, handle), unthrottled, slots, &settings)? };
         self.presenter = Some(presenter);
         self.window = Some(window);
         Ok(())
@@ -556,9 +557,11 @@ impl App {
                 let frame = panel.frame_params_with(extent.width, extent.height, &settings);
                 // This slot's previous frame completed: its old copy is free.
                 self.peaks_gpu[slot][k] = match &panel.peaks {
-                    Some(peaks) => presenter
-                        .peaks_pass()
-                        .upload(self.gpu.context(), peaks, &frame)?,
+                    Some(peaks) => {
+                        presenter
+                            .peaks_pass()
+                            .upload(self.gpu.context(), peaks, &frame)?
+                    }
                     None => None,
                 };
                 *peaks_version = Some(panel.version);

@@ -10,9 +10,9 @@
 //! The strip is drawn on the CPU (`render::colorbar`, the pixels `render --colorbar`
 //! appends) and copied in from a host-visible buffer, byte for byte.
 use crate::error::{Error, Result};
+use crate::render::component::UploadedGlyphs;
 use crate::render::frame::FrameParams;
 use crate::render::peaks::PeaksGpu;
-use crate::render::component::UploadedGlyphs;
 use crate::render::underlay::{UnderlayGpu, UnderlayPlane};
 use crate::vk::recording::{
     COLOR_OUTPUT, COPY_READ, COPY_WRITE, DEPTH_TESTS, buffer_to_color_region,

@@ -302,6 +302,23 @@ impl Presenter {
                 peaks.set_frame(&panel.frame)?;
             }
         }
+        self.stage(slot, panels, strip.as_ref(), (format, extent), capture)?;
+        let strip = strip.map(|s| s.rect);
+        self.record(slot, index, panels, strip, settings, capture)?;
+        self.submit_and_present(slot, index)?;
+        Ok(Outcome::Presented { extent })
+    }
+
+    /// Makes `slot`'s offscreen target fit the copied panels, stages the strip's pixels
+    /// and makes the capture buffer, for a swapchain of `format` and `extent`.
+    fn stage(
+        &mut self,
+        slot: usize,
+        panels: &[PanelDraw],
+        strip: Option<&StripDraw>,
+        (format, extent): (vk::Format, vk::Extent2D),
+        capture: bool,
+    ) -> Result<()> {
         let frame = &mut self.slots[slot];
         let largest = panels
             .iter()
@@ -316,7 +333,7 @@ impl Presenter {
                 .composer
                 .ensure_target(&self.ctx, format, DEPTH_FORMAT, target)?;
         }
-        if let Some(strip) = &strip {
+        if let Some(strip) = strip {
             let bgra = matches!(
                 format,
                 vk::Format::B8G8R8A8_SRGB | vk::Format::B8G8R8A8_UNORM
@@ -326,10 +343,15 @@ impl Presenter {
         if capture {
             frame.ensure_capture(extent)?;
         }
-        let strip = strip.map(|s| s.rect);
-        self.record(slot, index, panels, strip, settings, capture)?;
+        Ok(())
+    }
+
+    /// Submits `slot`'s recorded frame (waiting for its image to be acquired, signalling
+    /// the image's render-finished semaphore and the slot's fence) and presents image
+    /// `index`; the next frame goes to the next slot.
+    fn submit_and_present(&mut self, slot: usize, index: u32) -> Result<()> {
         let (Some(swapchain), frame) = (self.swapchain.as_ref(), &mut self.slots[slot]) else {
-            return Ok(Outcome::Skipped);
+            return Ok(());
         };
         let wait = [vk::SemaphoreSubmitInfo::default()
             .semaphore(frame.acquired)
@@ -346,9 +368,7 @@ impl Presenter {
         // SAFETY: the fence is signalled (begin_frame waited for it) and reused by this
         // submission; the command buffer is recorded; the semaphores are ours.
         unsafe {
-            device
-                .reset_fences(&[frame.done])
-                .vk("vkResetFences")?;
+            device.reset_fences(&[frame.done]).vk("vkResetFences")?;
             device
                 .queue_submit2(self.queue, &submit, frame.done)
                 .vk("vkQueueSubmit2")?;
@@ -359,7 +379,7 @@ impl Presenter {
         if !swapchain.present(self.queue, index)? {
             self.stale = true;
         }
-        Ok(Outcome::Presented { extent })
+        Ok(())
     }
 
     /// Waits for every frame in flight (the end of a scripted run, before reading its
@@ -406,8 +426,7 @@ impl Presenter {
         capture: bool,
     ) -> Result<()> {
         let frame = &self.slots[slot];
-        let (Some(swapchain), Some(depth)) = (self.swapchain.as_ref(), frame.depth.as_ref())
-        else {
+        let (Some(swapchain), Some(depth)) = (self.swapchain.as_ref(), frame.depth.as_ref()) else {
             return Ok(());
         };
         let (d, cmd) = (self.ctx.device(), frame.cmd);

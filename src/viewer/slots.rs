@@ -58,9 +58,7 @@ impl FrameSlot {
                 device
                     .create_semaphore(&vk::SemaphoreCreateInfo::default(), None)
                     .vk("vkCreateSemaphore")?,
-                device
-                    .create_fence(&signalled, None)
-                    .vk("vkCreateFence")?,
+                device.create_fence(&signalled, None).vk("vkCreateFence")?,
             )
         };
         Ok(FrameSlot {
@@ -95,8 +93,8 @@ impl FrameSlot {
     /// Whether this slot's last submission is still on the GPU.
     pub fn in_flight(&self) -> Result<bool> {
         // SAFETY: the fence belongs to this device.
-        let signalled = unsafe { self.ctx.device().get_fence_status(self.done) }
-            .vk("vkGetFenceStatus")?;
+        let signalled =
+            unsafe { self.ctx.device().get_fence_status(self.done) }.vk("vkGetFenceStatus")?;
         Ok(!signalled)
     }
 
