@@ -633,7 +633,7 @@ impl App {
                 presenter.frames_in_flight(),
                 replaced.0,
                 replaced.1,
-                presenter.glyphs_mut().retired_count()
+                presenter.glyphs().retired_count()
             );
         }
         if let Some(path) = self.options.capture_window.clone() {

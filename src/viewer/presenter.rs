@@ -154,6 +154,11 @@ impl Presenter {
         &mut self.glyphs
     }
 
+    /// The glyph renderer (its retired uploads, its pass).
+    pub fn glyphs(&self) -> &GlyphRenderer {
+        &self.glyphs
+    }
+
     /// How many frames may be in flight.
     pub fn frames_in_flight(&self) -> usize {
         self.slots.len()
