@@ -118,11 +118,11 @@
 //! `examples/embed/` is a complete engine in plain ash with its own ground plane, frames
 //! in flight, MSAA and either depth convention, tested under synchronization validation
 //! against the headless renderer, which draws its ray-cast glyphs through the same
-//! [`GlyphRenderer`]. An engine that does not use gpu-allocator gives glyphcast its own
+//! [`GlyphRenderer`], as the viewer does with 2 frames in flight. An engine that does not use gpu-allocator gives glyphcast its own
 //! memory with [`DeviceContext::with_memory`] and a [`vk::MemoryAllocator`]. The
 //! lower-level [`RayCastPass`](render::raycast::RayCastPass) (pipelines) and
 //! [`SceneGpu`](render::raycast::SceneGpu) (uploaded glyphs with one frame block per
-//! frame in flight) are what the renderer and the viewer are built on.
+//! frame in flight) are what the component is built on.
 pub mod accuracy;
 pub mod bench;
 pub mod camera;

@@ -316,3 +316,145 @@ fn the_underlay_moves_with_the_slice() {
         "the underlay did not move with the slice"
     );
 }
+
+/// The frames-in-flight statistics a scripted run prints at its end: frames in flight,
+/// glyph uploads replaced, retired uploads still held.
+fn in_flight_stats(stderr: &str) -> (usize, u32, usize) {
+    let line = stderr
+        .lines()
+        .find(|l| l.starts_with("frames in flight: "))
+        .unwrap_or_else(|| panic!("no frames-in-flight line in {stderr}"));
+    let numbers: Vec<usize> = line
+        .split(|c: char| !c.is_ascii_digit())
+        .filter(|s| !s.is_empty())
+        .map(|s| s.parse().expect("a count"))
+        .collect();
+    // "frames in flight: N; glyph uploads replaced: R (F while ...), retired ...: H"
+    assert_eq!(numbers.len(), 4, "{line}");
+    (numbers[0], numbers[1] as u32, numbers[3])
+}
+
+/// The window with 2 frames in flight (every viewer test runs under synchronization
+/// validation, `Xvfb::view`): glyphs replaced by a slice step and a method switch are
+/// retired, not waited for, and freed once both slots have begun again; what it shows is
+/// the headless render of the scene as shown, in a single view and in a montage with the
+/// colour bar.
+#[test]
+fn two_frames_in_flight_stay_clean_under_synchronization_validation() {
+    let Some(x) = Xvfb::start("two_frames_in_flight_stay_clean_under_synchronization_validation")
+    else {
+        return;
+    };
+    let volume = data("tests/data/dipy/func_coef.nii.gz");
+    let sh = ["--sh", volume.as_str(), "--basis", "tournier07", "--legacy"];
+    let (shot, window, seen) = (
+        out("in-flight-shot.png"),
+        out("in-flight-window.png"),
+        out("in-flight-scene.json"),
+    );
+    // A slice step and a method switch each replace the glyphs while the previous frame
+    // (the other slot's) may still be in flight; the camera moves between them, so every
+    // frame writes its own slot's frame block.
+    let mut args = sh.to_vec();
+    args.extend([
+        "--width",
+        "160",
+        "--height",
+        "120",
+        "--frames-in-flight",
+        "2",
+        "--frames",
+        "8",
+        "--script",
+        "orbit:20:10,slice:+1,zoom:0.9,method:fixed,pan:3:-2",
+        "--screenshot",
+        path_str(&shot),
+        "--capture-window",
+        path_str(&window),
+        "--save-scene",
+        path_str(&seen),
+    ]);
+    let output = x.view(&args);
+    assert_clean(&output);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let (in_flight, replaced, held) = in_flight_stats(&stderr);
+    assert_eq!(in_flight, 2);
+    // The slice step and the method switch went through the renderer's retirement; by
+    // the end every slot has begun frames since, so no retired upload is left.
+    assert_eq!(replaced, 2, "{stderr}");
+    assert_eq!(held, 0, "{stderr}");
+    // The scene as shown, rendered headless, is the screenshot, and the window drawn
+    // with 2 frames in flight showed it.
+    let expected = render(&seen, "in-flight-render.png", &["--method", "fixed"]);
+    assert_eq!(differing_pixels(&shot, &expected, 0).0, 0);
+    assert_window_matches(&window, &expected);
+
+    // One frame in flight draws the same: the slot count changes when frames wait, not
+    // what they show.
+    let one = out("in-flight-one-window.png");
+    let mut single = args.clone();
+    let at = single
+        .iter()
+        .position(|a| *a == "--frames-in-flight")
+        .expect("the option")
+        + 1;
+    single[at] = "1";
+    let at = single
+        .iter()
+        .position(|a| *a == "--capture-window")
+        .expect("the option")
+        + 1;
+    single[at] = path_str(&one);
+    let output = x.view(&single);
+    assert_clean(&output);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(in_flight_stats(&stderr), (1, 2, 0), "{stderr}");
+    assert_eq!(differing_pixels(&one, &window, 0).0, 0);
+
+    // A montage with the colour bar: every slot's offscreen target and strip buffer,
+    // through a slice step, under synchronization validation too.
+    let (shot, window) = (
+        out("in-flight-views-shot.png"),
+        out("in-flight-views-window.png"),
+    );
+    let mut args = sh.to_vec();
+    args.extend([
+        "--views",
+        "axial,coronal",
+        "--width",
+        "96",
+        "--height",
+        "96",
+        "--color",
+        "magnitude",
+        "--colorbar",
+        "--frames",
+        "5",
+        "--script",
+        "wait,slice:+1,orbit:10:0",
+        "--screenshot",
+        path_str(&shot),
+        "--capture-window",
+        path_str(&window),
+    ]);
+    let output = x.view(&args);
+    assert_clean(&output);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(in_flight_stats(&stderr), (2, 1, 0), "{stderr}");
+    assert_window_matches(&window, &shot);
+}
+
+#[test]
+fn frames_in_flight_out_of_range_is_a_usage_error() {
+    for n in ["0", "5"] {
+        let output = Command::new(BIN)
+            .args(["view", &data("tests/scenes/sphere.json"), "--frames", "1"])
+            .args(["--frames-in-flight", n])
+            .env_remove("DISPLAY")
+            .output()
+            .expect("running glyphcast view");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{n}: {stderr}");
+        assert!(stderr.contains("--frames-in-flight"), "{n}: {stderr}");
+    }
+}

@@ -33,6 +33,11 @@ pub struct ViewArgs {
     /// the swapchain).
     #[arg(long, value_name = "PNG", help_heading = "Scripted runs")]
     pub capture_window: Option<PathBuf>,
+    /// Frames the window records ahead of the GPU (1 to 4): each waits only for the frame
+    /// that used its slot before.
+    #[arg(long, value_name = "N", default_value_t = glyphcast::viewer::FRAMES_IN_FLIGHT,
+          value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=4))]
+    pub frames_in_flight: usize,
 }
 
 pub fn run(args: &ViewArgs) -> Result<()> {
@@ -83,6 +88,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         capture_window: args.capture_window.clone(),
         save_scene: args.source.save_scene().map(PathBuf::from),
         underlay,
+        frames_in_flight: args.frames_in_flight,
     };
     glyphcast::viewer::run(source, options)
 }

@@ -17,7 +17,9 @@
 //! ([`UploadedGlyphs::set_frame`]) and records them with
 //! [`GlyphRenderer::record_glyphs`], which is what [`GlyphRenderer::record`] calls for the
 //! renderer's current glyphs. Glyphs held that way are retired with
-//! [`GlyphRenderer::retire`] like replaced ones.
+//! [`GlyphRenderer::retire`] like replaced ones. The viewer does the same with 2 frames
+//! in flight (`viewer::presenter`): its panels' glyphs are [`UploadedGlyphs`], each frame
+//! slot writes its own frame block, and a slice step retires the old glyphs.
 use crate::error::{Error, Result};
 use crate::glyph::{GlyphShape, TensorLayout};
 use crate::render::frame::FrameParams;

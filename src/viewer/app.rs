@@ -10,8 +10,9 @@ use super::layout::WindowLayout;
 use super::orbit;
 use super::panels::Panels;
 use super::presenter::{Outcome, Presenter};
+use crate::render::component::UploadedGlyphs;
 use crate::render::headless::HeadlessRenderer;
-use crate::render::raycast::SceneGpu;
+use crate::render::peaks::PeaksGpu;
 use crate::render::settings::{RenderSettings, STEP_RANGE};
 use crate::render::shaders::methods_for;
 use crate::vk::Gpu;
@@ -50,11 +51,17 @@ struct App {
     // Declaration order is drop order: the presenter (its surface) before the window it
     // presents to. GPU objects keep the device alive themselves, so the Gpu may go at
     // any point.
-    /// Each panel's glyphs on the GPU, and the version of its content they hold.
-    scene_gpu: Vec<Option<SceneGpu>>,
-    /// Each panel's peaks on the GPU, uploaded with its glyphs.
-    peaks_gpu: Vec<Option<crate::render::peaks::PeaksGpu>>,
-    uploaded: Vec<Option<u64>>,
+    /// Each panel's glyphs on the GPU, shared by every frame in flight, and the version
+    /// of its content and the method they were uploaded for.
+    scene_gpu: Vec<Option<UploadedGlyphs>>,
+    uploaded: Vec<Option<(u64, crate::render::Method)>>,
+    /// Per frame slot, each panel's peaks on the GPU (a peak set holds one frame block,
+    /// so each slot has its own copy) and the version of its content they hold.
+    peaks_gpu: Vec<Vec<Option<PeaksGpu>>>,
+    peaks_uploaded: Vec<Vec<Option<u64>>>,
+    /// Glyph uploads replaced (slice moves, method switches), and how many of those
+    /// replacements happened while another frame was still on the GPU.
+    replaced: (u32, u32),
     /// The underlay's volume on the GPU (uploaded once, again when the pass is rebuilt).
     underlay_gpu: Option<crate::render::underlay::UnderlayGpu>,
     headless: Option<HeadlessRenderer>,
@@ -99,10 +106,15 @@ pub fn run(mut panels: Panels, options: ViewerOptions) -> Result<()> {
         eprintln!("{HELP}");
     }
     let count = panels.panels.len();
+    let slots = options.frames_in_flight();
     let mut app = App {
         scene_gpu: (0..count).map(|_| None).collect(),
-        peaks_gpu: (0..count).map(|_| None).collect(),
         uploaded: vec![None; count],
+        peaks_gpu: (0..slots)
+            .map(|_| (0..count).map(|_| None).collect())
+            .collect(),
+        peaks_uploaded: vec![vec![None; count]; slots],
+        replaced: (0, 0),
         underlay_gpu: None,
         headless: None,
         presenter: None,
@@ -220,9 +232,12 @@ impl App {
             .map_err(|e| Error::Setup(format!("no window handle: {e}")))?
             .as_raw();
         let unthrottled = self.options.frames.is_some();
+        let slots = self.options.frames_in_flight();
+        let settings = self.panels.frame_settings();
         // SAFETY: the window lives in `self.window`, declared after the presenter, so it
         // outlives the surface; the Gpu was created for this event loop's display.
-        let presenter = unsafe { Presenter::new(&self.gpu, display, handle, unthrottled)? };
+        let presenter =
+            unsafe { Presenter::new(&self.gpu, (display, handle), unthrottled, slots, &settings)? };
         self.presenter = Some(presenter);
         self.window = Some(window);
         Ok(())
@@ -445,7 +460,10 @@ impl App {
         let Some(extent) = presenter.extent() else {
             return Ok(());
         };
-        self.upload(rebuilt, extent)?;
+        // Only this slot's previous frame is waited for; the other slots' frames may
+        // still be on the GPU while this one is uploaded and recorded.
+        let (slot, gpu_ms) = presenter.begin_frame()?;
+        self.upload(rebuilt, extent, slot)?;
         let layout = self.layout(extent)?;
         let Some(presenter) = self.presenter.as_mut() else {
             return Ok(());
@@ -457,14 +475,18 @@ impl App {
             .zip(self.panels.first().underlay.as_ref())
             .map(|(volume, u)| (volume, u.planes.as_slice()));
         let mut draws = Vec::with_capacity(self.scene_gpu.len());
-        let on_gpu = self.scene_gpu.iter_mut().zip(self.peaks_gpu.iter_mut());
-        for (k, (scene, peaks)) in on_gpu.enumerate() {
-            let (Some(scene), Some(cell)) = (scene.as_mut(), layout.cell(k)) else {
+        let slot_peaks = self.peaks_gpu.get_mut(slot).map(Vec::as_mut_slice);
+        let on_gpu = self
+            .scene_gpu
+            .iter_mut()
+            .zip(slot_peaks.unwrap_or_default().iter_mut());
+        for (k, (glyphs, peaks)) in on_gpu.enumerate() {
+            let (Some(glyphs), Some(cell)) = (glyphs.as_mut(), layout.cell(k)) else {
                 continue;
             };
             let (w, h) = (cell.extent.width, cell.extent.height);
             draws.push(PanelDraw {
-                scene,
+                glyphs,
                 underlay: if k == 0 { underlay } else { None },
                 peaks: peaks.as_mut(),
                 frame: self.panels.frame_params(k, w, h, &settings),
@@ -477,10 +499,9 @@ impl App {
             .zip(layout.strip_rect())
             .map(|(rgba, rect)| StripDraw { rgba, rect });
         let capture = self.options.capture_window.is_some();
-        let outcome = presenter.render(&self.gpu, &mut draws, strip, &settings, capture)?;
-        // Waiting here keeps one frame in flight and gives this frame's GPU time at once;
-        // rendering is on demand, so there is little overlap to lose.
-        let gpu_ms = presenter.wait_previous()?;
+        // Not waited for: the next frame in this slot waits (begin_frame), and the GPU
+        // time shown is that of the slot's previous frame.
+        let outcome = presenter.render(slot, &mut draws, strip, &settings, capture)?;
         match outcome {
             Outcome::Presented { extent } => {
                 self.presented += 1;
@@ -496,14 +517,20 @@ impl App {
         Ok(())
     }
 
-    /// Uploads the underlay and each panel's glyphs where they changed, or all of them
-    /// when the pass was `rebuilt` for a new colour format.
-    fn upload(&mut self, rebuilt: bool, extent: vk::Extent2D) -> Result<()> {
+    /// Uploads the underlay and each panel's glyphs where they changed (content or
+    /// method), or all of them when the passes were `rebuilt` for a new colour format,
+    /// and `slot`'s copy of each panel's peaks. Replaced glyphs are retired through the
+    /// glyph renderer, never waited for: they are dropped once every slot has begun a
+    /// frame since.
+    fn upload(&mut self, rebuilt: bool, extent: vk::Extent2D, slot: usize) -> Result<()> {
         let Some(presenter) = self.presenter.as_mut() else {
             return Ok(());
         };
         if rebuilt {
             self.underlay_gpu = None;
+            for versions in &mut self.peaks_uploaded {
+                versions.fill(None);
+            }
         }
         if let (Some(underlay), None) = (&self.panels.first().underlay, &self.underlay_gpu) {
             let pass = presenter.underlay_pass();
@@ -511,26 +538,34 @@ impl App {
         }
         let settings = self.panels.frame_settings();
         for (k, panel) in self.panels.panels.iter().enumerate() {
-            if !rebuilt && self.uploaded[k] == Some(panel.version) {
-                continue;
+            let wanted = Some((panel.version, settings.method));
+            if rebuilt || self.uploaded[k] != wanted {
+                // Glyphs keep the method they were uploaded for: a switch uploads again.
+                let glyphs = presenter.glyphs_mut().upload(&panel.sets, &settings)?;
+                if let Some(old) = self.scene_gpu[k].replace(glyphs) {
+                    self.replaced.0 += 1;
+                    if presenter.others_in_flight(slot)? {
+                        self.replaced.1 += 1;
+                    }
+                    presenter.glyphs_mut().retire(old);
+                }
+                self.uploaded[k] = wanted;
             }
-            self.scene_gpu[k] = None;
-            // The frame block is written again before each frame, for the panel's cell.
-            let frame = panel.frame_params_with(extent.width, extent.height, &settings);
-            let scene = presenter.pass_mut().upload(
-                self.gpu.context(),
-                &panel.sets,
-                &frame,
-                settings.method,
-            )?;
-            self.scene_gpu[k] = Some(scene);
-            self.peaks_gpu[k] = match &panel.peaks {
-                Some(peaks) => presenter
-                    .peaks_pass()
-                    .upload(self.gpu.context(), peaks, &frame)?,
-                None => None,
-            };
-            self.uploaded[k] = Some(panel.version);
+            let peaks_version = &mut self.peaks_uploaded[slot][k];
+            if *peaks_version != Some(panel.version) {
+                // The frame block is written again before each frame, for the cell.
+                let frame = panel.frame_params_with(extent.width, extent.height, &settings);
+                // This slot's previous frame completed: its old copy is free.
+                self.peaks_gpu[slot][k] = match &panel.peaks {
+                    Some(peaks) => {
+                        presenter
+                            .peaks_pass()
+                            .upload(self.gpu.context(), peaks, &frame)?
+                    }
+                    None => None,
+                };
+                *peaks_version = Some(panel.version);
+            }
         }
         Ok(())
     }
@@ -588,6 +623,18 @@ impl App {
                 )));
             }
             return Ok(());
+        }
+        if let Some(presenter) = self.presenter.as_mut() {
+            presenter.wait_all()?;
+            let replaced = self.replaced;
+            eprintln!(
+                "frames in flight: {}; glyph uploads replaced: {} ({} while another frame was \
+                 on the GPU), retired ones still held: {}",
+                presenter.frames_in_flight(),
+                replaced.0,
+                replaced.1,
+                presenter.glyphs().retired_count()
+            );
         }
         if let Some(path) = self.options.capture_window.clone() {
             let capture = self
@@ -649,6 +696,14 @@ impl App {
             started.elapsed().as_secs_f64() * 1e3
         );
         Ok(())
+    }
+}
+
+impl Drop for App {
+    /// Frames may still be in flight when the event loop ends (a closed window, an
+    /// error): they are waited for before the glyphs, peaks and underlay they read go.
+    fn drop(&mut self) {
+        let _ = self.gpu.wait_idle();
     }
 }
 

@@ -10,9 +10,9 @@
 //! The strip is drawn on the CPU (`render::compose::colorbar`, the pixels `render --colorbar`
 //! appends) and copied in from a host-visible buffer, byte for byte.
 use crate::error::{Error, Result};
+use crate::render::component::UploadedGlyphs;
 use crate::render::frame::FrameParams;
 use crate::render::peaks::PeaksGpu;
-use crate::render::raycast::SceneGpu;
 use crate::render::underlay::{UnderlayGpu, UnderlayPlane};
 use crate::vk::recording::{
     COLOR_OUTPUT, COPY_READ, COPY_WRITE, DEPTH_TESTS, buffer_to_color_region,
@@ -23,9 +23,9 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 /// One panel of a frame: its glyphs (and underlay), its frame block and its cell of the
-/// window.
+/// window. The peaks are the frame slot's own copy (a peak set has one frame block).
 pub struct PanelDraw<'a> {
-    pub scene: &'a mut SceneGpu,
+    pub glyphs: &'a mut UploadedGlyphs,
     pub underlay: Option<(&'a UnderlayGpu, &'a [UnderlayPlane])>,
     /// Its fibre peaks, if any.
     pub peaks: Option<&'a mut PeaksGpu>,
@@ -49,7 +49,8 @@ pub struct StripDraw<'a> {
     pub rect: vk::Rect2D,
 }
 
-/// The offscreen target of the panels that are copied, and the strip's staging buffer.
+/// The offscreen target of the panels that are copied, and the strip's staging buffer:
+/// one per frame in flight (`slots`), since a frame writes both.
 #[derive(Default)]
 pub struct Composer {
     target: Option<(Image, Image)>,
@@ -101,7 +102,7 @@ impl Composer {
     }
 
     /// Puts the strip's pixels into the staging buffer, in the swapchain's byte order
-    /// (`bgra`: blue first). The previous frame has completed, so the buffer is free.
+    /// (`bgra`: blue first). The slot's previous frame has completed, so the buffer is free.
     pub fn stage_strip(&mut self, ctx: &DeviceContext, rgba: &[u8], bgra: bool) -> Result<()> {
         let bytes = rgba.len() as u64;
         if self.strip.as_ref().is_none_or(|b| b.size < bytes) {
@@ -186,7 +187,8 @@ impl Composer {
             .color_attachments(&color_attachment)
             .depth_attachment(&depth_attachment);
         // SAFETY: `cmd` is recording outside rendering; the target and `image` live until
-        // the frame completes (the presenter waits for it before dropping either).
+        // the frame completes (the presenter waits for its slot before reusing or dropping
+        // either).
         unsafe {
             d.cmd_pipeline_barrier2(
                 cmd,

@@ -1,13 +1,17 @@
 //! The interactive viewer (`glyphcast view`): a winit window with a Vulkan swapchain,
-//! drawn by the same [`RayCastPass`](crate::render::raycast::RayCastPass) as everything
-//! else, recorded into the window's command buffer with no distance attachment.
+//! drawn through the engine component
+//! [`GlyphRenderer`](crate::render::component::GlyphRenderer), as the headless renderer
+//! and an embedding engine draw: glyphs uploaded once and shared by the viewer's frames
+//! in flight (2 unless `--frames-in-flight` says otherwise), recorded into the window's
+//! command buffer with no distance attachment.
 //!
 //! One file per concern: `content` is what one panel shows (scene or volume slice,
 //! settings, camera), `panels` the window's panels (one, or a montage's), `layout` and
 //! `figure` where panels and the colour bar's strip go (as `render` lays out its image),
 //! `controls` maps keys and test scripts to [`Action`]s, `orbit` moves the camera,
-//! `presenter` owns the swapchain frames and `compose` the panels and strip copied into
-//! them, `app` is the winit event loop.
+//! `presenter` owns the swapchain and the glyph renderer, `slots` what each frame in
+//! flight writes, `compose` the panels and strip copied into the frames, `app` is the
+//! winit event loop.
 //!
 //! The window is an add-on to the headless path: screenshots are rendered by the
 //! [`HeadlessRenderer`](crate::render::headless::HeadlessRenderer) at the window's size
@@ -25,11 +29,13 @@ mod layout;
 mod orbit;
 mod panels;
 mod presenter;
+mod slots;
 
 pub use content::{Content, MontageSource, ViewSource};
 pub use controls::{Action, HELP, parse_script};
 pub use orbit::{orbit, pan, zoom};
 pub use panels::Panels;
+pub use slots::FRAMES_IN_FLIGHT;
 
 use crate::glyph::NegativeMode;
 use crate::render::shaders::methods_for;
@@ -73,6 +79,19 @@ pub struct ViewerOptions {
     /// The anatomical underlay (`--underlay`), drawn on the slice planes and moved with
     /// them; volume input only.
     pub underlay: Option<crate::render::underlay::Underlay>,
+    /// Frames recorded ahead of the GPU (`--frames-in-flight`); 0 takes
+    /// [`FRAMES_IN_FLIGHT`].
+    pub frames_in_flight: usize,
+}
+
+impl ViewerOptions {
+    /// The frames in flight the window draws with.
+    pub fn frames_in_flight(&self) -> usize {
+        match self.frames_in_flight {
+            0 => FRAMES_IN_FLIGHT,
+            n => n,
+        }
+    }
 }
 
 /// Opens the window and runs until it is closed, or for `options.frames` frames. The

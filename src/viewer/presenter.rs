@@ -1,33 +1,39 @@
-//! The window's frames: swapchain, depth buffer, one command buffer and its sync objects,
-//! and the ray-cast pass for the swapchain's format, with no distance attachment (the
-//! pass then uses its colour-only fragment shaders). A frame draws the panel at the
-//! window's corner in place, with its cell as viewport; the other panels of a montage
-//! and the colour bar's strip are drawn offscreen or on the CPU and copied in
-//! (`compose`).
+//! The window's frames: swapchain, the frames in flight ([`FrameSlot`]: command buffer,
+//! fence, semaphore, depth buffer, offscreen target, strip buffer, timer, capture buffer
+//! each), and the passes for the swapchain's format with no distance attachment (the
+//! glyph pass then uses its colour-only fragment shaders). The glyphs are drawn through
+//! the engine component, [`GlyphRenderer`], made for the viewer's frames in flight, as an
+//! engine draws them: each frame writes its slot's frame block of the shared
+//! [`UploadedGlyphs`] and records them with [`GlyphRenderer::record_glyphs`]. A frame
+//! draws the panel at the window's corner in place, with its cell as viewport; the other
+//! panels of a montage and the colour bar's strip are drawn offscreen or on the CPU and
+//! copied in (`compose`).
 //!
-//! One frame is in flight: each frame first waits for the previous one, which makes it
-//! safe to rewrite the scene's frame block and to read the previous frame's GPU time.
-//! Before each frame the swapchain is compared with the window's current size and
-//! recreated if it differs or was reported stale (a resize event, OUT_OF_DATE from
-//! acquire or present, SUBOPTIMAL), and frames are skipped while the window has no area
-//! (minimised), so nothing is rendered into a swapchain known to be stale. An image
-//! acquired as SUBOPTIMAL is still drawn and presented (presenting is how it is given
-//! back), and the swapchain is recreated before the next frame.
-use super::compose::{Composer, PanelDraw, StripDraw, attachment_to_copies};
+//! Frames in flight: a frame first waits for its slot's fence (the frame recorded
+//! `frames_in_flight` frames earlier), never for the device, so the previous frame may
+//! still be on the GPU while this one is recorded. That wait makes the slot's frame
+//! blocks, offscreen target, strip buffer and timer free, and gives that earlier frame's
+//! GPU time. Before each frame the swapchain is compared with the window's current size
+//! and recreated if it differs or was reported stale (a resize event, OUT_OF_DATE from
+//! acquire or present, SUBOPTIMAL), after waiting for the device (a resize, not a frame);
+//! frames are skipped while the window has no area (minimised), so nothing is rendered
+//! into a swapchain known to be stale. An image acquired as SUBOPTIMAL is still drawn and
+//! presented (presenting is how it is given back), and the swapchain is recreated before
+//! the next frame.
+use super::compose::{PanelDraw, StripDraw, attachment_to_copies};
+use super::slots::FrameSlot;
 use crate::error::{Result, VkContext};
 use crate::render::RenderSettings;
+use crate::render::component::{GlyphRenderer, RendererDesc};
 use crate::render::peaks::PeaksPass;
-use crate::render::raycast::{RayCastPass, TargetFormats};
+use crate::render::raycast::{FrameTarget, PassOptions, TargetFormats};
 use crate::render::underlay::UnderlayPass;
 use crate::vk::recording::{
     Access, COLOR_OUTPUT, COPY_READ, COPY_WRITE, DEPTH_TESTS, NOTHING, cleared_color_attachment,
     color_image_copy, copies_to_host, layout_transition,
 };
-use crate::vk::{
-    Acquired, Buffer, DeviceContext, Gpu, GpuTimer, Image, Surface, Swapchain, color_range,
-};
+use crate::vk::{Acquired, DeviceContext, Gpu, Surface, Swapchain, color_range};
 use ash::vk;
-use gpu_allocator::MemoryLocation;
 use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
 
 const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
@@ -54,110 +60,108 @@ pub struct Capture {
 /// swapchain its surface), so no drop order is needed for soundness; `Drop` waits for
 /// the device to be idle before any of them goes.
 pub struct Presenter {
-    pass: RayCastPass,
+    glyphs: GlyphRenderer,
     underlay: UnderlayPass,
     peaks: PeaksPass,
-    timer: Option<GpuTimer>,
-    capture: Option<(Buffer, vk::Extent2D)>,
-    composer: Composer,
-    depth: Option<Image>,
+    slots: Vec<FrameSlot>,
+    /// The slot the next frame records into.
+    next: usize,
+    /// The slot of the last submitted frame.
+    last: Option<usize>,
     swapchain: Option<Swapchain>,
     surface: Surface,
     ctx: DeviceContext,
+    /// The queue every frame is submitted to and presented from.
+    queue: vk::Queue,
     pool: vk::CommandPool,
-    cmd: vk::CommandBuffer,
-    acquired: vk::Semaphore,
-    in_flight: vk::Fence,
-    /// The last submitted frame wrote timestamps.
-    timed: bool,
     stale: bool,
     unthrottled: bool,
 }
 
 impl Presenter {
+    /// A presenter with `frames_in_flight` frame slots, its glyph renderer drawing with
+    /// `settings`' method at first.
+    ///
     /// # Safety
     /// As [`Surface::new`]: the handles belong to a live window that outlives the
     /// presenter, and `gpu` was made for its display.
     pub unsafe fn new(
         gpu: &Gpu,
-        display: RawDisplayHandle,
-        window: RawWindowHandle,
+        (display, window): (RawDisplayHandle, RawWindowHandle),
         unthrottled: bool,
+        frames_in_flight: usize,
+        settings: &RenderSettings,
     ) -> Result<Presenter> {
         // SAFETY: the caller's promise.
         let surface = unsafe { Surface::new(gpu, display, window)? };
-        let device = gpu.device();
         let pool_info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(gpu.queue_family)
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        // SAFETY: valid device and create infos; everything is destroyed in Drop. The
-        // fence starts signalled: there is no previous frame to wait for.
-        let (pool, acquired, in_flight) = unsafe {
-            (
-                device
-                    .create_command_pool(&pool_info, None)
-                    .vk("vkCreateCommandPool")?,
-                device
-                    .create_semaphore(&vk::SemaphoreCreateInfo::default(), None)
-                    .vk("vkCreateSemaphore")?,
-                device
-                    .create_fence(
-                        &vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED),
-                        None,
-                    )
-                    .vk("vkCreateFence")?,
-            )
+        // SAFETY: valid device and create info; destroyed in Drop.
+        let pool = unsafe { gpu.device().create_command_pool(&pool_info, None) }
+            .vk("vkCreateCommandPool")?;
+        let slots = (0..frames_in_flight.max(1))
+            .map(|_| FrameSlot::new(gpu, pool))
+            .collect::<Result<Vec<_>>>();
+        let slots = match slots {
+            Ok(slots) => slots,
+            Err(e) => {
+                // SAFETY: nothing allocated from the pool is in use.
+                unsafe { gpu.device().destroy_command_pool(pool, None) };
+                return Err(e);
+            }
         };
-        let alloc = vk::CommandBufferAllocateInfo::default()
-            .command_pool(pool)
-            .level(vk::CommandBufferLevel::PRIMARY)
-            .command_buffer_count(1);
-        // SAFETY: the pool was just created from this device.
-        let cmd =
-            unsafe { device.allocate_command_buffers(&alloc) }.vk("vkAllocateCommandBuffers")?[0];
-        // The swapchain's format is only known once it exists; until then the pass has
-        // the most likely one and is rebuilt if the swapchain picks another.
+        // The swapchain's format is only known once it exists; until then the passes
+        // have the most likely one and are rebuilt if the swapchain picks another.
         let formats = TargetFormats {
             color: vk::Format::B8G8R8A8_SRGB,
             depth: DEPTH_FORMAT,
             distance: None,
         };
+        let desc = renderer_desc(formats, slots.len(), settings);
         Ok(Presenter {
-            pass: RayCastPass::new(gpu.context(), formats)?,
+            glyphs: GlyphRenderer::new(gpu.context(), &desc)?,
             underlay: UnderlayPass::new(gpu.context(), formats)?,
             peaks: PeaksPass::new(gpu.context(), formats)?,
-            timer: GpuTimer::new(gpu)?,
-            capture: None,
-            composer: Composer::default(),
-            depth: None,
+            slots,
+            next: 0,
+            last: None,
             swapchain: None,
             surface,
             ctx: gpu.context().clone(),
+            queue: gpu.queue,
             pool,
-            cmd,
-            acquired,
-            in_flight,
-            timed: false,
             stale: true,
             unthrottled,
         })
     }
 
     /// The underlay's pass, to upload an underlay volume with; rebuilt with the glyph
-    /// pass (see [`Presenter::pass_mut`]).
+    /// renderer (see [`Presenter::glyphs_mut`]).
     pub fn underlay_pass(&self) -> &UnderlayPass {
         &self.underlay
     }
 
-    /// The peaks' pass, to upload a panel's peaks with; rebuilt with the glyph pass.
+    /// The peaks' pass, to upload a panel's peaks with; rebuilt with the glyph renderer.
     pub fn peaks_pass(&self) -> &PeaksPass {
         &self.peaks
     }
 
-    /// The pass, to upload scenes with. Its formats may change when the swapchain is
-    /// created: [`Presenter::prepare`] says when uploads must be redone.
-    pub fn pass_mut(&mut self) -> &mut RayCastPass {
-        &mut self.pass
+    /// The glyph renderer, to upload glyphs with and retire replaced ones. Its formats
+    /// may change when the swapchain is created: [`Presenter::prepare`] says when
+    /// uploads must be redone.
+    pub fn glyphs_mut(&mut self) -> &mut GlyphRenderer {
+        &mut self.glyphs
+    }
+
+    /// The glyph renderer (its retired uploads, its pass).
+    pub fn glyphs(&self) -> &GlyphRenderer {
+        &self.glyphs
+    }
+
+    /// How many frames may be in flight.
+    pub fn frames_in_flight(&self) -> usize {
+        self.slots.len()
     }
 
     /// The swapchain no longer fits the window (a resize was reported).
@@ -165,24 +169,30 @@ impl Presenter {
         self.stale = true;
     }
 
-    /// Waits for the previous frame; returns its GPU time if it was timed.
-    pub fn wait_previous(&mut self) -> Result<Option<f64>> {
-        // SAFETY: the fence belongs to this device.
-        unsafe {
-            self.ctx
-                .device()
-                .wait_for_fences(&[self.in_flight], true, u64::MAX)
-                .vk("vkWaitForFences")?;
+    /// Begins the next frame: waits for its slot's previous frame (not for the others)
+    /// and tells the glyph renderer, which drops retired glyphs no slot can still read.
+    /// Returns the slot and the GPU time of that previous frame, if it was timed.
+    pub fn begin_frame(&mut self) -> Result<(usize, Option<f64>)> {
+        let slot = self.next;
+        let gpu_ms = self.slots[slot].wait()?;
+        self.glyphs.begin_frame(slot)?;
+        Ok((slot, gpu_ms))
+    }
+
+    /// Whether a frame other than `slot`'s is still on the GPU.
+    pub fn others_in_flight(&self, slot: usize) -> Result<bool> {
+        for (k, other) in self.slots.iter().enumerate() {
+            if k != slot && other.in_flight()? {
+                return Ok(true);
+            }
         }
-        if std::mem::take(&mut self.timed) {
-            return self.timer.as_ref().map(GpuTimer::elapsed_ms).transpose();
-        }
-        Ok(None)
+        Ok(false)
     }
 
     /// Makes the swapchain match a window of `size`: recreates it if stale or of another
-    /// size. Returns None while the window has no area, else whether the pass was rebuilt
-    /// for a new colour format (scenes uploaded with the old pass must be uploaded again).
+    /// size. Returns None while the window has no area, else whether the passes were
+    /// rebuilt for a new colour format (glyphs uploaded with the old renderer must be
+    /// uploaded again).
     pub fn prepare(&mut self, gpu: &Gpu, size: vk::Extent2D) -> Result<Option<bool>> {
         if size.width == 0 || size.height == 0 {
             return Ok(None);
@@ -194,33 +204,34 @@ impl Presenter {
         if fits {
             return Ok(Some(false));
         }
+        // A new swapchain (a resize), not a frame: every slot's images are replaced.
         gpu.wait_idle()?;
         let old = self.swapchain.take();
-        self.depth = None;
+        for slot in &mut self.slots {
+            slot.depth = None;
+        }
         let Some(swapchain) =
             Swapchain::new(gpu, &self.surface, size, self.unthrottled, old.as_ref())?
         else {
             return Ok(None);
         };
         drop(old);
-        self.depth = Some(Image::new(
-            gpu.context(),
-            "window depth",
-            swapchain.extent,
-            DEPTH_FORMAT,
-            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
-            vk::ImageAspectFlags::DEPTH,
-        )?);
+        for slot in &mut self.slots {
+            slot.make_depth(DEPTH_FORMAT, swapchain.extent)?;
+        }
         let mut rebuilt = false;
-        if swapchain.format != self.pass.formats().color {
+        if swapchain.format != self.glyphs.pass().formats().color {
             let formats = TargetFormats {
                 color: swapchain.format,
-                ..self.pass.formats()
+                ..self.glyphs.pass().formats()
             };
-            self.pass = RayCastPass::new(gpu.context(), formats)?;
+            let desc = renderer_desc(formats, self.slots.len(), &RenderSettings::default());
+            self.glyphs = GlyphRenderer::new(gpu.context(), &desc)?;
             self.underlay = UnderlayPass::new(gpu.context(), formats)?;
             self.peaks = PeaksPass::new(gpu.context(), formats)?;
-            self.composer.reset();
+            for slot in &mut self.slots {
+                slot.composer.reset();
+            }
             rebuilt = true;
         }
         if !matches!(
@@ -242,14 +253,15 @@ impl Presenter {
         self.swapchain.as_ref().map(|s| s.extent)
     }
 
-    /// Renders and presents one frame (after [`Presenter::prepare`] and
-    /// [`Presenter::wait_previous`]): the `panels`, each in its cell (uploaded with
-    /// [`Presenter::pass_mut`], underlays with [`Presenter::underlay_pass`]), and the
-    /// colour bar's `strip`; the rest of the window is background. `capture` also copies
-    /// the image for [`Presenter::capture`].
+    /// Renders and presents one frame in `slot` (after [`Presenter::prepare`] and
+    /// [`Presenter::begin_frame`], which gave the slot): the `panels`, each in its cell
+    /// (glyphs uploaded with [`Presenter::glyphs_mut`], underlays with
+    /// [`Presenter::underlay_pass`], peaks this slot's own), and the colour bar's
+    /// `strip`; the rest of the window is background. `capture` also copies the image for
+    /// [`Presenter::capture`]. Does not wait for the frame.
     pub fn render(
         &mut self,
-        gpu: &Gpu,
+        slot: usize,
         panels: &mut [PanelDraw],
         strip: Option<StripDraw>,
         settings: &RenderSettings,
@@ -267,8 +279,13 @@ impl Presenter {
                     .into(),
             ));
         }
+        if capture && !swapchain.readable {
+            return Err(crate::Error::Setup(
+                "this window's swapchain images cannot be read back (no TRANSFER_SRC usage)".into(),
+            ));
+        }
         let format = swapchain.format;
-        let index = match swapchain.acquire(self.acquired)? {
+        let index = match swapchain.acquire(self.slots[slot].acquired)? {
             Acquired::OutOfDate => {
                 self.stale = true;
                 return Ok(Outcome::Skipped);
@@ -278,22 +295,36 @@ impl Presenter {
                 index
             }
         };
-        // The previous frame is done (wait_previous), so the frame blocks, the offscreen
-        // target and the strip's buffer are free.
+        // The slot's previous frame is done (begin_frame), so its frame blocks, offscreen
+        // target and strip buffer are free; the other slots' frames read their own.
         for panel in panels.iter_mut() {
-            panel.scene.set_frame(&panel.frame)?;
+            let target = FrameTarget {
+                frame_index: slot,
+                ..FrameTarget::whole(panel.cell.extent)
+            };
+            panel.glyphs.set_frame(&panel.frame, &target)?;
             if let Some(peaks) = panel.peaks.as_mut() {
                 peaks.set_frame(&panel.frame)?;
             }
         }
-        // The pipelines of this frame's method (a key may have just switched it), made
-        // before recording: the pass never compiles while it records.
-        for panel in panels.iter() {
-            for set in &panel.scene.sets {
-                let method = crate::render::raycast::batch_method(set.shape, settings.method);
-                self.pass.prepare(set.layout, method)?;
-            }
-        }
+        self.stage(slot, panels, strip.as_ref(), (format, extent), capture)?;
+        let strip = strip.map(|s| s.rect);
+        self.record(slot, index, panels, strip, settings, capture)?;
+        self.submit_and_present(slot, index)?;
+        Ok(Outcome::Presented { extent })
+    }
+
+    /// Makes `slot`'s offscreen target fit the copied panels, stages the strip's pixels
+    /// and makes the capture buffer, for a swapchain of `format` and `extent`.
+    fn stage(
+        &mut self,
+        slot: usize,
+        panels: &[PanelDraw],
+        strip: Option<&StripDraw>,
+        (format, extent): (vk::Format, vk::Extent2D),
+        capture: bool,
+    ) -> Result<()> {
+        let frame = &mut self.slots[slot];
         let largest = panels
             .iter()
             .filter(|p| !p.in_place())
@@ -303,77 +334,75 @@ impl Presenter {
                 height: a.height.max(b.height),
             });
         if let Some(target) = largest {
-            self.composer
-                .ensure_target(gpu.context(), format, DEPTH_FORMAT, target)?;
+            frame
+                .composer
+                .ensure_target(&self.ctx, format, DEPTH_FORMAT, target)?;
         }
-        if let Some(strip) = &strip {
+        if let Some(strip) = strip {
             let bgra = matches!(
                 format,
                 vk::Format::B8G8R8A8_SRGB | vk::Format::B8G8R8A8_UNORM
             );
-            self.composer.stage_strip(gpu.context(), strip.rgba, bgra)?;
+            frame.composer.stage_strip(&self.ctx, strip.rgba, bgra)?;
         }
         if capture {
-            self.ensure_capture_buffer(gpu, extent)?;
+            frame.ensure_capture(extent)?;
         }
-        // SAFETY: the fence is signalled and about to be reused by this submission.
-        unsafe { self.ctx.device().reset_fences(&[self.in_flight]) }.vk("vkResetFences")?;
-        let strip = strip.map(|s| s.rect);
-        self.record(index, panels, strip, settings, capture)?;
-        let Some(swapchain) = self.swapchain.as_ref() else {
-            return Ok(Outcome::Skipped);
+        Ok(())
+    }
+
+    /// Submits `slot`'s recorded frame (waiting for its image to be acquired, signalling
+    /// the image's render-finished semaphore and the slot's fence) and presents image
+    /// `index`; the next frame goes to the next slot.
+    fn submit_and_present(&mut self, slot: usize, index: u32) -> Result<()> {
+        let (Some(swapchain), frame) = (self.swapchain.as_ref(), &mut self.slots[slot]) else {
+            return Ok(());
         };
         let wait = [vk::SemaphoreSubmitInfo::default()
-            .semaphore(self.acquired)
+            .semaphore(frame.acquired)
             .stage_mask(vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT)];
         let signal = [vk::SemaphoreSubmitInfo::default()
             .semaphore(swapchain.render_finished[index as usize])
             .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)];
-        let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(self.cmd)];
+        let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(frame.cmd)];
         let submit = [vk::SubmitInfo2::default()
             .wait_semaphore_infos(&wait)
             .command_buffer_infos(&cmds)
             .signal_semaphore_infos(&signal)];
-        // SAFETY: the command buffer is recorded; the semaphores and fence are ours.
+        let device = self.ctx.device();
+        // SAFETY: the fence is signalled (begin_frame waited for it) and reused by this
+        // submission; the command buffer is recorded; the semaphores are ours.
         unsafe {
-            self.ctx
-                .device()
-                .queue_submit2(gpu.queue, &submit, self.in_flight)
+            device.reset_fences(&[frame.done]).vk("vkResetFences")?;
+            device
+                .queue_submit2(self.queue, &submit, frame.done)
+                .vk("vkQueueSubmit2")?;
         }
-        .vk("vkQueueSubmit2")?;
-        self.timed = self.timer.is_some();
-        if !swapchain.present(gpu.queue, index)? {
+        frame.timed = frame.timer.is_some();
+        self.last = Some(slot);
+        self.next = (slot + 1) % self.slots.len();
+        if !swapchain.present(self.queue, index)? {
             self.stale = true;
         }
-        Ok(Outcome::Presented { extent })
-    }
-
-    fn ensure_capture_buffer(&mut self, gpu: &Gpu, extent: vk::Extent2D) -> Result<()> {
-        if self.capture.as_ref().is_some_and(|(_, e)| *e == extent) {
-            return Ok(());
-        }
-        let readable = self.swapchain.as_ref().is_some_and(|s| s.readable);
-        if !readable {
-            return Err(crate::Error::Setup(
-                "this window's swapchain images cannot be read back (no TRANSFER_SRC usage)".into(),
-            ));
-        }
-        let bytes = 4 * u64::from(extent.width) * u64::from(extent.height);
-        let buffer = Buffer::new(
-            gpu.context(),
-            "window capture",
-            bytes,
-            vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuToCpu,
-        )?;
-        self.capture = Some((buffer, extent));
         Ok(())
     }
 
-    /// The image of the last frame rendered with `capture`, once it completed
-    /// (after [`Presenter::wait_previous`]), as RGBA.
+    /// Waits for every frame in flight (the end of a scripted run, before reading its
+    /// capture).
+    pub fn wait_all(&mut self) -> Result<()> {
+        for slot in &mut self.slots {
+            slot.wait()?;
+        }
+        Ok(())
+    }
+
+    /// The image of the last frame rendered with `capture`, once every frame completed
+    /// (after [`Presenter::wait_all`]), as RGBA.
     pub fn capture(&self) -> Result<Option<Capture>> {
-        let (Some((buffer, extent)), Some(swapchain)) = (&self.capture, &self.swapchain) else {
+        let slot = self.last.and_then(|k| self.slots.get(k));
+        let (Some((buffer, extent)), Some(swapchain)) =
+            (slot.and_then(|s| s.capture.as_ref()), &self.swapchain)
+        else {
             return Ok(None);
         };
         let mut rgba = buffer.read()?.to_vec();
@@ -393,17 +422,19 @@ impl Presenter {
     }
 
     fn record(
-        &mut self,
+        &self,
+        slot: usize,
         index: u32,
         panels: &[PanelDraw],
         strip: Option<vk::Rect2D>,
         settings: &RenderSettings,
         capture: bool,
     ) -> Result<()> {
-        let (Some(swapchain), Some(depth)) = (self.swapchain.as_ref(), self.depth.as_ref()) else {
+        let frame = &self.slots[slot];
+        let (Some(swapchain), Some(depth)) = (self.swapchain.as_ref(), frame.depth.as_ref()) else {
             return Ok(());
         };
-        let (d, cmd) = (self.ctx.device(), self.cmd);
+        let (d, cmd) = (self.ctx.device(), frame.cmd);
         let image = swapchain.images[index as usize];
         let extent = swapchain.extent;
         let color_out = COLOR_OUTPUT;
@@ -420,7 +451,7 @@ impl Presenter {
                 (color_out.0, vk::AccessFlags2::NONE),
                 color_out,
             ),
-            // The previous frame's depth writes are done before this frame clears.
+            // The slot's previous frame's depth writes are done before this frame clears.
             layout_transition(
                 depth.handle,
                 depth.subresource_range(),
@@ -449,7 +480,7 @@ impl Presenter {
             .depth_attachment(&depth_attachment);
         let begin = vk::CommandBufferBeginInfo::default()
             .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
-        // SAFETY: the previous submission of `cmd` completed (wait_previous); every
+        // SAFETY: the slot's previous submission of `cmd` completed (begin_frame); every
         // handle recorded lives until this frame completes.
         unsafe {
             d.reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())
@@ -461,15 +492,15 @@ impl Presenter {
                 &vk::DependencyInfo::default().image_memory_barriers(&to_attachment),
             );
         }
-        if let Some(timer) = &self.timer {
+        if let Some(timer) = &frame.timer {
             timer.start(cmd);
         }
+        let passes = (&self.glyphs, &self.underlay, &self.peaks);
         // SAFETY: as above.
         unsafe { d.cmd_begin_rendering(cmd, &rendering) };
         // The panel at the corner: its viewport is its cell.
         for panel in panels.iter().filter(|p| p.in_place()) {
-            let passes = (&mut self.pass, &self.underlay, &self.peaks);
-            record_panel(passes, cmd, panel, settings)?;
+            record_panel(passes, cmd, slot, panel)?;
         }
         // SAFETY: as above.
         unsafe { d.cmd_end_rendering(cmd) };
@@ -486,21 +517,21 @@ impl Presenter {
                 );
             }
             for panel in copied {
-                let passes = (&mut self.pass, &self.underlay, &self.peaks);
-                self.composer
+                frame
+                    .composer
                     .record_panel(d, cmd, image, panel.cell, background, || {
-                        record_panel(passes, cmd, panel, settings)
+                        record_panel(passes, cmd, slot, panel)
                     })?;
             }
             if let Some(rect) = strip {
-                self.composer.record_strip(d, cmd, image, rect)?;
+                frame.composer.record_strip(d, cmd, image, rect)?;
             }
             (vk::ImageLayout::TRANSFER_DST_OPTIMAL, COPY_WRITE)
         };
-        if let Some(timer) = &self.timer {
+        if let Some(timer) = &frame.timer {
             timer.stop(cmd);
         }
-        let readback = self
+        let readback = frame
             .capture
             .as_ref()
             .filter(|_| capture)
@@ -512,19 +543,34 @@ impl Presenter {
     }
 }
 
-/// Records `panel`'s underlay, glyphs and peaks, drawn into an attachment whose corner
-/// is the panel's (rendering has begun).
-fn record_panel(
-    (pass, underlay, peaks): (&mut RayCastPass, &UnderlayPass, &PeaksPass),
-    cmd: vk::CommandBuffer,
-    panel: &PanelDraw,
+/// The glyph renderer of the window: its formats, reversed depth with one sample (the
+/// viewer's own convention), and the viewer's frames in flight.
+fn renderer_desc(
+    formats: TargetFormats,
+    frames_in_flight: usize,
     settings: &RenderSettings,
+) -> RendererDesc {
+    RendererDesc {
+        formats,
+        options: PassOptions::default(),
+        frames_in_flight,
+        settings: *settings,
+    }
+}
+
+/// Records `panel`'s underlay, glyphs (with `slot`'s frame block) and peaks, drawn
+/// into an attachment whose corner is the panel's (rendering has begun).
+fn record_panel(
+    (glyphs, underlay, peaks): (&GlyphRenderer, &UnderlayPass, &PeaksPass),
+    cmd: vk::CommandBuffer,
+    slot: usize,
+    panel: &PanelDraw,
 ) -> Result<()> {
     let extent = panel.cell.extent;
     if let Some((volume, planes)) = panel.underlay {
         underlay.record(cmd, volume, planes, panel.frame.view_proj, extent);
     }
-    pass.record(cmd, panel.scene, extent, settings.method)?;
+    glyphs.record_glyphs(cmd, panel.glyphs, slot)?;
     if let Some(on_gpu) = panel.peaks.as_deref() {
         peaks.record(cmd, on_gpu, extent);
     }
@@ -598,12 +644,11 @@ fn record_present_transition(
 impl Drop for Presenter {
     fn drop(&mut self) {
         let device = self.ctx.device();
-        // SAFETY: waiting for the device leaves nothing in flight that uses these (nor the
-        // members dropped after this body); the device is alive while `self.ctx` is.
+        // SAFETY: waiting for the device leaves nothing in flight that uses the pool's
+        // command buffers (nor the members dropped after this body, the slots' fences and
+        // semaphores among them); the device is alive while `self.ctx` is.
         unsafe {
             let _ = device.device_wait_idle();
-            device.destroy_fence(self.in_flight, None);
-            device.destroy_semaphore(self.acquired, None);
             device.destroy_command_pool(self.pool, None);
         }
     }

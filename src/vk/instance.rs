@@ -16,6 +16,11 @@ fn has_layer(entry: &ash::Entry, name: &CStr) -> Result<bool> {
         .any(|l| l.layer_name_as_c_str().is_ok_and(|n| n == name)))
 }
 
+/// Whether GLYPHCAST_SYNC_VALIDATION asks for synchronization validation.
+fn sync_validation_requested() -> bool {
+    std::env::var("GLYPHCAST_SYNC_VALIDATION").is_ok_and(|v| !v.is_empty() && v != "0")
+}
+
 fn has_extension(entry: &ash::Entry, name: &CStr) -> Result<bool> {
     // SAFETY: enumerating extensions has no preconditions.
     let extensions = unsafe { entry.enumerate_instance_extension_properties(None) }
@@ -27,7 +32,10 @@ fn has_extension(entry: &ash::Entry, name: &CStr) -> Result<bool> {
 
 /// Creates the instance, and the debug messenger when `validation` is on. The messenger
 /// info is also chained into instance creation so that messages from
-/// vkCreateInstance/vkDestroyInstance are caught. `surface_extensions` are those a window
+/// vkCreateInstance/vkDestroyInstance are caught. With validation on,
+/// GLYPHCAST_SYNC_VALIDATION=1 adds the layer's synchronization validation
+/// (VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT): hazards between frames
+/// in flight are reported like any other validation message. `surface_extensions` are those a window
 /// system needs (none when headless).
 pub(crate) fn create(
     entry: &ash::Entry,
@@ -75,6 +83,11 @@ pub(crate) fn create(
         .enabled_extension_names(&extensions);
     if use_debug_utils {
         info = info.push_next(&mut chained);
+    }
+    let sync = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
+    let mut features = vk::ValidationFeaturesEXT::default().enabled_validation_features(&sync);
+    if validation && sync_validation_requested() {
+        info = info.push_next(&mut features);
     }
     // SAFETY: every pointer in `info` refers to locals that outlive the call.
     let instance = unsafe { entry.create_instance(&info, None) }.map_err(|result| match result {

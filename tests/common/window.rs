@@ -65,13 +65,16 @@ impl Xvfb {
         })
     }
 
-    /// Runs `glyphcast view` with `args` on this display, validation on.
+    /// Runs `glyphcast view` with `args` on this display, validation on with
+    /// synchronization validation (GLYPHCAST_SYNC_VALIDATION=1): the window's frames in
+    /// flight must not race, and any hazard is a validation message.
     pub fn view(&self, args: &[&str]) -> Output {
         let output = Command::new(BIN)
             .arg("view")
             .args(args)
             .arg("--validation")
             .env("DISPLAY", &self.display)
+            .env("GLYPHCAST_SYNC_VALIDATION", "1")
             .output()
             .expect("running glyphcast view");
         let stderr = String::from_utf8_lossy(&output.stderr);
