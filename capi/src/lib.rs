@@ -19,7 +19,7 @@ use glyphcast::{
     DepthConvention, DeviceContext, GlyphKind, GlyphRenderer, GlyphSet, HostView, PassOptions,
     RenderSettings, RendererDesc, ShBasis, TargetFormats,
 };
-use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+use gpu_allocator::vulkan::Allocator;
 use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char, c_void};
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -384,15 +384,8 @@ unsafe fn create(
             (context, None)
         }
         None => {
-            let allocator = Allocator::new(&AllocatorCreateDesc {
-                instance: instance.clone(),
-                device: device.clone(),
-                physical_device,
-                debug_settings: Default::default(),
-                buffer_device_address: false,
-                allocation_sizes: Default::default(),
-            })
-            .map_err(|e| {
+            let allocator = glyphcast::vk::default_allocator(&instance, &device, physical_device)
+                .map_err(|e| {
                 (
                     GlyphcastStatus::Vulkan,
                     format!("creating the allocator: {e}"),

@@ -11,8 +11,11 @@
 //! implement the same contract with two function pointers.
 use crate::error::{Error, Result};
 use ash::vk;
+use gpu_allocator::AllocationError;
 use gpu_allocator::MemoryLocation;
-use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme, Allocator};
+use gpu_allocator::vulkan::{
+    Allocation, AllocationCreateDesc, AllocationScheme, Allocator, AllocatorCreateDesc,
+};
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
@@ -153,6 +156,24 @@ pub struct GpuAllocatorMemory {
     /// The allocations handed out, by token.
     live: Mutex<HashMap<u64, Allocation>>,
     next: AtomicU64,
+}
+
+/// gpu-allocator's allocator for `device` (created from `physical_device` of `instance`)
+/// with glyphcast's settings: the default implementation's, for the library's own
+/// devices and for hosts (the C API) that give no allocator.
+pub fn default_allocator(
+    instance: &ash::Instance,
+    device: &ash::Device,
+    physical_device: vk::PhysicalDevice,
+) -> std::result::Result<Allocator, AllocationError> {
+    Allocator::new(&AllocatorCreateDesc {
+        instance: instance.clone(),
+        device: device.clone(),
+        physical_device,
+        debug_settings: Default::default(),
+        buffer_device_address: false,
+        allocation_sizes: Default::default(),
+    })
 }
 
 impl GpuAllocatorMemory {

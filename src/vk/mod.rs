@@ -37,7 +37,8 @@ pub use descriptors::{BufferBinding, DescriptorPool};
 pub use device::{DeviceInfo, choose_physical_device};
 pub use image::{Image, cleared_depth_attachment};
 pub use memory::{
-    GpuAllocatorMemory, MemoryAllocator, MemoryBlock, MemoryRequest, MemoryUse, memory_type_index,
+    GpuAllocatorMemory, MemoryAllocator, MemoryBlock, MemoryRequest, MemoryUse, default_allocator,
+    memory_type_index,
 };
 pub use pipeline::{
     GraphicsPipelineDesc, Pipeline, PipelineLayout, Pipelines, RasterTarget, ShaderModule,
@@ -52,7 +53,6 @@ pub use timer::GpuTimer;
 use crate::error::{Error, Result, VkContext};
 use ash::vk;
 use context::InstanceOwner;
-use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 #[cfg(feature = "viewer")]
 use raw_window_handle::RawDisplayHandle;
 use std::ffi::{CStr, c_char};
@@ -148,14 +148,7 @@ impl Gpu {
         let (physical_device, info) =
             device::choose_with_extensions(instance, options.device.as_deref(), device_extensions)?;
         let (device, queue_family) = device::create(instance, physical_device, device_extensions)?;
-        let allocator = Allocator::new(&AllocatorCreateDesc {
-            instance: instance.clone(),
-            device: device.clone(),
-            physical_device,
-            debug_settings: Default::default(),
-            buffer_device_address: false,
-            allocation_sizes: Default::default(),
-        });
+        let allocator = memory::default_allocator(instance, &device, physical_device);
         let allocator = match allocator {
             Ok(allocator) => allocator,
             Err(e) => {
