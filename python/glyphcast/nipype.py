@@ -1,5 +1,6 @@
-"""Nipype interfaces of the ``glyphcast`` command line: ``Fit`` (``glyphcast fit``,
-CSD by default), ``Peaks``, ``Render`` and ``Qc`` (one subject's figure set).
+"""Nipype interfaces of the ``glyphcast`` command line: ``Fit`` (``glyphcast fit``:
+single-shell CSD as MRtrix3 or DIPY computes it, multi-shell multi-tissue CSD with its
+GM and CSF images, CSA, Q-ball), ``Peaks``, ``Render`` and ``Qc`` (one subject's figure set).
 
 Each is a ``CommandLine`` interface whose inputs and outputs are traits, so it slots
 into a Nipype workflow (QSIRecon-style) like any FSL or MRtrix interface::
@@ -31,10 +32,11 @@ from nipype.interfaces.base import (
     File,
     OutputMultiObject,
     TraitedSpec,
+    isdefined,
     traits,
 )
 
-__all__ = ["Fit", "Peaks", "Render", "Qc", "glyphcast_binary"]
+__all__ = ["Fit", "Peaks", "Render", "Qc", "glyphcast_binary", "tissue_file"]
 
 
 def glyphcast_binary():
@@ -71,17 +73,57 @@ class _DrawingInputSpec(CommandLineInputSpec):
 # ---------------------------------------------------------------------------- fit
 
 
+def tissue_file(path, tissue):
+    """`path` with ``_TISSUE`` before its extension (.nii, .nii.gz, .mif, .mif.gz), as
+    ``glyphcast fit --odf msmt`` names its GM and CSF images by default."""
+    folder, name = os.path.split(path)
+    lower = name.lower()
+    ending = next((e for e in (".nii.gz", ".mif.gz", ".nii", ".mif") if lower.endswith(e)), "")
+    stem = name[:len(name) - len(ending)]
+    return os.path.join(folder, f"{stem}_{tissue}{name[len(stem):]}")
+
+
 class FitInputSpec(CommandLineInputSpec):
     dwi = File(exists=True, mandatory=True, argstr="%s", position=0,
                desc="DWI series (NIfTI or MRtrix)")
     bval = File(exists=True, argstr="--bval %s", desc="FSL b-values")
     bvec = File(exists=True, argstr="--bvec %s", desc="FSL b-vectors")
+    bvec_convention = traits.Enum("fsl", "voxel", "world", argstr="--bvec-convention %s",
+                                  desc="frame of bvec (default fsl)")
     order = traits.Range(low=0, high=12, value=8, usedefault=True, argstr="--order %d",
                          desc="SH band (even) or tensor order")
-    odf = traits.Enum("csd", "csa", "qball", argstr="--odf %s", desc="fibre ODF model")
+    odf = traits.Enum("csd", "msmt", "csa", "qball", argstr="--odf %s",
+                      desc="fibre ODF model (msmt: multi-shell multi-tissue CSD, which "
+                           "also writes gm_file and csf_file)")
     sh = traits.Bool(argstr="--sh", xor=["odf"], desc="SH series of the signal instead")
+    basis = traits.Enum(
+        "tournier07", "descoteaux07", "mrtrix", "dipy", "dipy-new",
+        argstr="--basis %s", desc="SH basis of the output (default tournier07)",
+    )
+    legacy = traits.Bool(argstr="--legacy", desc="the legacy variant of the SH basis")
+    reg_lambda = traits.Float(argstr="--lambda %g",
+                              desc="regularisation weight (the command line's --lambda)")
+    csd_algorithm = traits.Enum("mrtrix", "dipy", argstr="--csd-algorithm %s",
+                                desc="CSD: MRtrix3's dwi2fod csd (default) or DIPY's")
+    tau = traits.Float(argstr="--tau %g", desc="CSD: the constraint's threshold")
+    response = File(exists=True, argstr="--response %s",
+                    desc="CSD: the single-fibre response (MRtrix text); msmt: the WM "
+                         "response, one row per shell")
     response_fa = traits.Range(low=0.0, high=1.0, argstr="--response-fa %g",
                                desc="CSD: FA threshold of the response voxels")
+    response_gm = File(exists=True, argstr="--response-gm %s",
+                       requires=["response", "response_csf"],
+                       desc="msmt: the GM response (with response and response_csf)")
+    response_csf = File(exists=True, argstr="--response-csf %s",
+                        requires=["response", "response_gm"],
+                        desc="msmt: the CSF response (with response and response_gm)")
+    gm_file = File(argstr="--gm %s", genfile=True,
+                   desc="msmt: the GM image (default: out_file's name with _gm)")
+    csf_file = File(argstr="--csf %s", genfile=True,
+                    desc="msmt: the CSF image (default: out_file's name with _csf)")
+    tensor_order = traits.Enum("glyphcast", "fsl", "dipy", "mrtrix",
+                               argstr="--tensor-order %s",
+                               desc="stored order of a DTI fit's six entries (NIfTI)")
     mask = File(exists=True, argstr="--mask %s", desc="voxels to fit")
     out_file = File(argstr="-o %s", name_source=["dwi"], name_template="%s_fod.nii.gz",
                     keep_extension=False, position=-1, desc="coefficients out")
@@ -89,15 +131,42 @@ class FitInputSpec(CommandLineInputSpec):
 
 
 class FitOutputSpec(TraitedSpec):
-    out_file = File(exists=True, desc="fitted coefficients (4D)")
+    out_file = File(exists=True, desc="fitted coefficients (4D; msmt: the WM fODF)")
+    gm_file = File(exists=True, desc="msmt: the GM image (band 0)")
+    csf_file = File(exists=True, desc="msmt: the CSF image (band 0)")
 
 
 class Fit(_GlyphcastCommand):
-    """``glyphcast fit``: tensors, SH or fibre ODFs (CSD, CSA, Q-ball) from a DWI."""
+    """``glyphcast fit``: tensors, SH or fibre ODFs (CSD as MRtrix3 or DIPY computes it,
+    multi-shell multi-tissue CSD, CSA, Q-ball) from a DWI."""
 
     _subcommand = "fit"
     input_spec = FitInputSpec
     output_spec = FitOutputSpec
+
+    _TISSUES = {"gm_file": "gm", "csf_file": "csf"}
+
+    def _gen_filename(self, name):
+        # msmt's GM and CSF images are named here and passed on, so that the outputs
+        # are what the command wrote; other models take no --gm/--csf.
+        if name in self._TISSUES and self.inputs.odf == "msmt":
+            out_file = self._filename_from_source("out_file")
+            return os.path.abspath(tissue_file(out_file, self._TISSUES[name]))
+        return None
+
+    def _format_arg(self, name, spec, value):
+        if name in self._TISSUES and value is None:
+            return None  # not msmt: no tissue images
+        return super()._format_arg(name, spec, value)
+
+    def _list_outputs(self):
+        outputs = super()._list_outputs()
+        if self.inputs.odf == "msmt":
+            for name in self._TISSUES:
+                given = getattr(self.inputs, name)
+                outputs[name] = os.path.abspath(given) if isdefined(given) \
+                    else self._gen_filename(name)
+        return outputs
 
 
 # -------------------------------------------------------------------------- peaks

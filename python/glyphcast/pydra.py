@@ -66,29 +66,58 @@ def _optional(kind, argstr, help_string, validator=None):
                    validator=validator)
 
 
-def _output_template(template, help_string, position=-1):
-    return attr.ib(type=str, metadata={
-        "argstr": "-o",
-        "position": position,
+def _output_template(template, help_string, position=-1, argstr="-o"):
+    metadata = {
+        "argstr": argstr,
         "output_file_template": template,
         "keep_extension": False,
         "help_string": help_string,
-    })
+    }
+    if position is not None:
+        metadata["position"] = position
+    return attr.ib(type=str, metadata=metadata)
 
 
 def _spec(name, fields):
     return SpecInfo(name=name, fields=list(fields.items()), bases=(ShellSpec,))
 
 
-_FIT_INPUT = _spec("FitInput", {
+_FIT_FIELDS = {
     "dwi": _arg(File, "", "DWI series (NIfTI or MRtrix)", position=1, mandatory=True),
     "bval": _optional(File, "--bval", "FSL b-values"),
     "bvec": _optional(File, "--bvec", "FSL b-vectors"),
+    "bvec_convention": _optional(str, "--bvec-convention", "frame of bvec (default fsl)",
+                                 _choice("fsl", "voxel", "world")),
     "order": _arg(int, "--order", "SH band", default=8, validator=_between(0, 12)),
     "odf": _arg(str, "--odf", "fibre ODF model", default="csd",
-                validator=_choice("csd", "csa", "qball")),
+                validator=_choice("csd", "msmt", "csa", "qball")),
+    "basis": _optional(str, "--basis", "SH basis of the output (default tournier07)",
+                       _choice("tournier07", "descoteaux07", "mrtrix", "dipy", "dipy-new")),
+    "legacy": _arg(bool, "--legacy", "the legacy variant of the SH basis", default=False),
+    "reg_lambda": _optional(float, "--lambda", "regularisation weight (--lambda)"),
+    "csd_algorithm": _optional(str, "--csd-algorithm", "CSD: mrtrix (default) or dipy",
+                               _choice("mrtrix", "dipy")),
+    "tau": _optional(float, "--tau", "CSD: the constraint's threshold"),
+    "response": _optional(File, "--response", "CSD: the response; msmt: the WM response"),
+    "response_fa": _optional(float, "--response-fa", "FA threshold of the response voxels",
+                             _between(0.0, 1.0)),
+    "response_gm": _optional(File, "--response-gm", "msmt: the GM response"),
+    "response_csf": _optional(File, "--response-csf", "msmt: the CSF response"),
+    "mask": _optional(File, "--mask", "voxels to fit"),
     "quiet": _arg(bool, "--quiet", "no progress", default=True),
     "out_file": _output_template("{dwi}_fod.nii.gz", "coefficients out"),
+}
+
+_FIT_INPUT = _spec("FitInput", _FIT_FIELDS)
+
+# msmt writes three images; the GM and CSF ones are named here and passed on, so that
+# the task's outputs are the files the command wrote.
+_FIT_MSMT_INPUT = _spec("FitMsmtInput", {
+    **_FIT_FIELDS,
+    "gm_file": _output_template("{dwi}_fod_gm.nii.gz", "msmt: the GM image",
+                                position=None, argstr="--gm"),
+    "csf_file": _output_template("{dwi}_fod_csf.nii.gz", "msmt: the CSF image",
+                                 position=None, argstr="--csf"),
 })
 
 _PEAKS_INPUT = _spec("PeaksInput", {
@@ -160,8 +189,13 @@ def _task(subcommand, input_spec, output_spec=None, **kwargs):
 
 
 def fit_task(**kwargs):
-    """``glyphcast fit`` (CSD, band 8 by default); output ``out_file``."""
-    return _task("fit", _FIT_INPUT, **kwargs)
+    """``glyphcast fit`` (CSD as MRtrix3 computes it, band 8, by default); output
+    ``out_file``. With ``odf="msmt"`` (given as a value, not a lazy field: it decides
+    the outputs) also ``gm_file`` and ``csf_file``."""
+    odf = kwargs.get("odf")
+    if isinstance(odf, LazyField):
+        raise ValueError("odf: give the model as a value; it decides the task's outputs")
+    return _task("fit", _FIT_MSMT_INPUT if odf == "msmt" else _FIT_INPUT, **kwargs)
 
 
 def peaks_task(**kwargs):

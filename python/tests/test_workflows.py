@@ -1,6 +1,8 @@
 """glyphcast on workflow engines (issue 24): the cohort demo (N = 4 subjects through
 Nipype's MultiProc: fit, peaks, qc), a pydra workflow of the same tasks, the Nipype
-Render interface against the CLI, and the interfaces' checks of their inputs.
+Render interface against the CLI, the fits' models and algorithms (multi-shell CSD with
+its three images, DIPY's CSD) through both engines against the CLI, and the interfaces'
+checks of their inputs.
 
 Every run is real: the glyphcast binary (GLYPHCAST_BIN, else target/debug/glyphcast)
 draws on lavapipe with the validation layer on (conftest sets GLYPHCAST_VALIDATION=1).
@@ -23,6 +25,9 @@ from glyphcast.pydra import fit_task, peaks_task, qc_task  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 DIPY = ROOT / "tests" / "data" / "dipy"
+MSMT = ROOT / "tests" / "data" / "msmt"
+MSMT_RESPONSES = {"response": MSMT / "wm.txt", "response_gm": MSMT / "gm.txt",
+                  "response_csf": MSMT / "csf.txt"}
 
 
 @pytest.fixture(autouse=True)
@@ -117,6 +122,88 @@ def test_nipype_render_gives_the_cli_picture(tmp_path, fod, cli, monkeypatch):
     assert made.read_bytes() == cli_png.read_bytes()
 
 
+def _voxels(path):
+    nibabel = pytest.importorskip("nibabel")
+    return nibabel.load(str(path)).get_fdata()
+
+
+def _fit_cli(binary, *args):
+    """`glyphcast fit ARGS` (no GPU, so no --validation); fails the test on an error."""
+    done = subprocess.run([str(binary), "fit", *map(str, args)], capture_output=True,
+                          text=True)
+    assert done.returncode == 0, done.stderr
+
+
+def _msmt_cli(binary, folder):
+    """The CLI's msmt fit of the fixture with its three responses: WM, GM, CSF."""
+    folder.mkdir()
+    wm = folder / "wm.nii.gz"
+    _fit_cli(binary, MSMT / "dwi.nii.gz", "--bval", MSMT / "dwi.bval", "--bvec",
+        MSMT / "dwi.bvec", "--odf", "msmt", "--order", "8", "--response", MSMT / "wm.txt",
+        "--response-gm", MSMT / "gm.txt", "--response-csf", MSMT / "csf.txt", "--quiet",
+        "-o", wm)
+    return [wm, folder / "wm_gm.nii.gz", folder / "wm_csf.nii.gz"]
+
+
+def test_nipype_fit_msmt_gives_the_cli_three_images(tmp_path, cli_binary, monkeypatch):
+    node_dir = tmp_path / "node"
+    node_dir.mkdir()
+    monkeypatch.chdir(node_dir)
+    fit = Fit(dwi=str(MSMT / "dwi.nii.gz"), bval=str(MSMT / "dwi.bval"),
+              bvec=str(MSMT / "dwi.bvec"), odf="msmt",
+              **{k: str(v) for k, v in MSMT_RESPONSES.items()})
+    outputs = fit.run().outputs
+    made = [pathlib.Path(outputs.out_file), pathlib.Path(outputs.gm_file),
+            pathlib.Path(outputs.csf_file)]
+    assert [p.name for p in made] == ["dwi_fod.nii.gz", "dwi_fod_gm.nii.gz",
+                                      "dwi_fod_csf.nii.gz"]
+    expected = _msmt_cli(cli_binary, tmp_path / "cli")
+    for got, want in zip(made, expected):
+        assert got.parent == node_dir
+        a, b = _voxels(got), _voxels(want)
+        assert a.shape == b.shape and (a == b).all(), got.name
+    # The WM image is an fODF of band 8, the tissues band 0.
+    assert _voxels(made[0]).shape[3] == 45
+    assert _voxels(made[1]).ndim == 3 or _voxels(made[1]).shape[3] == 1
+
+
+def test_nipype_fit_takes_dipy_csd(tmp_path, cli_binary, monkeypatch):
+    node_dir = tmp_path / "node"
+    node_dir.mkdir()
+    monkeypatch.chdir(node_dir)
+    common = ["--bval", DIPY / "small_64D.bval", "--bvec", DIPY / "small_64D.bvec",
+              "--odf", "csd", "--order", "6", "--quiet"]
+    fit = Fit(dwi=str(DIPY / "small_64D.nii"), bval=str(DIPY / "small_64D.bval"),
+              bvec=str(DIPY / "small_64D.bvec"), odf="csd", order=6, csd_algorithm="dipy",
+              tau=0.1, basis="dipy")
+    assert "--csd-algorithm dipy" in fit.cmdline and "--basis dipy" in fit.cmdline
+    made = pathlib.Path(fit.run().outputs.out_file)
+    dipy_cli, mrtrix_cli = tmp_path / "dipy.nii.gz", tmp_path / "mrtrix.nii.gz"
+    _fit_cli(cli_binary, DIPY / "small_64D.nii", *common, "--csd-algorithm", "dipy",
+             "--tau", "0.1", "--basis", "dipy", "-o", dipy_cli)
+    _fit_cli(cli_binary, DIPY / "small_64D.nii", *common, "--basis", "dipy", "-o", mrtrix_cli)
+    assert (_voxels(made) == _voxels(dipy_cli)).all()
+    # The algorithm reached the command: MRtrix's (the default) fits otherwise.
+    assert not (_voxels(made) == _voxels(mrtrix_cli)).all()
+    # No tissue images for single-shell CSD.
+    assert sorted(p.name for p in node_dir.iterdir()) == ["small_64D_fod.nii.gz"]
+
+
+def test_pydra_fit_msmt_gives_the_cli_three_images(tmp_path, cli_binary):
+    task = fit_task(dwi=str(MSMT / "dwi.nii.gz"), bval=str(MSMT / "dwi.bval"),
+                    bvec=str(MSMT / "dwi.bvec"), odf="msmt", cache_dir=str(tmp_path / "c"),
+                    **{k: str(v) for k, v in MSMT_RESPONSES.items()})
+    result = task()
+    assert not result.errored
+    made = [pathlib.Path(str(result.output.out_file)),
+            pathlib.Path(str(result.output.gm_file)),
+            pathlib.Path(str(result.output.csf_file))]
+    expected = _msmt_cli(cli_binary, tmp_path / "cli")
+    for got, want in zip(made, expected):
+        assert got.is_file(), got
+        assert (_voxels(got) == _voxels(want)).all(), got.name
+
+
 def test_nipype_interfaces_refuse_bad_inputs_before_running(tmp_path, fod):
     missing = str(tmp_path / "missing.nii.gz")
     with pytest.raises(TraitError):
@@ -127,6 +214,14 @@ def test_nipype_interfaces_refuse_bad_inputs_before_running(tmp_path, fod):
         Qc(fod=str(fod), panel_size=10)
     with pytest.raises(TraitError):
         Fit(dwi=str(DIPY / "small_64D.nii"), odf="dti")
+    with pytest.raises(TraitError):
+        Fit(dwi=str(DIPY / "small_64D.nii"), csd_algorithm="fsl")
+    with pytest.raises(TraitError):
+        Fit(dwi=str(DIPY / "small_64D.nii"), response_gm=missing)
+    # msmt's responses go together: one alone is refused when the command is made.
+    with pytest.raises(ValueError, match="response_csf"):
+        Fit(dwi=str(DIPY / "small_64D.nii"), odf="msmt",
+            response_gm=str(MSMT / "gm.txt")).cmdline
     with pytest.raises(TraitError):
         Peaks(in_file=missing)
     with pytest.raises(TraitError):
@@ -149,4 +244,8 @@ def test_pydra_tasks_refuse_bad_inputs_before_running(tmp_path, fod):
         qc_task(fod=str(fod), panel_size=10)
     with pytest.raises(ValueError, match="odf"):
         fit_task(dwi=str(DIPY / "small_64D.nii"), odf="dti")
+    with pytest.raises(ValueError, match="csd_algorithm"):
+        fit_task(dwi=str(DIPY / "small_64D.nii"), csd_algorithm="fsl")
+    with pytest.raises(Exception, match="missing.txt"):
+        fit_task(dwi=str(DIPY / "small_64D.nii"), response=str(tmp_path / "missing.txt"))
     assert not list(tmp_path.iterdir())
