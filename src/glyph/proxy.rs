@@ -71,12 +71,44 @@ impl GlyphBounds {
 }
 
 /// The projection of degree-d monomial coefficients onto the bands of their parity.
+///
+/// P is three-quarters zeros: Y_lm has one parity in x and one in y (m >= 0: the real
+/// part of (x + i y)^|m|, even in y and of x-parity |m|; m < 0: the imaginary part, odd
+/// in y and of x-parity |m| + 1), and x^a y^b z^c integrates to zero against it unless
+/// a and b have those parities. Each row is therefore stored over the columns of its
+/// parity class only, and a glyph's coefficients are gathered by class once per bound:
+/// a quarter of the multiplications of the dense product. (The quadrature's values at
+/// the other entries are rounding noise about 1e-16; `new` checks they are below 1e-12 of
+/// P's largest entry and leaves them out, which is the exact value; a row that failed the check
+/// would keep all its entries, as class `DENSE`.)
 struct BandProjector {
-    /// The bands l = d % 2, d % 2 + 2, ..., d, each with its 2l + 1 rows of `matrix`.
+    /// The bands l = d % 2, d % 2 + 2, ..., d, each with its 2l + 1 rows.
     bands: Vec<u32>,
-    /// Row-major, one row per (l, m), `columns` monomials each.
-    matrix: Vec<f64>,
-    columns: usize,
+    /// Per row, in (l, m) order: its parity class and where its entries start in
+    /// `packed` (each row has as many entries as its class has columns).
+    rows: Vec<(u8, u32)>,
+    /// The rows' entries over their class's columns, in `class_columns` order.
+    packed: Vec<f64>,
+    /// The monomial indices of each parity class (a % 2 + 2 (b % 2)), in order, and of
+    /// `DENSE` (every monomial) if a row is kept whole.
+    class_columns: [Vec<u16>; 5],
+}
+
+/// Monomials of the highest degree a glyph's product with a linear form has.
+const MAX_MONOMIALS: usize = GATHERED / 2;
+/// Monomials of the highest degree of f^2 the moment tables hold (2 (MAX_DEGREE - 1)).
+const MAX_SQUARE_MONOMIALS: usize = (2 * MAX_DEGREE) * (2 * MAX_DEGREE + 1) / 2;
+
+/// The class of a row kept over every column.
+const DENSE: u8 = 4;
+
+/// Room for a glyph's gathered coefficients: every class (the monomials of the highest
+/// degree the tables hold, d + 1 for d = MAX_DEGREE) and the dense class again.
+const GATHERED: usize = (MAX_DEGREE + 2) * (MAX_DEGREE + 3);
+
+/// The parity class of x^a y^b z^c: a % 2 + 2 (b % 2).
+fn parity_class(m: Monomial) -> u8 {
+    (m.a % 2 + 2 * (m.b % 2)) as u8
 }
 
 impl BandProjector {
@@ -109,23 +141,84 @@ impl BandProjector {
                 }
             }
         }
+        let mut class_columns: [Vec<u16>; 5] = Default::default();
+        for (i, m) in monos.iter().enumerate() {
+            class_columns[parity_class(*m) as usize].push(i as u16);
+        }
+        let row_classes = bands.iter().flat_map(|&l| {
+            (-(l as i32)..=l as i32).map(|m| {
+                let k = m.unsigned_abs();
+                if m >= 0 {
+                    (k % 2) as u8
+                } else {
+                    ((k + 1) % 2 + 2) as u8
+                }
+            })
+        });
+        let mut packed_rows = Vec::with_capacity(rows);
+        let mut packed = Vec::with_capacity(rows * columns / 4 + columns);
+        // The rounding noise of the quadrature's sums is relative to the terms summed, of
+        // the size of P's largest entries, not to a row's own (some rows are 1e-4 of it).
+        let largest = matrix.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        for (line, class) in matrix.chunks_exact(columns).zip(row_classes) {
+            let outside = monos
+                .iter()
+                .zip(line)
+                .filter(|(m, _)| parity_class(**m) != class)
+                .fold(0.0f64, |a, (_, v)| a.max(v.abs()));
+            let class = if outside <= 1e-12 * largest {
+                class
+            } else {
+                if class_columns[DENSE as usize].is_empty() {
+                    class_columns[DENSE as usize] = (0..columns as u16).collect();
+                }
+                DENSE
+            };
+            packed_rows.push((class, packed.len() as u32));
+            packed.extend(
+                class_columns[class as usize]
+                    .iter()
+                    .map(|&i| line[i as usize]),
+            );
+        }
         Self {
             bands,
-            matrix,
-            columns,
+            rows: packed_rows,
+            packed,
+            class_columns,
+        }
+    }
+
+    /// w = P coeffs, into `w` (one value per row, in (l, m) order).
+    fn project(&self, coeffs: &[f64], w: &mut [f64]) {
+        // The coefficients gathered class by class, so each row's product is one dot
+        // product over a contiguous run.
+        let mut gathered = [0.0f64; GATHERED];
+        let mut starts = [0usize; 6];
+        let mut n = 0;
+        for (class, columns) in self.class_columns.iter().enumerate() {
+            starts[class] = n;
+            for &i in columns {
+                gathered[n] = coeffs.get(i as usize).copied().unwrap_or(0.0);
+                n += 1;
+            }
+        }
+        starts[5] = n;
+        for (value, &(class, offset)) in w.iter_mut().zip(&self.rows) {
+            let (c0, c1) = (starts[class as usize], starts[class as usize + 1]);
+            let row = &self.packed[offset as usize..offset as usize + (c1 - c0)];
+            *value = dot(row, &gathered[c0..c1]);
         }
     }
 
     /// sum_l sqrt((2l + 1) / (4 pi)) ||w_l|| for w = P coeffs.
     fn band_bound(&self, coeffs: &[f64]) -> f64 {
-        let mut rows = self.matrix.chunks_exact(self.columns);
+        let mut w = [0.0f64; MAX_MONOMIALS];
+        self.project(coeffs, &mut w);
+        let mut w = w.iter();
         let mut total = 0.0;
         for l in &self.bands {
-            let mut norm2 = 0.0;
-            for row in rows.by_ref().take(2 * *l as usize + 1) {
-                let w = dot(row, coeffs);
-                norm2 += w * w;
-            }
+            let norm2: f64 = w.by_ref().take(2 * *l as usize + 1).map(|v| v * v).sum();
             total += ((2 * l + 1) as f64 / (4.0 * std::f64::consts::PI)).sqrt() * norm2.sqrt();
         }
         total
@@ -244,7 +337,8 @@ pub fn glyph_bounds(poly: &GlyphPolynomial) -> Option<GlyphBounds> {
     let radius = (tables.projector.band_bound(&poly.coeffs) + ROUNDING_SLACK * s).min(s);
     let axes = moment_axes(tables, &poly.coeffs);
     let higher = projector(poly.order + 1);
-    let mut product = vec![0.0; symmetric_count(poly.order + 1)];
+    let mut product = [0.0; MAX_MONOMIALS];
+    let product = &mut product[..symmetric_count(poly.order + 1).min(MAX_MONOMIALS)];
     let extents = axes.map(|a| {
         product.iter_mut().for_each(|v| *v = 0.0);
         for (c, up) in poly.coeffs.iter().zip(&tables.times_axis) {
@@ -253,7 +347,7 @@ pub fn glyph_bounds(poly: &GlyphPolynomial) -> Option<GlyphBounds> {
             product[up[2] as usize] += c * a.z;
         }
         let s_product: f64 = product.iter().map(|v| v.abs()).sum();
-        (higher.band_bound(&product) + ROUNDING_SLACK * s_product.max(s)).min(radius)
+        (higher.band_bound(product) + ROUNDING_SLACK * s_product.max(s)).min(radius)
     });
     Some(GlyphBounds {
         radius,
@@ -271,7 +365,8 @@ const ROUND_GLYPH_RATIO: f64 = 1.5;
 /// The box axes: eigenvectors of A = integral of f^2 u u^T over the sphere as a
 /// right-handed frame, or the world axes for a round glyph (see ROUND_GLYPH_RATIO).
 fn moment_axes(tables: &DegreeTables, coeffs: &[f64]) -> [DVec3; 3] {
-    let mut square = vec![0.0; tables.moments.len()];
+    let mut square = [0.0; MAX_SQUARE_MONOMIALS];
+    let square = &mut square[..tables.moments.len().min(MAX_SQUARE_MONOMIALS)];
     for &(i, j, k) in &tables.square_pairs {
         let product = coeffs[i as usize] * coeffs[j as usize];
         square[k as usize] += if i == j { product } else { 2.0 * product };
@@ -461,11 +556,8 @@ mod tests {
                 coeffs: coeffs.clone(),
             };
             let p = projector(order);
-            let w: Vec<f64> = p
-                .matrix
-                .chunks_exact(p.columns)
-                .map(|row| row.iter().zip(&coeffs).map(|(a, b)| a * b).sum())
-                .collect();
+            let mut w = vec![0.0; p.rows.len()];
+            p.project(&coeffs, &mut w);
             let mut sh = Vec::new();
             for u in fibonacci(50) {
                 real_sh_values(order, &p.bands, u, &mut sh);
@@ -476,6 +568,30 @@ mod tests {
                     "order {order}: {series} vs {direct}"
                 );
             }
+        }
+    }
+
+    /// Every row of every degree's projector lies in its parity class: the sparse
+    /// product skips only exact zeros, and no row falls back to the dense class.
+    #[test]
+    fn projector_rows_keep_to_their_parity_class() {
+        for degree in 0..=MAX_DEGREE as u32 {
+            let p = projector(degree);
+            assert!(
+                p.rows.iter().all(|&(class, _)| class < DENSE),
+                "degree {degree}"
+            );
+            assert!(p.class_columns[DENSE as usize].is_empty());
+            let kept: usize = p
+                .rows
+                .iter()
+                .map(|&(class, _)| p.class_columns[class as usize].len())
+                .sum();
+            let dense = p.rows.len() * symmetric_count(degree);
+            assert!(
+                degree < 2 || 2 * kept < dense,
+                "degree {degree}: {kept} of {dense}"
+            );
         }
     }
 

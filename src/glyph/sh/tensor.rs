@@ -33,6 +33,12 @@ pub struct ShToTensor {
     pub order: u32,
     /// M's entries, row-major.
     pub matrix: Vec<f64>,
+    /// M's non-zero entries, row by row as (column, value): most of M is zero (a band's
+    /// (l, m) reaches only the monomials of its parities in x and y), and `apply` skips
+    /// those, with the same sum as the dense product (the zeros are exact).
+    nonzeros: Vec<(u16, f64)>,
+    /// Where each row's entries start in `nonzeros`, and one past the last row's end.
+    row_starts: Vec<u32>,
 }
 
 impl ShToTensor {
@@ -49,9 +55,14 @@ impl ShToTensor {
     /// t = M w. Missing coefficients count as zero and extra ones are ignored; use
     /// [`sh_to_tensor`] for a checked call.
     pub fn apply(&self, coeffs: &[f64]) -> Vec<f64> {
-        self.matrix
-            .chunks(self.cols())
-            .map(|row| row.iter().zip(coeffs).map(|(m, w)| m * w).sum())
+        self.row_starts
+            .windows(2)
+            .map(|span| {
+                self.nonzeros[span[0] as usize..span[1] as usize]
+                    .iter()
+                    .map(|&(j, m)| m * coeffs.get(j as usize).copied().unwrap_or(0.0))
+                    .sum()
+            })
             .collect()
     }
 }
@@ -109,10 +120,23 @@ fn build(band: u32, basis: ShBasis, legacy: bool) -> ShToTensor {
             }
         }
     }
+    let mut nonzeros = Vec::new();
+    let mut row_starts = vec![0];
+    for row in matrix.chunks(cols) {
+        nonzeros.extend(
+            (0u16..)
+                .zip(row)
+                .filter(|(_, m)| **m != 0.0)
+                .map(|(j, m)| (j, *m)),
+        );
+        row_starts.push(nonzeros.len() as u32);
+    }
     ShToTensor {
         band,
         order,
         matrix,
+        nonzeros,
+        row_starts,
     }
 }
 
