@@ -7,7 +7,7 @@ use glam::DVec3;
 use ndarray::{Array4, ArrayView1, s};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use super::csd::{CsdFitter, FIRST_ESTIMATE_BAND};
+use super::csd::{CsdFitter, CsdParameters, FIRST_ESTIMATE_BAND};
 use super::csd_mrtrix::{CsdAlgorithm, MrtrixCsdFitter, MrtrixCsdParameters};
 use super::odf::{LinearOdfFitter, OdfMethod};
 use super::response::{DEFAULT_RESPONSE_FA, Response, estimate_response};
@@ -346,8 +346,7 @@ impl VoxelFitter {
                                     (basis, legacy),
                                     &directions,
                                     response,
-                                    lambda,
-                                    tau,
+                                    CsdParameters { lambda, tau },
                                 )
                                 .map_err(to_input)?,
                             ),
