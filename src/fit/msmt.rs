@@ -121,8 +121,11 @@ impl Shells {
 /// r_0, r_2, ... (signal units, MRtrix's response format), GM's and CSF's r_0.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TissueResponses {
+    /// White matter: per shell, the zonal coefficients r_0, r_2, ... up to its band.
     pub wm: Vec<Vec<f64>>,
+    /// Grey matter: per shell, r_0 (the isotropic response).
     pub gm: Vec<f64>,
+    /// CSF: per shell, r_0.
     pub csf: Vec<f64>,
 }
 
@@ -180,8 +183,12 @@ pub struct MsmtFitter {
 /// One voxel's result: the WM series in the requested basis, GM's and CSF's band 0.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TissueOdfs {
+    /// The WM fODF's SH coefficients in the requested basis.
     pub wm: Vec<f64>,
+    /// GM's band-0 coefficient (sqrt(4 pi) times it is GM's signal fraction in units of
+    /// its response).
     pub gm: f64,
+    /// CSF's band-0 coefficient, likewise.
     pub csf: f64,
 }
 
@@ -351,9 +358,13 @@ fn dense_csc(matrix: &DMatrix<f64>) -> CscMatrix<f64> {
 /// in the requested basis; GM and CSF: one band-0 coefficient), and what became of the
 /// voxels.
 pub struct MsmtVolumes {
+    /// The WM fODF, one SH series per voxel.
     pub wm: Array4<f64>,
+    /// GM's band-0 coefficient, one per voxel.
     pub gm: Array4<f64>,
+    /// CSF's band-0 coefficient, one per voxel.
     pub csf: Array4<f64>,
+    /// Voxels fitted, floored and left out, by reason.
     pub report: FitReport,
     /// Voxels where the solver did not converge (left at 0).
     pub unsolved: usize,

@@ -130,11 +130,15 @@ impl FitReport {
 /// What became of one voxel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum VoxelOutcome {
+    /// Fitted from the samples as they are.
     Fitted,
     /// Fitted, with samples raised to the floor.
     Floored,
+    /// Left at zero: a sample is NaN or infinite.
     NonFinite,
+    /// Left at zero: the mean b=0 signal is negative.
     NegativeS0,
+    /// Left at zero: the mean b=0 signal is exactly zero (S/S0 is undefined).
     ZeroS0,
 }
 
