@@ -9,7 +9,9 @@
 //!   built-in 300) puts first peaks within a degree of `sh2peaks`'.
 mod common;
 
-use common::{DwiFiles, axis_angle, expect_failure, fresh_dir, glyphcast, test_data, text};
+use common::{
+    DwiFiles, axis_angle, expect_failure, fresh_dir, glyphcast, largest_difference, test_data, text,
+};
 use glam::{DMat3, DVec3};
 use glyphcast::fit::csd_mrtrix::{
     MAX_ITERATIONS, MrtrixCsdFitter, MrtrixCsdParameters, default_constraint_directions,
@@ -396,11 +398,7 @@ fn matches_a_float64_reimplementation() {
     for s in &samples {
         fitter.fit_into(s, &mut ours);
         let theirs = reference.fit(s);
-        let scale = theirs.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let error = ours
-            .iter()
-            .zip(&theirs)
-            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        let (error, scale) = largest_difference(&ours, &theirs);
         worst = worst.max(error / scale);
     }
     eprintln!("{} voxels: largest difference {worst:.2e}", samples.len());

@@ -12,8 +12,8 @@
 mod common;
 
 use common::{
-    DwiFiles, axis_angle, dipy_data, expect_failure, fit_small_64d, fresh_dir, glyphcast, numbers,
-    text,
+    DwiFiles, axis_angle, dipy_data, expect_failure, fit_small_64d, fresh_dir, glyphcast,
+    largest_difference, numbers, text,
 };
 use glam::DVec3;
 use glyphcast::fit::csd::{CsdFitter, CsdParameters};
@@ -100,11 +100,7 @@ fn csa_and_qball_coefficients_match_dipy() {
             let theirs = numbers(&record[key]);
             let mine = series(&ours, voxel);
             assert_eq!(mine.len(), theirs.len());
-            let scale = theirs.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            let error = mine
-                .iter()
-                .zip(&theirs)
-                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            let (error, scale) = largest_difference(&mine, &theirs);
             // Relative to the voxel's largest coefficient; DIPY normalises in float32.
             assert!(
                 error <= 1e-4 * scale,
@@ -214,11 +210,7 @@ fn csd_with_dipys_response_and_constraint_matches_dipy() {
         let mut mine = vec![0.0; sh_count(band)];
         fitter.fit_into(&signal, &mut mine);
         let theirs = numbers(&record["csd"]);
-        let scale = theirs.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let error = mine
-            .iter()
-            .zip(&theirs)
-            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        let (error, scale) = largest_difference(&mine, &theirs);
         assert!(
             error <= 1e-4 * scale,
             "CSD at {:?}: error {error:e} of {scale:e}",

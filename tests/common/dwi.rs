@@ -104,3 +104,15 @@ pub fn axis_angle(a: DVec3, b: DVec3) -> f64 {
         .acos()
         .to_degrees()
 }
+
+/// The largest difference between `ours` and `theirs` coefficient by coefficient, and the
+/// largest magnitude among `theirs`: the scale a difference is judged against.
+pub fn largest_difference(ours: &[f64], theirs: &[f64]) -> (f64, f64) {
+    assert_eq!(ours.len(), theirs.len(), "coefficient counts differ");
+    let scale = theirs.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let error = ours
+        .iter()
+        .zip(theirs)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    (error, scale)
+}

@@ -18,7 +18,9 @@ pub mod window;
 
 // Each test binary compiles this module and uses only some of these names.
 #[allow(unused_imports)]
-pub use dwi::{DwiFiles, axis_angle, fit_dti_small_64d, fit_small_64d, numbers};
+pub use dwi::{
+    DwiFiles, axis_angle, fit_dti_small_64d, fit_small_64d, largest_difference, numbers,
+};
 
 /// A GPU with the validation layer on (tests never run without it). The device is the
 /// one GLYPHCAST_DEVICE names, else the best available: lavapipe in CI.
