@@ -65,8 +65,8 @@ pub struct CsdFitter {
 pub struct CsdParameters {
     /// Weight of the constraint rows, before the scaling of the module notes (DIPY: 1).
     pub lambda: f64,
-    /// The threshold as a fraction of the fODF's mean amplitude: amplitudes below it
-    /// are pushed up to 0 (DIPY: 0.1).
+    /// The threshold, as a fraction of the fODF's mean amplitude: directions where the
+    /// fODF lies below it are penalised (DIPY: 0.1).
     pub tau: f64,
 }
 

@@ -58,7 +58,7 @@ pub struct Figure {
     pub panel_captions: Vec<String>,
     /// Panels to a row of the montage.
     pub columns: usize,
-    /// The montage, labelled, at the panels' size times rows and columns.
+    /// The rendered montage with its edge labels.
     pub image: RenderedImage,
     /// Glyphs drawn in all panels.
     pub glyphs: usize,
@@ -219,7 +219,7 @@ pub struct DrawContext<'a> {
     pub gpu: &'a Gpu,
     /// Method, colour, samples and the rest, the same for every figure.
     pub settings: RenderSettings,
-    /// How negative lobes are drawn, when the volume has any.
+    /// Replaces every glyph set's negative-lobe mode, if given.
     pub negative: Option<NegativeMode>,
     /// The underlay drawn behind each panel's slice, if the set has one.
     pub underlay: Option<&'a SharedUnderlay>,

@@ -34,7 +34,7 @@ pub const PERSPECTIVE_FOV_DEG: f64 = 30.0;
 /// The camera a volume view is framed with.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum ViewProjection {
-    /// Parallel rays along the slice normal; the slice fills the image.
+    /// Parallel rays along the slice's normal.
     #[default]
     Orthographic,
     /// A pinhole of [`PERSPECTIVE_FOV_DEG`] vertical field of view (`--perspective`).

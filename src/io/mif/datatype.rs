@@ -38,7 +38,7 @@ pub enum Number {
 pub struct DataType {
     /// The kind of number stored.
     pub number: Number,
-    /// Most significant byte first (`BE`); false for `LE` and for single-byte types.
+    /// Most significant byte first (`BE`); without meaning for the single-byte types.
     pub big_endian: bool,
 }
 

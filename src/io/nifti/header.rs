@@ -45,25 +45,29 @@ pub struct NiftiHeader {
     pub big_endian: bool,
     /// The magic as stored: `n+1\0`, `ni1\0`, `n+2\0\r\n\x1a\n`, ... (4 bytes for NIfTI-1).
     pub magic: Vec<u8>,
-    /// `dim_info`: the frequency, phase and slice encoding axes, two bits each (copied, not used).
+    /// `dim_info`: the frequency, phase and slice encoding axes, two bits each (not used; a
+    /// fit's output keeps it).
     pub dim_info: u8,
     /// dim[0] is the number of dimensions, dim[1..=dim[0]] their lengths.
     pub dim: [i64; 8],
-    /// `intent_p1`: the first parameter of the intent (copied, not used).
+    /// `intent_p1`: the first parameter of the intent (not used; a fit's output clears it).
     pub intent_p1: f64,
-    /// `intent_p2`: the second parameter of the intent (copied, not used).
+    /// `intent_p2`: the second parameter of the intent (not used; a fit's output clears
+    /// it).
     pub intent_p2: f64,
-    /// `intent_p3`: the third parameter of the intent (copied, not used).
+    /// `intent_p3`: the third parameter of the intent (not used; a fit's output clears it).
     pub intent_p3: f64,
     /// `intent_code`: what the values mean (`NIFTI_INTENT_*`); 1005 (symmetric matrix)
-    /// marks a tensor volume when glyphcast guesses a volume's kind, other codes are copied.
+    /// marks a tensor volume when glyphcast guesses a volume's kind; a fit's output clears
+    /// it.
     pub intent_code: i32,
     /// `datatype`: the stored voxel type (`DT_*`: 2 uint8, 4 int16, 8 int32, 16 float32,
     /// 64 float64, ...); real types are read as f64, complex and RGB types are refused.
     pub datatype: i16,
     /// `bitpix`: bits per voxel; it must agree with `datatype`.
     pub bitpix: i16,
-    /// `slice_start`: the first slice of the acquisition order (copied, not used).
+    /// `slice_start`: the first slice of the acquisition order (not used; a fit's output
+    /// keeps it).
     pub slice_start: i64,
     /// pixdim[0] is qfac (its sign flips the third axis of the qform), pixdim[1..] the
     /// voxel sizes.
@@ -75,24 +79,30 @@ pub struct NiftiHeader {
     pub scl_slope: f64,
     /// `scl_inter`: added to the stored values after `scl_slope` on reading.
     pub scl_inter: f64,
-    /// `slice_end`: the last slice of the acquisition order (copied, not used).
+    /// `slice_end`: the last slice of the acquisition order (not used; a fit's output keeps
+    /// it).
     pub slice_end: i64,
-    /// `slice_code`: the slice timing pattern (`NIFTI_SLICE_*`; copied, not used).
+    /// `slice_code`: the slice timing pattern (`NIFTI_SLICE_*`; not used; a fit's output
+    /// keeps it).
     pub slice_code: i32,
     /// `xyzt_units`: the spatial unit in bits 0-2 (2 mm) and the temporal unit in bits 3-5
-    /// (copied, not used: the affine is taken in the file's own units).
+    /// (not used: the affine is taken in the file's own units; a fit's output keeps it).
     pub xyzt_units: i32,
-    /// `cal_max`: the display maximum the writer suggests (copied, not used).
+    /// `cal_max`: the display maximum the writer suggests (not used; a fit's output clears
+    /// it).
     pub cal_max: f64,
-    /// `cal_min`: the display minimum the writer suggests (copied, not used).
+    /// `cal_min`: the display minimum the writer suggests (not used; a fit's output clears
+    /// it).
     pub cal_min: f64,
-    /// `slice_duration`: seconds per slice acquisition (copied, not used).
+    /// `slice_duration`: seconds per slice acquisition (not used; a fit's output keeps it).
     pub slice_duration: f64,
-    /// `toffset`: the time of the first volume, in `xyzt_units` (copied, not used).
+    /// `toffset`: the time of the first volume, in `xyzt_units` (not used; a fit's output
+    /// keeps it).
     pub toffset: f64,
     /// `descrip`: free ASCII text, NUL-padded; see [`NiftiHeader::description`].
     pub descrip: [u8; 80],
-    /// `aux_file`: the name of an auxiliary file, NUL-padded (copied, not used).
+    /// `aux_file`: the name of an auxiliary file, NUL-padded (not used; a fit's output
+    /// keeps it).
     pub aux_file: [u8; 24],
     /// `qform_code`: what the quaternion transform maps to (0 unset, 1 scanner, 2 aligned,
     /// 3 Talairach, 4 MNI); it is used when `sform_code` is 0.
@@ -100,7 +110,8 @@ pub struct NiftiHeader {
     /// `sform_code`: what the `srow_*` affine maps to (same codes); when above 0 it wins
     /// over the qform.
     pub sform_code: i32,
-    /// `quatern_b`: the qform rotation's quaternion, i component (a = sqrt(1 - b² - c² - d²)).
+    /// `quatern_b`: the qform rotation's quaternion, i component (a = sqrt(1 - b² - c² -
+    /// d²)).
     pub quatern_b: f64,
     /// `quatern_c`: the qform rotation's quaternion, j component.
     pub quatern_c: f64,
@@ -118,7 +129,8 @@ pub struct NiftiHeader {
     pub srow_y: [f64; 4],
     /// `srow_z`: the third row of the sform affine.
     pub srow_z: [f64; 4],
-    /// `intent_name`: a name for the intent, NUL-padded (copied, not used).
+    /// `intent_name`: a name for the intent, NUL-padded (not used; a fit's output clears
+    /// it).
     pub intent_name: [u8; 16],
 }
 
