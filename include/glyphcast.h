@@ -47,14 +47,19 @@ typedef struct GlyphcastRenderer GlyphcastRenderer;
 typedef struct GlyphcastMemoryRequest {
   // A label (NUL-terminated, valid during the call).
   const char *name;
-  // The buffer's or image's VkMemoryRequirements.
+  // Bytes needed (the buffer's or image's VkMemoryRequirements::size).
   uint64_t size;
+  // The block's offset must be a multiple of this (VkMemoryRequirements::alignment).
   uint64_t alignment;
+  // The memory types that may hold it, one bit per type index
+  // (VkMemoryRequirements::memoryTypeBits).
   uint32_t memory_type_bits;
+  // Who writes and reads the memory.
   enum GlyphcastMemoryUse usage;
   // VkMemoryPropertyFlags the memory type must have (host-visible memory must be
-  // coherent: glyphcast neither flushes nor invalidates), and those it should have.
+  // coherent: glyphcast neither flushes nor invalidates).
   uint32_t required_flags;
+  // VkMemoryPropertyFlags the memory type should have where one offers them.
   uint32_t preferred_flags;
   // 1 for a buffer, 0 for an optimal-tiling image (bufferImageGranularity).
   uint32_t linear;
@@ -62,6 +67,7 @@ typedef struct GlyphcastMemoryRequest {
 
 // A block of memory the host hands out.
 typedef struct GlyphcastMemoryBlock {
+  // The VkDeviceMemory the block lies in.
   VkDeviceMemory memory;
   // A multiple of the request's alignment.
   uint64_t offset;
@@ -93,7 +99,9 @@ typedef struct GlyphcastAllocator {
 typedef struct GlyphcastRendererDesc {
   // The loader's vkGetInstanceProcAddr (glyphcast loads every function through it).
   PFN_vkGetInstanceProcAddr get_instance_proc_addr;
+  // The host's instance, which the host keeps until the renderer is destroyed.
   VkInstance instance;
+  // The physical device `device` was made from.
   VkPhysicalDevice physical_device;
   // A Vulkan 1.3 device with dynamicRendering (and sampleRateShading when samples > 1).
   VkDevice device;
@@ -103,6 +111,7 @@ typedef struct GlyphcastRendererDesc {
   VkFormat depth_format;
   // Samples per pixel of the attachments: 1, 2, 4 or 8.
   uint32_t samples;
+  // Which way the host's depth runs.
   enum GlyphcastDepth depth;
   // A pipeline cache of the host's, or VK_NULL_HANDLE.
   VkPipelineCache pipeline_cache;
@@ -120,9 +129,13 @@ typedef struct GlyphcastRendererDesc {
 
 // The rectangle a frame is drawn in (viewport and scissor), in framebuffer pixels.
 typedef struct GlyphcastViewport {
+  // Left edge.
   int32_t x;
+  // Top edge.
   int32_t y;
+  // Width in pixels.
   uint32_t width;
+  // Height in pixels.
   uint32_t height;
 } GlyphcastViewport;
 

@@ -1,4 +1,4 @@
-#![cfg_attr(not(feature = "volume"), warn(missing_docs))]
+#![warn(missing_docs)]
 //! glyphcast: GPU ray casting of higher-order tensor and spherical-harmonic glyphs.
 //!
 //! The method is that of Hlawitschka, Hijazi, Knoll and Hamann, "Towards a High-quality

@@ -241,3 +241,37 @@ fn the_colour_bar_is_made_in_one_place() {
         found.join("\n")
     );
 }
+
+/// `missing_docs` holds for every feature set: the library and the C API warn on it
+/// unconditionally (not under a `cfg_attr` of some feature), and CI lints the library
+/// with all features on as well as with none, warnings denied.
+#[test]
+fn missing_docs_holds_for_every_feature_set() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for crate_root in ["src/lib.rs", "capi/src/lib.rs"] {
+        let text = fs::read_to_string(root.join(crate_root)).unwrap();
+        assert!(
+            text.lines().any(|l| l.trim() == "#![warn(missing_docs)]"),
+            "{crate_root} must warn on missing docs for every feature set"
+        );
+    }
+    let ci = fs::read_to_string(root.join(".ci/run")).unwrap();
+    for flags in ["--all-features", "--no-default-features"] {
+        assert!(
+            ci.lines().any(|l| l.starts_with("cargo clippy")
+                && l.contains(flags)
+                && l.contains("-D warnings")),
+            ".ci/run has no clippy run with {flags} and -D warnings"
+        );
+    }
+}
+
+/// The fits' constraint and search directions come from one place: the hemisphere of
+/// a geodesic sphere is taken by `GeodesicSphere::hemisphere`, not filtered again by
+/// each fitter.
+#[test]
+fn the_geodesic_hemisphere_is_taken_in_one_place() {
+    let found = code_lines_with("(v.z, v.y, v.x) >");
+    assert_eq!(found.len(), 1, "{}", found.join("\n"));
+    assert!(found[0].starts_with("src/fit/sphere.rs"), "{}", found[0]);
+}

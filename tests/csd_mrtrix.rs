@@ -9,14 +9,16 @@
 //!   built-in 300) puts first peaks within a degree of `sh2peaks`'.
 mod common;
 
-use common::{dipy_data, expect_failure, fresh_dir, glyphcast, text};
+use common::{
+    DwiFiles, axis_angle, expect_failure, fresh_dir, glyphcast, largest_difference, test_data, text,
+};
 use glam::{DMat3, DVec3};
 use glyphcast::fit::csd_mrtrix::{
     MAX_ITERATIONS, MrtrixCsdFitter, MrtrixCsdParameters, default_constraint_directions,
 };
 use glyphcast::fit::gradients::BvecConvention;
 use glyphcast::fit::peaks::{PeakFinder, PeakOptions};
-use glyphcast::fit::{FitFiles, FitInputs, Response};
+use glyphcast::fit::{FitInputs, Response};
 use glyphcast::glyph::sh::{rotate_sh, sh_basis_values, sh_count, sh_orders};
 use glyphcast::io::image::{Image, read_image};
 use glyphcast::io::nifti::VoxelToWorld;
@@ -28,21 +30,13 @@ const BAND: u32 = 8;
 const MRTRIX_BASIS: (ShBasis, bool) = (ShBasis::Tournier07, false);
 
 fn mrtrix_data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/mrtrix")
-        .join(name)
+    test_data("mrtrix", name)
 }
 
 /// small_64D as the command reads it: FSL's bvecs turned into the voxel axes (the table
 /// `mrconvert -fslgrad` gave dwi2fod, in scanner axes).
 fn small_64d() -> FitInputs {
-    let mut inputs = FitInputs::load(FitFiles {
-        dwi: dipy_data("small_64D.nii"),
-        bval: Some(dipy_data("small_64D.bval")),
-        bvec: Some(dipy_data("small_64D.bvec")),
-        mask: None,
-    })
-    .expect("loading small_64D");
+    let mut inputs = DwiFiles::small_64d().inputs();
     let map = inputs.dwi.voxel_to_world().expect("affine");
     let to_voxel = BvecConvention::Fsl
         .to_voxel_axes(&map, "small_64D")
@@ -109,15 +103,6 @@ fn voxels(inputs: &FitInputs) -> Vec<[usize; 3]> {
 
 fn lane(image: &Image, [x, y, z]: [usize; 3], count: usize) -> Vec<f64> {
     (0..count).map(|k| image.data[[x, y, z, k]]).collect()
-}
-
-fn axis_angle(a: DVec3, b: DVec3) -> f64 {
-    a.normalize()
-        .dot(b.normalize())
-        .abs()
-        .min(1.0)
-        .acos()
-        .to_degrees()
 }
 
 /// (median, 95th percentile, largest) of `values`.
@@ -225,30 +210,17 @@ fn the_command_comes_within_a_degree_of_dwi2fod() {
     let inputs = small_64d();
     let peaks = read_image(&mrtrix_data("peaks_builtin.mif")).expect("sh2peaks output");
     let map = inputs.dwi.voxel_to_world().expect("affine");
-    let files = ["small_64D.nii", "small_64D.bval", "small_64D.bvec"].map(dipy_data);
+    let small_64d_files = DwiFiles::small_64d();
     let response = mrtrix_data("response.txt");
     let mut results = Vec::new();
     for algorithm in [None, Some("dipy")] {
         let out = dir.join(format!("fod-{}.mif", algorithm.unwrap_or("default")));
-        let mut args = vec![
-            "fit",
-            text(&files[0]),
-            "--bval",
-            text(&files[1]),
-            "--bvec",
-            text(&files[2]),
-            "--odf",
-            "csd",
-            "--lmax",
-            "8",
-            "--response",
-            text(&response),
-        ];
+        let mut model = vec!["--odf", "csd", "--lmax", "8", "--response", text(&response)];
         if let Some(name) = algorithm {
-            args.extend(["--csd-algorithm", name]);
+            model.extend(["--csd-algorithm", name]);
         }
-        args.extend(["--quiet", "-o", text(&out)]);
-        let run = glyphcast(&args);
+        model.push("--quiet");
+        let run = glyphcast(&small_64d_files.fit_args(&model, &out));
         assert!(
             run.status.success(),
             "{}",
@@ -426,11 +398,7 @@ fn matches_a_float64_reimplementation() {
     for s in &samples {
         fitter.fit_into(s, &mut ours);
         let theirs = reference.fit(s);
-        let scale = theirs.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let error = ours
-            .iter()
-            .zip(&theirs)
-            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        let (error, scale) = largest_difference(&ours, &theirs);
         worst = worst.max(error / scale);
     }
     eprintln!("{} voxels: largest difference {worst:.2e}", samples.len());
@@ -467,16 +435,13 @@ fn zonal(l: u32, z: f64) -> f64 {
 #[test]
 fn bad_csd_options_fail_cleanly() {
     let dir = fresh_dir("csd-mrtrix-bad");
-    let files = ["small_64D.nii", "small_64D.bval", "small_64D.bvec"].map(dipy_data);
+    let small_64d_files = DwiFiles::small_64d();
     let out = dir.join("fod.nii");
     let base = |extra: &[&str]| -> Vec<String> {
-        let mut args: Vec<String> = ["fit", text(&files[0]), "--bval", text(&files[1])]
-            .into_iter()
-            .chain(["--bvec", text(&files[2]), "--order", "8", "-o", text(&out)])
-            .map(String::from)
-            .collect();
-        args.extend(extra.iter().map(|s| s.to_string()));
-        args
+        let mut model = vec!["--order", "8"];
+        model.extend_from_slice(extra);
+        let args = small_64d_files.fit_args(&model, &out);
+        args.into_iter().map(String::from).collect()
     };
     for (extra, words) in [
         (

@@ -10,12 +10,13 @@
 //! - Estimated responses come near the true ones; bad input fails cleanly.
 mod common;
 
-use common::{expect_failure, fresh_dir, glyphcast, text};
+use common::{
+    DwiFiles, axis_angle, expect_failure, fresh_dir, glyphcast, numbers, test_data, text,
+};
 use glam::DVec3;
-use glyphcast::fit::msmt::{MsmtFitter, Shells};
+use glyphcast::fit::msmt::{MsmtFitter, MsmtProblem, Shells, TissueResponses};
 use glyphcast::fit::peaks::{PeakFinder, PeakOptions};
 use glyphcast::fit::response_msmt::{estimate_responses, read_responses};
-use glyphcast::fit::{FitFiles, FitInputs};
 use glyphcast::scene::ShBasis;
 use nifti::{IntoNdArray, NiftiObject, ReaderOptions};
 use serde_json::Value;
@@ -25,9 +26,7 @@ use std::path::{Path, PathBuf};
 const DIPY_BASIS: (ShBasis, bool) = (ShBasis::Descoteaux07, true);
 
 fn data(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/msmt")
-        .join(name)
+    test_data("msmt", name)
 }
 
 fn fixture() -> Value {
@@ -35,38 +34,29 @@ fn fixture() -> Value {
     serde_json::from_str(&text).expect("parsing the fixture")
 }
 
-fn numbers(v: &Value) -> Vec<f64> {
-    v.as_array()
-        .expect("an array")
-        .iter()
-        .map(|x| x.as_f64().expect("a number"))
-        .collect()
-}
-
 fn vector(v: &Value) -> DVec3 {
     let n = numbers(v);
     DVec3::new(n[0], n[1], n[2])
 }
 
-fn inputs() -> FitInputs {
-    // DIPY reads the b-vectors as stored: the voxel axes (the fixture's affine has a
-    // negative determinant, so FSL's convention agrees).
-    FitInputs::load(FitFiles {
-        dwi: data("dwi.nii.gz"),
-        bval: Some(data("dwi.bval")),
-        bvec: Some(data("dwi.bvec")),
-        mask: None,
-    })
-    .expect("loading the fixture")
+/// The responses the fixture's DWI was made with (wm.txt, gm.txt, csf.txt).
+fn true_responses(shells: &Shells) -> TissueResponses {
+    read_responses(&data("wm.txt"), &data("gm.txt"), &data("csf.txt"), shells)
+        .expect("reading the responses")
 }
 
-fn angle(a: DVec3, b: DVec3) -> f64 {
-    a.normalize()
-        .dot(b.normalize())
-        .abs()
-        .min(1.0)
-        .acos()
-        .to_degrees()
+/// `--odf msmt` with the three response files.
+fn msmt_with<'a>(wm: &'a Path, gm: &'a Path, csf: &'a Path) -> [&'a str; 8] {
+    [
+        "--odf",
+        "msmt",
+        "--response",
+        text(wm),
+        "--response-gm",
+        text(gm),
+        "--response-csf",
+        text(csf),
+    ]
 }
 
 fn voxel(record: &Value) -> [usize; 3] {
@@ -77,27 +67,26 @@ fn voxel(record: &Value) -> [usize; 3] {
 #[test]
 fn qp_with_dipys_constraint_directions_is_dipys_solution() {
     let fixture = fixture();
-    let inputs = inputs();
+    // DIPY reads the b-vectors as stored: the voxel axes (the fixture's affine has a
+    // negative determinant, so FSL's convention agrees).
+    let inputs = DwiFiles::msmt().inputs();
     let shells = Shells::group(&inputs.gradients.bvals);
     assert_eq!(shells.len(), 4, "{shells:?}");
-    let responses = read_responses(&data("wm.txt"), &data("gm.txt"), &data("csf.txt"), &shells)
-        .expect("reading the responses");
+    let responses = true_responses(&shells);
     let constraint: Vec<DVec3> = fixture["constraint_directions"]
         .as_array()
         .unwrap()
         .iter()
         .map(vector)
         .collect();
-    let fitter = MsmtFitter::with_constraint(
-        8,
-        DIPY_BASIS,
-        &inputs.gradients.bvals,
-        &inputs.gradients.directions,
-        &shells,
-        &responses,
-        &constraint,
-    )
-    .unwrap();
+    let problem = MsmtProblem {
+        band: 8,
+        basis: DIPY_BASIS,
+        gradients: &inputs.gradients,
+        shells: &shells,
+        responses: &responses,
+    };
+    let fitter = MsmtFitter::with_constraint(&problem, &constraint).unwrap();
     let mut solver = fitter.solver().unwrap();
     let (mut worst_tight, mut worst_dipy) = (0.0f64, 0.0f64);
     for record in fixture["voxels"].as_array().unwrap() {
@@ -136,28 +125,10 @@ fn qp_with_dipys_constraint_directions_is_dipys_solution() {
 /// `fit --odf msmt` with the three response files into `dir`: the WM, GM and CSF volumes.
 fn run_cli(dir: &Path) -> [ndarray::ArrayD<f64>; 3] {
     let wm = dir.join("wm.nii.gz");
-    let run = glyphcast(&[
-        "fit",
-        text(&data("dwi.nii.gz")),
-        "--bval",
-        text(&data("dwi.bval")),
-        "--bvec",
-        text(&data("dwi.bvec")),
-        "--odf",
-        "msmt",
-        "--order",
-        "8",
-        "--basis",
-        "dipy",
-        "--response",
-        text(&data("wm.txt")),
-        "--response-gm",
-        text(&data("gm.txt")),
-        "--response-csf",
-        text(&data("csf.txt")),
-        "-o",
-        text(&wm),
-    ]);
+    let (wm_response, gm, csf) = (data("wm.txt"), data("gm.txt"), data("csf.txt"));
+    let mut model = vec!["--order", "8", "--basis", "dipy"];
+    model.extend(msmt_with(&wm_response, &gm, &csf));
+    let run = glyphcast(&DwiFiles::msmt().fit_args(&model, &wm));
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert!(run.status.success(), "{stderr}");
     assert!(
@@ -230,7 +201,7 @@ fn command_line_matches_dipy_and_the_known_mixture() {
             for d in &dipy_peaks {
                 let nearest = peaks
                     .iter()
-                    .map(|p| angle(p.direction, *d))
+                    .map(|p| axis_angle(p.direction, *d))
                     .fold(180.0, f64::min);
                 peak_gap = peak_gap.max(nearest);
                 peaks_compared += 1;
@@ -251,7 +222,7 @@ fn command_line_matches_dipy_and_the_known_mixture() {
             for p in &true_peaks {
                 let nearest = peaks
                     .iter()
-                    .map(|q| angle(q.direction, p.direction))
+                    .map(|q| axis_angle(q.direction, p.direction))
                     .fold(180.0, f64::min);
                 truth_peak = truth_peak.max(nearest);
             }
@@ -264,7 +235,7 @@ fn command_line_matches_dipy_and_the_known_mixture() {
         {
             let fibre = vector(&fibres[0]);
             assert!(
-                angle(peaks[0].direction, fibre) < 1.0,
+                axis_angle(peaks[0].direction, fibre) < 1.0,
                 "{record}: {peaks:?}"
             );
         }
@@ -286,10 +257,9 @@ fn command_line_matches_dipy_and_the_known_mixture() {
 
 #[test]
 fn estimated_responses_come_near_the_true_ones() {
-    let inputs = inputs();
+    let inputs = DwiFiles::msmt().inputs();
     let shells = Shells::group(&inputs.gradients.bvals);
-    let truth =
-        read_responses(&data("wm.txt"), &data("gm.txt"), &data("csf.txt"), &shells).unwrap();
+    let truth = true_responses(&shells);
     let estimate = estimate_responses(&inputs, &shells, 8, 0.7).expect("estimating");
     // Single-fibre and nearly single-fibre voxels are WM, the pure GM and CSF voxels
     // (one in each slice) and GM-rich mixtures are GM and CSF.
@@ -335,134 +305,70 @@ fn estimated_responses_come_near_the_true_ones() {
 fn bad_input_is_refused_naming_the_file() {
     let dir = fresh_dir("msmt-bad");
     let out = dir.join("wm.nii.gz");
-    let common = |extra: &[&str]| -> Vec<String> {
-        let mut args: Vec<String> = [
-            "fit",
-            text(&data("dwi.nii.gz")),
-            "--bval",
-            text(&data("dwi.bval")),
-            "--bvec",
-            text(&data("dwi.bvec")),
-            "--order",
-            "8",
-            "-o",
-            text(&out),
-        ]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
-        args.extend(extra.iter().map(|s| s.to_string()));
-        args
+    let (wm, gm, csf) = (data("wm.txt"), data("gm.txt"), data("csf.txt"));
+    let write = |name: &str, rows: &str| {
+        let path = dir.join("..").join(name);
+        std::fs::write(&path, rows).unwrap();
+        path
     };
-    let run = |args: Vec<String>, words: &[&str]| {
-        let refs: Vec<&str> = args.iter().map(String::as_str).collect();
-        expect_failure(&refs, &dir, words)
-    };
-    // Single-shell CSD on this multi-shell DWI points to msmt.
-    run(
-        common(&["--odf", "csd"]),
-        &["dwi.bval", "multi-shell", "--odf msmt"],
-    );
-    // A single-shell response where every shell needs a row: the file and its rows.
-    let single = dir.join("../msmt-single.txt");
-    std::fs::write(&single, "# Shells: 1000\n1781.5 -633.5 107.7\n").unwrap();
-    run(
-        common(&[
-            "--odf",
-            "msmt",
-            "--response",
-            text(&single),
-            "--response-gm",
-            text(&data("gm.txt")),
-            "--response-csf",
-            text(&data("csf.txt")),
-        ]),
-        &["msmt-single.txt", "rows", "1 row", "4 shells"],
-    );
-    // Rows for other shells than the data's: the file and the row.
-    let shifted = dir.join("../msmt-shifted.txt");
-    std::fs::write(
-        &shifted,
+    // A single-shell response where every shell needs a row.
+    let single = write("msmt-single.txt", "# Shells: 1000\n1781.5 -633.5 107.7\n");
+    // Rows for other shells than the data's.
+    let shifted = write(
+        "msmt-shifted.txt",
         "# Shells: 0,1000,2500,3000\n3000\n2000\n900\n400\n",
-    )
-    .unwrap();
-    run(
-        common(&[
-            "--odf",
-            "msmt",
-            "--response",
-            text(&data("wm.txt")),
-            "--response-gm",
-            text(&shifted),
-            "--response-csf",
-            text(&data("csf.txt")),
-        ]),
-        &["msmt-shifted.txt", "row 3", "b = 2500", "2000"],
     );
     // A GM response with an anisotropic column.
-    let anisotropic = dir.join("../msmt-aniso.txt");
-    std::fs::write(&anisotropic, "3000 0\n2000 -10\n900 0\n400 0\n").unwrap();
-    run(
-        common(&[
-            "--odf",
-            "msmt",
-            "--response",
-            text(&data("wm.txt")),
-            "--response-gm",
-            text(&anisotropic),
-            "--response-csf",
-            text(&data("csf.txt")),
-        ]),
-        &["msmt-aniso.txt", "row 2", "isotropic"],
-    );
-    // Single-shell data with msmt: a clear message that names the b-values.
-    let small = common::dipy_data("small_64D.nii");
-    let (bval, bvec) = (
-        common::dipy_data("small_64D.bval"),
-        common::dipy_data("small_64D.bvec"),
-    );
-    let args = [
-        "fit",
-        text(&small),
-        "--bval",
-        text(&bval),
-        "--bvec",
-        text(&bvec),
-        "--odf",
-        "msmt",
-        "--order",
-        "8",
-        "-o",
-        text(&out),
+    let anisotropic = write("msmt-aniso.txt", "3000 0\n2000 -10\n900 0\n400 0\n");
+    // (DWI, model options, the words the error holds: the file and the field or row).
+    let (msmt, small) = (DwiFiles::msmt(), DwiFiles::small_64d());
+    let cases: [(&DwiFiles, &[&str], &[&str]); 5] = [
+        // Single-shell CSD on this multi-shell DWI points to msmt.
+        (
+            &msmt,
+            &["--odf", "csd"],
+            &["dwi.bval", "multi-shell", "--odf msmt"],
+        ),
+        (
+            &msmt,
+            &msmt_with(&single, &gm, &csf),
+            &["msmt-single.txt", "rows", "1 row", "4 shells"],
+        ),
+        (
+            &msmt,
+            &msmt_with(&wm, &shifted, &csf),
+            &["msmt-shifted.txt", "row 3", "b = 2500", "2000"],
+        ),
+        (
+            &msmt,
+            &msmt_with(&wm, &anisotropic, &csf),
+            &["msmt-aniso.txt", "row 2", "isotropic"],
+        ),
+        // Single-shell data with msmt: a clear message that names the b-values.
+        (
+            &small,
+            &["--odf", "msmt"],
+            &["small_64D.bval", "two non-zero shells", "--odf csd"],
+        ),
     ];
-    expect_failure(
-        &args,
-        &dir,
-        &["small_64D.bval", "two non-zero shells", "--odf csd"],
-    );
+    for (dwi, model, words) in cases {
+        let mut args = vec!["--order", "8"];
+        args.extend_from_slice(model);
+        expect_failure(&dwi.fit_args(&args, &out), &dir, words);
+    }
     // Flags of another model: usage errors (exit 2).
-    let usage = glyphcast(
-        &common(&["--odf", "msmt", "--tau", "0.2"])
-            .iter()
-            .map(String::as_str)
-            .collect::<Vec<_>>(),
-    );
-    assert_eq!(
-        usage.status.code(),
-        Some(2),
-        "{}",
-        String::from_utf8_lossy(&usage.stderr)
-    );
-    let usage = glyphcast(
-        &common(&["--odf", "csd", "--gm", "x.nii"])
-            .iter()
-            .map(String::as_str)
-            .collect::<Vec<_>>(),
-    );
-    assert_eq!(
-        usage.status.code(),
-        Some(2),
-        "{}",
-        String::from_utf8_lossy(&usage.stderr)
-    );
+    for model in [
+        ["--odf", "msmt", "--tau", "0.2"],
+        ["--odf", "csd", "--gm", "x.nii"],
+    ] {
+        let mut args = vec!["--order", "8"];
+        args.extend_from_slice(&model);
+        let usage = glyphcast(&msmt.fit_args(&args, &out));
+        assert_eq!(
+            usage.status.code(),
+            Some(2),
+            "{model:?}: {}",
+            String::from_utf8_lossy(&usage.stderr)
+        );
+    }
 }

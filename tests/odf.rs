@@ -11,14 +11,17 @@
 //!   and bad input fails cleanly.
 mod common;
 
-use common::{dipy_data, expect_failure, fit_small_64d, fresh_dir, glyphcast, text};
+use common::{
+    DwiFiles, axis_angle, dipy_data, expect_failure, fit_small_64d, fresh_dir, glyphcast,
+    largest_difference, numbers, text,
+};
 use glam::DVec3;
-use glyphcast::fit::csd::CsdFitter;
+use glyphcast::fit::csd::{CsdFitter, CsdParameters};
 use glyphcast::fit::dti::DiffusionTensor;
 use glyphcast::fit::peaks::{PeakFinder, PeakOptions};
 use glyphcast::fit::response::{DEFAULT_RESPONSE_FA, estimate_response};
 use glyphcast::fit::{
-    CsdAlgorithm, FitFiles, FitInputs, FitModel, OdfMethod, Response, fit, fit_with_response,
+    CsdAlgorithm, FitInputs, FitModel, OdfMethod, Response, fit, fit_with_response,
 };
 use glyphcast::glyph::sh::{sh_count, sh_eval};
 use glyphcast::scene::ShBasis;
@@ -32,27 +35,13 @@ const DIPY_BASIS: (ShBasis, bool) = (ShBasis::Descoteaux07, true);
 
 fn inputs() -> FitInputs {
     // The b-vectors as stored, as DIPY reads them (no --bvec-convention transform).
-    FitInputs::load(FitFiles {
-        dwi: dipy_data("small_64D.nii"),
-        bval: Some(dipy_data("small_64D.bval")),
-        bvec: Some(dipy_data("small_64D.bvec")),
-        mask: None,
-    })
-    .expect("loading small_64D")
+    DwiFiles::small_64d().inputs()
 }
 
 fn fixture() -> Value {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/dipy/odf-dipy.json");
     let text = std::fs::read_to_string(&path).expect("reading the DIPY fixture");
     serde_json::from_str(&text).expect("parsing the DIPY fixture")
-}
-
-fn numbers(v: &Value) -> Vec<f64> {
-    v.as_array()
-        .expect("an array")
-        .iter()
-        .map(|x| x.as_f64().expect("a number"))
-        .collect()
 }
 
 fn voxel_of(record: &Value) -> [usize; 3] {
@@ -75,13 +64,6 @@ fn odf_model(method: OdfMethod, band: u32, lambda: f64) -> FitModel {
         // The DIPY fixture's algorithm; `fit`'s default is MRtrix's (tests/csd_mrtrix.rs).
         csd: CsdAlgorithm::Dipy,
     }
-}
-
-/// Angle in degrees between two axes (antipodes are the same axis).
-fn axis_angle(a: DVec3, b: DVec3) -> f64 {
-    (a.normalize().dot(b.normalize()).abs().min(1.0))
-        .acos()
-        .to_degrees()
 }
 
 fn median(mut values: Vec<f64>) -> f64 {
@@ -118,11 +100,7 @@ fn csa_and_qball_coefficients_match_dipy() {
             let theirs = numbers(&record[key]);
             let mine = series(&ours, voxel);
             assert_eq!(mine.len(), theirs.len());
-            let scale = theirs.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            let error = mine
-                .iter()
-                .zip(&theirs)
-                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            let (error, scale) = largest_difference(&mine, &theirs);
             // Relative to the voxel's largest coefficient; DIPY normalises in float32.
             assert!(
                 error <= 1e-4 * scale,
@@ -217,8 +195,7 @@ fn csd_with_dipys_response_and_constraint_matches_dipy() {
         DIPY_BASIS,
         &directions,
         &dipy_response(&fixture),
-        lambda,
-        tau,
+        CsdParameters { lambda, tau },
         &constraint,
     )
     .expect("CSD");
@@ -233,11 +210,7 @@ fn csd_with_dipys_response_and_constraint_matches_dipy() {
         let mut mine = vec![0.0; sh_count(band)];
         fitter.fit_into(&signal, &mut mine);
         let theirs = numbers(&record["csd"]);
-        let scale = theirs.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let error = mine
-            .iter()
-            .zip(&theirs)
-            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        let (error, scale) = largest_difference(&mine, &theirs);
         assert!(
             error <= 1e-4 * scale,
             "CSD at {:?}: error {error:e} of {scale:e}",

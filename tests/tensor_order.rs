@@ -4,7 +4,7 @@
 //! tensor `.mif` drawn as ellipsoids whose long axes, measured on the rendered surface,
 //! lie along the eigenvectors; a misordered NIfTI refused; higher orders round-trip.
 mod common;
-use common::{fit_small_64d, fresh_dir, glyphcast, text};
+use common::{axis_angle, fit_small_64d, fresh_dir, glyphcast, text};
 use glam::{DMat3, DMat4, DQuat, DVec3, EulerRot};
 use glyphcast::io::image::read_image;
 use glyphcast::io::mif::{MifWrite, write_mif};
@@ -28,6 +28,17 @@ fn fit(dir: &Path, name: &str, order: &str, extra: &[&str]) -> PathBuf {
         String::from_utf8_lossy(&run.stderr)
     );
     out
+}
+
+/// The tensors, the flags, and None where it draws, else the words of its error.
+type RenderCase<'a> = (&'a Path, &'a [&'a str], Option<[&'a str; 2]>);
+
+/// `glyphcast render --tensor FILE --order 2` with `extra` flags into `out`.
+fn render_order2(tensors: &Path, extra: &[&str], out: &Path) -> std::process::Output {
+    let mut args = vec!["render", "--tensor", text(tensors), "--order", "2"];
+    args.extend_from_slice(extra);
+    args.extend(["-o", text(out)]);
+    glyphcast(&args)
 }
 
 /// The file's values as stored, [x, y, z, volume].
@@ -234,16 +245,6 @@ fn mrtrix_order_volume(tensors: &[([f64; 6], DVec3)]) -> ArrayD<f64> {
     data
 }
 
-/// The angle in degrees between the axis `a` (either sign) and `b`.
-fn axis_angle(a: DVec3, b: DVec3) -> f64 {
-    a.normalize()
-        .dot(b.normalize())
-        .abs()
-        .min(1.0)
-        .acos()
-        .to_degrees()
-}
-
 /// An MRtrix-order tensor `.mif` drawn with `--glyph ellipsoid`: each ellipsoid's long
 /// axis, the direction of its farthest surface point in the depth map, lies within a
 /// degree of the tensor's principal eigenvector. The same values in a NIfTI (no record,
@@ -266,25 +267,23 @@ fn mrtrix_tensor_mif_draws_ellipsoids_along_the_eigenvectors() {
     .unwrap();
     let (png, npy, json) = (dir.join("e.png"), dir.join("e.npy"), dir.join("e.json"));
     let (w, h) = (720u32, 240u32);
-    let out = glyphcast(&[
-        "render",
-        "--tensor",
-        text(&mif),
-        "--order",
-        "2",
-        "--glyph",
-        "ellipsoid",
-        "--width",
-        &w.to_string(),
-        "--height",
-        &h.to_string(),
-        "-o",
-        text(&png),
-        "--depth-out",
-        text(&npy),
-        "--save-scene",
-        text(&json),
-    ]);
+    let (width, height) = (w.to_string(), h.to_string());
+    let out = render_order2(
+        &mif,
+        &[
+            "--glyph",
+            "ellipsoid",
+            "--width",
+            &width,
+            "--height",
+            &height,
+            "--depth-out",
+            text(&npy),
+            "--save-scene",
+            text(&json),
+        ],
+        &png,
+    );
     assert!(
         out.status.success(),
         "{}",
@@ -321,65 +320,42 @@ fn mrtrix_tensor_mif_draws_ellipsoids_along_the_eigenvectors() {
         eprintln!("glyph {g}: long axis {angle:.3} degrees from the eigenvector");
         assert!(angle < 1.0, "glyph {g}: {angle} degrees");
     }
-    // The MRtrix-order values in a NIfTI: glyphcast's order is assumed and the values
-    // refute it.
     let nifti = dir.join("dt.nii");
     common::write_nifti(&nifti, &data, DMat4::IDENTITY);
-    let refused = dir.join("refused.png");
-    let out = glyphcast(&[
-        "render",
-        "--tensor",
-        text(&nifti),
-        "--order",
-        "2",
-        "--glyph",
-        "ellipsoid",
-        "-o",
-        text(&refused),
-    ]);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{stderr}");
-    assert!(
-        stderr.contains("dt.nii") && stderr.contains("--tensor-order mrtrix"),
-        "{stderr}"
-    );
-    assert!(!refused.exists());
-    // Named, it draws.
-    let out = glyphcast(&[
-        "render",
-        "--tensor",
-        text(&nifti),
-        "--order",
-        "2",
-        "--tensor-order",
-        "mrtrix",
-        "-o",
-        text(&refused),
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    // An order given where the file records another is refused.
     let recorded = fit(&dir, "dipy.nii", "2", &["--tensor-order", "dipy"]);
-    let out = glyphcast(&[
-        "render",
-        "--tensor",
-        text(&recorded),
-        "--order",
-        "2",
-        "--tensor-order",
-        "mrtrix",
-        "-o",
-        text(&refused),
-    ]);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{stderr}");
-    assert!(
-        stderr.contains("descrip") && stderr.contains("DIPY"),
-        "{stderr}"
-    );
+    let cases: [RenderCase; 3] = [
+        // The MRtrix-order values in a NIfTI: glyphcast's order is assumed and the
+        // values refute it.
+        (
+            &nifti,
+            &["--glyph", "ellipsoid"],
+            Some(["dt.nii", "--tensor-order mrtrix"]),
+        ),
+        // Named, it draws.
+        (&nifti, &["--tensor-order", "mrtrix"], None),
+        // An order given where the file records another is refused.
+        (
+            &recorded,
+            &["--tensor-order", "mrtrix"],
+            Some(["descrip", "DIPY"]),
+        ),
+    ];
+    for (case, (tensors, flags, refusal)) in cases.into_iter().enumerate() {
+        let image = dir.join(format!("case-{case}.png"));
+        let out = render_order2(tensors, flags, &image);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        match refusal {
+            Some(words) => {
+                assert_eq!(out.status.code(), Some(1), "{flags:?}: {stderr}");
+                assert!(
+                    words.iter().all(|w| stderr.contains(w)),
+                    "{flags:?}: {stderr}"
+                );
+                assert!(!image.exists(), "{flags:?}");
+            }
+            None => assert!(out.status.success(), "{flags:?}: {stderr}"),
+        }
+    }
 }
 
 /// Volumes in memory (the Python module's path) are checked as NIfTI files are.

@@ -10,6 +10,7 @@
 //! into C (it is reported as [`GlyphcastStatus::Panic`]). Memory comes from the host's
 //! allocation callbacks ([`GlyphcastAllocator`]) if it gives them, else from a
 //! gpu-allocator allocator that the renderer makes on the host's device.
+#![warn(missing_docs)]
 #![allow(non_camel_case_types)]
 use ash::vk;
 use ash::vk::Handle;
@@ -27,14 +28,23 @@ use std::sync::{Arc, Mutex};
 
 // The Vulkan types as the C header names them (vulkan.h declares them; cbindgen.toml
 // keeps these aliases out of the header).
+/// A dispatchable Vulkan handle: a pointer.
 pub type VkInstance = *mut c_void;
+/// A dispatchable Vulkan handle: a pointer.
 pub type VkPhysicalDevice = *mut c_void;
+/// A dispatchable Vulkan handle: a pointer.
 pub type VkDevice = *mut c_void;
+/// A dispatchable Vulkan handle: a pointer.
 pub type VkCommandBuffer = *mut c_void;
+/// A non-dispatchable Vulkan handle: a 64-bit value, 0 for VK_NULL_HANDLE.
 pub type VkPipelineCache = u64;
+/// A non-dispatchable Vulkan handle: a 64-bit value, 0 for VK_NULL_HANDLE.
 pub type VkRenderPass = u64;
+/// A non-dispatchable Vulkan handle: a 64-bit value.
 pub type VkDeviceMemory = u64;
+/// A VkFormat enumerant.
 pub type VkFormat = i32;
+/// The loader's vkGetInstanceProcAddr, NULL when absent.
 pub type PFN_vkGetInstanceProcAddr = Option<GetInstanceProcAddr>;
 /// vkGetInstanceProcAddr with the instance as a plain pointer.
 type GetInstanceProcAddr =
@@ -70,7 +80,9 @@ pub enum GlyphcastDepth {
 pub struct GlyphcastRendererDesc {
     /// The loader's vkGetInstanceProcAddr (glyphcast loads every function through it).
     pub get_instance_proc_addr: PFN_vkGetInstanceProcAddr,
+    /// The host's instance, which the host keeps until the renderer is destroyed.
     pub instance: VkInstance,
+    /// The physical device `device` was made from.
     pub physical_device: VkPhysicalDevice,
     /// A Vulkan 1.3 device with dynamicRendering (and sampleRateShading when samples > 1).
     pub device: VkDevice,
@@ -80,6 +92,7 @@ pub struct GlyphcastRendererDesc {
     pub depth_format: VkFormat,
     /// Samples per pixel of the attachments: 1, 2, 4 or 8.
     pub samples: u32,
+    /// Which way the host's depth runs.
     pub depth: GlyphcastDepth,
     /// A pipeline cache of the host's, or VK_NULL_HANDLE.
     pub pipeline_cache: VkPipelineCache,
@@ -112,14 +125,19 @@ pub enum GlyphcastMemoryUse {
 pub struct GlyphcastMemoryRequest {
     /// A label (NUL-terminated, valid during the call).
     pub name: *const c_char,
-    /// The buffer's or image's VkMemoryRequirements.
+    /// Bytes needed (the buffer's or image's VkMemoryRequirements::size).
     pub size: u64,
+    /// The block's offset must be a multiple of this (VkMemoryRequirements::alignment).
     pub alignment: u64,
+    /// The memory types that may hold it, one bit per type index
+    /// (VkMemoryRequirements::memoryTypeBits).
     pub memory_type_bits: u32,
+    /// Who writes and reads the memory.
     pub usage: GlyphcastMemoryUse,
     /// VkMemoryPropertyFlags the memory type must have (host-visible memory must be
-    /// coherent: glyphcast neither flushes nor invalidates), and those it should have.
+    /// coherent: glyphcast neither flushes nor invalidates).
     pub required_flags: u32,
+    /// VkMemoryPropertyFlags the memory type should have where one offers them.
     pub preferred_flags: u32,
     /// 1 for a buffer, 0 for an optimal-tiling image (bufferImageGranularity).
     pub linear: u32,
@@ -128,6 +146,7 @@ pub struct GlyphcastMemoryRequest {
 /// A block of memory the host hands out.
 #[repr(C)]
 pub struct GlyphcastMemoryBlock {
+    /// The VkDeviceMemory the block lies in.
     pub memory: VkDeviceMemory,
     /// A multiple of the request's alignment.
     pub offset: u64,
@@ -238,9 +257,13 @@ impl MemoryAllocator for HostMemory {
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct GlyphcastViewport {
+    /// Left edge.
     pub x: i32,
+    /// Top edge.
     pub y: i32,
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
 }
 

@@ -1,38 +1,106 @@
 //! Benchmark results as Markdown (for a person) and CSV (for a plot): the timings of
 //! every configuration, then, where a sweep drew meshes or measured accuracy, the table
 //! that sets cost against geometric error (the paper's Table 2 layout).
-use super::BenchResult;
+use super::{BenchAccuracy, BenchResult};
 use std::fmt::Write as _;
 
-const COLUMNS: [&str; 12] = [
-    "label",
-    "glyphs",
-    "size",
-    "GPU ms (median)",
-    "min",
-    "max",
-    "prepare ms",
-    "upload ms",
-    "Mrays/s",
-    "glyphs/s",
-    "coeff bytes",
-    "instance bytes",
+/// How a column shows one result.
+type Cell = fn(&BenchResult) -> String;
+
+/// The timing table: each column's heading and cell, at the precision a person reads.
+const TIMING: [(&str, Cell); 12] = [
+    ("label", |r| r.label.clone()),
+    ("glyphs", |r| r.glyphs.to_string()),
+    ("size", |r| format!("{}x{}", r.width, r.height)),
+    ("GPU ms (median)", |r| format!("{:.3}", r.gpu_ms_median)),
+    ("min", |r| format!("{:.3}", r.gpu_ms_min)),
+    ("max", |r| format!("{:.3}", r.gpu_ms_max)),
+    ("prepare ms", |r| format!("{:.1}", r.prepare_ms)),
+    ("upload ms", |r| format!("{:.1}", r.upload_ms)),
+    ("Mrays/s", |r| format!("{:.2}", r.rays_per_second * 1e-6)),
+    ("glyphs/s", |r| format!("{:.0}", r.glyphs_per_second)),
+    ("coeff bytes", |r| r.coefficient_bytes.to_string()),
+    ("instance bytes", |r| r.instance_bytes.to_string()),
 ];
 
-const GEOMETRY_COLUMNS: [&str; 13] = [
-    "label",
-    "method",
-    "triangles",
-    "generate ms",
-    "GPU ms",
-    "error px",
-    "surface px (max)",
-    "(p99)",
-    "silhouette px",
-    "holes",
-    "false hits",
-    "median depth err",
-    "bytes/glyph",
+/// The cost-against-error table; "-" where a value was not measured.
+const GEOMETRY: [(&str, Cell); 13] = [
+    ("label", |r| r.label.clone()),
+    ("method", |r| r.method.clone()),
+    ("triangles", |r| optional(r.triangles, |t| t.to_string())),
+    ("generate ms", |r| {
+        optional(r.generate_ms, |ms| format!("{ms:.1}"))
+    }),
+    ("GPU ms", |r| format!("{:.3}", r.gpu_ms_median)),
+    ("error px", |r| {
+        accuracy(r, |a| format!("{:.3}", a.error_px))
+    }),
+    ("surface px (max)", |r| {
+        accuracy(r, |a| format!("{:.3}", a.geometric.surface_max_px))
+    }),
+    ("(p99)", |r| {
+        accuracy(r, |a| format!("{:.3}", a.geometric.surface_p99_px))
+    }),
+    ("silhouette px", |r| {
+        accuracy(r, |a| format!("{:.3}", a.geometric.silhouette_mean_px))
+    }),
+    ("holes", |r| accuracy(r, |a| a.holes.to_string())),
+    ("false hits", |r| accuracy(r, |a| a.false_hits.to_string())),
+    ("median depth err", |r| {
+        accuracy(r, |a| format!("{:.2e}", a.median_depth_error))
+    }),
+    ("bytes/glyph", |r| format!("{:.0}", r.bytes_per_glyph)),
+];
+
+/// The CSV: each column's name and cell at full precision; empty where a value was not
+/// measured.
+const CSV: [(&str, Cell); 27] = [
+    ("label", |r| r.label.clone()),
+    ("glyphs", |r| r.glyphs.to_string()),
+    ("width", |r| r.width.to_string()),
+    ("height", |r| r.height.to_string()),
+    ("gpu_ms_median", |r| format!("{:.6}", r.gpu_ms_median)),
+    ("gpu_ms_min", |r| format!("{:.6}", r.gpu_ms_min)),
+    ("gpu_ms_max", |r| format!("{:.6}", r.gpu_ms_max)),
+    ("prepare_ms", |r| format!("{:.3}", r.prepare_ms)),
+    ("upload_ms", |r| format!("{:.3}", r.upload_ms)),
+    ("covered_pixels", |r| r.covered_pixels.to_string()),
+    ("rays_per_second", |r| format!("{:.1}", r.rays_per_second)),
+    ("glyphs_per_second", |r| {
+        format!("{:.1}", r.glyphs_per_second)
+    }),
+    ("coefficient_bytes", |r| r.coefficient_bytes.to_string()),
+    ("instance_bytes", |r| r.instance_bytes.to_string()),
+    ("draws", |r| r.draws.to_string()),
+    ("scene", |r| r.scene.clone()),
+    ("method", |r| r.method.clone()),
+    ("triangles", |r| {
+        r.triangles.map_or_else(String::new, |t| t.to_string())
+    }),
+    ("generate_ms", |r| {
+        r.generate_ms
+            .map_or_else(String::new, |ms| format!("{ms:.3}"))
+    }),
+    ("mesh_bytes", |r| {
+        r.mesh_bytes.map_or_else(String::new, |b| b.to_string())
+    }),
+    ("bytes_per_glyph", |r| format!("{:.1}", r.bytes_per_glyph)),
+    ("holes", |r| csv_accuracy(r, |a| a.holes.to_string())),
+    ("false_hits", |r| {
+        csv_accuracy(r, |a| a.false_hits.to_string())
+    }),
+    ("median_depth_error", |r| {
+        csv_accuracy(r, |a| format!("{:e}", a.median_depth_error))
+    }),
+    ("surface_error_px", |r| {
+        csv_accuracy(r, |a| format!("{:e}", a.geometric.surface_max_px))
+    }),
+    ("silhouette_error_px", |r| {
+        csv_accuracy(r, |a| format!("{:e}", a.geometric.silhouette_mean_px))
+    }),
+    ("error_px", |r| {
+        csv_accuracy(r, |a| format!("{:e}", a.error_px))
+    }),
 ];
 
 fn header(columns: &[&str]) -> String {
@@ -47,28 +115,30 @@ fn optional<T>(value: Option<T>, show: impl Fn(T) -> String) -> String {
     value.map_or_else(|| "-".into(), show)
 }
 
+/// An accuracy value for a Markdown cell, "-" when accuracy was not measured.
+fn accuracy(r: &BenchResult, show: impl Fn(&BenchAccuracy) -> String) -> String {
+    optional(r.accuracy.as_ref(), show)
+}
+
+/// An accuracy value for a CSV cell, empty when accuracy was not measured.
+fn csv_accuracy(r: &BenchResult, show: impl Fn(&BenchAccuracy) -> String) -> String {
+    r.accuracy.as_ref().map_or_else(String::new, show)
+}
+
+/// A Markdown table of `columns`, one row per result.
+fn markdown_table(columns: &[(&str, Cell)], results: &[BenchResult]) -> String {
+    let headings: Vec<&str> = columns.iter().map(|(heading, _)| *heading).collect();
+    let mut out = header(&headings);
+    for r in results {
+        let cells: Vec<String> = columns.iter().map(|(_, cell)| cell(r)).collect();
+        let _ = writeln!(out, "| {} |", cells.join(" | "));
+    }
+    out
+}
+
 /// A readable Markdown table, with the geometry table below it when there is one.
 pub fn markdown(results: &[BenchResult]) -> String {
-    let mut out = header(&COLUMNS);
-    for r in results {
-        let _ = writeln!(
-            out,
-            "| {} | {} | {}x{} | {:.3} | {:.3} | {:.3} | {:.1} | {:.1} | {:.2} | {:.0} | {} | {} |",
-            r.label,
-            r.glyphs,
-            r.width,
-            r.height,
-            r.gpu_ms_median,
-            r.gpu_ms_min,
-            r.gpu_ms_max,
-            r.prepare_ms,
-            r.upload_ms,
-            r.rays_per_second * 1e-6,
-            r.glyphs_per_second,
-            r.coefficient_bytes,
-            r.instance_bytes
-        );
-    }
+    let mut out = markdown_table(&TIMING, results);
     if results
         .iter()
         .any(|r| r.triangles.is_some() || r.accuracy.is_some())
@@ -79,73 +149,18 @@ pub fn markdown(results: &[BenchResult]) -> String {
              silhouettes, in pixels; depth errors in units of the largest glyph's bounding \
              radius):\n\n",
         );
-        out.push_str(&header(&GEOMETRY_COLUMNS));
-        for r in results {
-            let a = r.accuracy.as_ref();
-            let _ = writeln!(
-                out,
-                "| {} | {} | {} | {} | {:.3} | {} | {} | {} | {} | {} | {} | {} | {:.0} |",
-                r.label,
-                r.method,
-                optional(r.triangles, |t| t.to_string()),
-                optional(r.generate_ms, |ms| format!("{ms:.1}")),
-                r.gpu_ms_median,
-                optional(a, |a| format!("{:.3}", a.error_px)),
-                optional(a, |a| format!("{:.3}", a.geometric.surface_max_px)),
-                optional(a, |a| format!("{:.3}", a.geometric.surface_p99_px)),
-                optional(a, |a| format!("{:.3}", a.geometric.silhouette_mean_px)),
-                optional(a, |a| a.holes.to_string()),
-                optional(a, |a| a.false_hits.to_string()),
-                optional(a, |a| format!("{:.2e}", a.median_depth_error)),
-                r.bytes_per_glyph
-            );
-        }
+        out.push_str(&markdown_table(&GEOMETRY, results));
     }
     out
 }
 
 /// One row per configuration; columns that do not apply are empty.
 pub fn csv(results: &[BenchResult]) -> String {
-    let mut out = String::from(
-        "label,glyphs,width,height,gpu_ms_median,gpu_ms_min,gpu_ms_max,prepare_ms,upload_ms,\
-         covered_pixels,rays_per_second,glyphs_per_second,coefficient_bytes,instance_bytes,\
-         draws,scene,method,triangles,generate_ms,mesh_bytes,bytes_per_glyph,holes,false_hits,\
-         median_depth_error,surface_error_px,silhouette_error_px,error_px\n",
-    );
-    let empty = String::new;
+    let names: Vec<&str> = CSV.iter().map(|(name, _)| *name).collect();
+    let mut out = format!("{}\n", names.join(","));
     for r in results {
-        let a = r.accuracy.as_ref();
-        let _ = writeln!(
-            out,
-            "{},{},{},{},{:.6},{:.6},{:.6},{:.3},{:.3},{},{:.1},{:.1},{},{},{},{},{},{},{},{},{:.1},{},{},{},{},{},{}",
-            r.label,
-            r.glyphs,
-            r.width,
-            r.height,
-            r.gpu_ms_median,
-            r.gpu_ms_min,
-            r.gpu_ms_max,
-            r.prepare_ms,
-            r.upload_ms,
-            r.covered_pixels,
-            r.rays_per_second,
-            r.glyphs_per_second,
-            r.coefficient_bytes,
-            r.instance_bytes,
-            r.draws,
-            r.scene,
-            r.method,
-            r.triangles.map_or_else(empty, |t| t.to_string()),
-            r.generate_ms.map_or_else(empty, |ms| format!("{ms:.3}")),
-            r.mesh_bytes.map_or_else(empty, |b| b.to_string()),
-            r.bytes_per_glyph,
-            a.map_or_else(empty, |a| a.holes.to_string()),
-            a.map_or_else(empty, |a| a.false_hits.to_string()),
-            a.map_or_else(empty, |a| format!("{:e}", a.median_depth_error)),
-            a.map_or_else(empty, |a| format!("{:e}", a.geometric.surface_max_px)),
-            a.map_or_else(empty, |a| format!("{:e}", a.geometric.silhouette_mean_px)),
-            a.map_or_else(empty, |a| format!("{:e}", a.error_px)),
-        );
+        let cells: Vec<String> = CSV.iter().map(|(_, cell)| cell(r)).collect();
+        let _ = writeln!(out, "{}", cells.join(","));
     }
     out
 }

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use glyphcast::fit::gradients::BvecConvention;
-use glyphcast::fit::msmt::{MsmtFitter, Shells, TISSUES, fit_msmt};
+use glyphcast::fit::msmt::{MsmtFitter, MsmtProblem, Shells, TISSUES, fit_msmt};
 use glyphcast::fit::output::{check_output_path, output_bytes};
 use glyphcast::fit::response::DEFAULT_RESPONSE_FA;
 use glyphcast::fit::response_msmt::{
@@ -113,14 +113,13 @@ pub(super) fn run(args: &FitArgs, model: &FitModel, convention: BvecConvention) 
         (Some(wm), Some(gm), Some(csf)) => read_responses(wm, gm, csf, &shells)?,
         _ => estimated(args, &inputs, &shells, band)?,
     };
-    let fitter = MsmtFitter::new(
+    let fitter = MsmtFitter::new(&MsmtProblem {
         band,
-        (basis, legacy),
-        &inputs.gradients.bvals,
-        &inputs.gradients.directions,
-        &shells,
-        &responses,
-    )?;
+        basis: (basis, legacy),
+        gradients: &inputs.gradients,
+        shells: &shells,
+        responses: &responses,
+    })?;
     let bar = progress_bar(inputs.voxel_count() as u64, args.quiet);
     let fitted = fit_msmt(&inputs, &fitter, &|done| bar.inc(done));
     bar.finish_and_clear();

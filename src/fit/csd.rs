@@ -60,25 +60,30 @@ pub struct CsdFitter {
     output: DMatrix<f64>,
 }
 
+/// The two weights of DIPY's CSD (`csdeconv`'s `lambda_` and `tau`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CsdParameters {
+    /// Weight of the constraint rows, before the scaling of the module notes (DIPY: 1).
+    pub lambda: f64,
+    /// The threshold, as a fraction of the fODF's mean amplitude: directions where the
+    /// fODF lies below it are penalised (DIPY: 0.1).
+    pub tau: f64,
+}
+
 impl CsdFitter {
     /// The solve for `directions` (one per diffusion-weighted volume), `response` and
-    /// the fODF up to `band` in `basis`. Err when the directions do not determine the
-    /// series, or the response has no positive band 0.
+    /// the fODF up to `band` in `basis`, constrained on the geodesic hemisphere. Err
+    /// when the directions do not determine the series, or the response has no
+    /// positive band 0.
     pub fn new(
         band: u32,
         basis: (ShBasis, bool),
         directions: &[DVec3],
         response: &Response,
-        lambda: f64,
-        tau: f64,
+        parameters: CsdParameters,
     ) -> Result<Self> {
-        let sphere = GeodesicSphere::new(CONSTRAINT_SPHERE_FREQUENCY);
-        let hemisphere: Vec<DVec3> = sphere
-            .vertices
-            .into_iter()
-            .filter(|v| (v.z, v.y, v.x) > (0.0, 0.0, 0.0))
-            .collect();
-        Self::with_constraint(band, basis, directions, response, lambda, tau, &hemisphere)
+        let hemisphere = GeodesicSphere::hemisphere(CONSTRAINT_SPHERE_FREQUENCY);
+        Self::with_constraint(band, basis, directions, response, parameters, &hemisphere)
     }
 
     /// [`CsdFitter::new`] with the constraint enforced at `constraint` (unit vectors)
@@ -88,8 +93,7 @@ impl CsdFitter {
         basis: (ShBasis, bool),
         directions: &[DVec3],
         response: &Response,
-        lambda: f64,
-        tau: f64,
+        CsdParameters { lambda, tau }: CsdParameters,
         constraint: &[DVec3],
     ) -> Result<Self> {
         let k = sh_count(band);
@@ -239,13 +243,7 @@ mod tests {
 
     #[test]
     fn resolves_a_known_crossing_that_the_signal_blurs() {
-        let sphere = GeodesicSphere::new(4);
-        let directions: Vec<DVec3> = sphere
-            .vertices
-            .iter()
-            .copied()
-            .filter(|v| (v.z, v.y, v.x) > (0.0, 0.0, 0.0))
-            .collect();
+        let directions = GeodesicSphere::hemisphere(4);
         assert_eq!(directions.len(), 81);
         let one = DVec3::new(1.0, 0.2, 0.1).normalize();
         // 60 degrees from `one`, in a plane through it.
@@ -254,7 +252,11 @@ mod tests {
         let signal = crossing_signal(&directions, &[(one, 0.6), (two, 0.4)]);
         let response = Response::from_tensor(1.7e-3, 0.3e-3, 200.0, 1000.0, 8);
         let basis = (ShBasis::Tournier07, false);
-        let fitter = CsdFitter::new(8, basis, &directions, &response, 1.0, 0.1).unwrap();
+        let parameters = CsdParameters {
+            lambda: 1.0,
+            tau: 0.1,
+        };
+        let fitter = CsdFitter::new(8, basis, &directions, &response, parameters).unwrap();
         assert_eq!(fitter.constraint.nrows(), 181);
         let mut coeffs = vec![0.0; sh_count(8)];
         let iterations = fitter.fit_into(&signal, &mut coeffs);

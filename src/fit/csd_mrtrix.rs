@@ -146,8 +146,12 @@ pub struct MrtrixCsdFitter {
 /// The parameters of `dwi2fod csd` that glyphcast exposes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MrtrixCsdParameters {
+    /// Weight of the non-negativity constraint (`-neg_lambda`, default 1).
     pub neg_lambda: f64,
+    /// Weight of the minimum-norm term (`-norm_lambda`, default 1).
     pub norm_lambda: f64,
+    /// The absolute fODF amplitude below which the constraint acts (`-threshold`,
+    /// default 0), in the fODF's units.
     pub threshold: f64,
 }
 

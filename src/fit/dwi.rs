@@ -38,6 +38,7 @@ impl Dwi {
         [s[0], s[1], s[2]]
     }
 
+    /// Number of volumes (the fourth dimension): one per b-value and direction.
     pub fn volume_count(&self) -> usize {
         self.signal.shape()[3]
     }

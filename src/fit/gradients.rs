@@ -93,6 +93,7 @@ const MIN_DIRECTION_LENGTH: f64 = 1e-6;
 /// b-value and unit gradient direction of every DWI volume.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GradientTable {
+    /// One b-value per volume, s/mm^2.
     pub bvals: Vec<f64>,
     /// `None` for the b=0 volumes.
     pub directions: Vec<Option<DVec3>>,

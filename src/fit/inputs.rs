@@ -10,16 +10,23 @@ use crate::{Error, Result, Setting};
 /// DWI's own (`dw_scheme` of an MRtrix image).
 #[derive(Clone, Debug)]
 pub struct FitFiles {
+    /// The DWI series, NIfTI or MRtrix, 4D.
     pub dwi: PathBuf,
+    /// The `.bval` file: one b-value (s/mm^2) per volume.
     pub bval: Option<PathBuf>,
+    /// The `.bvec` file: three rows of one number per volume (FSL's layout), or one
+    /// row of three per volume.
     pub bvec: Option<PathBuf>,
+    /// Voxels to fit: nonzero values, the DWI's spatial shape; every voxel without one.
     pub mask: Option<PathBuf>,
 }
 
 /// The file that errors about the directions and the b-values name.
 #[derive(Clone, Debug)]
 pub struct GradientOrigin {
+    /// The `.bvec` file, or the DWI when its `dw_scheme` gave the directions.
     pub directions: String,
+    /// The `.bval` file, or the DWI when its `dw_scheme` gave the b-values.
     pub bvals: String,
 }
 
@@ -27,14 +34,22 @@ pub struct GradientOrigin {
 /// b-value and direction per volume, a mask of the DWI's spatial shape.
 #[derive(Clone, Debug)]
 pub struct FitInputs {
+    /// The files they were read from.
     pub files: FitFiles,
+    /// The DWI series with its header.
     pub dwi: Dwi,
+    /// One b-value and unit direction per volume: a `.bvec`'s directions as stored (the
+    /// caller applies its `--bvec-convention`), a `dw_scheme`'s turned into the voxel axes.
     pub gradients: GradientTable,
+    /// Which files errors about the gradient table name.
     pub origin: GradientOrigin,
+    /// Voxels to fit, [x, y, z]; None fits every voxel.
     pub mask: Option<Array3<bool>>,
 }
 
 impl FitInputs {
+    /// Reads the DWI, the gradient table (the files, else the DWI's `dw_scheme`) and the
+    /// mask, and checks them against each other; errors name the file and the field.
     pub fn load(files: FitFiles) -> Result<Self> {
         let dwi = read_dwi(&files.dwi)?;
         let name = files.dwi.display().to_string();

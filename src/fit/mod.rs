@@ -77,25 +77,39 @@ pub const MAX_LAMBDA: f64 = 1000.0;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum FitModel {
     /// Symmetric tensor of even order 2..=12 fitted to the ADCs.
-    Tensor { order: u32 },
+    Tensor {
+        /// The tensor's order (`--order`).
+        order: u32,
+    },
     /// Real SH of even bands 0..=`band` fitted to S/S0.
     Sh {
+        /// The highest band, even (`--order`).
         band: u32,
+        /// The basis the coefficients are written in (`--basis`).
         basis: ShBasis,
+        /// DIPY's `legacy=True` variant of that basis.
         legacy: bool,
+        /// Laplace-Beltrami weight (`--lambda`), 0 to [`MAX_LAMBDA`].
         lambda: f64,
     },
-    /// A fibre ODF as real SH of even bands 0..=`band` (`odf`). `lambda` is the
-    /// Laplace-Beltrami weight of CSA and Q-ball, and the constraint weight of CSD;
-    /// `tau` is CSD's threshold: DIPY's a fraction of the mean fODF, MRtrix's an
-    /// absolute amplitude (`csd` picks which). The others ignore `tau` and `csd`.
+    /// A fibre ODF as real SH of even bands 0..=`band` (`odf`). The others ignore `tau`
+    /// and `csd`.
     Odf {
+        /// How the ODF is computed (`--odf`: csa, qball, csd, msmt).
         method: OdfMethod,
+        /// The highest band, even (`--order`).
         band: u32,
+        /// The basis the coefficients are written in (`--basis`).
         basis: ShBasis,
+        /// DIPY's `legacy=True` variant of that basis.
         legacy: bool,
+        /// The Laplace-Beltrami weight of CSA and Q-ball; the constraint weight of CSD
+        /// (`--lambda`).
         lambda: f64,
+        /// CSD's threshold (`--tau`): DIPY's a fraction of the mean fODF, MRtrix's an
+        /// absolute amplitude.
         tau: f64,
+        /// Whose CSD algorithm runs (`--csd-algorithm`), which also says what `tau` means.
         csd: CsdAlgorithm,
     },
 }

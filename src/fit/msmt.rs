@@ -30,7 +30,7 @@ use glam::DVec3;
 use nalgebra::DMatrix;
 use ndarray::{Array4, s};
 
-use super::gradients::B0_THRESHOLD;
+use super::gradients::{B0_THRESHOLD, GradientTable};
 use super::odf::{WORK_BASIS, basis_change};
 use super::sphere::GeodesicSphere;
 use super::{FitInputs, FitReport};
@@ -121,8 +121,11 @@ impl Shells {
 /// r_0, r_2, ... (signal units, MRtrix's response format), GM's and CSF's r_0.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TissueResponses {
+    /// White matter: per shell, the zonal coefficients r_0, r_2, ... up to its band.
     pub wm: Vec<Vec<f64>>,
+    /// Grey matter: per shell, r_0 (the isotropic response).
     pub gm: Vec<f64>,
+    /// CSF: per shell, r_0.
     pub csf: Vec<f64>,
 }
 
@@ -145,6 +148,22 @@ impl TissueResponses {
     }
 }
 
+/// What a multi-tissue fit is prepared from: the WM fODF's band and basis, the gradient
+/// table with its shells, and one response row per shell.
+#[derive(Clone, Copy, Debug)]
+pub struct MsmtProblem<'a> {
+    /// The WM fODF's highest band (even).
+    pub band: u32,
+    /// The basis the WM series is returned in, and whether it is its legacy variant.
+    pub basis: (ShBasis, bool),
+    /// Every volume's b-value and direction (`None` for b=0), in the DWI's order.
+    pub gradients: &'a GradientTable,
+    /// The volumes grouped by b-value ([`Shells::group`] of `gradients.bvals`).
+    pub shells: &'a Shells,
+    /// The tissues' responses, one row per shell of `shells`.
+    pub responses: &'a TissueResponses,
+}
+
 /// The QP of one gradient table and set of responses, prepared once.
 pub struct MsmtFitter {
     /// X: volumes x (WM coefficients in the work basis, GM, CSF).
@@ -164,50 +183,32 @@ pub struct MsmtFitter {
 /// One voxel's result: the WM series in the requested basis, GM's and CSF's band 0.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TissueOdfs {
+    /// The WM fODF's SH coefficients in the requested basis.
     pub wm: Vec<f64>,
+    /// GM's band-0 coefficient (sqrt(4 pi) times it is GM's signal fraction in units of
+    /// its response).
     pub gm: f64,
+    /// CSF's band-0 coefficient, likewise.
     pub csf: f64,
 }
 
 impl MsmtFitter {
-    /// The fit of the WM fODF up to `band` in `basis` for volumes with b-values `bvals`
-    /// and directions `directions` (`None` for b=0), grouped as `shells`, with
-    /// `responses` (one row per shell), constrained on the geodesic hemisphere.
-    pub fn new(
-        band: u32,
-        basis: (ShBasis, bool),
-        bvals: &[f64],
-        directions: &[Option<DVec3>],
-        shells: &Shells,
-        responses: &TissueResponses,
-    ) -> Result<Self> {
-        let sphere = GeodesicSphere::new(CONSTRAINT_FREQUENCY);
-        let hemisphere: Vec<DVec3> = sphere
-            .vertices
-            .into_iter()
-            .filter(|v| (v.z, v.y, v.x) > (0.0, 0.0, 0.0))
-            .collect();
-        Self::with_constraint(
-            band,
-            basis,
-            bvals,
-            directions,
-            shells,
-            responses,
-            &hemisphere,
-        )
+    /// The fit of `problem`, with the WM fODF constrained on the geodesic hemisphere of
+    /// [`CONSTRAINT_FREQUENCY`].
+    pub fn new(problem: &MsmtProblem) -> Result<Self> {
+        Self::with_constraint(problem, &GeodesicSphere::hemisphere(CONSTRAINT_FREQUENCY))
     }
 
     /// [`MsmtFitter::new`] with the WM fODF constrained at `constraint` (unit vectors).
-    pub fn with_constraint(
-        band: u32,
-        basis: (ShBasis, bool),
-        bvals: &[f64],
-        directions: &[Option<DVec3>],
-        shells: &Shells,
-        responses: &TissueResponses,
-        constraint: &[DVec3],
-    ) -> Result<Self> {
+    pub fn with_constraint(problem: &MsmtProblem, constraint: &[DVec3]) -> Result<Self> {
+        let MsmtProblem {
+            band,
+            basis,
+            gradients,
+            shells,
+            responses,
+        } = *problem;
+        let (bvals, directions) = (&gradients.bvals, &gradients.directions);
         let k = sh_count(band);
         let n = k + 2;
         let volumes: Vec<usize> = (0..bvals.len()).collect();
@@ -357,9 +358,13 @@ fn dense_csc(matrix: &DMatrix<f64>) -> CscMatrix<f64> {
 /// in the requested basis; GM and CSF: one band-0 coefficient), and what became of the
 /// voxels.
 pub struct MsmtVolumes {
+    /// The WM fODF, one SH series per voxel.
     pub wm: Array4<f64>,
+    /// GM's band-0 coefficient, one per voxel.
     pub gm: Array4<f64>,
+    /// CSF's band-0 coefficient, one per voxel.
     pub csf: Array4<f64>,
+    /// Voxels fitted, floored and left out, by reason.
     pub report: FitReport,
     /// Voxels where the solver did not converge (left at 0).
     pub unsolved: usize,
@@ -508,7 +513,15 @@ mod tests {
             csf: iso(3000.0, 3e-3),
         };
         let basis = (ShBasis::Tournier07, false);
-        let fitter = MsmtFitter::new(8, basis, &bvals, &directions, &shells, &responses).unwrap();
+        let gradients = GradientTable { bvals, directions };
+        let problem = MsmtProblem {
+            band: 8,
+            basis,
+            gradients: &gradients,
+            shells: &shells,
+            responses: &responses,
+        };
+        let fitter = MsmtFitter::new(&problem).unwrap();
         // WM fODF: 0.6 (9/(4 pi)) (u.a)^8 + ..., as SH by a least-squares fit on a dense
         // sphere (exact: a degree-8 polynomial is of band 8).
         let (a, c) = (DVec3::new(1.0, 0.2, 0.1).normalize(), DVec3::Z);

@@ -294,16 +294,13 @@ mod tests {
         for (c, v) in [0.0, 0.6, 0.8].into_iter().enumerate() {
             peaks[[0, 0, 0, c]] = 2.0 * v;
         }
+        let first = |peaks: &Array4<f64>| DVec3::from_array([0, 1, 2].map(|c| peaks[[0, 0, 0, c]]));
         // A half turn about x: (0, 1.2, 1.6) -> (0, -1.2, -1.6) -> flipped to z >= 0.
         rotate_peaks(
             &mut peaks,
             glam::DMat3::from_rotation_x(std::f64::consts::PI),
         );
-        let v = DVec3::new(
-            peaks[[0, 0, 0, 0]],
-            peaks[[0, 0, 0, 1]],
-            peaks[[0, 0, 0, 2]],
-        );
+        let v = first(&peaks);
         assert!((v - DVec3::new(0.0, 1.2, 1.6)).length() < 1e-12, "{v}");
         assert!((3..6).all(|c| peaks[[0, 0, 0, c]].is_nan()));
         // A quarter turn about y: (0, 1.2, 1.6) -> (1.6, 1.2, 0).
@@ -311,11 +308,7 @@ mod tests {
             &mut peaks,
             glam::DMat3::from_rotation_y(std::f64::consts::FRAC_PI_2),
         );
-        let v = DVec3::new(
-            peaks[[0, 0, 0, 0]],
-            peaks[[0, 0, 0, 1]],
-            peaks[[0, 0, 0, 2]],
-        );
+        let v = first(&peaks);
         assert!((v - DVec3::new(1.6, 1.2, 0.0)).length() < 1e-12, "{v}");
     }
 

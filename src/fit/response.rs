@@ -56,6 +56,7 @@ pub struct ResponseEstimate {
     /// The tissue threshold on S0 they were chosen above (Otsu's, `tissue`), when the
     /// volume has a background; and how many voxels the tissue mask keeps.
     pub threshold: Option<f64>,
+    /// Voxels above `threshold` (every voxel of the mask without one).
     pub tissue_voxels: usize,
 }
 

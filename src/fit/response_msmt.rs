@@ -147,6 +147,7 @@ fn listed_shells(text: &str) -> Option<Vec<f64>> {
 /// Responses estimated from the data, with what they came from.
 #[derive(Clone, Debug)]
 pub struct EstimatedResponses {
+    /// The WM, GM and CSF responses, one row per shell.
     pub responses: TissueResponses,
     /// Voxels per tissue (WM, GM, CSF).
     pub voxels: [usize; 3],

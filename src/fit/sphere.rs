@@ -65,6 +65,17 @@ impl GeodesicSphere {
         }
     }
 
+    /// One vertex of each antipodal pair: those with (z, y, x) above (0, 0, 0) in
+    /// lexicographic order, 5 f^2 + 1 of them. An antipodally symmetric function (an
+    /// fODF) is constrained or searched on these alone.
+    pub fn hemisphere(frequency: usize) -> Vec<DVec3> {
+        Self::new(frequency)
+            .vertices
+            .into_iter()
+            .filter(|v| (v.z, v.y, v.x) > (0.0, 0.0, 0.0))
+            .collect()
+    }
+
     /// The largest angle (radians) between a vertex and its nearest neighbour: the
     /// resolution of a search over the vertices.
     pub fn spacing(&self) -> f64 {

@@ -99,6 +99,7 @@ impl TensorFitter {
         })
     }
 
+    /// The tensor's order (even).
     pub fn order(&self) -> u32 {
         self.order
     }

@@ -7,7 +7,7 @@ use glam::DVec3;
 use ndarray::{Array4, ArrayView1, s};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use super::csd::{CsdFitter, FIRST_ESTIMATE_BAND};
+use super::csd::{CsdFitter, CsdParameters, FIRST_ESTIMATE_BAND};
 use super::csd_mrtrix::{CsdAlgorithm, MrtrixCsdFitter, MrtrixCsdParameters};
 use super::odf::{LinearOdfFitter, OdfMethod};
 use super::response::{DEFAULT_RESPONSE_FA, Response, estimate_response};
@@ -130,11 +130,15 @@ impl FitReport {
 /// What became of one voxel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum VoxelOutcome {
+    /// Fitted from the samples as they are.
     Fitted,
     /// Fitted, with samples raised to the floor.
     Floored,
+    /// Left at zero: a sample is NaN or infinite.
     NonFinite,
+    /// Left at zero: the mean b=0 signal is negative.
     NegativeS0,
+    /// Left at zero: the mean b=0 signal is exactly zero (S/S0 is undefined).
     ZeroS0,
 }
 
@@ -346,8 +350,7 @@ impl VoxelFitter {
                                     (basis, legacy),
                                     &directions,
                                     response,
-                                    lambda,
-                                    tau,
+                                    CsdParameters { lambda, tau },
                                 )
                                 .map_err(to_input)?,
                             ),

@@ -13,7 +13,9 @@ use crate::io::nifti::{NiftiHeader, NiftiImage, VoxelToWorld, read_nifti};
 /// What the header said besides the geometry.
 #[derive(Clone, Debug)]
 pub enum ImageHeader {
+    /// A NIfTI-1 or NIfTI-2 header.
     Nifti(Box<NiftiHeader>),
+    /// An MRtrix header.
     Mrtrix(Box<MifHeader>),
 }
 
@@ -24,7 +26,9 @@ pub struct Image {
     pub file: String,
     /// Voxel values, shape [x, y, z, t, ...].
     pub data: ArrayD<f64>,
+    /// Voxel indices to world coordinates, whichever format the file is.
     pub voxel_to_world: VoxelToWorld,
+    /// The format's own header, for the fields only it has (intent, `dw_scheme`, ...).
     pub header: ImageHeader,
 }
 

@@ -40,17 +40,25 @@ pub struct FigurePlan {
 
 /// A figure with its panels' scenes built.
 pub struct BuiltFigure {
+    /// The plan the scenes were built from.
     pub plan: FigurePlan,
+    /// One scene per panel, in the plan's order.
     pub scenes: Vec<VolumeScene>,
 }
 
 /// A rendered figure.
 pub struct Figure {
+    /// The PNG's name in the set's folder.
     pub file: String,
+    /// The heading the page shows above it.
     pub title: String,
+    /// What a reader sees, for the page.
     pub caption: String,
+    /// Each panel's caption, in reading order.
     pub panel_captions: Vec<String>,
+    /// Panels to a row of the montage.
     pub columns: usize,
+    /// The rendered montage with its edge labels.
     pub image: RenderedImage,
     /// Glyphs drawn in all panels.
     pub glyphs: usize,
@@ -58,7 +66,9 @@ pub struct Figure {
 
 /// The underlay image shared by every panel, with the source of its affine.
 pub struct SharedUnderlay {
+    /// The underlay slices, sampled once for every figure.
     pub volume: Arc<UnderlayVolume>,
+    /// Which header fields placed the underlay in the world (its sform, qform or pixdim).
     pub source: AffineSource,
 }
 
@@ -205,10 +215,15 @@ pub fn size_alike(figures: &mut [BuiltFigure]) {
 
 /// How every figure is drawn.
 pub struct DrawContext<'a> {
+    /// The device every figure is drawn on.
     pub gpu: &'a Gpu,
+    /// Method, colour, samples and the rest, the same for every figure.
     pub settings: RenderSettings,
+    /// Replaces every glyph set's negative-lobe mode, if given.
     pub negative: Option<NegativeMode>,
+    /// The underlay drawn behind each panel's slice, if the set has one.
     pub underlay: Option<&'a SharedUnderlay>,
+    /// The volume the scenes were built from, for the underlay's placement.
     pub volume: &'a Volume,
 }
 

@@ -113,7 +113,9 @@ pub struct InputFile {
     pub role: &'static str,
     /// The path as given.
     pub path: PathBuf,
+    /// Its size in bytes.
     pub bytes: u64,
+    /// Its SHA-256, as lower-case hex.
     pub sha256: String,
 }
 

@@ -18,19 +18,30 @@ use crate::{Error, Result};
 
 /// Everything the page and the sidecar report.
 pub struct Summary<'a> {
+    /// What was asked: inputs, options and the output folder.
     pub request: &'a QcRequest,
     /// Each panel's side in pixels.
     pub panel_size: u32,
+    /// The files read, with sizes and checksums.
     pub inputs: &'a [InputFile],
+    /// The volume the figures show.
     pub volume: &'a Volume,
+    /// The per-voxel maps and counts of the set.
     pub survey: &'a Survey,
+    /// The slices of the mosaic, per plane.
     pub cuts: &'a [PlaneCuts],
+    /// The zoomed regions, in figure order.
     pub regions: &'a [Region],
+    /// The rendered figures, in page order.
     pub figures: &'a [Figure],
     /// The figures' files (name, PNG bytes).
     pub files: &'a [(String, Vec<u8>)],
+    /// Notes shown on the page and kept in the sidecar, one per entry.
     pub notes: &'a [String],
+    /// The device the figures were drawn on, as `gpu.info` prints it (sidecar only).
     pub device: &'a str,
+    /// Milliseconds per step (read, survey, build, device, render, encode, total),
+    /// for the sidecar's `run`.
     pub timings: &'a [(&'static str, f64)],
 }
 

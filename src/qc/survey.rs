@@ -33,6 +33,7 @@ pub const REGIONS: usize = 3;
 
 /// Per voxel maps and the voxels the set looks at.
 pub struct Survey {
+    /// The volume's voxel counts along x, y and z.
     pub dims: [usize; 3],
     /// Mean amplitude, x fastest (`index`); 0 where not looked at.
     pub amplitude: Vec<f64>,

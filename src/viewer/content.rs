@@ -39,8 +39,11 @@ pub enum ViewSource {
     /// A volume and the options its first view was built with (`view`, whose report the
     /// caller has shown); the slice can then be moved through the volume.
     Volume {
+        /// The volume the slice moves through.
         volume: Box<Volume>,
+        /// The options of the first view; slice moves change only their slice.
         options: Box<VolumeOptions>,
+        /// The first view, built by the caller with those options.
         view: Box<VolumeScene>,
     },
     /// A montage of slices of one volume (`--views`, `--lightbox`), shown through
@@ -51,7 +54,9 @@ pub enum ViewSource {
 /// The panels of a montage: each panel's options (its slice) and first view, in reading
 /// order, as `render --views/--lightbox` makes them.
 pub struct MontageSource {
+    /// The volume every panel is a slice of.
     pub volume: Volume,
+    /// Each panel's options (its plane and slice) and first view, in reading order.
     pub panels: Vec<(VolumeOptions, VolumeScene)>,
     /// Panels to a row.
     pub columns: usize,
@@ -74,12 +79,18 @@ struct VolumeSlice {
     framed_target: glam::DVec3,
 }
 
+/// What one view (or one montage panel) shows: its glyphs, settings, camera and slice,
+/// rebuilt on a worker thread when the slice or the negative-lobe mode changes.
 pub struct Content {
+    /// The scene drawn: its glyph sets, camera and image size.
     pub scene: Scene,
+    /// The glyph sets of `scene`, prepared for upload.
     pub sets: Vec<GlyphSetData>,
+    /// How the glyphs are drawn; the same copy in every panel.
     pub settings: RenderSettings,
-    /// The camera on screen, and the one `R` goes back to.
+    /// The camera on screen.
     pub camera: Camera,
+    /// The camera `R` goes back to (the one the scene or the volume's framing gave).
     pub home: Camera,
     /// Bumped whenever `sets` change.
     pub version: u64,
@@ -563,6 +574,8 @@ impl Content {
         self.request(Rebuild::Negative)
     }
 
+    /// The negative-lobe mode shown in the title: the one set by `N` or `--negative`,
+    /// else the first glyph set's own.
     pub fn negative_name(&self) -> &'static str {
         let mode = self
             .negative

@@ -8,34 +8,49 @@ use crate::scene::MAX_IMAGE_SIDE;
 use crate::{Error, Result};
 use winit::keyboard::{Key, NamedKey};
 
+/// One thing the user can do; a key press or a script event becomes one of these.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Action {
     /// Ask for a window of this inner size (physical pixels).
     Resize(u32, u32),
+    /// Draw with this method (`method:NAME` in a script).
     Method(Method),
+    /// Switch to the next method the glyphs allow (`M`).
     NextMethod,
+    /// Set the march step, in units of the glyph's bounding radius (`step:X` in a script).
     Step(f32),
     /// Multiply the march step.
     ScaleStep(f32),
+    /// Set how a sign change of the march is refined to the surface (`refine:NAME`).
     Refine(Refinement),
+    /// Switch to the next of none, bisection, interpolation and secant (`F`).
     NextRefinement,
+    /// Colour the glyphs this way (`color:NAME`).
     Color(ColorMode),
+    /// Switch to the next colour mode (`C`).
     NextColor,
+    /// Draw negative lobes this way in every set (`negative:NAME`).
     Negative(NegativeMode),
+    /// Switch every set between hiding negative lobes and drawing their absolute value (`N`).
     ToggleNegative,
     /// Move through the volume by this many slices.
     Slice(i64),
     /// With three slices: the one that slice moves move (0 sagittal, 1 coronal, 2 axial;
     /// the slices across voxel axes i, j, k); with --views the panel (0 the first).
     ActiveSlice(usize),
-    /// Drag in pixels: turn about the target, or slide the view.
+    /// Turn the camera about its target by a drag of this many pixels (x, y).
     Orbit(f64, f64),
+    /// Slide the view by a drag of this many pixels (x, y).
     Pan(f64, f64),
     /// Multiply the distance to the target (perspective) or the view height (orthographic).
     Zoom(f64),
+    /// Put the camera back where the scene or the framing put it (`R`, Home).
     ResetCamera,
+    /// Write the window's image to a PNG (`S`).
     Screenshot,
+    /// Print the key bindings (`H`).
     Help,
+    /// Close the window (`Q`, Esc).
     Quit,
     /// Nothing (a script's pause of one frame).
     Wait,

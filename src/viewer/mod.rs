@@ -47,7 +47,9 @@ use std::path::PathBuf;
 /// How to run the viewer.
 #[derive(Clone, Debug, Default)]
 pub struct ViewerOptions {
+    /// Which device to open and whether the validation layer is on.
     pub gpu: GpuOptions,
+    /// How glyphs are drawn at the start; keys change them afterwards.
     pub settings: RenderSettings,
     /// Replaces every glyph set's negative-lobe mode (`--negative`), if given.
     pub negative: Option<NegativeMode>,
@@ -55,6 +57,7 @@ pub struct ViewerOptions {
     /// size for one view without a colour bar; a montage's window holds its grid of
     /// cells, and the colour bar's strip is added on the right.
     pub width: u32,
+    /// The height of each panel's cell at the start (physical pixels).
     pub height: u32,
     /// Show the colour bar of `--color magnitude` in a strip of its own on the right
     /// (`--colorbar`), as `render --colorbar` appends it; while the colour is another

@@ -31,6 +31,8 @@ enum Arrangement {
     Lightbox,
 }
 
+/// Every view the window shows, with one settings copy for all and the rule by which slice
+/// moves move them (see the module notes).
 pub struct Panels {
     /// In reading order.
     pub panels: Vec<Content>,

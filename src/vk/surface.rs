@@ -8,6 +8,8 @@ use ash::vk;
 use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
 use std::sync::Arc;
 
+/// A window's `VkSurfaceKHR`, checked to be presentable from the device's queue; swapchains
+/// made from it keep it alive.
 pub struct Surface {
     owner: Arc<SurfaceOwner>,
 }
@@ -63,6 +65,7 @@ impl Surface {
         Ok(surface)
     }
 
+    /// The raw surface handle, valid while this `Surface` (or a swapchain of it) lives.
     pub fn handle(&self) -> vk::SurfaceKHR {
         self.owner.handle
     }

@@ -13,11 +13,18 @@ use crate::error::{Result, VkContext};
 use ash::vk;
 use std::sync::Arc;
 
+/// A window's swapchain with a view and a "rendering finished" semaphore per image; it
+/// keeps its device and surface alive and destroys its objects on drop.
 pub struct Swapchain {
+    /// The raw swapchain, for vkQueuePresentKHR.
     pub handle: vk::SwapchainKHR,
+    /// The images' format: an sRGB format where the surface offers one.
     pub format: vk::Format,
+    /// The images' size in pixels.
     pub extent: vk::Extent2D,
+    /// The swapchain's images, owned by it (not destroyed separately).
     pub images: Vec<vk::Image>,
+    /// One colour view per image, in the order of `images`.
     pub views: Vec<vk::ImageView>,
     /// Per image: signalled by the submission that renders it, waited on by its present.
     pub render_finished: Vec<vk::Semaphore>,
@@ -35,8 +42,14 @@ pub struct Swapchain {
 /// What vkAcquireNextImageKHR gave.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Acquired {
-    /// An image to render; `suboptimal`: it still works, but recreate after presenting.
-    Image { index: u32, suboptimal: bool },
+    /// An image to render.
+    Image {
+        /// Index of the acquired image in the swapchain's `images`.
+        index: u32,
+        /// The image still works, but the swapchain no longer matches the surface
+        /// exactly: recreate it after presenting.
+        suboptimal: bool,
+    },
     /// The surface changed (resize): recreate before rendering.
     OutOfDate,
 }

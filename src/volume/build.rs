@@ -56,15 +56,19 @@ pub enum Normalisation {
 /// Everything about a volume view except the volume itself.
 #[derive(Clone, Debug, Default)]
 pub struct VolumeOptions {
+    /// The slice drawn (`--slice axial:4`); the middle axial slice by default.
     pub slice: Slice,
     /// Three orthogonal slices instead of `slice`: one glyph set per slice (sagittal,
     /// coronal, axial; a slice with nothing to draw has none), framed by a perspective
     /// camera from anterior-superior-left whatever `projection` says.
     pub slices: Option<Slices>,
+    /// Index ranges the drawn voxels must lie in (`--voxels`).
     pub voxels: VoxelRanges,
+    /// Only voxels the mask keeps are drawn (`--mask`).
     pub mask: Option<Mask>,
     /// World radius of the largest glyph (default: 0.45 * the smallest voxel size).
     pub scale: Option<f64>,
+    /// How glyph sizes follow the data (`--norm`).
     pub norm: Normalisation,
     /// The polynomial glyph, or the DTI ellipsoid (order-2 tensor volumes only); the
     /// ellipsoid's size is its longest semi-axis, sqrt(lambda_1).
@@ -73,9 +77,11 @@ pub struct VolumeOptions {
     pub min_amplitude: f64,
     /// SH only: drop bands above this one.
     pub lmax: Option<u32>,
+    /// Orthographic or perspective framing.
     pub projection: ViewProjection,
     /// Which side of the image the subject's right is on, in every view.
     pub orientation: Orientation,
+    /// The image size asked for; a missing side follows the slice's aspect.
     pub image: ImageRequest,
     /// Fibre peaks drawn in the voxels of the slices, if any (on the volume's grid;
     /// alone where the volume only stands for their grid, [`Volume::grid_of_peaks`]).
@@ -87,12 +93,15 @@ pub struct VolumeOptions {
 pub struct VolumeReport {
     /// Voxels of the slice (or slices, each voxel once) within the ranges.
     pub selected: usize,
+    /// Selected voxels the mask leaves out.
     pub masked_out: usize,
     /// Voxels with a NaN or infinite coefficient.
     pub non_finite: usize,
     /// Glyphs that are zero everywhere.
     pub zero: usize,
+    /// Glyphs whose largest radius is below `min_amplitude`.
     pub below_min_amplitude: usize,
+    /// Glyphs in the scene.
     pub drawn: usize,
     /// Glyphs larger than the robust normalisation's limit, drawn at the limit's size.
     pub capped: usize,
@@ -138,7 +147,9 @@ impl VolumeReport {
 /// The scene of a volume view, and how it was selected.
 #[derive(Clone, Debug)]
 pub struct VolumeScene {
+    /// The glyphs (one set per slice), the framing camera and the image size.
     pub scene: Scene,
+    /// What happened to the voxels of the selection.
     pub report: VolumeReport,
     /// The slice's region; with three slices, the first (sagittal) one.
     pub region: SliceRegion,

@@ -31,10 +31,13 @@ pub const DEFAULT_LONG_SIDE: u32 = 1024;
 /// Vertical field of view of `--perspective`.
 pub const PERSPECTIVE_FOV_DEG: f64 = 30.0;
 
+/// The camera a volume view is framed with.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum ViewProjection {
+    /// Parallel rays along the slice's normal.
     #[default]
     Orthographic,
+    /// A pinhole of [`PERSPECTIVE_FOV_DEG`] vertical field of view (`--perspective`).
     Perspective,
 }
 
@@ -79,7 +82,9 @@ impl std::str::FromStr for Orientation {
 /// slice's aspect.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ImageRequest {
+    /// Image width in pixels, if asked for.
     pub width: Option<u32>,
+    /// Image height in pixels, if asked for.
     pub height: Option<u32>,
 }
 
@@ -106,7 +111,9 @@ impl ImageRequest {
 /// Camera and image size of a slice view.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Framing {
+    /// A camera that shows the whole slice (or slices).
     pub camera: Camera,
+    /// The image size, the requested sides with the other following the slice's aspect.
     pub image: ImageSize,
 }
 

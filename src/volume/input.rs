@@ -28,7 +28,14 @@ pub const MAX_ORDER: u32 = crate::catalog::MAX_SYMMETRIC_ORDER;
 /// What the user says a volume holds; the SH band is read off the file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum VolumeKind {
-    Sh { basis: ShBasis, legacy: bool },
+    /// Spherical-harmonic coefficients, even bands only.
+    Sh {
+        /// The basis convention the coefficients are stored in.
+        basis: ShBasis,
+        /// DIPY's `legacy=True` variant of the basis (no sqrt2 factors, other phases).
+        legacy: bool,
+    },
+    /// Cartesian tensor coefficients of this order and symmetry.
     Tensor(TensorLayout),
 }
 
@@ -56,6 +63,7 @@ pub struct Volume {
     pub dims: [usize; 3],
     /// The glyph kind of every voxel (for SH, the band deduced from the file).
     pub kind: GlyphKind,
+    /// Voxel indices to world coordinates (the file's sform, qform or MRtrix transform).
     pub voxel_to_world: VoxelToWorld,
     /// The frame of the coefficients: the file's default, or what the user said.
     pub frame: CoefficientFrame,
@@ -72,7 +80,9 @@ pub struct Volume {
 /// Which voxels a mask keeps: nonzero values (NaN counts as zero).
 #[derive(Clone, Debug)]
 pub struct Mask {
+    /// The file it came from, for messages.
     pub file: String,
+    /// Voxels along i, j, k; they must equal the volume's.
     pub dims: [usize; 3],
     keep: Array3<bool>,
 }

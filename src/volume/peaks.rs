@@ -69,7 +69,9 @@ pub enum PeaksNorm {
 /// How peaks are drawn.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PeakStyle {
+    /// How each peak is coloured.
     pub color: PeaksColor,
+    /// How peak lengths follow the amplitudes.
     pub norm: PeaksNorm,
     /// World half length of the longest peak (with [`PeaksNorm::None`], per unit
     /// amplitude); default [`DEFAULT_PEAKS_SCALE_FRACTION`] of the smallest voxel size.
@@ -169,6 +171,7 @@ pub struct PeakVolume {
     pub file: String,
     /// Voxels along i, j, k.
     pub dims: [usize; 3],
+    /// Voxel indices to world coordinates, from the directions' file.
     pub voxel_to_world: VoxelToWorld,
     /// The frame of the directions.
     pub frame: CoefficientFrame,
@@ -192,6 +195,7 @@ pub struct PeakArray {
     pub file: String,
     /// [x, y, z, 3N], [x, y, z, N, 3] (directions) or [x, y, z, N] (values).
     pub data: ArrayD<f64>,
+    /// Voxel indices to world coordinates of the values' grid.
     pub voxel_to_world: VoxelToWorld,
 }
 
@@ -365,6 +369,7 @@ impl PeakVolume {
 pub struct ViewPeaks {
     /// The peak image (shared by a montage's panels and the viewer's moves).
     pub volume: Arc<PeakVolume>,
+    /// Colour, length normalisation and scale of the capsules.
     pub style: PeakStyle,
 }
 

@@ -30,7 +30,9 @@ pub fn tensor_description(order: u32, stored: TensorOrder) -> String {
 /// A basis read from a file's header.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RecordedBasis {
+    /// The basis convention the writer recorded.
     pub basis: ShBasis,
+    /// Whether it recorded DIPY's legacy variant of that basis.
     pub legacy: bool,
     /// The header field it was read from: `descrip` (NIfTI) or `comments` (MRtrix).
     pub field: &'static str,

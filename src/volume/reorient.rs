@@ -31,6 +31,8 @@ pub struct Reorientation {
 }
 
 impl Reorientation {
+    /// The reorientation by `orthogonal`, an orthogonal matrix (det +1 or -1) taking
+    /// voxel axes to world axes.
     pub fn new(orthogonal: DMat3) -> Self {
         let proper = if orthogonal.determinant() < 0.0 {
             -orthogonal

@@ -29,7 +29,9 @@ pub enum SliceAxis {
 /// A slice of the volume; `index` None is the middle slice (n / 2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Slice {
+    /// The voxel axis the slice is perpendicular to.
     pub axis: SliceAxis,
+    /// The voxel index along that axis, from 0.
     pub index: Option<usize>,
 }
 
@@ -37,12 +39,15 @@ pub struct Slice {
 /// coronal (constant j) and axial (constant k) slice; None is the middle (n / 2).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Slices {
+    /// The i, j and k of the sagittal, coronal and axial slice.
     pub indices: [Option<usize>; 3],
 }
 
 /// Half-open index ranges per voxel axis; None is the whole axis.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct VoxelRanges {
+    /// Per axis i, j, k: None for the whole axis, else (start, end) with end exclusive and
+    /// a missing end meaning the axis's own (`--voxels 4:,:,:9`).
     pub axes: [Option<(Option<usize>, Option<usize>)>; 3],
 }
 
@@ -50,7 +55,9 @@ pub struct VoxelRanges {
 /// along the slice axis.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SliceRegion {
+    /// The voxel axis the slice is perpendicular to.
     pub slice: SliceAxis,
+    /// The slice's voxel index along that axis.
     pub index: usize,
     /// Index ranges along i, j, k.
     pub ranges: [Range<usize>; 3],
@@ -309,10 +316,12 @@ impl SliceRegion {
         })
     }
 
+    /// The number of voxels in the region.
     pub fn len(&self) -> usize {
         self.ranges.iter().map(|r| r.len()).product()
     }
 
+    /// Whether the ranges leave no voxel of the slice.
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }

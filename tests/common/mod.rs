@@ -11,9 +11,16 @@ use glyphcast::vk::{Gpu, GpuOptions};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+pub mod dwi;
 pub mod nifti;
 pub mod underlay;
 pub mod window;
+
+// Each test binary compiles this module and uses only some of these names.
+#[allow(unused_imports)]
+pub use dwi::{
+    DwiFiles, axis_angle, fit_dti_small_64d, fit_small_64d, largest_difference, numbers,
+};
 
 /// A GPU with the validation layer on (tests never run without it). The device is the
 /// one GLYPHCAST_DEVICE names, else the best available: lavapipe in CI.
@@ -161,11 +168,17 @@ pub fn fresh_dir(name: &str) -> PathBuf {
     dir
 }
 
+/// A file of the test data (`tests/data/<folder>/<name>`).
+pub fn test_data(folder: &str, name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(folder)
+        .join(name)
+}
+
 /// A file of the DIPY test data (tests/data/dipy).
 pub fn dipy_data(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/dipy")
-        .join(name)
+    test_data("dipy", name)
 }
 
 /// Runs `args` (writing into `out_dir`); expects exit code 1 (bad data), no panic, one
@@ -194,38 +207,4 @@ pub fn expect_failure(args: &[&str], out_dir: &Path, words: &[&str]) -> String {
         "{args:?}: output left behind: {leftovers:?}"
     );
     errors[0].to_string()
-}
-
-/// `glyphcast fit --order 2` on DIPY's small_64D into `dir/dti.nii.gz`: the DTI volume
-/// the ellipsoid and montage tests draw. Fails the test when the fit fails.
-pub fn fit_dti_small_64d(dir: &Path) -> PathBuf {
-    let out = dir.join("dti.nii.gz");
-    let run = fit_small_64d(&["--order", "2", "--quiet"], &out);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
-    out
-}
-
-/// `glyphcast fit` of DIPY's small_64D (its b-values and b-vectors) with `args` (the
-/// model: `--odf csd`, `--order`, `--basis` ...) into `out`; the run's output.
-pub fn fit_small_64d(args: &[&str], out: &Path) -> Output {
-    let (dwi, bval, bvec) = (
-        dipy_data("small_64D.nii"),
-        dipy_data("small_64D.bval"),
-        dipy_data("small_64D.bvec"),
-    );
-    let mut all = vec![
-        "fit",
-        text(&dwi),
-        "--bval",
-        text(&bval),
-        "--bvec",
-        text(&bvec),
-    ];
-    all.extend_from_slice(args);
-    all.extend_from_slice(&["-o", text(out)]);
-    glyphcast(&all)
 }

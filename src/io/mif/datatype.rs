@@ -6,25 +6,39 @@
 use crate::error::quoted;
 use crate::{Error, Result};
 
+/// How one stored value is encoded, apart from its byte order; shared by the NIfTI reader.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Number {
+    /// `Bit`: one bit per voxel, eight voxels per byte, the first in the most significant bit.
     Bit,
+    /// Signed 8-bit integer (`Int8`).
     I8,
+    /// Unsigned 8-bit integer (`UInt8`).
     U8,
+    /// Signed 16-bit integer (`Int16`).
     I16,
+    /// Unsigned 16-bit integer (`UInt16`).
     U16,
+    /// Signed 32-bit integer (`Int32`).
     I32,
+    /// Unsigned 32-bit integer (`UInt32`).
     U32,
+    /// Signed 64-bit integer (`Int64`).
     I64,
+    /// Unsigned 64-bit integer (`UInt64`).
     U64,
+    /// IEEE 754 single precision (`Float32`).
     F32,
+    /// IEEE 754 double precision (`Float64`).
     F64,
 }
 
 /// A number type and its byte order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct DataType {
+    /// The kind of number stored.
     pub number: Number,
+    /// Most significant byte first (`BE`); without meaning for the single-byte types.
     pub big_endian: bool,
 }
 
@@ -43,11 +57,15 @@ const NAMES: [(&str, Number); 11] = [
 ];
 
 impl DataType {
+    /// `Float32LE`, the type glyphcast writes.
     pub const FLOAT32_LE: DataType = DataType {
         number: Number::F32,
         big_endian: false,
     };
 
+    /// The type named by an MRtrix `datatype` value (`Float32LE`, `uint16be`, `Bit`, ...); a
+    /// multi-byte name without `LE`/`BE` takes this machine's byte order. Err naming `file`
+    /// and `datatype` for complex and unknown names.
     pub fn parse(text: &str, file: &str) -> Result<Self> {
         let lower = text.trim().to_ascii_lowercase();
         if lower.starts_with("cfloat") {

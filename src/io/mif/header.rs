@@ -13,6 +13,7 @@ pub const MAGIC: &str = "mrtrix image";
 /// One axis of `layout`: its rank among the strides (0 = fastest) and its direction.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct AxisLayout {
+    /// Position among the strides: 0 is the axis that varies fastest in the file.
     pub rank: usize,
     /// `-`: increasing voxel index runs backwards through the file.
     pub reversed: bool,
@@ -21,22 +22,28 @@ pub struct AxisLayout {
 /// Where the voxel values are: `.` (the header's own file) or a file beside the header.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct DataFile {
+    /// The data file's path, relative to the header's folder; `.` is the header's own file.
     pub name: String,
+    /// Byte offset of the first voxel in that file.
     pub offset: u64,
 }
 
 /// A parsed and checked MRtrix header.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MifHeader {
+    /// `dim`: the length of each axis, in the header's axis order.
     pub dims: Vec<usize>,
     /// Voxel sizes, one per axis (non-spatial axes may be NaN).
     pub vox: Vec<f64>,
+    /// `layout`: how each axis is stored, one entry per axis of `dims`.
     pub layout: Vec<AxisLayout>,
+    /// `datatype`: the stored number type and byte order.
     pub datatype: DataType,
     /// The first three rows of the voxel-to-scanner transform (unit axes, mm), if given.
     pub transform: Option<[[f64; 4]; 3]>,
     /// Stored value v reads as offset + scale v.
     pub scaling: (f64, f64),
+    /// `file`: where the voxel values are stored.
     pub file: DataFile,
     /// One row gx, gy, gz, b per volume, if given (directions in scanner coordinates).
     pub dw_scheme: Option<Vec<[f64; 4]>>,

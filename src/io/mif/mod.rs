@@ -42,8 +42,11 @@ pub use write::{MifWrite, mif_file_bytes, write_mif};
 /// Which MRtrix file a name is, by its ending.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MifKind {
+    /// `.mif`: the header and the data in one file.
     Mif,
+    /// `.mif.gz`: a `.mif`, gzip-compressed.
     MifGz,
+    /// `.mih`: the header alone; its `file` key names the data file.
     Mih,
 }
 
@@ -67,9 +70,11 @@ impl MifKind {
 pub struct MifImage {
     /// The path as given, for messages.
     pub file: String,
+    /// The header as read, for copying its keys and geometry into outputs.
     pub header: MifHeader,
     /// Voxel values with scaling applied, shape `dim` in the header's axis order.
     pub data: ArrayD<f64>,
+    /// Voxel indices to scanner coordinates, from `transform` and `vox`.
     pub voxel_to_world: VoxelToWorld,
 }
 

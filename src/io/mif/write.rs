@@ -22,8 +22,11 @@ const DATA_ALIGNMENT: usize = 16;
 /// What to write: the values (any rank, the first three axes spatial), their geometry
 /// and extra header keys (written as `key: value` lines, one per entry).
 pub struct MifWrite<'a> {
+    /// The values, written as `Float32LE` with the first axis fastest.
     pub data: &'a ArrayD<f64>,
+    /// The voxel-to-world map, written as `vox` and `transform`.
     pub voxel_to_world: &'a VoxelToWorld,
+    /// Extra `key: value` lines, written after `transform`; no key or value may hold a newline.
     pub keys: &'a [(&'a str, String)],
 }
 

@@ -18,7 +18,9 @@ const QUATERNION_SLACK: f64 = 1e-4;
 /// Which header fields the affine came from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum AffineSource {
+    /// `sform_code` > 0: the `srow_x/y/z` rows (method 3).
     Sform,
+    /// `qform_code` > 0 and `sform_code` 0: the quaternion, voxel sizes and offsets (method 2).
     Qform,
     /// Neither code set: pixdim scaling only.
     Pixdim,
@@ -29,7 +31,9 @@ pub enum AffineSource {
 /// A volume's voxel-to-world map.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct VoxelToWorld {
+    /// Maps voxel indices (i, j, k, 1) to world coordinates, in the file's units (usually mm).
     pub affine: DMat4,
+    /// Which header fields `affine` came from.
     pub source: AffineSource,
 }
 

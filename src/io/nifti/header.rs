@@ -19,8 +19,10 @@ pub const EXTENSION_FLAG_SIZE: usize = 4;
 /// Which standard a header follows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum NiftiVersion {
+    /// NIfTI-1: a 348-byte header, magic `n+1` or `ni1`, float32 and int16 fields.
     #[default]
     One,
+    /// NIfTI-2: a 540-byte header, magic `n+2` or `ni2`, float64 and int64 fields.
     Two,
 }
 
@@ -37,48 +39,98 @@ impl NiftiVersion {
 /// A NIfTI header with the fields glyphcast reads or copies.
 #[derive(Clone, Debug, PartialEq)]
 pub struct NiftiHeader {
+    /// NIfTI-1 or NIfTI-2, from `sizeof_hdr`.
     pub version: NiftiVersion,
     /// Stored big-endian (the data then is too).
     pub big_endian: bool,
     /// The magic as stored: `n+1\0`, `ni1\0`, `n+2\0\r\n\x1a\n`, ... (4 bytes for NIfTI-1).
     pub magic: Vec<u8>,
+    /// `dim_info`: the frequency, phase and slice encoding axes, two bits each (not used; a
+    /// fit's output keeps it).
     pub dim_info: u8,
     /// dim[0] is the number of dimensions, dim[1..=dim[0]] their lengths.
     pub dim: [i64; 8],
+    /// `intent_p1`: the first parameter of the intent (not used; a fit's output clears it).
     pub intent_p1: f64,
+    /// `intent_p2`: the second parameter of the intent (not used; a fit's output clears
+    /// it).
     pub intent_p2: f64,
+    /// `intent_p3`: the third parameter of the intent (not used; a fit's output clears it).
     pub intent_p3: f64,
+    /// `intent_code`: what the values mean (`NIFTI_INTENT_*`); 1005 (symmetric matrix)
+    /// marks a tensor volume when glyphcast guesses a volume's kind; a fit's output clears
+    /// it.
     pub intent_code: i32,
+    /// `datatype`: the stored voxel type (`DT_*`: 2 uint8, 4 int16, 8 int32, 16 float32,
+    /// 64 float64, ...); real types are read as f64, complex and RGB types are refused.
     pub datatype: i16,
+    /// `bitpix`: bits per voxel; it must agree with `datatype`.
     pub bitpix: i16,
+    /// `slice_start`: the first slice of the acquisition order (not used; a fit's output
+    /// keeps it).
     pub slice_start: i64,
     /// pixdim[0] is qfac (its sign flips the third axis of the qform), pixdim[1..] the
     /// voxel sizes.
     pub pixdim: [f64; 8],
     /// Byte offset of the first voxel in the data file.
     pub vox_offset: f64,
+    /// `scl_slope`: stored values are multiplied by it on reading; 0 (or 1 with no
+    /// intercept) means no scaling.
     pub scl_slope: f64,
+    /// `scl_inter`: added to the stored values after `scl_slope` on reading.
     pub scl_inter: f64,
+    /// `slice_end`: the last slice of the acquisition order (not used; a fit's output keeps
+    /// it).
     pub slice_end: i64,
+    /// `slice_code`: the slice timing pattern (`NIFTI_SLICE_*`; not used; a fit's output
+    /// keeps it).
     pub slice_code: i32,
+    /// `xyzt_units`: the spatial unit in bits 0-2 (2 mm) and the temporal unit in bits 3-5
+    /// (not used: the affine is taken in the file's own units; a fit's output keeps it).
     pub xyzt_units: i32,
+    /// `cal_max`: the display maximum the writer suggests (not used; a fit's output clears
+    /// it).
     pub cal_max: f64,
+    /// `cal_min`: the display minimum the writer suggests (not used; a fit's output clears
+    /// it).
     pub cal_min: f64,
+    /// `slice_duration`: seconds per slice acquisition (not used; a fit's output keeps it).
     pub slice_duration: f64,
+    /// `toffset`: the time of the first volume, in `xyzt_units` (not used; a fit's output
+    /// keeps it).
     pub toffset: f64,
+    /// `descrip`: free ASCII text, NUL-padded; see [`NiftiHeader::description`].
     pub descrip: [u8; 80],
+    /// `aux_file`: the name of an auxiliary file, NUL-padded (not used; a fit's output
+    /// keeps it).
     pub aux_file: [u8; 24],
+    /// `qform_code`: what the quaternion transform maps to (0 unset, 1 scanner, 2 aligned,
+    /// 3 Talairach, 4 MNI); it is used when `sform_code` is 0.
     pub qform_code: i32,
+    /// `sform_code`: what the `srow_*` affine maps to (same codes); when above 0 it wins
+    /// over the qform.
     pub sform_code: i32,
+    /// `quatern_b`: the qform rotation's quaternion, i component (a = sqrt(1 - b² - c² -
+    /// d²)).
     pub quatern_b: f64,
+    /// `quatern_c`: the qform rotation's quaternion, j component.
     pub quatern_c: f64,
+    /// `quatern_d`: the qform rotation's quaternion, k component.
     pub quatern_d: f64,
+    /// `qoffset_x`: world x of voxel (0, 0, 0) under the qform.
     pub quatern_x: f64,
+    /// `qoffset_y`: world y of voxel (0, 0, 0) under the qform.
     pub quatern_y: f64,
+    /// `qoffset_z`: world z of voxel (0, 0, 0) under the qform.
     pub quatern_z: f64,
+    /// `srow_x`: the first row of the sform affine (world x = srow_x · (i, j, k, 1)).
     pub srow_x: [f64; 4],
+    /// `srow_y`: the second row of the sform affine.
     pub srow_y: [f64; 4],
+    /// `srow_z`: the third row of the sform affine.
     pub srow_z: [f64; 4],
+    /// `intent_name`: a name for the intent, NUL-padded (not used; a fit's output clears
+    /// it).
     pub intent_name: [u8; 16],
 }
 

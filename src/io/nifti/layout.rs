@@ -14,6 +14,7 @@ pub struct DataLayout {
     pub shape: Vec<usize>,
     /// The product of `shape`.
     pub count: usize,
+    /// The stored number type and byte order (from `datatype`, `bitpix` and the header's order).
     pub datatype: DataType,
     /// `count` voxels of `datatype`, in bytes.
     pub data_bytes: u64,

@@ -38,9 +38,11 @@ const CHUNK_BYTES: usize = 1 << 16;
 pub struct NiftiImage {
     /// The path as given, for messages.
     pub file: String,
+    /// The header as read, for copying its fields into outputs.
     pub header: NiftiHeader,
     /// Voxel values, shape [x, y, z, t, ...] (Fortran memory order, as the file stores it).
     pub data: ArrayD<f64>,
+    /// Voxel indices to world coordinates (sform, else qform, else pixdim).
     pub voxel_to_world: VoxelToWorld,
 }
 
