@@ -1,6 +1,10 @@
 //! GLSL to SPIR-V: every shader job of the build, compiled on every core, each result
 //! kept in a cache keyed by its preprocessed source.
 //!
+//! The `exact` fragment shaders (`Job::optimize`) go through spirv-opt's performance
+//! passes in shaderc and then through the `spirv-opt` program until they stop shrinking
+//! ([`SpirvOpt`]).
+//!
 //! A job is preprocessed first (includes resolved, macros expanded, comments gone; a few
 //! milliseconds), and the text, less its line directives and blank lines, is hashed with
 //! the job's stage and defines. A job whose hash is in the cache is not compiled again:
@@ -206,7 +210,7 @@ fn options<'a>(job: &'a Job, glsl_dir: &'a Path) -> Result<shaderc::CompileOptio
 /// and on the `exact` shaders one round does not reach a fixed point: the loops it unrolls
 /// late leave branches on constants, dead blocks and redundant loads that the next round
 /// removes (order 8: 233 kB after shaderc, 162 kB after a second round, 113 kB after a
-/// third, which changes nothing more). lavapipe's NIR passes take about a third of the
+/// third; a fourth changes nothing). lavapipe's NIR passes take about a third of the
 /// time on the smaller module (order 8: 55 against 175 ms of CPU). The SPIRV-Tools that
 /// shaderc links has no C entry point for its optimiser (the C++ one would need a C++
 /// shim), so the program of the same package (`spirv-tools`) runs it.
