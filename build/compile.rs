@@ -82,9 +82,9 @@ pub fn compile_all(jobs: &mut [Job], dirs: &Dirs) -> Summary {
     let spirv_opt = SpirvOpt::find();
     if spirv_opt.is_none() && jobs.iter().any(|job| job.optimize) {
         println!(
-            "cargo:warning=spirv-opt (SPIRV-Tools, Debian package spirv-tools) not found: the \
-             exact shaders keep shaderc's single optimisation pass, and creating their \
-             pipelines takes lavapipe about three times longer"
+            "cargo:warning=spirv-opt (SPIRV-Tools, Debian package spirv-tools) not found or \
+             SPIRV_OPT=none: the exact shaders keep shaderc's single optimisation pass, and \
+             creating their pipelines takes lavapipe about three times longer"
         );
     }
     let spirv_opt = spirv_opt.as_ref();
@@ -221,10 +221,14 @@ pub struct SpirvOpt {
 }
 
 impl SpirvOpt {
-    /// `$SPIRV_OPT` or `spirv-opt` on the PATH, if it runs.
+    /// `$SPIRV_OPT` or `spirv-opt` on the PATH, if it runs; `SPIRV_OPT=none` builds
+    /// without it.
     fn find() -> Option<SpirvOpt> {
         println!("cargo:rerun-if-env-changed=SPIRV_OPT");
         let program = std::env::var_os("SPIRV_OPT").unwrap_or_else(|| "spirv-opt".into());
+        if program == "none" {
+            return None;
+        }
         let output = std::process::Command::new(&program)
             .arg("--version")
             .output()
@@ -257,7 +261,8 @@ impl SpirvOpt {
     fn round(&self, spirv: &[u8], label: &str) -> Result<Vec<u8>, String> {
         use std::io::Write as _;
         use std::process::{Command, Stdio};
-        let failed = |e: String| format!("spirv-opt -O on {label}: {e}");
+        let failed =
+            |e: String| format!("spirv-opt -O on {label} (SPIRV_OPT=none builds without it): {e}");
         let mut child = Command::new(&self.program)
             .args(["-O", "--target-env=vulkan1.3", "-", "-o", "-"])
             .stdin(Stdio::piped())
@@ -265,7 +270,10 @@ impl SpirvOpt {
             .stderr(Stdio::piped())
             .spawn()
             .map_err(|e| failed(e.to_string()))?;
-        let mut stdin = child.stdin.take().ok_or_else(|| failed("no stdin".into()))?;
+        let mut stdin = child
+            .stdin
+            .take()
+            .ok_or_else(|| failed("no stdin".into()))?;
         // Written from a thread of its own, so that neither side waits on a full pipe.
         let output = std::thread::scope(|scope| {
             let writer = scope.spawn(move || stdin.write_all(spirv));
@@ -281,8 +289,7 @@ impl SpirvOpt {
             return Err(failed(String::from_utf8_lossy(&output.stderr).into_owned()));
         }
         let bytes = output.stdout;
-        if bytes.len() < 20 || bytes.len() % 4 != 0 || bytes[..4] != 0x0723_0203_u32.to_le_bytes()
-        {
+        if bytes.len() < 20 || bytes.len() % 4 != 0 || bytes[..4] != 0x0723_0203_u32.to_le_bytes() {
             return Err(failed(format!(
                 "{} bytes of output, not a little-endian SPIR-V module",
                 bytes.len()
