@@ -245,17 +245,21 @@ void split_rest(float s) {
 
 // Sign changes of node_f, zeros skipped: an upper bound on the number of roots of F on
 // the piece, of the same parity (Descartes' rule in the Bernstein basis).
-int sign_changes() {
+int sign_changes_of(float f[D + 1]) {
     int changes = 0;
     float last = 0.0;
     [[unroll]] for (int i = 0; i <= D; ++i) {
-        float b = node_f[i];
+        float b = f[i];
         if (b != 0.0) {
             changes += (last != 0.0 && (b > 0.0) != (last > 0.0)) ? 1 : 0;
             last = b;
         }
     }
     return changes;
+}
+
+int sign_changes() {
+    return sign_changes_of(node_f);
 }
 
 // Value (its sign) and Newton step v / v' of the piece's polynomial at x in (0, 1), in
@@ -408,13 +412,32 @@ bool exhausted1;
 float leftover0;
 float leftover1;
 
-void next_half() {
-    visit_half = visit_half == 0 && half1_valid ? 1 : 2;
-    visit_level = 0;
+// Sign changes of each half's F as a whole (the root of its tree), counted before the
+// traversal: a half without any is passed over and one with two or more starts at its
+// two halves, so that no pass of the traversal's loop is spent on the whole half (on
+// lavapipe every pass costs the batch's lanes the loop's whole body).
+int changes0;
+int changes1;
+
+// Starts the traversal of half h (0 or 1), or of the next one that has sign changes;
+// visit_half 2 when none is left.
+void enter_half(int h) {
+    if (h == 0 && changes0 == 0) {
+        h = 1;
+    }
+    if (h == 1 && (!half1_valid || changes1 == 0)) {
+        h = 2;
+    }
+    visit_half = h;
+    visit_level = (h == 0 ? changes0 : changes1) >= 2 ? 1 : 0;
     visit_index = 0u;
     visit_count = 0;
     rest_start = 0.0;
-    rest_f = half_f1;
+    rest_f = h == 0 ? half_f0 : half_f1;
+}
+
+void next_half() {
+    enter_half(visit_half + 1);
 }
 
 // On to the piece after the one just visited ([rest_start, u1]), in ray order, or to the
@@ -500,15 +523,9 @@ bool first_crossing(vec3 mid, vec3 d, float tau_start, float tau_end, out float 
     exhausted1 = false;
     leftover0 = hi0;
     leftover1 = hi1;
-    visit_half = half0_valid ? 0 : (half1_valid ? 1 : 2);
-    visit_level = 0;
-    visit_index = 0u;
-    visit_count = 0;
-    rest_start = 0.0;
-    rest_f = half_f0;
-    if (visit_half != 0) {
-        rest_f = half_f1;
-    }
+    changes0 = half0_valid ? sign_changes_of(half_f0) : 0;
+    changes1 = sign_changes_of(half_f1);
+    enter_half(0);
     bool found = false;
     int found_half = 0;
     // Each root that the hide filter rejects (the edge of a hidden lobe) costs one round;
