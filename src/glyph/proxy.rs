@@ -54,7 +54,7 @@
 //! diagonal of a corner in the face's plane, and a segment of that plane seen from the
 //! centre subtends at most its length over its least distance from the centre. With 32
 //! cells a side, theta is about 0.041: a pad of 7 % on an order-8 glyph's extents (d = 9),
-//! 15 % at order 12. Each bound is the smaller of the band bound and this one; the cost is
+//! 16 % at order 12. Each bound is the smaller of the band bound and this one; the cost is
 //! f at 3,267 nodes per glyph, one product with a per-order table of monomial values.
 //!
 //! Rounding: P is exact to about 1e-15 relative; the bound is padded by 1e-9 S (S, the
