@@ -245,17 +245,21 @@ void split_rest(float s) {
 
 // Sign changes of node_f, zeros skipped: an upper bound on the number of roots of F on
 // the piece, of the same parity (Descartes' rule in the Bernstein basis).
-int sign_changes() {
+int sign_changes_of(float f[D + 1]) {
     int changes = 0;
     float last = 0.0;
     [[unroll]] for (int i = 0; i <= D; ++i) {
-        float b = node_f[i];
+        float b = f[i];
         if (b != 0.0) {
             changes += (last != 0.0 && (b > 0.0) != (last > 0.0)) ? 1 : 0;
             last = b;
         }
     }
     return changes;
+}
+
+int sign_changes() {
+    return sign_changes_of(node_f);
 }
 
 // Value (its sign) and Newton step v / v' of the piece's polynomial at x in (0, 1), in
@@ -351,46 +355,6 @@ bool hide_negative() {
     return glyph_set.hide_negative == NEGATIVE_HIDE;
 }
 
-// First sign change of g on [tau0, tau1], sampled at `samples` steps and refined by
-// regula falsi (Illinois). `state` is the inside state before tau0 (-1: unknown) and
-// becomes the one at tau1.
-bool march_piece(vec3 mid, vec3 d, float tau0, float tau1, int samples, inout int state,
-                 out float tau) {
-    tau = tau0;
-    float t_prev = tau0;
-    float g_prev = inside(mid + tau0 * d);
-    if (state >= 0 && (g_prev > 0.0) != (state == 1)) {
-        return true;
-    }
-    for (int i = 1; i <= samples; ++i) {
-        float t = mix(tau0, tau1, float(i) / float(samples));
-        float g = inside(mid + t * d);
-        if ((g > 0.0) != (g_prev > 0.0)) {
-            float t0 = t_prev, g0 = g_prev, t1 = t, g1 = g;
-            int stuck = 0;
-            for (int k = 0; k < ILLINOIS_STEPS; ++k) {
-                float tm = t0 + (t1 - t0) * (g0 / (g0 - g1));
-                float gm = inside(mid + tm * d);
-                if ((gm > 0.0) == (g1 > 0.0)) {
-                    t1 = tm; g1 = gm;
-                    if (stuck == 1) { g0 *= 0.5; }
-                    stuck = 1;
-                } else {
-                    t0 = tm; g0 = gm;
-                    if (stuck == -1) { g1 *= 0.5; }
-                    stuck = -1;
-                }
-            }
-            tau = t0 + (t1 - t0) * (g0 / (g0 - g1));
-            return true;
-        }
-        t_prev = t;
-        g_prev = g;
-    }
-    state = g_prev > 0.0 ? 1 : 0;
-    return false;
-}
-
 // The traversal of the pieces of both halves in ray order (step 3). One loop visits the
 // pieces of both halves, and the Newton refinement and the hide filter run after it, not
 // in its body: lavapipe runs every instruction of a loop body for every fragment of a
@@ -408,13 +372,32 @@ bool exhausted1;
 float leftover0;
 float leftover1;
 
-void next_half() {
-    visit_half = visit_half == 0 && half1_valid ? 1 : 2;
-    visit_level = 0;
+// Sign changes of each half's F as a whole (the root of its tree), counted before the
+// traversal: a half without any is passed over and one with two or more starts at its
+// two halves, so that no pass of the traversal's loop is spent on the whole half (on
+// lavapipe every pass costs the batch's lanes the loop's whole body).
+int changes0;
+int changes1;
+
+// Starts the traversal of half h (0 or 1), or of the next one that has sign changes;
+// visit_half 2 when none is left.
+void enter_half(int h) {
+    if (h == 0 && changes0 == 0) {
+        h = 1;
+    }
+    if (h == 1 && (!half1_valid || changes1 == 0)) {
+        h = 2;
+    }
+    visit_half = h;
+    visit_level = (h == 0 ? changes0 : changes1) >= 2 ? 1 : 0;
     visit_index = 0u;
     visit_count = 0;
     rest_start = 0.0;
-    rest_f = half_f1;
+    rest_f = h == 0 ? half_f0 : half_f1;
+}
+
+void next_half() {
+    enter_half(visit_half + 1);
 }
 
 // On to the piece after the one just visited ([rest_start, u1]), in ray order, or to the
@@ -468,6 +451,32 @@ bool next_candidate(float lo0, float hi0, float lo1, float hi1, out float u1) {
     return false;
 }
 
+// Sampling passes at most: two stretches and the regula falsi after a sign change.
+const int MARCH_PASSES = 2 * (CENTRE_SAMPLES + 1) + ILLINOIS_STEPS;
+
+// After the first sampled stretch (empty or sampled without a crossing, ending in
+// `state`): the crossing at the junction with half 1, the root found in half 1, or the
+// rest of half 1 that its budget left (second stretch; its start state unknown), else
+// no crossing.
+void after_first_stretch(inout int state, bool found, float found_tau, bool start1_inside,
+                         float lo1, float hi1, inout int outcome, inout float tau,
+                         inout bool second, inout float march_lo, inout float march_hi) {
+    if (half1_valid && state >= 0 && start1_inside != (state == 1)) {
+        tau = lo1;
+        outcome = 1;
+    } else if (found) {
+        tau = found_tau;
+        outcome = 1;
+    } else if (exhausted1 && leftover1 < hi1) {
+        second = true;
+        march_lo = leftover1;
+        march_hi = hi1;
+        state = -1;
+    } else {
+        outcome = 0;
+    }
+}
+
 // First crossing along q = mid + tau d, tau in [tau_start, tau_end] (within [-1, 1], the
 // box's part of the chord): by subdivision on the half before mid up to -tau_c, sampled in
 // the centre zone [-tau_c, tau_c] (empty when the ray passes farther than CENTRE_RADIUS
@@ -500,15 +509,9 @@ bool first_crossing(vec3 mid, vec3 d, float tau_start, float tau_end, out float 
     exhausted1 = false;
     leftover0 = hi0;
     leftover1 = hi1;
-    visit_half = half0_valid ? 0 : (half1_valid ? 1 : 2);
-    visit_level = 0;
-    visit_index = 0u;
-    visit_count = 0;
-    rest_start = 0.0;
-    rest_f = half_f0;
-    if (visit_half != 0) {
-        rest_f = half_f1;
-    }
+    changes0 = half0_valid ? sign_changes_of(half_f0) : 0;
+    changes1 = sign_changes_of(half_f1);
+    enter_half(0);
     bool found = false;
     int found_half = 0;
     // Each root that the hide filter rejects (the edge of a hidden lobe) costs one round;
@@ -546,29 +549,61 @@ bool first_crossing(vec3 mid, vec3 d, float tau_start, float tau_end, out float 
         march_lo = exhausted0 ? march_lo : centre_lo;
         march_hi = centre_hi;
     }
-    for (int pass = 0; pass < 2; ++pass) {
-        if (march_lo < march_hi
-                && march_piece(mid, d, march_lo, march_hi, CENTRE_SAMPLES, state, tau)) {
-            return true;
-        }
-        if (pass == 1) {
-            break;
-        }
-        // The crossing is at the junction with half 1.
-        if (half1_valid && state >= 0 && start1_inside != (state == 1)) {
-            tau = lo1;
-            return true;
-        }
-        if (found) {
-            tau = found_tau;
-            return true;
-        }
-        if (!exhausted1) {
-            break;
-        }
-        march_lo = leftover1;
-        march_hi = hi1;
-        state = -1;
+    // One loop, one evaluation of g per pass, for the sampling of both stretches and the
+    // regula falsi after a sign change: on lavapipe a fragment that samples nothing
+    // still pays one pass of every loop it meets, nested loops included.
+    int outcome = -1;  // 1: crossing at tau; 0: none
+    bool second = false;
+    if (!(march_lo < march_hi)) {
+        after_first_stretch(state, found, found_tau, start1_inside, lo1, hi1, outcome, tau,
+                            second, march_lo, march_hi);
     }
-    return false;
+    int k = 0;            // sample index on the stretch
+    bool refining = false;
+    int refined = 0;
+    float t_prev = march_lo;
+    float g_prev = 0.0;
+    float t0 = 0.0, g0 = 0.0, t1 = 0.0, g1 = 0.0;
+    int stuck = 0;
+    for (int step = 0; step < MARCH_PASSES && outcome < 0; ++step) {
+        float t = refining ? t0 + (t1 - t0) * (g0 / (g0 - g1))
+                           : mix(march_lo, march_hi, float(k) / float(CENTRE_SAMPLES));
+        float g = inside(mid + t * d);
+        if (refining) {
+            // Regula falsi, Illinois variant: halve the weight of an end that stays put.
+            if ((g > 0.0) == (g1 > 0.0)) {
+                t1 = t; g1 = g;
+                if (stuck == 1) { g0 *= 0.5; }
+                stuck = 1;
+            } else {
+                t0 = t; g0 = g;
+                if (stuck == -1) { g1 *= 0.5; }
+                stuck = -1;
+            }
+            refined += 1;
+            if (refined == ILLINOIS_STEPS) {
+                tau = t0 + (t1 - t0) * (g0 / (g0 - g1));
+                outcome = 1;
+            }
+        } else if (k == 0 && state >= 0 && (g > 0.0) != (state == 1)) {
+            tau = march_lo;
+            outcome = 1;
+        } else if (k > 0 && (g > 0.0) != (g_prev > 0.0)) {
+            refining = true;
+            t0 = t_prev; g0 = g_prev; t1 = t; g1 = g;
+        } else if (k == CENTRE_SAMPLES) {
+            state = g > 0.0 ? 1 : 0;
+            if (second) {
+                outcome = 0;
+            } else {
+                after_first_stretch(state, found, found_tau, start1_inside, lo1, hi1,
+                                    outcome, tau, second, march_lo, march_hi);
+                k = -1;
+            }
+        }
+        t_prev = t;
+        g_prev = g;
+        k += 1;
+    }
+    return outcome == 1;
 }

@@ -30,6 +30,8 @@
 //    The pieces are visited in ray order as the dyadic intervals of a binary tree,
 //    stacklessly, each cut by one de Casteljau pass off the part of the half not yet
 //    visited (split_rest): 0 changes drop a piece, one isolates a root, more split it.
+//    The sign changes of each whole half are counted before the traversal, so a half
+//    without any is passed over and one with more starts at its two halves.
 //    Both halves are traversed by one loop; the first isolated root that the hide filter
 //    keeps is the answer, refined by Newton on F / |q|^(2n) kept in the bracket
 //    (node_root). (src/glyph/bernstein.rs is the CPU port; it cuts each piece out of the

@@ -31,6 +31,32 @@
 //! the lobes: a fibre's axis for one fibre, the plane of a crossing for two. The axes
 //! only decide how tight the box is; every extent is a guaranteed bound whatever they are.
 //!
+//! # Tighter where sampling proves it: Szegő's inequality
+//!
+//! The band bound of an extent is exact for a fibre's own axis, but across a fibre or a
+//! crossing it runs 30 to 55 % above the true extent (measured on the 256-glyph fODF
+//! benchmark field: the boxes held 2.2 times the volume of the tightest boxes on the same
+//! axes), and every pixel of a box runs the ray caster. So each bound is also taken from
+//! samples, with a proof that no value between them is larger. On a great circle
+//! u(t) = cos t e1 + sin t e2, a homogeneous polynomial g of degree d is a trigonometric
+//! polynomial of degree at most d, and Szegő's inequality T'^2 + d^2 T^2 <= d^2 max T^2
+//! gives, at a maximum T(t0) = M, T(t0 + h) >= M cos(d h) while d |h| <= pi. The
+//! circle through the maximiser of |g| over the sphere and any lattice node within the
+//! lattice's covering radius theta of it (|g| is even, so nodes are needed on half the
+//! sphere only) then shows
+//!
+//! ```text
+//!   max |g| <= max over the nodes |g(v)| / cos(d theta)      (d theta < pi / 2).
+//! ```
+//!
+//! The nodes are an equiangular grid on three faces of the cube (`SampleLattice`), whose
+//! covering radius is bounded cell by cell: a point of a cell is within half the cell's
+//! diagonal of a corner in the face's plane, and a segment of that plane seen from the
+//! centre subtends at most its length over its least distance from the centre. With 32
+//! cells a side, theta is about 0.041: a pad of 7 % on an order-8 glyph's extents (d = 9),
+//! 16 % at order 12. Each bound is the smaller of the band bound and this one; the cost is
+//! f at 3,267 nodes per glyph, one product with a per-order table of monomial values.
+//!
 //! Rounding: P is exact to about 1e-15 relative; the bound is padded by 1e-9 S (S, the
 //! sum of the absolute monomial coefficients, bounds |f| on the sphere) and capped by S.
 use std::sync::OnceLock;
@@ -326,6 +352,94 @@ fn degree_tables(degree: u32) -> &'static DegreeTables {
     TABLES[index].get_or_init(|| DegreeTables::new(index as u32))
 }
 
+/// Cells along each side of a cube face of the sampling lattice (module notes).
+const LATTICE_CELLS: usize = 32;
+
+/// Nodes on three faces of the cube (x, y or z = 1), projected onto the sphere: every unit
+/// vector or its opposite lies within `covering` of one (module notes).
+struct SampleLattice {
+    nodes: Vec<DVec3>,
+    /// An upper bound of the geodesic distance from any unit vector, or its opposite, to
+    /// the nearest node.
+    covering: f64,
+}
+
+impl SampleLattice {
+    fn new(cells: usize) -> Self {
+        // Equiangular coordinates on the face: tan of evenly spaced angles in [-pi/4, pi/4].
+        let coordinate =
+            |i: usize| (std::f64::consts::FRAC_PI_4 * (2.0 * i as f64 / cells as f64 - 1.0)).tan();
+        let grid: Vec<f64> = (0..=cells).map(coordinate).collect();
+        let mut nodes = Vec::with_capacity(3 * grid.len() * grid.len());
+        for face in 0..3 {
+            for &s in &grid {
+                for &t in &grid {
+                    let v = match face {
+                        0 => DVec3::new(1.0, s, t),
+                        1 => DVec3::new(t, 1.0, s),
+                        _ => DVec3::new(s, t, 1.0),
+                    };
+                    nodes.push(v.normalize());
+                }
+            }
+        }
+        // Per cell [s0, s1] x [t0, t1] of the plane at distance 1: a point is within half
+        // the diagonal of a corner, and that segment, no nearer to the plane's foot than
+        // the cell is (r_min), subtends at most its length over sqrt(1 + r_min^2).
+        let nearest = |a: f64, b: f64| {
+            if a <= 0.0 && b >= 0.0 {
+                0.0
+            } else {
+                a.abs().min(b.abs())
+            }
+        };
+        let mut covering = 0.0f64;
+        for s in grid.windows(2) {
+            for t in grid.windows(2) {
+                let half_diagonal = 0.5 * (s[1] - s[0]).hypot(t[1] - t[0]);
+                let r_min = nearest(s[0], s[1]).hypot(nearest(t[0], t[1]));
+                covering = covering.max(half_diagonal / (1.0 + r_min * r_min).sqrt());
+            }
+        }
+        // Allowance for the rounding of the coordinates above (about 1e-16 relative).
+        Self {
+            nodes,
+            covering: covering * (1.0 + 1e-9),
+        }
+    }
+}
+
+fn sample_lattice() -> &'static SampleLattice {
+    static LATTICE: OnceLock<SampleLattice> = OnceLock::new();
+    LATTICE.get_or_init(|| SampleLattice::new(LATTICE_CELLS))
+}
+
+/// The monomial values of one degree at the lattice's nodes, row-major (a row per node).
+fn lattice_values(degree: u32) -> &'static [f64] {
+    static TABLES: [OnceLock<Vec<f64>>; MAX_DEGREE + 1] =
+        [const { OnceLock::new() }; MAX_DEGREE + 1];
+    let index = (degree as usize).min(MAX_DEGREE);
+    TABLES[index].get_or_init(|| {
+        let monos = monomials(index as u32);
+        sample_lattice()
+            .nodes
+            .iter()
+            .flat_map(|u| monos.iter().map(|m| monomial_value(*m, *u)))
+            .collect()
+    })
+}
+
+/// Szegő's bound (module notes) of max |g| over the sphere for g homogeneous of degree
+/// `degree`, from its largest absolute value `sampled` at the lattice's nodes; infinite
+/// where the lattice is too coarse for the degree.
+fn sampled_bound(sampled: f64, degree: u32) -> f64 {
+    let angle = degree as f64 * sample_lattice().covering;
+    if angle >= 0.5 * std::f64::consts::PI {
+        return f64::INFINITY;
+    }
+    sampled / angle.cos()
+}
+
 /// The glyph's radius bound and oriented box (module notes). None for a zero or
 /// non-finite polynomial.
 pub fn glyph_bounds(poly: &GlyphPolynomial) -> Option<GlyphBounds> {
@@ -334,7 +448,18 @@ pub fn glyph_bounds(poly: &GlyphPolynomial) -> Option<GlyphBounds> {
         return None;
     }
     let tables = degree_tables(poly.order);
-    let radius = (tables.projector.band_bound(&poly.coeffs) + ROUNDING_SLACK * s).min(s);
+    let slack = ROUNDING_SLACK * s;
+    // f at the lattice's nodes.
+    let columns = poly.coeffs.len();
+    let lattice = sample_lattice();
+    let values: Vec<f64> = lattice_values(poly.order)
+        .chunks_exact(columns)
+        .map(|row| dot(row, &poly.coeffs))
+        .collect();
+    let sampled_radius = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let radius = (tables.projector.band_bound(&poly.coeffs) + slack)
+        .min(sampled_bound(sampled_radius, poly.order) + slack)
+        .min(s);
     let axes = moment_axes(tables, &poly.coeffs);
     let higher = projector(poly.order + 1);
     let mut product = [0.0; MAX_MONOMIALS];
@@ -347,7 +472,15 @@ pub fn glyph_bounds(poly: &GlyphPolynomial) -> Option<GlyphBounds> {
             product[up[2] as usize] += c * a.z;
         }
         let s_product: f64 = product.iter().map(|v| v.abs()).sum();
-        (higher.band_bound(product) + ROUNDING_SLACK * s_product.max(s)).min(radius)
+        let slack = ROUNDING_SLACK * s_product.max(s);
+        // |f(u)| |a . u| at the nodes: g_a = f (a . u) has degree n + 1.
+        let sampled = values
+            .iter()
+            .zip(&lattice.nodes)
+            .fold(0.0f64, |m, (f, u)| m.max((f * a.dot(*u)).abs()));
+        (higher.band_bound(product) + slack)
+            .min(sampled_bound(sampled, poly.order + 1) + slack)
+            .min(radius)
     });
     Some(GlyphBounds {
         radius,
@@ -645,7 +778,8 @@ mod tests {
     }
 
     /// A single fibre is zonal: the radius bound is exact, the long axis of the box
-    /// follows the fibre, and no extent is more than 1.5 times the sampled one.
+    /// follows the fibre, and no extent is more than the sampled bound's pad above the
+    /// sampled one (7 % at order 8, 16 % at order 12).
     #[test]
     fn single_fibre_bounds_are_tight() {
         let axis = DVec3::new(0.3, -0.5, 0.8).normalize();
@@ -660,10 +794,117 @@ mod tests {
                     .iter()
                     .map(|u| poly.eval(*u).abs() * u.dot(*a).abs())
                     .fold(0.0, f64::max);
+                let pad = 1.0 / ((order + 1) as f64 * sample_lattice().covering).cos();
                 assert!(
-                    *e <= 1.5 * sampled + 1e-9,
+                    *e <= pad * sampled + 1e-9,
                     "order {order}: extent {e} against sampled {sampled}"
                 );
+            }
+        }
+    }
+
+    /// Every unit vector, or its opposite, lies within the lattice's covering radius of a
+    /// node (checked at 20,000 directions), and the radius is small enough for order 20.
+    #[test]
+    fn lattice_covers_the_sphere_within_its_radius() {
+        let lattice = sample_lattice();
+        assert!(lattice.covering < 0.045, "{}", lattice.covering);
+        assert!(21.0 * lattice.covering < 0.5 * std::f64::consts::PI);
+        let mut worst = 0.0f64;
+        for u in fibonacci(20000) {
+            let nearest = lattice
+                .nodes
+                .iter()
+                .map(|v| u.dot(*v).abs().min(1.0).acos())
+                .fold(f64::INFINITY, f64::min);
+            worst = worst.max(nearest);
+        }
+        assert!(worst <= lattice.covering, "{worst} > {}", lattice.covering);
+        // The bound is not far above what is seen (it is a bound, not an estimate).
+        assert!(
+            lattice.covering < 1.5 * worst,
+            "{} vs {worst}",
+            lattice.covering
+        );
+    }
+
+    /// Fibre ODF-like glyphs of one to three fibres: every extent is within 10 % of the
+    /// largest sampled one at order 8 (the band bound alone was up to 55 % above).
+    #[test]
+    fn fibre_glyph_extents_are_within_ten_percent() {
+        let dirs = fibonacci(20000);
+        let mut rand = noise(7);
+        let mut direction = || DVec3::new(rand(), rand(), rand()).normalize();
+        for fibres in 1..=3 {
+            for _ in 0..4 {
+                let spec: Vec<(DVec3, f64)> = (0..fibres)
+                    .map(|k| (direction(), if k == 0 { 1.0 } else { 0.6 }))
+                    .collect();
+                let poly = fibre_poly(8, &spec);
+                let bounds = glyph_bounds(&poly).expect("non-zero glyph");
+                for (a, e) in bounds.axes.iter().zip(&bounds.extents) {
+                    let sampled = dirs
+                        .iter()
+                        .map(|u| poly.eval(*u).abs() * u.dot(*a).abs())
+                        .fold(0.0, f64::max);
+                    assert!(sampled <= *e, "{sampled} > {e}");
+                    assert!(
+                        *e <= 1.1 * sampled,
+                        "{fibres} fibres: {e} against {sampled}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// The bounds hold against a far denser sampling than the lattice's, refined by
+    /// gradient ascent on |g| from the best samples, for random tensors of every order
+    /// (the hardest case for the sampled bound: no structure, highest degrees).
+    #[test]
+    fn bounds_hold_against_refined_maxima() {
+        let dirs = fibonacci(60000);
+        for order in 1..=12 {
+            let mut rand = noise(500 + order as u64);
+            for _ in 0..3 {
+                let coeffs = (0..symmetric_count(order)).map(|_| rand()).collect();
+                let poly = GlyphPolynomial { order, coeffs };
+                let bounds = glyph_bounds(&poly).expect("non-zero glyph");
+                let mut targets: Vec<(Option<DVec3>, f64)> = vec![(None, bounds.radius)];
+                targets.extend(
+                    bounds
+                        .axes
+                        .iter()
+                        .zip(&bounds.extents)
+                        .map(|(a, e)| (Some(*a), *e)),
+                );
+                for (axis, bound) in targets {
+                    let g = |u: DVec3| {
+                        let u = u.normalize();
+                        poly.eval(u).abs() * axis.map_or(1.0, |a| u.dot(a).abs())
+                    };
+                    let mut best: Vec<(f64, DVec3)> = dirs.iter().map(|u| (g(*u), *u)).collect();
+                    best.sort_by(|x, y| y.0.total_cmp(&x.0));
+                    for (value, start) in best.iter().take(8) {
+                        // Coordinate search on the sphere with shrinking steps.
+                        let (mut u, mut v, mut step) = (*start, *value, 0.02);
+                        while step > 1e-9 {
+                            let basis = [
+                                u.any_orthonormal_vector(),
+                                u.cross(u.any_orthonormal_vector()),
+                            ];
+                            let moved = basis.iter().flat_map(|b| [*b, -*b]).find_map(|b| {
+                                let w = (u + step * b).normalize();
+                                let gw = g(w);
+                                (gw > v).then_some((w, gw))
+                            });
+                            match moved {
+                                Some((w, gw)) => (u, v) = (w, gw),
+                                None => step *= 0.5,
+                            }
+                        }
+                        assert!(v <= bound, "order {order}: {v} > {bound} (axis {axis:?})");
+                    }
+                }
             }
         }
     }
