@@ -71,12 +71,23 @@ fn field_scene(set: GlyphSet, side: usize, width: u32, height: u32) -> Scene {
 /// addition theorem), with a Gaussian taper k_l = exp(-2 l(l+1) / (L(L+1))) that keeps
 /// the lobes as sharp as band L allows with little ringing.
 pub fn fodf_coefficients(band: u32, fibres: &[(DVec3, f64)]) -> Vec<f64> {
+    fodf_coefficients_tapered(band, &fodf_taper(band), fibres)
+}
+
+/// The taper k_l of [`fodf_coefficients`], one per coefficient (l, m).
+fn fodf_taper(band: u32) -> Vec<f64> {
     let top = (band * (band + 1)).max(1) as f64;
-    let mut coeffs = vec![0.0; sh_orders(band).count()];
+    sh_orders(band)
+        .map(|(l, _)| (-2.0 * (l * (l + 1)) as f64 / top).exp())
+        .collect()
+}
+
+/// [`fodf_coefficients`] with the taper computed once.
+fn fodf_coefficients_tapered(band: u32, taper: &[f64], fibres: &[(DVec3, f64)]) -> Vec<f64> {
+    let mut coeffs = vec![0.0; taper.len()];
     for (d, w) in fibres {
         let y = sh_basis_values(band, ShBasis::Tournier07, false, *d);
-        for ((c, (l, _)), y) in coeffs.iter_mut().zip(sh_orders(band)).zip(y) {
-            let k = (-2.0 * (l * (l + 1)) as f64 / top).exp();
+        for ((c, k), y) in coeffs.iter_mut().zip(taper).zip(y) {
             *c += w * k * y;
         }
     }
@@ -101,6 +112,7 @@ pub fn fodf(count: usize, band: u32, width: u32, height: u32) -> Result<Scene> {
     let mut rng = SplitMix64::new(0x5eed_f0df ^ (count as u64) << 8 ^ band as u64);
     let mut centers = Vec::with_capacity(count);
     let mut coeffs = Vec::with_capacity(count);
+    let taper = fodf_taper(band);
     for k in 0..count {
         let (i, j) = (k % side, k / side);
         let draw = rng.unit();
@@ -119,7 +131,7 @@ pub fn fodf(count: usize, band: u32, width: u32, height: u32) -> Result<Scene> {
             .collect();
         // The peak of the dominant fibre's kernel, for a size that does not depend on
         // how many fibres cross.
-        let c = fodf_coefficients(band, &fibres);
+        let c = fodf_coefficients_tapered(band, &taper, &fibres);
         let peak = fibres
             .iter()
             .map(|(d, _)| crate::glyph::sh::sh_eval(band, ShBasis::Tournier07, false, &c, *d).abs())
