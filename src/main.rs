@@ -192,12 +192,12 @@ mod tests {
         assert_eq!(super::cli::flags::exit_code(&err), 2);
         let input = glyphcast::Error::input(
             "v.nii",
-            Setting::Voxels.mention().to_string(),
-            format!("no voxel below {}", Setting::MinAmplitude.mention()),
+            "voxels",
+            glyphcast::message!["no voxel below ", Setting::MinAmplitude],
         );
         assert_eq!(
             super::cli::flags::message(&input),
-            "v.nii: --voxels: no voxel below --min-amplitude"
+            "v.nii: voxels: no voxel below --min-amplitude"
         );
         assert_eq!(super::cli::flags::exit_code(&input), 1);
     }

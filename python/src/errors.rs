@@ -11,14 +11,16 @@ use pyo3::exceptions::{PyMemoryError, PyOSError, PyRuntimeError, PyValueError};
 pub fn to_py(err: Error) -> PyErr {
     let message = err.spelled(&spell);
     match err {
-        Error::Input { .. } | Error::Invalid(_) | Error::Usage(_) | Error::Setting { .. } => {
-            PyValueError::new_err(message)
-        }
         Error::Io { .. } => PyOSError::new_err(message),
-        Error::OutOfMemory(_) => PyMemoryError::new_err(message),
-        Error::Vulkan { .. } | Error::Setup(_) | Error::Allocation(_) | Error::Validation(_) => {
-            PyRuntimeError::new_err(message)
-        }
+        Error::OutOfMemory { .. } => PyMemoryError::new_err(message),
+        Error::Vulkan { .. }
+        | Error::Setup { .. }
+        | Error::Allocation(_)
+        | Error::Validation(_)
+        | Error::Thread { .. } => PyRuntimeError::new_err(message),
+        // Input, settings, conflicts, limits, data, unsupported requests and calls: the
+        // caller's values (new kinds default here: the enum is non_exhaustive).
+        _ => PyValueError::new_err(message),
     }
 }
 

@@ -20,9 +20,10 @@ fn register_font() -> Result<()> {
     if ok {
         Ok(())
     } else {
-        Err(Error::Setup(
-            "plots: DejaVu Sans could not be registered with plotters".into(),
-        ))
+        Err(Error::Setup {
+            missing: "DejaVu Sans font registered with plotters, which the plots need",
+            found: None,
+        })
     }
 }
 

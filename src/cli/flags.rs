@@ -78,9 +78,9 @@ pub fn spell(setting: Setting, value: Option<&str>) -> String {
     }
 }
 
-/// A note's text (which may mention settings) in the command line's words.
-pub fn note(text: &str) -> String {
-    glyphcast::error::spell_mentions(text, &spell)
+/// A note's text (which may name settings) in the command line's words.
+pub fn note(text: &glyphcast::error::Message) -> String {
+    text.spelled(&spell)
 }
 
 /// The one-line message of `err` in the command line's words.
@@ -92,7 +92,7 @@ pub fn message(err: &Error) -> String {
 /// refused setting, options that clash), 1 for bad data or a failure of the machine.
 pub fn exit_code(err: &Error) -> i32 {
     match err {
-        Error::Usage(_) | Error::Setting { .. } => 2,
+        err if err.is_usage() => 2,
         _ => 1,
     }
 }

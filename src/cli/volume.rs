@@ -351,8 +351,8 @@ pub fn panel_view(volume: &Volume, options: &VolumeOptions) -> Result<VolumeScen
 }
 
 /// A library message with the settings it mentions spelled as flags.
-fn spelled(text: &str) -> String {
-    glyphcast::error::spell_settings(text, &super::flags::spell)
+fn spelled(text: &glyphcast::error::Message) -> String {
+    text.spelled(&super::flags::spell)
 }
 
 /// One summary line of the glyphs (none for peaks alone: nothing was selected) and one

@@ -276,11 +276,14 @@ impl VoxelFitter {
             return Err(Error::input(
                 bvec_file,
                 "directions",
-                format!(
-                    "{} diffusion-weighted directions cannot determine the {unknowns} coefficients of the fit ({} too high)",
-                    directions.len(),
-                    Setting::Order.mention()
-                ),
+                crate::message![
+                    format!(
+                        "{} diffusion-weighted directions cannot determine the {unknowns} coefficients of the fit (",
+                        directions.len()
+                    ),
+                    Setting::Order,
+                    " too high)"
+                ],
             ));
         }
         let to_input = |e: Error| Error::input(&bvec_file, "directions", e.to_string());
@@ -530,7 +533,7 @@ fn check_single_shell(bvals: &[f64], bval_file: &str, what: &str) -> Result<()> 
                 if what == "single-shell CSD" {
                     format!(
                         ": fit it with {} (multi-shell multi-tissue CSD)",
-                        Setting::Odf.with("msmt")
+                        crate::error::Setting::Odf.plain(Some("msmt"))
                     )
                 } else {
                     String::new()

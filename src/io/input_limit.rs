@@ -47,9 +47,12 @@ pub fn check_input_size(file: &str, bytes: u64, what: &str) -> Result<()> {
 pub fn try_vec<T>(count: usize, file: &str) -> Result<Vec<T>> {
     let mut values = Vec::new();
     values.try_reserve_exact(count).map_err(|err| {
-        Error::OutOfMemory(format!(
-            "{file}: {count} values, as the header declares: {err}"
-        ))
+        let _ = err;
+        Error::OutOfMemory {
+            what: "the values the header declares",
+            file: Some(file.to_string()),
+            bytes: Some((count * size_of::<T>()) as u64),
+        }
     })?;
     Ok(values)
 }

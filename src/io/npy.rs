@@ -35,12 +35,10 @@ pub fn encode_depth_npy(path: &Path, width: u32, height: u32, depth: &[f32]) -> 
             depth.len()
         )));
     }
-    encode_f32(&shape, depth).ok_or_else(|| {
-        Error::OutOfMemory(format!(
-            "{}: the {width} x {height} depth map needs {} MiB of memory to encode, which could not be allocated",
-            path.display(),
-            depth.len() >> 18
-        ))
+    encode_f32(&shape, depth).ok_or_else(|| Error::OutOfMemory {
+        what: "the encoded depth map",
+        file: Some(path.display().to_string()),
+        bytes: Some(4 * depth.len() as u64),
     })
 }
 

@@ -35,12 +35,10 @@ fn check_encoding_memory(path: &Path, image_bytes: usize) -> Result<()> {
     let mut probe: Vec<u8> = Vec::new();
     probe
         .try_reserve_exact(image_bytes.saturating_mul(2))
-        .map_err(|_| {
-            Error::OutOfMemory(format!(
-                "{}: encoding the PNG needs about {} MiB of memory, which could not be allocated",
-                path.display(),
-                image_bytes.saturating_mul(2) >> 20
-            ))
+        .map_err(|_| Error::OutOfMemory {
+            what: "the PNG encoder's buffer",
+            file: Some(path.display().to_string()),
+            bytes: Some(image_bytes.saturating_mul(2) as u64),
         })
 }
 

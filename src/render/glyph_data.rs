@@ -14,7 +14,7 @@ use crate::glyph::sh::sh_to_tensor;
 use crate::glyph::{GlyphShape, NegativeMode, Symmetry, TensorLayout};
 use crate::parallel::{Progress, map_chunks};
 use crate::scene::{GlyphKind, GlyphSet, Scene};
-use crate::{Error, Result, Setting};
+use crate::{Error, Result};
 use std::borrow::Cow;
 
 /// One glyph set, ready for upload.
@@ -116,10 +116,10 @@ pub fn prepare_set_with_progress(
 ) -> Result<GlyphSetData> {
     let layout = tensor_layout(set);
     if set.shape == GlyphShape::Ellipsoid && offset != 0.0 {
-        return Err(Error::Invalid(format!(
-            "glyphs[{index}]: ellipsoid glyphs take no {} (found {offset})",
-            Setting::Offset.mention()
-        )));
+        return Err(Error::Unsupported {
+            what: format!("glyphs[{index}] with offset {offset}"),
+            by: "ellipsoid glyphs".into(),
+        });
     }
     let mut data = GlyphSetData {
         layout,

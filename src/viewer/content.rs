@@ -141,9 +141,10 @@ impl Content {
                 options,
                 view,
             } => Content::for_slice(Arc::from(volume), *options, *view, settings, negative),
-            ViewSource::Montage(_) => Err(Error::Invalid(
-                "a montage has a panel per view: show it through viewer::Panels".into(),
-            )),
+            ViewSource::Montage(_) => Err(Error::Call {
+                call: "Content::new",
+                expected: "a single view (a montage is shown through viewer::Panels)",
+            }),
         }
     }
 
@@ -239,9 +240,9 @@ impl Content {
             }
         };
         let result = result.unwrap_or_else(|()| {
-            Err(Error::Setup(
-                "the glyph preparation thread stopped without a result".into(),
-            ))
+            Err(Error::Thread {
+                what: "the glyph preparation",
+            })
         });
         let Some(job) = self.job.take() else {
             return Ok(false);
@@ -510,7 +511,7 @@ impl Content {
                     wake();
                 }
             })
-            .map_err(|e| Error::Setup(format!("cannot start the preparation thread: {e}")))?;
+            .map_err(|e| Error::setup("thread for the glyph preparation", e))?;
         self.job = Some(Job {
             what,
             started: Instant::now(),
@@ -535,9 +536,10 @@ impl Content {
             match data.or_else(|| old.get_mut(index).and_then(Option::take)) {
                 Some(data) => sets.push(data),
                 None => {
-                    return Err(Error::Setup(format!(
-                        "glyph set {index} was kept but has no prepared data"
-                    )));
+                    return Err(Error::Call {
+                        call: "take_prepared",
+                        expected: "prepared data for every glyph set kept",
+                    });
                 }
             }
         }

@@ -62,7 +62,7 @@ pub struct Volume {
     /// Notes for the user about how the file was read (a basis name that other tools
     /// read otherwise, a 6-volume SH file whose name suggests a tensor); the front ends
     /// print them with the figure.
-    pub notes: Vec<String>,
+    pub notes: Vec<crate::error::Message>,
     /// Shape [x, y, z, coefficients].
     data: Array4<f64>,
     /// No glyphs: the volume stands for a peak image's grid ([`Volume::grid_of_peaks`]).

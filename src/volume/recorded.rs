@@ -62,10 +62,12 @@ pub fn recorded_basis(image: &Image) -> Option<RecordedBasis> {
     })
 }
 
+/// The basis's name, with `legacy` for its legacy variant (the scene format's words,
+/// not a setting).
 fn show(basis: ShBasis, legacy: bool) -> String {
     let name = basis.name();
     if legacy {
-        format!("{name} {}", Setting::Legacy.mention())
+        format!("{name} legacy")
     } else {
         name.to_string()
     }
@@ -86,16 +88,22 @@ pub fn resolve_basis(
             Err(Error::input(
                 &image.file,
                 recorded.field,
-                format!(
-                    "the file records the SH basis {} but {} gives {}; leave out {}, or add {} \
+                crate::message![
+                    format!(
+                        "the file records the SH basis {} but ",
+                        show(recorded.basis, recorded.legacy)
+                    ),
+                    Setting::Basis,
+                    format!(" gives {}; leave out ", show(given.0, given.1)),
+                    Setting::Basis,
+                    ", or add ",
+                    Setting::ForceBasis,
+                    format!(
+                        " \
                      to draw in {} anyway",
-                    show(recorded.basis, recorded.legacy),
-                    Setting::Basis.mention(),
-                    show(given.0, given.1),
-                    Setting::Basis.mention(),
-                    Setting::ForceBasis.mention(),
-                    show(given.0, given.1),
-                ),
+                        show(given.0, given.1)
+                    )
+                ],
             ))
         }
         (Some(given), _) => Ok(given),
@@ -164,14 +172,19 @@ pub fn resolve_tensor_order(
             Err(Error::input(
                 &image.file,
                 description_field(image),
-                format!(
-                    "the file records its tensor entries in {}'s order ({}) but {} \
+                crate::message![
+                    format!(
+                        "the file records its tensor entries in {}'s order ({}) but ",
+                        recorded.owner(),
+                        recorded.entries()
+                    ),
+                    Setting::TensorOrder,
+                    format!(
+                        " \
                      gives {given} ({}); leave it out",
-                    recorded.owner(),
-                    recorded.entries(),
-                    Setting::TensorOrder.mention(),
-                    given.entries()
-                ),
+                        given.entries()
+                    )
+                ],
             ))
         }
         (Some(given), _) => Ok((given, OrderSource::Given)),
@@ -181,12 +194,13 @@ pub fn resolve_tensor_order(
                 Err(Error::input(
                     &image.file,
                     "comments",
-                    format!(
+                    crate::message![
                         "an order-4 MRtrix image that glyphcast did not write may be \
                          dwi2tensor -dkt's kurtosis tensor, whose order glyphcast does not \
-                         read; give {} if its entries are in glyphcast's order",
-                        Setting::TensorOrder.with("glyphcast")
-                    ),
+                         read; give ",
+                        Setting::TensorOrder.with("glyphcast"),
+                        " if its entries are in glyphcast's order"
+                    ],
                 ))
             }
             Some((_, ImageHeader::Mrtrix(_))) if symmetric && layout.order == 2 => {
