@@ -241,3 +241,66 @@ fn the_colour_bar_is_made_in_one_place() {
         found.join("\n")
     );
 }
+
+/// The error variants whose payload is essentially prose (a message written at the call
+/// site): `Invalid` and `Usage` (untyped, being replaced), `Unsupported` (a description
+/// of what was asked for) and `Flag` (a front end's own option with its message).
+const STRING_CARRYING: &[&str] = &[
+    "Error::Invalid(",
+    "Error::Usage(",
+    "Error::Unsupported {",
+    "Error::Flag {",
+];
+
+/// The constructions of string-carrying variants left in library code (the command line
+/// included), outside tests. Issue 27 asks for at most 15; this is where the typed
+/// variants have brought it so far, and it may only fall.
+const MOST_STRING_ERRORS: usize = 89;
+
+/// Errors are typed: few string-carrying variants are built, and no code turns a match
+/// arm into one (`Error::Invalid(_)` in a pattern is fine, a construction is counted).
+#[test]
+fn string_carrying_errors_stay_few() {
+    let mut built = Vec::new();
+    for needle in STRING_CARRYING {
+        built.extend(
+            code_lines_with(needle)
+                .into_iter()
+                .filter(|line| !line.contains(&format!("{needle}_)")) && !line.contains("=>"))
+                .filter(|line| !line.starts_with("src/error.rs")),
+        );
+    }
+    assert!(
+        built.len() <= MOST_STRING_ERRORS,
+        "{} constructions of string-carrying errors (at most {MOST_STRING_ERRORS}):\n{}",
+        built.len(),
+        built.join("\n")
+    );
+}
+
+/// No setting is parsed back out of a message: no control-character markers (U+001F,
+/// U+001E) and no `mention`/`spell_mentions` in the library, the Python module or the C
+/// API; settings travel as typed fields or `Message` pieces.
+#[test]
+fn no_setting_is_parsed_out_of_a_message() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut found = Vec::new();
+    for dir in ["src", "python/src", "capi/src"] {
+        for file in sources(&root.join(dir)) {
+            let text = fs::read_to_string(&file).unwrap();
+            for (number, line) in text.lines().enumerate() {
+                let marker = ["\\u{1f}", "\\u{1e}", "\u{1f}", "\u{1e}"]
+                    .iter()
+                    .any(|m| line.contains(m));
+                let parsing = [".mention()", "spell_mentions", "spell_settings"]
+                    .iter()
+                    .any(|m| line.contains(m));
+                if marker || parsing {
+                    let shown = file.strip_prefix(root).unwrap().display();
+                    found.push(format!("{shown}:{}: {}", number + 1, line.trim()));
+                }
+            }
+        }
+    }
+    assert!(found.is_empty(), "{}", found.join("\n"));
+}
