@@ -218,7 +218,7 @@ impl GlyphRenderer {
     /// Retired glyphs that no frame index can still read are dropped here.
     pub fn set_view(&mut self, frame_index: usize, view: &HostView) -> Result<()> {
         self.begin_frame(frame_index)?;
-        let glyphs = self.glyphs.as_mut().ok_or_else(|| Error::Call {
+        let glyphs = self.glyphs.as_mut().ok_or(Error::Call {
             call: "set_view",
             expected: "set_glyphs first",
         })?;
@@ -238,7 +238,7 @@ impl GlyphRenderer {
     /// nothing is compiled, written, submitted or waited on, so several threads may
     /// record at once, each into its own command buffer.
     pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize) -> Result<()> {
-        let glyphs = self.glyphs.as_ref().ok_or_else(|| Error::Call {
+        let glyphs = self.glyphs.as_ref().ok_or(Error::Call {
             call: "record",
             expected: "set_glyphs first",
         })?;
@@ -255,7 +255,7 @@ impl GlyphRenderer {
     ) -> Result<()> {
         self.check_index(frame_index)?;
         let view = glyphs.views.get(frame_index).copied().flatten();
-        let (viewport, scissor) = view.ok_or_else(|| Error::Call {
+        let (viewport, scissor) = view.ok_or(Error::Call {
             call: "record",
             expected: "set_view for this frame and the current glyphs first",
         })?;

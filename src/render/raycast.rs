@@ -372,7 +372,7 @@ impl RayCastPass {
     fn prepared(&self, layout: TensorLayout, method: Method) -> Result<vk::Pipeline> {
         self.pipelines
             .get(&pipeline_key(layout, method))
-            .ok_or_else(|| Error::Call {
+            .ok_or(Error::Call {
                 call: "RayCastPass::record",
                 expected: "RayCastPass::prepare (or upload) for this layout and method first",
             })
@@ -712,7 +712,7 @@ impl SceneGpu {
         let buffer = self
             .frames
             .get_mut(index)
-            .ok_or_else(|| Error::FrameIndex { index, frames })?;
+            .ok_or(Error::FrameIndex { index, frames })?;
         buffer.write(bytemuck::bytes_of(frame))
     }
 

@@ -645,7 +645,7 @@ impl App {
                 .map(Presenter::capture)
                 .transpose()?
                 .flatten()
-                .ok_or_else(|| Error::Call {
+                .ok_or(Error::Call {
                     call: "capture",
                     expected: "a captured frame",
                 })?;

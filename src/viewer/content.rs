@@ -239,11 +239,9 @@ impl Content {
                 received => received.map_err(|_| ()),
             }
         };
-        let result = result.unwrap_or_else(|()| {
-            Err(Error::Thread {
-                what: "the glyph preparation",
-            })
-        });
+        let result = result.unwrap_or(Err(Error::Thread {
+            what: "the glyph preparation",
+        }));
         let Some(job) = self.job.take() else {
             return Ok(false);
         };

@@ -73,7 +73,7 @@ impl Buffer {
 
     /// Copies `bytes` to the start of a host-visible buffer.
     pub fn write(&mut self, bytes: &[u8]) -> Result<()> {
-        let (ptr, len) = self.mapped().ok_or_else(|| Error::Call {
+        let (ptr, len) = self.mapped().ok_or(Error::Call {
             call: "Buffer::write",
             expected: "a host-visible buffer",
         })?;
@@ -81,7 +81,7 @@ impl Buffer {
         // is its only writer (the caller keeps the GPU off it, as for any host write).
         let slice = unsafe { std::slice::from_raw_parts_mut(ptr, len) };
         let capacity = slice.len();
-        let target = slice.get_mut(..bytes.len()).ok_or_else(|| Error::Limit {
+        let target = slice.get_mut(..bytes.len()).ok_or(Error::Limit {
             what: "bytes written to a buffer",
             value: bytes.len() as u64,
             limit: capacity as u64,
@@ -93,7 +93,7 @@ impl Buffer {
 
     /// The contents of a host-visible buffer (after the GPU's writes were made visible).
     pub fn read(&self) -> Result<&[u8]> {
-        let (ptr, len) = self.mapped().ok_or_else(|| Error::Call {
+        let (ptr, len) = self.mapped().ok_or(Error::Call {
             call: "Buffer::read",
             expected: "a host-visible buffer",
         })?;

@@ -189,7 +189,7 @@ pub(crate) fn create(
     pd: vk::PhysicalDevice,
     extensions: &[&CStr],
 ) -> Result<(ash::Device, u32)> {
-    let family = graphics_queue_family(instance, pd).ok_or_else(|| Error::Setup {
+    let family = graphics_queue_family(instance, pd).ok_or(Error::Setup {
         missing: "graphics+compute queue on the device",
         found: None,
     })?;

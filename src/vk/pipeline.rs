@@ -240,7 +240,7 @@ fn first_pipeline(
         .map_err(|(_, result)| Error::Vulkan { call, result })?
         .first()
         .copied()
-        .ok_or_else(|| Error::Vulkan {
+        .ok_or(Error::Vulkan {
             call,
             result: vk::Result::INCOMPLETE,
         })
