@@ -68,6 +68,9 @@ pub enum Error {
         file: Option<String>,
         /// How many bytes were asked for, where known.
         bytes: Option<u64>,
+        /// The settings that decide the size (the image's width and height), if any:
+        /// asking for less through them is the remedy.
+        settings: &'static [Setting],
     },
     /// The validation layer reported errors (only when validation is on).
     Validation(Vec<String>),
@@ -150,12 +153,44 @@ pub enum Error {
         /// The solver's own message.
         detail: String,
     },
-    /// A request that cannot be carried out as asked, in words only (being replaced by
-    /// the typed variants above; counted by `tests/architecture.rs`).
-    Invalid(String),
-    /// A request that asks for something contradictory, in words only (exit code 2;
-    /// being replaced by the typed variants above; counted by `tests/architecture.rs`).
-    Usage(String),
+    /// An output's file name that does not end as the files of its format do (`-o
+    /// out.jpg` for a PNG): a usage error naming the option.
+    OutputName {
+        /// The option that names the output, as the front end spells it (`-o/--output`).
+        option: &'static str,
+        /// The name given.
+        path: String,
+        /// The format written (`PNG`).
+        format: String,
+        /// The endings its files have (`.png`).
+        endings: Vec<String>,
+    },
+    /// Two outputs of one request that name the same file (a usage error).
+    SameOutput {
+        /// The first output's path.
+        first: String,
+        /// The second output's path, which names the same file.
+        second: String,
+    },
+    /// An environment variable the library reads holds a value it cannot use.
+    Environment {
+        /// The variable.
+        variable: &'static str,
+        /// Its value, quoted.
+        value: String,
+        /// What it should hold.
+        expected: &'static str,
+    },
+    /// One item of a list (a glyph of a set, a glyph set of a scene) that cannot be
+    /// used: which one, and why. Shown as `WHAT INDEX: ERROR`.
+    Item {
+        /// What the items are, singular (`glyph set`).
+        what: &'static str,
+        /// The item's index in its list.
+        index: usize,
+        /// What is wrong with it.
+        error: Box<Error>,
+    },
     /// A worker thread stopped without a result (it panicked).
     Thread {
         /// The work it was doing.
@@ -246,6 +281,40 @@ pub enum Problem {
     },
     /// Nothing to work with.
     Empty,
+    /// A value that must be above zero.
+    NotPositive {
+        /// The value.
+        value: f64,
+    },
+    /// Every value is zero.
+    AllZero,
+    /// A vector (a direction) at `index` that is zero or not finite.
+    ZeroVector {
+        /// Its index.
+        index: usize,
+    },
+    /// Directions that determine fewer of the unknowns than there are (too many of them
+    /// on one great circle).
+    RankDeficient {
+        /// The unknowns determined (the design's rank).
+        rank: usize,
+        /// The unknowns.
+        unknowns: usize,
+    },
+    /// Values too few or too alike to determine the unknowns in floating point.
+    IllConditioned {
+        /// The values given.
+        known: usize,
+        /// The unknowns.
+        unknowns: usize,
+        /// An estimate of the design's condition number.
+        condition: f64,
+    },
+    /// A matrix that should be orthogonal (a rotation) and is not.
+    NotOrthogonal {
+        /// The largest entry of |R^T R - I|.
+        deviation: f64,
+    },
 }
 
 impl fmt::Display for Problem {
@@ -264,6 +333,26 @@ impl fmt::Display for Problem {
                 "{known} independent values cannot determine {unknowns} unknowns"
             ),
             Problem::Empty => f.write_str("none given"),
+            Problem::NotPositive { value } => write!(f, "{value} is not above zero"),
+            Problem::AllZero => f.write_str("every value is zero"),
+            Problem::ZeroVector { index } => write!(f, "vector {index} is zero or not finite"),
+            Problem::RankDeficient { rank, unknowns } => write!(
+                f,
+                "they determine only {rank} of the {unknowns} unknowns (too many on one great \
+                 circle?)"
+            ),
+            Problem::IllConditioned {
+                known,
+                unknowns,
+                condition,
+            } => write!(
+                f,
+                "{known} do not determine the {unknowns} unknowns (condition number estimate \
+                 {condition:.3e})"
+            ),
+            Problem::NotOrthogonal { deviation } => {
+                write!(f, "not orthogonal: |R^T R - I| = {deviation:.3e}")
+            }
         }
     }
 }
@@ -298,6 +387,12 @@ fn choice(choice: &Choice, spell: Spell<'_>) -> String {
         Choice::Setting(setting, value) => spell(*setting, value.as_deref()),
         Choice::Flag(flag) => (*flag).to_owned(),
     }
+}
+
+/// Settings spelled and joined with `/` (`--width/--height`).
+fn spelled_list(settings: &[Setting], spell: Spell<'_>) -> String {
+    let names: Vec<String> = settings.iter().map(|s| spell(*s, None)).collect();
+    names.join("/")
 }
 
 fn piece(piece: &Piece, spell: Spell<'_>) -> String {
@@ -372,16 +467,28 @@ impl Error {
                 None => format!("setup: no {missing}"),
             },
             Error::Allocation(err) => format!("GPU memory: {err}"),
-            Error::OutOfMemory { what, file, bytes } => {
+            Error::OutOfMemory {
+                what,
+                file,
+                bytes,
+                settings,
+            } => {
                 let file = file
                     .as_deref()
                     .map(|f| format!("{f}: "))
                     .unwrap_or_default();
                 let size = bytes.map(|b| format!(" of {} MiB", b.div_ceil(1 << 20)));
-                format!(
+                let mut text = format!(
                     "out of memory: {file}{what}{} could not be allocated",
                     size.unwrap_or_default()
-                )
+                );
+                if !settings.is_empty() {
+                    text.push_str(&format!(
+                        ": ask for less through {}",
+                        spelled_list(settings, spell)
+                    ));
+                }
+                text
             }
             Error::Validation(errors) => format!(
                 "Vulkan validation reported {} error(s); first: {}",
@@ -418,8 +525,10 @@ impl Error {
             } => {
                 let mut text = format!("{what} {value} is over the limit of {limit}");
                 if !settings.is_empty() {
-                    let names: Vec<String> = settings.iter().map(|s| spell(*s, None)).collect();
-                    text.push_str(&format!(": ask for less through {}", names.join("/")));
+                    text.push_str(&format!(
+                        ": ask for less through {}",
+                        spelled_list(settings, spell)
+                    ));
                 }
                 text
             }
@@ -432,7 +541,36 @@ impl Error {
                 format!("frame index {index} of a renderer with {frames} frame(s) in flight")
             }
             Error::Numerical { step, detail } => format!("{step} failed: {detail}"),
-            Error::Invalid(message) | Error::Usage(message) => message.clone(),
+            Error::OutputName {
+                option,
+                path,
+                format,
+                endings,
+            } => {
+                let mut text = format!(
+                    "{option} {}: writes {format}, so the name must end in {}",
+                    quoted(path),
+                    endings.join(" or ")
+                );
+                if let Some(ending) = std::path::Path::new(path).extension() {
+                    text.push_str(&format!(
+                        " (.{} would mislabel the file)",
+                        quoted(&ending.to_string_lossy())
+                    ));
+                }
+                text
+            }
+            Error::SameOutput { first, second } => {
+                format!("{first} and {second} name the same file: give each output its own path")
+            }
+            Error::Environment {
+                variable,
+                value,
+                expected,
+            } => format!("{variable}={value}: expected {expected}"),
+            Error::Item { what, index, error } => {
+                format!("{what} {index}: {}", error.spelled(spell))
+            }
             Error::Thread { what } => format!("{what}: a worker thread stopped without a result"),
         }
     }
@@ -457,7 +595,9 @@ impl Error {
             Error::Setting { .. }
             | Error::Conflict { .. }
             | Error::Flag { .. }
-            | Error::Usage(_) => true,
+            | Error::OutputName { .. }
+            | Error::SameOutput { .. } => true,
+            Error::Item { error, .. } => error.is_usage(),
             Error::Limit { settings, .. } => !settings.is_empty(),
             _ => false,
         }
@@ -497,16 +637,6 @@ impl Error {
                 vk::Result::ERROR_OUT_OF_HOST_MEMORY | vk::Result::ERROR_OUT_OF_DEVICE_MEMORY
             ),
             _ => false,
-        }
-    }
-
-    /// The same error as a usage error (exit code 2) when it is an untyped refusal of
-    /// the request ([`Error::Invalid`]); for command-line checks whose library code cannot
-    /// know that its settings came from flags. Other kinds are returned unchanged.
-    pub fn into_usage(self) -> Self {
-        match self {
-            Error::Invalid(message) => Error::Usage(message),
-            other => other,
         }
     }
 
@@ -568,6 +698,7 @@ mod tests {
             what: "the image's read-back",
             file: None,
             bytes: Some(1 << 30),
+            settings: &[super::Setting::Width, super::Setting::Height],
         };
         let gpu = Error::Allocation(gpu_allocator::AllocationError::OutOfMemory);
         let device_memory = Error::Vulkan {
@@ -585,6 +716,11 @@ mod tests {
         assert!(lost.is_device_lost() && !lost.is_out_of_memory());
         assert!(!input.is_out_of_memory() && !input.is_device_lost());
         assert!(host.to_string().starts_with("out of memory: "));
+        assert_eq!(
+            host.spelled(&|s, _| format!("--{}", s.name())),
+            "out of memory: the image's read-back of 1024 MiB could not be allocated: ask for \
+             less through --width/--height"
+        );
     }
 
     #[test]

@@ -97,12 +97,14 @@ pub fn keyword(setting: Setting) -> &'static str {
         Setting::BvecConvention => "bvec_convention",
         Setting::Odf => "odf",
         Setting::Lambda => "lambda",
+        Setting::CsdAlgorithm => "csd_algorithm",
         Setting::Tau => "tau",
         Setting::Response => "response",
         Setting::ResponseFa => "response_fa",
         Setting::Count => "count",
         Setting::RelativeThreshold => "relative_threshold",
         Setting::MinSeparation => "min_separation",
+        Setting::PanelSize => "panel_size",
         Setting::Workload => "workload",
     }
 }

@@ -60,12 +60,14 @@ pub fn flag(setting: Setting) -> &'static str {
         Setting::BvecConvention => "--bvec-convention",
         Setting::Odf => "--odf",
         Setting::Lambda => "--lambda",
+        Setting::CsdAlgorithm => "--csd-algorithm",
         Setting::Tau => "--tau",
         Setting::Response => "--response",
         Setting::ResponseFa => "--response-fa",
         Setting::Count => "--count",
         Setting::RelativeThreshold => "--relative-threshold",
         Setting::MinSeparation => "--min-separation",
+        Setting::PanelSize => "--panel-size",
         Setting::Workload => "--workload",
     }
 }

@@ -145,6 +145,8 @@ settings! {
     Odf => "ODF model",
     /// A fit's regularisation weight.
     Lambda => "lambda",
+    /// Which CSD is fitted: MRtrix's or DIPY's.
+    CsdAlgorithm => "CSD algorithm",
     /// CSD's threshold.
     Tau => "tau",
     /// CSD's fibre response file.
@@ -157,6 +159,8 @@ settings! {
     RelativeThreshold => "relative threshold",
     /// The smallest angle between peaks.
     MinSeparation => "minimum separation",
+    /// The side of each panel of a quality-control set, in pixels.
+    PanelSize => "panel size",
     /// A benchmark's generated workload.
     Workload => "workload",
 }
