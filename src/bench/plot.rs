@@ -28,7 +28,10 @@ fn register_font() -> Result<()> {
 }
 
 fn plot_error(e: impl std::fmt::Display) -> Error {
-    Error::Invalid(format!("plotting: {e}"))
+    Error::Io {
+        path: "a benchmark plot".into(),
+        message: e.to_string(),
+    }
 }
 
 fn methods(results: &[BenchResult]) -> Vec<&str> {

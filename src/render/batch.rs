@@ -71,6 +71,7 @@ impl<'a> Batch<'a> {
                 what: "the glyphs of one draw",
                 file: None,
                 bytes: Some((self.len * size_of::<T>()) as u64),
+                settings: &[],
             })?;
         for piece in &self.pieces {
             values.extend_from_slice(slice(piece));
@@ -98,15 +99,19 @@ pub fn batches<'a>(
     }
     let mut batches = Vec::new();
     for group in groups {
-        let (_, first) = group[0];
+        let (first_index, first) = group[0];
         let bytes = glyph_bytes(first.layout);
         let per_batch = (limit / bytes.max(1)).min(u32::MAX as u64) as usize;
         if per_batch == 0 {
-            return Err(Error::Limit {
-                what: "bytes of one glyph in a storage buffer",
-                value: bytes,
-                limit,
-                settings: &[],
+            return Err(Error::Item {
+                what: "glyph set",
+                index: first_index,
+                error: Box::new(Error::Limit {
+                    what: "bytes of one glyph in a storage buffer",
+                    value: bytes,
+                    limit,
+                    settings: &[],
+                }),
             });
         }
         let empty = Batch {

@@ -278,11 +278,17 @@ fn bound_glyph(
     coeffs: &[f64],
 ) -> Result<Option<Bounded>> {
     if set.shape == GlyphShape::Ellipsoid {
-        return bound_ellipsoid(coeffs)
-            .map_err(|e| Error::Invalid(format!("glyphs[{index}]: {e}")));
+        return bound_ellipsoid(coeffs).map_err(|e| Error::Item {
+            what: "glyph",
+            index,
+            error: Box::new(e),
+        });
     }
-    let coeffs = tensor_coefficients(set, coeffs)
-        .map_err(|e| Error::Invalid(format!("glyphs[{index}]: {e}")))?;
+    let coeffs = tensor_coefficients(set, coeffs).map_err(|e| Error::Item {
+        what: "glyph",
+        index,
+        error: Box::new(e),
+    })?;
     let poly = GlyphPolynomial::from_tensor(layout, &coeffs)?;
     Ok(glyph_bounds(&poly)
         .filter(|b| b.radius > 0.0 && b.radius.is_finite())

@@ -692,9 +692,10 @@ fn host_buffer<T>(len: usize) -> Result<Vec<T>> {
     buffer
         .try_reserve_exact(len)
         .map_err(|_| Error::OutOfMemory {
-            what: "the image's read-back (ask for a smaller image)",
+            what: "the image's read-back",
             file: None,
             bytes: Some((len * std::mem::size_of::<T>()) as u64),
+            settings: &[Setting::Width, Setting::Height],
         })?;
     Ok(buffer)
 }

@@ -277,7 +277,7 @@ mod tests {
         ] {
             let err = parse_script(bad).unwrap_err().to_string();
             assert!(
-                err.starts_with(&format!("'{bad}': ")) && !err.contains("--"),
+                err.starts_with(&format!("script: '{bad}': ")) && !err.contains("--"),
                 "{bad}: {err}"
             );
         }

@@ -58,6 +58,7 @@ impl Image {
                         what: "a device image",
                         file: None,
                         bytes: Some(4 * u64::from(extent.width) * u64::from(extent.height)),
+                        settings: &[],
                     }
                 }
                 result => Error::Vulkan {

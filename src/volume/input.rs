@@ -19,7 +19,7 @@ use crate::io::image::{Image, ImageHeader, read_image};
 use crate::io::nifti::VoxelToWorld;
 use crate::scene::{GlyphKind, ShBasis};
 use crate::volume::PeakVolume;
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 
 /// Highest SH band and tensor order of the scene format.
 /// Highest tensor order or SH band of a volume (the table in [`crate::catalog`]).
@@ -249,9 +249,11 @@ impl FromStr for CoefficientFrame {
         match text {
             "voxel" => Ok(CoefficientFrame::Voxel),
             "world" => Ok(CoefficientFrame::World),
-            _ => Err(Error::Invalid(format!(
-                "'{text}' is not a frame: expected voxel or world"
-            ))),
+            _ => Err(Error::setting_value(
+                Setting::Frame,
+                format!("'{}'", crate::error::quoted(text)),
+                "expected voxel or world",
+            )),
         }
     }
 }
@@ -341,10 +343,11 @@ fn glyph_kind(file: &str, kind: VolumeKind, count: usize) -> Result<GlyphKind> {
         }
         VolumeKind::Tensor(layout) => {
             if !(1..=MAX_ORDER).contains(&layout.order) {
-                return Err(Error::Invalid(format!(
-                    "tensor order {} is outside 1..={MAX_ORDER}",
-                    layout.order
-                )));
+                return Err(Error::setting_value(
+                    Setting::Order,
+                    layout.order,
+                    format!("must be in 1 to {MAX_ORDER}"),
+                ));
             }
             let expected = layout.coefficient_count();
             if count != expected {

@@ -7,6 +7,7 @@
 //! itself records no basis: its SH images are always tournier07 (non-legacy), so an
 //! MRtrix file that records nothing is taken as that. A NIfTI file that records nothing
 //! says nothing, and `--basis` is then required.
+use crate::error::{Message, Piece};
 use crate::glyph::sh::{ShBasis, parse_basis};
 use crate::glyph::tensor_order::TensorOrder;
 use crate::glyph::{Symmetry, TensorLayout};
@@ -62,15 +63,14 @@ pub fn recorded_basis(image: &Image) -> Option<RecordedBasis> {
     })
 }
 
-/// The basis's name, with `legacy` for its legacy variant (the scene format's words,
-/// not a setting).
-fn show(basis: ShBasis, legacy: bool) -> String {
-    let name = basis.name();
+/// The basis's name, with the legacy setting after it for its legacy variant
+/// (`descoteaux07 --legacy` on the command line), as pieces of a message.
+fn show(basis: ShBasis, legacy: bool) -> Vec<Piece> {
+    let mut pieces = vec![Piece::from(basis.name())];
     if legacy {
-        format!("{name} legacy")
-    } else {
-        name.to_string()
+        pieces.extend([Piece::from(" "), Piece::from(Setting::Legacy)]);
     }
+    pieces
 }
 
 /// The basis to draw `image` in: `given` (the basis setting) when it agrees with what
@@ -88,22 +88,24 @@ pub fn resolve_basis(
             Err(Error::input(
                 &image.file,
                 recorded.field,
-                crate::message![
-                    format!(
-                        "the file records the SH basis {} but ",
-                        show(recorded.basis, recorded.legacy)
-                    ),
-                    Setting::Basis,
-                    format!(" gives {}; leave out ", show(given.0, given.1)),
-                    Setting::Basis,
-                    ", or add ",
-                    Setting::ForceBasis,
-                    format!(
-                        " \
-                     to draw in {} anyway",
-                        show(given.0, given.1)
-                    )
-                ],
+                Message::from_pieces(
+                    [
+                        vec!["the file records the SH basis ".into()],
+                        show(recorded.basis, recorded.legacy),
+                        vec![" but ".into(), Setting::Basis.into(), " gives ".into()],
+                        show(given.0, given.1),
+                        vec![
+                            "; leave out ".into(),
+                            Setting::Basis.into(),
+                            ", or add ".into(),
+                            Setting::ForceBasis.into(),
+                            " to draw in ".into(),
+                        ],
+                        show(given.0, given.1),
+                        vec![" anyway".into()],
+                    ]
+                    .concat(),
+                ),
             ))
         }
         (Some(given), _) => Ok(given),

@@ -821,7 +821,7 @@ mod tests {
                     ..base.clone()
                 },
                 Coefficients::Tensor,
-                None,
+                Some(Setting::Views),
             ),
             (
                 VolumeRequest {
@@ -830,7 +830,7 @@ mod tests {
                     ..base.clone()
                 },
                 Coefficients::Tensor,
-                None,
+                Some(Setting::Slice),
             ),
         ];
         for (request, input, setting) in cases {
@@ -838,8 +838,14 @@ mod tests {
             assert_eq!(err.setting_of(), setting, "{err}");
             let text = err.to_string();
             assert!(!text.contains("--"), "{text}");
-            if let Some(setting) = setting {
-                assert!(text.starts_with(setting.name()), "{text}");
+            assert!(err.is_usage(), "{text}");
+            match (&err, setting) {
+                // Options that clash name both sides.
+                (Error::Conflict { .. }, Some(setting)) => {
+                    assert!(text.contains(setting.name()), "{text}")
+                }
+                (_, Some(setting)) => assert!(text.starts_with(setting.name()), "{text}"),
+                (_, None) => {}
             }
         }
         // Values the options cannot parse.

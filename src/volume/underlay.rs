@@ -92,6 +92,7 @@ pub fn underlay_of_image(image: Image) -> Result<(UnderlayVolume, AffineSource)>
             what: "the underlay's values",
             file: Some(image.file.clone()),
             bytes: Some((dims.iter().product::<usize>() * channels * size_of::<f32>()) as u64),
+            settings: &[],
         })?;
     // The stored axes beyond the trimmed shape all have length 1: index 0 there.
     let mut index = vec![0usize; image.data.ndim()];

@@ -83,6 +83,7 @@ pub fn box_filter(big: &[u8], width: u32, height: u32, factor: u32) -> Result<Ve
             what: "the antialiased image",
             file: None,
             bytes: Some(4 * w as u64 * h as u64),
+            settings: &[],
         })?;
     let row = 4 * w * s;
     let n = (s * s) as f64;
