@@ -547,9 +547,19 @@ impl Error {
                 format,
                 endings,
             } => {
+                // The whole path (the user's own, to find it again), on one line.
+                let path_line: String = path
+                    .chars()
+                    .map(|c| {
+                        if c.is_control() {
+                            c.escape_default().to_string()
+                        } else {
+                            c.to_string()
+                        }
+                    })
+                    .collect();
                 let mut text = format!(
-                    "{option} {}: writes {format}, so the name must end in {}",
-                    quoted(path),
+                    "{option} {path_line}: writes {format}, so the name must end in {}",
                     endings.join(" or ")
                 );
                 if let Some(ending) = std::path::Path::new(path).extension() {

@@ -14,7 +14,7 @@ use crate::glyph::sh::sh_to_tensor;
 use crate::glyph::{GlyphShape, NegativeMode, Symmetry, TensorLayout};
 use crate::parallel::{Progress, map_chunks};
 use crate::scene::{GlyphKind, GlyphSet, Scene};
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 use std::borrow::Cow;
 
 /// One glyph set, ready for upload.
@@ -116,9 +116,14 @@ pub fn prepare_set_with_progress(
 ) -> Result<GlyphSetData> {
     let layout = tensor_layout(set);
     if set.shape == GlyphShape::Ellipsoid && offset != 0.0 {
-        return Err(Error::Unsupported {
-            what: format!("glyphs[{index}] with offset {offset}"),
-            by: "ellipsoid glyphs".into(),
+        // The glyphs come from the scene, the offset from the request: the data decide.
+        return Err(Error::Item {
+            what: "glyph set",
+            index,
+            error: Box::new(Error::Unsupported {
+                what: "ellipsoid glyphs".into(),
+                by: Setting::Offset.with(offset as f32),
+            }),
         });
     }
     let mut data = GlyphSetData {
