@@ -181,6 +181,14 @@ pub enum Error {
         /// What it should hold.
         expected: &'static str,
     },
+    /// A tensor layout the device or a pass cannot draw: the layout, and why. Shown as
+    /// `a Symmetric tensor of order N: ERROR`.
+    Layout {
+        /// The layout.
+        layout: crate::glyph::TensorLayout,
+        /// What stands in its way.
+        error: Box<Error>,
+    },
     /// One item of a list (a glyph of a set, a glyph set of a scene) that cannot be
     /// used: which one, and why. Shown as `WHAT INDEX: ERROR`.
     Item {
@@ -578,6 +586,12 @@ impl Error {
                 value,
                 expected,
             } => format!("{variable}={value}: expected {expected}"),
+            Error::Layout { layout, error } => format!(
+                "a {:?} tensor of order {}: {}",
+                layout.symmetry,
+                layout.order,
+                error.spelled(spell)
+            ),
             Error::Item { what, index, error } => {
                 format!("{what} {index}: {}", error.spelled(spell))
             }
@@ -607,7 +621,7 @@ impl Error {
             | Error::Flag { .. }
             | Error::OutputName { .. }
             | Error::SameOutput { .. } => true,
-            Error::Item { error, .. } => error.is_usage(),
+            Error::Item { error, .. } | Error::Layout { error, .. } => error.is_usage(),
             Error::Limit { settings, .. } => !settings.is_empty(),
             _ => false,
         }

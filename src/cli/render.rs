@@ -260,11 +260,14 @@ impl RenderArgs {
     /// Checks that `--colorbar` goes with `--color magnitude` (a usage error otherwise).
     pub fn check_colorbar(&self, settings: &RenderSettings) -> Result<()> {
         if self.colorbar && !matches!(settings.color, ColorMode::Magnitude { .. }) {
-            // The bar shows the magnitude colour map.
-            return Err(Error::conflict(
+            return Err(Error::setting(
                 Setting::Colorbar,
-                Relation::Requires,
-                Setting::Color.with("magnitude"),
+                glyphcast::message![
+                    "shows the magnitude colour map: it needs ",
+                    Setting::Color.with("magnitude"),
+                    ", not ",
+                    Setting::Color.with(&self.color)
+                ],
             ));
         }
         Ok(())

@@ -347,12 +347,15 @@ impl RayCastPass {
                 let needed = varying_components(layout);
                 let available = self.ctx.max_varying_components();
                 if needed > available {
-                    return Err(Error::Limit {
-                        what: "vertex-to-fragment components of this tensor layout \
-                               (maxVertexOutputComponents, maxFragmentInputComponents)",
-                        value: u64::from(needed),
-                        limit: u64::from(available),
-                        settings: &[],
+                    return Err(Error::Layout {
+                        layout,
+                        error: Box::new(Error::Limit {
+                            what: "vertex-to-fragment components \
+                                   (maxVertexOutputComponents, maxFragmentInputComponents)",
+                            value: u64::from(needed),
+                            limit: u64::from(available),
+                            settings: &[],
+                        }),
                     });
                 }
                 let shader = raycast_shader(layout, method).ok_or_else(|| Error::Unsupported {
