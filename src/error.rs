@@ -802,6 +802,66 @@ mod tests {
     }
 
     #[test]
+    fn wrapped_and_output_errors_keep_their_context() {
+        use super::{Problem, Setting};
+        let flag = |s: Setting, v: Option<&str>| match v {
+            Some(v) => format!("--{} {v}", s.name()),
+            None => format!("--{}", s.name()),
+        };
+        let item = Error::Item {
+            what: "glyph set",
+            index: 2,
+            error: Box::new(Error::Unsupported {
+                what: "ellipsoid glyphs".into(),
+                by: Setting::Offset.with(0.1),
+            }),
+        };
+        assert_eq!(
+            item.spelled(&flag),
+            "glyph set 2: --offset 0.1 does not take ellipsoid glyphs"
+        );
+        assert!(!item.is_usage());
+        let layout = Error::Layout {
+            layout: crate::glyph::TensorLayout {
+                order: 10,
+                symmetry: crate::glyph::Symmetry::Symmetric,
+            },
+            error: Box::new(Error::data("coefficients", Problem::Empty)),
+        };
+        assert!(
+            layout
+                .to_string()
+                .contains("order 10: coefficients: none given")
+        );
+        let name = Error::OutputName {
+            option: "-o",
+            path: "a\nb.jpg".into(),
+            format: "PNG".into(),
+            endings: vec![".png".into()],
+        };
+        assert!(name.is_usage());
+        assert_eq!(
+            name.to_string(),
+            "-o a\\nb.jpg: writes PNG, so the name must end in .png (.jpg would mislabel the file)"
+        );
+        let same = Error::SameOutput {
+            first: "a.png".into(),
+            second: "./a.png".into(),
+        };
+        assert!(same.is_usage() && same.to_string().contains("a.png and ./a.png"));
+        let env = Error::Environment {
+            variable: "GLYPHCAST_MAX_INPUT_BYTES",
+            value: "\"lots\"".into(),
+            expected: "a number of bytes",
+        };
+        assert_eq!(
+            env.to_string(),
+            "GLYPHCAST_MAX_INPUT_BYTES=\"lots\": expected a number of bytes"
+        );
+        assert!(!env.is_usage());
+    }
+
+    #[test]
     fn quoted_text_is_one_short_line() {
         assert_eq!(quoted("scale"), "scale");
         assert_eq!(quoted("a\nb\u{1b}[2J"), "a\\nb\\u{1b}[2J");
