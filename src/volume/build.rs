@@ -435,7 +435,10 @@ fn truncated_kind(volume: &Volume, lmax: Option<u32>) -> Result<GlyphKind> {
                 return Err(Error::input(
                     &volume.file,
                     Setting::Lmax.name(),
-                    format!("{lmax} must be even and at most the file's band {band}"),
+                    crate::message![
+                        Setting::Lmax.with(lmax),
+                        format!(" must be even and at most the file's band {band}")
+                    ],
                 ));
             }
             Ok(GlyphKind::Sh {

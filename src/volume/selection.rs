@@ -288,10 +288,14 @@ impl SliceRegion {
             return Err(Error::input(
                 file,
                 Setting::Voxels.name(),
-                format!(
-                    "the ranges leave no voxel of the {slice} slice of this {} volume",
-                    show_shape(&dims)
-                ),
+                crate::message![
+                    "the ranges of ",
+                    Setting::Voxels,
+                    format!(
+                        " leave no voxel of the {slice} slice of this {} volume",
+                        show_shape(&dims)
+                    )
+                ],
             ));
         }
         Ok(SliceRegion {
