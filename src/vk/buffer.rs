@@ -152,7 +152,7 @@ pub(super) fn checked_block(
             ctx.memory().free(block);
             Err(Error::setup(
                 "usable memory block from the GPU memory allocator",
-                format_args!("{name}: it returned {problem}"),
+                format_args!("{name}: the memory allocator returned {problem}"),
             ))
         }
     }
