@@ -195,8 +195,9 @@ fn max_radius(order: u32, symmetry: Symmetry, coeffs: &[f64]) -> Result<f64> {
     if radius > 0.0 {
         Ok(radius)
     } else {
-        Err(Error::Invalid(
-            "the stiffness tensor is zero: there is no glyph to draw".into(),
+        Err(Error::data(
+            "stiffness tensor (there is no glyph to draw)",
+            crate::error::Problem::AllZero,
         ))
     }
 }

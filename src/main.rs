@@ -101,14 +101,10 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
             cli::render::check_outputs(&output, source.save_scene())?;
             if source.volume.is_montage() {
                 if source.save_scene().is_some() {
-                    return Err(glyphcast::Error::Usage(
-                        "--save-scene writes one scene: not with --views or --lightbox".into(),
-                    ));
+                    return Err(cli::volume::save_scene_with_montage());
                 }
                 if source.scene.is_some() {
-                    return Err(glyphcast::Error::Usage(
-                        "--views and --lightbox take volume input (--sh/--tensor)".into(),
-                    ));
+                    return Err(cli::volume::montage_needs_volume());
                 }
             }
             match source.load(options.image_request()?)? {
@@ -192,12 +188,12 @@ mod tests {
         assert_eq!(super::cli::flags::exit_code(&err), 2);
         let input = glyphcast::Error::input(
             "v.nii",
-            Setting::Voxels.mention().to_string(),
-            format!("no voxel below {}", Setting::MinAmplitude.mention()),
+            "voxels",
+            glyphcast::message!["no voxel below ", Setting::MinAmplitude],
         );
         assert_eq!(
             super::cli::flags::message(&input),
-            "v.nii: --voxels: no voxel below --min-amplitude"
+            "v.nii: voxels: no voxel below --min-amplitude"
         );
         assert_eq!(super::cli::flags::exit_code(&input), 1);
     }

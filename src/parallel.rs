@@ -93,10 +93,7 @@ where
             .collect();
         workers
             .into_iter()
-            .map(|w| {
-                w.join()
-                    .unwrap_or_else(|_| Err(Error::Invalid(format!("{what}: a thread failed"))))
-            })
+            .map(|w| w.join().unwrap_or_else(|_| Err(Error::Thread { what })))
             .collect()
     });
     let mut out = Vec::with_capacity(items.len());
@@ -117,12 +114,24 @@ mod tests {
         assert_eq!(doubled, items.iter().map(|i| 2 * i).collect::<Vec<_>>());
         let failed = map_chunks(&items, "failing", |i| {
             if *i >= 700 {
-                Err(Error::Invalid(format!("item {i}")))
+                Err(Error::data(
+                    "item",
+                    crate::error::Problem::Count {
+                        expected: 0,
+                        found: *i as usize,
+                    },
+                ))
             } else {
                 Ok(*i)
             }
         });
-        assert!(matches!(failed, Err(Error::Invalid(m)) if m == "item 700"));
+        assert!(matches!(
+            failed,
+            Err(Error::Data {
+                problem: crate::error::Problem::Count { found: 700, .. },
+                ..
+            })
+        ));
         let progress = Progress::default();
         map_chunks_with_progress(&items, "counting", Some(&progress), |i| Ok(*i)).unwrap();
         assert_eq!(progress.get(), ("counting", 1.0));

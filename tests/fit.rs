@@ -593,7 +593,10 @@ fn bad_inputs_fail_cleanly_naming_the_file() {
     let run = run_fit(&out_dir.join("out.png"), &["--order", "2"]);
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert!(
-        !run.status.success() && stderr.contains("out.png: output"),
+        run.status.code() == Some(2)
+            && stderr.contains("-o/--output")
+            && stderr.contains("out.png")
+            && stderr.contains(".nii.gz"),
         "{stderr}"
     );
     assert_eq!(std::fs::read_dir(&out_dir).unwrap().count(), 0);

@@ -68,7 +68,9 @@ fn views_skip_an_empty_middle_slice_to_the_nearest_with_glyphs() {
     assert_eq!(plan.panels[0].slice.index, Some(1));
     assert_eq!(plan.panels[1].slice.index, None);
     assert!(
-        plan.notes.iter().any(|n| n.contains("drawn at k=1")),
+        plan.notes
+            .iter()
+            .any(|n| n.to_string().contains("drawn at k=1")),
         "{:?}",
         plan.notes
     );

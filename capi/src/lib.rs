@@ -192,11 +192,10 @@ unsafe impl Sync for HostMemory {}
 
 impl MemoryAllocator for HostMemory {
     fn allocate(&self, request: &MemoryRequest<'_>) -> glyphcast::Result<MemoryBlock> {
-        let refused = |text: String| glyphcast::Error::Setup(text);
-        let allocate = self
-            .0
-            .allocate
-            .ok_or_else(|| refused("the host's allocate callback is NULL".into()))?;
+        let allocate = self.0.allocate.ok_or(glyphcast::Error::Setup {
+            missing: "allocate callback of the host's allocator (it is NULL)",
+            found: None,
+        })?;
         let name = message(request.name);
         let usage = match request.usage {
             MemoryUse::DeviceLocal => GlyphcastMemoryUse::DeviceLocal,
@@ -223,10 +222,13 @@ impl MemoryAllocator for HostMemory {
         // SAFETY: the host's callback, with valid pointers for the call.
         let status = unsafe { allocate(self.0.user, &c_request, &mut block) };
         if status != GlyphcastStatus::Ok {
-            return Err(refused(format!(
-                "{}: the host's allocator refused {} bytes ({status:?})",
-                request.name, request.requirements.size
-            )));
+            return Err(glyphcast::Error::setup(
+                "memory from the host's allocator",
+                format_args!(
+                    "{}: it refused {} bytes ({status:?})",
+                    request.name, request.requirements.size
+                ),
+            ));
         }
         Ok(MemoryBlock {
             memory: vk::DeviceMemory::from_raw(block.memory),
@@ -292,7 +294,7 @@ fn fail(status: GlyphcastStatus, text: &str) -> GlyphcastStatus {
 
 fn status_of(error: &glyphcast::Error) -> GlyphcastStatus {
     match error {
-        glyphcast::Error::Vulkan { .. } | glyphcast::Error::Setup(_) => GlyphcastStatus::Vulkan,
+        glyphcast::Error::Vulkan { .. } | glyphcast::Error::Setup { .. } => GlyphcastStatus::Vulkan,
         _ => GlyphcastStatus::InvalidArgument,
     }
 }

@@ -11,14 +11,16 @@ use pyo3::exceptions::{PyMemoryError, PyOSError, PyRuntimeError, PyValueError};
 pub fn to_py(err: Error) -> PyErr {
     let message = err.spelled(&spell);
     match err {
-        Error::Input { .. } | Error::Invalid(_) | Error::Usage(_) | Error::Setting { .. } => {
-            PyValueError::new_err(message)
-        }
         Error::Io { .. } => PyOSError::new_err(message),
-        Error::OutOfMemory(_) => PyMemoryError::new_err(message),
-        Error::Vulkan { .. } | Error::Setup(_) | Error::Allocation(_) | Error::Validation(_) => {
-            PyRuntimeError::new_err(message)
-        }
+        Error::OutOfMemory { .. } => PyMemoryError::new_err(message),
+        Error::Vulkan { .. }
+        | Error::Setup { .. }
+        | Error::Allocation(_)
+        | Error::Validation(_)
+        | Error::Thread { .. } => PyRuntimeError::new_err(message),
+        // Input, settings, conflicts, limits, data, unsupported requests and calls: the
+        // caller's values (new kinds default here: the enum is non_exhaustive).
+        _ => PyValueError::new_err(message),
     }
 }
 
@@ -95,12 +97,14 @@ pub fn keyword(setting: Setting) -> &'static str {
         Setting::BvecConvention => "bvec_convention",
         Setting::Odf => "odf",
         Setting::Lambda => "lambda",
+        Setting::CsdAlgorithm => "csd_algorithm",
         Setting::Tau => "tau",
         Setting::Response => "response",
         Setting::ResponseFa => "response_fa",
         Setting::Count => "count",
         Setting::RelativeThreshold => "relative_threshold",
         Setting::MinSeparation => "min_separation",
+        Setting::PanelSize => "panel_size",
         Setting::Workload => "workload",
     }
 }

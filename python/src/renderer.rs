@@ -7,7 +7,6 @@
 //! meanwhile; everything is freed when the object goes (or at `release`).
 use std::path::PathBuf;
 
-use glyphcast::error::spell_settings;
 use glyphcast::glyph::GlyphShape;
 use glyphcast::render::compose::colorbar::{ColorBar, check_colorbar, common_scale};
 use glyphcast::render::compose::labels::{draw_edge_labels, edge_labels};
@@ -229,11 +228,8 @@ impl Renderer {
             let volume = request.memory_volume(input, "coeffs", data, voxel_to_world)?;
             let figure = request.figure(volume, image)?;
             let (notes, warnings) = figure.messages();
-            let spelled = |lines: &[String]| -> Vec<String> {
-                lines
-                    .iter()
-                    .map(|line| spell_settings(line, &spell))
-                    .collect()
+            let spelled = |lines: &[glyphcast::error::Message]| -> Vec<String> {
+                lines.iter().map(|line| line.spelled(&spell)).collect()
             };
             let messages = (spelled(notes), spelled(warnings));
             match figure {

@@ -209,10 +209,9 @@ fn measure_prepared(
     }
     let mut times = Vec::with_capacity(frames.measured);
     for _ in 0..frames.measured.max(1) {
-        let ms = renderer.draw(gpu, &frame)?.ok_or_else(|| {
-            crate::Error::Setup(
-                "this device's queue writes no timestamps; GPU times are unavailable".into(),
-            )
+        let ms = renderer.draw(gpu, &frame)?.ok_or(crate::Error::Setup {
+            missing: "timestamps from this device's queue, which GPU times need",
+            found: None,
         })?;
         times.push(ms);
     }

@@ -20,14 +20,18 @@ fn register_font() -> Result<()> {
     if ok {
         Ok(())
     } else {
-        Err(Error::Setup(
-            "plots: DejaVu Sans could not be registered with plotters".into(),
-        ))
+        Err(Error::Setup {
+            missing: "DejaVu Sans font registered with plotters, which the plots need",
+            found: None,
+        })
     }
 }
 
 fn plot_error(e: impl std::fmt::Display) -> Error {
-    Error::Invalid(format!("plotting: {e}"))
+    Error::Io {
+        path: "a benchmark plot".into(),
+        message: e.to_string(),
+    }
 }
 
 fn methods(results: &[BenchResult]) -> Vec<&str> {

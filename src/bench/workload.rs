@@ -16,15 +16,15 @@ use glam::DVec3;
 /// `count` glyphs of `order` (even, 2..=12) on a square grid of unit spacing, two or three
 /// crossing populations each, turning across the grid; seen from above at an angle.
 pub fn grid(count: usize, order: u32, width: u32, height: u32) -> Result<Scene> {
-    if count == 0 || count > 4_000_000 {
-        return Err(Error::Invalid(format!(
-            "workload: {count} glyphs is not in 1..=4000000"
-        )));
+    if count == 0 || count > MAX_WORKLOAD_GLYPHS {
+        return Err(glyph_count(count));
     }
     if !(1..=MAX_SYMMETRIC_ORDER).contains(&order) {
-        return Err(Error::Invalid(format!(
-            "workload: order {order} is not in 1..={MAX_SYMMETRIC_ORDER}"
-        )));
+        return Err(Error::setting_value(
+            Setting::Workload,
+            format!("order {order}"),
+            format!("a workload's order is 1 to {MAX_SYMMETRIC_ORDER}"),
+        ));
     }
     let side = (count as f64).sqrt().ceil() as usize;
     let mut centers = Vec::with_capacity(count);
@@ -48,6 +48,18 @@ pub fn grid(count: usize, order: u32, width: u32, height: u32) -> Result<Scene> 
     }
     let set = glyph_set(symmetric(order), centers, 0.48, coeffs);
     Ok(field_scene(set, side, width, height))
+}
+
+/// The largest generated workload, in glyphs.
+const MAX_WORKLOAD_GLYPHS: usize = 4_000_000;
+
+/// A glyph count outside 1..=[`MAX_WORKLOAD_GLYPHS`] refused.
+fn glyph_count(count: usize) -> Error {
+    Error::setting_value(
+        Setting::Workload,
+        format!("{count} glyphs"),
+        format!("a workload has 1 to {MAX_WORKLOAD_GLYPHS} glyphs"),
+    )
 }
 
 /// A square field of `side` x `side` glyphs at unit spacing, seen from above at an angle
@@ -98,15 +110,15 @@ fn fodf_coefficients_tapered(band: u32, taper: &[f64], fibres: &[(DVec3, f64)]) 
 /// one to three fibres each (40 %, 40 %, 20 %) in random directions with weights 1 and
 /// 0.4 to 0.9, each glyph scaled to a peak radius of about 0.45; seen as `grid` is.
 pub fn fodf(count: usize, band: u32, width: u32, height: u32) -> Result<Scene> {
-    if count == 0 || count > 4_000_000 {
-        return Err(Error::Invalid(format!(
-            "workload: {count} glyphs is not in 1..=4000000"
-        )));
+    if count == 0 || count > MAX_WORKLOAD_GLYPHS {
+        return Err(glyph_count(count));
     }
     if !(2..=MAX_SH_BAND).contains(&band) || !band.is_multiple_of(2) {
-        return Err(Error::Invalid(format!(
-            "workload: SH band {band} is not one of 2, 4, ..., {MAX_SH_BAND}"
-        )));
+        return Err(Error::setting_value(
+            Setting::Workload,
+            format!("SH band {band}"),
+            format!("a workload's SH band is one of 2, 4, ..., {MAX_SH_BAND}"),
+        ));
     }
     let side = (count as f64).sqrt().ceil() as usize;
     let mut rng = SplitMix64::new(0x5eed_f0df ^ (count as u64) << 8 ^ band as u64);

@@ -1,15 +1,15 @@
 //! `glyphcast accuracy`: the accuracy suite as a table (Markdown on stdout, CSV optional).
 use clap::Args;
+use glyphcast::Result;
 use glyphcast::accuracy::{report, suite};
 use glyphcast::render::{Method, Refinement, RenderSettings};
 use glyphcast::vk::{Gpu, GpuOptions};
-use glyphcast::{Error, Result};
 use std::path::PathBuf;
 
 #[derive(Args)]
 pub struct AccuracyArgs {
-    /// Image side in pixels for every scene.
-    #[arg(long, default_value_t = 160)]
+    /// Image side in pixels for every scene, 16 to 4096.
+    #[arg(long, default_value_t = 160, value_parser = clap::value_parser!(u32).range(16..=4096))]
     size: u32,
     /// Methods to measure, comma separated: fixed, interval, affine, impostor,
     /// mesh:LEVEL, latlong:N.
@@ -73,13 +73,7 @@ impl AccuracyArgs {
 }
 
 pub fn run(args: &AccuracyArgs) -> Result<()> {
-    if !(16..=4096).contains(&args.size) {
-        return Err(Error::Usage(format!(
-            "--size: {} must be in 16..=4096",
-            args.size
-        )));
-    }
-    let variants = args.variants().map_err(Error::into_usage)?;
+    let variants = args.variants()?;
     let mut options = GpuOptions::from_env();
     if args.device.is_some() {
         options.device = args.device.clone();

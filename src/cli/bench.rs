@@ -5,6 +5,7 @@
 use clap::Args;
 use glyphcast::accuracy::suite;
 use glyphcast::bench::{self, BenchCase, BenchFrames, BenchResult, Reference, ratios, workload};
+use glyphcast::error::Relation;
 use glyphcast::render::headless::HeadlessRenderer;
 use glyphcast::render::{MeshKind, Method, Refinement, RenderSettings};
 use glyphcast::scene::Scene;
@@ -185,20 +186,22 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
         Some(path) => path.display().to_string(),
         None => args.workload.clone(),
     };
-    if let (Some(sweep), Some(_)) = (&args.sweep, &args.save_scene) {
-        return Err(Error::Usage(format!(
-            "--save-scene writes the scene of a single measurement; --sweep {sweep} \
-             measures several"
-        )));
+    if let (Some(_), Some(_)) = (&args.sweep, &args.save_scene) {
+        // --save-scene writes the scene of a single measurement; a sweep measures several.
+        return Err(Error::conflict(
+            "--save-scene",
+            Relation::Excludes,
+            "--sweep (it writes the scene of a single measurement)",
+        ));
     }
     match args.sweep.as_deref() {
         None => {
             let settings = RenderSettings {
-                method: args.method.parse().map_err(Error::into_usage)?,
-                path: args.path.parse().map_err(Error::into_usage)?,
+                method: args.method.parse()?,
+                path: args.path.parse()?,
                 ..defaults
             };
-            settings.validate().map_err(Error::into_usage)?;
+            settings.validate()?;
             let base = args.base_scene()?;
             if let Some(path) = &args.save_scene {
                 base.save(path, args.scene_arrays)?;
@@ -311,11 +314,14 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
             gpu_plan(args, &sweep["gpu".len()..], &mut plan)?;
         }
         Some(other) => {
-            return Err(Error::Usage(format!(
-                "--sweep: '{}' is not one of steps, scaling, table2, methods, ratios, \
-                 gpu[:COUNTS]",
-                glyphcast::error::quoted(other)
-            )));
+            return Err(Error::Flag {
+                flag: "--sweep",
+                message: format!(
+                    "'{}' is not one of steps, scaling, table2, methods, ratios, gpu[:COUNTS]",
+                    glyphcast::error::quoted(other)
+                )
+                .into(),
+            });
         }
     }
     Ok(plan)
@@ -350,11 +356,13 @@ fn gpu_plan(args: &BenchArgs, counts: &str, plan: &mut Plan) -> Result<()> {
                     .parse::<usize>()
                     .ok()
                     .filter(|&n| n > 0)
-                    .ok_or_else(|| {
-                        Error::Usage(format!(
-                            "--sweep gpu:{list}: '{}' is not a glyph count",
+                    .ok_or_else(|| Error::Flag {
+                        flag: "--sweep",
+                        message: format!(
+                            "gpu:{list}: '{}' is not a glyph count",
                             glyphcast::error::quoted(c)
-                        ))
+                        )
+                        .into(),
                     })
             })
             .collect::<Result<_>>()?,
@@ -492,8 +500,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             "skipped": plan.skipped,
             "failed": failed,
         });
-        let json =
-            serde_json::to_string_pretty(&json).map_err(|e| Error::Invalid(e.to_string()))?;
+        let json = serde_json::to_string_pretty(&json)
+            .map_err(|e| Error::io(dir.join("results.json"), e))?;
         glyphcast::io::atomic::write_atomic(&dir.join("results.json"), json.as_bytes())?;
         glyphcast::io::atomic::write_atomic(
             &dir.join("results.csv"),

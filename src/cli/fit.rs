@@ -14,7 +14,7 @@ use glyphcast::fit::{
 };
 use glyphcast::glyph::sh::parse_basis;
 use glyphcast::glyph::tensor_order::TensorOrder;
-use glyphcast::{Error, Result};
+use glyphcast::{Error, Result, Setting};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -130,10 +130,11 @@ impl FitArgs {
             let (basis, legacy) = parse_basis(&self.basis, self.legacy)?;
             msmt::check_flags(self, method)?;
             if !(self.response_fa > 0.0 && self.response_fa < 1.0) {
-                return Err(Error::Usage(format!(
-                    "--response-fa {}: an FA threshold must be between 0 and 1",
-                    self.response_fa
-                )));
+                return Err(Error::setting_value(
+                    Setting::ResponseFa,
+                    self.response_fa,
+                    "an FA threshold must be between 0 and 1",
+                ));
             }
             let csd = match &self.csd_algorithm {
                 Some(name) => CsdAlgorithm::parse(name)?,
@@ -173,7 +174,7 @@ impl FitArgs {
 }
 
 pub fn run(args: FitArgs) -> Result<()> {
-    let model = args.model().map_err(Error::into_usage)?;
+    let model = args.model()?;
     let convention: BvecConvention = args.bvec_convention.parse()?;
     if let FitModel::Odf {
         method: OdfMethod::Msmt,
@@ -182,16 +183,10 @@ pub fn run(args: FitArgs) -> Result<()> {
     {
         return msmt::run(&args, &model, convention);
     }
-    // An output name of another format is a usage error, whatever kind the check gives.
-    check_output_path(&args.output).map_err(|e| Error::Usage(e.to_string()))?;
-    let given_order: Option<TensorOrder> = args
-        .tensor_order
-        .as_deref()
-        .map(str::parse)
-        .transpose()
-        .map_err(Error::into_usage)?;
-    let stored =
-        output_tensor_order(&args.output, &model, given_order).map_err(Error::into_usage)?;
+    check_output_path(&args.output, "-o/--output")?;
+    let given_order: Option<TensorOrder> =
+        args.tensor_order.as_deref().map(str::parse).transpose()?;
+    let stored = output_tensor_order(&args.output, &model, given_order)?;
     glyphcast::io::atomic::check_outputs(&[&args.output])?;
     let inputs = load_inputs(&args, convention)?;
     let response = csd_response(&args, &model, &inputs)?;

@@ -3,6 +3,7 @@
 //! (`NAME_gm.EXT`, `NAME_csf.EXT`); the three are written as one set, all or none.
 use std::path::{Path, PathBuf};
 
+use glyphcast::error::Relation;
 use glyphcast::fit::gradients::BvecConvention;
 use glyphcast::fit::msmt::{MsmtFitter, MsmtProblem, Shells, TISSUES, fit_msmt};
 use glyphcast::fit::output::{check_output_path, output_bytes};
@@ -12,7 +13,7 @@ use glyphcast::fit::response_msmt::{
 };
 use glyphcast::fit::{FitInputs, FitModel, OdfMethod};
 use glyphcast::glyph::tensor_order::TensorOrder;
-use glyphcast::{Error, Result};
+use glyphcast::{Error, Result, Setting};
 
 use super::{FitArgs, load_inputs, progress_bar};
 
@@ -48,14 +49,19 @@ pub(super) fn check_flags(args: &FitArgs, method: OdfMethod) -> Result<()> {
         ),
     ];
     if let Some((flag, _, _, owner)) = owned.iter().find(|(_, given, ok, _)| *given && !ok) {
-        return Err(Error::Usage(format!(
-            "{flag} belongs to --odf {owner}, not --odf {}",
-            method.name()
-        )));
+        return Err(Error::conflict(
+            *flag,
+            Relation::Requires,
+            Setting::Odf.with(owner),
+        ));
     }
     if msmt && args.response.is_some() && args.response_gm.is_none() {
-        return Err(Error::Usage(
-            "--odf msmt takes the three responses together: --response WM.txt --response-gm GM.txt --response-csf CSF.txt (or none, to estimate them)".into(),
+        // --odf msmt takes the three responses together, or none (it estimates them).
+        return Err(Error::conflict(
+            "--response WM.txt",
+            Relation::Requires,
+            "--response-gm GM.txt --response-csf CSF.txt with --odf msmt (or no --response, \
+             to estimate the three)",
         ));
     }
     Ok(())
@@ -87,7 +93,10 @@ pub(super) fn run(args: &FitArgs, model: &FitModel, convention: BvecConvention) 
         csd,
     } = *model
     else {
-        return Err(Error::Invalid("msmt::run takes the msmt model".into()));
+        return Err(Error::Call {
+            call: "fit_msmt::run",
+            expected: "the msmt model",
+        });
     };
     let gm_path = args
         .gm
@@ -97,12 +106,18 @@ pub(super) fn run(args: &FitArgs, model: &FitModel, convention: BvecConvention) 
         .csf
         .clone()
         .unwrap_or_else(|| beside(&args.output, "csf"));
-    for path in [&args.output, &gm_path, &csf_path] {
-        check_output_path(path).map_err(|e| Error::Usage(e.to_string()))?;
+    for (option, path) in [
+        ("-o/--output", &args.output),
+        ("--gm", &gm_path),
+        ("--csf", &csf_path),
+    ] {
+        check_output_path(path, option)?;
     }
     if args.tensor_order.is_some() {
-        return Err(Error::Usage(
-            "--tensor-order orders a tensor fit's entries, not an ODF's".into(),
+        return Err(Error::conflict(
+            Setting::TensorOrder,
+            Relation::Excludes,
+            Setting::Odf.with("msmt"),
         ));
     }
     glyphcast::io::atomic::check_outputs(&[&args.output, &gm_path, &csf_path])?;

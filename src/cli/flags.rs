@@ -60,12 +60,14 @@ pub fn flag(setting: Setting) -> &'static str {
         Setting::BvecConvention => "--bvec-convention",
         Setting::Odf => "--odf",
         Setting::Lambda => "--lambda",
+        Setting::CsdAlgorithm => "--csd-algorithm",
         Setting::Tau => "--tau",
         Setting::Response => "--response",
         Setting::ResponseFa => "--response-fa",
         Setting::Count => "--count",
         Setting::RelativeThreshold => "--relative-threshold",
         Setting::MinSeparation => "--min-separation",
+        Setting::PanelSize => "--panel-size",
         Setting::Workload => "--workload",
     }
 }
@@ -78,9 +80,9 @@ pub fn spell(setting: Setting, value: Option<&str>) -> String {
     }
 }
 
-/// A note's text (which may mention settings) in the command line's words.
-pub fn note(text: &str) -> String {
-    glyphcast::error::spell_mentions(text, &spell)
+/// A note's text (which may name settings) in the command line's words.
+pub fn note(text: &glyphcast::error::Message) -> String {
+    text.spelled(&spell)
 }
 
 /// The one-line message of `err` in the command line's words.
@@ -92,7 +94,7 @@ pub fn message(err: &Error) -> String {
 /// refused setting, options that clash), 1 for bad data or a failure of the machine.
 pub fn exit_code(err: &Error) -> i32 {
     match err {
-        Error::Usage(_) | Error::Setting { .. } => 2,
+        err if err.is_usage() => 2,
         _ => 1,
     }
 }

@@ -21,7 +21,7 @@ use glyphcast::glyph::sh::sh_count;
 use glyphcast::io::image::{ImageHeader, read_image};
 use glyphcast::io::mif::{MifKind, MifWrite, write_mif};
 use glyphcast::volume::{CoefficientFrame, recorded_basis, resolve_basis};
-use glyphcast::{Error, Result};
+use glyphcast::{Error, Result, Setting};
 use ndarray::Array4;
 use std::path::PathBuf;
 
@@ -70,9 +70,8 @@ pub fn run(args: PeaksArgs) -> Result<()> {
         .basis
         .as_deref()
         .map(|name| parse_basis(name, args.legacy))
-        .transpose()
-        .map_err(Error::into_usage)?;
-    check_output_path(&args.output).map_err(|e| Error::Usage(e.to_string()))?;
+        .transpose()?;
+    check_output_path(&args.output, "-o/--output")?;
     glyphcast::io::atomic::check_outputs(&[&args.output])?;
     let image = read_image(&args.odf)?;
     let shape = image.shape(4);
@@ -110,10 +109,14 @@ pub fn run(args: PeaksArgs) -> Result<()> {
         && recorded_basis(&image).is_none()
         && matches!(image.header, ImageHeader::Nifti(_))
     {
-        return Err(Error::Usage(format!(
-            "{} records no SH basis: give --basis tournier07, descoteaux07, mrtrix, dipy or dipy-new",
-            image.file
-        )));
+        return Err(Error::setting(
+            Setting::Basis,
+            format!(
+                "{} records no SH basis: give one of tournier07, descoteaux07, mrtrix, dipy or \
+                 dipy-new",
+                image.file
+            ),
+        ));
     }
     if band == 0 {
         eprintln!(

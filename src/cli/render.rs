@@ -1,5 +1,6 @@
 //! `glyphcast render` and `glyphcast demo`: options, rendering and writing the outputs.
 use clap::Args;
+use glyphcast::error::Relation;
 use glyphcast::glyph::NegativeMode;
 use glyphcast::io::atomic::check_ending;
 use glyphcast::render::ColorMode;
@@ -16,7 +17,7 @@ use glyphcast::scene::Scene;
 use glyphcast::viewer::ViewSource;
 use glyphcast::vk::{Gpu, GpuOptions};
 use glyphcast::volume::{ImageRequest, VolumeFigure, VolumeMontage, VolumeView};
-use glyphcast::{Error, Result};
+use glyphcast::{Error, Result, Setting};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -60,8 +61,10 @@ impl SceneSource {
             return Ok((ViewSource::Scene(self.load_scene_file(path)?), None));
         }
         if self.volume.is_montage() {
-            return Err(Error::Usage(
-                "--views and --lightbox make one image of several panels: `render` only".into(),
+            return Err(Error::conflict(
+                "--views/--lightbox",
+                Relation::Requires,
+                "render (they make one image of several panels)",
             ));
         }
         match self.volume.figure(image)? {
@@ -80,20 +83,27 @@ impl SceneSource {
                 };
                 Ok((source, underlay))
             }
-            VolumeFigure::Montage(_) => Err(Error::Usage("a montage has no single view".into())),
+            VolumeFigure::Montage(_) => Err(Error::Call {
+                call: "SceneSource::load_for_view",
+                expected: "one view, not a montage",
+            }),
         }
     }
 
     fn load_scene_file(&self, path: &Path) -> Result<Scene> {
         if self.volume.is_given() {
-            return Err(Error::Usage(
-                "give either a scene file or a volume (--sh/--tensor), not both".into(),
+            return Err(Error::conflict(
+                "a scene file",
+                Relation::Exclusive,
+                "a volume (--sh/--tensor)",
             ));
         }
         if let Some(flag) = self.volume.volume_only_flag() {
-            return Err(Error::Usage(format!(
-                "{flag} applies to volume input (--sh/--tensor), not to a scene file"
-            )));
+            return Err(Error::conflict(
+                flag,
+                Relation::Excludes,
+                "a scene file (it applies to volume input, --sh/--tensor)",
+            ));
         }
         let mut scene = Scene::load(path)?;
         self.volume.apply_shape(&mut scene)?;
@@ -211,7 +221,7 @@ pub struct RenderArgs {
 impl RenderArgs {
     /// --width and --height, checked (`ImageRequest::checked`; a usage error).
     pub fn image_request(&self) -> Result<ImageRequest> {
-        ImageRequest::checked(self.width, self.height).map_err(Error::into_usage)
+        ImageRequest::checked(self.width, self.height)
     }
 
     /// The flags as the library's render options (shared with the Python module).
@@ -239,7 +249,7 @@ impl RenderArgs {
 
     /// The render settings of the flags; any error is a usage error (exit 2).
     pub fn settings(&self) -> Result<RenderSettings> {
-        self.options().settings().map_err(Error::into_usage)
+        self.options().settings()
     }
 
     /// Whether `--colorbar` was given.
@@ -250,11 +260,15 @@ impl RenderArgs {
     /// Checks that `--colorbar` goes with `--color magnitude` (a usage error otherwise).
     pub fn check_colorbar(&self, settings: &RenderSettings) -> Result<()> {
         if self.colorbar && !matches!(settings.color, ColorMode::Magnitude { .. }) {
-            return Err(Error::Usage(format!(
-                "--colorbar shows the magnitude colour map: it needs --color magnitude, not \
-                 --color {}",
-                self.color
-            )));
+            return Err(Error::setting(
+                Setting::Colorbar,
+                glyphcast::message![
+                    "shows the magnitude colour map: it needs ",
+                    Setting::Color.with("magnitude"),
+                    ", not ",
+                    Setting::Color.with(&self.color)
+                ],
+            ));
         }
         Ok(())
     }
@@ -287,7 +301,7 @@ impl RenderArgs {
 
     /// `--negative`, if given; an unknown mode is a usage error.
     pub fn negative(&self) -> Result<Option<NegativeMode>> {
-        self.options().negative().map_err(Error::into_usage)
+        self.options().negative()
     }
 
     pub fn gpu_options(&self) -> GpuOptions {
@@ -406,10 +420,10 @@ pub fn render_montage(
     for (panel, peaks) in prepared.panels.iter_mut().zip(peaks) {
         panel.peaks = peaks;
     }
-    let first = prepared
-        .panels
-        .first()
-        .ok_or_else(|| Error::Usage("no panel".into()))?;
+    let first = prepared.panels.first().ok_or(Error::Call {
+        call: "render_montage",
+        expected: "a montage of at least one panel",
+    })?;
     let gpu = Gpu::headless(&options.gpu_options())?;
     eprintln!("device: {}", gpu.info);
     let mut renderer = HeadlessRenderer::new(&gpu)?;

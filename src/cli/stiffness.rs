@@ -25,11 +25,9 @@ pub struct StiffnessArgs {
 
 pub fn run(args: StiffnessArgs) -> Result<()> {
     let shear = match &args.shear_order {
-        Some(text) => Some(ShearOrder::parse(text).ok_or_else(|| {
-            Error::Usage(format!(
-                "--shear-order {}: expected 23,13,12 or 12,13,23",
-                quoted(text)
-            ))
+        Some(text) => Some(ShearOrder::parse(text).ok_or_else(|| Error::Flag {
+            flag: "--shear-order",
+            message: format!("'{}': expected 23,13,12 or 12,13,23", quoted(text)).into(),
         })?),
         None => None,
     };

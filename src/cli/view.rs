@@ -2,12 +2,14 @@
 //! command's scene source and options. The window's work is in `glyphcast::viewer`.
 use super::render::{RenderArgs, SceneSource};
 use super::volume::{VolumeArgs, panel_view};
+use super::volume::{montage_needs_volume, save_scene_with_montage};
 use clap::Args;
+use glyphcast::error::{Message, Relation};
 use glyphcast::io::atomic::{check_ending, check_outputs};
 use glyphcast::render::underlay::Underlay;
 use glyphcast::viewer::{MontageSource, ViewSource, ViewerOptions, parse_script};
 use glyphcast::volume::{ImageRequest, slice_framing};
-use glyphcast::{Error, Result};
+use glyphcast::{Error, Result, Setting};
 use std::path::{Path, PathBuf};
 
 #[derive(Args)]
@@ -42,10 +44,10 @@ pub struct ViewArgs {
 
 pub fn run(args: &ViewArgs) -> Result<()> {
     if args.source.labels() {
-        return Err(glyphcast::Error::Usage(
-            "--labels applies to render; the viewer names its orientation convention in the \
-             window title"
-                .into(),
+        return Err(Error::conflict(
+            Setting::Labels,
+            Relation::Excludes,
+            "view (the viewer names its orientation convention in its window title)",
         ));
     }
     let image = args.options.image_request()?;
@@ -57,14 +59,24 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         .as_deref()
         .map(parse_script)
         .transpose()
-        .map_err(|err| Error::Usage(format!("--script: {err}")))?
+        .map_err(|err| {
+            // A bad event names itself (`'explode': ...`) after the flag.
+            let message = match err {
+                Error::Input { field, message, .. } => Message::from_pieces(
+                    [vec![format!("{field}: ").into()], message.pieces().to_vec()].concat(),
+                ),
+                other => other.to_string().into(),
+            };
+            Error::Flag {
+                flag: "--script",
+                message,
+            }
+        })?
         .unwrap_or_default();
     check_run(args, args.source.volume.is_montage())?;
     let (source, underlay, (width, height)) = if args.source.volume.is_montage() {
         if args.source.scene.is_some() {
-            return Err(Error::Usage(
-                "--views and --lightbox take volume input (--sh/--tensor)".into(),
-            ));
+            return Err(montage_needs_volume());
         }
         if args.source.volume.underlay.is_some() {
             return Err(glyphcast::volume::underlay_with_montage());
@@ -99,15 +111,16 @@ pub fn run(args: &ViewArgs) -> Result<()> {
 /// save.
 fn check_run(args: &ViewArgs, montage: bool) -> Result<()> {
     if args.frames.is_none() && (args.script.is_some() || args.capture_window.is_some()) {
-        return Err(Error::Usage(
-            "--script and --capture-window need --frames N".into(),
-        ));
+        let flag = if args.script.is_some() {
+            "--script"
+        } else {
+            "--capture-window"
+        };
+        return Err(Error::conflict(flag, Relation::Requires, "--frames N"));
     }
     let save_scene = args.source.save_scene();
     if montage && save_scene.is_some() {
-        return Err(Error::Usage(
-            "--save-scene writes one scene: not with --views or --lightbox".into(),
-        ));
+        return Err(save_scene_with_montage());
     }
     let images = [
         ("--screenshot", args.screenshot.as_deref()),
@@ -140,7 +153,10 @@ fn single_view(
         ViewSource::Volume { view, .. } => view.scene.image,
         ViewSource::Scene(scene) => scene.image,
         ViewSource::Montage(_) => {
-            return Err(Error::Invalid("a montage loaded as one view".into()));
+            return Err(Error::Call {
+                call: "view::load",
+                expected: "one view, not a montage",
+            });
         }
     };
     let width = image.width.unwrap_or(size.width);

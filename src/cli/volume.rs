@@ -11,6 +11,7 @@
 //! (`glyphcast::volume::resolve_basis`).
 use clap::Args;
 use glyphcast::Result;
+use glyphcast::error::Relation;
 use glyphcast::scene::Scene;
 use glyphcast::volume::{
     Coefficients, ImageRequest, ImageSource, MontagePlan, Volume, VolumeFigure, VolumeOptions,
@@ -329,12 +330,14 @@ impl VolumeArgs {
     /// What --sh or --tensor says the file holds, and the file.
     fn input(&self) -> Result<(Coefficients, &Path)> {
         match (&self.sh, &self.tensor) {
-            (Some(_), Some(_)) => Err(Error::Usage(
-                "give either --sh or --tensor, not both".into(),
-            )),
+            (Some(_), Some(_)) => Err(Error::conflict("--sh", Relation::Exclusive, "--tensor")),
             (Some(path), None) => Ok((Coefficients::Sh, path)),
             (None, Some(path)) => Ok((Coefficients::Tensor, path)),
-            (None, None) => Err(Error::Usage("give a scene file, --sh or --tensor".into())),
+            (None, None) => Err(Error::conflict(
+                "this command",
+                Relation::Requires,
+                "a scene file, --sh or --tensor",
+            )),
         }
     }
 }
@@ -351,8 +354,8 @@ pub fn panel_view(volume: &Volume, options: &VolumeOptions) -> Result<VolumeScen
 }
 
 /// A library message with the settings it mentions spelled as flags.
-fn spelled(text: &str) -> String {
-    glyphcast::error::spell_settings(text, &super::flags::spell)
+fn spelled(text: &glyphcast::error::Message) -> String {
+    text.spelled(&super::flags::spell)
 }
 
 /// One summary line of the glyphs (none for peaks alone: nothing was selected) and one
@@ -382,4 +385,22 @@ fn report(view: &VolumeScene, file: &str) {
         r.below_min_amplitude,
         super::flags::flag(Setting::MinAmplitude)
     );
+}
+
+/// `--views` or `--lightbox` with a scene file: a montage is made of a volume's slices.
+pub fn montage_needs_volume() -> Error {
+    Error::conflict(
+        "--views/--lightbox",
+        Relation::Requires,
+        "volume input (--sh/--tensor)",
+    )
+}
+
+/// `--save-scene` with `--views` or `--lightbox`: a montage is several scenes.
+pub fn save_scene_with_montage() -> Error {
+    Error::conflict(
+        "--save-scene",
+        Relation::Excludes,
+        "--views/--lightbox (it writes one scene)",
+    )
 }

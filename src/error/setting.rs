@@ -1,16 +1,12 @@
 //! The options a front end hands the library, named in errors by what they are rather
 //! than by how one front end spells them. The library's messages never write `--step` or
-//! `step=`: they carry [`Setting`]s, as the subject of an [`Error::Setting`](super::Error)
-//! or as [`Mention`]s inside any message's text, and each front end spells them its way
-//! ([`Error::spelled`](super::Error::spelled)): the command line as its flags
+//! `step=`: they carry [`Setting`]s as typed fields (the subject of an
+//! [`Error::Setting`](super::Error), the two sides of an [`Error::Conflict`](super::Error))
+//! or as typed pieces of a [`Message`](super::Message), and each front end spells them its
+//! way ([`Error::spelled`](super::Error::spelled)): the command line as its flags
 //! (`--magnitude-range 0:1`), the Python module as its keywords (`magnitude_range=0:1`).
 //! Shown as they are (`Display`), they read in the library's own words
 //! (`magnitude range 0:1`).
-//!
-//! A mention travels inside the message text as a marker between two ASCII unit
-//! separators (U+001F). User text that a message quotes goes through
-//! [`quoted`](super::quoted), which escapes control characters, so no input can forge a
-//! marker.
 use std::fmt;
 
 /// The enum, its list and its names from one table, so that none can miss a setting.
@@ -149,6 +145,8 @@ settings! {
     Odf => "ODF model",
     /// A fit's regularisation weight.
     Lambda => "lambda",
+    /// Which CSD is fitted: MRtrix's or DIPY's.
+    CsdAlgorithm => "CSD algorithm",
     /// CSD's threshold.
     Tau => "tau",
     /// CSD's fibre response file.
@@ -161,27 +159,17 @@ settings! {
     RelativeThreshold => "relative threshold",
     /// The smallest angle between peaks.
     MinSeparation => "minimum separation",
+    /// The side of each panel of a quality-control set, in pixels.
+    PanelSize => "panel size",
     /// A benchmark's generated workload.
     Workload => "workload",
 }
 
 impl Setting {
-    /// The setting named in a message's text; front ends spell it as theirs
-    /// (`--lmax`, `lmax=`).
-    pub fn mention(self) -> Mention {
-        Mention {
-            setting: self,
-            value: None,
-        }
-    }
-
-    /// The setting with a value, named in a message's text (`use {}`, with
-    /// `Setting::Method.with("fixed")`: `--method fixed`, `method=fixed`).
-    pub fn with(self, value: impl fmt::Display) -> Mention {
-        Mention {
-            setting: self,
-            value: Some(value.to_string()),
-        }
+    /// The setting with a value, as a piece of a [`Message`](super::Message)
+    /// (`Setting::Method.with("fixed")`: `--method fixed`, `method=fixed`).
+    pub fn with(self, value: impl fmt::Display) -> super::Piece {
+        super::Piece::Setting(self, Some(value.to_string()))
     }
 
     /// The library's own spelling: the name, then the value if any (`step 0.0001`).
@@ -200,67 +188,6 @@ impl fmt::Display for Setting {
     }
 }
 
-/// A [`Setting`] (and maybe its value) inside a message's text: written into the text
-/// as a marker that [`spell`] replaces with a front end's spelling.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Mention {
-    setting: Setting,
-    value: Option<String>,
-}
-
-/// Around a marker.
-const MARK: char = '\u{1f}';
-/// Between a marker's setting and its value.
-const VALUE: char = '\u{1e}';
-
-impl fmt::Display for Mention {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{MARK}{}", self.setting.name())?;
-        if let Some(value) = &self.value {
-            // A control character would end the marker early: escaped, as quoted text is.
-            write!(f, "{VALUE}")?;
-            for c in value.chars() {
-                if c.is_control() {
-                    write!(f, "{}", c.escape_default())?;
-                } else {
-                    write!(f, "{c}")?;
-                }
-            }
-        }
-        write!(f, "{MARK}")
-    }
-}
-
-/// `text` with each mention's marker replaced by `spell(setting, value)`. A stray
-/// separator that starts no well-formed marker is dropped, so that no control character
-/// reaches the user.
-pub fn spell(text: &str, spell: &dyn Fn(Setting, Option<&str>) -> String) -> String {
-    let mut out = String::with_capacity(text.len());
-    let mut rest = text;
-    while let Some(start) = rest.find(MARK) {
-        out.push_str(&rest[..start]);
-        let after = &rest[start + MARK.len_utf8()..];
-        let Some(end) = after.find(MARK) else {
-            out.push_str(after);
-            return out;
-        };
-        let inner = &after[..end];
-        let (name, value) = match inner.split_once(VALUE) {
-            Some((name, value)) => (name, Some(value)),
-            None => (inner, None),
-        };
-        match Setting::ALL.iter().find(|s| s.name() == name) {
-            Some(setting) => {
-                out.push_str(&spell(*setting, value));
-                rest = &after[end + MARK.len_utf8()..];
-            }
-            None => rest = after,
-        }
-    }
-    out.push_str(rest);
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -274,34 +201,5 @@ mod tests {
                 assert_ne!(a.name(), b.name(), "{a:?} and {b:?}");
             }
         }
-    }
-
-    #[test]
-    fn mentions_are_spelled_by_the_front_end() {
-        let text = format!(
-            "{} needs offset 0; use {}",
-            Setting::Method.with("exact"),
-            Setting::Method.with("fixed")
-        );
-        let flag = |s: Setting, v: Option<&str>| match v {
-            Some(v) => format!("--{} {v}", s.name()),
-            None => format!("--{}", s.name()),
-        };
-        assert_eq!(
-            spell(&text, &flag),
-            "--method exact needs offset 0; use --method fixed"
-        );
-        assert_eq!(
-            spell(&text, &|s, v| s.plain(v)),
-            "method exact needs offset 0; use method fixed"
-        );
-    }
-
-    #[test]
-    fn values_cannot_break_a_marker_and_stray_separators_vanish() {
-        let text = format!("{} and \u{1f}nonsense", Setting::Slice.with("a\u{1f}b"));
-        let spelled = spell(&text, &|s, v| s.plain(v));
-        assert_eq!(spelled, "slice a\\u{1f}b and nonsense");
-        assert!(!spelled.chars().any(char::is_control));
     }
 }

@@ -24,6 +24,7 @@ use nalgebra::{DMatrix, DVector};
 use super::odf::{WORK_BASIS, basis_change};
 use super::response::Response;
 use super::sphere::GeodesicSphere;
+use crate::error::Problem;
 use crate::glyph::sh::{sh_basis_values, sh_count, sh_orders};
 use crate::scene::ShBasis;
 use crate::{Error, Result};
@@ -101,10 +102,12 @@ impl CsdFitter {
             .map(|(l, _)| response.convolution_factor(l))
             .collect();
         if factors[0].is_nan() || factors[0] <= 0.0 {
-            return Err(Error::Invalid(format!(
-                "the response's band-0 coefficient must be positive, found {}",
-                response.zonal.first().copied().unwrap_or(0.0)
-            )));
+            return Err(Error::data(
+                "the response's band-0 coefficient",
+                Problem::NotPositive {
+                    value: response.zonal.first().copied().unwrap_or(0.0),
+                },
+            ));
         }
         let rows: Vec<f64> = directions
             .iter()
@@ -118,7 +121,7 @@ impl CsdFitter {
         let design = DMatrix::from_row_slice(directions.len(), k, &rows);
         let normal = design.transpose() * &design;
         if constraint.is_empty() {
-            return Err(Error::Invalid("CSD needs constraint directions".into()));
+            return Err(Error::data("CSD's constraint directions", Problem::Empty));
         }
         let n_reg = constraint.len() as f64;
         let scaled = lambda * k as f64 * factors[0] / (n_reg.sqrt() * 362f64.sqrt());

@@ -47,9 +47,10 @@ use nalgebra::{DMatrix, DVector};
 
 use super::csd::set_changes;
 use super::response::Response;
+use crate::error::Problem;
 use crate::glyph::sh::{convert_basis, sh_basis_values, sh_count, sh_orders};
 use crate::scene::ShBasis;
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 
 /// Which CSD `fit --odf csd` runs (`--csd-algorithm`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -77,10 +78,11 @@ impl CsdAlgorithm {
             .into_iter()
             .find(|a| a.name() == lower)
             .ok_or_else(|| {
-                Error::Invalid(format!(
-                    "unknown CSD algorithm '{}', expected mrtrix or dipy",
-                    crate::error::quoted(name)
-                ))
+                Error::setting_value(
+                    Setting::CsdAlgorithm,
+                    format!("'{}'", crate::error::quoted(name)),
+                    "expected mrtrix or dipy",
+                )
             })
     }
 }
@@ -191,9 +193,10 @@ impl MrtrixCsdFitter {
         parameters: MrtrixCsdParameters,
         constraint: &[DVec3],
     ) -> Result<Self> {
-        check_response(response).map_err(Error::Invalid)?;
+        check_response(response)
+            .map_err(|why| Error::input("the response", "zonal coefficients", why))?;
         if constraint.is_empty() {
-            return Err(Error::Invalid("CSD needs constraint directions".into()));
+            return Err(Error::data("CSD's constraint directions", Problem::Empty));
         }
         let r0 = response.zonal[0];
         let factors: Vec<f64> = sh_orders(band)
@@ -304,9 +307,10 @@ fn first_estimate(band: u32, directions: &[DVec3], response: &Response) -> Resul
     for i in 0..damped.nrows().min(damped.ncols()) {
         damped[(i, i)] += FIRST_ESTIMATE_DAMPING;
     }
-    let inverse = damped
-        .pseudo_inverse(1e-12)
-        .map_err(|e| Error::Invalid(format!("CSD's first estimate: {e}")))?;
+    let inverse = damped.pseudo_inverse(1e-12).map_err(|e| Error::Numerical {
+        step: "CSD's first estimate",
+        detail: e.to_string(),
+    })?;
     let mut first = DMatrix::zeros(sh_count(band), directions.len());
     for (row, (l, _)) in sh_orders(low).enumerate() {
         if l > FIRST_ESTIMATE_BAND {

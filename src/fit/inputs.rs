@@ -63,11 +63,16 @@ impl FitInputs {
             ),
             (None, None) => {
                 let Some(rows) = &dwi.dw_scheme else {
-                    return Err(Error::Invalid(format!(
-                        "{name} carries no gradient table (dw_scheme of an MRtrix image): give {} and {}",
-                        Setting::Bval.mention(),
-                        Setting::Bvec.mention()
-                    )));
+                    return Err(Error::input(
+                        name,
+                        "dw_scheme",
+                        crate::message![
+                            "no gradient table in the file (an MRtrix image's dw_scheme): give ",
+                            Setting::Bval,
+                            " and ",
+                            Setting::Bvec
+                        ],
+                    ));
                 };
                 let rotation = dwi.voxel_to_world()?.orthogonal_factor().ok_or_else(|| {
                     Error::input(
@@ -87,11 +92,11 @@ impl FitInputs {
                 )
             }
             _ => {
-                return Err(Error::Usage(format!(
-                    "give both {} and {}, or neither (an MRtrix DWI's dw_scheme)",
-                    Setting::Bval.mention(),
-                    Setting::Bvec.mention()
-                )));
+                return Err(Error::conflict(
+                    Setting::Bval,
+                    crate::error::Relation::Requires,
+                    Setting::Bvec,
+                ));
             }
         };
         let mask = match &files.mask {

@@ -34,6 +34,7 @@ use super::gradients::{B0_THRESHOLD, GradientTable};
 use super::odf::{WORK_BASIS, basis_change};
 use super::sphere::GeodesicSphere;
 use super::{FitInputs, FitReport};
+use crate::error::Problem;
 use crate::glyph::sh::{sh_basis_values, sh_count, sh_orders};
 use crate::scene::ShBasis;
 use crate::{Error, Result};
@@ -217,17 +218,26 @@ impl MsmtFitter {
             .copied()
             .filter(|&v| directions[v].is_none())
             .collect();
-        if responses.wm.len() != shells.len()
-            || responses.gm.len() != shells.len()
-            || responses.csf.len() != shells.len()
-        {
-            return Err(Error::Invalid(format!(
-                "the responses have {}, {} and {} rows for {} shells",
+        for (what, rows) in [
+            (
+                "white-matter response rows (one per shell)",
                 responses.wm.len(),
+            ),
+            (
+                "grey-matter response rows (one per shell)",
                 responses.gm.len(),
-                responses.csf.len(),
-                shells.len()
-            )));
+            ),
+            ("CSF response rows (one per shell)", responses.csf.len()),
+        ] {
+            if rows != shells.len() {
+                return Err(Error::data(
+                    what,
+                    Problem::Count {
+                        expected: shells.len(),
+                        found: rows,
+                    },
+                ));
+            }
         }
         let mut design = DMatrix::zeros(volumes.len(), n);
         for &v in &volumes {
@@ -302,7 +312,10 @@ impl MsmtFitter {
             &[NonnegativeConeT(self.constraint.m)],
             settings,
         )
-        .map_err(|e| Error::Invalid(format!("multi-tissue CSD's QP: {e}")))
+        .map_err(|e| Error::Numerical {
+            step: "multi-tissue CSD's QP",
+            detail: e.to_string(),
+        })
     }
 
     /// The tissue ODFs of one voxel's `series` (every volume, signal units) with

@@ -154,9 +154,10 @@ impl LinearOdfFitter {
                     funk_radon * laplace_beltrami / (16.0 * pi * pi)
                 }
                 OdfMethod::Csd | OdfMethod::Msmt => {
-                    return Err(Error::Invalid(
-                        "CSD is not a linear ODF: use CsdFitter or MsmtFitter".into(),
-                    ));
+                    return Err(Error::Call {
+                        call: "LinearOdfFitter::new",
+                        expected: "a linear ODF (CSD is fitted by CsdFitter or MsmtFitter)",
+                    });
                 }
             };
             solve.row_mut(row).scale_mut(factor);

@@ -30,11 +30,12 @@ use crate::{Error, Result, Setting};
 const ENDINGS: [&str; 2] = [".nii.gz", ".nii"];
 
 /// Checks that `path` names a `.nii`, `.nii.gz`, `.mif` or `.mif.gz` file (before any
-/// work is done).
-pub fn check_output_path(path: &Path) -> Result<()> {
+/// work is done); an [`Error::OutputName`] naming `option` (the front end's name for the
+/// output) otherwise.
+pub fn check_output_path(path: &Path, option: &'static str) -> Result<()> {
     match MifKind::of(path) {
         Some(MifKind::Mif | MifKind::MifGz) => Ok(()),
-        _ => nifti_ending(path).map(|_| ()),
+        _ => nifti_ending(path, option).map(|_| ()),
     }
 }
 
@@ -211,7 +212,7 @@ fn coefficient_bytes(
     reference: &NiftiHeader,
     description: &str,
 ) -> Result<Vec<u8>> {
-    let ending = nifti_ending(path)?;
+    let ending = nifti_ending(path, "output")?;
     let mut header = reference.clone();
     header.intent_code = 0;
     header.intent_name = [0; 16];
@@ -227,7 +228,7 @@ fn coefficient_bytes(
     )
 }
 
-fn nifti_ending(path: &Path) -> Result<&'static str> {
+fn nifti_ending(path: &Path, option: &'static str) -> Result<&'static str> {
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
@@ -235,12 +236,13 @@ fn nifti_ending(path: &Path) -> Result<&'static str> {
     ENDINGS
         .into_iter()
         .find(|e| name.len() > e.len() && name.ends_with(e))
-        .ok_or_else(|| {
-            Error::input(
-                path.display().to_string(),
-                "output",
-                "expected a file name ending in .nii, .nii.gz, .mif or .mif.gz",
-            )
+        .ok_or_else(|| Error::OutputName {
+            option,
+            path: path.display().to_string(),
+            format: "NIfTI or MRtrix images".into(),
+            endings: [".nii", ".nii.gz", ".mif", ".mif.gz"]
+                .map(String::from)
+                .to_vec(),
         })
 }
 
@@ -258,10 +260,12 @@ mod tests {
             "out.mif.gz",
             "OUT.MIF",
         ] {
-            assert!(check_output_path(Path::new(good)).is_ok(), "{good}");
+            assert!(check_output_path(Path::new(good), "-o").is_ok(), "{good}");
         }
         for bad in ["out.png", "out", ".nii", "out.nii.bak", "out.mih", ".mif"] {
-            assert!(check_output_path(Path::new(bad)).is_err(), "{bad}");
+            let err = check_output_path(Path::new(bad), "-o").unwrap_err();
+            assert!(err.is_usage(), "{bad}: {err}");
+            assert!(err.to_string().starts_with(&format!("-o {bad}: ")), "{err}");
         }
     }
 }

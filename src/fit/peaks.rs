@@ -237,11 +237,13 @@ pub fn is_isotropic(coeffs: &[f64]) -> bool {
 pub fn peak_volume(coeffs: &Array4<f64>, finder: &PeakFinder) -> Result<Array4<f64>> {
     let (nx, ny, nz, k) = coeffs.dim();
     if k != sh_count(finder.band) {
-        return Err(Error::Invalid(format!(
-            "expected {} SH coefficients per voxel for band {}, found {k}",
-            sh_count(finder.band),
-            finder.band
-        )));
+        return Err(Error::data(
+            "SH coefficients per voxel",
+            crate::error::Problem::Count {
+                expected: sh_count(finder.band),
+                found: k,
+            },
+        ));
     }
     let count = finder.options.count;
     let voxels: Vec<[usize; 3]> = (0..nz)

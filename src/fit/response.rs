@@ -104,11 +104,13 @@ impl Response {
             [_, (line, _), ..] => Err(Error::input(
                 &file,
                 format!("line {line}"),
-                format!(
-                    "{} rows of coefficients: a multi-shell response, but CSD here is single-shell (one row); multi-shell data is fitted with {}",
-                    rows.len(),
+                crate::message![
+                    format!(
+                        "{} rows of coefficients: a multi-shell response, but CSD here is single-shell (one row); multi-shell data is fitted with ",
+                        rows.len()
+                    ),
                     Setting::Odf.with("msmt")
-                ),
+                ],
             )),
         }
     }
@@ -225,20 +227,23 @@ pub fn estimate_response(
         return Err(Error::input(
             inputs.files.dwi.display().to_string(),
             "signal",
-            format!(
-                "no tissue voxel of the central {}x{}x{} region{} has FA above {fa_threshold}, so no single-fibre response can be estimated: give {}, or a lower {}",
-                side(0),
-                side(1),
-                side(2),
-                match (inputs.mask.is_some(), tissue.threshold) {
-                    (true, _) => " (in the mask)".to_string(),
-                    (false, Some(t)) =>
-                        format!(" (S0 above {t:.1}, Otsu's threshold of the b=0 image)"),
-                    (false, None) => String::new(),
-                },
+            crate::message![
+                format!(
+                    "no tissue voxel of the central {}x{}x{} region{} has FA above {fa_threshold}, so no single-fibre response can be estimated: give ",
+                    side(0),
+                    side(1),
+                    side(2),
+                    match (inputs.mask.is_some(), tissue.threshold) {
+                        (true, _) => " (in the mask)".to_string(),
+                        (false, Some(t)) =>
+                            format!(" (S0 above {t:.1}, Otsu's threshold of the b=0 image)"),
+                        (false, None) => String::new(),
+                    }
+                ),
                 Setting::Response.with("FILE"),
-                Setting::ResponseFa.mention()
-            ),
+                ", or a lower ",
+                Setting::ResponseFa
+            ],
         ));
     }
     let n = count as f64;

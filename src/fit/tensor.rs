@@ -18,8 +18,9 @@
 use glam::DVec3;
 use nalgebra::DMatrix;
 
+use crate::error::Problem;
 use crate::glyph::monomials::{monomials, multiplicity, symmetric_count};
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 
 /// Singular values below this fraction of the largest count as zero.
 const RANK_TOLERANCE: f64 = 1e-10;
@@ -64,33 +65,40 @@ pub fn design_rank(order: u32, directions: &[DVec3]) -> usize {
 }
 
 impl TensorFitter {
-    /// Err(Error::Invalid) for an odd or zero order, fewer directions than unknowns, or
-    /// directions that leave the design rank-deficient.
+    /// Err([`Error::Setting`]) for an odd or zero order; [`Error::Data`] for, fewer directions than
+    /// unknowns, or directions that leave the design rank-deficient.
     pub fn new(order: u32, directions: &[DVec3]) -> Result<Self> {
         if order == 0 || order % 2 == 1 {
-            return Err(Error::Invalid(format!(
-                "tensor order {order}: the diffusion profile is antipodally symmetric, the order must be even and at least 2"
-            )));
+            return Err(Error::setting_value(
+                Setting::Order,
+                order,
+                "the diffusion profile is antipodally symmetric, the order must be even and at \
+                 least 2",
+            ));
         }
         let unknowns = symmetric_count(order);
         if directions.len() < unknowns {
-            return Err(Error::Invalid(format!(
-                "{} diffusion-weighted directions cannot determine the {unknowns} coefficients of an order-{order} tensor",
-                directions.len()
-            )));
+            return Err(Error::data(
+                "diffusion-weighted directions",
+                Problem::Underdetermined {
+                    known: directions.len(),
+                    unknowns,
+                },
+            ));
         }
         let design = design_matrix(order, directions);
         let svd = design.clone().svd(true, true);
         let eps = RANK_TOLERANCE * svd.singular_values.max();
         let rank = svd.rank(eps);
         if rank < unknowns {
-            return Err(Error::Invalid(format!(
-                "the {} directions determine only {rank} of the {unknowns} coefficients of an order-{order} tensor (too many on one great circle?)",
-                directions.len()
-            )));
+            return Err(Error::data(
+                "diffusion-weighted directions",
+                Problem::RankDeficient { rank, unknowns },
+            ));
         }
-        let pseudo_inverse = svd.pseudo_inverse(eps).map_err(|e| {
-            Error::Invalid(format!("pseudo-inverse of the design matrix failed: {e}"))
+        let pseudo_inverse = svd.pseudo_inverse(eps).map_err(|e| Error::Numerical {
+            step: "the tensor fit's pseudo-inverse",
+            detail: e.to_string(),
         })?;
         Ok(Self {
             order,
@@ -178,7 +186,24 @@ mod tests {
     fn refuses_odd_orders_too_few_and_degenerate_directions() {
         assert!(TensorFitter::new(3, &directions(30, 1)).is_err());
         let err = TensorFitter::new(4, &directions(14, 1)).unwrap_err();
-        assert!(err.to_string().contains("14 diffusion-weighted directions"));
+        assert!(
+            matches!(
+                err,
+                Error::Data {
+                    problem: Problem::Underdetermined {
+                        known: 14,
+                        unknowns: 15
+                    },
+                    ..
+                }
+            ),
+            "{err}"
+        );
+        assert!(
+            err.to_string()
+                .starts_with("diffusion-weighted directions: 14 "),
+            "{err}"
+        );
         // All directions on the equator: z-terms are undetermined.
         let equator: Vec<DVec3> = (0..40)
             .map(|i| {

@@ -280,14 +280,21 @@ impl VoxelFitter {
             return Err(Error::input(
                 bvec_file,
                 "directions",
-                format!(
-                    "{} diffusion-weighted directions cannot determine the {unknowns} coefficients of the fit ({} too high)",
-                    directions.len(),
-                    Setting::Order.mention()
-                ),
+                crate::message![
+                    format!(
+                        "{} diffusion-weighted directions cannot determine the {unknowns} coefficients of the fit (",
+                        directions.len()
+                    ),
+                    Setting::Order,
+                    " too high)"
+                ],
             ));
         }
-        let to_input = |e: Error| Error::input(&bvec_file, "directions", e.to_string());
+        // The directions' problems name the b-vector file; a refused setting stays one.
+        let to_input = |e: Error| match e {
+            Error::Setting { .. } => e,
+            e => Error::input(&bvec_file, "directions", e.to_string()),
+        };
         let solve = match *model {
             FitModel::Tensor { order } => Solve::Tensor {
                 fitter: TensorFitter::new(order, &directions).map_err(to_input)?,
@@ -316,10 +323,11 @@ impl VoxelFitter {
             } => {
                 let what = match method {
                     OdfMethod::Msmt => {
-                        return Err(Error::Invalid(
-                            "multi-tissue CSD is fitted by fit::msmt::fit_msmt, not voxel by voxel here"
-                                .into(),
-                        ));
+                        return Err(Error::Call {
+                            call: "VoxelFitter::new",
+                            expected: "a model fitted voxel by voxel (multi-tissue CSD is \
+                                       fitted by fit::msmt::fit_msmt)",
+                        });
                     }
                     OdfMethod::Csd => "single-shell CSD",
                     OdfMethod::Csa => "the CSA ODF",
@@ -525,20 +533,23 @@ fn check_single_shell(bvals: &[f64], bval_file: &str, what: &str) -> Result<()> 
         (lo.min(b), hi.max(b))
     });
     if high - low > SHELL_TOLERANCE {
+        let text = format!(
+            "{what} needs one shell, but the diffusion-weighted b-values range from {low} to \
+             {high} s/mm^2 (multi-shell data)"
+        );
         return Err(Error::input(
             bval_file,
             "b-values",
-            format!(
-                "{what} needs one shell, but the diffusion-weighted b-values range from {low} to {high} s/mm^2 (multi-shell data){}",
-                if what == "single-shell CSD" {
-                    format!(
-                        ": fit it with {} (multi-shell multi-tissue CSD)",
-                        Setting::Odf.with("msmt")
-                    )
-                } else {
-                    String::new()
-                }
-            ),
+            if what == "single-shell CSD" {
+                crate::message![
+                    text,
+                    ": fit it with ",
+                    Setting::Odf.with("msmt"),
+                    " (multi-shell multi-tissue CSD)"
+                ]
+            } else {
+                text.into()
+            },
         ));
     }
     Ok(())

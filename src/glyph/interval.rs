@@ -19,6 +19,7 @@ use std::ops::{Add, Mul};
 use super::monomials::{Monomial, monomials, multiplicity, nonsymmetric_entry_monomial};
 use super::range_rounding::{f_rounding_units, radius_rounding_units};
 use super::{NegativeMode, Symmetry, TensorLayout};
+use crate::error::Problem;
 use crate::{Error, Result};
 
 pub use super::real::Real;
@@ -371,12 +372,24 @@ impl<T: Real> RangePolynomial<T> {
     pub fn from_tensor(layout: TensorLayout, tensor: &[f64]) -> Result<Self> {
         let order = layout.order;
         let max = crate::catalog::max_order(layout.symmetry == crate::glyph::Symmetry::Symmetric);
-        if !(1..=max).contains(&order) || tensor.len() != layout.coefficient_count() {
-            return Err(Error::Invalid(format!(
-                "range polynomial: {layout:?} needs order 1..={max} and {} coefficients, got {}",
-                layout.coefficient_count(),
-                tensor.len()
-            )));
+        if !(1..=max).contains(&order) {
+            return Err(Error::data(
+                "range polynomial order",
+                Problem::OutOfRange {
+                    value: order.into(),
+                    min: 1.0,
+                    max: max.into(),
+                },
+            ));
+        }
+        if tensor.len() != layout.coefficient_count() {
+            return Err(Error::data(
+                "range polynomial coefficients",
+                Problem::Count {
+                    expected: layout.coefficient_count(),
+                    found: tensor.len(),
+                },
+            ));
         }
         let monos = monomials(order);
         let entries: Vec<T> = tensor.iter().map(|&t| T::from_f64(t)).collect();

@@ -18,6 +18,7 @@ use glam::DVec3;
 
 use super::monomials;
 use super::{Symmetry, TensorLayout};
+use crate::error::Problem;
 use crate::{Error, Result};
 
 /// Highest order accepted by [`GlyphPolynomial::from_tensor`]: the multiplicities
@@ -37,28 +38,38 @@ pub struct GlyphPolynomial {
 impl GlyphPolynomial {
     /// Monomial coefficients of a tensor in the scene format's layout.
     ///
-    /// Err(Error::Invalid) if the order is 0 or above 20, if `tensor.len()` is not
+    /// Err([`Error::Data`]) if the order is 0 or above 20, if `tensor.len()` is not
     /// `layout.coefficient_count()`, or if an entry is not finite.
     pub fn from_tensor(layout: TensorLayout, tensor: &[f64]) -> Result<Self> {
         let order = layout.order;
         if order == 0 || order > MAX_ORDER {
-            return Err(Error::Invalid(format!(
-                "tensor order {order} is outside 1..={MAX_ORDER}"
-            )));
+            return Err(Error::data(
+                "tensor order",
+                Problem::OutOfRange {
+                    value: order.into(),
+                    min: 1.0,
+                    max: MAX_ORDER.into(),
+                },
+            ));
         }
         let expected = layout.coefficient_count();
         if tensor.len() != expected {
-            return Err(Error::Invalid(format!(
-                "{:?} tensor of order {order} needs {expected} coefficients, got {}",
-                layout.symmetry,
-                tensor.len()
-            )));
+            return Err(Error::data(
+                "tensor coefficients",
+                Problem::Count {
+                    expected,
+                    found: tensor.len(),
+                },
+            ));
         }
         if let Some(i) = tensor.iter().position(|v| !v.is_finite()) {
-            return Err(Error::Invalid(format!(
-                "tensor coefficient {i} is not finite ({})",
-                tensor[i]
-            )));
+            return Err(Error::data(
+                "tensor coefficients",
+                Problem::NotFinite {
+                    index: i,
+                    value: tensor[i],
+                },
+            ));
         }
         let coeffs = match layout.symmetry {
             Symmetry::Symmetric => symmetric_coefficients(order, tensor),

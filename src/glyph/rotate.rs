@@ -13,6 +13,7 @@ use glam::DMat3;
 
 use super::homogeneous::Homogeneous;
 use super::monomials::{self, symmetric_count};
+use crate::error::Problem;
 use crate::{Error, Result};
 
 /// Highest order accepted: the u64 multiplicities are exact up to 20.
@@ -53,22 +54,33 @@ pub fn rotate_symmetric_tensor(order: u32, coeffs: &[f64], r: DMat3) -> Result<V
 
 fn check_tensor(order: u32, coeffs: &[f64]) -> Result<()> {
     if order > MAX_ORDER {
-        return Err(Error::Invalid(format!(
-            "symmetric tensor order {order} is outside 0..={MAX_ORDER}"
-        )));
+        return Err(Error::data(
+            "symmetric tensor order",
+            Problem::OutOfRange {
+                value: order.into(),
+                min: 0.0,
+                max: MAX_ORDER.into(),
+            },
+        ));
     }
     let expected = symmetric_count(order);
     if coeffs.len() != expected {
-        return Err(Error::Invalid(format!(
-            "expected {expected} coefficients for a symmetric tensor of order {order}, found {}",
-            coeffs.len()
-        )));
+        return Err(Error::data(
+            "symmetric tensor coefficients",
+            Problem::Count {
+                expected,
+                found: coeffs.len(),
+            },
+        ));
     }
     if let Some(i) = coeffs.iter().position(|c| !c.is_finite()) {
-        return Err(Error::Invalid(format!(
-            "tensor coefficient {i} is not finite ({})",
-            coeffs[i]
-        )));
+        return Err(Error::data(
+            "tensor coefficients",
+            Problem::NotFinite {
+                index: i,
+                value: coeffs[i],
+            },
+        ));
     }
     Ok(())
 }
@@ -81,9 +93,10 @@ pub(crate) fn check_orthogonal(r: DMat3) -> Result<()> {
         .fold(0.0f64, |acc, v| acc.max(v.abs()));
     // f64::max skips NaN, so non-finite entries are tested on their own.
     if !r.is_finite() || deviation > ORTHOGONALITY_TOLERANCE {
-        return Err(Error::Invalid(format!(
-            "rotation matrix is not orthogonal: |R^T R - I| = {deviation:.3e}"
-        )));
+        return Err(Error::data(
+            "rotation matrix",
+            Problem::NotOrthogonal { deviation },
+        ));
     }
     Ok(())
 }
@@ -93,10 +106,13 @@ pub(crate) fn check_orthogonal(r: DMat3) -> Result<()> {
 pub fn rotate_full_tensor(order: u32, coeffs: &[f64], r: DMat3) -> Result<Vec<f64>> {
     let count = 3usize.pow(order);
     if coeffs.len() != count {
-        return Err(Error::Invalid(format!(
-            "non-symmetric tensor of order {order} needs {count} coefficients, got {}",
-            coeffs.len()
-        )));
+        return Err(Error::data(
+            "non-symmetric tensor coefficients",
+            Problem::Count {
+                expected: count,
+                found: coeffs.len(),
+            },
+        ));
     }
     Ok(turn_each_index(order, coeffs, r))
 }

@@ -97,7 +97,7 @@ pub struct SphereMesh {
 }
 
 impl SphereMesh {
-    /// The mesh of `kind`; Err(Error::Invalid) if its level or ring count is out of range.
+    /// The mesh of `kind`; an [`Error::Setting`] if its level or ring count is out of range.
     pub fn new(kind: MeshKind) -> Result<SphereMesh> {
         kind.validate()?;
         let (directions, mut triangles) = match kind {

@@ -138,7 +138,7 @@ fn rename_all(temporaries: &[(PathBuf, PathBuf)]) -> Result<()> {
 /// Checks that an output's name ends in one of `endings` (`.png`), so that `-o out.jpg`
 /// does not get PNG bytes under a JPEG name: a usage error naming `option`. A name
 /// without an ending and a special file (`/dev/null`, a pipe) pass.
-pub fn check_ending(path: &Path, option: &str, endings: &[&str]) -> Result<()> {
+pub fn check_ending(path: &Path, option: &'static str, endings: &[&str]) -> Result<()> {
     let Some(ending) = path.extension() else {
         return Ok(());
     };
@@ -149,13 +149,12 @@ pub fn check_ending(path: &Path, option: &str, endings: &[&str]) -> Result<()> {
     if known || special {
         return Ok(());
     }
-    Err(Error::Usage(format!(
-        "{option} {}: writes {}, so the name must end in {} (.{} would mislabel the file)",
-        crate::error::quoted(&path.display().to_string()),
-        endings[0].trim_start_matches('.').to_uppercase(),
-        endings.join(" or "),
-        crate::error::quoted(&ending.to_string_lossy()),
-    )))
+    Err(Error::OutputName {
+        option,
+        path: path.display().to_string(),
+        format: endings[0].trim_start_matches('.').to_uppercase(),
+        endings: endings.iter().map(|e| (*e).to_owned()).collect(),
+    })
 }
 
 /// Checks a command's output paths before any work: each names a file (not a
@@ -189,11 +188,10 @@ pub fn check_outputs(paths: &[&Path]) -> Result<()> {
         }
         let identity = folder.join(name);
         if let Some((_, first)) = seen.iter().find(|(other, _)| *other == identity) {
-            return Err(Error::Usage(format!(
-                "{} and {} name the same file: give each output its own path",
-                first.display(),
-                path.display()
-            )));
+            return Err(Error::SameOutput {
+                first: first.display().to_string(),
+                second: path.display().to_string(),
+            });
         }
         seen.push((identity, path));
     }
@@ -387,10 +385,13 @@ pub(crate) mod tests {
         assert!(err.to_string().contains("does not exist"), "{err}");
         assert!(check_outputs(&[&dir]).is_err());
         let err = check_outputs(&[&a, &dir.join(".").join("a.png")]).unwrap_err();
-        assert!(matches!(err, Error::Usage(_)), "{err}");
+        assert!(
+            matches!(err, Error::SameOutput { .. }) && err.is_usage(),
+            "{err}"
+        );
         std::os::unix::fs::symlink("a.png", dir.join("link.png")).unwrap();
         let err = check_outputs(&[&a, &dir.join("link.png")]).unwrap_err();
-        assert!(matches!(err, Error::Usage(_)), "{err}");
+        assert!(matches!(err, Error::SameOutput { .. }), "{err}");
         fs::remove_dir_all(&dir).unwrap();
     }
 
@@ -403,7 +404,10 @@ pub(crate) mod tests {
         check_ending(Path::new("out"), "-o", &png).unwrap();
         check_ending(Path::new("/dev/null"), "-o", &png).unwrap();
         let err = check_ending(Path::new("out.jpg"), "-o", &png).unwrap_err();
-        assert!(matches!(err, Error::Usage(_)), "{err}");
+        assert!(
+            matches!(err, Error::OutputName { .. }) && err.is_usage(),
+            "{err}"
+        );
         let text = err.to_string();
         assert!(
             text.contains("-o") && text.contains(".png") && text.contains("jpg"),

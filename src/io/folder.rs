@@ -55,10 +55,11 @@ pub fn write_folder_atomic(
 ) -> Result<()> {
     for (name, _) in files {
         if name.is_empty() || name.contains('/') || *name == "." || *name == ".." {
-            return Err(Error::Invalid(format!(
-                "{}: '{name}' is no plain file name",
-                dir.display()
-            )));
+            return Err(Error::input(
+                dir.display().to_string(),
+                format!("'{}'", crate::error::quoted(name)),
+                "is no plain file name",
+            ));
         }
     }
     check_folder_output(dir, &replaceable)?;

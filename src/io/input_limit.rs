@@ -17,10 +17,10 @@ const FALLBACK_BYTES: u64 = 8 << 30;
 /// The cap in bytes; Err when the variable is set to something that is not a number.
 pub fn max_input_bytes() -> Result<u64> {
     match std::env::var(MAX_INPUT_BYTES_VARIABLE) {
-        Ok(text) => text.trim().parse().map_err(|_| {
-            Error::Invalid(format!(
-                "{MAX_INPUT_BYTES_VARIABLE}={text:?}: expected a number of bytes"
-            ))
+        Ok(text) => text.trim().parse().map_err(|_| Error::Environment {
+            variable: MAX_INPUT_BYTES_VARIABLE,
+            value: format!("{:?}", crate::error::quoted(&text)),
+            expected: "a number of bytes",
         }),
         Err(_) => Ok(machine_memory().map_or(FALLBACK_BYTES, |total| total / 2)),
     }
@@ -47,9 +47,13 @@ pub fn check_input_size(file: &str, bytes: u64, what: &str) -> Result<()> {
 pub fn try_vec<T>(count: usize, file: &str) -> Result<Vec<T>> {
     let mut values = Vec::new();
     values.try_reserve_exact(count).map_err(|err| {
-        Error::OutOfMemory(format!(
-            "{file}: {count} values, as the header declares: {err}"
-        ))
+        let _ = err;
+        Error::OutOfMemory {
+            what: "the values the header declares",
+            file: Some(file.to_string()),
+            bytes: Some((count * size_of::<T>()) as u64),
+            settings: &[],
+        }
     })?;
     Ok(values)
 }

@@ -29,18 +29,17 @@ pub fn encode_depth_npy(path: &Path, width: u32, height: u32, depth: &[f32]) -> 
     let shape = [height as usize, width as usize];
     let expected = shape[0].checked_mul(shape[1]);
     if expected != Some(depth.len()) {
-        return Err(Error::Invalid(format!(
-            "{}: depth map has {} values, expected {width} x {height}",
-            path.display(),
-            depth.len()
-        )));
+        return Err(Error::input(
+            path.display().to_string(),
+            "depth map",
+            format!("{} values, expected {width} x {height}", depth.len()),
+        ));
     }
-    encode_f32(&shape, depth).ok_or_else(|| {
-        Error::OutOfMemory(format!(
-            "{}: the {width} x {height} depth map needs {} MiB of memory to encode, which could not be allocated",
-            path.display(),
-            depth.len() >> 18
-        ))
+    encode_f32(&shape, depth).ok_or_else(|| Error::OutOfMemory {
+        what: "the encoded depth map",
+        file: Some(path.display().to_string()),
+        bytes: Some(4 * depth.len() as u64),
+        settings: &[],
     })
 }
 
@@ -330,7 +329,7 @@ mod tests {
         let dir = scratch_dir("npy-wrong-length");
         let path = dir.join("depth.npy");
         let err = write_depth_npy(&path, 3, 2, &[0.0; 5]).unwrap_err();
-        assert!(matches!(err, Error::Invalid(_)), "{err}");
+        assert!(matches!(err, Error::Input { .. }), "{err}");
         assert!(err.to_string().contains("depth.npy"), "{err}");
         assert!(!path.exists());
         std::fs::remove_dir_all(&dir).unwrap();

@@ -35,12 +35,11 @@ fn check_encoding_memory(path: &Path, image_bytes: usize) -> Result<()> {
     let mut probe: Vec<u8> = Vec::new();
     probe
         .try_reserve_exact(image_bytes.saturating_mul(2))
-        .map_err(|_| {
-            Error::OutOfMemory(format!(
-                "{}: encoding the PNG needs about {} MiB of memory, which could not be allocated",
-                path.display(),
-                image_bytes.saturating_mul(2) >> 20
-            ))
+        .map_err(|_| Error::OutOfMemory {
+            what: "the PNG encoder's buffer",
+            file: Some(path.display().to_string()),
+            bytes: Some(image_bytes.saturating_mul(2) as u64),
+            settings: &[],
         })
 }
 
@@ -73,11 +72,14 @@ fn check_size(path: &Path, width: u32, height: u32, len: usize) -> Result<()> {
         .checked_mul(height as usize)
         .and_then(|pixels| pixels.checked_mul(RGBA_BYTES));
     if width == 0 || height == 0 || expected != Some(len) {
-        return Err(Error::Invalid(format!(
-            "{}: an RGBA image of {width} x {height} pixels needs {} bytes, found {len}",
-            path.display(),
-            expected.map_or_else(|| "too many".to_string(), |n| n.to_string()),
-        )));
+        return Err(Error::input(
+            path.display().to_string(),
+            "pixels",
+            format!(
+                "an RGBA image of {width} x {height} pixels needs {} bytes, found {len}",
+                expected.map_or_else(|| "too many".to_string(), |n| n.to_string()),
+            ),
+        ));
     }
     Ok(())
 }
@@ -155,7 +157,7 @@ mod tests {
         let path = dir.join("image.png");
         for (width, height, len) in [(4, 4, 63), (4, 4, 65), (0, 4, 0)] {
             let err = write_png_rgba8(&path, width, height, &vec![0; len]).unwrap_err();
-            assert!(matches!(err, Error::Invalid(_)), "{err}");
+            assert!(matches!(err, Error::Input { .. }), "{err}");
             assert!(err.to_string().contains("image.png"), "{err}");
         }
         assert!(!path.exists());

@@ -260,7 +260,7 @@ pub fn render(
     }
     let image = prepared.render_with_underlays(renderer, context.gpu, true, &underlays)?;
     if image.width == 0 || image.height == 0 {
-        return Err(Error::Invalid(format!("{}: an empty figure", plan.file)));
+        return Err(Error::input(plan.file, "image", "an empty figure"));
     }
     Ok(Figure {
         file: plan.file,

@@ -27,7 +27,7 @@ use crate::volume::{
     Coefficients, ImageRequest, Mask, Normalisation, Volume, VolumeRequest, load_mask,
     load_underlay,
 };
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 use figures::{DrawContext, Figure, SharedUnderlay};
 use survey::{Survey, region_side, voxel_world};
 
@@ -202,9 +202,9 @@ pub fn make_set(request: &QcRequest, progress: &dyn Fn(&str)) -> Result<QcSet> {
         })
         .collect::<Result<Vec<_>>>()?;
     timings.push(("encode", ms(step)));
-    let inputs = hashing
-        .join()
-        .map_err(|_| Error::Invalid("qc: the checksum thread failed".into()))??;
+    let inputs = hashing.join().map_err(|_| Error::Thread {
+        what: "the inputs' checksums",
+    })??;
     timings.push(("total", ms(started)));
     let summary = page::Summary {
         request,
@@ -280,9 +280,10 @@ fn draw_figures(
     peaks: Option<&Path>,
 ) -> Result<Vec<Figure>> {
     let mut built = built.into_iter();
-    let mosaic = built
-        .next()
-        .ok_or_else(|| Error::Invalid("qc: no mosaic".into()))?;
+    let mosaic = built.next().ok_or(Error::Call {
+        call: "qc::run",
+        expected: "a mosaic among the figures planned",
+    })?;
     let peaks_figure = match peaks {
         Some(peaks) => Some(figures::peaks_mosaic(context, renderer, &mosaic, peaks)?),
         None => None,
@@ -318,11 +319,15 @@ fn check_panel_size(size: u32) -> Result<()> {
     if PANEL_SIZES.contains(&size) {
         return Ok(());
     }
-    Err(Error::Usage(format!(
-        "a panel size of {size} pixels: each panel of the set is {} to {} pixels a side",
-        PANEL_SIZES.start(),
-        PANEL_SIZES.end()
-    )))
+    Err(Error::setting_value(
+        Setting::PanelSize,
+        size,
+        format!(
+            "each panel of the set is {} to {} pixels a side",
+            PANEL_SIZES.start(),
+            PANEL_SIZES.end()
+        ),
+    ))
 }
 
 /// The peaks image must be peaks of these ODFs: 4D, 3 values per peak, on their grid.

@@ -251,7 +251,7 @@ pub fn sidecar(summary: &Summary) -> Result<String> {
     });
     serde_json::to_string_pretty(&document)
         .map(|text| text + "\n")
-        .map_err(|err| Error::Invalid(format!("qc.json: {err}")))
+        .map_err(|err| Error::io("qc.json", err))
 }
 
 /// `text` with HTML's special characters escaped.

@@ -67,8 +67,11 @@ impl<'a> Batch<'a> {
         let mut values = Vec::new();
         values
             .try_reserve_exact(self.len * per_glyph)
-            .map_err(|_| {
-                Error::OutOfMemory(format!("gathering {} glyphs for one draw", self.len))
+            .map_err(|_| Error::OutOfMemory {
+                what: "the glyphs of one draw",
+                file: None,
+                bytes: Some((self.len * size_of::<T>()) as u64),
+                settings: &[],
             })?;
         for piece in &self.pieces {
             values.extend_from_slice(slice(piece));
@@ -100,10 +103,16 @@ pub fn batches<'a>(
         let bytes = glyph_bytes(first.layout);
         let per_batch = (limit / bytes.max(1)).min(u32::MAX as u64) as usize;
         if per_batch == 0 {
-            return Err(Error::Invalid(format!(
-                "glyph set {first_index}: one glyph's {bytes} bytes exceed the storage \
-                 buffer limit of {limit} bytes"
-            )));
+            return Err(Error::Item {
+                what: "glyph set",
+                index: first_index,
+                error: Box::new(Error::Limit {
+                    what: "bytes of one glyph in a storage buffer",
+                    value: bytes,
+                    limit,
+                    settings: &[],
+                }),
+            });
         }
         let empty = Batch {
             layout: first.layout,

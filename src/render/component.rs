@@ -104,9 +104,10 @@ impl GlyphRenderer {
     /// [`GlyphRenderer::prepare`] or [`GlyphRenderer::set_glyphs`], outside any frame.
     pub fn new(ctx: &DeviceContext, desc: &RendererDesc) -> Result<GlyphRenderer> {
         if desc.frames_in_flight == 0 {
-            return Err(Error::Invalid(
-                "frames in flight: the renderer needs at least one".into(),
-            ));
+            return Err(Error::Call {
+                call: "GlyphRenderer::new",
+                expected: "at least one frame in flight",
+            });
         }
         let pass = RayCastPass::with_options(ctx, desc.formats, desc.options)?;
         Ok(GlyphRenderer {
@@ -202,10 +203,10 @@ impl GlyphRenderer {
     /// write; the method must stay the one the renderer was made with.
     pub fn set_settings(&mut self, settings: &RenderSettings) -> Result<()> {
         if settings.method != self.settings.method {
-            return Err(Error::Invalid(format!(
-                "method: the renderer draws with {}; make a renderer for {}",
-                self.settings.method, settings.method
-            )));
+            return Err(Error::Unsupported {
+                what: format!("method {}", settings.method),
+                by: format!("a renderer made for method {}", self.settings.method).into(),
+            });
         }
         self.settings = *settings;
         Ok(())
@@ -217,10 +218,10 @@ impl GlyphRenderer {
     /// Retired glyphs that no frame index can still read are dropped here.
     pub fn set_view(&mut self, frame_index: usize, view: &HostView) -> Result<()> {
         self.begin_frame(frame_index)?;
-        let glyphs = self
-            .glyphs
-            .as_mut()
-            .ok_or_else(|| Error::Invalid("set_view before set_glyphs: no glyphs".into()))?;
+        let glyphs = self.glyphs.as_mut().ok_or(Error::Call {
+            call: "set_view",
+            expected: "set_glyphs first",
+        })?;
         let depth = self.pass.options().depth;
         let frame = host_frame(view, depth, glyphs.max_radius, &self.settings)?;
         let target = FrameTarget {
@@ -237,10 +238,10 @@ impl GlyphRenderer {
     /// nothing is compiled, written, submitted or waited on, so several threads may
     /// record at once, each into its own command buffer.
     pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize) -> Result<()> {
-        let glyphs = self
-            .glyphs
-            .as_ref()
-            .ok_or_else(|| Error::Invalid("record before set_glyphs: no glyphs".into()))?;
+        let glyphs = self.glyphs.as_ref().ok_or(Error::Call {
+            call: "record",
+            expected: "set_glyphs first",
+        })?;
         self.record_glyphs(cmd, glyphs, frame_index)
     }
 
@@ -254,10 +255,9 @@ impl GlyphRenderer {
     ) -> Result<()> {
         self.check_index(frame_index)?;
         let view = glyphs.views.get(frame_index).copied().flatten();
-        let (viewport, scissor) = view.ok_or_else(|| {
-            Error::Invalid(format!(
-                "record of frame {frame_index} before its set_view for the current glyphs"
-            ))
+        let (viewport, scissor) = view.ok_or(Error::Call {
+            call: "record",
+            expected: "set_view for this frame and the current glyphs first",
         })?;
         let target = FrameTarget {
             frame_index,
@@ -292,10 +292,10 @@ impl GlyphRenderer {
         if frame_index < self.frames_in_flight {
             return Ok(());
         }
-        Err(Error::Invalid(format!(
-            "frame index {frame_index} of a renderer with {} frames in flight",
-            self.frames_in_flight
-        )))
+        Err(Error::FrameIndex {
+            index: frame_index,
+            frames: self.frames_in_flight,
+        })
     }
 }
 

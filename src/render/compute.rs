@@ -154,12 +154,11 @@ impl ComputeRayCastPass {
         if let Some(p) = self.pipelines.get(&layout) {
             return Ok(p);
         }
-        let shader = compute_raycast_shader(layout, Method::Exact).ok_or_else(|| {
-            Error::Invalid(format!(
-                "no compute ray caster for a {:?} tensor of order {}",
-                layout.symmetry, layout.order
-            ))
-        })?;
+        let shader =
+            compute_raycast_shader(layout, Method::Exact).ok_or_else(|| Error::Unsupported {
+                what: format!("a {:?} tensor of order {}", layout.symmetry, layout.order),
+                by: Setting::Path.with("compute"),
+            })?;
         let entries = [vk::SpecializationMapEntry {
             constant_id: 0,
             offset: 0,
@@ -205,22 +204,22 @@ impl ComputeRayCastPass {
         for part in &parts {
             if part.shape == GlyphShape::Ellipsoid {
                 // The data decide (exit code 1), so not a Setting error.
-                return Err(Error::Invalid(format!(
-                    "{}: no ellipsoid shader: draw ellipsoids with {}",
-                    Setting::Path.with("compute"),
-                    Setting::Path.with("fragment")
-                )));
+                return Err(Error::Unsupported {
+                    what: "ellipsoid glyphs".into(),
+                    by: Setting::Path.with("compute"),
+                });
             }
             self.pipeline(part.layout)?;
         }
         let device_limit = ctx.max_storage_buffer_range();
         let pixels = width as u64 * height as u64;
         if 4 * pixels > device_limit {
-            return Err(Error::Invalid(format!(
-                "{}: a {width} x {height} image exceeds the storage buffer limit of \
-                 {device_limit} bytes",
-                Setting::Path.with("compute")
-            )));
+            return Err(Error::Limit {
+                what: "bytes of the compute path's image buffer",
+                value: 4 * pixels,
+                limit: device_limit,
+                settings: &[],
+            });
         }
         let pool = DescriptorPool::new(ctx, parts.len(), 0, BINDINGS)?;
         let output = |name: &str| {
@@ -251,11 +250,12 @@ impl ComputeRayCastPass {
             let bins = bin_glyphs(&view, &instances, &boxes);
             let entry_bytes = 8 * bins.entries.len() as u64;
             if entry_bytes > device_limit {
-                return Err(Error::Invalid(format!(
-                    "{}: the tile lists take {entry_bytes} bytes, more than the storage \
-                     buffer limit of {device_limit} bytes",
-                    Setting::Path.with("compute")
-                )));
+                return Err(Error::Limit {
+                    what: "bytes of the compute path's tile lists",
+                    value: entry_bytes,
+                    limit: device_limit,
+                    settings: &[],
+                });
             }
             scene.tile_entries += bins.entries.len();
             let glyphs = PartGlyphs {

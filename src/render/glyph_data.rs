@@ -117,10 +117,15 @@ pub fn prepare_set_with_progress(
 ) -> Result<GlyphSetData> {
     let layout = tensor_layout(set);
     if set.shape == GlyphShape::Ellipsoid && offset != 0.0 {
-        return Err(Error::Invalid(format!(
-            "glyphs[{index}]: ellipsoid glyphs take no {} (found {offset})",
-            Setting::Offset.mention()
-        )));
+        // The glyphs come from the scene, the offset from the request: the data decide.
+        return Err(Error::Item {
+            what: "glyph set",
+            index,
+            error: Box::new(Error::Unsupported {
+                what: "ellipsoid glyphs".into(),
+                by: Setting::Offset.with(offset as f32),
+            }),
+        });
     }
     let mut data = GlyphSetData {
         layout,
@@ -294,11 +299,17 @@ fn bound_glyph(
     sampling: Sampling,
 ) -> Result<Option<Bounded>> {
     if set.shape == GlyphShape::Ellipsoid {
-        return bound_ellipsoid(coeffs)
-            .map_err(|e| Error::Invalid(format!("glyphs[{index}]: {e}")));
+        return bound_ellipsoid(coeffs).map_err(|e| Error::Item {
+            what: "glyph",
+            index,
+            error: Box::new(e),
+        });
     }
-    let coeffs = tensor_coefficients(set, coeffs)
-        .map_err(|e| Error::Invalid(format!("glyphs[{index}]: {e}")))?;
+    let coeffs = tensor_coefficients(set, coeffs).map_err(|e| Error::Item {
+        what: "glyph",
+        index,
+        error: Box::new(e),
+    })?;
     let poly = GlyphPolynomial::from_tensor(layout, &coeffs)?;
     Ok(glyph_bounds_with(&poly, sampling)
         .filter(|b| b.radius > 0.0 && b.radius.is_finite())

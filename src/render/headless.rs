@@ -301,21 +301,21 @@ impl HeadlessRenderer {
         if underlay.is_some() && settings.path == RenderPath::Compute {
             return Err(Error::setting(
                 Setting::Underlay,
-                format!(
-                    "{} has no depth buffer to share with the underlay; use {}",
+                crate::message![
                     Setting::Path.with("compute"),
+                    " has no depth buffer to share with the underlay; use ",
                     Setting::Path.with("fragment")
-                ),
+                ],
             ));
         }
         if peaks.is_some() && settings.path == RenderPath::Compute {
             return Err(Error::setting(
                 Setting::Peaks,
-                format!(
-                    "{} has no depth buffer to share with the peaks; use {}",
+                crate::message![
                     Setting::Path.with("compute"),
+                    " has no depth buffer to share with the peaks; use ",
                     Setting::Path.with("fragment")
-                ),
+                ],
             ));
         }
         let extent = frame_extent(camera, sets, settings, underlay, peaks);
@@ -666,10 +666,10 @@ fn record_compute(
 /// not an abort.
 fn read_back(t: &Targets, width: u32, height: u32) -> Result<RenderedImage> {
     let colors = t.color_readback.read()?;
-    let mut rgba = host_buffer::<u8>(colors.len(), width, height)?;
+    let mut rgba = host_buffer::<u8>(colors.len())?;
     rgba.extend_from_slice(colors);
     let distances = t.distance_readback.read()?;
-    let mut distance = host_buffer::<f32>(distances.len() / 4, width, height)?;
+    let mut distance = host_buffer::<f32>(distances.len() / 4)?;
     distance.extend(distances.chunks_exact(4).map(|b| {
         let d = f32::from_ne_bytes([b[0], b[1], b[2], b[3]]);
         if d < 0.0 { f32::NAN } else { d }
@@ -685,18 +685,18 @@ fn read_back(t: &Targets, width: u32, height: u32) -> Result<RenderedImage> {
     })
 }
 
-/// An empty vector with room for `len` values, or an error naming the image size when
+/// An empty vector with room for `len` values, or an out-of-memory error when
 /// the host cannot provide it.
-fn host_buffer<T>(len: usize, width: u32, height: u32) -> Result<Vec<T>> {
+fn host_buffer<T>(len: usize) -> Result<Vec<T>> {
     let mut buffer = Vec::new();
-    buffer.try_reserve_exact(len).map_err(|_| {
-        Error::OutOfMemory(format!(
-            "a {width} x {height} image needs {} MiB of host memory for its read-back, which could not be allocated: ask for a smaller {}/{}",
-            (len * std::mem::size_of::<T>()) >> 20,
-            Setting::Width.mention(),
-            Setting::Height.mention()
-        ))
-    })?;
+    buffer
+        .try_reserve_exact(len)
+        .map_err(|_| Error::OutOfMemory {
+            what: "the image's read-back",
+            file: None,
+            bytes: Some((len * std::mem::size_of::<T>()) as u64),
+            settings: &[Setting::Width, Setting::Height],
+        })?;
     Ok(buffer)
 }
 
@@ -704,12 +704,12 @@ fn host_buffer<T>(len: usize, width: u32, height: u32) -> Result<Vec<T>> {
 fn check_image_size(gpu: &Gpu, width: u32, height: u32) -> Result<()> {
     let largest = gpu.context().max_image_dimension_2d();
     if width > largest || height > largest {
-        return Err(Error::Usage(format!(
-            "{}/{} {width} x {height}: {} draws images of at most {largest} pixels per side",
-            Setting::Width.mention(),
-            Setting::Height.mention(),
-            gpu.info.name
-        )));
+        return Err(Error::Limit {
+            what: "image side in pixels (this device's largest 2D image)",
+            value: u64::from(width.max(height)),
+            limit: u64::from(largest),
+            settings: &[Setting::Width, Setting::Height],
+        });
     }
     Ok(())
 }

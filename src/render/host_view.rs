@@ -88,8 +88,9 @@ pub fn perspective(
 /// Relative tolerance for the projection entries that must be zero.
 const ZERO: f64 = 1e-9;
 
-fn refuse(what: impl Into<String>) -> Error {
-    Error::Invalid(format!("host view: {}", what.into()))
+/// The host's view refused: an [`Error::Input`] of the "host view" naming `field`.
+fn refuse(field: &str, what: impl Into<crate::error::Message>) -> Error {
+    Error::input("host view", field, what)
 }
 
 /// Whether the projection is perspective (`Some(sign)`: w = sign * z_view) or
@@ -97,13 +98,17 @@ fn refuse(what: impl Into<String>) -> Error {
 fn projection_kind(p: &[[f64; 4]; 4]) -> Result<Option<f64>> {
     let scale = p[0][0].abs().max(p[1][1].abs());
     if !(scale.is_finite() && scale > 0.0 && p[0][0] != 0.0 && p[1][1] != 0.0) {
-        return Err(refuse("the projection has no x or y scale (P00, P11)"));
+        return Err(refuse(
+            "projection",
+            "the projection has no x or y scale (P00, P11)",
+        ));
     }
     let zero = |v: f64| v.abs() <= ZERO * scale;
     // p[column][row]: x and y rows read only x and y (and the centre offsets below).
     let skew = [p[1][0], p[0][1], p[0][2], p[1][2], p[0][3], p[1][3]];
     if !skew.iter().all(|&v| zero(v)) {
         return Err(refuse(
+            "view",
             "the projection mixes axes (a rotated or skewed projection): put rotations in \
              the view matrix",
         ));
@@ -115,6 +120,7 @@ fn projection_kind(p: &[[f64; 4]; 4]) -> Result<Option<f64>> {
         None
     } else {
         return Err(refuse(
+            "projection",
             "the projection is neither perspective (w = -z or z) nor orthographic (w = 1)",
         ));
     };
@@ -125,6 +131,7 @@ fn projection_kind(p: &[[f64; 4]; 4]) -> Result<Option<f64>> {
     };
     if !(zero(cx) && zero(cy)) {
         return Err(refuse(
+            "projection",
             "the projection is off-centre (a lens shift or jitter); glyphcast's rays start \
              from a centred frustum",
         ));
@@ -143,16 +150,22 @@ pub fn host_frame(
 ) -> Result<FrameParams> {
     let vp = &view.viewport;
     if !(vp.width > 0.0 && vp.height != 0.0 && vp.width.is_finite() && vp.height.is_finite()) {
-        return Err(refuse(format!(
-            "the viewport is {} x {} pixels; it needs a positive width and a height",
-            vp.width, vp.height
-        )));
+        return Err(refuse(
+            "viewport",
+            format!(
+                "the viewport is {} x {} pixels; it needs a positive width and a height",
+                vp.width, vp.height
+            ),
+        ));
     }
     if (vp.min_depth, vp.max_depth) != (0.0, 1.0) {
-        return Err(refuse(format!(
-            "the viewport's depth range is {} to {}; glyphs write depth for 0 to 1",
-            vp.min_depth, vp.max_depth
-        )));
+        return Err(refuse(
+            "viewport",
+            format!(
+                "the viewport's depth range is {} to {}; glyphs write depth for 0 to 1",
+                vp.min_depth, vp.max_depth
+            ),
+        ));
     }
     let p = view.projection.to_cols_array_2d();
     let perspective = projection_kind(&p)?;
@@ -167,6 +180,7 @@ pub fn host_frame(
         && y.dot(z).abs() < 1e-6;
     if !rigid || !to_world.is_finite() {
         return Err(refuse(
+            "view",
             "the view matrix is not a rotation and a translation (no scale or shear)",
         ));
     }
@@ -178,10 +192,13 @@ pub fn host_frame(
             // falls with distance under reversed depth (P32 > 0), rises under standard.
             let falls = p[3][2] > 0.0;
             if falls != (depth == DepthConvention::Reversed) || p[3][2] == 0.0 {
-                return Err(refuse(format!(
-                    "the projection's depth does not follow {depth:?} depth (near at {})",
-                    near_depth
-                )));
+                return Err(refuse(
+                    "projection",
+                    format!(
+                        "the projection's depth does not follow {depth:?} depth (near at {})",
+                        near_depth
+                    ),
+                ));
             }
             // The near plane: the view depth whose window depth is the near end.
             let z_near = p[3][2] / (near_depth * sign - p[2][2]);

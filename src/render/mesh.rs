@@ -46,12 +46,10 @@ impl GlyphMeshes {
     pub fn build(sets: &[GlyphSetData], kind: MeshKind) -> Result<GlyphMeshes> {
         if sets.iter().any(|s| s.shape == GlyphShape::Ellipsoid) {
             // The data decide (exit code 1), so not a Setting error.
-            return Err(Error::Invalid(format!(
-                "{}: ellipsoid glyphs are ray-cast in closed form, not tessellated; leave {} \
-                 out",
-                Setting::Method.with(kind),
-                Setting::Method.mention()
-            )));
+            return Err(Error::Unsupported {
+                what: "ellipsoid glyphs (ray-cast in closed form, not tessellated)".into(),
+                by: Setting::Method.with(kind),
+            });
         }
         let sphere = SphereMesh::new(kind)?;
         let glyphs: Vec<WorldGlyph> = sets.iter().flat_map(|s| s.world.iter().cloned()).collect();
@@ -231,8 +229,12 @@ impl MeshPass {
         frame: &FrameParams,
     ) -> Result<MeshSceneGpu> {
         let per_glyph = meshes.sphere.directions.len();
-        let vertices_per_glyph = u32::try_from(per_glyph)
-            .map_err(|_| Error::Invalid(format!("{per_glyph} vertices per glyph")))?;
+        let vertices_per_glyph = u32::try_from(per_glyph).map_err(|_| Error::Limit {
+            what: "vertices per glyph",
+            value: per_glyph as u64,
+            limit: u64::from(u32::MAX),
+            settings: &[Setting::Method],
+        })?;
         self.pipeline(vertices_per_glyph)?;
         let glyph_bytes = (per_glyph * size_of::<MeshVertex>()) as u64;
         let device_limit = ctx.max_storage_buffer_range();
@@ -241,11 +243,12 @@ impl MeshPass {
             .map_or(device_limit, |cap| cap.min(device_limit));
         let per_chunk = (limit / glyph_bytes).min(u32::MAX as u64) as usize;
         if per_chunk == 0 {
-            return Err(Error::Invalid(format!(
-                "{}: one glyph's {glyph_bytes} vertex bytes exceed the storage buffer limit \
-                 of {limit} bytes",
-                meshes.sphere.kind
-            )));
+            return Err(Error::Limit {
+                what: "vertex bytes of one tessellated glyph",
+                value: glyph_bytes,
+                limit,
+                settings: &[Setting::Method],
+            });
         }
         let ranges: Vec<_> = (0..meshes.glyphs())
             .step_by(per_chunk)

@@ -13,7 +13,7 @@
 //! The headless renderer, tests, benchmarks and an embedding engine
 //! ([`crate::render::component::GlyphRenderer`]) all go through [`RayCastPass::record_frame`].
 //! The pass and the scenes keep a [`DeviceContext`], so the device outlives them.
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Setting};
 use crate::glyph::{GlyphShape, TensorLayout};
 use crate::render::Method;
 use crate::render::batch::{Batch, batches};
@@ -80,9 +80,11 @@ impl PassOptions {
         let count = self.samples.as_raw();
         match count {
             1 | 2 | 4 | 8 => Ok(count),
-            _ => Err(Error::Invalid(format!(
-                "samples: {count} samples per pixel; the ray-cast pass takes 1, 2, 4 or 8"
-            ))),
+            _ => Err(Error::setting_value(
+                Setting::Samples,
+                count,
+                "the ray-cast pass takes 1, 2, 4 or 8 samples per pixel",
+            )),
         }
     }
 
@@ -303,7 +305,9 @@ impl RayCastPass {
                 .into_iter()
                 .chain(threads.into_iter().map(|t| {
                     t.join().unwrap_or_else(|_| {
-                        Err(Error::Setup("a pipeline-creating thread panicked".into()))
+                        Err(Error::Thread {
+                            what: "pipeline creation",
+                        })
                     })
                 }))
                 .collect()
@@ -323,16 +327,17 @@ impl RayCastPass {
     ) -> Result<(Option<&'static [u32]>, &'static [u32])> {
         Ok(match method {
             Method::Impostor if self.formats.distance.is_none() => {
-                return Err(Error::Invalid(
-                    "the impostor pass is a benchmark floor and needs the distance attachment"
-                        .into(),
-                ));
+                return Err(Error::Call {
+                    call: "RayCastPass::pipeline",
+                    expected: "a distance attachment for the impostor pass",
+                });
             }
             Method::Impostor => (None, IMPOSTOR_FRAGMENT),
             Method::Mesh(_) => {
-                return Err(Error::Invalid(format!(
-                    "{method} is drawn by the mesh pass, not the ray-casting pass"
-                )));
+                return Err(Error::Unsupported {
+                    what: format!("method {method} (the mesh pass draws it)"),
+                    by: "the ray-casting pass".into(),
+                });
             }
             Method::Fixed
             | Method::Interval
@@ -342,18 +347,20 @@ impl RayCastPass {
                 let needed = varying_components(layout);
                 let available = self.ctx.max_varying_components();
                 if needed > available {
-                    return Err(Error::Invalid(format!(
-                        "a {:?} tensor of order {} passes {needed} components from the vertex \
-                         to the fragment shader, and this device takes {} \
-                         (maxVertexOutputComponents, maxFragmentInputComponents)",
-                        layout.symmetry, layout.order, available
-                    )));
+                    return Err(Error::Layout {
+                        layout,
+                        error: Box::new(Error::Limit {
+                            what: "vertex-to-fragment components \
+                                   (maxVertexOutputComponents, maxFragmentInputComponents)",
+                            value: u64::from(needed),
+                            limit: u64::from(available),
+                            settings: &[],
+                        }),
+                    });
                 }
-                let shader = raycast_shader(layout, method).ok_or_else(|| {
-                    Error::Invalid(format!(
-                        "no shader for a {:?} tensor of order {} with method {method}",
-                        layout.symmetry, layout.order
-                    ))
+                let shader = raycast_shader(layout, method).ok_or_else(|| Error::Unsupported {
+                    what: format!("a {:?} tensor of order {}", layout.symmetry, layout.order),
+                    by: Setting::Method.with(method),
                 })?;
                 let fragment = match self.formats.distance {
                     Some(_) => shader.fragment,
@@ -368,13 +375,9 @@ impl RayCastPass {
     fn prepared(&self, layout: TensorLayout, method: Method) -> Result<vk::Pipeline> {
         self.pipelines
             .get(&pipeline_key(layout, method))
-            .ok_or_else(|| {
-                Error::Invalid(format!(
-                    "the ray-cast pipeline of a {:?} tensor of order {} with method {method} \
-                     was not prepared: RayCastPass::prepare (or upload) makes it before \
-                     recording",
-                    layout.symmetry, layout.order
-                ))
+            .ok_or(Error::Call {
+                call: "RayCastPass::record",
+                expected: "RayCastPass::prepare (or upload) for this layout and method first",
             })
     }
 
@@ -450,9 +453,10 @@ impl RayCastPass {
         frames_in_flight: usize,
     ) -> Result<SceneGpu> {
         if frames_in_flight == 0 {
-            return Err(Error::Invalid(
-                "frames in flight: a scene needs at least one".into(),
-            ));
+            return Err(Error::Call {
+                call: "SceneGpu::new",
+                expected: "at least one frame in flight",
+            });
         }
         let frames = (0..frames_in_flight)
             .map(|_| Buffer::with_data(ctx, "frame", std::slice::from_ref(frame), FRAME_USAGE))
@@ -517,10 +521,10 @@ impl RayCastPass {
     ) -> Result<()> {
         let frames = scene.frames.len();
         if target.frame_index >= frames {
-            return Err(Error::Invalid(format!(
-                "frame index {} of a scene with {frames} frame(s) in flight",
-                target.frame_index
-            )));
+            return Err(Error::FrameIndex {
+                index: target.frame_index,
+                frames,
+            });
         }
         let (viewport, scissor) = (target.viewport, target.scissor);
         for set in &scene.sets {
@@ -708,11 +712,10 @@ impl SceneGpu {
     /// read that frame has completed (other frames may be in flight meanwhile).
     pub fn set_frame_in_flight(&mut self, index: usize, frame: &FrameParams) -> Result<()> {
         let frames = self.frames.len();
-        let buffer = self.frames.get_mut(index).ok_or_else(|| {
-            Error::Invalid(format!(
-                "frame index {index} of a scene with {frames} frame(s) in flight"
-            ))
-        })?;
+        let buffer = self
+            .frames
+            .get_mut(index)
+            .ok_or(Error::FrameIndex { index, frames })?;
         buffer.write(bytemuck::bytes_of(frame))
     }
 

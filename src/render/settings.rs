@@ -399,11 +399,18 @@ impl RenderSettings {
         if let Method::Mesh(kind) = self.method {
             kind.validate()?;
         }
-        let positive = |name: &str, v: f32, max: f32| {
+        let positive = |name: &'static str, v: f32, max: f32| {
             if v.is_finite() && v > 0.0 && v <= max {
                 Ok(())
             } else {
-                Err(Error::Invalid(format!("{name}: {v} must be in (0, {max}]")))
+                Err(Error::data(
+                    name,
+                    crate::error::Problem::OutOfRange {
+                        value: f64::from(v),
+                        min: 0.0,
+                        max: f64::from(max),
+                    },
+                ))
             }
         };
         let reliable = |setting: Setting, v: f32, (min, max): (f32, f32)| {
@@ -424,10 +431,14 @@ impl RenderSettings {
         positive("centre step factor", self.centre_step_factor, 1.0)?;
         reliable(Setting::Precision, self.precision_px, PRECISION_RANGE)?;
         if !(self.centre_zone.is_finite() && self.centre_zone >= 0.0) {
-            return Err(Error::Invalid(format!(
-                "centre zone: {} must be >= 0",
-                self.centre_zone
-            )));
+            return Err(Error::data(
+                "centre zone",
+                crate::error::Problem::OutOfRange {
+                    value: f64::from(self.centre_zone),
+                    min: 0.0,
+                    max: f64::INFINITY,
+                },
+            ));
         }
         if !(self.offset.is_finite() && self.offset >= 0.0) {
             return Err(Error::setting_value(
@@ -441,11 +452,11 @@ impl RenderSettings {
             return Err(Error::setting_value(
                 Setting::Offset,
                 self.offset,
-                format!(
-                    "{} needs offset 0 (offset glyphs are not polynomial surfaces); use {}",
+                crate::message![
                     Setting::Method.with("exact"),
+                    " needs offset 0 (offset glyphs are not polynomial surfaces); use ",
                     Setting::Method.with("fixed")
-                ),
+                ],
             ));
         }
         if matches!(self.color, ColorMode::Sign { .. })
@@ -454,29 +465,30 @@ impl RenderSettings {
             return Err(Error::setting_value(
                 Setting::Color,
                 "sign",
-                format!(
-                    "{} does not know the sign of the glyph function; use a ray-casting \
-                     method (exact, fixed, interval, affine)",
-                    Setting::Method.with(self.method)
-                ),
+                crate::message![
+                    Setting::Method.with(self.method),
+                    " does not know the sign of the glyph function; use a ray-casting \
+                     method (exact, fixed, interval, affine)"
+                ],
             ));
         }
         if !(self.background.iter().all(|c| (0.0..=1.0).contains(c))) {
-            return Err(Error::Invalid(format!(
-                "background {:?}: every component must be in 0 to 1",
-                self.background
-            )));
+            return Err(Error::setting_value(
+                Setting::Background,
+                format_args!("{:?}", self.background),
+                "every component must be in 0 to 1",
+            ));
         }
         crate::render::compose::antialias::supersampling_factor(self.samples)?;
         if self.path == RenderPath::Compute && self.method != Method::Exact {
             return Err(Error::setting_value(
                 Setting::Path,
                 "compute",
-                format!(
-                    "only {} has a compute ray caster, not {}",
+                crate::message![
+                    "only ",
                     Setting::Method.with("exact"),
-                    self.method
-                ),
+                    format!(" has a compute ray caster, not {}", self.method)
+                ],
             ));
         }
         if let ColorMode::Magnitude {

@@ -87,7 +87,7 @@ struct App {
 pub fn run(mut panels: Panels, options: ViewerOptions) -> Result<()> {
     let event_loop = EventLoop::<GlyphsReady>::with_user_event()
         .build()
-        .map_err(|e| Error::Setup(format!("cannot open a window (is DISPLAY set?): {e}")))?;
+        .map_err(|e| Error::setup("window system (is DISPLAY set?)", e))?;
     let proxy: std::sync::Mutex<EventLoopProxy<GlyphsReady>> =
         std::sync::Mutex::new(event_loop.create_proxy());
     panels.set_waker(std::sync::Arc::new(move || {
@@ -98,7 +98,7 @@ pub fn run(mut panels: Panels, options: ViewerOptions) -> Result<()> {
     }));
     let display = event_loop
         .display_handle()
-        .map_err(|e| Error::Setup(format!("no display handle: {e}")))?
+        .map_err(|e| Error::setup("display handle", e))?
         .as_raw();
     let gpu = Gpu::for_window(&options.gpu, display)?;
     eprintln!("device: {}", gpu.info);
@@ -135,7 +135,7 @@ pub fn run(mut panels: Panels, options: ViewerOptions) -> Result<()> {
     };
     event_loop
         .run_app(&mut app)
-        .map_err(|e| Error::Setup(format!("window event loop: {e}")))?;
+        .map_err(|e| Error::setup("running window event loop", e))?;
     if let Some(e) = app.error.take() {
         return Err(e);
     }
@@ -201,7 +201,7 @@ impl App {
                 Ok(())
             }
             Ok(false) => Ok(()),
-            Err(e @ (Error::Io { .. } | Error::Invalid(_) | Error::Input { .. })) => {
+            Err(e @ (Error::Io { .. } | Error::Data { .. } | Error::Input { .. })) => {
                 eprintln!("error: {e}");
                 self.update_title();
                 Ok(())
@@ -222,14 +222,14 @@ impl App {
             .with_inner_size(PhysicalSize::new(width, height));
         let window = event_loop
             .create_window(attributes)
-            .map_err(|e| Error::Setup(format!("cannot create the window: {e}")))?;
+            .map_err(|e| Error::setup("window", e))?;
         let display = window
             .display_handle()
-            .map_err(|e| Error::Setup(format!("no display handle: {e}")))?
+            .map_err(|e| Error::setup("display handle", e))?
             .as_raw();
         let handle = window
             .window_handle()
-            .map_err(|e| Error::Setup(format!("no window handle: {e}")))?
+            .map_err(|e| Error::setup("window handle", e))?
             .as_raw();
         let unthrottled = self.options.frames.is_some();
         let slots = self.options.frames_in_flight();
@@ -268,7 +268,7 @@ impl App {
                     // A key that cannot be carried out (a screenshot path that cannot
                     // be written, ...) is reported; the session goes on.
                     match self.apply(event_loop, action) {
-                        Err(e @ (Error::Io { .. } | Error::Invalid(_) | Error::Input { .. })) => {
+                        Err(e @ (Error::Io { .. } | Error::Data { .. } | Error::Input { .. })) => {
                             eprintln!("error: {e}")
                         }
                         result => result?,
@@ -425,9 +425,10 @@ impl App {
         method: crate::render::Method,
     ) -> Result<()> {
         if !self.methods().contains(&method) {
-            return Err(Error::Invalid(format!(
-                "method {method:?} has no shader for these glyphs"
-            )));
+            return Err(Error::Unsupported {
+                what: format!("method {method}"),
+                by: "the shaders of these glyphs".into(),
+            });
         }
         // The other settings may refuse the method (--color sign and meshes).
         change_checked(settings, |s| s.method = method)
@@ -618,9 +619,10 @@ impl App {
         if !settled {
             if self.presented >= frames + SETTLE_FRAMES {
                 let (w, h) = self.pending_size.unwrap_or_default();
-                return Err(Error::Setup(format!(
-                    "the window did not take the size {w}x{h} asked for"
-                )));
+                return Err(Error::setup(
+                    "window of the size asked for",
+                    format_args!("{w}x{h} was not taken"),
+                ));
             }
             return Ok(());
         }
@@ -643,7 +645,10 @@ impl App {
                 .map(Presenter::capture)
                 .transpose()?
                 .flatten()
-                .ok_or_else(|| Error::Setup("no frame was captured".into()))?;
+                .ok_or(Error::Call {
+                    call: "capture",
+                    expected: "a captured frame",
+                })?;
             crate::io::png::write_png_rgba8(&path, capture.width, capture.height, &capture.rgba)?;
             eprintln!("wrote {}", path.display());
         }

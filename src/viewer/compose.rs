@@ -142,9 +142,10 @@ impl Composer {
         draw: impl FnOnce() -> Result<()>,
     ) -> Result<()> {
         let Some((color, depth)) = self.target.as_ref() else {
-            return Err(Error::Setup(
-                "no offscreen target for a window panel".into(),
-            ));
+            return Err(Error::Call {
+                call: "record_panel",
+                expected: "an offscreen target for a window panel",
+            });
         };
         let to_attachment = [
             // After the previous panel's copy read the target.
@@ -227,7 +228,10 @@ impl Composer {
         rect: vk::Rect2D,
     ) -> Result<()> {
         let Some(buffer) = self.strip.as_ref() else {
-            return Err(Error::Setup("the colour bar's strip was not staged".into()));
+            return Err(Error::Call {
+                call: "record_strip",
+                expected: "stage_strip first",
+            });
         };
         // SAFETY: the buffer holds rect's pixels (stage_strip), written by the host before
         // the submission (which makes them visible); the rect lies inside the image.

@@ -152,9 +152,10 @@ impl Content {
                 options,
                 view,
             } => Content::for_slice(Arc::from(volume), *options, *view, settings, negative),
-            ViewSource::Montage(_) => Err(Error::Invalid(
-                "a montage has a panel per view: show it through viewer::Panels".into(),
-            )),
+            ViewSource::Montage(_) => Err(Error::Call {
+                call: "Content::new",
+                expected: "a single view (a montage is shown through viewer::Panels)",
+            }),
         }
     }
 
@@ -249,11 +250,9 @@ impl Content {
                 received => received.map_err(|_| ()),
             }
         };
-        let result = result.unwrap_or_else(|()| {
-            Err(Error::Setup(
-                "the glyph preparation thread stopped without a result".into(),
-            ))
-        });
+        let result = result.unwrap_or(Err(Error::Thread {
+            what: "the glyph preparation",
+        }));
         let Some(job) = self.job.take() else {
             return Ok(false);
         };
@@ -521,7 +520,7 @@ impl Content {
                     wake();
                 }
             })
-            .map_err(|e| Error::Setup(format!("cannot start the preparation thread: {e}")))?;
+            .map_err(|e| Error::setup("thread for the glyph preparation", e))?;
         self.job = Some(Job {
             what,
             started: Instant::now(),
@@ -546,9 +545,10 @@ impl Content {
             match data.or_else(|| old.get_mut(index).and_then(Option::take)) {
                 Some(data) => sets.push(data),
                 None => {
-                    return Err(Error::Setup(format!(
-                        "glyph set {index} was kept but has no prepared data"
-                    )));
+                    return Err(Error::Call {
+                        call: "take_prepared",
+                        expected: "prepared data for every glyph set kept",
+                    });
                 }
             }
         }

@@ -151,7 +151,7 @@ pub fn parse_script(text: &str) -> Result<Vec<Action>> {
 
 fn parse_event(item: &str) -> Result<Action> {
     // The front end names the option the events came in (the command line: --script).
-    let bad = |why: &str| Error::Invalid(format!("'{}': {why}", quoted(item)));
+    let bad = |why: &str| Error::input("script", format!("'{}'", quoted(item)), why);
     let (name, value) = item.split_once(':').unwrap_or((item, ""));
     let number = |text: &str| -> Result<f64> {
         text.parse::<f64>()
@@ -292,7 +292,7 @@ mod tests {
         ] {
             let err = parse_script(bad).unwrap_err().to_string();
             assert!(
-                err.starts_with(&format!("'{bad}': ")) && !err.contains("--"),
+                err.starts_with(&format!("script: '{bad}': ")) && !err.contains("--"),
                 "{bad}: {err}"
             );
         }

@@ -57,7 +57,7 @@ impl Panels {
             });
         };
         if montage.panels.is_empty() {
-            return Err(Error::Invalid("a montage needs at least one panel".into()));
+            return Err(Error::data("montage panels", crate::error::Problem::Empty));
         }
         let volume = Arc::new(montage.volume);
         let panels = montage

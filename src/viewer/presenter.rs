@@ -273,16 +273,18 @@ impl Presenter {
         let extent = swapchain.extent;
         let copies = strip.is_some() || panels.iter().any(|p| !p.in_place());
         if copies && !swapchain.writable {
-            return Err(crate::Error::Setup(
-                "this window's swapchain images cannot be copied into (no TRANSFER_DST \
-                 usage): the viewer cannot show a montage or a colour bar here"
-                    .into(),
-            ));
+            return Err(crate::Error::Setup {
+                missing: "TRANSFER_DST usage of this window's swapchain images, which a \
+                          montage or a colour bar in the viewer needs",
+                found: None,
+            });
         }
         if capture && !swapchain.readable {
-            return Err(crate::Error::Setup(
-                "this window's swapchain images cannot be read back (no TRANSFER_SRC usage)".into(),
-            ));
+            return Err(crate::Error::Setup {
+                missing: "TRANSFER_SRC usage of this window's swapchain images, which a \
+                          capture needs",
+                found: None,
+            });
         }
         let format = swapchain.format;
         let index = match swapchain.acquire(self.slots[slot].acquired)? {

@@ -73,18 +73,19 @@ impl Buffer {
 
     /// Copies `bytes` to the start of a host-visible buffer.
     pub fn write(&mut self, bytes: &[u8]) -> Result<()> {
-        let (ptr, len) = self
-            .mapped()
-            .ok_or_else(|| Error::Setup("buffer is not host visible".into()))?;
+        let (ptr, len) = self.mapped().ok_or(Error::Call {
+            call: "Buffer::write",
+            expected: "a host-visible buffer",
+        })?;
         // SAFETY: the block maps `len` bytes for as long as it lives, and `&mut self`
         // is its only writer (the caller keeps the GPU off it, as for any host write).
         let slice = unsafe { std::slice::from_raw_parts_mut(ptr, len) };
         let capacity = slice.len();
-        let target = slice.get_mut(..bytes.len()).ok_or_else(|| {
-            Error::Invalid(format!(
-                "{} bytes do not fit a buffer of {capacity}",
-                bytes.len()
-            ))
+        let target = slice.get_mut(..bytes.len()).ok_or(Error::Limit {
+            what: "bytes written to a buffer",
+            value: bytes.len() as u64,
+            limit: capacity as u64,
+            settings: &[],
         })?;
         target.copy_from_slice(bytes);
         Ok(())
@@ -92,9 +93,10 @@ impl Buffer {
 
     /// The contents of a host-visible buffer (after the GPU's writes were made visible).
     pub fn read(&self) -> Result<&[u8]> {
-        let (ptr, len) = self
-            .mapped()
-            .ok_or_else(|| Error::Setup("buffer is not host visible".into()))?;
+        let (ptr, len) = self.mapped().ok_or(Error::Call {
+            call: "Buffer::read",
+            expected: "a host-visible buffer",
+        })?;
         // SAFETY: the block maps `len` bytes for as long as `self` holds it.
         let slice = unsafe { std::slice::from_raw_parts(ptr.cast_const(), len) };
         Ok(&slice[..(self.size as usize).min(slice.len())])
@@ -148,9 +150,10 @@ pub(super) fn checked_block(
         None => Ok(block),
         Some(problem) => {
             ctx.memory().free(block);
-            Err(Error::Setup(format!(
-                "{name}: the memory allocator returned {problem}"
-            )))
+            Err(Error::setup(
+                "usable memory block from the GPU memory allocator",
+                format_args!("{name}: the memory allocator returned {problem}"),
+            ))
         }
     }
 }

@@ -155,14 +155,14 @@ pub(crate) fn choose_with_extensions(
         });
         return match found {
             Some((_, pd, info, true)) => Ok((*pd, info.clone())),
-            Some((_, _, info, false)) => Err(Error::Setup(format!(
-                "device '{}' lacks one of: {needs}",
-                info.name
-            ))),
-            None => Err(Error::Setup(format!(
-                "no Vulkan device matches '{wanted}'; devices: {}",
-                names()
-            ))),
+            Some((_, _, info, false)) => Err(Error::setup(
+                "device with the features glyphcast needs",
+                format_args!("'{}' lacks one of: {needs}", info.name),
+            )),
+            None => Err(Error::setup(
+                "Vulkan device of the name asked for",
+                format_args!("none matches '{wanted}'; devices: {}", names()),
+            )),
         };
     }
     candidates
@@ -175,10 +175,10 @@ pub(crate) fn choose_with_extensions(
         })
         .map(|(_, pd, info, _)| (*pd, info.clone()))
         .ok_or_else(|| {
-            Error::Setup(format!(
-                "no Vulkan device with {needs}; devices: [{}]",
-                names()
-            ))
+            Error::setup(
+                "Vulkan device with the features glyphcast needs",
+                format_args!("needs {needs}; devices: [{}]", names()),
+            )
         })
 }
 
@@ -189,8 +189,10 @@ pub(crate) fn create(
     pd: vk::PhysicalDevice,
     extensions: &[&CStr],
 ) -> Result<(ash::Device, u32)> {
-    let family = graphics_queue_family(instance, pd)
-        .ok_or_else(|| Error::Setup("the device has no graphics+compute queue".into()))?;
+    let family = graphics_queue_family(instance, pd).ok_or(Error::Setup {
+        missing: "graphics+compute queue on the device",
+        found: None,
+    })?;
     let priorities = [1.0f32];
     let queues = [vk::DeviceQueueCreateInfo::default()
         .queue_family_index(family)

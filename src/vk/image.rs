@@ -54,10 +54,12 @@ impl Image {
         let handle =
             unsafe { device.create_image(&info, None) }.map_err(|result| match result {
                 vk::Result::ERROR_OUT_OF_HOST_MEMORY | vk::Result::ERROR_OUT_OF_DEVICE_MEMORY => {
-                    Error::Invalid(format!(
-                        "cannot create a {}x{} {name} image: out of memory",
-                        extent.width, extent.height
-                    ))
+                    Error::OutOfMemory {
+                        what: "a device image",
+                        file: None,
+                        bytes: Some(4 * u64::from(extent.width) * u64::from(extent.height)),
+                        settings: &[],
+                    }
                 }
                 result => Error::Vulkan {
                     call: "vkCreateImage",

@@ -48,19 +48,22 @@ pub(crate) fn create(
         .vk("vkEnumerateInstanceVersion")?
         .unwrap_or(vk::API_VERSION_1_0);
     if version < vk::API_VERSION_1_3 {
-        return Err(Error::Setup(format!(
-            "the Vulkan loader supports {}.{}, glyphcast needs 1.3",
-            vk::api_version_major(version),
-            vk::api_version_minor(version)
-        )));
+        return Err(Error::setup(
+            "Vulkan 1.3 loader",
+            format_args!(
+                "the loader supports {}.{}",
+                vk::api_version_major(version),
+                vk::api_version_minor(version)
+            ),
+        ));
     }
     let debug_utils = ash::ext::debug_utils::NAME;
     if validation && !has_layer(entry, VALIDATION_LAYER)? {
-        return Err(Error::Setup(
-            "validation was requested but VK_LAYER_KHRONOS_validation is not installed \
-             (Debian: vulkan-validationlayers)"
-                .into(),
-        ));
+        return Err(Error::Setup {
+            missing: "validation layer VK_LAYER_KHRONOS_validation, which validation needs \
+                      (Debian: vulkan-validationlayers)",
+            found: None,
+        });
     }
     let use_debug_utils = validation && has_extension(entry, debug_utils)?;
     let app = vk::ApplicationInfo::default()
@@ -91,12 +94,14 @@ pub(crate) fn create(
     }
     // SAFETY: every pointer in `info` refers to locals that outlive the call.
     let instance = unsafe { entry.create_instance(&info, None) }.map_err(|result| match result {
-        vk::Result::ERROR_INCOMPATIBLE_DRIVER => Error::Setup(
-            "no Vulkan driver found (install mesa-vulkan-drivers for lavapipe, or a GPU driver)".into(),
-        ),
-        vk::Result::ERROR_EXTENSION_NOT_PRESENT => Error::Setup(
-            "the Vulkan loader lacks the surface extensions of this window system".into(),
-        ),
+        vk::Result::ERROR_INCOMPATIBLE_DRIVER => Error::Setup {
+            missing: "Vulkan driver (install mesa-vulkan-drivers for lavapipe, or a GPU driver)",
+            found: None,
+        },
+        vk::Result::ERROR_EXTENSION_NOT_PRESENT => Error::Setup {
+            missing: "surface extensions of this window system in the Vulkan loader",
+            found: None,
+        },
         result => Error::Vulkan { call: "vkCreateInstance", result },
     })?;
     if !use_debug_utils {

@@ -142,10 +142,13 @@ pub fn memory_type_index(
         .or_else(|| (0..types.len()).find(|&k| allowed(k, required)))
         .map(|k| k as u32)
         .ok_or_else(|| {
-            Error::Setup(format!(
-                "{}: no memory type with {required:?} among the allowed types {:#b}",
-                request.name, request.requirements.memory_type_bits
-            ))
+            Error::setup(
+                "memory type with the properties asked for",
+                format_args!(
+                    "{}: none with {required:?} among the allowed types {:#b}",
+                    request.name, request.requirements.memory_type_bits
+                ),
+            )
         })
 }
 
@@ -197,7 +200,9 @@ impl MemoryAllocator for GpuAllocatorMemory {
         let allocation = self
             .allocator
             .lock()
-            .map_err(|_| Error::Setup("the allocator lock is poisoned".into()))?
+            .map_err(|_| Error::Thread {
+                what: "the GPU memory allocator",
+            })?
             .allocate(&AllocationCreateDesc {
                 name: request.name,
                 requirements: request.requirements,
@@ -215,10 +220,9 @@ impl MemoryAllocator for GpuAllocatorMemory {
                 .map_or(std::ptr::null_mut(), |p| p.as_ptr().cast()),
             token: self.next.fetch_add(1, Ordering::Relaxed),
         };
-        let mut live = self
-            .live
-            .lock()
-            .map_err(|_| Error::Setup("the allocation table lock is poisoned".into()))?;
+        let mut live = self.live.lock().map_err(|_| Error::Thread {
+            what: "the GPU allocation table",
+        })?;
         live.insert(block.token, allocation);
         Ok(block)
     }

@@ -112,9 +112,7 @@ impl Gpu {
     pub fn for_window(options: &GpuOptions, display: RawDisplayHandle) -> Result<Gpu> {
         let surface_extensions =
             ash_window::enumerate_required_extensions(display).map_err(|result| {
-                Error::Setup(format!(
-                    "no Vulkan surface support for this window system ({result})"
-                ))
+                Error::setup("Vulkan surface support for this window system", result)
             })?;
         Gpu::create(options, surface_extensions, &[ash::khr::swapchain::NAME])
     }
@@ -126,11 +124,8 @@ impl Gpu {
     ) -> Result<Gpu> {
         // SAFETY: loading the Vulkan loader library has no preconditions beyond the
         // library itself being a conforming loader.
-        let entry = unsafe { ash::Entry::load() }.map_err(|e| {
-            Error::Setup(format!(
-                "cannot load the Vulkan loader (libvulkan.so.1): {e}"
-            ))
-        })?;
+        let entry = unsafe { ash::Entry::load() }
+            .map_err(|e| Error::setup("Vulkan loader (libvulkan.so.1)", e))?;
         let log = ValidationLog::default();
         let (instance, messenger) =
             instance::create(&entry, options.validation, &log, surface_extensions)?;

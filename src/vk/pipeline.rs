@@ -240,7 +240,10 @@ fn first_pipeline(
         .map_err(|(_, result)| Error::Vulkan { call, result })?
         .first()
         .copied()
-        .ok_or_else(|| Error::Setup(format!("{call} returned no pipeline")))
+        .ok_or(Error::Vulkan {
+            call,
+            result: vk::Result::INCOMPLETE,
+        })
 }
 
 /// How the target a pipeline draws into is rasterised and depth-tested: what an

@@ -57,10 +57,10 @@ impl Surface {
         }
         .vk("vkGetPhysicalDeviceSurfaceSupportKHR")?;
         if !supported {
-            return Err(Error::Setup(format!(
-                "the graphics queue of {} cannot present to this window",
-                gpu.info.name
-            )));
+            return Err(Error::setup(
+                "presentation to this window from the graphics queue",
+                &gpu.info.name,
+            ));
         }
         Ok(surface)
     }

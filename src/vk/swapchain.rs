@@ -113,7 +113,10 @@ impl Swapchain {
             }
         };
         let Some(format) = choose_format(&formats) else {
-            return Err(crate::Error::Setup("the surface offers no format".into()));
+            return Err(crate::Error::Setup {
+                missing: "surface format",
+                found: None,
+            });
         };
         if extent.width == 0 || extent.height == 0 {
             return Ok(None);

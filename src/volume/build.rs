@@ -123,22 +123,28 @@ impl VolumeReport {
     /// every front end (the command line prints them, Python warns): voxels left out
     /// for NaN or infinite coefficients, and outliers capped by the robust
     /// normalisation. Lines may mention settings, which each front end spells.
-    pub fn warnings(&self, file: &str) -> Vec<String> {
+    pub fn warnings(&self, file: &str) -> Vec<crate::error::Message> {
         let mut lines = Vec::new();
         if self.non_finite > 0 {
-            lines.push(format!(
-                "{file}: {} voxel(s) with NaN or infinite coefficients left out",
-                self.non_finite
-            ));
+            lines.push(
+                format!(
+                    "{file}: {} voxel(s) with NaN or infinite coefficients left out",
+                    self.non_finite
+                )
+                .into(),
+            );
         }
         if self.capped > 0 {
-            lines.push(format!(
-                "{file}: {} glyph(s) larger than {ROBUST_FACTOR} times the \
+            lines.push(crate::message![
+                format!(
+                    "{file}: {} glyph(s) larger than {ROBUST_FACTOR} times the \
                  {ROBUST_PERCENTILE}th percentile of the glyph sizes drawn at that size \
-                 (outliers; {} sizes every glyph by one factor)",
-                self.capped,
-                Setting::Norm.with("global")
-            ));
+                 (outliers; ",
+                    self.capped
+                ),
+                Setting::Norm.with("global"),
+                " sizes every glyph by one factor)"
+            ]);
         }
         lines
     }
@@ -439,8 +445,11 @@ fn truncated_kind(volume: &Volume, lmax: Option<u32>) -> Result<GlyphKind> {
             if lmax % 2 != 0 || lmax > band {
                 return Err(Error::input(
                     &volume.file,
-                    Setting::Lmax.mention().to_string(),
-                    format!("{lmax} must be even and at most the file's band {band}"),
+                    Setting::Lmax.name(),
+                    crate::message![
+                        Setting::Lmax.with(lmax),
+                        format!(" must be even and at most the file's band {band}")
+                    ],
                 ));
             }
             Ok(GlyphKind::Sh {
@@ -461,7 +470,7 @@ const NOTHING_TO_DRAW: &str = "no glyph to draw in the ";
 /// Whether `err` is [`volume_scene`]'s refusal of a selection that holds no glyph.
 pub fn is_nothing_to_draw(err: &Error) -> bool {
     matches!(err, Error::Input { field, message, .. }
-        if field == "voxels" && message.starts_with(NOTHING_TO_DRAW))
+        if field == "voxels" && message.to_string().starts_with(NOTHING_TO_DRAW))
 }
 
 fn nothing_to_draw(volume: &Volume, regions: &[SliceRegion], report: &VolumeReport) -> Error {
@@ -472,17 +481,19 @@ fn nothing_to_draw(volume: &Volume, regions: &[SliceRegion], report: &VolumeRepo
     Error::input(
         &volume.file,
         "voxels",
-        format!(
-            "{NOTHING_TO_DRAW}{} voxels selected ({} of them masked out, {} not finite, \
-             {} zero, {} below {}) in slice {}",
-            report.selected,
-            report.masked_out,
-            report.non_finite,
-            report.zero,
-            report.below_min_amplitude,
-            Setting::MinAmplitude.mention(),
-            slices.join(", "),
-        ),
+        crate::message![
+            format!(
+                "{NOTHING_TO_DRAW}{} voxels selected ({} of them masked out, {} not finite, \
+             {} zero, {} below ",
+                report.selected,
+                report.masked_out,
+                report.non_finite,
+                report.zero,
+                report.below_min_amplitude
+            ),
+            Setting::MinAmplitude,
+            format!(") in slice {}", slices.join(", "))
+        ],
     )
 }
 

@@ -35,9 +35,9 @@ pub struct VolumeView {
     pub underlay: Option<Underlay>,
     /// Notes for the user (the world plane asked for is another voxel axis; a basis
     /// name read as another front end reads it).
-    pub notes: Vec<String>,
+    pub notes: Vec<crate::error::Message>,
     /// Warnings for the user ([`super::VolumeReport::warnings`]).
-    pub warnings: Vec<String>,
+    pub warnings: Vec<crate::error::Message>,
 }
 
 /// The panels of a montage before their scenes are built
@@ -48,7 +48,7 @@ pub struct MontagePlan {
     /// Panels to a row: all of them for views, ceil(sqrt(N)) for a lightbox of N.
     pub columns: usize,
     /// Notes for the user (a world plane that is another voxel axis), each once.
-    pub notes: Vec<String>,
+    pub notes: Vec<crate::error::Message>,
 }
 
 /// The panels of a montage.
@@ -64,15 +64,15 @@ pub struct VolumeMontage {
     /// Panels to a row: all of them for views, ceil(sqrt(N)) for a lightbox of N.
     pub columns: usize,
     /// Notes for the user (a world plane that is another voxel axis), each once.
-    pub notes: Vec<String>,
+    pub notes: Vec<crate::error::Message>,
     /// Warnings for the user, for all panels together
     /// ([`super::VolumeReport::warnings`]).
-    pub warnings: Vec<String>,
+    pub warnings: Vec<crate::error::Message>,
 }
 
 impl VolumeFigure {
     /// The figure's notes and warnings.
-    pub fn messages(&self) -> (&[String], &[String]) {
+    pub fn messages(&self) -> (&[crate::error::Message], &[crate::error::Message]) {
         match self {
             VolumeFigure::View(view) => (&view.notes, &view.warnings),
             VolumeFigure::Montage(montage) => (&montage.notes, &montage.warnings),
@@ -101,7 +101,7 @@ impl VolumeRequest {
     /// the scene, and the underlay on its planes.
     pub fn view(&self, volume: Volume, mut options: VolumeOptions) -> Result<VolumeView> {
         let mut notes = volume.notes.clone();
-        notes.extend(slice_in_voxels(&mut options, &volume)?);
+        notes.extend(slice_in_voxels(&mut options, &volume)?.map(Into::into));
         let scene = volume_scene(&volume, &options)?;
         let underlay = self.underlay(&volume, &scene)?;
         let warnings = scene.report.warnings(&volume.file);
@@ -156,11 +156,10 @@ impl VolumeRequest {
     pub fn montage_plan(&self, volume: &Volume, image: ImageRequest) -> Result<MontagePlan> {
         self.check_montage()?;
         if !self.is_montage() {
-            return Err(Error::Usage(format!(
-                "no {} or {}",
-                Setting::Views.mention(),
-                Setting::Lightbox.mention()
-            )));
+            return Err(Error::Call {
+                call: "VolumeRequest::montage",
+                expected: "a request with views or a lightbox",
+            });
         }
         let mut options = self.options(image)?;
         options.mask = self.read_mask()?;
@@ -174,7 +173,7 @@ impl VolumeRequest {
                 match volume_scene(volume, &options) {
                     Err(err) if options.slice.index.is_none() && is_nothing_to_draw(&err) => {
                         let (found, note) = nearest_slice_with_glyphs(volume, &options);
-                        plan.notes.push(note);
+                        plan.notes.push(note.into());
                         if let Some((index, _)) = found {
                             options.slice.index = Some(index);
                             panels.push(options);
@@ -207,7 +206,7 @@ impl VolumeRequest {
         for slice in slices {
             let mut options = options.clone();
             options.slice = slice;
-            if let Some(note) = slice_in_voxels(&mut options, volume)?
+            if let Some(note) = slice_in_voxels(&mut options, volume)?.map(Into::into)
                 && !notes.contains(&note)
             {
                 notes.push(note);
@@ -242,7 +241,7 @@ impl VolumeRequest {
                         && is_nothing_to_draw(&err) =>
                 {
                     let (found, note) = nearest_slice_with_glyphs(volume, options);
-                    plan.notes.push(note);
+                    plan.notes.push(note.into());
                     panels.extend(found.map(|(_, scene)| scene));
                     first_error.get_or_insert(err);
                 }
@@ -407,13 +406,15 @@ fn slice_in_voxels(options: &mut VolumeOptions, volume: &Volume) -> Result<Optio
         return Err(Error::input(
             &volume.file,
             format!("dim[{}]", voxel + 1),
-            format!(
-                "{}: the {} plane is the slice of constant {letter} in this volume, which has \
-                 {length} voxels along {letter} (0..={})",
+            crate::message![
                 Setting::Slice.with(named),
-                named.axis.name(),
-                length.saturating_sub(1)
-            ),
+                format!(
+                    ": the {} plane is the slice of constant {letter} in this volume, which has \
+                 {length} voxels along {letter} (0..={})",
+                    named.axis.name(),
+                    length.saturating_sub(1)
+                )
+            ],
         ));
     }
     Ok(Some(format!(

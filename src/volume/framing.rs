@@ -263,15 +263,7 @@ pub fn frame_volume(
 
 /// The image size for a view `width` x `height` world units wide and high.
 fn image_size(width: f64, height: f64, request: ImageRequest) -> Result<ImageSize> {
-    for (name, side) in [("width", request.width), ("height", request.height)] {
-        if let Some(side) = side
-            && !(1..=MAX_IMAGE_SIDE).contains(&side)
-        {
-            return Err(Error::Invalid(format!(
-                "image {name} {side} must be in 1..={MAX_IMAGE_SIDE}"
-            )));
-        }
-    }
+    ImageRequest::checked(request.width, request.height)?;
     let aspect = width / height;
     let side = |value: f64| (value.round() as u32).clamp(1, MAX_IMAGE_SIDE);
     let long = f64::from(DEFAULT_LONG_SIDE);

@@ -19,7 +19,7 @@ use crate::io::image::{Image, ImageHeader, read_image};
 use crate::io::nifti::VoxelToWorld;
 use crate::scene::{GlyphKind, ShBasis};
 use crate::volume::PeakVolume;
-use crate::{Error, Result};
+use crate::{Error, Result, Setting};
 
 /// Highest SH band and tensor order of the scene format.
 /// Highest tensor order or SH band of a volume (the table in [`crate::catalog`]).
@@ -70,7 +70,7 @@ pub struct Volume {
     /// Notes for the user about how the file was read (a basis name that other tools
     /// read otherwise, a 6-volume SH file whose name suggests a tensor); the front ends
     /// print them with the figure.
-    pub notes: Vec<String>,
+    pub notes: Vec<crate::error::Message>,
     /// Shape [x, y, z, coefficients].
     data: Array4<f64>,
     /// No glyphs: the volume stands for a peak image's grid ([`Volume::grid_of_peaks`]).
@@ -259,9 +259,11 @@ impl FromStr for CoefficientFrame {
         match text {
             "voxel" => Ok(CoefficientFrame::Voxel),
             "world" => Ok(CoefficientFrame::World),
-            _ => Err(Error::Invalid(format!(
-                "'{text}' is not a frame: expected voxel or world"
-            ))),
+            _ => Err(Error::setting_value(
+                Setting::Frame,
+                format!("'{}'", crate::error::quoted(text)),
+                "expected voxel or world",
+            )),
         }
     }
 }
@@ -351,10 +353,11 @@ fn glyph_kind(file: &str, kind: VolumeKind, count: usize) -> Result<GlyphKind> {
         }
         VolumeKind::Tensor(layout) => {
             if !(1..=MAX_ORDER).contains(&layout.order) {
-                return Err(Error::Invalid(format!(
-                    "tensor order {} is outside 1..={MAX_ORDER}",
-                    layout.order
-                )));
+                return Err(Error::setting_value(
+                    Setting::Order,
+                    layout.order,
+                    format!("must be in 1 to {MAX_ORDER}"),
+                ));
             }
             let expected = layout.coefficient_count();
             if count != expected {

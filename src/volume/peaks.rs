@@ -259,15 +259,18 @@ impl PeakVolume {
                                     return Err(Error::input(
                                         &image.file,
                                         "data",
-                                        format!(
-                                            "peak {p} of voxel ({i}, {j}, {k}) has length \
-                                             {length:.4}: with {} the directions are DIPY's \
+                                        crate::message![
+                                            format!(
+                                                "peak {p} of voxel ({i}, {j}, {k}) has length \
+                                             {length:.4}: with "
+                                            ),
+                                            Setting::PeakValues,
+                                            " the directions are DIPY's \
                                              unit vectors; a file of direction times \
                                              amplitude (MRtrix sh2peaks, glyphcast peaks) \
-                                             goes without {}",
-                                            Setting::PeakValues.mention(),
-                                            Setting::PeakValues.mention()
-                                        ),
+                                             goes without ",
+                                            Setting::PeakValues
+                                        ],
                                     ));
                                 } else {
                                     ((v / length).to_array(), a)

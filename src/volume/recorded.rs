@@ -7,6 +7,7 @@
 //! itself records no basis: its SH images are always tournier07 (non-legacy), so an
 //! MRtrix file that records nothing is taken as that. A NIfTI file that records nothing
 //! says nothing, and `--basis` is then required.
+use crate::error::{Message, Piece};
 use crate::glyph::sh::{ShBasis, parse_basis};
 use crate::glyph::tensor_order::TensorOrder;
 use crate::glyph::{Symmetry, TensorLayout};
@@ -64,13 +65,14 @@ pub fn recorded_basis(image: &Image) -> Option<RecordedBasis> {
     })
 }
 
-fn show(basis: ShBasis, legacy: bool) -> String {
-    let name = basis.name();
+/// The basis's name, with the legacy setting after it for its legacy variant
+/// (`descoteaux07 --legacy` on the command line), as pieces of a message.
+fn show(basis: ShBasis, legacy: bool) -> Vec<Piece> {
+    let mut pieces = vec![Piece::from(basis.name())];
     if legacy {
-        format!("{name} {}", Setting::Legacy.mention())
-    } else {
-        name.to_string()
+        pieces.extend([Piece::from(" "), Piece::from(Setting::Legacy)]);
     }
+    pieces
 }
 
 /// The basis to draw `image` in: `given` (the basis setting) when it agrees with what
@@ -88,15 +90,23 @@ pub fn resolve_basis(
             Err(Error::input(
                 &image.file,
                 recorded.field,
-                format!(
-                    "the file records the SH basis {} but {} gives {}; leave out {}, or add {} \
-                     to draw in {} anyway",
-                    show(recorded.basis, recorded.legacy),
-                    Setting::Basis.mention(),
-                    show(given.0, given.1),
-                    Setting::Basis.mention(),
-                    Setting::ForceBasis.mention(),
-                    show(given.0, given.1),
+                Message::from_pieces(
+                    [
+                        vec!["the file records the SH basis ".into()],
+                        show(recorded.basis, recorded.legacy),
+                        vec![" but ".into(), Setting::Basis.into(), " gives ".into()],
+                        show(given.0, given.1),
+                        vec![
+                            "; leave out ".into(),
+                            Setting::Basis.into(),
+                            ", or add ".into(),
+                            Setting::ForceBasis.into(),
+                            " to draw in ".into(),
+                        ],
+                        show(given.0, given.1),
+                        vec![" anyway".into()],
+                    ]
+                    .concat(),
                 ),
             ))
         }
@@ -166,14 +176,19 @@ pub fn resolve_tensor_order(
             Err(Error::input(
                 &image.file,
                 description_field(image),
-                format!(
-                    "the file records its tensor entries in {}'s order ({}) but {} \
+                crate::message![
+                    format!(
+                        "the file records its tensor entries in {}'s order ({}) but ",
+                        recorded.owner(),
+                        recorded.entries()
+                    ),
+                    Setting::TensorOrder,
+                    format!(
+                        " \
                      gives {given} ({}); leave it out",
-                    recorded.owner(),
-                    recorded.entries(),
-                    Setting::TensorOrder.mention(),
-                    given.entries()
-                ),
+                        given.entries()
+                    )
+                ],
             ))
         }
         (Some(given), _) => Ok((given, OrderSource::Given)),
@@ -183,12 +198,13 @@ pub fn resolve_tensor_order(
                 Err(Error::input(
                     &image.file,
                     "comments",
-                    format!(
+                    crate::message![
                         "an order-4 MRtrix image that glyphcast did not write may be \
                          dwi2tensor -dkt's kurtosis tensor, whose order glyphcast does not \
-                         read; give {} if its entries are in glyphcast's order",
-                        Setting::TensorOrder.with("glyphcast")
-                    ),
+                         read; give ",
+                        Setting::TensorOrder.with("glyphcast"),
+                        " if its entries are in glyphcast's order"
+                    ],
                 ))
             }
             Some((_, ImageHeader::Mrtrix(_))) if symmetric && layout.order == 2 => {

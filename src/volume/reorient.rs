@@ -95,11 +95,13 @@ impl KindReorientation {
             return self.reorientation.apply(self.kind, coeffs);
         };
         if coeffs.len() != self.count {
-            return Err(Error::Invalid(format!(
-                "reorientation: {} coefficients for a glyph of {}",
-                coeffs.len(),
-                self.count
-            )));
+            return Err(Error::data(
+                "coefficients of a glyph to reorient",
+                crate::error::Problem::Count {
+                    expected: self.count,
+                    found: coeffs.len(),
+                },
+            ));
         }
         Ok(matrix
             .chunks_exact(self.count)
@@ -258,6 +260,6 @@ mod tests {
     #[test]
     fn wrong_length_is_an_error() {
         let err = rotate_full_tensor(2, &[1.0; 8], DMat3::IDENTITY).unwrap_err();
-        assert!(err.to_string().contains("needs 9"), "{err}");
+        assert!(err.to_string().contains("expected 9, found 8"), "{err}");
     }
 }

@@ -125,11 +125,11 @@ impl VolumeRequest {
         self.check_input(input)?;
         self.check_montage()?;
         if self.slice.is_some() && self.slices.is_some() {
-            return Err(Error::Usage(format!(
-                "give either {} or {}, not both",
-                Setting::Slice.mention(),
-                Setting::Slices.mention()
-            )));
+            return Err(Error::conflict(
+                Setting::Slice,
+                crate::error::Relation::Exclusive,
+                Setting::Slices,
+            ));
         }
         self.frame()?;
         self.given_basis()?;
@@ -151,19 +151,17 @@ impl VolumeRequest {
         {
             return Err(Error::setting(
                 *setting,
-                format!(
-                    "needs {} (the peaks it applies to)",
-                    Setting::Peaks.mention()
-                ),
+                crate::message!["needs ", Setting::Peaks, " (the peaks it applies to)"],
             ));
         }
         if matches!(self.peaks, Some(ImageSource::Memory(_))) && self.peak_values.is_some() {
             return Err(Error::setting(
                 Setting::PeakValues,
-                format!(
-                    "goes with a peak file; peaks in memory carry their amplitudes ({})",
-                    Setting::Peaks.mention()
-                ),
+                crate::message![
+                    "goes with a peak file; peaks in memory carry their amplitudes (",
+                    Setting::Peaks,
+                    ")"
+                ],
             ));
         }
         let color = self
@@ -323,14 +321,15 @@ impl VolumeRequest {
             Some(name) => parse_basis_choice(name, self.legacy).map(Some),
             None if self.legacy.is_some() => Err(Error::setting(
                 Setting::Legacy,
-                format!(
-                    "needs {} too (it picks the legacy variant of the basis)",
-                    Setting::Basis.mention()
-                ),
+                crate::message![
+                    "needs ",
+                    Setting::Basis,
+                    " too (it picks the legacy variant of the basis)"
+                ],
             )),
             None if self.force_basis => Err(Error::setting(
                 Setting::ForceBasis,
-                format!("needs {} (the basis to force)", Setting::Basis.mention()),
+                crate::message!["needs ", Setting::Basis, " (the basis to force)"],
             )),
             None => Ok(None),
         }
@@ -345,10 +344,7 @@ impl VolumeRequest {
         if self.underlay.is_none() {
             return Err(Error::setting(
                 Setting::UnderlayRange,
-                format!(
-                    "needs {} (the image it windows)",
-                    Setting::Underlay.mention()
-                ),
+                crate::message!["needs ", Setting::Underlay, " (the image it windows)"],
             ));
         }
         let parsed = text.split_once(':').and_then(|(lo, hi)| {
@@ -376,10 +372,7 @@ impl VolumeRequest {
         if self.underlay.is_none() {
             return Err(Error::setting(
                 Setting::UnderlayPlane,
-                format!(
-                    "needs {} (the image it places)",
-                    Setting::Underlay.mention()
-                ),
+                crate::message!["needs ", Setting::Underlay, " (the image it places)"],
             ));
         }
         text.parse()
@@ -388,22 +381,25 @@ impl VolumeRequest {
     /// A note when the basis is named `descoteaux07` with no legacy choice and `file`
     /// records no basis: the command line then reads the non-legacy basis (the scene
     /// format's meaning), while DIPY 1.x writes the legacy one unless told otherwise.
-    fn basis_note(&self, file: &Image) -> Option<String> {
+    fn basis_note(&self, file: &Image) -> Option<crate::error::Message> {
         let name = self.basis.as_deref()?;
         let ambiguous = name.trim().eq_ignore_ascii_case("descoteaux07")
             && self.legacy.is_none()
             && recorded_basis(file).is_none();
         ambiguous.then(|| {
-            format!(
-                "{}: {} is read as the non-legacy descoteaux07 basis (DIPY's legacy=False); \
-                 DIPY 1.x writes the legacy one unless told otherwise: give {} (or {}) for \
-                 that, {} to say non-legacy",
-                file.file,
+            crate::message![
+                format!("{}: ", file.file),
                 Setting::Basis.with("descoteaux07"),
+                " is read as the non-legacy descoteaux07 basis (DIPY's legacy=False); \
+                 DIPY 1.x writes the legacy one unless told otherwise: give ",
                 Setting::Basis.with("dipy"),
-                Setting::Legacy.mention(),
-                Setting::Basis.with("dipy-new")
-            )
+                " (or ",
+                Setting::Legacy,
+                ") for \
+                 that, ",
+                Setting::Basis.with("dipy-new"),
+                " to say non-legacy"
+            ]
         })
     }
 
@@ -443,10 +439,11 @@ impl VolumeRequest {
         self.order.ok_or_else(|| {
             Error::setting(
                 Setting::Order,
-                format!(
-                    "a tensor volume needs {} (the tensor order of its coefficients)",
-                    Setting::Order.with("N")
-                ),
+                crate::message![
+                    "a tensor volume needs ",
+                    Setting::Order.with("N"),
+                    " (the tensor order of its coefficients)"
+                ],
             )
         })
     }
@@ -517,10 +514,11 @@ impl VolumeRequest {
             return Err(Error::setting_value(
                 Setting::Glyph,
                 "ellipsoid",
-                format!(
-                    "draws order-2 symmetric tensors (DTI: a tensor volume with {}), not {name}",
-                    Setting::Order.with(2)
-                ),
+                crate::message![
+                    "draws order-2 symmetric tensors (DTI: a tensor volume with ",
+                    Setting::Order.with(2),
+                    format!("), not {name}")
+                ],
             ));
         }
         Ok(())
@@ -545,11 +543,11 @@ impl VolumeRequest {
         }
         match (&self.views, self.lightbox) {
             (Some(_), Some(_)) => {
-                return Err(Error::Usage(format!(
-                    "give either {} or {}, not both",
-                    Setting::Views.mention(),
-                    Setting::Lightbox.mention()
-                )));
+                return Err(Error::conflict(
+                    Setting::Views,
+                    crate::error::Relation::Exclusive,
+                    Setting::Lightbox,
+                ));
             }
             (Some(views), None) => {
                 super::figure::parse_views(views)?;
@@ -559,11 +557,7 @@ impl VolumeRequest {
                 if self.slices.is_some() {
                     return Err(Error::setting(
                         Setting::Lightbox,
-                        format!(
-                            "takes {}, not {}",
-                            Setting::Slice.mention(),
-                            Setting::Slices.mention()
-                        ),
+                        crate::message!["takes ", Setting::Slice, ", not ", Setting::Slices],
                     ));
                 }
                 if count == 0 || count > MAX_PANELS {
@@ -578,11 +572,13 @@ impl VolumeRequest {
         if self.slices.is_some() || (self.views.is_some() && self.slice.is_some()) {
             return Err(Error::setting(
                 Setting::Views,
-                format!(
-                    "names each panel's slice: give no {} or {} with it",
-                    Setting::Slice.mention(),
-                    Setting::Slices.mention()
-                ),
+                crate::message![
+                    "names each panel's slice: give no ",
+                    Setting::Slice,
+                    " or ",
+                    Setting::Slices,
+                    " with it"
+                ],
             ));
         }
         Ok(())
@@ -592,7 +588,7 @@ impl VolumeRequest {
 /// For six coefficients per voxel read as SH (band 2): an error when the file records a
 /// tensor fit (glyphcast's own record), a note when its header (NIfTI's symmetric-matrix
 /// intent) or its name (dt, dti, tensor) suggests a DTI tensor.
-fn tensor_hint(file: &Image) -> Result<Option<String>> {
+fn tensor_hint(file: &Image) -> Result<Option<crate::error::Message>> {
     if file.shape(4).get(3) != Some(&6) {
         return Ok(None);
     }
@@ -600,11 +596,11 @@ fn tensor_hint(file: &Image) -> Result<Option<String>> {
         return Err(Error::input(
             &file.file,
             description_field(file),
-            format!(
+            crate::message![
                 "records a symmetric order-2 tensor (glyphcast fit), not SH coefficients: draw \
-                 it as a tensor volume with {}",
+                 it as a tensor volume with ",
                 Setting::Order.with(2)
-            ),
+            ],
         ));
     }
     const NIFTI_INTENT_SYMMATRIX: i32 = 1005;
@@ -624,13 +620,17 @@ fn tensor_hint(file: &Image) -> Result<Option<String>> {
         (false, true) => "its name suggests a diffusion tensor",
         (false, false) => return Ok(None),
     };
-    Ok(Some(format!(
-        "{}: 6 coefficients per voxel, drawn as SH of band 2, but {why}: if it holds \
-         tensors, draw it as a tensor volume with {} (and {} naming the order of its entries)",
-        file.file,
+    Ok(Some(crate::message![
+        format!(
+            "{}: 6 coefficients per voxel, drawn as SH of band 2, but {why}: if it holds \
+         tensors, draw it as a tensor volume with ",
+            file.file
+        ),
         Setting::Order.with(2),
-        Setting::TensorOrder.mention()
-    )))
+        " (and ",
+        Setting::TensorOrder,
+        " naming the order of its entries)"
+    ]))
 }
 
 /// `volume`'s DTI entries put in glyphcast's order from `stored`; an order only assumed
@@ -655,22 +655,26 @@ fn in_glyphcast_order(
             return Err(Error::input(
                 &volume.file,
                 "values",
-                format!(
-                    "{} of {} tensors are not positive definite read in {}'s order \
+                crate::message![
+                    format!(
+                        "{} of {} tensors are not positive definite read in {}'s order \
                      ({}), {} in {}'s ({}): the entries are not in {}'s order, and \
-                     nothing records theirs; give {} (or {} to draw them as they are read \
-                     now)",
-                    evidence.not_positive_in(stored),
-                    evidence.tensors,
-                    stored.owner(),
-                    stored.entries(),
-                    evidence.not_positive_in(other),
-                    other.owner(),
-                    other.entries(),
-                    stored.owner(),
+                     nothing records theirs; give ",
+                        evidence.not_positive_in(stored),
+                        evidence.tensors,
+                        stored.owner(),
+                        stored.entries(),
+                        evidence.not_positive_in(other),
+                        other.owner(),
+                        other.entries(),
+                        stored.owner()
+                    ),
                     Setting::TensorOrder.with(other),
+                    " (or ",
                     Setting::TensorOrder.with(stored),
-                ),
+                    " to draw them as they are read \
+                     now)"
+                ],
             ));
         }
     }
@@ -690,12 +694,13 @@ where
 pub fn underlay_with_montage() -> Error {
     Error::setting(
         Setting::Underlay,
-        format!(
+        crate::message![
             "is drawn under a montage's panels by render and the Python module; the \
-             viewer shows it on single views only: not with {} or {}",
-            Setting::Views.mention(),
-            Setting::Lightbox.mention()
-        ),
+             viewer shows it on single views only: not with ",
+            Setting::Views,
+            " or ",
+            Setting::Lightbox
+        ],
     )
 }
 
@@ -816,7 +821,7 @@ mod tests {
                     ..base.clone()
                 },
                 Coefficients::Tensor,
-                None,
+                Some(Setting::Views),
             ),
             (
                 VolumeRequest {
@@ -825,7 +830,7 @@ mod tests {
                     ..base.clone()
                 },
                 Coefficients::Tensor,
-                None,
+                Some(Setting::Slice),
             ),
         ];
         for (request, input, setting) in cases {
@@ -833,8 +838,14 @@ mod tests {
             assert_eq!(err.setting_of(), setting, "{err}");
             let text = err.to_string();
             assert!(!text.contains("--"), "{text}");
-            if let Some(setting) = setting {
-                assert!(text.starts_with(setting.name()), "{text}");
+            assert!(err.is_usage(), "{text}");
+            match (&err, setting) {
+                // Options that clash name both sides.
+                (Error::Conflict { .. }, Some(setting)) => {
+                    assert!(text.contains(setting.name()), "{text}")
+                }
+                (_, Some(setting)) => assert!(text.starts_with(setting.name()), "{text}"),
+                (_, None) => {}
             }
         }
         // Values the options cannot parse.

@@ -271,13 +271,15 @@ impl SliceRegion {
             return Err(Error::input(
                 file,
                 format!("dim[{}]", axis + 1),
-                format!(
-                    "{}: index {index} is outside the volume's {} voxels along {} (0..={})",
+                crate::message![
                     Setting::Slice.with(slice),
-                    length,
-                    ["i", "j", "k"][axis],
-                    length.saturating_sub(1)
-                ),
+                    format!(
+                        ": index {index} is outside the volume's {} voxels along {} (0..={})",
+                        length,
+                        ["i", "j", "k"][axis],
+                        length.saturating_sub(1)
+                    )
+                ],
             ));
         }
         let mut region: [Range<usize>; 3] = [0..dims[0], 0..dims[1], 0..dims[2]];
@@ -292,11 +294,15 @@ impl SliceRegion {
         if region.iter().any(|r| r.is_empty()) {
             return Err(Error::input(
                 file,
-                Setting::Voxels.mention().to_string(),
-                format!(
-                    "the ranges leave no voxel of the {slice} slice of this {} volume",
-                    show_shape(&dims)
-                ),
+                Setting::Voxels.name(),
+                crate::message![
+                    "the ranges of ",
+                    Setting::Voxels,
+                    format!(
+                        " leave no voxel of the {slice} slice of this {} volume",
+                        show_shape(&dims)
+                    )
+                ],
             ));
         }
         Ok(SliceRegion {

@@ -88,7 +88,12 @@ pub fn underlay_of_image(image: Image) -> Result<(UnderlayVolume, AffineSource)>
     let mut values = Vec::new();
     values
         .try_reserve_exact(dims.iter().product::<usize>() * channels)
-        .map_err(|_| Error::OutOfMemory(format!("{}: the underlay does not fit", image.file)))?;
+        .map_err(|_| Error::OutOfMemory {
+            what: "the underlay's values",
+            file: Some(image.file.clone()),
+            bytes: Some((dims.iter().product::<usize>() * channels * size_of::<f32>()) as u64),
+            settings: &[],
+        })?;
     // The stored axes beyond the trimmed shape all have length 1: index 0 there.
     let mut index = vec![0usize; image.data.ndim()];
     for k in 0..dims[2] {

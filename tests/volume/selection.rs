@@ -218,7 +218,7 @@ fn an_outlier_does_not_shrink_the_other_glyphs_by_default() {
     assert!(
         warnings
             .iter()
-            .any(|w| w.contains("1 glyph(s) larger than")),
+            .any(|w| w.to_string().contains("1 glyph(s) larger than")),
         "{warnings:?}"
     );
     let largest = after.iter().map(|r| r.1).fold(0.0, f64::max);

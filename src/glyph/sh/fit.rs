@@ -14,6 +14,7 @@ use glam::DVec3;
 use nalgebra::DMatrix;
 
 use super::{check_band, sh_basis_values, sh_count, sh_orders};
+use crate::error::{Problem, Setting};
 use crate::glyph::sh::ShBasis;
 use crate::{Error, Result};
 
@@ -48,9 +49,11 @@ impl ShFitter {
     ) -> Result<Self> {
         check_band(band)?;
         if !(lambda.is_finite() && lambda >= 0.0) {
-            return Err(Error::Invalid(format!(
-                "SH fit: lambda must be finite and >= 0, found {lambda}"
-            )));
+            return Err(Error::setting_value(
+                Setting::Lambda,
+                lambda,
+                "an SH fit's weight must be finite and at least 0",
+            ));
         }
         let directions = normalised(directions)?;
         let basis_matrix = basis_matrix(band, basis, legacy, &directions);
@@ -96,11 +99,13 @@ impl ShFitter {
     /// [`ShFitter::fit`], with Err when `samples.len()` is not the number of directions.
     pub fn try_fit(&self, samples: &[f64]) -> Result<Vec<f64>> {
         if samples.len() != self.directions.len() {
-            return Err(Error::Invalid(format!(
-                "SH fit: expected {} samples (one per direction), found {}",
-                self.directions.len(),
-                samples.len()
-            )));
+            return Err(Error::data(
+                "SH fit samples (one per direction)",
+                Problem::Count {
+                    expected: self.directions.len(),
+                    found: samples.len(),
+                },
+            ));
         }
         Ok(self.fit(samples))
     }
@@ -117,9 +122,8 @@ fn normalised(directions: &[DVec3]) -> Result<Vec<DVec3>> {
         .iter()
         .enumerate()
         .map(|(i, d)| {
-            d.try_normalize().ok_or_else(|| {
-                Error::Invalid(format!("SH fit: direction {i} ({d}) is zero or not finite"))
-            })
+            d.try_normalize()
+                .ok_or_else(|| Error::data("SH fit directions", Problem::ZeroVector { index: i }))
         })
         .collect()
 }
@@ -144,10 +148,14 @@ fn solve_matrix(band: u32, b: &DMatrix<f64>, lambda: f64) -> Result<DMatrix<f64>
     let qr = stacked.qr();
     let r = qr.r();
     let undetermined = |condition: f64| {
-        Error::Invalid(format!(
-            "SH fit: {n} directions do not determine the {cols} coefficients of band {band} \
-             (condition number estimate {condition:.3e})"
-        ))
+        Error::data(
+            "SH fit directions",
+            Problem::IllConditioned {
+                known: n,
+                unknowns: cols,
+                condition,
+            },
+        )
     };
     let r_inverse = r
         .solve_upper_triangular(&DMatrix::identity(cols, cols))

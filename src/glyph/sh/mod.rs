@@ -23,6 +23,7 @@
 //!   exact substitution instead (`crate::glyph::rotate`).
 //! - Matrices that depend only on (band, basis, legacy) are built once and shared
 //!   through `Arc`s from a process-wide cache (`cache`).
+use crate::error::Problem;
 use crate::{Error, Result};
 
 mod basis;
@@ -70,14 +71,17 @@ pub const fn sh_index(l: u32, m: i32) -> usize {
 /// Err unless `band` is even and at most [`MAX_SH_BAND`].
 pub fn check_band(band: u32) -> Result<()> {
     if !band.is_multiple_of(2) {
-        return Err(Error::Invalid(format!(
-            "SH band {band} is odd; only even bands 0, 2, ..., {MAX_SH_BAND} are supported"
-        )));
+        return Err(Error::data("SH band", Problem::Odd { value: band.into() }));
     }
     if band > MAX_SH_BAND {
-        return Err(Error::Invalid(format!(
-            "SH band {band} is outside 0..={MAX_SH_BAND}"
-        )));
+        return Err(Error::data(
+            "SH band",
+            Problem::OutOfRange {
+                value: band.into(),
+                min: 0.0,
+                max: MAX_SH_BAND.into(),
+            },
+        ));
     }
     Ok(())
 }
@@ -87,16 +91,22 @@ pub fn check_coefficients(band: u32, coeffs: &[f64]) -> Result<()> {
     check_band(band)?;
     let expected = sh_count(band);
     if coeffs.len() != expected {
-        return Err(Error::Invalid(format!(
-            "expected {expected} SH coefficients for band {band}, found {}",
-            coeffs.len()
-        )));
+        return Err(Error::data(
+            "SH coefficients",
+            Problem::Count {
+                expected,
+                found: coeffs.len(),
+            },
+        ));
     }
     if let Some(i) = coeffs.iter().position(|c| !c.is_finite()) {
-        return Err(Error::Invalid(format!(
-            "SH coefficient {i} is not finite ({})",
-            coeffs[i]
-        )));
+        return Err(Error::data(
+            "SH coefficients",
+            Problem::NotFinite {
+                index: i,
+                value: coeffs[i],
+            },
+        ));
     }
     Ok(())
 }

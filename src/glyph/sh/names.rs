@@ -52,19 +52,23 @@ pub fn parse_basis_choice(name: &str, legacy: Option<bool>) -> Result<(ShBasis, 
             && legacy != alias_legacy
         {
             let why = if alias_legacy {
-                format!(
-                    "names the legacy {} basis (DIPY's default); for the non-legacy one give {}",
-                    basis.name(),
+                crate::message![
+                    format!(
+                        "names the legacy {} basis (DIPY's default); for the non-legacy one give ",
+                        basis.name()
+                    ),
                     Setting::Basis.with("dipy-new")
-                )
+                ]
             } else {
-                format!(
-                    "names the non-legacy {} basis; leave out {} (or give {} {})",
-                    basis.name(),
-                    Setting::Legacy.mention(),
+                crate::message![
+                    format!("names the non-legacy {} basis; leave out ", basis.name()),
+                    Setting::Legacy,
+                    " (or give ",
                     Setting::Basis.with(basis.name()),
-                    Setting::Legacy.mention()
-                )
+                    " ",
+                    Setting::Legacy,
+                    ")"
+                ]
             };
             return Err(Error::setting_value(
                 Setting::Basis,

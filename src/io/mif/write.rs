@@ -56,9 +56,10 @@ pub fn mif_bytes(image: &MifWrite) -> Result<Vec<u8>> {
     let shape = image.data.shape();
     for (key, value) in image.keys {
         if key.contains([':', '\n']) || value.contains('\n') {
-            return Err(Error::Invalid(format!(
-                "MRtrix header key '{key}' or its value holds a newline or colon"
-            )));
+            return Err(Error::Call {
+                call: "mif_bytes",
+                expected: "header keys without a colon or newline, values without a newline",
+            });
         }
     }
     let mut text = format!("{MAGIC}\n");

@@ -68,7 +68,7 @@ impl<'a> Field<'a> {
     }
 
     pub(super) fn error(&self, message: impl Into<String>) -> Error {
-        Error::input(self.file, self.path.to_string(), message)
+        Error::input(self.file, self.path.to_string(), message.into())
     }
 
     fn mismatch(&self, expected: &str) -> Error {

@@ -59,7 +59,10 @@ fn assert_input_error(result: Result<Scene>, field: &str, fragment: &str) {
     };
     assert_eq!(file, FILE, "{text}");
     assert_eq!(found, field, "{text}");
-    assert!(message.contains(fragment), "{text:?} lacks {fragment:?}");
+    assert!(
+        message.to_string().contains(fragment),
+        "{text:?} lacks {fragment:?}"
+    );
     assert!(text.starts_with(&format!("{FILE}: {field}: ")), "{text}");
     assert!(!text.contains('\n'), "one line: {text}");
 }

@@ -36,13 +36,16 @@ pub fn supersampled_size(width: u32, height: u32, factor: u32, samples: u32) -> 
         return Err(Error::setting_value(
             Setting::Samples,
             samples,
-            format!(
-                "draws {width} x {height} at {factor} times the size, {w} x {h}, beyond \
-                 {MAX_IMAGE_SIDE} pixels per side: ask for fewer samples or a smaller \
-                 image (at most {} pixels per side with {})",
-                MAX_IMAGE_SIDE / factor,
-                Setting::Samples.with(samples)
-            ),
+            crate::message![
+                format!(
+                    "draws {width} x {height} at {factor} times the size, {w} x {h}, beyond \
+                     {MAX_IMAGE_SIDE} pixels per side: ask for fewer samples or a smaller \
+                     image (at most {} pixels per side with ",
+                    MAX_IMAGE_SIDE / factor
+                ),
+                Setting::Samples.with(samples),
+                ")"
+            ],
         ));
     }
     Ok((w as u32, h as u32))
@@ -65,16 +68,23 @@ fn linear_to_srgb_byte(linear: f64) -> u8 {
 pub fn box_filter(big: &[u8], width: u32, height: u32, factor: u32) -> Result<Vec<u8>> {
     let (w, h, s) = (width as usize, height as usize, factor as usize);
     if big.len() != 4 * w * s * h * s {
-        return Err(Error::Invalid(format!(
-            "supersampled image of {} bytes is not {w} x {h} at {s} times the size",
-            big.len()
-        )));
+        return Err(Error::data(
+            "bytes of the supersampled image",
+            crate::error::Problem::Count {
+                expected: 4 * w * s * h * s,
+                found: big.len(),
+            },
+        ));
     }
     let linear: Vec<f64> = (0..=255u8).map(|b| srgb_to_linear(b) as f64).collect();
     let mut out = Vec::new();
-    out.try_reserve_exact(4 * w * h).map_err(|_| {
-        Error::OutOfMemory(format!("a {width} x {height} image could not be allocated"))
-    })?;
+    out.try_reserve_exact(4 * w * h)
+        .map_err(|_| Error::OutOfMemory {
+            what: "the antialiased image",
+            file: None,
+            bytes: Some(4 * w as u64 * h as u64),
+            settings: &[],
+        })?;
     let row = 4 * w * s;
     let n = (s * s) as f64;
     for y in 0..h {

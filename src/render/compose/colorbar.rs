@@ -138,12 +138,11 @@ impl ColorBar {
 
     fn check(&self) -> Result<()> {
         if !(self.low.is_finite() && self.high.is_finite() && self.high > self.low) {
-            return Err(Error::Invalid(format!(
-                "{}: the range {}:{} needs finite ends, low < high",
-                Setting::Colorbar.mention(),
-                self.low,
-                self.high
-            )));
+            return Err(Error::setting_value(
+                Setting::Colorbar,
+                format_args!("{}:{}", self.low, self.high),
+                "the range needs finite ends, low < high",
+            ));
         }
         Ok(())
     }
@@ -222,11 +221,13 @@ impl ColorBar {
     ) -> Result<(u32, Vec<u8>, Vec<f32>)> {
         let pixels = width as usize * height as usize;
         if rgba.len() != 4 * pixels || distance.len() != pixels {
-            return Err(Error::Invalid(format!(
-                "colour bar: {} bytes and {} depths for a {width}x{height} image",
-                rgba.len(),
-                distance.len()
-            )));
+            return Err(Error::data(
+                "colour bar image's bytes and depths",
+                crate::error::Problem::Count {
+                    expected: 5 * pixels,
+                    found: rgba.len() + distance.len(),
+                },
+            ));
         }
         let (strip_width, strip) = self.strip(height, background)?;
         let total = width + strip_width;
@@ -330,10 +331,10 @@ pub fn check_colorbar(settings: &RenderSettings) -> Result<()> {
     }
     Err(Error::setting(
         Setting::Colorbar,
-        format!(
-            "shows the magnitude colour map: it needs {}",
+        crate::message![
+            "shows the magnitude colour map: it needs ",
             Setting::Color.with("magnitude")
-        ),
+        ],
     ))
 }
 
@@ -350,7 +351,7 @@ pub fn common_scale<'a>(scenes: impl IntoIterator<Item = &'a Scene>) -> Option<f
 
 fn font() -> Result<FontRef<'static>> {
     FontRef::try_from_slice(dejavu_sans()?)
-        .map_err(|err| Error::Setup(format!("DejaVu Sans: {err}")))
+        .map_err(|err| Error::setup("usable DejaVu Sans font", err))
 }
 
 #[cfg(test)]
@@ -439,6 +440,9 @@ mod tests {
             label: String::new(),
         };
         let err = bar.append(&[0; 4], &[0.0], 1, 1, [0.0; 4]);
-        assert!(matches!(err, Err(Error::Invalid(m)) if m.contains("low < high")));
+        assert!(
+            matches!(&err, Err(Error::Setting { setting: Setting::Colorbar, message, .. })
+                if message.to_string().contains("low < high"))
+        );
     }
 }

@@ -35,10 +35,10 @@ pub fn dejavu_sans() -> Result<&'static [u8]> {
     FONT.get_or_init(|| FONT_PATHS.iter().find_map(|p| std::fs::read(p).ok()))
         .as_deref()
         .ok_or_else(|| {
-            Error::Setup(format!(
-                "text needs DejaVu Sans (Debian: fonts-dejavu-core); looked in {}",
-                FONT_PATHS.join(", ")
-            ))
+            Error::setup(
+                "DejaVu Sans font, which text needs (Debian: fonts-dejavu-core)",
+                format_args!("looked in {}", FONT_PATHS.join(", ")),
+            )
         })
 }
 
@@ -90,13 +90,16 @@ pub fn draw_edge_labels(
     labels: &EdgeLabels,
 ) -> Result<()> {
     if rgba.len() != 4 * width as usize * height as usize {
-        return Err(Error::Invalid(format!(
-            "labels: {} bytes for a {width}x{height} RGBA image",
-            rgba.len()
-        )));
+        return Err(Error::data(
+            "bytes of the labelled RGBA image",
+            crate::error::Problem::Count {
+                expected: 4 * width as usize * height as usize,
+                found: rgba.len(),
+            },
+        ));
     }
     let font = FontRef::try_from_slice(dejavu_sans()?)
-        .map_err(|err| Error::Setup(format!("DejaVu Sans: {err}")))?;
+        .map_err(|err| Error::setup("usable DejaVu Sans font", err))?;
     let size = (LETTER_FRACTION * width.min(height) as f32).max(MIN_LETTER_PX);
     let scaled = font.as_scaled(PxScale::from(size));
     let (w, h) = (width as f32, height as f32);
@@ -144,13 +147,16 @@ pub fn draw_edge_labels(
 /// at their size.
 pub fn draw_caption(rgba: &mut [u8], width: u32, height: u32, text: &str) -> Result<()> {
     if rgba.len() != 4 * width as usize * height as usize {
-        return Err(Error::Invalid(format!(
-            "caption: {} bytes for a {width}x{height} RGBA image",
-            rgba.len()
-        )));
+        return Err(Error::data(
+            "bytes of the captioned RGBA image",
+            crate::error::Problem::Count {
+                expected: 4 * width as usize * height as usize,
+                found: rgba.len(),
+            },
+        ));
     }
     let font = FontRef::try_from_slice(dejavu_sans()?)
-        .map_err(|err| Error::Setup(format!("DejaVu Sans: {err}")))?;
+        .map_err(|err| Error::setup("usable DejaVu Sans font", err))?;
     let size = (LETTER_FRACTION * width.min(height) as f32).max(MIN_LETTER_PX);
     let scaled = font.as_scaled(PxScale::from(size));
     let (margin, cap) = (0.3 * size, 0.73 * scaled.ascent());

@@ -50,12 +50,12 @@ impl Grid {
         let width = u64::from(self.cell.0) * self.columns as u64;
         let height = u64::from(self.cell.1) * self.rows as u64;
         if width > u64::from(MAX_SIDE) || height > u64::from(MAX_SIDE) {
-            return Err(Error::Usage(format!(
-                "the montage would be {width}x{height} pixels; at most {MAX_SIDE} a side: \
-                 give a smaller {}/{}",
-                Setting::Width.mention(),
-                Setting::Height.mention()
-            )));
+            return Err(Error::Limit {
+                what: "montage side in pixels",
+                value: width.max(height),
+                limit: u64::from(MAX_SIDE),
+                settings: &[Setting::Width, Setting::Height],
+            });
         }
         Ok((width as u32, height as u32))
     }
@@ -316,6 +316,8 @@ mod tests {
     #[test]
     fn too_large_a_grid_is_a_usage_error() {
         let grid = Grid::new((MAX_SIDE, 10), 2, 2);
-        assert!(matches!(grid.size(), Err(Error::Usage(_))));
+        assert!(
+            matches!(grid.size(), Err(Error::Limit { value, .. }) if value > u64::from(MAX_SIDE))
+        );
     }
 }

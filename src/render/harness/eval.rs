@@ -19,8 +19,10 @@ pub fn evaluate_on_gpu(
     coefficients: &[f32],
     points: &[[f32; 4]],
 ) -> Result<Vec<[f32; 4]>> {
-    let shader = eval_shader(layout)
-        .ok_or_else(|| Error::Invalid(format!("no evaluation shader for {layout:?}")))?;
+    let shader = eval_shader(layout).ok_or_else(|| Error::Unsupported {
+        what: format!("{layout:?}"),
+        by: "the evaluation shaders".into(),
+    })?;
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
     let coeff_buffer =
         Buffer::with_data(gpu.context(), "eval coefficients", coefficients, storage)?;

@@ -47,8 +47,10 @@ pub fn ranges_on_gpu(
     coefficients: &[f32],
     queries: &[RangeQuery],
 ) -> Result<Vec<RangeResult>> {
-    let shader = range_shader(layout)
-        .ok_or_else(|| Error::Invalid(format!("no range shader for {layout:?}")))?;
+    let shader = range_shader(layout).ok_or_else(|| Error::Unsupported {
+        what: format!("{layout:?}"),
+        by: "the range shaders".into(),
+    })?;
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
     let coeff_buffer =
         Buffer::with_data(gpu.context(), "range coefficients", coefficients, storage)?;

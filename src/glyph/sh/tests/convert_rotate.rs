@@ -133,7 +133,7 @@ fn rotation_commutes_with_the_tensor_map() {
 
 #[test]
 fn rotation_rejects_bad_input() {
-    let invalid = |r: crate::Result<Vec<f64>>| matches!(r, Err(Error::Invalid(_)));
+    let invalid = |r: crate::Result<Vec<f64>>| matches!(r, Err(Error::Data { .. }));
     let shear = DMat3::from_cols(DVec3::X, DVec3::new(0.1, 1.0, 0.0), DVec3::Z);
     assert!(invalid(rotate_sh(
         2,

@@ -5,6 +5,7 @@ use nalgebra::DMatrix;
 
 use super::{ALL_BASES, Rng, test_directions};
 use crate::Error;
+use crate::error::Problem;
 use crate::glyph::monomials::{monomials, multiplicity, symmetric_count};
 use crate::glyph::polynomial::GlyphPolynomial;
 use crate::glyph::sh::ShBasis;
@@ -123,19 +124,36 @@ fn matrices_are_cached_and_bad_input_is_rejected() {
         }
         _ => panic!("band 8 must be accepted"),
     }
-    let message = |r: crate::Result<(u32, Vec<f64>)>| match r {
-        Err(Error::Invalid(m)) => m,
-        other => panic!("expected Error::Invalid, got {other:?}"),
+    let problem = |r: crate::Result<(u32, Vec<f64>)>| match r {
+        Err(Error::Data { problem, .. }) => problem,
+        other => panic!("expected Error::Data, got {other:?}"),
     };
+    let short = sh_to_tensor(8, ShBasis::Tournier07, false, &[0.0; 44]);
     assert_eq!(
-        message(sh_to_tensor(8, ShBasis::Tournier07, false, &[0.0; 44])),
-        "expected 45 SH coefficients for band 8, found 44"
+        short.as_ref().map_err(ToString::to_string).err().as_deref(),
+        Some("SH coefficients: expected 45, found 44")
     );
-    assert!(message(sh_to_tensor(7, ShBasis::Tournier07, false, &[0.0; 36])).contains("odd"));
-    assert!(message(sh_to_tensor(18, ShBasis::Tournier07, false, &[0.0; 190])).contains("0..=16"));
+    assert_eq!(
+        problem(short),
+        Problem::Count {
+            expected: 45,
+            found: 44
+        }
+    );
+    assert_eq!(
+        problem(sh_to_tensor(7, ShBasis::Tournier07, false, &[0.0; 36])),
+        Problem::Odd { value: 7 }
+    );
+    assert!(matches!(
+        problem(sh_to_tensor(18, ShBasis::Tournier07, false, &[0.0; 190])),
+        Problem::OutOfRange { max: 16.0, .. }
+    ));
     let mut w = vec![0.0; 6];
     w[3] = f64::NAN;
-    assert!(message(sh_to_tensor(2, ShBasis::Tournier07, false, &w)).contains("not finite"));
+    assert!(matches!(
+        problem(sh_to_tensor(2, ShBasis::Tournier07, false, &w)),
+        Problem::NotFinite { index: 3, .. }
+    ));
 }
 
 #[test]
