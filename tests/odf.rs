@@ -21,7 +21,7 @@ use glyphcast::fit::dti::DiffusionTensor;
 use glyphcast::fit::peaks::{PeakFinder, PeakOptions};
 use glyphcast::fit::response::{DEFAULT_RESPONSE_FA, estimate_response};
 use glyphcast::fit::{
-    CsdAlgorithm, FitInputs, FitModel, OdfMethod, Response, fit, fit_with_response,
+    CsdAlgorithm, FitInputs, FitModel, OdfMethod, OdfModel, Response, fit, fit_with_response,
 };
 use glyphcast::glyph::sh::{sh_count, sh_eval};
 use glyphcast::scene::ShBasis;
@@ -54,7 +54,7 @@ fn series(volume: &Array4<f64>, [x, y, z]: [usize; 3]) -> Vec<f64> {
 }
 
 fn odf_model(method: OdfMethod, band: u32, lambda: f64) -> FitModel {
-    FitModel::Odf {
+    FitModel::Odf(OdfModel {
         method,
         band,
         basis: DIPY_BASIS.0,
@@ -63,7 +63,7 @@ fn odf_model(method: OdfMethod, band: u32, lambda: f64) -> FitModel {
         tau: 0.1,
         // The DIPY fixture's algorithm; `fit`'s default is MRtrix's (tests/csd_mrtrix.rs).
         csd: CsdAlgorithm::Dipy,
-    }
+    })
 }
 
 fn median(mut values: Vec<f64>) -> f64 {

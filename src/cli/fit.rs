@@ -10,7 +10,7 @@ use glyphcast::fit::gradients::BvecConvention;
 use glyphcast::fit::output::{check_output_path, output_tensor_order, write_output};
 use glyphcast::fit::response::{DEFAULT_RESPONSE_FA, estimate_response};
 use glyphcast::fit::{
-    DEFAULT_LAMBDA, FitFiles, FitInputs, FitModel, OdfMethod, Response, fit_with_response,
+    DEFAULT_LAMBDA, FitFiles, FitInputs, FitModel, OdfMethod, OdfModel, Response, fit_with_response,
 };
 use glyphcast::glyph::sh::parse_basis;
 use glyphcast::glyph::tensor_order::TensorOrder;
@@ -148,7 +148,7 @@ impl FitArgs {
                 (OdfMethod::Csd, CsdAlgorithm::Dipy) => (DEFAULT_CSD_LAMBDA, DEFAULT_CSD_TAU),
                 _ => (DEFAULT_LAMBDA, DEFAULT_CSD_TAU),
             };
-            FitModel::Odf {
+            FitModel::Odf(OdfModel {
                 method,
                 band: self.order,
                 basis,
@@ -156,7 +156,7 @@ impl FitArgs {
                 lambda: self.lambda.unwrap_or(default_lambda),
                 tau: self.tau.unwrap_or(default_tau),
                 csd,
-            }
+            })
         } else if self.sh {
             let (basis, legacy) = parse_basis(&self.basis, self.legacy)?;
             FitModel::Sh {
@@ -176,10 +176,10 @@ impl FitArgs {
 pub fn run(args: FitArgs) -> Result<()> {
     let model = args.model()?;
     let convention: BvecConvention = args.bvec_convention.parse()?;
-    if let FitModel::Odf {
+    if let FitModel::Odf(OdfModel {
         method: OdfMethod::Msmt,
         ..
-    } = model
+    }) = model
     {
         return msmt::run(&args, &model, convention);
     }
@@ -233,11 +233,13 @@ fn load_inputs(args: &FitArgs, convention: BvecConvention) -> Result<FitInputs> 
 /// CSD's response: read from --response (its bands checked against --order), or
 /// estimated from the data and reported; `None` for the other models.
 fn csd_response(args: &FitArgs, model: &FitModel, inputs: &FitInputs) -> Result<Option<Response>> {
-    let FitModel::Odf {
-        method: OdfMethod::Csd,
-        band,
-        ..
-    } = *model
+    let FitModel::Odf(
+        odf @ OdfModel {
+            method: OdfMethod::Csd,
+            band,
+            ..
+        },
+    ) = *model
     else {
         return Ok(None);
     };
@@ -245,11 +247,7 @@ fn csd_response(args: &FitArgs, model: &FitModel, inputs: &FitInputs) -> Result<
         // Bands past the response's last are zero (as dwi2fod -lmax takes them): the
         // constraint alone shapes those bands of the fODF.
         let response = Response::read(path)?;
-        if let FitModel::Odf {
-            csd: CsdAlgorithm::Mrtrix,
-            ..
-        } = *model
-        {
+        if odf.csd == CsdAlgorithm::Mrtrix {
             csd_mrtrix::check_response(&response)
                 .map_err(|why| Error::input(path.display().to_string(), "response", why))?;
         }

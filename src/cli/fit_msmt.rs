@@ -11,7 +11,7 @@ use glyphcast::fit::response::DEFAULT_RESPONSE_FA;
 use glyphcast::fit::response_msmt::{
     CSF_MIN_MD, GM_MAX_MD, ISO_FA, estimate_responses, read_responses,
 };
-use glyphcast::fit::{FitInputs, FitModel, OdfMethod};
+use glyphcast::fit::{FitInputs, FitModel, OdfMethod, OdfModel};
 use glyphcast::glyph::tensor_order::TensorOrder;
 use glyphcast::{Error, Result, Setting};
 
@@ -83,16 +83,7 @@ fn beside(path: &Path, tissue: &str) -> PathBuf {
 }
 
 pub(super) fn run(args: &FitArgs, model: &FitModel, convention: BvecConvention) -> Result<()> {
-    let FitModel::Odf {
-        method,
-        band,
-        basis,
-        legacy,
-        lambda,
-        tau,
-        csd,
-    } = *model
-    else {
+    let FitModel::Odf(odf) = *model else {
         return Err(Error::Call {
             call: "fit_msmt::run",
             expected: "the msmt model",
@@ -126,11 +117,11 @@ pub(super) fn run(args: &FitArgs, model: &FitModel, convention: BvecConvention) 
     check_shells(&inputs, &shells)?;
     let responses = match (&args.response, &args.response_gm, &args.response_csf) {
         (Some(wm), Some(gm), Some(csf)) => read_responses(wm, gm, csf, &shells)?,
-        _ => estimated(args, &inputs, &shells, band)?,
+        _ => estimated(args, &inputs, &shells, odf.band)?,
     };
     let fitter = MsmtFitter::new(&MsmtProblem {
-        band,
-        basis: (basis, legacy),
+        band: odf.band,
+        basis: (odf.basis, odf.legacy),
         gradients: &inputs.gradients,
         shells: &shells,
         responses: &responses,
@@ -149,17 +140,13 @@ pub(super) fn run(args: &FitArgs, model: &FitModel, convention: BvecConvention) 
             volumes.unsolved
         );
     }
-    let band0 = FitModel::Odf {
-        method,
-        band: 0,
-        basis,
-        legacy,
-        lambda,
-        tau,
-        csd,
-    };
+    let band0 = FitModel::Odf(OdfModel { band: 0, ..odf });
     let glyphcast_order = TensorOrder::Glyphcast;
-    let basis_text = format!("{}{}", basis.name(), if legacy { " legacy" } else { "" });
+    let basis_text = format!(
+        "{}{}",
+        odf.basis.name(),
+        if odf.legacy { " legacy" } else { "" }
+    );
     let tissue_description =
         |tissue: &str| format!("glyphcast fit: SH band 0 {basis_text} msmt {tissue} ODF");
     let files = [

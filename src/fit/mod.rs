@@ -92,26 +92,30 @@ pub enum FitModel {
         /// Laplace-Beltrami weight (`--lambda`), 0 to [`MAX_LAMBDA`].
         lambda: f64,
     },
-    /// A fibre ODF as real SH of even bands 0..=`band` (`odf`). The others ignore `tau`
-    /// and `csd`.
-    Odf {
-        /// How the ODF is computed (`--odf`: csa, qball, csd, msmt).
-        method: OdfMethod,
-        /// The highest band, even (`--order`).
-        band: u32,
-        /// The basis the coefficients are written in (`--basis`).
-        basis: ShBasis,
-        /// DIPY's `legacy=True` variant of that basis.
-        legacy: bool,
-        /// The Laplace-Beltrami weight of CSA and Q-ball; the constraint weight of CSD
-        /// (`--lambda`).
-        lambda: f64,
-        /// CSD's threshold (`--tau`): DIPY's a fraction of the mean fODF, MRtrix's an
-        /// absolute amplitude.
-        tau: f64,
-        /// Whose CSD algorithm runs (`--csd-algorithm`), which also says what `tau` means.
-        csd: CsdAlgorithm,
-    },
+    /// A fibre ODF as real SH of even bands 0..=`band` (`odf`).
+    Odf(OdfModel),
+}
+
+/// A fibre ODF as real SH of even bands 0..=`band` (`odf`). The methods other than CSD
+/// ignore `tau` and `csd`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OdfModel {
+    /// How the ODF is computed (`--odf`: csa, qball, csd, msmt).
+    pub method: OdfMethod,
+    /// The highest band, even (`--order`).
+    pub band: u32,
+    /// The basis the coefficients are written in (`--basis`).
+    pub basis: ShBasis,
+    /// DIPY's `legacy=True` variant of that basis.
+    pub legacy: bool,
+    /// The Laplace-Beltrami weight of CSA and Q-ball; the constraint weight of CSD
+    /// (`--lambda`).
+    pub lambda: f64,
+    /// CSD's threshold (`--tau`): DIPY's a fraction of the mean fODF, MRtrix's an
+    /// absolute amplitude.
+    pub tau: f64,
+    /// Whose CSD algorithm runs (`--csd-algorithm`), which also says what `tau` means.
+    pub csd: CsdAlgorithm,
 }
 
 impl FitModel {
@@ -142,24 +146,18 @@ impl FitModel {
                 }
                 check_lambda(lambda)?;
             }
-            FitModel::Odf {
-                band,
-                lambda,
-                tau,
-                csd,
-                ..
-            } => {
-                if band > MAX_ORDER || band % 2 == 1 {
+            FitModel::Odf(odf) => {
+                if odf.band > MAX_ORDER || odf.band % 2 == 1 {
                     return Err(Error::setting_value(
                         Setting::Order,
-                        band,
+                        odf.band,
                         format!(
                             "an ODF needs an even band from 0 to {MAX_ORDER} (the ODF is antipodally symmetric)"
                         ),
                     ));
                 }
-                check_lambda(lambda)?;
-                check_tau(tau, csd)?;
+                check_lambda(odf.lambda)?;
+                check_tau(odf.tau, odf.csd)?;
             }
         }
         Ok(())
@@ -169,7 +167,7 @@ impl FitModel {
     pub fn coefficient_count(&self) -> usize {
         match *self {
             FitModel::Tensor { order } => crate::glyph::monomials::symmetric_count(order),
-            FitModel::Sh { band, .. } | FitModel::Odf { band, .. } => sh_count(band),
+            FitModel::Sh { band, .. } | FitModel::Odf(OdfModel { band, .. }) => sh_count(band),
         }
     }
 
@@ -187,12 +185,12 @@ impl FitModel {
                 legacy,
                 ..
             }
-            | FitModel::Odf {
+            | FitModel::Odf(OdfModel {
                 band,
                 basis,
                 legacy,
                 ..
-            } => GlyphKind::Sh {
+            }) => GlyphKind::Sh {
                 band,
                 basis,
                 legacy,
@@ -215,26 +213,19 @@ impl FitModel {
                 format!("glyphcast fit: SH band {band} {basis}{legacy} lambda {lambda}")
             }
             // The same start as `Sh`, so that `volume::recorded_basis` reads the basis.
-            FitModel::Odf {
-                method,
-                band,
-                basis,
-                legacy,
-                lambda,
-                tau,
-                csd,
-            } => {
-                let basis = basis.name();
-                let legacy = if legacy { " legacy" } else { "" };
-                let (method, tau) = match (method, csd) {
-                    (OdfMethod::Csd, CsdAlgorithm::Dipy) => ("csd", format!(" tau {tau}")),
+            FitModel::Odf(odf) => {
+                let (band, lambda) = (odf.band, odf.lambda);
+                let basis = odf.basis.name();
+                let legacy = if odf.legacy { " legacy" } else { "" };
+                let (method, tau) = match (odf.method, odf.csd) {
+                    (OdfMethod::Csd, CsdAlgorithm::Dipy) => ("csd", format!(" tau {}", odf.tau)),
                     // The threshold only when it is not dwi2fod's 0, so that the
                     // line fits the 80 bytes of a NIfTI description.
-                    (OdfMethod::Csd, CsdAlgorithm::Mrtrix) if tau == 0.0 => {
+                    (OdfMethod::Csd, CsdAlgorithm::Mrtrix) if odf.tau == 0.0 => {
                         ("csd", " mrtrix".to_string())
                     }
                     (OdfMethod::Csd, CsdAlgorithm::Mrtrix) => {
-                        ("csd", format!(" mrtrix threshold {tau}"))
+                        ("csd", format!(" mrtrix threshold {}", odf.tau))
                     }
                     (method, _) => (method.name(), String::new()),
                 };

@@ -133,7 +133,8 @@ pub fn output_bytes(
             let voxel_to_world = dwi.voxel_to_world()?;
             let mut keys = vec![("comments", description)];
             match *model {
-                FitModel::Sh { basis, legacy, .. } | FitModel::Odf { basis, legacy, .. } => {
+                FitModel::Sh { basis, legacy, .. }
+                | FitModel::Odf(super::OdfModel { basis, legacy, .. }) => {
                     let legacy = if legacy { " legacy" } else { "" };
                     keys.push(("glyphcast_sh_basis", format!("{}{legacy}", basis.name())));
                 }

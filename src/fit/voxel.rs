@@ -13,7 +13,7 @@ use super::odf::{LinearOdfFitter, OdfMethod};
 use super::response::{DEFAULT_RESPONSE_FA, Response, estimate_response};
 use super::sh::ShFitter;
 use super::tensor::{TensorFitter, design_rank};
-use super::{FitInputs, FitModel};
+use super::{FitInputs, FitModel, OdfModel};
 use crate::{Error, Result, Setting};
 
 /// Samples at or below zero are raised to this fraction of S0 (see the module notes of
@@ -265,13 +265,13 @@ impl VoxelFitter {
         // does); the directions must then determine the bands of its first estimate.
         let super_resolved = matches!(
             model,
-            FitModel::Odf {
+            FitModel::Odf(OdfModel {
                 method: OdfMethod::Csd,
                 ..
-            }
+            })
         );
         let unknowns = match *model {
-            FitModel::Odf { band, .. } if super_resolved => {
+            FitModel::Odf(OdfModel { band, .. }) if super_resolved => {
                 super::sh::sh_count(band.min(FIRST_ESTIMATE_BAND))
             }
             _ => model.coefficient_count(),
@@ -312,16 +312,8 @@ impl VoxelFitter {
                         .map_err(to_input)?,
                 }
             }
-            FitModel::Odf {
-                method,
-                band,
-                basis,
-                legacy,
-                lambda,
-                tau,
-                csd,
-            } => {
-                let what = match method {
+            FitModel::Odf(odf) => {
+                let what = match odf.method {
                     OdfMethod::Msmt => {
                         return Err(Error::Call {
                             call: "VoxelFitter::new",
@@ -334,46 +326,49 @@ impl VoxelFitter {
                     OdfMethod::Qball => "the Q-ball ODF",
                 };
                 check_single_shell(&bvals, &inputs.origin.bvals, what)?;
-                let determined = if method == OdfMethod::Csd {
-                    determined_band(band, directions.len())
+                let determined = if odf.method == OdfMethod::Csd {
+                    determined_band(odf.band, directions.len())
                 } else {
-                    band
+                    odf.band
                 };
                 check_sh_directions(determined, &directions, &bvec_file)?;
-                if method == OdfMethod::Csd {
+                if odf.method == OdfMethod::Csd {
                     let estimated;
                     let response = match response {
                         Some(r) => r,
                         None => {
                             estimated =
-                                estimate_response(inputs, band, DEFAULT_RESPONSE_FA)?.response;
+                                estimate_response(inputs, odf.band, DEFAULT_RESPONSE_FA)?.response;
                             &estimated
                         }
                     };
-                    match csd {
+                    match odf.csd {
                         CsdAlgorithm::Dipy => Solve::Csd {
                             fitter: Box::new(
                                 CsdFitter::new(
-                                    band,
-                                    (basis, legacy),
+                                    odf.band,
+                                    (odf.basis, odf.legacy),
                                     &directions,
                                     response,
-                                    CsdParameters { lambda, tau },
+                                    CsdParameters {
+                                        lambda: odf.lambda,
+                                        tau: odf.tau,
+                                    },
                                 )
                                 .map_err(to_input)?,
                             ),
                         },
                         CsdAlgorithm::Mrtrix => {
                             let parameters = MrtrixCsdParameters {
-                                neg_lambda: lambda,
-                                threshold: tau,
+                                neg_lambda: odf.lambda,
+                                threshold: odf.tau,
                                 ..MrtrixCsdParameters::default()
                             };
                             Solve::MrtrixCsd {
                                 fitter: Box::new(
                                     MrtrixCsdFitter::new(
-                                        band,
-                                        (basis, legacy),
+                                        odf.band,
+                                        (odf.basis, odf.legacy),
                                         &directions,
                                         response,
                                         parameters,
@@ -386,11 +381,11 @@ impl VoxelFitter {
                 } else {
                     Solve::LinearOdf {
                         fitter: LinearOdfFitter::new(
-                            method,
-                            band,
-                            (basis, legacy),
+                            odf.method,
+                            odf.band,
+                            (odf.basis, odf.legacy),
                             &directions,
-                            lambda,
+                            odf.lambda,
                         )
                         .map_err(to_input)?,
                     }
