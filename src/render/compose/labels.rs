@@ -89,18 +89,7 @@ pub fn draw_edge_labels(
     height: u32,
     labels: &EdgeLabels,
 ) -> Result<()> {
-    if rgba.len() != 4 * width as usize * height as usize {
-        return Err(Error::data(
-            "bytes of the labelled RGBA image",
-            crate::error::Problem::Count {
-                expected: 4 * width as usize * height as usize,
-                found: rgba.len(),
-            },
-        ));
-    }
-    let font = FontRef::try_from_slice(dejavu_sans()?)
-        .map_err(|err| Error::setup("usable DejaVu Sans font", err))?;
-    let size = (LETTER_FRACTION * width.min(height) as f32).max(MIN_LETTER_PX);
+    let (font, size) = lettering(rgba, width, height, "bytes of the labelled RGBA image")?;
     let scaled = font.as_scaled(PxScale::from(size));
     let (w, h) = (width as f32, height as f32);
     let margin = 0.3 * size;
@@ -142,15 +131,20 @@ pub fn draw_edge_labels(
     Ok(())
 }
 
-/// Draws `text` (a panel's slice, "k=12") in the top-left corner of `rgba` (`width` x
-/// `height`, row-major RGBA8), as the edge labels are drawn: white with a dark shadow,
-/// at their size.
-pub fn draw_caption(rgba: &mut [u8], width: u32, height: u32, text: &str) -> Result<()> {
-    if rgba.len() != 4 * width as usize * height as usize {
+/// Checks that `rgba` holds `width` x `height` RGBA8 pixels (`what` names its bytes in
+/// the error) and gives the font and the letters' size in pixels for that image.
+fn lettering(
+    rgba: &[u8],
+    width: u32,
+    height: u32,
+    what: &'static str,
+) -> Result<(FontRef<'static>, f32)> {
+    let expected = 4 * width as usize * height as usize;
+    if rgba.len() != expected {
         return Err(Error::data(
-            "bytes of the captioned RGBA image",
+            what,
             crate::error::Problem::Count {
-                expected: 4 * width as usize * height as usize,
+                expected,
                 found: rgba.len(),
             },
         ));
@@ -158,6 +152,14 @@ pub fn draw_caption(rgba: &mut [u8], width: u32, height: u32, text: &str) -> Res
     let font = FontRef::try_from_slice(dejavu_sans()?)
         .map_err(|err| Error::setup("usable DejaVu Sans font", err))?;
     let size = (LETTER_FRACTION * width.min(height) as f32).max(MIN_LETTER_PX);
+    Ok((font, size))
+}
+
+/// Draws `text` (a panel's slice, "k=12") in the top-left corner of `rgba` (`width` x
+/// `height`, row-major RGBA8), as the edge labels are drawn: white with a dark shadow,
+/// at their size.
+pub fn draw_caption(rgba: &mut [u8], width: u32, height: u32, text: &str) -> Result<()> {
+    let (font, size) = lettering(rgba, width, height, "bytes of the captioned RGBA image")?;
     let scaled = font.as_scaled(PxScale::from(size));
     let (margin, cap) = (0.3 * size, 0.73 * scaled.ascent());
     let shadow = (1.0f32).max(0.06 * size);
