@@ -12,6 +12,7 @@ use glyphcast::render::glyph_data::GlyphSetData;
 use glyphcast::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
 use glyphcast::render::options::{RenderOptions, prepare_render};
 use glyphcast::render::peaks::PeakSet;
+use glyphcast::render::promote::early_variants;
 use glyphcast::render::underlay::Underlay;
 use glyphcast::scene::Scene;
 use glyphcast::viewer::ViewSource;
@@ -349,12 +350,29 @@ pub fn render(
     // Written with the image and the depth map, all or nothing.
     let scene_file = save_scene.map(|path| (path, scene.to_json()));
     let common_scale = common_scale([&scene]);
-    let started = Instant::now();
-    let prepared = prepare_render(scene, settings, negative)?;
-    let prepare_time = started.elapsed();
-    let gpu = Gpu::headless(&options.gpu_options())?;
+    let variants = early_variants(&scene, &settings);
+    let gpu_options = options.gpu_options();
+    // The device and the scene's pipelines (most of a small render's time on lavapipe)
+    // are made on a thread of their own while the glyphs are prepared.
+    let (prepared, prepare_time, gpu) = std::thread::scope(|scope| {
+        let device = scope.spawn(|| -> Result<(Gpu, HeadlessRenderer)> {
+            let gpu = Gpu::headless(&gpu_options)?;
+            let mut renderer = HeadlessRenderer::new(&gpu)?;
+            renderer.prepare_pipelines(&variants)?;
+            Ok((gpu, renderer))
+        });
+        let started = Instant::now();
+        let prepared = prepare_render(scene, settings, negative);
+        let prepare_time = started.elapsed();
+        let gpu = device.join().unwrap_or(Err(glyphcast::Error::Thread {
+            what: "device creation",
+        }));
+        (prepared, prepare_time, gpu)
+    });
+    // A bad scene is reported before a missing device, as when they came one by one.
+    let prepared = prepared?;
+    let (gpu, mut renderer) = gpu?;
     eprintln!("device: {}", gpu.info);
-    let mut renderer = HeadlessRenderer::new(&gpu)?;
     let begun = Instant::now();
     let (w, h) = (prepared.width, prepared.height);
     let (sets, camera) = (&prepared.sets, &prepared.camera);

@@ -149,6 +149,39 @@ impl GlyphPolynomial {
     }
 }
 
+/// The entries of the symmetric tensor of order n + 2k whose polynomial is
+/// f(q) (q . q)^k, from the entries `tensor` of a symmetric tensor of order n: the same
+/// glyph, since |f(q)| (q . q)^k = |q|^(n + 2k + 1) holds exactly where
+/// |f(q)| = |q|^(n + 1) does (q != 0), with the same sign of f and the same surface
+/// normal there. A one-shot render draws small sets of lower orders this way with the
+/// pipeline of a higher one (`render::promote`).
+pub fn raised_symmetric_tensor(order: u32, tensor: &[f64], k: u32) -> Vec<f64> {
+    let mut poly: Vec<f64> = symmetric_coefficients(order, tensor);
+    let mut degree = order;
+    for _ in 0..k {
+        // Times x^2 + y^2 + z^2: each monomial (a, b, c) feeds (a + 2, b, c),
+        // (a, b + 2, c) and (a, b, c + 2).
+        let mut next = vec![0.0; monomials::symmetric_count(degree + 2)];
+        for (m, c) in monomials::monomials(degree).into_iter().zip(&poly) {
+            for (da, db, dc) in [(2, 0, 0), (0, 2, 0), (0, 0, 2)] {
+                let raised = monomials::Monomial {
+                    a: m.a + da,
+                    b: m.b + db,
+                    c: m.c + dc,
+                };
+                next[monomials::monomial_index(degree + 2, raised)] += c;
+            }
+        }
+        poly = next;
+        degree += 2;
+    }
+    monomials::monomials(degree)
+        .into_iter()
+        .zip(poly)
+        .map(|(m, c)| c / monomials::multiplicity(m) as f64)
+        .collect()
+}
+
 /// c_k = multiplicity(m_k) t_k (Eq. 5 weights).
 fn symmetric_coefficients(order: u32, tensor: &[f64]) -> Vec<f64> {
     monomials::monomials(order)
@@ -356,6 +389,30 @@ mod tests {
 
     fn close(a: f64, b: f64, tol: f64) -> bool {
         (a - b).abs() <= tol
+    }
+
+    #[test]
+    fn raised_tensor_is_f_times_a_power_of_q_dot_q() {
+        let mut rng = Rng::new(0x7a15ed);
+        for order in 1..=10 {
+            for k in 1..=3 {
+                let t = rng.values(symmetric_count(order), -1.0, 1.0);
+                let raised = raised_symmetric_tensor(order, &t, k);
+                assert_eq!(raised.len(), symmetric_count(order + 2 * k));
+                let (f, g) = (symmetric(order, &t), symmetric(order + 2 * k, &raised));
+                for _ in 0..20 {
+                    let q = rng.vector(-1.5, 1.5);
+                    let want = f.eval(q) * q.length_squared().powi(k as i32);
+                    let scale =
+                        f.abs_coefficient_sum() * q.length().max(1.0).powi((order + 2 * k) as i32);
+                    assert!(
+                        close(g.eval(q), want, 1e-13 * scale),
+                        "order {order}, k {k}: {} against {want}",
+                        g.eval(q)
+                    );
+                }
+            }
+        }
     }
 
     /// The index tuple of flat entry `flat` of a non-symmetric tensor, i1 first.

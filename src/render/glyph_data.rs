@@ -70,7 +70,7 @@ impl GlyphSetData {
 
 /// The tensor layout a set is drawn with: its own, or for SH glyphs the symmetric tensor
 /// of order max(L, 2) that the paper's map t = M w turns the series into.
-fn tensor_layout(set: &GlyphSet) -> TensorLayout {
+pub(crate) fn tensor_layout(set: &GlyphSet) -> TensorLayout {
     match set.kind {
         GlyphKind::Tensor(layout) => layout,
         GlyphKind::Sh { band, .. } => TensorLayout {

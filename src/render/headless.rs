@@ -11,6 +11,7 @@
 //! engine's `record` makes, so there is one way to draw.
 use crate::camera::Camera;
 use crate::error::{Error, Result, Setting};
+use crate::glyph::TensorLayout;
 use crate::render::component::{GlyphRenderer, RendererDesc, UploadedGlyphs};
 use crate::render::compute::{ComputeRayCastPass, ComputeSceneGpu};
 use crate::render::frame::{FrameParams, SceneExtent};
@@ -37,6 +38,13 @@ pub const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
 pub const DISTANCE_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
 /// The depth buffer (reversed: cleared to 0, tested with GREATER).
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
+/// The offscreen targets' formats, which every pass of the renderer draws into.
+const FORMATS: TargetFormats = TargetFormats {
+    color: COLOR_FORMAT,
+    depth: DEPTH_FORMAT,
+    distance: Some(DISTANCE_FORMAT),
+};
 
 /// What a frame shows: the camera, the image size in pixels and, optionally, the
 /// anatomical underlay and the fibre peaks drawn in the glyphs' depth buffer.
@@ -158,8 +166,10 @@ pub struct HeadlessRenderer {
     glyphs: GlyphRenderer,
     mesh: MeshPass,
     compute: ComputeRayCastPass,
-    underlay: UnderlayPass,
-    peaks: PeaksPass,
+    /// Made on first use: most renders have no underlay and no peaks, and each pass's
+    /// pipeline costs a few milliseconds to create.
+    underlay: Option<UnderlayPass>,
+    peaks: Option<PeaksPass>,
     commands: OneShot,
     timer: Option<GpuTimer>,
 }
@@ -167,13 +177,8 @@ pub struct HeadlessRenderer {
 impl HeadlessRenderer {
     /// The passes and command buffers for offscreen frames on `gpu`.
     pub fn new(gpu: &Gpu) -> Result<HeadlessRenderer> {
-        let formats = TargetFormats {
-            color: COLOR_FORMAT,
-            depth: DEPTH_FORMAT,
-            distance: Some(DISTANCE_FORMAT),
-        };
         let desc = RendererDesc {
-            formats,
+            formats: FORMATS,
             // glyphcast's own targets: one sample, reversed depth, dynamic rendering.
             options: PassOptions::default(),
             frames_in_flight: 1,
@@ -181,13 +186,21 @@ impl HeadlessRenderer {
         };
         Ok(HeadlessRenderer {
             glyphs: GlyphRenderer::new(gpu.context(), &desc)?,
-            mesh: MeshPass::new(gpu.context(), formats)?,
+            mesh: MeshPass::new(gpu.context(), FORMATS)?,
             compute: ComputeRayCastPass::new(gpu.context())?,
-            underlay: UnderlayPass::new(gpu.context(), formats)?,
-            peaks: PeaksPass::new(gpu.context(), formats)?,
+            underlay: None,
+            peaks: None,
             commands: OneShot::new(gpu)?,
             timer: GpuTimer::new(gpu)?,
         })
+    }
+
+    /// Compiles the ray-casting pipelines of `variants` (from
+    /// [`pipeline_variants`](crate::render::glyph_data::pipeline_variants)) now, in
+    /// parallel, rather than at the first frame's upload: a one-shot render calls it on a
+    /// thread of its own while the glyphs are prepared.
+    pub fn prepare_pipelines(&mut self, variants: &[(TensorLayout, Method)]) -> Result<()> {
+        self.glyphs.pass_mut().prepare_pipelines(variants)
     }
 
     /// The ray-cast pass, for settings such as the storage buffer limit.
@@ -350,12 +363,24 @@ impl HeadlessRenderer {
         let size = vk::Extent2D { width, height };
         let underlay = underlay
             .map(|u| -> Result<_> {
-                let on_gpu = self.underlay.upload(gpu.context(), &u.volume)?;
+                let pass = match &mut self.underlay {
+                    Some(pass) => pass,
+                    None => self
+                        .underlay
+                        .insert(UnderlayPass::new(gpu.context(), FORMATS)?),
+                };
+                let on_gpu = pass.upload(gpu.context(), &u.volume)?;
                 Ok((on_gpu, u.planes.clone()))
             })
             .transpose()?;
         let peaks_gpu = match peaks {
-            Some(p) => self.peaks.upload(gpu.context(), p, &params)?,
+            Some(p) => {
+                let pass = match &mut self.peaks {
+                    Some(pass) => pass,
+                    None => self.peaks.insert(PeaksPass::new(gpu.context(), FORMATS)?),
+                };
+                pass.upload(gpu.context(), p, &params)?
+            }
             None => None,
         };
         Ok(PreparedFrame {
@@ -375,8 +400,8 @@ impl HeadlessRenderer {
             &self.glyphs,
             &mut self.mesh,
             &mut self.compute,
-            &self.underlay,
-            &self.peaks,
+            self.underlay.as_ref(),
+            self.peaks.as_ref(),
         );
         let timer = self.timer.as_ref();
         self.commands
@@ -466,8 +491,8 @@ type Passes<'a> = (
     &'a GlyphRenderer,
     &'a mut MeshPass,
     &'a mut ComputeRayCastPass,
-    &'a UnderlayPass,
-    &'a PeaksPass,
+    Option<&'a UnderlayPass>,
+    Option<&'a PeaksPass>,
 );
 
 fn record_frame(
@@ -500,7 +525,8 @@ fn record_frame(
         .depth_attachment(&depth_attachment);
     // SAFETY: `cmd` is recording; every handle is alive until the submission completes.
     unsafe { d.cmd_begin_rendering(cmd, &rendering) };
-    if let Some((volume, planes)) = &frame.underlay {
+    // A frame with an underlay or peaks was prepared by the pass that records them.
+    if let (Some((volume, planes)), Some(underlay)) = (&frame.underlay, underlay) {
         underlay.record(cmd, volume, planes, frame.view_proj, extent);
     }
     match &frame.scene {
@@ -508,7 +534,7 @@ fn record_frame(
         GlyphsOnGpu::Mesh(scene) => mesh.record(cmd, scene, extent)?,
         GlyphsOnGpu::Compute(_) => {}
     }
-    if let Some((on_gpu, _)) = &frame.peaks {
+    if let (Some((on_gpu, _)), Some(peaks)) = (&frame.peaks, peaks) {
         peaks.record(cmd, on_gpu, extent);
     }
     // SAFETY: as above.

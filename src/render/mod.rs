@@ -18,6 +18,7 @@ mod interface;
 pub mod mesh;
 pub mod options;
 pub mod peaks;
+pub mod promote;
 pub mod raycast;
 pub mod settings;
 pub mod shaders;

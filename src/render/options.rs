@@ -8,6 +8,7 @@ use crate::error::quoted;
 use crate::glyph::{GlyphShape, NegativeMode};
 use crate::render::glyph_data::{GlyphSetData, measure_largest_radius, prepare_scene};
 use crate::render::peaks::PeakSet;
+use crate::render::promote::promote_small_sets;
 use crate::render::settings::{parse_background, parse_light};
 use crate::render::{ColorMode, Method, Refinement, RenderSettings};
 use crate::scene::Scene;
@@ -173,6 +174,8 @@ pub fn prepare_render(
     if settings.needs_largest_radius() {
         measure_largest_radius(&mut sets);
     }
+    let (width, height) = (scene.image.width, scene.image.height);
+    promote_small_sets(&mut sets, &scene.camera, width, height, &settings);
     if !matches!(settings.method, Method::Mesh(_)) {
         sets.iter_mut().for_each(|s| s.drop_reference_glyphs());
     }
