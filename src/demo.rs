@@ -118,7 +118,7 @@ const STIFFNESS_GLYPH_SIZE: f64 = 0.45;
 /// The `--stiffness` demo: a 5 x 5 field of copper crystals as non-symmetric order-4
 /// glyphs (all 81 C_ijkl). Orientations are graded: along x the crystal turns about z by
 /// 0 to 45 degrees (a quarter of the cubic period of 90), along y it tilts about x by 0
-/// to 54.7 degrees (the angle between [001] and [111]), so the corner glyphs show the
+/// to 54.7 degrees (the angle between \[001\] and \[111\]), so the corner glyphs show the
 /// cube axes, a <110> and a <111> direction facing up.
 pub fn stiffness_demo_scene() -> Scene {
     let (c11, c12, c44) = COPPER_GPA;

@@ -681,7 +681,7 @@ impl Error {
 const QUOTED_CHARS: usize = 60;
 
 /// User text (a scene key, a name, a value) as a message may quote it: on one line, with
-/// control characters escaped (`\n`, `\u{1b}`) and anything past [`QUOTED_CHARS`]
+/// control characters escaped (`\n`, `\u{1b}`) and anything past `QUOTED_CHARS`
 /// characters replaced by a count, so that a hostile or mistaken input cannot forge
 /// lines, move the terminal's cursor or flood the screen.
 pub fn quoted(text: &str) -> String {

@@ -35,7 +35,7 @@
 //! # Embedding the ray caster in an engine
 //!
 //! An engine that owns its Vulkan instance, device, allocator and frame loop draws glyphs
-//! into its own rendering with a [`GlyphRenderer`](render::component::GlyphRenderer);
+//! into its own rendering with a [`GlyphRenderer`];
 //! glyphcast then creates no instance or device and never submits, presents or waits.
 //! README "Embedding in an engine" has the whole contract; in short:
 //!
@@ -43,7 +43,7 @@
 //!    [`vk::DeviceContext`] (`unsafe`: the engine keeps its device, instance and
 //!    allocator until every glyphcast object made with the context is dropped).
 //! 2. Once: [`GlyphRenderer::new`](render::component::GlyphRenderer::new) with a
-//!    [`RendererDesc`](render::component::RendererDesc): attachment formats, samples
+//!    [`RendererDesc`]: attachment formats, samples
 //!    (1, 2, 4, 8), depth convention (standard or reversed), an optional pipeline cache,
 //!    frames in flight and the render settings. `prepare` makes pipelines ahead of time.
 //! 3. `set_glyphs` uploads glyph data once for every frame in flight; calling it again
@@ -51,7 +51,7 @@
 //!    been begun again.
 //! 4. Each frame k, after the engine waited for frame k's fence: `set_view(k, &view)`
 //!    with its view and projection matrices, viewport and scissor
-//!    ([`HostView`](render::host_view::HostView)); then, inside the engine's dynamic
+//!    ([`HostView`]); then, inside the engine's dynamic
 //!    rendering, `record(cmd, k)` (`&self`: threads may record at once).
 //!
 //! ```no_run
@@ -120,8 +120,8 @@
 //! against the headless renderer, which draws its ray-cast glyphs through the same
 //! [`GlyphRenderer`], as the viewer does with 2 frames in flight. An engine that does not use gpu-allocator gives glyphcast its own
 //! memory with [`DeviceContext::with_memory`] and a [`vk::MemoryAllocator`]. The
-//! lower-level [`RayCastPass`](render::raycast::RayCastPass) (pipelines) and
-//! [`SceneGpu`](render::raycast::SceneGpu) (uploaded glyphs with one frame block per
+//! lower-level [`RayCastPass`] (pipelines) and
+//! [`SceneGpu`] (uploaded glyphs with one frame block per
 //! frame in flight) are what the component is built on.
 pub mod accuracy;
 pub mod bench;

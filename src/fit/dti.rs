@@ -35,7 +35,7 @@ impl DiffusionTensor {
         })
     }
 
-    /// Fractional anisotropy sqrt(3/2) |l - <l>| / |l| of the eigenvalues l; 0 for the
+    /// Fractional anisotropy `sqrt(3/2) |l - <l>| / |l|` of the eigenvalues l; 0 for the
     /// zero tensor.
     pub fn fractional_anisotropy(&self) -> f64 {
         let l = self.eigenvalues;

@@ -9,7 +9,7 @@
 //! once about mid; each half of the chord (|q| monotone on it) gets F in its Bernstein
 //! basis; Descartes' rule of signs on dyadic pieces, visited in ray order, isolates the
 //! first root; Newton on G = F / |q|^(2n) refines it. Where the ray passes within
-//! [`Real::centre_radius`] of the centre F underflows, and that part of the chord is
+//! [`centre_radius`] of the centre F underflows, and that part of the chord is
 //! sampled with the radial form g instead.
 //!
 //! [`first_hit`]: super::intersect::first_hit

@@ -26,7 +26,7 @@ use crate::{Error, Result};
 /// overflow above 20! (the scene format itself stops at 12).
 const MAX_ORDER: u32 = 20;
 
-/// f(q) = sum_k coeffs[k] x^a_k y^b_k z^c_k over `monomials(order)`.
+/// f(q) = `sum_k coeffs[k] x^a_k y^b_k z^c_k` over `monomials(order)`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GlyphPolynomial {
     /// The degree n.

@@ -80,7 +80,7 @@ pub struct GlyphBounds {
     /// Orthonormal, right-handed box axes (columns of a rotation).
     pub axes: [DVec3; 3],
     /// Upper bounds of the glyph's extent along each axis (each at most `radius`): the
-    /// glyph lies in the box |q . axes[i]| <= extents[i].
+    /// glyph lies in the box `|q . axes[i]| <= extents[i]`.
     pub extents: [f64; 3],
 }
 

@@ -101,7 +101,7 @@ pub(crate) fn check_orthogonal(r: DMat3) -> Result<()> {
     Ok(())
 }
 /// g(u) = f(R^T u) for a full tensor of order n stored row-major (i1 most significant):
-/// T'[i1..in] = sum over j of R[i1][j1] ... R[in][jn] T[j1..jn], applied one index at a
+/// `T'[i1..in] = sum over j of R[i1][j1] ... R[in][jn] T[j1..jn]`, applied one index at a
 /// time (n passes of 3 multiply-adds per entry instead of 3^n per entry).
 pub fn rotate_full_tensor(order: u32, coeffs: &[f64], r: DMat3) -> Result<Vec<f64>> {
     let count = 3usize.pow(order);

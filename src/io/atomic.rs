@@ -4,7 +4,7 @@
 //! old file or the complete new one, never a half-written output (STYLE.md, Errors).
 //!
 //! An interrupt (SIGINT, SIGTERM) must not leave temporaries or a half-replaced set:
-//! every temporary is entered in [`LIVE_TEMPORARIES`] before it is created, and the
+//! every temporary is entered in `LIVE_TEMPORARIES` before it is created, and the
 //! renames of a set run with that registry locked. [`exit_removing_temporaries`], which
 //! the binary's signal handler calls, takes the same lock, so it either waits for a set's
 //! renames to finish (all new) or removes the temporaries before any rename (all old).

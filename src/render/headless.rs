@@ -196,7 +196,7 @@ impl HeadlessRenderer {
     }
 
     /// Compiles the ray-casting pipelines of `variants` (from
-    /// [`pipeline_variants`](crate::render::glyph_data::pipeline_variants)) now, in
+    /// [`early_variants`](crate::render::promote::early_variants)) now, in
     /// parallel, rather than at the first frame's upload: a one-shot render calls it on a
     /// thread of its own while the glyphs are prepared.
     pub fn prepare_pipelines(&mut self, variants: &[(TensorLayout, Method)]) -> Result<()> {

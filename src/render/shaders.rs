@@ -38,7 +38,7 @@ pub struct RaycastShader {
 }
 
 /// Compute ray caster of one tensor layout and intersection method (`--path compute`,
-/// glsl/raycast_<method>.comp): one invocation per pixel walks its screen tile's glyphs.
+/// `glsl/raycast_<method>.comp`): one invocation per pixel walks its screen tile's glyphs.
 pub struct ComputeRaycastShader {
     /// The tensor layout it is generated for.
     pub layout: TensorLayout,

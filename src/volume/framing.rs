@@ -214,7 +214,7 @@ fn oblique_from(orientation: Orientation) -> DVec3 {
 }
 
 /// Frames the voxel box `ranges` (index ranges along i, j, k) for three orthogonal
-/// slices: a perspective camera looking at the box's centre from [`oblique_from`], at the
+/// slices: a perspective camera looking at the box's centre from `oblique_from`, at the
 /// distance where the box's bounding sphere fills the view. Without a requested size the
 /// image is square, 1024 pixels.
 pub fn frame_volume(

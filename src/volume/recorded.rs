@@ -21,7 +21,7 @@ const FIT_SH_PREFIX: &str = "glyphcast fit: SH band ";
 pub const TENSOR_PREFIX: &str = "glyphcast fit: symmetric tensor order ";
 
 /// The description of a tensor fit written with its entries in `stored` order: "glyphcast
-/// fit: symmetric tensor order 2 in mrtrix order" ([`recorded_tensor_order`] reads
+/// fit: symmetric tensor order 2 in mrtrix order" (`recorded_tensor_order` reads
 /// it back; a description without " in NAME order", as glyphcast wrote before it
 /// recorded the order, means glyphcast's order).
 pub fn tensor_description(order: u32, stored: TensorOrder) -> String {

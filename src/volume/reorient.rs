@@ -111,7 +111,7 @@ impl KindReorientation {
 }
 
 impl Reorientation {
-    /// This reorientation prepared for the glyphs of `kind` (see [`KindReorientation`]).
+    /// This reorientation prepared for the glyphs of `kind` (see `KindReorientation`).
     pub fn for_kind(&self, kind: GlyphKind) -> Result<KindReorientation> {
         let count = kind.coefficient_count();
         let matrix = if self.rotation_for(kind).is_some() && count <= MATRIX_LIMIT {

@@ -71,7 +71,7 @@ pub struct VolumeRequest {
     pub nonsymmetric: bool,
     /// The stored order of a DTI volume's six entries: glyphcast, mrtrix, fsl or dipy.
     pub tensor_order: Option<String>,
-    /// AXIS[:INDEX].
+    /// `AXIS[:INDEX]`.
     pub slice: Option<String>,
     /// I,J,K or mid.
     pub slices: Option<String>,

@@ -78,7 +78,7 @@ pub fn sh_basis_values(band: u32, basis: ShBasis, legacy: bool, u: DVec3) -> Vec
     values
 }
 
-/// The SH series sum_j coeffs[j] B_j(u). Coefficients past `sh_count(band)` are
+/// The SH series `sum_j coeffs[j] B_j(u)`. Coefficients past `sh_count(band)` are
 /// ignored and missing ones count as zero (use `check_coefficients` to reject them).
 pub fn sh_eval(band: u32, basis: ShBasis, legacy: bool, coeffs: &[f64], u: DVec3) -> f64 {
     sh_basis_values(band, basis, legacy, u)

@@ -1,7 +1,7 @@
 //! Voxel to world coordinates of a NIfTI-1 or NIfTI-2 file, chosen the way the standard's
 //! `nifti1.h` describes: the sform when `sform_code` > 0 (method 3), else the qform when
 //! `qform_code` > 0 (method 2: quaternion b, c, d with a = sqrt(1 - b^2 - c^2 - d^2),
-//! voxel sizes pixdim[1..3] and qfac = the sign of pixdim[0], which flips the third
+//! voxel sizes `pixdim[1..3]` and qfac = the sign of `pixdim[0]`, which flips the third
 //! axis), else plain scaling by pixdim (method 1, no offset). Voxel (i, j, k) lands at
 //! affine * (i, j, k, 1).
 //! A NIfTI-1 header's float32 fields are widened to f64 exactly, so both versions go

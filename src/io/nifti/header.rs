@@ -48,7 +48,7 @@ pub struct NiftiHeader {
     /// `dim_info`: the frequency, phase and slice encoding axes, two bits each (not used; a
     /// fit's output keeps it).
     pub dim_info: u8,
-    /// dim[0] is the number of dimensions, dim[1..=dim[0]] their lengths.
+    /// `dim[0]` is the number of dimensions, `dim[1..=dim[0]]` their lengths.
     pub dim: [i64; 8],
     /// `intent_p1`: the first parameter of the intent (not used; a fit's output clears it).
     pub intent_p1: f64,
@@ -69,7 +69,7 @@ pub struct NiftiHeader {
     /// `slice_start`: the first slice of the acquisition order (not used; a fit's output
     /// keeps it).
     pub slice_start: i64,
-    /// pixdim[0] is qfac (its sign flips the third axis of the qform), pixdim[1..] the
+    /// `pixdim[0]` is qfac (its sign flips the third axis of the qform), `pixdim[1..]` the
     /// voxel sizes.
     pub pixdim: [f64; 8],
     /// Byte offset of the first voxel in the data file.

@@ -10,7 +10,7 @@ use crate::{Error, Result};
 /// Where and how the voxels are stored.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DataLayout {
-    /// dim[1..=dim[0]].
+    /// `dim[1..=dim[0]]`.
     pub shape: Vec<usize>,
     /// The product of `shape`.
     pub count: usize,

@@ -1,7 +1,7 @@
 //! NIfTI input and output, our own: NIfTI-1 and NIfTI-2 in either byte order, as a single
 //! `.nii` or `.nii.gz`, or as a `.hdr`/`.img` pair (either part may be gzipped). Voxels
 //! are read as f64 with `scl_slope`/`scl_inter` applied ([`layout`]), with the
-//! voxel-to-world affine ([`affine`]); [`write`] writes NIfTI-1 float32.
+//! voxel-to-world affine ([`affine`]); [`write`](mod@write) writes NIfTI-1 float32.
 //!
 //! Reading is strict and bounded: the header is checked in full before any voxel is read
 //! (every error names the file and the header field, with the header's numbers), the
