@@ -16,7 +16,7 @@ use crate::accuracy::{GeometricError, compare_depth, geometric_error};
 use crate::camera::Camera;
 use crate::glyph::intersect::WorldGlyph;
 use crate::glyph::reference::reference_depth;
-use crate::render::glyph_data::{GlyphSetData, prepare_scene};
+use crate::render::glyph_data::{GlyphSetData, WorldGlyphs, prepare_scene, prepare_scene_with};
 use crate::render::headless::{HeadlessRenderer, RenderedImage};
 use crate::render::{RenderPath, RenderSettings};
 use crate::scene::Scene;
@@ -172,13 +172,13 @@ pub fn run(
     frames: BenchFrames,
 ) -> Result<BenchResult> {
     let started = Instant::now();
-    let mut sets = prepare_scene(case.scene, case.settings.offset as f64)?;
-    let prepare_ms = started.elapsed().as_secs_f64() * 1e3;
     // Only the mesh pass draws from the float64 glyphs (the reference has its own).
-    if !matches!(case.settings.method, crate::render::Method::Mesh(_)) {
-        sets.iter_mut()
-            .for_each(GlyphSetData::drop_reference_glyphs);
-    }
+    let world = match case.settings.method {
+        crate::render::Method::Mesh(_) => WorldGlyphs::Keep,
+        _ => WorldGlyphs::Leave,
+    };
+    let sets = prepare_scene_with(case.scene, case.settings.offset as f64, world)?;
+    let prepare_ms = started.elapsed().as_secs_f64() * 1e3;
     let mut result = measure_prepared(gpu, renderer, case, &sets, frames, prepare_ms)?;
     result.scene = case.scene_name.to_owned();
     Ok(result)

@@ -6,7 +6,9 @@
 use crate::camera::Camera;
 use crate::error::quoted;
 use crate::glyph::{GlyphShape, NegativeMode};
-use crate::render::glyph_data::{GlyphSetData, measure_largest_radius, prepare_scene};
+use crate::render::glyph_data::{
+    GlyphSetData, WorldGlyphs, measure_largest_radius, prepare_scene_with,
+};
 use crate::render::peaks::PeakSet;
 use crate::render::settings::{parse_background, parse_light};
 use crate::render::{ColorMode, Method, Refinement, RenderSettings};
@@ -169,11 +171,17 @@ pub fn prepare_render(
             .filter(|set| set.shape == GlyphShape::Polynomial)
             .for_each(|set| set.negative = mode);
     }
-    let mut sets = prepare_scene(&scene, settings.offset as f64)?;
+    let mesh = matches!(settings.method, Method::Mesh(_));
+    let world = if mesh || settings.needs_largest_radius() {
+        WorldGlyphs::Keep
+    } else {
+        WorldGlyphs::Leave
+    };
+    let mut sets = prepare_scene_with(&scene, settings.offset as f64, world)?;
     if settings.needs_largest_radius() {
         measure_largest_radius(&mut sets);
     }
-    if !matches!(settings.method, Method::Mesh(_)) {
+    if !mesh {
         sets.iter_mut().for_each(|s| s.drop_reference_glyphs());
     }
     Ok(PreparedScene {
