@@ -142,12 +142,14 @@ where
             .zip(out.chunks_mut(chunk * width))
             .map(|(part, out)| scope.spawn(move || fill(part, out)))
             .collect();
-        // Every worker joined (no `any`, which stops at the first): the scope panics
+        // Every worker joined (not `any`, which stops at the first): the scope panics
         // over a panicked worker left unjoined.
-        workers
+        let panicked = workers
             .into_iter()
             .map(|w| w.join().is_err())
-            .fold(false, |any, panicked| any || panicked)
+            .filter(|&panicked| panicked)
+            .count();
+        panicked > 0
     });
     if panicked {
         return Err(Error::Thread { what });

@@ -172,7 +172,14 @@ impl FodfKernel {
         // f(d_i) = sum_j c_j Y_j(d_i), from the values already at hand.
         let peak = values[..draw.count]
             .iter()
-            .map(|y| y[..n].iter().zip(&*out).map(|(y, c)| y * c).sum::<f64>().abs())
+            .map(|y| {
+                y[..n]
+                    .iter()
+                    .zip(&*out)
+                    .map(|(y, c)| y * c)
+                    .sum::<f64>()
+                    .abs()
+            })
             .fold(0.0, f64::max);
         for c in out.iter_mut() {
             *c = *c * 0.45 / peak.max(1e-12);
@@ -343,7 +350,10 @@ mod tests {
     fn fodf_kernels_follow_the_addition_theorem() {
         // sum_m Y_lm(d) Y_lm(u) = (2l + 1) / (4 pi) P_l(d . u) in the orthonormal basis,
         // so the series is sum_i w_i sum_l k_l (2l + 1) / (4 pi) P_l(d_i . u).
-        let fibres = [(DVec3::new(0.2, 0.5, 0.8).normalize(), 1.0), (DVec3::X, 0.6)];
+        let fibres = [
+            (DVec3::new(0.2, 0.5, 0.8).normalize(), 1.0),
+            (DVec3::X, 0.6),
+        ];
         let mut rng = SplitMix64::new(5);
         for band in [2, 8, 12] {
             let c = fodf_coefficients(band, &fibres);
@@ -364,7 +374,10 @@ mod tests {
             for u in dirs {
                 let got = sh_eval(band, ShBasis::Tournier07, false, &c, u);
                 let want = closed(u);
-                assert!((got - want).abs() < 1e-12, "band {band} at {u}: {got} vs {want}");
+                assert!(
+                    (got - want).abs() < 1e-12,
+                    "band {band} at {u}: {got} vs {want}"
+                );
             }
         }
     }

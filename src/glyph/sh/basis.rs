@@ -85,7 +85,7 @@ impl ShEvaluator {
         let u = u.normalize_or(DVec3::Z);
         let factors = Recurrence::shared();
         let mut put = |l: u32, k: u32, q: f64, (re, im): (f64, f64)| {
-            if l % 2 != 0 {
+            if !l.is_multiple_of(2) {
                 return;
             }
             let orders = [k as i32, -(k as i32)];

@@ -22,7 +22,11 @@ fn table_values(band: u32, basis: ShBasis, legacy: bool, u: DVec3) -> Vec<f64> {
             let k = m.unsigned_abs();
             let (part, factor) = super::super::basis::basis_term(basis, legacy, m);
             let (re, im) = powers[k as usize];
-            let trig = if part == super::super::basis::Part::Re { re } else { im };
+            let trig = if part == super::super::basis::Part::Re {
+                re
+            } else {
+                im
+            };
             factor * q[legendre_index(l, k)] * trig
         })
         .collect()
@@ -74,5 +78,8 @@ fn evaluator_writes_a_short_slice_partly_and_past_the_cached_band() {
     for (g, w) in high.iter().zip(&want) {
         assert!((g - w).abs() <= 1e-12 * w.abs().max(1.0));
     }
-    assert_eq!(sh_basis_values(7, ShBasis::Tournier07, false, u), full[..28]);
+    assert_eq!(
+        sh_basis_values(7, ShBasis::Tournier07, false, u),
+        full[..28]
+    );
 }
