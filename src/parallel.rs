@@ -107,8 +107,8 @@ where
 /// `available_parallelism` scoped threads over contiguous chunks. Unlike [`map_chunks`],
 /// nothing is allocated for the results: the caller owns the buffer, so work that
 /// allocates nothing itself leaves nothing in the workers' allocator arenas (glibc
-/// gives each thread its own, and freed memory there is not returned to the process's
-/// other threads). Items past `out.len() / width` are skipped.
+/// gives each thread an arena of its own, which keeps what is freed there for its later
+/// use rather than giving it back). Items past `out.len() / width` are skipped.
 pub fn fill_chunks<I, O, F>(
     items: &[I],
     out: &mut [O],

@@ -52,9 +52,10 @@ pub(super) fn signed_order(basis: ShBasis, k: u32, part: Part) -> i32 {
 /// Evaluates every basis function of one (band, basis, legacy) at a direction, with no
 /// heap allocation: the values are written in place, order by order (m = 0, 1, ...):
 /// for each |m| the azimuthal power (x + iy)^|m| and the column Q_l^|m|, l = |m|..band,
-/// are carried as scalars instead of tables, and the recurrence factors come from
-/// [`Recurrence::shared`]. Every value is the same product of the same numbers as in a
-/// band-by-band evaluation, so the results are those of [`sh_basis_values`] exactly.
+/// are carried as scalars instead of tables, and the recurrence factors come from a
+/// table made once (`legendre::Recurrence`). Every value is the same product of the same
+/// numbers as when read from a whole table of Q_l^m (`legendre::q_table`, which this
+/// replaced here), so the results are the same to the bit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ShEvaluator {
     band: u32,
