@@ -103,6 +103,60 @@ where
     Ok(out)
 }
 
+/// Fills `out`, `width` values per item, with `f(item, its width values)` on
+/// `available_parallelism` scoped threads over contiguous chunks. Unlike [`map_chunks`],
+/// nothing is allocated for the results: the caller owns the buffer, so work that
+/// allocates nothing itself leaves nothing in the workers' allocator arenas (glibc
+/// gives each thread an arena of its own, which keeps what is freed there for its later
+/// use rather than giving it back). Items past `out.len() / width` are skipped.
+pub fn fill_chunks<I, O, F>(
+    items: &[I],
+    out: &mut [O],
+    width: usize,
+    what: &'static str,
+    f: F,
+) -> Result<()>
+where
+    I: Sync,
+    O: Send,
+    F: Fn(&I, &mut [O]) + Sync,
+{
+    if width == 0 {
+        return Ok(());
+    }
+    let threads = std::thread::available_parallelism().map_or(1, usize::from);
+    let chunk = items.len().div_ceil(threads).max(1);
+    let f = &f;
+    let fill = move |part: &[I], out: &mut [O]| {
+        for (item, slot) in part.iter().zip(out.chunks_mut(width)) {
+            f(item, slot);
+        }
+    };
+    if items.len() <= INLINE_ITEMS {
+        fill(items, out);
+        return Ok(());
+    }
+    let panicked = std::thread::scope(|scope| {
+        let workers: Vec<_> = items
+            .chunks(chunk)
+            .zip(out.chunks_mut(chunk * width))
+            .map(|(part, out)| scope.spawn(move || fill(part, out)))
+            .collect();
+        // Every worker joined (not `any`, which stops at the first): the scope panics
+        // over a panicked worker left unjoined.
+        let panicked = workers
+            .into_iter()
+            .map(|w| w.join().is_err())
+            .filter(|&panicked| panicked)
+            .count();
+        panicked > 0
+    });
+    if panicked {
+        return Err(Error::Thread { what });
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -142,5 +196,28 @@ mod tests {
                 .unwrap()
                 .is_empty()
         );
+    }
+
+    #[test]
+    fn fills_each_items_values_in_place() {
+        for count in [0, 5, 1001] {
+            let items: Vec<u32> = (0..count).collect();
+            let mut out = vec![0u32; 3 * items.len()];
+            fill_chunks(&items, &mut out, 3, "filling", |i, slot| {
+                for (j, v) in slot.iter_mut().enumerate() {
+                    *v = 10 * i + j as u32;
+                }
+            })
+            .unwrap();
+            let want: Vec<u32> = items
+                .iter()
+                .flat_map(|i| (0..3).map(move |j| 10 * i + j))
+                .collect();
+            assert_eq!(out, want);
+        }
+        let failed = fill_chunks(&[1u32; 100], &mut [0u32; 100], 1, "panicking", |i, _| {
+            assert_ne!(*i, 1, "a worker's panic");
+        });
+        assert!(matches!(failed, Err(Error::Thread { what: "panicking" })));
     }
 }

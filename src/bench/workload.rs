@@ -7,10 +7,10 @@
 use crate::camera::{Camera, Projection};
 use crate::catalog::{MAX_SH_BAND, MAX_SYMMETRIC_ORDER};
 use crate::demo::{direction, fibre_tensor, glyph_set, symmetric};
-use crate::glyph::sh::{sh_basis_values, sh_orders};
+use crate::glyph::sh::{ShEvaluator, sh_count, sh_orders};
 use crate::rng::SplitMix64;
 use crate::scene::{GlyphKind, GlyphSet, ImageSize, Scene, ShBasis};
-use crate::{Error, Result, Setting};
+use crate::{Error, Result, Setting, parallel};
 use glam::DVec3;
 
 /// `count` glyphs of `order` (even, 2..=12) on a square grid of unit spacing, two or three
@@ -83,7 +83,15 @@ fn field_scene(set: GlyphSet, side: usize, width: u32, height: u32) -> Scene {
 /// addition theorem), with a Gaussian taper k_l = exp(-2 l(l+1) / (L(L+1))) that keeps
 /// the lobes as sharp as band L allows with little ringing.
 pub fn fodf_coefficients(band: u32, fibres: &[(DVec3, f64)]) -> Vec<f64> {
-    fodf_coefficients_tapered(band, &fodf_taper(band), fibres)
+    let taper = fodf_taper(band);
+    let evaluator = ShEvaluator::new(band, ShBasis::Tournier07, false);
+    let mut values = vec![0.0; taper.len()];
+    let mut coeffs = vec![0.0; taper.len()];
+    for (d, w) in fibres {
+        evaluator.values_into(*d, &mut values);
+        add_kernel(&mut coeffs, &taper, *w, &values);
+    }
+    coeffs
 }
 
 /// The taper k_l of [`fodf_coefficients`], one per coefficient (l, m).
@@ -94,21 +102,98 @@ fn fodf_taper(band: u32) -> Vec<f64> {
         .collect()
 }
 
-/// [`fodf_coefficients`] with the taper computed once.
-fn fodf_coefficients_tapered(band: u32, taper: &[f64], fibres: &[(DVec3, f64)]) -> Vec<f64> {
-    let mut coeffs = vec![0.0; taper.len()];
-    for (d, w) in fibres {
-        let y = sh_basis_values(band, ShBasis::Tournier07, false, *d);
-        for ((c, k), y) in coeffs.iter_mut().zip(taper).zip(y) {
-            *c += w * k * y;
+/// Adds one fibre's kernel, weight `weight`, from its basis values `values`.
+fn add_kernel(coeffs: &mut [f64], taper: &[f64], weight: f64, values: &[f64]) {
+    for ((c, k), y) in coeffs.iter_mut().zip(taper).zip(values) {
+        *c += weight * k * y;
+    }
+}
+
+/// Glyphs whose coefficients are computed at once, in parallel, into one flat buffer
+/// (64k band-8 glyphs: 23 MB).
+const FODF_BLOCK: usize = 1 << 16;
+
+/// The most fibres of a generated fODF.
+const MAX_FIBRES: usize = 3;
+
+/// The random draws of one generated fODF: its fibres (direction, weight).
+#[derive(Clone, Copy, Default)]
+struct FibreDraw {
+    fibres: [(DVec3, f64); MAX_FIBRES],
+    count: usize,
+}
+
+impl FibreDraw {
+    /// One to three fibres (40 %, 40 %, 20 %) in random directions, the first of
+    /// weight 1, the others 0.4 to 0.9.
+    fn draw(rng: &mut SplitMix64) -> Self {
+        let draw = rng.unit();
+        let count = if draw < 0.4 {
+            1
+        } else if draw < 0.8 {
+            2
+        } else {
+            3
+        };
+        let mut fibres = [(DVec3::ZERO, 0.0); MAX_FIBRES];
+        for (f, fibre) in fibres[..count].iter_mut().enumerate() {
+            let weight = if f == 0 { 1.0 } else { 0.4 + 0.5 * rng.unit() };
+            *fibre = (rng.direction(), weight);
+        }
+        Self { fibres, count }
+    }
+
+    fn fibres(&self) -> &[(DVec3, f64)] {
+        &self.fibres[..self.count]
+    }
+}
+
+/// What every generated fODF of one band shares.
+struct FodfKernel {
+    evaluator: ShEvaluator,
+    taper: Vec<f64>,
+}
+
+impl FodfKernel {
+    /// Basis values held on the stack: the workload's highest band.
+    const VALUES: usize = sh_count(MAX_SH_BAND);
+
+    /// Writes the coefficients of `draw` into `out`, scaled to a peak radius of 0.45:
+    /// the largest |f| at a fibre's own direction, for a size that does not depend on
+    /// how many fibres cross. Allocates nothing, so it can run on worker threads.
+    fn coefficients(&self, draw: &FibreDraw, out: &mut [f64]) {
+        let n = out.len().min(Self::VALUES);
+        let mut values = [[0.0; Self::VALUES]; MAX_FIBRES];
+        out.fill(0.0);
+        for ((d, w), values) in draw.fibres().iter().zip(&mut values) {
+            self.evaluator.values_into(*d, &mut values[..n]);
+            add_kernel(out, &self.taper, *w, &values[..n]);
+        }
+        // f(d_i) = sum_j c_j Y_j(d_i), from the values already at hand.
+        let peak = values[..draw.count]
+            .iter()
+            .map(|y| {
+                y[..n]
+                    .iter()
+                    .zip(&*out)
+                    .map(|(y, c)| y * c)
+                    .sum::<f64>()
+                    .abs()
+            })
+            .fold(0.0, f64::max);
+        for c in out.iter_mut() {
+            *c = *c * 0.45 / peak.max(1e-12);
         }
     }
-    coeffs
 }
 
 /// `count` fibre ODFs of SH band `band` (even, 2..=12) on a square grid of unit spacing:
 /// one to three fibres each (40 %, 40 %, 20 %) in random directions with weights 1 and
 /// 0.4 to 0.9, each glyph scaled to a peak radius of about 0.45; seen as `grid` is.
+///
+/// The draws are made on this thread in glyph order (a fixed sequence for a given count
+/// and band); the coefficients are computed block by block on every core into one flat
+/// buffer, and each glyph's own `Vec` is made here, so the workers allocate nothing.
 pub fn fodf(count: usize, band: u32, width: u32, height: u32) -> Result<Scene> {
     if count == 0 || count > MAX_WORKLOAD_GLYPHS {
         return Err(glyph_count(count));
@@ -121,40 +206,17 @@ pub fn fodf(count: usize, band: u32, width: u32, height: u32) -> Result<Scene> {
         ));
     }
     let side = (count as f64).sqrt().ceil() as usize;
-    let mut rng = SplitMix64::new(0x5eed_f0df ^ (count as u64) << 8 ^ band as u64);
-    let mut centers = Vec::with_capacity(count);
-    let mut coeffs = Vec::with_capacity(count);
-    let taper = fodf_taper(band);
-    for k in 0..count {
-        let (i, j) = (k % side, k / side);
-        let draw = rng.unit();
-        let fibre_count = if draw < 0.4 {
-            1
-        } else if draw < 0.8 {
-            2
-        } else {
-            3
-        };
-        let fibres: Vec<(DVec3, f64)> = (0..fibre_count)
-            .map(|f| {
-                let weight = if f == 0 { 1.0 } else { 0.4 + 0.5 * rng.unit() };
-                (rng.direction(), weight)
-            })
-            .collect();
-        // The peak of the dominant fibre's kernel, for a size that does not depend on
-        // how many fibres cross.
-        let c = fodf_coefficients_tapered(band, &taper, &fibres);
-        let peak = fibres
-            .iter()
-            .map(|(d, _)| crate::glyph::sh::sh_eval(band, ShBasis::Tournier07, false, &c, *d).abs())
-            .fold(0.0, f64::max);
-        centers.push(DVec3::new(
-            i as f64 - 0.5 * (side - 1) as f64,
-            j as f64 - 0.5 * (side - 1) as f64,
-            0.0,
-        ));
-        coeffs.push(c.iter().map(|v| v * 0.45 / peak.max(1e-12)).collect());
-    }
+    let centers = (0..count)
+        .map(|k| {
+            let (i, j) = (k % side, k / side);
+            DVec3::new(
+                i as f64 - 0.5 * (side - 1) as f64,
+                j as f64 - 0.5 * (side - 1) as f64,
+                0.0,
+            )
+        })
+        .collect();
+    let coeffs = fodf_coefficient_blocks(count, band, FODF_BLOCK)?;
     let kind = GlyphKind::Sh {
         band,
         basis: ShBasis::Tournier07,
@@ -166,6 +228,31 @@ pub fn fodf(count: usize, band: u32, width: u32, height: u32) -> Result<Scene> {
         width,
         height,
     ))
+}
+
+/// The coefficients of [`fodf`]'s glyphs, `block` glyphs at a time.
+fn fodf_coefficient_blocks(count: usize, band: u32, block: usize) -> Result<Vec<Vec<f64>>> {
+    let mut rng = SplitMix64::new(0x5eed_f0df ^ (count as u64) << 8 ^ band as u64);
+    let kernel = FodfKernel {
+        evaluator: ShEvaluator::new(band, ShBasis::Tournier07, false),
+        taper: fodf_taper(band),
+    };
+    let width = kernel.taper.len();
+    let block = block.clamp(1, count.max(1));
+    let mut draws = Vec::with_capacity(block);
+    let mut flat = vec![0.0; block * width];
+    let mut coeffs = Vec::with_capacity(count);
+    while coeffs.len() < count {
+        let n = block.min(count - coeffs.len());
+        draws.clear();
+        draws.extend((0..n).map(|_| FibreDraw::draw(&mut rng)));
+        let flat = &mut flat[..n * width];
+        parallel::fill_chunks(&draws, flat, width, "fODF workload", |draw, out| {
+            kernel.coefficients(draw, out)
+        })?;
+        coeffs.extend(flat.chunks(width).map(<[f64]>::to_vec));
+    }
+    Ok(coeffs)
 }
 
 /// Parses `grid:COUNT:ORDER` or `fodf:COUNT:BAND`.
@@ -183,5 +270,115 @@ pub fn parse(spec: &str, width: u32, height: u32) -> Result<Scene> {
         ["grid", count, order] => grid(number(count)?, number(order)? as u32, width, height),
         ["fodf", count, band] => fodf(number(count)?, number(band)? as u32, width, height),
         _ => Err(bad()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::glyph::sh::{sh_basis_values, sh_eval};
+
+    /// The glyphs of `fodf(count, band)` as the workload first made them: one glyph at a
+    /// time, basis values and series through the plain `sh` functions.
+    fn serial_fodf(count: usize, band: u32) -> Vec<Vec<f64>> {
+        let mut rng = SplitMix64::new(0x5eed_f0df ^ (count as u64) << 8 ^ band as u64);
+        let taper = fodf_taper(band);
+        (0..count)
+            .map(|_| {
+                let draw = rng.unit();
+                let n = 1 + usize::from(draw >= 0.4) + usize::from(draw >= 0.8);
+                let fibres: Vec<(DVec3, f64)> = (0..n)
+                    .map(|f| {
+                        let weight = if f == 0 { 1.0 } else { 0.4 + 0.5 * rng.unit() };
+                        (rng.direction(), weight)
+                    })
+                    .collect();
+                let mut c = vec![0.0; taper.len()];
+                for (d, w) in &fibres {
+                    let y = sh_basis_values(band, ShBasis::Tournier07, false, *d);
+                    for ((c, k), y) in c.iter_mut().zip(&taper).zip(y) {
+                        *c += w * k * y;
+                    }
+                }
+                let peak = fibres
+                    .iter()
+                    .map(|(d, _)| sh_eval(band, ShBasis::Tournier07, false, &c, *d).abs())
+                    .fold(0.0, f64::max);
+                c.iter().map(|v| v * 0.45 / peak.max(1e-12)).collect()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn fodf_blocks_on_every_core_give_the_serial_glyphs() {
+        for band in [2, 8, 12] {
+            let want = serial_fodf(300, band);
+            // Blocks that end mid-list and blocks past the inline size of `fill_chunks`.
+            for block in [7, 64, FODF_BLOCK] {
+                let got = fodf_coefficient_blocks(300, band, block).unwrap();
+                assert_eq!(got.len(), want.len());
+                for (k, (g, w)) in got.iter().zip(&want).enumerate() {
+                    assert_eq!(g.len(), sh_count(band));
+                    for (a, b) in g.iter().zip(w) {
+                        assert!(
+                            (a - b).abs() <= 1e-12 * b.abs().max(1e-3),
+                            "band {band}, block {block}, glyph {k}: {a} vs {b}"
+                        );
+                    }
+                }
+            }
+        }
+        let scene = fodf(300, 8, 64, 48).unwrap();
+        assert_eq!(scene.glyph_sets[0].coeffs, serial_fodf(300, 8));
+        assert_eq!(scene.glyph_sets[0].centers.len(), 300);
+    }
+
+    /// The Legendre polynomial P_l(t) (Bonnet's recurrence).
+    fn legendre(l: u32, t: f64) -> f64 {
+        let (mut prev, mut cur) = (1.0, t);
+        if l == 0 {
+            return prev;
+        }
+        for n in 1..l {
+            let n = n as f64;
+            (prev, cur) = (cur, ((2.0 * n + 1.0) * t * cur - n * prev) / (n + 1.0));
+        }
+        cur
+    }
+
+    #[test]
+    fn fodf_kernels_follow_the_addition_theorem() {
+        // sum_m Y_lm(d) Y_lm(u) = (2l + 1) / (4 pi) P_l(d . u) in the orthonormal basis,
+        // so the series is sum_i w_i sum_l k_l (2l + 1) / (4 pi) P_l(d_i . u).
+        let fibres = [
+            (DVec3::new(0.2, 0.5, 0.8).normalize(), 1.0),
+            (DVec3::X, 0.6),
+        ];
+        let mut rng = SplitMix64::new(5);
+        for band in [2, 8, 12] {
+            let c = fodf_coefficients(band, &fibres);
+            let taper = fodf_taper(band);
+            let closed = |u: DVec3| -> f64 {
+                let zonal = |t: f64| -> f64 {
+                    (0..=band)
+                        .step_by(2)
+                        .map(|l| {
+                            let k = taper[crate::glyph::sh::sh_index(l, 0)];
+                            k * (2 * l + 1) as f64 / (4.0 * std::f64::consts::PI) * legendre(l, t)
+                        })
+                        .sum()
+                };
+                fibres.iter().map(|(d, w)| w * zonal(d.dot(u))).sum()
+            };
+            let dirs = (0..200).map(|_| rng.direction()).chain(fibres.map(|f| f.0));
+            for u in dirs {
+                let got = sh_eval(band, ShBasis::Tournier07, false, &c, u);
+                let want = closed(u);
+                assert!(
+                    (got - want).abs() < 1e-12,
+                    "band {band} at {u}: {got} vs {want}"
+                );
+            }
+        }
     }
 }

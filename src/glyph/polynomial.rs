@@ -14,6 +14,8 @@
 //! z power grows by one factor per step. No power tables and no allocation, which matters
 //! because the bounds evaluate f thousands of times per glyph. [`GlyphPolynomial::along_line`]
 //! runs the same scheme with univariate polynomials in t in place of numbers.
+use std::sync::OnceLock;
+
 use glam::DVec3;
 
 use super::monomials;
@@ -184,11 +186,27 @@ pub fn raised_symmetric_tensor(order: u32, tensor: &[f64], k: u32) -> Vec<f64> {
 
 /// c_k = multiplicity(m_k) t_k (Eq. 5 weights).
 fn symmetric_coefficients(order: u32, tensor: &[f64]) -> Vec<f64> {
-    monomials::monomials(order)
-        .into_iter()
+    multiplicities(order)
+        .iter()
         .zip(tensor)
-        .map(|(m, t)| monomials::multiplicity(m) as f64 * t)
+        .map(|(w, t)| w * t)
         .collect()
+}
+
+/// The multiplicities of `monomials(order)` as float64, computed once per order (a
+/// million glyphs would otherwise list the monomials and divide factorials each time).
+/// `order` is at most [`MAX_ORDER`]; a higher one gets an empty list.
+fn multiplicities(order: u32) -> &'static [f64] {
+    static TABLES: [OnceLock<Vec<f64>>; MAX_ORDER as usize + 1] =
+        [const { OnceLock::new() }; MAX_ORDER as usize + 1];
+    TABLES.get(order as usize).map_or(&[], |table| {
+        table.get_or_init(|| {
+            monomials::monomials(order)
+                .into_iter()
+                .map(|m| monomials::multiplicity(m) as f64)
+                .collect()
+        })
+    })
 }
 
 /// c_k = sum of the entries whose index multiset is monomial k (Eq. 4 collected).

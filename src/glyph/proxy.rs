@@ -215,11 +215,11 @@ impl BandProjector {
         }
     }
 
-    /// w = P coeffs, into `w` (one value per row, in (l, m) order).
-    fn project(&self, coeffs: &[f64], w: &mut [f64]) {
+    /// w = P coeffs, into `w` (one value per row, in (l, m) order), with `gathered` as
+    /// working room (every entry read is written first).
+    fn project(&self, coeffs: &[f64], gathered: &mut [f64; GATHERED], w: &mut [f64]) {
         // The coefficients gathered class by class, so each row's product is one dot
         // product over a contiguous run.
-        let mut gathered = [0.0f64; GATHERED];
         let mut starts = [0usize; 6];
         let mut n = 0;
         for (class, columns) in self.class_columns.iter().enumerate() {
@@ -238,9 +238,9 @@ impl BandProjector {
     }
 
     /// sum_l sqrt((2l + 1) / (4 pi)) ||w_l|| for w = P coeffs.
-    fn band_bound(&self, coeffs: &[f64]) -> f64 {
-        let mut w = [0.0f64; MAX_MONOMIALS];
-        self.project(coeffs, &mut w);
+    fn band_bound(&self, coeffs: &[f64], scratch: &mut Scratch) -> f64 {
+        let Scratch { gathered, w } = scratch;
+        self.project(coeffs, gathered, w);
         let mut w = w.iter();
         let mut total = 0.0;
         for l in &self.bands {
@@ -248,6 +248,24 @@ impl BandProjector {
             total += ((2 * l + 1) as f64 / (4.0 * std::f64::consts::PI)).sqrt() * norm2.sqrt();
         }
         total
+    }
+}
+
+/// Working room of [`BandProjector::band_bound`], made once per glyph: zeroing these
+/// arrays (5 kB) anew for each of a glyph's four bounds was 5 % of bounding a million
+/// glyphs. Nothing is carried from one bound to the next: `project` writes every entry
+/// it reads.
+struct Scratch {
+    gathered: [f64; GATHERED],
+    w: [f64; MAX_MONOMIALS],
+}
+
+impl Scratch {
+    fn new() -> Self {
+        Self {
+            gathered: [0.0; GATHERED],
+            w: [0.0; MAX_MONOMIALS],
+        }
     }
 }
 
@@ -275,13 +293,28 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     (partial[0] + partial[1]) + (partial[2] + partial[3]) + tail
 }
 
+/// The products c_i c_j, j = `j`..`j + len`, of f^2's coefficients, which add to the
+/// coefficients `k`..`k + len` of f^2 (twice over where i != j). Along a run of j with one
+/// power of x, m_i m_j steps through consecutive monomials too, so the pairs (i, j) fall
+/// into runs (at order 8, 194 runs of 1,035 pairs), each one slice operation. The runs
+/// keep the pairs' order, (i, j) ascending, so each coefficient of f^2 sums its terms in
+/// the same order as pair by pair.
+#[derive(Clone, Copy, Debug)]
+struct SquareRun {
+    i: u16,
+    j: u16,
+    k: u16,
+    len: u16,
+    twice: bool,
+}
+
 /// Per degree d: the projector of degree d, the monomial index of x m, y m and z m in
 /// degree d + 1 for every monomial m, and what the second moment of f^2 needs.
 struct DegreeTables {
     projector: BandProjector,
     times_axis: Vec<[u16; 3]>,
-    /// (i, j, index of m_i m_j in degree 2d) over i <= j.
-    square_pairs: Vec<(u16, u16, u16)>,
+    /// The products m_i m_j (i <= j) of f^2, in runs (module `SquareRun`).
+    square_runs: Vec<SquareRun>,
     /// Per monomial g of degree 2d: the integrals of g u_a u_b over the sphere, for
     /// (a, b) = xx, xy, xz, yy, yz, zz.
     moments: Vec<[f64; 6]>,
@@ -301,7 +334,7 @@ impl DegreeTables {
                 ]
             })
             .collect();
-        let mut square_pairs = Vec::with_capacity(monos.len() * (monos.len() + 1) / 2);
+        let mut square_runs: Vec<SquareRun> = Vec::new();
         for (i, mi) in monos.iter().enumerate() {
             for (j, mj) in monos.iter().enumerate().skip(i) {
                 let product = Monomial {
@@ -309,11 +342,25 @@ impl DegreeTables {
                     b: mi.b + mj.b,
                     c: mi.c + mj.c,
                 };
-                square_pairs.push((
-                    i as u16,
-                    j as u16,
-                    monomial_index(2 * degree, product) as u16,
-                ));
+                let k = monomial_index(2 * degree, product) as u16;
+                let (i, j, twice) = (i as u16, j as u16, i != j);
+                match square_runs.last_mut() {
+                    Some(run)
+                        if run.i == i
+                            && run.twice == twice
+                            && run.j + run.len == j
+                            && run.k + run.len == k =>
+                    {
+                        run.len += 1
+                    }
+                    _ => square_runs.push(SquareRun {
+                        i,
+                        j,
+                        k,
+                        len: 1,
+                        twice,
+                    }),
+                }
             }
         }
         let moments = monomials(2 * degree)
@@ -333,7 +380,7 @@ impl DegreeTables {
         Self {
             projector: BandProjector::new(degree),
             times_axis,
-            square_pairs,
+            square_runs,
             moments,
         }
     }
@@ -479,7 +526,8 @@ pub fn glyph_bounds_with(poly: &GlyphPolynomial, sampling: Sampling) -> Option<G
         Sampling::None => f64::INFINITY,
     };
     let sampled_radius = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let radius = (tables.projector.band_bound(&poly.coeffs) + slack)
+    let mut scratch = Scratch::new();
+    let radius = (tables.projector.band_bound(&poly.coeffs, &mut scratch) + slack)
         .min(sampled_or_band(sampled_radius, poly.order) + slack)
         .min(s);
     let axes = moment_axes(tables, &poly.coeffs);
@@ -500,7 +548,7 @@ pub fn glyph_bounds_with(poly: &GlyphPolynomial, sampling: Sampling) -> Option<G
             .iter()
             .zip(&lattice.nodes)
             .fold(0.0f64, |m, (f, u)| m.max((f * a.dot(*u)).abs()));
-        (higher.band_bound(product) + slack)
+        (higher.band_bound(product, &mut scratch) + slack)
             .min(sampled_or_band(sampled, poly.order + 1) + slack)
             .min(radius)
     });
@@ -522,10 +570,7 @@ const ROUND_GLYPH_RATIO: f64 = 1.5;
 fn moment_axes(tables: &DegreeTables, coeffs: &[f64]) -> [DVec3; 3] {
     let mut square = [0.0; MAX_SQUARE_MONOMIALS];
     let square = &mut square[..tables.moments.len().min(MAX_SQUARE_MONOMIALS)];
-    for &(i, j, k) in &tables.square_pairs {
-        let product = coeffs[i as usize] * coeffs[j as usize];
-        square[k as usize] += if i == j { product } else { 2.0 * product };
-    }
+    add_square(tables, coeffs, square);
     let mut a = [0.0; 6];
     for (g, moment) in square.iter().zip(&tables.moments) {
         for (entry, m) in a.iter_mut().zip(moment) {
@@ -559,6 +604,20 @@ fn moment_axes(tables: &DegreeTables, coeffs: &[f64]) -> [DVec3; 3] {
     let y = (y - x * x.dot(y)).normalize_or(x.any_orthonormal_vector());
     let z = x.cross(y);
     [x, y, z]
+}
+
+/// Adds the monomial coefficients of f^2 to `square` (zeros: then it holds f^2).
+fn add_square(tables: &DegreeTables, coeffs: &[f64], square: &mut [f64]) {
+    for run in &tables.square_runs {
+        let ci = coeffs[run.i as usize];
+        let (j, k, len) = (run.j as usize, run.k as usize, run.len as usize);
+        let targets = square[k..k + len].iter_mut().zip(&coeffs[j..j + len]);
+        if run.twice {
+            targets.for_each(|(s, cj)| *s += 2.0 * (ci * cj));
+        } else {
+            targets.for_each(|(s, cj)| *s += ci * cj);
+        }
+    }
 }
 
 /// Integral of x^a y^b z^c over the unit sphere: 0 unless all powers are even, else
@@ -712,7 +771,7 @@ mod tests {
             };
             let p = projector(order);
             let mut w = vec![0.0; p.rows.len()];
-            p.project(&coeffs, &mut w);
+            p.project(&coeffs, &mut [0.0; GATHERED], &mut w);
             let mut sh = Vec::new();
             for u in fibonacci(50) {
                 real_sh_values(order, &p.bands, u, &mut sh);
@@ -942,6 +1001,40 @@ mod tests {
     /// A round glyph (three equal orthogonal fibres, second moment nearly isotropic) gets
     /// the world axes; a crossing of two fibres keeps its moment axes (one along the
     /// normal of its plane).
+    /// The runs of f^2 hold every pair (i <= j) once, and give f^2 bit for bit as the
+    /// pair-by-pair sum in (i, j) order.
+    #[test]
+    fn square_runs_give_the_pairwise_square() {
+        for order in [1, 2, 4, 8, 12, 20] {
+            let tables = degree_tables(order);
+            let n = symmetric_count(order);
+            let pairs: usize = tables.square_runs.iter().map(|r| r.len as usize).sum();
+            assert_eq!(pairs, n * (n + 1) / 2, "order {order}");
+            if order == 8 {
+                assert_eq!(tables.square_runs.len(), 194);
+            }
+            let mut rand = noise(order as u64 + 7);
+            let coeffs: Vec<f64> = (0..n).map(|_| rand()).collect();
+            let monos = monomials(order);
+            let mut want = vec![0.0; symmetric_count(2 * order)];
+            for i in 0..n {
+                for j in i..n {
+                    let (mi, mj) = (monos[i], monos[j]);
+                    let product = Monomial {
+                        a: mi.a + mj.a,
+                        b: mi.b + mj.b,
+                        c: mi.c + mj.c,
+                    };
+                    let p = coeffs[i] * coeffs[j];
+                    want[monomial_index(2 * order, product)] += if i == j { p } else { 2.0 * p };
+                }
+            }
+            let mut got = vec![0.0; want.len()];
+            add_square(tables, &coeffs, &mut got);
+            assert_eq!(got, want, "order {order}");
+        }
+    }
+
     #[test]
     fn round_glyphs_take_the_world_axes() {
         let round = fibre_poly(4, &[(DVec3::X, 1.0), (DVec3::Y, 1.0), (DVec3::Z, 1.0)]);

@@ -95,11 +95,30 @@ fn tensor_coefficients<'a>(set: &GlyphSet, coeffs: &'a [f64]) -> Result<Cow<'a, 
 /// Prepares every glyph set of `scene`. `offset` is the isotropic offset as a fraction of
 /// each glyph's bound. Glyphs whose tensor is zero (an empty surface) are left out.
 pub fn prepare_scene(scene: &Scene, offset: f64) -> Result<Vec<GlyphSetData>> {
+    prepare_scene_with(scene, offset, WorldGlyphs::Keep)
+}
+
+/// Whether a preparation keeps the float64 glyphs ([`GlyphSetData::world`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WorldGlyphs {
+    /// For the reference, the mesh pass and the largest radius of `--color magnitude`.
+    Keep,
+    /// Not even made: a million band-8 glyphs would take about half a gigabyte there,
+    /// and as long again to allocate and free as to bound.
+    Leave,
+}
+
+/// [`prepare_scene`], keeping the float64 glyphs or not.
+pub fn prepare_scene_with(
+    scene: &Scene,
+    offset: f64,
+    world: WorldGlyphs,
+) -> Result<Vec<GlyphSetData>> {
     scene
         .glyph_sets
         .iter()
         .enumerate()
-        .map(|(index, set)| prepare_set(set, index, offset))
+        .map(|(index, set)| prepare_set_keeping(set, index, offset, None, world))
         .collect()
 }
 
@@ -114,6 +133,17 @@ pub fn prepare_set_with_progress(
     index: usize,
     offset: f64,
     progress: Option<&Progress>,
+) -> Result<GlyphSetData> {
+    prepare_set_keeping(set, index, offset, progress, WorldGlyphs::Keep)
+}
+
+/// [`prepare_set_with_progress`], keeping the float64 glyphs or not.
+fn prepare_set_keeping(
+    set: &GlyphSet,
+    index: usize,
+    offset: f64,
+    progress: Option<&Progress>,
+    world: WorldGlyphs,
 ) -> Result<GlyphSetData> {
     let layout = tensor_layout(set);
     if set.shape == GlyphShape::Ellipsoid && offset != 0.0 {
@@ -134,7 +164,10 @@ pub fn prepare_set_with_progress(
         instances: Vec::with_capacity(set.len()),
         boxes: Vec::with_capacity(set.len()),
         coefficients: Vec::with_capacity(set.len() * layout.coefficient_count()),
-        world: Vec::with_capacity(set.len()),
+        world: match world {
+            WorldGlyphs::Keep => Vec::with_capacity(set.len()),
+            WorldGlyphs::Leave => Vec::new(),
+        },
         largest_radius: 0.0,
     };
     // The bounds of each glyph are the costly part: glyphs are bounded on every core, a
@@ -155,7 +188,7 @@ pub fn prepare_set_with_progress(
         .zip(set.scales.chunks(BOUNDING_BLOCK));
     for ((coeffs, centers), scales) in blocks {
         let bounded = map_chunks(coeffs, "bounds", |c| {
-            bound_glyph(set, layout, index, c, sampling)
+            bound_glyph(set, layout, index, c, sampling, world)
         })?;
         if let Some(p) = progress {
             p.advance(coeffs.len());
@@ -204,15 +237,17 @@ fn add_bounded(
             half_size as f32,
         ]);
         data.coefficients.extend_from_slice(&gpu_coefficients);
-        data.world.push(WorldGlyph {
-            center: *center,
-            scale: *scale,
-            poly,
-            shape: set.shape,
-            negative: set.negative,
-            offset: offset * bound,
-            bound: bound * (1.0 + offset),
-        });
+        if let Some(poly) = poly {
+            data.world.push(WorldGlyph {
+                center: *center,
+                scale: *scale,
+                poly,
+                shape: set.shape,
+                negative: set.negative,
+                offset: offset * bound,
+                bound: bound * (1.0 + offset),
+            });
+        }
     }
 }
 
@@ -282,11 +317,12 @@ fn box_instance(bounds: &GlyphBounds, offset: f64) -> [f32; 8] {
 }
 
 /// A glyph's tensor coefficients divided by B in float32 (what the GPU reads),
-/// polynomial and bounds (radius B and box). For an ellipsoid: the quadric form's
-/// entries in units of B, the quadric form, and its exact bounds.
+/// polynomial (where the float64 glyphs are kept) and bounds (radius B and box). For an
+/// ellipsoid: the quadric form's entries in units of B, the quadric form, and its exact
+/// bounds.
 struct Bounded {
     gpu_coefficients: Vec<f32>,
-    poly: GlyphPolynomial,
+    poly: Option<GlyphPolynomial>,
     bounds: GlyphBounds,
 }
 
@@ -297,9 +333,10 @@ fn bound_glyph(
     index: usize,
     coeffs: &[f64],
     sampling: Sampling,
+    world: WorldGlyphs,
 ) -> Result<Option<Bounded>> {
     if set.shape == GlyphShape::Ellipsoid {
-        return bound_ellipsoid(coeffs).map_err(|e| Error::Item {
+        return bound_ellipsoid(coeffs, world).map_err(|e| Error::Item {
             what: "glyph",
             index,
             error: Box::new(e),
@@ -315,7 +352,7 @@ fn bound_glyph(
         .filter(|b| b.radius > 0.0 && b.radius.is_finite())
         .map(|bounds| Bounded {
             gpu_coefficients: coeffs.iter().map(|c| (c / bounds.radius) as f32).collect(),
-            poly,
+            poly: (world == WorldGlyphs::Keep).then_some(poly),
             bounds,
         }))
 }
@@ -323,7 +360,7 @@ fn bound_glyph(
 /// The ellipsoid of an order-2 tensor: `None` for one without (no positive eigenvalue).
 /// The GPU reads the quadric's matrix in units of the bound B, whose eigenvalues
 /// (B / s_i)^2 are at least 1 and at most 1 / [`crate::glyph::ellipsoid::EIGENVALUE_FLOOR`].
-fn bound_ellipsoid(coeffs: &[f64]) -> Result<Option<Bounded>> {
+fn bound_ellipsoid(coeffs: &[f64], world: WorldGlyphs) -> Result<Option<Bounded>> {
     let Some(ellipsoid) = Ellipsoid::from_tensor(coeffs) else {
         return Ok(None);
     };
@@ -334,7 +371,10 @@ fn bound_ellipsoid(coeffs: &[f64]) -> Result<Option<Bounded>> {
     ];
     Ok(Some(Bounded {
         gpu_coefficients: entries.iter().map(|&c| c as f32).collect(),
-        poly: ellipsoid.quadric_polynomial(1.0)?,
+        poly: match world {
+            WorldGlyphs::Keep => Some(ellipsoid.quadric_polynomial(1.0)?),
+            WorldGlyphs::Leave => None,
+        },
         bounds,
     }))
 }

@@ -6,7 +6,9 @@
 use crate::camera::Camera;
 use crate::error::quoted;
 use crate::glyph::{GlyphShape, NegativeMode};
-use crate::render::glyph_data::{GlyphSetData, measure_largest_radius, prepare_scene};
+use crate::render::glyph_data::{
+    GlyphSetData, WorldGlyphs, measure_largest_radius, prepare_scene_with,
+};
 use crate::render::peaks::PeakSet;
 use crate::render::promote::promote_small_sets;
 use crate::render::settings::{parse_background, parse_light};
@@ -157,7 +159,9 @@ impl PreparedScene {
 /// Prepares `scene` for rendering with `settings`, every polynomial set's negative mode
 /// replaced by `negative` if given (ellipsoids have no negative lobes): what `glyphcast render` and the Python module do before the GPU
 /// work. The scene's float64 glyphs are kept only where a mesh method tessellates them,
-/// and the scene is dropped (a million glyphs: most of a gigabyte).
+/// and the scene is dropped (a million glyphs: most of a gigabyte). Small symmetric sets
+/// of lower orders are raised to the highest order of their parity
+/// ([`promote_small_sets`]): a one-shot image then creates fewer pipelines.
 pub fn prepare_render(
     mut scene: Scene,
     settings: RenderSettings,
@@ -170,13 +174,19 @@ pub fn prepare_render(
             .filter(|set| set.shape == GlyphShape::Polynomial)
             .for_each(|set| set.negative = mode);
     }
-    let mut sets = prepare_scene(&scene, settings.offset as f64)?;
+    let mesh = matches!(settings.method, Method::Mesh(_));
+    let world = if mesh || settings.needs_largest_radius() {
+        WorldGlyphs::Keep
+    } else {
+        WorldGlyphs::Leave
+    };
+    let mut sets = prepare_scene_with(&scene, settings.offset as f64, world)?;
     if settings.needs_largest_radius() {
         measure_largest_radius(&mut sets);
     }
     let (width, height) = (scene.image.width, scene.image.height);
     promote_small_sets(&mut sets, &scene.camera, width, height, &settings);
-    if !matches!(settings.method, Method::Mesh(_)) {
+    if !mesh {
         sets.iter_mut().for_each(|s| s.drop_reference_glyphs());
     }
     Ok(PreparedScene {

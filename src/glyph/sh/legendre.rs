@@ -13,6 +13,12 @@
 //!
 //! The coefficient functions are shared with `tensor`, which runs the same recurrences
 //! on polynomials (there z Q is a product and b Q_(l-2) gains the factor r^2 = 1).
+//! Evaluation at many directions takes them from [`Recurrence::shared`], computed once
+//! (square roots are most of a band's evaluation otherwise); the values are the same
+//! numbers the functions give, so the results do not change by a bit.
+use std::sync::OnceLock;
+
+use super::MAX_SH_BAND;
 
 /// Q_0^0 = Y_0^0 = 1 / sqrt(4 pi).
 pub(super) fn q00() -> f64 {
@@ -68,4 +74,62 @@ pub(crate) fn q_table(band: u32, z: f64) -> Vec<f64> {
         }
     }
     q
+}
+
+/// The recurrence factors for every 0 <= m <= l <= [`MAX_SH_BAND`], computed once for
+/// the process; past that band each is computed when asked for.
+pub(super) struct Recurrence {
+    /// `sectoral_ratio(m)` at index m (index 0 unused).
+    sectoral: Vec<f64>,
+    /// `first_step(m)` at index m.
+    first: Vec<f64>,
+    /// `three_term(l, m)` at `table_index(l, m)` (unused where l < m + 2).
+    three_term: Vec<(f64, f64)>,
+}
+
+impl Recurrence {
+    /// The process-wide table.
+    pub(super) fn shared() -> &'static Self {
+        static TABLE: OnceLock<Recurrence> = OnceLock::new();
+        TABLE.get_or_init(|| {
+            let mut three = vec![(0.0, 0.0); table_index(MAX_SH_BAND, MAX_SH_BAND) + 1];
+            for l in 2..=MAX_SH_BAND {
+                for m in 0..=l - 2 {
+                    three[table_index(l, m)] = three_term(l, m);
+                }
+            }
+            Self {
+                sectoral: (0..=MAX_SH_BAND)
+                    .map(|m| if m == 0 { 1.0 } else { sectoral_ratio(m) })
+                    .collect(),
+                first: (0..=MAX_SH_BAND).map(first_step).collect(),
+                three_term: three,
+            }
+        })
+    }
+
+    /// [`sectoral_ratio`]`(m)`, m >= 1.
+    pub(super) fn sectoral(&self, m: u32) -> f64 {
+        self.sectoral
+            .get(m as usize)
+            .copied()
+            .unwrap_or_else(|| sectoral_ratio(m))
+    }
+
+    /// [`first_step`]`(m)`.
+    pub(super) fn first(&self, m: u32) -> f64 {
+        self.first
+            .get(m as usize)
+            .copied()
+            .unwrap_or_else(|| first_step(m))
+    }
+
+    /// [`three_term`]`(l, m)`, l >= m + 2. (`table_index` grows with l, so every l past
+    /// the table's band falls past its end.)
+    pub(super) fn three_term(&self, l: u32, m: u32) -> (f64, f64) {
+        self.three_term
+            .get(table_index(l, m))
+            .copied()
+            .unwrap_or_else(|| three_term(l, m))
+    }
 }

@@ -39,7 +39,7 @@ mod tensor;
 mod tests;
 
 pub use crate::glyph::rotate::rotate_symmetric_tensor;
-pub use basis::{sh_basis_values, sh_eval};
+pub use basis::{ShEvaluator, sh_basis_values, sh_eval};
 pub use convert::{convert_basis, orthonormal_factors};
 pub use fit::ShFitter;
 pub(crate) use legendre::{q_table as legendre_table, table_index as legendre_index};

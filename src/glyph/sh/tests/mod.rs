@@ -8,6 +8,7 @@ use crate::glyph::sh::ShBasis;
 
 mod closed_forms;
 mod convert_rotate;
+mod evaluator;
 mod fit;
 mod tensor;
 
