@@ -23,7 +23,8 @@ use crate::scene::Scene;
 use glam::DVec3;
 
 /// The most pixels that the sets of one layout may cover (the sum of their glyphs'
-/// bounding discs on screen, an overestimate) to be drawn with a higher order's pipeline:
+/// bounding discs on screen, an overestimate, times the samples per pixel) to be drawn
+/// with a higher order's pipeline:
 /// at the per-pixel cost measured above, about 10 ms of lavapipe's time against the 20
 /// to 35 ms that the pipeline of their own would take to create.
 pub const PROMOTED_PIXELS: f64 = 131_072.0;
@@ -128,6 +129,7 @@ pub fn promote_small_sets(
             && group()
                 .map(|s| covered_pixels(s, camera, width, height))
                 .sum::<f64>()
+                * f64::from(settings.samples.max(1))
                 <= PROMOTED_PIXELS;
         if !qualifies {
             continue;
