@@ -121,7 +121,7 @@ impl ShEvaluator {
         }
     }
 
-    /// The SH series sum_j coeffs[j] B_j(u), summed in coefficient order. Coefficients
+    /// The SH series `sum_j coeffs[j] B_j(u)`, summed in coefficient order. Coefficients
     /// past [`Self::count`] are ignored and missing ones count as zero.
     pub fn eval(&self, coeffs: &[f64], u: DVec3) -> f64 {
         /// Values held on the stack: every band this module accepts.
