@@ -109,8 +109,12 @@ pub fn promote_small_sets(
     }
     let drawn = |set: &&GlyphSetData| !set.is_empty();
     let tops = top_orders(sets.iter().filter(drawn).map(|s| (s.layout, s.shape)));
-    let mut layouts: Vec<TensorLayout> = sets.iter().filter(drawn).map(|s| s.layout).collect();
-    layouts.dedup();
+    let mut layouts: Vec<TensorLayout> = Vec::new();
+    for set in sets.iter().filter(drawn) {
+        if !layouts.contains(&set.layout) {
+            layouts.push(set.layout);
+        }
+    }
     let mut raised = 0;
     for layout in layouts {
         let group = || {
