@@ -317,6 +317,77 @@ fn the_underlay_moves_with_the_slice() {
     );
 }
 
+/// Orbiting half a turn (a drag of the window's height) shows the slice from behind: the
+/// underlay's plane, placed behind the glyphs for the first camera, must move to the new
+/// far side of the slice and not hide the glyphs. Every glyph pixel of the view without
+/// the underlay is the same with it (it failed on 3,162 of 3,176 before the fix), and the
+/// underlay fills the background.
+#[test]
+fn the_underlay_stays_behind_the_glyphs_from_the_other_side() {
+    let Some(x) = Xvfb::start("the_underlay_stays_behind_the_glyphs_from_the_other_side") else {
+        return;
+    };
+    let dir = out("underlay-behind-files");
+    std::fs::create_dir_all(&dir).expect("folder");
+    let (tensors, _) = common::underlay::tensor_volume(&dir);
+    let fa = common::underlay::scalar_underlay(&dir, "fa.nii");
+    let view = |underlay: Option<&str>, name: &str| -> (PathBuf, PathBuf) {
+        let (shot, window) = (
+            out(&format!("{name}-shot.png")),
+            out(&format!("{name}-window.png")),
+        );
+        let mut args = vec!["--tensor", &tensors, "--order", "2", "--width", "120"];
+        args.extend([
+            "--height",
+            "100",
+            "--frames",
+            "4",
+            "--script",
+            "orbit:100:0,wait",
+        ]);
+        args.extend([
+            "--screenshot",
+            path_str(&shot),
+            "--capture-window",
+            path_str(&window),
+        ]);
+        if let Some(underlay) = underlay {
+            args.extend(["--underlay", underlay]);
+        }
+        assert_clean(&x.view(&args));
+        (shot, window)
+    };
+    let (glyphs, _) = view(None, "behind-glyphs");
+    let (with_underlay, window) = view(Some(&fa), "behind-underlay");
+    assert_window_matches(&window, &with_underlay);
+    let (w, h, alone) = read_png_rgba8(&glyphs).expect("reading the glyphs' view");
+    let (_, _, both) = read_png_rgba8(&with_underlay).expect("reading the underlay's view");
+    assert_eq!(alone.len(), both.len());
+    let background = &alone[..4];
+    let (mut glyph_pixels, mut hidden, mut shown) = (0, 0, 0);
+    for (a, b) in alone.chunks_exact(4).zip(both.chunks_exact(4)) {
+        if a == background {
+            shown += usize::from(a != b);
+        } else {
+            glyph_pixels += 1;
+            hidden += usize::from(a.iter().zip(b).any(|(p, q)| p.abs_diff(*q) > 1));
+        }
+    }
+    let pixels = (w * h) as usize;
+    assert!(
+        glyph_pixels > pixels / 10,
+        "only {glyph_pixels} glyph pixels of {pixels}: the view shows too little to judge"
+    );
+    assert_eq!(
+        hidden, 0,
+        "the underlay covers {hidden} of {glyph_pixels} glyph pixels seen from behind the slice"
+    );
+    assert!(
+        shown > (pixels - glyph_pixels) / 2,
+        "the underlay shows on only {shown} background pixels"
+    );
+}
+
 /// The frames-in-flight statistics a scripted run prints at its end: frames in flight,
 /// glyph uploads replaced, retired uploads still held.
 fn in_flight_stats(stderr: &str) -> (usize, u32, usize) {

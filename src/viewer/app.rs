@@ -470,10 +470,11 @@ impl App {
             return Ok(());
         };
         let settings = self.panels.frame_settings();
+        let seen = self.panels.first().underlay_as_seen();
         let underlay = self
             .underlay_gpu
             .as_ref()
-            .zip(self.panels.first().underlay.as_ref())
+            .zip(seen.as_ref())
             .map(|(volume, u)| (volume, u.planes.as_slice()));
         let mut draws = Vec::with_capacity(self.scene_gpu.len());
         let slot_peaks = self.peaks_gpu.get_mut(slot).map(Vec::as_mut_slice);

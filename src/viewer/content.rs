@@ -20,7 +20,7 @@ use crate::render::peaks::PeakSet;
 use crate::render::underlay::{Underlay, UnderlayPlane, extent_with_planes};
 use crate::scene::{GlyphSet, Scene};
 use crate::volume::{
-    SliceRegion, Volume, VolumeOptions, VolumeScene, slice_framing, slice_plane,
+    SliceRegion, Volume, VolumeOptions, VolumeScene, slice_framing, slice_plane, turned_away,
     volume_scene_with_progress,
 };
 use crate::{Error, Result, Setting};
@@ -293,7 +293,7 @@ impl Content {
     /// planes included.
     pub fn extent(&self, settings: &RenderSettings) -> SceneExtent {
         let mut extent = SceneExtent::for_settings(&self.camera, &self.sets, settings);
-        if let Some(underlay) = &self.underlay {
+        if let Some(underlay) = self.underlay_as_seen() {
             extent = extent_with_planes(&self.camera, extent, &underlay.planes);
         }
         if let Some(peaks) = &self.peaks {
@@ -313,6 +313,20 @@ impl Content {
         }
         self.underlay = underlay;
         self.place_underlay()
+    }
+
+    /// The underlay as the current camera sees it: a plane behind the glyphs
+    /// (`--underlay-plane back`) on the far side of its slice from the camera, whichever
+    /// side the camera has orbited to.
+    pub fn underlay_as_seen(&self) -> Option<Underlay> {
+        self.underlay.as_ref().map(|underlay| Underlay {
+            planes: underlay
+                .planes
+                .iter()
+                .map(|plane| turned_away(plane, &self.camera))
+                .collect(),
+            ..underlay.clone()
+        })
     }
 
     /// Puts the underlay's planes on the current slices.

@@ -111,8 +111,9 @@ impl Figure {
             montage.finish()
         } else {
             let c = panels.first();
+            let underlay = c.underlay_as_seen();
             let view = FrameView::new(&c.camera, width, height)
-                .with_underlay(c.underlay.as_ref())
+                .with_underlay(underlay.as_ref())
                 .with_peaks(c.peaks.as_ref());
             renderer.render_view(gpu, &c.sets, &view, &settings)?
         };

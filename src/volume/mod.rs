@@ -55,6 +55,6 @@ pub use reorient::Reorientation;
 pub use request::{Coefficients, ImageSource, MAX_PANELS, VolumeRequest, underlay_with_montage};
 pub use selection::{Slice, SliceAxis, SliceRegion, Slices, VoxelRanges};
 pub use underlay::{
-    UnderlayPlacement, load_underlay, plane_behind, slice_plane, slice_planes, underlay_of_image,
-    view_underlay,
+    UnderlayPlacement, load_underlay, plane_behind, slice_plane, slice_planes, turned_away,
+    underlay_of_image, view_underlay,
 };

@@ -150,21 +150,45 @@ pub fn slice_plane(region: &SliceRegion, map: &VoxelToWorld) -> UnderlayPlane {
 /// of glyphs that reach `depth` out of it.
 pub fn plane_behind(plane: UnderlayPlane, camera: &Camera, depth: f64) -> UnderlayPlane {
     let normal = plane.u.cross(plane.v).normalize_or_zero();
+    let shift = away_from(camera, &plane, normal) * depth * (1.0 + BEHIND_MARGIN);
+    UnderlayPlane {
+        origin: plane.origin + shift,
+        sample_offset: plane.sample_offset + shift,
+        ..plane
+    }
+}
+
+/// `plane` with its shift off its slice (`sample_offset`, from [`plane_behind`]) turned
+/// to the slice's side away from `camera`, so that a plane behind the glyphs stays behind
+/// them when a viewer's camera orbits to the other side of the slice. A plane through its
+/// slice (no shift) comes back as it is.
+pub fn turned_away(plane: &UnderlayPlane, camera: &Camera) -> UnderlayPlane {
+    let shift = plane.sample_offset;
+    let on_slice = UnderlayPlane {
+        origin: plane.origin - shift,
+        sample_offset: DVec3::ZERO,
+        ..*plane
+    };
+    let shift = away_from(camera, &on_slice, shift);
+    UnderlayPlane {
+        origin: on_slice.origin + shift,
+        sample_offset: shift,
+        ..*plane
+    }
+}
+
+/// `direction` or its opposite, whichever points away from `camera` at the centre of
+/// `plane` (along the view direction there).
+fn away_from(camera: &Camera, plane: &UnderlayPlane, direction: DVec3) -> DVec3 {
     let centre = plane.origin + 0.5 * (plane.u + plane.v);
     let towards = match camera.projection {
         Projection::Orthographic { .. } => camera.target - camera.eye,
         Projection::Perspective { .. } => centre - camera.eye,
     };
-    let away = if normal.dot(towards) < 0.0 {
-        -normal
+    if direction.dot(towards) < 0.0 {
+        -direction
     } else {
-        normal
-    };
-    let shift = away * depth * (1.0 + BEHIND_MARGIN);
-    UnderlayPlane {
-        origin: plane.origin + shift,
-        sample_offset: plane.sample_offset + shift,
-        ..plane
+        direction
     }
 }
 
@@ -253,4 +277,50 @@ fn reaches(underlay: &UnderlayVolume, plane: &UnderlayPlane) -> bool {
             .fold(f64::NEG_INFINITY, f64::max);
         hi >= -0.5 && lo <= underlay.dims[a] as f64 - 0.5
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn camera(eye: DVec3, projection: Projection) -> Camera {
+        Camera {
+            projection,
+            eye,
+            target: DVec3::new(2.0, 1.5, 0.0),
+            up: DVec3::Y,
+        }
+    }
+
+    /// A plane placed behind the glyphs for one camera and turned for a camera on the
+    /// slice's other side is the plane placed behind them for that camera; a plane
+    /// through its slice does not move.
+    #[test]
+    fn turned_away_is_placing_behind_for_the_new_camera() {
+        let slice = UnderlayPlane {
+            origin: DVec3::new(0.0, 0.0, 0.0),
+            u: DVec3::new(4.0, 0.0, 0.0),
+            v: DVec3::new(0.0, 3.0, 0.0),
+            sample_offset: DVec3::ZERO,
+        };
+        for projection in [
+            Projection::Orthographic { height: 5.0 },
+            Projection::Perspective { fov_y_deg: 30.0 },
+        ] {
+            let above = camera(DVec3::new(2.0, 1.0, 9.0), projection);
+            let below = camera(DVec3::new(1.0, 2.0, -9.0), projection);
+            for (first, second) in [(&above, &below), (&below, &above), (&above, &above)] {
+                let placed = plane_behind(slice, first, 0.7);
+                let turned = turned_away(&placed, second);
+                let expected = plane_behind(slice, second, 0.7);
+                assert!((turned.origin - expected.origin).length() < 1e-12);
+                assert!((turned.sample_offset - expected.sample_offset).length() < 1e-12);
+                assert_eq!((turned.u, turned.v), (slice.u, slice.v));
+                // Behind: on the far side of the slice from the eye.
+                let side = (turned.origin.z - slice.origin.z) * (second.eye.z - slice.origin.z);
+                assert!(side < 0.0, "the plane is on the eye's side");
+            }
+            assert_eq!(turned_away(&slice, &below), slice);
+        }
+    }
 }
