@@ -263,17 +263,13 @@ fn a_lightbox_is_renders_and_its_slices_move_together() {
     assert_eq!(size(&rendered).1, 2 * PANEL.1, "two rows of two");
     let (run, shot, window) = scripted("lightbox", 3, "");
     view(&x, &input, &options, &run);
-    // `render` captions each lightbox panel with its slice (issue 28); the viewer does
-    // not yet: its pictures with those captions drawn on are the render's.
-    let captions = ["k=1", "k=3", "k=6", "k=8"];
-    let window = with_captions(&window, &captions, "lightbox-window-captioned.png");
-    let shot = with_captions(&shot, &captions, "lightbox-shot-captioned.png");
+    // Each panel is captioned with its slice, as `render` captions it (k=1, 3, 6, 8).
     assert_shows(&window, &shot, &rendered, Some(2 * PANEL.0));
 
     // One slice on: every panel shows the next slice, as a single view of it renders
     // it (the panels of a montage are single views, tests/montage.rs; direction
     // colours, since the montage's magnitude range is shared): the expected picture is
-    // the four single renders in the lightbox's grid.
+    // the four single renders in the lightbox's grid, captioned with their new slices.
     let mut moved_options = panel.clone();
     moved_options.extend(["--lightbox", "4"]);
     let (run, shot, window) = scripted("lightbox-moved", 4, "slice:+1");
@@ -297,6 +293,12 @@ fn a_lightbox_is_renders_and_its_slices_move_together() {
     let composed = out("lightbox-moved-expected.png");
     glyphcast::io::png::write_png_rgba8(&composed, width, height, &expected)
         .expect("writing the expected picture");
+    let captions: Vec<String> = slices
+        .iter()
+        .map(|index| format!("k={}", index + 1))
+        .collect();
+    let captions: Vec<&str> = captions.iter().map(String::as_str).collect();
+    let composed = with_captions(&composed, &captions, "lightbox-moved-captioned.png");
     assert_shows(&window, &shot, &composed, None);
 
     // The last slice is at 8 + 1 = 9, the volume's end: a further move is refused
@@ -304,6 +306,58 @@ fn a_lightbox_is_renders_and_its_slices_move_together() {
     let (run, end, _) = scripted("lightbox-end", 4, "slice:+1,slice:+1");
     view(&x, &input, &moved_options, &run);
     assert_eq!(differing_pixels(&end, &shot, 0).0, 0);
+}
+
+/// An underlay under every panel of a montage, as `render` draws it: the lightbox (with
+/// its captions over the underlay) and views, whose underlay moves with the panel's
+/// slice.
+#[test]
+fn underlays_are_renders_under_every_panel_and_move_with_their_slices() {
+    let Some(x) = Xvfb::start("underlays_are_renders_under_every_panel_and_move_with_their_slices")
+    else {
+        return;
+    };
+    let dir = out("viewer-montage-underlay");
+    std::fs::create_dir_all(&dir).expect("folder");
+    let (tensors, _) = common::underlay::tensor_volume(&dir);
+    let fa = common::underlay::scalar_underlay(&dir, "fa.nii");
+    let input = [
+        "--tensor",
+        tensors.as_str(),
+        "--order",
+        "2",
+        "--underlay",
+        fa.as_str(),
+    ];
+    let size_args = panel_size();
+    let panel: Vec<&str> = size_args.iter().map(String::as_str).collect();
+    // The 4 axial slices of the 6 x 5 x 4 volume, one a panel.
+    let mut lightbox = panel.clone();
+    lightbox.extend(["--lightbox", "4"]);
+    let rendered = render(&input, "lightbox-underlay-render.png", &lightbox);
+    let (run, shot, window) = scripted("lightbox-underlay", 3, "");
+    view(&x, &input, &lightbox, &run);
+    assert_shows(&window, &shot, &rendered, None);
+    let without = render(&input[..4], "lightbox-no-underlay.png", &lightbox);
+    assert!(
+        differing_pixels(&rendered, &without, 10).0 > (4 * PANEL.0 * PANEL.1 / 4) as usize,
+        "the lightbox's underlay is missing"
+    );
+
+    let mut views = panel.clone();
+    views.extend(["--views", "axial:1,coronal:2"]);
+    let rendered = render(&input, "views-underlay-render.png", &views);
+    let (run, shot, window) = scripted("views-underlay-moved", 4, "slice:+1");
+    view(&x, &input, &views, &run);
+    let mut moved = panel.clone();
+    moved.extend(["--views", "axial:2,coronal:2"]);
+    let moved = render(&input, "views-underlay-moved-render.png", &moved);
+    assert_shows(&window, &shot, &moved, None);
+    let axial = (0, 0, PANEL.0, PANEL.1);
+    assert!(
+        crop(&moved, axial) != crop(&rendered, axial),
+        "the axial panel did not change"
+    );
 }
 
 #[test]
@@ -319,10 +373,6 @@ fn montages_and_bars_that_cannot_work_are_usage_errors() {
             "volume input",
         ),
         (with_sh(&["--colorbar"]), "--color magnitude"),
-        (
-            with_sh(&["--lightbox", "2", "--underlay", volume.as_str()]),
-            "--underlay",
-        ),
         (with_sh(&["--lightbox", "2", "--slices", "mid"]), "--slice"),
         (
             with_sh(&["--views", "axial", "--save-scene", "x.json"]),

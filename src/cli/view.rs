@@ -78,9 +78,6 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         if args.source.scene.is_some() {
             return Err(montage_needs_volume());
         }
-        if args.source.volume.underlay.is_some() {
-            return Err(glyphcast::volume::underlay_with_montage());
-        }
         let (montage, cell) = montage(&args.source.volume, image)?;
         (montage, None, cell)
     } else {
@@ -188,9 +185,13 @@ fn montage(volume_args: &VolumeArgs, image: ImageRequest) -> Result<(ViewSource,
         let view = panel_view(&volume, &options)?;
         views.push((options, view));
     }
+    let underlays = volume_args
+        .request()
+        .panel_underlays(&volume, views.iter().map(|(_, view)| view))?;
     let source = ViewSource::Montage(Box::new(MontageSource {
         volume,
         panels: views,
+        underlays,
         columns,
         lightbox: volume_args.lightbox.is_some(),
     }));

@@ -3,7 +3,8 @@
 //! with the frame's GPU time. Scripted runs (`--frames`) apply one script event per frame
 //! and finish with the screenshot and the window capture.
 use super::ViewerOptions;
-use super::compose::{PanelDraw, StripDraw};
+use super::compose::{PanelDraw, PatchDraw};
+use super::content::Content;
 use super::controls::{self, Action, HELP, color_name, refinement_name};
 use super::figure::Figure;
 use super::layout::WindowLayout;
@@ -11,10 +12,12 @@ use super::orbit;
 use super::panels::Panels;
 use super::presenter::{Outcome, Presenter};
 use crate::render::component::UploadedGlyphs;
+use crate::render::compose::labels::{CaptionPatch, caption_patch};
 use crate::render::headless::HeadlessRenderer;
 use crate::render::peaks::PeaksGpu;
 use crate::render::settings::{RenderSettings, STEP_RANGE};
 use crate::render::shaders::methods_for;
+use crate::render::underlay::Underlay;
 use crate::vk::Gpu;
 use crate::{Error, Result};
 use ash::vk;
@@ -470,12 +473,13 @@ impl App {
             return Ok(());
         };
         let settings = self.panels.frame_settings();
-        let seen = self.panels.first().underlay_as_seen();
-        let underlay = self
-            .underlay_gpu
-            .as_ref()
-            .zip(seen.as_ref())
-            .map(|(volume, u)| (volume, u.planes.as_slice()));
+        // Each panel's underlay (a montage's share one volume), turned away from its camera.
+        let seen: Vec<Option<Underlay>> = self
+            .panels
+            .panels
+            .iter()
+            .map(Content::underlay_as_seen)
+            .collect();
         let mut draws = Vec::with_capacity(self.scene_gpu.len());
         let slot_peaks = self.peaks_gpu.get_mut(slot).map(Vec::as_mut_slice);
         let on_gpu = self
@@ -487,23 +491,32 @@ impl App {
                 continue;
             };
             let (w, h) = (cell.extent.width, cell.extent.height);
+            let underlay = self.underlay_gpu.as_ref().zip(seen[k].as_ref());
             draws.push(PanelDraw {
                 glyphs,
-                underlay: if k == 0 { underlay } else { None },
+                underlay: underlay.map(|(volume, u)| (volume, u.planes.as_slice())),
                 peaks: peaks.as_mut(),
                 frame: self.panels.frame_params(k, w, h, &settings),
                 cell,
             });
         }
+        let captions = caption_patches(&self.panels.captions(), &layout)?;
         let strip = self
             .figure
             .strip_pixels()
             .zip(layout.strip_rect())
-            .map(|(rgba, rect)| StripDraw { rgba, rect });
+            .map(|(rgba, rect)| PatchDraw { rgba, rect });
+        let patches: Vec<PatchDraw> = strip
+            .into_iter()
+            .chain(captions.iter().map(|(rect, patch)| PatchDraw {
+                rgba: &patch.rgba,
+                rect: *rect,
+            }))
+            .collect();
         let capture = self.options.capture_window.is_some();
         // Not waited for: the next frame in this slot waits (begin_frame), and the GPU
         // time shown is that of the slot's previous frame.
-        let outcome = presenter.render(slot, &mut draws, strip, &settings, capture)?;
+        let outcome = presenter.render(slot, &mut draws, &patches, &settings, capture)?;
         match outcome {
             Outcome::Presented { extent } => {
                 self.presented += 1;
@@ -724,4 +737,33 @@ fn change_checked(
     changed.validate()?;
     *settings = changed;
     Ok(())
+}
+
+/// The captions of the panels (`Panels::captions`) as `render --lightbox` draws them, and
+/// where each goes in the window.
+fn caption_patches(
+    captions: &[Option<String>],
+    layout: &WindowLayout,
+) -> Result<Vec<(vk::Rect2D, CaptionPatch)>> {
+    let mut patches = Vec::new();
+    for (k, caption) in captions.iter().enumerate() {
+        let (Some(text), Some(cell)) = (caption, layout.cell(k)) else {
+            continue;
+        };
+        let patch = caption_patch(cell.extent.width, cell.extent.height, text)?;
+        let rect = vk::Rect2D {
+            offset: vk::Offset2D {
+                x: cell.offset.x + patch.x as i32,
+                y: cell.offset.y + patch.y as i32,
+            },
+            extent: vk::Extent2D {
+                width: patch.w,
+                height: patch.h,
+            },
+        };
+        if patch.w > 0 && patch.h > 0 {
+            patches.push((rect, patch));
+        }
+    }
+    Ok(patches)
 }

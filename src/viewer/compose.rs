@@ -1,5 +1,6 @@
 //! What the window shows besides the panel drawn straight into the swapchain image: the
-//! other panels of a montage and the colour bar's strip, copied into their places.
+//! other panels of a montage, the colour bar's strip and a lightbox's captions, copied
+//! into their places.
 //!
 //! The ray-cast shaders find each pixel's ray from `gl_FragCoord`, which counts from the
 //! attachment's corner, not the viewport's, so a panel drawn into its cell through an
@@ -7,8 +8,10 @@
 //! in place (its viewport is its cell); every other panel is drawn, as the headless
 //! renderer draws it, at the corner of an offscreen target of the swapchain's format, and
 //! copied into its cell. One target serves all panels in turn (they share a cell size).
-//! The strip is drawn on the CPU (`render::compose::colorbar`, the pixels `render --colorbar`
-//! appends) and copied in from a host-visible buffer, byte for byte.
+//! The strip and the captions are drawn on the CPU (`render::compose::colorbar`, the
+//! pixels `render --colorbar` appends; `render::compose::labels::caption_patch`, the
+//! opaque box `render --lightbox` draws) and copied in from a host-visible buffer, byte
+//! for byte.
 use crate::error::{Error, Result};
 use crate::render::component::UploadedGlyphs;
 use crate::render::frame::FrameParams;
@@ -42,19 +45,21 @@ impl PanelDraw<'_> {
     }
 }
 
-/// The colour bar's strip for a frame: RGBA pixels (sRGB-encoded, as the PNG stores
-/// them), `rect.extent` of them, and where they go.
-pub struct StripDraw<'a> {
+/// Pixels copied into the window for a frame (the colour bar's strip, a caption): RGBA
+/// (sRGB-encoded, as the PNG stores them), `rect.extent` of them, and where they go.
+pub struct PatchDraw<'a> {
     pub rgba: &'a [u8],
     pub rect: vk::Rect2D,
 }
 
-/// The offscreen target of the panels that are copied, and the strip's staging buffer:
+/// The offscreen target of the panels that are copied, and the patches' staging buffer:
 /// one per frame in flight (`slots`), since a frame writes both.
 #[derive(Default)]
 pub struct Composer {
     target: Option<(Image, Image)>,
-    strip: Option<Buffer>,
+    patches: Option<Buffer>,
+    /// Where each staged patch goes, and its first byte in the buffer.
+    staged: Vec<(vk::Rect2D, u64)>,
 }
 
 impl Composer {
@@ -101,31 +106,44 @@ impl Composer {
         Ok(())
     }
 
-    /// Puts the strip's pixels into the staging buffer, in the swapchain's byte order
-    /// (`bgra`: blue first). The slot's previous frame has completed, so the buffer is free.
-    pub fn stage_strip(&mut self, ctx: &DeviceContext, rgba: &[u8], bgra: bool) -> Result<()> {
-        let bytes = rgba.len() as u64;
-        if self.strip.as_ref().is_none_or(|b| b.size < bytes) {
-            self.strip = None;
-            self.strip = Some(Buffer::new(
+    /// Puts the patches' pixels into the staging buffer, one after another, in the
+    /// swapchain's byte order (`bgra`: blue first). The slot's previous frame has
+    /// completed, so the buffer is free.
+    pub fn stage_patches(
+        &mut self,
+        ctx: &DeviceContext,
+        patches: &[PatchDraw],
+        bgra: bool,
+    ) -> Result<()> {
+        self.staged.clear();
+        let mut bytes = Vec::with_capacity(patches.iter().map(|p| p.rgba.len()).sum());
+        for patch in patches {
+            self.staged.push((patch.rect, bytes.len() as u64));
+            if bgra {
+                bytes.extend(
+                    patch
+                        .rgba
+                        .chunks_exact(4)
+                        .flat_map(|p| [p[2], p[1], p[0], p[3]]),
+                );
+            } else {
+                bytes.extend_from_slice(patch.rgba);
+            }
+        }
+        let size = bytes.len() as u64;
+        if self.patches.as_ref().is_none_or(|b| b.size < size) {
+            self.patches = None;
+            self.patches = Some(Buffer::new(
                 ctx,
-                "colour bar strip",
-                bytes.max(4),
+                "window patches",
+                size.max(4),
                 vk::BufferUsageFlags::TRANSFER_SRC,
                 MemoryLocation::CpuToGpu,
             )?);
         }
-        let Some(buffer) = self.strip.as_mut() else {
-            return Ok(());
-        };
-        if bgra {
-            let swapped: Vec<u8> = rgba
-                .chunks_exact(4)
-                .flat_map(|p| [p[2], p[1], p[0], p[3]])
-                .collect();
-            buffer.write(&swapped)
-        } else {
-            buffer.write(rgba)
+        match self.patches.as_mut() {
+            Some(buffer) if !bytes.is_empty() => buffer.write(&bytes),
+            _ => Ok(()),
         }
     }
 
@@ -218,30 +236,37 @@ impl Composer {
         Ok(())
     }
 
-    /// Records the copy of the staged strip into `image` (in TRANSFER_DST_OPTIMAL) at
-    /// `rect`.
-    pub fn record_strip(
+    /// Records the copies of the staged patches into `image` (in TRANSFER_DST_OPTIMAL).
+    pub fn record_patches(
         &self,
         d: &ash::Device,
         cmd: vk::CommandBuffer,
         image: vk::Image,
-        rect: vk::Rect2D,
     ) -> Result<()> {
-        let Some(buffer) = self.strip.as_ref() else {
+        if self.staged.is_empty() {
+            return Ok(());
+        }
+        let Some(buffer) = self.patches.as_ref() else {
             return Err(Error::Call {
-                call: "record_strip",
-                expected: "stage_strip first",
+                call: "record_patches",
+                expected: "stage_patches first",
             });
         };
-        // SAFETY: the buffer holds rect's pixels (stage_strip), written by the host before
-        // the submission (which makes them visible); the rect lies inside the image.
+        let regions: Vec<vk::BufferImageCopy> = self
+            .staged
+            .iter()
+            .map(|(rect, offset)| buffer_to_color_region(*rect).buffer_offset(*offset))
+            .collect();
+        // SAFETY: the buffer holds each rect's pixels at its offset (stage_patches),
+        // written by the host before the submission (which makes them visible); the
+        // rects lie inside the image.
         unsafe {
             d.cmd_copy_buffer_to_image(
                 cmd,
                 buffer.handle,
                 image,
                 vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                &[buffer_to_color_region(rect)],
+                &regions,
             );
         }
         Ok(())

@@ -58,6 +58,9 @@ pub struct MontageSource {
     pub volume: Volume,
     /// Each panel's options (its plane and slice) and first view, in reading order.
     pub panels: Vec<(VolumeOptions, VolumeScene)>,
+    /// Each panel's underlay on its slice plane (`--underlay`), if any: one volume shared
+    /// by all, the planes each panel's own; it moves with the panel's slice.
+    pub underlays: Vec<Option<Underlay>>,
     /// Panels to a row.
     pub columns: usize,
     /// `--lightbox`: the panels are slices of one plane that move together; else

@@ -8,6 +8,7 @@ use super::layout::WindowLayout;
 use super::panels::Panels;
 use crate::Result;
 use crate::render::compose::colorbar::ColorBar;
+use crate::render::compose::labels::draw_caption;
 use crate::render::compose::montage::Montage;
 use crate::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
 use crate::vk::Gpu;
@@ -101,11 +102,18 @@ impl Figure {
         let (width, height) = (layout.panel_area_width(), layout.height);
         let mut image = if panels.is_montage() {
             let mut montage = Montage::new(layout.grid, width, height, settings.background);
+            let captions = panels.captions();
             for (k, panel) in panels.panels.iter().enumerate() {
                 let Some(cell) = layout.cell(k) else { continue };
                 let (w, h) = (cell.extent.width, cell.extent.height);
-                let view = FrameView::new(&panel.camera, w, h).with_peaks(panel.peaks.as_ref());
-                let shot = renderer.render_view(gpu, &panel.sets, &view, &settings)?;
+                let underlay = panel.underlay_as_seen();
+                let view = FrameView::new(&panel.camera, w, h)
+                    .with_underlay(underlay.as_ref())
+                    .with_peaks(panel.peaks.as_ref());
+                let mut shot = renderer.render_view(gpu, &panel.sets, &view, &settings)?;
+                if let Some(Some(caption)) = captions.get(k) {
+                    draw_caption(&mut shot.rgba, w, h, caption)?;
+                }
                 montage.place(k, &shot);
             }
             montage.finish()

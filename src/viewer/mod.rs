@@ -102,7 +102,10 @@ impl ViewerOptions {
 /// and a window capture come with a frame count (the command line: `glyphcast view`).
 pub fn run(source: ViewSource, options: ViewerOptions) -> Result<()> {
     let mut panels = Panels::new(source, options.settings, options.negative)?;
-    panels.set_underlay(options.underlay.clone())?;
+    // A montage's underlays came with its panels.
+    if options.underlay.is_some() {
+        panels.set_underlay(options.underlay.clone())?;
+    }
     check_method(&panels, &options.settings)?;
     app::run(panels, options)
 }

@@ -60,11 +60,15 @@ impl Panels {
             return Err(Error::data("montage panels", crate::error::Problem::Empty));
         }
         let volume = Arc::new(montage.volume);
+        let mut underlays = montage.underlays.into_iter();
         let panels = montage
             .panels
             .into_iter()
             .map(|(options, view)| {
-                Content::for_slice(volume.clone(), options, view, settings, negative)
+                let mut panel =
+                    Content::for_slice(volume.clone(), options, view, settings, negative)?;
+                panel.set_underlay(underlays.next().flatten())?;
+                Ok(panel)
             })
             .collect::<Result<Vec<_>>>()?;
         Ok(Panels {
@@ -132,12 +136,26 @@ impl Panels {
         ColorBar::of_magnitude(&settings, &extent, scale, label)
     }
 
-    /// Shows `underlay` on the slices of a single view; a montage has none.
+    /// Shows `underlay` on the slices of a single view. A montage's panels have each
+    /// their own, on their own slices (`MontageSource::underlays`).
     pub fn set_underlay(&mut self, underlay: Option<Underlay>) -> Result<()> {
         if underlay.is_some() && self.is_montage() {
-            return Err(crate::volume::underlay_with_montage());
+            return Err(Error::Call {
+                call: "Panels::set_underlay",
+                expected: "a single view (a montage's underlays come with its panels)",
+            });
         }
         self.panels[0].set_underlay(underlay)
+    }
+
+    /// Each panel's caption: its slice ("k=3") in a lightbox, as `render --lightbox`
+    /// captions its panels; none in other arrangements.
+    pub fn captions(&self) -> Vec<Option<String>> {
+        let lightbox = self.arrangement == Arrangement::Lightbox;
+        self.panels
+            .iter()
+            .map(|panel| panel.slice_name().filter(|_| lightbox))
+            .collect()
     }
 
     /// What every panel's worker calls when a rebuild is ready.

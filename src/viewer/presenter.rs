@@ -1,5 +1,5 @@
 //! The window's frames: swapchain, the frames in flight ([`FrameSlot`]: command buffer,
-//! fence, semaphore, depth buffer, offscreen target, strip buffer, timer, capture buffer
+//! fence, semaphore, depth buffer, offscreen target, patch buffer, timer, capture buffer
 //! each), and the passes for the swapchain's format with no distance attachment (the
 //! glyph pass then uses its colour-only fragment shaders). The glyphs are drawn through
 //! the engine component, [`GlyphRenderer`], made for the viewer's frames in flight, as an
@@ -12,7 +12,7 @@
 //! Frames in flight: a frame first waits for its slot's fence (the frame recorded
 //! `frames_in_flight` frames earlier), never for the device, so the previous frame may
 //! still be on the GPU while this one is recorded. That wait makes the slot's frame
-//! blocks, offscreen target, strip buffer and timer free, and gives that earlier frame's
+//! blocks, offscreen target, patch buffer and timer free, and gives that earlier frame's
 //! GPU time. Before each frame the swapchain is compared with the window's current size
 //! and recreated if it differs or was reported stale (a resize event, OUT_OF_DATE from
 //! acquire or present, SUBOPTIMAL), after waiting for the device (a resize, not a frame);
@@ -20,7 +20,7 @@
 //! into a swapchain known to be stale. An image acquired as SUBOPTIMAL is still drawn and
 //! presented (presenting is how it is given back), and the swapchain is recreated before
 //! the next frame.
-use super::compose::{PanelDraw, StripDraw, attachment_to_copies};
+use super::compose::{PanelDraw, PatchDraw, attachment_to_copies};
 use super::slots::FrameSlot;
 use crate::error::{Result, VkContext};
 use crate::render::RenderSettings;
@@ -256,14 +256,15 @@ impl Presenter {
     /// Renders and presents one frame in `slot` (after [`Presenter::prepare`] and
     /// [`Presenter::begin_frame`], which gave the slot): the `panels`, each in its cell
     /// (glyphs uploaded with [`Presenter::glyphs_mut`], underlays with
-    /// [`Presenter::underlay_pass`], peaks this slot's own), and the colour bar's
-    /// `strip`; the rest of the window is background. `capture` also copies the image for
+    /// [`Presenter::underlay_pass`], peaks this slot's own), and the `patches` (the
+    /// colour bar's strip, a lightbox's captions) on top; the rest of the window is
+    /// background. `capture` also copies the image for
     /// [`Presenter::capture`]. Does not wait for the frame.
     pub fn render(
         &mut self,
         slot: usize,
         panels: &mut [PanelDraw],
-        strip: Option<StripDraw>,
+        patches: &[PatchDraw],
         settings: &RenderSettings,
         capture: bool,
     ) -> Result<Outcome> {
@@ -271,7 +272,7 @@ impl Presenter {
             return Ok(Outcome::Skipped);
         };
         let extent = swapchain.extent;
-        let copies = strip.is_some() || panels.iter().any(|p| !p.in_place());
+        let copies = !patches.is_empty() || panels.iter().any(|p| !p.in_place());
         if copies && !swapchain.writable {
             return Err(crate::Error::Setup {
                 missing: "TRANSFER_DST usage of this window's swapchain images, which a \
@@ -298,7 +299,7 @@ impl Presenter {
             }
         };
         // The slot's previous frame is done (begin_frame), so its frame blocks, offscreen
-        // target and strip buffer are free; the other slots' frames read their own.
+        // target and patch buffer are free; the other slots' frames read their own.
         for panel in panels.iter_mut() {
             let target = FrameTarget {
                 frame_index: slot,
@@ -309,20 +310,19 @@ impl Presenter {
                 peaks.set_frame(&panel.frame)?;
             }
         }
-        self.stage(slot, panels, strip.as_ref(), (format, extent), capture)?;
-        let strip = strip.map(|s| s.rect);
-        self.record(slot, index, panels, strip, settings, capture)?;
+        self.stage(slot, panels, patches, (format, extent), capture)?;
+        self.record(slot, index, panels, !patches.is_empty(), settings, capture)?;
         self.submit_and_present(slot, index)?;
         Ok(Outcome::Presented { extent })
     }
 
-    /// Makes `slot`'s offscreen target fit the copied panels, stages the strip's pixels
+    /// Makes `slot`'s offscreen target fit the copied panels, stages the patches' pixels
     /// and makes the capture buffer, for a swapchain of `format` and `extent`.
     fn stage(
         &mut self,
         slot: usize,
         panels: &[PanelDraw],
-        strip: Option<&StripDraw>,
+        patches: &[PatchDraw],
         (format, extent): (vk::Format, vk::Extent2D),
         capture: bool,
     ) -> Result<()> {
@@ -340,13 +340,11 @@ impl Presenter {
                 .composer
                 .ensure_target(&self.ctx, format, DEPTH_FORMAT, target)?;
         }
-        if let Some(strip) = strip {
-            let bgra = matches!(
-                format,
-                vk::Format::B8G8R8A8_SRGB | vk::Format::B8G8R8A8_UNORM
-            );
-            frame.composer.stage_strip(&self.ctx, strip.rgba, bgra)?;
-        }
+        let bgra = matches!(
+            format,
+            vk::Format::B8G8R8A8_SRGB | vk::Format::B8G8R8A8_UNORM
+        );
+        frame.composer.stage_patches(&self.ctx, patches, bgra)?;
         if capture {
             frame.ensure_capture(extent)?;
         }
@@ -428,7 +426,7 @@ impl Presenter {
         slot: usize,
         index: u32,
         panels: &[PanelDraw],
-        strip: Option<vk::Rect2D>,
+        patched: bool,
         settings: &RenderSettings,
         capture: bool,
     ) -> Result<()> {
@@ -507,7 +505,7 @@ impl Presenter {
         // SAFETY: as above.
         unsafe { d.cmd_end_rendering(cmd) };
         let copied: Vec<&PanelDraw> = panels.iter().filter(|p| !p.in_place()).collect();
-        let last = if copied.is_empty() && strip.is_none() {
+        let last = if copied.is_empty() && !patched {
             (vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, COLOR_OUTPUT)
         } else {
             let to_copies = [attachment_to_copies(image)];
@@ -525,8 +523,26 @@ impl Presenter {
                         record_panel(passes, cmd, slot, panel)
                     })?;
             }
-            if let Some(rect) = strip {
-                frame.composer.record_strip(d, cmd, image, rect)?;
+            if patched {
+                // The captions go over the panels copied just before them.
+                let after_copies = [layout_transition(
+                    image,
+                    color_range(),
+                    (
+                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    ),
+                    COPY_WRITE,
+                    COPY_WRITE,
+                )];
+                // SAFETY: as above.
+                unsafe {
+                    d.cmd_pipeline_barrier2(
+                        cmd,
+                        &vk::DependencyInfo::default().image_memory_barriers(&after_copies),
+                    );
+                }
+                frame.composer.record_patches(d, cmd, image)?;
             }
             (vk::ImageLayout::TRANSFER_DST_OPTIMAL, COPY_WRITE)
         };

@@ -139,6 +139,26 @@ impl VolumeRequest {
         Ok(Some((Arc::new(underlay), source)))
     }
 
+    /// Each montage panel's underlay, the one volume read once, on the panel's slice
+    /// plane placed as the underlay plane setting says; None each without an underlay.
+    pub fn panel_underlays<'a>(
+        &self,
+        volume: &Volume,
+        scenes: impl IntoIterator<Item = &'a VolumeScene>,
+    ) -> Result<Vec<Option<Underlay>>> {
+        let underlay = self.underlay_volume()?;
+        let placement = self.underlay_placement()?;
+        scenes
+            .into_iter()
+            .map(|scene| match &underlay {
+                Some((underlay, source)) => {
+                    view_underlay(underlay.clone(), *source, volume, scene, placement).map(Some)
+                }
+                None => Ok(None),
+            })
+            .collect()
+    }
+
     /// The underlay of the view `scene` of `volume`, on its slice planes placed as the
     /// underlay plane setting says (behind the glyphs by default).
     fn underlay(&self, volume: &Volume, scene: &VolumeScene) -> Result<Option<Underlay>> {
@@ -258,17 +278,7 @@ impl VolumeRequest {
         } else {
             plan.columns
         };
-        let underlay = self.underlay_volume()?;
-        let placement = self.underlay_placement()?;
-        let underlays = panels
-            .iter()
-            .map(|scene| match &underlay {
-                Some((underlay, source)) => {
-                    view_underlay(underlay.clone(), *source, volume, scene, placement).map(Some)
-                }
-                None => Ok(None),
-            })
-            .collect::<Result<Vec<_>>>()?;
+        let underlays = self.panel_underlays(volume, panels.iter())?;
         let captions = panels
             .iter()
             .map(|scene| {

@@ -52,7 +52,7 @@ pub use recorded::{
     RecordedBasis, TENSOR_PREFIX, recorded_basis, resolve_basis, tensor_description,
 };
 pub use reorient::Reorientation;
-pub use request::{Coefficients, ImageSource, MAX_PANELS, VolumeRequest, underlay_with_montage};
+pub use request::{Coefficients, ImageSource, MAX_PANELS, VolumeRequest};
 pub use selection::{Slice, SliceAxis, SliceRegion, Slices, VoxelRanges};
 pub use underlay::{
     UnderlayPlacement, load_underlay, plane_behind, slice_plane, slice_planes, turned_away,

@@ -689,21 +689,6 @@ where
     Ok(text.map(str::parse).transpose()?.unwrap_or_default())
 }
 
-/// The error for an underlay asked of the viewer's montage, whose panels move their
-/// slices on their own (`render` and Python draw one under every panel).
-pub fn underlay_with_montage() -> Error {
-    Error::setting(
-        Setting::Underlay,
-        crate::message![
-            "is drawn under a montage's panels by render and the Python module; the \
-             viewer shows it on single views only: not with ",
-            Setting::Views,
-            " or ",
-            Setting::Lightbox
-        ],
-    )
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

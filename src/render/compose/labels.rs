@@ -26,8 +26,11 @@ const MIXED_AXIS_FRACTION: f64 = 0.6;
 const LETTER_FRACTION: f32 = 0.05;
 const MIN_LETTER_PX: f32 = 12.0;
 
-/// Opacity of the dark box behind a panel's caption.
-const CAPTION_BOX_OPACITY: f32 = 0.6;
+/// The caption's box is opaque black, and encloses every pixel of its text: a caption's
+/// pixels are then its own whatever the panel shows under it (it reads over a bright
+/// underlay too), so the viewer copies them into its window byte for byte
+/// ([`caption_patch`]).
+const CAPTION_BOX: [u8; 3] = [0, 0, 0];
 
 /// DejaVu Sans, read once per process; an error names the paths tried.
 pub fn dejavu_sans() -> Result<&'static [u8]> {
@@ -149,48 +152,173 @@ fn lettering(
             },
         ));
     }
-    let font = FontRef::try_from_slice(dejavu_sans()?)
-        .map_err(|err| Error::setup("usable DejaVu Sans font", err))?;
-    let size = (LETTER_FRACTION * width.min(height) as f32).max(MIN_LETTER_PX);
-    Ok((font, size))
+    Ok((font()?, letter_size(width, height)))
+}
+
+/// DejaVu Sans as `ab_glyph` reads it.
+fn font() -> Result<FontRef<'static>> {
+    FontRef::try_from_slice(dejavu_sans()?)
+        .map_err(|err| Error::setup("usable DejaVu Sans font", err))
+}
+
+/// The letter size of labels on a `width` x `height` image.
+fn letter_size(width: u32, height: u32) -> f32 {
+    (LETTER_FRACTION * width.min(height) as f32).max(MIN_LETTER_PX)
 }
 
 /// Draws `text` (a panel's slice, "k=12") in the top-left corner of `rgba` (`width` x
 /// `height`, row-major RGBA8), as the edge labels are drawn: white with a dark shadow,
-/// at their size.
+/// at their size, on an opaque black box.
 pub fn draw_caption(rgba: &mut [u8], width: u32, height: u32, text: &str) -> Result<()> {
     let (font, size) = lettering(rgba, width, height, "bytes of the captioned RGBA image")?;
-    let scaled = font.as_scaled(PxScale::from(size));
-    let (margin, cap) = (0.3 * size, 0.73 * scaled.ascent());
-    let shadow = (1.0f32).max(0.06 * size);
+    let layout = CaptionLayout::new(&font, size, text);
     let mut canvas = Canvas {
         rgba,
         width,
         height,
     };
-    let (x, baseline) = (margin, margin + cap);
-    // A dark box behind the text, so that it reads over a bright underlay too.
-    let text_width: f32 = text
-        .chars()
-        .map(|c| scaled.h_advance(font.glyph_id(c)))
-        .sum();
-    let pad = 0.25 * size;
-    let (x0, y0) = (
-        (x - pad).floor() as i64,
-        (baseline - cap - pad).floor() as i64,
+    layout.draw(&mut canvas, &font, size, text);
+    Ok(())
+}
+
+/// A caption's pixels: the rectangle of a `width` x `height` panel that
+/// [`draw_caption`] covers, at (`x`, `y`) in the panel, `w` x `h` pixels of RGBA8.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct CaptionPatch {
+    /// Left column in the panel.
+    pub x: u32,
+    /// Top row in the panel.
+    pub y: u32,
+    /// Width in pixels.
+    pub w: u32,
+    /// Height in pixels.
+    pub h: u32,
+    /// The pixels, row by row (sRGB-encoded RGBA8, as a PNG stores them).
+    pub rgba: Vec<u8>,
+}
+
+/// What [`draw_caption`] draws on a `width` x `height` panel, whatever the panel shows:
+/// the box is opaque and holds the whole text.
+pub fn caption_patch(width: u32, height: u32, text: &str) -> Result<CaptionPatch> {
+    // The letters are sized by the panel; only its corner up to the box's end is drawn.
+    let (font, size) = (font()?, letter_size(width, height));
+    let layout = CaptionLayout::new(&font, size, text);
+    let (x0, y0, x1, y1) = layout.bounds;
+    let clamp = |v: i64, hi: u32| v.clamp(0, i64::from(hi)) as u32;
+    let (x, y, right, bottom) = (
+        clamp(x0, width),
+        clamp(y0, height),
+        clamp(x1, width),
+        clamp(y1, height),
     );
-    let (x1, y1) = (
-        (x + text_width + shadow + pad).ceil() as i64,
-        (baseline + shadow + pad).ceil() as i64,
+    let mut corner = vec![0u8; 4 * right as usize * bottom as usize];
+    layout.draw(
+        &mut Canvas {
+            rgba: &mut corner,
+            width: right,
+            height: bottom,
+        },
+        &font,
+        size,
+        text,
     );
-    for y in y0.max(0)..y1 {
-        for x in x0.max(0)..x1 {
-            canvas.blend(x, y, [0, 0, 0], CAPTION_BOX_OPACITY);
+    let (w, h) = (right - x, bottom - y);
+    let rgba = (y..bottom)
+        .flat_map(|row| {
+            let at = 4 * (row as usize * right as usize + x as usize);
+            corner[at..at + 4 * w as usize].to_vec()
+        })
+        .collect();
+    Ok(CaptionPatch { x, y, w, h, rgba })
+}
+
+/// Where a caption's text and box go: the text's pen start and baseline, its shadow's
+/// offset, and the box (x0, y0, x1, y1), end exclusive: a margin of a quarter letter
+/// round the text and its shadow, and round every pixel their outlines touch.
+struct CaptionLayout {
+    x: f32,
+    baseline: f32,
+    shadow: f32,
+    bounds: (i64, i64, i64, i64),
+}
+
+impl CaptionLayout {
+    fn new(font: &FontRef, size: f32, text: &str) -> CaptionLayout {
+        let scaled = font.as_scaled(PxScale::from(size));
+        let (margin, cap) = (0.3 * size, 0.73 * scaled.ascent());
+        let shadow = (1.0f32).max(0.06 * size);
+        let (x, baseline) = (margin, margin + cap);
+        let text_width: f32 = text
+            .chars()
+            .map(|c| scaled.h_advance(font.glyph_id(c)))
+            .sum();
+        let pad = 0.25 * size;
+        let mut bounds = (
+            (x - pad).floor() as i64,
+            (baseline - cap - pad).floor() as i64,
+            (x + text_width + shadow + pad).ceil() as i64,
+            (baseline + shadow + pad).ceil() as i64,
+        );
+        for (dx, dy) in [(0.0, 0.0), (shadow, shadow)] {
+            if let Some((x0, y0, x1, y1)) = text_bounds(font, size, text, x + dx, baseline + dy) {
+                bounds = (
+                    bounds.0.min(x0),
+                    bounds.1.min(y0),
+                    bounds.2.max(x1),
+                    bounds.3.max(y1),
+                );
+            }
+        }
+        CaptionLayout {
+            x,
+            baseline,
+            shadow,
+            bounds,
         }
     }
-    canvas.text(&font, size, text, x + shadow, baseline + shadow, [0, 0, 0]);
-    canvas.text(&font, size, text, x, baseline, [255, 255, 255]);
-    Ok(())
+
+    /// The box, the shadow and the text onto `canvas`.
+    fn draw(&self, canvas: &mut Canvas, font: &FontRef, size: f32, text: &str) {
+        let (x0, y0, x1, y1) = self.bounds;
+        for y in y0.max(0)..y1 {
+            for x in x0.max(0)..x1 {
+                canvas.blend(x, y, CAPTION_BOX, 1.0);
+            }
+        }
+        let (x, baseline, shadow) = (self.x, self.baseline, self.shadow);
+        canvas.text(font, size, text, x + shadow, baseline + shadow, [0, 0, 0]);
+        canvas.text(font, size, text, x, baseline, [255, 255, 255]);
+    }
+}
+
+/// The pixels (x0, y0, x1, y1), end exclusive, that [`Canvas::text`] may touch drawing
+/// `text` from (x, baseline); None for text without outlines.
+fn text_bounds(
+    font: &FontRef,
+    size: f32,
+    text: &str,
+    x: f32,
+    baseline: f32,
+) -> Option<(i64, i64, i64, i64)> {
+    let scaled = font.as_scaled(PxScale::from(size));
+    let mut pen = x;
+    let mut bounds: Option<(i64, i64, i64, i64)> = None;
+    for c in text.chars() {
+        let id = font.glyph_id(c);
+        let glyph = id.with_scale_and_position(size, point(pen, baseline));
+        pen += scaled.h_advance(id);
+        let Some(outline) = font.outline_glyph(glyph) else {
+            continue;
+        };
+        let b = outline.px_bounds();
+        let (x0, y0) = (b.min.x.floor() as i64, b.min.y.floor() as i64);
+        let (x1, y1) = (b.max.x.ceil() as i64 + 1, b.max.y.ceil() as i64 + 1);
+        bounds = Some(match bounds {
+            None => (x0, y0, x1, y1),
+            Some(a) => (a.0.min(x0), a.1.min(y0), a.2.max(x1), a.3.max(y1)),
+        });
+    }
+    bounds
 }
 
 /// RGBA8 pixels that text is blended onto (the labels here, the colour bar's ticks).
@@ -256,5 +384,47 @@ mod tests {
         assert_eq!(letters(DVec3::new(0.0, 0.3, 0.9)), "S");
         // The three-slice view's up vector: superior, a little right and posterior.
         assert_eq!(letters(DVec3::new(1.0, -1.0, 2.0)), "S");
+    }
+
+    /// A caption's patch is what draw_caption draws over any panel (a black and a bright
+    /// noisy one), and draw_caption touches no pixel outside it: the box is opaque and
+    /// holds the text, the descender of `j` too.
+    #[test]
+    fn a_caption_is_its_patch_over_any_panel() {
+        if dejavu_sans().is_err() {
+            eprintln!("SKIPPED: DejaVu Sans is not installed");
+            return;
+        }
+        for (width, height, text) in [(72, 56, "j=5"), (300, 200, "k=12"), (40, 30, "i=3")] {
+            let patch = caption_patch(width, height, text).expect("patch");
+            assert!(patch.w > 0 && patch.h > 0 && patch.x + patch.w <= width);
+            let mut noise = 7u32;
+            let bright: Vec<u8> = (0..4 * width * height)
+                .map(|_| {
+                    noise = noise.wrapping_mul(1_103_515_245).wrapping_add(12_345);
+                    128 + (noise >> 25) as u8
+                })
+                .collect();
+            for panel in [vec![0u8; bright.len()], bright] {
+                let mut drawn = panel.clone();
+                draw_caption(&mut drawn, width, height, text).expect("caption");
+                for y in 0..height {
+                    for x in 0..width {
+                        let at = 4 * (y * width + x) as usize;
+                        let inside = (patch.x..patch.x + patch.w).contains(&x)
+                            && (patch.y..patch.y + patch.h).contains(&y);
+                        let expected = if inside {
+                            let p = 4 * ((y - patch.y) * patch.w + x - patch.x) as usize;
+                            &patch.rgba[p..p + 4]
+                        } else {
+                            &panel[at..at + 4]
+                        };
+                        assert_eq!(&drawn[at..at + 4], expected, "{text}: pixel ({x}, {y})");
+                    }
+                }
+            }
+            // White text on the box: the patch is not all black.
+            assert!(patch.rgba.chunks_exact(4).any(|p| p[0] > 200));
+        }
     }
 }
