@@ -262,10 +262,7 @@ fn the_underlay_moves_with_the_slice() {
     let Some(x) = Xvfb::start("the_underlay_moves_with_the_slice") else {
         return;
     };
-    let dir = out("underlay-files");
-    std::fs::create_dir_all(&dir).expect("folder");
-    let (tensors, _) = common::underlay::tensor_volume(&dir);
-    let fa = common::underlay::scalar_underlay(&dir, "fa.nii");
+    let (tensors, fa) = common::underlay::tensors_with_underlay(&out("underlay-files"));
     let (shot, window) = (out("underlay-shot.png"), out("underlay-window.png"));
     let volume = [
         "--tensor",
@@ -327,10 +324,7 @@ fn the_underlay_stays_behind_the_glyphs_from_the_other_side() {
     let Some(x) = Xvfb::start("the_underlay_stays_behind_the_glyphs_from_the_other_side") else {
         return;
     };
-    let dir = out("underlay-behind-files");
-    std::fs::create_dir_all(&dir).expect("folder");
-    let (tensors, _) = common::underlay::tensor_volume(&dir);
-    let fa = common::underlay::scalar_underlay(&dir, "fa.nii");
+    let (tensors, fa) = common::underlay::tensors_with_underlay(&out("underlay-behind-files"));
     let view = |underlay: Option<&str>, name: &str| -> (PathBuf, PathBuf) {
         let (shot, window) = (
             out(&format!("{name}-shot.png")),

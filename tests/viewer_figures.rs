@@ -317,10 +317,7 @@ fn underlays_are_renders_under_every_panel_and_move_with_their_slices() {
     else {
         return;
     };
-    let dir = out("viewer-montage-underlay");
-    std::fs::create_dir_all(&dir).expect("folder");
-    let (tensors, _) = common::underlay::tensor_volume(&dir);
-    let fa = common::underlay::scalar_underlay(&dir, "fa.nii");
+    let (tensors, fa) = common::underlay::tensors_with_underlay(&out("viewer-montage-underlay"));
     let input = [
         "--tensor",
         tensors.as_str(),

@@ -18,7 +18,7 @@ use crate::render::frame::FrameParams;
 use crate::render::peaks::PeaksGpu;
 use crate::render::underlay::{UnderlayGpu, UnderlayPlane};
 use crate::vk::recording::{
-    COLOR_OUTPUT, COPY_READ, COPY_WRITE, DEPTH_TESTS, buffer_to_color_region,
+    Access, COLOR_OUTPUT, COPY_READ, COPY_WRITE, DEPTH_TESTS, buffer_to_color_region,
     cleared_color_attachment, color_region_copy, layout_transition,
 };
 use crate::vk::{Buffer, DeviceContext, Image, cleared_depth_attachment, color_range};
@@ -276,14 +276,30 @@ impl Composer {
 /// The barrier that hands the swapchain image from the in-place draw (colour attachment
 /// writes) to the copies.
 pub fn attachment_to_copies(image: vk::Image) -> vk::ImageMemoryBarrier2<'static> {
+    into_copies(
+        image,
+        vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+        COLOR_OUTPUT,
+    )
+}
+
+/// The barrier between the copied panels and the patches copied over them (both
+/// transfer writes to the swapchain image).
+pub fn copies_to_patches(image: vk::Image) -> vk::ImageMemoryBarrier2<'static> {
+    into_copies(image, vk::ImageLayout::TRANSFER_DST_OPTIMAL, COPY_WRITE)
+}
+
+/// The swapchain image from `layout`, written by `access`, to the copies' writes.
+fn into_copies(
+    image: vk::Image,
+    layout: vk::ImageLayout,
+    access: Access,
+) -> vk::ImageMemoryBarrier2<'static> {
     layout_transition(
         image,
         color_range(),
-        (
-            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-        ),
-        COLOR_OUTPUT,
+        (layout, vk::ImageLayout::TRANSFER_DST_OPTIMAL),
+        access,
         COPY_WRITE,
     )
 }

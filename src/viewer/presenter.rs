@@ -20,7 +20,7 @@
 //! into a swapchain known to be stale. An image acquired as SUBOPTIMAL is still drawn and
 //! presented (presenting is how it is given back), and the swapchain is recreated before
 //! the next frame.
-use super::compose::{PanelDraw, PatchDraw, attachment_to_copies};
+use super::compose::{PanelDraw, PatchDraw, attachment_to_copies, copies_to_patches};
 use super::slots::FrameSlot;
 use crate::error::{Result, VkContext};
 use crate::render::RenderSettings;
@@ -525,16 +525,7 @@ impl Presenter {
             }
             if patched {
                 // The captions go over the panels copied just before them.
-                let after_copies = [layout_transition(
-                    image,
-                    color_range(),
-                    (
-                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    ),
-                    COPY_WRITE,
-                    COPY_WRITE,
-                )];
+                let after_copies = [copies_to_patches(image)];
                 // SAFETY: as above.
                 unsafe {
                     d.cmd_pipeline_barrier2(

@@ -55,3 +55,11 @@ pub fn scalar_underlay(dir: &Path, name: &str) -> String {
     super::write_nifti(&path, &data, affine);
     path.display().to_string()
 }
+
+/// A new folder `dir` with the tensors of [`tensor_volume`] and the scalar underlay of
+/// [`scalar_underlay`] ("fa.nii") in it: their paths.
+pub fn tensors_with_underlay(dir: &Path) -> (String, String) {
+    std::fs::create_dir_all(dir).expect("creating the underlay test folder");
+    let (tensors, _) = tensor_volume(dir);
+    (tensors, scalar_underlay(dir, "fa.nii"))
+}

@@ -6,7 +6,7 @@
 //! the right edge, its up vector for the top, their negatives for the others. A direction
 //! between axes (the oblique three-slice view) gets the letters of every axis above
 //! 0.6 of its largest component, largest first ("LP").
-use ab_glyph::{Font, FontRef, PxScale, ScaleFont, point};
+use ab_glyph::{Font, FontRef, OutlinedGlyph, PxScale, ScaleFont, point};
 use glam::DVec3;
 use std::sync::OnceLock;
 
@@ -300,25 +300,36 @@ fn text_bounds(
     x: f32,
     baseline: f32,
 ) -> Option<(i64, i64, i64, i64)> {
+    outlines(font, size, text, x, baseline)
+        .map(|outline| {
+            let b = outline.px_bounds();
+            (
+                b.min.x.floor() as i64,
+                b.min.y.floor() as i64,
+                b.max.x.ceil() as i64 + 1,
+                b.max.y.ceil() as i64 + 1,
+            )
+        })
+        .reduce(|a, b| (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)))
+}
+
+/// The outlines of `text`'s letters set from (x, baseline), letters without one (a
+/// space) left out.
+fn outlines<'a>(
+    font: &'a FontRef,
+    size: f32,
+    text: &'a str,
+    x: f32,
+    baseline: f32,
+) -> impl Iterator<Item = OutlinedGlyph> + 'a {
     let scaled = font.as_scaled(PxScale::from(size));
     let mut pen = x;
-    let mut bounds: Option<(i64, i64, i64, i64)> = None;
-    for c in text.chars() {
+    text.chars().filter_map(move |c| {
         let id = font.glyph_id(c);
         let glyph = id.with_scale_and_position(size, point(pen, baseline));
         pen += scaled.h_advance(id);
-        let Some(outline) = font.outline_glyph(glyph) else {
-            continue;
-        };
-        let b = outline.px_bounds();
-        let (x0, y0) = (b.min.x.floor() as i64, b.min.y.floor() as i64);
-        let (x1, y1) = (b.max.x.ceil() as i64 + 1, b.max.y.ceil() as i64 + 1);
-        bounds = Some(match bounds {
-            None => (x0, y0, x1, y1),
-            Some(a) => (a.0.min(x0), a.1.min(y0), a.2.max(x1), a.3.max(y1)),
-        });
-    }
-    bounds
+        font.outline_glyph(glyph)
+    })
 }
 
 /// RGBA8 pixels that text is blended onto (the labels here, the colour bar's ticks).
@@ -339,15 +350,7 @@ impl Canvas<'_> {
         baseline: f32,
         colour: [u8; 3],
     ) {
-        let scaled = font.as_scaled(PxScale::from(size));
-        let mut pen = x;
-        for c in text.chars() {
-            let id = font.glyph_id(c);
-            let glyph = id.with_scale_and_position(size, point(pen, baseline));
-            pen += scaled.h_advance(id);
-            let Some(outline) = font.outline_glyph(glyph) else {
-                continue;
-            };
+        for outline in outlines(font, size, text, x, baseline) {
             let bounds = outline.px_bounds();
             outline.draw(|gx, gy, coverage| {
                 let px = bounds.min.x as i64 + i64::from(gx);
