@@ -126,8 +126,8 @@ pub enum Error {
     },
     /// A combination the library has no code or shader for.
     Unsupported {
-        /// What was asked for (a tensor layout and method, a glyph shape).
-        what: String,
+        /// What was asked for.
+        what: Asked,
         /// The part of the library (a pass, a path, a model) that does not take it.
         by: Piece,
     },
@@ -376,6 +376,36 @@ impl std::error::Error for Error {
         match self {
             Error::Allocation(err) => Some(err),
             _ => None,
+        }
+    }
+}
+
+/// What a part of the library was asked for and has no code or shader for
+/// ([`Error::Unsupported`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Asked {
+    /// Glyphs of a tensor layout (a ray-casting shader, an evaluation shader).
+    Layout(crate::glyph::TensorLayout),
+    /// Ellipsoid glyphs (`--glyph ellipsoid`), ray-cast in closed form.
+    Ellipsoids,
+    /// An intersection method.
+    Method(crate::render::Method),
+}
+
+impl fmt::Display for Asked {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Asked::Layout(layout) => {
+                let kind = match layout.symmetry {
+                    crate::glyph::Symmetry::Symmetric => "symmetric",
+                    crate::glyph::Symmetry::NonSymmetric => "non-symmetric",
+                };
+                write!(f, "a {kind} tensor of order {}", layout.order)
+            }
+            Asked::Ellipsoids => f.write_str(
+                "ellipsoid glyphs, which are ray-cast in closed form (not tessellated, not marched)",
+            ),
+            Asked::Method(method) => write!(f, "method {method}"),
         }
     }
 }
@@ -812,13 +842,14 @@ mod tests {
             what: "glyph set",
             index: 2,
             error: Box::new(Error::Unsupported {
-                what: "ellipsoid glyphs".into(),
+                what: super::Asked::Ellipsoids,
                 by: Setting::Offset.with(0.1),
             }),
         };
         assert_eq!(
             item.spelled(&flag),
-            "glyph set 2: --offset 0.1 does not take ellipsoid glyphs"
+            "glyph set 2: --offset 0.1 does not take ellipsoid glyphs, which are ray-cast in \
+             closed form (not tessellated, not marched)"
         );
         assert!(!item.is_usage());
         let layout = Error::Layout {

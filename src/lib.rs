@@ -145,7 +145,7 @@ pub mod vk;
 #[cfg(feature = "volume")]
 pub mod volume;
 
-pub use error::{Error, Result, Setting};
+pub use error::{Asked, Error, Result, Setting};
 
 // The names most programs need, at the root; everything else stays in its module.
 pub use camera::{Camera, Projection};

@@ -204,7 +204,7 @@ impl GlyphRenderer {
     pub fn set_settings(&mut self, settings: &RenderSettings) -> Result<()> {
         if settings.method != self.settings.method {
             return Err(Error::Unsupported {
-                what: format!("method {}", settings.method),
+                what: crate::error::Asked::Method(settings.method),
                 by: format!("a renderer made for method {}", self.settings.method).into(),
             });
         }

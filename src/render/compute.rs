@@ -156,7 +156,7 @@ impl ComputeRayCastPass {
         }
         let shader =
             compute_raycast_shader(layout, Method::Exact).ok_or_else(|| Error::Unsupported {
-                what: format!("a {:?} tensor of order {}", layout.symmetry, layout.order),
+                what: crate::error::Asked::Layout(layout),
                 by: Setting::Path.with("compute"),
             })?;
         let entries = [vk::SpecializationMapEntry {
@@ -205,7 +205,7 @@ impl ComputeRayCastPass {
             if part.shape == GlyphShape::Ellipsoid {
                 // The data decide (exit code 1), so not a Setting error.
                 return Err(Error::Unsupported {
-                    what: "ellipsoid glyphs".into(),
+                    what: crate::error::Asked::Ellipsoids,
                     by: Setting::Path.with("compute"),
                 });
             }

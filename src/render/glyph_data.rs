@@ -152,7 +152,7 @@ fn prepare_set_keeping(
             what: "glyph set",
             index,
             error: Box::new(Error::Unsupported {
-                what: "ellipsoid glyphs".into(),
+                what: crate::error::Asked::Ellipsoids,
                 by: Setting::Offset.with(offset as f32),
             }),
         });

@@ -47,7 +47,7 @@ impl GlyphMeshes {
         if sets.iter().any(|s| s.shape == GlyphShape::Ellipsoid) {
             // The data decide (exit code 1), so not a Setting error.
             return Err(Error::Unsupported {
-                what: "ellipsoid glyphs (ray-cast in closed form, not tessellated)".into(),
+                what: crate::error::Asked::Ellipsoids,
                 by: Setting::Method.with(kind),
             });
         }

@@ -335,7 +335,7 @@ impl RayCastPass {
             Method::Impostor => (None, IMPOSTOR_FRAGMENT),
             Method::Mesh(_) => {
                 return Err(Error::Unsupported {
-                    what: format!("method {method} (the mesh pass draws it)"),
+                    what: crate::error::Asked::Method(method),
                     by: "the ray-casting pass".into(),
                 });
             }
@@ -359,7 +359,7 @@ impl RayCastPass {
                     });
                 }
                 let shader = raycast_shader(layout, method).ok_or_else(|| Error::Unsupported {
-                    what: format!("a {:?} tensor of order {}", layout.symmetry, layout.order),
+                    what: crate::error::Asked::Layout(layout),
                     by: Setting::Method.with(method),
                 })?;
                 let fragment = match self.formats.distance {

@@ -429,7 +429,7 @@ impl App {
     ) -> Result<()> {
         if !self.methods().contains(&method) {
             return Err(Error::Unsupported {
-                what: format!("method {method}"),
+                what: crate::error::Asked::Method(method),
                 by: "the shaders of these glyphs".into(),
             });
         }
