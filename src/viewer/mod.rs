@@ -79,8 +79,9 @@ pub struct ViewerOptions {
     /// With each screenshot, also write the scene as shown (glyphs of the current slice,
     /// camera, window size) as a scene file.
     pub save_scene: Option<PathBuf>,
-    /// The anatomical underlay (`--underlay`), drawn on the slice planes and moved with
-    /// them; volume input only.
+    /// The anatomical underlay (`--underlay`) of a single view, drawn on the slice planes
+    /// and moved with them; volume input only. A montage's come with its panels
+    /// (`MontageSource::underlays`).
     pub underlay: Option<crate::render::underlay::Underlay>,
     /// Frames recorded ahead of the GPU (`--frames-in-flight`); 0 takes
     /// [`FRAMES_IN_FLIGHT`].
