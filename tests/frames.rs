@@ -281,42 +281,72 @@ fn render_failure(dir: &Path, args: &[&str]) -> (i32, String) {
 
 /// `fit` records the basis; `render` takes it without --basis, agrees with a matching
 /// --basis, refuses another naming the file and the field, and draws it with
-/// --force-basis. For NIfTI the field is descrip, for .mif comments.
+/// --force-basis. For NIfTI (DIPY's basis) the field is descrip, for .mif (MRtrix's, the
+/// only one a .mif is written in) comments.
 #[test]
 fn render_takes_the_basis_fit_recorded_and_refuses_a_contradiction() {
     let dir = fresh_dir("basis");
     let dwi = dipy_data("small_64D.nii");
-    for (output, field) in [("fitted.nii.gz", "descrip"), ("fitted.mif", "comments")] {
-        let fitted = dir.join(output);
-        fit_small_64d(&dwi, &fitted, &["--basis", "dipy"]);
+    struct Case {
+        output: &'static str,
+        field: &'static str,
+        basis: &'static str,
+        spelled: &'static [&'static str],
+        other: &'static str,
+        other_named: &'static str,
+    }
+    let cases = [
+        Case {
+            output: "fitted.nii.gz",
+            field: "descrip",
+            basis: "dipy",
+            spelled: &["--basis", "descoteaux07", "--legacy"],
+            other: "mrtrix",
+            other_named: "descoteaux07 --legacy",
+        },
+        Case {
+            output: "fitted.mif",
+            field: "comments",
+            basis: "mrtrix",
+            spelled: &["--basis", "tournier07"],
+            other: "dipy",
+            other_named: "tournier07",
+        },
+    ];
+    for case in cases {
+        let fitted = dir.join(case.output);
+        fit_small_64d(&dwi, &fitted, &["--basis", case.basis]);
         let volume = ["--sh", text(&fitted), "--slice", "axial:5"];
         let with = |extra: &[&'static str]| {
             let mut args: Vec<&str> = volume.to_vec();
             args.extend(extra);
             args
         };
+        let output = case.output;
         let recorded = depth(&dir, "recorded", &volume);
-        let (one_only, largest, _) =
-            compare(&recorded, &depth(&dir, "same", &with(&["--basis", "dipy"])));
+        let (one_only, largest, _) = compare(
+            &recorded,
+            &depth(&dir, "same", &with(&["--basis", case.basis])),
+        );
         assert_eq!(
             (one_only, largest),
             (0, 0.0),
-            "{output}: --basis dipy agrees"
+            "{output}: --basis {} agrees",
+            case.basis
         );
-        let spelled = with(&["--basis", "descoteaux07", "--legacy"]);
-        depth(&dir, "spelled", &spelled);
-        let (code, error) = render_failure(&dir, &with(&["--basis", "mrtrix"]));
+        depth(&dir, "spelled", &with(case.spelled));
+        let (code, error) = render_failure(&dir, &with(&["--basis", case.other]));
         assert_eq!(code, 1, "{error}");
         assert!(
-            error.contains(&format!("{}: {field}:", text(&fitted)))
-                && error.contains("descoteaux07 --legacy")
+            error.contains(&format!("{}: {}:", text(&fitted), case.field))
+                && error.contains(case.other_named)
                 && error.contains("--force-basis"),
             "{error}"
         );
         let forced = depth(
             &dir,
             "forced",
-            &with(&["--basis", "mrtrix", "--force-basis"]),
+            &with(&["--basis", case.other, "--force-basis"]),
         );
         let (one_only, largest, _) = compare(&recorded, &forced);
         assert!(
@@ -324,6 +354,47 @@ fn render_takes_the_basis_fit_recorded_and_refuses_a_contradiction() {
             "{output}: another basis draws other glyphs"
         );
     }
+}
+
+/// A fit in any basis but MRtrix's own is not written to a `.mif`: MRtrix reads every
+/// `.mif`'s SH coefficients as tournier07, whatever glyphcast would record beside them.
+/// Refused before the fit (a usage error naming the output and the basis); nothing is
+/// written. NIfTI takes every basis.
+#[test]
+fn a_mif_is_fitted_in_mrtrix_basis_only() {
+    let dir = fresh_dir("mif_basis");
+    let dwi = dipy_data("small_64D.nii");
+    let (bval, bvec) = (dipy_data("small_64D.bval"), dipy_data("small_64D.bvec"));
+    for basis in [
+        &["--basis", "dipy"][..],
+        &["--basis", "descoteaux07"],
+        &["--basis", "tournier07", "--legacy"],
+    ] {
+        for odf in [&["--sh"][..], &["--odf", "csa"]] {
+            let mif = dir.join("refused.mif");
+            let mut args = vec![
+                "fit",
+                text(&dwi),
+                "--bval",
+                text(&bval),
+                "--bvec",
+                text(&bvec),
+            ];
+            args.extend(odf);
+            args.extend(["--order", "4", "--quiet", "-o", text(&mif)]);
+            args.extend(basis);
+            let out = glyphcast(&args);
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+            assert!(
+                stderr.contains(text(&mif)) && stderr.contains("tournier07"),
+                "{args:?}: {stderr}"
+            );
+            assert!(!mif.exists(), "{args:?}: nothing written");
+        }
+    }
+    fit_small_64d(&dwi, &dir.join("dipy.nii"), &["--basis", "dipy"]);
+    fit_small_64d(&dwi, &dir.join("mrtrix.mif"), &["--basis", "mrtrix"]);
 }
 
 /// Writes func_coef as a `.mif` with its affine and the header line `key: value`;

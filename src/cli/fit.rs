@@ -7,7 +7,9 @@ use clap::{ArgGroup, Args};
 use glyphcast::fit::csd::{DEFAULT_CSD_LAMBDA, DEFAULT_CSD_TAU};
 use glyphcast::fit::csd_mrtrix::{self, CsdAlgorithm};
 use glyphcast::fit::gradients::BvecConvention;
-use glyphcast::fit::output::{check_output_path, output_tensor_order, write_output};
+use glyphcast::fit::output::{
+    check_output_basis, check_output_path, output_tensor_order, write_output,
+};
 use glyphcast::fit::response::{DEFAULT_RESPONSE_FA, estimate_response};
 use glyphcast::fit::{
     DEFAULT_LAMBDA, FitFiles, FitInputs, FitModel, OdfMethod, OdfModel, Response, fit_with_response,
@@ -184,6 +186,7 @@ pub fn run(args: FitArgs) -> Result<()> {
         return msmt::run(&args, &model, convention);
     }
     check_output_path(&args.output, "-o/--output")?;
+    check_output_basis(&args.output, "-o/--output", &model)?;
     let given_order: Option<TensorOrder> =
         args.tensor_order.as_deref().map(str::parse).transpose()?;
     let stored = output_tensor_order(&args.output, &model, given_order)?;

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use glyphcast::error::Relation;
 use glyphcast::fit::gradients::BvecConvention;
 use glyphcast::fit::msmt::{MsmtFitter, MsmtProblem, Shells, TISSUES, fit_msmt};
-use glyphcast::fit::output::{check_output_path, output_bytes};
+use glyphcast::fit::output::{check_output_basis, check_output_path, output_bytes};
 use glyphcast::fit::response::DEFAULT_RESPONSE_FA;
 use glyphcast::fit::response_msmt::{
     CSF_MIN_MD, GM_MAX_MD, ISO_FA, estimate_responses, read_responses,
@@ -103,6 +103,7 @@ pub(super) fn run(args: &FitArgs, model: &FitModel, convention: BvecConvention) 
         ("--csf", &csf_path),
     ] {
         check_output_path(path, option)?;
+        check_output_basis(path, option, model)?;
     }
     if args.tensor_order.is_some() {
         return Err(Error::conflict(

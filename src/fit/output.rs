@@ -17,6 +17,7 @@ use std::path::Path;
 
 use super::FitModel;
 use super::dwi::Dwi;
+use crate::glyph::sh::ShBasis;
 use crate::glyph::tensor_order::{DTI_COUNT, TensorOrder};
 use crate::io::atomic::write_atomic;
 use crate::io::mif::{MifKind, MifWrite, mif_file_bytes};
@@ -37,6 +38,32 @@ pub fn check_output_path(path: &Path, option: &'static str) -> Result<()> {
         Some(MifKind::Mif | MifKind::MifGz) => Ok(()),
         _ => nifti_ending(path, option).map(|_| ()),
     }
+}
+
+/// Refuses an SH or ODF fit written to a `.mif` (`path`, the output `option`) in any
+/// basis but MRtrix's own (tournier07, not legacy): every MRtrix command reads a `.mif`'s
+/// coefficients in that basis, whatever glyphcast records beside them. Checked before
+/// any work.
+pub fn check_output_basis(path: &Path, option: &'static str, model: &FitModel) -> Result<()> {
+    let (FitModel::Sh { basis, legacy, .. } | FitModel::Odf(super::OdfModel { basis, legacy, .. })) =
+        *model
+    else {
+        return Ok(());
+    };
+    if !is_mif(path) || (basis == ShBasis::Tournier07 && !legacy) {
+        return Ok(());
+    }
+    let legacy = if legacy { " --legacy" } else { "" };
+    Err(Error::setting_value(
+        Setting::Basis,
+        format!("{}{legacy}", basis.name()),
+        format!(
+            "{option} {} is an MRtrix image, whose SH coefficients MRtrix reads in its own \
+             basis (tournier07) only: fit in tournier07 (--basis mrtrix) for a .mif, or write \
+             NIfTI (.nii, .nii.gz) for this basis",
+            path.display()
+        ),
+    ))
 }
 
 /// Whether `path` names an MRtrix image (`.mif`, `.mif.gz`).
