@@ -289,33 +289,9 @@ fn mrtrix_tensor_mif_draws_ellipsoids_along_the_eigenvectors() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let scene = Scene::load(&json).expect("saved scene");
-    let set = &scene.glyph_sets[0];
-    assert_eq!(set.centers.len(), 3);
-    let (_, depth) = read_npy_f32(&npy).expect("depth");
-    // Per glyph, the hit point farthest from its centre.
-    let mut farthest = [(0.0f64, DVec3::ZERO); 3];
-    for j in 0..h {
-        for i in 0..w {
-            let t = depth[(j * w + i) as usize];
-            if t.is_nan() {
-                continue;
-            }
-            let ray = scene.camera.ray(i, j, w, h);
-            let p = ray.origin + ray.dir * t as f64;
-            let (g, c) = set
-                .centers
-                .iter()
-                .enumerate()
-                .min_by(|a, b| a.1.distance(p).total_cmp(&b.1.distance(p)))
-                .unwrap();
-            let r = c.distance(p);
-            if r > farthest[g].0 {
-                farthest[g] = (r, p - *c);
-            }
-        }
-    }
-    for (g, ((_, axis), (_, e1))) in farthest.iter().zip(&tensors).enumerate() {
+    let farthest = long_axes(&json, &npy, w, h);
+    assert_eq!(farthest.len(), 3);
+    for (g, (axis, (_, e1))) in farthest.iter().zip(&tensors).enumerate() {
         let angle = axis_angle(*axis, *e1);
         eprintln!("glyph {g}: long axis {angle:.3} degrees from the eigenvector");
         assert!(angle < 1.0, "glyph {g}: {angle} degrees");
@@ -356,6 +332,122 @@ fn mrtrix_tensor_mif_draws_ellipsoids_along_the_eigenvectors() {
             None => assert!(out.status.success(), "{flags:?}: {stderr}"),
         }
     }
+}
+
+/// Per glyph of the rendered scene `json` (saved with its depth map `npy`, w x h), the
+/// direction from its centre to its farthest hit point: an ellipsoid's long axis.
+fn long_axes(json: &Path, npy: &Path, w: u32, h: u32) -> Vec<DVec3> {
+    let scene = Scene::load(json).expect("saved scene");
+    let set = &scene.glyph_sets[0];
+    let (_, depth) = read_npy_f32(npy).expect("depth");
+    let mut farthest = vec![(0.0f64, DVec3::ZERO); set.centers.len()];
+    for j in 0..h {
+        for i in 0..w {
+            let t = depth[(j * w + i) as usize];
+            if t.is_nan() {
+                continue;
+            }
+            let ray = scene.camera.ray(i, j, w, h);
+            let p = ray.origin + ray.dir * t as f64;
+            let (g, c) = set
+                .centers
+                .iter()
+                .enumerate()
+                .min_by(|a, b| a.1.distance(p).total_cmp(&b.1.distance(p)))
+                .unwrap();
+            let r = c.distance(p);
+            if r > farthest[g].0 {
+                farthest[g] = (r, p - *c);
+            }
+        }
+    }
+    farthest.into_iter().map(|(_, axis)| axis).collect()
+}
+
+/// FSL's `dtifit` fits in the frame of FSL's bvecs: the voxel axes with x negated on an
+/// image whose affine has a positive determinant. The same stored values (three tensors
+/// put in that frame) on an RAS image and on its LAS twin (whose FSL frame is its voxel
+/// axes) draw ellipsoids along the tensors' world directions with `--tensor-order fsl`;
+/// read as glyphcast's (plain voxel axes) the RAS ones turn. FSL's frame and scanner axes
+/// (`--frame world`) are refused together.
+#[test]
+fn fsl_tensors_are_read_in_fsl_frame() {
+    let dir = fresh_dir("tensor-order-fsl-frame");
+    let tensors = oriented_tensors();
+    let flip = DMat3::from_diagonal(DVec3::new(-1.0, 1.0, 1.0));
+    let mut data = ArrayD::zeros(IxDyn(&[tensors.len(), 1, 1, 6]));
+    for (i, (t, _)) in tensors.iter().enumerate() {
+        let [xx, xy, xz, yy, yz, zz] = *t;
+        let d = DMat3::from_cols_array(&[xx, xy, xz, xy, yy, yz, xz, yz, zz]);
+        let f = flip * d * flip;
+        let entries = [
+            f.x_axis.x, f.y_axis.x, f.z_axis.x, f.y_axis.y, f.z_axis.y, f.z_axis.z,
+        ];
+        for (k, value) in entries.into_iter().enumerate() {
+            data[[i, 0, 0, k]] = value;
+        }
+    }
+    let ras = dir.join("ras.nii");
+    let las = dir.join("las.nii");
+    common::write_nifti(&ras, &data, DMat4::IDENTITY);
+    common::write_nifti(&las, &data, DMat4::from_mat3(flip));
+    let (w, h) = (720u32, 240u32);
+    let (width, height) = (w.to_string(), h.to_string());
+    let axes = |name: &str, tensors_file: &Path, order: &str| {
+        let (png, npy, json) = (
+            dir.join(format!("{name}.png")),
+            dir.join(format!("{name}.npy")),
+            dir.join(format!("{name}.json")),
+        );
+        let flags = [
+            "--tensor-order",
+            order,
+            "--glyph",
+            "ellipsoid",
+            "--width",
+            &width,
+            "--height",
+            &height,
+            "--depth-out",
+            text(&npy),
+            "--save-scene",
+            text(&json),
+        ];
+        let out = render_order2(tensors_file, &flags, &png);
+        assert!(
+            out.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        long_axes(&json, &npy, w, h)
+    };
+    for (name, file) in [("ras", &ras), ("las", &las)] {
+        for (g, (axis, (_, e1))) in axes(name, file, "fsl").iter().zip(&tensors).enumerate() {
+            let angle = axis_angle(*axis, *e1);
+            eprintln!("{name} glyph {g}: long axis {angle:.3} degrees from the eigenvector");
+            assert!(angle < 1.0, "{name} glyph {g}: {angle} degrees");
+        }
+    }
+    let turned = axes("voxel", &ras, "glyphcast")
+        .iter()
+        .zip(&tensors)
+        .map(|(axis, (_, e1))| axis_angle(*axis, *e1))
+        .fold(0.0f64, f64::max);
+    assert!(
+        turned > 10.0,
+        "read as voxel axes: {turned} degrees at most"
+    );
+    let out = render_order2(
+        &ras,
+        &["--tensor-order", "fsl", "--frame", "world"],
+        &dir.join("refused.png"),
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("fsl") && stderr.contains("world"),
+        "{stderr}"
+    );
 }
 
 /// Volumes in memory (the Python module's path) are checked as NIfTI files are.

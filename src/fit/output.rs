@@ -18,7 +18,7 @@ use std::path::Path;
 use super::FitModel;
 use super::dwi::Dwi;
 use crate::glyph::sh::ShBasis;
-use crate::glyph::tensor_order::{DTI_COUNT, TensorOrder};
+use crate::glyph::tensor_order::{DTI_COUNT, TensorOrder, negate_x};
 use crate::io::atomic::write_atomic;
 use crate::io::mif::{MifKind, MifWrite, mif_file_bytes};
 use crate::io::nifti::NiftiHeader;
@@ -110,13 +110,19 @@ pub fn output_tensor_order(
     }
 }
 
-/// `coeffs` with each voxel's six entries moved from glyphcast's order into `stored`.
-fn stored_in(mut coeffs: Array4<f64>, stored: TensorOrder) -> Array4<f64> {
-    if stored.is_glyphcast() || coeffs.shape()[3] != DTI_COUNT {
+/// `coeffs` with each voxel's six entries moved from glyphcast's order into `stored`, and
+/// from the voxel axes into its frame on an image whose voxel-to-world map has this
+/// `determinant` (FSL's negates x on a positive one: [`TensorOrder::negates_x`]).
+fn stored_in(mut coeffs: Array4<f64>, stored: TensorOrder, determinant: f64) -> Array4<f64> {
+    let negates_x = stored.negates_x(determinant);
+    if (stored.is_glyphcast() && !negates_x) || coeffs.shape()[3] != DTI_COUNT {
         return coeffs;
     }
     for mut lane in coeffs.lanes_mut(Axis(3)) {
-        let values: [f64; DTI_COUNT] = std::array::from_fn(|k| lane[k]);
+        let mut values: [f64; DTI_COUNT] = std::array::from_fn(|k| lane[k]);
+        if negates_x {
+            negate_x(&mut values);
+        }
         for (out, value) in lane.iter_mut().zip(stored.from_glyphcast(&values)) {
             *out = value;
         }
@@ -170,7 +176,8 @@ pub fn output_bytes(
                 }
             }
             let world = to_world_frame(coeffs, &voxel_to_world, model, &dwi.file)?;
-            let data = stored_in(world, stored).into_dyn();
+            // A .mif holds MRtrix's order in scanner axes: no FSL frame to turn into.
+            let data = stored_in(world, stored, 0.0).into_dyn();
             mif_file_bytes(
                 path,
                 &MifWrite {
@@ -182,7 +189,11 @@ pub fn output_bytes(
         }
         _ => coefficient_bytes(
             path,
-            &stored_in(coeffs.clone(), stored),
+            &stored_in(
+                coeffs.clone(),
+                stored,
+                dwi.voxel_to_world()?.linear().determinant(),
+            ),
             &dwi.header,
             &description,
         ),
@@ -277,6 +288,26 @@ fn nifti_ending(path: &Path, option: &'static str) -> Result<&'static str> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// FSL's order goes into FSL's frame: xy and xz negated on an image with a positive
+    /// determinant only; glyphcast's order is never turned.
+    #[test]
+    fn fsl_tensors_are_written_in_fsl_frame() {
+        let entries = [1.0, 0.2, 0.3, 2.0, 0.4, 3.0];
+        let coeffs = Array4::from_shape_vec((1, 1, 1, 6), entries.to_vec()).unwrap();
+        let written = |order, determinant| {
+            stored_in(coeffs.clone(), order, determinant)
+                .iter()
+                .copied()
+                .collect::<Vec<f64>>()
+        };
+        assert_eq!(
+            written(TensorOrder::Fsl, 8.0),
+            [1.0, -0.2, -0.3, 2.0, 0.4, 3.0]
+        );
+        assert_eq!(written(TensorOrder::Fsl, -8.0), entries);
+        assert_eq!(written(TensorOrder::Glyphcast, 8.0), entries);
+    }
 
     #[test]
     fn output_names_are_checked() {

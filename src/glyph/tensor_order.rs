@@ -9,8 +9,11 @@
 //! | `fsl` | `dtifit --save_tensor` | xx, xy, xz, yy, yz, zz |
 //! | `dipy` | `TensorFit.lower_triangular()` (NIfTI's symmetric-matrix order) | xx, xy, yy, xz, yz, zz |
 //!
-//! FSL's order is glyphcast's: naming it only says where a file comes from. Higher
-//! tensor orders have one order only, glyphcast's; so do non-symmetric tensors.
+//! FSL's order is glyphcast's, but not its frame: `dtifit` fits in the frame of FSL's
+//! bvecs, the voxel axes with x negated when the affine's determinant is positive (FSL
+//! flips such "neurological" images in x), so on those images its xy and xz entries have
+//! the opposite sign of the voxel axes' ([`TensorOrder::negates_x`]). Higher tensor
+//! orders have one order only, glyphcast's; so do non-symmetric tensors.
 //!
 //! A file of six values per voxel whose writer is not known may be in any of these
 //! orders. Read in the wrong one, the tensors of real DTI turn indefinite (a diagonal
@@ -26,6 +29,13 @@ use crate::{Error, Result, Setting};
 /// The number of unique entries of a symmetric 3x3 tensor.
 pub const DTI_COUNT: usize = 6;
 
+/// The tensor with its x axis negated (F D F, F = diag(-1, 1, 1)): its xy and xz entries
+/// (glyphcast's order) change sign.
+pub fn negate_x(entries: &mut [f64; DTI_COUNT]) {
+    entries[1] = -entries[1];
+    entries[2] = -entries[2];
+}
+
 /// The stored order of a symmetric order-2 tensor's six unique entries.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 pub enum TensorOrder {
@@ -34,7 +44,8 @@ pub enum TensorOrder {
     Glyphcast,
     /// xx, yy, zz, xy, xz, yz: MRtrix's `dwi2tensor`.
     Mrtrix,
-    /// xx, xy, xz, yy, yz, zz: FSL's `dtifit --save_tensor` (glyphcast's order).
+    /// xx, xy, xz, yy, yz, zz: FSL's `dtifit --save_tensor` (glyphcast's order, in FSL's
+    /// frame: [`TensorOrder::negates_x`]).
     Fsl,
     /// xx, xy, yy, xz, yz, zz: DIPY's `lower_triangular()`.
     Dipy,
@@ -91,6 +102,13 @@ impl TensorOrder {
     /// Whether the stored order is glyphcast's (nothing to convert).
     pub fn is_glyphcast(self) -> bool {
         self.stores_like(TensorOrder::Glyphcast)
+    }
+
+    /// Whether the entries are in a frame whose x is the voxel axes' negated, on an image
+    /// whose voxel-to-world map has this `determinant`: FSL's on a positive determinant
+    /// (the frame of its bvecs, `fit::gradients::BvecConvention::Fsl`).
+    pub fn negates_x(self, determinant: f64) -> bool {
+        self == TensorOrder::Fsl && determinant > 0.0
     }
 
     /// Whether the two orders store the entries alike (glyphcast's and FSL's do).

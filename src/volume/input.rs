@@ -14,7 +14,7 @@ use ndarray::{Array3, Array4, ArrayD, Axis, Ix3, Ix4};
 
 use crate::glyph::TensorLayout;
 use crate::glyph::sh;
-use crate::glyph::tensor_order::{DTI_COUNT, OrderEvidence, TensorOrder};
+use crate::glyph::tensor_order::{DTI_COUNT, OrderEvidence, TensorOrder, negate_x};
 use crate::io::image::{Image, ImageHeader, read_image};
 use crate::io::nifti::VoxelToWorld;
 use crate::scene::{GlyphKind, ShBasis};
@@ -167,14 +167,21 @@ impl Volume {
     }
 
     /// Each voxel's six DTI entries, stored in `stored` order, put in glyphcast's order
-    /// (the caller has checked that the volume holds symmetric order-2 tensors).
+    /// and in the voxel axes (FSL's frame negates x on an image with a positive
+    /// determinant: [`TensorOrder::negates_x`]); the caller has checked that the volume
+    /// holds symmetric order-2 tensors.
     pub fn reorder_tensors(&mut self, stored: TensorOrder) {
-        if stored.is_glyphcast() || self.coefficient_count() != DTI_COUNT {
+        let negates_x = stored.negates_x(self.voxel_to_world.linear().determinant());
+        if (stored.is_glyphcast() && !negates_x) || self.coefficient_count() != DTI_COUNT {
             return;
         }
         for mut lane in self.data.lanes_mut(Axis(3)) {
             let values: [f64; DTI_COUNT] = std::array::from_fn(|k| lane[k]);
-            for (out, value) in lane.iter_mut().zip(stored.to_glyphcast(&values)) {
+            let mut entries = stored.to_glyphcast(&values);
+            if negates_x {
+                negate_x(&mut entries);
+            }
+            for (out, value) in lane.iter_mut().zip(entries) {
                 *out = value;
             }
         }

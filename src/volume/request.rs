@@ -468,7 +468,7 @@ impl VolumeRequest {
         volume.notes.extend(note);
         volume.notes.extend(basis_note);
         let volume = in_glyphcast_order(volume, stored)?;
-        self.in_frame(volume)
+        self.in_frame(volume, stored)
     }
 
     /// The volume of `input` held in memory: `data` of shape [x, y, z, coefficients]
@@ -488,7 +488,7 @@ impl VolumeRequest {
         let stored = self.stored_order(kind, None)?;
         let volume = Volume::new(name, data, kind, voxel_to_world)?;
         let volume = in_glyphcast_order(volume, stored)?;
-        self.in_frame(volume)
+        self.in_frame(volume, stored)
     }
 
     /// The stored order of a tensor volume's entries and where it comes from
@@ -524,9 +524,22 @@ impl VolumeRequest {
         Ok(())
     }
 
-    /// `volume` in the frame asked for, if any.
-    fn in_frame(&self, mut volume: Volume) -> Result<Volume> {
-        volume.frame = self.frame()?.unwrap_or(volume.frame);
+    /// `volume` in the frame asked for, if any. FSL's tensors are in FSL's frame, made of
+    /// the voxel axes (`TensorOrder::negates_x`): scanner axes do not go with them.
+    fn in_frame(
+        &self,
+        mut volume: Volume,
+        stored: Option<(TensorOrder, OrderSource)>,
+    ) -> Result<Volume> {
+        let frame = self.frame()?;
+        if let (Some(CoefficientFrame::World), Some((TensorOrder::Fsl, _))) = (frame, stored) {
+            return Err(Error::conflict(
+                Setting::Frame.with("world"),
+                crate::error::Relation::Excludes,
+                Setting::TensorOrder.with("fsl"),
+            ));
+        }
+        volume.frame = frame.unwrap_or(volume.frame);
         Ok(volume)
     }
 
