@@ -29,6 +29,9 @@ impl std::fmt::Display for ArrayError {
 /// or one value per row for a 1-d array), streaming a C-order file straight into its
 /// rows so that no second copy of a large array is held.
 pub(super) fn read_rows(path: &Path, columns: usize) -> std::result::Result<NpyArray, ArrayError> {
+    // The header's shape is checked against the file's length before anything is sized
+    // from it: a shape the data does not fill is a damaged or mislabelled file.
+    check_data_length(path)?;
     let file = std::fs::File::open(path).map_err(|e| ArrayError(e.to_string()))?;
     let npy = npyz::NpyFile::new(BufReader::with_capacity(1 << 20, file))
         .map_err(|e| ArrayError(format!("not a NumPy .npy file ({e})")))?;
@@ -74,6 +77,90 @@ pub(super) fn read_rows(path: &Path, columns: usize) -> std::result::Result<NpyA
     Ok(NpyArray { shape, rows })
 }
 
+/// Refuses a `.npy` file whose data after the header is not exactly its header's shape
+/// of its dtype's items: a shape too large for the file (or for any file), data that
+/// ends early, or bytes after the array. Read from the header's text, before the header
+/// is interpreted, so that no size is ever computed from an unchecked shape. Headers
+/// that are not `.npy` headers are left to the reader to refuse.
+fn check_data_length(path: &Path) -> std::result::Result<(), ArrayError> {
+    let io = |e: std::io::Error| ArrayError(e.to_string());
+    let mut file = std::fs::File::open(path).map_err(io)?;
+    let file_length = file.metadata().map_err(io)?.len();
+    let mut start = [0u8; 12];
+    if std::io::Read::read_exact(&mut file, &mut start).is_err() || &start[..6] != b"\x93NUMPY" {
+        return Ok(());
+    }
+    // Version (2 bytes), then the header's length: 2 bytes in version 1, 4 in 2 and 3.
+    let (header_start, header_length) = match start[6] {
+        1 => (10, u64::from(u16::from_le_bytes([start[8], start[9]]))),
+        _ => (
+            12,
+            u64::from(u32::from_le_bytes([
+                start[8], start[9], start[10], start[11],
+            ])),
+        ),
+    };
+    let mut header = vec![0u8; header_length.min(1 << 20) as usize];
+    std::io::Seek::seek(&mut file, std::io::SeekFrom::Start(header_start)).map_err(io)?;
+    if std::io::Read::read_exact(&mut file, &mut header).is_err() {
+        return Ok(());
+    }
+    let header = String::from_utf8_lossy(&header);
+    let entry = |key: &str| {
+        let at = header.find(&format!("'{key}'"))? + key.len() + 2;
+        Some(
+            header[at..]
+                .trim_start()
+                .strip_prefix(':')?
+                .trim_start()
+                .to_string(),
+        )
+    };
+    let (Some(descr), Some(shape)) = (entry("descr"), entry("shape")) else {
+        return Ok(());
+    };
+    // 'descr': '<f8' -> 8 bytes an item.
+    let item: Option<u64> = descr
+        .strip_prefix('\'')
+        .and_then(|d| d.split('\'').next())
+        .map(|d| d.trim_start_matches(['<', '>', '=', '|']))
+        .and_then(|d| d.get(1..))
+        .and_then(|size| size.parse().ok());
+    let dims: Option<Vec<u64>> = shape
+        .strip_prefix('(')
+        .and_then(|s| s.split(')').next())
+        .map(|s| {
+            s.split(',')
+                .map(str::trim)
+                .filter(|d| !d.is_empty())
+                .map(|d| d.parse().ok())
+                .collect()
+        })
+        .and_then(|dims: Vec<Option<u64>>| dims.into_iter().collect());
+    let (Some(item), Some(dims)) = (item, dims) else {
+        return Ok(());
+    };
+    let expected = dims.iter().try_fold(item, |bytes, &d| bytes.checked_mul(d));
+    let found = file_length.saturating_sub(header_start + header_length);
+    let described = format!(
+        "shape {dims:?} of {}",
+        descr.split(',').next().unwrap_or("")
+    );
+    match expected {
+        Some(bytes) if bytes == found => Ok(()),
+        Some(bytes) if bytes > found => Err(ArrayError(format!(
+            "the data ends early: {described} needs {bytes} bytes after the header, the file \
+             holds {found}"
+        ))),
+        Some(bytes) => Err(ArrayError(format!(
+            "{} bytes follow the array ({described}, {bytes} bytes): not a file numpy.save \
+             wrote",
+            found - bytes
+        ))),
+        None => Err(ArrayError(format!("{described} is larger than any file"))),
+    }
+}
+
 /// A `.npy` file (version 1.0) of little-endian float64 values in C order of `shape`.
 pub(crate) fn encode_f64(shape: &[usize], values: impl Iterator<Item = f64>) -> Vec<u8> {
     let dims: Vec<String> = shape.iter().map(usize::to_string).collect();
@@ -103,6 +190,77 @@ pub(crate) fn encode_f64(shape: &[usize], values: impl Iterator<Item = f64>) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A header whose shape the data does not fill exactly is refused before anything
+    /// is sized from it: a huge shape, data that ends early, float64 data labelled
+    /// float32 (twice the bytes), bytes after the array.
+    #[test]
+    fn a_shape_the_data_does_not_fill_is_refused() {
+        let dir = std::env::temp_dir().join(format!("glyphcast-npy-length-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        // A version 1.0 file with this header dictionary and these data bytes.
+        let npy = |dict: &str, data: &[u8]| {
+            let mut header = dict.to_string();
+            let unpadded = 10 + header.len() + 1;
+            header.extend(std::iter::repeat_n(
+                ' ',
+                unpadded.next_multiple_of(64) - unpadded,
+            ));
+            header.push('\n');
+            let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+            bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
+            bytes.extend_from_slice(header.as_bytes());
+            bytes.extend_from_slice(data);
+            bytes
+        };
+        let dict = |descr: &str, shape: &str| {
+            format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': ({shape}), }}")
+        };
+        let data: Vec<u8> = (0..6).flat_map(|v| f64::from(v).to_le_bytes()).collect();
+        let cases = [
+            (
+                "huge",
+                npy(&dict("<f8", "99999999999, 2"), &data),
+                "ends early",
+            ),
+            (
+                "overflow",
+                npy(&dict("<f8", "9223372036854775807, 9"), &data),
+                "larger than any",
+            ),
+            (
+                "short",
+                npy(&dict("<f8", "3, 2"), &data[..40]),
+                "ends early",
+            ),
+            ("f4", npy(&dict("<f4", "3, 2"), &data), "bytes follow"),
+            (
+                "trailing",
+                npy(&dict("<f8", "3, 2"), &[&data[..], &[0; 8]].concat()),
+                "bytes follow",
+            ),
+        ];
+        assert!(
+            read_rows(
+                &{
+                    let path = dir.join("good.npy");
+                    std::fs::write(&path, npy(&dict("<f8", "3, 2"), &data)).expect("write");
+                    path
+                },
+                2
+            )
+            .is_ok()
+        );
+        for (name, bytes, words) in cases {
+            let path = dir.join(format!("{name}.npy"));
+            std::fs::write(&path, &bytes).expect("write");
+            match read_rows(&path, 2) {
+                Ok(_) => panic!("{name}: read"),
+                Err(e) => assert!(e.to_string().contains(words), "{name}: {e}"),
+            }
+        }
+        std::fs::remove_dir_all(&dir).ok();
+    }
 
     #[test]
     fn written_arrays_read_back_exactly() {
