@@ -412,6 +412,71 @@ fn func_coef_as_mif(path: &Path, (key, value): (&str, &str)) -> (ArrayD<f64>, DM
     (values, affine)
 }
 
+/// A `.mif`'s basis is read from `comments` and from `glyphcast_sh_basis` alike: a key
+/// alone is the basis (func_coef under "descoteaux07 legacy" draws as with that --basis);
+/// a name glyphcast does not know, in either, and two records that disagree are refused
+/// naming the file and the field, never drawn as MRtrix's tournier07.
+#[test]
+fn a_mif_basis_record_is_read_from_either_field_or_refused() {
+    let dir = fresh_dir("mif_basis_record");
+    let keyed = dir.join("keyed.mif");
+    func_coef_as_mif(&keyed, ("glyphcast_sh_basis", "descoteaux07 legacy"));
+    let volume = ["--sh", text(&keyed), "--slice", "axial:2"];
+    let recorded = depth(&dir, "keyed", &volume);
+    let mut named = volume.to_vec();
+    named.extend(["--basis", "dipy"]);
+    let (one_only, largest, hits) = compare(&recorded, &depth(&dir, "named", &named));
+    assert!(hits > 100);
+    assert_eq!((one_only, largest), (0, 0.0), "the key's basis is drawn");
+    let mut contradicted = volume.to_vec();
+    contradicted.extend(["--basis", "mrtrix"]);
+    let (code, error) = render_failure(&dir, &contradicted);
+    assert_eq!(code, 1, "{error}");
+    assert!(error.contains("keyed.mif: glyphcast_sh_basis:"), "{error}");
+
+    let func_coef = read_image(&dipy_data("func_coef.nii.gz")).expect("func_coef");
+    let (values, affine) = (func_coef.data, func_coef.voxel_to_world.affine);
+    let cases: [(&str, &[(&str, &str)], &str); 3] = [
+        (
+            "typo",
+            &[(
+                "comments",
+                "glyphcast fit: SH band 8 descoteax07 lambda 0.006",
+            )],
+            "comments: records the SH basis 'descoteax07'",
+        ),
+        (
+            "unknown",
+            &[("glyphcast_sh_basis", "foo07")],
+            "glyphcast_sh_basis: records the SH basis 'foo07'",
+        ),
+        (
+            "disagree",
+            &[
+                (
+                    "comments",
+                    "glyphcast fit: SH band 8 tournier07 lambda 0.006",
+                ),
+                ("glyphcast_sh_basis", "descoteaux07"),
+            ],
+            "glyphcast_sh_basis: records the SH basis descoteaux07, but comments records tournier07",
+        ),
+    ];
+    for (name, keys, words) in cases {
+        let mif = dir.join(format!("{name}.mif"));
+        let keys: Vec<(&str, String)> = keys.iter().map(|(k, v)| (*k, v.to_string())).collect();
+        let image = MifWrite {
+            data: &values,
+            voxel_to_world: &map(affine),
+            keys: &keys,
+        };
+        write_mif(&mif, &image).expect("writing the .mif");
+        let (code, error) = render_failure(&dir, &["--sh", text(&mif), "--slice", "axial:2"]);
+        assert_eq!(code, 1, "{name}: {error}");
+        assert!(error.contains(words), "{name}: {error}");
+    }
+}
+
 /// Without a record: an MRtrix file is tournier07 (MRtrix's basis), a NIfTI file needs
 /// --basis (a usage error, exit 2, naming the file).
 #[test]

@@ -106,7 +106,7 @@ pub fn run(args: PeaksArgs) -> Result<()> {
             )
         })?;
     if given.is_none()
-        && recorded_basis(&image).is_none()
+        && recorded_basis(&image)?.is_none()
         && matches!(image.header, ImageHeader::Nifti(_))
     {
         return Err(Error::setting(

@@ -295,16 +295,22 @@ mod tests {
                     legacy,
                     lambda: 0.006,
                 };
-                let recorded = recorded_basis(&commented_image(&model.description())).unwrap();
+                let recorded = recorded_basis(&commented_image(&model.description()))
+                    .unwrap()
+                    .unwrap();
                 assert_eq!((recorded.basis, recorded.legacy), (basis, legacy));
                 assert_eq!(recorded.field, "comments");
             }
         }
         let tensor = FitModel::Tensor { order: 4 }.description();
-        assert_eq!(recorded_basis(&commented_image(&tensor)), None);
-        assert_eq!(
-            recorded_basis(&commented_image("glyphcast fit: SH band 8 fsl")),
-            None
+        assert_eq!(recorded_basis(&commented_image(&tensor)).unwrap(), None);
+        // A basis glyphcast does not know is not read as some other one.
+        let unknown = recorded_basis(&commented_image("glyphcast fit: SH band 8 fsl"));
+        assert!(
+            unknown.is_err_and(|e| e
+                .to_string()
+                .contains("comments: records the SH basis 'fsl'")),
+            "an unknown basis is refused"
         );
     }
 }

@@ -47,21 +47,81 @@ pub(crate) fn description_field(image: &Image) -> &'static str {
     }
 }
 
-/// The basis `image` records in its description, if any (a description of another kind,
-/// or with a basis name glyphcast does not know, records none).
-pub fn recorded_basis(image: &Image) -> Option<RecordedBasis> {
-    let description = image.description()?;
-    description.lines().find_map(|line| {
-        let rest = &line[line.find(FIT_SH_PREFIX)? + FIT_SH_PREFIX.len()..];
-        let mut words = rest.split_whitespace().skip(1);
-        let name = words.next()?;
-        let legacy = words.next() == Some("legacy");
-        let (basis, legacy) = parse_basis(name, legacy).ok()?;
-        Some(RecordedBasis {
-            basis,
-            legacy,
-            field: description_field(image),
-        })
+/// The header key in which `fit` also records the basis of a `.mif` ("descoteaux07
+/// legacy"), beside the description in `comments`.
+const BASIS_KEY: &str = "glyphcast_sh_basis";
+
+/// The basis `image` records: in its description (a description of another kind records
+/// none), and in a `.mif` also under [`BASIS_KEY`]. A basis name glyphcast does not know,
+/// or two records that disagree, are errors naming the file and the field: such a file
+/// is not read in a basis it may not be in.
+pub fn recorded_basis(image: &Image) -> Result<Option<RecordedBasis>> {
+    let field = description_field(image);
+    let described = match image.description() {
+        Some(description) => description
+            .lines()
+            .find_map(|line| {
+                let rest = &line[line.find(FIT_SH_PREFIX)? + FIT_SH_PREFIX.len()..];
+                Some(rest.split_whitespace().skip(1).collect::<Vec<_>>())
+            })
+            .map(|words| named_basis(image, field, &words))
+            .transpose()?,
+        None => None,
+    };
+    let keyed = match &image.header {
+        ImageHeader::Mrtrix(header) => header
+            .other
+            .iter()
+            .find(|(key, _)| key == BASIS_KEY)
+            .map(|(_, value)| {
+                named_basis(
+                    image,
+                    BASIS_KEY,
+                    &value.split_whitespace().collect::<Vec<_>>(),
+                )
+            })
+            .transpose()?,
+        ImageHeader::Nifti(_) => None,
+    };
+    match (described, keyed) {
+        (Some(a), Some(b)) if (a.basis, a.legacy) != (b.basis, b.legacy) => Err(Error::input(
+            &image.file,
+            BASIS_KEY,
+            Message::from_pieces(
+                [
+                    vec!["records the SH basis ".into()],
+                    show(b.basis, b.legacy),
+                    vec![format!(", but {field} records ").into()],
+                    show(a.basis, a.legacy),
+                    vec![": the file does not say which basis it is in".into()],
+                ]
+                .concat(),
+            ),
+        )),
+        (Some(recorded), _) | (None, Some(recorded)) => Ok(Some(recorded)),
+        (None, None) => Ok(None),
+    }
+}
+
+/// The basis of a record's words, `NAME [legacy] ...`, read from `field` of `image`.
+fn named_basis(image: &Image, field: &'static str, words: &[&str]) -> Result<RecordedBasis> {
+    let name = words.first().copied().unwrap_or("");
+    let legacy = words.get(1) == Some(&"legacy");
+    let (basis, legacy) = parse_basis(name, legacy).map_err(|_| {
+        Error::input(
+            &image.file,
+            field,
+            format!(
+                "records the SH basis '{}', which is none glyphcast knows (tournier07, \
+                 descoteaux07): the file is not read in a basis it may not be in",
+                crate::error::quoted(name)
+            ),
+        )
+    })?;
+    Ok(RecordedBasis {
+        basis,
+        legacy,
+        field,
     })
 }
 
@@ -84,7 +144,7 @@ pub fn resolve_basis(
     given: Option<(ShBasis, bool)>,
     force: bool,
 ) -> Result<(ShBasis, bool)> {
-    let recorded = recorded_basis(image);
+    let recorded = recorded_basis(image)?;
     match (given, recorded) {
         (Some(given), Some(recorded)) if !force && given != (recorded.basis, recorded.legacy) => {
             Err(Error::input(
@@ -116,12 +176,17 @@ pub fn resolve_basis(
             ImageHeader::Mrtrix(_) => Ok((ShBasis::Tournier07, false)),
             ImageHeader::Nifti(_) => Err(Error::setting(
                 Setting::Basis,
-                format!(
+                crate::message![
                     "an SH volume needs its basis, one of tournier07, descoteaux07, mrtrix, \
-                     dipy or dipy-new: {} records no SH basis in its {}",
-                    image.file,
-                    description_field(image)
-                ),
+                     dipy or dipy-new (with ",
+                    Setting::Legacy,
+                    format!(
+                        " for a legacy variant, such as MRtrix 0.2's): {} records no SH \
+                         basis in its {}",
+                        image.file,
+                        description_field(image)
+                    )
+                ],
             )),
         },
     }

@@ -385,7 +385,7 @@ impl VolumeRequest {
         let name = self.basis.as_deref()?;
         let ambiguous = name.trim().eq_ignore_ascii_case("descoteaux07")
             && self.legacy.is_none()
-            && recorded_basis(file).is_none();
+            && matches!(recorded_basis(file), Ok(None));
         ambiguous.then(|| {
             crate::message![
                 format!("{}: ", file.file),
