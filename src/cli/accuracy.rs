@@ -76,8 +76,12 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
     let variants = args.variants()?;
     // Both tables are checked before the suite runs (existing folders, not the same
     // file twice) and written as one set, both or neither.
-    let outputs: Vec<&std::path::Path> =
-        args.markdown.iter().chain(&args.csv).map(PathBuf::as_path).collect();
+    let outputs: Vec<&std::path::Path> = args
+        .markdown
+        .iter()
+        .chain(&args.csv)
+        .map(PathBuf::as_path)
+        .collect();
     glyphcast::io::atomic::check_outputs(&outputs, &[])?;
     let mut options = GpuOptions::from_env();
     if args.device.is_some() {

@@ -78,11 +78,7 @@ fn foreign_entry(dir: &Path, earlier: EarlierSet) -> Result<Option<String>> {
 /// Writes `files` (plain names and their bytes) as the folder `dir`, all or nothing
 /// (see the module notes); `earlier` as for [`check_folder_output`], which this
 /// checks again.
-pub fn write_folder_atomic(
-    dir: &Path,
-    files: &[(&str, &[u8])],
-    earlier: EarlierSet,
-) -> Result<()> {
+pub fn write_folder_atomic(dir: &Path, files: &[(&str, &[u8])], earlier: EarlierSet) -> Result<()> {
     for (name, _) in files {
         if name.is_empty() || name.contains('/') || *name == "." || *name == ".." {
             return Err(Error::input(
