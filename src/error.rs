@@ -172,6 +172,26 @@ pub enum Error {
         /// The second output's path, which names the same file.
         second: String,
     },
+    /// An output that names an input file of the same request, or an output folder
+    /// that holds one (a usage error: writing it would destroy the input).
+    OutputIsInput {
+        /// The output's path.
+        output: String,
+        /// The input's path, which names the same file (or lies inside the folder).
+        input: String,
+        /// Whether the output is a folder.
+        folder: bool,
+    },
+    /// An output folder holding an entry that no earlier output of the same command
+    /// wrote (a usage error: glyphcast replaces only what it wrote).
+    ForeignEntry {
+        /// The folder.
+        folder: String,
+        /// One entry in it that is not the command's.
+        entry: String,
+        /// What to do instead.
+        remedy: &'static str,
+    },
     /// An environment variable the library reads holds a value it cannot use.
     Environment {
         /// The variable.
@@ -611,6 +631,26 @@ impl Error {
             Error::SameOutput { first, second } => {
                 format!("{first} and {second} name the same file: give each output its own path")
             }
+            Error::OutputIsInput {
+                output,
+                input,
+                folder: false,
+            } => format!(
+                "the output {output} is the input {input}: writing it would destroy the \
+                 input; give the output its own path"
+            ),
+            Error::OutputIsInput { output, input, .. } => format!(
+                "the output folder {output} holds the input {input}: give a folder \
+                 outside the inputs"
+            ),
+            Error::ForeignEntry {
+                folder,
+                entry,
+                remedy,
+            } => format!(
+                "the output folder {folder} holds {entry}, which no earlier run of this \
+                 command wrote: {remedy}"
+            ),
             Error::Environment {
                 variable,
                 value,
@@ -650,7 +690,9 @@ impl Error {
             | Error::Conflict { .. }
             | Error::Flag { .. }
             | Error::OutputName { .. }
-            | Error::SameOutput { .. } => true,
+            | Error::SameOutput { .. }
+            | Error::OutputIsInput { .. }
+            | Error::ForeignEntry { .. } => true,
             Error::Item { error, .. } | Error::Layout { error, .. } => error.is_usage(),
             Error::Limit { settings, .. } => !settings.is_empty(),
             _ => false,

@@ -98,7 +98,7 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
             output,
             options,
         } => {
-            cli::render::check_outputs(&output, source.save_scene())?;
+            cli::render::check_outputs(&output, source.save_scene(), &source.input_paths())?;
             if source.volume.is_montage() {
                 if source.save_scene().is_some() {
                     return Err(cli::volume::save_scene_with_montage());
@@ -129,7 +129,7 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
             options,
             save_scene,
         } => {
-            cli::render::check_outputs(&output, save_scene.as_deref())?;
+            cli::render::check_outputs(&output, save_scene.as_deref(), &[])?;
             let scene = if stiffness {
                 glyphcast::demo::stiffness_demo_scene()
             } else {

@@ -361,8 +361,9 @@ fn bad_input_is_refused_before_any_output() {
     std::fs::create_dir(&foreign).unwrap();
     std::fs::write(foreign.join("notes.txt"), "mine").unwrap();
     let run = glyphcast(&["qc", text(fod()), "-o", text(&foreign)]);
-    assert_eq!(run.status.code(), Some(1), "{}", stderr(&run));
+    assert_eq!(run.status.code(), Some(2), "{}", stderr(&run));
     assert!(stderr(&run).contains("foreign"), "{}", stderr(&run));
+    assert!(stderr(&run).contains("notes.txt"), "{}", stderr(&run));
     assert_eq!(names(&foreign), ["notes.txt".to_string()].into());
     // Nothing half-written beside them.
     assert_eq!(names(&root), ["foreign".to_string()].into());

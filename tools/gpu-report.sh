@@ -101,6 +101,7 @@ pivots="" details="" notes=""
 for batch in "${batches[@]}"; do
     dir="$work/raw/${batch//[:,]/-}"
     echo "-- $batch" >&2
+    mkdir -p "$dir"  # bench --out writes into an existing folder only
     if "$bin" bench --sweep "$batch" "${frames[@]}" --out "$dir" >"$dir.md" 2>"$dir.log"; then
         pivots+=$(awk '/^GPU milliseconds per frame/ { on = 1; next } on && /^\|/ { print } on && /^$/ && seen++ { exit }' "$dir.md")$'\n'
         details+=$(sed -n '/^| label |/,$p' "$dir.md" | sed '/^GPU milliseconds per frame/,/^$/d')$'\n\n'

@@ -74,6 +74,15 @@ impl AccuracyArgs {
 
 pub fn run(args: &AccuracyArgs) -> Result<()> {
     let variants = args.variants()?;
+    // Both tables are checked before the suite runs (existing folders, not the same
+    // file twice) and written as one set, both or neither.
+    let outputs: Vec<&std::path::Path> = args
+        .markdown
+        .iter()
+        .chain(&args.csv)
+        .map(PathBuf::as_path)
+        .collect();
+    glyphcast::io::atomic::check_outputs(&outputs, &[])?;
     let mut options = GpuOptions::from_env();
     if args.device.is_some() {
         options.device = args.device.clone();
@@ -93,12 +102,15 @@ pub fn run(args: &AccuracyArgs) -> Result<()> {
         report::markdown(&rows),
         report::summary_markdown(&rows)
     );
+    let csv = report::csv(&rows);
+    let mut tables: Vec<(&std::path::Path, &[u8])> = Vec::new();
     if let Some(path) = &args.markdown {
-        glyphcast::io::atomic::write_atomic(path, markdown.as_bytes())?;
+        tables.push((path, markdown.as_bytes()));
     }
     if let Some(path) = &args.csv {
-        glyphcast::io::atomic::write_atomic(path, report::csv(&rows).as_bytes())?;
+        tables.push((path, csv.as_bytes()));
     }
+    glyphcast::io::atomic::write_all_atomic(&tables)?;
     print!("{markdown}");
     Ok(())
 }

@@ -11,7 +11,10 @@ use glyphcast::render::{MeshKind, Method, Refinement, RenderSettings};
 use glyphcast::scene::Scene;
 use glyphcast::vk::{Gpu, GpuOptions};
 use glyphcast::{Error, Result};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+
+/// The tables `--out` names, written as one set.
+const RESULT_FILES: [&str; 3] = ["results.json", "results.csv", "results.md"];
 use std::time::Instant;
 
 #[derive(Args)]
@@ -56,7 +59,8 @@ pub struct BenchArgs {
     /// Small sweeps and few frames: a check that finishes in a few minutes on lavapipe.
     #[arg(long)]
     quick: bool,
-    /// Folder for results.csv, results.json and results.md.
+    /// Folder for results.csv, results.json and results.md (an existing folder, as for
+    /// every output).
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
     /// Also write the measured scene (a workload, at its size) as a scene file, to render
@@ -93,6 +97,26 @@ impl BenchArgs {
             self.width.unwrap_or(default),
             self.height.unwrap_or(default),
         )
+    }
+
+    /// `--out`'s tables (its folder must exist) and `--save-scene` (its arrays apart).
+    fn output_paths(&self) -> Vec<PathBuf> {
+        let mut paths: Vec<PathBuf> = RESULT_FILES
+            .iter()
+            .filter_map(|name| Some(self.out.as_ref()?.join(name)))
+            .collect();
+        paths.extend(self.save_scene.clone());
+        paths
+    }
+
+    /// The scene file and the arrays it names.
+    fn input_paths(&self) -> Vec<PathBuf> {
+        let Some(scene) = &self.scene else {
+            return Vec::new();
+        };
+        let mut paths = vec![scene.clone()];
+        paths.extend(Scene::array_files(scene));
+        paths
     }
 
     fn base_scene(&self) -> Result<Scene> {
@@ -204,6 +228,13 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
             settings.validate()?;
             let base = args.base_scene()?;
             if let Some(path) = &args.save_scene {
+                let arrays = match args.scene_arrays {
+                    true => scene_arrays(&base, path)?,
+                    false => Vec::new(),
+                };
+                let mut outputs = args.output_paths();
+                outputs.extend(arrays);
+                check_outputs(&outputs, &args.input_paths())?;
                 base.save(path, args.scene_arrays)?;
             }
             let scene = plan.scene(base_name(), base);
@@ -420,7 +451,41 @@ fn gpu_plan(args: &BenchArgs, counts: &str, plan: &mut Plan) -> Result<()> {
     Ok(())
 }
 
+/// The array files `scene` saved as `path` with --scene-arrays writes. Each is an output:
+/// one that exists is replaced only where the scene file already at `path` names it (an
+/// earlier save of the same scene); any other file of that name is refused (a usage
+/// error naming it), never overwritten.
+fn scene_arrays(scene: &Scene, path: &Path) -> Result<Vec<PathBuf>> {
+    let arrays = scene.array_paths(path)?;
+    let earlier = Scene::array_files(path);
+    for array in &arrays {
+        let exists = std::fs::symlink_metadata(array).is_ok();
+        if exists && !earlier.contains(array) {
+            let folder = array.parent().filter(|p| !p.as_os_str().is_empty());
+            return Err(Error::ForeignEntry {
+                folder: folder.unwrap_or(Path::new(".")).display().to_string(),
+                entry: array
+                    .file_name()
+                    .map(|name| name.to_string_lossy().into_owned())
+                    .unwrap_or_default(),
+                remedy: "--scene-arrays replaces only the arrays of an earlier scene saved \
+                         to the same --save-scene path: remove the file or give another name",
+            });
+        }
+    }
+    Ok(arrays)
+}
+
+/// Checks the outputs of `args` before any work: `--out`'s files and `--save-scene`
+/// (`io::atomic::check_outputs`: existing folders, no file twice, none an input).
+fn check_outputs(outputs: &[PathBuf], inputs: &[PathBuf]) -> Result<()> {
+    let outputs: Vec<&Path> = outputs.iter().map(PathBuf::as_path).collect();
+    let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    glyphcast::io::atomic::check_outputs(&outputs, &inputs)
+}
+
 pub fn run(args: &BenchArgs) -> Result<()> {
+    check_outputs(&args.output_paths(), &args.input_paths())?;
     let plan = plan(args)?;
     let mut options = GpuOptions::from_env();
     if args.device.is_some() {
@@ -491,7 +556,6 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         ));
     }
     if let Some(dir) = &args.out {
-        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
         let json = serde_json::json!({
             "device": gpu.info.to_string(),
             "sweep": args.sweep,
@@ -502,12 +566,13 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         });
         let json = serde_json::to_string_pretty(&json)
             .map_err(|e| Error::io(dir.join("results.json"), e))?;
-        glyphcast::io::atomic::write_atomic(&dir.join("results.json"), json.as_bytes())?;
-        glyphcast::io::atomic::write_atomic(
-            &dir.join("results.csv"),
-            bench::csv(&results).as_bytes(),
-        )?;
-        glyphcast::io::atomic::write_atomic(&dir.join("results.md"), table.as_bytes())?;
+        let csv = bench::csv(&results);
+        let [json_path, csv_path, md_path] = RESULT_FILES.map(|name| dir.join(name));
+        glyphcast::io::atomic::write_all_atomic(&[
+            (&json_path, json.as_bytes()),
+            (&csv_path, csv.as_bytes()),
+            (&md_path, table.as_bytes()),
+        ])?;
         let title = args.sweep.as_deref().unwrap_or("bench");
         match bench::plot::write_plots(dir, title, &results) {
             Ok(files) => eprintln!("plots: {}", files.join(", ")),

@@ -173,6 +173,19 @@ impl FitArgs {
         model.validate()?;
         Ok(model)
     }
+
+    /// Every file the fit reads: the DWI, its gradient table, the responses and the mask
+    /// (no output may name one of them).
+    pub(super) fn input_paths(&self) -> Vec<&std::path::Path> {
+        std::iter::once(self.dwi.as_path())
+            .chain(self.bval.as_deref())
+            .chain(self.bvec.as_deref())
+            .chain(self.response.as_deref())
+            .chain(self.response_gm.as_deref())
+            .chain(self.response_csf.as_deref())
+            .chain(self.mask.as_deref())
+            .collect()
+    }
 }
 
 pub fn run(args: FitArgs) -> Result<()> {
@@ -190,7 +203,7 @@ pub fn run(args: FitArgs) -> Result<()> {
     let given_order: Option<TensorOrder> =
         args.tensor_order.as_deref().map(str::parse).transpose()?;
     let stored = output_tensor_order(&args.output, &model, given_order)?;
-    glyphcast::io::atomic::check_outputs(&[&args.output])?;
+    glyphcast::io::atomic::check_outputs(&[&args.output], &args.input_paths())?;
     let inputs = load_inputs(&args, convention)?;
     let response = csd_response(&args, &model, &inputs)?;
     let bar = progress_bar(inputs.voxel_count() as u64, args.quiet);

@@ -112,7 +112,10 @@ pub(super) fn run(args: &FitArgs, model: &FitModel, convention: BvecConvention) 
             Setting::Odf.with("msmt"),
         ));
     }
-    glyphcast::io::atomic::check_outputs(&[&args.output, &gm_path, &csf_path])?;
+    glyphcast::io::atomic::check_outputs(
+        &[&args.output, &gm_path, &csf_path],
+        &args.input_paths(),
+    )?;
     let inputs = load_inputs(args, convention)?;
     let shells = Shells::group(&inputs.gradients.bvals);
     check_shells(&inputs, &shells)?;

@@ -72,7 +72,7 @@ pub fn run(args: PeaksArgs) -> Result<()> {
         .map(|name| parse_basis(name, args.legacy))
         .transpose()?;
     check_output_path(&args.output, "-o/--output")?;
-    glyphcast::io::atomic::check_outputs(&[&args.output])?;
+    glyphcast::io::atomic::check_outputs(&[&args.output], &[&args.odf])?;
     let image = read_image(&args.odf)?;
     let shape = image.shape(4);
     if shape.len() != 4 {

@@ -14,8 +14,8 @@ pub struct QcArgs {
     /// DIPY), NIfTI or MRtrix.
     #[arg(value_name = "FOD")]
     fod: PathBuf,
-    /// Output folder: written whole or not at all (an earlier set there is replaced; any
-    /// other non-empty folder is refused).
+    /// Output folder: written whole or not at all (an earlier set there is replaced, its
+    /// own files only; a folder holding anything else, or an input, is refused).
     #[arg(short = 'o', long = "output", value_name = "OUTDIR")]
     output: PathBuf,
     /// Peaks of the ODFs (glyphcast peaks, MRtrix sh2peaks layout) for the peaks mosaic;
@@ -110,7 +110,12 @@ pub fn run(args: &QcArgs) -> Result<()> {
     request.render.negative()?;
     request.volume.options(Default::default())?;
     request.volume.check(glyphcast::volume::Coefficients::Sh)?;
-    check_output(&args.output)?;
+    let inputs: Vec<&std::path::Path> = std::iter::once(args.fod.as_path())
+        .chain(args.peaks.as_deref())
+        .chain(args.mask.as_deref())
+        .chain(args.underlay.as_deref())
+        .collect();
+    check_output(&args.output, &inputs)?;
     let quiet = args.quiet;
     let progress = |line: &str| {
         if !quiet {

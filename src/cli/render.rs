@@ -116,6 +116,18 @@ impl SceneSource {
         self.volume.labels
     }
 
+    /// Every file the render reads: the scene file and its arrays, or the volume's
+    /// images (coefficients, mask, underlay, peaks).
+    pub fn input_paths(&self) -> Vec<PathBuf> {
+        let mut paths: Vec<PathBuf> = Vec::new();
+        if let Some(scene) = &self.scene {
+            paths.push(scene.clone());
+            paths.extend(glyphcast::scene::Scene::array_files(scene));
+        }
+        paths.extend(self.volume.input_paths().into_iter().map(Path::to_path_buf));
+        paths
+    }
+
     /// Where --save-scene asks the rendered scene to be written.
     pub fn save_scene(&self) -> Option<&Path> {
         self.volume.save_scene.as_deref()
@@ -310,13 +322,19 @@ impl RenderArgs {
     }
 }
 
-/// Checks every output path of a render before any work (`io::atomic::check_outputs`),
-/// and that each name's ending says what it gets (PNG, NumPy, JSON).
-pub fn check_outputs(output: &OutputArgs, save_scene: Option<&Path>) -> Result<()> {
+/// Checks every output path of a render before any work (`io::atomic::check_outputs`:
+/// none may be one of the `inputs`), and that each name's ending says what it gets
+/// (PNG, NumPy, JSON).
+pub fn check_outputs(
+    output: &OutputArgs,
+    save_scene: Option<&Path>,
+    inputs: &[PathBuf],
+) -> Result<()> {
     let mut paths: Vec<&Path> = vec![&output.output];
     paths.extend(output.depth_out.as_deref());
     paths.extend(save_scene);
-    glyphcast::io::atomic::check_outputs(&paths)?;
+    let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    glyphcast::io::atomic::check_outputs(&paths, &inputs)?;
     check_ending(&output.output, "-o/--output", &[".png"])?;
     if let Some(depth) = &output.depth_out {
         check_ending(depth, "--depth-out", &[".npy"])?;

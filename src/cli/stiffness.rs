@@ -31,7 +31,7 @@ pub fn run(args: StiffnessArgs) -> Result<()> {
         })?),
         None => None,
     };
-    glyphcast::io::atomic::check_outputs(&[&args.output])?;
+    glyphcast::io::atomic::check_outputs(&[&args.output], &[&args.input])?;
     glyphcast::io::atomic::check_ending(&args.output, "-o/--output", &[".json"])?;
     let stiffness = VoigtStiffness::load(&args.input, shear)?;
     let scene = stiffness_scene(&stiffness, args.symmetric_part)

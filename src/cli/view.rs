@@ -104,7 +104,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
 
 /// The scripted-run and output flags, before the window opens: --script and
 /// --capture-window need --frames; the outputs go through a render's checks (PNG and
-/// JSON names, existing folders, no file named twice); a montage has no one scene to
+/// JSON names, existing folders, no file named twice, none an input); a montage has no one scene to
 /// save.
 fn check_run(args: &ViewArgs, montage: bool) -> Result<()> {
     if args.frames.is_none() && (args.script.is_some() || args.capture_window.is_some()) {
@@ -136,7 +136,9 @@ fn check_run(args: &ViewArgs, montage: bool) -> Result<()> {
         .filter_map(|(_, path)| *path)
         .chain(save_scene)
         .collect();
-    check_outputs(&paths)
+    let inputs = args.source.input_paths();
+    let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    check_outputs(&paths, &inputs)
 }
 
 /// The scene file or volume view (with its underlay) and the size of its image:

@@ -175,6 +175,21 @@ pub struct VolumeArgs {
 }
 
 impl VolumeArgs {
+    /// The images the volume flags name (coefficients, mask, underlay, peaks).
+    pub fn input_paths(&self) -> Vec<&Path> {
+        [
+            &self.sh,
+            &self.tensor,
+            &self.mask,
+            &self.underlay,
+            &self.peaks,
+            &self.peak_values,
+        ]
+        .into_iter()
+        .filter_map(|path| path.as_deref())
+        .collect()
+    }
+
     pub fn is_given(&self) -> bool {
         self.sh.is_some() || self.tensor.is_some() || self.peaks.is_some()
     }

@@ -158,9 +158,73 @@ pub fn check_ending(path: &Path, option: &'static str, endings: &[&str]) -> Resu
 }
 
 /// Checks a command's output paths before any work: each names a file (not a
-/// directory) in an existing directory, and no two name the same file (links
-/// followed). The same file twice is a usage error.
-pub fn check_outputs(paths: &[&Path]) -> Result<()> {
+/// directory) in an existing directory, no two name the same file (links followed),
+/// and none names a file the command reads (`inputs`, see [`check_not_inputs`]). The
+/// same file twice is a usage error.
+pub fn check_outputs(paths: &[&Path], inputs: &[&Path]) -> Result<()> {
+    check_paths(paths)?;
+    check_not_inputs(paths, inputs)
+}
+
+/// Checks, before any work, that no output is one of the command's input files, which
+/// writing it would destroy: an output that exists as a regular file is compared with
+/// every input that exists by device and inode, so a symbolic link, a hard link or
+/// another spelling of an input's path is caught; an output folder (`qc`'s) must hold
+/// no input. Special files (`/dev/null`) are written through and never compared. A
+/// usage error naming both paths.
+pub fn check_not_inputs(outputs: &[&Path], inputs: &[&Path]) -> Result<()> {
+    for output in outputs {
+        let Ok(meta) = fs::metadata(output) else {
+            // Nothing there yet: no input can be lost.
+            continue;
+        };
+        let folder = if meta.is_dir() {
+            fs::canonicalize(output).ok()
+        } else if meta.is_file() {
+            None
+        } else {
+            continue;
+        };
+        for input in inputs {
+            let Ok(input_meta) = fs::metadata(input) else {
+                continue;
+            };
+            let clash = match &folder {
+                Some(folder) => {
+                    fs::canonicalize(input).is_ok_and(|input| input.starts_with(folder))
+                }
+                None => same_file((output, &meta), (input, &input_meta)),
+            };
+            if clash {
+                return Err(Error::OutputIsInput {
+                    output: output.display().to_string(),
+                    input: input.display().to_string(),
+                    folder: folder.is_some(),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Whether two existing paths name one file (the same device and inode).
+#[cfg(unix)]
+fn same_file(a: (&Path, &fs::Metadata), b: (&Path, &fs::Metadata)) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    a.1.dev() == b.1.dev() && a.1.ino() == b.1.ino()
+}
+
+/// Without inodes: the same path once links are resolved (a hard link is missed).
+#[cfg(not(unix))]
+fn same_file(a: (&Path, &fs::Metadata), b: (&Path, &fs::Metadata)) -> bool {
+    match (fs::canonicalize(a.0), fs::canonicalize(b.0)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    }
+}
+
+/// Each output names a file in an existing folder, and no two the same file.
+fn check_paths(paths: &[&Path]) -> Result<()> {
     let mut seen: Vec<(PathBuf, &Path)> = Vec::with_capacity(paths.len());
     for path in paths {
         let resolved = follow_links(path)?;
@@ -379,18 +443,18 @@ pub(crate) mod tests {
     fn output_paths_are_checked_before_work() {
         let dir = scratch_dir("atomic-check");
         let (a, b) = (dir.join("a.png"), dir.join("b.npy"));
-        check_outputs(&[&a, &b]).unwrap();
+        check_outputs(&[&a, &b], &[]).unwrap();
         let missing = dir.join("missing").join("c.png");
-        let err = check_outputs(&[&a, &missing]).unwrap_err();
+        let err = check_outputs(&[&a, &missing], &[]).unwrap_err();
         assert!(err.to_string().contains("does not exist"), "{err}");
-        assert!(check_outputs(&[&dir]).is_err());
-        let err = check_outputs(&[&a, &dir.join(".").join("a.png")]).unwrap_err();
+        assert!(check_outputs(&[&dir], &[]).is_err());
+        let err = check_outputs(&[&a, &dir.join(".").join("a.png")], &[]).unwrap_err();
         assert!(
             matches!(err, Error::SameOutput { .. }) && err.is_usage(),
             "{err}"
         );
         std::os::unix::fs::symlink("a.png", dir.join("link.png")).unwrap();
-        let err = check_outputs(&[&a, &dir.join("link.png")]).unwrap_err();
+        let err = check_outputs(&[&a, &dir.join("link.png")], &[]).unwrap_err();
         assert!(matches!(err, Error::SameOutput { .. }), "{err}");
         fs::remove_dir_all(&dir).unwrap();
     }

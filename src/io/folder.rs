@@ -3,11 +3,15 @@
 //! the folder is renamed into place once every file is complete. A reader (a workflow
 //! engine waiting for `index.html`, a person) sees no folder or the whole set.
 //!
-//! A target that exists is replaced only when it is empty or when the caller recognises
-//! it as an earlier output of the same kind (`replaceable`): the old folder is renamed
-//! aside first, the new one renamed in, and the old one removed. Between the two renames
-//! the name is briefly absent, never half-filled. Anything else there is refused before
-//! any work ([`check_folder_output`]): glyphcast never deletes a folder it did not write.
+//! A target that exists is replaced only when it is empty or holds nothing but an
+//! earlier output of the same kind: the caller's `earlier` reads the folder's own record
+//! of its files (`qc.json`'s list) and returns their names, or `None` when the folder
+//! holds no such record. Every entry must be one of those names and a plain file (no
+//! link, no folder); any other entry is refused before any work, naming it
+//! ([`check_folder_output`]). The old folder is renamed aside first, the new one renamed
+//! in, and then only the listed files are removed from the old one and the emptied
+//! folder with them: glyphcast never deletes a file it did not write. Between the two
+//! renames the name is briefly absent, never half-filled.
 //!
 //! The temporary folder is entered in the registry of `io::atomic`, so an interrupt
 //! removes it (with its contents), and the renames run under that registry's lock.
@@ -17,10 +21,19 @@ use std::path::{Path, PathBuf};
 use super::atomic::{live_temporaries, temporary_serial, write_synced};
 use crate::{Error, Result};
 
+/// What a refused folder's error suggests.
+const NEW_FOLDER: &str =
+    "give a new or empty folder (an earlier set is replaced, nothing else is removed)";
+
+/// The names an earlier output folder of a command lists as its own files (see the
+/// module notes); `None` where the folder holds no such record.
+pub type EarlierSet<'a> = &'a dyn Fn(&Path) -> Option<Vec<String>>;
+
 /// Checks, before any work, that the folder `dir` can be written: its parent exists,
-/// and `dir` is missing, an empty folder, or a folder `replaceable` accepts (a missing
-/// parent or a file or foreign folder at `dir` is an error naming `dir`).
-pub fn check_folder_output(dir: &Path, replaceable: impl Fn(&Path) -> bool) -> Result<()> {
+/// and `dir` is missing, an empty folder, or a folder of nothing but an earlier set's
+/// files (`earlier`); a missing parent or a file at `dir` is an error naming `dir`, a
+/// folder with any other entry an [`Error::ForeignEntry`] naming one.
+pub fn check_folder_output(dir: &Path, earlier: EarlierSet) -> Result<()> {
     let parent = parent_of(dir)?;
     if !parent.is_dir() {
         return Err(Error::io(
@@ -30,29 +43,42 @@ pub fn check_folder_output(dir: &Path, replaceable: impl Fn(&Path) -> bool) -> R
     }
     match fs::symlink_metadata(dir) {
         Err(_) => Ok(()),
-        Ok(meta) if meta.is_dir() => {
-            if is_empty(dir)? || replaceable(dir) {
-                Ok(())
-            } else {
-                Err(Error::io(
-                    dir,
-                    "exists and holds other files: give a new or empty folder (an earlier \
-                     set of the same command is replaced)",
-                ))
-            }
-        }
+        Ok(meta) if meta.is_dir() => match foreign_entry(dir, earlier)? {
+            None => Ok(()),
+            Some(entry) => Err(Error::ForeignEntry {
+                folder: dir.display().to_string(),
+                entry,
+                remedy: NEW_FOLDER,
+            }),
+        },
         Ok(_) => Err(Error::io(dir, "exists and is not a folder")),
     }
 }
 
+/// The first entry of `dir` (in name order) that is not a plain file listed by the
+/// earlier set there; `None` when every entry is one (or the folder is empty).
+fn foreign_entry(dir: &Path, earlier: EarlierSet) -> Result<Option<String>> {
+    let mut entries: Vec<(String, fs::FileType)> = Vec::new();
+    for entry in fs::read_dir(dir).map_err(|err| Error::io(dir, err))? {
+        let entry = entry.map_err(|err| Error::io(dir, err))?;
+        let kind = entry.file_type().map_err(|err| Error::io(dir, err))?;
+        entries.push((entry.file_name().to_string_lossy().into_owned(), kind));
+    }
+    if entries.is_empty() {
+        return Ok(None);
+    }
+    entries.sort_by(|a, b| a.0.cmp(&b.0));
+    let listed = earlier(dir).unwrap_or_default();
+    Ok(entries
+        .into_iter()
+        .find(|(name, kind)| !kind.is_file() || !listed.contains(name))
+        .map(|(name, _)| name))
+}
+
 /// Writes `files` (plain names and their bytes) as the folder `dir`, all or nothing
-/// (see the module notes); `replaceable` as for [`check_folder_output`], which this
+/// (see the module notes); `earlier` as for [`check_folder_output`], which this
 /// checks again.
-pub fn write_folder_atomic(
-    dir: &Path,
-    files: &[(&str, &[u8])],
-    replaceable: impl Fn(&Path) -> bool,
-) -> Result<()> {
+pub fn write_folder_atomic(dir: &Path, files: &[(&str, &[u8])], earlier: EarlierSet) -> Result<()> {
     for (name, _) in files {
         if name.is_empty() || name.contains('/') || *name == "." || *name == ".." {
             return Err(Error::input(
@@ -62,20 +88,25 @@ pub fn write_folder_atomic(
             ));
         }
     }
-    check_folder_output(dir, &replaceable)?;
+    check_folder_output(dir, earlier)?;
     let temporary = temporary_folder(dir)?;
     let written = fill(&temporary, files);
     let mut live = live_temporaries();
-    let outcome = written.and_then(|()| put_in_place(&temporary, dir, &replaceable));
+    let outcome = written.and_then(|()| put_in_place(&temporary, dir, earlier));
     if outcome.is_err() {
         let _ = fs::remove_dir_all(&temporary);
     }
     live.retain(|path| path != &temporary);
     drop(live);
     match outcome {
-        Ok(Some(old)) => {
-            // The set is in place; the old one is gone from view. Best effort.
-            let _ = fs::remove_dir_all(old);
+        Ok(Some((old, names))) => {
+            // The set is in place; the old one is gone from view. Only its listed files
+            // are removed, and the folder only once empty (best effort: a file someone
+            // put there since the check stays, in the hidden old folder).
+            for name in names {
+                let _ = fs::remove_file(old.join(name));
+            }
+            let _ = fs::remove_dir(old);
             Ok(())
         }
         Ok(None) => Ok(()),
@@ -115,29 +146,34 @@ fn fill(folder: &Path, files: &[(&str, &[u8])]) -> Result<()> {
     Ok(())
 }
 
-/// Renames `temporary` to `dir`; an existing `dir` (empty, or replaceable) is renamed
-/// aside first and returned for removal.
+/// Renames `temporary` to `dir`; an existing `dir` (empty, or an earlier set) is
+/// renamed aside first and returned, with the names of its listed files, for removal.
 fn put_in_place(
     temporary: &Path,
     dir: &Path,
-    replaceable: impl Fn(&Path) -> bool,
-) -> Result<Option<PathBuf>> {
+    earlier: EarlierSet,
+) -> Result<Option<(PathBuf, Vec<String>)>> {
     let existing = fs::symlink_metadata(dir).is_ok();
     if !existing || is_empty(dir)? {
         // rename(2) replaces an empty folder.
         fs::rename(temporary, dir).map_err(|err| Error::io(dir, err))?;
         return Ok(None);
     }
-    if !replaceable(dir) {
-        return Err(Error::io(dir, "exists and holds other files"));
+    if let Some(entry) = foreign_entry(dir, earlier)? {
+        return Err(Error::ForeignEntry {
+            folder: dir.display().to_string(),
+            entry,
+            remedy: NEW_FOLDER,
+        });
     }
+    let names = earlier(dir).unwrap_or_default();
     let old = temporary.with_extension(format!("old{}", temporary_serial()));
     fs::rename(dir, &old).map_err(|err| Error::io(dir, err))?;
     if let Err(err) = fs::rename(temporary, dir) {
         let _ = fs::rename(&old, dir);
         return Err(Error::io(dir, err));
     }
-    Ok(Some(old))
+    Ok(Some((old, names)))
 }
 
 fn parent_of(dir: &Path) -> Result<PathBuf> {
@@ -171,35 +207,47 @@ mod tests {
         names
     }
 
-    fn marked(dir: &Path) -> bool {
-        dir.join("mark").exists()
+    /// A set records its files in `mark`, one name a line.
+    fn marked(dir: &Path) -> Option<Vec<String>> {
+        let text = fs::read_to_string(dir.join("mark")).ok()?;
+        Some(text.lines().map(str::to_owned).collect())
     }
 
     #[test]
     fn a_folder_appears_whole_and_replaces_only_its_own_kind() {
         let root = scratch_dir("folder");
         let out = root.join("set");
-        write_folder_atomic(&out, &[("mark", b"1"), ("a.png", b"a")], marked).expect("new");
+        let list = b"mark\na.png\nstale.png";
+        write_folder_atomic(&out, &[("mark", list), ("a.png", b"a")], &marked).expect("new");
         assert_eq!(names(&out), ["a.png", "mark"]);
-        // An earlier set is replaced as a whole: its extra file goes too.
+        // An earlier set is replaced as a whole: a file it lists goes too.
         fs::write(out.join("stale.png"), b"old").expect("writing");
-        write_folder_atomic(&out, &[("mark", b"2")], marked).expect("replaced");
+        write_folder_atomic(&out, &[("mark", b"mark")], &marked).expect("replaced");
         assert_eq!(names(&out), ["mark"]);
+        // A file the set does not list is foreign: refused, nothing removed.
+        fs::write(out.join("notes.txt"), b"mine").expect("writing");
+        let err = write_folder_atomic(&out, &[("mark", b"mark")], &marked).expect_err("foreign");
+        assert!(
+            matches!(&err, Error::ForeignEntry { entry, .. } if entry == "notes.txt"),
+            "{err}"
+        );
+        assert_eq!(names(&out), ["mark", "notes.txt"]);
+        fs::remove_file(out.join("notes.txt")).expect("removing");
         assert_eq!(names(&root), ["set"], "no temporary or old folder left");
         // A folder of other files is refused before anything is written.
         let foreign = root.join("foreign");
         fs::create_dir(&foreign).expect("mkdir");
         fs::write(foreign.join("notes.txt"), b"mine").expect("writing");
-        let err = write_folder_atomic(&foreign, &[("mark", b"3")], marked).expect_err("foreign");
+        let err = write_folder_atomic(&foreign, &[("mark", b"3")], &marked).expect_err("foreign");
         assert!(err.to_string().contains("foreign"), "{err}");
         assert_eq!(names(&foreign), ["notes.txt"]);
         // An empty folder is filled; a missing parent is an error naming the folder.
         let empty = root.join("empty");
         fs::create_dir(&empty).expect("mkdir");
-        write_folder_atomic(&empty, &[("mark", b"4")], marked).expect("empty");
+        write_folder_atomic(&empty, &[("mark", b"4")], &marked).expect("empty");
         assert_eq!(names(&empty), ["mark"]);
         let orphan = root.join("missing").join("set");
-        let err = check_folder_output(&orphan, marked).expect_err("missing parent");
+        let err = check_folder_output(&orphan, &marked).expect_err("missing parent");
         assert!(err.to_string().contains("does not exist"), "{err}");
         assert_eq!(names(&root), ["empty", "foreign", "set"]);
         assert!(!live_temporaries().iter().any(|p| p.starts_with(&root)));

@@ -14,6 +14,7 @@ pub mod figures;
 pub mod page;
 pub mod survey;
 
+use std::fs;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
@@ -84,26 +85,48 @@ pub struct QcSet {
 }
 
 impl QcSet {
-    /// Writes the set as the folder `dir`, all or nothing; an earlier set there (a folder
-    /// with a `qc.json`) is replaced, any other non-empty folder refused.
+    /// Writes the set as the folder `dir`, all or nothing; an earlier set there is
+    /// replaced (its listed files removed), a folder with any other entry refused
+    /// ([`earlier_set`]).
     pub fn write(&self, dir: &Path) -> Result<()> {
         let files: Vec<(&str, &[u8])> = self
             .files
             .iter()
             .map(|(name, bytes)| (name.as_str(), bytes.as_slice()))
             .collect();
-        write_folder_atomic(dir, &files, is_qc_set)
+        write_folder_atomic(dir, &files, &earlier_set)
     }
 }
 
-/// Whether `dir` holds an earlier figure set (its sidecar).
-pub fn is_qc_set(dir: &Path) -> bool {
-    dir.join(SIDECAR).is_file()
+/// The files of an earlier figure set in `dir`, as its own sidecar lists them: the
+/// sidecar, the page and each of `figures[].file`; `None` where `dir` holds no sidecar
+/// that glyphcast wrote (a JSON object with `glyphcast_version` and a `figures` list of
+/// plain file names). Another tool's `qc.json` is no set: its folder is refused.
+pub fn earlier_set(dir: &Path) -> Option<Vec<String>> {
+    let path = dir.join(SIDECAR);
+    if !fs::symlink_metadata(&path).ok()?.is_file() {
+        return None;
+    }
+    let text = fs::read_to_string(&path).ok()?;
+    let document: serde_json::Value = serde_json::from_str(&text).ok()?;
+    document.get("glyphcast_version")?.as_str()?;
+    let mut names = vec![SIDECAR.to_owned(), PAGE.to_owned()];
+    for figure in document.get("figures")?.as_array()? {
+        let name = figure.get("file")?.as_str()?;
+        let plain = Path::new(name).file_name().is_some_and(|n| n == name) && name != "..";
+        if !plain {
+            return None;
+        }
+        names.push(name.to_owned());
+    }
+    Some(names)
 }
 
-/// Checks, before any work, that the set can be written to `dir`.
-pub fn check_output(dir: &Path) -> Result<()> {
-    check_folder_output(dir, is_qc_set)
+/// Checks, before any work, that the set can be written to `dir`, and that no input
+/// lies inside it.
+pub fn check_output(dir: &Path, inputs: &[&Path]) -> Result<()> {
+    check_folder_output(dir, &earlier_set)?;
+    crate::io::atomic::check_not_inputs(&[dir], inputs)
 }
 
 /// An input file of the set, for the page and the sidecar.

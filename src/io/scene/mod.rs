@@ -14,7 +14,7 @@
 //! `json` holds the tree and its parser, `field` the path-tracking walk over it, `names`
 //! the format's names for enumerated values; `read` validates a tree into a [`Scene`],
 //! `write` turns a [`Scene`] back into text.
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use crate::{Error, Result};
 
@@ -60,6 +60,24 @@ impl Scene {
         }
     }
 
+    /// The `.npy` files a scene file names in place of lists (`centers`, `coeffs`,
+    /// `scales` of each glyph set), as [`Scene::load`] would read them: relative to the
+    /// scene file's folder. For checks before any work (an output must not name one);
+    /// a file that cannot be read or parsed names none (loading it reports why).
+    pub fn array_files(path: &Path) -> Vec<PathBuf> {
+        let Ok(file) = std::fs::File::open(path) else {
+            return Vec::new();
+        };
+        let Some(document) = json::parse_reader(std::io::BufReader::new(file)) else {
+            return Vec::new();
+        };
+        let name = path.display().to_string();
+        read::array_names(&Field::root(&name, &document))
+            .into_iter()
+            .map(|array| path.parent().unwrap_or(Path::new("")).join(array))
+            .collect()
+    }
+
     /// Same as [`Scene::load`], from text; `file` is the name used in errors.
     pub fn from_json_str(text: &str, file: &str) -> Result<Scene> {
         // Editors on Windows may start a UTF-8 file with a byte order mark.
@@ -94,17 +112,34 @@ impl Scene {
         write::to_json_with_arrays(self, stem)
     }
 
+    /// The array files [`Scene::save`] writes beside `path` with `arrays` on
+    /// (`<stem>.<set>.<field>.npy`), without encoding them: for the checks of outputs
+    /// before any work.
+    pub fn array_paths(&self, path: &Path) -> Result<Vec<PathBuf>> {
+        let stem = array_stem(path)?;
+        let folder = path.parent().unwrap_or(Path::new(""));
+        let mut paths = Vec::new();
+        for (index, set) in self.glyph_sets.iter().enumerate() {
+            let one_scale = set.scales.windows(2).all(|pair| pair[0] == pair[1]);
+            let fields: &[&str] = if one_scale && !set.scales.is_empty() {
+                &["centers", "coeffs"]
+            } else {
+                &["centers", "scales", "coeffs"]
+            };
+            for field in fields {
+                paths.push(folder.join(format!("{stem}.{index}.{field}.npy")));
+            }
+        }
+        Ok(paths)
+    }
+
     /// Writes the scene to `path`, with its arrays beside it when `arrays` is true
     /// ([`Scene::to_json_with_arrays`]), all files or none ([`crate::io::atomic`]).
     pub fn save(&self, path: &Path, arrays: bool) -> Result<()> {
         if !arrays {
             return crate::io::atomic::write_atomic(path, self.to_json().as_bytes());
         }
-        let stem = path
-            .file_stem()
-            .and_then(|s| s.to_str())
-            .filter(|s| !s.is_empty())
-            .ok_or_else(|| Error::io(path, "the scene file needs a UTF-8 name for its arrays"))?;
+        let stem = array_stem(path)?;
         let (json, files) = self.to_json_with_arrays(stem);
         let folder = path.parent().unwrap_or(Path::new(""));
         let paths: Vec<_> = files.iter().map(|(name, _)| folder.join(name)).collect();
@@ -117,4 +152,12 @@ impl Scene {
         );
         crate::io::atomic::write_all_atomic(&outputs)
     }
+}
+
+/// The stem of a scene file's array names: the file's own stem, in UTF-8.
+fn array_stem(path: &Path) -> Result<&str> {
+    path.file_stem()
+        .and_then(|s| s.to_str())
+        .filter(|s| !s.is_empty())
+        .ok_or_else(|| Error::io(path, "the scene file needs a UTF-8 name for its arrays"))
 }

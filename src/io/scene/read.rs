@@ -56,6 +56,27 @@ pub(super) fn read_scene(root: &Field) -> Result<Scene> {
     })
 }
 
+/// The array file names a scene document gives in place of lists (see
+/// `Scene::array_files`); nothing for a document that is no scene.
+pub(super) fn array_names(root: &Field) -> Vec<String> {
+    let Some(glyphs) = root.object().ok().and_then(|scene| scene.get("glyphs")) else {
+        return Vec::new();
+    };
+    let Ok(sets) = glyphs.items() else {
+        return Vec::new();
+    };
+    let mut names = Vec::new();
+    for set in sets {
+        let Ok(set) = set.object() else { continue };
+        for key in ["centers", "coeffs", "scales"] {
+            if let Some(name) = set.get(key).and_then(|field| field.text()) {
+                names.push(name.to_owned());
+            }
+        }
+    }
+    names
+}
+
 fn read_version(field: &Field) -> Result<()> {
     match field.integer()? {
         FORMAT_VERSION => Ok(()),
