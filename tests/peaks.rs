@@ -281,11 +281,18 @@ fn rotated_copy(path: &Path, to: &Path, rotation: DQuat) -> PathBuf {
 }
 
 /// The drawn peaks of the middle axial slice of `fod` with `peaks` lie along the drawn
-/// glyphs' lobes: each capsule's axis is a local maximum of its voxel's world-frame glyph.
-fn assert_peaks_along_lobes(fod: &Path, peaks: &Path, basis: Option<&str>) -> usize {
+/// glyphs' lobes: each capsule's axis is a local maximum of its voxel's world-frame glyph
+/// (the peaks' directions in `peaks_frame` if given).
+fn assert_peaks_along_lobes(
+    fod: &Path,
+    peaks: &Path,
+    basis: Option<&str>,
+    peaks_frame: Option<&str>,
+) -> usize {
     let request = VolumeRequest {
         basis: basis.map(str::to_string),
         peaks: Some(glyphcast::volume::ImageSource::File(peaks.to_path_buf())),
+        peaks_frame: peaks_frame.map(str::to_string),
         ..Default::default()
     };
     let volume = request.read_volume(Coefficients::Sh, fod).expect("fod");
@@ -333,20 +340,20 @@ fn assert_peaks_along_lobes(fod: &Path, peaks: &Path, basis: Option<&str>) -> us
 fn peaks_of_glyphcast_peaks_lie_along_the_drawn_lobes() {
     let dir = fresh_dir("peaks-lobes");
     let (fod, peaks) = fod_and_peaks(&dir);
-    let checked = assert_peaks_along_lobes(&fod, &peaks, None);
+    let checked = assert_peaks_along_lobes(&fod, &peaks, None, None);
     assert!(checked > 50, "{checked} peaks checked");
     // On an oblique grid, the glyphs and the peaks turn with it alike.
     let turn = DQuat::from_axis_angle(DVec3::new(1.0, -2.0, 0.5).normalize(), 0.7);
     let fod_r = rotated_copy(&fod, &dir.join("fod-r.nii.gz"), turn);
     let peaks_r = rotated_copy(&peaks, &dir.join("peaks-r.nii.gz"), turn);
     // The test's NIfTI writer records no basis: the fit's is given.
-    let checked = assert_peaks_along_lobes(&fod_r, &peaks_r, Some("dipy"));
+    let checked = assert_peaks_along_lobes(&fod_r, &peaks_r, Some("dipy"), None);
     assert!(checked > 50, "{checked} peaks checked on the turned grid");
     // `glyphcast peaks` of that oblique NIfTI fODF written as `.mif` (scanner axes, as
     // MRtrix reads it): drawn over the same fODF, along its lobes too.
     let peaks_mif = dir.join("peaks-r.mif");
     peaks_of(&fod_r, &peaks_mif, &["--basis", "dipy"]);
-    let checked = assert_peaks_along_lobes(&fod_r, &peaks_mif, Some("dipy"));
+    let checked = assert_peaks_along_lobes(&fod_r, &peaks_mif, Some("dipy"), None);
     assert!(
         checked > 50,
         "{checked} .mif peaks checked on the turned grid"
@@ -356,8 +363,50 @@ fn peaks_of_glyphcast_peaks_lie_along_the_drawn_lobes() {
     let fod_mif = world_frame_mif(&fod_r, &dir.join("fod-r.mif"));
     let peaks_nii = dir.join("peaks-of-mif.nii.gz");
     peaks_of(&fod_mif, &peaks_nii, &[]);
-    let checked = assert_peaks_along_lobes(&fod_mif, &peaks_nii, None);
+    let checked = assert_peaks_along_lobes(&fod_mif, &peaks_nii, None, None);
     assert!(checked > 50, "{checked} NIfTI peaks of a .mif fODF checked");
+    // MRtrix's sh2peaks writes its scanner-axis directions into a NIfTI as well: the
+    // `.mif` peaks' values under a NIfTI name lie along the lobes with --peaks-frame
+    // world, and draw as the `.mif` does; in the NIfTI default (voxel axes) they do not.
+    let sh2peaks_nii = dir.join("sh2peaks-like.nii.gz");
+    let mif_peaks = read_image(&peaks_mif).expect("peaks .mif");
+    write_like(&mif_peaks, &mif_peaks.data, &sh2peaks_nii);
+    let checked = assert_peaks_along_lobes(&fod_r, &sh2peaks_nii, Some("dipy"), Some("world"));
+    assert!(checked > 50, "{checked} scanner-axis NIfTI peaks checked");
+    let depth = |name: &str, peaks: &Path, extra: &[&str]| {
+        let (png, npy) = (
+            dir.join(format!("{name}.png")),
+            dir.join(format!("{name}.npy")),
+        );
+        let mut args = vec!["render", "--sh", text(&fod_r), "--basis", "dipy", "--peaks"];
+        args.extend([
+            text(peaks),
+            "--width",
+            "240",
+            "--height",
+            "240",
+            "-o",
+            text(&png),
+        ]);
+        args.extend(["--depth-out", text(&npy)]);
+        args.extend(extra);
+        render_ok(&args);
+        read_npy_f32(&npy).expect("depth").1
+    };
+    let differing = |a: &[f32], b: &[f32]| {
+        a.iter()
+            .zip(b)
+            .filter(|(x, y)| x.is_nan() != y.is_nan() || (**x - **y).abs() > 1e-4)
+            .count()
+    };
+    let reference = depth("as-mif", &peaks_mif, &[]);
+    let world = depth("as-world", &sh2peaks_nii, &["--peaks-frame", "world"]);
+    let voxel = depth("as-voxel", &sh2peaks_nii, &[]);
+    assert_eq!(differing(&reference, &world), 0, "--peaks-frame world");
+    assert!(
+        differing(&reference, &voxel) > 100,
+        "read in voxel axes, the peaks turn"
+    );
     // The picture: the fODFs, their peaks and the depth map, written by the CLI.
     let out = dir.join("fod-peaks.png");
     let run = glyphcast(&[

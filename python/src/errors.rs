@@ -89,6 +89,7 @@ pub fn keyword(setting: Setting) -> &'static str {
         Setting::PeaksNorm => "peaks_norm",
         Setting::PeaksScale => "peaks_scale",
         Setting::PeaksWidth => "peaks_width",
+        Setting::PeaksFrame => "peaks_frame",
         Setting::Glyph => "glyph",
         Setting::Views => "views",
         Setting::Lightbox => "lightbox",

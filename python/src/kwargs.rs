@@ -241,7 +241,8 @@ impl<'py> Kwargs<'py> {
     /// and `lightbox`; `peaks` (a path, or an array on the coefficients' grid: (X, Y, Z,
     /// 3N) as sh2peaks writes it, or DIPY's (X, Y, Z, N, 3) `peak_dirs`), `peak_values`
     /// (DIPY's amplitudes: a path with a peaks path, an array with a peaks array),
-    /// `peaks_color`, `peaks_norm`, `peaks_scale` and `peaks_width`. `affine` is the
+    /// `peaks_color`, `peaks_norm`, `peaks_scale`, `peaks_width` and `peaks_frame` (voxel
+    /// or world: a path's default is the file's own frame, an array's `frame`). `affine` is the
     /// coefficients' (an underlay array's default).
     pub fn volume_request(&mut self, affine: DMat4) -> PyResult<VolumeRequest> {
         let underlay = |value: &Bound<'py, PyAny>| match value.cast::<PyTuple>() {
@@ -287,9 +288,14 @@ impl<'py> Kwargs<'py> {
             peaks_norm: self.text("peaks_norm")?,
             peaks_scale: self.float("peaks_scale")?,
             peaks_width: self.float("peaks_width")?,
+            peaks_frame: self.text("peaks_frame")?,
         };
-        // Peak arrays are in the coefficients' frame: what `frame` says, else voxel axes.
-        let frame = request.frame().map_err(to_py)?.unwrap_or_default();
+        // Peak arrays are in `peaks_frame`, else the coefficients' frame: what `frame`
+        // says, else voxel axes.
+        let frame = match request.peaks_frame().map_err(to_py)? {
+            Some(frame) => frame,
+            None => request.frame().map_err(to_py)?.unwrap_or_default(),
+        };
         (request.peaks, request.peak_values) = self.peaks(affine, frame)?;
         Ok(request)
     }

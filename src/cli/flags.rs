@@ -52,6 +52,7 @@ pub fn flag(setting: Setting) -> &'static str {
         Setting::PeaksNorm => "--peaks-norm",
         Setting::PeaksScale => "--peaks-scale",
         Setting::PeaksWidth => "--peaks-width",
+        Setting::PeaksFrame => "--peaks-frame",
         Setting::Glyph => "--glyph",
         Setting::Views => "--views",
         Setting::Lightbox => "--lightbox",

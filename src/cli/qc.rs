@@ -22,6 +22,10 @@ pub struct QcArgs {
     /// checked against the ODFs' grid.
     #[arg(long, value_name = "IMAGE")]
     peaks: Option<PathBuf>,
+    /// Axes of the --peaks directions: voxel or world, as for render --peaks-frame
+    /// (default: the file's own; world for a NIfTI written by MRtrix's sh2peaks).
+    #[arg(long, value_name = "FRAME", requires = "peaks")]
+    peaks_frame: Option<String>,
     /// Mask of the brain (the ODFs' grid): the cuts, regions and glyphs stay inside it.
     /// Default: voxels with finite coefficients and a positive mean amplitude.
     #[arg(long, value_name = "IMAGE")]
@@ -88,6 +92,8 @@ impl QcArgs {
                 // Named so that the request's checks see them; the set reads them itself.
                 underlay: self.underlay.clone().map(ImageSource::File),
                 underlay_range: self.underlay_range.clone(),
+                peaks: self.peaks.clone().map(ImageSource::File),
+                peaks_frame: self.peaks_frame.clone(),
                 ..Default::default()
             },
             render: RenderOptions {

@@ -144,9 +144,15 @@ pub struct VolumeArgs {
     /// times amplitude, NaN where absent (glyphcast peaks, MRtrix sh2peaks), or with
     /// --peak-values DIPY's unit peak_dirs (4D [x, y, z, 3N] or 5D [x, y, z, N, 3]). On
     /// the glyphs' grid; alone (without --sh/--tensor) the peaks' grid frames the view.
-    /// Directions are in the frame --frame describes for the file's type.
+    /// Directions are in the file's own frame (voxel axes for NIfTI, scanner axes for
+    /// MRtrix images unless the header says otherwise); --peaks-frame names another.
     #[arg(long, value_name = "IMAGE", help_heading = "Peaks")]
     pub peaks: Option<PathBuf>,
+    /// Axes of the --peaks directions: voxel or world (scanner). Default: voxel for NIfTI,
+    /// world for MRtrix images. MRtrix's sh2peaks writes scanner axes into a NIfTI too:
+    /// give world for such a file.
+    #[arg(long, value_name = "FRAME", help_heading = "Peaks")]
+    pub peaks_frame: Option<String>,
     /// DIPY's peak_values [x, y, z, N]: the amplitudes of --peaks, whose directions are
     /// then unit vectors (the DIPY layout).
     #[arg(long, value_name = "IMAGE", help_heading = "Peaks")]
@@ -225,6 +231,7 @@ impl VolumeArgs {
             ("--peaks-norm", self.peaks_norm.is_some()),
             ("--peaks-scale", self.peaks_scale.is_some()),
             ("--peaks-width", self.peaks_width.is_some()),
+            ("--peaks-frame", self.peaks_frame.is_some()),
         ];
         given.iter().find(|(_, on)| *on).map(|(name, _)| *name)
     }
@@ -261,6 +268,7 @@ impl VolumeArgs {
             peaks_norm: self.peaks_norm.clone(),
             peaks_scale: self.peaks_scale,
             peaks_width: self.peaks_width,
+            peaks_frame: self.peaks_frame.clone(),
         }
     }
 

@@ -129,6 +129,8 @@ settings! {
     PeaksScale => "peaks scale",
     /// The peaks' width in pixels.
     PeaksWidth => "peaks width",
+    /// Axes of the peaks' directions: voxel or world.
+    PeaksFrame => "peaks frame",
     /// Glyph surface: polynomial or ellipsoid.
     Glyph => "glyph",
     /// The views of a montage.

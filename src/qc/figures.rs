@@ -18,7 +18,7 @@ use crate::render::compose::montage::prepare_montage;
 use crate::render::headless::{HeadlessRenderer, RenderedImage};
 use crate::render::underlay::{Underlay, UnderlayVolume};
 use crate::vk::Gpu;
-use crate::volume::UnderlayPlacement;
+use crate::volume::{CoefficientFrame, UnderlayPlacement};
 use crate::volume::{PeakStyle, PeaksColor, PeaksNorm, ViewPeaks, load_peaks, peak_set};
 use crate::volume::{Slice, SliceAxis, Volume, VolumeOptions, VolumeScene, VoxelRanges};
 use crate::volume::{view_underlay, volume_scene};
@@ -294,8 +294,9 @@ pub fn peaks_mosaic(
     renderer: &mut HeadlessRenderer,
     mosaic: &BuiltFigure,
     peaks: &Path,
+    frame: Option<CoefficientFrame>,
 ) -> Result<Figure> {
-    let volume = Arc::new(load_peaks(peaks, None)?);
+    let volume = Arc::new(load_peaks(peaks, None, frame)?);
     let full = 0.5 * volume.voxel_to_world.voxel_sizes().min_element();
     let view = ViewPeaks {
         volume,

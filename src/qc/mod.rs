@@ -25,8 +25,8 @@ use crate::render::headless::HeadlessRenderer;
 use crate::render::options::RenderOptions;
 use crate::vk::Gpu;
 use crate::volume::{
-    Coefficients, ImageRequest, Mask, Normalisation, Volume, VolumeRequest, load_mask,
-    load_underlay,
+    CoefficientFrame, Coefficients, ImageRequest, Mask, Normalisation, Volume, VolumeRequest,
+    load_mask, load_underlay,
 };
 use crate::{Error, Result, Setting};
 use figures::{DrawContext, Figure, SharedUnderlay};
@@ -211,7 +211,9 @@ pub fn make_set(request: &QcRequest, progress: &dyn Fn(&str)) -> Result<QcSet> {
         underlay: underlay.as_ref(),
         volume: &volume,
     };
-    let drawn = draw_figures(&context, &mut renderer, built, request.peaks.as_deref())?;
+    let peaks_frame = request.volume.peaks_frame()?;
+    let peaks = request.peaks.as_deref().map(|path| (path, peaks_frame));
+    let drawn = draw_figures(&context, &mut renderer, built, peaks)?;
     timings.push(("render", ms(step)));
 
     let step = Instant::now();
@@ -294,13 +296,13 @@ fn plan_figures(
     Ok(plans)
 }
 
-/// Draws the built figures in order, the peaks mosaic (from `peaks`, if given) after the
-/// ODF mosaic.
+/// Draws the built figures in order, the peaks mosaic (from `peaks`, if given, with the
+/// frame of their directions if named) after the ODF mosaic.
 fn draw_figures(
     context: &DrawContext,
     renderer: &mut HeadlessRenderer,
     built: Vec<figures::BuiltFigure>,
-    peaks: Option<&Path>,
+    peaks: Option<(&Path, Option<CoefficientFrame>)>,
 ) -> Result<Vec<Figure>> {
     let mut built = built.into_iter();
     let mosaic = built.next().ok_or(Error::Call {
@@ -308,7 +310,9 @@ fn draw_figures(
         expected: "a mosaic among the figures planned",
     })?;
     let peaks_figure = match peaks {
-        Some(peaks) => Some(figures::peaks_mosaic(context, renderer, &mosaic, peaks)?),
+        Some((peaks, frame)) => Some(figures::peaks_mosaic(
+            context, renderer, &mosaic, peaks, frame,
+        )?),
         None => None,
     };
     let mut drawn = vec![figures::render(context, renderer, mosaic)?];

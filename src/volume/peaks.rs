@@ -12,7 +12,8 @@
 //!
 //! Directions are in the frame a coefficient volume would be in ([`CoefficientFrame`]):
 //! voxel axes for NIfTI (DIPY's and `glyphcast peaks`' frame for a NIfTI ODF), scanner
-//! axes for MRtrix unless the header says `glyphcast_frame: voxel`. Voxel-frame
+//! axes for MRtrix unless the header says `glyphcast_frame: voxel`; the peaks frame
+//! setting names another (MRtrix's `sh2peaks` writes scanner axes into a NIfTI too). Voxel-frame
 //! directions are turned into the world by the affine's orthogonal factor R, as the SH
 //! glyphs are (`reorient`): a peak found on the glyph's own series lies along the drawn
 //! lobe. The peaks' grid must be the glyph volume's (dimensions and affine).
@@ -182,10 +183,15 @@ pub struct PeakVolume {
     peaks: Vec<([f64; 3], f64)>,
 }
 
-/// Reads a peak image, with the amplitudes of a DIPY layout if `values` is given.
-pub fn load_peaks(path: &Path, values: Option<&Path>) -> Result<PeakVolume> {
+/// Reads a peak image, with the amplitudes of a DIPY layout if `values` is given, its
+/// directions in `frame` if given, else in the file's own ([`CoefficientFrame::of_image`]).
+pub fn load_peaks(
+    path: &Path,
+    values: Option<&Path>,
+    frame: Option<CoefficientFrame>,
+) -> Result<PeakVolume> {
     let values = values.map(read_image).transpose()?;
-    PeakVolume::from_images(read_image(path)?, values)
+    PeakVolume::from_images(read_image(path)?, values, frame)
 }
 
 /// The values of a peak image and where they lie, from a file or from memory.
@@ -218,10 +224,17 @@ impl PeakArray {
 }
 
 impl PeakVolume {
-    /// The peaks of an image read with [`read_image`] (see the module's layouts), in the
-    /// file's frame ([`CoefficientFrame::of_image`]).
-    pub fn from_images(image: Image, values: Option<Image>) -> Result<PeakVolume> {
-        let frame = CoefficientFrame::of_image(&image)?;
+    /// The peaks of an image read with [`read_image`] (see the module's layouts), in
+    /// `frame` if given, else the file's own ([`CoefficientFrame::of_image`]).
+    pub fn from_images(
+        image: Image,
+        values: Option<Image>,
+        frame: Option<CoefficientFrame>,
+    ) -> Result<PeakVolume> {
+        let frame = match frame {
+            Some(frame) => frame,
+            None => CoefficientFrame::of_image(&image)?,
+        };
         PeakVolume::from_arrays(image.into(), values.map(PeakArray::from), frame)
     }
 

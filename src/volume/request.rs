@@ -115,6 +115,8 @@ pub struct VolumeRequest {
     pub peaks_scale: Option<f64>,
     /// Peak diameter in pixels.
     pub peaks_width: Option<f64>,
+    /// voxel or world: the axes of the peaks' directions (default: the file's own).
+    pub peaks_frame: Option<String>,
 }
 
 impl VolumeRequest {
@@ -132,6 +134,7 @@ impl VolumeRequest {
             ));
         }
         self.frame()?;
+        self.peaks_frame()?;
         self.given_basis()?;
         self.peak_style()?;
         Ok(())
@@ -145,6 +148,7 @@ impl VolumeRequest {
             (Setting::PeaksNorm, self.peaks_norm.is_some()),
             (Setting::PeaksScale, self.peaks_scale.is_some()),
             (Setting::PeaksWidth, self.peaks_width.is_some()),
+            (Setting::PeaksFrame, self.peaks_frame.is_some()),
         ];
         if self.peaks.is_none()
             && let Some((setting, _)) = given.iter().find(|(_, on)| *on)
@@ -190,7 +194,9 @@ impl VolumeRequest {
         let style = self.peak_style()?;
         let volume = match &self.peaks {
             None => return Ok(None),
-            Some(ImageSource::File(path)) => load_peaks(path, self.peak_values.as_deref())?,
+            Some(ImageSource::File(path)) => {
+                load_peaks(path, self.peak_values.as_deref(), self.peaks_frame()?)?
+            }
             Some(ImageSource::Memory(peaks)) => peaks.clone(),
         };
         Ok(Some(ViewPeaks {
@@ -305,13 +311,12 @@ impl VolumeRequest {
 
     /// The coefficients' frame, if given.
     pub fn frame(&self) -> Result<Option<CoefficientFrame>> {
-        self.frame
-            .as_deref()
-            .map(|text| {
-                text.parse()
-                    .map_err(|err: Error| Error::setting(Setting::Frame, err.to_string()))
-            })
-            .transpose()
+        parse_frame(self.frame.as_deref(), Setting::Frame)
+    }
+
+    /// The frame of the peaks' directions, if given.
+    pub fn peaks_frame(&self) -> Result<Option<CoefficientFrame>> {
+        parse_frame(self.peaks_frame.as_deref(), Setting::PeaksFrame)
     }
 
     /// The basis with its legacy choice (aliases name both; see `glyph::sh::parse_basis_choice`), if
@@ -693,6 +698,15 @@ fn in_glyphcast_order(
     }
     volume.reorder_tensors(stored);
     Ok(volume)
+}
+
+/// A frame setting's value (voxel or world), if given.
+fn parse_frame(text: Option<&str>, setting: Setting) -> Result<Option<CoefficientFrame>> {
+    text.map(|text| {
+        text.parse()
+            .map_err(|err: Error| Error::setting(setting, err.to_string()))
+    })
+    .transpose()
 }
 
 fn parse_or_default<T>(text: Option<&str>) -> Result<T>
