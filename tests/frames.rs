@@ -436,7 +436,9 @@ fn a_mif_basis_record_is_read_from_either_field_or_refused() {
 
     let func_coef = read_image(&dipy_data("func_coef.nii.gz")).expect("func_coef");
     let (values, affine) = (func_coef.data, func_coef.voxel_to_world.affine);
-    let cases: [(&str, &[(&str, &str)], &str); 3] = [
+    // (file name, header lines, words of the refusal)
+    type Case<'a> = (&'a str, &'a [(&'a str, &'a str)], &'a str);
+    let cases: [Case; 3] = [
         (
             "typo",
             &[(
