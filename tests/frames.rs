@@ -265,6 +265,83 @@ fn an_x_flipped_dwi_with_fsl_bvecs_fits_the_same_glyphs() {
     );
 }
 
+/// The default bvec convention says where it negates x (a positive determinant), which
+/// DIPY does not do: a note on the x-flipped copy, none on small_64D itself (negative) or
+/// when the convention is named. And `--basis mrtrix` on a NIfTI without `--frame` says
+/// that a NIfTI from MRtrix's mrconvert needs `--frame world`; each note once.
+#[test]
+fn readings_other_tools_differ_on_are_noted_once() {
+    let dir = fresh_dir("notes");
+    let (dwi, affine) = small_64d();
+    let (flipped, flipped_affine) = flipped_in_x(&dwi, affine);
+    let (original_path, flipped_path) = (dir.join("original.nii"), dir.join("flipped.nii"));
+    write_nifti(&original_path, &dwi, affine);
+    write_nifti(&flipped_path, &flipped, flipped_affine);
+    let (bval, bvec) = (dipy_data("small_64D.bval"), dipy_data("small_64D.bvec"));
+    let notes = |args: &[&str]| {
+        let out = glyphcast(args);
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(out.status.success(), "{args:?}: {stderr}");
+        let notes: Vec<String> = stderr
+            .lines()
+            .filter(|l| l.starts_with("note:"))
+            .map(str::to_string)
+            .collect();
+        notes
+    };
+    let fit = |dwi: &Path, extra: &[&str]| {
+        let out = dir.join("dti.nii");
+        let mut args = vec![
+            "fit",
+            text(dwi),
+            "--bval",
+            text(&bval),
+            "--bvec",
+            text(&bvec),
+        ];
+        args.extend(["--order", "2", "-o", text(&out)]);
+        args.extend(extra);
+        let found = notes(&args);
+        std::fs::remove_file(&out).expect("the fit's output");
+        found
+    };
+    let flipped_notes = fit(&flipped_path, &[]);
+    assert_eq!(flipped_notes.len(), 1, "{flipped_notes:?}");
+    assert!(
+        flipped_notes[0].contains("flipped.nii")
+            && flipped_notes[0].contains("--bvec-convention voxel"),
+        "{flipped_notes:?}"
+    );
+    assert!(fit(&flipped_path, &["--bvec-convention", "fsl"]).is_empty());
+    assert!(fit(&original_path, &[]).is_empty());
+
+    let fod = dipy_data("func_coef.nii.gz");
+    let render = |extra: &[&str]| {
+        let png = dir.join("fod.png");
+        let mut args = vec![
+            "render",
+            "--sh",
+            text(&fod),
+            "--width",
+            "64",
+            "--height",
+            "64",
+        ];
+        args.extend(["-o", text(&png)]);
+        args.extend(extra);
+        let found = notes(&args);
+        std::fs::remove_file(&png).expect("the image");
+        found
+    };
+    let mrtrix = render(&["--basis", "mrtrix"]);
+    assert_eq!(mrtrix.len(), 1, "{mrtrix:?}");
+    assert!(mrtrix[0].contains("--frame world"), "{mrtrix:?}");
+    assert!(render(&["--basis", "mrtrix", "--frame", "voxel"]).is_empty());
+    assert!(render(&["--basis", "tournier07", "--legacy"]).is_empty());
+    let descoteaux = render(&["--basis", "descoteaux07"]);
+    assert_eq!(descoteaux.len(), 1, "{descoteaux:?}");
+}
+
 /// Runs `render ARGS` into `dir`, expecting failure: the exit code and the one error line.
 fn render_failure(dir: &Path, args: &[&str]) -> (i32, String) {
     let png = dir.join("failed.png");

@@ -41,14 +41,9 @@ pub struct FitArgs {
     bvec: Option<PathBuf>,
     /// Frame of --bvec: fsl (voxel axes with x negated when the affine's determinant is
     /// positive, as FSL and MRtrix read bvecs), voxel (voxel axes as stored) or world
-    /// (scanner axes).
-    #[arg(
-        long,
-        value_name = "CONVENTION",
-        requires = "bvec",
-        default_value = "fsl"
-    )]
-    bvec_convention: String,
+    /// (scanner axes). Default: fsl (with a note where it negates x, which DIPY does not).
+    #[arg(long, value_name = "CONVENTION", requires = "bvec")]
+    bvec_convention: Option<String>,
     /// Tensor order (even, 2 to 12), or the highest SH band with --sh or --odf (even,
     /// 0 to 12).
     #[arg(long, visible_alias = "lmax")]
@@ -190,7 +185,7 @@ impl FitArgs {
 
 pub fn run(args: FitArgs) -> Result<()> {
     let model = args.model()?;
-    let convention: BvecConvention = args.bvec_convention.parse()?;
+    let convention: BvecConvention = args.bvec_convention.as_deref().unwrap_or("fsl").parse()?;
     if let FitModel::Odf(OdfModel {
         method: OdfMethod::Msmt,
         ..
@@ -241,6 +236,17 @@ fn load_inputs(args: &FitArgs, convention: BvecConvention) -> Result<FitInputs> 
     if args.bvec.is_some() {
         let map = inputs.dwi.voxel_to_world()?;
         let to_voxel = convention.to_voxel_axes(&map, &inputs.dwi.file)?;
+        // The default convention turns the bvecs where DIPY, which takes them as they
+        // are, would not: said, so that a fit that disagrees with DIPY's says why.
+        if args.bvec_convention.is_none() && to_voxel != glam::DMat3::IDENTITY && !args.quiet {
+            eprintln!(
+                "note: {}: the affine's determinant is positive, so the bvecs are read in \
+                 FSL's frame, x negated (as FSL and MRtrix read them); DIPY takes them as \
+                 they are: give --bvec-convention voxel for DIPY's reading, or fsl to keep \
+                 this one without the note",
+                inputs.dwi.file
+            );
+        }
         inputs.gradients = inputs.gradients.transformed(to_voxel);
     }
     Ok(inputs)

@@ -81,11 +81,6 @@ pub fn spell(setting: Setting, value: Option<&str>) -> String {
     }
 }
 
-/// A note's text (which may name settings) in the command line's words.
-pub fn note(text: &glyphcast::error::Message) -> String {
-    text.spelled(&spell)
-}
-
 /// The one-line message of `err` in the command line's words.
 pub fn message(err: &Error) -> String {
     err.spelled(&spell)

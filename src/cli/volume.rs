@@ -282,9 +282,7 @@ impl VolumeArgs {
     pub fn figure(&self, image: ImageRequest) -> Result<VolumeFigure> {
         let request = self.request();
         let volume = self.read_volume(&request)?;
-        for note in &volume.notes {
-            eprintln!("note: {}", super::flags::note(note));
-        }
+        // The figure's notes hold the volume's.
         let figure = request.figure(volume, image)?;
         let (notes, warnings) = figure.messages();
         for note in notes {
@@ -322,9 +320,6 @@ impl VolumeArgs {
     pub fn montage_panels(&self, image: ImageRequest) -> Result<(Volume, MontagePlan)> {
         let request = self.request();
         let volume = self.read_volume(&request)?;
-        for note in &volume.notes {
-            eprintln!("note: {}", super::flags::note(note));
-        }
         let plan = request.montage_plan(&volume, image)?;
         for note in volume.notes.iter().chain(&plan.notes) {
             eprintln!("note: {}", spelled(note));

@@ -386,6 +386,30 @@ impl VolumeRequest {
     /// A note when the basis is named `descoteaux07` with no legacy choice and `file`
     /// records no basis: the command line then reads the non-legacy basis (the scene
     /// format's meaning), while DIPY 1.x writes the legacy one unless told otherwise.
+    /// A note when MRtrix's basis is named for a NIfTI file with no frame given: its
+    /// coefficients are then read in voxel axes (the NIfTI default), while a NIfTI that
+    /// MRtrix's `mrconvert` wrote keeps them in scanner axes.
+    fn frame_note(&self, file: &Image) -> Option<crate::error::Message> {
+        let named_mrtrix = self
+            .basis
+            .as_deref()
+            .is_some_and(|name| name.trim().eq_ignore_ascii_case("mrtrix"));
+        let nifti = matches!(file.header, ImageHeader::Nifti(_));
+        if !(named_mrtrix && nifti && self.frame.is_none()) {
+            return None;
+        }
+        Some(crate::message![
+            format!("{}: with ", file.file),
+            Setting::Basis.with("mrtrix"),
+            " the coefficients of this NIfTI are read in its voxel axes (the NIfTI default); \
+             a NIfTI written by MRtrix's mrconvert keeps scanner axes: give ",
+            Setting::Frame.with("world"),
+            " for such a file, or ",
+            Setting::Frame.with("voxel"),
+            " to keep this reading without the note"
+        ])
+    }
+
     fn basis_note(&self, file: &Image) -> Option<crate::error::Message> {
         let name = self.basis.as_deref()?;
         let ambiguous = name.trim().eq_ignore_ascii_case("descoteaux07")
@@ -469,9 +493,11 @@ impl VolumeRequest {
         self.check_shape(kind, &file.file)?;
         let stored = self.stored_order(kind, Some(&file))?;
         let basis_note = self.basis_note(&file);
+        let frame_note = self.frame_note(&file);
         let mut volume = Volume::from_image(file, kind)?;
         volume.notes.extend(note);
         volume.notes.extend(basis_note);
+        volume.notes.extend(frame_note);
         let volume = in_glyphcast_order(volume, stored)?;
         self.in_frame(volume, stored)
     }
