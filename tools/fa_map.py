@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Fractional anisotropy (FA) and colour-FA maps from a DTI volume written by
-`glyphcast fit --order 2` (a 4D float32 NIfTI-1 .nii of xx, xy, xz, yy, yz, zz per
-voxel), for `glyphcast render --underlay` (README, "Anatomical underlay"):
+`glyphcast fit --order 2` (a 4D float32 NIfTI-1 .nii or .nii.gz of xx, xy, xz, yy,
+yz, zz per voxel), for `glyphcast render --underlay` (README, "Anatomical underlay"):
 
     python3 tools/fa_map.py dti.nii fa.nii [colour-fa.nii]
 
@@ -10,15 +10,22 @@ where the tensor is zero. Colour-FA is |e1| * FA per channel (x red, y green, z 
 e1 the principal eigenvector, found by power iteration on D shifted to be positive
 definite. The tensor volume's header (affine) is kept. Standard library only.
 """
+import gzip
 import math
 import struct
 import sys
 
 
+def opener(path):
+    """open() for a plain file, gzip.open() for a name ending in .gz."""
+    return gzip.open if path.endswith(".gz") else open
+
+
 def read(path):
-    data = open(path, "rb").read()
+    with opener(path)(path, "rb") as stream:
+        data = stream.read()
     if struct.unpack("<i", data[0:4])[0] != 348 or data[344:348] != b"n+1\0":
-        sys.exit(f"{path}: not a single-file little-endian NIfTI-1 (.nii)")
+        sys.exit(f"{path}: not a single-file little-endian NIfTI-1 (.nii, .nii.gz)")
     dims = struct.unpack("<8h", data[40:56])
     datatype = struct.unpack("<h", data[70:72])[0]
     if datatype != 16 or dims[0] != 4 or dims[4] != 6:
@@ -36,7 +43,7 @@ def write(path, header, shape, values):
     header[70:74] = struct.pack("<hh", 16, 32)
     header[108:112] = struct.pack("<f", 352.0)
     header[112:120] = struct.pack("<ff", 1.0, 0.0)
-    with open(path, "wb") as out:
+    with opener(path)(path, "wb") as out:
         out.write(bytes(header) + b"\0\0\0\0" + struct.pack(f"<{len(values)}f", *values))
 
 
