@@ -342,6 +342,68 @@ fn readings_other_tools_differ_on_are_noted_once() {
     assert_eq!(descoteaux.len(), 1, "{descoteaux:?}");
 }
 
+/// A file glyphcast wrote says what it holds, and is not read as something else: an SH
+/// fit as tensors or peaks, a tensor fit as SH, peaks as tensors; each refusal names the
+/// file and the field (exit 1) and what to read it as; `glyphcast peaks` of a tensor fit
+/// likewise.
+#[test]
+fn what_a_file_records_it_holds_is_not_read_as_another_kind() {
+    let dir = fresh_dir("content");
+    let dwi = dipy_data("small_64D.nii");
+    let sh = dir.join("sh.nii");
+    fit_small_64d(&dwi, &sh, &["--basis", "dipy"]);
+    let dti = dir.join("dti.nii");
+    let (bval, bvec) = (dipy_data("small_64D.bval"), dipy_data("small_64D.bvec"));
+    let args = [
+        "fit",
+        text(&dwi),
+        "--bval",
+        text(&bval),
+        "--bvec",
+        text(&bvec),
+    ];
+    let mut fit = args.to_vec();
+    fit.extend(["--order", "2", "--quiet", "-o", text(&dti)]);
+    succeeded(&glyphcast(&fit), "fit of the tensors");
+    let peaks = dir.join("peaks.nii");
+    let run = glyphcast(&[
+        "peaks",
+        text(&sh),
+        "--count",
+        "2",
+        "--quiet",
+        "-o",
+        text(&peaks),
+    ]);
+    succeeded(&run, "peaks");
+    let cases: [(&[&str], &str); 4] = [
+        (
+            &["--tensor", text(&sh), "--order", "4"],
+            "sh.nii: descrip: records SH coefficients",
+        ),
+        (
+            &["--sh", text(&dti)],
+            "dti.nii: descrip: records a symmetric tensor of order 2",
+        ),
+        (
+            &["--tensor", text(&peaks), "--order", "2"],
+            "peaks.nii: descrip: records fibre peaks",
+        ),
+        (&["--sh", text(&sh), "--peaks", text(&sh)], "not peaks"),
+    ];
+    for (args, words) in cases {
+        let (code, error) = render_failure(&dir, args);
+        assert_eq!(code, 1, "{args:?}: {error}");
+        assert!(error.contains(words), "{args:?}: {error}");
+    }
+    let out = dir.join("peaks-of-dti.nii");
+    let run = glyphcast(&["peaks", text(&dti), "--basis", "dipy", "-o", text(&out)]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("records a symmetric tensor"), "{stderr}");
+    assert!(!out.exists());
+}
+
 /// Runs `render ARGS` into `dir`, expecting failure: the exit code and the one error line.
 fn render_failure(dir: &Path, args: &[&str]) -> (i32, String) {
     let png = dir.join("failed.png");

@@ -110,7 +110,7 @@ fn sh_input_says_what_the_file_is() {
     });
     let named = dir.join("sub-01_dti_tensor.nii");
     common::write_nifti(&named, &six, DMat4::IDENTITY);
-    let out = render(&["--sh", text(&named), "--basis", "mrtrix"], &png);
+    let out = render(&["--sh", text(&named), "--basis", "tournier07"], &png);
     let err = stderr(&out);
     assert!(out.status.success(), "{err}");
     assert!(
@@ -121,16 +121,16 @@ fn sh_input_says_what_the_file_is() {
     );
     let plain = dir.join("fod.nii");
     common::write_nifti(&plain, &six, DMat4::IDENTITY);
-    let out = render(&["--sh", text(&plain), "--basis", "mrtrix"], &png);
+    let out = render(&["--sh", text(&plain), "--basis", "tournier07"], &png);
     assert!(out.status.success());
     assert!(!stderr(&out).contains("note: "), "{}", stderr(&out));
     // glyphcast's own DTI fit given to --sh: refused, naming the record.
     let dti = common::fit_dti_small_64d(&dir);
-    let out = render(&["--sh", text(&dti), "--basis", "mrtrix"], &png);
+    let out = render(&["--sh", text(&dti), "--basis", "tournier07"], &png);
     let err = stderr(&out);
     assert_eq!(out.status.code(), Some(1), "{err}");
     assert!(
-        err.contains("descrip") && err.contains("symmetric order-2 tensor"),
+        err.contains("descrip") && err.contains("symmetric tensor of order 2"),
         "{err}"
     );
 }

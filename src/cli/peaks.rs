@@ -74,6 +74,7 @@ pub fn run(args: PeaksArgs) -> Result<()> {
     check_output_path(&args.output, "-o/--output")?;
     glyphcast::io::atomic::check_outputs(&[&args.output], &[&args.odf])?;
     let image = read_image(&args.odf)?;
+    glyphcast::volume::check_content(&image, glyphcast::volume::RecordedContent::Sh)?;
     let shape = image.shape(4);
     if shape.len() != 4 {
         return Err(Error::input(

@@ -191,7 +191,9 @@ pub fn load_peaks(
     frame: Option<CoefficientFrame>,
 ) -> Result<PeakVolume> {
     let values = values.map(read_image).transpose()?;
-    PeakVolume::from_images(read_image(path)?, values, frame)
+    let image = read_image(path)?;
+    super::recorded::check_content(&image, super::recorded::RecordedContent::Peaks)?;
+    PeakVolume::from_images(image, values, frame)
 }
 
 /// The values of a peak image and where they lie, from a file or from memory.

@@ -28,6 +28,85 @@ pub fn tensor_description(order: u32, stored: TensorOrder) -> String {
     format!("{TENSOR_PREFIX}{order} in {stored} order")
 }
 
+/// What starts the description of `glyphcast peaks`' output.
+const PEAKS_PREFIX: &str = "glyphcast peaks: ";
+
+/// What a file's glyphcast description says it holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RecordedContent {
+    /// SH coefficients (`glyphcast fit --sh` or `--odf`).
+    Sh,
+    /// A symmetric tensor of this order per voxel (`glyphcast fit --order N`).
+    Tensor(u32),
+    /// Fibre peaks (`glyphcast peaks`).
+    Peaks,
+}
+
+/// What `image`'s description says it holds, if glyphcast wrote it.
+pub fn recorded_content(image: &Image) -> Option<RecordedContent> {
+    let description = image.description()?;
+    description.lines().find_map(|line| {
+        if line.contains(FIT_SH_PREFIX) {
+            Some(RecordedContent::Sh)
+        } else if let Some(at) = line.find(TENSOR_PREFIX) {
+            let order = line[at + TENSOR_PREFIX.len()..]
+                .split_whitespace()
+                .next()?
+                .parse()
+                .ok()?;
+            Some(RecordedContent::Tensor(order))
+        } else if line.contains(PEAKS_PREFIX) {
+            Some(RecordedContent::Peaks)
+        } else {
+            None
+        }
+    })
+}
+
+/// Refuses `image`, read as `wanted`, when its description says it holds something else
+/// (an SH fit read as tensors, peaks read as coefficients, ...): an error naming the file
+/// and the field, and what to read it as.
+pub fn check_content(image: &Image, wanted: RecordedContent) -> Result<()> {
+    let Some(recorded) = recorded_content(image) else {
+        return Ok(());
+    };
+    let same = matches!(
+        (recorded, wanted),
+        (RecordedContent::Sh, RecordedContent::Sh)
+            | (RecordedContent::Peaks, RecordedContent::Peaks)
+            | (RecordedContent::Tensor(_), RecordedContent::Tensor(_))
+    );
+    if same {
+        return Ok(());
+    }
+    let holds = match recorded {
+        RecordedContent::Sh => "records SH coefficients (glyphcast fit)".to_string(),
+        RecordedContent::Tensor(order) => {
+            format!("records a symmetric tensor of order {order} (glyphcast fit)")
+        }
+        RecordedContent::Peaks => "records fibre peaks (glyphcast peaks)".to_string(),
+    };
+    let not = match wanted {
+        RecordedContent::Sh => ", not SH coefficients",
+        RecordedContent::Tensor(_) => ", not tensors",
+        RecordedContent::Peaks => ", not peaks",
+    };
+    let mut pieces: Vec<Piece> = vec![holds.into(), not.into()];
+    match recorded {
+        RecordedContent::Sh => pieces.push(": read it as an SH volume".into()),
+        RecordedContent::Tensor(order) => pieces.extend([
+            ": read it as a tensor volume with ".into(),
+            Setting::Order.with(order),
+        ]),
+        RecordedContent::Peaks => pieces.extend([": give it as ".into(), Setting::Peaks.into()]),
+    }
+    Err(Error::input(
+        &image.file,
+        description_field(image),
+        Message::from_pieces(pieces),
+    ))
+}
+
 /// A basis read from a file's header.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RecordedBasis {

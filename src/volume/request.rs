@@ -10,8 +10,8 @@ use super::framing::{ImageRequest, ViewProjection};
 use super::input::check_four_d;
 use super::input::{CoefficientFrame, Mask, Volume, VolumeKind};
 use super::recorded::{
-    OrderSource, description_field, has_dti_entries, recorded_basis, recorded_tensor_order,
-    resolve_basis, resolve_tensor_order,
+    OrderSource, RecordedContent, check_content, has_dti_entries, recorded_basis, resolve_basis,
+    resolve_tensor_order,
 };
 use super::underlay::UnderlayPlacement;
 use crate::error::quoted;
@@ -485,6 +485,13 @@ impl VolumeRequest {
         let file = read_image(path)?;
         // The shape before the basis: a 3D file is not 4D, whatever it records.
         check_four_d(&file)?;
+        check_content(
+            &file,
+            match input {
+                Coefficients::Sh => RecordedContent::Sh,
+                Coefficients::Tensor => RecordedContent::Tensor(self.order.unwrap_or(0)),
+            },
+        )?;
         let note = match input {
             Coefficients::Sh => tensor_hint(&file)?,
             Coefficients::Tensor => None,
@@ -636,17 +643,7 @@ fn tensor_hint(file: &Image) -> Result<Option<crate::error::Message>> {
     if file.shape(4).get(3) != Some(&6) {
         return Ok(None);
     }
-    if recorded_tensor_order(file).is_some() {
-        return Err(Error::input(
-            &file.file,
-            description_field(file),
-            crate::message![
-                "records a symmetric order-2 tensor (glyphcast fit), not SH coefficients: draw \
-                 it as a tensor volume with ",
-                Setting::Order.with(2)
-            ],
-        ));
-    }
+    // A file glyphcast recorded as a tensor is refused before (`check_content`).
     const NIFTI_INTENT_SYMMATRIX: i32 = 1005;
     let intent =
         matches!(&file.header, ImageHeader::Nifti(h) if h.intent_code == NIFTI_INTENT_SYMMATRIX);
