@@ -1,7 +1,7 @@
 //! The `glyphcast` command line. Each subcommand's options and work live in `src/cli/`.
 mod cli;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use cli::render::{OutputArgs, RenderArgs, SceneSource};
 use std::path::PathBuf;
 
@@ -60,7 +60,10 @@ enum Command {
 }
 
 fn main() {
-    let cli = Cli::parse();
+    // A negative number after a flag is its value (`--offset -0.5`), as in most tools;
+    // clap otherwise takes it for a flag and suggests `--`, which would be wrong here.
+    let command = Cli::command().mut_subcommands(|sub| sub.allow_negative_numbers(true));
+    let cli = Cli::from_arg_matches(&command.get_matches()).unwrap_or_else(|e| e.exit());
     remove_temporaries_on_interrupt();
     if let Err(e) = run(cli) {
         eprintln!("error: {}", cli::flags::message(&e));

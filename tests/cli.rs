@@ -119,6 +119,19 @@ fn missing_file_and_bad_options_fail_cleanly() {
         let line = expect_failure(&sphere, &[&format!("{option}={value}")], &dir);
         assert!(line.contains(option), "{option} {value}: {line}");
     }
+    // A negative value after a space is the option's value, refused for its range,
+    // not taken for an unknown flag (with a tip to write `-- -0.5`, which would be wrong).
+    for (option, value) in [
+        ("--offset", "-0.5"),
+        ("--step", "-1"),
+        ("--precision", "-2"),
+    ] {
+        let line = expect_failure(&sphere, &[option, value], &dir);
+        assert!(
+            line.contains(option) && !line.contains("unexpected argument"),
+            "{option} {value}: {line}"
+        );
+    }
     // An unknown method is answered with every method there is.
     let line = expect_failure(&sphere, &["--method=magic"], &dir);
     assert!(

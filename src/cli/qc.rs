@@ -34,7 +34,7 @@ pub struct QcArgs {
     #[arg(long, value_name = "IMAGE")]
     underlay: Option<PathBuf>,
     /// The underlay's window LOW:HIGH (default: its 2nd to 98th percentile).
-    #[arg(long, value_name = "LOW:HIGH")]
+    #[arg(long, value_name = "LOW:HIGH", allow_hyphen_values = true)]
     underlay_range: Option<String>,
     /// SH basis of the ODFs, as for render --basis (default: the file's record).
     #[arg(long, value_name = "BASIS")]

@@ -183,7 +183,7 @@ pub struct RenderArgs {
     color: String,
     /// Magnitude colormap range LOW:HIGH in world units (default: 0 to the largest glyph
     /// radius drawn, so that the largest glyph's tip takes the map's top colour).
-    #[arg(long, value_name = "LOW:HIGH")]
+    #[arg(long, value_name = "LOW:HIGH", allow_hyphen_values = true)]
     magnitude_range: Option<String>,
     /// With --color magnitude: append a colour bar of the magnitude range on the right,
     /// in a strip of its own (the PNG and the depth map grow by its width; the depth map

@@ -113,7 +113,12 @@ pub struct VolumeArgs {
     pub underlay: Option<PathBuf>,
     /// The underlay's window: LOW is drawn black, HIGH white (each RGB channel alike).
     /// Default: the 2nd to 98th percentile of its finite values.
-    #[arg(long, value_name = "LOW:HIGH", help_heading = "Underlay")]
+    #[arg(
+        long,
+        value_name = "LOW:HIGH",
+        help_heading = "Underlay",
+        allow_hyphen_values = true
+    )]
     pub underlay_range: Option<String>,
     /// Where the underlay's plane lies: back (behind the glyphs: as far behind the
     /// slice, seen from the camera, as the largest glyph reaches; the default) or centre
