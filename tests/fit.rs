@@ -377,8 +377,15 @@ fn written_nifti_reads_back_with_the_inputs_geometry() {
 #[test]
 fn mask_limits_the_fit_to_its_voxels() {
     let dir = fresh_dir("mask");
+    // NaN counts as zero, as in every mask glyphcast reads (render's too).
     let mask = ndarray::Array3::<f32>::from_shape_fn((10, 10, 10), |(x, y, z)| {
-        if x < 5 && y > 2 && z != 7 { 1.0 } else { 0.0 }
+        if x == 0 && y > 2 {
+            f32::NAN
+        } else if x < 5 && y > 2 && z != 7 {
+            1.0
+        } else {
+            0.0
+        }
     });
     let mask_path = dir.join("mask.nii.gz");
     write_nifti(&mask_path, &mask);
@@ -392,7 +399,8 @@ fn mask_limits_the_fit_to_its_voxels() {
     let (_, values) = read_nifti(&output);
     let full = fitted(FitModel::Tensor { order: 2 });
     for ((index, got), want) in values.indexed_iter().zip(full.iter()) {
-        let inside = mask[[index[0], index[1], index[2]]] != 0.0;
+        let value = mask[[index[0], index[1], index[2]]];
+        let inside = value != 0.0 && !value.is_nan();
         let expected = if inside { *want as f32 as f64 } else { 0.0 };
         assert_eq!(*got, expected, "{index:?}");
     }
@@ -475,6 +483,15 @@ fn bad_inputs_fail_cleanly_naming_the_file() {
     write_nifti(&volume_3d, &ndarray::Array3::<f32>::ones((10, 10, 10)));
     let small_mask = dir.join("small_mask.nii.gz");
     write_nifti(&small_mask, &ndarray::Array3::<f32>::ones((10, 10, 9)));
+    // The DWI's shape, 50 mm away: another grid.
+    let shifted_mask = dir.join("shifted_mask.nii");
+    let (mut shifted, _) = read_nifti(&data("small_64D.nii"));
+    shifted.srow_x[3] += 50.0;
+    shifted.quatern_x += 50.0;
+    nifti::writer::WriterOptions::new(&shifted_mask)
+        .reference_header(&shifted)
+        .write_nifti(&ndarray::Array3::<f32>::ones((10, 10, 10)))
+        .expect("writing a test NIfTI");
     let missing = dir.join("missing.nii");
     let garbage = write("garbage.nii", "this is not a NIfTI file\n");
 
@@ -546,6 +563,12 @@ fn bad_inputs_fail_cleanly_naming_the_file() {
             good,
             vec!["--order", "2", "--mask", path_str(&small_mask)],
             name(&small_mask),
+        ),
+        (
+            "mask-affine",
+            good,
+            vec!["--order", "2", "--mask", path_str(&shifted_mask)],
+            name(&shifted_mask),
         ),
         // 91 unknowns of an order-12 tensor, 64 directions.
         (

@@ -124,13 +124,15 @@ pub fn nifti_header_for(map: &VoxelToWorld) -> NiftiHeader {
 
 /// Reads a mask of spatial shape `shape`: a 3D volume (or 4D with one volume), where any
 /// non-zero voxel is inside.
-pub fn read_mask(path: &Path, shape: [usize; 3], dwi: &str) -> Result<Array3<bool>> {
+pub fn read_mask(
+    path: &Path,
+    shape: [usize; 3],
+    map: &VoxelToWorld,
+    dwi: &str,
+) -> Result<Array3<bool>> {
     let file = path.display().to_string();
-    let data = if is_mrtrix(path) {
-        read_mif(path)?.data
-    } else {
-        read_nifti(path)?.data
-    };
+    let image = crate::io::image::read_image(path)?;
+    let data = image.data;
     let dims = data.shape().to_vec();
     let spatial_ok = dims.len() >= 3 && dims[..3] == shape;
     if !spatial_ok || dims[3.min(dims.len())..].iter().any(|&d| d != 1) {
@@ -144,6 +146,22 @@ pub fn read_mask(path: &Path, shape: [usize; 3], dwi: &str) -> Result<Array3<boo
             ),
         ));
     }
+    // The same grid in space, not only the same shape (float32 headers round).
+    let tolerance = 1e-3 * map.voxel_sizes().min_element();
+    if !image
+        .voxel_to_world
+        .affine
+        .abs_diff_eq(map.affine, tolerance)
+    {
+        return Err(Error::input(
+            file,
+            "affine",
+            format!(
+                "the mask's voxel-to-world affine is not that of {dwi}: a mask of the same \
+                 shape on another grid would keep other voxels"
+            ),
+        ));
+    }
     let mut data = data;
     while data.ndim() > 3 {
         data = data.index_axis_move(Axis(3), 0);
@@ -151,7 +169,8 @@ pub fn read_mask(path: &Path, shape: [usize; 3], dwi: &str) -> Result<Array3<boo
     let data = data
         .into_dimensionality::<Ix3>()
         .map_err(|err| Error::io(path, err))?;
-    Ok(data.mapv(|v| v != 0.0))
+    // Nonzero values, NaN counting as zero, as every mask glyphcast reads.
+    Ok(data.mapv(|v| v != 0.0 && !v.is_nan()))
 }
 
 fn shape_text(shape: &[usize]) -> String {

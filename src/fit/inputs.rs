@@ -100,7 +100,12 @@ impl FitInputs {
             }
         };
         let mask = match &files.mask {
-            Some(path) => Some(read_mask(path, dwi.spatial_shape(), &name)?),
+            Some(path) => Some(read_mask(
+                path,
+                dwi.spatial_shape(),
+                &dwi.voxel_to_world()?,
+                &name,
+            )?),
             None => None,
         };
         Ok(Self {
