@@ -265,31 +265,7 @@ fn mrtrix_tensor_mif_draws_ellipsoids_along_the_eigenvectors() {
         },
     )
     .unwrap();
-    let (png, npy, json) = (dir.join("e.png"), dir.join("e.npy"), dir.join("e.json"));
-    let (w, h) = (720u32, 240u32);
-    let (width, height) = (w.to_string(), h.to_string());
-    let out = render_order2(
-        &mif,
-        &[
-            "--glyph",
-            "ellipsoid",
-            "--width",
-            &width,
-            "--height",
-            &height,
-            "--depth-out",
-            text(&npy),
-            "--save-scene",
-            text(&json),
-        ],
-        &png,
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let farthest = long_axes(&json, &npy, w, h);
+    let farthest = ellipsoid_axes(&dir, "e", &mif, &[]);
     assert_eq!(farthest.len(), 3);
     for (g, (axis, (_, e1))) in farthest.iter().zip(&tensors).enumerate() {
         let angle = axis_angle(*axis, *e1);
@@ -332,6 +308,35 @@ fn mrtrix_tensor_mif_draws_ellipsoids_along_the_eigenvectors() {
             None => assert!(out.status.success(), "{flags:?}: {stderr}"),
         }
     }
+}
+
+/// `tensors` (order 2) drawn as ellipsoids at 720 x 240 with `extra` flags into `dir`
+/// (files named `name`): each glyph's long axis ([`long_axes`]).
+fn ellipsoid_axes(dir: &Path, name: &str, tensors: &Path, extra: &[&str]) -> Vec<DVec3> {
+    let (png, npy, json) = (
+        dir.join(format!("{name}.png")),
+        dir.join(format!("{name}.npy")),
+        dir.join(format!("{name}.json")),
+    );
+    let (w, h) = (720u32, 240u32);
+    let (width, height) = (w.to_string(), h.to_string());
+    let mut flags = vec![
+        "--glyph",
+        "ellipsoid",
+        "--width",
+        &width,
+        "--height",
+        &height,
+    ];
+    flags.extend(["--depth-out", text(&npy), "--save-scene", text(&json)]);
+    flags.extend(extra);
+    let out = render_order2(tensors, &flags, &png);
+    assert!(
+        out.status.success(),
+        "{name}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    long_axes(&json, &npy, w, h)
 }
 
 /// Per glyph of the rendered scene `json` (saved with its depth map `npy`, w x h), the
@@ -391,35 +396,8 @@ fn fsl_tensors_are_read_in_fsl_frame() {
     let las = dir.join("las.nii");
     common::write_nifti(&ras, &data, DMat4::IDENTITY);
     common::write_nifti(&las, &data, DMat4::from_mat3(flip));
-    let (w, h) = (720u32, 240u32);
-    let (width, height) = (w.to_string(), h.to_string());
     let axes = |name: &str, tensors_file: &Path, order: &str| {
-        let (png, npy, json) = (
-            dir.join(format!("{name}.png")),
-            dir.join(format!("{name}.npy")),
-            dir.join(format!("{name}.json")),
-        );
-        let flags = [
-            "--tensor-order",
-            order,
-            "--glyph",
-            "ellipsoid",
-            "--width",
-            &width,
-            "--height",
-            &height,
-            "--depth-out",
-            text(&npy),
-            "--save-scene",
-            text(&json),
-        ];
-        let out = render_order2(tensors_file, &flags, &png);
-        assert!(
-            out.status.success(),
-            "{name}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        long_axes(&json, &npy, w, h)
+        ellipsoid_axes(&dir, name, tensors_file, &["--tensor-order", order])
     };
     for (name, file) in [("ras", &ras), ("las", &las)] {
         for (g, (axis, (_, e1))) in axes(name, file, "fsl").iter().zip(&tensors).enumerate() {
