@@ -352,19 +352,7 @@ fn what_a_file_records_it_holds_is_not_read_as_another_kind() {
     let dwi = dipy_data("small_64D.nii");
     let sh = dir.join("sh.nii");
     fit_small_64d(&dwi, &sh, &["--basis", "dipy"]);
-    let dti = dir.join("dti.nii");
-    let (bval, bvec) = (dipy_data("small_64D.bval"), dipy_data("small_64D.bvec"));
-    let args = [
-        "fit",
-        text(&dwi),
-        "--bval",
-        text(&bval),
-        "--bvec",
-        text(&bvec),
-    ];
-    let mut fit = args.to_vec();
-    fit.extend(["--order", "2", "--quiet", "-o", text(&dti)]);
-    succeeded(&glyphcast(&fit), "fit of the tensors");
+    let dti = common::fit_dti_small_64d(&dir);
     let peaks = dir.join("peaks.nii");
     let run = glyphcast(&[
         "peaks",
@@ -383,7 +371,7 @@ fn what_a_file_records_it_holds_is_not_read_as_another_kind() {
         ),
         (
             &["--sh", text(&dti)],
-            "dti.nii: descrip: records a symmetric tensor of order 2",
+            "dti.nii.gz: descrip: records a symmetric tensor of order 2",
         ),
         (
             &["--tensor", text(&peaks), "--order", "2"],
