@@ -4,6 +4,7 @@
 //! is an [`Error::Setting`] naming the [`Setting`]; each front end spells it (`--step`,
 //! `step=`).
 use crate::camera::Camera;
+use crate::error::Relation;
 use crate::error::quoted;
 use crate::glyph::{GlyphShape, NegativeMode};
 use crate::render::glyph_data::{
@@ -87,9 +88,17 @@ impl RenderOptions {
             s.color = color.parse::<ColorMode>()?;
         }
         if let Some(range) = &self.magnitude_range {
-            s.color = ColorMode::Magnitude {
-                range: Some(parse_range(range)?),
-            };
+            let range = parse_range(range)?;
+            // The range maps the magnitude colours only: with another colour it would be
+            // ignored (or, as before, replace the colour asked for).
+            if !matches!(s.color, ColorMode::Magnitude { .. }) {
+                return Err(Error::conflict(
+                    Setting::MagnitudeRange,
+                    Relation::Requires,
+                    Setting::Color.with("magnitude"),
+                ));
+            }
+            s.color = ColorMode::Magnitude { range: Some(range) };
         }
         if let Some(background) = &self.background {
             s.background = parse_background(background)?;
@@ -167,6 +176,7 @@ pub fn prepare_render(
     settings: RenderSettings,
     negative: Option<NegativeMode>,
 ) -> Result<PreparedScene> {
+    check_negative(&scene, negative)?;
     if let Some(mode) = negative {
         scene
             .glyph_sets
@@ -197,6 +207,69 @@ pub fn prepare_render(
         settings,
         peaks: None,
     })
+}
+
+/// Refuses a negative mode that no glyph set of `scene` takes: `hide` when every set is
+/// drawn as the ellipsoid (`--glyph ellipsoid`), which has no negative lobes. A scene
+/// that mixes shapes hides the polynomial sets' lobes.
+pub fn check_negative(scene: &Scene, negative: Option<NegativeMode>) -> Result<()> {
+    let Some(mode) = negative else {
+        return Ok(());
+    };
+    let takes = |set: &crate::scene::GlyphSet| set.shape.takes(mode);
+    if scene.glyph_sets.is_empty() || scene.glyph_sets.iter().any(takes) {
+        return Ok(());
+    }
+    Err(Error::setting_value(
+        Setting::Negative,
+        "hide",
+        crate::message![
+            "the ellipsoid has no negative lobes to hide (",
+            Setting::Glyph.with("ellipsoid"),
+            " draws every glyph set as one); use ",
+            Setting::Negative.with("abs"),
+            " or leave it out"
+        ],
+    ))
+}
+
+/// The march and range settings a one-shot image refuses when its method does not read
+/// them (`step` for fixed only, `refine` for fixed, interval and affine, `precision` for
+/// interval and affine): given with another method they would change nothing. The
+/// viewer takes them all, since its method can be switched to one that reads them.
+pub fn check_method_reads(options: &RenderOptions, settings: &RenderSettings) -> Result<()> {
+    let method = settings.method;
+    let entry = method.ray_cast_entry();
+    let marches = method.marches();
+    let ranges = entry.is_some_and(|e| e.uses_ranges);
+    let unread = |setting: Setting, value: String, readers: &[&str]| {
+        let mut pieces: Vec<crate::error::Piece> = vec!["is read only by ".into()];
+        for (n, reader) in readers.iter().enumerate() {
+            if n > 0 {
+                pieces.push(", ".into());
+            }
+            pieces.push(Setting::Method.with(reader));
+        }
+        pieces.extend([
+            "; ".into(),
+            Setting::Method.with(method),
+            " does not read it (leave it out, or choose a method that does)".into(),
+        ]);
+        Error::setting_value(setting, value, crate::error::Message::from_pieces(pieces))
+    };
+    if let Some(step) = options.step.filter(|_| !marches) {
+        return Err(unread(Setting::Step, step.to_string(), &["fixed"]));
+    }
+    if let Some(precision) = options.precision.filter(|_| !ranges) {
+        let readers = ["interval", "affine"];
+        return Err(unread(Setting::Precision, precision.to_string(), &readers));
+    }
+    if let Some(refine) = options.refine.as_ref().filter(|_| !(marches || ranges)) {
+        let readers = ["fixed", "interval", "affine"];
+        let value = format!("'{}'", quoted(refine));
+        return Err(unread(Setting::Refine, value, &readers));
+    }
+    Ok(())
 }
 
 /// `LOW:HIGH`, two numbers.
