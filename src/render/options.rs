@@ -305,6 +305,7 @@ mod tests {
     fn options_reach_the_settings() {
         let options = RenderOptions {
             offset: 0.2,
+            color: Some("magnitude".into()),
             magnitude_range: Some("0.5:2".into()),
             negative: Some("hide".into()),
             ..Default::default()
@@ -319,6 +320,136 @@ mod tests {
             }
         );
         assert_eq!(options.negative().unwrap(), Some(NegativeMode::Hide));
+    }
+
+    /// A range maps the magnitude colours only: with another colour (or the default)
+    /// it is refused, naming both settings, not dropped or put in the colour's place.
+    #[test]
+    fn a_magnitude_range_needs_the_magnitude_colour() {
+        for color in [None, Some("direction"), Some("sign")] {
+            let options = RenderOptions {
+                color: color.map(str::to_owned),
+                magnitude_range: Some("0:1".into()),
+                ..Default::default()
+            };
+            let err = options.settings().unwrap_err();
+            assert_eq!(err.setting_of(), Some(Setting::MagnitudeRange), "{color:?}");
+            assert!(err.is_usage(), "{err}");
+            assert_eq!(err.to_string(), "magnitude range needs color magnitude");
+        }
+    }
+
+    /// The march step is read by fixed only, the precision by interval and affine, the
+    /// refinement by all three: given with a method that does not read them they are
+    /// refused, naming the setting and the method.
+    #[test]
+    fn settings_the_method_does_not_read_are_refused() {
+        let check = |method: &str, edit: &dyn Fn(&mut RenderOptions)| {
+            let mut options = RenderOptions {
+                method: Some(method.into()),
+                ..Default::default()
+            };
+            edit(&mut options);
+            let settings = options.settings().unwrap();
+            check_method_reads(&options, &settings)
+        };
+        let step = |o: &mut RenderOptions| o.step = Some(0.01);
+        let precision = |o: &mut RenderOptions| o.precision = Some(0.5);
+        let refine = |o: &mut RenderOptions| o.refine = Some("none".into());
+        let cases: [(&str, &dyn Fn(&mut RenderOptions), Setting, bool); 12] = [
+            ("fixed", &step, Setting::Step, true),
+            ("exact", &step, Setting::Step, false),
+            ("affine", &step, Setting::Step, false),
+            ("impostor", &step, Setting::Step, false),
+            ("interval", &precision, Setting::Precision, true),
+            ("affine", &precision, Setting::Precision, true),
+            ("fixed", &precision, Setting::Precision, false),
+            ("exact", &precision, Setting::Precision, false),
+            ("fixed", &refine, Setting::Refine, true),
+            ("interval", &refine, Setting::Refine, true),
+            ("exact", &refine, Setting::Refine, false),
+            ("mesh:2", &refine, Setting::Refine, false),
+        ];
+        for (method, edit, setting, read) in cases {
+            match check(method, edit) {
+                Ok(()) => assert!(read, "{method} {setting:?} was not refused"),
+                Err(err) => {
+                    assert!(!read, "{method} {setting:?}: {err}");
+                    assert_eq!(err.setting_of(), Some(setting), "{err}");
+                    assert!(err.is_usage(), "{err}");
+                    let text = err.to_string();
+                    assert!(
+                        text.contains(&format!("method {method} does not read it")),
+                        "{text}"
+                    );
+                }
+            }
+        }
+        // Nothing given, nothing refused.
+        let options = RenderOptions::default();
+        check_method_reads(&options, &options.settings().unwrap()).unwrap();
+    }
+
+    fn dti_scene(scale: f64, coeff: f64) -> Scene {
+        use crate::scene::{GlyphKind, GlyphSet, ImageSize};
+        use glam::DVec3;
+        Scene {
+            glyph_sets: vec![GlyphSet {
+                kind: GlyphKind::Tensor(crate::glyph::ellipsoid::ELLIPSOID_LAYOUT),
+                negative: NegativeMode::Abs,
+                shape: GlyphShape::Polynomial,
+                centers: vec![DVec3::ZERO, DVec3::X],
+                scales: vec![0.4, scale],
+                coeffs: vec![
+                    vec![1.0, 0.0, 0.0, 1.0, 0.0, 1.0],
+                    vec![coeff, 0.0, 0.0, coeff, 0.0, coeff],
+                ],
+            }],
+            camera: Camera {
+                projection: crate::camera::Projection::Perspective { fov_y_deg: 30.0 },
+                eye: DVec3::new(0.0, -6.0, 2.0),
+                target: DVec3::ZERO,
+                up: DVec3::Z,
+            },
+            image: ImageSize {
+                width: 8,
+                height: 8,
+            },
+        }
+    }
+
+    /// `--glyph ellipsoid --negative hide`: the ellipsoid has no lobes to hide, so the
+    /// mode is refused (as the scene format refuses the pair), not dropped.
+    #[test]
+    fn hiding_negative_lobes_of_ellipsoids_only_is_refused() {
+        let settings = RenderSettings::default();
+        let mut scene = dti_scene(0.4, 1.0);
+        scene.set_shape(GlyphShape::Ellipsoid).unwrap();
+        let hide = Some(NegativeMode::Hide);
+        let err = prepare_render(scene.clone(), settings, hide).err().unwrap();
+        assert_eq!(err.setting_of(), Some(Setting::Negative), "{err}");
+        assert!(err.is_usage(), "{err}");
+        assert!(err.to_string().contains("glyph ellipsoid"), "{err}");
+        prepare_render(scene.clone(), settings, Some(NegativeMode::Abs)).unwrap();
+        prepare_render(scene, settings, None).unwrap();
+        // Polynomial glyphs have lobes to hide.
+        prepare_render(dti_scene(0.4, 1.0), settings, hide).unwrap();
+    }
+
+    /// A glyph whose world size overflows float32 (a large scale times a large tensor,
+    /// each within float32) would be drawn as nothing: preparation refuses it by index.
+    #[test]
+    fn a_glyph_too_large_for_float32_is_refused() {
+        let settings = RenderSettings::default();
+        prepare_render(dti_scene(1e30, 1e7), settings, None).unwrap();
+        let err = prepare_render(dti_scene(1e30, 1e10), settings, None)
+            .err()
+            .unwrap();
+        let text = err.to_string();
+        assert!(!err.is_usage(), "{text}");
+        assert!(text.contains("glyph set 0"), "{text}");
+        assert!(text.contains("glyph 1"), "{text}");
+        assert!(text.contains("world radius"), "{text}");
     }
 
     #[test]
