@@ -344,7 +344,8 @@ mod tests {
     /// refused, naming the setting and the method.
     #[test]
     fn settings_the_method_does_not_read_are_refused() {
-        let check = |method: &str, edit: &dyn Fn(&mut RenderOptions)| {
+        type Edit = fn(&mut RenderOptions);
+        let check = |method: &str, edit: Edit| {
             let mut options = RenderOptions {
                 method: Some(method.into()),
                 ..Default::default()
@@ -353,22 +354,22 @@ mod tests {
             let settings = options.settings().unwrap();
             check_method_reads(&options, &settings)
         };
-        let step = |o: &mut RenderOptions| o.step = Some(0.01);
-        let precision = |o: &mut RenderOptions| o.precision = Some(0.5);
-        let refine = |o: &mut RenderOptions| o.refine = Some("none".into());
-        let cases: [(&str, &dyn Fn(&mut RenderOptions), Setting, bool); 12] = [
-            ("fixed", &step, Setting::Step, true),
-            ("exact", &step, Setting::Step, false),
-            ("affine", &step, Setting::Step, false),
-            ("impostor", &step, Setting::Step, false),
-            ("interval", &precision, Setting::Precision, true),
-            ("affine", &precision, Setting::Precision, true),
-            ("fixed", &precision, Setting::Precision, false),
-            ("exact", &precision, Setting::Precision, false),
-            ("fixed", &refine, Setting::Refine, true),
-            ("interval", &refine, Setting::Refine, true),
-            ("exact", &refine, Setting::Refine, false),
-            ("mesh:2", &refine, Setting::Refine, false),
+        let step: Edit = |o| o.step = Some(0.01);
+        let precision: Edit = |o| o.precision = Some(0.5);
+        let refine: Edit = |o| o.refine = Some("none".into());
+        let cases: [(&str, Edit, Setting, bool); 12] = [
+            ("fixed", step, Setting::Step, true),
+            ("exact", step, Setting::Step, false),
+            ("affine", step, Setting::Step, false),
+            ("impostor", step, Setting::Step, false),
+            ("interval", precision, Setting::Precision, true),
+            ("affine", precision, Setting::Precision, true),
+            ("fixed", precision, Setting::Precision, false),
+            ("exact", precision, Setting::Precision, false),
+            ("fixed", refine, Setting::Refine, true),
+            ("interval", refine, Setting::Refine, true),
+            ("exact", refine, Setting::Refine, false),
+            ("mesh:2", refine, Setting::Refine, false),
         ];
         for (method, edit, setting, read) in cases {
             match check(method, edit) {
