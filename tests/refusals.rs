@@ -190,3 +190,43 @@ fn a_nifti_dwi_without_gradient_files_is_a_usage_error() {
     );
     assert!(!line.contains("no gradient table in the file"), "{line}");
 }
+
+/// A volume whose coefficients exceed float32's range once its scale factor is applied
+/// (a float64 image can hold them too) is refused, naming the file and the voxel: a
+/// scene saved from it could not be read back.
+#[test]
+fn volume_coefficients_beyond_float32_are_refused() {
+    let dir = fresh_dir("refusals-volume");
+    let inputs = fresh_dir("refusals-volume-in");
+    let mut data = ndarray::ArrayD::from_elem(vec![2, 2, 1, 6], 0.0);
+    for ((i, j), first) in [((0, 0), 1.0), ((1, 0), 1.0), ((0, 1), 1.0), ((1, 1), 10.0)] {
+        data[[i, j, 0, 0]] = first;
+        data[[i, j, 0, 3]] = 0.1 * first;
+    }
+    let path = inputs.join("sh.nii");
+    write_nifti(&path, &data, glam::DMat4::IDENTITY);
+    let mut bytes = std::fs::read(&path).expect("read");
+    // scl_slope: 1e38 keeps 1 within float32 and takes 10 beyond it.
+    common::nifti::set_f32(&mut bytes, 112, 1e38);
+    std::fs::write(&path, bytes).expect("write");
+    let png = dir.join("out.png");
+    let args = [
+        "render",
+        "--sh",
+        text(&path),
+        "--basis",
+        "tournier07",
+        "-o",
+        text(&png),
+    ];
+    refused(
+        &args,
+        1,
+        &dir,
+        &[
+            "sh.nii",
+            "voxel [1, 1, 0], coefficient 0",
+            "beyond float32's range",
+        ],
+    );
+}
