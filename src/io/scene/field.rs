@@ -105,7 +105,7 @@ impl<'a> Field<'a> {
     }
 
     /// A finite number within float32's range (the GPU draws in float32:
-    /// [`MAX_SCENE_MAGNITUDE`]); JSON integers are numbers too.
+    /// [`crate::scene::MAX_SCENE_MAGNITUDE`]); JSON integers are numbers too.
     pub(super) fn number(&self) -> Result<f64> {
         let value = match self.value {
             Json::Integer(i) => *i as f64,
