@@ -53,6 +53,16 @@ pub struct GlyphSet {
 /// known, `DeviceContext::max_image_dimension_2d`).
 pub const MAX_IMAGE_SIDE: u32 = 16384;
 
+/// The largest magnitude a scene value (a coefficient, a centre, a scale, a camera
+/// coordinate) may have: the GPU draws in float32, where anything larger is infinite and
+/// the glyph or the whole view would vanish without a word. Readers refuse larger values.
+pub const MAX_SCENE_MAGNITUDE: f64 = f32::MAX as f64;
+
+/// Whether `value` is finite and within [`MAX_SCENE_MAGNITUDE`].
+pub fn fits_float32(value: f64) -> bool {
+    value.abs() <= MAX_SCENE_MAGNITUDE
+}
+
 /// Output image size in pixels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ImageSize {

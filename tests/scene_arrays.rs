@@ -158,6 +158,10 @@ fn bad_arrays_are_refused_naming_scene_field_and_array() {
     nan[9] = f64::NAN;
     npy(&dir.join("nan.npy"), "<f8", false, &[2, 6], &nan);
     npy(&dir.join("ints.npy"), "<i4", false, &[2, 6], &good);
+    // Finite in float64, infinite in the GPU's float32: the glyph would vanish.
+    let mut big = good;
+    big[9] = 1e39;
+    npy(&dir.join("big.npy"), "<f8", false, &[2, 6], &big);
     std::fs::write(dir.join("text.npy"), "not an array").expect("write");
     let mut cut = std::fs::read(dir.join("nan.npy")).expect("read");
     cut.truncate(cut.len() - 8);
@@ -167,6 +171,10 @@ fn bad_arrays_are_refused_naming_scene_field_and_array() {
         ("wide.npy", "shape (2, 6)"),
         ("nan.npy", "row 1, column 3 is NaN"),
         ("ints.npy", "float32 or float64"),
+        (
+            "big.npy",
+            "row 1 (glyph 1), column 3: 1e39 is beyond float32's range",
+        ),
         ("text.npy", "not a NumPy .npy file"),
         ("cut.npy", "ends early"),
         ("missing.npy", "missing.npy"),

@@ -13,7 +13,9 @@ use glyphcast::render::compose::labels::{draw_edge_labels, edge_labels};
 use glyphcast::render::compose::montage::{PreparedMontage, prepare_montage};
 use glyphcast::render::glyph_data::GlyphSetData;
 use glyphcast::render::headless::{FrameView, HeadlessRenderer, PreparedFrame, RenderedImage};
-use glyphcast::render::options::{PreparedScene, RenderOptions, prepare_render};
+use glyphcast::render::options::{
+    PreparedScene, RenderOptions, check_method_reads, prepare_render,
+};
 use glyphcast::render::peaks::PeakSet;
 use glyphcast::render::underlay::Underlay;
 use glyphcast::scene::Scene;
@@ -163,8 +165,10 @@ impl Renderer {
         let render = kwargs.render_options()?;
         let mut extras = Extras::from_kwargs(&mut kwargs)?;
         kwargs.finish()?;
+        let settings = render.settings().map_err(to_py)?;
+        check_method_reads(&render, &settings).map_err(to_py)?;
         if extras.colorbar.is_some() {
-            check_colorbar(&render.settings().map_err(to_py)?).map_err(to_py)?;
+            check_colorbar(&settings).map_err(to_py)?;
         }
         self.loaded = None;
         let loaded = py.detach(|| {
@@ -219,8 +223,10 @@ impl Renderer {
         // The options on their own first: refused before the array is converted.
         request.check(input).map_err(to_py)?;
         request.options(image).map_err(to_py)?;
+        let settings = render.settings().map_err(to_py)?;
+        check_method_reads(&render, &settings).map_err(to_py)?;
         if extras.colorbar.is_some() {
-            check_colorbar(&render.settings().map_err(to_py)?).map_err(to_py)?;
+            check_colorbar(&settings).map_err(to_py)?;
         }
         let data = arrays::coefficients(coeffs)?;
         self.loaded = None;

@@ -110,6 +110,37 @@ def test_options_are_named_by_keyword_where_the_cli_names_the_flag(sh, cli_binar
         assert message.removeprefix(f"{keyword}=") == cli_words
 
 
+def test_settings_that_would_be_ignored_are_refused_as_the_cli_refuses_them(
+        sh, cli_binary, tmp_path):
+    """A magnitude range without the magnitude colour, and a step, precision or
+    refinement the method does not read: the CLI exits 2 and the module raises
+    ValueError, with the same message in each one's spelling."""
+    coeffs, affine = sh
+    file = ROOT / "tests/data/dipy/func_coef.nii.gz"
+    for options, first, words in [
+        ({"magnitude_range": "0:1"}, "magnitude_range", "needs color=magnitude"),
+        ({"method": "exact", "step": 0.01}, "step=0.01", "method=exact does not read it"),
+        ({"method": "exact", "precision": 0.5}, "precision=0.5",
+         "method=exact does not read it"),
+        ({"method": "impostor", "refine": "none"}, "refine='none'",
+         "method=impostor does not read it"),
+    ]:
+        args = [f"--{k.replace('_', '-')}={v}" for k, v in options.items()]
+        done = subprocess.run(
+            [str(cli_binary), "render", "--sh", str(file), "--basis=dipy", *args,
+             "-o", str(tmp_path / "x.png")],
+            capture_output=True, text=True,
+        )
+        assert done.returncode == 2, done.stderr
+        assert not (tmp_path / "x.png").exists()
+        with pytest.raises(ValueError) as caught:
+            glyphcast.render_sh(coeffs, affine, basis="dipy", **options)
+        message = str(caught.value)
+        assert message.startswith(first), message
+        assert words in message, message
+        assert "--" not in message, message
+
+
 def test_unknown_keyword_is_a_type_error(sh):
     coeffs, affine = sh
     raises(TypeError, "unexpected keyword argument 'colour'", glyphcast.render_sh, coeffs,

@@ -10,6 +10,7 @@ use glyphcast::render::headless::HeadlessRenderer;
 use glyphcast::render::{MeshKind, Method, Refinement, RenderSettings};
 use glyphcast::scene::Scene;
 use glyphcast::vk::{Gpu, GpuOptions};
+use glyphcast::volume::ImageRequest;
 use glyphcast::{Error, Result};
 use std::path::{Path, PathBuf};
 
@@ -45,12 +46,12 @@ pub struct BenchArgs {
     /// Also compare a single measurement with the float64 reference.
     #[arg(long)]
     accuracy: bool,
-    /// Measured frames (after the warm-up).
-    #[arg(long, default_value_t = 20)]
-    frames: usize,
-    /// Warm-up frames, not measured.
-    #[arg(long, default_value_t = 3)]
-    warmup: usize,
+    /// Measured frames (after the warm-up), at least 1 (default 20; 3 with --quick).
+    #[arg(long)]
+    frames: Option<usize>,
+    /// Warm-up frames, not measured (default 3; 1 with --quick).
+    #[arg(long)]
+    warmup: Option<usize>,
     /// Image width and height (workloads; a scene keeps its own size unless given).
     #[arg(long)]
     width: Option<u32>,
@@ -78,18 +79,26 @@ pub struct BenchArgs {
 }
 
 impl BenchArgs {
+    /// The frames measured and warmed up: those given, else --quick's or the defaults.
     fn frames(&self) -> BenchFrames {
-        if self.quick {
-            BenchFrames {
-                warmup: 1,
-                measured: 3,
-            }
-        } else {
-            BenchFrames {
-                warmup: self.warmup,
-                measured: self.frames.max(1),
-            }
+        let (warmup, measured) = if self.quick { (1, 3) } else { (3, 20) };
+        BenchFrames {
+            warmup: self.warmup.unwrap_or(warmup),
+            measured: self.frames.unwrap_or(measured),
         }
+    }
+
+    /// Refuses what no measurement can take: no measured frame, an image side out of
+    /// range (as `render` refuses it, before any device is opened).
+    fn check(&self) -> Result<()> {
+        if self.frames == Some(0) {
+            return Err(Error::Flag {
+                flag: "--frames",
+                message: "must be at least 1 (the frames measured after the warm-up)".into(),
+            });
+        }
+        ImageRequest::checked(self.width, self.height)?;
+        Ok(())
     }
 
     fn size(&self, default: u32) -> (u32, u32) {
@@ -485,6 +494,7 @@ fn check_outputs(outputs: &[PathBuf], inputs: &[PathBuf]) -> Result<()> {
 }
 
 pub fn run(args: &BenchArgs) -> Result<()> {
+    args.check()?;
     check_outputs(&args.output_paths(), &args.input_paths())?;
     let plan = plan(args)?;
     let mut options = GpuOptions::from_env();

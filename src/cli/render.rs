@@ -10,7 +10,7 @@ use glyphcast::render::compose::labels::{draw_edge_labels, edge_labels};
 use glyphcast::render::compose::montage::prepare_montage;
 use glyphcast::render::glyph_data::GlyphSetData;
 use glyphcast::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
-use glyphcast::render::options::{RenderOptions, prepare_render};
+use glyphcast::render::options::{RenderOptions, check_method_reads, prepare_render};
 use glyphcast::render::peaks::PeakSet;
 use glyphcast::render::promote::early_variants;
 use glyphcast::render::underlay::Underlay;
@@ -364,6 +364,7 @@ pub fn render(
     scene.image.height = image.height.unwrap_or(scene.image.height);
     let settings = options.settings()?;
     options.check_colorbar(&settings)?;
+    check_method_reads(&options.options(), &settings)?;
     let negative = options.negative()?;
     // Written with the image and the depth map, all or nothing.
     let scene_file = save_scene.map(|path| (path, scene.to_json()));
@@ -439,6 +440,7 @@ pub fn render_montage(
     let image = options.image_request()?;
     let settings = options.settings()?;
     options.check_colorbar(&settings)?;
+    check_method_reads(&options.options(), &settings)?;
     let negative = options.negative()?;
     let (mut scenes, peaks): (Vec<Scene>, Vec<Option<PeakSet>>) = montage
         .panels

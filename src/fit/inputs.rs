@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use super::dwi::{Dwi, read_dwi, read_mask};
 use super::gradients::GradientTable;
+use crate::io::image::is_mrtrix;
 use crate::{Error, Result, Setting};
 
 /// Where the inputs come from. Without `bval` and `bvec` the gradient table is the
@@ -51,8 +52,22 @@ impl FitInputs {
     /// Reads the DWI, the gradient table (the files, else the DWI's `dw_scheme`) and the
     /// mask, and checks them against each other; errors name the file and the field.
     pub fn load(files: FitFiles) -> Result<Self> {
-        let dwi = read_dwi(&files.dwi)?;
         let name = files.dwi.display().to_string();
+        // Only an MRtrix image may carry its table: a NIfTI DWI without the files is a
+        // request to change, refused before the DWI is read.
+        if files.bval.is_none() && files.bvec.is_none() && !is_mrtrix(&files.dwi) {
+            return Err(Error::setting(
+                Setting::Bval,
+                crate::message![
+                    format!("{name} is a NIfTI image, which carries no gradient table: give "),
+                    Setting::Bval,
+                    " and ",
+                    Setting::Bvec,
+                    " (an MRtrix .mif or .mih may carry its own, dw_scheme)"
+                ],
+            ));
+        }
+        let dwi = read_dwi(&files.dwi)?;
         let (gradients, origin) = match (&files.bval, &files.bvec) {
             (Some(bval), Some(bvec)) => (
                 GradientTable::read(bval, bvec, dwi.volume_count(), &name)?,

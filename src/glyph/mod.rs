@@ -88,6 +88,13 @@ impl GlyphShape {
             GlyphShape::Ellipsoid => "ellipsoid",
         }
     }
+
+    /// Whether the shape can be drawn with `negative`: the ellipsoid has no negative
+    /// lobes to hide (the scene format's `shape`/`negative` and the glyph and negative
+    /// settings are refused alike).
+    pub fn takes(self, negative: NegativeMode) -> bool {
+        !(self == GlyphShape::Ellipsoid && negative == NegativeMode::Hide)
+    }
 }
 
 /// A Cartesian tensor layout: order and symmetry.

@@ -6,6 +6,7 @@
 //! data's units), one 16-byte instance (centre, world radius of the bounding sphere) and
 //! one 32-byte box (rotation, half extents). The float64 [`WorldGlyph`]s describe the
 //! same surfaces for the reference.
+use crate::error::Problem;
 use crate::glyph::bounds::{climbed_max_radius, sizing_lattice};
 use crate::glyph::ellipsoid::Ellipsoid;
 use crate::glyph::intersect::WorldGlyph;
@@ -14,7 +15,7 @@ use crate::glyph::proxy::{GlyphBounds, Sampling, glyph_bounds_with};
 use crate::glyph::sh::sh_to_tensor;
 use crate::glyph::{GlyphShape, NegativeMode, Symmetry, TensorLayout};
 use crate::parallel::{Progress, map_chunks};
-use crate::scene::{GlyphKind, GlyphSet, Scene};
+use crate::scene::{GlyphKind, GlyphSet, MAX_SCENE_MAGNITUDE, Scene, fits_float32};
 use crate::{Error, Result, Setting};
 use std::borrow::Cow;
 
@@ -186,14 +187,21 @@ fn prepare_set_keeping(
         .chunks(BOUNDING_BLOCK)
         .zip(set.centers.chunks(BOUNDING_BLOCK))
         .zip(set.scales.chunks(BOUNDING_BLOCK));
-    for ((coeffs, centers), scales) in blocks {
+    for (block, ((coeffs, centers), scales)) in blocks.enumerate() {
         let bounded = map_chunks(coeffs, "bounds", |c| {
             bound_glyph(set, layout, index, c, sampling, world)
         })?;
         if let Some(p) = progress {
             p.advance(coeffs.len());
         }
-        add_bounded(&mut data, set, offset, centers, scales, bounded);
+        let first = block * BOUNDING_BLOCK;
+        add_bounded(&mut data, set, offset, first, centers, scales, bounded).map_err(|e| {
+            Error::Item {
+                what: "glyph set",
+                index,
+                error: Box::new(e),
+            }
+        })?;
     }
     Ok(data)
 }
@@ -208,17 +216,21 @@ pub const SAMPLED_BOUNDS_GLYPHS: usize = 4096;
 /// Glyphs bounded at a time by [`prepare_set_with_progress`].
 const BOUNDING_BLOCK: usize = 1 << 16;
 
-/// Appends bounded glyphs (with their centres and scales) to `data`; empty glyphs are
-/// left out.
+/// Appends bounded glyphs (with their centres and scales; the first is glyph `first` of
+/// the set) to `data`; empty glyphs are left out. A glyph whose world size is beyond
+/// float32's range (a large scale times a large tensor) is refused: the GPU would draw
+/// nothing for it.
 fn add_bounded(
     data: &mut GlyphSetData,
     set: &GlyphSet,
     offset: f64,
+    first: usize,
     centers: &[glam::DVec3],
     scales: &[f64],
     bounded: Vec<Option<Bounded>>,
-) {
-    for ((center, scale), glyph) in centers.iter().zip(scales).zip(bounded) {
+) -> Result<()> {
+    let glyphs = centers.iter().zip(scales).zip(bounded).enumerate();
+    for (n, ((center, scale), glyph)) in glyphs {
         let Some(Bounded {
             gpu_coefficients,
             poly,
@@ -229,6 +241,27 @@ fn add_bounded(
         };
         let bound = bounds.radius;
         let half_size = scale * bound * (1.0 + offset);
+        let beyond = |what, value: f64| Error::Item {
+            what: "glyph",
+            index: first + n,
+            error: Box::new(Error::data(
+                what,
+                Problem::OutOfRange {
+                    value,
+                    min: -MAX_SCENE_MAGNITUDE,
+                    max: MAX_SCENE_MAGNITUDE,
+                },
+            )),
+        };
+        if !fits_float32(half_size) {
+            return Err(beyond(
+                "world radius (scale times the glyph's radius)",
+                half_size,
+            ));
+        }
+        if let Some(&c) = center.as_ref().iter().find(|c| !fits_float32(**c)) {
+            return Err(beyond("centre coordinate", c));
+        }
         data.boxes.push(box_instance(&bounds, offset));
         data.instances.push([
             center.x as f32,
@@ -249,6 +282,7 @@ fn add_bounded(
             });
         }
     }
+    Ok(())
 }
 
 /// Fills in each set's [`GlyphSetData::largest_radius`] from its float64 glyphs (sets

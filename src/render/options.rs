@@ -4,6 +4,7 @@
 //! is an [`Error::Setting`] naming the [`Setting`]; each front end spells it (`--step`,
 //! `step=`).
 use crate::camera::Camera;
+use crate::error::Relation;
 use crate::error::quoted;
 use crate::glyph::{GlyphShape, NegativeMode};
 use crate::render::glyph_data::{
@@ -87,9 +88,17 @@ impl RenderOptions {
             s.color = color.parse::<ColorMode>()?;
         }
         if let Some(range) = &self.magnitude_range {
-            s.color = ColorMode::Magnitude {
-                range: Some(parse_range(range)?),
-            };
+            let range = parse_range(range)?;
+            // The range maps the magnitude colours only: with another colour it would be
+            // ignored (or, as before, replace the colour asked for).
+            if !matches!(s.color, ColorMode::Magnitude { .. }) {
+                return Err(Error::conflict(
+                    Setting::MagnitudeRange,
+                    Relation::Requires,
+                    Setting::Color.with("magnitude"),
+                ));
+            }
+            s.color = ColorMode::Magnitude { range: Some(range) };
         }
         if let Some(background) = &self.background {
             s.background = parse_background(background)?;
@@ -167,6 +176,7 @@ pub fn prepare_render(
     settings: RenderSettings,
     negative: Option<NegativeMode>,
 ) -> Result<PreparedScene> {
+    check_negative(&scene, negative)?;
     if let Some(mode) = negative {
         scene
             .glyph_sets
@@ -197,6 +207,69 @@ pub fn prepare_render(
         settings,
         peaks: None,
     })
+}
+
+/// Refuses a negative mode that no glyph set of `scene` takes: `hide` when every set is
+/// drawn as the ellipsoid (`--glyph ellipsoid`), which has no negative lobes. A scene
+/// that mixes shapes hides the polynomial sets' lobes.
+pub fn check_negative(scene: &Scene, negative: Option<NegativeMode>) -> Result<()> {
+    let Some(mode) = negative else {
+        return Ok(());
+    };
+    let takes = |set: &crate::scene::GlyphSet| set.shape.takes(mode);
+    if scene.glyph_sets.is_empty() || scene.glyph_sets.iter().any(takes) {
+        return Ok(());
+    }
+    Err(Error::setting_value(
+        Setting::Negative,
+        "hide",
+        crate::message![
+            "the ellipsoid has no negative lobes to hide (",
+            Setting::Glyph.with("ellipsoid"),
+            " draws every glyph set as one); use ",
+            Setting::Negative.with("abs"),
+            " or leave it out"
+        ],
+    ))
+}
+
+/// The march and range settings a one-shot image refuses when its method does not read
+/// them (`step` for fixed only, `refine` for fixed, interval and affine, `precision` for
+/// interval and affine): given with another method they would change nothing. The
+/// viewer takes them all, since its method can be switched to one that reads them.
+pub fn check_method_reads(options: &RenderOptions, settings: &RenderSettings) -> Result<()> {
+    let method = settings.method;
+    let entry = method.ray_cast_entry();
+    let marches = method.marches();
+    let ranges = entry.is_some_and(|e| e.uses_ranges);
+    let unread = |setting: Setting, value: String, readers: &[&str]| {
+        let mut pieces: Vec<crate::error::Piece> = vec!["is read only by ".into()];
+        for (n, reader) in readers.iter().enumerate() {
+            if n > 0 {
+                pieces.push(", ".into());
+            }
+            pieces.push(Setting::Method.with(reader));
+        }
+        pieces.extend([
+            "; ".into(),
+            Setting::Method.with(method),
+            " does not read it (leave it out, or choose a method that does)".into(),
+        ]);
+        Error::setting_value(setting, value, crate::error::Message::from_pieces(pieces))
+    };
+    if let Some(step) = options.step.filter(|_| !marches) {
+        return Err(unread(Setting::Step, step.to_string(), &["fixed"]));
+    }
+    if let Some(precision) = options.precision.filter(|_| !ranges) {
+        let readers = ["interval", "affine"];
+        return Err(unread(Setting::Precision, precision.to_string(), &readers));
+    }
+    if let Some(refine) = options.refine.as_ref().filter(|_| !(marches || ranges)) {
+        let readers = ["fixed", "interval", "affine"];
+        let value = format!("'{}'", quoted(refine));
+        return Err(unread(Setting::Refine, value, &readers));
+    }
+    Ok(())
 }
 
 /// `LOW:HIGH`, two numbers.
@@ -232,6 +305,7 @@ mod tests {
     fn options_reach_the_settings() {
         let options = RenderOptions {
             offset: 0.2,
+            color: Some("magnitude".into()),
             magnitude_range: Some("0.5:2".into()),
             negative: Some("hide".into()),
             ..Default::default()
@@ -246,6 +320,137 @@ mod tests {
             }
         );
         assert_eq!(options.negative().unwrap(), Some(NegativeMode::Hide));
+    }
+
+    /// A range maps the magnitude colours only: with another colour (or the default)
+    /// it is refused, naming both settings, not dropped or put in the colour's place.
+    #[test]
+    fn a_magnitude_range_needs_the_magnitude_colour() {
+        for color in [None, Some("direction"), Some("sign")] {
+            let options = RenderOptions {
+                color: color.map(str::to_owned),
+                magnitude_range: Some("0:1".into()),
+                ..Default::default()
+            };
+            let err = options.settings().unwrap_err();
+            assert_eq!(err.setting_of(), Some(Setting::MagnitudeRange), "{color:?}");
+            assert!(err.is_usage(), "{err}");
+            assert_eq!(err.to_string(), "magnitude range needs color magnitude");
+        }
+    }
+
+    /// The march step is read by fixed only, the precision by interval and affine, the
+    /// refinement by all three: given with a method that does not read them they are
+    /// refused, naming the setting and the method.
+    #[test]
+    fn settings_the_method_does_not_read_are_refused() {
+        type Edit = fn(&mut RenderOptions);
+        let check = |method: &str, edit: Edit| {
+            let mut options = RenderOptions {
+                method: Some(method.into()),
+                ..Default::default()
+            };
+            edit(&mut options);
+            let settings = options.settings().unwrap();
+            check_method_reads(&options, &settings)
+        };
+        let step: Edit = |o| o.step = Some(0.01);
+        let precision: Edit = |o| o.precision = Some(0.5);
+        let refine: Edit = |o| o.refine = Some("none".into());
+        let cases: [(&str, Edit, Setting, bool); 12] = [
+            ("fixed", step, Setting::Step, true),
+            ("exact", step, Setting::Step, false),
+            ("affine", step, Setting::Step, false),
+            ("impostor", step, Setting::Step, false),
+            ("interval", precision, Setting::Precision, true),
+            ("affine", precision, Setting::Precision, true),
+            ("fixed", precision, Setting::Precision, false),
+            ("exact", precision, Setting::Precision, false),
+            ("fixed", refine, Setting::Refine, true),
+            ("interval", refine, Setting::Refine, true),
+            ("exact", refine, Setting::Refine, false),
+            ("mesh:2", refine, Setting::Refine, false),
+        ];
+        for (method, edit, setting, read) in cases {
+            match check(method, edit) {
+                Ok(()) => assert!(read, "{method} {setting:?} was not refused"),
+                Err(err) => {
+                    assert!(!read, "{method} {setting:?}: {err}");
+                    assert_eq!(err.setting_of(), Some(setting), "{err}");
+                    assert!(err.is_usage(), "{err}");
+                    let text = err.to_string();
+                    assert!(
+                        text.contains(&format!("method {method} does not read it")),
+                        "{text}"
+                    );
+                }
+            }
+        }
+        // Nothing given, nothing refused.
+        let options = RenderOptions::default();
+        check_method_reads(&options, &options.settings().unwrap()).unwrap();
+    }
+
+    fn dti_scene(scale: f64, coeff: f64) -> Scene {
+        use crate::scene::{GlyphKind, GlyphSet, ImageSize};
+        use glam::DVec3;
+        Scene {
+            glyph_sets: vec![GlyphSet {
+                kind: GlyphKind::Tensor(crate::glyph::ellipsoid::ELLIPSOID_LAYOUT),
+                negative: NegativeMode::Abs,
+                shape: GlyphShape::Polynomial,
+                centers: vec![DVec3::ZERO, DVec3::X],
+                scales: vec![0.4, scale],
+                coeffs: vec![
+                    vec![1.0, 0.0, 0.0, 1.0, 0.0, 1.0],
+                    vec![coeff, 0.0, 0.0, coeff, 0.0, coeff],
+                ],
+            }],
+            camera: Camera {
+                projection: crate::camera::Projection::Perspective { fov_y_deg: 30.0 },
+                eye: DVec3::new(0.0, -6.0, 2.0),
+                target: DVec3::ZERO,
+                up: DVec3::Z,
+            },
+            image: ImageSize {
+                width: 8,
+                height: 8,
+            },
+        }
+    }
+
+    /// `--glyph ellipsoid --negative hide`: the ellipsoid has no lobes to hide, so the
+    /// mode is refused (as the scene format refuses the pair), not dropped.
+    #[test]
+    fn hiding_negative_lobes_of_ellipsoids_only_is_refused() {
+        let settings = RenderSettings::default();
+        let mut scene = dti_scene(0.4, 1.0);
+        scene.set_shape(GlyphShape::Ellipsoid).unwrap();
+        let hide = Some(NegativeMode::Hide);
+        let err = prepare_render(scene.clone(), settings, hide).err().unwrap();
+        assert_eq!(err.setting_of(), Some(Setting::Negative), "{err}");
+        assert!(err.is_usage(), "{err}");
+        assert!(err.to_string().contains("glyph ellipsoid"), "{err}");
+        prepare_render(scene.clone(), settings, Some(NegativeMode::Abs)).unwrap();
+        prepare_render(scene, settings, None).unwrap();
+        // Polynomial glyphs have lobes to hide.
+        prepare_render(dti_scene(0.4, 1.0), settings, hide).unwrap();
+    }
+
+    /// A glyph whose world size overflows float32 (a large scale times a large tensor,
+    /// each within float32) would be drawn as nothing: preparation refuses it by index.
+    #[test]
+    fn a_glyph_too_large_for_float32_is_refused() {
+        let settings = RenderSettings::default();
+        prepare_render(dti_scene(1e30, 1e7), settings, None).unwrap();
+        let err = prepare_render(dti_scene(1e30, 1e10), settings, None)
+            .err()
+            .unwrap();
+        let text = err.to_string();
+        assert!(!err.is_usage(), "{text}");
+        assert!(text.contains("glyph set 0"), "{text}");
+        assert!(text.contains("glyph 1"), "{text}");
+        assert!(text.contains("world radius"), "{text}");
     }
 
     #[test]

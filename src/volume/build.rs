@@ -23,7 +23,7 @@ use super::selection::{Slice, SliceRegion, Slices, VoxelRanges};
 use crate::glyph::ellipsoid::ELLIPSOID_LAYOUT;
 use crate::glyph::{GlyphShape, NegativeMode};
 use crate::render::peaks::PeakSet;
-use crate::scene::{GlyphKind, GlyphSet, Scene};
+use crate::scene::{GlyphKind, GlyphSet, Scene, fits_float32};
 use crate::{Error, Result, Setting};
 
 /// Default world radius of the largest glyph, as a fraction of the smallest voxel size:
@@ -250,6 +250,7 @@ pub fn volume_scene_with_progress(
                 continue;
             }
             coeffs.truncate(kind.coefficient_count());
+            check_float32(volume, voxel, &coeffs)?;
             let coeffs = reorientation.apply(&coeffs)?;
             candidates.push((voxel, coeffs));
         }
@@ -341,6 +342,25 @@ pub fn volume_scene_with_progress(
         glyph_radius,
         peaks,
     })
+}
+
+/// Refuses a voxel's coefficient beyond float32's range (a float64 image can hold
+/// one): a scene keeps them as they are, and glyphcast draws, and reads saved scenes,
+/// in float32 (`scene::MAX_SCENE_MAGNITUDE`).
+fn check_float32(volume: &Volume, voxel: [usize; 3], coeffs: &[f64]) -> Result<()> {
+    match coeffs.iter().position(|c| !fits_float32(*c)) {
+        None => Ok(()),
+        Some(c) => Err(Error::input(
+            &volume.file,
+            format!("voxel {voxel:?}, coefficient {c}"),
+            format!(
+                "{:?} is beyond float32's range (magnitude at most {:e}), in which glyphs \
+                 are drawn",
+                coeffs[c],
+                f32::MAX
+            ),
+        )),
+    }
 }
 
 /// The radius that [`Normalisation::Robust`] draws at `scale`: the largest of `radii`,

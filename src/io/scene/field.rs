@@ -8,6 +8,7 @@ use glam::DVec3;
 use super::json::Json;
 use super::names::Named;
 use crate::error::quoted;
+use crate::scene::fits_float32;
 use crate::{Error, Result};
 
 /// One step from a value to a child: a key of an object or an index into a list.
@@ -103,17 +104,20 @@ impl<'a> Field<'a> {
             .map(move |(index, item)| self.child(Step::Index(index), item)))
     }
 
-    /// A finite number; JSON integers are numbers too.
+    /// A finite number within float32's range (the GPU draws in float32:
+    /// [`crate::scene::MAX_SCENE_MAGNITUDE`]); JSON integers are numbers too.
     pub(super) fn number(&self) -> Result<f64> {
         let value = match self.value {
             Json::Integer(i) => *i as f64,
             Json::Float(x) => *x,
             _ => return Err(self.mismatch("a number")),
         };
-        if value.is_finite() {
-            Ok(value)
-        } else {
+        if !value.is_finite() {
             Err(self.error(format!("expected a finite number, found {value:?}")))
+        } else if !fits_float32(value) {
+            Err(self.error(beyond_float32(value)))
+        } else {
+            Ok(value)
         }
     }
 
@@ -194,6 +198,15 @@ impl<'a> Field<'a> {
         }
         self.items()?.map(|item| item.number()).collect()
     }
+}
+
+/// Why a finite value beyond float32's range is refused.
+pub(super) fn beyond_float32(value: f64) -> String {
+    format!(
+        "{value:?} is beyond float32's range (magnitude at most {:e}), \
+         in which the GPU draws",
+        f32::MAX
+    )
 }
 
 fn quoted_names<T: Named>() -> String {

@@ -3,6 +3,7 @@
 use glam::DVec3;
 use std::path::Path;
 
+use super::field::beyond_float32;
 use super::field::{Field, Object};
 use super::names::{KindName, ProjectionName};
 use super::npy_array;
@@ -11,7 +12,7 @@ use crate::Result;
 use crate::camera::{Camera, Projection};
 use crate::glyph::ellipsoid::ELLIPSOID_LAYOUT;
 use crate::glyph::{GlyphShape, NegativeMode, Symmetry, TensorLayout};
-use crate::scene::MAX_IMAGE_SIDE;
+use crate::scene::{MAX_IMAGE_SIDE, fits_float32};
 
 use crate::catalog::{MAX_NONSYMMETRIC_ORDER, MAX_SH_BAND, MAX_SYMMETRIC_ORDER};
 const DEFAULT_FOV_Y_DEG: f64 = 30.0;
@@ -128,7 +129,7 @@ fn read_shape(set: &Object, kind: GlyphKind, negative: NegativeMode) -> Result<G
                 "\"ellipsoid\" applies only to symmetric tensors of order 2, not to a {kind}"
             )));
         }
-        if negative == NegativeMode::Hide {
+        if !shape.takes(negative) {
             return Err(field
                 .error("\"ellipsoid\" has no negative lobes to hide: use \"negative\": \"abs\""));
         }
@@ -369,7 +370,7 @@ fn read_image_side(field: &Field) -> Result<u32> {
 /// The rows of the `.npy` file `name` (relative to the scene file's folder) that `field`
 /// gives in place of a list: a float32 or float64 array of shape (rows, columns), or
 /// (rows,) for one column, in C or Fortran order; `rows` when the glyph count is known.
-/// Every value must be finite. Errors name the scene file, the field and the array file.
+/// Every value must be finite and within float32's range. Errors name the scene file, the field and the array file.
 fn read_array(
     field: &Field,
     name: &str,
@@ -402,6 +403,12 @@ fn read_array(
             return Err(fail(format!(
                 "{what}: row {row}, column {column} is {:?}; every value must be finite",
                 values[column]
+            )));
+        }
+        if let Some(column) = values.iter().position(|v| !fits_float32(*v)) {
+            return Err(fail(format!(
+                "{what}: row {row} (glyph {row}), column {column}: {}",
+                beyond_float32(values[column])
             )));
         }
     }

@@ -438,6 +438,29 @@ fn numbers_must_be_finite_numbers_and_scales_positive() {
     assert!(err.to_string().contains("finite"), "{err}");
 }
 
+/// The GPU draws in float32: a finite float64 beyond its range would be infinite there
+/// and the glyph (or the whole view) would vanish, so the reader refuses it by field.
+#[test]
+fn numbers_beyond_float32_are_refused() {
+    let beyond = "1e39 is beyond float32's range";
+    let doc = edited(|doc| doc["glyphs"][0]["coeffs"][1][3] = json!(1e39));
+    assert_input_error(parse(&doc), "glyphs[0].coeffs[1][3]", beyond);
+    let doc = edited(|doc| doc["glyphs"][0]["coeffs"][0][0] = json!(-1e39));
+    assert_input_error(parse(&doc), "glyphs[0].coeffs[0][0]", "-1e39 is beyond");
+    let doc = edited(|doc| doc["glyphs"][0]["centers"][1][0] = json!(1e39));
+    assert_input_error(parse(&doc), "glyphs[0].centers[1][0]", beyond);
+    let doc = edited(|doc| doc["glyphs"][0]["scale"] = json!(1e39));
+    assert_input_error(parse(&doc), "glyphs[0].scale", beyond);
+    let doc = edited(|doc| doc["camera"]["eye"][0] = json!(1e39));
+    assert_input_error(parse(&doc), "camera.eye[0]", beyond);
+    let doc = edited(|doc| doc["camera"]["target"][2] = json!(1e300));
+    assert_input_error(parse(&doc), "camera.target[2]", "1e300 is beyond");
+    // float32's largest value itself is taken.
+    let largest = f64::from(f32::MAX);
+    let doc = edited(|doc| doc["glyphs"][0]["coeffs"][1][3] = json!(largest));
+    assert_eq!(parse(&doc).unwrap().glyph_sets[0].coeffs[1][3], largest);
+}
+
 #[test]
 fn camera_must_define_a_view() {
     let doc = edited(|doc| doc["camera"]["target"] = json!([0, -6, 2]));
