@@ -131,7 +131,7 @@ pub(crate) fn description_field(image: &Image) -> &'static str {
 const BASIS_KEY: &str = "glyphcast_sh_basis";
 
 /// The basis `image` records: in its description (a description of another kind records
-/// none), and in a `.mif` also under [`BASIS_KEY`]. A basis name glyphcast does not know,
+/// none), and in a `.mif` also under `glyphcast_sh_basis`. A basis name glyphcast does not know,
 /// or two records that disagree, are errors naming the file and the field: such a file
 /// is not read in a basis it may not be in.
 pub fn recorded_basis(image: &Image) -> Result<Option<RecordedBasis>> {
