@@ -354,14 +354,10 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
             gpu_plan(args, &sweep["gpu".len()..], &mut plan)?;
         }
         Some(other) => {
-            return Err(Error::Flag {
-                flag: "--sweep",
-                message: format!(
-                    "'{}' is not one of steps, scaling, table2, methods, ratios, gpu[:COUNTS]",
-                    glyphcast::error::quoted(other)
-                )
-                .into(),
-            });
+            return Err(bad_sweep(format!(
+                "'{}' is not one of steps, scaling, table2, methods, ratios, gpu[:COUNTS]",
+                glyphcast::error::quoted(other)
+            )));
         }
     }
     Ok(plan)
@@ -396,13 +392,11 @@ fn gpu_plan(args: &BenchArgs, counts: &str, plan: &mut Plan) -> Result<()> {
                     .parse::<usize>()
                     .ok()
                     .filter(|&n| n > 0)
-                    .ok_or_else(|| Error::Flag {
-                        flag: "--sweep",
-                        message: format!(
+                    .ok_or_else(|| {
+                        bad_sweep(format!(
                             "gpu:{list}: '{}' is not a glyph count",
                             glyphcast::error::quoted(c)
-                        )
-                        .into(),
+                        ))
                     })
             })
             .collect::<Result<_>>()?,
@@ -593,4 +587,12 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     print!("{table}");
     Ok(())
+}
+
+/// A `--sweep` value refused: what is wrong and what is accepted.
+fn bad_sweep(message: String) -> Error {
+    Error::Flag {
+        flag: "--sweep",
+        message: message.into(),
+    }
 }
