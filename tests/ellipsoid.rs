@@ -208,10 +208,6 @@ fn dti_volume_renders_as_ellipsoids_through_the_cli() {
         "2",
         "--glyph",
         "ellipsoid",
-        // Ellipsoids have no negative lobes: the flag leaves them (and the saved scene)
-        // alone.
-        "--negative",
-        "hide",
         "--width",
         "200",
         "--height",
