@@ -195,16 +195,13 @@ mod tests {
 
     /// The matrix the rows above hold, built independently of any parsing.
     fn expected() -> Voigt {
-        let mut c = [[0.0; 6]; 6];
-        let mut next = 1.0;
-        for i in 0..6 {
-            for j in i..6 {
-                c[i][j] = next;
-                c[j][i] = next;
-                next += 1.0;
-            }
-        }
-        c
+        // Entry (a, b), a ≤ b, is its 1-based place in the row-major upper triangle.
+        std::array::from_fn(|i| {
+            std::array::from_fn(|j| {
+                let (a, b) = (i.min(j), i.max(j));
+                (a * 6 - a * a.saturating_sub(1) / 2 + (b - a) + 1) as f64
+            })
+        })
     }
 
     #[test]

@@ -68,10 +68,12 @@ impl Stiffness {
         check_finite(&c)?;
         check_symmetric(&c)?;
         let c = symmetric_part(&c);
-        let matrix = Matrix6::from_fn(|i, j| c[i][j]);
+        // Work on C / max|C| so that no magnitude of input overflows the eigensolver.
+        let scale = largest_entry(&c);
+        let scale = if scale > 0.0 { scale } else { 1.0 };
+        let matrix = Matrix6::from_fn(|i, j| c[i][j] / scale);
         let eigenvalues = SymmetricEigen::new(matrix).eigenvalues;
-        let smallest = eigenvalues.min();
-        let largest_magnitude = eigenvalues.amax();
+        let smallest = eigenvalues.min() * scale;
         if smallest <= 0.0 && !options.allow_unstable {
             return Err(Error::Unstable {
                 smallest_eigenvalue: smallest,
@@ -81,17 +83,20 @@ impl Stiffness {
             .iter()
             .copied()
             .fold(f64::INFINITY, |a, e| if e.abs() < a.abs() { e } else { a });
-        if nearest_zero.abs() <= SINGULAR_TOLERANCE * largest_magnitude {
-            return Err(Error::Singular {
-                smallest_eigenvalue: nearest_zero,
-            });
+        let singular = Error::Singular {
+            smallest_eigenvalue: nearest_zero * scale,
+        };
+        if nearest_zero.abs() <= SINGULAR_TOLERANCE * eigenvalues.amax() {
+            return Err(singular);
         }
-        let inverse = matrix.try_inverse().ok_or(Error::Singular {
-            smallest_eigenvalue: nearest_zero,
-        })?;
+        let inverse = matrix.try_inverse().ok_or(singular.clone())?;
         let compliance = symmetric_part(&std::array::from_fn(|i| {
-            std::array::from_fn(|j| inverse[(i, j)])
+            std::array::from_fn(|j| inverse[(i, j)] / scale)
         }));
+        // A compliance beyond float64's range (a stiffness near its smallest numbers).
+        if !compliance.iter().flatten().all(|x| x.is_finite()) {
+            return Err(singular);
+        }
         Ok(Self::from_parts(c, compliance))
     }
 
@@ -330,20 +335,22 @@ fn check_finite(c: &Voigt) -> Result<(), Error> {
 
 /// Refuses a matrix with `|C_ij - C_ji| > 1e-6 · max|C|`, naming the first such pair.
 fn check_symmetric(c: &Voigt) -> Result<(), Error> {
-    let largest = c.iter().flatten().fold(0.0_f64, |a, x| a.max(x.abs()));
-    for i in 0..6 {
-        for j in i + 1..6 {
-            if (c[i][j] - c[j][i]).abs() > SYMMETRY_TOLERANCE * largest {
-                return Err(Error::NotSymmetric {
-                    row: i + 1,
-                    column: j + 1,
-                    upper: c[i][j],
-                    lower: c[j][i],
-                });
-            }
-        }
+    let largest = largest_entry(c);
+    let mut upper_pairs = (0..6).flat_map(|i| (i + 1..6).map(move |j| (i, j)));
+    match upper_pairs.find(|&(i, j)| (c[i][j] - c[j][i]).abs() > SYMMETRY_TOLERANCE * largest) {
+        Some((i, j)) => Err(Error::NotSymmetric {
+            row: i + 1,
+            column: j + 1,
+            upper: c[i][j],
+            lower: c[j][i],
+        }),
+        None => Ok(()),
     }
-    Ok(())
+}
+
+/// `max |C_ij|`.
+fn largest_entry(c: &Voigt) -> f64 {
+    c.iter().flatten().fold(0.0_f64, |a, x| a.max(x.abs()))
 }
 
 /// `(A + Aᵀ) / 2`.
@@ -357,14 +364,13 @@ mod tests {
 
     /// An isotropic stiffness from the Lamé constants.
     fn isotropic(lambda: f64, mu: f64) -> Voigt {
-        let mut c = [[0.0; 6]; 6];
-        for i in 0..3 {
-            for j in 0..3 {
-                c[i][j] = lambda + if i == j { 2.0 * mu } else { 0.0 };
-            }
-            c[i + 3][i + 3] = mu;
-        }
-        c
+        std::array::from_fn(|i| {
+            std::array::from_fn(|j| match (i < 3, j < 3) {
+                (true, true) => lambda + if i == j { 2.0 * mu } else { 0.0 },
+                _ if i == j => mu,
+                _ => 0.0,
+            })
+        })
     }
 
     #[test]
@@ -374,11 +380,13 @@ mod tests {
         c[3][0] = 5.0;
         let stiffness = Stiffness::new(c).unwrap();
         let s = stiffness.compliance();
-        for i in 0..6 {
-            for j in 0..6 {
-                let product: f64 = (0..6).map(|k| c[i][k] * s[k][j]).sum();
+        let product: Voigt = std::array::from_fn(|i| {
+            std::array::from_fn(|j| (0..6).map(|k| c[i][k] * s[k][j]).sum())
+        });
+        for (i, row) in product.iter().enumerate() {
+            for (j, entry) in row.iter().enumerate() {
                 let identity = if i == j { 1.0 } else { 0.0 };
-                assert!((product - identity).abs() < 1e-12, "({i},{j}): {product}");
+                assert!((entry - identity).abs() < 1e-12, "({i},{j}): {entry}");
             }
         }
     }
@@ -435,6 +443,21 @@ mod tests {
             Stiffness::with_options([[0.0; 6]; 6], allowed),
             Err(Error::Singular { .. })
         ));
+    }
+
+    #[test]
+    fn extreme_magnitudes_are_handled() {
+        let c = isotropic(50.0, 30.0);
+        let e = Stiffness::new(c).unwrap().young([1.0, 2.0, 3.0]).unwrap();
+        for scale in [1e-300, 1e300] {
+            let scaled = c.map(|row| row.map(|x| x * scale));
+            let stiffness = Stiffness::new(scaled).unwrap();
+            let ratio = stiffness.young([1.0, 2.0, 3.0]).unwrap() / (e * scale);
+            assert!((ratio - 1.0).abs() < 1e-12, "{scale}: {ratio}");
+        }
+        // Subnormal stiffness: the compliance overflows; refused, not infinite.
+        let tiny = c.map(|row| row.map(|x| x * 1e-320));
+        assert!(matches!(Stiffness::new(tiny), Err(Error::Singular { .. })));
     }
 
     #[test]

@@ -87,7 +87,7 @@ impl Summary {
         let _ = writeln!(out, "Average properties");
         let _ = writeln!(
             out,
-            "{:<8}{:>20}{:>20}{:>20}{:>20}",
+            "{:<8}{:>24}{:>26}{:>24}{:>18}",
             "",
             format!("Bulk modulus ({units})"),
             format!("Young's modulus ({units})"),
@@ -103,7 +103,7 @@ impl Summary {
             let poisson = (3.0 * k - 2.0 * g) / (2.0 * (3.0 * k + g));
             let _ = writeln!(
                 out,
-                "{name:<8}{:>20}{:>20}{:>20}{:>20}",
+                "{name:<8}{:>24}{:>26}{:>24}{:>18}",
                 significant(k),
                 significant(young),
                 significant(g),
@@ -117,7 +117,7 @@ impl Summary {
         let _ = writeln!(out, "Variations of the elastic moduli");
         let _ = writeln!(
             out,
-            "{:<34}{:>16}{:>16}{:>12}",
+            "{:<34}{:>24}{:>24}{:>12}",
             "", "Min", "Max", "Anisotropy"
         );
         let rows = [
@@ -145,7 +145,7 @@ impl Summary {
         for (index, (name, min, max)) in rows.into_iter().enumerate() {
             let _ = writeln!(
                 out,
-                "{name:<34}{:>16}{:>16}{:>12}",
+                "{name:<34}{:>24}{:>24}{:>12}",
                 significant(min),
                 significant(max),
                 anisotropy(min, max)
@@ -153,7 +153,7 @@ impl Summary {
             if index == 0 {
                 let _ = writeln!(
                     out,
-                    "{:<34}{:>16}{:>16}",
+                    "{:<34}{:>24}{:>24}",
                     "  axis",
                     axis(self.young.min_direction),
                     axis(self.young.max_direction)

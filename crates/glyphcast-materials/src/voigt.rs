@@ -90,7 +90,7 @@ pub fn contract(t: &Tensor4, a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3])
 
 /// The 3x3 matrix `M_jl = Σ t_ijkl a_i c_k` (two slots filled, the second and fourth
 /// left open): `t(a, v, c, w) = vᵀ M w`.
-pub fn partial_contract_13(t: &Tensor4, a: [f64; 3], c: [f64; 3]) -> [[f64; 3]; 3] {
+pub(crate) fn partial_contract_13(t: &Tensor4, a: [f64; 3], c: [f64; 3]) -> [[f64; 3]; 3] {
     let mut m = [[0.0; 3]; 3];
     for (i, plane) in t.iter().enumerate() {
         for (j, block) in plane.iter().enumerate() {
@@ -105,7 +105,7 @@ pub fn partial_contract_13(t: &Tensor4, a: [f64; 3], c: [f64; 3]) -> [[f64; 3]; 
 }
 
 /// The 3x3 matrix `M_kl = Σ t_ijkl a_i b_j` (first two slots filled): `t(a, b, v, w) = vᵀ M w`.
-pub fn partial_contract_12(t: &Tensor4, a: [f64; 3], b: [f64; 3]) -> [[f64; 3]; 3] {
+pub(crate) fn partial_contract_12(t: &Tensor4, a: [f64; 3], b: [f64; 3]) -> [[f64; 3]; 3] {
     let mut m = [[0.0; 3]; 3];
     for (i, plane) in t.iter().enumerate() {
         for (j, block) in plane.iter().enumerate() {
