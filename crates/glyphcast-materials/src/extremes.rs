@@ -53,7 +53,7 @@ pub struct PairExtremes {
 
 impl Stiffness {
     /// The smallest and largest Young's modulus over all directions, with the
-    /// directions reaching them (searched; see the module notes).
+    /// directions reaching them (searched, as the [crate](crate) notes describe).
     pub fn young_extremes(&self) -> DirectionalExtremes {
         // E = 1/q with q(u) = s(u,u,u,u): search q, which stays finite.
         let q = |u: [f64; 3]| self.inverse_young_unit(u);
@@ -93,7 +93,8 @@ impl Stiffness {
     }
 
     /// The smallest and largest shear modulus over all perpendicular pairs: the
-    /// minimum over `u` of `Gmin(u)` and the maximum over `u` of `Gmax(u)` (searched).
+    /// minimum over `u` of `Gmin(u)` and the maximum over `u` of `Gmax(u)` (searched,
+    /// as the [crate](crate) notes describe).
     pub fn shear_extremes(&self) -> PairExtremes {
         // 1/G = 4 s(u,v,u,v) is smooth and finite: search it.
         let inverse = |u: [f64; 3], v: [f64; 3]| self.inverse_shear_unit(u, v);
@@ -115,7 +116,8 @@ impl Stiffness {
     }
 
     /// The smallest and largest Poisson's ratio over all perpendicular pairs: the
-    /// minimum over `u` of `νmin(u)` and the maximum over `u` of `νmax(u)` (searched).
+    /// minimum over `u` of `νmin(u)` and the maximum over `u` of `νmax(u)` (searched,
+    /// as the [crate](crate) notes describe).
     pub fn poisson_extremes(&self) -> PairExtremes {
         let nu = |u: [f64; 3], v: [f64; 3]| self.poisson_unit(u, v);
         let low = search_pairs(&nu, &|u| {

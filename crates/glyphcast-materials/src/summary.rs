@@ -191,6 +191,27 @@ fn significant(x: f64) -> String {
 mod tests {
     use super::*;
 
+    /// An allowed unstable crystal (negative bulk modulus) still summarises, without
+    /// a panic, and serialises.
+    #[test]
+    fn unstable_crystal_summarises() {
+        let (lambda, mu) = (-30.0, 30.0);
+        let c: crate::Voigt = std::array::from_fn(|i| {
+            std::array::from_fn(|j| match (i < 3, j < 3) {
+                (true, true) => lambda + if i == j { 2.0 * mu } else { 0.0 },
+                _ if i == j => mu,
+                _ => 0.0,
+            })
+        });
+        let options = crate::Options {
+            allow_unstable: true,
+        };
+        let summary = Stiffness::with_options(c, options).unwrap().summary();
+        assert!(summary.linear_compressibility.max < 0.0);
+        assert!(serde_json::to_string(&summary).is_ok());
+        assert!(!summary.to_table("GPa").is_empty());
+    }
+
     #[test]
     fn significant_digits() {
         assert_eq!(significant(168.4), "168.400");
