@@ -129,21 +129,13 @@ pub mod camera;
 pub mod catalog;
 pub mod demo;
 pub mod error;
-#[cfg(feature = "volume")]
-pub mod fit;
 pub mod glyph;
 pub mod io;
 pub mod parallel;
-#[cfg(feature = "volume")]
-pub mod qc;
 pub mod render;
 pub mod rng;
 pub mod scene;
-#[cfg(feature = "viewer")]
-pub mod viewer;
 pub mod vk;
-#[cfg(feature = "volume")]
-pub mod volume;
 
 pub use error::{Asked, Error, Result, Setting};
 

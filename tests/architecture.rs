@@ -71,7 +71,7 @@ fn crate_modules(text: &str) -> Vec<(usize, String)> {
 
 /// The places below `folder` that reach one of `forbidden`.
 fn violations(folder: &str, forbidden: &[&str]) -> Vec<String> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     let mut found = Vec::new();
     for file in sources(&root.join(folder)) {
         let text = fs::read_to_string(&file).unwrap();
@@ -111,7 +111,7 @@ fn volume_does_not_import_fit() {
 /// The code of every library source below `src/` (comments, the trailing
 /// `#[cfg(test)] mod tests` and the test modules' own files left out), with its path.
 fn library_code() -> Vec<(String, Vec<(usize, String)>)> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     sources(&root.join("src"))
         .into_iter()
         .filter(|file| {
@@ -167,7 +167,7 @@ fn device_limits_are_read_in_the_device_context() {
 /// generator (`build/table.rs`): the table's formatting lives in the generator.
 #[test]
 fn build_script_main_is_short() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     let text = fs::read_to_string(root.join("build.rs")).unwrap();
     let start = text.find("\nfn main() {").expect("build.rs has a main");
     let body = &text[start + 1..];
@@ -182,7 +182,7 @@ fn build_script_main_is_short() {
 /// shader table, nor in the library.
 #[test]
 fn library_shader_table_has_no_example_shaders() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     let mut files = sources(&root.join("build"));
     files.push(root.join("build.rs"));
     files.extend(sources(&root.join("src")));
@@ -206,7 +206,7 @@ fn library_shader_table_has_no_example_shaders() {
 /// `render/compose/` and the doc-hidden GLSL harnesses in `render/harness/`.
 #[test]
 fn render_keeps_each_kind_in_its_folder() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/render");
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("src/render");
     for (folder, files) in [
         (
             "compose",
@@ -247,7 +247,7 @@ fn the_colour_bar_is_made_in_one_place() {
 /// with all features on as well as with none, warnings denied.
 #[test]
 fn missing_docs_holds_for_every_feature_set() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     for crate_root in ["src/lib.rs", "capi/src/lib.rs"] {
         let text = fs::read_to_string(root.join(crate_root)).unwrap();
         assert!(
@@ -291,7 +291,7 @@ const MOST_STRING_ERRORS: usize = 3;
 /// code follows from the variant (`Error::is_usage`).
 #[test]
 fn errors_have_no_bare_sentence_variant() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     let text = fs::read_to_string(root.join("src/error.rs")).unwrap();
     let bare: Vec<&str> = text
         .lines()
@@ -332,7 +332,7 @@ fn string_carrying_errors_stay_few() {
 /// API; settings travel as typed fields or `Message` pieces.
 #[test]
 fn no_setting_is_parsed_out_of_a_message() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     let mut found = Vec::new();
     for dir in ["src", "python/src", "capi/src"] {
         for file in sources(&root.join(dir)) {

@@ -6,7 +6,7 @@ use common::{fresh_dir, glyphcast};
 use std::path::{Path, PathBuf};
 
 fn scenes() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes")
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("tests/scenes")
 }
 
 /// Runs `render` on `scene`, expects failure, and returns the error line.

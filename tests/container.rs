@@ -9,7 +9,7 @@ use std::process::Command;
 mod common;
 
 fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
 }
 
 fn recipe(name: &str) -> String {

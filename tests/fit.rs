@@ -3,8 +3,8 @@
 //! the measured ADCs better, the SH fit reproduces the signal to within its noise, the
 //! output is a NIfTI with the input's geometry, and bad input fails cleanly.
 use glam::DVec3;
-use glyphcast::fit::voxel::SIGNAL_FLOOR;
-use glyphcast::fit::{FitFiles, FitInputs, FitModel, VoxelFitter, fit};
+use glyphcast_dmri::fit::voxel::SIGNAL_FLOOR;
+use glyphcast_dmri::fit::{FitFiles, FitInputs, FitModel, VoxelFitter, fit};
 use glyphcast::glyph::polynomial::GlyphPolynomial;
 use glyphcast::glyph::{Symmetry, TensorLayout};
 use glyphcast::scene::ShBasis;
@@ -14,7 +14,7 @@ use nifti::{IntoNdArray, NiftiObject, ReaderOptions};
 use std::path::{Path, PathBuf};
 
 fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
         .join("tests/data/dipy")
         .join(name)
 }

@@ -5,10 +5,10 @@
 mod common;
 use common::{dipy_data, fit_small_64d, fresh_dir, glyphcast, text};
 use glam::{DMat4, DVec3};
-use glyphcast::fit::peaks::{PeakFinder, PeakOptions};
-use glyphcast::fit::response::{DEFAULT_RESPONSE_FA, estimate_response};
-use glyphcast::fit::{FitFiles, FitInputs};
-use glyphcast::io::image::read_image;
+use glyphcast_dmri::fit::peaks::{PeakFinder, PeakOptions};
+use glyphcast_dmri::fit::response::{DEFAULT_RESPONSE_FA, estimate_response};
+use glyphcast_dmri::fit::{FitFiles, FitInputs};
+use glyphcast_dmri::io::image::read_image;
 use glyphcast::rng::SplitMix64;
 use glyphcast::scene::ShBasis;
 use ndarray::{ArrayD, IxDyn};
@@ -84,9 +84,9 @@ fn automatic_response_chooses_tissue_and_says_which() {
     // Without the tissue mask the air would have counted: many of its noise tensors
     // have FA above the threshold.
     let inputs = small_64d(head.clone());
-    let dti = glyphcast::fit::fit(
+    let dti = glyphcast_dmri::fit::fit(
         &inputs,
-        &glyphcast::fit::FitModel::Tensor { order: 2 },
+        &glyphcast_dmri::fit::FitModel::Tensor { order: 2 },
         &mut |_| {},
     )
     .unwrap();
@@ -95,7 +95,7 @@ fn automatic_response_chooses_tissue_and_says_which() {
         .filter(|v| v.iter().any(|&i| !(7..17).contains(&i)))
         .filter(|&[x, y, z]| {
             let c: Vec<f64> = (0..6).map(|k| dti[[x, y, z, k]]).collect();
-            glyphcast::fit::dti::DiffusionTensor::from_coefficients(&c).is_some_and(|t| {
+            glyphcast_dmri::fit::dti::DiffusionTensor::from_coefficients(&c).is_some_and(|t| {
                 t.eigenvalues[2] > 0.0 && t.fractional_anisotropy() > DEFAULT_RESPONSE_FA
             })
         })
@@ -165,21 +165,21 @@ fn csd_order_12_from_an_order_8_response() {
     let finder =
         |band| PeakFinder::new(band, ShBasis::Tournier07, false, PeakOptions::default()).unwrap();
     let (f8, f12) = (finder(8), finder(12));
-    let dti = glyphcast::fit::fit(
+    let dti = glyphcast_dmri::fit::fit(
         &inputs,
-        &glyphcast::fit::FitModel::Tensor { order: 2 },
+        &glyphcast_dmri::fit::FitModel::Tensor { order: 2 },
         &mut |_| {},
     )
     .unwrap();
     let mut angles = Vec::new();
     for ((x, y, z), _) in dti.index_axis(ndarray::Axis(3), 0).indexed_iter() {
         let c: Vec<f64> = (0..6).map(|k| dti[[x, y, z, k]]).collect();
-        let fa = glyphcast::fit::dti::DiffusionTensor::from_coefficients(&c)
+        let fa = glyphcast_dmri::fit::dti::DiffusionTensor::from_coefficients(&c)
             .map_or(0.0, |t| t.fractional_anisotropy());
         if fa <= 0.6 {
             continue;
         }
-        let lane = |image: &glyphcast::io::image::Image, n| -> Vec<f64> {
+        let lane = |image: &glyphcast_dmri::io::image::Image, n| -> Vec<f64> {
             (0..n).map(|k| image.data[[x, y, z, k]]).collect()
         };
         let (p8, p12) = (f8.find(&lane(&a, 45)), f12.find(&lane(&b, 91)));

@@ -13,10 +13,10 @@ mod common;
 
 use common::{dipy_data, flipped_in_x, glyphcast, text, write_nifti};
 use glam::DMat4;
-use glyphcast::io::image::read_image;
-use glyphcast::io::mif::write::mif_bytes;
-use glyphcast::io::mif::{MifWrite, write_mif};
-use glyphcast::io::nifti::{AffineSource, VoxelToWorld};
+use glyphcast_dmri::io::image::read_image;
+use glyphcast_dmri::io::mif::write::mif_bytes;
+use glyphcast_dmri::io::mif::{MifWrite, write_mif};
+use glyphcast_dmri::io::nifti::{AffineSource, VoxelToWorld};
 use glyphcast::io::npy::read_npy_f32;
 use ndarray::ArrayD;
 use std::path::{Path, PathBuf};

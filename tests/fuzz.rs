@@ -15,11 +15,11 @@
 //! `cargo test --test fuzz -- --ignored write_corpus`.
 mod common;
 
-use glyphcast::fit::gradients::GradientTable;
+use glyphcast_dmri::fit::gradients::GradientTable;
 use glyphcast::glyph::stiffness::VoigtStiffness;
-use glyphcast::io::mif::{MifWrite, read_mif, write_mif};
-use glyphcast::io::nifti::read_nifti_bytes;
-use glyphcast::io::nifti::write::nifti1_bytes;
+use glyphcast_dmri::io::mif::{MifWrite, read_mif, write_mif};
+use glyphcast_dmri::io::nifti::read_nifti_bytes;
+use glyphcast_dmri::io::nifti::write::nifti1_bytes;
 use glyphcast::rng::SplitMix64;
 use glyphcast::scene::Scene;
 use std::io::Read;
@@ -30,7 +30,7 @@ use std::time::{Duration, Instant};
 const READERS: u32 = 5;
 
 fn corpus_dir(reader: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
         .join("tests/fuzz/corpus")
         .join(reader)
 }
@@ -397,12 +397,12 @@ fn a_panicking_reader_fails_the_run() {
 #[ignore]
 fn write_corpus() {
     let data = |name: &str| {
-        PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
             .join("tests/data/dipy")
             .join(name)
     };
-    let coef = glyphcast::io::nifti::read_nifti(&data("func_coef.nii.gz")).unwrap();
-    let dwi = glyphcast::io::nifti::read_nifti(&data("small_64D.nii")).unwrap();
+    let coef = glyphcast_dmri::io::nifti::read_nifti(&data("func_coef.nii.gz")).unwrap();
+    let dwi = glyphcast_dmri::io::nifti::read_nifti(&data("small_64D.nii")).unwrap();
     let corner = dwi
         .data
         .slice(ndarray::s![..2, ..2, ..2, ..])

@@ -14,7 +14,7 @@ fn path_str(path: &Path) -> &str {
 }
 
 fn scene(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
         .join("tests/scenes")
         .join(name)
 }

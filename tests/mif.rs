@@ -10,11 +10,11 @@ mod common;
 use common::{dipy_data, expect_failure, glyphcast, text};
 
 use glam::{DMat3, DMat4, DVec3};
-use glyphcast::io::image::{ImageHeader, read_image};
-use glyphcast::io::mif::read_mif;
-use glyphcast::io::nifti::{AffineSource, VoxelToWorld};
+use glyphcast_dmri::io::image::{ImageHeader, read_image};
+use glyphcast_dmri::io::mif::read_mif;
+use glyphcast_dmri::io::nifti::{AffineSource, VoxelToWorld};
 use glyphcast::scene::{GlyphKind, ShBasis};
-use glyphcast::volume::{Reorientation, VolumeKind, load_mask, load_volume};
+use glyphcast_dmri::volume::{Reorientation, VolumeKind, load_mask, load_volume};
 use ndarray::{Array3, ArrayD, IxDyn};
 use std::io::Write;
 use std::path::{Path, PathBuf};

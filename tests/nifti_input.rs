@@ -10,15 +10,15 @@ mod common;
 
 use common::nifti::{gzip, nifti2_bytes, set_f32, set_i16, with_vox_offset};
 use common::{expect_failure, glyphcast};
-use glyphcast::io::image::read_image;
-use glyphcast::io::nifti::read_nifti;
-use glyphcast::io::nifti::write::nifti1_bytes;
+use glyphcast_dmri::io::image::read_image;
+use glyphcast_dmri::io::nifti::read_nifti;
+use glyphcast_dmri::io::nifti::write::nifti1_bytes;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
 fn data(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
         .join("tests/data/dipy")
         .join(name)
 }
@@ -300,7 +300,7 @@ fn a_tiny_file_declaring_a_huge_volume_is_refused_without_allocating_it() {
     }
     // Volumes that fit in their files but not under the memory cap (NIfTI, and MRtrix
     // plain and compressed).
-    let corpus = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fuzz/corpus/mif");
+    let corpus = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("tests/fuzz/corpus/mif");
     for path in [
         data("func_coef.nii.gz"),
         corpus.join("func_coef.mif"),

@@ -16,11 +16,11 @@ use common::{
     largest_difference, numbers, text,
 };
 use glam::DVec3;
-use glyphcast::fit::csd::{CsdFitter, CsdParameters};
-use glyphcast::fit::dti::DiffusionTensor;
-use glyphcast::fit::peaks::{PeakFinder, PeakOptions};
-use glyphcast::fit::response::{DEFAULT_RESPONSE_FA, estimate_response};
-use glyphcast::fit::{
+use glyphcast_dmri::fit::csd::{CsdFitter, CsdParameters};
+use glyphcast_dmri::fit::dti::DiffusionTensor;
+use glyphcast_dmri::fit::peaks::{PeakFinder, PeakOptions};
+use glyphcast_dmri::fit::response::{DEFAULT_RESPONSE_FA, estimate_response};
+use glyphcast_dmri::fit::{
     CsdAlgorithm, FitInputs, FitModel, OdfMethod, OdfModel, Response, fit, fit_with_response,
 };
 use glyphcast::glyph::sh::{sh_count, sh_eval};
@@ -39,7 +39,7 @@ fn inputs() -> FitInputs {
 }
 
 fn fixture() -> Value {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/dipy/odf-dipy.json");
+    let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("tests/data/dipy/odf-dipy.json");
     let text = std::fs::read_to_string(&path).expect("reading the DIPY fixture");
     serde_json::from_str(&text).expect("parsing the DIPY fixture")
 }

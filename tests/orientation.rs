@@ -373,7 +373,7 @@ fn labels_are_drawn_at_the_four_edges_only() {
 #[test]
 fn labels_and_orientation_need_a_volume() {
     let dir = fresh_dir("scene");
-    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes");
+    let scene = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("tests/scenes");
     let first = std::fs::read_dir(&scene)
         .expect("scene folder")
         .filter_map(|e| e.ok().map(|e| e.path()))

@@ -10,7 +10,7 @@ use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
 use glyphcast::glyph::capsule::Capsule;
 use glyphcast::glyph::reference::reference_depth;
 use glyphcast::glyph::sh::sh_eval;
-use glyphcast::io::image::read_image;
+use glyphcast_dmri::io::image::read_image;
 use glyphcast::io::npy::read_npy_f32;
 use glyphcast::render::RenderSettings;
 use glyphcast::render::glyph_data::prepare_scene;
@@ -18,7 +18,7 @@ use glyphcast::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
 use glyphcast::render::peaks::{PeakSegment, PeakSet};
 use glyphcast::rng::SplitMix64;
 use glyphcast::scene::{GlyphKind, ImageSize, Scene};
-use glyphcast::volume::{Coefficients, VolumeFigure, VolumeRequest};
+use glyphcast_dmri::volume::{Coefficients, VolumeFigure, VolumeRequest};
 use std::path::{Path, PathBuf};
 
 /// Depth tolerance: 1e-4 of the voxel size (1 world unit in the synthetic scenes).
@@ -291,7 +291,7 @@ fn assert_peaks_along_lobes(
 ) -> usize {
     let request = VolumeRequest {
         basis: basis.map(str::to_string),
-        peaks: Some(glyphcast::volume::ImageSource::File(peaks.to_path_buf())),
+        peaks: Some(glyphcast_dmri::volume::ImageSource::File(peaks.to_path_buf())),
         peaks_frame: peaks_frame.map(str::to_string),
         ..Default::default()
     };
@@ -453,7 +453,7 @@ fn world_frame_mif(fod: &Path, to: &Path) -> PathBuf {
         legacy: true,
     };
     let r = image.voxel_to_world.orthogonal_factor().expect("R");
-    let turn = glyphcast::volume::Reorientation::new(r);
+    let turn = glyphcast_dmri::volume::Reorientation::new(r);
     let mut world = image.data.clone();
     for mut lane in world.lanes_mut(ndarray::Axis(3)) {
         let voxel: Vec<f64> = lane.iter().copied().collect();
@@ -467,9 +467,9 @@ fn world_frame_mif(fod: &Path, to: &Path) -> PathBuf {
             *out = v;
         }
     }
-    glyphcast::io::mif::write_mif(
+    glyphcast_dmri::io::mif::write_mif(
         to,
-        &glyphcast::io::mif::MifWrite {
+        &glyphcast_dmri::io::mif::MifWrite {
             data: &world,
             voxel_to_world: &image.voxel_to_world,
             keys: &[("glyphcast_sh_basis", "descoteaux07 legacy".to_string())],
@@ -481,7 +481,7 @@ fn world_frame_mif(fod: &Path, to: &Path) -> PathBuf {
 
 /// Writes `data` with `image`'s affine at `to`.
 fn write_like(
-    image: &glyphcast::io::image::Image,
+    image: &glyphcast_dmri::io::image::Image,
     data: &ndarray::ArrayD<f64>,
     to: &Path,
 ) -> String {
@@ -491,7 +491,7 @@ fn write_like(
 
 /// DIPY's layout of the MRtrix-layout `peaks`: unit directions (5D [x, y, z, N, 3] if
 /// `five`, else 4D [x, y, z, 3N]) with zeros where absent, and amplitudes [x, y, z, N].
-fn dipy_layout(peaks: &glyphcast::io::image::Image, dir: &Path, five: bool) -> (String, String) {
+fn dipy_layout(peaks: &glyphcast_dmri::io::image::Image, dir: &Path, five: bool) -> (String, String) {
     let s = peaks.data.shape().to_vec();
     let n = s[3] / 3;
     let mut dirs = ndarray::ArrayD::<f64>::zeros(if five {

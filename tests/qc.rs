@@ -223,7 +223,7 @@ fn a_mask_underlay_and_peaks_are_used_and_recorded() {
     // A mask of the voxels with i < 5, and its copy as a (scalar) underlay.
     let mut mask = ndarray::ArrayD::<f64>::zeros(ndarray::IxDyn(&[10, 10, 10]));
     mask.slice_mut(ndarray::s![..5, .., ..]).fill(1.0);
-    let affine = glyphcast::io::image::read_image(fod())
+    let affine = glyphcast_dmri::io::image::read_image(fod())
         .expect("reading the fit")
         .voxel_to_world
         .affine;

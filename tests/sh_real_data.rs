@@ -17,7 +17,7 @@ const BAND: u32 = 8;
 const TOLERANCE: f64 = 5e-4;
 
 fn data_path(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
         .join("tests/data/dipy")
         .join(name)
 }

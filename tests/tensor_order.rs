@@ -6,12 +6,12 @@
 mod common;
 use common::{axis_angle, fit_small_64d, fresh_dir, glyphcast, text};
 use glam::{DMat3, DMat4, DQuat, DVec3, EulerRot};
-use glyphcast::io::image::read_image;
-use glyphcast::io::mif::{MifWrite, write_mif};
-use glyphcast::io::nifti::{AffineSource, VoxelToWorld};
+use glyphcast_dmri::io::image::read_image;
+use glyphcast_dmri::io::mif::{MifWrite, write_mif};
+use glyphcast_dmri::io::nifti::{AffineSource, VoxelToWorld};
 use glyphcast::io::npy::read_npy_f32;
 use glyphcast::scene::Scene;
-use glyphcast::volume::{Coefficients, Volume, VolumeRequest};
+use glyphcast_dmri::volume::{Coefficients, Volume, VolumeRequest};
 use nalgebra::{Matrix3, SymmetricEigen};
 use ndarray::{Array4, ArrayD, IxDyn};
 use std::path::{Path, PathBuf};

@@ -18,7 +18,7 @@ use glyphcast::render::settings::parse_background;
 use glyphcast::render::underlay::{Underlay, UnderlayPlane, UnderlayVolume};
 use glyphcast::rng::SplitMix64;
 use glyphcast::scene::{GlyphSet, ImageSize, Scene};
-use glyphcast::volume::load_underlay;
+use glyphcast_dmri::volume::load_underlay;
 use ndarray::{ArrayD, IxDyn};
 use std::path::Path;
 use std::sync::Arc;
@@ -573,12 +573,12 @@ fn underlay_errors_name_the_file_and_the_field() {
     let four = four.display().to_string();
     run(1, &["--underlay", &four], &["four.nii", "dim", "4x4x4x2"]);
     // No sform or qform: no place in world space.
-    let header = glyphcast::io::nifti::NiftiHeader {
+    let header = glyphcast_dmri::io::nifti::NiftiHeader {
         pixdim: [1.0; 8],
         ..Default::default()
     };
     let data = ArrayD::<f64>::from_elem(IxDyn(&[4, 4, 4]), 1.0);
-    let bytes = glyphcast::io::nifti::write::nifti1_bytes(&header, data.view(), false, "bare")
+    let bytes = glyphcast_dmri::io::nifti::write::nifti1_bytes(&header, data.view(), false, "bare")
         .expect("encoding");
     let bare = inputs.join("bare.nii");
     std::fs::write(&bare, bytes).expect("writing");

@@ -179,11 +179,11 @@ fn three_slices_move_one_at_a_time() {
     let output = x.view(&args);
     assert_clean(&output);
 
-    let sh = glyphcast::volume::VolumeKind::Sh {
+    let sh = glyphcast_dmri::volume::VolumeKind::Sh {
         basis: glyphcast::scene::ShBasis::Tournier07,
         legacy: true,
     };
-    let loaded = glyphcast::volume::load_volume(Path::new(&volume), sh).expect("the volume");
+    let loaded = glyphcast_dmri::volume::load_volume(Path::new(&volume), sh).expect("the volume");
     let middle = loaded.dims.map(|n| n / 2);
     let planes = [middle[0], middle[1] + 1, middle[2] - 1];
     let map = &loaded.voxel_to_world;

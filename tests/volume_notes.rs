@@ -53,17 +53,17 @@ fn views_skip_an_empty_middle_slice_to_the_nearest_with_glyphs() {
     let (w, h, _) = glyphcast::io::png::read_png_rgba8(&png).expect("png");
     assert_eq!((w, h), (3 * 64, 64));
     // The viewer's plan (it builds each panel itself) moves the slice alike.
-    let request = glyphcast::volume::VolumeRequest {
+    let request = glyphcast_dmri::volume::VolumeRequest {
         order: Some(2),
         tensor_order: Some("glyphcast".into()),
         views: Some("axial,coronal".into()),
         ..Default::default()
     };
     let volume = request
-        .read_volume(glyphcast::volume::Coefficients::Tensor, &path)
+        .read_volume(glyphcast_dmri::volume::Coefficients::Tensor, &path)
         .expect("volume");
     let plan = request
-        .montage_plan(&volume, glyphcast::volume::ImageRequest::default())
+        .montage_plan(&volume, glyphcast_dmri::volume::ImageRequest::default())
         .expect("plan");
     assert_eq!(plan.panels[0].slice.index, Some(1));
     assert_eq!(plan.panels[1].slice.index, None);
@@ -139,9 +139,9 @@ fn sh_input_says_what_the_file_is() {
 /// the same values as the `.mif` it was cut from.
 #[test]
 fn mih_without_end_reads_as_mrtrix_reads_it() {
-    use glyphcast::io::image::read_image;
-    use glyphcast::io::mif::{MifWrite, write_mif};
-    use glyphcast::io::nifti::{AffineSource, VoxelToWorld};
+    use glyphcast_dmri::io::image::read_image;
+    use glyphcast_dmri::io::mif::{MifWrite, write_mif};
+    use glyphcast_dmri::io::nifti::{AffineSource, VoxelToWorld};
     let dir = fresh_dir("volume-notes-mih");
     let values = ArrayD::from_shape_fn(IxDyn(&[2, 3, 4, 5]), |i| {
         (i[0] + 10 * i[1] + 100 * i[2] + 1000 * i[3]) as f64

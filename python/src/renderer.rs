@@ -20,7 +20,7 @@ use glyphcast::render::peaks::PeakSet;
 use glyphcast::render::underlay::Underlay;
 use glyphcast::scene::Scene;
 use glyphcast::vk::{Gpu, GpuOptions};
-use glyphcast::volume::{Coefficients, VolumeFigure};
+use glyphcast_dmri::volume::{Coefficients, VolumeFigure};
 use glyphcast::{RenderSettings, Result};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;

@@ -5,8 +5,6 @@
 //! (holes, depth error, geometric error in pixels), so that the ray caster, the sphere
 //! impostor and tessellations compare in one table. [`ratios`] condenses such tables.
 //! Timings are reports for a person to read, never test assertions.
-#[cfg(feature = "plots")]
-pub mod plot;
 pub mod ratios;
 pub mod tables;
 pub mod workload;

@@ -23,9 +23,9 @@ pub mod memory;
 mod pipeline;
 mod pipeline_cache;
 pub mod recording;
-#[cfg(feature = "viewer")]
+#[cfg(feature = "window")]
 mod surface;
-#[cfg(feature = "viewer")]
+#[cfg(feature = "window")]
 mod swapchain;
 mod timer;
 
@@ -44,16 +44,16 @@ pub use pipeline::{
     GraphicsPipelineDesc, Pipeline, PipelineLayout, Pipelines, RasterTarget, ShaderModule,
     buffer_binding, compute_pipeline, graphics_pipeline, vertex_fragment_stages,
 };
-#[cfg(feature = "viewer")]
+#[cfg(feature = "window")]
 pub use surface::Surface;
-#[cfg(feature = "viewer")]
+#[cfg(feature = "window")]
 pub use swapchain::{Acquired, Swapchain, color_range};
 pub use timer::GpuTimer;
 
 use crate::error::{Error, Result, VkContext};
 use ash::vk;
 use context::InstanceOwner;
-#[cfg(feature = "viewer")]
+#[cfg(feature = "window")]
 use raw_window_handle::RawDisplayHandle;
 use std::ffi::{CStr, c_char};
 use std::sync::Arc;
@@ -108,7 +108,7 @@ impl Gpu {
     /// window system's surface extensions on the instance and VK_KHR_swapchain on the
     /// device (devices without it are passed over). Whether the queue can present to a
     /// particular window is checked when its [`Surface`] is created.
-    #[cfg(feature = "viewer")]
+    #[cfg(feature = "window")]
     pub fn for_window(options: &GpuOptions, display: RawDisplayHandle) -> Result<Gpu> {
         let surface_extensions =
             ash_window::enumerate_required_extensions(display).map_err(|result| {
@@ -182,7 +182,7 @@ impl Gpu {
     }
 
     /// The instance's owner, for objects made from the instance (window surfaces).
-    #[cfg(feature = "viewer")]
+    #[cfg(feature = "window")]
     pub(crate) fn instance_owner(&self) -> &Arc<InstanceOwner> {
         &self.instance
     }

@@ -3,7 +3,7 @@
 //! readers of their JSON fixtures.
 use super::{dipy_data, glyphcast, test_data, text};
 use glam::DVec3;
-use glyphcast::fit::{FitFiles, FitInputs};
+use glyphcast_dmri::fit::{FitFiles, FitInputs};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::Output;

@@ -124,7 +124,7 @@ pub fn write_nifti(path: &Path, data: &ndarray::ArrayD<f64>, affine: glam::DMat4
     let linear = glam::DMat3::from_mat4(affine);
     let row = |r: usize| affine.row(r).to_array();
     let lengths = [linear.x_axis, linear.y_axis, linear.z_axis].map(|c| c.length());
-    let header = glyphcast::io::nifti::NiftiHeader {
+    let header = glyphcast_dmri::io::nifti::NiftiHeader {
         pixdim: [1.0, lengths[0], lengths[1], lengths[2], 1.0, 1.0, 1.0, 1.0],
         sform_code: 1,
         qform_code: 0,
@@ -135,7 +135,7 @@ pub fn write_nifti(path: &Path, data: &ndarray::ArrayD<f64>, affine: glam::DMat4
     };
     let gzip = path.extension().is_some_and(|e| e == "gz");
     let name = path.display().to_string();
-    let bytes = glyphcast::io::nifti::write::nifti1_bytes(&header, data.view(), gzip, &name)
+    let bytes = glyphcast_dmri::io::nifti::write::nifti1_bytes(&header, data.view(), gzip, &name)
         .expect("encoding a test NIfTI");
     std::fs::write(path, bytes).expect("writing a test NIfTI");
 }
@@ -170,7 +170,7 @@ pub fn fresh_dir(name: &str) -> PathBuf {
 
 /// A file of the test data (`tests/data/<folder>/<name>`).
 pub fn test_data(folder: &str, name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
         .join("tests/data")
         .join(folder)
         .join(name)

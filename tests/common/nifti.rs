@@ -1,6 +1,6 @@
 //! NIfTI test files built byte by byte: a NIfTI-2 image from a header and data, edits of
 //! single header fields of a NIfTI-1 file, and gzip.
-use glyphcast::io::nifti::NiftiHeader;
+use glyphcast_dmri::io::nifti::NiftiHeader;
 use ndarray::ArrayD;
 use std::io::Write;
 

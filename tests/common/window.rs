@@ -97,7 +97,7 @@ pub fn out(name: &str) -> PathBuf {
 }
 
 pub fn data(path: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
         .join(path)
         .display()
         .to_string()

@@ -9,7 +9,7 @@ use glyphcast::glyph::reference::reference_depth;
 use glyphcast::glyph::{Symmetry, TensorLayout};
 use glyphcast::render::glyph_data::prepare_scene;
 use glyphcast::scene::Scene;
-use glyphcast::volume::{ImageRequest, VolumeKind, VolumeOptions, load_volume, volume_scene};
+use glyphcast_dmri::volume::{ImageRequest, VolumeKind, VolumeOptions, load_volume, volume_scene};
 use ndarray::Array3;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -144,8 +144,8 @@ fn every_bad_volume_input_fails_cleanly_naming_the_file() {
     write_mask(&mask, Storage::Sform, &Array3::ones((3, 4, 6)));
     let all_nan = case.input("all_nan.nii.gz");
     write_tensor_volume(&all_nan, |_, _| vec![f64::NAN; 6]);
-    let small_64d = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/dipy/small_64D.nii");
-    let scene = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/sphere.json");
+    let small_64d = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("tests/data/dipy/small_64D.nii");
+    let scene = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("tests/scenes/sphere.json");
 
     let (notes, short, truncated, three_d, sh44, sh6, mask, all_nan, small_64d, scene) = (
         text(&not_nifti),

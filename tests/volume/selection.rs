@@ -1,7 +1,7 @@
 //! Which voxels become glyphs (slice, ranges, mask, bad values) and how big they are.
 use crate::fixtures::*;
 use glyphcast::glyph::{Symmetry, TensorLayout};
-use glyphcast::volume::{
+use glyphcast_dmri::volume::{
     Mask, Normalisation, Slice, SliceAxis, Slices, Volume, VolumeKind, VolumeOptions, VolumeReport,
     load_mask, load_volume, volume_scene,
 };

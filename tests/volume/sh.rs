@@ -5,7 +5,7 @@
 use crate::fixtures::*;
 use glam::{DMat3, DVec3};
 use glyphcast::scene::{GlyphKind, ShBasis};
-use glyphcast::volume::{VolumeKind, VolumeOptions, load_volume, volume_scene};
+use glyphcast_dmri::volume::{VolumeKind, VolumeOptions, load_volume, volume_scene};
 use std::f64::consts::PI;
 
 const TOURNIER: VolumeKind = VolumeKind::Sh {

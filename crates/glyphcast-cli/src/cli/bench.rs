@@ -1,0 +1,598 @@
+//! `glyphcast bench`: GPU timings of the glyph pass on a scene, a generated workload, or
+//! a sweep, written as a table (stdout) and as CSV and JSON (`--out DIR`). Sweeps that
+//! compare methods also measure each frame against the float64 reference (computed once
+//! per scene) and print the ratios of `bench::ratios`.
+use clap::Args;
+use glyphcast::accuracy::suite;
+use glyphcast::bench::{self, BenchCase, BenchFrames, BenchResult, Reference, ratios, workload};
+use glyphcast::error::Relation;
+use glyphcast::render::headless::HeadlessRenderer;
+use glyphcast::render::{MeshKind, Method, Refinement, RenderSettings};
+use glyphcast::scene::Scene;
+use glyphcast::vk::{Gpu, GpuOptions};
+use glyphcast_dmri::volume::ImageRequest;
+use glyphcast::{Error, Result};
+use std::path::{Path, PathBuf};
+
+/// The tables `--out` names, written as one set.
+const RESULT_FILES: [&str; 3] = ["results.json", "results.csv", "results.md"];
+use std::time::Instant;
+
+#[derive(Args)]
+pub struct BenchArgs {
+    /// Scene file to measure (default: the --workload).
+    #[arg(value_name = "SCENE")]
+    scene: Option<PathBuf>,
+    /// Generated workload: grid:COUNT:ORDER (fibre tensors) or fodf:COUNT:BAND (SH fODFs).
+    #[arg(long, default_value = "grid:100:8")]
+    workload: String,
+    /// A sweep instead of one measurement: steps (the paper's Table 1), scaling (glyph
+    /// count, order, resolution), table2 (ray casting against tessellation levels 1 to 6,
+    /// with geometric error), methods (every method on the accuracy suite) or ratios
+    /// (the default ray caster against the impostor and against tessellation at equal
+    /// error: grids of orders 4, 8 and 12, and band-8 fODFs) or gpu[:COUNTS] (the GPU
+    /// report of tools/gpu-report.sh: band-8 fODF fields of 10^3 to 10^6 glyphs at three
+    /// sizes, every method and both paths; failures are reported, not fatal).
+    #[arg(long)]
+    sweep: Option<String>,
+    /// Method of a single measurement: fixed, interval, affine, impostor, mesh:LEVEL or
+    /// latlong:N.
+    #[arg(long, default_value = "exact")]
+    method: String,
+    /// Ray caster of a single measurement: fragment (proxy boxes) or compute (a compute
+    /// shader per pixel over screen tiles; exact only).
+    #[arg(long, default_value = "fragment")]
+    path: String,
+    /// Also compare a single measurement with the float64 reference.
+    #[arg(long)]
+    accuracy: bool,
+    /// Measured frames (after the warm-up), at least 1 (default 20; 3 with --quick).
+    #[arg(long)]
+    frames: Option<usize>,
+    /// Warm-up frames, not measured (default 3; 1 with --quick).
+    #[arg(long)]
+    warmup: Option<usize>,
+    /// Image width and height (workloads; a scene keeps its own size unless given).
+    #[arg(long)]
+    width: Option<u32>,
+    #[arg(long)]
+    height: Option<u32>,
+    /// Small sweeps and few frames: a check that finishes in a few minutes on lavapipe.
+    #[arg(long)]
+    quick: bool,
+    /// Folder for results.csv, results.json and results.md (an existing folder, as for
+    /// every output).
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Also write the measured scene (a workload, at its size) as a scene file, to render
+    /// or inspect it.
+    #[arg(long, value_name = "FILE")]
+    save_scene: Option<PathBuf>,
+    /// With --save-scene: write each glyph set's centers, scales and coefficients as
+    /// float64 .npy files beside the scene file (SCENE.0.coeffs.npy, ...), which the
+    /// scene file names: a large scene then reads without parsing JSON numbers.
+    #[arg(long, requires = "save_scene")]
+    scene_arrays: bool,
+    /// Vulkan device: part of its name or its index.
+    #[arg(long)]
+    device: Option<String>,
+}
+
+impl BenchArgs {
+    /// The frames measured and warmed up: those given, else --quick's or the defaults.
+    fn frames(&self) -> BenchFrames {
+        let (warmup, measured) = if self.quick { (1, 3) } else { (3, 20) };
+        BenchFrames {
+            warmup: self.warmup.unwrap_or(warmup),
+            measured: self.frames.unwrap_or(measured),
+        }
+    }
+
+    /// Refuses what no measurement can take: no measured frame, an image side out of
+    /// range (as `render` refuses it, before any device is opened).
+    fn check(&self) -> Result<()> {
+        if self.frames == Some(0) {
+            return Err(Error::Flag {
+                flag: "--frames",
+                message: "must be at least 1 (the frames measured after the warm-up)".into(),
+            });
+        }
+        ImageRequest::checked(self.width, self.height)?;
+        Ok(())
+    }
+
+    fn size(&self, default: u32) -> (u32, u32) {
+        (
+            self.width.unwrap_or(default),
+            self.height.unwrap_or(default),
+        )
+    }
+
+    /// `--out`'s tables (its folder must exist) and `--save-scene` (its arrays apart).
+    fn output_paths(&self) -> Vec<PathBuf> {
+        let mut paths: Vec<PathBuf> = RESULT_FILES
+            .iter()
+            .filter_map(|name| Some(self.out.as_ref()?.join(name)))
+            .collect();
+        paths.extend(self.save_scene.clone());
+        paths
+    }
+
+    /// The scene file and the arrays it names.
+    fn input_paths(&self) -> Vec<PathBuf> {
+        let Some(scene) = &self.scene else {
+            return Vec::new();
+        };
+        let mut paths = vec![scene.clone()];
+        paths.extend(Scene::array_files(scene));
+        paths
+    }
+
+    fn base_scene(&self) -> Result<Scene> {
+        match &self.scene {
+            Some(path) => {
+                let mut scene = Scene::load(path)?;
+                scene.image.width = self.width.unwrap_or(scene.image.width);
+                scene.image.height = self.height.unwrap_or(scene.image.height);
+                Ok(scene)
+            }
+            None => {
+                let (w, h) = self.size(if self.quick { 256 } else { 512 });
+                workload::parse(&self.workload, w, h)
+            }
+        }
+    }
+}
+
+/// One configuration: a scene of the plan (by index), settings, and whether to hold the
+/// frame against the reference.
+struct Case {
+    label: String,
+    scene: usize,
+    settings: RenderSettings,
+    accuracy: bool,
+}
+
+/// What a run measures: named scenes and the configurations drawn on them.
+#[derive(Default)]
+struct Plan {
+    scenes: Vec<(String, Scene)>,
+    cases: Vec<Case>,
+    /// Configurations left out, with the reason, for the report.
+    skipped: Vec<String>,
+    /// Whether a configuration that fails is reported and passed over (the GPU report,
+    /// which must finish on any device) instead of ending the run.
+    tolerate_failures: bool,
+}
+
+impl Plan {
+    fn scene(&mut self, name: impl Into<String>, scene: Scene) -> usize {
+        self.scenes.push((name.into(), scene));
+        self.scenes.len() - 1
+    }
+
+    fn case(&mut self, label: impl Into<String>, scene: usize, settings: RenderSettings) {
+        self.cases.push(Case {
+            label: label.into(),
+            scene,
+            settings,
+            accuracy: false,
+        });
+    }
+
+    /// The ray caster, the impostor and the given tessellations on `scene`, each held
+    /// against the reference; labels start with `prefix`.
+    fn methods(&mut self, prefix: &str, scene: usize, methods: &[Method]) {
+        for &method in methods {
+            let label = if prefix.is_empty() {
+                method.to_string()
+            } else {
+                format!("{prefix} {method}")
+            };
+            self.cases.push(Case {
+                label,
+                scene,
+                settings: RenderSettings {
+                    method,
+                    ..Default::default()
+                },
+                accuracy: true,
+            });
+        }
+    }
+}
+
+/// The ray-casting methods, the impostor, then the icosphere levels and lat-long spheres
+/// given.
+fn method_list(levels: std::ops::RangeInclusive<u32>, lat_long: &[u32]) -> Vec<Method> {
+    let mut methods = Method::RAY_CASTING.to_vec();
+    methods.push(Method::Impostor);
+    methods.extend(levels.map(|l| Method::Mesh(MeshKind::Icosphere(l))));
+    methods.extend(lat_long.iter().map(|&n| Method::Mesh(MeshKind::LatLong(n))));
+    methods
+}
+
+fn plan(args: &BenchArgs) -> Result<Plan> {
+    let defaults = RenderSettings::default();
+    let mut plan = Plan::default();
+    let base_name = || match &args.scene {
+        Some(path) => path.display().to_string(),
+        None => args.workload.clone(),
+    };
+    if let (Some(_), Some(_)) = (&args.sweep, &args.save_scene) {
+        // --save-scene writes the scene of a single measurement; a sweep measures several.
+        return Err(Error::conflict(
+            "--save-scene",
+            Relation::Excludes,
+            "--sweep (it writes the scene of a single measurement)",
+        ));
+    }
+    match args.sweep.as_deref() {
+        None => {
+            let settings = RenderSettings {
+                method: args.method.parse()?,
+                path: args.path.parse()?,
+                ..defaults
+            };
+            settings.validate()?;
+            let base = args.base_scene()?;
+            if let Some(path) = &args.save_scene {
+                let arrays = match args.scene_arrays {
+                    true => scene_arrays(&base, path)?,
+                    false => Vec::new(),
+                };
+                let mut outputs = args.output_paths();
+                outputs.extend(arrays);
+                check_outputs(&outputs, &args.input_paths())?;
+                base.save(path, args.scene_arrays)?;
+            }
+            let scene = plan.scene(base_name(), base);
+            plan.cases.push(Case {
+                label: "default".into(),
+                scene,
+                settings,
+                accuracy: args.accuracy,
+            });
+        }
+        Some("steps") => {
+            let scene = plan.scene(base_name(), args.base_scene()?);
+            let steps: &[f32] = if args.quick {
+                &[0.02, 0.1]
+            } else {
+                &[0.01, 0.02, 0.05, 0.1, 0.2]
+            };
+            let refinements = [
+                "none", "bisect:1", "bisect:2", "bisect:3", "interp", "secant:4",
+            ];
+            for &step in steps {
+                for r in refinements {
+                    let refinement = r.parse::<Refinement>()?;
+                    for (centre, factor) in [("centre", 1.0 / 3.0), ("uniform", 1.0)] {
+                        let settings = RenderSettings {
+                            step,
+                            refinement,
+                            centre_step_factor: factor,
+                            ..defaults
+                        };
+                        plan.case(format!("step {step} {r} {centre}"), scene, settings);
+                    }
+                }
+            }
+        }
+        Some("scaling") => {
+            let (counts, orders, sizes): (&[usize], &[u32], &[u32]) = if args.quick {
+                (&[16, 100], &[2, 8], &[128, 256])
+            } else {
+                (
+                    &[100, 1000, 10_000, 100_000],
+                    &[2, 4, 6, 8, 10, 12],
+                    &[512, 1024, 2048],
+                )
+            };
+            let mut add = |label: String, scene: Scene| {
+                let index = plan.scene(label.clone(), scene);
+                plan.case(label, index, defaults);
+            };
+            for &n in counts {
+                add(
+                    format!("glyphs {n} (order 8)"),
+                    workload::grid(n, 8, sizes[0], sizes[0])?,
+                );
+            }
+            for &order in orders {
+                add(
+                    format!("order {order} (100 glyphs)"),
+                    workload::grid(100, order, sizes[0], sizes[0])?,
+                );
+            }
+            for &size in sizes {
+                add(
+                    format!("{size}^2 (100 glyphs, order 8)"),
+                    workload::grid(100, 8, size, size)?,
+                );
+            }
+        }
+        Some("table2") => {
+            // The paper's Table 2: ray casting against tessellation levels 1 to 6.
+            let scene = plan.scene(base_name(), args.base_scene()?);
+            plan.methods("", scene, &method_list(1..=6, &[]));
+        }
+        Some("methods") => {
+            let (size, lat_long): (u32, &[u32]) = if args.quick {
+                (args.width.unwrap_or(64), &[16])
+            } else {
+                (args.width.unwrap_or(160), &[16, 64])
+            };
+            for suite_scene in suite::suite(size) {
+                let name = suite_scene.name;
+                let scene = plan.scene(name, suite_scene.scene);
+                plan.methods(name, scene, &method_list(1..=6, lat_long));
+            }
+        }
+        Some("ratios") => {
+            let (count, size, levels) = if args.quick {
+                (16, args.width.unwrap_or(160), 1..=5)
+            } else {
+                (100, args.width.unwrap_or(512), 1..=6)
+            };
+            for order in [4, 8, 12] {
+                let name = format!("grid:{count}:{order}");
+                let scene = plan.scene(name.clone(), workload::grid(count, order, size, size)?);
+                plan.methods(&name, scene, &method_list(levels.clone(), &[]));
+            }
+            // The common case of real data: one to three fibres per voxel, band 8.
+            let (count, width, height) = if args.quick {
+                (16, args.width.unwrap_or(160), args.height.unwrap_or(90))
+            } else {
+                (256, args.width.unwrap_or(1280), args.height.unwrap_or(720))
+            };
+            let name = format!("fodf:{count}:8");
+            let scene = plan.scene(name.clone(), workload::fodf(count, 8, width, height)?);
+            plan.methods(&name, scene, &method_list(levels, &[]));
+        }
+        Some(sweep) if sweep == "gpu" || sweep.starts_with("gpu:") => {
+            gpu_plan(args, &sweep["gpu".len()..], &mut plan)?;
+        }
+        Some(other) => {
+            return Err(bad_sweep(format!(
+                "'{}' is not one of steps, scaling, table2, methods, ratios, gpu[:COUNTS]",
+                glyphcast::error::quoted(other)
+            )));
+        }
+    }
+    Ok(plan)
+}
+
+/// Meshes of more triangles than this in one frame are left out of the GPU report: a
+/// million glyphs at icosphere level 5 would take 2 * 10^10 triangles (hundreds of GB).
+const GPU_REPORT_TRIANGLE_BUDGET: usize = 200_000_000;
+
+/// The GPU report's table (`tools/gpu-report.sh`): band-8 fODF fields of 10^3 to 10^6
+/// glyphs (or the comma-separated `counts` after `gpu:`) at 1280x720, 1920x1080 and
+/// 3840x2160; every method on the fragment path and `exact` on the compute path; meshes
+/// where their triangles fit [`GPU_REPORT_TRIANGLE_BUDGET`]; accuracy against the
+/// float64 reference on fields of at most 1000 glyphs at the smallest size. `--quick`:
+/// 100 and 1000 glyphs at 320x180 and 640x360.
+fn gpu_plan(args: &BenchArgs, counts: &str, plan: &mut Plan) -> Result<()> {
+    plan.tolerate_failures = true;
+    let (default_counts, sizes): (&[usize], &[(u32, u32)]) = if args.quick {
+        (&[100, 1000], &[(320, 180), (640, 360)])
+    } else {
+        (
+            &[1_000, 10_000, 100_000, 1_000_000],
+            &[(1280, 720), (1920, 1080), (3840, 2160)],
+        )
+    };
+    let counts: Vec<usize> = match counts.strip_prefix(':') {
+        None => default_counts.to_vec(),
+        Some(list) => list
+            .split(',')
+            .map(|c| {
+                c.trim()
+                    .parse::<usize>()
+                    .ok()
+                    .filter(|&n| n > 0)
+                    .ok_or_else(|| {
+                        bad_sweep(format!(
+                            "gpu:{list}: '{}' is not a glyph count",
+                            glyphcast::error::quoted(c)
+                        ))
+                    })
+            })
+            .collect::<Result<_>>()?,
+    };
+    let methods = [
+        "exact", "affine", "interval", "fixed", "impostor", "mesh:3", "mesh:5",
+    ];
+    for &count in &counts {
+        let (w0, h0) = sizes[0];
+        let base = workload::fodf(count, 8, w0, h0)?;
+        for (size_index, &(width, height)) in sizes.iter().enumerate() {
+            let mut scene = base.clone();
+            scene.image.width = width;
+            scene.image.height = height;
+            let name = format!("fodf:{count}:8 {width}x{height}");
+            let index = plan.scene(name.clone(), scene);
+            let accuracy = count <= 1000 && size_index == 0;
+            let mut add = |label: String, settings: RenderSettings| {
+                plan.cases.push(Case {
+                    label,
+                    scene: index,
+                    settings,
+                    accuracy,
+                })
+            };
+            for spelled in methods {
+                let method: Method = spelled.parse()?;
+                if let Method::Mesh(kind) = method {
+                    let triangles = kind.triangle_count() * count;
+                    if triangles > GPU_REPORT_TRIANGLE_BUDGET {
+                        plan.skipped.push(format!(
+                            "{name} {spelled}: {triangles} triangles, over the report's \
+                             budget of {GPU_REPORT_TRIANGLE_BUDGET}"
+                        ));
+                        continue;
+                    }
+                }
+                add(
+                    format!("{name} {spelled}"),
+                    RenderSettings {
+                        method,
+                        ..Default::default()
+                    },
+                );
+            }
+            add(
+                format!("{name} exact (compute)"),
+                RenderSettings {
+                    path: glyphcast::render::RenderPath::Compute,
+                    ..Default::default()
+                },
+            );
+        }
+    }
+    Ok(())
+}
+
+/// The array files `scene` saved as `path` with --scene-arrays writes. Each is an output:
+/// one that exists is replaced only where the scene file already at `path` names it (an
+/// earlier save of the same scene); any other file of that name is refused (a usage
+/// error naming it), never overwritten.
+fn scene_arrays(scene: &Scene, path: &Path) -> Result<Vec<PathBuf>> {
+    let arrays = scene.array_paths(path)?;
+    let earlier = Scene::array_files(path);
+    for array in &arrays {
+        let exists = std::fs::symlink_metadata(array).is_ok();
+        if exists && !earlier.contains(array) {
+            let folder = array.parent().filter(|p| !p.as_os_str().is_empty());
+            return Err(Error::ForeignEntry {
+                folder: folder.unwrap_or(Path::new(".")).display().to_string(),
+                entry: array
+                    .file_name()
+                    .map(|name| name.to_string_lossy().into_owned())
+                    .unwrap_or_default(),
+                remedy: "--scene-arrays replaces only the arrays of an earlier scene saved \
+                         to the same --save-scene path: remove the file or give another name",
+            });
+        }
+    }
+    Ok(arrays)
+}
+
+/// Checks the outputs of `args` before any work: `--out`'s files and `--save-scene`
+/// (`io::atomic::check_outputs`: existing folders, no file twice, none an input).
+fn check_outputs(outputs: &[PathBuf], inputs: &[PathBuf]) -> Result<()> {
+    let outputs: Vec<&Path> = outputs.iter().map(PathBuf::as_path).collect();
+    let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    glyphcast::io::atomic::check_outputs(&outputs, &inputs)
+}
+
+pub fn run(args: &BenchArgs) -> Result<()> {
+    args.check()?;
+    check_outputs(&args.output_paths(), &args.input_paths())?;
+    let plan = plan(args)?;
+    let mut options = GpuOptions::from_env();
+    if args.device.is_some() {
+        options.device = args.device.clone();
+    }
+    let gpu = Gpu::headless(&options)?;
+    eprintln!("device: {}", gpu.info);
+    let mut renderer = HeadlessRenderer::new(&gpu)?;
+    let mut references: Vec<Option<Reference>> = plan.scenes.iter().map(|_| None).collect();
+    let progress = super::progress::bar(plan.cases.len() as u64, "bench");
+    let mut results: Vec<BenchResult> = Vec::new();
+    let mut failed: Vec<String> = Vec::new();
+    for case in &plan.cases {
+        let (scene_name, scene) = &plan.scenes[case.scene];
+        progress.set_message(case.label.clone());
+        let reference = match (&mut references[case.scene], case.accuracy) {
+            (slot @ None, true) => {
+                let started = Instant::now();
+                let reference = slot.insert(Reference::of(scene)?);
+                progress.suspend(|| {
+                    eprintln!(
+                        "float64 reference of {scene_name}: {:.1} s",
+                        started.elapsed().as_secs_f64()
+                    )
+                });
+                Some(&*reference)
+            }
+            (slot, true) => slot.as_ref(),
+            (_, false) => None,
+        };
+        let bench_case = BenchCase {
+            label: &case.label,
+            scene_name,
+            scene,
+            settings: &case.settings,
+            reference,
+        };
+        match bench::run(&gpu, &mut renderer, &bench_case, args.frames()) {
+            Ok(result) => results.push(result),
+            Err(e) if plan.tolerate_failures => {
+                progress.suspend(|| eprintln!("{}: failed: {e}", case.label));
+                failed.push(format!("{}: failed: {e}", case.label));
+            }
+            Err(e) => return Err(e),
+        }
+        progress.inc(1);
+    }
+    progress.finish_and_clear();
+    let ratios = ratios::ratios(&results);
+    let mut table = format!("Device: {}\n\n{}", gpu.info, bench::markdown(&results));
+    if plan.tolerate_failures {
+        table.push_str(&format!(
+            "\nGPU milliseconds per frame (median), glyphs by size and method:\n\n{}",
+            bench::tables::pivot(&results)
+        ));
+    }
+    for line in plan.skipped.iter().chain(&failed) {
+        table.push_str(&format!("\n- {line}"));
+    }
+    if !plan.skipped.is_empty() || !failed.is_empty() {
+        table.push('\n');
+    }
+    if !ratios.is_empty() {
+        table.push_str(&format!(
+            "\nRatios (tessellation at equal error: the coarsest mesh below {} px):\n\n{}",
+            ratios::EQUAL_ERROR_PX,
+            ratios::markdown(&ratios)
+        ));
+    }
+    if let Some(dir) = &args.out {
+        let json = serde_json::json!({
+            "device": gpu.info.to_string(),
+            "sweep": args.sweep,
+            "results": results,
+            "ratios": ratios,
+            "skipped": plan.skipped,
+            "failed": failed,
+        });
+        let json = serde_json::to_string_pretty(&json)
+            .map_err(|e| Error::io(dir.join("results.json"), e))?;
+        let csv = bench::csv(&results);
+        let [json_path, csv_path, md_path] = RESULT_FILES.map(|name| dir.join(name));
+        glyphcast::io::atomic::write_all_atomic(&[
+            (&json_path, json.as_bytes()),
+            (&csv_path, csv.as_bytes()),
+            (&md_path, table.as_bytes()),
+        ])?;
+        let title = args.sweep.as_deref().unwrap_or("bench");
+        match super::plot::write_plots(dir, title, &results) {
+            Ok(files) => eprintln!("plots: {}", files.join(", ")),
+            // Plots are a view of the tables just written: without a font they are
+            // left out with a warning rather than failing the measurements.
+            Err(e) => eprintln!("warning: no plots: {e}"),
+        }
+    }
+    print!("{table}");
+    Ok(())
+}
+
+/// A `--sweep` value refused: what is wrong and what is accepted.
+fn bad_sweep(message: String) -> Error {
+    Error::Flag {
+        flag: "--sweep",
+        message: message.into(),
+    }
+}

@@ -1,0 +1,13 @@
+//! Subcommands of the `glyphcast` binary.
+pub mod accuracy;
+pub mod bench;
+pub mod fit;
+pub mod flags;
+pub mod peaks;
+pub mod plot;
+pub mod progress;
+pub mod qc;
+pub mod render;
+pub mod stiffness;
+pub mod view;
+pub mod volume;

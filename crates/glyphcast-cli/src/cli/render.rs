@@ -1,0 +1,505 @@
+//! `glyphcast render` and `glyphcast demo`: options, rendering and writing the outputs.
+use clap::Args;
+use glyphcast::error::Relation;
+use glyphcast::glyph::NegativeMode;
+use glyphcast::io::atomic::check_ending;
+use glyphcast::render::ColorMode;
+use glyphcast::render::RenderSettings;
+use glyphcast::render::compose::colorbar::{ColorBar, common_scale};
+use glyphcast::render::compose::labels::{draw_edge_labels, edge_labels};
+use glyphcast::render::compose::montage::prepare_montage;
+use glyphcast::render::glyph_data::GlyphSetData;
+use glyphcast::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
+use glyphcast::render::options::{RenderOptions, check_method_reads, prepare_render};
+use glyphcast::render::peaks::PeakSet;
+use glyphcast::render::promote::early_variants;
+use glyphcast::render::underlay::Underlay;
+use glyphcast::scene::Scene;
+use glyphcast_viewer::ViewSource;
+use glyphcast::vk::{Gpu, GpuOptions};
+use glyphcast_dmri::volume::{ImageRequest, VolumeFigure, VolumeMontage, VolumeView};
+use glyphcast::{Error, Result, Setting};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Where the glyphs come from: a scene file, or a volume (see `cli::volume`).
+#[derive(Args)]
+pub struct SceneSource {
+    /// Scene file (JSON).
+    #[arg(value_name = "SCENE", required_unless_present_any = super::volume::VOLUME_FLAGS)]
+    pub scene: Option<PathBuf>,
+    #[command(flatten)]
+    pub volume: super::volume::VolumeArgs,
+}
+
+/// What `render` draws: a scene (a scene file's, or a volume's view with its underlay)
+/// or the panels of a montage.
+pub enum Loaded {
+    /// One scene, with the volume's underlay and peaks if any.
+    Scene(Scene, Option<Underlay>, Option<PeakSet>),
+    /// The panels of `--views` or `--lightbox`.
+    Montage(VolumeMontage),
+}
+
+impl SceneSource {
+    /// What to render; `image` (from --width/--height) sizes a volume's framing.
+    pub fn load(&self, image: ImageRequest) -> Result<Loaded> {
+        if let Some(path) = &self.scene {
+            return Ok(Loaded::Scene(self.load_scene_file(path)?, None, None));
+        }
+        Ok(match self.volume.figure(image)? {
+            VolumeFigure::View(view) => {
+                Loaded::Scene(view.scene.scene, view.underlay, view.scene.peaks)
+            }
+            VolumeFigure::Montage(montage) => Loaded::Montage(montage),
+        })
+    }
+
+    /// The scene to view, keeping a volume so that the viewer can move its slice (and
+    /// the underlay with it).
+    pub fn load_for_view(&self, image: ImageRequest) -> Result<(ViewSource, Option<Underlay>)> {
+        if let Some(path) = &self.scene {
+            return Ok((ViewSource::Scene(self.load_scene_file(path)?), None));
+        }
+        if self.volume.is_montage() {
+            return Err(Error::conflict(
+                "--views/--lightbox",
+                Relation::Requires,
+                "render (they make one image of several panels)",
+            ));
+        }
+        match self.volume.figure(image)? {
+            VolumeFigure::View(view) => {
+                let VolumeView {
+                    volume,
+                    options,
+                    scene,
+                    underlay,
+                    ..
+                } = *view;
+                let source = ViewSource::Volume {
+                    volume: Box::new(volume),
+                    options: Box::new(options),
+                    view: Box::new(scene),
+                };
+                Ok((source, underlay))
+            }
+            VolumeFigure::Montage(_) => Err(Error::Call {
+                call: "SceneSource::load_for_view",
+                expected: "one view, not a montage",
+            }),
+        }
+    }
+
+    fn load_scene_file(&self, path: &Path) -> Result<Scene> {
+        if self.volume.is_given() {
+            return Err(Error::conflict(
+                "a scene file",
+                Relation::Exclusive,
+                "a volume (--sh/--tensor)",
+            ));
+        }
+        if let Some(flag) = self.volume.volume_only_flag() {
+            return Err(Error::conflict(
+                flag,
+                Relation::Excludes,
+                "a scene file (it applies to volume input, --sh/--tensor)",
+            ));
+        }
+        let mut scene = Scene::load(path)?;
+        self.volume.apply_shape(&mut scene)?;
+        Ok(scene)
+    }
+
+    /// Whether --labels asks for the anatomical directions at the image's edges.
+    pub fn labels(&self) -> bool {
+        self.volume.labels
+    }
+
+    /// Every file the render reads: the scene file and its arrays, or the volume's
+    /// images (coefficients, mask, underlay, peaks).
+    pub fn input_paths(&self) -> Vec<PathBuf> {
+        let mut paths: Vec<PathBuf> = Vec::new();
+        if let Some(scene) = &self.scene {
+            paths.push(scene.clone());
+            paths.extend(glyphcast::scene::Scene::array_files(scene));
+        }
+        paths.extend(self.volume.input_paths().into_iter().map(Path::to_path_buf));
+        paths
+    }
+
+    /// Where --save-scene asks the rendered scene to be written.
+    pub fn save_scene(&self) -> Option<&Path> {
+        self.volume.save_scene.as_deref()
+    }
+}
+
+#[derive(Args)]
+pub struct OutputArgs {
+    /// Output image (PNG).
+    #[arg(
+        short = 'o',
+        long = "output",
+        value_name = "PNG",
+        default_value = "glyphcast.png"
+    )]
+    pub output: PathBuf,
+    /// Also write the ray distance per pixel as a float32 .npy (NaN for misses).
+    #[arg(long, value_name = "NPY")]
+    pub depth_out: Option<PathBuf>,
+}
+
+#[derive(Args)]
+pub struct RenderArgs {
+    /// Image width in pixels (default: the scene's).
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height in pixels (default: the scene's).
+    #[arg(long)]
+    height: Option<u32>,
+    /// How glyphs are drawn: fixed (ray casting at a fixed step), interval or affine
+    /// (robust ray casting by range arithmetic), exact (first real root of the ray
+    /// polynomial; offset 0 only), impostor (bounding spheres), mesh:LEVEL (icosphere,
+    /// 0 to 7) or latlong:N (N latitude bands) tessellations. Default: exact, or affine
+    /// with an --offset (offset glyphs are no polynomial surfaces).
+    #[arg(long)]
+    method: Option<String>,
+    /// Ray caster: fragment (proxy boxes, the default) or compute (a compute shader per
+    /// pixel over screen tiles; --method exact only).
+    #[arg(long, default_value = "fragment")]
+    path: String,
+    /// Robust methods: segment length limit, in pixels at the segment's depth.
+    #[arg(long, value_name = "PX")]
+    precision: Option<f32>,
+    /// March step, in units of each glyph's bounding radius.
+    #[arg(long)]
+    step: Option<f32>,
+    /// Refinement of the first sign change: bisect:K, interp or none.
+    #[arg(long)]
+    refine: Option<String>,
+    /// Glyph colour: direction, magnitude, uniform or sign (positive lobes red,
+    /// negative ones blue; ray-casting methods only).
+    #[arg(long, default_value = "direction")]
+    color: String,
+    /// Magnitude colormap range LOW:HIGH in world units (default: 0 to the largest glyph
+    /// radius drawn, so that the largest glyph's tip takes the map's top colour).
+    #[arg(long, value_name = "LOW:HIGH", allow_hyphen_values = true)]
+    magnitude_range: Option<String>,
+    /// With --color magnitude: append a colour bar of the magnitude range on the right,
+    /// in a strip of its own (the PNG and the depth map grow by its width; the depth map
+    /// is NaN there). Values are glyph radii in data units (|f|, or an ellipsoid's
+    /// sqrt(eigenvalue)) when every glyph has the same scale, else in world units.
+    #[arg(long)]
+    colorbar: bool,
+    /// The colour bar's label (default: "radius (data units)" or "radius (world units)").
+    #[arg(long, value_name = "TEXT", requires = "colorbar")]
+    colorbar_label: Option<String>,
+    /// Negative lobes: abs (drawn as |f|) or hide. Sets every glyph set's mode, replacing
+    /// a scene file's `negative` (default: the scene's; abs for volumes).
+    #[arg(long, value_name = "abs|hide")]
+    negative: Option<String>,
+    /// Samples per pixel: 1, 4 or 16 (supersampling: drawn at 2 or 4 times the width and
+    /// height, then averaged). The depth map stays one ray per pixel centre.
+    #[arg(long, default_value_t = 1, value_name = "1|4|16")]
+    samples: u32,
+    /// Background: none (transparent PNG), dark (the default), black, white, grey,
+    /// #rrggbb or r,g,b (sRGB, 0-255, as written in the PNG).
+    #[arg(long, value_name = "COLOR")]
+    background: Option<String>,
+    /// Direction towards the light, X,Y,Z in view coordinates: x to the image's right, y
+    /// up, z towards the viewer (default 0.35,0.5,1: above right, in front). The light
+    /// moves with the camera.
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    light: Option<String>,
+    /// Ambient share of the base colour, 0 to 1 (default 0.18).
+    #[arg(long, value_name = "A")]
+    ambient: Option<f32>,
+    /// Strength of the white specular highlight, 0 to 1 (default 0.25; 0: matte).
+    #[arg(long, value_name = "S")]
+    specular: Option<f32>,
+    /// Blinn-Phong exponent of the highlight, 1 to 1024 (default 48).
+    #[arg(long, value_name = "E")]
+    shininess: Option<f32>,
+    /// Isotropic offset added to every glyph, as a fraction of its bounding radius.
+    #[arg(long, default_value_t = 0.0)]
+    offset: f32,
+    /// Vulkan device: part of its name or its index (also GLYPHCAST_DEVICE).
+    #[arg(long)]
+    device: Option<String>,
+    /// Turn on the Vulkan validation layer (also GLYPHCAST_VALIDATION=1).
+    #[arg(long)]
+    validation: bool,
+}
+
+impl RenderArgs {
+    /// --width and --height, checked (`ImageRequest::checked`; a usage error).
+    pub fn image_request(&self) -> Result<ImageRequest> {
+        ImageRequest::checked(self.width, self.height)
+    }
+
+    /// The flags as the library's render options (shared with the Python module).
+    pub fn options(&self) -> RenderOptions {
+        RenderOptions {
+            method: self.method.clone(),
+            path: Some(self.path.clone()),
+            precision: self.precision,
+            step: self.step,
+            refine: self.refine.clone(),
+            color: Some(self.color.clone()),
+            magnitude_range: self.magnitude_range.clone(),
+            negative: self.negative.clone(),
+            background: self.background.clone(),
+            offset: self.offset,
+            light: self.light.clone(),
+            ambient: self.ambient,
+            specular: self.specular,
+            shininess: self.shininess,
+            samples: Some(self.samples),
+            device: self.device.clone(),
+            validation: self.validation,
+        }
+    }
+
+    /// The render settings of the flags; any error is a usage error (exit 2).
+    pub fn settings(&self) -> Result<RenderSettings> {
+        self.options().settings()
+    }
+
+    /// Whether `--colorbar` was given.
+    pub fn wants_colorbar(&self) -> bool {
+        self.colorbar
+    }
+
+    /// Checks that `--colorbar` goes with `--color magnitude` (a usage error otherwise).
+    pub fn check_colorbar(&self, settings: &RenderSettings) -> Result<()> {
+        if self.colorbar && !matches!(settings.color, ColorMode::Magnitude { .. }) {
+            return Err(Error::setting(
+                Setting::Colorbar,
+                glyphcast::message![
+                    "shows the magnitude colour map: it needs ",
+                    Setting::Color.with("magnitude"),
+                    ", not ",
+                    Setting::Color.with(&self.color)
+                ],
+            ));
+        }
+        Ok(())
+    }
+
+    /// `--colorbar-label`, if given.
+    pub fn colorbar_label(&self) -> Option<&str> {
+        self.colorbar_label.as_deref()
+    }
+
+    /// The colour bar of a render of `sets` with `settings`, if `--colorbar`:
+    /// `common_scale` is the one scale of every glyph, if they share one (values are then
+    /// divided by it: data units).
+    fn colorbar(
+        &self,
+        settings: &RenderSettings,
+        sets: &[GlyphSetData],
+        camera: &glyphcast::camera::Camera,
+        common_scale: Option<f64>,
+    ) -> Option<ColorBar> {
+        if !self.colorbar {
+            return None;
+        }
+        ColorBar::of_glyphs(
+            settings,
+            (sets, camera),
+            common_scale,
+            self.colorbar_label(),
+        )
+    }
+
+    /// `--negative`, if given; an unknown mode is a usage error.
+    pub fn negative(&self) -> Result<Option<NegativeMode>> {
+        self.options().negative()
+    }
+
+    pub fn gpu_options(&self) -> GpuOptions {
+        self.options().gpu_options()
+    }
+}
+
+/// Checks every output path of a render before any work (`io::atomic::check_outputs`:
+/// none may be one of the `inputs`), and that each name's ending says what it gets
+/// (PNG, NumPy, JSON).
+pub fn check_outputs(
+    output: &OutputArgs,
+    save_scene: Option<&Path>,
+    inputs: &[PathBuf],
+) -> Result<()> {
+    let mut paths: Vec<&Path> = vec![&output.output];
+    paths.extend(output.depth_out.as_deref());
+    paths.extend(save_scene);
+    let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    glyphcast::io::atomic::check_outputs(&paths, &inputs)?;
+    check_ending(&output.output, "-o/--output", &[".png"])?;
+    if let Some(depth) = &output.depth_out {
+        check_ending(depth, "--depth-out", &[".npy"])?;
+    }
+    if let Some(scene) = save_scene {
+        check_ending(scene, "--save-scene", &[".json"])?;
+    }
+    Ok(())
+}
+
+/// Renders `scene` and writes the outputs (checked first with [`check_outputs`]);
+/// `save_scene` receives the scene as rendered (image size included), written with the
+/// image and the depth map, all or nothing. `labels` writes the anatomical directions at
+/// the image's edges (`render::compose::labels`; volume input only); `underlay` and `peaks` are
+/// drawn in the glyphs' depth buffer (volume input only).
+pub fn render(
+    mut scene: Scene,
+    output: &OutputArgs,
+    options: &RenderArgs,
+    save_scene: Option<&Path>,
+    labels: bool,
+    underlay: Option<&Underlay>,
+    peaks: Option<&PeakSet>,
+) -> Result<()> {
+    let image = options.image_request()?;
+    scene.image.width = image.width.unwrap_or(scene.image.width);
+    scene.image.height = image.height.unwrap_or(scene.image.height);
+    let settings = options.settings()?;
+    options.check_colorbar(&settings)?;
+    check_method_reads(&options.options(), &settings)?;
+    let negative = options.negative()?;
+    // Written with the image and the depth map, all or nothing.
+    let scene_file = save_scene.map(|path| (path, scene.to_json()));
+    let common_scale = common_scale([&scene]);
+    let variants = early_variants(&scene, &settings);
+    let gpu_options = options.gpu_options();
+    // The device and the scene's pipelines (most of a small render's time on lavapipe)
+    // are made on a thread of their own while the glyphs are prepared.
+    let (prepared, prepare_time, gpu) = std::thread::scope(|scope| {
+        let device = scope.spawn(|| -> Result<(Gpu, HeadlessRenderer)> {
+            let gpu = Gpu::headless(&gpu_options)?;
+            let mut renderer = HeadlessRenderer::new(&gpu)?;
+            renderer.prepare_pipelines(&variants)?;
+            Ok((gpu, renderer))
+        });
+        let started = Instant::now();
+        let prepared = prepare_render(scene, settings, negative);
+        let prepare_time = started.elapsed();
+        let gpu = device.join().unwrap_or(Err(glyphcast::Error::Thread {
+            what: "device creation",
+        }));
+        (prepared, prepare_time, gpu)
+    });
+    // A bad scene is reported before a missing device, as when they came one by one.
+    let prepared = prepared?;
+    let (gpu, mut renderer) = gpu?;
+    eprintln!("device: {}", gpu.info);
+    let begun = Instant::now();
+    let (w, h) = (prepared.width, prepared.height);
+    let (sets, camera) = (&prepared.sets, &prepared.camera);
+    let view = FrameView::new(camera, w, h)
+        .with_underlay(underlay)
+        .with_peaks(peaks);
+    let mut image = renderer.render_view(&gpu, sets, &view, &settings)?;
+    if labels {
+        let edges = edge_labels(&prepared.camera);
+        draw_edge_labels(&mut image.rgba, w, h, &edges)?;
+    }
+    if let Some(bar) = options.colorbar(&settings, sets, camera, common_scale) {
+        bar.append_to(&mut image, settings.background)?;
+    }
+    let glyphs = prepared.glyph_count();
+    let gpu_time = image
+        .gpu_ms
+        .map_or_else(|| "n/a".to_owned(), |ms| format!("{ms:.1} ms"));
+    eprintln!(
+        "rendered {glyphs} glyphs at {w}x{h}: prepare {:.1} ms, render {:.1} ms (GPU {gpu_time})",
+        prepare_time.as_secs_f64() * 1e3,
+        begun.elapsed().as_secs_f64() * 1e3
+    );
+    if let Some(mesh) = &image.mesh {
+        eprintln!(
+            "{}: {} triangles ({} per glyph), generated in {:.1} ms, {:.1} MiB on the GPU",
+            mesh.kind,
+            mesh.triangles(),
+            mesh.triangles_per_glyph,
+            mesh.generate_ms,
+            mesh.gpu_bytes() as f64 / (1024.0 * 1024.0)
+        );
+    }
+    write_outputs(&image, output, scene_file)
+}
+
+/// Renders the panels of a montage (`--views`, `--lightbox`) into one image
+/// (`render::compose::montage`) and writes it as [`render`] writes one view; `labels` labels every
+/// panel, and a colour bar is appended to the whole montage.
+pub fn render_montage(
+    montage: VolumeMontage,
+    output: &OutputArgs,
+    options: &RenderArgs,
+    labels: bool,
+) -> Result<()> {
+    let image = options.image_request()?;
+    let settings = options.settings()?;
+    options.check_colorbar(&settings)?;
+    check_method_reads(&options.options(), &settings)?;
+    let negative = options.negative()?;
+    let (mut scenes, peaks): (Vec<Scene>, Vec<Option<PeakSet>>) = montage
+        .panels
+        .into_iter()
+        .map(|p| (p.scene, p.peaks))
+        .unzip();
+    for scene in &mut scenes {
+        scene.image.width = image.width.unwrap_or(scene.image.width);
+        scene.image.height = image.height.unwrap_or(scene.image.height);
+    }
+    let common = common_scale(&scenes);
+    let mut prepared = prepare_montage(scenes, montage.columns, settings, negative)?
+        .with_underlays(montage.underlays)
+        .with_captions(montage.captions);
+    for (panel, peaks) in prepared.panels.iter_mut().zip(peaks) {
+        panel.peaks = peaks;
+    }
+    let first = prepared.panels.first().ok_or(Error::Call {
+        call: "render_montage",
+        expected: "a montage of at least one panel",
+    })?;
+    let gpu = Gpu::headless(&options.gpu_options())?;
+    eprintln!("device: {}", gpu.info);
+    let mut renderer = HeadlessRenderer::new(&gpu)?;
+    let mut result = prepared.render(&mut renderer, &gpu, labels)?;
+    // The montage's settings carry its one magnitude range (prepare_montage), so the
+    // bar needs no extent of all panels' glyphs: the first panel's stands in, as in the
+    // viewer (viewer::Panels::colorbar), and no copy of every panel's sets is made.
+    if let Some(bar) = options.colorbar(&prepared.settings, &first.sets, &first.camera, common) {
+        bar.append_to(&mut result, prepared.settings.background)?;
+    }
+    let (cell_w, cell_h) = prepared.cell();
+    eprintln!(
+        "montage: {} panels of {cell_w}x{cell_h} in {} columns",
+        prepared.panels.len(),
+        prepared.columns()
+    );
+    write_outputs(&result, output, None)
+}
+
+/// Writes the PNG, the depth map and the scene file together: either all are new or all
+/// are as they were (`io::atomic::write_all_atomic`).
+fn write_outputs(
+    image: &RenderedImage,
+    output: &OutputArgs,
+    scene_file: Option<(&Path, String)>,
+) -> Result<()> {
+    let (w, h) = (image.width, image.height);
+    let png = glyphcast::io::png::encode_png_rgba8(&output.output, w, h, &image.rgba)?;
+    let mut files: Vec<(&Path, Vec<u8>)> = vec![(&output.output, png)];
+    if let Some(depth) = &output.depth_out {
+        let npy = glyphcast::io::npy::encode_depth_npy(depth, w, h, &image.distance)?;
+        files.push((depth, npy));
+    }
+    if let Some((path, json)) = scene_file {
+        files.push((path, json.into_bytes()));
+    }
+    let set: Vec<(&Path, &[u8])> = files.iter().map(|(p, b)| (*p, b.as_slice())).collect();
+    glyphcast::io::atomic::write_all_atomic(&set)?;
+    eprintln!("wrote {}", output.output.display());
+    Ok(())
+}

@@ -1,0 +1,562 @@
+//! A volume slice as a [`Scene`]: select voxels, reorient each glyph into world axes
+//! (voxel-frame coefficients only),
+//! measure it, drop what cannot or should not be drawn, scale, and frame.
+//!
+//! Left out, and counted in the [`VolumeReport`] rather than failing: voxels outside the
+//! mask, voxels with a NaN or infinite coefficient (the usual background of a fit; the
+//! CLI prints their count as a warning), glyphs that are exactly zero (nothing to draw)
+//! and glyphs whose max radius is below `min_amplitude`. A selection that leaves no glyph
+//! at all is an error: an empty picture would look like a rendering fault.
+use glyphcast::parallel::{Progress, map_chunks_with_progress};
+use std::str::FromStr;
+
+use glam::DVec3;
+
+use super::amplitude::shape_radius;
+use super::framing::{
+    Framing, ImageRequest, Orientation, ViewProjection, frame_region, frame_volume,
+};
+use super::input::{CoefficientFrame, Mask, Volume, show_shape};
+use super::peaks::{ViewPeaks, peak_set};
+use super::reorient::Reorientation;
+use super::selection::{Slice, SliceRegion, Slices, VoxelRanges};
+use glyphcast::glyph::ellipsoid::ELLIPSOID_LAYOUT;
+use glyphcast::glyph::{GlyphShape, NegativeMode};
+use glyphcast::render::peaks::PeakSet;
+use glyphcast::scene::{GlyphKind, GlyphSet, Scene, fits_float32};
+use glyphcast::{Error, Result, Setting};
+
+/// Default world radius of the largest glyph, as a fraction of the smallest voxel size:
+/// the largest glyph spans 0.9 of a voxel.
+pub const DEFAULT_SCALE_FRACTION: f64 = 0.45;
+
+/// The robust normalisation's reference: this percentile of the glyphs' max radii ...
+pub const ROBUST_PERCENTILE: f64 = 99.0;
+/// ... times this factor, if that is below the largest radius.
+pub const ROBUST_FACTOR: f64 = 1.5;
+
+/// How glyph sizes relate to the data.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Normalisation {
+    /// One factor for all drawn glyphs, robust to a few outliers: the largest radius
+    /// becomes `scale` unless it exceeds [`ROBUST_FACTOR`] times the
+    /// [`ROBUST_PERCENTILE`]th percentile of the radii; then that limit becomes `scale`
+    /// and the glyphs above it (the outliers, counted in the report) are drawn with
+    /// radius `scale`. For data without outliers this is [`Normalisation::Global`].
+    #[default]
+    Robust,
+    /// One factor for all drawn glyphs: the largest has radius `scale`.
+    Global,
+    /// Every glyph's max radius becomes `scale`.
+    PerGlyph,
+    /// Radius = amplitude * `scale` (data units times `scale`).
+    None,
+}
+
+/// Everything about a volume view except the volume itself.
+#[derive(Clone, Debug, Default)]
+pub struct VolumeOptions {
+    /// The slice drawn (`--slice axial:4`); the middle axial slice by default.
+    pub slice: Slice,
+    /// Three orthogonal slices instead of `slice`: one glyph set per slice (sagittal,
+    /// coronal, axial; a slice with nothing to draw has none), framed by a perspective
+    /// camera from anterior-superior-left whatever `projection` says.
+    pub slices: Option<Slices>,
+    /// Index ranges the drawn voxels must lie in (`--voxels`).
+    pub voxels: VoxelRanges,
+    /// Only voxels the mask keeps are drawn (`--mask`).
+    pub mask: Option<Mask>,
+    /// World radius of the largest glyph (default: 0.45 * the smallest voxel size).
+    pub scale: Option<f64>,
+    /// How glyph sizes follow the data (`--norm`).
+    pub norm: Normalisation,
+    /// The polynomial glyph, or the DTI ellipsoid (order-2 tensor volumes only); the
+    /// ellipsoid's size is its longest semi-axis, sqrt(lambda_1).
+    pub shape: GlyphShape,
+    /// Glyphs with max radius below this (data units) are left out.
+    pub min_amplitude: f64,
+    /// SH only: drop bands above this one.
+    pub lmax: Option<u32>,
+    /// Orthographic or perspective framing.
+    pub projection: ViewProjection,
+    /// Which side of the image the subject's right is on, in every view.
+    pub orientation: Orientation,
+    /// The image size asked for; a missing side follows the slice's aspect.
+    pub image: ImageRequest,
+    /// Fibre peaks drawn in the voxels of the slices, if any (on the volume's grid;
+    /// alone where the volume only stands for their grid, [`Volume::grid_of_peaks`]).
+    pub peaks: Option<ViewPeaks>,
+}
+
+/// What happened to the voxels of the selection.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct VolumeReport {
+    /// Voxels of the slice (or slices, each voxel once) within the ranges.
+    pub selected: usize,
+    /// Selected voxels the mask leaves out.
+    pub masked_out: usize,
+    /// Voxels with a NaN or infinite coefficient.
+    pub non_finite: usize,
+    /// Glyphs that are zero everywhere.
+    pub zero: usize,
+    /// Glyphs whose largest radius is below `min_amplitude`.
+    pub below_min_amplitude: usize,
+    /// Glyphs in the scene.
+    pub drawn: usize,
+    /// Glyphs larger than the robust normalisation's limit, drawn at the limit's size.
+    pub capped: usize,
+}
+
+impl VolumeReport {
+    /// Adds `other`'s counts to these (the panels of a montage, reported as one).
+    pub fn add(&mut self, other: &VolumeReport) {
+        self.selected += other.selected;
+        self.masked_out += other.masked_out;
+        self.non_finite += other.non_finite;
+        self.zero += other.zero;
+        self.below_min_amplitude += other.below_min_amplitude;
+        self.drawn += other.drawn;
+        self.capped += other.capped;
+    }
+
+    /// What the user is warned of about the voxels of `file`, one line each, the same in
+    /// every front end (the command line prints them, Python warns): voxels left out
+    /// for NaN or infinite coefficients, and outliers capped by the robust
+    /// normalisation. Lines may mention settings, which each front end spells.
+    pub fn warnings(&self, file: &str) -> Vec<glyphcast::error::Message> {
+        let mut lines = Vec::new();
+        if self.non_finite > 0 {
+            lines.push(
+                format!(
+                    "{file}: {} voxel(s) with NaN or infinite coefficients left out",
+                    self.non_finite
+                )
+                .into(),
+            );
+        }
+        if self.capped > 0 {
+            lines.push(glyphcast::message![
+                format!(
+                    "{file}: {} glyph(s) larger than {ROBUST_FACTOR} times the \
+                 {ROBUST_PERCENTILE}th percentile of the glyph sizes drawn at that size \
+                 (outliers; ",
+                    self.capped
+                ),
+                Setting::Norm.with("global"),
+                " sizes every glyph by one factor)"
+            ]);
+        }
+        lines
+    }
+}
+
+/// The scene of a volume view, and how it was selected.
+#[derive(Clone, Debug)]
+pub struct VolumeScene {
+    /// The glyphs (one set per slice), the framing camera and the image size.
+    pub scene: Scene,
+    /// What happened to the voxels of the selection.
+    pub report: VolumeReport,
+    /// The slice's region; with three slices, the first (sagittal) one.
+    pub region: SliceRegion,
+    /// Every slice's region: one, or sagittal, coronal and axial.
+    pub regions: Vec<SliceRegion>,
+    /// The largest world radius of a drawn glyph: how far the glyphs reach out of
+    /// their slice plane (an underlay drawn behind them goes that far back).
+    pub glyph_radius: f64,
+    /// The peaks of the slices, if asked for.
+    pub peaks: Option<PeakSet>,
+}
+
+impl FromStr for Normalisation {
+    type Err = Error;
+
+    fn from_str(text: &str) -> Result<Self> {
+        match text {
+            "robust" => Ok(Normalisation::Robust),
+            "global" => Ok(Normalisation::Global),
+            "per-glyph" => Ok(Normalisation::PerGlyph),
+            "none" => Ok(Normalisation::None),
+            _ => Err(Error::setting_value(
+                Setting::Norm,
+                format!("'{}'", glyphcast::error::quoted(text)),
+                "expected robust, global, per-glyph or none",
+            )),
+        }
+    }
+}
+
+/// One glyph on its way into the scene.
+struct Glyph {
+    center: DVec3,
+    coeffs: Vec<f64>,
+    radius: f64,
+}
+
+/// The camera and image size of the single slice `options.slice` (with its voxel
+/// ranges) of `volume`, as [`volume_scene`] frames it, without building the glyphs: the
+/// viewer shifts its camera by it when a slice moves, and sizes a montage's cells by it.
+pub fn slice_framing(volume: &Volume, options: &VolumeOptions) -> Result<Framing> {
+    let region = SliceRegion::new(volume.dims, options.slice, &options.voxels, &volume.file)?;
+    frame_region(
+        &region,
+        &volume.voxel_to_world,
+        options.projection,
+        options.orientation,
+        options.image,
+    )
+}
+
+/// The scene showing `options.slice` (or `options.slices`) of `volume`.
+pub fn volume_scene(volume: &Volume, options: &VolumeOptions) -> Result<VolumeScene> {
+    volume_scene_with_progress(volume, options, None)
+}
+
+/// [`volume_scene`], reporting the sizing of the glyphs to `progress`.
+pub fn volume_scene_with_progress(
+    volume: &Volume,
+    options: &VolumeOptions,
+    progress: Option<&Progress>,
+) -> Result<VolumeScene> {
+    check_options(volume, options)?;
+    let region = |slice| SliceRegion::new(volume.dims, slice, &options.voxels, &volume.file);
+    let regions = match options.slices {
+        Some(slices) => (0..3)
+            .map(|axis| region(slices.slice(axis)))
+            .collect::<Result<Vec<_>>>()?,
+        None => vec![region(options.slice)?],
+    };
+    let kind = truncated_kind(volume, options.lmax)?;
+    let map = &volume.voxel_to_world;
+    let reorientation = reorientation(volume)?.for_kind(kind)?;
+    let mut report = VolumeReport::default();
+    let mut glyphs: Vec<Vec<Glyph>> = Vec::with_capacity(regions.len());
+    for (n, region) in regions.iter().enumerate() {
+        let mut candidates = Vec::new();
+        // A voxel where two slices cross belongs to the first of them only.
+        for voxel in region.voxels() {
+            if volume.is_peaks_grid() || regions[..n].iter().any(|earlier| earlier.contains(voxel))
+            {
+                continue;
+            }
+            report.selected += 1;
+            if options.mask.as_ref().is_some_and(|mask| !mask.keeps(voxel)) {
+                report.masked_out += 1;
+                continue;
+            }
+            let mut coeffs = volume.coefficients(voxel);
+            if coeffs.iter().any(|c| !c.is_finite()) {
+                report.non_finite += 1;
+                continue;
+            }
+            coeffs.truncate(kind.coefficient_count());
+            check_float32(volume, voxel, &coeffs)?;
+            let coeffs = reorientation.apply(&coeffs)?;
+            candidates.push((voxel, coeffs));
+        }
+        let radii = map_chunks_with_progress(&candidates, "sizing", progress, |(_, coeffs)| {
+            shape_radius(kind, options.shape, coeffs)
+        })?;
+        let mut drawn = Vec::new();
+        for ((voxel, coeffs), radius) in candidates.into_iter().zip(radii) {
+            if radius <= 0.0 {
+                report.zero += 1;
+            } else if radius < options.min_amplitude {
+                report.below_min_amplitude += 1;
+            } else {
+                let center = map.voxel_center(DVec3::from_array(voxel.map(|v| v as f64)));
+                drawn.push(Glyph {
+                    center,
+                    coeffs,
+                    radius,
+                });
+            }
+        }
+        glyphs.push(drawn);
+    }
+    report.drawn = glyphs.iter().map(Vec::len).sum();
+    if report.drawn == 0 && !volume.is_peaks_grid() {
+        return Err(nothing_to_draw(volume, &regions, &report));
+    }
+    let scale = options
+        .scale
+        .unwrap_or_else(|| DEFAULT_SCALE_FRACTION * map.voxel_sizes().min_element());
+    let framing = match options.slices {
+        Some(_) => {
+            // The box the three slices span: each region is whole along the other axes.
+            let span = [
+                regions[1].ranges[0].clone(),
+                regions[0].ranges[1].clone(),
+                regions[0].ranges[2].clone(),
+            ];
+            frame_volume(&span, map, options.orientation, options.image)?
+        }
+        None => frame_region(
+            &regions[0],
+            map,
+            options.projection,
+            options.orientation,
+            options.image,
+        )?,
+    };
+    let peaks = options
+        .peaks
+        .as_ref()
+        .map(|peaks| {
+            let (camera, height) = (&framing.camera, framing.image.height);
+            peak_set(peaks, &regions, options.mask.as_ref(), camera, height)
+        })
+        .transpose()?;
+    if volume.is_peaks_grid() && peaks.as_ref().is_none_or(|p| p.segments.is_empty()) {
+        return Err(no_peak_to_draw(volume, &regions));
+    }
+    // Global normalisation is over all slices together.
+    let radii: Vec<f64> = glyphs.iter().flatten().map(|g| g.radius).collect();
+    let reference = match options.norm {
+        Normalisation::Robust => robust_reference(&radii),
+        _ => radii.iter().copied().fold(0.0, f64::max),
+    };
+    if options.norm == Normalisation::Robust {
+        report.capped = radii.iter().filter(|&&r| r > reference).count();
+    }
+    let glyph_sets: Vec<GlyphSet> = glyphs
+        .into_iter()
+        .filter(|g| !g.is_empty())
+        .map(|g| glyph_set(kind, g, scale, reference, options))
+        .collect();
+    let glyph_radius = glyph_sets
+        .iter()
+        .flat_map(|set| set.scales.iter())
+        .zip(&radii)
+        .map(|(scale, radius)| scale * radius)
+        .fold(0.0, f64::max);
+    Ok(VolumeScene {
+        scene: Scene {
+            glyph_sets,
+            camera: framing.camera,
+            image: framing.image,
+        },
+        report,
+        region: regions[0].clone(),
+        regions,
+        glyph_radius,
+        peaks,
+    })
+}
+
+/// Refuses a voxel's coefficient beyond float32's range (a float64 image can hold
+/// one): a scene keeps them as they are, and glyphcast draws, and reads saved scenes,
+/// in float32 (`scene::MAX_SCENE_MAGNITUDE`).
+fn check_float32(volume: &Volume, voxel: [usize; 3], coeffs: &[f64]) -> Result<()> {
+    match coeffs.iter().position(|c| !fits_float32(*c)) {
+        None => Ok(()),
+        Some(c) => Err(Error::input(
+            &volume.file,
+            format!("voxel {voxel:?}, coefficient {c}"),
+            format!(
+                "{:?} is beyond float32's range (magnitude at most {:e}), in which glyphs \
+                 are drawn",
+                coeffs[c],
+                f32::MAX
+            ),
+        )),
+    }
+}
+
+/// The radius that [`Normalisation::Robust`] draws at `scale`: the largest of `radii`,
+/// or [`ROBUST_FACTOR`] times their [`ROBUST_PERCENTILE`]th percentile if that is
+/// smaller. The percentile is the lower nearest rank (the value at index
+/// floor(p/100 (n - 1)) of the sorted radii), so that one outlier among few glyphs is
+/// never its own reference.
+pub fn robust_reference(radii: &[f64]) -> f64 {
+    let largest = radii.iter().copied().fold(0.0, f64::max);
+    if radii.len() < 2 {
+        return largest;
+    }
+    let mut sorted = radii.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let rank = ((ROBUST_PERCENTILE / 100.0) * (sorted.len() - 1) as f64).floor() as usize;
+    let limit = ROBUST_FACTOR * sorted[rank];
+    if limit > 0.0 {
+        largest.min(limit)
+    } else {
+        largest
+    }
+}
+
+/// What turns the volume's glyphs into world axes: the affine's orthogonal factor for
+/// voxel-frame coefficients, nothing for world-frame ones.
+fn reorientation(volume: &Volume) -> Result<Reorientation> {
+    if volume.frame == CoefficientFrame::World {
+        return Ok(Reorientation::new(glam::DMat3::IDENTITY));
+    }
+    let rotation = volume.voxel_to_world.orthogonal_factor().ok_or_else(|| {
+        Error::input(
+            &volume.file,
+            "affine",
+            "the polar decomposition of the affine did not converge",
+        )
+    })?;
+    Ok(Reorientation::new(rotation))
+}
+
+fn check_options(volume: &Volume, options: &VolumeOptions) -> Result<()> {
+    if let Some(peaks) = &options.peaks {
+        peaks
+            .volume
+            .check_grid(&volume.file, volume.dims, &volume.voxel_to_world)?;
+    }
+    if let Some(scale) = options.scale
+        && !(scale.is_finite() && scale > 0.0)
+    {
+        return Err(Error::setting_value(
+            Setting::Scale,
+            scale,
+            "must be a positive number",
+        ));
+    }
+    if options.shape == GlyphShape::Ellipsoid && volume.kind != GlyphKind::Tensor(ELLIPSOID_LAYOUT)
+    {
+        return Err(Error::setting_value(
+            Setting::Glyph,
+            "ellipsoid",
+            format!(
+                "draws order-2 symmetric tensors (DTI), and {} holds a {}",
+                volume.file, volume.kind
+            ),
+        ));
+    }
+    if !(options.min_amplitude.is_finite() && options.min_amplitude >= 0.0) {
+        return Err(Error::setting_value(
+            Setting::MinAmplitude,
+            options.min_amplitude,
+            "must be a number >= 0",
+        ));
+    }
+    if let Some(mask) = &options.mask
+        && mask.dims != volume.dims
+    {
+        return Err(Error::input(
+            &mask.file,
+            "dim",
+            format!(
+                "the mask is {} but the volume {} is {}",
+                show_shape(&mask.dims),
+                volume.file,
+                show_shape(&volume.dims)
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The volume's kind with SH bands above `lmax` dropped.
+fn truncated_kind(volume: &Volume, lmax: Option<u32>) -> Result<GlyphKind> {
+    match (volume.kind, lmax) {
+        (_, None) => Ok(volume.kind),
+        (
+            GlyphKind::Sh {
+                band,
+                basis,
+                legacy,
+            },
+            Some(lmax),
+        ) => {
+            if lmax % 2 != 0 || lmax > band {
+                return Err(Error::input(
+                    &volume.file,
+                    Setting::Lmax.name(),
+                    glyphcast::message![
+                        Setting::Lmax.with(lmax),
+                        format!(" must be even and at most the file's band {band}")
+                    ],
+                ));
+            }
+            Ok(GlyphKind::Sh {
+                band: lmax,
+                basis,
+                legacy,
+            })
+        }
+        (GlyphKind::Tensor(_), Some(_)) => {
+            Err(Error::setting(Setting::Lmax, "applies to SH volumes only"))
+        }
+    }
+}
+
+/// How the error of a selection with no glyph starts ([`is_nothing_to_draw`]).
+const NOTHING_TO_DRAW: &str = "no glyph to draw in the ";
+
+/// Whether `err` is [`volume_scene`]'s refusal of a selection that holds no glyph.
+pub fn is_nothing_to_draw(err: &Error) -> bool {
+    matches!(err, Error::Input { field, message, .. }
+        if field == "voxels" && message.to_string().starts_with(NOTHING_TO_DRAW))
+}
+
+fn nothing_to_draw(volume: &Volume, regions: &[SliceRegion], report: &VolumeReport) -> Error {
+    let slices: Vec<String> = regions
+        .iter()
+        .map(|r| format!("{}={}", ["i", "j", "k"][r.slice.voxel_axis()], r.index))
+        .collect();
+    Error::input(
+        &volume.file,
+        "voxels",
+        glyphcast::message![
+            format!(
+                "{NOTHING_TO_DRAW}{} voxels selected ({} of them masked out, {} not finite, \
+             {} zero, {} below ",
+                report.selected,
+                report.masked_out,
+                report.non_finite,
+                report.zero,
+                report.below_min_amplitude
+            ),
+            Setting::MinAmplitude,
+            format!(") in slice {}", slices.join(", "))
+        ],
+    )
+}
+
+fn no_peak_to_draw(volume: &Volume, regions: &[SliceRegion]) -> Error {
+    let slices: Vec<String> = regions
+        .iter()
+        .map(|r| format!("{}={}", ["i", "j", "k"][r.slice.voxel_axis()], r.index))
+        .collect();
+    Error::input(
+        &volume.file,
+        "data",
+        format!(
+            "no peak to draw in slice {} (NaN or masked out everywhere there)",
+            slices.join(", ")
+        ),
+    )
+}
+
+/// The glyphs as one set, sized by `norm` so that the `reference` radius becomes
+/// `scale` (a robust one caps the glyphs above it at `scale`).
+fn glyph_set(
+    kind: GlyphKind,
+    glyphs: Vec<Glyph>,
+    scale: f64,
+    reference: f64,
+    options: &VolumeOptions,
+) -> GlyphSet {
+    let scales = glyphs
+        .iter()
+        .map(|g| match options.norm {
+            Normalisation::Robust => scale / g.radius.max(reference),
+            Normalisation::Global => scale / reference,
+            Normalisation::PerGlyph => scale / g.radius,
+            Normalisation::None => scale,
+        })
+        .collect();
+    let (centers, coeffs) = glyphs.into_iter().map(|g| (g.center, g.coeffs)).unzip();
+    GlyphSet {
+        kind,
+        negative: NegativeMode::Abs,
+        shape: options.shape,
+        centers,
+        scales,
+        coeffs,
+    }
+}
