@@ -91,7 +91,8 @@ fn the_recipes_build_context_is_a_whole_workspace() {
     );
     let metadata = String::from_utf8_lossy(&run.stdout);
     assert!(
-        metadata.contains("\"name\":\"glyphcast\""),
-        "the glyphcast package"
+        metadata.contains("\"name\":\"glyphcast\"")
+            && metadata.contains("\"name\":\"glyphcast-cli\""),
+        "the glyphcast and glyphcast-cli packages"
     );
 }

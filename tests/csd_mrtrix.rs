@@ -13,16 +13,16 @@ use common::{
     DwiFiles, axis_angle, expect_failure, fresh_dir, glyphcast, largest_difference, test_data, text,
 };
 use glam::{DMat3, DVec3};
+use glyphcast::glyph::sh::{rotate_sh, sh_basis_values, sh_count, sh_orders};
+use glyphcast::scene::ShBasis;
 use glyphcast_dmri::fit::csd_mrtrix::{
     MAX_ITERATIONS, MrtrixCsdFitter, MrtrixCsdParameters, default_constraint_directions,
 };
 use glyphcast_dmri::fit::gradients::BvecConvention;
 use glyphcast_dmri::fit::peaks::{PeakFinder, PeakOptions};
 use glyphcast_dmri::fit::{FitInputs, Response};
-use glyphcast::glyph::sh::{rotate_sh, sh_basis_values, sh_count, sh_orders};
 use glyphcast_dmri::io::image::{Image, read_image};
 use glyphcast_dmri::io::nifti::VoxelToWorld;
-use glyphcast::scene::ShBasis;
 use nalgebra::{DMatrix, DVector};
 use std::path::{Path, PathBuf};
 

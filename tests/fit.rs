@@ -3,11 +3,11 @@
 //! the measured ADCs better, the SH fit reproduces the signal to within its noise, the
 //! output is a NIfTI with the input's geometry, and bad input fails cleanly.
 use glam::DVec3;
-use glyphcast_dmri::fit::voxel::SIGNAL_FLOOR;
-use glyphcast_dmri::fit::{FitFiles, FitInputs, FitModel, VoxelFitter, fit};
 use glyphcast::glyph::polynomial::GlyphPolynomial;
 use glyphcast::glyph::{Symmetry, TensorLayout};
 use glyphcast::scene::ShBasis;
+use glyphcast_dmri::fit::voxel::SIGNAL_FLOOR;
+use glyphcast_dmri::fit::{FitFiles, FitInputs, FitModel, VoxelFitter, fit};
 use nalgebra::{DMatrix, DVector};
 use ndarray::{Array4, Ix4};
 use nifti::{IntoNdArray, NiftiObject, ReaderOptions};

@@ -5,12 +5,12 @@
 mod common;
 use common::{dipy_data, fit_small_64d, fresh_dir, glyphcast, text};
 use glam::{DMat4, DVec3};
+use glyphcast::rng::SplitMix64;
+use glyphcast::scene::ShBasis;
 use glyphcast_dmri::fit::peaks::{PeakFinder, PeakOptions};
 use glyphcast_dmri::fit::response::{DEFAULT_RESPONSE_FA, estimate_response};
 use glyphcast_dmri::fit::{FitFiles, FitInputs};
 use glyphcast_dmri::io::image::read_image;
-use glyphcast::rng::SplitMix64;
-use glyphcast::scene::ShBasis;
 use ndarray::{ArrayD, IxDyn};
 use std::path::{Path, PathBuf};
 

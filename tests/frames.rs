@@ -13,11 +13,11 @@ mod common;
 
 use common::{dipy_data, flipped_in_x, glyphcast, text, write_nifti};
 use glam::DMat4;
+use glyphcast::io::npy::read_npy_f32;
 use glyphcast_dmri::io::image::read_image;
 use glyphcast_dmri::io::mif::write::mif_bytes;
 use glyphcast_dmri::io::mif::{MifWrite, write_mif};
 use glyphcast_dmri::io::nifti::{AffineSource, VoxelToWorld};
-use glyphcast::io::npy::read_npy_f32;
 use ndarray::ArrayD;
 use std::path::{Path, PathBuf};
 use std::process::Output;

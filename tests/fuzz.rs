@@ -15,13 +15,13 @@
 //! `cargo test --test fuzz -- --ignored write_corpus`.
 mod common;
 
-use glyphcast_dmri::fit::gradients::GradientTable;
 use glyphcast::glyph::stiffness::VoigtStiffness;
+use glyphcast::rng::SplitMix64;
+use glyphcast::scene::Scene;
+use glyphcast_dmri::fit::gradients::GradientTable;
 use glyphcast_dmri::io::mif::{MifWrite, read_mif, write_mif};
 use glyphcast_dmri::io::nifti::read_nifti_bytes;
 use glyphcast_dmri::io::nifti::write::nifti1_bytes;
-use glyphcast::rng::SplitMix64;
-use glyphcast::scene::Scene;
 use std::io::Read;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};

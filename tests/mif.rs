@@ -10,10 +10,10 @@ mod common;
 use common::{dipy_data, expect_failure, glyphcast, text};
 
 use glam::{DMat3, DMat4, DVec3};
+use glyphcast::scene::{GlyphKind, ShBasis};
 use glyphcast_dmri::io::image::{ImageHeader, read_image};
 use glyphcast_dmri::io::mif::read_mif;
 use glyphcast_dmri::io::nifti::{AffineSource, VoxelToWorld};
-use glyphcast::scene::{GlyphKind, ShBasis};
 use glyphcast_dmri::volume::{Reorientation, VolumeKind, load_mask, load_volume};
 use ndarray::{Array3, ArrayD, IxDyn};
 use std::io::Write;

@@ -14,10 +14,10 @@ use common::{
     DwiFiles, axis_angle, expect_failure, fresh_dir, glyphcast, numbers, test_data, text,
 };
 use glam::DVec3;
+use glyphcast::scene::ShBasis;
 use glyphcast_dmri::fit::msmt::{MsmtFitter, MsmtProblem, Shells, TissueResponses};
 use glyphcast_dmri::fit::peaks::{PeakFinder, PeakOptions};
 use glyphcast_dmri::fit::response_msmt::{estimate_responses, read_responses};
-use glyphcast::scene::ShBasis;
 use nifti::{IntoNdArray, NiftiObject, ReaderOptions};
 use serde_json::Value;
 use std::path::{Path, PathBuf};

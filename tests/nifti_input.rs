@@ -300,7 +300,8 @@ fn a_tiny_file_declaring_a_huge_volume_is_refused_without_allocating_it() {
     }
     // Volumes that fit in their files but not under the memory cap (NIfTI, and MRtrix
     // plain and compressed).
-    let corpus = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("tests/fuzz/corpus/mif");
+    let corpus =
+        Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("tests/fuzz/corpus/mif");
     for path in [
         data("func_coef.nii.gz"),
         corpus.join("func_coef.mif"),

@@ -16,6 +16,8 @@ use common::{
     largest_difference, numbers, text,
 };
 use glam::DVec3;
+use glyphcast::glyph::sh::{sh_count, sh_eval};
+use glyphcast::scene::ShBasis;
 use glyphcast_dmri::fit::csd::{CsdFitter, CsdParameters};
 use glyphcast_dmri::fit::dti::DiffusionTensor;
 use glyphcast_dmri::fit::peaks::{PeakFinder, PeakOptions};
@@ -23,8 +25,6 @@ use glyphcast_dmri::fit::response::{DEFAULT_RESPONSE_FA, estimate_response};
 use glyphcast_dmri::fit::{
     CsdAlgorithm, FitInputs, FitModel, OdfMethod, OdfModel, Response, fit, fit_with_response,
 };
-use glyphcast::glyph::sh::{sh_count, sh_eval};
-use glyphcast::scene::ShBasis;
 use ndarray::Array4;
 use nifti::{IntoNdArray, NiftiObject, ReaderOptions};
 use serde_json::Value;
@@ -39,7 +39,8 @@ fn inputs() -> FitInputs {
 }
 
 fn fixture() -> Value {
-    let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("tests/data/dipy/odf-dipy.json");
+    let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .join("tests/data/dipy/odf-dipy.json");
     let text = std::fs::read_to_string(&path).expect("reading the DIPY fixture");
     serde_json::from_str(&text).expect("parsing the DIPY fixture")
 }

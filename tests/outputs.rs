@@ -32,7 +32,8 @@ fn refused(args: &[&str], words: &[&str]) {
 /// A copy of tests/scenes/sphere.json in `dir`.
 fn sphere_scene(dir: &Path) -> PathBuf {
     let scene = dir.join("s.json");
-    let source = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("tests/scenes/sphere.json");
+    let source =
+        Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("tests/scenes/sphere.json");
     std::fs::copy(source, &scene).expect("copying the scene");
     scene
 }

@@ -10,7 +10,6 @@ use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
 use glyphcast::glyph::capsule::Capsule;
 use glyphcast::glyph::reference::reference_depth;
 use glyphcast::glyph::sh::sh_eval;
-use glyphcast_dmri::io::image::read_image;
 use glyphcast::io::npy::read_npy_f32;
 use glyphcast::render::RenderSettings;
 use glyphcast::render::glyph_data::prepare_scene;
@@ -18,6 +17,7 @@ use glyphcast::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
 use glyphcast::render::peaks::{PeakSegment, PeakSet};
 use glyphcast::rng::SplitMix64;
 use glyphcast::scene::{GlyphKind, ImageSize, Scene};
+use glyphcast_dmri::io::image::read_image;
 use glyphcast_dmri::volume::{Coefficients, VolumeFigure, VolumeRequest};
 use std::path::{Path, PathBuf};
 
@@ -291,7 +291,9 @@ fn assert_peaks_along_lobes(
 ) -> usize {
     let request = VolumeRequest {
         basis: basis.map(str::to_string),
-        peaks: Some(glyphcast_dmri::volume::ImageSource::File(peaks.to_path_buf())),
+        peaks: Some(glyphcast_dmri::volume::ImageSource::File(
+            peaks.to_path_buf(),
+        )),
         peaks_frame: peaks_frame.map(str::to_string),
         ..Default::default()
     };
@@ -491,7 +493,11 @@ fn write_like(
 
 /// DIPY's layout of the MRtrix-layout `peaks`: unit directions (5D [x, y, z, N, 3] if
 /// `five`, else 4D [x, y, z, 3N]) with zeros where absent, and amplitudes [x, y, z, N].
-fn dipy_layout(peaks: &glyphcast_dmri::io::image::Image, dir: &Path, five: bool) -> (String, String) {
+fn dipy_layout(
+    peaks: &glyphcast_dmri::io::image::Image,
+    dir: &Path,
+    five: bool,
+) -> (String, String) {
     let s = peaks.data.shape().to_vec();
     let n = s[3] / 3;
     let mut dirs = ndarray::ArrayD::<f64>::zeros(if five {

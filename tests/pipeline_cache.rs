@@ -209,7 +209,8 @@ fn four_processes_at_once_share_the_cache_and_agree() {
 #[test]
 fn the_quick_gpu_report_writes_its_table() {
     let dir = fresh_dir("gpu-report");
-    let script = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("tools/gpu-report.sh");
+    let script =
+        Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("tools/gpu-report.sh");
     let out = Command::new("bash")
         .arg(&script)
         .args([

@@ -6,11 +6,11 @@
 mod common;
 use common::{axis_angle, fit_small_64d, fresh_dir, glyphcast, text};
 use glam::{DMat3, DMat4, DQuat, DVec3, EulerRot};
+use glyphcast::io::npy::read_npy_f32;
+use glyphcast::scene::Scene;
 use glyphcast_dmri::io::image::read_image;
 use glyphcast_dmri::io::mif::{MifWrite, write_mif};
 use glyphcast_dmri::io::nifti::{AffineSource, VoxelToWorld};
-use glyphcast::io::npy::read_npy_f32;
-use glyphcast::scene::Scene;
 use glyphcast_dmri::volume::{Coefficients, Volume, VolumeRequest};
 use nalgebra::{Matrix3, SymmetricEigen};
 use ndarray::{Array4, ArrayD, IxDyn};

@@ -7,9 +7,9 @@
 //! (`volume::VolumeReport::warnings`). Images go out as arrays that own the rendered
 //! pixels (no copy).
 use glam::DMat4;
-use glyphcast_dmri::io::nifti::{AffineSource, VoxelToWorld};
 use glyphcast::render::headless::RenderedImage;
 use glyphcast::render::underlay::UnderlayVolume;
+use glyphcast_dmri::io::nifti::{AffineSource, VoxelToWorld};
 use glyphcast_dmri::volume::{Mask, PeakArray};
 use ndarray::{Array3, Array4, Ix3, Ix4};
 use numpy::{

@@ -7,7 +7,9 @@ use std::path::PathBuf;
 
 use glam::DMat4;
 use glyphcast::render::options::RenderOptions;
-use glyphcast_dmri::volume::{CoefficientFrame, ImageRequest, ImageSource, PeakVolume, VolumeRequest};
+use glyphcast_dmri::volume::{
+    CoefficientFrame, ImageRequest, ImageSource, PeakVolume, VolumeRequest,
+};
 use numpy::PyUntypedArray;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;

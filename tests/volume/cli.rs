@@ -144,8 +144,10 @@ fn every_bad_volume_input_fails_cleanly_naming_the_file() {
     write_mask(&mask, Storage::Sform, &Array3::ones((3, 4, 6)));
     let all_nan = case.input("all_nan.nii.gz");
     write_tensor_volume(&all_nan, |_, _| vec![f64::NAN; 6]);
-    let small_64d = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("tests/data/dipy/small_64D.nii");
-    let scene = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("tests/scenes/sphere.json");
+    let small_64d = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .join("tests/data/dipy/small_64D.nii");
+    let scene = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .join("tests/scenes/sphere.json");
 
     let (notes, short, truncated, three_d, sh44, sh6, mask, all_nan, small_64d, scene) = (
         text(&not_nifti),

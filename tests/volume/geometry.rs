@@ -5,8 +5,8 @@ use glam::{DVec3, DVec4};
 use glyphcast::camera::Projection;
 use glyphcast::glyph::polynomial::GlyphPolynomial;
 use glyphcast::glyph::{Symmetry, TensorLayout};
-use glyphcast_dmri::io::nifti::AffineSource;
 use glyphcast::scene::{GlyphKind, Scene};
+use glyphcast_dmri::io::nifti::AffineSource;
 use glyphcast_dmri::volume::{
     ImageRequest, Slice, SliceAxis, ViewProjection, Volume, VolumeKind, VolumeOptions, load_volume,
     volume_scene,

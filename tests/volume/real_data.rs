@@ -1,7 +1,7 @@
 //! Real files from DIPY (tests/data/dipy, BSD-3-Clause, see LICENSE-DIPY there).
 use glam::{DMat3, DVec3};
-use glyphcast_dmri::io::nifti::{AffineSource, NiftiHeader, VoxelToWorld, read_nifti};
 use glyphcast::scene::{GlyphKind, ShBasis};
+use glyphcast_dmri::io::nifti::{AffineSource, NiftiHeader, VoxelToWorld, read_nifti};
 use glyphcast_dmri::volume::{VolumeKind, load_volume};
 use nalgebra::{Quaternion, UnitQuaternion};
 use std::path::PathBuf;
@@ -156,8 +156,8 @@ fn func_coef_is_a_band_8_volume() {
 fn viewer_slice_moves_are_prepared_in_the_background() {
     use glyphcast::render::RenderSettings;
     use glyphcast::render::glyph_data::prepare_scene;
-    use glyphcast_viewer::{Content, ViewSource};
     use glyphcast_dmri::volume::{Slice, SliceAxis, VolumeOptions, volume_scene};
+    use glyphcast_viewer::{Content, ViewSource};
     let kind = VolumeKind::Sh {
         basis: ShBasis::Tournier07,
         legacy: true,

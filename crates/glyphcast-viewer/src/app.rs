@@ -11,6 +11,7 @@ use super::layout::WindowLayout;
 use super::orbit;
 use super::panels::Panels;
 use super::presenter::{Outcome, Presenter};
+use ash::vk;
 use glyphcast::render::component::UploadedGlyphs;
 use glyphcast::render::compose::labels::{CaptionPatch, caption_patch};
 use glyphcast::render::headless::HeadlessRenderer;
@@ -20,7 +21,6 @@ use glyphcast::render::shaders::methods_for;
 use glyphcast::render::underlay::Underlay;
 use glyphcast::vk::Gpu;
 use glyphcast::{Error, Result};
-use ash::vk;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use winit::application::ApplicationHandler;
@@ -663,7 +663,12 @@ impl App {
                     call: "capture",
                     expected: "a captured frame",
                 })?;
-            glyphcast::io::png::write_png_rgba8(&path, capture.width, capture.height, &capture.rgba)?;
+            glyphcast::io::png::write_png_rgba8(
+                &path,
+                capture.width,
+                capture.height,
+                &capture.rgba,
+            )?;
             eprintln!("wrote {}", path.display());
         }
         if let Some(path) = self.options.screenshot.clone() {
@@ -695,7 +700,8 @@ impl App {
             .figure
             .render_headless(renderer, &self.gpu, &self.panels, &layout)?;
         // The screenshot and the scene as shown: both new, or both as they were.
-        let png = glyphcast::io::png::encode_png_rgba8(path, image.width, image.height, &image.rgba)?;
+        let png =
+            glyphcast::io::png::encode_png_rgba8(path, image.width, image.height, &image.rgba)?;
         // The scene's image is the glyphs' area: without the colour bar's strip.
         let (width, height) = (layout.grid.cell.0, layout.grid.cell.1);
         let scene = self.options.save_scene.as_ref().map(|scene_path| {

@@ -12,6 +12,7 @@
 //! pixels `render --colorbar` appends; `render::compose::labels::caption_patch`, the
 //! opaque box `render --lightbox` draws) and copied in from a host-visible buffer, byte
 //! for byte.
+use ash::vk;
 use glyphcast::error::{Error, Result};
 use glyphcast::render::component::UploadedGlyphs;
 use glyphcast::render::frame::FrameParams;
@@ -22,7 +23,6 @@ use glyphcast::vk::recording::{
     cleared_color_attachment, color_region_copy, layout_transition,
 };
 use glyphcast::vk::{Buffer, DeviceContext, Image, cleared_depth_attachment, color_range};
-use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 /// One panel of a frame: its glyphs (and underlay), its frame block and its cell of the

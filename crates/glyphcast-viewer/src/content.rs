@@ -19,11 +19,11 @@ use glyphcast::render::glyph_data::{
 use glyphcast::render::peaks::PeakSet;
 use glyphcast::render::underlay::{Underlay, UnderlayPlane, extent_with_planes};
 use glyphcast::scene::{GlyphSet, Scene};
+use glyphcast::{Error, Result, Setting};
 use glyphcast_dmri::volume::{
     SliceRegion, Volume, VolumeOptions, VolumeScene, slice_framing, slice_plane, turned_away,
     volume_scene_with_progress,
 };
-use glyphcast::{Error, Result, Setting};
 use std::ops::Range;
 use std::sync::{Arc, mpsc};
 use std::time::Instant;

@@ -6,13 +6,13 @@
 use super::ViewerOptions;
 use super::layout::WindowLayout;
 use super::panels::Panels;
+use ash::vk;
 use glyphcast::Result;
 use glyphcast::render::compose::colorbar::ColorBar;
 use glyphcast::render::compose::labels::draw_caption;
 use glyphcast::render::compose::montage::Montage;
 use glyphcast::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
 use glyphcast::vk::Gpu;
-use ash::vk;
 
 /// The colour bar's strip as last drawn.
 struct Strip {

@@ -3,8 +3,8 @@
 //! as `render --views/--lightbox` lays them out) in the rest. The screenshot composes
 //! the same layout, so window and screenshot put every panel and the strip at the same
 //! pixels.
-use glyphcast::render::compose::montage::Grid;
 use ash::vk;
+use glyphcast::render::compose::montage::Grid;
 
 /// The layout of a window of a given size.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

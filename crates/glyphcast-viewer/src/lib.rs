@@ -1,3 +1,4 @@
+#![warn(missing_docs)]
 //! The interactive viewer (`glyphcast view`): a winit window with a Vulkan swapchain,
 //! drawn through the engine component
 //! [`GlyphRenderer`](glyphcast::render::component::GlyphRenderer), as the headless renderer

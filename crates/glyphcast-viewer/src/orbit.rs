@@ -1,8 +1,8 @@
 //! Mouse camera control on the scene format's [`Camera`]: orbit about the target, pan in
 //! the view plane, zoom. Orbiting turns the eye and the up vector together about the
 //! camera's own axes (a trackball), so there is no pole where the view flips.
-use glyphcast::camera::{Camera, Projection};
 use glam::{DQuat, DVec3};
+use glyphcast::camera::{Camera, Projection};
 
 /// A drag across the whole window height turns the view by half a turn.
 const RADIANS_PER_HEIGHT: f64 = std::f64::consts::PI;

@@ -57,7 +57,10 @@ impl Panels {
             });
         };
         if montage.panels.is_empty() {
-            return Err(Error::data("montage panels", glyphcast::error::Problem::Empty));
+            return Err(Error::data(
+                "montage panels",
+                glyphcast::error::Problem::Empty,
+            ));
         }
         let volume = Arc::new(montage.volume);
         let mut underlays = montage.underlays.into_iter();

@@ -22,6 +22,7 @@
 //! the next frame.
 use super::compose::{PanelDraw, PatchDraw, attachment_to_copies, copies_to_patches};
 use super::slots::FrameSlot;
+use ash::vk;
 use glyphcast::error::{Result, VkContext};
 use glyphcast::render::RenderSettings;
 use glyphcast::render::component::{GlyphRenderer, RendererDesc};
@@ -33,7 +34,6 @@ use glyphcast::vk::recording::{
     color_image_copy, copies_to_host, layout_transition,
 };
 use glyphcast::vk::{Acquired, DeviceContext, Gpu, Surface, Swapchain, color_range};
-use ash::vk;
 use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
 
 const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;

@@ -11,9 +11,9 @@
 //! so reusing it is safe, where a per-slot one could still be held by the presentation
 //! engine.
 use super::compose::Composer;
+use ash::vk;
 use glyphcast::error::{Result, VkContext};
 use glyphcast::vk::{Buffer, DeviceContext, Gpu, GpuTimer, Image};
-use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 /// Frames the viewer records ahead of the GPU unless told otherwise (`view

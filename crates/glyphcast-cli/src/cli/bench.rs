@@ -10,8 +10,8 @@ use glyphcast::render::headless::HeadlessRenderer;
 use glyphcast::render::{MeshKind, Method, Refinement, RenderSettings};
 use glyphcast::scene::Scene;
 use glyphcast::vk::{Gpu, GpuOptions};
-use glyphcast_dmri::volume::ImageRequest;
 use glyphcast::{Error, Result};
+use glyphcast_dmri::volume::ImageRequest;
 use std::path::{Path, PathBuf};
 
 /// The tables `--out` names, written as one set.

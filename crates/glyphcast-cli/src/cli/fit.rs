@@ -4,6 +4,9 @@
 //! Flags are checked first, then every input file, and only then is anything fitted or
 //! written, so a bad input costs no time and leaves no file.
 use clap::{ArgGroup, Args};
+use glyphcast::glyph::sh::parse_basis;
+use glyphcast::glyph::tensor_order::TensorOrder;
+use glyphcast::{Error, Result, Setting};
 use glyphcast_dmri::fit::csd::{DEFAULT_CSD_LAMBDA, DEFAULT_CSD_TAU};
 use glyphcast_dmri::fit::csd_mrtrix::{self, CsdAlgorithm};
 use glyphcast_dmri::fit::gradients::BvecConvention;
@@ -14,9 +17,6 @@ use glyphcast_dmri::fit::response::{DEFAULT_RESPONSE_FA, estimate_response};
 use glyphcast_dmri::fit::{
     DEFAULT_LAMBDA, FitFiles, FitInputs, FitModel, OdfMethod, OdfModel, Response, fit_with_response,
 };
-use glyphcast::glyph::sh::parse_basis;
-use glyphcast::glyph::tensor_order::TensorOrder;
-use glyphcast::{Error, Result, Setting};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;

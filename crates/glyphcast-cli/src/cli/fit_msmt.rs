@@ -4,6 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use glyphcast::error::Relation;
+use glyphcast::glyph::tensor_order::TensorOrder;
+use glyphcast::{Error, Result, Setting};
 use glyphcast_dmri::fit::gradients::BvecConvention;
 use glyphcast_dmri::fit::msmt::{MsmtFitter, MsmtProblem, Shells, TISSUES, fit_msmt};
 use glyphcast_dmri::fit::output::{check_output_basis, check_output_path, output_bytes};
@@ -12,8 +14,6 @@ use glyphcast_dmri::fit::response_msmt::{
     CSF_MIN_MD, GM_MAX_MD, ISO_FA, estimate_responses, read_responses,
 };
 use glyphcast_dmri::fit::{FitInputs, FitModel, OdfMethod, OdfModel};
-use glyphcast::glyph::tensor_order::TensorOrder;
-use glyphcast::{Error, Result, Setting};
 
 use super::{FitArgs, load_inputs, progress_bar};
 

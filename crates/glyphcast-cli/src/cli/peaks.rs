@@ -11,17 +11,17 @@
 //! the other where the two differ, so `render --peaks` and other readers take them as
 //! meant.
 use clap::Args;
+use glyphcast::glyph::sh::parse_basis;
+use glyphcast::glyph::sh::sh_count;
+use glyphcast::{Error, Result, Setting};
 use glyphcast_dmri::fit::output::check_output_path;
 use glyphcast_dmri::fit::peaks::{
     DEFAULT_MIN_SEPARATION, DEFAULT_PEAK_COUNT, DEFAULT_RELATIVE_THRESHOLD, PeakFinder,
     PeakOptions, peak_volume, rotate_peaks,
 };
-use glyphcast::glyph::sh::parse_basis;
-use glyphcast::glyph::sh::sh_count;
 use glyphcast_dmri::io::image::{ImageHeader, read_image};
 use glyphcast_dmri::io::mif::{MifKind, MifWrite, write_mif};
 use glyphcast_dmri::volume::{CoefficientFrame, recorded_basis, resolve_basis};
-use glyphcast::{Error, Result, Setting};
 use ndarray::Array4;
 use std::path::PathBuf;
 
@@ -166,9 +166,16 @@ pub fn run(args: PeaksArgs) -> Result<()> {
     } else {
         let header = match &image.header {
             ImageHeader::Nifti(header) => (**header).clone(),
-            ImageHeader::Mrtrix(_) => glyphcast_dmri::fit::dwi::nifti_header_for(&image.voxel_to_world),
+            ImageHeader::Mrtrix(_) => {
+                glyphcast_dmri::fit::dwi::nifti_header_for(&image.voxel_to_world)
+            }
         };
-        glyphcast_dmri::fit::output::write_coefficients(&args.output, &peaks, &header, &description)?;
+        glyphcast_dmri::fit::output::write_coefficients(
+            &args.output,
+            &peaks,
+            &header,
+            &description,
+        )?;
     }
     if !args.quiet {
         let found = peaks

@@ -3,8 +3,8 @@
 //! checked before any work.
 use clap::Args;
 use glyphcast::Result;
-use glyphcast_dmri::qc::{QcRequest, check_output, make_set};
 use glyphcast::render::options::RenderOptions;
+use glyphcast_dmri::qc::{QcRequest, check_output, make_set};
 use glyphcast_dmri::volume::{ImageSource, VolumeRequest};
 use std::path::PathBuf;
 
@@ -115,7 +115,9 @@ pub fn run(args: &QcArgs) -> Result<()> {
     request.render.settings()?;
     request.render.negative()?;
     request.volume.options(Default::default())?;
-    request.volume.check(glyphcast_dmri::volume::Coefficients::Sh)?;
+    request
+        .volume
+        .check(glyphcast_dmri::volume::Coefficients::Sh)?;
     let inputs: Vec<&std::path::Path> = std::iter::once(args.fod.as_path())
         .chain(args.peaks.as_deref())
         .chain(args.mask.as_deref())

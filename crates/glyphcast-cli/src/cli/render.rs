@@ -15,10 +15,10 @@ use glyphcast::render::peaks::PeakSet;
 use glyphcast::render::promote::early_variants;
 use glyphcast::render::underlay::Underlay;
 use glyphcast::scene::Scene;
-use glyphcast_viewer::ViewSource;
 use glyphcast::vk::{Gpu, GpuOptions};
-use glyphcast_dmri::volume::{ImageRequest, VolumeFigure, VolumeMontage, VolumeView};
 use glyphcast::{Error, Result, Setting};
+use glyphcast_dmri::volume::{ImageRequest, VolumeFigure, VolumeMontage, VolumeView};
+use glyphcast_viewer::ViewSource;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 

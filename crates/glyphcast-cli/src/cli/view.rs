@@ -7,9 +7,9 @@ use clap::Args;
 use glyphcast::error::{Message, Relation};
 use glyphcast::io::atomic::{check_ending, check_outputs};
 use glyphcast::render::underlay::Underlay;
-use glyphcast_viewer::{MontageSource, ViewSource, ViewerOptions, parse_script};
-use glyphcast_dmri::volume::{ImageRequest, slice_framing};
 use glyphcast::{Error, Result, Setting};
+use glyphcast_dmri::volume::{ImageRequest, slice_framing};
+use glyphcast_viewer::{MontageSource, ViewSource, ViewerOptions, parse_script};
 use std::path::{Path, PathBuf};
 
 #[derive(Args)]

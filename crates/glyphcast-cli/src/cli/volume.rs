@@ -13,11 +13,11 @@ use clap::Args;
 use glyphcast::Result;
 use glyphcast::error::Relation;
 use glyphcast::scene::Scene;
+use glyphcast::{Error, Setting};
 use glyphcast_dmri::volume::{
     Coefficients, ImageRequest, ImageSource, MontagePlan, Volume, VolumeFigure, VolumeOptions,
     VolumeRequest, VolumeScene, volume_scene,
 };
-use glyphcast::{Error, Setting};
 use std::path::{Path, PathBuf};
 
 /// Flags that make a scene file unnecessary.

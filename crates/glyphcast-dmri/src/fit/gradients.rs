@@ -27,8 +27,8 @@ use glam::{DMat3, DVec3};
 use std::path::Path;
 use std::str::FromStr;
 
-use glyphcast::error::quoted;
 use crate::io::nifti::VoxelToWorld;
+use glyphcast::error::quoted;
 use glyphcast::{Error, Result, Setting};
 
 /// The frame the directions of a `.bvec` file are written in.

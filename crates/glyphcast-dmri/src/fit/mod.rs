@@ -54,8 +54,8 @@ pub use odf::OdfMethod;
 pub use response::Response;
 pub use voxel::{FitReport, VoxelFitter, fit, fit_with_report, fit_with_response};
 
-use glyphcast::scene::{GlyphKind, ShBasis};
 use crate::volume::TENSOR_PREFIX;
+use glyphcast::scene::{GlyphKind, ShBasis};
 use glyphcast::{Error, Result, Setting};
 use sh::sh_count;
 

@@ -17,14 +17,14 @@ use std::path::Path;
 
 use super::FitModel;
 use super::dwi::Dwi;
-use glyphcast::glyph::sh::ShBasis;
-use glyphcast::glyph::tensor_order::{DTI_COUNT, TensorOrder, negate_x};
-use glyphcast::io::atomic::write_atomic;
 use crate::io::mif::{MifKind, MifWrite, mif_file_bytes};
 use crate::io::nifti::NiftiHeader;
 use crate::io::nifti::VoxelToWorld;
 use crate::io::nifti::write::nifti1_bytes;
 use crate::volume::{Reorientation, tensor_description};
+use glyphcast::glyph::sh::ShBasis;
+use glyphcast::glyph::tensor_order::{DTI_COUNT, TensorOrder, negate_x};
+use glyphcast::io::atomic::write_atomic;
 use glyphcast::{Error, Result, Setting};
 
 /// The NIfTI endings written.

@@ -5,8 +5,8 @@
 //!
 //! The set is antipodally symmetric (the icosahedron is), so an antipodally symmetric
 //! function has its maxima in pairs.
-use glyphcast::glyph::tessellate::icosahedron;
 use glam::DVec3;
+use glyphcast::glyph::tessellate::icosahedron;
 use std::collections::HashMap;
 
 /// Vertices of a geodesic sphere and which vertices share an edge.

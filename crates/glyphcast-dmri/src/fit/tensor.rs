@@ -150,8 +150,8 @@ impl TensorFitter {
 mod tests {
     use super::*;
     use glyphcast::glyph::polynomial::GlyphPolynomial;
-    use glyphcast::rng::SplitMix64;
     use glyphcast::glyph::{Symmetry, TensorLayout};
+    use glyphcast::rng::SplitMix64;
 
     fn directions(count: usize, seed: u64) -> Vec<DVec3> {
         let mut rng = SplitMix64::new(seed);

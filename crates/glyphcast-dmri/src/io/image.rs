@@ -6,9 +6,9 @@ use std::path::Path;
 
 use ndarray::ArrayD;
 
-use glyphcast::Result;
 use crate::io::mif::{MifHeader, MifKind, read_mif};
 use crate::io::nifti::{NiftiHeader, NiftiImage, VoxelToWorld, read_nifti};
+use glyphcast::Result;
 
 /// What the header said besides the geometry.
 #[derive(Clone, Debug)]

@@ -11,17 +11,17 @@ use std::path::Path;
 use std::sync::Arc;
 
 use super::survey::{PlaneCuts, Region};
-use glyphcast::glyph::NegativeMode;
 use crate::io::nifti::AffineSource;
+use crate::volume::{CoefficientFrame, UnderlayPlacement};
+use crate::volume::{PeakStyle, PeaksColor, PeaksNorm, ViewPeaks, load_peaks, peak_set};
+use crate::volume::{Slice, SliceAxis, Volume, VolumeOptions, VolumeScene, VoxelRanges};
+use crate::volume::{view_underlay, volume_scene};
+use glyphcast::glyph::NegativeMode;
 use glyphcast::render::RenderSettings;
 use glyphcast::render::compose::montage::prepare_montage;
 use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
 use glyphcast::render::underlay::{Underlay, UnderlayVolume};
 use glyphcast::vk::Gpu;
-use crate::volume::{CoefficientFrame, UnderlayPlacement};
-use crate::volume::{PeakStyle, PeaksColor, PeaksNorm, ViewPeaks, load_peaks, peak_set};
-use crate::volume::{Slice, SliceAxis, Volume, VolumeOptions, VolumeScene, VoxelRanges};
-use crate::volume::{view_underlay, volume_scene};
 use glyphcast::{Error, Result};
 
 /// One figure of the set before rendering: its file, what it shows, and its panels.
@@ -371,16 +371,16 @@ fn size_peaks_alike(scenes: &mut [VolumeScene], full: f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glyphcast::scene::{GlyphKind, GlyphSet, Scene};
     use crate::volume::{SliceRegion, VolumeReport};
+    use glyphcast::scene::{GlyphKind, GlyphSet, Scene};
 
     /// Peaks of amplitudes 1, 2, 3, 4 (the median 3 by nearest rank) with full length 0.5:
     /// half lengths 1/6, 2/6, then 0.5 for 3 and 4; centres and directions kept.
     #[test]
     fn peaks_are_sized_on_one_scale_up_to_the_median() {
+        use glam::DVec3;
         use glyphcast::glyph::capsule::Capsule;
         use glyphcast::render::peaks::{PeakSegment, PeakSet};
-        use glam::DVec3;
         let center = DVec3::new(1.0, 2.0, 3.0);
         let direction = DVec3::new(0.0, 0.6, 0.8);
         let segments = [1.0, 2.0, 3.0, 4.0]

@@ -19,17 +19,17 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
-use glyphcast::io::folder::{check_folder_output, write_folder_atomic};
 use crate::io::image::read_image;
-use glyphcast::render::headless::HeadlessRenderer;
-use glyphcast::render::options::RenderOptions;
-use glyphcast::vk::Gpu;
 use crate::volume::{
     CoefficientFrame, Coefficients, ImageRequest, Mask, Normalisation, Volume, VolumeRequest,
     load_mask, load_underlay,
 };
-use glyphcast::{Error, Result, Setting};
 use figures::{DrawContext, Figure, SharedUnderlay};
+use glyphcast::io::folder::{check_folder_output, write_folder_atomic};
+use glyphcast::render::headless::HeadlessRenderer;
+use glyphcast::render::options::RenderOptions;
+use glyphcast::vk::Gpu;
+use glyphcast::{Error, Result, Setting};
 use survey::{Survey, region_side, voxel_world};
 
 /// The sidecar's name; a folder holding one is an earlier set, which a new run replaces.

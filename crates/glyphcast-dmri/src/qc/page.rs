@@ -12,8 +12,8 @@ use sha2::{Digest, Sha256};
 use super::figures::Figure;
 use super::survey::{PlaneCuts, Region, Survey, voxel_world};
 use super::{InputFile, QcRequest};
-use glyphcast::scene::GlyphKind;
 use crate::volume::{Orientation, Volume};
+use glyphcast::scene::GlyphKind;
 use glyphcast::{Error, Result};
 
 /// Everything the page and the sidecar report.

@@ -17,9 +17,9 @@
 //!   cube's slice with the most voxels looked at (the nearest the centre among equals).
 use glam::DVec3;
 
+use crate::volume::{Mask, SliceAxis, Volume};
 use glyphcast::glyph::sh::orthonormal_factors;
 use glyphcast::scene::GlyphKind;
-use crate::volume::{Mask, SliceAxis, Volume};
 use glyphcast::{Error, Result};
 
 /// The three planes of the mosaic, in its row order.
@@ -357,8 +357,8 @@ pub fn voxel_world(volume: &Volume, voxel: [usize; 3]) -> DVec3 {
 mod tests {
     use super::*;
     use crate::io::nifti::{AffineSource, VoxelToWorld};
-    use glyphcast::scene::ShBasis;
     use crate::volume::VolumeKind;
+    use glyphcast::scene::ShBasis;
 
     /// GFA and amplitude from the coefficients: an isotropic ODF has GFA 0, a band-2
     /// one sqrt(1 - c00^2 / (c00^2 + c20^2)) in every basis (its zonal term is the same

@@ -10,8 +10,8 @@ use super::input::{Mask, Volume, load_mask};
 use super::request::{ImageSource, VolumeRequest};
 use super::selection::Slice;
 use super::underlay::{load_underlay, view_underlay};
-use glyphcast::error::quoted;
 use crate::io::nifti::AffineSource;
+use glyphcast::error::quoted;
 use glyphcast::render::underlay::{Underlay, UnderlayVolume};
 use glyphcast::{Error, Result, Setting};
 

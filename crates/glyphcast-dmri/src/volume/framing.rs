@@ -21,8 +21,8 @@
 use glam::DVec3;
 
 use super::selection::SliceRegion;
-use glyphcast::camera::{Camera, Projection};
 use crate::io::nifti::VoxelToWorld;
+use glyphcast::camera::{Camera, Projection};
 use glyphcast::scene::{ImageSize, MAX_IMAGE_SIDE};
 use glyphcast::{Error, Result, Setting};
 

@@ -12,13 +12,13 @@ use std::str::FromStr;
 
 use ndarray::{Array3, Array4, ArrayD, Axis, Ix3, Ix4};
 
+use crate::io::image::{Image, ImageHeader, read_image};
+use crate::io::nifti::VoxelToWorld;
+use crate::volume::PeakVolume;
 use glyphcast::glyph::TensorLayout;
 use glyphcast::glyph::sh;
 use glyphcast::glyph::tensor_order::{DTI_COUNT, OrderEvidence, TensorOrder, negate_x};
-use crate::io::image::{Image, ImageHeader, read_image};
-use crate::io::nifti::VoxelToWorld;
 use glyphcast::scene::{GlyphKind, ShBasis};
-use crate::volume::PeakVolume;
 use glyphcast::{Error, Result, Setting};
 
 /// Highest SH band and tensor order of the scene format.

@@ -26,11 +26,11 @@ use ndarray::ArrayD;
 
 use super::input::{CoefficientFrame, Mask, show_shape};
 use super::selection::SliceRegion;
+use crate::io::image::{Image, read_image, trimmed_shape};
+use crate::io::nifti::VoxelToWorld;
 use glyphcast::camera::{Camera, Projection};
 use glyphcast::error::quoted;
 use glyphcast::glyph::capsule::Capsule;
-use crate::io::image::{Image, read_image, trimmed_shape};
-use crate::io::nifti::VoxelToWorld;
 use glyphcast::render::peaks::{PeakSegment, PeakSet};
 use glyphcast::{Error, Result, Setting};
 

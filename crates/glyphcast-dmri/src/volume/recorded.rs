@@ -7,11 +7,11 @@
 //! itself records no basis: its SH images are always tournier07 (non-legacy), so an
 //! MRtrix file that records nothing is taken as that. A NIfTI file that records nothing
 //! says nothing, and `--basis` is then required.
+use crate::io::image::{Image, ImageHeader};
 use glyphcast::error::{Message, Piece};
 use glyphcast::glyph::sh::{ShBasis, parse_basis};
 use glyphcast::glyph::tensor_order::TensorOrder;
 use glyphcast::glyph::{Symmetry, TensorLayout};
-use crate::io::image::{Image, ImageHeader};
 use glyphcast::{Error, Result, Setting};
 
 /// What starts the SH description `fit` writes, before the band.

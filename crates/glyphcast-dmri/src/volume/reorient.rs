@@ -147,8 +147,8 @@ fn non_identity(r: DMat3) -> Option<DMat3> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glyphcast::glyph::polynomial::GlyphPolynomial;
     use glam::DVec3;
+    use glyphcast::glyph::polynomial::GlyphPolynomial;
 
     fn layout(order: u32, symmetry: Symmetry) -> TensorLayout {
         TensorLayout { order, symmetry }

@@ -14,16 +14,16 @@ use super::recorded::{
     resolve_tensor_order,
 };
 use super::underlay::UnderlayPlacement;
+use crate::io::image::{Image, ImageHeader, read_image};
+use crate::io::nifti::VoxelToWorld;
+use crate::volume::peaks::{DEFAULT_PEAKS_WIDTH, PeakStyle, PeakVolume, ViewPeaks, load_peaks};
 use glyphcast::error::quoted;
 use glyphcast::glyph::ellipsoid::ELLIPSOID_LAYOUT;
 use glyphcast::glyph::sh::parse_basis_choice;
 use glyphcast::glyph::tensor_order::TensorOrder;
 use glyphcast::glyph::{GlyphShape, Symmetry, TensorLayout};
-use crate::io::image::{Image, ImageHeader, read_image};
-use crate::io::nifti::VoxelToWorld;
 use glyphcast::render::underlay::UnderlayVolume;
 use glyphcast::scene::{GlyphKind, ShBasis};
-use crate::volume::peaks::{DEFAULT_PEAKS_WIDTH, PeakStyle, PeakVolume, ViewPeaks, load_peaks};
 use glyphcast::{Error, Result, Setting};
 use std::sync::Arc;
 

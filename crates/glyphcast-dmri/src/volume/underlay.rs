@@ -21,9 +21,9 @@ use glam::DVec3;
 use super::build::VolumeScene;
 use super::input::{Volume, show_shape};
 use super::selection::SliceRegion;
-use glyphcast::camera::{Camera, Projection};
 use crate::io::image::{Image, read_image};
 use crate::io::nifti::{AffineSource, VoxelToWorld};
+use glyphcast::camera::{Camera, Projection};
 use glyphcast::render::underlay::{Underlay, UnderlayPlane, UnderlayVolume};
 use glyphcast::{Error, Result, Setting};
 

@@ -12,8 +12,8 @@ use ndarray::ArrayD;
 
 use super::header::MAGIC;
 use super::{DataType, MifKind};
-use glyphcast::io::atomic::write_atomic;
 use crate::io::nifti::VoxelToWorld;
+use glyphcast::io::atomic::write_atomic;
 use glyphcast::{Error, Result};
 
 /// Data start at a multiple of this many bytes.
