@@ -364,8 +364,8 @@ def parse_args():
     args.outdir = pathlib.Path(args.targets[-1])
     if args.cpus < 1:
         parser.error("--cpus must be at least 1")
-    if args.panel_size is not None and args.panel_size < 1:
-        parser.error("--panel-size must be positive")
+    if args.panel_size is not None and not 64 <= args.panel_size <= 4096:
+        parser.error("--panel-size must be 64 to 4096 pixels (glyphcast qc's range)")
     if args.poll <= 0:
         parser.error("--poll must be positive")
     return args
