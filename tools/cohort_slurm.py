@@ -290,11 +290,16 @@ def group_page(out, subjects, states):
                     f'{log_link}<br><code>{esc(message)}</code></td>')
             picture, link = "", esc(name)
         rows.append(
-            f"<tr><td>{link}</td>{cell}<td>{picture}</td>"
-            f"<td>{seconds(status, 'wall_s') if state == 'done' else ''}</td>"
-            f"<td>{seconds(status, 'cpu_s') if state == 'done' else ''}</td>"
+            f'<tr id="{esc(name)}"><td>{link}</td>{cell}<td>{picture}</td>'
+            f"<td class=\"n\">{seconds(status, 'wall_s') if state == 'done' else ''}</td>"
+            f"<td class=\"n\">{seconds(status, 'cpu_s') if state == 'done' else ''}</td>"
             f"<td><code>{esc(status.get('job', ''))}</code> {esc(status.get('host', ''))}</td>"
             f"<td><code>{esc(str(dwi))}</code></td></tr>")
+    not_done = [name for name, *_ in subjects if states[name][0] != "done"]
+    jump = ""
+    if not_done:
+        links = ", ".join(f'<a href="#{html.escape(n)}">{html.escape(n)}</a>' for n in not_done)
+        jump = f"<p>Not done: {links}.</p>"
     stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     title = f"ODF QC of {len(subjects)} subjects: {out.name}"
     return f"""<!DOCTYPE html>
@@ -306,6 +311,7 @@ th, td {{ border: 1px solid #ccc; padding: 0.3em 0.6em; vertical-align: top; tex
 td.done {{ color: #16632b; font-weight: bold; }}
 td.failed {{ color: #a11; font-weight: bold; }}
 td.missing {{ color: #666; }}
+td.n {{ white-space: nowrap; text-align: right; }}
 td code {{ font-weight: normal; font-size: 0.85em; }}
 img {{ display: block; background: #000; }}
 </style></head>
@@ -315,6 +321,7 @@ img {{ display: block; background: #000; }}
 subject is <code>glyphcast fit</code> (CSD, band 8), <code>peaks</code> and <code>qc</code>,
 one task of a SLURM job array. Wall and CPU (user + system) time are the task's.
 Run the same command again to redo the subjects that are not done.</p>
+{jump}
 <table>
 <thead><tr><th>subject</th><th>status</th><th>ODF mosaic</th><th>wall</th><th>CPU</th>
 <th>task, node</th><th>DWI</th></tr></thead>

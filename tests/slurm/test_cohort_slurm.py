@@ -52,7 +52,7 @@ def status(out, name):
 def page_rows(out):
     """{subject: row html} of the group page."""
     text = (out / "index.html").read_text()
-    rows = re.findall(r"<tr><td>(.*?)</tr>", text, re.S)
+    rows = re.findall(r"<tr id=\"[^\"]*\"><td>(.*?)</tr>", text, re.S)
     found = {}
     for row in rows:
         name = re.sub(r"<[^>]+>", "", row.split("</td>", 1)[0])
