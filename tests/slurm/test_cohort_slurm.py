@@ -5,7 +5,8 @@ cohort, the refusals, and the demo workflow through Nipype's SLURM plugin.
 
 Every run is real: sbatch, the scheduler's daemons and the glyphcast binary drawing on
 lavapipe. Small subjects (DIPY's small_64D, 10 x 10 x 10) and small panels keep the
-whole file to a few minutes on two cores.
+whole file to a few minutes on two cores. The SIGKILL of a task is sent to its processes
+through /proc, so the tests run on the cluster's (one) node.
 """
 import html
 import os
