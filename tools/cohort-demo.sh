@@ -1,16 +1,17 @@
 #!/usr/bin/env bash
 # N small subjects from DIPY's small_64D (perturbed copies) through a Nipype workflow
-# with the MultiProc plugin: glyphcast fit (CSD) -> peaks -> qc, writing
+# (MultiProc, or SLURM/SLURMGraph on a cluster): glyphcast fit (CSD) -> peaks -> qc, writing
 # OUTDIR/sub-XX/qc/index.html for each (tools/cohort_demo.py does the work).
 #
 #   bash tools/cohort-demo.sh N OUTDIR [cohort_demo.py options: --panel-size PX ...]
+#   bash tools/cohort-demo.sh N OUTDIR --plugin MultiProc|Linear|SLURM|SLURMGraph
 #
 # Python: $PYTHON, else the test venv target/py-venv (made, with nipype, nibabel and the
 # glyphcast module, when missing). Binary: $GLYPHCAST_BIN, else target/release/glyphcast
 # (built when missing). Lavapipe draws when no GPU is there (GLYPHCAST_LAVAPIPE=1 forces it).
 set -euo pipefail
 if [ $# -lt 2 ]; then
-    echo "usage: bash tools/cohort-demo.sh N OUTDIR [--panel-size PX] [--plugin P]" >&2
+    echo "usage: bash tools/cohort-demo.sh N OUTDIR [--panel-size PX] [--plugin MultiProc|Linear|SLURM|SLURMGraph] [--sbatch-args ARGS]" >&2
     exit 2
 fi
 root="$(cd "$(dirname "$0")/.." && pwd)"

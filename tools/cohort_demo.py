@@ -1,51 +1,31 @@
 """A cohort through glyphcast on Nipype: N small subjects made from DIPY's small_64D
 (tests/data/dipy), each a perturbed copy (Gaussian noise of 3 % of the mean b=0 signal,
 seeded by the subject's number, so every run makes the same cohort), run through
-fit (CSD, band 8) -> peaks -> qc in one Nipype workflow with the MultiProc plugin.
+fit (CSD, band 8) -> peaks -> qc in one Nipype workflow (MultiProc by default).
 
-    python tools/cohort_demo.py N OUTDIR [--plugin MultiProc|Linear|SLURMGraph]
-        [--panel-size PX] [--processes P]
+    python tools/cohort_demo.py N OUTDIR [--plugin MultiProc|Linear|SLURM|SLURMGraph]
+        [--panel-size PX] [--processes P] [--sbatch-args ARGS] [--poll S]
 
 Writes OUTDIR/inputs/sub-XX/dwi/ (the subjects), OUTDIR/sub-XX/qc/index.html (each
 subject's figure set, written by `glyphcast qc` straight into place, all or nothing) and
 OUTDIR/work (Nipype's cache: a second run redoes nothing). The binary is $GLYPHCAST_BIN,
-else `glyphcast` on the PATH. On a cluster: --plugin SLURMGraph (see the README).
+else `glyphcast` on the PATH. On a cluster: --plugin SLURM (Nipype submits each node as
+a job and polls squeue) or SLURMGraph (the whole graph at once, with dependencies), with
+the sbatch on the PATH; see docs/guide/cohorts.md.
 """
 import argparse
+import getpass
 import os
 import pathlib
-import shutil
 import sys
 
-import nibabel as nib
-import numpy as np
 from nipype import Function, Node, Workflow
 from nipype.interfaces.utility import IdentityInterface
 
+from cohort_subjects import make_subject
 from glyphcast.nipype import Fit, Peaks, Qc
 
-ROOT = pathlib.Path(__file__).resolve().parents[1]
-DIPY = ROOT / "tests" / "data" / "dipy"
-NOISE_FRACTION = 0.03
-
-
-def make_subject(number, inputs):
-    """Subject `number`'s DWI: small_64D plus seeded Gaussian noise, with its tables."""
-    folder = inputs / f"sub-{number:02d}" / "dwi"
-    folder.mkdir(parents=True, exist_ok=True)
-    source = nib.load(str(DIPY / "small_64D.nii"))
-    data = np.asarray(source.dataobj, dtype=np.float32)
-    bvals = np.loadtxt(DIPY / "small_64D.bval")
-    sigma = NOISE_FRACTION * float(data[..., bvals <= 50].mean())
-    noise = np.random.default_rng(number).normal(0.0, sigma, data.shape)
-    noisy = np.clip(data + noise, 0.0, None).astype(np.float32)
-    image = nib.Nifti1Image(noisy, source.affine, source.header)
-    image.set_data_dtype(np.float32)
-    stem = f"sub-{number:02d}_dwi"
-    nib.save(image, str(folder / f"{stem}.nii.gz"))
-    shutil.copyfile(DIPY / "small_64D.bval", folder / f"{stem}.bval")
-    shutil.copyfile(DIPY / "small_64D.bvec", folder / f"{stem}.bvec")
-    return folder / stem
+PLUGINS = ("MultiProc", "Linear", "SLURM", "SLURMGraph")
 
 
 def subject_files(subject, inputs, out_root):
@@ -91,7 +71,12 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("count", type=int)
     parser.add_argument("outdir", type=pathlib.Path)
-    parser.add_argument("--plugin", default="MultiProc")
+    parser.add_argument("--plugin", choices=PLUGINS, default="MultiProc")
+    parser.add_argument("--sbatch-args", default="", metavar="ARGS",
+                        help="SLURM plugins: sbatch options for every job, e.g. "
+                             "'--partition=short --time=00:10:00 --mem=2G'")
+    parser.add_argument("--poll", type=float, default=2.0, metavar="S",
+                        help="SLURM plugin: seconds between squeue polls (2)")
     parser.add_argument("--processes", type=int, default=os.cpu_count() or 2)
     parser.add_argument("--panel-size", type=int, default=400)
     args = parser.parse_args()
@@ -103,7 +88,18 @@ def main():
         make_subject(number, inputs)
     subjects = [f"sub-{n:02d}" for n in range(1, args.count + 1)]
     wf = workflow(subjects, inputs, out_root, args.panel_size)
-    plugin_args = {"n_procs": args.processes} if args.plugin == "MultiProc" else {}
+    plugin_args = {}
+    if args.plugin == "MultiProc":
+        plugin_args = {"n_procs": args.processes}
+    elif args.plugin in ("SLURM", "SLURMGraph"):
+        # Nipype names each job after $LOGNAME, which a batch shell may lack.
+        if not os.environ.get("LOGNAME"):
+            os.environ["LOGNAME"] = getpass.getuser()
+        plugin_args = {"sbatch_args": f"--cpus-per-task=1 {args.sbatch_args}".strip()}
+        if args.plugin == "SLURM":
+            plugin_args["poll_sleep_duration"] = args.poll
+        else:
+            plugin_args["dont_resubmit_completed_jobs"] = True
     wf.run(plugin=args.plugin, plugin_args=plugin_args)
     for subject in subjects:
         page = out_root / subject / "qc" / "index.html"

@@ -5,7 +5,9 @@
 # dependencies when built alone (what an embedding engine gets); runs the C
 # API's tests (its generated header, the C example engine built with cc); then builds
 # the Python module into a virtual environment (target/py-venv, reused) and runs its
-# tests (python/tests) against the CLI, the workflow engines' (Nipype, pydra) included.
+# tests (python/tests) against the CLI, the workflow engines' (Nipype, pydra) included;
+# last, as root, the cohort scripts on a one-node SLURM cluster it starts and stops
+# (tests/slurm, tools/slurm-local.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/install-deps.sh
@@ -38,3 +40,15 @@ venv=target/py-venv
     maturin develop --locked --quiet)
 # conftest.py turns the validation layer on (GLYPHCAST_VALIDATION=1) and picks lavapipe.
 "$venv/bin/python" -m pytest -q python/tests
+echo "== cohorts on SLURM (tests/slurm, on a local one-node cluster: tools/slurm-local.sh)"
+if [ "$(id -u)" = 0 ]; then
+    # The cluster stops on every exit, a failed test's included.
+    trap 'bash tools/slurm-local.sh stop' EXIT
+    bash tools/slurm-local.sh start
+    eval "$(bash tools/slurm-local.sh env)"
+    GLYPHCAST_BIN="$PWD/target/debug/glyphcast" PYTHON="$PWD/$venv/bin/python" \
+        "$venv/bin/python" -m pytest -q tests/slurm
+else
+    echo "skipped: the local cluster's daemons run as root (run this as root, or start a" \
+         "cluster and run pytest tests/slurm with SLURM_CONF set)" >&2
+fi
