@@ -40,8 +40,123 @@ typedef enum GlyphcastMemoryUse {
   GLYPHCAST_MEMORY_USE_READBACK = 2,
 } GlyphcastMemoryUse;
 
+// How glyph surfaces are found ([`GlyphcastSettings::method`]).
+enum GlyphcastMethod
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // Exact intersection: the roots of the ray polynomial, isolated (the default).
+  GLYPHCAST_METHOD_EXACT = 0,
+  // The paper's fixed-step march with a sign test, refined.
+  GLYPHCAST_METHOD_FIXED = 1,
+  // March over segments whose range is bounded by interval arithmetic.
+  GLYPHCAST_METHOD_INTERVAL = 2,
+  // March over segments whose range is bounded by affine arithmetic.
+  GLYPHCAST_METHOD_AFFINE = 3,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum GlyphcastMethod GlyphcastMethod;
+#else
+typedef uint32_t GlyphcastMethod;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+// How surface points are coloured ([`GlyphcastSettings::color`]).
+enum GlyphcastColor
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // The paper's |p|: absolute components of the direction from the glyph's centre.
+  GLYPHCAST_COLOR_DIRECTION = 0,
+  // A perceptual colour map of the distance from the centre over
+  // [`GlyphcastSettings::magnitude_range`].
+  GLYPHCAST_COLOR_MAGNITUDE = 1,
+  // One colour, [`GlyphcastSettings::uniform_color`].
+  GLYPHCAST_COLOR_UNIFORM = 2,
+  // Red where the glyph function is positive, blue where it is negative.
+  GLYPHCAST_COLOR_SIGN = 3,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum GlyphcastColor GlyphcastColor;
+#else
+typedef uint32_t GlyphcastColor;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+// How negative values of a glyph's function are drawn ([`GlyphcastSettings::negative`]).
+enum GlyphcastNegative
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // As their absolute value (the default).
+  GLYPHCAST_NEGATIVE_ABS = 0,
+  // Not at all.
+  GLYPHCAST_NEGATIVE_HIDE = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum GlyphcastNegative GlyphcastNegative;
+#else
+typedef uint32_t GlyphcastNegative;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+// The spherical-harmonic basis of [`glyphcast_renderer_set_sh_glyphs`]' coefficients.
+enum GlyphcastShBasis
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // DIPY's basis, `descoteaux07`; with `legacy` 1 the one DIPY uses by default.
+  GLYPHCAST_SH_BASIS_DESCOTEAUX07 = 0,
+  // MRtrix3's basis, `tournier07`; with `legacy` 1 MRtrix's older variant, as DIPY
+  // names it.
+  GLYPHCAST_SH_BASIS_TOURNIER07 = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum GlyphcastShBasis GlyphcastShBasis;
+#else
+typedef uint32_t GlyphcastShBasis;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // The renderer: opaque to C.
 typedef struct GlyphcastRenderer GlyphcastRenderer;
+
+// The render settings of a renderer. Fill it with [`glyphcast_settings_default`], then
+// change what the host wants: fields the host's header did not have yet (a smaller
+// `size`) keep their defaults, so the struct can grow without breaking the ABI.
+typedef struct GlyphcastSettings {
+  // `sizeof(GlyphcastSettings)` as the host compiled it.
+  uint32_t size;
+  // A [`GlyphcastMethod`].
+  uint32_t method;
+  // A [`GlyphcastColor`].
+  uint32_t color;
+  // With [`GlyphcastColor::Uniform`]: linear RGB, each 0 to 1.
+  float uniform_color[3];
+  // With [`GlyphcastColor::Magnitude`]: the distances (world units) at the two ends
+  // of the map, low below high; both 0: 0 to the largest glyph's radius.
+  float magnitude_range[2];
+  // A [`GlyphcastNegative`]: how the glyphs of later `set_*_glyphs` calls draw their
+  // negative lobes.
+  uint32_t negative;
+  // Direction towards the light in view coordinates (x right, y up, z towards the
+  // viewer), any length above 0.
+  float light[3];
+  // The share of the base colour lit whatever the normal, 0 to 1.
+  float ambient;
+  // Strength of the white highlight, 0 to 1.
+  float specular;
+  // Blinn-Phong exponent of the highlight, 1 to 1024.
+  float shininess;
+} GlyphcastSettings;
 
 // One allocation glyphcast asks the host for.
 typedef struct GlyphcastMemoryRequest {
@@ -125,6 +240,9 @@ typedef struct GlyphcastRendererDesc {
   // The host's allocation callbacks, copied at creation, or NULL: glyphcast then makes
   // a gpu-allocator allocator on the device.
   const struct GlyphcastAllocator *allocator;
+  // The render settings, copied at creation, or NULL for the defaults
+  // ([`glyphcast_settings_default`]).
+  const struct GlyphcastSettings *settings;
 } GlyphcastRendererDesc;
 
 // The rectangle a frame is drawn in (viewport and scissor), in framebuffer pixels.
@@ -143,6 +261,14 @@ typedef struct GlyphcastViewport {
 extern "C" {
 #endif // __cplusplus
 
+// The default settings, as `glyphcast render` draws: exact intersection, colour by
+// direction, negative lobes as their absolute value, the light above, right and in
+// front of the viewer. Sets `size` to this library's `sizeof(GlyphcastSettings)`.
+//
+// # Safety
+// `settings` is NULL (then nothing happens) or points to a writable struct.
+void glyphcast_settings_default(struct GlyphcastSettings *settings);
+
 // Creates a renderer on the host's device. `*out` receives it (or NULL on failure).
 //
 // # Safety
@@ -160,14 +286,18 @@ enum GlyphcastStatus glyphcast_renderer_create(const struct GlyphcastRendererDes
 void glyphcast_renderer_destroy(struct GlyphcastRenderer *renderer);
 
 // Replaces the glyphs (for every frame in flight, without waiting) with `count` glyphs
-// of a spherical-harmonic series of even bands 0 to `band` in DIPY's descoteaux07 basis
-// (the scene format's `sh` kind): `centers` holds 3 doubles per glyph, `scales` one,
+// of a spherical-harmonic series of even bands 0 to `band` in the basis `basis` (a
+// [`GlyphcastShBasis`]) and its legacy variant when `legacy` is 1 (DIPY's own default is
+// descoteaux07 with legacy 1; MRtrix3's is tournier07 with legacy 0), as the scene
+// format's `sh` kind stores them: `centers` holds 3 doubles per glyph, `scales` one,
 // `coefficients` (band + 1)(band + 2) / 2 per glyph.
 //
 // # Safety
 // `renderer` is live; the arrays hold `count` glyphs' values.
 enum GlyphcastStatus glyphcast_renderer_set_sh_glyphs(struct GlyphcastRenderer *renderer,
                                                       uint32_t band,
+                                                      uint32_t basis,
+                                                      uint32_t legacy,
                                                       uint32_t count,
                                                       const double *centers,
                                                       const double *scales,

@@ -5,14 +5,19 @@
 //! Visualization of Higher-order Reynold's Glyphs"; where the code says "the paper", it
 //! means this one. `docs/architecture.md` maps the modules.
 //!
-//! # Features
+//! # Crates
 //!
-//! The core (glyph math, scenes, the Vulkan layer, the passes and the headless renderer)
-//! builds alone: an engine depends on `glyphcast = { default-features = false }` and its
-//! dependency tree then holds none of winit, plotters, nifti, clap or indicatif. The
-//! default feature `cli` adds the command line and everything it uses: `volume` (NIfTI
-//! and MRtrix images, volume slices, the DWI fits), `viewer` (winit windows) and `plots`
-//! (benchmark plots).
+//! This crate is the renderer core: glyph math, scenes, the Vulkan layer, the passes,
+//! the engine component and the headless renderer. An engine depends on it alone; its
+//! dependency tree holds none of winit, plotters, nifti, clap or indicatif. The front ends
+//! are crates of their own around it: `glyphcast-dmri` (NIfTI and MRtrix images, volume
+//! slices, the DWI fits, peaks and QC sets), `glyphcast-viewer` (winit windows),
+//! `glyphcast-cli` (the `glyphcast` command line), `glyphcast-materials` (elastic
+//! surfaces of stiffness tensors), and the Python module and the C API. The feature
+//! `window` adds the surfaces and swapchains the viewer draws into.
+//!
+//! The Vulkan, maths and memory crates of the public API are re-exported ([`ash`],
+//! [`glam`], [`gpu_allocator`]), so a host uses the versions glyphcast was built with.
 //!
 //! # Rendering offscreen
 //!
@@ -138,6 +143,11 @@ pub mod scene;
 pub mod vk;
 
 pub use error::{Asked, Error, Result, Setting};
+
+// The crates whose types the public API takes and returns.
+pub use ash;
+pub use glam;
+pub use gpu_allocator;
 
 // The names most programs need, at the root; everything else stays in its module.
 pub use camera::{Camera, Projection};

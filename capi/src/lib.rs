@@ -75,6 +75,87 @@ pub enum GlyphcastDepth {
     Reversed = 1,
 }
 
+/// How glyph surfaces are found ([`GlyphcastSettings::method`]).
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GlyphcastMethod {
+    /// Exact intersection: the roots of the ray polynomial, isolated (the default).
+    Exact = 0,
+    /// The paper's fixed-step march with a sign test, refined.
+    Fixed = 1,
+    /// March over segments whose range is bounded by interval arithmetic.
+    Interval = 2,
+    /// March over segments whose range is bounded by affine arithmetic.
+    Affine = 3,
+}
+
+/// How surface points are coloured ([`GlyphcastSettings::color`]).
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GlyphcastColor {
+    /// The paper's |p|: absolute components of the direction from the glyph's centre.
+    Direction = 0,
+    /// A perceptual colour map of the distance from the centre over
+    /// [`GlyphcastSettings::magnitude_range`].
+    Magnitude = 1,
+    /// One colour, [`GlyphcastSettings::uniform_color`].
+    Uniform = 2,
+    /// Red where the glyph function is positive, blue where it is negative.
+    Sign = 3,
+}
+
+/// How negative values of a glyph's function are drawn ([`GlyphcastSettings::negative`]).
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GlyphcastNegative {
+    /// As their absolute value (the default).
+    Abs = 0,
+    /// Not at all.
+    Hide = 1,
+}
+
+/// The spherical-harmonic basis of [`glyphcast_renderer_set_sh_glyphs`]' coefficients.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GlyphcastShBasis {
+    /// DIPY's basis, `descoteaux07`; with `legacy` 1 the one DIPY uses by default.
+    Descoteaux07 = 0,
+    /// MRtrix3's basis, `tournier07`; with `legacy` 1 MRtrix's older variant, as DIPY
+    /// names it.
+    Tournier07 = 1,
+}
+
+/// The render settings of a renderer. Fill it with [`glyphcast_settings_default`], then
+/// change what the host wants: fields the host's header did not have yet (a smaller
+/// `size`) keep their defaults, so the struct can grow without breaking the ABI.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GlyphcastSettings {
+    /// `sizeof(GlyphcastSettings)` as the host compiled it.
+    pub size: u32,
+    /// A [`GlyphcastMethod`].
+    pub method: u32,
+    /// A [`GlyphcastColor`].
+    pub color: u32,
+    /// With [`GlyphcastColor::Uniform`]: linear RGB, each 0 to 1.
+    pub uniform_color: [f32; 3],
+    /// With [`GlyphcastColor::Magnitude`]: the distances (world units) at the two ends
+    /// of the map, low below high; both 0: 0 to the largest glyph's radius.
+    pub magnitude_range: [f32; 2],
+    /// A [`GlyphcastNegative`]: how the glyphs of later `set_*_glyphs` calls draw their
+    /// negative lobes.
+    pub negative: u32,
+    /// Direction towards the light in view coordinates (x right, y up, z towards the
+    /// viewer), any length above 0.
+    pub light: [f32; 3],
+    /// The share of the base colour lit whatever the normal, 0 to 1.
+    pub ambient: f32,
+    /// Strength of the white highlight, 0 to 1.
+    pub specular: f32,
+    /// Blinn-Phong exponent of the highlight, 1 to 1024.
+    pub shininess: f32,
+}
+
 /// What the host passes once.
 #[repr(C)]
 pub struct GlyphcastRendererDesc {
@@ -106,6 +187,9 @@ pub struct GlyphcastRendererDesc {
     /// The host's allocation callbacks, copied at creation, or NULL: glyphcast then makes
     /// a gpu-allocator allocator on the device.
     pub allocator: *const GlyphcastAllocator,
+    /// The render settings, copied at creation, or NULL for the defaults
+    /// ([`glyphcast_settings_default`]).
+    pub settings: *const GlyphcastSettings,
 }
 
 /// What a block of memory is for.
@@ -273,6 +357,8 @@ pub struct GlyphcastViewport {
 pub struct GlyphcastRenderer {
     // Dropped in order: the renderer before the context, the allocator last.
     renderer: GlyphRenderer,
+    /// How the glyphs of `set_*_glyphs` draw their negative lobes.
+    negative: glyphcast::NegativeMode,
     _context: DeviceContext,
     _allocator: Option<Arc<Mutex<Allocator>>>,
     last_error: Mutex<CString>,
@@ -330,6 +416,131 @@ fn from_glyphcast(e: glyphcast::Error) -> (GlyphcastStatus, String) {
 
 fn invalid(text: impl Into<String>) -> (GlyphcastStatus, String) {
     (GlyphcastStatus::InvalidArgument, text.into())
+}
+
+/// The default settings, as `glyphcast render` draws: exact intersection, colour by
+/// direction, negative lobes as their absolute value, the light above, right and in
+/// front of the viewer. Sets `size` to this library's `sizeof(GlyphcastSettings)`.
+///
+/// # Safety
+/// `settings` is NULL (then nothing happens) or points to a writable struct.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn glyphcast_settings_default(settings: *mut GlyphcastSettings) {
+    // SAFETY: the caller's promise.
+    if let Some(out) = unsafe { settings.as_mut() } {
+        *out = default_settings();
+    }
+}
+
+fn default_settings() -> GlyphcastSettings {
+    let lighting = glyphcast::render::settings::Lighting::default();
+    GlyphcastSettings {
+        size: std::mem::size_of::<GlyphcastSettings>() as u32,
+        method: GlyphcastMethod::Exact as u32,
+        color: GlyphcastColor::Direction as u32,
+        uniform_color: [0.8, 0.8, 0.8],
+        magnitude_range: [0.0, 0.0],
+        negative: GlyphcastNegative::Abs as u32,
+        light: lighting.direction,
+        ambient: lighting.ambient,
+        specular: lighting.specular,
+        shininess: lighting.shininess,
+    }
+}
+
+/// The library's settings from the host's struct (NULL: the defaults): the first `size`
+/// bytes are the host's, the rest keep their defaults. Values are checked where every
+/// front end's are, by [`GlyphRenderer::new`].
+///
+/// # Safety
+/// `settings` is NULL or points to `settings.size` readable bytes.
+unsafe fn read_settings(
+    settings: *const GlyphcastSettings,
+) -> Result<(RenderSettings, glyphcast::NegativeMode), (GlyphcastStatus, String)> {
+    let mut given = default_settings();
+    if !settings.is_null() {
+        // SAFETY: `size` is the struct's first field; the caller's promise.
+        let size = unsafe { settings.cast::<u32>().read_unaligned() } as usize;
+        if size < std::mem::size_of::<u32>() {
+            return Err(invalid(format!(
+                "settings.size {size}: fill the settings with glyphcast_settings_default"
+            )));
+        }
+        let known = size.min(std::mem::size_of::<GlyphcastSettings>());
+        // SAFETY: the host's struct holds `size` bytes; ours at least `known`.
+        unsafe {
+            std::ptr::copy_nonoverlapping(
+                settings.cast::<u8>(),
+                (&mut given as *mut GlyphcastSettings).cast::<u8>(),
+                known,
+            )
+        };
+    }
+    use glyphcast::render::Method;
+    use glyphcast::render::settings::{ColorMode, Lighting, SIGN_COLORS};
+    let method = match given.method {
+        0 => Method::Exact,
+        1 => Method::Fixed,
+        2 => Method::Interval,
+        3 => Method::Affine,
+        other => {
+            return Err(invalid(format!(
+                "settings.method {other} is no GlyphcastMethod"
+            )));
+        }
+    };
+    let [low, high] = given.magnitude_range;
+    let color = match given.color {
+        0 => ColorMode::Direction,
+        1 if low == 0.0 && high == 0.0 => ColorMode::Magnitude { range: None },
+        1 if low.is_finite() && high.is_finite() && low < high => ColorMode::Magnitude {
+            range: Some((low, high)),
+        },
+        1 => {
+            return Err(invalid(format!(
+                "settings.magnitude_range {low} to {high}: finite, low below high (or both 0)"
+            )));
+        }
+        2 if given.uniform_color.iter().all(|c| (0.0..=1.0).contains(c)) => {
+            ColorMode::Uniform(given.uniform_color)
+        }
+        2 => {
+            return Err(invalid(format!(
+                "settings.uniform_color {:?}: each component 0 to 1",
+                given.uniform_color
+            )));
+        }
+        3 => ColorMode::Sign {
+            positive: SIGN_COLORS.0,
+            negative: SIGN_COLORS.1,
+        },
+        other => {
+            return Err(invalid(format!(
+                "settings.color {other} is no GlyphcastColor"
+            )));
+        }
+    };
+    let negative = match given.negative {
+        0 => glyphcast::NegativeMode::Abs,
+        1 => glyphcast::NegativeMode::Hide,
+        other => {
+            return Err(invalid(format!(
+                "settings.negative {other} is no GlyphcastNegative"
+            )));
+        }
+    };
+    let settings = RenderSettings {
+        method,
+        color,
+        lighting: Lighting {
+            direction: given.light,
+            ambient: given.ambient,
+            specular: given.specular,
+            shininess: given.shininess,
+        },
+        ..RenderSettings::default()
+    };
+    Ok((settings, negative))
 }
 
 /// Creates a renderer on the host's device. `*out` receives it (or NULL on failure).
@@ -425,6 +636,8 @@ unsafe fn create(
             (context, Some(allocator))
         }
     };
+    // SAFETY: the caller's promise: NULL or `size` readable bytes.
+    let (settings, negative) = unsafe { read_settings(desc.settings) }?;
     let depth = match desc.depth {
         GlyphcastDepth::Standard => DepthConvention::Standard,
         GlyphcastDepth::Reversed => DepthConvention::Reversed,
@@ -443,11 +656,12 @@ unsafe fn create(
             subpass: desc.subpass,
         },
         frames_in_flight: desc.frames_in_flight as usize,
-        settings: RenderSettings::default(),
+        settings,
     };
     let renderer = GlyphRenderer::new(&context, &renderer_desc).map_err(from_glyphcast)?;
     Ok(GlyphcastRenderer {
         renderer,
+        negative,
         _context: context,
         _allocator: allocator,
         last_error: Mutex::new(CString::default()),
@@ -471,8 +685,10 @@ pub unsafe extern "C" fn glyphcast_renderer_destroy(renderer: *mut GlyphcastRend
 }
 
 /// Replaces the glyphs (for every frame in flight, without waiting) with `count` glyphs
-/// of a spherical-harmonic series of even bands 0 to `band` in DIPY's descoteaux07 basis
-/// (the scene format's `sh` kind): `centers` holds 3 doubles per glyph, `scales` one,
+/// of a spherical-harmonic series of even bands 0 to `band` in the basis `basis` (a
+/// [`GlyphcastShBasis`]) and its legacy variant when `legacy` is 1 (DIPY's own default is
+/// descoteaux07 with legacy 1; MRtrix3's is tournier07 with legacy 0), as the scene
+/// format's `sh` kind stores them: `centers` holds 3 doubles per glyph, `scales` one,
 /// `coefficients` (band + 1)(band + 2) / 2 per glyph.
 ///
 /// # Safety
@@ -481,22 +697,32 @@ pub unsafe extern "C" fn glyphcast_renderer_destroy(renderer: *mut GlyphcastRend
 pub unsafe extern "C" fn glyphcast_renderer_set_sh_glyphs(
     renderer: *mut GlyphcastRenderer,
     band: u32,
+    basis: u32,
+    legacy: u32,
     count: u32,
     centers: *const f64,
     scales: *const f64,
     coefficients: *const f64,
 ) -> GlyphcastStatus {
-    let kind = if band.is_multiple_of(2) && band <= glyphcast::catalog::MAX_SH_BAND {
-        Ok(GlyphKind::Sh {
+    let basis = match basis {
+        0 => Ok(ShBasis::Descoteaux07),
+        1 => Ok(ShBasis::Tournier07),
+        other => Err(format!("basis {other} is no GlyphcastShBasis")),
+    };
+    let kind = match (basis, legacy) {
+        (Err(e), _) => Err(e),
+        (_, 2..) => Err(format!("legacy {legacy}: 0 or 1")),
+        (Ok(_), _) if !band.is_multiple_of(2) || band > glyphcast::catalog::MAX_SH_BAND => {
+            Err(format!(
+                "band {band}: glyphcast draws even bands 0 to {}",
+                glyphcast::catalog::MAX_SH_BAND
+            ))
+        }
+        (Ok(basis), _) => Ok(GlyphKind::Sh {
             band,
-            basis: ShBasis::Descoteaux07,
-            legacy: false,
-        })
-    } else {
-        Err(format!(
-            "band {band}: glyphcast draws even bands 0 to {}",
-            glyphcast::catalog::MAX_SH_BAND
-        ))
+            basis,
+            legacy: legacy == 1,
+        }),
     };
     // SAFETY: the caller's promise.
     unsafe { set_glyphs(renderer, kind, count, (centers, scales, coefficients)) }
@@ -567,6 +793,7 @@ unsafe fn set_glyphs(
         return fail(GlyphcastStatus::InvalidArgument, "renderer is NULL");
     };
     let n = count as usize;
+    let negative = r.negative;
     let mut sets = Vec::new();
     let status = guarded(None, || {
         let kind = kind.map_err(invalid)?;
@@ -591,7 +818,7 @@ unsafe fn set_glyphs(
         }
         let set = GlyphSet {
             kind,
-            negative: glyphcast::NegativeMode::Abs,
+            negative,
             shape: glyphcast::glyph::GlyphShape::Polynomial,
             centers: c
                 .chunks(3)

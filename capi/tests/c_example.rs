@@ -6,8 +6,11 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// Runs the example with `args`; its output text and the PNG it wrote.
+/// Runs the example with `args`; its output text and the PNG it wrote. One run at a
+/// time: tools/c-example.sh compiles the example into one place before running it.
 fn run_example(name: &str, args: &[&str]) -> (String, Vec<u8>) {
+    static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let out: PathBuf = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
     let _ = std::fs::remove_file(&out);
@@ -48,4 +51,69 @@ fn the_c_example_draws_glyphs_with_no_validation_message() {
     assert!(blocks >= 5, "{counts}");
     assert!(counts.ends_with(", 0 not given back"), "{counts}");
     assert!(default == plain, "the pictures differ");
+}
+
+/// The pixels of two RGBA8 PNGs of the same size that differ, as (left, right) RGB.
+fn differing_pixels(a: &[u8], b: &[u8]) -> Vec<([u8; 3], [u8; 3])> {
+    let decode = |bytes: &[u8]| {
+        let mut reader = png::Decoder::new(std::io::Cursor::new(bytes.to_vec()))
+            .read_info()
+            .expect("a PNG");
+        let mut pixels = vec![0; reader.output_buffer_size().expect("a size")];
+        let info = reader.next_frame(&mut pixels).expect("its pixels");
+        assert_eq!(info.color_type, png::ColorType::Rgba);
+        pixels.truncate(info.buffer_size());
+        pixels
+    };
+    let (a, b) = (decode(a), decode(b));
+    assert_eq!(a.len(), b.len());
+    a.chunks(4)
+        .zip(b.chunks(4))
+        .filter(|(p, q)| p[..3] != q[..3])
+        .map(|(p, q)| ([p[0], p[1], p[2]], [q[0], q[1], q[2]]))
+        .collect()
+}
+
+/// The host's settings reach the picture: with one red for every glyph (and no
+/// highlight) every glyph pixel is red-dominated, where the default colours by
+/// direction show green and blue ones; the engine's own plane is the same in both.
+#[test]
+fn the_c_example_follows_its_settings() {
+    let (_, direction) = run_example("c-example-direction.png", &[]);
+    let (_, red) = run_example("c-example-red.png", &["--uniform-red"]);
+    let changed = differing_pixels(&direction, &red);
+    assert!(changed.len() > 1000, "{} glyph pixels", changed.len());
+    let not_red = changed
+        .iter()
+        .filter(|(_, [r, g, b])| r < g || r < b)
+        .count();
+    assert_eq!(not_red, 0, "glyph pixels that are not red");
+    let green_or_blue = changed
+        .iter()
+        .filter(|([r, g, b], _)| g > r || b > r)
+        .count();
+    assert!(
+        green_or_blue * 4 > changed.len(),
+        "{green_or_blue} of {} direction-coloured pixels are green or blue",
+        changed.len()
+    );
+}
+
+/// The SH basis is the host's to say: the same coefficients read as DIPY's default
+/// (descoteaux07, legacy), as descoteaux07 without the legacy flag and as MRtrix's
+/// tournier07 are three different sets of glyphs (the example's last frame shows SH
+/// glyphs when `--basis` is given).
+#[test]
+fn the_sh_basis_and_its_legacy_flag_are_honoured() {
+    let (_, legacy) = run_example("c-example-legacy.png", &["--basis", "descoteaux07-legacy"]);
+    let (_, plain) = run_example("c-example-plain-basis.png", &["--basis", "descoteaux07"]);
+    let (_, tournier) = run_example("c-example-tournier.png", &["--basis", "tournier07"]);
+    for (pair, a, b) in [
+        ("legacy, plain", &legacy, &plain),
+        ("legacy, tournier07", &legacy, &tournier),
+        ("plain, tournier07", &plain, &tournier),
+    ] {
+        let changed = differing_pixels(a, b).len();
+        assert!(changed > 100, "{pair}: {changed} pixels differ");
+    }
 }

@@ -377,8 +377,15 @@ static VkImageMemoryBarrier2 barrier(VkImage image, VkImageAspectFlags aspect,
     return b;
 }
 
-/* Nine glyphs of SH bands 0 to 4 (descoteaux07) on a 3 x 3 grid at z = 0: a sphere
- * stretched along a direction that turns across the grid. */
+/* How the example's SH coefficients are read (--basis): DIPY's default, descoteaux07
+ * legacy, unless the command line names another. */
+static GlyphcastShBasis sh_basis = GLYPHCAST_SH_BASIS_DESCOTEAUX07;
+static uint32_t sh_legacy = 1;
+/* With --basis the slice step brings SH glyphs again, so the last frame shows them. */
+static int sh_slice_step = 0;
+
+/* Nine glyphs of SH bands 0 to 4 on a 3 x 3 grid at z = 0: a sphere stretched along a
+ * direction that turns across the grid. */
 static void glyphs(GlyphcastRenderer *renderer, double turn) {
     enum { N = 9, PER = 15 };
     double centers[3 * N], scales[N], coefficients[PER * N];
@@ -393,10 +400,12 @@ static void glyphs(GlyphcastRenderer *renderer, double turn) {
         /* band 2, orders -2..2 at indices 1..5; band 4 at 6..14 */
         c[1 + 2 + (k % 2 ? 2 : -2)] = 1.0 * cos(turn + k);
         c[3] = 1.2; /* order 0 of band 2: along z */
+        c[3 + 1] = 0.6; /* order 1 of band 2: odd orders tell the legacy basis apart */
         c[6 + 4] = 0.5 * sin(turn + 0.5 * k);
+        c[6 + 4 - 1] = 0.4; /* order -1 of band 4 */
     }
-    GLYPHCAST(renderer, glyphcast_renderer_set_sh_glyphs(renderer, 4, N, centers, scales,
-                                                         coefficients));
+    GLYPHCAST(renderer, glyphcast_renderer_set_sh_glyphs(renderer, 4, sh_basis, sh_legacy, N,
+                                                         centers, scales, coefficients));
 }
 
 /* The slice step's glyphs: nine symmetric tensors of order 4 (the scene format's unique
@@ -427,10 +436,42 @@ static void tensor_glyphs(GlyphcastRenderer *renderer, double turn) {
 
 int main(int argc, char **argv) {
     const char *output = argc > 1 ? argv[1] : "c-example.png";
-    int plain_memory = argc > 2 && strcmp(argv[2], "--plain-memory") == 0;
-    if (argc > 3 || (argc == 3 && !plain_memory)) {
-        fprintf(stderr, "usage: c-example OUT.png [--plain-memory]\n");
-        return 2;
+    int plain_memory = 0;
+    /* The render settings: glyphcast's defaults, then the host's choices. */
+    GlyphcastSettings settings;
+    glyphcast_settings_default(&settings);
+    settings.method = GLYPHCAST_METHOD_EXACT;
+    settings.ambient = 0.25f;
+    settings.light[0] = 0.5f, settings.light[1] = 0.6f, settings.light[2] = 1.0f;
+    for (int i = 2; i < argc; i++) {
+        if (strcmp(argv[i], "--plain-memory") == 0) {
+            plain_memory = 1;
+        } else if (strcmp(argv[i], "--uniform-red") == 0) {
+            settings.color = GLYPHCAST_COLOR_UNIFORM;
+            settings.uniform_color[0] = 0.85f;
+            settings.uniform_color[1] = 0.05f;
+            settings.uniform_color[2] = 0.05f;
+            settings.specular = 0.0f;
+        } else if (strcmp(argv[i], "--basis") == 0 && i + 1 < argc) {
+            const char *name = argv[++i];
+            sh_slice_step = 1;
+            if (strcmp(name, "descoteaux07-legacy") == 0) {
+                sh_basis = GLYPHCAST_SH_BASIS_DESCOTEAUX07, sh_legacy = 1;
+            } else if (strcmp(name, "descoteaux07") == 0) {
+                sh_basis = GLYPHCAST_SH_BASIS_DESCOTEAUX07, sh_legacy = 0;
+            } else if (strcmp(name, "tournier07") == 0) {
+                sh_basis = GLYPHCAST_SH_BASIS_TOURNIER07, sh_legacy = 0;
+            } else {
+                fprintf(stderr, "--basis: '%s' is not descoteaux07-legacy, descoteaux07 or "
+                                "tournier07\n", name);
+                return 2;
+            }
+        } else {
+            fprintf(stderr, "usage: c-example OUT.png [--plain-memory] [--uniform-red] "
+                            "[--basis descoteaux07-legacy|descoteaux07|"
+                            "tournier07]\n");
+            return 2;
+        }
     }
     Engine e;
     create_engine(&e);
@@ -448,7 +489,8 @@ int main(int argc, char **argv) {
                                   .pipeline_cache = VK_NULL_HANDLE,
                                   .frames_in_flight = IN_FLIGHT,
                                   .render_pass = VK_NULL_HANDLE /* dynamic rendering */,
-                                  .allocator = plain_memory ? &callbacks : NULL};
+                                  .allocator = plain_memory ? &callbacks : NULL,
+                                  .settings = &settings};
     GlyphcastRenderer *renderer = NULL;
     if (glyphcast_renderer_create(&desc, &renderer) != GLYPHCAST_STATUS_OK) {
         fprintf(stderr, "glyphcast_renderer_create: %s\n", glyphcast_last_error());
@@ -508,7 +550,13 @@ int main(int argc, char **argv) {
         int k = frame % IN_FLIGHT;
         CHECK(vkWaitForFences(e.device, 1, &fences[k], VK_TRUE, UINT64_MAX));
         CHECK(vkResetFences(e.device, 1, &fences[k]));
-        if (frame == FRAMES / 2) tensor_glyphs(renderer, 1.0); /* new glyphs, no wait */
+        if (frame == FRAMES / 2) { /* new glyphs, no wait */
+            if (sh_slice_step) {
+                glyphs(renderer, 1.0);
+            } else {
+                tensor_glyphs(renderer, 1.0);
+            }
+        }
         double angle = -1.3 + 0.05 * frame;
         double eye[3] = {4.4 * cos(angle), 4.4 * sin(angle), 3.0}, target[3] = {0, 0, 0},
                up[3] = {0, 0, 1};

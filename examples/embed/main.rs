@@ -19,6 +19,7 @@
 //!
 //! ```text
 //! cargo run --example embed -- [--frames N] [--in-flight K] [--depth standard|reversed]
+//!     [--depth-format d32|d32s8]
 //!     [--samples 1|2|4|8] [--allocator gpu-allocator|plain] [--sync-validation]
 //!     [--screenshot OUT.png]
 //! ```
@@ -52,6 +53,8 @@ const WIDTH: u32 = 128;
 const HEIGHT: u32 = 96;
 const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
 const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+/// The depth-stencil format most engines draw with (`--depth-format d32s8`).
+const DEPTH_STENCIL_FORMAT: vk::Format = vk::Format::D32_SFLOAT_S8_UINT;
 /// The engine's near plane (its far plane: FAR for standard depth, infinite reversed).
 const NEAR: f64 = 0.5;
 const FAR: f64 = 40.0;
@@ -63,6 +66,9 @@ struct Options {
     frames: u32,
     in_flight: usize,
     depth: DepthConvention,
+    /// The depth attachment's format: D32_SFLOAT, or D32_SFLOAT_S8_UINT bound as the
+    /// rendering's depth and stencil attachment.
+    depth_format: vk::Format,
     samples: u32,
     /// Where glyphcast's buffers and images take their memory from.
     allocator: MemorySource,
@@ -82,6 +88,7 @@ impl Default for Options {
             frames: 60,
             in_flight: 2,
             depth: DepthConvention::Standard,
+            depth_format: DEPTH_FORMAT,
             samples: 1,
             allocator: MemorySource::GpuAllocator,
             validation: Validation::Off,
@@ -129,6 +136,13 @@ fn parse(args: &[String]) -> std::result::Result<Options, String> {
                     "standard" => DepthConvention::Standard,
                     "reversed" => DepthConvention::Reversed,
                     other => return Err(format!("{arg}: '{other}' is not standard or reversed")),
+                }
+            }
+            "--depth-format" => {
+                o.depth_format = match value()?.as_str() {
+                    "d32" => DEPTH_FORMAT,
+                    "d32s8" => DEPTH_STENCIL_FORMAT,
+                    other => return Err(format!("{arg}: '{other}' is not d32 or d32s8")),
                 }
             }
             "--allocator" => {
@@ -228,16 +242,25 @@ struct Slot {
     depth: Target,
     /// The multisampled attachments (colour, depth) when samples > 1.
     multisampled: Option<(Target, Target)>,
+    /// The depth attachments' kind: with a stencil aspect or without.
+    depth_kind: Attachment,
 }
 
 impl Slot {
-    fn new(engine: &Engine, cmd: vk::CommandBuffer, samples: vk::SampleCountFlags) -> Result<Slot> {
+    fn new(
+        engine: &Engine,
+        cmd: vk::CommandBuffer,
+        (samples, depth_format): (vk::SampleCountFlags, vk::Format),
+    ) -> Result<Slot> {
         let size = extent();
+        let depth_kind = Attachment::Depth {
+            stencil: depth_format == DEPTH_STENCIL_FORMAT,
+        };
         let one = vk::SampleCountFlags::TYPE_1;
         let color_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT;
         let depth_usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
         let read = vk::ImageUsageFlags::TRANSFER_SRC;
-        let (c, d) = (vk::ImageAspectFlags::COLOR, vk::ImageAspectFlags::DEPTH);
+        let (c, d) = (vk::ImageAspectFlags::COLOR, depth_kind.aspect());
         let multisampled = if samples == one {
             None
         } else {
@@ -249,7 +272,7 @@ impl Slot {
                     color_usage,
                     c,
                 )?,
-                engine.create_image("msaa depth", size, (DEPTH_FORMAT, samples), depth_usage, d)?,
+                engine.create_image("msaa depth", size, (depth_format, samples), depth_usage, d)?,
             ))
         };
         let info = vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED);
@@ -267,11 +290,12 @@ impl Slot {
             depth: engine.create_image(
                 "depth",
                 size,
-                (DEPTH_FORMAT, one),
+                (depth_format, one),
                 depth_usage | read,
                 d,
             )?,
             multisampled,
+            depth_kind,
         })
     }
 
@@ -279,11 +303,11 @@ impl Slot {
     fn images(&self) -> Vec<(vk::Image, Attachment)> {
         let mut images = vec![
             (self.color.image, Attachment::Color),
-            (self.depth.image, Attachment::Depth),
+            (self.depth.image, self.depth_kind),
         ];
         if let Some((color, depth)) = &self.multisampled {
             images.push((color.image, Attachment::Color));
-            images.push((depth.image, Attachment::Depth));
+            images.push((depth.image, self.depth_kind));
         }
         images
     }
@@ -385,7 +409,7 @@ fn draw_frames(engine: &Engine, options: &Options, plain: Option<Arc<PlainMemory
     let desc = RendererDesc {
         formats: TargetFormats {
             color: COLOR_FORMAT,
-            depth: DEPTH_FORMAT,
+            depth: options.depth_format,
             distance: None,
         },
         options: PassOptions {
@@ -404,14 +428,14 @@ fn draw_frames(engine: &Engine, options: &Options, plain: Option<Arc<PlainMemory
     glyphs.set_glyphs(&first)?;
     let plane = PlanePass::new(
         &engine.device,
-        (COLOR_FORMAT, DEPTH_FORMAT),
+        (COLOR_FORMAT, options.depth_format),
         samples,
         options.depth.compare_op(),
     )?;
     let cmds = engine.command_buffers(options.in_flight as u32)?;
     let slots = cmds
         .into_iter()
-        .map(|cmd| Slot::new(engine, cmd, samples))
+        .map(|cmd| Slot::new(engine, cmd, (samples, options.depth_format)))
         .collect::<Result<Vec<_>>>()?;
     let bytes = 4 * WIDTH as u64 * HEIGHT as u64;
     let color_readback = engine.create_readback("colour readback", bytes)?;
@@ -532,7 +556,7 @@ fn record_frame(
             .clear_value(clear)
     };
     let color_layout = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
-    let depth_layout = vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL;
+    let depth_layout = slot.depth_kind.stage_access().2;
     let (color, depth_attachment) = match &slot.multisampled {
         None => (
             attachment(slot.color.view, color_layout, clear_color),
@@ -550,11 +574,16 @@ fn record_frame(
         ),
     };
     let colors = [color];
-    let rendering = vk::RenderingInfo::default()
+    let mut rendering = vk::RenderingInfo::default()
         .render_area(extent().into())
         .layer_count(1)
         .color_attachments(&colors)
         .depth_attachment(&depth_attachment);
+    if let Attachment::Depth { stencil: true } = slot.depth_kind {
+        // A depth-stencil image is the rendering's stencil attachment as well: the same
+        // view, cleared to 0 and resolved alike.
+        rendering = rendering.stencil_attachment(&depth_attachment);
+    }
     // SAFETY: `cmd` is recording; all handles live until the frame's fence signals.
     unsafe {
         d.cmd_pipeline_barrier2(
@@ -580,7 +609,7 @@ fn record_readback(
     let cmd = slot.cmd;
     let images = [
         (slot.color.image, Attachment::Color),
-        (slot.depth.image, Attachment::Depth),
+        (slot.depth.image, slot.depth_kind),
     ];
     let to_transfer: Vec<_> = images
         .iter()
@@ -635,7 +664,10 @@ fn record_readback(
 #[derive(Clone, Copy)]
 enum Attachment {
     Color,
-    Depth,
+    /// A depth attachment, with a stencil aspect or without.
+    Depth {
+        stencil: bool,
+    },
 }
 
 impl Attachment {
@@ -652,14 +684,18 @@ impl Attachment {
                 resolve.1 | vk::AccessFlags2::COLOR_ATTACHMENT_READ,
                 vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
             ),
-            Attachment::Depth => (
+            Attachment::Depth { stencil } => (
                 vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
                     | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS
                     | resolve.0,
                 vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
                     | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE
                     | resolve.1,
-                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                if stencil {
+                    vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL
+                } else {
+                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL
+                },
             ),
         }
     }
@@ -667,7 +703,10 @@ impl Attachment {
     fn aspect(self) -> vk::ImageAspectFlags {
         match self {
             Attachment::Color => vk::ImageAspectFlags::COLOR,
-            Attachment::Depth => vk::ImageAspectFlags::DEPTH,
+            Attachment::Depth { stencil: false } => vk::ImageAspectFlags::DEPTH,
+            Attachment::Depth { stencil: true } => {
+                vk::ImageAspectFlags::DEPTH | vk::ImageAspectFlags::STENCIL
+            }
         }
     }
 

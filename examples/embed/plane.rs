@@ -109,7 +109,12 @@ impl<'a> PlanePass<'a> {
         let formats = [color];
         let mut rendering = vk::PipelineRenderingCreateInfo::default()
             .color_attachment_formats(&formats)
-            .depth_attachment_format(depth);
+            .depth_attachment_format(depth)
+            .stencil_attachment_format(if depth == vk::Format::D32_SFLOAT_S8_UINT {
+                depth
+            } else {
+                vk::Format::UNDEFINED
+            });
         let info = vk::GraphicsPipelineCreateInfo::default()
             .stages(&stages)
             .vertex_input_state(&vertex_input)

@@ -9,6 +9,7 @@ fn options(depth: DepthConvention, samples: u32) -> Options {
         frames: 60,
         in_flight: 3,
         depth,
+        depth_format: DEPTH_FORMAT,
         samples,
         allocator: MemorySource::GpuAllocator,
         validation: Validation::Sync,
@@ -177,6 +178,31 @@ fn sixty_frames_three_in_flight_four_samples() {
     frames_in_flight_match_headless(4);
 }
 
+/// Most engines' depth buffer has a stencil aspect (D24S8, D32S8), bound as the
+/// rendering's depth and stencil attachment: the glyphs draw into it under
+/// synchronization validation with no message, and the picture and depth are those of
+/// the depth-only target, at one sample and at four.
+#[test]
+fn a_depth_stencil_target_draws_the_depth_target_picture() {
+    for samples in [1, 4] {
+        let depth_only = run(&options(DepthConvention::Standard, samples)).expect("D32 run");
+        let with_stencil = run(&Options {
+            depth_format: DEPTH_STENCIL_FORMAT,
+            ..options(DepthConvention::Standard, samples)
+        })
+        .expect("D32S8 run");
+        assert_eq!(with_stencil.validation, Vec::<String>::new(), "{samples}");
+        assert_eq!(
+            differing(&depth_only.rgba, &with_stencil.rgba),
+            0,
+            "{samples}"
+        );
+        assert_eq!(depth_only.depth, with_stencil.depth, "{samples}");
+        let covered = with_stencil.depth.iter().filter(|&&z| z < 1.0).count();
+        assert!(covered > 1000, "{samples}: {covered} pixels drawn");
+    }
+}
+
 /// Mean difference (0-255, RGB) from the 16x supersampled headless render (drawn over
 /// the engine's clear colour) at the glyph silhouettes: pixels whose 3 x 3 neighbourhood
 /// holds both hits and misses of the reference's pixel-centre rays.
@@ -280,7 +306,10 @@ fn two_threads_record_identical_pictures() {
                 engine.create_readback("colour", bytes).expect("readback"),
                 engine.create_readback("depth", bytes).expect("readback"),
             );
-            (Slot::new(&engine, cmd, one).expect("slot"), readbacks)
+            (
+                Slot::new(&engine, cmd, (one, DEPTH_FORMAT)).expect("slot"),
+                readbacks,
+            )
         })
         .collect();
     std::thread::scope(|scope| {
@@ -584,7 +613,7 @@ fn a_host_render_pass_draws_the_dynamic_rendering_picture() {
     let view = HostView::whole(view, projection, WIDTH, HEIGHT);
     glyphs.set_view(0, &view).expect("view");
     let cmd = engine.command_buffers(1).expect("cmd")[0];
-    let slot = Slot::new(&engine, cmd, vk::SampleCountFlags::TYPE_1).expect("slot");
+    let slot = Slot::new(&engine, cmd, (vk::SampleCountFlags::TYPE_1, DEPTH_FORMAT)).expect("slot");
     let views = [slot.color.view, slot.depth.view];
     let info = vk::FramebufferCreateInfo::default()
         .render_pass(render_pass)

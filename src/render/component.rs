@@ -22,6 +22,7 @@
 //! slot writes its own frame block, and a slice step retires the old glyphs.
 use crate::error::{Error, Result};
 use crate::glyph::{GlyphShape, TensorLayout};
+use crate::render::Method;
 use crate::render::frame::FrameParams;
 use crate::render::glyph_data::{GlyphSetData, largest_radius};
 use crate::render::host_view::{HostView, host_frame};
@@ -107,6 +108,13 @@ impl GlyphRenderer {
             return Err(Error::Call {
                 call: "GlyphRenderer::new",
                 expected: "at least one frame in flight",
+            });
+        }
+        desc.settings.validate()?;
+        if let Method::Mesh(_) = desc.settings.method {
+            return Err(Error::Unsupported {
+                what: crate::error::Asked::Method(desc.settings.method),
+                by: "the engine component, which ray-casts".into(),
             });
         }
         let pass = RayCastPass::with_options(ctx, desc.formats, desc.options)?;

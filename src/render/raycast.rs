@@ -35,7 +35,10 @@ use ash::vk;
 pub struct TargetFormats {
     /// The colour attachment's format.
     pub color: vk::Format,
-    /// The depth attachment's format.
+    /// The depth attachment's format. A depth-stencil format (`D24_UNORM_S8_UINT`,
+    /// `D32_SFLOAT_S8_UINT`) is taken as the host's rendering binds it: as its depth and
+    /// its stencil attachment; the glyphs test and write depth and leave the stencil as
+    /// it is.
     pub depth: vk::Format,
     /// A second colour attachment that receives the ray distance (R32_SFLOAT), if any.
     /// Without one, the pass uses fragment shaders that have no distance output.

@@ -370,9 +370,18 @@ pub unsafe fn graphics_pipeline(
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
     let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+    // A depth-stencil format (D24S8, D32S8: most engines' depth buffer) is bound as the
+    // rendering's stencil attachment too, so the pipeline names it there; the glyphs
+    // leave the stencil untouched (its test stays off).
+    let stencil_format = if has_stencil(desc.depth_format) {
+        desc.depth_format
+    } else {
+        vk::Format::UNDEFINED
+    };
     let mut rendering = vk::PipelineRenderingCreateInfo::default()
         .color_attachment_formats(desc.color_formats)
-        .depth_attachment_format(desc.depth_format);
+        .depth_attachment_format(desc.depth_format)
+        .stencil_attachment_format(stencil_format);
     let mut info = vk::GraphicsPipelineCreateInfo::default()
         .stages(desc.stages)
         .vertex_input_state(&vertex_input)
@@ -402,4 +411,15 @@ pub unsafe fn graphics_pipeline(
     let handle = first_pipeline(created, "vkCreateGraphicsPipelines")?;
     // SAFETY: just made on `ctx`'s device, owned by nothing else.
     Ok(unsafe { Pipeline::from_raw(ctx, handle) })
+}
+
+/// Whether a depth attachment format has a stencil component.
+pub(crate) fn has_stencil(format: vk::Format) -> bool {
+    matches!(
+        format,
+        vk::Format::D16_UNORM_S8_UINT
+            | vk::Format::D24_UNORM_S8_UINT
+            | vk::Format::D32_SFLOAT_S8_UINT
+            | vk::Format::S8_UINT
+    )
 }
