@@ -163,23 +163,44 @@ pub fn stiffness_demo_scene() -> Scene {
 /// One stiffness glyph at the origin, scaled to radius 1 at its largest, as all 81
 /// entries (non-symmetric order 4) or as the 15 of its fully symmetric part.
 pub fn stiffness_scene(stiffness: &VoigtStiffness, symmetric_part: bool) -> Result<Scene> {
-    let (symmetry, coeffs) = if symmetric_part {
-        (Symmetry::Symmetric, stiffness.symmetric_part())
+    stiffness_row_scene(std::slice::from_ref(stiffness), symmetric_part)
+}
+
+/// One stiffness glyph a material in a row along x, 2.4 apart and centred on the origin
+/// (one material: at the origin), all on one scale: the largest glyph has radius 1, so
+/// the glyphs compare in size as the materials compare in stiffness.
+pub fn stiffness_row_scene(materials: &[VoigtStiffness], symmetric_part: bool) -> Result<Scene> {
+    let symmetry = if symmetric_part {
+        Symmetry::Symmetric
     } else {
-        (Symmetry::NonSymmetric, stiffness.full_tensor())
+        Symmetry::NonSymmetric
     };
-    let largest = max_radius(4, symmetry, &coeffs)?;
+    let coeffs: Vec<Vec<f64>> = materials
+        .iter()
+        .map(|m| {
+            if symmetric_part {
+                m.symmetric_part()
+            } else {
+                m.full_tensor()
+            }
+        })
+        .collect();
+    let mut largest = 0.0f64;
+    for c in &coeffs {
+        largest = largest.max(max_radius(4, symmetry, c)?);
+    }
+    let count = materials.len();
+    let centers = (0..count)
+        .map(|k| DVec3::new(2.4 * (k as f64 - (count as f64 - 1.0) / 2.0), 0.0, 0.0))
+        .collect();
     let kind = GlyphKind::Tensor(TensorLayout { order: 4, symmetry });
+    // The one-material view, backed off so that the whole row fits.
+    let distance = 1.0 + 0.6 * (count as f64 - 1.0);
     Ok(Scene {
-        glyph_sets: vec![glyph_set(
-            kind,
-            vec![DVec3::ZERO],
-            1.0 / largest,
-            vec![coeffs],
-        )],
+        glyph_sets: vec![glyph_set(kind, centers, 1.0 / largest, coeffs)],
         camera: Camera {
             projection: Projection::Perspective { fov_y_deg: 30.0 },
-            eye: DVec3::new(2.4, -3.6, 2.2),
+            eye: DVec3::new(2.4, -3.6, 2.2) * distance,
             target: DVec3::ZERO,
             up: DVec3::Z,
         },

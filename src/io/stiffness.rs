@@ -3,9 +3,10 @@
 //!
 //! - CSV: 6 lines of 6 numbers separated by commas and/or whitespace; `#` starts a
 //!   comment; blank lines are skipped.
-//! - JSON: `{"voigt": [[6 numbers] x 6], "shear_order": "23,13,12"}`; `shear_order` is
-//!   optional, and no other key is allowed (a misspelt key would otherwise be ignored);
-//!   or the bare list `[[6 numbers] x 6]`.
+//! - JSON: `{"voigt": [[6 numbers] x 6], "shear_order": "23,13,12", "units": "GPa"}`;
+//!   the matrix may be named `C` instead of `voigt`; `shear_order`, `units` and the
+//!   descriptive `material` and `source` are optional, and no other key is allowed (a
+//!   misspelt key would otherwise be ignored); or the bare list `[[6 numbers] x 6]`.
 //!
 //! A file named `.json`, or whose first non-blank character is `{` or `[`, is JSON;
 //! anything else CSV (so a JSON list is never misread as CSV lines).
@@ -18,9 +19,29 @@ use crate::{Error, Result};
 
 type Matrix = [[f64; 6]; 6];
 
+/// A stiffness file's matrix and the units it states (JSON's `units`), if any.
+pub struct StiffnessFile {
+    /// The matrix, in the standard Voigt order.
+    pub stiffness: VoigtStiffness,
+    /// The units of the entries as the file states them (`GPa`), if it does.
+    pub units: Option<String>,
+}
+
 impl VoigtStiffness {
     /// Reads a CSV or JSON Voigt file. The shear order is the file's `shear_order`, else
     /// `shear`, else standard; a file and a `shear` that disagree are an error.
+    pub fn load(path: &Path, shear: Option<ShearOrder>) -> Result<Self> {
+        Ok(StiffnessFile::load(path, shear)?.stiffness)
+    }
+
+    /// Same as [`VoigtStiffness::load`], from text; `file` is the name used in errors.
+    pub fn from_text(text: &str, file: &str, shear: Option<ShearOrder>) -> Result<Self> {
+        Ok(StiffnessFile::read(text, file, shear, false)?.stiffness)
+    }
+}
+
+impl StiffnessFile {
+    /// Reads a CSV or JSON Voigt file as [`VoigtStiffness::load`] does, with its units.
     pub fn load(path: &Path, shear: Option<ShearOrder>) -> Result<Self> {
         let text = std::fs::read_to_string(path).map_err(|err| Error::io(path, err))?;
         let named_json = path
@@ -29,19 +50,14 @@ impl VoigtStiffness {
         Self::read(&text, &path.display().to_string(), shear, named_json)
     }
 
-    /// Same as [`VoigtStiffness::load`], from text; `file` is the name used in errors.
-    pub fn from_text(text: &str, file: &str, shear: Option<ShearOrder>) -> Result<Self> {
-        Self::read(text, file, shear, false)
-    }
-
     /// JSON when `named_json` or when the text opens with `{` or `[`, else CSV.
     fn read(text: &str, file: &str, shear: Option<ShearOrder>, named_json: bool) -> Result<Self> {
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let opening = text.trim_start().chars().next();
-        let (matrix, written) = if named_json || matches!(opening, Some('{' | '[')) {
+        let (matrix, written, units) = if named_json || matches!(opening, Some('{' | '[')) {
             read_json(text, file)?
         } else {
-            (read_csv(text, file)?, None)
+            (read_csv(text, file)?, None, None)
         };
         let order = match (written, shear) {
             (Some(a), Some(b)) if a != b => {
@@ -54,7 +70,10 @@ impl VoigtStiffness {
             (Some(order), _) | (None, Some(order)) => order,
             (None, None) => ShearOrder::Standard,
         };
-        Self::from_matrix(matrix, order, file)
+        Ok(StiffnessFile {
+            stiffness: VoigtStiffness::from_matrix(matrix, order, file)?,
+            units,
+        })
     }
 }
 
@@ -96,12 +115,16 @@ fn read_csv(text: &str, file: &str) -> Result<Matrix> {
     })
 }
 
-fn read_json(text: &str, file: &str) -> Result<(Matrix, Option<ShearOrder>)> {
+/// The keys a JSON stiffness file may hold: the matrix (under one of two names), its
+/// shear order, its units and two descriptive texts.
+const JSON_KEYS: [&str; 6] = ["voigt", "C", "shear_order", "units", "material", "source"];
+
+fn read_json(text: &str, file: &str) -> Result<(Matrix, Option<ShearOrder>, Option<String>)> {
     let value: Value =
         serde_json::from_str(text).map_err(|err| Error::input(file, "JSON", err.to_string()))?;
     let object = match value {
         Value::Object(object) => object,
-        Value::Array(rows) => return Ok((voigt_rows(&Value::Array(rows), file)?, None)),
+        Value::Array(rows) => return Ok((voigt_rows(&Value::Array(rows), file)?, None, None)),
         _ => {
             return Err(Error::input(
                 file,
@@ -110,13 +133,26 @@ fn read_json(text: &str, file: &str) -> Result<(Matrix, Option<ShearOrder>)> {
             ));
         }
     };
-    if let Some(key) = object.keys().find(|k| *k != "voigt" && *k != "shear_order") {
+    if let Some(key) = object.keys().find(|k| !JSON_KEYS.contains(&k.as_str())) {
         return Err(Error::input(
             file,
             quoted(key),
-            "unknown key (expected voigt and optionally shear_order)",
+            "unknown key (expected voigt or C, and optionally shear_order, units, material, \
+             source)",
         ));
     }
+    let text_of = |key: &str| match object.get(key) {
+        None => Ok(None),
+        Some(Value::String(text)) => Ok(Some(text.clone())),
+        Some(other) => Err(Error::input(
+            file,
+            key,
+            format!("{} is not a text", quoted(&other.to_string())),
+        )),
+    };
+    let units = text_of("units")?;
+    text_of("material")?;
+    text_of("source")?;
     let shear = match object.get("shear_order") {
         None => None,
         Some(v) => Some(v.as_str().and_then(ShearOrder::parse).ok_or_else(|| {
@@ -130,10 +166,14 @@ fn read_json(text: &str, file: &str) -> Result<(Matrix, Option<ShearOrder>)> {
             )
         })?),
     };
-    let voigt = object
-        .get("voigt")
-        .ok_or_else(|| Error::input(file, "voigt", "missing"))?;
-    Ok((voigt_rows(voigt, file)?, shear))
+    let voigt = match (object.get("voigt"), object.get("C")) {
+        (Some(_), Some(_)) => {
+            return Err(Error::input(file, "C", "the matrix is given twice (voigt and C)"));
+        }
+        (Some(matrix), None) | (None, Some(matrix)) => matrix,
+        (None, None) => return Err(Error::input(file, "voigt", "missing (or C)")),
+    };
+    Ok((voigt_rows(voigt, file)?, shear, units))
 }
 
 /// The 6 x 6 matrix of a JSON list of rows (the `voigt` value, or the whole file).

