@@ -4,6 +4,8 @@
 //! s_ijkl from S with the Voigt factors (1, 1/2 or 1/4), Young's modulus 1/E(u) =
 //! s_ijkl u_i u_j u_k u_l and linear compressibility beta(u) = s_ijkk u_i u_j, their
 //! extremes found by sampling the sphere densely and refining by shrinking steps.
+// The loops spell out index notation (s_ijkl u_i u_j u_k u_l), as the definitions do.
+#![allow(clippy::needless_range_loop)]
 mod common;
 use common::text;
 use nalgebra::Matrix6;
@@ -72,7 +74,12 @@ fn cubic() -> Voigt {
 fn write_matrix(path: &Path, c: &Voigt) {
     let rows: Vec<String> = c
         .iter()
-        .map(|row| row.iter().map(|v| format!("{v}")).collect::<Vec<_>>().join(" "))
+        .map(|row| {
+            row.iter()
+                .map(|v| format!("{v}"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        })
         .collect();
     std::fs::write(path, rows.join("\n") + "\n").unwrap();
 }
@@ -137,7 +144,11 @@ fn compressibility(s: &[[[[f64; 3]; 3]; 3]; 3], u: [f64; 3]) -> f64 {
 }
 
 fn unit(theta: f64, phi: f64) -> [f64; 3] {
-    [theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos()]
+    [
+        theta.sin() * phi.cos(),
+        theta.sin() * phi.sin(),
+        theta.cos(),
+    ]
 }
 
 /// The largest value of `f` over the sphere: the best of a dense grid, then refined by
@@ -192,7 +203,10 @@ fn summary(dir: &Path, name: &str, c: &Voigt, extra: &[&str]) -> Value {
         String::from_utf8_lossy(&out.stderr)
     );
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(stdout.contains("oung"), "{name}: the table is printed: {stdout}");
+    assert!(
+        stdout.contains("oung"),
+        "{name}: the table is printed: {stdout}"
+    );
     serde_json::from_str(&std::fs::read_to_string(&out_path).unwrap()).unwrap()
 }
 
@@ -246,7 +260,10 @@ fn holds_to_reference(name: &str, c: &Voigt, reported: &Value) {
     }
     for (key, value) in [("max_direction", e_max), ("min_direction", e_min)] {
         let at = young(&s, direction(reported, key));
-        assert!(close(at, value, 1e-6), "{name} E({key}) = {at}, not {value}");
+        assert!(
+            close(at, value, 1e-6),
+            "{name} E({key}) = {at}, not {value}"
+        );
     }
 }
 
@@ -271,7 +288,10 @@ fn summary_extremes_are_the_global_ones() {
         (&["bulk", "reuss"], bulk),
         (&["shear_average", "voigt"], shear_voigt),
         (&["shear_average", "reuss"], shear_reuss),
-        (&["shear_average", "hill"], (shear_voigt + shear_reuss) / 2.0),
+        (
+            &["shear_average", "hill"],
+            (shear_voigt + shear_reuss) / 2.0,
+        ),
     ] {
         let got = number(&nickel, key);
         assert!(close(got, want, 1e-9), "{key:?}: {got} against {want}");
@@ -309,7 +329,10 @@ fn bunge_angles_turn_the_crystal_into_the_sample_frame() {
     let plain = summary(&dir, "nickel", &cubic(), &[]);
     let turned = summary(&dir, "nickel-turned", &cubic(), &["--euler", "30,40,50"]);
     for key in ["max", "min"] {
-        let (a, b) = (number(&plain, &["young", key]), number(&turned, &["young", key]));
+        let (a, b) = (
+            number(&plain, &["young", key]),
+            number(&turned, &["young", key]),
+        );
         assert!(close(a, b, 1e-6), "E {key}: {a} and {b}");
     }
     let g = bunge(phi1, phi, phi2);
@@ -324,16 +347,27 @@ fn bunge_angles_turn_the_crystal_into_the_sample_frame() {
         );
     }
     // The sample-frame direction itself is no <111> (the crystal was turned).
-    assert!(d.iter().any(|x| (x.abs() - 1.0 / 3f64.sqrt()).abs() > 0.05), "{d:?}");
+    assert!(
+        d.iter().any(|x| (x.abs() - 1.0 / 3f64.sqrt()).abs() > 0.05),
+        "{d:?}"
+    );
     let matrix = dir.join("g.csv");
     let rows: Vec<String> = g
         .iter()
         .map(|r| format!("{:.17}, {:.17}, {:.17}", r[0], r[1], r[2]))
         .collect();
     std::fs::write(&matrix, rows.join("\n")).unwrap();
-    let by_matrix = summary(&dir, "nickel-matrix", &cubic(), &["--rotation", text(&matrix)]);
+    let by_matrix = summary(
+        &dir,
+        "nickel-matrix",
+        &cubic(),
+        &["--rotation", text(&matrix)],
+    );
     for key in ["max", "min"] {
-        let (a, b) = (number(&turned, &["young", key]), number(&by_matrix, &["young", key]));
+        let (a, b) = (
+            number(&turned, &["young", key]),
+            number(&by_matrix, &["young", key]),
+        );
         assert!(close(a, b, 1e-9), "E {key}: {a} and {b}");
     }
 }
@@ -376,7 +410,11 @@ fn an_unstable_matrix_is_refused_unless_allowed() {
     let mut allowed = args.to_vec();
     allowed.push("--allow-unstable");
     let out = glyphcast(&allowed);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert!(scene.exists() && numbers.exists());
 }
 
@@ -393,7 +431,11 @@ fn example_materials_make_one_scene_on_one_scale() {
     args.extend(files.iter().map(|f| text(f)));
     args.extend(["-o", text(&scene_path), "--summary", text(&numbers)]);
     let out = glyphcast(&args);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let scene = glyphcast::scene::Scene::load(&scene_path).expect("the scene loads");
     let set = &scene.glyph_sets[0];
     assert_eq!(set.centers.len(), 3);

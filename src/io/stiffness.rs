@@ -168,7 +168,11 @@ fn read_json(text: &str, file: &str) -> Result<(Matrix, Option<ShearOrder>, Opti
     };
     let voigt = match (object.get("voigt"), object.get("C")) {
         (Some(_), Some(_)) => {
-            return Err(Error::input(file, "C", "the matrix is given twice (voigt and C)"));
+            return Err(Error::input(
+                file,
+                "C",
+                "the matrix is given twice (voigt and C)",
+            ));
         }
         (Some(matrix), None) | (None, Some(matrix)) => matrix,
         (None, None) => return Err(Error::input(file, "voigt", "missing (or C)")),

@@ -89,7 +89,12 @@ pub fn run(args: StiffnessArgs) -> Result<()> {
         })?),
         None => None,
     };
-    let outputs: Vec<&Path> = args.output.iter().chain(&args.summary).map(|p| p.as_path()).collect();
+    let outputs: Vec<&Path> = args
+        .output
+        .iter()
+        .chain(&args.summary)
+        .map(|p| p.as_path())
+        .collect();
     let mut inputs: Vec<&Path> = args.inputs.iter().map(|p| p.as_path()).collect();
     inputs.extend(args.rotation.as_deref());
     glyphcast::io::atomic::check_outputs(&outputs, &inputs)?;
@@ -110,7 +115,9 @@ pub fn run(args: StiffnessArgs) -> Result<()> {
         Some(_) => {
             let drawn = materials
                 .iter()
-                .map(|m| VoigtStiffness::from_matrix(*m.stiffness.voigt(), ShearOrder::Standard, &m.file))
+                .map(|m| {
+                    VoigtStiffness::from_matrix(*m.stiffness.voigt(), ShearOrder::Standard, &m.file)
+                })
                 .collect::<Result<Vec<_>>>()?;
             Some(stiffness_row_scene(&drawn, args.symmetric_part)?)
         }
@@ -118,7 +125,10 @@ pub fn run(args: StiffnessArgs) -> Result<()> {
     };
     for (material, summary) in materials.iter().zip(&summaries) {
         println!("{}", material.file);
-        print!("{}", summary.to_table(material.units.as_deref().unwrap_or("input units")));
+        print!(
+            "{}",
+            summary.to_table(material.units.as_deref().unwrap_or("input units"))
+        );
     }
     if let Some(path) = &args.summary {
         let json = summary_json(&materials, &summaries);
@@ -187,7 +197,9 @@ fn material(
 fn refused(file: &str, error: glyphcast_materials::Error) -> Error {
     use glyphcast_materials::Error as E;
     match error {
-        E::Unstable { smallest_eigenvalue } => Error::input(
+        E::Unstable {
+            smallest_eigenvalue,
+        } => Error::input(
             file,
             "voigt",
             format!(
@@ -220,13 +232,16 @@ fn orientation(args: &StiffnessArgs) -> Result<Option<Rotation>> {
             .split(|c: char| c.is_whitespace() || c == ',')
             .filter(|t| !t.is_empty())
             .map(|t| {
-                t.parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| {
-                    Error::input(
-                        &file,
-                        format!("line {}", index + 1),
-                        format!("'{}' is not a finite number", quoted(t)),
-                    )
-                })
+                t.parse::<f64>()
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .ok_or_else(|| {
+                        Error::input(
+                            &file,
+                            format!("line {}", index + 1),
+                            format!("'{}' is not a finite number", quoted(t)),
+                        )
+                    })
             })
             .collect::<Result<Vec<f64>>>()?;
         match row.len() {
@@ -245,7 +260,10 @@ fn orientation(args: &StiffnessArgs) -> Result<Option<Rotation>> {
         Error::input(
             &file,
             "rows",
-            format!("{} rows of numbers, expected 3 (a 3 x 3 rotation)", rows.len()),
+            format!(
+                "{} rows of numbers, expected 3 (a 3 x 3 rotation)",
+                rows.len()
+            ),
         )
     })?;
     Rotation::from_matrix(g)
