@@ -194,13 +194,18 @@ pub fn stiffness_row_scene(materials: &[VoigtStiffness], symmetric_part: bool) -
         .map(|k| DVec3::new(2.4 * (k as f64 - (count as f64 - 1.0) / 2.0), 0.0, 0.0))
         .collect();
     let kind = GlyphKind::Tensor(TensorLayout { order: 4, symmetry });
-    // The one-material view, backed off so that the whole row fits.
-    let distance = 1.0 + 0.6 * (count as f64 - 1.0);
+    // One material: seen from the side and above; a row: from the front and above,
+    // backed off so that the whole row fits.
+    let eye = if count == 1 {
+        DVec3::new(2.4, -3.6, 2.2)
+    } else {
+        DVec3::new(0.0, -4.4, 2.2) * (1.0 + 0.55 * (count as f64 - 1.0))
+    };
     Ok(Scene {
         glyph_sets: vec![glyph_set(kind, centers, 1.0 / largest, coeffs)],
         camera: Camera {
             projection: Projection::Perspective { fov_y_deg: 30.0 },
-            eye: DVec3::new(2.4, -3.6, 2.2) * distance,
+            eye,
             target: DVec3::ZERO,
             up: DVec3::Z,
         },

@@ -61,6 +61,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ._glyphcast import __version__, encode_png
+from ._glyphcast import stiffness as _stiffness
 from ._glyphcast import Renderer as _Renderer
 
 __all__ = [
@@ -69,6 +70,7 @@ __all__ = [
     "render_scene",
     "render_sh",
     "render_tensor",
+    "stiffness",
     "encode_png",
     "__version__",
 ]
@@ -352,3 +354,24 @@ def render_tensor(
         coeffs, affine, order=order, symmetric=symmetric, slice=slice, mask=mask,
         scale=scale, norm=norm, width=width, height=height, **options,
     )
+
+
+def stiffness(C, *, euler=None, allow_unstable=False, symmetric_part=False, **options):
+    """The Reynolds glyph of a 6 x 6 Voigt stiffness matrix ``C`` (any units) and its
+    elastic numbers, as ``glyphcast stiffness C -o SCENE --summary FILE`` and ``glyphcast
+    render SCENE`` give them: returns ``(rendering, summary)``. ``summary`` is the dict
+    of the summary file: Young's modulus (``young``: min, max and their directions),
+    ``linear_compressibility``, ``shear`` and ``poisson`` extremes over all directions,
+    ``bulk`` and ``shear_average`` (Voigt, Reuss, Hill), in the units of ``C``.
+    ``euler``: Bunge angles (phi1, Phi, phi2) in degrees, sample to crystal, so that the
+    glyph and the numbers are the sample frame's. A matrix that is not positive definite
+    raises ValueError unless ``allow_unstable``. Other options are ``render_scene``'s.
+    See docs/guide/materials.md."""
+    matrix = np.asarray(C, dtype=float)
+    if matrix.shape != (6, 6):
+        raise ValueError(f"C: shape {matrix.shape} where a 6 x 6 Voigt matrix is needed")
+    angles = None if euler is None else tuple(float(a) for a in euler)
+    if angles is not None and len(angles) != 3:
+        raise ValueError(f"euler: {len(angles)} angles where (phi1, Phi, phi2) is needed")
+    scene, summary = _stiffness(matrix.tolist(), angles, bool(allow_unstable), bool(symmetric_part))
+    return render_scene(json.loads(scene), **options), json.loads(summary)

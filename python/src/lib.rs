@@ -19,6 +19,49 @@ mod renderer;
 
 use errors::{to_py, value_error};
 
+/// A stiffness matrix's glyph scene (JSON) and its elastic summary (JSON), as
+/// `glyphcast stiffness -o SCENE --summary FILE` writes them: `c` the 6 x 6 Voigt
+/// matrix, `euler` Bunge angles in degrees (sample to crystal), `allow_unstable` to take
+/// a matrix that is not positive definite.
+#[pyfunction]
+#[pyo3(signature = (c, euler=None, allow_unstable=false, symmetric_part=false))]
+fn stiffness(
+    c: Vec<Vec<f64>>,
+    euler: Option<(f64, f64, f64)>,
+    allow_unstable: bool,
+    symmetric_part: bool,
+) -> PyResult<(String, String)> {
+    use glyphcast::glyph::stiffness::{ShearOrder, VoigtStiffness};
+    use glyphcast_materials::{Options, Rotation, Stiffness};
+    let rows: Vec<[f64; 6]> = c
+        .iter()
+        .map(|row| <[f64; 6]>::try_from(row.as_slice()))
+        .collect::<Result<_, _>>()
+        .map_err(|_| value_error("C", "a 6 x 6 Voigt matrix is needed"))?;
+    let matrix: [[f64; 6]; 6] = rows
+        .try_into()
+        .map_err(|_| value_error("C", "a 6 x 6 Voigt matrix is needed"))?;
+    // The library's checks first (finite, symmetric), with its messages.
+    let checked = VoigtStiffness::from_matrix(matrix, ShearOrder::Standard, "C").map_err(to_py)?;
+    let options = Options { allow_unstable };
+    let crystal = Stiffness::with_options(checked.in_order(ShearOrder::Standard), options)
+        .map_err(|e| value_error("C", format!("{e} (allow_unstable=True draws it anyway)")))?;
+    let sample = match euler {
+        Some((phi1, phi, phi2)) => {
+            let g = Rotation::from_bunge_degrees(phi1, phi, phi2)
+                .map_err(|e| value_error("euler", e))?;
+            crystal.rotated(&g)
+        }
+        None => crystal,
+    };
+    let drawn =
+        VoigtStiffness::from_matrix(*sample.voigt(), ShearOrder::Standard, "C").map_err(to_py)?;
+    let scene = glyphcast::demo::stiffness_row_scene(&[drawn], symmetric_part).map_err(to_py)?;
+    let summary = serde_json::to_string(&sample.summary())
+        .map_err(|e| value_error("C", format!("the summary: {e}")))?;
+    Ok((scene.to_json(), summary))
+}
+
 /// PNG bytes of an (H, W, 4) uint8 RGBA image (sRGB, as rendered).
 #[pyfunction]
 fn encode_png<'py>(
@@ -50,6 +93,7 @@ fn encode_png<'py>(
 fn _glyphcast(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<renderer::Renderer>()?;
     m.add_function(wrap_pyfunction!(encode_png, m)?)?;
+    m.add_function(wrap_pyfunction!(stiffness, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -18,7 +18,7 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Render a scene file (SCENE-FORMAT.md) or a volume to a PNG, and optionally a depth map.
+    /// Render a scene file (docs/scene-format.md) or a volume to a PNG, and optionally a depth map.
     Render {
         #[command(flatten)]
         source: Box<SceneSource>,
@@ -54,8 +54,13 @@ enum Command {
     Peaks(cli::peaks::PeaksArgs),
     /// Write one subject's quality-control figure set of fibre ODFs into a folder: ODF
     /// mosaic, zoomed regions, index.html and the qc.json sidecar.
+    #[command(
+        after_help = "Cohorts on a cluster (SLURM job arrays, Nipype): docs/guide/cohorts.md"
+    )]
     Qc(Box<cli::qc::QcArgs>),
-    /// Write a one-glyph scene file from a Voigt stiffness matrix (CSV or JSON).
+    /// Write a scene of stiffness glyphs from Voigt matrices (text, CSV or JSON), and the
+    /// elastic extremes and averages (--summary).
+    #[command(after_help = "Definitions, units and accuracy: docs/guide/materials.md")]
     Stiffness(cli::stiffness::StiffnessArgs),
 }
 

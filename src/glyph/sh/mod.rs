@@ -1,4 +1,4 @@
-//! Real spherical harmonics of even bands in the conventions of SCENE-FORMAT.md, and the
+//! Real spherical harmonics of even bands in the conventions of docs/scene-format.md, and the
 //! linear maps around them: evaluation, the paper's SH-to-tensor map t = M w
 //! (Hlawitschka et al.), basis conversion, rotation and a regularised fit.
 //!

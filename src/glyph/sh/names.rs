@@ -4,7 +4,7 @@
 //! coefficients between the bases.
 use crate::{Error, Result, Setting};
 
-/// The real SH basis convention of a coefficient list (SCENE-FORMAT.md).
+/// The real SH basis convention of a coefficient list (docs/scene-format.md).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ShBasis {
     /// MRtrix3's basis.

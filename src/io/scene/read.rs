@@ -1,5 +1,5 @@
 //! Validating a parsed tree into a [`Scene`]: glyph sets, camera and image, each field
-//! checked against SCENE-FORMAT.md with an error naming the field.
+//! checked against docs/scene-format.md with an error naming the field.
 use glam::DVec3;
 use std::path::Path;
 
@@ -305,7 +305,7 @@ fn read_fov(field: &Field) -> Result<f64> {
     }
 }
 
-/// The camera frame of SCENE-FORMAT.md needs a view direction and an `up` not parallel
+/// The camera frame of docs/scene-format.md needs a view direction and an `up` not parallel
 /// to it.
 fn check_view(camera: &Object, eye: DVec3, target: DVec3, up: DVec3) -> Result<()> {
     let Some(forward) = (target - eye).try_normalize() else {

@@ -96,7 +96,7 @@ fn signed_harmonic(harmonic: &dyn Fn(u32, u32) -> Complex, l: u32, m: i32) -> Co
     }
 }
 
-/// Basis function (l, m) literally as SCENE-FORMAT.md defines it.
+/// Basis function (l, m) literally as docs/scene-format.md defines it.
 fn contract_basis(
     harmonic: &dyn Fn(u32, u32) -> Complex,
     basis: ShBasis,
