@@ -200,7 +200,7 @@ def _blob_sizes(mask):
     return np.array(sizes)
 
 
-def test_an_outlier_changes_the_others_size_by_at_most_2x():
+def test_an_outlier_leaves_the_others_size():
     # Band-0 spheres of radius 1 on a 6x6 slice, one of radius 10 (CSF-like).
     coeffs = np.zeros((6, 6, 1, 1))
     coeffs[..., 0] = 1.0
@@ -216,7 +216,7 @@ def test_an_outlier_changes_the_others_size_by_at_most_2x():
 
     before = typical_diameter(coeffs)
     after = typical_diameter(spiked)
-    assert before / after <= 2.0, (before, after)
+    assert abs(before / after - 1.0) < 0.02, (before, after)
     # Global normalisation (the old default) shrinks them 10x.
     assert before / typical_diameter(spiked, norm="global") > 5.0
 

@@ -177,8 +177,8 @@ fn normalisation_sizes_glyphs_as_asked() {
     }
 }
 
-/// One glyph ten times larger than the rest (a CSF-like voxel) changes the others'
-/// drawn size by at most 2x under the default (robust) normalisation, and is itself
+/// One glyph ten times larger than the rest (a CSF-like voxel) leaves the others'
+/// drawn size as it was under the default (robust) normalisation, and is itself
 /// drawn at the largest size, counted and warned of; under global normalisation it
 /// shrinks them by 7x.
 #[test]
@@ -229,11 +229,11 @@ fn an_outlier_does_not_shrink_the_other_glyphs_by_default() {
     let mut compared = 0;
     for ((centre, a), (same, b)) in before.iter().zip(&after) {
         assert_eq!(centre, same);
-        if (*b - largest).abs() < 1e-12 {
+        if (*b - largest).abs() < 1e-12 && (*a - largest).abs() > 1e-9 {
+            // The outlier, capped at the scale.
             continue;
         }
-        let ratio = a / b;
-        assert!((1.0..=2.0).contains(&ratio), "{centre}: {a} then {b}");
+        assert!((a / b - 1.0).abs() < 1e-12, "{centre}: {a} then {b}");
         compared += 1;
     }
     assert_eq!(compared, DIMS[0] * DIMS[1] - 1);
@@ -302,4 +302,61 @@ fn three_slices_pick_the_voxels_of_their_planes_each_once() {
     let view = volume_scene(&volume, &options).expect("scene");
     let middles: Vec<usize> = view.regions.iter().map(|r| r.index).collect();
     assert_eq!(middles, [2, 2, 3]);
+}
+
+/// One voxel of a 10 x 10 slice ten times larger than the rest (a CSF-like outlier):
+/// under the default size the other 99 glyphs keep their pixels, drawn on lavapipe with
+/// validation (the outlier's own glyph left out of both pictures, so that only the
+/// others count). The rule that capped at 1.5 times the 99th percentile kept 0.44 of
+/// them; at least half is what a figure needs, and all of them is what it gets.
+#[test]
+fn one_outlier_in_a_ten_by_ten_slice_keeps_the_others_pixels() {
+    const SLICE: [usize; 3] = [10, 10, 1];
+    let outlier = [4, 5, 0];
+    let radius = |[i, j, _]: [usize; 3]| 1.0 + 0.05 * ((7 * i + 3 * j) % 10) as f64;
+    let load = |name: &str, spike: f64| {
+        let data = volume(SLICE, 6, |v| {
+            let c = radius(v) * if v == outlier { spike } else { 1.0 };
+            vec![c, 0.0, 0.0, c, 0.0, c]
+        });
+        let path = scratch(name).join("slice.nii");
+        write4(&path, Storage::Sform, &data);
+        let kind = VolumeKind::Tensor(TensorLayout {
+            order: 2,
+            symmetry: Symmetry::Symmetric,
+        });
+        load_volume(&path, kind).expect("loading")
+    };
+    let (plain, spiked) = (load("outlier-plain", 1.0), load("outlier-spiked", 10.0));
+    let gpu = crate::common::gpu();
+    let mut renderer = glyphcast::HeadlessRenderer::new(&gpu).expect("renderer");
+    let settings = glyphcast::RenderSettings::default();
+    // The outlier's index in the glyph list: the largest coefficient of the spiked slice.
+    let spiked_view = volume_scene(&spiked, &VolumeOptions::default()).expect("scene");
+    assert_eq!(spiked_view.report.capped, 1, "one outlier");
+    let coeffs = &spiked_view.scene.glyph_sets[0].coeffs;
+    let index = (0..coeffs.len())
+        .max_by(|&a, &b| coeffs[a][0].total_cmp(&coeffs[b][0]))
+        .expect("glyphs");
+    let mut covered = |volume: &Volume| {
+        let view = volume_scene(volume, &VolumeOptions::default()).expect("scene");
+        let mut scene = view.scene;
+        let set = &mut scene.glyph_sets[0];
+        assert_eq!(set.centers.len(), 100);
+        set.centers.remove(index);
+        set.scales.remove(index);
+        set.coeffs.remove(index);
+        let sets = glyphcast::prepare_scene(&scene, settings.offset as f64).expect("prepared");
+        let frame = glyphcast::FrameView::new(&scene.camera, 400, 400);
+        let image = renderer
+            .render_view(&gpu, &sets, &frame, &settings)
+            .expect("rendered");
+        image.distance.iter().filter(|d| d.is_finite()).count()
+    };
+    let before = covered(&plain);
+    let after = covered(&spiked);
+    assert!(before > 10_000, "{before} pixels without the outlier");
+    let kept = after as f64 / before as f64;
+    assert!(kept >= 0.5, "the others keep {kept} of their pixels");
+    assert!(kept > 0.98, "an outlier changes no other glyph: {kept}");
 }

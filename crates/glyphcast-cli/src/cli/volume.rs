@@ -87,9 +87,9 @@ pub struct VolumeArgs {
     /// World radius of the largest glyph (default: 0.45 times the smallest voxel size).
     #[arg(long, value_name = "S", help_heading = "Volume input")]
     pub scale: Option<f64>,
-    /// Glyph sizes: robust (one factor for all, the largest glyph at --scale unless it
-    /// is an outlier, more than 1.5 times the 99th percentile of the glyph sizes: then
-    /// that limit is drawn at --scale and the outliers are capped at it; the default),
+    /// Glyph sizes: robust (one factor for all: the largest glyph that is no outlier at
+    /// --scale, an outlier being more than 1.5 times the 99th percentile of the glyph
+    /// sizes, drawn at --scale itself; the default),
     /// global (one factor for all, the largest at --scale), per-glyph (all the same
     /// size) or none (amplitude times --scale).
     #[arg(long, value_name = "MODE", help_heading = "Volume input")]

@@ -38,11 +38,11 @@ pub const ROBUST_FACTOR: f64 = 1.5;
 /// How glyph sizes relate to the data.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Normalisation {
-    /// One factor for all drawn glyphs, robust to a few outliers: the largest radius
-    /// becomes `scale` unless it exceeds [`ROBUST_FACTOR`] times the
-    /// [`ROBUST_PERCENTILE`]th percentile of the radii; then that limit becomes `scale`
-    /// and the glyphs above it (the outliers, counted in the report) are drawn with
-    /// radius `scale`. For data without outliers this is [`Normalisation::Global`].
+    /// One factor for all drawn glyphs, robust to a few outliers: glyphs larger than
+    /// [`ROBUST_FACTOR`] times the [`ROBUST_PERCENTILE`]th percentile of the radii are
+    /// outliers (counted in the report) and drawn with radius `scale`; the largest of
+    /// the others becomes `scale`, so an outlier changes no other glyph's size. For data
+    /// without outliers this is [`Normalisation::Global`].
     #[default]
     Robust,
     /// One factor for all drawn glyphs: the largest has radius `scale`.
@@ -363,11 +363,12 @@ fn check_float32(volume: &Volume, voxel: [usize; 3], coeffs: &[f64]) -> Result<(
     }
 }
 
-/// The radius that [`Normalisation::Robust`] draws at `scale`: the largest of `radii`,
-/// or [`ROBUST_FACTOR`] times their [`ROBUST_PERCENTILE`]th percentile if that is
-/// smaller. The percentile is the lower nearest rank (the value at index
-/// floor(p/100 (n - 1)) of the sorted radii), so that one outlier among few glyphs is
-/// never its own reference.
+/// The radius that [`Normalisation::Robust`] draws at `scale`: the largest of `radii`
+/// that is no outlier, an outlier being larger than [`ROBUST_FACTOR`] times their
+/// [`ROBUST_PERCENTILE`]th percentile. The percentile is the lower nearest rank (the
+/// value at index floor(p/100 (n - 1)) of the sorted radii), so that one outlier among
+/// few glyphs is never its own reference; and since the reference is a glyph's own
+/// radius, not the limit, the other glyphs are drawn as large as without the outlier.
 pub fn robust_reference(radii: &[f64]) -> f64 {
     let largest = radii.iter().copied().fold(0.0, f64::max);
     if radii.len() < 2 {
@@ -378,7 +379,12 @@ pub fn robust_reference(radii: &[f64]) -> f64 {
     let rank = ((ROBUST_PERCENTILE / 100.0) * (sorted.len() - 1) as f64).floor() as usize;
     let limit = ROBUST_FACTOR * sorted[rank];
     if limit > 0.0 {
-        largest.min(limit)
+        sorted
+            .iter()
+            .rev()
+            .copied()
+            .find(|&r| r <= limit)
+            .unwrap_or(largest)
     } else {
         largest
     }
