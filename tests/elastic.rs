@@ -7,22 +7,10 @@
 // The loops spell out index notation (s_ijkl u_i u_j u_k u_l), as the definitions do.
 #![allow(clippy::needless_range_loop)]
 mod common;
-use common::text;
+use common::{glyphcast, text};
 use nalgebra::Matrix6;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-const LAVAPIPE: &str = "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json";
-
-fn glyphcast(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_glyphcast"))
-        .args(args)
-        .env("VK_DRIVER_FILES", LAVAPIPE)
-        .env("GLYPHCAST_VALIDATION", "1")
-        .output()
-        .expect("running glyphcast")
-}
 
 fn fresh_dir(name: &str) -> PathBuf {
     common::fresh_dir(&format!("elastic/{name}"))
