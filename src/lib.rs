@@ -42,7 +42,7 @@
 //! An engine that owns its Vulkan instance, device, allocator and frame loop draws glyphs
 //! into its own rendering with a [`GlyphRenderer`];
 //! glyphcast then creates no instance or device and never submits, presents or waits.
-//! README "Embedding in an engine" has the whole contract; in short:
+//! docs/guide/embedding.md has the whole contract; in short:
 //!
 //! 1. Wrap the engine's device and [`gpu_allocator`] allocator in a
 //!    [`vk::DeviceContext`] (`unsafe`: the engine keeps its device, instance and

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Times one slice of an SH volume rendered through the Python module against the same
-slice through `glyphcast render` (README, Python / Performance).
+slice through `glyphcast render` (docs/guide/performance.md).
 
     python tools/bench_python_slice.py GLYPHCAST_BIN VOLUME.nii [RUNS]
 

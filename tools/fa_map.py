@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Fractional anisotropy (FA) and colour-FA maps from a DTI volume written by
 `glyphcast fit --order 2` (a 4D float32 NIfTI-1 .nii or .nii.gz of xx, xy, xz, yy,
-yz, zz per voxel), for `glyphcast render --underlay` (README, "Anatomical underlay"):
+yz, zz per voxel), for `glyphcast render --underlay` (docs/guide/volumes.md, "Anatomical underlay"):
 
     python3 tools/fa_map.py dti.nii fa.nii [colour-fa.nii]
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The README's DIPY figures (docs/gallery/dipy-*.png, issue 28), from DIPY's small
+# The DIPY figures of docs/guide/figures.md (docs/gallery/dipy-*.png), from DIPY's small
 # 64-direction test DWI (tests/data/dipy, BSD-3): CSD fODFs (band 8, DIPY's basis) and
 # tensors fitted by glyphcast fit, FA by tools/fa_map.py; the fODFs over FA with every
 # default a DIPY user gets (underlay behind the glyphs, robust sizes):

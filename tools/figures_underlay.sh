@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The README's underlay and anti-aliasing figures (docs/gallery/), from DIPY's small
+# The underlay and anti-aliasing figures of the guide (docs/gallery/), from DIPY's small
 # 64-direction test DWI (tests/data/dipy, BSD-3): tensors fitted by glyphcast fit, FA and
 # colour-FA maps by tools/fa_map.py, drawn under the tensor glyphs.
 #   bash tools/figures_underlay.sh [glyphcast binary]

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The README's figure gallery, part A (issue 13): DTI ellipsoids, lighting, the colour
+# The figure gallery of docs/guide/figures.md, part A: DTI ellipsoids, lighting, the colour
 # bar, a three-view montage and a lightbox, all from DIPY's small_64D (BSD-3, in
 # tests/data/dipy), fitted by glyphcast itself. Writes docs/gallery/*.png.
 # Usage: tools/gallery_figures_a.sh [GLYPHCAST_BINARY]   (default: builds target/release)

@@ -135,7 +135,7 @@ report="$work/report.md"
     echo "## Frames: GPU milliseconds per frame (median of the timed frames)"
     echo
     echo "Band-8 fODF fields (\`--workload fodf:COUNT:8\`: one to three fibres per glyph) seen"
-    echo "whole; timestamps around the glyph pass. Methods: see README \"Baselines and benchmarks\"."
+    echo "whole; timestamps around the glyph pass. Methods: see docs/guide/accuracy.md, \"Baselines and benchmarks\"."
     echo
     printf '%s\n' "$pivot_table"
     echo

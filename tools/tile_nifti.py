@@ -3,7 +3,7 @@
 optionally NZ times in z.
 
 Used to make brain-slice-sized benchmark volumes from DIPY's small 10x10x10 test DWI
-(README, Performance):
+(docs/guide/performance.md):
 
     glyphcast fit --sh --order 8 --bval B --bvec V -o sh8.nii small_64D.nii
     python3 tools/tile_nifti.py sh8.nii tiled.nii 10

@@ -36,8 +36,8 @@ line does; warnings point at the caller's line.
 
 Basis names are DIPY's and any case: ``basis="descoteaux07"`` is DIPY 1.x's
 descoteaux07 with its default ``legacy=True`` unless ``legacy=False`` is given (the
-command line and scene files read ``descoteaux07`` as the non-legacy basis, see the
-README); ``"dipy"`` is the same legacy basis, ``"dipy-new"`` the non-legacy one,
+command line and scene files read ``descoteaux07`` as the non-legacy basis, see
+docs/guide/volumes.md); ``"dipy"`` is the same legacy basis, ``"dipy-new"`` the non-legacy one,
 ``"tournier07"``/``"mrtrix"`` MRtrix3's.
 - peaks: ``peaks`` (a peak image's path, or an array on the coefficients' grid,
   directions in the coefficients' frame: (X, Y, Z, 3N) as ``glyphcast peaks`` and MRtrix

@@ -19,7 +19,7 @@ into a Nipype workflow (QSIRecon-style) like any FSL or MRtrix interface::
 Values are checked when they are set, before anything runs: an input file that does not
 exist, an option outside its choices or range raise ``TraitError`` at once. The binary
 is ``$GLYPHCAST_BIN`` if set, else ``glyphcast`` on the PATH (``cargo install --path .``
-or the container of the README). Drawing needs a Vulkan device: lavapipe
+or the container of container/). Drawing needs a Vulkan device: lavapipe
 (``mesa-vulkan-drivers``) renders on the CPU, with no display and no GPU.
 """
 import os

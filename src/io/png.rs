@@ -96,7 +96,7 @@ fn encode(
     // fdeflate's fast mode rather than zlib's default level: encoding the demo or the
     // 256-glyph field took 25 to 90 ms of CPU (a quarter to a half of a one-shot render),
     // now 1 to 3 ms, for files from 3 % smaller (glyphs on a plain background) to 45 %
-    // larger (the sphere impostor's shaded discs). README, "First image (session 9)".
+    // larger (the sphere impostor's shaded discs). docs/guide/performance.md, "First image".
     encoder.set_compression(png::Compression::Fast);
     encoder.set_source_srgb(SrgbRenderingIntent::Perceptual);
     // The fallback values of PNG 3rd edition, 11.3.2.5 (gAMA 45455 and the sRGB

@@ -295,7 +295,7 @@ impl Default for RenderSettings {
     fn default() -> Self {
         RenderSettings {
             // The fastest method with no holes and no false hits on the accuracy suite
-            // and a median depth error at float32 level (README, "Accuracy"): the first
+            // and a median depth error at float32 level (docs/guide/accuracy.md): the first
             // real root of the ray polynomial. It refuses an offset; the command line
             // then takes affine, the next fastest.
             method: Method::Exact,

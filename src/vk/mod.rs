@@ -3,8 +3,9 @@
 //! Nothing here knows about glyphs.
 //!
 //! [`Gpu`] creates an instance and a device. Headless tools and tests use
-//! [`Gpu::headless`]; the viewer uses [`Gpu::for_window`], the same construction plus the
-//! window system's surface extensions and VK_KHR_swapchain ([`Surface`], [`Swapchain`]).
+//! [`Gpu::headless`]; the viewer uses `Gpu::for_window`, the same construction plus the
+//! window system's surface extensions and VK_KHR_swapchain (`Surface`, `Swapchain`; with
+//! the feature `window`).
 //! An engine that already has a device hands it to the render passes directly (they only
 //! need a device and an allocator, see [`DeviceContext`]), so this module never insists
 //! on owning the instance.
