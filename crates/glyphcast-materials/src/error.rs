@@ -4,8 +4,7 @@ use std::fmt;
 
 /// Why an input was refused.
 ///
-/// Matrix rows and columns are 1-based, as in the Voigt names `C11`…`C66`; a parse
-/// error also gives the 1-based line of the text it came from where there is one.
+/// Matrix rows and columns are 1-based, as in the Voigt names `C11`…`C66`.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Error {
     /// A stiffness entry is NaN or infinite.
@@ -55,8 +54,6 @@ pub enum Error {
     },
     /// A 3x3 matrix given as a rotation is not one.
     NotRotation(RotationDefect),
-    /// Text given as a stiffness matrix could not be read.
-    Parse(ParseError),
 }
 
 /// What is wrong with a matrix given as a rotation (tolerance 1e-6).
@@ -82,46 +79,6 @@ pub enum RotationDefect {
     NotProper {
         /// The determinant of the matrix.
         determinant: f64,
-    },
-}
-
-/// What is wrong with a text given as a stiffness matrix.
-#[derive(Debug, Clone, PartialEq)]
-pub enum ParseError {
-    /// An entry is not a number (or is NaN or infinite).
-    NotANumber {
-        /// Row of the matrix (1-based).
-        row: usize,
-        /// Column of the matrix (1-based).
-        column: usize,
-        /// Line of the text (1-based); 0 for JSON, where `row` and `column` place it.
-        line: usize,
-        /// The text found there.
-        found: String,
-    },
-    /// A row has a number of entries other than 6.
-    WrongColumnCount {
-        /// Row of the matrix (1-based).
-        row: usize,
-        /// Line of the text (1-based); 0 for JSON.
-        line: usize,
-        /// How many entries the row has.
-        found: usize,
-    },
-    /// The text has a number of rows other than 6 (blank and `#` lines not counted).
-    WrongRowCount {
-        /// How many rows were found.
-        found: usize,
-    },
-    /// The text looked like JSON (it starts with `[` or `{`) but is not valid JSON.
-    Json {
-        /// serde_json's message, with its line and column.
-        message: String,
-    },
-    /// Valid JSON of the wrong shape.
-    JsonShape {
-        /// What was expected where.
-        message: String,
     },
 }
 
@@ -166,7 +123,6 @@ impl fmt::Display for Error {
                 write!(f, "Euler angle {angle} is not a finite number")
             }
             Error::NotRotation(defect) => write!(f, "not a rotation matrix: {defect}"),
-            Error::Parse(error) => write!(f, "stiffness matrix text: {error}"),
         }
     }
 }
@@ -193,57 +149,16 @@ impl fmt::Display for RotationDefect {
     }
 }
 
-impl fmt::Display for ParseError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            ParseError::NotANumber {
-                row,
-                column,
-                line,
-                found,
-            } => {
-                write!(f, "row {row}, column {column}")?;
-                if *line > 0 {
-                    write!(f, " (line {line})")?;
-                }
-                write!(f, ": {found:?} is not a finite number")
-            }
-            ParseError::WrongColumnCount { row, line, found } => {
-                write!(f, "row {row}")?;
-                if *line > 0 {
-                    write!(f, " (line {line})")?;
-                }
-                write!(f, " has {found} entries, expected 6")
-            }
-            ParseError::WrongRowCount { found } => write!(
-                f,
-                "found {found} rows, expected 6 (a header line must be a # comment)"
-            ),
-            ParseError::Json { message } => write!(f, "invalid JSON: {message}"),
-            ParseError::JsonShape { message } => write!(f, "JSON: {message}"),
-        }
-    }
-}
-
 impl std::error::Error for Error {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
             Error::NotRotation(defect) => Some(defect),
-            Error::Parse(error) => Some(error),
             _ => None,
         }
     }
 }
 
 impl std::error::Error for RotationDefect {}
-
-impl std::error::Error for ParseError {}
-
-impl From<ParseError> for Error {
-    fn from(error: ParseError) -> Self {
-        Error::Parse(error)
-    }
-}
 
 impl From<RotationDefect> for Error {
     fn from(defect: RotationDefect) -> Self {

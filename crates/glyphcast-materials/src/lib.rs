@@ -14,7 +14,6 @@
 //! `|C_ij - C_ji| > 1e-6 · max|C|` (naming the pair), and one that is not positive
 //! definite (mechanically unstable; the error carries the smallest eigenvalue) unless
 //! [`Options::allow_unstable`] is set, when only a singular matrix is refused.
-//! [`parse_matrix`] reads the whitespace (ELATE), CSV and JSON forms.
 //!
 //! **Directional moduli** for unit `u` and unit `v ⊥ u`:
 //!
@@ -60,11 +59,18 @@
 //! # Example
 //!
 //! ```
-//! use glyphcast_materials::{Stiffness, parse_matrix};
+//! use glyphcast_materials::Stiffness;
 //!
-//! let copper = "168.4 121.4 121.4 0 0 0\n121.4 168.4 121.4 0 0 0\n\
-//!               121.4 121.4 168.4 0 0 0\n0 0 0 75.4 0 0\n0 0 0 0 75.4 0\n0 0 0 0 0 75.4";
-//! let stiffness = Stiffness::new(parse_matrix(copper)?)?;
+//! let (c11, c12, c44) = (168.4, 121.4, 75.4); // copper, GPa
+//! let copper = [
+//!     [c11, c12, c12, 0.0, 0.0, 0.0],
+//!     [c12, c11, c12, 0.0, 0.0, 0.0],
+//!     [c12, c12, c11, 0.0, 0.0, 0.0],
+//!     [0.0, 0.0, 0.0, c44, 0.0, 0.0],
+//!     [0.0, 0.0, 0.0, 0.0, c44, 0.0],
+//!     [0.0, 0.0, 0.0, 0.0, 0.0, c44],
+//! ];
+//! let stiffness = Stiffness::new(copper)?;
 //! let e100 = stiffness.young([1.0, 0.0, 0.0])?;
 //! let summary = stiffness.summary();
 //! assert!((summary.young.min - e100).abs() < 1e-9 * e100);
@@ -77,7 +83,6 @@
 mod averages;
 mod error;
 mod extremes;
-mod parse;
 mod rotation;
 mod stiffness;
 mod summary;
@@ -85,12 +90,11 @@ mod surface;
 mod voigt;
 
 pub use averages::{Averages, Vrh};
-pub use error::{Error, ParseError, RotationDefect};
+pub use error::{Error, RotationDefect};
 pub use extremes::{
     DirectionalExtremes, PairExtremes, REFINED_SEEDS, SEED_COUNT, SEED_SEPARATION,
     fibonacci_half_sphere,
 };
-pub use parse::{ParsedMatrix, parse_matrix, parse_matrix_with_units};
 pub use rotation::{ROTATION_TOLERANCE, Rotation, bond_matrix, rotate, rotate_tensor};
 pub use stiffness::{
     Options, PERPENDICULAR_TOLERANCE, PlaneExtremes, SYMMETRY_TOLERANCE, Stiffness,

@@ -5,9 +5,7 @@
 mod common;
 
 use common::*;
-use glyphcast_materials::{
-    Rotation, Stiffness, Surface, Voigt, bond_matrix, parse_matrix_with_units, rotate,
-};
+use glyphcast_materials::{Rotation, Stiffness, Surface, Voigt, bond_matrix, rotate};
 
 /// Quartz seen in a generic orientation: a fully populated (triclinic-looking) matrix.
 fn generic() -> Voigt {
@@ -293,19 +291,4 @@ fn bunge_direction_convention() {
     let g = Rotation::from_bunge_degrees(0.0, 90.0, 0.0).unwrap();
     let z = g.to_crystal([0.0, 0.0, 1.0]);
     assert!(z[0].abs() < 1e-15 && (z[1] - 1.0).abs() < 1e-15 && z[2].abs() < 1e-15);
-}
-
-#[test]
-fn example_files_parse() {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/stiffness");
-    let read = |name: &str| std::fs::read_to_string(format!("{dir}/{name}")).unwrap();
-    let copper_file = parse_matrix_with_units(&read("copper.txt")).unwrap();
-    assert_eq!(copper_file.c, copper());
-    assert_eq!(
-        parse_matrix_with_units(&read("quartz.csv")).unwrap().c,
-        quartz()
-    );
-    let auxetic = parse_matrix_with_units(&read("cristobalite.json")).unwrap();
-    assert_eq!(auxetic.c, cristobalite());
-    assert_eq!(auxetic.units.as_deref(), Some("GPa"));
 }
