@@ -156,6 +156,20 @@ typedef struct GlyphcastSettings {
   float specular;
   // Blinn-Phong exponent of the highlight, 1 to 1024.
   float shininess;
+  // With [`GlyphcastMethod::Fixed`]: the march step in units of each glyph's bounding
+  // radius, 0.001 to 2.
+  float step;
+  // With [`GlyphcastMethod::Interval`] or [`GlyphcastMethod::Affine`]: the segment
+  // length limit in pixels at the segment's depth, 0.01 to 64.
+  float precision;
+  // With the marching methods (fixed, interval, affine): a [`GlyphcastRefine`], how
+  // the first sign change is refined.
+  uint32_t refine;
+  // The steps of [`GlyphcastRefine::Secant`] or [`GlyphcastRefine::Bisect`], 0 to 16.
+  uint32_t refine_steps;
+  // An isotropic offset added to every glyph, as a fraction of its bounding radius
+  // (0 or more; not with [`GlyphcastMethod::Exact`]).
+  float offset;
 } GlyphcastSettings;
 
 // One allocation glyphcast asks the host for.

@@ -154,6 +154,34 @@ pub struct GlyphcastSettings {
     pub specular: f32,
     /// Blinn-Phong exponent of the highlight, 1 to 1024.
     pub shininess: f32,
+    /// With [`GlyphcastMethod::Fixed`]: the march step in units of each glyph's bounding
+    /// radius, 0.001 to 2.
+    pub step: f32,
+    /// With [`GlyphcastMethod::Interval`] or [`GlyphcastMethod::Affine`]: the segment
+    /// length limit in pixels at the segment's depth, 0.01 to 64.
+    pub precision: f32,
+    /// With the marching methods (fixed, interval, affine): a [`GlyphcastRefine`], how
+    /// the first sign change is refined.
+    pub refine: u32,
+    /// The steps of [`GlyphcastRefine::Secant`] or [`GlyphcastRefine::Bisect`], 0 to 16.
+    pub refine_steps: u32,
+    /// An isotropic offset added to every glyph, as a fraction of its bounding radius
+    /// (0 or more; not with [`GlyphcastMethod::Exact`]).
+    pub offset: f32,
+}
+
+/// How the marching methods refine the first sign change ([`GlyphcastSettings::refine`]).
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GlyphcastRefine {
+    /// Regula falsi (Illinois) steps from the bracket (the default, 4 steps).
+    Secant = 0,
+    /// Bisection steps, then the bracket's midpoint.
+    Bisect = 1,
+    /// One linear interpolation of the bracket.
+    Interp = 2,
+    /// The first sample inside the glyph.
+    None = 3,
 }
 
 /// What the host passes once.
@@ -433,7 +461,8 @@ pub unsafe extern "C" fn glyphcast_settings_default(settings: *mut GlyphcastSett
 }
 
 fn default_settings() -> GlyphcastSettings {
-    let lighting = glyphcast::render::settings::Lighting::default();
+    let defaults = RenderSettings::default();
+    let lighting = defaults.lighting;
     GlyphcastSettings {
         size: std::mem::size_of::<GlyphcastSettings>() as u32,
         method: GlyphcastMethod::Exact as u32,
@@ -445,6 +474,11 @@ fn default_settings() -> GlyphcastSettings {
         ambient: lighting.ambient,
         specular: lighting.specular,
         shininess: lighting.shininess,
+        step: defaults.step,
+        precision: defaults.precision_px,
+        refine: GlyphcastRefine::Secant as u32,
+        refine_steps: 4,
+        offset: 0.0,
     }
 }
 
@@ -477,7 +511,6 @@ unsafe fn read_settings(
         };
     }
     use glyphcast::render::Method;
-    use glyphcast::render::settings::{ColorMode, Lighting, SIGN_COLORS};
     let method = match given.method {
         0 => Method::Exact,
         1 => Method::Fixed,
@@ -489,18 +522,13 @@ unsafe fn read_settings(
             )));
         }
     };
+    use glyphcast::render::settings::SIGN_COLORS;
+    use glyphcast::render::table::{Direction, RenderOptions, Span};
+    use glyphcast::render::{ColorMode, Refinement};
     let [low, high] = given.magnitude_range;
     let color = match given.color {
         0 => ColorMode::Direction,
-        1 if low == 0.0 && high == 0.0 => ColorMode::Magnitude { range: None },
-        1 if low.is_finite() && high.is_finite() && low < high => ColorMode::Magnitude {
-            range: Some((low, high)),
-        },
-        1 => {
-            return Err(invalid(format!(
-                "settings.magnitude_range {low} to {high}: finite, low below high (or both 0)"
-            )));
-        }
+        1 => ColorMode::Magnitude { range: None },
         2 if given.uniform_color.iter().all(|c| (0.0..=1.0).contains(c)) => {
             ColorMode::Uniform(given.uniform_color)
         }
@@ -529,18 +557,53 @@ unsafe fn read_settings(
             )));
         }
     };
-    let settings = RenderSettings {
-        method,
-        color,
-        lighting: Lighting {
-            direction: given.light,
-            ambient: given.ambient,
-            specular: given.specular,
-            shininess: given.shininess,
-        },
-        ..RenderSettings::default()
+    let k = given.refine_steps;
+    let refinement = match given.refine {
+        0 => Refinement::Secant(k),
+        1 => Refinement::Bisect(k),
+        2 => Refinement::Interpolate,
+        3 => Refinement::None,
+        other => {
+            return Err(invalid(format!(
+                "settings.refine {other} is no GlyphcastRefine"
+            )));
+        }
     };
+    if k > 16 {
+        return Err(invalid(format!("settings.refine_steps {k}: 0 to 16")));
+    }
+    // The struct's fields are the render table's settings: the library checks them as
+    // it checks the command line's flags and Python's keywords, and its errors are
+    // spelled as fields here.
+    let marching = method != Method::Exact;
+    let options = RenderOptions {
+        method: Some(method),
+        color: Some(color),
+        magnitude_range: (given.color == 1 && (low, high) != (0.0, 0.0))
+            .then_some(Span([low, high])),
+        negative: Some(negative),
+        light: Some(Direction(given.light)),
+        ambient: Some(given.ambient),
+        specular: Some(given.specular),
+        shininess: Some(given.shininess),
+        step: (method == Method::Fixed).then_some(given.step),
+        precision: matches!(method, Method::Interval | Method::Affine).then_some(given.precision),
+        refine: marching.then_some(refinement),
+        offset: Some(given.offset),
+        ..RenderOptions::default()
+    };
+    let settings = options
+        .settings()
+        .map_err(|e| invalid(e.spelled(&|setting, value| field(setting.key(), value))))?;
     Ok((settings, negative))
+}
+
+/// A setting as the C struct spells it: `settings.ambient 2`.
+fn field(key: &str, value: Option<&str>) -> String {
+    match value {
+        Some(value) => format!("settings.{key} {value}"),
+        None => format!("settings.{key}"),
+    }
 }
 
 /// Creates a renderer on the host's device. `*out` receives it (or NULL on failure).

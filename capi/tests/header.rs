@@ -27,3 +27,40 @@ fn the_header_is_up_to_date() {
          GLYPHCAST_BLESS=1 cargo test -p glyphcast-c --test header"
     );
 }
+
+/// The settings struct carries every render setting of the library's table under its key,
+/// except those an engine's own frame decides (stated here with the reason): a new
+/// render setting fails this test until the C API has it or says why not.
+#[test]
+fn the_settings_struct_has_every_render_setting() {
+    let crate_dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let header = std::fs::read_to_string(crate_dir.join("../include/glyphcast.h")).unwrap();
+    let start = header
+        .find("typedef struct GlyphcastSettings {")
+        .expect("the settings struct");
+    let end = start + header[start..].find("} GlyphcastSettings;").unwrap();
+    let fields: Vec<&str> = header[start..end]
+        .lines()
+        .filter_map(|line| {
+            let line = line.trim().strip_suffix(';')?;
+            let name = line.split_whitespace().last()?;
+            Some(name.split('[').next().unwrap())
+        })
+        .collect();
+    let not_in_c = [
+        // The host's colour and depth attachments decide these, not glyphcast.
+        ("samples", "the host's attachments' sample count"),
+        ("background", "the host clears its own attachments"),
+        // The compute ray caster draws whole images, no host pass.
+        ("path", "the engine component draws in the host's pass"),
+    ];
+    for spec in glyphcast::render::table::RENDER_SETTINGS {
+        let key = spec.setting.key();
+        let excused = not_in_c.iter().any(|(k, _)| *k == key);
+        assert!(
+            fields.contains(&key) != excused,
+            "{key}: in the struct {}, excused {excused}",
+            fields.contains(&key)
+        );
+    }
+}

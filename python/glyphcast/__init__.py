@@ -8,10 +8,11 @@ writes). A notebook shows a Rendering as its image.
 The keyword options are those of ``glyphcast render``, with ``-`` as ``_``
 (``magnitude_range`` for ``--magnitude-range``), with the same defaults and checks:
 
-- drawing: ``method``, ``path``, ``precision``, ``step``, ``refine``, ``color``,
-  ``magnitude_range``, ``negative``, ``background``, ``offset``, ``light``, ``ambient``,
-  ``specular``, ``shininess``, ``samples``; ``glyph`` ("polynomial" or "ellipsoid": the
-  DTI ellipsoid of order-2 tensors);
+- drawing: every render setting of :func:`render_settings` (the library's table: its
+  key, what it accepts, its default and which methods read it), numbers as numbers,
+  names as strings, ``light`` and ``magnitude_range`` as sequences (or the command
+  line's "X,Y,Z" and "LOW:HIGH"); ``glyph`` ("polynomial" or "ellipsoid": the DTI
+  ellipsoid of order-2 tensors);
 - the image: ``labels`` (anatomical directions at the edges), ``colorbar`` (with
   ``color="magnitude"``: the colour bar on the right) and ``colorbar_label``;
 - volumes (``render_sh``, ``render_tensor``): ``slice`` ("AXIS[:INDEX]", or an int:
@@ -60,7 +61,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._glyphcast import __version__, encode_png
+from ._glyphcast import __version__, encode_png, render_settings
 from ._glyphcast import stiffness as _stiffness
 from ._glyphcast import Renderer as _Renderer
 
@@ -72,6 +73,7 @@ __all__ = [
     "render_tensor",
     "stiffness",
     "encode_png",
+    "render_settings",
     "__version__",
 ]
 
@@ -302,9 +304,8 @@ def _split_device(options):
 
 def render_scene(scene, *, width=None, height=None, method=None, **options) -> Rendering:
     """Renders a scene (a dict in the scene format, or a path) as ``glyphcast render
-    SCENE`` does. Options: those of the CLI (path, precision, step, refine, color,
-    magnitude_range, negative, background, offset, light, ambient, specular, shininess,
-    samples, glyph, labels, colorbar, colorbar_label, device, validation)."""
+    SCENE`` does. Options: the render settings (:func:`render_settings`), glyph, labels,
+    colorbar, colorbar_label, device and validation."""
     renderer = Renderer(**_split_device(options))
     return renderer.render_scene(scene, width=width, height=height, method=method, **options)
 

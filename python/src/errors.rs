@@ -30,93 +30,12 @@ pub fn value_error(what: &str, message: impl std::fmt::Display) -> PyErr {
 }
 
 /// `setting` as a keyword argument, with its value if any (`step=0.0001`); a switch
-/// without a value is written as the keyword that turns it on (`legacy=True`).
+/// without a value is written as the keyword that turns it on (`legacy=True`, and
+/// `symmetric=False` for the command line's `--nonsymmetric`).
 pub fn spell(setting: Setting, value: Option<&str>) -> String {
-    match (value, switch(setting)) {
-        (Some(value), _) => format!("{}={value}", keyword(setting)),
-        (None, Some(on)) => format!("{}={on}", keyword(setting)),
-        (None, None) => keyword(setting).to_owned(),
-    }
-}
-
-/// The keyword of `setting`: the CLI's flag with `_` for `-`, except where the module
-/// takes the opposite switch (`symmetric` for `--nonsymmetric`). Settings the module has
-/// no keyword for (the fits', the benchmark's) read the same way.
-pub fn keyword(setting: Setting) -> &'static str {
-    match setting {
-        Setting::Width => "width",
-        Setting::Height => "height",
-        Setting::Method => "method",
-        Setting::Path => "path",
-        Setting::Precision => "precision",
-        Setting::Step => "step",
-        Setting::Refine => "refine",
-        Setting::Color => "color",
-        Setting::MagnitudeRange => "magnitude_range",
-        Setting::Colorbar => "colorbar",
-        Setting::Negative => "negative",
-        Setting::Background => "background",
-        Setting::Offset => "offset",
-        Setting::Light => "light",
-        Setting::Ambient => "ambient",
-        Setting::Specular => "specular",
-        Setting::Shininess => "shininess",
-        Setting::Samples => "samples",
-        Setting::Basis => "basis",
-        Setting::Legacy => "legacy",
-        Setting::ForceBasis => "force_basis",
-        Setting::Frame => "frame",
-        Setting::Lmax => "lmax",
-        Setting::Order => "order",
-        Setting::Nonsymmetric => "symmetric",
-        Setting::TensorOrder => "tensor_order",
-        Setting::Slice => "slice",
-        Setting::Slices => "slices",
-        Setting::Voxels => "voxels",
-        Setting::Mask => "mask",
-        Setting::Scale => "scale",
-        Setting::Norm => "norm",
-        Setting::MinAmplitude => "min_amplitude",
-        Setting::Perspective => "perspective",
-        Setting::Orientation => "orientation",
-        Setting::Labels => "labels",
-        Setting::Underlay => "underlay",
-        Setting::UnderlayPlane => "underlay_plane",
-        Setting::UnderlayRange => "underlay_range",
-        Setting::Peaks => "peaks",
-        Setting::PeakValues => "peak_values",
-        Setting::PeaksColor => "peaks_color",
-        Setting::PeaksNorm => "peaks_norm",
-        Setting::PeaksScale => "peaks_scale",
-        Setting::PeaksWidth => "peaks_width",
-        Setting::PeaksFrame => "peaks_frame",
-        Setting::Glyph => "glyph",
-        Setting::Views => "views",
-        Setting::Lightbox => "lightbox",
-        Setting::Bval => "bval",
-        Setting::Bvec => "bvec",
-        Setting::BvecConvention => "bvec_convention",
-        Setting::Odf => "odf",
-        Setting::Lambda => "lambda",
-        Setting::CsdAlgorithm => "csd_algorithm",
-        Setting::Tau => "tau",
-        Setting::Response => "response",
-        Setting::ResponseFa => "response_fa",
-        Setting::Count => "count",
-        Setting::RelativeThreshold => "relative_threshold",
-        Setting::MinSeparation => "min_separation",
-        Setting::PanelSize => "panel_size",
-        Setting::Workload => "workload",
-    }
-}
-
-/// The value that turns a switch setting on, as a keyword takes it.
-fn switch(setting: Setting) -> Option<&'static str> {
-    match setting {
-        Setting::Legacy | Setting::ForceBasis | Setting::Perspective | Setting::Labels => {
-            Some("True")
-        }
-        Setting::Nonsymmetric => Some("False"),
-        _ => None,
+    match (value, setting.keyword_on()) {
+        (Some(value), _) => format!("{}={value}", setting.keyword()),
+        (None, Some(on)) => format!("{}={on}", setting.keyword()),
+        (None, None) => setting.keyword().to_owned(),
     }
 }

@@ -6,14 +6,15 @@
 use std::path::PathBuf;
 
 use glam::DMat4;
-use glyphcast::render::options::RenderOptions;
+use glyphcast::render::options::{RenderOptions, Value};
+use glyphcast::render::table::{Kind, RENDER_SETTINGS};
 use glyphcast_dmri::volume::{
     CoefficientFrame, ImageRequest, ImageSource, PeakVolume, VolumeRequest,
 };
 use numpy::PyUntypedArray;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PyTuple};
+use pyo3::types::{PyBool, PyDict, PyList, PyTuple};
 
 use crate::arrays;
 use crate::errors::{to_py, value_error};
@@ -159,29 +160,48 @@ impl<'py> Kwargs<'py> {
         ImageRequest::checked(width, height).map_err(to_py)
     }
 
-    /// The render options: `method`, `path`, `precision`, `step`, `refine`, `color`,
-    /// `magnitude_range`, `negative`, `background`, `offset`, `light` ("x,y,z"),
-    /// `ambient`, `specular`, `shininess`, `samples` (the device is the renderer's).
+    /// The render options: every setting of the library's table ([`RENDER_SETTINGS`]),
+    /// under its key (`magnitude_range`). Numbers are Python numbers; names are strings;
+    /// several numbers (`light`, `magnitude_range`) a sequence or the command line's
+    /// text ("1,0,0", "0:2"). The device is the renderer's.
     pub fn render_options(&mut self) -> PyResult<RenderOptions> {
-        Ok(RenderOptions {
-            method: self.text("method")?,
-            path: self.text("path")?,
-            precision: self.float("precision")?.map(|v| v as f32),
-            step: self.float("step")?.map(|v| v as f32),
-            refine: self.text("refine")?,
-            color: self.text("color")?,
-            magnitude_range: self.text("magnitude_range")?,
-            negative: self.text("negative")?,
-            background: self.text("background")?,
-            offset: self.float("offset")?.unwrap_or(0.0) as f32,
-            light: self.text("light")?,
-            ambient: self.float("ambient")?.map(|v| v as f32),
-            specular: self.float("specular")?.map(|v| v as f32),
-            shininess: self.float("shininess")?.map(|v| v as f32),
-            samples: self.count("samples")?,
-            device: None,
-            validation: false,
-        })
+        let mut options = RenderOptions::default();
+        for spec in RENDER_SETTINGS {
+            let key = spec.setting.keyword();
+            let Some(value) = self.take(key) else {
+                continue;
+            };
+            let text: String;
+            let numbers: Vec<f64>;
+            let given = match spec.kind {
+                Kind::Number | Kind::Count => {
+                    let number = (!value.is_instance_of::<PyBool>())
+                        .then(|| value.extract::<f64>().ok())
+                        .flatten();
+                    Value::Number(number.ok_or_else(|| expected(key, "a number", &value))?)
+                }
+                Kind::Name => {
+                    text = value
+                        .extract()
+                        .map_err(|_| expected(key, "a string", &value))?;
+                    Value::Text(&text)
+                }
+                Kind::Numbers => match value.extract::<String>() {
+                    Ok(given) => {
+                        text = given;
+                        Value::Text(&text)
+                    }
+                    Err(_) => {
+                        numbers = value.extract().map_err(|_| {
+                            expected(key, "a sequence of numbers or a string", &value)
+                        })?;
+                        Value::Numbers(&numbers)
+                    }
+                },
+            };
+            options.set(spec.setting, given).map_err(to_py)?;
+        }
+        Ok(options)
     }
 
     /// A text option that may also be a list or tuple of texts, joined by commas

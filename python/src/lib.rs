@@ -62,6 +62,39 @@ fn stiffness(
     Ok((scene.to_json(), summary))
 }
 
+/// The render settings, one dict each (`key`, `name`, `kind`, `accepts`, `default`,
+/// `read_by`, `doc`): the library's table, which the keyword options of every render
+/// function follow.
+#[pyfunction]
+fn render_settings(py: Python<'_>) -> PyResult<Vec<Bound<'_, pyo3::types::PyDict>>> {
+    use glyphcast::render::table::{Kind, RENDER_SETTINGS, Reads};
+    RENDER_SETTINGS
+        .iter()
+        .map(|spec| {
+            let row = pyo3::types::PyDict::new(py);
+            row.set_item("key", spec.setting.keyword())?;
+            row.set_item("name", spec.setting.name())?;
+            let kind = match spec.kind {
+                Kind::Number => "number",
+                Kind::Count => "whole number",
+                Kind::Name => "name",
+                Kind::Numbers => "numbers",
+            };
+            row.set_item("kind", kind)?;
+            row.set_item("accepts", spec.accepts)?;
+            row.set_item("default", spec.default)?;
+            let read_by = match spec.reads {
+                Reads::Always => "every method".to_owned(),
+                Reads::Methods(methods) => format!("method {}", methods.join(", ")),
+                Reads::Color(color) => format!("color {color}"),
+            };
+            row.set_item("read_by", read_by)?;
+            row.set_item("doc", spec.doc.trim())?;
+            Ok(row)
+        })
+        .collect()
+}
+
 /// PNG bytes of an (H, W, 4) uint8 RGBA image (sRGB, as rendered).
 #[pyfunction]
 fn encode_png<'py>(
@@ -93,6 +126,7 @@ fn encode_png<'py>(
 fn _glyphcast(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<renderer::Renderer>()?;
     m.add_function(wrap_pyfunction!(encode_png, m)?)?;
+    m.add_function(wrap_pyfunction!(render_settings, m)?)?;
     m.add_function(wrap_pyfunction!(stiffness, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

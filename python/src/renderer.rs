@@ -13,9 +13,7 @@ use glyphcast::render::compose::labels::{draw_edge_labels, edge_labels};
 use glyphcast::render::compose::montage::{PreparedMontage, prepare_montage};
 use glyphcast::render::glyph_data::GlyphSetData;
 use glyphcast::render::headless::{FrameView, HeadlessRenderer, PreparedFrame, RenderedImage};
-use glyphcast::render::options::{
-    PreparedScene, RenderOptions, check_method_reads, prepare_render,
-};
+use glyphcast::render::options::{PreparedScene, RenderOptions, prepare_render};
 use glyphcast::render::peaks::PeakSet;
 use glyphcast::render::underlay::Underlay;
 use glyphcast::scene::Scene;
@@ -119,12 +117,7 @@ impl Renderer {
     #[new]
     #[pyo3(signature = (device=None, validation=false))]
     fn new(py: Python<'_>, device: Option<String>, validation: bool) -> PyResult<Self> {
-        let options = RenderOptions {
-            device,
-            validation,
-            ..Default::default()
-        }
-        .gpu_options();
+        let options = GpuOptions::from_env().with(device, validation);
         py.detach(|| open(&options)).map_err(to_py)
     }
 
@@ -166,7 +159,7 @@ impl Renderer {
         let mut extras = Extras::from_kwargs(&mut kwargs)?;
         kwargs.finish()?;
         let settings = render.settings().map_err(to_py)?;
-        check_method_reads(&render, &settings).map_err(to_py)?;
+        render.check_method_reads(&settings).map_err(to_py)?;
         if extras.colorbar.is_some() {
             check_colorbar(&settings).map_err(to_py)?;
         }
@@ -224,7 +217,7 @@ impl Renderer {
         request.check(input).map_err(to_py)?;
         request.options(image).map_err(to_py)?;
         let settings = render.settings().map_err(to_py)?;
-        check_method_reads(&render, &settings).map_err(to_py)?;
+        render.check_method_reads(&settings).map_err(to_py)?;
         if extras.colorbar.is_some() {
             check_colorbar(&settings).map_err(to_py)?;
         }
@@ -255,7 +248,7 @@ impl Renderer {
                     extras.common_scale = common_scale(&scenes);
                     let settings = render.settings()?;
                     let mut prepared =
-                        prepare_montage(scenes, montage.columns, settings, render.negative()?)?
+                        prepare_montage(scenes, montage.columns, settings, render.negative)?
                             .with_underlays(montage.underlays)
                             .with_captions(montage.captions);
                     for (panel, peaks) in prepared.panels.iter_mut().zip(peaks) {
@@ -338,7 +331,7 @@ impl Renderer {
         extras: Extras,
     ) -> Result<Loaded> {
         let settings = options.settings()?;
-        let mut scene = prepare_render(scene, settings, options.negative()?)?;
+        let mut scene = prepare_render(scene, settings, options.negative)?;
         scene.peaks = peaks;
         let view = FrameView::new(&scene.camera, scene.width, scene.height)
             .with_underlay(underlay.as_ref())

@@ -1,8 +1,8 @@
 //! Message text that names settings: a sequence of words and [`Setting`]s, so that each
 //! front end spells the settings its way without reading them back out of a string.
-//! Built with [`message!`](crate::message): `message!["give ", Setting::Bval, " and ",
-//! Setting::Bvec]` reads `give --bval and --bvec` on the command line and `give bval and
-//! bvec` in Python.
+//! Built with [`message!`](crate::message): `message!["give ", Setting::Mask, " or ",
+//! Setting::Voxels]` reads `give --mask or --voxels` on the command line and `give mask or
+//! voxels` in Python.
 use super::Setting;
 use std::fmt;
 

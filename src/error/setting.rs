@@ -9,162 +9,178 @@
 //! (`magnitude range 0:1`).
 use std::fmt;
 
-/// The enum, its list and its names from one table, so that none can miss a setting.
-macro_rules! settings {
-    ($($(#[doc = $doc:literal])* $variant:ident => $name:literal,)*) => {
-        /// An option of the library's requests ([`RenderOptions`](crate::render::options),
-        /// `volume::VolumeRequest`, the fits and the benchmarks): what a message names
-        /// when a value is refused or options do not go together.
-        ///
-        /// Not `non_exhaustive`: the front ends spell every setting, and a new one must
-        /// be spelled by each of them (their matches are exhaustive).
-        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-        pub enum Setting {
-            $($(#[doc = $doc])* $variant,)*
+/// A setting's spelling: its key (`magnitude_range`; the flag `--magnitude-range`, the
+/// Python keyword `magnitude_range`, the C field) and its name in the library's own words
+/// (`magnitude range`). Settings are constants: the ones below, the render settings of
+/// [`RENDER_SETTINGS`](crate::render::table::RENDER_SETTINGS), and a front end's own
+/// (the diffusion crate's fits declare theirs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Setting {
+    key: &'static str,
+    name: &'static str,
+    kind: Kind,
+}
+
+/// Whether a setting takes a value, and how a keyword spells a switch.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum Kind {
+    /// A value (`--step 0.01`, `step=0.01`).
+    Value,
+    /// A switch, on when given (`--legacy`, `legacy=True`).
+    Switch,
+    /// A switch whose keyword is the opposite one (`--nonsymmetric`, `symmetric=False`).
+    InvertedKeyword(&'static str),
+}
+
+impl Setting {
+    /// A setting that takes a value: `key` in snake case, `name` in words.
+    pub const fn value(key: &'static str, name: &'static str) -> Setting {
+        Setting {
+            key,
+            name,
+            kind: Kind::Value,
         }
+    }
 
+    /// A switch: on when given.
+    pub const fn switch(key: &'static str, name: &'static str) -> Setting {
+        Setting {
+            key,
+            name,
+            kind: Kind::Switch,
+        }
+    }
+
+    /// This switch with a keyword (Python's) that means the opposite, `False` for on.
+    pub const fn keyword_inverted(self, keyword: &'static str) -> Setting {
+        Setting {
+            kind: Kind::InvertedKeyword(keyword),
+            ..self
+        }
+    }
+
+    /// The key: snake case, the Python keyword and the C field (`magnitude_range`).
+    pub fn key(self) -> &'static str {
+        self.key
+    }
+
+    /// The setting in the library's own words: lower case, words apart
+    /// (`magnitude range`). Unique, and free of control characters.
+    pub fn name(self) -> &'static str {
+        self.name
+    }
+
+    /// The command line's flag: the key with `-` for `_` (`--magnitude-range`).
+    pub fn flag(self) -> String {
+        format!("--{}", self.key.replace('_', "-"))
+    }
+
+    /// The keyword (Python's): the key, or the opposite switch's.
+    pub fn keyword(self) -> &'static str {
+        match self.kind {
+            Kind::InvertedKeyword(keyword) => keyword,
+            _ => self.key,
+        }
+    }
+
+    /// For a switch, the keyword's value that turns it on (`True`, or `False` for an
+    /// inverted keyword); `None` for a setting that takes a value.
+    pub fn keyword_on(self) -> Option<&'static str> {
+        match self.kind {
+            Kind::Value => None,
+            Kind::Switch => Some("True"),
+            Kind::InvertedKeyword(_) => Some("False"),
+        }
+    }
+}
+
+/// The constants and their list from one table, so that the list misses none.
+macro_rules! settings {
+    ($($(#[doc = $doc:literal])* $variant:ident = $ctor:ident($key:literal, $name:literal) $(.$more:ident($arg:literal))*;)*) => {
+        /// The settings of figures and volumes; the render settings are
+        /// [`RENDER_SETTINGS`](crate::render::table::RENDER_SETTINGS)'.
+        #[allow(non_upper_case_globals)]
         impl Setting {
-            /// Every setting.
-            pub const ALL: &'static [Setting] = &[$(Setting::$variant,)*];
+            $($(#[doc = $doc])* pub const $variant: Setting = Setting::$ctor($key, $name)$(.$more($arg))*;)*
 
-            /// The setting in the library's own words: lower case, words apart
-            /// (`magnitude range`). Unique, and free of control characters.
-            pub fn name(self) -> &'static str {
-                match self {
-                    $(Setting::$variant => $name,)*
-                }
-            }
+            /// Every setting declared here (the render settings are in
+            /// [`RENDER_SETTINGS`](crate::render::table::RENDER_SETTINGS)).
+            pub const ALL: &'static [Setting] = &[$(Setting::$variant,)*];
         }
     };
 }
 
 settings! {
     /// Image width in pixels.
-    Width => "width",
+    Width = value("width", "width");
     /// Image height in pixels.
-    Height => "height",
-    /// How glyphs are drawn (`fixed`, `exact`, `mesh:LEVEL`, ...).
-    Method => "method",
-    /// Which ray caster runs the method: fragment or compute.
-    Path => "path",
-    /// The robust methods' segment limit in pixels.
-    Precision => "precision",
-    /// The fixed-step march's step.
-    Step => "step",
-    /// The refinement of the first sign change.
-    Refine => "refine",
-    /// Glyph colouring.
-    Color => "color",
-    /// The magnitude colour map's range.
-    MagnitudeRange => "magnitude range",
+    Height = value("height", "height");
     /// The magnitude colour bar.
-    Colorbar => "colour bar",
-    /// Negative lobes: abs or hide.
-    Negative => "negative",
-    /// Background colour.
-    Background => "background",
-    /// Isotropic offset of every glyph.
-    Offset => "offset",
-    /// Direction towards the light.
-    Light => "light",
-    /// Ambient share of the lighting.
-    Ambient => "ambient",
-    /// Specular strength.
-    Specular => "specular",
-    /// Specular exponent.
-    Shininess => "shininess",
-    /// Samples per pixel.
-    Samples => "samples",
+    Colorbar = value("colorbar", "colour bar");
     /// SH basis of a volume.
-    Basis => "basis",
+    Basis = value("basis", "basis");
     /// The legacy variant of the SH basis.
-    Legacy => "legacy",
+    Legacy = switch("legacy", "legacy");
     /// The given basis even where the file records another.
-    ForceBasis => "force basis",
+    ForceBasis = switch("force_basis", "force basis");
     /// Axes of a volume's coefficients: voxel or world.
-    Frame => "frame",
+    Frame = value("frame", "frame");
     /// Highest SH band drawn.
-    Lmax => "lmax",
+    Lmax = value("lmax", "lmax");
     /// Tensor order (of a volume, or of a fit).
-    Order => "order",
+    Order = value("order", "order");
     /// A tensor volume holds all 3^N entries.
-    Nonsymmetric => "nonsymmetric",
+    Nonsymmetric = switch("nonsymmetric", "nonsymmetric").keyword_inverted("symmetric");
     /// The stored order of a DTI tensor's six entries (glyphcast, mrtrix, fsl, dipy).
-    TensorOrder => "tensor order",
+    TensorOrder = value("tensor_order", "tensor order");
     /// The slice of a volume drawn.
-    Slice => "slice",
+    Slice = value("slice", "slice");
     /// Three orthogonal slices.
-    Slices => "slices",
+    Slices = value("slices", "slices");
     /// Voxel index ranges.
-    Voxels => "voxels",
+    Voxels = value("voxels", "voxels");
     /// Mask of the voxels drawn.
-    Mask => "mask",
+    Mask = value("mask", "mask");
     /// World radius of the largest glyph.
-    Scale => "scale",
+    Scale = value("scale", "scale");
     /// Glyph size normalisation.
-    Norm => "norm",
+    Norm = value("norm", "norm");
     /// Smallest glyph amplitude drawn.
-    MinAmplitude => "minimum amplitude",
+    MinAmplitude = value("min_amplitude", "minimum amplitude");
     /// A perspective camera.
-    Perspective => "perspective",
+    Perspective = switch("perspective", "perspective");
     /// Radiological or neurological orientation.
-    Orientation => "orientation",
+    Orientation = value("orientation", "orientation");
     /// Anatomical direction labels.
-    Labels => "labels",
+    Labels = switch("labels", "labels");
     /// Anatomical underlay image.
-    Underlay => "underlay",
+    Underlay = value("underlay", "underlay");
     /// The underlay's window.
-    UnderlayRange => "underlay range",
+    UnderlayRange = value("underlay_range", "underlay range");
     /// Where the underlay's plane lies: behind the glyphs or through their centres.
-    UnderlayPlane => "underlay plane",
+    UnderlayPlane = value("underlay_plane", "underlay plane");
     /// Fibre peaks drawn over the glyphs (a peaks image).
-    Peaks => "peaks",
+    Peaks = value("peaks", "peaks");
     /// The amplitudes of unit peak directions (DIPY's peak_values).
-    PeakValues => "peak values",
+    PeakValues = value("peak_values", "peak values");
     /// The peaks' colour: direction or one colour.
-    PeaksColor => "peaks colour",
+    PeaksColor = value("peaks_color", "peaks colour");
     /// How peak lengths follow their amplitudes.
-    PeaksNorm => "peaks norm",
+    PeaksNorm = value("peaks_norm", "peaks norm");
     /// World half length of the longest peak.
-    PeaksScale => "peaks scale",
+    PeaksScale = value("peaks_scale", "peaks scale");
     /// The peaks' width in pixels.
-    PeaksWidth => "peaks width",
+    PeaksWidth = value("peaks_width", "peaks width");
     /// Axes of the peaks' directions: voxel or world.
-    PeaksFrame => "peaks frame",
+    PeaksFrame = value("peaks_frame", "peaks frame");
     /// Glyph surface: polynomial or ellipsoid.
-    Glyph => "glyph",
+    Glyph = value("glyph", "glyph");
     /// The views of a montage.
-    Views => "views",
+    Views = value("views", "views");
     /// The slice count of a lightbox.
-    Lightbox => "lightbox",
-    /// A DWI's b-values.
-    Bval => "b-values",
-    /// A DWI's gradient directions.
-    Bvec => "b-vectors",
-    /// The frame of the gradient directions.
-    BvecConvention => "b-vector convention",
-    /// The fibre ODF model of a fit.
-    Odf => "ODF model",
-    /// A fit's regularisation weight.
-    Lambda => "lambda",
-    /// Which CSD is fitted: MRtrix's or DIPY's.
-    CsdAlgorithm => "CSD algorithm",
-    /// CSD's threshold.
-    Tau => "tau",
-    /// CSD's fibre response file.
-    Response => "response",
-    /// The FA threshold of the response estimate.
-    ResponseFa => "response FA",
-    /// Peaks per voxel.
-    Count => "count",
-    /// The relative threshold of peaks.
-    RelativeThreshold => "relative threshold",
-    /// The smallest angle between peaks.
-    MinSeparation => "minimum separation",
-    /// The side of each panel of a quality-control set, in pixels.
-    PanelSize => "panel size",
+    Lightbox = value("lightbox", "lightbox");
     /// A benchmark's generated workload.
-    Workload => "workload",
+    Workload = value("workload", "workload");
 }
 
 impl Setting {
@@ -196,10 +212,20 @@ mod tests {
 
     #[test]
     fn names_are_unique_and_read_as_words() {
-        for (k, a) in Setting::ALL.iter().enumerate() {
+        let all: Vec<Setting> = Setting::ALL
+            .iter()
+            .copied()
+            .chain(
+                crate::render::table::RENDER_SETTINGS
+                    .iter()
+                    .map(|s| s.setting),
+            )
+            .collect();
+        for (k, a) in all.iter().enumerate() {
             assert!(!a.name().starts_with('-'), "{a:?}");
             assert!(!a.name().contains(['_', '=']), "{a:?}");
-            for b in &Setting::ALL[k + 1..] {
+            for b in &all[k + 1..] {
+                assert_ne!(a.key(), b.key(), "{a:?} and {b:?}");
                 assert_ne!(a.name(), b.name(), "{a:?} and {b:?}");
             }
         }

@@ -41,6 +41,32 @@ pub enum NegativeMode {
     Hide,
 }
 
+impl std::str::FromStr for NegativeMode {
+    type Err = crate::Error;
+    /// `abs` or `hide`; anything else is refused naming the `negative` setting.
+    fn from_str(s: &str) -> crate::Result<Self> {
+        match s {
+            "abs" => Ok(NegativeMode::Abs),
+            "hide" => Ok(NegativeMode::Hide),
+            _ => Err(crate::Error::setting_value(
+                crate::Setting::Negative,
+                format!("'{}'", crate::error::quoted(s)),
+                "not one of abs, hide",
+            )),
+        }
+    }
+}
+
+impl std::fmt::Display for NegativeMode {
+    /// As `negative` takes it.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            NegativeMode::Abs => "abs",
+            NegativeMode::Hide => "hide",
+        })
+    }
+}
+
 impl NegativeMode {
     /// The shaders' code for this mode (`catalog::codes::NEGATIVE_*`), as pushed per
     /// glyph set.

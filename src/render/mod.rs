@@ -22,6 +22,7 @@ pub mod promote;
 pub mod raycast;
 pub mod settings;
 pub mod shaders;
+pub mod table;
 pub mod tiles;
 pub mod underlay;
 

@@ -1,145 +1,17 @@
-//! The render options as the front ends take them (the CLI's flags, the Python module's
-//! keyword arguments): text and numbers, turned into [`RenderSettings`] with one set of
-//! defaults and one set of checks, so that both front ends read alike. A refused value
-//! is an [`Error::Setting`] naming the [`Setting`]; each front end spells it (`--step`,
-//! `step=`).
+//! A scene prepared for rendering with the render options ([`RenderOptions`], declared in
+//! [`crate::render::table`]): the glyph sets made GPU-ready, the negative mode applied.
 use crate::camera::Camera;
-use crate::error::Relation;
-use crate::error::quoted;
 use crate::glyph::{GlyphShape, NegativeMode};
 use crate::render::glyph_data::{
     GlyphSetData, WorldGlyphs, measure_largest_radius, prepare_scene_with,
 };
 use crate::render::peaks::PeakSet;
 use crate::render::promote::promote_small_sets;
-use crate::render::settings::{parse_background, parse_light};
-use crate::render::{ColorMode, Method, Refinement, RenderSettings};
+use crate::render::{Method, RenderSettings};
 use crate::scene::Scene;
-use crate::vk::GpuOptions;
 use crate::{Error, Result, Setting};
 
-/// The render options, unparsed; `None` (or `false`) is the default. Each field is the
-/// [`Setting`] of the same name.
-#[derive(Clone, Debug, Default)]
-pub struct RenderOptions {
-    /// `--method`: fixed, interval, affine, exact, impostor, mesh:LEVEL or latlong:N.
-    /// Default exact, or affine with a nonzero offset.
-    pub method: Option<String>,
-    /// `--path`: fragment (the default) or compute.
-    pub path: Option<String>,
-    /// `--precision`: segment length limit of the robust methods, in pixels.
-    pub precision: Option<f32>,
-    /// `--step`: march step, in units of each glyph's bounding radius.
-    pub step: Option<f32>,
-    /// `--refine`: bisect:K, interp or none.
-    pub refine: Option<String>,
-    /// `--color`: direction (the default), magnitude, uniform or sign.
-    pub color: Option<String>,
-    /// `--magnitude-range`: LOW:HIGH in world units.
-    pub magnitude_range: Option<String>,
-    /// `--negative`: abs or hide, replacing every glyph set's mode.
-    pub negative: Option<String>,
-    /// `--background`: none, dark (the default), black, white, grey, #rrggbb or r,g,b.
-    pub background: Option<String>,
-    /// `--offset`: isotropic offset, as a fraction of each glyph's bounding radius.
-    pub offset: f32,
-    /// `--light`: X,Y,Z, the direction towards the light in view coordinates.
-    pub light: Option<String>,
-    /// `--ambient`: 0 to 1.
-    pub ambient: Option<f32>,
-    /// `--specular`: 0 to 1.
-    pub specular: Option<f32>,
-    /// `--shininess`: 1 to 1024.
-    pub shininess: Option<f32>,
-    /// `--samples`: 1, 4 or 16 samples per pixel.
-    pub samples: Option<u32>,
-    /// `--device`: part of the Vulkan device's name or its index (also GLYPHCAST_DEVICE).
-    pub device: Option<String>,
-    /// `--validation`: the Vulkan validation layer (also GLYPHCAST_VALIDATION=1).
-    pub validation: bool,
-}
-
-impl RenderOptions {
-    /// The render settings these options ask for; a bad value is an [`Error::Setting`]
-    /// that names the option.
-    pub fn settings(&self) -> Result<RenderSettings> {
-        let method = match &self.method {
-            Some(name) => name.parse::<Method>()?,
-            None if self.offset != 0.0 => Method::Affine,
-            None => RenderSettings::default().method,
-        };
-        let mut s = RenderSettings {
-            method,
-            ..Default::default()
-        };
-        if let Some(path) = &self.path {
-            s.path = path.parse()?;
-        }
-        if let Some(step) = self.step {
-            s.step = step;
-        }
-        if let Some(precision) = self.precision {
-            s.precision_px = precision;
-        }
-        if let Some(refine) = &self.refine {
-            s.refinement = refine.parse::<Refinement>()?;
-        }
-        if let Some(color) = &self.color {
-            s.color = color.parse::<ColorMode>()?;
-        }
-        if let Some(range) = &self.magnitude_range {
-            let range = parse_range(range)?;
-            // The range maps the magnitude colours only: with another colour it would be
-            // ignored (or, as before, replace the colour asked for).
-            if !matches!(s.color, ColorMode::Magnitude { .. }) {
-                return Err(Error::conflict(
-                    Setting::MagnitudeRange,
-                    Relation::Requires,
-                    Setting::Color.with("magnitude"),
-                ));
-            }
-            s.color = ColorMode::Magnitude { range: Some(range) };
-        }
-        if let Some(background) = &self.background {
-            s.background = parse_background(background)?;
-        }
-        if let Some(light) = &self.light {
-            s.lighting.direction = parse_light(light)?;
-        }
-        s.lighting.ambient = self.ambient.unwrap_or(s.lighting.ambient);
-        s.lighting.specular = self.specular.unwrap_or(s.lighting.specular);
-        s.lighting.shininess = self.shininess.unwrap_or(s.lighting.shininess);
-        s.samples = self.samples.unwrap_or(s.samples);
-        s.offset = self.offset;
-        s.validate()?;
-        Ok(s)
-    }
-
-    /// The negative-lobe mode asked for, if any.
-    pub fn negative(&self) -> Result<Option<NegativeMode>> {
-        let parse = |text: &str| match text {
-            "abs" => Ok(NegativeMode::Abs),
-            "hide" => Ok(NegativeMode::Hide),
-            _ => Err(Error::setting_value(
-                Setting::Negative,
-                format!("'{}'", quoted(text)),
-                "not one of abs, hide",
-            )),
-        };
-        self.negative.as_deref().map(parse).transpose()
-    }
-
-    /// The device options: the environment's (GLYPHCAST_VALIDATION, GLYPHCAST_DEVICE),
-    /// with `validation` and `device` on top.
-    pub fn gpu_options(&self) -> GpuOptions {
-        let mut options = GpuOptions::from_env();
-        options.validation |= self.validation;
-        if self.device.is_some() {
-            options.device = self.device.clone();
-        }
-        options
-    }
-}
+pub use crate::render::table::{RenderOptions, Value};
 
 /// A scene made ready for [`HeadlessRenderer`](crate::render::headless::HeadlessRenderer):
 /// its glyph sets prepared, with the camera, image size and settings to draw them with.
@@ -233,83 +105,28 @@ pub fn check_negative(scene: &Scene, negative: Option<NegativeMode>) -> Result<(
     ))
 }
 
-/// The march and range settings a one-shot image refuses when its method does not read
-/// them (`step` for fixed only, `refine` for fixed, interval and affine, `precision` for
-/// interval and affine): given with another method they would change nothing. The
-/// viewer takes them all, since its method can be switched to one that reads them.
-pub fn check_method_reads(options: &RenderOptions, settings: &RenderSettings) -> Result<()> {
-    let method = settings.method;
-    let entry = method.ray_cast_entry();
-    let marches = method.marches();
-    let ranges = entry.is_some_and(|e| e.uses_ranges);
-    let unread = |setting: Setting, value: String, readers: &[&str]| {
-        let mut pieces: Vec<crate::error::Piece> = vec!["is read only by ".into()];
-        for (n, reader) in readers.iter().enumerate() {
-            if n > 0 {
-                pieces.push(", ".into());
-            }
-            pieces.push(Setting::Method.with(reader));
-        }
-        pieces.extend([
-            "; ".into(),
-            Setting::Method.with(method),
-            " does not read it (leave it out, or choose a method that does)".into(),
-        ]);
-        Error::setting_value(setting, value, crate::error::Message::from_pieces(pieces))
-    };
-    if let Some(step) = options.step.filter(|_| !marches) {
-        return Err(unread(Setting::Step, step.to_string(), &["fixed"]));
-    }
-    if let Some(precision) = options.precision.filter(|_| !ranges) {
-        let readers = ["interval", "affine"];
-        return Err(unread(Setting::Precision, precision.to_string(), &readers));
-    }
-    if let Some(refine) = options.refine.as_ref().filter(|_| !(marches || ranges)) {
-        let readers = ["fixed", "interval", "affine"];
-        let value = format!("'{}'", quoted(refine));
-        return Err(unread(Setting::Refine, value, &readers));
-    }
-    Ok(())
-}
-
-/// `LOW:HIGH`, two numbers.
-fn parse_range(range: &str) -> Result<(f32, f32)> {
-    let parsed = range
-        .split_once(':')
-        .and_then(|(lo, hi)| Some((lo.parse::<f32>().ok()?, hi.parse::<f32>().ok()?)));
-    parsed.ok_or_else(|| {
-        Error::setting_value(
-            Setting::MagnitudeRange,
-            format!("'{}'", quoted(range)),
-            "not LOW:HIGH",
-        )
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::ColorMode;
 
-    #[test]
-    fn defaults_are_the_render_settings_defaults() {
-        let settings = RenderOptions::default().settings().unwrap();
-        let expected = RenderSettings::default();
-        assert_eq!(settings.method, expected.method);
-        assert_eq!(settings.path, expected.path);
-        assert_eq!(settings.color, expected.color);
-        assert_eq!(settings.background, expected.background);
-        assert_eq!(RenderOptions::default().negative().unwrap(), None);
+    /// Options from text, as the command line gives them.
+    fn options(pairs: &[(Setting, &str)]) -> RenderOptions {
+        let mut options = RenderOptions::default();
+        for &(setting, text) in pairs {
+            options.set(setting, Value::Text(text)).unwrap();
+        }
+        options
     }
 
     #[test]
     fn options_reach_the_settings() {
-        let options = RenderOptions {
-            offset: 0.2,
-            color: Some("magnitude".into()),
-            magnitude_range: Some("0.5:2".into()),
-            negative: Some("hide".into()),
-            ..Default::default()
-        };
+        let options = options(&[
+            (Setting::Offset, "0.2"),
+            (Setting::Color, "magnitude"),
+            (Setting::MagnitudeRange, "0.5:2"),
+            (Setting::Negative, "hide"),
+        ]);
         let settings = options.settings().unwrap();
         // An offset glyph is no polynomial surface: affine, not exact.
         assert_eq!(settings.method, Method::Affine);
@@ -319,7 +136,7 @@ mod tests {
                 range: Some((0.5, 2.0))
             }
         );
-        assert_eq!(options.negative().unwrap(), Some(NegativeMode::Hide));
+        assert_eq!(options.negative, Some(NegativeMode::Hide));
     }
 
     /// A range maps the magnitude colours only: with another colour (or the default)
@@ -327,12 +144,9 @@ mod tests {
     #[test]
     fn a_magnitude_range_needs_the_magnitude_colour() {
         for color in [None, Some("direction"), Some("sign")] {
-            let options = RenderOptions {
-                color: color.map(str::to_owned),
-                magnitude_range: Some("0:1".into()),
-                ..Default::default()
-            };
-            let err = options.settings().unwrap_err();
+            let mut pairs = vec![(Setting::MagnitudeRange, "0:1")];
+            pairs.extend(color.map(|c| (Setting::Color, c)));
+            let err = options(&pairs).settings().unwrap_err();
             assert_eq!(err.setting_of(), Some(Setting::MagnitudeRange), "{color:?}");
             assert!(err.is_usage(), "{err}");
             assert_eq!(err.to_string(), "magnitude range needs color magnitude");
@@ -344,35 +158,24 @@ mod tests {
     /// refused, naming the setting and the method.
     #[test]
     fn settings_the_method_does_not_read_are_refused() {
-        type Edit = fn(&mut RenderOptions);
-        let check = |method: &str, edit: Edit| {
-            let mut options = RenderOptions {
-                method: Some(method.into()),
-                ..Default::default()
-            };
-            edit(&mut options);
-            let settings = options.settings().unwrap();
-            check_method_reads(&options, &settings)
-        };
-        let step: Edit = |o| o.step = Some(0.01);
-        let precision: Edit = |o| o.precision = Some(0.5);
-        let refine: Edit = |o| o.refine = Some("none".into());
-        let cases: [(&str, Edit, Setting, bool); 12] = [
-            ("fixed", step, Setting::Step, true),
-            ("exact", step, Setting::Step, false),
-            ("affine", step, Setting::Step, false),
-            ("impostor", step, Setting::Step, false),
-            ("interval", precision, Setting::Precision, true),
-            ("affine", precision, Setting::Precision, true),
-            ("fixed", precision, Setting::Precision, false),
-            ("exact", precision, Setting::Precision, false),
-            ("fixed", refine, Setting::Refine, true),
-            ("interval", refine, Setting::Refine, true),
-            ("exact", refine, Setting::Refine, false),
-            ("mesh:2", refine, Setting::Refine, false),
+        let cases = [
+            ("fixed", (Setting::Step, "0.01"), true),
+            ("exact", (Setting::Step, "0.01"), false),
+            ("affine", (Setting::Step, "0.01"), false),
+            ("impostor", (Setting::Step, "0.01"), false),
+            ("interval", (Setting::Precision, "0.5"), true),
+            ("affine", (Setting::Precision, "0.5"), true),
+            ("fixed", (Setting::Precision, "0.5"), false),
+            ("exact", (Setting::Precision, "0.5"), false),
+            ("fixed", (Setting::Refine, "none"), true),
+            ("interval", (Setting::Refine, "none"), true),
+            ("exact", (Setting::Refine, "none"), false),
+            ("mesh:2", (Setting::Refine, "none"), false),
         ];
-        for (method, edit, setting, read) in cases {
-            match check(method, edit) {
+        for (method, (setting, value), read) in cases {
+            let options = options(&[(Setting::Method, method), (setting, value)]);
+            let settings = options.settings().unwrap();
+            match options.check_method_reads(&settings) {
                 Ok(()) => assert!(read, "{method} {setting:?} was not refused"),
                 Err(err) => {
                     assert!(!read, "{method} {setting:?}: {err}");
@@ -388,7 +191,9 @@ mod tests {
         }
         // Nothing given, nothing refused.
         let options = RenderOptions::default();
-        check_method_reads(&options, &options.settings().unwrap()).unwrap();
+        options
+            .check_method_reads(&options.settings().unwrap())
+            .unwrap();
     }
 
     fn dti_scene(scale: f64, coeff: f64) -> Scene {
@@ -455,120 +260,50 @@ mod tests {
 
     #[test]
     fn bad_values_name_the_option() {
-        let bad = |options: RenderOptions| options.settings().unwrap_err();
-        let range = bad(RenderOptions {
-            magnitude_range: Some("1-2".into()),
-            ..Default::default()
-        });
+        let mut options = RenderOptions::default();
+        let range = options
+            .set(Setting::MagnitudeRange, Value::Text("1-2"))
+            .unwrap_err();
         assert_eq!(range.setting_of(), Some(Setting::MagnitudeRange));
         assert_eq!(range.to_string(), "magnitude range '1-2': not LOW:HIGH");
-        let negative = RenderOptions {
-            negative: Some("show".into()),
-            ..Default::default()
-        };
-        let negative = negative.negative().unwrap_err();
+        let negative = options
+            .set(Setting::Negative, Value::Text("show"))
+            .unwrap_err();
         assert_eq!(negative.setting_of(), Some(Setting::Negative));
         assert_eq!(
             negative.to_string(),
             "negative 'show': not one of abs, hide"
         );
-        // Every option's refusal names its setting, and no front end's spelling of it.
-        for (options, setting) in [
+        // Every option's refusal names its setting, and no front end's spelling of it:
+        // whether the value is refused as it is set or when the settings are made.
+        let cases: [(&[(Setting, &str)], Setting); 13] = [
+            (&[(Setting::Step, "1e-5")], Setting::Step),
+            (&[(Setting::Precision, "100")], Setting::Precision),
             (
-                RenderOptions {
-                    step: Some(1e-5),
-                    ..Default::default()
-                },
-                Setting::Step,
-            ),
-            (
-                RenderOptions {
-                    precision: Some(100.0),
-                    ..Default::default()
-                },
-                Setting::Precision,
-            ),
-            (
-                RenderOptions {
-                    method: Some("exact".into()),
-                    offset: 0.1,
-                    ..Default::default()
-                },
+                &[(Setting::Method, "exact"), (Setting::Offset, "0.1")],
                 Setting::Offset,
             ),
+            (&[(Setting::Method, "magic")], Setting::Method),
+            (&[(Setting::Method, "mesh:99")], Setting::Method),
+            (&[(Setting::Refine, "bisect:99")], Setting::Refine),
+            (&[(Setting::Path, "vertex")], Setting::Path),
             (
-                RenderOptions {
-                    method: Some("magic".into()),
-                    ..Default::default()
-                },
-                Setting::Method,
-            ),
-            (
-                RenderOptions {
-                    method: Some("mesh:99".into()),
-                    ..Default::default()
-                },
-                Setting::Method,
-            ),
-            (
-                RenderOptions {
-                    refine: Some("bisect:99".into()),
-                    ..Default::default()
-                },
-                Setting::Refine,
-            ),
-            (
-                RenderOptions {
-                    path: Some("vertex".into()),
-                    ..Default::default()
-                },
-                Setting::Path,
-            ),
-            (
-                RenderOptions {
-                    color: Some("sign".into()),
-                    method: Some("impostor".into()),
-                    ..Default::default()
-                },
+                &[(Setting::Color, "sign"), (Setting::Method, "impostor")],
                 Setting::Color,
             ),
-            (
-                RenderOptions {
-                    background: Some("mauve".into()),
-                    ..Default::default()
-                },
-                Setting::Background,
-            ),
-            (
-                RenderOptions {
-                    light: Some("0,0,0".into()),
-                    ..Default::default()
-                },
-                Setting::Light,
-            ),
-            (
-                RenderOptions {
-                    ambient: Some(2.0),
-                    ..Default::default()
-                },
-                Setting::Ambient,
-            ),
-            (
-                RenderOptions {
-                    shininess: Some(0.0),
-                    ..Default::default()
-                },
-                Setting::Shininess,
-            ),
-            (
-                RenderOptions {
-                    samples: Some(3),
-                    ..Default::default()
-                },
-                Setting::Samples,
-            ),
-        ] {
-            let err = bad(options);
+            (&[(Setting::Background, "mauve")], Setting::Background),
+            (&[(Setting::Light, "0,0,0")], Setting::Light),
+            (&[(Setting::Ambient, "2")], Setting::Ambient),
+            (&[(Setting::Shininess, "0")], Setting::Shininess),
+            (&[(Setting::Samples, "3")], Setting::Samples),
+        ];
+        for (pairs, setting) in cases {
+            let mut options = RenderOptions::default();
+            let err = pairs
+                .iter()
+                .try_for_each(|&(s, text)| options.set(s, Value::Text(text)))
+                .and_then(|()| options.settings().map(drop))
+                .unwrap_err();
             assert_eq!(err.setting_of(), Some(setting), "{err}");
             let text = err.to_string();
             assert!(text.starts_with(setting.name()), "{text}");

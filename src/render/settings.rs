@@ -70,6 +70,37 @@ pub enum ColorMode {
     },
 }
 
+impl ColorMode {
+    /// The colour's name, as `color` takes it.
+    pub fn name(&self) -> &'static str {
+        match self {
+            ColorMode::Direction => "direction",
+            ColorMode::Magnitude { .. } => "magnitude",
+            ColorMode::Uniform(_) => "uniform",
+            ColorMode::Sign { .. } => "sign",
+        }
+    }
+}
+
+impl std::fmt::Display for ColorMode {
+    /// The name ([`ColorMode::name`]).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::fmt::Display for Refinement {
+    /// As `refine` takes it (`secant:4`).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Refinement::None => f.write_str("none"),
+            Refinement::Interpolate => f.write_str("interp"),
+            Refinement::Bisect(k) => write!(f, "bisect:{k}"),
+            Refinement::Secant(k) => write!(f, "secant:{k}"),
+        }
+    }
+}
+
 /// `--color sign`'s colours, linear RGB: a red for positive lobes, a blue for negative.
 pub const SIGN_COLORS: ([f32; 3], [f32; 3]) = ([0.8, 0.03, 0.03], [0.03, 0.1, 0.8]);
 
@@ -245,8 +276,8 @@ impl Lighting {
         [x / length, y / length, z / length]
     }
 
-    /// Checks the ranges: a finite non-zero direction, ambient and specular in 0 to 1,
-    /// shininess in [`SHININESS_RANGE`].
+    /// Checks the direction: finite and of non-zero length (the numbers' ranges are
+    /// the table's, [`RENDER_SETTINGS`](crate::render::table::RENDER_SETTINGS)).
     pub fn validate(&self) -> Result<()> {
         let [x, y, z] = self.direction;
         let length = (x * x + y * y + z * z).sqrt();
@@ -257,37 +288,7 @@ impl Lighting {
                 "needs a finite direction of non-zero length",
             ));
         }
-        for (setting, value) in [
-            (Setting::Ambient, self.ambient),
-            (Setting::Specular, self.specular),
-        ] {
-            if !(0.0..=1.0).contains(&value) {
-                return Err(Error::setting_value(setting, value, "must be in 0 to 1"));
-            }
-        }
-        let (lo, hi) = SHININESS_RANGE;
-        if !(lo..=hi).contains(&self.shininess) {
-            return Err(Error::setting_value(
-                Setting::Shininess,
-                self.shininess,
-                format!("must be in {lo} to {hi}"),
-            ));
-        }
         Ok(())
-    }
-}
-
-/// `--light X,Y,Z`: three numbers, the direction towards the light in view coordinates.
-pub fn parse_light(text: &str) -> Result<[f32; 3]> {
-    let parts: Vec<Option<f32>> = text.split(',').map(|v| v.trim().parse().ok()).collect();
-    match parts[..] {
-        [Some(x), Some(y), Some(z)] => Ok([x, y, z]),
-        _ => Err(Error::setting_value(
-            Setting::Light,
-            format!("'{}'", quoted(text)),
-            "not X,Y,Z (the direction towards the light: x right, y up, z towards the \
-             viewer)",
-        )),
     }
 }
 
@@ -413,23 +414,14 @@ impl RenderSettings {
                 ))
             }
         };
-        let reliable = |setting: Setting, v: f32, (min, max): (f32, f32)| {
-            if v.is_finite() && (min..=max).contains(&v) {
-                Ok(())
-            } else {
-                Err(Error::setting_value(
-                    setting,
-                    v,
-                    format!(
-                        "must be in {min} to {max} (the range float32 ray casting draws reliably)"
-                    ),
-                ))
-            }
-        };
         self.lighting.validate()?;
-        reliable(Setting::Step, self.step, STEP_RANGE)?;
+        // Every number a user sets, in its range (the table's).
+        for spec in crate::render::table::RENDER_SETTINGS {
+            if let Some(number) = spec.number {
+                spec.check(number(self))?;
+            }
+        }
         positive("centre step factor", self.centre_step_factor, 1.0)?;
-        reliable(Setting::Precision, self.precision_px, PRECISION_RANGE)?;
         if !(self.centre_zone.is_finite() && self.centre_zone >= 0.0) {
             return Err(Error::data(
                 "centre zone",
@@ -438,13 +430,6 @@ impl RenderSettings {
                     min: 0.0,
                     max: f64::INFINITY,
                 },
-            ));
-        }
-        if !(self.offset.is_finite() && self.offset >= 0.0) {
-            return Err(Error::setting_value(
-                Setting::Offset,
-                self.offset,
-                "must be >= 0",
             ));
         }
         // A glyph with an offset is no polynomial surface: there is no ray polynomial to solve.

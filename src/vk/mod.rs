@@ -79,6 +79,16 @@ impl GpuOptions {
                 .filter(|v| !v.is_empty()),
         }
     }
+
+    /// These options with a front end's on top: `device` if given, and validation if
+    /// `validation` (the environment's stays on otherwise).
+    pub fn with(mut self, device: Option<String>, validation: bool) -> Self {
+        self.validation |= validation;
+        if device.is_some() {
+            self.device = device;
+        }
+        self
+    }
 }
 
 /// An instance, one device with a graphics+compute queue, and a memory allocator.

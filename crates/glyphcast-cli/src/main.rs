@@ -180,9 +180,13 @@ mod tests {
                     .map(|l| format!("--{l}")),
             );
         }
-        for &setting in Setting::ALL {
+        let render = glyphcast::render::table::RENDER_SETTINGS
+            .iter()
+            .map(|s| &s.setting);
+        let dmri = glyphcast_dmri::setting::DmriSetting::ALL.iter();
+        for &setting in Setting::ALL.iter().chain(render).chain(dmri) {
             let flag = super::cli::flags::flag(setting);
-            assert!(longs.iter().any(|l| l == flag), "{setting:?}: no {flag}");
+            assert!(longs.contains(&flag), "{setting:?}: no {flag}");
         }
     }
 

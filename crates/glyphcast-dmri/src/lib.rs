@@ -10,4 +10,5 @@
 pub mod fit;
 pub mod io;
 pub mod qc;
+pub mod setting;
 pub mod volume;

@@ -14,7 +14,7 @@ use glam::DVec3;
 use nalgebra::DMatrix;
 
 use super::{check_band, sh_basis_values, sh_count, sh_orders};
-use crate::error::{Problem, Setting};
+use crate::error::Problem;
 use crate::glyph::sh::ShBasis;
 use crate::{Error, Result};
 
@@ -49,10 +49,13 @@ impl ShFitter {
     ) -> Result<Self> {
         check_band(band)?;
         if !(lambda.is_finite() && lambda >= 0.0) {
-            return Err(Error::setting_value(
-                Setting::Lambda,
-                lambda,
-                "an SH fit's weight must be finite and at least 0",
+            return Err(Error::data(
+                "the SH fit's regularisation weight",
+                Problem::OutOfRange {
+                    value: lambda,
+                    min: 0.0,
+                    max: f64::INFINITY,
+                },
             ));
         }
         let directions = normalised(directions)?;

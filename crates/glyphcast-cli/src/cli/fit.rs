@@ -6,7 +6,7 @@
 use clap::{ArgGroup, Args};
 use glyphcast::glyph::sh::parse_basis;
 use glyphcast::glyph::tensor_order::TensorOrder;
-use glyphcast::{Error, Result, Setting};
+use glyphcast::{Error, Result};
 use glyphcast_dmri::fit::csd::{DEFAULT_CSD_LAMBDA, DEFAULT_CSD_TAU};
 use glyphcast_dmri::fit::csd_mrtrix::{self, CsdAlgorithm};
 use glyphcast_dmri::fit::gradients::BvecConvention;
@@ -17,6 +17,7 @@ use glyphcast_dmri::fit::response::{DEFAULT_RESPONSE_FA, estimate_response};
 use glyphcast_dmri::fit::{
     DEFAULT_LAMBDA, FitFiles, FitInputs, FitModel, OdfMethod, OdfModel, Response, fit_with_response,
 };
+use glyphcast_dmri::setting::DmriSetting;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -128,7 +129,7 @@ impl FitArgs {
             msmt::check_flags(self, method)?;
             if !(self.response_fa > 0.0 && self.response_fa < 1.0) {
                 return Err(Error::setting_value(
-                    Setting::ResponseFa,
+                    DmriSetting::ResponseFa,
                     self.response_fa,
                     "an FA threshold must be between 0 and 1",
                 ));

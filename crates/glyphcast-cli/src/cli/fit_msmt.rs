@@ -14,6 +14,7 @@ use glyphcast_dmri::fit::response_msmt::{
     CSF_MIN_MD, GM_MAX_MD, ISO_FA, estimate_responses, read_responses,
 };
 use glyphcast_dmri::fit::{FitInputs, FitModel, OdfMethod, OdfModel};
+use glyphcast_dmri::setting::DmriSetting;
 
 use super::{FitArgs, load_inputs, progress_bar};
 
@@ -52,7 +53,7 @@ pub(super) fn check_flags(args: &FitArgs, method: OdfMethod) -> Result<()> {
         return Err(Error::conflict(
             *flag,
             Relation::Requires,
-            Setting::Odf.with(owner),
+            DmriSetting::Odf.with(owner),
         ));
     }
     if msmt && args.response.is_some() && args.response_gm.is_none() {
@@ -109,7 +110,7 @@ pub(super) fn run(args: &FitArgs, model: &FitModel, convention: BvecConvention) 
         return Err(Error::conflict(
             Setting::TensorOrder,
             Relation::Excludes,
-            Setting::Odf.with("msmt"),
+            DmriSetting::Odf.with("msmt"),
         ));
     }
     glyphcast::io::atomic::check_outputs(

@@ -8,6 +8,7 @@ pub mod plot;
 pub mod progress;
 pub mod qc;
 pub mod render;
+pub mod setting_flags;
 pub mod stiffness;
 pub mod view;
 pub mod volume;

@@ -2,8 +2,9 @@
 //! nothing (`glyphcast_dmri::qc`). The flags map onto a `QcRequest`; the output folder is
 //! checked before any work.
 use clap::Args;
-use glyphcast::Result;
-use glyphcast::render::options::RenderOptions;
+use glyphcast::render::options::{RenderOptions, Value};
+use glyphcast::vk::GpuOptions;
+use glyphcast::{Result, Setting};
 use glyphcast_dmri::qc::{QcRequest, check_output, make_set};
 use glyphcast_dmri::volume::{ImageSource, VolumeRequest};
 use std::path::PathBuf;
@@ -77,8 +78,14 @@ pub struct QcArgs {
 }
 
 impl QcArgs {
-    fn request(&self) -> QcRequest {
-        QcRequest {
+    fn request(&self) -> Result<QcRequest> {
+        let mut render = RenderOptions::default();
+        if let Some(method) = &self.method {
+            render.set(Setting::Method, Value::Text(method))?;
+        }
+        render.set(Setting::Negative, Value::Text(&self.negative))?;
+        render.samples = Some(self.samples);
+        Ok(QcRequest {
             fod: self.fod.clone(),
             peaks: self.peaks.clone(),
             mask: self.mask.clone(),
@@ -96,24 +103,17 @@ impl QcArgs {
                 peaks_frame: self.peaks_frame.clone(),
                 ..Default::default()
             },
-            render: RenderOptions {
-                method: self.method.clone(),
-                negative: Some(self.negative.clone()),
-                samples: Some(self.samples),
-                device: self.device.clone(),
-                validation: self.validation,
-                ..Default::default()
-            },
+            render,
+            gpu: GpuOptions::from_env().with(self.device.clone(), self.validation),
             panel_size: self.panel_size,
-        }
+        })
     }
 }
 
 pub fn run(args: &QcArgs) -> Result<()> {
-    let request = args.request();
+    let request = args.request()?;
     // Every option is checked before the output folder and the inputs.
     request.render.settings()?;
-    request.render.negative()?;
     request.volume.options(Default::default())?;
     request
         .volume

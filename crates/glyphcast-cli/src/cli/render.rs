@@ -10,7 +10,7 @@ use glyphcast::render::compose::labels::{draw_edge_labels, edge_labels};
 use glyphcast::render::compose::montage::prepare_montage;
 use glyphcast::render::glyph_data::GlyphSetData;
 use glyphcast::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
-use glyphcast::render::options::{RenderOptions, check_method_reads, prepare_render};
+use glyphcast::render::options::{RenderOptions, prepare_render};
 use glyphcast::render::peaks::PeakSet;
 use glyphcast::render::promote::early_variants;
 use glyphcast::render::underlay::Underlay;
@@ -157,34 +157,9 @@ pub struct RenderArgs {
     /// Image height in pixels (default: the scene's).
     #[arg(long)]
     height: Option<u32>,
-    /// How glyphs are drawn: fixed (ray casting at a fixed step), interval or affine
-    /// (robust ray casting by range arithmetic), exact (first real root of the ray
-    /// polynomial; offset 0 only), impostor (bounding spheres), mesh:LEVEL (icosphere,
-    /// 0 to 7) or latlong:N (N latitude bands) tessellations. Default: exact, or affine
-    /// with an --offset (offset glyphs are no polynomial surfaces).
-    #[arg(long)]
-    method: Option<String>,
-    /// Ray caster: fragment (proxy boxes, the default) or compute (a compute shader per
-    /// pixel over screen tiles; --method exact only).
-    #[arg(long, default_value = "fragment")]
-    path: String,
-    /// Robust methods: segment length limit, in pixels at the segment's depth.
-    #[arg(long, value_name = "PX")]
-    precision: Option<f32>,
-    /// March step, in units of each glyph's bounding radius.
-    #[arg(long)]
-    step: Option<f32>,
-    /// Refinement of the first sign change: bisect:K, interp or none.
-    #[arg(long)]
-    refine: Option<String>,
-    /// Glyph colour: direction, magnitude, uniform or sign (positive lobes red,
-    /// negative ones blue; ray-casting methods only).
-    #[arg(long, default_value = "direction")]
-    color: String,
-    /// Magnitude colormap range LOW:HIGH in world units (default: 0 to the largest glyph
-    /// radius drawn, so that the largest glyph's tip takes the map's top colour).
-    #[arg(long, value_name = "LOW:HIGH", allow_hyphen_values = true)]
-    magnitude_range: Option<String>,
+    /// The render settings (method, colour, lighting, ...): the library's table.
+    #[command(flatten)]
+    settings: super::setting_flags::SettingFlags,
     /// With --color magnitude: append a colour bar of the magnitude range on the right,
     /// in a strip of its own (the PNG and the depth map grow by its width; the depth map
     /// is NaN there). Values are glyph radii in data units (|f|, or an ellipsoid's
@@ -194,35 +169,6 @@ pub struct RenderArgs {
     /// The colour bar's label (default: "radius (data units)" or "radius (world units)").
     #[arg(long, value_name = "TEXT", requires = "colorbar")]
     colorbar_label: Option<String>,
-    /// Negative lobes: abs (drawn as |f|) or hide. Sets every glyph set's mode, replacing
-    /// a scene file's `negative` (default: the scene's; abs for volumes).
-    #[arg(long, value_name = "abs|hide")]
-    negative: Option<String>,
-    /// Samples per pixel: 1, 4 or 16 (supersampling: drawn at 2 or 4 times the width and
-    /// height, then averaged). The depth map stays one ray per pixel centre.
-    #[arg(long, default_value_t = 1, value_name = "1|4|16")]
-    samples: u32,
-    /// Background: none (transparent PNG), dark (the default), black, white, grey,
-    /// #rrggbb or r,g,b (sRGB, 0-255, as written in the PNG).
-    #[arg(long, value_name = "COLOR")]
-    background: Option<String>,
-    /// Direction towards the light, X,Y,Z in view coordinates: x to the image's right, y
-    /// up, z towards the viewer (default 0.35,0.5,1: above right, in front). The light
-    /// moves with the camera.
-    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
-    light: Option<String>,
-    /// Ambient share of the base colour, 0 to 1 (default 0.18).
-    #[arg(long, value_name = "A")]
-    ambient: Option<f32>,
-    /// Strength of the white specular highlight, 0 to 1 (default 0.25; 0: matte).
-    #[arg(long, value_name = "S")]
-    specular: Option<f32>,
-    /// Blinn-Phong exponent of the highlight, 1 to 1024 (default 48).
-    #[arg(long, value_name = "E")]
-    shininess: Option<f32>,
-    /// Isotropic offset added to every glyph, as a fraction of its bounding radius.
-    #[arg(long, default_value_t = 0.0)]
-    offset: f32,
     /// Vulkan device: part of its name or its index (also GLYPHCAST_DEVICE).
     #[arg(long)]
     device: Option<String>,
@@ -237,32 +183,15 @@ impl RenderArgs {
         ImageRequest::checked(self.width, self.height)
     }
 
-    /// The flags as the library's render options (shared with the Python module).
-    pub fn options(&self) -> RenderOptions {
-        RenderOptions {
-            method: self.method.clone(),
-            path: Some(self.path.clone()),
-            precision: self.precision,
-            step: self.step,
-            refine: self.refine.clone(),
-            color: Some(self.color.clone()),
-            magnitude_range: self.magnitude_range.clone(),
-            negative: self.negative.clone(),
-            background: self.background.clone(),
-            offset: self.offset,
-            light: self.light.clone(),
-            ambient: self.ambient,
-            specular: self.specular,
-            shininess: self.shininess,
-            samples: Some(self.samples),
-            device: self.device.clone(),
-            validation: self.validation,
-        }
+    /// The flags as the library's render options (the Python module's too); a bad
+    /// value is a usage error naming its flag.
+    pub fn options(&self) -> Result<RenderOptions> {
+        self.settings.options()
     }
 
     /// The render settings of the flags; any error is a usage error (exit 2).
     pub fn settings(&self) -> Result<RenderSettings> {
-        self.options().settings()
+        self.options()?.settings()
     }
 
     /// Whether `--colorbar` was given.
@@ -279,7 +208,7 @@ impl RenderArgs {
                     "shows the magnitude colour map: it needs ",
                     Setting::Color.with("magnitude"),
                     ", not ",
-                    Setting::Color.with(&self.color)
+                    Setting::Color.with(settings.color)
                 ],
             ));
         }
@@ -314,11 +243,13 @@ impl RenderArgs {
 
     /// `--negative`, if given; an unknown mode is a usage error.
     pub fn negative(&self) -> Result<Option<NegativeMode>> {
-        self.options().negative()
+        Ok(self.options()?.negative)
     }
 
+    /// The device options: the environment's (GLYPHCAST_VALIDATION, GLYPHCAST_DEVICE),
+    /// with `--validation` and `--device` on top.
     pub fn gpu_options(&self) -> GpuOptions {
-        self.options().gpu_options()
+        GpuOptions::from_env().with(self.device.clone(), self.validation)
     }
 }
 
@@ -364,7 +295,7 @@ pub fn render(
     scene.image.height = image.height.unwrap_or(scene.image.height);
     let settings = options.settings()?;
     options.check_colorbar(&settings)?;
-    check_method_reads(&options.options(), &settings)?;
+    options.options()?.check_method_reads(&settings)?;
     let negative = options.negative()?;
     // Written with the image and the depth map, all or nothing.
     let scene_file = save_scene.map(|path| (path, scene.to_json()));
@@ -440,7 +371,7 @@ pub fn render_montage(
     let image = options.image_request()?;
     let settings = options.settings()?;
     options.check_colorbar(&settings)?;
-    check_method_reads(&options.options(), &settings)?;
+    options.options()?.check_method_reads(&settings)?;
     let negative = options.negative()?;
     let (mut scenes, peaks): (Vec<Scene>, Vec<Option<PeakSet>>) = montage
         .panels

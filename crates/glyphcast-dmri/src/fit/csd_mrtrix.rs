@@ -47,10 +47,11 @@ use nalgebra::{DMatrix, DVector};
 
 use super::csd::set_changes;
 use super::response::Response;
+use crate::setting::DmriSetting;
 use glyphcast::error::Problem;
 use glyphcast::glyph::sh::{convert_basis, sh_basis_values, sh_count, sh_orders};
 use glyphcast::scene::ShBasis;
-use glyphcast::{Error, Result, Setting};
+use glyphcast::{Error, Result};
 
 /// Which CSD `fit --odf csd` runs (`--csd-algorithm`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -79,7 +80,7 @@ impl CsdAlgorithm {
             .find(|a| a.name() == lower)
             .ok_or_else(|| {
                 Error::setting_value(
-                    Setting::CsdAlgorithm,
+                    DmriSetting::CsdAlgorithm,
                     format!("'{}'", glyphcast::error::quoted(name)),
                     "expected mrtrix or dipy",
                 )

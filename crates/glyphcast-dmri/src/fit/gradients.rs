@@ -28,8 +28,9 @@ use std::path::Path;
 use std::str::FromStr;
 
 use crate::io::nifti::VoxelToWorld;
+use crate::setting::DmriSetting;
 use glyphcast::error::quoted;
-use glyphcast::{Error, Result, Setting};
+use glyphcast::{Error, Result};
 
 /// The frame the directions of a `.bvec` file are written in.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -53,7 +54,7 @@ impl FromStr for BvecConvention {
             "voxel" => Ok(BvecConvention::Voxel),
             "world" => Ok(BvecConvention::World),
             _ => Err(Error::setting_value(
-                Setting::BvecConvention,
+                DmriSetting::BvecConvention,
                 format!("'{}'", quoted(text)),
                 "expected fsl, voxel or world",
             )),

@@ -5,7 +5,8 @@ use std::path::PathBuf;
 use super::dwi::{Dwi, read_dwi, read_mask};
 use super::gradients::GradientTable;
 use crate::io::image::is_mrtrix;
-use glyphcast::{Error, Result, Setting};
+use crate::setting::DmriSetting;
+use glyphcast::{Error, Result};
 
 /// Where the inputs come from. Without `bval` and `bvec` the gradient table is the
 /// DWI's own (`dw_scheme` of an MRtrix image).
@@ -57,12 +58,12 @@ impl FitInputs {
         // request to change, refused before the DWI is read.
         if files.bval.is_none() && files.bvec.is_none() && !is_mrtrix(&files.dwi) {
             return Err(Error::setting(
-                Setting::Bval,
+                DmriSetting::Bval,
                 glyphcast::message![
                     format!("{name} is a NIfTI image, which carries no gradient table: give "),
-                    Setting::Bval,
+                    DmriSetting::Bval,
                     " and ",
-                    Setting::Bvec,
+                    DmriSetting::Bvec,
                     " (an MRtrix .mif or .mih may carry its own, dw_scheme)"
                 ],
             ));
@@ -83,9 +84,9 @@ impl FitInputs {
                         "dw_scheme",
                         glyphcast::message![
                             "no gradient table in the file (an MRtrix image's dw_scheme): give ",
-                            Setting::Bval,
+                            DmriSetting::Bval,
                             " and ",
-                            Setting::Bvec
+                            DmriSetting::Bvec
                         ],
                     ));
                 };
@@ -108,9 +109,9 @@ impl FitInputs {
             }
             _ => {
                 return Err(Error::conflict(
-                    Setting::Bval,
+                    DmriSetting::Bval,
                     glyphcast::error::Relation::Requires,
-                    Setting::Bvec,
+                    DmriSetting::Bvec,
                 ));
             }
         };

@@ -54,6 +54,7 @@ pub use odf::OdfMethod;
 pub use response::Response;
 pub use voxel::{FitReport, VoxelFitter, fit, fit_with_report, fit_with_response};
 
+use crate::setting::DmriSetting;
 use crate::volume::TENSOR_PREFIX;
 use glyphcast::scene::{GlyphKind, ShBasis};
 use glyphcast::{Error, Result, Setting};
@@ -247,7 +248,7 @@ fn check_lambda(lambda: f64) -> Result<()> {
         return Ok(());
     }
     Err(Error::setting_value(
-        Setting::Lambda,
+        DmriSetting::Lambda,
         lambda,
         format!("the regularisation weight must be in 0 to {MAX_LAMBDA}"),
     ))
@@ -276,7 +277,7 @@ fn check_tau(tau: f64, csd: CsdAlgorithm) -> Result<()> {
     if ok {
         return Ok(());
     }
-    Err(Error::setting_value(Setting::Tau, tau, why))
+    Err(Error::setting_value(DmriSetting::Tau, tau, why))
 }
 
 #[cfg(test)]

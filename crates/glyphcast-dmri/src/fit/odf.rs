@@ -25,9 +25,10 @@
 use glam::DVec3;
 use nalgebra::DMatrix;
 
+use crate::setting::DmriSetting;
 use glyphcast::glyph::sh::{ShFitter, convert_basis, sh_count, sh_orders};
 use glyphcast::scene::ShBasis;
-use glyphcast::{Error, Result, Setting};
+use glyphcast::{Error, Result};
 
 pub use super::csd::CsdFitter;
 pub use super::response::{Response, ResponseEstimate};
@@ -75,7 +76,7 @@ impl OdfMethod {
         .find(|m| m.name() == name)
         .ok_or_else(|| {
             Error::setting_value(
-                Setting::Odf,
+                DmriSetting::Odf,
                 format!("'{}'", glyphcast::error::quoted(name)),
                 "unknown ODF model, expected csd, msmt, csa or qball",
             )

@@ -16,9 +16,10 @@ use nalgebra::DMatrix;
 use ndarray::Array4;
 
 use super::sphere::GeodesicSphere;
+use crate::setting::DmriSetting;
 use glyphcast::glyph::sh::{check_band, sh_basis_values, sh_count, sh_eval};
 use glyphcast::scene::ShBasis;
-use glyphcast::{Error, Result, Setting};
+use glyphcast::{Error, Result};
 
 /// Default number of peaks per voxel.
 pub const DEFAULT_PEAK_COUNT: usize = 3;
@@ -64,21 +65,21 @@ impl PeakOptions {
     pub fn validate(&self) -> Result<()> {
         if !(1..=16).contains(&self.count) {
             return Err(Error::setting_value(
-                Setting::Count,
+                DmriSetting::Count,
                 self.count,
                 "the number of peaks must be from 1 to 16",
             ));
         }
         if !(0.0..=1.0).contains(&self.relative_threshold) {
             return Err(Error::setting_value(
-                Setting::RelativeThreshold,
+                DmriSetting::RelativeThreshold,
                 self.relative_threshold,
                 "must be in 0 to 1",
             ));
         }
         if !(0.0..=90.0).contains(&self.min_separation_degrees) {
             return Err(Error::setting_value(
-                Setting::MinSeparation,
+                DmriSetting::MinSeparation,
                 self.min_separation_degrees,
                 "must be in 0 to 90 degrees",
             ));

@@ -17,7 +17,8 @@ use super::dti::DiffusionTensor;
 use super::odf::legendre;
 use super::tissue::TissueMask;
 use super::{FitInputs, FitModel, VoxelFitter};
-use glyphcast::{Error, Result, Setting};
+use crate::setting::DmriSetting;
+use glyphcast::{Error, Result};
 
 /// Default FA threshold for the voxels of the response estimate (DIPY's).
 pub const DEFAULT_RESPONSE_FA: f64 = 0.7;
@@ -109,7 +110,7 @@ impl Response {
                         "{} rows of coefficients: a multi-shell response, but CSD here is single-shell (one row); multi-shell data is fitted with ",
                         rows.len()
                     ),
-                    Setting::Odf.with("msmt")
+                    DmriSetting::Odf.with("msmt")
                 ],
             )),
         }
@@ -240,9 +241,9 @@ pub fn estimate_response(
                         (false, None) => String::new(),
                     }
                 ),
-                Setting::Response.with("FILE"),
+                DmriSetting::Response.with("FILE"),
                 ", or a lower ",
-                Setting::ResponseFa
+                DmriSetting::ResponseFa
             ],
         ));
     }

@@ -14,6 +14,7 @@ use super::response::{DEFAULT_RESPONSE_FA, Response, estimate_response};
 use super::sh::ShFitter;
 use super::tensor::{TensorFitter, design_rank};
 use super::{FitInputs, FitModel, OdfModel};
+use crate::setting::DmriSetting;
 use glyphcast::{Error, Result, Setting};
 
 /// Samples at or below zero are raised to this fraction of S0 (see the module notes of
@@ -539,7 +540,7 @@ fn check_single_shell(bvals: &[f64], bval_file: &str, what: &str) -> Result<()> 
                 glyphcast::message![
                     text,
                     ": fit it with ",
-                    Setting::Odf.with("msmt"),
+                    DmriSetting::Odf.with("msmt"),
                     " (multi-shell multi-tissue CSD)"
                 ]
             } else {

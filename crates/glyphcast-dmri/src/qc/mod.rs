@@ -20,6 +20,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use crate::io::image::read_image;
+use crate::setting::DmriSetting;
 use crate::volume::{
     CoefficientFrame, Coefficients, ImageRequest, Mask, Normalisation, Volume, VolumeRequest,
     load_mask, load_underlay,
@@ -29,7 +30,7 @@ use glyphcast::io::folder::{check_folder_output, write_folder_atomic};
 use glyphcast::render::headless::HeadlessRenderer;
 use glyphcast::render::options::RenderOptions;
 use glyphcast::vk::Gpu;
-use glyphcast::{Error, Result, Setting};
+use glyphcast::{Error, Result};
 use survey::{Survey, region_side, voxel_world};
 
 /// The sidecar's name; a folder holding one is an earlier set, which a new run replaces.
@@ -67,8 +68,10 @@ pub struct QcRequest {
     /// The volume options that apply (basis, legacy, force basis, frame, orientation,
     /// underlay range); views, slices and the like are the set's own.
     pub volume: VolumeRequest,
-    /// How glyphs are drawn (method, negative lobes, samples, device, validation).
+    /// How glyphs are drawn (method, negative lobes, samples).
     pub render: RenderOptions,
+    /// The device, and whether the validation layer runs.
+    pub gpu: glyphcast::vk::GpuOptions,
     /// Each panel's side in pixels (the slice fitted inside); by default
     /// [`default_panel_size`].
     pub panel_size: Option<u32>,
@@ -152,7 +155,7 @@ fn ms(start: Instant) -> f64 {
 pub fn make_set(request: &QcRequest, progress: &dyn Fn(&str)) -> Result<QcSet> {
     let started = Instant::now();
     let settings = request.render.settings()?;
-    let negative = request.render.negative()?;
+    let negative = request.render.negative;
     if let Some(size) = request.panel_size {
         check_panel_size(size)?;
     }
@@ -197,7 +200,7 @@ pub fn make_set(request: &QcRequest, progress: &dyn Fn(&str)) -> Result<QcSet> {
     timings.push(("build", ms(step)));
 
     let step = Instant::now();
-    let gpu = Gpu::headless(&request.render.gpu_options())?;
+    let gpu = Gpu::headless(&request.gpu)?;
     let device = gpu.info.to_string();
     let mut renderer = HeadlessRenderer::new(&gpu)?;
     timings.push(("device", ms(step)));
@@ -347,7 +350,7 @@ fn check_panel_size(size: u32) -> Result<()> {
         return Ok(());
     }
     Err(Error::setting_value(
-        Setting::PanelSize,
+        DmriSetting::PanelSize,
         size,
         format!(
             "each panel of the set is {} to {} pixels a side",

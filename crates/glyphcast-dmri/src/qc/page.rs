@@ -221,8 +221,8 @@ pub fn sidecar(summary: &Summary) -> Result<String> {
         "volume": volume_json(summary.volume),
         "settings": {
             "panel_size": summary.panel_size,
-            "method": options.method.as_deref().unwrap_or("exact"),
-            "negative": options.negative.as_deref().unwrap_or("abs"),
+            "method": options.method.map_or_else(|| "exact".to_owned(), |m| m.to_string()),
+            "negative": options.negative.unwrap_or_default().to_string(),
             "samples": options.samples.unwrap_or(1),
             "orientation": orientation(request).name(),
             "labels": true,

@@ -1,0 +1,757 @@
+//! The render settings, each declared once ([`RENDER_SETTINGS`]): its key (the flag, the
+//! Python keyword, the C field), its type, its default, what it accepts, a line of
+//! documentation and which methods or colours read it. The command line's flags, the
+//! Python keywords, the docs' settings table and the refusals (a value out of range, a
+//! setting the chosen method or colour does not read) are made from it; the library takes
+//! its values typed ([`RenderOptions`]), whatever the front end.
+use crate::error::quoted;
+use crate::glyph::NegativeMode;
+use crate::render::settings::{PRECISION_RANGE, SHININESS_RANGE, STEP_RANGE, parse_background};
+use crate::render::{ColorMode, Method, Refinement, RenderPath, RenderSettings};
+use crate::{Error, Result, Setting};
+
+/// A value as a front end hands it over: text from a command line, numbers and texts
+/// from Python or C.
+#[derive(Clone, Copy, Debug)]
+pub enum Value<'a> {
+    /// Text (`"exact"`, `"0.35,0.5,1"`, `"0.02"`).
+    Text(&'a str),
+    /// One number.
+    Number(f64),
+    /// Several numbers (a direction, a range).
+    Numbers(&'a [f64]),
+}
+
+/// What a setting's values are, for its documentation and the front ends' types.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// A number.
+    Number,
+    /// A whole number.
+    Count,
+    /// A name (or a name with a parameter, `mesh:3`).
+    Name,
+    /// Several numbers (`X,Y,Z`, `LOW:HIGH`).
+    Numbers,
+}
+
+/// The allowed values of a number.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Range {
+    /// Any value the type takes (further checks are the setting's own).
+    Any,
+    /// `min` to `max`, both included; the text says why, if the bounds need a reason.
+    Closed(f32, f32, &'static str),
+    /// At least `min`.
+    AtLeast(f32),
+}
+
+/// Which requests read a setting: given with any other, it would change nothing, so a
+/// one-shot image refuses it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Reads {
+    /// Every method and colour.
+    Always,
+    /// These methods only (their names, as `method` takes them).
+    Methods(&'static [&'static str]),
+    /// This colour only (as `color` takes it).
+    Color(&'static str),
+}
+
+/// One render setting, declared once.
+#[derive(Clone, Copy, Debug)]
+pub struct SettingSpec {
+    /// The setting (its key and name).
+    pub setting: Setting,
+    /// What its values are.
+    pub kind: Kind,
+    /// Its placeholder in usage text (`PX`, `X,Y,Z`).
+    pub value_name: &'static str,
+    /// Its default, in words.
+    pub default: &'static str,
+    /// The values it accepts, in words.
+    pub accepts: &'static str,
+    /// The allowed range of a number, checked by [`RenderSettings::validate`].
+    pub range: Range,
+    /// Which methods or colours read it.
+    pub reads: Reads,
+    /// Its documentation, one sentence or a few.
+    pub doc: &'static str,
+    /// The number it sets in [`RenderSettings`], for the range check.
+    pub number: Option<fn(&RenderSettings) -> f32>,
+}
+
+impl SettingSpec {
+    /// The spec of `setting`, if it is a render setting.
+    pub fn of(setting: Setting) -> Option<&'static SettingSpec> {
+        RENDER_SETTINGS.iter().find(|spec| spec.setting == setting)
+    }
+
+    /// Refuses `value` outside [`range`](Self::range).
+    pub fn check(&self, value: f32) -> Result<()> {
+        let v = value;
+        let (inside, text) = match self.range {
+            Range::Any => (v.is_finite(), String::from("must be finite")),
+            Range::Closed(min, max, why) => {
+                let why = if why.is_empty() {
+                    String::new()
+                } else {
+                    format!(" ({why})")
+                };
+                (
+                    v.is_finite() && (min..=max).contains(&v),
+                    format!("must be in {min} to {max}{why}"),
+                )
+            }
+            Range::AtLeast(min) => (v.is_finite() && v >= min, format!("must be >= {min}")),
+        };
+        if inside {
+            Ok(())
+        } else {
+            Err(Error::setting_value(self.setting, value, text))
+        }
+    }
+
+    /// The usage text: the doc, what it accepts and its default.
+    pub fn help(&self) -> String {
+        format!(
+            "{} Accepts {}; default {}.",
+            self.doc, self.accepts, self.default
+        )
+    }
+}
+
+/// A value type of a render setting: made from what a front end hands over, and
+/// written back in messages.
+pub trait SettingValue: Sized {
+    /// The value of `setting` from `value`; a value of the wrong kind is refused naming
+    /// the setting.
+    fn from_value(setting: Setting, value: Value<'_>) -> Result<Self>;
+    /// The value as messages write it (`0.01`, `'bisect:2'`).
+    fn spelled(&self) -> String;
+}
+
+fn wrong(setting: Setting, value: Value<'_>, expected: &str) -> Error {
+    let given = match value {
+        Value::Text(text) => format!("'{}'", quoted(text)),
+        Value::Number(v) => v.to_string(),
+        Value::Numbers(vs) => vs.iter().map(f64::to_string).collect::<Vec<_>>().join(","),
+    };
+    Error::setting_value(setting, given, format!("not {expected}"))
+}
+
+impl SettingValue for f32 {
+    fn from_value(setting: Setting, value: Value<'_>) -> Result<Self> {
+        match value {
+            Value::Number(v) => Ok(v as f32),
+            Value::Text(text) => text
+                .trim()
+                .parse::<f32>()
+                .map_err(|_| wrong(setting, value, "a number")),
+            Value::Numbers(_) => Err(wrong(setting, value, "one number")),
+        }
+    }
+    fn spelled(&self) -> String {
+        self.to_string()
+    }
+}
+
+impl SettingValue for u32 {
+    fn from_value(setting: Setting, value: Value<'_>) -> Result<Self> {
+        match value {
+            Value::Number(v) if v.fract() == 0.0 && (0.0..=f64::from(u32::MAX)).contains(&v) => {
+                Ok(v as u32)
+            }
+            Value::Text(text) => text
+                .trim()
+                .parse::<u32>()
+                .map_err(|_| wrong(setting, value, "a whole number >= 0")),
+            _ => Err(wrong(setting, value, "a whole number >= 0")),
+        }
+    }
+    fn spelled(&self) -> String {
+        self.to_string()
+    }
+}
+
+/// Numbers written with `separator` in text (`X,Y,Z`, `LOW:HIGH`).
+fn numbers<const N: usize>(
+    setting: Setting,
+    value: Value<'_>,
+    separator: char,
+    expected: &str,
+) -> Result<[f32; N]> {
+    let parsed: Option<Vec<f32>> = match value {
+        Value::Text(text) => text
+            .split(separator)
+            .map(|v| v.trim().parse::<f32>().ok())
+            .collect(),
+        Value::Numbers(vs) => Some(vs.iter().map(|&v| v as f32).collect()),
+        Value::Number(_) => None,
+    };
+    parsed
+        .and_then(|vs| <[f32; N]>::try_from(vs).ok())
+        .ok_or_else(|| wrong(setting, value, expected))
+}
+
+/// A direction, `X,Y,Z` (`light`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Direction(pub [f32; 3]);
+
+impl SettingValue for Direction {
+    fn from_value(setting: Setting, value: Value<'_>) -> Result<Self> {
+        let expected = "X,Y,Z (the direction towards the light: x right, y up, z towards \
+                        the viewer)";
+        numbers(setting, value, ',', expected).map(Direction)
+    }
+    fn spelled(&self) -> String {
+        let [x, y, z] = self.0;
+        format!("{x},{y},{z}")
+    }
+}
+
+/// A range of values, `LOW:HIGH` (`magnitude_range`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Span(pub [f32; 2]);
+
+impl SettingValue for Span {
+    fn from_value(setting: Setting, value: Value<'_>) -> Result<Self> {
+        numbers(setting, value, ':', "LOW:HIGH").map(Span)
+    }
+    fn spelled(&self) -> String {
+        let [low, high] = self.0;
+        format!("{low}:{high}")
+    }
+}
+
+/// A background colour: none (transparent), a name, `#rrggbb` or `r,g,b`; linear RGB
+/// and alpha.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Background(pub [f32; 4]);
+
+impl SettingValue for Background {
+    fn from_value(setting: Setting, value: Value<'_>) -> Result<Self> {
+        match value {
+            Value::Text(text) => parse_background(text).map(Background),
+            _ => Err(wrong(setting, value, "a colour's name, #rrggbb or r,g,b")),
+        }
+    }
+    fn spelled(&self) -> String {
+        format!("{:?}", self.0)
+    }
+}
+
+/// Names: parsed by their `FromStr`, which names the setting when it refuses.
+macro_rules! named_values {
+    ($($ty:ty),*) => {$(
+        impl SettingValue for $ty {
+            fn from_value(setting: Setting, value: Value<'_>) -> Result<Self> {
+                match value {
+                    Value::Text(text) => text.parse(),
+                    _ => Err(wrong(setting, value, "a name")),
+                }
+            }
+            fn spelled(&self) -> String {
+                format!("'{self}'")
+            }
+        }
+    )*};
+}
+
+named_values!(Method, RenderPath, Refinement, ColorMode, NegativeMode);
+
+/// The table: from each entry the setting's constant ([`Setting`]), its field of
+/// [`RenderOptions`], its [`SettingSpec`] and its arms of [`RenderOptions::set`].
+macro_rules! render_settings {
+    ($(
+        $(#[doc = $doc:literal])+
+        $field:ident: $ty:ty = $variant:ident($name:literal) {
+            kind: $kind:ident, value: $value_name:literal, default: $default:literal,
+            accepts: $accepts:literal, range: $range:expr, reads: $reads:expr,
+            number: $number:expr $(,)?
+        }
+    )*) => {
+        /// The render settings ([`RENDER_SETTINGS`]).
+        #[allow(non_upper_case_globals)]
+        impl Setting {
+            $($(#[doc = $doc])+ pub const $variant: Setting =
+                Setting::value(stringify!($field), $name);)*
+        }
+
+        /// The render options as a front end takes them, typed: each field is the
+        /// [`Setting`] of the same key in [`RENDER_SETTINGS`]; `None` is the default.
+        #[derive(Clone, Debug, Default, PartialEq)]
+        pub struct RenderOptions {
+            $($(#[doc = $doc])+ pub $field: Option<$ty>,)*
+        }
+
+        /// Every render setting, in the order of the command line's help.
+        pub const RENDER_SETTINGS: &[SettingSpec] = &[$(SettingSpec {
+            setting: Setting::$variant,
+            kind: Kind::$kind,
+            value_name: $value_name,
+            default: $default,
+            accepts: $accepts,
+            range: $range,
+            reads: $reads,
+            doc: concat!($($doc),+),
+            number: $number,
+        },)*];
+
+        impl RenderOptions {
+            /// Sets `setting` (a render setting) from `value`; a value of the wrong kind
+            /// is refused naming the setting (ranges are checked by
+            /// [`settings`](Self::settings)).
+            pub fn set(&mut self, setting: Setting, value: Value<'_>) -> Result<()> {
+                $(if setting == Setting::$variant {
+                    self.$field = Some(<$ty as SettingValue>::from_value(setting, value)?);
+                    return Ok(());
+                })*
+                Err(Error::Call {
+                    call: "RenderOptions::set",
+                    expected: "a render setting (one of RENDER_SETTINGS)",
+                })
+            }
+
+            /// The value given for `setting`, as messages write it; `None` when not given.
+            pub fn given(&self, setting: Setting) -> Option<String> {
+                $(if setting == Setting::$variant {
+                    return self.$field.as_ref().map(SettingValue::spelled);
+                })*
+                None
+            }
+        }
+    };
+}
+
+render_settings! {
+    /// How glyphs are drawn: fixed (ray casting at a fixed step), interval or affine
+    /// (robust ray casting by range arithmetic), exact (first real root of the ray
+    /// polynomial; offset 0 only), impostor (bounding spheres), mesh:LEVEL (icosphere)
+    /// or latlong:N (latitude bands) tessellations.
+    method: Method = Method("method") {
+        kind: Name, value: "METHOD", default: "exact, or affine with an offset",
+        accepts: "fixed, interval, affine, exact, impostor, mesh:0 to mesh:7, latlong:N",
+        range: Range::Any, reads: Reads::Always, number: None,
+    }
+    /// Which ray caster runs the method: fragment (proxy boxes) or compute (a compute
+    /// shader per pixel over screen tiles; exact only).
+    path: RenderPath = Path("path") {
+        kind: Name, value: "PATH", default: "fragment", accepts: "fragment, compute",
+        range: Range::Any, reads: Reads::Always, number: None,
+    }
+    /// The robust methods' segment length limit, in pixels at the segment's depth.
+    precision: f32 = Precision("precision") {
+        kind: Number, value: "PX", default: "0.25", accepts: "0.01 to 64",
+        range: Range::Closed(
+            PRECISION_RANGE.0,
+            PRECISION_RANGE.1,
+            "the range float32 ray casting draws reliably",
+        ),
+        reads: Reads::Methods(&["interval", "affine"]),
+        number: Some(|s| s.precision_px),
+    }
+    /// The fixed march's step, in units of each glyph's bounding radius.
+    step: f32 = Step("step") {
+        kind: Number, value: "STEP", default: "0.02", accepts: "0.001 to 2",
+        range: Range::Closed(
+            STEP_RANGE.0,
+            STEP_RANGE.1,
+            "the range float32 ray casting draws reliably",
+        ),
+        reads: Reads::Methods(&["fixed"]), number: Some(|s| s.step),
+    }
+    /// The refinement of the first sign change along the ray.
+    refine: Refinement = Refine("refine") {
+        kind: Name, value: "REFINE", default: "secant:4",
+        accepts: "bisect:K, secant:K (K = 0 to 16), interp, none",
+        range: Range::Any, reads: Reads::Methods(&["fixed", "interval", "affine"]),
+        number: None,
+    }
+    /// Glyph colour: direction, magnitude, uniform or sign (positive lobes red, negative
+    /// ones blue; ray-casting methods only).
+    color: ColorMode = Color("color") {
+        kind: Name, value: "COLOR", default: "direction",
+        accepts: "direction, magnitude, uniform, sign", range: Range::Any,
+        reads: Reads::Always, number: None,
+    }
+    /// The magnitude colour map's range, LOW:HIGH in world units.
+    magnitude_range: Span = MagnitudeRange("magnitude range") {
+        kind: Numbers, value: "LOW:HIGH",
+        default: "0 to the largest glyph radius drawn",
+        accepts: "two numbers, low below high", range: Range::Any,
+        reads: Reads::Color("magnitude"), number: None,
+    }
+    /// Negative lobes: abs (drawn as |f|) or hide; replaces every glyph set's mode.
+    negative: NegativeMode = Negative("negative") {
+        kind: Name, value: "abs|hide", default: "the scene's (abs for volumes)",
+        accepts: "abs, hide", range: Range::Any, reads: Reads::Always, number: None,
+    }
+    /// Background: none (transparent PNG), a name, #rrggbb or r,g,b (sRGB, 0 to 255, as
+    /// written in the PNG).
+    background: Background = Background("background") {
+        kind: Name, value: "COLOR", default: "dark",
+        accepts: "none, dark, black, white, grey, #rrggbb, r,g,b", range: Range::Any,
+        reads: Reads::Always, number: None,
+    }
+    /// Isotropic offset added to every glyph, as a fraction of its bounding radius.
+    offset: f32 = Offset("offset") {
+        kind: Number, value: "OFFSET", default: "0", accepts: "a number >= 0",
+        range: Range::AtLeast(0.0), reads: Reads::Always, number: Some(|s| s.offset),
+    }
+    /// Direction towards the light, X,Y,Z in view coordinates (x to the image's right,
+    /// y up, z towards the viewer); the light moves with the camera.
+    light: Direction = Light("light") {
+        kind: Numbers, value: "X,Y,Z", default: "0.35,0.5,1 (above right, in front)",
+        accepts: "three numbers, not all 0", range: Range::Any, reads: Reads::Always,
+        number: None,
+    }
+    /// Ambient share of the base colour.
+    ambient: f32 = Ambient("ambient") {
+        kind: Number, value: "A", default: "0.18", accepts: "0 to 1",
+        range: Range::Closed(0.0, 1.0, ""), reads: Reads::Always,
+        number: Some(|s| s.lighting.ambient),
+    }
+    /// Strength of the white specular highlight (0: matte).
+    specular: f32 = Specular("specular") {
+        kind: Number, value: "S", default: "0.25", accepts: "0 to 1",
+        range: Range::Closed(0.0, 1.0, ""), reads: Reads::Always,
+        number: Some(|s| s.lighting.specular),
+    }
+    /// Blinn-Phong exponent of the highlight.
+    shininess: f32 = Shininess("shininess") {
+        kind: Number, value: "E", default: "48", accepts: "1 to 1024",
+        range: Range::Closed(SHININESS_RANGE.0, SHININESS_RANGE.1, ""),
+        reads: Reads::Always, number: Some(|s| s.lighting.shininess),
+    }
+    /// Samples per pixel: supersampling draws at 2 or 4 times the width and height, then
+    /// averages; the depth map stays one ray per pixel centre.
+    samples: u32 = Samples("samples") {
+        kind: Count, value: "1|4|16", default: "1", accepts: "1, 4, 16",
+        range: Range::Any, reads: Reads::Always, number: None,
+    }
+}
+
+impl RenderOptions {
+    /// The render settings these options ask for, every value checked
+    /// ([`RenderSettings::validate`]); a refused value is an [`Error::Setting`] naming
+    /// its setting, and a setting the chosen colour does not read is refused.
+    pub fn settings(&self) -> Result<RenderSettings> {
+        let offset = self.offset.unwrap_or(0.0);
+        let defaults = RenderSettings::default();
+        let method = match self.method {
+            Some(method) => method,
+            None if offset != 0.0 => Method::Affine,
+            None => defaults.method,
+        };
+        let mut lighting = defaults.lighting;
+        if let Some(Direction(direction)) = self.light {
+            lighting.direction = direction;
+        }
+        lighting.ambient = self.ambient.unwrap_or(lighting.ambient);
+        lighting.specular = self.specular.unwrap_or(lighting.specular);
+        lighting.shininess = self.shininess.unwrap_or(lighting.shininess);
+        let mut color = self.color.unwrap_or(defaults.color);
+        self.check_color_reads(color)?;
+        if let Some(Span([low, high])) = self.magnitude_range {
+            color = ColorMode::Magnitude {
+                range: Some((low, high)),
+            };
+        }
+        let settings = RenderSettings {
+            method,
+            path: self.path.unwrap_or(defaults.path),
+            step: self.step.unwrap_or(defaults.step),
+            precision_px: self.precision.unwrap_or(defaults.precision_px),
+            refinement: self.refine.unwrap_or(defaults.refinement),
+            color,
+            background: self.background.map_or(defaults.background, |b| b.0),
+            offset,
+            samples: self.samples.unwrap_or(defaults.samples),
+            lighting,
+            ..defaults
+        };
+        settings.validate()?;
+        Ok(settings)
+    }
+
+    /// Refuses a setting given that `color` does not read ([`Reads::Color`]).
+    fn check_color_reads(&self, color: ColorMode) -> Result<()> {
+        for spec in RENDER_SETTINGS {
+            if let Reads::Color(reader) = spec.reads
+                && self.given(spec.setting).is_some()
+                && color.name() != reader
+            {
+                return Err(Error::conflict(
+                    spec.setting,
+                    crate::error::Relation::Requires,
+                    Setting::Color.with(reader),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Refuses a setting given that `settings.method` does not read ([`Reads::Methods`]):
+    /// given with another method it would change nothing. A one-shot image calls this;
+    /// the viewer does not, since its method can be switched to one that reads them.
+    pub fn check_method_reads(&self, settings: &RenderSettings) -> Result<()> {
+        let method = settings.method;
+        for spec in RENDER_SETTINGS {
+            let Reads::Methods(readers) = spec.reads else {
+                continue;
+            };
+            let Some(value) = self.given(spec.setting) else {
+                continue;
+            };
+            let name = method.to_string();
+            if readers.contains(&name.as_str()) {
+                continue;
+            }
+            let mut pieces: Vec<crate::error::Piece> = vec!["is read only by ".into()];
+            for (n, reader) in readers.iter().enumerate() {
+                if n > 0 {
+                    pieces.push(", ".into());
+                }
+                pieces.push(Setting::Method.with(reader));
+            }
+            pieces.extend([
+                "; ".into(),
+                Setting::Method.with(method),
+                " does not read it (leave it out, or choose a method that does)".into(),
+            ]);
+            let message = crate::error::Message::from_pieces(pieces);
+            return Err(Error::setting_value(spec.setting, value, message));
+        }
+        Ok(())
+    }
+}
+
+/// The settings table of the docs (Markdown): one row per render setting, with the
+/// flag, the Python keyword, what it accepts, its default, which methods or colours
+/// read it and its documentation.
+pub fn markdown_table() -> String {
+    let mut out = String::from(
+        "| setting | command line | Python | accepts | default | read by | what it does |\n\
+         |---|---|---|---|---|---|---|\n",
+    );
+    for spec in RENDER_SETTINGS {
+        let reads = match spec.reads {
+            Reads::Always => String::from("every method"),
+            Reads::Methods(methods) => format!("method {}", methods.join(", ")),
+            Reads::Color(color) => format!("color {color}"),
+        };
+        let cell = |text: &str| text.replace('|', "\\|");
+        out.push_str(&format!(
+            "| {} | `{} {}` | `{}=` | {} | {} | {} | {} |\n",
+            spec.setting.name(),
+            spec.setting.flag(),
+            cell(spec.value_name),
+            spec.setting.keyword(),
+            cell(spec.accepts),
+            cell(spec.default),
+            reads,
+            cell(spec.doc.trim()),
+        ));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The methods each setting is read by follow the catalog: `step` by the marching
+    /// methods, `precision` by the range methods, `refine` by both.
+    #[test]
+    fn the_readers_follow_the_catalog() {
+        use crate::catalog::RAY_CAST_METHODS;
+        let names = |keep: fn(&crate::catalog::RayCastMethod) -> bool| -> Vec<&str> {
+            RAY_CAST_METHODS
+                .iter()
+                .filter(|e| keep(e))
+                .map(|e| e.name)
+                .collect()
+        };
+        let readers = |setting: Setting| match SettingSpec::of(setting).unwrap().reads {
+            Reads::Methods(methods) => {
+                let mut methods = methods.to_vec();
+                methods.sort();
+                methods
+            }
+            other => panic!("{setting:?}: {other:?}"),
+        };
+        let sorted = |mut v: Vec<&'static str>| {
+            v.sort();
+            v
+        };
+        assert_eq!(readers(Setting::Step), sorted(names(|e| e.marches)));
+        assert_eq!(
+            readers(Setting::Precision),
+            sorted(names(|e| e.uses_ranges))
+        );
+        assert_eq!(
+            readers(Setting::Refine),
+            sorted(names(|e| e.marches || e.uses_ranges))
+        );
+    }
+
+    /// Every default the table states is the one the settings take.
+    #[test]
+    fn the_stated_defaults_are_the_defaults() {
+        let s = RenderSettings::default();
+        let none = RenderOptions::default().settings().unwrap();
+        assert_eq!(none, s);
+        for spec in RENDER_SETTINGS {
+            if let Some(number) = spec.number {
+                let stated: f32 = spec.default.parse().unwrap();
+                assert_eq!(number(&s), stated, "{:?}", spec.setting);
+            }
+        }
+        assert_eq!(s.method.to_string(), "exact");
+        assert_eq!(
+            s.path.to_string(),
+            SettingSpec::of(Setting::Path).unwrap().default
+        );
+        assert_eq!(
+            s.color.name(),
+            SettingSpec::of(Setting::Color).unwrap().default
+        );
+        assert_eq!(
+            s.refinement.to_string(),
+            SettingSpec::of(Setting::Refine).unwrap().default
+        );
+        assert_eq!(
+            s.samples.to_string(),
+            SettingSpec::of(Setting::Samples).unwrap().default
+        );
+    }
+
+    /// Every render setting can be set from text (the command line's way), and a value
+    /// of the wrong kind is refused naming it.
+    #[test]
+    fn every_setting_takes_text_and_refuses_the_wrong_kind() {
+        let text = |setting: Setting| match setting.key() {
+            "method" => "fixed",
+            "path" => "compute",
+            "refine" => "bisect:2",
+            "color" => "magnitude",
+            "magnitude_range" => "0:1",
+            "negative" => "hide",
+            "background" => "white",
+            "light" => "1,0,0",
+            "samples" => "4",
+            _ => "0.5",
+        };
+        for spec in RENDER_SETTINGS {
+            let mut options = RenderOptions::default();
+            options
+                .set(spec.setting, Value::Text(text(spec.setting)))
+                .unwrap();
+            assert!(options.given(spec.setting).is_some(), "{:?}", spec.setting);
+            let wrong = match spec.kind {
+                Kind::Name | Kind::Numbers => Value::Number(1.5),
+                Kind::Number | Kind::Count => Value::Text("many"),
+            };
+            let err = RenderOptions::default()
+                .set(spec.setting, wrong)
+                .unwrap_err();
+            assert_eq!(err.setting_of(), Some(spec.setting), "{err}");
+            assert!(err.is_usage(), "{err}");
+        }
+    }
+
+    /// Python's numbers reach the same values as the command line's text.
+    #[test]
+    fn numbers_and_text_give_the_same_options() {
+        let mut from_text = RenderOptions::default();
+        let mut from_numbers = RenderOptions::default();
+        for (setting, text, value) in [
+            (
+                Setting::Light,
+                "1,0.5,-2",
+                Value::Numbers(&[1.0, 0.5, -2.0]),
+            ),
+            (
+                Setting::MagnitudeRange,
+                "0.5:2",
+                Value::Numbers(&[0.5, 2.0]),
+            ),
+            (Setting::Ambient, "0.3", Value::Number(0.3)),
+            (Setting::Samples, "4", Value::Number(4.0)),
+        ] {
+            from_text.set(setting, Value::Text(text)).unwrap();
+            from_numbers.set(setting, value).unwrap();
+        }
+        assert_eq!(from_text, from_numbers);
+        let err = RenderOptions::default()
+            .set(Setting::Samples, Value::Number(2.5))
+            .unwrap_err();
+        assert_eq!(err.setting_of(), Some(Setting::Samples));
+        let err = RenderOptions::default()
+            .set(Setting::Light, Value::Numbers(&[1.0, 2.0]))
+            .unwrap_err();
+        assert_eq!(err.setting_of(), Some(Setting::Light));
+    }
+
+    /// Every number's range refuses a value just outside it and takes its bounds.
+    #[test]
+    fn ranges_come_from_the_table() {
+        for spec in RENDER_SETTINGS {
+            let (low, high) = match spec.range {
+                Range::Closed(low, high, _) => (low, Some(high)),
+                Range::AtLeast(low) => (low, None),
+                Range::Any => continue,
+            };
+            let with = |v: f32| {
+                let mut options = RenderOptions {
+                    method: Some(Method::Fixed),
+                    ..Default::default()
+                };
+                options
+                    .set(spec.setting, Value::Number(f64::from(v)))
+                    .unwrap();
+                options.settings()
+            };
+            with(low).unwrap();
+            let err = with(low - low.abs().max(1.0) * 0.5).unwrap_err();
+            assert_eq!(err.setting_of(), Some(spec.setting), "{err}");
+            if let Some(high) = high {
+                with(high).unwrap();
+                assert!(with(high * 2.0 + 1.0).is_err(), "{:?}", spec.setting);
+            }
+        }
+    }
+
+    /// docs/guide/settings.md holds the table as generated; `GLYPHCAST_BLESS=1`
+    /// rewrites it.
+    #[test]
+    fn the_docs_settings_table_is_current() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/docs/guide/settings.md");
+        let page = std::fs::read_to_string(path).unwrap();
+        let (start, end) = (
+            "<!-- settings table: generated -->\n",
+            "<!-- end of the settings table -->",
+        );
+        let from = page.find(start).expect("the start marker") + start.len();
+        let to = page.find(end).expect("the end marker");
+        let generated = markdown_table();
+        if std::env::var("GLYPHCAST_BLESS").is_ok_and(|v| v == "1") {
+            let page = format!("{}{generated}{}", &page[..from], &page[to..]);
+            std::fs::write(path, page).unwrap();
+        } else {
+            assert!(
+                page[from..to] == generated,
+                "docs/guide/settings.md is stale: GLYPHCAST_BLESS=1 cargo test -p glyphcast \
+                 --lib table"
+            );
+        }
+    }
+
+    #[test]
+    fn the_docs_table_has_a_row_per_setting() {
+        let table = markdown_table();
+        assert_eq!(table.lines().count(), RENDER_SETTINGS.len() + 2);
+        assert!(table.contains("| ambient | `--ambient A` | `ambient=` | 0 to 1 | 0.18 |"));
+    }
+}
