@@ -40,6 +40,8 @@ rm -rf target/book
 "$mdbook" build docs 2>&1 | { grep -v '^ INFO ' || true; }
 test -f target/book/index.html || { echo "error: mdbook wrote no target/book/index.html" >&2; exit 1; }
 
+echo "== the link checker's own tests (tests/docs)"
+python3 -m unittest discover -q -s tests/docs 2>&1 | tail -n 1
 echo "== links of the built book"
 python3 tools/check_docs.py html target/book docs
 echo "== links of README.md and docs/ as Markdown"

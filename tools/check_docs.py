@@ -139,8 +139,9 @@ def heading_id(text):
     return text.replace(" ", "-")
 
 
-def markdown_lines(path):
-    """(line number, text) of a Markdown file outside code blocks, code spans removed."""
+def markdown_lines(path, keep_code_spans=False):
+    """(line number, text) of a Markdown file outside code blocks, code spans removed
+    unless `keep_code_spans` (headings keep theirs: their text makes the id)."""
     inside = None
     with open(path, encoding="utf-8") as f:
         for number, line in enumerate(f, 1):
@@ -152,13 +153,13 @@ def markdown_lines(path):
                     inside = None
                 continue
             if inside is None:
-                yield number, CODE_SPAN.sub("", line)
+                yield number, line if keep_code_spans else CODE_SPAN.sub("", line)
 
 
 def markdown_ids(path, cache):
     if path not in cache:
         ids, seen = set(), {}
-        for _, line in markdown_lines(path):
+        for _, line in markdown_lines(path, keep_code_spans=True):
             m = HEADING.match(line)
             if m:
                 base = heading_id(m.group(2))
