@@ -41,7 +41,7 @@ rm -rf target/book
 test -f target/book/index.html || { echo "error: mdbook wrote no target/book/index.html" >&2; exit 1; }
 
 echo "== the link checker's own tests (tests/docs)"
-python3 -m unittest discover -q -s tests/docs 2>&1 | tail -n 1
+python3 -m unittest discover -q -s tests/docs
 echo "== links of the built book"
 python3 tools/check_docs.py html target/book docs
 echo "== links of README.md and docs/ as Markdown"
