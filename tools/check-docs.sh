@@ -48,16 +48,25 @@ echo "== links of README.md and docs/ as Markdown"
 python3 tools/check_docs.py markdown README.md docs
 
 if [ "${1:-}" = "--self-test" ]; then
-    echo "== self-test: a copy of the guide with one broken link must fail"
+    echo "== self-test: a copy of the guide with one broken link must fail, naming it"
     tmp=$(mktemp -d)
     trap 'rm -rf "$tmp"' EXIT
     cp -r docs "$tmp/docs"
+    # The guide's links to repository files (examples/...) resolve in the copy too.
+    for d in examples tools tests include python; do ln -s "$PWD/$d" "$tmp/$d"; done
     sed -i 's/^build-dir = .*/build-dir = "..\/book"/' "$tmp/docs/book.toml"
     printf '\nSee [a page that is not there](no-such-page.md).\n' >> "$tmp/docs/introduction.md"
     "$mdbook" build "$tmp/docs" >/dev/null 2>&1
-    if python3 tools/check_docs.py html "$tmp/book" "$tmp/docs" >/dev/null; then
+    if report=$(python3 tools/check_docs.py html "$tmp/book" "$tmp/docs" 2>&1); then
         echo "error: the checker passed a book with a broken link" >&2
         exit 1
     fi
-    echo "ok: the broken link was reported"
+    if ! grep -q '^introduction.html:[0-9]*: no-such-page.html: no such file' <<<"$report" \
+        || [ "$(grep -c ': no such file' <<<"$report")" != 2 ]; then
+        echo "error: the checker did not report exactly the broken link (on the page and its index copy):" >&2
+        echo "$report" >&2
+        exit 1
+    fi
+    echo "ok: the broken link was reported:"
+    grep '^introduction.html' <<<"$report"
 fi

@@ -82,8 +82,11 @@ def check_html(book, src):
             for line, url in page.links:
                 counts["links"] += 1
                 why = check_html_link(book, repo, src, path, url, cache, counts)
-                if why:
-                    broken.append((os.path.relpath(path, book), line, url, why))
+                entry = (os.path.relpath(path, book), line, url, why)
+                # mdBook writes each Markdown image twice (the image and its zoomed
+                # copy): one report per link and line.
+                if why and entry not in broken:
+                    broken.append(entry)
     return broken, counts
 
 
