@@ -33,7 +33,8 @@ cargo test --locked --no-run --test cli
 venv=target/py-venv
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
 "$venv/bin/python" -m pip install -q --disable-pip-version-check \
-    'maturin>=1.9,<2' numpy pytest nibabel dipy nipype 'pydra>=0.25,<1'
+    'maturin>=1.9,<2' numpy pytest nibabel dipy nipype 'pydra>=0.25,<1' \
+    nbclient nbformat ipykernel pillow
 # A debug build in the shared target/ (the library with `volume` only, pyo3 and numpy:
 # minutes from cold, seconds when nothing changed).
 (cd python && VIRTUAL_ENV="$PWD/../$venv" PATH="$PWD/../$venv/bin:$PATH" \

@@ -609,6 +609,12 @@ fn a_host_render_pass_draws_the_dynamic_rendering_picture() {
     };
     let mut glyphs = GlyphRenderer::new(&context, &desc).expect("renderer");
     glyphs.set_glyphs(&dynamic.sets).expect("glyphs");
+    // Settings replaced later are checked as at creation: a refused value names its
+    // setting and leaves the renderer's own (the picture below is still the default's).
+    let mut refused = RenderSettings::default();
+    refused.lighting.ambient = 2.0;
+    let err = glyphs.set_settings(&refused).expect_err("ambient 2");
+    assert_eq!(err.setting_of(), Some(glyphcast::Setting::Ambient), "{err}");
     let (view, projection) = host_matrices(&camera(0), depth, extent().into());
     let view = HostView::whole(view, projection, WIDTH, HEIGHT);
     glyphs.set_view(0, &view).expect("view");

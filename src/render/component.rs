@@ -208,8 +208,11 @@ impl GlyphRenderer {
     }
 
     /// Replaces the settings (march, colour, lighting) that the next `set_view` calls
-    /// write; the method must stay the one the renderer was made with.
+    /// write; the method must stay the one the renderer was made with, and the values
+    /// are checked as [`GlyphRenderer::new`] checks them ([`RenderSettings::validate`]):
+    /// a refused value leaves the renderer's settings as they were.
     pub fn set_settings(&mut self, settings: &RenderSettings) -> Result<()> {
+        settings.validate()?;
         if settings.method != self.settings.method {
             return Err(Error::Unsupported {
                 what: crate::error::Asked::Method(settings.method),

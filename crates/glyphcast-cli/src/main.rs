@@ -19,6 +19,8 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Render a scene file (docs/scene-format.md) or a volume to a PNG, and optionally a depth map.
+    #[command(after_help = "Guide: docs/guide/figures.md; every render setting: \
+                            docs/guide/settings.md")]
     Render {
         #[command(flatten)]
         source: Box<SceneSource>,
@@ -29,8 +31,10 @@ enum Command {
     },
     /// Show a scene file or a volume in a window: orbit, pan and zoom with the mouse,
     /// keys for the method, step, refinement, colour, negative lobes and the slice.
+    #[command(after_help = "Guide: docs/guide/viewer.md")]
     View(Box<cli::view::ViewArgs>),
     /// Render the built-in demo scene (a field of crossing-fibre glyphs).
+    #[command(after_help = "Guide: docs/guide/command-line.md")]
     Demo {
         /// Show a field of rotated copper crystals as stiffness-tensor glyphs instead.
         #[arg(long)]
@@ -44,24 +48,37 @@ enum Command {
         save_scene: Option<PathBuf>,
     },
     /// Measure every method against the float64 reference on the accuracy suite.
+    #[command(after_help = "Guide: docs/guide/accuracy.md")]
     Accuracy(cli::accuracy::AccuracyArgs),
     /// GPU timings of the glyph pass: one scene or workload, or a sweep.
+    #[command(after_help = "Guide: docs/guide/performance.md")]
     Bench(cli::bench::BenchArgs),
     /// Fit tensor, SH or fibre-ODF (CSD, CSA, Q-ball) coefficients to a DWI series
     /// (writes a 4D NIfTI or MRtrix image).
+    #[command(after_help = "Guide: docs/guide/fitting.md")]
     Fit(cli::fit::FitArgs),
     /// Find up to N maxima per voxel of an ODF image (MRtrix sh2peaks' layout).
+    #[command(after_help = "Guide: docs/guide/fitting.md")]
     Peaks(cli::peaks::PeaksArgs),
     /// Write one subject's quality-control figure set of fibre ODFs into a folder: ODF
     /// mosaic, zoomed regions, index.html and the qc.json sidecar.
     #[command(
-        after_help = "Cohorts on a cluster (SLURM job arrays, Nipype): docs/guide/cohorts.md"
+        after_help = "Guide: docs/guide/qc.md; cohorts on a cluster (SLURM job arrays, \
+                      Nipype): docs/guide/cohorts.md"
     )]
     Qc(Box<cli::qc::QcArgs>),
     /// Write a scene of stiffness glyphs from Voigt matrices (text, CSV or JSON), and the
     /// elastic extremes and averages (--summary).
-    #[command(after_help = "Definitions, units and accuracy: docs/guide/materials.md")]
+    #[command(after_help = "Guide (definitions, units and accuracy): docs/guide/materials.md")]
     Stiffness(cli::stiffness::StiffnessArgs),
+    /// Write the command-line reference into a folder: a Markdown page per command, man
+    /// pages and shell completions (tools/gen-docs.sh writes docs/reference/).
+    #[command(hide = true)]
+    Reference {
+        /// The folder (made if missing).
+        #[arg(value_name = "DIR")]
+        dir: PathBuf,
+    },
 }
 
 fn main() {
@@ -159,6 +176,7 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
         Command::Peaks(args) => cli::peaks::run(args),
         Command::Qc(args) => cli::qc::run(&args),
         Command::Stiffness(args) => cli::stiffness::run(args),
+        Command::Reference { dir } => cli::reference::write(&Cli::command(), &dir),
     }
 }
 
@@ -167,6 +185,54 @@ mod tests {
     use super::Cli;
     use clap::CommandFactory;
     use glyphcast::Setting;
+
+    /// Every command's help names its guide page, and the page is there.
+    #[test]
+    fn every_command_names_its_guide_page() {
+        let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
+        let command = Cli::command();
+        let commands = command.get_subcommands();
+        for sub in commands.filter(|s| !s.is_hide_set() && s.get_name() != "help") {
+            let after = sub
+                .get_after_help()
+                .map(|h| h.to_string())
+                .unwrap_or_default();
+            let page = after
+                .split_whitespace()
+                .find(|w| w.starts_with("docs/guide/"))
+                .map(|w| w.trim_end_matches([';', ',', '.', ')']))
+                .unwrap_or_else(|| panic!("{}: no guide page in {after:?}", sub.get_name()));
+            let path = std::path::Path::new(root).join(page);
+            assert!(path.is_file(), "{}: {page} is missing", sub.get_name());
+        }
+    }
+
+    /// docs/reference/ holds what `glyphcast reference` makes of the command line now
+    /// (tools/gen-docs.sh rewrites it).
+    #[test]
+    fn the_committed_reference_is_current() {
+        let root =
+            std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/reference"));
+        let files = super::cli::reference::files(&Cli::command()).unwrap();
+        assert!(files.len() > 20, "{}", files.len());
+        // No file is there that the reference no longer makes.
+        for folder in ["cli", "man", "completions"] {
+            for entry in std::fs::read_dir(root.join(folder)).unwrap() {
+                let name = format!("{folder}/{}", entry.unwrap().file_name().to_string_lossy());
+                assert!(
+                    files.iter().any(|(path, _)| *path == name),
+                    "docs/reference/{name} is no longer made: run bash tools/gen-docs.sh"
+                );
+            }
+        }
+        for (path, bytes) in files {
+            let committed = std::fs::read(root.join(&path)).unwrap_or_default();
+            assert!(
+                committed == bytes,
+                "docs/reference/{path} is stale: run bash tools/gen-docs.sh"
+            );
+        }
+    }
 
     /// Every setting the library names is spelled as a flag some subcommand has.
     #[test]

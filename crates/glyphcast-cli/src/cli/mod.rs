@@ -7,6 +7,7 @@ pub mod peaks;
 pub mod plot;
 pub mod progress;
 pub mod qc;
+pub mod reference;
 pub mod render;
 pub mod setting_flags;
 pub mod stiffness;
