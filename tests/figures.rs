@@ -283,3 +283,72 @@ fn magnitude_range_ends_at_the_largest_glyph_radius_drawn() {
         "0:{largest} against the diagonal: {changed:?}"
     );
 }
+
+/// `--scale-factor 2` draws the same figure with twice the pixels each way (the same
+/// framing: the glyphs cover the same share of the image, about the same place), and
+/// `--dpi` is recorded in the PNG; bad values of either are usage errors that write
+/// nothing.
+#[test]
+fn a_scale_factor_keeps_the_framing_and_dpi_is_recorded() {
+    let dir = common::fresh_dir("scale-factor");
+    let path = |name: &str| dir.join(name).display().to_string();
+    let run = |extra: &[&str], name: &str| {
+        let (png, npy) = (path(&format!("{name}.png")), path(&format!("{name}.npy")));
+        let mut args = vec!["demo", "--width", "96", "--height", "72", "-o", &png];
+        args.extend(["--depth-out", &npy]);
+        args.extend(extra);
+        let out = common::glyphcast(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let (shape, depth) = read_npy_f32(Path::new(&npy)).expect("npy");
+        (png, shape, depth)
+    };
+    let (_, one_shape, one) = run(&[], "one");
+    let (png, two_shape, two) = run(&["--scale-factor", "2", "--dpi", "300"], "two");
+    assert_eq!(one_shape, vec![72, 96]);
+    assert_eq!(two_shape, vec![144, 192]);
+    // Coverage share and centroid of the glyphs, in image fractions.
+    let measure = |depth: &[f32], (h, w): (usize, usize)| {
+        let (mut n, mut sx, mut sy) = (0.0, 0.0, 0.0);
+        for (i, d) in depth.iter().enumerate() {
+            if d.is_finite() {
+                n += 1.0;
+                sx += ((i % w) as f64 + 0.5) / w as f64;
+                sy += ((i / w) as f64 + 0.5) / h as f64;
+            }
+        }
+        (n / (w * h) as f64, sx / n, sy / n)
+    };
+    let (a, b) = (measure(&one, (72, 96)), measure(&two, (144, 192)));
+    assert!(a.0 > 0.05, "the demo covers {:.3}", a.0);
+    assert!((a.0 - b.0).abs() < 0.01, "coverage {a:?} vs {b:?}");
+    assert!(
+        (a.1 - b.1).abs() < 0.01 && (a.2 - b.2).abs() < 0.01,
+        "{a:?} vs {b:?}"
+    );
+    let reader = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&png).unwrap()))
+        .read_info()
+        .unwrap();
+    let dims = reader.info().pixel_dims.expect("a pHYs chunk");
+    assert_eq!(
+        (dims.xppu, dims.yppu, dims.unit),
+        (11811, 11811, png::Unit::Meter)
+    );
+    for (flag, value, words) in [
+        ("--scale-factor", "0", "--scale-factor 0: must be above 0"),
+        ("--scale-factor", "1000", "each side 1 to 16384"),
+        ("--dpi", "-3", "--dpi -3: must be above 0"),
+    ] {
+        let bad = path("bad.png");
+        let out = common::glyphcast(&[
+            "demo", "--width", "96", "--height", "72", flag, value, "-o", &bad,
+        ]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{flag} {value}: {stderr}");
+        assert!(stderr.contains(words), "{flag} {value}: {stderr}");
+        assert!(!Path::new(&bad).exists());
+    }
+}

@@ -84,14 +84,15 @@ class Rendering(NamedTuple):
     rgba: np.ndarray
     depth: np.ndarray
 
-    def png(self) -> bytes:
-        """The image as PNG bytes."""
-        return encode_png(self.rgba)
+    def png(self, dpi=None) -> bytes:
+        """The image as PNG bytes; ``dpi`` (pixels per inch) is recorded as its print
+        resolution if given, as ``glyphcast render --dpi`` does."""
+        return encode_png(self.rgba, dpi)
 
-    def save_png(self, path) -> None:
-        """Writes the image as a PNG file."""
+    def save_png(self, path, dpi=None) -> None:
+        """Writes the image as a PNG file (``dpi``: as for :meth:`png`)."""
         with open(path, "wb") as file:
-            file.write(self.png())
+            file.write(self.png(dpi))
 
     def _repr_png_(self) -> bytes:
         return self.png()

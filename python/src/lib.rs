@@ -7,7 +7,7 @@
 //! `volume::VolumeRequest`, `render::compose::montage`, `render::headless`), so the module and
 //! the CLI draw the same pixels with the same defaults and checks; their messages name
 //! each option as this module's keyword where the CLI names its flag (`errors`).
-use glyphcast::io::png::encode_png_rgba8;
+use glyphcast::io::png::encode_png_rgba8_at;
 use numpy::{PyReadonlyArray3, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
@@ -95,12 +95,21 @@ fn render_settings(py: Python<'_>) -> PyResult<Vec<Bound<'_, pyo3::types::PyDict
         .collect()
 }
 
-/// PNG bytes of an (H, W, 4) uint8 RGBA image (sRGB, as rendered).
+/// PNG bytes of an (H, W, 4) uint8 RGBA image (sRGB, as rendered), with `dpi` (pixels
+/// per inch) recorded as its print resolution if given.
 #[pyfunction]
+#[pyo3(signature = (rgba, dpi=None))]
 fn encode_png<'py>(
     py: Python<'py>,
     rgba: PyReadonlyArray3<'py, u8>,
+    dpi: Option<f64>,
 ) -> PyResult<Bound<'py, PyBytes>> {
+    if let Some(dpi) = dpi.filter(|d| !(d.is_finite() && *d > 0.0 && *d <= 1e6)) {
+        return Err(value_error(
+            &format!("dpi={dpi}"),
+            "must be above 0 (at most 1000000)",
+        ));
+    }
     let shape = rgba.shape();
     if shape[2] != 4 {
         return Err(value_error(
@@ -117,7 +126,7 @@ fn encode_png<'py>(
         .into_raw_vec_and_offset()
         .0;
     let png = py
-        .detach(|| encode_png_rgba8(std::path::Path::new("rgba"), w, h, &pixels))
+        .detach(|| encode_png_rgba8_at(std::path::Path::new("rgba"), (w, h), &pixels, dpi))
         .map_err(to_py)?;
     Ok(PyBytes::new(py, &png))
 }

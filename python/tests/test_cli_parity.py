@@ -100,3 +100,16 @@ def test_samples_supersample_as_the_cli_does(scenes, cli_render):
     assert renderer.render().png() == png
     camera = json.loads(scene.read_text())["camera"]
     assert renderer.render(camera=camera).png() == png
+
+
+def test_dpi_writes_the_bytes_the_cli_writes(scenes, cli_render):
+    """``png(dpi=300)`` is the CLI's ``--dpi 300`` file, byte for byte, and a bad dpi is a
+    ValueError naming it."""
+    scene = scenes / "order4_pair.json"
+    _, png = cli_render(scene, "--width", 64, "--height", 48, "--dpi", 300)
+    ours = glyphcast.render_scene(scene, width=64, height=48)
+    assert ours.png(dpi=300) == png
+    assert ours.png() != png
+    assert b"pHYs" in png
+    with pytest.raises(ValueError, match=r"^dpi=0: must be above 0"):
+        ours.png(dpi=0.0)

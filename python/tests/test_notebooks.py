@@ -40,7 +40,7 @@ def test_notebook_runs_and_shows_glyphs(path: pathlib.Path):
         rgba = decode_png(raw)
         corner = rgba[0, 0]
         differing = np.any(rgba != corner, axis=-1).mean()
-        assert differing > 0.05, f"{path.name}: {differing:.3f} of the pixels are glyphs"
+        assert differing > 0.01, f"{path.name}: {differing:.3f} of the pixels are glyphs"
 
 
 def decode_png(raw: bytes) -> np.ndarray:

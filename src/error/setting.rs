@@ -115,6 +115,10 @@ settings! {
     Width = value("width", "width");
     /// Image height in pixels.
     Height = value("height", "height");
+    /// A factor on the image's size that keeps its framing.
+    ScaleFactor = value("scale_factor", "scale factor");
+    /// The print resolution recorded in a PNG.
+    Dpi = value("dpi", "dpi");
     /// The magnitude colour bar.
     Colorbar = value("colorbar", "colour bar");
     /// SH basis of a volume.

@@ -21,9 +21,22 @@ pub fn write_png_rgba8(path: &Path, width: u32, height: u32, rgba: &[u8]) -> Res
 /// The PNG file [`write_png_rgba8`] writes, as bytes (for a set of outputs written
 /// together); `path` names it in errors.
 pub fn encode_png_rgba8(path: &Path, width: u32, height: u32, rgba: &[u8]) -> Result<Vec<u8>> {
+    encode_png_rgba8_at(path, (width, height), rgba, None)
+}
+
+/// [`encode_png_rgba8`] with a print resolution: `dpi` pixels per inch, recorded in the
+/// file's pHYs chunk (as pixels per metre, rounded), so that a page layout program
+/// places the image at its intended size.
+pub fn encode_png_rgba8_at(
+    path: &Path,
+    (width, height): (u32, u32),
+    rgba: &[u8],
+    dpi: Option<f64>,
+) -> Result<Vec<u8>> {
     check_size(path, width, height, rgba.len())?;
     check_encoding_memory(path, rgba.len())?;
-    encode(width, height, rgba).map_err(|err| Error::io(path, err))
+    let per_metre = dpi.map(|dpi| (dpi / 0.0254).round() as u32);
+    encode(width, height, rgba, per_metre).map_err(|err| Error::io(path, err))
 }
 
 /// The encoder's working memory (a filtered copy of the image and the compressed
@@ -88,6 +101,7 @@ fn encode(
     width: u32,
     height: u32,
     rgba: &[u8],
+    per_metre: Option<u32>,
 ) -> std::result::Result<Vec<u8>, png::EncodingError> {
     let mut encoded = Vec::new();
     let mut encoder = png::Encoder::new(&mut encoded, width, height);
@@ -108,6 +122,11 @@ fn encode(
         (0.30, 0.60),
         (0.15, 0.06),
     ));
+    encoder.set_pixel_dims(per_metre.map(|ppu| png::PixelDimensions {
+        xppu: ppu,
+        yppu: ppu,
+        unit: png::Unit::Meter,
+    }));
     let mut writer = encoder.write_header()?;
     writer.write_image_data(rgba)?;
     writer.finish()?;
@@ -130,6 +149,26 @@ mod tests {
                 ]
             })
             .collect()
+    }
+
+    /// `dpi` is recorded as pixels per metre (300 dpi: 11811), read back by a decoder.
+    #[test]
+    fn the_print_resolution_is_recorded() {
+        let rgba = gradient(4, 3);
+        let path = Path::new("x.png");
+        for (dpi, expected) in [
+            (Some(300.0), Some(11811)),
+            (Some(72.0), Some(2835)),
+            (None, None),
+        ] {
+            let bytes = encode_png_rgba8_at(path, (4, 3), &rgba, dpi).unwrap();
+            let reader = png::Decoder::new(std::io::Cursor::new(bytes))
+                .read_info()
+                .unwrap();
+            let dims = reader.info().pixel_dims;
+            assert_eq!(dims.map(|d| (d.xppu, d.yppu)), expected.map(|e| (e, e)));
+            assert!(dims.is_none_or(|d| d.unit == png::Unit::Meter));
+        }
     }
 
     #[test]

@@ -203,7 +203,7 @@ _glyphcast() {
             return 0
             ;;
         glyphcast__subcmd__demo)
-            opts="-o -h --stiffness --output --depth-out --width --height --method --path --precision --step --refine --color --magnitude-range --negative --background --offset --light --ambient --specular --shininess --samples --colorbar --colorbar-label --device --validation --save-scene --help"
+            opts="-o -h --stiffness --output --depth-out --dpi --width --height --scale-factor --method --path --precision --step --refine --color --magnitude-range --negative --background --offset --light --ambient --specular --shininess --samples --colorbar --colorbar-label --device --validation --save-scene --help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -221,11 +221,19 @@ _glyphcast() {
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
+                --dpi)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 --width)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 --height)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --scale-factor)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
@@ -697,7 +705,7 @@ _glyphcast() {
             return 0
             ;;
         glyphcast__subcmd__render)
-            opts="-o -h --sh --basis --force-basis --frame --legacy --lmax --tensor --tensor-order --order --nonsymmetric --slice --slices --voxels --mask --scale --norm --min-amplitude --perspective --orientation --underlay --underlay-range --underlay-plane --glyph --labels --views --lightbox --peaks --peaks-frame --peak-values --peaks-color --peaks-norm --peaks-scale --peaks-width --save-scene --output --depth-out --width --height --method --path --precision --step --refine --color --magnitude-range --negative --background --offset --light --ambient --specular --shininess --samples --colorbar --colorbar-label --device --validation --help"
+            opts="-o -h --sh --basis --force-basis --frame --legacy --lmax --tensor --tensor-order --order --nonsymmetric --slice --slices --voxels --mask --scale --norm --min-amplitude --perspective --orientation --underlay --underlay-range --underlay-plane --glyph --labels --views --lightbox --peaks --peaks-frame --peak-values --peaks-color --peaks-norm --peaks-scale --peaks-width --save-scene --output --depth-out --dpi --width --height --scale-factor --method --path --precision --step --refine --color --magnitude-range --negative --background --offset --light --ambient --specular --shininess --samples --colorbar --colorbar-label --device --validation --help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -831,11 +839,19 @@ _glyphcast() {
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
+                --dpi)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 --width)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 --height)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --scale-factor)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
@@ -953,7 +969,7 @@ _glyphcast() {
             return 0
             ;;
         glyphcast__subcmd__view)
-            opts="-h --sh --basis --force-basis --frame --legacy --lmax --tensor --tensor-order --order --nonsymmetric --slice --slices --voxels --mask --scale --norm --min-amplitude --perspective --orientation --underlay --underlay-range --underlay-plane --glyph --labels --views --lightbox --peaks --peaks-frame --peak-values --peaks-color --peaks-norm --peaks-scale --peaks-width --save-scene --width --height --method --path --precision --step --refine --color --magnitude-range --negative --background --offset --light --ambient --specular --shininess --samples --colorbar --colorbar-label --device --validation --frames --script --screenshot --capture-window --frames-in-flight --help"
+            opts="-h --sh --basis --force-basis --frame --legacy --lmax --tensor --tensor-order --order --nonsymmetric --slice --slices --voxels --mask --scale --norm --min-amplitude --perspective --orientation --underlay --underlay-range --underlay-plane --glyph --labels --views --lightbox --peaks --peaks-frame --peak-values --peaks-color --peaks-norm --peaks-scale --peaks-width --save-scene --width --height --scale-factor --method --path --precision --step --refine --color --magnitude-range --negative --background --offset --light --ambient --specular --shininess --samples --colorbar --colorbar-label --device --validation --frames --script --screenshot --capture-window --frames-in-flight --help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1080,6 +1096,10 @@ _glyphcast() {
                     return 0
                     ;;
                 --height)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --scale-factor)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;

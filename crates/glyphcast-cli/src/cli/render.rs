@@ -147,6 +147,22 @@ pub struct OutputArgs {
     /// Also write the ray distance per pixel as a float32 .npy (NaN for misses).
     #[arg(long, value_name = "NPY")]
     pub depth_out: Option<PathBuf>,
+    /// The print resolution recorded in the PNG (its pHYs chunk), in pixels per inch:
+    /// a layout program then places the image at width / DPI inches.
+    #[arg(long, value_name = "DPI")]
+    pub dpi: Option<f64>,
+}
+
+impl OutputArgs {
+    /// `--dpi`, checked: a finite number above 0 (a usage error otherwise).
+    fn dpi(&self) -> Result<Option<f64>> {
+        match self.dpi {
+            Some(dpi) if !(dpi.is_finite() && dpi > 0.0 && dpi <= 1e6) => Err(
+                Error::setting_value(Setting::Dpi, dpi, "must be above 0 (at most 1000000)"),
+            ),
+            dpi => Ok(dpi),
+        }
+    }
 }
 
 #[derive(Args)]
@@ -157,6 +173,10 @@ pub struct RenderArgs {
     /// Image height in pixels (default: the scene's).
     #[arg(long)]
     height: Option<u32>,
+    /// Multiply the image's width and height by F, keeping its framing: the same figure
+    /// with more pixels (labels, captions and the colour bar grow with it).
+    #[arg(long, value_name = "F")]
+    scale_factor: Option<f64>,
     /// The render settings (method, colour, lighting, ...): the library's table.
     #[command(flatten)]
     settings: super::setting_flags::SettingFlags,
@@ -181,6 +201,33 @@ impl RenderArgs {
     /// --width and --height, checked (`ImageRequest::checked`; a usage error).
     pub fn image_request(&self) -> Result<ImageRequest> {
         ImageRequest::checked(self.width, self.height)
+    }
+
+    /// `width` x `height` times `--scale-factor`, rounded: the size of an image of the
+    /// same framing. A factor that is not above 0, or a side beyond the largest image,
+    /// is a usage error.
+    pub fn scaled(&self, width: u32, height: u32) -> Result<(u32, u32)> {
+        let Some(factor) = self.scale_factor else {
+            return Ok((width, height));
+        };
+        let max = glyphcast::scene::MAX_IMAGE_SIDE;
+        let side = |n: u32| (f64::from(n) * factor).round();
+        let (w, h) = (side(width), side(height));
+        if !(factor.is_finite() && factor > 0.0) {
+            return Err(Error::setting_value(
+                Setting::ScaleFactor,
+                factor,
+                "must be above 0",
+            ));
+        }
+        if !(1.0..=f64::from(max)).contains(&w) || !(1.0..=f64::from(max)).contains(&h) {
+            return Err(Error::setting_value(
+                Setting::ScaleFactor,
+                factor,
+                format!("makes the {width} x {height} image {w} x {h}: each side 1 to {max}"),
+            ));
+        }
+        Ok((w as u32, h as u32))
     }
 
     /// The flags as the library's render options (the Python module's too); a bad
@@ -291,8 +338,11 @@ pub fn render(
     peaks: Option<&PeakSet>,
 ) -> Result<()> {
     let image = options.image_request()?;
-    scene.image.width = image.width.unwrap_or(scene.image.width);
-    scene.image.height = image.height.unwrap_or(scene.image.height);
+    (scene.image.width, scene.image.height) = options.scaled(
+        image.width.unwrap_or(scene.image.width),
+        image.height.unwrap_or(scene.image.height),
+    )?;
+    output.dpi()?;
     let settings = options.settings()?;
     options.check_colorbar(&settings)?;
     options.options()?.check_method_reads(&settings)?;
@@ -379,9 +429,12 @@ pub fn render_montage(
         .map(|p| (p.scene, p.peaks))
         .unzip();
     for scene in &mut scenes {
-        scene.image.width = image.width.unwrap_or(scene.image.width);
-        scene.image.height = image.height.unwrap_or(scene.image.height);
+        (scene.image.width, scene.image.height) = options.scaled(
+            image.width.unwrap_or(scene.image.width),
+            image.height.unwrap_or(scene.image.height),
+        )?;
     }
+    output.dpi()?;
     let common = common_scale(&scenes);
     let mut prepared = prepare_montage(scenes, montage.columns, settings, negative)?
         .with_underlays(montage.underlays)
@@ -420,7 +473,12 @@ fn write_outputs(
     scene_file: Option<(&Path, String)>,
 ) -> Result<()> {
     let (w, h) = (image.width, image.height);
-    let png = glyphcast::io::png::encode_png_rgba8(&output.output, w, h, &image.rgba)?;
+    let png = glyphcast::io::png::encode_png_rgba8_at(
+        &output.output,
+        (w, h),
+        &image.rgba,
+        output.dpi()?,
+    )?;
     let mut files: Vec<(&Path, Vec<u8>)> = vec![(&output.output, png)];
     if let Some(depth) = &output.depth_out {
         let npy = glyphcast::io::npy::encode_depth_npy(depth, w, h, &image.distance)?;

@@ -83,6 +83,8 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     } else {
         single_view(&args.source, image)?
     };
+    // The window (and its screenshots) at the scaled size of the same framing.
+    let (width, height) = args.options.scaled(width, height)?;
     let options = ViewerOptions {
         gpu: args.options.gpu_options(),
         settings,
