@@ -208,11 +208,14 @@ impl Renderer {
         };
         let voxel_to_world = arrays::affine(affine)?;
         let mut kwargs = Kwargs::new(options)?;
-        let image = kwargs.image_request()?;
+        let mut image = kwargs.image_request()?;
         let request = kwargs.volume_request(voxel_to_world.affine)?;
         let render = kwargs.render_options()?;
         let mut extras = Extras::from_kwargs(&mut kwargs)?;
         kwargs.finish()?;
+        // Edge labels and a lightbox's captions get a band free of glyphs, as on the
+        // command line.
+        image.keep_edges = extras.labels || request.lightbox.is_some();
         // The options on their own first: refused before the array is converted.
         request.check(input).map_err(to_py)?;
         request.options(image).map_err(to_py)?;

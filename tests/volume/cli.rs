@@ -312,6 +312,7 @@ fn a_tensor_volume_renders_and_saves_the_scene_it_rendered() {
         image: ImageRequest {
             width: Some(32),
             height: Some(32),
+            ..Default::default()
         },
         ..Default::default()
     };

@@ -244,6 +244,7 @@ fn axial_view_is_radiological_with_anterior_up_and_fits_the_slice() {
             image: ImageRequest {
                 width: Some(200),
                 height: None,
+                ..Default::default()
             },
             ..Default::default()
         };

@@ -161,6 +161,14 @@ fn font() -> Result<FontRef<'static>> {
         .map_err(|err| Error::setup("usable DejaVu Sans font", err))
 }
 
+/// The band along each edge of a `width` x `height` image, in pixels, that its edge
+/// labels ([`draw_edge_labels`]) and a caption ([`draw_caption`]) may cover: their margin,
+/// letters and shadow, with room to spare. Framing that keeps glyphs out of it keeps
+/// every letter off the glyphs.
+pub fn edge_band(width: u32, height: u32) -> f64 {
+    1.25 * f64::from(letter_size(width, height))
+}
+
 /// The letter size of labels on a `width` x `height` image.
 fn letter_size(width: u32, height: u32) -> f32 {
     (LETTER_FRACTION * width.min(height) as f32).max(MIN_LETTER_PX)

@@ -185,6 +185,7 @@ fn montage(volume_args: &VolumeArgs, image: ImageRequest) -> Result<(ViewSource,
         options.image = ImageRequest {
             width: Some(cell.0),
             height: Some(cell.1),
+            ..Default::default()
         };
         let view = panel_view(&volume, &options)?;
         views.push((options, view));

@@ -285,6 +285,11 @@ impl VolumeArgs {
     /// The figure of the volume input at the size `image`, reported on stderr: one view
     /// (with its underlay) or a montage's panels.
     pub fn figure(&self, image: ImageRequest) -> Result<VolumeFigure> {
+        // Edge labels and a lightbox's captions get a band free of glyphs.
+        let image = ImageRequest {
+            keep_edges: self.labels || self.lightbox.is_some(),
+            ..image
+        };
         let request = self.request();
         let volume = self.read_volume(&request)?;
         // The figure's notes hold the volume's.

@@ -287,6 +287,7 @@ fn plan_figures(
     let mut base = request.volume.options(ImageRequest {
         width: Some(size),
         height: Some(size),
+        ..Default::default()
     })?;
     base.mask = mask;
     // Sized per glyph first; `figures::size_alike` puts every glyph on one scale.

@@ -86,6 +86,10 @@ pub struct ImageRequest {
     pub width: Option<u32>,
     /// Image height in pixels, if asked for.
     pub height: Option<u32>,
+    /// Keep the band along each edge that edge labels and captions cover
+    /// ([`edge_band`](glyphcast::render::compose::labels::edge_band)) free of glyphs:
+    /// the view is framed a little wider.
+    pub keep_edges: bool,
 }
 
 impl ImageRequest {
@@ -104,7 +108,11 @@ impl ImageRequest {
                 ));
             }
         }
-        Ok(Self { width, height })
+        Ok(Self {
+            width,
+            height,
+            keep_edges: false,
+        })
     }
 }
 
@@ -170,7 +178,10 @@ pub fn frame_region(
     let extent = hi - lo;
     let image = image_size(extent.x, extent.y, request)?;
     let aspect = f64::from(image.width) / f64::from(image.height);
-    let view_height = extent.y.max(extent.x / aspect);
+    // The share of each side that glyphs may take: all of it, or what the edge bands
+    // of labels and captions leave.
+    let (free_w, free_h) = free_shares(image, request.keep_edges);
+    let view_height = (extent.y / free_h).max(extent.x / free_w / aspect);
     let middle = 0.5 * (lo + hi);
     let front = right * middle.x + up * middle.y + fwd * lo.z;
     let target = front + fwd * (0.5 * extent.z);
@@ -244,7 +255,10 @@ pub fn frame_volume(
     let radius = (0.5 * (hi - lo).length()).max(f64::MIN_POSITIVE);
     let half_fov = (0.5 * PERSPECTIVE_FOV_DEG).to_radians();
     // The narrower of the two fields of view must hold the sphere.
-    let half = half_fov.tan().min(half_fov.tan() * aspect).atan();
+    let (free_w, free_h) = free_shares(image, request.keep_edges);
+    let half = (half_fov.tan() * free_h)
+        .min(half_fov.tan() * aspect * free_w)
+        .atan();
     let from = oblique_from(orientation).normalize();
     let eye = target + from * (radius / half.sin());
     let up = (DVec3::Z - from * from.z).normalize();
@@ -262,6 +276,17 @@ pub fn frame_volume(
 }
 
 /// The image size for a view `width` x `height` world units wide and high.
+/// The shares of the image's width and height that glyphs may fill: 1, or what is left
+/// between the edge bands of labels and captions (at least a tenth).
+fn free_shares(image: ImageSize, keep_edges: bool) -> (f64, f64) {
+    if !keep_edges {
+        return (1.0, 1.0);
+    }
+    let band = glyphcast::render::compose::labels::edge_band(image.width, image.height);
+    let share = |side: u32| (1.0 - 2.0 * band / f64::from(side)).max(0.1);
+    (share(image.width), share(image.height))
+}
+
 fn image_size(width: f64, height: f64, request: ImageRequest) -> Result<ImageSize> {
     ImageRequest::checked(request.width, request.height)?;
     let aspect = width / height;
@@ -295,16 +320,19 @@ mod tests {
         let width = ImageRequest {
             width: Some(100),
             height: None,
+            ..Default::default()
         };
         assert_eq!(size(20.0, 10.0, width), (100, 50));
         let both = ImageRequest {
             width: Some(32),
             height: Some(32),
+            ..Default::default()
         };
         assert_eq!(size(20.0, 10.0, both), (32, 32));
         let zero = ImageRequest {
             width: Some(0),
             height: None,
+            ..Default::default()
         };
         assert!(image_size(1.0, 1.0, zero).is_err());
     }
