@@ -175,7 +175,12 @@ class Engine {
                 if (families[f].queueFlags & VK_QUEUE_GRAPHICS_BIT) {
                     physical_device_ = candidate;
                     family_ = f;
-                    std::printf("device: %s\n", props.deviceName);
+                    VkPhysicalDeviceDriverProperties driver{
+                        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+                    VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+                    props2.pNext = &driver;
+                    vkGetPhysicalDeviceProperties2(candidate, &props2);
+                    std::printf("device: %s, driver: %s\n", props.deviceName, driver.driverInfo);
                     return;
                 }
         }
