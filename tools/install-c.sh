@@ -56,8 +56,9 @@ if [ -z "$soname" ]; then
     exit 1
 fi
 # What the static library needs from the system, as
-# `cargo rustc -p glyphcast-c --release --crate-type staticlib -- --print native-static-libs`
-# prints it for the Rust standard library (Linux, glibc); libvulkan is not among them.
+# `cargo rustc -p glyphcast-c --release --lib --crate-type staticlib -- --print native-static-libs`
+# prints it (Linux, glibc: "-ldl -lgcc_s -lutil -lrt -lpthread -lm -ldl -lc", the
+# first -ldl libloading's, which opens the Vulkan loader); libvulkan is not among them.
 static_libs="-lgcc_s -lutil -lrt -lpthread -lm -ldl -lc"
 
 mkdir -p "$prefix/include" "$prefix/lib/pkgconfig" "$prefix/lib/cmake/glyphcast"

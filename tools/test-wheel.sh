@@ -9,7 +9,8 @@
 #
 # Not part of tools/test.sh: the wheel is a release build of the whole library, many
 # minutes from cold on a small machine. The tests that compare with the command line
-# run the development build of `glyphcast` (cargo build --bin glyphcast).
+# run the development build of `glyphcast` (cargo build --bin glyphcast), or the binary
+# GLYPHCAST_BIN names.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export GLYPHCAST_LAVAPIPE="${GLYPHCAST_LAVAPIPE:-1}"
@@ -36,8 +37,12 @@ for path in (glyphcast.__file__, module.__file__):
 print("glyphcast from", pathlib.Path(module.__file__).parent)
 EOF
 )
-cargo build --locked --bin glyphcast
+# The command line the parity tests compare with: GLYPHCAST_BIN, or the development
+# build (made here; a no-op after tools/test.sh).
+if [ -z "${GLYPHCAST_BIN:-}" ]; then
+    cargo build --locked --bin glyphcast
+    export GLYPHCAST_BIN="$target/debug/glyphcast"
+fi
 # Run from outside the tree, so that nothing in it is importable by accident.
 root=$PWD
-(cd "$target" && GLYPHCAST_BIN="$target/debug/glyphcast" \
-    "$venv/bin/python" -m pytest -q -p no:cacheprovider "$root/python/tests" "$@")
+(cd "$target" && "$venv/bin/python" -m pytest -q -p no:cacheprovider "$root/python/tests" "$@")
