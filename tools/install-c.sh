@@ -24,8 +24,9 @@
 # and what it would add for this library is three small text files; they are written
 # below, relocatable (both find the prefix from their own location).
 #
-# Neither library links libvulkan: glyphcast loads the host's vkGetInstanceProcAddr (and
-# the loader only through it), so the host program links the Vulkan loader itself.
+# Neither library links libvulkan: glyphcast loads every Vulkan function through the
+# vkGetInstanceProcAddr the host passes, so the host program links (or opens) the
+# Vulkan loader itself.
 # ABI is the version's major, or 0.<minor> while the major is 0 (capi/build.rs sets the
 # SONAME). The shared library carries no RUNPATH and needs only the C runtime: a
 # program finds it through its own rpath (CMake sets one for builds in the build tree;
@@ -57,8 +58,9 @@ if [ -z "$soname" ]; then
 fi
 # What the static library needs from the system, as
 # `cargo rustc -p glyphcast-c --release --lib --crate-type staticlib -- --print native-static-libs`
-# prints it (Linux, glibc: "-ldl -lgcc_s -lutil -lrt -lpthread -lm -ldl -lc", the
-# first -ldl libloading's, which opens the Vulkan loader); libvulkan is not among them.
+# prints it (Linux, glibc: "-ldl -lgcc_s -lutil -lrt -lpthread -lm -ldl -lc"; the first
+# -ldl is libloading's, with which the core can open the loader, unused by the C API);
+# libvulkan is not among them.
 static_libs="-lgcc_s -lutil -lrt -lpthread -lm -ldl -lc"
 
 mkdir -p "$prefix/include" "$prefix/lib/pkgconfig" "$prefix/lib/cmake/glyphcast"
