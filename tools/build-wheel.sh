@@ -25,8 +25,10 @@ out=$(cd "$out" && pwd)
 target="${CARGO_TARGET_DIR:-$PWD/target}"
 venv="$target/wheel-venv"
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
+# The versions the wheel was last built and checked with (maturin 1.16, zig 0.17.1,
+# auditwheel 6.8): a newer zig may change what it links.
 "$venv/bin/python" -m pip install -q --disable-pip-version-check \
-    'maturin>=1.9,<2' ziglang auditwheel
+    'maturin>=1.9,<2' 'ziglang>=0.17,<0.18' 'auditwheel>=6,<7'
 
 compat=manylinux_2_28
 # zig is the C++ compiler for the target, whose triple is this machine's: the cc crate
