@@ -16,6 +16,10 @@ lib="${CARGO_TARGET_DIR:-$PWD/target}/debug"
 cargo build --locked --profile test -p glyphcast-c
 build="${CARGO_TARGET_DIR:-$PWD/target}/c-example"
 mkdir -p "$build"
+# The library's SONAME is versioned (capi/build.rs): the example finds it, under that
+# name, in its own folder, which links to the build.
+soname=$(objdump -p "$lib/libglyphcast_c.so" | awk '$1 == "SONAME" { print $2 }')
+ln -sf "$lib/libglyphcast_c.so" "$build/${soname:-libglyphcast_c.so}"
 # The example compiles its own plane shaders (examples/shaders/) with shaderc, linked
 # statically as build.rs links it: Debian's static shaderc leaves glslang and
 # SPIRV-Tools to the static libraries named here (the list tools/shaderc-link adds).
@@ -23,6 +27,6 @@ glslang="-lglslang -lSPIRV -lMachineIndependent -lGenericCodeGen -lOSDependent -
 glslang="$glslang -lSPIRV-Tools-opt -lSPIRV-Tools -lstdc++ -lpthread"
 cc -std=c11 -Wall -Wextra -Werror -O1 -I include \
     -DPLANE_SHADER_DIR="\"$PWD/examples/shaders\"" examples/c/main.c \
-    -L "$lib" -lglyphcast_c -lvulkan -l:libshaderc_combined.a $glslang -lm -Wl,-rpath,"$lib" \
+    -L "$lib" -lglyphcast_c -lvulkan -l:libshaderc_combined.a $glslang -lm -Wl,-rpath,"$build" \
     -o "$build/c-example"
 "$build/c-example" "$out" "$@"

@@ -11,6 +11,9 @@ pkgs=(mesa-vulkan-drivers libvulkan-dev vulkan-validationlayers
       fonts-dejavu-core
       # The C example engine (examples/c/, tools/c-example.sh): the system C compiler.
       gcc libc6-dev
+      # The C++ example engine (examples/cpp/, tools/cpp-example.sh): built with CMake
+      # against the installed C library (tools/install-c.sh).
+      g++ cmake
       # The Python module (python/): a virtual environment to build and test it in
       # (maturin, numpy, pytest and nibabel come from PyPI into it).
       python3 python3-venv python3-pip)

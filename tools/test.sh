@@ -41,6 +41,20 @@ venv=target/py-venv
     maturin develop --locked --quiet)
 # conftest.py turns the validation layer on (GLYPHCAST_VALIDATION=1) and picks lavapipe.
 "$venv/bin/python" -m pytest -q python/tests
+# ---- optional: Mesa 25 (GLYPHCAST_MESA25=1) -------------------------------------------
+# The GPU tests of the core (and its embedding example), of the C API (the C and C++
+# example engines) and of the Python module again, on Mesa 25's lavapipe: unpacked from
+# Debian's bookworm-backports beside the system's driver by tools/mesa25.sh (which adds
+# that suite to apt's sources if no source lists it; nothing is installed).
+if [ "${GLYPHCAST_MESA25:-0}" = 1 ]; then
+    echo "== again on Mesa 25's lavapipe (tools/mesa25.sh)"
+    (
+        eval "$(bash tools/mesa25.sh)"
+        cargo test --locked -p glyphcast --lib --examples
+        cargo test --locked -p glyphcast-c
+        "$venv/bin/python" -m pytest -q python/tests
+    )
+fi
 echo "== cohorts on SLURM (tests/slurm, on a local one-node cluster: tools/slurm-local.sh)"
 if [ "$(id -u)" = 0 ]; then
     # The cluster stops on every exit, a failed test's included.

@@ -133,10 +133,18 @@ impl Gpu {
         surface_extensions: &[*const c_char],
         device_extensions: &[&CStr],
     ) -> Result<Gpu> {
+        // The loader is opened here, not linked: a program or Python module built with
+        // glyphcast starts and imports without it, and the first render says what to
+        // install (the name is Debian's and Ubuntu's, then Fedora's and RHEL's).
         // SAFETY: loading the Vulkan loader library has no preconditions beyond the
         // library itself being a conforming loader.
-        let entry = unsafe { ash::Entry::load() }
-            .map_err(|e| Error::setup("Vulkan loader (libvulkan.so.1)", e))?;
+        let entry = unsafe { ash::Entry::load() }.map_err(|e| {
+            Error::setup(
+                "Vulkan loader, libvulkan.so.1 (install libvulkan1, or vulkan-loader on \
+                 Fedora and RHEL)",
+                e,
+            )
+        })?;
         let log = ValidationLog::default();
         let (instance, messenger) =
             instance::create(&entry, options.validation, &log, surface_extensions)?;
