@@ -3,9 +3,12 @@
 # on lavapipe with the Vulkan validation layer on (the tests turn it on themselves), and
 # checks that the core builds, passes its tests and stays free of the front ends'
 # dependencies when built alone (what an embedding engine gets); runs the C
-# API's tests (its generated header, the C example engine built with cc); then builds
-# the Python module into a virtual environment (target/py-venv, reused) and runs its
-# tests (python/tests) against the CLI, the workflow engines' (Nipype, pydra) included;
+# API's tests (its generated header, the C example engine built with cc, the C++ engine
+# built with CMake and pkg-config against the installed library); then builds the
+# Python module's wheel, installs it into a virtual environment (target/py-venv, reused)
+# and runs its tests (python/tests) against the CLI, the workflow engines' (Nipype,
+# pydra) and the example notebook included; then the GPU tests again on Mesa 25's
+# lavapipe (GLYPHCAST_MESA25=0 skips them);
 # last, as root, the cohort scripts on a one-node SLURM cluster it starts and stops
 # (tests/slurm, tools/slurm-local.sh).
 set -euo pipefail
@@ -35,18 +38,27 @@ venv=target/py-venv
 "$venv/bin/python" -m pip install -q --disable-pip-version-check \
     'maturin>=1.9,<2' numpy pytest nibabel dipy nipype 'pydra>=0.25,<1' \
     nbclient nbformat ipykernel pillow
-# A debug build in the shared target/ (the library with `volume` only, pyo3 and numpy:
-# minutes from cold, seconds when nothing changed).
+# The module as users get it: a wheel, installed with pip into the environment, so the
+# tests import it from site-packages, not from python/. Built in the dev profile in the
+# shared target/ (minutes from cold, seconds when nothing changed); the release
+# artifact (abi3, manylinux_2_28, by maturin --zig) is tools/build-wheel.sh's, whose
+# own check, tools/test-wheel.sh, runs these tests against it in a fresh environment.
+wheels=target/wheels/test
+rm -rf "$wheels"
 (cd python && VIRTUAL_ENV="$PWD/../$venv" PATH="$PWD/../$venv/bin:$PATH" \
-    maturin develop --locked --quiet)
+    maturin build --locked --profile dev --quiet --out "../$wheels")
+"$venv/bin/python" -m pip uninstall -q -y glyphcast >/dev/null 2>&1 || true
+"$venv/bin/python" -m pip install -q --disable-pip-version-check --no-deps "$wheels"/glyphcast-*.whl
+(cd / && "$venv/bin/python" -c 'import glyphcast; f = glyphcast.__file__
+assert "site-packages" in f, "glyphcast imported from " + f')
 # conftest.py turns the validation layer on (GLYPHCAST_VALIDATION=1) and picks lavapipe.
 "$venv/bin/python" -m pytest -q python/tests
-# ---- optional: Mesa 25 (GLYPHCAST_MESA25=1) -------------------------------------------
+# ---- Mesa 25 (GLYPHCAST_MESA25=0 skips it) --------------------------------------------
 # The GPU tests of the core (and its embedding example), of the C API (the C and C++
 # example engines) and of the Python module again, on Mesa 25's lavapipe: unpacked from
 # Debian's bookworm-backports beside the system's driver by tools/mesa25.sh (which adds
 # that suite to apt's sources if no source lists it; nothing is installed).
-if [ "${GLYPHCAST_MESA25:-0}" = 1 ]; then
+if [ "${GLYPHCAST_MESA25:-1}" = 1 ]; then
     echo "== again on Mesa 25's lavapipe (tools/mesa25.sh)"
     (
         eval "$(bash tools/mesa25.sh)"
