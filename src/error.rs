@@ -14,7 +14,7 @@ mod message;
 mod setting;
 
 pub use message::{Message, Piece};
-pub use setting::Setting;
+pub use setting::{Setting, SettingName};
 
 /// The crate's result type, with [`Error`] as the default error.
 pub type Result<T, E = Error> = std::result::Result<T, E>;

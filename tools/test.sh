@@ -28,6 +28,9 @@ if grep -E '^(clap|winit|plotters|indicatif|nifti|ndarray|clarabel|sha2|pyo3|gly
     exit 1
 fi
 cargo test --locked -p glyphcast --lib --examples
+# The crate as crates.io would ship it: packaged (src, glsl, build script; no path-only
+# dependency) and built from the package's own files.
+cargo package --locked --allow-dirty --quiet -p glyphcast-shaderc-link -p glyphcast
 echo "== the C API (capi/): its header up to date, the C example engine (examples/c/)"
 cargo test --locked -p glyphcast-c
 echo "== the Python module (python/)"

@@ -11,11 +11,21 @@ use std::fmt;
 
 /// A setting's spelling: its key (`magnitude_range`; the flag `--magnitude-range`, the
 /// Python keyword `magnitude_range`, the C field) and its name in the library's own words
-/// (`magnitude range`). Settings are constants: the ones below, the render settings of
-/// [`RENDER_SETTINGS`](crate::render::table::RENDER_SETTINGS), and a front end's own
-/// (the diffusion crate's fits declare theirs).
+/// (`magnitude range`). Settings are constants made by [`setting!`](crate::setting): the
+/// ones below, the render settings of
+/// [`RENDER_SETTINGS`](crate::render::table::RENDER_SETTINGS), and a front end's own (the
+/// diffusion crate's fits declare theirs). A reference to its spelling, so that errors
+/// that carry settings stay small.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Setting {
+    /// The spelling ([`setting!`](crate::setting) makes it).
+    #[doc(hidden)]
+    pub spelling: &'static SettingName,
+}
+
+/// A setting's key, name and kind (see [`Setting`]).
+#[derive(Debug, PartialEq, Eq, Hash)]
+pub struct SettingName {
     key: &'static str,
     name: &'static str,
     kind: Kind,
@@ -32,10 +42,23 @@ enum Kind {
     InvertedKeyword(&'static str),
 }
 
-impl Setting {
+/// A [`Setting`] constant: `setting!(value("lambda", "lambda"))` for a setting that takes a
+/// value, `setting!(switch("legacy", "legacy"))` for a switch, and
+/// `setting!(switch("nonsymmetric", "nonsymmetric").keyword_inverted("symmetric"))` for
+/// a switch whose keyword says the opposite.
+#[macro_export]
+macro_rules! setting {
+    ($ctor:ident($key:expr, $name:expr) $(.$more:ident($arg:expr))*) => {
+        $crate::Setting {
+            spelling: &$crate::error::SettingName::$ctor($key, $name)$(.$more($arg))*,
+        }
+    };
+}
+
+impl SettingName {
     /// A setting that takes a value: `key` in snake case, `name` in words.
-    pub const fn value(key: &'static str, name: &'static str) -> Setting {
-        Setting {
+    pub const fn value(key: &'static str, name: &'static str) -> SettingName {
+        SettingName {
             key,
             name,
             kind: Kind::Value,
@@ -43,8 +66,8 @@ impl Setting {
     }
 
     /// A switch: on when given.
-    pub const fn switch(key: &'static str, name: &'static str) -> Setting {
-        Setting {
+    pub const fn switch(key: &'static str, name: &'static str) -> SettingName {
+        SettingName {
             key,
             name,
             kind: Kind::Switch,
@@ -52,41 +75,43 @@ impl Setting {
     }
 
     /// This switch with a keyword (Python's) that means the opposite, `False` for on.
-    pub const fn keyword_inverted(self, keyword: &'static str) -> Setting {
-        Setting {
+    pub const fn keyword_inverted(self, keyword: &'static str) -> SettingName {
+        SettingName {
             kind: Kind::InvertedKeyword(keyword),
             ..self
         }
     }
+}
 
+impl Setting {
     /// The key: snake case, the Python keyword and the C field (`magnitude_range`).
     pub fn key(self) -> &'static str {
-        self.key
+        self.spelling.key
     }
 
     /// The setting in the library's own words: lower case, words apart
     /// (`magnitude range`). Unique, and free of control characters.
     pub fn name(self) -> &'static str {
-        self.name
+        self.spelling.name
     }
 
     /// The command line's flag: the key with `-` for `_` (`--magnitude-range`).
     pub fn flag(self) -> String {
-        format!("--{}", self.key.replace('_', "-"))
+        format!("--{}", self.key().replace('_', "-"))
     }
 
     /// The keyword (Python's): the key, or the opposite switch's.
     pub fn keyword(self) -> &'static str {
-        match self.kind {
+        match self.spelling.kind {
             Kind::InvertedKeyword(keyword) => keyword,
-            _ => self.key,
+            _ => self.key(),
         }
     }
 
     /// For a switch, the keyword's value that turns it on (`True`, or `False` for an
     /// inverted keyword); `None` for a setting that takes a value.
     pub fn keyword_on(self) -> Option<&'static str> {
-        match self.kind {
+        match self.spelling.kind {
             Kind::Value => None,
             Kind::Switch => Some("True"),
             Kind::InvertedKeyword(_) => Some("False"),
@@ -101,7 +126,8 @@ macro_rules! settings {
         /// [`RENDER_SETTINGS`](crate::render::table::RENDER_SETTINGS)'.
         #[allow(non_upper_case_globals)]
         impl Setting {
-            $($(#[doc = $doc])* pub const $variant: Setting = Setting::$ctor($key, $name)$(.$more($arg))*;)*
+            $($(#[doc = $doc])* pub const $variant: Setting =
+                crate::setting!($ctor($key, $name)$(.$more($arg))*);)*
 
             /// Every setting declared here (the render settings are in
             /// [`RENDER_SETTINGS`](crate::render::table::RENDER_SETTINGS)).

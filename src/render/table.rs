@@ -275,7 +275,7 @@ macro_rules! render_settings {
         #[allow(non_upper_case_globals)]
         impl Setting {
             $($(#[doc = $doc])+ pub const $variant: Setting =
-                Setting::value(stringify!($field), $name);)*
+                crate::setting!(value(stringify!($field), $name));)*
         }
 
         /// The render options as a front end takes them, typed: each field is the

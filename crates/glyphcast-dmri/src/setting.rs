@@ -9,32 +9,34 @@ pub struct DmriSetting;
 #[allow(non_upper_case_globals)]
 impl DmriSetting {
     /// A DWI's b-values.
-    pub const Bval: Setting = Setting::value("bval", "b-values");
+    pub const Bval: Setting = glyphcast::setting!(value("bval", "b-values"));
     /// A DWI's gradient directions.
-    pub const Bvec: Setting = Setting::value("bvec", "b-vectors");
+    pub const Bvec: Setting = glyphcast::setting!(value("bvec", "b-vectors"));
     /// The frame of the gradient directions.
-    pub const BvecConvention: Setting = Setting::value("bvec_convention", "b-vector convention");
+    pub const BvecConvention: Setting =
+        glyphcast::setting!(value("bvec_convention", "b-vector convention"));
     /// The fibre ODF model of a fit.
-    pub const Odf: Setting = Setting::value("odf", "ODF model");
+    pub const Odf: Setting = glyphcast::setting!(value("odf", "ODF model"));
     /// A fit's regularisation weight.
-    pub const Lambda: Setting = Setting::value("lambda", "lambda");
+    pub const Lambda: Setting = glyphcast::setting!(value("lambda", "lambda"));
     /// Which CSD is fitted: MRtrix's or DIPY's.
-    pub const CsdAlgorithm: Setting = Setting::value("csd_algorithm", "CSD algorithm");
+    pub const CsdAlgorithm: Setting = glyphcast::setting!(value("csd_algorithm", "CSD algorithm"));
     /// CSD's threshold.
-    pub const Tau: Setting = Setting::value("tau", "tau");
+    pub const Tau: Setting = glyphcast::setting!(value("tau", "tau"));
     /// CSD's fibre response file.
-    pub const Response: Setting = Setting::value("response", "response");
+    pub const Response: Setting = glyphcast::setting!(value("response", "response"));
     /// The FA threshold of the response estimate.
-    pub const ResponseFa: Setting = Setting::value("response_fa", "response FA");
+    pub const ResponseFa: Setting = glyphcast::setting!(value("response_fa", "response FA"));
     /// Peaks per voxel.
-    pub const Count: Setting = Setting::value("count", "count");
+    pub const Count: Setting = glyphcast::setting!(value("count", "count"));
     /// The relative threshold of peaks.
     pub const RelativeThreshold: Setting =
-        Setting::value("relative_threshold", "relative threshold");
+        glyphcast::setting!(value("relative_threshold", "relative threshold"));
     /// The smallest angle between peaks.
-    pub const MinSeparation: Setting = Setting::value("min_separation", "minimum separation");
+    pub const MinSeparation: Setting =
+        glyphcast::setting!(value("min_separation", "minimum separation"));
     /// The side of each panel of a quality-control set, in pixels.
-    pub const PanelSize: Setting = Setting::value("panel_size", "panel size");
+    pub const PanelSize: Setting = glyphcast::setting!(value("panel_size", "panel size"));
 
     /// Every diffusion setting.
     pub const ALL: &'static [Setting] = &[
