@@ -61,7 +61,7 @@ impl Default for PeakOptions {
 }
 
 impl PeakOptions {
-    /// Checks the options; errors name the [`Setting`].
+    /// Checks the options; errors name the [`Setting`](glyphcast::Setting).
     pub fn validate(&self) -> Result<()> {
         if !(1..=16).contains(&self.count) {
             return Err(Error::setting_value(
