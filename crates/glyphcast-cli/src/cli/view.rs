@@ -170,6 +170,11 @@ fn single_view(
 /// panel is framed for the cell, as `render` frames it with `--width` and `--height`
 /// both given (without them, `render` centres a smaller panel in its cell instead).
 fn montage(volume_args: &VolumeArgs, image: ImageRequest) -> Result<(ViewSource, (u32, u32))> {
+    // Edge labels get a band free of glyphs, as in `render`.
+    let image = ImageRequest {
+        keep_edges: volume_args.labels,
+        ..image
+    };
     let (volume, plan) = volume_args.montage_panels(image)?;
     let (mut panels, columns) = (plan.panels, plan.columns);
     let mut cell = (image.width.unwrap_or(0), image.height.unwrap_or(0));
@@ -185,7 +190,7 @@ fn montage(volume_args: &VolumeArgs, image: ImageRequest) -> Result<(ViewSource,
         options.image = ImageRequest {
             width: Some(cell.0),
             height: Some(cell.1),
-            ..Default::default()
+            ..options.image
         };
         let view = panel_view(&volume, &options)?;
         views.push((options, view));

@@ -285,9 +285,9 @@ impl VolumeArgs {
     /// The figure of the volume input at the size `image`, reported on stderr: one view
     /// (with its underlay) or a montage's panels.
     pub fn figure(&self, image: ImageRequest) -> Result<VolumeFigure> {
-        // Edge labels and a lightbox's captions get a band free of glyphs.
+        // Edge labels (and with them a lightbox's captions) get a band free of glyphs.
         let image = ImageRequest {
-            keep_edges: self.labels || self.lightbox.is_some(),
+            keep_edges: self.labels,
             ..image
         };
         let request = self.request();
