@@ -52,7 +52,8 @@ rm -rf "$wheels"
     maturin build --locked --profile dev --quiet --out "../$wheels")
 "$venv/bin/python" -m pip uninstall -q -y glyphcast >/dev/null 2>&1 || true
 "$venv/bin/python" -m pip install -q --disable-pip-version-check --no-deps "$wheels"/glyphcast-*.whl
-(cd / && "$venv/bin/python" -c 'import glyphcast; f = glyphcast.__file__
+python=$PWD/$venv/bin/python
+(cd / && "$python" -c 'import glyphcast; f = glyphcast.__file__
 assert "site-packages" in f, "glyphcast imported from " + f')
 # conftest.py turns the validation layer on (GLYPHCAST_VALIDATION=1) and picks lavapipe.
 "$venv/bin/python" -m pytest -q python/tests

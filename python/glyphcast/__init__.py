@@ -31,7 +31,7 @@ The keyword options are those of ``glyphcast render``, with ``-`` as ``_``
   evenly spaced slices of the ``slice`` plane, each captioned with its slice).
 
 Arrays are taken as they come: float32 or float64, C or Fortran order, strided or
-reversed views (``shm_coeff[..., :28]``), each copied once. A voxel with a NaN or
+reversed views (``shm_coeff[:, :, 2:5]``), each copied once. A voxel with a NaN or
 infinite coefficient is left out with one warning that counts them, as the command
 line does; warnings point at the caller's line.
 
