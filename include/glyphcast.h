@@ -106,6 +106,29 @@ typedef uint32_t GlyphcastNegative;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// How the marching methods refine the first sign change ([`GlyphcastSettings::refine`]).
+enum GlyphcastRefine
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // Regula falsi (Illinois) steps from the bracket (the default, 4 steps).
+  GLYPHCAST_REFINE_SECANT = 0,
+  // Bisection steps, then the bracket's midpoint.
+  GLYPHCAST_REFINE_BISECT = 1,
+  // One linear interpolation of the bracket.
+  GLYPHCAST_REFINE_INTERP = 2,
+  // The first sample inside the glyph.
+  GLYPHCAST_REFINE_NONE = 3,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum GlyphcastRefine GlyphcastRefine;
+#else
+typedef uint32_t GlyphcastRefine;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // The spherical-harmonic basis of [`glyphcast_renderer_set_sh_glyphs`]' coefficients.
 enum GlyphcastShBasis
 #if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
