@@ -67,7 +67,7 @@ fn stiffness(
 /// function follow.
 #[pyfunction]
 fn render_settings(py: Python<'_>) -> PyResult<Vec<Bound<'_, pyo3::types::PyDict>>> {
-    use glyphcast::render::table::{Kind, RENDER_SETTINGS, Reads};
+    use glyphcast::render::table::{Kind, RENDER_SETTINGS};
     RENDER_SETTINGS
         .iter()
         .map(|spec| {
@@ -83,12 +83,7 @@ fn render_settings(py: Python<'_>) -> PyResult<Vec<Bound<'_, pyo3::types::PyDict
             row.set_item("kind", kind)?;
             row.set_item("accepts", spec.accepts)?;
             row.set_item("default", spec.default)?;
-            let read_by = match spec.reads {
-                Reads::Always => "every method".to_owned(),
-                Reads::Methods(methods) => format!("method {}", methods.join(", ")),
-                Reads::Color(color) => format!("color {color}"),
-            };
-            row.set_item("read_by", read_by)?;
+            row.set_item("read_by", spec.reads.to_string())?;
             row.set_item("doc", spec.doc.trim())?;
             Ok(row)
         })

@@ -58,6 +58,17 @@ pub enum Reads {
     Color(&'static str),
 }
 
+impl std::fmt::Display for Reads {
+    /// Who reads the setting, in words (`method fixed, interval`).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Reads::Always => f.write_str("every method"),
+            Reads::Methods(methods) => write!(f, "method {}", methods.join(", ")),
+            Reads::Color(color) => write!(f, "color {color}"),
+        }
+    }
+}
+
 /// One render setting, declared once.
 #[derive(Clone, Copy, Debug)]
 pub struct SettingSpec {
@@ -536,11 +547,6 @@ pub fn markdown_table() -> String {
          |---|---|---|---|---|---|---|\n",
     );
     for spec in RENDER_SETTINGS {
-        let reads = match spec.reads {
-            Reads::Always => String::from("every method"),
-            Reads::Methods(methods) => format!("method {}", methods.join(", ")),
-            Reads::Color(color) => format!("color {color}"),
-        };
         let cell = |text: &str| text.replace('|', "\\|");
         out.push_str(&format!(
             "| {} | `{} {}` | `{}=` | {} | {} | {} | {} |\n",
@@ -550,7 +556,7 @@ pub fn markdown_table() -> String {
             spec.setting.keyword(),
             cell(spec.accepts),
             cell(spec.default),
-            reads,
+            spec.reads,
             cell(spec.doc.trim()),
         ));
     }
