@@ -11,9 +11,6 @@
 //! - `build/compile.rs` compiles the jobs on every core, with a cache keyed by the
 //!   preprocessed source, so that an edit recompiles only the variants it changes.
 
-// Debian's static shaderc lacks glslang: this crate's build script adds those link lines.
-extern crate glyphcast_shaderc_link;
-
 #[path = "src/glyph/monomials.rs"]
 #[allow(dead_code)]
 mod monomials;

@@ -30,7 +30,7 @@ fi
 cargo test --locked -p glyphcast --lib --examples
 # The crate as crates.io would ship it: packaged (src, glsl, build script; no path-only
 # dependency) and built from the package's own files.
-cargo package --locked --allow-dirty --quiet -p glyphcast-shaderc-link -p glyphcast
+cargo package --locked --allow-dirty --quiet -p glyphcast
 echo "== the C API (capi/): its header up to date, the C example engine (examples/c/)"
 cargo test --locked -p glyphcast-c
 echo "== the Python module (python/)"
