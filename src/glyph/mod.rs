@@ -132,6 +132,15 @@ pub struct TensorLayout {
     pub symmetry: Symmetry,
 }
 
+impl From<TensorLayout> for crate::error::LayoutName {
+    fn from(layout: TensorLayout) -> Self {
+        crate::error::LayoutName {
+            order: layout.order,
+            symmetric: layout.symmetry == Symmetry::Symmetric,
+        }
+    }
+}
+
 impl TensorLayout {
     /// Coefficients per glyph: (n+1)(n+2)/2 symmetric, 3^n non-symmetric.
     pub const fn coefficient_count(&self) -> usize {

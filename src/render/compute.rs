@@ -156,7 +156,7 @@ impl ComputeRayCastPass {
         }
         let shader =
             compute_raycast_shader(layout, Method::Exact).ok_or_else(|| Error::Unsupported {
-                what: crate::error::Asked::Layout(layout),
+                what: crate::error::Asked::Layout(layout.into()),
                 by: Setting::Path.with("compute"),
             })?;
         let entries = [vk::SpecializationMapEntry {

@@ -3,6 +3,7 @@
 //! `compute` is a second path for the exact method: a compute shader per pixel over the
 //! screen tiles of `tiles`. The CPU compositing of the drawn images (box filter, colour
 //! bar, labels, montage) is in `compose`; the GLSL test harnesses are in `harness`.
+pub mod antialias;
 pub mod batch;
 pub mod component;
 pub mod compose;

@@ -338,7 +338,7 @@ impl RayCastPass {
             Method::Impostor => (None, IMPOSTOR_FRAGMENT),
             Method::Mesh(_) => {
                 return Err(Error::Unsupported {
-                    what: crate::error::Asked::Method(method),
+                    what: crate::error::Asked::Method(Setting::Method.with(method)),
                     by: "the ray-casting pass".into(),
                 });
             }
@@ -351,7 +351,7 @@ impl RayCastPass {
                 let available = self.ctx.max_varying_components();
                 if needed > available {
                     return Err(Error::Layout {
-                        layout,
+                        layout: layout.into(),
                         error: Box::new(Error::Limit {
                             what: "vertex-to-fragment components \
                                    (maxVertexOutputComponents, maxFragmentInputComponents)",
@@ -362,7 +362,7 @@ impl RayCastPass {
                     });
                 }
                 let shader = raycast_shader(layout, method).ok_or_else(|| Error::Unsupported {
-                    what: crate::error::Asked::Layout(layout),
+                    what: crate::error::Asked::Layout(layout.into()),
                     by: Setting::Method.with(method),
                 })?;
                 let fragment = match self.formats.distance {
