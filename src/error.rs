@@ -408,6 +408,9 @@ pub enum Asked {
     Layout(crate::glyph::TensorLayout),
     /// Ellipsoid glyphs (`--glyph ellipsoid`), ray-cast in closed form.
     Ellipsoids,
+    /// Reciprocal glyphs (scene `shape` `reciprocal`, r = 1/|f|), which the exact method
+    /// alone ray-casts.
+    Reciprocal,
     /// An intersection method.
     Method(crate::render::Method),
 }
@@ -424,6 +427,10 @@ impl fmt::Display for Asked {
             }
             Asked::Ellipsoids => f.write_str(
                 "ellipsoid glyphs, which are ray-cast in closed form (not tessellated, not marched)",
+            ),
+            Asked::Reciprocal => f.write_str(
+                "reciprocal glyphs (shape reciprocal, r = 1/|f|), which only the exact method \
+                 draws (not tessellated, not marched, no offset)",
             ),
             Asked::Method(method) => write!(f, "method {method}"),
         }

@@ -87,6 +87,34 @@ pub fn bounding_radius(poly: &GlyphPolynomial, negative: NegativeMode) -> f64 {
     (bound + ROUNDING_SLACK * s).min(s)
 }
 
+/// The least |f(u)| over unit u, bounded from both sides by the branch and bound of the
+/// module notes run on -|f| (the margins hold for either sign: |p(phi) - p(0)| is bounded
+/// alike): `lower` is a guaranteed lower bound, `attained` the least |f| found at a
+/// sampled direction (an upper bound of the minimum, within 1 % of `lower` unless the
+/// budget ran out). The reciprocal glyph r = 1/|f| has radius at most 1 / `lower`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LeastAbs {
+    /// Guaranteed: |f(u)| >= lower for every unit u (0 or less where f may vanish).
+    pub lower: f64,
+    /// |f| at a direction the search evaluated.
+    pub attained: f64,
+}
+
+/// [`LeastAbs`] of `poly`: `None` for a zero polynomial.
+pub fn least_abs(poly: &GlyphPolynomial) -> Option<LeastAbs> {
+    let s = poly.abs_coefficient_sum();
+    if s.is_nan() || s <= 0.0 {
+        return None;
+    }
+    let m_abs = bounding_radius(poly, NegativeMode::Abs);
+    let mut search = Search::new(poly, Target::NegativeAbs, m_abs.min(s));
+    let upper_of_negative = search.run(TOLERANCE);
+    Some(LeastAbs {
+        lower: -upper_of_negative - ROUNDING_SLACK * s,
+        attained: -search.best,
+    })
+}
+
 /// max of h(f(u)) over `samples` points of a spherical Fibonacci lattice: a lower bound of
 /// the true maximum, for tests and reports.
 pub fn sampled_max_radius(poly: &GlyphPolynomial, negative: NegativeMode, samples: usize) -> f64 {
@@ -272,11 +300,12 @@ fn shaped(value: f64, negative: NegativeMode) -> f64 {
     }
 }
 
-/// What is maximised: |f|, or f clamped at 0 below.
+/// What is maximised: |f|, f clamped at 0 below, or -|f| (for the least |f|).
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Target {
     Abs,
     Positive,
+    NegativeAbs,
 }
 
 /// A square [s0, s0 + size] x [t0, t0 + size] of cube face `face` (coordinates in [-1, 1]).
@@ -375,34 +404,50 @@ struct Search<'a> {
 
 /// Upper bound of the target's maximum over the sphere; `m_known` must bound max |f|.
 fn maximise(poly: &GlyphPolynomial, target: Target, m_known: f64, tolerance: f64) -> f64 {
-    let mut search = Search {
-        poly,
-        target,
-        m_known,
-        best: 0.0,
-        heap: BinaryHeap::new(),
-        evaluations: 0,
-    };
-    for cell in initial_cells() {
-        search.push(cell);
-    }
-    let absolute = ABSOLUTE_TOLERANCE * poly.abs_coefficient_sum();
-    while let Some(top) = search.heap.pop() {
-        if top.bound <= search.best * (1.0 + tolerance) + absolute
-            || search.evaluations >= MAX_EVALUATIONS
-        {
-            return top.bound.max(search.best);
-        }
-        if target == Target::Abs {
-            // Every remaining cell is bounded by the top one, so this bounds max |f|.
-            search.m_known = search.m_known.min(top.bound.max(search.best));
-        }
-        for child in top.cell.children() {
-            search.push(child);
+    Search::new(poly, target, m_known).run(tolerance)
+}
+
+impl<'a> Search<'a> {
+    fn new(poly: &'a GlyphPolynomial, target: Target, m_known: f64) -> Self {
+        Search {
+            poly,
+            target,
+            m_known,
+            // -|f| is never above 0: its best sample starts below every value.
+            best: if target == Target::NegativeAbs {
+                f64::NEG_INFINITY
+            } else {
+                0.0
+            },
+            heap: BinaryHeap::new(),
+            evaluations: 0,
         }
     }
-    // Every cell was dropped: the best sample is the maximum.
-    search.best
+
+    /// The branch and bound from the initial cells: an upper bound of the target's
+    /// maximum, within `tolerance` of the best sample unless the budget ran out.
+    fn run(&mut self, tolerance: f64) -> f64 {
+        for cell in initial_cells() {
+            self.push(cell);
+        }
+        let absolute = ABSOLUTE_TOLERANCE * self.poly.abs_coefficient_sum();
+        while let Some(top) = self.heap.pop() {
+            if top.bound <= self.best + tolerance * self.best.abs() + absolute
+                || self.evaluations >= MAX_EVALUATIONS
+            {
+                return top.bound.max(self.best);
+            }
+            if self.target == Target::Abs {
+                // Every remaining cell is bounded by the top one, so this bounds max |f|.
+                self.m_known = self.m_known.min(top.bound.max(self.best));
+            }
+            for child in top.cell.children() {
+                self.push(child);
+            }
+        }
+        // Every cell was dropped: the best sample is the maximum.
+        self.best
+    }
 }
 
 fn initial_cells() -> impl Iterator<Item = Cell> {
@@ -429,6 +474,7 @@ impl Search<'_> {
         let value = match self.target {
             Target::Abs => f.abs(),
             Target::Positive => f,
+            Target::NegativeAbs => -f.abs(),
         };
         self.best = self.best.max(value);
         let bound = self.cell_bound(value, tangential, theta);

@@ -33,6 +33,12 @@
 //! An ellipsoid glyph ([`GlyphShape::Ellipsoid`]) is a quadric and is intersected in
 //! closed form instead ([`ellipsoid::first_hit`]), with the same conventions.
 //!
+//! A reciprocal glyph ([`GlyphShape::Reciprocal`], r(u) = 1/|f(u)|, f without zeros on
+//! the sphere) takes the same steps with g(q) = 1 - |q| |f(q / |q|)| (positive inside,
+//! 1 at the centre, which is inside) and F(t) = (q.q)^(n-1) - f(q(t))^2, of degree 2n,
+//! which has the sign of g wherever q != 0: |q| |f(q^)| < 1 exactly where
+//! |f(q)| = |q|^n |f(q^)| < |q|^(n-1).
+//!
 //! Conventions: the returned distance is the first root of g with t > 0 along the ray.
 //! For a ray that starts outside the glyph this is the entry point; for a ray that starts
 //! inside it is the first exit (a camera inside a glyph sees that glyph's inner surface).
@@ -114,6 +120,21 @@ impl WorldGlyph {
         })
     }
 
+    /// The reciprocal glyph r(u) = 1/|f(u)| of `poly`, placed at `center` with `scale`;
+    /// `None` where f may vanish on the sphere (the surface is unbounded).
+    pub fn reciprocal(center: DVec3, scale: f64, poly: GlyphPolynomial) -> Option<Self> {
+        let least = super::bounds::least_abs(&poly)?;
+        (least.lower > 0.0).then(|| Self {
+            center,
+            scale,
+            poly,
+            shape: GlyphShape::Reciprocal,
+            negative: NegativeMode::Abs,
+            offset: 0.0,
+            bound: 1.0 / least.lower,
+        })
+    }
+
     /// Radius of the world bounding sphere around `center`.
     pub fn world_radius(&self) -> f64 {
         self.scale * self.bound
@@ -123,9 +144,17 @@ impl WorldGlyph {
     fn radial(&self, q: DVec3) -> f64 {
         let len = q.length();
         if len == 0.0 {
-            return self.offset;
+            // The reciprocal glyph holds its centre (g = 1 there).
+            return if self.shape == GlyphShape::Reciprocal {
+                1.0
+            } else {
+                self.offset
+            };
         }
         let f = self.poly.eval(q / len);
+        if self.shape == GlyphShape::Reciprocal {
+            return 1.0 - len * f.abs();
+        }
         let h = match self.negative {
             NegativeMode::Abs => f.abs(),
             NegativeMode::Hide => f.max(0.0),
@@ -196,7 +225,7 @@ impl Chord {
 
     /// Steps 2 to 5 of the module notes.
     fn first_root_polynomial(&self, glyph: &WorldGlyph) -> Option<f64> {
-        let f = self.crossing_polynomial(&glyph.poly);
+        let f = self.crossing_polynomial(&glyph.poly, glyph.shape);
         let mut points = real_roots_in(&univariate::derivative(&f), -1.0, 1.0);
         points.extend((0..=GRID_POINTS).map(|i| -1.0 + 2.0 * i as f64 / GRID_POINTS as f64));
         points.sort_by(f64::total_cmp);
@@ -212,16 +241,22 @@ impl Chord {
         self.first_sign_change(glyph, &points)
     }
 
-    /// F(s) = f(q(s))^2 - (q(s).q(s))^(n+1) on the chord, q(s) = a' + s b'.
-    fn crossing_polynomial(&self, poly: &GlyphPolynomial) -> Vec<f64> {
+    /// F(s) = f(q(s))^2 - (q(s).q(s))^(n+1) on the chord, q(s) = a' + s b'; for the
+    /// reciprocal glyph (q(s).q(s))^(n-1) - f(q(s))^2. Either is positive inside.
+    fn crossing_polynomial(&self, poly: &GlyphPolynomial, shape: GlyphShape) -> Vec<f64> {
         let a = self.a + self.mid() * self.d;
         let b = self.half() * self.d;
         let f = poly.along_line(a, b);
         let length_squared = [a.length_squared(), 2.0 * a.dot(b), b.length_squared()];
         let mut out = univariate::multiply(&f, &f);
-        let radial = univariate::power(&length_squared, poly.order + 1);
+        let (power, sign) = match shape {
+            GlyphShape::Reciprocal => (poly.order.saturating_sub(1), -1.0),
+            _ => (poly.order + 1, 1.0),
+        };
+        let radial = univariate::power(&length_squared, power);
         out.resize(out.len().max(radial.len()), 0.0);
-        out.iter_mut().zip(&radial).for_each(|(v, r)| *v -= r);
+        out.iter_mut().for_each(|v| *v *= sign);
+        out.iter_mut().zip(&radial).for_each(|(v, r)| *v -= sign * r);
         out
     }
 
