@@ -100,5 +100,5 @@ pub use stiffness::{
     Options, PERPENDICULAR_TOLERANCE, PlaneExtremes, SYMMETRY_TOLERANCE, Stiffness,
 };
 pub use summary::{MinMax, Summary};
-pub use surface::Surface;
+pub use surface::{Surface, SurfaceForm};
 pub use voigt::{Kind, Tensor4, VOIGT_PAIRS, Voigt, contract, from_tensor, to_tensor, voigt_index};

@@ -34,7 +34,93 @@ impl Surface {
     ];
 }
 
+impl Surface {
+    /// The name the command line and Python take: `young`, `compressibility`,
+    /// `shear-min`, `shear-max`, `poisson-min`, `poisson-max`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Surface::Young => "young",
+            Surface::Compressibility => "compressibility",
+            Surface::ShearMin => "shear-min",
+            Surface::ShearMax => "shear-max",
+            Surface::PoissonMin => "poisson-min",
+            Surface::PoissonMax => "poisson-max",
+        }
+    }
+
+    /// The surface of a [`Surface::name`].
+    pub fn from_name(name: &str) -> Option<Surface> {
+        Surface::ALL.into_iter().find(|s| s.name() == name)
+    }
+}
+
+/// A surface that is the glyph of a tensor form: radius `|f(u)|`, or `1/|f(u)|` where
+/// `reciprocal`, with `f(u) = Σ tensor[i1..in] u_i1 … u_in`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurfaceForm {
+    /// The order n of the form.
+    pub order: u32,
+    /// All `3^n` entries, row-major (the last index fastest).
+    pub tensor: Vec<f64>,
+    /// Whether the radius is `1/|f|` (Young's modulus: `f` is `1/E`).
+    pub reciprocal: bool,
+}
+
 impl Stiffness {
+    /// The tensor form whose glyph is `surface`, where there is one: Young's modulus is
+    /// the reciprocal glyph of the compliance quartic `s_ijkl` (`1/E(u) = s(u,u,u,u)`),
+    /// linear compressibility the glyph of the quadratic form `β_ij = Σ_k s_ijkk`. The
+    /// extremes of shear modulus and Poisson's ratio over `v ⊥ u` are no polynomial
+    /// forms of `u`: `None`.
+    pub fn surface_form(&self, surface: Surface) -> Option<SurfaceForm> {
+        match surface {
+            Surface::Young => Some(SurfaceForm {
+                order: 4,
+                tensor: self
+                    .compliance_tensor()
+                    .iter()
+                    .flatten()
+                    .flatten()
+                    .flatten()
+                    .copied()
+                    .collect(),
+                reciprocal: true,
+            }),
+            Surface::Compressibility => Some(SurfaceForm {
+                order: 2,
+                tensor: self.compressibility_matrix().iter().flatten().copied().collect(),
+                reciprocal: false,
+            }),
+            _ => None,
+        }
+    }
+
+    /// The largest `|radius|` of `surface` over all directions (for sizing several
+    /// materials on one scale): Young's largest modulus, the largest `|β|` (exact
+    /// eigenvalues), and for the extremes over `v ⊥ u` the largest `|G|` or `|ν|` over
+    /// every pair, which bounds them.
+    pub fn largest_radius(&self, surface: Surface) -> f64 {
+        let largest = |min: f64, max: f64| min.abs().max(max.abs());
+        match surface {
+            Surface::Young => {
+                let e = self.young_extremes();
+                largest(e.min, e.max)
+            }
+            Surface::Compressibility => {
+                let b = self.compressibility_extremes();
+                largest(b.min, b.max)
+            }
+            Surface::ShearMin | Surface::ShearMax => {
+                let g = self.shear_extremes();
+                largest(g.min, g.max)
+            }
+            Surface::PoissonMin | Surface::PoissonMax => {
+                let p = self.poisson_extremes();
+                largest(p.min, p.max)
+            }
+        }
+    }
+
     /// The signed radius of `surface` along `u` (any nonzero length): the modulus
     /// itself, in the input's units (inverse units for compressibility). A renderer
     /// draws `|radius|` and colours the sign.

@@ -4,12 +4,15 @@
 //! with `glyphcast render`; `--summary` writes the extremes and averages that
 //! `glyphcast_materials` computes (docs/guide/materials.md).
 use clap::Args;
-use glyphcast::demo::stiffness_row_scene;
+use glyphcast::demo::{RowGlyph, material_row_scene, stiffness_row_scene};
+use glyphcast::glyph::GlyphShape;
+use glyphcast::glyph::bounds::least_abs;
+use glyphcast::glyph::polynomial::GlyphPolynomial;
 use glyphcast::error::quoted;
 use glyphcast::glyph::stiffness::{ShearOrder, VoigtStiffness};
 use glyphcast::io::stiffness::StiffnessFile;
 use glyphcast::{Error, Result};
-use glyphcast_materials::{Options, Rotation, Stiffness, Summary};
+use glyphcast_materials::{Options, Rotation, Stiffness, Summary, Surface};
 use std::path::{Path, PathBuf};
 
 #[derive(Args)]
@@ -53,9 +56,39 @@ pub struct StiffnessArgs {
     /// Voigt shear order of the files: 23,13,12 (standard) or 12,13,23.
     #[arg(long, value_name = "ORDER")]
     shear_order: Option<String>,
-    /// Write the fully symmetric part (15 coefficients) instead of all 81 C_ijkl.
+    /// Write the fully symmetric part (15 coefficients) instead of all 81 C_ijkl
+    /// (the Reynolds glyph only).
     #[arg(long)]
     symmetric_part: bool,
+    /// The surface the scene draws: reynolds (C_ijkl u_i u_j u_k u_l, GPa), young
+    /// (Young's modulus E(u), GPa), compressibility (linear compressibility beta(u),
+    /// 1/GPa; negative where the crystal expands under pressure: render with --color
+    /// sign), in the input's units.
+    #[arg(long, value_name = "SURFACE", default_value = "reynolds", value_parser = parse_surface)]
+    surface: DrawnSurface,
+}
+
+/// What `--surface` draws: the Reynolds glyph of C, or a surface of the materials crate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DrawnSurface {
+    Reynolds,
+    Modulus(Surface),
+}
+
+/// `--surface NAME`.
+fn parse_surface(text: &str) -> std::result::Result<DrawnSurface, String> {
+    match text {
+        "reynolds" => Ok(DrawnSurface::Reynolds),
+        _ => match Surface::from_name(text) {
+            Some(surface) if surface_drawn(surface) => Ok(DrawnSurface::Modulus(surface)),
+            _ => Err("expected reynolds, young or compressibility".into()),
+        },
+    }
+}
+
+/// The surfaces a scene draws besides the Reynolds glyph: those that are tensor glyphs.
+fn surface_drawn(surface: Surface) -> bool {
+    matches!(surface, Surface::Young | Surface::Compressibility)
 }
 
 /// Bunge Euler angles in degrees (phi1, Phi, phi2), finite.
@@ -111,8 +144,17 @@ pub fn run(args: StiffnessArgs) -> Result<()> {
         .map(|path| material(path, shear, rotation.as_ref(), args.allow_unstable))
         .collect::<Result<Vec<_>>>()?;
     let summaries: Vec<Summary> = materials.iter().map(|m| m.stiffness.summary()).collect();
-    let scene = match &args.output {
-        Some(_) => {
+    if args.symmetric_part && args.surface != DrawnSurface::Reynolds {
+        return Err(Error::Flag {
+            flag: "--symmetric-part",
+            message: "applies to --surface reynolds only (the other surfaces are drawn from \
+                      their symmetric forms)"
+                .into(),
+        });
+    }
+    let scene = match (&args.output, args.surface) {
+        (None, _) => None,
+        (Some(_), DrawnSurface::Reynolds) => {
             let drawn = materials
                 .iter()
                 .map(|m| {
@@ -121,7 +163,13 @@ pub fn run(args: StiffnessArgs) -> Result<()> {
                 .collect::<Result<Vec<_>>>()?;
             Some(stiffness_row_scene(&drawn, args.symmetric_part)?)
         }
-        None => None,
+        (Some(_), DrawnSurface::Modulus(surface)) => {
+            let glyphs = materials
+                .iter()
+                .map(|m| surface_glyph(m, surface))
+                .collect::<Result<Vec<_>>>()?;
+            Some(material_row_scene(&glyphs)?)
+        }
     };
     for (material, summary) in materials.iter().zip(&summaries) {
         println!("{}", material.file);
@@ -140,6 +188,45 @@ pub fn run(args: StiffnessArgs) -> Result<()> {
         eprintln!("wrote {}", path.display());
     }
     Ok(())
+}
+
+/// One material's glyph of `surface`; an error naming the file where the surface is
+/// unbounded (Young's modulus of an unstable crystal whose 1/E vanishes somewhere).
+fn surface_glyph(material: &Material, surface: Surface) -> Result<RowGlyph> {
+    let unsupported = || {
+        Error::input(
+            &material.file,
+            "surface",
+            format!("{} is not drawn as a surface", surface.name()),
+        )
+    };
+    let form = material
+        .stiffness
+        .surface_form(surface)
+        .ok_or_else(unsupported)?;
+    let shape = if form.reciprocal {
+        GlyphShape::Reciprocal
+    } else {
+        GlyphShape::Polynomial
+    };
+    let largest = material.stiffness.largest_radius(surface);
+    let glyph = RowGlyph::of_full_tensor(form.order, &form.tensor, shape, largest);
+    if form.reciprocal {
+        let poly = GlyphPolynomial::from_tensor(glyph.layout, &glyph.coeffs)?;
+        let least = least_abs(&poly).map_or(0.0, |l| l.lower);
+        if !(least > 0.0) {
+            return Err(Error::input(
+                &material.file,
+                "voigt",
+                format!(
+                    "{}'s surface is unbounded: 1/E comes within {least:.3e} of 0 in some \
+                     direction (a mechanically unstable crystal)",
+                    surface.name()
+                ),
+            ));
+        }
+    }
+    Ok(glyph)
 }
 
 /// The summary file: the object of the one material, or a list of them (each with its
