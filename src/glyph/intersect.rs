@@ -426,6 +426,56 @@ mod tests {
         symmetric(2, &[1.0, 0.0, 0.0, 1.0, 0.0, 1.0])
     }
 
+    /// r = 1/|f| of f = 2 |u|^4 is the sphere of radius 1/2: the first hit of rays
+    /// from outside, and the exit of a ray from the centre, in closed form.
+    #[test]
+    fn reciprocal_of_a_round_quartic_is_a_sphere() {
+        // (x^2 + y^2 + z^2)^2 has unique entries 1 at x^4, 1/3 at x^2 y^2 (multiplicity 6).
+        let third = 1.0 / 3.0;
+        let mut t = [0.0; 15];
+        for (k, value) in [(0, 1.0), (3, third), (5, third), (10, 1.0), (12, third), (14, 1.0)] {
+            t[k] = 2.0 * value;
+        }
+        let glyph = WorldGlyph::reciprocal(DVec3::new(0.2, 0.0, 0.0), 3.0, symmetric(4, &t))
+            .expect("bounded");
+        assert!(glyph.bound >= 0.5 && glyph.bound <= 0.5 * 1.02, "{}", glyph.bound);
+        let hit = first_hit(&ray(DVec3::new(0.2, -5.0, 0.3), DVec3::new(0.2, 0.0, 0.3)), &glyph)
+            .unwrap();
+        let want = 5.0 - (1.5f64 * 1.5 - 0.3 * 0.3).sqrt();
+        assert!((hit - want).abs() < 1e-12, "{hit} vs {want}");
+        let exit = first_hit(&ray(DVec3::new(0.2, 0.0, 0.0), DVec3::new(1.0, 1.0, 0.0)), &glyph);
+        assert!((exit.unwrap() - 1.5).abs() < 1e-12, "{exit:?}");
+    }
+
+    /// Hits of random rays on the reciprocal glyph of a positive quartic lie on
+    /// |q| |f(q^)| = 1 to 1e-12, with the ray outside just before; a form that changes
+    /// sign on the sphere has no bounded reciprocal glyph.
+    #[test]
+    fn reciprocal_hits_lie_on_the_surface() {
+        let mut rng = Rng::new(7);
+        let mut t: Vec<f64> = rng.values(15, -0.1, 0.1);
+        for k in [0, 10, 14] {
+            t[k] += 1.0;
+        }
+        let glyph = WorldGlyph::reciprocal(DVec3::ZERO, 1.0, symmetric(4, &t)).unwrap();
+        let mut hits = 0;
+        for _ in 0..200 {
+            let origin = 3.0 * glyph.bound * rng.unit_vector();
+            // Inside the sphere of the least radius 1 / max |f|: every ray hits.
+            let towards = 0.5 / bounding_radius(&glyph.poly, NegativeMode::Abs) * rng.unit_vector();
+            let r = ray(origin, towards);
+            let t_hit = first_hit(&r, &glyph).expect("a hit");
+            hits += 1;
+            let q = r.origin + t_hit * r.dir;
+            let g = |q: DVec3| 1.0 - q.length() * glyph.poly.eval(q.normalize()).abs();
+            assert!(g(q).abs() < 1e-12, "{}", g(q));
+            assert!(g(r.origin + (t_hit - 1e-6) * r.dir) < 0.0);
+        }
+        assert_eq!(hits, 200);
+        let saddle = symmetric(4, &rng.values(15, -1.0, 1.0));
+        assert!(WorldGlyph::reciprocal(DVec3::ZERO, 1.0, saddle).is_none());
+    }
+
     fn ray(origin: DVec3, towards: DVec3) -> Ray {
         Ray {
             origin,
