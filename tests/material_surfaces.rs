@@ -21,6 +21,7 @@ use glyphcast::glyph::reference::reference_depth;
 use glyphcast::render::glyph_data::prepare_scene;
 use glyphcast::scene::Scene;
 use glyphcast_materials::{Rotation, Stiffness, Surface};
+use std::path::Path;
 
 const SIZE: u32 = 160;
 
@@ -186,4 +187,88 @@ fn young_surfaces_lie_on_the_moduli() {
 #[test]
 fn compressibility_surfaces_lie_on_the_moduli() {
     check_every_crystal(Surface::Compressibility);
+}
+
+/// A scene of one reciprocal glyph set: `order`, `negative`, coefficients of a symmetric
+/// tensor whose x^n, y^n and z^n entries are 1 (the others 0).
+fn reciprocal_scene(order: u32, negative: &str) -> String {
+    let count = ((order + 1) * (order + 2) / 2) as usize;
+    let mut coeffs = vec![0.0; count];
+    // Lexicographic sorted tuples: 0...0 first, 1...1 at count - order - 1, 2...2 last.
+    for k in [0, count - order as usize - 1, count - 1] {
+        coeffs[k] = 1.0;
+    }
+    format!(
+        r#"{{"version": 1, "glyphs": [{{"kind": "tensor", "order": {order}, "negative": "{negative}",
+        "shape": "reciprocal", "centers": [[0, 0, 0]], "scale": 1, "coeffs": [{coeffs:?}]}}],
+        "camera": {{"eye": [3, -4, 2], "target": [0, 0, 0]}}, "image": {{"width": 32, "height": 32}}}}"#
+    )
+}
+
+/// What the reciprocal glyph cannot be drawn with is refused with exit status 1, one
+/// error naming the setting or the field, and no output: other methods, the compute path,
+/// an offset, hidden lobes, an odd order (f changes sign: 1/|f| is unbounded); and
+/// `stiffness` refuses Young's surface of an unstable crystal whose 1/E vanishes,
+/// naming the file, and --symmetric-part with a surface.
+#[test]
+fn what_the_reciprocal_glyph_cannot_take_is_refused() {
+    let dir = common::fresh_dir("material_surfaces/refusals");
+    let out = common::fresh_dir("material_surfaces/refusals-out");
+    let good = dir.join("good.json");
+    std::fs::write(&good, reciprocal_scene(4, "abs")).unwrap();
+    let png = out.join("x.png");
+    let render = |scene: &Path, extra: &[&str], words: &[&str]| {
+        let mut args = vec!["render", text(scene), "-o", text(&png)];
+        args.extend(extra);
+        common::expect_failure(&args, &out, words);
+    };
+    render(&good, &["--method", "fixed"], &["reciprocal", "fixed"]);
+    render(&good, &["--method", "interval"], &["reciprocal", "interval"]);
+    render(&good, &["--path", "compute"], &["reciprocal", "compute"]);
+    render(&good, &["--method", "fixed", "--offset", "0.1"], &["reciprocal", "offset"]);
+    let hide = dir.join("hide.json");
+    std::fs::write(&hide, reciprocal_scene(4, "hide")).unwrap();
+    render(&hide, &[], &["hide.json", "glyphs[0].shape", "negative"]);
+    let odd = dir.join("odd.json");
+    std::fs::write(&odd, reciprocal_scene(3, "abs")).unwrap();
+    render(&odd, &[], &["glyph set 0", "least |f|", "unbounded"]);
+    // The scene itself draws.
+    run(&["render", text(&good), "-o", text(&png)]);
+    std::fs::remove_file(&png).unwrap();
+
+    // An unstable crystal (C12 > C11: negative in the (1, -1, 0) strain) whose 1/E
+    // changes sign.
+    let unstable = dir.join("unstable.txt");
+    std::fs::write(
+        &unstable,
+        "100 150 0 0 0 0\n150 100 0 0 0 0\n0 0 100 0 0 0\n0 0 0 50 0 0\n0 0 0 0 50 0\n\
+         0 0 0 0 0 50\n",
+    )
+    .unwrap();
+    let scene = out.join("scene.json");
+    let args = [
+        "stiffness",
+        text(&unstable),
+        "--allow-unstable",
+        "--surface",
+        "young",
+        "-o",
+        text(&scene),
+    ];
+    common::expect_failure(&args, &out, &["unstable.txt", "unbounded"]);
+    let input = dir.join("iron.txt");
+    std::fs::write(&input, IRON).unwrap();
+    let args = [
+        "stiffness",
+        text(&input),
+        "--surface",
+        "young",
+        "--symmetric-part",
+        "-o",
+        text(&scene),
+    ];
+    let run = common::glyphcast(&args);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success() && stderr.contains("--symmetric-part"), "{stderr}");
+    assert_eq!(std::fs::read_dir(&out).unwrap().count(), 0);
 }

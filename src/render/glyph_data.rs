@@ -393,7 +393,7 @@ fn bound_glyph(
     let poly = GlyphPolynomial::from_tensor(layout, &coeffs)?;
     if set.shape == GlyphShape::Reciprocal {
         return bound_reciprocal(poly, &coeffs, world).map_err(|e| Error::Item {
-            what: "glyph",
+            what: "glyph set",
             index,
             error: Box::new(e),
         });
@@ -422,10 +422,10 @@ fn bound_reciprocal(
     };
     if !(least.lower > 0.0) || !(1.0 / least.lower).is_finite() {
         return Err(Error::data(
-            "least |f| over the sphere (r = 1/|f| of shape reciprocal is unbounded where f \
-             vanishes)",
+            "guaranteed least |f| over the sphere (r = 1/|f| of shape reciprocal is unbounded \
+             where f vanishes; every odd order does)",
             Problem::NotPositive {
-                value: least.attained,
+                value: least.lower,
             },
         ));
     }
