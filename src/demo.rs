@@ -210,23 +210,41 @@ pub struct RowGlyph {
 }
 
 impl RowGlyph {
-    /// The glyph of a full order-n tensor (3^n entries, row-major), drawn by its fully
-    /// symmetric part (the same form on unit vectors, in (n+1)(n+2)/2 coefficients).
-    pub fn of_full_tensor(
+    /// The glyph of the form of a full order-n tensor (3^n entries, row-major), r = |f|
+    /// or, `reciprocal`, r = 1/|f|; drawn by its fully symmetric part (the same form on
+    /// unit vectors, in (n+1)(n+2)/2 coefficients). A reciprocal glyph whose f may vanish
+    /// on the sphere (unbounded) is an error carrying the guaranteed least |f|.
+    pub fn of_form(
         order: u32,
         full: &[f64],
-        shape: GlyphShape,
+        reciprocal: bool,
         largest_radius: f64,
-    ) -> Self {
-        RowGlyph {
-            layout: TensorLayout {
-                order,
-                symmetry: Symmetry::Symmetric,
-            },
+    ) -> Result<Self> {
+        let layout = TensorLayout {
+            order,
+            symmetry: Symmetry::Symmetric,
+        };
+        let coeffs = crate::glyph::stiffness::fully_symmetric_part(order, full);
+        let shape = if reciprocal {
+            let poly = GlyphPolynomial::from_tensor(layout, &coeffs)?;
+            let least = crate::glyph::bounds::least_abs(&poly).map_or(0.0, |l| l.lower);
+            if !(least > 0.0) {
+                return Err(Error::data(
+                    "guaranteed least |f| over the sphere (the surface r = 1/|f| is unbounded \
+                     where f vanishes)",
+                    crate::error::Problem::NotPositive { value: least },
+                ));
+            }
+            GlyphShape::Reciprocal
+        } else {
+            GlyphShape::Polynomial
+        };
+        Ok(RowGlyph {
+            layout,
             shape,
-            coeffs: crate::glyph::stiffness::fully_symmetric_part(order, full),
+            coeffs,
             largest_radius,
-        }
+        })
     }
 }
 
@@ -258,9 +276,12 @@ pub fn material_row_scene(glyphs: &[RowGlyph]) -> Result<Scene> {
                 set.coeffs.push(glyph.coeffs.clone());
             }
             None => {
-                let mut set = glyph_set(kind, vec![center(k)], 1.0 / largest, vec![
-                    glyph.coeffs.clone(),
-                ]);
+                let mut set = glyph_set(
+                    kind,
+                    vec![center(k)],
+                    1.0 / largest,
+                    vec![glyph.coeffs.clone()],
+                );
                 set.shape = glyph.shape;
                 sets.push(set);
             }

@@ -112,7 +112,10 @@ fn check_surface(name: &str, content: &str, euler: Option<[f64; 3]>, surface: Su
     let size = world[0].scale * world[0].bound;
     let c = compare_depth(&depth, &reference, SIZE as usize, SIZE as usize, size);
     eprintln!("{label}: {c}");
-    assert!(c.covered > (SIZE * SIZE / 20) as usize, "{label}: too little drawn: {c}");
+    assert!(
+        c.covered > (SIZE * SIZE / 20) as usize,
+        "{label}: too little drawn: {c}"
+    );
     assert_eq!((c.holes, c.false_hits), (0, 0), "{label}: {c}");
     assert!(c.median_error <= 1e-4, "{label}: {c}");
 
@@ -223,9 +226,17 @@ fn what_the_reciprocal_glyph_cannot_take_is_refused() {
         common::expect_failure(&args, &out, words);
     };
     render(&good, &["--method", "fixed"], &["reciprocal", "fixed"]);
-    render(&good, &["--method", "interval"], &["reciprocal", "interval"]);
+    render(
+        &good,
+        &["--method", "interval"],
+        &["reciprocal", "interval"],
+    );
     render(&good, &["--path", "compute"], &["reciprocal", "compute"]);
-    render(&good, &["--method", "fixed", "--offset", "0.1"], &["reciprocal", "offset"]);
+    render(
+        &good,
+        &["--method", "fixed", "--offset", "0.1"],
+        &["reciprocal", "offset"],
+    );
     let hide = dir.join("hide.json");
     std::fs::write(&hide, reciprocal_scene(4, "hide")).unwrap();
     render(&hide, &[], &["hide.json", "glyphs[0].shape", "negative"]);
@@ -269,6 +280,9 @@ fn what_the_reciprocal_glyph_cannot_take_is_refused() {
     ];
     let run = common::glyphcast(&args);
     let stderr = String::from_utf8_lossy(&run.stderr);
-    assert!(!run.status.success() && stderr.contains("--symmetric-part"), "{stderr}");
+    assert!(
+        !run.status.success() && stderr.contains("--symmetric-part"),
+        "{stderr}"
+    );
     assert_eq!(std::fs::read_dir(&out).unwrap().count(), 0);
 }

@@ -256,7 +256,9 @@ impl Chord {
         let radial = univariate::power(&length_squared, power);
         out.resize(out.len().max(radial.len()), 0.0);
         out.iter_mut().for_each(|v| *v *= sign);
-        out.iter_mut().zip(&radial).for_each(|(v, r)| *v -= sign * r);
+        out.iter_mut()
+            .zip(&radial)
+            .for_each(|(v, r)| *v -= sign * r);
         out
     }
 
@@ -433,17 +435,34 @@ mod tests {
         // (x^2 + y^2 + z^2)^2 has unique entries 1 at x^4, 1/3 at x^2 y^2 (multiplicity 6).
         let third = 1.0 / 3.0;
         let mut t = [0.0; 15];
-        for (k, value) in [(0, 1.0), (3, third), (5, third), (10, 1.0), (12, third), (14, 1.0)] {
+        for (k, value) in [
+            (0, 1.0),
+            (3, third),
+            (5, third),
+            (10, 1.0),
+            (12, third),
+            (14, 1.0),
+        ] {
             t[k] = 2.0 * value;
         }
         let glyph = WorldGlyph::reciprocal(DVec3::new(0.2, 0.0, 0.0), 3.0, symmetric(4, &t))
             .expect("bounded");
-        assert!(glyph.bound >= 0.5 && glyph.bound <= 0.5 * 1.02, "{}", glyph.bound);
-        let hit = first_hit(&ray(DVec3::new(0.2, -5.0, 0.3), DVec3::new(0.2, 0.0, 0.3)), &glyph)
-            .unwrap();
+        assert!(
+            glyph.bound >= 0.5 && glyph.bound <= 0.5 * 1.02,
+            "{}",
+            glyph.bound
+        );
+        let hit = first_hit(
+            &ray(DVec3::new(0.2, -5.0, 0.3), DVec3::new(0.2, 0.0, 0.3)),
+            &glyph,
+        )
+        .unwrap();
         let want = 5.0 - (1.5f64 * 1.5 - 0.3 * 0.3).sqrt();
         assert!((hit - want).abs() < 1e-12, "{hit} vs {want}");
-        let exit = first_hit(&ray(DVec3::new(0.2, 0.0, 0.0), DVec3::new(1.0, 1.0, 0.0)), &glyph);
+        let exit = first_hit(
+            &ray(DVec3::new(0.2, 0.0, 0.0), DVec3::new(1.0, 1.0, 0.0)),
+            &glyph,
+        );
         assert!((exit.unwrap() - 1.5).abs() < 1e-12, "{exit:?}");
     }
 

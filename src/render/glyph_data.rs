@@ -424,9 +424,7 @@ fn bound_reciprocal(
         return Err(Error::data(
             "guaranteed least |f| over the sphere (r = 1/|f| of shape reciprocal is unbounded \
              where f vanishes; every odd order does)",
-            Problem::NotPositive {
-                value: least.lower,
-            },
+            Problem::NotPositive { value: least.lower },
         ));
     }
     let radius = 1.0 / least.lower;

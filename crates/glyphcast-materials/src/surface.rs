@@ -88,7 +88,12 @@ impl Stiffness {
             }),
             Surface::Compressibility => Some(SurfaceForm {
                 order: 2,
-                tensor: self.compressibility_matrix().iter().flatten().copied().collect(),
+                tensor: self
+                    .compressibility_matrix()
+                    .iter()
+                    .flatten()
+                    .copied()
+                    .collect(),
                 reciprocal: false,
             }),
             _ => None,

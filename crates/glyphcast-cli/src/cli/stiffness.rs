@@ -5,9 +5,6 @@
 //! `glyphcast_materials` computes (docs/guide/materials.md).
 use clap::Args;
 use glyphcast::demo::{RowGlyph, material_row_scene, stiffness_row_scene};
-use glyphcast::glyph::GlyphShape;
-use glyphcast::glyph::bounds::least_abs;
-use glyphcast::glyph::polynomial::GlyphPolynomial;
 use glyphcast::error::quoted;
 use glyphcast::glyph::stiffness::{ShearOrder, VoigtStiffness};
 use glyphcast::io::stiffness::StiffnessFile;
@@ -57,15 +54,15 @@ pub struct StiffnessArgs {
     #[arg(long, value_name = "ORDER")]
     shear_order: Option<String>,
     /// Write the fully symmetric part (15 coefficients) instead of all 81 C_ijkl
-    /// (the Reynolds glyph only).
-    #[arg(long)]
+    /// (the Reynolds glyph: not with --surface).
+    #[arg(long, conflicts_with = "surface")]
     symmetric_part: bool,
     /// The surface the scene draws: reynolds (C_ijkl u_i u_j u_k u_l, GPa), young
     /// (Young's modulus E(u), GPa), compressibility (linear compressibility beta(u),
     /// 1/GPa; negative where the crystal expands under pressure: render with --color
-    /// sign), in the input's units.
-    #[arg(long, value_name = "SURFACE", default_value = "reynolds", value_parser = parse_surface)]
-    surface: DrawnSurface,
+    /// sign), in the input's units. Default: reynolds.
+    #[arg(long, value_name = "SURFACE", value_parser = parse_surface)]
+    surface: Option<DrawnSurface>,
 }
 
 /// What `--surface` draws: the Reynolds glyph of C, or a surface of the materials crate.
@@ -144,15 +141,8 @@ pub fn run(args: StiffnessArgs) -> Result<()> {
         .map(|path| material(path, shear, rotation.as_ref(), args.allow_unstable))
         .collect::<Result<Vec<_>>>()?;
     let summaries: Vec<Summary> = materials.iter().map(|m| m.stiffness.summary()).collect();
-    if args.symmetric_part && args.surface != DrawnSurface::Reynolds {
-        return Err(Error::Flag {
-            flag: "--symmetric-part",
-            message: "applies to --surface reynolds only (the other surfaces are drawn from \
-                      their symmetric forms)"
-                .into(),
-        });
-    }
-    let scene = match (&args.output, args.surface) {
+    let surface = args.surface.unwrap_or(DrawnSurface::Reynolds);
+    let scene = match (&args.output, surface) {
         (None, _) => None,
         (Some(_), DrawnSurface::Reynolds) => {
             let drawn = materials
@@ -193,40 +183,18 @@ pub fn run(args: StiffnessArgs) -> Result<()> {
 /// One material's glyph of `surface`; an error naming the file where the surface is
 /// unbounded (Young's modulus of an unstable crystal whose 1/E vanishes somewhere).
 fn surface_glyph(material: &Material, surface: Surface) -> Result<RowGlyph> {
-    let unsupported = || {
-        Error::input(
-            &material.file,
-            "surface",
-            format!("{} is not drawn as a surface", surface.name()),
-        )
-    };
+    let refused = |message: String| Error::input(&material.file, "voigt", message);
     let form = material
         .stiffness
         .surface_form(surface)
-        .ok_or_else(unsupported)?;
-    let shape = if form.reciprocal {
-        GlyphShape::Reciprocal
-    } else {
-        GlyphShape::Polynomial
-    };
+        .ok_or_else(|| refused(format!("{} is not drawn as a surface", surface.name())))?;
     let largest = material.stiffness.largest_radius(surface);
-    let glyph = RowGlyph::of_full_tensor(form.order, &form.tensor, shape, largest);
-    if form.reciprocal {
-        let poly = GlyphPolynomial::from_tensor(glyph.layout, &glyph.coeffs)?;
-        let least = least_abs(&poly).map_or(0.0, |l| l.lower);
-        if !(least > 0.0) {
-            return Err(Error::input(
-                &material.file,
-                "voigt",
-                format!(
-                    "{}'s surface is unbounded: 1/E comes within {least:.3e} of 0 in some \
-                     direction (a mechanically unstable crystal)",
-                    surface.name()
-                ),
-            ));
-        }
-    }
-    Ok(glyph)
+    RowGlyph::of_form(form.order, &form.tensor, form.reciprocal, largest).map_err(|e| {
+        refused(format!(
+            "{}'s surface: {e} (a mechanically unstable crystal)",
+            surface.name()
+        ))
+    })
 }
 
 /// The summary file: the object of the one material, or a list of them (each with its
