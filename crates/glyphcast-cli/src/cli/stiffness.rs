@@ -57,10 +57,10 @@ pub struct StiffnessArgs {
     /// (the Reynolds glyph: not with --surface).
     #[arg(long, conflicts_with = "surface")]
     symmetric_part: bool,
-    /// The surface the scene draws: reynolds (C_ijkl u_i u_j u_k u_l, GPa), young
-    /// (Young's modulus E(u), GPa), compressibility (linear compressibility beta(u),
-    /// 1/GPa; negative where the crystal expands under pressure: render with --color
-    /// sign), in the input's units. Default: reynolds.
+    /// The surface the scene draws, its radius in the input's units: reynolds
+    /// (C_ijkl u_i u_j u_k u_l), young (Young's modulus E(u)) or compressibility (linear
+    /// compressibility beta(u), in inverse units; negative where the crystal expands
+    /// under pressure: render with --color sign). Default: reynolds.
     #[arg(long, value_name = "SURFACE", value_parser = parse_surface)]
     surface: Option<DrawnSurface>,
 }
