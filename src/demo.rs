@@ -228,7 +228,8 @@ impl RowGlyph {
         let shape = if reciprocal {
             let poly = GlyphPolynomial::from_tensor(layout, &coeffs)?;
             let least = crate::glyph::bounds::least_abs(&poly).map_or(0.0, |l| l.lower);
-            if !(least > 0.0) {
+            // NaN (no bound) is refused too.
+            if least.is_nan() || least <= 0.0 {
                 return Err(Error::data(
                     "guaranteed least |f| over the sphere (the surface r = 1/|f| is unbounded \
                      where f vanishes)",

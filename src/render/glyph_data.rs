@@ -420,7 +420,7 @@ fn bound_reciprocal(
     let Some(least) = least_abs(&poly) else {
         return Ok(None);
     };
-    if !(least.lower > 0.0) || !(1.0 / least.lower).is_finite() {
+    if least.lower.is_nan() || least.lower <= 0.0 || !(1.0 / least.lower).is_finite() {
         return Err(Error::data(
             "guaranteed least |f| over the sphere (r = 1/|f| of shape reciprocal is unbounded \
              where f vanishes; every odd order does)",
