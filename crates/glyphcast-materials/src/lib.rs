@@ -53,8 +53,11 @@
 //! frame tensor is `C'_ijkl = g_mi g_nj g_ok g_pl C_mnop` ([`rotate`],
 //! [`Stiffness::rotated`]), so that `E'(u) = E(g u)`.
 //!
-//! **Surfaces for drawing**: [`Stiffness::radius`] for each [`Surface`], and the
-//! compliance quartic's coefficients [`Stiffness::compliance_tensor`].
+//! **Surfaces for drawing**: [`Stiffness::radius`] for each [`Surface`], the compliance
+//! quartic's coefficients [`Stiffness::compliance_tensor`], and for the surfaces that are
+//! tensor glyphs (Young's modulus, the reciprocal glyph of the compliance quartic; linear
+//! compressibility, the glyph of `β_ij`) their forms [`Stiffness::surface_form`], with
+//! [`Stiffness::largest_radius`] to put several materials on one scale.
 
 //! # Example
 //!

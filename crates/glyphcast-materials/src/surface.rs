@@ -141,3 +141,65 @@ impl Stiffness {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The forms evaluate to 1/E and β at random directions (to 1e-12), the shear and
+    /// Poisson surfaces have none, and the largest radii are the summary's extremes.
+    #[test]
+    fn surface_forms_are_the_moduli() {
+        // Quartz (trigonal), GPa: C11, C33, C44, C12, C13, C14.
+        let (c11, c33, c44, c12, c13, c14) = (86.8, 105.8, 58.2, 7.0, 11.9, -18.0);
+        let c66 = (c11 - c12) / 2.0;
+        let quartz = Stiffness::new([
+            [c11, c12, c13, c14, 0.0, 0.0],
+            [c12, c11, c13, -c14, 0.0, 0.0],
+            [c13, c13, c33, 0.0, 0.0, 0.0],
+            [c14, -c14, 0.0, c44, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, c44, c14],
+            [0.0, 0.0, 0.0, 0.0, c14, c66],
+        ])
+        .unwrap();
+        let form_at = |form: &SurfaceForm, u: [f64; 3]| -> f64 {
+            let n = form.order as usize;
+            (0..form.tensor.len())
+                .map(|flat| {
+                    let product: f64 = (0..n)
+                        .map(|k| u[flat / 3usize.pow((n - 1 - k) as u32) % 3])
+                        .product();
+                    form.tensor[flat] * product
+                })
+                .sum()
+        };
+        let young = quartz.surface_form(Surface::Young).unwrap();
+        let beta = quartz.surface_form(Surface::Compressibility).unwrap();
+        assert!(young.reciprocal && !beta.reciprocal);
+        assert_eq!((young.order, beta.order), (4, 2));
+        for u in crate::fibonacci_half_sphere(50) {
+            let e = quartz.radius(Surface::Young, u).unwrap();
+            assert!((form_at(&young, u) * e - 1.0).abs() < 1e-12);
+            let b = quartz.radius(Surface::Compressibility, u).unwrap();
+            assert!((form_at(&beta, u) - b).abs() < 1e-12 * b.abs().max(1e-3));
+        }
+        for s in [
+            Surface::ShearMin,
+            Surface::ShearMax,
+            Surface::PoissonMin,
+            Surface::PoissonMax,
+        ] {
+            assert!(quartz.surface_form(s).is_none());
+        }
+        let summary = quartz.summary();
+        assert_eq!(quartz.largest_radius(Surface::Young), summary.young.max);
+        let b = summary.linear_compressibility;
+        assert_eq!(
+            quartz.largest_radius(Surface::Compressibility),
+            b.min.abs().max(b.max.abs())
+        );
+        for s in Surface::ALL {
+            assert_eq!(Surface::from_name(s.name()), Some(s));
+        }
+    }
+}
