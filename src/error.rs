@@ -429,6 +429,9 @@ pub enum Asked {
     Layout(LayoutName),
     /// Ellipsoid glyphs (`--glyph ellipsoid`), ray-cast in closed form.
     Ellipsoids,
+    /// Reciprocal glyphs (scene `shape` `reciprocal`, r = 1/|f|), which the exact method
+    /// alone ray-casts.
+    Reciprocal,
     /// An intersection method: the method setting with its value
     /// (`Setting::Method.with(method)`), spelled by the front end.
     Method(Piece),
@@ -441,6 +444,10 @@ impl Asked {
             Asked::Layout(layout) => layout.to_string(),
             Asked::Ellipsoids => "ellipsoid glyphs, which are ray-cast in closed form (not \
                                   tessellated, not marched)"
+                .to_owned(),
+            Asked::Reciprocal => "reciprocal glyphs (shape reciprocal, r = 1/|f|), which only \
+                                  the exact method draws (not tessellated, not marched, no \
+                                  offset)"
                 .to_owned(),
             Asked::Method(method) => piece(method, spell),
         }

@@ -134,7 +134,7 @@ impl GlyphRenderer {
     /// `set_glyphs` of such sets compiles nothing (for example at load time).
     pub fn prepare(&mut self, layouts: &[(TensorLayout, GlyphShape)]) -> Result<()> {
         for &(layout, shape) in layouts {
-            let method = crate::render::raycast::batch_method(shape, self.settings.method);
+            let method = crate::render::raycast::batch_method(shape, self.settings.method)?;
             self.pass.prepare(layout, method)?;
         }
         Ok(())

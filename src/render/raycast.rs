@@ -346,7 +346,8 @@ impl RayCastPass {
             | Method::Interval
             | Method::Affine
             | Method::Exact
-            | Method::Ellipsoid => {
+            | Method::Ellipsoid
+            | Method::Reciprocal => {
                 let needed = varying_components(layout);
                 let available = self.ctx.max_varying_components();
                 if needed > available {
@@ -470,8 +471,8 @@ impl RayCastPass {
         let chunks = batches(sets, limit, |layout| 4 * layout.coefficient_count() as u64)?;
         let variants: Vec<_> = chunks
             .iter()
-            .map(|chunk| (chunk.layout, batch_method(chunk.shape, method)))
-            .collect();
+            .map(|chunk| Ok((chunk.layout, batch_method(chunk.shape, method)?)))
+            .collect::<Result<_>>()?;
         self.prepare_pipelines(&variants)?;
         let pool = DescriptorPool::new(ctx, chunks.len() * frames_in_flight, 0, 2)?;
         let mut scene = SceneGpu {
@@ -531,7 +532,7 @@ impl RayCastPass {
         }
         let (viewport, scissor) = (target.viewport, target.scissor);
         for set in &scene.sets {
-            let pipeline = self.prepared(set.layout, batch_method(set.shape, method))?;
+            let pipeline = self.prepared(set.layout, batch_method(set.shape, method)?)?;
             let hide = set.negative.shader_code();
             // SAFETY: recording state is the caller's; all handles are alive.
             unsafe {
@@ -570,12 +571,19 @@ fn pipeline_key(layout: TensorLayout, method: Method) -> (Option<TensorLayout>, 
 
 /// The method a batch of `shape` is drawn with when the scene's is `method`: ellipsoids
 /// always by their closed-form shader (the other methods solve the polynomial glyph),
-/// except under the impostor, which draws every glyph's bounding sphere.
-pub fn batch_method(shape: GlyphShape, method: Method) -> Method {
+/// except under the impostor, which draws every glyph's bounding sphere; reciprocal
+/// glyphs by the exact method's reciprocal variant, which the other methods lack (an
+/// [`Error::Unsupported`] naming the method).
+pub fn batch_method(shape: GlyphShape, method: Method) -> Result<Method> {
     match (shape, method) {
-        (GlyphShape::Ellipsoid, Method::Impostor) => Method::Impostor,
-        (GlyphShape::Ellipsoid, _) => Method::Ellipsoid,
-        (GlyphShape::Polynomial, method) => method,
+        (_, Method::Impostor) => Ok(Method::Impostor),
+        (GlyphShape::Ellipsoid, _) => Ok(Method::Ellipsoid),
+        (GlyphShape::Polynomial, method) => Ok(method),
+        (GlyphShape::Reciprocal, Method::Exact | Method::Reciprocal) => Ok(Method::Reciprocal),
+        (GlyphShape::Reciprocal, method) => Err(Error::Unsupported {
+            what: crate::error::Asked::Reciprocal,
+            by: Setting::Method.with(method),
+        }),
     }
 }
 
