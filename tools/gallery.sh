@@ -46,7 +46,7 @@ dwi=("$data/small_64D.nii" --bval "$data/small_64D.bval" --bvec "$data/small_64D
 "$bin" stiffness examples/stiffness/copper.txt examples/stiffness/quartz.csv \
     examples/stiffness/cristobalite.json --surface young -o "$work/young.json"
 "$bin" render "$work/young.json" -o docs/gallery/stiffness-young.png --width 900 \
-    --height 400 --color magnitude --colorbar
+    --height 400 --color magnitude --colorbar --colorbar-label "Young's modulus (GPa)"
 "$bin" stiffness examples/stiffness/copper.txt examples/stiffness/quartz.csv \
     examples/stiffness/cristobalite.json --surface compressibility -o "$work/beta.json"
 "$bin" render "$work/beta.json" -o docs/gallery/stiffness-compressibility.png --width 900 \
