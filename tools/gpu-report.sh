@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The GPU table in one command, on any machine with a Vulkan device:
-#   tools/gpu-report.sh [--quick] [--bin PATH] OUTDIR
+#   tools/gpu-report.sh [--quick] [--bin PATH] [--counts N,N,...] OUTDIR
 # builds glyphcast (or takes the release binary PATH built elsewhere: a GPU machine that
 # reaches no registry needs only it and the Vulkan loader), measures
 #   - the first image: whole `glyphcast render` processes, default method and impostor,
@@ -11,19 +11,23 @@
 #     the float64 reference on the 10^3 field;
 # and writes OUTDIR/<device>.md naming the device and driver (the raw results beside it
 # in OUTDIR/<device>/). --quick: 100 and 1000 glyphs at 320x180 and 640x360, a couple of
-# minutes on lavapipe (the test suite runs it). The device is Vulkan's choice
+# minutes on lavapipe (the test suite runs it). --counts: the field sizes of the frame
+# sweep (default 1000,10000,100000,1000000). The report is written again after each field
+# size, so a run cut off (a time limit) keeps the sizes it finished. The device is Vulkan's choice
 # (discrete > integrated > virtual > CPU); GLYPHCAST_DEVICE or VK_DRIVER_FILES pick another.
 set -euo pipefail
 usage() {
-    echo "usage: tools/gpu-report.sh [--quick] [--bin PATH] OUTDIR" >&2
+    echo "usage: tools/gpu-report.sh [--quick] [--bin PATH] [--counts N,N,...] OUTDIR" >&2
     exit 2
 }
-quick=0 bin="" out=""
+quick=0 bin="" out="" counts=""
 while [ $# -gt 0 ]; do
     case "$1" in
     --quick) quick=1 ;;
     --bin) [ $# -ge 2 ] || usage; bin=$2; shift ;;
     --bin=*) bin=${1#--bin=} ;;
+    --counts) [ $# -ge 2 ] || usage; counts=$2; shift ;;
+    --counts=*) counts=${1#--counts=} ;;
     -h | --help) usage ;;
     -*) echo "error: unknown option '$1'" >&2; usage ;;
     *) [ -z "$out" ] || usage; out=$1 ;;
@@ -31,6 +35,10 @@ while [ $# -gt 0 ]; do
     shift
 done
 [ -n "$out" ] || usage
+if [ -n "$counts" ] && ! [[ $counts =~ ^[1-9][0-9]*(,[1-9][0-9]*)*$ ]]; then
+    echo "error: --counts '$counts': not a list of glyph counts (like 1000,10000)" >&2
+    exit 2
+fi
 root=$(cd "$(dirname "$0")/.." && pwd)
 if [ -z "$bin" ]; then
     . "$root/tools/env.sh"
@@ -90,16 +98,65 @@ done
 
 echo "== frames" >&2
 if [ "$quick" = 1 ]; then
-    batches=("gpu")
+    batches=("gpu${counts:+:$counts}")
     frames=(--quick)
 else
-    batches=("gpu:1000" "gpu:10000" "gpu:100000" "gpu:1000000")
+    IFS=, read -r -a sizes <<<"${counts:-1000,10000,100000,1000000}"
+    batches=()
+    for n in "${sizes[@]}"; do batches+=("gpu:$n"); done
     frames=(--frames 10 --warmup 2)
 fi
-mkdir -p "$work/raw"
+version=$("$bin" --version 2>/dev/null || echo "glyphcast (version unknown)")
+commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo "-")
+cpu=$(awk -F': ' '/^model name/ { print $2; exit }' /proc/cpuinfo 2>/dev/null || echo "-")
+mode=$([ "$quick" = 1 ] && echo "--quick " || echo "")
+mode+=${counts:+--counts $counts }
+raw="$out/$file"
+rm -rf "${raw:?}" "$out/$file.md"
+mkdir -p "$raw"
 pivots="" details="" notes=""
+# The report as it stands after $1 of the ${#batches[@]} field sizes, written whole
+# (a temporary file renamed), so a run cut off keeps what it finished.
+write_report() {
+    local done=$1 report="$work/report.md" pivot_table
+    # One header for the joined frame tables.
+    pivot_table=$(printf '%s' "$pivots" | awk 'NR <= 2 || !/^\| glyphs \|/ && !/^\|---/')
+    {
+        echo "# glyphcast GPU report: $name"
+        echo
+        echo "- Device: $device"
+        echo "- glyphcast: $version, commit $commit (of the tree the script ran from)"
+        echo "- Host: $cpu, $(nproc) cores; $(date -u +%Y-%m-%d)"
+        echo "- Command: \`tools/gpu-report.sh ${mode}--bin BIN OUTDIR\`, $(($(date +%s) - started)) s"
+        if [ "$done" -lt ${#batches[@]} ]; then
+            echo "- Incomplete: $done of ${#batches[@]} field sizes measured so far"
+        fi
+        echo
+        echo "## First image: whole \`glyphcast render\` process, wall seconds (median of $runs)"
+        echo
+        echo "| scene | default (exact) | impostor | ratio |"
+        echo "|---|---|---|---|"
+        printf '%s' "$first_image"
+        echo
+        echo "## Frames: GPU milliseconds per frame (median of the timed frames)"
+        echo
+        echo "Band-8 fODF fields (\`--workload fodf:COUNT:8\`: one to three fibres per glyph) seen"
+        echo "whole; timestamps around the glyph pass. Methods: see docs/guide/accuracy.md, \"Baselines and benchmarks\"."
+        echo
+        printf '%s\n' "$pivot_table"
+        echo
+        printf '%s' "$notes" | grep . || true
+        echo
+        echo "## Every configuration"
+        echo
+        printf '%s' "$details"
+    } >"$report"
+    mv "$report" "$out/$file.md"
+}
+write_report 0
+measured=0
 for batch in "${batches[@]}"; do
-    dir="$work/raw/${batch//[:,]/-}"
+    dir="$raw/${batch//[:,]/-}"
     echo "-- $batch" >&2
     mkdir -p "$dir"  # bench --out writes into an existing folder only
     if "$bin" bench --sweep "$batch" "${frames[@]}" --out "$dir" >"$dir.md" 2>"$dir.log"; then
@@ -109,43 +166,7 @@ for batch in "${batches[@]}"; do
     else
         notes+="- $batch: the sweep failed: $(tail -n 1 "$dir.log")"$'\n'
     fi
+    measured=$((measured + 1))
+    write_report $measured
 done
-# One header for the joined frame tables.
-pivot_table=$(printf '%s' "$pivots" | awk 'NR <= 2 || !/^\| glyphs \|/ && !/^\|---/')
-
-version=$("$bin" --version 2>/dev/null || echo "glyphcast (version unknown)")
-commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo "-")
-cpu=$(awk -F': ' '/^model name/ { print $2; exit }' /proc/cpuinfo 2>/dev/null || echo "-")
-mode=$([ "$quick" = 1 ] && echo "--quick " || echo "")
-report="$work/report.md"
-{
-    echo "# glyphcast GPU report: $name"
-    echo
-    echo "- Device: $device"
-    echo "- glyphcast: $version, commit $commit (of the tree the script ran from)"
-    echo "- Host: $cpu, $(nproc) cores; $(date -u +%Y-%m-%d)"
-    echo "- Command: \`tools/gpu-report.sh ${mode}--bin BIN OUTDIR\`, $(($(date +%s) - started)) s"
-    echo
-    echo "## First image: whole \`glyphcast render\` process, wall seconds (median of $runs)"
-    echo
-    echo "| scene | default (exact) | impostor | ratio |"
-    echo "|---|---|---|---|"
-    printf '%s' "$first_image"
-    echo
-    echo "## Frames: GPU milliseconds per frame (median of the timed frames)"
-    echo
-    echo "Band-8 fODF fields (\`--workload fodf:COUNT:8\`: one to three fibres per glyph) seen"
-    echo "whole; timestamps around the glyph pass. Methods: see docs/guide/accuracy.md, \"Baselines and benchmarks\"."
-    echo
-    printf '%s\n' "$pivot_table"
-    echo
-    printf '%s' "$notes" | grep . || true
-    echo
-    echo "## Every configuration"
-    echo
-    printf '%s' "$details"
-} >"$report"
-rm -rf "${out:?}/$file"
-mv "$work/raw" "$out/$file"
-mv "$report" "$out/$file.md"
 echo "wrote $out/$file.md" >&2

@@ -168,8 +168,10 @@ pub fn csv(results: &[BenchResult]) -> String {
 /// Median GPU milliseconds with one row per field and image size and one column per
 /// method (as [`BenchResult::method`] spells it), "-" where a configuration was not
 /// measured; the last column gives the frames per second of the first method's time.
-pub fn pivot(results: &[BenchResult]) -> String {
-    let mut methods: Vec<&str> = Vec::new();
+/// `columns` come first, in their order, measured or not (so that tables of several
+/// runs line up), then any other method the results hold.
+pub fn pivot(results: &[BenchResult], columns: &[String]) -> String {
+    let mut methods: Vec<&str> = columns.iter().map(String::as_str).collect();
     let mut rows: Vec<(usize, u32, u32)> = Vec::new();
     for r in results {
         if !methods.contains(&r.method.as_str()) {
@@ -211,4 +213,70 @@ pub fn pivot(results: &[BenchResult]) -> String {
         );
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn result(method: &str, glyphs: usize, ms: f64) -> BenchResult {
+        BenchResult {
+            label: format!("{glyphs} {method}"),
+            scene: glyphs.to_string(),
+            method: method.into(),
+            glyphs,
+            width: 64,
+            height: 32,
+            prepare_ms: 0.0,
+            upload_ms: 0.0,
+            generate_ms: None,
+            triangles: None,
+            mesh_bytes: None,
+            gpu_ms_median: ms,
+            gpu_ms_min: ms,
+            gpu_ms_max: ms,
+            covered_pixels: 0,
+            rays_per_second: 0.0,
+            glyphs_per_second: 0.0,
+            coefficient_bytes: 0,
+            instance_bytes: 0,
+            bytes_per_glyph: 0.0,
+            draws: 1,
+            accuracy: None,
+        }
+    }
+
+    /// Two runs' tables line up column for column when one of them skipped a method.
+    #[test]
+    fn pivot_keeps_the_asked_columns_when_a_method_is_missing() {
+        let columns: Vec<String> = ["exact", "mesh:5", "exact (compute)"]
+            .map(String::from)
+            .to_vec();
+        let full = pivot(
+            &[
+                result("exact", 10, 2.0),
+                result("mesh:5", 10, 4.0),
+                result("exact (compute)", 10, 1.0),
+            ],
+            &columns,
+        );
+        let skipped = pivot(
+            &[result("exact", 100, 2.5), result("exact (compute)", 100, 0.5)],
+            &columns,
+        );
+        let header = full.lines().next().unwrap();
+        assert_eq!(header, skipped.lines().next().unwrap());
+        assert_eq!(
+            header,
+            "| glyphs | size | exact | mesh:5 | exact (compute) | exact fps |"
+        );
+        assert_eq!(
+            skipped.lines().nth(2).unwrap(),
+            "| 100 | 64x32 | 2.500 | - | 0.500 | 400 |"
+        );
+        assert_eq!(
+            full.lines().nth(2).unwrap(),
+            "| 10 | 64x32 | 2.000 | 4.000 | 1.000 | 500 |"
+        );
+    }
 }

@@ -163,6 +163,9 @@ struct Plan {
     /// Whether a configuration that fails is reported and passed over (the GPU report,
     /// which must finish on any device) instead of ending the run.
     tolerate_failures: bool,
+    /// The methods of the pivot table, in order, whether measured or not (a
+    /// configuration skipped or failed shows "-" in its column).
+    columns: Vec<String>,
 }
 
 impl Plan {
@@ -404,6 +407,8 @@ fn gpu_plan(args: &BenchArgs, counts: &str, plan: &mut Plan) -> Result<()> {
     let methods = [
         "exact", "affine", "interval", "fixed", "impostor", "mesh:3", "mesh:5",
     ];
+    plan.columns = methods.iter().map(|m| m.to_string()).collect();
+    plan.columns.push("exact (compute)".into());
     for &count in &counts {
         let (w0, h0) = sizes[0];
         let base = workload::fodf(count, 8, w0, h0)?;
@@ -543,7 +548,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     if plan.tolerate_failures {
         table.push_str(&format!(
             "\nGPU milliseconds per frame (median), glyphs by size and method:\n\n{}",
-            bench::tables::pivot(&results)
+            bench::tables::pivot(&results, &plan.columns)
         ));
     }
     for line in plan.skipped.iter().chain(&failed) {
