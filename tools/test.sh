@@ -17,7 +17,7 @@ bash tools/install-deps.sh
 export GLYPHCAST_LAVAPIPE="${GLYPHCAST_LAVAPIPE:-1}"
 . tools/env.sh
 cargo test --locked "$@"
-echo "== the core alone, as an engine depends on it"
+echo "== [${SECONDS} s] the core alone, as an engine depends on it"
 # Cargo keeps the layers apart: the core's own dependency tree holds no front end's crate.
 # flate2 is looked for among the direct dependencies only: the png crate deflates with it.
 core_tree=$(cargo tree --locked -p glyphcast -e normal --prefix none)
@@ -29,17 +29,26 @@ if grep -E '^(clap|winit|plotters|indicatif|nifti|ndarray|clarabel|sha2|pyo3|gly
 fi
 cargo test --locked -p glyphcast --lib --examples
 # The crate as crates.io would ship it: packaged (src, glsl, build script; no path-only
-# dependency) and built from the package's own files.
-# Its own target folder: the packaged copy's build shares the workspace's artifact hashes,
-# and in the same folder it would leave artifacts whose sources are the copy's.
-# The shaders come from the workspace's cache (keyed by their preprocessed source).
+# dependency), unpacked outside the workspace and built from the package's own files with
+# its own Cargo.lock. From another folder it is another package to cargo, so it shares
+# the workspace's target folder (the dependencies built for the core alone above) without
+# touching the workspace's artifacts (`cargo package`'s own verify build would: it has
+# the same artifact hashes). The shaders come from the workspace's SPIR-V cache.
+echo "== [${SECONDS} s] the core as crates.io would ship it"
+cargo package --locked --allow-dirty --no-verify --quiet -p glyphcast
 workspace_target="${CARGO_TARGET_DIR:-$PWD/target}"
-CARGO_TARGET_DIR="$workspace_target/package-check" \
-GLYPHCAST_SPIRV_CACHE="$workspace_target/glyphcast-spirv-cache" \
-    cargo package --locked --allow-dirty --quiet -p glyphcast
-echo "== the C API (capi/): its header up to date, the C example engine (examples/c/)"
+core_version=$(cargo pkgid -p glyphcast | sed 's/.*[#@]//')
+unpacked=$(mktemp -d)
+tar -xzf "$workspace_target/package/glyphcast-$core_version.crate" -C "$unpacked"
+(
+    cd "$unpacked/glyphcast-$core_version"
+    GLYPHCAST_SPIRV_CACHE="$workspace_target/glyphcast-spirv-cache" \
+        cargo build --locked --offline --quiet --target-dir "$workspace_target"
+)
+rm -rf "$unpacked"
+echo "== [${SECONDS} s] the C API (capi/): its header up to date, the C example engine (examples/c/)"
 cargo test --locked -p glyphcast-c
-echo "== the Python module (python/)"
+echo "== [${SECONDS} s] the Python module (python/)"
 # The CLI the Python tests compare with: built by `cargo test` above (a no-op then).
 cargo test --locked --no-run --test cli
 venv=target/py-venv
@@ -69,7 +78,7 @@ assert "site-packages" in f, "glyphcast imported from " + f')
 # Debian's bookworm-backports beside the system's driver by tools/mesa25.sh (which adds
 # that suite to apt's sources if no source lists it; nothing is installed).
 if [ "${GLYPHCAST_MESA25:-1}" = 1 ]; then
-    echo "== again on Mesa 25's lavapipe (tools/mesa25.sh)"
+    echo "== [${SECONDS} s] again on Mesa 25's lavapipe (tools/mesa25.sh)"
     (
         eval "$(bash tools/mesa25.sh)"
         cargo test --locked -p glyphcast --lib --examples
@@ -77,7 +86,7 @@ if [ "${GLYPHCAST_MESA25:-1}" = 1 ]; then
         "$venv/bin/python" -m pytest -q python/tests
     )
 fi
-echo "== cohorts on SLURM (tests/slurm, on a local one-node cluster: tools/slurm-local.sh)"
+echo "== [${SECONDS} s] cohorts on SLURM (tests/slurm, on a local one-node cluster: tools/slurm-local.sh)"
 if [ "$(id -u)" = 0 ]; then
     # The cluster stops on every exit, a failed test's included.
     trap 'bash tools/slurm-local.sh stop' EXIT
@@ -89,3 +98,4 @@ else
     echo "skipped: the local cluster's daemons run as root (run this as root, or start a" \
          "cluster and run pytest tests/slurm with SLURM_CONF set)" >&2
 fi
+echo "== [${SECONDS} s] done"
