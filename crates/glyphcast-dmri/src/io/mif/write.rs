@@ -4,6 +4,9 @@
 //! world length of each voxel axis and `transform` the affine's columns divided by those
 //! lengths (unit axes, as MRtrix expects) with the affine's offset; axes past the third
 //! get `vox` 1. The bytes are written atomically (`io::atomic`).
+//!
+//! This is the format's encoder; outputs go through `io::image::write_image`, which
+//! chooses the format by the name and sets the keys glyphcast records.
 use std::fmt::Write as _;
 use std::path::Path;
 

@@ -1,7 +1,9 @@
 //! NIfTI-1 output: a single file of the 348-byte header, the 4-byte extension flag (no
 //! extensions) and float32 voxels in Fortran order, little-endian, gzip-compressed on
 //! request. The geometry (pixdim, qform, sform, units) and text fields come from a
-//! reference header; the fields that describe the data are set here.
+//! reference header; the fields that describe the data are set here. This is the
+//! format's encoder; outputs go through `io::image::write_image`, which chooses the
+//! reference header and clears the fields of the input's data (intent, display range).
 use glam::DMat3;
 use ndarray::ArrayViewD;
 
