@@ -119,10 +119,7 @@ fn read_plain_mif(path: &Path) -> PlainMif {
             .map(|n| n.trim().parse().expect("a number"))
             .collect()
     };
-    let dim: Vec<usize> = one("dim")
-        .split(',')
-        .map(|n| n.parse().unwrap())
-        .collect();
+    let dim: Vec<usize> = one("dim").split(',').map(|n| n.parse().unwrap()).collect();
     let vox = numbers(one("vox"));
     let layout: Vec<String> = (0..dim.len()).map(|axis| format!("+{axis}")).collect();
     assert_eq!(one("layout"), layout.join(","));
@@ -134,7 +131,11 @@ fn read_plain_mif(path: &Path) -> PlainMif {
         .unwrap();
     assert_eq!(offset % 16, 0, "the data offset is 16-byte aligned");
     let count: usize = dim.iter().product();
-    assert_eq!(bytes.len(), offset + 4 * count, "header, data and nothing else");
+    assert_eq!(
+        bytes.len(),
+        offset + 4 * count,
+        "header, data and nothing else"
+    );
     let stored: Vec<f64> = bytes[offset..]
         .chunks_exact(4)
         .map(|c| f32::from_le_bytes(c.try_into().unwrap()) as f64)
@@ -161,7 +162,6 @@ fn read_plain_mif(path: &Path) -> PlainMif {
     }
 }
 
-
 /// Every format, written by `write_image` and read back twice: by `read_image` and by a
 /// reader independent of glyphcast. Values are float32, the geometry the map's (a NIfTI
 /// file's header fields exactly the reference's), the description and MRtrix keys
@@ -178,7 +178,13 @@ fn every_format_reads_back_through_read_image_and_an_independent_reader() {
         description: DESCRIPTION,
         mrtrix_keys: &keys,
     };
-    for name in ["out.nii", "out.nii.gz", "out.mif", "out.mif.gz", "upper.MIF"] {
+    for name in [
+        "out.nii",
+        "out.nii.gz",
+        "out.mif",
+        "out.mif.gz",
+        "upper.MIF",
+    ] {
         let path = dir.join(name);
         write_image(&path, &image).unwrap_or_else(|err| panic!("{name}: {err}"));
         let back = read_image(&path).unwrap_or_else(|err| panic!("{name}: {err}"));
@@ -270,9 +276,18 @@ fn every_format_reads_back_through_read_image_and_an_independent_reader() {
             "{name}"
         );
     }
-    assert_eq!(plain_bytes(&dir.join("out.nii.gz")), plain_bytes(&dir.join("out.nii")));
-    assert_eq!(plain_bytes(&dir.join("out.mif.gz")), plain_bytes(&dir.join("out.mif")));
-    assert_eq!(plain_bytes(&dir.join("upper.MIF")), plain_bytes(&dir.join("out.mif")));
+    assert_eq!(
+        plain_bytes(&dir.join("out.nii.gz")),
+        plain_bytes(&dir.join("out.nii"))
+    );
+    assert_eq!(
+        plain_bytes(&dir.join("out.mif.gz")),
+        plain_bytes(&dir.join("out.mif"))
+    );
+    assert_eq!(
+        plain_bytes(&dir.join("upper.MIF")),
+        plain_bytes(&dir.join("out.mif"))
+    );
 }
 
 /// Without a NIfTI reference (an MRtrix input), a NIfTI output holds the map as its
@@ -315,7 +330,12 @@ fn a_nifti_output_without_a_reference_holds_the_map_as_its_sform() {
     let back = read_image(&again).unwrap();
     assert_values_eq(&back.data, &data, "again.mif");
     assert_affine_eq(back.voxel_to_world.affine, map.affine, 1e-5, "again.mif");
-    assert!(!read_plain_mif(&again).keys.iter().any(|(k, _)| k == "comments"));
+    assert!(
+        !read_plain_mif(&again)
+            .keys
+            .iter()
+            .any(|(k, _)| k == "comments")
+    );
 }
 
 /// Bad outputs: an error that names the file (and the field where there is one), no
@@ -338,11 +358,7 @@ fn bad_outputs_are_errors_naming_the_file_and_leave_nothing() {
     let cases: Vec<(&str, ImageWrite, &[&str])> = vec![
         ("out.png", good.clone(), &["out.png", ".nii", ".mif.gz"]),
         ("out.mih", good.clone(), &["out.mih", ".mif"]),
-        (
-            "missing/out.nii",
-            good.clone(),
-            &["missing/out.nii"],
-        ),
+        ("missing/out.nii", good.clone(), &["missing/out.nii"]),
         (
             "eight.nii",
             ImageWrite {

@@ -107,7 +107,8 @@ def test_the_c_api_draws_dipy_legacy_coefficients_as_python_does(tmp_path):
     assert plain_record["sh"]["coefficients"] == record["sh"]["coefficients"]
     assert plain_record["camera"] == record["camera"]
     plain_py = python_render(record, legacy=False)
-    for legacy, plain, what in [(legacy_c, plain_c, "C"), (legacy_py.rgba, plain_py.rgba, "Python")]:
+    pairs = [(legacy_c, plain_c, "C"), (legacy_py.rgba, plain_py.rgba, "Python")]
+    for legacy, plain, what in pairs:
         changed = np.abs(legacy[..., :3].astype(int) - plain[..., :3].astype(int)).max(axis=-1)
         assert np.sum(changed > 10 * COLOUR_TOLERANCE) > 200, f"{what}: the basis changed nothing"
     plain_covered = c_coverage(plain_c)

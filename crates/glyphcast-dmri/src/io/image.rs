@@ -230,10 +230,15 @@ fn nifti_bytes(image: &ImageWrite, file: &str) -> Result<Vec<u8>> {
 /// A reference header whose affine is not the voxel-to-world map the values were made
 /// for would put them at the wrong place: refused, naming the file (a caller's mistake).
 fn check_same_geometry(reference: &NiftiHeader, map: &VoxelToWorld, file: &str) -> Result<()> {
-    let own = VoxelToWorld::from_header(reference, file)?.affine.to_cols_array();
+    let own = VoxelToWorld::from_header(reference, file)?
+        .affine
+        .to_cols_array();
     let given = map.affine.to_cols_array();
     let scale = given.iter().fold(1.0, |m: f64, v| m.max(v.abs()));
-    let differs = own.iter().zip(&given).any(|(a, b)| (a - b).abs() > 1e-5 * scale);
+    let differs = own
+        .iter()
+        .zip(&given)
+        .any(|(a, b)| (a - b).abs() > 1e-5 * scale);
     if differs {
         return Err(Error::input(
             file,
