@@ -318,9 +318,9 @@ fn a_nifti_output_without_a_reference_holds_the_map_as_its_sform() {
     assert_eq!(header.xyzt_units, 2, "millimetres");
     let rows = [header.srow_x, header.srow_y, header.srow_z];
     for (r, row) in rows.iter().enumerate() {
-        for c in 0..4 {
+        for (c, value) in row.iter().enumerate() {
             let want = map.affine.col(c)[r];
-            assert!((row[c] as f64 - want).abs() < 1e-5, "srow {r} {c}");
+            assert!((*value as f64 - want).abs() < 1e-5, "srow {r} {c}");
         }
     }
     assert_eq!(header.descrip.iter().filter(|&&b| b != 0).count(), 0);

@@ -18,11 +18,11 @@
 //! - MRtrix: `vox` and `transform` from the voxel-to-world map (unit columns, the offset),
 //!   layout `+0,+1,...`, `datatype: Float32LE`, the description as `comments` lines (one
 //!   per line of it) before any further keys.
-use std::io::Write as _;
 use std::path::Path;
 
 use ndarray::{ArrayD, ArrayViewD};
 
+use crate::io::gzip::gzip;
 use crate::io::mif::write::encode_mif;
 use crate::io::mif::{MifHeader, MifKind, read_mif};
 use crate::io::nifti::write::{nifti_header_for, nifti1_bytes};
@@ -247,18 +247,6 @@ fn check_same_geometry(reference: &NiftiHeader, map: &VoxelToWorld, file: &str) 
         ));
     }
     Ok(())
-}
-
-/// `bytes` gzip-compressed (the default level), as both formats' `.gz` files hold them.
-pub(crate) fn gzip(bytes: Vec<u8>, file: &str) -> Result<Vec<u8>> {
-    let mut encoder = flate2::write::GzEncoder::new(
-        Vec::with_capacity(bytes.len() / 2),
-        flate2::Compression::default(),
-    );
-    encoder
-        .write_all(&bytes)
-        .and_then(|()| encoder.finish())
-        .map_err(|err| Error::io(file, err))
 }
 
 impl Image {

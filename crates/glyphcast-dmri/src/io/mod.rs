@@ -3,6 +3,7 @@
 //! format's conventions; the renderer's own files
 //! (scene JSON, PNG, NumPy, atomic output sets) are `glyphcast::io`.
 pub mod datatype;
+pub mod gzip;
 pub mod image;
 pub mod input_limit;
 pub mod mif;

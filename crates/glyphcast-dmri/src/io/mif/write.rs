@@ -14,7 +14,7 @@ use ndarray::{ArrayD, ArrayViewD};
 
 use super::header::MAGIC;
 use super::{DataType, MifKind};
-use crate::io::image::gzip;
+use crate::io::gzip::gzip;
 use crate::io::nifti::VoxelToWorld;
 use glyphcast::io::atomic::write_atomic;
 use glyphcast::{Error, Result};

@@ -39,7 +39,7 @@ pub fn nifti1_bytes(
         bytes.extend_from_slice(&(value as f32).to_le_bytes());
     }
     if gzip {
-        crate::io::image::gzip(bytes, file)
+        crate::io::gzip::gzip(bytes, file)
     } else {
         Ok(bytes)
     }
