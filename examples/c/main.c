@@ -9,11 +9,16 @@
  * the same rendering and depth buffer (standard depth: cleared to 1, tested LESS). No
  * window: the last frame is copied to a buffer and written as a PNG.
  *
- *   bash tools/c-example.sh OUT.png [--plain-memory]
+ *   bash tools/c-example.sh OUT.png [--plain-memory] [--uniform-red]
+ *       [--basis descoteaux07-legacy|descoteaux07|tournier07] [--no-plane]
+ *       [--describe FILE.json]
  *
  * With --plain-memory glyphcast's buffers take their memory from the engine's own
  * allocation callbacks (GlyphcastAllocator: one vkAllocateMemory per block) instead of
- * the gpu-allocator allocator glyphcast makes by default.
+ * the gpu-allocator allocator glyphcast makes by default. --no-plane leaves the engine's
+ * plane out (the glyphs alone on the clear colour); --describe writes what the last
+ * frame drew (image size, camera, settings, the SH glyphs and their basis) as JSON, for
+ * drawing the same glyphs another way (python/tests/test_c_api_parity.py).
  *
  * Exit status: 0, or 1 on any failure or validation message. */
 #include "glyphcast.h"
@@ -30,6 +35,7 @@
 #define IN_FLIGHT 2
 #define COLOR_FORMAT VK_FORMAT_R8G8B8A8_SRGB
 #define DEPTH_FORMAT VK_FORMAT_D32_SFLOAT
+#define FOV_Y_DEG 35.0
 
 static int validation_messages = 0;
 
@@ -384,12 +390,19 @@ static uint32_t sh_legacy = 1;
 /* With --basis the slice step brings SH glyphs again, so the last frame shows them. */
 static int sh_slice_step = 0;
 
+/* --no-plane: the glyphs alone on the clear colour. */
+static int draw_plane = 1;
+
+/* The SH glyphs last handed to glyphcast, for --describe. */
+enum { SH_COUNT = 9, SH_PER = 15 };
+static double sh_centers[3 * SH_COUNT], sh_scales[SH_COUNT], sh_coefficients[SH_PER * SH_COUNT];
+
 /* Nine glyphs of SH bands 0 to 4 on a 3 x 3 grid at z = 0: a sphere stretched along a
  * direction that turns across the grid. */
 static void glyphs(GlyphcastRenderer *renderer, double turn) {
-    enum { N = 9, PER = 15 };
-    double centers[3 * N], scales[N], coefficients[PER * N];
-    memset(coefficients, 0, sizeof coefficients);
+    enum { N = SH_COUNT, PER = SH_PER };
+    double *centers = sh_centers, *scales = sh_scales, *coefficients = sh_coefficients;
+    memset(sh_coefficients, 0, sizeof sh_coefficients);
     for (int k = 0; k < N; k++) {
         centers[3 * k] = 1.1 * (k % 3 - 1);
         centers[3 * k + 1] = 1.1 * (k / 3 - 1);
@@ -406,6 +419,51 @@ static void glyphs(GlyphcastRenderer *renderer, double turn) {
     }
     GLYPHCAST(renderer, glyphcast_renderer_set_sh_glyphs(renderer, 4, sh_basis, sh_legacy, N,
                                                          centers, scales, coefficients));
+}
+
+static void write_doubles(FILE *file, const double *values, int count) {
+    fputc('[', file);
+    for (int i = 0; i < count; i++) fprintf(file, "%s%.17g", i ? ", " : "", values[i]);
+    fputc(']', file);
+}
+
+/* --describe: the last frame as JSON (the camera as a look-at and a vertical field of
+ * view; the SH glyphs' centres, scales and coefficients as handed to glyphcast). */
+static int describe(const char *name, const GlyphcastSettings *settings, const double eye[3],
+                    const double target[3], const double up[3], double fov_y_deg) {
+    FILE *file = fopen(name, "w");
+    if (!file) {
+        fprintf(stderr, "--describe %s: cannot be written\n", name);
+        return 1;
+    }
+    fprintf(file, "{\"width\": %d, \"height\": %d,\n", WIDTH, HEIGHT);
+    fprintf(file, " \"camera\": {\"projection\": \"perspective\", \"fov_y_deg\": %.17g, \"eye\": ",
+            fov_y_deg);
+    write_doubles(file, eye, 3);
+    fprintf(file, ", \"target\": ");
+    write_doubles(file, target, 3);
+    fprintf(file, ", \"up\": ");
+    write_doubles(file, up, 3);
+    double light[3] = {settings->light[0], settings->light[1], settings->light[2]};
+    fprintf(file, "},\n \"method\": \"exact\", \"ambient\": %.9g, \"light\": ",
+            (double)settings->ambient);
+    write_doubles(file, light, 3);
+    fprintf(file, ",\n \"clear_color\": [0.55, 0.65, 0.8], \"plane\": %s,\n",
+            draw_plane ? "true" : "false");
+    fprintf(file, " \"sh\": {\"band\": 4, \"basis\": \"%s\", \"legacy\": %s, \"centers\": ",
+            sh_basis == GLYPHCAST_SH_BASIS_TOURNIER07 ? "tournier07" : "descoteaux07",
+            sh_legacy ? "true" : "false");
+    write_doubles(file, sh_centers, 3 * SH_COUNT);
+    fprintf(file, ",\n  \"scales\": ");
+    write_doubles(file, sh_scales, SH_COUNT);
+    fprintf(file, ",\n  \"coefficients\": ");
+    write_doubles(file, sh_coefficients, SH_PER * SH_COUNT);
+    fprintf(file, "}}\n");
+    if (fclose(file) != 0) {
+        fprintf(stderr, "--describe %s: cannot be written\n", name);
+        return 1;
+    }
+    return 0;
 }
 
 /* The slice step's glyphs: nine symmetric tensors of order 4 (the scene format's unique
@@ -436,6 +494,7 @@ static void tensor_glyphs(GlyphcastRenderer *renderer, double turn) {
 
 int main(int argc, char **argv) {
     const char *output = argc > 1 ? argv[1] : "c-example.png";
+    const char *description = NULL;
     int plain_memory = 0;
     /* The render settings: glyphcast's defaults, then the host's choices. */
     GlyphcastSettings settings;
@@ -452,6 +511,10 @@ int main(int argc, char **argv) {
             settings.uniform_color[1] = 0.05f;
             settings.uniform_color[2] = 0.05f;
             settings.specular = 0.0f;
+        } else if (strcmp(argv[i], "--no-plane") == 0) {
+            draw_plane = 0;
+        } else if (strcmp(argv[i], "--describe") == 0 && i + 1 < argc) {
+            description = argv[++i];
         } else if (strcmp(argv[i], "--basis") == 0 && i + 1 < argc) {
             const char *name = argv[++i];
             sh_slice_step = 1;
@@ -469,9 +532,13 @@ int main(int argc, char **argv) {
         } else {
             fprintf(stderr, "usage: c-example OUT.png [--plain-memory] [--uniform-red] "
                             "[--basis descoteaux07-legacy|descoteaux07|"
-                            "tournier07]\n");
+                            "tournier07] [--no-plane] [--describe FILE.json]\n");
             return 2;
         }
+    }
+    if (description && !sh_slice_step) {
+        fprintf(stderr, "--describe: give --basis too, so that the last frame shows SH glyphs\n");
+        return 2;
     }
     Engine e;
     create_engine(&e);
@@ -546,6 +613,7 @@ int main(int argc, char **argv) {
     CHECK(vkCreatePipelineLayout(e.device, &layout_info, NULL, &plane_layout));
     VkPipeline plane = plane_pipeline(&e, plane_layout);
 
+    double eye[3], target[3] = {0, 0, 0}, up[3] = {0, 0, 1};
     for (int frame = 0; frame < FRAMES; frame++) {
         int k = frame % IN_FLIGHT;
         CHECK(vkWaitForFences(e.device, 1, &fences[k], VK_TRUE, UINT64_MAX));
@@ -558,10 +626,10 @@ int main(int argc, char **argv) {
             }
         }
         double angle = -1.3 + 0.05 * frame;
-        double eye[3] = {4.4 * cos(angle), 4.4 * sin(angle), 3.0}, target[3] = {0, 0, 0},
-               up[3] = {0, 0, 1};
+        eye[0] = 4.4 * cos(angle), eye[1] = 4.4 * sin(angle), eye[2] = 3.0;
         Mat4 view = look_at(eye, target, up);
-        Mat4 projection = perspective(35.0 * 3.14159265358979323846 / 180.0, (double)WIDTH / HEIGHT, 0.5, 40.0);
+        Mat4 projection = perspective(FOV_Y_DEG * 3.14159265358979323846 / 180.0,
+                                      (double)WIDTH / HEIGHT, 0.5, 40.0);
         GlyphcastViewport viewport = {0, 0, WIDTH, HEIGHT};
         GLYPHCAST(renderer, glyphcast_renderer_set_view(renderer, k, view.m, projection.m, &viewport));
 
@@ -613,12 +681,14 @@ int main(int argc, char **argv) {
         push_data[16] = 0.0f, push_data[17] = 0.0f, push_data[18] = 0.08f, push_data[19] = 2.2f;
         VkViewport vp = {0, 0, WIDTH, HEIGHT, 0, 1};
         VkRect2D scissor = {{0, 0}, {WIDTH, HEIGHT}};
-        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, plane);
-        vkCmdSetViewport(cmd, 0, 1, &vp);
-        vkCmdSetScissor(cmd, 0, 1, &scissor);
-        vkCmdPushConstants(cmd, plane_layout, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof push_data,
-                           push_data);
-        vkCmdDraw(cmd, 6, 1, 0, 0);
+        if (draw_plane) {
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, plane);
+            vkCmdSetViewport(cmd, 0, 1, &vp);
+            vkCmdSetScissor(cmd, 0, 1, &scissor);
+            vkCmdPushConstants(cmd, plane_layout, VK_SHADER_STAGE_VERTEX_BIT, 0,
+                               sizeof push_data, push_data);
+            vkCmdDraw(cmd, 6, 1, 0, 0);
+        }
         /* ... then glyphcast's glyphs into the same attachments. */
         GLYPHCAST(renderer, glyphcast_renderer_record(renderer, cmd, k));
         vkCmdEndRendering(cmd);
@@ -668,6 +738,8 @@ int main(int argc, char **argv) {
     }
     printf("wrote %s: %d glyph pixels, %d validation message(s)\n", output, glyph_pixels,
            validation_messages);
+    if (description && describe(description, &settings, eye, target, up, FOV_Y_DEG) != 0)
+        return 1;
 
     glyphcast_renderer_destroy(renderer);
     if (plain_memory)

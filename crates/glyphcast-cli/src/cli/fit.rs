@@ -10,13 +10,12 @@ use glyphcast::{Error, Result};
 use glyphcast_dmri::fit::csd::{DEFAULT_CSD_LAMBDA, DEFAULT_CSD_TAU};
 use glyphcast_dmri::fit::csd_mrtrix::{self, CsdAlgorithm};
 use glyphcast_dmri::fit::gradients::BvecConvention;
-use glyphcast_dmri::fit::output::{
-    check_output_basis, check_output_path, output_tensor_order, write_output,
-};
+use glyphcast_dmri::fit::output::{check_output_basis, output_tensor_order, write_output};
 use glyphcast_dmri::fit::response::{DEFAULT_RESPONSE_FA, estimate_response};
 use glyphcast_dmri::fit::{
     DEFAULT_LAMBDA, FitFiles, FitInputs, FitModel, OdfMethod, OdfModel, Response, fit_with_response,
 };
+use glyphcast_dmri::io::image::check_output_path;
 use glyphcast_dmri::setting::DmriSetting;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;

@@ -8,12 +8,13 @@ use glyphcast::glyph::tensor_order::TensorOrder;
 use glyphcast::{Error, Result, Setting};
 use glyphcast_dmri::fit::gradients::BvecConvention;
 use glyphcast_dmri::fit::msmt::{MsmtFitter, MsmtProblem, Shells, TISSUES, fit_msmt};
-use glyphcast_dmri::fit::output::{check_output_basis, check_output_path, output_bytes};
+use glyphcast_dmri::fit::output::{check_output_basis, output_bytes};
 use glyphcast_dmri::fit::response::DEFAULT_RESPONSE_FA;
 use glyphcast_dmri::fit::response_msmt::{
     CSF_MIN_MD, GM_MAX_MD, ISO_FA, estimate_responses, read_responses,
 };
 use glyphcast_dmri::fit::{FitInputs, FitModel, OdfMethod, OdfModel};
+use glyphcast_dmri::io::image::check_output_path;
 use glyphcast_dmri::setting::DmriSetting;
 
 use super::{FitArgs, load_inputs, progress_bar};

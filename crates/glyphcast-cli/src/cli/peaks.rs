@@ -14,13 +14,13 @@ use clap::Args;
 use glyphcast::glyph::sh::parse_basis;
 use glyphcast::glyph::sh::sh_count;
 use glyphcast::{Error, Result, Setting};
-use glyphcast_dmri::fit::output::check_output_path;
 use glyphcast_dmri::fit::peaks::{
     DEFAULT_MIN_SEPARATION, DEFAULT_PEAK_COUNT, DEFAULT_RELATIVE_THRESHOLD, PeakFinder,
     PeakOptions, peak_volume, rotate_peaks,
 };
-use glyphcast_dmri::io::image::{ImageHeader, read_image};
-use glyphcast_dmri::io::mif::{MifKind, MifWrite, write_mif};
+use glyphcast_dmri::io::image::{
+    ImageHeader, ImageWrite, OutputFormat, check_output_path, read_image, write_image,
+};
 use glyphcast_dmri::volume::{CoefficientFrame, recorded_basis, resolve_basis};
 use ndarray::Array4;
 use std::path::PathBuf;
@@ -130,10 +130,7 @@ pub fn run(args: PeaksArgs) -> Result<()> {
     let (basis, legacy) = resolve_basis(&image, given, args.force_basis)?;
     let finder = PeakFinder::new(band, basis, legacy, options)?;
     let mut peaks = peak_volume(&coeffs, &finder)?;
-    let mif = matches!(
-        MifKind::of(&args.output),
-        Some(MifKind::Mif | MifKind::MifGz)
-    );
+    let mif = OutputFormat::of(&args.output, "-o/--output")?.is_mrtrix();
     let written = if mif {
         CoefficientFrame::World
     } else {
@@ -154,29 +151,22 @@ pub fn run(args: PeaksArgs) -> Result<()> {
         "glyphcast peaks: {} per voxel, xyz times amplitude, NaN if none",
         options.count
     );
-    if mif {
-        write_mif(
-            &args.output,
-            &MifWrite {
-                data: &peaks.clone().into_dyn(),
-                voxel_to_world: &image.voxel_to_world,
-                keys: &[("comments", description)],
-            },
-        )?;
-    } else {
-        let header = match &image.header {
-            ImageHeader::Nifti(header) => (**header).clone(),
-            ImageHeader::Mrtrix(_) => {
-                glyphcast_dmri::fit::dwi::nifti_header_for(&image.voxel_to_world)
-            }
-        };
-        glyphcast_dmri::fit::output::write_coefficients(
-            &args.output,
-            &peaks,
-            &header,
-            &description,
-        )?;
-    }
+    // A NIfTI input's own header goes into a NIfTI output (its qform and sform as they
+    // were); an MRtrix input's geometry is the voxel-to-world map.
+    let nifti_reference = match &image.header {
+        ImageHeader::Nifti(header) => Some(&**header),
+        ImageHeader::Mrtrix(_) => None,
+    };
+    write_image(
+        &args.output,
+        &ImageWrite {
+            data: peaks.view().into_dyn(),
+            voxel_to_world: &image.voxel_to_world,
+            nifti_reference,
+            description: &description,
+            mrtrix_keys: &[],
+        },
+    )?;
     if !args.quiet {
         let found = peaks
             .lanes(ndarray::Axis(3))

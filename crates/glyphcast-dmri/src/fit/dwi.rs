@@ -6,12 +6,12 @@
 //! [x, y, z, t] whatever the stored type. A NIfTI header is kept as read, so that a NIfTI output can copy it (affine, voxel size, units); an MRtrix input
 //! keeps its exact affine and its `dw_scheme`, and gets a NIfTI header built from the
 //! affine ([`nifti_header_for`]).
-use glam::DMat3;
 use ndarray::{Array3, Array4, Axis, Ix3, Ix4};
 use std::path::Path;
 
 use crate::io::image::is_mrtrix;
 use crate::io::mif::read_mif;
+use crate::io::nifti::write::nifti_header_for;
 use crate::io::nifti::{NiftiHeader, VoxelToWorld, read_nifti};
 use glyphcast::{Error, Result};
 
@@ -97,29 +97,6 @@ fn squeeze_past(mut data: ndarray::ArrayD<f64>, rank: usize) -> ndarray::ArrayD<
         data = data.index_axis_move(last, 0);
     }
     data
-}
-
-/// A NIfTI-1 header holding `map` as its sform (code 1, scanner), with the voxel sizes
-/// in pixdim and millimetre units; the qform is left unset.
-pub fn nifti_header_for(map: &VoxelToWorld) -> NiftiHeader {
-    let rows = map.affine.transpose();
-    let sizes = map.voxel_sizes();
-    let mut header = NiftiHeader {
-        sform_code: 1,
-        qform_code: 0,
-        srow_x: rows.x_axis.to_array(),
-        srow_y: rows.y_axis.to_array(),
-        srow_z: rows.z_axis.to_array(),
-        xyzt_units: 2,
-        ..NiftiHeader::default()
-    };
-    header.pixdim[0] = if DMat3::from_mat4(map.affine).determinant() < 0.0 {
-        -1.0
-    } else {
-        1.0
-    };
-    header.pixdim[1..4].copy_from_slice(&sizes.to_array());
-    header
 }
 
 /// Reads a mask of spatial shape `shape`: a 3D volume (or 4D with one volume), where any

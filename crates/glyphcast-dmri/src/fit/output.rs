@@ -10,35 +10,19 @@
 //! frame MRtrix stores and mrview draws (the same rotation `render` applies to a
 //! voxel-frame volume, `volume::reorient`).
 //!
-//! The NIfTI file is encoded in memory (`io::nifti::write`) and written with
-//! `io::atomic`: to a temporary beside the target, flushed, then renamed over it.
+//! The file is written by `io::image::write_image`, which owns both formats'
+//! conventions and writes atomically; this module decides only what goes in it.
 use ndarray::{Array4, Axis};
 use std::path::Path;
 
 use super::FitModel;
 use super::dwi::Dwi;
-use crate::io::mif::{MifKind, MifWrite, mif_file_bytes};
-use crate::io::nifti::NiftiHeader;
+use crate::io::image::{ImageWrite, OutputFormat, image_bytes, write_image};
 use crate::io::nifti::VoxelToWorld;
-use crate::io::nifti::write::nifti1_bytes;
 use crate::volume::{Reorientation, tensor_description};
 use glyphcast::glyph::sh::ShBasis;
 use glyphcast::glyph::tensor_order::{DTI_COUNT, TensorOrder, negate_x};
-use glyphcast::io::atomic::write_atomic;
 use glyphcast::{Error, Result, Setting};
-
-/// The NIfTI endings written.
-const ENDINGS: [&str; 2] = [".nii.gz", ".nii"];
-
-/// Checks that `path` names a `.nii`, `.nii.gz`, `.mif` or `.mif.gz` file (before any
-/// work is done); an [`Error::OutputName`] naming `option` (the front end's name for the
-/// output) otherwise.
-pub fn check_output_path(path: &Path, option: &'static str) -> Result<()> {
-    match MifKind::of(path) {
-        Some(MifKind::Mif | MifKind::MifGz) => Ok(()),
-        _ => nifti_ending(path, option).map(|_| ()),
-    }
-}
 
 /// Refuses an SH or ODF fit written to a `.mif` (`path`, the output `option`) in any
 /// basis but MRtrix's own (tournier07, not legacy): every MRtrix command reads a `.mif`'s
@@ -68,7 +52,7 @@ pub fn check_output_basis(path: &Path, option: &'static str, model: &FitModel) -
 
 /// Whether `path` names an MRtrix image (`.mif`, `.mif.gz`).
 fn is_mif(path: &Path) -> bool {
-    matches!(MifKind::of(path), Some(MifKind::Mif | MifKind::MifGz))
+    OutputFormat::of(path, "output").is_ok_and(OutputFormat::is_mrtrix)
 }
 
 /// The stored order of a tensor fit's entries written to `path`: MRtrix's for an order-2
@@ -144,9 +128,10 @@ pub fn write_output(
         FitModel::Tensor { order } => tensor_description(order, stored),
         _ => model.description(),
     };
-    write_atomic(
+    let (data, keys, voxel_to_world) = output_content(path, coeffs, dwi, model, stored)?;
+    write_image(
         path,
-        &output_bytes(path, coeffs, dwi, model, stored, &description)?,
+        &output_image(&data, &keys, &voxel_to_world, dwi, &description),
     )
 }
 
@@ -160,44 +145,60 @@ pub fn output_bytes(
     stored: TensorOrder,
     description: &str,
 ) -> Result<Vec<u8>> {
-    let description = description.to_string();
-    match MifKind::of(path) {
-        Some(MifKind::Mif | MifKind::MifGz) => {
-            let voxel_to_world = dwi.voxel_to_world()?;
-            let mut keys = vec![("comments", description)];
-            match *model {
-                FitModel::Sh { basis, legacy, .. }
-                | FitModel::Odf(super::OdfModel { basis, legacy, .. }) => {
-                    let legacy = if legacy { " legacy" } else { "" };
-                    keys.push(("glyphcast_sh_basis", format!("{}{legacy}", basis.name())));
-                }
-                FitModel::Tensor { order } => {
-                    keys.push(("glyphcast_tensor_order", order.to_string()));
-                }
-            }
-            let world = to_world_frame(coeffs, &voxel_to_world, model, &dwi.file)?;
-            // A .mif holds MRtrix's order in scanner axes: no FSL frame to turn into.
-            let data = stored_in(world, stored, 0.0).into_dyn();
-            mif_file_bytes(
-                path,
-                &MifWrite {
-                    data: &data,
-                    voxel_to_world: &voxel_to_world,
-                    keys: &keys,
-                },
-            )
-        }
-        _ => coefficient_bytes(
-            path,
-            &stored_in(
-                coeffs.clone(),
-                stored,
-                dwi.voxel_to_world()?.linear().determinant(),
-            ),
-            &dwi.header,
-            &description,
-        ),
+    let (data, keys, voxel_to_world) = output_content(path, coeffs, dwi, model, stored)?;
+    image_bytes(
+        path,
+        &output_image(&data, &keys, &voxel_to_world, dwi, description),
+    )
+}
+
+/// The image a fit writes: its values in the DWI's geometry (a NIfTI output keeps the
+/// DWI's header).
+fn output_image<'a>(
+    data: &'a Array4<f64>,
+    keys: &'a [(&'a str, String)],
+    voxel_to_world: &'a VoxelToWorld,
+    dwi: &'a Dwi,
+    description: &'a str,
+) -> ImageWrite<'a> {
+    ImageWrite {
+        data: data.view().into_dyn(),
+        voxel_to_world,
+        nifti_reference: Some(&dwi.header),
+        description,
+        mrtrix_keys: keys,
     }
+}
+
+/// What a fit stores in `path`'s format: the values (a `.mif`'s in scanner axes and a
+/// tensor's in `stored` order), the MRtrix keys recording the model, the geometry.
+type OutputContent = (Array4<f64>, Vec<(&'static str, String)>, VoxelToWorld);
+
+fn output_content(
+    path: &Path,
+    coeffs: &Array4<f64>,
+    dwi: &Dwi,
+    model: &FitModel,
+    stored: TensorOrder,
+) -> Result<OutputContent> {
+    let voxel_to_world = dwi.voxel_to_world()?;
+    if !OutputFormat::of(path, "output")?.is_mrtrix() {
+        let determinant = voxel_to_world.linear().determinant();
+        let data = stored_in(coeffs.clone(), stored, determinant);
+        return Ok((data, Vec::new(), voxel_to_world));
+    }
+    let key = match *model {
+        FitModel::Sh { basis, legacy, .. }
+        | FitModel::Odf(super::OdfModel { basis, legacy, .. }) => {
+            let legacy = if legacy { " legacy" } else { "" };
+            ("glyphcast_sh_basis", format!("{}{legacy}", basis.name()))
+        }
+        FitModel::Tensor { order } => ("glyphcast_tensor_order", order.to_string()),
+    };
+    let world = to_world_frame(coeffs, &voxel_to_world, model, &dwi.file)?;
+    // A .mif holds MRtrix's order in scanner axes: no FSL frame to turn into.
+    let data = stored_in(world, stored, 0.0);
+    Ok((data, vec![key], voxel_to_world))
 }
 
 /// `coeffs` ([x, y, z, coefficient], in the DWI's voxel axes) turned into scanner axes:
@@ -229,62 +230,6 @@ fn to_world_frame(
     Ok(world)
 }
 
-/// Writes `coeffs` ([x, y, z, coefficient]) as float32, copying `reference`'s header
-/// apart from the fields that describe the data (dim, datatype, scaling, intent,
-/// display range), with `description` in `descrip`.
-pub fn write_coefficients(
-    path: &Path,
-    coeffs: &Array4<f64>,
-    reference: &NiftiHeader,
-    description: &str,
-) -> Result<()> {
-    write_atomic(
-        path,
-        &coefficient_bytes(path, coeffs, reference, description)?,
-    )
-}
-
-/// The bytes [`write_coefficients`] writes.
-fn coefficient_bytes(
-    path: &Path,
-    coeffs: &Array4<f64>,
-    reference: &NiftiHeader,
-    description: &str,
-) -> Result<Vec<u8>> {
-    let ending = nifti_ending(path, "output")?;
-    let mut header = reference.clone();
-    header.intent_code = 0;
-    header.intent_name = [0; 16];
-    (header.intent_p1, header.intent_p2, header.intent_p3) = (0.0, 0.0, 0.0);
-    (header.cal_min, header.cal_max) = (0.0, 0.0);
-    header.set_description(description);
-    let file = path.display().to_string();
-    nifti1_bytes(
-        &header,
-        coeffs.view().into_dyn(),
-        ending == ".nii.gz",
-        &file,
-    )
-}
-
-fn nifti_ending(path: &Path, option: &'static str) -> Result<&'static str> {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    ENDINGS
-        .into_iter()
-        .find(|e| name.len() > e.len() && name.ends_with(e))
-        .ok_or_else(|| Error::OutputName {
-            option,
-            path: path.display().to_string(),
-            format: "NIfTI or MRtrix images".into(),
-            endings: [".nii", ".nii.gz", ".mif", ".mif.gz"]
-                .map(String::from)
-                .to_vec(),
-        })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -307,24 +252,5 @@ mod tests {
         );
         assert_eq!(written(TensorOrder::Fsl, -8.0), entries);
         assert_eq!(written(TensorOrder::Glyphcast, 8.0), entries);
-    }
-
-    #[test]
-    fn output_names_are_checked() {
-        for good in [
-            "out.nii",
-            "out.nii.gz",
-            "a.b.c.nii.gz",
-            "out.mif",
-            "out.mif.gz",
-            "OUT.MIF",
-        ] {
-            assert!(check_output_path(Path::new(good), "-o").is_ok(), "{good}");
-        }
-        for bad in ["out.png", "out", ".nii", "out.nii.bak", "out.mih", ".mif"] {
-            let err = check_output_path(Path::new(bad), "-o").unwrap_err();
-            assert!(err.is_usage(), "{bad}: {err}");
-            assert!(err.to_string().starts_with(&format!("-o {bad}: ")), "{err}");
-        }
     }
 }

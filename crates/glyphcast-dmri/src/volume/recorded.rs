@@ -365,20 +365,26 @@ pub fn has_dti_entries(layout: TensorLayout) -> bool {
 }
 
 #[cfg(test)]
-/// For tests: an MRtrix image whose `comments` hold `text`, through our writer and the parser.
+/// For tests: an MRtrix image whose `comments` hold `text`, through the image writer
+/// (`io::image::image_bytes`, as `fit` writes its record) and the parser.
 pub(crate) fn commented_image(text: &str) -> Image {
-    use crate::io::mif::write::mif_bytes;
-    use crate::io::mif::{MifHeader, MifWrite};
+    use crate::io::image::{ImageWrite, image_bytes};
+    use crate::io::mif::MifHeader;
     use crate::io::nifti::{AffineSource, VoxelToWorld};
     use glam::DMat4;
     let data = ndarray::ArrayD::zeros(ndarray::IxDyn(&[1, 1, 1]));
     let voxel_to_world =
         VoxelToWorld::new(DMat4::IDENTITY, AffineSource::Pixdim, "f.mif", "transform").unwrap();
-    let bytes = mif_bytes(&MifWrite {
-        data: &data,
-        voxel_to_world: &voxel_to_world,
-        keys: &[("comments", text.to_string())],
-    })
+    let bytes = image_bytes(
+        std::path::Path::new("f.mif"),
+        &ImageWrite {
+            data: data.view(),
+            voxel_to_world: &voxel_to_world,
+            nifti_reference: None,
+            description: text,
+            mrtrix_keys: &[],
+        },
+    )
     .unwrap();
     let header = MifHeader::parse(&bytes, "f.mif").unwrap();
     Image {

@@ -4,14 +4,17 @@
 //! world length of each voxel axis and `transform` the affine's columns divided by those
 //! lengths (unit axes, as MRtrix expects) with the affine's offset; axes past the third
 //! get `vox` 1. The bytes are written atomically (`io::atomic`).
+//!
+//! This is the format's encoder; outputs go through `io::image::write_image`, which
+//! chooses the format by the name and sets the keys glyphcast records.
 use std::fmt::Write as _;
-use std::io::Write as _;
 use std::path::Path;
 
-use ndarray::ArrayD;
+use ndarray::{ArrayD, ArrayViewD};
 
 use super::header::MAGIC;
 use super::{DataType, MifKind};
+use crate::io::gzip::gzip;
 use crate::io::nifti::VoxelToWorld;
 use glyphcast::io::atomic::write_atomic;
 use glyphcast::{Error, Result};
@@ -39,22 +42,26 @@ pub fn write_mif(path: &Path, image: &MifWrite) -> Result<()> {
 /// caller that writes several files as one set (`io::atomic::write_all_atomic`).
 pub fn mif_file_bytes(path: &Path, image: &MifWrite) -> Result<Vec<u8>> {
     let bytes = mif_bytes(image)?;
-    let bytes = if MifKind::of(path) == Some(MifKind::MifGz) {
-        let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
-        encoder
-            .write_all(&bytes)
-            .and_then(|()| encoder.finish())
-            .map_err(|err| Error::io(path, err))?
+    if MifKind::of(path) == Some(MifKind::MifGz) {
+        gzip(bytes, &path.display().to_string())
     } else {
-        bytes
-    };
-    Ok(bytes)
+        Ok(bytes)
+    }
 }
 
 /// The file's bytes: header, padding, float32 values.
 pub fn mif_bytes(image: &MifWrite) -> Result<Vec<u8>> {
-    let shape = image.data.shape();
-    for (key, value) in image.keys {
+    encode_mif(image.data.view(), image.voxel_to_world, image.keys)
+}
+
+/// [`mif_bytes`] of a view: `data` with `voxel_to_world` and the `keys` lines.
+pub(crate) fn encode_mif(
+    data: ArrayViewD<'_, f64>,
+    voxel_to_world: &VoxelToWorld,
+    keys: &[(&str, String)],
+) -> Result<Vec<u8>> {
+    let shape = data.shape();
+    for (key, value) in keys {
         if key.contains([':', '\n']) || value.contains('\n') {
             return Err(Error::Call {
                 call: "mif_bytes",
@@ -64,8 +71,8 @@ pub fn mif_bytes(image: &MifWrite) -> Result<Vec<u8>> {
     }
     let mut text = format!("{MAGIC}\n");
     let join = |values: Vec<String>| values.join(",");
-    let linear = image.voxel_to_world.linear();
-    let sizes = image.voxel_to_world.voxel_sizes();
+    let linear = voxel_to_world.linear();
+    let sizes = voxel_to_world.voxel_sizes();
     let _ = writeln!(
         text,
         "dim: {}",
@@ -84,7 +91,7 @@ pub fn mif_bytes(image: &MifWrite) -> Result<Vec<u8>> {
     let layout = (0..shape.len()).map(|axis| format!("+{axis}")).collect();
     let _ = writeln!(text, "layout: {}", join(layout));
     let _ = writeln!(text, "datatype: {}", DataType::FLOAT32_LE.name());
-    let offset = image.voxel_to_world.affine.w_axis;
+    let offset = voxel_to_world.affine.w_axis;
     for row in 0..3 {
         let unit = |c: usize| linear.col(c)[row] / sizes[c];
         let values = vec![
@@ -95,7 +102,7 @@ pub fn mif_bytes(image: &MifWrite) -> Result<Vec<u8>> {
         ];
         let _ = writeln!(text, "transform: {}", join(values));
     }
-    for (key, value) in image.keys {
+    for (key, value) in keys {
         let _ = writeln!(text, "{key}: {value}");
     }
     // The offset is part of the header whose length it gives: find the fixed point.
@@ -111,9 +118,9 @@ pub fn mif_bytes(image: &MifWrite) -> Result<Vec<u8>> {
     let _ = write!(text, "file: . {data_offset}\nEND\n");
     let mut bytes = text.into_bytes();
     bytes.resize(data_offset, 0);
-    bytes.reserve(4 * image.data.len());
+    bytes.reserve(4 * data.len());
     // Reversing the axes and iterating in logical order makes the first axis fastest.
-    for &value in image.data.t().iter() {
+    for &value in data.t().iter() {
         bytes.extend_from_slice(&(value as f32).to_le_bytes());
     }
     Ok(bytes)

@@ -1,13 +1,13 @@
 //! NIfTI-1 output: a single file of the 348-byte header, the 4-byte extension flag (no
 //! extensions) and float32 voxels in Fortran order, little-endian, gzip-compressed on
 //! request. The geometry (pixdim, qform, sform, units) and text fields come from a
-//! reference header; the fields that describe the data are set here.
-use std::io::Write;
-
-use flate2::Compression;
-use flate2::write::GzEncoder;
+//! reference header; the fields that describe the data are set here. This is the
+//! format's encoder; outputs go through `io::image::write_image`, which chooses the
+//! reference header and clears the fields of the input's data (intent, display range).
+use glam::DMat3;
 use ndarray::ArrayViewD;
 
+use super::VoxelToWorld;
 use super::header::{EXTENSION_FLAG_SIZE, NIFTI1_HEADER_SIZE, NiftiHeader, NiftiVersion};
 use glyphcast::{Error, Result};
 
@@ -38,14 +38,34 @@ pub fn nifti1_bytes(
     for &value in data.t().iter() {
         bytes.extend_from_slice(&(value as f32).to_le_bytes());
     }
-    if !gzip {
-        return Ok(bytes);
+    if gzip {
+        crate::io::gzip::gzip(bytes, file)
+    } else {
+        Ok(bytes)
     }
-    let mut encoder = GzEncoder::new(Vec::new(), Compression::default());
-    encoder
-        .write_all(&bytes)
-        .and_then(|()| encoder.finish())
-        .map_err(|err| Error::io(file, err))
+}
+
+/// A NIfTI-1 header holding `map` as its sform (code 1, scanner), with the voxel sizes
+/// in pixdim and millimetre units; the qform is left unset.
+pub fn nifti_header_for(map: &VoxelToWorld) -> NiftiHeader {
+    let rows = map.affine.transpose();
+    let sizes = map.voxel_sizes();
+    let mut header = NiftiHeader {
+        sform_code: 1,
+        qform_code: 0,
+        srow_x: rows.x_axis.to_array(),
+        srow_y: rows.y_axis.to_array(),
+        srow_z: rows.z_axis.to_array(),
+        xyzt_units: 2,
+        ..NiftiHeader::default()
+    };
+    header.pixdim[0] = if DMat3::from_mat4(map.affine).determinant() < 0.0 {
+        -1.0
+    } else {
+        1.0
+    };
+    header.pixdim[1..4].copy_from_slice(&sizes.to_array());
+    header
 }
 
 /// dim for `shape`: rank 1 to 7, each length within int16.
