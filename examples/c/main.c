@@ -452,6 +452,11 @@ int main(int argc, char **argv) {
             settings.uniform_color[1] = 0.05f;
             settings.uniform_color[2] = 0.05f;
             settings.specular = 0.0f;
+        } else if (strcmp(argv[i], "--shadows") == 0) {
+            settings.shadows = GLYPHCAST_SHADOWS_HARD;
+        } else if (strcmp(argv[i], "--soft-shadows") == 0 && i + 1 < argc) {
+            settings.shadows = GLYPHCAST_SHADOWS_SOFT;
+            settings.shadow_radius = (float)atof(argv[++i]);
         } else if (strcmp(argv[i], "--basis") == 0 && i + 1 < argc) {
             const char *name = argv[++i];
             sh_slice_step = 1;
@@ -468,6 +473,7 @@ int main(int argc, char **argv) {
             }
         } else {
             fprintf(stderr, "usage: c-example OUT.png [--plain-memory] [--uniform-red] "
+                            "[--shadows] [--soft-shadows DEGREES] "
                             "[--basis descoteaux07-legacy|descoteaux07|"
                             "tournier07]\n");
             return 2;

@@ -21,6 +21,7 @@ pub mod peaks;
 pub mod promote;
 pub mod raycast;
 pub mod settings;
+pub mod shadow_grid;
 pub mod shaders;
 pub mod table;
 pub mod tiles;
@@ -28,7 +29,7 @@ pub mod underlay;
 
 use crate::catalog::{ELLIPSOID_METHOD, RAY_CAST_METHODS, RayCastMethod};
 pub use crate::glyph::tessellate::MeshKind;
-pub use settings::{ColorMode, Lighting, Refinement, RenderPath, RenderSettings};
+pub use settings::{ColorMode, Lighting, Refinement, RenderPath, RenderSettings, Shadows};
 
 /// How glyphs are drawn (`--method`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

@@ -19,6 +19,7 @@ use crate::render::Method;
 use crate::render::batch::{Batch, batches};
 use crate::render::frame::{FRAME_DESCRIPTOR, FRAME_USAGE, FrameParams};
 use crate::render::glyph_data::GlyphSetData;
+use crate::render::shadow_grid::ShadowGrid;
 use crate::render::shaders::{
     DepthConvention, IMPOSTOR_FRAGMENT, RAYCAST_VERTEX, for_depth, raycast_shader,
 };
@@ -172,6 +173,10 @@ pub fn varying_components(layout: TensorLayout) -> u32 {
 pub(crate) const FRAME_BINDING: u32 = 0;
 /// Binding of a glyph batch's coefficients (glsl/frame.glsl `Coefficients`).
 pub(crate) const COEFFICIENTS_BINDING: u32 = 1;
+/// Bindings of what shadow rays read (glsl/shadow.glsl): the batch's instances and boxes
+/// (its vertex buffers, read as storage buffers too), its grid's header and cells, and
+/// the grid's entries ([`ShadowGrid`]).
+pub(crate) const SHADOW_BINDINGS: [u32; 4] = [2, 3, 4, 5];
 
 /// Specialisation constant 0 of raycast.vert (`ORIENTED_BOX`): 1 draws each glyph's
 /// oriented box, 0 the cube around its bounding sphere (the sphere impostor's proxy).
@@ -191,6 +196,8 @@ pub struct GlyphSetGpu {
     instances: Buffer,
     boxes: Buffer,
     _coefficients: Buffer,
+    /// The shadow rays' grid over the batch's boxes: its cells and its entries.
+    _grid: [Buffer; 2],
     /// One per frame in flight: the coefficients with that frame's block.
     descriptor_sets: Vec<vk::DescriptorSet>,
 }
@@ -220,13 +227,15 @@ impl RayCastPass {
     ) -> Result<RayCastPass> {
         options.sample_count()?;
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
+        let shadow = |binding| buffer_binding(binding, storage, vk::ShaderStageFlags::FRAGMENT);
         let bindings = [
             buffer_binding(FRAME_BINDING, FRAME_DESCRIPTOR, stages),
-            buffer_binding(
-                COEFFICIENTS_BINDING,
-                vk::DescriptorType::STORAGE_BUFFER,
-                stages,
-            ),
+            buffer_binding(COEFFICIENTS_BINDING, storage, stages),
+            shadow(SHADOW_BINDINGS[0]),
+            shadow(SHADOW_BINDINGS[1]),
+            shadow(SHADOW_BINDINGS[2]),
+            shadow(SHADOW_BINDINGS[3]),
         ];
         // The fragment shaders' push constant: the glyph set's negative mode (one u32).
         let layout = PipelineLayout::new(ctx, &bindings, vk::ShaderStageFlags::FRAGMENT, 4)?;
@@ -473,7 +482,7 @@ impl RayCastPass {
             .map(|chunk| (chunk.layout, batch_method(chunk.shape, method)))
             .collect();
         self.prepare_pipelines(&variants)?;
-        let pool = DescriptorPool::new(ctx, chunks.len() * frames_in_flight, 0, 2)?;
+        let pool = DescriptorPool::new(ctx, chunks.len() * frames_in_flight, 0, 6)?;
         let mut scene = SceneGpu {
             frames,
             pool,
@@ -667,15 +676,16 @@ fn upload_chunk(
     set_layout: vk::DescriptorSetLayout,
     batch: &Batch,
 ) -> Result<GlyphSetGpu> {
-    let vertex = vk::BufferUsageFlags::VERTEX_BUFFER;
-    let instances = Buffer::with_data(ctx, "instances", &batch.instances()?, vertex)?;
-    let boxes = Buffer::with_data(ctx, "boxes", &batch.boxes()?, vertex)?;
-    let coefficients = Buffer::with_data(
-        ctx,
-        "coefficients",
-        &batch.coefficients()?,
-        vk::BufferUsageFlags::STORAGE_BUFFER,
-    )?;
+    let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+    // Vertex buffers of the draw, and storage buffers of the shadow rays.
+    let vertex = vk::BufferUsageFlags::VERTEX_BUFFER | storage;
+    let (instance_data, box_data) = (batch.instances()?, batch.boxes()?);
+    let instances = Buffer::with_data(ctx, "instances", &instance_data, vertex)?;
+    let boxes = Buffer::with_data(ctx, "boxes", &box_data, vertex)?;
+    let coefficients = Buffer::with_data(ctx, "coefficients", &batch.coefficients()?, storage)?;
+    let grid = ShadowGrid::new(&instance_data, &box_data);
+    let grid_cells = Buffer::with_data(ctx, "shadow grid", &grid.cell_bytes(), storage)?;
+    let grid_entries = Buffer::with_data(ctx, "shadow grid entries", &grid.entries, storage)?;
     let descriptor_sets = scene
         .frames
         .iter()
@@ -685,6 +695,10 @@ fn upload_chunk(
                 &[
                     BufferBinding::storage(FRAME_BINDING, frame),
                     BufferBinding::storage(COEFFICIENTS_BINDING, &coefficients),
+                    BufferBinding::storage(SHADOW_BINDINGS[0], &instances),
+                    BufferBinding::storage(SHADOW_BINDINGS[1], &boxes),
+                    BufferBinding::storage(SHADOW_BINDINGS[2], &grid_cells),
+                    BufferBinding::storage(SHADOW_BINDINGS[3], &grid_entries),
                 ],
             )
         })
@@ -697,6 +711,7 @@ fn upload_chunk(
         instances,
         boxes,
         _coefficients: coefficients,
+        _grid: [grid_cells, grid_entries],
         descriptor_sets,
     })
 }

@@ -16,7 +16,7 @@ use glyphcast::render::component::UploadedGlyphs;
 use glyphcast::render::compose::labels::{CaptionPatch, caption_patch};
 use glyphcast::render::headless::HeadlessRenderer;
 use glyphcast::render::peaks::PeaksGpu;
-use glyphcast::render::settings::{RenderSettings, STEP_RANGE};
+use glyphcast::render::settings::{RenderSettings, STEP_RANGE, Shadows};
 use glyphcast::render::shaders::methods_for;
 use glyphcast::render::underlay::Underlay;
 use glyphcast::vk::Gpu;
@@ -372,6 +372,14 @@ impl App {
             Action::NextColor => settings.color = controls::next_color(settings.color),
             Action::Negative(mode) => self.panels.set_negative(Some(mode))?,
             Action::ToggleNegative => self.panels.set_negative(None)?,
+            Action::Shadows(shadows) => change_checked(&mut settings, |s| s.shadows = shadows)?,
+            Action::ToggleShadows => {
+                let shadows = match settings.shadows {
+                    Shadows::Off => Shadows::Hard,
+                    _ => Shadows::Off,
+                };
+                change_checked(&mut settings, |s| s.shadows = shadows)?
+            }
             Action::Slice(delta) => {
                 if self.panels.move_slice(delta)? {
                     // Nothing new to show until the slice's glyphs are ready, and on a
@@ -433,8 +441,14 @@ impl App {
                 by: "the shaders of these glyphs".into(),
             });
         }
-        // The other settings may refuse the method (--color sign and meshes).
-        change_checked(settings, |s| s.method = method)
+        // The other settings may refuse the method (--color sign and meshes); only the
+        // exact method casts shadows, so another one turns them off.
+        change_checked(settings, |s| {
+            s.method = method;
+            if method != glyphcast::render::Method::Exact {
+                s.shadows = Shadows::Off;
+            }
+        })
     }
 
     fn redraw(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
