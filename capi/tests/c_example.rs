@@ -120,16 +120,21 @@ fn the_sh_basis_and_its_legacy_flag_are_honoured() {
     }
 }
 
-/// The host's shadows reach the picture: `settings.shadows` hard darkens glyph pixels and
-/// brightens none (the engine's plane keeps its colour), soft shadows differ again; a
+/// The host's shadows reach the picture: with the light from the side, `settings.shadows`
+/// hard darkens glyph pixels and brightens none (the engine's plane keeps its colour), soft shadows differ again; a
 /// soft light of radius 0 is refused at creation, naming the field.
 #[test]
 fn the_c_example_casts_shadows_when_asked() {
-    let (_, plain) = run_example("c-example-unshadowed.png", &[]);
-    let (_, hard) = run_example("c-example-shadows.png", &["--shadows"]);
-    let (_, soft) = run_example("c-example-soft.png", &["--soft-shadows", "6"]);
+    // Lit from the left, so that the glyphs' lobes shadow each other where the camera
+    // sees them.
+    let (_, plain) = run_example("c-example-unshadowed.png", &["--side-light"]);
+    let (_, hard) = run_example("c-example-shadows.png", &["--side-light", "--shadows"]);
+    let (_, soft) = run_example(
+        "c-example-soft.png",
+        &["--side-light", "--soft-shadows", "6"],
+    );
     let changed = differing_pixels(&plain, &hard);
-    assert!(changed.len() > 100, "{} pixels shadowed", changed.len());
+    assert!(changed.len() > 20, "{} pixels shadowed", changed.len());
     let brighter = changed
         .iter()
         .filter(|(before, after)| (0..3).any(|c| after[c] > before[c]))

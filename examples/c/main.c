@@ -452,6 +452,8 @@ int main(int argc, char **argv) {
             settings.uniform_color[1] = 0.05f;
             settings.uniform_color[2] = 0.05f;
             settings.specular = 0.0f;
+        } else if (strcmp(argv[i], "--side-light") == 0) {
+            settings.light[0] = -1.0f, settings.light[1] = 0.1f, settings.light[2] = 0.1f;
         } else if (strcmp(argv[i], "--shadows") == 0) {
             settings.shadows = GLYPHCAST_SHADOWS_HARD;
         } else if (strcmp(argv[i], "--soft-shadows") == 0 && i + 1 < argc) {
@@ -473,7 +475,7 @@ int main(int argc, char **argv) {
             }
         } else {
             fprintf(stderr, "usage: c-example OUT.png [--plain-memory] [--uniform-red] "
-                            "[--shadows] [--soft-shadows DEGREES] "
+                            "[--side-light] [--shadows] [--soft-shadows DEGREES] "
                             "[--basis descoteaux07-legacy|descoteaux07|"
                             "tournier07]\n");
             return 2;
