@@ -53,6 +53,11 @@
 #include "exact_root.glsl"
 #include "shadow.glsl"
 
+// Whether the pipeline casts shadow rays (src/render/raycast.rs, SHADOWS_CONSTANT). Off,
+// the loop below runs once and the driver compiles the shadow code away: a frame without
+// shadows runs what it ran before they existed.
+layout(constant_id = 1) const bool SHADOWS = false;
+
 void main() {
     GlyphRay camera;
     if (!glyph_ray_within(CHORD_RADIUS, camera)) {
@@ -60,13 +65,14 @@ void main() {
     }
     init_binomials();
     glyph_load_inputs();
-    bool shadows = frame.shadow.x > 0.5;
+    bool shadows = SHADOWS && frame.shadow.x > 0.5;
     float s_hit = 0.0;
     // Pass 0 isolates the camera ray's first root in this fragment's glyph; with shadows,
     // each later pass a shadow ray's in the glyph shadow_next_glyph loaded (one call site
     // of the root isolation: shadow.glsl).
     GlyphRay ray = camera;
-    for (int pass = 0; pass <= SHADOW_ISOLATIONS; ++pass) {
+    const int passes = int(SHADOWS) * SHADOW_ISOLATIONS;
+    for (int pass = 0; pass <= passes; ++pass) {
         float h = ray.half_chord;
         ray_polynomial(ray.mid, h * ray.dir);
         float tau;

@@ -47,7 +47,8 @@ fn sphere_above_flat(size: u32) -> (Scene, DVec3) {
         0.25,
         vec![vec![1.0, 0.0, 0.0, 1.0, 0.0, 1.0]],
     );
-    let scene = glyphcast::accuracy::suite::scene(vec![flat, ball], DVec3::new(0.6, -2.2, 3.2), 128);
+    let scene =
+        glyphcast::accuracy::suite::scene(vec![flat, ball], DVec3::new(0.6, -2.2, 3.2), 128);
     let mut scene = scene;
     scene.image.width = size;
     scene.image.height = size;
@@ -185,8 +186,20 @@ fn hard_shadows_match_the_float64_reference() {
         ("fibre-field", fibre_field(128)),
     ] {
         let sets = prepare_scene(&scene, 0.0).expect("preparing");
-        let off = render(&gpu, &mut renderer, &scene, &sets, &settings(&scene.camera, light, Shadows::Off));
-        let on = render(&gpu, &mut renderer, &scene, &sets, &settings(&scene.camera, light, Shadows::Hard));
+        let off = render(
+            &gpu,
+            &mut renderer,
+            &scene,
+            &sets,
+            &settings(&scene.camera, light, Shadows::Off),
+        );
+        let on = render(
+            &gpu,
+            &mut renderer,
+            &scene,
+            &sets,
+            &settings(&scene.camera, light, Shadows::Hard),
+        );
         save(&format!("shadows-{name}-off"), &off);
         save(&format!("shadows-{name}-hard"), &on);
         assert_eq!(
@@ -213,9 +226,19 @@ fn hard_shadows_match_the_float64_reference() {
                 (false, true) => wrong.push((k % w, k / w, "shadowed, reference lit")),
             }
         }
-        eprintln!("{name}: {shadowed} shadowed and {lit} lit pixels agree, {} wrong", wrong.len());
-        assert!(wrong.is_empty(), "{name}: {:?}", &wrong[..wrong.len().min(20)]);
-        assert!(shadowed >= 100 && lit >= 500, "{name}: {shadowed} shadowed, {lit} lit");
+        eprintln!(
+            "{name}: {shadowed} shadowed and {lit} lit pixels agree, {} wrong",
+            wrong.len()
+        );
+        assert!(
+            wrong.is_empty(),
+            "{name}: {:?}",
+            &wrong[..wrong.len().min(20)]
+        );
+        assert!(
+            shadowed >= 100 && lit >= 500,
+            "{name}: {shadowed} shadowed, {lit} lit"
+        );
         // Shadowing only takes light away.
         let brighter = (0..w * h * 4).filter(|&c| on.rgba[c] > off.rgba[c]).count();
         assert_eq!(brighter, 0, "{name}: channels brightened");
@@ -233,9 +256,21 @@ fn soft_shadows_match_the_float64_lit_share() {
     let (scene, light) = sphere_above_flat(128);
     let radius_deg = 8.0f32;
     let sets = prepare_scene(&scene, 0.0).expect("preparing");
-    let off = render(&gpu, &mut renderer, &scene, &sets, &settings(&scene.camera, light, Shadows::Off));
+    let off = render(
+        &gpu,
+        &mut renderer,
+        &scene,
+        &sets,
+        &settings(&scene.camera, light, Shadows::Off),
+    );
     let soft = Shadows::Soft { radius_deg };
-    let on = render(&gpu, &mut renderer, &scene, &sets, &settings(&scene.camera, light, soft));
+    let on = render(
+        &gpu,
+        &mut renderer,
+        &scene,
+        &sets,
+        &settings(&scene.camera, light, soft),
+    );
     save("shadows-soft", &on);
     assert_eq!(
         off.distance.iter().map(|d| d.to_bits()).collect::<Vec<_>>(),
@@ -250,7 +285,9 @@ fn soft_shadows_match_the_float64_lit_share() {
     for j in 1..h - 1 {
         for i in 1..w - 1 {
             let k = j * w + i;
-            let Some((diffuse, v)) = reference[k] else { continue };
+            let Some((diffuse, v)) = reference[k] else {
+                continue;
+            };
             let shares: Option<Vec<f64>> = (j - 1..=j + 1)
                 .flat_map(|y| (i - 1..=i + 1).map(move |x| y * w + x))
                 .map(|n| reference[n].map(|(_, u)| u))
@@ -276,9 +313,15 @@ fn soft_shadows_match_the_float64_lit_share() {
             }
         }
     }
-    eprintln!("soft: {compared} pixels, {partial} in the penumbra, {} wrong", wrong.len());
+    eprintln!(
+        "soft: {compared} pixels, {partial} in the penumbra, {} wrong",
+        wrong.len()
+    );
     assert!(wrong.is_empty(), "{:?}", &wrong[..wrong.len().min(20)]);
-    assert!(compared > 1000 && partial >= 30, "{compared} compared, {partial} partial");
+    assert!(
+        compared > 1000 && partial >= 30,
+        "{compared} compared, {partial} partial"
+    );
 }
 
 /// The sRGB encoding of a linear value, in 8-bit steps (unrounded).
@@ -318,7 +361,11 @@ fn the_shadows_flag_darkens_and_keeps_the_depth_map() {
         ];
         args.extend_from_slice(extra);
         let out = glyphcast(&args);
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         let (_, _, rgba) = read_png_rgba8(&png).expect("png");
         (rgba, std::fs::read(&npy).expect("npy"))
     };
@@ -338,7 +385,10 @@ fn the_shadows_flag_darkens_and_keeps_the_depth_map() {
         .count();
     eprintln!("{darker} of {covered} covered pixels darker, {brighter} brighter");
     assert!(covered > 2000);
-    assert!(darker as f64 >= 0.005 * covered as f64, "{darker} of {covered}");
+    assert!(
+        darker as f64 >= 0.005 * covered as f64,
+        "{darker} of {covered}"
+    );
     assert_eq!(brighter, 0);
     // soft:RADIUS through the flag, too.
     let (soft, soft_depth) = render("soft", &["--shadows", "soft:6"]);
@@ -355,11 +405,20 @@ fn bad_shadow_values_are_usage_errors() {
     std::fs::write(&scene_file, scene.to_json()).expect("scene");
     let png = dir.join("out.png");
     let cases: [(&[&str], &[&str]); 5] = [
-        (&["--shadows", "sometimes"], &["--shadows 'sometimes'", "soft:RADIUS"]),
+        (
+            &["--shadows", "sometimes"],
+            &["--shadows 'sometimes'", "soft:RADIUS"],
+        ),
         (&["--shadows", "soft:0"], &["--shadows 'soft:0'", "above 0"]),
         (&["--shadows", "soft:x"], &["--shadows 'soft:x'", "degrees"]),
-        (&["--shadows", "--method", "fixed"], &["--shadows", "--method exact"]),
-        (&["--shadows", "--path", "compute"], &["--shadows", "--path fragment"]),
+        (
+            &["--shadows", "--method", "fixed"],
+            &["--shadows", "--method exact"],
+        ),
+        (
+            &["--shadows", "--path", "compute"],
+            &["--shadows", "--path fragment"],
+        ),
     ];
     for (extra, words) in cases {
         let mut args = vec!["render", scene_file.to_str().expect("utf-8"), "-o"];

@@ -63,7 +63,10 @@ fn the_shadows_toggle_draws_what_render_shadows_draws() {
     let expected = render(Path::new(&scene), "shadows-render.png", &with_shadows);
     assert_eq!(differing_pixels(&shot, &expected, 0).0, 0);
     let plain = render(Path::new(&scene), "shadows-plain.png", &size);
-    assert!(differing_pixels(&shot, &plain, 0).0 > 0, "the toggle changed nothing");
+    assert!(
+        differing_pixels(&shot, &plain, 0).0 > 0,
+        "the toggle changed nothing"
+    );
 }
 
 #[test]

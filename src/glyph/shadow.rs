@@ -117,7 +117,9 @@ mod tests {
     #[test]
     fn soft_samples_cover_the_disc_evenly() {
         let samples: Vec<[f64; 2]> = (0..16).map(soft_sample).collect();
-        let mean = samples.iter().fold([0.0, 0.0], |a, s| [a[0] + s[0], a[1] + s[1]]);
+        let mean = samples
+            .iter()
+            .fold([0.0, 0.0], |a, s| [a[0] + s[0], a[1] + s[1]]);
         assert!(mean[0].abs() < 1e-9 && mean[1].abs() < 1e-9, "{mean:?}");
         for ring in 0..4 {
             for s in &samples[4 * ring..4 * ring + 4] {
@@ -140,10 +142,19 @@ mod tests {
         let top = DVec3::new(0.0, 0.0, 1.0);
         let down = -DVec3::Z;
         let glyphs = [floor.clone(), blocker];
-        assert_eq!(visibility(&floor, top, down, DVec3::Z, 1, 0.0, &glyphs), 0.0);
+        assert_eq!(
+            visibility(&floor, top, down, DVec3::Z, 1, 0.0, &glyphs),
+            0.0
+        );
         let glyphs = [floor.clone(), beside];
-        assert_eq!(visibility(&floor, top, down, DVec3::Z, 1, 0.0, &glyphs), 1.0);
+        assert_eq!(
+            visibility(&floor, top, down, DVec3::Z, 1, 0.0, &glyphs),
+            1.0
+        );
         // The light behind the surface: no ray is cast, the light's share stays 1.
-        assert_eq!(visibility(&floor, top, down, -DVec3::Z, 1, 0.0, &glyphs), 1.0);
+        assert_eq!(
+            visibility(&floor, top, down, -DVec3::Z, 1, 0.0, &glyphs),
+            1.0
+        );
     }
 }

@@ -9,15 +9,15 @@
 use std::collections::HashMap;
 use std::mem::offset_of;
 
+use crate::render::Method;
 use crate::render::compute::ComputeParams;
 use crate::render::frame::FrameParams;
-use crate::render::Method;
 use crate::render::raycast::{COEFFICIENTS_BINDING, FRAME_BINDING, SHADOW_BINDINGS};
-use crate::render::shadow_grid::GridHeader;
 use crate::render::shaders::{
     COMPUTE_RAYCAST_SHADERS, IMPOSTOR_FRAGMENT, MESH_FRAGMENT, MESH_VERTEX, RAYCAST_SHADERS,
     RAYCAST_VERTEX, UNDERLAY_FRAGMENT, UNDERLAY_VERTEX,
 };
+use crate::render::shadow_grid::GridHeader;
 use crate::render::underlay::{PARAMS_BINDING, PlanePush, UnderlayParams, VALUES_BINDING};
 
 /// A block (uniform, storage or push-constant) as the SPIR-V declares it.

@@ -19,10 +19,10 @@ use crate::render::Method;
 use crate::render::batch::{Batch, batches};
 use crate::render::frame::{FRAME_DESCRIPTOR, FRAME_USAGE, FrameParams};
 use crate::render::glyph_data::GlyphSetData;
-use crate::render::shadow_grid::ShadowGrid;
 use crate::render::shaders::{
     DepthConvention, IMPOSTOR_FRAGMENT, RAYCAST_VERTEX, for_depth, raycast_shader,
 };
+use crate::render::shadow_grid::ShadowGrid;
 use crate::vk::recording::bind_graphics;
 use crate::vk::{
     Buffer, BufferBinding, DescriptorPool, DeviceContext, GraphicsPipelineDesc, Pipeline,
@@ -135,8 +135,9 @@ pub struct RayCastPass {
     options: PassOptions,
     // Fields drop in order: the pipelines go before the modules and the layout they were
     // made with, the order the validation layer expects.
-    /// Keyed by layout and method; the impostor's pipeline by method alone.
-    pipelines: Pipelines<(Option<TensorLayout>, Method)>,
+    /// Keyed by layout, method and whether it casts shadows; the impostor's pipeline by
+    /// method alone.
+    pipelines: Pipelines<PipelineKey>,
     /// The boxes' vertex shader for methods that pass no coefficients (the impostor).
     vertex: ShaderModule,
     layout: PipelineLayout,
@@ -181,6 +182,14 @@ pub(crate) const SHADOW_BINDINGS: [u32; 4] = [2, 3, 4, 5];
 /// Specialisation constant 0 of raycast.vert (`ORIENTED_BOX`): 1 draws each glyph's
 /// oriented box, 0 the cube around its bounding sphere (the sphere impostor's proxy).
 const ORIENTED_BOX_CONSTANT: u32 = 0;
+/// Specialisation constant 1 of raycast_exact.frag (`SHADOWS`): 1 casts shadow rays
+/// (`--shadows`); 0 compiles them away, so that a frame without shadows runs the shader
+/// it ran before they existed.
+const SHADOWS_CONSTANT: u32 = 1;
+
+/// A pipeline's key: the layout (none for the impostor), the method, and whether it casts
+/// shadows (the exact method only).
+type PipelineKey = (Option<TensorLayout>, Method, bool);
 
 /// One glyph set on the GPU: a batch of glyphs that share a pipeline and one draw (a
 /// set larger than a storage buffer is split into several).
@@ -206,6 +215,9 @@ pub struct GlyphSetGpu {
 /// parameter buffer per frame in flight.
 pub struct SceneGpu {
     frames: Vec<Buffer>,
+    /// Whether its exact batches are drawn by the pipelines that cast shadows (the first
+    /// frame block asked for them).
+    shadows: bool,
     pool: DescriptorPool,
     /// The batches, one draw each.
     pub sets: Vec<GlyphSetGpu>,
@@ -272,14 +284,14 @@ impl RayCastPass {
         self.pipeline(layout, method).map(|_| ())
     }
 
-    /// The pipeline of a variant, made now if it was not.
+    /// The pipeline of a variant (without shadows), made now if it was not.
     pub fn pipeline(&mut self, layout: TensorLayout, method: Method) -> Result<vk::Pipeline> {
-        let key = pipeline_key(layout, method);
+        let key = pipeline_key(layout, method, false);
         if let Some(p) = self.pipelines.get(&key) {
             return Ok(p);
         }
         let (vertex, fragment) = self.shaders(layout, method)?;
-        let pipeline = self.create_pipeline(vertex, fragment, method != Method::Impostor)?;
+        let pipeline = self.create_pipeline(vertex, fragment, key)?;
         Ok(self.pipelines.insert(key, pipeline))
     }
 
@@ -287,18 +299,23 @@ impl RayCastPass {
     /// own: drivers compile a pipeline on the creating thread, and a scene of several
     /// orders needs several (creating them is most of a one-shot render's time).
     pub fn prepare_pipelines(&mut self, variants: &[(TensorLayout, Method)]) -> Result<()> {
-        type Missing = (
-            (Option<TensorLayout>, Method),
-            Option<&'static [u32]>,
-            &'static [u32],
-            bool,
-        );
+        self.prepare_pipelines_for(variants, false)
+    }
+
+    /// [`RayCastPass::prepare_pipelines`] of the variants that cast shadows (`shadows`),
+    /// where the method has them, or that do not.
+    fn prepare_pipelines_for(
+        &mut self,
+        variants: &[(TensorLayout, Method)],
+        shadows: bool,
+    ) -> Result<()> {
+        type Missing = (PipelineKey, Option<&'static [u32]>, &'static [u32]);
         let mut missing: Vec<Missing> = Vec::new();
         for &(layout, method) in variants {
-            let key = pipeline_key(layout, method);
+            let key = pipeline_key(layout, method, shadows);
             if self.pipelines.get(&key).is_none() && !missing.iter().any(|(k, ..)| *k == key) {
                 let (vertex, fragment) = self.shaders(layout, method)?;
-                missing.push((key, vertex, fragment, method != Method::Impostor));
+                missing.push((key, vertex, fragment));
             }
         }
         let this = &*self;
@@ -306,13 +323,13 @@ impl RayCastPass {
             let threads: Vec<_> = missing
                 .iter()
                 .skip(1)
-                .map(|&(_, vertex, fragment, oriented)| {
-                    scope.spawn(move || this.create_pipeline(vertex, fragment, oriented))
+                .map(|&(key, vertex, fragment)| {
+                    scope.spawn(move || this.create_pipeline(vertex, fragment, key))
                 })
                 .collect();
-            let first = missing.first().map(|&(_, vertex, fragment, oriented)| {
-                this.create_pipeline(vertex, fragment, oriented)
-            });
+            let first = missing
+                .first()
+                .map(|&(key, vertex, fragment)| this.create_pipeline(vertex, fragment, key));
             first
                 .into_iter()
                 .chain(threads.into_iter().map(|t| {
@@ -384,9 +401,14 @@ impl RayCastPass {
     }
 
     /// The pipeline of a prepared variant; an error (not a compile) if it was not made.
-    fn prepared(&self, layout: TensorLayout, method: Method) -> Result<vk::Pipeline> {
+    fn prepared(
+        &self,
+        layout: TensorLayout,
+        method: Method,
+        shadows: bool,
+    ) -> Result<vk::Pipeline> {
         self.pipelines
-            .get(&pipeline_key(layout, method))
+            .get(&pipeline_key(layout, method, shadows))
             .ok_or(Error::Call {
                 call: "RayCastPass::record",
                 expected: "RayCastPass::prepare (or upload) for this layout and method first",
@@ -394,12 +416,12 @@ impl RayCastPass {
     }
 
     /// A pipeline of the given fragment shader and vertex shader (`None`: the shared one,
-    /// which passes no coefficients).
+    /// which passes no coefficients) for the variant `key`.
     fn create_pipeline(
         &self,
         vertex_spirv: Option<&[u32]>,
         fragment_spirv: &[u32],
-        oriented: bool,
+        key: PipelineKey,
     ) -> Result<Pipeline> {
         // The host's depth convention is one word of the fragment shader's SPIR-V.
         let fragment_spirv = for_depth(fragment_spirv, self.options.depth);
@@ -412,26 +434,39 @@ impl RayCastPass {
             None => None,
         };
         let vertex = vertex.as_ref().unwrap_or(&self.vertex);
-        self.create_pipeline_with(vertex.handle(), fragment.handle(), oriented)
+        self.create_pipeline_with(vertex.handle(), fragment.handle(), key)
     }
 
     fn create_pipeline_with(
         &self,
         vertex: vk::ShaderModule,
         fragment: vk::ShaderModule,
-        oriented: bool,
+        (_, method, shadows): PipelineKey,
     ) -> Result<Pipeline> {
-        let entries = [vk::SpecializationMapEntry {
-            constant_id: ORIENTED_BOX_CONSTANT,
+        let constant = |constant_id| vk::SpecializationMapEntry {
+            constant_id,
             offset: 0,
             size: 4,
-        }];
+        };
+        let (box_entries, shadow_entries) = (
+            [constant(ORIENTED_BOX_CONSTANT)],
+            [constant(SHADOWS_CONSTANT)],
+        );
         // A SPIR-V boolean specialisation constant takes a 32-bit value.
-        let value = u32::from(oriented).to_ne_bytes();
-        let specialization = vk::SpecializationInfo::default()
-            .map_entries(&entries)
-            .data(&value);
-        let stages = vertex_fragment_stages(vertex, fragment, Some(&specialization));
+        let oriented = u32::from(method != Method::Impostor).to_ne_bytes();
+        let shadows = u32::from(shadows).to_ne_bytes();
+        let box_specialization = vk::SpecializationInfo::default()
+            .map_entries(&box_entries)
+            .data(&oriented);
+        let shadow_specialization = vk::SpecializationInfo::default()
+            .map_entries(&shadow_entries)
+            .data(&shadows);
+        let [vertex_stage, fragment_stage] =
+            vertex_fragment_stages(vertex, fragment, Some(&box_specialization));
+        let stages = [
+            vertex_stage,
+            fragment_stage.specialization_info(&shadow_specialization),
+        ];
         glyph_pipeline(
             &self.ctx,
             self.formats,
@@ -481,10 +516,13 @@ impl RayCastPass {
             .iter()
             .map(|chunk| (chunk.layout, batch_method(chunk.shape, method)))
             .collect();
-        self.prepare_pipelines(&variants)?;
+        // Shadows, as the first frame block asks: they need a pipeline of their own.
+        let shadows = frame.shadow[0] > 0.5;
+        self.prepare_pipelines_for(&variants, shadows)?;
         let pool = DescriptorPool::new(ctx, chunks.len() * frames_in_flight, 0, 6)?;
         let mut scene = SceneGpu {
             frames,
+            shadows,
             pool,
             sets: Vec::new(),
         };
@@ -540,7 +578,8 @@ impl RayCastPass {
         }
         let (viewport, scissor) = (target.viewport, target.scissor);
         for set in &scene.sets {
-            let pipeline = self.prepared(set.layout, batch_method(set.shape, method))?;
+            let pipeline =
+                self.prepared(set.layout, batch_method(set.shape, method), scene.shadows)?;
             let hide = set.negative.shader_code();
             // SAFETY: recording state is the caller's; all handles are alive.
             unsafe {
@@ -569,11 +608,13 @@ impl RayCastPass {
     }
 }
 
-/// The key of a variant's pipeline: the impostor's is shared by every layout.
-fn pipeline_key(layout: TensorLayout, method: Method) -> (Option<TensorLayout>, Method) {
+/// The key of a variant's pipeline: the impostor's is shared by every layout, and only
+/// the exact method casts shadows.
+fn pipeline_key(layout: TensorLayout, method: Method, shadows: bool) -> PipelineKey {
     match method {
-        Method::Impostor => (None, method),
-        _ => (Some(layout), method),
+        Method::Impostor => (None, method, false),
+        Method::Exact => (Some(layout), method, shadows),
+        _ => (Some(layout), method, false),
     }
 }
 

@@ -261,7 +261,8 @@ impl Shadows {
 impl std::str::FromStr for Shadows {
     type Err = Error;
     fn from_str(s: &str) -> Result<Self> {
-        let refused = |why: String| Error::setting_value(Setting::Shadows, format!("'{}'", quoted(s)), why);
+        let refused =
+            |why: String| Error::setting_value(Setting::Shadows, format!("'{}'", quoted(s)), why);
         match s.trim() {
             "off" | "none" => Ok(Shadows::Off),
             "on" | "hard" => Ok(Shadows::Hard),
@@ -576,7 +577,8 @@ impl RenderSettings {
             ));
         }
         self.shadows.validate()?;
-        if self.shadows.enabled() && (self.method != Method::Exact || self.path != RenderPath::Fragment)
+        if self.shadows.enabled()
+            && (self.method != Method::Exact || self.path != RenderPath::Fragment)
         {
             return Err(Error::setting_value(
                 Setting::Shadows,

@@ -142,8 +142,7 @@ impl ShadowGrid {
 fn world_bounds(instance: &[f32; 4], b: &[f32; 8]) -> (DVec3, DVec3) {
     let center = DVec3::new(instance[0].into(), instance[1].into(), instance[2].into());
     let radius = f64::from(instance[3]) * CHORD_RADIUS * (1.0 + MARGIN);
-    let rotation =
-        DQuat::from_xyzw(b[0].into(), b[1].into(), b[2].into(), b[3].into()).normalize();
+    let rotation = DQuat::from_xyzw(b[0].into(), b[1].into(), b[2].into(), b[3].into()).normalize();
     let extent = DVec3::new(b[4].into(), b[5].into(), b[6].into()) * radius;
     let half = (rotation * DVec3::X * extent.x).abs()
         + (rotation * DVec3::Y * extent.y).abs()
@@ -167,7 +166,12 @@ mod tests {
         let mut boxes = Vec::new();
         for k in 0..40 {
             let t = k as f32;
-            instances.push([(t * 0.37).sin() * 3.0, (t * 0.91).cos() * 2.0, t * 0.05, 0.2 + 0.01 * t]);
+            instances.push([
+                (t * 0.37).sin() * 3.0,
+                (t * 0.91).cos() * 2.0,
+                t * 0.05,
+                0.2 + 0.01 * t,
+            ]);
             let angle = t * 0.3;
             let (s, c) = (0.5 * angle).sin_cos();
             boxes.push([s, 0.0, 0.0, c, 1.0, 0.5, 0.3, 0.0]);
@@ -187,7 +191,8 @@ mod tests {
                         let c0 = lo + cell * DVec3::new(x as f64, y as f64, z as f64);
                         let c1 = c0 + cell;
                         // Strictly overlapping (a shared face may go either way).
-                        let overlaps = (c0 - u).max_element() < -1e-6 && (l - c1).max_element() < -1e-6;
+                        let overlaps =
+                            (c0 - u).max_element() < -1e-6 && (l - c1).max_element() < -1e-6;
                         let [first, count] = grid.cells[(z * dims[1] + y) * dims[0] + x];
                         let listed = grid.entries[first as usize..(first + count) as usize]
                             .contains(&(glyph as u32));

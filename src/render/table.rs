@@ -272,7 +272,14 @@ macro_rules! named_values {
     )*};
 }
 
-named_values!(Method, RenderPath, Refinement, ColorMode, NegativeMode, Shadows);
+named_values!(
+    Method,
+    RenderPath,
+    Refinement,
+    ColorMode,
+    NegativeMode,
+    Shadows
+);
 
 /// The table: from each entry the setting's constant ([`Setting`]), its field of
 /// [`RenderOptions`], its [`SettingSpec`] and its arms of [`RenderOptions::set`].

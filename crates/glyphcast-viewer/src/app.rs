@@ -55,9 +55,9 @@ struct App {
     // presents to. GPU objects keep the device alive themselves, so the Gpu may go at
     // any point.
     /// Each panel's glyphs on the GPU, shared by every frame in flight, and the version
-    /// of its content and the method they were uploaded for.
+    /// of its content, the method they were uploaded for and whether they cast shadows.
     scene_gpu: Vec<Option<UploadedGlyphs>>,
-    uploaded: Vec<Option<(u64, glyphcast::render::Method)>>,
+    uploaded: Vec<Option<(u64, glyphcast::render::Method, bool)>>,
     /// Per frame slot, each panel's peaks on the GPU (a peak set holds one frame block,
     /// so each slot has its own copy) and the version of its content they hold.
     peaks_gpu: Vec<Vec<Option<PeaksGpu>>>,
@@ -567,9 +567,11 @@ impl App {
         }
         let settings = self.panels.frame_settings();
         for (k, panel) in self.panels.panels.iter().enumerate() {
-            let wanted = Some((panel.version, settings.method));
+            // Shadows on or off take a pipeline of their own, as a method does.
+            let wanted = Some((panel.version, settings.method, settings.shadows.enabled()));
             if rebuilt || self.uploaded[k] != wanted {
-                // Glyphs keep the method they were uploaded for: a switch uploads again.
+                // Glyphs keep the method (and shadows) they were uploaded for: a switch
+                // uploads again.
                 let glyphs = presenter.glyphs_mut().upload(&panel.sets, &settings)?;
                 if let Some(old) = self.scene_gpu[k].replace(glyphs) {
                     self.replaced.0 += 1;

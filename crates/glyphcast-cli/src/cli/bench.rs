@@ -361,7 +361,10 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
                     Shadows::Hard,
                     Shadows::Soft { radius_deg: 5.0 },
                 ] {
-                    let settings = RenderSettings { shadows, ..defaults };
+                    let settings = RenderSettings {
+                        shadows,
+                        ..defaults
+                    };
                     plan.case(format!("shadows {shadows} ({round})"), scene, settings);
                 }
             }
@@ -612,9 +615,13 @@ pub fn run(args: &BenchArgs) -> Result<()> {
 /// `--sweep shadows`: each round's frame with shadows over the same round's frame
 /// without them (GPU medians), as Markdown lines.
 fn shadow_ratios(results: &[BenchResult]) -> String {
-    let mut text = String::from("\nShadows: GPU median over the same round's frame without them\n\n");
+    let mut text =
+        String::from("\nShadows: GPU median over the same round's frame without them\n\n");
     for result in results {
-        let Some((kind, round)) = result.label.strip_prefix("shadows ").and_then(|l| l.split_once(' '))
+        let Some((kind, round)) = result
+            .label
+            .strip_prefix("shadows ")
+            .and_then(|l| l.split_once(' '))
         else {
             continue;
         };
