@@ -3,7 +3,7 @@
 //! every glyph), away from shadow edges; soft shadows' lit share likewise; the depth map
 //! unchanged and no pixel brightened; the option through the command line, its refusals.
 mod common;
-use common::{fresh_dir, glyphcast};
+use common::{fresh_dir, glyphcast, srgb_byte};
 use glam::DVec3;
 use glyphcast::camera::Camera;
 use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
@@ -91,22 +91,26 @@ fn settings(camera: &Camera, light: DVec3, shadows: Shadows) -> RenderSettings {
     }
 }
 
-fn render(
+/// The scene's glyphs, and the scene drawn without shadows and with `shadows`; the two
+/// depth maps are held to be the same, bit for bit.
+fn render_pair(
     gpu: &glyphcast::vk::Gpu,
     renderer: &mut HeadlessRenderer,
     scene: &Scene,
-    sets: &[GlyphSetData],
-    settings: &RenderSettings,
-) -> RenderedImage {
+    light: DVec3,
+    shadows: Shadows,
+) -> (Vec<GlyphSetData>, RenderedImage, RenderedImage) {
+    let sets = prepare_scene(scene, 0.0).expect("preparing");
     let (w, h) = (scene.image.width, scene.image.height);
-    renderer
-        .render_view(
-            gpu,
-            sets,
-            &glyphcast::FrameView::new(&scene.camera, w, h),
-            settings,
-        )
-        .expect("rendering")
+    let view = glyphcast::FrameView::new(&scene.camera, w, h);
+    let mut draw = |shadows| {
+        let settings = settings(&scene.camera, light, shadows);
+        renderer.render_view(gpu, &sets, &view, &settings).expect("rendering")
+    };
+    let (off, on) = (draw(Shadows::Off), draw(shadows));
+    let bits = |image: &RenderedImage| image.distance.iter().map(|d| d.to_bits()).collect::<Vec<_>>();
+    assert!(bits(&off) == bits(&on), "{shadows}: the depth map changed");
+    (sets, off, on)
 }
 
 /// Per pixel, from the float64 reference: the hit's n . l and the lit share of the light
@@ -185,28 +189,9 @@ fn hard_shadows_match_the_float64_reference() {
         ("sphere-above-flat", sphere_above_flat(128)),
         ("fibre-field", fibre_field(128)),
     ] {
-        let sets = prepare_scene(&scene, 0.0).expect("preparing");
-        let off = render(
-            &gpu,
-            &mut renderer,
-            &scene,
-            &sets,
-            &settings(&scene.camera, light, Shadows::Off),
-        );
-        let on = render(
-            &gpu,
-            &mut renderer,
-            &scene,
-            &sets,
-            &settings(&scene.camera, light, Shadows::Hard),
-        );
+        let (sets, off, on) = render_pair(&gpu, &mut renderer, &scene, light, Shadows::Hard);
         save(&format!("shadows-{name}-off"), &off);
         save(&format!("shadows-{name}-hard"), &on);
-        assert_eq!(
-            off.distance.iter().map(|d| d.to_bits()).collect::<Vec<_>>(),
-            on.distance.iter().map(|d| d.to_bits()).collect::<Vec<_>>(),
-            "{name}: the depth map changed"
-        );
         let (w, h) = (scene.image.width as usize, scene.image.height as usize);
         let glyphs = glyphs_of(&sets);
         let reference = reference_visibility(&scene, &glyphs, light, 1, 0.0);
@@ -255,27 +240,9 @@ fn soft_shadows_match_the_float64_lit_share() {
     let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
     let (scene, light) = sphere_above_flat(128);
     let radius_deg = 8.0f32;
-    let sets = prepare_scene(&scene, 0.0).expect("preparing");
-    let off = render(
-        &gpu,
-        &mut renderer,
-        &scene,
-        &sets,
-        &settings(&scene.camera, light, Shadows::Off),
-    );
     let soft = Shadows::Soft { radius_deg };
-    let on = render(
-        &gpu,
-        &mut renderer,
-        &scene,
-        &sets,
-        &settings(&scene.camera, light, soft),
-    );
+    let (sets, off, on) = render_pair(&gpu, &mut renderer, &scene, light, soft);
     save("shadows-soft", &on);
-    assert_eq!(
-        off.distance.iter().map(|d| d.to_bits()).collect::<Vec<_>>(),
-        on.distance.iter().map(|d| d.to_bits()).collect::<Vec<_>>(),
-    );
     let (w, h) = (scene.image.width as usize, scene.image.height as usize);
     let glyphs = glyphs_of(&sets);
     let tan = f64::from(radius_deg).to_radians().tan();
@@ -322,17 +289,6 @@ fn soft_shadows_match_the_float64_lit_share() {
         compared > 1000 && partial >= 30,
         "{compared} compared, {partial} partial"
     );
-}
-
-/// The sRGB encoding of a linear value, in 8-bit steps (unrounded).
-fn srgb_byte(linear: f64) -> f64 {
-    let c = linear.clamp(0.0, 1.0);
-    let encoded = if c <= 0.0031308 {
-        12.92 * c
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    };
-    encoded * 255.0
 }
 
 /// Through the command line: `--shadows` alone on the sphere above the flat glyph leaves
