@@ -11,9 +11,6 @@
 //! - `build/compile.rs` compiles the jobs on every core, with a cache keyed by the
 //!   preprocessed source, so that an edit recompiles only the variants it changes.
 
-// Debian's static shaderc lacks glslang: this crate's build script adds those link lines.
-extern crate glyphcast_shaderc_link;
-
 #[path = "src/glyph/monomials.rs"]
 #[allow(dead_code)]
 mod monomials;
@@ -38,7 +35,6 @@ mod table;
 use compile::Dirs;
 // The layouts' symmetry, as the generator modules name it.
 use manifest::Symmetry;
-use std::fmt::Write as _;
 use std::path::PathBuf;
 
 fn fail(message: String) -> ! {
@@ -62,7 +58,7 @@ fn main() {
     println!("cargo:rerun-if-changed=src/catalog.rs");
     println!("cargo:rerun-if-changed=src/glyph/range_rounding.rs");
 
-    let (mut table, mut jobs) = table::shader_table();
+    let (table, mut jobs) = table::shader_table();
 
     let dirs = Dirs {
         glsl: glsl_dir,
@@ -78,16 +74,17 @@ fn main() {
         summary.cached,
         started.elapsed().as_secs_f64()
     );
-    let _ = writeln!(
-        table,
-        "\n/// A hash of every shader's source and compile options (keys the pipeline cache).\n\
-         pub const SHADERS_HASH: u64 = {:#018x};",
+    let hash = format!(
+        "/// A hash of every shader's source and compile options (keys the pipeline cache).\n\
+         const SHADERS_HASH: u64 = {:#018x};\n",
         summary.hash
     );
-    let path = out_dir.join("shaders.rs");
-    if std::fs::read_to_string(&path).ok().as_deref() != Some(table.as_str())
-        && let Err(e) = std::fs::write(&path, table)
-    {
-        fail(format!("writing shaders.rs: {e}"));
+    for (name, text) in [("shaders.rs", table), ("shaders_hash.rs", hash)] {
+        let path = out_dir.join(name);
+        if std::fs::read_to_string(&path).ok().as_deref() != Some(text.as_str())
+            && let Err(e) = std::fs::write(&path, text)
+        {
+            fail(format!("writing {name}: {e}"));
+        }
     }
 }

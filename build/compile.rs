@@ -59,9 +59,14 @@ pub struct Summary {
     pub hash: u64,
 }
 
-/// The cache directory: beside the profile directories when OUT_DIR has cargo's layout
-/// (`<target>/<profile>/build/<package>-<hash>/out`), else inside OUT_DIR.
+/// The cache directory: `GLYPHCAST_SPIRV_CACHE` if set, else beside the profile
+/// directories when OUT_DIR has cargo's layout (`<target>/<profile>/build/<package>-<hash>/out`),
+/// else inside OUT_DIR.
 pub fn cache_dir(out_dir: &Path) -> PathBuf {
+    println!("cargo:rerun-if-env-changed=GLYPHCAST_SPIRV_CACHE");
+    if let Some(dir) = std::env::var_os("GLYPHCAST_SPIRV_CACHE").filter(|d| !d.is_empty()) {
+        return PathBuf::from(dir);
+    }
     let mut ancestors = out_dir.ancestors();
     let build = ancestors.nth(2);
     let target = ancestors.nth(1);

@@ -1,10 +1,11 @@
 //! The shader variants to build, from the table of orders and methods in
 //! `src/catalog.rs`: every symmetric order up to `MAX_SYMMETRIC_ORDER` and every
 //! non-symmetric order up to `MAX_NONSYMMETRIC_ORDER`, each with every ray-casting
-//! method, and the ellipsoid's closed-form shader for the symmetric `ELLIPSOID_ORDER`.
+//! method, the ellipsoid's closed-form shader for the symmetric `ELLIPSOID_ORDER`, and
+//! the exact method's reciprocal variant for every even order.
 use crate::catalog::{
     ELLIPSOID_METHOD, ELLIPSOID_ORDER, MAX_NONSYMMETRIC_ORDER, MAX_SYMMETRIC_ORDER,
-    RAY_CAST_METHODS, RayCastMethod,
+    RAY_CAST_METHODS, RECIPROCAL_METHOD, RayCastMethod, reciprocal_order,
 };
 use std::collections::BTreeMap;
 
@@ -29,6 +30,11 @@ pub fn variants() -> BTreeMap<(Symmetry, u32), Vec<RayCastMethod>> {
         .collect();
     if let Some(methods) = variants.get_mut(&(Symmetry::Symmetric, ELLIPSOID_ORDER)) {
         methods.push(ELLIPSOID_METHOD);
+    }
+    for ((_, order), methods) in variants.iter_mut() {
+        if reciprocal_order(*order) {
+            methods.push(RECIPROCAL_METHOD);
+        }
     }
     variants
 }

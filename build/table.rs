@@ -196,13 +196,16 @@ fn layout_jobs(
         let kind = shaderc::ShaderKind::Fragment;
         // The default method's shaders are optimised (see build/compile.rs), which
         // costs the most build time: they start first.
-        let optimize = method_name == "exact";
+        // (the exact method's reciprocal variant is the same shader).
+        let optimize = file == "raycast_exact.frag";
         let weight = if optimize { 100 * weight } else { weight };
         let mut fragment = job(fragment, file, kind, source, weight);
         fragment.optimize = optimize;
+        fragment.defines.extend(method.define);
         jobs.push(fragment);
         let mut color_only = job(color_only, file, kind, source, weight);
         color_only.defines.push(NO_DISTANCE_DEFINE);
+        color_only.defines.extend(method.define);
         color_only.optimize = optimize;
         jobs.push(color_only);
         // The compute ray caster (--path compute) of the methods that have one.

@@ -12,10 +12,21 @@
 #endif
 
 const int N = int(GLYPH_ORDER);
+#ifdef GLYPHCAST_RECIPROCAL
+// The reciprocal glyph r = 1/|f| (build/table.rs compiles this variant for even orders):
+// inside |f(q)| < |q|^(n-1), so F = (q . q)^(n-1) - f(q)^2, of degree 2n, is positive
+// inside as the polynomial glyph's F is. The power n - 1 of q . q and its highest set
+// bit (n - 1 is 1 to 11), and the k of the Newton steps' G = F / |q|^(2k).
+const int D = 2 * N;
+const int POWER = N - 1;
+const int POWER_TOP_BIT = POWER >= 8 ? 3 : (POWER >= 4 ? 2 : (POWER >= 2 ? 1 : 0));
+const int G_EXPONENT = N - 1;
+#else
 const int D = 2 * N + 2;
 // The power n + 1 of q . q in F, and its highest set bit (n + 1 is 2 to 13).
 const int POWER = N + 1;
 const int POWER_TOP_BIT = POWER >= 8 ? 3 : (POWER >= 4 ? 2 : 1);
+#endif
 // The chord is that of the bounding sphere enlarged by 2^-10, so that F < 0 at both of its
 // ends even for a glyph that touches its bound (g <= -2^-10 there).
 const float CHORD_RADIUS = 1.0 + 1.0 / 1024.0;
@@ -172,11 +183,13 @@ void segment_polynomials(vec3 mid, vec3 d, float tau0, float tau1) {
             form[i + j] += segment_p[i] * segment_p[j];
         }
     }
+#ifndef GLYPHCAST_RECIPROCAL
     [[unroll]] for (int step = 0; step < D - 1; ++step) {
         int i = D - step;
         form[i] += 2.0 * form[i - 1] + form[i - 2];
     }
     form[1] += 2.0 * form[0];
+#endif
     vec3 q = vec3(dot(a, a), 2.0 * dot(a, b), dot(b, b));
     // (q . q)^(n+1) by squaring, from the top bit of n + 1 down: about a third of the
     // multiplications of n + 1 products by q . q (the unrolled code is what every
@@ -214,9 +227,21 @@ void segment_polynomials(vec3 mid, vec3 d, float tau0, float tau1) {
             }
         }
     }
+#ifdef GLYPHCAST_RECIPROCAL
+    // (s + t)^2 = 1 lifts (q . q)^(n-1) to degree D; p^2 has it already.
+    [[unroll]] for (int step = 0; step < D - 1; ++step) {
+        int i = D - step;
+        radial[i] += 2.0 * radial[i - 1] + radial[i - 2];
+    }
+    radial[1] += 2.0 * radial[0];
+    [[unroll]] for (int i = 0; i <= D; ++i) {
+        segment_f[i] = (radial[i] - form[i]) / binomial[i];
+    }
+#else
     [[unroll]] for (int i = 0; i <= D; ++i) {
         segment_f[i] = (form[i] - radial[i]) / binomial[i];
     }
+#endif
 }
 
 // The traversal keeps F on the part of the half not yet visited, [rest_start, 1], in
@@ -316,7 +341,11 @@ float node_root(float tau_at_0, float tau_per_x, float mid2, float d2) {
         float tau = tau_at_0 + x * tau_per_x;
         float r = mid2 + tau * tau * d2;
         float r_slope = 2.0 * d2 * tau * tau_per_x;
+#ifdef GLYPHCAST_RECIPROCAL
+        float step = step_f / (1.0 - float(G_EXPONENT) * r_slope / r * step_f);
+#else
         float step = step_f / (1.0 - float(N) * r_slope / r * step_f);
+#endif
         // Done when the step is below float resolution (about 2 ulps of x).
         float resolution = 1.2e-7 * max(x, 0.25);
         if (abs(step) <= resolution) {

@@ -9,6 +9,17 @@ float shape(float f) {
 }
 
 // g > 0 inside the glyph. Coordinates are normalised so the bound is 1 + offset.
+#ifdef GLYPHCAST_RECIPROCAL
+// The reciprocal glyph r = 1/|f| (exact method only, no offset): g = 1 - |q| |f(q^)|,
+// 1 at the centre, which it holds.
+float inside(vec3 q) {
+    float len = length(q);
+    if (len < 1e-20) {
+        return 1.0;
+    }
+    return 1.0 - len * abs(glyph_f(q / len));
+}
+#else
 float inside(vec3 q) {
     float len = length(q);
     if (len < 1e-20) {
@@ -16,6 +27,7 @@ float inside(vec3 q) {
     }
     return shape(glyph_f(q / len)) + frame.march.w - len;
 }
+#endif
 
 // The pixel's ray clipped to the glyph's bounding sphere and to its oriented box, in the
 // local frame q = (p - c) / rho, where rho maps normalised glyph units to world units.
@@ -80,7 +92,12 @@ vec3 surface_normal(vec3 q, out float len, out vec3 q_dir, out float f) {
     f = glyph_f_grad(q_dir, grad);
     float sgn = (glyph_set.hide_negative == NEGATIVE_HIDE || f >= 0.0) ? 1.0 : -1.0;
     // Outward normal of g = 0: (|q| + n |f|) q^ - sgn grad f(q^) (Euler's identity).
+#ifdef GLYPHCAST_RECIPROCAL
+    // Outward normal of |f(q)| = |q|^(n-1): |q| sgn grad f(q^) - (n - 1) q^.
+    return normalize(len * sgn * grad - (float(GLYPH_ORDER) - 1.0) * q_dir);
+#else
     return normalize((len + float(GLYPH_ORDER) * abs(f)) * q_dir - sgn * grad);
+#endif
 }
 
 // Colour (linear RGB, alpha 1), window depth and ray distance of the hit at q(s_hit),

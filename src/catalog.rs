@@ -34,6 +34,9 @@ pub struct RayCastMethod {
     /// Whether the method marches at a fixed step (and reads step, refinement and the
     /// centre zone).
     pub marches: bool,
+    /// The preprocessor name its shaders are compiled with, where the method is a
+    /// variant of another's fragment shader.
+    pub define: Option<&'static str>,
 }
 
 /// The ray-casting methods, in the order reports list them.
@@ -44,6 +47,7 @@ pub const RAY_CAST_METHODS: [RayCastMethod; 4] = [
         compute: None,
         uses_ranges: false,
         marches: true,
+        define: None,
     },
     RayCastMethod {
         name: "interval",
@@ -51,6 +55,7 @@ pub const RAY_CAST_METHODS: [RayCastMethod; 4] = [
         compute: None,
         uses_ranges: true,
         marches: false,
+        define: None,
     },
     RayCastMethod {
         name: "affine",
@@ -58,6 +63,7 @@ pub const RAY_CAST_METHODS: [RayCastMethod; 4] = [
         compute: None,
         uses_ranges: true,
         marches: false,
+        define: None,
     },
     RayCastMethod {
         name: "exact",
@@ -65,6 +71,7 @@ pub const RAY_CAST_METHODS: [RayCastMethod; 4] = [
         compute: Some("raycast_exact.comp"),
         uses_ranges: false,
         marches: false,
+        define: None,
     },
 ];
 
@@ -78,10 +85,30 @@ pub const ELLIPSOID_METHOD: RayCastMethod = RayCastMethod {
     compute: None,
     uses_ranges: false,
     marches: false,
+    define: None,
 };
 
 /// The order of the symmetric tensors that have an ellipsoid (DTI).
 pub const ELLIPSOID_ORDER: u32 = 2;
+
+/// The exact method on reciprocal glyphs, r(u) = 1/|f(u)| (scene `shape` `reciprocal`):
+/// `raycast_exact.frag` compiled with `GLYPHCAST_RECIPROCAL`, whose F is
+/// (q . q)^(n-1) - f(q)^2. Not a `--method`: reciprocal sets are drawn with it when the
+/// method is exact. Compiled for the layouts of even order only ([`reciprocal_order`]):
+/// a form of odd order changes sign on the sphere, where 1/|f| is unbounded.
+pub const RECIPROCAL_METHOD: RayCastMethod = RayCastMethod {
+    name: "reciprocal",
+    fragment: "raycast_exact.frag",
+    compute: None,
+    uses_ranges: false,
+    marches: false,
+    define: Some("GLYPHCAST_RECIPROCAL"),
+};
+
+/// Whether tensors of `order` can have a bounded reciprocal glyph (even orders).
+pub const fn reciprocal_order(order: u32) -> bool {
+    order >= 2 && order.is_multiple_of(2)
+}
 
 /// The highest tensor order of a layout: [`MAX_SYMMETRIC_ORDER`] or
 /// [`MAX_NONSYMMETRIC_ORDER`].

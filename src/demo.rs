@@ -175,25 +175,119 @@ pub fn stiffness_row_scene(materials: &[VoigtStiffness], symmetric_part: bool) -
     } else {
         Symmetry::NonSymmetric
     };
-    let coeffs: Vec<Vec<f64>> = materials
+    let glyphs = materials
         .iter()
         .map(|m| {
-            if symmetric_part {
+            let coeffs = if symmetric_part {
                 m.symmetric_part()
             } else {
                 m.full_tensor()
-            }
+            };
+            Ok(RowGlyph {
+                largest_radius: max_radius(4, symmetry, &coeffs)?,
+                layout: TensorLayout { order: 4, symmetry },
+                shape: GlyphShape::Polynomial,
+                coeffs,
+            })
         })
-        .collect();
-    let mut largest = 0.0f64;
-    for c in &coeffs {
-        largest = largest.max(max_radius(4, symmetry, c)?);
+        .collect::<Result<Vec<_>>>()?;
+    material_row_scene(&glyphs)
+}
+
+/// One material's glyph in a row of materials: the tensor, the surface drawn of it, and
+/// its largest radius in the material's units (what puts the row on one scale).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RowGlyph {
+    /// The tensor layout of `coeffs`.
+    pub layout: TensorLayout,
+    /// [`GlyphShape::Polynomial`] (r = |f|) or [`GlyphShape::Reciprocal`] (r = 1/|f|).
+    pub shape: GlyphShape,
+    /// The coefficients, in the scene order of `layout`.
+    pub coeffs: Vec<f64>,
+    /// The glyph's largest radius (at least its true maximum; it is drawn as
+    /// radius/largest of the row's largest).
+    pub largest_radius: f64,
+}
+
+impl RowGlyph {
+    /// The glyph of the form of a full order-n tensor (3^n entries, row-major), r = |f|
+    /// or, `reciprocal`, r = 1/|f|; drawn by its fully symmetric part (the same form on
+    /// unit vectors, in (n+1)(n+2)/2 coefficients). A reciprocal glyph whose f may vanish
+    /// on the sphere (unbounded) is an error carrying the guaranteed least |f|.
+    pub fn of_form(
+        order: u32,
+        full: &[f64],
+        reciprocal: bool,
+        largest_radius: f64,
+    ) -> Result<Self> {
+        let layout = TensorLayout {
+            order,
+            symmetry: Symmetry::Symmetric,
+        };
+        let coeffs = crate::glyph::stiffness::fully_symmetric_part(order, full);
+        let shape = if reciprocal {
+            let poly = GlyphPolynomial::from_tensor(layout, &coeffs)?;
+            let least = crate::glyph::bounds::least_abs(&poly).map_or(0.0, |l| l.lower);
+            // NaN (no bound) is refused too.
+            if least.is_nan() || least <= 0.0 {
+                return Err(Error::data(
+                    "guaranteed least |f| over the sphere (the surface r = 1/|f| is unbounded \
+                     where f vanishes)",
+                    crate::error::Problem::NotPositive { value: least },
+                ));
+            }
+            GlyphShape::Reciprocal
+        } else {
+            GlyphShape::Polynomial
+        };
+        Ok(RowGlyph {
+            layout,
+            shape,
+            coeffs,
+            largest_radius,
+        })
     }
-    let count = materials.len();
-    let centers = (0..count)
-        .map(|k| DVec3::new(2.4 * (k as f64 - (count as f64 - 1.0) / 2.0), 0.0, 0.0))
-        .collect();
-    let kind = GlyphKind::Tensor(TensorLayout { order: 4, symmetry });
+}
+
+/// Materials' glyphs in a row along x, 2.4 apart and centred on the origin (one
+/// material: at the origin), all on one scale: the largest radius of the row is 1, so
+/// the glyphs compare in size as the materials' moduli do (world length 1 is
+/// 1 / scale of the moduli's units: [`Scene`]'s set scale). Glyphs of one layout and
+/// shape share a set. An error for a row whose largest radius is not positive and finite.
+pub fn material_row_scene(glyphs: &[RowGlyph]) -> Result<Scene> {
+    let largest = glyphs.iter().map(|g| g.largest_radius).fold(0.0, f64::max);
+    if !(largest > 0.0 && largest.is_finite()) {
+        return Err(Error::data(
+            "largest radius of the materials' glyphs (there is no glyph to draw)",
+            crate::error::Problem::NotPositive { value: largest },
+        ));
+    }
+    let count = glyphs.len();
+    let center = |k: usize| DVec3::new(2.4 * (k as f64 - (count as f64 - 1.0) / 2.0), 0.0, 0.0);
+    let mut sets: Vec<GlyphSet> = Vec::new();
+    for (k, glyph) in glyphs.iter().enumerate() {
+        let kind = GlyphKind::Tensor(glyph.layout);
+        match sets
+            .iter_mut()
+            .find(|s| s.kind == kind && s.shape == glyph.shape)
+        {
+            Some(set) => {
+                set.centers.push(center(k));
+                set.scales.push(1.0 / largest);
+                set.coeffs.push(glyph.coeffs.clone());
+            }
+            None => {
+                let mut set = glyph_set(
+                    kind,
+                    vec![center(k)],
+                    1.0 / largest,
+                    vec![glyph.coeffs.clone()],
+                );
+                set.shape = glyph.shape;
+                sets.push(set);
+            }
+        }
+    }
     // One material: seen from the side and above; a row: from the front and above,
     // backed off so that the whole row fits.
     let eye = if count == 1 {
@@ -202,7 +296,7 @@ pub fn stiffness_row_scene(materials: &[VoigtStiffness], symmetric_part: bool) -
         DVec3::new(0.0, -4.4, 2.2) * (1.0 + 0.55 * (count as f64 - 1.0))
     };
     Ok(Scene {
-        glyph_sets: vec![glyph_set(kind, centers, 1.0 / largest, coeffs)],
+        glyph_sets: sets,
         camera: Camera {
             projection: Projection::Perspective { fov_y_deg: 30.0 },
             eye,

@@ -202,10 +202,10 @@ pub enum Error {
         expected: &'static str,
     },
     /// A tensor layout the device or a pass cannot draw: the layout, and why. Shown as
-    /// `a Symmetric tensor of order N: ERROR`.
+    /// `a symmetric tensor of order N: ERROR`.
     Layout {
         /// The layout.
-        layout: crate::glyph::TensorLayout,
+        layout: LayoutName,
         /// What stands in its way.
         error: Box<Error>,
     },
@@ -400,32 +400,56 @@ impl std::error::Error for Error {
     }
 }
 
-/// What a part of the library was asked for and has no code or shader for
-/// ([`Error::Unsupported`]).
+/// A tensor layout as errors name it: its order and whether it is symmetric (made from a
+/// `glyph::TensorLayout` with `into()`). Shown as `a symmetric tensor of order N`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Asked {
-    /// Glyphs of a tensor layout (a ray-casting shader, an evaluation shader).
-    Layout(crate::glyph::TensorLayout),
-    /// Ellipsoid glyphs (`--glyph ellipsoid`), ray-cast in closed form.
-    Ellipsoids,
-    /// An intersection method.
-    Method(crate::render::Method),
+pub struct LayoutName {
+    /// The tensor's order.
+    pub order: u32,
+    /// Whether the tensor is symmetric.
+    pub symmetric: bool,
 }
 
-impl fmt::Display for Asked {
+impl fmt::Display for LayoutName {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let kind = if self.symmetric {
+            "symmetric"
+        } else {
+            "non-symmetric"
+        };
+        write!(f, "a {kind} tensor of order {}", self.order)
+    }
+}
+
+/// What a part of the library was asked for and has no code or shader for
+/// ([`Error::Unsupported`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Asked {
+    /// Glyphs of a tensor layout (a ray-casting shader, an evaluation shader).
+    Layout(LayoutName),
+    /// Ellipsoid glyphs (`--glyph ellipsoid`), ray-cast in closed form.
+    Ellipsoids,
+    /// Reciprocal glyphs (scene `shape` `reciprocal`, r = 1/|f|), which the exact method
+    /// alone ray-casts.
+    Reciprocal,
+    /// An intersection method: the method setting with its value
+    /// (`Setting::Method.with(method)`), spelled by the front end.
+    Method(Piece),
+}
+
+impl Asked {
+    /// The words for what was asked, its setting spelled by `spell`.
+    fn spelled(&self, spell: Spell<'_>) -> String {
         match self {
-            Asked::Layout(layout) => {
-                let kind = match layout.symmetry {
-                    crate::glyph::Symmetry::Symmetric => "symmetric",
-                    crate::glyph::Symmetry::NonSymmetric => "non-symmetric",
-                };
-                write!(f, "a {kind} tensor of order {}", layout.order)
-            }
-            Asked::Ellipsoids => f.write_str(
-                "ellipsoid glyphs, which are ray-cast in closed form (not tessellated, not marched)",
-            ),
-            Asked::Method(method) => write!(f, "method {method}"),
+            Asked::Layout(layout) => layout.to_string(),
+            Asked::Ellipsoids => "ellipsoid glyphs, which are ray-cast in closed form (not \
+                                  tessellated, not marched)"
+                .to_owned(),
+            Asked::Reciprocal => "reciprocal glyphs (shape reciprocal, r = 1/|f|), which only \
+                                  the exact method draws (not tessellated, not marched, no \
+                                  offset)"
+                .to_owned(),
+            Asked::Method(method) => piece(method, spell),
         }
     }
 }
@@ -592,7 +616,7 @@ impl Error {
             }
             Error::Data { what, problem } => format!("{what}: {problem}"),
             Error::Unsupported { what, by } => {
-                format!("{} does not take {what}", piece(by, spell))
+                format!("{} does not take {}", piece(by, spell), what.spelled(spell))
             }
             Error::Call { call, expected } => format!("{call}: expected {expected}"),
             Error::FrameIndex { index, frames } => {
@@ -656,12 +680,7 @@ impl Error {
                 value,
                 expected,
             } => format!("{variable}={value}: expected {expected}"),
-            Error::Layout { layout, error } => format!(
-                "a {:?} tensor of order {}: {}",
-                layout.symmetry,
-                layout.order,
-                error.spelled(spell)
-            ),
+            Error::Layout { layout, error } => format!("{layout}: {}", error.spelled(spell)),
             Error::Item { what, index, error } => {
                 format!("{what} {index}: {}", error.spelled(spell))
             }
@@ -895,16 +914,16 @@ mod tests {
         );
         assert!(!item.is_usage());
         let layout = Error::Layout {
-            layout: crate::glyph::TensorLayout {
+            layout: super::LayoutName {
                 order: 10,
-                symmetry: crate::glyph::Symmetry::Symmetric,
+                symmetric: true,
             },
             error: Box::new(Error::data("coefficients", Problem::Empty)),
         };
         assert!(
             layout
                 .to_string()
-                .contains("order 10: coefficients: none given")
+                .contains("a symmetric tensor of order 10: coefficients: none given")
         );
         let name = Error::OutputName {
             option: "-o",

@@ -142,7 +142,7 @@ pub mod rng;
 pub mod scene;
 pub mod vk;
 
-pub use error::{Asked, Error, Result, Setting};
+pub use error::{Asked, Error, LayoutName, Result, Setting};
 
 // The crates whose types the public API takes and returns.
 pub use ash;

@@ -217,16 +217,14 @@ fn library_shader_table_has_no_example_shaders() {
     assert!(glsl.is_empty(), "example shaders in glsl/: {glsl:?}");
 }
 
-/// `render/` holds the GPU passes; the CPU compositing of their images lives in
-/// `render/compose/` and the doc-hidden GLSL harnesses in `render/harness/`.
+/// `render/` holds the GPU passes (and supersampling's box filter, which the headless
+/// renderer applies); the CPU compositing of their images lives in `render/compose/`
+/// and the doc-hidden GLSL harnesses in `render/harness/`.
 #[test]
 fn render_keeps_each_kind_in_its_folder() {
     let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("src/render");
     for (folder, files) in [
-        (
-            "compose",
-            &["antialias", "colorbar", "labels", "montage"][..],
-        ),
+        ("compose", &["colorbar", "labels", "montage"][..]),
         ("harness", &["eval", "range_eval"][..]),
     ] {
         for name in files {
@@ -380,4 +378,188 @@ fn no_setting_is_parsed_out_of_a_message() {
         }
     }
     assert!(found.is_empty(), "{}", found.join("\n"));
+}
+
+/// A source's module path below its crate's `src/`: `render/compose/montage.rs` is
+/// `[render, compose, montage]`; `mod.rs`, `lib.rs` and `main.rs` stand for their folder.
+fn module_path(src: &Path, file: &Path) -> Vec<String> {
+    let mut parts: Vec<String> = file
+        .strip_prefix(src)
+        .unwrap()
+        .with_extension("")
+        .iter()
+        .map(|p| p.to_string_lossy().into_owned())
+        .collect();
+    if parts
+        .last()
+        .is_some_and(|p| ["mod", "lib", "main"].contains(&p.as_str()))
+    {
+        parts.pop();
+    }
+    parts
+}
+
+/// The module paths a line of code names through `crate::` or `super::` (relative to
+/// `module`), grouped imports expanded one level: `use crate::a::{b, c::d}` names
+/// `a::b` and `a::c::d`.
+fn named_paths(module: &[String], code: &str) -> Vec<Vec<String>> {
+    let mut found = Vec::new();
+    for (prefix, base) in [
+        ("crate::", Vec::new()),
+        ("super::", module[..module.len().saturating_sub(1)].to_vec()),
+    ] {
+        let mut rest = code;
+        while let Some(at) = rest.find(prefix) {
+            let preceded = rest[..at].chars().next_back().is_some_and(is_ident);
+            rest = &rest[at + prefix.len()..];
+            if preceded {
+                continue;
+            }
+            let head: String = rest
+                .chars()
+                .take_while(|&c| is_ident(c) || c == ':')
+                .collect();
+            let mut path = base.clone();
+            path.extend(head.split("::").filter(|s| !s.is_empty()).map(String::from));
+            match rest[head.len()..].strip_prefix('{') {
+                Some(group) => {
+                    let group = group.split('}').next().unwrap_or("");
+                    for item in group.split(',') {
+                        let mut item_path = path.clone();
+                        item_path.extend(
+                            item.trim()
+                                .split("::")
+                                .filter(|s| !s.is_empty() && s.chars().all(is_ident))
+                                .map(String::from),
+                        );
+                        found.push(item_path);
+                    }
+                }
+                None => found.push(path),
+            }
+        }
+    }
+    found
+}
+
+/// The import circles of the crate whose sources are in `src`: at each depth of the
+/// module tree, modules are taken whole (their submodules' imports with them), and an
+/// import between a module and its own ancestor or descendant does not count (a module
+/// declares its children and they use its items). Each circle is listed by its modules.
+fn import_circles(src: &Path) -> Vec<Vec<String>> {
+    let mut modules: BTreeSet<Vec<String>> = BTreeSet::new();
+    let mut code: Vec<(Vec<String>, String)> = Vec::new();
+    for file in sources(src) {
+        let path = module_path(src, &file);
+        if path.iter().any(|p| p == "tests") {
+            continue;
+        }
+        let text = fs::read_to_string(&file).unwrap();
+        let library = text.split("#[cfg(test)]").next().unwrap_or("").to_string();
+        modules.insert(path.clone());
+        code.push((path, library));
+    }
+    // The module an imported path lands in: its longest prefix that is a module.
+    let resolve = |path: &[String]| -> Option<Vec<String>> {
+        (1..=path.len())
+            .rev()
+            .map(|k| path[..k].to_vec())
+            .find(|prefix| modules.contains(prefix))
+    };
+    let mut edges: BTreeSet<(Vec<String>, Vec<String>)> = BTreeSet::new();
+    for (module, text) in &code {
+        for line in text.lines() {
+            let line = line.split("//").next().unwrap_or("");
+            for path in named_paths(module, line) {
+                if let Some(target) = resolve(&path) {
+                    edges.insert((module.clone(), target));
+                }
+            }
+        }
+    }
+    let depth = modules.iter().map(Vec::len).max().unwrap_or(0);
+    let mut circles = Vec::new();
+    for level in 1..=depth {
+        let cut = |m: &Vec<String>| m[..m.len().min(level)].to_vec();
+        let mut graph: std::collections::BTreeMap<Vec<String>, BTreeSet<Vec<String>>> =
+            Default::default();
+        for (from, to) in &edges {
+            let (a, b) = (cut(from), cut(to));
+            let nested = a.starts_with(&b) || b.starts_with(&a);
+            if !nested {
+                graph.entry(a).or_default().insert(b);
+            }
+        }
+        // A circle: a module that reaches itself. Each strongly connected set once.
+        let reach = |start: &Vec<String>| {
+            let mut seen = BTreeSet::new();
+            let mut stack = vec![start.clone()];
+            while let Some(m) = stack.pop() {
+                for next in graph.get(&m).into_iter().flatten() {
+                    if seen.insert(next.clone()) {
+                        stack.push(next.clone());
+                    }
+                }
+            }
+            seen
+        };
+        let mut listed: BTreeSet<Vec<String>> = BTreeSet::new();
+        for module in graph.keys() {
+            if listed.contains(module) {
+                continue;
+            }
+            let from = reach(module);
+            if !from.contains(module) {
+                continue;
+            }
+            let circle: Vec<Vec<String>> = from
+                .into_iter()
+                .filter(|other| reach(other).contains(module))
+                .collect();
+            listed.extend(circle.iter().cloned());
+            circles.push(circle.iter().map(|m| m.join("/")).collect());
+        }
+    }
+    circles
+}
+
+#[test]
+fn the_circle_finder_sees_circles_through_groups_and_super() {
+    let dir = std::env::temp_dir().join(format!("glyphcast-circles-{}", std::process::id()));
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(dir.join("a")).unwrap();
+    fs::write(dir.join("lib.rs"), "pub mod a;\npub mod b;\n").unwrap();
+    fs::write(
+        dir.join("a/mod.rs"),
+        "pub mod x;\npub mod y;\nuse crate::b::B;\n",
+    )
+    .unwrap();
+    fs::write(dir.join("a/x.rs"), "use super::y::Y;\n").unwrap();
+    fs::write(dir.join("a/y.rs"), "use super::{x::X, super::b};\n").unwrap();
+    fs::write(dir.join("b.rs"), "use crate::{a::x::X};\n").unwrap();
+    let circles = import_circles(&dir);
+    fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(
+        circles,
+        vec![
+            vec!["a".to_string(), "b".to_string()],
+            vec!["a/x".into(), "a/y".into()]
+        ]
+    );
+}
+
+/// No crate of the workspace has an import circle at any depth of its module tree
+/// (error types below everything, the Vulkan layer below render and io, one file of a
+/// folder above or below its siblings, never both).
+#[test]
+fn no_crate_has_an_import_circle() {
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let mut found = Vec::new();
+    for src in crate_sources(root) {
+        for circle in import_circles(&src) {
+            let shown = src.strip_prefix(root).unwrap().display().to_string();
+            found.push(format!("{shown}: {}", circle.join(" <-> ")));
+        }
+    }
+    assert!(found.is_empty(), "import circles:\n{}", found.join("\n"));
 }

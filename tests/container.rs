@@ -96,3 +96,27 @@ fn the_recipes_build_context_is_a_whole_workspace() {
         "the glyphcast and glyphcast-cli packages"
     );
 }
+
+#[test]
+fn the_recipes_build_with_the_shaderc_tools_env_names() {
+    // Debian 12's shaderc links only as the archive tools/shaderc-lib.sh joins, which
+    // tools/env.sh names: a recipe that builds without it fails to link the build script.
+    for name in ["Dockerfile", "glyphcast.def"] {
+        let text = recipe(name);
+        let builds: Vec<&str> = text
+            .lines()
+            .filter(|line| line.contains("cargo build") || line.contains("maturin build"))
+            .collect();
+        assert_eq!(
+            builds.len(),
+            2,
+            "{name}: the binary's and the wheel's builds"
+        );
+        for line in builds {
+            assert!(
+                line.contains(". tools/env.sh &&"),
+                "{name} builds without tools/env.sh: {line}"
+            );
+        }
+    }
+}

@@ -8,7 +8,9 @@
 //! from a one-pixel silhouette band, and a median depth error below 1e-3 of the glyph
 //! scale for `fixed` (a marcher), below 1e-4 for `interval`, `affine` and `exact` (root
 //! finders to float32 precision; they measure ~2e-7). One test per method keeps failures
-//! readable. Coarse settings must fail, so the comparison is known to see holes.
+//! readable. Coarse settings must fail, so the comparison is known to see holes. The
+//! exact method's reciprocal variant (r = 1/|f|) is held to the same bar at every even
+//! order.
 mod common;
 use glam::DVec3;
 use glyphcast::accuracy::suite::{self, SuiteScene};
@@ -178,5 +180,83 @@ fn default_settings_leave_no_holes_on_the_whole_suite() {
         assert!(c.covered > 300, "{}: {c}", entry.name);
         assert_eq!((c.holes, c.false_hits), (0, 0), "{}: {c}", entry.name);
         assert!(c.median_error < 1e-4, "{}: {c}", entry.name);
+    }
+}
+
+/// Reciprocal glyphs (scene `shape` `reciprocal`, r = 1/|f|) of every even symmetric
+/// order and of a non-symmetric order-4 tensor, from positive forms: 13 fibre directions
+/// (cube axes, face and body diagonals) with weights 0.6 to 1.4, so that 1/|f| has
+/// lobes between the directions. The exact method's reciprocal shaders against the
+/// float64 reference, held to the exact method's bar.
+#[test]
+fn exact_on_reciprocal_glyphs_of_every_even_order() {
+    use glyphcast::glyph::monomials::{
+        monomial_index, nonsymmetric_count, nonsymmetric_entry_monomial,
+    };
+    use glyphcast::glyph::{GlyphShape, Symmetry, TensorLayout};
+    use glyphcast::scene::GlyphKind;
+    let gpu = common::gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    let mut fibres = Vec::new();
+    for (k, (a, e)) in [
+        (0.0, 0.0),
+        (90.0, 0.0),
+        (0.0, 90.0),
+        (45.0, 0.0),
+        (-45.0, 0.0),
+        (0.0, 45.0),
+        (0.0, -45.0),
+        (90.0, 45.0),
+        (90.0, -45.0),
+        (45.0, 35.26),
+        (-45.0, 35.26),
+        (45.0, -35.26),
+        (-45.0, -35.26),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        fibres.push((direction(a, e), 0.6 + 0.8 * ((k * 7) % 13) as f64 / 12.0));
+    }
+    let settings = RenderSettings {
+        method: Method::Exact,
+        ..Default::default()
+    };
+    let mut layouts: Vec<(TensorLayout, Vec<f64>)> = (2..=12)
+        .step_by(2)
+        .map(|order| {
+            (
+                TensorLayout {
+                    order,
+                    symmetry: Symmetry::Symmetric,
+                },
+                fibre_tensor(order, &fibres),
+            )
+        })
+        .collect();
+    let unique = fibre_tensor(4, &fibres);
+    let full = (0..nonsymmetric_count(4))
+        .map(|flat| unique[monomial_index(4, nonsymmetric_entry_monomial(4, flat))])
+        .collect();
+    layouts.push((
+        TensorLayout {
+            order: 4,
+            symmetry: Symmetry::NonSymmetric,
+        },
+        full,
+    ));
+    for (layout, coeffs) in layouts {
+        let mut scene = crossing_negative_lobe(NegativeMode::Abs);
+        let mut set = glyph_set(
+            GlyphKind::Tensor(layout),
+            vec![DVec3::ZERO],
+            1.0,
+            vec![coeffs],
+        );
+        set.shape = GlyphShape::Reciprocal;
+        scene.glyph_sets = vec![set];
+        let r = common::render_and_compare(&gpu, &mut renderer, &scene, &settings);
+        let name = format!("reciprocal-{:?}-{}", layout.symmetry, layout.order);
+        assert_accurate(&name, &r, median_bound(Method::Exact));
     }
 }

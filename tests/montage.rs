@@ -25,6 +25,11 @@ struct Picture {
 
 /// `glyphcast render --tensor DTI --order 2 --width W --height H` with `extra`.
 fn render(dir: &Path, dti: &Path, name: &str, extra: &[&str]) -> Picture {
+    render_with(dir, dti, name, true, extra)
+}
+
+/// [`render`], with the edge labels or without them.
+fn render_with(dir: &Path, dti: &Path, name: &str, labels: bool, extra: &[&str]) -> Picture {
     let (png, npy) = (
         dir.join(format!("{name}.png")),
         dir.join(format!("{name}.npy")),
@@ -40,12 +45,14 @@ fn render(dir: &Path, dti: &Path, name: &str, extra: &[&str]) -> Picture {
         &w,
         "--height",
         &h,
-        "--labels",
         "-o",
         path_str(&png),
         "--depth-out",
         path_str(&npy),
     ];
+    if labels {
+        args.push("--labels");
+    }
     args.extend_from_slice(extra);
     let run = glyphcast(&args);
     assert!(
@@ -319,11 +326,11 @@ fn labels_and_captions_keep_off_the_glyphs() {
         glyphcast::render::compose::montage::background_bytes(settings.background).to_vec();
     let (w, h) = (W as usize, H as usize);
     let band = glyphcast::render::compose::labels::edge_band(W, H);
-    for (name, extra, cells) in [
-        ("single", vec!["--slice", "axial"], (1, 1)),
-        ("lightbox", vec!["--lightbox", "4"], (2, 2)),
+    for (name, labels, extra, cells) in [
+        ("single", true, vec!["--slice", "axial"], (1, 1)),
+        ("lightbox", true, vec!["--lightbox", "4"], (2, 2)),
     ] {
-        let picture = render(&dir, &dti, name, &extra);
+        let picture = render_with(&dir, &dti, name, labels, &extra);
         assert_eq!((picture.width, picture.height), (cells.0 * W, cells.1 * H));
         let (mut glyphs, mut letters) = (0, 0);
         for y in 0..picture.height as usize {

@@ -89,6 +89,34 @@ fn drawn_pixels(image: &(u32, u32, Vec<u8>), cell: (u32, u32), column: u32, row:
     count
 }
 
+/// Pixels of a grid of square `side`-pixel panels that lie in a panel's edge band and are
+/// neither its background (its top-left pixel) nor a letter's: white letters with a dark
+/// outline, blended onto the background, keep its grey (red = green, blue at most the
+/// background's excess of blue over red above red); a glyph's shaded colour does not.
+fn glyphs_in_edge_bands(image: &(u32, u32, Vec<u8>), side: u32) -> usize {
+    let (width, height, pixels) = image;
+    let band = glyphcast::render::compose::labels::edge_band(side, side);
+    let blue_excess = i32::from(pixels[2]) - i32::from(pixels[0]);
+    let mut count = 0;
+    for y in 0..*height {
+        for x in 0..*width {
+            let (px, py) = (f64::from(x % side) + 0.5, f64::from(y % side) + 0.5);
+            let edge = px
+                .min(py)
+                .min(f64::from(side) - px)
+                .min(f64::from(side) - py);
+            if edge >= band {
+                continue;
+            }
+            let at = 4 * (y * width + x) as usize;
+            let [r, g, b] = [0, 1, 2].map(|c| i32::from(pixels[at + c]));
+            let grey = (r - g).abs() <= 1 && (-1..=blue_excess + 1).contains(&(b - r));
+            count += usize::from(!grey);
+        }
+    }
+    count
+}
+
 #[test]
 fn the_set_is_its_fixed_files_described_by_its_sidecar_and_deterministic() {
     let root = fresh_dir("qc-set");
@@ -201,6 +229,19 @@ fn the_set_is_its_fixed_files_described_by_its_sidecar_and_deterministic() {
             let drawn = drawn_pixels(&mosaic, cell, column, row);
             assert!(drawn > 200, "panel ({column}, {row}): {drawn} pixels");
         }
+    }
+    // Every panel's edge labels keep off its glyphs: in the band along each panel edge
+    // (`render::compose::labels::edge_band`) every pixel is the background or a letter.
+    for figure in a["figures"].as_array().unwrap() {
+        let name = figure["file"].as_str().unwrap();
+        let image = decode(&first.join(name));
+        let columns = figure["columns"].as_u64().unwrap() as u32;
+        let side = image.0 / columns;
+        let in_band = glyphs_in_edge_bands(&image, side);
+        assert_eq!(
+            in_band, 0,
+            "{name}: {in_band} glyph pixels under the edge labels"
+        );
     }
     // The page shows every figure and names the input and the convention.
     let page = std::fs::read_to_string(first.join("index.html")).unwrap();

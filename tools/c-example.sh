@@ -21,12 +21,15 @@ mkdir -p "$build"
 soname=$(objdump -p "$lib/libglyphcast_c.so" | awk '$1 == "SONAME" { print $2 }')
 ln -sf "$lib/libglyphcast_c.so" "$build/${soname:-libglyphcast_c.so}"
 # The example compiles its own plane shaders (examples/shaders/) with shaderc, linked
-# statically as build.rs links it: Debian's static shaderc leaves glslang and
-# SPIRV-Tools to the static libraries named here (the list tools/shaderc-link adds).
-glslang="-lglslang -lSPIRV -lMachineIndependent -lGenericCodeGen -lOSDependent -lOGLCompiler"
-glslang="$glslang -lSPIRV-Tools-opt -lSPIRV-Tools -lstdc++ -lpthread"
+# statically from the complete archive tools/env.sh names (tools/shaderc-lib.sh), or
+# from the system's own shaderc where that is complete.
+if [ -n "${SHADERC_LIB_DIR:-}" ]; then
+  shaderc=(-L "$SHADERC_LIB_DIR" -l:libshaderc_combined.a -lstdc++ -lpthread)
+else
+  shaderc=(-lshaderc)
+fi
 cc -std=c11 -Wall -Wextra -Werror -O1 -I include \
     -DPLANE_SHADER_DIR="\"$PWD/examples/shaders\"" examples/c/main.c \
-    -L "$lib" -lglyphcast_c -lvulkan -l:libshaderc_combined.a $glslang -lm -Wl,-rpath,"$build" \
+    -L "$lib" -lglyphcast_c -lvulkan "${shaderc[@]}" -lm -Wl,-rpath,"$build" \
     -o "$build/c-example"
 "$build/c-example" "$out" "$@"

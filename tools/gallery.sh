@@ -42,6 +42,15 @@ dwi=("$data/small_64D.nii" --bval "$data/small_64D.bval" --bvec "$data/small_64D
     examples/stiffness/cristobalite.json -o "$work/row.json"
 "$bin" render "$work/row.json" -o docs/gallery/stiffness-row.png --width 900 --height 400 \
     --color magnitude --colorbar
+# Their Young's modulus and linear compressibility surfaces (docs/guide/materials.md).
+"$bin" stiffness examples/stiffness/copper.txt examples/stiffness/quartz.csv \
+    examples/stiffness/cristobalite.json --surface young -o "$work/young.json"
+"$bin" render "$work/young.json" -o docs/gallery/stiffness-young.png --width 900 \
+    --height 400 --color magnitude --colorbar --colorbar-label "Young's modulus (GPa)"
+"$bin" stiffness examples/stiffness/copper.txt examples/stiffness/quartz.csv \
+    examples/stiffness/cristobalite.json --surface compressibility -o "$work/beta.json"
+"$bin" render "$work/beta.json" -o docs/gallery/stiffness-compressibility.png --width 900 \
+    --height 400 --color sign
 # The QC page: the top of index.html, as a browser shows it.
 "$bin" qc "$work/fod.nii.gz" --peaks "$work/peaks.nii.gz" --quiet -o "$work/qc"
 browser=$(command -v chromium || command -v chromium-browser || command -v google-chrome || true)

@@ -30,7 +30,13 @@ fi
 cargo test --locked -p glyphcast --lib --examples
 # The crate as crates.io would ship it: packaged (src, glsl, build script; no path-only
 # dependency) and built from the package's own files.
-cargo package --locked --allow-dirty --quiet -p glyphcast-shaderc-link -p glyphcast
+# Its own target folder: the packaged copy's build shares the workspace's artifact hashes,
+# and in the same folder it would leave artifacts whose sources are the copy's.
+# The shaders come from the workspace's cache (keyed by their preprocessed source).
+workspace_target="${CARGO_TARGET_DIR:-$PWD/target}"
+CARGO_TARGET_DIR="$workspace_target/package-check" \
+GLYPHCAST_SPIRV_CACHE="$workspace_target/glyphcast-spirv-cache" \
+    cargo package --locked --allow-dirty --quiet -p glyphcast
 echo "== the C API (capi/): its header up to date, the C example engine (examples/c/)"
 cargo test --locked -p glyphcast-c
 echo "== the Python module (python/)"

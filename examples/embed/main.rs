@@ -25,9 +25,6 @@
 //! ```
 //! Any validation message (errors and warnings; synchronization validation with
 //! `--sync-validation`) makes it exit with 1; an unknown option with 2.
-// Debian's static shaderc lacks glslang: this crate adds those link lines (as in build.rs).
-extern crate glyphcast_shaderc_link;
-
 mod engine;
 mod plain_memory;
 mod plane;

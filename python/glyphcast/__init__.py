@@ -358,10 +358,15 @@ def render_tensor(
     )
 
 
-def stiffness(C, *, euler=None, allow_unstable=False, symmetric_part=False, **options):
-    """The Reynolds glyph of a 6 x 6 Voigt stiffness matrix ``C`` (any units) and its
-    elastic numbers, as ``glyphcast stiffness C -o SCENE --summary FILE`` and ``glyphcast
-    render SCENE`` give them: returns ``(rendering, summary)``. ``summary`` is the dict
+def stiffness(C, *, surface="reynolds", euler=None, allow_unstable=False,
+              symmetric_part=False, **options):
+    """A glyph of a 6 x 6 Voigt stiffness matrix ``C`` (any units) and its elastic
+    numbers, as ``glyphcast stiffness C -o SCENE --summary FILE --surface SURFACE`` and
+    ``glyphcast render SCENE`` give them: returns ``(rendering, summary)``. ``surface``:
+    ``"reynolds"`` (C_ijkl u_i u_j u_k u_l, the default), ``"young"`` (Young's modulus
+    E(u), drawn exactly as r = 1/|s_ijkl u_i u_j u_k u_l|) or ``"compressibility"``
+    (linear compressibility beta(u), inverse units; ``color="sign"`` shows where it is
+    negative), radius in the units of ``C``. ``summary`` is the dict
     of the summary file: Young's modulus (``young``: min, max and their directions),
     ``linear_compressibility``, ``shear`` and ``poisson`` extremes over all directions,
     ``bulk`` and ``shear_average`` (Voigt, Reuss, Hill), in the units of ``C``.
@@ -375,5 +380,6 @@ def stiffness(C, *, euler=None, allow_unstable=False, symmetric_part=False, **op
     angles = None if euler is None else tuple(float(a) for a in euler)
     if angles is not None and len(angles) != 3:
         raise ValueError(f"euler: {len(angles)} angles where (phi1, Phi, phi2) is needed")
-    scene, summary = _stiffness(matrix.tolist(), angles, bool(allow_unstable), bool(symmetric_part))
+    scene, summary = _stiffness(matrix.tolist(), angles, bool(allow_unstable),
+                                bool(symmetric_part), str(surface))
     return render_scene(json.loads(scene), **options), json.loads(summary)

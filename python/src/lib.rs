@@ -20,19 +20,39 @@ mod renderer;
 use errors::{to_py, value_error};
 
 /// A stiffness matrix's glyph scene (JSON) and its elastic summary (JSON), as
-/// `glyphcast stiffness -o SCENE --summary FILE` writes them: `c` the 6 x 6 Voigt
-/// matrix, `euler` Bunge angles in degrees (sample to crystal), `allow_unstable` to take
-/// a matrix that is not positive definite.
+/// `glyphcast stiffness -o SCENE --summary FILE --surface SURFACE` writes them: `c` the
+/// 6 x 6 Voigt matrix, `euler` Bunge angles in degrees (sample to crystal),
+/// `allow_unstable` to take a matrix that is not positive definite, `surface` reynolds,
+/// young or compressibility.
 #[pyfunction]
-#[pyo3(signature = (c, euler=None, allow_unstable=false, symmetric_part=false))]
+#[pyo3(signature = (c, euler=None, allow_unstable=false, symmetric_part=false, surface="reynolds"))]
 fn stiffness(
     c: Vec<Vec<f64>>,
     euler: Option<(f64, f64, f64)>,
     allow_unstable: bool,
     symmetric_part: bool,
+    surface: &str,
 ) -> PyResult<(String, String)> {
     use glyphcast::glyph::stiffness::{ShearOrder, VoigtStiffness};
-    use glyphcast_materials::{Options, Rotation, Stiffness};
+    use glyphcast_materials::{Options, Rotation, Stiffness, Surface};
+    let drawn_surface = match surface {
+        "reynolds" => None,
+        name => match Surface::from_name(name) {
+            Some(s @ (Surface::Young | Surface::Compressibility)) => Some(s),
+            _ => {
+                return Err(value_error(
+                    &format!("surface={name:?}"),
+                    "not one of reynolds, young, compressibility",
+                ));
+            }
+        },
+    };
+    if symmetric_part && drawn_surface.is_some() {
+        return Err(value_error(
+            "symmetric_part=True",
+            "applies to surface=\"reynolds\" only",
+        ));
+    }
     let rows: Vec<[f64; 6]> = c
         .iter()
         .map(|row| <[f64; 6]>::try_from(row.as_slice()))
@@ -54,9 +74,27 @@ fn stiffness(
         }
         None => crystal,
     };
-    let drawn =
-        VoigtStiffness::from_matrix(*sample.voigt(), ShearOrder::Standard, "C").map_err(to_py)?;
-    let scene = glyphcast::demo::stiffness_row_scene(&[drawn], symmetric_part).map_err(to_py)?;
+    let scene = match drawn_surface {
+        None => {
+            let drawn = VoigtStiffness::from_matrix(*sample.voigt(), ShearOrder::Standard, "C")
+                .map_err(to_py)?;
+            glyphcast::demo::stiffness_row_scene(&[drawn], symmetric_part).map_err(to_py)?
+        }
+        Some(s) => {
+            // Young's and compressibility's surfaces are tensor forms (surface_form).
+            let form = sample
+                .surface_form(s)
+                .ok_or_else(|| value_error("surface", "not a tensor form"))?;
+            let glyph = glyphcast::demo::RowGlyph::of_form(
+                form.order,
+                &form.tensor,
+                form.reciprocal,
+                sample.largest_radius(s),
+            )
+            .map_err(|e| value_error("C", format!("{}'s surface: {e}", s.name())))?;
+            glyphcast::demo::material_row_scene(&[glyph]).map_err(to_py)?
+        }
+    };
     let summary = serde_json::to_string(&sample.summary())
         .map_err(|e| value_error("C", format!("the summary: {e}")))?;
     Ok((scene.to_json(), summary))

@@ -70,3 +70,48 @@ def test_an_unstable_or_malformed_matrix_is_refused():
     asymmetric[0, 1] += 10
     with pytest.raises(ValueError, match="C12"):
         glyphcast.stiffness(asymmetric)
+
+
+def sphere_depth(eye, radius, width, height, fov_y_deg=30.0):
+    """Per pixel the ray distance to the sphere of ``radius`` about the origin, NaN for a
+    miss, for the scene format's perspective camera looking at the origin, up z."""
+    eye = np.asarray(eye, dtype=float)
+    forward = -eye / np.linalg.norm(eye)
+    right = np.cross(forward, [0.0, 0.0, 1.0])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    i, j = np.meshgrid(np.arange(width) + 0.5, np.arange(height) + 0.5)
+    sx = (2 * i / width - 1) * width / height
+    sy = 1 - 2 * j / height
+    tan = np.tan(np.radians(fov_y_deg) / 2)
+    d = forward + tan * (sx[..., None] * right + sy[..., None] * up)
+    d /= np.linalg.norm(d, axis=-1, keepdims=True)
+    b = d @ eye
+    disc = b * b - (eye @ eye - radius * radius)
+    return np.where(disc > 0, -b - np.sqrt(np.maximum(disc, 0)), np.nan)
+
+
+def test_surfaces_of_a_cubic_crystal():
+    """A cubic crystal's linear compressibility is the same in every direction (S11 +
+    2 S12 = 1 / (3 K)): its surface is the sphere of radius 1 (the largest radius of one
+    material), held to the closed-form depth; Young's surface is drawn, and differs."""
+    c = cubic(C11, C12, C44)
+    image, summary = glyphcast.stiffness(c, surface="compressibility", width=96, height=72)
+    beta = 1 / (C11 + 2 * C12)
+    assert summary["linear_compressibility"]["min"] == pytest.approx(beta, rel=1e-9)
+    want = sphere_depth([2.4, -3.6, 2.2], 1.0, 96, 72)
+    hit = np.isfinite(want) & np.isfinite(image.depth)
+    assert hit.sum() > 1000
+    assert np.nanmax(np.abs(image.depth[hit] - want[hit])) < 1e-4
+    # Coverage differs at most on the silhouette's pixels.
+    assert (np.isfinite(want) != np.isfinite(image.depth)).sum() < 60
+    young, _ = glyphcast.stiffness(c, surface="young", width=96, height=72)
+    assert np.isfinite(young.depth).sum() > 500
+    assert not np.array_equal(young.rgba, image.rgba)
+
+
+def test_a_surface_that_cannot_be_drawn_is_refused():
+    with pytest.raises(ValueError, match="surface"):
+        glyphcast.stiffness(cubic(C11, C12, C44), surface="bulk")
+    with pytest.raises(ValueError, match="symmetric_part"):
+        glyphcast.stiffness(cubic(C11, C12, C44), surface="young", symmetric_part=True)

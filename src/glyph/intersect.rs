@@ -33,6 +33,12 @@
 //! An ellipsoid glyph ([`GlyphShape::Ellipsoid`]) is a quadric and is intersected in
 //! closed form instead ([`ellipsoid::first_hit`]), with the same conventions.
 //!
+//! A reciprocal glyph ([`GlyphShape::Reciprocal`], r(u) = 1/|f(u)|, f without zeros on
+//! the sphere) takes the same steps with g(q) = 1 - |q| |f(q / |q|)| (positive inside,
+//! 1 at the centre, which is inside) and F(t) = (q.q)^(n-1) - f(q(t))^2, of degree 2n,
+//! which has the sign of g wherever q != 0: |q| |f(q^)| < 1 exactly where
+//! |f(q)| = |q|^n |f(q^)| < |q|^(n-1).
+//!
 //! Conventions: the returned distance is the first root of g with t > 0 along the ray.
 //! For a ray that starts outside the glyph this is the entry point; for a ray that starts
 //! inside it is the first exit (a camera inside a glyph sees that glyph's inner surface).
@@ -114,6 +120,21 @@ impl WorldGlyph {
         })
     }
 
+    /// The reciprocal glyph r(u) = 1/|f(u)| of `poly`, placed at `center` with `scale`;
+    /// `None` where f may vanish on the sphere (the surface is unbounded).
+    pub fn reciprocal(center: DVec3, scale: f64, poly: GlyphPolynomial) -> Option<Self> {
+        let least = super::bounds::least_abs(&poly)?;
+        (least.lower > 0.0).then(|| Self {
+            center,
+            scale,
+            poly,
+            shape: GlyphShape::Reciprocal,
+            negative: NegativeMode::Abs,
+            offset: 0.0,
+            bound: 1.0 / least.lower,
+        })
+    }
+
     /// Radius of the world bounding sphere around `center`.
     pub fn world_radius(&self) -> f64 {
         self.scale * self.bound
@@ -123,9 +144,17 @@ impl WorldGlyph {
     fn radial(&self, q: DVec3) -> f64 {
         let len = q.length();
         if len == 0.0 {
-            return self.offset;
+            // The reciprocal glyph holds its centre (g = 1 there).
+            return if self.shape == GlyphShape::Reciprocal {
+                1.0
+            } else {
+                self.offset
+            };
         }
         let f = self.poly.eval(q / len);
+        if self.shape == GlyphShape::Reciprocal {
+            return 1.0 - len * f.abs();
+        }
         let h = match self.negative {
             NegativeMode::Abs => f.abs(),
             NegativeMode::Hide => f.max(0.0),
@@ -196,7 +225,7 @@ impl Chord {
 
     /// Steps 2 to 5 of the module notes.
     fn first_root_polynomial(&self, glyph: &WorldGlyph) -> Option<f64> {
-        let f = self.crossing_polynomial(&glyph.poly);
+        let f = self.crossing_polynomial(&glyph.poly, glyph.shape);
         let mut points = real_roots_in(&univariate::derivative(&f), -1.0, 1.0);
         points.extend((0..=GRID_POINTS).map(|i| -1.0 + 2.0 * i as f64 / GRID_POINTS as f64));
         points.sort_by(f64::total_cmp);
@@ -212,16 +241,24 @@ impl Chord {
         self.first_sign_change(glyph, &points)
     }
 
-    /// F(s) = f(q(s))^2 - (q(s).q(s))^(n+1) on the chord, q(s) = a' + s b'.
-    fn crossing_polynomial(&self, poly: &GlyphPolynomial) -> Vec<f64> {
+    /// F(s) = f(q(s))^2 - (q(s).q(s))^(n+1) on the chord, q(s) = a' + s b'; for the
+    /// reciprocal glyph (q(s).q(s))^(n-1) - f(q(s))^2. Either is positive inside.
+    fn crossing_polynomial(&self, poly: &GlyphPolynomial, shape: GlyphShape) -> Vec<f64> {
         let a = self.a + self.mid() * self.d;
         let b = self.half() * self.d;
         let f = poly.along_line(a, b);
         let length_squared = [a.length_squared(), 2.0 * a.dot(b), b.length_squared()];
         let mut out = univariate::multiply(&f, &f);
-        let radial = univariate::power(&length_squared, poly.order + 1);
+        let (power, sign) = match shape {
+            GlyphShape::Reciprocal => (poly.order.saturating_sub(1), -1.0),
+            _ => (poly.order + 1, 1.0),
+        };
+        let radial = univariate::power(&length_squared, power);
         out.resize(out.len().max(radial.len()), 0.0);
-        out.iter_mut().zip(&radial).for_each(|(v, r)| *v -= r);
+        out.iter_mut().for_each(|v| *v *= sign);
+        out.iter_mut()
+            .zip(&radial)
+            .for_each(|(v, r)| *v -= sign * r);
         out
     }
 
@@ -389,6 +426,73 @@ mod tests {
 
     fn unit_sphere() -> GlyphPolynomial {
         symmetric(2, &[1.0, 0.0, 0.0, 1.0, 0.0, 1.0])
+    }
+
+    /// r = 1/|f| of f = 2 |u|^4 is the sphere of radius 1/2: the first hit of rays
+    /// from outside, and the exit of a ray from the centre, in closed form.
+    #[test]
+    fn reciprocal_of_a_round_quartic_is_a_sphere() {
+        // (x^2 + y^2 + z^2)^2 has unique entries 1 at x^4, 1/3 at x^2 y^2 (multiplicity 6).
+        let third = 1.0 / 3.0;
+        let mut t = [0.0; 15];
+        for (k, value) in [
+            (0, 1.0),
+            (3, third),
+            (5, third),
+            (10, 1.0),
+            (12, third),
+            (14, 1.0),
+        ] {
+            t[k] = 2.0 * value;
+        }
+        let glyph = WorldGlyph::reciprocal(DVec3::new(0.2, 0.0, 0.0), 3.0, symmetric(4, &t))
+            .expect("bounded");
+        assert!(
+            glyph.bound >= 0.5 && glyph.bound <= 0.5 * 1.02,
+            "{}",
+            glyph.bound
+        );
+        let hit = first_hit(
+            &ray(DVec3::new(0.2, -5.0, 0.3), DVec3::new(0.2, 0.0, 0.3)),
+            &glyph,
+        )
+        .unwrap();
+        let want = 5.0 - (1.5f64 * 1.5 - 0.3 * 0.3).sqrt();
+        assert!((hit - want).abs() < 1e-12, "{hit} vs {want}");
+        let exit = first_hit(
+            &ray(DVec3::new(0.2, 0.0, 0.0), DVec3::new(1.0, 1.0, 0.0)),
+            &glyph,
+        );
+        assert!((exit.unwrap() - 1.5).abs() < 1e-12, "{exit:?}");
+    }
+
+    /// Hits of random rays on the reciprocal glyph of a positive quartic lie on
+    /// |q| |f(q^)| = 1 to 1e-12, with the ray outside just before; a form that changes
+    /// sign on the sphere has no bounded reciprocal glyph.
+    #[test]
+    fn reciprocal_hits_lie_on_the_surface() {
+        let mut rng = Rng::new(7);
+        let mut t: Vec<f64> = rng.values(15, -0.1, 0.1);
+        for k in [0, 10, 14] {
+            t[k] += 1.0;
+        }
+        let glyph = WorldGlyph::reciprocal(DVec3::ZERO, 1.0, symmetric(4, &t)).unwrap();
+        let mut hits = 0;
+        for _ in 0..200 {
+            let origin = 3.0 * glyph.bound * rng.unit_vector();
+            // Inside the sphere of the least radius 1 / max |f|: every ray hits.
+            let towards = 0.5 / bounding_radius(&glyph.poly, NegativeMode::Abs) * rng.unit_vector();
+            let r = ray(origin, towards);
+            let t_hit = first_hit(&r, &glyph).expect("a hit");
+            hits += 1;
+            let q = r.origin + t_hit * r.dir;
+            let g = |q: DVec3| 1.0 - q.length() * glyph.poly.eval(q.normalize()).abs();
+            assert!(g(q).abs() < 1e-12, "{}", g(q));
+            assert!(g(r.origin + (t_hit - 1e-6) * r.dir) < 0.0);
+        }
+        assert_eq!(hits, 200);
+        let saddle = symmetric(4, &rng.values(15, -1.0, 1.0));
+        assert!(WorldGlyph::reciprocal(DVec3::ZERO, 1.0, saddle).is_none());
     }
 
     fn ray(origin: DVec3, towards: DVec3) -> Ray {

@@ -88,6 +88,10 @@ pub enum GlyphShape {
     /// The diffusion-tensor ellipsoid { D^(1/2) u } of an order-2 symmetric tensor
     /// ([`ellipsoid`]), intersected in closed form.
     Ellipsoid,
+    /// The reciprocal glyph r(u) = 1/|f(u)|, implicitly |f(q)| = |q|^(n-1) (Young's
+    /// modulus from the compliance quartic). f must not vanish on the sphere (so the order
+    /// is even and the surface bounded); negative `abs` only; drawn by the exact method.
+    Reciprocal,
 }
 
 impl std::str::FromStr for GlyphShape {
@@ -113,14 +117,16 @@ impl GlyphShape {
         match self {
             GlyphShape::Polynomial => "polynomial",
             GlyphShape::Ellipsoid => "ellipsoid",
+            GlyphShape::Reciprocal => "reciprocal",
         }
     }
 
     /// Whether the shape can be drawn with `negative`: the ellipsoid has no negative
-    /// lobes to hide (the scene format's `shape`/`negative` and the glyph and negative
-    /// settings are refused alike).
+    /// lobes to hide, and the reciprocal glyph's f has no zeros, so no lobe ends (the
+    /// scene format's `shape`/`negative` and the glyph and negative settings are refused
+    /// alike).
     pub fn takes(self, negative: NegativeMode) -> bool {
-        !(self == GlyphShape::Ellipsoid && negative == NegativeMode::Hide)
+        self == GlyphShape::Polynomial || negative == NegativeMode::Abs
     }
 }
 
@@ -131,6 +137,15 @@ pub struct TensorLayout {
     pub order: u32,
     /// Unique entries or all of them.
     pub symmetry: Symmetry,
+}
+
+impl From<TensorLayout> for crate::error::LayoutName {
+    fn from(layout: TensorLayout) -> Self {
+        crate::error::LayoutName {
+            order: layout.order,
+            symmetric: layout.symmetry == Symmetry::Symmetric,
+        }
+    }
 }
 
 impl TensorLayout {

@@ -113,7 +113,9 @@ impl GlyphRenderer {
         desc.settings.validate()?;
         if let Method::Mesh(_) = desc.settings.method {
             return Err(Error::Unsupported {
-                what: crate::error::Asked::Method(desc.settings.method),
+                what: crate::error::Asked::Method(
+                    crate::Setting::Method.with(desc.settings.method),
+                ),
                 by: "the engine component, which ray-casts".into(),
             });
         }
@@ -132,7 +134,7 @@ impl GlyphRenderer {
     /// `set_glyphs` of such sets compiles nothing (for example at load time).
     pub fn prepare(&mut self, layouts: &[(TensorLayout, GlyphShape)]) -> Result<()> {
         for &(layout, shape) in layouts {
-            let method = crate::render::raycast::batch_method(shape, self.settings.method);
+            let method = crate::render::raycast::batch_method(shape, self.settings.method)?;
             self.pass.prepare(layout, method)?;
         }
         Ok(())
@@ -217,7 +219,7 @@ impl GlyphRenderer {
         settings.validate()?;
         if settings.method != self.settings.method {
             return Err(Error::Unsupported {
-                what: crate::error::Asked::Method(settings.method),
+                what: crate::error::Asked::Method(crate::Setting::Method.with(settings.method)),
                 by: format!("a renderer made for method {}", self.settings.method).into(),
             });
         }

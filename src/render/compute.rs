@@ -156,7 +156,7 @@ impl ComputeRayCastPass {
         }
         let shader =
             compute_raycast_shader(layout, Method::Exact).ok_or_else(|| Error::Unsupported {
-                what: crate::error::Asked::Layout(layout),
+                what: crate::error::Asked::Layout(layout.into()),
                 by: Setting::Path.with("compute"),
             })?;
         let entries = [vk::SpecializationMapEntry {
@@ -202,10 +202,15 @@ impl ComputeRayCastPass {
             (4 * layout.coefficient_count() as u64).max(32)
         })?;
         for part in &parts {
-            if part.shape == GlyphShape::Ellipsoid {
+            let unsupported = match part.shape {
+                GlyphShape::Ellipsoid => Some(crate::error::Asked::Ellipsoids),
+                GlyphShape::Reciprocal => Some(crate::error::Asked::Reciprocal),
+                GlyphShape::Polynomial => None,
+            };
+            if let Some(what) = unsupported {
                 // The data decide (exit code 1), so not a Setting error.
                 return Err(Error::Unsupported {
-                    what: crate::error::Asked::Ellipsoids,
+                    what,
                     by: Setting::Path.with("compute"),
                 });
             }

@@ -7,7 +7,7 @@
 //! one 32-byte box (rotation, half extents). The float64 [`WorldGlyph`]s describe the
 //! same surfaces for the reference.
 use crate::error::Problem;
-use crate::glyph::bounds::{climbed_max_radius, sizing_lattice};
+use crate::glyph::bounds::{climbed_max_radius, least_abs, sizing_lattice};
 use crate::glyph::ellipsoid::Ellipsoid;
 use crate::glyph::intersect::WorldGlyph;
 use crate::glyph::polynomial::GlyphPolynomial;
@@ -147,13 +147,20 @@ fn prepare_set_keeping(
     world: WorldGlyphs,
 ) -> Result<GlyphSetData> {
     let layout = tensor_layout(set);
-    if set.shape == GlyphShape::Ellipsoid && offset != 0.0 {
+    let unsupported = match set.shape {
+        GlyphShape::Ellipsoid => Some(crate::error::Asked::Ellipsoids),
+        GlyphShape::Reciprocal => Some(crate::error::Asked::Reciprocal),
+        GlyphShape::Polynomial => None,
+    };
+    if let Some(what) = unsupported
+        && offset != 0.0
+    {
         // The glyphs come from the scene, the offset from the request: the data decide.
         return Err(Error::Item {
             what: "glyph set",
             index,
             error: Box::new(Error::Unsupported {
-                what: crate::error::Asked::Ellipsoids,
+                what,
                 by: Setting::Offset.with(offset as f32),
             }),
         });
@@ -312,6 +319,8 @@ pub fn largest_radius(glyphs: &[WorldGlyph]) -> f64 {
         // An ellipsoid's bound is exact: its longest semi-axis.
         let radius = match glyph.shape {
             GlyphShape::Ellipsoid => glyph.bound,
+            // 1 / the least |f| the bound's search evaluated: within 1 % of the largest.
+            GlyphShape::Reciprocal => least_abs(&glyph.poly).map_or(0.0, |l| 1.0 / l.attained),
             GlyphShape::Polynomial => {
                 climbed_max_radius(&glyph.poly, glyph.negative, sizing_lattice(), 3)
             }
@@ -382,6 +391,13 @@ fn bound_glyph(
         error: Box::new(e),
     })?;
     let poly = GlyphPolynomial::from_tensor(layout, &coeffs)?;
+    if set.shape == GlyphShape::Reciprocal {
+        return bound_reciprocal(poly, &coeffs, world).map_err(|e| Error::Item {
+            what: "glyph set",
+            index,
+            error: Box::new(e),
+        });
+    }
     Ok(glyph_bounds_with(&poly, sampling)
         .filter(|b| b.radius > 0.0 && b.radius.is_finite())
         .map(|bounds| Bounded {
@@ -389,6 +405,38 @@ fn bound_glyph(
             poly: (world == WorldGlyphs::Keep).then_some(poly),
             bounds,
         }))
+}
+
+/// The reciprocal glyph r = 1/|f| of a tensor: radius B = 1 / (a guaranteed lower bound
+/// of |f| on the sphere), the box the cube around that sphere, and coefficients times B
+/// (so that |f| >= 1 and r <= 1 in the normalised frame). An f that may vanish on the
+/// sphere (every odd order, or a crystal's unstable direction) makes the surface
+/// unbounded: refused, with the least |f| found. `None` for a zero tensor.
+fn bound_reciprocal(
+    poly: GlyphPolynomial,
+    coeffs: &[f64],
+    world: WorldGlyphs,
+) -> Result<Option<Bounded>> {
+    let Some(least) = least_abs(&poly) else {
+        return Ok(None);
+    };
+    if least.lower.is_nan() || least.lower <= 0.0 || !(1.0 / least.lower).is_finite() {
+        return Err(Error::data(
+            "guaranteed least |f| over the sphere (r = 1/|f| of shape reciprocal is unbounded \
+             where f vanishes; every odd order does)",
+            Problem::NotPositive { value: least.lower },
+        ));
+    }
+    let radius = 1.0 / least.lower;
+    Ok(Some(Bounded {
+        gpu_coefficients: coeffs.iter().map(|c| (c * radius) as f32).collect(),
+        poly: (world == WorldGlyphs::Keep).then_some(poly),
+        bounds: GlyphBounds {
+            radius,
+            axes: [glam::DVec3::X, glam::DVec3::Y, glam::DVec3::Z],
+            extents: [radius; 3],
+        },
+    }))
 }
 
 /// The ellipsoid of an order-2 tensor: `None` for one without (no positive eigenvalue).

@@ -222,7 +222,7 @@ impl HeadlessRenderer {
     /// as `view` sees them.
     ///
     /// With `settings.samples` = s^2 > 1 (4 or 16) the colour is supersampled: drawn at s
-    /// times the size and box-filtered down (`render::compose::antialias`), so that edge pixels
+    /// times the size and box-filtered down (`render::antialias`), so that edge pixels
     /// take the fraction of their s x s samples that glyphs (or the underlay) cover, in
     /// linear light, and alpha is that coverage over a transparent background. The
     /// distance map is drawn at the image's own size, one ray per pixel centre, so it
@@ -234,11 +234,11 @@ impl HeadlessRenderer {
         view: &FrameView,
         settings: &RenderSettings,
     ) -> Result<RenderedImage> {
-        let factor = crate::render::compose::antialias::supersampling_factor(settings.samples)?;
+        let factor = crate::render::antialias::supersampling_factor(settings.samples)?;
         if factor == 1 {
             return self.render_once(gpu, sets, view, settings);
         }
-        let (big_w, big_h) = crate::render::compose::antialias::supersampled_size(
+        let (big_w, big_h) = crate::render::antialias::supersampled_size(
             view.width,
             view.height,
             factor,
@@ -255,12 +255,8 @@ impl HeadlessRenderer {
             ..*view
         };
         let big = self.render_once(gpu, sets, &big_view, &single)?;
-        let rgba = crate::render::compose::antialias::box_filter(
-            &big.rgba,
-            view.width,
-            view.height,
-            factor,
-        )?;
+        let rgba =
+            crate::render::antialias::box_filter(&big.rgba, view.width, view.height, factor)?;
         let big_ms = big.gpu_ms;
         drop(big);
         let mut image = self.render_once(gpu, sets, view, &single)?;

@@ -44,12 +44,17 @@ impl GlyphMeshes {
     /// Tessellates every glyph of `sets` on `kind`'s sphere. Sets of any tensor layout
     /// share one draw: the mesh no longer depends on the layout.
     pub fn build(sets: &[GlyphSetData], kind: MeshKind) -> Result<GlyphMeshes> {
-        if sets.iter().any(|s| s.shape == GlyphShape::Ellipsoid) {
-            // The data decide (exit code 1), so not a Setting error.
-            return Err(Error::Unsupported {
-                what: crate::error::Asked::Ellipsoids,
-                by: Setting::Method.with(kind),
-            });
+        for (shape, what) in [
+            (GlyphShape::Ellipsoid, crate::error::Asked::Ellipsoids),
+            (GlyphShape::Reciprocal, crate::error::Asked::Reciprocal),
+        ] {
+            if sets.iter().any(|s| s.shape == shape) {
+                // The data decide (exit code 1), so not a Setting error.
+                return Err(Error::Unsupported {
+                    what,
+                    by: Setting::Method.with(kind),
+                });
+            }
         }
         let sphere = SphereMesh::new(kind)?;
         let glyphs: Vec<WorldGlyph> = sets.iter().flat_map(|s| s.world.iter().cloned()).collect();

@@ -3,6 +3,7 @@
 //! `compute` is a second path for the exact method: a compute shader per pixel over the
 //! screen tiles of `tiles`. The CPU compositing of the drawn images (box filter, colour
 //! bar, labels, montage) is in `compose`; the GLSL test harnesses are in `harness`.
+pub mod antialias;
 pub mod batch;
 pub mod component;
 pub mod compose;
@@ -27,7 +28,7 @@ pub mod table;
 pub mod tiles;
 pub mod underlay;
 
-use crate::catalog::{ELLIPSOID_METHOD, RAY_CAST_METHODS, RayCastMethod};
+use crate::catalog::{ELLIPSOID_METHOD, RAY_CAST_METHODS, RECIPROCAL_METHOD, RayCastMethod};
 pub use crate::glyph::tessellate::MeshKind;
 pub use settings::{ColorMode, Lighting, Refinement, RenderPath, RenderSettings, Shadows};
 
@@ -46,6 +47,10 @@ pub enum Method {
     /// The closed-form intersection of the DTI ellipsoid (glsl/raycast_ellipsoid.frag):
     /// what ellipsoid glyph sets are drawn with, whatever `--method` says for the others.
     Ellipsoid,
+    /// The exact method on the reciprocal glyph r = 1/|f| (glsl/raycast_exact.frag
+    /// compiled with `GLYPHCAST_RECIPROCAL`): what reciprocal glyph sets are drawn with
+    /// when the method is exact; the other methods refuse them.
+    Reciprocal,
     /// The bounding sphere of each glyph on the ray caster's boxes: the cost floor of a
     /// box-proxy ray caster, not the glyph.
     Impostor,
@@ -65,8 +70,10 @@ impl Method {
     /// The method's entry in the table of ray-casting methods ([`crate::catalog`]):
     /// name, shaders, what it reads. `None` for the impostor and the meshes.
     pub fn ray_cast_entry(self) -> Option<&'static RayCastMethod> {
-        if self == Method::Ellipsoid {
-            return Some(&ELLIPSOID_METHOD);
+        match self {
+            Method::Ellipsoid => return Some(&ELLIPSOID_METHOD),
+            Method::Reciprocal => return Some(&RECIPROCAL_METHOD),
+            _ => {}
         }
         let index = Method::RAY_CASTING.iter().position(|&m| m == self)?;
         RAY_CAST_METHODS.get(index)
@@ -86,7 +93,8 @@ impl std::fmt::Display for Method {
             | Method::Interval
             | Method::Affine
             | Method::Exact
-            | Method::Ellipsoid => {
+            | Method::Ellipsoid
+            | Method::Reciprocal => {
                 let entry = self.ray_cast_entry().ok_or(std::fmt::Error)?;
                 f.write_str(entry.name)
             }

@@ -84,7 +84,11 @@ pub fn early_variants(scene: &Scene, settings: &RenderSettings) -> Vec<(TensorLa
     };
     let mut variants: Vec<(TensorLayout, Method)> = Vec::new();
     for &(layout, shape, _) in &sets {
-        let variant = (layout, batch_method(shape, settings.method));
+        // A method the set's shape refuses is refused when the glyphs are uploaded.
+        let Ok(method) = batch_method(shape, settings.method) else {
+            continue;
+        };
+        let variant = (layout, method);
         if !may_be_promoted(layout) && !variants.contains(&variant) {
             variants.push(variant);
         }

@@ -364,7 +364,7 @@ impl RayCastPass {
             Method::Impostor => (None, IMPOSTOR_FRAGMENT),
             Method::Mesh(_) => {
                 return Err(Error::Unsupported {
-                    what: crate::error::Asked::Method(method),
+                    what: crate::error::Asked::Method(Setting::Method.with(method)),
                     by: "the ray-casting pass".into(),
                 });
             }
@@ -372,12 +372,13 @@ impl RayCastPass {
             | Method::Interval
             | Method::Affine
             | Method::Exact
-            | Method::Ellipsoid => {
+            | Method::Ellipsoid
+            | Method::Reciprocal => {
                 let needed = varying_components(layout);
                 let available = self.ctx.max_varying_components();
                 if needed > available {
                     return Err(Error::Layout {
-                        layout,
+                        layout: layout.into(),
                         error: Box::new(Error::Limit {
                             what: "vertex-to-fragment components \
                                    (maxVertexOutputComponents, maxFragmentInputComponents)",
@@ -388,7 +389,7 @@ impl RayCastPass {
                     });
                 }
                 let shader = raycast_shader(layout, method).ok_or_else(|| Error::Unsupported {
-                    what: crate::error::Asked::Layout(layout),
+                    what: crate::error::Asked::Layout(layout.into()),
                     by: Setting::Method.with(method),
                 })?;
                 let fragment = match self.formats.distance {
@@ -514,8 +515,8 @@ impl RayCastPass {
         let chunks = batches(sets, limit, |layout| 4 * layout.coefficient_count() as u64)?;
         let variants: Vec<_> = chunks
             .iter()
-            .map(|chunk| (chunk.layout, batch_method(chunk.shape, method)))
-            .collect();
+            .map(|chunk| Ok((chunk.layout, batch_method(chunk.shape, method)?)))
+            .collect::<Result<_>>()?;
         // Shadows, as the first frame block asks: they need a pipeline of their own.
         let shadows = frame.shadow[0] > 0.5;
         self.prepare_pipelines_for(&variants, shadows)?;
@@ -579,7 +580,7 @@ impl RayCastPass {
         let (viewport, scissor) = (target.viewport, target.scissor);
         for set in &scene.sets {
             let pipeline =
-                self.prepared(set.layout, batch_method(set.shape, method), scene.shadows)?;
+                self.prepared(set.layout, batch_method(set.shape, method)?, scene.shadows)?;
             let hide = set.negative.shader_code();
             // SAFETY: recording state is the caller's; all handles are alive.
             unsafe {
@@ -620,12 +621,19 @@ fn pipeline_key(layout: TensorLayout, method: Method, shadows: bool) -> Pipeline
 
 /// The method a batch of `shape` is drawn with when the scene's is `method`: ellipsoids
 /// always by their closed-form shader (the other methods solve the polynomial glyph),
-/// except under the impostor, which draws every glyph's bounding sphere.
-pub fn batch_method(shape: GlyphShape, method: Method) -> Method {
+/// except under the impostor, which draws every glyph's bounding sphere; reciprocal
+/// glyphs by the exact method's reciprocal variant, which the other methods lack (an
+/// [`Error::Unsupported`] naming the method).
+pub fn batch_method(shape: GlyphShape, method: Method) -> Result<Method> {
     match (shape, method) {
-        (GlyphShape::Ellipsoid, Method::Impostor) => Method::Impostor,
-        (GlyphShape::Ellipsoid, _) => Method::Ellipsoid,
-        (GlyphShape::Polynomial, method) => method,
+        (_, Method::Impostor) => Ok(Method::Impostor),
+        (GlyphShape::Ellipsoid, _) => Ok(Method::Ellipsoid),
+        (GlyphShape::Polynomial, method) => Ok(method),
+        (GlyphShape::Reciprocal, Method::Exact | Method::Reciprocal) => Ok(Method::Reciprocal),
+        (GlyphShape::Reciprocal, method) => Err(Error::Unsupported {
+            what: crate::error::Asked::Reciprocal,
+            by: Setting::Method.with(method),
+        }),
     }
 }
 

@@ -320,7 +320,7 @@ pub struct RenderSettings {
     /// this many pixels' footprint at their depth.
     pub precision_px: f32,
     /// Samples per pixel (`--samples`): 1, or 4 or 16 by supersampling
-    /// ([`crate::render::compose::antialias`]).
+    /// ([`crate::render::antialias`]).
     pub samples: u32,
     /// The light and the Blinn-Phong terms every pass shades with.
     pub lighting: Lighting,
@@ -376,7 +376,7 @@ impl Lighting {
     }
 
     /// Checks the direction: finite and of non-zero length (the numbers' ranges are
-    /// the table's, [`RENDER_SETTINGS`](crate::render::table::RENDER_SETTINGS)).
+    /// the render settings table's).
     pub fn validate(&self) -> Result<()> {
         let [x, y, z] = self.direction;
         let length = (x * x + y * y + z * z).sqrt();
@@ -417,6 +417,21 @@ impl Default for RenderSettings {
 
 /// The default background, `--background dark`: a near-black grey (linear RGB, opaque).
 pub const DARK_BACKGROUND: [f32; 4] = [0.02, 0.02, 0.025, 1.0];
+
+/// The supersampling factor s (samples per pixel s^2): 1, 2 or 4; other counts are an
+/// error naming the samples setting.
+pub fn supersampling_factor(samples: u32) -> Result<u32> {
+    match samples {
+        1 => Ok(1),
+        4 => Ok(2),
+        16 => Ok(4),
+        _ => Err(Error::setting_value(
+            Setting::Samples,
+            samples,
+            "must be 1, 4 or 16",
+        )),
+    }
+}
 
 /// The linear value of an 8-bit sRGB-encoded value (the sRGB transfer function), so
 /// that an sRGB colour target writes `byte` back.
@@ -495,8 +510,10 @@ impl RenderSettings {
         matches!(self.color, ColorMode::Magnitude { range: None })
     }
 
-    /// Checks the numbers a user can set.
-    pub fn validate(&self) -> Result<()> {
+    /// Checks what the table does not declare: the light's direction, the internal
+    /// numbers, and the settings' combinations ([`RenderSettings::validate`] checks the
+    /// table's ranges, then these).
+    pub(crate) fn validate_rest(&self) -> Result<()> {
         if let Method::Mesh(kind) = self.method {
             kind.validate()?;
         }
@@ -515,12 +532,6 @@ impl RenderSettings {
             }
         };
         self.lighting.validate()?;
-        // Every number a user sets, in its range (the table's).
-        for spec in crate::render::table::RENDER_SETTINGS {
-            if let Some(number) = spec.number {
-                spec.check(number(self))?;
-            }
-        }
         positive("centre step factor", self.centre_step_factor, 1.0)?;
         if !(self.centre_zone.is_finite() && self.centre_zone >= 0.0) {
             return Err(Error::data(
@@ -564,7 +575,7 @@ impl RenderSettings {
                 "every component must be in 0 to 1",
             ));
         }
-        crate::render::compose::antialias::supersampling_factor(self.samples)?;
+        supersampling_factor(self.samples)?;
         if self.path == RenderPath::Compute && self.method != Method::Exact {
             return Err(Error::setting_value(
                 Setting::Path,

@@ -462,6 +462,21 @@ render_settings! {
     }
 }
 
+impl RenderSettings {
+    /// Checks every setting: each number the table declares in its range
+    /// ([`RENDER_SETTINGS`]), then the rest (the light's direction, the settings'
+    /// combinations). Every front end's request passes here, as
+    /// [`RenderOptions::settings`] and the renderers call it.
+    pub fn validate(&self) -> Result<()> {
+        for spec in RENDER_SETTINGS {
+            if let Some(number) = spec.number {
+                spec.check(number(self))?;
+            }
+        }
+        self.validate_rest()
+    }
+}
+
 impl RenderOptions {
     /// The render settings these options ask for, every value checked
     /// ([`RenderSettings::validate`]); a refused value is an [`Error::Setting`] naming

@@ -14,10 +14,13 @@
 //!   file that fails any check is ignored (one note on stderr) and replaced when the
 //!   process ends; a driver is never handed bytes it did not write.
 //! - **Written:** when the device goes, only if the driver's data changed, through a
-//!   temporary file renamed over the target ([`crate::io::atomic`]): processes that run
-//!   at once (a job array) each leave a whole file, the last one's.
+//!   temporary file of the process's own renamed over the target: processes that run at
+//!   once (a job array) each leave a whole file, the last one's.
 use ash::vk;
 use std::path::{Path, PathBuf};
+
+// `SHADERS_HASH`: a hash of every shader's source and compile options, from build.rs.
+include!(concat!(env!("OUT_DIR"), "/shaders_hash.rs"));
 
 /// The file's own header: magic, then the data's length and checksum (u64 each, LE).
 const MAGIC: &[u8; 8] = b"GCPCACHE";
@@ -63,7 +66,7 @@ fn file_name(props: &vk::PhysicalDeviceProperties) -> String {
     key.extend_from_slice(&props.driver_version.to_le_bytes());
     key.extend_from_slice(&props.pipeline_cache_uuid);
     key.extend_from_slice(env!("CARGO_PKG_VERSION").as_bytes());
-    key.extend_from_slice(&crate::render::shaders::SHADERS_HASH.to_le_bytes());
+    key.extend_from_slice(&SHADERS_HASH.to_le_bytes());
     format!("pipelines-{:016x}.bin", fnv1a(&key))
 }
 
@@ -139,13 +142,21 @@ impl PipelineCacheFile {
         file.extend_from_slice(&(data.len() as u64).to_le_bytes());
         file.extend_from_slice(&fnv1a(data).to_le_bytes());
         file.extend_from_slice(data);
+        let mut temporary = self.path.clone().into_os_string();
+        temporary.push(format!(".{}.tmp", std::process::id()));
+        let temporary = PathBuf::from(temporary);
         let written = match self.path.parent() {
-            Some(dir) => std::fs::create_dir_all(dir).map_err(|e| crate::Error::io(dir, e)),
+            Some(dir) => std::fs::create_dir_all(dir),
             None => Ok(()),
         }
-        .and_then(|()| crate::io::atomic::write_atomic(&self.path, &file));
+        .and_then(|()| std::fs::write(&temporary, &file))
+        .and_then(|()| std::fs::rename(&temporary, &self.path));
         if let Err(e) = written {
-            eprintln!("note: the pipeline cache was not saved: {e}");
+            let _ = std::fs::remove_file(&temporary);
+            eprintln!(
+                "note: the pipeline cache was not saved to {}: {e}",
+                self.path.display()
+            );
         }
     }
 }

@@ -53,8 +53,11 @@
 //! frame tensor is `C'_ijkl = g_mi g_nj g_ok g_pl C_mnop` ([`rotate`],
 //! [`Stiffness::rotated`]), so that `E'(u) = E(g u)`.
 //!
-//! **Surfaces for drawing**: [`Stiffness::radius`] for each [`Surface`], and the
-//! compliance quartic's coefficients [`Stiffness::compliance_tensor`].
+//! **Surfaces for drawing**: [`Stiffness::radius`] for each [`Surface`], the compliance
+//! quartic's coefficients [`Stiffness::compliance_tensor`], and for the surfaces that are
+//! tensor glyphs (Young's modulus, the reciprocal glyph of the compliance quartic; linear
+//! compressibility, the glyph of `β_ij`) their forms [`Stiffness::surface_form`], with
+//! [`Stiffness::largest_radius`] to put several materials on one scale.
 
 //! # Example
 //!
@@ -100,5 +103,5 @@ pub use stiffness::{
     Options, PERPENDICULAR_TOLERANCE, PlaneExtremes, SYMMETRY_TOLERANCE, Stiffness,
 };
 pub use summary::{MinMax, Summary};
-pub use surface::Surface;
+pub use surface::{Surface, SurfaceForm};
 pub use voigt::{Kind, Tensor4, VOIGT_PAIRS, Voigt, contract, from_tensor, to_tensor, voigt_index};

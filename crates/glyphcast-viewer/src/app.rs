@@ -437,7 +437,7 @@ impl App {
     ) -> Result<()> {
         if !self.methods().contains(&method) {
             return Err(Error::Unsupported {
-                what: glyphcast::error::Asked::Method(method),
+                what: glyphcast::error::Asked::Method(glyphcast::Setting::Method.with(method)),
                 by: "the shaders of these glyphs".into(),
             });
         }

@@ -939,7 +939,7 @@ _glyphcast() {
             return 0
             ;;
         glyphcast__subcmd__stiffness)
-            opts="-o -h --output --summary --euler --rotation --allow-unstable --shear-order --symmetric-part --help"
+            opts="-o -h --output --summary --euler --rotation --allow-unstable --shear-order --symmetric-part --surface --help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -966,6 +966,10 @@ _glyphcast() {
                     return 0
                     ;;
                 --shear-order)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --surface)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;

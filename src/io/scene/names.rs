@@ -28,7 +28,11 @@ impl Named for NegativeMode {
 }
 
 impl Named for GlyphShape {
-    const ALL: &'static [Self] = &[GlyphShape::Polynomial, GlyphShape::Ellipsoid];
+    const ALL: &'static [Self] = &[
+        GlyphShape::Polynomial,
+        GlyphShape::Ellipsoid,
+        GlyphShape::Reciprocal,
+    ];
     fn name(self) -> &'static str {
         GlyphShape::name(self)
     }

@@ -116,8 +116,8 @@ fn read_glyph_set(field: &Field) -> Result<GlyphSet> {
     })
 }
 
-/// `shape`: the ellipsoid is defined for order-2 symmetric tensors only, and has no
-/// negative lobes to hide.
+/// `shape`: the ellipsoid is defined for order-2 symmetric tensors only; neither it nor
+/// the reciprocal glyph has negative lobes to hide.
 fn read_shape(set: &Object, kind: GlyphKind, negative: NegativeMode) -> Result<GlyphShape> {
     let Some(field) = set.get("shape") else {
         return Ok(GlyphShape::default());
@@ -133,6 +133,12 @@ fn read_shape(set: &Object, kind: GlyphKind, negative: NegativeMode) -> Result<G
             return Err(field
                 .error("\"ellipsoid\" has no negative lobes to hide: use \"negative\": \"abs\""));
         }
+    }
+    if shape == GlyphShape::Reciprocal && !shape.takes(negative) {
+        return Err(field.error(
+            "\"reciprocal\" (r = 1/|f|) needs f without zeros, so it has no negative lobes to \
+             hide: use \"negative\": \"abs\"",
+        ));
     }
     Ok(shape)
 }

@@ -237,7 +237,25 @@ fn the_ellipsoid_shape_is_for_order_2_symmetric_tensors_without_hiding() {
     assert_input_error(
         parse(&unknown),
         "glyphs[0].shape",
-        "\"polynomial\", \"ellipsoid\"",
+        "\"polynomial\", \"ellipsoid\", \"reciprocal\"",
+    );
+}
+
+#[test]
+fn the_reciprocal_shape_reads_for_any_kind_without_hiding() {
+    let reciprocal = edited(|doc| {
+        glyph_set(doc).insert("shape".into(), json!("reciprocal"));
+    });
+    let scene = parse(&reciprocal).expect("a reciprocal order-4 set");
+    assert_eq!(scene.glyph_sets[0].shape, GlyphShape::Reciprocal);
+    let hidden = edited(|doc| {
+        glyph_set(doc).insert("shape".into(), json!("reciprocal"));
+        glyph_set(doc).insert("negative".into(), json!("hide"));
+    });
+    assert_input_error(
+        parse(&hidden),
+        "glyphs[0].shape",
+        "no negative lobes to hide",
     );
 }
 
@@ -559,8 +577,13 @@ fn mixed_scene() -> Scene {
         shape: GlyphShape::Ellipsoid,
         ..symmetric.clone()
     };
+    let reciprocal = GlyphSet {
+        negative: NegativeMode::Abs,
+        shape: GlyphShape::Reciprocal,
+        ..symmetric.clone()
+    };
     Scene {
-        glyph_sets: vec![symmetric, stiffness, sh, empty, ellipsoids],
+        glyph_sets: vec![symmetric, stiffness, sh, empty, ellipsoids, reciprocal],
         camera: Camera {
             projection: Projection::Orthographic { height: 4.5 },
             eye: DVec3::new(0.0, -6.0, 2.0),

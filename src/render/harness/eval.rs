@@ -20,7 +20,7 @@ pub fn evaluate_on_gpu(
     points: &[[f32; 4]],
 ) -> Result<Vec<[f32; 4]>> {
     let shader = eval_shader(layout).ok_or_else(|| Error::Unsupported {
-        what: crate::error::Asked::Layout(layout),
+        what: crate::error::Asked::Layout(layout.into()),
         by: "the evaluation shaders".into(),
     })?;
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;

@@ -48,7 +48,7 @@ pub fn ranges_on_gpu(
     queries: &[RangeQuery],
 ) -> Result<Vec<RangeResult>> {
     let shader = range_shader(layout).ok_or_else(|| Error::Unsupported {
-        what: crate::error::Asked::Layout(layout),
+        what: crate::error::Asked::Layout(layout.into()),
         by: "the range shaders".into(),
     })?;
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;

@@ -4,12 +4,12 @@
 //! with `glyphcast render`; `--summary` writes the extremes and averages that
 //! `glyphcast_materials` computes (docs/guide/materials.md).
 use clap::Args;
-use glyphcast::demo::stiffness_row_scene;
+use glyphcast::demo::{RowGlyph, material_row_scene, stiffness_row_scene};
 use glyphcast::error::quoted;
 use glyphcast::glyph::stiffness::{ShearOrder, VoigtStiffness};
 use glyphcast::io::stiffness::StiffnessFile;
 use glyphcast::{Error, Result};
-use glyphcast_materials::{Options, Rotation, Stiffness, Summary};
+use glyphcast_materials::{Options, Rotation, Stiffness, Summary, Surface};
 use std::path::{Path, PathBuf};
 
 #[derive(Args)]
@@ -53,9 +53,39 @@ pub struct StiffnessArgs {
     /// Voigt shear order of the files: 23,13,12 (standard) or 12,13,23.
     #[arg(long, value_name = "ORDER")]
     shear_order: Option<String>,
-    /// Write the fully symmetric part (15 coefficients) instead of all 81 C_ijkl.
-    #[arg(long)]
+    /// Write the fully symmetric part (15 coefficients) instead of all 81 C_ijkl
+    /// (the Reynolds glyph: not with --surface).
+    #[arg(long, conflicts_with = "surface")]
     symmetric_part: bool,
+    /// The surface the scene draws, its radius in the input's units: reynolds
+    /// (C_ijkl u_i u_j u_k u_l), young (Young's modulus E(u)) or compressibility (linear
+    /// compressibility beta(u), in inverse units; negative where the crystal expands
+    /// under pressure: render with --color sign). Default: reynolds.
+    #[arg(long, value_name = "SURFACE", value_parser = parse_surface)]
+    surface: Option<DrawnSurface>,
+}
+
+/// What `--surface` draws: the Reynolds glyph of C, or a surface of the materials crate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DrawnSurface {
+    Reynolds,
+    Modulus(Surface),
+}
+
+/// `--surface NAME`.
+fn parse_surface(text: &str) -> std::result::Result<DrawnSurface, String> {
+    match text {
+        "reynolds" => Ok(DrawnSurface::Reynolds),
+        _ => match Surface::from_name(text) {
+            Some(surface) if surface_drawn(surface) => Ok(DrawnSurface::Modulus(surface)),
+            _ => Err("expected reynolds, young or compressibility".into()),
+        },
+    }
+}
+
+/// The surfaces a scene draws besides the Reynolds glyph: those that are tensor glyphs.
+fn surface_drawn(surface: Surface) -> bool {
+    matches!(surface, Surface::Young | Surface::Compressibility)
 }
 
 /// Bunge Euler angles in degrees (phi1, Phi, phi2), finite.
@@ -111,8 +141,10 @@ pub fn run(args: StiffnessArgs) -> Result<()> {
         .map(|path| material(path, shear, rotation.as_ref(), args.allow_unstable))
         .collect::<Result<Vec<_>>>()?;
     let summaries: Vec<Summary> = materials.iter().map(|m| m.stiffness.summary()).collect();
-    let scene = match &args.output {
-        Some(_) => {
+    let surface = args.surface.unwrap_or(DrawnSurface::Reynolds);
+    let scene = match (&args.output, surface) {
+        (None, _) => None,
+        (Some(_), DrawnSurface::Reynolds) => {
             let drawn = materials
                 .iter()
                 .map(|m| {
@@ -121,7 +153,13 @@ pub fn run(args: StiffnessArgs) -> Result<()> {
                 .collect::<Result<Vec<_>>>()?;
             Some(stiffness_row_scene(&drawn, args.symmetric_part)?)
         }
-        None => None,
+        (Some(_), DrawnSurface::Modulus(surface)) => {
+            let glyphs = materials
+                .iter()
+                .map(|m| surface_glyph(m, surface))
+                .collect::<Result<Vec<_>>>()?;
+            Some(material_row_scene(&glyphs)?)
+        }
     };
     for (material, summary) in materials.iter().zip(&summaries) {
         println!("{}", material.file);
@@ -140,6 +178,23 @@ pub fn run(args: StiffnessArgs) -> Result<()> {
         eprintln!("wrote {}", path.display());
     }
     Ok(())
+}
+
+/// One material's glyph of `surface`; an error naming the file where the surface is
+/// unbounded (Young's modulus of an unstable crystal whose 1/E vanishes somewhere).
+fn surface_glyph(material: &Material, surface: Surface) -> Result<RowGlyph> {
+    let refused = |message: String| Error::input(&material.file, "voigt", message);
+    let form = material
+        .stiffness
+        .surface_form(surface)
+        .ok_or_else(|| refused(format!("{} is not drawn as a surface", surface.name())))?;
+    let largest = material.stiffness.largest_radius(surface);
+    RowGlyph::of_form(form.order, &form.tensor, form.reciprocal, largest).map_err(|e| {
+        refused(format!(
+            "{}'s surface: {e} (a mechanically unstable crystal)",
+            surface.name()
+        ))
+    })
 }
 
 /// The summary file: the object of the one material, or a list of them (each with its

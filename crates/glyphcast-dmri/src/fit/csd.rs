@@ -21,7 +21,7 @@
 use glam::DVec3;
 use nalgebra::{DMatrix, DVector};
 
-use super::odf::{WORK_BASIS, basis_change};
+use super::basis::{WORK_BASIS, basis_change};
 use super::response::Response;
 use super::sphere::GeodesicSphere;
 use glyphcast::error::Problem;

@@ -30,6 +30,7 @@
 //! Everything is validated before any voxel is fitted, and the output is written to a
 //! temporary file next to the target and renamed (`output`), so a failed run leaves no
 //! file behind.
+mod basis;
 pub mod csd;
 pub mod csd_mrtrix;
 pub mod dti;

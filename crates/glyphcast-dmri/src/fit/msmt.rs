@@ -30,8 +30,8 @@ use glam::DVec3;
 use nalgebra::DMatrix;
 use ndarray::{Array4, s};
 
+use super::basis::{WORK_BASIS, basis_change};
 use super::gradients::{B0_THRESHOLD, GradientTable};
-use super::odf::{WORK_BASIS, basis_change};
 use super::sphere::GeodesicSphere;
 use super::{FitInputs, FitReport};
 use glyphcast::error::Problem;

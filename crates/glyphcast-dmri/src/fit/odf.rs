@@ -26,12 +26,11 @@ use glam::DVec3;
 use nalgebra::DMatrix;
 
 use crate::setting::DmriSetting;
-use glyphcast::glyph::sh::{ShFitter, convert_basis, sh_count, sh_orders};
+use glyphcast::glyph::sh::{ShFitter, sh_count, sh_orders};
 use glyphcast::scene::ShBasis;
 use glyphcast::{Error, Result};
 
-pub use super::csd::CsdFitter;
-pub use super::response::{Response, ResponseEstimate};
+use super::basis::{WORK_BASIS, basis_change, legendre};
 
 /// Default Laplace-Beltrami weight of CSA and Q-ball (as `fit --sh`).
 pub const DEFAULT_ODF_LAMBDA: f64 = super::DEFAULT_LAMBDA;
@@ -82,36 +81,6 @@ impl OdfMethod {
             )
         })
     }
-}
-
-/// The Legendre polynomial P_l(x), by Bonnet's recurrence.
-pub fn legendre(l: u32, x: f64) -> f64 {
-    let (mut prev, mut cur) = (1.0, x);
-    if l == 0 {
-        return 1.0;
-    }
-    for k in 1..l {
-        let k = f64::from(k);
-        (prev, cur) = (cur, ((2.0 * k + 1.0) * x * cur - k * prev) / (k + 1.0));
-    }
-    cur
-}
-
-/// The orthonormal basis every ODF is computed in.
-pub(crate) const WORK_BASIS: (ShBasis, bool) = (ShBasis::Descoteaux07, false);
-
-/// The matrix that maps coefficients in [`WORK_BASIS`] to `to` (a signed, scaled
-/// permutation within each band).
-pub(crate) fn basis_change(band: u32, to: (ShBasis, bool)) -> Result<DMatrix<f64>> {
-    let k = sh_count(band);
-    let mut change = DMatrix::zeros(k, k);
-    for j in 0..k {
-        let mut unit = vec![0.0; k];
-        unit[j] = 1.0;
-        let column = convert_basis(band, WORK_BASIS, to, &unit)?;
-        change.column_mut(j).copy_from_slice(&column);
-    }
-    Ok(change)
 }
 
 /// CSA or Q-ball: a fixed linear map from the (transformed) samples to the ODF series.

@@ -13,8 +13,8 @@
 //!   Y_l^0 by quadrature: r_l = 2 pi int_-1^1 S(z) Y_l^0(z) dz.
 use std::path::Path;
 
+use super::basis::legendre;
 use super::dti::DiffusionTensor;
-use super::odf::legendre;
 use super::tissue::TissueMask;
 use super::{FitInputs, FitModel, VoxelFitter};
 use crate::setting::DmriSetting;

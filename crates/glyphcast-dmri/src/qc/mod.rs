@@ -284,10 +284,11 @@ fn plan_figures(
     cuts: &[survey::PlaneCuts],
     regions: &[survey::Region],
 ) -> Result<Vec<figures::FigurePlan>> {
+    // Every panel is drawn with its edge labels: they get the band free of glyphs.
     let mut base = request.volume.options(ImageRequest {
         width: Some(size),
         height: Some(size),
-        ..Default::default()
+        keep_edges: true,
     })?;
     base.mask = mask;
     // Sized per glyph first; `figures::size_alike` puts every glyph on one scale.

@@ -7,11 +7,10 @@ use std::sync::Arc;
 use super::build::{VolumeOptions, VolumeScene, is_nothing_to_draw, volume_scene};
 use super::framing::ImageRequest;
 use super::input::{Mask, Volume, load_mask};
-use super::request::{ImageSource, VolumeRequest};
+use super::request::{ImageSource, VolumeRequest, parse_views};
 use super::selection::Slice;
 use super::underlay::{load_underlay, view_underlay};
 use crate::io::nifti::AffineSource;
-use glyphcast::error::quoted;
 use glyphcast::render::underlay::{Underlay, UnderlayVolume};
 use glyphcast::{Error, Result, Setting};
 
@@ -340,34 +339,6 @@ fn nearest_slice_with_glyphs(
         axis.name()
     );
     (None, note)
-}
-
-/// The views of a montage: axial, coronal and sagittal (each optionally :INDEX), comma
-/// separated, each at most once.
-pub fn parse_views(text: &str) -> Result<Vec<Slice>> {
-    let shown = || format!("'{}'", quoted(text));
-    let mut slices: Vec<Slice> = Vec::new();
-    for item in text.split(',') {
-        let slice: Slice = item.trim().parse().map_err(|_| {
-            Error::setting_value(
-                Setting::Views,
-                shown(),
-                format!(
-                    "'{}' is not axial, coronal or sagittal (optionally :INDEX)",
-                    quoted(item)
-                ),
-            )
-        })?;
-        if slices.iter().any(|s| s.axis == slice.axis) {
-            return Err(Error::setting_value(
-                Setting::Views,
-                shown(),
-                format!("{} is listed twice", slice.axis.name()),
-            ));
-        }
-        slices.push(slice);
-    }
-    Ok(slices)
 }
 
 /// `count` slices of the slice plane, evenly spaced: slice k at the centre of the k-th

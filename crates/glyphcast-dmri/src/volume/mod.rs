@@ -36,7 +36,7 @@ pub use build::{
     VolumeReport, VolumeScene, robust_reference, slice_framing, volume_scene,
     volume_scene_with_progress,
 };
-pub use figure::{MontagePlan, VolumeFigure, VolumeMontage, VolumeView, parse_views};
+pub use figure::{MontagePlan, VolumeFigure, VolumeMontage, VolumeView};
 pub use framing::{
     DEFAULT_LONG_SIDE, Framing, ImageRequest, Orientation, PERSPECTIVE_FOV_DEG, ViewProjection,
     frame_region, frame_volume, view_axis, view_directions,
@@ -53,7 +53,7 @@ pub use recorded::{
     resolve_basis, tensor_description,
 };
 pub use reorient::Reorientation;
-pub use request::{Coefficients, ImageSource, MAX_PANELS, VolumeRequest};
+pub use request::{Coefficients, ImageSource, MAX_PANELS, VolumeRequest, parse_views};
 pub use selection::{Slice, SliceAxis, SliceRegion, Slices, VoxelRanges};
 pub use underlay::{
     UnderlayPlacement, load_underlay, plane_behind, slice_plane, slice_planes, turned_away,

@@ -13,6 +13,7 @@ use super::recorded::{
     OrderSource, RecordedContent, check_content, has_dti_entries, recorded_basis, resolve_basis,
     resolve_tensor_order,
 };
+use super::selection::Slice;
 use super::underlay::UnderlayPlacement;
 use crate::io::image::{Image, ImageHeader, read_image};
 use crate::io::nifti::VoxelToWorld;
@@ -601,7 +602,7 @@ impl VolumeRequest {
                 ));
             }
             (Some(views), None) => {
-                super::figure::parse_views(views)?;
+                parse_views(views)?;
             }
             (None, count) => {
                 let count = count.unwrap_or_default();
@@ -737,6 +738,34 @@ where
     T: std::str::FromStr<Err = Error> + Default,
 {
     Ok(text.map(str::parse).transpose()?.unwrap_or_default())
+}
+
+/// The views of a montage: axial, coronal and sagittal (each optionally :INDEX), comma
+/// separated, each at most once.
+pub fn parse_views(text: &str) -> Result<Vec<Slice>> {
+    let shown = || format!("'{}'", quoted(text));
+    let mut slices: Vec<Slice> = Vec::new();
+    for item in text.split(',') {
+        let slice: Slice = item.trim().parse().map_err(|_| {
+            Error::setting_value(
+                Setting::Views,
+                shown(),
+                format!(
+                    "'{}' is not axial, coronal or sagittal (optionally :INDEX)",
+                    quoted(item)
+                ),
+            )
+        })?;
+        if slices.iter().any(|s| s.axis == slice.axis) {
+            return Err(Error::setting_value(
+                Setting::Views,
+                shown(),
+                format!("{} is listed twice", slice.axis.name()),
+            ));
+        }
+        slices.push(slice);
+    }
+    Ok(slices)
 }
 
 #[cfg(test)]

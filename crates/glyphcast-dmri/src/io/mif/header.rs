@@ -3,7 +3,7 @@
 //! Keys are matched without regard to case; `transform`, `dw_scheme` and `file` may
 //! repeat (one line each per row, volume or data file); keys glyphcast does not use are
 //! kept in `other`.
-use super::datatype::DataType;
+use crate::io::datatype::DataType;
 use glyphcast::error::quoted;
 use glyphcast::{Error, Result};
 

@@ -31,11 +31,10 @@ use crate::io::input_limit::{check_input_size, max_input_bytes};
 use crate::io::nifti::{AffineSource, VoxelToWorld};
 use glyphcast::{Error, Result};
 
-pub mod datatype;
 pub mod header;
 pub mod write;
 
-pub use datatype::DataType;
+pub use crate::io::datatype::DataType;
 pub use header::MifHeader;
 pub use write::{MifWrite, mif_file_bytes, write_mif};
 

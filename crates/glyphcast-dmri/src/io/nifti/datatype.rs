@@ -1,8 +1,8 @@
 //! NIfTI `datatype` codes (`nifti1.h`, shared by NIfTI-2): the real integer and float
 //! types are read as f64, decoded by the number types the MRtrix reader shares
-//! (`io::mif::datatype`); complex, RGB, float128, binary and unknown codes are refused,
+//! (`io::datatype`); complex, RGB, float128, binary and unknown codes are refused,
 //! since glyph coefficients, DWI signals and masks are real numbers one per voxel.
-use crate::io::mif::datatype::{DataType, Number};
+use crate::io::datatype::{DataType, Number};
 use glyphcast::{Error, Result};
 
 /// (code, number type, NIfTI name) of every readable code.

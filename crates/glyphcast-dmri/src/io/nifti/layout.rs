@@ -4,7 +4,7 @@
 //! the header's own numbers.
 use super::datatype::{name, voxel_type};
 use super::header::{EXTENSION_FLAG_SIZE, NiftiHeader};
-use crate::io::mif::datatype::DataType;
+use crate::io::datatype::DataType;
 use glyphcast::{Error, Result};
 
 /// Where and how the voxels are stored.

@@ -9,7 +9,7 @@ use ndarray::{ArrayD, Dimension, IxDyn, ShapeBuilder};
 
 use super::write::{encode_nifti1, nifti1_bytes};
 use super::*;
-use crate::io::mif::datatype::{DataType, Number};
+use crate::io::datatype::{DataType, Number};
 
 fn sample(shape: &[usize]) -> ArrayD<f64> {
     ArrayD::from_shape_fn(IxDyn(shape), |i| {

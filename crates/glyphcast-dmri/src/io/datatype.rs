@@ -1,4 +1,4 @@
-//! MRtrix data types: `Bit`, `Int8`, `UInt8`, and 16, 32 and 64-bit integers and 32 and
+//! The types of stored values both image formats share, with their MRtrix names: `Bit`, `Int8`, `UInt8`, and 16, 32 and 64-bit integers and 32 and
 //! 64-bit floats with an `LE` or `BE` suffix (none: this machine's byte order). Names are
 //! matched without regard to case, as MRtrix does. `Bit` packs eight voxels per byte,
 //! the first in the most significant bit. Complex types are refused: glyph coefficients

@@ -11,22 +11,8 @@
 //! size (see `HeadlessRenderer::render_view`).
 use crate::error::{Error, Result, Setting};
 use crate::render::settings::srgb_to_linear;
+pub use crate::render::settings::supersampling_factor;
 use crate::scene::MAX_IMAGE_SIDE;
-
-/// The supersampling factor s (samples per pixel s^2): 1, 2 or 4; other counts are an
-/// error naming the samples setting.
-pub fn supersampling_factor(samples: u32) -> Result<u32> {
-    match samples {
-        1 => Ok(1),
-        4 => Ok(2),
-        16 => Ok(4),
-        _ => Err(Error::setting_value(
-            Setting::Samples,
-            samples,
-            "must be 1, 4 or 16",
-        )),
-    }
-}
 
 /// The size drawn for `width` x `height` at `factor` (s): an error naming the sizes when
 /// a side would exceed [`MAX_IMAGE_SIDE`].
