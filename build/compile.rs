@@ -16,9 +16,6 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
-/// Stack of each shader compiler thread.
-const COMPILER_STACK_BYTES: usize = 64 << 20;
-
 /// Bumped when anything that shapes the SPIR-V but not the preprocessed text changes
 /// (compiler options below).
 const CACHE_VERSION: &str = "glyphcast-spirv-cache 2: vulkan1.3 unoptimised";
@@ -112,11 +109,7 @@ pub fn compile_all(jobs: &mut [Job], dirs: &Dirs) -> Summary {
     let failure: Option<String> = std::thread::scope(|scope| {
         let workers: Vec<_> = (0..threads.min(jobs.len()))
             .map(|_| {
-                // glslang and the optimiser recurse over a shader's control flow: the exact
-                // method's shaders with shadow rays (two root isolations inlined) need more
-                // than a thread's default 2 MiB of stack.
-                let worker = std::thread::Builder::new().stack_size(COMPILER_STACK_BYTES);
-                worker.spawn_scoped(scope, || -> Result<(), String> {
+                scope.spawn(|| -> Result<(), String> {
                     let compiler =
                         shaderc::Compiler::new().map_err(|e| format!("shaderc compiler: {e}"))?;
                     loop {
@@ -148,7 +141,6 @@ pub fn compile_all(jobs: &mut [Job], dirs: &Dirs) -> Summary {
                         }
                     }
                 })
-                .expect("spawning a shader compiler thread")
             })
             .collect();
         workers

@@ -51,15 +51,48 @@
 #extension GL_EXT_control_flow_attributes : require
 #include "raycast_common.glsl"
 #include "exact_root.glsl"
+
+#ifdef GLYPHCAST_SHADOWS
+// The shadow-casting variant of the exact method (src/render/raycast.rs picks it for
+// --shadows): pass 0 isolates the camera ray's first root in this fragment's glyph, each
+// later pass a shadow ray's in the glyph that shadow_next_glyph loaded, so that the root
+// isolation has one call site (inlined twice, the shader would be twice as large).
+// Without --shadows the shader below the #else runs, untouched by shadows.
 #include "shadow.glsl"
 
-// Whether the pipeline casts shadow rays (src/render/raycast.rs, SHADOWS_CONSTANT). Off,
-// the driver compiles the shadow code away: a frame without shadows runs what it ran
-// before they existed. (One loop for the camera's and the shadow rays, with one root
-// isolation inlined, made that frame 1.4 times slower on lavapipe: the glyph's
-// coefficients and the isolation's arrays became loop-carried memory.)
-layout(constant_id = 1) const bool SHADOWS = false;
-
+void main() {
+    GlyphRay camera;
+    if (!glyph_ray_within(CHORD_RADIUS, camera)) {
+        discard;
+    }
+    init_binomials();
+    glyph_load_inputs();
+    float s_hit = 0.0;
+    GlyphRay ray = camera;
+    for (int pass = 0; pass <= SHADOW_ISOLATIONS; ++pass) {
+        float h = ray.half_chord;
+        ray_polynomial(ray.mid, h * ray.dir);
+        float tau;
+        bool crossing = first_crossing(ray.mid, h * ray.dir, ray.s_start / h, ray.s_end / h,
+                                       tau);
+        if (pass == 0) {
+            if (!crossing) {
+                discard;
+            }
+            s_hit = tau * h;
+            shadow_begin(camera, s_hit);
+        } else if (crossing) {
+            shadow_ray_blocked();
+        }
+        if (!shadow_next_glyph(ray)) {
+            break;
+        }
+    }
+    float visibility = shadow_visibility();
+    glyph_load_inputs();  // the shadow rays loaded the glyphs they met
+    shade_hit_visible(camera, s_hit, visibility);
+}
+#else
 void main() {
     GlyphRay ray;
     if (!glyph_ray_within(CHORD_RADIUS, ray)) {
@@ -73,23 +106,6 @@ void main() {
     if (!first_crossing(ray.mid, h * ray.dir, ray.s_start / h, ray.s_end / h, tau)) {
         discard;
     }
-    float s_hit = tau * h;
-    float visibility = 1.0;
-    if (SHADOWS && frame.shadow.x > 0.5) {
-        // Each glyph that shadow_next_glyph loads, with the shadow ray in its frame.
-        shadow_begin(ray, s_hit);
-        GlyphRay shadow;
-        for (int pass = 0; pass < SHADOW_ISOLATIONS && shadow_next_glyph(shadow); ++pass) {
-            float hs = shadow.half_chord;
-            ray_polynomial(shadow.mid, hs * shadow.dir);
-            float t;
-            if (first_crossing(shadow.mid, hs * shadow.dir, shadow.s_start / hs,
-                               shadow.s_end / hs, t)) {
-                shadow_ray_blocked();
-            }
-        }
-        visibility = shadow_visibility();
-        glyph_load_inputs();  // the shadow rays loaded the glyphs they met
-    }
-    shade_hit_visible(ray, s_hit, visibility);
+    shade_hit(ray, tau * h);
 }
+#endif

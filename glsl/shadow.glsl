@@ -13,9 +13,10 @@
 // into the glyph (n . l <= 0) are not cast: the lit share is that of the rays cast, and
 // a point that casts none keeps the light (its diffuse term is 0 already).
 //
-// The fragment shader isolates the roots of each glyph that shadow_next_glyph hands out,
-// in a loop of its own after the camera ray's; the walk's state is kept in globals
-// between the calls.
+// The root isolation is inlined once: the fragment shader runs it in one loop, first for
+// its camera ray, then for each glyph that shadow_next_glyph hands out (a second call
+// site doubles the shader, and its compile overflowed shaderc's stack). The walk's state
+// is kept in globals between the calls.
 //
 // lavapipe ends an invocation after 65,535 loop iterations in all (src/render/tiles.rs):
 // one fragment isolates the roots of at most SHADOW_ISOLATIONS glyphs and takes at most

@@ -105,10 +105,18 @@ fn render_pair(
     let view = glyphcast::FrameView::new(&scene.camera, w, h);
     let mut draw = |shadows| {
         let settings = settings(&scene.camera, light, shadows);
-        renderer.render_view(gpu, &sets, &view, &settings).expect("rendering")
+        renderer
+            .render_view(gpu, &sets, &view, &settings)
+            .expect("rendering")
     };
     let (off, on) = (draw(Shadows::Off), draw(shadows));
-    let bits = |image: &RenderedImage| image.distance.iter().map(|d| d.to_bits()).collect::<Vec<_>>();
+    let bits = |image: &RenderedImage| {
+        image
+            .distance
+            .iter()
+            .map(|d| d.to_bits())
+            .collect::<Vec<_>>()
+    };
     assert!(bits(&off) == bits(&on), "{shadows}: the depth map changed");
     (sets, off, on)
 }

@@ -155,7 +155,8 @@ fn the_ray_casting_shaders_read_the_structs_and_bindings_the_passes_write() {
     let mut shadow_seen = 0;
     for shader in RAYCAST_SHADERS {
         let what = format!("{:?} {}", shader.layout, shader.method);
-        for spirv in [shader.vertex, shader.fragment, shader.color_only_fragment] {
+        let spirvs = [shader.vertex, shader.fragment, shader.color_only_fragment];
+        for spirv in spirvs.into_iter().chain(shader.shadows_fragment) {
             let (others, frame) = check_frame(&what, spirv);
             frames_seen += usize::from(frame);
             for block in others {

@@ -182,10 +182,6 @@ pub(crate) const SHADOW_BINDINGS: [u32; 4] = [2, 3, 4, 5];
 /// Specialisation constant 0 of raycast.vert (`ORIENTED_BOX`): 1 draws each glyph's
 /// oriented box, 0 the cube around its bounding sphere (the sphere impostor's proxy).
 const ORIENTED_BOX_CONSTANT: u32 = 0;
-/// Specialisation constant 1 of raycast_exact.frag (`SHADOWS`): 1 casts shadow rays
-/// (`--shadows`); 0 compiles them away, so that a frame without shadows runs the shader
-/// it ran before they existed.
-const SHADOWS_CONSTANT: u32 = 1;
 
 /// A pipeline's key: the layout (none for the impostor), the method, and whether it casts
 /// shadows (the exact method only).
@@ -290,7 +286,7 @@ impl RayCastPass {
         if let Some(p) = self.pipelines.get(&key) {
             return Ok(p);
         }
-        let (vertex, fragment) = self.shaders(layout, method)?;
+        let (vertex, fragment) = self.shaders(layout, method, false)?;
         let pipeline = self.create_pipeline(vertex, fragment, key)?;
         Ok(self.pipelines.insert(key, pipeline))
     }
@@ -314,7 +310,7 @@ impl RayCastPass {
         for &(layout, method) in variants {
             let key = pipeline_key(layout, method, shadows);
             if self.pipelines.get(&key).is_none() && !missing.iter().any(|(k, ..)| *k == key) {
-                let (vertex, fragment) = self.shaders(layout, method)?;
+                let (vertex, fragment) = self.shaders(layout, method, key.2)?;
                 missing.push((key, vertex, fragment));
             }
         }
@@ -353,6 +349,7 @@ impl RayCastPass {
         &self,
         layout: TensorLayout,
         method: Method,
+        shadows: bool,
     ) -> Result<(Option<&'static [u32]>, &'static [u32])> {
         Ok(match method {
             Method::Impostor if self.formats.distance.is_none() => {
@@ -392,9 +389,21 @@ impl RayCastPass {
                     what: crate::error::Asked::Layout(layout.into()),
                     by: Setting::Method.with(method),
                 })?;
-                let fragment = match self.formats.distance {
-                    Some(_) => shader.fragment,
-                    None => shader.color_only_fragment,
+                let fragment = match (self.formats.distance, shadows) {
+                    (Some(_), false) => shader.fragment,
+                    (None, false) => shader.color_only_fragment,
+                    (Some(_), true) => {
+                        shader.shadows_fragment.ok_or_else(|| Error::Unsupported {
+                            what: crate::error::Asked::Method(Setting::Method.with(method)),
+                            by: Setting::Shadows.with("hard"),
+                        })?
+                    }
+                    (None, true) => {
+                        return Err(Error::Call {
+                            call: "RayCastPass::pipeline",
+                            expected: "a distance attachment for the pass that casts shadows",
+                        });
+                    }
                 };
                 (Some(shader.vertex), fragment)
             }
@@ -442,32 +451,19 @@ impl RayCastPass {
         &self,
         vertex: vk::ShaderModule,
         fragment: vk::ShaderModule,
-        (_, method, shadows): PipelineKey,
+        (_, method, _): PipelineKey,
     ) -> Result<Pipeline> {
-        let constant = |constant_id| vk::SpecializationMapEntry {
-            constant_id,
+        let entries = [vk::SpecializationMapEntry {
+            constant_id: ORIENTED_BOX_CONSTANT,
             offset: 0,
             size: 4,
-        };
-        let (box_entries, shadow_entries) = (
-            [constant(ORIENTED_BOX_CONSTANT)],
-            [constant(SHADOWS_CONSTANT)],
-        );
+        }];
         // A SPIR-V boolean specialisation constant takes a 32-bit value.
         let oriented = u32::from(method != Method::Impostor).to_ne_bytes();
-        let shadows = u32::from(shadows).to_ne_bytes();
-        let box_specialization = vk::SpecializationInfo::default()
-            .map_entries(&box_entries)
+        let specialization = vk::SpecializationInfo::default()
+            .map_entries(&entries)
             .data(&oriented);
-        let shadow_specialization = vk::SpecializationInfo::default()
-            .map_entries(&shadow_entries)
-            .data(&shadows);
-        let [vertex_stage, fragment_stage] =
-            vertex_fragment_stages(vertex, fragment, Some(&box_specialization));
-        let stages = [
-            vertex_stage,
-            fragment_stage.specialization_info(&shadow_specialization),
-        ];
+        let stages = vertex_fragment_stages(vertex, fragment, Some(&specialization));
         glyph_pipeline(
             &self.ctx,
             self.formats,
