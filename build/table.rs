@@ -217,10 +217,11 @@ fn layout_jobs(
         color_only.defines.extend(method.define);
         color_only.optimize = optimize;
         jobs.push(color_only);
-        // Not optimised: spirv-opt's rounds on the largest shader of the build cost more
-        // build time than they save where shadows are drawn (pipeline creation).
+        // Optimised as the shader without shadows is, so that the camera's rays are
+        // compiled alike and the depth map does not change with --shadows.
         if let Some(shadows) = shadows {
             let mut shadows = job(shadows, file, kind, source, weight);
+            shadows.optimize = optimize;
             shadows.defines.push(SHADOWS_DEFINE);
             jobs.push(shadows);
         }

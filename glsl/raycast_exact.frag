@@ -72,6 +72,7 @@ void main() {
     for (int pass = 0; pass <= SHADOW_ISOLATIONS; ++pass) {
         float h = ray.half_chord;
         ray_polynomial(ray.mid, h * ray.dir);
+        shadow_ray_only = pass > 0;
         float tau;
         bool crossing = first_crossing(ray.mid, h * ray.dir, ray.s_start / h, ray.s_end / h,
                                        tau);
