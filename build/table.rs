@@ -12,6 +12,8 @@ use std::fmt::Write as _;
 /// Defined when a ray-casting fragment shader is compiled for a colour attachment only:
 /// the shader then leaves out its `out_distance` output (location 1).
 const NO_DISTANCE_DEFINE: &str = "GLYPHCAST_NO_DISTANCE";
+/// The define of the exact method's shadow-casting fragment shader (`--shadows`).
+const SHADOWS_DEFINE: &str = "GLYPHCAST_SHADOWS";
 /// The vertex shader variant that also passes the glyph's index (the robust methods read
 /// the stored entries; an output no fragment shader reads is a validation warning).
 const GLYPH_INDEX_DEFINE: &str = "GLYPHCAST_GLYPH_INDEX";
@@ -178,10 +180,13 @@ fn layout_jobs(
         // The same shader without the distance output, for renderings that have only
         // a colour attachment (a window's swapchain, an engine's target).
         let color_only = format!("{label}_{method_name}_color_only");
+        // The exact method casts shadows (--shadows) with a fragment shader of its own.
+        let shadows = (file == "raycast_exact.frag" && method.define.is_none())
+            .then(|| format!("{label}_{method_name}_shadows"));
         let _ = writeln!(
             rows.raycast,
             "    RaycastShader {{ layout: {layout}, method: Method::{}, vertex: {}, \
-             fragment: {}, color_only_fragment: {} }},",
+             fragment: {}, color_only_fragment: {}, shadows_fragment: {} }},",
             method_variant(method_name),
             spirv_entry(if method.uses_ranges {
                 &vertex_index
@@ -189,7 +194,11 @@ fn layout_jobs(
                 &vertex
             }),
             spirv_entry(&fragment),
-            spirv_entry(&color_only)
+            spirv_entry(&color_only),
+            match &shadows {
+                Some(name) => format!("Some({})", spirv_entry(name)),
+                None => "None".into(),
+            }
         );
         // The exact and robust shaders unroll the most.
         let weight = if method.marches { order } else { 4 * order };
@@ -208,6 +217,14 @@ fn layout_jobs(
         color_only.defines.extend(method.define);
         color_only.optimize = optimize;
         jobs.push(color_only);
+        // Optimised as the shader without shadows is, so that the camera's rays are
+        // compiled alike and the depth map does not change with --shadows.
+        if let Some(shadows) = shadows {
+            let mut shadows = job(shadows, file, kind, source, weight);
+            shadows.optimize = optimize;
+            shadows.defines.push(SHADOWS_DEFINE);
+            jobs.push(shadows);
+        }
         // The compute ray caster (--path compute) of the methods that have one.
         if let Some(compute_file) = method.compute {
             let compute = format!("{label}_{method_name}_compute");

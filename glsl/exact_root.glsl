@@ -506,6 +506,15 @@ void after_first_stretch(inout int state, bool found, float found_tau, bool star
     }
 }
 
+#ifdef GLYPHCAST_SHADOWS
+// Set for a shadow ray (raycast_exact.frag): it asks only whether the ray meets the
+// glyph, not where first, so that a root is not refined, and a half whose F has opposite
+// signs at its ends holds a root (F is continuous) that need not be isolated. Under
+// negative: hide a root counts only on a shown lobe, so roots are isolated as for the
+// camera's rays.
+bool shadow_ray_only = false;
+#endif
+
 // First crossing along q = mid + tau d, tau in [tau_start, tau_end] (within [-1, 1], the
 // box's part of the chord): by subdivision on the half before mid up to -tau_c, sampled in
 // the centre zone [-tau_c, tau_c] (empty when the ray passes farther than CENTRE_RADIUS
@@ -540,6 +549,13 @@ bool first_crossing(vec3 mid, vec3 d, float tau_start, float tau_end, out float 
     leftover1 = hi1;
     changes0 = half0_valid ? sign_changes_of(half_f0) : 0;
     changes1 = sign_changes_of(half_f1);
+#ifdef GLYPHCAST_SHADOWS
+    bool any_root = shadow_ray_only && !hide;
+    if (any_root && ((half0_valid && (half_f0[0] > 0.0) != (half_f0[D] > 0.0))
+                     || (half1_valid && (half_f1[0] > 0.0) != (half_f1[D] > 0.0)))) {
+        return true;
+    }
+#endif
     enter_half(0);
     bool found = false;
     int found_half = 0;
@@ -551,6 +567,11 @@ bool first_crossing(vec3 mid, vec3 d, float tau_start, float tau_end, out float 
         if (!next_candidate(lo0, hi0, lo1, hi1, u1)) {
             break;
         }
+#ifdef GLYPHCAST_SHADOWS
+        if (any_root) {
+            return true;  // a root is isolated on the piece; where does not matter
+        }
+#endif
         float lo = visit_half == 0 ? lo0 : lo1;
         float hi = visit_half == 0 ? hi0 : hi1;
         float u0 = rest_start;

@@ -31,6 +31,9 @@ layout(std430, set = 0, binding = 0) readonly buffer FrameParams {
     vec4 window;          // xy: the viewport's origin in framebuffer pixels (a host's
                           // sub-rectangle); z: window depth of the near plane (1 reversed,
                           // 0 standard depth)
+    vec4 shadow;          // --shadows (glsl/shadow.glsl): x 1 on, 0 off; y rays per hit;
+                          // z tan of the light's angular radius; w the shadow ray's start
+                          // beyond the hit, in units of the glyph's bounding radius
 } frame;
 
 layout(std430, set = 0, binding = 1) readonly buffer Coefficients {

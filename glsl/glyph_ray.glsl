@@ -83,27 +83,42 @@ bool glyph_ray_clip(vec4 center_radius, vec4 box_rotation, vec3 box_extent, floa
     return lo < hi;
 }
 
-// Colour (linear RGB, alpha 1), window depth and ray distance of the hit at q(s_hit).
-void shade_surface(GlyphRay ray, float s_hit, out vec4 color, out float depth,
-                   out float distance) {
-    vec3 q = ray.mid + s_hit * ray.dir;
-    float len = max(length(q), 1e-20);
-    vec3 q_dir = q / len;
+// The outward unit normal of g = 0 at the surface point q of the loaded glyph, with
+// |q|, q^ = q / |q| and f(q^).
+vec3 surface_normal(vec3 q, out float len, out vec3 q_dir, out float f) {
+    len = max(length(q), 1e-20);
+    q_dir = q / len;
     vec3 grad;
-    float f = glyph_f_grad(q_dir, grad);
+    f = glyph_f_grad(q_dir, grad);
     float sgn = (glyph_set.hide_negative == NEGATIVE_HIDE || f >= 0.0) ? 1.0 : -1.0;
     // Outward normal of g = 0: (|q| + n |f|) q^ - sgn grad f(q^) (Euler's identity).
 #ifdef GLYPHCAST_RECIPROCAL
     // Outward normal of |f(q)| = |q|^(n-1): |q| sgn grad f(q^) - (n - 1) q^.
-    vec3 normal = normalize(len * sgn * grad - (float(GLYPH_ORDER) - 1.0) * q_dir);
+    return normalize(len * sgn * grad - (float(GLYPH_ORDER) - 1.0) * q_dir);
 #else
-    vec3 normal = normalize((len + float(GLYPH_ORDER) * abs(f)) * q_dir - sgn * grad);
+    return normalize((len + float(GLYPH_ORDER) * abs(f)) * q_dir - sgn * grad);
 #endif
+}
+
+// Colour (linear RGB, alpha 1), window depth and ray distance of the hit at q(s_hit),
+// lit by the share `visibility` of the light (--shadows; 1 unshadowed).
+void shade_surface_visible(GlyphRay ray, float s_hit, float visibility, out vec4 color,
+                           out float depth, out float distance) {
+    float len;
+    vec3 q_dir;
+    float f;
+    vec3 normal = surface_normal(ray.mid + s_hit * ray.dir, len, q_dir, f);
 
     distance = (ray.t_mid + s_hit) * ray.rho;
     vec3 world = ray.origin + distance * ray.dir;
     depth = window_depth(world);
 
     vec3 base = glyph_color(q_dir, len * ray.rho, f);
-    color = vec4(blinn_phong(base, normal, -ray.dir), 1.0);
+    color = vec4(blinn_phong_visible(base, normal, -ray.dir, visibility), 1.0);
+}
+
+// shade_surface_visible of a hit the whole light reaches.
+void shade_surface(GlyphRay ray, float s_hit, out vec4 color, out float depth,
+                   out float distance) {
+    shade_surface_visible(ray, s_hit, 1.0, color, depth, distance);
 }

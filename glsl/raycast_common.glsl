@@ -89,15 +89,21 @@ float refine(vec3 mid, vec3 dir, float s0, float g0, float s1, float g1) {
     return s1;
 }
 
-// Colour, depth and ray distance of the hit at q(s_hit), to the fragment's outputs.
-void shade_hit(GlyphRay ray, float s_hit) {
+// Colour, depth and ray distance of the hit at q(s_hit), lit by the share `visibility`
+// of the light, to the fragment's outputs.
+void shade_hit_visible(GlyphRay ray, float s_hit, float visibility) {
     vec4 color;
     float depth;
     float distance;
-    shade_surface(ray, s_hit, color, depth, distance);
+    shade_surface_visible(ray, s_hit, visibility, color, depth, distance);
     gl_FragDepth = depth;
     out_color = color;
 #ifndef GLYPHCAST_NO_DISTANCE
     out_distance = distance;
 #endif
+}
+
+// shade_hit_visible of a hit the whole light reaches.
+void shade_hit(GlyphRay ray, float s_hit) {
+    shade_hit_visible(ray, s_hit, 1.0);
 }

@@ -42,12 +42,58 @@
 //    (measured by the CPU port, src/glyph/bernstein.rs: exact outside the zone; without
 //    it, 77 of 200 rays passing 1e-3 from an order-12 glyph's centre lose their hit).
 //
+// 5. With --shadows, rays from the hit towards the light are intersected with the
+//    batch's glyphs by the same root isolation (shadow.glsl), and the light's share that
+//    reaches the hit scales its diffuse and specular terms; depth is not touched.
+//
 // Offset glyphs are not polynomial; the CPU rejects --offset with this method.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 #include "raycast_common.glsl"
 #include "exact_root.glsl"
 
+#ifdef GLYPHCAST_SHADOWS
+// The shadow-casting variant of the exact method (src/render/raycast.rs picks it for
+// --shadows): pass 0 isolates the camera ray's first root in this fragment's glyph, each
+// later pass a shadow ray's in the glyph that shadow_next_glyph loaded, so that the root
+// isolation has one call site (inlined twice, the shader would be twice as large).
+// Without --shadows the shader below the #else runs, untouched by shadows.
+#include "shadow.glsl"
+
+void main() {
+    GlyphRay camera;
+    if (!glyph_ray_within(CHORD_RADIUS, camera)) {
+        discard;
+    }
+    init_binomials();
+    glyph_load_inputs();
+    float s_hit = 0.0;
+    GlyphRay ray = camera;
+    for (int pass = 0; pass <= SHADOW_ISOLATIONS; ++pass) {
+        float h = ray.half_chord;
+        ray_polynomial(ray.mid, h * ray.dir);
+        shadow_ray_only = pass > 0;
+        float tau;
+        bool crossing = first_crossing(ray.mid, h * ray.dir, ray.s_start / h, ray.s_end / h,
+                                       tau);
+        if (pass == 0) {
+            if (!crossing) {
+                discard;
+            }
+            s_hit = tau * h;
+            shadow_begin(camera, s_hit);
+        } else if (crossing) {
+            shadow_ray_blocked();
+        }
+        if (!shadow_next_glyph(ray)) {
+            break;
+        }
+    }
+    float visibility = shadow_visibility();
+    glyph_load_inputs();  // the shadow rays loaded the glyphs they met
+    shade_hit_visible(camera, s_hit, visibility);
+}
+#else
 void main() {
     GlyphRay ray;
     if (!glyph_ray_within(CHORD_RADIUS, ray)) {
@@ -63,3 +109,4 @@ void main() {
     }
     shade_hit(ray, tau * h);
 }
+#endif

@@ -30,14 +30,26 @@ vec3 glyph_color(vec3 dir, float radius, float f) {
     return frame.uniform_color.rgb;
 }
 
+// The normal turned towards the viewer, as the lighting takes it.
+vec3 facing_normal(vec3 normal, vec3 view_dir) {
+    return dot(normal, view_dir) < 0.0 ? -normal : normal;
+}
+
 // Blinn-Phong with the terms of --ambient, --specular and --shininess
-// (src/render/settings.rs, Lighting): the normal is turned towards the viewer.
-vec3 blinn_phong(vec3 base, vec3 normal, vec3 view_dir) {
-    vec3 n = dot(normal, view_dir) < 0.0 ? -normal : normal;
+// (src/render/settings.rs, Lighting), the light's diffuse and specular terms scaled by
+// `visibility`, the share of the light that reaches the point (--shadows; 1 unshadowed):
+// the normal is turned towards the viewer.
+vec3 blinn_phong_visible(vec3 base, vec3 normal, vec3 view_dir, float visibility) {
+    vec3 n = facing_normal(normal, view_dir);
     vec3 l = frame.light.xyz;
     vec3 h = normalize(l + view_dir);
     float ambient = frame.shading.x;
-    float diffuse = max(dot(n, l), 0.0);
-    float specular = frame.shading.y * pow(max(dot(n, h), 0.0), frame.shading.z);
+    float diffuse = max(dot(n, l), 0.0) * visibility;
+    float specular = frame.shading.y * pow(max(dot(n, h), 0.0), frame.shading.z) * visibility;
     return base * (ambient + (1.0 - ambient) * diffuse) + vec3(specular);
+}
+
+// Blinn-Phong of a point the whole light reaches.
+vec3 blinn_phong(vec3 base, vec3 normal, vec3 view_dir) {
+    return blinn_phong_visible(base, normal, view_dir, 1.0);
 }

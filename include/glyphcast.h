@@ -149,6 +149,28 @@ typedef uint32_t GlyphcastShBasis;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// Shadows the glyphs cast ([`GlyphcastSettings::shadows`]).
+enum GlyphcastShadows
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // None (the default).
+  GLYPHCAST_SHADOWS_OFF = 0,
+  // One exact ray from each hit towards the light.
+  GLYPHCAST_SHADOWS_HARD = 1,
+  // 16 exact rays towards a disc light of angular radius
+  // [`GlyphcastSettings::shadow_radius`].
+  GLYPHCAST_SHADOWS_SOFT = 2,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum GlyphcastShadows GlyphcastShadows;
+#else
+typedef uint32_t GlyphcastShadows;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // The renderer: opaque to C.
 typedef struct GlyphcastRenderer GlyphcastRenderer;
 
@@ -193,6 +215,12 @@ typedef struct GlyphcastSettings {
   // An isotropic offset added to every glyph, as a fraction of its bounding radius
   // (0 or more; not with [`GlyphcastMethod::Exact`]).
   float offset;
+  // A [`GlyphcastShadows`]: shadows the glyphs cast on themselves and the other glyphs
+  // of their set (with [`GlyphcastMethod::Exact`] only).
+  uint32_t shadows;
+  // With [`GlyphcastShadows::Soft`]: the light's angular radius in degrees, above 0
+  // and at most 30.
+  float shadow_radius;
 } GlyphcastSettings;
 
 // One allocation glyphcast asks the host for.

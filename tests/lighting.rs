@@ -4,7 +4,7 @@
 //! normal, for several lights; the flags reach the shaders through the CLI; bad values
 //! are usage errors.
 mod common;
-use common::{fresh_dir, glyphcast};
+use common::{fresh_dir, glyphcast, srgb_byte};
 use glam::DVec3;
 use glyphcast::demo::{glyph_set, symmetric};
 use glyphcast::io::png::read_png_rgba8;
@@ -12,17 +12,6 @@ use glyphcast::render::headless::HeadlessRenderer;
 use glyphcast::render::settings::Lighting;
 use glyphcast::render::{ColorMode, Method, RenderSettings};
 use glyphcast::scene::Scene;
-
-/// The sRGB encoding of a linear value as the 8-bit colour target stores it.
-fn srgb_byte(linear: f64) -> f64 {
-    let c = linear.clamp(0.0, 1.0);
-    let encoded = if c <= 0.0031308 {
-        12.92 * c
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    };
-    encoded * 255.0
-}
 
 /// The unit sphere (f = |q|^2) of radius 0.8 at the origin, seen from an oblique eye.
 fn sphere_scene() -> Scene {

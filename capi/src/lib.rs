@@ -168,6 +168,25 @@ pub struct GlyphcastSettings {
     /// An isotropic offset added to every glyph, as a fraction of its bounding radius
     /// (0 or more; not with [`GlyphcastMethod::Exact`]).
     pub offset: f32,
+    /// A [`GlyphcastShadows`]: shadows the glyphs cast on themselves and the other glyphs
+    /// of their set (with [`GlyphcastMethod::Exact`] only).
+    pub shadows: u32,
+    /// With [`GlyphcastShadows::Soft`]: the light's angular radius in degrees, above 0
+    /// and at most 30.
+    pub shadow_radius: f32,
+}
+
+/// Shadows the glyphs cast ([`GlyphcastSettings::shadows`]).
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GlyphcastShadows {
+    /// None (the default).
+    Off = 0,
+    /// One exact ray from each hit towards the light.
+    Hard = 1,
+    /// 16 exact rays towards a disc light of angular radius
+    /// [`GlyphcastSettings::shadow_radius`].
+    Soft = 2,
 }
 
 /// How the marching methods refine the first sign change ([`GlyphcastSettings::refine`]).
@@ -479,6 +498,8 @@ fn default_settings() -> GlyphcastSettings {
         refine: GlyphcastRefine::Secant as u32,
         refine_steps: 4,
         offset: 0.0,
+        shadows: GlyphcastShadows::Off as u32,
+        shadow_radius: 5.0,
     }
 }
 
@@ -572,6 +593,19 @@ unsafe fn read_settings(
     if k > 16 {
         return Err(invalid(format!("settings.refine_steps {k}: 0 to 16")));
     }
+    use glyphcast::render::Shadows;
+    let shadows = match given.shadows {
+        0 => Shadows::Off,
+        1 => Shadows::Hard,
+        2 => Shadows::Soft {
+            radius_deg: given.shadow_radius,
+        },
+        other => {
+            return Err(invalid(format!(
+                "settings.shadows {other} is no GlyphcastShadows"
+            )));
+        }
+    };
     // The struct's fields are the render table's settings: the library checks them as
     // it checks the command line's flags and Python's keywords, and its errors are
     // spelled as fields here.
@@ -590,6 +624,7 @@ unsafe fn read_settings(
         precision: matches!(method, Method::Interval | Method::Affine).then_some(given.precision),
         refine: marching.then_some(refinement),
         offset: Some(given.offset),
+        shadows: Some(shadows),
         ..RenderOptions::default()
     };
     let settings = options

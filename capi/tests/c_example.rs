@@ -6,10 +6,12 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+/// One run of the example at a time: tools/c-example.sh compiles it into one place.
+static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 /// Runs the example with `args`; its output text and the PNG it wrote. One run at a
 /// time: tools/c-example.sh compiles the example into one place before running it.
 fn run_example(name: &str, args: &[&str]) -> (String, Vec<u8>) {
-    static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
     let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let out: PathBuf = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
@@ -116,4 +118,39 @@ fn the_sh_basis_and_its_legacy_flag_are_honoured() {
         let changed = differing_pixels(a, b).len();
         assert!(changed > 100, "{pair}: {changed} pixels differ");
     }
+}
+
+/// The host's shadows reach the picture: with the light from the side, `settings.shadows`
+/// hard darkens glyph pixels and brightens none (the engine's plane keeps its colour), soft shadows differ again; a
+/// soft light of radius 0 is refused at creation, naming the field.
+#[test]
+fn the_c_example_casts_shadows_when_asked() {
+    // Lit from the left, so that the glyphs' lobes shadow each other where the camera
+    // sees them.
+    let (_, plain) = run_example("c-example-unshadowed.png", &["--side-light"]);
+    let (_, hard) = run_example("c-example-shadows.png", &["--side-light", "--shadows"]);
+    let (_, soft) = run_example(
+        "c-example-soft.png",
+        &["--side-light", "--soft-shadows", "6"],
+    );
+    let changed = differing_pixels(&plain, &hard);
+    assert!(changed.len() > 20, "{} pixels shadowed", changed.len());
+    let brighter = changed
+        .iter()
+        .filter(|(before, after)| (0..3).any(|c| after[c] > before[c]))
+        .count();
+    assert_eq!(brighter, 0, "pixels brightened by shadows");
+    assert!(!differing_pixels(&hard, &soft).is_empty());
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("c-example-refused.png");
+    let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let run = Command::new("bash")
+        .arg(root.join("tools/c-example.sh"))
+        .arg(&out)
+        .args(["--soft-shadows", "0"])
+        .output()
+        .expect("running bash");
+    let text = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success(), "{text}");
+    assert!(text.contains("settings.shadows 'soft:0'"), "{text}");
 }

@@ -515,6 +515,13 @@ int main(int argc, char **argv) {
             draw_plane = 0;
         } else if (strcmp(argv[i], "--describe") == 0 && i + 1 < argc) {
             description = argv[++i];
+        } else if (strcmp(argv[i], "--side-light") == 0) {
+            settings.light[0] = -1.0f, settings.light[1] = 0.1f, settings.light[2] = 0.1f;
+        } else if (strcmp(argv[i], "--shadows") == 0) {
+            settings.shadows = GLYPHCAST_SHADOWS_HARD;
+        } else if (strcmp(argv[i], "--soft-shadows") == 0 && i + 1 < argc) {
+            settings.shadows = GLYPHCAST_SHADOWS_SOFT;
+            settings.shadow_radius = (float)atof(argv[++i]);
         } else if (strcmp(argv[i], "--basis") == 0 && i + 1 < argc) {
             const char *name = argv[++i];
             sh_slice_step = 1;
@@ -531,6 +538,7 @@ int main(int argc, char **argv) {
             }
         } else {
             fprintf(stderr, "usage: c-example OUT.png [--plain-memory] [--uniform-red] "
+                            "[--side-light] [--shadows] [--soft-shadows DEGREES] "
                             "[--basis descoteaux07-legacy|descoteaux07|"
                             "tournier07] [--no-plane] [--describe FILE.json]\n");
             return 2;

@@ -186,6 +186,16 @@ impl<'py> Kwargs<'py> {
                         .map_err(|_| expected(key, "a string", &value))?;
                     Value::Text(&text)
                 }
+                // True is `on`, False `off` (`shadows=True`), or a name.
+                Kind::Switch => {
+                    text = match value.extract::<bool>() {
+                        Ok(on) => String::from(if on { "on" } else { "off" }),
+                        Err(_) => value
+                            .extract()
+                            .map_err(|_| expected(key, "True, False or a string", &value))?,
+                    };
+                    Value::Text(&text)
+                }
                 Kind::Numbers => match value.extract::<String>() {
                     Ok(given) => {
                         text = given;

@@ -116,6 +116,7 @@ fn render_settings(py: Python<'_>) -> PyResult<Vec<Bound<'_, pyo3::types::PyDict
                 Kind::Number => "number",
                 Kind::Count => "whole number",
                 Kind::Name => "name",
+                Kind::Switch => "switch or name",
                 Kind::Numbers => "numbers",
             };
             row.set_item("kind", kind)?;

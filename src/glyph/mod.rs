@@ -18,6 +18,7 @@ pub mod real;
 pub mod reference;
 pub mod rotate;
 pub mod sh;
+pub mod shadow;
 pub mod stiffness;
 pub mod tensor_order;
 pub mod tessellate;

@@ -3,7 +3,7 @@
 use crate::camera::{Camera, Projection};
 use crate::catalog::codes;
 use crate::render::glyph_data::GlyphSetData;
-use crate::render::settings::{ColorMode, Refinement, RenderSettings};
+use crate::render::settings::{ColorMode, Refinement, RenderSettings, SOFT_SHADOW_SAMPLES};
 use bytemuck::{Pod, Zeroable};
 
 /// The frame's parameter block (glsl/frame.glsl `FrameParams`, std430 = std140 here): camera, march
@@ -48,6 +48,12 @@ pub struct FrameParams {
     /// sub-rectangle); z: the window depth of the near plane, where the ray-cast pass puts
     /// boxes that the near plane cuts (1 for reversed depth, 0 for standard).
     pub window: [f32; 4],
+    /// Shadows ([`crate::render::settings::Shadows`], glsl/shadow.glsl): x 1 when shadow
+    /// rays are cast (0 off), y rays per hit (1 hard, [`SOFT_SHADOW_SAMPLES`] soft), z the
+    /// tangent of the light's angular radius, w where a shadow ray starts: that fraction
+    /// of the hit glyph's bounding radius along the ray
+    /// ([`crate::glyph::shadow::SHADOW_RAY_OFFSET`]).
+    pub shadow: [f32; 4],
 }
 
 /// How every pass binds the frame block (and the underlay its parameters): as a read-only
@@ -258,6 +264,15 @@ impl FrameParams {
             negative_color: [negative[0], negative[1], negative[2], 1.0],
             shading: [lighting.ambient, lighting.specular, lighting.shininess, 0.0],
             window: [0.0, 0.0, 1.0, 0.0],
+            shadow: [
+                f32::from(u8::from(settings.shadows.enabled())),
+                match settings.shadows {
+                    crate::render::Shadows::Soft { .. } => SOFT_SHADOW_SAMPLES as f32,
+                    _ => 1.0,
+                },
+                settings.shadows.radius_deg().to_radians().tan(),
+                crate::glyph::shadow::SHADOW_RAY_OFFSET as f32,
+            ],
             ..FrameParams::zeroed()
         }
     }

@@ -9,13 +9,15 @@
 use std::collections::HashMap;
 use std::mem::offset_of;
 
+use crate::render::Method;
 use crate::render::compute::ComputeParams;
 use crate::render::frame::FrameParams;
-use crate::render::raycast::{COEFFICIENTS_BINDING, FRAME_BINDING};
+use crate::render::raycast::{COEFFICIENTS_BINDING, FRAME_BINDING, SHADOW_BINDINGS};
 use crate::render::shaders::{
     COMPUTE_RAYCAST_SHADERS, IMPOSTOR_FRAGMENT, MESH_FRAGMENT, MESH_VERTEX, RAYCAST_SHADERS,
     RAYCAST_VERTEX, UNDERLAY_FRAGMENT, UNDERLAY_VERTEX,
 };
+use crate::render::shadow_grid::GridHeader;
 use crate::render::underlay::{PARAMS_BINDING, PlanePush, UnderlayParams, VALUES_BINDING};
 
 /// A block (uniform, storage or push-constant) as the SPIR-V declares it.
@@ -115,7 +117,8 @@ fn frame_params_rust() -> Vec<u32> {
         robust,
         negative_color,
         shading,
-        window
+        window,
+        shadow
     )
 }
 
@@ -149,18 +152,36 @@ fn check_frame(what: &str, spirv: &[u32]) -> (Vec<Block>, bool) {
 fn the_ray_casting_shaders_read_the_structs_and_bindings_the_passes_write() {
     let mut frames_seen = 0;
     let mut coefficients_seen = 0;
+    let mut shadow_seen = 0;
     for shader in RAYCAST_SHADERS {
         let what = format!("{:?} {}", shader.layout, shader.method);
-        for spirv in [shader.vertex, shader.fragment, shader.color_only_fragment] {
+        let spirvs = [shader.vertex, shader.fragment, shader.color_only_fragment];
+        for spirv in spirvs.into_iter().chain(shader.shadows_fragment) {
             let (others, frame) = check_frame(&what, spirv);
             frames_seen += usize::from(frame);
             for block in others {
                 match block.storage_class {
-                    STORAGE_BUFFER => {
-                        let place = (block.set, block.binding);
-                        assert_eq!(place, (Some(0), Some(COEFFICIENTS_BINDING)), "{what}");
+                    STORAGE_BUFFER if block.binding == Some(COEFFICIENTS_BINDING) => {
+                        assert_eq!(block.set, Some(0), "{what}");
                         assert_eq!(block.offsets, [0], "{what}: float coeffs[]");
                         coefficients_seen += 1;
+                    }
+                    // The exact method's shadow rays (glsl/shadow.glsl): instances, boxes,
+                    // the grid (GridHeader, then its cells) and its entries.
+                    STORAGE_BUFFER => {
+                        assert_eq!(shader.method, Method::Exact, "{what}: shadow buffers");
+                        let binding = block.binding.unwrap_or(u32::MAX);
+                        assert!(SHADOW_BINDINGS.contains(&binding), "{what}: {binding}");
+                        assert_eq!(block.set, Some(0), "{what}");
+                        let expected = if binding == SHADOW_BINDINGS[2] {
+                            let mut header = offsets!(GridHeader: lo, cell, dims);
+                            header.push(size_of::<GridHeader>() as u32);
+                            header
+                        } else {
+                            vec![0]
+                        };
+                        assert_eq!(block.offsets, expected, "{what}: binding {binding}");
+                        shadow_seen += 1;
                     }
                     // raycast.rs pushes one u32: hide_negative.
                     PUSH_CONSTANT => assert_eq!(block.offsets, [0], "{what}: push constants"),
@@ -179,6 +200,12 @@ fn the_ray_casting_shaders_read_the_structs_and_bindings_the_passes_write() {
         frames_seen >= 2 * RAYCAST_SHADERS.len(),
         "the frame block is read"
     );
+    // Both fragment shaders of every exact variant read the four shadow buffers.
+    let exact = RAYCAST_SHADERS
+        .iter()
+        .filter(|s| s.method == Method::Exact)
+        .count();
+    assert_eq!(shadow_seen, 2 * 4 * exact, "the shadow buffers are read");
     for (what, spirv) in [
         ("raycast.vert", RAYCAST_VERTEX),
         ("impostor.frag", IMPOSTOR_FRAGMENT),

@@ -23,13 +23,14 @@ pub mod promote;
 pub mod raycast;
 pub mod settings;
 pub mod shaders;
+pub mod shadow_grid;
 pub mod table;
 pub mod tiles;
 pub mod underlay;
 
 use crate::catalog::{ELLIPSOID_METHOD, RAY_CAST_METHODS, RECIPROCAL_METHOD, RayCastMethod};
 pub use crate::glyph::tessellate::MeshKind;
-pub use settings::{ColorMode, Lighting, Refinement, RenderPath, RenderSettings};
+pub use settings::{ColorMode, Lighting, Refinement, RenderPath, RenderSettings, Shadows};
 
 /// How glyphs are drawn (`--method`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

@@ -22,6 +22,7 @@ use crate::render::glyph_data::GlyphSetData;
 use crate::render::shaders::{
     DepthConvention, IMPOSTOR_FRAGMENT, RAYCAST_VERTEX, for_depth, raycast_shader,
 };
+use crate::render::shadow_grid::ShadowGrid;
 use crate::vk::recording::bind_graphics;
 use crate::vk::{
     Buffer, BufferBinding, DescriptorPool, DeviceContext, GraphicsPipelineDesc, Pipeline,
@@ -134,8 +135,9 @@ pub struct RayCastPass {
     options: PassOptions,
     // Fields drop in order: the pipelines go before the modules and the layout they were
     // made with, the order the validation layer expects.
-    /// Keyed by layout and method; the impostor's pipeline by method alone.
-    pipelines: Pipelines<(Option<TensorLayout>, Method)>,
+    /// Keyed by layout, method and whether it casts shadows; the impostor's pipeline by
+    /// method alone.
+    pipelines: Pipelines<PipelineKey>,
     /// The boxes' vertex shader for methods that pass no coefficients (the impostor).
     vertex: ShaderModule,
     layout: PipelineLayout,
@@ -172,10 +174,18 @@ pub fn varying_components(layout: TensorLayout) -> u32 {
 pub(crate) const FRAME_BINDING: u32 = 0;
 /// Binding of a glyph batch's coefficients (glsl/frame.glsl `Coefficients`).
 pub(crate) const COEFFICIENTS_BINDING: u32 = 1;
+/// Bindings of what shadow rays read (glsl/shadow.glsl): the batch's instances and boxes
+/// (its vertex buffers, read as storage buffers too), its grid's header and cells, and
+/// the grid's entries ([`ShadowGrid`]).
+pub(crate) const SHADOW_BINDINGS: [u32; 4] = [2, 3, 4, 5];
 
 /// Specialisation constant 0 of raycast.vert (`ORIENTED_BOX`): 1 draws each glyph's
 /// oriented box, 0 the cube around its bounding sphere (the sphere impostor's proxy).
 const ORIENTED_BOX_CONSTANT: u32 = 0;
+
+/// A pipeline's key: the layout (none for the impostor), the method, and whether it casts
+/// shadows (the exact method only).
+type PipelineKey = (Option<TensorLayout>, Method, bool);
 
 /// One glyph set on the GPU: a batch of glyphs that share a pipeline and one draw (a
 /// set larger than a storage buffer is split into several).
@@ -191,6 +201,8 @@ pub struct GlyphSetGpu {
     instances: Buffer,
     boxes: Buffer,
     _coefficients: Buffer,
+    /// The shadow rays' grid over the batch's boxes: its cells and its entries.
+    _grid: [Buffer; 2],
     /// One per frame in flight: the coefficients with that frame's block.
     descriptor_sets: Vec<vk::DescriptorSet>,
 }
@@ -199,6 +211,9 @@ pub struct GlyphSetGpu {
 /// parameter buffer per frame in flight.
 pub struct SceneGpu {
     frames: Vec<Buffer>,
+    /// Whether its exact batches are drawn by the pipelines that cast shadows (the first
+    /// frame block asked for them).
+    shadows: bool,
     pool: DescriptorPool,
     /// The batches, one draw each.
     pub sets: Vec<GlyphSetGpu>,
@@ -220,13 +235,15 @@ impl RayCastPass {
     ) -> Result<RayCastPass> {
         options.sample_count()?;
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
+        let shadow = |binding| buffer_binding(binding, storage, vk::ShaderStageFlags::FRAGMENT);
         let bindings = [
             buffer_binding(FRAME_BINDING, FRAME_DESCRIPTOR, stages),
-            buffer_binding(
-                COEFFICIENTS_BINDING,
-                vk::DescriptorType::STORAGE_BUFFER,
-                stages,
-            ),
+            buffer_binding(COEFFICIENTS_BINDING, storage, stages),
+            shadow(SHADOW_BINDINGS[0]),
+            shadow(SHADOW_BINDINGS[1]),
+            shadow(SHADOW_BINDINGS[2]),
+            shadow(SHADOW_BINDINGS[3]),
         ];
         // The fragment shaders' push constant: the glyph set's negative mode (one u32).
         let layout = PipelineLayout::new(ctx, &bindings, vk::ShaderStageFlags::FRAGMENT, 4)?;
@@ -263,14 +280,14 @@ impl RayCastPass {
         self.pipeline(layout, method).map(|_| ())
     }
 
-    /// The pipeline of a variant, made now if it was not.
+    /// The pipeline of a variant (without shadows), made now if it was not.
     pub fn pipeline(&mut self, layout: TensorLayout, method: Method) -> Result<vk::Pipeline> {
-        let key = pipeline_key(layout, method);
+        let key = pipeline_key(layout, method, false);
         if let Some(p) = self.pipelines.get(&key) {
             return Ok(p);
         }
-        let (vertex, fragment) = self.shaders(layout, method)?;
-        let pipeline = self.create_pipeline(vertex, fragment, method != Method::Impostor)?;
+        let (vertex, fragment) = self.shaders(layout, method, false)?;
+        let pipeline = self.create_pipeline(vertex, fragment, key)?;
         Ok(self.pipelines.insert(key, pipeline))
     }
 
@@ -278,18 +295,23 @@ impl RayCastPass {
     /// own: drivers compile a pipeline on the creating thread, and a scene of several
     /// orders needs several (creating them is most of a one-shot render's time).
     pub fn prepare_pipelines(&mut self, variants: &[(TensorLayout, Method)]) -> Result<()> {
-        type Missing = (
-            (Option<TensorLayout>, Method),
-            Option<&'static [u32]>,
-            &'static [u32],
-            bool,
-        );
+        self.prepare_pipelines_for(variants, false)
+    }
+
+    /// [`RayCastPass::prepare_pipelines`] of the variants that cast shadows (`shadows`),
+    /// where the method has them, or that do not.
+    fn prepare_pipelines_for(
+        &mut self,
+        variants: &[(TensorLayout, Method)],
+        shadows: bool,
+    ) -> Result<()> {
+        type Missing = (PipelineKey, Option<&'static [u32]>, &'static [u32]);
         let mut missing: Vec<Missing> = Vec::new();
         for &(layout, method) in variants {
-            let key = pipeline_key(layout, method);
+            let key = pipeline_key(layout, method, shadows);
             if self.pipelines.get(&key).is_none() && !missing.iter().any(|(k, ..)| *k == key) {
-                let (vertex, fragment) = self.shaders(layout, method)?;
-                missing.push((key, vertex, fragment, method != Method::Impostor));
+                let (vertex, fragment) = self.shaders(layout, method, key.2)?;
+                missing.push((key, vertex, fragment));
             }
         }
         let this = &*self;
@@ -297,13 +319,13 @@ impl RayCastPass {
             let threads: Vec<_> = missing
                 .iter()
                 .skip(1)
-                .map(|&(_, vertex, fragment, oriented)| {
-                    scope.spawn(move || this.create_pipeline(vertex, fragment, oriented))
+                .map(|&(key, vertex, fragment)| {
+                    scope.spawn(move || this.create_pipeline(vertex, fragment, key))
                 })
                 .collect();
-            let first = missing.first().map(|&(_, vertex, fragment, oriented)| {
-                this.create_pipeline(vertex, fragment, oriented)
-            });
+            let first = missing
+                .first()
+                .map(|&(key, vertex, fragment)| this.create_pipeline(vertex, fragment, key));
             first
                 .into_iter()
                 .chain(threads.into_iter().map(|t| {
@@ -327,6 +349,7 @@ impl RayCastPass {
         &self,
         layout: TensorLayout,
         method: Method,
+        shadows: bool,
     ) -> Result<(Option<&'static [u32]>, &'static [u32])> {
         Ok(match method {
             Method::Impostor if self.formats.distance.is_none() => {
@@ -366,9 +389,21 @@ impl RayCastPass {
                     what: crate::error::Asked::Layout(layout.into()),
                     by: Setting::Method.with(method),
                 })?;
-                let fragment = match self.formats.distance {
-                    Some(_) => shader.fragment,
-                    None => shader.color_only_fragment,
+                let fragment = match (self.formats.distance, shadows) {
+                    (Some(_), false) => shader.fragment,
+                    (None, false) => shader.color_only_fragment,
+                    (Some(_), true) => {
+                        shader.shadows_fragment.ok_or_else(|| Error::Unsupported {
+                            what: crate::error::Asked::Method(Setting::Method.with(method)),
+                            by: Setting::Shadows.with("hard"),
+                        })?
+                    }
+                    (None, true) => {
+                        return Err(Error::Call {
+                            call: "RayCastPass::pipeline",
+                            expected: "a distance attachment for the pass that casts shadows",
+                        });
+                    }
                 };
                 (Some(shader.vertex), fragment)
             }
@@ -376,9 +411,14 @@ impl RayCastPass {
     }
 
     /// The pipeline of a prepared variant; an error (not a compile) if it was not made.
-    fn prepared(&self, layout: TensorLayout, method: Method) -> Result<vk::Pipeline> {
+    fn prepared(
+        &self,
+        layout: TensorLayout,
+        method: Method,
+        shadows: bool,
+    ) -> Result<vk::Pipeline> {
         self.pipelines
-            .get(&pipeline_key(layout, method))
+            .get(&pipeline_key(layout, method, shadows))
             .ok_or(Error::Call {
                 call: "RayCastPass::record",
                 expected: "RayCastPass::prepare (or upload) for this layout and method first",
@@ -386,12 +426,12 @@ impl RayCastPass {
     }
 
     /// A pipeline of the given fragment shader and vertex shader (`None`: the shared one,
-    /// which passes no coefficients).
+    /// which passes no coefficients) for the variant `key`.
     fn create_pipeline(
         &self,
         vertex_spirv: Option<&[u32]>,
         fragment_spirv: &[u32],
-        oriented: bool,
+        key: PipelineKey,
     ) -> Result<Pipeline> {
         // The host's depth convention is one word of the fragment shader's SPIR-V.
         let fragment_spirv = for_depth(fragment_spirv, self.options.depth);
@@ -404,14 +444,14 @@ impl RayCastPass {
             None => None,
         };
         let vertex = vertex.as_ref().unwrap_or(&self.vertex);
-        self.create_pipeline_with(vertex.handle(), fragment.handle(), oriented)
+        self.create_pipeline_with(vertex.handle(), fragment.handle(), key)
     }
 
     fn create_pipeline_with(
         &self,
         vertex: vk::ShaderModule,
         fragment: vk::ShaderModule,
-        oriented: bool,
+        (_, method, _): PipelineKey,
     ) -> Result<Pipeline> {
         let entries = [vk::SpecializationMapEntry {
             constant_id: ORIENTED_BOX_CONSTANT,
@@ -419,10 +459,10 @@ impl RayCastPass {
             size: 4,
         }];
         // A SPIR-V boolean specialisation constant takes a 32-bit value.
-        let value = u32::from(oriented).to_ne_bytes();
+        let oriented = u32::from(method != Method::Impostor).to_ne_bytes();
         let specialization = vk::SpecializationInfo::default()
             .map_entries(&entries)
-            .data(&value);
+            .data(&oriented);
         let stages = vertex_fragment_stages(vertex, fragment, Some(&specialization));
         glyph_pipeline(
             &self.ctx,
@@ -473,10 +513,13 @@ impl RayCastPass {
             .iter()
             .map(|chunk| Ok((chunk.layout, batch_method(chunk.shape, method)?)))
             .collect::<Result<_>>()?;
-        self.prepare_pipelines(&variants)?;
-        let pool = DescriptorPool::new(ctx, chunks.len() * frames_in_flight, 0, 2)?;
+        // Shadows, as the first frame block asks: they need a pipeline of their own.
+        let shadows = frame.shadow[0] > 0.5;
+        self.prepare_pipelines_for(&variants, shadows)?;
+        let pool = DescriptorPool::new(ctx, chunks.len() * frames_in_flight, 0, 6)?;
         let mut scene = SceneGpu {
             frames,
+            shadows,
             pool,
             sets: Vec::new(),
         };
@@ -532,7 +575,8 @@ impl RayCastPass {
         }
         let (viewport, scissor) = (target.viewport, target.scissor);
         for set in &scene.sets {
-            let pipeline = self.prepared(set.layout, batch_method(set.shape, method)?)?;
+            let pipeline =
+                self.prepared(set.layout, batch_method(set.shape, method)?, scene.shadows)?;
             let hide = set.negative.shader_code();
             // SAFETY: recording state is the caller's; all handles are alive.
             unsafe {
@@ -561,11 +605,13 @@ impl RayCastPass {
     }
 }
 
-/// The key of a variant's pipeline: the impostor's is shared by every layout.
-fn pipeline_key(layout: TensorLayout, method: Method) -> (Option<TensorLayout>, Method) {
+/// The key of a variant's pipeline: the impostor's is shared by every layout, and only
+/// the exact method casts shadows.
+fn pipeline_key(layout: TensorLayout, method: Method, shadows: bool) -> PipelineKey {
     match method {
-        Method::Impostor => (None, method),
-        _ => (Some(layout), method),
+        Method::Impostor => (None, method, false),
+        Method::Exact => (Some(layout), method, shadows),
+        _ => (Some(layout), method, false),
     }
 }
 
@@ -675,15 +721,16 @@ fn upload_chunk(
     set_layout: vk::DescriptorSetLayout,
     batch: &Batch,
 ) -> Result<GlyphSetGpu> {
-    let vertex = vk::BufferUsageFlags::VERTEX_BUFFER;
-    let instances = Buffer::with_data(ctx, "instances", &batch.instances()?, vertex)?;
-    let boxes = Buffer::with_data(ctx, "boxes", &batch.boxes()?, vertex)?;
-    let coefficients = Buffer::with_data(
-        ctx,
-        "coefficients",
-        &batch.coefficients()?,
-        vk::BufferUsageFlags::STORAGE_BUFFER,
-    )?;
+    let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+    // Vertex buffers of the draw, and storage buffers of the shadow rays.
+    let vertex = vk::BufferUsageFlags::VERTEX_BUFFER | storage;
+    let (instance_data, box_data) = (batch.instances()?, batch.boxes()?);
+    let instances = Buffer::with_data(ctx, "instances", &instance_data, vertex)?;
+    let boxes = Buffer::with_data(ctx, "boxes", &box_data, vertex)?;
+    let coefficients = Buffer::with_data(ctx, "coefficients", &batch.coefficients()?, storage)?;
+    let grid = ShadowGrid::new(&instance_data, &box_data);
+    let grid_cells = Buffer::with_data(ctx, "shadow grid", &grid.cell_bytes(), storage)?;
+    let grid_entries = Buffer::with_data(ctx, "shadow grid entries", &grid.entries, storage)?;
     let descriptor_sets = scene
         .frames
         .iter()
@@ -693,6 +740,10 @@ fn upload_chunk(
                 &[
                     BufferBinding::storage(FRAME_BINDING, frame),
                     BufferBinding::storage(COEFFICIENTS_BINDING, &coefficients),
+                    BufferBinding::storage(SHADOW_BINDINGS[0], &instances),
+                    BufferBinding::storage(SHADOW_BINDINGS[1], &boxes),
+                    BufferBinding::storage(SHADOW_BINDINGS[2], &grid_cells),
+                    BufferBinding::storage(SHADOW_BINDINGS[3], &grid_entries),
                 ],
             )
         })
@@ -705,6 +756,7 @@ fn upload_chunk(
         instances,
         boxes,
         _coefficients: coefficients,
+        _grid: [grid_cells, grid_entries],
         descriptor_sets,
     })
 }

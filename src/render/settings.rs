@@ -196,6 +196,103 @@ impl std::fmt::Display for RenderPath {
     }
 }
 
+/// Shadows the glyphs cast (`--shadows`): from each glyph hit, rays towards the light are
+/// intersected exactly with the glyphs that may block them (the same root isolation as
+/// the camera's rays). Only the light's diffuse and specular terms are taken away; the
+/// ambient term stays, and the depth map does not change.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Shadows {
+    /// No shadow rays (the default).
+    #[default]
+    Off,
+    /// One ray towards a directional light: a point is lit or not.
+    Hard,
+    /// A disc light of this angular radius (degrees, above 0 and at most
+    /// [`SOFT_SHADOW_MAX_RADIUS`]), sampled by [`SOFT_SHADOW_SAMPLES`] rays in a fixed
+    /// stratified pattern: the lit share of them scales the light.
+    Soft {
+        /// The light's angular radius in degrees.
+        radius_deg: f32,
+    },
+}
+
+/// Rays towards the disc of a soft light, per hit: 4 rings of 4 (glsl/shadow.glsl).
+pub const SOFT_SHADOW_SAMPLES: u32 = 16;
+
+/// The largest angular radius of `--shadows soft:RADIUS`, in degrees.
+pub const SOFT_SHADOW_MAX_RADIUS: f32 = 30.0;
+
+impl Shadows {
+    /// Whether any shadow rays are cast.
+    pub fn enabled(&self) -> bool {
+        *self != Shadows::Off
+    }
+
+    /// The angular radius of the light in degrees (0: hard shadows or none).
+    pub fn radius_deg(&self) -> f32 {
+        match self {
+            Shadows::Soft { radius_deg } => *radius_deg,
+            _ => 0.0,
+        }
+    }
+}
+
+impl Shadows {
+    /// Refuses a soft light's radius outside above 0 to [`SOFT_SHADOW_MAX_RADIUS`].
+    pub fn validate(&self) -> Result<()> {
+        match *self {
+            Shadows::Soft { radius_deg }
+                if !(radius_deg > 0.0 && radius_deg <= SOFT_SHADOW_MAX_RADIUS) =>
+            {
+                Err(Error::setting_value(
+                    Setting::Shadows,
+                    format!("'{self}'"),
+                    format!(
+                        "the soft light's angular radius must be above 0 and at most \
+                         {SOFT_SHADOW_MAX_RADIUS} degrees"
+                    ),
+                ))
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
+impl std::str::FromStr for Shadows {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        let refused =
+            |why: String| Error::setting_value(Setting::Shadows, format!("'{}'", quoted(s)), why);
+        match s.trim() {
+            "off" | "none" => Ok(Shadows::Off),
+            "on" | "hard" => Ok(Shadows::Hard),
+            text => {
+                let Some(radius) = text.strip_prefix("soft:") else {
+                    return Err(refused(
+                        "not one of off, hard (or on), soft:RADIUS (degrees)".into(),
+                    ));
+                };
+                let radius_deg: f32 = radius.trim().parse().map_err(|_| {
+                    refused("soft:RADIUS takes the light's angular radius in degrees".into())
+                })?;
+                let shadows = Shadows::Soft { radius_deg };
+                shadows.validate().map(|_| shadows)
+            }
+        }
+    }
+}
+
+impl std::fmt::Display for Shadows {
+    /// As `shadows` takes it (`off`, `hard`, `soft:2`).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Shadows::Off => f.write_str("off"),
+            Shadows::Hard => f.write_str("hard"),
+            Shadows::Soft { radius_deg } => write!(f, "soft:{radius_deg}"),
+        }
+    }
+}
+
 /// Everything that decides how glyphs are drawn, beside the scene and the camera: the
 /// command line's drawing options.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -227,6 +324,8 @@ pub struct RenderSettings {
     pub samples: u32,
     /// The light and the Blinn-Phong terms every pass shades with.
     pub lighting: Lighting,
+    /// Shadows cast by the glyphs (`--shadows`; the exact method's fragment path only).
+    pub shadows: Shadows,
 }
 
 /// Blinn-Phong lighting (`--light`, `--ambient`, `--specular`, `--shininess`): a surface
@@ -311,6 +410,7 @@ impl Default for RenderSettings {
             precision_px: 0.25,
             samples: 1,
             lighting: Lighting::default(),
+            shadows: Shadows::Off,
         }
     }
 }
@@ -484,6 +584,22 @@ impl RenderSettings {
                     "only ",
                     Setting::Method.with("exact"),
                     format!(" has a compute ray caster, not {}", self.method)
+                ],
+            ));
+        }
+        self.shadows.validate()?;
+        if self.shadows.enabled()
+            && (self.method != Method::Exact || self.path != RenderPath::Fragment)
+        {
+            return Err(Error::setting_value(
+                Setting::Shadows,
+                self.shadows,
+                crate::message![
+                    "are cast only by ",
+                    Setting::Method.with("exact"),
+                    " on ",
+                    Setting::Path.with("fragment"),
+                    format!(", not by {} on {}", self.method, self.path)
                 ],
             ));
         }

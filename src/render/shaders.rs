@@ -35,6 +35,9 @@ pub struct RaycastShader {
     /// colour attachment only: a fragment output with no attachment to receive it is
     /// reported by the validation layer (and wastes the write).
     pub color_only_fragment: &'static [u32],
+    /// The exact method's fragment shader that casts shadow rays (`--shadows`): the
+    /// `fragment` shader's outputs, lit by the share of the light that reaches the hit.
+    pub shadows_fragment: Option<&'static [u32]>,
 }
 
 /// Compute ray caster of one tensor layout and intersection method (`--path compute`,
@@ -160,6 +163,9 @@ mod tests {
         for shader in RAYCAST_SHADERS {
             let what = format!("{:?} {:?}", shader.layout, shader.method);
             assert_eq!(output_locations(shader.fragment), [0, 1], "{what}");
+            if let Some(shadows) = shader.shadows_fragment {
+                assert_eq!(output_locations(shadows), [0, 1], "{what} with shadows");
+            }
             assert_eq!(
                 output_locations(shader.color_only_fragment),
                 [0],
@@ -258,7 +264,11 @@ mod depth_tests {
     fn standard_depth_turns_depth_less_into_depth_greater() {
         let shaders = RAYCAST_SHADERS
             .iter()
-            .flat_map(|s| [s.fragment, s.color_only_fragment])
+            .flat_map(|s| {
+                [s.fragment, s.color_only_fragment]
+                    .into_iter()
+                    .chain(s.shadows_fragment)
+            })
             .chain([IMPOSTOR_FRAGMENT]);
         for spirv in shaders {
             assert!(execution_modes(spirv).contains(&DEPTH_LESS));

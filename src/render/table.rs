@@ -7,7 +7,7 @@
 use crate::error::quoted;
 use crate::glyph::NegativeMode;
 use crate::render::settings::{PRECISION_RANGE, SHININESS_RANGE, STEP_RANGE, parse_background};
-use crate::render::{ColorMode, Method, Refinement, RenderPath, RenderSettings};
+use crate::render::{ColorMode, Method, Refinement, RenderPath, RenderSettings, Shadows};
 use crate::{Error, Result, Setting};
 
 /// A value as a front end hands it over: text from a command line, numbers and texts
@@ -33,6 +33,9 @@ pub enum Kind {
     Name,
     /// Several numbers (`X,Y,Z`, `LOW:HIGH`).
     Numbers,
+    /// A name that may be switched on alone: the flag without a value, or Python's
+    /// `True`, is `on`; Python's `False` is `off`.
+    Switch,
 }
 
 /// The allowed values of a number.
@@ -269,7 +272,14 @@ macro_rules! named_values {
     )*};
 }
 
-named_values!(Method, RenderPath, Refinement, ColorMode, NegativeMode);
+named_values!(
+    Method,
+    RenderPath,
+    Refinement,
+    ColorMode,
+    NegativeMode,
+    Shadows
+);
 
 /// The table: from each entry the setting's constant ([`Setting`]), its field of
 /// [`RenderOptions`], its [`SettingSpec`] and its arms of [`RenderOptions::set`].
@@ -435,6 +445,15 @@ render_settings! {
         range: Range::Closed(SHININESS_RANGE.0, SHININESS_RANGE.1, ""),
         reads: Reads::Always, number: Some(|s| s.lighting.shininess),
     }
+    /// Shadows the glyphs cast on themselves and on the other glyphs of their set: off,
+    /// hard (one ray from each hit towards the light, intersected exactly) or soft:RADIUS
+    /// (a disc light of that angular radius in degrees, 16 rays). The depth map does
+    /// not change.
+    shadows: Shadows = Shadows("shadows") {
+        kind: Switch, value: "off|hard|soft:R", default: "off",
+        accepts: "off, hard (or the flag alone), soft:RADIUS (degrees, above 0 to 30)",
+        range: Range::Any, reads: Reads::Methods(&["exact"]), number: None,
+    }
     /// Samples per pixel: supersampling draws at 2 or 4 times the width and height, then
     /// averages; the depth map stays one ray per pixel centre.
     samples: u32 = Samples("samples") {
@@ -495,6 +514,7 @@ impl RenderOptions {
             offset,
             samples: self.samples.unwrap_or(defaults.samples),
             lighting,
+            shadows: self.shadows.unwrap_or(defaults.shadows),
             ..defaults
         };
         settings.validate()?;
@@ -662,6 +682,7 @@ mod tests {
             "background" => "white",
             "light" => "1,0,0",
             "samples" => "4",
+            "shadows" => "soft:2",
             _ => "0.5",
         };
         for spec in RENDER_SETTINGS {
@@ -671,7 +692,7 @@ mod tests {
                 .unwrap();
             assert!(options.given(spec.setting).is_some(), "{:?}", spec.setting);
             let wrong = match spec.kind {
-                Kind::Name | Kind::Numbers => Value::Number(1.5),
+                Kind::Name | Kind::Numbers | Kind::Switch => Value::Number(1.5),
                 Kind::Number | Kind::Count => Value::Text("many"),
             };
             let err = RenderOptions::default()

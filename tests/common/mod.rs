@@ -108,6 +108,18 @@ pub fn save_failure_images(name: &str, r: &Rendered) {
     eprintln!("{name}: images in {}", dir.display());
 }
 
+/// The sRGB encoding of a linear value as an 8-bit colour target stores it, in steps of
+/// 1/255 (unrounded).
+pub fn srgb_byte(linear: f64) -> f64 {
+    let c = linear.clamp(0.0, 1.0);
+    let encoded = if c <= 0.0031308 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
+    encoded * 255.0
+}
+
 /// Runs the glyphcast binary with the validation layer on.
 pub fn glyphcast(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_glyphcast"))

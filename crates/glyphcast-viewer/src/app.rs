@@ -16,7 +16,7 @@ use glyphcast::render::component::UploadedGlyphs;
 use glyphcast::render::compose::labels::{CaptionPatch, caption_patch};
 use glyphcast::render::headless::HeadlessRenderer;
 use glyphcast::render::peaks::PeaksGpu;
-use glyphcast::render::settings::{RenderSettings, STEP_RANGE};
+use glyphcast::render::settings::{RenderSettings, STEP_RANGE, Shadows};
 use glyphcast::render::shaders::methods_for;
 use glyphcast::render::underlay::Underlay;
 use glyphcast::vk::Gpu;
@@ -55,9 +55,9 @@ struct App {
     // presents to. GPU objects keep the device alive themselves, so the Gpu may go at
     // any point.
     /// Each panel's glyphs on the GPU, shared by every frame in flight, and the version
-    /// of its content and the method they were uploaded for.
+    /// of its content, the method they were uploaded for and whether they cast shadows.
     scene_gpu: Vec<Option<UploadedGlyphs>>,
-    uploaded: Vec<Option<(u64, glyphcast::render::Method)>>,
+    uploaded: Vec<Option<(u64, glyphcast::render::Method, bool)>>,
     /// Per frame slot, each panel's peaks on the GPU (a peak set holds one frame block,
     /// so each slot has its own copy) and the version of its content they hold.
     peaks_gpu: Vec<Vec<Option<PeaksGpu>>>,
@@ -372,6 +372,14 @@ impl App {
             Action::NextColor => settings.color = controls::next_color(settings.color),
             Action::Negative(mode) => self.panels.set_negative(Some(mode))?,
             Action::ToggleNegative => self.panels.set_negative(None)?,
+            Action::Shadows(shadows) => change_checked(&mut settings, |s| s.shadows = shadows)?,
+            Action::ToggleShadows => {
+                let shadows = match settings.shadows {
+                    Shadows::Off => Shadows::Hard,
+                    _ => Shadows::Off,
+                };
+                change_checked(&mut settings, |s| s.shadows = shadows)?
+            }
             Action::Slice(delta) => {
                 if self.panels.move_slice(delta)? {
                     // Nothing new to show until the slice's glyphs are ready, and on a
@@ -433,8 +441,14 @@ impl App {
                 by: "the shaders of these glyphs".into(),
             });
         }
-        // The other settings may refuse the method (--color sign and meshes).
-        change_checked(settings, |s| s.method = method)
+        // The other settings may refuse the method (--color sign and meshes); only the
+        // exact method casts shadows, so another one turns them off.
+        change_checked(settings, |s| {
+            s.method = method;
+            if method != glyphcast::render::Method::Exact {
+                s.shadows = Shadows::Off;
+            }
+        })
     }
 
     fn redraw(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
@@ -553,9 +567,11 @@ impl App {
         }
         let settings = self.panels.frame_settings();
         for (k, panel) in self.panels.panels.iter().enumerate() {
-            let wanted = Some((panel.version, settings.method));
+            // Shadows on or off take a pipeline of their own, as a method does.
+            let wanted = Some((panel.version, settings.method, settings.shadows.enabled()));
             if rebuilt || self.uploaded[k] != wanted {
-                // Glyphs keep the method they were uploaded for: a switch uploads again.
+                // Glyphs keep the method (and shadows) they were uploaded for: a switch
+                // uploads again.
                 let glyphs = presenter.glyphs_mut().upload(&panel.sets, &settings)?;
                 if let Some(old) = self.scene_gpu[k].replace(glyphs) {
                     self.replaced.0 += 1;

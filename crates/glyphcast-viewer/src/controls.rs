@@ -3,7 +3,7 @@
 //! same code as a person at the keyboard.
 use glyphcast::error::quoted;
 use glyphcast::glyph::NegativeMode;
-use glyphcast::render::{ColorMode, Method, Refinement};
+use glyphcast::render::{ColorMode, Method, Refinement, Shadows};
 use glyphcast::scene::MAX_IMAGE_SIDE;
 use glyphcast::{Error, Result};
 use winit::keyboard::{Key, NamedKey};
@@ -33,6 +33,10 @@ pub enum Action {
     Negative(NegativeMode),
     /// Switch every set between hiding negative lobes and drawing their absolute value (`N`).
     ToggleNegative,
+    /// Cast shadows this way (`shadows:off|hard|soft:RADIUS` in a script).
+    Shadows(Shadows),
+    /// Switch shadows on (hard) or off (`L`).
+    ToggleShadows,
     /// Move through the volume by this many slices.
     Slice(i64),
     /// With three slices: the one that slice moves move (0 sagittal, 1 coronal, 2 axial;
@@ -60,6 +64,7 @@ pub enum Action {
 pub const HELP: &str = "\
 mouse: left drag orbit, right/middle drag or shift+left drag pan, wheel zoom
 keys:  M method   [ ] march step finer/coarser   F refinement   C colour   N negative lobes
+       L shadows on/off (exact method; another method turns them off)
        Up/PageUp, Down/PageDown slice +1/-1   1/2/3 active slice (of three) or panel (of views)
        R reset camera   S screenshot   H help   Q/Esc quit
 montages: the mouse moves every panel's camera alike; lightbox slices move together";
@@ -86,6 +91,7 @@ pub fn key_action(key: &Key) -> Option<Action> {
             "f" => Action::NextRefinement,
             "c" => Action::NextColor,
             "n" => Action::ToggleNegative,
+            "l" => Action::ToggleShadows,
             "r" => Action::ResetCamera,
             "s" => Action::Screenshot,
             "h" => Action::Help,
@@ -137,8 +143,8 @@ pub fn color_name(c: ColorMode) -> &'static str {
 
 /// Parses `--script`: comma-separated events, each applied on its own frame:
 /// `resize:WxH`, `method:NAME`, `step:S`, `refine:SPEC`, `color:MODE`,
-/// `negative:abs|hide|toggle`, `slice:+N|-N`, `active:1|2|3` (sagittal, coronal, axial
-/// slice of `--slices`; first, second, third panel of `--views`), `orbit:DX:DY`,
+/// `negative:abs|hide|toggle`, `shadows:off|hard|soft:RADIUS|toggle`, `slice:+N|-N`,
+/// `active:1|2|3` (sagittal, coronal, axial slice of `--slices`; first, second, third panel of `--views`), `orbit:DX:DY`,
 /// `pan:DX:DY`, `zoom:F`,
 /// `reset`, `screenshot`, `wait`.
 pub fn parse_script(text: &str) -> Result<Vec<Action>> {
@@ -194,6 +200,8 @@ fn parse_event(item: &str) -> Result<Action> {
             "toggle" => Action::ToggleNegative,
             _ => return Err(bad("expected abs, hide or toggle")),
         },
+        "shadows" if value == "toggle" => Action::ToggleShadows,
+        "shadows" => Action::Shadows(value.parse().map_err(reparse)?),
         "slice" => {
             let delta = (value.starts_with('+') || value.starts_with('-'))
                 .then(|| value.parse::<i64>().ok())
@@ -227,8 +235,8 @@ fn parse_event(item: &str) -> Result<Action> {
         "wait" => Action::Wait,
         _ => {
             return Err(bad(
-                "unknown event; expected resize, method, step, refine, color, negative, slice, \
-                 active, orbit, pan, zoom, reset, screenshot or wait",
+                "unknown event; expected resize, method, step, refine, color, negative, \
+                 shadows, slice, active, orbit, pan, zoom, reset, screenshot or wait",
             ));
         }
     })
@@ -255,7 +263,8 @@ mod tests {
     fn parses_the_events_of_a_script() {
         let script = parse_script(
             "resize:300x200, method:fixed,step:0.05,slice:+1,slice:-2,color:magnitude,\
-             refine:bisect:2,negative:hide,orbit:30:-10,pan:5:5,zoom:0.8,reset,wait",
+             refine:bisect:2,negative:hide,orbit:30:-10,pan:5:5,zoom:0.8,reset,wait,\
+             shadows:toggle,shadows:soft:3,shadows:off",
         )
         .unwrap();
         assert_eq!(
@@ -274,6 +283,9 @@ mod tests {
                 Action::Zoom(0.8),
                 Action::ResetCamera,
                 Action::Wait,
+                Action::ToggleShadows,
+                Action::Shadows(Shadows::Soft { radius_deg: 3.0 }),
+                Action::Shadows(Shadows::Off),
             ]
         );
     }
@@ -285,6 +297,8 @@ mod tests {
             "resize:0x10",
             "method:magic",
             "step:x",
+            "shadows:soft:0",
+            "shadows:sometimes",
             "slice:1",
             "orbit:3",
             "zoom:-1",

@@ -7,7 +7,7 @@ use glyphcast::accuracy::suite;
 use glyphcast::bench::{self, BenchCase, BenchFrames, BenchResult, Reference, ratios, workload};
 use glyphcast::error::Relation;
 use glyphcast::render::headless::HeadlessRenderer;
-use glyphcast::render::{MeshKind, Method, Refinement, RenderSettings};
+use glyphcast::render::{MeshKind, Method, Refinement, RenderSettings, Shadows};
 use glyphcast::scene::Scene;
 use glyphcast::vk::{Gpu, GpuOptions};
 use glyphcast::{Error, Result};
@@ -32,7 +32,8 @@ pub struct BenchArgs {
     /// (the default ray caster against the impostor and against tessellation at equal
     /// error: grids of orders 4, 8 and 12, and band-8 fODFs) or gpu[:COUNTS] (the GPU
     /// report of tools/gpu-report.sh: band-8 fODF fields of 10^3 to 10^6 glyphs at three
-    /// sizes, every method and both paths; failures are reported, not fatal).
+    /// sizes, every method and both paths; failures are reported, not fatal) or shadows
+    /// (the frame without shadows, with hard and with soft ones, three rounds).
     #[arg(long)]
     sweep: Option<String>,
     /// Method of a single measurement: fixed, interval, affine, impostor, mesh:LEVEL or
@@ -353,12 +354,31 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
             let scene = plan.scene(name.clone(), workload::fodf(count, 8, width, height)?);
             plan.methods(&name, scene, &method_list(levels, &[]));
         }
+        Some("shadows") => {
+            // The cost of shadow rays on the scene or workload: the same frame without
+            // them, with hard shadows and with soft ones, three rounds interleaved.
+            let scene = plan.scene(base_name(), args.base_scene()?);
+            for round in 1..=3 {
+                for shadows in [
+                    Shadows::Off,
+                    Shadows::Hard,
+                    Shadows::Soft { radius_deg: 5.0 },
+                ] {
+                    let settings = RenderSettings {
+                        shadows,
+                        ..defaults
+                    };
+                    plan.case(format!("shadows {shadows} ({round})"), scene, settings);
+                }
+            }
+        }
         Some(sweep) if sweep == "gpu" || sweep.starts_with("gpu:") => {
             gpu_plan(args, &sweep["gpu".len()..], &mut plan)?;
         }
         Some(other) => {
             return Err(bad_sweep(format!(
-                "'{}' is not one of steps, scaling, table2, methods, ratios, gpu[:COUNTS]",
+                "'{}' is not one of steps, scaling, table2, methods, ratios, shadows, \
+                 gpu[:COUNTS]",
                 glyphcast::error::quoted(other)
             )));
         }
@@ -564,6 +584,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             ratios::markdown(&ratios)
         ));
     }
+    if args.sweep.as_deref() == Some("shadows") {
+        table.push_str(&shadow_ratios(&results));
+    }
     if let Some(dir) = &args.out {
         let json = serde_json::json!({
             "device": gpu.info.to_string(),
@@ -592,6 +615,30 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     print!("{table}");
     Ok(())
+}
+
+/// `--sweep shadows`: each round's frame with shadows over the same round's frame
+/// without them (GPU medians), as Markdown lines.
+fn shadow_ratios(results: &[BenchResult]) -> String {
+    let mut text =
+        String::from("\nShadows: GPU median over the same round's frame without them\n\n");
+    for result in results {
+        let Some((kind, round)) = result
+            .label
+            .strip_prefix("shadows ")
+            .and_then(|l| l.split_once(' '))
+        else {
+            continue;
+        };
+        let off = results
+            .iter()
+            .find(|r| r.label == format!("shadows off {round}"));
+        if let (Some(off), true) = (off, kind != "off") {
+            let ratio = result.gpu_ms_median / off.gpu_ms_median.max(1e-9);
+            text.push_str(&format!("- {kind} {round}: {ratio:.2}\n"));
+        }
+    }
+    text
 }
 
 /// A `--sweep` value refused: what is wrong and what is accepted.

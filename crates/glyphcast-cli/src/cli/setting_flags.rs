@@ -48,14 +48,18 @@ impl clap::Args for SettingFlags {
     fn augment_args(command: Command) -> Command {
         RENDER_SETTINGS.iter().fold(command, |command, spec| {
             let long = spec.setting.flag().trim_start_matches('-').to_owned();
-            command.arg(
-                Arg::new(spec.setting.key())
-                    .long(long)
-                    .value_name(spec.value_name)
-                    .help(spec.help())
-                    // Numbers may be negative (`--light -1,0,0`).
-                    .allow_hyphen_values(matches!(spec.kind, Kind::Number | Kind::Numbers)),
-            )
+            let arg = Arg::new(spec.setting.key())
+                .long(long)
+                .value_name(spec.value_name)
+                .help(spec.help())
+                // Numbers may be negative (`--light -1,0,0`).
+                .allow_hyphen_values(matches!(spec.kind, Kind::Number | Kind::Numbers));
+            // A switch given alone is `on` (`--shadows`).
+            let arg = match spec.kind {
+                Kind::Switch => arg.num_args(0..=1).default_missing_value("on"),
+                _ => arg,
+            };
+            command.arg(arg)
         })
     }
 

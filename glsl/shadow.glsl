@@ -1,0 +1,214 @@
+// Shadow rays (--shadows) of the exact method's fragment shader: from a hit, rays towards
+// the light are intersected exactly (exact_root.glsl's first_crossing, the root isolation
+// of the camera's rays) with every glyph of the batch whose box they enter, found by
+// walking the uniform grid over the batch's boxes (src/render/shadow_grid.rs) cell by
+// cell (Amanatides and Woo's traversal). The float64 reference is src/glyph/shadow.rs.
+//
+// A ray starts frame.shadow.w bounding radii of the hit glyph beyond the hit, so that the
+// surface it leaves does not stop it; a ray that meets any glyph after that, the hit
+// glyph's own lobes included, is blocked. Hard shadows cast one ray towards the light,
+// soft shadows frame.shadow.y rays towards a disc of angular radius atan(frame.shadow.z)
+// around it, in a fixed stratified pattern (4 rings of equal area, 4 rays each, each ring
+// turned by a quarter step more than the one inside it). Rays that leave the surface
+// into the glyph (n . l <= 0) are not cast: the lit share is that of the rays cast, and
+// a point that casts none keeps the light (its diffuse term is 0 already).
+//
+// The root isolation is inlined once: the fragment shader runs it in one loop, first for
+// its camera ray, then for each glyph that shadow_next_glyph hands out (a second call
+// site doubles the shader, and its compile overflowed shaderc's stack). The walk's state
+// is kept in globals between the calls.
+//
+// lavapipe ends an invocation after 65,535 loop iterations in all (src/render/tiles.rs):
+// one fragment isolates the roots of at most SHADOW_ISOLATIONS glyphs and takes at most
+// SHADOW_STEPS steps of the walk (glyphs listed, cells crossed); rays still unresolved
+// then count as reaching the light.
+//
+// Include after exact_root.glsl.
+
+layout(std430, set = 0, binding = 2) readonly buffer ShadowInstances {
+    vec4 shadow_instances[];  // centre, world bounding radius
+};
+layout(std430, set = 0, binding = 3) readonly buffer ShadowBoxes {
+    vec4 shadow_boxes[];      // per glyph: rotation (box to world), half extents
+};
+layout(std430, set = 0, binding = 4) readonly buffer ShadowCells {
+    vec4 lo;                  // xyz: the grid's lowest corner
+    vec4 cell;                // xyz: a cell's edges
+    ivec4 dims;               // xyz: cells along each axis
+    uvec2 ranges[];           // per cell, x fastest: first entry, count
+} shadow_grid;
+layout(std430, set = 0, binding = 5) readonly buffer ShadowEntries {
+    uint shadow_entries[];    // glyph indices, cell after cell
+};
+
+const int SHADOW_ISOLATIONS = 48;
+const int SHADOW_STEPS = 2048;
+
+// The hit and the rays cast from it (shadow_begin).
+vec3 shadow_hit;
+vec3 shadow_normal;       // turned towards the viewer
+float shadow_offset;      // the rays' start beyond the hit, world units
+vec3 shadow_u;            // with shadow_v, the soft light's disc around frame.light
+vec3 shadow_v;
+int shadow_rays;          // rays per hit
+int shadow_casts;         // of them, those leaving the surface outwards (n . l > 0)
+int shadow_blocked;       // of those, the rays found blocked
+// The ray being walked.
+int shadow_sample;        // its index; -1 before the first
+bool shadow_active;       // whether a ray is being walked
+vec3 shadow_origin;
+vec3 shadow_dir;
+ivec3 shadow_at;          // its cell
+ivec3 shadow_step;        // the cell steps along the ray, per axis
+vec3 shadow_t_next;       // ray distance to the next cell boundary, per axis
+vec3 shadow_delta;        // ray distance across one cell, per axis
+uint shadow_entry;        // the next of the cell's entries to test
+uint shadow_entry_end;
+uvec4 shadow_recent;      // the last four glyphs tested on this ray
+int shadow_steps_left;
+
+// A unit vector perpendicular to the unit vector v.
+vec3 shadow_perpendicular(vec3 v) {
+    vec3 other = abs(v.x) < 0.6 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
+    return normalize(cross(v, other));
+}
+
+// Ray k towards the light: the light's direction, or sample k of a soft light's disc
+// (src/glyph/shadow.rs soft_sample).
+vec3 shadow_ray_dir(int k) {
+    vec3 light = frame.light.xyz;
+    if (shadow_rays <= 1) {
+        return light;
+    }
+    int ring = k / 4;
+    float radius = sqrt((float(ring) + 0.5) / 4.0) * frame.shadow.z;
+    float angle = 6.28318530718 * (float(k % 4) + 0.25 * float(ring) + 0.5) / 4.0;
+    return normalize(light + radius * (cos(angle) * shadow_u + sin(angle) * shadow_v));
+}
+
+// The entries of the current cell.
+void shadow_enter_cell() {
+    ivec3 dims = shadow_grid.dims.xyz;
+    uvec2 range = shadow_grid.ranges[(shadow_at.z * dims.y + shadow_at.y) * dims.x
+                                     + shadow_at.x];
+    shadow_entry = range.x;
+    shadow_entry_end = range.x + range.y;
+}
+
+// Starts walking ray shadow_sample from its cell of the grid; false when it misses the
+// grid (nothing can block it).
+bool shadow_start_ray() {
+    vec3 dir = shadow_dir;
+    vec3 lo = shadow_grid.lo.xyz;
+    vec3 size = shadow_grid.cell.xyz;
+    ivec3 dims = shadow_grid.dims.xyz;
+    vec3 safe = vec3(abs(dir.x) < 1e-20 ? 1e-20 : dir.x, abs(dir.y) < 1e-20 ? 1e-20 : dir.y,
+                     abs(dir.z) < 1e-20 ? 1e-20 : dir.z);
+    vec3 inv = 1.0 / safe;
+    vec3 a = (lo - shadow_origin) * inv;
+    vec3 b = (lo + vec3(dims) * size - shadow_origin) * inv;
+    vec3 near = min(a, b);
+    vec3 far = max(a, b);
+    float t0 = max(max(max(near.x, near.y), near.z), 0.0);
+    float t1 = min(min(far.x, far.y), far.z);
+    if (t0 > t1) {
+        return false;
+    }
+    vec3 start = (shadow_origin + t0 * dir - lo) / size;
+    shadow_at = clamp(ivec3(floor(start)), ivec3(0), dims - 1);
+    shadow_step = ivec3(sign(safe));
+    shadow_delta = abs(size * inv);
+    vec3 next_edge = lo + (vec3(shadow_at) + max(vec3(shadow_step), vec3(0.0))) * size;
+    shadow_t_next = (next_edge - shadow_origin) * inv;
+    shadow_recent = uvec4(0xffffffffu);
+    shadow_enter_cell();
+    return true;
+}
+
+// Sets up the shadow rays of the hit at q(s_hit) of the camera's ray through the loaded
+// glyph.
+void shadow_begin(GlyphRay camera, float s_hit) {
+    float len;
+    vec3 q_dir;
+    float f;
+    vec3 normal = surface_normal(camera.mid + s_hit * camera.dir, len, q_dir, f);
+    shadow_normal = facing_normal(normal, -camera.dir);
+    shadow_hit = camera.origin + (camera.t_mid + s_hit) * camera.rho * camera.dir;
+    // frame.shadow.w bounding radii of the hit glyph.
+    shadow_offset = frame.shadow.w * camera.rho * (1.0 + frame.march.w);
+    shadow_rays = int(frame.shadow.y);
+    shadow_u = shadow_perpendicular(frame.light.xyz);
+    shadow_v = cross(frame.light.xyz, shadow_u);
+    shadow_casts = 0;
+    for (int k = 0; k < shadow_rays; ++k) {
+        shadow_casts += dot(shadow_normal, shadow_ray_dir(k)) > 0.0 ? 1 : 0;
+    }
+    shadow_blocked = 0;
+    shadow_sample = -1;
+    shadow_active = false;
+    shadow_steps_left = SHADOW_STEPS;
+}
+
+// The next glyph whose box the ray being walked enters, loaded, with that ray in its
+// frame (clipped to its chord and box); false when every ray is resolved or the walk's
+// steps are spent.
+bool shadow_next_glyph(out GlyphRay ray) {
+    for (; shadow_steps_left > 0; --shadow_steps_left) {
+        if (!shadow_active) {
+            shadow_sample += 1;
+            if (shadow_sample >= shadow_rays) {
+                return false;
+            }
+            shadow_dir = shadow_ray_dir(shadow_sample);
+            if (dot(shadow_normal, shadow_dir) > 0.0) {
+                shadow_origin = shadow_hit + shadow_offset * shadow_dir;
+                shadow_active = shadow_start_ray();
+            }
+        } else if (shadow_entry < shadow_entry_end) {
+            uint glyph = shadow_entries[shadow_entry];
+            shadow_entry += 1u;
+            if (!any(equal(shadow_recent, uvec4(glyph)))) {
+                shadow_recent = uvec4(glyph, shadow_recent.xyz);
+                ray.origin = shadow_origin;
+                ray.dir = shadow_dir;
+                if (glyph_ray_clip(shadow_instances[glyph], normalize(shadow_boxes[2u * glyph]),
+                                   shadow_boxes[2u * glyph + 1u].xyz, CHORD_RADIUS, ray)) {
+                    glyph_load(glyph);
+                    shadow_steps_left -= 1;
+                    return true;
+                }
+            }
+        } else {
+            // The next cell: across the nearest boundary; past the grid, the ray is lit.
+            if (shadow_t_next.x <= shadow_t_next.y && shadow_t_next.x <= shadow_t_next.z) {
+                shadow_at.x += shadow_step.x;
+                shadow_t_next.x += shadow_delta.x;
+            } else if (shadow_t_next.y <= shadow_t_next.z) {
+                shadow_at.y += shadow_step.y;
+                shadow_t_next.y += shadow_delta.y;
+            } else {
+                shadow_at.z += shadow_step.z;
+                shadow_t_next.z += shadow_delta.z;
+            }
+            if (any(lessThan(shadow_at, ivec3(0)))
+                || any(greaterThanEqual(shadow_at, shadow_grid.dims.xyz))) {
+                shadow_active = false;
+            } else {
+                shadow_enter_cell();
+            }
+        }
+    }
+    return false;
+}
+
+// The glyph last handed out blocks the ray being walked: on to the next ray.
+void shadow_ray_blocked() {
+    shadow_blocked += 1;
+    shadow_active = false;
+}
+
+// The share of the light that reaches the hit: 1 when no ray was cast; rays left
+// unresolved count as lit.
+float shadow_visibility() {
+    return shadow_casts == 0 ? 1.0 : 1.0 - float(shadow_blocked) / float(shadow_casts);
+}

@@ -1,0 +1,160 @@
+//! The float64 reference of shadow rays (`--shadows`, glsl/shadow.glsl): from a glyph hit,
+//! rays towards the light start [`SHADOW_RAY_OFFSET`] bounding radii of the hit glyph
+//! beyond the hit and are intersected exactly ([`first_hit`]) with every glyph given, the
+//! hit glyph included; a ray that meets one is blocked. Rays that leave the surface into
+//! the glyph (n . l <= 0, n the normal turned towards the viewer) are not cast, and the
+//! lit share is that of the rays cast (1 when none is). The GPU walks a grid to find the
+//! glyphs a ray may meet; this reference tests them all.
+use crate::camera::Ray;
+use crate::glyph::NegativeMode;
+use crate::glyph::intersect::{WorldGlyph, first_hit};
+use glam::DVec3;
+
+/// Where a shadow ray starts beyond its hit, as a fraction of the hit glyph's bounding
+/// radius: clear of the float32 rounding of the GPU's hit, so that the surface the ray
+/// leaves does not block it. The frame block hands it to the shaders.
+pub const SHADOW_RAY_OFFSET: f64 = 1e-3;
+
+/// Sample `k` (0 to 15) of a soft light's disc, as glsl/shadow.glsl `soft_sample` places
+/// it: its offset from the disc's centre in units of the disc's radius. Four rings of
+/// equal area, four samples each at the middle of its ring's area, each ring turned a
+/// quarter step further than the one inside it.
+pub fn soft_sample(k: u32) -> [f64; 2] {
+    let ring = f64::from(k / 4);
+    let radius = ((ring + 0.5) / 4.0).sqrt();
+    let angle = std::f64::consts::TAU * (f64::from(k % 4) + 0.25 * ring + 0.5) / 4.0;
+    [radius * angle.cos(), radius * angle.sin()]
+}
+
+/// The outward unit normal of `glyph`'s surface at the world point `p` on it (a
+/// polynomial glyph: the gradient of the radial function, as the shaders take it).
+pub fn surface_normal(glyph: &WorldGlyph, p: DVec3) -> DVec3 {
+    let q = (p - glyph.center) / glyph.scale;
+    let len = q.length().max(1e-300);
+    let q_dir = q / len;
+    let (f, grad) = glyph.poly.eval_with_gradient(q_dir);
+    let sgn = if glyph.negative == NegativeMode::Hide || f >= 0.0 {
+        1.0
+    } else {
+        -1.0
+    };
+    let order = f64::from(glyph.poly.order);
+    ((len + order * f.abs()) * q_dir - sgn * grad).normalize()
+}
+
+/// Whether any of `glyphs` blocks the ray from `origin` along the unit `dir`.
+pub fn blocked(origin: DVec3, dir: DVec3, glyphs: &[WorldGlyph]) -> bool {
+    let ray = Ray { origin, dir };
+    glyphs.iter().any(|g| first_hit(&ray, g).is_some())
+}
+
+/// The share of the light (unit direction `light` towards it; a disc of angular radius
+/// whose tangent is `tan_radius` around it when `rays` > 1) that reaches the point `hit`
+/// of `glyph`, seen along the unit direction `view_dir` (from the eye), among `glyphs`.
+pub fn visibility(
+    glyph: &WorldGlyph,
+    hit: DVec3,
+    view_dir: DVec3,
+    light: DVec3,
+    rays: u32,
+    tan_radius: f64,
+    glyphs: &[WorldGlyph],
+) -> f64 {
+    let normal = surface_normal(glyph, hit);
+    let n = if normal.dot(-view_dir) < 0.0 {
+        -normal
+    } else {
+        normal
+    };
+    let (u, v) = perpendiculars(light);
+    let offset = SHADOW_RAY_OFFSET * glyph.world_radius();
+    let (mut cast, mut lit) = (0u32, 0u32);
+    for k in 0..rays {
+        let dir = if rays > 1 {
+            let [x, y] = soft_sample(k);
+            (light + tan_radius * (x * u + y * v)).normalize()
+        } else {
+            light
+        };
+        if n.dot(dir) <= 0.0 {
+            continue;
+        }
+        cast += 1;
+        if !blocked(hit + offset * dir, dir, glyphs) {
+            lit += 1;
+        }
+    }
+    if cast == 0 {
+        1.0
+    } else {
+        f64::from(lit) / f64::from(cast)
+    }
+}
+
+/// Two unit vectors that make a right-handed frame with the unit `v` (glsl/shadow.glsl
+/// `shadow_perpendicular`, then v x u).
+fn perpendiculars(v: DVec3) -> (DVec3, DVec3) {
+    let other = if v.x.abs() < 0.6 { DVec3::X } else { DVec3::Y };
+    let u = v.cross(other).normalize();
+    (u, v.cross(u))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::glyph::polynomial::GlyphPolynomial;
+
+    fn sphere(center: DVec3, radius: f64) -> WorldGlyph {
+        let poly = GlyphPolynomial {
+            order: 2,
+            coeffs: vec![1.0, 0.0, 0.0, 1.0, 0.0, 1.0],
+        };
+        WorldGlyph::new(center, radius, poly, NegativeMode::Abs, 0.0)
+    }
+
+    /// The samples lie inside the unit disc, one in each sixteenth of its area, and
+    /// average near its centre.
+    #[test]
+    fn soft_samples_cover_the_disc_evenly() {
+        let samples: Vec<[f64; 2]> = (0..16).map(soft_sample).collect();
+        let mean = samples
+            .iter()
+            .fold([0.0, 0.0], |a, s| [a[0] + s[0], a[1] + s[1]]);
+        assert!(mean[0].abs() < 1e-9 && mean[1].abs() < 1e-9, "{mean:?}");
+        for ring in 0..4 {
+            for s in &samples[4 * ring..4 * ring + 4] {
+                let r2 = s[0] * s[0] + s[1] * s[1];
+                assert!(r2 > ring as f64 / 4.0 && r2 < (ring + 1) as f64 / 4.0);
+            }
+        }
+    }
+
+    /// A sphere's normal is radial; a sphere between a point and the light blocks it, one
+    /// beside the ray does not.
+    #[test]
+    fn a_sphere_between_the_point_and_the_light_blocks_it() {
+        let s = sphere(DVec3::new(1.0, 2.0, 3.0), 0.5);
+        let p = DVec3::new(1.0, 2.0, 3.5);
+        assert!((surface_normal(&s, p) - DVec3::Z).length() < 1e-12);
+        let floor = sphere(DVec3::ZERO, 1.0);
+        let blocker = sphere(DVec3::new(0.0, 0.0, 3.0), 0.5);
+        let beside = sphere(DVec3::new(2.0, 0.0, 3.0), 0.5);
+        let top = DVec3::new(0.0, 0.0, 1.0);
+        let down = -DVec3::Z;
+        let glyphs = [floor.clone(), blocker];
+        assert_eq!(
+            visibility(&floor, top, down, DVec3::Z, 1, 0.0, &glyphs),
+            0.0
+        );
+        let glyphs = [floor.clone(), beside];
+        assert_eq!(
+            visibility(&floor, top, down, DVec3::Z, 1, 0.0, &glyphs),
+            1.0
+        );
+        // The light behind the surface: no ray is cast, the light's share stays 1.
+        assert_eq!(
+            visibility(&floor, top, down, -DVec3::Z, 1, 0.0, &glyphs),
+            1.0
+        );
+    }
+}

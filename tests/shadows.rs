@@ -1,0 +1,399 @@
+//! Shadows (`--shadows`): each pixel's lit or shadowed state against the float64 reference
+//! (`glyph::shadow`: the exact hit, its normal, the shadow ray intersected exactly with
+//! every glyph), away from shadow edges; soft shadows' lit share likewise; the depth map
+//! unchanged and no pixel brightened; the option through the command line, its refusals.
+mod common;
+use common::{fresh_dir, glyphcast, srgb_byte};
+use glam::DVec3;
+use glyphcast::camera::Camera;
+use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
+use glyphcast::glyph::intersect::{WorldGlyph, first_hit};
+use glyphcast::glyph::shadow;
+use glyphcast::io::png::read_png_rgba8;
+use glyphcast::render::glyph_data::{GlyphSetData, prepare_scene};
+use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
+use glyphcast::render::settings::{Lighting, srgb_to_linear};
+use glyphcast::render::{ColorMode, Method, RenderSettings, Shadows};
+use glyphcast::scene::Scene;
+
+/// The glyphs' uniform colour (linear RGB).
+const BASE: [f32; 3] = [0.8, 0.8, 0.8];
+/// Pixels whose float64 n . l is below this are left out of the comparisons: there the
+/// light's terms are too small to tell a shadow in 8 bits.
+const MIN_DIFFUSE: f64 = 0.1;
+
+/// A world direction towards the light as `--light` takes it: in view coordinates of
+/// `camera` (x right, y up, z towards the viewer).
+fn view_light(camera: &Camera, world: DVec3) -> [f32; 3] {
+    let f = camera.frame();
+    let l = world.normalize();
+    [l.dot(f.right), l.dot(f.up), -l.dot(f.fwd)].map(|v| v as f32)
+}
+
+/// A small sphere above a flat glyph (the order-2 form diag(1, 1, 0.02)), lit from the
+/// side: the sphere's shadow falls on the flat glyph.
+fn sphere_above_flat(size: u32) -> (Scene, DVec3) {
+    let layout = symmetric(2);
+    // Order-2 coefficients xx, xy, xz, yy, yz, zz.
+    let flat = glyph_set(
+        layout.clone(),
+        vec![DVec3::ZERO],
+        1.0,
+        vec![vec![1.0, 0.0, 0.0, 1.0, 0.0, 0.02]],
+    );
+    let ball = glyph_set(
+        layout,
+        vec![DVec3::new(0.0, 0.0, 0.6)],
+        0.25,
+        vec![vec![1.0, 0.0, 0.0, 1.0, 0.0, 1.0]],
+    );
+    let scene =
+        glyphcast::accuracy::suite::scene(vec![flat, ball], DVec3::new(0.6, -2.2, 3.2), 128);
+    let mut scene = scene;
+    scene.image.width = size;
+    scene.image.height = size;
+    (scene, DVec3::new(1.0, 0.25, 0.8))
+}
+
+/// Nine order-4 glyphs of two fibre populations each, close enough that lobes shadow
+/// their own glyph and the neighbours, lit from the side.
+fn fibre_field(size: u32) -> (Scene, DVec3) {
+    let mut centers = Vec::new();
+    let mut coeffs = Vec::new();
+    for j in 0..3 {
+        for i in 0..3 {
+            let k = (3 * j + i) as f64;
+            centers.push(DVec3::new(i as f64 - 1.0, j as f64 - 1.0, 0.0) * 0.9);
+            coeffs.push(fibre_tensor(
+                4,
+                &[
+                    (direction(20.0 * k, 15.0 + 5.0 * k), 1.0),
+                    (direction(20.0 * k + 75.0, 50.0 - 4.0 * k), 0.8),
+                ],
+            ));
+        }
+    }
+    let set = glyph_set(symmetric(4), centers, 0.55, coeffs);
+    let scene = glyphcast::accuracy::suite::scene(vec![set], DVec3::new(0.8, -2.6, 4.0), size);
+    (scene, DVec3::new(-1.0, 0.4, 0.6))
+}
+
+fn settings(camera: &Camera, light: DVec3, shadows: Shadows) -> RenderSettings {
+    RenderSettings {
+        method: Method::Exact,
+        color: ColorMode::Uniform(BASE),
+        lighting: Lighting {
+            direction: view_light(camera, light),
+            ..Lighting::default()
+        },
+        shadows,
+        ..Default::default()
+    }
+}
+
+/// The scene's glyphs, and the scene drawn without shadows and with `shadows`; the two
+/// depth maps are held to be the same, bit for bit.
+fn render_pair(
+    gpu: &glyphcast::vk::Gpu,
+    renderer: &mut HeadlessRenderer,
+    scene: &Scene,
+    light: DVec3,
+    shadows: Shadows,
+) -> (Vec<GlyphSetData>, RenderedImage, RenderedImage) {
+    let sets = prepare_scene(scene, 0.0).expect("preparing");
+    let (w, h) = (scene.image.width, scene.image.height);
+    let view = glyphcast::FrameView::new(&scene.camera, w, h);
+    let mut draw = |shadows| {
+        let settings = settings(&scene.camera, light, shadows);
+        renderer
+            .render_view(gpu, &sets, &view, &settings)
+            .expect("rendering")
+    };
+    let (off, on) = (draw(Shadows::Off), draw(shadows));
+    let bits = |image: &RenderedImage| {
+        image
+            .distance
+            .iter()
+            .map(|d| d.to_bits())
+            .collect::<Vec<_>>()
+    };
+    assert!(bits(&off) == bits(&on), "{shadows}: the depth map changed");
+    (sets, off, on)
+}
+
+/// Per pixel, from the float64 reference: the hit's n . l and the lit share of the light
+/// (rays towards a disc of `rays` samples when above 1), or None for a miss.
+fn reference_visibility(
+    scene: &Scene,
+    glyphs: &[WorldGlyph],
+    light: DVec3,
+    rays: u32,
+    tan_radius: f64,
+) -> Vec<Option<(f64, f64)>> {
+    let (w, h) = (scene.image.width, scene.image.height);
+    let light = light.normalize();
+    let mut out = Vec::with_capacity((w * h) as usize);
+    for j in 0..h {
+        for i in 0..w {
+            let ray = scene.camera.ray(i, j, w, h);
+            let nearest = glyphs
+                .iter()
+                .filter_map(|g| first_hit(&ray, g).map(|t| (t, g)))
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+            out.push(nearest.map(|(t, glyph)| {
+                let hit = ray.origin + t * ray.dir;
+                let normal = shadow::surface_normal(glyph, hit);
+                let n = if normal.dot(-ray.dir) < 0.0 {
+                    -normal
+                } else {
+                    normal
+                };
+                let v = shadow::visibility(glyph, hit, ray.dir, light, rays, tan_radius, glyphs);
+                (n.dot(light), v)
+            }));
+        }
+    }
+    out
+}
+
+/// Pixels away from shadow edges and silhouettes: the pixel and its eight neighbours hit
+/// a glyph and have the same lit share, and the pixel's n . l is at least MIN_DIFFUSE;
+/// the pixel's lit share for each.
+fn interior(reference: &[Option<(f64, f64)>], w: usize, h: usize) -> Vec<Option<f64>> {
+    let mut out = vec![None; w * h];
+    for j in 1..h - 1 {
+        for i in 1..w - 1 {
+            let Some((diffuse, v)) = reference[j * w + i] else {
+                continue;
+            };
+            let same = (j - 1..=j + 1).all(|y| {
+                (i - 1..=i + 1).all(|x| reference[y * w + x].is_some_and(|(_, u)| u == v))
+            });
+            if same && diffuse >= MIN_DIFFUSE {
+                out[j * w + i] = Some(v);
+            }
+        }
+    }
+    out
+}
+
+fn glyphs_of(sets: &[GlyphSetData]) -> Vec<WorldGlyph> {
+    sets.iter().flat_map(|s| s.world.iter().cloned()).collect()
+}
+
+fn save(name: &str, image: &RenderedImage) {
+    let path = common::output_dir().join(format!("{name}.png"));
+    let _ = glyphcast::io::png::write_png_rgba8(&path, image.width, image.height, &image.rgba);
+}
+
+/// Hard shadows: every pixel away from shadow edges is shadowed (changed from the render
+/// without shadows) exactly where the float64 shadow ray is blocked, and otherwise keeps
+/// its colour bit for bit; the depth map is the one without shadows.
+#[test]
+fn hard_shadows_match_the_float64_reference() {
+    let gpu = common::gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    for (name, (scene, light)) in [
+        ("sphere-above-flat", sphere_above_flat(128)),
+        ("fibre-field", fibre_field(128)),
+    ] {
+        let (sets, off, on) = render_pair(&gpu, &mut renderer, &scene, light, Shadows::Hard);
+        save(&format!("shadows-{name}-off"), &off);
+        save(&format!("shadows-{name}-hard"), &on);
+        let (w, h) = (scene.image.width as usize, scene.image.height as usize);
+        let glyphs = glyphs_of(&sets);
+        let reference = reference_visibility(&scene, &glyphs, light, 1, 0.0);
+        let eligible = interior(&reference, w, h);
+        let (mut shadowed, mut lit, mut wrong) = (0, 0, Vec::new());
+        for k in 0..w * h {
+            let Some(v) = eligible[k] else { continue };
+            if off.distance[k].is_nan() {
+                wrong.push((k % w, k / w, "no GPU hit"));
+                continue;
+            }
+            let changed = off.rgba[4 * k..4 * k + 4] != on.rgba[4 * k..4 * k + 4];
+            match (v == 0.0, changed) {
+                (true, true) => shadowed += 1,
+                (false, false) => lit += 1,
+                (true, false) => wrong.push((k % w, k / w, "lit, reference shadowed")),
+                (false, true) => wrong.push((k % w, k / w, "shadowed, reference lit")),
+            }
+        }
+        eprintln!(
+            "{name}: {shadowed} shadowed and {lit} lit pixels agree, {} wrong",
+            wrong.len()
+        );
+        assert!(
+            wrong.is_empty(),
+            "{name}: {:?}",
+            &wrong[..wrong.len().min(20)]
+        );
+        assert!(
+            shadowed >= 100 && lit >= 500,
+            "{name}: {shadowed} shadowed, {lit} lit"
+        );
+        // Shadowing only takes light away.
+        let brighter = (0..w * h * 4).filter(|&c| on.rgba[c] > off.rgba[c]).count();
+        assert_eq!(brighter, 0, "{name}: channels brightened");
+    }
+}
+
+/// Soft shadows: each pixel's colour is the unshadowed one with its light terms scaled by
+/// a lit share that the float64 reference gives the pixel or one of its eight neighbours
+/// (within the 8-bit rounding of both images), where those shares differ by at most two
+/// of the 16 rays (away from silhouettes), penumbra included.
+#[test]
+fn soft_shadows_match_the_float64_lit_share() {
+    let gpu = common::gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    let (scene, light) = sphere_above_flat(128);
+    let radius_deg = 8.0f32;
+    let soft = Shadows::Soft { radius_deg };
+    let (sets, off, on) = render_pair(&gpu, &mut renderer, &scene, light, soft);
+    save("shadows-soft", &on);
+    let (w, h) = (scene.image.width as usize, scene.image.height as usize);
+    let glyphs = glyphs_of(&sets);
+    let tan = f64::from(radius_deg).to_radians().tan();
+    let reference = reference_visibility(&scene, &glyphs, light, 16, tan);
+    let ambient = f64::from(Lighting::default().ambient);
+    let (mut compared, mut partial, mut wrong) = (0, 0, Vec::new());
+    for j in 1..h - 1 {
+        for i in 1..w - 1 {
+            let k = j * w + i;
+            let Some((diffuse, v)) = reference[k] else {
+                continue;
+            };
+            let shares: Option<Vec<f64>> = (j - 1..=j + 1)
+                .flat_map(|y| (i - 1..=i + 1).map(move |x| y * w + x))
+                .map(|n| reference[n].map(|(_, u)| u))
+                .collect();
+            let Some(shares) = shares else { continue };
+            let lo = shares.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = shares.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            if diffuse < MIN_DIFFUSE || hi - lo > 2.0 / 16.0 + 1e-9 {
+                continue;
+            }
+            compared += 1;
+            partial += usize::from(v > 0.0 && v < 1.0);
+            for c in 0..3 {
+                let unshadowed = f64::from(srgb_to_linear(off.rgba[4 * k + c]));
+                let dark = f64::from(BASE[c]) * ambient;
+                let byte = |v: f64| srgb_byte(dark + v * (unshadowed - dark));
+                // The unshadowed byte is itself rounded: up to half a step, and the
+                // encoding's slope.
+                let got = f64::from(on.rgba[4 * k + c]);
+                if got < byte(lo) - 1.5 || got > byte(hi) + 1.5 {
+                    wrong.push((i, j, c, got, byte(lo), byte(hi)));
+                }
+            }
+        }
+    }
+    eprintln!(
+        "soft: {compared} pixels, {partial} in the penumbra, {} wrong",
+        wrong.len()
+    );
+    assert!(wrong.is_empty(), "{:?}", &wrong[..wrong.len().min(20)]);
+    assert!(
+        compared > 1000 && partial >= 30,
+        "{compared} compared, {partial} partial"
+    );
+}
+
+/// Through the command line: `--shadows` alone on the sphere above the flat glyph leaves
+/// the depth map unchanged, darkens at least 0.5 % of the covered pixels and brightens
+/// none.
+#[test]
+fn the_shadows_flag_darkens_and_keeps_the_depth_map() {
+    let dir = fresh_dir("shadows-cli");
+    let (scene, light) = sphere_above_flat(160);
+    let scene_file = dir.join("scene.json");
+    std::fs::write(&scene_file, scene.to_json()).expect("scene");
+    let [x, y, z] = view_light(&scene.camera, light);
+    let light = format!("{x},{y},{z}");
+    let render = |name: &str, extra: &[&str]| {
+        let png = dir.join(format!("{name}.png"));
+        let npy = dir.join(format!("{name}.npy"));
+        let mut args = vec![
+            "render",
+            scene_file.to_str().expect("utf-8"),
+            "--light",
+            &light,
+            "-o",
+            png.to_str().expect("utf-8"),
+            "--depth-out",
+            npy.to_str().expect("utf-8"),
+        ];
+        args.extend_from_slice(extra);
+        let out = glyphcast(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let (_, _, rgba) = read_png_rgba8(&png).expect("png");
+        (rgba, std::fs::read(&npy).expect("npy"))
+    };
+    let (plain, plain_depth) = render("plain", &[]);
+    let (shadowed, shadowed_depth) = render("shadowed", &["--shadows"]);
+    assert!(plain_depth == shadowed_depth, "the depth map changed");
+    let covered = plain.chunks(4).filter(|p| p[3] == 255).count();
+    let darker = plain
+        .chunks(4)
+        .zip(shadowed.chunks(4))
+        .filter(|(a, b)| a[3] == 255 && (0..3).any(|c| b[c] < a[c]))
+        .count();
+    let brighter = plain
+        .chunks(4)
+        .zip(shadowed.chunks(4))
+        .filter(|(a, b)| (0..4).any(|c| b[c] > a[c]))
+        .count();
+    eprintln!("{darker} of {covered} covered pixels darker, {brighter} brighter");
+    assert!(covered > 2000);
+    assert!(
+        darker as f64 >= 0.005 * covered as f64,
+        "{darker} of {covered}"
+    );
+    assert_eq!(brighter, 0);
+    // soft:RADIUS through the flag, too.
+    let (soft, soft_depth) = render("soft", &["--shadows", "soft:6"]);
+    assert!(soft_depth == plain_depth);
+    assert!(soft != plain && soft != shadowed);
+}
+
+/// Bad values and methods without shadow rays are usage errors naming the setting.
+#[test]
+fn bad_shadow_values_are_usage_errors() {
+    let dir = fresh_dir("shadows-errors");
+    let (scene, _) = sphere_above_flat(64);
+    let scene_file = dir.join("scene.json");
+    std::fs::write(&scene_file, scene.to_json()).expect("scene");
+    let png = dir.join("out.png");
+    let cases: [(&[&str], &[&str]); 5] = [
+        (
+            &["--shadows", "sometimes"],
+            &["--shadows 'sometimes'", "soft:RADIUS"],
+        ),
+        (&["--shadows", "soft:0"], &["--shadows 'soft:0'", "above 0"]),
+        (&["--shadows", "soft:x"], &["--shadows 'soft:x'", "degrees"]),
+        (
+            &["--shadows", "--method", "fixed"],
+            &["--shadows", "--method exact"],
+        ),
+        (
+            &["--shadows", "--path", "compute"],
+            &["--shadows", "--path fragment"],
+        ),
+    ];
+    for (extra, words) in cases {
+        let mut args = vec!["render", scene_file.to_str().expect("utf-8"), "-o"];
+        args.push(png.to_str().expect("utf-8"));
+        args.extend_from_slice(extra);
+        let out = glyphcast(&args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{extra:?}: {stderr}");
+        for word in words {
+            assert!(stderr.contains(word), "{extra:?}: {word:?} not in {stderr}");
+        }
+        assert!(!stderr.contains("panicked"), "{stderr}");
+    }
+}
