@@ -287,3 +287,36 @@ fn what_the_reciprocal_glyph_cannot_take_is_refused() {
     );
     assert_eq!(std::fs::read_dir(&out).unwrap().count(), 0);
 }
+
+/// Alpha quartz (SiO2), trigonal class 32, GPa: C11 = 86.6, C33 = 106.1, C44 = 57.8,
+/// C12 = 6.7, C13 = 12.6, C14 = -17.8, C66 = (C11 - C12) / 2 (near Heyliger et al.,
+/// 2003).
+const QUARTZ: &str = "86.6 6.7 12.6 -17.8 0 0\n6.7 86.6 12.6 17.8 0 0\n\
+    12.6 12.6 106.1 0 0 0\n-17.8 17.8 0 57.8 0 0\n0 0 0 0 57.8 -17.8\n0 0 0 0 -17.8 39.95\n";
+
+/// Alpha cristobalite (SiO2), tetragonal, GPa: C11 = 59.4, C33 = 42.4, C44 = 67.2,
+/// C66 = 25.7, C12 = 3.8, C13 = -4.4 (Yeganeh-Haeri et al., 1992): auxetic.
+const CRISTOBALITE: &str = "59.4 3.8 -4.4 0 0 0\n3.8 59.4 -4.4 0 0 0\n\
+    -4.4 -4.4 42.4 0 0 0\n0 0 0 67.2 0 0\n0 0 0 0 67.2 0\n0 0 0 0 0 25.7\n";
+
+/// Copper (cubic), GPa: C11 = 168.4, C12 = 121.4, C44 = 75.4: its two shear surfaces
+/// touch along the cube axes and the body diagonals, where every v ⊥ u shears alike.
+const COPPER: &str = "168.4 121.4 121.4 0 0 0\n121.4 168.4 121.4 0 0 0\n\
+    121.4 121.4 168.4 0 0 0\n0 0 0 75.4 0 0\n0 0 0 0 75.4 0\n0 0 0 0 0 75.4\n";
+
+/// The crystals of the shear surfaces, none of which the other surfaces' tests hold.
+const SHEAR_CRYSTALS: [(&str, &str, Option<[f64; 3]>); 3] = [
+    ("quartz", QUARTZ, None),
+    ("cristobalite", CRISTOBALITE, None),
+    ("copper-turned", COPPER, Some([20.0, 35.0, 65.0])),
+];
+
+#[test]
+fn shear_surfaces_lie_on_the_moduli() {
+    for surface in [Surface::ShearMin, Surface::ShearMax] {
+        for (name, content, euler) in SHEAR_CRYSTALS {
+            let m = check_surface(name, content, euler, surface);
+            assert!(m.covered > 0 && m.spread.is_finite() && m.scale_error.is_finite());
+        }
+    }
+}

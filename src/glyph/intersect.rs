@@ -84,6 +84,8 @@ pub struct WorldGlyph {
     /// upper bound of r(u) over the sphere in local units, offset included
     /// (bounding_radius + offset)
     pub bound: f64,
+    /// A plane glyph's T (its `poly` is D); `None` for the other shapes.
+    pub trace: Option<GlyphPolynomial>,
 }
 
 impl WorldGlyph {
@@ -104,6 +106,7 @@ impl WorldGlyph {
             negative,
             offset,
             bound,
+            trace: None,
         }
     }
 
@@ -117,6 +120,7 @@ impl WorldGlyph {
             negative: NegativeMode::Abs,
             offset: 0.0,
             bound: ellipsoid.radius(),
+            trace: None,
         })
     }
 
@@ -132,7 +136,48 @@ impl WorldGlyph {
             negative: NegativeMode::Abs,
             offset: 0.0,
             bound: 1.0 / least.lower,
+            trace: None,
         })
+    }
+
+    /// The plane glyph of `determinant` (D, order 6) and `trace` (T, order 4) with
+    /// `shape` [`GlyphShape::PlaneMin`] or `PlaneMax`, placed at `center` with `scale`;
+    /// `None` where the roots may not be real and positive everywhere (D may vanish, or
+    /// D or T is not positive).
+    pub fn plane(
+        center: DVec3,
+        scale: f64,
+        determinant: GlyphPolynomial,
+        trace: GlyphPolynomial,
+        shape: GlyphShape,
+    ) -> Option<Self> {
+        let bound = plane_bound(&determinant, &trace)?;
+        shape.is_plane().then_some(Self {
+            center,
+            scale,
+            poly: determinant,
+            shape,
+            negative: NegativeMode::Abs,
+            offset: 0.0,
+            bound,
+            trace: Some(trace),
+        })
+    }
+
+    /// A plane glyph's radius along unit `u`: 1/λ of its branch's root of
+    /// λ² − T λ + D = 0, the eigenvalues of the 2x2 restriction by their trace and
+    /// determinant (the smaller one as D / the larger, which does not cancel).
+    pub fn plane_radius(&self, u: DVec3) -> f64 {
+        let (Some(trace), true) = (&self.trace, self.shape.is_plane()) else {
+            return 0.0;
+        };
+        let (t, d) = (trace.eval(u), self.poly.eval(u));
+        let larger = 0.5 * (t + (t * t - 4.0 * d).max(0.0).sqrt());
+        if self.shape == GlyphShape::PlaneMin {
+            1.0 / larger
+        } else {
+            larger / d
+        }
     }
 
     /// Radius of the world bounding sphere around `center`.
@@ -150,6 +195,9 @@ impl WorldGlyph {
             } else {
                 self.offset
             };
+        }
+        if self.shape.is_plane() {
+            return self.plane_radius(q / len) - len;
         }
         let f = self.poly.eval(q / len);
         if self.shape == GlyphShape::Reciprocal {
@@ -225,7 +273,10 @@ impl Chord {
 
     /// Steps 2 to 5 of the module notes.
     fn first_root_polynomial(&self, glyph: &WorldGlyph) -> Option<f64> {
-        let f = self.crossing_polynomial(&glyph.poly, glyph.shape);
+        let f = match &glyph.trace {
+            Some(trace) if glyph.shape.is_plane() => self.plane_polynomial(&glyph.poly, trace),
+            _ => self.crossing_polynomial(&glyph.poly, glyph.shape),
+        };
         let mut points = real_roots_in(&univariate::derivative(&f), -1.0, 1.0);
         points.extend((0..=GRID_POINTS).map(|i| -1.0 + 2.0 * i as f64 / GRID_POINTS as f64));
         points.sort_by(f64::total_cmp);
@@ -259,6 +310,26 @@ impl Chord {
         out.iter_mut()
             .zip(&radial)
             .for_each(|(v, r)| *v -= sign * r);
+        out
+    }
+
+    /// F(s) = T(q)² |q|² − (|q|⁴ + D(q))² of a plane glyph on the chord: both of its
+    /// surfaces (the roots are real and positive), positive between them. Its critical
+    /// points split the chord into pieces with at most one crossing of either surface,
+    /// so the sign changes of the branch's g on them are every crossing of the branch.
+    fn plane_polynomial(&self, determinant: &GlyphPolynomial, trace: &GlyphPolynomial) -> Vec<f64> {
+        let a = self.a + self.mid() * self.d;
+        let b = self.half() * self.d;
+        let t = trace.along_line(a, b);
+        let d = determinant.along_line(a, b);
+        let length_squared = [a.length_squared(), 2.0 * a.dot(b), b.length_squared()];
+        let mut outer = univariate::multiply(&length_squared, &length_squared);
+        outer.resize(outer.len().max(d.len()), 0.0);
+        outer.iter_mut().zip(&d).for_each(|(o, d)| *o += d);
+        let mut out = univariate::multiply(&univariate::multiply(&t, &t), &length_squared);
+        let square = univariate::multiply(&outer, &outer);
+        out.resize(out.len().max(square.len()), 0.0);
+        out.iter_mut().zip(&square).for_each(|(o, s)| *o -= s);
         out
     }
 
@@ -391,6 +462,20 @@ fn newton_bisection(p: &[f64], mut a: f64, mut b: f64, sign_a: i8) -> f64 {
         x = next;
     }
     x
+}
+
+/// A guaranteed bound of a plane glyph's radius 1/λ over the sphere: 1/λ ≤ λ' / D ≤ T / D
+/// (λ' the other root, both positive), so max |T| / min |D| by the bounds of
+/// [`super::bounds`]. `None` where D may vanish or D or T is not positive (at x, which
+/// stands for every direction once D has no zero: the roots cannot change sign).
+pub fn plane_bound(determinant: &GlyphPolynomial, trace: &GlyphPolynomial) -> Option<f64> {
+    let least = super::bounds::least_abs(determinant)?;
+    let x = DVec3::X;
+    if !(least.lower > 0.0 && determinant.eval(x) > 0.0 && trace.eval(x) > 0.0) {
+        return None;
+    }
+    let bound = bounding_radius(trace, NegativeMode::Abs) / least.lower;
+    (bound.is_finite() && bound > 0.0).then_some(bound)
 }
 
 #[cfg(test)]
