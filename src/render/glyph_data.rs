@@ -519,5 +519,6 @@ fn bound_ellipsoid(coeffs: &[f64], world: WorldGlyphs) -> Result<Option<Bounded>
             WorldGlyphs::Leave => None,
         },
         bounds,
+        trace: None,
     }))
 }
