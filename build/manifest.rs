@@ -5,9 +5,8 @@
 //! the exact method's reciprocal variant for every even order and its plane variant for
 //! the symmetric `PLANE_ORDER`.
 use crate::catalog::{
-    ELLIPSOID_METHOD, ELLIPSOID_ORDER, MAX_NONSYMMETRIC_ORDER, MAX_SYMMETRIC_ORDER,
-    PLANE_METHOD, PLANE_ORDER, RAY_CAST_METHODS, RECIPROCAL_METHOD, RayCastMethod,
-    reciprocal_order,
+    ELLIPSOID_METHOD, ELLIPSOID_ORDER, MAX_NONSYMMETRIC_ORDER, MAX_SYMMETRIC_ORDER, PLANE_METHOD,
+    PLANE_ORDER, RAY_CAST_METHODS, RECIPROCAL_METHOD, RayCastMethod, reciprocal_order,
 };
 use std::collections::BTreeMap;
 

@@ -261,7 +261,10 @@ mod tests {
             &columns,
         );
         let skipped = pivot(
-            &[result("exact", 100, 2.5), result("exact (compute)", 100, 0.5)],
+            &[
+                result("exact", 100, 2.5),
+                result("exact (compute)", 100, 0.5),
+            ],
             &columns,
         );
         let header = full.lines().next().unwrap();

@@ -48,7 +48,9 @@ impl<'a> Batch<'a> {
     /// The glyphs' float32 coefficients, `layout.coefficient_count()` per glyph (a plane
     /// glyph's T's after them).
     pub fn coefficients(&self) -> Result<Cow<'a, [f32]>> {
-        let per_glyph = self.shape.coefficient_count(self.layout.coefficient_count());
+        let per_glyph = self
+            .shape
+            .coefficient_count(self.layout.coefficient_count());
         self.gather(per_glyph, |d| &d.coefficients)
     }
 

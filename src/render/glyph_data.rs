@@ -432,7 +432,11 @@ fn bound_glyph(
 /// in the normalised frame q = p / B the roots B λ: D's coefficients times B², T's times
 /// B. Roots that may vanish or not be positive somewhere (an unstable crystal) are
 /// refused. `None` for a zero D.
-fn bound_plane(layout: TensorLayout, coeffs: &[f64], world: WorldGlyphs) -> Result<Option<Bounded>> {
+fn bound_plane(
+    layout: TensorLayout,
+    coeffs: &[f64],
+    world: WorldGlyphs,
+) -> Result<Option<Bounded>> {
     let (d, t) = coeffs.split_at(layout.coefficient_count().min(coeffs.len()));
     let determinant = GlyphPolynomial::from_tensor(layout, d)?;
     let trace = GlyphPolynomial::from_tensor(crate::glyph::PLANE_TRACE_LAYOUT, t)?;

@@ -323,9 +323,16 @@ mod tests {
                 let t = form_at(&forms.trace, 4, u);
                 let d = form_at(&forms.determinant, 6, u);
                 let root = (t * t - 4.0 * d).max(0.0).sqrt();
-                let lambda = if larger { (t + root) / 2.0 } else { (t - root) / 2.0 };
+                let lambda = if larger {
+                    (t + root) / 2.0
+                } else {
+                    (t - root) / 2.0
+                };
                 let g = copper.radius(surface, u).unwrap();
-                assert!((lambda * g - 1.0).abs() < 1e-12, "{surface:?} {u:?}: {lambda} {g}");
+                assert!(
+                    (lambda * g - 1.0).abs() < 1e-12,
+                    "{surface:?} {u:?}: {lambda} {g}"
+                );
             }
         }
         assert!(copper.plane_forms(Surface::Young).is_none());

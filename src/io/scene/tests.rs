@@ -283,8 +283,16 @@ fn the_plane_shapes_read_d_then_t() {
         let written = Scene::from_json_str(&scene.to_json(), FILE).expect("written");
         assert_eq!(written, scene);
     }
-    assert_input_error(parse(&plane("plane-min", 28, 6)), "glyphs[0].coeffs[0]", "then T");
-    assert_input_error(parse(&plane("plane-max", 15, 4)), "glyphs[0].shape", "order 6");
+    assert_input_error(
+        parse(&plane("plane-min", 28, 6)),
+        "glyphs[0].coeffs[0]",
+        "then T",
+    );
+    assert_input_error(
+        parse(&plane("plane-max", 15, 4)),
+        "glyphs[0].shape",
+        "order 6",
+    );
     let hidden = edited(|doc| {
         let set = glyph_set(doc);
         set.insert("shape".into(), json!("plane-min"));

@@ -85,9 +85,7 @@ fn parse_surface(text: &str) -> std::result::Result<DrawnSurface, String> {
                  or shear-max",
                 surface.name()
             )),
-            None => Err(
-                "expected reynolds, young, compressibility, shear-min or shear-max".into(),
-            ),
+            None => Err("expected reynolds, young, compressibility, shear-min or shear-max".into()),
         },
     }
 }
@@ -199,18 +197,13 @@ fn surface_glyph(material: &Material, surface: Surface) -> Result<RowGlyph> {
     let refused = |message: String| Error::input(&material.file, "voigt", message);
     let largest = material.stiffness.largest_radius(surface);
     if let Some(forms) = material.stiffness.plane_forms(surface) {
-        return RowGlyph::of_plane(
-            &forms.determinant,
-            &forms.trace,
-            forms.larger_root,
-            largest,
-        )
-        .map_err(|e| {
-            refused(format!(
-                "{}'s surface: {e} (a mechanically unstable crystal)",
-                surface.name()
-            ))
-        });
+        return RowGlyph::of_plane(&forms.determinant, &forms.trace, forms.larger_root, largest)
+            .map_err(|e| {
+                refused(format!(
+                    "{}'s surface: {e} (a mechanically unstable crystal)",
+                    surface.name()
+                ))
+            });
     }
     let form = material
         .stiffness
