@@ -320,3 +320,61 @@ fn shear_surfaces_lie_on_the_moduli() {
         }
     }
 }
+
+/// What the shear surfaces cannot be drawn with is refused with exit status 1, one error
+/// naming the plane glyphs and the setting, and no output: the other methods, the compute
+/// path, an offset. Poisson's surfaces are refused by `stiffness` itself, naming the
+/// surface, with a non-zero status and no scene written.
+#[test]
+fn what_the_shear_surfaces_cannot_take_is_refused() {
+    let dir = common::fresh_dir("material_surfaces/shear-refusals");
+    let out = common::fresh_dir("material_surfaces/shear-refusals-out");
+    let input = dir.join("quartz.txt");
+    std::fs::write(&input, QUARTZ).unwrap();
+    let scene = dir.join("scene.json");
+    run(&[
+        "stiffness",
+        text(&input),
+        "--surface",
+        "shear-max",
+        "-o",
+        text(&scene),
+    ]);
+    let png = out.join("x.png");
+    let render = |extra: &[&str], words: &[&str]| {
+        let mut args = vec!["render", text(&scene), "-o", text(&png)];
+        args.extend(extra);
+        common::expect_failure(&args, &out, words);
+    };
+    render(&["--method", "fixed"], &["plane", "fixed"]);
+    render(&["--method", "affine"], &["plane", "affine"]);
+    render(&["--path", "compute"], &["plane", "compute"]);
+    render(
+        &["--method", "fixed", "--offset", "0.1"],
+        &["plane", "offset"],
+    );
+    // The scene itself draws.
+    run(&["render", text(&scene), "-o", text(&png)]);
+    std::fs::remove_file(&png).unwrap();
+
+    for surface in ["poisson-min", "poisson-max"] {
+        let written = out.join("poisson.json");
+        let args = [
+            "stiffness",
+            text(&input),
+            "--surface",
+            surface,
+            "-o",
+            text(&written),
+        ];
+        let done = common::glyphcast(&args);
+        let stderr = String::from_utf8_lossy(&done.stderr);
+        assert!(!done.status.success(), "{surface}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{surface}: {stderr}");
+        assert!(
+            stderr.contains(surface) && stderr.contains("not drawn"),
+            "{surface}: {stderr}"
+        );
+        assert_eq!(std::fs::read_dir(&out).unwrap().count(), 0, "{surface}");
+    }
+}

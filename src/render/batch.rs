@@ -183,7 +183,7 @@ mod tests {
                 ..set(2, NegativeMode::Abs, 2, 40.0)
             },
         ];
-        let batches = batches(&sets, u64::MAX, |_| 4).unwrap();
+        let batches = batches(&sets, u64::MAX, |_, _| 4).unwrap();
         let shape: Vec<_> = batches
             .iter()
             .map(|b| (b.layout.order, b.shape, b.negative, b.len()))

@@ -327,10 +327,19 @@ pub fn largest_radius(glyphs: &[WorldGlyph]) -> f64 {
             GlyphShape::Polynomial => {
                 climbed_max_radius(&glyph.poly, glyph.negative, sizing_lattice(), 3)
             }
-            // The largest radius on the sizing lattice (a lower bound).
+            // The largest radius found from the sizing lattice, its best points climbed
+            // (a lower bound that reaches the cone tips where a plane glyph's two
+            // surfaces touch, which a lattice misses).
             GlyphShape::PlaneMin | GlyphShape::PlaneMax => {
-                crate::glyph::bounds::fibonacci_sphere(200)
-                    .map(|u| glyph.plane_radius(u))
+                let mut samples: Vec<(f64, glam::DVec3)> =
+                    crate::glyph::bounds::fibonacci_sphere(200)
+                        .map(|u| (glyph.plane_radius(u), u))
+                        .collect();
+                samples.sort_by(|a, b| b.0.total_cmp(&a.0));
+                samples
+                    .iter()
+                    .take(8)
+                    .map(|&(r, u)| crate::glyph::intersect::climb(|v| glyph.plane_radius(v), r, u))
                     .fold(0.0, f64::max)
             }
         };
