@@ -466,8 +466,8 @@ fn newton_bisection(p: &[f64], mut a: f64, mut b: f64, sign_a: i8) -> f64 {
 
 /// A guaranteed bound of a plane glyph's radius 1/λ over the sphere (both roots, so
 /// both surfaces lie inside it): the largest radius on a fine sample of directions, raised
-/// by a margin and proven to bound every direction ([`plane_radii_below`]); where no
-/// raised sample is proven (within [`PLANE_BOUND_MARGINS`]), the crude bound
+/// by a margin and proven to bound every direction (see `plane_radii_below`); where no
+/// raised sample is proven (within `PLANE_BOUND_MARGINS`), the crude bound
 /// 1/λ ≤ λ' / D ≤ T / D (λ' the other root, both positive), max |T| / min |D| by the
 /// bounds of [`super::bounds`]. `None` where D may vanish or D or T is not positive (at x,
 /// which stands for every direction once D has no zero: the roots cannot change sign).
