@@ -1,6 +1,7 @@
 //! The GLSL glyph functions of one tensor layout (`glyph_load`, `glyph_f`,
 //! `glyph_f_grad`), written from the monomial list shared with the float64 reference.
 use crate::Symmetry;
+use crate::catalog::PLANE_ORDER;
 use crate::fail;
 use crate::monomials::{Monomial, monomials, multiplicity, nonsymmetric_entry_monomial};
 use std::collections::BTreeMap;
@@ -16,6 +17,9 @@ fn monomial_product(m: Monomial) -> Vec<String> {
         .flatten()
         .collect()
 }
+
+/// The order of a plane glyph's T.
+const PLANE_TRACE_ORDER: u32 = 4;
 
 /// GLSL for `glyph_load`, `glyph_f` and `glyph_f_grad` of one tensor layout.
 pub fn glyph_function(order: u32, symmetry: Symmetry) -> String {
@@ -34,10 +38,27 @@ pub fn glyph_function(order: u32, symmetry: Symmetry) -> String {
         }
     );
     let _ = writeln!(s, "const uint GLYPH_ORDER = {order}u;");
+    // The plane glyph (GLYPHCAST_PLANE, D of this layout) keeps its T's monomial
+    // coefficients after D's, in the buffer and in glyph_c.
+    let plane = symmetry == Symmetry::Symmetric && order == PLANE_ORDER;
+    let trace = monomials(PLANE_TRACE_ORDER);
+    if plane {
+        let _ = writeln!(
+            s,
+            "#ifdef GLYPHCAST_PLANE\nconst uint GLYPH_STRIDE = {}u;\n#define GLYPH_MONOMIALS {}\n\
+             const int PLANE_TRACE_FIRST = {};\n#else",
+            stride + trace.len(),
+            monos.len() + trace.len(),
+            monos.len()
+        );
+    }
     let _ = writeln!(s, "const uint GLYPH_STRIDE = {stride}u;");
     // A macro, so that raycast.vert (shared by every layout when compiled without a
     // glyph function) can test for it: the number of monomial coefficients.
     let _ = writeln!(s, "#define GLYPH_MONOMIALS {}", monos.len());
+    if plane {
+        s.push_str("#endif\n");
+    }
     // The order as a macro too, for checks at compile time (raycast_exact.frag).
     let _ = writeln!(s, "#define GLYPH_ORDER_MACRO {order}");
     let _ = writeln!(s, "float glyph_c[GLYPH_MONOMIALS];\n");
@@ -56,6 +77,18 @@ pub fn glyph_function(order: u32, symmetry: Symmetry) -> String {
                     "    glyph_c[{k}] = {}.0 * coeffs[b + {k}u];",
                     multiplicity(*m)
                 );
+            }
+            if plane {
+                s.push_str("#ifdef GLYPHCAST_PLANE\n");
+                for (k, m) in trace.iter().enumerate() {
+                    let k = k + monos.len();
+                    let _ = writeln!(
+                        s,
+                        "    glyph_c[{k}] = {}.0 * coeffs[b + {k}u];",
+                        multiplicity(*m)
+                    );
+                }
+                s.push_str("#endif\n");
             }
         }
         Symmetry::NonSymmetric => {
@@ -76,6 +109,18 @@ pub fn glyph_function(order: u32, symmetry: Symmetry) -> String {
     }
     s.push_str("}\n\n");
 
+    form_functions(&mut s, order, &monos, "glyph_f", 0);
+    if plane {
+        s.push_str("\n#ifdef GLYPHCAST_PLANE\n");
+        form_functions(&mut s, PLANE_TRACE_ORDER, &trace, "plane_t", monos.len());
+        s.push_str("#endif\n");
+    }
+    s
+}
+
+/// GLSL for `{name}(q)` and `{name}_grad(q, out grad)`: the form of `order` whose
+/// monomial coefficients are glyph_c[first..].
+fn form_functions(s: &mut String, order: u32, monos: &[Monomial], name: &str, first: usize) {
     let powers = |s: &mut String| {
         for (var, comp) in [('x', 'x'), ('y', 'y'), ('z', 'z')] {
             let _ = writeln!(s, "    float {var}1 = q.{comp};");
@@ -91,23 +136,23 @@ pub fn glyph_function(order: u32, symmetry: Symmetry) -> String {
             .join(" * ")
     };
 
-    s.push_str("float glyph_f(vec3 q) {\n");
-    powers(&mut s);
+    let _ = writeln!(s, "float {name}(vec3 q) {{");
+    powers(s);
     s.push_str("    float f = 0.0;\n");
     for (k, m) in monos.iter().enumerate() {
         let _ = writeln!(
             s,
             "    f += {};",
-            term(format!("glyph_c[{k}]"), monomial_product(*m))
+            term(format!("glyph_c[{}]", k + first), monomial_product(*m))
         );
     }
     s.push_str("    return f;\n}\n\n");
 
-    s.push_str("float glyph_f_grad(vec3 q, out vec3 grad) {\n");
-    powers(&mut s);
+    let _ = writeln!(s, "float {name}_grad(vec3 q, out vec3 grad) {{");
+    powers(s);
     s.push_str("    float f = 0.0;\n    vec3 g = vec3(0.0);\n");
     for (k, m) in monos.iter().enumerate() {
-        let c = format!("glyph_c[{k}]");
+        let c = format!("glyph_c[{}]", k + first);
         let _ = writeln!(s, "    f += {};", term(c.clone(), monomial_product(*m)));
         let parts = [
             (
@@ -146,5 +191,4 @@ pub fn glyph_function(order: u32, symmetry: Symmetry) -> String {
         }
     }
     s.push_str("    grad = g;\n    return f;\n}\n");
-    s
 }

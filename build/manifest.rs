@@ -2,10 +2,11 @@
 //! `src/catalog.rs`: every symmetric order up to `MAX_SYMMETRIC_ORDER` and every
 //! non-symmetric order up to `MAX_NONSYMMETRIC_ORDER`, each with every ray-casting
 //! method, the ellipsoid's closed-form shader for the symmetric `ELLIPSOID_ORDER`, and
-//! the exact method's reciprocal variant for every even order.
+//! the exact method's reciprocal variant for every even order and its plane variant for
+//! the symmetric `PLANE_ORDER`.
 use crate::catalog::{
-    ELLIPSOID_METHOD, ELLIPSOID_ORDER, MAX_NONSYMMETRIC_ORDER, MAX_SYMMETRIC_ORDER,
-    RAY_CAST_METHODS, RECIPROCAL_METHOD, RayCastMethod, reciprocal_order,
+    ELLIPSOID_METHOD, ELLIPSOID_ORDER, MAX_NONSYMMETRIC_ORDER, MAX_SYMMETRIC_ORDER, PLANE_METHOD,
+    PLANE_ORDER, RAY_CAST_METHODS, RECIPROCAL_METHOD, RayCastMethod, reciprocal_order,
 };
 use std::collections::BTreeMap;
 
@@ -35,6 +36,9 @@ pub fn variants() -> BTreeMap<(Symmetry, u32), Vec<RayCastMethod>> {
         if reciprocal_order(*order) {
             methods.push(RECIPROCAL_METHOD);
         }
+    }
+    if let Some(methods) = variants.get_mut(&(Symmetry::Symmetric, PLANE_ORDER)) {
+        methods.push(PLANE_METHOD);
     }
     variants
 }

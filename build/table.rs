@@ -183,12 +183,28 @@ fn layout_jobs(
         // The exact method casts shadows (--shadows) with a fragment shader of its own.
         let shadows = (file == "raycast_exact.frag" && method.define.is_none())
             .then(|| format!("{label}_{method_name}_shadows"));
+        // A method whose define changes the vertex shader's outputs has its own.
+        let own_vertex = format!("{label}_{method_name}_vertex");
+        if method.own_vertex {
+            let mut own = job(
+                own_vertex.clone(),
+                "raycast.vert",
+                shaderc::ShaderKind::Vertex,
+                source,
+                1,
+            );
+            own.optimize = true;
+            own.defines.extend(method.define);
+            jobs.push(own);
+        }
         let _ = writeln!(
             rows.raycast,
             "    RaycastShader {{ layout: {layout}, method: Method::{}, vertex: {}, \
              fragment: {}, color_only_fragment: {}, shadows_fragment: {} }},",
             method_variant(method_name),
-            spirv_entry(if method.uses_ranges {
+            spirv_entry(if method.own_vertex {
+                &own_vertex
+            } else if method.uses_ranges {
                 &vertex_index
             } else {
                 &vertex
@@ -205,7 +221,7 @@ fn layout_jobs(
         let kind = shaderc::ShaderKind::Fragment;
         // The default method's shaders are optimised (see build/compile.rs), which
         // costs the most build time: they start first.
-        // (the exact method's reciprocal variant is the same shader).
+        // (the exact method's reciprocal and plane variants are the same shader).
         let optimize = file == "raycast_exact.frag";
         let weight = if optimize { 100 * weight } else { weight };
         let mut fragment = job(fragment, file, kind, source, weight);

@@ -12,7 +12,19 @@
 #endif
 
 const int N = int(GLYPH_ORDER);
-#ifdef GLYPHCAST_RECIPROCAL
+#if defined(GLYPHCAST_PLANE)
+// The plane glyph r = 1/λ, λ² − T λ + D = 0 (build/table.rs compiles this variant for
+// D's layout, order 6; T has order 4 and follows D in glyph_c). With λ = 1/|q| and the
+// forms T(q), D(q) of the normalised frame, |q|⁴ − T(q) |q| + D(q) = 0 on both roots'
+// surfaces, and squared, F = T(q)² |q|² − (|q|⁴ + D(q))², of degree 12: its other
+// factor |q|⁴ + T |q| + D has no zero, as T and D are positive. F is positive between
+// the two surfaces and negative inside the inner one and outside the outer one; each
+// root is kept or passed over by its branch (plane_root_kept), as the hide filter does.
+// The k of the Newton steps' G = F / |q|^(2k): G = T(q^)² |q|² − (1 + D(q^) |q|²)².
+const int NT = 4;
+const int D = 12;
+const int G_EXPONENT = 4;
+#elif defined(GLYPHCAST_RECIPROCAL)
 // The reciprocal glyph r = 1/|f| (build/table.rs compiles this variant for even orders):
 // inside |f(q)| < |q|^(n-1), so F = (q . q)^(n-1) - f(q)^2, of degree 2n, is positive
 // inside as the polynomial glyph's F is. The power n - 1 of q . q and its highest set
@@ -60,6 +72,12 @@ float half_p1[N + 1];
 float half_f0[D + 1];
 float half_f1[D + 1];
 float node_f[D + 1];       // F on the current piece of the segment, Bernstein basis
+#ifdef GLYPHCAST_PLANE
+float ray_t[N + 1];        // T(mid + tau d), degree NT (the rest 0)
+float segment_t[N + 1];    // T(s a + t b) = sum_i segment_t[i] s^(NT-i) t^i
+float half_t0[N + 1];
+float half_t1[N + 1];
+#endif
 
 void init_binomials() {
     uint c = 1u;
@@ -85,6 +103,67 @@ void times_linear(inout float p[N + 1], int top, float c0, float c1) {
     p[0] *= c0;
 }
 
+#ifdef GLYPHCAST_PLANE
+// p: the coefficients of the form of order m whose monomial coefficients start at
+// glyph_c[first], along a + tau b (m is N, or NT for a plane glyph's T).
+void ray_polynomial_of(vec3 a, vec3 b, int m_order, int first, out float p[N + 1]) {
+    // f = sum over x powers (descending) of x^(n-m) P_m(y, z), Horner in x; each P_m is
+    // Horner in y with z powers growing (glyph_c's monomial order, as in
+    // GlyphPolynomial::along_line). Numbers become linear polynomials in tau. This is
+    // exact algebra: each coefficient is rounded relative to the sizes of its own terms,
+    // ~|mid|^(n-k) |d|^k, so the small ones near the centre stay accurate.
+    [[unroll]] for (int i = 0; i <= N; ++i) {
+        p[i] = 0.0;
+    }
+    // (a.z + tau b.z)^j, shared by every P_m.
+    float z_pow[N + 1][N + 1];
+    [[unroll]] for (int j = 0; j <= N; ++j) {
+        [[unroll]] for (int i = 0; i <= N; ++i) {
+            z_pow[j][i] = i == 0 && j == 0 ? 1.0 : 0.0;
+        }
+        if (j > 0) {
+            z_pow[j] = z_pow[j - 1];
+            times_linear(z_pow[j], j, a.z, b.z);
+        }
+    }
+    int k = first;
+    [[unroll]] for (int m = 0; m <= N; ++m) {
+        if (m <= m_order) {
+            float yz[N + 1];
+            [[unroll]] for (int i = 0; i <= N; ++i) {
+                yz[i] = 0.0;
+            }
+            [[unroll]] for (int j = 0; j <= N; ++j) {
+                if (j <= m) {
+                    times_linear(yz, j, a.y, b.y);
+                    float c = glyph_c[k];
+                    k += 1;
+                    [[unroll]] for (int i = 0; i <= N; ++i) {
+                        if (i <= j) {
+                            yz[i] += c * z_pow[j][i];
+                        }
+                    }
+                }
+            }
+            times_linear(p, m, a.x, b.x);
+            [[unroll]] for (int i = 0; i <= N; ++i) {
+                if (i <= m) {
+                    p[i] += yz[i];
+                }
+            }
+        }
+    }
+}
+
+// ray_p: the coefficients of f(a + tau b), called with a = mid and b = d; a plane glyph's
+// ray_t too.
+void ray_polynomial(vec3 a, vec3 b) {
+    ray_polynomial_of(a, b, N, 0, ray_p);
+#ifdef GLYPHCAST_PLANE
+    ray_polynomial_of(a, b, NT, PLANE_TRACE_FIRST, ray_t);
+#endif
+}
+#else
 // ray_p: the coefficients of f(a + tau b), called with a = mid and b = d.
 void ray_polynomial(vec3 a, vec3 b) {
     // f = sum over x powers (descending) of x^(n-m) P_m(y, z), Horner in x; each P_m is
@@ -132,7 +211,125 @@ void ray_polynomial(vec3 a, vec3 b) {
         }
     }
 }
+#endif
 
+#ifdef GLYPHCAST_PLANE
+// The form of degree m in (s, t) = (1 - u, u) of a ray polynomial of degree m on the
+// segment from tau = near over width (reversed: from near backwards): re-expanded about
+// near (a Taylor shift, small there) and scaled to u in [0, 1], then turned into the
+// Bernstein basis by prefix sums. m is N, or NT for a plane glyph's T.
+void segment_form_of(float ray[N + 1], int m, float near, float width, bool reversed,
+                     out float form[N + 1]) {
+    float e[N + 1] = ray;
+    [[unroll]] for (int i = 0; i < N; ++i) {
+        [[unroll]] for (int step = 0; step < N; ++step) {
+            int j = N - 1 - step;
+            if (j >= i) {
+                e[j] += near * e[j + 1];
+            }
+        }
+    }
+    // C(m, j), exact in float32 for m <= 12.
+    float binomial_m[N + 1];
+    float c = 1.0;
+    float width_pow = 1.0;
+    [[unroll]] for (int j = 0; j <= N; ++j) {
+        binomial_m[j] = j <= m ? c : 1.0;
+        c = c * float(m - j) / float(j + 1);
+        e[j] *= width_pow / binomial_m[j];
+        width_pow *= width;
+    }
+    [[unroll]] for (int r = 0; r < N; ++r) {
+        [[unroll]] for (int step = 0; step < N; ++step) {
+            int i = N - step;
+            if (r < m && i > r && i <= m) {
+                e[i] += e[i - 1];
+            }
+        }
+    }
+    [[unroll]] for (int i = 0; i <= N; ++i) {
+        form[i] = i <= m ? binomial_m[i] * (reversed ? e[m - i] : e[i]) : 0.0;
+    }
+}
+
+// p <- p (s + t)^2 for p of degree top - 2 (the entries above it 0): the same form in
+// degree top.
+void lift_by_two(inout float p[D + 1], int top) {
+    [[unroll]] for (int step = 0; step < D - 1; ++step) {
+        int i = top - step;
+        if (i >= 2) {
+            p[i] += 2.0 * p[i - 1] + p[i - 2];
+        }
+    }
+    p[1] += 2.0 * p[0];
+}
+
+// segment_f of a plane glyph, F = T² |q|² (s + t)² − (|q|⁴ (s + t)² + D)² as a form of
+// degree 12, from segment_t, segment_p (D) and q . q = q.x s² + q.y s t + q.z t², whose
+// coefficients are positive on a segment that does not pass mid. Each product is formed
+// from the forms' own coefficients, so each of F's is rounded relative to its terms.
+void plane_segment_f(vec3 q) {
+    float trace_part[D + 1];
+    float outer[D + 1];
+    [[unroll]] for (int i = 0; i <= D; ++i) {
+        trace_part[i] = 0.0;
+        outer[i] = 0.0;
+    }
+    // T², degree 8.
+    [[unroll]] for (int i = 0; i <= NT; ++i) {
+        [[unroll]] for (int j = 0; j <= NT; ++j) {
+            trace_part[i + j] += segment_t[i] * segment_t[j];
+        }
+    }
+    // T² |q|², degree 10, lifted to 12.
+    [[unroll]] for (int top = 0; top < D - 1; ++top) {
+        int i = D - top;
+        if (i >= 2) {
+            trace_part[i] = trace_part[i] * q.x + trace_part[i - 1] * q.y
+                          + trace_part[i - 2] * q.z;
+        }
+    }
+    trace_part[1] = trace_part[1] * q.x + trace_part[0] * q.y;
+    trace_part[0] *= q.x;
+    lift_by_two(trace_part, D);
+    // |q|⁴, degree 4, lifted to 6, plus D.
+    outer[0] = q.x * q.x;
+    outer[1] = 2.0 * q.x * q.y;
+    outer[2] = q.y * q.y + 2.0 * q.x * q.z;
+    outer[3] = 2.0 * q.y * q.z;
+    outer[4] = q.z * q.z;
+    lift_by_two(outer, N);
+    [[unroll]] for (int i = 0; i <= N; ++i) {
+        outer[i] += segment_p[i];
+    }
+    float square[D + 1];
+    [[unroll]] for (int i = 0; i <= D; ++i) {
+        square[i] = 0.0;
+    }
+    [[unroll]] for (int i = 0; i <= N; ++i) {
+        [[unroll]] for (int j = 0; j <= N; ++j) {
+            square[i + j] += outer[i] * outer[j];
+        }
+    }
+    [[unroll]] for (int i = 0; i <= D; ++i) {
+        segment_f[i] = (trace_part[i] - square[i]) / binomial[i];
+    }
+}
+
+// segment_p, segment_t and segment_f for the segment tau in [tau0, tau1] (ray order),
+// which does not pass mid: D and T as forms in (s, t) = (1 - u, u) (segment_form_of), and
+// F in the segment's Bernstein basis (plane_segment_f).
+void segment_polynomials(vec3 mid, vec3 d, float tau0, float tau1) {
+    bool reversed = abs(tau1) < abs(tau0);
+    float near = reversed ? tau1 : tau0;
+    float width = reversed ? tau0 - tau1 : tau1 - tau0;
+    segment_form_of(ray_p, N, near, width, reversed, segment_p);
+    segment_form_of(ray_t, NT, near, width, reversed, segment_t);
+    vec3 a = mid + tau0 * d;
+    vec3 b = mid + tau1 * d;
+    plane_segment_f(vec3(dot(a, a), 2.0 * dot(a, b), dot(b, b)));
+}
+#else
 // segment_p and segment_f for the segment tau in [tau0, tau1] (ray order), which does not
 // pass mid. p is re-expanded about the segment's end nearer mid (a Taylor shift, small
 // there) and scaled to u in [0, 1], then turned into the Bernstein basis by prefix sums,
@@ -243,6 +440,7 @@ void segment_polynomials(vec3 mid, vec3 d, float tau0, float tau1) {
     }
 #endif
 }
+#endif
 
 // The traversal keeps F on the part of the half not yet visited, [rest_start, 1], in
 // rest_f. The next piece [rest_start, u1] is its left part at s = (u1 - rest_start) /
@@ -341,7 +539,7 @@ float node_root(float tau_at_0, float tau_per_x, float mid2, float d2) {
         float tau = tau_at_0 + x * tau_per_x;
         float r = mid2 + tau * tau * d2;
         float r_slope = 2.0 * d2 * tau * tau_per_x;
-#ifdef GLYPHCAST_RECIPROCAL
+#if defined(GLYPHCAST_RECIPROCAL) || defined(GLYPHCAST_PLANE)
         float step = step_f / (1.0 - float(G_EXPONENT) * r_slope / r * step_f);
 #else
         float step = step_f / (1.0 - float(N) * r_slope / r * step_f);
@@ -381,8 +579,34 @@ float half_p_sign(int half_index, float u) {
 }
 
 bool hide_negative() {
+#ifdef GLYPHCAST_PLANE
+    // The word names a plane glyph's root; it has no negative lobes.
+    return false;
+#else
     return glyph_set.hide_negative == NEGATIVE_HIDE;
+#endif
 }
+
+#ifdef GLYPHCAST_PLANE
+// Whether the root at u on a half, where |q|² = length2, is kept: the plane glyph's
+// root of the set's branch. The larger root λ = 1/|q| has
+// 2 λ ≥ T(q^), that is 2 |q|³ ≥ T(q), with T(q) from the half's form of degree NT.
+bool root_kept(int half_index, float u, float length2) {
+    float r = u / (1.0 - u);
+    float w = (1.0 - u) / u;
+    float from_start = 0.0;
+    float from_end = 0.0;
+    [[unroll]] for (int step = 0; step <= NT; ++step) {
+        from_start = from_start * r + (half_index == 0 ? half_t0[NT - step] : half_t1[NT - step]);
+        from_end = from_end * w + (half_index == 0 ? half_t0[step] : half_t1[step]);
+    }
+    float s4 = pow(1.0 - u, 4.0);
+    float t4 = pow(u, 4.0);
+    float trace = u <= 0.5 ? from_start * s4 : from_end * t4;
+    bool larger = 2.0 * length2 * sqrt(length2) >= trace;
+    return larger == (glyph_set.hide_negative == PLANE_MIN);
+}
+#endif
 
 // The traversal of the pieces of both halves in ray order (step 3). One loop visits the
 // pieces of both halves, and the Newton refinement and the hide filter run after it, not
@@ -535,9 +759,15 @@ bool first_crossing(vec3 mid, vec3 d, float tau_start, float tau_end, out float 
     segment_polynomials(mid, d, lo0, hi0);
     half_f0 = segment_f;
     half_p0 = segment_p;
+#ifdef GLYPHCAST_PLANE
+    half_t0 = segment_t;
+#endif
     segment_polynomials(mid, d, lo1, hi1);
     half_f1 = segment_f;
     half_p1 = segment_p;
+#ifdef GLYPHCAST_PLANE
+    half_t1 = segment_t;
+#endif
     bool hide = hide_negative();
     // Inside at the end of half 0 and at the start of half 1.
     bool end0_inside = half_f0[D] > 0.0 && (!hide || half_p0[N] > 0.0);
@@ -576,7 +806,12 @@ bool first_crossing(vec3 mid, vec3 d, float tau_start, float tau_end, out float 
         float hi = visit_half == 0 ? hi0 : hi1;
         float u0 = rest_start;
         float u = mix(u0, u1, node_root(mix(lo, hi, u0), (hi - lo) * (u1 - u0), a, dot(d, d)));
+#ifdef GLYPHCAST_PLANE
+        float tau_u = mix(lo, hi, u);
+        if (root_kept(visit_half, u, a + tau_u * tau_u * dot(d, d))) {
+#else
         if (!hide || half_p_sign(visit_half, u) > 0.0) {
+#endif
             found = true;
             found_half = visit_half;
             tau = mix(lo, hi, u);

@@ -41,7 +41,8 @@ layout(std430, set = 0, binding = 1) readonly buffer Coefficients {
 };
 
 layout(push_constant) uniform GlyphSetParams {
-    uint hide_negative;   // scene format `negative`: NEGATIVE_ABS or NEGATIVE_HIDE
+    uint hide_negative;   // scene format `negative`: NEGATIVE_ABS or NEGATIVE_HIDE;
+                          // a plane glyph's root: PLANE_MIN or PLANE_MAX
 #ifdef GLYPHCAST_COMPUTE
     // The compute ray caster's dispatch (src/render/compute.rs, ComputeParams): which
     // slice of each tile's list it walks, and the image size.

@@ -9,7 +9,19 @@ float shape(float f) {
 }
 
 // g > 0 inside the glyph. Coordinates are normalised so the bound is 1 + offset.
-#ifdef GLYPHCAST_RECIPROCAL
+#if defined(GLYPHCAST_PLANE)
+// The plane glyph (exact method only, no offset): g = T(q^) |q| − 1 − D(q^) |q|², which
+// is −|q|² (λ² − T λ + D) at λ = 1/|q|, positive between its two surfaces, as the exact
+// method's F is (the centre zone samples it; both surfaces lie far outside the zone).
+float inside(vec3 q) {
+    float len = length(q);
+    if (len < 1e-20) {
+        return -1.0;
+    }
+    vec3 u = q / len;
+    return plane_t(u) * len - 1.0 - glyph_f(u) * len * len;
+}
+#elif defined(GLYPHCAST_RECIPROCAL)
 // The reciprocal glyph r = 1/|f| (exact method only, no offset): g = 1 - |q| |f(q^)|,
 // 1 at the centre, which it holds.
 float inside(vec3 q) {
@@ -90,6 +102,16 @@ vec3 surface_normal(vec3 q, out float len, out vec3 q_dir, out float f) {
     q_dir = q / len;
     vec3 grad;
     f = glyph_f_grad(q_dir, grad);
+#if defined(GLYPHCAST_PLANE)
+    // |q|⁴ − T(q) |q| + D(q) = 0 on both surfaces; its gradient over |q|³ is
+    // 4 q^ − |q| (grad T(q^) + T(q^) q^) + |q|² grad D(q^), turned outwards (every
+    // surface of a radius function faces away from the centre). Positive, for colour.
+    vec3 grad_t;
+    float t = plane_t_grad(q_dir, grad_t);
+    vec3 normal = normalize(4.0 * q_dir - len * (grad_t + t * q_dir) + len * len * grad);
+    f = 1.0;
+    return dot(normal, q_dir) < 0.0 ? -normal : normal;
+#else
     float sgn = (glyph_set.hide_negative == NEGATIVE_HIDE || f >= 0.0) ? 1.0 : -1.0;
     // Outward normal of g = 0: (|q| + n |f|) q^ - sgn grad f(q^) (Euler's identity).
 #ifdef GLYPHCAST_RECIPROCAL
@@ -97,6 +119,7 @@ vec3 surface_normal(vec3 q, out float len, out vec3 q_dir, out float f) {
     return normalize(len * sgn * grad - (float(GLYPH_ORDER) - 1.0) * q_dir);
 #else
     return normalize((len + float(GLYPH_ORDER) * abs(f)) * q_dir - sgn * grad);
+#endif
 #endif
 }
 

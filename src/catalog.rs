@@ -37,6 +37,9 @@ pub struct RayCastMethod {
     /// The preprocessor name its shaders are compiled with, where the method is a
     /// variant of another's fragment shader.
     pub define: Option<&'static str>,
+    /// Whether the define changes what the vertex shader passes (more coefficients per
+    /// glyph), so that the method has its own vertex shader, compiled with it too.
+    pub own_vertex: bool,
 }
 
 /// The ray-casting methods, in the order reports list them.
@@ -48,6 +51,7 @@ pub const RAY_CAST_METHODS: [RayCastMethod; 4] = [
         uses_ranges: false,
         marches: true,
         define: None,
+        own_vertex: false,
     },
     RayCastMethod {
         name: "interval",
@@ -56,6 +60,7 @@ pub const RAY_CAST_METHODS: [RayCastMethod; 4] = [
         uses_ranges: true,
         marches: false,
         define: None,
+        own_vertex: false,
     },
     RayCastMethod {
         name: "affine",
@@ -64,6 +69,7 @@ pub const RAY_CAST_METHODS: [RayCastMethod; 4] = [
         uses_ranges: true,
         marches: false,
         define: None,
+        own_vertex: false,
     },
     RayCastMethod {
         name: "exact",
@@ -72,6 +78,7 @@ pub const RAY_CAST_METHODS: [RayCastMethod; 4] = [
         uses_ranges: false,
         marches: false,
         define: None,
+        own_vertex: false,
     },
 ];
 
@@ -86,6 +93,7 @@ pub const ELLIPSOID_METHOD: RayCastMethod = RayCastMethod {
     uses_ranges: false,
     marches: false,
     define: None,
+    own_vertex: false,
 };
 
 /// The order of the symmetric tensors that have an ellipsoid (DTI).
@@ -103,7 +111,27 @@ pub const RECIPROCAL_METHOD: RayCastMethod = RayCastMethod {
     uses_ranges: false,
     marches: false,
     define: Some("GLYPHCAST_RECIPROCAL"),
+    own_vertex: false,
 };
+
+/// The exact method on plane glyphs, r(u) = 1/λ with λ a root of λ² − T(u) λ + D(u) = 0
+/// (scene `shape` `plane-min` and `plane-max`): `raycast_exact.frag` compiled with
+/// `GLYPHCAST_PLANE`, whose F is T(q)² |q|² − (|q|⁴ + D(q))², of degree 12, and whose
+/// filter keeps the roots of the set's branch. Not a `--method`: plane sets are drawn
+/// with it when the method is exact. Compiled for the layout of D, [`PLANE_ORDER`]
+/// symmetric, only; its vertex shader passes T's coefficients too.
+pub const PLANE_METHOD: RayCastMethod = RayCastMethod {
+    name: "plane",
+    fragment: "raycast_exact.frag",
+    compute: None,
+    uses_ranges: false,
+    marches: false,
+    define: Some("GLYPHCAST_PLANE"),
+    own_vertex: true,
+};
+
+/// The order of a plane glyph's D (its T has order 4), symmetric.
+pub const PLANE_ORDER: u32 = 6;
 
 /// Whether tensors of `order` can have a bounded reciprocal glyph (even orders).
 pub const fn reciprocal_order(order: u32) -> bool {
@@ -145,10 +173,15 @@ pub mod codes {
     pub const NEGATIVE_ABS: u32 = 0;
     /// A glyph set's `hide_negative`: negative lobes hidden (scene `negative: hide`).
     pub const NEGATIVE_HIDE: u32 = 1;
+    /// A plane glyph set's `hide_negative` word (it has no negative lobes): draw the
+    /// larger root λ, the smaller radius 1/λ (scene `shape` `plane-min`).
+    pub const PLANE_MIN: u32 = 0;
+    /// A plane glyph set's `hide_negative` word: the smaller root (`plane-max`).
+    pub const PLANE_MAX: u32 = 1;
 }
 
 /// Every entry of [`codes`] with its GLSL name, for `build.rs`'s `codes.glsl`.
-pub const SHADER_CODES: [(&str, i64); 10] = [
+pub const SHADER_CODES: [(&str, i64); 12] = [
     ("REFINE_NONE", codes::REFINE_NONE as i64),
     ("REFINE_BISECT", codes::REFINE_BISECT as i64),
     ("REFINE_INTERP", codes::REFINE_INTERP as i64),
@@ -159,6 +192,8 @@ pub const SHADER_CODES: [(&str, i64); 10] = [
     ("COLOR_SIGN", codes::COLOR_SIGN as i64),
     ("NEGATIVE_ABS", codes::NEGATIVE_ABS as i64),
     ("NEGATIVE_HIDE", codes::NEGATIVE_HIDE as i64),
+    ("PLANE_MIN", codes::PLANE_MIN as i64),
+    ("PLANE_MAX", codes::PLANE_MAX as i64),
 ];
 
 /// The text of `codes.glsl`: `#define NAME VALUE` for every entry of [`SHADER_CODES`]

@@ -200,9 +200,10 @@ pub fn stiffness_row_scene(materials: &[VoigtStiffness], symmetric_part: bool) -
 pub struct RowGlyph {
     /// The tensor layout of `coeffs`.
     pub layout: TensorLayout,
-    /// [`GlyphShape::Polynomial`] (r = |f|) or [`GlyphShape::Reciprocal`] (r = 1/|f|).
+    /// [`GlyphShape::Polynomial`] (r = |f|), [`GlyphShape::Reciprocal`] (r = 1/|f|) or
+    /// a plane shape (r = 1/λ, [`RowGlyph::of_plane`]).
     pub shape: GlyphShape,
-    /// The coefficients, in the scene order of `layout`.
+    /// The coefficients, in the scene order of `layout` (a plane glyph's T's after them).
     pub coeffs: Vec<f64>,
     /// The glyph's largest radius (at least its true maximum; it is drawn as
     /// radius/largest of the row's largest).
@@ -244,6 +245,41 @@ impl RowGlyph {
             layout,
             shape,
             coeffs,
+            largest_radius,
+        })
+    }
+
+    /// The plane glyph r = 1/λ, λ² − T λ + D = 0, of two full tensors (row-major): D of
+    /// order 6 and T of order 4, with the larger root (`larger_root`, shape `plane-min`)
+    /// or the smaller (`plane-max`); drawn by their fully symmetric parts. Roots that may
+    /// vanish or not be positive somewhere (the surface is unbounded) are an error.
+    pub fn of_plane(
+        determinant: &[f64],
+        trace: &[f64],
+        larger_root: bool,
+        largest_radius: f64,
+    ) -> Result<Self> {
+        use crate::glyph::{PLANE_LAYOUT, PLANE_TRACE_LAYOUT};
+        let d = crate::glyph::stiffness::fully_symmetric_part(PLANE_LAYOUT.order, determinant);
+        let t = crate::glyph::stiffness::fully_symmetric_part(PLANE_TRACE_LAYOUT.order, trace);
+        let d_poly = GlyphPolynomial::from_tensor(PLANE_LAYOUT, &d)?;
+        let t_poly = GlyphPolynomial::from_tensor(PLANE_TRACE_LAYOUT, &t)?;
+        if crate::glyph::intersect::plane_bound(&d_poly, &t_poly).is_none() {
+            let least = crate::glyph::bounds::least_abs(&d_poly).map_or(0.0, |l| l.lower);
+            return Err(Error::data(
+                "guaranteed least D over the sphere, with D and T positive (the surface \
+                 r = 1/λ needs two positive roots λ in every direction)",
+                crate::error::Problem::NotPositive { value: least },
+            ));
+        }
+        Ok(RowGlyph {
+            layout: PLANE_LAYOUT,
+            shape: if larger_root {
+                GlyphShape::PlaneMin
+            } else {
+                GlyphShape::PlaneMax
+            },
+            coeffs: d.into_iter().chain(t).collect(),
             largest_radius,
         })
     }

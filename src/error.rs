@@ -432,6 +432,9 @@ pub enum Asked {
     /// Reciprocal glyphs (scene `shape` `reciprocal`, r = 1/|f|), which the exact method
     /// alone ray-casts.
     Reciprocal,
+    /// Plane glyphs (scene `shape` `plane-min`/`plane-max`, r = 1/λ), which the exact
+    /// method alone ray-casts.
+    Plane,
     /// An intersection method: the method setting with its value
     /// (`Setting::Method.with(method)`), spelled by the front end.
     Method(Piece),
@@ -448,6 +451,10 @@ impl Asked {
             Asked::Reciprocal => "reciprocal glyphs (shape reciprocal, r = 1/|f|), which only \
                                   the exact method draws (not tessellated, not marched, no \
                                   offset)"
+                .to_owned(),
+            Asked::Plane => "plane glyphs (shape plane-min or plane-max, r = 1/λ), which \
+                             only the exact method draws (not tessellated, not marched, no \
+                             offset)"
                 .to_owned(),
             Asked::Method(method) => piece(method, spell),
         }

@@ -287,3 +287,94 @@ fn what_the_reciprocal_glyph_cannot_take_is_refused() {
     );
     assert_eq!(std::fs::read_dir(&out).unwrap().count(), 0);
 }
+
+/// Alpha quartz (SiO2), trigonal class 32, GPa: C11 = 86.6, C33 = 106.1, C44 = 57.8,
+/// C12 = 6.7, C13 = 12.6, C14 = -17.8, C66 = (C11 - C12) / 2 (near Heyliger et al.,
+/// 2003).
+const QUARTZ: &str = "86.6 6.7 12.6 -17.8 0 0\n6.7 86.6 12.6 17.8 0 0\n\
+    12.6 12.6 106.1 0 0 0\n-17.8 17.8 0 57.8 0 0\n0 0 0 0 57.8 -17.8\n0 0 0 0 -17.8 39.95\n";
+
+/// Alpha cristobalite (SiO2), tetragonal, GPa: C11 = 59.4, C33 = 42.4, C44 = 67.2,
+/// C66 = 25.7, C12 = 3.8, C13 = -4.4 (Yeganeh-Haeri et al., 1992): auxetic.
+const CRISTOBALITE: &str = "59.4 3.8 -4.4 0 0 0\n3.8 59.4 -4.4 0 0 0\n\
+    -4.4 -4.4 42.4 0 0 0\n0 0 0 67.2 0 0\n0 0 0 0 67.2 0\n0 0 0 0 0 25.7\n";
+
+/// Copper (cubic), GPa: C11 = 168.4, C12 = 121.4, C44 = 75.4: its two shear surfaces
+/// touch along the cube axes and the body diagonals, where every v ⊥ u shears alike.
+const COPPER: &str = "168.4 121.4 121.4 0 0 0\n121.4 168.4 121.4 0 0 0\n\
+    121.4 121.4 168.4 0 0 0\n0 0 0 75.4 0 0\n0 0 0 0 75.4 0\n0 0 0 0 0 75.4\n";
+
+/// The crystals of the shear surfaces, none of which the other surfaces' tests hold.
+const SHEAR_CRYSTALS: [(&str, &str, Option<[f64; 3]>); 3] = [
+    ("quartz", QUARTZ, None),
+    ("cristobalite", CRISTOBALITE, None),
+    ("copper-turned", COPPER, Some([20.0, 35.0, 65.0])),
+];
+
+#[test]
+fn shear_surfaces_lie_on_the_moduli() {
+    for surface in [Surface::ShearMin, Surface::ShearMax] {
+        for (name, content, euler) in SHEAR_CRYSTALS {
+            let m = check_surface(name, content, euler, surface);
+            assert!(m.covered > 0 && m.spread.is_finite() && m.scale_error.is_finite());
+        }
+    }
+}
+
+/// What the shear surfaces cannot be drawn with is refused with exit status 1, one error
+/// naming the plane glyphs and the setting, and no output: the other methods, the compute
+/// path, an offset. Poisson's surfaces are refused by `stiffness` itself, naming the
+/// surface, with a non-zero status and no scene written.
+#[test]
+fn what_the_shear_surfaces_cannot_take_is_refused() {
+    let dir = common::fresh_dir("material_surfaces/shear-refusals");
+    let out = common::fresh_dir("material_surfaces/shear-refusals-out");
+    let input = dir.join("quartz.txt");
+    std::fs::write(&input, QUARTZ).unwrap();
+    let scene = dir.join("scene.json");
+    run(&[
+        "stiffness",
+        text(&input),
+        "--surface",
+        "shear-max",
+        "-o",
+        text(&scene),
+    ]);
+    let png = out.join("x.png");
+    let render = |extra: &[&str], words: &[&str]| {
+        let mut args = vec!["render", text(&scene), "-o", text(&png)];
+        args.extend(extra);
+        common::expect_failure(&args, &out, words);
+    };
+    render(&["--method", "fixed"], &["plane", "fixed"]);
+    render(&["--method", "affine"], &["plane", "affine"]);
+    render(&["--path", "compute"], &["plane", "compute"]);
+    render(
+        &["--method", "fixed", "--offset", "0.1"],
+        &["plane", "offset"],
+    );
+    // The scene itself draws.
+    run(&["render", text(&scene), "-o", text(&png)]);
+    std::fs::remove_file(&png).unwrap();
+
+    for surface in ["poisson-min", "poisson-max"] {
+        let written = out.join("poisson.json");
+        let args = [
+            "stiffness",
+            text(&input),
+            "--surface",
+            surface,
+            "-o",
+            text(&written),
+        ];
+        let done = common::glyphcast(&args);
+        let stderr = String::from_utf8_lossy(&done.stderr);
+        assert!(!done.status.success(), "{surface}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{surface}: {stderr}");
+        assert!(
+            stderr.contains(surface) && stderr.contains("not drawn"),
+            "{surface}: {stderr}"
+        );
+        assert_eq!(std::fs::read_dir(&out).unwrap().count(), 0, "{surface}");
+    }
+}

@@ -366,7 +366,9 @@ def stiffness(C, *, surface="reynolds", euler=None, allow_unstable=False,
     ``"reynolds"`` (C_ijkl u_i u_j u_k u_l, the default), ``"young"`` (Young's modulus
     E(u), drawn exactly as r = 1/|s_ijkl u_i u_j u_k u_l|) or ``"compressibility"``
     (linear compressibility beta(u), inverse units; ``color="sign"`` shows where it is
-    negative), radius in the units of ``C``. ``summary`` is the dict
+    negative), ``"shear-min"`` or ``"shear-max"`` (the smallest or largest shear
+    modulus G(u, v) over the shear directions v perpendicular to u, drawn exactly),
+    radius in the units of ``C``. ``summary`` is the dict
     of the summary file: Young's modulus (``young``: min, max and their directions),
     ``linear_compressibility``, ``shear`` and ``poisson`` extremes over all directions,
     ``bulk`` and ``shear_average`` (Voigt, Reuss, Hill), in the units of ``C``.

@@ -23,7 +23,7 @@ use errors::{to_py, value_error};
 /// `glyphcast stiffness -o SCENE --summary FILE --surface SURFACE` writes them: `c` the
 /// 6 x 6 Voigt matrix, `euler` Bunge angles in degrees (sample to crystal),
 /// `allow_unstable` to take a matrix that is not positive definite, `surface` reynolds,
-/// young or compressibility.
+/// young, compressibility, shear-min or shear-max.
 #[pyfunction]
 #[pyo3(signature = (c, euler=None, allow_unstable=false, symmetric_part=false, surface="reynolds"))]
 fn stiffness(
@@ -38,11 +38,16 @@ fn stiffness(
     let drawn_surface = match surface {
         "reynolds" => None,
         name => match Surface::from_name(name) {
-            Some(s @ (Surface::Young | Surface::Compressibility)) => Some(s),
+            Some(
+                s @ (Surface::Young
+                | Surface::Compressibility
+                | Surface::ShearMin
+                | Surface::ShearMax),
+            ) => Some(s),
             _ => {
                 return Err(value_error(
                     &format!("surface={name:?}"),
-                    "not one of reynolds, young, compressibility",
+                    "not one of reynolds, young, compressibility, shear-min, shear-max",
                 ));
             }
         },
@@ -81,16 +86,28 @@ fn stiffness(
             glyphcast::demo::stiffness_row_scene(&[drawn], symmetric_part).map_err(to_py)?
         }
         Some(s) => {
-            // Young's and compressibility's surfaces are tensor forms (surface_form).
-            let form = sample
-                .surface_form(s)
-                .ok_or_else(|| value_error("surface", "not a tensor form"))?;
-            let glyph = glyphcast::demo::RowGlyph::of_form(
-                form.order,
-                &form.tensor,
-                form.reciprocal,
-                sample.largest_radius(s),
-            )
+            // Young's and compressibility's surfaces are tensor forms (surface_form), the
+            // shear extremes plane glyphs of two forms (plane_forms).
+            let largest = sample.largest_radius(s);
+            let glyph = match sample.plane_forms(s) {
+                Some(forms) => glyphcast::demo::RowGlyph::of_plane(
+                    &forms.determinant,
+                    &forms.trace,
+                    forms.larger_root,
+                    largest,
+                ),
+                None => {
+                    let form = sample
+                        .surface_form(s)
+                        .ok_or_else(|| value_error("surface", "not a tensor form"))?;
+                    glyphcast::demo::RowGlyph::of_form(
+                        form.order,
+                        &form.tensor,
+                        form.reciprocal,
+                        largest,
+                    )
+                }
+            }
             .map_err(|e| value_error("C", format!("{}'s surface: {e}", s.name())))?;
             glyphcast::demo::material_row_scene(&[glyph]).map_err(to_py)?
         }

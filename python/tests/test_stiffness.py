@@ -115,3 +115,23 @@ def test_a_surface_that_cannot_be_drawn_is_refused():
         glyphcast.stiffness(cubic(C11, C12, C44), surface="bulk")
     with pytest.raises(ValueError, match="symmetric_part"):
         glyphcast.stiffness(cubic(C11, C12, C44), surface="young", symmetric_part=True)
+
+
+def test_the_shear_surfaces_of_a_cubic_crystal():
+    """G_min(u) <= G_max(u) in every direction and both surfaces are drawn on one scale
+    (the largest G over all pairs, C44 for copper): shear-max encloses shear-min, so
+    where both are hit the shear-max surface is the nearer, and shear-min covers no pixel
+    that shear-max leaves empty (but for the silhouette's)."""
+    c = cubic(C11, C12, C44)
+    low, summary = glyphcast.stiffness(c, surface="shear-min", width=96, height=72)
+    high, _ = glyphcast.stiffness(c, surface="shear-max", width=96, height=72)
+    # Copper's shear moduli range from (C11 - C12) / 2 to C44.
+    assert summary["shear"]["min"] == pytest.approx((C11 - C12) / 2, rel=1e-6)
+    assert summary["shear"]["max"] == pytest.approx(C44, rel=1e-6)
+    low_hit, high_hit = np.isfinite(low.depth), np.isfinite(high.depth)
+    assert low_hit.sum() > 300 and high_hit.sum() > low_hit.sum()
+    both = low_hit & high_hit
+    assert np.all(high.depth[both] <= low.depth[both] + 1e-4)
+    assert (low_hit & ~high_hit).sum() < 10
+    # The two surfaces differ (they touch only along the cube axes and body diagonals).
+    assert np.nanmedian(low.depth[both] - high.depth[both]) > 1e-2

@@ -84,6 +84,8 @@ pub struct WorldGlyph {
     /// upper bound of r(u) over the sphere in local units, offset included
     /// (bounding_radius + offset)
     pub bound: f64,
+    /// A plane glyph's T (its `poly` is D); `None` for the other shapes.
+    pub trace: Option<GlyphPolynomial>,
 }
 
 impl WorldGlyph {
@@ -104,6 +106,7 @@ impl WorldGlyph {
             negative,
             offset,
             bound,
+            trace: None,
         }
     }
 
@@ -117,6 +120,7 @@ impl WorldGlyph {
             negative: NegativeMode::Abs,
             offset: 0.0,
             bound: ellipsoid.radius(),
+            trace: None,
         })
     }
 
@@ -132,7 +136,48 @@ impl WorldGlyph {
             negative: NegativeMode::Abs,
             offset: 0.0,
             bound: 1.0 / least.lower,
+            trace: None,
         })
+    }
+
+    /// The plane glyph of `determinant` (D, order 6) and `trace` (T, order 4) with
+    /// `shape` [`GlyphShape::PlaneMin`] or `PlaneMax`, placed at `center` with `scale`;
+    /// `None` where the roots may not be real and positive everywhere (D may vanish, or
+    /// D or T is not positive).
+    pub fn plane(
+        center: DVec3,
+        scale: f64,
+        determinant: GlyphPolynomial,
+        trace: GlyphPolynomial,
+        shape: GlyphShape,
+    ) -> Option<Self> {
+        let bound = plane_bound(&determinant, &trace)?;
+        shape.is_plane().then_some(Self {
+            center,
+            scale,
+            poly: determinant,
+            shape,
+            negative: NegativeMode::Abs,
+            offset: 0.0,
+            bound,
+            trace: Some(trace),
+        })
+    }
+
+    /// A plane glyph's radius along unit `u`: 1/λ of its branch's root of
+    /// λ² − T λ + D = 0, the eigenvalues of the 2x2 restriction by their trace and
+    /// determinant (the smaller one as D / the larger, which does not cancel).
+    pub fn plane_radius(&self, u: DVec3) -> f64 {
+        let (Some(trace), true) = (&self.trace, self.shape.is_plane()) else {
+            return 0.0;
+        };
+        let (t, d) = (trace.eval(u), self.poly.eval(u));
+        let larger = 0.5 * (t + (t * t - 4.0 * d).max(0.0).sqrt());
+        if self.shape == GlyphShape::PlaneMin {
+            1.0 / larger
+        } else {
+            larger / d
+        }
     }
 
     /// Radius of the world bounding sphere around `center`.
@@ -150,6 +195,9 @@ impl WorldGlyph {
             } else {
                 self.offset
             };
+        }
+        if self.shape.is_plane() {
+            return self.plane_radius(q / len) - len;
         }
         let f = self.poly.eval(q / len);
         if self.shape == GlyphShape::Reciprocal {
@@ -225,7 +273,10 @@ impl Chord {
 
     /// Steps 2 to 5 of the module notes.
     fn first_root_polynomial(&self, glyph: &WorldGlyph) -> Option<f64> {
-        let f = self.crossing_polynomial(&glyph.poly, glyph.shape);
+        let f = match &glyph.trace {
+            Some(trace) if glyph.shape.is_plane() => self.plane_polynomial(&glyph.poly, trace),
+            _ => self.crossing_polynomial(&glyph.poly, glyph.shape),
+        };
         let mut points = real_roots_in(&univariate::derivative(&f), -1.0, 1.0);
         points.extend((0..=GRID_POINTS).map(|i| -1.0 + 2.0 * i as f64 / GRID_POINTS as f64));
         points.sort_by(f64::total_cmp);
@@ -259,6 +310,26 @@ impl Chord {
         out.iter_mut()
             .zip(&radial)
             .for_each(|(v, r)| *v -= sign * r);
+        out
+    }
+
+    /// F(s) = T(q)² |q|² − (|q|⁴ + D(q))² of a plane glyph on the chord: both of its
+    /// surfaces (the roots are real and positive), positive between them. Its critical
+    /// points split the chord into pieces with at most one crossing of either surface,
+    /// so the sign changes of the branch's g on them are every crossing of the branch.
+    fn plane_polynomial(&self, determinant: &GlyphPolynomial, trace: &GlyphPolynomial) -> Vec<f64> {
+        let a = self.a + self.mid() * self.d;
+        let b = self.half() * self.d;
+        let t = trace.along_line(a, b);
+        let d = determinant.along_line(a, b);
+        let length_squared = [a.length_squared(), 2.0 * a.dot(b), b.length_squared()];
+        let mut outer = univariate::multiply(&length_squared, &length_squared);
+        outer.resize(outer.len().max(d.len()), 0.0);
+        outer.iter_mut().zip(&d).for_each(|(o, d)| *o += d);
+        let mut out = univariate::multiply(&univariate::multiply(&t, &t), &length_squared);
+        let square = univariate::multiply(&outer, &outer);
+        out.resize(out.len().max(square.len()), 0.0);
+        out.iter_mut().zip(&square).for_each(|(o, s)| *o -= s);
         out
     }
 
@@ -391,6 +462,131 @@ fn newton_bisection(p: &[f64], mut a: f64, mut b: f64, sign_a: i8) -> f64 {
         x = next;
     }
     x
+}
+
+/// A guaranteed bound of a plane glyph's radius 1/λ over the sphere (both roots, so
+/// both surfaces lie inside it): the largest radius on a fine sample of directions, raised
+/// by a margin and proven to bound every direction (see `plane_radii_below`); where no
+/// raised sample is proven (within `PLANE_BOUND_MARGINS`), the crude bound
+/// 1/λ ≤ λ' / D ≤ T / D (λ' the other root, both positive), max |T| / min |D| by the
+/// bounds of [`super::bounds`]. `None` where D may vanish or D or T is not positive (at x,
+/// which stands for every direction once D has no zero: the roots cannot change sign).
+pub fn plane_bound(determinant: &GlyphPolynomial, trace: &GlyphPolynomial) -> Option<f64> {
+    let least = super::bounds::least_abs(determinant)?;
+    let x = DVec3::X;
+    if !(least.lower > 0.0 && determinant.eval(x) > 0.0 && trace.eval(x) > 0.0) {
+        return None;
+    }
+    let crude = bounding_radius(trace, NegativeMode::Abs) / least.lower;
+    if !(crude.is_finite() && crude > 0.0) {
+        return None;
+    }
+    let radius_at = |u: DVec3| plane_outer_radius(determinant.eval(u), trace.eval(u));
+    let mut samples: Vec<(f64, DVec3)> = super::bounds::fibonacci_sphere(PLANE_BOUND_SAMPLES)
+        .map(|u| (radius_at(u), u))
+        .collect();
+    samples.sort_by(|a, b| b.0.total_cmp(&a.0));
+    // The best samples climbed to their local maxima (still radii the glyph attains).
+    let sampled = samples
+        .iter()
+        .take(PLANE_BOUND_CLIMBS)
+        .map(|&(r, u)| climb(radius_at, r, u))
+        .fold(0.0, f64::max);
+    PLANE_BOUND_MARGINS
+        .iter()
+        .map(|margin| sampled * (1.0 + margin))
+        .take_while(|&radius| radius < crude)
+        .find(|&radius| plane_radii_below(determinant, trace, radius))
+        .or(Some(crude))
+}
+
+/// The directions sampled for [`plane_bound`]'s candidate.
+const PLANE_BOUND_SAMPLES: usize = 4096;
+
+/// The relative margins tried, in turn, above the largest sampled radius of a plane
+/// glyph: the first that [`plane_radii_below`] proves is its bound.
+const PLANE_BOUND_MARGINS: [f64; 5] = [1e-3, 1e-2, 5e-2, 0.2, 1.0];
+
+/// The best sampled directions [`plane_bound`] climbs from.
+const PLANE_BOUND_CLIMBS: usize = 16;
+
+/// The largest value of `f` found by a pattern search on the unit sphere from `u`
+/// (where f is `value`): steps along two tangents, halved when none gains, down to 1e-7.
+pub(crate) fn climb(f: impl Fn(DVec3) -> f64, mut value: f64, mut u: DVec3) -> f64 {
+    let mut step = 0.05;
+    while step > 1e-7 {
+        let (e1, e2) = u.any_orthonormal_pair();
+        let best = [e1, -e1, e2, -e2]
+            .into_iter()
+            .map(|e| (u + step * e).normalize())
+            .map(|v| (f(v), v))
+            .filter(|(w, _)| w.is_finite())
+            .max_by(|a, b| a.0.total_cmp(&b.0));
+        match best {
+            Some((w, v)) if w > value => (value, u) = (w, v),
+            _ => step *= 0.5,
+        }
+    }
+    value
+}
+
+/// The larger radius 1/λ of λ² − t λ + d = 0 (the smaller root λ), t, d > 0: (t + √(t² −
+/// 4d)) / (2d), the discriminant clamped at 0.
+fn plane_outer_radius(d: f64, t: f64) -> f64 {
+    (t + (t * t - 4.0 * d).max(0.0).sqrt()) / (2.0 * d)
+}
+
+/// Whether both radii 1/λ (λ² − T λ + D = 0, with D > 0 and T > 0 on the sphere, which
+/// [`plane_bound`] checks first) are below `radius` in every direction, proven: with
+/// x = 1/λ the roots of D x² − T x + 1, both lie below R exactly where
+/// D R² − T R + 1 > 0 and R > T / (2 D) (R beyond the vertex), that is where the two
+/// forms of order 6 D(u) R² − T(u) |u|² R + |u|⁶ and 2 R D(u) − T(u) |u|² are positive
+/// on the unit sphere. Each is: its guaranteed least |·| ([`super::bounds::least_abs`])
+/// is positive, so it has no zero on the sphere (a connected set), and it is positive at
+/// x.
+fn plane_radii_below(determinant: &GlyphPolynomial, trace: &GlyphPolynomial, radius: f64) -> bool {
+    if determinant.order != 6 || trace.order != 4 {
+        return false;
+    }
+    let trace_raised = times_length_squared(trace);
+    // |u|⁶, from the constant 1.
+    let one = GlyphPolynomial {
+        order: 0,
+        coeffs: vec![1.0],
+    };
+    let sphere = times_length_squared(&times_length_squared(&times_length_squared(&one)));
+    let outer: Vec<f64> = (0..determinant.coeffs.len())
+        .map(|k| {
+            determinant.coeffs[k] * radius * radius - trace_raised.coeffs[k] * radius
+                + sphere.coeffs[k]
+        })
+        .collect();
+    let vertex: Vec<f64> = (0..determinant.coeffs.len())
+        .map(|k| 2.0 * radius * determinant.coeffs[k] - trace_raised.coeffs[k])
+        .collect();
+    [outer, vertex].into_iter().all(|coeffs| {
+        let form = GlyphPolynomial { order: 6, coeffs };
+        let positive_at_x = form.eval(DVec3::X) > 0.0;
+        positive_at_x && super::bounds::least_abs(&form).is_some_and(|l| l.lower > 0.0)
+    })
+}
+
+/// The form f(u) |u|² of order n + 2, from f's monomial coefficients.
+fn times_length_squared(poly: &GlyphPolynomial) -> GlyphPolynomial {
+    use super::monomials::{Monomial, monomial_index, monomials, symmetric_count};
+    let order = poly.order + 2;
+    let mut coeffs = vec![0.0; symmetric_count(order)];
+    for (m, c) in monomials(poly.order).into_iter().zip(&poly.coeffs) {
+        for (da, db, dc) in [(2, 0, 0), (0, 2, 0), (0, 0, 2)] {
+            let raised = Monomial {
+                a: m.a + da,
+                b: m.b + db,
+                c: m.c + dc,
+            };
+            coeffs[monomial_index(order, raised)] += c;
+        }
+    }
+    GlyphPolynomial { order, coeffs }
 }
 
 #[cfg(test)]
@@ -902,5 +1098,94 @@ mod tests {
         }
         assert_eq!(mixed.len(), 27);
         assert_roots(&real_roots_in(&mixed, -1.0, 1.0), &[-0.7, 0.1, 0.55], 1e-10);
+    }
+
+    /// The product of two forms, from their monomial coefficients.
+    fn form_product(p: &GlyphPolynomial, q: &GlyphPolynomial) -> GlyphPolynomial {
+        let order = p.order + q.order;
+        let mut coeffs = vec![0.0; symmetric_count(order)];
+        let monos = crate::glyph::monomials::monomials;
+        for (m, a) in monos(p.order).into_iter().zip(&p.coeffs) {
+            for (n, b) in monos(q.order).into_iter().zip(&q.coeffs) {
+                let k = Monomial {
+                    a: m.a + n.a,
+                    b: m.b + n.b,
+                    c: m.c + n.c,
+                };
+                coeffs[monomial_index(order, k)] += a * b;
+            }
+        }
+        GlyphPolynomial { order, coeffs }
+    }
+
+    /// A plane glyph whose roots are two quadratic forms, λ = Q1(u) and Q2(u) at unit u
+    /// (T = (Q1 + Q2) |u|², D = Q1 Q2 |u|²), which cross along curves as a cubic
+    /// crystal's shear surfaces do: its largest radius is 1 / (the least eigenvalue of
+    /// Q1 and Q2). plane_bound holds it, within 0.11 %, far below the crude T / D bound.
+    #[test]
+    fn plane_bound_is_guaranteed_and_tight() {
+        // Q = R diag R^T as monomial coefficients x², xy, xz, y², yz, z².
+        let quadratic = |m: [[f64; 3]; 3]| GlyphPolynomial {
+            order: 2,
+            coeffs: vec![
+                m[0][0],
+                2.0 * m[0][1],
+                2.0 * m[0][2],
+                m[1][1],
+                2.0 * m[1][2],
+                m[2][2],
+            ],
+        };
+        let q1 = quadratic([[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 3.0]]);
+        // diag(0.8, 4, 2) turned by 0.5 rad about z.
+        let (c, s) = (0.5f64.cos(), 0.5f64.sin());
+        let (a, b) = (0.8, 4.0);
+        let q2 = quadratic([
+            [a * c * c + b * s * s, (a - b) * c * s, 0.0],
+            [(a - b) * c * s, a * s * s + b * c * c, 0.0],
+            [0.0, 0.0, 2.0],
+        ]);
+        let length = quadratic([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
+        let trace = form_product(
+            &GlyphPolynomial {
+                order: 2,
+                coeffs: q1
+                    .coeffs
+                    .iter()
+                    .zip(&q2.coeffs)
+                    .map(|(a, b)| a + b)
+                    .collect(),
+            },
+            &length,
+        );
+        let determinant = form_product(&form_product(&q1, &q2), &length);
+        let truth = 1.0 / 0.8;
+        let bound = plane_bound(&determinant, &trace).unwrap();
+        assert!(
+            bound >= truth && bound <= 1.0011 * truth,
+            "{bound} against {truth}"
+        );
+        let least = crate::glyph::bounds::least_abs(&determinant).unwrap().lower;
+        let crude = bounding_radius(&trace, NegativeMode::Abs) / least;
+        assert!(crude > 1.5 * bound, "crude {crude}, bound {bound}");
+        // Both radii lie below it in every sampled direction, and the glyph's radius
+        // function is the smaller root's 1 / min(Q1, Q2).
+        let glyph = WorldGlyph::plane(
+            DVec3::ZERO,
+            1.0,
+            determinant.clone(),
+            trace.clone(),
+            GlyphShape::PlaneMax,
+        )
+        .unwrap();
+        let mut rng = Rng::new(7);
+        for _ in 0..2000 {
+            let u = rng.unit_vector();
+            let want = 1.0 / q1.eval(u).min(q2.eval(u));
+            assert!((glyph.plane_radius(u) / want - 1.0).abs() < 1e-9, "{u}");
+            assert!(want <= bound);
+        }
+        // A proof that fails below the truth.
+        assert!(!plane_radii_below(&determinant, &trace, 0.99 * truth));
     }
 }

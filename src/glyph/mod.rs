@@ -92,7 +92,31 @@ pub enum GlyphShape {
     /// modulus from the compliance quartic). f must not vanish on the sphere (so the order
     /// is even and the surface bounded); negative `abs` only; drawn by the exact method.
     Reciprocal,
+    /// The glyph of a pair of forms, D of order 6 (the set's layout, symmetric) and T of
+    /// order 4: r(u) = 1/λ with λ the larger root of λ² − T(u) λ + D(u) = 0, where T and
+    /// D are the trace and determinant of a quadratic form restricted to the plane ⊥ u
+    /// (the smallest shear modulus over that plane). Each glyph's coefficients are D's
+    /// then T's ([`PLANE_TRACE_COEFFICIENTS`] more than the layout's); the roots must be
+    /// real and positive (T > 0, D > 0); negative `abs` only; drawn by the exact method.
+    PlaneMin,
+    /// As [`GlyphShape::PlaneMin`], with the smaller root (the largest shear modulus).
+    PlaneMax,
 }
+
+/// The layout of a plane glyph's D (the set's layout): symmetric, order 6.
+pub const PLANE_LAYOUT: TensorLayout = TensorLayout {
+    order: 6,
+    symmetry: Symmetry::Symmetric,
+};
+
+/// The layout of a plane glyph's T: symmetric, order 4.
+pub const PLANE_TRACE_LAYOUT: TensorLayout = TensorLayout {
+    order: 4,
+    symmetry: Symmetry::Symmetric,
+};
+
+/// The coefficients of a plane glyph's T, after D's.
+pub const PLANE_TRACE_COEFFICIENTS: usize = 15;
 
 impl std::str::FromStr for GlyphShape {
     type Err = crate::Error;
@@ -118,6 +142,23 @@ impl GlyphShape {
             GlyphShape::Polynomial => "polynomial",
             GlyphShape::Ellipsoid => "ellipsoid",
             GlyphShape::Reciprocal => "reciprocal",
+            GlyphShape::PlaneMin => "plane-min",
+            GlyphShape::PlaneMax => "plane-max",
+        }
+    }
+
+    /// Whether the shape is a plane glyph ([`GlyphShape::PlaneMin`] or `PlaneMax`).
+    pub fn is_plane(self) -> bool {
+        matches!(self, GlyphShape::PlaneMin | GlyphShape::PlaneMax)
+    }
+
+    /// The coefficients of one glyph of this shape whose tensor has `layout_count`
+    /// (a plane glyph adds its T's).
+    pub fn coefficient_count(self, layout_count: usize) -> usize {
+        if self.is_plane() {
+            layout_count + PLANE_TRACE_COEFFICIENTS
+        } else {
+            layout_count
         }
     }
 

@@ -45,9 +45,13 @@ impl<'a> Batch<'a> {
         self.gather(1, |d| &d.boxes)
     }
 
-    /// The glyphs' float32 coefficients, `layout.coefficient_count()` per glyph.
+    /// The glyphs' float32 coefficients, `layout.coefficient_count()` per glyph (a plane
+    /// glyph's T's after them).
     pub fn coefficients(&self) -> Result<Cow<'a, [f32]>> {
-        self.gather(self.layout.coefficient_count(), |d| &d.coefficients)
+        let per_glyph = self
+            .shape
+            .coefficient_count(self.layout.coefficient_count());
+        self.gather(per_glyph, |d| &d.coefficients)
     }
 
     /// The batch's entries of one per-glyph array, `per_glyph` values each: borrowed when
@@ -82,12 +86,12 @@ impl<'a> Batch<'a> {
 
 /// Groups the glyphs of `sets` into batches: one per layout, shape and negative mode (in the
 /// order the sets first use them), cut so that no batch holds more than
-/// `limit / glyph_bytes(layout)` glyphs. A glyph larger than `limit` is an error naming
+/// `limit / glyph_bytes(layout, shape)` glyphs. A glyph larger than `limit` is an error naming
 /// its set.
 pub fn batches<'a>(
     sets: &'a [GlyphSetData],
     limit: u64,
-    glyph_bytes: impl Fn(TensorLayout) -> u64,
+    glyph_bytes: impl Fn(TensorLayout, GlyphShape) -> u64,
 ) -> Result<Vec<Batch<'a>>> {
     let mut groups: Vec<Vec<(usize, &'a GlyphSetData)>> = Vec::new();
     for (index, data) in sets.iter().enumerate().filter(|(_, d)| !d.is_empty()) {
@@ -100,7 +104,7 @@ pub fn batches<'a>(
     let mut batches = Vec::new();
     for group in groups {
         let (first_index, first) = group[0];
-        let bytes = glyph_bytes(first.layout);
+        let bytes = glyph_bytes(first.layout, first.shape);
         let per_batch = (limit / bytes.max(1)).min(u32::MAX as u64) as usize;
         if per_batch == 0 {
             return Err(Error::Item {
@@ -179,7 +183,7 @@ mod tests {
                 ..set(2, NegativeMode::Abs, 2, 40.0)
             },
         ];
-        let batches = batches(&sets, u64::MAX, |_| 4).unwrap();
+        let batches = batches(&sets, u64::MAX, |_, _| 4).unwrap();
         let shape: Vec<_> = batches
             .iter()
             .map(|b| (b.layout.order, b.shape, b.negative, b.len()))
@@ -217,7 +221,7 @@ mod tests {
             set(2, NegativeMode::Abs, 4, 50.0),
         ];
         // 6 glyphs of 24 bytes fit a 150-byte buffer.
-        let batches = batches(&sets, 150, |l| 4 * l.coefficient_count() as u64).unwrap();
+        let batches = batches(&sets, 150, |l, _| 4 * l.coefficient_count() as u64).unwrap();
         let lengths: Vec<_> = batches.iter().map(Batch::len).collect();
         assert_eq!(lengths, [6, 3]);
         let x: Vec<f32> = batches
@@ -234,7 +238,7 @@ mod tests {
         let coefficients = batches[1].coefficients().unwrap();
         assert_eq!(coefficients.len(), 3 * 6);
         assert_eq!(coefficients[0], 50.0 + 6.0);
-        let too_small = super::batches(&sets, 20, |l| 4 * l.coefficient_count() as u64);
+        let too_small = super::batches(&sets, 20, |l, _| 4 * l.coefficient_count() as u64);
         assert!(too_small.unwrap_err().to_string().contains("glyph set 0"));
     }
 }

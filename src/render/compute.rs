@@ -198,13 +198,14 @@ impl ComputeRayCastPass {
         let view = ScreenView::new(camera, width, height);
         // Parts: batches of glyphs whose coefficients and boxes fit one storage buffer
         // each, sets that share a pipeline together.
-        let parts = batches(sets, limit, |layout| {
+        let parts = batches(sets, limit, |layout, _| {
             (4 * layout.coefficient_count() as u64).max(32)
         })?;
         for part in &parts {
             let unsupported = match part.shape {
                 GlyphShape::Ellipsoid => Some(crate::error::Asked::Ellipsoids),
                 GlyphShape::Reciprocal => Some(crate::error::Asked::Reciprocal),
+                GlyphShape::PlaneMin | GlyphShape::PlaneMax => Some(crate::error::Asked::Plane),
                 GlyphShape::Polynomial => None,
             };
             if let Some(what) = unsupported {

@@ -150,6 +150,7 @@ fn prepare_set_keeping(
     let unsupported = match set.shape {
         GlyphShape::Ellipsoid => Some(crate::error::Asked::Ellipsoids),
         GlyphShape::Reciprocal => Some(crate::error::Asked::Reciprocal),
+        GlyphShape::PlaneMin | GlyphShape::PlaneMax => Some(crate::error::Asked::Plane),
         GlyphShape::Polynomial => None,
     };
     if let Some(what) = unsupported
@@ -242,6 +243,7 @@ fn add_bounded(
             gpu_coefficients,
             poly,
             bounds,
+            trace,
         }) = glyph
         else {
             continue;
@@ -286,6 +288,7 @@ fn add_bounded(
                 negative: set.negative,
                 offset: offset * bound,
                 bound: bound * (1.0 + offset),
+                trace,
             });
         }
     }
@@ -323,6 +326,21 @@ pub fn largest_radius(glyphs: &[WorldGlyph]) -> f64 {
             GlyphShape::Reciprocal => least_abs(&glyph.poly).map_or(0.0, |l| 1.0 / l.attained),
             GlyphShape::Polynomial => {
                 climbed_max_radius(&glyph.poly, glyph.negative, sizing_lattice(), 3)
+            }
+            // The largest radius found from the sizing lattice, its best points climbed
+            // (a lower bound that reaches the cone tips where a plane glyph's two
+            // surfaces touch, which a lattice misses).
+            GlyphShape::PlaneMin | GlyphShape::PlaneMax => {
+                let mut samples: Vec<(f64, glam::DVec3)> =
+                    crate::glyph::bounds::fibonacci_sphere(200)
+                        .map(|u| (glyph.plane_radius(u), u))
+                        .collect();
+                samples.sort_by(|a, b| b.0.total_cmp(&a.0));
+                samples
+                    .iter()
+                    .take(8)
+                    .map(|&(r, u)| crate::glyph::intersect::climb(|v| glyph.plane_radius(v), r, u))
+                    .fold(0.0, f64::max)
             }
         };
         largest = largest.max(glyph.scale * (radius + glyph.offset));
@@ -367,6 +385,8 @@ struct Bounded {
     gpu_coefficients: Vec<f32>,
     poly: Option<GlyphPolynomial>,
     bounds: GlyphBounds,
+    /// A plane glyph's T, kept with `poly` (its D).
+    trace: Option<GlyphPolynomial>,
 }
 
 /// `None` for a glyph with an empty surface (zero tensor).
@@ -390,6 +410,13 @@ fn bound_glyph(
         index,
         error: Box::new(e),
     })?;
+    if set.shape.is_plane() {
+        return bound_plane(layout, &coeffs, world).map_err(|e| Error::Item {
+            what: "glyph",
+            index,
+            error: Box::new(e),
+        });
+    }
     let poly = GlyphPolynomial::from_tensor(layout, &coeffs)?;
     if set.shape == GlyphShape::Reciprocal {
         return bound_reciprocal(poly, &coeffs, world).map_err(|e| Error::Item {
@@ -404,7 +431,53 @@ fn bound_glyph(
             gpu_coefficients: coeffs.iter().map(|c| (c / bounds.radius) as f32).collect(),
             poly: (world == WorldGlyphs::Keep).then_some(poly),
             bounds,
+            trace: None,
         }))
+}
+
+/// The plane glyph r = 1/λ, λ² − T λ + D = 0, of D (the set's `layout`) and T
+/// (`coeffs` after D's): radius B = a guaranteed bound of 1/λ
+/// ([`crate::glyph::intersect::plane_bound`]), the box the cube around that sphere, and
+/// in the normalised frame q = p / B the roots B λ: D's coefficients times B², T's times
+/// B. Roots that may vanish or not be positive somewhere (an unstable crystal) are
+/// refused. `None` for a zero D.
+fn bound_plane(
+    layout: TensorLayout,
+    coeffs: &[f64],
+    world: WorldGlyphs,
+) -> Result<Option<Bounded>> {
+    let (d, t) = coeffs.split_at(layout.coefficient_count().min(coeffs.len()));
+    let determinant = GlyphPolynomial::from_tensor(layout, d)?;
+    let trace = GlyphPolynomial::from_tensor(crate::glyph::PLANE_TRACE_LAYOUT, t)?;
+    if determinant.abs_coefficient_sum() == 0.0 {
+        return Ok(None);
+    }
+    let Some(radius) = crate::glyph::intersect::plane_bound(&determinant, &trace) else {
+        return Err(Error::data(
+            "least |D| over the sphere, with D and T positive (r = 1/λ of a plane glyph \
+             needs two positive roots λ in every direction)",
+            Problem::NotPositive {
+                value: least_abs(&determinant).map_or(0.0, |l| l.attained),
+            },
+        ));
+    };
+    let gpu_coefficients = d
+        .iter()
+        .map(|c| c * radius * radius)
+        .chain(t.iter().map(|c| c * radius))
+        .map(|c| c as f32)
+        .collect();
+    let keep = world == WorldGlyphs::Keep;
+    Ok(Some(Bounded {
+        gpu_coefficients,
+        poly: keep.then_some(determinant),
+        trace: keep.then_some(trace),
+        bounds: GlyphBounds {
+            radius,
+            axes: [glam::DVec3::X, glam::DVec3::Y, glam::DVec3::Z],
+            extents: [radius; 3],
+        },
+    }))
 }
 
 /// The reciprocal glyph r = 1/|f| of a tensor: radius B = 1 / (a guaranteed lower bound
@@ -431,6 +504,7 @@ fn bound_reciprocal(
     Ok(Some(Bounded {
         gpu_coefficients: coeffs.iter().map(|c| (c * radius) as f32).collect(),
         poly: (world == WorldGlyphs::Keep).then_some(poly),
+        trace: None,
         bounds: GlyphBounds {
             radius,
             axes: [glam::DVec3::X, glam::DVec3::Y, glam::DVec3::Z],
@@ -458,5 +532,6 @@ fn bound_ellipsoid(coeffs: &[f64], world: WorldGlyphs) -> Result<Option<Bounded>
             WorldGlyphs::Leave => None,
         },
         bounds,
+        trace: None,
     }))
 }

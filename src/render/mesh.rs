@@ -47,6 +47,8 @@ impl GlyphMeshes {
         for (shape, what) in [
             (GlyphShape::Ellipsoid, crate::error::Asked::Ellipsoids),
             (GlyphShape::Reciprocal, crate::error::Asked::Reciprocal),
+            (GlyphShape::PlaneMin, crate::error::Asked::Plane),
+            (GlyphShape::PlaneMax, crate::error::Asked::Plane),
         ] {
             if sets.iter().any(|s| s.shape == shape) {
                 // The data decide (exit code 1), so not a Setting error.

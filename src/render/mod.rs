@@ -28,7 +28,9 @@ pub mod table;
 pub mod tiles;
 pub mod underlay;
 
-use crate::catalog::{ELLIPSOID_METHOD, RAY_CAST_METHODS, RECIPROCAL_METHOD, RayCastMethod};
+use crate::catalog::{
+    ELLIPSOID_METHOD, PLANE_METHOD, RAY_CAST_METHODS, RECIPROCAL_METHOD, RayCastMethod,
+};
 pub use crate::glyph::tessellate::MeshKind;
 pub use settings::{ColorMode, Lighting, Refinement, RenderPath, RenderSettings, Shadows};
 
@@ -51,6 +53,10 @@ pub enum Method {
     /// compiled with `GLYPHCAST_RECIPROCAL`): what reciprocal glyph sets are drawn with
     /// when the method is exact; the other methods refuse them.
     Reciprocal,
+    /// The exact method on plane glyphs, r = 1/λ with λ² − T λ + D = 0
+    /// (glsl/raycast_exact.frag compiled with `GLYPHCAST_PLANE`): what plane glyph sets
+    /// are drawn with when the method is exact; the other methods refuse them.
+    Plane,
     /// The bounding sphere of each glyph on the ray caster's boxes: the cost floor of a
     /// box-proxy ray caster, not the glyph.
     Impostor,
@@ -73,6 +79,7 @@ impl Method {
         match self {
             Method::Ellipsoid => return Some(&ELLIPSOID_METHOD),
             Method::Reciprocal => return Some(&RECIPROCAL_METHOD),
+            Method::Plane => return Some(&PLANE_METHOD),
             _ => {}
         }
         let index = Method::RAY_CASTING.iter().position(|&m| m == self)?;
@@ -94,7 +101,8 @@ impl std::fmt::Display for Method {
             | Method::Affine
             | Method::Exact
             | Method::Ellipsoid
-            | Method::Reciprocal => {
+            | Method::Reciprocal
+            | Method::Plane => {
                 let entry = self.ray_cast_entry().ok_or(std::fmt::Error)?;
                 f.write_str(entry.name)
             }

@@ -164,8 +164,12 @@ pub(crate) const CUBE_INDICES: [u16; 36] = [
 /// a layout: four flat vec4/uint locations (glyph index, sphere, rotation, extent) and
 /// the monomial coefficients four to a location (raycast.vert), counted as whole
 /// locations.
-pub fn varying_components(layout: TensorLayout) -> u32 {
-    let monomials = crate::glyph::monomials::symmetric_count(layout.order) as u32;
+pub fn varying_components(layout: TensorLayout, method: Method) -> u32 {
+    let mut monomials = crate::glyph::monomials::symmetric_count(layout.order) as u32;
+    if method == Method::Plane {
+        // The plane glyph's T follows D.
+        monomials += crate::glyph::PLANE_TRACE_COEFFICIENTS as u32;
+    }
     4 * (4 + monomials.div_ceil(4))
 }
 
@@ -245,7 +249,8 @@ impl RayCastPass {
             shadow(SHADOW_BINDINGS[2]),
             shadow(SHADOW_BINDINGS[3]),
         ];
-        // The fragment shaders' push constant: the glyph set's negative mode (one u32).
+        // The fragment shaders' push constant: the glyph set's negative mode, or a plane
+        // set's root (one u32).
         let layout = PipelineLayout::new(ctx, &bindings, vk::ShaderStageFlags::FRAGMENT, 4)?;
         Ok(RayCastPass {
             ctx: ctx.clone(),
@@ -370,8 +375,9 @@ impl RayCastPass {
             | Method::Affine
             | Method::Exact
             | Method::Ellipsoid
-            | Method::Reciprocal => {
-                let needed = varying_components(layout);
+            | Method::Reciprocal
+            | Method::Plane => {
+                let needed = varying_components(layout, method);
                 let available = self.ctx.max_varying_components();
                 if needed > available {
                     return Err(Error::Layout {
@@ -508,7 +514,9 @@ impl RayCastPass {
         // Sets that share a pipeline share buffers and a draw; a batch larger than one
         // storage buffer is split (the method's "render successively").
         let limit = self.storage_buffer_limit(ctx);
-        let chunks = batches(sets, limit, |layout| 4 * layout.coefficient_count() as u64)?;
+        let chunks = batches(sets, limit, |layout, shape| {
+            4 * shape.coefficient_count(layout.coefficient_count()) as u64
+        })?;
         let variants: Vec<_> = chunks
             .iter()
             .map(|chunk| Ok((chunk.layout, batch_method(chunk.shape, method)?)))
@@ -577,7 +585,12 @@ impl RayCastPass {
         for set in &scene.sets {
             let pipeline =
                 self.prepared(set.layout, batch_method(set.shape, method)?, scene.shadows)?;
-            let hide = set.negative.shader_code();
+            // A plane glyph set has no negative lobes: the word says which root it draws.
+            let hide = match set.shape {
+                GlyphShape::PlaneMin => crate::catalog::codes::PLANE_MIN,
+                GlyphShape::PlaneMax => crate::catalog::codes::PLANE_MAX,
+                _ => set.negative.shader_code(),
+            };
             // SAFETY: recording state is the caller's; all handles are alive.
             unsafe {
                 let d = self.ctx.device();
@@ -618,7 +631,8 @@ fn pipeline_key(layout: TensorLayout, method: Method, shadows: bool) -> Pipeline
 /// The method a batch of `shape` is drawn with when the scene's is `method`: ellipsoids
 /// always by their closed-form shader (the other methods solve the polynomial glyph),
 /// except under the impostor, which draws every glyph's bounding sphere; reciprocal
-/// glyphs by the exact method's reciprocal variant, which the other methods lack (an
+/// glyphs by the exact method's reciprocal variant and plane glyphs by its plane variant,
+/// which the other methods lack (an
 /// [`Error::Unsupported`] naming the method).
 pub fn batch_method(shape: GlyphShape, method: Method) -> Result<Method> {
     match (shape, method) {
@@ -628,6 +642,13 @@ pub fn batch_method(shape: GlyphShape, method: Method) -> Result<Method> {
         (GlyphShape::Reciprocal, Method::Exact | Method::Reciprocal) => Ok(Method::Reciprocal),
         (GlyphShape::Reciprocal, method) => Err(Error::Unsupported {
             what: crate::error::Asked::Reciprocal,
+            by: Setting::Method.with(method),
+        }),
+        (GlyphShape::PlaneMin | GlyphShape::PlaneMax, Method::Exact | Method::Plane) => {
+            Ok(Method::Plane)
+        }
+        (GlyphShape::PlaneMin | GlyphShape::PlaneMax, method) => Err(Error::Unsupported {
+            what: crate::error::Asked::Plane,
             by: Setting::Method.with(method),
         }),
     }

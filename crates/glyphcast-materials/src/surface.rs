@@ -4,6 +4,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::Error;
 use crate::stiffness::{Stiffness, unit};
+use crate::voigt::Tensor4;
 
 /// A directional surface: the radius along `u` is a modulus of direction `u`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -64,6 +65,93 @@ pub struct SurfaceForm {
     pub tensor: Vec<f64>,
     /// Whether the radius is `1/|f|` (Young's modulus: `f` is `1/E`).
     pub reciprocal: bool,
+}
+
+/// The two forms whose roots are a surface's radii where no single form is: for unit
+/// `u`, the extremes over `v ⊥ u` of a quadratic form `vᵀ A(u) v` (with `A(u)`'s
+/// entries quadratic in `u`) are the two eigenvalues `λ` of `A(u)` on the plane ⊥ `u`,
+/// the roots of `λ² − T(u) λ + D(u) = 0`, with `T` the trace of that 2x2 restriction
+/// and `D` its determinant. Written as forms of `u` of any length,
+/// `T(u) = tr A(u) |u|² − uᵀ A(u) u` (order 4) and `D(u) = uᵀ adj A(u) u` (order 6),
+/// which are the trace and determinant at unit `u`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlaneForms {
+    /// `T`: all `3^4` entries, row-major (the last index fastest).
+    pub trace: Vec<f64>,
+    /// `D`: all `3^6` entries, row-major.
+    pub determinant: Vec<f64>,
+    /// Whether the surface's radius is `1/λ` of the larger root (`true`: the smallest
+    /// shear modulus) or of the smaller.
+    pub larger_root: bool,
+}
+
+impl PlaneForms {
+    /// The forms of the quadratic forms `vᵀ A(u) v`, `A_jl(u) = Σ m[j][l][i][k] u_i u_k`.
+    fn of(m: &Tensor4, larger_root: bool) -> PlaneForms {
+        let mut trace = vec![0.0; 81];
+        let at4 = |i: usize, j: usize, k: usize, l: usize| 27 * i + 9 * j + 3 * k + l;
+        for i in 0..3 {
+            for k in 0..3 {
+                for j in 0..3 {
+                    for a in 0..3 {
+                        // tr A(u) |u|²
+                        trace[at4(i, k, a, a)] += m[j][j][i][k];
+                        // − uᵀ A(u) u
+                        trace[at4(i, k, j, a)] -= m[j][a][i][k];
+                    }
+                }
+            }
+        }
+        // uᵀ adj(A) u = ½ ε_aij ε_bkl A_ik A_jl u_a u_b (the cofactors of a symmetric A).
+        let epsilon = |a: usize, b: usize, c: usize| -> f64 {
+            match (a, b, c) {
+                (0, 1, 2) | (1, 2, 0) | (2, 0, 1) => 1.0,
+                (0, 2, 1) | (2, 1, 0) | (1, 0, 2) => -1.0,
+                _ => 0.0,
+            }
+        };
+        let mut determinant = vec![0.0; 729];
+        for a in 0..3 {
+            for b in 0..3 {
+                for (i, j, k, l) in (0..81).map(|n| (n / 27, n / 9 % 3, n / 3 % 3, n % 3)) {
+                    let sign = epsilon(a, i, j) * epsilon(b, k, l);
+                    if sign == 0.0 {
+                        continue;
+                    }
+                    for p in 0..81 {
+                        let (p1, p2, p3, p4) = (p / 27, p / 9 % 3, p / 3 % 3, p % 3);
+                        let flat = 243 * a + 81 * b + 27 * p1 + 9 * p2 + 3 * p3 + p4;
+                        determinant[flat] += 0.5 * sign * m[i][k][p1][p2] * m[j][l][p3][p4];
+                    }
+                }
+            }
+        }
+        PlaneForms {
+            trace,
+            determinant,
+            larger_root,
+        }
+    }
+}
+
+impl Stiffness {
+    /// The forms of the shear surfaces (`shear-min`: the larger root of `1/G`,
+    /// `shear-max`: the smaller), in the inverse of the input's units: `1/G(u, v) =
+    /// vᵀ A(u) v` with `A_jl(u) = 4 Σ s_ijkl u_i u_k`. `None` for the other surfaces.
+    pub fn plane_forms(&self, surface: Surface) -> Option<PlaneForms> {
+        let larger_root = match surface {
+            Surface::ShearMin => true,
+            Surface::ShearMax => false,
+            _ => return None,
+        };
+        let s = self.compliance_tensor();
+        let m: Tensor4 = std::array::from_fn(|j| {
+            std::array::from_fn(|l| {
+                std::array::from_fn(|i| std::array::from_fn(|k| 4.0 * s[i][j][k][l]))
+            })
+        });
+        Some(PlaneForms::of(&m, larger_root))
+    }
 }
 
 impl Stiffness {
@@ -201,5 +289,52 @@ mod tests {
         for s in Surface::ALL {
             assert_eq!(Surface::from_name(s.name()), Some(s));
         }
+    }
+
+    /// The roots of λ² − T λ + D at random directions are 1/G of the exact 2x2
+    /// eigenproblem (`Stiffness::radius`), to 1e-12, on a turned cubic crystal.
+    #[test]
+    fn plane_forms_give_the_shear_extremes() {
+        let (c11, c12, c44) = (168.4, 121.4, 75.4);
+        let copper = Stiffness::new([
+            [c11, c12, c12, 0.0, 0.0, 0.0],
+            [c12, c11, c12, 0.0, 0.0, 0.0],
+            [c12, c12, c11, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, c44, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, c44, 0.0],
+            [0.0, 0.0, 0.0, 0.0, 0.0, c44],
+        ])
+        .unwrap()
+        .rotated(&crate::Rotation::from_bunge_degrees(10.0, 20.0, 30.0).unwrap());
+        let form_at = |tensor: &[f64], n: usize, u: [f64; 3]| -> f64 {
+            (0..tensor.len())
+                .map(|flat| {
+                    let product: f64 = (0..n)
+                        .map(|k| u[flat / 3usize.pow((n - 1 - k) as u32) % 3])
+                        .product();
+                    tensor[flat] * product
+                })
+                .sum()
+        };
+        for (surface, larger) in [(Surface::ShearMin, true), (Surface::ShearMax, false)] {
+            let forms = copper.plane_forms(surface).unwrap();
+            assert_eq!(forms.larger_root, larger);
+            for u in crate::fibonacci_half_sphere(60) {
+                let t = form_at(&forms.trace, 4, u);
+                let d = form_at(&forms.determinant, 6, u);
+                let root = (t * t - 4.0 * d).max(0.0).sqrt();
+                let lambda = if larger {
+                    (t + root) / 2.0
+                } else {
+                    (t - root) / 2.0
+                };
+                let g = copper.radius(surface, u).unwrap();
+                assert!(
+                    (lambda * g - 1.0).abs() < 1e-12,
+                    "{surface:?} {u:?}: {lambda} {g}"
+                );
+            }
+        }
+        assert!(copper.plane_forms(Surface::Young).is_none());
     }
 }

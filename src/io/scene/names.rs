@@ -32,6 +32,8 @@ impl Named for GlyphShape {
         GlyphShape::Polynomial,
         GlyphShape::Ellipsoid,
         GlyphShape::Reciprocal,
+        GlyphShape::PlaneMin,
+        GlyphShape::PlaneMax,
     ];
     fn name(self) -> &'static str {
         GlyphShape::name(self)

@@ -10,6 +10,7 @@ use super::npy_array;
 use super::{FORMAT_VERSION, GlyphKind, GlyphSet, ImageSize, Scene, ShBasis};
 use crate::Result;
 use crate::camera::{Camera, Projection};
+use crate::glyph::PLANE_LAYOUT;
 use crate::glyph::ellipsoid::ELLIPSOID_LAYOUT;
 use crate::glyph::{GlyphShape, NegativeMode, Symmetry, TensorLayout};
 use crate::scene::{MAX_IMAGE_SIDE, fits_float32};
@@ -105,7 +106,7 @@ fn read_glyph_set(field: &Field) -> Result<GlyphSet> {
             .collect::<Result<Vec<_>>>()?,
     };
     let scales = read_scales(&set, centers.len())?;
-    let coeffs = read_coeffs(&set.require("coeffs")?, kind, centers.len())?;
+    let coeffs = read_coeffs(&set.require("coeffs")?, kind, shape, centers.len())?;
     Ok(GlyphSet {
         kind,
         negative,
@@ -139,6 +140,21 @@ fn read_shape(set: &Object, kind: GlyphKind, negative: NegativeMode) -> Result<G
             "\"reciprocal\" (r = 1/|f|) needs f without zeros, so it has no negative lobes to \
              hide: use \"negative\": \"abs\"",
         ));
+    }
+    if shape.is_plane() {
+        if kind != GlyphKind::Tensor(PLANE_LAYOUT) {
+            return Err(field.error(format!(
+                "\"{}\" (r = 1/λ, λ² − T λ + D = 0) takes D as a symmetric tensor of \
+                 order 6 (then T of order 4 in each glyph's coefficients), not a {kind}",
+                shape.name()
+            )));
+        }
+        if !shape.takes(negative) {
+            return Err(field.error(format!(
+                "\"{}\" has no negative lobes to hide: use \"negative\": \"abs\"",
+                shape.name()
+            )));
+        }
     }
     Ok(shape)
 }
@@ -240,10 +256,20 @@ fn read_scales(set: &Object, count: usize) -> Result<Vec<f64>> {
     }
 }
 
-fn read_coeffs(field: &Field, kind: GlyphKind, count: usize) -> Result<Vec<Vec<f64>>> {
+fn read_coeffs(
+    field: &Field,
+    kind: GlyphKind,
+    shape: GlyphShape,
+    count: usize,
+) -> Result<Vec<Vec<f64>>> {
+    let per_glyph = shape.coefficient_count(kind.coefficient_count());
+    let what = if shape.is_plane() {
+        format!("coefficients (D: {kind}, then T: symmetric tensor of order 4)")
+    } else {
+        format!("coefficients ({kind})")
+    };
     if let Some(name) = field.text() {
-        let what = format!("coefficients ({kind})");
-        return read_array(field, name, Some(count), kind.coefficient_count(), &what);
+        return read_array(field, name, Some(count), per_glyph, &what);
     }
     let found = field.list()?.len();
     if found != count {
@@ -251,10 +277,9 @@ fn read_coeffs(field: &Field, kind: GlyphKind, count: usize) -> Result<Vec<Vec<f
             "expected {count} coefficient lists (one per center), found {found}"
         )));
     }
-    let what = format!("coefficients ({kind})");
     field
         .items()?
-        .map(|glyph| glyph.numbers(kind.coefficient_count(), &what))
+        .map(|glyph| glyph.numbers(per_glyph, &what))
         .collect()
 }
 

@@ -237,7 +237,7 @@ fn the_ellipsoid_shape_is_for_order_2_symmetric_tensors_without_hiding() {
     assert_input_error(
         parse(&unknown),
         "glyphs[0].shape",
-        "\"polynomial\", \"ellipsoid\", \"reciprocal\"",
+        "\"polynomial\", \"ellipsoid\", \"reciprocal\", \"plane-min\", \"plane-max\"",
     );
 }
 
@@ -257,6 +257,49 @@ fn the_reciprocal_shape_reads_for_any_kind_without_hiding() {
         "glyphs[0].shape",
         "no negative lobes to hide",
     );
+}
+
+/// A plane set is symmetric order 6 with 28 + 15 coefficients a glyph (D then T),
+/// without hiding; other orders, hidden lobes and the order-6 count alone are refused
+/// naming the field.
+#[test]
+fn the_plane_shapes_read_d_then_t() {
+    let plane = |shape: &str, count: usize, order: u32| {
+        let shape = shape.to_owned();
+        edited(move |doc| {
+            let set = glyph_set(doc);
+            set.insert("shape".into(), json!(shape));
+            set.insert("order".into(), json!(order));
+            set.insert("coeffs".into(), json!([vec![0.5; count], vec![0.5; count]]));
+        })
+    };
+    for (name, shape) in [
+        ("plane-min", GlyphShape::PlaneMin),
+        ("plane-max", GlyphShape::PlaneMax),
+    ] {
+        let scene = parse(&plane(name, 43, 6)).expect("a plane set");
+        assert_eq!(scene.glyph_sets[0].shape, shape);
+        assert_eq!(scene.glyph_sets[0].coeffs[0].len(), 43);
+        let written = Scene::from_json_str(&scene.to_json(), FILE).expect("written");
+        assert_eq!(written, scene);
+    }
+    assert_input_error(
+        parse(&plane("plane-min", 28, 6)),
+        "glyphs[0].coeffs[0]",
+        "then T",
+    );
+    assert_input_error(
+        parse(&plane("plane-max", 15, 4)),
+        "glyphs[0].shape",
+        "order 6",
+    );
+    let hidden = edited(|doc| {
+        let set = glyph_set(doc);
+        set.insert("shape".into(), json!("plane-min"));
+        set.insert("order".into(), json!(6));
+        set.insert("negative".into(), json!("hide"));
+    });
+    assert_input_error(parse(&hidden), "glyphs[0].shape", "no negative lobes");
 }
 
 #[test]

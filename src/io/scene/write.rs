@@ -107,7 +107,7 @@ fn glyph_set_json(set: &GlyphSet, index: usize, arrays: ArrayFiles) -> Json {
             entries.push(("scales", scales));
         }
     }
-    let count = set.kind.coefficient_count();
+    let count = set.shape.coefficient_count(set.kind.coefficient_count());
     let coeffs = file(
         "coeffs",
         &[n, count],

@@ -60,7 +60,9 @@ pub struct StiffnessArgs {
     /// The surface the scene draws, its radius in the input's units: reynolds
     /// (C_ijkl u_i u_j u_k u_l), young (Young's modulus E(u)) or compressibility (linear
     /// compressibility beta(u), in inverse units; negative where the crystal expands
-    /// under pressure: render with --color sign). Default: reynolds.
+    /// under pressure: render with --color sign), shear-min or shear-max (the smallest
+    /// or largest shear modulus G(u, v) over the shear directions v ⊥ u). Default:
+    /// reynolds.
     #[arg(long, value_name = "SURFACE", value_parser = parse_surface)]
     surface: Option<DrawnSurface>,
 }
@@ -78,14 +80,23 @@ fn parse_surface(text: &str) -> std::result::Result<DrawnSurface, String> {
         "reynolds" => Ok(DrawnSurface::Reynolds),
         _ => match Surface::from_name(text) {
             Some(surface) if surface_drawn(surface) => Ok(DrawnSurface::Modulus(surface)),
-            _ => Err("expected reynolds, young or compressibility".into()),
+            Some(surface) => Err(format!(
+                "{} is not drawn yet; expected reynolds, young, compressibility, shear-min \
+                 or shear-max",
+                surface.name()
+            )),
+            None => Err("expected reynolds, young, compressibility, shear-min or shear-max".into()),
         },
     }
 }
 
-/// The surfaces a scene draws besides the Reynolds glyph: those that are tensor glyphs.
+/// The surfaces a scene draws besides the Reynolds glyph: those that are tensor glyphs
+/// or plane glyphs (the shear extremes).
 fn surface_drawn(surface: Surface) -> bool {
-    matches!(surface, Surface::Young | Surface::Compressibility)
+    matches!(
+        surface,
+        Surface::Young | Surface::Compressibility | Surface::ShearMin | Surface::ShearMax
+    )
 }
 
 /// Bunge Euler angles in degrees (phi1, Phi, phi2), finite.
@@ -184,11 +195,20 @@ pub fn run(args: StiffnessArgs) -> Result<()> {
 /// unbounded (Young's modulus of an unstable crystal whose 1/E vanishes somewhere).
 fn surface_glyph(material: &Material, surface: Surface) -> Result<RowGlyph> {
     let refused = |message: String| Error::input(&material.file, "voigt", message);
+    let largest = material.stiffness.largest_radius(surface);
+    if let Some(forms) = material.stiffness.plane_forms(surface) {
+        return RowGlyph::of_plane(&forms.determinant, &forms.trace, forms.larger_root, largest)
+            .map_err(|e| {
+                refused(format!(
+                    "{}'s surface: {e} (a mechanically unstable crystal)",
+                    surface.name()
+                ))
+            });
+    }
     let form = material
         .stiffness
         .surface_form(surface)
         .ok_or_else(|| refused(format!("{} is not drawn as a surface", surface.name())))?;
-    let largest = material.stiffness.largest_radius(surface);
     RowGlyph::of_form(form.order, &form.tensor, form.reciprocal, largest).map_err(|e| {
         refused(format!(
             "{}'s surface: {e} (a mechanically unstable crystal)",

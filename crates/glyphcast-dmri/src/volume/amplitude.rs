@@ -17,7 +17,8 @@ const CLIMBS: usize = 3;
 
 /// The size of a glyph drawn as `shape`: [`max_radius`] for the polynomial glyph, the
 /// longest semi-axis for the ellipsoid (0 for a tensor without one), 1 / the least |f|
-/// found by the bound's search for the reciprocal glyph (0 where f vanishes).
+/// found by the bound's search for the reciprocal glyph (0 where f vanishes), the
+/// guaranteed bound for a plane glyph.
 pub fn shape_radius(kind: GlyphKind, shape: GlyphShape, coeffs: &[f64]) -> Result<f64> {
     match shape {
         GlyphShape::Polynomial => max_radius(kind, coeffs),
@@ -29,6 +30,13 @@ pub fn shape_radius(kind: GlyphKind, shape: GlyphShape, coeffs: &[f64]) -> Resul
             Glyph::Sphere(radius) if radius > 0.0 => 1.0 / radius,
             Glyph::Sphere(_) => 0.0,
         }),
+        // The guaranteed bound of 1/λ (an upper bound), 0 where the roots may vanish.
+        GlyphShape::PlaneMin | GlyphShape::PlaneMax => {
+            let (d, t) = coeffs.split_at(glyphcast::glyph::PLANE_LAYOUT.coefficient_count());
+            let d = GlyphPolynomial::from_tensor(glyphcast::glyph::PLANE_LAYOUT, d)?;
+            let t = GlyphPolynomial::from_tensor(glyphcast::glyph::PLANE_TRACE_LAYOUT, t)?;
+            Ok(glyphcast::glyph::intersect::plane_bound(&d, &t).unwrap_or(0.0))
+        }
     }
 }
 
