@@ -36,7 +36,7 @@ fn sphere_above_flat(size: u32) -> (Scene, DVec3) {
     let layout = symmetric(2);
     // Order-2 coefficients xx, xy, xz, yy, yz, zz.
     let flat = glyph_set(
-        layout.clone(),
+        layout,
         vec![DVec3::ZERO],
         1.0,
         vec![vec![1.0, 0.0, 0.0, 1.0, 0.0, 0.02]],
@@ -205,8 +205,8 @@ fn hard_shadows_match_the_float64_reference() {
         let reference = reference_visibility(&scene, &glyphs, light, 1, 0.0);
         let eligible = interior(&reference, w, h);
         let (mut shadowed, mut lit, mut wrong) = (0, 0, Vec::new());
-        for k in 0..w * h {
-            let Some(v) = eligible[k] else { continue };
+        for (k, v) in eligible.iter().enumerate() {
+            let Some(v) = *v else { continue };
             if off.distance[k].is_nan() {
                 wrong.push((k % w, k / w, "no GPU hit"));
                 continue;
@@ -275,9 +275,9 @@ fn soft_shadows_match_the_float64_lit_share() {
             }
             compared += 1;
             partial += usize::from(v > 0.0 && v < 1.0);
-            for c in 0..3 {
+            for (c, base) in BASE.iter().enumerate() {
                 let unshadowed = f64::from(srgb_to_linear(off.rgba[4 * k + c]));
-                let dark = f64::from(BASE[c]) * ambient;
+                let dark = f64::from(*base) * ambient;
                 let byte = |v: f64| srgb_byte(dark + v * (unshadowed - dark));
                 // The unshadowed byte is itself rounded: up to half a step, and the
                 // encoding's slope.
