@@ -200,7 +200,8 @@ fn layout_jobs(
         let _ = writeln!(
             rows.raycast,
             "    RaycastShader {{ layout: {layout}, method: Method::{}, vertex: {}, \
-             fragment: {}, color_only_fragment: {}, shadows_fragment: {} }},",
+             fragment: {}, color_only_fragment: {}, shadows_fragment: {}, \
+             shadows_color_only_fragment: {} }},",
             method_variant(method_name),
             spirv_entry(if method.own_vertex {
                 &own_vertex
@@ -213,6 +214,10 @@ fn layout_jobs(
             spirv_entry(&color_only),
             match &shadows {
                 Some(name) => format!("Some({})", spirv_entry(name)),
+                None => "None".into(),
+            },
+            match &shadows {
+                Some(name) => format!("Some({})", spirv_entry(&format!("{name}_color_only"))),
                 None => "None".into(),
             }
         );
@@ -236,10 +241,17 @@ fn layout_jobs(
         // Optimised as the shader without shadows is, so that the camera's rays are
         // compiled alike and the depth map does not change with --shadows.
         if let Some(shadows) = shadows {
+            let color_only_label = format!("{shadows}_color_only");
             let mut shadows = job(shadows, file, kind, source, weight);
             shadows.optimize = optimize;
             shadows.defines.push(SHADOWS_DEFINE);
             jobs.push(shadows);
+            // Without the distance output, for colour-only targets (the viewer's window,
+            // a C host's); not optimised: such targets have no depth map to keep.
+            let mut color_only = job(color_only_label, file, kind, source, weight);
+            color_only.defines.push(SHADOWS_DEFINE);
+            color_only.defines.push(NO_DISTANCE_DEFINE);
+            jobs.push(color_only);
         }
         // The compute ray caster (--path compute) of the methods that have one.
         if let Some(compute_file) = method.compute {

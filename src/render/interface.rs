@@ -156,7 +156,8 @@ fn the_ray_casting_shaders_read_the_structs_and_bindings_the_passes_write() {
     for shader in RAYCAST_SHADERS {
         let what = format!("{:?} {}", shader.layout, shader.method);
         let spirvs = [shader.vertex, shader.fragment, shader.color_only_fragment];
-        for spirv in spirvs.into_iter().chain(shader.shadows_fragment) {
+        let shadows = [shader.shadows_fragment, shader.shadows_color_only_fragment];
+        for spirv in spirvs.into_iter().chain(shadows.into_iter().flatten()) {
             let (others, frame) = check_frame(&what, spirv);
             frames_seen += usize::from(frame);
             for block in others {
@@ -200,18 +201,18 @@ fn the_ray_casting_shaders_read_the_structs_and_bindings_the_passes_write() {
         frames_seen >= 2 * RAYCAST_SHADERS.len(),
         "the frame block is read"
     );
-    // The shadow-casting fragment shader of every exact variant reads the four shadow
-    // buffers; no other shader declares them.
+    // The two shadow-casting fragment shaders of every exact variant read the four
+    // shadow buffers; no other shader declares them.
     let exact = RAYCAST_SHADERS
         .iter()
         .filter(|s| s.method == Method::Exact)
         .count();
     let with_shadows = RAYCAST_SHADERS
         .iter()
-        .filter(|s| s.shadows_fragment.is_some())
+        .filter(|s| s.shadows_fragment.is_some() && s.shadows_color_only_fragment.is_some())
         .count();
     assert_eq!(with_shadows, exact, "every exact variant casts shadows");
-    assert_eq!(shadow_seen, 4 * exact, "the shadow buffers are read");
+    assert_eq!(shadow_seen, 2 * 4 * exact, "the shadow buffers are read");
     for (what, spirv) in [
         ("raycast.vert", RAYCAST_VERTEX),
         ("impostor.frag", IMPOSTOR_FRAGMENT),

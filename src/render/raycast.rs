@@ -395,22 +395,23 @@ impl RayCastPass {
                     what: crate::error::Asked::Layout(layout.into()),
                     by: Setting::Method.with(method),
                 })?;
-                let fragment = match (self.formats.distance, shadows) {
-                    (Some(_), false) => shader.fragment,
-                    (None, false) => shader.color_only_fragment,
-                    (Some(_), true) => {
-                        shader.shadows_fragment.ok_or_else(|| Error::Unsupported {
-                            what: crate::error::Asked::Method(Setting::Method.with(method)),
-                            by: Setting::Shadows.with("hard"),
-                        })?
-                    }
-                    (None, true) => {
-                        return Err(Error::Call {
-                            call: "RayCastPass::pipeline",
-                            expected: "a distance attachment for the pass that casts shadows",
-                        });
-                    }
-                };
+                let fragment =
+                    match (self.formats.distance, shadows) {
+                        (Some(_), false) => shader.fragment,
+                        (None, false) => shader.color_only_fragment,
+                        (Some(_), true) => {
+                            shader.shadows_fragment.ok_or_else(|| Error::Unsupported {
+                                what: crate::error::Asked::Method(Setting::Method.with(method)),
+                                by: Setting::Shadows.with("hard"),
+                            })?
+                        }
+                        (None, true) => shader.shadows_color_only_fragment.ok_or_else(|| {
+                            Error::Unsupported {
+                                what: crate::error::Asked::Method(Setting::Method.with(method)),
+                                by: Setting::Shadows.with("hard"),
+                            }
+                        })?,
+                    };
                 (Some(shader.vertex), fragment)
             }
         })

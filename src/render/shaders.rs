@@ -38,6 +38,8 @@ pub struct RaycastShader {
     /// The exact method's fragment shader that casts shadow rays (`--shadows`): the
     /// `fragment` shader's outputs, lit by the share of the light that reaches the hit.
     pub shadows_fragment: Option<&'static [u32]>,
+    /// The same without the distance output, for colour-only targets.
+    pub shadows_color_only_fragment: Option<&'static [u32]>,
 }
 
 /// Compute ray caster of one tensor layout and intersection method (`--path compute`,
@@ -166,6 +168,9 @@ mod tests {
             if let Some(shadows) = shader.shadows_fragment {
                 assert_eq!(output_locations(shadows), [0, 1], "{what} with shadows");
             }
+            if let Some(shadows) = shader.shadows_color_only_fragment {
+                assert_eq!(output_locations(shadows), [0], "{what} with shadows");
+            }
             assert_eq!(
                 output_locations(shader.color_only_fragment),
                 [0],
@@ -268,6 +273,7 @@ mod depth_tests {
                 [s.fragment, s.color_only_fragment]
                     .into_iter()
                     .chain(s.shadows_fragment)
+                    .chain(s.shadows_color_only_fragment)
             })
             .chain([IMPOSTOR_FRAGMENT]);
         for spirv in shaders {
