@@ -270,10 +270,8 @@ fn a_lightbox_is_renders_and_its_slices_move_together() {
     // it (the panels of a montage are single views, tests/montage.rs; direction
     // colours, since the montage's magnitude range is shared): the expected picture is
     // the four single renders in the lightbox's grid, captioned with their new slices.
-    // With edge labels, so that the single views are framed as the panels are (a
-    // lightbox keeps its captions' band free of glyphs; a single view, its labels').
     let mut moved_options = panel.clone();
-    moved_options.extend(["--lightbox", "4", "--labels"]);
+    moved_options.extend(["--lightbox", "4"]);
     let (run, shot, window) = scripted("lightbox-moved", 4, "slice:+1");
     view(&x, &input, &moved_options, &run);
     let slices = lightbox_slices(4, 10);
@@ -283,7 +281,7 @@ fn a_lightbox_is_renders_and_its_slices_move_together() {
     for (k, index) in slices.iter().enumerate() {
         let slice = format!("axial:{}", index + 1);
         let mut single = panel.clone();
-        single.extend(["--slice", slice.as_str(), "--labels"]);
+        single.extend(["--slice", slice.as_str()]);
         let png = render(&input, &format!("lightbox-k{}.png", index + 1), &single);
         let pixels = crop(&png, (0, 0, PANEL.0, PANEL.1));
         let (x0, y0) = ((k as u32 % 2) * PANEL.0, (k as u32 / 2) * PANEL.1);
