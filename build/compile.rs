@@ -1,9 +1,10 @@
 //! GLSL to SPIR-V: every shader job of the build, compiled on every core, each result
 //! kept in a cache keyed by its preprocessed source.
 //!
-//! The `exact` fragment shaders and the per-layout vertex shaders (`Job::optimize`) go
-//! through spirv-opt's performance passes in shaderc, then through the `spirv-opt`
-//! program until they stop shrinking, and then have their ids compacted ([`SpirvOpt`]).
+//! The `exact` fragment shaders and the per-layout vertex shaders (`Job::optimize`) are
+//! compiled without optimisation, go through rounds of the `spirv-opt` program's
+//! performance passes until they stop shrinking, and then have their ids compacted
+//! ([`SpirvOpt`]). Without that program, shaderc's own single round of those passes runs.
 //!
 //! A job is preprocessed first (includes resolved, macros expanded, comments gone; a few
 //! milliseconds), and the text, less its line directives and blank lines, is hashed with
@@ -172,7 +173,13 @@ pub fn compile_all(jobs: &mut [Job], dirs: &Dirs) -> Summary {
     }
 }
 
-fn options<'a>(job: &'a Job, glsl_dir: &'a Path) -> Result<shaderc::CompileOptions<'a>, String> {
+/// shaderc's options for `job`; `optimise`: whether shaderc runs spirv-opt's performance
+/// passes itself (only when the `spirv-opt` program is missing, see [`SpirvOpt`]).
+fn options<'a>(
+    job: &'a Job,
+    glsl_dir: &'a Path,
+    optimise: bool,
+) -> Result<shaderc::CompileOptions<'a>, String> {
     let mut options =
         shaderc::CompileOptions::new().map_err(|e| format!("shaderc options: {e}"))?;
     options.set_target_env(
@@ -187,7 +194,7 @@ fn options<'a>(job: &'a Job, glsl_dir: &'a Path) -> Result<shaderc::CompileOptio
     // SPIR-V (lavapipe's own NIR passes then have little left to unroll and fold: order 8
     // 0.27 s against 0.65 to 1.0 s), and that creation is most of a one-shot render's
     // time, so the `exact` fragment shaders are optimised (`Job::optimize`).
-    options.set_optimization_level(if job.optimize {
+    options.set_optimization_level(if optimise {
         shaderc::OptimizationLevel::Performance
     } else {
         shaderc::OptimizationLevel::Zero
@@ -211,14 +218,18 @@ fn options<'a>(job: &'a Job, glsl_dir: &'a Path) -> Result<shaderc::CompileOptio
     Ok(options)
 }
 
-/// SPIRV-Tools' optimiser as a program. shaderc runs spirv-opt's performance passes once,
-/// and on the `exact` shaders one round does not reach a fixed point: the loops it unrolls
-/// late leave branches on constants, dead blocks and redundant loads that the next round
-/// removes (order 8: 233 kB after shaderc, 162 kB after a second round, 113 kB after a
-/// third; a fourth changes nothing). lavapipe's NIR passes take about a third of the
-/// time on the smaller module (order 8: 55 against 175 ms of CPU). The SPIRV-Tools that
-/// shaderc links has no C entry point for its optimiser (the C++ one would need a C++
-/// shim), so the program of the same package (`spirv-tools`) runs it.
+/// SPIRV-Tools' optimiser as a program, run on shaderc's unoptimised output. One round of
+/// its performance passes does not reach a fixed point on the `exact` shaders: the loops
+/// it unrolls leave branches on constants, dead blocks and redundant loads that the next
+/// round removes (order 8: 135 kB unoptimised, 282 kB after the first round, 210 kB after
+/// the second, 162 kB after the third; a fourth changes nothing). lavapipe's NIR passes
+/// take about a third of the time on the smaller module (order 8: 55 against 175 ms of
+/// CPU). shaderc's own optimisation is not the first round: on its larger output
+/// (order 12: 874 kB against 495 kB) spirv-opt's if-conversion pass grows quadratically,
+/// and a cold build took three times longer (order 12: 330 s against 100 s for one
+/// shader). The SPIRV-Tools that shaderc links has no C entry point for its optimiser
+/// (the C++ one would need a C++ shim), so the program of the same package
+/// (`spirv-tools`) runs it.
 pub struct SpirvOpt {
     program: std::ffi::OsString,
     /// Its `--version` line, part of the cache key: another version may write other code.
@@ -247,12 +258,13 @@ impl SpirvOpt {
         Some(SpirvOpt { program, version })
     }
 
-    /// Rounds of `spirv-opt -O` on `spirv` (little-endian bytes) until a round no longer
-    /// makes the module smaller (three rounds in all on every `exact` shader so far).
+    /// Rounds of `spirv-opt -O` on `spirv` (little-endian, unoptimised) until a round no
+    /// longer makes the module smaller. The first round is always kept: its unrolling
+    /// makes the module larger (three rounds in all on every `exact` shader so far).
     fn optimise(&self, spirv: Vec<u8>, label: &str) -> Result<Vec<u8>, String> {
-        const MAX_ROUNDS: usize = 4;
-        let mut best = spirv;
-        for _ in 0..MAX_ROUNDS {
+        const MAX_ROUNDS: usize = 5;
+        let mut best = self.round(&spirv, label, "-O")?;
+        for _ in 1..MAX_ROUNDS {
             let next = self.round(&best, label, "-O")?;
             if next.len() >= best.len() {
                 break;
@@ -315,8 +327,9 @@ impl SpirvOpt {
 
 /// The spirv-opt steps of an optimised job's cache entries: after the rounds of `-O`,
 /// and the final module, its ids compacted.
-const OPTIMISED: &str = "spirv-opt -O until it no longer shrinks";
-const COMPACTED: &str = "spirv-opt -O until it no longer shrinks, then --compact-ids";
+const OPTIMISED: &str = "spirv-opt -O on unoptimised SPIR-V until it no longer shrinks";
+const COMPACTED: &str =
+    "spirv-opt -O on unoptimised SPIR-V until it no longer shrinks, then --compact-ids";
 
 /// One job; true when it was compiled, false when the cache had it; and its cache key.
 fn run(
@@ -334,11 +347,18 @@ fn run(
     let explain = |message: String| explain(&message, job, &dirs.glsl, &generated_path);
 
     let preprocessed = compiler
-        .preprocess(&source, &job.file, "main", Some(&options(job, &dirs.glsl)?))
+        .preprocess(
+            &source,
+            &job.file,
+            "main",
+            Some(&options(job, &dirs.glsl, false)?),
+        )
         .map_err(|e| explain(e.to_string()))?;
     let text = preprocessed.as_text();
     let spirv_opt = spirv_opt.filter(|_| job.optimize);
-    let key = cache_key(job, spirv_opt.map(|p| (p, COMPACTED)), &text);
+    // shaderc optimises only when the spirv-opt program cannot.
+    let shaderc_optimises = job.optimize && spirv_opt.is_none();
+    let key = cache_key(job, job.optimize, spirv_opt.map(|p| (p, COMPACTED)), &text);
     let target = dirs.spirv.join(format!("{}.spv", job.label));
     let compile = || -> Result<Vec<u8>, String> {
         let artifact = compiler
@@ -347,7 +367,7 @@ fn run(
                 job.kind,
                 &job.file,
                 "main",
-                Some(&options(job, &dirs.glsl)?),
+                Some(&options(job, &dirs.glsl, shaderc_optimises)?),
             )
             .map_err(|e| explain(e.to_string()))?;
         Ok(artifact
@@ -364,12 +384,13 @@ fn run(
         (None, Some(program)) => {
             // Each step has a cache entry of its own, so that a new step reruns only
             // what follows it.
-            let shaderc_key = cache_key(job, None, &text);
+            // shaderc's unoptimised output: the same entry as an unoptimised job's.
+            let shaderc_key = cache_key(job, false, None, &text);
             let shaderc_bytes = match cached(dirs, shaderc_key) {
                 Some(bytes) => bytes,
                 None => store(dirs, shaderc_key, compile()?)?,
             };
-            let optimised_key = cache_key(job, Some((program, OPTIMISED)), &text);
+            let optimised_key = cache_key(job, true, Some((program, OPTIMISED)), &text);
             let optimised = match cached(dirs, optimised_key) {
                 Some(bytes) => bytes,
                 None => store(
@@ -405,7 +426,12 @@ fn store(dirs: &Dirs, key: u64, bytes: Vec<u8>) -> Result<Vec<u8>, String> {
 /// FNV-1a (64 bit) of the cache version, the stage, the optimisation (with spirv-opt's
 /// version where it runs), the defines and the preprocessed text without line directives,
 /// blank lines or indentation.
-fn cache_key(job: &Job, spirv_opt: Option<(&SpirvOpt, &str)>, preprocessed: &str) -> u64 {
+fn cache_key(
+    job: &Job,
+    optimised: bool,
+    spirv_opt: Option<(&SpirvOpt, &str)>,
+    preprocessed: &str,
+) -> u64 {
     let mut hash = 0xcbf2_9ce4_8422_2325_u64;
     let mut feed = |bytes: &[u8]| {
         for b in bytes {
@@ -417,7 +443,7 @@ fn cache_key(job: &Job, spirv_opt: Option<(&SpirvOpt, &str)>, preprocessed: &str
     };
     feed(CACHE_VERSION.as_bytes());
     feed(format!("{:?}", job.kind).as_bytes());
-    feed(if job.optimize {
+    feed(if optimised {
         b"optimised"
     } else {
         b"unoptimised"
