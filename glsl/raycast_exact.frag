@@ -44,7 +44,9 @@
 //
 // 5. With --shadows, rays from the hit towards the light are intersected with the
 //    batch's glyphs by the same root isolation (shadow.glsl), and the light's share that
-//    reaches the hit scales its diffuse and specular terms; depth is not touched.
+//    reaches the hit scales its diffuse and specular terms; with --ambient-occlusion,
+//    rays over the hemisphere of the hit, limited in reach, scale its ambient term.
+//    Depth is not touched.
 //
 // Offset glyphs are not polynomial; the CPU rejects --offset with this method.
 #extension GL_GOOGLE_include_directive : require
@@ -90,6 +92,7 @@ void main() {
         }
     }
     float visibility = shadow_visibility();
+    shadow_ambient_share = shadow_ambient_visibility();
     glyph_load_inputs();  // the shadow rays loaded the glyphs they met
     shade_hit_visible(camera, s_hit, visibility);
 }

@@ -39,6 +39,11 @@ vec3 facing_normal(vec3 normal, vec3 view_dir) {
 // (src/render/settings.rs, Lighting), the light's diffuse and specular terms scaled by
 // `visibility`, the share of the light that reaches the point (--shadows; 1 unshadowed):
 // the normal is turned towards the viewer.
+#ifdef GLYPHCAST_SHADOWS
+// The share of the ambient light that reaches the point (--ambient-occlusion, set by
+// the shadow-casting shader from its occlusion rays; 1 unoccluded).
+float shadow_ambient_share = 1.0;
+#endif
 vec3 blinn_phong_visible(vec3 base, vec3 normal, vec3 view_dir, float visibility) {
     vec3 n = facing_normal(normal, view_dir);
     vec3 l = frame.light.xyz;
@@ -46,7 +51,11 @@ vec3 blinn_phong_visible(vec3 base, vec3 normal, vec3 view_dir, float visibility
     float ambient = frame.shading.x;
     float diffuse = max(dot(n, l), 0.0) * visibility;
     float specular = frame.shading.y * pow(max(dot(n, h), 0.0), frame.shading.z) * visibility;
+#ifdef GLYPHCAST_SHADOWS
+    return base * (ambient * shadow_ambient_share + (1.0 - ambient) * diffuse) + vec3(specular);
+#else
     return base * (ambient + (1.0 - ambient) * diffuse) + vec3(specular);
+#endif
 }
 
 // Blinn-Phong of a point the whole light reaches.

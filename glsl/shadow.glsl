@@ -23,6 +23,14 @@
 // SHADOW_STEPS steps of the walk (glyphs listed, cells crossed); rays still unresolved
 // then count as reaching the light.
 //
+// Ambient occlusion (--ambient-occlusion) casts AMBIENT_RAYS more rays from the hit, over
+// the hemisphere around its normal: the soft light's 16 disc samples lifted onto the
+// hemisphere (Malley's method), so cosine-weighted. Each reaches frame.shadow.x bounding
+// radii of the hit glyph from its start: a glyph is tested only on the part of its chord
+// within that reach, and the walk stops at the first cell boundary beyond it. The share
+// of them that no glyph blocks scales the ambient term (shadow_ambient_share, read by
+// shading.glsl). The float64 reference is src/glyph/shadow.rs ambient_share.
+//
 // Include after exact_root.glsl.
 
 layout(std430, set = 0, binding = 2) readonly buffer ShadowInstances {
@@ -41,7 +49,8 @@ layout(std430, set = 0, binding = 5) readonly buffer ShadowEntries {
     uint shadow_entries[];    // glyph indices, cell after cell
 };
 
-const int SHADOW_ISOLATIONS = 48;
+const int SHADOW_ISOLATIONS = 80;
+const int AMBIENT_RAYS = 16;
 const int SHADOW_STEPS = 2048;
 
 // The hit and the rays cast from it (shadow_begin).
@@ -50,9 +59,13 @@ vec3 shadow_normal;       // turned towards the viewer
 float shadow_offset;      // the rays' start beyond the hit, world units
 vec3 shadow_u;            // with shadow_v, the soft light's disc around frame.light
 vec3 shadow_v;
-int shadow_rays;          // rays per hit
+int shadow_rays;          // rays towards the light per hit
 int shadow_casts;         // of them, those leaving the surface outwards (n . l > 0)
 int shadow_blocked;       // of those, the rays found blocked
+int shadow_ambient_rays;  // occlusion rays per hit (after the light's), 0 or AMBIENT_RAYS
+float shadow_reach;       // how far an occlusion ray reaches, world units
+int shadow_ambient_blocked;  // of them, the rays found blocked
+float shadow_ray_reach;   // how far the ray being walked reaches, world units
 // The ray being walked.
 int shadow_sample;        // its index; -1 before the first
 bool shadow_active;       // whether a ray is being walked
@@ -73,17 +86,31 @@ vec3 shadow_perpendicular(vec3 v) {
     return normalize(cross(v, other));
 }
 
-// Ray k towards the light: the light's direction, or sample k of a soft light's disc
+// Sample k (0 to 15) of the unit disc: 4 rings of equal area, 4 samples each
 // (src/glyph/shadow.rs soft_sample).
+vec2 shadow_disc_sample(int k) {
+    int ring = k / 4;
+    float radius = sqrt((float(ring) + 0.5) / 4.0);
+    float angle = 6.28318530718 * (float(k % 4) + 0.25 * float(ring) + 0.5) / 4.0;
+    return radius * vec2(cos(angle), sin(angle));
+}
+
+// Ray k from the hit: towards the light (its direction, or sample k of a soft light's
+// disc), then, from k = shadow_rays on, the occlusion rays (src/glyph/shadow.rs
+// ambient_direction).
 vec3 shadow_ray_dir(int k) {
+    if (k >= shadow_rays) {
+        vec2 s = shadow_disc_sample(k - shadow_rays);
+        vec3 u = shadow_perpendicular(shadow_normal);
+        vec3 v = cross(shadow_normal, u);
+        return normalize(s.x * u + s.y * v + sqrt(max(1.0 - dot(s, s), 0.0)) * shadow_normal);
+    }
     vec3 light = frame.light.xyz;
     if (shadow_rays <= 1) {
         return light;
     }
-    int ring = k / 4;
-    float radius = sqrt((float(ring) + 0.5) / 4.0) * frame.shadow.z;
-    float angle = 6.28318530718 * (float(k % 4) + 0.25 * float(ring) + 0.5) / 4.0;
-    return normalize(light + radius * (cos(angle) * shadow_u + sin(angle) * shadow_v));
+    vec2 s = shadow_disc_sample(k) * frame.shadow.z;
+    return normalize(light + s.x * shadow_u + s.y * shadow_v);
 }
 
 // The entries of the current cell.
@@ -144,6 +171,9 @@ void shadow_begin(GlyphRay camera, float s_hit) {
         shadow_casts += dot(shadow_normal, shadow_ray_dir(k)) > 0.0 ? 1 : 0;
     }
     shadow_blocked = 0;
+    shadow_ambient_rays = frame.shadow.x > 0.0 ? AMBIENT_RAYS : 0;
+    shadow_reach = frame.shadow.x * camera.rho;
+    shadow_ambient_blocked = 0;
     shadow_sample = -1;
     shadow_active = false;
     shadow_steps_left = SHADOW_STEPS;
@@ -156,10 +186,12 @@ bool shadow_next_glyph(out GlyphRay ray) {
     for (; shadow_steps_left > 0; --shadow_steps_left) {
         if (!shadow_active) {
             shadow_sample += 1;
-            if (shadow_sample >= shadow_rays) {
+            if (shadow_sample >= shadow_rays + shadow_ambient_rays) {
                 return false;
             }
             shadow_dir = shadow_ray_dir(shadow_sample);
+            // Rays towards the light reach as far as the grid does.
+            shadow_ray_reach = shadow_sample < shadow_rays ? 3.0e38 : shadow_reach;
             if (dot(shadow_normal, shadow_dir) > 0.0) {
                 shadow_origin = shadow_hit + shadow_offset * shadow_dir;
                 shadow_active = shadow_start_ray();
@@ -171,16 +203,24 @@ bool shadow_next_glyph(out GlyphRay ray) {
                 shadow_recent = uvec4(glyph, shadow_recent.xyz);
                 ray.origin = shadow_origin;
                 ray.dir = shadow_dir;
-                if (glyph_ray_clip(shadow_instances[glyph], normalize(shadow_boxes[2u * glyph]),
-                                   shadow_boxes[2u * glyph + 1u].xyz, CHORD_RADIUS, ray)) {
+                bool enters = glyph_ray_clip(shadow_instances[glyph],
+                                             normalize(shadow_boxes[2u * glyph]),
+                                             shadow_boxes[2u * glyph + 1u].xyz, CHORD_RADIUS,
+                                             ray);
+                // Only the part of the chord within the ray's reach.
+                ray.s_end = min(ray.s_end, shadow_ray_reach / ray.rho - ray.t_mid);
+                if (enters && ray.s_start < ray.s_end) {
                     glyph_load(glyph);
                     shadow_steps_left -= 1;
                     return true;
                 }
             }
         } else {
-            // The next cell: across the nearest boundary; past the grid, the ray is lit.
-            if (shadow_t_next.x <= shadow_t_next.y && shadow_t_next.x <= shadow_t_next.z) {
+            // The next cell: across the nearest boundary; past the grid or the ray's
+            // reach, the ray is unblocked.
+            if (min(min(shadow_t_next.x, shadow_t_next.y), shadow_t_next.z) > shadow_ray_reach) {
+                shadow_active = false;
+            } else if (shadow_t_next.x <= shadow_t_next.y && shadow_t_next.x <= shadow_t_next.z) {
                 shadow_at.x += shadow_step.x;
                 shadow_t_next.x += shadow_delta.x;
             } else if (shadow_t_next.y <= shadow_t_next.z) {
@@ -203,7 +243,11 @@ bool shadow_next_glyph(out GlyphRay ray) {
 
 // The glyph last handed out blocks the ray being walked: on to the next ray.
 void shadow_ray_blocked() {
-    shadow_blocked += 1;
+    if (shadow_sample < shadow_rays) {
+        shadow_blocked += 1;
+    } else {
+        shadow_ambient_blocked += 1;
+    }
     shadow_active = false;
 }
 
@@ -211,4 +255,11 @@ void shadow_ray_blocked() {
 // unresolved count as lit.
 float shadow_visibility() {
     return shadow_casts == 0 ? 1.0 : 1.0 - float(shadow_blocked) / float(shadow_casts);
+}
+
+// The share of the occlusion rays that no glyph blocks (1 without ambient occlusion);
+// rays left unresolved count as unblocked.
+float shadow_ambient_visibility() {
+    return shadow_ambient_rays == 0
+        ? 1.0 : 1.0 - float(shadow_ambient_blocked) / float(shadow_ambient_rays);
 }

@@ -221,6 +221,10 @@ typedef struct GlyphcastSettings {
   // With [`GlyphcastShadows::Soft`]: the light's angular radius in degrees, above 0
   // and at most 30.
   float shadow_radius;
+  // Ambient occlusion (with [`GlyphcastMethod::Exact`] only): 0 none (the default),
+  // else how far the 16 occlusion rays of each hit reach, in bounding radii of the hit
+  // glyph, above 0 and at most 16 (1 reaches the neighbours of glyphs that touch).
+  float ambient_occlusion;
 } GlyphcastSettings;
 
 // One allocation glyphcast asks the host for.

@@ -13,7 +13,7 @@ use glyphcast::io::png::read_png_rgba8;
 use glyphcast::render::glyph_data::{GlyphSetData, prepare_scene};
 use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
 use glyphcast::render::settings::{Lighting, srgb_to_linear};
-use glyphcast::render::{ColorMode, Method, RenderSettings, Shadows};
+use glyphcast::render::{AmbientOcclusion, ColorMode, Method, RenderSettings, Shadows};
 use glyphcast::scene::Scene;
 
 /// The glyphs' uniform colour (linear RGB).
@@ -100,16 +100,38 @@ fn render_pair(
     light: DVec3,
     shadows: Shadows,
 ) -> (Vec<GlyphSetData>, RenderedImage, RenderedImage) {
+    render_changed(gpu, renderer, scene, light, 0.0, |s| s.shadows = shadows)
+}
+
+/// The scene's glyphs, and the scene drawn with the test's settings (`ambient` their
+/// ambient term, and no highlight, when above 0) and with those settings changed by
+/// `change`; the two depth maps are
+/// held to be the same, bit for bit.
+fn render_changed(
+    gpu: &glyphcast::vk::Gpu,
+    renderer: &mut HeadlessRenderer,
+    scene: &Scene,
+    light: DVec3,
+    ambient: f32,
+    change: impl Fn(&mut RenderSettings),
+) -> (Vec<GlyphSetData>, RenderedImage, RenderedImage) {
     let sets = prepare_scene(scene, 0.0).expect("preparing");
     let (w, h) = (scene.image.width, scene.image.height);
     let view = glyphcast::FrameView::new(&scene.camera, w, h);
-    let mut draw = |shadows| {
-        let settings = settings(&scene.camera, light, shadows);
+    let mut base = settings(&scene.camera, light, Shadows::Off);
+    if ambient > 0.0 {
+        // A strong ambient term and no highlight, so that no channel saturates.
+        base.lighting.ambient = ambient;
+        base.lighting.specular = 0.0;
+    }
+    let mut changed = base;
+    change(&mut changed);
+    let mut draw = |settings: &RenderSettings| {
         renderer
-            .render_view(gpu, &sets, &view, &settings)
+            .render_view(gpu, &sets, &view, settings)
             .expect("rendering")
     };
-    let (off, on) = (draw(Shadows::Off), draw(shadows));
+    let (off, on) = (draw(&base), draw(&changed));
     let bits = |image: &RenderedImage| {
         image
             .distance
@@ -117,7 +139,10 @@ fn render_pair(
             .map(|d| d.to_bits())
             .collect::<Vec<_>>()
     };
-    assert!(bits(&off) == bits(&on), "{shadows}: the depth map changed");
+    assert!(
+        bits(&off) == bits(&on),
+        "{changed:?}: the depth map changed"
+    );
     (sets, off, on)
 }
 
@@ -299,6 +324,90 @@ fn soft_shadows_match_the_float64_lit_share() {
     );
 }
 
+/// Ambient occlusion: each pixel's colour is the unoccluded one less the ambient term's
+/// occluded share, for a share that the float64 reference (`glyph::shadow::ambient_share`:
+/// the 16 occlusion rays intersected exactly with every glyph, within the reach) gives the
+/// pixel or one of its eight neighbours (within the 8-bit rounding of both images), where
+/// those shares differ by at most two of the 16 rays (away from silhouettes); the depth
+/// map does not change, no channel brightens.
+#[test]
+fn ambient_occlusion_matches_the_float64_share() {
+    let gpu = common::gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    let ambient = 0.6;
+    for (name, (scene, light), reach) in [
+        ("sphere-above-flat", sphere_above_flat(128), 1.0f32),
+        ("fibre-field", fibre_field(128), 0.5),
+    ] {
+        let occlusion = AmbientOcclusion::On { reach };
+        let (sets, off, on) = render_changed(&gpu, &mut renderer, &scene, light, ambient, |s| {
+            s.ambient_occlusion = occlusion;
+        });
+        save(&format!("ambient-occlusion-{name}"), &on);
+        // The scene too, for the guide's picture (docs/guide/shadows.md).
+        let scene_file = common::output_dir().join(format!("ambient-occlusion-{name}.json"));
+        let _ = std::fs::write(scene_file, scene.to_json());
+        let (w, h) = (scene.image.width as usize, scene.image.height as usize);
+        let glyphs = glyphs_of(&sets);
+        let mut reference = Vec::with_capacity(w * h);
+        for j in 0..h as u32 {
+            for i in 0..w as u32 {
+                let ray = scene.camera.ray(i, j, w as u32, h as u32);
+                let nearest = glyphs
+                    .iter()
+                    .filter_map(|g| first_hit(&ray, g).map(|t| (t, g)))
+                    .min_by(|a, b| a.0.total_cmp(&b.0));
+                reference.push(nearest.map(|(t, glyph)| {
+                    let hit = ray.origin + t * ray.dir;
+                    shadow::ambient_share(glyph, hit, ray.dir, f64::from(reach), &glyphs)
+                }));
+            }
+        }
+        let (mut compared, mut occluded, mut wrong) = (0, 0, Vec::new());
+        for j in 1..h - 1 {
+            for i in 1..w - 1 {
+                let k = j * w + i;
+                let reference = &reference;
+                let shares: Option<Vec<f64>> = (j - 1..=j + 1)
+                    .flat_map(|y| (i - 1..=i + 1).map(move |x| reference[y * w + x]))
+                    .collect();
+                let Some(shares) = shares else { continue };
+                let lo = shares.iter().copied().fold(f64::INFINITY, f64::min);
+                let hi = shares.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                if hi - lo > 2.0 / 16.0 + 1e-9 {
+                    continue;
+                }
+                compared += 1;
+                occluded += usize::from(reference[k].is_some_and(|v| v < 1.0));
+                for (c, base) in BASE.iter().enumerate() {
+                    let unoccluded = f64::from(srgb_to_linear(off.rgba[4 * k + c]));
+                    let taken = f64::from(*base) * f64::from(ambient);
+                    let byte = |v: f64| srgb_byte(unoccluded - (1.0 - v) * taken);
+                    let got = f64::from(on.rgba[4 * k + c]);
+                    if got < byte(lo) - 1.5 || got > byte(hi) + 1.5 {
+                        wrong.push((i, j, c, got, byte(lo), byte(hi)));
+                    }
+                }
+            }
+        }
+        eprintln!(
+            "{name}: {compared} pixels, {occluded} occluded, {} wrong",
+            wrong.len()
+        );
+        assert!(
+            wrong.is_empty(),
+            "{name}: {:?}",
+            &wrong[..wrong.len().min(20)]
+        );
+        assert!(
+            compared > 1000 && occluded >= 100,
+            "{name}: {compared} compared, {occluded} occluded"
+        );
+        let brighter = (0..w * h * 4).filter(|&c| on.rgba[c] > off.rgba[c]).count();
+        assert_eq!(brighter, 0, "{name}: channels brightened");
+    }
+}
+
 /// Through the command line: `--shadows` alone on the sphere above the flat glyph leaves
 /// the depth map unchanged, darkens at least 0.5 % of the covered pixels and brightens
 /// none.
@@ -358,9 +467,28 @@ fn the_shadows_flag_darkens_and_keeps_the_depth_map() {
     let (soft, soft_depth) = render("soft", &["--shadows", "soft:6"]);
     assert!(soft_depth == plain_depth);
     assert!(soft != plain && soft != shadowed);
+    // --ambient-occlusion alone darkens the flat glyph under the sphere, keeps the depth
+    // map and brightens nothing; with --shadows both take light away.
+    let (occluded, occluded_depth) = render("occluded", &["--ambient-occlusion"]);
+    assert!(occluded_depth == plain_depth);
+    let changed = |image: &[u8], darker: bool| {
+        plain
+            .chunks(4)
+            .zip(image.chunks(4))
+            .filter(|(a, b)| (0..4).any(|c| if darker { b[c] < a[c] } else { b[c] > a[c] }))
+            .count()
+    };
+    eprintln!("--ambient-occlusion: {} darker", changed(&occluded, true));
+    assert!(changed(&occluded, true) as f64 >= 0.005 * covered as f64);
+    assert_eq!(changed(&occluded, false), 0);
+    let (both, both_depth) = render("both", &["--ambient-occlusion", "2", "--shadows"]);
+    assert!(both_depth == plain_depth);
+    assert!(changed(&both, true) > changed(&shadowed, true));
+    assert_eq!(changed(&both, false), 0);
 }
 
-/// Bad values and methods without shadow rays are usage errors naming the setting.
+/// Bad values and methods without shadow or occlusion rays are usage errors naming the
+/// setting.
 #[test]
 fn bad_shadow_values_are_usage_errors() {
     let dir = fresh_dir("shadows-errors");
@@ -368,7 +496,7 @@ fn bad_shadow_values_are_usage_errors() {
     let scene_file = dir.join("scene.json");
     std::fs::write(&scene_file, scene.to_json()).expect("scene");
     let png = dir.join("out.png");
-    let cases: [(&[&str], &[&str]); 5] = [
+    let cases: [(&[&str], &[&str]); 9] = [
         (
             &["--shadows", "sometimes"],
             &["--shadows 'sometimes'", "soft:RADIUS"],
@@ -382,6 +510,22 @@ fn bad_shadow_values_are_usage_errors() {
         (
             &["--shadows", "--path", "compute"],
             &["--shadows", "--path fragment"],
+        ),
+        (
+            &["--ambient-occlusion", "often"],
+            &["--ambient-occlusion 'often'", "reach"],
+        ),
+        (
+            &["--ambient-occlusion", "0"],
+            &["--ambient-occlusion 0", "above 0"],
+        ),
+        (
+            &["--ambient-occlusion", "17"],
+            &["--ambient-occlusion 17", "at most 16"],
+        ),
+        (
+            &["--ambient-occlusion", "--method", "affine"],
+            &["--ambient-occlusion", "--method exact"],
         ),
     ];
     for (extra, words) in cases {

@@ -42,31 +42,41 @@ fn window_shows_what_the_headless_renderer_draws() {
     assert_window_matches(&window, &expected);
 }
 
-/// `L` (the script's `shadows:toggle`) switches shadows on: the screenshot is what
-/// `render --shadows` draws, and is not the picture without them.
+/// `L` (the script's `shadows:toggle`) switches shadows on, `O` (`ambient_occlusion:toggle`)
+/// ambient occlusion: the screenshot is what `render --shadows` or `render
+/// --ambient-occlusion` draws, and is not the picture without them.
 #[test]
 fn the_shadows_toggle_draws_what_render_shadows_draws() {
     let Some(x) = Xvfb::start("the_shadows_toggle_draws_what_render_shadows_draws") else {
         return;
     };
     let scene = data("tests/scenes/order4_pair.json");
-    let shot = out("shadows-shot.png");
     let size = ["--width", "200", "--height", "150", "--light", "-1,0.3,0.4"];
-    let mut args = vec![scene.as_str()];
-    args.extend(size);
-    args.extend(["--frames", "3", "--script", "shadows:toggle"]);
-    args.extend(["--screenshot", path_str(&shot)]);
-    let output = x.view(&args);
-    assert_clean(&output);
-    let mut with_shadows = size.to_vec();
-    with_shadows.push("--shadows");
-    let expected = render(Path::new(&scene), "shadows-render.png", &with_shadows);
-    assert_eq!(differing_pixels(&shot, &expected, 0).0, 0);
     let plain = render(Path::new(&scene), "shadows-plain.png", &size);
-    assert!(
-        differing_pixels(&shot, &plain, 0).0 > 0,
-        "the toggle changed nothing"
-    );
+    for (name, script, flag) in [
+        ("shadows", "shadows:toggle", "--shadows"),
+        (
+            "occlusion",
+            "ambient_occlusion:toggle",
+            "--ambient-occlusion",
+        ),
+    ] {
+        let shot = out(&format!("{name}-shot.png"));
+        let mut args = vec![scene.as_str()];
+        args.extend(size);
+        args.extend(["--frames", "3", "--script", script]);
+        args.extend(["--screenshot", path_str(&shot)]);
+        let output = x.view(&args);
+        assert_clean(&output);
+        let mut with_rays = size.to_vec();
+        with_rays.push(flag);
+        let expected = render(Path::new(&scene), &format!("{name}-render.png"), &with_rays);
+        assert_eq!(differing_pixels(&shot, &expected, 0).0, 0, "{name}");
+        assert!(
+            differing_pixels(&shot, &plain, 0).0 > 0,
+            "{name}: the toggle changed nothing"
+        );
+    }
 }
 
 #[test]

@@ -174,6 +174,10 @@ pub struct GlyphcastSettings {
     /// With [`GlyphcastShadows::Soft`]: the light's angular radius in degrees, above 0
     /// and at most 30.
     pub shadow_radius: f32,
+    /// Ambient occlusion (with [`GlyphcastMethod::Exact`] only): 0 none (the default),
+    /// else how far the 16 occlusion rays of each hit reach, in bounding radii of the hit
+    /// glyph, above 0 and at most 16 (1 reaches the neighbours of glyphs that touch).
+    pub ambient_occlusion: f32,
 }
 
 /// Shadows the glyphs cast ([`GlyphcastSettings::shadows`]).
@@ -500,6 +504,7 @@ fn default_settings() -> GlyphcastSettings {
         offset: 0.0,
         shadows: GlyphcastShadows::Off as u32,
         shadow_radius: 5.0,
+        ambient_occlusion: 0.0,
     }
 }
 
@@ -625,6 +630,13 @@ unsafe fn read_settings(
         refine: marching.then_some(refinement),
         offset: Some(given.offset),
         shadows: Some(shadows),
+        ambient_occlusion: Some(if given.ambient_occlusion == 0.0 {
+            glyphcast::render::AmbientOcclusion::Off
+        } else {
+            glyphcast::render::AmbientOcclusion::On {
+                reach: given.ambient_occlusion,
+            }
+        }),
         ..RenderOptions::default()
     };
     let settings = options

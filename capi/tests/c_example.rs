@@ -154,3 +154,35 @@ fn the_c_example_casts_shadows_when_asked() {
     assert!(!run.status.success(), "{text}");
     assert!(text.contains("settings.shadows 'soft:0'"), "{text}");
 }
+
+/// The host's ambient occlusion reaches the picture: `settings.ambient_occlusion` 1 (with
+/// the example's strong ambient term) darkens glyph pixels where lobes crowd each other
+/// and brightens none against the same ambient term without it; a negative reach is
+/// refused at creation, naming the field.
+#[test]
+fn the_c_example_occludes_when_asked() {
+    let (_, plain) = run_example("c-example-ao-off.png", &["--ambient-occlusion", "0"]);
+    let (_, occluded) = run_example("c-example-ao.png", &["--ambient-occlusion", "1"]);
+    let changed = differing_pixels(&plain, &occluded);
+    assert!(changed.len() > 20, "{} pixels occluded", changed.len());
+    let brighter = changed
+        .iter()
+        .filter(|(before, after)| (0..3).any(|c| after[c] > before[c]))
+        .count();
+    assert_eq!(brighter, 0, "pixels brightened by ambient occlusion");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("c-example-ao-refused.png");
+    let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let run = Command::new("bash")
+        .arg(root.join("tools/c-example.sh"))
+        .arg(&out)
+        .args(["--ambient-occlusion", "-2"])
+        .output()
+        .expect("running bash");
+    let text = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success(), "{text}");
+    assert!(
+        text.contains("settings.ambient_occlusion -2") && text.contains("above 0"),
+        "{text}"
+    );
+}

@@ -522,6 +522,9 @@ int main(int argc, char **argv) {
         } else if (strcmp(argv[i], "--soft-shadows") == 0 && i + 1 < argc) {
             settings.shadows = GLYPHCAST_SHADOWS_SOFT;
             settings.shadow_radius = (float)atof(argv[++i]);
+        } else if (strcmp(argv[i], "--ambient-occlusion") == 0 && i + 1 < argc) {
+            settings.ambient_occlusion = (float)atof(argv[++i]);
+            settings.ambient = 0.6f;
         } else if (strcmp(argv[i], "--basis") == 0 && i + 1 < argc) {
             const char *name = argv[++i];
             sh_slice_step = 1;
@@ -539,6 +542,7 @@ int main(int argc, char **argv) {
         } else {
             fprintf(stderr, "usage: c-example OUT.png [--plain-memory] [--uniform-red] "
                             "[--side-light] [--shadows] [--soft-shadows DEGREES] "
+                            "[--ambient-occlusion REACH] "
                             "[--basis descoteaux07-legacy|descoteaux07|"
                             "tournier07] [--no-plane] [--describe FILE.json]\n");
             return 2;

@@ -186,16 +186,20 @@ impl<'py> Kwargs<'py> {
                         .map_err(|_| expected(key, "a string", &value))?;
                     Value::Text(&text)
                 }
-                // True is `on`, False `off` (`shadows=True`), or a name.
-                Kind::Switch => {
-                    text = match value.extract::<bool>() {
-                        Ok(on) => String::from(if on { "on" } else { "off" }),
-                        Err(_) => value
-                            .extract()
-                            .map_err(|_| expected(key, "True, False or a string", &value))?,
-                    };
-                    Value::Text(&text)
-                }
+                // True is `on`, False `off` (`shadows=True`), or a name, or a number
+                // (`ambient_occlusion=2`: the library refuses one where it takes none).
+                Kind::Switch => match value.extract::<bool>() {
+                    Ok(on) => Value::Text(if on { "on" } else { "off" }),
+                    Err(_) => match value.extract::<f64>() {
+                        Ok(number) => Value::Number(number),
+                        Err(_) => {
+                            text = value.extract().map_err(|_| {
+                                expected(key, "True, False, a number or a string", &value)
+                            })?;
+                            Value::Text(&text)
+                        }
+                    },
+                },
                 Kind::Numbers => match value.extract::<String>() {
                     Ok(given) => {
                         text = given;

@@ -91,6 +91,53 @@ pub fn visibility(
     }
 }
 
+/// Occlusion ray `k` (0 to 15) of `--ambient-occlusion` from a point of unit normal `n`
+/// (turned towards the viewer), as glsl/shadow.glsl casts it: the soft light's disc sample
+/// `k` lifted onto the hemisphere around `n` (Malley's method), so that the rays are
+/// cosine-weighted.
+pub fn ambient_direction(n: DVec3, k: u32) -> DVec3 {
+    let [x, y] = soft_sample(k);
+    let (u, v) = perpendiculars(n);
+    (x * u + y * v + (1.0 - x * x - y * y).max(0.0).sqrt() * n).normalize()
+}
+
+/// The share of the ambient light that reaches the point `hit` of `glyph`, seen along the
+/// unit direction `view_dir`, among `glyphs`: of the [`AMBIENT_OCCLUSION_RAYS`] occlusion
+/// rays ([`ambient_direction`]), each starting [`SHADOW_RAY_OFFSET`] bounding radii beyond
+/// the hit, those that no glyph meets within `reach` bounding radii of `glyph` from their
+/// start.
+///
+/// [`AMBIENT_OCCLUSION_RAYS`]: crate::render::settings::AMBIENT_OCCLUSION_RAYS
+pub fn ambient_share(
+    glyph: &WorldGlyph,
+    hit: DVec3,
+    view_dir: DVec3,
+    reach: f64,
+    glyphs: &[WorldGlyph],
+) -> f64 {
+    let normal = surface_normal(glyph, hit);
+    let n = if normal.dot(-view_dir) < 0.0 {
+        -normal
+    } else {
+        normal
+    };
+    let radius = glyph.world_radius();
+    let rays = crate::render::settings::AMBIENT_OCCLUSION_RAYS;
+    let open = (0..rays)
+        .filter(|&k| {
+            let dir = ambient_direction(n, k);
+            let ray = Ray {
+                origin: hit + SHADOW_RAY_OFFSET * radius * dir,
+                dir,
+            };
+            !glyphs
+                .iter()
+                .any(|g| first_hit(&ray, g).is_some_and(|t| t <= reach * radius))
+        })
+        .count();
+    open as f64 / f64::from(rays)
+}
+
 /// Two unit vectors that make a right-handed frame with the unit `v` (glsl/shadow.glsl
 /// `shadow_perpendicular`, then v x u).
 fn perpendiculars(v: DVec3) -> (DVec3, DVec3) {
@@ -127,6 +174,30 @@ mod tests {
                 assert!(r2 > ring as f64 / 4.0 && r2 < (ring + 1) as f64 / 4.0);
             }
         }
+    }
+
+    /// The occlusion rays leave the surface, average near the normal as cosine-weighted
+    /// rays do (their mean cosine is 2/3 for a continuous cosine lobe), and a sphere
+    /// covering the hemisphere within reach blocks every one, one out of reach none.
+    #[test]
+    fn occlusion_rays_are_cosine_weighted_and_limited_in_reach() {
+        let n = DVec3::new(0.3, -0.2, 0.9).normalize();
+        let mean: f64 = (0..16).map(|k| ambient_direction(n, k).dot(n)).sum::<f64>() / 16.0;
+        assert!((0..16).all(|k| ambient_direction(n, k).dot(n) > 0.3));
+        assert!((mean - 2.0 / 3.0).abs() < 0.03, "{mean}");
+        let floor = sphere(DVec3::ZERO, 1.0);
+        let hit = DVec3::new(0.0, 0.0, 1.0);
+        let lid = |distance: f64| sphere(DVec3::new(0.0, 0.0, 1.0 + distance), 10.0);
+        // A sphere of radius 10 whose surface passes 0.01 above the hit covers its whole
+        // hemisphere; moved 20 radii up, it is out of a reach of 2.
+        let near = [floor.clone(), lid(10.01)];
+        let far = [floor.clone(), lid(30.0)];
+        assert_eq!(ambient_share(&floor, hit, -DVec3::Z, 2.0, &near), 0.0);
+        assert_eq!(ambient_share(&floor, hit, -DVec3::Z, 2.0, &far), 1.0);
+        assert_eq!(
+            ambient_share(&floor, hit, -DVec3::Z, 2.0, std::slice::from_ref(&floor)),
+            1.0
+        );
     }
 
     /// A sphere's normal is radial; a sphere between a point and the light blocks it, one

@@ -48,11 +48,14 @@ pub struct FrameParams {
     /// sub-rectangle); z: the window depth of the near plane, where the ray-cast pass puts
     /// boxes that the near plane cuts (1 for reversed depth, 0 for standard).
     pub window: [f32; 4],
-    /// Shadows ([`crate::render::settings::Shadows`], glsl/shadow.glsl): x 1 when shadow
-    /// rays are cast (0 off), y rays per hit (1 hard, [`SOFT_SHADOW_SAMPLES`] soft), z the
-    /// tangent of the light's angular radius, w where a shadow ray starts: that fraction
-    /// of the hit glyph's bounding radius along the ray
-    /// ([`crate::glyph::shadow::SHADOW_RAY_OFFSET`]).
+    /// Shadows and ambient occlusion ([`crate::render::settings::Shadows`],
+    /// [`crate::render::settings::AmbientOcclusion`], glsl/shadow.glsl): x the occlusion
+    /// rays' reach in bounding radii of the hit glyph (0: none), y rays towards the light
+    /// per hit (0 none, 1 hard, [`SOFT_SHADOW_SAMPLES`] soft), z the tangent of the
+    /// light's angular radius, w where a shadow ray starts: that fraction of the hit
+    /// glyph's bounding radius along the ray
+    /// ([`crate::glyph::shadow::SHADOW_RAY_OFFSET`]). Either x or y above 0 picks the
+    /// shaders that cast rays from the hits ([`FrameParams::casts_rays`]).
     pub shadow: [f32; 4],
 }
 
@@ -180,6 +183,12 @@ pub fn magnitude_range(settings: &RenderSettings, extent: &SceneExtent) -> Optio
 }
 
 impl FrameParams {
+    /// Whether the block asks for rays from the hits (shadows or ambient occlusion): the
+    /// exact method then draws with the shaders that cast them.
+    pub fn casts_rays(&self) -> bool {
+        self.shadow[0] > 0.0 || self.shadow[1] > 0.0
+    }
+
     /// The block for `camera` at `width` x `height` pixels, with the depth and magnitude
     /// ranges of `extent` and the march, colour and lighting of `settings`.
     pub fn new(
@@ -265,10 +274,11 @@ impl FrameParams {
             shading: [lighting.ambient, lighting.specular, lighting.shininess, 0.0],
             window: [0.0, 0.0, 1.0, 0.0],
             shadow: [
-                f32::from(u8::from(settings.shadows.enabled())),
+                settings.ambient_occlusion.reach(),
                 match settings.shadows {
+                    crate::render::Shadows::Off => 0.0,
+                    crate::render::Shadows::Hard => 1.0,
                     crate::render::Shadows::Soft { .. } => SOFT_SHADOW_SAMPLES as f32,
-                    _ => 1.0,
                 },
                 settings.shadows.radius_deg().to_radians().tan(),
                 crate::glyph::shadow::SHADOW_RAY_OFFSET as f32,

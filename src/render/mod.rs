@@ -32,7 +32,9 @@ use crate::catalog::{
     ELLIPSOID_METHOD, PLANE_METHOD, RAY_CAST_METHODS, RECIPROCAL_METHOD, RayCastMethod,
 };
 pub use crate::glyph::tessellate::MeshKind;
-pub use settings::{ColorMode, Lighting, Refinement, RenderPath, RenderSettings, Shadows};
+pub use settings::{
+    AmbientOcclusion, ColorMode, Lighting, Refinement, RenderPath, RenderSettings, Shadows,
+};
 
 /// How glyphs are drawn (`--method`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

@@ -522,8 +522,9 @@ impl RayCastPass {
             .iter()
             .map(|chunk| Ok((chunk.layout, batch_method(chunk.shape, method)?)))
             .collect::<Result<_>>()?;
-        // Shadows, as the first frame block asks: they need a pipeline of their own.
-        let shadows = frame.shadow[0] > 0.5;
+        // Shadows or ambient occlusion, as the first frame block asks: the rays from the
+        // hits need a pipeline of their own.
+        let shadows = frame.casts_rays();
         self.prepare_pipelines_for(&variants, shadows)?;
         let pool = DescriptorPool::new(ctx, chunks.len() * frames_in_flight, 0, 6)?;
         let mut scene = SceneGpu {

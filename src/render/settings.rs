@@ -293,6 +293,102 @@ impl std::fmt::Display for Shadows {
     }
 }
 
+/// Ambient occlusion (`--ambient-occlusion`): from each glyph hit,
+/// [`AMBIENT_OCCLUSION_RAYS`] rays over the hemisphere around the normal (cosine-weighted,
+/// in a fixed stratified pattern) are intersected exactly with the glyphs within `reach`
+/// bounding radii of the hit glyph, and the share of them that no glyph blocks scales the
+/// ambient term. It approximates how much of a uniform sky light the neighbouring lobes
+/// and glyphs hide from the point (no light is bounced between glyphs); the light's
+/// diffuse and specular terms and the depth map do not change.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum AmbientOcclusion {
+    /// No occlusion rays (the default).
+    #[default]
+    Off,
+    /// Occlusion rays that reach this many bounding radii of the hit glyph.
+    On {
+        /// How far the rays reach, in bounding radii of the hit glyph (above 0 to
+        /// [`AMBIENT_OCCLUSION_MAX_REACH`]).
+        reach: f32,
+    },
+}
+
+/// Occlusion rays per hit: 4 rings of 4 over the hemisphere (glsl/shadow.glsl).
+pub const AMBIENT_OCCLUSION_RAYS: u32 = 16;
+
+/// How far the occlusion rays of `--ambient-occlusion` alone reach, in bounding radii of
+/// the hit glyph: to the glyphs next to it in a field whose glyphs touch.
+pub const AMBIENT_OCCLUSION_REACH: f32 = 1.0;
+
+/// The farthest reach of `--ambient-occlusion REACH`, in bounding radii.
+pub const AMBIENT_OCCLUSION_MAX_REACH: f32 = 16.0;
+
+impl AmbientOcclusion {
+    /// Whether any occlusion rays are cast.
+    pub fn enabled(&self) -> bool {
+        *self != AmbientOcclusion::Off
+    }
+
+    /// How far the rays reach in bounding radii (0 when off).
+    pub fn reach(&self) -> f32 {
+        match self {
+            AmbientOcclusion::On { reach } => *reach,
+            AmbientOcclusion::Off => 0.0,
+        }
+    }
+
+    /// Refuses a reach outside above 0 to [`AMBIENT_OCCLUSION_MAX_REACH`].
+    pub fn validate(&self) -> Result<()> {
+        match *self {
+            AmbientOcclusion::On { reach }
+                if !(reach > 0.0 && reach <= AMBIENT_OCCLUSION_MAX_REACH) =>
+            {
+                Err(Error::setting_value(
+                    Setting::AmbientOcclusion,
+                    reach,
+                    format!(
+                        "the occlusion rays' reach must be above 0 and at most \
+                         {AMBIENT_OCCLUSION_MAX_REACH} bounding radii"
+                    ),
+                ))
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
+impl std::str::FromStr for AmbientOcclusion {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        let occlusion = match s.trim() {
+            "off" | "none" => AmbientOcclusion::Off,
+            "on" => AmbientOcclusion::On {
+                reach: AMBIENT_OCCLUSION_REACH,
+            },
+            text => AmbientOcclusion::On {
+                reach: text.parse().map_err(|_| {
+                    Error::setting_value(
+                        Setting::AmbientOcclusion,
+                        format!("'{}'", quoted(s)),
+                        "not one of off, on, or the rays' reach in bounding radii (a number)",
+                    )
+                })?,
+            },
+        };
+        occlusion.validate().map(|_| occlusion)
+    }
+}
+
+impl std::fmt::Display for AmbientOcclusion {
+    /// As `ambient_occlusion` takes it (`off`, or the reach: `1`).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            AmbientOcclusion::Off => f.write_str("off"),
+            AmbientOcclusion::On { reach } => write!(f, "{reach}"),
+        }
+    }
+}
+
 /// Everything that decides how glyphs are drawn, beside the scene and the camera: the
 /// command line's drawing options.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -326,6 +422,9 @@ pub struct RenderSettings {
     pub lighting: Lighting,
     /// Shadows cast by the glyphs (`--shadows`; the exact method's fragment path only).
     pub shadows: Shadows,
+    /// Ambient occlusion by the glyphs (`--ambient-occlusion`; the exact method's
+    /// fragment path only).
+    pub ambient_occlusion: AmbientOcclusion,
 }
 
 /// Blinn-Phong lighting (`--light`, `--ambient`, `--specular`, `--shininess`): a surface
@@ -411,6 +510,7 @@ impl Default for RenderSettings {
             samples: 1,
             lighting: Lighting::default(),
             shadows: Shadows::Off,
+            ambient_occlusion: AmbientOcclusion::Off,
         }
     }
 }
@@ -588,20 +688,33 @@ impl RenderSettings {
             ));
         }
         self.shadows.validate()?;
-        if self.shadows.enabled()
-            && (self.method != Method::Exact || self.path != RenderPath::Fragment)
-        {
-            return Err(Error::setting_value(
+        self.ambient_occlusion.validate()?;
+        let cast_by_exact = self.method == Method::Exact && self.path == RenderPath::Fragment;
+        for (setting, value, enabled) in [
+            (
                 Setting::Shadows,
-                self.shadows,
-                crate::message![
-                    "are cast only by ",
-                    Setting::Method.with("exact"),
-                    " on ",
-                    Setting::Path.with("fragment"),
-                    format!(", not by {} on {}", self.method, self.path)
-                ],
-            ));
+                self.shadows.to_string(),
+                self.shadows.enabled(),
+            ),
+            (
+                Setting::AmbientOcclusion,
+                self.ambient_occlusion.to_string(),
+                self.ambient_occlusion.enabled(),
+            ),
+        ] {
+            if enabled && !cast_by_exact {
+                return Err(Error::setting_value(
+                    setting,
+                    value,
+                    crate::message![
+                        "rays are cast only by ",
+                        Setting::Method.with("exact"),
+                        " on ",
+                        Setting::Path.with("fragment"),
+                        format!(", not by {} on {}", self.method, self.path)
+                    ],
+                ));
+            }
         }
         if let ColorMode::Magnitude {
             range: Some((lo, hi)),
@@ -615,6 +728,12 @@ impl RenderSettings {
             ));
         }
         Ok(())
+    }
+
+    /// Whether rays are cast from the hits (shadows or ambient occlusion): the exact
+    /// method then draws with shaders of their own.
+    pub fn casts_rays(&self) -> bool {
+        self.shadows.enabled() || self.ambient_occlusion.enabled()
     }
 
     /// Worst-case number of march steps along one chord, with the centre zone's finer steps.

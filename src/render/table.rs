@@ -7,7 +7,9 @@
 use crate::error::quoted;
 use crate::glyph::NegativeMode;
 use crate::render::settings::{PRECISION_RANGE, SHININESS_RANGE, STEP_RANGE, parse_background};
-use crate::render::{ColorMode, Method, Refinement, RenderPath, RenderSettings, Shadows};
+use crate::render::{
+    AmbientOcclusion, ColorMode, Method, Refinement, RenderPath, RenderSettings, Shadows,
+};
 use crate::{Error, Result, Setting};
 
 /// A value as a front end hands it over: text from a command line, numbers and texts
@@ -255,6 +257,25 @@ impl SettingValue for Background {
     }
 }
 
+/// Ambient occlusion: `on`, `off` or the rays' reach, as text or a number.
+impl SettingValue for AmbientOcclusion {
+    fn from_value(setting: Setting, value: Value<'_>) -> Result<Self> {
+        match value {
+            Value::Text(text) => text.parse(),
+            Value::Number(reach) => {
+                let occlusion = AmbientOcclusion::On {
+                    reach: reach as f32,
+                };
+                occlusion.validate().map(|_| occlusion)
+            }
+            Value::Numbers(_) => Err(wrong(setting, value, "on, off or one number")),
+        }
+    }
+    fn spelled(&self) -> String {
+        format!("'{self}'")
+    }
+}
+
 /// Names: parsed by their `FromStr`, which names the setting when it refuses.
 macro_rules! named_values {
     ($($ty:ty),*) => {$(
@@ -454,6 +475,16 @@ render_settings! {
         accepts: "off, hard (or the flag alone), soft:RADIUS (degrees, above 0 to 30)",
         range: Range::Any, reads: Reads::Methods(&["exact"]), number: None,
     }
+    /// Ambient occlusion: 16 rays over the hemisphere of each hit (cosine-weighted),
+    /// intersected exactly with the glyphs within REACH bounding radii of the hit glyph;
+    /// the share no glyph blocks scales the ambient term (no light bounces between
+    /// glyphs). Shows where lobes and glyphs crowd each other; a larger --ambient makes
+    /// it stronger. The depth map does not change.
+    ambient_occlusion: AmbientOcclusion = AmbientOcclusion("ambient occlusion") {
+        kind: Switch, value: "off|on|REACH", default: "off",
+        accepts: "off, on (or the flag alone: reach 1), REACH (bounding radii, above 0 to 16)",
+        range: Range::Any, reads: Reads::Methods(&["exact"]), number: None,
+    }
     /// Samples per pixel: supersampling draws at 2 or 4 times the width and height, then
     /// averages; the depth map stays one ray per pixel centre.
     samples: u32 = Samples("samples") {
@@ -515,6 +546,7 @@ impl RenderOptions {
             samples: self.samples.unwrap_or(defaults.samples),
             lighting,
             shadows: self.shadows.unwrap_or(defaults.shadows),
+            ambient_occlusion: self.ambient_occlusion.unwrap_or(defaults.ambient_occlusion),
             ..defaults
         };
         settings.validate()?;
@@ -683,6 +715,7 @@ mod tests {
             "light" => "1,0,0",
             "samples" => "4",
             "shadows" => "soft:2",
+            "ambient_occlusion" => "on",
             _ => "0.5",
         };
         for spec in RENDER_SETTINGS {
@@ -692,6 +725,10 @@ mod tests {
                 .unwrap();
             assert!(options.given(spec.setting).is_some(), "{:?}", spec.setting);
             let wrong = match spec.kind {
+                // The occlusion rays' reach may be one number, not several.
+                Kind::Switch if spec.setting == Setting::AmbientOcclusion => {
+                    Value::Numbers(&[1.0, 2.0])
+                }
                 Kind::Name | Kind::Numbers | Kind::Switch => Value::Number(1.5),
                 Kind::Number | Kind::Count => Value::Text("many"),
             };

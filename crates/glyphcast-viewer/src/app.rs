@@ -16,7 +16,7 @@ use glyphcast::render::component::UploadedGlyphs;
 use glyphcast::render::compose::labels::{CaptionPatch, caption_patch};
 use glyphcast::render::headless::HeadlessRenderer;
 use glyphcast::render::peaks::PeaksGpu;
-use glyphcast::render::settings::{RenderSettings, STEP_RANGE, Shadows};
+use glyphcast::render::settings::{AmbientOcclusion, RenderSettings, STEP_RANGE, Shadows};
 use glyphcast::render::shaders::methods_for;
 use glyphcast::render::underlay::Underlay;
 use glyphcast::vk::Gpu;
@@ -380,6 +380,16 @@ impl App {
                 };
                 change_checked(&mut settings, |s| s.shadows = shadows)?
             }
+            Action::AmbientOcclusion(occlusion) => {
+                change_checked(&mut settings, |s| s.ambient_occlusion = occlusion)?
+            }
+            Action::ToggleAmbientOcclusion => {
+                let occlusion = match settings.ambient_occlusion {
+                    AmbientOcclusion::Off => "on".parse()?,
+                    AmbientOcclusion::On { .. } => AmbientOcclusion::Off,
+                };
+                change_checked(&mut settings, |s| s.ambient_occlusion = occlusion)?
+            }
             Action::Slice(delta) => {
                 if self.panels.move_slice(delta)? {
                     // Nothing new to show until the slice's glyphs are ready, and on a
@@ -442,11 +452,12 @@ impl App {
             });
         }
         // The other settings may refuse the method (--color sign and meshes); only the
-        // exact method casts shadows, so another one turns them off.
+        // exact method casts shadow and occlusion rays, so another one turns them off.
         change_checked(settings, |s| {
             s.method = method;
             if method != glyphcast::render::Method::Exact {
                 s.shadows = Shadows::Off;
+                s.ambient_occlusion = AmbientOcclusion::Off;
             }
         })
     }
@@ -567,8 +578,9 @@ impl App {
         }
         let settings = self.panels.frame_settings();
         for (k, panel) in self.panels.panels.iter().enumerate() {
-            // Shadows on or off take a pipeline of their own, as a method does.
-            let wanted = Some((panel.version, settings.method, settings.shadows.enabled()));
+            // Shadows or ambient occlusion on or off take a pipeline of their own, as a
+            // method does.
+            let wanted = Some((panel.version, settings.method, settings.casts_rays()));
             if rebuilt || self.uploaded[k] != wanted {
                 // Glyphs keep the method (and shadows) they were uploaded for: a switch
                 // uploads again.

@@ -3,7 +3,7 @@
 //! same code as a person at the keyboard.
 use glyphcast::error::quoted;
 use glyphcast::glyph::NegativeMode;
-use glyphcast::render::{ColorMode, Method, Refinement, Shadows};
+use glyphcast::render::{AmbientOcclusion, ColorMode, Method, Refinement, Shadows};
 use glyphcast::scene::MAX_IMAGE_SIDE;
 use glyphcast::{Error, Result};
 use winit::keyboard::{Key, NamedKey};
@@ -37,6 +37,10 @@ pub enum Action {
     Shadows(Shadows),
     /// Switch shadows on (hard) or off (`L`).
     ToggleShadows,
+    /// Ambient occlusion this way (`ambient_occlusion:off|on|REACH` in a script).
+    AmbientOcclusion(AmbientOcclusion),
+    /// Switch ambient occlusion on (reach 1) or off (`O`).
+    ToggleAmbientOcclusion,
     /// Move through the volume by this many slices.
     Slice(i64),
     /// With three slices: the one that slice moves move (0 sagittal, 1 coronal, 2 axial;
@@ -64,7 +68,8 @@ pub enum Action {
 pub const HELP: &str = "\
 mouse: left drag orbit, right/middle drag or shift+left drag pan, wheel zoom
 keys:  M method   [ ] march step finer/coarser   F refinement   C colour   N negative lobes
-       L shadows on/off (exact method; another method turns them off)
+       L shadows on/off   O ambient occlusion on/off (exact method; another method turns
+       them off)
        Up/PageUp, Down/PageDown slice +1/-1   1/2/3 active slice (of three) or panel (of views)
        R reset camera   S screenshot   H help   Q/Esc quit
 montages: the mouse moves every panel's camera alike; lightbox slices move together";
@@ -92,6 +97,7 @@ pub fn key_action(key: &Key) -> Option<Action> {
             "c" => Action::NextColor,
             "n" => Action::ToggleNegative,
             "l" => Action::ToggleShadows,
+            "o" => Action::ToggleAmbientOcclusion,
             "r" => Action::ResetCamera,
             "s" => Action::Screenshot,
             "h" => Action::Help,
@@ -143,7 +149,8 @@ pub fn color_name(c: ColorMode) -> &'static str {
 
 /// Parses `--script`: comma-separated events, each applied on its own frame:
 /// `resize:WxH`, `method:NAME`, `step:S`, `refine:SPEC`, `color:MODE`,
-/// `negative:abs|hide|toggle`, `shadows:off|hard|soft:RADIUS|toggle`, `slice:+N|-N`,
+/// `negative:abs|hide|toggle`, `shadows:off|hard|soft:RADIUS|toggle`,
+/// `ambient_occlusion:off|on|REACH|toggle`, `slice:+N|-N`,
 /// `active:1|2|3` (sagittal, coronal, axial slice of `--slices`; first, second, third panel of `--views`), `orbit:DX:DY`,
 /// `pan:DX:DY`, `zoom:F`,
 /// `reset`, `screenshot`, `wait`.
@@ -202,6 +209,8 @@ fn parse_event(item: &str) -> Result<Action> {
         },
         "shadows" if value == "toggle" => Action::ToggleShadows,
         "shadows" => Action::Shadows(value.parse().map_err(reparse)?),
+        "ambient_occlusion" if value == "toggle" => Action::ToggleAmbientOcclusion,
+        "ambient_occlusion" => Action::AmbientOcclusion(value.parse().map_err(reparse)?),
         "slice" => {
             let delta = (value.starts_with('+') || value.starts_with('-'))
                 .then(|| value.parse::<i64>().ok())
@@ -264,7 +273,8 @@ mod tests {
         let script = parse_script(
             "resize:300x200, method:fixed,step:0.05,slice:+1,slice:-2,color:magnitude,\
              refine:bisect:2,negative:hide,orbit:30:-10,pan:5:5,zoom:0.8,reset,wait,\
-             shadows:toggle,shadows:soft:3,shadows:off",
+             shadows:toggle,shadows:soft:3,shadows:off,ambient_occlusion:toggle,\
+             ambient_occlusion:2,ambient_occlusion:off",
         )
         .unwrap();
         assert_eq!(
@@ -286,6 +296,9 @@ mod tests {
                 Action::ToggleShadows,
                 Action::Shadows(Shadows::Soft { radius_deg: 3.0 }),
                 Action::Shadows(Shadows::Off),
+                Action::ToggleAmbientOcclusion,
+                Action::AmbientOcclusion(AmbientOcclusion::On { reach: 2.0 }),
+                Action::AmbientOcclusion(AmbientOcclusion::Off),
             ]
         );
     }

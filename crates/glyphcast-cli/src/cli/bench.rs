@@ -7,7 +7,7 @@ use glyphcast::accuracy::suite;
 use glyphcast::bench::{self, BenchCase, BenchFrames, BenchResult, Reference, ratios, workload};
 use glyphcast::error::Relation;
 use glyphcast::render::headless::HeadlessRenderer;
-use glyphcast::render::{MeshKind, Method, Refinement, RenderSettings, Shadows};
+use glyphcast::render::{AmbientOcclusion, MeshKind, Method, Refinement, RenderSettings, Shadows};
 use glyphcast::scene::Scene;
 use glyphcast::vk::{Gpu, GpuOptions};
 use glyphcast::{Error, Result};
@@ -355,8 +355,9 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
             plan.methods(&name, scene, &method_list(levels, &[]));
         }
         Some("shadows") => {
-            // The cost of shadow rays on the scene or workload: the same frame without
-            // them, with hard shadows and with soft ones, three rounds interleaved.
+            // The cost of shadow and occlusion rays on the scene or workload: the same
+            // frame without them, with hard shadows, soft ones and ambient occlusion
+            // (reach 1), three rounds interleaved.
             let scene = plan.scene(base_name(), args.base_scene()?);
             for round in 1..=3 {
                 for shadows in [
@@ -370,6 +371,14 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
                     };
                     plan.case(format!("shadows {shadows} ({round})"), scene, settings);
                 }
+                let occlusion = AmbientOcclusion::On {
+                    reach: glyphcast::render::settings::AMBIENT_OCCLUSION_REACH,
+                };
+                let settings = RenderSettings {
+                    ambient_occlusion: occlusion,
+                    ..defaults
+                };
+                plan.case(format!("shadows ao:{occlusion} ({round})"), scene, settings);
             }
         }
         Some(sweep) if sweep == "gpu" || sweep.starts_with("gpu:") => {
