@@ -316,7 +316,8 @@ fn bad_montage_requests_are_usage_errors() {
 /// Edge labels and a lightbox's captions never cover glyphs: the view is framed so that
 /// no glyph reaches the band along each edge where letters go
 /// (`render::compose::labels::edge_band`), and every letter lies in that band. Letters
-/// are the pixels that no glyph covers (NaN depth) and that are not the background.
+/// are the pixels that no glyph covers (NaN depth) and that are not the background. A
+/// lightbox keeps the band for its captions without `--labels` too.
 #[test]
 fn labels_and_captions_keep_off_the_glyphs() {
     let dir = fresh_dir("montage-label-band");
@@ -329,6 +330,7 @@ fn labels_and_captions_keep_off_the_glyphs() {
     for (name, labels, extra, cells) in [
         ("single", true, vec!["--slice", "axial"], (1, 1)),
         ("lightbox", true, vec!["--lightbox", "4"], (2, 2)),
+        ("lightbox-captions", false, vec!["--lightbox", "4"], (2, 2)),
     ] {
         let picture = render_with(&dir, &dti, name, labels, &extra);
         assert_eq!((picture.width, picture.height), (cells.0 * W, cells.1 * H));

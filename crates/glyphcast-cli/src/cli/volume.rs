@@ -285,7 +285,7 @@ impl VolumeArgs {
     /// The figure of the volume input at the size `image`, reported on stderr: one view
     /// (with its underlay) or a montage's panels.
     pub fn figure(&self, image: ImageRequest) -> Result<VolumeFigure> {
-        // Edge labels (and with them a lightbox's captions) get a band free of glyphs.
+        // Edge labels get a band free of glyphs (a lightbox's captions always do).
         let image = ImageRequest {
             keep_edges: self.labels,
             ..image

@@ -300,7 +300,12 @@ impl VolumeRequest {
                 ViewProjection::Orthographic
             },
             orientation: parse_or_default(self.orientation.as_deref())?,
-            image,
+            // A lightbox captions each panel with its slice in the top-left corner: the
+            // panels keep the edge band free of glyphs, as edge labels do.
+            image: ImageRequest {
+                keep_edges: image.keep_edges || self.lightbox.is_some(),
+                ..image
+            },
             peaks: None,
         })
     }
