@@ -12,7 +12,7 @@
 pub const MAX_SYMMETRIC_ORDER: u32 = 12;
 
 /// Highest order of a non-symmetric tensor glyph (3^n entries: 81 at order 4).
-pub const MAX_NONSYMMETRIC_ORDER: u32 = 4;
+pub(crate) const MAX_NONSYMMETRIC_ORDER: u32 = 4;
 
 /// Highest band L of an SH glyph. SH glyphs are drawn as symmetric tensors of order
 /// max(L, 2), so this is [`MAX_SYMMETRIC_ORDER`].
@@ -43,7 +43,7 @@ pub struct RayCastMethod {
 }
 
 /// The ray-casting methods, in the order reports list them.
-pub const RAY_CAST_METHODS: [RayCastMethod; 4] = [
+pub(crate) const RAY_CAST_METHODS: [RayCastMethod; 4] = [
     RayCastMethod {
         name: "fixed",
         fragment: "raycast_fixed.frag",
@@ -86,7 +86,7 @@ pub const RAY_CAST_METHODS: [RayCastMethod; 4] = [
 /// (`--glyph ellipsoid`, `src/glyph/ellipsoid.rs`): not a `--method` but the shader every
 /// ellipsoid glyph set is drawn with, compiled for the symmetric layout of order
 /// [`ELLIPSOID_ORDER`] only.
-pub const ELLIPSOID_METHOD: RayCastMethod = RayCastMethod {
+pub(crate) const ELLIPSOID_METHOD: RayCastMethod = RayCastMethod {
     name: "ellipsoid",
     fragment: "raycast_ellipsoid.frag",
     compute: None,
@@ -104,7 +104,7 @@ pub const ELLIPSOID_ORDER: u32 = 2;
 /// (q . q)^(n-1) - f(q)^2. Not a `--method`: reciprocal sets are drawn with it when the
 /// method is exact. Compiled for the layouts of even order only ([`reciprocal_order`]):
 /// a form of odd order changes sign on the sphere, where 1/|f| is unbounded.
-pub const RECIPROCAL_METHOD: RayCastMethod = RayCastMethod {
+pub(crate) const RECIPROCAL_METHOD: RayCastMethod = RayCastMethod {
     name: "reciprocal",
     fragment: "raycast_exact.frag",
     compute: None,
@@ -120,7 +120,7 @@ pub const RECIPROCAL_METHOD: RayCastMethod = RayCastMethod {
 /// filter keeps the roots of the set's branch. Not a `--method`: plane sets are drawn
 /// with it when the method is exact. Compiled for the layout of D, [`PLANE_ORDER`]
 /// symmetric, only; its vertex shader passes T's coefficients too.
-pub const PLANE_METHOD: RayCastMethod = RayCastMethod {
+pub(crate) const PLANE_METHOD: RayCastMethod = RayCastMethod {
     name: "plane",
     fragment: "raycast_exact.frag",
     compute: None,
@@ -139,7 +139,7 @@ pub const fn reciprocal_order(order: u32) -> bool {
 }
 
 /// The highest tensor order of a layout: [`MAX_SYMMETRIC_ORDER`] or
-/// [`MAX_NONSYMMETRIC_ORDER`].
+/// `MAX_NONSYMMETRIC_ORDER`.
 pub const fn max_order(symmetric: bool) -> u32 {
     if symmetric {
         MAX_SYMMETRIC_ORDER

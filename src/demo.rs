@@ -109,7 +109,7 @@ pub fn demo_scene() -> Scene {
 }
 
 /// Cubic copper, GPa: C11, C12, C44.
-pub const COPPER_GPA: (f64, f64, f64) = (168.4, 121.4, 75.4);
+pub(crate) const COPPER_GPA: (f64, f64, f64) = (168.4, 121.4, 75.4);
 
 /// Stiffness glyphs are scaled so that their largest radius is this fraction of the
 /// grid spacing.

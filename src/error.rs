@@ -469,7 +469,7 @@ impl fmt::Display for Error {
 }
 
 /// A front end's spelling of a setting and its value.
-pub type Spell<'a> = &'a dyn Fn(Setting, Option<&str>) -> String;
+pub(crate) type Spell<'a> = &'a dyn Fn(Setting, Option<&str>) -> String;
 
 fn choice(choice: &Choice, spell: Spell<'_>) -> String {
     match choice {

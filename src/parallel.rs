@@ -109,7 +109,7 @@ where
 /// allocates nothing itself leaves nothing in the workers' allocator arenas (glibc
 /// gives each thread an arena of its own, which keeps what is freed there for its later
 /// use rather than giving it back). Items past `out.len() / width` are skipped.
-pub fn fill_chunks<I, O, F>(
+pub(crate) fn fill_chunks<I, O, F>(
     items: &[I],
     out: &mut [O],
     width: usize,

@@ -77,7 +77,7 @@ pub fn run(
 }
 
 /// The method as `--method` spells it.
-pub fn method_name(method: Method) -> String {
+pub(crate) fn method_name(method: Method) -> String {
     method.to_string()
 }
 

@@ -47,7 +47,7 @@ pub fn thin_crossing_lobes(size: u32) -> Scene {
 }
 
 /// The same order-8 glyph twice, the second turned by 2 degrees about a skew axis.
-pub fn tilted_copy(size: u32) -> Scene {
+pub(crate) fn tilted_copy(size: u32) -> Scene {
     let fibres = [(direction(20.0, 0.0), 1.0), (direction(110.0, 0.0), 1.0)];
     let turn = DMat3::from_axis_angle(DVec3::new(1.0, 2.0, 3.0).normalize(), 2f64.to_radians());
     let turned: Vec<_> = fibres.iter().map(|(d, w)| (turn * *d, *w)).collect();
@@ -69,7 +69,7 @@ pub fn touching_centre(size: u32) -> Scene {
 }
 
 /// Order 12, three populations.
-pub fn order_12(size: u32) -> Scene {
+pub(crate) fn order_12(size: u32) -> Scene {
     let fibres = [
         (direction(0.0, 0.0), 1.0),
         (direction(60.0, 20.0), 0.8),
@@ -98,7 +98,7 @@ pub fn stiffness(size: u32) -> Scene {
 }
 
 /// f = (u.d1)^4 - 0.8 (u.d2)^4: a positive and a negative pair of lobes.
-pub fn negative_lobes(size: u32, negative: NegativeMode) -> Scene {
+pub(crate) fn negative_lobes(size: u32, negative: NegativeMode) -> Scene {
     let pos = fibre_tensor(4, &[(direction(10.0, 15.0), 1.0)]);
     let neg = fibre_tensor(4, &[(direction(100.0, -10.0), 0.8)]);
     let coeffs: Vec<f64> = pos.iter().zip(&neg).map(|(p, n)| p - n).collect();
@@ -109,7 +109,7 @@ pub fn negative_lobes(size: u32, negative: NegativeMode) -> Scene {
 
 /// Two voxels of DIPY's `func_coef.nii.gz` (BSD-3-Clause, see tests/data/dipy/): band-8
 /// SH series in the legacy tournier07 basis, as MRtrix `dwi2SH` wrote them.
-pub const FUNC_COEF_VOXELS: [[f64; 45]; 2] = [
+pub(crate) const FUNC_COEF_VOXELS: [[f64; 45]; 2] = [
     [
         8.7864, 0.342276, 0.442553, 0.270174, 0.928213, 0.139285, 0.592551, 0.199409, 0.897911,
         0.96843, 0.288806, 0.598305, 0.481065, 0.10044, 0.253468, 0.00571739, 0.750511, 0.0663764,

@@ -29,11 +29,11 @@ pub struct Ratio {
 }
 
 /// Name of the ratio of ray-cast to impostor GPU time.
-pub const RAY_CAST_OVER_IMPOSTOR: &str = "ray-cast / impostor GPU time";
+pub(crate) const RAY_CAST_OVER_IMPOSTOR: &str = "ray-cast / impostor GPU time";
 /// Name of the ratio of tessellation to ray-cast GPU time at equal geometric error.
-pub const MESH_OVER_RAY_CAST: &str = "tessellation / ray-cast GPU time at equal error";
+pub(crate) const MESH_OVER_RAY_CAST: &str = "tessellation / ray-cast GPU time at equal error";
 /// Name of the ratio of GPU memory per glyph, tessellation to ray cast.
-pub const MESH_MEMORY_OVER_RAY_CAST: &str = "memory per glyph, tessellation / ray cast";
+pub(crate) const MESH_MEMORY_OVER_RAY_CAST: &str = "memory per glyph, tessellation / ray cast";
 
 /// The ratios of every scene of `results` that has the rows they need.
 pub fn ratios(results: &[BenchResult]) -> Vec<Ratio> {

@@ -10,13 +10,13 @@
 //! into the infinite cylinder is its smaller root, and it is the capsule's entry where
 //! its axial coordinate y lies in [-h, h]; beyond either end the entry is on that end's
 //! hemisphere. A ray that misses the infinite cylinder misses the capsule (the capsule
-//! lies inside it). A ray parallel to the axis (|d x u|^2 below [`PARALLEL`]) meets an
+//! lies inside it). A ray parallel to the axis (|d x u|^2 below `PARALLEL`) meets an
 //! end cap or nothing.
 use crate::camera::Ray;
 use glam::DVec3;
 
 /// |d x u|^2 below which a ray counts as parallel to the capsule's axis.
-pub const PARALLEL: f64 = 1e-12;
+pub(crate) const PARALLEL: f64 = 1e-12;
 
 /// The points within `radius` of the segment from `a` to `b`.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -11,7 +11,7 @@
 //!
 //! Tensors that are not positive definite (noise in a fitted DTI, the negative
 //! eigenvalues of a bad voxel) have no ellipsoid. As mrview and FURY do, each eigenvalue
-//! is raised to a floor, [`EIGENVALUE_FLOOR`] times the largest: a semi-axis is never
+//! is raised to a floor, `EIGENVALUE_FLOOR` times the largest: a semi-axis is never
 //! below 1/1000 of the longest, so a planar or linear tensor is drawn as a flat disk or a
 //! thin needle rather than rejected. A tensor whose largest eigenvalue is not positive
 //! (zero, or negative definite) has no surface and is left out, like a zero tensor of
@@ -25,7 +25,7 @@ use crate::Result;
 
 /// The least eigenvalue drawn, relative to the largest: semi-axes (square roots) keep at
 /// least 1/1000 of the longest one (module notes).
-pub const EIGENVALUE_FLOOR: f64 = 1e-6;
+pub(crate) const EIGENVALUE_FLOOR: f64 = 1e-6;
 
 /// The ellipsoid { D^(1/2) u } of one tensor, eigenvalues floored (module notes).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -16,7 +16,7 @@
 //!    inside it.
 //! 2. Build F on that chord reparametrised to s in [-1, 1] (centred and scaled, which keeps
 //!    the coefficients well conditioned), in float64.
-//! 3. Find the critical points of F by the derivative cascade ([`real_roots_in`] on F'):
+//! 3. Find the critical points of F by the derivative cascade (`real_roots_in` on F'):
 //!    between consecutive critical points F is monotone, so it has at most one root there.
 //! 4. Near q = 0 F is tiny (~|q|^(2n)) and its computed critical points there can be
 //!    wrong, so the sign test uses g, which is well conditioned, at the union of the
@@ -391,7 +391,7 @@ fn bisect(inside: impl Fn(f64) -> bool, mut lo: f64, mut hi: f64, at_lo: bool) -
 /// A cut point where |p| is within Horner's rounding error bound is reported as a root;
 /// this catches roots of even multiplicity (p touches 0 at a critical point), reported
 /// once. The zero polynomial has no isolated roots and gives an empty list.
-pub fn real_roots_in(poly: &[f64], lo: f64, hi: f64) -> Vec<f64> {
+pub(crate) fn real_roots_in(poly: &[f64], lo: f64, hi: f64) -> Vec<f64> {
     let p = univariate::trimmed(poly);
     if lo.is_nan() || hi.is_nan() || lo > hi || p.len() < 2 {
         return Vec::new();

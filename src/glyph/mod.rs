@@ -96,7 +96,7 @@ pub enum GlyphShape {
     /// order 4: r(u) = 1/λ with λ the larger root of λ² − T(u) λ + D(u) = 0, where T and
     /// D are the trace and determinant of a quadratic form restricted to the plane ⊥ u
     /// (the smallest shear modulus over that plane). Each glyph's coefficients are D's
-    /// then T's ([`PLANE_TRACE_COEFFICIENTS`] more than the layout's); the roots must be
+    /// then T's (`PLANE_TRACE_COEFFICIENTS` more than the layout's); the roots must be
     /// real and positive (T > 0, D > 0); negative `abs` only; drawn by the exact method.
     PlaneMin,
     /// As [`GlyphShape::PlaneMin`], with the smaller root (the largest shear modulus).
@@ -116,7 +116,7 @@ pub const PLANE_TRACE_LAYOUT: TensorLayout = TensorLayout {
 };
 
 /// The coefficients of a plane glyph's T, after D's.
-pub const PLANE_TRACE_COEFFICIENTS: usize = 15;
+pub(crate) const PLANE_TRACE_COEFFICIENTS: usize = 15;
 
 impl std::str::FromStr for GlyphShape {
     type Err = crate::Error;

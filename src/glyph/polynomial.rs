@@ -141,7 +141,7 @@ impl GlyphPolynomial {
     /// The coefficients followed by zeros, so that a hand-built polynomial whose `coeffs`
     /// is too short evaluates as if padded instead of panicking.
     /// The coefficients in monomial order (x powers descending, then y powers
-    /// descending), the order of [`monomial_values`].
+    /// descending), the order of `monomial_values`.
     pub fn monomial_coefficients(&self) -> &[f64] {
         &self.coeffs
     }
@@ -157,7 +157,7 @@ impl GlyphPolynomial {
 /// |f(q)| = |q|^(n + 1) does (q != 0), with the same sign of f and the same surface
 /// normal there. A one-shot render draws small sets of lower orders this way with the
 /// pipeline of a higher one (`render::promote`).
-pub fn raised_symmetric_tensor(order: u32, tensor: &[f64], k: u32) -> Vec<f64> {
+pub(crate) fn raised_symmetric_tensor(order: u32, tensor: &[f64], k: u32) -> Vec<f64> {
     let mut poly: Vec<f64> = symmetric_coefficients(order, tensor);
     let mut degree = order;
     for _ in 0..k {
@@ -221,7 +221,7 @@ fn nonsymmetric_coefficients(order: u32, tensor: &[f64]) -> Vec<f64> {
 
 /// The value of every monomial of degree `order` at q, in the coefficients' order: f(q)
 /// is the dot product of these with [`GlyphPolynomial::monomial_coefficients`].
-pub fn monomial_values(order: u32, q: DVec3) -> impl Iterator<Item = f64> {
+pub(crate) fn monomial_values(order: u32, q: DVec3) -> impl Iterator<Item = f64> {
     (0..=order).rev().flat_map(move |a| {
         let m = order - a;
         (0..=m)

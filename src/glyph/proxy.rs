@@ -495,7 +495,7 @@ pub fn glyph_bounds(poly: &GlyphPolynomial) -> Option<GlyphBounds> {
 
 /// Whether a glyph's bounds also take the sampled bound (module notes).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Sampling {
+pub(crate) enum Sampling {
     /// The band bounds alone: about 5 microseconds a glyph at order 8.
     None,
     /// Also f at the lattice's 3,267 nodes: boxes of about half the volume on fibre
@@ -505,7 +505,7 @@ pub enum Sampling {
 }
 
 /// [`glyph_bounds`], with or without the sampled bound.
-pub fn glyph_bounds_with(poly: &GlyphPolynomial, sampling: Sampling) -> Option<GlyphBounds> {
+pub(crate) fn glyph_bounds_with(poly: &GlyphPolynomial, sampling: Sampling) -> Option<GlyphBounds> {
     let s = poly.abs_coefficient_sum();
     if !s.is_finite() || s <= 0.0 {
         return None;

@@ -13,7 +13,7 @@ use super::monomials::{monomials, multiplicity};
 /// The largest number of stored tensor entries `glyph_load` folds into one monomial
 /// coefficient: one product by the multiplicity for symmetric tensors (Eq. 5), a sum of
 /// up to max multiplicity entries for non-symmetric ones (Eq. 4).
-pub fn load_terms(order: u32, symmetric: bool) -> u64 {
+pub(crate) fn load_terms(order: u32, symmetric: bool) -> u64 {
     if symmetric {
         1
     } else {

@@ -1,5 +1,5 @@
 //! The float64 reference of shadow rays (`--shadows`, glsl/shadow.glsl): from a glyph hit,
-//! rays towards the light start [`SHADOW_RAY_OFFSET`] bounding radii of the hit glyph
+//! rays towards the light start `SHADOW_RAY_OFFSET` bounding radii of the hit glyph
 //! beyond the hit and are intersected exactly ([`first_hit`]) with every glyph given, the
 //! hit glyph included; a ray that meets one is blocked. Rays that leave the surface into
 //! the glyph (n . l <= 0, n the normal turned towards the viewer) are not cast, and the
@@ -13,13 +13,13 @@ use glam::DVec3;
 /// Where a shadow ray starts beyond its hit, as a fraction of the hit glyph's bounding
 /// radius: clear of the float32 rounding of the GPU's hit, so that the surface the ray
 /// leaves does not block it. The frame block hands it to the shaders.
-pub const SHADOW_RAY_OFFSET: f64 = 1e-3;
+pub(crate) const SHADOW_RAY_OFFSET: f64 = 1e-3;
 
 /// Sample `k` (0 to 15) of a soft light's disc, as glsl/shadow.glsl `soft_sample` places
 /// it: its offset from the disc's centre in units of the disc's radius. Four rings of
 /// equal area, four samples each at the middle of its ring's area, each ring turned a
 /// quarter step further than the one inside it.
-pub fn soft_sample(k: u32) -> [f64; 2] {
+pub(crate) fn soft_sample(k: u32) -> [f64; 2] {
     let ring = f64::from(k / 4);
     let radius = ((ring + 0.5) / 4.0).sqrt();
     let angle = std::f64::consts::TAU * (f64::from(k % 4) + 0.25 * ring + 0.5) / 4.0;
@@ -95,19 +95,16 @@ pub fn visibility(
 /// (turned towards the viewer), as glsl/shadow.glsl casts it: the soft light's disc sample
 /// `k` lifted onto the hemisphere around `n` (Malley's method), so that the rays are
 /// cosine-weighted.
-pub fn ambient_direction(n: DVec3, k: u32) -> DVec3 {
+pub(crate) fn ambient_direction(n: DVec3, k: u32) -> DVec3 {
     let [x, y] = soft_sample(k);
     let (u, v) = perpendiculars(n);
     (x * u + y * v + (1.0 - x * x - y * y).max(0.0).sqrt() * n).normalize()
 }
 
 /// The share of the ambient light that reaches the point `hit` of `glyph`, seen along the
-/// unit direction `view_dir`, among `glyphs`: of the [`AMBIENT_OCCLUSION_RAYS`] occlusion
-/// rays ([`ambient_direction`]), each starting [`SHADOW_RAY_OFFSET`] bounding radii beyond
-/// the hit, those that no glyph meets within `reach` bounding radii of `glyph` from their
-/// start.
-///
-/// [`AMBIENT_OCCLUSION_RAYS`]: crate::render::settings::AMBIENT_OCCLUSION_RAYS
+/// unit direction `view_dir`, among `glyphs`: of the 16 occlusion rays
+/// (`ambient_direction`), each starting `SHADOW_RAY_OFFSET` bounding radii beyond the hit,
+/// those that no glyph meets within `reach` bounding radii of `glyph` from their start.
 pub fn ambient_share(
     glyph: &WorldGlyph,
     hit: DVec3,

@@ -180,7 +180,7 @@ fn indices(flat: usize) -> [usize; 4] {
 /// permutations of its indices. Each sorted index tuple's entry is the mean of the
 /// entries at its distinct orderings (every ordering occurs equally often among the n!
 /// permutations), i.e. their sum divided by the multiplicity.
-pub fn fully_symmetric_part(order: u32, full: &[f64]) -> Vec<f64> {
+pub(crate) fn fully_symmetric_part(order: u32, full: &[f64]) -> Vec<f64> {
     let mut sums = vec![0.0; monomials(order).len()];
     for (flat, value) in full.iter().enumerate() {
         sums[monomial_index(order, nonsymmetric_entry_monomial(order, flat))] += value;

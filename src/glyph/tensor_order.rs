@@ -178,7 +178,7 @@ impl FromStr for TensorOrder {
 
 /// Whether the tensor of entries `t` (glyphcast's order) is positive definite, by
 /// Sylvester's criterion: its leading principal minors are all positive.
-pub fn is_positive_definite(t: &[f64; DTI_COUNT]) -> bool {
+pub(crate) fn is_positive_definite(t: &[f64; DTI_COUNT]) -> bool {
     let [xx, xy, xz, yy, yz, zz] = *t;
     let minor2 = xx * yy - xy * xy;
     let det = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);

@@ -21,9 +21,9 @@ use super::intersect::WorldGlyph;
 use crate::{Error, Result, Setting};
 
 /// Highest icosphere subdivision level: level 7 has 163842 vertices per glyph.
-pub const MAX_ICOSPHERE_LEVEL: u32 = 7;
+pub(crate) const MAX_ICOSPHERE_LEVEL: u32 = 7;
 /// Latitude bands of a latitude-longitude sphere: 2 to this many.
-pub const MAX_LAT_LONG_RINGS: u32 = 512;
+pub(crate) const MAX_LAT_LONG_RINGS: u32 = 512;
 
 /// Which triangulated sphere the glyphs are built on (`--method mesh:L`, `latlong:N`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -271,7 +271,7 @@ pub struct MeshVertex {
 /// normal -grad g is along (|q| + n |f|) u - s grad f(u), s the sign of f (the formula of
 /// raycast_fixed.frag). Where h is flat (f <= 0 with `hide`) the surface is the offset
 /// sphere, with normal u.
-pub fn surface_point(glyph: &WorldGlyph, u: DVec3) -> (f64, DVec3) {
+pub(crate) fn surface_point(glyph: &WorldGlyph, u: DVec3) -> (f64, DVec3) {
     let (f, grad) = glyph.poly.eval_with_gradient(u);
     let (h, sign) = match glyph.negative {
         NegativeMode::Abs => (f.abs(), if f >= 0.0 { 1.0 } else { -1.0 }),
@@ -290,7 +290,7 @@ pub fn surface_point(glyph: &WorldGlyph, u: DVec3) -> (f64, DVec3) {
 }
 
 /// Writes one glyph's vertices (one per direction of `sphere`) into `out`.
-pub fn glyph_vertices(glyph: &WorldGlyph, sphere: &SphereMesh, out: &mut [MeshVertex]) {
+pub(crate) fn glyph_vertices(glyph: &WorldGlyph, sphere: &SphereMesh, out: &mut [MeshVertex]) {
     for (vertex, &u) in out.iter_mut().zip(&sphere.directions) {
         let (radius, normal) = surface_point(glyph, u);
         vertex.offset = (glyph.scale * radius * u).as_vec3().to_array();

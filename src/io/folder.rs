@@ -27,7 +27,7 @@ const NEW_FOLDER: &str =
 
 /// The names an earlier output folder of a command lists as its own files (see the
 /// module notes); `None` where the folder holds no such record.
-pub type EarlierSet<'a> = &'a dyn Fn(&Path) -> Option<Vec<String>>;
+pub(crate) type EarlierSet<'a> = &'a dyn Fn(&Path) -> Option<Vec<String>>;
 
 /// Checks, before any work, that the folder `dir` can be written: its parent exists,
 /// and `dir` is missing, an empty folder, or a folder of nothing but an earlier set's

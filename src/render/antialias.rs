@@ -16,7 +16,12 @@ use crate::scene::MAX_IMAGE_SIDE;
 
 /// The size drawn for `width` x `height` at `factor` (s): an error naming the sizes when
 /// a side would exceed [`MAX_IMAGE_SIDE`].
-pub fn supersampled_size(width: u32, height: u32, factor: u32, samples: u32) -> Result<(u32, u32)> {
+pub(crate) fn supersampled_size(
+    width: u32,
+    height: u32,
+    factor: u32,
+    samples: u32,
+) -> Result<(u32, u32)> {
     let (w, h) = (width as u64 * factor as u64, height as u64 * factor as u64);
     if w > MAX_IMAGE_SIDE as u64 || h > MAX_IMAGE_SIDE as u64 {
         return Err(Error::setting_value(
@@ -51,7 +56,7 @@ fn linear_to_srgb_byte(linear: f64) -> u8 {
 /// Averages each `factor` x `factor` block of `big` (sRGB RGBA8, `width * factor` wide)
 /// into one pixel of a `width` x `height` image: alpha is the blocks' mean alpha, colour
 /// the alpha-weighted mean in linear light, encoded back to sRGB.
-pub fn box_filter(big: &[u8], width: u32, height: u32, factor: u32) -> Result<Vec<u8>> {
+pub(crate) fn box_filter(big: &[u8], width: u32, height: u32, factor: u32) -> Result<Vec<u8>> {
     let (w, h, s) = (width as usize, height as usize, factor as usize);
     if big.len() != 4 * w * s * h * s {
         return Err(Error::data(

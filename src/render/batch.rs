@@ -12,7 +12,7 @@ use crate::{Error, Result};
 
 /// Glyphs of one or more sets that share a layout and a negative mode, drawn together.
 #[derive(Clone, Debug)]
-pub struct Batch<'a> {
+pub(crate) struct Batch<'a> {
     /// The tensor layout every glyph of the batch shares.
     pub layout: TensorLayout,
     /// The negative mode every glyph of the batch shares.
@@ -88,7 +88,7 @@ impl<'a> Batch<'a> {
 /// order the sets first use them), cut so that no batch holds more than
 /// `limit / glyph_bytes(layout, shape)` glyphs. A glyph larger than `limit` is an error naming
 /// its set.
-pub fn batches<'a>(
+pub(crate) fn batches<'a>(
     sets: &'a [GlyphSetData],
     limit: u64,
     glyph_bytes: impl Fn(TensorLayout, GlyphShape) -> u64,

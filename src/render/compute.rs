@@ -114,7 +114,7 @@ fn srgb_byte(linear: f32) -> u32 {
 
 /// A linear RGB colour with its alpha as the bytes of an R8G8B8A8_SRGB pixel, in one
 /// word (alpha is stored linearly).
-pub fn packed_srgb(rgba: [f32; 4]) -> u32 {
+pub(crate) fn packed_srgb(rgba: [f32; 4]) -> u32 {
     let alpha = (rgba[3].clamp(0.0, 1.0) * 255.0 + 0.5) as u32;
     srgb_byte(rgba[0]) | srgb_byte(rgba[1]) << 8 | srgb_byte(rgba[2]) << 16 | alpha << 24
 }

@@ -51,10 +51,10 @@ pub struct FrameParams {
     /// Shadows and ambient occlusion ([`crate::render::settings::Shadows`],
     /// [`crate::render::settings::AmbientOcclusion`], glsl/shadow.glsl): x the occlusion
     /// rays' reach in bounding radii of the hit glyph (0: none), y rays towards the light
-    /// per hit (0 none, 1 hard, [`SOFT_SHADOW_SAMPLES`] soft), z the tangent of the
+    /// per hit (0 none, 1 hard, `SOFT_SHADOW_SAMPLES` soft), z the tangent of the
     /// light's angular radius, w where a shadow ray starts: that fraction of the hit
     /// glyph's bounding radius along the ray
-    /// ([`crate::glyph::shadow::SHADOW_RAY_OFFSET`]). Either x or y above 0 picks the
+    /// (`SHADOW_RAY_OFFSET`). Either x or y above 0 picks the
     /// shaders that cast rays from the hits ([`FrameParams::casts_rays`]).
     pub shadow: [f32; 4],
 }
@@ -65,10 +65,11 @@ pub struct FrameParams {
 /// again for every command buffer: for the exact method 10 to 20 ms a frame whatever the
 /// image size, and memory that grew by megabytes a frame. Storage-buffer reads are left
 /// alone. glsl/frame.glsl declares the block to match; `render::interface` checks it.
-pub const FRAME_DESCRIPTOR: ash::vk::DescriptorType = ash::vk::DescriptorType::STORAGE_BUFFER;
+pub(crate) const FRAME_DESCRIPTOR: ash::vk::DescriptorType =
+    ash::vk::DescriptorType::STORAGE_BUFFER;
 
 /// The usage of the buffer that holds the frame block ([`FRAME_DESCRIPTOR`]).
-pub const FRAME_USAGE: ash::vk::BufferUsageFlags = ash::vk::BufferUsageFlags::STORAGE_BUFFER;
+pub(crate) const FRAME_USAGE: ash::vk::BufferUsageFlags = ash::vk::BufferUsageFlags::STORAGE_BUFFER;
 
 /// Depth range and magnitude range of what is drawn.
 #[derive(Clone, Copy, Debug)]

@@ -1,7 +1,7 @@
 //! Scene glyph sets turned into what the passes and the reference consume: per glyph a
 //! bounding radius B and an oriented box (guaranteed bounds of r(u), computed once on the
-//! CPU by [`glyph_bounds_with`] in microseconds, with the sampled bound for sets of up to
-//! [`SAMPLED_BOUNDS_GLYPHS`]), coefficients divided by B (so every glyph's
+//! CPU by `glyph_bounds_with` in microseconds, with the sampled bound for sets of up to
+//! `SAMPLED_BOUNDS_GLYPHS`), coefficients divided by B (so every glyph's
 //! bound is 1 in its normalised frame, and the shader's numbers stay near 1 whatever the
 //! data's units), one 16-byte instance (centre, world radius of the bounding sphere) and
 //! one 32-byte box (rotation, half extents). The float64 [`WorldGlyph`]s describe the
@@ -101,7 +101,7 @@ pub fn prepare_scene(scene: &Scene, offset: f64) -> Result<Vec<GlyphSetData>> {
 
 /// Whether a preparation keeps the float64 glyphs ([`GlyphSetData::world`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum WorldGlyphs {
+pub(crate) enum WorldGlyphs {
     /// For the reference, the mesh pass and the largest radius of `--color magnitude`.
     Keep,
     /// Not even made: a million band-8 glyphs would take about half a gigabyte there,
@@ -110,7 +110,7 @@ pub enum WorldGlyphs {
 }
 
 /// [`prepare_scene`], keeping the float64 glyphs or not.
-pub fn prepare_scene_with(
+pub(crate) fn prepare_scene_with(
     scene: &Scene,
     offset: f64,
     world: WorldGlyphs,
@@ -219,7 +219,7 @@ fn prepare_set_keeping(
 /// frame on the 256-glyph field, for 45 microseconds more a glyph (0.2 s of CPU for
 /// this many). Larger sets (brain slices, a million glyphs) are small on screen, where
 /// one frame gains less than the sampling costs.
-pub const SAMPLED_BOUNDS_GLYPHS: usize = 4096;
+pub(crate) const SAMPLED_BOUNDS_GLYPHS: usize = 4096;
 
 /// Glyphs bounded at a time by [`prepare_set_with_progress`].
 const BOUNDING_BLOCK: usize = 1 << 16;

@@ -35,7 +35,7 @@ use gpu_allocator::MemoryLocation;
 /// The offscreen colour target: 8-bit sRGB RGBA, as the PNG is written.
 pub const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
 /// The ray-distance target (the depth map's values; negative where no glyph is hit).
-pub const DISTANCE_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
+pub(crate) const DISTANCE_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
 /// The depth buffer (reversed: cleared to 0, tested with GREATER).
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 

@@ -142,7 +142,7 @@ fn projection_kind(p: &[[f64; 4]; 4]) -> Result<Option<f64>> {
 /// The frame block for the host's view: its camera, the magnitude range from
 /// `max_radius` (the largest glyph radius) and the march, colour and lighting of
 /// `settings`, glyph depth written in `depth`.
-pub fn host_frame(
+pub(crate) fn host_frame(
     view: &HostView,
     depth: DepthConvention,
     max_radius: f64,

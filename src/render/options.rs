@@ -84,7 +84,7 @@ pub fn prepare_render(
 /// Refuses a negative mode that no glyph set of `scene` takes: `hide` when every set is
 /// drawn as the ellipsoid (`--glyph ellipsoid`), which has no negative lobes. A scene
 /// that mixes shapes hides the polynomial sets' lobes.
-pub fn check_negative(scene: &Scene, negative: Option<NegativeMode>) -> Result<()> {
+pub(crate) fn check_negative(scene: &Scene, negative: Option<NegativeMode>) -> Result<()> {
     let Some(mode) = negative else {
         return Ok(());
     };

@@ -4,7 +4,7 @@
 //! cache), while the glyphs themselves take a few milliseconds to draw.
 //!
 //! A symmetric glyph of order n is also one of order n + 2k: f(q) (q . q)^k
-//! ([`raised_symmetric_tensor`]) has the same surface, sign and normals. So a one-shot
+//! (`raised_symmetric_tensor`) has the same surface, sign and normals. So a one-shot
 //! render draws a small set of a lower order with the pipeline of the highest order of
 //! the same parity in its scene ([`promote_small_sets`]), when that saves compiling a
 //! pipeline and costs few pixels: the higher order's shader does more per pixel (an
@@ -27,7 +27,7 @@ use glam::DVec3;
 /// with a higher order's pipeline:
 /// at the per-pixel cost measured above, about 10 ms of lavapipe's time against the 20
 /// to 35 ms that the pipeline of their own would take to create.
-pub const PROMOTED_PIXELS: f64 = 131_072.0;
+pub(crate) const PROMOTED_PIXELS: f64 = 131_072.0;
 
 /// Sets of more glyphs keep their own pipeline, so that which pipelines a render needs
 /// is known before the glyphs are prepared ([`early_variants`]) for every larger set.

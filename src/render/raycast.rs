@@ -198,7 +198,7 @@ pub struct GlyphSetGpu {
     pub layout: TensorLayout,
     /// How negative lobes are drawn.
     pub negative: crate::glyph::NegativeMode,
-    /// Whether the batch holds polynomial glyphs or ellipsoids ([`batch_method`]).
+    /// Whether the batch holds polynomial glyphs or ellipsoids (`batch_method`).
     pub shape: GlyphShape,
     /// Glyphs in the batch (instances drawn).
     pub count: u32,
@@ -636,7 +636,7 @@ fn pipeline_key(layout: TensorLayout, method: Method, shadows: bool) -> Pipeline
 /// glyphs by the exact method's reciprocal variant and plane glyphs by its plane variant,
 /// which the other methods lack (an
 /// [`Error::Unsupported`] naming the method).
-pub fn batch_method(shape: GlyphShape, method: Method) -> Result<Method> {
+pub(crate) fn batch_method(shape: GlyphShape, method: Method) -> Result<Method> {
     match (shape, method) {
         (_, Method::Impostor) => Ok(Method::Impostor),
         (GlyphShape::Ellipsoid, _) => Ok(Method::Ellipsoid),

@@ -208,7 +208,7 @@ pub enum Shadows {
     /// One ray towards a directional light: a point is lit or not.
     Hard,
     /// A disc light of this angular radius (degrees, above 0 and at most
-    /// [`SOFT_SHADOW_MAX_RADIUS`]), sampled by [`SOFT_SHADOW_SAMPLES`] rays in a fixed
+    /// `SOFT_SHADOW_MAX_RADIUS`), sampled by `SOFT_SHADOW_SAMPLES` rays in a fixed
     /// stratified pattern: the lit share of them scales the light.
     Soft {
         /// The light's angular radius in degrees.
@@ -217,10 +217,10 @@ pub enum Shadows {
 }
 
 /// Rays towards the disc of a soft light, per hit: 4 rings of 4 (glsl/shadow.glsl).
-pub const SOFT_SHADOW_SAMPLES: u32 = 16;
+pub(crate) const SOFT_SHADOW_SAMPLES: u32 = 16;
 
 /// The largest angular radius of `--shadows soft:RADIUS`, in degrees.
-pub const SOFT_SHADOW_MAX_RADIUS: f32 = 30.0;
+pub(crate) const SOFT_SHADOW_MAX_RADIUS: f32 = 30.0;
 
 impl Shadows {
     /// Whether any shadow rays are cast.
@@ -238,7 +238,7 @@ impl Shadows {
 }
 
 impl Shadows {
-    /// Refuses a soft light's radius outside above 0 to [`SOFT_SHADOW_MAX_RADIUS`].
+    /// Refuses a soft light's radius outside above 0 to `SOFT_SHADOW_MAX_RADIUS`.
     pub fn validate(&self) -> Result<()> {
         match *self {
             Shadows::Soft { radius_deg }
@@ -294,7 +294,7 @@ impl std::fmt::Display for Shadows {
 }
 
 /// Ambient occlusion (`--ambient-occlusion`): from each glyph hit,
-/// [`AMBIENT_OCCLUSION_RAYS`] rays over the hemisphere around the normal (cosine-weighted,
+/// `AMBIENT_OCCLUSION_RAYS` rays over the hemisphere around the normal (cosine-weighted,
 /// in a fixed stratified pattern) are intersected exactly with the glyphs within `reach`
 /// bounding radii of the hit glyph, and the share of them that no glyph blocks scales the
 /// ambient term. It approximates how much of a uniform sky light the neighbouring lobes
@@ -308,20 +308,20 @@ pub enum AmbientOcclusion {
     /// Occlusion rays that reach this many bounding radii of the hit glyph.
     On {
         /// How far the rays reach, in bounding radii of the hit glyph (above 0 to
-        /// [`AMBIENT_OCCLUSION_MAX_REACH`]).
+        /// `AMBIENT_OCCLUSION_MAX_REACH`).
         reach: f32,
     },
 }
 
 /// Occlusion rays per hit: 4 rings of 4 over the hemisphere (glsl/shadow.glsl).
-pub const AMBIENT_OCCLUSION_RAYS: u32 = 16;
+pub(crate) const AMBIENT_OCCLUSION_RAYS: u32 = 16;
 
 /// How far the occlusion rays of `--ambient-occlusion` alone reach, in bounding radii of
 /// the hit glyph: to the glyphs next to it in a field whose glyphs touch.
 pub const AMBIENT_OCCLUSION_REACH: f32 = 1.0;
 
 /// The farthest reach of `--ambient-occlusion REACH`, in bounding radii.
-pub const AMBIENT_OCCLUSION_MAX_REACH: f32 = 16.0;
+pub(crate) const AMBIENT_OCCLUSION_MAX_REACH: f32 = 16.0;
 
 impl AmbientOcclusion {
     /// Whether any occlusion rays are cast.
@@ -337,7 +337,7 @@ impl AmbientOcclusion {
         }
     }
 
-    /// Refuses a reach outside above 0 to [`AMBIENT_OCCLUSION_MAX_REACH`].
+    /// Refuses a reach outside above 0 to `AMBIENT_OCCLUSION_MAX_REACH`.
     pub fn validate(&self) -> Result<()> {
         match *self {
             AmbientOcclusion::On { reach }
@@ -464,7 +464,7 @@ impl Default for Lighting {
 }
 
 /// The range of `--shininess`.
-pub const SHININESS_RANGE: (f32, f32) = (1.0, 1024.0);
+pub(crate) const SHININESS_RANGE: (f32, f32) = (1.0, 1024.0);
 
 impl Lighting {
     /// The unit direction towards the light in view coordinates.
@@ -516,7 +516,7 @@ impl Default for RenderSettings {
 }
 
 /// The default background, `--background dark`: a near-black grey (linear RGB, opaque).
-pub const DARK_BACKGROUND: [f32; 4] = [0.02, 0.02, 0.025, 1.0];
+pub(crate) const DARK_BACKGROUND: [f32; 4] = [0.02, 0.02, 0.025, 1.0];
 
 /// The supersampling factor s (samples per pixel s^2): 1, 2 or 4; other counts are an
 /// error naming the samples setting.
@@ -601,7 +601,7 @@ pub const STEP_RANGE: (f32, f32) = (1e-3, 2.0);
 /// at 160 px (fov 30 degrees, 3.3e-3 rad per pixel) against --method exact: 1e-4 px
 /// (2.8 epsilons of t) has no holes, 1e-5 px (0.3 epsilons) 34, 1e-6 px 89, for interval
 /// and affine alike. 0.01 px keeps 2.8 epsilons up to the largest image, 16384 px high.
-pub const PRECISION_RANGE: (f32, f32) = (0.01, 64.0);
+pub(crate) const PRECISION_RANGE: (f32, f32) = (0.01, 64.0);
 
 impl RenderSettings {
     /// Whether frames read the largest glyph radius: `--color magnitude` without an

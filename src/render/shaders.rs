@@ -79,14 +79,17 @@ macro_rules! spirv {
 include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
 
 /// The ray-casting shaders of `layout` and `method`; None if the catalog has none.
-pub fn raycast_shader(layout: TensorLayout, method: Method) -> Option<&'static RaycastShader> {
+pub(crate) fn raycast_shader(
+    layout: TensorLayout,
+    method: Method,
+) -> Option<&'static RaycastShader> {
     RAYCAST_SHADERS
         .iter()
         .find(|s| s.layout == layout && s.method == method)
 }
 
 /// The compute ray caster of `layout` and `method`; None if the catalog has none.
-pub fn compute_raycast_shader(
+pub(crate) fn compute_raycast_shader(
     layout: TensorLayout,
     method: Method,
 ) -> Option<&'static ComputeRaycastShader> {
@@ -96,12 +99,12 @@ pub fn compute_raycast_shader(
 }
 
 /// The evaluation shader of `layout`; None if the catalog has none.
-pub fn eval_shader(layout: TensorLayout) -> Option<&'static EvalShader> {
+pub(crate) fn eval_shader(layout: TensorLayout) -> Option<&'static EvalShader> {
     EVAL_SHADERS.iter().find(|s| s.layout == layout)
 }
 
 /// The range shader of `layout`; None if no method of the layout uses ranges.
-pub fn range_shader(layout: TensorLayout) -> Option<&'static RangeShader> {
+pub(crate) fn range_shader(layout: TensorLayout) -> Option<&'static RangeShader> {
     RANGE_SHADERS.iter().find(|s| s.layout == layout)
 }
 
@@ -225,7 +228,7 @@ const DEPTH_LESS: u32 = 15;
 /// depth the same hit is a larger depth, so the promise becomes `depth_greater`. That is
 /// the one word the two variants differ in (the DepthLess execution mode becomes
 /// DepthGreater), so it is rewritten here rather than compiled twice in build.rs.
-pub fn for_depth(spirv: &[u32], depth: DepthConvention) -> Vec<u32> {
+pub(crate) fn for_depth(spirv: &[u32], depth: DepthConvention) -> Vec<u32> {
     let mut words = spirv.to_vec();
     if depth == DepthConvention::Reversed {
         return words;

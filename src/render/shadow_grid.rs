@@ -10,7 +10,7 @@ use glam::{DQuat, DVec3};
 /// `[first entry, count]` per cell, x fastest.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct GridHeader {
+pub(crate) struct GridHeader {
     /// xyz: the grid's lowest corner, world units.
     pub lo: [f32; 4],
     /// xyz: a cell's edges, world units.
@@ -21,7 +21,7 @@ pub struct GridHeader {
 
 /// A batch's grid: header, cell ranges and the glyph indices they point into.
 #[derive(Clone, Debug)]
-pub struct ShadowGrid {
+pub(crate) struct ShadowGrid {
     /// Where and how large the cells are.
     pub header: GridHeader,
     /// Per cell (x fastest): its first entry and its number of entries.

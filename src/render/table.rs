@@ -139,7 +139,7 @@ impl SettingSpec {
 
 /// A value type of a render setting: made from what a front end hands over, and
 /// written back in messages.
-pub trait SettingValue: Sized {
+pub(crate) trait SettingValue: Sized {
     /// The value of `setting` from `value`; a value of the wrong kind is refused naming
     /// the setting.
     fn from_value(setting: Setting, value: Value<'_>) -> Result<Self>;

@@ -1,6 +1,6 @@
 //! Screen tiles for the compute ray caster (`--path compute`): each glyph's oriented box
 //! is projected to the screen on the CPU, the glyph is listed in every tile of
-//! [`TILE_SIZE`] x [`TILE_SIZE`] pixels its projection may touch, and each tile's list is
+//! `TILE_SIZE` x `TILE_SIZE` pixels its projection may touch, and each tile's list is
 //! sorted by a lower bound on the ray distance of any hit in the glyph (its nearest depth),
 //! so that a pixel can walk its list front to back and stop at the first glyph that lies
 //! behind its best hit.
@@ -16,7 +16,7 @@ use glam::{DQuat, DVec3};
 
 /// Tile edge in pixels; the compute shader's workgroup is one tile
 /// (glsl/raycast_exact.comp, `local_size_x` and `local_size_y`).
-pub const TILE_SIZE: u32 = 16;
+pub(crate) const TILE_SIZE: u32 = 16;
 
 /// Entries of a tile's list that one dispatch walks. lavapipe (llvmpipe) ends a shader
 /// invocation after 65,535 loop iterations in total, counted for a SIMD batch of pixels
@@ -35,7 +35,7 @@ const NEAR_MARGIN: f64 = 1e-5;
 
 /// The camera as the shaders see it (pixel_ray.glsl), in float64.
 #[derive(Clone, Copy, Debug)]
-pub struct ScreenView {
+pub(crate) struct ScreenView {
     eye: DVec3,
     fwd: DVec3,
     right: DVec3,
@@ -99,7 +99,7 @@ impl ScreenView {
 
 /// The tile lists of one glyph set (or part of one), as the compute shader reads them.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct TileBins {
+pub(crate) struct TileBins {
     /// Tile columns.
     pub tiles_x: u32,
     /// Tile rows.
@@ -122,7 +122,7 @@ struct Footprint {
 /// The corners of a glyph's oriented box in world space, from its instance (centre,
 /// sphere radius) and box (rotation quaternion, half extents in units of the radius), as
 /// raycast.vert builds them.
-pub fn box_corners(instance: &[f32; 4], b: &[f32; 8]) -> [DVec3; 8] {
+pub(crate) fn box_corners(instance: &[f32; 4], b: &[f32; 8]) -> [DVec3; 8] {
     let centre = DVec3::new(instance[0] as f64, instance[1] as f64, instance[2] as f64);
     let radius = instance[3] as f64;
     let q = DQuat::from_xyzw(b[0] as f64, b[1] as f64, b[2] as f64, b[3] as f64).normalize();
@@ -194,7 +194,11 @@ fn footprint(view: &ScreenView, instance: &[f32; 4], b: &[f32; 8]) -> Option<Foo
 }
 
 /// Bins the glyphs of one set (part) into the tiles of `view`.
-pub fn bin_glyphs(view: &ScreenView, instances: &[[f32; 4]], boxes: &[[f32; 8]]) -> TileBins {
+pub(crate) fn bin_glyphs(
+    view: &ScreenView,
+    instances: &[[f32; 4]],
+    boxes: &[[f32; 8]],
+) -> TileBins {
     let (tx, ty) = (view.tiles_x(), view.tiles_y());
     let tiles = (tx * ty) as usize;
     let footprints: Vec<Option<Footprint>> = instances

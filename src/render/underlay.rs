@@ -37,7 +37,7 @@ use glam::{DMat4, DVec3, DVec4};
 use std::sync::Arc;
 
 /// The default window: from the 2nd to the 98th percentile of the finite values.
-pub const DEFAULT_PERCENTILES: (f64, f64) = (2.0, 98.0);
+pub(crate) const DEFAULT_PERCENTILES: (f64, f64) = (2.0, 98.0);
 
 /// An underlay volume: values on a voxel grid with its voxel-to-world affine, and the
 /// window that maps them to grey levels (or, per channel, to RGB).
@@ -85,7 +85,7 @@ pub struct Underlay {
 impl UnderlayVolume {
     /// A volume of `dims` voxels with `channels` (1 or 3) values each, interleaved, i
     /// fastest; `voxel_to_world` maps voxel indices (centres) to world points. The window
-    /// starts at [`DEFAULT_PERCENTILES`]. `file` names errors.
+    /// starts at `DEFAULT_PERCENTILES`. `file` names errors.
     pub fn new(
         file: impl Into<String>,
         dims: [usize; 3],

@@ -134,7 +134,7 @@ pub fn copies_to_host() -> vk::MemoryBarrier2<'static> {
 /// # Safety
 /// `cmd` is recording inside dynamic rendering; `pipeline`, `layout` and `set` are alive,
 /// and `set` matches set 0 of `layout`.
-pub unsafe fn bind_graphics(
+pub(crate) unsafe fn bind_graphics(
     device: &ash::Device,
     cmd: vk::CommandBuffer,
     (pipeline, layout): (vk::Pipeline, vk::PipelineLayout),

@@ -64,7 +64,7 @@ pub const fn sh_count(band: u32) -> usize {
 
 /// Index of (l, m) in the coefficient list: l(l+1)/2 + m (DIPY `sph_harm_ind_list`,
 /// MRtrix3 `SH::index`). Meaningful for even l and |m| <= l.
-pub const fn sh_index(l: u32, m: i32) -> usize {
+pub(crate) const fn sh_index(l: u32, m: i32) -> usize {
     ((l * (l + 1) / 2) as i64 + m as i64) as usize
 }
 
@@ -87,7 +87,7 @@ pub fn check_band(band: u32) -> Result<()> {
 }
 
 /// Err unless `band` is valid and `coeffs` has `sh_count(band)` finite entries.
-pub fn check_coefficients(band: u32, coeffs: &[f64]) -> Result<()> {
+pub(crate) fn check_coefficients(band: u32, coeffs: &[f64]) -> Result<()> {
     check_band(band)?;
     let expected = sh_count(band);
     if coeffs.len() != expected {

@@ -31,7 +31,7 @@ pub struct ColorBar {
 }
 
 /// Tick values written beside the bar, ends included.
-pub const TICKS: usize = 5;
+pub(crate) const TICKS: usize = 5;
 
 /// Text height as a fraction of the image height, and the least in pixels.
 const TEXT_FRACTION: f32 = 0.045;
@@ -39,7 +39,7 @@ const MIN_TEXT_PX: f32 = 11.0;
 
 /// The viridis fit of glsl/shading.glsl at t (clamped to 0..1), in linear RGB, computed
 /// in float32 as the shader does.
-pub fn viridis_linear(t: f32) -> [f32; 3] {
+pub(crate) fn viridis_linear(t: f32) -> [f32; 3] {
     const C: [[f32; 3]; 7] = [
         [0.277_727_33, 0.005_407_344_5, 0.334_099_8],
         [0.105_093_04, 1.404_613_5, 1.384_590_2],
@@ -75,7 +75,7 @@ pub fn viridis_srgb8(t: f32) -> [u8; 3] {
 }
 
 /// `value` with about three significant digits, fixed-point where that stays short.
-pub fn tick_text(value: f64, largest: f64) -> String {
+pub(crate) fn tick_text(value: f64, largest: f64) -> String {
     if value == 0.0 {
         return "0".into();
     }

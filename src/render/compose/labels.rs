@@ -14,7 +14,7 @@ use crate::camera::Camera;
 use crate::{Error, Result};
 
 /// Where DejaVu Sans is looked for (Debian's fonts-dejavu-core, then Arch's path).
-pub const FONT_PATHS: [&str; 2] = [
+pub(crate) const FONT_PATHS: [&str; 2] = [
     "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
     "/usr/share/fonts/TTF/DejaVuSans.ttf",
 ];
