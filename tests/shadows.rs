@@ -202,6 +202,46 @@ fn interior(reference: &[Option<(f64, f64)>], w: usize, h: usize) -> Vec<Option<
     out
 }
 
+/// The lowest and highest of `value` over pixel (i, j) of a `w`-wide image and its eight
+/// neighbours; None where one of them has none.
+fn neighbour_range(
+    value: impl Fn(usize) -> Option<f64>,
+    w: usize,
+    i: usize,
+    j: usize,
+) -> Option<(f64, f64)> {
+    let mut range = (f64::INFINITY, f64::NEG_INFINITY);
+    for y in j - 1..=j + 1 {
+        for x in i - 1..=i + 1 {
+            let v = value(y * w + x)?;
+            range = (range.0.min(v), range.1.max(v));
+        }
+    }
+    Some(range)
+}
+
+/// The channels of pixel `k` of `on` that are not the pixel of `off` with a share 1 - v of
+/// a lighting term taken away, for any v in `shares` (`term`: the term's linear value of
+/// channel c, given that channel's linear value in `off`), as (channel, byte, lowest and
+/// highest byte expected). Both images are rounded to 8 bits: up to half a step each,
+/// and the encoding's slope, so a byte within 1.5 of the range passes.
+fn share_mismatches(
+    off: &RenderedImage,
+    on: &RenderedImage,
+    k: usize,
+    (lo, hi): (f64, f64),
+    term: impl Fn(usize, f64) -> f64,
+) -> Vec<(usize, f64, f64, f64)> {
+    (0..3)
+        .filter_map(|c| {
+            let full = f64::from(srgb_to_linear(off.rgba[4 * k + c]));
+            let byte = |v: f64| srgb_byte(full - (1.0 - v) * term(c, full));
+            let got = f64::from(on.rgba[4 * k + c]);
+            (got < byte(lo) - 1.5 || got > byte(hi) + 1.5).then_some((c, got, byte(lo), byte(hi)))
+        })
+        .collect()
+}
+
 fn glyphs_of(sets: &[GlyphSetData]) -> Vec<WorldGlyph> {
     sets.iter().flat_map(|s| s.world.iter().cloned()).collect()
 }
@@ -288,28 +328,18 @@ fn soft_shadows_match_the_float64_lit_share() {
             let Some((diffuse, v)) = reference[k] else {
                 continue;
             };
-            let shares: Option<Vec<f64>> = (j - 1..=j + 1)
-                .flat_map(|y| (i - 1..=i + 1).map(move |x| y * w + x))
-                .map(|n| reference[n].map(|(_, u)| u))
-                .collect();
-            let Some(shares) = shares else { continue };
-            let lo = shares.iter().copied().fold(f64::INFINITY, f64::min);
-            let hi = shares.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            let Some((lo, hi)) = neighbour_range(|n| reference[n].map(|(_, u)| u), w, i, j) else {
+                continue;
+            };
             if diffuse < MIN_DIFFUSE || hi - lo > 2.0 / 16.0 + 1e-9 {
                 continue;
             }
             compared += 1;
             partial += usize::from(v > 0.0 && v < 1.0);
-            for (c, base) in BASE.iter().enumerate() {
-                let unshadowed = f64::from(srgb_to_linear(off.rgba[4 * k + c]));
-                let dark = f64::from(*base) * ambient;
-                let byte = |v: f64| srgb_byte(dark + v * (unshadowed - dark));
-                // The unshadowed byte is itself rounded: up to half a step, and the
-                // encoding's slope.
-                let got = f64::from(on.rgba[4 * k + c]);
-                if got < byte(lo) - 1.5 || got > byte(hi) + 1.5 {
-                    wrong.push((i, j, c, got, byte(lo), byte(hi)));
-                }
+            // The light's terms: what is left above the ambient term.
+            let light = |c: usize, full: f64| full - f64::from(BASE[c]) * ambient;
+            for (c, got, low, high) in share_mismatches(&off, &on, k, (lo, hi), light) {
+                wrong.push((i, j, c, got, low, high));
             }
         }
     }
@@ -367,26 +397,18 @@ fn ambient_occlusion_matches_the_float64_share() {
         for j in 1..h - 1 {
             for i in 1..w - 1 {
                 let k = j * w + i;
-                let reference = &reference;
-                let shares: Option<Vec<f64>> = (j - 1..=j + 1)
-                    .flat_map(|y| (i - 1..=i + 1).map(move |x| reference[y * w + x]))
-                    .collect();
-                let Some(shares) = shares else { continue };
-                let lo = shares.iter().copied().fold(f64::INFINITY, f64::min);
-                let hi = shares.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                let Some((lo, hi)) = neighbour_range(|n| reference[n], w, i, j) else {
+                    continue;
+                };
                 if hi - lo > 2.0 / 16.0 + 1e-9 {
                     continue;
                 }
                 compared += 1;
                 occluded += usize::from(reference[k].is_some_and(|v| v < 1.0));
-                for (c, base) in BASE.iter().enumerate() {
-                    let unoccluded = f64::from(srgb_to_linear(off.rgba[4 * k + c]));
-                    let taken = f64::from(*base) * f64::from(ambient);
-                    let byte = |v: f64| srgb_byte(unoccluded - (1.0 - v) * taken);
-                    let got = f64::from(on.rgba[4 * k + c]);
-                    if got < byte(lo) - 1.5 || got > byte(hi) + 1.5 {
-                        wrong.push((i, j, c, got, byte(lo), byte(hi)));
-                    }
+                // The ambient term.
+                let term = |c: usize, _: f64| f64::from(BASE[c]) * f64::from(ambient);
+                for (c, got, low, high) in share_mismatches(&off, &on, k, (lo, hi), term) {
+                    wrong.push((i, j, c, got, low, high));
                 }
             }
         }

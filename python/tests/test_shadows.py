@@ -13,14 +13,20 @@ SIZE = dict(width=160, height=120, light=(-1.0, 0.3, 0.4))
 CLI_SIZE = ("--width", 160, "--height", 120, "--light", "-1,0.3,0.4")
 
 
-@pytest.mark.parametrize("keyword, flag", [(True, ()), ("soft:6", ("soft:6",))])
-def test_shadows_match_the_cli(scenes, cli_render, keyword, flag):
+@pytest.mark.parametrize("key, value, flags", [
+    ("shadows", True, ("--shadows",)),
+    ("shadows", "soft:6", ("--shadows", "soft:6")),
+    ("ambient_occlusion", True, ("--ambient-occlusion",)),
+    ("ambient_occlusion", 2, ("--ambient-occlusion", "2")),
+    ("ambient_occlusion", "0.5", ("--ambient-occlusion", "0.5")),
+])
+def test_rays_from_the_hits_match_the_cli(scenes, cli_render, key, value, flags):
     scene = scenes / "order4_pair.json"
-    depth, png = cli_render(scene, *CLI_SIZE, "--shadows", *flag)
-    ours = glyphcast.render_scene(scene, shadows=keyword, **SIZE)
+    depth, png = cli_render(scene, *CLI_SIZE, *flags)
+    ours = glyphcast.render_scene(scene, **{key: value}, **SIZE)
     assert_same_depth(ours.depth, depth)
     assert ours.png() == png
-    plain = glyphcast.render_scene(scene, shadows=False, **SIZE)
+    plain = glyphcast.render_scene(scene, **{key: False}, **SIZE)
     assert np.array_equal(plain.depth, ours.depth, equal_nan=True)
     darker = (ours.rgba[..., :3] < plain.rgba[..., :3]).any(axis=-1).sum()
     assert darker > 60
@@ -39,20 +45,6 @@ def test_bad_shadow_values_name_the_keyword(scenes):
     with pytest.raises(ValueError) as caught:
         glyphcast.render_scene(scene, shadows=True, method="fixed", **SIZE)
     assert "method=exact" in str(caught.value)
-
-
-@pytest.mark.parametrize("keyword, flag", [(True, ()), (2, ("2",)), ("0.5", ("0.5",))])
-def test_ambient_occlusion_matches_the_cli(scenes, cli_render, keyword, flag):
-    scene = scenes / "order4_pair.json"
-    depth, png = cli_render(scene, *CLI_SIZE, "--ambient-occlusion", *flag)
-    ours = glyphcast.render_scene(scene, ambient_occlusion=keyword, **SIZE)
-    assert_same_depth(ours.depth, depth)
-    assert ours.png() == png
-    plain = glyphcast.render_scene(scene, ambient_occlusion=False, **SIZE)
-    assert np.array_equal(plain.depth, ours.depth, equal_nan=True)
-    darker = (ours.rgba[..., :3] < plain.rgba[..., :3]).any(axis=-1).sum()
-    assert darker > 60
-    assert not (ours.rgba > plain.rgba).any()
 
 
 def test_bad_ambient_occlusion_values_name_the_keyword(scenes):

@@ -60,12 +60,7 @@ pub fn visibility(
     tan_radius: f64,
     glyphs: &[WorldGlyph],
 ) -> f64 {
-    let normal = surface_normal(glyph, hit);
-    let n = if normal.dot(-view_dir) < 0.0 {
-        -normal
-    } else {
-        normal
-    };
+    let n = facing_normal(glyph, hit, view_dir);
     let (u, v) = perpendiculars(light);
     let offset = SHADOW_RAY_OFFSET * glyph.world_radius();
     let (mut cast, mut lit) = (0u32, 0u32);
@@ -91,6 +86,21 @@ pub fn visibility(
     }
 }
 
+/// Occlusion rays per hit (`--ambient-occlusion`): 4 rings of 4 over the hemisphere
+/// (glsl/shadow.glsl `AMBIENT_RAYS`).
+pub const AMBIENT_OCCLUSION_RAYS: u32 = 16;
+
+/// The unit normal of `glyph` at its surface point `hit`, turned towards the viewer who
+/// looks along the unit direction `view_dir`.
+fn facing_normal(glyph: &WorldGlyph, hit: DVec3, view_dir: DVec3) -> DVec3 {
+    let normal = surface_normal(glyph, hit);
+    if normal.dot(-view_dir) < 0.0 {
+        -normal
+    } else {
+        normal
+    }
+}
+
 /// Occlusion ray `k` (0 to 15) of `--ambient-occlusion` from a point of unit normal `n`
 /// (turned towards the viewer), as glsl/shadow.glsl casts it: the soft light's disc sample
 /// `k` lifted onto the hemisphere around `n` (Malley's method), so that the rays are
@@ -112,14 +122,9 @@ pub fn ambient_share(
     reach: f64,
     glyphs: &[WorldGlyph],
 ) -> f64 {
-    let normal = surface_normal(glyph, hit);
-    let n = if normal.dot(-view_dir) < 0.0 {
-        -normal
-    } else {
-        normal
-    };
+    let n = facing_normal(glyph, hit, view_dir);
     let radius = glyph.world_radius();
-    let rays = crate::render::settings::AMBIENT_OCCLUSION_RAYS;
+    let rays = AMBIENT_OCCLUSION_RAYS;
     let open = (0..rays)
         .filter(|&k| {
             let dir = ambient_direction(n, k);

@@ -294,7 +294,8 @@ impl std::fmt::Display for Shadows {
 }
 
 /// Ambient occlusion (`--ambient-occlusion`): from each glyph hit,
-/// `AMBIENT_OCCLUSION_RAYS` rays over the hemisphere around the normal (cosine-weighted,
+/// [`AMBIENT_OCCLUSION_RAYS`](crate::glyph::shadow::AMBIENT_OCCLUSION_RAYS) rays over the
+/// hemisphere around the normal (cosine-weighted,
 /// in a fixed stratified pattern) are intersected exactly with the glyphs within `reach`
 /// bounding radii of the hit glyph, and the share of them that no glyph blocks scales the
 /// ambient term. It approximates how much of a uniform sky light the neighbouring lobes
@@ -312,9 +313,6 @@ pub enum AmbientOcclusion {
         reach: f32,
     },
 }
-
-/// Occlusion rays per hit: 4 rings of 4 over the hemisphere (glsl/shadow.glsl).
-pub(crate) const AMBIENT_OCCLUSION_RAYS: u32 = 16;
 
 /// How far the occlusion rays of `--ambient-occlusion` alone reach, in bounding radii of
 /// the hit glyph: to the glyphs next to it in a field whose glyphs touch.
