@@ -154,6 +154,45 @@ impl Stiffness {
     }
 }
 
+/// The forms of the Poisson's ratio surfaces. At unit `u`, `ν(u, v)` over `v ⊥ u`
+/// ranges between `−λ/Q(u)` for the two roots `λ` of `λ² − T(u) λ + D(u) = 0`, where `T`
+/// and `D` (`plane`) are the trace and determinant forms of the numerator `s(u, u, v, v)`
+/// restricted to the plane ⊥ `u`, and `Q(u) = s(u, u, u, u) = 1/E(u)` (`young`, order
+/// 4). A point `q = |ν| u` of a surface, `ν = σ |q|` (`σ` its sign), satisfies
+/// `|q| (Q(q)² + D(q)) = −σ Q(q) T(q)`, so every surface point is a root of
+/// `|q|² (Q(q)² + D(q))² − Q(q)² T(q)²`, of degree 18 along a ray; the root is on the
+/// branch of the larger `λ` where `−2 σ |q| Q(q) ≥ T(q)`. For a stable crystal (`Q > 0`)
+/// the smallest ratio, `poisson-min`, takes the larger `λ` (`plane.larger_root`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PoissonForms {
+    /// `Q = 1/E`: all `3^4` entries, row-major (the last index fastest).
+    pub young: Vec<f64>,
+    /// `T` and `D` of the numerator, and which root the surface takes.
+    pub plane: PlaneForms,
+}
+
+impl Stiffness {
+    /// The forms of the Poisson's ratio surfaces (`poisson-min`: the larger root `λ`,
+    /// `poisson-max`: the smaller; [`PoissonForms`]), dimensionless. `None` for the
+    /// other surfaces.
+    pub fn poisson_forms(&self, surface: Surface) -> Option<PoissonForms> {
+        let larger_root = match surface {
+            Surface::PoissonMin => true,
+            Surface::PoissonMax => false,
+            _ => return None,
+        };
+        let s = self.compliance_tensor();
+        // The numerator vᵀ A(u) v = s(u, u, v, v): A_kl(u) = Σ s_ijkl u_i u_j.
+        let m: Tensor4 = std::array::from_fn(|k| {
+            std::array::from_fn(|l| std::array::from_fn(|i| std::array::from_fn(|j| s[i][j][k][l])))
+        });
+        Some(PoissonForms {
+            young: s.iter().flatten().flatten().flatten().copied().collect(),
+            plane: PlaneForms::of(&m, larger_root),
+        })
+    }
+}
+
 impl Stiffness {
     /// The tensor form whose glyph is `surface`, where there is one: Young's modulus is
     /// the reciprocal glyph of the compliance quartic `s_ijkl` (`1/E(u) = s(u,u,u,u)`),
@@ -336,5 +375,106 @@ mod tests {
             }
         }
         assert!(copper.plane_forms(Surface::Young).is_none());
+    }
+
+    /// `−λ/Q` of the Poisson forms is the exact extreme (`Stiffness::radius`) to 1e-12 at
+    /// random directions, every surface point is a root of the degree-18 implicit form,
+    /// and the branch test picks the surface's root: on a trigonal crystal, an auxetic
+    /// tetragonal one (negative ratios) and a turned cubic one.
+    #[test]
+    fn poisson_forms_give_the_poisson_extremes() {
+        let (c11, c33, c44, c12, c13, c14) = (86.8, 105.8, 58.2, 7.0, 11.9, -18.0);
+        let c66 = (c11 - c12) / 2.0;
+        let quartz = [
+            [c11, c12, c13, c14, 0.0, 0.0],
+            [c12, c11, c13, -c14, 0.0, 0.0],
+            [c13, c13, c33, 0.0, 0.0, 0.0],
+            [c14, -c14, 0.0, c44, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, c44, c14],
+            [0.0, 0.0, 0.0, 0.0, c14, c66],
+        ];
+        let cristobalite = [
+            [59.4, 3.8, -4.4, 0.0, 0.0, 0.0],
+            [3.8, 59.4, -4.4, 0.0, 0.0, 0.0],
+            [-4.4, -4.4, 42.4, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 67.2, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, 67.2, 0.0],
+            [0.0, 0.0, 0.0, 0.0, 0.0, 25.7],
+        ];
+        let (c11, c12, c44) = (168.4, 121.4, 75.4);
+        let copper = Stiffness::new([
+            [c11, c12, c12, 0.0, 0.0, 0.0],
+            [c12, c11, c12, 0.0, 0.0, 0.0],
+            [c12, c12, c11, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, c44, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, c44, 0.0],
+            [0.0, 0.0, 0.0, 0.0, 0.0, c44],
+        ])
+        .unwrap()
+        .rotated(&crate::Rotation::from_bunge_degrees(10.0, 20.0, 30.0).unwrap());
+        let form_at = |tensor: &[f64], n: usize, u: [f64; 3]| -> f64 {
+            (0..tensor.len())
+                .map(|flat| {
+                    let product: f64 = (0..n)
+                        .map(|k| u[flat / 3usize.pow((n - 1 - k) as u32) % 3])
+                        .product();
+                    tensor[flat] * product
+                })
+                .sum()
+        };
+        let mut negative = 0;
+        for crystal in [
+            Stiffness::new(quartz).unwrap(),
+            Stiffness::new(cristobalite).unwrap(),
+            copper,
+        ] {
+            for (surface, larger) in [(Surface::PoissonMin, true), (Surface::PoissonMax, false)] {
+                let forms = crystal.poisson_forms(surface).unwrap();
+                assert_eq!(forms.plane.larger_root, larger);
+                for u in crate::fibonacci_half_sphere(60) {
+                    let (q, t, d) = (
+                        form_at(&forms.young, 4, u),
+                        form_at(&forms.plane.trace, 4, u),
+                        form_at(&forms.plane.determinant, 6, u),
+                    );
+                    let root = (t * t - 4.0 * d).max(0.0).sqrt();
+                    let lambda = if larger {
+                        (t + root) / 2.0
+                    } else {
+                        (t - root) / 2.0
+                    };
+                    let nu = crystal.radius(surface, u).unwrap();
+                    assert!((-lambda / q - nu).abs() < 1e-12, "{surface:?} {u:?}");
+                    negative += usize::from(nu < 0.0);
+                    // The point |ν| u: a root of the implicit form, on its branch.
+                    let p = u.map(|x| x * nu.abs());
+                    let r = nu.abs();
+                    let (qp, tp, dp) = (
+                        form_at(&forms.young, 4, p),
+                        form_at(&forms.plane.trace, 4, p),
+                        form_at(&forms.plane.determinant, 6, p),
+                    );
+                    let left = r * r * (qp * qp + dp).powi(2);
+                    let right = qp * qp * tp * tp;
+                    assert!((left - right).abs() <= 1e-9 * (left + right), "{u:?}");
+                    let sigma = nu.signum();
+                    let side = -2.0 * sigma * r * qp - tp;
+                    let tolerance = 1e-9 * (2.0 * r * qp.abs() + tp.abs());
+                    if larger {
+                        assert!(side >= -tolerance, "{surface:?} {u:?}: {side}");
+                    } else {
+                        assert!(side <= tolerance, "{surface:?} {u:?}: {side}");
+                    }
+                }
+            }
+        }
+        // The auxetic crystal's smallest ratios are negative.
+        assert!(negative > 0);
+        assert!(
+            Stiffness::new(quartz)
+                .unwrap()
+                .poisson_forms(Surface::Young)
+                .is_none()
+        );
     }
 }
