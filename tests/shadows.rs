@@ -563,3 +563,51 @@ fn bad_shadow_values_are_usage_errors() {
         assert!(!stderr.contains("panicked"), "{stderr}");
     }
 }
+
+/// Shapes that take no shadow or occlusion rays (here the reciprocal glyph of Young's
+/// modulus, written by `glyphcast stiffness`) are drawn as without them, with a note
+/// saying so; polynomial glyphs get no such note.
+#[test]
+fn shapes_without_rays_are_drawn_without_them_and_say_so() {
+    let dir = fresh_dir("shadows-shapes");
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let copper = root.join("examples/stiffness/copper.txt");
+    let scene = dir.join("young.json");
+    let out = glyphcast(&[
+        "stiffness",
+        copper.to_str().expect("utf-8"),
+        "--surface",
+        "young",
+        "-o",
+        scene.to_str().expect("utf-8"),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let render = |name: &str, extra: &[&str]| {
+        let png = dir.join(format!("{name}.png"));
+        let mut args = vec!["render", scene.to_str().expect("utf-8"), "--width", "96"];
+        args.extend(["--height", "96", "-o", png.to_str().expect("utf-8")]);
+        args.extend_from_slice(extra);
+        let out = glyphcast(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        (std::fs::read(&png).expect("png"), stderr)
+    };
+    let (plain, quiet) = render("plain", &[]);
+    assert!(!quiet.contains("note:"), "{quiet}");
+    for flag in ["--shadows", "--ambient-occlusion"] {
+        let (image, stderr) = render(flag.trim_start_matches('-'), &[flag]);
+        assert!(image == plain, "{flag} changed the reciprocal glyph");
+        assert!(
+            stderr.contains("note: glyphs of shape reciprocal receive and cast no shadows"),
+            "{flag}: {stderr}"
+        );
+    }
+}

@@ -347,6 +347,18 @@ pub fn render(
     options.check_colorbar(&settings)?;
     options.options()?.check_method_reads(&settings)?;
     let negative = options.negative()?;
+    if settings.casts_rays()
+        && let Some(set) = scene
+            .glyph_sets
+            .iter()
+            .find(|set| set.shape != glyphcast::glyph::GlyphShape::Polynomial)
+    {
+        eprintln!(
+            "note: glyphs of shape {} receive and cast no shadows or ambient occlusion; \
+             they are drawn without them",
+            set.shape.name()
+        );
+    }
     // Written with the image and the depth map, all or nothing.
     let scene_file = save_scene.map(|path| (path, scene.to_json()));
     let common_scale = common_scale([&scene]);
