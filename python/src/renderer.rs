@@ -213,8 +213,8 @@ impl Renderer {
         let render = kwargs.render_options()?;
         let mut extras = Extras::from_kwargs(&mut kwargs)?;
         kwargs.finish()?;
-        // Edge labels (and with them a lightbox's captions) get a band free of glyphs,
-        // as on the command line.
+        // Edge labels get a band free of glyphs, as on the command line (a lightbox's
+        // captions always do).
         image.keep_edges = extras.labels;
         // The options on their own first: refused before the array is converted.
         request.check(input).map_err(to_py)?;
