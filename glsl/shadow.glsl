@@ -59,6 +59,8 @@ vec3 shadow_normal;       // turned towards the viewer
 float shadow_offset;      // the rays' start beyond the hit, world units
 vec3 shadow_u;            // with shadow_v, the soft light's disc around frame.light
 vec3 shadow_v;
+vec3 shadow_normal_u;     // with shadow_normal_v, the occlusion rays' disc around the
+vec3 shadow_normal_v;     // normal
 int shadow_rays;          // rays towards the light per hit
 int shadow_casts;         // of them, those leaving the surface outwards (n . l > 0)
 int shadow_blocked;       // of those, the rays found blocked
@@ -101,9 +103,8 @@ vec2 shadow_disc_sample(int k) {
 vec3 shadow_ray_dir(int k) {
     if (k >= shadow_rays) {
         vec2 s = shadow_disc_sample(k - shadow_rays);
-        vec3 u = shadow_perpendicular(shadow_normal);
-        vec3 v = cross(shadow_normal, u);
-        return normalize(s.x * u + s.y * v + sqrt(max(1.0 - dot(s, s), 0.0)) * shadow_normal);
+        return normalize(s.x * shadow_normal_u + s.y * shadow_normal_v
+                         + sqrt(max(1.0 - dot(s, s), 0.0)) * shadow_normal);
     }
     vec3 light = frame.light.xyz;
     if (shadow_rays <= 1) {
@@ -166,6 +167,8 @@ void shadow_begin(GlyphRay camera, float s_hit) {
     shadow_rays = int(frame.shadow.y);
     shadow_u = shadow_perpendicular(frame.light.xyz);
     shadow_v = cross(frame.light.xyz, shadow_u);
+    shadow_normal_u = shadow_perpendicular(shadow_normal);
+    shadow_normal_v = cross(shadow_normal, shadow_normal_u);
     shadow_casts = 0;
     for (int k = 0; k < shadow_rays; ++k) {
         shadow_casts += dot(shadow_normal, shadow_ray_dir(k)) > 0.0 ? 1 : 0;

@@ -155,8 +155,27 @@ fn reference_visibility(
     rays: u32,
     tan_radius: f64,
 ) -> Vec<Option<(f64, f64)>> {
-    let (w, h) = (scene.image.width, scene.image.height);
     let light = light.normalize();
+    per_hit(scene, glyphs, |glyph, hit, dir| {
+        let normal = shadow::surface_normal(glyph, hit);
+        let n = if normal.dot(-dir) < 0.0 {
+            -normal
+        } else {
+            normal
+        };
+        let v = shadow::visibility(glyph, hit, dir, light, rays, tan_radius, glyphs);
+        (n.dot(light), v)
+    })
+}
+
+/// Per pixel of `scene`, row by row: `value` of the float64 nearest hit among `glyphs`
+/// (the glyph, the hit, the ray's unit direction), or None for a miss.
+fn per_hit<T>(
+    scene: &Scene,
+    glyphs: &[WorldGlyph],
+    value: impl Fn(&WorldGlyph, DVec3, DVec3) -> T,
+) -> Vec<Option<T>> {
+    let (w, h) = (scene.image.width, scene.image.height);
     let mut out = Vec::with_capacity((w * h) as usize);
     for j in 0..h {
         for i in 0..w {
@@ -165,17 +184,7 @@ fn reference_visibility(
                 .iter()
                 .filter_map(|g| first_hit(&ray, g).map(|t| (t, g)))
                 .min_by(|a, b| a.0.total_cmp(&b.0));
-            out.push(nearest.map(|(t, glyph)| {
-                let hit = ray.origin + t * ray.dir;
-                let normal = shadow::surface_normal(glyph, hit);
-                let n = if normal.dot(-ray.dir) < 0.0 {
-                    -normal
-                } else {
-                    normal
-                };
-                let v = shadow::visibility(glyph, hit, ray.dir, light, rays, tan_radius, glyphs);
-                (n.dot(light), v)
-            }));
+            out.push(nearest.map(|(t, glyph)| value(glyph, ray.origin + t * ray.dir, ray.dir)));
         }
     }
     out
@@ -379,20 +388,9 @@ fn ambient_occlusion_matches_the_float64_share() {
         let _ = std::fs::write(scene_file, scene.to_json());
         let (w, h) = (scene.image.width as usize, scene.image.height as usize);
         let glyphs = glyphs_of(&sets);
-        let mut reference = Vec::with_capacity(w * h);
-        for j in 0..h as u32 {
-            for i in 0..w as u32 {
-                let ray = scene.camera.ray(i, j, w as u32, h as u32);
-                let nearest = glyphs
-                    .iter()
-                    .filter_map(|g| first_hit(&ray, g).map(|t| (t, g)))
-                    .min_by(|a, b| a.0.total_cmp(&b.0));
-                reference.push(nearest.map(|(t, glyph)| {
-                    let hit = ray.origin + t * ray.dir;
-                    shadow::ambient_share(glyph, hit, ray.dir, f64::from(reach), &glyphs)
-                }));
-            }
-        }
+        let reference = per_hit(&scene, &glyphs, |glyph, hit, dir| {
+            shadow::ambient_share(glyph, hit, dir, f64::from(reach), &glyphs)
+        });
         let (mut compared, mut occluded, mut wrong) = (0, 0, Vec::new());
         for j in 1..h - 1 {
             for i in 1..w - 1 {
