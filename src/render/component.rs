@@ -212,9 +212,9 @@ impl GlyphRenderer {
     /// Replaces the settings (march, colour, lighting) that the next `set_view` calls
     /// write; the method must stay the one the renderer was made with, and the values
     /// are checked as [`GlyphRenderer::new`] checks them ([`RenderSettings::validate`]):
-    /// a refused value leaves the renderer's settings as they were. Shadows switched on
-    /// or off take effect for glyphs uploaded after (`set_glyphs`, `upload`): their
-    /// pipelines are chosen at upload.
+    /// a refused value leaves the renderer's settings as they were. Shadows or ambient
+    /// occlusion switched on take effect for glyphs uploaded after (`set_glyphs`,
+    /// `upload`): their pipelines are chosen at upload; switched off, they stop at once.
     pub fn set_settings(&mut self, settings: &RenderSettings) -> Result<()> {
         settings.validate()?;
         if settings.method != self.settings.method {
