@@ -39,17 +39,25 @@ pub fn glyph_function(order: u32, symmetry: Symmetry) -> String {
     );
     let _ = writeln!(s, "const uint GLYPH_ORDER = {order}u;");
     // The plane glyph (GLYPHCAST_PLANE, D of this layout) keeps its T's monomial
-    // coefficients after D's, in the buffer and in glyph_c.
+    // coefficients after D's, in the buffer and in glyph_c; the ratio glyph
+    // (GLYPHCAST_RATIO) its T's, then its Q's.
     let plane = symmetry == Symmetry::Symmetric && order == PLANE_ORDER;
     let trace = monomials(PLANE_TRACE_ORDER);
     if plane {
         let _ = writeln!(
             s,
             "#ifdef GLYPHCAST_PLANE\nconst uint GLYPH_STRIDE = {}u;\n#define GLYPH_MONOMIALS {}\n\
-             const int PLANE_TRACE_FIRST = {};\n#else",
+             const int PLANE_TRACE_FIRST = {};\n\
+             #elif defined(GLYPHCAST_RATIO)\nconst uint GLYPH_STRIDE = {}u;\n\
+             #define GLYPH_MONOMIALS {}\nconst int PLANE_TRACE_FIRST = {};\n\
+             const int RATIO_Q_FIRST = {};\n#else",
             stride + trace.len(),
             monos.len() + trace.len(),
-            monos.len()
+            monos.len(),
+            stride + 2 * trace.len(),
+            monos.len() + 2 * trace.len(),
+            monos.len(),
+            monos.len() + trace.len()
         );
     }
     let _ = writeln!(s, "const uint GLYPH_STRIDE = {stride}u;");
@@ -79,9 +87,18 @@ pub fn glyph_function(order: u32, symmetry: Symmetry) -> String {
                 );
             }
             if plane {
-                s.push_str("#ifdef GLYPHCAST_PLANE\n");
+                s.push_str("#if defined(GLYPHCAST_PLANE) || defined(GLYPHCAST_RATIO)\n");
                 for (k, m) in trace.iter().enumerate() {
                     let k = k + monos.len();
+                    let _ = writeln!(
+                        s,
+                        "    glyph_c[{k}] = {}.0 * coeffs[b + {k}u];",
+                        multiplicity(*m)
+                    );
+                }
+                s.push_str("#endif\n#ifdef GLYPHCAST_RATIO\n");
+                for (k, m) in trace.iter().enumerate() {
+                    let k = k + monos.len() + trace.len();
                     let _ = writeln!(
                         s,
                         "    glyph_c[{k}] = {}.0 * coeffs[b + {k}u];",
@@ -111,8 +128,11 @@ pub fn glyph_function(order: u32, symmetry: Symmetry) -> String {
 
     form_functions(&mut s, order, &monos, "glyph_f", 0);
     if plane {
-        s.push_str("\n#ifdef GLYPHCAST_PLANE\n");
+        s.push_str("\n#if defined(GLYPHCAST_PLANE) || defined(GLYPHCAST_RATIO)\n");
         form_functions(&mut s, PLANE_TRACE_ORDER, &trace, "plane_t", monos.len());
+        s.push_str("#endif\n#ifdef GLYPHCAST_RATIO\n");
+        let first = monos.len() + trace.len();
+        form_functions(&mut s, PLANE_TRACE_ORDER, &trace, "ratio_q", first);
         s.push_str("#endif\n");
     }
     s

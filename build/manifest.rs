@@ -3,10 +3,11 @@
 //! non-symmetric order up to `MAX_NONSYMMETRIC_ORDER`, each with every ray-casting
 //! method, the ellipsoid's closed-form shader for the symmetric `ELLIPSOID_ORDER`, and
 //! the exact method's reciprocal variant for every even order and its plane variant for
-//! the symmetric `PLANE_ORDER`.
+//! the symmetric `PLANE_ORDER`, and its ratio variant there too.
 use crate::catalog::{
     ELLIPSOID_METHOD, ELLIPSOID_ORDER, MAX_NONSYMMETRIC_ORDER, MAX_SYMMETRIC_ORDER, PLANE_METHOD,
-    PLANE_ORDER, RAY_CAST_METHODS, RECIPROCAL_METHOD, RayCastMethod, reciprocal_order,
+    PLANE_ORDER, RATIO_METHOD, RAY_CAST_METHODS, RECIPROCAL_METHOD, RayCastMethod,
+    reciprocal_order,
 };
 use std::collections::BTreeMap;
 
@@ -39,6 +40,7 @@ pub fn variants() -> BTreeMap<(Symmetry, u32), Vec<RayCastMethod>> {
     }
     if let Some(methods) = variants.get_mut(&(Symmetry::Symmetric, PLANE_ORDER)) {
         methods.push(PLANE_METHOD);
+        methods.push(RATIO_METHOD);
     }
     variants
 }

@@ -24,6 +24,18 @@ const int N = int(GLYPH_ORDER);
 const int NT = 4;
 const int D = 12;
 const int G_EXPONENT = 4;
+#elif defined(GLYPHCAST_RATIO)
+// The ratio glyph r = |λ/Q|, λ² − T λ + D = 0 (build/table.rs compiles this variant for
+// D's layout, order 6; T and Q have order 4 and follow D in glyph_c). With r = |q| and the
+// sign σ of λ/Q (Q > 0), λ = σ |q| Q(q^), so |q|² Q² − σ |q| T Q + D = 0 at unit q^, and
+// for the forms of q, |q| (Q(q)² + D(q)) = σ Q(q) T(q); squared,
+// F = Q(q)² T(q)² − |q|² (Q(q)² + D(q))², of degree 18, holds both branches (σ = ±1).
+// F is negative outside both surfaces; each root is kept or passed over by its branch
+// (ratio_root_kept). The k of the Newton steps' G = F / |q|^(2k): G =
+// |q|² Q(q^)² T(q^)² − (|q|² Q(q^)² + D(q^))².
+const int NT = 4;
+const int D = 18;
+const int G_EXPONENT = 7;
 #elif defined(GLYPHCAST_RECIPROCAL)
 // The reciprocal glyph r = 1/|f| (build/table.rs compiles this variant for even orders):
 // inside |f(q)| < |q|^(n-1), so F = (q . q)^(n-1) - f(q)^2, of degree 2n, is positive
@@ -72,11 +84,17 @@ float half_p1[N + 1];
 float half_f0[D + 1];
 float half_f1[D + 1];
 float node_f[D + 1];       // F on the current piece of the segment, Bernstein basis
-#ifdef GLYPHCAST_PLANE
+#if defined(GLYPHCAST_PLANE) || defined(GLYPHCAST_RATIO)
 float ray_t[N + 1];        // T(mid + tau d), degree NT (the rest 0)
 float segment_t[N + 1];    // T(s a + t b) = sum_i segment_t[i] s^(NT-i) t^i
+#endif
+#ifdef GLYPHCAST_PLANE
 float half_t0[N + 1];
 float half_t1[N + 1];
+#endif
+#ifdef GLYPHCAST_RATIO
+float ray_q[N + 1];        // Q(mid + tau d), degree NT (the rest 0)
+float segment_q[N + 1];    // Q(s a + t b), as segment_t
 #endif
 
 void init_binomials() {
@@ -103,7 +121,7 @@ void times_linear(inout float p[N + 1], int top, float c0, float c1) {
     p[0] *= c0;
 }
 
-#ifdef GLYPHCAST_PLANE
+#if defined(GLYPHCAST_PLANE) || defined(GLYPHCAST_RATIO)
 // p: the coefficients of the form of order m whose monomial coefficients start at
 // glyph_c[first], along a + tau b (m is N, or NT for a plane glyph's T).
 void ray_polynomial_of(vec3 a, vec3 b, int m_order, int first, out float p[N + 1]) {
@@ -155,12 +173,13 @@ void ray_polynomial_of(vec3 a, vec3 b, int m_order, int first, out float p[N + 1
     }
 }
 
-// ray_p: the coefficients of f(a + tau b), called with a = mid and b = d; a plane glyph's
-// ray_t too.
+// ray_p: the coefficients of f(a + tau b), called with a = mid and b = d; a plane or
+// ratio glyph's ray_t too, and a ratio glyph's ray_q.
 void ray_polynomial(vec3 a, vec3 b) {
     ray_polynomial_of(a, b, N, 0, ray_p);
-#ifdef GLYPHCAST_PLANE
     ray_polynomial_of(a, b, NT, PLANE_TRACE_FIRST, ray_t);
+#ifdef GLYPHCAST_RATIO
+    ray_polynomial_of(a, b, NT, RATIO_Q_FIRST, ray_q);
 #endif
 }
 #else
@@ -213,7 +232,7 @@ void ray_polynomial(vec3 a, vec3 b) {
 }
 #endif
 
-#ifdef GLYPHCAST_PLANE
+#if defined(GLYPHCAST_PLANE) || defined(GLYPHCAST_RATIO)
 // The form of degree m in (s, t) = (1 - u, u) of a ray polynomial of degree m on the
 // segment from tau = near over width (reversed: from near backwards): re-expanded about
 // near (a Taylor shift, small there) and scaled to u in [0, 1], then turned into the
@@ -264,6 +283,7 @@ void lift_by_two(inout float p[D + 1], int top) {
     p[1] += 2.0 * p[0];
 }
 
+#ifdef GLYPHCAST_PLANE
 // segment_f of a plane glyph, F = T² |q|² (s + t)² − (|q|⁴ (s + t)² + D)² as a form of
 // degree 12, from segment_t, segment_p (D) and q . q = q.x s² + q.y s t + q.z t², whose
 // coefficients are positive on a segment that does not pass mid. Each product is formed
@@ -315,10 +335,63 @@ void plane_segment_f(vec3 q) {
         segment_f[i] = (trace_part[i] - square[i]) / binomial[i];
     }
 }
+#else
+// segment_f of a ratio glyph, F = (Q T)² (s + t)² − |q|² (Q² + D (s + t)²)² as a form of
+// degree 18, from segment_q, segment_t, segment_p (D) and q . q = q.x s² + q.y s t +
+// q.z t², whose coefficients are positive on a segment that does not pass mid.
+void ratio_segment_f(vec3 q) {
+    float square[D + 1];   // Q², then Q² + D, degree 8
+    float cross[D + 1];    // Q T, degree 8
+    float outer[D + 1];
+    float product[D + 1];
+    [[unroll]] for (int i = 0; i <= D; ++i) {
+        square[i] = 0.0;
+        cross[i] = 0.0;
+        outer[i] = 0.0;
+        product[i] = 0.0;
+    }
+    [[unroll]] for (int i = 0; i <= NT; ++i) {
+        [[unroll]] for (int j = 0; j <= NT; ++j) {
+            square[i + j] += segment_q[i] * segment_q[j];
+            cross[i + j] += segment_q[i] * segment_t[j];
+        }
+    }
+    // D, degree 6, lifted to 8.
+    float lifted[D + 1];
+    [[unroll]] for (int i = 0; i <= D; ++i) {
+        lifted[i] = i <= N ? segment_p[i] : 0.0;
+    }
+    lift_by_two(lifted, 2 * NT);
+    [[unroll]] for (int i = 0; i <= 2 * NT; ++i) {
+        square[i] += lifted[i];
+    }
+    // (Q² + D)², degree 16, times |q|²: degree 18.
+    [[unroll]] for (int i = 0; i <= 2 * NT; ++i) {
+        [[unroll]] for (int j = 0; j <= 2 * NT; ++j) {
+            outer[i + j] += square[i] * square[j];
+            product[i + j] += cross[i] * cross[j];
+        }
+    }
+    [[unroll]] for (int top = 0; top < D - 1; ++top) {
+        int i = D - top;
+        if (i >= 2) {
+            outer[i] = outer[i] * q.x + outer[i - 1] * q.y + outer[i - 2] * q.z;
+        }
+    }
+    outer[1] = outer[1] * q.x + outer[0] * q.y;
+    outer[0] *= q.x;
+    // (Q T)², degree 16, lifted to 18.
+    lift_by_two(product, D);
+    [[unroll]] for (int i = 0; i <= D; ++i) {
+        segment_f[i] = (product[i] - outer[i]) / binomial[i];
+    }
+}
+#endif
 
-// segment_p, segment_t and segment_f for the segment tau in [tau0, tau1] (ray order),
-// which does not pass mid: D and T as forms in (s, t) = (1 - u, u) (segment_form_of), and
-// F in the segment's Bernstein basis (plane_segment_f).
+// segment_p, segment_t (and a ratio glyph's segment_q) and segment_f for the segment tau
+// in [tau0, tau1] (ray order), which does not pass mid: D, T (and Q) as forms in
+// (s, t) = (1 - u, u) (segment_form_of), and F in the segment's Bernstein basis
+// (plane_segment_f, ratio_segment_f).
 void segment_polynomials(vec3 mid, vec3 d, float tau0, float tau1) {
     bool reversed = abs(tau1) < abs(tau0);
     float near = reversed ? tau1 : tau0;
@@ -327,7 +400,12 @@ void segment_polynomials(vec3 mid, vec3 d, float tau0, float tau1) {
     segment_form_of(ray_t, NT, near, width, reversed, segment_t);
     vec3 a = mid + tau0 * d;
     vec3 b = mid + tau1 * d;
+#ifdef GLYPHCAST_RATIO
+    segment_form_of(ray_q, NT, near, width, reversed, segment_q);
+    ratio_segment_f(vec3(dot(a, a), 2.0 * dot(a, b), dot(b, b)));
+#else
     plane_segment_f(vec3(dot(a, a), 2.0 * dot(a, b), dot(b, b)));
+#endif
 }
 #else
 // segment_p and segment_f for the segment tau in [tau0, tau1] (ray order), which does not
@@ -539,7 +617,7 @@ float node_root(float tau_at_0, float tau_per_x, float mid2, float d2) {
         float tau = tau_at_0 + x * tau_per_x;
         float r = mid2 + tau * tau * d2;
         float r_slope = 2.0 * d2 * tau * tau_per_x;
-#if defined(GLYPHCAST_RECIPROCAL) || defined(GLYPHCAST_PLANE)
+#if defined(GLYPHCAST_RECIPROCAL) || defined(GLYPHCAST_PLANE) || defined(GLYPHCAST_RATIO)
         float step = step_f / (1.0 - float(G_EXPONENT) * r_slope / r * step_f);
 #else
         float step = step_f / (1.0 - float(N) * r_slope / r * step_f);
@@ -579,8 +657,8 @@ float half_p_sign(int half_index, float u) {
 }
 
 bool hide_negative() {
-#ifdef GLYPHCAST_PLANE
-    // The word names a plane glyph's root; it has no negative lobes.
+#if defined(GLYPHCAST_PLANE) || defined(GLYPHCAST_RATIO)
+    // The word names a plane or ratio glyph's root; it has no negative lobes.
     return false;
 #else
     return glyph_set.hide_negative == NEGATIVE_HIDE;
@@ -605,6 +683,20 @@ bool root_kept(int half_index, float u, float length2) {
     float trace = u <= 0.5 ? from_start * s4 : from_end * t4;
     bool larger = 2.0 * length2 * sqrt(length2) >= trace;
     return larger == (glyph_set.hide_negative == PLANE_MIN);
+}
+#endif
+
+#ifdef GLYPHCAST_RATIO
+// Whether the root at q is kept: the ratio glyph's root of the set's branch. The larger
+// root λ = σ |q| Q(q^) has 2 λ ≥ T(q^).
+bool ratio_root_kept(vec3 q) {
+    float len = max(length(q), 1e-30);
+    vec3 u = q / len;
+    float qu = ratio_q(u);
+    float t = plane_t(u);
+    float sigma = ratio_sign(len * len * qu * qu + glyph_f(u), len * qu * t);
+    bool larger = 2.0 * sigma * len * qu >= t;
+    return larger == (glyph_set.hide_negative == RATIO_MAX);
 }
 #endif
 
@@ -806,9 +898,11 @@ bool first_crossing(vec3 mid, vec3 d, float tau_start, float tau_end, out float 
         float hi = visit_half == 0 ? hi0 : hi1;
         float u0 = rest_start;
         float u = mix(u0, u1, node_root(mix(lo, hi, u0), (hi - lo) * (u1 - u0), a, dot(d, d)));
-#ifdef GLYPHCAST_PLANE
+#if defined(GLYPHCAST_PLANE)
         float tau_u = mix(lo, hi, u);
         if (root_kept(visit_half, u, a + tau_u * tau_u * dot(d, d))) {
+#elif defined(GLYPHCAST_RATIO)
+        if (ratio_root_kept(mid + mix(lo, hi, u) * d)) {
 #else
         if (!hide || half_p_sign(visit_half, u) > 0.0) {
 #endif

@@ -21,6 +21,28 @@ float inside(vec3 q) {
     vec3 u = q / len;
     return plane_t(u) * len - 1.0 - glyph_f(u) * len * len;
 }
+#elif defined(GLYPHCAST_RATIO)
+// The sign σ of λ/Q at a point of a ratio glyph's surface, r = |q| along q^, where
+// a = r² Q(q^)² + D(q^) and c = r Q(q^) T(q^): the branch whose factor a − σ c vanishes
+// there (the nearer to 0 of the two).
+float ratio_sign(float a, float c) {
+    return abs(a - c) <= abs(a + c) ? 1.0 : -1.0;
+}
+
+// The ratio glyph (exact method only, no offset): with r = |q|, a = r² Q(q^)² + D(q^)
+// and c = r Q(q^) T(q^), g = c² − a², which is F / |q|^14 (exact_root.glsl), negative
+// outside both surfaces and at the centre.
+float inside(vec3 q) {
+    float len = length(q);
+    if (len < 1e-20) {
+        return -1.0;
+    }
+    vec3 u = q / len;
+    float qu = ratio_q(u);
+    float a = len * len * qu * qu + glyph_f(u);
+    float c = len * qu * plane_t(u);
+    return c * c - a * a;
+}
 #elif defined(GLYPHCAST_RECIPROCAL)
 // The reciprocal glyph r = 1/|f| (exact method only, no offset): g = 1 - |q| |f(q^)|,
 // 1 at the centre, which it holds.
@@ -110,6 +132,20 @@ vec3 surface_normal(vec3 q, out float len, out vec3 q_dir, out float f) {
     float t = plane_t_grad(q_dir, grad_t);
     vec3 normal = normalize(4.0 * q_dir - len * (grad_t + t * q_dir) + len * len * grad);
     f = 1.0;
+    return dot(normal, q_dir) < 0.0 ? -normal : normal;
+#elif defined(GLYPHCAST_RATIO)
+    // |q| (Q(q)² + D(q)) − σ Q(q) T(q) = 0 on the branch σ; its gradient over |q|⁶ is
+    // (r² Q² + D) q^ + 2 r² Q grad Q + grad D − σ r (T grad Q + Q grad T) at q^, turned
+    // outwards. f becomes σ, the sign of λ/Q, for the sign colours.
+    vec3 grad_t;
+    vec3 grad_q;
+    float t = plane_t_grad(q_dir, grad_t);
+    float qu = ratio_q_grad(q_dir, grad_q);
+    float a = len * len * qu * qu + f;
+    float sigma = ratio_sign(a, len * qu * t);
+    vec3 normal = normalize(a * q_dir + 2.0 * len * len * qu * grad_q + grad
+                            - sigma * len * (t * grad_q + qu * grad_t));
+    f = sigma;
     return dot(normal, q_dir) < 0.0 ? -normal : normal;
 #else
     float sgn = (glyph_set.hide_negative == NEGATIVE_HIDE || f >= 0.0) ? 1.0 : -1.0;

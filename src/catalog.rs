@@ -130,7 +130,24 @@ pub(crate) const PLANE_METHOD: RayCastMethod = RayCastMethod {
     own_vertex: true,
 };
 
-/// The order of a plane glyph's D (its T has order 4), symmetric.
+/// The exact method on ratio glyphs, r(u) = |λ/Q(u)| with λ a root of
+/// λ² − T(u) λ + D(u) = 0 (scene `shape` `ratio-min` and `ratio-max`):
+/// `raycast_exact.frag` compiled with `GLYPHCAST_RATIO`, whose F is
+/// Q(q)² T(q)² − |q|² (Q(q)² + D(q))², of degree 18, and whose filter keeps the roots of
+/// the set's branch. Not a `--method`: ratio sets are drawn with it when the method is
+/// exact. Compiled for the layout of D, [`PLANE_ORDER`] symmetric, only; its vertex
+/// shader passes T's and Q's coefficients too.
+pub(crate) const RATIO_METHOD: RayCastMethod = RayCastMethod {
+    name: "ratio",
+    fragment: "raycast_exact.frag",
+    compute: None,
+    uses_ranges: false,
+    marches: false,
+    define: Some("GLYPHCAST_RATIO"),
+    own_vertex: true,
+};
+
+/// The order of a plane or ratio glyph's D (its T and Q have order 4), symmetric.
 pub const PLANE_ORDER: u32 = 6;
 
 /// Whether tensors of `order` can have a bounded reciprocal glyph (even orders).
@@ -178,10 +195,15 @@ pub mod codes {
     pub const PLANE_MIN: u32 = 0;
     /// A plane glyph set's `hide_negative` word: the smaller root (`plane-max`).
     pub const PLANE_MAX: u32 = 1;
+    /// A ratio glyph set's `hide_negative` word: draw the smaller root λ, the smaller
+    /// ratio λ/Q (scene `shape` `ratio-min`).
+    pub const RATIO_MIN: u32 = 0;
+    /// A ratio glyph set's `hide_negative` word: the larger root (`ratio-max`).
+    pub const RATIO_MAX: u32 = 1;
 }
 
 /// Every entry of [`codes`] with its GLSL name, for `build.rs`'s `codes.glsl`.
-pub const SHADER_CODES: [(&str, i64); 12] = [
+pub const SHADER_CODES: [(&str, i64); 14] = [
     ("REFINE_NONE", codes::REFINE_NONE as i64),
     ("REFINE_BISECT", codes::REFINE_BISECT as i64),
     ("REFINE_INTERP", codes::REFINE_INTERP as i64),
@@ -194,6 +216,8 @@ pub const SHADER_CODES: [(&str, i64); 12] = [
     ("NEGATIVE_HIDE", codes::NEGATIVE_HIDE as i64),
     ("PLANE_MIN", codes::PLANE_MIN as i64),
     ("PLANE_MAX", codes::PLANE_MAX as i64),
+    ("RATIO_MIN", codes::RATIO_MIN as i64),
+    ("RATIO_MAX", codes::RATIO_MAX as i64),
 ];
 
 /// The text of `codes.glsl`: `#define NAME VALUE` for every entry of [`SHADER_CODES`]

@@ -200,10 +200,12 @@ pub fn stiffness_row_scene(materials: &[VoigtStiffness], symmetric_part: bool) -
 pub struct RowGlyph {
     /// The tensor layout of `coeffs`.
     pub layout: TensorLayout,
-    /// [`GlyphShape::Polynomial`] (r = |f|), [`GlyphShape::Reciprocal`] (r = 1/|f|) or
-    /// a plane shape (r = 1/λ, [`RowGlyph::of_plane`]).
+    /// [`GlyphShape::Polynomial`] (r = |f|), [`GlyphShape::Reciprocal`] (r = 1/|f|), a
+    /// plane shape (r = 1/λ, [`RowGlyph::of_plane`]) or a ratio shape (r = |λ/Q|,
+    /// [`RowGlyph::of_ratio`]).
     pub shape: GlyphShape,
-    /// The coefficients, in the scene order of `layout` (a plane glyph's T's after them).
+    /// The coefficients, in the scene order of `layout` (a plane glyph's T's after them,
+    /// a ratio glyph's T's and Q's).
     pub coeffs: Vec<f64>,
     /// The glyph's largest radius (at least its true maximum; it is drawn as
     /// radius/largest of the row's largest).
@@ -280,6 +282,44 @@ impl RowGlyph {
                 GlyphShape::PlaneMax
             },
             coeffs: d.into_iter().chain(t).collect(),
+            largest_radius,
+        })
+    }
+
+    /// The ratio glyph r = |λ/Q|, λ² − T λ + D = 0, of three full tensors (row-major): D
+    /// of order 6, T and Q of order 4, with the smaller root (`smaller_root`, shape
+    /// `ratio-min`) or the larger (`ratio-max`); drawn by their fully symmetric parts. A Q
+    /// that may vanish or is not positive somewhere (the surface is unbounded) is an
+    /// error.
+    pub fn of_ratio(
+        [determinant, trace, denominator]: [&[f64]; 3],
+        smaller_root: bool,
+        largest_radius: f64,
+    ) -> Result<Self> {
+        use crate::glyph::{PLANE_LAYOUT, PLANE_TRACE_LAYOUT};
+        let symmetric = crate::glyph::stiffness::fully_symmetric_part;
+        let d = symmetric(PLANE_LAYOUT.order, determinant);
+        let t = symmetric(PLANE_TRACE_LAYOUT.order, trace);
+        let q = symmetric(PLANE_TRACE_LAYOUT.order, denominator);
+        let d_poly = GlyphPolynomial::from_tensor(PLANE_LAYOUT, &d)?;
+        let t_poly = GlyphPolynomial::from_tensor(PLANE_TRACE_LAYOUT, &t)?;
+        let q_poly = GlyphPolynomial::from_tensor(PLANE_TRACE_LAYOUT, &q)?;
+        if crate::glyph::intersect::ratio_bound(&d_poly, &t_poly, &q_poly).is_none() {
+            let least = crate::glyph::bounds::least_abs(&q_poly).map_or(0.0, |l| l.lower);
+            return Err(Error::data(
+                "guaranteed least Q over the sphere (the surface r = |λ/Q| is unbounded \
+                 where Q vanishes)",
+                crate::error::Problem::NotPositive { value: least },
+            ));
+        }
+        Ok(RowGlyph {
+            layout: PLANE_LAYOUT,
+            shape: if smaller_root {
+                GlyphShape::RatioMin
+            } else {
+                GlyphShape::RatioMax
+            },
+            coeffs: d.into_iter().chain(t).chain(q).collect(),
             largest_radius,
         })
     }

@@ -435,6 +435,9 @@ pub enum Asked {
     /// Plane glyphs (scene `shape` `plane-min`/`plane-max`, r = 1/λ), which the exact
     /// method alone ray-casts.
     Plane,
+    /// Ratio glyphs (scene `shape` `ratio-min`/`ratio-max`, r = |λ/Q|), which the exact
+    /// method alone ray-casts.
+    Ratio,
     /// An intersection method: the method setting with its value
     /// (`Setting::Method.with(method)`), spelled by the front end.
     Method(Piece),
@@ -453,6 +456,10 @@ impl Asked {
                                   offset)"
                 .to_owned(),
             Asked::Plane => "plane glyphs (shape plane-min or plane-max, r = 1/λ), which \
+                             only the exact method draws (not tessellated, not marched, no \
+                             offset)"
+                .to_owned(),
+            Asked::Ratio => "ratio glyphs (shape ratio-min or ratio-max, r = |λ/Q|), which \
                              only the exact method draws (not tessellated, not marched, no \
                              offset)"
                 .to_owned(),

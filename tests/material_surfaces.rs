@@ -60,6 +60,8 @@ fn matrix(content: &str) -> [[f64; 6]; 6] {
 /// What one surface of one crystal measured.
 struct Measured {
     covered: usize,
+    /// Drawn points where the modulus is negative.
+    negative: usize,
     spread: f64,
     scale_error: f64,
 }
@@ -127,7 +129,11 @@ fn check_surface(name: &str, content: &str, euler: Option<[f64; 3]>, surface: Su
     }
     let center = scene.glyph_sets[0].centers[0];
     let scale = scene.glyph_sets[0].scales[0];
+    let (_, _, rgba) = glyphcast::io::png::read_png_rgba8(&png).expect("the PNG");
     let mut points = Vec::new();
+    // The signed modulus at each drawn point, and whether its pixel has the negative
+    // colour of --color sign (blue: more blue than red).
+    let mut signs = Vec::new();
     for j in 0..SIZE {
         for i in 0..SIZE {
             let t = depth[(j * SIZE + i) as usize];
@@ -136,11 +142,22 @@ fn check_surface(name: &str, content: &str, euler: Option<[f64; 3]>, surface: Su
             }
             let ray = scene.camera.ray(i, j, SIZE, SIZE);
             let q = ray.origin + f64::from(t) * ray.dir - center;
-            let r = stiffness.radius(surface, q.to_array()).unwrap().abs();
-            points.push((q.length(), r));
+            let signed = stiffness.radius(surface, q.to_array()).unwrap();
+            points.push((q.length(), signed.abs()));
+            let pixel = &rgba[4 * (j * SIZE + i) as usize..][..3];
+            signs.push((signed, pixel[2] > pixel[0]));
         }
     }
     let largest = points.iter().map(|p| p.1).fold(0.0, f64::max);
+    // Every pixel whose modulus is clearly signed (at least 2 % of the largest, away
+    // from the cones where it changes sign) has that sign's colour.
+    let wrong_sign = signs
+        .iter()
+        .filter(|(signed, blue)| signed.abs() >= 0.02 * largest && (*signed < 0.0) != *blue)
+        .count();
+    let negative = signs.iter().filter(|(signed, _)| *signed < 0.0).count();
+    eprintln!("{label}: {negative} negative points, {wrong_sign} in the wrong colour");
+    assert_eq!(wrong_sign, 0, "{label}: pixels in the other sign's colour");
     let mut ratios: Vec<f64> = points
         .iter()
         .filter(|p| p.1 > 0.1 * largest)
@@ -163,6 +180,7 @@ fn check_surface(name: &str, content: &str, euler: Option<[f64; 3]>, surface: Su
     assert!(scale_error <= 1e-3, "{label}: scale {k} against {scale}");
     Measured {
         covered: c.covered,
+        negative,
         spread,
         scale_error,
     }
@@ -321,60 +339,56 @@ fn shear_surfaces_lie_on_the_moduli() {
     }
 }
 
-/// What the shear surfaces cannot be drawn with is refused with exit status 1, one error
-/// naming the plane glyphs and the setting, and no output: the other methods, the compute
-/// path, an offset. Poisson's surfaces are refused by `stiffness` itself, naming the
-/// surface, with a non-zero status and no scene written.
+/// Poisson's ratio's extremes over v ⊥ u (ratio glyphs, degree 18 along a ray) on the
+/// same crystals; the auxetic cristobalite's smallest ratio is negative in most
+/// directions and drawn in the negative colour.
 #[test]
-fn what_the_shear_surfaces_cannot_take_is_refused() {
+fn poisson_surfaces_lie_on_the_ratios() {
+    for surface in [Surface::PoissonMin, Surface::PoissonMax] {
+        for (name, content, euler) in SHEAR_CRYSTALS {
+            let m = check_surface(name, content, euler, surface);
+            assert!(m.covered > 0 && m.spread.is_finite() && m.scale_error.is_finite());
+            if (name, surface) == ("cristobalite", Surface::PoissonMin) {
+                assert!(m.negative > m.covered / 2, "{name}: {} negative", m.negative);
+            }
+        }
+    }
+}
+
+/// What the shear and Poisson surfaces cannot be drawn with is refused with exit status
+/// 1, one error naming the plane or ratio glyphs and the setting, and no output: the
+/// other methods, the compute path, an offset.
+#[test]
+fn what_the_shear_and_poisson_surfaces_cannot_take_is_refused() {
     let dir = common::fresh_dir("material_surfaces/shear-refusals");
     let out = common::fresh_dir("material_surfaces/shear-refusals-out");
     let input = dir.join("quartz.txt");
     std::fs::write(&input, QUARTZ).unwrap();
-    let scene = dir.join("scene.json");
-    run(&[
-        "stiffness",
-        text(&input),
-        "--surface",
-        "shear-max",
-        "-o",
-        text(&scene),
-    ]);
-    let png = out.join("x.png");
-    let render = |extra: &[&str], words: &[&str]| {
-        let mut args = vec!["render", text(&scene), "-o", text(&png)];
-        args.extend(extra);
-        common::expect_failure(&args, &out, words);
-    };
-    render(&["--method", "fixed"], &["plane", "fixed"]);
-    render(&["--method", "affine"], &["plane", "affine"]);
-    render(&["--path", "compute"], &["plane", "compute"]);
-    render(
-        &["--method", "fixed", "--offset", "0.1"],
-        &["plane", "offset"],
-    );
-    // The scene itself draws.
-    run(&["render", text(&scene), "-o", text(&png)]);
-    std::fs::remove_file(&png).unwrap();
-
-    for surface in ["poisson-min", "poisson-max"] {
-        let written = out.join("poisson.json");
-        let args = [
+    for (surface, glyphs) in [("shear-max", "plane"), ("poisson-min", "ratio")] {
+        let scene = dir.join(format!("{surface}.json"));
+        run(&[
             "stiffness",
             text(&input),
             "--surface",
             surface,
             "-o",
-            text(&written),
-        ];
-        let done = common::glyphcast(&args);
-        let stderr = String::from_utf8_lossy(&done.stderr);
-        assert!(!done.status.success(), "{surface}: {stderr}");
-        assert!(!stderr.contains("panicked"), "{surface}: {stderr}");
-        assert!(
-            stderr.contains(surface) && stderr.contains("not drawn"),
-            "{surface}: {stderr}"
+            text(&scene),
+        ]);
+        let png = out.join("x.png");
+        let render = |extra: &[&str], words: &[&str]| {
+            let mut args = vec!["render", text(&scene), "-o", text(&png)];
+            args.extend(extra);
+            common::expect_failure(&args, &out, words);
+        };
+        render(&["--method", "fixed"], &[glyphs, "fixed"]);
+        render(&["--method", "affine"], &[glyphs, "affine"]);
+        render(&["--path", "compute"], &[glyphs, "compute"]);
+        render(
+            &["--method", "fixed", "--offset", "0.1"],
+            &[glyphs, "offset"],
         );
-        assert_eq!(std::fs::read_dir(&out).unwrap().count(), 0, "{surface}");
+        // The scene itself draws.
+        run(&["render", text(&scene), "-o", text(&png)]);
+        std::fs::remove_file(&png).unwrap();
     }
 }

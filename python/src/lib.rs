@@ -23,7 +23,7 @@ use errors::{to_py, value_error};
 /// `glyphcast stiffness -o SCENE --summary FILE --surface SURFACE` writes them: `c` the
 /// 6 x 6 Voigt matrix, `euler` Bunge angles in degrees (sample to crystal),
 /// `allow_unstable` to take a matrix that is not positive definite, `surface` reynolds,
-/// young, compressibility, shear-min or shear-max.
+/// young, compressibility, shear-min, shear-max, poisson-min or poisson-max.
 #[pyfunction]
 #[pyo3(signature = (c, euler=None, allow_unstable=false, symmetric_part=false, surface="reynolds"))]
 fn stiffness(
@@ -38,16 +38,12 @@ fn stiffness(
     let drawn_surface = match surface {
         "reynolds" => None,
         name => match Surface::from_name(name) {
-            Some(
-                s @ (Surface::Young
-                | Surface::Compressibility
-                | Surface::ShearMin
-                | Surface::ShearMax),
-            ) => Some(s),
-            _ => {
+            Some(s) => Some(s),
+            None => {
                 return Err(value_error(
                     &format!("surface={name:?}"),
-                    "not one of reynolds, young, compressibility, shear-min, shear-max",
+                    "not one of reynolds, young, compressibility, shear-min, shear-max, \
+                     poisson-min, poisson-max",
                 ));
             }
         },
@@ -87,16 +83,23 @@ fn stiffness(
         }
         Some(s) => {
             // Young's and compressibility's surfaces are tensor forms (surface_form), the
-            // shear extremes plane glyphs of two forms (plane_forms).
+            // shear extremes plane glyphs of two forms (plane_forms), Poisson's ratio's
+            // ratio glyphs of three (ratio_forms).
             let largest = sample.largest_radius(s);
-            let glyph = match sample.plane_forms(s) {
-                Some(forms) => glyphcast::demo::RowGlyph::of_plane(
+            let (plane, ratio) = (sample.plane_forms(s), sample.ratio_forms(s));
+            let glyph = match (plane, ratio) {
+                (_, Some(f)) => glyphcast::demo::RowGlyph::of_ratio(
+                    [&f.determinant, &f.trace, &f.denominator],
+                    f.smaller_root,
+                    largest,
+                ),
+                (Some(forms), None) => glyphcast::demo::RowGlyph::of_plane(
                     &forms.determinant,
                     &forms.trace,
                     forms.larger_root,
                     largest,
                 ),
-                None => {
+                (None, None) => {
                     let form = sample
                         .surface_form(s)
                         .ok_or_else(|| value_error("surface", "not a tensor form"))?;

@@ -84,8 +84,10 @@ pub struct WorldGlyph {
     /// upper bound of r(u) over the sphere in local units, offset included
     /// (bounding_radius + offset)
     pub bound: f64,
-    /// A plane glyph's T (its `poly` is D); `None` for the other shapes.
+    /// A plane or ratio glyph's T (its `poly` is D); `None` for the other shapes.
     pub trace: Option<GlyphPolynomial>,
+    /// A ratio glyph's Q; `None` for the other shapes.
+    pub denominator: Option<GlyphPolynomial>,
 }
 
 impl WorldGlyph {
@@ -107,6 +109,7 @@ impl WorldGlyph {
             offset,
             bound,
             trace: None,
+            denominator: None,
         }
     }
 
@@ -121,6 +124,7 @@ impl WorldGlyph {
             offset: 0.0,
             bound: ellipsoid.radius(),
             trace: None,
+            denominator: None,
         })
     }
 
@@ -137,6 +141,7 @@ impl WorldGlyph {
             offset: 0.0,
             bound: 1.0 / least.lower,
             trace: None,
+            denominator: None,
         })
     }
 
@@ -161,7 +166,47 @@ impl WorldGlyph {
             offset: 0.0,
             bound,
             trace: Some(trace),
+            denominator: None,
         })
+    }
+
+    /// The ratio glyph of `determinant` (D, order 6), `trace` (T, order 4) and
+    /// `denominator` (Q, order 4) with `shape` [`GlyphShape::RatioMin`] or `RatioMax`,
+    /// placed at `center` with `scale`; `None` where Q may not be positive everywhere
+    /// (the surface is unbounded where Q vanishes).
+    pub fn ratio(
+        center: DVec3,
+        scale: f64,
+        [determinant, trace, denominator]: [GlyphPolynomial; 3],
+        shape: GlyphShape,
+    ) -> Option<Self> {
+        let bound = ratio_bound(&determinant, &trace, &denominator)?;
+        shape.is_ratio().then_some(Self {
+            center,
+            scale,
+            poly: determinant,
+            shape,
+            negative: NegativeMode::Abs,
+            offset: 0.0,
+            bound,
+            trace: Some(trace),
+            denominator: Some(denominator),
+        })
+    }
+
+    /// A ratio glyph's signed radius along unit `u`: λ/Q of its branch's root of
+    /// λ² − T λ + D = 0 (drawn as |λ/Q|, coloured by its sign); 0 for the other shapes.
+    pub fn ratio_radius(&self, u: DVec3) -> f64 {
+        let (Some(trace), Some(denominator)) = (&self.trace, &self.denominator) else {
+            return 0.0;
+        };
+        let (smaller, larger) = quadratic_roots(trace.eval(u), self.poly.eval(u));
+        let lambda = if self.shape == GlyphShape::RatioMin {
+            smaller
+        } else {
+            larger
+        };
+        lambda / denominator.eval(u)
     }
 
     /// A plane glyph's radius along unit `u`: 1/λ of its branch's root of
@@ -198,6 +243,9 @@ impl WorldGlyph {
         }
         if self.shape.is_plane() {
             return self.plane_radius(q / len) - len;
+        }
+        if self.shape.is_ratio() {
+            return self.ratio_radius(q / len).abs() - len;
         }
         let f = self.poly.eval(q / len);
         if self.shape == GlyphShape::Reciprocal {
@@ -273,8 +321,13 @@ impl Chord {
 
     /// Steps 2 to 5 of the module notes.
     fn first_root_polynomial(&self, glyph: &WorldGlyph) -> Option<f64> {
-        let f = match &glyph.trace {
-            Some(trace) if glyph.shape.is_plane() => self.plane_polynomial(&glyph.poly, trace),
+        let f = match (&glyph.trace, &glyph.denominator) {
+            (Some(trace), None) if glyph.shape.is_plane() => {
+                self.plane_polynomial(&glyph.poly, trace)
+            }
+            (Some(trace), Some(denominator)) if glyph.shape.is_ratio() => {
+                self.ratio_polynomial(&glyph.poly, trace, denominator)
+            }
             _ => self.crossing_polynomial(&glyph.poly, glyph.shape),
         };
         let mut points = real_roots_in(&univariate::derivative(&f), -1.0, 1.0);
@@ -330,6 +383,33 @@ impl Chord {
         let square = univariate::multiply(&outer, &outer);
         out.resize(out.len().max(square.len()), 0.0);
         out.iter_mut().zip(&square).for_each(|(o, s)| *o -= s);
+        out
+    }
+
+    /// F(s) = Q(q)² T(q)² − |q|² (Q(q)² + D(q))² of a ratio glyph on the chord: both of
+    /// its branches (|q| (Q² + D) = ±Q T at every point of either surface). Its critical
+    /// points split the chord into pieces with at most one crossing of either surface, so
+    /// the sign changes of the branch's g on them are every crossing of the branch.
+    fn ratio_polynomial(
+        &self,
+        determinant: &GlyphPolynomial,
+        trace: &GlyphPolynomial,
+        denominator: &GlyphPolynomial,
+    ) -> Vec<f64> {
+        let a = self.a + self.mid() * self.d;
+        let b = self.half() * self.d;
+        let t = trace.along_line(a, b);
+        let d = determinant.along_line(a, b);
+        let q = denominator.along_line(a, b);
+        let length_squared = [a.length_squared(), 2.0 * a.dot(b), b.length_squared()];
+        let qt = univariate::multiply(&q, &t);
+        let mut inner = univariate::multiply(&q, &q);
+        inner.resize(inner.len().max(d.len()), 0.0);
+        inner.iter_mut().zip(&d).for_each(|(o, d)| *o += d);
+        let mut out = univariate::multiply(&qt, &qt);
+        let outer = univariate::multiply(&univariate::multiply(&inner, &inner), &length_squared);
+        out.resize(out.len().max(outer.len()), 0.0);
+        out.iter_mut().zip(&outer).for_each(|(o, s)| *o -= s);
         out
     }
 
@@ -498,6 +578,113 @@ pub fn plane_bound(determinant: &GlyphPolynomial, trace: &GlyphPolynomial) -> Op
         .take_while(|&radius| radius < crude)
         .find(|&radius| plane_radii_below(determinant, trace, radius))
         .or(Some(crude))
+}
+
+/// The roots (smaller, larger) of λ² − t λ + d = 0, real for a trace and determinant
+/// (the discriminant clamped at 0): the one of larger size from the formula, the other
+/// as d over it, which does not cancel.
+fn quadratic_roots(t: f64, d: f64) -> (f64, f64) {
+    let root = (t * t - 4.0 * d).max(0.0).sqrt();
+    let big = 0.5 * (t + if t >= 0.0 { root } else { -root });
+    let other = if big == 0.0 { 0.0 } else { d / big };
+    (big.min(other), big.max(other))
+}
+
+/// A guaranteed bound of a ratio glyph's radius |λ/Q| over the sphere (both roots):
+/// the largest radius on a fine sample of directions, raised by a margin and proven to
+/// bound every direction (see `ratio_radii_below`); where no raised sample is proven
+/// (within `PLANE_BOUND_MARGINS`), the crude bound (max |T| + √max |D|) / min Q, from
+/// |λ| ≤ |T| + √|D| and the bounds of [`super::bounds`]. `None` where Q may vanish or is
+/// not positive.
+pub fn ratio_bound(
+    determinant: &GlyphPolynomial,
+    trace: &GlyphPolynomial,
+    denominator: &GlyphPolynomial,
+) -> Option<f64> {
+    let least = super::bounds::least_abs(denominator)?;
+    if !(least.lower > 0.0 && denominator.eval(DVec3::X) > 0.0) {
+        return None;
+    }
+    let crude = (bounding_radius(trace, NegativeMode::Abs)
+        + bounding_radius(determinant, NegativeMode::Abs).sqrt())
+        / least.lower;
+    if !(crude.is_finite() && crude > 0.0) {
+        return None;
+    }
+    let radius_at = |u: DVec3| {
+        let (smaller, larger) = quadratic_roots(trace.eval(u), determinant.eval(u));
+        smaller.abs().max(larger.abs()) / denominator.eval(u)
+    };
+    let mut samples: Vec<(f64, DVec3)> = super::bounds::fibonacci_sphere(PLANE_BOUND_SAMPLES)
+        .map(|u| (radius_at(u), u))
+        .collect();
+    samples.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let sampled = samples
+        .iter()
+        .take(PLANE_BOUND_CLIMBS)
+        .map(|&(r, u)| climb(radius_at, r, u))
+        .fold(0.0, f64::max);
+    PLANE_BOUND_MARGINS
+        .iter()
+        .map(|margin| sampled * (1.0 + margin))
+        .take_while(|&radius| radius < crude)
+        .find(|&radius| ratio_radii_below(determinant, trace, denominator, radius))
+        .or(Some(crude))
+}
+
+/// Whether both |λ/Q| (λ² − T λ + D = 0, Q > 0 on the sphere, which [`ratio_bound`]
+/// checks first) are below `radius` R in every direction, proven: both roots of the
+/// upward parabola p(λ) lie in (−R Q, R Q) where p(±R Q) > 0 and its vertex T/2 lies
+/// between, that is where the forms R² Q² ∓ R T Q + D |u|² (order 8) and 2 R Q ± T
+/// (order 4) are positive on the unit sphere. Each is: its guaranteed least |·| is
+/// positive and it is positive at x.
+fn ratio_radii_below(
+    determinant: &GlyphPolynomial,
+    trace: &GlyphPolynomial,
+    denominator: &GlyphPolynomial,
+    radius: f64,
+) -> bool {
+    if determinant.order != 6 || trace.order != 4 || denominator.order != 4 {
+        return false;
+    }
+    let square = form_product(denominator, denominator);
+    let cross = form_product(trace, denominator);
+    let raised = times_length_squared(determinant);
+    let combine = |terms: &[(f64, &GlyphPolynomial)]| GlyphPolynomial {
+        order: terms[0].1.order,
+        coeffs: (0..terms[0].1.coeffs.len())
+            .map(|k| terms.iter().map(|(w, f)| w * f.coeffs[k]).sum())
+            .collect(),
+    };
+    let r2 = radius * radius;
+    [
+        combine(&[(r2, &square), (-radius, &cross), (1.0, &raised)]),
+        combine(&[(r2, &square), (radius, &cross), (1.0, &raised)]),
+        combine(&[(2.0 * radius, denominator), (-1.0, trace)]),
+        combine(&[(2.0 * radius, denominator), (1.0, trace)]),
+    ]
+    .iter()
+    .all(|form| {
+        form.eval(DVec3::X) > 0.0 && super::bounds::least_abs(form).is_some_and(|l| l.lower > 0.0)
+    })
+}
+
+/// The product of two forms, from their monomial coefficients.
+fn form_product(a: &GlyphPolynomial, b: &GlyphPolynomial) -> GlyphPolynomial {
+    use super::monomials::{Monomial, monomial_index, monomials, symmetric_count};
+    let order = a.order + b.order;
+    let mut coeffs = vec![0.0; symmetric_count(order)];
+    for (ma, ca) in monomials(a.order).into_iter().zip(&a.coeffs) {
+        for (mb, cb) in monomials(b.order).into_iter().zip(&b.coeffs) {
+            let m = Monomial {
+                a: ma.a + mb.a,
+                b: ma.b + mb.b,
+                c: ma.c + mb.c,
+            };
+            coeffs[monomial_index(order, m)] += ca * cb;
+        }
+    }
+    GlyphPolynomial { order, coeffs }
 }
 
 /// The directions sampled for [`plane_bound`]'s candidate.
@@ -1100,24 +1287,6 @@ mod tests {
         assert_roots(&real_roots_in(&mixed, -1.0, 1.0), &[-0.7, 0.1, 0.55], 1e-10);
     }
 
-    /// The product of two forms, from their monomial coefficients.
-    fn form_product(p: &GlyphPolynomial, q: &GlyphPolynomial) -> GlyphPolynomial {
-        let order = p.order + q.order;
-        let mut coeffs = vec![0.0; symmetric_count(order)];
-        let monos = crate::glyph::monomials::monomials;
-        for (m, a) in monos(p.order).into_iter().zip(&p.coeffs) {
-            for (n, b) in monos(q.order).into_iter().zip(&q.coeffs) {
-                let k = Monomial {
-                    a: m.a + n.a,
-                    b: m.b + n.b,
-                    c: m.c + n.c,
-                };
-                coeffs[monomial_index(order, k)] += a * b;
-            }
-        }
-        GlyphPolynomial { order, coeffs }
-    }
-
     /// A plane glyph whose roots are two quadratic forms, λ = Q1(u) and Q2(u) at unit u
     /// (T = (Q1 + Q2) |u|², D = Q1 Q2 |u|²), which cross along curves as a cubic
     /// crystal's shear surfaces do: its largest radius is 1 / (the least eigenvalue of
@@ -1187,5 +1356,47 @@ mod tests {
         }
         // A proof that fails below the truth.
         assert!(!plane_radii_below(&determinant, &trace, 0.99 * truth));
+    }
+
+    /// A ratio glyph whose roots over Q are two quadratic forms of both signs, λ/Q =
+    /// Q1(u) and Q2(u) at unit u (T = (Q1 + Q2) |u|², D = Q1 Q2 |u|², Q = |u|⁴): its
+    /// largest |radius| is 3 (Q1 = x² + 2y² − 3z² along z). ratio_bound holds it within
+    /// 0.1 %, the proof fails below it, and each branch's signed radius is min or max of
+    /// Q1 and Q2.
+    #[test]
+    fn ratio_bound_is_guaranteed_and_tight() {
+        let q1 = from_monomials(2, &[(1.0, [2, 0, 0]), (2.0, [0, 2, 0]), (-3.0, [0, 0, 2])]);
+        let q2 = from_monomials(2, &[(0.5, [2, 0, 0]), (0.5, [0, 2, 0]), (0.5, [0, 0, 2])]);
+        let sum = GlyphPolynomial {
+            order: 2,
+            coeffs: q1.coeffs.iter().zip(&q2.coeffs).map(|(a, b)| a + b).collect(),
+        };
+        let trace = times_length_squared(&sum);
+        let determinant = times_length_squared(&form_product(&q1, &q2));
+        let one = GlyphPolynomial {
+            order: 0,
+            coeffs: vec![1.0],
+        };
+        let denominator = times_length_squared(&times_length_squared(&one));
+        let bound = ratio_bound(&determinant, &trace, &denominator).unwrap();
+        assert!((3.0..=3.003).contains(&bound), "{bound}");
+        assert!(!ratio_radii_below(&determinant, &trace, &denominator, 2.97));
+        let forms = [determinant, trace, denominator];
+        let mut rng = Rng::new(11);
+        for (shape, pick) in [
+            (GlyphShape::RatioMin, f64::min as fn(f64, f64) -> f64),
+            (GlyphShape::RatioMax, f64::max),
+        ] {
+            let glyph = WorldGlyph::ratio(DVec3::ZERO, 1.0, forms.clone(), shape).unwrap();
+            for _ in 0..2000 {
+                let u = rng.unit_vector();
+                let want = pick(q1.eval(u), q2.eval(u));
+                assert!((glyph.ratio_radius(u) - want).abs() < 1e-12, "{u}");
+            }
+        }
+        // A Q that vanishes somewhere has no bound.
+        let [determinant, trace, _] = forms;
+        let tilted = times_length_squared(&q1);
+        assert!(ratio_bound(&determinant, &trace, &tilted).is_none());
     }
 }

@@ -101,6 +101,15 @@ pub enum GlyphShape {
     PlaneMin,
     /// As [`GlyphShape::PlaneMin`], with the smaller root (the largest shear modulus).
     PlaneMax,
+    /// The glyph of three forms, D of order 6 (the set's layout, symmetric), T and Q of
+    /// order 4: r(u) = |λ(u) / Q(u)| with λ the smaller root of λ² − T(u) λ + D(u) = 0,
+    /// drawn in sign colours by the sign of λ / Q (the smallest Poisson's ratio over the
+    /// plane ⊥ u, with Q = 1/E). Each glyph's coefficients are D's, then T's, then Q's
+    /// (`RATIO_EXTRA_COEFFICIENTS` more than the layout's); Q must be positive on the
+    /// sphere; negative `abs` only; drawn by the exact method.
+    RatioMin,
+    /// As [`GlyphShape::RatioMin`], with the larger root (the largest Poisson's ratio).
+    RatioMax,
 }
 
 /// The layout of a plane glyph's D (the set's layout): symmetric, order 6.
@@ -117,6 +126,9 @@ pub const PLANE_TRACE_LAYOUT: TensorLayout = TensorLayout {
 
 /// The coefficients of a plane glyph's T, after D's.
 pub(crate) const PLANE_TRACE_COEFFICIENTS: usize = 15;
+
+/// The coefficients of a ratio glyph's T and Q (both of order 4), after D's.
+pub(crate) const RATIO_EXTRA_COEFFICIENTS: usize = 2 * PLANE_TRACE_COEFFICIENTS;
 
 impl std::str::FromStr for GlyphShape {
     type Err = crate::Error;
@@ -144,6 +156,8 @@ impl GlyphShape {
             GlyphShape::Reciprocal => "reciprocal",
             GlyphShape::PlaneMin => "plane-min",
             GlyphShape::PlaneMax => "plane-max",
+            GlyphShape::RatioMin => "ratio-min",
+            GlyphShape::RatioMax => "ratio-max",
         }
     }
 
@@ -152,11 +166,24 @@ impl GlyphShape {
         matches!(self, GlyphShape::PlaneMin | GlyphShape::PlaneMax)
     }
 
+    /// Whether the shape is a ratio glyph ([`GlyphShape::RatioMin`] or `RatioMax`).
+    pub fn is_ratio(self) -> bool {
+        matches!(self, GlyphShape::RatioMin | GlyphShape::RatioMax)
+    }
+
+    /// Whether the shape is drawn from D of order 6 and more forms of order 4: a plane or
+    /// a ratio glyph.
+    pub fn is_pair(self) -> bool {
+        self.is_plane() || self.is_ratio()
+    }
+
     /// The coefficients of one glyph of this shape whose tensor has `layout_count`
-    /// (a plane glyph adds its T's).
+    /// (a plane glyph adds its T's, a ratio glyph its T's and Q's).
     pub fn coefficient_count(self, layout_count: usize) -> usize {
         if self.is_plane() {
             layout_count + PLANE_TRACE_COEFFICIENTS
+        } else if self.is_ratio() {
+            layout_count + RATIO_EXTRA_COEFFICIENTS
         } else {
             layout_count
         }

@@ -206,6 +206,7 @@ impl ComputeRayCastPass {
                 GlyphShape::Ellipsoid => Some(crate::error::Asked::Ellipsoids),
                 GlyphShape::Reciprocal => Some(crate::error::Asked::Reciprocal),
                 GlyphShape::PlaneMin | GlyphShape::PlaneMax => Some(crate::error::Asked::Plane),
+                GlyphShape::RatioMin | GlyphShape::RatioMax => Some(crate::error::Asked::Ratio),
                 GlyphShape::Polynomial => None,
             };
             if let Some(what) = unsupported {

@@ -151,6 +151,7 @@ fn prepare_set_keeping(
         GlyphShape::Ellipsoid => Some(crate::error::Asked::Ellipsoids),
         GlyphShape::Reciprocal => Some(crate::error::Asked::Reciprocal),
         GlyphShape::PlaneMin | GlyphShape::PlaneMax => Some(crate::error::Asked::Plane),
+        GlyphShape::RatioMin | GlyphShape::RatioMax => Some(crate::error::Asked::Ratio),
         GlyphShape::Polynomial => None,
     };
     if let Some(what) = unsupported
@@ -244,6 +245,7 @@ fn add_bounded(
             poly,
             bounds,
             trace,
+            denominator,
         }) = glyph
         else {
             continue;
@@ -289,6 +291,7 @@ fn add_bounded(
                 offset: offset * bound,
                 bound: bound * (1.0 + offset),
                 trace,
+                denominator,
             });
         }
     }
@@ -330,6 +333,19 @@ pub fn largest_radius(glyphs: &[WorldGlyph]) -> f64 {
             // The largest radius found from the sizing lattice, its best points climbed
             // (a lower bound that reaches the cone tips where a plane glyph's two
             // surfaces touch, which a lattice misses).
+            GlyphShape::RatioMin | GlyphShape::RatioMax => {
+                let radius = |u| glyph.ratio_radius(u).abs();
+                let mut samples: Vec<(f64, glam::DVec3)> =
+                    crate::glyph::bounds::fibonacci_sphere(200)
+                        .map(|u| (radius(u), u))
+                        .collect();
+                samples.sort_by(|a, b| b.0.total_cmp(&a.0));
+                samples
+                    .iter()
+                    .take(8)
+                    .map(|&(r, u)| crate::glyph::intersect::climb(radius, r, u))
+                    .fold(0.0, f64::max)
+            }
             GlyphShape::PlaneMin | GlyphShape::PlaneMax => {
                 let mut samples: Vec<(f64, glam::DVec3)> =
                     crate::glyph::bounds::fibonacci_sphere(200)
@@ -385,8 +401,10 @@ struct Bounded {
     gpu_coefficients: Vec<f32>,
     poly: Option<GlyphPolynomial>,
     bounds: GlyphBounds,
-    /// A plane glyph's T, kept with `poly` (its D).
+    /// A plane or ratio glyph's T, kept with `poly` (its D).
     trace: Option<GlyphPolynomial>,
+    /// A ratio glyph's Q, kept with `poly`.
+    denominator: Option<GlyphPolynomial>,
 }
 
 /// `None` for a glyph with an empty surface (zero tensor).
@@ -417,6 +435,13 @@ fn bound_glyph(
             error: Box::new(e),
         });
     }
+    if set.shape.is_ratio() {
+        return bound_ratio(layout, &coeffs, world).map_err(|e| Error::Item {
+            what: "glyph",
+            index,
+            error: Box::new(e),
+        });
+    }
     let poly = GlyphPolynomial::from_tensor(layout, &coeffs)?;
     if set.shape == GlyphShape::Reciprocal {
         return bound_reciprocal(poly, &coeffs, world).map_err(|e| Error::Item {
@@ -432,6 +457,7 @@ fn bound_glyph(
             poly: (world == WorldGlyphs::Keep).then_some(poly),
             bounds,
             trace: None,
+        denominator: None,
         }))
 }
 
@@ -472,6 +498,56 @@ fn bound_plane(
         gpu_coefficients,
         poly: keep.then_some(determinant),
         trace: keep.then_some(trace),
+        denominator: None,
+        bounds: GlyphBounds {
+            radius,
+            axes: [glam::DVec3::X, glam::DVec3::Y, glam::DVec3::Z],
+            extents: [radius; 3],
+        },
+    }))
+}
+
+/// The ratio glyph r = |λ/Q| of D, T and Q: radius B = [`ratio_bound`], the box the
+/// cube around that sphere, and the coefficients scaled so that the normalised radius
+/// λ'/Q' is r/B with Q' = Q/m of size 1 (m its largest coefficient): T' = T/(B m),
+/// D' = D/(B m)². A Q that may vanish or is not positive makes the surface unbounded:
+/// refused, with the least Q found. `None` for a zero glyph.
+///
+/// [`ratio_bound`]: crate::glyph::intersect::ratio_bound
+fn bound_ratio(layout: TensorLayout, coeffs: &[f64], world: WorldGlyphs) -> Result<Option<Bounded>> {
+    let (d, rest) = coeffs.split_at(layout.coefficient_count().min(coeffs.len()));
+    let (t, q) = rest.split_at(rest.len() / 2);
+    let determinant = GlyphPolynomial::from_tensor(layout, d)?;
+    let trace = GlyphPolynomial::from_tensor(crate::glyph::PLANE_TRACE_LAYOUT, t)?;
+    let denominator = GlyphPolynomial::from_tensor(crate::glyph::PLANE_TRACE_LAYOUT, q)?;
+    if determinant.abs_coefficient_sum() == 0.0 && trace.abs_coefficient_sum() == 0.0 {
+        return Ok(None);
+    }
+    let Some(radius) = crate::glyph::intersect::ratio_bound(&determinant, &trace, &denominator)
+    else {
+        return Err(Error::data(
+            "least Q over the sphere (r = |λ/Q| of a ratio glyph needs Q positive in every \
+             direction)",
+            Problem::NotPositive {
+                value: least_abs(&denominator).map_or(0.0, |l| l.attained),
+            },
+        ));
+    };
+    let m = q.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+    let lambda_scale = 1.0 / (radius * m);
+    let gpu_coefficients = d
+        .iter()
+        .map(|c| c * lambda_scale * lambda_scale)
+        .chain(t.iter().map(|c| c * lambda_scale))
+        .chain(q.iter().map(|c| c / m))
+        .map(|c| c as f32)
+        .collect();
+    let keep = world == WorldGlyphs::Keep;
+    Ok(Some(Bounded {
+        gpu_coefficients,
+        poly: keep.then_some(determinant),
+        trace: keep.then_some(trace),
+        denominator: keep.then_some(denominator),
         bounds: GlyphBounds {
             radius,
             axes: [glam::DVec3::X, glam::DVec3::Y, glam::DVec3::Z],
@@ -505,6 +581,7 @@ fn bound_reciprocal(
         gpu_coefficients: coeffs.iter().map(|c| (c * radius) as f32).collect(),
         poly: (world == WorldGlyphs::Keep).then_some(poly),
         trace: None,
+        denominator: None,
         bounds: GlyphBounds {
             radius,
             axes: [glam::DVec3::X, glam::DVec3::Y, glam::DVec3::Z],
@@ -533,5 +610,6 @@ fn bound_ellipsoid(coeffs: &[f64], world: WorldGlyphs) -> Result<Option<Bounded>
         },
         bounds,
         trace: None,
+        denominator: None,
     }))
 }

@@ -49,6 +49,8 @@ impl GlyphMeshes {
             (GlyphShape::Reciprocal, crate::error::Asked::Reciprocal),
             (GlyphShape::PlaneMin, crate::error::Asked::Plane),
             (GlyphShape::PlaneMax, crate::error::Asked::Plane),
+            (GlyphShape::RatioMin, crate::error::Asked::Ratio),
+            (GlyphShape::RatioMax, crate::error::Asked::Ratio),
         ] {
             if sets.iter().any(|s| s.shape == shape) {
                 // The data decide (exit code 1), so not a Setting error.

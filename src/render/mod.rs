@@ -29,7 +29,8 @@ pub mod tiles;
 pub mod underlay;
 
 use crate::catalog::{
-    ELLIPSOID_METHOD, PLANE_METHOD, RAY_CAST_METHODS, RECIPROCAL_METHOD, RayCastMethod,
+    ELLIPSOID_METHOD, PLANE_METHOD, RATIO_METHOD, RAY_CAST_METHODS, RECIPROCAL_METHOD,
+    RayCastMethod,
 };
 pub use crate::glyph::tessellate::MeshKind;
 pub use settings::{
@@ -59,6 +60,10 @@ pub enum Method {
     /// (glsl/raycast_exact.frag compiled with `GLYPHCAST_PLANE`): what plane glyph sets
     /// are drawn with when the method is exact; the other methods refuse them.
     Plane,
+    /// The exact method on ratio glyphs, r = |λ/Q| with λ² − T λ + D = 0
+    /// (glsl/raycast_exact.frag compiled with `GLYPHCAST_RATIO`): what ratio glyph sets
+    /// are drawn with when the method is exact; the other methods refuse them.
+    Ratio,
     /// The bounding sphere of each glyph on the ray caster's boxes: the cost floor of a
     /// box-proxy ray caster, not the glyph.
     Impostor,
@@ -82,6 +87,7 @@ impl Method {
             Method::Ellipsoid => return Some(&ELLIPSOID_METHOD),
             Method::Reciprocal => return Some(&RECIPROCAL_METHOD),
             Method::Plane => return Some(&PLANE_METHOD),
+            Method::Ratio => return Some(&RATIO_METHOD),
             _ => {}
         }
         let index = Method::RAY_CASTING.iter().position(|&m| m == self)?;
@@ -104,7 +110,8 @@ impl std::fmt::Display for Method {
             | Method::Exact
             | Method::Ellipsoid
             | Method::Reciprocal
-            | Method::Plane => {
+            | Method::Plane
+            | Method::Ratio => {
                 let entry = self.ray_cast_entry().ok_or(std::fmt::Error)?;
                 f.write_str(entry.name)
             }

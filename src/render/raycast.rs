@@ -170,6 +170,10 @@ pub fn varying_components(layout: TensorLayout, method: Method) -> u32 {
         // The plane glyph's T follows D.
         monomials += crate::glyph::PLANE_TRACE_COEFFICIENTS as u32;
     }
+    if method == Method::Ratio {
+        // The ratio glyph's T and Q follow D.
+        monomials += crate::glyph::RATIO_EXTRA_COEFFICIENTS as u32;
+    }
     4 * (4 + monomials.div_ceil(4))
 }
 
@@ -376,7 +380,8 @@ impl RayCastPass {
             | Method::Exact
             | Method::Ellipsoid
             | Method::Reciprocal
-            | Method::Plane => {
+            | Method::Plane
+            | Method::Ratio => {
                 let needed = varying_components(layout, method);
                 let available = self.ctx.max_varying_components();
                 if needed > available {
@@ -587,10 +592,13 @@ impl RayCastPass {
         for set in &scene.sets {
             let pipeline =
                 self.prepared(set.layout, batch_method(set.shape, method)?, scene.shadows)?;
-            // A plane glyph set has no negative lobes: the word says which root it draws.
+            // A plane or ratio glyph set has no negative lobes: the word says which root
+            // it draws.
             let hide = match set.shape {
                 GlyphShape::PlaneMin => crate::catalog::codes::PLANE_MIN,
                 GlyphShape::PlaneMax => crate::catalog::codes::PLANE_MAX,
+                GlyphShape::RatioMin => crate::catalog::codes::RATIO_MIN,
+                GlyphShape::RatioMax => crate::catalog::codes::RATIO_MAX,
                 _ => set.negative.shader_code(),
             };
             // SAFETY: recording state is the caller's; all handles are alive.
@@ -633,8 +641,8 @@ fn pipeline_key(layout: TensorLayout, method: Method, shadows: bool) -> Pipeline
 /// The method a batch of `shape` is drawn with when the scene's is `method`: ellipsoids
 /// always by their closed-form shader (the other methods solve the polynomial glyph),
 /// except under the impostor, which draws every glyph's bounding sphere; reciprocal
-/// glyphs by the exact method's reciprocal variant and plane glyphs by its plane variant,
-/// which the other methods lack (an
+/// glyphs by the exact method's reciprocal variant, plane glyphs by its plane variant and
+/// ratio glyphs by its ratio variant, which the other methods lack (an
 /// [`Error::Unsupported`] naming the method).
 pub(crate) fn batch_method(shape: GlyphShape, method: Method) -> Result<Method> {
     match (shape, method) {
@@ -651,6 +659,13 @@ pub(crate) fn batch_method(shape: GlyphShape, method: Method) -> Result<Method> 
         }
         (GlyphShape::PlaneMin | GlyphShape::PlaneMax, method) => Err(Error::Unsupported {
             what: crate::error::Asked::Plane,
+            by: Setting::Method.with(method),
+        }),
+        (GlyphShape::RatioMin | GlyphShape::RatioMax, Method::Exact | Method::Ratio) => {
+            Ok(Method::Ratio)
+        }
+        (GlyphShape::RatioMin | GlyphShape::RatioMax, method) => Err(Error::Unsupported {
+            what: crate::error::Asked::Ratio,
             by: Setting::Method.with(method),
         }),
     }

@@ -103,5 +103,5 @@ pub use stiffness::{
     Options, PERPENDICULAR_TOLERANCE, PlaneExtremes, SYMMETRY_TOLERANCE, Stiffness,
 };
 pub use summary::{MinMax, Summary};
-pub use surface::{PlaneForms, PoissonForms, Surface, SurfaceForm};
+pub use surface::{PlaneForms, PoissonForms, RatioForms, Surface, SurfaceForm};
 pub use voigt::{Kind, Tensor4, VOIGT_PAIRS, Voigt, contract, from_tensor, to_tensor, voigt_index};

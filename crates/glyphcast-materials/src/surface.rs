@@ -193,6 +193,37 @@ impl Stiffness {
     }
 }
 
+/// The forms of a ratio surface r(u) = λ(u) / Q(u), with λ a root of
+/// `λ² − T(u) λ + D(u) = 0`: what a renderer's ratio glyph (shape `ratio-min` or
+/// `ratio-max`) draws, as |r| coloured by its sign. Poisson's ratio is `−λ'/Q` for the
+/// numerator's roots `λ'` ([`PoissonForms`]), so its `λ = −λ'` are the roots with `T`
+/// negated, and its smallest ratio takes the smaller of them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RatioForms {
+    /// `D`: all `3^6` entries, row-major (the last index fastest).
+    pub determinant: Vec<f64>,
+    /// `T`: all `3^4` entries, row-major.
+    pub trace: Vec<f64>,
+    /// `Q`, positive for a stable crystal: all `3^4` entries, row-major.
+    pub denominator: Vec<f64>,
+    /// Whether the surface takes the smaller root `λ` (the smallest ratio, as `Q > 0`).
+    pub smaller_root: bool,
+}
+
+impl Stiffness {
+    /// The ratio forms of the Poisson's ratio surfaces ([`RatioForms`]), dimensionless;
+    /// `None` for the other surfaces.
+    pub fn ratio_forms(&self, surface: Surface) -> Option<RatioForms> {
+        let forms = self.poisson_forms(surface)?;
+        Some(RatioForms {
+            determinant: forms.plane.determinant,
+            trace: forms.plane.trace.iter().map(|t| -t).collect(),
+            denominator: forms.young,
+            smaller_root: forms.plane.larger_root,
+        })
+    }
+}
+
 impl Stiffness {
     /// The tensor form whose glyph is `surface`, where there is one: Young's modulus is
     /// the reciprocal glyph of the compliance quartic `s_ijkl` (`1/E(u) = s(u,u,u,u)`),
@@ -229,8 +260,8 @@ impl Stiffness {
 
     /// The largest `|radius|` of `surface` over all directions (for sizing several
     /// materials on one scale): Young's largest modulus, the largest `|β|` (exact
-    /// eigenvalues), and for the extremes over `v ⊥ u` the largest `|G|` or `|ν|` over
-    /// every pair, which bounds them.
+    /// eigenvalues), and for the extremes over `v ⊥ u` the largest `|radius|` the
+    /// sphere search finds (seeds on the sphere, each refined to a local maximum).
     pub fn largest_radius(&self, surface: Surface) -> f64 {
         let largest = |min: f64, max: f64| min.abs().max(max.abs());
         match surface {
@@ -242,13 +273,9 @@ impl Stiffness {
                 let b = self.compressibility_extremes();
                 largest(b.min, b.max)
             }
-            Surface::ShearMin | Surface::ShearMax => {
-                let g = self.shear_extremes();
-                largest(g.min, g.max)
-            }
-            Surface::PoissonMin | Surface::PoissonMax => {
-                let p = self.poisson_extremes();
-                largest(p.min, p.max)
+            Surface::ShearMin | Surface::ShearMax | Surface::PoissonMin | Surface::PoissonMax => {
+                let size = |u: [f64; 3]| self.radius(surface, u).map_or(0.0, f64::abs);
+                size(crate::extremes::search_sphere(&|u| -size(u)))
             }
         }
     }
@@ -348,6 +375,34 @@ mod tests {
         for s in Surface::ALL {
             assert_eq!(Surface::from_name(s.name()), Some(s));
         }
+        // The extremes over v ⊥ u: the search's largest is at least every sampled
+        // radius (above them where the maximum is a cone tip that samples miss) and at
+        // most the largest over every pair; the largest of the maximum surfaces are the
+        // summary's global maxima.
+        for s in [
+            Surface::ShearMin,
+            Surface::ShearMax,
+            Surface::PoissonMin,
+            Surface::PoissonMax,
+        ] {
+            let largest = quartz.largest_radius(s);
+            let sampled = crate::fibonacci_half_sphere(2000)
+                .into_iter()
+                .map(|u| quartz.radius(s, u).unwrap().abs())
+                .fold(0.0, f64::max);
+            let pairs = match s {
+                Surface::ShearMin | Surface::ShearMax => summary.shear,
+                _ => summary.poisson,
+            };
+            let bound = pairs.min.abs().max(pairs.max.abs());
+            assert!(
+                largest >= sampled - 1e-12 && largest <= bound * (1.0 + 1e-9),
+                "{s:?}: {largest} against {sampled} and {bound}"
+            );
+        }
+        let near = |a: f64, b: f64| (a / b - 1.0).abs() < 1e-6;
+        assert!(near(quartz.largest_radius(Surface::ShearMax), summary.shear.max));
+        assert!(near(quartz.largest_radius(Surface::PoissonMax), summary.poisson.max));
     }
 
     /// The roots of λ² − T λ + D at random directions are 1/G of the exact 2x2
@@ -411,6 +466,17 @@ mod tests {
                     };
                     let nu = crystal.radius(surface, u).unwrap();
                     assert!((-lambda / q - nu).abs() < 1e-12, "{surface:?} {u:?}");
+                    // The ratio forms: the root of λ² − T λ + D on their side, over Q.
+                    let ratio = crystal.ratio_forms(surface).unwrap();
+                    let t = form_at(&ratio.trace, 4, u);
+                    let root = (t * t - 4.0 * d).max(0.0).sqrt();
+                    let lambda = if ratio.smaller_root {
+                        (t - root) / 2.0
+                    } else {
+                        (t + root) / 2.0
+                    };
+                    let q = form_at(&ratio.denominator, 4, u);
+                    assert!((lambda / q - nu).abs() < 1e-12, "{surface:?} {u:?}");
                     negative += usize::from(nu < 0.0);
                     // The point |ν| u: a root of the implicit form, on its branch.
                     let p = u.map(|x| x * nu.abs());

@@ -34,6 +34,8 @@ impl Named for GlyphShape {
         GlyphShape::Reciprocal,
         GlyphShape::PlaneMin,
         GlyphShape::PlaneMax,
+        GlyphShape::RatioMin,
+        GlyphShape::RatioMax,
     ];
     fn name(self) -> &'static str {
         GlyphShape::name(self)

@@ -141,11 +141,16 @@ fn read_shape(set: &Object, kind: GlyphKind, negative: NegativeMode) -> Result<G
              hide: use \"negative\": \"abs\"",
         ));
     }
-    if shape.is_plane() {
+    if shape.is_pair() {
         if kind != GlyphKind::Tensor(PLANE_LAYOUT) {
+            let (radius, rest) = if shape.is_plane() {
+                ("r = 1/λ", "T")
+            } else {
+                ("r = |λ/Q|", "T and Q")
+            };
             return Err(field.error(format!(
-                "\"{}\" (r = 1/λ, λ² − T λ + D = 0) takes D as a symmetric tensor of \
-                 order 6 (then T of order 4 in each glyph's coefficients), not a {kind}",
+                "\"{}\" ({radius}, λ² − T λ + D = 0) takes D as a symmetric tensor of \
+                 order 6 (then {rest} of order 4 in each glyph's coefficients), not a {kind}",
                 shape.name()
             )));
         }
@@ -265,6 +270,8 @@ fn read_coeffs(
     let per_glyph = shape.coefficient_count(kind.coefficient_count());
     let what = if shape.is_plane() {
         format!("coefficients (D: {kind}, then T: symmetric tensor of order 4)")
+    } else if shape.is_ratio() {
+        format!("coefficients (D: {kind}, then T and Q: symmetric tensors of order 4)")
     } else {
         format!("coefficients ({kind})")
     };

@@ -237,7 +237,7 @@ fn the_ellipsoid_shape_is_for_order_2_symmetric_tensors_without_hiding() {
     assert_input_error(
         parse(&unknown),
         "glyphs[0].shape",
-        "\"polynomial\", \"ellipsoid\", \"reciprocal\", \"plane-min\", \"plane-max\"",
+        "\"polynomial\", \"ellipsoid\", \"reciprocal\", \"plane-min\", \"plane-max\", \"ratio-min\", \"ratio-max\"",
     );
 }
 
@@ -259,8 +259,8 @@ fn the_reciprocal_shape_reads_for_any_kind_without_hiding() {
     );
 }
 
-/// A plane set is symmetric order 6 with 28 + 15 coefficients a glyph (D then T),
-/// without hiding; other orders, hidden lobes and the order-6 count alone are refused
+/// A plane set is symmetric order 6 with 28 + 15 coefficients a glyph (D then T), a
+/// ratio set with 28 + 15 + 15 (D, T, then Q), without hiding; other orders, hidden lobes and the order-6 count alone are refused
 /// naming the field.
 #[test]
 fn the_plane_shapes_read_d_then_t() {
@@ -273,13 +273,15 @@ fn the_plane_shapes_read_d_then_t() {
             set.insert("coeffs".into(), json!([vec![0.5; count], vec![0.5; count]]));
         })
     };
-    for (name, shape) in [
-        ("plane-min", GlyphShape::PlaneMin),
-        ("plane-max", GlyphShape::PlaneMax),
+    for (name, shape, count) in [
+        ("plane-min", GlyphShape::PlaneMin, 43),
+        ("plane-max", GlyphShape::PlaneMax, 43),
+        ("ratio-min", GlyphShape::RatioMin, 58),
+        ("ratio-max", GlyphShape::RatioMax, 58),
     ] {
-        let scene = parse(&plane(name, 43, 6)).expect("a plane set");
+        let scene = parse(&plane(name, count, 6)).expect("a plane or ratio set");
         assert_eq!(scene.glyph_sets[0].shape, shape);
-        assert_eq!(scene.glyph_sets[0].coeffs[0].len(), 43);
+        assert_eq!(scene.glyph_sets[0].coeffs[0].len(), count);
         let written = Scene::from_json_str(&scene.to_json(), FILE).expect("written");
         assert_eq!(written, scene);
     }
@@ -290,6 +292,16 @@ fn the_plane_shapes_read_d_then_t() {
     );
     assert_input_error(
         parse(&plane("plane-max", 15, 4)),
+        "glyphs[0].shape",
+        "order 6",
+    );
+    assert_input_error(
+        parse(&plane("ratio-min", 43, 6)),
+        "glyphs[0].coeffs[0]",
+        "then T and Q",
+    );
+    assert_input_error(
+        parse(&plane("ratio-max", 58, 4)),
         "glyphs[0].shape",
         "order 6",
     );

@@ -61,7 +61,9 @@ pub struct StiffnessArgs {
     /// (C_ijkl u_i u_j u_k u_l), young (Young's modulus E(u)) or compressibility (linear
     /// compressibility beta(u), in inverse units; negative where the crystal expands
     /// under pressure: render with --color sign), shear-min or shear-max (the smallest
-    /// or largest shear modulus G(u, v) over the shear directions v ⊥ u). Default:
+    /// or largest shear modulus G(u, v) over the shear directions v ⊥ u), poisson-min or
+    /// poisson-max (the smallest or largest Poisson's ratio nu(u, v) over the transverse
+    /// directions v ⊥ u, dimensionless; negative ratios in --color sign). Default:
     /// reynolds.
     #[arg(long, value_name = "SURFACE", value_parser = parse_surface)]
     surface: Option<DrawnSurface>,
@@ -79,24 +81,12 @@ fn parse_surface(text: &str) -> std::result::Result<DrawnSurface, String> {
     match text {
         "reynolds" => Ok(DrawnSurface::Reynolds),
         _ => match Surface::from_name(text) {
-            Some(surface) if surface_drawn(surface) => Ok(DrawnSurface::Modulus(surface)),
-            Some(surface) => Err(format!(
-                "{} is not drawn yet; expected reynolds, young, compressibility, shear-min \
-                 or shear-max",
-                surface.name()
-            )),
-            None => Err("expected reynolds, young, compressibility, shear-min or shear-max".into()),
+            Some(surface) => Ok(DrawnSurface::Modulus(surface)),
+            None => Err("expected reynolds, young, compressibility, shear-min, shear-max, \
+                         poisson-min or poisson-max"
+                .into()),
         },
     }
-}
-
-/// The surfaces a scene draws besides the Reynolds glyph: those that are tensor glyphs
-/// or plane glyphs (the shear extremes).
-fn surface_drawn(surface: Surface) -> bool {
-    matches!(
-        surface,
-        Surface::Young | Surface::Compressibility | Surface::ShearMin | Surface::ShearMax
-    )
 }
 
 /// Bunge Euler angles in degrees (phi1, Phi, phi2), finite.
@@ -196,6 +186,15 @@ pub fn run(args: StiffnessArgs) -> Result<()> {
 fn surface_glyph(material: &Material, surface: Surface) -> Result<RowGlyph> {
     let refused = |message: String| Error::input(&material.file, "voigt", message);
     let largest = material.stiffness.largest_radius(surface);
+    if let Some(f) = material.stiffness.ratio_forms(surface) {
+        let forms = [&f.determinant[..], &f.trace, &f.denominator];
+        return RowGlyph::of_ratio(forms, f.smaller_root, largest).map_err(|e| {
+            refused(format!(
+                "{}'s surface: {e} (a mechanically unstable crystal)",
+                surface.name()
+            ))
+        });
+    }
     if let Some(forms) = material.stiffness.plane_forms(surface) {
         return RowGlyph::of_plane(&forms.determinant, &forms.trace, forms.larger_root, largest)
             .map_err(|e| {

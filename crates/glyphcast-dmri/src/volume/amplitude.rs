@@ -18,7 +18,7 @@ const CLIMBS: usize = 3;
 /// The size of a glyph drawn as `shape`: [`max_radius`] for the polynomial glyph, the
 /// longest semi-axis for the ellipsoid (0 for a tensor without one), 1 / the least |f|
 /// found by the bound's search for the reciprocal glyph (0 where f vanishes), the
-/// guaranteed bound for a plane glyph.
+/// guaranteed bound for a plane or ratio glyph.
 pub fn shape_radius(kind: GlyphKind, shape: GlyphShape, coeffs: &[f64]) -> Result<f64> {
     match shape {
         GlyphShape::Polynomial => max_radius(kind, coeffs),
@@ -36,6 +36,15 @@ pub fn shape_radius(kind: GlyphKind, shape: GlyphShape, coeffs: &[f64]) -> Resul
             let d = GlyphPolynomial::from_tensor(glyphcast::glyph::PLANE_LAYOUT, d)?;
             let t = GlyphPolynomial::from_tensor(glyphcast::glyph::PLANE_TRACE_LAYOUT, t)?;
             Ok(glyphcast::glyph::intersect::plane_bound(&d, &t).unwrap_or(0.0))
+        }
+        // The guaranteed bound of |λ/Q|, 0 where Q may vanish.
+        GlyphShape::RatioMin | GlyphShape::RatioMax => {
+            let (d, rest) = coeffs.split_at(glyphcast::glyph::PLANE_LAYOUT.coefficient_count());
+            let (t, q) = rest.split_at(rest.len() / 2);
+            let d = GlyphPolynomial::from_tensor(glyphcast::glyph::PLANE_LAYOUT, d)?;
+            let t = GlyphPolynomial::from_tensor(glyphcast::glyph::PLANE_TRACE_LAYOUT, t)?;
+            let q = GlyphPolynomial::from_tensor(glyphcast::glyph::PLANE_TRACE_LAYOUT, q)?;
+            Ok(glyphcast::glyph::intersect::ratio_bound(&d, &t, &q).unwrap_or(0.0))
         }
     }
 }
