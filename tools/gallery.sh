@@ -51,6 +51,10 @@ dwi=("$data/small_64D.nii" --bval "$data/small_64D.bval" --bvec "$data/small_64D
     examples/stiffness/cristobalite.json --surface compressibility -o "$work/beta.json"
 "$bin" render "$work/beta.json" -o docs/gallery/stiffness-compressibility.png --width 900 \
     --height 400 --color sign
+# Cristobalite's smallest Poisson's ratio, negative (auxetic) in most directions.
+"$bin" stiffness examples/stiffness/cristobalite.json --surface poisson-min -o "$work/nu.json"
+"$bin" render "$work/nu.json" -o docs/gallery/stiffness-poisson.png --width 450 \
+    --height 400 --color sign
 # The QC page: the top of index.html, as a browser shows it.
 "$bin" qc "$work/fod.nii.gz" --peaks "$work/peaks.nii.gz" --quiet -o "$work/qc"
 browser=$(command -v chromium || command -v chromium-browser || command -v google-chrome || true)

@@ -368,7 +368,11 @@ def stiffness(C, *, surface="reynolds", euler=None, allow_unstable=False,
     (linear compressibility beta(u), inverse units; ``color="sign"`` shows where it is
     negative), ``"shear-min"`` or ``"shear-max"`` (the smallest or largest shear
     modulus G(u, v) over the shear directions v perpendicular to u, drawn exactly),
-    radius in the units of ``C``. ``summary`` is the dict
+    radius in the units of ``C``, or ``"poisson-min"`` or ``"poisson-max"`` (the
+    smallest or largest Poisson's ratio nu(u, v) over the transverse directions v
+    perpendicular to u, dimensionless, drawn exactly; ``color="sign"`` shows the
+    negative ratios of an auxetic crystal); a material's smallest and largest surfaces
+    share one scale. ``summary`` is the dict
     of the summary file: Young's modulus (``young``: min, max and their directions),
     ``linear_compressibility``, ``shear`` and ``poisson`` extremes over all directions,
     ``bulk`` and ``shear_average`` (Voigt, Reuss, Hill), in the units of ``C``.

@@ -135,3 +135,35 @@ def test_the_shear_surfaces_of_a_cubic_crystal():
     assert (low_hit & ~high_hit).sum() < 10
     # The two surfaces differ (they touch only along the cube axes and body diagonals).
     assert np.nanmedian(low.depth[both] - high.depth[both]) > 1e-2
+
+
+def test_the_poisson_surfaces_of_an_auxetic_crystal():
+    """Alpha cristobalite (tetragonal) is auxetic: its smallest Poisson's ratio is
+    negative in most directions, and drawn in the negative colour of color="sign"; its
+    largest is positive in most. Copper's ratios are positive everywhere."""
+    cristobalite = np.array([
+        [59.4, 3.8, -4.4, 0, 0, 0],
+        [3.8, 59.4, -4.4, 0, 0, 0],
+        [-4.4, -4.4, 42.4, 0, 0, 0],
+        [0, 0, 0, 67.2, 0, 0],
+        [0, 0, 0, 0, 67.2, 0],
+        [0, 0, 0, 0, 0, 25.7],
+    ])
+
+    def blue_share(c, surface, width=96, height=72):
+        image, summary = glyphcast.stiffness(c, surface=surface, color="sign",
+                                             width=width, height=height)
+        hit = np.isfinite(image.depth)
+        assert hit.sum() > 100, surface
+        rgb = image.rgba[..., :3].astype(int)
+        return (rgb[..., 2] > rgb[..., 0])[hit].mean(), summary
+
+    low, summary = blue_share(cristobalite, "poisson-min")
+    assert summary["poisson"]["min"] < -0.4
+    assert low > 0.95
+    # Drawn on the scale of the smallest ratio's -0.51, the largest (at most 0.096) is
+    # small: a larger image gives it pixels.
+    high, _ = blue_share(cristobalite, "poisson-max", 288, 216)
+    assert high < 0.5
+    copper, _ = blue_share(cubic(C11, C12, C44), "poisson-max")
+    assert copper == 0.0

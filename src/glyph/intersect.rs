@@ -1369,7 +1369,12 @@ mod tests {
         let q2 = from_monomials(2, &[(0.5, [2, 0, 0]), (0.5, [0, 2, 0]), (0.5, [0, 0, 2])]);
         let sum = GlyphPolynomial {
             order: 2,
-            coeffs: q1.coeffs.iter().zip(&q2.coeffs).map(|(a, b)| a + b).collect(),
+            coeffs: q1
+                .coeffs
+                .iter()
+                .zip(&q2.coeffs)
+                .map(|(a, b)| a + b)
+                .collect(),
         };
         let trace = times_length_squared(&sum);
         let determinant = times_length_squared(&form_product(&q1, &q2));

@@ -457,7 +457,7 @@ fn bound_glyph(
             poly: (world == WorldGlyphs::Keep).then_some(poly),
             bounds,
             trace: None,
-        denominator: None,
+            denominator: None,
         }))
 }
 
@@ -514,7 +514,11 @@ fn bound_plane(
 /// refused, with the least Q found. `None` for a zero glyph.
 ///
 /// [`ratio_bound`]: crate::glyph::intersect::ratio_bound
-fn bound_ratio(layout: TensorLayout, coeffs: &[f64], world: WorldGlyphs) -> Result<Option<Bounded>> {
+fn bound_ratio(
+    layout: TensorLayout,
+    coeffs: &[f64],
+    world: WorldGlyphs,
+) -> Result<Option<Bounded>> {
     let (d, rest) = coeffs.split_at(layout.coefficient_count().min(coeffs.len()));
     let (t, q) = rest.split_at(rest.len() / 2);
     let determinant = GlyphPolynomial::from_tensor(layout, d)?;

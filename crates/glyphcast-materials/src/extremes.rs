@@ -180,7 +180,7 @@ fn separated_best<T: Copy>(mut scored: Vec<(f64, [f64; 3], T)>) -> Vec<([f64; 3]
 }
 
 /// A unit `u` minimising `f` over the sphere (globally, see the module notes).
-pub(crate) fn search_sphere(f: &dyn Fn([f64; 3]) -> f64) -> [f64; 3] {
+fn search_sphere(f: &dyn Fn([f64; 3]) -> f64) -> [f64; 3] {
     let scored = fibonacci_half_sphere(SEED_COUNT)
         .into_iter()
         .map(|u| (f(u), u, ()))

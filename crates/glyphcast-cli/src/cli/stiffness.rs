@@ -82,9 +82,11 @@ fn parse_surface(text: &str) -> std::result::Result<DrawnSurface, String> {
         "reynolds" => Ok(DrawnSurface::Reynolds),
         _ => match Surface::from_name(text) {
             Some(surface) => Ok(DrawnSurface::Modulus(surface)),
-            None => Err("expected reynolds, young, compressibility, shear-min, shear-max, \
+            None => Err(
+                "expected reynolds, young, compressibility, shear-min, shear-max, \
                          poisson-min or poisson-max"
-                .into()),
+                    .into(),
+            ),
         },
     }
 }
