@@ -131,6 +131,100 @@ fn compressibility(s: &[[[[f64; 3]; 3]; 3]; 3], u: [f64; 3]) -> f64 {
     b
 }
 
+type Compliance = [[[[f64; 3]; 3]; 3]; 3];
+
+/// The extremes over unit v ⊥ u of vᵀ A v for a symmetric 3x3 A: the eigenvalues of
+/// its restriction to the plane ⊥ unit u, in closed form (smaller, larger).
+fn plane_extremes(a: [[f64; 3]; 3], u: [f64; 3]) -> (f64, f64) {
+    let helper = if u[0].abs() < 0.9 {
+        [1.0, 0.0, 0.0]
+    } else {
+        [0.0, 1.0, 0.0]
+    };
+    let along = helper[0] * u[0] + helper[1] * u[1] + helper[2] * u[2];
+    let e1: Vec<f64> = (0..3).map(|i| helper[i] - along * u[i]).collect();
+    let norm = e1.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let e1: [f64; 3] = std::array::from_fn(|i| e1[i] / norm);
+    let e2 = [
+        u[1] * e1[2] - u[2] * e1[1],
+        u[2] * e1[0] - u[0] * e1[2],
+        u[0] * e1[1] - u[1] * e1[0],
+    ];
+    let form = |x: [f64; 3], y: [f64; 3]| {
+        let mut sum = 0.0;
+        for i in 0..3 {
+            for j in 0..3 {
+                sum += x[i] * a[i][j] * y[j];
+            }
+        }
+        sum
+    };
+    let (p, q, r) = (form(e1, e1), form(e1, e2), form(e2, e2));
+    let mean = (p + r) / 2.0;
+    let radius = (((p - r) / 2.0).powi(2) + q * q).sqrt();
+    (mean - radius, mean + radius)
+}
+
+/// The smallest and largest shear modulus over the shear directions v ⊥ unit u:
+/// 1/G = 4 s_ijkl u_i v_j u_k v_l.
+fn shear_range(s: &Compliance, u: [f64; 3]) -> (f64, f64) {
+    let mut a = [[0.0; 3]; 3];
+    for j in 0..3 {
+        for l in 0..3 {
+            for i in 0..3 {
+                for k in 0..3 {
+                    a[j][l] += 4.0 * s[i][j][k][l] * u[i] * u[k];
+                }
+            }
+        }
+    }
+    let (lo, hi) = plane_extremes(a, u);
+    (1.0 / hi, 1.0 / lo)
+}
+
+/// The smallest and largest Poisson's ratio over v ⊥ unit u:
+/// ν = −s_ijkl u_i u_j v_k v_l / s_ijkl u_i u_j u_k u_l.
+fn poisson_range(s: &Compliance, u: [f64; 3]) -> (f64, f64) {
+    let mut a = [[0.0; 3]; 3];
+    for k in 0..3 {
+        for l in 0..3 {
+            for i in 0..3 {
+                for j in 0..3 {
+                    a[k][l] += s[i][j][k][l] * u[i] * u[j];
+                }
+            }
+        }
+    }
+    let q = 1.0 / young(s, u);
+    let (lo, hi) = plane_extremes(a, u);
+    (-hi / q, -lo / q)
+}
+
+/// s'_ijkl = g_mi g_nj g_ok g_pl s_mnop: the sample-frame tensor of Bunge's g (sample to
+/// crystal).
+fn rotated(s: &Compliance, g: [[f64; 3]; 3]) -> Compliance {
+    let mut t = [[[[0.0; 3]; 3]; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            for k in 0..3 {
+                for l in 0..3 {
+                    for m in 0..3 {
+                        for n in 0..3 {
+                            for o in 0..3 {
+                                for p in 0..3 {
+                                    t[i][j][k][l] +=
+                                        g[m][i] * g[n][j] * g[o][k] * g[p][l] * s[m][n][o][p];
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    t
+}
+
 fn unit(theta: f64, phi: f64) -> [f64; 3] {
     [
         theta.sin() * phi.cos(),
@@ -223,9 +317,10 @@ fn close(a: f64, b: f64, tolerance: f64) -> bool {
 }
 
 /// The extremes of E and beta the command reports are the global ones of the
-/// reference, to 1e-6 relative, and E's reported directions give those values.
-fn holds_to_reference(name: &str, c: &Voigt, reported: &Value) {
-    let s = compliance_tensor(c);
+/// reference, to 1e-6 relative, those of G and ν (over pairs u, v ⊥ u) too, and E's
+/// reported directions give those values.
+fn holds_to_reference(name: &str, s: &Compliance, reported: &Value) {
+    let s = *s;
     let e_max = sphere_max(|u| young(&s, u));
     let e_min = -sphere_max(|u| -young(&s, u));
     let b_max = sphere_max(|u| compressibility(&s, u));
@@ -246,6 +341,19 @@ fn holds_to_reference(name: &str, c: &Voigt, reported: &Value) {
     ] {
         assert!(close(got, want, 1e-6), "{name} {key}: {got} against {want}");
     }
+    let g_max = sphere_max(|u| shear_range(&s, u).1);
+    let g_min = -sphere_max(|u| -shear_range(&s, u).0);
+    let nu_max = sphere_max(|u| poisson_range(&s, u).1);
+    let nu_min = -sphere_max(|u| -poisson_range(&s, u).0);
+    for (key, got, want) in [
+        ("shear.max", number(reported, &["shear", "max"]), g_max),
+        ("shear.min", number(reported, &["shear", "min"]), g_min),
+        ("poisson.max", number(reported, &["poisson", "max"]), nu_max),
+        ("poisson.min", number(reported, &["poisson", "min"]), nu_min),
+    ] {
+        eprintln!("{name} {key}: {got} against {want}");
+        assert!(close(got, want, 1e-6), "{name} {key}: {got} against {want}");
+    }
     for (key, value) in [("max_direction", e_max), ("min_direction", e_min)] {
         let at = young(&s, direction(reported, key));
         assert!(
@@ -260,8 +368,12 @@ fn summary_extremes_are_the_global_ones() {
     let dir = fresh_dir("summary");
     for (name, c) in [("trigonal", trigonal()), ("auxetic", auxetic_tetragonal())] {
         let reported = summary(&dir, name, &c, &[]);
-        holds_to_reference(name, &c, &reported);
+        holds_to_reference(name, &compliance_tensor(&c), &reported);
     }
+    // A cubic crystal turned by Bunge angles: the reference turns its compliance tensor.
+    let turned = summary(&dir, "cubic-turned", &cubic(), &["--euler", "30,40,50"]);
+    let s = rotated(&compliance_tensor(&cubic()), bunge(30.0, 40.0, 50.0));
+    holds_to_reference("cubic-turned", &s, &turned);
     // The auxetic crystal's negative Poisson's ratio is reported, and the averages of a
     // cubic crystal are the closed forms.
     let auxetic = summary(&dir, "auxetic-again", &auxetic_tetragonal(), &[]);
