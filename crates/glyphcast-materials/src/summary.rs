@@ -85,15 +85,19 @@ impl Summary {
     /// The table of averages.
     fn write_averages(&self, out: &mut String, units: &str) {
         let _ = writeln!(out, "Average properties");
-        let _ = writeln!(
-            out,
-            "{:<8}{:>24}{:>26}{:>24}{:>18}",
-            "",
+        let headers = [
             format!("Bulk modulus ({units})"),
             format!("Young's modulus ({units})"),
             format!("Shear modulus ({units})"),
-            "Poisson's ratio"
-        );
+            "Poisson's ratio".to_owned(),
+        ];
+        // Each column two characters wider than its header, whatever the units' name.
+        let widths = headers.clone().map(|h| h.chars().count().max(14) + 2);
+        let _ = write!(out, "{:<8}", "");
+        for (header, width) in headers.iter().zip(widths) {
+            let _ = write!(out, "{header:>width$}");
+        }
+        out.push('\n');
         for (name, k, g) in [
             ("Voigt", self.bulk.voigt, self.shear_average.voigt),
             ("Reuss", self.bulk.reuss, self.shear_average.reuss),
@@ -101,14 +105,11 @@ impl Summary {
         ] {
             let young = 9.0 * k * g / (3.0 * k + g);
             let poisson = (3.0 * k - 2.0 * g) / (2.0 * (3.0 * k + g));
-            let _ = writeln!(
-                out,
-                "{name:<8}{:>24}{:>26}{:>24}{:>18}",
-                significant(k),
-                significant(young),
-                significant(g),
-                significant(poisson)
-            );
+            let _ = write!(out, "{name:<8}");
+            for (value, width) in [k, young, g, poisson].into_iter().zip(widths) {
+                let _ = write!(out, "{:>width$}", significant(value));
+            }
+            out.push('\n');
         }
     }
 
@@ -210,6 +211,37 @@ mod tests {
         assert!(summary.linear_compressibility.max < 0.0);
         assert!(serde_json::to_string(&summary).is_ok());
         assert!(!summary.to_table("GPa").is_empty());
+    }
+
+    /// The averages' header keeps its four titles apart (two spaces at least) whatever
+    /// the units are called, and each row has a number under each.
+    #[test]
+    fn the_averages_columns_stay_apart() {
+        let c: crate::Voigt = std::array::from_fn(|i| {
+            std::array::from_fn(|j| match (i < 3, j < 3) {
+                (true, true) => 50.0 + if i == j { 60.0 } else { 0.0 },
+                _ if i == j => 30.0,
+                _ => 0.0,
+            })
+        });
+        let summary = Stiffness::new(c).unwrap().summary();
+        for units in ["GPa", "input units", "kbar (10^8 Pa)"] {
+            let table = summary.to_table(units);
+            let lines: Vec<&str> = table.lines().collect();
+            let titles: Vec<&str> = lines[1]
+                .split("  ")
+                .map(str::trim)
+                .filter(|t| !t.is_empty())
+                .collect();
+            assert_eq!(titles.len(), 4, "{units}: {:?}", lines[1]);
+            assert!(
+                titles[1].starts_with("Young's modulus"),
+                "{units}: {titles:?}"
+            );
+            for row in &lines[2..5] {
+                assert_eq!(row.split_whitespace().count(), 5, "{units}: {row:?}");
+            }
+        }
     }
 
     #[test]
