@@ -3,7 +3,7 @@
 //! float64 reference cast at the same sample positions (exactly, up to rounding) and
 //! against the reference's coverage fraction over 8 x 8 rays per pixel (within a stated
 //! tolerance); the depth map keeps one ray per pixel centre whatever the sample count.
-mod common;
+use crate::common;
 use glam::DVec3;
 use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
 use glyphcast::glyph::reference::reference_depth;

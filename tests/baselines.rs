@@ -1,7 +1,7 @@
 //! The baselines the ray caster is measured against, held to the float64 reference with
 //! validation on: tessellated glyphs (whose error on a sphere is known in closed form) and
 //! the sphere impostor (which must be exactly the glyph's bounding sphere).
-mod common;
+use crate::common;
 use glam::DVec3;
 use glyphcast::accuracy::{geometric_error, pixel_size, silhouette_band};
 use glyphcast::camera::{Camera, Projection};

@@ -1,7 +1,7 @@
 //! The command line as a user meets it: bad input gives one clear line naming the file
 //! and the field, a non-zero exit and no output files; good input writes a PNG and a
 //! depth map in the scene format's .npy layout.
-mod common;
+use crate::common;
 use common::{fresh_dir, glyphcast};
 use std::path::{Path, PathBuf};
 

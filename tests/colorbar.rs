@@ -3,7 +3,7 @@
 //! bottom, lit by ambient light alone, shows exactly the map's end); it lies in a strip
 //! of its own, so the glyph pixels and the depth map are those of the render without it;
 //! it needs `--color magnitude`.
-mod common;
+use crate::common;
 use common::{fresh_dir, glyphcast};
 use glam::DVec3;
 use glyphcast::demo::{glyph_set, symmetric};

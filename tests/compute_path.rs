@@ -10,7 +10,7 @@
 //! distance (1e-5 of the glyph scale) and one unit of the 8-bit sRGB encoding (the
 //! compute shader encodes it itself, the colour target's conversion may round the
 //! other way), and no pixel may be covered by one path and not the other.
-mod common;
+use crate::common;
 use glam::DVec3;
 use glyphcast::accuracy::suite;
 use glyphcast::bench::workload;

@@ -7,7 +7,7 @@
 //!   -directions`) the fODFs are the same to float32 rounding.
 //! - The command as users run it (glyphcast's 300 directions against dwi2fod's
 //!   built-in 300) puts first peaks within a degree of `sh2peaks`'.
-mod common;
+use crate::common;
 
 use common::{
     DwiFiles, axis_angle, expect_failure, fresh_dir, glyphcast, largest_difference, test_data, text,

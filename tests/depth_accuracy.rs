@@ -11,7 +11,7 @@
 //! readable. Coarse settings must fail, so the comparison is known to see holes. The
 //! exact method's reciprocal variant (r = 1/|f|) is held to the same bar at every even
 //! order.
-mod common;
+use crate::common;
 use glam::DVec3;
 use glyphcast::accuracy::suite::{self, SuiteScene};
 use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};

@@ -6,7 +6,7 @@
 //! extremes found by sampling the sphere densely and refining by shrinking steps.
 // The loops spell out index notation (s_ijkl u_i u_j u_k u_l), as the definitions do.
 #![allow(clippy::needless_range_loop)]
-mod common;
+use crate::common;
 use common::{glyphcast, text};
 use nalgebra::Matrix6;
 use serde_json::Value;

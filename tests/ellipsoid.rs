@@ -2,7 +2,7 @@
 //! the float64 reference and against an independent analytic solution from D^-1; the
 //! volume path from `glyphcast fit`'s DTI; colouring by the principal eigenvector; the
 //! errors for what has no ellipsoid.
-mod common;
+use crate::common;
 use common::{expect_failure, fresh_dir, glyphcast};
 use glam::{DMat3, DQuat, DVec3, EulerRot};
 use glyphcast::camera::Camera;

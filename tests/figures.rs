@@ -3,7 +3,7 @@
 //! (transparent where the reference sees no glyph, named and hex colours written as the
 //! exact 8-bit values), and magnitude colouring whose default range ends at the largest
 //! glyph radius drawn.
-mod common;
+use crate::common;
 use glam::DVec3;
 use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
 use glyphcast::glyph::NegativeMode;

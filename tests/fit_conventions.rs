@@ -2,7 +2,7 @@
 //! response of bands up to 8 (as `dwi2fod -lmax 12` runs it); the automatic response on
 //! a head with background chooses tissue only and says which voxels; the peaks of a
 //! band-0 (isotropic) image are none.
-mod common;
+use crate::common;
 use common::{dipy_data, fit_small_64d, fresh_dir, glyphcast, text};
 use glam::{DMat4, DVec3};
 use glyphcast::rng::SplitMix64;

@@ -9,7 +9,7 @@
 //! - `render --sh` takes the basis `fit` recorded, refuses a contradicting `--basis`
 //!   unless `--force-basis`, takes an MRtrix file without a record as tournier07, and
 //!   asks for `--basis` (exit 2) when a NIfTI records nothing.
-mod common;
+use crate::common;
 
 use common::{dipy_data, flipped_in_x, glyphcast, text, write_nifti};
 use glam::DMat4;

@@ -12,8 +12,8 @@
 //! by the five readers, which run in parallel. GLYPHCAST_FUZZ_SEED (default 1) picks the
 //! sequence; input i of a reader depends only on the seed, the reader and i, so a failure
 //! reproduces with the same seed. The corpus is rewritten by
-//! `cargo test --test fuzz -- --ignored write_corpus`.
-mod common;
+//! `cargo test -p glyphcast-cli --test integration -- --ignored fuzz::write_corpus`.
+use crate::common;
 
 use glyphcast::glyph::stiffness::VoigtStiffness;
 use glyphcast::rng::SplitMix64;

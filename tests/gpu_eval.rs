@@ -1,6 +1,6 @@
 //! The generated GLSL glyph functions (every variant build.rs compiles from src/catalog.rs) against the
 //! float64 reference at thousands of random points.
-mod common;
+use crate::common;
 use glam::DVec3;
 use glyphcast::glyph::monomials::monomials;
 use glyphcast::glyph::polynomial::GlyphPolynomial;

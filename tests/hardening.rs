@@ -3,7 +3,7 @@
 //! (exit 1 for bad data, 2 for a bad command line), writes nothing and loses nothing of
 //! the user's; an interrupt removes the temporaries and leaves a set of outputs all old
 //! or all new.
-mod common;
+use crate::common;
 use common::{dipy_data, fresh_dir, glyphcast};
 use ndarray::Array4;
 use std::path::{Path, PathBuf};

@@ -4,7 +4,7 @@
 //! this test's own for MRtrix) with the same values, geometry and description; a NIfTI
 //! output keeps its reference header's qform and sform; bad outputs are errors naming
 //! the file, with nothing written.
-mod common;
+use crate::common;
 
 use common::dipy_data;
 

@@ -3,7 +3,7 @@
 //! evaluated on the CPU at the float64 reference's hit point with the sphere's analytic
 //! normal, for several lights; the flags reach the shaders through the CLI; bad values
 //! are usage errors.
-mod common;
+use crate::common;
 use common::{fresh_dir, glyphcast, srgb_byte};
 use glam::DVec3;
 use glyphcast::demo::{glyph_set, symmetric};

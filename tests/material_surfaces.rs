@@ -15,7 +15,7 @@
 //!    |p| = k |r(p / |p|)| for one k, the scene's scale: its spread
 //!    max | |p| - k |r| | / (k max |r|) is at most 2e-3 (measured: 8.6e-7 to 5.8e-6),
 //!    and k is the scene's scale to 1e-3 (measured: 3.2e-7).
-mod common;
+use crate::common;
 use common::text;
 use glyphcast::accuracy::compare_depth;
 use glyphcast::glyph::reference::reference_depth;

@@ -5,7 +5,7 @@
 //! does: the same voxel values at the same voxel indices and the same affine. `fit`
 //! reads an MRtrix DWI with or without its dw_scheme and writes .mif; bad files fail
 //! with one line naming the file and the field.
-mod common;
+use crate::common;
 
 use common::{dipy_data, expect_failure, glyphcast, text};
 

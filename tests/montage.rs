@@ -2,7 +2,7 @@
 //! pixel, in colour and depth, the single-view render of the same view at the panel's
 //! size (a lightbox panel with its slice written in its corner, issue 28), with the
 //! same underlay; the grid's geometry; the errors for bad lists.
-mod common;
+use crate::common;
 use common::{fresh_dir, glyphcast};
 use glyphcast::io::npy::read_npy_f32;
 use glyphcast::io::png::read_png_rgba8;

@@ -8,7 +8,7 @@
 //! - The command line, with its own constraint directions, gives DIPY's tissue fractions
 //!   and peaks; on the voxels whose WM is a band-8 fODF the known mixture comes back.
 //! - Estimated responses come near the true ones; bad input fails cleanly.
-mod common;
+use crate::common;
 
 use common::{
     DwiFiles, axis_angle, expect_failure, fresh_dir, glyphcast, numbers, test_data, text,

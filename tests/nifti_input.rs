@@ -5,8 +5,8 @@
 //!
 //! The files are func_coef.nii.gz (DIPY, band 8 SH) as our writer writes it, edited or
 //! rebuilt byte by byte here (`common::nifti`). Rendering runs on lavapipe:
-//! `VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json cargo test --test nifti_input`.
-mod common;
+//! `VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json cargo test -p glyphcast-cli --test integration nifti_input::`.
+use crate::common;
 
 use common::nifti::{gzip, nifti2_bytes, set_f32, set_i16, with_vox_offset};
 use common::{expect_failure, glyphcast};

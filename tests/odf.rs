@@ -9,7 +9,7 @@
 //!   signal's own SH series does not (its largest lobe lies across the fibre).
 //! - The command line writes the basis into the header, `peaks` writes MRtrix's layout,
 //!   and bad input fails cleanly.
-mod common;
+use crate::common;
 
 use common::{
     DwiFiles, axis_angle, dipy_data, expect_failure, fit_small_64d, fresh_dir, glyphcast,

@@ -3,7 +3,7 @@
 //! from the voxel order: a volume with one glyph at a known anatomical corner, stored RAS
 //! and LAS (x reversed, the same world grid), rendered by the real binary. And `--labels`
 //! writes letters at the image's edges and nowhere else.
-mod common;
+use crate::common;
 
 use common::{flipped_in_x, glyphcast, text, write_nifti};
 use glam::{DMat4, DVec3};

@@ -2,7 +2,7 @@
 //! inputs (by any spelling, link or hard link) is refused before any work; `qc` replaces
 //! only the files of its own earlier set; `accuracy` and `bench` check their outputs
 //! before the work and write them as sets.
-mod common;
+use crate::common;
 use common::{dipy_data, fresh_dir, glyphcast, text};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};

@@ -3,7 +3,7 @@
 //! used to destroy the device under live objects: VUID-vkDestroyDevice-device-00378 from
 //! the validation layer, then a segfault when the objects were dropped.) A device an
 //! engine lends glyphcast is never destroyed by glyphcast.
-mod common;
+use crate::common;
 use ash::vk;
 use glam::DVec3;
 use glyphcast::camera::{Camera, Projection};

@@ -2,7 +2,7 @@
 //! reference (alone, and in one depth buffer with glyphs), a peak of `glyphcast peaks`
 //! along the lobe it was found on, both peak layouts (MRtrix/glyphcast, DIPY), peaks
 //! alone and in montages, and the refusals of bad peak files.
-mod common;
+use crate::common;
 use common::{expect_failure, fit_small_64d, fresh_dir, glyphcast, gpu, text, write_nifti};
 use glam::{DMat4, DQuat, DVec3};
 use glyphcast::camera::{Camera, Projection};

@@ -2,7 +2,7 @@
 //! corrupt file is ignored and replaced, and processes that start at once (a job array)
 //! all succeed with identical outputs and leave one whole cache file behind. And the GPU
 //! report's quick table runs end to end on lavapipe.
-mod common;
+use crate::common;
 use common::{fresh_dir, text};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

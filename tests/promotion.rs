@@ -2,7 +2,7 @@
 //! highest order of their parity (`render::promote`): one `exact` pipeline for the demo
 //! instead of three. The picture must be the one the per-order pipelines draw, and both
 //! must agree with the float64 reference.
-mod common;
+use crate::common;
 
 use glyphcast::accuracy::compare_depth;
 use glyphcast::demo::demo_scene;

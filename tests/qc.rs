@@ -1,7 +1,7 @@
 //! `glyphcast qc` (issue 24): the figure set's files, its sidecar, its determinism, its
 //! refusals; and many glyphcast processes at once. Every run has the validation layer
 //! on (`common::glyphcast`) and draws CSD fODFs fitted from DIPY's small_64D.
-mod common;
+use crate::common;
 
 use common::{dipy_data, fit_small_64d, fresh_dir, glyphcast, output_dir, text, write_nifti};
 use serde_json::Value;

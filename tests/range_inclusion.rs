@@ -14,7 +14,7 @@
 //!
 //! The reference polynomial is built from the float32-rounded tensor entries: the ranges
 //! are inclusions for the float32 data the GPU holds, in exact arithmetic.
-mod common;
+use crate::common;
 use glam::DVec3;
 use glyphcast::demo::fibre_tensor;
 use glyphcast::glyph::bounds::bounding_radius;

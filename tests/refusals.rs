@@ -4,7 +4,7 @@
 //! measurement can take, and a NIfTI DWI fitted without its gradient files (exit 2).
 //! Each gets one `error:` line naming the file and field or the settings, and nothing is
 //! written.
-mod common;
+use crate::common;
 use common::{fresh_dir, glyphcast, text, write_nifti};
 use std::path::Path;
 

@@ -2,7 +2,7 @@
 //! glyphs that cut each other, the isotropic offset, the orthographic camera, colour
 //! modes, and glyph sets split across storage buffers. The depth scenes are also held to
 //! the reference with the robust methods (interval, affine).
-mod common;
+use crate::common;
 use glam::DVec3;
 use glyphcast::camera::{Camera, Projection};
 use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};

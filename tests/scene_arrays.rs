@@ -2,7 +2,7 @@
 //! "Arrays beside the scene"): written by `bench --save-scene --scene-arrays`, drawn
 //! exactly as the same scene with JSON lists, read in every layout NumPy writes, and
 //! refused with the file, the field and the array named when an array is wrong.
-mod common;
+use crate::common;
 use common::{fresh_dir, glyphcast, text};
 use std::path::Path;
 

@@ -1,6 +1,6 @@
 //! SH glyphs on the GPU: real data (DIPY's func_coef) against the float64 reference, and
 //! the same glyphs given in another basis or as their tensor (t = M w) render the same.
-mod common;
+use crate::common;
 use glyphcast::accuracy::compare_depth;
 use glyphcast::accuracy::suite::sh_func_coef;
 use glyphcast::glyph::sh::{convert_basis, sh_to_tensor};

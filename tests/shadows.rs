@@ -2,7 +2,7 @@
 //! (`glyph::shadow`: the exact hit, its normal, the shadow ray intersected exactly with
 //! every glyph), away from shadow edges; soft shadows' lit share likewise; the depth map
 //! unchanged and no pixel brightened; the option through the command line, its refusals.
-mod common;
+use crate::common;
 use common::{fresh_dir, glyphcast, srgb_byte};
 use glam::DVec3;
 use glyphcast::camera::Camera;

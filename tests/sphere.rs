@@ -1,7 +1,7 @@
 //! The order-2 identity tensor is a sphere: its render must match the analytic sphere to
 //! float32 precision, under perspective and orthographic cameras, and the pixel
 //! coverage must be that of the analytic sphere, with every intersection method.
-mod common;
+use crate::common;
 use glam::DVec3;
 use glyphcast::accuracy::silhouette_band;
 use glyphcast::camera::{Camera, Projection};

@@ -2,7 +2,7 @@
 //! file into a scene, `glyphcast demo --stiffness` renders a field of copper crystals
 //! (on lavapipe, with the validation layer), and the same field rendered in the library
 //! matches the float64 reference.
-mod common;
+use crate::common;
 use common::text;
 use glyphcast::demo::stiffness_demo_scene;
 use glyphcast::glyph::Symmetry;

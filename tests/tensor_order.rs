@@ -3,7 +3,7 @@
 //! decomposition written here, independent of the library's permutations); an MRtrix
 //! tensor `.mif` drawn as ellipsoids whose long axes, measured on the rendered surface,
 //! lie along the eigenvectors; a misordered NIfTI refused; higher orders round-trip.
-mod common;
+use crate::common;
 use common::{axis_angle, fit_small_64d, fresh_dir, glyphcast, text};
 use glam::{DMat3, DMat4, DQuat, DVec3, EulerRot};
 use glyphcast::io::npy::read_npy_f32;

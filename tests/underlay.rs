@@ -3,7 +3,7 @@
 //! float64 glyphs and the analytic plane (glyphs in front hide the plane, the plane
 //! hides glyphs behind it), the percentile window, three planes with --slices, and the
 //! errors of the command line.
-mod common;
+use crate::common;
 use common::underlay::{scalar_underlay, tensor_volume};
 use glam::{DMat4, DQuat, DVec3};
 use glyphcast::camera::{Camera, Projection};

@@ -3,7 +3,7 @@
 //! validation layer stays clean through resizes, slice moves and setting switches.
 //!
 //! The Xvfb runner and the image comparisons are in tests/common/window.rs.
-mod common;
+use crate::common;
 use common::window::{
     BIN, Xvfb, assert_clean, assert_window_matches, data, differing_pixels, out, path_str, render,
 };

@@ -9,7 +9,7 @@
 //! shaders into a BGRA swapchain image (see `common::window::assert_window_matches`: one
 //! 8-bit level, and 0.5% of the pixels for silhouette rays); the colour bar's strip is
 //! copied into the window byte for byte, so the strip must be exact in the window too.
-mod common;
+use crate::common;
 use common::window::{
     BIN, Xvfb, assert_clean, assert_window_matches, data, differing_pixels, out, path_str,
 };

@@ -3,7 +3,7 @@
 //! to `--sh` is refused as not 4D before any question of basis; a 6-volume file given to
 //! `--sh` is drawn as band 2 with a note when its name suggests a tensor, and refused
 //! when glyphcast's own record says it is one.
-mod common;
+use crate::common;
 use common::{fresh_dir, glyphcast, text};
 use glam::DMat4;
 use ndarray::{ArrayD, IxDyn};

@@ -50,7 +50,7 @@ echo "== [${SECONDS} s] the C API (capi/): its header up to date, the C example 
 cargo test --locked -p glyphcast-c
 echo "== [${SECONDS} s] the Python module (python/)"
 # The CLI the Python tests compare with: built by `cargo test` above (a no-op then).
-cargo test --locked --no-run --test cli
+cargo test --locked --no-run --test integration
 venv=target/py-venv
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
 "$venv/bin/python" -m pip install -q --disable-pip-version-check \

@@ -16,7 +16,7 @@ pub mod nifti;
 pub mod underlay;
 pub mod window;
 
-// Each test binary compiles this module and uses only some of these names.
+// The test modules use only some of these names.
 #[allow(unused_imports)]
 pub use dwi::{
     DwiFiles, axis_angle, fit_dti_small_64d, fit_small_64d, largest_difference, numbers,

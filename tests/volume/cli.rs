@@ -1,7 +1,7 @@
 //! `glyphcast render --sh/--tensor` as a user meets it: bad input gives one error line
 //! naming the file (and the field), a non-zero exit and no output at all, not even the
 //! --save-scene file; good input renders (lavapipe) and saves the scene it rendered.
-use crate::fixtures::*;
+use super::fixtures::*;
 use glam::DVec3;
 use glyphcast::accuracy::compare_depth;
 use glyphcast::demo::fibre_tensor;

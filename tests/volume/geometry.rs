@@ -1,6 +1,6 @@
 //! Where glyphs land and which way they point: centres from the affine (sform, qform,
 //! qform with qfac -1), shapes turned by the affine's rotation, and the camera framing.
-use crate::fixtures::*;
+use super::fixtures::*;
 use glam::{DVec3, DVec4};
 use glyphcast::camera::Projection;
 use glyphcast::glyph::polynomial::GlyphPolynomial;

@@ -1,5 +1,5 @@
 //! Which voxels become glyphs (slice, ranges, mask, bad values) and how big they are.
-use crate::fixtures::*;
+use super::fixtures::*;
 use glyphcast::glyph::{Symmetry, TensorLayout};
 use glyphcast_dmri::volume::{
     Mask, Normalisation, Slice, SliceAxis, Slices, Volume, VolumeKind, VolumeOptions, VolumeReport,

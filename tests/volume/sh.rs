@@ -1,8 +1,8 @@
 //! SH volumes: the band is read off the coefficient count, and the glyphs turn with the
 //! affine like tensors do. The rotation itself comes from `glyph::sh`, which is merged
 //! from the SH branch; until then the tests that need it are ignored (run them with
-//! `cargo test --test volume -- --ignored` after the merge).
-use crate::fixtures::*;
+//! `cargo test -p glyphcast-cli --test integration volume:: -- --ignored` after the merge).
+use super::fixtures::*;
 use glam::{DMat3, DVec3};
 use glyphcast::scene::{GlyphKind, ShBasis};
 use glyphcast_dmri::volume::{VolumeKind, VolumeOptions, load_volume, volume_scene};

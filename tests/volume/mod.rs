@@ -3,9 +3,7 @@
 //! errors are computed here independently of the library.
 //!
 //! Run with lavapipe for the rendering tests:
-//! `VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json cargo test --test volume`.
-#[path = "../common/mod.rs"]
-mod common;
+//! `VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json cargo test -p glyphcast-cli --test integration volume::`.
 
 mod cli;
 mod fixtures;
