@@ -36,6 +36,10 @@ pub struct Job {
     pub weight: u32,
     /// Whether spirv-opt's performance passes run on the SPIR-V (see `options`).
     pub optimize: bool,
+    /// The label of a variant without the distance output (location 1), for colour-only
+    /// targets, derived from this job's SPIR-V ([`without_distance`]) rather than
+    /// compiled and optimised again.
+    pub without_distance: Option<String>,
 }
 
 /// Where the build reads and writes.
@@ -407,7 +411,133 @@ fn run(
     if std::fs::read(&target).ok().as_deref() != Some(&bytes[..]) {
         write_replacing(&target, &bytes)?;
     }
+    let mut key = key;
+    if let Some(label) = &job.without_distance {
+        let derived_key = derived_key(key, spirv_opt);
+        let derived = match cached(dirs, derived_key) {
+            Some(bytes) => bytes,
+            None => {
+                let stripped = without_distance(&bytes).map_err(|e| format!("{label}: {e}"))?;
+                // Dead-code elimination drops what only the distance needed, and the
+                // validator checks the module on the way in.
+                let stripped = match spirv_opt {
+                    Some(program) => program.compact(
+                        &program.round(&stripped, label, "--eliminate-dead-code-aggressive")?,
+                        label,
+                    )?,
+                    None => stripped,
+                };
+                store(dirs, derived_key, stripped)?
+            }
+        };
+        let target = dirs.spirv.join(format!("{label}.spv"));
+        if std::fs::read(&target).ok().as_deref() != Some(&derived[..]) {
+            write_replacing(&target, &derived)?;
+        }
+        key = key.wrapping_add(derived_key);
+    }
     Ok((compiled, key))
+}
+
+/// The cache key of a job's variant without the distance output.
+fn derived_key(key: u64, spirv_opt: Option<&SpirvOpt>) -> u64 {
+    let mut hash = key ^ 0x9e37_79b9_7f4a_7c15;
+    let step = format!(
+        "without the output at location 1, then spirv-opt --eliminate-dead-code-aggressive \
+         and --compact-ids ({})",
+        spirv_opt.map_or("none", |p| p.version.as_str())
+    );
+    for b in step.bytes() {
+        hash ^= u64::from(b);
+        hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    hash
+}
+
+/// A fragment shader's SPIR-V (little-endian) without its output variable at location 1
+/// (the ray distance): the variable, its names and decorations, its entry in the entry
+/// point's interface and the stores to it are taken out, which is what compiling the
+/// GLSL without that output (`GLYPHCAST_NO_DISTANCE`) gives, less the optimisation's
+/// second run. A module that used the variable otherwise would be left with a dangling
+/// id, which spirv-opt's validation of the next step's input refuses.
+fn without_distance(spirv: &[u8]) -> Result<Vec<u8>, String> {
+    const OP_NAME: u32 = 5;
+    const OP_ENTRY_POINT: u32 = 15;
+    const OP_VARIABLE: u32 = 59;
+    const OP_STORE: u32 = 62;
+    const OP_DECORATE: u32 = 71;
+    const OP_MEMBER_DECORATE: u32 = 72;
+    const DECORATION_LOCATION: u32 = 30;
+    const STORAGE_OUTPUT: u32 = 3;
+    if spirv.len() < 20 || spirv.len() % 4 != 0 {
+        return Err("not a SPIR-V module".into());
+    }
+    let words: Vec<u32> = spirv
+        .chunks_exact(4)
+        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect();
+    // The instructions after the header, as (start, word count).
+    let mut instructions = Vec::new();
+    let mut at = 5;
+    while at < words.len() {
+        let count = (words[at] >> 16) as usize;
+        if count == 0 || at + count > words.len() {
+            return Err(format!("a malformed instruction at word {at}"));
+        }
+        instructions.push((at, count));
+        at += count;
+    }
+    let op = |(start, _): (usize, usize)| words[start] & 0xffff;
+    let outputs: Vec<u32> = instructions
+        .iter()
+        .filter(|&&(s, c)| op((s, c)) == OP_VARIABLE && c >= 4 && words[s + 3] == STORAGE_OUTPUT)
+        .map(|&(s, _)| words[s + 2])
+        .collect();
+    let located: Vec<u32> = instructions
+        .iter()
+        .filter(|&&(s, c)| {
+            op((s, c)) == OP_DECORATE
+                && c == 4
+                && words[s + 2] == DECORATION_LOCATION
+                && words[s + 3] == 1
+                && outputs.contains(&words[s + 1])
+        })
+        .map(|&(s, _)| words[s + 1])
+        .collect();
+    let [target] = located[..] else {
+        return Err(format!("{} outputs at location 1, not one", located.len()));
+    };
+    let mut out: Vec<u32> = words[..5].to_vec();
+    for &(start, count) in &instructions {
+        let body = &words[start..start + count];
+        match op((start, count)) {
+            OP_NAME | OP_DECORATE | OP_MEMBER_DECORATE if body[1] == target => continue,
+            OP_VARIABLE if body[2] == target => continue,
+            OP_STORE if body[1] == target => continue,
+            OP_ENTRY_POINT => {
+                // Execution model, function id, the name (a NUL-terminated string padded
+                // to whole words), then the interface's ids.
+                let name_words = body[3..]
+                    .iter()
+                    .position(|w| w.to_le_bytes().contains(&0))
+                    .ok_or("an entry point name without its end")?
+                    + 1;
+                let head = 3 + name_words;
+                let mut kept: Vec<u32> = body[..head.min(body.len())].to_vec();
+                kept.extend(
+                    body[head.min(body.len())..]
+                        .iter()
+                        .filter(|&&id| id != target),
+                );
+                kept[0] = ((kept.len() as u32) << 16) | OP_ENTRY_POINT;
+                out.extend(kept);
+                continue;
+            }
+            _ => {}
+        }
+        out.extend_from_slice(body);
+    }
+    Ok(out.iter().flat_map(|w| w.to_le_bytes()).collect())
 }
 
 /// The cache's SPIR-V under `key`, if it holds a plausible module.

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Fresh machine to a passing test suite: installs what is missing, then runs every test
 # on lavapipe with the Vulkan validation layer on (the tests turn it on themselves), and
-# checks that the core builds, passes its tests and stays free of the front ends'
-# dependencies when built alone (what an embedding engine gets); runs the C
+# checks that the core stays free of the front ends' dependencies and compiles alone from
+# its package's own files (what an embedding engine and crates.io get); runs the C
 # API's tests (its generated header, the C example engine built with cc, the C++ engine
 # built with CMake and pkg-config against the installed library); then builds the
 # Python module's wheel, installs it into a virtual environment (target/py-venv, reused)
@@ -27,13 +27,14 @@ if grep -E '^(clap|winit|plotters|indicatif|nifti|ndarray|clarabel|sha2|pyo3|gly
     echo "error: the core's dependency tree holds a front end's crate (above)" >&2
     exit 1
 fi
-cargo test --locked -p glyphcast --lib --examples
 # The crate as crates.io would ship it: packaged (src, glsl, build script; no path-only
-# dependency), unpacked outside the workspace and built from the package's own files with
-# its own Cargo.lock. From another folder it is another package to cargo, so it shares
-# the workspace's target folder (the dependencies built for the core alone above) without
-# touching the workspace's artifacts (`cargo package`'s own verify build would: it has
-# the same artifact hashes). The shaders come from the workspace's SPIR-V cache.
+# dependency), unpacked outside the workspace and checked from the package's own files
+# with its own Cargo.lock and the core's own features alone (no front end's feature
+# unified in: what an engine compiles). From another folder it is another package to
+# cargo, so it shares the workspace's target folder (the dependencies `.ci/run` checked
+# for the core alone) without touching the workspace's artifacts (`cargo package`'s own
+# verify build would: it has the same artifact hashes). Its build script runs (the shaders
+# come from the workspace's SPIR-V cache).
 echo "== [${SECONDS} s] the core as crates.io would ship it"
 cargo package --locked --allow-dirty --no-verify --quiet -p glyphcast
 workspace_target="${CARGO_TARGET_DIR:-$PWD/target}"
@@ -43,7 +44,7 @@ tar -xzf "$workspace_target/package/glyphcast-$core_version.crate" -C "$unpacked
 (
     cd "$unpacked/glyphcast-$core_version"
     GLYPHCAST_SPIRV_CACHE="$workspace_target/glyphcast-spirv-cache" \
-        cargo build --locked --offline --quiet --target-dir "$workspace_target"
+        cargo check --locked --offline --quiet --target-dir "$workspace_target"
 )
 rm -rf "$unpacked"
 echo "== [${SECONDS} s] the C API (capi/): its header up to date, the C example engine (examples/c/)"
@@ -81,7 +82,9 @@ if [ "${GLYPHCAST_MESA25:-1}" = 1 ]; then
     echo "== [${SECONDS} s] again on Mesa 25's lavapipe (tools/mesa25.sh)"
     (
         eval "$(bash tools/mesa25.sh)"
-        cargo test --locked -p glyphcast --lib --examples
+        # Every library's unit tests and the embedding example, with the features of the
+        # workspace build above (so nothing is compiled again).
+        cargo test --locked --lib --examples
         cargo test --locked -p glyphcast-c
         "$venv/bin/python" -m pytest -q python/tests
     )
