@@ -469,7 +469,7 @@ fn without_distance(spirv: &[u8]) -> Result<Vec<u8>, String> {
     const OP_MEMBER_DECORATE: u32 = 72;
     const DECORATION_LOCATION: u32 = 30;
     const STORAGE_OUTPUT: u32 = 3;
-    if spirv.len() < 20 || spirv.len() % 4 != 0 {
+    if spirv.len() < 20 || !spirv.len().is_multiple_of(4) {
         return Err("not a SPIR-V module".into());
     }
     let words: Vec<u32> = spirv
