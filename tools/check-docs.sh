@@ -5,6 +5,7 @@
 #
 #   bash tools/check-docs.sh               # build and check
 #   bash tools/check-docs.sh --self-test   # also show that a broken page fails the check
+#   bash tools/check-docs.sh --install     # only install the pinned mdBook if missing
 #
 # mdBook: the `mdbook` on the PATH if it is the pinned version, else the one under
 # target/tools/bin, installed there from crates.io on first use (a few minutes of
@@ -30,9 +31,13 @@ find_mdbook() {
 if ! mdbook=$(find_mdbook); then
     echo "== installing mdbook $MDBOOK_VERSION into $tools_root (once)" >&2
     # Only the HTML renderer with its search index: no local server, no file watcher.
-    nice -n 15 cargo install mdbook --version "$MDBOOK_VERSION" --locked \
+    nice -n 19 cargo install mdbook --version "$MDBOOK_VERSION" --locked \
         --no-default-features --features search --root "$tools_root" --quiet
     mdbook=$tools_root/bin/mdbook
+fi
+if [ "${1:-}" = "--install" ]; then
+    echo "mdbook: $("$mdbook" --version)"
+    exit 0
 fi
 
 echo "== mdbook build docs ($("$mdbook" --version))"
