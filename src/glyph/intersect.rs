@@ -562,22 +562,38 @@ pub fn plane_bound(determinant: &GlyphPolynomial, trace: &GlyphPolynomial) -> Op
         return None;
     }
     let radius_at = |u: DVec3| plane_outer_radius(determinant.eval(u), trace.eval(u));
-    let mut samples: Vec<(f64, DVec3)> = super::bounds::fibonacci_sphere(PLANE_BOUND_SAMPLES)
-        .map(|u| (radius_at(u), u))
-        .collect();
-    samples.sort_by(|a, b| b.0.total_cmp(&a.0));
-    // The best samples climbed to their local maxima (still radii the glyph attains).
-    let sampled = samples
-        .iter()
-        .take(PLANE_BOUND_CLIMBS)
-        .map(|&(r, u)| climb(radius_at, r, u))
-        .fold(0.0, f64::max);
+    Some(proven_bound(radius_at, crude, |radius| {
+        plane_radii_below(determinant, trace, radius)
+    }))
+}
+
+/// The first of the sampled largest `radius_at` raised by each of `PLANE_BOUND_MARGINS`
+/// that `proven` holds, below `crude`; else `crude`. The sample: `PLANE_BOUND_SAMPLES`
+/// directions, the best `PLANE_BOUND_CLIMBS` climbed to their local maxima (still radii
+/// the glyph attains).
+fn proven_bound(radius_at: impl Fn(DVec3) -> f64, crude: f64, proven: impl Fn(f64) -> bool) -> f64 {
+    let sampled = climbed_max(radius_at, PLANE_BOUND_SAMPLES, PLANE_BOUND_CLIMBS);
     PLANE_BOUND_MARGINS
         .iter()
         .map(|margin| sampled * (1.0 + margin))
         .take_while(|&radius| radius < crude)
-        .find(|&radius| plane_radii_below(determinant, trace, radius))
-        .or(Some(crude))
+        .find(|&radius| proven(radius))
+        .unwrap_or(crude)
+}
+
+/// The largest value of `f` on `samples` directions of a spherical Fibonacci lattice,
+/// the best `climbs` of them climbed to their local maxima ([`climb`]): a value `f`
+/// attains, near its maximum.
+pub(crate) fn climbed_max(f: impl Fn(DVec3) -> f64, samples: usize, climbs: usize) -> f64 {
+    let mut values: Vec<(f64, DVec3)> = super::bounds::fibonacci_sphere(samples)
+        .map(|u| (f(u), u))
+        .collect();
+    values.sort_by(|a, b| b.0.total_cmp(&a.0));
+    values
+        .iter()
+        .take(climbs)
+        .map(|&(value, u)| climb(&f, value, u))
+        .fold(0.0, f64::max)
 }
 
 /// The roots (smaller, larger) of λ² − t λ + d = 0, real for a trace and determinant
@@ -615,21 +631,9 @@ pub fn ratio_bound(
         let (smaller, larger) = quadratic_roots(trace.eval(u), determinant.eval(u));
         smaller.abs().max(larger.abs()) / denominator.eval(u)
     };
-    let mut samples: Vec<(f64, DVec3)> = super::bounds::fibonacci_sphere(PLANE_BOUND_SAMPLES)
-        .map(|u| (radius_at(u), u))
-        .collect();
-    samples.sort_by(|a, b| b.0.total_cmp(&a.0));
-    let sampled = samples
-        .iter()
-        .take(PLANE_BOUND_CLIMBS)
-        .map(|&(r, u)| climb(radius_at, r, u))
-        .fold(0.0, f64::max);
-    PLANE_BOUND_MARGINS
-        .iter()
-        .map(|margin| sampled * (1.0 + margin))
-        .take_while(|&radius| radius < crude)
-        .find(|&radius| ratio_radii_below(determinant, trace, denominator, radius))
-        .or(Some(crude))
+    Some(proven_bound(radius_at, crude, |radius| {
+        ratio_radii_below(determinant, trace, denominator, radius)
+    }))
 }
 
 /// Whether both |λ/Q| (λ² − T λ + D = 0, Q > 0 on the sphere, which [`ratio_bound`]

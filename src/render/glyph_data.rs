@@ -9,7 +9,7 @@
 use crate::error::Problem;
 use crate::glyph::bounds::{climbed_max_radius, least_abs, sizing_lattice};
 use crate::glyph::ellipsoid::Ellipsoid;
-use crate::glyph::intersect::WorldGlyph;
+use crate::glyph::intersect::{WorldGlyph, climbed_max};
 use crate::glyph::polynomial::GlyphPolynomial;
 use crate::glyph::proxy::{GlyphBounds, Sampling, glyph_bounds_with};
 use crate::glyph::sh::sh_to_tensor;
@@ -330,33 +330,14 @@ pub fn largest_radius(glyphs: &[WorldGlyph]) -> f64 {
             GlyphShape::Polynomial => {
                 climbed_max_radius(&glyph.poly, glyph.negative, sizing_lattice(), 3)
             }
-            // The largest radius found from the sizing lattice, its best points climbed
-            // (a lower bound that reaches the cone tips where a plane glyph's two
+            // The largest radius found on 200 directions, the best 8 climbed (a lower
+            // bound that reaches the cone tips where a plane or ratio glyph's two
             // surfaces touch, which a lattice misses).
             GlyphShape::RatioMin | GlyphShape::RatioMax => {
-                let radius = |u| glyph.ratio_radius(u).abs();
-                let mut samples: Vec<(f64, glam::DVec3)> =
-                    crate::glyph::bounds::fibonacci_sphere(200)
-                        .map(|u| (radius(u), u))
-                        .collect();
-                samples.sort_by(|a, b| b.0.total_cmp(&a.0));
-                samples
-                    .iter()
-                    .take(8)
-                    .map(|&(r, u)| crate::glyph::intersect::climb(radius, r, u))
-                    .fold(0.0, f64::max)
+                climbed_max(|u| glyph.ratio_radius(u).abs(), 200, 8)
             }
             GlyphShape::PlaneMin | GlyphShape::PlaneMax => {
-                let mut samples: Vec<(f64, glam::DVec3)> =
-                    crate::glyph::bounds::fibonacci_sphere(200)
-                        .map(|u| (glyph.plane_radius(u), u))
-                        .collect();
-                samples.sort_by(|a, b| b.0.total_cmp(&a.0));
-                samples
-                    .iter()
-                    .take(8)
-                    .map(|&(r, u)| crate::glyph::intersect::climb(|v| glyph.plane_radius(v), r, u))
-                    .fold(0.0, f64::max)
+                climbed_max(|u| glyph.plane_radius(u), 200, 8)
             }
         };
         largest = largest.max(glyph.scale * (radius + glyph.offset));
