@@ -161,7 +161,8 @@ class Renderer:
         """Renders a scene: a dict in the scene format, or the path of a scene file."""
         text, is_path = _scene_argument(scene)
         options.update(width=width, height=height, method=method)
-        self._native.load_scene(text, is_path, options)
+        for message in self._native.load_scene(text, is_path, options):
+            _warn(message)
         return self.render()
 
     def render_sh(

@@ -139,7 +139,8 @@ impl Renderer {
 
     /// Loads a scene in the scene format, given as JSON text, or as a file when
     /// `is_path`; `options` are the image size (`width`, `height`), `glyph` (every set's
-    /// shape) and the render options.
+    /// shape) and the render options. Returns the notes the CLI prints (shadows asked for
+    /// glyphs whose shape takes no rays).
     #[pyo3(signature = (scene, is_path, options=None))]
     fn load_scene(
         &mut self,
@@ -147,7 +148,7 @@ impl Renderer {
         scene: String,
         is_path: bool,
         options: Option<&Bound<'_, PyDict>>,
-    ) -> PyResult<()> {
+    ) -> PyResult<Vec<String>> {
         let mut kwargs = Kwargs::new(options)?;
         let image = kwargs.image_request()?;
         let shape = kwargs
@@ -176,10 +177,17 @@ impl Renderer {
             scene.image.width = image.width.unwrap_or(scene.image.width);
             scene.image.height = image.height.unwrap_or(scene.image.height);
             extras.common_scale = common_scale([&scene]);
+            let shapes = scene.glyph_sets.iter().map(|set| set.shape);
+            let notes: Vec<String> = settings
+                .shapes_without_rays_note(shapes)
+                .into_iter()
+                .collect();
             self.upload(scene, (None, None), &render, extras)
+                .map(|loaded| (loaded, notes))
         });
-        self.loaded = Some(loaded.map_err(to_py)?);
-        Ok(())
+        let (loaded, notes) = loaded.map_err(to_py)?;
+        self.loaded = Some(loaded);
+        Ok(notes)
     }
 
     /// Loads a slice (or a montage of slices) of a coefficient volume: `kind` is "sh"
@@ -237,6 +245,9 @@ impl Renderer {
             match figure {
                 VolumeFigure::View(view) => {
                     let view = *view;
+                    let shapes = view.scene.scene.glyph_sets.iter().map(|set| set.shape);
+                    let mut messages = messages;
+                    messages.0.extend(settings.shapes_without_rays_note(shapes));
                     extras.common_scale = common_scale([&view.scene.scene]);
                     let overlays = (view.underlay, view.scene.peaks);
                     let loaded = self.upload(view.scene.scene, overlays, &render, extras)?;

@@ -59,3 +59,27 @@ def test_bad_ambient_occlusion_values_name_the_keyword(scenes):
     with pytest.raises(ValueError) as caught:
         glyphcast.render_scene(scene, ambient_occlusion=True, method="affine", **SIZE)
     assert "method=exact" in str(caught.value)
+
+
+@pytest.mark.parametrize("key, value", [("shadows", True), ("ambient_occlusion", 1)])
+def test_shapes_that_take_no_rays_are_named_in_a_warning(key, value):
+    """Young's modulus is a reciprocal glyph, which takes no shadow or occlusion rays:
+    asked for them, it is drawn as without them, with a warning that names the shape
+    (the CLI's note); without them, nothing is said."""
+    import warnings
+    copper = np.array([
+        [168.4, 121.4, 121.4, 0, 0, 0],
+        [121.4, 168.4, 121.4, 0, 0, 0],
+        [121.4, 121.4, 168.4, 0, 0, 0],
+        [0, 0, 0, 75.4, 0, 0],
+        [0, 0, 0, 0, 75.4, 0],
+        [0, 0, 0, 0, 0, 75.4],
+    ])
+    size = dict(width=64, height=48)
+    with pytest.warns(UserWarning, match="shape reciprocal .*no shadows"):
+        asked, _ = glyphcast.stiffness(copper, surface="young", **{key: value}, **size)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        plain, _ = glyphcast.stiffness(copper, surface="young", **size)
+    assert np.isfinite(plain.depth).sum() > 300
+    assert np.array_equal(asked.rgba, plain.rgba)

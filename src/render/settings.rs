@@ -734,6 +734,28 @@ impl RenderSettings {
         self.shadows.enabled() || self.ambient_occlusion.enabled()
     }
 
+    /// What to tell a user who asks for shadows or ambient occlusion on glyphs whose
+    /// shape takes no rays (ellipsoids, the reciprocal, plane and ratio glyphs: drawn
+    /// without them), naming the first such shape of `shapes`; `None` when neither is
+    /// asked for or every shape takes them. The command line prints it as a note,
+    /// Python warns with it.
+    pub fn shapes_without_rays_note(
+        &self,
+        shapes: impl IntoIterator<Item = crate::glyph::GlyphShape>,
+    ) -> Option<String> {
+        if !self.casts_rays() {
+            return None;
+        }
+        let shape = shapes
+            .into_iter()
+            .find(|shape| *shape != crate::glyph::GlyphShape::Polynomial)?;
+        Some(format!(
+            "glyphs of shape {} receive and cast no shadows or ambient occlusion; they are \
+             drawn without them",
+            shape.name()
+        ))
+    }
+
     /// Worst-case number of march steps along one chord, with the centre zone's finer steps.
     pub fn max_steps(&self) -> i32 {
         let chord = 2.0 * (1.0 + self.offset);

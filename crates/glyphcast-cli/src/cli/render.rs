@@ -347,17 +347,9 @@ pub fn render(
     options.check_colorbar(&settings)?;
     options.options()?.check_method_reads(&settings)?;
     let negative = options.negative()?;
-    if settings.casts_rays()
-        && let Some(set) = scene
-            .glyph_sets
-            .iter()
-            .find(|set| set.shape != glyphcast::glyph::GlyphShape::Polynomial)
+    if let Some(note) = settings.shapes_without_rays_note(scene.glyph_sets.iter().map(|s| s.shape))
     {
-        eprintln!(
-            "note: glyphs of shape {} receive and cast no shadows or ambient occlusion; \
-             they are drawn without them",
-            set.shape.name()
-        );
+        eprintln!("note: {note}");
     }
     // Written with the image and the depth map, all or nothing.
     let scene_file = save_scene.map(|path| (path, scene.to_json()));
