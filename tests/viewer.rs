@@ -68,6 +68,12 @@ fn the_shadows_toggle_draws_what_render_shadows_draws() {
         args.extend(["--screenshot", path_str(&shot)]);
         let output = x.view(&args);
         assert_clean(&output);
+        // Polynomial glyphs take the rays: nothing to note.
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(
+            !stderr.contains("note: glyphs of shape"),
+            "{name}: {stderr}"
+        );
         let mut with_rays = size.to_vec();
         with_rays.push(flag);
         let expected = render(Path::new(&scene), &format!("{name}-render.png"), &with_rays);
@@ -77,6 +83,52 @@ fn the_shadows_toggle_draws_what_render_shadows_draws() {
             "{name}: the toggle changed nothing"
         );
     }
+}
+
+/// Young's modulus is a reciprocal glyph, which takes no shadow rays: switching shadows
+/// on says so, as `render` and Python do, and draws it as without them.
+#[test]
+fn shadows_on_a_shape_without_rays_are_noted() {
+    let Some(x) = Xvfb::start("shadows_on_a_shape_without_rays_are_noted") else {
+        return;
+    };
+    let dir = common::fresh_dir("viewer/shape-without-rays");
+    let matrix = dir.join("copper.txt");
+    std::fs::write(
+        &matrix,
+        "168.4 121.4 121.4 0 0 0\n121.4 168.4 121.4 0 0 0\n121.4 121.4 168.4 0 0 0\n\
+         0 0 0 75.4 0 0\n0 0 0 0 75.4 0\n0 0 0 0 0 75.4\n",
+    )
+    .unwrap();
+    let scene = dir.join("young.json");
+    let made = common::glyphcast(&[
+        "stiffness",
+        path_str(&matrix),
+        "--surface",
+        "young",
+        "-o",
+        path_str(&scene),
+    ]);
+    assert!(
+        made.status.success(),
+        "{}",
+        String::from_utf8_lossy(&made.stderr)
+    );
+    let size = ["--width", "160", "--height", "120"];
+    let shot = dir.join("shot.png");
+    let mut args = vec![path_str(&scene)];
+    args.extend(size);
+    args.extend(["--frames", "3", "--script", "shadows:toggle"]);
+    args.extend(["--screenshot", path_str(&shot)]);
+    let output = x.view(&args);
+    assert_clean(&output);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("note: glyphs of shape reciprocal receive and cast no shadows"),
+        "{stderr}"
+    );
+    let plain = render(&scene, "shape-without-rays-plain.png", &size);
+    assert_eq!(differing_pixels(&shot, &plain, 0).0, 0);
 }
 
 #[test]

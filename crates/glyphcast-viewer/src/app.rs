@@ -422,6 +422,14 @@ impl App {
             Action::Quit => event_loop.exit(),
             Action::Wait => {}
         }
+        // Shadows or occlusion just switched on: glyphs whose shape takes no rays are
+        // drawn without them, as `render` and Python say.
+        if !self.panels.settings().casts_rays() {
+            let shapes = self.panels.panels.iter().flat_map(|p| p.sets.iter());
+            if let Some(note) = settings.shapes_without_rays_note(shapes.map(|s| s.shape)) {
+                eprintln!("note: {note}");
+            }
+        }
         self.panels.set_settings(settings);
         self.dirty = true;
         Ok(())
