@@ -402,4 +402,25 @@ fn what_the_shear_and_poisson_surfaces_cannot_take_is_refused() {
         run(&["render", text(&scene), "-o", text(&png)]);
         std::fs::remove_file(&png).unwrap();
     }
+    // A ratio glyph whose Q vanishes on the sphere (Q = x⁴, zero along y and z) has an
+    // unbounded surface: refused, naming the glyph set, the glyph and Q.
+    let mut doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("poisson-min.json")).unwrap())
+            .unwrap();
+    let coeffs = doc["glyphs"][0]["coeffs"][0].as_array_mut().unwrap();
+    let q_first = coeffs.len() - 15;
+    for (k, c) in coeffs[q_first..].iter_mut().enumerate() {
+        *c = serde_json::json!(if k == 0 { 1.0 } else { 0.0 });
+    }
+    let vanishing = dir.join("vanishing-q.json");
+    std::fs::write(&vanishing, doc.to_string()).unwrap();
+    let png = out.join("x.png");
+    common::expect_failure(
+        &["render", text(&vanishing), "-o", text(&png)],
+        &out,
+        &[
+            "glyph set 0: glyph 0: guaranteed least Q",
+            "positive in every direction",
+        ],
+    );
 }

@@ -189,6 +189,31 @@ impl GlyphShape {
         }
     }
 
+    /// The forms of one plane or ratio glyph from its coefficients in the scene's order:
+    /// D (order 6), T (order 4) and, for a ratio glyph, Q (order 4).
+    pub fn pair_forms(
+        self,
+        coeffs: &[f64],
+    ) -> crate::Result<(
+        polynomial::GlyphPolynomial,
+        polynomial::GlyphPolynomial,
+        Option<polynomial::GlyphPolynomial>,
+    )> {
+        let form = polynomial::GlyphPolynomial::from_tensor;
+        let (d, rest) = coeffs.split_at(PLANE_LAYOUT.coefficient_count().min(coeffs.len()));
+        let (t, q) = rest.split_at(PLANE_TRACE_COEFFICIENTS.min(rest.len()));
+        let denominator = if self.is_ratio() {
+            Some(form(PLANE_TRACE_LAYOUT, q)?)
+        } else {
+            None
+        };
+        Ok((
+            form(PLANE_LAYOUT, d)?,
+            form(PLANE_TRACE_LAYOUT, t)?,
+            denominator,
+        ))
+    }
+
     /// Whether the shape can be drawn with `negative`: the ellipsoid has no negative
     /// lobes to hide, and the reciprocal glyph's f has no zeros, so no lobe ends (the
     /// scene format's `shape`/`negative` and the glyph and negative settings are refused

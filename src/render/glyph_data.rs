@@ -196,21 +196,23 @@ fn prepare_set_keeping(
         .chunks(BOUNDING_BLOCK)
         .zip(set.centers.chunks(BOUNDING_BLOCK))
         .zip(set.scales.chunks(BOUNDING_BLOCK));
+    let in_set = |error| Error::Item {
+        what: "glyph set",
+        index,
+        error: Box::new(error),
+    };
     for (block, ((coeffs, centers), scales)) in blocks.enumerate() {
-        let bounded = map_chunks(coeffs, "bounds", |c| {
-            bound_glyph(set, layout, index, c, sampling, world)
-        })?;
+        let first = block * BOUNDING_BLOCK;
+        // Each glyph with its index in the set, which an error names.
+        let numbered: Vec<(usize, &[f64])> = (first..).zip(coeffs.iter().map(|c| &c[..])).collect();
+        let bounded = map_chunks(&numbered, "bounds", |&(glyph, c)| {
+            bound_glyph(set, layout, glyph, c, sampling, world)
+        })
+        .map_err(in_set)?;
         if let Some(p) = progress {
             p.advance(coeffs.len());
         }
-        let first = block * BOUNDING_BLOCK;
-        add_bounded(&mut data, set, offset, first, centers, scales, bounded).map_err(|e| {
-            Error::Item {
-                what: "glyph set",
-                index,
-                error: Box::new(e),
-            }
-        })?;
+        add_bounded(&mut data, set, offset, first, centers, scales, bounded).map_err(in_set)?;
     }
     Ok(data)
 }
@@ -388,48 +390,73 @@ struct Bounded {
     denominator: Option<GlyphPolynomial>,
 }
 
-/// `None` for a glyph with an empty surface (zero tensor).
+/// A glyph's float64 forms: f (a plane or ratio glyph's D), T and Q where it has them.
+type Forms = (
+    GlyphPolynomial,
+    Option<GlyphPolynomial>,
+    Option<GlyphPolynomial>,
+);
+
+impl Bounded {
+    /// A glyph bounded by the sphere of `radius` about its centre, its box the cube
+    /// around that sphere; `forms` where the float64 glyphs are kept.
+    fn in_sphere(gpu_coefficients: Vec<f32>, radius: f64, forms: Option<Forms>) -> Bounded {
+        let (poly, trace, denominator) = match forms {
+            Some((poly, trace, denominator)) => (Some(poly), trace, denominator),
+            None => (None, None, None),
+        };
+        Bounded {
+            gpu_coefficients,
+            poly,
+            trace,
+            denominator,
+            bounds: GlyphBounds {
+                radius,
+                axes: [glam::DVec3::X, glam::DVec3::Y, glam::DVec3::Z],
+                extents: [radius; 3],
+            },
+        }
+    }
+}
+
+/// Glyph `glyph` of `set` bounded; an error names the glyph. `None` for a glyph with an
+/// empty surface (zero tensor).
 fn bound_glyph(
     set: &GlyphSet,
     layout: TensorLayout,
-    index: usize,
+    glyph: usize,
+    coeffs: &[f64],
+    sampling: Sampling,
+    world: WorldGlyphs,
+) -> Result<Option<Bounded>> {
+    bound_shape(set, layout, coeffs, sampling, world).map_err(|e| Error::Item {
+        what: "glyph",
+        index: glyph,
+        error: Box::new(e),
+    })
+}
+
+/// [`bound_glyph`] by the set's shape.
+fn bound_shape(
+    set: &GlyphSet,
+    layout: TensorLayout,
     coeffs: &[f64],
     sampling: Sampling,
     world: WorldGlyphs,
 ) -> Result<Option<Bounded>> {
     if set.shape == GlyphShape::Ellipsoid {
-        return bound_ellipsoid(coeffs, world).map_err(|e| Error::Item {
-            what: "glyph",
-            index,
-            error: Box::new(e),
-        });
+        return bound_ellipsoid(coeffs, world);
     }
-    let coeffs = tensor_coefficients(set, coeffs).map_err(|e| Error::Item {
-        what: "glyph",
-        index,
-        error: Box::new(e),
-    })?;
+    let coeffs = tensor_coefficients(set, coeffs)?;
     if set.shape.is_plane() {
-        return bound_plane(layout, &coeffs, world).map_err(|e| Error::Item {
-            what: "glyph",
-            index,
-            error: Box::new(e),
-        });
+        return bound_plane(&coeffs, world);
     }
     if set.shape.is_ratio() {
-        return bound_ratio(layout, &coeffs, world).map_err(|e| Error::Item {
-            what: "glyph",
-            index,
-            error: Box::new(e),
-        });
+        return bound_ratio(&coeffs, world);
     }
     let poly = GlyphPolynomial::from_tensor(layout, &coeffs)?;
     if set.shape == GlyphShape::Reciprocal {
-        return bound_reciprocal(poly, &coeffs, world).map_err(|e| Error::Item {
-            what: "glyph set",
-            index,
-            error: Box::new(e),
-        });
+        return bound_reciprocal(poly, &coeffs, world);
     }
     Ok(glyph_bounds_with(&poly, sampling)
         .filter(|b| b.radius > 0.0 && b.radius.is_finite())
@@ -448,26 +475,21 @@ fn bound_glyph(
 /// in the normalised frame q = p / B the roots B λ: D's coefficients times B², T's times
 /// B. Roots that may vanish or not be positive somewhere (an unstable crystal) are
 /// refused. `None` for a zero D.
-fn bound_plane(
-    layout: TensorLayout,
-    coeffs: &[f64],
-    world: WorldGlyphs,
-) -> Result<Option<Bounded>> {
-    let (d, t) = coeffs.split_at(layout.coefficient_count().min(coeffs.len()));
-    let determinant = GlyphPolynomial::from_tensor(layout, d)?;
-    let trace = GlyphPolynomial::from_tensor(crate::glyph::PLANE_TRACE_LAYOUT, t)?;
+fn bound_plane(coeffs: &[f64], world: WorldGlyphs) -> Result<Option<Bounded>> {
+    let (determinant, trace, _) = GlyphShape::PlaneMin.pair_forms(coeffs)?;
     if determinant.abs_coefficient_sum() == 0.0 {
         return Ok(None);
     }
     let Some(radius) = crate::glyph::intersect::plane_bound(&determinant, &trace) else {
         return Err(Error::data(
-            "least |D| over the sphere, with D and T positive (r = 1/λ of a plane glyph \
-             needs two positive roots λ in every direction)",
+            "guaranteed least |D| over the sphere, with D and T positive (r = 1/λ of a \
+             plane glyph needs two positive roots λ in every direction)",
             Problem::NotPositive {
-                value: least_abs(&determinant).map_or(0.0, |l| l.attained),
+                value: least_abs(&determinant).map_or(0.0, |l| l.lower),
             },
         ));
     };
+    let (d, t) = coeffs.split_at(determinant.coeffs.len().min(coeffs.len()));
     let gpu_coefficients = d
         .iter()
         .map(|c| c * radius * radius)
@@ -475,17 +497,11 @@ fn bound_plane(
         .map(|c| c as f32)
         .collect();
     let keep = world == WorldGlyphs::Keep;
-    Ok(Some(Bounded {
+    Ok(Some(Bounded::in_sphere(
         gpu_coefficients,
-        poly: keep.then_some(determinant),
-        trace: keep.then_some(trace),
-        denominator: None,
-        bounds: GlyphBounds {
-            radius,
-            axes: [glam::DVec3::X, glam::DVec3::Y, glam::DVec3::Z],
-            extents: [radius; 3],
-        },
-    }))
+        radius,
+        keep.then_some((determinant, Some(trace), None)),
+    )))
 }
 
 /// The ratio glyph r = |λ/Q| of D, T and Q: radius B = [`ratio_bound`], the box the
@@ -495,29 +511,31 @@ fn bound_plane(
 /// refused, with the least Q found. `None` for a zero glyph.
 ///
 /// [`ratio_bound`]: crate::glyph::intersect::ratio_bound
-fn bound_ratio(
-    layout: TensorLayout,
-    coeffs: &[f64],
-    world: WorldGlyphs,
-) -> Result<Option<Bounded>> {
-    let (d, rest) = coeffs.split_at(layout.coefficient_count().min(coeffs.len()));
-    let (t, q) = rest.split_at(rest.len() / 2);
-    let determinant = GlyphPolynomial::from_tensor(layout, d)?;
-    let trace = GlyphPolynomial::from_tensor(crate::glyph::PLANE_TRACE_LAYOUT, t)?;
-    let denominator = GlyphPolynomial::from_tensor(crate::glyph::PLANE_TRACE_LAYOUT, q)?;
+fn bound_ratio(coeffs: &[f64], world: WorldGlyphs) -> Result<Option<Bounded>> {
+    // A ratio shape's forms always hold Q.
+    let (determinant, trace, Some(denominator)) = GlyphShape::RatioMin.pair_forms(coeffs)? else {
+        return Ok(None);
+    };
     if determinant.abs_coefficient_sum() == 0.0 && trace.abs_coefficient_sum() == 0.0 {
         return Ok(None);
     }
     let Some(radius) = crate::glyph::intersect::ratio_bound(&determinant, &trace, &denominator)
     else {
         return Err(Error::data(
-            "least Q over the sphere (r = |λ/Q| of a ratio glyph needs Q positive in every \
-             direction)",
+            "guaranteed least Q over the sphere (r = |λ/Q| of a ratio glyph needs Q \
+             positive in every direction)",
             Problem::NotPositive {
-                value: least_abs(&denominator).map_or(0.0, |l| l.attained),
+                // Q where it is negative at x, else the guaranteed lower bound of |Q|
+                // (at most 0 where Q may vanish).
+                value: match denominator.eval(glam::DVec3::X) {
+                    q if q <= 0.0 => q,
+                    _ => least_abs(&denominator).map_or(0.0, |l| l.lower),
+                },
             },
         ));
     };
+    let (d, rest) = coeffs.split_at(determinant.coeffs.len().min(coeffs.len()));
+    let (t, q) = rest.split_at(trace.coeffs.len().min(rest.len()));
     let m = q.iter().fold(0.0f64, |m, c| m.max(c.abs()));
     let lambda_scale = 1.0 / (radius * m);
     let gpu_coefficients = d
@@ -528,17 +546,11 @@ fn bound_ratio(
         .map(|c| c as f32)
         .collect();
     let keep = world == WorldGlyphs::Keep;
-    Ok(Some(Bounded {
+    Ok(Some(Bounded::in_sphere(
         gpu_coefficients,
-        poly: keep.then_some(determinant),
-        trace: keep.then_some(trace),
-        denominator: keep.then_some(denominator),
-        bounds: GlyphBounds {
-            radius,
-            axes: [glam::DVec3::X, glam::DVec3::Y, glam::DVec3::Z],
-            extents: [radius; 3],
-        },
-    }))
+        radius,
+        keep.then_some((determinant, Some(trace), Some(denominator))),
+    )))
 }
 
 /// The reciprocal glyph r = 1/|f| of a tensor: radius B = 1 / (a guaranteed lower bound
@@ -562,17 +574,11 @@ fn bound_reciprocal(
         ));
     }
     let radius = 1.0 / least.lower;
-    Ok(Some(Bounded {
-        gpu_coefficients: coeffs.iter().map(|c| (c * radius) as f32).collect(),
-        poly: (world == WorldGlyphs::Keep).then_some(poly),
-        trace: None,
-        denominator: None,
-        bounds: GlyphBounds {
-            radius,
-            axes: [glam::DVec3::X, glam::DVec3::Y, glam::DVec3::Z],
-            extents: [radius; 3],
-        },
-    }))
+    Ok(Some(Bounded::in_sphere(
+        coeffs.iter().map(|c| (c * radius) as f32).collect(),
+        radius,
+        (world == WorldGlyphs::Keep).then_some((poly, None, None)),
+    )))
 }
 
 /// The ellipsoid of an order-2 tensor: `None` for one without (no positive eigenvalue).

@@ -30,21 +30,17 @@ pub fn shape_radius(kind: GlyphKind, shape: GlyphShape, coeffs: &[f64]) -> Resul
             Glyph::Sphere(radius) if radius > 0.0 => 1.0 / radius,
             Glyph::Sphere(_) => 0.0,
         }),
-        // The guaranteed bound of 1/λ (an upper bound), 0 where the roots may vanish.
-        GlyphShape::PlaneMin | GlyphShape::PlaneMax => {
-            let (d, t) = coeffs.split_at(glyphcast::glyph::PLANE_LAYOUT.coefficient_count());
-            let d = GlyphPolynomial::from_tensor(glyphcast::glyph::PLANE_LAYOUT, d)?;
-            let t = GlyphPolynomial::from_tensor(glyphcast::glyph::PLANE_TRACE_LAYOUT, t)?;
-            Ok(glyphcast::glyph::intersect::plane_bound(&d, &t).unwrap_or(0.0))
-        }
-        // The guaranteed bound of |λ/Q|, 0 where Q may vanish.
-        GlyphShape::RatioMin | GlyphShape::RatioMax => {
-            let (d, rest) = coeffs.split_at(glyphcast::glyph::PLANE_LAYOUT.coefficient_count());
-            let (t, q) = rest.split_at(rest.len() / 2);
-            let d = GlyphPolynomial::from_tensor(glyphcast::glyph::PLANE_LAYOUT, d)?;
-            let t = GlyphPolynomial::from_tensor(glyphcast::glyph::PLANE_TRACE_LAYOUT, t)?;
-            let q = GlyphPolynomial::from_tensor(glyphcast::glyph::PLANE_TRACE_LAYOUT, q)?;
-            Ok(glyphcast::glyph::intersect::ratio_bound(&d, &t, &q).unwrap_or(0.0))
+        // The guaranteed bound of 1/λ or |λ/Q|, 0 where the roots or Q may vanish.
+        GlyphShape::PlaneMin
+        | GlyphShape::PlaneMax
+        | GlyphShape::RatioMin
+        | GlyphShape::RatioMax => {
+            use glyphcast::glyph::intersect::{plane_bound, ratio_bound};
+            let bound = match shape.pair_forms(coeffs)? {
+                (d, t, Some(q)) => ratio_bound(&d, &t, &q),
+                (d, t, None) => plane_bound(&d, &t),
+            };
+            Ok(bound.unwrap_or(0.0))
         }
     }
 }
