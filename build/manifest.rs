@@ -46,34 +46,60 @@ pub fn variants() -> BTreeMap<(Symmetry, u32), Vec<RayCastMethod>> {
 }
 
 /// The shaders that no glyph function enters, one each: (table name, file in glsl/,
-/// stage).
-pub const FIXED_SHADERS: [(&str, &str, shaderc::ShaderKind); 8] = [
+/// stage, defines).
+pub const FIXED_SHADERS: [(&str, &str, shaderc::ShaderKind, &[&str]); 9] = [
     (
         "RAYCAST_VERTEX",
         "raycast.vert",
         shaderc::ShaderKind::Vertex,
+        &[],
     ),
     (
         "IMPOSTOR_FRAGMENT",
         "impostor.frag",
         shaderc::ShaderKind::Fragment,
+        &[],
     ),
-    ("MESH_VERTEX", "mesh.vert", shaderc::ShaderKind::Vertex),
-    ("MESH_FRAGMENT", "mesh.frag", shaderc::ShaderKind::Fragment),
+    ("MESH_VERTEX", "mesh.vert", shaderc::ShaderKind::Vertex, &[]),
+    (
+        "MESH_FRAGMENT",
+        "mesh.frag",
+        shaderc::ShaderKind::Fragment,
+        &[],
+    ),
     (
         "UNDERLAY_VERTEX",
         "underlay.vert",
         shaderc::ShaderKind::Vertex,
+        &[],
     ),
     (
         "UNDERLAY_FRAGMENT",
         "underlay.frag",
         shaderc::ShaderKind::Fragment,
+        &[],
     ),
-    ("PEAKS_VERTEX", "peaks.vert", shaderc::ShaderKind::Vertex),
+    // The underlay's planes drawn again to receive a batch's shadows (the exact
+    // method's receiver fragment shader, src/render/underlay_shadows.rs).
+    (
+        "UNDERLAY_RECEIVER_VERTEX",
+        "underlay.vert",
+        shaderc::ShaderKind::Vertex,
+        &[RECEIVER_DEFINE],
+    ),
+    (
+        "PEAKS_VERTEX",
+        "peaks.vert",
+        shaderc::ShaderKind::Vertex,
+        &[],
+    ),
     (
         "PEAKS_FRAGMENT",
         "peaks.frag",
         shaderc::ShaderKind::Fragment,
+        &[],
     ),
 ];
+
+/// The define of the shaders that draw the underlay receiving a batch's shadows.
+pub const RECEIVER_DEFINE: &str = "GLYPHCAST_RECEIVER";

@@ -14,6 +14,9 @@
 #include "shading.glsl"
 #include "glyph_ray.glsl"
 
+#ifndef GLYPHCAST_RECEIVER
+// (The underlay's shadow receiver, raycast_exact.frag's GLYPHCAST_RECEIVER variant,
+// draws the underlay's planes: it has no glyph's inputs, and no depth of its own.)
 // Declared only where it is read: the vertex variant of exact and fixed does not write
 // it (unoptimised SPIR-V keeps every declared input, and an input no stage writes is a
 // validation error).
@@ -29,11 +32,13 @@ layout(location = 3) flat in vec3 v_box_extent;    // in units of v_center_radiu
 // set up once per triangle. 4 + GLYPH_COEFF_VEC4S locations (27 at order 12).
 const int GLYPH_COEFF_VEC4S = (GLYPH_MONOMIALS + 3) / 4;
 layout(location = 4) flat in vec4 v_coeffs[GLYPH_COEFF_VEC4S];
+#endif
 
 layout(location = 0) out vec4 out_color;
 #ifndef GLYPHCAST_NO_DISTANCE  // build.rs: the variant for a colour attachment only
 layout(location = 1) out float out_distance;
 #endif
+#ifndef GLYPHCAST_RECEIVER
 layout(depth_less) out float gl_FragDepth;  // reversed depth: hits lie behind the proxy
 
 // glyph_c of this fragment's glyph (glyph_load of the vertex shader, multiplicities
@@ -55,6 +60,8 @@ bool glyph_ray_within(float radius, out GlyphRay ray) {
 bool glyph_ray(out GlyphRay ray) {
     return glyph_ray_within(1.0 + frame.march.w, ray);
 }
+
+#endif
 
 // Refines a bracket [s0, s1] with g(s0) <= 0 < g(s1) along q(s) = mid + s * dir.
 float refine(vec3 mid, vec3 dir, float s0, float g0, float s1, float g1) {
@@ -89,6 +96,7 @@ float refine(vec3 mid, vec3 dir, float s0, float g0, float s1, float g1) {
     return s1;
 }
 
+#ifndef GLYPHCAST_RECEIVER
 // Colour, depth and ray distance of the hit at q(s_hit), lit by the share `visibility`
 // of the light, to the fragment's outputs.
 void shade_hit_visible(GlyphRay ray, float s_hit, float visibility) {
@@ -107,3 +115,4 @@ void shade_hit_visible(GlyphRay ray, float s_hit, float visibility) {
 void shade_hit(GlyphRay ray, float s_hit) {
     shade_hit_visible(ray, s_hit, 1.0);
 }
+#endif

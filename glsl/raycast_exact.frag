@@ -62,6 +62,53 @@
 // Without --shadows the shader below the #else runs, untouched by shadows.
 #include "shadow.glsl"
 
+#ifdef GLYPHCAST_RECEIVER
+// The underlay receiving the batch's shadows (src/render/underlay_shadows.rs): drawn over
+// each underlay plane after the glyphs, where the plane is what the pixel shows (depth
+// tested EQUAL). From the plane's point the same rays as from a glyph's hit are cast,
+// with the batch's mean bounding radius for the hit glyph's; the plane is a matte
+// surface facing the light whose colour in full light is the underlay's: it keeps
+// ambient * (occlusion share) + (1 - ambient) * (lit share) of it. The pass blends by
+// MIN, so that where batches overlap the darkest share holds. A pixel that loses nothing
+// is discarded.
+#define UNDERLAY_SET 1
+#include "underlay.glsl"
+
+layout(location = 0) in vec3 v_voxel;
+layout(location = 1) in vec3 v_world;
+layout(location = 2) flat in vec3 v_normal;
+
+void main() {
+    vec3 rgb;
+    if (!underlay_rgb(v_voxel, rgb)) {
+        discard;
+    }
+    vec3 origin;
+    vec3 dir;
+    pixel_ray(origin, dir);
+    init_binomials();
+    shadow_begin_at(v_world, facing_normal(normalize(v_normal), -dir), shadow_grid.lo.w);
+    GlyphRay ray;
+    for (int pass = 0; pass < SHADOW_ISOLATIONS; ++pass) {
+        if (!shadow_next_glyph(ray)) {
+            break;
+        }
+        float h = ray.half_chord;
+        ray_polynomial(ray.mid, h * ray.dir);
+        shadow_ray_only = true;
+        float tau;
+        if (first_crossing(ray.mid, h * ray.dir, ray.s_start / h, ray.s_end / h, tau)) {
+            shadow_ray_blocked();
+        }
+    }
+    float ambient = frame.shading.x;
+    float share = ambient * shadow_ambient_visibility() + (1.0 - ambient) * shadow_visibility();
+    if (share >= 1.0) {
+        discard;
+    }
+    out_color = vec4(rgb * share, 1.0);
+}
+#else
 void main() {
     GlyphRay camera;
     if (!glyph_ray_within(CHORD_RADIUS, camera)) {
@@ -96,6 +143,7 @@ void main() {
     glyph_load_inputs();  // the shadow rays loaded the glyphs they met
     shade_hit_visible(camera, s_hit, visibility);
 }
+#endif
 #else
 void main() {
     GlyphRay ray;

@@ -40,7 +40,8 @@ layout(std430, set = 0, binding = 3) readonly buffer ShadowBoxes {
     vec4 shadow_boxes[];      // per glyph: rotation (box to world), half extents
 };
 layout(std430, set = 0, binding = 4) readonly buffer ShadowCells {
-    vec4 lo;                  // xyz: the grid's lowest corner
+    vec4 lo;                  // xyz: the grid's lowest corner; w: the glyphs' mean
+                              // bounding radius
     vec4 cell;                // xyz: a cell's edges
     ivec4 dims;               // xyz: cells along each axis
     uvec2 ranges[];           // per cell, x fastest: first entry, count
@@ -153,17 +154,14 @@ bool shadow_start_ray() {
     return true;
 }
 
-// Sets up the shadow rays of the hit at q(s_hit) of the camera's ray through the loaded
-// glyph.
-void shadow_begin(GlyphRay camera, float s_hit) {
-    float len;
-    vec3 q_dir;
-    float f;
-    vec3 normal = surface_normal(camera.mid + s_hit * camera.dir, len, q_dir, f);
-    shadow_normal = facing_normal(normal, -camera.dir);
-    shadow_hit = camera.origin + (camera.t_mid + s_hit) * camera.rho * camera.dir;
-    // frame.shadow.w bounding radii of the hit glyph.
-    shadow_offset = frame.shadow.w * camera.rho * (1.0 + frame.march.w);
+// Sets up the rays cast from the point `hit` whose unit normal, turned towards the
+// viewer, is `normal`; `radius` (world units) scales where they start and how far the
+// occlusion rays reach: the hit glyph's bounding radius, or for the underlay the batch's
+// mean one.
+void shadow_begin_at(vec3 hit, vec3 normal, float radius) {
+    shadow_normal = normal;
+    shadow_hit = hit;
+    shadow_offset = frame.shadow.w * radius;
     shadow_rays = int(frame.shadow.y);
     shadow_u = shadow_perpendicular(frame.light.xyz);
     shadow_v = cross(frame.light.xyz, shadow_u);
@@ -175,11 +173,23 @@ void shadow_begin(GlyphRay camera, float s_hit) {
     }
     shadow_blocked = 0;
     shadow_ambient_rays = frame.shadow.x > 0.0 ? AMBIENT_RAYS : 0;
-    shadow_reach = frame.shadow.x * camera.rho;
+    shadow_reach = frame.shadow.x * radius;
     shadow_ambient_blocked = 0;
     shadow_sample = -1;
     shadow_active = false;
     shadow_steps_left = SHADOW_STEPS;
+}
+
+// Sets up the shadow rays of the hit at q(s_hit) of the camera's ray through the loaded
+// glyph.
+void shadow_begin(GlyphRay camera, float s_hit) {
+    float len;
+    vec3 q_dir;
+    float f;
+    vec3 normal = surface_normal(camera.mid + s_hit * camera.dir, len, q_dir, f);
+    vec3 hit = camera.origin + (camera.t_mid + s_hit) * camera.rho * camera.dir;
+    // The hit glyph's bounding radius.
+    shadow_begin_at(hit, facing_normal(normal, -camera.dir), camera.rho * (1.0 + frame.march.w));
 }
 
 // The next glyph whose box the ray being walked enters, loaded, with that ray in its

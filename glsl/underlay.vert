@@ -4,15 +4,27 @@
 // made from gl_VertexIndex (no vertex buffer), into the glyphs' depth buffer. The
 // underlay's voxel coordinate is an affine function of the world point, so it is
 // computed per corner and interpolated (perspective-correct, hence exact up to rounding).
+#ifdef GLYPHCAST_RECEIVER
+// The underlay's shadow receiver (raycast_exact.frag's GLYPHCAST_RECEIVER variant): the
+// underlay's blocks are set 1 (set 0 is the glyph batch's), and the push range starts
+// with the batch's word (frame.glsl GlyphSetParams), so the plane follows at 16. The
+// position is computed as the underlay's own draw computes it (invariant), so that the
+// receiver's EQUAL depth test passes exactly where the plane was drawn.
+#define UNDERLAY_SET 1
+#define PLANE_OFFSET layout(offset = 16)
+#else
+#define UNDERLAY_SET 0
+#define PLANE_OFFSET
+#endif
 // A storage buffer, as the frame block (frame.glsl says why).
-layout(std430, set = 0, binding = 0) readonly buffer UnderlayParams {
+layout(std430, set = UNDERLAY_SET, binding = 0) readonly buffer UnderlayParams {
     mat4 world_to_voxel;  // world point to the underlay's voxel coordinates (i, j, k)
     ivec4 dims;           // xyz: voxels along i, j, k; w: channels (1 grey, 3 RGB)
     vec4 window;          // x: the window's low end, y: 1 / (high - low)
 } underlay;
 
 layout(push_constant) uniform Plane {
-    mat4 view_proj;       // the glyph pass's FrameParams.view_proj
+    PLANE_OFFSET mat4 view_proj;  // the glyph pass's FrameParams.view_proj
     vec4 origin;          // xyz: a corner of the plane, world space
     vec4 u;               // xyz: the edge from it along s
     vec4 v;               // xyz: the edge from it along t
@@ -21,6 +33,11 @@ layout(push_constant) uniform Plane {
 } plane;
 
 layout(location = 0) out vec3 v_voxel;
+#ifdef GLYPHCAST_RECEIVER
+layout(location = 1) out vec3 v_world;
+layout(location = 2) flat out vec3 v_normal;  // the plane's, not normalised
+#endif
+invariant gl_Position;
 
 const vec2 CORNERS[6] = vec2[6](
     vec2(0.0, 0.0), vec2(1.0, 0.0), vec2(1.0, 1.0),
@@ -33,4 +50,8 @@ void main() {
     vec3 offset = vec3(plane.origin.w, plane.u.w, plane.v.w);
     v_voxel = (underlay.world_to_voxel * vec4(world - offset, 1.0)).xyz;
     gl_Position = plane.view_proj * vec4(world, 1.0);
+#ifdef GLYPHCAST_RECEIVER
+    v_world = world;
+    v_normal = cross(plane.u.xyz, plane.v.xyz);
+#endif
 }

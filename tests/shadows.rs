@@ -13,6 +13,7 @@ use glyphcast::io::png::read_png_rgba8;
 use glyphcast::render::glyph_data::{GlyphSetData, prepare_scene};
 use glyphcast::render::headless::{HeadlessRenderer, RenderedImage};
 use glyphcast::render::settings::{Lighting, srgb_to_linear};
+use glyphcast::render::underlay::{Underlay, UnderlayPlane, UnderlayVolume};
 use glyphcast::render::{AmbientOcclusion, ColorMode, Method, RenderSettings, Shadows};
 use glyphcast::scene::Scene;
 
@@ -100,7 +101,9 @@ fn render_pair(
     light: DVec3,
     shadows: Shadows,
 ) -> (Vec<GlyphSetData>, RenderedImage, RenderedImage) {
-    render_changed(gpu, renderer, scene, light, 0.0, |s| s.shadows = shadows)
+    render_changed(gpu, renderer, (scene, None), light, 0.0, |s| {
+        s.shadows = shadows
+    })
 }
 
 /// The scene's glyphs, and the scene drawn with the test's settings (`ambient` their
@@ -110,14 +113,14 @@ fn render_pair(
 fn render_changed(
     gpu: &glyphcast::vk::Gpu,
     renderer: &mut HeadlessRenderer,
-    scene: &Scene,
+    (scene, underlay): (&Scene, Option<&Underlay>),
     light: DVec3,
     ambient: f32,
     change: impl Fn(&mut RenderSettings),
 ) -> (Vec<GlyphSetData>, RenderedImage, RenderedImage) {
     let sets = prepare_scene(scene, 0.0).expect("preparing");
     let (w, h) = (scene.image.width, scene.image.height);
-    let view = glyphcast::FrameView::new(&scene.camera, w, h);
+    let view = glyphcast::FrameView::new(&scene.camera, w, h).with_underlay(underlay);
     let mut base = settings(&scene.camera, light, Shadows::Off);
     if ambient > 0.0 {
         // A strong ambient term and no highlight, so that no channel saturates.
@@ -379,9 +382,10 @@ fn ambient_occlusion_matches_the_float64_share() {
         ("fibre-field", fibre_field(128), 0.5),
     ] {
         let occlusion = AmbientOcclusion::On { reach };
-        let (sets, off, on) = render_changed(&gpu, &mut renderer, &scene, light, ambient, |s| {
-            s.ambient_occlusion = occlusion;
-        });
+        let (sets, off, on) =
+            render_changed(&gpu, &mut renderer, (&scene, None), light, ambient, |s| {
+                s.ambient_occlusion = occlusion;
+            });
         save(&format!("ambient-occlusion-{name}"), &on);
         // The scene too, for the guide's picture (docs/guide/shadows.md).
         let scene_file = common::output_dir().join(format!("ambient-occlusion-{name}.json"));
@@ -425,6 +429,137 @@ fn ambient_occlusion_matches_the_float64_share() {
         );
         let brighter = (0..w * h * 4).filter(|&c| on.rgba[c] > off.rgba[c]).count();
         assert_eq!(brighter, 0, "{name}: channels brightened");
+    }
+}
+
+/// A grey underlay plane at height `z` under the fibre field: 16 x 16 voxels of a smooth
+/// field (no NaN), window 0 to 100.
+fn underlay_below(z: f64) -> Underlay {
+    let dims = [16, 16, 1];
+    let values = (0..16 * 16)
+        .map(|n| {
+            let (i, j) = (f64::from(n % 16), f64::from(n / 16));
+            (45.0 + 25.0 * (0.7 * i).sin() + 20.0 * (0.5 * j).cos()) as f32
+        })
+        .collect();
+    let affine = glam::DMat4::from_scale_rotation_translation(
+        DVec3::new(0.25, 0.25, 1.0),
+        glam::DQuat::IDENTITY,
+        DVec3::new(-1.875, -1.875, z),
+    );
+    let mut volume = UnderlayVolume::new("ramp", dims, 1, values, affine).expect("volume");
+    volume.set_window(0.0, 100.0).expect("window");
+    Underlay {
+        volume: std::sync::Arc::new(volume),
+        planes: vec![UnderlayPlane {
+            origin: DVec3::new(-1.9, -1.9, z),
+            u: DVec3::new(3.8, 0.0, 0.0),
+            v: DVec3::new(0.0, 3.8, 0.0),
+            sample_offset: DVec3::ZERO,
+        }],
+    }
+}
+
+/// Shadows and occlusion fall on the underlay: under the fibre field lit from the side,
+/// every underlay pixel away from shadow edges keeps the share of its colour that the
+/// float64 reference gives it (ambient * occlusion share + (1 - ambient) * lit share,
+/// the plane a matte surface facing the light), within the 8-bit rounding; unshadowed
+/// pixels keep their colour bit for bit, no channel brightens and the depth map does not
+/// change.
+#[test]
+fn the_underlay_receives_shadows_and_occlusion() {
+    let gpu = common::gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    let (scene, light) = fibre_field(128);
+    let underlay = underlay_below(-0.55);
+    let plane = &underlay.planes[0];
+    let normal = plane.u.cross(plane.v).normalize();
+    let ambient = 0.4;
+    for (name, shadows, reach) in [
+        ("hard", Shadows::Hard, None),
+        ("occlusion", Shadows::Off, Some(1.0f32)),
+    ] {
+        let (sets, off, on) = render_changed(
+            &gpu,
+            &mut renderer,
+            (&scene, Some(&underlay)),
+            light,
+            ambient,
+            |s| {
+                s.shadows = shadows;
+                if let Some(reach) = reach {
+                    s.ambient_occlusion = AmbientOcclusion::On { reach };
+                }
+            },
+        );
+        save(&format!("underlay-shadows-{name}-off"), &off);
+        save(&format!("underlay-shadows-{name}"), &on);
+        let (w, h) = (scene.image.width as usize, scene.image.height as usize);
+        let glyphs = glyphs_of(&sets);
+        // Without shadows no ray goes towards the light.
+        let rays = u32::from(shadows == Shadows::Hard);
+        let lighting = (light.normalize(), rays, 0.0);
+        // One occlusion ray's step of the share, or any step of the hard shadows.
+        let step = reach.map_or(0.0, |_| f64::from(ambient) / 16.0);
+        // Per pixel: the share of an underlay pixel (the plane nearer than every glyph).
+        let mut reference = Vec::with_capacity(w * h);
+        for j in 0..h as u32 {
+            for i in 0..w as u32 {
+                let ray = scene.camera.ray(i, j, w as u32, h as u32);
+                let on_plane = plane.intersect(&ray).filter(|&t| {
+                    underlay.volume.shade(ray.origin + t * ray.dir).is_some()
+                        && glyphs
+                            .iter()
+                            .all(|g| first_hit(&ray, g).is_none_or(|u| u > t))
+                });
+                reference.push(on_plane.map(|t| {
+                    let point = ray.origin + t * ray.dir;
+                    let reach = reach.map(f64::from);
+                    let ambient = f64::from(ambient);
+                    shadow::plane_share(point, normal, ray.dir, lighting, reach, ambient, &glyphs)
+                }));
+            }
+        }
+        let (mut compared, mut darkened, mut wrong) = (0, 0, Vec::new());
+        for j in 1..h - 1 {
+            for i in 1..w - 1 {
+                let k = j * w + i;
+                let Some((lo, hi)) = neighbour_range(|n| reference[n], w, i, j) else {
+                    continue;
+                };
+                if hi - lo > 2.0 * step + 1e-9 {
+                    continue;
+                }
+                compared += 1;
+                if lo >= 1.0 {
+                    if off.rgba[4 * k..4 * k + 4] != on.rgba[4 * k..4 * k + 4] {
+                        wrong.push((i, j, 4, f64::from(on.rgba[4 * k]), 1.0, 1.0));
+                    }
+                    continue;
+                }
+                darkened += 1;
+                // The colour's share: full * (1 - (1 - share)).
+                let term = |_: usize, full: f64| full;
+                for (c, got, low, high) in share_mismatches(&off, &on, k, (lo, hi), term) {
+                    wrong.push((i, j, c, got, low, high));
+                }
+            }
+        }
+        eprintln!(
+            "underlay, {name}: {compared} pixels, {darkened} darkened, {} wrong",
+            wrong.len()
+        );
+        assert!(
+            wrong.is_empty(),
+            "underlay, {name}: {:?}",
+            &wrong[..wrong.len().min(20)]
+        );
+        assert!(
+            compared > 2000 && darkened >= 300,
+            "underlay, {name}: {compared} compared, {darkened} darkened"
+        );
+        let brighter = (0..w * h * 4).filter(|&c| on.rgba[c] > off.rgba[c]).count();
+        assert_eq!(brighter, 0, "underlay, {name}: channels brightened");
     }
 }
 

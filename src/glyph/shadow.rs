@@ -61,8 +61,21 @@ pub fn visibility(
     glyphs: &[WorldGlyph],
 ) -> f64 {
     let n = facing_normal(glyph, hit, view_dir);
-    let (u, v) = perpendiculars(light);
     let offset = SHADOW_RAY_OFFSET * glyph.world_radius();
+    visibility_at(hit, n, offset, (light, rays, tan_radius), glyphs)
+}
+
+/// The share of the light (`light`: unit direction towards it, rays, tan of its angular
+/// radius, as in [`visibility`]) that reaches the point `hit` whose unit normal, turned
+/// towards the viewer, is `n`, its rays starting `offset` beyond it.
+fn visibility_at(
+    hit: DVec3,
+    n: DVec3,
+    offset: f64,
+    (light, rays, tan_radius): (DVec3, u32, f64),
+    glyphs: &[WorldGlyph],
+) -> f64 {
+    let (u, v) = perpendiculars(light);
     let (mut cast, mut lit) = (0u32, 0u32);
     for k in 0..rays {
         let dir = if rays > 1 {
@@ -84,6 +97,41 @@ pub fn visibility(
     } else {
         f64::from(lit) / f64::from(cast)
     }
+}
+
+/// The mean bounding radius of `glyphs`: what the underlay's rays take for the hit
+/// glyph's radius (where they start, how far occlusion reaches).
+pub fn mean_radius(glyphs: &[WorldGlyph]) -> f64 {
+    glyphs.iter().map(WorldGlyph::world_radius).sum::<f64>() / glyphs.len().max(1) as f64
+}
+
+/// The light a point of an underlay plane receives among `glyphs`, as a share of the
+/// underlay's colour: ambient * (occlusion share) + (1 - ambient) * (lit share), the
+/// plane a matte surface facing the light. `point` lies on the plane of unit normal
+/// `normal` (either side), seen along the unit `view_dir`; `light` is the light's unit
+/// direction, rays and tan of its angular radius (as in [`visibility`]); `reach` is the
+/// occlusion rays' reach in units of [`mean_radius`] (None: no occlusion), `ambient`
+/// the ambient term. The rays start and reach as from a glyph of the mean radius.
+pub fn plane_share(
+    point: DVec3,
+    normal: DVec3,
+    view_dir: DVec3,
+    light: (DVec3, u32, f64),
+    reach: Option<f64>,
+    ambient: f64,
+    glyphs: &[WorldGlyph],
+) -> f64 {
+    let n = if normal.dot(-view_dir) < 0.0 {
+        -normal
+    } else {
+        normal
+    };
+    let radius = mean_radius(glyphs);
+    let lit = visibility_at(point, n, SHADOW_RAY_OFFSET * radius, light, glyphs);
+    let open = reach.map_or(1.0, |reach| {
+        ambient_share_at(point, n, radius, reach, glyphs)
+    });
+    ambient * open + (1.0 - ambient) * lit
 }
 
 /// Occlusion rays per hit (`--ambient-occlusion`): 4 rings of 4 over the hemisphere
@@ -123,7 +171,12 @@ pub fn ambient_share(
     glyphs: &[WorldGlyph],
 ) -> f64 {
     let n = facing_normal(glyph, hit, view_dir);
-    let radius = glyph.world_radius();
+    ambient_share_at(hit, n, glyph.world_radius(), reach, glyphs)
+}
+
+/// [`ambient_share`] of the point `hit` whose unit normal, turned towards the viewer, is
+/// `n`, with `radius` for the hit glyph's bounding radius.
+fn ambient_share_at(hit: DVec3, n: DVec3, radius: f64, reach: f64, glyphs: &[WorldGlyph]) -> f64 {
     let rays = AMBIENT_OCCLUSION_RAYS;
     let open = (0..rays)
         .filter(|&k| {

@@ -47,7 +47,7 @@ pub struct RendererDesc {
 /// Glyphs uploaded once and shared by every frame in flight, with one frame block per
 /// frame index.
 pub struct UploadedGlyphs {
-    gpu: SceneGpu,
+    pub(crate) gpu: SceneGpu,
     /// The method the sets' pipelines were made for.
     method: crate::render::Method,
     /// The largest glyph radius: the top of the magnitude colour range.

@@ -23,6 +23,7 @@ use crate::render::settings::RenderSettings;
 use crate::render::underlay::{
     Underlay, UnderlayGpu, UnderlayPass, UnderlayPlane, extent_with_planes,
 };
+use crate::render::underlay_shadows::UnderlayShadowPass;
 use crate::render::{Method, RenderPath};
 use crate::vk::recording::{
     COLOR_OUTPUT, COPY_READ, DEPTH_TESTS, NOTHING, cleared_color_attachment, color_image_copy,
@@ -169,6 +170,8 @@ pub struct HeadlessRenderer {
     /// Made on first use: most renders have no underlay and no peaks, and each pass's
     /// pipeline costs a few milliseconds to create.
     underlay: Option<UnderlayPass>,
+    /// The underlay receiving shadows, made on first use too.
+    underlay_shadows: Option<UnderlayShadowPass>,
     peaks: Option<PeaksPass>,
     commands: OneShot,
     timer: Option<GpuTimer>,
@@ -189,6 +192,7 @@ impl HeadlessRenderer {
             mesh: MeshPass::new(gpu.context(), FORMATS)?,
             compute: ComputeRayCastPass::new(gpu.context())?,
             underlay: None,
+            underlay_shadows: None,
             peaks: None,
             commands: OneShot::new(gpu)?,
             timer: GpuTimer::new(gpu)?,
@@ -369,6 +373,22 @@ impl HeadlessRenderer {
                 Ok((on_gpu, u.planes.clone()))
             })
             .transpose()?;
+        // Shadows and occlusion fall on the underlay too.
+        if let (Some(_), GlyphsOnGpu::RayCast(glyphs)) = (&underlay, &scene)
+            && glyphs.gpu.shadows
+        {
+            let pass = match &mut self.underlay_shadows {
+                Some(pass) => pass,
+                None => self.underlay_shadows.insert(UnderlayShadowPass::new(
+                    gpu.context(),
+                    TargetFormats {
+                        distance: None,
+                        ..FORMATS
+                    },
+                )?),
+            };
+            pass.prepare(&glyphs.gpu)?;
+        }
         let peaks_gpu = match peaks {
             Some(p) => {
                 let pass = match &mut self.peaks {
@@ -396,7 +416,7 @@ impl HeadlessRenderer {
             &self.glyphs,
             &mut self.mesh,
             &mut self.compute,
-            self.underlay.as_ref(),
+            (self.underlay.as_ref(), self.underlay_shadows.as_ref()),
             self.peaks.as_ref(),
         );
         let timer = self.timer.as_ref();
@@ -487,12 +507,12 @@ type Passes<'a> = (
     &'a GlyphRenderer,
     &'a mut MeshPass,
     &'a mut ComputeRayCastPass,
-    Option<&'a UnderlayPass>,
+    (Option<&'a UnderlayPass>, Option<&'a UnderlayShadowPass>),
     Option<&'a PeaksPass>,
 );
 
 fn record_frame(
-    (glyphs, mesh, compute, underlay, peaks): Passes,
+    (glyphs, mesh, compute, (underlay, underlay_shadows), peaks): Passes,
     timer: Option<&GpuTimer>,
     gpu: &Gpu,
     cmd: vk::CommandBuffer,
@@ -513,7 +533,11 @@ fn record_frame(
         // -1: no glyph along the ray (read back as NaN).
         cleared_color_attachment(targets.distance.view, [-1.0, 0.0, 0.0, 0.0]),
     ];
-    let depth_attachment = crate::vk::cleared_depth_attachment(targets.depth.view);
+    let mut depth_attachment = crate::vk::cleared_depth_attachment(targets.depth.view);
+    if frame.underlay.is_some() {
+        // Kept for the underlay's shadows, drawn in a second rendering.
+        depth_attachment = depth_attachment.store_op(vk::AttachmentStoreOp::STORE);
+    }
     let rendering = vk::RenderingInfo::default()
         .render_area(extent.into())
         .layer_count(1)
@@ -535,11 +559,62 @@ fn record_frame(
     }
     // SAFETY: as above.
     unsafe { d.cmd_end_rendering(cmd) };
+    // The underlay's planes again, darkened by the shadows of the glyphs drawn before:
+    // in a rendering of the colour and depth attachments only (a pipeline that blends
+    // one attachment and not another needs the independentBlend feature).
+    if let (Some((volume, planes)), GlyphsOnGpu::RayCast(on_gpu), Some(receiver)) =
+        (&frame.underlay, &frame.scene, underlay_shadows)
+    {
+        let color = [loaded_attachment(
+            targets.color.view,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+        )];
+        let depth = loaded_attachment(
+            targets.depth.view,
+            vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+        );
+        let rendering = vk::RenderingInfo::default()
+            .render_area(extent.into())
+            .layer_count(1)
+            .color_attachments(&color)
+            .depth_attachment(&depth);
+        let written = vk::MemoryBarrier2::default()
+            .src_stage_mask(COLOR_OUTPUT.0 | DEPTH_TESTS.0)
+            .src_access_mask(COLOR_OUTPUT.1 | DEPTH_TESTS.1)
+            .dst_stage_mask(COLOR_OUTPUT.0 | DEPTH_TESTS.0)
+            .dst_access_mask(
+                COLOR_OUTPUT.1 | vk::AccessFlags2::COLOR_ATTACHMENT_READ | DEPTH_TESTS.1,
+            );
+        // SAFETY: as above.
+        unsafe {
+            d.cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default().memory_barriers(&[written]),
+            );
+            d.cmd_begin_rendering(cmd, &rendering);
+        }
+        let recorded = receiver.record(cmd, &on_gpu.gpu, (volume, planes), frame.view_proj, extent);
+        // SAFETY: as above.
+        unsafe { d.cmd_end_rendering(cmd) };
+        recorded?;
+    }
     if let Some(timer) = timer {
         timer.stop(cmd);
     }
     copy_targets_to_host(d, cmd, targets, extent);
     Ok(())
+}
+
+/// An attachment whose contents a second rendering loads and keeps.
+fn loaded_attachment(
+    view: vk::ImageView,
+    layout: vk::ImageLayout,
+) -> vk::RenderingAttachmentInfo<'static> {
+    vk::RenderingAttachmentInfo::default()
+        .image_view(view)
+        .image_layout(layout)
+        .load_op(vk::AttachmentLoadOp::LOAD)
+        .store_op(vk::AttachmentStoreOp::STORE)
 }
 
 /// The depth range of a frame: the glyphs', widened to the underlay's planes and the

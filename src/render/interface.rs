@@ -293,3 +293,73 @@ fn the_underlay_shaders_read_the_blocks_its_pass_writes() {
     }
     assert_eq!((params_seen, values_seen, push_seen), (2, 1, 1));
 }
+
+#[test]
+fn the_underlay_receivers_read_the_batch_and_the_underlay_as_their_pass_binds_them() {
+    use crate::render::shaders::UNDERLAY_RECEIVER_VERTEX;
+    use crate::render::underlay_shadows::ReceiverPush;
+    let params = offsets!(UnderlayParams: world_to_voxel, dims, window);
+    // The plane follows the batch's word at byte 16.
+    let plane = offset_of!(ReceiverPush, plane) as u32;
+    assert_eq!(plane, 16);
+    assert_eq!(
+        size_of::<ReceiverPush>(),
+        128,
+        "the 128 bytes every device offers"
+    );
+    let push: Vec<u32> = offsets!(PlanePush: view_proj, origin, u, v)
+        .into_iter()
+        .map(|o| o + plane)
+        .collect();
+    let vertex = blocks(UNDERLAY_RECEIVER_VERTEX);
+    let mut read: Vec<_> = vertex
+        .iter()
+        .map(|b| (b.storage_class, b.set, b.binding, b.offsets.clone()))
+        .collect();
+    read.sort();
+    assert_eq!(
+        read,
+        [
+            (PUSH_CONSTANT, None, None, push),
+            (
+                STORAGE_BUFFER,
+                Some(1),
+                Some(PARAMS_BINDING),
+                params.clone()
+            ),
+        ],
+        "the receiver's vertex shader"
+    );
+    let mut receivers = 0;
+    for shader in RAYCAST_SHADERS {
+        let Some(spirv) = shader.receiver_fragment else {
+            continue;
+        };
+        let what = format!("{:?} receiver", shader.layout);
+        let (others, frame) = check_frame(&what, spirv);
+        assert!(frame, "{what}: reads the frame block");
+        let mut seen = Vec::new();
+        for block in others {
+            match (block.storage_class, block.set, block.binding) {
+                (PUSH_CONSTANT, _, _) => assert_eq!(block.offsets, [0], "{what}"),
+                (STORAGE_BUFFER, Some(1), Some(PARAMS_BINDING)) => {
+                    assert_eq!(block.offsets, params, "{what}: UnderlayParams");
+                    seen.push((1, PARAMS_BINDING));
+                }
+                (STORAGE_BUFFER, Some(set), Some(binding)) => seen.push((set, binding)),
+                other => panic!("{what}: unexpected block {other:?}"),
+            }
+        }
+        seen.sort();
+        let mut expected = vec![(0, COEFFICIENTS_BINDING)];
+        expected.extend(SHADOW_BINDINGS.map(|b| (0, b)));
+        expected.extend([(1, PARAMS_BINDING), (1, VALUES_BINDING)]);
+        assert_eq!(seen, expected, "{what}: the bindings it reads");
+        receivers += 1;
+    }
+    let exact = RAYCAST_SHADERS
+        .iter()
+        .filter(|s| s.method == Method::Exact)
+        .count();
+    assert_eq!(receivers, exact, "every exact variant has a receiver");
+}

@@ -187,6 +187,22 @@ pub(crate) const COEFFICIENTS_BINDING: u32 = 1;
 /// the grid's entries ([`ShadowGrid`]).
 pub(crate) const SHADOW_BINDINGS: [u32; 4] = [2, 3, 4, 5];
 
+/// The bindings of a glyph batch's descriptor set: the frame block, the coefficients and
+/// what shadow rays read.
+pub(crate) fn batch_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; 6] {
+    let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+    let storage = vk::DescriptorType::STORAGE_BUFFER;
+    let shadow = |binding| buffer_binding(binding, storage, vk::ShaderStageFlags::FRAGMENT);
+    [
+        buffer_binding(FRAME_BINDING, FRAME_DESCRIPTOR, stages),
+        buffer_binding(COEFFICIENTS_BINDING, storage, stages),
+        shadow(SHADOW_BINDINGS[0]),
+        shadow(SHADOW_BINDINGS[1]),
+        shadow(SHADOW_BINDINGS[2]),
+        shadow(SHADOW_BINDINGS[3]),
+    ]
+}
+
 /// Specialisation constant 0 of raycast.vert (`ORIENTED_BOX`): 1 draws each glyph's
 /// oriented box, 0 the cube around its bounding sphere (the sphere impostor's proxy).
 const ORIENTED_BOX_CONSTANT: u32 = 0;
@@ -212,7 +228,7 @@ pub struct GlyphSetGpu {
     /// The shadow rays' grid over the batch's boxes: its cells and its entries.
     _grid: [Buffer; 2],
     /// One per frame in flight: the coefficients with that frame's block.
-    descriptor_sets: Vec<vk::DescriptorSet>,
+    pub(crate) descriptor_sets: Vec<vk::DescriptorSet>,
 }
 
 /// Everything a scene needs on the GPU: the glyph sets, uploaded once, and one frame
@@ -221,7 +237,7 @@ pub struct SceneGpu {
     frames: Vec<Buffer>,
     /// Whether its exact batches are drawn by the pipelines that cast shadows (the first
     /// frame block asked for them).
-    shadows: bool,
+    pub(crate) shadows: bool,
     pool: DescriptorPool,
     /// The batches, one draw each.
     pub sets: Vec<GlyphSetGpu>,
@@ -242,17 +258,7 @@ impl RayCastPass {
         options: PassOptions,
     ) -> Result<RayCastPass> {
         options.sample_count()?;
-        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-        let storage = vk::DescriptorType::STORAGE_BUFFER;
-        let shadow = |binding| buffer_binding(binding, storage, vk::ShaderStageFlags::FRAGMENT);
-        let bindings = [
-            buffer_binding(FRAME_BINDING, FRAME_DESCRIPTOR, stages),
-            buffer_binding(COEFFICIENTS_BINDING, storage, stages),
-            shadow(SHADOW_BINDINGS[0]),
-            shadow(SHADOW_BINDINGS[1]),
-            shadow(SHADOW_BINDINGS[2]),
-            shadow(SHADOW_BINDINGS[3]),
-        ];
+        let bindings = batch_bindings();
         // The fragment shaders' push constant: the glyph set's negative mode, or a plane
         // set's root (one u32).
         let layout = PipelineLayout::new(ctx, &bindings, vk::ShaderStageFlags::FRAGMENT, 4)?;
@@ -730,6 +736,7 @@ pub(crate) fn glyph_pipeline(
         depth_format: formats.depth,
         layout,
         raster,
+        darken: false,
     };
     // SAFETY: the callers' stages hold live modules of build.rs's SPIR-V for `layout`.
     unsafe { graphics_pipeline(ctx, &desc) }

@@ -40,6 +40,10 @@ pub struct RaycastShader {
     pub shadows_fragment: Option<&'static [u32]>,
     /// The same without the distance output, for colour-only targets.
     pub shadows_color_only_fragment: Option<&'static [u32]>,
+    /// The exact method's underlay receiver: the underlay's planes drawn again after the
+    /// batch (with `UNDERLAY_RECEIVER_VERTEX`), darkened by the batch's shadows and
+    /// occlusion (`src/render/underlay_shadows.rs`).
+    pub receiver_fragment: Option<&'static [u32]>,
 }
 
 /// Compute ray caster of one tensor layout and intersection method (`--path compute`,

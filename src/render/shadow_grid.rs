@@ -11,7 +11,8 @@ use glam::{DQuat, DVec3};
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub(crate) struct GridHeader {
-    /// xyz: the grid's lowest corner, world units.
+    /// xyz: the grid's lowest corner, world units; w: the glyphs' mean bounding radius
+    /// (what the underlay's shadow rays take for the hit glyph's).
     pub lo: [f32; 4],
     /// xyz: a cell's edges, world units.
     pub cell: [f32; 4],
@@ -118,9 +119,11 @@ impl ShadowGrid {
             entries.push(0);
         }
         let v4 = |v: DVec3| [v.x as f32, v.y as f32, v.z as f32, 0.0];
+        let mut lo = v4(lo);
+        lo[3] = mean_radius(&indices, instances) as f32;
         ShadowGrid {
             header: GridHeader {
-                lo: v4(lo),
+                lo,
                 cell: v4(cell),
                 dims: [dims[0] as i32, dims[1] as i32, dims[2] as i32, 0],
             },
@@ -135,6 +138,17 @@ impl ShadowGrid {
         bytes.extend_from_slice(bytemuck::cast_slice(&self.cells));
         bytes
     }
+}
+
+/// The mean bounding radius of the glyphs `indices` of `instances` (centre, radius), as
+/// the underlay's shadow rays take it ([`crate::glyph::shadow::mean_radius`] of the
+/// float64 glyphs).
+fn mean_radius(indices: &[u32], instances: &[[f32; 4]]) -> f64 {
+    let sum: f64 = indices
+        .iter()
+        .map(|&k| f64::from(instances[k as usize][3]))
+        .sum();
+    sum / indices.len() as f64
 }
 
 /// The world axis-aligned bounds of a glyph's oriented box, scaled by the chord radius

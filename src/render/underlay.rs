@@ -342,6 +342,36 @@ pub(crate) const PARAMS_BINDING: u32 = 0;
 /// Binding of the underlay's values (`UnderlayValues`).
 pub(crate) const VALUES_BINDING: u32 = 1;
 
+/// The bindings of an underlay's descriptor set: its parameter block and its values.
+pub(crate) fn underlay_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; 2] {
+    [
+        buffer_binding(
+            PARAMS_BINDING,
+            FRAME_DESCRIPTOR,
+            vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+        ),
+        buffer_binding(
+            VALUES_BINDING,
+            vk::DescriptorType::STORAGE_BUFFER,
+            vk::ShaderStageFlags::FRAGMENT,
+        ),
+    ]
+}
+
+impl PlanePush {
+    /// The push constants that draw `plane` with the glyph pass's `view_proj`; the w
+    /// components carry the sample offset (glsl/underlay.vert).
+    pub(crate) fn new(plane: &UnderlayPlane, view_proj: [[f32; 4]; 4]) -> PlanePush {
+        let v4 = |v: DVec3, w: f64| [v.x as f32, v.y as f32, v.z as f32, w as f32];
+        PlanePush {
+            view_proj,
+            origin: v4(plane.origin, plane.sample_offset.x),
+            u: v4(plane.u, plane.sample_offset.y),
+            v: v4(plane.v, plane.sample_offset.z),
+        }
+    }
+}
+
 /// The underlay's pipeline, for attachments of given formats; created once per device.
 pub struct UnderlayPass {
     ctx: DeviceContext,
@@ -356,7 +386,7 @@ pub struct UnderlayGpu {
     _params: Buffer,
     _values: Buffer,
     _pool: DescriptorPool,
-    descriptor_set: vk::DescriptorSet,
+    pub(crate) descriptor_set: vk::DescriptorSet,
 }
 
 impl UnderlayPass {
@@ -364,18 +394,7 @@ impl UnderlayPass {
     /// depth, tested GREATER, as the glyphs), -1 (no glyph) into the distance
     /// attachment, if any; both faces drawn.
     pub fn new(ctx: &DeviceContext, formats: TargetFormats) -> Result<UnderlayPass> {
-        let bindings = [
-            buffer_binding(
-                PARAMS_BINDING,
-                FRAME_DESCRIPTOR,
-                vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
-            ),
-            buffer_binding(
-                VALUES_BINDING,
-                vk::DescriptorType::STORAGE_BUFFER,
-                vk::ShaderStageFlags::FRAGMENT,
-            ),
-        ];
+        let bindings = underlay_bindings();
         let push = std::mem::size_of::<PlanePush>() as u32;
         let layout = PipelineLayout::new(ctx, &bindings, vk::ShaderStageFlags::VERTEX, push)?;
         let pipeline = create_pipeline(ctx, formats, layout.handle())?;
@@ -455,20 +474,13 @@ impl UnderlayPass {
     ) {
         let (viewport, scissor) = viewport_and_scissor(extent);
         let d = self.ctx.device();
-        // The w components carry the sample offset (glsl/underlay.vert).
-        let v4 = |v: DVec3, w: f64| [v.x as f32, v.y as f32, v.z as f32, w as f32];
         // SAFETY: recording state is the caller's; every handle is alive.
         unsafe {
             let pipeline = (self.pipeline.handle(), self.layout.handle());
             bind_graphics(d, cmd, pipeline, volume.descriptor_set, (viewport, scissor));
         }
         for plane in planes {
-            let push = PlanePush {
-                view_proj,
-                origin: v4(plane.origin, plane.sample_offset.x),
-                u: v4(plane.u, plane.sample_offset.y),
-                v: v4(plane.v, plane.sample_offset.z),
-            };
+            let push = PlanePush::new(plane, view_proj);
             // SAFETY: as above; the push range covers the whole block.
             unsafe {
                 d.cmd_push_constants(
@@ -507,6 +519,7 @@ fn create_pipeline(
         depth_format: formats.depth,
         layout,
         raster: RasterTarget::default(),
+        darken: false,
     };
     // SAFETY: the modules are alive until the call returns; their SPIR-V declares the
     // blocks of `layout` (render::interface checks them).

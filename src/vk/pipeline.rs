@@ -23,10 +23,10 @@ pub fn buffer_binding(
         .stage_flags(stages)
 }
 
-/// A descriptor-set layout and the pipeline layout of that one set (and push constants).
+/// Descriptor-set layouts and the pipeline layout of those sets (and push constants).
 pub struct PipelineLayout {
     ctx: DeviceContext,
-    set_layout: vk::DescriptorSetLayout,
+    set_layouts: Vec<vk::DescriptorSetLayout>,
     layout: vk::PipelineLayout,
 }
 
@@ -39,23 +39,36 @@ impl PipelineLayout {
         push_stages: vk::ShaderStageFlags,
         push_bytes: u32,
     ) -> Result<PipelineLayout> {
+        PipelineLayout::with_sets(ctx, &[bindings], push_stages, push_bytes)
+    }
+
+    /// [`PipelineLayout::new`] of several sets: set k has the bindings `sets[k]`.
+    pub fn with_sets(
+        ctx: &DeviceContext,
+        sets: &[&[vk::DescriptorSetLayoutBinding]],
+        push_stages: vk::ShaderStageFlags,
+        push_bytes: u32,
+    ) -> Result<PipelineLayout> {
         let device = ctx.device();
         let mut this = PipelineLayout {
             ctx: ctx.clone(),
-            set_layout: vk::DescriptorSetLayout::null(),
+            set_layouts: Vec::with_capacity(sets.len()),
             layout: vk::PipelineLayout::null(),
         };
-        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(bindings);
-        // SAFETY: valid create info; the device is alive while `ctx` is; `this` destroys
-        // what was made, also when the second call fails (null handles are ignored).
-        this.set_layout = unsafe { device.create_descriptor_set_layout(&info, None) }
-            .vk("vkCreateDescriptorSetLayout")?;
+        for bindings in sets {
+            let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(bindings);
+            // SAFETY: valid create info; the device is alive while `ctx` is; `this`
+            // destroys what was made, also when a later call fails (null handles are
+            // ignored).
+            let set_layout = unsafe { device.create_descriptor_set_layout(&info, None) }
+                .vk("vkCreateDescriptorSetLayout")?;
+            this.set_layouts.push(set_layout);
+        }
         let push = [vk::PushConstantRange::default()
             .stage_flags(push_stages)
             .offset(0)
             .size(push_bytes)];
-        let set_layouts = [this.set_layout];
-        let mut info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
+        let mut info = vk::PipelineLayoutCreateInfo::default().set_layouts(&this.set_layouts);
         if push_bytes > 0 {
             info = info.push_constant_ranges(&push);
         }
@@ -65,9 +78,9 @@ impl PipelineLayout {
         Ok(this)
     }
 
-    /// The descriptor-set layout (set 0).
+    /// The descriptor-set layout of set 0.
     pub fn set_layout(&self) -> vk::DescriptorSetLayout {
-        self.set_layout
+        self.set_layouts[0]
     }
 
     /// The pipeline layout.
@@ -83,7 +96,9 @@ impl Drop for PipelineLayout {
         // handles are ignored; the device is alive while `self.ctx` is.
         unsafe {
             device.destroy_pipeline_layout(self.layout, None);
-            device.destroy_descriptor_set_layout(self.set_layout, None);
+            for &set_layout in &self.set_layouts {
+                device.destroy_descriptor_set_layout(set_layout, None);
+            }
         }
     }
 }
@@ -302,6 +317,10 @@ pub struct GraphicsPipelineDesc<'a> {
     pub layout: vk::PipelineLayout,
     /// Samples, depth test and pipeline cache.
     pub raster: RasterTarget,
+    /// Whether it draws over what an earlier draw of the same triangles left, to darken
+    /// it: depth tested EQUAL and not written, colour attachment 0 blended to the
+    /// smaller of what is there and the output, the other attachments not written.
+    pub darken: bool,
 }
 
 /// The vertex and fragment stages of a graphics pipeline, both entering at `main`; the
@@ -357,14 +376,29 @@ pub unsafe fn graphics_pipeline(
     }
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(true)
-        .depth_write_enable(true)
-        .depth_compare_op(desc.raster.depth_compare);
-    let blend_attachments: Vec<_> = desc
-        .color_formats
-        .iter()
-        .map(|_| {
-            vk::PipelineColorBlendAttachmentState::default()
-                .color_write_mask(vk::ColorComponentFlags::RGBA)
+        .depth_write_enable(!desc.darken)
+        .depth_compare_op(if desc.darken {
+            vk::CompareOp::EQUAL
+        } else {
+            desc.raster.depth_compare
+        });
+    let blend_attachments: Vec<_> = (0..desc.color_formats.len())
+        .map(|k| {
+            let opaque = vk::PipelineColorBlendAttachmentState::default()
+                .color_write_mask(vk::ColorComponentFlags::RGBA);
+            match (desc.darken, k) {
+                (false, _) => opaque,
+                // MIN ignores the blend factors.
+                (true, 0) => opaque
+                    .blend_enable(true)
+                    .color_blend_op(vk::BlendOp::MIN)
+                    .alpha_blend_op(vk::BlendOp::MIN)
+                    .src_color_blend_factor(vk::BlendFactor::ONE)
+                    .dst_color_blend_factor(vk::BlendFactor::ONE)
+                    .src_alpha_blend_factor(vk::BlendFactor::ONE)
+                    .dst_alpha_blend_factor(vk::BlendFactor::ONE),
+                (true, _) => opaque.color_write_mask(vk::ColorComponentFlags::empty()),
+            }
         })
         .collect();
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
