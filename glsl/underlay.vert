@@ -8,7 +8,7 @@
 // The underlay's shadow receiver (raycast_exact.frag's GLYPHCAST_RECEIVER variant): the
 // underlay's blocks are set 1 (set 0 is the glyph batch's), and the push range starts
 // with the batch's word (frame.glsl GlyphSetParams), so the plane follows at 16. The
-// position is computed as the underlay's own draw computes it (invariant), so that the
+// position is computed as the underlay's own draw computes it (precise), so that the
 // receiver's EQUAL depth test passes exactly where the plane was drawn.
 #define UNDERLAY_SET 1
 #define PLANE_OFFSET layout(offset = 16)
@@ -37,7 +37,6 @@ layout(location = 0) out vec3 v_voxel;
 layout(location = 1) out vec3 v_world;
 layout(location = 2) flat out vec3 v_normal;  // the plane's, not normalised
 #endif
-invariant gl_Position;
 
 const vec2 CORNERS[6] = vec2[6](
     vec2(0.0, 0.0), vec2(1.0, 0.0), vec2(1.0, 1.0),
@@ -46,10 +45,15 @@ const vec2 CORNERS[6] = vec2[6](
 
 void main() {
     vec2 st = CORNERS[gl_VertexIndex];
-    vec3 world = plane.origin.xyz + st.x * plane.u.xyz + st.y * plane.v.xyz;
+    // precise: no contraction into fused operations, which a compiler may choose
+    // differently in two shaders; the position is the same rounded arithmetic in both.
+    // (`invariant gl_Position` says the same, but Mesa 22.3 warns about the decoration
+    // glslang puts on gl_PerVertex.)
+    precise vec3 world = plane.origin.xyz + st.x * plane.u.xyz + st.y * plane.v.xyz;
     vec3 offset = vec3(plane.origin.w, plane.u.w, plane.v.w);
     v_voxel = (underlay.world_to_voxel * vec4(world - offset, 1.0)).xyz;
-    gl_Position = plane.view_proj * vec4(world, 1.0);
+    precise vec4 position = plane.view_proj * vec4(world, 1.0);
+    gl_Position = position;
 #ifdef GLYPHCAST_RECEIVER
     v_world = world;
     v_normal = cross(plane.u.xyz, plane.v.xyz);

@@ -403,6 +403,64 @@ fn the_underlay_moves_with_the_slice() {
     );
 }
 
+/// Switching shadows on over an underlay darkens the underlay too, as `render --shadows`
+/// draws it, pixel for pixel.
+#[test]
+fn shadows_fall_on_the_underlay_in_the_viewer() {
+    let Some(x) = Xvfb::start("shadows_fall_on_the_underlay_in_the_viewer") else {
+        return;
+    };
+    let (tensors, fa) = common::underlay::tensors_with_underlay(&out("underlay-shadow-files"));
+    let shot = out("underlay-shadows-shot.png");
+    let volume = [
+        "--tensor",
+        &tensors,
+        "--order",
+        "2",
+        "--underlay",
+        &fa,
+        "--width",
+        "120",
+        "--height",
+        "100",
+        "--light",
+        "-0.8,0.3,0.5",
+    ];
+    let mut args = volume.to_vec();
+    args.extend([
+        "--frames",
+        "3",
+        "--script",
+        "shadows:toggle",
+        "--screenshot",
+        path_str(&shot),
+    ]);
+    assert_clean(&x.view(&args));
+    let render_with = |extra: &[&str], name: &str| -> PathBuf {
+        let png = out(name);
+        let status = Command::new(BIN)
+            .arg("render")
+            .args(volume)
+            .args(extra)
+            .args(["--validation", "-o", path_str(&png)])
+            .status()
+            .expect("running glyphcast render");
+        assert!(status.success(), "glyphcast render {extra:?}");
+        png
+    };
+    let shadowed = render_with(&["--shadows"], "underlay-shadows-render.png");
+    let plain = render_with(&[], "underlay-no-shadows-render.png");
+    let (count, worst, _) = differing_pixels(&shot, &shadowed, 0);
+    assert_eq!(
+        count, 0,
+        "the screenshot differs from render --shadows (largest {worst})"
+    );
+    assert!(
+        differing_pixels(&shot, &plain, 0).0 > 100,
+        "shadows changed too little"
+    );
+}
+
 /// Orbiting half a turn (a drag of the window's height) shows the slice from behind: the
 /// underlay's plane, placed behind the glyphs for the first camera, must move to the new
 /// far side of the slice and not hide the glyphs. Every glyph pixel of the view without

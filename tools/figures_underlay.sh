@@ -17,6 +17,9 @@ python3 tools/fa_map.py "$work/dti.nii" "$work/fa.nii" "$work/colour-fa.nii"
 common=(--tensor "$work/dti.nii" --order 2 --width 480 --height 480 --samples 16)
 # FA under the middle axial slice.
 "$bin" render "${common[@]}" --underlay "$work/fa.nii" -o "$out/underlay-fa.png"
+# The same lit from the side with hard shadows: the glyphs' shadows fall on the FA.
+"$bin" render "${common[@]}" --underlay "$work/fa.nii" --shadows --light -0.8,0.3,0.5 \
+    -o "$out/underlay-shadows.png"
 # Colour-FA under three orthogonal slices, glyphs and planes cutting each other.
 "$bin" render "${common[@]}" --underlay "$work/colour-fa.nii" --underlay-range 0:0.6 \
     --slices mid -o "$out/underlay-slices.png"

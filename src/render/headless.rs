@@ -387,7 +387,7 @@ impl HeadlessRenderer {
                     },
                 )?),
             };
-            pass.prepare(&glyphs.gpu)?;
+            pass.prepare(glyphs)?;
         }
         let peaks_gpu = match peaks {
             Some(p) => {
@@ -593,7 +593,8 @@ fn record_frame(
             );
             d.cmd_begin_rendering(cmd, &rendering);
         }
-        let recorded = receiver.record(cmd, &on_gpu.gpu, (volume, planes), frame.view_proj, extent);
+        let glyphs = (on_gpu.as_ref(), 0);
+        let recorded = receiver.record(cmd, glyphs, (volume, planes), frame.view_proj, extent);
         // SAFETY: as above.
         unsafe { d.cmd_end_rendering(cmd) };
         recorded?;

@@ -27,7 +27,7 @@ pub mod shadow_grid;
 pub mod table;
 pub mod tiles;
 pub mod underlay;
-mod underlay_shadows;
+pub mod underlay_shadows;
 
 use crate::catalog::{
     ELLIPSOID_METHOD, PLANE_METHOD, RATIO_METHOD, RAY_CAST_METHODS, RECIPROCAL_METHOD,

@@ -15,6 +15,7 @@ use std::collections::HashMap;
 use crate::error::{Asked, Error, Result, Setting};
 use crate::glyph::{GlyphShape, TensorLayout};
 use crate::render::Method;
+use crate::render::component::UploadedGlyphs;
 use crate::render::raycast::{
     GlyphSetGpu, SceneGpu, TargetFormats, batch_bindings, viewport_and_scissor,
 };
@@ -37,8 +38,11 @@ pub(crate) struct ReceiverPush {
     pub(crate) plane: PlanePush,
 }
 
-/// The receiver's pipelines, one per tensor layout, for attachments of given formats.
-pub(crate) struct UnderlayShadowPass {
+/// The receiver's pipelines, one per tensor layout, for a rendering of a colour and a
+/// depth attachment (a pipeline that blends one colour attachment and writes none of
+/// another needs the independentBlend feature, so the headless renderer records the
+/// receivers in a second rendering without its distance attachment).
+pub struct UnderlayShadowPass {
     ctx: DeviceContext,
     formats: TargetFormats,
     pipelines: HashMap<TensorLayout, Pipeline>,
@@ -48,8 +52,15 @@ pub(crate) struct UnderlayShadowPass {
 }
 
 impl UnderlayShadowPass {
-    /// The layout and vertex shader; pipelines are made by [`UnderlayShadowPass::prepare`].
-    pub(crate) fn new(ctx: &DeviceContext, formats: TargetFormats) -> Result<Self> {
+    /// The layout and vertex shader for attachments of `formats`, which has no distance
+    /// attachment; pipelines are made by [`UnderlayShadowPass::prepare`].
+    pub fn new(ctx: &DeviceContext, formats: TargetFormats) -> Result<Self> {
+        if formats.distance.is_some() {
+            return Err(Error::Call {
+                call: "UnderlayShadowPass::new",
+                expected: "formats without a distance attachment",
+            });
+        }
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let push = std::mem::size_of::<ReceiverPush>() as u32;
         let layout = PipelineLayout::with_sets(
@@ -68,9 +79,9 @@ impl UnderlayShadowPass {
         })
     }
 
-    /// Makes the pipelines of the batches of `scene` that cast rays onto the underlay.
-    pub(crate) fn prepare(&mut self, scene: &SceneGpu) -> Result<()> {
-        for set in receiving_batches(scene) {
+    /// Makes the pipelines of the batches of `glyphs` that cast rays onto the underlay.
+    pub fn prepare(&mut self, glyphs: &UploadedGlyphs) -> Result<()> {
+        for set in receiving_batches(&glyphs.gpu) {
             if self.pipelines.contains_key(&set.layout) {
                 continue;
             }
@@ -104,18 +115,20 @@ impl UnderlayShadowPass {
         Ok(())
     }
 
-    /// Records, for each batch of `scene` that casts rays and each plane, the plane drawn
-    /// again darkened by the batch's shadows (frame block 0). The caller has drawn the
-    /// planes (`UnderlayPass::record`) and the glyphs in the rendering begun with this
-    /// pass's formats, of size `extent`, and prepared `scene`.
-    pub(crate) fn record(
+    /// Records, for each batch of `glyphs` that casts rays and each plane, the plane drawn
+    /// again darkened by the batch's shadows (with frame block `frame_index`). The caller
+    /// has drawn the planes ([`UnderlayPass::record`](crate::render::underlay::UnderlayPass::record))
+    /// and the glyphs into the attachments of the rendering begun with this pass's
+    /// formats, of size `extent`, and prepared `glyphs`.
+    pub fn record(
         &self,
         cmd: vk::CommandBuffer,
-        scene: &SceneGpu,
+        (glyphs, frame_index): (&UploadedGlyphs, usize),
         (volume, planes): (&UnderlayGpu, &[UnderlayPlane]),
         view_proj: [[f32; 4]; 4],
         extent: vk::Extent2D,
     ) -> Result<()> {
+        let scene = &glyphs.gpu;
         let (viewport, scissor) = viewport_and_scissor(extent);
         let d = self.ctx.device();
         for set in receiving_batches(scene) {
@@ -123,7 +136,14 @@ impl UnderlayShadowPass {
                 call: "UnderlayShadowPass::record",
                 expected: "UnderlayShadowPass::prepare for these glyphs first",
             })?;
-            let sets = [set.descriptor_sets[0], volume.descriptor_set];
+            let batch = *set
+                .descriptor_sets
+                .get(frame_index)
+                .ok_or(Error::FrameIndex {
+                    index: frame_index,
+                    frames: set.descriptor_sets.len(),
+                })?;
+            let sets = [batch, volume.descriptor_set];
             // SAFETY: recording state is the caller's; every handle is alive.
             unsafe {
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.handle());

@@ -29,6 +29,7 @@ use glyphcast::render::component::{GlyphRenderer, RendererDesc};
 use glyphcast::render::peaks::PeaksPass;
 use glyphcast::render::raycast::{FrameTarget, PassOptions, TargetFormats};
 use glyphcast::render::underlay::UnderlayPass;
+use glyphcast::render::underlay_shadows::UnderlayShadowPass;
 use glyphcast::vk::recording::{
     Access, COLOR_OUTPUT, COPY_READ, COPY_WRITE, DEPTH_TESTS, NOTHING, cleared_color_attachment,
     color_image_copy, copies_to_host, layout_transition,
@@ -62,6 +63,9 @@ pub struct Capture {
 pub struct Presenter {
     glyphs: GlyphRenderer,
     underlay: UnderlayPass,
+    /// The underlay receiving the glyphs' shadows (its pipelines made as glyphs that
+    /// cast them come).
+    underlay_shadows: UnderlayShadowPass,
     peaks: PeaksPass,
     slots: Vec<FrameSlot>,
     /// The slot the next frame records into.
@@ -122,6 +126,7 @@ impl Presenter {
         Ok(Presenter {
             glyphs: GlyphRenderer::new(gpu.context(), &desc)?,
             underlay: UnderlayPass::new(gpu.context(), formats)?,
+            underlay_shadows: UnderlayShadowPass::new(gpu.context(), formats)?,
             peaks: PeaksPass::new(gpu.context(), formats)?,
             slots,
             next: 0,
@@ -228,6 +233,7 @@ impl Presenter {
             let desc = renderer_desc(formats, self.slots.len(), &RenderSettings::default());
             self.glyphs = GlyphRenderer::new(gpu.context(), &desc)?;
             self.underlay = UnderlayPass::new(gpu.context(), formats)?;
+            self.underlay_shadows = UnderlayShadowPass::new(gpu.context(), formats)?;
             self.peaks = PeaksPass::new(gpu.context(), formats)?;
             for slot in &mut self.slots {
                 slot.composer.reset();
@@ -308,6 +314,9 @@ impl Presenter {
             panel.glyphs.set_frame(&panel.frame, &target)?;
             if let Some(peaks) = panel.peaks.as_mut() {
                 peaks.set_frame(&panel.frame)?;
+            }
+            if panel.underlay.is_some() {
+                self.underlay_shadows.prepare(panel.glyphs)?;
             }
         }
         self.stage(slot, panels, patches, (format, extent), capture)?;
@@ -495,7 +504,11 @@ impl Presenter {
         if let Some(timer) = &frame.timer {
             timer.start(cmd);
         }
-        let passes = (&self.glyphs, &self.underlay, &self.peaks);
+        let passes = (
+            &self.glyphs,
+            (&self.underlay, &self.underlay_shadows),
+            &self.peaks,
+        );
         // SAFETY: as above.
         unsafe { d.cmd_begin_rendering(cmd, &rendering) };
         // The panel at the corner: its viewport is its cell.
@@ -567,10 +580,19 @@ fn renderer_desc(
     }
 }
 
-/// Records `panel`'s underlay, glyphs (with `slot`'s frame block) and peaks, drawn
-/// into an attachment whose corner is the panel's (rendering has begun).
+/// The passes a panel is recorded with.
+type PanelPasses<'a> = (
+    &'a GlyphRenderer,
+    (&'a UnderlayPass, &'a UnderlayShadowPass),
+    &'a PeaksPass,
+);
+
+/// Records `panel`'s underlay, glyphs (with `slot`'s frame block), the underlay again
+/// darkened by their shadows (where they cast any) and the peaks, drawn into an
+/// attachment whose corner is the panel's (rendering has begun; colour and depth only,
+/// so the receivers need no rendering of their own).
 fn record_panel(
-    (glyphs, underlay, peaks): (&GlyphRenderer, &UnderlayPass, &PeaksPass),
+    (glyphs, (underlay, underlay_shadows), peaks): PanelPasses,
     cmd: vk::CommandBuffer,
     slot: usize,
     panel: &PanelDraw,
@@ -580,6 +602,10 @@ fn record_panel(
         underlay.record(cmd, volume, planes, panel.frame.view_proj, extent);
     }
     glyphs.record_glyphs(cmd, panel.glyphs, slot)?;
+    if let Some(underlay) = panel.underlay {
+        let view_proj = panel.frame.view_proj;
+        underlay_shadows.record(cmd, (panel.glyphs, slot), underlay, view_proj, extent)?;
+    }
     if let Some(on_gpu) = panel.peaks.as_deref() {
         peaks.record(cmd, on_gpu, extent);
     }
