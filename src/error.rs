@@ -732,6 +732,35 @@ impl Error {
         }
     }
 
+    /// This error of drawing the scene read from `file`, naming the file and the glyph
+    /// set its data came from (`glyphs[S]`, the scene format's field) when it is about
+    /// that data (a glyph whose surface is unbounded, a radius beyond float32); any
+    /// other error (a setting's, the device's) is returned as it is.
+    pub fn in_scene_file(self, file: impl AsRef<std::path::Path>) -> Error {
+        match self {
+            Error::Item {
+                what: "glyph set",
+                index,
+                error,
+            } if error.is_about_data() => Error::input(
+                file.as_ref().display().to_string(),
+                format!("glyphs[{index}]"),
+                error.to_string(),
+            ),
+            other => other,
+        }
+    }
+
+    /// Whether this error is about values the library was given (possibly of an item of
+    /// a list), not about a setting or the machine.
+    fn is_about_data(&self) -> bool {
+        match self {
+            Error::Data { .. } => true,
+            Error::Item { error, .. } => error.is_about_data(),
+            _ => false,
+        }
+    }
+
     /// An [`Error::Input`] for `field` of `file`.
     pub fn input(
         file: impl Into<String>,

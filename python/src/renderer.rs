@@ -166,10 +166,11 @@ impl Renderer {
         }
         self.loaded = None;
         let loaded = py.detach(|| {
+            let scene_text = scene;
             let mut scene = if is_path {
-                Scene::load(&PathBuf::from(&scene))?
+                Scene::load(&PathBuf::from(&scene_text))?
             } else {
-                Scene::from_json_str(&scene, "scene")?
+                Scene::from_json_str(&scene_text, "scene")?
             };
             if let Some(shape) = shape {
                 scene.set_shape(shape)?;
@@ -182,7 +183,14 @@ impl Renderer {
                 .shapes_without_rays_note(shapes)
                 .into_iter()
                 .collect();
+            // A scene given as text is named as its parse errors name it.
+            let source = if is_path {
+                scene_text.as_str()
+            } else {
+                "scene"
+            };
             self.upload(scene, (None, None), &render, extras)
+                .map_err(|e| e.in_scene_file(source))
                 .map(|loaded| (loaded, notes))
         });
         let (loaded, notes) = loaded.map_err(to_py)?;

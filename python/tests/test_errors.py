@@ -1,6 +1,7 @@
 """Bad arrays and options raise ValueError (TypeError for an unknown keyword) with a
 message that names the argument; the CLI's own checks keep the CLI's text."""
 import json
+import re
 import subprocess
 
 import nibabel as nib
@@ -158,3 +159,18 @@ def test_bad_scenes(scenes, tmp_path):
            glyphcast.render_scene, 3)
     raises(ValueError, r"^width=0: must be in 1 to 16384$", glyphcast.render_scene,
            scenes / "order4_pair.json", width=0)
+
+
+def test_glyphs_that_cannot_be_drawn_name_the_scene_file(scenes, tmp_path):
+    """A reciprocal glyph whose form vanishes on the sphere (f = x^4, zero along y and z)
+    has an unbounded surface: refused naming the file and the glyph set, as the CLI
+    names them, for a scene file and for a scene given as a dict."""
+    scene = json.loads((scenes / "order4_pair.json").read_text())
+    scene["glyphs"][0]["shape"] = "reciprocal"
+    scene["glyphs"][0]["coeffs"][1] = [1] + [0] * 14
+    path = tmp_path / "unbounded.json"
+    path.write_text(json.dumps(scene))
+    raises(ValueError, "^" + re.escape(f"{path}: glyphs[0]: glyph 1: guaranteed least |f|"),
+           glyphcast.render_scene, path)
+    raises(ValueError, "^" + re.escape("scene: glyphs[0]: glyph 1: guaranteed least |f|"),
+           glyphcast.render_scene, scene)

@@ -141,7 +141,11 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
                     source.labels(),
                     underlay.as_ref(),
                     peaks.as_ref(),
-                ),
+                )
+                .map_err(|e| match &source.scene {
+                    Some(path) => e.in_scene_file(path),
+                    None => e,
+                }),
                 cli::render::Loaded::Montage(montage) => {
                     cli::render::render_montage(montage, &output, &options, source.labels())
                 }

@@ -522,6 +522,14 @@ fn check_outputs(outputs: &[PathBuf], inputs: &[PathBuf]) -> Result<()> {
 }
 
 pub fn run(args: &BenchArgs) -> Result<()> {
+    // What the scene file's glyphs cannot be drawn as names the file.
+    run_plan(args).map_err(|e| match &args.scene {
+        Some(path) => e.in_scene_file(path),
+        None => e,
+    })
+}
+
+fn run_plan(args: &BenchArgs) -> Result<()> {
     args.check()?;
     check_outputs(&args.output_paths(), &args.input_paths())?;
     let plan = plan(args)?;

@@ -101,7 +101,10 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         underlay,
         frames_in_flight: args.frames_in_flight,
     };
-    glyphcast_viewer::run(source, options)
+    glyphcast_viewer::run(source, options).map_err(|e| match &args.source.scene {
+        Some(path) => e.in_scene_file(path),
+        None => e,
+    })
 }
 
 /// The scripted-run and output flags, before the window opens: --script and
