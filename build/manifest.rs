@@ -1,13 +1,9 @@
-//! The shader variants to build, from the table of orders and methods in
+//! The shader variants to build, from the table of orders, methods and glyph shapes in
 //! `src/catalog.rs`: every symmetric order up to `MAX_SYMMETRIC_ORDER` and every
 //! non-symmetric order up to `MAX_NONSYMMETRIC_ORDER`, each with every ray-casting
-//! method, the ellipsoid's closed-form shader for the symmetric `ELLIPSOID_ORDER`, and
-//! the exact method's reciprocal variant for every even order and its plane variant for
-//! the symmetric `PLANE_ORDER`, and its ratio variant there too.
+//! method, and each glyph shape's shader (`GLYPH_SHAPES`) for the layouts it lists.
 use crate::catalog::{
-    ELLIPSOID_METHOD, ELLIPSOID_ORDER, MAX_NONSYMMETRIC_ORDER, MAX_SYMMETRIC_ORDER, PLANE_METHOD,
-    PLANE_ORDER, RATIO_METHOD, RAY_CAST_METHODS, RECIPROCAL_METHOD, RayCastMethod,
-    reciprocal_order,
+    GLYPH_SHAPES, MAX_NONSYMMETRIC_ORDER, MAX_SYMMETRIC_ORDER, RAY_CAST_METHODS, RayCastMethod,
 };
 use std::collections::BTreeMap;
 
@@ -30,17 +26,14 @@ pub fn variants() -> BTreeMap<(Symmetry, u32), Vec<RayCastMethod>> {
             (1..=max).map(move |order| ((symmetry, order), RAY_CAST_METHODS.to_vec()))
         })
         .collect();
-    if let Some(methods) = variants.get_mut(&(Symmetry::Symmetric, ELLIPSOID_ORDER)) {
-        methods.push(ELLIPSOID_METHOD);
-    }
-    for ((_, order), methods) in variants.iter_mut() {
-        if reciprocal_order(*order) {
-            methods.push(RECIPROCAL_METHOD);
+    // Each glyph shape with a shader of its own, where the catalog compiles it.
+    for ((symmetry, order), methods) in variants.iter_mut() {
+        let symmetric = *symmetry == Symmetry::Symmetric;
+        for shape in GLYPH_SHAPES {
+            if shape.compiled_for(symmetric, *order) {
+                methods.push(shape.shader);
+            }
         }
-    }
-    if let Some(methods) = variants.get_mut(&(Symmetry::Symmetric, PLANE_ORDER)) {
-        methods.push(PLANE_METHOD);
-        methods.push(RATIO_METHOD);
     }
     variants
 }

@@ -1,6 +1,7 @@
 //! The generator: the shader jobs of the manifest and the typed table
 //! (`render::shaders`) that names their SPIR-V. One table row per (layout, method), one
 //! static per fixed shader, every row in the manifest's sorted order.
+use crate::catalog::GLYPH_SHAPES;
 use crate::catalog::RayCastMethod;
 use crate::compile::Job;
 use crate::fail;
@@ -204,12 +205,19 @@ fn layout_jobs(
             own.defines.extend(method.define);
             jobs.push(own);
         }
+        // A glyph shape's shader is drawn for the exact method's key (the ellipsoid's
+        // for every method's: the renderer asks for it so).
+        let (method_key, shape_key) = if GLYPH_SHAPES.iter().any(|s| s.name == method_name) {
+            ("Exact".to_owned(), method_variant(method_name))
+        } else {
+            (method_variant(method_name), "Polynomial".to_owned())
+        };
         let _ = writeln!(
             rows.raycast,
-            "    RaycastShader {{ layout: {layout}, method: Method::{}, vertex: {}, \
+            "    RaycastShader {{ layout: {layout}, method: Method::{method_key}, \
+             shape: ShapeShader::{shape_key}, vertex: {}, \
              fragment: {}, color_only_fragment: {}, shadows_fragment: {}, \
              shadows_color_only_fragment: {}, receiver_fragment: {} }},",
-            method_variant(method_name),
             spirv_entry(if method.own_vertex {
                 &own_vertex
             } else if method.uses_ranges {

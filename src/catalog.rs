@@ -82,70 +82,127 @@ pub(crate) const RAY_CAST_METHODS: [RayCastMethod; 4] = [
     },
 ];
 
-/// The closed-form ray/quadric intersection of the diffusion-tensor ellipsoid
-/// (`--glyph ellipsoid`, `src/glyph/ellipsoid.rs`): not a `--method` but the shader every
-/// ellipsoid glyph set is drawn with, compiled for the symmetric layout of order
-/// [`ELLIPSOID_ORDER`] only.
-pub(crate) const ELLIPSOID_METHOD: RayCastMethod = RayCastMethod {
-    name: "ellipsoid",
-    fragment: "raycast_ellipsoid.frag",
-    compute: None,
-    uses_ranges: false,
-    marches: false,
-    define: None,
-    own_vertex: false,
-};
+/// Which tensor layouts a glyph shape's shader is compiled for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShapeLayouts {
+    /// The symmetric layout of this order only.
+    Symmetric(u32),
+    /// Every layout of an even order ([`reciprocal_order`]).
+    EvenOrders,
+}
+
+/// A glyph shape drawn by a shader of its own, not by the `--method`'s: its name (the
+/// `ShapeShader` variant's, in lower case), its shader (the fragment shader, the define
+/// it is compiled with, whether its vertex shader is its own) and the layouts it is
+/// compiled for. The scene format's `shape` values name these shapes (`plane-min` and
+/// `plane-max` share the plane's shader, which draws the root the glyph set asks for).
+/// Adding a shape starts here: `build.rs` compiles what this table lists, and the
+/// renderer draws the shape's glyph sets with it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GlyphShapeEntry {
+    /// The shape's shader name.
+    pub name: &'static str,
+    /// Its fragment shader and how it is compiled (`name` is the shape's).
+    pub shader: RayCastMethod,
+    /// The layouts it is compiled for.
+    pub layouts: ShapeLayouts,
+    /// Whether any `--method` but the impostor draws it (the ellipsoid's closed form);
+    /// otherwise the exact method alone does, and the others refuse it.
+    pub every_method: bool,
+}
+
+impl GlyphShapeEntry {
+    /// Whether the shader is compiled for the layout of `order`, symmetric or not.
+    pub const fn compiled_for(&self, symmetric: bool, order: u32) -> bool {
+        match self.layouts {
+            ShapeLayouts::Symmetric(o) => symmetric && order == o,
+            ShapeLayouts::EvenOrders => reciprocal_order(order),
+        }
+    }
+}
+
+/// The glyph shapes with shaders of their own, in the order of `ShapeShader`'s variants
+/// after the polynomial glyph.
+pub(crate) const GLYPH_SHAPES: [GlyphShapeEntry; 4] = [
+    // The closed-form ray/quadric intersection of the diffusion-tensor ellipsoid
+    // (`--glyph ellipsoid`, `src/glyph/ellipsoid.rs`): the shader every ellipsoid glyph
+    // set is drawn with, whatever the method (but the impostor).
+    GlyphShapeEntry {
+        name: "ellipsoid",
+        shader: RayCastMethod {
+            name: "ellipsoid",
+            fragment: "raycast_ellipsoid.frag",
+            compute: None,
+            uses_ranges: false,
+            marches: false,
+            define: None,
+            own_vertex: false,
+        },
+        layouts: ShapeLayouts::Symmetric(ELLIPSOID_ORDER),
+        every_method: true,
+    },
+    // The exact method on reciprocal glyphs, r(u) = 1/|f(u)| (scene `shape`
+    // `reciprocal`): `raycast_exact.frag` compiled with `GLYPHCAST_RECIPROCAL`, whose F
+    // is (q . q)^(n-1) - f(q)^2. Even orders only: a form of odd order changes sign on
+    // the sphere, where 1/|f| is unbounded.
+    GlyphShapeEntry {
+        name: "reciprocal",
+        shader: RayCastMethod {
+            name: "reciprocal",
+            fragment: "raycast_exact.frag",
+            compute: None,
+            uses_ranges: false,
+            marches: false,
+            define: Some("GLYPHCAST_RECIPROCAL"),
+            own_vertex: false,
+        },
+        layouts: ShapeLayouts::EvenOrders,
+        every_method: false,
+    },
+    // The exact method on plane glyphs, r(u) = 1/λ with λ a root of
+    // λ² − T(u) λ + D(u) = 0 (scene `shape` `plane-min` and `plane-max`):
+    // `raycast_exact.frag` compiled with `GLYPHCAST_PLANE`, whose F is
+    // T(q)² |q|² − (|q|⁴ + D(q))², of degree 12, and whose filter keeps the roots of the
+    // set's branch. For the layout of D only; its vertex shader passes T's coefficients
+    // too.
+    GlyphShapeEntry {
+        name: "plane",
+        shader: RayCastMethod {
+            name: "plane",
+            fragment: "raycast_exact.frag",
+            compute: None,
+            uses_ranges: false,
+            marches: false,
+            define: Some("GLYPHCAST_PLANE"),
+            own_vertex: true,
+        },
+        layouts: ShapeLayouts::Symmetric(PLANE_ORDER),
+        every_method: false,
+    },
+    // The exact method on ratio glyphs, r(u) = |λ/Q(u)| with λ a root of
+    // λ² − T(u) λ + D(u) = 0 (scene `shape` `ratio-min` and `ratio-max`):
+    // `raycast_exact.frag` compiled with `GLYPHCAST_RATIO`, whose F is
+    // Q(q)² T(q)² − |q|² (Q(q)² + D(q))², of degree 18, and whose filter keeps the roots
+    // of the set's branch. For the layout of D only; its vertex shader passes T's and
+    // Q's coefficients too.
+    GlyphShapeEntry {
+        name: "ratio",
+        shader: RayCastMethod {
+            name: "ratio",
+            fragment: "raycast_exact.frag",
+            compute: None,
+            uses_ranges: false,
+            marches: false,
+            define: Some("GLYPHCAST_RATIO"),
+            own_vertex: true,
+        },
+        layouts: ShapeLayouts::Symmetric(PLANE_ORDER),
+        every_method: false,
+    },
+];
 
 /// The order of the symmetric tensors that have an ellipsoid (DTI).
 pub const ELLIPSOID_ORDER: u32 = 2;
-
-/// The exact method on reciprocal glyphs, r(u) = 1/|f(u)| (scene `shape` `reciprocal`):
-/// `raycast_exact.frag` compiled with `GLYPHCAST_RECIPROCAL`, whose F is
-/// (q . q)^(n-1) - f(q)^2. Not a `--method`: reciprocal sets are drawn with it when the
-/// method is exact. Compiled for the layouts of even order only ([`reciprocal_order`]):
-/// a form of odd order changes sign on the sphere, where 1/|f| is unbounded.
-pub(crate) const RECIPROCAL_METHOD: RayCastMethod = RayCastMethod {
-    name: "reciprocal",
-    fragment: "raycast_exact.frag",
-    compute: None,
-    uses_ranges: false,
-    marches: false,
-    define: Some("GLYPHCAST_RECIPROCAL"),
-    own_vertex: false,
-};
-
-/// The exact method on plane glyphs, r(u) = 1/λ with λ a root of λ² − T(u) λ + D(u) = 0
-/// (scene `shape` `plane-min` and `plane-max`): `raycast_exact.frag` compiled with
-/// `GLYPHCAST_PLANE`, whose F is T(q)² |q|² − (|q|⁴ + D(q))², of degree 12, and whose
-/// filter keeps the roots of the set's branch. Not a `--method`: plane sets are drawn
-/// with it when the method is exact. Compiled for the layout of D, [`PLANE_ORDER`]
-/// symmetric, only; its vertex shader passes T's coefficients too.
-pub(crate) const PLANE_METHOD: RayCastMethod = RayCastMethod {
-    name: "plane",
-    fragment: "raycast_exact.frag",
-    compute: None,
-    uses_ranges: false,
-    marches: false,
-    define: Some("GLYPHCAST_PLANE"),
-    own_vertex: true,
-};
-
-/// The exact method on ratio glyphs, r(u) = |λ/Q(u)| with λ a root of
-/// λ² − T(u) λ + D(u) = 0 (scene `shape` `ratio-min` and `ratio-max`):
-/// `raycast_exact.frag` compiled with `GLYPHCAST_RATIO`, whose F is
-/// Q(q)² T(q)² − |q|² (Q(q)² + D(q))², of degree 18, and whose filter keeps the roots of
-/// the set's branch. Not a `--method`: ratio sets are drawn with it when the method is
-/// exact. Compiled for the layout of D, [`PLANE_ORDER`] symmetric, only; its vertex
-/// shader passes T's and Q's coefficients too.
-pub(crate) const RATIO_METHOD: RayCastMethod = RayCastMethod {
-    name: "ratio",
-    fragment: "raycast_exact.frag",
-    compute: None,
-    uses_ranges: false,
-    marches: false,
-    define: Some("GLYPHCAST_RATIO"),
-    own_vertex: true,
-};
 
 /// The order of a plane or ratio glyph's D (its T and Q have order 4), symmetric.
 pub const PLANE_ORDER: u32 = 6;

@@ -268,7 +268,11 @@ fn what_the_reciprocal_glyph_cannot_take_is_refused() {
     render(&hide, &[], &["hide.json", "glyphs[0].shape", "negative"]);
     let odd = dir.join("odd.json");
     std::fs::write(&odd, reciprocal_scene(3, "abs")).unwrap();
-    render(&odd, &[], &["glyph set 0", "least |f|", "unbounded"]);
+    render(
+        &odd,
+        &[],
+        &["odd.json: glyphs[0]: glyph 0", "least |f|", "unbounded"],
+    );
     // The scene itself draws.
     run(&["render", text(&good), "-o", text(&png)]);
     std::fs::remove_file(&png).unwrap();

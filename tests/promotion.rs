@@ -13,7 +13,7 @@ use glyphcast::render::glyph_data::{GlyphSetData, prepare_scene};
 use glyphcast::render::headless::HeadlessRenderer;
 use glyphcast::render::options::prepare_render;
 use glyphcast::render::promote::{PROMOTABLE_GLYPHS, early_variants, promote_small_sets};
-use glyphcast::render::{Method, RenderPath};
+use glyphcast::render::{Method, RenderPath, ShapeShader};
 use glyphcast::scene::Scene;
 
 fn orders(sets: &[GlyphSetData]) -> Vec<u32> {
@@ -43,7 +43,7 @@ fn the_demo_draws_with_one_pipeline_and_the_same_picture() {
     // Only order 8's pipeline is compiled before the preparation; 4 and 6 may be raised.
     assert_eq!(
         early_variants(&scene, &settings),
-        [(symmetric(8), Method::Exact)]
+        [(symmetric(8), Method::Exact, ShapeShader::Polynomial)]
     );
 
     let gpu = common::gpu();
@@ -154,7 +154,8 @@ fn only_small_sets_of_the_default_method_are_raised() {
     let big = widened(&scene, PROMOTABLE_GLYPHS / 6 + 1).glyph_sets[0].clone();
     mixed.glyph_sets.push(big);
     let early = early_variants(&mixed, &settings);
-    assert!(early.contains(&(symmetric(4), Method::Exact)), "{early:?}");
-    assert!(!early.contains(&(symmetric(6), Method::Exact)), "{early:?}");
+    let exact = |order| (symmetric(order), Method::Exact, ShapeShader::Polynomial);
+    assert!(early.contains(&exact(4)), "{early:?}");
+    assert!(!early.contains(&exact(6)), "{early:?}");
     assert_eq!(prepare(&mixed, &settings), (vec![4, 8, 8, 8, 4], 1));
 }

@@ -476,13 +476,17 @@ fn too_few_varying_components_is_a_clear_error() {
         order,
         symmetry: Symmetry::Symmetric,
     };
-    assert_eq!(varying_components(layout(8), Method::Exact), 64);
-    assert_eq!(varying_components(layout(12), Method::Exact), 108);
-    // A plane glyph passes its T's 15 coefficients after D's 28: within the minimum.
-    assert_eq!(varying_components(layout(6), Method::Exact), 44);
-    assert_eq!(varying_components(layout(6), Method::Plane), 60);
+    use glyphcast::render::ShapeShader;
+    assert_eq!(varying_components(layout(8), ShapeShader::Polynomial), 64);
+    assert_eq!(varying_components(layout(12), ShapeShader::Polynomial), 108);
+    // A plane glyph passes its T's 15 coefficients after D's 28: within the minimum; a
+    // ratio glyph its T's and Q's.
+    assert_eq!(varying_components(layout(6), ShapeShader::Polynomial), 44);
+    assert_eq!(varying_components(layout(6), ShapeShader::Plane), 60);
+    assert_eq!(varying_components(layout(6), ShapeShader::Ratio), 76);
     assert!(
-        gpu.context().max_varying_components() >= varying_components(layout(12), Method::Exact)
+        gpu.context().max_varying_components()
+            >= varying_components(layout(12), ShapeShader::Polynomial)
     );
     let context = gpu.context().clone().with_max_varying_components(64);
     assert_eq!(context.max_varying_components(), 64);

@@ -133,11 +133,12 @@ impl GlyphRenderer {
     /// Makes the pipelines that glyph sets of `layouts` need, so that the first
     /// `set_glyphs` of such sets compiles nothing (for example at load time).
     pub fn prepare(&mut self, layouts: &[(TensorLayout, GlyphShape)]) -> Result<()> {
-        for &(layout, shape) in layouts {
-            let method = crate::render::raycast::batch_method(shape, self.settings.method)?;
-            self.pass.prepare(layout, method)?;
-        }
-        Ok(())
+        let method = self.settings.method;
+        let variants = layouts
+            .iter()
+            .map(|&(layout, shape)| crate::render::raycast::batch_variant(layout, shape, method))
+            .collect::<Result<Vec<_>>>()?;
+        self.pass.prepare_pipelines(&variants)
     }
 
     /// Uploads new glyphs for every frame in flight (and makes any pipeline they need),

@@ -15,7 +15,7 @@
 //! descriptor indexing, so every part has its own descriptor set.
 use crate::camera::Camera;
 use crate::error::{Error, Result, Setting};
-use crate::glyph::{GlyphShape, TensorLayout};
+use crate::glyph::TensorLayout;
 use crate::render::Method;
 use crate::render::batch::{Batch, batches};
 use crate::render::frame::{FRAME_DESCRIPTOR, FRAME_USAGE, FrameParams};
@@ -202,13 +202,8 @@ impl ComputeRayCastPass {
             (4 * layout.coefficient_count() as u64).max(32)
         })?;
         for part in &parts {
-            let unsupported = match part.shape {
-                GlyphShape::Ellipsoid => Some(crate::error::Asked::Ellipsoids),
-                GlyphShape::Reciprocal => Some(crate::error::Asked::Reciprocal),
-                GlyphShape::PlaneMin | GlyphShape::PlaneMax => Some(crate::error::Asked::Plane),
-                GlyphShape::RatioMin | GlyphShape::RatioMax => Some(crate::error::Asked::Ratio),
-                GlyphShape::Polynomial => None,
-            };
+            // Only the polynomial glyph has a compute ray caster.
+            let unsupported = crate::render::ShapeShader::of(part.shape).asked();
             if let Some(what) = unsupported {
                 // The data decide (exit code 1), so not a Setting error.
                 return Err(Error::Unsupported {

@@ -147,13 +147,8 @@ fn prepare_set_keeping(
     world: WorldGlyphs,
 ) -> Result<GlyphSetData> {
     let layout = tensor_layout(set);
-    let unsupported = match set.shape {
-        GlyphShape::Ellipsoid => Some(crate::error::Asked::Ellipsoids),
-        GlyphShape::Reciprocal => Some(crate::error::Asked::Reciprocal),
-        GlyphShape::PlaneMin | GlyphShape::PlaneMax => Some(crate::error::Asked::Plane),
-        GlyphShape::RatioMin | GlyphShape::RatioMax => Some(crate::error::Asked::Ratio),
-        GlyphShape::Polynomial => None,
-    };
+    // Only the polynomial glyph takes an offset.
+    let unsupported = crate::render::ShapeShader::of(set.shape).asked();
     if let Some(what) = unsupported
         && offset != 0.0
     {

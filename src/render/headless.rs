@@ -11,7 +11,6 @@
 //! engine's `record` makes, so there is one way to draw.
 use crate::camera::Camera;
 use crate::error::{Error, Result, Setting};
-use crate::glyph::TensorLayout;
 use crate::render::component::{GlyphRenderer, RendererDesc, UploadedGlyphs};
 use crate::render::compute::{ComputeRayCastPass, ComputeSceneGpu};
 use crate::render::frame::{FrameParams, SceneExtent};
@@ -203,7 +202,10 @@ impl HeadlessRenderer {
     /// [`early_variants`](crate::render::promote::early_variants)) now, in
     /// parallel, rather than at the first frame's upload: a one-shot render calls it on a
     /// thread of its own while the glyphs are prepared.
-    pub fn prepare_pipelines(&mut self, variants: &[(TensorLayout, Method)]) -> Result<()> {
+    pub fn prepare_pipelines(
+        &mut self,
+        variants: &[crate::render::raycast::Variant],
+    ) -> Result<()> {
         self.glyphs.pass_mut().prepare_pipelines(variants)
     }
 

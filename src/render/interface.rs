@@ -9,7 +9,6 @@
 use std::collections::HashMap;
 use std::mem::offset_of;
 
-use crate::render::Method;
 use crate::render::compute::ComputeParams;
 use crate::render::frame::FrameParams;
 use crate::render::raycast::{COEFFICIENTS_BINDING, FRAME_BINDING, SHADOW_BINDINGS};
@@ -19,6 +18,7 @@ use crate::render::shaders::{
 };
 use crate::render::shadow_grid::GridHeader;
 use crate::render::underlay::{PARAMS_BINDING, PlanePush, UnderlayParams, VALUES_BINDING};
+use crate::render::{Method, ShapeShader};
 
 /// A block (uniform, storage or push-constant) as the SPIR-V declares it.
 #[derive(Debug, Default)]
@@ -201,11 +201,11 @@ fn the_ray_casting_shaders_read_the_structs_and_bindings_the_passes_write() {
         frames_seen >= 2 * RAYCAST_SHADERS.len(),
         "the frame block is read"
     );
-    // The two shadow-casting fragment shaders of every exact variant read the four
-    // shadow buffers; no other shader declares them.
+    // The two shadow-casting fragment shaders of every exact variant of the polynomial
+    // glyph read the four shadow buffers; no other shader declares them.
     let exact = RAYCAST_SHADERS
         .iter()
-        .filter(|s| s.method == Method::Exact)
+        .filter(|s| s.method == Method::Exact && s.shape == ShapeShader::Polynomial)
         .count();
     let with_shadows = RAYCAST_SHADERS
         .iter()
@@ -359,7 +359,7 @@ fn the_underlay_receivers_read_the_batch_and_the_underlay_as_their_pass_binds_th
     }
     let exact = RAYCAST_SHADERS
         .iter()
-        .filter(|s| s.method == Method::Exact)
+        .filter(|s| s.method == Method::Exact && s.shape == ShapeShader::Polynomial)
         .count();
     assert_eq!(receivers, exact, "every exact variant has a receiver");
 }

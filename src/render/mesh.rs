@@ -14,7 +14,6 @@
 //! coefficients. The pass and its scenes keep a [`DeviceContext`], so the device
 //! outlives them.
 use crate::error::{Error, Result, Setting};
-use crate::glyph::GlyphShape;
 use crate::glyph::intersect::WorldGlyph;
 use crate::glyph::tessellate::{MeshKind, MeshVertex, SphereMesh, tessellate};
 use crate::render::frame::{FRAME_DESCRIPTOR, FRAME_USAGE, FrameParams};
@@ -44,21 +43,16 @@ impl GlyphMeshes {
     /// Tessellates every glyph of `sets` on `kind`'s sphere. Sets of any tensor layout
     /// share one draw: the mesh no longer depends on the layout.
     pub fn build(sets: &[GlyphSetData], kind: MeshKind) -> Result<GlyphMeshes> {
-        for (shape, what) in [
-            (GlyphShape::Ellipsoid, crate::error::Asked::Ellipsoids),
-            (GlyphShape::Reciprocal, crate::error::Asked::Reciprocal),
-            (GlyphShape::PlaneMin, crate::error::Asked::Plane),
-            (GlyphShape::PlaneMax, crate::error::Asked::Plane),
-            (GlyphShape::RatioMin, crate::error::Asked::Ratio),
-            (GlyphShape::RatioMax, crate::error::Asked::Ratio),
-        ] {
-            if sets.iter().any(|s| s.shape == shape) {
-                // The data decide (exit code 1), so not a Setting error.
-                return Err(Error::Unsupported {
-                    what,
-                    by: Setting::Method.with(kind),
-                });
-            }
+        // Only the polynomial glyph is tessellated.
+        if let Some(what) = sets
+            .iter()
+            .find_map(|s| crate::render::ShapeShader::of(s.shape).asked())
+        {
+            // The data decide (exit code 1), so not a Setting error.
+            return Err(Error::Unsupported {
+                what,
+                by: Setting::Method.with(kind),
+            });
         }
         let sphere = SphereMesh::new(kind)?;
         let glyphs: Vec<WorldGlyph> = sets.iter().flat_map(|s| s.world.iter().cloned()).collect();

@@ -29,10 +29,8 @@ pub mod tiles;
 pub mod underlay;
 pub mod underlay_shadows;
 
-use crate::catalog::{
-    ELLIPSOID_METHOD, PLANE_METHOD, RATIO_METHOD, RAY_CAST_METHODS, RECIPROCAL_METHOD,
-    RayCastMethod,
-};
+use crate::catalog::{GLYPH_SHAPES, GlyphShapeEntry, RAY_CAST_METHODS, RayCastMethod};
+use crate::glyph::GlyphShape;
 pub use crate::glyph::tessellate::MeshKind;
 pub use settings::{
     AmbientOcclusion, ColorMode, Lighting, Refinement, RenderPath, RenderSettings, Shadows,
@@ -50,21 +48,6 @@ pub enum Method {
     /// The first real root of the ray polynomial, isolated by Bernstein subdivision
     /// (glsl/raycast_exact.frag); offset 0 only.
     Exact,
-    /// The closed-form intersection of the DTI ellipsoid (glsl/raycast_ellipsoid.frag):
-    /// what ellipsoid glyph sets are drawn with, whatever `--method` says for the others.
-    Ellipsoid,
-    /// The exact method on the reciprocal glyph r = 1/|f| (glsl/raycast_exact.frag
-    /// compiled with `GLYPHCAST_RECIPROCAL`): what reciprocal glyph sets are drawn with
-    /// when the method is exact; the other methods refuse them.
-    Reciprocal,
-    /// The exact method on plane glyphs, r = 1/λ with λ² − T λ + D = 0
-    /// (glsl/raycast_exact.frag compiled with `GLYPHCAST_PLANE`): what plane glyph sets
-    /// are drawn with when the method is exact; the other methods refuse them.
-    Plane,
-    /// The exact method on ratio glyphs, r = |λ/Q| with λ² − T λ + D = 0
-    /// (glsl/raycast_exact.frag compiled with `GLYPHCAST_RATIO`): what ratio glyph sets
-    /// are drawn with when the method is exact; the other methods refuse them.
-    Ratio,
     /// The bounding sphere of each glyph on the ray caster's boxes: the cost floor of a
     /// box-proxy ray caster, not the glyph.
     Impostor,
@@ -84,13 +67,6 @@ impl Method {
     /// The method's entry in the table of ray-casting methods ([`crate::catalog`]):
     /// name, shaders, what it reads. `None` for the impostor and the meshes.
     pub fn ray_cast_entry(self) -> Option<&'static RayCastMethod> {
-        match self {
-            Method::Ellipsoid => return Some(&ELLIPSOID_METHOD),
-            Method::Reciprocal => return Some(&RECIPROCAL_METHOD),
-            Method::Plane => return Some(&PLANE_METHOD),
-            Method::Ratio => return Some(&RATIO_METHOD),
-            _ => {}
-        }
         let index = Method::RAY_CASTING.iter().position(|&m| m == self)?;
         RAY_CAST_METHODS.get(index)
     }
@@ -102,17 +78,69 @@ impl Method {
     }
 }
 
+/// The shader a glyph set is drawn with, besides its method's: the polynomial glyph's
+/// (the method's own), or that of a glyph shape with a shader of its own (an entry of
+/// [`crate::catalog`]'s glyph shapes, in that order).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum ShapeShader {
+    /// The polynomial glyph r = |f|, drawn by the method's shader.
+    Polynomial,
+    /// The DTI ellipsoid's closed form (glsl/raycast_ellipsoid.frag), whatever the
+    /// method (but the impostor).
+    Ellipsoid,
+    /// The reciprocal glyph r = 1/|f| (glsl/raycast_exact.frag with
+    /// `GLYPHCAST_RECIPROCAL`), the exact method's.
+    Reciprocal,
+    /// Plane glyphs, r = 1/λ with λ² − T λ + D = 0 (glsl/raycast_exact.frag with
+    /// `GLYPHCAST_PLANE`), the exact method's.
+    Plane,
+    /// Ratio glyphs, r = |λ/Q| with λ² − T λ + D = 0 (glsl/raycast_exact.frag with
+    /// `GLYPHCAST_RATIO`), the exact method's.
+    Ratio,
+}
+
+impl ShapeShader {
+    /// The shader that draws glyph sets of `shape`.
+    pub fn of(shape: GlyphShape) -> ShapeShader {
+        match shape {
+            GlyphShape::Polynomial => ShapeShader::Polynomial,
+            GlyphShape::Ellipsoid => ShapeShader::Ellipsoid,
+            GlyphShape::Reciprocal => ShapeShader::Reciprocal,
+            GlyphShape::PlaneMin | GlyphShape::PlaneMax => ShapeShader::Plane,
+            GlyphShape::RatioMin | GlyphShape::RatioMax => ShapeShader::Ratio,
+        }
+    }
+
+    /// What an error names when a method or path does not draw the shape; `None` for the
+    /// polynomial glyph, which every method draws.
+    pub(crate) fn asked(self) -> Option<crate::error::Asked> {
+        use crate::error::Asked;
+        match self {
+            ShapeShader::Polynomial => None,
+            ShapeShader::Ellipsoid => Some(Asked::Ellipsoids),
+            ShapeShader::Reciprocal => Some(Asked::Reciprocal),
+            ShapeShader::Plane => Some(Asked::Plane),
+            ShapeShader::Ratio => Some(Asked::Ratio),
+        }
+    }
+
+    /// Its entry in the catalog's glyph shapes; `None` for the polynomial glyph.
+    pub(crate) fn entry(self) -> Option<&'static GlyphShapeEntry> {
+        let index = match self {
+            ShapeShader::Polynomial => return None,
+            ShapeShader::Ellipsoid => 0,
+            ShapeShader::Reciprocal => 1,
+            ShapeShader::Plane => 2,
+            ShapeShader::Ratio => 3,
+        };
+        GLYPH_SHAPES.get(index)
+    }
+}
+
 impl std::fmt::Display for Method {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Method::Fixed
-            | Method::Interval
-            | Method::Affine
-            | Method::Exact
-            | Method::Ellipsoid
-            | Method::Reciprocal
-            | Method::Plane
-            | Method::Ratio => {
+            Method::Fixed | Method::Interval | Method::Affine | Method::Exact => {
                 let entry = self.ray_cast_entry().ok_or(std::fmt::Error)?;
                 f.write_str(entry.name)
             }

@@ -17,7 +17,7 @@ use crate::camera::{Camera, Projection};
 use crate::glyph::polynomial::raised_symmetric_tensor;
 use crate::glyph::{GlyphShape, Symmetry, TensorLayout};
 use crate::render::glyph_data::{GlyphSetData, tensor_layout};
-use crate::render::raycast::batch_method;
+use crate::render::raycast::{Variant, batch_variant};
 use crate::render::{Method, RenderPath, RenderSettings};
 use crate::scene::Scene;
 use glam::DVec3;
@@ -57,12 +57,12 @@ fn target_order(layout: TensorLayout, shape: GlyphShape, tops: [Option<u32>; 2])
     tops[(layout.order % 2) as usize].filter(|&top| eligible && top > layout.order)
 }
 
-/// The ray-casting pipelines, (layout, method), that drawing `scene` with `settings`
+/// The ray-casting pipelines (layout, method, shape's shader) that drawing `scene` with `settings`
 /// needs whatever its preparation finds: a one-shot render compiles these while the
 /// glyphs are prepared, and the rest (layouts whose sets may be promoted) at upload, if
 /// they are still needed. Empty for the mesh methods and the compute path, whose
 /// pipelines are made elsewhere.
-pub fn early_variants(scene: &Scene, settings: &RenderSettings) -> Vec<(TensorLayout, Method)> {
+pub fn early_variants(scene: &Scene, settings: &RenderSettings) -> Vec<Variant> {
     if settings.path != RenderPath::Fragment || matches!(settings.method, Method::Mesh(_)) {
         return Vec::new();
     }
@@ -82,13 +82,12 @@ pub fn early_variants(scene: &Scene, settings: &RenderSettings) -> Vec<(TensorLa
                     len <= PROMOTABLE_GLYPHS && target_order(l, shape, tops).is_some()
                 })
     };
-    let mut variants: Vec<(TensorLayout, Method)> = Vec::new();
+    let mut variants: Vec<Variant> = Vec::new();
     for &(layout, shape, _) in &sets {
         // A method the set's shape refuses is refused when the glyphs are uploaded.
-        let Ok(method) = batch_method(shape, settings.method) else {
+        let Ok(variant) = batch_variant(layout, shape, settings.method) else {
             continue;
         };
-        let variant = (layout, method);
         if !may_be_promoted(layout) && !variants.contains(&variant) {
             variants.push(variant);
         }

@@ -15,7 +15,6 @@
 //! The pass and the scenes keep a [`DeviceContext`], so the device outlives them.
 use crate::error::{Error, Result, Setting};
 use crate::glyph::{GlyphShape, TensorLayout};
-use crate::render::Method;
 use crate::render::batch::{Batch, batches};
 use crate::render::frame::{FRAME_DESCRIPTOR, FRAME_USAGE, FrameParams};
 use crate::render::glyph_data::GlyphSetData;
@@ -23,6 +22,7 @@ use crate::render::shaders::{
     DepthConvention, IMPOSTOR_FRAGMENT, RAYCAST_VERTEX, for_depth, raycast_shader,
 };
 use crate::render::shadow_grid::ShadowGrid;
+use crate::render::{Method, ShapeShader};
 use crate::vk::recording::bind_graphics;
 use crate::vk::{
     Buffer, BufferBinding, DescriptorPool, DeviceContext, GraphicsPipelineDesc, Pipeline,
@@ -164,13 +164,13 @@ pub(crate) const CUBE_INDICES: [u16; 36] = [
 /// a layout: four flat vec4/uint locations (glyph index, sphere, rotation, extent) and
 /// the monomial coefficients four to a location (raycast.vert), counted as whole
 /// locations.
-pub fn varying_components(layout: TensorLayout, method: Method) -> u32 {
+pub fn varying_components(layout: TensorLayout, shape: ShapeShader) -> u32 {
     let mut monomials = crate::glyph::monomials::symmetric_count(layout.order) as u32;
-    if method == Method::Plane {
+    if shape == ShapeShader::Plane {
         // The plane glyph's T follows D.
         monomials += crate::glyph::PLANE_TRACE_COEFFICIENTS as u32;
     }
-    if method == Method::Ratio {
+    if shape == ShapeShader::Ratio {
         // The ratio glyph's T and Q follow D.
         monomials += crate::glyph::RATIO_EXTRA_COEFFICIENTS as u32;
     }
@@ -207,9 +207,13 @@ pub(crate) fn batch_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; 6] {
 /// oriented box, 0 the cube around its bounding sphere (the sphere impostor's proxy).
 const ORIENTED_BOX_CONSTANT: u32 = 0;
 
-/// A pipeline's key: the layout (none for the impostor), the method, and whether it casts
-/// shadows (the exact method only).
-type PipelineKey = (Option<TensorLayout>, Method, bool);
+/// A pipeline's key: the layout (none for the impostor), the method, the glyph shape's
+/// shader, and whether it casts shadows (the exact method only).
+type PipelineKey = (Option<TensorLayout>, Method, ShapeShader, bool);
+
+/// What a glyph batch is drawn with: its layout, the method and the shape's shader
+/// ([`batch_variant`]); the pipelines [`RayCastPass::prepare_pipelines`] makes.
+pub type Variant = (TensorLayout, Method, ShapeShader);
 
 /// One glyph set on the GPU: a batch of glyphs that share a pipeline and one draw (a
 /// set larger than a storage buffer is split into several).
@@ -218,7 +222,7 @@ pub struct GlyphSetGpu {
     pub layout: TensorLayout,
     /// How negative lobes are drawn.
     pub negative: crate::glyph::NegativeMode,
-    /// Whether the batch holds polynomial glyphs or ellipsoids (`batch_method`).
+    /// The batch's glyph shape, which picks its shader (`batch_variant`).
     pub shape: GlyphShape,
     /// Glyphs in the batch (instances drawn).
     pub count: u32,
@@ -297,11 +301,11 @@ impl RayCastPass {
 
     /// The pipeline of a variant (without shadows), made now if it was not.
     pub fn pipeline(&mut self, layout: TensorLayout, method: Method) -> Result<vk::Pipeline> {
-        let key = pipeline_key(layout, method, false);
+        let key = pipeline_key((layout, method, ShapeShader::Polynomial), false);
         if let Some(p) = self.pipelines.get(&key) {
             return Ok(p);
         }
-        let (vertex, fragment) = self.shaders(layout, method, false)?;
+        let (vertex, fragment) = self.shaders((layout, method, ShapeShader::Polynomial), false)?;
         let pipeline = self.create_pipeline(vertex, fragment, key)?;
         Ok(self.pipelines.insert(key, pipeline))
     }
@@ -309,23 +313,19 @@ impl RayCastPass {
     /// Creates the pipelines of `variants` that do not exist yet, each on a thread of its
     /// own: drivers compile a pipeline on the creating thread, and a scene of several
     /// orders needs several (creating them is most of a one-shot render's time).
-    pub fn prepare_pipelines(&mut self, variants: &[(TensorLayout, Method)]) -> Result<()> {
+    pub fn prepare_pipelines(&mut self, variants: &[Variant]) -> Result<()> {
         self.prepare_pipelines_for(variants, false)
     }
 
     /// [`RayCastPass::prepare_pipelines`] of the variants that cast shadows (`shadows`),
     /// where the method has them, or that do not.
-    fn prepare_pipelines_for(
-        &mut self,
-        variants: &[(TensorLayout, Method)],
-        shadows: bool,
-    ) -> Result<()> {
+    fn prepare_pipelines_for(&mut self, variants: &[Variant], shadows: bool) -> Result<()> {
         type Missing = (PipelineKey, Option<&'static [u32]>, &'static [u32]);
         let mut missing: Vec<Missing> = Vec::new();
-        for &(layout, method) in variants {
-            let key = pipeline_key(layout, method, shadows);
+        for &variant in variants {
+            let key = pipeline_key(variant, shadows);
             if self.pipelines.get(&key).is_none() && !missing.iter().any(|(k, ..)| *k == key) {
-                let (vertex, fragment) = self.shaders(layout, method, key.2)?;
+                let (vertex, fragment) = self.shaders(variant, key.3)?;
                 missing.push((key, vertex, fragment));
             }
         }
@@ -362,8 +362,7 @@ impl RayCastPass {
     /// cannot be drawn by this pass on this device.
     fn shaders(
         &self,
-        layout: TensorLayout,
-        method: Method,
+        (layout, method, shape): Variant,
         shadows: bool,
     ) -> Result<(Option<&'static [u32]>, &'static [u32])> {
         Ok(match method {
@@ -380,15 +379,8 @@ impl RayCastPass {
                     by: "the ray-casting pass".into(),
                 });
             }
-            Method::Fixed
-            | Method::Interval
-            | Method::Affine
-            | Method::Exact
-            | Method::Ellipsoid
-            | Method::Reciprocal
-            | Method::Plane
-            | Method::Ratio => {
-                let needed = varying_components(layout, method);
+            Method::Fixed | Method::Interval | Method::Affine | Method::Exact => {
+                let needed = varying_components(layout, shape);
                 let available = self.ctx.max_varying_components();
                 if needed > available {
                     return Err(Error::Layout {
@@ -402,10 +394,11 @@ impl RayCastPass {
                         }),
                     });
                 }
-                let shader = raycast_shader(layout, method).ok_or_else(|| Error::Unsupported {
-                    what: crate::error::Asked::Layout(layout.into()),
-                    by: Setting::Method.with(method),
-                })?;
+                let shader =
+                    raycast_shader(layout, method, shape).ok_or_else(|| Error::Unsupported {
+                        what: crate::error::Asked::Layout(layout.into()),
+                        by: Setting::Method.with(method),
+                    })?;
                 let fragment =
                     match (self.formats.distance, shadows) {
                         (Some(_), false) => shader.fragment,
@@ -429,14 +422,9 @@ impl RayCastPass {
     }
 
     /// The pipeline of a prepared variant; an error (not a compile) if it was not made.
-    fn prepared(
-        &self,
-        layout: TensorLayout,
-        method: Method,
-        shadows: bool,
-    ) -> Result<vk::Pipeline> {
+    fn prepared(&self, variant: Variant, shadows: bool) -> Result<vk::Pipeline> {
         self.pipelines
-            .get(&pipeline_key(layout, method, shadows))
+            .get(&pipeline_key(variant, shadows))
             .ok_or(Error::Call {
                 call: "RayCastPass::record",
                 expected: "RayCastPass::prepare (or upload) for this layout and method first",
@@ -469,7 +457,7 @@ impl RayCastPass {
         &self,
         vertex: vk::ShaderModule,
         fragment: vk::ShaderModule,
-        (_, method, _): PipelineKey,
+        (_, method, ..): PipelineKey,
     ) -> Result<Pipeline> {
         let entries = [vk::SpecializationMapEntry {
             constant_id: ORIENTED_BOX_CONSTANT,
@@ -531,7 +519,7 @@ impl RayCastPass {
         })?;
         let variants: Vec<_> = chunks
             .iter()
-            .map(|chunk| Ok((chunk.layout, batch_method(chunk.shape, method)?)))
+            .map(|chunk| batch_variant(chunk.layout, chunk.shape, method))
             .collect::<Result<_>>()?;
         // Shadows or ambient occlusion, as the first frame block asks: the rays from the
         // hits need a pipeline of their own.
@@ -596,8 +584,8 @@ impl RayCastPass {
         }
         let (viewport, scissor) = (target.viewport, target.scissor);
         for set in &scene.sets {
-            let pipeline =
-                self.prepared(set.layout, batch_method(set.shape, method)?, scene.shadows)?;
+            let variant = batch_variant(set.layout, set.shape, method)?;
+            let pipeline = self.prepared(variant, scene.shadows)?;
             // A plane or ratio glyph set has no negative lobes: the word says which root
             // it draws.
             let hide = match set.shape {
@@ -634,46 +622,40 @@ impl RayCastPass {
     }
 }
 
-/// The key of a variant's pipeline: the impostor's is shared by every layout, and only
-/// the exact method casts shadows.
-fn pipeline_key(layout: TensorLayout, method: Method, shadows: bool) -> PipelineKey {
-    match method {
-        Method::Impostor => (None, method, false),
-        Method::Exact => (Some(layout), method, shadows),
-        _ => (Some(layout), method, false),
+/// The key of a variant's pipeline: the impostor's is shared by every layout and shape,
+/// and only the exact method casts shadows, from polynomial glyphs (the other shapes'
+/// shaders take no rays: they are drawn without shadows).
+fn pipeline_key((layout, method, shape): Variant, shadows: bool) -> PipelineKey {
+    match (method, shape) {
+        (Method::Impostor, _) => (None, method, ShapeShader::Polynomial, false),
+        (Method::Exact, ShapeShader::Polynomial) => (Some(layout), method, shape, shadows),
+        _ => (Some(layout), method, shape, false),
     }
 }
 
-/// The method a batch of `shape` is drawn with when the scene's is `method`: ellipsoids
-/// always by their closed-form shader (the other methods solve the polynomial glyph),
-/// except under the impostor, which draws every glyph's bounding sphere; reciprocal
-/// glyphs by the exact method's reciprocal variant, plane glyphs by its plane variant and
-/// ratio glyphs by its ratio variant, which the other methods lack (an
-/// [`Error::Unsupported`] naming the method).
-pub(crate) fn batch_method(shape: GlyphShape, method: Method) -> Result<Method> {
-    match (shape, method) {
-        (_, Method::Impostor) => Ok(Method::Impostor),
-        (GlyphShape::Ellipsoid, _) => Ok(Method::Ellipsoid),
-        (GlyphShape::Polynomial, method) => Ok(method),
-        (GlyphShape::Reciprocal, Method::Exact | Method::Reciprocal) => Ok(Method::Reciprocal),
-        (GlyphShape::Reciprocal, method) => Err(Error::Unsupported {
-            what: crate::error::Asked::Reciprocal,
-            by: Setting::Method.with(method),
-        }),
-        (GlyphShape::PlaneMin | GlyphShape::PlaneMax, Method::Exact | Method::Plane) => {
-            Ok(Method::Plane)
+/// What a batch of `layout` and `shape` is drawn with when the scene's method is
+/// `method`: under the impostor, every glyph's bounding sphere; else the shape's shader
+/// (the catalog's glyph shapes): the polynomial glyph's is the method's, the
+/// ellipsoid's closed form serves every method, and the other shapes' are the exact
+/// method's, which the other methods lack (an [`Error::Unsupported`] naming the method).
+pub(crate) fn batch_variant(
+    layout: TensorLayout,
+    shape: GlyphShape,
+    method: Method,
+) -> Result<Variant> {
+    let shader = ShapeShader::of(shape);
+    if method == Method::Impostor {
+        return Ok((layout, method, ShapeShader::Polynomial));
+    }
+    match (shader.entry(), shader.asked()) {
+        (Some(entry), _) if entry.every_method || method == Method::Exact => {
+            Ok((layout, Method::Exact, shader))
         }
-        (GlyphShape::PlaneMin | GlyphShape::PlaneMax, method) => Err(Error::Unsupported {
-            what: crate::error::Asked::Plane,
+        (Some(_), Some(what)) => Err(Error::Unsupported {
+            what,
             by: Setting::Method.with(method),
         }),
-        (GlyphShape::RatioMin | GlyphShape::RatioMax, Method::Exact | Method::Ratio) => {
-            Ok(Method::Ratio)
-        }
-        (GlyphShape::RatioMin | GlyphShape::RatioMax, method) => Err(Error::Unsupported {
-            what: crate::error::Asked::Ratio,
-            by: Setting::Method.with(method),
-        }),
+        _ => Ok((layout, method, shader)),
     }
 }
 

@@ -804,12 +804,54 @@ mod tests {
                 for order in 1..=max + 1 {
                     let layout = TensorLayout { order, symmetry };
                     let drawable = order <= max;
-                    assert_eq!(raycast_shader(layout, method).is_some(), drawable);
+                    let polynomial = crate::render::ShapeShader::Polynomial;
+                    assert_eq!(
+                        raycast_shader(layout, method, polynomial).is_some(),
+                        drawable
+                    );
                     let compute = compute_raycast_shader(layout, method).is_some();
                     assert_eq!(compute, drawable && entry.compute.is_some());
                 }
             }
         }
+    }
+
+    /// Each glyph shape with a shader of its own is the catalog's entry of its name, and
+    /// has shaders exactly for the layouts the entry lists (the exact method's key).
+    #[test]
+    fn glyph_shapes_and_their_shaders_follow_the_catalog() {
+        use crate::catalog::{GLYPH_SHAPES, max_order};
+        use crate::glyph::{GlyphShape, Symmetry, TensorLayout};
+        use crate::render::ShapeShader;
+        use crate::render::shaders::raycast_shader;
+        let shapes = [
+            GlyphShape::Ellipsoid,
+            GlyphShape::Reciprocal,
+            GlyphShape::PlaneMin,
+            GlyphShape::PlaneMax,
+            GlyphShape::RatioMin,
+            GlyphShape::RatioMax,
+        ];
+        let mut seen = Vec::new();
+        for shape in shapes {
+            let shader = ShapeShader::of(shape);
+            let entry = shader.entry().expect("a shape with a shader of its own");
+            assert_eq!(format!("{shader:?}").to_lowercase(), entry.name);
+            assert!(shader.asked().is_some());
+            seen.push(entry.name);
+            for symmetry in [Symmetry::Symmetric, Symmetry::NonSymmetric] {
+                let symmetric = symmetry == Symmetry::Symmetric;
+                for order in 1..=max_order(symmetric) {
+                    let layout = TensorLayout { order, symmetry };
+                    let compiled = raycast_shader(layout, Method::Exact, shader).is_some();
+                    assert_eq!(compiled, entry.compiled_for(symmetric, order), "{shape:?}");
+                }
+            }
+        }
+        seen.dedup();
+        let names: Vec<_> = GLYPH_SHAPES.iter().map(|e| e.name).collect();
+        assert_eq!(seen, names, "every catalog shape is reached, in its order");
+        assert_eq!(ShapeShader::of(GlyphShape::Polynomial).entry(), None);
     }
 
     #[test]

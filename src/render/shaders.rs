@@ -1,7 +1,7 @@
 //! The SPIR-V that build.rs generated for the orders and methods of `crate::catalog`, as
 //! a typed table.
 use crate::glyph::{Symmetry, TensorLayout};
-use crate::render::Method;
+use crate::render::{Method, ShapeShader};
 
 /// Compute shader that evaluates f and its gradient at given points (for tests).
 pub struct EvalShader {
@@ -24,8 +24,12 @@ pub struct RangeShader {
 pub struct RaycastShader {
     /// The tensor layout it is generated for.
     pub layout: TensorLayout,
-    /// The intersection method of its fragment shaders.
+    /// The intersection method of its fragment shaders (a glyph shape's own shader is
+    /// the exact method's).
     pub method: Method,
+    /// The glyph shape it draws: the polynomial glyph, or a shape with a shader of its
+    /// own.
+    pub shape: ShapeShader,
     /// The proxy boxes' vertex shader of this layout, which passes the glyph's monomial
     /// coefficients to the fragment shader as flat inputs (locations 4 and up).
     pub vertex: &'static [u32],
@@ -82,14 +86,16 @@ macro_rules! spirv {
 
 include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
 
-/// The ray-casting shaders of `layout` and `method`; None if the catalog has none.
+/// The ray-casting shaders of `layout`, `method` and `shape`; None if the catalog has
+/// none.
 pub(crate) fn raycast_shader(
     layout: TensorLayout,
     method: Method,
+    shape: ShapeShader,
 ) -> Option<&'static RaycastShader> {
     RAYCAST_SHADERS
         .iter()
-        .find(|s| s.layout == layout && s.method == method)
+        .find(|s| s.layout == layout && s.method == method && s.shape == shape)
 }
 
 /// The compute ray caster of `layout` and `method`; None if the catalog has none.
@@ -117,12 +123,18 @@ pub(crate) fn range_shader(layout: TensorLayout) -> Option<&'static RangeShader>
 pub fn methods_for(layouts: &[TensorLayout]) -> Vec<Method> {
     let mut methods: Vec<Method> = RAYCAST_SHADERS
         .iter()
+        .filter(|s| s.shape == ShapeShader::Polynomial)
         .map(|s| s.method)
         .filter(|m| Method::RAY_CASTING.contains(m))
         .collect();
     methods.sort();
     methods.dedup();
-    methods.retain(|m| layouts.iter().all(|l| raycast_shader(*l, *m).is_some()));
+    let polynomial = ShapeShader::Polynomial;
+    methods.retain(|m| {
+        layouts
+            .iter()
+            .all(|l| raycast_shader(*l, *m, polynomial).is_some())
+    });
     methods
 }
 

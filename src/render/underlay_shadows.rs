@@ -14,13 +14,13 @@ use std::collections::HashMap;
 
 use crate::error::{Asked, Error, Result, Setting};
 use crate::glyph::{GlyphShape, TensorLayout};
-use crate::render::Method;
 use crate::render::component::UploadedGlyphs;
 use crate::render::raycast::{
     GlyphSetGpu, SceneGpu, TargetFormats, batch_bindings, viewport_and_scissor,
 };
 use crate::render::shaders::{UNDERLAY_RECEIVER_VERTEX, raycast_shader};
 use crate::render::underlay::{PlanePush, UnderlayGpu, UnderlayPlane, underlay_bindings};
+use crate::render::{Method, ShapeShader};
 use crate::vk::{
     DeviceContext, GraphicsPipelineDesc, Pipeline, PipelineLayout, RasterTarget, ShaderModule,
     graphics_pipeline, vertex_fragment_stages,
@@ -85,7 +85,7 @@ impl UnderlayShadowPass {
             if self.pipelines.contains_key(&set.layout) {
                 continue;
             }
-            let spirv = raycast_shader(set.layout, Method::Exact)
+            let spirv = raycast_shader(set.layout, Method::Exact, ShapeShader::Polynomial)
                 .and_then(|s| s.receiver_fragment)
                 .ok_or_else(|| Error::Unsupported {
                     what: Asked::Layout(set.layout.into()),
