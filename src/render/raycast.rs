@@ -212,7 +212,7 @@ const ORIENTED_BOX_CONSTANT: u32 = 0;
 type PipelineKey = (Option<TensorLayout>, Method, ShapeShader, bool);
 
 /// What a glyph batch is drawn with: its layout, the method and the shape's shader
-/// ([`batch_variant`]); the pipelines [`RayCastPass::prepare_pipelines`] makes.
+/// (`batch_variant`); the pipelines [`RayCastPass::prepare_pipelines`] makes.
 pub type Variant = (TensorLayout, Method, ShapeShader);
 
 /// One glyph set on the GPU: a batch of glyphs that share a pipeline and one draw (a
