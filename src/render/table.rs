@@ -466,10 +466,10 @@ render_settings! {
         range: Range::Closed(SHININESS_RANGE.0, SHININESS_RANGE.1, ""),
         reads: Reads::Always, number: Some(|s| s.lighting.shininess),
     }
-    /// Shadows the glyphs cast on themselves and on the other glyphs of their set: off,
-    /// hard (one ray from each hit towards the light, intersected exactly) or soft:RADIUS
-    /// (a disc light of that angular radius in degrees, 16 rays). The depth map does
-    /// not change.
+    /// Shadows the glyphs cast on themselves, on the other glyphs of their set and on the
+    /// underlay: off, hard (one ray from each hit towards the light, intersected exactly)
+    /// or soft:RADIUS (a disc light of that angular radius in degrees, 16 rays). The
+    /// depth map does not change.
     shadows: Shadows = Shadows("shadows") {
         kind: Switch, value: "off|hard|soft:R", default: "off",
         accepts: "off, hard (or the flag alone), soft:RADIUS (degrees, above 0 to 30)",
