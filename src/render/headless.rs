@@ -536,7 +536,11 @@ fn record_frame(
         cleared_color_attachment(targets.distance.view, [-1.0, 0.0, 0.0, 0.0]),
     ];
     let mut depth_attachment = crate::vk::cleared_depth_attachment(targets.depth.view);
-    if frame.underlay.is_some() {
+    // The underlay receives the glyphs' shadows only where the frame has both and the
+    // glyphs were uploaded to cast rays.
+    let receives = frame.underlay.is_some()
+        && matches!(&frame.scene, GlyphsOnGpu::RayCast(glyphs) if glyphs.gpu.shadows);
+    if receives {
         // Kept for the underlay's shadows, drawn in a second rendering.
         depth_attachment = depth_attachment.store_op(vk::AttachmentStoreOp::STORE);
     }
@@ -564,8 +568,8 @@ fn record_frame(
     // The underlay's planes again, darkened by the shadows of the glyphs drawn before:
     // in a rendering of the colour and depth attachments only (a pipeline that blends
     // one attachment and not another needs the independentBlend feature).
-    if let (Some((volume, planes)), GlyphsOnGpu::RayCast(on_gpu), Some(receiver)) =
-        (&frame.underlay, &frame.scene, underlay_shadows)
+    if let (true, Some((volume, planes)), GlyphsOnGpu::RayCast(on_gpu), Some(receiver)) =
+        (receives, &frame.underlay, &frame.scene, underlay_shadows)
     {
         let color = [loaded_attachment(
             targets.color.view,
