@@ -15,6 +15,8 @@ use std::fmt::Write as _;
 const NO_DISTANCE_DEFINE: &str = "GLYPHCAST_NO_DISTANCE";
 /// The define of the exact method's shadow-casting fragment shader (`--shadows`).
 const SHADOWS_DEFINE: &str = "GLYPHCAST_SHADOWS";
+/// The define of the glyphs' shadow receiver (src/render/glyph_shadows.rs).
+const GLYPH_RECEIVER_DEFINE: &str = "GLYPHCAST_GLYPH_RECEIVER";
 /// The vertex shader variant that also passes the glyph's index (the robust methods read
 /// the stored entries; an output no fragment shader reads is a validation warning).
 const GLYPH_INDEX_DEFINE: &str = "GLYPHCAST_GLYPH_INDEX";
@@ -217,7 +219,8 @@ fn layout_jobs(
             "    RaycastShader {{ layout: {layout}, method: Method::{method_key}, \
              shape: ShapeShader::{shape_key}, vertex: {}, \
              fragment: {}, color_only_fragment: {}, shadows_fragment: {}, \
-             shadows_color_only_fragment: {}, receiver_fragment: {} }},",
+             shadows_color_only_fragment: {}, receiver_fragment: {}, \
+             glyph_receiver_fragment: {} }},",
             spirv_entry(if method.own_vertex {
                 &own_vertex
             } else if method.uses_ranges {
@@ -237,6 +240,10 @@ fn layout_jobs(
             },
             match &shadows {
                 Some(name) => format!("Some({})", spirv_entry(&format!("{name}_receiver"))),
+                None => "None".into(),
+            },
+            match &shadows {
+                Some(name) => format!("Some({})", spirv_entry(&format!("{name}_glyph_receiver"))),
                 None => "None".into(),
             }
         );
@@ -291,6 +298,19 @@ fn layout_jobs(
             receiver.defines.push(RECEIVER_DEFINE);
             receiver.defines.push(NO_DISTANCE_DEFINE);
             jobs.push(receiver);
+            // The glyphs receiving the batch's shadows after a frame drawn without them
+            // (colour only; not optimised, as the underlay's receiver).
+            let mut glyph_receiver = job(
+                format!("{shadows_label}_glyph_receiver"),
+                file,
+                kind,
+                source,
+                weight,
+            );
+            glyph_receiver.defines.push(SHADOWS_DEFINE);
+            glyph_receiver.defines.push(GLYPH_RECEIVER_DEFINE);
+            glyph_receiver.defines.push(NO_DISTANCE_DEFINE);
+            jobs.push(glyph_receiver);
         }
         // The compute ray caster (--path compute) of the methods that have one.
         if let Some(compute_file) = method.compute {

@@ -39,7 +39,11 @@ layout(location = 0) out vec4 out_color;
 layout(location = 1) out float out_distance;
 #endif
 #ifndef GLYPHCAST_RECEIVER
+#ifndef GLYPHCAST_GLYPH_RECEIVER
+// (The glyphs' shadow receiver, raycast_exact.frag's GLYPHCAST_GLYPH_RECEIVER variant,
+// shades hits found before: it writes colour alone.)
 layout(depth_less) out float gl_FragDepth;  // reversed depth: hits lie behind the proxy
+#endif
 
 // glyph_c of this fragment's glyph (glyph_load of the vertex shader, multiplicities
 // folded in).
@@ -96,7 +100,7 @@ float refine(vec3 mid, vec3 dir, float s0, float g0, float s1, float g1) {
     return s1;
 }
 
-#ifndef GLYPHCAST_RECEIVER
+#if !defined(GLYPHCAST_RECEIVER) && !defined(GLYPHCAST_GLYPH_RECEIVER)
 // Colour, depth and ray distance of the hit at q(s_hit), lit by the share `visibility`
 // of the light, to the fragment's outputs.
 void shade_hit_visible(GlyphRay ray, float s_hit, float visibility) {

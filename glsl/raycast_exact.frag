@@ -108,6 +108,72 @@ void main() {
     }
     out_color = vec4(rgb * share, 1.0);
 }
+#elif defined(GLYPHCAST_GLYPH_RECEIVER)
+// The glyphs receiving their batch's shadows after the frame is drawn without them
+// (src/render/glyph_shadows.rs): the batch's boxes drawn again, each fragment reading
+// the ray distance of the hit its pixel shows (the frame's distance attachment, copied
+// into the hits buffer). The fragment of the glyph that hit belongs to (the point
+// just beyond it is inside that glyph, or the hit lies on its surface) casts the hit's
+// rays and writes the hit's colour lit by the share of the light that reaches it; the
+// pass blends by MIN. A pixel whose hit keeps the whole light is not written: in full
+// light the frame keeps its colours bit for bit. Only visible hits cast rays, once each.
+layout(std430, set = 1, binding = 0) readonly buffer Hits {
+    uvec4 hits_size;        // x: the row length, pixels
+    float hit_distances[];  // per pixel, row after row; -1: no glyph
+};
+
+// Beyond the hit (normalised glyph units, along the ray), the point that must be inside
+// the glyph that owns it; and how near the surface a grazing hit lies (g, of the same
+// units).
+const float OWNER_STEP = 2.0e-3;
+const float OWNER_GRAZE = 1.0e-4;
+
+void main() {
+    uvec2 pixel = uvec2(gl_FragCoord.xy);
+    float distance = hit_distances[pixel.y * hits_size.x + pixel.x];
+    if (!(distance >= 0.0)) {
+        discard;  // no glyph along the ray (-1), or the underlay's pixel
+    }
+    GlyphRay camera;
+    if (!glyph_ray_within(CHORD_RADIUS, camera)) {
+        discard;
+    }
+    float s_hit = distance / camera.rho - camera.t_mid;
+    if (s_hit < camera.s_start - OWNER_STEP || s_hit > camera.s_end + OWNER_STEP) {
+        discard;
+    }
+    glyph_load_inputs();
+    if (!(inside(camera.mid + (s_hit + OWNER_STEP) * camera.dir) > 0.0
+          || abs(inside(camera.mid + s_hit * camera.dir)) <= OWNER_GRAZE)) {
+        discard;
+    }
+    init_binomials();
+    shadow_begin(camera, s_hit);
+    GlyphRay ray;
+    for (int pass = 0; pass < SHADOW_ISOLATIONS; ++pass) {
+        if (!shadow_next_glyph(ray)) {
+            break;
+        }
+        float h = ray.half_chord;
+        ray_polynomial(ray.mid, h * ray.dir);
+        shadow_ray_only = true;
+        float tau;
+        if (first_crossing(ray.mid, h * ray.dir, ray.s_start / h, ray.s_end / h, tau)) {
+            shadow_ray_blocked();
+        }
+    }
+    float visibility = shadow_visibility();
+    shadow_ambient_share = shadow_ambient_visibility();
+    if (visibility >= 1.0 && shadow_ambient_share >= 1.0) {
+        discard;
+    }
+    glyph_load_inputs();  // the shadow rays loaded the glyphs they met
+    vec4 color;
+    float depth;
+    float hit_distance_again;
+    shade_surface_visible(camera, s_hit, visibility, color, depth, hit_distance_again);
+    out_color = color;
+}
 #else
 void main() {
     GlyphRay camera;

@@ -15,6 +15,7 @@ use crate::render::component::{GlyphRenderer, RendererDesc, UploadedGlyphs};
 use crate::render::compute::{ComputeRayCastPass, ComputeSceneGpu};
 use crate::render::frame::{FrameParams, SceneExtent};
 use crate::render::glyph_data::GlyphSetData;
+use crate::render::glyph_shadows::{GlyphShadowPass, HITS_HEADER, HitsBuffer};
 use crate::render::mesh::{GlyphMeshes, MeshPass, MeshSceneGpu, MeshStats};
 use crate::render::peaks::{PeakSet, PeaksGpu, PeaksPass};
 use crate::render::raycast::{FrameTarget, PassOptions, RayCastPass, TargetFormats};
@@ -171,6 +172,9 @@ pub struct HeadlessRenderer {
     underlay: Option<UnderlayPass>,
     /// The underlay receiving shadows, made on first use too.
     underlay_shadows: Option<UnderlayShadowPass>,
+    /// The glyphs' shadows, cast after the frame from the hits its distance attachment
+    /// holds (render::glyph_shadows), made on first use too.
+    glyph_shadows: Option<GlyphShadowPass>,
     peaks: Option<PeaksPass>,
     commands: OneShot,
     timer: Option<GpuTimer>,
@@ -186,12 +190,16 @@ impl HeadlessRenderer {
             frames_in_flight: 1,
             settings: RenderSettings::default(),
         };
+        let mut glyphs = GlyphRenderer::new(gpu.context(), &desc)?;
+        // Only the visible hits cast shadow rays: after the frame (render::glyph_shadows).
+        glyphs.pass_mut().set_deferred_shadows(true);
         Ok(HeadlessRenderer {
-            glyphs: GlyphRenderer::new(gpu.context(), &desc)?,
+            glyphs,
             mesh: MeshPass::new(gpu.context(), FORMATS)?,
             compute: ComputeRayCastPass::new(gpu.context())?,
             underlay: None,
             underlay_shadows: None,
+            glyph_shadows: None,
             peaks: None,
             commands: OneShot::new(gpu)?,
             timer: GpuTimer::new(gpu)?,
@@ -391,6 +399,24 @@ impl HeadlessRenderer {
             };
             pass.prepare(glyphs)?;
         }
+        // The glyphs' shadows, cast after the frame from its hits.
+        let hits = match &scene {
+            GlyphsOnGpu::RayCast(glyphs) if glyphs.gpu.deferred => {
+                let pass = match &mut self.glyph_shadows {
+                    Some(pass) => pass,
+                    None => self.glyph_shadows.insert(GlyphShadowPass::new(
+                        gpu.context(),
+                        TargetFormats {
+                            distance: None,
+                            ..FORMATS
+                        },
+                    )?),
+                };
+                pass.prepare(glyphs)?;
+                Some(pass.hits(size)?)
+            }
+            _ => None,
+        };
         let peaks_gpu = match peaks {
             Some(p) => {
                 let pass = match &mut self.peaks {
@@ -409,6 +435,7 @@ impl HeadlessRenderer {
             underlay,
             peaks: peaks_gpu.map(|on_gpu| (on_gpu, peaks.cloned().unwrap_or_default())),
             view_proj: params.view_proj,
+            hits,
         })
     }
 
@@ -420,6 +447,7 @@ impl HeadlessRenderer {
             &mut self.compute,
             (self.underlay.as_ref(), self.underlay_shadows.as_ref()),
             self.peaks.as_ref(),
+            self.glyph_shadows.as_ref(),
         );
         let timer = self.timer.as_ref();
         self.commands
@@ -457,6 +485,8 @@ pub struct PreparedFrame {
     peaks: Option<(PeaksGpu, PeakSet)>,
     /// The frame's world-to-clip matrix, which the underlay's planes share.
     view_proj: [[f32; 4]; 4],
+    /// Where the glyphs' shadows are cast after the frame: its hits.
+    hits: Option<HitsBuffer>,
 }
 
 impl PreparedFrame {
@@ -511,10 +541,11 @@ type Passes<'a> = (
     &'a mut ComputeRayCastPass,
     (Option<&'a UnderlayPass>, Option<&'a UnderlayShadowPass>),
     Option<&'a PeaksPass>,
+    Option<&'a GlyphShadowPass>,
 );
 
 fn record_frame(
-    (glyphs, mesh, compute, (underlay, underlay_shadows), peaks): Passes,
+    (glyphs, mesh, compute, (underlay, underlay_shadows), peaks, glyph_shadows): Passes,
     timer: Option<&GpuTimer>,
     gpu: &Gpu,
     cmd: vk::CommandBuffer,
@@ -540,8 +571,15 @@ fn record_frame(
     // glyphs were uploaded to cast rays.
     let receives = frame.underlay.is_some()
         && matches!(&frame.scene, GlyphsOnGpu::RayCast(glyphs) if glyphs.gpu.shadows);
-    if receives {
-        // Kept for the underlay's shadows, drawn in a second rendering.
+    // The glyphs' shadows, cast after the frame from its hits.
+    let casts = match (&frame.scene, &frame.hits, glyph_shadows) {
+        (GlyphsOnGpu::RayCast(on_gpu), Some(hits), Some(pass)) if on_gpu.gpu.deferred => {
+            Some((on_gpu.as_ref(), hits, pass))
+        }
+        _ => None,
+    };
+    if receives || casts.is_some() {
+        // Kept for the shadows, drawn in a second rendering.
         depth_attachment = depth_attachment.store_op(vk::AttachmentStoreOp::STORE);
     }
     let rendering = vk::RenderingInfo::default()
@@ -565,12 +603,20 @@ fn record_frame(
     }
     // SAFETY: as above.
     unsafe { d.cmd_end_rendering(cmd) };
-    // The underlay's planes again, darkened by the shadows of the glyphs drawn before:
-    // in a rendering of the colour and depth attachments only (a pipeline that blends
-    // one attachment and not another needs the independentBlend feature).
-    if let (true, Some((volume, planes)), GlyphsOnGpu::RayCast(on_gpu), Some(receiver)) =
-        (receives, &frame.underlay, &frame.scene, underlay_shadows)
-    {
+    if let Some((_, hits, _)) = casts {
+        copy_hits(d, cmd, targets, hits, extent);
+    }
+    // The glyphs' boxes and the underlay's planes again, darkened by the shadows of the
+    // glyphs drawn before: in a rendering of the colour and depth attachments only (a
+    // pipeline that blends one attachment and not another needs the independentBlend
+    // feature).
+    let underlay_receives = match (receives, &frame.underlay, &frame.scene, underlay_shadows) {
+        (true, Some((volume, planes)), GlyphsOnGpu::RayCast(on_gpu), Some(receiver)) => {
+            Some((volume, planes, on_gpu.as_ref(), receiver))
+        }
+        _ => None,
+    };
+    if casts.is_some() || underlay_receives.is_some() {
         let color = [loaded_attachment(
             targets.color.view,
             vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
@@ -599,8 +645,17 @@ fn record_frame(
             );
             d.cmd_begin_rendering(cmd, &rendering);
         }
-        let glyphs = (on_gpu.as_ref(), 0);
-        let recorded = receiver.record(cmd, glyphs, (volume, planes), frame.view_proj, extent);
+        let recorded = casts
+            .map(|(on_gpu, hits, pass)| pass.record(cmd, (on_gpu, 0), hits, extent))
+            .transpose()
+            .and_then(|_| {
+                underlay_receives
+                    .map(|(volume, planes, on_gpu, receiver)| {
+                        let glyphs = (on_gpu, 0);
+                        receiver.record(cmd, glyphs, (volume, planes), frame.view_proj, extent)
+                    })
+                    .transpose()
+            });
         // SAFETY: as above.
         unsafe { d.cmd_end_rendering(cmd) };
         recorded?;
@@ -610,6 +665,74 @@ fn record_frame(
     }
     copy_targets_to_host(d, cmd, targets, extent);
     Ok(())
+}
+
+/// The frame's ray distances into `hits` (after its 16-byte header, the row length), for
+/// the glyphs' shadows cast after the frame; the distance attachment is left as it was.
+fn copy_hits(
+    d: &ash::Device,
+    cmd: vk::CommandBuffer,
+    t: &Targets,
+    hits: &HitsBuffer,
+    extent: vk::Extent2D,
+) {
+    let range = t.distance.subresource_range();
+    let attachment = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
+    let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+    let to_copy = layout_transition(
+        t.distance.handle,
+        range,
+        (attachment, src),
+        COLOR_OUTPUT,
+        COPY_READ,
+    );
+    let back = layout_transition(
+        t.distance.handle,
+        range,
+        (src, attachment),
+        COPY_READ,
+        COLOR_OUTPUT,
+    );
+    let header = [extent.width, extent.height, 0, 0];
+    let copy = [color_image_copy(extent).buffer_offset(HITS_HEADER)];
+    // The header's update and the copy are transfer writes; the last frame's receivers
+    // read the buffer before them.
+    let shader_read = (
+        vk::PipelineStageFlags2::FRAGMENT_SHADER,
+        vk::AccessFlags2::SHADER_STORAGE_READ,
+    );
+    let transfer_write = (
+        vk::PipelineStageFlags2::ALL_TRANSFER,
+        vk::AccessFlags2::TRANSFER_WRITE,
+    );
+    let write = vk::MemoryBarrier2::default()
+        .src_stage_mask(shader_read.0)
+        .src_access_mask(shader_read.1)
+        .dst_stage_mask(transfer_write.0)
+        .dst_access_mask(transfer_write.1);
+    let read = vk::MemoryBarrier2::default()
+        .src_stage_mask(transfer_write.0)
+        .src_access_mask(transfer_write.1)
+        .dst_stage_mask(shader_read.0)
+        .dst_access_mask(shader_read.1);
+    // SAFETY: `cmd` is recording outside rendering; the image and buffer are alive until
+    // the submission completes, and the buffer holds the header and the image's bytes.
+    unsafe {
+        d.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default()
+                .memory_barriers(&[write])
+                .image_memory_barriers(&[to_copy]),
+        );
+        d.cmd_update_buffer(cmd, hits.buffer.handle, 0, bytemuck::cast_slice(&header));
+        d.cmd_copy_image_to_buffer(cmd, t.distance.handle, src, hits.buffer.handle, &copy);
+        d.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default()
+                .memory_barriers(&[read])
+                .image_memory_barriers(&[back]),
+        );
+    }
 }
 
 /// An attachment whose contents a second rendering loads and keeps.

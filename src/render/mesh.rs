@@ -214,6 +214,7 @@ impl MeshPass {
             &stages,
             InstanceInput::Instance,
             RasterTarget::default(),
+            None,
         )?;
         Ok(self.pipelines.insert(vertices_per_glyph, pipeline))
     }

@@ -10,6 +10,7 @@ pub mod compose;
 pub mod compute;
 pub mod frame;
 pub mod glyph_data;
+pub(crate) mod glyph_shadows;
 #[doc(hidden)]
 pub mod harness;
 pub mod headless;

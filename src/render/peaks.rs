@@ -247,7 +247,7 @@ fn create_pipeline(
         layout,
         // glyphcast's own targets: one sample, reversed depth (the headless renderer's).
         raster: crate::vk::RasterTarget::default(),
-        darken: false,
+        darken: None,
     };
     // SAFETY: the modules are alive until the call returns; their SPIR-V declares the
     // frame block of `layout` (render::interface checks it).

@@ -144,6 +144,9 @@ pub struct RayCastPass {
     buffer_limit: Option<u64>,
     /// CUBE_INDICES, for every box.
     indices: Buffer,
+    /// Whether scenes uploaded from now on leave their shadows to a later pass
+    /// ([`SceneGpu`]'s `deferred`).
+    deferred_shadows: bool,
 }
 
 /// The 12 triangles of a box as corner indices (bit 0: x, bit 1: y, bit 2: z), counter-
@@ -226,8 +229,8 @@ pub struct GlyphSetGpu {
     pub shape: GlyphShape,
     /// Glyphs in the batch (instances drawn).
     pub count: u32,
-    instances: Buffer,
-    boxes: Buffer,
+    pub(crate) instances: Buffer,
+    pub(crate) boxes: Buffer,
     _coefficients: Buffer,
     /// The shadow rays' grid over the batch's boxes: its cells and its entries.
     _grid: [Buffer; 2],
@@ -239,9 +242,12 @@ pub struct GlyphSetGpu {
 /// parameter buffer per frame in flight.
 pub struct SceneGpu {
     frames: Vec<Buffer>,
-    /// Whether its exact batches are drawn by the pipelines that cast shadows (the first
-    /// frame block asked for them).
+    /// Whether its exact batches cast shadows (the first frame block asked for them): by
+    /// the pipelines that cast them, or by a later pass (`deferred`).
     pub(crate) shadows: bool,
+    /// Whether the shadows are cast after the frame, by `glyph_shadows::GlyphShadowPass`:
+    /// the batches are drawn by the pipelines without shadows.
+    pub(crate) deferred: bool,
     pool: DescriptorPool,
     /// The batches, one draw each.
     pub sets: Vec<GlyphSetGpu>,
@@ -281,7 +287,15 @@ impl RayCastPass {
                 &CUBE_INDICES,
                 vk::BufferUsageFlags::INDEX_BUFFER,
             )?,
+            deferred_shadows: false,
         })
+    }
+
+    /// Whether scenes uploaded from now on that cast shadows are drawn without them, the
+    /// shadows left to `glyph_shadows::GlyphShadowPass` (the headless renderer's frames,
+    /// whose distance attachment tells that pass each pixel's hit).
+    pub(crate) fn set_deferred_shadows(&mut self, deferred: bool) {
+        self.deferred_shadows = deferred;
     }
 
     /// The attachment formats the pass was made for.
@@ -477,6 +491,7 @@ impl RayCastPass {
             &stages,
             InstanceInput::WithBoxes,
             self.options.raster(),
+            None,
         )
     }
 
@@ -524,11 +539,13 @@ impl RayCastPass {
         // Shadows or ambient occlusion, as the first frame block asks: the rays from the
         // hits need a pipeline of their own.
         let shadows = frame.casts_rays();
-        self.prepare_pipelines_for(&variants, shadows)?;
+        let deferred = shadows && self.deferred_shadows;
+        self.prepare_pipelines_for(&variants, shadows && !deferred)?;
         let pool = DescriptorPool::new(ctx, chunks.len() * frames_in_flight, 0, 6)?;
         let mut scene = SceneGpu {
             frames,
             shadows,
+            deferred,
             pool,
             sets: Vec::new(),
         };
@@ -585,7 +602,7 @@ impl RayCastPass {
         let (viewport, scissor) = (target.viewport, target.scissor);
         for set in &scene.sets {
             let variant = batch_variant(set.layout, set.shape, method)?;
-            let pipeline = self.prepared(variant, scene.shadows)?;
+            let pipeline = self.prepared(variant, scene.shadows && !scene.deferred)?;
             // A plane or ratio glyph set has no negative lobes: the word says which root
             // it draws.
             let hide = match set.shape {
@@ -680,6 +697,7 @@ pub(crate) fn glyph_pipeline(
     stages: &[vk::PipelineShaderStageCreateInfo],
     input: InstanceInput,
     raster: RasterTarget,
+    darken: Option<vk::CompareOp>,
 ) -> Result<Pipeline> {
     let bindings = [
         vk::VertexInputBindingDescription {
@@ -718,7 +736,7 @@ pub(crate) fn glyph_pipeline(
         depth_format: formats.depth,
         layout,
         raster,
-        darken: false,
+        darken,
     };
     // SAFETY: the callers' stages hold live modules of build.rs's SPIR-V for `layout`.
     unsafe { graphics_pipeline(ctx, &desc) }

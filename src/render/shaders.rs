@@ -48,6 +48,11 @@ pub struct RaycastShader {
     /// batch (with `UNDERLAY_RECEIVER_VERTEX`), darkened by the batch's shadows and
     /// occlusion (`src/render/underlay_shadows.rs`).
     pub receiver_fragment: Option<&'static [u32]>,
+    /// The exact method's glyph receiver: the batch's boxes drawn again after a frame
+    /// drawn without shadows, shading the hits the frame's distance attachment holds
+    /// with the share of the light and occlusion that reaches them
+    /// (`src/render/glyph_shadows.rs`).
+    pub glyph_receiver_fragment: Option<&'static [u32]>,
 }
 
 /// Compute ray caster of one tensor layout and intersection method (`--path compute`,

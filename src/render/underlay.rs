@@ -519,7 +519,7 @@ fn create_pipeline(
         depth_format: formats.depth,
         layout,
         raster: RasterTarget::default(),
-        darken: false,
+        darken: None,
     };
     // SAFETY: the modules are alive until the call returns; their SPIR-V declares the
     // blocks of `layout` (render::interface checks them).

@@ -105,7 +105,7 @@ impl UnderlayShadowPass {
                 depth_format: self.formats.depth,
                 layout: self.layout.handle(),
                 raster: RasterTarget::default(),
-                darken: true,
+                darken: Some(vk::CompareOp::EQUAL),
             };
             // SAFETY: the modules are alive until the call returns; their SPIR-V declares
             // the blocks of the layout (render::interface checks them).

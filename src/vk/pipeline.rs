@@ -83,6 +83,11 @@ impl PipelineLayout {
         self.set_layouts[0]
     }
 
+    /// The layout of set `index`, if the pipeline layout has that many sets.
+    pub fn set_layout_at(&self, index: usize) -> Option<vk::DescriptorSetLayout> {
+        self.set_layouts.get(index).copied()
+    }
+
     /// The pipeline layout.
     pub fn handle(&self) -> vk::PipelineLayout {
         self.layout
@@ -317,10 +322,11 @@ pub struct GraphicsPipelineDesc<'a> {
     pub layout: vk::PipelineLayout,
     /// Samples, depth test and pipeline cache.
     pub raster: RasterTarget,
-    /// Whether it draws over what an earlier draw of the same triangles left, to darken
-    /// it: depth tested EQUAL and not written, colour attachment 0 blended to the
-    /// smaller of what is there and the output, the other attachments not written.
-    pub darken: bool,
+    /// Whether it draws over what earlier draws left, to darken it, and its depth test
+    /// then: depth not written, colour attachment 0 blended to the smaller of what is
+    /// there and the output, the other attachments not written. `EQUAL` redraws the
+    /// same triangles.
+    pub darken: Option<vk::CompareOp>,
 }
 
 /// The vertex and fragment stages of a graphics pipeline, both entering at `main`; the
@@ -376,17 +382,13 @@ pub unsafe fn graphics_pipeline(
     }
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(true)
-        .depth_write_enable(!desc.darken)
-        .depth_compare_op(if desc.darken {
-            vk::CompareOp::EQUAL
-        } else {
-            desc.raster.depth_compare
-        });
+        .depth_write_enable(desc.darken.is_none())
+        .depth_compare_op(desc.darken.unwrap_or(desc.raster.depth_compare));
     let blend_attachments: Vec<_> = (0..desc.color_formats.len())
         .map(|k| {
             let opaque = vk::PipelineColorBlendAttachmentState::default()
                 .color_write_mask(vk::ColorComponentFlags::RGBA);
-            match (desc.darken, k) {
+            match (desc.darken.is_some(), k) {
                 (false, _) => opaque,
                 // MIN ignores the blend factors.
                 (true, 0) => opaque
