@@ -224,7 +224,7 @@ fn library_shader_table_has_no_example_shaders() {
 fn render_keeps_each_kind_in_its_folder() {
     let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("src/render");
     for (folder, files) in [
-        ("compose", &["colorbar", "labels", "montage"][..]),
+        ("compose", &["colorbar", "figure", "labels", "montage"][..]),
         ("harness", &["eval", "range_eval"][..]),
     ] {
         for name in files {
@@ -255,6 +255,40 @@ fn the_colour_bar_is_made_in_one_place() {
         "{}",
         found.join("\n")
     );
+}
+
+/// One figure sequence: the CLI, Python and the viewer draw a view's frame and its
+/// labels, caption and colour bar through `render::compose::figure`; only it (and the
+/// montage it serves) draws the frame for a figure and puts anything over or beside it.
+/// The accuracy report draws frames to measure them, not figures.
+#[test]
+fn figures_are_drawn_by_one_sequence() {
+    let found: Vec<String> = [
+        ".render_view(",
+        "draw_edge_labels(",
+        "draw_caption(",
+        ".append_to(",
+        "ColorBar::of_glyphs(",
+    ]
+    .iter()
+    .flat_map(|needle| code_lines_with(needle))
+    .filter(|line| !line.starts_with("src/render/compose/"))
+    .filter(|line| !line.starts_with("src/accuracy/"))
+    .collect();
+    assert!(found.is_empty(), "{}", found.join("\n"));
+    for front_end in [
+        "crates/glyphcast-cli/src/cli/render.rs",
+        "python/src/renderer.rs",
+        "crates/glyphcast-viewer/src/figure.rs",
+    ] {
+        let calls = library_code()
+            .into_iter()
+            .filter(|(file, _)| file == front_end)
+            .flat_map(|(_, lines)| lines)
+            .filter(|(_, code)| code.contains("_figure("))
+            .count();
+        assert!(calls > 0, "{front_end} calls no figure sequence");
+    }
 }
 
 /// `missing_docs` holds in every library crate: each warns on it unconditionally (not

@@ -7,18 +7,19 @@
 //! meanwhile; everything is freed when the object goes (or at `release`).
 use std::path::PathBuf;
 
+use glyphcast::Result;
 use glyphcast::glyph::GlyphShape;
-use glyphcast::render::compose::colorbar::{ColorBar, check_colorbar, common_scale};
-use glyphcast::render::compose::labels::{draw_edge_labels, edge_labels};
+use glyphcast::render::compose::colorbar::{check_colorbar, common_scale};
+use glyphcast::render::compose::figure::{
+    ColorBarRequest, Overlays, draw_figure, finish_figure, render_figure,
+};
 use glyphcast::render::compose::montage::{PreparedMontage, prepare_montage};
-use glyphcast::render::glyph_data::GlyphSetData;
 use glyphcast::render::headless::{FrameView, HeadlessRenderer, PreparedFrame, RenderedImage};
 use glyphcast::render::options::{PreparedScene, RenderOptions, prepare_render};
 use glyphcast::render::peaks::PeakSet;
 use glyphcast::render::underlay::Underlay;
 use glyphcast::scene::Scene;
 use glyphcast::vk::{Gpu, GpuOptions};
-use glyphcast::{RenderSettings, Result};
 use glyphcast_dmri::volume::{Coefficients, VolumeFigure};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -76,27 +77,16 @@ impl Extras {
         })
     }
 
-    /// Appends the colour bar, if asked for, of glyphs `sets` seen by `camera` drawn
-    /// with `settings`, as `glyphcast render --colorbar` does.
-    fn append_colorbar(
-        &self,
-        image: &mut RenderedImage,
-        settings: &RenderSettings,
-        sets: &[GlyphSetData],
-        camera: &glyphcast::camera::Camera,
-    ) -> Result<()> {
-        let Some(label) = &self.colorbar else {
-            return Ok(());
-        };
-        let bar = ColorBar::of_glyphs(
-            settings,
-            (sets, camera),
-            self.common_scale,
-            label.as_deref(),
-        );
-        match bar {
-            Some(bar) => bar.append_to(image, settings.background),
-            None => Ok(()),
+    /// The overlays of the figure sequence (`render::compose::figure`) these ask for,
+    /// as `glyphcast render --labels --colorbar` draws them.
+    fn overlays(&self, labels: bool) -> Overlays<'_> {
+        Overlays {
+            labels,
+            caption: None,
+            colorbar: self.colorbar.as_ref().map(|label| ColorBarRequest {
+                label: label.as_deref(),
+                common_scale: self.common_scale,
+            }),
         }
     }
 }
@@ -316,18 +306,18 @@ impl Renderer {
             }
             Some(Loaded::Montage { montage, extras }) => py
                 .detach(|| {
-                    let mut image = montage.render(renderer, gpu, extras.labels)?;
+                    let image = montage.render(renderer, gpu, extras.labels)?;
                     // One range for all panels (prepare_montage): the first panel's
                     // extent stands in for them, as in `glyphcast render`.
-                    if let Some(first) = montage.panels.first() {
-                        extras.append_colorbar(
-                            &mut image,
+                    match montage.panels.first() {
+                        Some(first) => finish_figure(
+                            image,
+                            (&first.sets, &first.camera),
                             &montage.settings,
-                            &first.sets,
-                            &first.camera,
-                        )?;
+                            &extras.overlays(false),
+                        ),
+                        None => Ok(image),
                     }
-                    Ok(image)
                 })
                 .map_err(to_py)?,
             Some(Loaded::Frame(frame)) => py
@@ -407,23 +397,15 @@ fn draw(
             loaded.frame = renderer.prepare_view(gpu, &s.sets, &view, &s.settings)?;
         }
     }
-    let mut image = if supersampled {
-        let s = &loaded.scene;
+    let s = &loaded.scene;
+    let overlays = loaded.extras.overlays(loaded.extras.labels);
+    if supersampled {
         let view = FrameView::new(&s.camera, s.width, s.height)
             .with_underlay(loaded.underlay.as_ref())
             .with_peaks(s.peaks.as_ref());
-        renderer.render_view(gpu, &s.sets, &view, &s.settings)?
+        render_figure(renderer, gpu, (&s.sets, &view), &s.settings, &overlays)
     } else {
-        renderer.draw(gpu, &loaded.frame)?;
-        renderer.read(gpu, &loaded.frame)?
-    };
-    let s = &loaded.scene;
-    if loaded.extras.labels {
-        let edges = edge_labels(&s.camera);
-        draw_edge_labels(&mut image.rgba, image.width, image.height, &edges)?;
+        let seen = (s.sets.as_slice(), &s.camera);
+        draw_figure(renderer, gpu, &loaded.frame, seen, &s.settings, &overlays)
     }
-    loaded
-        .extras
-        .append_colorbar(&mut image, &s.settings, &s.sets, &s.camera)?;
-    Ok(image)
 }

@@ -363,3 +363,43 @@ fn the_underlay_receivers_read_the_batch_and_the_underlay_as_their_pass_binds_th
         .count();
     assert_eq!(receivers, exact, "every exact variant has a receiver");
 }
+
+#[test]
+fn the_glyph_receivers_read_the_batch_and_the_hits_as_their_pass_binds_them() {
+    let mut receivers = 0;
+    for shader in RAYCAST_SHADERS {
+        let Some(spirv) = shader.glyph_receiver_fragment else {
+            continue;
+        };
+        let what = format!("{:?} glyph receiver", shader.layout);
+        let (others, frame) = check_frame(&what, spirv);
+        assert!(frame, "{what}: reads the frame block");
+        let mut seen = Vec::new();
+        for block in others {
+            match (block.storage_class, block.set, block.binding) {
+                // The batch's word, as the ray-casting pipelines push it.
+                (PUSH_CONSTANT, _, _) => assert_eq!(block.offsets, [0], "{what}"),
+                (STORAGE_BUFFER, Some(1), Some(0)) => {
+                    // uvec4 hits_size, then the distances after the 16-byte header
+                    // that headless.rs's copy leaves.
+                    let header = crate::render::glyph_shadows::HITS_HEADER as u32;
+                    assert_eq!(block.offsets, [0, header], "{what}: Hits");
+                    seen.push((1, 0));
+                }
+                (STORAGE_BUFFER, Some(set), Some(binding)) => seen.push((set, binding)),
+                other => panic!("{what}: unexpected block {other:?}"),
+            }
+        }
+        seen.sort();
+        let mut expected = vec![(0, COEFFICIENTS_BINDING)];
+        expected.extend(SHADOW_BINDINGS.map(|b| (0, b)));
+        expected.push((1, 0));
+        assert_eq!(seen, expected, "{what}: the bindings it reads");
+        receivers += 1;
+    }
+    let exact = RAYCAST_SHADERS
+        .iter()
+        .filter(|s| s.method == Method::Exact && s.shape == ShapeShader::Polynomial)
+        .count();
+    assert_eq!(receivers, exact, "every exact variant has a glyph receiver");
+}

@@ -9,7 +9,7 @@ use super::panels::Panels;
 use ash::vk;
 use glyphcast::Result;
 use glyphcast::render::compose::colorbar::ColorBar;
-use glyphcast::render::compose::labels::draw_caption;
+use glyphcast::render::compose::figure::{Overlays, render_figure};
 use glyphcast::render::compose::montage::Montage;
 use glyphcast::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
 use glyphcast::vk::Gpu;
@@ -110,10 +110,12 @@ impl Figure {
                 let view = FrameView::new(&panel.camera, w, h)
                     .with_underlay(underlay.as_ref())
                     .with_peaks(panel.peaks.as_ref());
-                let mut shot = renderer.render_view(gpu, &panel.sets, &view, &settings)?;
-                if let Some(Some(caption)) = captions.get(k) {
-                    draw_caption(&mut shot.rgba, w, h, caption)?;
-                }
+                let overlays = Overlays {
+                    caption: captions.get(k).and_then(Option::as_deref),
+                    ..Overlays::default()
+                };
+                let shot =
+                    render_figure(renderer, gpu, (&panel.sets, &view), &settings, &overlays)?;
                 montage.place(k, &shot);
             }
             montage.finish()
@@ -123,7 +125,13 @@ impl Figure {
             let view = FrameView::new(&c.camera, width, height)
                 .with_underlay(underlay.as_ref())
                 .with_peaks(c.peaks.as_ref());
-            renderer.render_view(gpu, &c.sets, &view, &settings)?
+            render_figure(
+                renderer,
+                gpu,
+                (&c.sets, &view),
+                &settings,
+                &Overlays::default(),
+            )?
         };
         if let Some(strip) = self.strip.as_ref().filter(|_| layout.strip.is_some()) {
             let (total, rgba, distance) = strip.bar.append(

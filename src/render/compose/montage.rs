@@ -12,7 +12,7 @@ use crate::Setting;
 use crate::error::{Error, Result};
 use crate::glyph::NegativeMode;
 use crate::render::compose::colorbar::srgb_byte;
-use crate::render::compose::labels::{draw_caption, draw_edge_labels, edge_labels};
+use crate::render::compose::figure::{Overlays, render_figure};
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
 use crate::render::options::{PreparedScene, prepare_render};
@@ -254,13 +254,18 @@ impl PreparedMontage {
             let view = FrameView::new(&panel.camera, w, h)
                 .with_underlay(underlay)
                 .with_peaks(panel.peaks.as_ref());
-            let mut image = renderer.render_view(gpu, &panel.sets, &view, &self.settings)?;
-            if labels {
-                draw_edge_labels(&mut image.rgba, w, h, &edge_labels(&panel.camera))?;
-            }
-            if let Some(Some(caption)) = self.captions.get(k) {
-                draw_caption(&mut image.rgba, w, h, caption)?;
-            }
+            let overlays = Overlays {
+                labels,
+                caption: self.captions.get(k).and_then(Option::as_deref),
+                colorbar: None,
+            };
+            let image = render_figure(
+                renderer,
+                gpu,
+                (&panel.sets, &view),
+                &self.settings,
+                &overlays,
+            )?;
             montage.place(k, &image);
         }
         Ok(montage.finish())

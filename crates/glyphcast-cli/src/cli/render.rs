@@ -5,10 +5,9 @@ use glyphcast::glyph::NegativeMode;
 use glyphcast::io::atomic::check_ending;
 use glyphcast::render::ColorMode;
 use glyphcast::render::RenderSettings;
-use glyphcast::render::compose::colorbar::{ColorBar, common_scale};
-use glyphcast::render::compose::labels::{draw_edge_labels, edge_labels};
+use glyphcast::render::compose::colorbar::common_scale;
+use glyphcast::render::compose::figure::{ColorBarRequest, Overlays, finish_figure, render_figure};
 use glyphcast::render::compose::montage::prepare_montage;
-use glyphcast::render::glyph_data::GlyphSetData;
 use glyphcast::render::headless::{FrameView, HeadlessRenderer, RenderedImage};
 use glyphcast::render::options::{RenderOptions, prepare_render};
 use glyphcast::render::peaks::PeakSet;
@@ -267,25 +266,13 @@ impl RenderArgs {
         self.colorbar_label.as_deref()
     }
 
-    /// The colour bar of a render of `sets` with `settings`, if `--colorbar`:
-    /// `common_scale` is the one scale of every glyph, if they share one (values are then
-    /// divided by it: data units).
-    fn colorbar(
-        &self,
-        settings: &RenderSettings,
-        sets: &[GlyphSetData],
-        camera: &glyphcast::camera::Camera,
-        common_scale: Option<f64>,
-    ) -> Option<ColorBar> {
-        if !self.colorbar {
-            return None;
-        }
-        ColorBar::of_glyphs(
-            settings,
-            (sets, camera),
+    /// The colour bar asked for, if `--colorbar`: `common_scale` is the one scale of
+    /// every glyph, if they share one (values are then divided by it: data units).
+    fn colorbar_request(&self, common_scale: Option<f64>) -> Option<ColorBarRequest<'_>> {
+        self.colorbar.then(|| ColorBarRequest {
+            label: self.colorbar_label(),
             common_scale,
-            self.colorbar_label(),
-        )
+        })
     }
 
     /// `--negative`, if given; an unknown mode is a usage error.
@@ -383,14 +370,12 @@ pub fn render(
     let view = FrameView::new(camera, w, h)
         .with_underlay(underlay)
         .with_peaks(peaks);
-    let mut image = renderer.render_view(&gpu, sets, &view, &settings)?;
-    if labels {
-        let edges = edge_labels(&prepared.camera);
-        draw_edge_labels(&mut image.rgba, w, h, &edges)?;
-    }
-    if let Some(bar) = options.colorbar(&settings, sets, camera, common_scale) {
-        bar.append_to(&mut image, settings.background)?;
-    }
+    let overlays = Overlays {
+        labels,
+        caption: None,
+        colorbar: options.colorbar_request(common_scale),
+    };
+    let image = render_figure(&mut renderer, &gpu, (sets, &view), &settings, &overlays)?;
     let glyphs = prepared.glyph_count();
     let gpu_time = image
         .gpu_ms
@@ -453,13 +438,20 @@ pub fn render_montage(
     let gpu = Gpu::headless(&options.gpu_options())?;
     eprintln!("device: {}", gpu.info);
     let mut renderer = HeadlessRenderer::new(&gpu)?;
-    let mut result = prepared.render(&mut renderer, &gpu, labels)?;
+    let result = prepared.render(&mut renderer, &gpu, labels)?;
     // The montage's settings carry its one magnitude range (prepare_montage), so the
     // bar needs no extent of all panels' glyphs: the first panel's stands in, as in the
     // viewer (viewer::Panels::colorbar), and no copy of every panel's sets is made.
-    if let Some(bar) = options.colorbar(&prepared.settings, &first.sets, &first.camera, common) {
-        bar.append_to(&mut result, prepared.settings.background)?;
-    }
+    let overlays = Overlays {
+        colorbar: options.colorbar_request(common),
+        ..Overlays::default()
+    };
+    let result = finish_figure(
+        result,
+        (&first.sets, &first.camera),
+        &prepared.settings,
+        &overlays,
+    )?;
     let (cell_w, cell_h) = prepared.cell();
     eprintln!(
         "montage: {} panels of {cell_w}x{cell_h} in {} columns",
