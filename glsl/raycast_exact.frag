@@ -118,8 +118,9 @@ void main() {
 // pass blends by MIN. A pixel whose hit keeps the whole light is not written: in full
 // light the frame keeps its colours bit for bit. Only visible hits cast rays, once each.
 layout(std430, set = 1, binding = 0) readonly buffer Hits {
-    uvec4 hits_size;        // x: the row length, pixels
-    float hit_distances[];  // per pixel, row after row; -1: no glyph
+    uvec4 hits_band;        // x: the row length, pixels; y: the band's first row; z: its
+                            // rows (the draw's scissor)
+    float hit_distances[];  // per pixel of the band, row after row; -1: no glyph
 };
 
 // Beyond the hit (normalised glyph units, along the ray), the point that must be inside
@@ -129,8 +130,11 @@ const float OWNER_STEP = 2.0e-3;
 const float OWNER_GRAZE = 1.0e-4;
 
 void main() {
-    uvec2 pixel = uvec2(gl_FragCoord.xy);
-    float distance = hit_distances[pixel.y * hits_size.x + pixel.x];
+    uvec2 pixel = uvec2(gl_FragCoord.xy) - uvec2(0u, hits_band.y);
+    if (pixel.y >= hits_band.z) {
+        discard;  // outside the band (the scissor keeps such fragments away)
+    }
+    float distance = hit_distances[pixel.y * hits_band.x + pixel.x];
     if (!(distance >= 0.0)) {
         discard;  // no glyph along the ray (-1), or the underlay's pixel
     }

@@ -315,6 +315,49 @@ fn hard_shadows_match_the_float64_reference() {
     }
 }
 
+/// The frame's hits are read in bands of rows when they are larger than a storage buffer
+/// may be (the device's range, here a cap of a few rows): the picture is the same, bit
+/// for bit, as with one band.
+#[test]
+fn hits_read_in_bands_give_the_same_shadows() {
+    let gpu = common::gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    let (scene, light) = fibre_field(120);
+    let sets = prepare_scene(&scene, 0.0).expect("preparing");
+    let (w, h) = (scene.image.width, scene.image.height);
+    let view = glyphcast::FrameView::new(&scene.camera, w, h);
+    let mut hard = settings(&scene.camera, light, Shadows::Hard);
+    hard.ambient_occlusion = AmbientOcclusion::On { reach: 1.0 };
+    let whole = renderer
+        .render_view(&gpu, &sets, &view, &hard)
+        .expect("rendering");
+    // 7 rows of 4-byte distances after the 16-byte header: 18 bands of 120 rows (the
+    // nine glyphs' coefficients, 15 floats each, fit in one buffer still).
+    let cap = 16 + 7 * 4 * u64::from(w);
+    renderer.pass_mut().set_storage_buffer_limit(Some(cap));
+    let banded = renderer
+        .render_view(&gpu, &sets, &view, &hard)
+        .expect("rendering in bands");
+    renderer.pass_mut().set_storage_buffer_limit(None);
+    let off = renderer
+        .render_view(
+            &gpu,
+            &sets,
+            &view,
+            &settings(&scene.camera, light, Shadows::Off),
+        )
+        .expect("rendering");
+    let darkened = (0..(w * h) as usize)
+        .filter(|&k| whole.rgba[4 * k..4 * k + 4] != off.rgba[4 * k..4 * k + 4])
+        .count();
+    assert!(darkened >= 200, "{darkened} pixels darkened");
+    let differ = (0..(w * h) as usize)
+        .filter(|&k| whole.rgba[4 * k..4 * k + 4] != banded.rgba[4 * k..4 * k + 4])
+        .count();
+    assert_eq!(differ, 0, "pixels that differ between one band and 18");
+    gpu.check_validation().expect("validation");
+}
+
 /// Soft shadows: each pixel's colour is the unshadowed one with its light terms scaled by
 /// a lit share that the float64 reference gives the pixel or one of its eight neighbours
 /// (within the 8-bit rounding of both images), where those shares differ by at most two

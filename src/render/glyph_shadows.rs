@@ -53,12 +53,20 @@ pub(crate) struct GlyphShadowPass {
     indices: Buffer,
 }
 
-/// A frame's hits: the ray distance of each pixel's hit (-1 where none), row after row
-/// after a 16-byte header holding the row length, and the receiver's set 1 pointing at
-/// them.
+/// A frame's hits: the ray distance of each pixel's hit (-1 where none), in bands of
+/// whole rows, each in a buffer of its own within the storage-buffer range.
 pub(crate) struct HitsBuffer {
-    pub(crate) buffer: Buffer,
+    pub(crate) bands: Vec<HitsBand>,
     _pool: DescriptorPool,
+}
+
+/// Rows `first..first + rows` of a frame's hits: a 16-byte header (the row length, the
+/// first row, the rows), then the distances row after row; and the receiver's set 1
+/// pointing at them.
+pub(crate) struct HitsBand {
+    pub(crate) first: u32,
+    pub(crate) rows: u32,
+    pub(crate) buffer: Buffer,
     set: vk::DescriptorSet,
 }
 
@@ -133,33 +141,47 @@ impl GlyphShadowPass {
         Ok(())
     }
 
-    /// A hits buffer for frames of `extent`, its header written by `record_copy`.
-    pub(crate) fn hits(&self, extent: vk::Extent2D) -> Result<HitsBuffer> {
-        let pixels = u64::from(extent.width) * u64::from(extent.height);
-        let buffer = Buffer::new(
-            &self.ctx,
-            "hits",
-            HITS_HEADER + 4 * pixels,
-            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuOnly,
-        )?;
-        let pool = DescriptorPool::new(&self.ctx, 1, 0, 1)?;
+    /// The hits of frames of `extent`, in bands of at most `limit` bytes each (the
+    /// storage-buffer range, or the ray-cast pass's cap on it); their headers and
+    /// distances are written by the headless renderer's copy after each frame.
+    pub(crate) fn hits(&self, extent: vk::Extent2D, limit: u64) -> Result<HitsBuffer> {
+        let row = 4 * u64::from(extent.width);
+        let band_rows = (limit.saturating_sub(HITS_HEADER) / row.max(1)).max(1);
+        let band_rows = u32::try_from(band_rows).unwrap_or(u32::MAX);
+        let count = extent.height.div_ceil(band_rows).max(1);
+        let pool = DescriptorPool::new(&self.ctx, count as usize, 0, 1)?;
         let set_layout = self.layout.set_layout_at(1).ok_or(Error::Call {
             call: "GlyphShadowPass::hits",
             expected: "a pipeline layout of two sets",
         })?;
-        let set = pool.buffer_set(set_layout, &[BufferBinding::storage(HITS_BINDING, &buffer)])?;
-        Ok(HitsBuffer {
-            buffer,
-            _pool: pool,
-            set,
-        })
+        let mut bands = Vec::with_capacity(count as usize);
+        for k in 0..count {
+            let first = k * band_rows;
+            let rows = band_rows.min(extent.height - first);
+            let buffer = Buffer::new(
+                &self.ctx,
+                "hits",
+                HITS_HEADER + row * u64::from(rows),
+                vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuOnly,
+            )?;
+            let binding = [BufferBinding::storage(HITS_BINDING, &buffer)];
+            let set = pool.buffer_set(set_layout, &binding)?;
+            bands.push(HitsBand {
+                first,
+                rows,
+                buffer,
+                set,
+            });
+        }
+        Ok(HitsBuffer { bands, _pool: pool })
     }
 
-    /// Records, for each batch of `glyphs` that casts rays, its boxes drawn again to cast
-    /// the rays of the hits they own (with frame block `frame_index`). The caller has
-    /// drawn the frame, copied its distances into `hits` and begun a rendering of this
-    /// pass's formats over the frame's colour and depth, of size `extent`.
+    /// Records, for each band of `hits` and each batch of `glyphs` that casts rays, the
+    /// batch's boxes drawn again over the band's rows to cast the rays of the hits they
+    /// own (with frame block `frame_index`). The caller has drawn the frame, copied its
+    /// distances into `hits` and begun a rendering of this pass's formats over the
+    /// frame's colour and depth, of size `extent`.
     pub(crate) fn record(
         &self,
         cmd: vk::CommandBuffer,
@@ -167,7 +189,24 @@ impl GlyphShadowPass {
         hits: &HitsBuffer,
         extent: vk::Extent2D,
     ) -> Result<()> {
-        let (viewport, scissor) = viewport_and_scissor(extent);
+        let (viewport, whole) = viewport_and_scissor(extent);
+        for band in &hits.bands {
+            let mut scissor = whole;
+            scissor.offset.y = band.first as i32;
+            scissor.extent.height = band.rows;
+            self.record_band(cmd, (glyphs, frame_index), band, (viewport, scissor))?;
+        }
+        Ok(())
+    }
+
+    /// [`GlyphShadowPass::record`] of one band, its rows the scissor.
+    fn record_band(
+        &self,
+        cmd: vk::CommandBuffer,
+        (glyphs, frame_index): (&UploadedGlyphs, usize),
+        band: &HitsBand,
+        (viewport, scissor): (vk::Viewport, vk::Rect2D),
+    ) -> Result<()> {
         let d = self.ctx.device();
         for set in casting_batches(&glyphs.gpu) {
             let pipeline = self.pipelines.get(&set.layout).ok_or(Error::Call {
@@ -197,7 +236,7 @@ impl GlyphShadowPass {
                     vk::PipelineBindPoint::GRAPHICS,
                     layout,
                     1,
-                    &[hits.set],
+                    &[band.set],
                     &[],
                 );
                 d.cmd_push_constants(

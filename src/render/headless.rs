@@ -400,6 +400,7 @@ impl HeadlessRenderer {
             pass.prepare(glyphs)?;
         }
         // The glyphs' shadows, cast after the frame from its hits.
+        let limit = self.glyphs.pass().storage_buffer_limit(gpu.context());
         let hits = match &scene {
             GlyphsOnGpu::RayCast(glyphs) if glyphs.gpu.deferred => {
                 let pass = match &mut self.glyph_shadows {
@@ -413,7 +414,7 @@ impl HeadlessRenderer {
                     )?),
                 };
                 pass.prepare(glyphs)?;
-                Some(pass.hits(size)?)
+                Some(pass.hits(size, limit)?)
             }
             _ => None,
         };
@@ -667,8 +668,9 @@ fn record_frame(
     Ok(())
 }
 
-/// The frame's ray distances into `hits` (after its 16-byte header, the row length), for
-/// the glyphs' shadows cast after the frame; the distance attachment is left as it was.
+/// The frame's ray distances into the bands of `hits` (each after its 16-byte header: the
+/// row length, the band's first row and its rows), for the glyphs' shadows cast after
+/// the frame; the distance attachment is left as it was.
 fn copy_hits(
     d: &ash::Device,
     cmd: vk::CommandBuffer,
@@ -693,8 +695,7 @@ fn copy_hits(
         COPY_READ,
         COLOR_OUTPUT,
     );
-    let header = [extent.width, extent.height, 0, 0];
-    let copy = [color_image_copy(extent).buffer_offset(HITS_HEADER)];
+
     // The header's update and the copy are transfer writes; the last frame's receivers
     // read the buffer before them.
     let shader_read = (
@@ -724,8 +725,23 @@ fn copy_hits(
                 .memory_barriers(&[write])
                 .image_memory_barriers(&[to_copy]),
         );
-        d.cmd_update_buffer(cmd, hits.buffer.handle, 0, bytemuck::cast_slice(&header));
-        d.cmd_copy_image_to_buffer(cmd, t.distance.handle, src, hits.buffer.handle, &copy);
+        for band in &hits.bands {
+            let header = [extent.width, band.first, band.rows, 0];
+            let rows = vk::Extent2D {
+                width: extent.width,
+                height: band.rows,
+            };
+            let copy = [color_image_copy(rows)
+                .image_offset(vk::Offset3D {
+                    x: 0,
+                    y: band.first as i32,
+                    z: 0,
+                })
+                .buffer_offset(HITS_HEADER)];
+            let buffer = band.buffer.handle;
+            d.cmd_update_buffer(cmd, buffer, 0, bytemuck::cast_slice(&header));
+            d.cmd_copy_image_to_buffer(cmd, t.distance.handle, src, buffer, &copy);
+        }
         d.cmd_pipeline_barrier2(
             cmd,
             &vk::DependencyInfo::default()

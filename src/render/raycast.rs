@@ -562,7 +562,9 @@ impl RayCastPass {
         self.buffer_limit = bytes;
     }
 
-    fn storage_buffer_limit(&self, ctx: &DeviceContext) -> u64 {
+    /// The bytes a storage buffer of this pass may hold: the device's range, or the cap
+    /// set on it.
+    pub(crate) fn storage_buffer_limit(&self, ctx: &DeviceContext) -> u64 {
         let device = ctx.max_storage_buffer_range();
         self.buffer_limit.map_or(device, |cap| cap.min(device))
     }
