@@ -44,7 +44,9 @@ fn window_shows_what_the_headless_renderer_draws() {
 
 /// `L` (the script's `shadows:toggle`) switches shadows on, `O` (`ambient_occlusion:toggle`)
 /// ambient occlusion: the screenshot is what `render --shadows` or `render
-/// --ambient-occlusion` draws, and is not the picture without them.
+/// --ambient-occlusion` draws, and is not the picture without them. The window casts the
+/// rays in the frame's shader, the screenshot and `render` after the frame
+/// (render::glyph_shadows): the window shows the same picture.
 #[test]
 fn the_shadows_toggle_draws_what_render_shadows_draws() {
     let Some(x) = Xvfb::start("the_shadows_toggle_draws_what_render_shadows_draws") else {
@@ -62,10 +64,12 @@ fn the_shadows_toggle_draws_what_render_shadows_draws() {
         ),
     ] {
         let shot = out(&format!("{name}-shot.png"));
+        let window = out(&format!("{name}-window.png"));
         let mut args = vec![scene.as_str()];
         args.extend(size);
         args.extend(["--frames", "3", "--script", script]);
         args.extend(["--screenshot", path_str(&shot)]);
+        args.extend(["--capture-window", path_str(&window)]);
         let output = x.view(&args);
         assert_clean(&output);
         // Polynomial glyphs take the rays: nothing to note.
@@ -81,6 +85,11 @@ fn the_shadows_toggle_draws_what_render_shadows_draws() {
         assert!(
             differing_pixels(&shot, &plain, 0).0 > 0,
             "{name}: the toggle changed nothing"
+        );
+        assert_window_matches(&window, &expected);
+        assert!(
+            differing_pixels(&window, &plain, 0).0 > 0,
+            "{name}: the window shows no shadows"
         );
     }
 }
