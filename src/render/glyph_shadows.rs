@@ -213,13 +213,7 @@ impl GlyphShadowPass {
                 call: "GlyphShadowPass::record",
                 expected: "GlyphShadowPass::prepare for these glyphs first",
             })?;
-            let batch = *set
-                .descriptor_sets
-                .get(frame_index)
-                .ok_or(Error::FrameIndex {
-                    index: frame_index,
-                    frames: set.descriptor_sets.len(),
-                })?;
+            let batch = set.descriptor_set(frame_index)?;
             let layout = self.layout.handle();
             // SAFETY: recording state is the caller's; every handle is alive until the
             // submission completes.
@@ -246,14 +240,7 @@ impl GlyphShadowPass {
                     0,
                     &set.negative.shader_code().to_ne_bytes(),
                 );
-                d.cmd_bind_vertex_buffers(
-                    cmd,
-                    0,
-                    &[set.instances.handle, set.boxes.handle],
-                    &[0, 0],
-                );
-                d.cmd_bind_index_buffer(cmd, self.indices.handle, 0, vk::IndexType::UINT16);
-                d.cmd_draw_indexed(cmd, CUBE_INDICES.len() as u32, set.count, 0, 0, 0);
+                set.record_boxes(d, cmd, self.indices.handle);
             }
         }
         Ok(())

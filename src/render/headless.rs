@@ -47,6 +47,14 @@ const FORMATS: TargetFormats = TargetFormats {
     distance: Some(DISTANCE_FORMAT),
 };
 
+/// The second rendering's attachments, where shadows fall on the glyphs and the underlay
+/// after the frame: colour and depth (a pipeline that blends one colour attachment and
+/// writes none of another needs the independentBlend feature).
+const RECEIVER_FORMATS: TargetFormats = TargetFormats {
+    distance: None,
+    ..FORMATS
+};
+
 /// What a frame shows: the camera, the image size in pixels and, optionally, the
 /// anatomical underlay and the fibre peaks drawn in the glyphs' depth buffer.
 #[derive(Clone, Copy)]
@@ -389,13 +397,9 @@ impl HeadlessRenderer {
         {
             let pass = match &mut self.underlay_shadows {
                 Some(pass) => pass,
-                None => self.underlay_shadows.insert(UnderlayShadowPass::new(
-                    gpu.context(),
-                    TargetFormats {
-                        distance: None,
-                        ..FORMATS
-                    },
-                )?),
+                None => self
+                    .underlay_shadows
+                    .insert(UnderlayShadowPass::new(gpu.context(), RECEIVER_FORMATS)?),
             };
             pass.prepare(glyphs)?;
         }
@@ -405,13 +409,9 @@ impl HeadlessRenderer {
             GlyphsOnGpu::RayCast(glyphs) if glyphs.gpu.deferred => {
                 let pass = match &mut self.glyph_shadows {
                     Some(pass) => pass,
-                    None => self.glyph_shadows.insert(GlyphShadowPass::new(
-                        gpu.context(),
-                        TargetFormats {
-                            distance: None,
-                            ..FORMATS
-                        },
-                    )?),
+                    None => self
+                        .glyph_shadows
+                        .insert(GlyphShadowPass::new(gpu.context(), RECEIVER_FORMATS)?),
                 };
                 pass.prepare(glyphs)?;
                 Some(pass.hits(size, limit)?)

@@ -14,7 +14,7 @@ use crate::render::frame::FrameParams;
 use crate::render::raycast::{COEFFICIENTS_BINDING, FRAME_BINDING, SHADOW_BINDINGS};
 use crate::render::shaders::{
     COMPUTE_RAYCAST_SHADERS, IMPOSTOR_FRAGMENT, MESH_FRAGMENT, MESH_VERTEX, RAYCAST_SHADERS,
-    RAYCAST_VERTEX, UNDERLAY_FRAGMENT, UNDERLAY_VERTEX,
+    RAYCAST_VERTEX, RaycastShader, UNDERLAY_FRAGMENT, UNDERLAY_VERTEX,
 };
 use crate::render::shadow_grid::GridHeader;
 use crate::render::underlay::{PARAMS_BINDING, PlanePush, UnderlayParams, VALUES_BINDING};
@@ -330,48 +330,34 @@ fn the_underlay_receivers_read_the_batch_and_the_underlay_as_their_pass_binds_th
         ],
         "the receiver's vertex shader"
     );
-    let mut receivers = 0;
-    for shader in RAYCAST_SHADERS {
-        let Some(spirv) = shader.receiver_fragment else {
-            continue;
-        };
-        let what = format!("{:?} receiver", shader.layout);
-        let (others, frame) = check_frame(&what, spirv);
-        assert!(frame, "{what}: reads the frame block");
-        let mut seen = Vec::new();
-        for block in others {
-            match (block.storage_class, block.set, block.binding) {
-                (PUSH_CONSTANT, _, _) => assert_eq!(block.offsets, [0], "{what}"),
-                (STORAGE_BUFFER, Some(1), Some(PARAMS_BINDING)) => {
-                    assert_eq!(block.offsets, params, "{what}: UnderlayParams");
-                    seen.push((1, PARAMS_BINDING));
-                }
-                (STORAGE_BUFFER, Some(set), Some(binding)) => seen.push((set, binding)),
-                other => panic!("{what}: unexpected block {other:?}"),
+    check_receivers(
+        "receiver",
+        |shader| shader.receiver_fragment,
+        |what, block| {
+            if block.binding == Some(PARAMS_BINDING) {
+                assert_eq!(block.offsets, params, "{what}: UnderlayParams");
             }
-        }
-        seen.sort();
-        let mut expected = vec![(0, COEFFICIENTS_BINDING)];
-        expected.extend(SHADOW_BINDINGS.map(|b| (0, b)));
-        expected.extend([(1, PARAMS_BINDING), (1, VALUES_BINDING)]);
-        assert_eq!(seen, expected, "{what}: the bindings it reads");
-        receivers += 1;
-    }
-    let exact = RAYCAST_SHADERS
-        .iter()
-        .filter(|s| s.method == Method::Exact && s.shape == ShapeShader::Polynomial)
-        .count();
-    assert_eq!(receivers, exact, "every exact variant has a receiver");
+        },
+        &[PARAMS_BINDING, VALUES_BINDING],
+    );
 }
 
-#[test]
-fn the_glyph_receivers_read_the_batch_and_the_hits_as_their_pass_binds_them() {
+/// Every exact polynomial variant has a receiver of this `kind` (`spirv_of`), and each
+/// reads the frame block, the batch's word as a push constant, the batch's coefficients
+/// and shadow grid in set 0 and, in set 1, the blocks at `set1` (each checked by
+/// `check_set1`), as the receiver's pass binds them.
+fn check_receivers(
+    kind: &str,
+    spirv_of: impl Fn(&RaycastShader) -> Option<&'static [u32]>,
+    check_set1: impl Fn(&str, &Block),
+    set1: &[u32],
+) {
     let mut receivers = 0;
     for shader in RAYCAST_SHADERS {
-        let Some(spirv) = shader.glyph_receiver_fragment else {
+        let Some(spirv) = spirv_of(shader) else {
             continue;
         };
-        let what = format!("{:?} glyph receiver", shader.layout);
+        let what = format!("{:?} {kind}", shader.layout);
         let (others, frame) = check_frame(&what, spirv);
         assert!(frame, "{what}: reads the frame block");
         let mut seen = Vec::new();
@@ -379,21 +365,19 @@ fn the_glyph_receivers_read_the_batch_and_the_hits_as_their_pass_binds_them() {
             match (block.storage_class, block.set, block.binding) {
                 // The batch's word, as the ray-casting pipelines push it.
                 (PUSH_CONSTANT, _, _) => assert_eq!(block.offsets, [0], "{what}"),
-                (STORAGE_BUFFER, Some(1), Some(0)) => {
-                    // uvec4 hits_size, then the distances after the 16-byte header
-                    // that headless.rs's copy leaves.
-                    let header = crate::render::glyph_shadows::HITS_HEADER as u32;
-                    assert_eq!(block.offsets, [0, header], "{what}: Hits");
-                    seen.push((1, 0));
+                (STORAGE_BUFFER, Some(set), Some(binding)) => {
+                    if set == 1 {
+                        check_set1(&what, &block);
+                    }
+                    seen.push((set, binding));
                 }
-                (STORAGE_BUFFER, Some(set), Some(binding)) => seen.push((set, binding)),
                 other => panic!("{what}: unexpected block {other:?}"),
             }
         }
         seen.sort();
         let mut expected = vec![(0, COEFFICIENTS_BINDING)];
         expected.extend(SHADOW_BINDINGS.map(|b| (0, b)));
-        expected.push((1, 0));
+        expected.extend(set1.iter().map(|&b| (1, b)));
         assert_eq!(seen, expected, "{what}: the bindings it reads");
         receivers += 1;
     }
@@ -401,5 +385,18 @@ fn the_glyph_receivers_read_the_batch_and_the_hits_as_their_pass_binds_them() {
         .iter()
         .filter(|s| s.method == Method::Exact && s.shape == ShapeShader::Polynomial)
         .count();
-    assert_eq!(receivers, exact, "every exact variant has a glyph receiver");
+    assert_eq!(receivers, exact, "every exact variant has a {kind}");
+}
+
+#[test]
+fn the_glyph_receivers_read_the_batch_and_the_hits_as_their_pass_binds_them() {
+    // uvec4 hits_band, then the distances after the 16-byte header that headless.rs's
+    // copy leaves.
+    let header = crate::render::glyph_shadows::HITS_HEADER as u32;
+    check_receivers(
+        "glyph receiver",
+        |shader| shader.glyph_receiver_fragment,
+        |what, block| assert_eq!(block.offsets, [0, header], "{what}: Hits"),
+        &[0],
+    );
 }

@@ -229,13 +229,47 @@ pub struct GlyphSetGpu {
     pub shape: GlyphShape,
     /// Glyphs in the batch (instances drawn).
     pub count: u32,
-    pub(crate) instances: Buffer,
-    pub(crate) boxes: Buffer,
+    instances: Buffer,
+    boxes: Buffer,
     _coefficients: Buffer,
     /// The shadow rays' grid over the batch's boxes: its cells and its entries.
     _grid: [Buffer; 2],
     /// One per frame in flight: the coefficients with that frame's block.
     pub(crate) descriptor_sets: Vec<vk::DescriptorSet>,
+}
+
+impl GlyphSetGpu {
+    /// The batch's descriptor set for frame block `frame_index`.
+    pub(crate) fn descriptor_set(&self, frame_index: usize) -> Result<vk::DescriptorSet> {
+        self.descriptor_sets
+            .get(frame_index)
+            .copied()
+            .ok_or(Error::FrameIndex {
+                index: frame_index,
+                frames: self.descriptor_sets.len(),
+            })
+    }
+
+    /// Records the draw of the batch's boxes (`indices`: [`CUBE_INDICES`]), one instance
+    /// per glyph.
+    ///
+    /// # Safety
+    /// `cmd` is recording inside a rendering, with a pipeline of the boxes' vertex
+    /// input bound; the buffers stay alive until the submission completes.
+    pub(crate) unsafe fn record_boxes(
+        &self,
+        d: &ash::Device,
+        cmd: vk::CommandBuffer,
+        indices: vk::Buffer,
+    ) {
+        let buffers = [self.instances.handle, self.boxes.handle];
+        // SAFETY: the caller's promise.
+        unsafe {
+            d.cmd_bind_vertex_buffers(cmd, 0, &buffers, &[0, 0]);
+            d.cmd_bind_index_buffer(cmd, indices, 0, vk::IndexType::UINT16);
+            d.cmd_draw_indexed(cmd, CUBE_INDICES.len() as u32, self.count, 0, 0, 0);
+        }
+    }
 }
 
 /// Everything a scene needs on the GPU: the glyph sets, uploaded once, and one frame
@@ -627,14 +661,7 @@ impl RayCastPass {
                     0,
                     &hide.to_ne_bytes(),
                 );
-                d.cmd_bind_vertex_buffers(
-                    cmd,
-                    0,
-                    &[set.instances.handle, set.boxes.handle],
-                    &[0, 0],
-                );
-                d.cmd_bind_index_buffer(cmd, self.indices.handle, 0, vk::IndexType::UINT16);
-                d.cmd_draw_indexed(cmd, CUBE_INDICES.len() as u32, set.count, 0, 0, 0);
+                set.record_boxes(d, cmd, self.indices.handle);
             }
         }
         Ok(())

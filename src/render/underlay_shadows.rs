@@ -136,13 +136,7 @@ impl UnderlayShadowPass {
                 call: "UnderlayShadowPass::record",
                 expected: "UnderlayShadowPass::prepare for these glyphs first",
             })?;
-            let batch = *set
-                .descriptor_sets
-                .get(frame_index)
-                .ok_or(Error::FrameIndex {
-                    index: frame_index,
-                    frames: set.descriptor_sets.len(),
-                })?;
+            let batch = set.descriptor_set(frame_index)?;
             let sets = [batch, volume.descriptor_set];
             // SAFETY: recording state is the caller's; every handle is alive.
             unsafe {
