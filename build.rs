@@ -20,6 +20,9 @@ mod monomials;
 mod catalog;
 #[path = "build/compile.rs"]
 mod compile;
+// The exact method's fixed-size arithmetic, written out per variant.
+#[path = "build/exact_kernels.rs"]
+mod exact_kernels;
 #[path = "build/glyph_function.rs"]
 mod glyph_function;
 #[path = "build/manifest.rs"]

@@ -30,6 +30,9 @@ pub struct Job {
     pub kind: shaderc::ShaderKind,
     /// Served as "glyph_function.glsl" to the source's includes.
     pub generated: String,
+    /// Served as "exact_kernels.glsl": the exact method's arithmetic written out for
+    /// this job's degrees (build/exact_kernels.rs); empty for shaders without it.
+    pub kernels: String,
     /// Preprocessor names defined (without a value).
     pub defines: Vec<&'static str>,
     /// Relative cost, so that the longest jobs start first.
@@ -209,6 +212,8 @@ fn options<'a>(
     options.set_include_callback(move |name, _, _, _| {
         let content = if name == "glyph_function.glsl" {
             job.generated.clone()
+        } else if name == "exact_kernels.glsl" {
+            job.kernels.clone()
         } else if name == "codes.glsl" {
             crate::catalog::codes_glsl()
         } else {

@@ -4,6 +4,7 @@
 use crate::catalog::GLYPH_SHAPES;
 use crate::catalog::RayCastMethod;
 use crate::compile::Job;
+use crate::exact_kernels::{Variant, exact_kernels};
 use crate::fail;
 use crate::glyph_function::glyph_function;
 use crate::manifest::{FIXED_SHADERS, RECEIVER_DEFINE, Symmetry, variants};
@@ -17,6 +18,9 @@ const NO_DISTANCE_DEFINE: &str = "GLYPHCAST_NO_DISTANCE";
 const SHADOWS_DEFINE: &str = "GLYPHCAST_SHADOWS";
 /// The define of the glyphs' shadow receiver (src/render/glyph_shadows.rs).
 const GLYPH_RECEIVER_DEFINE: &str = "GLYPHCAST_GLYPH_RECEIVER";
+/// The shaders that include glsl/exact_root.glsl, whose arithmetic the generator writes
+/// out (`exact_kernels.glsl`).
+const EXACT_ROOT_SHADERS: [&str; 2] = ["raycast_exact.frag", "raycast_exact.comp"];
 /// The vertex shader variant that also passes the glyph's index (the robust methods read
 /// the stored entries; an output no fragment shader reads is a validation warning).
 const GLYPH_INDEX_DEFINE: &str = "GLYPHCAST_GLYPH_INDEX";
@@ -40,6 +44,7 @@ fn job(label: String, file: &str, kind: shaderc::ShaderKind, generated: &str, we
         file: file.to_owned(),
         kind,
         generated: generated.to_owned(),
+        kernels: String::new(),
         defines: Vec::new(),
         weight,
         optimize: false,
@@ -124,6 +129,9 @@ fn layout_jobs(
         Symmetry::NonSymmetric => ("NonSymmetric", "nonsym"),
     };
     let generated = glyph_function(order, symmetry);
+    // The jobs of this layout start here; those of the exact method's shaders get its
+    // arithmetic written out for their degrees (below).
+    let first_job = jobs.len();
     let label = format!("{sym_label}{order}");
     let layout = format!("TensorLayout {{ order: {order}, symmetry: Symmetry::{sym_name} }}");
     let eval = format!("{label}_eval");
@@ -313,6 +321,11 @@ fn layout_jobs(
             );
             let kind = shaderc::ShaderKind::Compute;
             jobs.push(job(compute, compute_file, kind, source, weight));
+        }
+    }
+    for job in &mut jobs[first_job..] {
+        if EXACT_ROOT_SHADERS.contains(&job.file.as_str()) {
+            job.kernels = exact_kernels(order, Variant::of(&job.defines));
         }
     }
 }

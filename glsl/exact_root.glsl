@@ -3,8 +3,9 @@
 // centre zone. Shared by the fragment shader (raycast_exact.frag) and the compute ray
 // caster (raycast_exact.comp). Include after glyph_ray.glsl (inside(), glyph_set) and the
 // glyph function (glyph_c).
-// binomial[] holds C(2n + 2, k) as float32, exact while it stays below 2^24: C(26, 13) =
-// 10,400,600 at order 12, but C(28, 14) = 40,116,600 at order 13.
+// The generated arithmetic divides by the binomials C(2n + 2, k) as float32 literals, exact
+// while they stay below 2^24: C(26, 13) = 10,400,600 at order 12, but C(28, 14) =
+// 40,116,600 at order 13.
 #ifndef GLYPH_ORDER_MACRO
 #error "exact_root.glsl needs glyph_function.glsl first"
 #elif GLYPH_ORDER_MACRO > 12
@@ -65,16 +66,6 @@ const int MAX_NODES = 64;
 const int NEWTON_STEPS = 40;
 const int ILLINOIS_STEPS = 8;
 
-// Loops over coefficients have constant bounds and skip what they do not need with
-// conditions on the counters, so that spirv-opt unrolls them completely ([[unroll]] only
-// works on constant trip counts) and every array index becomes a constant: lavapipe
-// indexes arrays with variable indices through memory, several times slower. And they
-// count upwards: Mesa 22.3's lavapipe miscompiles descending loops such as
-// `for (int i = m; i >= 1; --i)` whose start is an outer loop's counter (the updated array
-// read back as zeros), so updates that must run from the top index down use i = top - step.
-
-float binomial[D + 1];     // C(D, k)
-float binomial_n[N + 1];   // C(n, k)
 float ray_p[N + 1];        // f(mid + tau d) = sum_k ray_p[k] tau^k
 float segment_p[N + 1];    // f(s a + t b) = sum_i segment_p[i] s^(n-i) t^i
 float segment_f[D + 1];    // F on the segment, Bernstein basis
@@ -97,429 +88,6 @@ float ray_q[N + 1];        // Q(mid + tau d), degree NT (the rest 0)
 float segment_q[N + 1];    // Q(s a + t b), as segment_t
 #endif
 
-void init_binomials() {
-    uint c = 1u;
-    [[unroll]] for (int k = 0; k <= D; ++k) {
-        binomial[k] = float(c);  // exact: C(26, 13) < 2^24
-        c = c * uint(D - k) / uint(k + 1);
-    }
-    c = 1u;
-    [[unroll]] for (int k = 0; k <= N; ++k) {
-        binomial_n[k] = float(c);
-        c = c * uint(N - k) / uint(k + 1);
-    }
-}
-
-// p <- p (c0 + c1 tau) for p of degree < top (p[top] = 0 on entry).
-void times_linear(inout float p[N + 1], int top, float c0, float c1) {
-    [[unroll]] for (int step = 0; step < N; ++step) {
-        int i = top - step;
-        if (i >= 1) {
-            p[i] = p[i] * c0 + p[i - 1] * c1;
-        }
-    }
-    p[0] *= c0;
-}
-
-#if defined(GLYPHCAST_PLANE) || defined(GLYPHCAST_RATIO)
-// p: the coefficients of the form of order m whose monomial coefficients start at
-// glyph_c[first], along a + tau b (m is N, or NT for a plane glyph's T).
-void ray_polynomial_of(vec3 a, vec3 b, int m_order, int first, out float p[N + 1]) {
-    // f = sum over x powers (descending) of x^(n-m) P_m(y, z), Horner in x; each P_m is
-    // Horner in y with z powers growing (glyph_c's monomial order, as in
-    // GlyphPolynomial::along_line). Numbers become linear polynomials in tau. This is
-    // exact algebra: each coefficient is rounded relative to the sizes of its own terms,
-    // ~|mid|^(n-k) |d|^k, so the small ones near the centre stay accurate.
-    [[unroll]] for (int i = 0; i <= N; ++i) {
-        p[i] = 0.0;
-    }
-    // (a.z + tau b.z)^j, shared by every P_m.
-    float z_pow[N + 1][N + 1];
-    [[unroll]] for (int j = 0; j <= N; ++j) {
-        [[unroll]] for (int i = 0; i <= N; ++i) {
-            z_pow[j][i] = i == 0 && j == 0 ? 1.0 : 0.0;
-        }
-        if (j > 0) {
-            z_pow[j] = z_pow[j - 1];
-            times_linear(z_pow[j], j, a.z, b.z);
-        }
-    }
-    int k = first;
-    [[unroll]] for (int m = 0; m <= N; ++m) {
-        if (m <= m_order) {
-            float yz[N + 1];
-            [[unroll]] for (int i = 0; i <= N; ++i) {
-                yz[i] = 0.0;
-            }
-            [[unroll]] for (int j = 0; j <= N; ++j) {
-                if (j <= m) {
-                    times_linear(yz, j, a.y, b.y);
-                    float c = glyph_c[k];
-                    k += 1;
-                    [[unroll]] for (int i = 0; i <= N; ++i) {
-                        if (i <= j) {
-                            yz[i] += c * z_pow[j][i];
-                        }
-                    }
-                }
-            }
-            times_linear(p, m, a.x, b.x);
-            [[unroll]] for (int i = 0; i <= N; ++i) {
-                if (i <= m) {
-                    p[i] += yz[i];
-                }
-            }
-        }
-    }
-}
-
-// ray_p: the coefficients of f(a + tau b), called with a = mid and b = d; a plane or
-// ratio glyph's ray_t too, and a ratio glyph's ray_q.
-void ray_polynomial(vec3 a, vec3 b) {
-    ray_polynomial_of(a, b, N, 0, ray_p);
-    ray_polynomial_of(a, b, NT, PLANE_TRACE_FIRST, ray_t);
-#ifdef GLYPHCAST_RATIO
-    ray_polynomial_of(a, b, NT, RATIO_Q_FIRST, ray_q);
-#endif
-}
-#else
-// ray_p: the coefficients of f(a + tau b), called with a = mid and b = d.
-void ray_polynomial(vec3 a, vec3 b) {
-    // f = sum over x powers (descending) of x^(n-m) P_m(y, z), Horner in x; each P_m is
-    // Horner in y with z powers growing (glyph_c's monomial order, as in
-    // GlyphPolynomial::along_line). Numbers become linear polynomials in tau. This is
-    // exact algebra: each coefficient is rounded relative to the sizes of its own terms,
-    // ~|mid|^(n-k) |d|^k, so the small ones near the centre stay accurate.
-    [[unroll]] for (int i = 0; i <= N; ++i) {
-        ray_p[i] = 0.0;
-    }
-    // (a.z + tau b.z)^j, shared by every P_m.
-    float z_pow[N + 1][N + 1];
-    [[unroll]] for (int j = 0; j <= N; ++j) {
-        [[unroll]] for (int i = 0; i <= N; ++i) {
-            z_pow[j][i] = i == 0 && j == 0 ? 1.0 : 0.0;
-        }
-        if (j > 0) {
-            z_pow[j] = z_pow[j - 1];
-            times_linear(z_pow[j], j, a.z, b.z);
-        }
-    }
-    int k = 0;
-    [[unroll]] for (int m = 0; m <= N; ++m) {
-        float yz[N + 1];
-        [[unroll]] for (int i = 0; i <= N; ++i) {
-            yz[i] = 0.0;
-        }
-        [[unroll]] for (int j = 0; j <= N; ++j) {
-            if (j <= m) {
-                times_linear(yz, j, a.y, b.y);
-                float c = glyph_c[k];
-                k += 1;
-                [[unroll]] for (int i = 0; i <= N; ++i) {
-                    if (i <= j) {
-                        yz[i] += c * z_pow[j][i];
-                    }
-                }
-            }
-        }
-        times_linear(ray_p, m, a.x, b.x);
-        [[unroll]] for (int i = 0; i <= N; ++i) {
-            if (i <= m) {
-                ray_p[i] += yz[i];
-            }
-        }
-    }
-}
-#endif
-
-#if defined(GLYPHCAST_PLANE) || defined(GLYPHCAST_RATIO)
-// The form of degree m in (s, t) = (1 - u, u) of a ray polynomial of degree m on the
-// segment from tau = near over width (reversed: from near backwards): re-expanded about
-// near (a Taylor shift, small there) and scaled to u in [0, 1], then turned into the
-// Bernstein basis by prefix sums. m is N, or NT for a plane glyph's T.
-void segment_form_of(float ray[N + 1], int m, float near, float width, bool reversed,
-                     out float form[N + 1]) {
-    float e[N + 1] = ray;
-    [[unroll]] for (int i = 0; i < N; ++i) {
-        [[unroll]] for (int step = 0; step < N; ++step) {
-            int j = N - 1 - step;
-            if (j >= i) {
-                e[j] += near * e[j + 1];
-            }
-        }
-    }
-    // C(m, j), exact in float32 for m <= 12.
-    float binomial_m[N + 1];
-    float c = 1.0;
-    float width_pow = 1.0;
-    [[unroll]] for (int j = 0; j <= N; ++j) {
-        binomial_m[j] = j <= m ? c : 1.0;
-        c = c * float(m - j) / float(j + 1);
-        e[j] *= width_pow / binomial_m[j];
-        width_pow *= width;
-    }
-    [[unroll]] for (int r = 0; r < N; ++r) {
-        [[unroll]] for (int step = 0; step < N; ++step) {
-            int i = N - step;
-            if (r < m && i > r && i <= m) {
-                e[i] += e[i - 1];
-            }
-        }
-    }
-    [[unroll]] for (int i = 0; i <= N; ++i) {
-        form[i] = i <= m ? binomial_m[i] * (reversed ? e[m - i] : e[i]) : 0.0;
-    }
-}
-
-// p <- p (s + t)^2 for p of degree top - 2 (the entries above it 0): the same form in
-// degree top.
-void lift_by_two(inout float p[D + 1], int top) {
-    [[unroll]] for (int step = 0; step < D - 1; ++step) {
-        int i = top - step;
-        if (i >= 2) {
-            p[i] += 2.0 * p[i - 1] + p[i - 2];
-        }
-    }
-    p[1] += 2.0 * p[0];
-}
-
-#ifdef GLYPHCAST_PLANE
-// segment_f of a plane glyph, F = T² |q|² (s + t)² − (|q|⁴ (s + t)² + D)² as a form of
-// degree 12, from segment_t, segment_p (D) and q . q = q.x s² + q.y s t + q.z t², whose
-// coefficients are positive on a segment that does not pass mid. Each product is formed
-// from the forms' own coefficients, so each of F's is rounded relative to its terms.
-void plane_segment_f(vec3 q) {
-    float trace_part[D + 1];
-    float outer[D + 1];
-    [[unroll]] for (int i = 0; i <= D; ++i) {
-        trace_part[i] = 0.0;
-        outer[i] = 0.0;
-    }
-    // T², degree 8.
-    [[unroll]] for (int i = 0; i <= NT; ++i) {
-        [[unroll]] for (int j = 0; j <= NT; ++j) {
-            trace_part[i + j] += segment_t[i] * segment_t[j];
-        }
-    }
-    // T² |q|², degree 10, lifted to 12.
-    [[unroll]] for (int top = 0; top < D - 1; ++top) {
-        int i = D - top;
-        if (i >= 2) {
-            trace_part[i] = trace_part[i] * q.x + trace_part[i - 1] * q.y
-                          + trace_part[i - 2] * q.z;
-        }
-    }
-    trace_part[1] = trace_part[1] * q.x + trace_part[0] * q.y;
-    trace_part[0] *= q.x;
-    lift_by_two(trace_part, D);
-    // |q|⁴, degree 4, lifted to 6, plus D.
-    outer[0] = q.x * q.x;
-    outer[1] = 2.0 * q.x * q.y;
-    outer[2] = q.y * q.y + 2.0 * q.x * q.z;
-    outer[3] = 2.0 * q.y * q.z;
-    outer[4] = q.z * q.z;
-    lift_by_two(outer, N);
-    [[unroll]] for (int i = 0; i <= N; ++i) {
-        outer[i] += segment_p[i];
-    }
-    float square[D + 1];
-    [[unroll]] for (int i = 0; i <= D; ++i) {
-        square[i] = 0.0;
-    }
-    [[unroll]] for (int i = 0; i <= N; ++i) {
-        [[unroll]] for (int j = 0; j <= N; ++j) {
-            square[i + j] += outer[i] * outer[j];
-        }
-    }
-    [[unroll]] for (int i = 0; i <= D; ++i) {
-        segment_f[i] = (trace_part[i] - square[i]) / binomial[i];
-    }
-}
-#else
-// segment_f of a ratio glyph, F = (Q T)² (s + t)² − |q|² (Q² + D (s + t)²)² as a form of
-// degree 18, from segment_q, segment_t, segment_p (D) and q . q = q.x s² + q.y s t +
-// q.z t², whose coefficients are positive on a segment that does not pass mid.
-void ratio_segment_f(vec3 q) {
-    float square[D + 1];   // Q², then Q² + D, degree 8
-    float cross[D + 1];    // Q T, degree 8
-    float outer[D + 1];
-    float product[D + 1];
-    [[unroll]] for (int i = 0; i <= D; ++i) {
-        square[i] = 0.0;
-        cross[i] = 0.0;
-        outer[i] = 0.0;
-        product[i] = 0.0;
-    }
-    [[unroll]] for (int i = 0; i <= NT; ++i) {
-        [[unroll]] for (int j = 0; j <= NT; ++j) {
-            square[i + j] += segment_q[i] * segment_q[j];
-            cross[i + j] += segment_q[i] * segment_t[j];
-        }
-    }
-    // D, degree 6, lifted to 8.
-    float lifted[D + 1];
-    [[unroll]] for (int i = 0; i <= D; ++i) {
-        lifted[i] = i <= N ? segment_p[i] : 0.0;
-    }
-    lift_by_two(lifted, 2 * NT);
-    [[unroll]] for (int i = 0; i <= 2 * NT; ++i) {
-        square[i] += lifted[i];
-    }
-    // (Q² + D)², degree 16, times |q|²: degree 18.
-    [[unroll]] for (int i = 0; i <= 2 * NT; ++i) {
-        [[unroll]] for (int j = 0; j <= 2 * NT; ++j) {
-            outer[i + j] += square[i] * square[j];
-            product[i + j] += cross[i] * cross[j];
-        }
-    }
-    [[unroll]] for (int top = 0; top < D - 1; ++top) {
-        int i = D - top;
-        if (i >= 2) {
-            outer[i] = outer[i] * q.x + outer[i - 1] * q.y + outer[i - 2] * q.z;
-        }
-    }
-    outer[1] = outer[1] * q.x + outer[0] * q.y;
-    outer[0] *= q.x;
-    // (Q T)², degree 16, lifted to 18.
-    lift_by_two(product, D);
-    [[unroll]] for (int i = 0; i <= D; ++i) {
-        segment_f[i] = (product[i] - outer[i]) / binomial[i];
-    }
-}
-#endif
-
-// segment_p, segment_t (and a ratio glyph's segment_q) and segment_f for the segment tau
-// in [tau0, tau1] (ray order), which does not pass mid: D, T (and Q) as forms in
-// (s, t) = (1 - u, u) (segment_form_of), and F in the segment's Bernstein basis
-// (plane_segment_f, ratio_segment_f).
-void segment_polynomials(vec3 mid, vec3 d, float tau0, float tau1) {
-    bool reversed = abs(tau1) < abs(tau0);
-    float near = reversed ? tau1 : tau0;
-    float width = reversed ? tau0 - tau1 : tau1 - tau0;
-    segment_form_of(ray_p, N, near, width, reversed, segment_p);
-    segment_form_of(ray_t, NT, near, width, reversed, segment_t);
-    vec3 a = mid + tau0 * d;
-    vec3 b = mid + tau1 * d;
-#ifdef GLYPHCAST_RATIO
-    segment_form_of(ray_q, NT, near, width, reversed, segment_q);
-    ratio_segment_f(vec3(dot(a, a), 2.0 * dot(a, b), dot(b, b)));
-#else
-    plane_segment_f(vec3(dot(a, a), 2.0 * dot(a, b), dot(b, b)));
-#endif
-}
-#else
-// segment_p and segment_f for the segment tau in [tau0, tau1] (ray order), which does not
-// pass mid. p is re-expanded about the segment's end nearer mid (a Taylor shift, small
-// there) and scaled to u in [0, 1], then turned into the Bernstein basis by prefix sums,
-// and into the coefficients of the form of degree n in (s, t) = (1 - u, u).
-void segment_polynomials(vec3 mid, vec3 d, float tau0, float tau1) {
-    bool reversed = abs(tau1) < abs(tau0);
-    float near = reversed ? tau1 : tau0;
-    float width = reversed ? tau0 - tau1 : tau1 - tau0;
-    float e[N + 1] = ray_p;
-    [[unroll]] for (int i = 0; i < N; ++i) {
-        [[unroll]] for (int step = 0; step < N; ++step) {
-            int j = N - 1 - step;
-            if (j >= i) {
-                e[j] += near * e[j + 1];
-            }
-        }
-    }
-    float width_pow = 1.0;
-    [[unroll]] for (int j = 0; j <= N; ++j) {
-        e[j] *= width_pow / binomial_n[j];
-        width_pow *= width;
-    }
-    [[unroll]] for (int r = 0; r < N; ++r) {
-        [[unroll]] for (int step = 0; step < N; ++step) {
-            int i = N - step;
-            if (i > r) {
-                e[i] += e[i - 1];
-            }
-        }
-    }
-    [[unroll]] for (int i = 0; i <= N; ++i) {
-        segment_p[i] = binomial_n[i] * (reversed ? e[N - i] : e[i]);
-    }
-    vec3 a = mid + tau0 * d;
-    vec3 b = mid + tau1 * d;
-
-    // F = p^2 (s + t)^2 - (q . q)^(n+1) as a form of degree D; (s + t)^2 = 1 lifts p^2 to
-    // degree D. q . q = a.a s^2 + 2 a.b s t + b.b t^2 has positive coefficients on a
-    // segment that does not pass mid, so its power is computed without cancellation.
-    float form[D + 1];
-    float radial[D + 1];
-    [[unroll]] for (int i = 0; i <= D; ++i) {
-        form[i] = 0.0;
-        radial[i] = 0.0;
-    }
-    [[unroll]] for (int i = 0; i <= N; ++i) {
-        [[unroll]] for (int j = 0; j <= N; ++j) {
-            form[i + j] += segment_p[i] * segment_p[j];
-        }
-    }
-#ifndef GLYPHCAST_RECIPROCAL
-    [[unroll]] for (int step = 0; step < D - 1; ++step) {
-        int i = D - step;
-        form[i] += 2.0 * form[i - 1] + form[i - 2];
-    }
-    form[1] += 2.0 * form[0];
-#endif
-    vec3 q = vec3(dot(a, a), 2.0 * dot(a, b), dot(b, b));
-    // (q . q)^(n+1) by squaring, from the top bit of n + 1 down: about a third of the
-    // multiplications of n + 1 products by q . q (the unrolled code is what every
-    // fragment pays on lavapipe). Every coefficient stays a sum of positive terms.
-    radial[0] = q.x;
-    radial[1] = q.y;
-    radial[2] = q.z;
-    int degree = 2;
-    [[unroll]] for (int step = 0; step < 3; ++step) {
-        int bit = POWER_TOP_BIT - 1 - step;
-        if (bit >= 0) {
-            float square[D + 1];
-            [[unroll]] for (int i = 0; i <= D; ++i) {
-                square[i] = 0.0;
-            }
-            [[unroll]] for (int i = 0; i <= D; ++i) {
-                [[unroll]] for (int j = 0; j <= D; ++j) {
-                    if (i <= degree && j <= degree && i + j <= D) {
-                        square[i + j] += radial[i] * radial[j];
-                    }
-                }
-            }
-            radial = square;
-            degree *= 2;
-            if (((POWER >> bit) & 1) == 1) {
-                [[unroll]] for (int top = 0; top < D - 1; ++top) {
-                    int i = D - top;
-                    if (i >= 2) {
-                        radial[i] = radial[i] * q.x + radial[i - 1] * q.y + radial[i - 2] * q.z;
-                    }
-                }
-                radial[1] = radial[1] * q.x + radial[0] * q.y;
-                radial[0] *= q.x;
-                degree += 2;
-            }
-        }
-    }
-#ifdef GLYPHCAST_RECIPROCAL
-    // (s + t)^2 = 1 lifts (q . q)^(n-1) to degree D; p^2 has it already.
-    [[unroll]] for (int step = 0; step < D - 1; ++step) {
-        int i = D - step;
-        radial[i] += 2.0 * radial[i - 1] + radial[i - 2];
-    }
-    radial[1] += 2.0 * radial[0];
-    [[unroll]] for (int i = 0; i <= D; ++i) {
-        segment_f[i] = (radial[i] - form[i]) / binomial[i];
-    }
-#else
-    [[unroll]] for (int i = 0; i <= D; ++i) {
-        segment_f[i] = (form[i] - radial[i]) / binomial[i];
-    }
-#endif
-}
-#endif
-
 // The traversal keeps F on the part of the half not yet visited, [rest_start, 1], in
 // rest_f. The next piece [rest_start, u1] is its left part at s = (u1 - rest_start) /
 // (1 - rest_start): one de Casteljau pass gives the piece (node_f) and the part after it
@@ -529,59 +97,33 @@ void segment_polynomials(vec3 mid, vec3 d, float tau0, float tau1) {
 float rest_f[D + 1];
 float split_f[D + 1];
 
-void split_rest(float s) {
-    split_f = rest_f;
-    node_f[0] = split_f[0];
-    [[unroll]] for (int r = 1; r <= D; ++r) {
-        // After pass r, split_f[0] is the left end of de Casteljau's row r and
-        // split_f[D - r] the right end, which no later pass touches.
-        [[unroll]] for (int i = 0; i < D; ++i) {
-            if (i <= D - r) {
-                split_f[i] = mix(split_f[i], split_f[i + 1], s);
-            }
-        }
-        node_f[r] = split_f[0];
-    }
-}
+// The fixed-size arithmetic on these arrays, written out by the generator
+// (build/exact_kernels.rs) for this shader's N, D and variant, every index a literal:
+// ray_polynomial, the ray's polynomial(s) by Horner's scheme on linear
+// polynomials in tau, which is exact algebra (each coefficient is rounded relative to
+// the sizes of its own terms, ~|mid|^(n-k) |d|^k, so the small ones near the centre stay
+// accurate); segment_polynomials, each half's p re-expanded about its end nearer mid (a
+// Taylor shift), turned into the Bernstein basis and into F = p^2 (s + t)^2 - (q . q)^(n+1)
+// (or the variant's F) as a form of degree D, (q . q)^(n+1) by squaring with every
+// coefficient a sum of positive terms; split_rest, one de Casteljau pass; sign_changes_of,
+// Descartes' bound in the Bernstein basis; node_newton, the value and Newton step of the
+// piece's polynomial in one Horner pass, mirrored beyond x = 1/2 so that no power
+// overflows; polygon_crossing, where the control polygon first crosses zero;
+// half_p_sign, f's sign on a half for the hide filter (and a plane glyph's T there,
+// half_t_values).
+#include "exact_kernels.glsl"
 
 // Sign changes of node_f, zeros skipped: an upper bound on the number of roots of F on
 // the piece, of the same parity (Descartes' rule in the Bernstein basis).
-int sign_changes_of(float f[D + 1]) {
-    int changes = 0;
-    float last = 0.0;
-    [[unroll]] for (int i = 0; i <= D; ++i) {
-        float b = f[i];
-        if (b != 0.0) {
-            changes += (last != 0.0 && (b > 0.0) != (last > 0.0)) ? 1 : 0;
-            last = b;
-        }
-    }
-    return changes;
-}
-
 int sign_changes() {
     return sign_changes_of(node_f);
 }
 
-// Value (its sign) and Newton step v / v' of the piece's polynomial at x in (0, 1), in
-// O(D): v = (1 - y)^D P(y / (1 - y)), P = sum C(D, k) b_k r^k, with y = x and b = node_f
-// for x <= 1/2, or the mirror image y = 1 - x and b reversed, so that the powers never
-// overflow and need not be formed (one Horner pass for every lane).
-void node_newton(float x, out float value, out float step) {
-    bool mirror = x > 0.5;
-    float y = mirror ? 1.0 - x : x;
-    float r = y / (1.0 - y);
-    value = 0.0;
-    float slope = 0.0;
-    [[unroll]] for (int i = 0; i <= D; ++i) {
-        int k = D - i;
-        slope = slope * r + value;
-        value = value * r + binomial[k] * (mirror ? node_f[D - k] : node_f[k]);
-    }
-    // dv/dy = (1 - y)^(D-2) (P' - D (1 - y) P), and dx = -dy in the mirror.
-    float step_y = (1.0 - y) * (1.0 - y) * value / (slope - float(D) * (1.0 - y) * value);
-    step = mirror ? -step_y : step_y;
-}
+// node_newton gives the value (its sign) and Newton step v / v' of the piece's
+// polynomial at x in (0, 1), in O(D): v = (1 - y)^D P(y / (1 - y)), P = sum C(D, k) b_k
+// r^k, with y = x and b = node_f for x <= 1/2, or the mirror image y = 1 - x and b
+// reversed, so that the powers never overflow and need not be formed (one Horner pass
+// for every lane); dv/dy = (1 - y)^(D-2) (P' - D (1 - y) P), and dx = -dy in the mirror.
 
 // The root in (0, 1) of the piece's polynomial, whose end values differ in sign; the piece
 // spans tau = tau_at_0 + x tau_per_x. Newton starts where the control polygon first
@@ -594,17 +136,7 @@ float node_root(float tau_at_0, float tau_per_x, float mid2, float d2) {
     float lo = 0.0;
     float hi = 1.0;
     bool lo_positive = node_f[0] > 0.0;
-    float x = 0.5;
-    bool crossed = false;
-    [[unroll]] for (int i = 0; i < D; ++i) {
-        float b0 = node_f[i];
-        float b1 = node_f[i + 1];
-        if (!crossed && (b1 > 0.0) != lo_positive) {
-            x = (float(i) + b0 / (b0 - b1)) / float(D);
-            crossed = true;
-        }
-    }
-    x = clamp(x, 1e-6, 1.0 - 1e-6);
+    float x = clamp(polygon_crossing(lo_positive), 1e-6, 1.0 - 1e-6);
     float step_before = 1.0;
     for (int i = 0; i < NEWTON_STEPS; ++i) {
         float value, step_f;
@@ -643,19 +175,6 @@ float node_root(float tau_at_0, float tau_per_x, float mid2, float d2) {
     return x;
 }
 
-// Sign of f at u on a half (the hide filter), from the form's coefficients.
-float half_p_sign(int half_index, float u) {
-    float r = u / (1.0 - u);
-    float w = (1.0 - u) / u;
-    float from_start = 0.0;
-    float from_end = 0.0;
-    [[unroll]] for (int step = 0; step <= N; ++step) {
-        from_start = from_start * r + (half_index == 0 ? half_p0[N - step] : half_p1[N - step]);
-        from_end = from_end * w + (half_index == 0 ? half_p0[step] : half_p1[step]);
-    }
-    return u <= 0.5 ? from_start : from_end;
-}
-
 bool hide_negative() {
 #if defined(GLYPHCAST_PLANE) || defined(GLYPHCAST_RATIO)
     // The word names a plane or ratio glyph's root; it has no negative lobes.
@@ -672,12 +191,9 @@ bool hide_negative() {
 bool root_kept(int half_index, float u, float length2) {
     float r = u / (1.0 - u);
     float w = (1.0 - u) / u;
-    float from_start = 0.0;
-    float from_end = 0.0;
-    [[unroll]] for (int step = 0; step <= NT; ++step) {
-        from_start = from_start * r + (half_index == 0 ? half_t0[NT - step] : half_t1[NT - step]);
-        from_end = from_end * w + (half_index == 0 ? half_t0[step] : half_t1[step]);
-    }
+    float from_start;
+    float from_end;
+    half_t_values(half_index, r, w, from_start, from_end);
     float s4 = pow(1.0 - u, 4.0);
     float t4 = pow(u, 4.0);
     float trace = u <= 0.5 ? from_start * s4 : from_end * t4;

@@ -87,7 +87,6 @@ void main() {
     float best = distances[index];
     vec3 origin, dir;
     pixel_ray_through(vec2(pixel) + 0.5, origin, dir);
-    init_binomials();
     const uint NONE = 0xffffffffu;
     uint best_glyph = NONE;
     float best_tau = 0.0;

@@ -86,7 +86,6 @@ void main() {
     vec3 origin;
     vec3 dir;
     pixel_ray(origin, dir);
-    init_binomials();
     shadow_begin_at(v_world, facing_normal(normalize(v_normal), -dir), shadow_grid.lo.w);
     GlyphRay ray;
     for (int pass = 0; pass < SHADOW_ISOLATIONS; ++pass) {
@@ -151,7 +150,6 @@ void main() {
           || abs(inside(camera.mid + s_hit * camera.dir)) <= OWNER_GRAZE)) {
         discard;
     }
-    init_binomials();
     shadow_begin(camera, s_hit);
     GlyphRay ray;
     for (int pass = 0; pass < SHADOW_ISOLATIONS; ++pass) {
@@ -184,7 +182,6 @@ void main() {
     if (!glyph_ray_within(CHORD_RADIUS, camera)) {
         discard;
     }
-    init_binomials();
     glyph_load_inputs();
     float s_hit = 0.0;
     GlyphRay ray = camera;
@@ -220,7 +217,6 @@ void main() {
     if (!glyph_ray_within(CHORD_RADIUS, ray)) {
         discard;
     }
-    init_binomials();
     glyph_load_inputs();
     float h = ray.half_chord;
     ray_polynomial(ray.mid, h * ray.dir);
