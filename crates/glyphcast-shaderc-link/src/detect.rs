@@ -22,7 +22,7 @@ pub const PARTS: [(&str, bool); 8] = [
 
 /// What to install, for every message that stops the build.
 pub const INSTALL: &str = "Install a complete shaderc: on Debian 12, `apt install libshaderc-dev \
-    glslang-dev spirv-tools` (its libshaderc.so is completed here from glslang's and \
+    glslang-dev spirv-tools` (its static shaderc is completed here with glslang's and \
     SPIRV-Tools' static libraries); on Debian 13 and Ubuntu 24.04, `apt install \
     libshaderc-dev`; on Fedora, `dnf install libshaderc-devel`; on Arch, `pacman -S \
     shaderc`; or set VULKAN_SDK to an installed Vulkan SDK, or SHADERC_LIB_DIR to a \
@@ -82,7 +82,7 @@ fn needed_of<Elf: FileHeader<Endian = object::Endianness>>(
         .map_err(|e| e.to_string())?;
     Ok(entries
         .iter()
-        .filter(|entry| entry.d_tag(endian).into() == i64::from(object::elf::DT_NEEDED))
+        .filter(|entry| entry.d_tag(endian).into() == object::elf::DT_NEEDED)
         .filter_map(|entry| entry.string(endian, strings).ok())
         .map(|name| String::from_utf8_lossy(name).into_owned())
         .collect())
