@@ -36,6 +36,8 @@ mod range_rounding;
 mod table;
 
 use compile::Dirs;
+// Links what completes a split system shaderc (Debian 12's) into this build script.
+use glyphcast_shaderc_link as _;
 // The layouts' symmetry, as the generator modules name it.
 use manifest::Symmetry;
 use std::path::PathBuf;

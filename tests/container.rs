@@ -98,9 +98,10 @@ fn the_recipes_build_context_is_a_whole_workspace() {
 }
 
 #[test]
-fn the_recipes_build_with_the_shaderc_tools_env_names() {
-    // Debian 12's shaderc links only as the archive tools/shaderc-lib.sh joins, which
-    // tools/env.sh names: a recipe that builds without it fails to link the build script.
+fn the_recipes_build_with_plain_cargo() {
+    // Debian 12's split shaderc links with nothing sourced and no variable set
+    // (crates/glyphcast-shaderc-link): the recipes build as an engine or `cargo install`
+    // does, and set no SHADERC_LIB_DIR of their own.
     for name in ["Dockerfile", "glyphcast.def"] {
         let text = recipe(name);
         let builds: Vec<&str> = text
@@ -114,9 +115,13 @@ fn the_recipes_build_with_the_shaderc_tools_env_names() {
         );
         for line in builds {
             assert!(
-                line.contains(". tools/env.sh &&"),
-                "{name} builds without tools/env.sh: {line}"
+                !line.contains("tools/env.sh") && !line.contains("SHADERC_LIB_DIR"),
+                "{name} builds with an environment of its own: {line}"
             );
         }
+        assert!(
+            !text.contains("SHADERC_LIB_DIR") && !text.contains("shaderc-lib"),
+            "{name} names a shaderc of its own"
+        );
     }
 }

@@ -20,11 +20,24 @@ mkdir -p "$build"
 # name, in its own folder, which links to the build.
 soname=$(objdump -p "$lib/libglyphcast_c.so" | awk '$1 == "SONAME" { print $2 }')
 ln -sf "$lib/libglyphcast_c.so" "$build/${soname:-libglyphcast_c.so}"
-# The example compiles its own plane shaders (examples/shaders/) with shaderc, linked
-# statically from the complete archive tools/env.sh names (tools/shaderc-lib.sh), or
-# from the system's own shaderc where that is complete.
+# The example compiles its own plane shaders (examples/shaders/) with shaderc's C API,
+# linked as the Rust build links it (crates/glyphcast-shaderc-link): the static shaderc
+# of SHADERC_LIB_DIR as it is; on Debian 12, whose libshaderc.so leaves glslang's
+# symbols undefined, the static shaderc with the static glslang and SPIRV-Tools
+# libraries of the same folder; elsewhere the system's own shaderc.
+sys=$(pkg-config --variable=libdir shaderc 2>/dev/null || true)
+sys=${sys:-/usr/lib/$(uname -m)-linux-gnu}
+parts=(glslang SPIRV MachineIndependent GenericCodeGen OSDependent OGLCompiler
+       SPIRV-Tools-opt SPIRV-Tools)
 if [ -n "${SHADERC_LIB_DIR:-}" ]; then
   shaderc=(-L "$SHADERC_LIB_DIR" -l:libshaderc_combined.a -lstdc++ -lpthread)
+elif [ -f "$sys/libshaderc_combined.a" ] && [ -f "$sys/libglslang.a" ] \
+    && nm -D --undefined-only "$sys/libshaderc.so" 2>/dev/null | grep -q glslang; then
+  shaderc=(-L "$sys" -Wl,--start-group -l:libshaderc_combined.a)
+  for part in "${parts[@]}"; do
+    [ -f "$sys/lib$part.a" ] && shaderc+=("-l:lib$part.a")
+  done
+  shaderc+=(-Wl,--end-group -lstdc++ -lpthread)
 else
   shaderc=(-lshaderc)
 fi

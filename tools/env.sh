@@ -9,10 +9,5 @@ fi
 if ! command -v cargo >/dev/null 2>&1 && [ -x "$HOME/.cargo/bin/cargo" ]; then
   export PATH="$HOME/.cargo/bin:$PATH"
 fi
-# The shaderc the build links (see tools/shaderc-lib.sh): Debian 12's own is incomplete.
-if [ -z "${SHADERC_LIB_DIR:-}" ] && [ -z "${VULKAN_SDK:-}" ]; then
-  shaderc_dir=$(bash "$(dirname "${BASH_SOURCE[0]}")/shaderc-lib.sh" \
-    "${CARGO_TARGET_DIR:-$PWD/target}/shaderc")
-  [ -n "$shaderc_dir" ] && export SHADERC_LIB_DIR="$shaderc_dir"
-  unset shaderc_dir
-fi
+# Nothing here is needed to build: the build links shaderc by itself, Debian 12's split
+# one included (crates/glyphcast-shaderc-link).

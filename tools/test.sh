@@ -27,26 +27,12 @@ if grep -E '^(clap|winit|plotters|indicatif|nifti|ndarray|clarabel|sha2|pyo3|gly
     echo "error: the core's dependency tree holds a front end's crate (above)" >&2
     exit 1
 fi
-# The crate as crates.io would ship it: packaged (src, glsl, build script; no path-only
-# dependency), unpacked outside the workspace and checked from the package's own files
-# with its own Cargo.lock and the core's own features alone (no front end's feature
-# unified in: what an engine compiles). From another folder it is another package to
-# cargo, so it shares the workspace's target folder (the dependencies `.ci/run` checked
-# for the core alone) without touching the workspace's artifacts (`cargo package`'s own
-# verify build would: it has the same artifact hashes). Its build script runs (the shaders
-# come from the workspace's SPIR-V cache).
-echo "== [${SECONDS} s] the core as crates.io would ship it"
-cargo package --locked --allow-dirty --no-verify --quiet -p glyphcast
-workspace_target="${CARGO_TARGET_DIR:-$PWD/target}"
-core_version=$(cargo pkgid -p glyphcast | sed 's/.*[#@]//')
-unpacked=$(mktemp -d)
-tar -xzf "$workspace_target/package/glyphcast-$core_version.crate" -C "$unpacked"
-(
-    cd "$unpacked/glyphcast-$core_version"
-    GLYPHCAST_SPIRV_CACHE="$workspace_target/glyphcast-spirv-cache" \
-        cargo check --locked --offline --quiet --target-dir "$workspace_target"
-)
-rm -rf "$unpacked"
+# The core and its shaderc helper as crates.io would receive them, the helper's tests and
+# its message on a split shaderc without its parts (tools/package-check.sh).
+echo "== [${SECONDS} s] the core and its shaderc helper as crates.io would receive them"
+bash tools/package-check.sh
+echo "== [${SECONDS} s] a new crate outside the repository, built with nothing sourced"
+bash tools/outside-crate.sh
 echo "== [${SECONDS} s] the C API (capi/): its header up to date, the C example engine (examples/c/)"
 cargo test --locked -p glyphcast-c
 echo "== [${SECONDS} s] the Python module (python/)"

@@ -38,6 +38,8 @@ use glyphcast::{
     Camera, DepthConvention, DeviceContext, GlyphRenderer, GlyphSetData, HostView, ImageSize,
     PassOptions, Projection, RenderSettings, RendererDesc, Scene, TargetFormats, prepare_scene,
 };
+// Links what completes a split system shaderc (Debian 12's) into the example (plane.rs).
+use glyphcast_shaderc_link as _;
 use plain_memory::PlainMemory;
 use plane::{PlanePass, Square};
 use std::path::PathBuf;
