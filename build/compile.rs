@@ -2,8 +2,8 @@
 //! kept in a cache keyed by its preprocessed source.
 //!
 //! The `exact` fragment shaders and the per-layout vertex shaders (`Job::optimize`) are
-//! compiled without optimisation, go through rounds of the `spirv-opt` program's
-//! performance passes until they stop shrinking, and then have their ids compacted
+//! compiled without optimisation, go through one round of the `spirv-opt` program's
+//! performance passes, and then have their ids compacted
 //! ([`SpirvOpt`]). Without that program, shaderc's own single round of those passes runs.
 //!
 //! A job is preprocessed first (includes resolved, macros expanded, comments gone; a few
@@ -193,14 +193,13 @@ fn options<'a>(
         shaderc::TargetEnv::Vulkan,
         shaderc::EnvVersion::Vulkan1_3 as u32,
     );
-    // SPIR-V optimisation only where it pays at run time. spirv-opt's performance passes
-    // took 97% of the shader build when every variant had them (about 430 s of CPU for
-    // the 214 variants, against 10 s without), and the drivers optimise anyway: on
-    // lavapipe the unoptimised shaders draw the fODF benchmark as fast. But creating a
-    // pipeline of the default method's shader is 2.5 to 3.5 times faster from optimised
-    // SPIR-V (lavapipe's own NIR passes then have little left to unroll and fold: order 8
-    // 0.27 s against 0.65 to 1.0 s), and that creation is most of a one-shot render's
-    // time, so the `exact` fragment shaders are optimised (`Job::optimize`).
+    // SPIR-V optimisation only where it pays at run time: the drivers optimise anyway,
+    // but creating a pipeline of the default method's shader is several times faster
+    // from optimised SPIR-V, and that creation is most of a one-shot render's time, so
+    // the `exact` fragment shaders are optimised (`Job::optimize`). Their arithmetic is
+    // written out by the generator (build/exact_kernels.rs), so one round of spirv-opt's
+    // passes costs about 3 s of CPU at order 12; when it unrolled loops itself, rounds
+    // took 100 s there and the build's shaders 435 s.
     options.set_optimization_level(if optimise {
         shaderc::OptimizationLevel::Performance
     } else {
@@ -227,18 +226,13 @@ fn options<'a>(
     Ok(options)
 }
 
-/// SPIRV-Tools' optimiser as a program, run on shaderc's unoptimised output. One round of
-/// its performance passes does not reach a fixed point on the `exact` shaders: the loops
-/// it unrolls leave branches on constants, dead blocks and redundant loads that the next
-/// round removes (order 8: 135 kB unoptimised, 282 kB after the first round, 210 kB after
-/// the second, 162 kB after the third; a fourth changes nothing). lavapipe's NIR passes
-/// take about a third of the time on the smaller module (order 8: 55 against 175 ms of
-/// CPU). shaderc's own optimisation is not the first round: on its larger output
-/// (order 12: 874 kB against 495 kB) spirv-opt's if-conversion pass grows quadratically,
-/// and a cold build took three times longer (order 12: 330 s against 100 s for one
-/// shader). The SPIRV-Tools that shaderc links has no C entry point for its optimiser
-/// (the C++ one would need a C++ shim), so the program of the same package
-/// (`spirv-tools`) runs it.
+/// SPIRV-Tools' optimiser as a program, run on shaderc's unoptimised output: one round
+/// of its performance passes. On the written-out `exact` shaders that is the fixed point
+/// (order 12: 617 kB from glslang, 208 kB after it); on loops it had to unroll itself,
+/// each round left branches on constants and dead blocks for the next (three rounds,
+/// minutes at order 12). The SPIRV-Tools
+/// that shaderc links has no C entry point for its optimiser (the C++ one would need a
+/// C++ shim), so the program of the same package (`spirv-tools`) runs it.
 pub struct SpirvOpt {
     program: std::ffi::OsString,
     /// Its `--version` line, part of the cache key: another version may write other code.
@@ -267,23 +261,14 @@ impl SpirvOpt {
         Some(SpirvOpt { program, version })
     }
 
-    /// Rounds of `spirv-opt -O` on `spirv` (little-endian, unoptimised) until a round no
-    /// longer makes the module smaller. The first round is always kept: its unrolling
-    /// makes the module larger (three rounds in all on every `exact` shader so far).
+    /// One round of `spirv-opt -O` on `spirv` (little-endian, unoptimised). On the
+    /// written-out `exact` shaders it reaches the fixed point: a second round left every
+    /// variant byte for byte as it was (2026-11-28), and cost another sixth.
     fn optimise(&self, spirv: Vec<u8>, label: &str) -> Result<Vec<u8>, String> {
-        const MAX_ROUNDS: usize = 5;
-        let mut best = self.round(&spirv, label, "-O")?;
-        for _ in 1..MAX_ROUNDS {
-            let next = self.round(&best, label, "-O")?;
-            if next.len() >= best.len() {
-                break;
-            }
-            best = next;
-        }
-        Ok(best)
+        self.round(&spirv, label, "-O")
     }
 
-    /// The ids of `spirv` renumbered without gaps. spirv-opt's rounds leave the module's
+    /// The ids of `spirv` renumbered without gaps. spirv-opt's passes leave the module's
     /// id bound at 50 times its ids (order 8: 248,371 for about 4,800), and Mesa's
     /// SPIR-V reader allocates and clears a table entry for every id up to the bound:
     /// lavapipe's reading of the order-8 shader took 12 ms before, 4.6 ms after.
@@ -334,11 +319,10 @@ impl SpirvOpt {
     }
 }
 
-/// The spirv-opt steps of an optimised job's cache entries: after the rounds of `-O`,
+/// The spirv-opt steps of an optimised job's cache entries: after the round of `-O`,
 /// and the final module, its ids compacted.
-const OPTIMISED: &str = "spirv-opt -O on unoptimised SPIR-V until it no longer shrinks";
-const COMPACTED: &str =
-    "spirv-opt -O on unoptimised SPIR-V until it no longer shrinks, then --compact-ids";
+const OPTIMISED: &str = "one round of spirv-opt -O on unoptimised SPIR-V";
+const COMPACTED: &str = "one round of spirv-opt -O on unoptimised SPIR-V, then --compact-ids";
 
 /// One job; true when it was compiled, false when the cache had it; and its cache key.
 fn run(
