@@ -48,6 +48,7 @@ mod shadows;
 mod sphere;
 mod stiffness;
 mod tensor_order;
+mod tools_folder;
 mod underlay;
 mod viewer;
 mod viewer_figures;
