@@ -34,7 +34,10 @@ fn sourcing_the_environment_script_writes_nothing_into_the_current_folder() {
         .expect("reading the folder")
         .map(|entry| entry.expect("an entry").file_name())
         .collect();
-    assert!(left.is_empty(), "tools/env.sh wrote {left:?} into the current folder");
+    assert!(
+        left.is_empty(),
+        "tools/env.sh wrote {left:?} into the current folder"
+    );
 }
 
 #[test]
@@ -65,5 +68,8 @@ fn every_tool_that_names_the_current_folder_moves_into_the_checkout_first() {
         );
         checked += 1;
     }
-    assert!(checked >= 5, "only {checked} tools name $PWD: is tools/ where it was?");
+    assert!(
+        checked >= 5,
+        "only {checked} tools name $PWD: is tools/ where it was?"
+    );
 }
