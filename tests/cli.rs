@@ -721,3 +721,41 @@ fn outputs_are_checked_first_and_written_together() {
     );
     assert!(glyphcast::scene::Scene::load(&dir.join("old.json")).is_ok());
 }
+
+/// The paragraph of `option` in `glyphcast <command> --help`, without its
+/// `[default: ...]` line: what the help itself says the option takes.
+fn help_paragraph(command: &str, option: &str) -> String {
+    let run = glyphcast(&[command, "--help"]);
+    assert!(run.status.success(), "{command} --help");
+    let help = String::from_utf8_lossy(&run.stdout).into_owned();
+    let mut lines = help.lines().skip_while(|line| {
+        !line
+            .trim_start()
+            .split([' ', ','])
+            .any(|word| word == option)
+    });
+    let head = lines.next().unwrap_or_else(|| panic!("{option} not in {help}"));
+    let body = lines
+        .take_while(|line| !line.trim_start().starts_with('-'))
+        .filter(|line| !line.trim_start().starts_with('['));
+    std::iter::once(head).chain(body).collect::<Vec<_>>().join(" ")
+}
+
+/// Every option that takes methods lists every method in its help, the default
+/// (`exact`) included, not only in its `[default: ...]` line.
+#[test]
+fn method_options_name_every_method_in_their_help() {
+    for (command, option) in [
+        ("bench", "--method"),
+        ("accuracy", "--methods"),
+        ("render", "--method"),
+    ] {
+        let paragraph = help_paragraph(command, option);
+        for method in ["exact", "fixed", "interval", "affine", "impostor", "mesh:", "latlong:"] {
+            assert!(
+                paragraph.contains(method),
+                "{command} {option}'s help does not name {method}: {paragraph}"
+            );
+        }
+    }
+}
