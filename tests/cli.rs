@@ -759,3 +759,71 @@ fn method_options_name_every_method_in_their_help() {
         }
     }
 }
+
+/// The covered pixels' box of a depth map (`--depth-out`): (left, top, right, bottom),
+/// inclusive.
+fn covered_box(npy: &Path) -> (usize, usize, usize, usize) {
+    let (shape, depth) = glyphcast::io::npy::read_npy_f32(npy).expect("reading the depth map");
+    let width = shape[1];
+    let mut covered = (usize::MAX, usize::MAX, 0, 0);
+    for (i, d) in depth.iter().enumerate() {
+        if !d.is_nan() {
+            let (x, y) = (i % width, i / width);
+            covered = (
+                covered.0.min(x),
+                covered.1.min(y),
+                covered.2.max(x),
+                covered.3.max(y),
+            );
+        }
+    }
+    assert!(covered.0 <= covered.2, "nothing drawn in {}", npy.display());
+    covered
+}
+
+/// `glyphcast demo` frames its glyphs at any size: square, the default 4:3 and a wide
+/// strip; the covered pixels stay inside the image with a margin on every side, centred
+/// to within a few pixels both ways, and fill the limiting side but for the margins.
+#[test]
+fn the_demo_is_framed_centred_at_any_aspect_ratio() {
+    let dir = fresh_dir("demo-framing");
+    for (stiffness, width, height) in [
+        (false, 400, 400),
+        (false, 800, 600),
+        (false, 1600, 400),
+        (true, 400, 400),
+        (true, 1600, 400),
+    ] {
+        let name = format!("demo-{stiffness}-{width}x{height}");
+        let png = dir.join(format!("{name}.png"));
+        let npy = dir.join(format!("{name}.npy"));
+        let (w, h) = (width.to_string(), height.to_string());
+        let mut args = vec!["demo", "-o", png.to_str().unwrap(), "--depth-out"];
+        args.extend([npy.to_str().unwrap(), "--width", &w, "--height", &h]);
+        if stiffness {
+            args.push("--stiffness");
+        }
+        let out = glyphcast(&args);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let (left, top, right, bottom) = covered_box(&npy);
+        let margins = [left, width - 1 - right, top, height - 1 - bottom];
+        let least = |side: usize| side / 50;
+        assert!(
+            margins[0] >= least(width) && margins[1] >= least(width),
+            "{name}: glyphs at the left or right edge: {margins:?}"
+        );
+        assert!(
+            margins[2] >= least(height) && margins[3] >= least(height),
+            "{name}: glyphs at the top or bottom edge: {margins:?}"
+        );
+        assert!(
+            margins[0].abs_diff(margins[1]) <= 4 && margins[2].abs_diff(margins[3]) <= 4,
+            "{name}: not centred: left, right, top, bottom margins {margins:?}"
+        );
+        let fills = |covered: usize, side: usize| covered as f64 > 0.8 * side as f64;
+        assert!(
+            fills(right - left + 1, width) || fills(bottom - top + 1, height),
+            "{name}: the glyphs fill too little of the image: {margins:?}"
+        );
+    }
+}
