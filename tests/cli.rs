@@ -827,3 +827,86 @@ fn the_demo_is_framed_centred_at_any_aspect_ratio() {
         );
     }
 }
+
+/// The keyword names a Rust source file of the Python module reads: the string
+/// literal of each `self.ACCESSOR("name"` or `kwargs.ACCESSOR("name"` call.
+fn keywords_read_in(source: &str) -> Vec<String> {
+    let mut found = Vec::new();
+    for receiver in ["self.", "kwargs."] {
+        for (at, _) in source.match_indices(receiver) {
+            let rest = &source[at + receiver.len()..];
+            let accessor: String = rest
+                .chars()
+                .take_while(|c| c.is_ascii_lowercase() || *c == '_')
+                .collect();
+            let Some(call) = rest[accessor.len()..].strip_prefix("(\"") else {
+                continue;
+            };
+            let name: String = call
+                .chars()
+                .take_while(|c| c.is_ascii_lowercase() || *c == '_')
+                .collect();
+            if !accessor.is_empty() && call[name.len()..].starts_with('"') {
+                found.push(name);
+            }
+        }
+    }
+    found
+}
+
+/// The Python guide's keyword list cannot drift from the command line or the module:
+/// every option of `glyphcast render --help` is a keyword of the list or one of the
+/// exceptions it names, and every keyword the module reads (python/src) is in it.
+#[test]
+fn the_python_guide_names_every_render_option_and_keyword() {
+    let root = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let guide = std::fs::read_to_string(root.join("docs/guide/python.md")).expect("python.md");
+    let from = guide
+        .find("- The keywords are the options of `glyphcast render`")
+        .expect("the guide's keyword list");
+    let to = from + guide[from..].find("The module and the CLI call").expect("its end");
+    let section = &guide[from..to];
+    let run = glyphcast(&["render", "--help"]);
+    assert!(run.status.success());
+    let help = String::from_utf8_lossy(&run.stdout).into_owned();
+    let mut flags: Vec<&str> = help
+        .lines()
+        .map(str::trim_start)
+        .filter(|line| line.starts_with('-'))
+        .filter_map(|line| line.split([' ', ',', '=']).find(|w| w.starts_with("--")))
+        .filter(|flag| !["--help", "--version"].contains(flag))
+        .collect();
+    flags.dedup();
+    assert!(flags.len() > 40, "{flags:?}");
+    // Options whose Python spelling is another name.
+    let spelled = [
+        ("--sh", "render_sh"),
+        ("--tensor", "render_tensor"),
+        ("--nonsymmetric", "symmetric"),
+    ];
+    for flag in flags {
+        let keyword = flag.trim_start_matches("--").replace('-', "_");
+        let other = spelled.iter().find(|(f, _)| *f == flag).map(|(_, k)| *k);
+        let named = section.contains(&format!("`{keyword}`"))
+            || section.contains(&format!("`{flag}`"))
+            || other.is_some_and(|k| section.contains(&format!("`{k}")));
+        assert!(
+            named,
+            "docs/guide/python.md names neither `{keyword}` nor `{flag}` as an exception"
+        );
+    }
+    let mut read = Vec::new();
+    for file in std::fs::read_dir(root.join("python/src")).expect("python/src") {
+        let path = file.expect("entry").path();
+        if path.extension().is_some_and(|e| e == "rs") {
+            read.extend(keywords_read_in(&std::fs::read_to_string(&path).unwrap()));
+        }
+    }
+    assert!(read.len() > 25, "{read:?}");
+    for keyword in read {
+        assert!(
+            section.contains(&format!("`{keyword}`")),
+            "the module reads `{keyword}`, which docs/guide/python.md does not list"
+        );
+    }
+}
