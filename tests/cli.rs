@@ -878,12 +878,8 @@ fn the_python_guide_names_every_render_option_and_keyword() {
         .collect();
     flags.dedup();
     assert!(flags.len() > 40, "{flags:?}");
-    // Options whose Python spelling is another name.
-    let spelled = [
-        ("--sh", "render_sh"),
-        ("--tensor", "render_tensor"),
-        ("--nonsymmetric", "symmetric"),
-    ];
+    // The guide names the output by its short flag.
+    let spelled = [("--output", "-o")];
     for flag in flags {
         let keyword = flag.trim_start_matches("--").replace('-', "_");
         let other = spelled.iter().find(|(f, _)| *f == flag).map(|(_, k)| *k);
