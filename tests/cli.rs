@@ -723,26 +723,28 @@ fn outputs_are_checked_first_and_written_together() {
 }
 
 /// The paragraph of `option` in `glyphcast <command> --help`, without its
-/// `[default: ...]` line: what the help itself says the option takes.
+/// `[default: ...]`: what the help itself says the option takes.
 fn help_paragraph(command: &str, option: &str) -> String {
     let run = glyphcast(&[command, "--help"]);
     assert!(run.status.success(), "{command} --help");
     let help = String::from_utf8_lossy(&run.stdout).into_owned();
     let mut lines = help.lines().skip_while(|line| {
-        !line
-            .trim_start()
-            .split([' ', ','])
-            .any(|word| word == option)
+        let line = line.trim_start();
+        !(line.starts_with('-') && line.split([' ', ',']).any(|word| word == option))
     });
     let head = lines.next().unwrap_or_else(|| panic!("{option} not in {help}"));
-    let body = lines
-        .take_while(|line| !line.trim_start().starts_with('-'))
-        .filter(|line| !line.trim_start().starts_with('['));
-    std::iter::once(head).chain(body).collect::<Vec<_>>().join(" ")
+    let body = lines.take_while(|line| !line.trim_start().starts_with('-'));
+    let mut paragraph = std::iter::once(head).chain(body).collect::<Vec<_>>().join(" ");
+    // Without the default: clap writes `[default: ...]` inline or on a line of its own.
+    while let Some(at) = paragraph.find("[default:") {
+        let end = paragraph[at..].find(']').map_or(paragraph.len(), |e| at + e + 1);
+        paragraph.replace_range(at..end, "");
+    }
+    paragraph
 }
 
 /// Every option that takes methods lists every method in its help, the default
-/// (`exact`) included, not only in its `[default: ...]` line.
+/// (`exact`) included, not only in its `[default: ...]`.
 #[test]
 fn method_options_name_every_method_in_their_help() {
     for (command, option) in [
