@@ -33,8 +33,10 @@ enum Command {
     /// keys for the method, step, refinement, colour, negative lobes and the slice.
     #[command(after_help = "Guide: docs/guide/viewer.md")]
     View(Box<cli::view::ViewArgs>),
-    /// Render the built-in demo scene (a field of crossing-fibre glyphs), framed centred
-    /// at any --width and --height.
+    /// Render the built-in demo scene (a field of crossing-fibre glyphs).
+    ///
+    /// The glyphs are framed centred at the --width and --height given, whole at any
+    /// aspect ratio.
     #[command(after_help = "Guide: docs/guide/command-line.md")]
     Demo {
         /// Show a field of rotated copper crystals as stiffness-tensor glyphs instead.
