@@ -93,7 +93,7 @@ pub fn demo_scene() -> Scene {
         }
         sets.push(glyph_set(symmetric(order), centers, 0.48, coeffs));
     }
-    Scene {
+    let mut scene = Scene {
         glyph_sets: sets,
         camera: Camera {
             projection: Projection::Perspective { fov_y_deg: 30.0 },
@@ -105,6 +105,118 @@ pub fn demo_scene() -> Scene {
             width: 800,
             height: 600,
         },
+    };
+    frame_glyphs(&mut scene, 800, 600);
+    scene
+}
+
+/// The share of the image's limiting side (half of it, on each side) that
+/// [`frame_glyphs`] leaves free around the glyphs.
+pub const FRAME_MARGIN: f64 = 0.06;
+
+/// Points of every glyph's surface, centre + scale h(f(u)) u over a Fibonacci lattice of
+/// directions u (h = |f|, or f where it is positive with negative lobes hidden); a
+/// spherical-harmonic glyph counts as the sphere of its scale.
+fn surface_points(scene: &Scene) -> Vec<DVec3> {
+    const DIRECTIONS: usize = 4096;
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let directions: Vec<DVec3> = (0..DIRECTIONS)
+        .map(|i| {
+            let z = 1.0 - (2.0 * i as f64 + 1.0) / DIRECTIONS as f64;
+            let r = (1.0 - z * z).sqrt();
+            let phi = golden * i as f64;
+            DVec3::new(r * phi.cos(), r * phi.sin(), z)
+        })
+        .collect();
+    let mut points = Vec::new();
+    for set in &scene.glyph_sets {
+        for (i, center) in set.centers.iter().enumerate() {
+            let scale = set.scales.get(i).copied().unwrap_or(1.0);
+            let poly = match set.kind {
+                GlyphKind::Tensor(layout) => {
+                    GlyphPolynomial::from_tensor(layout, &set.coeffs[i]).ok()
+                }
+                GlyphKind::Sh { .. } => None,
+            };
+            for &u in &directions {
+                let radius = match &poly {
+                    Some(poly) => match set.negative {
+                        NegativeMode::Abs => poly.eval(u).abs(),
+                        NegativeMode::Hide => poly.eval(u).max(0.0),
+                    },
+                    None => 1.0,
+                };
+                points.push(*center + scale * radius * u);
+            }
+        }
+    }
+    points
+}
+
+/// Frames the glyphs of `scene` for a `width` x `height` image: the camera keeps its
+/// direction, up and projection and moves (its eye sideways and along the view; the
+/// orthographic height) until the glyphs' surfaces fill the image's limiting side but
+/// for [`FRAME_MARGIN`] on each side, centred in both directions. The built-in scenes
+/// are framed so at their own size; `glyphcast demo` frames them again at the size asked
+/// for, so that no aspect ratio clips a glyph.
+pub fn frame_glyphs(scene: &mut Scene, width: u32, height: u32) {
+    let points = surface_points(scene);
+    if points.is_empty() || width == 0 || height == 0 {
+        return;
+    }
+    let aspect = f64::from(width) / f64::from(height);
+    let frame = scene.camera.frame();
+    let (fwd, right, up) = (frame.fwd, frame.right, frame.up);
+    let centroid = points.iter().copied().sum::<DVec3>() / points.len() as f64;
+    let reach = points
+        .iter()
+        .map(|p| (*p - centroid).length())
+        .fold(0.0, f64::max)
+        .max(1e-9);
+    // The extents of the points on the screen, in the units of the half image height
+    // (perspective: tangents over the half field of view's; orthographic: world units
+    // over the half height), about the screen's centre.
+    let extents = |eye: DVec3, unit: f64, perspective: bool| {
+        let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+        for p in &points {
+            let v = *p - eye;
+            let depth = if perspective { fwd.dot(v) } else { 1.0 };
+            let (x, y) = (right.dot(v) / depth / unit, up.dot(v) / depth / unit);
+            (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+        }
+        (0.5 * (x0 + x1), 0.5 * (y0 + y1), 0.5 * (x1 - x0), 0.5 * (y1 - y0))
+    };
+    let fill = |half_x: f64, half_y: f64| (half_x / aspect).max(half_y) / (1.0 - FRAME_MARGIN);
+    match &mut scene.camera.projection {
+        Projection::Perspective { fov_y_deg } => {
+            let k = (fov_y_deg.to_radians() * 0.5).tan();
+            // Start far enough back that every point is in front of the eye.
+            let mut eye = centroid - fwd * (reach / k * 2.0 + 2.0 * reach);
+            for _ in 0..200 {
+                let (mid_x, mid_y, half_x, half_y) = extents(eye, k, true);
+                let distance = fwd.dot(centroid - eye);
+                // Sideways by the offset of the middle, then along the view by how much
+                // too large or small the glyphs are (never past their nearest point).
+                eye += (right * mid_x + up * mid_y) * k * distance;
+                let ratio = fill(half_x, half_y).clamp(0.5, 2.0);
+                let nearest = points.iter().map(|p| fwd.dot(*p - eye)).fold(f64::MAX, f64::min);
+                let step = (distance * (1.0 - ratio)).min(0.5 * nearest);
+                eye += fwd * step;
+                if mid_x.abs() < 1e-9 && mid_y.abs() < 1e-9 && (ratio - 1.0).abs() < 1e-9 {
+                    break;
+                }
+            }
+            scene.camera.eye = eye;
+            scene.camera.target = eye + fwd * fwd.dot(centroid - eye);
+        }
+        Projection::Orthographic { height } => {
+            let eye = scene.camera.eye;
+            let (mid_x, mid_y, half_x, half_y) = extents(eye, 1.0, false);
+            let eye = eye + right * mid_x + up * mid_y;
+            *height = 2.0 * fill(half_x, half_y);
+            scene.camera.eye = eye;
+            scene.camera.target = eye + fwd * fwd.dot(centroid - eye).abs().max(reach);
+        }
     }
 }
 
@@ -140,7 +252,7 @@ pub fn stiffness_demo_scene() -> Scene {
         order: 4,
         symmetry: Symmetry::NonSymmetric,
     });
-    Scene {
+    let mut scene = Scene {
         glyph_sets: vec![glyph_set(
             kind,
             centers,
@@ -157,7 +269,9 @@ pub fn stiffness_demo_scene() -> Scene {
             width: 800,
             height: 680,
         },
-    }
+    };
+    frame_glyphs(&mut scene, 800, 680);
+    scene
 }
 
 /// One stiffness glyph at the origin, scaled to radius 1 at its largest, as all 81

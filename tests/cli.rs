@@ -721,3 +721,190 @@ fn outputs_are_checked_first_and_written_together() {
     );
     assert!(glyphcast::scene::Scene::load(&dir.join("old.json")).is_ok());
 }
+
+/// The paragraph of `option` in `glyphcast <command> --help`, without its
+/// `[default: ...]`: what the help itself says the option takes.
+fn help_paragraph(command: &str, option: &str) -> String {
+    let run = glyphcast(&[command, "--help"]);
+    assert!(run.status.success(), "{command} --help");
+    let help = String::from_utf8_lossy(&run.stdout).into_owned();
+    let mut lines = help.lines().skip_while(|line| {
+        let line = line.trim_start();
+        !(line.starts_with('-') && line.split([' ', ',']).any(|word| word == option))
+    });
+    let head = lines.next().unwrap_or_else(|| panic!("{option} not in {help}"));
+    let body = lines.take_while(|line| !line.trim_start().starts_with('-'));
+    let mut paragraph = std::iter::once(head).chain(body).collect::<Vec<_>>().join(" ");
+    // Without the default: clap writes `[default: ...]` inline or on a line of its own.
+    while let Some(at) = paragraph.find("[default:") {
+        let end = paragraph[at..].find(']').map_or(paragraph.len(), |e| at + e + 1);
+        paragraph.replace_range(at..end, "");
+    }
+    paragraph
+}
+
+/// Every option that takes methods lists every method in its help, the default
+/// (`exact`) included, not only in its `[default: ...]`.
+#[test]
+fn method_options_name_every_method_in_their_help() {
+    for (command, option) in [
+        ("bench", "--method"),
+        ("accuracy", "--methods"),
+        ("render", "--method"),
+    ] {
+        let paragraph = help_paragraph(command, option);
+        for method in ["exact", "fixed", "interval", "affine", "impostor", "mesh:", "latlong:"] {
+            assert!(
+                paragraph.contains(method),
+                "{command} {option}'s help does not name {method}: {paragraph}"
+            );
+        }
+    }
+}
+
+/// The covered pixels' box of a depth map (`--depth-out`): (left, top, right, bottom),
+/// inclusive.
+fn covered_box(npy: &Path) -> (usize, usize, usize, usize) {
+    let (shape, depth) = glyphcast::io::npy::read_npy_f32(npy).expect("reading the depth map");
+    let width = shape[1];
+    let mut covered = (usize::MAX, usize::MAX, 0, 0);
+    for (i, d) in depth.iter().enumerate() {
+        if !d.is_nan() {
+            let (x, y) = (i % width, i / width);
+            covered = (
+                covered.0.min(x),
+                covered.1.min(y),
+                covered.2.max(x),
+                covered.3.max(y),
+            );
+        }
+    }
+    assert!(covered.0 <= covered.2, "nothing drawn in {}", npy.display());
+    covered
+}
+
+/// `glyphcast demo` frames its glyphs at any size: square, the default 4:3 and a wide
+/// strip; the covered pixels stay inside the image with a margin on every side, centred
+/// to within a few pixels both ways, and fill the limiting side but for the margins.
+#[test]
+fn the_demo_is_framed_centred_at_any_aspect_ratio() {
+    let dir = fresh_dir("demo-framing");
+    for (stiffness, width, height) in [
+        (false, 400, 400),
+        (false, 800, 600),
+        (false, 1600, 400),
+        (true, 400, 400),
+        (true, 1600, 400),
+    ] {
+        let name = format!("demo-{stiffness}-{width}x{height}");
+        let png = dir.join(format!("{name}.png"));
+        let npy = dir.join(format!("{name}.npy"));
+        let (w, h) = (width.to_string(), height.to_string());
+        let mut args = vec!["demo", "-o", png.to_str().unwrap(), "--depth-out"];
+        args.extend([npy.to_str().unwrap(), "--width", &w, "--height", &h]);
+        if stiffness {
+            args.push("--stiffness");
+        }
+        let out = glyphcast(&args);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let (left, top, right, bottom) = covered_box(&npy);
+        let margins = [left, width - 1 - right, top, height - 1 - bottom];
+        let least = |side: usize| side / 50;
+        assert!(
+            margins[0] >= least(width) && margins[1] >= least(width),
+            "{name}: glyphs at the left or right edge: {margins:?}"
+        );
+        assert!(
+            margins[2] >= least(height) && margins[3] >= least(height),
+            "{name}: glyphs at the top or bottom edge: {margins:?}"
+        );
+        assert!(
+            margins[0].abs_diff(margins[1]) <= 4 && margins[2].abs_diff(margins[3]) <= 4,
+            "{name}: not centred: left, right, top, bottom margins {margins:?}"
+        );
+        let fills = |covered: usize, side: usize| covered as f64 > 0.8 * side as f64;
+        assert!(
+            fills(right - left + 1, width) || fills(bottom - top + 1, height),
+            "{name}: the glyphs fill too little of the image: {margins:?}"
+        );
+    }
+}
+
+/// The keyword names a Rust source file of the Python module reads: the string
+/// literal of each `self.ACCESSOR("name"` or `kwargs.ACCESSOR("name"` call.
+fn keywords_read_in(source: &str) -> Vec<String> {
+    let mut found = Vec::new();
+    for receiver in ["self.", "kwargs."] {
+        for (at, _) in source.match_indices(receiver) {
+            let rest = &source[at + receiver.len()..];
+            let accessor: String = rest
+                .chars()
+                .take_while(|c| c.is_ascii_lowercase() || *c == '_')
+                .collect();
+            let Some(call) = rest[accessor.len()..].strip_prefix("(\"") else {
+                continue;
+            };
+            let name: String = call
+                .chars()
+                .take_while(|c| c.is_ascii_lowercase() || *c == '_')
+                .collect();
+            if !accessor.is_empty() && call[name.len()..].starts_with('"') {
+                found.push(name);
+            }
+        }
+    }
+    found
+}
+
+/// The Python guide's keyword list cannot drift from the command line or the module:
+/// every option of `glyphcast render --help` is a keyword of the list or one of the
+/// exceptions it names, and every keyword the module reads (python/src) is in it.
+#[test]
+fn the_python_guide_names_every_render_option_and_keyword() {
+    let root = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let guide = std::fs::read_to_string(root.join("docs/guide/python.md")).expect("python.md");
+    let from = guide
+        .find("- The keywords are the options of `glyphcast render`")
+        .expect("the guide's keyword list");
+    let to = from + guide[from..].find("The module and the CLI call").expect("its end");
+    let section = &guide[from..to];
+    let run = glyphcast(&["render", "--help"]);
+    assert!(run.status.success());
+    let help = String::from_utf8_lossy(&run.stdout).into_owned();
+    let mut flags: Vec<&str> = help
+        .lines()
+        .map(str::trim_start)
+        .filter(|line| line.starts_with('-'))
+        .filter_map(|line| line.split([' ', ',', '=']).find(|w| w.starts_with("--")))
+        .filter(|flag| !["--help", "--version"].contains(flag))
+        .collect();
+    flags.dedup();
+    assert!(flags.len() > 40, "{flags:?}");
+    // The guide names the output by its short flag.
+    let spelled = [("--output", "-o")];
+    for flag in flags {
+        let keyword = flag.trim_start_matches("--").replace('-', "_");
+        let other = spelled.iter().find(|(f, _)| *f == flag).map(|(_, k)| *k);
+        let named = section.contains(&format!("`{keyword}`"))
+            || section.contains(&format!("`{flag}`"))
+            || other.is_some_and(|k| section.contains(&format!("`{k}")));
+        assert!(
+            named,
+            "docs/guide/python.md names neither `{keyword}` nor `{flag}` as an exception"
+        );
+    }
+    let mut read = Vec::new();
+    for file in std::fs::read_dir(root.join("python/src")).expect("python/src") {
+        let path = file.expect("entry").path();
+        if path.extension().is_some_and(|e| e == "rs") {
+            read.extend(keywords_read_in(&std::fs::read_to_string(&path).unwrap()));
+        }
+    }
+    assert!(read.len() > 25, "{read:?}");
+    for keyword in read {
+        assert!(
+            section.contains(&format!("`{keyword}`")),
+            "the module reads `{keyword}`, which docs/guide/python.md does not list"
+        );
+    }
+}

@@ -410,6 +410,37 @@ fn bad_input_is_refused_before_any_output() {
     assert_eq!(names(&root), ["foreign".to_string()].into());
 }
 
+/// The README's quick start in a new folder: `-o sub-01/qc` (relative, its parent
+/// missing) creates `sub-01/` and writes the whole set into `sub-01/qc`; nothing else
+/// appears beside it. A file in the way of the parent is refused before any work.
+#[test]
+fn a_nested_output_in_a_new_folder_is_created() {
+    let root = fresh_dir("qc-nested");
+    let run = Command::new(env!("CARGO_BIN_EXE_glyphcast"))
+        .args(["qc", text(fod()), "--panel-size", PANEL, "--quiet"])
+        .args(["-o", "sub-01/qc"])
+        .current_dir(&root)
+        .env("GLYPHCAST_VALIDATION", "1")
+        .output()
+        .expect("running glyphcast");
+    assert!(run.status.success(), "{}", stderr(&run));
+    assert_eq!(names(&root), ["sub-01".to_string()].into());
+    assert_eq!(names(&root.join("sub-01")), ["qc".to_string()].into());
+    let set = root.join("sub-01").join("qc");
+    assert!(names(&set).contains("qc.json"), "{:?}", names(&set));
+    assert!(names(&set).contains("index.html"), "{:?}", names(&set));
+    // A file where a parent folder would go: refused, nothing created.
+    std::fs::write(root.join("plain"), "x").unwrap();
+    let blocked = root.join("plain").join("sub-02").join("qc");
+    let run = qc(&["-o", text(&blocked)]);
+    assert_eq!(run.status.code(), Some(1), "{}", stderr(&run));
+    assert!(stderr(&run).contains("is not a folder"), "{}", stderr(&run));
+    assert_eq!(
+        names(&root),
+        ["plain".to_string(), "sub-01".to_string()].into()
+    );
+}
+
 /// A job array's processes on one node: four renders of the same montage at once all
 /// succeed with the same bytes.
 #[test]

@@ -184,3 +184,137 @@ fn stiffness_demo_matches_the_float64_reference() {
     assert_eq!((c.holes, c.false_hits), (0, 0), "{c:?}");
     assert!(c.median_error < 1e-3, "{c:?}");
 }
+
+/// The `glyphcast` commands of a Markdown file's `sh` blocks, block by block, each as
+/// its words (continuation lines joined, comments dropped).
+fn documented_commands(page: &str) -> Vec<Vec<Vec<String>>> {
+    let text = std::fs::read_to_string(repo_root().join(page)).expect("reading the page");
+    let mut blocks = Vec::new();
+    let mut block: Option<Vec<Vec<String>>> = None;
+    let mut pending = String::new();
+    for line in text.lines() {
+        match (&mut block, line.trim_end()) {
+            (None, "```sh") => block = Some(Vec::new()),
+            (Some(_), "```") => blocks.extend(block.take()),
+            (Some(commands), line) => {
+                let line = line.trim();
+                if line.starts_with('#') {
+                    continue;
+                }
+                pending.push_str(line.trim_end_matches('\\'));
+                pending.push(' ');
+                if !line.ends_with('\\') {
+                    let words: Vec<String> =
+                        pending.split_whitespace().map(str::to_owned).collect();
+                    pending.clear();
+                    if words.first().is_some_and(|w| w == "glyphcast") {
+                        commands.push(words);
+                    }
+                }
+            }
+            (None, _) => {}
+        }
+    }
+    blocks
+}
+
+/// The files a command writes (`-o`, `--summary`) and the ones it reads (the other
+/// words that name a file).
+fn outputs_and_inputs(command: &[String]) -> (Vec<String>, Vec<String>) {
+    let (mut outputs, mut inputs) = (Vec::new(), Vec::new());
+    let mut words = command.iter().skip(2);
+    while let Some(word) = words.next() {
+        if ["-o", "--output", "--summary"].contains(&word.as_str()) {
+            outputs.extend(words.next().cloned());
+        } else if word.starts_with('-') {
+            words.next();
+        } else {
+            inputs.push(word.clone());
+        }
+    }
+    (outputs, inputs)
+}
+
+fn file_name(path: &str) -> String {
+    std::path::Path::new(path)
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
+/// The stiffness commands of the README and the materials guide name their outputs
+/// apart from their inputs: a user who copies them, in a folder that holds their own
+/// copies of the example files, overwrites none of them. Every command's output names
+/// are checked; the README's quick start and the guide's first block are run in such a
+/// folder, and the copies are the same bytes afterwards.
+#[test]
+fn documented_stiffness_commands_overwrite_no_input() {
+    let examples = repo_root().join("examples/stiffness");
+    let mut example_names: Vec<String> = std::fs::read_dir(&examples)
+        .expect("examples/stiffness")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    example_names.sort();
+    let pages = ["README.md", "docs/guide/materials.md"];
+    let mut to_run = Vec::new();
+    for page in pages {
+        let blocks = documented_commands(page);
+        let stiffness_blocks: Vec<&Vec<Vec<String>>> = blocks
+            .iter()
+            .filter(|block| block.iter().any(|c| c[1] == "stiffness"))
+            .collect();
+        assert!(!stiffness_blocks.is_empty(), "{page}: no stiffness command");
+        for command in stiffness_blocks.iter().flat_map(|b| b.iter()) {
+            let (outputs, inputs) = outputs_and_inputs(command);
+            for output in &outputs {
+                let name = file_name(output);
+                assert!(
+                    !example_names.contains(&name)
+                        && !inputs.iter().any(|input| file_name(input) == name),
+                    "{page}: `{}` writes {output}, the name of an input",
+                    command.join(" ")
+                );
+            }
+        }
+        to_run.push((page, stiffness_blocks[0].clone()));
+    }
+    let dir = fresh_dir("documented");
+    let copied = dir.join("examples/stiffness");
+    std::fs::create_dir_all(&copied).unwrap();
+    for name in &example_names {
+        let bytes = std::fs::read(examples.join(name)).unwrap();
+        std::fs::write(copied.join(name), &bytes).unwrap();
+        std::fs::write(dir.join(name), &bytes).unwrap();
+    }
+    for (page, block) in to_run {
+        for command in block {
+            let run = Command::new(env!("CARGO_BIN_EXE_glyphcast"))
+                .args(&command[1..])
+                .current_dir(&dir)
+                .env("VK_DRIVER_FILES", LAVAPIPE)
+                .env("GLYPHCAST_VALIDATION", "1")
+                .output()
+                .expect("running glyphcast");
+            assert!(
+                run.status.success(),
+                "{page}: `{}`: {}",
+                command.join(" "),
+                String::from_utf8_lossy(&run.stderr)
+            );
+        }
+    }
+    for name in &example_names {
+        let original = std::fs::read(examples.join(name)).unwrap();
+        for copy in [dir.join(name), copied.join(name)] {
+            assert!(
+                std::fs::read(&copy).unwrap() == original,
+                "{} was overwritten",
+                copy.display()
+            );
+        }
+    }
+}
+
+fn repo_root() -> PathBuf {
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+}

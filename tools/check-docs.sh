@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The user guide: builds the mdBook (docs/book.toml) into target/book and checks that
 # every internal link and image resolves, in the built pages and in the Markdown of
-# README.md and docs/. Exit 1 on a broken link or a failed build.
+# README.md and docs/, and that the generated reference pages (docs/reference/) hold one
+# top-level heading each and no rustdoc-style link. Exit 1 on a broken link, such a
+# page or a failed build.
 #
 #   bash tools/check-docs.sh               # build and check
 #   bash tools/check-docs.sh --self-test   # also show that a broken page fails the check
@@ -51,6 +53,8 @@ echo "== links of the built book"
 python3 tools/check_docs.py html target/book docs
 echo "== links of README.md and docs/ as Markdown"
 python3 tools/check_docs.py markdown README.md docs
+echo "== the generated reference pages: one title each, no rustdoc-style link"
+python3 tools/check_docs.py generated docs/reference
 
 if [ "${1:-}" = "--self-test" ]; then
     echo "== self-test: a copy of the guide with one broken link must fail, naming it"

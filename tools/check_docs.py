@@ -16,6 +16,12 @@ guide's pages) against the files beside them, with the same rule for fragments t
 point into another Markdown file: the heading must exist (GitHub's and mdBook's
 heading ids). Code blocks and code spans are skipped.
 
+`generated` checks the pages the docs generate from the code (docs/reference/): one
+top-level heading each, the title (a `# Safety` of a doc comment would be a chapter of
+the book), and no rustdoc-style link (`[`Name`]` with no target, shown as brackets).
+
+    python3 tools/check_docs.py generated FILE_OR_DIR...
+
 Exit status 1 with one line per broken link (`FILE: TARGET: why`), 0 when every link
 resolves.
 """
@@ -211,6 +217,42 @@ def check_markdown_link(path, url, cache):
     return None
 
 
+# Pages as generated ------------------------------------------------------------------
+
+# A rustdoc intra-doc link ([`Name`], [`Name::member`]) copied from a doc comment: no
+# target, so the page shows the brackets, and a reader has nowhere to go.
+RUSTDOC_LINK = re.compile(r"\[`[\w:]+`\](?![(\[])")
+
+
+def check_structure(paths):
+    """What a generated page (docs/reference/) must not hold, as (file, line, text,
+    why): a level-1 heading after its title (the book shows it as a chapter of its
+    own, `# Safety` from a doc comment), and a rustdoc-style link, in the text or in a
+    code block."""
+    files = []
+    for p in paths:
+        if os.path.isdir(p):
+            for root, dirs, names in os.walk(p):
+                dirs[:] = sorted(d for d in dirs if not d.startswith("."))
+                files += [os.path.join(root, n) for n in sorted(names) if n.endswith(".md")]
+        else:
+            files.append(p)
+    found = []
+    for path in files:
+        titles = 0
+        for number, line in markdown_lines(path, keep_code_spans=True):
+            m = HEADING.match(line)
+            if m and len(m.group(1)) == 1:
+                titles += 1
+                if titles > 1:
+                    found.append((path, number, line.strip(), "a second top-level heading"))
+        with open(path, encoding="utf-8") as f:
+            for number, line in enumerate(f, 1):
+                for link in RUSTDOC_LINK.findall(line):
+                    found.append((path, number, link, "a rustdoc-style link, to nowhere"))
+    return found, {"files": len(files)}
+
+
 def main(argv):
     if len(argv) >= 2 and argv[0] == "html" and len(argv) == 3:
         broken, counts = check_html(argv[1], argv[2])
@@ -218,6 +260,16 @@ def main(argv):
     elif len(argv) >= 2 and argv[0] == "markdown":
         broken, counts = check_markdown(argv[1:])
         summary = "%(files)d Markdown files, %(links)d links" % counts
+    elif len(argv) >= 2 and argv[0] == "generated":
+        broken, counts = check_structure(argv[1:])
+        summary = "%(files)d generated pages" % counts
+        for path, line, text, why in broken:
+            print("%s:%d: %s: %s" % (path, line, text, why))
+        if broken:
+            print("error: %d problem(s) in %s" % (len(broken), summary), file=sys.stderr)
+            return 1
+        print("ok: %s, one title each and no rustdoc-style link" % summary)
+        return 0
     else:
         sys.stderr.write(__doc__)
         return 2

@@ -76,8 +76,86 @@ def python_reference() -> str:
     return "\n".join(out).rstrip() + "\n"
 
 
+# A rustdoc intra-doc link, [`Name`] or [`Name::member`], not followed by a target.
+RUSTDOC_LINK = re.compile(r"\[`(\w+)(?:::(\w+))?`\](?!\()")
+# A Markdown heading in a doc comment (`# Safety`): a paragraph's lead-in on the page.
+DOC_HEADING = re.compile(r"^#{1,6} +(.+?)\s*$")
+
+
+def _anchor(heading: str) -> str:
+    """The id mdBook gives a heading (tools/check_docs.py's heading_id)."""
+    text = heading.replace("`", "").strip().lower()
+    return "".join(c for c in text if c.isalnum() or c in " -_").replace(" ", "-")
+
+
+def _c_names(header: list) -> tuple:
+    """The page's sections (name to anchor) and each enum's constants (enum name to
+    its constants) of the header."""
+    sections, constants, current = {}, {}, None
+    for line in header:
+        match = re.match(r"(?:typedef )?(struct|enum) (\w+)(?: \{|$)", line)
+        function = re.match(r"\w[\w *]*?[ *](glyphcast_\w+)\(", line)
+        if match:
+            sections[match.group(2)] = _anchor(f"`{match.group(2)}` (type)")
+            current = match.group(2) if match.group(1) == "enum" else None
+            constants.setdefault(match.group(2), [])
+        elif function:
+            sections[function.group(1)] = _anchor(f"`{function.group(1)}` (function)")
+        elif line.startswith("}"):
+            current = None
+        elif current:
+            constant = re.match(r"\s+(GLYPHCAST_\w+)\s*=", line)
+            if constant:
+                constants[current].append(constant.group(1))
+    return sections, constants
+
+
+def _c_spelling(name: str, member, constants: dict) -> str:
+    """How C spells a rustdoc path: an enum's variant as its constant
+    (`GlyphcastColor::Uniform` is `GLYPHCAST_COLOR_UNIFORM`), a struct's field as
+    `Struct.field`, anything else as its name."""
+    if not member:
+        return name
+    snake = re.sub(r"(?<=[a-z0-9])(?=[A-Z])", "_", member).upper()
+    for constant in constants.get(name, []):
+        if constant.endswith("_" + snake):
+            return constant
+    return f"{name}.{member}"
+
+
+def _c_links(text: str, sections: dict, constants: dict, in_code: bool) -> str:
+    """The rustdoc links of a doc comment made Markdown: a link to the section of the
+    type or function it names on this page (a code span where no section names it), or
+    in a code block's comment the C spelling alone."""
+    def replace(match):
+        name, member = match.group(1), match.group(2)
+        spelled = _c_spelling(name, member, constants)
+        if in_code:
+            return spelled
+        if name in sections:
+            return f"[`{spelled}`](#{sections[name]})"
+        return f"`{spelled}`"
+    return RUSTDOC_LINK.sub(replace, text)
+
+
+def _c_comment(lines: list, sections: dict, constants: dict) -> str:
+    """A doc comment as the page's text: rustdoc links resolved, a heading (`# Safety`)
+    made the bold lead-in of its paragraph, not a chapter of the book."""
+    out = []
+    for line in lines:
+        heading = DOC_HEADING.match(line)
+        if heading:
+            if out and out[-1]:
+                out.append("")
+            out.append(f"**{heading.group(1)}:**")
+        else:
+            out.append(_c_links(line, sections, constants, in_code=False))
+    return "\n".join(out).strip()
+
+
 def c_reference() -> str:
     header = (ROOT / "include" / "glyphcast.h").read_text().splitlines()
+    sections, constants = _c_names(header)
     out = [
         "# C API reference",
         "",
@@ -112,8 +190,9 @@ def c_reference() -> str:
                     i += 1
                     block.append(header[i])
             kind = "type" if match.group(1) else "function"
-            out += [f"## `{name}` ({kind})", "", "\n".join(comment).strip(), "",
-                    "```c", "\n".join(block), "```", ""]
+            code = _c_links("\n".join(block), sections, constants, in_code=True)
+            out += [f"## `{name}` ({kind})", "", _c_comment(comment, sections, constants),
+                    "", "```c", code, "```", ""]
         comment = []
         i += 1
     return "\n".join(out).rstrip() + "\n"

@@ -13,6 +13,10 @@
 //! folder with them: glyphcast never deletes a file it did not write. Between the two
 //! renames the name is briefly absent, never half-filled.
 //!
+//! Missing folders above the target (`sub-01/` of `sub-01/qc`) are created when the set
+//! is written, not before: a run that fails before then leaves nothing behind, and one
+//! that fails while writing removes the folders it created (those still empty).
+//!
 //! The temporary folder is entered in the registry of `io::atomic`, so an interrupt
 //! removes it (with its contents), and the renames run under that registry's lock.
 use std::fs;
@@ -29,17 +33,25 @@ const NEW_FOLDER: &str =
 /// module notes); `None` where the folder holds no such record.
 pub(crate) type EarlierSet<'a> = &'a dyn Fn(&Path) -> Option<Vec<String>>;
 
-/// Checks, before any work, that the folder `dir` can be written: its parent exists,
-/// and `dir` is missing, an empty folder, or a folder of nothing but an earlier set's
-/// files (`earlier`); a missing parent or a file at `dir` is an error naming `dir`, a
+/// Checks, before any work, that the folder `dir` can be written: its parent exists or
+/// can be created (the nearest existing folder above it is a folder, not a file), and
+/// `dir` is missing, an empty folder, or a folder of nothing but an earlier set's files
+/// (`earlier`); a file in the way of the parent or at `dir` is an error naming `dir`, a
 /// folder with any other entry an [`Error::ForeignEntry`] naming one.
 pub fn check_folder_output(dir: &Path, earlier: EarlierSet) -> Result<()> {
     let parent = parent_of(dir)?;
     if !parent.is_dir() {
-        return Err(Error::io(
-            dir,
-            format!("the folder {} does not exist", parent.display()),
-        ));
+        let blocking = missing_folders(&parent)
+            .last()
+            .and_then(|top| top.parent().map(Path::to_path_buf))
+            .filter(|above| !above.as_os_str().is_empty() && !above.is_dir());
+        if let Some(above) = blocking.or_else(|| parent.exists().then(|| parent.clone())) {
+            return Err(Error::io(
+                dir,
+                format!("{} is not a folder", above.display()),
+            ));
+        }
+        return Ok(());
     }
     match fs::symlink_metadata(dir) {
         Err(_) => Ok(()),
@@ -89,7 +101,14 @@ pub fn write_folder_atomic(dir: &Path, files: &[(&str, &[u8])], earlier: Earlier
         }
     }
     check_folder_output(dir, earlier)?;
-    let temporary = temporary_folder(dir)?;
+    let created = create_parents(dir)?;
+    let temporary = match temporary_folder(dir) {
+        Ok(temporary) => temporary,
+        Err(err) => {
+            remove_created(&created);
+            return Err(err);
+        }
+    };
     let written = fill(&temporary, files);
     let mut live = live_temporaries();
     let outcome = written.and_then(|()| put_in_place(&temporary, dir, earlier));
@@ -98,6 +117,9 @@ pub fn write_folder_atomic(dir: &Path, files: &[(&str, &[u8])], earlier: Earlier
     }
     live.retain(|path| path != &temporary);
     drop(live);
+    if outcome.is_err() {
+        remove_created(&created);
+    }
     match outcome {
         Ok(Some((old, names))) => {
             // The set is in place; the old one is gone from view. Only its listed files
@@ -111,6 +133,38 @@ pub fn write_folder_atomic(dir: &Path, files: &[(&str, &[u8])], earlier: Earlier
         }
         Ok(None) => Ok(()),
         Err(err) => Err(err),
+    }
+}
+
+/// The folders from `folder` up that do not exist, deepest first.
+fn missing_folders(folder: &Path) -> Vec<PathBuf> {
+    folder
+        .ancestors()
+        .filter(|a| !a.as_os_str().is_empty())
+        .take_while(|a| fs::symlink_metadata(a).is_err())
+        .map(Path::to_path_buf)
+        .collect()
+}
+
+/// Creates the missing folders above `dir` and returns them, deepest first.
+fn create_parents(dir: &Path) -> Result<Vec<PathBuf>> {
+    let parent = parent_of(dir)?;
+    let missing = missing_folders(&parent);
+    if let Some(top) = missing.last() {
+        if let Err(err) = fs::create_dir_all(&parent) {
+            remove_created(&missing);
+            return Err(Error::io(dir, format!("creating {}: {err}", top.display())));
+        }
+    }
+    Ok(missing)
+}
+
+/// Removes folders [`create_parents`] created, deepest first, each only while empty.
+fn remove_created(created: &[PathBuf]) {
+    for folder in created {
+        if fs::remove_dir(folder).is_err() {
+            break;
+        }
     }
 }
 
@@ -246,9 +300,20 @@ mod tests {
         fs::create_dir(&empty).expect("mkdir");
         write_folder_atomic(&empty, &[("mark", b"4")], &marked).expect("empty");
         assert_eq!(names(&empty), ["mark"]);
-        let orphan = root.join("missing").join("set");
-        let err = check_folder_output(&orphan, &marked).expect_err("missing parent");
-        assert!(err.to_string().contains("does not exist"), "{err}");
+        // Missing folders above the set are created as it is written, not at the check.
+        let nested = root.join("missing").join("deeper").join("set");
+        check_folder_output(&nested, &marked).expect("missing parents");
+        assert!(!root.join("missing").exists(), "the check creates nothing");
+        write_folder_atomic(&nested, &[("mark", b"5")], &marked).expect("nested");
+        assert_eq!(names(&nested), ["mark"]);
+        assert_eq!(names(&root.join("missing").join("deeper")), ["set"]);
+        // A file in the way of a parent is an error naming the file.
+        fs::write(root.join("plain"), b"x").expect("writing");
+        let blocked = root.join("plain").join("sub").join("set");
+        let err = check_folder_output(&blocked, &marked).expect_err("file above");
+        assert!(err.to_string().contains("is not a folder"), "{err}");
+        fs::remove_file(root.join("plain")).expect("removing");
+        fs::remove_dir_all(root.join("missing")).expect("removing");
         assert_eq!(names(&root), ["empty", "foreign", "set"]);
         assert!(!live_temporaries().iter().any(|p| p.starts_with(&root)));
         fs::remove_dir_all(&root).expect("cleaning up");

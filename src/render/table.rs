@@ -630,6 +630,37 @@ pub fn markdown_table() -> String {
     out
 }
 
+/// The Python keywords of the render settings, in the table's order, as the Python
+/// guide lists them (docs/guide/python.md, between its generated-list markers):
+/// `` `method`, `path`, ... `` (a test keeps the guide's copy current).
+pub fn python_keywords() -> String {
+    RENDER_SETTINGS
+        .iter()
+        .map(|spec| format!("`{}`", spec.setting.keyword()))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Replaces what lies between `start` and `end` in the page at `path` with `generated`
+/// when `GLYPHCAST_BLESS=1`, else asserts that it is `generated` (`what` names the
+/// list in the message).
+#[cfg(test)]
+fn check_generated(path: &str, start: &str, end: &str, generated: &str, what: &str) {
+    let page = std::fs::read_to_string(path).unwrap();
+    let from = page.find(start).expect("the start marker") + start.len();
+    let to = from + page[from..].find(end).expect("the end marker");
+    if std::env::var("GLYPHCAST_BLESS").is_ok_and(|v| v == "1") {
+        let page = format!("{}{generated}{}", &page[..from], &page[to..]);
+        std::fs::write(path, page).unwrap();
+    } else {
+        assert!(
+            page[from..to] == *generated,
+            "{what} in {path} is stale: GLYPHCAST_BLESS=1 cargo test -p glyphcast --lib table \
+             (or bash tools/gen-docs.sh)"
+        );
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -825,6 +856,21 @@ mod tests {
                  --lib table"
             );
         }
+    }
+
+    /// docs/guide/python.md lists the render settings' keywords as generated from the
+    /// table; `GLYPHCAST_BLESS=1` writes them.
+    #[test]
+    fn the_python_guide_keywords_are_current() {
+        check_generated(
+            concat!(env!("CARGO_MANIFEST_DIR"), "/docs/guide/python.md"),
+            "<!-- render keywords: generated -->",
+            "<!-- end of the render keywords -->",
+            &python_keywords(),
+            "the render settings' keywords",
+        );
+        assert!(python_keywords().starts_with("`method`, `path`, "));
+        assert!(python_keywords().contains("`magnitude_range`"));
     }
 
     #[test]

@@ -2,6 +2,7 @@
 module's docstrings and the C header now; and they hold every exported name."""
 import pathlib
 import sys
+import tempfile
 import unittest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -29,6 +30,23 @@ class ApiReference(unittest.TestCase):
         self.assertGreater(len(functions), 5)
         for function in functions:
             self.assertIn(f"## `{function}` (function)", pages["c.md"], function)
+
+    def test_the_pages_pass_the_structure_check(self):
+        # What tools/check-docs.sh's `generated` check reads: one title a page, no
+        # rustdoc-style link left from the doc comments.
+        import check_docs
+        with tempfile.TemporaryDirectory() as tmp:
+            for name, text in gen_api_reference.pages().items():
+                (pathlib.Path(tmp) / name).write_text(text)
+            found, counts = check_docs.check_structure([tmp])
+        self.assertEqual(counts["files"], 2)
+        self.assertEqual(found, [])
+
+    def test_rustdoc_links_become_links_to_the_page_or_c_names(self):
+        c = gen_api_reference.pages()["c.md"]
+        self.assertIn("[`GlyphcastSettings.method`](#glyphcastsettings-type)", c)
+        self.assertIn("  // With GLYPHCAST_COLOR_UNIFORM: linear RGB", c)
+        self.assertIn("**Safety:**", c)
 
 
 if __name__ == "__main__":

@@ -125,5 +125,39 @@ class Markdown(unittest.TestCase):
         self.assertEqual(code, 0, out)
 
 
+class Generated(unittest.TestCase):
+    """The structure check of generated pages (`generated`): one title, no rustdoc link."""
+
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.dir = self.tmp.name
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def check(self, text):
+        write(os.path.join(self.dir, "c.md"), text)
+        return run("generated", self.dir)
+
+    def test_a_page_with_one_title_and_real_links_passes(self):
+        code, out = self.check(
+            "# C API\n\n## `f` (function)\n\n**Safety:** see [`T`](#t-type).\n\n"
+            "```c\n# define X 1\nvoid f(void); // see T\n```\n")
+        self.assertEqual(code, 0, out)
+
+    def test_a_second_top_level_heading_fails(self):
+        code, out = self.check("# C API\n\n## `f` (function)\n\n# Safety\nNULL.\n")
+        self.assertEqual(code, 1, out)
+        self.assertIn("c.md:5: # Safety: a second top-level heading", out)
+
+    def test_a_rustdoc_link_fails_in_text_and_in_code(self):
+        code, out = self.check(
+            "# C API\n\nFill it with [`settings_default`].\n\n```c\n"
+            "  // A [`GlyphcastColor::Uniform`].\n```\n")
+        self.assertEqual(code, 1, out)
+        self.assertIn("c.md:3: [`settings_default`]: a rustdoc-style link", out)
+        self.assertIn("c.md:6: [`GlyphcastColor::Uniform`]: a rustdoc-style link", out)
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -34,6 +34,9 @@ enum Command {
     #[command(after_help = "Guide: docs/guide/viewer.md")]
     View(Box<cli::view::ViewArgs>),
     /// Render the built-in demo scene (a field of crossing-fibre glyphs).
+    ///
+    /// The glyphs are framed centred at the --width and --height given, whole at any
+    /// aspect ratio.
     #[command(after_help = "Guide: docs/guide/command-line.md")]
     Demo {
         /// Show a field of rotated copper crystals as stiffness-tensor glyphs instead.
@@ -159,11 +162,16 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
             save_scene,
         } => {
             cli::render::check_outputs(&output, save_scene.as_deref(), &[])?;
-            let scene = if stiffness {
+            let mut scene = if stiffness {
                 glyphcast::demo::stiffness_demo_scene()
             } else {
                 glyphcast::demo::demo_scene()
             };
+            // Framed at the size asked for, centred, with no glyph cut at any aspect.
+            let image = options.image_request()?;
+            let width = image.width.unwrap_or(scene.image.width);
+            let height = image.height.unwrap_or(scene.image.height);
+            glyphcast::demo::frame_glyphs(&mut scene, width, height);
             cli::render::render(
                 scene,
                 &output,

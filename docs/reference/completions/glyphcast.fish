@@ -192,9 +192,9 @@ complete -c glyphcast -n "__fish_glyphcast_using_subcommand demo" -l save-scene 
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand demo" -l stiffness -d 'Show a field of rotated copper crystals as stiffness-tensor glyphs instead'
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand demo" -l colorbar -d 'With --color magnitude: append a colour bar of the magnitude range on the right, in a strip of its own (the PNG and the depth map grow by its width; the depth map is NaN there). Values are glyph radii in data units (|f|, or an ellipsoid\'s sqrt(eigenvalue)) when every glyph has the same scale, else in world units'
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand demo" -l validation -d 'Turn on the Vulkan validation layer (also GLYPHCAST_VALIDATION=1)'
-complete -c glyphcast -n "__fish_glyphcast_using_subcommand demo" -s h -l help -d 'Print help'
+complete -c glyphcast -n "__fish_glyphcast_using_subcommand demo" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand accuracy" -l size -d 'Image side in pixels for every scene, 16 to 4096' -r
-complete -c glyphcast -n "__fish_glyphcast_using_subcommand accuracy" -l methods -d 'Methods to measure, comma separated: fixed, interval, affine, impostor, mesh:LEVEL, latlong:N' -r
+complete -c glyphcast -n "__fish_glyphcast_using_subcommand accuracy" -l methods -d 'Methods to measure, comma separated: exact, fixed, interval, affine, impostor, mesh:LEVEL, latlong:N' -r
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand accuracy" -l steps -d 'March steps of the fixed-step method, comma separated' -r
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand accuracy" -l refine -d 'Refinements of the fixed-step method, comma separated' -r
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand accuracy" -l markdown -d 'Also write the table as Markdown to this file' -r -F
@@ -203,7 +203,7 @@ complete -c glyphcast -n "__fish_glyphcast_using_subcommand accuracy" -l device 
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand accuracy" -s h -l help -d 'Print help'
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand bench" -l workload -d 'Generated workload: grid:COUNT:ORDER (fibre tensors) or fodf:COUNT:BAND (SH fODFs)' -r
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand bench" -l sweep -d 'A sweep instead of one measurement: steps (the paper\'s Table 1), scaling (glyph count, order, resolution), table2 (ray casting against tessellation levels 1 to 6, with geometric error), methods (every method on the accuracy suite) or ratios (the default ray caster against the impostor and against tessellation at equal error: grids of orders 4, 8 and 12, and band-8 fODFs) or gpu[:COUNTS] (the GPU report of tools/gpu-report.sh: band-8 fODF fields of 10^3 to 10^6 glyphs at three sizes, every method and both paths; failures are reported, not fatal) or shadows (the frame without shadows, with hard and with soft ones, three rounds)' -r
-complete -c glyphcast -n "__fish_glyphcast_using_subcommand bench" -l method -d 'Method of a single measurement: fixed, interval, affine, impostor, mesh:LEVEL or latlong:N' -r
+complete -c glyphcast -n "__fish_glyphcast_using_subcommand bench" -l method -d 'Method of a single measurement: exact, fixed, interval, affine, impostor, mesh:LEVEL or latlong:N' -r
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand bench" -l path -d 'Ray caster of a single measurement: fragment (proxy boxes) or compute (a compute shader per pixel over screen tiles; exact only)' -r
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand bench" -l frames -d 'Measured frames (after the warm-up), at least 1 (default 20; 3 with --quick)' -r
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand bench" -l warmup -d 'Warm-up frames, not measured (default 3; 1 with --quick)' -r

@@ -11,7 +11,7 @@ pub struct AccuracyArgs {
     /// Image side in pixels for every scene, 16 to 4096.
     #[arg(long, default_value_t = 160, value_parser = clap::value_parser!(u32).range(16..=4096))]
     size: u32,
-    /// Methods to measure, comma separated: fixed, interval, affine, impostor,
+    /// Methods to measure, comma separated: exact, fixed, interval, affine, impostor,
     /// mesh:LEVEL, latlong:N.
     #[arg(
         long,

@@ -36,8 +36,8 @@ pub struct BenchArgs {
     /// (the frame without shadows, with hard and with soft ones, three rounds).
     #[arg(long)]
     sweep: Option<String>,
-    /// Method of a single measurement: fixed, interval, affine, impostor, mesh:LEVEL or
-    /// latlong:N.
+    /// Method of a single measurement: exact, fixed, interval, affine, impostor,
+    /// mesh:LEVEL or latlong:N.
     #[arg(long, default_value = "exact")]
     method: String,
     /// Ray caster of a single measurement: fragment (proxy boxes) or compute (a compute
