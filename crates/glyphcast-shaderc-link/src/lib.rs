@@ -48,6 +48,7 @@
 //! ```
 //!
 //! The crate has no items; it carries the link lines and the feature.
+#![warn(missing_docs)]
 
 #[cfg(test)]
 mod detect;
