@@ -49,7 +49,7 @@ pub use peaks::{
 #[cfg(test)]
 pub(crate) use recorded::commented_image;
 pub use recorded::{
-    RecordedBasis, RecordedContent, TENSOR_PREFIX, check_content, recorded_basis, recorded_content,
+    RecordedBasis, RecordedContent, TENSOR_PREFIX, check_content, check_variant_named, recorded_basis, recorded_content,
     resolve_basis, tensor_description,
 };
 pub use reorient::Reorientation;

@@ -214,6 +214,52 @@ fn show(basis: ShBasis, legacy: bool) -> Vec<Piece> {
     pieces
 }
 
+/// A basis named `descoteaux07` without a legacy choice (`legacy` unset), where nothing
+/// else decides the variant, is refused: DIPY 1.x writes the legacy basis unless told
+/// otherwise and calls the non-legacy one by the same name, so the bare name could be
+/// either. A file that records its basis decides (unless `force` draws the given basis
+/// anyway); a file that records none, or coefficients in memory (`image` `None`, named
+/// `name`), do not. The error names the data and both choices: the aliases `dipy` and
+/// `dipy-new`.
+pub fn check_variant_named(
+    basis: Option<&str>,
+    legacy: Option<bool>,
+    force: bool,
+    image: Option<&Image>,
+    name: &str,
+) -> Result<()> {
+    let bare = basis.is_some_and(|basis| basis.trim().eq_ignore_ascii_case("descoteaux07"));
+    if !bare || legacy.is_some() {
+        return Ok(());
+    }
+    let (decided, records_none) = match image {
+        Some(image) => (
+            !force && recorded_basis(image)?.is_some(),
+            format!("{name} records no SH basis"),
+        ),
+        None => (false, format!("{name} is held in memory, with no basis record")),
+    };
+    if decided {
+        return Ok(());
+    }
+    Err(Error::setting_value(
+        Setting::Basis,
+        "descoteaux07",
+        glyphcast::message![
+            format!(
+                "names two bases and {records_none}: DIPY 1.x writes the legacy variant \
+                 unless told otherwise (its default legacy=True); give "
+            ),
+            Setting::Basis.with("dipy"),
+            " (or ",
+            Setting::Legacy,
+            ") for that one, or ",
+            Setting::Basis.with("dipy-new"),
+            " for the non-legacy one"
+        ],
+    ))
+}
+
 /// The basis to draw `image` in: `given` (the basis setting) when it agrees with what
 /// the file records or `force` is set, else the recorded one, else tournier07 for an
 /// MRtrix file. A contradiction is an error naming the file and the field; no basis at
