@@ -228,8 +228,11 @@ pub fn check_variant_named(
     image: Option<&Image>,
     name: &str,
 ) -> Result<()> {
-    let bare = basis.is_some_and(|basis| basis.trim().eq_ignore_ascii_case("descoteaux07"));
-    if !bare || legacy.is_some() {
+    let Some(basis) = basis.filter(|basis| basis.trim().eq_ignore_ascii_case("descoteaux07"))
+    else {
+        return Ok(());
+    };
+    if legacy.is_some() {
         return Ok(());
     }
     let (decided, records_none) = match image {
@@ -237,14 +240,14 @@ pub fn check_variant_named(
             !force && recorded_basis(image)?.is_some(),
             format!("{name} records no SH basis"),
         ),
-        None => (false, format!("{name} is held in memory, with no basis record")),
+        None => (false, format!("{name} is an array, which records no SH basis")),
     };
     if decided {
         return Ok(());
     }
     Err(Error::setting_value(
         Setting::Basis,
-        "descoteaux07",
+        format!("'{}'", glyphcast::error::quoted(basis)),
         glyphcast::message![
             format!(
                 "names two bases and {records_none}: DIPY 1.x writes the legacy variant \
