@@ -96,7 +96,10 @@ fn a_bare_descoteaux07_on_a_file_without_a_record_is_refused() {
         let message = stderr(&out);
         assert!(out.status.success(), "{extra:?}: {message}");
         let line = format!("SH basis: {}: {summary}\n", text(&fod));
-        assert!(message.contains(&line), "{extra:?}: '{line}' not in {message}");
+        assert!(
+            message.contains(&line),
+            "{extra:?}: '{line}' not in {message}"
+        );
         std::fs::read(&png).expect("the image")
     };
     let dipy = drawn("dipy.png", &["--basis", "dipy"], "descoteaux07, legacy");
@@ -145,7 +148,11 @@ fn a_recorded_basis_decides_the_variant_of_a_bare_descoteaux07() {
     );
 
     let legacy = write("legacy.mif", "descoteaux07 legacy");
-    let out = render(&legacy, &dir.join("legacy.png"), &["--basis", "descoteaux07"]);
+    let out = render(
+        &legacy,
+        &dir.join("legacy.png"),
+        &["--basis", "descoteaux07"],
+    );
     let message = stderr(&out);
     assert_eq!(out.status.code(), Some(2), "{message}");
     assert!(

@@ -240,7 +240,10 @@ pub fn check_variant_named(
             !force && recorded_basis(image)?.is_some(),
             format!("{name} records no SH basis"),
         ),
-        None => (false, format!("{name} is an array, which records no SH basis")),
+        None => (
+            false,
+            format!("{name} is an array, which records no SH basis"),
+        ),
     };
     if decided {
         return Ok(());

@@ -10,8 +10,8 @@ use super::framing::{ImageRequest, ViewProjection};
 use super::input::check_four_d;
 use super::input::{CoefficientFrame, Mask, Volume, VolumeKind};
 use super::recorded::{
-    OrderSource, RecordedContent, check_content, check_variant_named, has_dti_entries, recorded_basis, resolve_basis,
-    resolve_tensor_order,
+    OrderSource, RecordedContent, check_content, check_variant_named, has_dti_entries,
+    resolve_basis, resolve_tensor_order,
 };
 use super::selection::Slice;
 use super::underlay::UnderlayPlacement;
@@ -478,7 +478,13 @@ impl VolumeRequest {
             Coefficients::Tensor => None,
         };
         if input == Coefficients::Sh {
-            check_variant_named(self.basis.as_deref(), self.legacy, self.force_basis, Some(&file), &file.file)?;
+            check_variant_named(
+                self.basis.as_deref(),
+                self.legacy,
+                self.force_basis,
+                Some(&file),
+                &file.file,
+            )?;
         }
         let kind = self.kind(input, Some(&file))?;
         self.check_shape(kind, &file.file)?;
@@ -504,7 +510,13 @@ impl VolumeRequest {
         self.check(input)?;
         self.options(ImageRequest::default())?;
         if input == Coefficients::Sh {
-            check_variant_named(self.basis.as_deref(), self.legacy, self.force_basis, None, name)?;
+            check_variant_named(
+                self.basis.as_deref(),
+                self.legacy,
+                self.force_basis,
+                None,
+                name,
+            )?;
         }
         let kind = self.kind(input, None)?;
         self.check_shape(kind, name)?;
