@@ -184,12 +184,7 @@ pub fn frame_glyphs(scene: &mut Scene, width: u32, height: u32) {
             let (x, y) = (right.dot(v) / depth / unit, up.dot(v) / depth / unit);
             (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
         }
-        (
-            0.5 * (x0 + x1),
-            0.5 * (y0 + y1),
-            0.5 * (x1 - x0),
-            0.5 * (y1 - y0),
-        )
+        (0.5 * (x0 + x1), 0.5 * (y0 + y1), 0.5 * (x1 - x0), 0.5 * (y1 - y0))
     };
     let fill = |half_x: f64, half_y: f64| (half_x / aspect).max(half_y) / (1.0 - FRAME_MARGIN);
     match &mut scene.camera.projection {
@@ -204,10 +199,7 @@ pub fn frame_glyphs(scene: &mut Scene, width: u32, height: u32) {
                 // too large or small the glyphs are (never past their nearest point).
                 eye += (right * mid_x + up * mid_y) * k * distance;
                 let ratio = fill(half_x, half_y).clamp(0.5, 2.0);
-                let nearest = points
-                    .iter()
-                    .map(|p| fwd.dot(*p - eye))
-                    .fold(f64::MAX, f64::min);
+                let nearest = points.iter().map(|p| fwd.dot(*p - eye)).fold(f64::MAX, f64::min);
                 let step = (distance * (1.0 - ratio)).min(0.5 * nearest);
                 eye += fwd * step;
                 if mid_x.abs() < 1e-9 && mid_y.abs() < 1e-9 && (ratio - 1.0).abs() < 1e-9 {

@@ -732,19 +732,12 @@ fn help_paragraph(command: &str, option: &str) -> String {
         let line = line.trim_start();
         !(line.starts_with('-') && line.split([' ', ',']).any(|word| word == option))
     });
-    let head = lines
-        .next()
-        .unwrap_or_else(|| panic!("{option} not in {help}"));
+    let head = lines.next().unwrap_or_else(|| panic!("{option} not in {help}"));
     let body = lines.take_while(|line| !line.trim_start().starts_with('-'));
-    let mut paragraph = std::iter::once(head)
-        .chain(body)
-        .collect::<Vec<_>>()
-        .join(" ");
+    let mut paragraph = std::iter::once(head).chain(body).collect::<Vec<_>>().join(" ");
     // Without the default: clap writes `[default: ...]` inline or on a line of its own.
     while let Some(at) = paragraph.find("[default:") {
-        let end = paragraph[at..]
-            .find(']')
-            .map_or(paragraph.len(), |e| at + e + 1);
+        let end = paragraph[at..].find(']').map_or(paragraph.len(), |e| at + e + 1);
         paragraph.replace_range(at..end, "");
     }
     paragraph
@@ -760,9 +753,7 @@ fn method_options_name_every_method_in_their_help() {
         ("render", "--method"),
     ] {
         let paragraph = help_paragraph(command, option);
-        for method in [
-            "exact", "fixed", "interval", "affine", "impostor", "mesh:", "latlong:",
-        ] {
+        for method in ["exact", "fixed", "interval", "affine", "impostor", "mesh:", "latlong:"] {
             assert!(
                 paragraph.contains(method),
                 "{command} {option}'s help does not name {method}: {paragraph}"
@@ -815,11 +806,7 @@ fn the_demo_is_framed_centred_at_any_aspect_ratio() {
             args.push("--stiffness");
         }
         let out = glyphcast(&args);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
         let (left, top, right, bottom) = covered_box(&npy);
         let margins = [left, width - 1 - right, top, height - 1 - bottom];
         let least = |side: usize| side / 50;
@@ -879,10 +866,7 @@ fn the_python_guide_names_every_render_option_and_keyword() {
     let from = guide
         .find("- The keywords are the options of `glyphcast render`")
         .expect("the guide's keyword list");
-    let to = from
-        + guide[from..]
-            .find("The module and the CLI call")
-            .expect("its end");
+    let to = from + guide[from..].find("The module and the CLI call").expect("its end");
     let section = &guide[from..to];
     let run = glyphcast(&["render", "--help"]);
     assert!(run.status.success());
