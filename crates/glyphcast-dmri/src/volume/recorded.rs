@@ -474,4 +474,34 @@ mod tests {
             dipy_new
         );
     }
+
+    #[test]
+    fn a_bare_descoteaux07_needs_a_record_or_a_legacy_choice() {
+        let recorded = commented_image("glyphcast fit: SH band 4 descoteaux07 lambda 0");
+        let plain = commented_image("made by dwi2fod");
+        let check = |name: &str, legacy, force, image| {
+            check_variant_named(Some(name), legacy, force, image, "f.mif")
+        };
+        // A record decides, unless the basis is forced.
+        assert!(check("descoteaux07", None, false, Some(&recorded)).is_ok());
+        for (image, force, why) in [
+            (Some(&plain), false, "f.mif records no SH basis"),
+            (Some(&recorded), true, "f.mif records no SH basis"),
+            (None, false, "f.mif is an array"),
+        ] {
+            let err = check(" Descoteaux07", None, force, image)
+                .unwrap_err()
+                .to_string();
+            for words in [why, "basis dipy", "legacy", "basis dipy-new"] {
+                assert!(err.contains(words), "{words}: {err}");
+            }
+        }
+        // A legacy choice, an alias or another basis is no question.
+        for legacy in [Some(true), Some(false)] {
+            assert!(check("descoteaux07", legacy, false, Some(&plain)).is_ok());
+        }
+        for name in ["dipy", "dipy-new", "tournier07", "mrtrix"] {
+            assert!(check(name, None, false, None).is_ok(), "{name}");
+        }
+    }
 }
