@@ -8,6 +8,7 @@ mod common;
 mod antialias;
 mod architecture;
 mod baselines;
+mod basis_names;
 mod cli;
 mod colorbar;
 mod compute_path;

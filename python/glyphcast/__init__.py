@@ -35,11 +35,11 @@ reversed views (``shm_coeff[:, :, 2:5]``), each copied once. A voxel with a NaN 
 infinite coefficient is left out with one warning that counts them, as the command
 line does; warnings point at the caller's line.
 
-Basis names are DIPY's and any case: ``basis="descoteaux07"`` is DIPY 1.x's
-descoteaux07 with its default ``legacy=True`` unless ``legacy=False`` is given (the
-command line and scene files read ``descoteaux07`` as the non-legacy basis, see
-docs/guide/volumes.md); ``"dipy"`` is the same legacy basis, ``"dipy-new"`` the non-legacy one,
-``"tournier07"``/``"mrtrix"`` MRtrix3's.
+Basis names are DIPY's and any case: ``"dipy"`` is DIPY 1.x's default, descoteaux07
+with ``legacy=True``, and ``"dipy-new"`` its ``legacy=False`` basis; ``basis="descoteaux07"``
+names both and needs ``legacy=True`` or ``legacy=False`` (without it, on an array or a file
+that records no basis, it is a ``ValueError`` naming both choices; see
+docs/guide/conventions.md); ``"tournier07"``/``"mrtrix"`` is MRtrix3's.
 - peaks: ``peaks`` (a peak image's path, or an array on the coefficients' grid,
   directions in the coefficients' frame: (X, Y, Z, 3N) as ``glyphcast peaks`` and MRtrix
   ``sh2peaks`` write it; with ``peak_values``, DIPY's unit ``peak_dirs`` (X, Y, Z, N, 3)
@@ -182,9 +182,10 @@ class Renderer:
     ):
         """Renders a slice of an (X, Y, Z, K) volume of SH coefficients (as nibabel's
         ``get_fdata()`` gives it) with its 4x4 ``affine`` (identity if None), as
-        ``glyphcast render --sh`` does: ``basis`` is tournier07, descoteaux07 (as in DIPY:
-        legacy unless ``legacy=False``), mrtrix, dipy (DIPY's default, descoteaux07
-        legacy) or dipy-new (descoteaux07, ``legacy=False``), in any case; ``slice`` is
+        ``glyphcast render --sh`` does: ``basis`` is tournier07, descoteaux07 (with
+        ``legacy=True`` or ``legacy=False``: alone it is refused), mrtrix, dipy (DIPY's
+        default, descoteaux07 legacy) or dipy-new (descoteaux07, ``legacy=False``), in any
+        case; ``slice`` is
         "AXIS[:INDEX]" or an axial index (default: the middle axial slice). With ``views`` or ``lightbox``
         the result is the montage's one image."""
         options.update(

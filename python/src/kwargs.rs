@@ -292,11 +292,9 @@ impl<'py> Kwargs<'py> {
             )),
             Err(_) => arrays::underlay(value, affine),
         };
-        let basis = self.text("basis")?;
-        let legacy = self.optional_flag("legacy")?;
         let mut request = VolumeRequest {
-            legacy: dipy_legacy_default(basis.as_deref(), legacy),
-            basis,
+            basis: self.text("basis")?,
+            legacy: self.optional_flag("legacy")?,
             force_basis: false,
             frame: self.text("frame")?,
             lmax: self.lmax()?,
@@ -376,20 +374,6 @@ impl<'py> Kwargs<'py> {
             ),
         };
         Ok((peaks, path))
-    }
-}
-
-/// The legacy choice with Python's default: `descoteaux07` without `legacy` means what
-/// it means in DIPY 1.x, whose `descoteaux07` defaults to `legacy=True` (the basis of
-/// every `shm_coeff` DIPY returns unless told otherwise); the command line and scene
-/// files keep the scene format's meaning (non-legacy unless `legacy` says so), since
-/// files record their basis with its variant.
-fn dipy_legacy_default(basis: Option<&str>, legacy: Option<bool>) -> Option<bool> {
-    match basis {
-        Some(name) if legacy.is_none() && name.trim().eq_ignore_ascii_case("descoteaux07") => {
-            Some(true)
-        }
-        _ => legacy,
     }
 }
 

@@ -41,11 +41,21 @@ def csd():
     return fit.shm_coeff, image.affine
 
 
-def test_descoteaux07_means_what_it_means_in_dipy(csd):
+def test_a_bare_descoteaux07_is_refused_and_the_choices_are_dipys(csd):
+    """descoteaux07 alone names two bases (DIPY's default legacy one and its legacy=False
+    one): refused without legacy=, naming both choices; basis="dipy" and legacy=True
+    draw DIPY's default, basis="dipy-new" and legacy=False the other."""
     coeffs, affine = csd
+    for name in ("descoteaux07", "Descoteaux07"):
+        refusal = r"(?i)^basis='descoteaux07': names two bases"
+        with pytest.raises(ValueError, match=refusal) as refused:
+            glyphcast.render_sh(coeffs, affine, basis=name, **SIZE)
+        message = str(refused.value)
+        for choice in ("basis=dipy ", "legacy=True", "basis=dipy-new"):
+            assert choice in message, message
     dipy_default = glyphcast.render_sh(coeffs, affine, basis="dipy", **SIZE)
     assert np.isfinite(dipy_default.depth).sum() > 200
-    for name in ("descoteaux07", "Descoteaux07", "DIPY", "dipy"):
+    for name in ("DIPY", "dipy"):
         ours = glyphcast.render_sh(coeffs, affine, basis=name, **SIZE)
         assert_same_depth(ours.depth, dipy_default.depth)
     # legacy=True says the same; legacy=False is the other basis (glyphs differ).
@@ -60,31 +70,32 @@ def test_descoteaux07_means_what_it_means_in_dipy(csd):
         glyphcast.render_sh(coeffs, affine, basis="dipy", legacy=False)
 
 
-def test_the_command_line_says_how_it_reads_descoteaux07(csd, cli_binary, tmp_path):
-    """The command line keeps the scene format's meaning (non-legacy; files record their
-    basis with its variant) and says so, naming both choices, when the file records
-    none."""
+def test_the_command_line_refuses_a_bare_descoteaux07_too(csd, cli_binary, tmp_path):
+    """On a NIfTI that records no basis the command line refuses descoteaux07 alone as
+    Python does, naming the file and both choices, and draws the aliases."""
     coeffs, affine = csd
     path = tmp_path / "fod.nii.gz"
     nib.save(nib.Nifti1Image(coeffs.astype(np.float32), affine), path)
 
     def run(*basis):
         depth = tmp_path / "d.npy"
-        done = subprocess.run(
+        return depth, subprocess.run(
             [str(cli_binary), "render", "--sh", str(path), *basis, "--width", "64",
              "-o", str(tmp_path / "x.png"), "--depth-out", str(depth), "--validation"],
             capture_output=True, text=True,
         )
-        assert done.returncode == 0, done.stderr
-        return np.load(depth), done.stderr
 
-    plain, said = run("--basis", "descoteaux07")
-    new, quiet = run("--basis", "DIPY-new")
-    assert_same_depth(plain, new)
-    assert "--basis dipy" in said and "--basis dipy-new" in said and "--legacy" in said
-    assert "descoteaux07" not in quiet
-    legacy, _ = run("--basis", "Dipy")
-    assert not np.array_equal(legacy, plain, equal_nan=True)
+    _, refused = run("--basis", "descoteaux07")
+    assert refused.returncode == 2, refused.stderr
+    for word in ("fod.nii.gz", "--basis dipy ", "--legacy", "--basis dipy-new"):
+        assert word in refused.stderr, refused.stderr
+    drawn = {}
+    for name, variant in (("Dipy", "descoteaux07, legacy"), ("DIPY-new", "descoteaux07")):
+        depth, done = run("--basis", name)
+        assert done.returncode == 0, done.stderr
+        assert f"SH basis: {path}: {variant}\n" in done.stderr, done.stderr
+        drawn[name] = np.load(depth)
+    assert not np.array_equal(drawn["Dipy"], drawn["DIPY-new"], equal_nan=True)
 
 
 def test_sh_order_max_is_lmax(csd):

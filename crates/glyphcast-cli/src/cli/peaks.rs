@@ -21,7 +21,9 @@ use glyphcast_dmri::fit::peaks::{
 use glyphcast_dmri::io::image::{
     ImageHeader, ImageWrite, OutputFormat, check_output_path, read_image, write_image,
 };
-use glyphcast_dmri::volume::{CoefficientFrame, recorded_basis, resolve_basis};
+use glyphcast_dmri::volume::{
+    CoefficientFrame, check_variant_named, recorded_basis, resolve_basis,
+};
 use ndarray::Array4;
 use std::path::PathBuf;
 
@@ -119,6 +121,13 @@ pub fn run(args: PeaksArgs) -> Result<()> {
             ),
         ));
     }
+    check_variant_named(
+        args.basis.as_deref(),
+        args.legacy.then_some(true),
+        args.force_basis,
+        Some(&image),
+        &image.file,
+    )?;
     if band == 0 {
         eprintln!(
             "note: {}: band 0 only (an isotropic tissue ODF, as multi-tissue CSD writes for \

@@ -292,6 +292,7 @@ impl VolumeArgs {
         };
         let request = self.request();
         let volume = self.read_volume(&request)?;
+        report_basis(&volume);
         // The figure's notes hold the volume's.
         let figure = request.figure(volume, image)?;
         let (notes, warnings) = figure.messages();
@@ -330,6 +331,7 @@ impl VolumeArgs {
     pub fn montage_panels(&self, image: ImageRequest) -> Result<(Volume, MontagePlan)> {
         let request = self.request();
         let volume = self.read_volume(&request)?;
+        report_basis(&volume);
         let plan = request.montage_plan(&volume, image)?;
         for note in volume.notes.iter().chain(&plan.notes) {
             eprintln!("note: {}", spelled(note));
@@ -384,6 +386,13 @@ pub fn panel_view(volume: &Volume, options: &VolumeOptions) -> Result<VolumeScen
 /// A library message with the settings it mentions spelled as flags.
 fn spelled(text: &glyphcast::error::Message) -> String {
     text.spelled(&super::flags::spell)
+}
+
+/// The SH basis an SH volume is drawn in, with its variant, on a line of its own.
+fn report_basis(volume: &Volume) {
+    if let Some(basis) = volume.basis_summary() {
+        eprintln!("SH basis: {}: {basis}", volume.file);
+    }
 }
 
 /// One summary line of the glyphs (none for peaks alone: nothing was selected) and one

@@ -167,6 +167,9 @@ pub fn make_set(request: &QcRequest, progress: &dyn Fn(&str)) -> Result<QcSet> {
 
     let step = Instant::now();
     let volume = request.volume.read_volume(Coefficients::Sh, &request.fod)?;
+    if let Some(basis) = volume.basis_summary() {
+        progress(&format!("SH basis: {}: {basis}", volume.file));
+    }
     let mask = request.mask.as_deref().map(load_mask).transpose()?;
     let underlay = read_underlay(request)?;
     let notes: Vec<String> = Vec::new();

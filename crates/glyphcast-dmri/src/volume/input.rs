@@ -98,6 +98,19 @@ pub fn load_mask(path: &Path) -> Result<Mask> {
 }
 
 impl Volume {
+    /// The SH basis the coefficients are read in, with its variant, as the front ends'
+    /// summaries print it ("descoteaux07, legacy"; "tournier07"); `None` for tensors.
+    pub fn basis_summary(&self) -> Option<String> {
+        match self.kind {
+            GlyphKind::Sh { basis, legacy, .. } => Some(if legacy {
+                format!("{}, legacy", basis.name())
+            } else {
+                basis.name().to_owned()
+            }),
+            _ => None,
+        }
+    }
+
     /// A volume from values of shape [x, y, z, coefficients]; `file` names errors.
     pub fn new(
         file: impl Into<String>,

@@ -49,8 +49,8 @@ pub use peaks::{
 #[cfg(test)]
 pub(crate) use recorded::commented_image;
 pub use recorded::{
-    RecordedBasis, RecordedContent, TENSOR_PREFIX, check_content, recorded_basis, recorded_content,
-    resolve_basis, tensor_description,
+    RecordedBasis, RecordedContent, TENSOR_PREFIX, check_content, check_variant_named,
+    recorded_basis, recorded_content, resolve_basis, tensor_description,
 };
 pub use reorient::Reorientation;
 pub use request::{Coefficients, ImageSource, MAX_PANELS, VolumeRequest, parse_views};

@@ -214,6 +214,58 @@ fn show(basis: ShBasis, legacy: bool) -> Vec<Piece> {
     pieces
 }
 
+/// A basis named `descoteaux07` without a legacy choice (`legacy` unset), where nothing
+/// else decides the variant, is refused: DIPY 1.x writes the legacy basis unless told
+/// otherwise and calls the non-legacy one by the same name, so the bare name could be
+/// either. A file that records its basis decides (unless `force` draws the given basis
+/// anyway); a file that records none, or coefficients in memory (`image` `None`, named
+/// `name`), do not. The error names the data and both choices: the aliases `dipy` and
+/// `dipy-new`.
+pub fn check_variant_named(
+    basis: Option<&str>,
+    legacy: Option<bool>,
+    force: bool,
+    image: Option<&Image>,
+    name: &str,
+) -> Result<()> {
+    let Some(basis) = basis.filter(|basis| basis.trim().eq_ignore_ascii_case("descoteaux07"))
+    else {
+        return Ok(());
+    };
+    if legacy.is_some() {
+        return Ok(());
+    }
+    let (decided, records_none) = match image {
+        Some(image) => (
+            !force && recorded_basis(image)?.is_some(),
+            format!("{name} records no SH basis"),
+        ),
+        None => (
+            false,
+            format!("{name} is an array, which records no SH basis"),
+        ),
+    };
+    if decided {
+        return Ok(());
+    }
+    Err(Error::setting_value(
+        Setting::Basis,
+        format!("'{}'", glyphcast::error::quoted(basis)),
+        glyphcast::message![
+            format!(
+                "names two bases and {records_none}: DIPY 1.x writes the legacy variant \
+                 unless told otherwise (its default legacy=True); give "
+            ),
+            Setting::Basis.with("dipy"),
+            " (or ",
+            Setting::Legacy,
+            ") for that one, or ",
+            Setting::Basis.with("dipy-new"),
+            " for the non-legacy one"
+        ],
+    ))
+}
+
 /// The basis to draw `image` in: `given` (the basis setting) when it agrees with what
 /// the file records or `force` is set, else the recorded one, else tournier07 for an
 /// MRtrix file. A contradiction is an error naming the file and the field; no basis at
@@ -421,5 +473,35 @@ mod tests {
             resolve_basis(&plain, Some(dipy_new), false).unwrap(),
             dipy_new
         );
+    }
+
+    #[test]
+    fn a_bare_descoteaux07_needs_a_record_or_a_legacy_choice() {
+        let recorded = commented_image("glyphcast fit: SH band 4 descoteaux07 lambda 0");
+        let plain = commented_image("made by dwi2fod");
+        let check = |name: &str, legacy, force, image| {
+            check_variant_named(Some(name), legacy, force, image, "f.mif")
+        };
+        // A record decides, unless the basis is forced.
+        assert!(check("descoteaux07", None, false, Some(&recorded)).is_ok());
+        for (image, force, why) in [
+            (Some(&plain), false, "f.mif records no SH basis"),
+            (Some(&recorded), true, "f.mif records no SH basis"),
+            (None, false, "f.mif is an array"),
+        ] {
+            let err = check(" Descoteaux07", None, force, image)
+                .unwrap_err()
+                .to_string();
+            for words in [why, "basis dipy", "legacy", "basis dipy-new"] {
+                assert!(err.contains(words), "{words}: {err}");
+            }
+        }
+        // A legacy choice, an alias or another basis is no question.
+        for legacy in [Some(true), Some(false)] {
+            assert!(check("descoteaux07", legacy, false, Some(&plain)).is_ok());
+        }
+        for name in ["dipy", "dipy-new", "tournier07", "mrtrix"] {
+            assert!(check(name, None, false, None).is_ok(), "{name}");
+        }
     }
 }

@@ -10,8 +10,8 @@ use super::framing::{ImageRequest, ViewProjection};
 use super::input::check_four_d;
 use super::input::{CoefficientFrame, Mask, Volume, VolumeKind};
 use super::recorded::{
-    OrderSource, RecordedContent, check_content, has_dti_entries, recorded_basis, resolve_basis,
-    resolve_tensor_order,
+    OrderSource, RecordedContent, check_content, check_variant_named, has_dti_entries,
+    resolve_basis, resolve_tensor_order,
 };
 use super::selection::Slice;
 use super::underlay::UnderlayPlacement;
@@ -389,9 +389,6 @@ impl VolumeRequest {
         text.parse()
     }
 
-    /// A note when the basis is named `descoteaux07` with no legacy choice and `file`
-    /// records no basis: the command line then reads the non-legacy basis (the scene
-    /// format's meaning), while DIPY 1.x writes the legacy one unless told otherwise.
     /// A note when MRtrix's basis is named for a NIfTI file with no frame given: its
     /// coefficients are then read in voxel axes (the NIfTI default), while a NIfTI that
     /// MRtrix's `mrconvert` wrote keeps them in scanner axes.
@@ -414,28 +411,6 @@ impl VolumeRequest {
             Setting::Frame.with("voxel"),
             " to keep this reading without the note"
         ])
-    }
-
-    fn basis_note(&self, file: &Image) -> Option<glyphcast::error::Message> {
-        let name = self.basis.as_deref()?;
-        let ambiguous = name.trim().eq_ignore_ascii_case("descoteaux07")
-            && self.legacy.is_none()
-            && matches!(recorded_basis(file), Ok(None));
-        ambiguous.then(|| {
-            glyphcast::message![
-                format!("{}: ", file.file),
-                Setting::Basis.with("descoteaux07"),
-                " is read as the non-legacy descoteaux07 basis (DIPY's legacy=False); \
-                 DIPY 1.x writes the legacy one unless told otherwise: give ",
-                Setting::Basis.with("dipy"),
-                " (or ",
-                Setting::Legacy,
-                ") for \
-                 that, ",
-                Setting::Basis.with("dipy-new"),
-                " to say non-legacy"
-            ]
-        })
     }
 
     /// The kind of the coefficients: for SH the basis given and what `file` records
@@ -502,14 +477,21 @@ impl VolumeRequest {
             Coefficients::Sh => tensor_hint(&file)?,
             Coefficients::Tensor => None,
         };
+        if input == Coefficients::Sh {
+            check_variant_named(
+                self.basis.as_deref(),
+                self.legacy,
+                self.force_basis,
+                Some(&file),
+                &file.file,
+            )?;
+        }
         let kind = self.kind(input, Some(&file))?;
         self.check_shape(kind, &file.file)?;
         let stored = self.stored_order(kind, Some(&file))?;
-        let basis_note = self.basis_note(&file);
         let frame_note = self.frame_note(&file);
         let mut volume = Volume::from_image(file, kind)?;
         volume.notes.extend(note);
-        volume.notes.extend(basis_note);
         volume.notes.extend(frame_note);
         let volume = in_glyphcast_order(volume, stored)?;
         self.in_frame(volume, stored)
@@ -527,6 +509,15 @@ impl VolumeRequest {
     ) -> Result<Volume> {
         self.check(input)?;
         self.options(ImageRequest::default())?;
+        if input == Coefficients::Sh {
+            check_variant_named(
+                self.basis.as_deref(),
+                self.legacy,
+                self.force_basis,
+                None,
+                name,
+            )?;
+        }
         let kind = self.kind(input, None)?;
         self.check_shape(kind, name)?;
         let stored = self.stored_order(kind, None)?;
