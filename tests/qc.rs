@@ -175,6 +175,9 @@ fn the_set_is_its_fixed_files_described_by_its_sidecar_and_deterministic() {
     assert_eq!(input["sha256"].as_str(), Some(sha256sum(fod()).as_str()));
     assert_eq!(a["volume"]["dims"], serde_json::json!([10, 10, 10]));
     assert_eq!(a["volume"]["sh_band"], 8);
+    // The basis the coefficients were read in (the fit records MRtrix3's tournier07).
+    assert_eq!(a["volume"]["basis"], "tournier07");
+    assert_eq!(a["volume"]["legacy"], false);
     assert_eq!(a["settings"]["panel_size"], 128);
     assert_eq!(a["settings"]["orientation"], "radiological");
     assert_eq!(a["settings"]["negative"], "hide");
