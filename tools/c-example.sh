@@ -29,10 +29,12 @@ sys=$(pkg-config --variable=libdir shaderc 2>/dev/null || true)
 sys=${sys:-/usr/lib/$(uname -m)-linux-gnu}
 parts=(glslang SPIRV MachineIndependent GenericCodeGen OSDependent OGLCompiler
        SPIRV-Tools-opt SPIRV-Tools)
+# (Read whole before grep: with pipefail, `nm | grep -q` fails when grep stops early.)
+undefined=$(nm -D --undefined-only "$sys/libshaderc.so" 2>/dev/null || true)
 if [ -n "${SHADERC_LIB_DIR:-}" ]; then
   shaderc=(-L "$SHADERC_LIB_DIR" -l:libshaderc_combined.a -lstdc++ -lpthread)
 elif [ -f "$sys/libshaderc_combined.a" ] && [ -f "$sys/libglslang.a" ] \
-    && nm -D --undefined-only "$sys/libshaderc.so" 2>/dev/null | grep -q glslang; then
+    && grep -q glslang <<<"$undefined"; then
   shaderc=(-L "$sys" -Wl,--start-group -l:libshaderc_combined.a)
   for part in "${parts[@]}"; do
     [ -f "$sys/lib$part.a" ] && shaderc+=("-l:lib$part.a")

@@ -31,8 +31,10 @@ pub struct VolumeArgs {
     pub sh: Option<PathBuf>,
     /// SH basis of --sh: tournier07 or descoteaux07 (with --legacy for the legacy
     /// variant), or mrtrix (= tournier07, dwi2fod's output), dipy (= descoteaux07
-    /// legacy, DIPY's default) or dipy-new (= descoteaux07). Default: the basis the file
-    /// records (glyphcast fit writes it), tournier07 for MRtrix images without a record.
+    /// legacy, DIPY's default) or dipy-new (= descoteaux07). A bare descoteaux07 on a
+    /// file that records no basis is refused: say dipy (or --legacy) or dipy-new.
+    /// Default: the basis the file records (glyphcast fit writes it), tournier07 for
+    /// MRtrix images without a record.
     #[arg(long, value_name = "BASIS", help_heading = "Volume input")]
     pub basis: Option<String>,
     /// Use --basis even where the file records another basis.
