@@ -150,11 +150,11 @@ fn missing_folders(folder: &Path) -> Vec<PathBuf> {
 fn create_parents(dir: &Path) -> Result<Vec<PathBuf>> {
     let parent = parent_of(dir)?;
     let missing = missing_folders(&parent);
-    if let Some(top) = missing.last() {
-        if let Err(err) = fs::create_dir_all(&parent) {
-            remove_created(&missing);
-            return Err(Error::io(dir, format!("creating {}: {err}", top.display())));
-        }
+    if let Some(top) = missing.last()
+        && let Err(err) = fs::create_dir_all(&parent)
+    {
+        remove_created(&missing);
+        return Err(Error::io(dir, format!("creating {}: {err}", top.display())));
     }
     Ok(missing)
 }
