@@ -560,39 +560,36 @@ fn polygon_crossing(s: &mut String, g: &Degrees) {
     s.push_str("    return x;\n}\n\n");
 }
 
+/// The Horner passes from both ends of a half's form of degree `m` (arrays `<form>0`
+/// and `<form>1`, chosen by `half_index`), at r = u / (1 - u) and w = (1 - u) / u.
+fn horner_from_both_ends(s: &mut String, form: &str, m: usize) {
+    for step in 0..=m {
+        let _ = writeln!(
+            s,
+            "    from_start = from_start * r + (half_index == 0 ? {form}0[{a}] : {form}1[{a}]);\n\
+             \x20   from_end = from_end * w + (half_index == 0 ? {form}0[{step}] : {form}1[{step}]);",
+            a = m - step
+        );
+    }
+}
+
 fn half_p_sign(s: &mut String, g: &Degrees) {
-    let n = g.n;
     s.push_str(
         "// Sign of f at u on a half (the hide filter), from the form's coefficients.\n\
          float half_p_sign(int half_index, float u) {\n    float r = u / (1.0 - u);\n\
          \x20   float w = (1.0 - u) / u;\n    float from_start = 0.0;\n\
          \x20   float from_end = 0.0;\n",
     );
-    for step in 0..=n {
-        let _ = writeln!(
-            s,
-            "    from_start = from_start * r + (half_index == 0 ? half_p0[{a}] : half_p1[{a}]);\n\
-             \x20   from_end = from_end * w + (half_index == 0 ? half_p0[{step}] : half_p1[{step}]);",
-            a = n - step
-        );
-    }
+    horner_from_both_ends(s, "half_p", g.n);
     s.push_str("    return u <= 0.5 ? from_start : from_end;\n}\n\n");
 }
 
 fn half_t_values(s: &mut String, g: &Degrees) {
-    let nt = g.nt;
     s.push_str(
         "// A plane glyph's T form on a half at u, Horner from both ends (root_kept).\n\
          void half_t_values(int half_index, float r, float w, out float from_start,\n\
          \x20                  out float from_end) {\n    from_start = 0.0;\n    from_end = 0.0;\n",
     );
-    for step in 0..=nt {
-        let _ = writeln!(
-            s,
-            "    from_start = from_start * r + (half_index == 0 ? half_t0[{a}] : half_t1[{a}]);\n\
-             \x20   from_end = from_end * w + (half_index == 0 ? half_t0[{step}] : half_t1[{step}]);",
-            a = nt - step
-        );
-    }
+    horner_from_both_ends(s, "half_t", g.nt);
     s.push_str("}\n\n");
 }

@@ -181,7 +181,9 @@ def markdown_ids(path, cache):
     return cache[path]
 
 
-def check_markdown(paths):
+def markdown_files(paths):
+    """The Markdown files of `paths`: files as given, folders walked in sorted order
+    (hidden ones left out)."""
     files = []
     for p in paths:
         if os.path.isdir(p):
@@ -190,6 +192,11 @@ def check_markdown(paths):
                 files += [os.path.join(root, n) for n in sorted(names) if n.endswith(".md")]
         else:
             files.append(p)
+    return files
+
+
+def check_markdown(paths):
+    files = markdown_files(paths)
     cache, broken, links = {}, [], 0
     for path in files:
         for number, line in markdown_lines(path):
@@ -229,14 +236,7 @@ def check_structure(paths):
     why): a level-1 heading after its title (the book shows it as a chapter of its
     own, `# Safety` from a doc comment), and a rustdoc-style link, in the text or in a
     code block."""
-    files = []
-    for p in paths:
-        if os.path.isdir(p):
-            for root, dirs, names in os.walk(p):
-                dirs[:] = sorted(d for d in dirs if not d.startswith("."))
-                files += [os.path.join(root, n) for n in sorted(names) if n.endswith(".md")]
-        else:
-            files.append(p)
+    files = markdown_files(paths)
     found = []
     for path in files:
         titles = 0
