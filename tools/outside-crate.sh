@@ -67,7 +67,10 @@ fn main() -> glyphcast::Result<()> {
         },
         image: ImageSize { width: size, height: size },
     };
+    // GLYPHCAST_VALIDATION=1 (set below): the validation layer is on, and any message
+    // it reports fails the check.
     let gpu = Gpu::headless(&GpuOptions::from_env())?;
+    assert!(gpu.validation_enabled(), "the validation layer is off");
     let mut renderer = HeadlessRenderer::new(&gpu)?;
     let settings = RenderSettings::default();
     let sets = prepare_scene(&scene, settings.offset as f64)?;
@@ -88,7 +91,9 @@ fn main() -> glyphcast::Result<()> {
     assert!((image.distance[centre] - 4.0).abs() < 0.01, "centre distance");
     assert!(image.distance[corner].is_nan(), "corner hit");
     assert_ne!(rgba(centre), rgba(corner), "the glyph is not drawn");
-    println!("one glyph drawn");
+    drop(renderer);
+    gpu.check_validation()?;
+    println!("one glyph drawn, no validation message");
     Ok(())
 }
 RUST
@@ -98,5 +103,6 @@ if [ -z "${VK_DRIVER_FILES:-}" ] && [ -f "$lvp_icd" ]; then
 fi
 cd "$crate"
 env -u SHADERC_LIB_DIR -u VULKAN_SDK \
+    GLYPHCAST_VALIDATION=1 \
     GLYPHCAST_SPIRV_CACHE="${GLYPHCAST_SPIRV_CACHE:-$target/glyphcast-spirv-cache}" \
     cargo run --offline --quiet --target-dir "$target"
