@@ -45,6 +45,44 @@ layout(location = 1) out float out_distance;
 layout(depth_less) out float gl_FragDepth;  // reversed depth: hits lie behind the proxy
 #endif
 
+#ifndef GLYPHCAST_GLYPH_RECEIVER
+// What the pass knows of visibility (src/render/visibility.rs): the work counters, and
+// the depth of the glyphs drawn in the frame's earlier passes, per pixel, copied from the
+// depth attachment before this pass began; its header holds the row length (x) and the
+// pass's visibility word (y: VISIBILITY_KNOWN_DEPTH, VISIBILITY_COUNT). The word is read
+// from a storage buffer, not pushed: lavapipe compiles a shader again for each value of
+// a push constant that steers a branch.
+layout(std430, set = 1, binding = 0) buffer WorkCounters {
+    uint work_counters[4];  // WORK_FRAGMENTS, WORK_OCCLUDED, WORK_EVALUATIONS
+};
+layout(std430, set = 1, binding = 1) readonly buffer KnownDepth {
+    uvec4 known_header;
+    float known_depth[];
+};
+
+// Adds one to work counter `counter` when the pass counts its work.
+void count_work(int counter) {
+    if ((known_header.y & uint(VISIBILITY_COUNT)) != 0u) {
+        atomicAdd(work_counters[counter], 1u);
+    }
+}
+
+// Whether this fragment's glyph lies behind what an earlier pass drew at its pixel: the
+// box face it is rasterised on is the nearest point of the glyph along the ray (the hit
+// lies behind it: depth_less), so a face at or behind the known depth can only give a
+// hit that the depth test would reject. Such fragments end here, before any of the
+// glyph's work: on lavapipe a quad whose lanes all end here runs no further.
+bool behind_known_depth() {
+    if ((known_header.y & uint(VISIBILITY_KNOWN_DEPTH)) == 0u) {
+        return false;
+    }
+    uvec2 pixel = uvec2(gl_FragCoord.xy);
+    float known = known_depth[pixel.y * known_header.x + pixel.x];
+    // Reversed depth (frame.window.z = 1): nearer is larger.
+    return frame.window.z > 0.5 ? gl_FragCoord.z <= known : gl_FragCoord.z >= known;
+}
+#endif
+
 // glyph_c of this fragment's glyph (glyph_load of the vertex shader, multiplicities
 // folded in).
 void glyph_load_inputs() {
@@ -56,6 +94,13 @@ void glyph_load_inputs() {
 // The ray through this fragment's pixel against its glyph's sphere of the given radius
 // and its box (glyph_ray_clip).
 bool glyph_ray_within(float radius, out GlyphRay ray) {
+#ifndef GLYPHCAST_GLYPH_RECEIVER
+    count_work(WORK_FRAGMENTS);
+    if (behind_known_depth()) {
+        count_work(WORK_OCCLUDED);
+        return false;
+    }
+#endif
     pixel_ray(ray.origin, ray.dir);
     return glyph_ray_clip(v_center_radius, v_box_rotation, v_box_extent, radius, ray);
 }

@@ -32,6 +32,7 @@ void main() {
     if (!glyph_ray_within(1.0, ray)) {
         discard;
     }
+    count_work(WORK_EVALUATIONS);
     glyph_load_inputs();
     vec3 grad_mid;
     float f_mid = glyph_f_grad(ray.mid, grad_mid);

@@ -182,6 +182,7 @@ void main() {
     if (!glyph_ray_within(CHORD_RADIUS, camera)) {
         discard;
     }
+    count_work(WORK_EVALUATIONS);
     glyph_load_inputs();
     float s_hit = 0.0;
     GlyphRay ray = camera;
@@ -217,6 +218,7 @@ void main() {
     if (!glyph_ray_within(CHORD_RADIUS, ray)) {
         discard;
     }
+    count_work(WORK_EVALUATIONS);
     glyph_load_inputs();
     float h = ray.half_chord;
     ray_polynomial(ray.mid, h * ray.dir);

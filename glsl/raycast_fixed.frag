@@ -40,6 +40,7 @@ void main() {
     if (!glyph_ray(ray)) {
         discard;
     }
+    count_work(WORK_EVALUATIONS);
     glyph_load_inputs();
     float s_hit;
     if (!fixed_march(ray, s_hit)) {

@@ -103,6 +103,7 @@ void main() {
     if (!glyph_ray(ray)) {
         discard;
     }
+    count_work(WORK_EVALUATIONS);
     glyph_load_inputs();
     float s_hit;
     if (!robust_first_hit(ray, s_hit)) {

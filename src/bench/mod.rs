@@ -78,6 +78,11 @@ pub struct BenchResult {
     pub bytes_per_glyph: f64,
     /// Draw calls per frame.
     pub draws: usize,
+    /// Passes the glyphs were drawn in (render::visibility).
+    pub passes: usize,
+    /// The work of one more frame drawn with the counters on (ray-casting methods on the
+    /// fragment path), after the timed ones.
+    pub work: Option<crate::render::visibility::WorkCounts>,
     /// Against the float64 reference, when one was given.
     pub accuracy: Option<BenchAccuracy>,
 }
@@ -200,7 +205,7 @@ fn measure_prepared(
             .sum(),
     );
     let started = Instant::now();
-    let frame = renderer.prepare_view(
+    let mut frame = renderer.prepare_view(
         gpu,
         &sets,
         &crate::render::headless::FrameView::new(camera, width, height),
@@ -224,6 +229,11 @@ fn measure_prepared(
         times.push(ms);
     }
     let image = renderer.read(gpu, &frame)?;
+    // The work, counted in a frame of its own: the counters' atomics are not timed.
+    frame.count_work(true);
+    renderer.draw(gpu, &frame)?;
+    let work = frame.work()?;
+    frame.count_work(false);
     times.sort_by(f64::total_cmp);
     let median = times[times.len() / 2];
     let covered = image.distance.iter().filter(|d| !d.is_nan()).count();
@@ -257,6 +267,8 @@ fn measure_prepared(
         instance_bytes,
         bytes_per_glyph: total_bytes as f64 / glyphs.max(1) as f64,
         draws: image.draws,
+        passes: frame.passes(),
+        work,
         accuracy: case.reference.map(|r| r.compare(&image, camera)),
     })
 }

@@ -8,7 +8,7 @@ use std::fmt::Write as _;
 type Cell = fn(&BenchResult) -> String;
 
 /// The timing table: each column's heading and cell, at the precision a person reads.
-const TIMING: [(&str, Cell); 12] = [
+const TIMING: [(&str, Cell); 15] = [
     ("label", |r| r.label.clone()),
     ("glyphs", |r| r.glyphs.to_string()),
     ("size", |r| format!("{}x{}", r.width, r.height)),
@@ -21,7 +21,23 @@ const TIMING: [(&str, Cell); 12] = [
     ("glyphs/s", |r| format!("{:.0}", r.glyphs_per_second)),
     ("coeff bytes", |r| r.coefficient_bytes.to_string()),
     ("instance bytes", |r| r.instance_bytes.to_string()),
+    ("passes", |r| r.passes.to_string()),
+    ("fragments/px", |r| {
+        per_pixel(r, |w| w.fragments).map_or_else(|| "-".into(), |v| format!("{v:.2}"))
+    }),
+    ("evaluations/px", |r| {
+        per_pixel(r, |w| w.evaluations).map_or_else(|| "-".into(), |v| format!("{v:.2}"))
+    }),
 ];
+
+/// A work counter per covered pixel, where the frame counted its work.
+fn per_pixel(
+    r: &BenchResult,
+    counter: fn(&crate::render::visibility::WorkCounts) -> u64,
+) -> Option<f64> {
+    let work = r.work.as_ref()?;
+    Some(counter(work) as f64 / r.covered_pixels.max(1) as f64)
+}
 
 /// The cost-against-error table; "-" where a value was not measured.
 const GEOMETRY: [(&str, Cell); 13] = [
@@ -54,7 +70,7 @@ const GEOMETRY: [(&str, Cell); 13] = [
 
 /// The CSV: each column's name and cell at full precision; empty where a value was not
 /// measured.
-const CSV: [(&str, Cell); 27] = [
+const CSV: [(&str, Cell); 31] = [
     ("label", |r| r.label.clone()),
     ("glyphs", |r| r.glyphs.to_string()),
     ("width", |r| r.width.to_string()),
@@ -72,6 +88,10 @@ const CSV: [(&str, Cell); 27] = [
     ("coefficient_bytes", |r| r.coefficient_bytes.to_string()),
     ("instance_bytes", |r| r.instance_bytes.to_string()),
     ("draws", |r| r.draws.to_string()),
+    ("passes", |r| r.passes.to_string()),
+    ("fragments", |r| work_cell(r, |w| w.fragments)),
+    ("occluded_fragments", |r| work_cell(r, |w| w.occluded)),
+    ("evaluations", |r| work_cell(r, |w| w.evaluations)),
     ("scene", |r| r.scene.clone()),
     ("method", |r| r.method.clone()),
     ("triangles", |r| {
@@ -118,6 +138,11 @@ fn optional<T>(value: Option<T>, show: impl Fn(T) -> String) -> String {
 /// An accuracy value for a Markdown cell, "-" when accuracy was not measured.
 fn accuracy(r: &BenchResult, show: impl Fn(&BenchAccuracy) -> String) -> String {
     optional(r.accuracy.as_ref(), show)
+}
+
+/// A work counter for a CSV cell, empty where the frame did not count.
+fn work_cell(r: &BenchResult, counter: fn(&crate::render::visibility::WorkCounts) -> u64) -> String {
+    r.work.as_ref().map_or_else(String::new, |w| counter(w).to_string())
 }
 
 /// An accuracy value for a CSV cell, empty when accuracy was not measured.
@@ -242,6 +267,8 @@ mod tests {
             instance_bytes: 0,
             bytes_per_glyph: 0.0,
             draws: 1,
+            passes: 1,
+            work: None,
             accuracy: None,
         }
     }

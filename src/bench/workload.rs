@@ -3,7 +3,9 @@
 //!
 //! - `grid:COUNT:ORDER`: symmetric fibre tensors (two or three crossing populations);
 //! - `fodf:COUNT:BAND`: fibre ODFs as SH series (tournier07, MRtrix3's basis) with one to
-//!   three random fibres each, the common case of real HARDI data.
+//!   three random fibres each, the common case of real HARDI data;
+//! - `block:NX:NY:NZ:BAND[:front|:corner]`: a dense 3D block of such fODFs filling their
+//!   voxels, seen head-on through its layers or from a corner (what hidden glyphs cost).
 use crate::camera::{Camera, Projection};
 use crate::catalog::{MAX_SH_BAND, MAX_SYMMETRIC_ORDER};
 use crate::demo::{direction, fibre_tensor, glyph_set, symmetric};
@@ -198,13 +200,7 @@ pub fn fodf(count: usize, band: u32, width: u32, height: u32) -> Result<Scene> {
     if count == 0 || count > MAX_WORKLOAD_GLYPHS {
         return Err(glyph_count(count));
     }
-    if !(2..=MAX_SH_BAND).contains(&band) || !band.is_multiple_of(2) {
-        return Err(Error::setting_value(
-            Setting::Workload,
-            format!("SH band {band}"),
-            format!("a workload's SH band is one of 2, 4, ..., {MAX_SH_BAND}"),
-        ));
-    }
+    check_band(band)?;
     let side = (count as f64).sqrt().ceil() as usize;
     let centers = (0..count)
         .map(|k| {
@@ -232,7 +228,18 @@ pub fn fodf(count: usize, band: u32, width: u32, height: u32) -> Result<Scene> {
 
 /// The coefficients of [`fodf`]'s glyphs, `block` glyphs at a time.
 fn fodf_coefficient_blocks(count: usize, band: u32, block: usize) -> Result<Vec<Vec<f64>>> {
-    let mut rng = SplitMix64::new(0x5eed_f0df ^ (count as u64) << 8 ^ band as u64);
+    let seed = 0x5eed_f0df ^ (count as u64) << 8 ^ band as u64;
+    seeded_fodf_coefficients(seed, count, band, block)
+}
+
+/// `count` fODFs of band `band` drawn from the sequence of `seed`, `block` at a time.
+fn seeded_fodf_coefficients(
+    seed: u64,
+    count: usize,
+    band: u32,
+    block: usize,
+) -> Result<Vec<Vec<f64>>> {
+    let mut rng = SplitMix64::new(seed);
     let kernel = FodfKernel {
         evaluator: ShEvaluator::new(band, ShBasis::Tournier07, false),
         taper: fodf_taper(band),
@@ -255,20 +262,123 @@ fn fodf_coefficient_blocks(count: usize, band: u32, block: usize) -> Result<Vec<
     Ok(coeffs)
 }
 
-/// Parses `grid:COUNT:ORDER` or `fodf:COUNT:BAND`.
+/// Which side a `block` workload is seen from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BlockView {
+    /// Head-on: the camera on the block's axis in front of its first layer, looking
+    /// through the layers.
+    Front,
+    /// From a corner: the camera along the block's diagonal, framing it whole.
+    Corner,
+}
+
+/// A dense 3D block of `nx` x `ny` x `nz` fibre ODFs of SH band `band`, one per voxel of
+/// unit size, each scaled to a peak radius of about 0.5 so that neighbours touch (as in
+/// a volume drawn with glyphs filling their voxels): a glyph's fibres are drawn at random
+/// as [`fodf`]'s are. Layer k (k = 0 .. nz) lies at z = -k, so that the first layer faces
+/// a camera on +z; its glyphs are the same whatever `nz` (the draws depend on `nx`, `ny`
+/// and `band` only, layer after layer), so `block:NX:NY:1:BAND` is the front layer of every
+/// deeper block and their frames compare directly. `Front` looks at the first layer's
+/// centre from +z, framing that layer; `Corner` looks at the block's centre along the
+/// diagonal (1, 1, 1), framing its bounding sphere.
+pub fn block(
+    (nx, ny, nz): (usize, usize, usize),
+    band: u32,
+    view: BlockView,
+    width: u32,
+    height: u32,
+) -> Result<Scene> {
+    let count = nx
+        .checked_mul(ny)
+        .and_then(|c| c.checked_mul(nz))
+        .unwrap_or(usize::MAX);
+    if nx == 0 || ny == 0 || nz == 0 || count > MAX_WORKLOAD_GLYPHS {
+        return Err(glyph_count(count));
+    }
+    check_band(band)?;
+    let seed = 0xb10c_f0df ^ (nx as u64) << 32 ^ (ny as u64) << 8 ^ band as u64;
+    let coeffs = seeded_fodf_coefficients(seed, count, band, FODF_BLOCK)?;
+    let half = |n: usize| 0.5 * (n - 1) as f64;
+    let centers = (0..count)
+        .map(|v| {
+            let (i, j, k) = (v % nx, (v / nx) % ny, v / (nx * ny));
+            DVec3::new(i as f64 - half(nx), j as f64 - half(ny), -(k as f64))
+        })
+        .collect();
+    let kind = GlyphKind::Sh {
+        band,
+        basis: ShBasis::Tournier07,
+        legacy: false,
+    };
+    let fov_y_deg = 30.0_f64;
+    let tan = (0.5 * fov_y_deg.to_radians()).tan();
+    let aspect = f64::from(width) / f64::from(height.max(1));
+    let camera = match view {
+        BlockView::Front => {
+            // The first layer's face (its glyphs reach 0.5 beyond their centres) fills
+            // 90 % of the image's height or width, whichever is tighter.
+            let reach = (0.5 * ny as f64).max(0.5 * nx as f64 / aspect) / 0.9;
+            Camera {
+                projection: Projection::Perspective { fov_y_deg },
+                eye: DVec3::new(0.0, 0.0, 0.5 + reach / tan),
+                target: DVec3::ZERO,
+                up: DVec3::Y,
+            }
+        }
+        BlockView::Corner => {
+            let centre = DVec3::new(0.0, 0.0, -half(nz));
+            let radius = 0.5 * ((nx * nx + ny * ny + nz * nz) as f64).sqrt();
+            let distance = radius / (tan.min(tan * aspect) * 0.95);
+            Camera {
+                projection: Projection::Perspective { fov_y_deg },
+                eye: centre + DVec3::new(1.0, 1.0, 1.0).normalize() * distance.max(radius + 1.0),
+                target: centre,
+                up: DVec3::Y,
+            }
+        }
+    };
+    Ok(Scene {
+        glyph_sets: vec![glyph_set(kind, centers, 1.0 / 0.9, coeffs)],
+        camera,
+        image: ImageSize { width, height },
+    })
+}
+
+/// An SH band outside the workloads' (even, 2 to [`MAX_SH_BAND`]) refused.
+fn check_band(band: u32) -> Result<()> {
+    if !(2..=MAX_SH_BAND).contains(&band) || !band.is_multiple_of(2) {
+        return Err(Error::setting_value(
+            Setting::Workload,
+            format!("SH band {band}"),
+            format!("a workload's SH band is one of 2, 4, ..., {MAX_SH_BAND}"),
+        ));
+    }
+    Ok(())
+}
+
+/// Parses `grid:COUNT:ORDER`, `fodf:COUNT:BAND` or `block:NX:NY:NZ:BAND[:front|:corner]`.
 pub fn parse(spec: &str, width: u32, height: u32) -> Result<Scene> {
     let parts: Vec<&str> = spec.split(':').collect();
     let bad = || {
         Error::setting_value(
             Setting::Workload,
             format!("'{}'", crate::error::quoted(spec)),
-            "not grid:COUNT:ORDER or fodf:COUNT:BAND",
+            "not grid:COUNT:ORDER, fodf:COUNT:BAND or block:NX:NY:NZ:BAND[:front|:corner]",
         )
     };
     let number = |s: &str| s.parse::<usize>().map_err(|_| bad());
     match parts.as_slice() {
         ["grid", count, order] => grid(number(count)?, number(order)? as u32, width, height),
         ["fodf", count, band] => fodf(number(count)?, number(band)? as u32, width, height),
+        ["block", nx, ny, nz, band, view @ ..] => {
+            let view = match view {
+                [] | ["front"] => BlockView::Front,
+                ["corner"] => BlockView::Corner,
+                _ => return Err(bad()),
+            };
+            let dims = (number(nx)?, number(ny)?, number(nz)?);
+            block(dims, number(band)? as u32, view, width, height)
+        }
         _ => Err(bad()),
     }
 }

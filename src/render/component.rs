@@ -26,8 +26,11 @@ use crate::render::Method;
 use crate::render::frame::FrameParams;
 use crate::render::glyph_data::{GlyphSetData, largest_radius};
 use crate::render::host_view::{HostView, host_frame};
-use crate::render::raycast::{FrameTarget, PassOptions, RayCastPass, SceneGpu, TargetFormats};
-use crate::render::settings::RenderSettings;
+use crate::render::raycast::{
+    FrameTarget, PassOptions, Passes, RayCastPass, SceneGpu, TargetFormats,
+};
+use crate::render::settings::{Culling, RenderSettings};
+use crate::render::visibility::{PassPlan, VisibilityBuffers};
 use crate::vk::DeviceContext;
 use ash::vk;
 
@@ -55,6 +58,10 @@ pub struct UploadedGlyphs {
     /// Per frame index: the viewport and scissor its frame block was written for, or
     /// `None` until `set_view` (or `set_frame`) wrote it for these glyphs.
     views: Vec<Option<(vk::Viewport, vk::Rect2D)>>,
+    /// Whether hidden glyphs are skipped where the frame is drawn in passes.
+    cull: Culling,
+    /// Per frame index: the passes of its camera (render::visibility).
+    plans: Vec<PassPlan>,
 }
 
 impl UploadedGlyphs {
@@ -67,7 +74,16 @@ impl UploadedGlyphs {
         if let Some(view) = self.views.get_mut(k) {
             *view = Some((target.viewport, target.scissor));
         }
+        if let Some(plan) = self.plans.get_mut(k) {
+            let clusters = self.gpu.sets.iter().map(|set| set.clusters.as_slice());
+            *plan = crate::render::visibility::plan(clusters, frame, self.cull == Culling::Occluded);
+        }
         Ok(())
+    }
+
+    /// The passes frame `frame_index` is drawn in by the headless renderer.
+    pub fn passes(&self, frame_index: usize) -> usize {
+        self.plans.get(frame_index).map_or(0, PassPlan::passes)
     }
 
     /// Instanced draws per frame (batches).
@@ -185,6 +201,8 @@ impl GlyphRenderer {
             method: settings.method,
             max_radius: glyph_radius(sets, settings),
             views: vec![None; self.frames_in_flight],
+            cull: settings.cull,
+            plans: vec![PassPlan::default(); self.frames_in_flight],
         })
     }
 
@@ -282,6 +300,37 @@ impl GlyphRenderer {
         };
         self.pass
             .record_frame(cmd, &glyphs.gpu, &target, glyphs.method)
+    }
+
+    /// [`GlyphRenderer::record_glyphs`] in the passes of the glyphs' plan for this frame
+    /// index (render::visibility): `restart` ends the rendering, copies its depth into
+    /// `visibility`'s known depths and begins the rendering again, before each pass after
+    /// the first (and writes the visibility word there: [`RayCastPass::record_passes`]).
+    pub(crate) fn record_glyph_passes(
+        &self,
+        cmd: vk::CommandBuffer,
+        glyphs: &UploadedGlyphs,
+        frame_index: usize,
+        visibility: &VisibilityBuffers,
+        restart: &mut dyn FnMut(vk::CommandBuffer) -> Result<()>,
+    ) -> Result<()> {
+        self.check_index(frame_index)?;
+        let view = glyphs.views.get(frame_index).copied().flatten();
+        let (viewport, scissor) = view.ok_or(Error::Call {
+            call: "record",
+            expected: "set_view for this frame and the current glyphs first",
+        })?;
+        let target = FrameTarget {
+            frame_index,
+            viewport,
+            scissor,
+        };
+        let passes = Passes {
+            plan: glyphs.plans.get(frame_index),
+            visibility,
+        };
+        self.pass
+            .record_passes(cmd, &glyphs.gpu, &target, glyphs.method, passes, restart)
     }
 
     /// How many replaced glyph uploads are still kept for frames that may be in flight.

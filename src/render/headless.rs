@@ -24,9 +24,10 @@ use crate::render::underlay::{
     Underlay, UnderlayGpu, UnderlayPass, UnderlayPlane, extent_with_planes,
 };
 use crate::render::underlay_shadows::UnderlayShadowPass;
+use crate::render::visibility::{KNOWN_DEPTH_HEADER, VisibilityBuffers, WorkCounts};
 use crate::render::{Method, RenderPath};
 use crate::vk::recording::{
-    COLOR_OUTPUT, COPY_READ, DEPTH_TESTS, NOTHING, cleared_color_attachment, color_image_copy,
+    Access, COLOR_OUTPUT, COPY_READ, DEPTH_TESTS, NOTHING, cleared_color_attachment, color_image_copy,
     copies_to_host, layout_transition,
 };
 use crate::vk::{Buffer, Gpu, GpuTimer, Image, OneShot};
@@ -120,10 +121,16 @@ struct Targets {
     depth: Image,
     color_readback: Buffer,
     distance_readback: Buffer,
+    /// The work counters and the depth copied between the glyphs' passes.
+    visibility: VisibilityBuffers,
 }
 
 impl Targets {
-    fn new(gpu: &Gpu, extent: vk::Extent2D) -> Result<Targets> {
+    fn new(
+        gpu: &Gpu,
+        extent: vk::Extent2D,
+        visibility: vk::DescriptorSetLayout,
+    ) -> Result<Targets> {
         let color_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
         let pixels = extent.width as u64 * extent.height as u64;
         Ok(Targets {
@@ -148,8 +155,14 @@ impl Targets {
                 "depth",
                 extent,
                 DEPTH_FORMAT,
-                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
                 vk::ImageAspectFlags::DEPTH,
+            )?,
+            visibility: VisibilityBuffers::new(
+                gpu.context(),
+                visibility,
+                extent.width,
+                extent.height,
             )?,
             color_readback: Buffer::new(
                 gpu.context(),
@@ -430,7 +443,8 @@ impl HeadlessRenderer {
         };
         Ok(PreparedFrame {
             scene,
-            targets: Targets::new(gpu, size)?,
+            targets: Targets::new(gpu, size, self.glyphs.pass().visibility_set_layout()?)?,
+            count_work: false,
             size,
             settings: *settings,
             underlay,
@@ -488,9 +502,37 @@ pub struct PreparedFrame {
     view_proj: [[f32; 4]; 4],
     /// Where the glyphs' shadows are cast after the frame: its hits.
     hits: Option<HitsBuffer>,
+    /// Whether the next draws count their work ([`PreparedFrame::count_work`]).
+    count_work: bool,
 }
 
 impl PreparedFrame {
+    /// Whether the next draws count the fragments' work (a little slower: atomic counters
+    /// in the fragment shaders); [`PreparedFrame::work`] reads the counts.
+    pub fn count_work(&mut self, on: bool) {
+        self.count_work = on;
+    }
+
+    /// The work of the last draw that counted (see [`WorkCounts`]); `None` for the
+    /// tessellated and compute paths, which do not count.
+    pub fn work(&self) -> Result<Option<WorkCounts>> {
+        match &self.scene {
+            GlyphsOnGpu::RayCast(glyphs) if self.count_work => {
+                Ok(Some(self.targets.visibility.counts(glyphs.passes(0))?))
+            }
+            _ => Ok(None),
+        }
+    }
+
+    /// Passes the glyphs are drawn in (render::visibility); 1 for the tessellated and
+    /// compute paths.
+    pub fn passes(&self) -> usize {
+        match &self.scene {
+            GlyphsOnGpu::RayCast(glyphs) => glyphs.passes(0).max(1),
+            _ => 1,
+        }
+    }
+
     /// Instanced draws per frame (dispatches for the compute ray caster).
     pub fn draws(&self) -> usize {
         match &self.scene {
@@ -556,6 +598,7 @@ fn record_frame(
         return record_compute(compute, timer, gpu, cmd, frame, scene);
     }
     let (d, extent) = (gpu.device(), frame.size);
+    clear_visibility(d, cmd, &frame.targets.visibility, frame.count_work);
     begin_targets(d, cmd, &frame.targets);
     // The timed span is the glyph pass: from the cleared attachments to the last fragment.
     if let Some(timer) = timer {
@@ -567,7 +610,9 @@ fn record_frame(
         // -1: no glyph along the ray (read back as NaN).
         cleared_color_attachment(targets.distance.view, [-1.0, 0.0, 0.0, 0.0]),
     ];
-    let mut depth_attachment = crate::vk::cleared_depth_attachment(targets.depth.view);
+    // Kept: the glyphs' later passes load it, and copy it before they begin.
+    let mut depth_attachment = crate::vk::cleared_depth_attachment(targets.depth.view)
+        .store_op(vk::AttachmentStoreOp::STORE);
     // The underlay receives the glyphs' shadows only where the frame has both and the
     // glyphs were uploaded to cast rays.
     let receives = frame.underlay.is_some()
@@ -595,7 +640,15 @@ fn record_frame(
         underlay.record(cmd, volume, planes, frame.view_proj, extent);
     }
     match &frame.scene {
-        GlyphsOnGpu::RayCast(on_gpu) => glyphs.record_glyphs(cmd, on_gpu, 0)?,
+        GlyphsOnGpu::RayCast(on_gpu) => {
+            let visibility = &targets.visibility;
+            let count = frame.count_work;
+            let mut restart = |cmd| {
+                restart_rendering(d, cmd, targets, extent, count);
+                Ok(())
+            };
+            glyphs.record_glyph_passes(cmd, on_gpu, 0, visibility, &mut restart)?
+        }
         GlyphsOnGpu::Mesh(scene) => mesh.record(cmd, scene, extent)?,
         GlyphsOnGpu::Compute(_) => {}
     }
@@ -666,6 +719,139 @@ fn record_frame(
     }
     copy_targets_to_host(d, cmd, targets, extent);
     Ok(())
+}
+
+/// Before the frame: the known depths' row length and the first pass's visibility word,
+/// and the work counters at zero when the frame counts.
+fn clear_visibility(
+    d: &ash::Device,
+    cmd: vk::CommandBuffer,
+    visibility: &VisibilityBuffers,
+    count: bool,
+) {
+    let shader = (
+        vk::PipelineStageFlags2::FRAGMENT_SHADER,
+        vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+    );
+    let transfer = (
+        vk::PipelineStageFlags2::ALL_TRANSFER,
+        vk::AccessFlags2::TRANSFER_WRITE,
+    );
+    let barrier = |(src, dst): (Access, Access)| {
+        vk::MemoryBarrier2::default()
+            .src_stage_mask(src.0)
+            .src_access_mask(src.1)
+            .dst_stage_mask(dst.0)
+            .dst_access_mask(dst.1)
+    };
+    // SAFETY: `cmd` is recording outside rendering; the buffers are alive until the
+    // submission completes.
+    unsafe {
+        d.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().memory_barriers(&[barrier((shader, transfer))]),
+        );
+        d.cmd_fill_buffer(cmd, visibility.known.handle, 0, 4, visibility.width);
+        d.cmd_fill_buffer(cmd, visibility.known.handle, 4, 4, visibility_word(count, false));
+        if count {
+            d.cmd_fill_buffer(cmd, visibility.counters.handle, 0, vk::WHOLE_SIZE, 0);
+        }
+        d.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default().memory_barriers(&[barrier((transfer, shader))]),
+        );
+    }
+}
+
+/// The visibility word of a pass (glsl/raycast_common.glsl): whether it counts its work,
+/// and whether it reads the known depth of the passes before it.
+fn visibility_word(count: bool, known: bool) -> u32 {
+    use crate::catalog::codes::{VISIBILITY_COUNT, VISIBILITY_KNOWN_DEPTH};
+    (if count { VISIBILITY_COUNT } else { 0 }) | (if known { VISIBILITY_KNOWN_DEPTH } else { 0 })
+}
+
+/// Between two passes of the glyphs (render::visibility): ends the rendering, copies the
+/// depth attachment into the known depths, and begins the rendering again on the same
+/// attachments, loaded.
+fn restart_rendering(
+    d: &ash::Device,
+    cmd: vk::CommandBuffer,
+    t: &Targets,
+    extent: vk::Extent2D,
+    count: bool,
+) {
+    let depth_layout = vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL;
+    let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+    let range = t.depth.subresource_range();
+    let to_copy = layout_transition(t.depth.handle, range, (depth_layout, src), DEPTH_TESTS, COPY_READ);
+    let back = layout_transition(t.depth.handle, range, (src, depth_layout), COPY_READ, DEPTH_TESTS);
+    let shader_read = (
+        vk::PipelineStageFlags2::FRAGMENT_SHADER,
+        vk::AccessFlags2::SHADER_STORAGE_READ,
+    );
+    let copy_write = (
+        vk::PipelineStageFlags2::ALL_TRANSFER,
+        vk::AccessFlags2::TRANSFER_WRITE,
+    );
+    let memory = |src: Access, dst: Access| {
+        vk::MemoryBarrier2::default()
+            .src_stage_mask(src.0)
+            .src_access_mask(src.1)
+            .dst_stage_mask(dst.0)
+            .dst_access_mask(dst.1)
+    };
+    // The colour attachments, written by the pass before, are loaded by the next.
+    let attachments = memory(
+        COLOR_OUTPUT,
+        (
+            COLOR_OUTPUT.0,
+            vk::AccessFlags2::COLOR_ATTACHMENT_READ | COLOR_OUTPUT.1,
+        ),
+    );
+    let copy = [vk::BufferImageCopy::default()
+        .buffer_offset(KNOWN_DEPTH_HEADER)
+        .image_subresource(vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::DEPTH,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        })
+        .image_extent(vk::Extent3D {
+            width: extent.width,
+            height: extent.height,
+            depth: 1,
+        })];
+    let color_attachments = [
+        loaded_attachment(t.color.view, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
+        loaded_attachment(t.distance.view, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
+    ];
+    let depth = loaded_attachment(t.depth.view, depth_layout);
+    let rendering = vk::RenderingInfo::default()
+        .render_area(extent.into())
+        .layer_count(1)
+        .color_attachments(&color_attachments)
+        .depth_attachment(&depth);
+    // SAFETY: `cmd` is recording inside the rendering the glyphs' first pass began; the
+    // images and buffers are alive until the submission completes.
+    unsafe {
+        d.cmd_end_rendering(cmd);
+        d.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default()
+                .memory_barriers(&[memory(shader_read, copy_write), attachments])
+                .image_memory_barriers(&[to_copy]),
+        );
+        let known = t.visibility.known.handle;
+        d.cmd_copy_image_to_buffer(cmd, t.depth.handle, src, known, &copy);
+        d.cmd_fill_buffer(cmd, known, 4, 4, visibility_word(count, true));
+        d.cmd_pipeline_barrier2(
+            cmd,
+            &vk::DependencyInfo::default()
+                .memory_barriers(&[memory(copy_write, shader_read)])
+                .image_memory_barriers(&[back]),
+        );
+        d.cmd_begin_rendering(cmd, &rendering);
+    }
 }
 
 /// The frame's ray distances into the bands of `hits` (each after its 16-byte header: the

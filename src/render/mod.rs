@@ -29,12 +29,14 @@ pub mod table;
 pub mod tiles;
 pub mod underlay;
 pub mod underlay_shadows;
+pub mod visibility;
 
 use crate::catalog::{GLYPH_SHAPES, GlyphShapeEntry, RAY_CAST_METHODS, RayCastMethod};
 use crate::glyph::GlyphShape;
 pub use crate::glyph::tessellate::MeshKind;
 pub use settings::{
-    AmbientOcclusion, ColorMode, Lighting, Refinement, RenderPath, RenderSettings, Shadows,
+    AmbientOcclusion, ColorMode, Culling, Lighting, Refinement, RenderPath, RenderSettings,
+    Shadows,
 };
 
 /// How glyphs are drawn (`--method`).

@@ -22,6 +22,7 @@ use crate::render::shaders::{
     DepthConvention, IMPOSTOR_FRAGMENT, RAYCAST_VERTEX, for_depth, raycast_shader,
 };
 use crate::render::shadow_grid::ShadowGrid;
+use crate::render::visibility::{Cluster, PassPlan, VisibilityBuffers, visibility_bindings};
 use crate::render::{Method, ShapeShader};
 use crate::vk::recording::bind_graphics;
 use crate::vk::{
@@ -144,6 +145,9 @@ pub struct RayCastPass {
     buffer_limit: Option<u64>,
     /// CUBE_INDICES, for every box.
     indices: Buffer,
+    /// The visibility set of frames drawn in one pass ([`RayCastPass::record_frame`]):
+    /// its counters count nothing and its known depth is never read.
+    no_visibility: VisibilityBuffers,
     /// Whether scenes uploaded from now on leave their shadows to a later pass
     /// ([`SceneGpu`]'s `deferred`).
     deferred_shadows: bool,
@@ -236,6 +240,8 @@ pub struct GlyphSetGpu {
     _grid: [Buffer; 2],
     /// One per frame in flight: the coefficients with that frame's block.
     pub(crate) descriptor_sets: Vec<vk::DescriptorSet>,
+    /// Its glyphs in clusters, for the order of the passes (render::visibility).
+    pub(crate) clusters: Vec<Cluster>,
 }
 
 impl GlyphSetGpu {
@@ -268,6 +274,30 @@ impl GlyphSetGpu {
             d.cmd_bind_vertex_buffers(cmd, 0, &buffers, &[0, 0]);
             d.cmd_bind_index_buffer(cmd, indices, 0, vk::IndexType::UINT16);
             d.cmd_draw_indexed(cmd, CUBE_INDICES.len() as u32, self.count, 0, 0, 0);
+        }
+    }
+
+    /// Records the draws of the given clusters' boxes, as [`GlyphSetGpu::record_boxes`].
+    ///
+    /// # Safety
+    /// As [`GlyphSetGpu::record_boxes`].
+    unsafe fn record_clusters(
+        &self,
+        d: &ash::Device,
+        cmd: vk::CommandBuffer,
+        indices: vk::Buffer,
+        clusters: &mut dyn Iterator<Item = u32>,
+    ) {
+        let buffers = [self.instances.handle, self.boxes.handle];
+        // SAFETY: the caller's promise.
+        unsafe {
+            d.cmd_bind_vertex_buffers(cmd, 0, &buffers, &[0, 0]);
+            d.cmd_bind_index_buffer(cmd, indices, 0, vk::IndexType::UINT16);
+            for c in clusters {
+                let cluster = &self.clusters[c as usize];
+                let boxes = CUBE_INDICES.len() as u32;
+                d.cmd_draw_indexed(cmd, boxes, cluster.count, 0, 0, cluster.first);
+            }
         }
     }
 }
@@ -303,10 +333,19 @@ impl RayCastPass {
     ) -> Result<RayCastPass> {
         options.sample_count()?;
         let bindings = batch_bindings();
+        // Set 1: what the fragments know of visibility (render::visibility).
+        let visibility = visibility_bindings();
         // The fragment shaders' push constant: the glyph set's negative mode, or a plane
         // set's root (one u32).
-        let layout = PipelineLayout::new(ctx, &bindings, vk::ShaderStageFlags::FRAGMENT, 4)?;
+        let layout = PipelineLayout::with_sets(
+            ctx,
+            &[&bindings, &visibility],
+            vk::ShaderStageFlags::FRAGMENT,
+            4,
+        )?;
+        let no_visibility = VisibilityBuffers::without_passes(ctx, visibility_layout(&layout)?)?;
         Ok(RayCastPass {
+            no_visibility,
             ctx: ctx.clone(),
             formats,
             options,
@@ -628,6 +667,30 @@ impl RayCastPass {
         target: &FrameTarget,
         method: Method,
     ) -> Result<()> {
+        let passes = Passes {
+            plan: None,
+            visibility: &self.no_visibility,
+        };
+        self.record_passes(cmd, scene, target, method, passes, &mut |_| Ok(()))
+    }
+
+    /// [`RayCastPass::record_frame`] in the passes of `passes.plan` (one pass of every
+    /// glyph without a plan): before each pass after the first, `restart` ends the
+    /// rendering, copies its depth attachment into the known depths of
+    /// `passes.visibility` and begins the rendering again; the fragments of later passes
+    /// end at once where their box lies behind that depth (render::visibility). The
+    /// visibility word in the known depths' header says what each pass does: the caller
+    /// writes it (and clears the counters) before the first pass, `restart` before each
+    /// later one.
+    pub(crate) fn record_passes(
+        &self,
+        cmd: vk::CommandBuffer,
+        scene: &SceneGpu,
+        target: &FrameTarget,
+        method: Method,
+        passes: Passes,
+        restart: &mut dyn FnMut(vk::CommandBuffer) -> Result<()>,
+    ) -> Result<()> {
         let frames = scene.frames.len();
         if target.frame_index >= frames {
             return Err(Error::FrameIndex {
@@ -635,37 +698,106 @@ impl RayCastPass {
                 frames,
             });
         }
-        let (viewport, scissor) = (target.viewport, target.scissor);
-        for set in &scene.sets {
-            let variant = batch_variant(set.layout, set.shape, method)?;
-            let pipeline = self.prepared(variant, scene.shadows && !scene.deferred)?;
-            // A plane or ratio glyph set has no negative lobes: the word says which root
-            // it draws.
-            let hide = match set.shape {
-                GlyphShape::PlaneMin => crate::catalog::codes::PLANE_MIN,
-                GlyphShape::PlaneMax => crate::catalog::codes::PLANE_MAX,
-                GlyphShape::RatioMin => crate::catalog::codes::RATIO_MIN,
-                GlyphShape::RatioMax => crate::catalog::codes::RATIO_MAX,
-                _ => set.negative.shader_code(),
-            };
-            // SAFETY: recording state is the caller's; all handles are alive.
-            unsafe {
-                let d = self.ctx.device();
-                let descriptor_set = set.descriptor_sets[target.frame_index];
-                let pipeline = (pipeline, self.layout.handle());
-                bind_graphics(d, cmd, pipeline, descriptor_set, (viewport, scissor));
-                d.cmd_push_constants(
-                    cmd,
-                    self.layout.handle(),
-                    vk::ShaderStageFlags::FRAGMENT,
-                    0,
-                    &hide.to_ne_bytes(),
-                );
-                set.record_boxes(d, cmd, self.indices.handle);
+        let Some(plan) = passes.plan.filter(|p| p.passes() > 0) else {
+            for set in &scene.sets {
+                self.record_batch(cmd, scene, target, method, set, &passes, None)?;
+            }
+            return Ok(());
+        };
+        for k in 0..plan.passes() {
+            if k > 0 {
+                restart(cmd)?;
+            }
+            let draws = plan.pass(k);
+            for (b, set) in scene.sets.iter().enumerate() {
+                let mut clusters = draws
+                    .iter()
+                    .filter(|(batch, _)| *batch as usize == b)
+                    .map(|&(_, c)| c)
+                    .peekable();
+                if clusters.peek().is_none() {
+                    continue;
+                }
+                self.record_batch(cmd, scene, target, method, set, &passes, Some(&mut clusters))?;
             }
         }
         Ok(())
     }
+
+    /// Records the draws of one batch's `clusters` (`None`: the whole batch in one draw)
+    /// with the visibility set of `passes`.
+    #[allow(clippy::too_many_arguments)]
+    fn record_batch(
+        &self,
+        cmd: vk::CommandBuffer,
+        scene: &SceneGpu,
+        target: &FrameTarget,
+        method: Method,
+        set: &GlyphSetGpu,
+        passes: &Passes,
+        clusters: Option<&mut dyn Iterator<Item = u32>>,
+    ) -> Result<()> {
+        let variant = batch_variant(set.layout, set.shape, method)?;
+        let pipeline = self.prepared(variant, scene.shadows && !scene.deferred)?;
+        // A plane or ratio glyph set has no negative lobes: the word says which root
+        // it draws.
+        let hide = match set.shape {
+            GlyphShape::PlaneMin => crate::catalog::codes::PLANE_MIN,
+            GlyphShape::PlaneMax => crate::catalog::codes::PLANE_MAX,
+            GlyphShape::RatioMin => crate::catalog::codes::RATIO_MIN,
+            GlyphShape::RatioMax => crate::catalog::codes::RATIO_MAX,
+            _ => set.negative.shader_code(),
+        };
+        // SAFETY: recording state is the caller's; all handles are alive.
+        unsafe {
+            let d = self.ctx.device();
+            let descriptor_set = set.descriptor_sets[target.frame_index];
+            let pipeline = (pipeline, self.layout.handle());
+            bind_graphics(d, cmd, pipeline, descriptor_set, (target.viewport, target.scissor));
+            d.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                self.layout.handle(),
+                1,
+                &[passes.visibility.set],
+                &[],
+            );
+            d.cmd_push_constants(
+                cmd,
+                self.layout.handle(),
+                vk::ShaderStageFlags::FRAGMENT,
+                0,
+                &hide.to_ne_bytes(),
+            );
+            match clusters {
+                Some(clusters) => set.record_clusters(d, cmd, self.indices.handle, clusters),
+                None => set.record_boxes(d, cmd, self.indices.handle),
+            }
+        }
+        Ok(())
+    }
+
+    /// The layout of the visibility set (set 1), for a target's [`VisibilityBuffers`].
+    pub(crate) fn visibility_set_layout(&self) -> Result<vk::DescriptorSetLayout> {
+        visibility_layout(&self.layout)
+    }
+}
+
+/// How a frame's passes see visibility: the plan of its passes and the target's
+/// visibility buffers.
+pub(crate) struct Passes<'a> {
+    /// The passes; `None`: one pass of every glyph.
+    pub plan: Option<&'a PassPlan>,
+    /// The target's counters and known depths.
+    pub visibility: &'a VisibilityBuffers,
+}
+
+/// Set 1 of the ray-casting pass's layout.
+fn visibility_layout(layout: &PipelineLayout) -> Result<vk::DescriptorSetLayout> {
+    layout.set_layout_at(1).ok_or(Error::Call {
+        call: "RayCastPass::visibility_set_layout",
+        expected: "the pass's layout of two sets",
+    })
 }
 
 /// The key of a variant's pipeline: the impostor's is shared by every layout and shape,
@@ -822,7 +954,9 @@ fn upload_chunk(
             )
         })
         .collect::<Result<Vec<_>>>()?;
+    let clusters = crate::render::visibility::clusters(&instance_data);
     Ok(GlyphSetGpu {
+        clusters,
         layout: batch.layout,
         negative: batch.negative,
         shape: batch.shape,

@@ -387,6 +387,44 @@ impl std::fmt::Display for AmbientOcclusion {
     }
 }
 
+/// Whether glyphs hidden behind others are skipped (`--cull`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Culling {
+    /// The ray-casting pass draws the glyphs in passes front to back, and each pass skips
+    /// the fragments behind the depth its earlier passes wrote. The image and the depth
+    /// map are the same as without it.
+    Occluded,
+    /// One pass: every glyph's fragments run (the default: on lavapipe the copies of
+    /// the depth between passes cost more than the skipped fragments save).
+    #[default]
+    Off,
+}
+
+impl std::str::FromStr for Culling {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s.trim() {
+            "occluded" | "on" => Ok(Culling::Occluded),
+            "off" | "none" => Ok(Culling::Off),
+            _ => Err(Error::setting_value(
+                Setting::Cull,
+                format!("'{}'", quoted(s)),
+                "not one of occluded, off",
+            )),
+        }
+    }
+}
+
+impl std::fmt::Display for Culling {
+    /// As `cull` takes it.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Culling::Occluded => "occluded",
+            Culling::Off => "off",
+        })
+    }
+}
+
 /// Everything that decides how glyphs are drawn, beside the scene and the camera: the
 /// command line's drawing options.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -423,6 +461,8 @@ pub struct RenderSettings {
     /// Ambient occlusion by the glyphs (`--ambient-occlusion`; the exact method's
     /// fragment path only).
     pub ambient_occlusion: AmbientOcclusion,
+    /// Whether glyphs hidden behind others are skipped (`--cull`).
+    pub cull: Culling,
 }
 
 /// Blinn-Phong lighting (`--light`, `--ambient`, `--specular`, `--shininess`): a surface
@@ -509,6 +549,7 @@ impl Default for RenderSettings {
             lighting: Lighting::default(),
             shadows: Shadows::Off,
             ambient_occlusion: AmbientOcclusion::Off,
+            cull: Culling::Off,
         }
     }
 }

@@ -23,7 +23,9 @@ pub struct BenchArgs {
     /// Scene file to measure (default: the --workload).
     #[arg(value_name = "SCENE")]
     scene: Option<PathBuf>,
-    /// Generated workload: grid:COUNT:ORDER (fibre tensors) or fodf:COUNT:BAND (SH fODFs).
+    /// Generated workload: grid:COUNT:ORDER (fibre tensors), fodf:COUNT:BAND (SH fODFs) or
+    /// block:NX:NY:NZ:BAND[:front|:corner] (a dense 3D block of touching fODFs, seen
+    /// head-on through its layers or from a corner).
     #[arg(long, default_value = "grid:100:8")]
     workload: String,
     /// A sweep instead of one measurement: steps (the paper's Table 1), scaling (glyph
@@ -44,6 +46,10 @@ pub struct BenchArgs {
     /// shader per pixel over screen tiles; exact only).
     #[arg(long, default_value = "fragment")]
     path: String,
+    /// Hidden glyphs in a single measurement: occluded (drawn in passes front to back,
+    /// each skipping the pixels an earlier pass covered nearer) or off (one pass).
+    #[arg(long, default_value = "off")]
+    cull: String,
     /// Also compare a single measurement with the float64 reference.
     #[arg(long)]
     accuracy: bool,
@@ -236,6 +242,7 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
             let settings = RenderSettings {
                 method: args.method.parse()?,
                 path: args.path.parse()?,
+                cull: args.cull.parse()?,
                 ..defaults
             };
             settings.validate()?;

@@ -1,0 +1,334 @@
+//! Hidden glyphs skipped: the step the paper leaves to future work ("reduce the number of
+//! glyphs that are rendered even though they are occluded by other glyphs").
+//!
+//! The ray-casting pass draws a frame's glyphs in several passes, nearest first. Before
+//! each pass after the first, the depth attachment (the exact depths of every glyph drawn
+//! so far) is copied into a storage buffer, and each fragment compares the depth of the
+//! box face it is rasterised on with the depth known at its pixel: the face is the
+//! nearest point of its glyph along the ray, so a face at or behind the known depth can
+//! only give a hit that the depth test would reject, and the fragment ends before any of
+//! the glyph's work (glsl/raycast_common.glsl, `behind_known_depth`). Culling is
+//! therefore exact: the image and the depth map are those of a single pass, bit for bit.
+//!
+//! Work is saved only where a fragment never runs the glyph's evaluation: on lavapipe,
+//! whose shaders run branches as masks, a quad whose lanes all end at the test runs no
+//! further; on a GPU, the same. The order of the passes comes from the CPU: the glyphs of
+//! a batch are taken in clusters of [`CLUSTER_GLYPHS`] consecutive glyphs (a volume's
+//! voxels are consecutive in space), the clusters are sorted by the view depth of their
+//! centre, and a pass takes clusters until their glyphs' projected bounding discs add up
+//! to [`PASS_COVER`] times the screen area the scene covers. A flat field seen from above
+//! is one pass; a block seen head-on is about one layer per pass.
+//!
+//! The work counters count, per frame, the fragments of the glyphs' boxes, those skipped
+//! as hidden, and the glyph evaluations (the exact method's root isolations, the other
+//! methods' marched rays): `glyphcast bench` reports them per covered pixel.
+use crate::error::Result;
+use crate::render::frame::FrameParams;
+use crate::vk::{Buffer, BufferBinding, DescriptorPool, DeviceContext, buffer_binding};
+use ash::vk;
+use glam::DVec3;
+use gpu_allocator::MemoryLocation;
+
+/// Consecutive glyphs of a batch that are ordered and drawn together.
+pub const CLUSTER_GLYPHS: usize = 64;
+
+/// The most passes of one frame: each pass after the first costs a copy of the depth
+/// attachment.
+pub const MAX_PASSES: usize = 32;
+
+/// A pass takes clusters until their glyphs' projected bounding discs cover this many
+/// times the screen area of the whole scene.
+const PASS_COVER: f64 = 1.5;
+
+/// Bytes before the known depths in their buffer (glsl/raycast_common.glsl `KnownDepth`:
+/// the row length, then three unused words).
+pub(crate) const KNOWN_DEPTH_HEADER: u64 = 16;
+
+/// The work counters of one frame (`WORK_*` of glsl/codes.glsl).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct WorkCounts {
+    /// Fragment shader invocations of the glyphs' boxes.
+    pub fragments: u64,
+    /// Fragments that ended at once, behind the depth of an earlier pass.
+    pub occluded: u64,
+    /// Glyph evaluations: the exact method's root isolations, the other methods' rays
+    /// marched through a glyph.
+    pub evaluations: u64,
+    /// Passes the frame was drawn in.
+    pub passes: u64,
+}
+
+/// Consecutive glyphs of one batch: where they are, their bounding sphere, and the sum of
+/// their bounding spheres' squared radii (the area their discs project to, up to
+/// pi (pixels per world unit)^2).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Cluster {
+    /// The first glyph (instance) of the batch in the cluster.
+    pub first: u32,
+    /// Glyphs in the cluster.
+    pub count: u32,
+    center: DVec3,
+    radius: f64,
+    squared_radii: f64,
+}
+
+/// The clusters of a batch's instances (centre and bounding radius per glyph).
+pub(crate) fn clusters(instances: &[[f32; 4]]) -> Vec<Cluster> {
+    let point = |i: &[f32; 4]| DVec3::new(f64::from(i[0]), f64::from(i[1]), f64::from(i[2]));
+    instances
+        .chunks(CLUSTER_GLYPHS)
+        .enumerate()
+        .map(|(k, chunk)| {
+            let center = chunk.iter().map(point).sum::<DVec3>() / chunk.len() as f64;
+            let radius = chunk
+                .iter()
+                .map(|i| (point(i) - center).length() + f64::from(i[3]))
+                .fold(0.0, f64::max);
+            Cluster {
+                first: (k * CLUSTER_GLYPHS) as u32,
+                count: chunk.len() as u32,
+                center,
+                radius,
+                squared_radii: chunk.iter().map(|i| f64::from(i[3]).powi(2)).sum(),
+            }
+        })
+        .collect()
+}
+
+/// The draws of one frame in passes: (batch, cluster) pairs in drawing order, and where
+/// each pass begins among them.
+#[derive(Clone, Debug, Default)]
+pub struct PassPlan {
+    draws: Vec<(u32, u32)>,
+    starts: Vec<usize>,
+}
+
+impl PassPlan {
+    /// Passes of the frame (0 for no glyphs).
+    pub fn passes(&self) -> usize {
+        self.starts.len()
+    }
+
+    /// The (batch, cluster) pairs of pass `k`.
+    pub(crate) fn pass(&self, k: usize) -> &[(u32, u32)] {
+        let end = self.starts.get(k + 1).copied().unwrap_or(self.draws.len());
+        &self.draws[self.starts[k]..end]
+    }
+}
+
+/// The camera of a frame block, as far as ordering needs it.
+struct View {
+    eye: DVec3,
+    fwd: DVec3,
+    right: DVec3,
+    up: DVec3,
+    orthographic: bool,
+    width: f64,
+    height: f64,
+}
+
+impl View {
+    fn of(frame: &FrameParams) -> View {
+        let v = |a: [f32; 4]| DVec3::new(f64::from(a[0]), f64::from(a[1]), f64::from(a[2]));
+        View {
+            eye: v(frame.eye),
+            fwd: v(frame.fwd),
+            right: v(frame.right),
+            up: v(frame.up),
+            orthographic: frame.eye[3] > 0.5,
+            width: 1.0 / f64::from(frame.viewport[0]).max(1e-9),
+            height: 1.0 / f64::from(frame.viewport[1]).max(1e-9),
+        }
+    }
+
+    /// The view depth of a point, and the pixels per world unit there (`None` where the
+    /// point lies at or behind the eye plane).
+    fn depth_and_scale(&self, point: DVec3) -> (f64, Option<f64>) {
+        let depth = (point - self.eye).dot(self.fwd);
+        let half_height = self.up.length().max(1e-12);
+        let pixels = 0.5 * self.height / half_height;
+        if self.orthographic {
+            return (depth, Some(pixels));
+        }
+        (depth, (depth > 1e-9).then(|| pixels / depth))
+    }
+
+    /// A cluster's screen rectangle (pixels, unclamped), or `None` where it reaches the
+    /// eye plane.
+    fn rectangle(&self, c: &Cluster) -> Option<[f64; 4]> {
+        let (depth, scale) = self.depth_and_scale(c.center);
+        if !self.orthographic && depth - c.radius <= 1e-9 {
+            return None;
+        }
+        let scale = scale?;
+        let d = c.center - self.eye;
+        let perspective = if self.orthographic { 1.0 } else { depth };
+        let x = d.dot(self.right) / self.right.length_squared().max(1e-24) / perspective;
+        let y = d.dot(self.up) / self.up.length_squared().max(1e-24) / perspective;
+        let (cx, cy) = (0.5 * (x + 1.0) * self.width, 0.5 * (1.0 - y) * self.height);
+        let r = c.radius * scale;
+        Some([cx - r, cy - r, cx + r, cy + r])
+    }
+}
+
+/// The passes of a frame seen as `frame` says, over batches whose clusters are
+/// `batches`: none where `cull` is off (one pass, one draw per batch), else the clusters
+/// nearest first, cut into passes as the module says.
+pub(crate) fn plan<'a>(
+    batches: impl Iterator<Item = &'a [Cluster]> + Clone,
+    frame: &FrameParams,
+    cull: bool,
+) -> PassPlan {
+    let mut draws: Vec<(u32, u32)> = batches
+        .clone()
+        .enumerate()
+        .flat_map(|(b, clusters)| (0..clusters.len() as u32).map(move |c| (b as u32, c)))
+        .collect();
+    if draws.is_empty() {
+        return PassPlan::default();
+    }
+    if !cull {
+        // One draw per batch, as engines record it.
+        return PassPlan::default();
+    }
+    let all: Vec<&[Cluster]> = batches.collect();
+    let cluster = |&(b, c): &(u32, u32)| &all[b as usize][c as usize];
+    let view = View::of(frame);
+    // The screen area the scene covers: the clusters' rectangles' bounds, on the image.
+    let mut bounds = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
+    let mut whole_screen = false;
+    for draw in &draws {
+        match view.rectangle(cluster(draw)) {
+            Some([x0, y0, x1, y1]) => {
+                bounds = [bounds[0].min(x0), bounds[1].min(y0), bounds[2].max(x1), bounds[3].max(y1)];
+            }
+            None => whole_screen = true,
+        }
+    }
+    if whole_screen {
+        bounds = [0.0, 0.0, view.width, view.height];
+    }
+    let clamp = |v: f64, hi: f64| v.clamp(0.0, hi);
+    let area = (clamp(bounds[2], view.width) - clamp(bounds[0], view.width))
+        * (clamp(bounds[3], view.height) - clamp(bounds[1], view.height));
+    let depth = |draw: &(u32, u32)| view.depth_and_scale(cluster(draw).center).0;
+    draws.sort_by(|a, b| depth(a).total_cmp(&depth(b)).then(a.cmp(b)));
+    let mut starts = vec![0];
+    let mut covered = 0.0;
+    for (k, draw) in draws.iter().enumerate() {
+        if covered >= PASS_COVER * area && starts.len() < MAX_PASSES {
+            starts.push(k);
+            covered = 0.0;
+        }
+        let c = cluster(draw);
+        covered += match view.depth_and_scale(c.center).1 {
+            Some(scale) if view.rectangle(c).is_some() => {
+                std::f64::consts::PI * c.squared_radii * scale * scale
+            }
+            // A cluster at the eye may cover the screen.
+            _ => area,
+        };
+    }
+    PassPlan { draws, starts }
+}
+
+/// The bindings of the ray-casting pass's visibility set (set 1): the work counters and
+/// the known depths (glsl/raycast_common.glsl).
+pub(crate) fn visibility_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; 2] {
+    let storage = vk::DescriptorType::STORAGE_BUFFER;
+    let fragment = vk::ShaderStageFlags::FRAGMENT;
+    [
+        buffer_binding(0, storage, fragment),
+        buffer_binding(1, storage, fragment),
+    ]
+}
+
+/// What the passes of one target share: its work counters and the buffer its depth is
+/// copied into between passes, with their descriptor set.
+pub struct VisibilityBuffers {
+    pub(crate) counters: Buffer,
+    pub(crate) known: Buffer,
+    /// The row length of the known depths, pixels.
+    pub(crate) width: u32,
+    _pool: DescriptorPool,
+    pub(crate) set: vk::DescriptorSet,
+}
+
+impl VisibilityBuffers {
+    /// The buffers of a target of `width` x `height` pixels and their set of `layout`
+    /// (the ray-casting pass's set 1).
+    pub(crate) fn new(
+        ctx: &DeviceContext,
+        layout: vk::DescriptorSetLayout,
+        width: u32,
+        height: u32,
+    ) -> Result<VisibilityBuffers> {
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST;
+        let counters = Buffer::new(ctx, "work counters", 16, storage, MemoryLocation::GpuToCpu)?;
+        let pixels = u64::from(width) * u64::from(height);
+        let known = Buffer::new(
+            ctx,
+            "known depth",
+            KNOWN_DEPTH_HEADER + 4 * pixels,
+            storage,
+            MemoryLocation::GpuOnly,
+        )?;
+        let pool = DescriptorPool::new(ctx, 1, 0, 2)?;
+        let set = pool.buffer_set(
+            layout,
+            &[
+                BufferBinding::storage(0, &counters),
+                BufferBinding::storage(1, &known),
+            ],
+        )?;
+        Ok(VisibilityBuffers {
+            counters,
+            known,
+            width,
+            _pool: pool,
+            set,
+        })
+    }
+
+    /// The buffers of frames drawn in one pass: a header of zeros (no known depth, no
+    /// counting), never written.
+    pub(crate) fn without_passes(
+        ctx: &DeviceContext,
+        layout: vk::DescriptorSetLayout,
+    ) -> Result<VisibilityBuffers> {
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let counters = Buffer::with_data(ctx, "work counters", &[0u32; 4], storage)?;
+        let known = Buffer::with_data(ctx, "known depth", &[0u32; 8], storage)?;
+        let pool = DescriptorPool::new(ctx, 1, 0, 2)?;
+        let set = pool.buffer_set(
+            layout,
+            &[
+                BufferBinding::storage(0, &counters),
+                BufferBinding::storage(1, &known),
+            ],
+        )?;
+        Ok(VisibilityBuffers {
+            counters,
+            known,
+            width: 1,
+            _pool: pool,
+            set,
+        })
+    }
+
+    /// The counters of the last frame that counted (after its submission completed).
+    pub(crate) fn counts(&self, passes: usize) -> Result<WorkCounts> {
+        let bytes = self.counters.read()?;
+        let word = |k: usize| {
+            u64::from(u32::from_ne_bytes(
+                bytes[4 * k..4 * k + 4].try_into().unwrap_or([0; 4]),
+            ))
+        };
+        Ok(WorkCounts {
+            fragments: word(crate::catalog::codes::WORK_FRAGMENTS as usize),
+            occluded: word(crate::catalog::codes::WORK_OCCLUDED as usize),
+            evaluations: word(crate::catalog::codes::WORK_EVALUATIONS as usize),
+            passes: passes as u64,
+        })
+    }
+}
