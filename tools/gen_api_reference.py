@@ -73,7 +73,39 @@ def python_reference() -> str:
             out += [f"## `{_signature(node)}`", "", ast.get_docstring(node) or "", ""]
         elif name in native:
             out += [f"## `{name}`", "", native[name], ""]
+    out += _notebook_reference()
     return "\n".join(out).rstrip() + "\n"
+
+
+def _notebook_reference() -> list:
+    """The notebook view's section: python/glyphcast/notebook.py's docstring and its
+    exported names (a property's setter is its getter's entry)."""
+    tree = ast.parse((ROOT / "python" / "glyphcast" / "notebook.py").read_text())
+    exported = next(
+        ast.literal_eval(node.value) for node in tree.body
+        if isinstance(node, ast.Assign)
+        and any(isinstance(t, ast.Name) and t.id == "__all__" for t in node.targets)
+    )
+    defined = {
+        node.name: node
+        for node in tree.body
+        if isinstance(node, (ast.FunctionDef, ast.ClassDef))
+    }
+    out = ["## The notebook view (`glyphcast.notebook`)", "", ast.get_docstring(tree) or "", ""]
+    for name in exported:
+        node = defined[name]
+        if isinstance(node, ast.ClassDef):
+            out += [f"### class `{name}`", "", ast.get_docstring(node) or "", ""]
+            seen = set()
+            for item in node.body:
+                if (isinstance(item, ast.FunctionDef) and not item.name.startswith("_")
+                        and item.name not in seen):
+                    seen.add(item.name)
+                    doc = ast.get_docstring(item) or ""
+                    out += [f"#### `{name}.{_signature(item)}`", "", doc, ""]
+        else:
+            out += [f"### `{_signature(node)}`", "", ast.get_docstring(node) or "", ""]
+    return out
 
 
 # A rustdoc intra-doc link, [`Name`] or [`Name::member`], not followed by a target.

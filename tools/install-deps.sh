@@ -16,7 +16,10 @@ pkgs=(mesa-vulkan-drivers libvulkan-dev vulkan-validationlayers
       g++ cmake
       # The Python module (python/): a virtual environment to build and test it in
       # (maturin, numpy, pytest and nibabel come from PyPI into it).
-      python3 python3-venv python3-pip)
+      python3 python3-venv python3-pip
+      # The notebook view's browser test (python/tests/test_notebook_browser.py):
+      # headless Chromium, driven by Selenium through chromedriver.
+      chromium chromium-driver)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")

@@ -7,7 +7,8 @@
 # built with CMake and pkg-config against the installed library); then builds the
 # Python module's wheel, installs it into a virtual environment (target/py-venv, reused)
 # and runs its tests (python/tests) against the CLI, the workflow engines' (Nipype,
-# pydra) and the example notebook included; then the GPU tests again on Mesa 25's
+# pydra), the example notebook and the notebook view in JupyterLab and headless Chromium
+# included; then the GPU tests again on Mesa 25's
 # lavapipe (GLYPHCAST_MESA25=0 skips them);
 # last, as root, the cohort scripts on a one-node SLURM cluster it starts and stops
 # (tests/slurm, tools/slurm-local.sh).
@@ -42,7 +43,8 @@ venv=target/py-venv
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
 "$venv/bin/python" -m pip install -q --disable-pip-version-check \
     'maturin>=1.9,<2' numpy pytest nibabel dipy nipype 'pydra>=0.25,<1' \
-    nbclient nbformat ipykernel pillow
+    nbclient nbformat ipykernel pillow \
+    'jupyter_rfb>=1.0,<2' ipywidgets jupyterlab selenium
 # The module as users get it: a wheel, installed with pip into the environment, so the
 # tests import it from site-packages, not from python/. Built in the dev profile in the
 # shared target/ (minutes from cold, seconds when nothing changed); the release
@@ -72,7 +74,9 @@ if [ "${GLYPHCAST_MESA25:-1}" = 1 ]; then
         # workspace build above (so nothing is compiled again).
         cargo test --locked --lib --examples
         cargo test --locked -p glyphcast-c
-        "$venv/bin/python" -m pytest -q python/tests
+        # The browser test once (above): its JupyterLab and Chromium are the same here,
+        # and the view's frames are the Renderer's, which these tests cover on Mesa 25.
+        "$venv/bin/python" -m pytest -q python/tests --ignore python/tests/test_notebook_browser.py
     )
 fi
 echo "== [${SECONDS} s] cohorts on SLURM (tests/slurm, on a local one-node cluster: tools/slurm-local.sh)"

@@ -65,6 +65,19 @@ from ._glyphcast import __version__, encode_png, render_settings
 from ._glyphcast import stiffness as _stiffness
 from ._glyphcast import Renderer as _Renderer
 
+# The notebook view (glyphcast.notebook) is imported on first use: it needs jupyter_rfb
+# (`pip install glyphcast[notebook]`), which nothing else here does.
+_NOTEBOOK_NAMES = ("GlyphView", "show_sh", "show_tensor", "show_scene")
+
+
+def __getattr__(name):
+    if name in _NOTEBOOK_NAMES:
+        from . import notebook
+
+        return getattr(notebook, name)
+    raise AttributeError(f"module 'glyphcast' has no attribute {name!r}")
+
+
 __all__ = [
     "Rendering",
     "Renderer",
@@ -157,12 +170,23 @@ class Renderer:
         """Glyphs loaded."""
         return self._native.glyph_count
 
+    @property
+    def camera(self):
+        """The camera the loaded glyphs are drawn with, as a dict like a scene's
+        ``camera`` (the one the load framed, or the last one given to :meth:`render`);
+        None before a load and for a montage (a camera per panel)."""
+        view = self._native.view
+        return None if view is None else json.loads(view[0])
+
+    @property
+    def size(self):
+        """The loaded image's ``(width, height)`` in pixels; None where :attr:`camera` is."""
+        view = self._native.view
+        return None if view is None else (view[1], view[2])
+
     def render_scene(self, scene, *, width=None, height=None, method=None, **options):
         """Renders a scene: a dict in the scene format, or the path of a scene file."""
-        text, is_path = _scene_argument(scene)
-        options.update(width=width, height=height, method=method)
-        for message in self._native.load_scene(text, is_path, options):
-            _warn(message)
+        self._load_scene(scene, dict(options, width=width, height=height, method=method))
         return self.render()
 
     def render_sh(
@@ -223,7 +247,6 @@ class Renderer:
             order=order, symmetric=symmetric, slice=slice, mask=mask, scale=scale,
             norm=norm, width=width, height=height,
         )
-        coeffs = _tensor_coefficients(coeffs, options)
         return self._volume("tensor", coeffs, affine, options)
 
     def render(self, camera=None) -> Rendering:
@@ -248,7 +271,24 @@ class Renderer:
     def __exit__(self, *exc):
         self.close()
 
+    def _load_scene(self, scene, options, warn=True):
+        """Loads a scene without drawing it (``render_scene``'s first half); ``warn``:
+        whether its notes are warned of."""
+        text, is_path = _scene_argument(scene)
+        for message in self._native.load_scene(text, is_path, options):
+            if warn:
+                _warn(message)
+
     def _volume(self, kind, coeffs, affine, options):
+        self._load_volume(kind, coeffs, affine, options)
+        return self.render()
+
+    def _load_volume(self, kind, coeffs, affine, options, warn=True):
+        """Loads a slice of a volume without drawing it (``render_sh``'s and
+        ``render_tensor``'s first half); ``warn``: whether its notes and warnings are
+        warned of."""
+        if kind == "tensor":
+            coeffs = _tensor_coefficients(coeffs, options)
         for key in ("mask", "underlay"):
             value = options.get(key)
             if isinstance(value, (list, np.generic)):
@@ -257,9 +297,8 @@ class Renderer:
             array, own_affine = options["underlay"]
             options["underlay"] = (np.asarray(array), _float_array(own_affine))
         notes, warned = self._native.load_volume(kind, coeffs, _float_array(affine), options)
-        for message in list(notes) + list(warned):
+        for message in list(notes) + list(warned) if warn else []:
             _warn(message)
-        return self.render()
 
 
 # The entries (row, column) of a symmetric 3x3 matrix in glyphcast's order.

@@ -8,6 +8,7 @@
 use std::path::PathBuf;
 
 use glyphcast::Result;
+use glyphcast::camera::{Camera, Projection};
 use glyphcast::glyph::GlyphShape;
 use glyphcast::render::compose::colorbar::{check_colorbar, common_scale};
 use glyphcast::render::compose::figure::{
@@ -125,6 +126,19 @@ impl Renderer {
             Some(Loaded::Frame(frame)) => frame.scene.glyph_count(),
             Some(Loaded::Montage { montage, .. }) => montage.glyph_count(),
         }
+    }
+
+    /// The loaded view: the camera the glyphs are drawn with (the one the load framed,
+    /// or the last one given to `render`) as a scene's `camera` object in JSON text, and
+    /// the image's width and height. None before a load and for a montage, whose panels
+    /// have a camera each.
+    #[getter]
+    fn view(&self) -> Option<(String, u32, u32)> {
+        let Some(Loaded::Frame(frame)) = &self.loaded else {
+            return None;
+        };
+        let scene = &frame.scene;
+        Some((camera_json(&scene.camera), scene.width, scene.height))
     }
 
     /// Loads a scene in the scene format, given as JSON text, or as a file when
@@ -358,6 +372,27 @@ impl Renderer {
             extras,
         })))
     }
+}
+
+/// A camera as the scene format writes it (`docs/scene-format.md`): what
+/// `Scene::camera_from_json_str` reads back to the same camera.
+fn camera_json(camera: &Camera) -> String {
+    let mut object = serde_json::json!({
+        "eye": camera.eye.to_array(),
+        "target": camera.target.to_array(),
+        "up": camera.up.to_array(),
+    });
+    match camera.projection {
+        Projection::Perspective { fov_y_deg } => {
+            object["projection"] = "perspective".into();
+            object["fov_y_deg"] = fov_y_deg.into();
+        }
+        Projection::Orthographic { height } => {
+            object["projection"] = "orthographic".into();
+            object["height"] = height.into();
+        }
+    }
+    object.to_string()
 }
 
 /// The device and the renderer's passes.

@@ -49,6 +49,36 @@ def test_camera_moves_match_fresh_renders(scenes):
     assert_same_depth(renderer.render(camera=camera).depth, fresh.depth)
 
 
+def test_the_loaded_camera_draws_the_loaded_view(scenes, func_coef):
+    """Renderer.camera is the view's camera as a scene writes it: drawn again from it,
+    the frame is the same, bit for bit; it follows render(camera=...)."""
+    import nibabel as nib
+
+    renderer = glyphcast.Renderer(validation=True)
+    assert renderer.camera is None and renderer.size is None
+    scene = json.loads((scenes / "order4_pair.json").read_text())
+    first = renderer.render_scene(scene, width=80, height=60)
+    assert renderer.size == (80, 60)
+    camera = renderer.camera
+    assert camera["projection"] == scene["camera"].get("projection", "perspective")
+    assert np.allclose(camera["eye"], scene["camera"]["eye"])
+    again = renderer.render(camera=camera)
+    assert_same_depth(again.depth, first.depth)
+    assert np.array_equal(again.rgba, first.rgba)
+    moved = orbit(scene, 0.9)
+    renderer.render(camera=moved)
+    assert np.allclose(renderer.camera["eye"], moved["eye"])
+    # A slice's framing (orthographic): the camera the load chose, drawn again.
+    image = nib.load(func_coef)
+    first = renderer.render_sh(image.get_fdata(), image.affine, basis="dipy", width=64)
+    camera = renderer.camera
+    assert camera["projection"] == "orthographic" and camera["height"] > 0
+    assert_same_depth(renderer.render(camera=camera).depth, first.depth)
+    renderer.render_sh(image.get_fdata(), image.affine, basis="dipy", width=64,
+                       views="axial,coronal")
+    assert renderer.camera is None  # a montage: a camera per panel
+
+
 def hundred_frames_growth(func_coef, **options):
     """Resident memory grown over 100 frames of one Renderer, after 20 to warm up."""
     import nibabel as nib
