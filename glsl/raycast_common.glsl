@@ -94,6 +94,8 @@ void glyph_load_inputs() {
 // The ray through this fragment's pixel against its glyph's sphere of the given radius
 // and its box (glyph_ray_clip).
 bool glyph_ray_within(float radius, out GlyphRay ray) {
+    pixel_ray(ray.origin, ray.dir);
+    bool within = glyph_ray_clip(v_center_radius, v_box_rotation, v_box_extent, radius, ray);
 #ifndef GLYPHCAST_GLYPH_RECEIVER
     count_work(WORK_FRAGMENTS);
     if (behind_known_depth()) {
@@ -101,8 +103,7 @@ bool glyph_ray_within(float radius, out GlyphRay ray) {
         return false;
     }
 #endif
-    pixel_ray(ray.origin, ray.dir);
-    return glyph_ray_clip(v_center_radius, v_box_rotation, v_box_extent, radius, ray);
+    return within;
 }
 
 // The ray against the glyph's bounding sphere.

@@ -53,5 +53,6 @@ mod tools_folder;
 mod underlay;
 mod viewer;
 mod viewer_figures;
+mod visibility;
 mod volume;
 mod volume_notes;

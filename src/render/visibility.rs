@@ -38,7 +38,7 @@ pub const MAX_PASSES: usize = 32;
 
 /// A pass takes clusters until their glyphs' projected bounding discs cover this many
 /// times the screen area of the whole scene.
-const PASS_COVER: f64 = 1.5;
+const PASS_COVER: f64 = 0.5;
 
 /// Bytes before the known depths in their buffer (glsl/raycast_common.glsl `KnownDepth`:
 /// the row length, then three unused words).

@@ -1,0 +1,149 @@
+//! Hidden glyphs skipped (`--cull occluded`, glyphcast::render::visibility): the glyphs
+//! are drawn in passes front to back, and each pass skips the fragments behind the depth
+//! the earlier passes wrote. Culling must never change a pixel: every scene here gives the
+//! same depth map and image, bit for bit, with culling on and off, and agrees with the
+//! float64 reference; the scenes that are drawn in several passes are checked to be.
+use crate::common::{gpu, render_and_compare, save_failure_images};
+use glam::DVec3;
+use glyphcast::accuracy::suite;
+use glyphcast::bench::workload::{BlockView, block};
+use glyphcast::camera::{Camera, Projection};
+use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
+use glyphcast::render::glyph_data::prepare_scene;
+use glyphcast::render::{Culling, RenderSettings};
+use glyphcast::scene::{ImageSize, Scene};
+use glyphcast::{FrameView, Gpu, HeadlessRenderer, RenderedImage};
+
+/// The scene drawn with `cull`: its image and the passes its glyphs took.
+fn draw(
+    gpu: &Gpu,
+    renderer: &mut HeadlessRenderer,
+    scene: &Scene,
+    cull: Culling,
+) -> (RenderedImage, usize) {
+    let settings = RenderSettings {
+        cull,
+        ..RenderSettings::default()
+    };
+    let sets = prepare_scene(scene, 0.0).expect("preparing the scene");
+    let (w, h) = (scene.image.width, scene.image.height);
+    let frame = renderer
+        .prepare_view(gpu, &sets, &FrameView::new(&scene.camera, w, h), &settings)
+        .expect("preparing the frame");
+    renderer.draw(gpu, &frame).expect("drawing");
+    let image = renderer.read(gpu, &frame).expect("reading back");
+    (image, frame.passes())
+}
+
+/// Culling on and off give the same bits; returns the passes with culling.
+fn same_with_and_without(gpu: &Gpu, renderer: &mut HeadlessRenderer, name: &str, scene: &Scene) -> usize {
+    let (off, off_passes) = draw(gpu, renderer, scene, Culling::Off);
+    let (on, passes) = draw(gpu, renderer, scene, Culling::Occluded);
+    assert_eq!(off_passes, 1, "{name}: without culling, one pass");
+    let bits = |image: &RenderedImage| image.distance.iter().map(|d| d.to_bits()).collect::<Vec<_>>();
+    let differing = bits(&off)
+        .iter()
+        .zip(bits(&on))
+        .filter(|(a, b)| **a != *b)
+        .count();
+    assert_eq!(differing, 0, "{name}: {differing} depth values differ with culling ({passes} passes)");
+    assert!(on.rgba == off.rgba, "{name}: the image differs with culling");
+    let hits = on.distance.iter().filter(|d| !d.is_nan()).count();
+    assert!(hits > 100, "{name}: only {hits} pixels hit");
+    passes
+}
+
+#[test]
+fn culling_changes_no_pixel_of_the_accuracy_suite_or_of_blocks() {
+    let gpu = gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    for entry in suite::suite(160) {
+        same_with_and_without(&gpu, &mut renderer, entry.name, &entry.scene);
+    }
+    // Glyphs that fill their voxels, and glyphs twice as large whose lobes cross into
+    // the next layers' (a later pass's glyph then shows in front of an earlier one's).
+    for (view, grow) in [
+        (BlockView::Front, 1.0),
+        (BlockView::Corner, 1.0),
+        (BlockView::Front, 2.0),
+        (BlockView::Corner, 2.0),
+    ] {
+        let mut scene = block((8, 8, 6), 8, view, 240, 180).expect("block workload");
+        for scale in &mut scene.glyph_sets[0].scales {
+            *scale *= grow;
+        }
+        let name = format!("block 8x8x6 ({view:?}, glyphs x{grow})");
+        let passes = same_with_and_without(&gpu, &mut renderer, &name, &scene);
+        assert!(passes >= 2, "{name}: drawn in {passes} passes, so nothing was culled");
+        let settings = RenderSettings {
+            cull: Culling::Occluded,
+            ..RenderSettings::default()
+        };
+        let r = render_and_compare(&gpu, &mut renderer, &scene, &settings);
+        if r.comparison.holes + r.comparison.false_hits > 0 {
+            save_failure_images(&format!("visibility-block-{view:?}-{grow}"), &r);
+        }
+        assert_eq!(r.comparison.holes, 0, "{name}: holes against the float64 reference");
+        assert_eq!(r.comparison.false_hits, 0, "{name}: false hits");
+    }
+}
+
+/// A wall of two layers of touching spheres, seen from straight above, and behind it a
+/// glyph whose thin lobe points up into the gap between four spheres: the wall is drawn
+/// in the first pass and the glyph in a later one, where all of it but the lobe's tip is
+/// hidden. Culling must keep the tip (a few pixels).
+fn peeking_lobe() -> Scene {
+    let sphere = vec![1.0, 0.0, 0.0, 1.0, 0.0, 1.0];
+    let mut centers = Vec::new();
+    for layer in [0.0, -2.0] {
+        for j in 0..8 {
+            for i in 0..8 {
+                centers.push(DVec3::new(2.0 * i as f64, 2.0 * j as f64, layer));
+            }
+        }
+    }
+    let wall = glyph_set(symmetric(2), centers.clone(), 1.0, vec![sphere; centers.len()]);
+    let lobe = fibre_tensor(8, &[(direction(0.0, 90.0), 1.0)]);
+    let behind = glyph_set(symmetric(8), vec![DVec3::new(7.0, 7.0, -5.0)], 1.5, vec![lobe]);
+    Scene {
+        glyph_sets: vec![wall, behind],
+        camera: Camera {
+            projection: Projection::Orthographic { height: 20.0 },
+            eye: DVec3::new(7.0, 7.0, 10.0),
+            target: DVec3::new(7.0, 7.0, 0.0),
+            up: DVec3::Y,
+        },
+        image: ImageSize {
+            width: 240,
+            height: 240,
+        },
+    }
+}
+
+#[test]
+fn a_thin_lobe_peeking_through_a_gap_is_kept() {
+    let gpu = gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    let scene = peeking_lobe();
+    let passes = same_with_and_without(&gpu, &mut renderer, "peeking lobe", &scene);
+    assert!(passes >= 2, "the lobe's glyph must come in a later pass ({passes} passes)");
+    let settings = RenderSettings {
+        cull: Culling::Occluded,
+        ..RenderSettings::default()
+    };
+    let r = render_and_compare(&gpu, &mut renderer, &scene, &settings);
+    if r.comparison.holes + r.comparison.false_hits > 0 {
+        save_failure_images("visibility-peeking-lobe", &r);
+    }
+    assert_eq!(r.comparison.holes, 0, "holes against the float64 reference");
+    assert_eq!(r.comparison.false_hits, 0, "false hits");
+    // The lobe's tip: hits beyond the wall's bottom (z = -3, ray distance 13 from the
+    // eye at z = 10), only through the gap.
+    let tip = r.image.distance.iter().filter(|d| **d > 13.0).count();
+    let reference_tip = r.reference.iter().filter(|d| **d > 13.0).count();
+    assert!(tip >= 4, "the lobe's tip shows in {tip} pixels");
+    assert!(
+        tip.abs_diff(reference_tip) <= reference_tip / 5 + 2,
+        "the tip: {tip} pixels, the reference {reference_tip}"
+    );
+}
