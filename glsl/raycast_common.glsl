@@ -46,18 +46,23 @@ layout(depth_less) out float gl_FragDepth;  // reversed depth: hits lie behind t
 #endif
 
 #ifndef GLYPHCAST_GLYPH_RECEIVER
-// What the pass knows of visibility (src/render/visibility.rs): the work counters, and
-// the depth of the glyphs drawn in the frame's earlier passes, per pixel, copied from the
-// depth attachment before this pass began; its header holds the row length (x) and the
-// pass's visibility word (y: VISIBILITY_KNOWN_DEPTH, VISIBILITY_COUNT). The word is read
-// from a storage buffer, not pushed: lavapipe compiles a shader again for each value of
-// a push constant that steers a branch.
+// What the later passes of a frame know of visibility (src/render/visibility.rs): the
+// work counters; the depth of the glyphs drawn before the pass, per pixel (a copy of the
+// depth attachment, which the pass's winners update and which is copied back after it);
+// and the nearest ray distance the pass's glyphs reach at each pixel (its first stage's
+// result). The header holds the row length (x) and the visibility word (y:
+// VISIBILITY_SHADE_NEAREST, VISIBILITY_COUNT). The word is read from a storage buffer,
+// not pushed: lavapipe compiles a shader again for each value of a push constant that
+// steers a branch.
 layout(std430, set = 1, binding = 0) buffer WorkCounters {
-    uint work_counters[4];  // WORK_FRAGMENTS, WORK_OCCLUDED, WORK_EVALUATIONS
+    uint work_counters[4];  // WORK_FRAGMENTS, WORK_EVALUATIONS
 };
-layout(std430, set = 1, binding = 1) readonly buffer KnownDepth {
+layout(std430, set = 1, binding = 1) buffer KnownDepth {
     uvec4 known_header;
     float known_depth[];
+};
+layout(std430, set = 1, binding = 2) readonly buffer NearestDistance {
+    float nearest_distance[];
 };
 
 // Adds one to work counter `counter` when the pass counts its work.
@@ -67,19 +72,24 @@ void count_work(int counter) {
     }
 }
 
-// Whether this fragment's glyph lies behind what an earlier pass drew at its pixel: the
-// box face it is rasterised on is the nearest point of the glyph along the ray (the hit
-// lies behind it: depth_less), so a face at or behind the known depth can only give a
-// hit that the depth test would reject. Such fragments end here, before any of the
-// glyph's work: on lavapipe a quad whose lanes all end here runs no further.
-bool behind_known_depth() {
-    if ((known_header.y & uint(VISIBILITY_KNOWN_DEPTH)) == 0u) {
-        return false;
+// In the second stage of a later pass (VISIBILITY_SHADE_NEAREST): whether this hit is
+// the one the pixel shows. It must be the nearest hit of the pass's glyphs (the first
+// stage's distance, the same arithmetic giving the same bits) and nearer than what the
+// earlier passes drew (reversed depth: larger); the winner's depth replaces the known
+// one, which is copied into the depth attachment after the pass.
+bool shows_hit(float distance, float depth) {
+    if ((known_header.y & uint(VISIBILITY_SHADE_NEAREST)) == 0u) {
+        return true;
     }
     uvec2 pixel = uvec2(gl_FragCoord.xy);
-    float known = known_depth[pixel.y * known_header.x + pixel.x];
-    // Reversed depth (frame.window.z = 1): nearer is larger.
-    return frame.window.z > 0.5 ? gl_FragCoord.z <= known : gl_FragCoord.z >= known;
+    uint index = pixel.y * known_header.x + pixel.x;
+    bool nearer = frame.window.z > 0.5 ? depth > known_depth[index]
+                                       : depth < known_depth[index];
+    if (distance != nearest_distance[index] || !nearer) {
+        return false;
+    }
+    known_depth[index] = depth;
+    return true;
 }
 #endif
 
@@ -94,16 +104,11 @@ void glyph_load_inputs() {
 // The ray through this fragment's pixel against its glyph's sphere of the given radius
 // and its box (glyph_ray_clip).
 bool glyph_ray_within(float radius, out GlyphRay ray) {
-    pixel_ray(ray.origin, ray.dir);
-    bool within = glyph_ray_clip(v_center_radius, v_box_rotation, v_box_extent, radius, ray);
 #ifndef GLYPHCAST_GLYPH_RECEIVER
     count_work(WORK_FRAGMENTS);
-    if (behind_known_depth()) {
-        count_work(WORK_OCCLUDED);
-        return false;
-    }
 #endif
-    return within;
+    pixel_ray(ray.origin, ray.dir);
+    return glyph_ray_clip(v_center_radius, v_box_rotation, v_box_extent, radius, ray);
 }
 
 // The ray against the glyph's bounding sphere.
@@ -154,6 +159,9 @@ void shade_hit_visible(GlyphRay ray, float s_hit, float visibility) {
     float depth;
     float distance;
     shade_surface_visible(ray, s_hit, visibility, color, depth, distance);
+    if (!shows_hit(distance, depth)) {
+        discard;
+    }
     gl_FragDepth = depth;
     out_color = color;
 #ifndef GLYPHCAST_NO_DISTANCE

@@ -60,7 +60,11 @@ void main() {
 
     float distance = (ray.t_mid + s_hit) * ray.rho;
     vec3 world = ray.origin + distance * ray.dir;
-    gl_FragDepth = window_depth(world);
+    float depth = window_depth(world);
+    if (!shows_hit(distance, depth)) {
+        discard;
+    }
+    gl_FragDepth = depth;
 
     float len = length(p);
     vec3 dir = len > 0.0 ? p / len : normal;

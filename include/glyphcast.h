@@ -287,7 +287,7 @@ typedef struct GlyphcastRendererDesc {
   VkInstance instance;
   // The physical device `device` was made from.
   VkPhysicalDevice physical_device;
-  // A Vulkan 1.3 device with dynamicRendering (and sampleRateShading when samples > 1).
+  // A Vulkan 1.3 device with dynamicRendering and fragmentStoresAndAtomics (and sampleRateShading when samples > 1).
   VkDevice device;
   // The colour attachment's format.
   VkFormat color_format;

@@ -257,23 +257,21 @@ pub mod codes {
     pub const RATIO_MIN: u32 = 0;
     /// A ratio glyph set's `hide_negative` word: the larger root (`ratio-max`).
     pub const RATIO_MAX: u32 = 1;
-    /// The ray-casting pass's visibility word (its second push constant): fragments
-    /// whose box lies behind the known depth of glyphs drawn in an earlier pass are
-    /// skipped (`render::visibility`).
-    pub const VISIBILITY_KNOWN_DEPTH: u32 = 1;
+    /// The ray-casting pass's visibility word (the header of its known depths,
+    /// `render::visibility`): the second stage of a later pass, which shades the hit
+    /// that the first stage found nearest, where it is nearer than the known depth.
+    pub const VISIBILITY_SHADE_NEAREST: u32 = 1;
     /// The visibility word: the fragments count their work (`WORK_*`).
     pub const VISIBILITY_COUNT: u32 = 2;
     /// Work counter: fragment shader invocations of the glyphs' boxes.
     pub const WORK_FRAGMENTS: u32 = 0;
-    /// Work counter: fragments skipped as behind the known depth.
-    pub const WORK_OCCLUDED: u32 = 1;
     /// Work counter: rays whose glyph was evaluated (the exact method: root isolations;
     /// the others: rays marched).
-    pub const WORK_EVALUATIONS: u32 = 2;
+    pub const WORK_EVALUATIONS: u32 = 1;
 }
 
 /// Every entry of [`codes`] with its GLSL name, for `build.rs`'s `codes.glsl`.
-pub const SHADER_CODES: [(&str, i64); 19] = [
+pub const SHADER_CODES: [(&str, i64); 18] = [
     ("REFINE_NONE", codes::REFINE_NONE as i64),
     ("REFINE_BISECT", codes::REFINE_BISECT as i64),
     ("REFINE_INTERP", codes::REFINE_INTERP as i64),
@@ -289,12 +287,11 @@ pub const SHADER_CODES: [(&str, i64); 19] = [
     ("RATIO_MIN", codes::RATIO_MIN as i64),
     ("RATIO_MAX", codes::RATIO_MAX as i64),
     (
-        "VISIBILITY_KNOWN_DEPTH",
-        codes::VISIBILITY_KNOWN_DEPTH as i64,
+        "VISIBILITY_SHADE_NEAREST",
+        codes::VISIBILITY_SHADE_NEAREST as i64,
     ),
     ("VISIBILITY_COUNT", codes::VISIBILITY_COUNT as i64),
     ("WORK_FRAGMENTS", codes::WORK_FRAGMENTS as i64),
-    ("WORK_OCCLUDED", codes::WORK_OCCLUDED as i64),
     ("WORK_EVALUATIONS", codes::WORK_EVALUATIONS as i64),
 ];
 

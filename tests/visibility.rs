@@ -68,13 +68,16 @@ fn culling_changes_no_pixel_of_the_accuracy_suite_or_of_blocks() {
         (BlockView::Front, 2.0),
         (BlockView::Corner, 2.0),
     ] {
-        let mut scene = block((8, 8, 6), 8, view, 240, 180).expect("block workload");
+        let mut scene = block((8, 8, 12), 8, view, 240, 180).expect("block workload");
         for scale in &mut scene.glyph_sets[0].scales {
             *scale *= grow;
         }
-        let name = format!("block 8x8x6 ({view:?}, glyphs x{grow})");
+        let name = format!("block 8x8x12 ({view:?}, glyphs x{grow})");
         let passes = same_with_and_without(&gpu, &mut renderer, &name, &scene);
-        assert!(passes >= 2, "{name}: drawn in {passes} passes, so nothing was culled");
+        // (A corner view of thin glyphs, depth complexity about 3, is one pass.)
+        if grow > 1.0 || view == BlockView::Front {
+            assert!(passes >= 2, "{name}: drawn in {passes} passes, so nothing was culled");
+        }
         let settings = RenderSettings {
             cull: Culling::Occluded,
             ..RenderSettings::default()
@@ -88,14 +91,15 @@ fn culling_changes_no_pixel_of_the_accuracy_suite_or_of_blocks() {
     }
 }
 
-/// A wall of two layers of touching spheres, seen from straight above, and behind it a
-/// glyph whose thin lobe points up into the gap between four spheres: the wall is drawn
-/// in the first pass and the glyph in a later one, where all of it but the lobe's tip is
-/// hidden. Culling must keep the tip (a few pixels).
+/// A wall of six layers of touching spheres, seen from straight above, and behind it a
+/// glyph whose thin lobe points up into the gap between four spheres (the gaps of the
+/// layers line up): the wall's first layers are drawn in the first pass and the glyph in
+/// a later one, where all of it but the lobe's tip is hidden. Culling must keep the tip
+/// (a few pixels).
 fn peeking_lobe() -> Scene {
     let sphere = vec![1.0, 0.0, 0.0, 1.0, 0.0, 1.0];
     let mut centers = Vec::new();
-    for layer in [0.0, -2.0] {
+    for layer in [0.0, -2.0, -4.0, -6.0, -8.0, -10.0] {
         for j in 0..8 {
             for i in 0..8 {
                 centers.push(DVec3::new(2.0 * i as f64, 2.0 * j as f64, layer));
@@ -104,7 +108,7 @@ fn peeking_lobe() -> Scene {
     }
     let wall = glyph_set(symmetric(2), centers.clone(), 1.0, vec![sphere; centers.len()]);
     let lobe = fibre_tensor(8, &[(direction(0.0, 90.0), 1.0)]);
-    let behind = glyph_set(symmetric(8), vec![DVec3::new(7.0, 7.0, -5.0)], 1.5, vec![lobe]);
+    let behind = glyph_set(symmetric(8), vec![DVec3::new(7.0, 7.0, -13.0)], 1.5, vec![lobe]);
     Scene {
         glyph_sets: vec![wall, behind],
         camera: Camera {
@@ -137,10 +141,10 @@ fn a_thin_lobe_peeking_through_a_gap_is_kept() {
     }
     assert_eq!(r.comparison.holes, 0, "holes against the float64 reference");
     assert_eq!(r.comparison.false_hits, 0, "false hits");
-    // The lobe's tip: hits beyond the wall's bottom (z = -3, ray distance 13 from the
+    // The lobe's tip: hits beyond the wall's bottom (z = -11, ray distance 21 from the
     // eye at z = 10), only through the gap.
-    let tip = r.image.distance.iter().filter(|d| **d > 13.0).count();
-    let reference_tip = r.reference.iter().filter(|d| **d > 13.0).count();
+    let tip = r.image.distance.iter().filter(|d| **d > 21.0).count();
+    let reference_tip = r.reference.iter().filter(|d| **d > 21.0).count();
     assert!(tip >= 4, "the lobe's tip shows in {tip} pixels");
     assert!(
         tip.abs_diff(reference_tip) <= reference_tip / 5 + 2,

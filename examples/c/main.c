@@ -180,13 +180,16 @@ static void create_engine(Engine *e) {
                                      .queueFamilyIndex = e->family,
                                      .queueCount = 1,
                                      .pQueuePriorities = &priority};
-    /* What glyphcast needs: dynamic rendering (and sampleRateShading for MSAA). */
+    /* What glyphcast needs: dynamic rendering, storage writes in fragment shaders (and
+       sampleRateShading for MSAA). */
     VkPhysicalDeviceVulkan13Features v13 = {
         .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES,
         .dynamicRendering = VK_TRUE,
         .synchronization2 = VK_TRUE};
+    VkPhysicalDeviceFeatures core = {.fragmentStoresAndAtomics = VK_TRUE};
     VkDeviceCreateInfo device = {.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
                                  .pNext = &v13,
+                                 .pEnabledFeatures = &core,
                                  .queueCreateInfoCount = 1,
                                  .pQueueCreateInfos = &queue};
     CHECK(vkCreateDevice(e->physical_device, &device, NULL, &e->device));

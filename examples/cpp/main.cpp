@@ -194,13 +194,17 @@ class Engine {
         queue.queueCount = 1;
         queue.pQueuePriorities = &priority;
         // What glyphcast asks of the device: Vulkan 1.3 with dynamic rendering (even
-        // when, as here, it draws in the host's render pass).
+        // when, as here, it draws in the host's render pass), and storage writes in
+        // fragment shaders.
         VkPhysicalDeviceVulkan13Features v13{
             VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
         v13.dynamicRendering = VK_TRUE;
         v13.synchronization2 = VK_TRUE;
+        VkPhysicalDeviceFeatures core{};
+        core.fragmentStoresAndAtomics = VK_TRUE;
         VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
         info.pNext = &v13;
+        info.pEnabledFeatures = &core;
         info.queueCreateInfoCount = 1;
         info.pQueueCreateInfos = &queue;
         CHECK(vkCreateDevice(physical_device_, &info, nullptr, &device_));

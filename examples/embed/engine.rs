@@ -133,7 +133,11 @@ impl Engine {
         let mut v13 = vk::PhysicalDeviceVulkan13Features::default()
             .dynamic_rendering(true)
             .synchronization2(true);
-        let core = vk::PhysicalDeviceFeatures::default().sample_rate_shading(true);
+        // And of Vulkan 1.0: sample-rate shading for MSAA targets, and storage writes in
+        // fragment shaders (the glyphs' work counters and culling).
+        let core = vk::PhysicalDeviceFeatures::default()
+            .sample_rate_shading(true)
+            .fragment_stores_and_atomics(true);
         let info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queues)
             .enabled_features(&core)
@@ -336,6 +340,7 @@ fn pick_device(instance: &ash::Instance) -> Result<(vk::PhysicalDevice, u32)> {
         let core = unsafe { instance.get_physical_device_features(pd) };
         if let Some(family) = family
             && core.sample_rate_shading == vk::TRUE
+            && core.fragment_stores_and_atomics == vk::TRUE
             && api >= vk::API_VERSION_1_3
             && v13.dynamic_rendering == vk::TRUE
             && v13.synchronization2 == vk::TRUE

@@ -70,7 +70,7 @@ const GEOMETRY: [(&str, Cell); 13] = [
 
 /// The CSV: each column's name and cell at full precision; empty where a value was not
 /// measured.
-const CSV: [(&str, Cell); 31] = [
+const CSV: [(&str, Cell); 30] = [
     ("label", |r| r.label.clone()),
     ("glyphs", |r| r.glyphs.to_string()),
     ("width", |r| r.width.to_string()),
@@ -90,7 +90,6 @@ const CSV: [(&str, Cell); 31] = [
     ("draws", |r| r.draws.to_string()),
     ("passes", |r| r.passes.to_string()),
     ("fragments", |r| work_cell(r, |w| w.fragments)),
-    ("occluded_fragments", |r| work_cell(r, |w| w.occluded)),
     ("evaluations", |r| work_cell(r, |w| w.evaluations)),
     ("scene", |r| r.scene.clone()),
     ("method", |r| r.method.clone()),

@@ -196,12 +196,27 @@ impl GlyphRenderer {
             settings.method,
             self.frames_in_flight,
         )?;
+        // Culled glyphs are drawn in passes whose early stages have pipelines of their own.
+        let cull = match settings.cull {
+            Culling::Occluded if crate::render::visibility::can_cull(&self.ctx, settings) => {
+                let variants = gpu
+                    .sets
+                    .iter()
+                    .map(|set| {
+                        crate::render::raycast::batch_variant(set.layout, set.shape, settings.method)
+                    })
+                    .collect::<Result<Vec<_>>>()?;
+                self.pass.prepare_stage_pipelines(&variants)?;
+                Culling::Occluded
+            }
+            _ => Culling::Off,
+        };
         Ok(UploadedGlyphs {
             gpu,
             method: settings.method,
             max_radius: glyph_radius(sets, settings),
             views: vec![None; self.frames_in_flight],
-            cull: settings.cull,
+            cull,
             plans: vec![PassPlan::default(); self.frames_in_flight],
         })
     }
@@ -312,7 +327,7 @@ impl GlyphRenderer {
         glyphs: &UploadedGlyphs,
         frame_index: usize,
         visibility: &VisibilityBuffers,
-        restart: &mut dyn FnMut(vk::CommandBuffer) -> Result<()>,
+        restart: &mut dyn FnMut(vk::CommandBuffer, crate::vk::DrawStage) -> Result<()>,
     ) -> Result<()> {
         self.check_index(frame_index)?;
         let view = glyphs.views.get(frame_index).copied().flatten();

@@ -135,6 +135,7 @@ impl GlyphShadowPass {
                 InstanceInput::WithBoxes,
                 RasterTarget::default(),
                 Some(vk::CompareOp::GREATER_OR_EQUAL),
+            crate::vk::DrawStage::Normal,
             )?;
             self.pipelines.insert(set.layout, pipeline);
         }

@@ -119,6 +119,10 @@ struct Targets {
     color: Image,
     distance: Image,
     depth: Image,
+    /// The nearest ray distance of a later pass's glyphs (render::visibility), and the
+    /// scratch colour image its first stage draws beside it.
+    nearest: Image,
+    scratch: Image,
     color_readback: Buffer,
     distance_readback: Buffer,
     /// The work counters and the depth copied between the glyphs' passes.
@@ -155,8 +159,26 @@ impl Targets {
                 "depth",
                 extent,
                 DEPTH_FORMAT,
-                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
+                    | vk::ImageUsageFlags::TRANSFER_SRC
+                    | vk::ImageUsageFlags::TRANSFER_DST,
                 vk::ImageAspectFlags::DEPTH,
+            )?,
+            nearest: Image::new(
+                gpu.context(),
+                "nearest distance",
+                extent,
+                DISTANCE_FORMAT,
+                color_usage,
+                vk::ImageAspectFlags::COLOR,
+            )?,
+            scratch: Image::new(
+                gpu.context(),
+                "scratch colour",
+                extent,
+                COLOR_FORMAT,
+                vk::ImageUsageFlags::COLOR_ATTACHMENT,
+                vk::ImageAspectFlags::COLOR,
             )?,
             visibility: VisibilityBuffers::new(
                 gpu.context(),
@@ -643,8 +665,8 @@ fn record_frame(
         GlyphsOnGpu::RayCast(on_gpu) => {
             let visibility = &targets.visibility;
             let count = frame.count_work;
-            let mut restart = |cmd| {
-                restart_rendering(d, cmd, targets, extent, count);
+            let mut restart = |cmd, stage| {
+                restart_rendering(d, cmd, targets, extent, (stage, count));
                 Ok(())
             };
             glyphs.record_glyph_passes(cmd, on_gpu, 0, visibility, &mut restart)?
@@ -764,52 +786,27 @@ fn clear_visibility(
 }
 
 /// The visibility word of a pass (glsl/raycast_common.glsl): whether it counts its work,
-/// and whether it reads the known depth of the passes before it.
-fn visibility_word(count: bool, known: bool) -> u32 {
-    use crate::catalog::codes::{VISIBILITY_COUNT, VISIBILITY_KNOWN_DEPTH};
-    (if count { VISIBILITY_COUNT } else { 0 }) | (if known { VISIBILITY_KNOWN_DEPTH } else { 0 })
+/// and whether it is the second stage of a later pass.
+fn visibility_word(count: bool, shade_nearest: bool) -> u32 {
+    use crate::catalog::codes::{VISIBILITY_COUNT, VISIBILITY_SHADE_NEAREST};
+    let count = if count { VISIBILITY_COUNT } else { 0 };
+    count | if shade_nearest { VISIBILITY_SHADE_NEAREST } else { 0 }
 }
 
-/// Between two passes of the glyphs (render::visibility): ends the rendering, copies the
-/// depth attachment into the known depths, and begins the rendering again on the same
-/// attachments, loaded.
-fn restart_rendering(
-    d: &ash::Device,
-    cmd: vk::CommandBuffer,
-    t: &Targets,
-    extent: vk::Extent2D,
-    count: bool,
-) {
-    let depth_layout = vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL;
-    let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
-    let range = t.depth.subresource_range();
-    let to_copy = layout_transition(t.depth.handle, range, (depth_layout, src), DEPTH_TESTS, COPY_READ);
-    let back = layout_transition(t.depth.handle, range, (src, depth_layout), COPY_READ, DEPTH_TESTS);
-    let shader_read = (
-        vk::PipelineStageFlags2::FRAGMENT_SHADER,
-        vk::AccessFlags2::SHADER_STORAGE_READ,
-    );
-    let copy_write = (
-        vk::PipelineStageFlags2::ALL_TRANSFER,
-        vk::AccessFlags2::TRANSFER_WRITE,
-    );
-    let memory = |src: Access, dst: Access| {
-        vk::MemoryBarrier2::default()
-            .src_stage_mask(src.0)
-            .src_access_mask(src.1)
-            .dst_stage_mask(dst.0)
-            .dst_access_mask(dst.1)
-    };
-    // The colour attachments, written by the pass before, are loaded by the next.
-    let attachments = memory(
-        COLOR_OUTPUT,
-        (
-            COLOR_OUTPUT.0,
-            vk::AccessFlags2::COLOR_ATTACHMENT_READ | COLOR_OUTPUT.1,
-        ),
-    );
-    let copy = [vk::BufferImageCopy::default()
-        .buffer_offset(KNOWN_DEPTH_HEADER)
+/// A memory barrier from `src` to `dst`.
+fn memory_barrier(src: Access, dst: Access) -> vk::MemoryBarrier2<'static> {
+    vk::MemoryBarrier2::default()
+        .src_stage_mask(src.0)
+        .src_access_mask(src.1)
+        .dst_stage_mask(dst.0)
+        .dst_access_mask(dst.1)
+}
+
+/// The whole depth image as a buffer copy region, its values after the buffer's
+/// `offset` bytes.
+fn depth_copy(extent: vk::Extent2D, offset: u64) -> vk::BufferImageCopy {
+    vk::BufferImageCopy::default()
+        .buffer_offset(offset)
         .image_subresource(vk::ImageSubresourceLayers {
             aspect_mask: vk::ImageAspectFlags::DEPTH,
             mip_level: 0,
@@ -820,36 +817,146 @@ fn restart_rendering(
             width: extent.width,
             height: extent.height,
             depth: 1,
-        })];
-    let color_attachments = [
-        loaded_attachment(t.color.view, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
-        loaded_attachment(t.distance.view, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
+        })
+}
+
+/// Between the stages of the glyphs' later passes (render::visibility): ends the
+/// rendering and begins the next one.
+///
+/// - `Nearest`: a scratch colour image and the nearest-distance image, cleared to
+///   infinity, with the depth attachment tested before the fragments run and not written.
+/// - `Shade`: the nearest distances and the depth copied into the known buffers (and
+///   the word of the second stage written), then the colour and distance attachments
+///   with the depth attachment as before.
+/// - `Normal`: the known depths, which the second stage's hits updated, copied into the
+///   depth attachment; then the frame's usual rendering.
+fn restart_rendering(
+    d: &ash::Device,
+    cmd: vk::CommandBuffer,
+    t: &Targets,
+    extent: vk::Extent2D,
+    (stage, count): (crate::vk::DrawStage, bool),
+) {
+    use crate::vk::DrawStage;
+    let attachment = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
+    let depth_layout = vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL;
+    let shader = (
+        vk::PipelineStageFlags2::FRAGMENT_SHADER,
+        vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+    );
+    let transfer_write = (
+        vk::PipelineStageFlags2::ALL_TRANSFER,
+        vk::AccessFlags2::TRANSFER_WRITE,
+    );
+    let transfer_read = (
+        vk::PipelineStageFlags2::ALL_TRANSFER,
+        vk::AccessFlags2::TRANSFER_READ,
+    );
+    let color_load = (
+        COLOR_OUTPUT.0,
+        vk::AccessFlags2::COLOR_ATTACHMENT_READ | COLOR_OUTPUT.1,
+    );
+    // Each rendering loads what the one before wrote.
+    let attachments = [
+        memory_barrier(COLOR_OUTPUT, color_load),
+        memory_barrier(DEPTH_TESTS, DEPTH_TESTS),
     ];
+    let known = t.visibility.known.handle;
+    let loaded = |view| loaded_attachment(view, attachment);
     let depth = loaded_attachment(t.depth.view, depth_layout);
+    let infinity = [f32::INFINITY, 0.0, 0.0, 0.0];
+    let color_attachments = match stage {
+        DrawStage::Nearest => [
+            cleared_color_attachment(t.scratch.view, infinity),
+            cleared_color_attachment(t.nearest.view, infinity),
+        ],
+        _ => [loaded(t.color.view), loaded(t.distance.view)],
+    };
     let rendering = vk::RenderingInfo::default()
         .render_area(extent.into())
         .layer_count(1)
         .color_attachments(&color_attachments)
         .depth_attachment(&depth);
-    // SAFETY: `cmd` is recording inside the rendering the glyphs' first pass began; the
-    // images and buffers are alive until the submission completes.
+    // SAFETY: `cmd` is recording inside a rendering of the glyphs' passes; the images
+    // and buffers are alive until the submission completes.
     unsafe {
         d.cmd_end_rendering(cmd);
-        d.cmd_pipeline_barrier2(
-            cmd,
-            &vk::DependencyInfo::default()
-                .memory_barriers(&[memory(shader_read, copy_write), attachments])
-                .image_memory_barriers(&[to_copy]),
-        );
-        let known = t.visibility.known.handle;
-        d.cmd_copy_image_to_buffer(cmd, t.depth.handle, src, known, &copy);
-        d.cmd_fill_buffer(cmd, known, 4, 4, visibility_word(count, true));
-        d.cmd_pipeline_barrier2(
-            cmd,
-            &vk::DependencyInfo::default()
-                .memory_barriers(&[memory(copy_write, shader_read)])
-                .image_memory_barriers(&[back]),
-        );
+        match stage {
+            DrawStage::Nearest => {
+                d.cmd_pipeline_barrier2(
+                    cmd,
+                    &vk::DependencyInfo::default().memory_barriers(&attachments),
+                );
+            }
+            DrawStage::Shade => {
+                let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+                let (depth_range, nearest_range) =
+                    (t.depth.subresource_range(), t.nearest.subresource_range());
+                let nearest_image = t.nearest.handle;
+                let depth_image = t.depth.handle;
+                let to_copy = [
+                    layout_transition(depth_image, depth_range, (depth_layout, src), DEPTH_TESTS, COPY_READ),
+                    layout_transition(nearest_image, nearest_range, (attachment, src), COLOR_OUTPUT, COPY_READ),
+                ];
+                let back = [
+                    layout_transition(depth_image, depth_range, (src, depth_layout), COPY_READ, DEPTH_TESTS),
+                    layout_transition(nearest_image, nearest_range, (src, attachment), COPY_READ, COLOR_OUTPUT),
+                ];
+                let before = [memory_barrier(shader, transfer_write), attachments[0]];
+                d.cmd_pipeline_barrier2(
+                    cmd,
+                    &vk::DependencyInfo::default()
+                        .memory_barriers(&before)
+                        .image_memory_barriers(&to_copy),
+                );
+                let nearest_buffer = t.visibility.nearest.handle;
+                d.cmd_copy_image_to_buffer(
+                    cmd,
+                    nearest_image,
+                    src,
+                    nearest_buffer,
+                    &[color_image_copy(extent)],
+                );
+                let copy = [depth_copy(extent, KNOWN_DEPTH_HEADER)];
+                d.cmd_copy_image_to_buffer(cmd, depth_image, src, known, &copy);
+                d.cmd_fill_buffer(cmd, known, 4, 4, visibility_word(count, true));
+                d.cmd_pipeline_barrier2(
+                    cmd,
+                    &vk::DependencyInfo::default()
+                        .memory_barriers(&[memory_barrier(transfer_write, shader)])
+                        .image_memory_barriers(&back),
+                );
+            }
+            DrawStage::Normal => {
+                let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
+                let range = t.depth.subresource_range();
+                let copy_write = (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::TRANSFER_WRITE);
+                let to_copy =
+                    layout_transition(t.depth.handle, range, (depth_layout, dst), DEPTH_TESTS, copy_write);
+                let back =
+                    layout_transition(t.depth.handle, range, (dst, depth_layout), copy_write, DEPTH_TESTS);
+                let before = [
+                    memory_barrier(shader, transfer_read),
+                    memory_barrier(shader, transfer_write),
+                    attachments[0],
+                ];
+                d.cmd_pipeline_barrier2(
+                    cmd,
+                    &vk::DependencyInfo::default()
+                        .memory_barriers(&before)
+                        .image_memory_barriers(&[to_copy]),
+                );
+                let copy = [depth_copy(extent, KNOWN_DEPTH_HEADER)];
+                d.cmd_copy_buffer_to_image(cmd, known, t.depth.handle, dst, &copy);
+                d.cmd_fill_buffer(cmd, known, 4, 4, visibility_word(count, false));
+                d.cmd_pipeline_barrier2(
+                    cmd,
+                    &vk::DependencyInfo::default()
+                        .memory_barriers(&[memory_barrier(transfer_write, shader)])
+                        .image_memory_barriers(&[back]),
+                );
+            }
+        }
         d.cmd_begin_rendering(cmd, &rendering);
     }
 }
@@ -989,6 +1096,8 @@ fn begin_targets(d: &ash::Device, cmd: vk::CommandBuffer, t: &Targets) {
         to_attachment(&t.color, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
         to_attachment(&t.distance, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
         to_attachment(&t.depth, vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL),
+        to_attachment(&t.nearest, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
+        to_attachment(&t.scratch, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
     ];
     // SAFETY: `cmd` is recording outside rendering; the images are alive.
     unsafe {

@@ -215,6 +215,7 @@ impl MeshPass {
             InstanceInput::Instance,
             RasterTarget::default(),
             None,
+            crate::vk::DrawStage::Normal,
         )?;
         Ok(self.pipelines.insert(vertices_per_glyph, pipeline))
     }

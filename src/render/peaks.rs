@@ -248,6 +248,7 @@ fn create_pipeline(
         // glyphcast's own targets: one sample, reversed depth (the headless renderer's).
         raster: crate::vk::RasterTarget::default(),
         darken: None,
+        stage: crate::vk::DrawStage::Normal,
     };
     // SAFETY: the modules are alive until the call returns; their SPIR-V declares the
     // frame block of `layout` (render::interface checks it).

@@ -20,13 +20,14 @@ use crate::render::frame::{FRAME_DESCRIPTOR, FRAME_USAGE, FrameParams};
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::shaders::{
     DepthConvention, IMPOSTOR_FRAGMENT, RAYCAST_VERTEX, for_depth, raycast_shader,
+    with_early_tests,
 };
 use crate::render::shadow_grid::ShadowGrid;
 use crate::render::visibility::{Cluster, PassPlan, VisibilityBuffers, visibility_bindings};
 use crate::render::{Method, ShapeShader};
 use crate::vk::recording::bind_graphics;
 use crate::vk::{
-    Buffer, BufferBinding, DescriptorPool, DeviceContext, GraphicsPipelineDesc, Pipeline,
+    Buffer, BufferBinding, DescriptorPool, DeviceContext, DrawStage, GraphicsPipelineDesc, Pipeline,
     PipelineLayout, Pipelines, RasterTarget, ShaderModule, buffer_binding, graphics_pipeline,
     vertex_fragment_stages,
 };
@@ -139,6 +140,9 @@ pub struct RayCastPass {
     /// Keyed by layout, method and whether it casts shadows; the impostor's pipeline by
     /// method alone.
     pipelines: Pipelines<PipelineKey>,
+    /// The pipelines of the early stages of the later passes (render::visibility), made
+    /// for scenes uploaded to be culled.
+    stage_pipelines: Pipelines<(PipelineKey, DrawStage)>,
     /// The boxes' vertex shader for methods that pass no coefficients (the impostor).
     vertex: ShaderModule,
     layout: PipelineLayout,
@@ -353,6 +357,7 @@ impl RayCastPass {
             // SAFETY: the SPIR-V comes from build.rs and was validated by glslang.
             vertex: unsafe { ShaderModule::new(ctx, RAYCAST_VERTEX)? },
             pipelines: Pipelines::new(),
+            stage_pipelines: Pipelines::new(),
             buffer_limit: None,
             indices: Buffer::with_data(
                 ctx,
@@ -393,7 +398,7 @@ impl RayCastPass {
             return Ok(p);
         }
         let (vertex, fragment) = self.shaders((layout, method, ShapeShader::Polynomial), false)?;
-        let pipeline = self.create_pipeline(vertex, fragment, key)?;
+        let pipeline = self.create_pipeline(vertex, fragment, key, DrawStage::Normal)?;
         Ok(self.pipelines.insert(key, pipeline))
     }
 
@@ -422,12 +427,14 @@ impl RayCastPass {
                 .iter()
                 .skip(1)
                 .map(|&(key, vertex, fragment)| {
-                    scope.spawn(move || this.create_pipeline(vertex, fragment, key))
+                    scope.spawn(move || this.create_pipeline(vertex, fragment, key, DrawStage::Normal))
                 })
                 .collect();
             let first = missing
                 .first()
-                .map(|&(key, vertex, fragment)| this.create_pipeline(vertex, fragment, key));
+                .map(|&(key, vertex, fragment)| {
+                    this.create_pipeline(vertex, fragment, key, DrawStage::Normal)
+                });
             first
                 .into_iter()
                 .chain(threads.into_iter().map(|t| {
@@ -525,9 +532,14 @@ impl RayCastPass {
         vertex_spirv: Option<&[u32]>,
         fragment_spirv: &[u32],
         key: PipelineKey,
+        stage: DrawStage,
     ) -> Result<Pipeline> {
-        // The host's depth convention is one word of the fragment shader's SPIR-V.
-        let fragment_spirv = for_depth(fragment_spirv, self.options.depth);
+        // The host's depth convention is one word of the fragment shader's SPIR-V, and
+        // so is the early depth test of the later passes' stages.
+        let fragment_spirv = match stage {
+            DrawStage::Normal => for_depth(fragment_spirv, self.options.depth),
+            _ => with_early_tests(fragment_spirv),
+        };
         // SAFETY: the SPIR-V comes from build.rs and was validated by glslang; the modules
         // may go once the pipeline exists.
         let fragment = unsafe { ShaderModule::new(&self.ctx, &fragment_spirv)? };
@@ -537,7 +549,7 @@ impl RayCastPass {
             None => None,
         };
         let vertex = vertex.as_ref().unwrap_or(&self.vertex);
-        self.create_pipeline_with(vertex.handle(), fragment.handle(), key)
+        self.create_pipeline_with(vertex.handle(), fragment.handle(), key, stage)
     }
 
     fn create_pipeline_with(
@@ -545,6 +557,7 @@ impl RayCastPass {
         vertex: vk::ShaderModule,
         fragment: vk::ShaderModule,
         (_, method, ..): PipelineKey,
+        stage: DrawStage,
     ) -> Result<Pipeline> {
         let entries = [vk::SpecializationMapEntry {
             constant_id: ORIENTED_BOX_CONSTANT,
@@ -565,7 +578,54 @@ impl RayCastPass {
             InstanceInput::WithBoxes,
             self.options.raster(),
             None,
+            stage,
         )
+    }
+
+    /// Makes the pipelines of the later passes' early stages for `variants` (without
+    /// shadows), where they are not made yet: what culling a scene needs
+    /// (render::visibility). The impostor's variant has none (it is not culled).
+    pub(crate) fn prepare_stage_pipelines(&mut self, variants: &[Variant]) -> Result<()> {
+        type Missing = ((PipelineKey, DrawStage), Option<&'static [u32]>, &'static [u32]);
+        let mut missing: Vec<Missing> = Vec::new();
+        for &variant in variants {
+            if variant.1 == Method::Impostor {
+                continue;
+            }
+            let key = pipeline_key(variant, false);
+            for stage in [DrawStage::Nearest, DrawStage::Shade] {
+                let staged = (key, stage);
+                if self.stage_pipelines.get(&staged).is_none()
+                    && !missing.iter().any(|(k, ..)| *k == staged)
+                {
+                    let (vertex, fragment) = self.shaders(variant, false)?;
+                    missing.push((staged, vertex, fragment));
+                }
+            }
+        }
+        let this = &*self;
+        let created: Vec<Result<Pipeline>> = std::thread::scope(|scope| {
+            let threads: Vec<_> = missing
+                .iter()
+                .map(|&((key, stage), vertex, fragment)| {
+                    scope.spawn(move || this.create_pipeline(vertex, fragment, key, stage))
+                })
+                .collect();
+            threads
+                .into_iter()
+                .map(|t| {
+                    t.join().unwrap_or_else(|_| {
+                        Err(Error::Thread {
+                            what: "pipeline creation",
+                        })
+                    })
+                })
+                .collect()
+        });
+        for ((staged, ..), pipeline) in missing.into_iter().zip(created) {
+            self.stage_pipelines.insert(staged, pipeline?);
+        }
+        Ok(())
     }
 
     /// Uploads glyph sets and the frame parameters for one frame in flight; prepares
@@ -671,7 +731,7 @@ impl RayCastPass {
             plan: None,
             visibility: &self.no_visibility,
         };
-        self.record_passes(cmd, scene, target, method, passes, &mut |_| Ok(()))
+        self.record_passes(cmd, scene, target, method, passes, &mut |_, _| Ok(()))
     }
 
     /// [`RayCastPass::record_frame`] in the passes of `passes.plan` (one pass of every
@@ -689,7 +749,7 @@ impl RayCastPass {
         target: &FrameTarget,
         method: Method,
         passes: Passes,
-        restart: &mut dyn FnMut(vk::CommandBuffer) -> Result<()>,
+        restart: &mut dyn FnMut(vk::CommandBuffer, DrawStage) -> Result<()>,
     ) -> Result<()> {
         let frames = scene.frames.len();
         if target.frame_index >= frames {
@@ -700,25 +760,37 @@ impl RayCastPass {
         }
         let Some(plan) = passes.plan.filter(|p| p.passes() > 0) else {
             for set in &scene.sets {
-                self.record_batch(cmd, scene, target, method, set, &passes, None)?;
+                let normal = (&passes, DrawStage::Normal);
+                self.record_batch(cmd, scene, target, method, set, normal, None)?;
             }
             return Ok(());
         };
         for k in 0..plan.passes() {
-            if k > 0 {
-                restart(cmd)?;
-            }
-            let draws = plan.pass(k);
-            for (b, set) in scene.sets.iter().enumerate() {
-                let mut clusters = draws
-                    .iter()
-                    .filter(|(batch, _)| *batch as usize == b)
-                    .map(|&(_, c)| c)
-                    .peekable();
-                if clusters.peek().is_none() {
-                    continue;
+            let stages: &[DrawStage] = if k == 0 {
+                &[DrawStage::Normal]
+            } else {
+                &[DrawStage::Nearest, DrawStage::Shade]
+            };
+            for &stage in stages {
+                if k > 0 {
+                    restart(cmd, stage)?;
                 }
-                self.record_batch(cmd, scene, target, method, set, &passes, Some(&mut clusters))?;
+                let draws = plan.pass(k);
+                for (b, set) in scene.sets.iter().enumerate() {
+                    let mut clusters = draws
+                        .iter()
+                        .filter(|(batch, _)| *batch as usize == b)
+                        .map(|&(_, c)| c)
+                        .peekable();
+                    if clusters.peek().is_none() {
+                        continue;
+                    }
+                    let staged = (&passes, stage);
+                    self.record_batch(cmd, scene, target, method, set, staged, Some(&mut clusters))?;
+                }
+            }
+            if k > 0 {
+                restart(cmd, DrawStage::Normal)?;
             }
         }
         Ok(())
@@ -734,11 +806,20 @@ impl RayCastPass {
         target: &FrameTarget,
         method: Method,
         set: &GlyphSetGpu,
-        passes: &Passes,
+        (passes, stage): (&Passes, DrawStage),
         clusters: Option<&mut dyn Iterator<Item = u32>>,
     ) -> Result<()> {
         let variant = batch_variant(set.layout, set.shape, method)?;
-        let pipeline = self.prepared(variant, scene.shadows && !scene.deferred)?;
+        let pipeline = match stage {
+            DrawStage::Normal => self.prepared(variant, scene.shadows && !scene.deferred)?,
+            _ => self
+                .stage_pipelines
+                .get(&(pipeline_key(variant, false), stage))
+                .ok_or(Error::Call {
+                    call: "RayCastPass::record_passes",
+                    expected: "the stage pipelines of a culled scene (prepare_stage_pipelines)",
+                })?,
+        };
         // A plane or ratio glyph set has no negative lobes: the word says which root
         // it draws.
         let hide = match set.shape {
@@ -859,6 +940,7 @@ pub(crate) fn glyph_pipeline(
     input: InstanceInput,
     raster: RasterTarget,
     darken: Option<vk::CompareOp>,
+    stage: DrawStage,
 ) -> Result<Pipeline> {
     let bindings = [
         vk::VertexInputBindingDescription {
@@ -898,6 +980,7 @@ pub(crate) fn glyph_pipeline(
         layout,
         raster,
         darken,
+        stage,
     };
     // SAFETY: the callers' stages hold live modules of build.rs's SPIR-V for `layout`.
     unsafe { graphics_pipeline(ctx, &desc) }

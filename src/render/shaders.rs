@@ -269,6 +269,29 @@ pub(crate) fn for_depth(spirv: &[u32], depth: DepthConvention) -> Vec<u32> {
     words
 }
 
+/// SPIR-V's EarlyFragmentTests execution mode.
+const EARLY_FRAGMENT_TESTS: u32 = 9;
+
+/// A ray-casting fragment shader's SPIR-V with the depth test before it runs (the
+/// EarlyFragmentTests mode in place of the DepthLess promise, one word): the early stages
+/// of the glyphs' later passes (render::visibility), whose fragments behind the depth
+/// attachment never run. Their pipelines do not write depth.
+pub(crate) fn with_early_tests(spirv: &[u32]) -> Vec<u32> {
+    let mut words = spirv.to_vec();
+    let mut at = 5;
+    while at < words.len() {
+        let (count, opcode) = ((words[at] >> 16) as usize, words[at] & 0xffff);
+        if count == 0 {
+            break;
+        }
+        if opcode == OP_EXECUTION_MODE && count == 3 && words[at + 2] == DEPTH_LESS {
+            words[at + 2] = EARLY_FRAGMENT_TESTS;
+        }
+        at += count;
+    }
+    words
+}
+
 #[cfg(test)]
 mod depth_tests {
     use super::*;

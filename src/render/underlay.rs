@@ -520,6 +520,7 @@ fn create_pipeline(
         layout,
         raster: RasterTarget::default(),
         darken: None,
+        stage: crate::vk::DrawStage::Normal,
     };
     // SAFETY: the modules are alive until the call returns; their SPIR-V declares the
     // blocks of `layout` (render::interface checks them).

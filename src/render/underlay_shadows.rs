@@ -106,6 +106,7 @@ impl UnderlayShadowPass {
                 layout: self.layout.handle(),
                 raster: RasterTarget::default(),
                 darken: Some(vk::CompareOp::EQUAL),
+                stage: crate::vk::DrawStage::Normal,
             };
             // SAFETY: the modules are alive until the call returns; their SPIR-V declares
             // the blocks of the layout (render::interface checks them).

@@ -38,7 +38,7 @@ pub const MAX_PASSES: usize = 32;
 
 /// A pass takes clusters until their glyphs' projected bounding discs cover this many
 /// times the screen area of the whole scene.
-const PASS_COVER: f64 = 0.5;
+const PASS_COVER: f64 = 3.0;
 
 /// Bytes before the known depths in their buffer (glsl/raycast_common.glsl `KnownDepth`:
 /// the row length, then three unused words).
@@ -47,10 +47,9 @@ pub(crate) const KNOWN_DEPTH_HEADER: u64 = 16;
 /// The work counters of one frame (`WORK_*` of glsl/codes.glsl).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct WorkCounts {
-    /// Fragment shader invocations of the glyphs' boxes.
+    /// Fragment shader invocations of the glyphs' boxes (the later passes' fragments
+    /// behind the depth of the earlier ones never run, and are not counted).
     pub fragments: u64,
-    /// Fragments that ended at once, behind the depth of an earlier pass.
-    pub occluded: u64,
     /// Glyph evaluations: the exact method's root isolations, the other methods' rays
     /// marched through a glyph.
     pub evaluations: u64,
@@ -234,13 +233,24 @@ pub(crate) fn plan<'a>(
 
 /// The bindings of the ray-casting pass's visibility set (set 1): the work counters and
 /// the known depths (glsl/raycast_common.glsl).
-pub(crate) fn visibility_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; 2] {
+pub(crate) fn visibility_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; 3] {
     let storage = vk::DescriptorType::STORAGE_BUFFER;
     let fragment = vk::ShaderStageFlags::FRAGMENT;
     [
         buffer_binding(0, storage, fragment),
         buffer_binding(1, storage, fragment),
+        buffer_binding(2, storage, fragment),
     ]
+}
+
+/// Whether frames drawn with `settings` on this device can be culled: a ray-casting
+/// method with a box per glyph (not the impostor, whose shader does not take part), on
+/// the fragment path, and a device that blends the float32 ray distance (the first stage
+/// of the later passes keeps the smaller one).
+pub(crate) fn can_cull(ctx: &DeviceContext, settings: &crate::render::RenderSettings) -> bool {
+    use crate::render::{Method, RenderPath};
+    let method = !matches!(settings.method, Method::Impostor | Method::Mesh(_));
+    method && settings.path == RenderPath::Fragment && ctx.blends_float32()
 }
 
 /// What the passes of one target share: its work counters and the buffer its depth is
@@ -248,6 +258,8 @@ pub(crate) fn visibility_bindings() -> [vk::DescriptorSetLayoutBinding<'static>;
 pub struct VisibilityBuffers {
     pub(crate) counters: Buffer,
     pub(crate) known: Buffer,
+    /// The nearest ray distance of a pass's glyphs, per pixel (its first stage's).
+    pub(crate) nearest: Buffer,
     /// The row length of the known depths, pixels.
     pub(crate) width: u32,
     _pool: DescriptorPool,
@@ -263,7 +275,9 @@ impl VisibilityBuffers {
         width: u32,
         height: u32,
     ) -> Result<VisibilityBuffers> {
-        let storage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST;
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_DST
+            | vk::BufferUsageFlags::TRANSFER_SRC;
         let counters = Buffer::new(ctx, "work counters", 16, storage, MemoryLocation::GpuToCpu)?;
         let pixels = u64::from(width) * u64::from(height);
         let known = Buffer::new(
@@ -273,17 +287,26 @@ impl VisibilityBuffers {
             storage,
             MemoryLocation::GpuOnly,
         )?;
-        let pool = DescriptorPool::new(ctx, 1, 0, 2)?;
+        let nearest = Buffer::new(
+            ctx,
+            "nearest distance",
+            4 * pixels,
+            storage,
+            MemoryLocation::GpuOnly,
+        )?;
+        let pool = DescriptorPool::new(ctx, 1, 0, 3)?;
         let set = pool.buffer_set(
             layout,
             &[
                 BufferBinding::storage(0, &counters),
                 BufferBinding::storage(1, &known),
+                BufferBinding::storage(2, &nearest),
             ],
         )?;
         Ok(VisibilityBuffers {
             counters,
             known,
+            nearest,
             width,
             _pool: pool,
             set,
@@ -299,17 +322,20 @@ impl VisibilityBuffers {
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let counters = Buffer::with_data(ctx, "work counters", &[0u32; 4], storage)?;
         let known = Buffer::with_data(ctx, "known depth", &[0u32; 8], storage)?;
-        let pool = DescriptorPool::new(ctx, 1, 0, 2)?;
+        let nearest = Buffer::with_data(ctx, "nearest distance", &[0u32; 4], storage)?;
+        let pool = DescriptorPool::new(ctx, 1, 0, 3)?;
         let set = pool.buffer_set(
             layout,
             &[
                 BufferBinding::storage(0, &counters),
                 BufferBinding::storage(1, &known),
+                BufferBinding::storage(2, &nearest),
             ],
         )?;
         Ok(VisibilityBuffers {
             counters,
             known,
+            nearest,
             width: 1,
             _pool: pool,
             set,
@@ -326,7 +352,6 @@ impl VisibilityBuffers {
         };
         Ok(WorkCounts {
             fragments: word(crate::catalog::codes::WORK_FRAGMENTS as usize),
-            occluded: word(crate::catalog::codes::WORK_OCCLUDED as usize),
             evaluations: word(crate::catalog::codes::WORK_EVALUATIONS as usize),
             passes: passes as u64,
         })

@@ -118,6 +118,8 @@ pub struct DeviceContext {
     max_varying_components: u32,
     max_image_dimension_2d: u32,
     timestamp_period_ns: f32,
+    /// Whether an R32_SFLOAT colour attachment blends (optimal tiling).
+    blends_float32: bool,
 }
 
 impl DeviceContext {
@@ -205,7 +207,15 @@ impl DeviceContext {
     ) -> DeviceContext {
         // SAFETY: the physical device belongs to the instance (the callers' promise).
         let limits = unsafe { instance.get_physical_device_properties(physical_device) }.limits;
+        // SAFETY: as above.
+        let float32 = unsafe {
+            instance.get_physical_device_format_properties(physical_device, vk::Format::R32_SFLOAT)
+        };
+        let blends_float32 = float32
+            .optimal_tiling_features
+            .contains(vk::FormatFeatureFlags::COLOR_ATTACHMENT_BLEND);
         DeviceContext {
+            blends_float32,
             owner: Arc::new(owner),
             max_storage_buffer_range: limits.max_storage_buffer_range as u64,
             max_varying_components: limits
@@ -243,6 +253,12 @@ impl DeviceContext {
     /// hand each glyph's coefficients over as flat inputs, 108 components at order 12.
     pub fn max_varying_components(&self) -> u32 {
         self.max_varying_components
+    }
+
+    /// Whether the device blends a float32 colour attachment (R32_SFLOAT), which
+    /// culling hidden glyphs needs (render::visibility).
+    pub fn blends_float32(&self) -> bool {
+        self.blends_float32
     }
 
     /// The device's maxImageDimension2D: the largest side of an image it draws.

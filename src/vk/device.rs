@@ -103,11 +103,13 @@ fn supports_required_features(instance: &ash::Instance, pd: vk::PhysicalDevice) 
     let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut v13);
     // SAFETY: `pd` was enumerated from a Vulkan 1.3 instance.
     unsafe { instance.get_physical_device_features2(pd, &mut features) };
+    let stores = features.features.fragment_stores_and_atomics == vk::TRUE;
     // SAFETY: as above.
     let api = unsafe { instance.get_physical_device_properties(pd) }.api_version;
     api >= vk::API_VERSION_1_3
         && v13.dynamic_rendering == vk::TRUE
         && v13.synchronization2 == vk::TRUE
+        && stores
 }
 
 /// Chooses a device: the one named by `wanted` (a case-insensitive part of its name, or
@@ -136,7 +138,9 @@ pub(crate) fn choose_with_extensions(
             && has_extensions(instance, pd, extensions);
         candidates.push((index, pd, info, usable));
     }
-    let needs = std::iter::once("Vulkan 1.3 dynamic rendering and synchronization2".to_owned())
+    let needs = std::iter::once(
+        "Vulkan 1.3 dynamic rendering, synchronization2 and fragmentStoresAndAtomics".to_owned(),
+    )
         .chain(extensions.iter().map(|e| e.to_string_lossy().into_owned()))
         .collect::<Vec<_>>()
         .join(", ");
@@ -203,7 +207,12 @@ pub(crate) fn create(
         .dynamic_rendering(true)
         .synchronization2(true)
         .maintenance4(true);
-    let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut v13);
+    // The ray-casting fragment shaders write storage buffers: the work counters and the
+    // known depths of culled frames (render::visibility).
+    let core = vk::PhysicalDeviceFeatures::default().fragment_stores_and_atomics(true);
+    let mut features = vk::PhysicalDeviceFeatures2::default()
+        .features(core)
+        .push_next(&mut v13);
     let extension_names: Vec<_> = extensions.iter().map(|e| e.as_ptr()).collect();
     let info = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queues)

@@ -42,7 +42,7 @@ pub use memory::{
     memory_type_index,
 };
 pub use pipeline::{
-    GraphicsPipelineDesc, Pipeline, PipelineLayout, Pipelines, RasterTarget, ShaderModule,
+    DrawStage, GraphicsPipelineDesc, Pipeline, PipelineLayout, Pipelines, RasterTarget, ShaderModule,
     buffer_binding, compute_pipeline, graphics_pipeline, vertex_fragment_stages,
 };
 #[cfg(feature = "window")]

@@ -327,6 +327,22 @@ pub struct GraphicsPipelineDesc<'a> {
     /// there and the output, the other attachments not written. `EQUAL` redraws the
     /// same triangles.
     pub darken: Option<vk::CompareOp>,
+    /// Which stage of the glyphs' later passes it draws (render::visibility); depth is
+    /// tested but not written in both early stages.
+    pub stage: DrawStage,
+}
+
+/// The stages of the glyphs' passes after the first (render::visibility).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum DrawStage {
+    /// Every other draw: depth tested and written, colours written whole.
+    Normal,
+    /// The nearest hit of the pass: every attachment blended to the smaller value (the
+    /// ray distance at attachment 1; attachment 0 is a scratch image).
+    Nearest,
+    /// The hits that the pixels show: colours written whole, depth not written (the
+    /// shader writes it into the known depths).
+    Shade,
 }
 
 /// The vertex and fragment stages of a graphics pipeline, both entering at `main`; the
@@ -382,12 +398,27 @@ pub unsafe fn graphics_pipeline(
     }
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(true)
-        .depth_write_enable(desc.darken.is_none())
+        .depth_write_enable(desc.darken.is_none() && desc.stage == DrawStage::Normal)
         .depth_compare_op(desc.darken.unwrap_or(desc.raster.depth_compare));
     let blend_attachments: Vec<_> = (0..desc.color_formats.len())
         .map(|k| {
             let opaque = vk::PipelineColorBlendAttachmentState::default()
                 .color_write_mask(vk::ColorComponentFlags::RGBA);
+            let min = |state: vk::PipelineColorBlendAttachmentState| {
+                state
+                    .blend_enable(true)
+                    .color_blend_op(vk::BlendOp::MIN)
+                    .alpha_blend_op(vk::BlendOp::MIN)
+                    .src_color_blend_factor(vk::BlendFactor::ONE)
+                    .dst_color_blend_factor(vk::BlendFactor::ONE)
+                    .src_alpha_blend_factor(vk::BlendFactor::ONE)
+                    .dst_alpha_blend_factor(vk::BlendFactor::ONE)
+            };
+            // Every attachment alike (a device without independentBlend takes no other):
+            // the stage's colour output goes to a scratch image.
+            if desc.stage == DrawStage::Nearest {
+                return min(opaque);
+            }
             match (desc.darken.is_some(), k) {
                 (false, _) => opaque,
                 // MIN ignores the blend factors.
