@@ -234,8 +234,37 @@ pub fn frame_volume(
     orientation: Orientation,
     request: ImageRequest,
 ) -> Result<Framing> {
-    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-    for corner in 0..8 {
+    frame_oblique(ranges, map, orientation, request, Fit::Sphere)
+}
+
+/// Frames the voxel box `ranges` for a block view: the camera of [`frame_volume`]'s
+/// direction, at the distance where the box's eight corners (the outer faces of its
+/// voxels) fall inside the view, so that the block is framed whole and as large as
+/// that allows. Without a requested size the image takes the box's aspect seen from
+/// afar, its longer side 1024 pixels.
+pub fn frame_block(
+    ranges: &[std::ops::Range<usize>; 3],
+    map: &VoxelToWorld,
+    orientation: Orientation,
+    request: ImageRequest,
+) -> Result<Framing> {
+    frame_oblique(ranges, map, orientation, request, Fit::Corners)
+}
+
+/// What an oblique view of a voxel box keeps inside its field of view.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Fit {
+    /// The box's bounding sphere: the box stays in view from every direction (the
+    /// viewer's orbit around three slices).
+    Sphere,
+    /// The box's corners, seen from the framing direction.
+    Corners,
+}
+
+/// The world positions of the eight corners of the voxel box `ranges` (voxel centres
+/// +- half a voxel).
+fn box_corners(ranges: &[std::ops::Range<usize>; 3], map: &VoxelToWorld) -> [DVec3; 8] {
+    std::array::from_fn(|corner| {
         let voxel = DVec3::from_array(std::array::from_fn(|axis| {
             let range = &ranges[axis];
             let end = if corner & (1 << axis) == 0 {
@@ -245,23 +274,67 @@ pub fn frame_volume(
             };
             end as f64 - 0.5
         }));
-        let p = map.voxel_center(voxel);
+        map.voxel_center(voxel)
+    })
+}
+
+/// The perspective camera that looks at the centre of the voxel box `ranges` from
+/// `oblique_from`, at the distance where `fit` is in view.
+fn frame_oblique(
+    ranges: &[std::ops::Range<usize>; 3],
+    map: &VoxelToWorld,
+    orientation: Orientation,
+    request: ImageRequest,
+    fit: Fit,
+) -> Result<Framing> {
+    let corners = box_corners(ranges, map);
+    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    for p in corners {
         lo = lo.min(p);
         hi = hi.max(p);
     }
-    let image = image_size(1.0, 1.0, request)?;
-    let aspect = f64::from(image.width) / f64::from(image.height);
     let target = 0.5 * (lo + hi);
+    let from = oblique_from(orientation).normalize();
+    let up = (DVec3::Z - from * from.z).normalize();
+    let right = up.cross(from);
+    // The sphere's view is square; the corners' has the aspect of the box seen from
+    // afar (a missing side follows it).
+    let (across, high) = match fit {
+        Fit::Sphere => (1.0, 1.0),
+        Fit::Corners => corners.iter().fold((0.0f64, 0.0f64), |(x, y), &p| {
+            let offset = p - target;
+            (x.max(offset.dot(right).abs()), y.max(offset.dot(up).abs()))
+        }),
+    };
+    let image = image_size(across, high, request)?;
+    let aspect = f64::from(image.width) / f64::from(image.height);
     let radius = (0.5 * (hi - lo).length()).max(f64::MIN_POSITIVE);
     let half_fov = (0.5 * PERSPECTIVE_FOV_DEG).to_radians();
-    // The narrower of the two fields of view must hold the sphere.
     let (free_w, free_h) = free_shares(image, request.keep_edges);
-    let half = (half_fov.tan() * free_h)
-        .min(half_fov.tan() * aspect * free_w)
-        .atan();
-    let from = oblique_from(orientation).normalize();
-    let eye = target + from * (radius / half.sin());
-    let up = (DVec3::Z - from * from.z).normalize();
+    let distance = match fit {
+        Fit::Sphere => {
+            // The narrower of the two fields of view must hold the sphere.
+            let half = (half_fov.tan() * free_h)
+                .min(half_fov.tan() * aspect * free_w)
+                .atan();
+            radius / half.sin()
+        }
+        Fit::Corners => {
+            // A corner at (x, y) across the view and z towards the camera from the
+            // target is in view from distance d when |x| <= tan_x (d - z) and
+            // |y| <= tan_y (d - z).
+            let (tan_x, tan_y) = (half_fov.tan() * aspect * free_w, half_fov.tan() * free_h);
+            corners
+                .iter()
+                .map(|&p| {
+                    let offset = p - target;
+                    let (x, y, z) = (offset.dot(right), offset.dot(up), offset.dot(from));
+                    z + (x.abs() / tan_x).max(y.abs() / tan_y)
+                })
+                .fold(f64::MIN_POSITIVE, f64::max)
+        }
+    };
+    let eye = target + from * distance;
     Ok(Framing {
         camera: Camera {
             projection: Projection::Perspective {
@@ -308,6 +381,44 @@ fn image_size(width: f64, height: f64, request: ImageRequest) -> Result<ImageSiz
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A block's corners all project into the image, the outermost onto its edge, for a
+    /// flat box on a rotated, anisotropic grid; the sphere's framing is farther.
+    #[test]
+    fn a_block_is_framed_by_its_corners() {
+        let linear = glam::DMat3::from_axis_angle(DVec3::new(1.0, 2.0, 0.5).normalize(), 0.4)
+            * glam::DMat3::from_diagonal(DVec3::new(2.0, 2.0, 2.5));
+        let affine = glam::DMat4::from_mat3_translation(linear, DVec3::new(-9.0, 4.0, 1.0));
+        let map = VoxelToWorld::new(affine, crate::io::nifti::AffineSource::Sform, "v", "affine")
+            .expect("an affine");
+        let ranges = [2..12, 0..10, 3..9];
+        for (width, height) in [(None, None), (Some(300), Some(200)), (Some(120), Some(400))] {
+            let request = ImageRequest {
+                width,
+                height,
+                ..Default::default()
+            };
+            let block = frame_block(&ranges, &map, Orientation::Radiological, request).unwrap();
+            let (w, h) = (block.image.width, block.image.height);
+            let clip = block.camera.view_projection(w, h, 1e-3, 1e3);
+            let mut outermost = 0.0f64;
+            for p in box_corners(&ranges, &map) {
+                let ndc = clip.project_point3(p);
+                assert!(
+                    ndc.x.abs() <= 1.0 + 1e-9 && ndc.y.abs() <= 1.0 + 1e-9,
+                    "{ndc}"
+                );
+                outermost = outermost.max(ndc.x.abs()).max(ndc.y.abs());
+            }
+            assert!(outermost > 1.0 - 1e-9, "{outermost}: not framed tightly");
+            let sphere = frame_volume(&ranges, &map, Orientation::Radiological, request).unwrap();
+            assert_eq!(sphere.camera.target, block.camera.target);
+            let direction = |c: &Camera| (c.eye - c.target).normalize();
+            assert!((direction(&sphere.camera) - direction(&block.camera)).length() < 1e-12);
+            let distance = |c: &Camera| (c.eye - c.target).length();
+            assert!(distance(&block.camera) < distance(&sphere.camera));
+        }
+    }
 
     #[test]
     fn image_follows_the_aspect_unless_both_sides_are_given() {
