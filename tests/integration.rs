@@ -54,4 +54,5 @@ mod underlay;
 mod viewer;
 mod viewer_figures;
 mod volume;
+mod volume_block;
 mod volume_notes;
