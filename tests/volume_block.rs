@@ -299,3 +299,77 @@ fn what_a_block_does_not_take_is_refused_and_nothing_is_written() {
     let left: Vec<_> = std::fs::read_dir(&out).expect("listing").collect();
     assert!(left.is_empty(), "output left behind: {left:?}");
 }
+
+/// `view --block` in a real window: the block orbits (the camera turns about its centre at
+/// the same distance), a slice move is declined with a note, the validation layer stays
+/// quiet, and the screenshot is what `render` draws of the scene the viewer saved.
+#[test]
+fn the_viewer_orbits_a_block() {
+    use crate::common::window::{Xvfb, assert_clean, differing_pixels, out, path_str, render};
+    let Some(x) = Xvfb::start("the_viewer_orbits_a_block") else {
+        return;
+    };
+    let coef = crate::common::dipy_data("func_coef.nii.gz");
+    let sh = [
+        "--sh",
+        text(&coef),
+        "--basis",
+        "tournier07",
+        "--legacy",
+        "--block",
+    ];
+    let size = ["--width", "160", "--height", "120"];
+    let (shot, seen, home) = (
+        out("block-shot.png"),
+        out("block-seen.json"),
+        out("block-home.json"),
+    );
+    let mut args: Vec<&str> = sh.to_vec();
+    args.extend(size);
+    args.extend([
+        "--frames",
+        "6",
+        "--script",
+        "slice:+1,orbit:40:15,wait",
+        "--screenshot",
+        path_str(&shot),
+        "--save-scene",
+        path_str(&seen),
+    ]);
+    let output = x.view(&args);
+    assert_clean(&output);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("a block has no slice to move"), "{stderr}");
+
+    // The block as `render --block` frames it: the viewer's home camera.
+    let mut args = vec!["render"];
+    args.extend(sh);
+    args.extend(size);
+    let home_png = out("block-home.png");
+    args.extend(["-o", path_str(&home_png), "--save-scene", path_str(&home)]);
+    let run = glyphcast(&args);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let (seen_scene, home_scene) = (
+        Scene::load(&seen).expect("the viewer's scene"),
+        Scene::load(&home).expect("the rendered scene"),
+    );
+    // Every voxel of the 2 x 3 x 4 volume, one glyph set, as render draws it.
+    assert_eq!(seen_scene.glyph_sets, home_scene.glyph_sets);
+    assert_eq!(seen_scene.glyph_sets.len(), 1);
+    assert_eq!(seen_scene.glyph_sets[0].len(), 24);
+    let (a, b) = (&seen_scene.camera, &home_scene.camera);
+    assert!(
+        (a.target - b.target).length() < 1e-9,
+        "the orbit keeps the target"
+    );
+    let (da, db) = ((a.eye - a.target).length(), (b.eye - b.target).length());
+    assert!((da - db).abs() < 1e-6 * db, "the orbit keeps the distance");
+    assert!((a.eye - b.eye).length() > 0.1 * db, "the camera orbited");
+    // The screenshot is render's picture of the viewer's scene, exactly.
+    let expected = render(&seen, "block-seen.png", &size);
+    assert_eq!(differing_pixels(&shot, &expected, 0).0, 0);
+}
