@@ -71,9 +71,9 @@ pub struct VolumeOptions {
     /// camera from anterior-superior-left whatever `projection` says.
     pub slices: Option<Slices>,
     /// Every voxel of `voxels` (the whole volume without ranges) instead of `slice`, in
-    /// 3D: one glyph set, framed as `slices` are, by a perspective camera from
-    /// anterior-superior-left (radiological) or posterior-superior-left (neurological)
-    /// whatever `projection` says; at most [`MAX_BLOCK_GLYPHS`] glyphs.
+    /// 3D: one glyph set, seen by a perspective camera from the corner `slices` are seen
+    /// from whatever `projection` says, at the distance where the block's corners are in
+    /// view ([`frame_block`](super::frame_block)); at most [`MAX_BLOCK_GLYPHS`] glyphs.
     pub block: bool,
     /// Index ranges the drawn voxels must lie in (`--voxels`).
     pub voxels: VoxelRanges,
