@@ -25,7 +25,7 @@ fn matrix_of(map: &VoxelToWorld) -> DMat4 {
 
 /// Whether the test mask keeps voxel (i, j, k): four voxels of every five.
 fn kept(voxel: [usize; 3]) -> bool {
-    (voxel[0] + 2 * voxel[1] + 3 * voxel[2]) % 5 != 0
+    !(voxel[0] + 2 * voxel[1] + 3 * voxel[2]).is_multiple_of(5)
 }
 
 /// A 10 x 10 x 10 mask on `map`'s grid that keeps what [`kept`] keeps.
@@ -84,7 +84,9 @@ fn a_block_of_a_real_volume_draws_every_voxel_of_its_range() {
     let mask = dir.join("mask.nii.gz");
     write_mask(&mask, &map);
     let (width, height) = (320u32, 256u32);
-    let cases: [(&str, &Path, &[&str], [std::ops::Range<usize>; 3]); 2] = [
+    // Each case: its name, the volume, the input flags and the block.
+    type Case<'a> = (&'a str, &'a Path, &'a [&'a str], [std::ops::Range<usize>; 3]);
+    let cases: [Case; 2] = [
         (
             "fod",
             &fod,
