@@ -85,7 +85,12 @@ fn a_block_of_a_real_volume_draws_every_voxel_of_its_range() {
     write_mask(&mask, &map);
     let (width, height) = (320u32, 256u32);
     // Each case: its name, the volume, the input flags and the block.
-    type Case<'a> = (&'a str, &'a Path, &'a [&'a str], [std::ops::Range<usize>; 3]);
+    type Case<'a> = (
+        &'a str,
+        &'a Path,
+        &'a [&'a str],
+        [std::ops::Range<usize>; 3],
+    );
     let cases: [Case; 2] = [
         (
             "fod",
@@ -374,4 +379,72 @@ fn the_viewer_orbits_a_block() {
     // The screenshot is render's picture of the viewer's scene, exactly.
     let expected = render(&seen, "block-seen.png", &size);
     assert_eq!(differing_pixels(&shot, &expected, 0).0, 0);
+}
+
+/// `--peaks` with a block draws the peaks of every voxel of the block (counted here from
+/// the peak image: a peak is a finite, non-zero triplet), with the glyphs or alone.
+#[test]
+fn a_block_draws_the_peaks_of_every_voxel() {
+    let dir = fresh_dir("block-peaks");
+    let coef = crate::common::dipy_data("func_coef.nii.gz");
+    let peaks = dir.join("peaks.nii.gz");
+    let run = glyphcast(&[
+        "peaks",
+        text(&coef),
+        "--basis",
+        "tournier07",
+        "--legacy",
+        "-o",
+        text(&peaks),
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let image = read_nifti(&peaks).expect("the peak image");
+    let block = [0..2, 1..3, 1..4];
+    let mut expected = 0;
+    for k in block[2].clone() {
+        for j in block[1].clone() {
+            for i in block[0].clone() {
+                let values: Vec<f64> = (0..image.data.shape()[3])
+                    .map(|c| image.data[[i, j, k, c]])
+                    .collect();
+                expected += values
+                    .chunks(3)
+                    .filter(|p| p.iter().all(|v| v.is_finite()) && p.iter().any(|v| *v != 0.0))
+                    .count();
+            }
+        }
+    }
+    assert!(
+        expected > 12,
+        "func_coef's crossings give several peaks a voxel"
+    );
+    let png = dir.join("peaks.png");
+    let glyphs = ["--sh", text(&coef), "--basis", "tournier07", "--legacy"];
+    for with_glyphs in [true, false] {
+        let mut args = vec!["render", "--block", "--voxels", "0:2,1:3,1:4", "--peaks"];
+        args.push(text(&peaks));
+        if with_glyphs {
+            args.extend(glyphs);
+        }
+        args.extend(["--width", "96", "-o", text(&png)]);
+        let run = glyphcast(&args);
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert!(run.status.success(), "{stderr}");
+        let line = format!("peaks: {}: {expected} peaks drawn", coef.display());
+        let line = if with_glyphs {
+            line
+        } else {
+            format!("peaks: {}: {expected} peaks drawn", peaks.display())
+        };
+        assert!(stderr.contains(&line), "no '{line}' in:\n{stderr}");
+        assert_eq!(
+            stderr.contains("12 glyphs from 12 voxels"),
+            with_glyphs,
+            "{stderr}"
+        );
+    }
 }
