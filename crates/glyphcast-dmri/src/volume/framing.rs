@@ -238,9 +238,9 @@ pub fn frame_volume(
 }
 
 /// Frames the voxel box `ranges` for a block view: the camera of [`frame_volume`]'s
-/// direction, at the distance where the box's eight corners (the outer faces of its
-/// voxels) fall inside the view, so that the block is framed whole and as large as
-/// that allows. Without a requested size the image takes the box's aspect seen from
+/// direction, moved sideways and to the nearest distance where the box's eight corners
+/// (the outer faces of its voxels) fall inside the view, so that the block is framed
+/// whole, centred and as large as that allows. Without a requested size the image takes the box's aspect seen from
 /// afar, its longer side 1024 pixels.
 pub fn frame_block(
     ranges: &[std::ops::Range<usize>; 3],
@@ -311,27 +311,29 @@ fn frame_oblique(
     let radius = (0.5 * (hi - lo).length()).max(f64::MIN_POSITIVE);
     let half_fov = (0.5 * PERSPECTIVE_FOV_DEG).to_radians();
     let (free_w, free_h) = free_shares(image, request.keep_edges);
-    let distance = match fit {
+    let (target, distance) = match fit {
         Fit::Sphere => {
             // The narrower of the two fields of view must hold the sphere.
             let half = (half_fov.tan() * free_h)
                 .min(half_fov.tan() * aspect * free_w)
                 .atan();
-            radius / half.sin()
+            (target, radius / half.sin())
         }
         Fit::Corners => {
-            // A corner at (x, y) across the view and z towards the camera from the
-            // target is in view from distance d when |x| <= tan_x (d - z) and
-            // |y| <= tan_y (d - z).
             let (tan_x, tan_y) = (half_fov.tan() * aspect * free_w, half_fov.tan() * free_h);
-            corners
+            let seen: Vec<(f64, f64, f64)> = corners
                 .iter()
                 .map(|&p| {
                     let offset = p - target;
-                    let (x, y, z) = (offset.dot(right), offset.dot(up), offset.dot(from));
-                    z + (x.abs() / tan_x).max(y.abs() / tan_y)
+                    (offset.dot(right), offset.dot(up), offset.dot(from))
                 })
-                .fold(f64::MIN_POSITIVE, f64::max)
+                .collect();
+            let x: Vec<(f64, f64)> = seen.iter().map(|&(x, _, z)| (x, z)).collect();
+            let y: Vec<(f64, f64)> = seen.iter().map(|&(_, y, z)| (y, z)).collect();
+            let distance = nearest_fit(&x, tan_x).max(nearest_fit(&y, tan_y));
+            let shift = right * centred_shift(&x, tan_x, distance)
+                + up * centred_shift(&y, tan_y, distance);
+            (target + shift, distance)
         }
     };
     let eye = target + from * distance;
@@ -346,6 +348,56 @@ fn frame_oblique(
         },
         image,
     })
+}
+
+/// Corners seen along one image axis: each its offset `u` across the view and `z` towards
+/// the camera, from the box's centre. A camera moved sideways by `s` at distance `d` has
+/// corner (u, z) in view when |u - s| <= tan (d - z): some `s` holds every corner when
+/// u_i - u_j <= tan (2 d - z_i - z_j) for each pair, so the nearest distance is the
+/// largest ((u_i - u_j) / tan + z_i + z_j) / 2.
+fn nearest_fit(corners: &[(f64, f64)], tan: f64) -> f64 {
+    corners
+        .iter()
+        .flat_map(|&(ui, zi)| {
+            corners
+                .iter()
+                .map(move |&(uj, zj)| 0.5 * ((ui - uj) / tan + zi + zj))
+        })
+        .fold(f64::MIN_POSITIVE, f64::max)
+}
+
+/// The sideways shift that centres the images of `corners` (as in [`nearest_fit`]) in
+/// the view from `distance`: among the shifts that hold every corner, the one where the
+/// outermost images on either side are equally far from the middle (found by bisection:
+/// moving the camera one way moves every image the other way).
+fn centred_shift(corners: &[(f64, f64)], tan: f64, distance: f64) -> f64 {
+    let mut lowest = corners
+        .iter()
+        .map(|&(u, z)| u - tan * (distance - z))
+        .fold(f64::NEG_INFINITY, f64::max);
+    let mut highest = corners
+        .iter()
+        .map(|&(u, z)| u + tan * (distance - z))
+        .fold(f64::INFINITY, f64::min);
+    // Where the images lie from shift s, in -1..1 across the view.
+    let imbalance = |s: f64| {
+        let (lo, hi) = corners
+            .iter()
+            .map(|&(u, z)| (u - s) / (tan * (distance - z)))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(v), hi.max(v))
+            });
+        lo + hi
+    };
+    for _ in 0..64 {
+        let middle = 0.5 * (lowest + highest);
+        if imbalance(middle) > 0.0 {
+            lowest = middle;
+        } else {
+            highest = middle;
+        }
+    }
+    0.5 * (lowest + highest)
 }
 
 /// The image size for a view `width` x `height` world units wide and high.
@@ -401,18 +453,22 @@ mod tests {
             let block = frame_block(&ranges, &map, Orientation::Radiological, request).unwrap();
             let (w, h) = (block.image.width, block.image.height);
             let clip = block.camera.view_projection(w, h, 1e-3, 1e3);
-            let mut outermost = 0.0f64;
+            let (mut lo, mut hi) = (glam::DVec2::INFINITY, glam::DVec2::NEG_INFINITY);
             for p in box_corners(&ranges, &map) {
-                let ndc = clip.project_point3(p);
+                let ndc = clip.project_point3(p).truncate();
                 assert!(
                     ndc.x.abs() <= 1.0 + 1e-9 && ndc.y.abs() <= 1.0 + 1e-9,
                     "{ndc}"
                 );
-                outermost = outermost.max(ndc.x.abs()).max(ndc.y.abs());
+                (lo, hi) = (lo.min(ndc), hi.max(ndc));
             }
-            assert!(outermost > 1.0 - 1e-9, "{outermost}: not framed tightly");
+            // Centred along both axes, and touching both edges along one of them.
+            assert!((lo + hi).abs().max_element() < 1e-9, "{lo} {hi}");
+            assert!(
+                hi.max_element() > 1.0 - 1e-9,
+                "{lo} {hi}: not framed tightly"
+            );
             let sphere = frame_volume(&ranges, &map, Orientation::Radiological, request).unwrap();
-            assert_eq!(sphere.camera.target, block.camera.target);
             let direction = |c: &Camera| (c.eye - c.target).normalize();
             assert!((direction(&sphere.camera) - direction(&block.camera)).length() < 1e-12);
             let distance = |c: &Camera| (c.eye - c.target).length();
