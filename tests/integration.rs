@@ -55,4 +55,5 @@ mod viewer;
 mod viewer_figures;
 mod visibility;
 mod volume;
+mod volume_block;
 mod volume_notes;

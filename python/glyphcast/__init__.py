@@ -16,7 +16,10 @@ The keyword options are those of ``glyphcast render``, with ``-`` as ``_``
 - the image: ``labels`` (anatomical directions at the edges), ``colorbar`` (with
   ``color="magnitude"``: the colour bar on the right) and ``colorbar_label``;
 - volumes (``render_sh``, ``render_tensor``): ``slice`` ("AXIS[:INDEX]", or an int:
-  that axial index), ``slices``, ``voxels``, ``mask`` (an (X, Y, Z) array or a path),
+  that axial index), ``slices``, ``voxels``, ``block`` (``True``: every voxel of
+  ``voxels``, the whole volume without it, in 3D and in perspective, at most 100000
+  glyphs; not with ``slice``, ``slices``, ``views``, ``lightbox`` or ``underlay``),
+  ``mask`` (an (X, Y, Z) array or a path),
   ``scale``, ``norm`` ("robust", the default, "global", "per-glyph", "none"; or
   FURY's ``True`` for "per-glyph", ``False`` for "none"), ``min_amplitude``, ``lmax``
   (or DIPY's ``sh_order_max``), ``frame``, ``perspective``, ``orientation``,
@@ -211,7 +214,8 @@ class Renderer:
         default, descoteaux07 legacy) or dipy-new (descoteaux07, ``legacy=False``), in any
         case; ``slice`` is
         "AXIS[:INDEX]" or an axial index (default: the middle axial slice). With ``views`` or ``lightbox``
-        the result is the montage's one image."""
+        the result is the montage's one image; with ``block=True`` every voxel of ``voxels``
+        ("i0:i1,j0:j1,k0:k1") is drawn in 3D, framed whole from a corner."""
         options.update(
             basis=basis, legacy=legacy, slice=slice, mask=mask, scale=scale, norm=norm,
             width=width, height=height,

@@ -270,9 +270,9 @@ impl<'py> Kwargs<'py> {
     }
 
     /// The volume options: `basis`, `legacy`, `frame`, `lmax` (SH), `order`, `symmetric`,
-    /// `tensor_order` (tensors), `slice`, `slices`, `voxels`, `mask` (a path or an (X, Y, Z) array),
-    /// `scale`, `norm`, `min_amplitude`, `perspective`, `orientation`, `glyph`,
-    /// `underlay` (a path, an array on the coefficients' grid, or (array, affine)),
+    /// `tensor_order` (tensors), `slice`, `slices`, `block`, `voxels`, `mask` (a path or an
+    /// (X, Y, Z) array), `scale`, `norm`, `min_amplitude`, `perspective`, `orientation`,
+    /// `glyph`, `underlay` (a path, an array on the coefficients' grid, or (array, affine)),
     /// `underlay_range` ("LOW:HIGH" or (low, high)), `views` ("axial,coronal" or a list)
     /// and `lightbox`; `peaks` (a path, or an array on the coefficients' grid: (X, Y, Z,
     /// 3N) as sh2peaks writes it, or DIPY's (X, Y, Z, N, 3) `peak_dirs`), `peak_values`
@@ -303,6 +303,7 @@ impl<'py> Kwargs<'py> {
             tensor_order: self.text("tensor_order")?,
             slice: self.slice()?,
             slices: self.text("slices")?,
+            block: self.flag("block", false)?,
             voxels: self.text("voxels")?,
             scale: self.float("scale")?,
             norm: self.norm()?,

@@ -167,6 +167,8 @@ settings! {
     Slice = value("slice", "slice");
     /// Three orthogonal slices.
     Slices = value("slices", "slices");
+    /// Every voxel of the voxel ranges, in 3D.
+    Block = switch("block", "block");
     /// Voxel index ranges.
     Voxels = value("voxels", "voxels");
     /// Mask of the voxels drawn.

@@ -625,10 +625,14 @@ impl App {
         let Some(window) = &self.window else { return };
         let s = self.panels.settings();
         let first = self.panels.first();
-        let slice = self
-            .panels
-            .slice_label()
-            .map_or_else(String::new, |l| format!(" | slice {l}"));
+        // A block's label names the block; a slice's is its index.
+        let slice = self.panels.slice_label().map_or_else(String::new, |l| {
+            if l.starts_with("block ") {
+                format!(" | {l}")
+            } else {
+                format!(" | slice {l}")
+            }
+        });
         let orientation = first
             .orientation_name()
             .map_or_else(String::new, |name| format!(" | {name}"));

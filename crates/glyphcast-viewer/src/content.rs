@@ -21,8 +21,8 @@ use glyphcast::render::underlay::{Underlay, UnderlayPlane, extent_with_planes};
 use glyphcast::scene::{GlyphSet, Scene};
 use glyphcast::{Error, Result, Setting};
 use glyphcast_dmri::volume::{
-    SliceRegion, Volume, VolumeOptions, VolumeScene, slice_framing, slice_plane, turned_away,
-    volume_scene_with_progress,
+    SliceRegion, Volume, VolumeOptions, VolumeScene, show_block, slice_framing, slice_plane,
+    turned_away, volume_scene_with_progress,
 };
 use std::ops::Range;
 use std::sync::{Arc, mpsc};
@@ -72,6 +72,8 @@ pub struct MontageSource {
 struct VolumeSlice {
     volume: Arc<Volume>,
     options: VolumeOptions,
+    /// The voxel box of a block view (`options.block`), which has no slice to move.
+    block: Option<[Range<usize>; 3]>,
     /// Each voxel axis's slice index, and the indices it may take; only the `active`
     /// axis's is shown unless `options.slices` is set.
     index: [usize; 3],
@@ -180,6 +182,7 @@ impl Content {
             index[region.slice.voxel_axis()] = region.index;
         }
         let slice = VolumeSlice {
+            block: view.block.clone(),
             framed_target: view.scene.camera.target,
             index,
             indices,
@@ -382,9 +385,13 @@ impl Content {
     }
 
     /// "k=3 of 0..4" for a volume ("i=1 j=2 [k=3]" with three slices, the active one in
-    /// brackets), None for a scene file.
+    /// brackets; "block 0:10,0:10,2:8" for a block, which has no slice), None for a scene
+    /// file.
     pub fn slice_label(&self) -> Option<String> {
         self.volume.as_ref().map(|v| {
+            if let Some(block) = &v.block {
+                return format!("block {}", show_block(block));
+            }
             let empty = if self.sets.iter().all(|s| s.is_empty()) {
                 " (empty)"
             } else {
@@ -458,6 +465,10 @@ impl Content {
             eprintln!("slice: a scene file has no slices to move through");
             return Ok(false);
         };
+        if v.block.is_some() {
+            eprintln!("slice: a block has no slice to move; orbit, pan and zoom move the camera");
+            return Ok(false);
+        }
         let axis = v.active;
         let range = &v.indices[axis];
         let last = range.end.saturating_sub(1) as i64;

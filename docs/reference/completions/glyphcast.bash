@@ -713,7 +713,7 @@ _glyphcast() {
             return 0
             ;;
         glyphcast__subcmd__render)
-            opts="-o -h --sh --basis --force-basis --frame --legacy --lmax --tensor --tensor-order --order --nonsymmetric --slice --slices --voxels --mask --scale --norm --min-amplitude --perspective --orientation --underlay --underlay-range --underlay-plane --glyph --labels --views --lightbox --peaks --peaks-frame --peak-values --peaks-color --peaks-norm --peaks-scale --peaks-width --save-scene --output --depth-out --dpi --width --height --scale-factor --method --path --precision --step --refine --color --magnitude-range --negative --background --offset --light --ambient --specular --shininess --shadows --ambient-occlusion --samples --colorbar --colorbar-label --device --validation --help"
+            opts="-o -h --sh --basis --force-basis --frame --legacy --lmax --tensor --tensor-order --order --nonsymmetric --slice --slices --block --voxels --mask --scale --norm --min-amplitude --perspective --orientation --underlay --underlay-range --underlay-plane --glyph --labels --views --lightbox --peaks --peaks-frame --peak-values --peaks-color --peaks-norm --peaks-scale --peaks-width --save-scene --output --depth-out --dpi --width --height --scale-factor --method --path --precision --step --refine --color --magnitude-range --negative --background --offset --light --ambient --specular --shininess --shadows --ambient-occlusion --samples --colorbar --colorbar-label --device --validation --help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -989,7 +989,7 @@ _glyphcast() {
             return 0
             ;;
         glyphcast__subcmd__view)
-            opts="-h --sh --basis --force-basis --frame --legacy --lmax --tensor --tensor-order --order --nonsymmetric --slice --slices --voxels --mask --scale --norm --min-amplitude --perspective --orientation --underlay --underlay-range --underlay-plane --glyph --labels --views --lightbox --peaks --peaks-frame --peak-values --peaks-color --peaks-norm --peaks-scale --peaks-width --save-scene --width --height --scale-factor --method --path --precision --step --refine --color --magnitude-range --negative --background --offset --light --ambient --specular --shininess --shadows --ambient-occlusion --samples --colorbar --colorbar-label --device --validation --frames --script --screenshot --capture-window --frames-in-flight --help"
+            opts="-h --sh --basis --force-basis --frame --legacy --lmax --tensor --tensor-order --order --nonsymmetric --slice --slices --block --voxels --mask --scale --norm --min-amplitude --perspective --orientation --underlay --underlay-range --underlay-plane --glyph --labels --views --lightbox --peaks --peaks-frame --peak-values --peaks-color --peaks-norm --peaks-scale --peaks-width --save-scene --width --height --scale-factor --method --path --precision --step --refine --color --magnitude-range --negative --background --offset --light --ambient --specular --shininess --shadows --ambient-occlusion --samples --colorbar --colorbar-label --device --validation --frames --script --screenshot --capture-window --frames-in-flight --help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0

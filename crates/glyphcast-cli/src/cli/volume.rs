@@ -16,7 +16,7 @@ use glyphcast::scene::Scene;
 use glyphcast::{Error, Setting};
 use glyphcast_dmri::volume::{
     Coefficients, ImageRequest, ImageSource, MontagePlan, Volume, VolumeFigure, VolumeOptions,
-    VolumeRequest, VolumeScene, volume_scene,
+    VolumeRequest, VolumeScene, show_block, volume_scene,
 };
 use std::path::{Path, PathBuf};
 
@@ -79,8 +79,15 @@ pub struct VolumeArgs {
     /// from superior-left, anterior (radiological) or posterior (neurological).
     #[arg(long, value_name = "I,J,K|mid", help_heading = "Volume input")]
     pub slices: Option<String>,
+    /// Every voxel of --voxels (the whole volume without it) as glyphs in 3D instead of a
+    /// slice, in perspective from the corner --slices is seen from, framed whole; with
+    /// --mask, --scale, --norm and --min-amplitude as for slices, and --peaks in every
+    /// voxel. At most 100000 glyphs; not with --slice, --slices, --views, --lightbox or
+    /// --underlay.
+    #[arg(long, help_heading = "Volume input")]
+    pub block: bool,
     /// Voxel index ranges i0:i1,j0:j1,k0:k1 (end exclusive, ends optional), intersected
-    /// with the slice.
+    /// with the slice; with --block, the block drawn.
     #[arg(long, value_name = "RANGES", help_heading = "Volume input")]
     pub voxels: Option<String>,
     /// 3D NIfTI or MRtrix mask of the volume's shape: glyphs only where it is nonzero.
@@ -220,6 +227,7 @@ impl VolumeArgs {
             ("--tensor-order", self.tensor_order.is_some()),
             ("--slice", self.slice.is_some()),
             ("--slices", self.slices.is_some()),
+            ("--block", self.block),
             ("--voxels", self.voxels.is_some()),
             ("--mask", self.mask.is_some()),
             ("--scale", self.scale.is_some()),
@@ -256,6 +264,7 @@ impl VolumeArgs {
             tensor_order: self.tensor_order.clone(),
             slice: self.slice.clone(),
             slices: self.slices.clone(),
+            block: self.block,
             voxels: self.voxels.clone(),
             mask: self.mask.clone().map(ImageSource::File),
             scale: self.scale,
@@ -407,15 +416,20 @@ fn report(view: &VolumeScene, file: &str) {
         return;
     }
     let r = &view.report;
-    let slices: Vec<String> = view
-        .regions
-        .iter()
-        .map(|r| format!("{}={}", ["i", "j", "k"][r.slice.voxel_axis()], r.index))
-        .collect();
+    let selection = match &view.block {
+        Some(block) => format!("block {}", show_block(block)),
+        None => {
+            let slices: Vec<String> = view
+                .regions
+                .iter()
+                .map(|r| format!("{}={}", ["i", "j", "k"][r.slice.voxel_axis()], r.index))
+                .collect();
+            format!("slice {}", slices.join(" "))
+        }
+    };
     eprintln!(
-        "volume: {file}: slice {}: {} glyphs from {} voxels ({} masked out, {} not \
+        "volume: {file}: {selection}: {} glyphs from {} voxels ({} masked out, {} not \
          finite, {} zero, {} below {})",
-        slices.join(" "),
         r.drawn,
         r.selected,
         r.masked_out,

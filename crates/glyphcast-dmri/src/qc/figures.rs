@@ -396,6 +396,7 @@ mod tests {
             report: VolumeReport::default(),
             region: region.clone(),
             regions: vec![region],
+            block: None,
             glyph_radius: 0.0,
             peaks: Some(PeakSet { segments }),
         };
@@ -450,6 +451,7 @@ mod tests {
             report: VolumeReport::default(),
             region: region.clone(),
             regions: vec![region.clone()],
+            block: None,
             glyph_radius: 0.0,
             peaks: None,
         };

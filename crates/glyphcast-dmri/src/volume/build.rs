@@ -1,6 +1,6 @@
-//! A volume slice as a [`Scene`]: select voxels, reorient each glyph into world axes
-//! (voxel-frame coefficients only),
-//! measure it, drop what cannot or should not be drawn, scale, and frame.
+//! A volume slice (three slices, or a block of voxels) as a [`Scene`]: select voxels,
+//! reorient each glyph into world axes (voxel-frame coefficients only), measure it, drop
+//! what cannot or should not be drawn, scale, and frame.
 //!
 //! Left out, and counted in the [`VolumeReport`] rather than failing: voxels outside the
 //! mask, voxels with a NaN or infinite coefficient (the usual background of a fit; the
@@ -8,18 +8,19 @@
 //! and glyphs whose max radius is below `min_amplitude`. A selection that leaves no glyph
 //! at all is an error: an empty picture would look like a rendering fault.
 use glyphcast::parallel::{Progress, map_chunks_with_progress};
+use std::ops::Range;
 use std::str::FromStr;
 
 use glam::DVec3;
 
 use super::amplitude::shape_radius;
 use super::framing::{
-    Framing, ImageRequest, Orientation, ViewProjection, frame_region, frame_volume,
+    Framing, ImageRequest, Orientation, ViewProjection, frame_block, frame_region, frame_volume,
 };
 use super::input::{CoefficientFrame, Mask, Volume, show_shape};
 use super::peaks::{ViewPeaks, peak_set};
 use super::reorient::Reorientation;
-use super::selection::{Slice, SliceRegion, Slices, VoxelRanges};
+use super::selection::{Slice, SliceRegion, Slices, VoxelRanges, show_block};
 use glyphcast::glyph::ellipsoid::ELLIPSOID_LAYOUT;
 use glyphcast::glyph::{GlyphShape, NegativeMode};
 use glyphcast::render::peaks::PeakSet;
@@ -29,6 +30,13 @@ use glyphcast::{Error, Result, Setting};
 /// Default world radius of the largest glyph, as a fraction of the smallest voxel size:
 /// the largest glyph spans 0.9 of a voxel.
 pub const DEFAULT_SCALE_FRACTION: f64 = 0.45;
+
+/// The most glyphs a block view draws ([`VolumeOptions::block`]): voxels of the block
+/// that the mask keeps and whose coefficients are finite. A block shows its outer glyphs
+/// and hides the rest; one of a whole brain would take minutes a frame on a software
+/// rasteriser and show only its surface, so it is refused, naming the voxel ranges and
+/// the mask that choose a smaller one.
+pub const MAX_BLOCK_GLYPHS: usize = 100_000;
 
 /// The robust normalisation's reference: this percentile of the glyphs' max radii ...
 pub const ROBUST_PERCENTILE: f64 = 99.0;
@@ -62,6 +70,11 @@ pub struct VolumeOptions {
     /// coronal, axial; a slice with nothing to draw has none), framed by a perspective
     /// camera from anterior-superior-left whatever `projection` says.
     pub slices: Option<Slices>,
+    /// Every voxel of `voxels` (the whole volume without ranges) instead of `slice`, in
+    /// 3D: one glyph set, seen by a perspective camera from the corner `slices` are seen
+    /// from whatever `projection` says, at the distance where the block's corners are in
+    /// view ([`frame_block`](super::frame_block)); at most [`MAX_BLOCK_GLYPHS`] glyphs.
+    pub block: bool,
     /// Index ranges the drawn voxels must lie in (`--voxels`).
     pub voxels: VoxelRanges,
     /// Only voxels the mask keeps are drawn (`--mask`).
@@ -159,8 +172,11 @@ pub struct VolumeScene {
     pub report: VolumeReport,
     /// The slice's region; with three slices, the first (sagittal) one.
     pub region: SliceRegion,
-    /// Every slice's region: one, or sagittal, coronal and axial.
+    /// Every slice's region: one, or sagittal, coronal and axial; a block's axial slices,
+    /// bottom to top.
     pub regions: Vec<SliceRegion>,
+    /// The voxel box of a block view (index ranges along i, j, k), None for slices.
+    pub block: Option<[Range<usize>; 3]>,
     /// The largest world radius of a drawn glyph: how far the glyphs reach out of
     /// their slice plane (an underlay drawn behind them goes that far back).
     pub glyph_radius: f64,
@@ -219,23 +235,36 @@ pub fn volume_scene_with_progress(
     progress: Option<&Progress>,
 ) -> Result<VolumeScene> {
     check_options(volume, options)?;
+    let block = options
+        .block
+        .then(|| options.voxels.block(volume.dims, &volume.file))
+        .transpose()?;
     let region = |slice| SliceRegion::new(volume.dims, slice, &options.voxels, &volume.file);
-    let regions = match options.slices {
-        Some(slices) => (0..3)
+    let regions = match (&block, options.slices) {
+        (Some(block), _) => SliceRegion::block_slices(block),
+        (None, Some(slices)) => (0..3)
             .map(|axis| region(slices.slice(axis)))
             .collect::<Result<Vec<_>>>()?,
-        None => vec![region(options.slice)?],
+        (None, None) => vec![region(options.slice)?],
     };
     let kind = truncated_kind(volume, options.lmax)?;
     let map = &volume.voxel_to_world;
     let reorientation = reorientation(volume)?.for_kind(kind)?;
     let mut report = VolumeReport::default();
-    let mut glyphs: Vec<Vec<Glyph>> = Vec::with_capacity(regions.len());
+    // The voxels that may become glyphs, per slice; a block's are one set.
+    let mut candidates: Vec<Vec<([usize; 3], Vec<f64>)>> = Vec::with_capacity(regions.len());
     for (n, region) in regions.iter().enumerate() {
-        let mut candidates = Vec::new();
-        // A voxel where two slices cross belongs to the first of them only.
+        if n == 0 || block.is_none() {
+            candidates.push(Vec::new());
+        }
+        let Some(kept) = candidates.last_mut() else {
+            break;
+        };
+        // A voxel where two slices cross belongs to the first of them only (a block's
+        // slices do not cross).
         for voxel in region.voxels() {
-            if volume.is_peaks_grid() || regions[..n].iter().any(|earlier| earlier.contains(voxel))
+            if volume.is_peaks_grid()
+                || (block.is_none() && regions[..n].iter().any(|earlier| earlier.contains(voxel)))
             {
                 continue;
             }
@@ -249,11 +278,26 @@ pub fn volume_scene_with_progress(
                 report.non_finite += 1;
                 continue;
             }
+            // Past the limit a block's voxels are only counted, for the refusal.
+            if block.is_some()
+                && report.selected - report.masked_out - report.non_finite > MAX_BLOCK_GLYPHS
+            {
+                continue;
+            }
             coeffs.truncate(kind.coefficient_count());
             check_float32(volume, voxel, &coeffs)?;
             let coeffs = reorientation.apply(&coeffs)?;
-            candidates.push((voxel, coeffs));
+            kept.push((voxel, coeffs));
         }
+    }
+    if let Some(block) = &block {
+        let glyphs = report.selected - report.masked_out - report.non_finite;
+        if glyphs > MAX_BLOCK_GLYPHS {
+            return Err(block_too_large(volume, block, glyphs, &report));
+        }
+    }
+    let mut glyphs: Vec<Vec<Glyph>> = Vec::with_capacity(candidates.len());
+    for candidates in candidates {
         let radii = map_chunks_with_progress(&candidates, "sizing", progress, |(_, coeffs)| {
             shape_radius(kind, options.shape, coeffs)
         })?;
@@ -275,14 +319,17 @@ pub fn volume_scene_with_progress(
         glyphs.push(drawn);
     }
     report.drawn = glyphs.iter().map(Vec::len).sum();
+    let selection = shown_selection(&regions, block.as_ref());
     if report.drawn == 0 && !volume.is_peaks_grid() {
-        return Err(nothing_to_draw(volume, &regions, &report));
+        return Err(nothing_to_draw(volume, &selection, &report));
     }
     let scale = options
         .scale
         .unwrap_or_else(|| DEFAULT_SCALE_FRACTION * map.voxel_sizes().min_element());
-    let framing = match options.slices {
-        Some(_) => {
+    let framing = match (&block, options.slices) {
+        // The block's voxel boxes, seen from the corner the three slices are seen from.
+        (Some(block), _) => frame_block(block, map, options.orientation, options.image)?,
+        (None, Some(_)) => {
             // The box the three slices span: each region is whole along the other axes.
             let span = [
                 regions[1].ranges[0].clone(),
@@ -291,7 +338,7 @@ pub fn volume_scene_with_progress(
             ];
             frame_volume(&span, map, options.orientation, options.image)?
         }
-        None => frame_region(
+        (None, None) => frame_region(
             &regions[0],
             map,
             options.projection,
@@ -308,7 +355,7 @@ pub fn volume_scene_with_progress(
         })
         .transpose()?;
     if volume.is_peaks_grid() && peaks.as_ref().is_none_or(|p| p.segments.is_empty()) {
-        return Err(no_peak_to_draw(volume, &regions));
+        return Err(no_peak_to_draw(volume, &selection));
     }
     // Global normalisation is over all slices together.
     let radii: Vec<f64> = glyphs.iter().flatten().map(|g| g.radius).collect();
@@ -339,6 +386,7 @@ pub fn volume_scene_with_progress(
         report,
         region: regions[0].clone(),
         regions,
+        block,
         glyph_radius,
         peaks,
     })
@@ -499,11 +547,49 @@ pub fn is_nothing_to_draw(err: &Error) -> bool {
         if field == "voxels" && message.to_string().starts_with(NOTHING_TO_DRAW))
 }
 
-fn nothing_to_draw(volume: &Volume, regions: &[SliceRegion], report: &VolumeReport) -> Error {
+/// What a view shows, in messages: `slice k=3` (`slice i=1, j=2, k=3` for three slices)
+/// or `block 0:10,0:10,2:8`.
+fn shown_selection(regions: &[SliceRegion], block: Option<&[Range<usize>; 3]>) -> String {
+    if let Some(block) = block {
+        return format!("block {}", show_block(block));
+    }
     let slices: Vec<String> = regions
         .iter()
         .map(|r| format!("{}={}", ["i", "j", "k"][r.slice.voxel_axis()], r.index))
         .collect();
+    format!("slice {}", slices.join(", "))
+}
+
+/// A block of more than [`MAX_BLOCK_GLYPHS`] glyphs, refused.
+fn block_too_large(
+    volume: &Volume,
+    block: &[Range<usize>; 3],
+    glyphs: usize,
+    report: &VolumeReport,
+) -> Error {
+    Error::input(
+        &volume.file,
+        Setting::Block.name(),
+        glyphcast::message![
+            format!(
+                "the block {} holds {glyphs} voxels with finite coefficients{}, more than the \
+                 {MAX_BLOCK_GLYPHS} glyphs a block draws (only its outer glyphs would be \
+                 seen): give a smaller block with ",
+                show_block(block),
+                if report.masked_out > 0 {
+                    " in the mask"
+                } else {
+                    ""
+                }
+            ),
+            Setting::Voxels,
+            " (i0:i1,j0:j1,k0:k1), or ",
+            Setting::Mask
+        ],
+    )
+}
+
+fn nothing_to_draw(volume: &Volume, selection: &str, report: &VolumeReport) -> Error {
     Error::input(
         &volume.file,
         "voxels",
@@ -518,23 +604,16 @@ fn nothing_to_draw(volume: &Volume, regions: &[SliceRegion], report: &VolumeRepo
                 report.below_min_amplitude
             ),
             Setting::MinAmplitude,
-            format!(") in slice {}", slices.join(", "))
+            format!(") in {selection}")
         ],
     )
 }
 
-fn no_peak_to_draw(volume: &Volume, regions: &[SliceRegion]) -> Error {
-    let slices: Vec<String> = regions
-        .iter()
-        .map(|r| format!("{}={}", ["i", "j", "k"][r.slice.voxel_axis()], r.index))
-        .collect();
+fn no_peak_to_draw(volume: &Volume, selection: &str) -> Error {
     Error::input(
         &volume.file,
         "data",
-        format!(
-            "no peak to draw in slice {} (NaN or masked out everywhere there)",
-            slices.join(", ")
-        ),
+        format!("no peak to draw in {selection} (NaN or masked out everywhere there)"),
     )
 }
 

@@ -234,8 +234,37 @@ pub fn frame_volume(
     orientation: Orientation,
     request: ImageRequest,
 ) -> Result<Framing> {
-    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-    for corner in 0..8 {
+    frame_oblique(ranges, map, orientation, request, Fit::Sphere)
+}
+
+/// Frames the voxel box `ranges` for a block view: the camera of [`frame_volume`]'s
+/// direction, moved sideways and to the nearest distance where the box's eight corners
+/// (the outer faces of its voxels) fall inside the view, so that the block is framed
+/// whole, centred and as large as that allows. Without a requested size the image takes the box's aspect seen from
+/// afar, its longer side 1024 pixels.
+pub fn frame_block(
+    ranges: &[std::ops::Range<usize>; 3],
+    map: &VoxelToWorld,
+    orientation: Orientation,
+    request: ImageRequest,
+) -> Result<Framing> {
+    frame_oblique(ranges, map, orientation, request, Fit::Corners)
+}
+
+/// What an oblique view of a voxel box keeps inside its field of view.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Fit {
+    /// The box's bounding sphere: the box stays in view from every direction (the
+    /// viewer's orbit around three slices).
+    Sphere,
+    /// The box's corners, seen from the framing direction.
+    Corners,
+}
+
+/// The world positions of the eight corners of the voxel box `ranges` (voxel centres
+/// +- half a voxel).
+fn box_corners(ranges: &[std::ops::Range<usize>; 3], map: &VoxelToWorld) -> [DVec3; 8] {
+    std::array::from_fn(|corner| {
         let voxel = DVec3::from_array(std::array::from_fn(|axis| {
             let range = &ranges[axis];
             let end = if corner & (1 << axis) == 0 {
@@ -245,23 +274,69 @@ pub fn frame_volume(
             };
             end as f64 - 0.5
         }));
-        let p = map.voxel_center(voxel);
+        map.voxel_center(voxel)
+    })
+}
+
+/// The perspective camera that looks at the centre of the voxel box `ranges` from
+/// `oblique_from`, at the distance where `fit` is in view.
+fn frame_oblique(
+    ranges: &[std::ops::Range<usize>; 3],
+    map: &VoxelToWorld,
+    orientation: Orientation,
+    request: ImageRequest,
+    fit: Fit,
+) -> Result<Framing> {
+    let corners = box_corners(ranges, map);
+    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    for p in corners {
         lo = lo.min(p);
         hi = hi.max(p);
     }
-    let image = image_size(1.0, 1.0, request)?;
-    let aspect = f64::from(image.width) / f64::from(image.height);
     let target = 0.5 * (lo + hi);
+    let from = oblique_from(orientation).normalize();
+    let up = (DVec3::Z - from * from.z).normalize();
+    let right = up.cross(from);
+    // The sphere's view is square; the corners' has the aspect of the box seen from
+    // afar (a missing side follows it).
+    let (across, high) = match fit {
+        Fit::Sphere => (1.0, 1.0),
+        Fit::Corners => corners.iter().fold((0.0f64, 0.0f64), |(x, y), &p| {
+            let offset = p - target;
+            (x.max(offset.dot(right).abs()), y.max(offset.dot(up).abs()))
+        }),
+    };
+    let image = image_size(across, high, request)?;
+    let aspect = f64::from(image.width) / f64::from(image.height);
     let radius = (0.5 * (hi - lo).length()).max(f64::MIN_POSITIVE);
     let half_fov = (0.5 * PERSPECTIVE_FOV_DEG).to_radians();
-    // The narrower of the two fields of view must hold the sphere.
     let (free_w, free_h) = free_shares(image, request.keep_edges);
-    let half = (half_fov.tan() * free_h)
-        .min(half_fov.tan() * aspect * free_w)
-        .atan();
-    let from = oblique_from(orientation).normalize();
-    let eye = target + from * (radius / half.sin());
-    let up = (DVec3::Z - from * from.z).normalize();
+    let (target, distance) = match fit {
+        Fit::Sphere => {
+            // The narrower of the two fields of view must hold the sphere.
+            let half = (half_fov.tan() * free_h)
+                .min(half_fov.tan() * aspect * free_w)
+                .atan();
+            (target, radius / half.sin())
+        }
+        Fit::Corners => {
+            let (tan_x, tan_y) = (half_fov.tan() * aspect * free_w, half_fov.tan() * free_h);
+            let seen: Vec<(f64, f64, f64)> = corners
+                .iter()
+                .map(|&p| {
+                    let offset = p - target;
+                    (offset.dot(right), offset.dot(up), offset.dot(from))
+                })
+                .collect();
+            let x: Vec<(f64, f64)> = seen.iter().map(|&(x, _, z)| (x, z)).collect();
+            let y: Vec<(f64, f64)> = seen.iter().map(|&(_, y, z)| (y, z)).collect();
+            let distance = nearest_fit(&x, tan_x).max(nearest_fit(&y, tan_y));
+            let shift = right * centred_shift(&x, tan_x, distance)
+                + up * centred_shift(&y, tan_y, distance);
+            (target + shift, distance)
+        }
+    };
+    let eye = target + from * distance;
     Ok(Framing {
         camera: Camera {
             projection: Projection::Perspective {
@@ -273,6 +348,56 @@ pub fn frame_volume(
         },
         image,
     })
+}
+
+/// Corners seen along one image axis: each its offset `u` across the view and `z` towards
+/// the camera, from the box's centre. A camera moved sideways by `s` at distance `d` has
+/// corner (u, z) in view when |u - s| <= tan (d - z): some `s` holds every corner when
+/// u_i - u_j <= tan (2 d - z_i - z_j) for each pair, so the nearest distance is the
+/// largest ((u_i - u_j) / tan + z_i + z_j) / 2.
+fn nearest_fit(corners: &[(f64, f64)], tan: f64) -> f64 {
+    corners
+        .iter()
+        .flat_map(|&(ui, zi)| {
+            corners
+                .iter()
+                .map(move |&(uj, zj)| 0.5 * ((ui - uj) / tan + zi + zj))
+        })
+        .fold(f64::MIN_POSITIVE, f64::max)
+}
+
+/// The sideways shift that centres the images of `corners` (as in [`nearest_fit`]) in
+/// the view from `distance`: among the shifts that hold every corner, the one where the
+/// outermost images on either side are equally far from the middle (found by bisection:
+/// moving the camera one way moves every image the other way).
+fn centred_shift(corners: &[(f64, f64)], tan: f64, distance: f64) -> f64 {
+    let mut lowest = corners
+        .iter()
+        .map(|&(u, z)| u - tan * (distance - z))
+        .fold(f64::NEG_INFINITY, f64::max);
+    let mut highest = corners
+        .iter()
+        .map(|&(u, z)| u + tan * (distance - z))
+        .fold(f64::INFINITY, f64::min);
+    // Where the images lie from shift s, in -1..1 across the view.
+    let imbalance = |s: f64| {
+        let (lo, hi) = corners
+            .iter()
+            .map(|&(u, z)| (u - s) / (tan * (distance - z)))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(v), hi.max(v))
+            });
+        lo + hi
+    };
+    for _ in 0..64 {
+        let middle = 0.5 * (lowest + highest);
+        if imbalance(middle) > 0.0 {
+            lowest = middle;
+        } else {
+            highest = middle;
+        }
+    }
+    0.5 * (lowest + highest)
 }
 
 /// The image size for a view `width` x `height` world units wide and high.
@@ -308,6 +433,48 @@ fn image_size(width: f64, height: f64, request: ImageRequest) -> Result<ImageSiz
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A block's corners all project into the image, the outermost onto its edge, for a
+    /// flat box on a rotated, anisotropic grid; the sphere's framing is farther.
+    #[test]
+    fn a_block_is_framed_by_its_corners() {
+        let linear = glam::DMat3::from_axis_angle(DVec3::new(1.0, 2.0, 0.5).normalize(), 0.4)
+            * glam::DMat3::from_diagonal(DVec3::new(2.0, 2.0, 2.5));
+        let affine = glam::DMat4::from_mat3_translation(linear, DVec3::new(-9.0, 4.0, 1.0));
+        let map = VoxelToWorld::new(affine, crate::io::nifti::AffineSource::Sform, "v", "affine")
+            .expect("an affine");
+        let ranges = [2..12, 0..10, 3..9];
+        for (width, height) in [(None, None), (Some(300), Some(200)), (Some(120), Some(400))] {
+            let request = ImageRequest {
+                width,
+                height,
+                ..Default::default()
+            };
+            let block = frame_block(&ranges, &map, Orientation::Radiological, request).unwrap();
+            let (w, h) = (block.image.width, block.image.height);
+            let clip = block.camera.view_projection(w, h, 1e-3, 1e3);
+            let (mut lo, mut hi) = (glam::DVec2::INFINITY, glam::DVec2::NEG_INFINITY);
+            for p in box_corners(&ranges, &map) {
+                let ndc = clip.project_point3(p).truncate();
+                assert!(
+                    ndc.x.abs() <= 1.0 + 1e-9 && ndc.y.abs() <= 1.0 + 1e-9,
+                    "{ndc}"
+                );
+                (lo, hi) = (lo.min(ndc), hi.max(ndc));
+            }
+            // Centred along both axes, and touching both edges along one of them.
+            assert!((lo + hi).abs().max_element() < 1e-9, "{lo} {hi}");
+            assert!(
+                hi.max_element() > 1.0 - 1e-9,
+                "{lo} {hi}: not framed tightly"
+            );
+            let sphere = frame_volume(&ranges, &map, Orientation::Radiological, request).unwrap();
+            let direction = |c: &Camera| (c.eye - c.target).normalize();
+            assert!((direction(&sphere.camera) - direction(&block.camera)).length() < 1e-12);
+            let distance = |c: &Camera| (c.eye - c.target).length();
+            assert!(distance(&block.camera) < distance(&sphere.camera));
+        }
+    }
 
     #[test]
     fn image_follows_the_aspect_unless_both_sides_are_given() {

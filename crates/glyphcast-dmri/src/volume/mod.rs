@@ -1,10 +1,12 @@
-//! Volume input: a slice (or three orthogonal ones) of a 4D NIfTI volume of SH or tensor coefficients as a scene.
+//! Volume input: a slice (or three orthogonal ones, or a 3D block of voxels) of a 4D NIfTI
+//! volume of SH or tensor coefficients as a scene.
 //!
 //! The pipeline, one file per step: `input` reads the volume (and a mask) and checks the
 //! coefficient count against what the user says the file holds; `selection` picks the
-//! voxels (slice, index ranges, mask); `reorient` turns each glyph from voxel axes into
-//! world axes with the orthogonal polar factor R of the affine, g(u) = f(R^T u) (only for
-//! coefficients in the voxel frame; world-frame ones, MRtrix's, are drawn as stored);
+//! voxels (slice, index ranges, mask; a block is every voxel of the ranges); `reorient`
+//! turns each glyph from voxel axes into world axes with the orthogonal polar factor R of
+//! the affine, g(u) = f(R^T u) (only for coefficients in the voxel frame; world-frame
+//! ones, MRtrix's, are drawn as stored);
 //! `recorded` reads the SH basis a file records;
 //! `amplitude` measures glyphs for normalisation; `framing` places the camera in the
 //! radiological or neurological convention; `build` puts it together into a [`Scene`](glyphcast::scene::Scene) and a [`VolumeReport`].
@@ -32,14 +34,14 @@ mod selection;
 mod underlay;
 
 pub use build::{
-    DEFAULT_SCALE_FRACTION, Normalisation, ROBUST_FACTOR, ROBUST_PERCENTILE, VolumeOptions,
-    VolumeReport, VolumeScene, robust_reference, slice_framing, volume_scene,
+    DEFAULT_SCALE_FRACTION, MAX_BLOCK_GLYPHS, Normalisation, ROBUST_FACTOR, ROBUST_PERCENTILE,
+    VolumeOptions, VolumeReport, VolumeScene, robust_reference, slice_framing, volume_scene,
     volume_scene_with_progress,
 };
 pub use figure::{MontagePlan, VolumeFigure, VolumeMontage, VolumeView};
 pub use framing::{
     DEFAULT_LONG_SIDE, Framing, ImageRequest, Orientation, PERSPECTIVE_FOV_DEG, ViewProjection,
-    frame_region, frame_volume, view_axis, view_directions,
+    frame_block, frame_region, frame_volume, view_axis, view_directions,
 };
 pub use input::{CoefficientFrame, MAX_ORDER, Mask, Volume, VolumeKind, load_mask, load_volume};
 pub use peaks::{
@@ -54,7 +56,7 @@ pub use recorded::{
 };
 pub use reorient::Reorientation;
 pub use request::{Coefficients, ImageSource, MAX_PANELS, VolumeRequest, parse_views};
-pub use selection::{Slice, SliceAxis, SliceRegion, Slices, VoxelRanges};
+pub use selection::{Slice, SliceAxis, SliceRegion, Slices, VoxelRanges, show_block};
 pub use underlay::{
     UnderlayPlacement, load_underlay, plane_behind, slice_plane, slice_planes, turned_away,
     underlay_of_image, view_underlay,

@@ -76,6 +76,8 @@ pub struct VolumeRequest {
     pub slice: Option<String>,
     /// I,J,K or mid.
     pub slices: Option<String>,
+    /// Every voxel of `voxels` (the whole volume without it) in 3D, instead of a slice.
+    pub block: bool,
     /// i0:i1,j0:j1,k0:k1.
     pub voxels: Option<String>,
     /// Glyphs only where the mask is nonzero.
@@ -123,6 +125,7 @@ pub struct VolumeRequest {
 impl VolumeRequest {
     /// Checks that the options fit `input` and each other, before anything is read.
     pub fn check(&self, input: Coefficients) -> Result<()> {
+        self.check_block()?;
         self.underlay_range()?;
         self.underlay_placement()?;
         self.check_input(input)?;
@@ -287,6 +290,7 @@ impl VolumeRequest {
         Ok(VolumeOptions {
             slices: self.slices.as_deref().map(str::parse).transpose()?,
             slice: parse_or_default(self.slice.as_deref())?,
+            block: self.block,
             voxels: parse_or_default(self.voxels.as_deref())?,
             mask: None,
             shape: self.shape()?.unwrap_or_default(),
@@ -576,6 +580,35 @@ impl VolumeRequest {
         }
         volume.frame = frame.unwrap_or(volume.frame);
         Ok(volume)
+    }
+
+    /// A block is a view of its own: no slice, three slices or montage, and no underlay
+    /// (which lies on slice planes, and a block has none).
+    fn check_block(&self) -> Result<()> {
+        if !self.block {
+            return Ok(());
+        }
+        let views = [
+            (Setting::Slice, self.slice.is_some()),
+            (Setting::Slices, self.slices.is_some()),
+            (Setting::Views, self.views.is_some()),
+            (Setting::Lightbox, self.lightbox.is_some()),
+        ];
+        if let Some((setting, _)) = views.iter().find(|(_, given)| *given) {
+            return Err(Error::conflict(
+                Setting::Block,
+                glyphcast::error::Relation::Exclusive,
+                *setting,
+            ));
+        }
+        if self.underlay.is_some() {
+            return Err(Error::conflict(
+                Setting::Block,
+                glyphcast::error::Relation::Excludes,
+                Setting::Underlay,
+            ));
+        }
+        Ok(())
     }
 
     /// Whether a montage (views or a lightbox) is asked for.
@@ -891,6 +924,33 @@ mod tests {
                 },
                 Coefficients::Tensor,
                 Some(Setting::Slice),
+            ),
+            (
+                VolumeRequest {
+                    block: true,
+                    slices: Some("mid".into()),
+                    ..base.clone()
+                },
+                Coefficients::Tensor,
+                Some(Setting::Block),
+            ),
+            (
+                VolumeRequest {
+                    block: true,
+                    lightbox: Some(4),
+                    ..base.clone()
+                },
+                Coefficients::Tensor,
+                Some(Setting::Block),
+            ),
+            (
+                VolumeRequest {
+                    block: true,
+                    underlay: Some(ImageSource::File("fa.nii".into())),
+                    ..base.clone()
+                },
+                Coefficients::Tensor,
+                Some(Setting::Block),
             ),
         ];
         for (request, input, setting) in cases {

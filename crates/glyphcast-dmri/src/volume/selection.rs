@@ -260,6 +260,47 @@ impl FromStr for VoxelRanges {
     }
 }
 
+impl VoxelRanges {
+    /// `region` (index ranges along i, j, k) cut down to these ranges.
+    fn cut(&self, mut region: [Range<usize>; 3]) -> [Range<usize>; 3] {
+        for (range, wanted) in region.iter_mut().zip(self.axes) {
+            if let Some((lo, hi)) = wanted {
+                let lo = lo.unwrap_or(0).max(range.start);
+                let hi = hi.unwrap_or(usize::MAX).min(range.end);
+                *range = lo..hi.max(lo);
+            }
+        }
+        region
+    }
+
+    /// The voxel box a block view draws: these ranges in a volume of `dims` voxels (the
+    /// whole volume without any); `file` names the error when they leave no voxel.
+    pub fn block(&self, dims: [usize; 3], file: &str) -> Result<[Range<usize>; 3]> {
+        let block = self.cut([0..dims[0], 0..dims[1], 0..dims[2]]);
+        if block.iter().any(|r| r.is_empty()) {
+            return Err(Error::input(
+                file,
+                Setting::Voxels.name(),
+                glyphcast::message![
+                    "the ranges of ",
+                    Setting::Voxels,
+                    format!(" leave no voxel of this {} volume", show_shape(&dims))
+                ],
+            ));
+        }
+        Ok(block)
+    }
+}
+
+/// The voxel box `block` as the voxel ranges' text, `i0:i1,j0:j1,k0:k1`.
+pub fn show_block(block: &[Range<usize>; 3]) -> String {
+    block
+        .iter()
+        .map(|r| format!("{}:{}", r.start, r.end))
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
 impl SliceRegion {
     /// The voxels of `slice` within `ranges` in a volume of `dims` voxels; `file` names
     /// errors: an index outside the volume, or ranges that leave no voxel of the slice.
@@ -284,13 +325,7 @@ impl SliceRegion {
         }
         let mut region: [Range<usize>; 3] = [0..dims[0], 0..dims[1], 0..dims[2]];
         region[axis] = index..index + 1;
-        for (range, wanted) in region.iter_mut().zip(ranges.axes) {
-            if let Some((lo, hi)) = wanted {
-                let lo = lo.unwrap_or(0).max(range.start);
-                let hi = hi.unwrap_or(usize::MAX).min(range.end);
-                *range = lo..hi.max(lo);
-            }
-        }
+        let region = ranges.cut(region);
         if region.iter().any(|r| r.is_empty()) {
             return Err(Error::input(
                 file,
@@ -310,6 +345,19 @@ impl SliceRegion {
             index,
             ranges: region,
         })
+    }
+
+    /// The axial slices (constant k) of the voxel box `block`, bottom to top: a block
+    /// view's voxels, each once, in the file's order.
+    pub fn block_slices(block: &[Range<usize>; 3]) -> Vec<SliceRegion> {
+        block[2]
+            .clone()
+            .map(|k| SliceRegion {
+                slice: SliceAxis::Axial,
+                index: k,
+                ranges: [block[0].clone(), block[1].clone(), k..k + 1],
+            })
+            .collect()
     }
 
     /// The voxels, i fastest (the file's order).
@@ -422,6 +470,33 @@ mod tests {
         let middle =
             SliceRegion::new([4, 5, 6], Slice::default(), &Default::default(), "v").unwrap();
         assert_eq!(middle.ranges, [0..4, 0..5, 3..4]);
+    }
+
+    #[test]
+    fn a_block_is_the_ranges_cut_to_the_volume_in_axial_slices() {
+        let ranges: VoxelRanges = "1:3,:,2:100".parse().unwrap();
+        let block = ranges.block([4, 5, 6], "v.nii").unwrap();
+        assert_eq!(block, [1..3, 0..5, 2..6]);
+        assert_eq!(show_block(&block), "1:3,0:5,2:6");
+        let slices = SliceRegion::block_slices(&block);
+        assert_eq!(slices.len(), 4);
+        assert_eq!(
+            slices.iter().map(SliceRegion::len).sum::<usize>(),
+            2 * 5 * 4
+        );
+        let voxels: Vec<[usize; 3]> = slices.iter().flat_map(|s| s.voxels()).collect();
+        assert_eq!(voxels.first(), Some(&[1, 0, 2]));
+        assert_eq!(voxels.last(), Some(&[2, 4, 5]));
+        let unique: std::collections::BTreeSet<_> = voxels.iter().collect();
+        assert_eq!(unique.len(), voxels.len());
+        let whole = VoxelRanges::default().block([4, 5, 6], "v.nii").unwrap();
+        assert_eq!(whole, [0..4, 0..5, 0..6]);
+        let outside: VoxelRanges = ":,:,6:9".parse().unwrap();
+        let err = outside.block([4, 5, 6], "v.nii").unwrap_err().to_string();
+        assert_eq!(
+            err,
+            "v.nii: voxels: the ranges of voxels leave no voxel of this 4x5x6 volume"
+        );
     }
 
     #[test]
