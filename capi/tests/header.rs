@@ -53,6 +53,11 @@ fn the_settings_struct_has_every_render_setting() {
         ("background", "the host clears its own attachments"),
         // The compute ray caster draws whole images, no host pass.
         ("path", "the engine component draws in the host's pass"),
+        // Culling draws a frame in passes of its own renderings, which a host's pass is not.
+        (
+            "cull",
+            "the engine component draws in one pass of the host's",
+        ),
     ];
     for spec in glyphcast::render::table::RENDER_SETTINGS {
         let key = spec.setting.key();

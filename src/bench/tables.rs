@@ -140,8 +140,13 @@ fn accuracy(r: &BenchResult, show: impl Fn(&BenchAccuracy) -> String) -> String 
 }
 
 /// A work counter for a CSV cell, empty where the frame did not count.
-fn work_cell(r: &BenchResult, counter: fn(&crate::render::visibility::WorkCounts) -> u64) -> String {
-    r.work.as_ref().map_or_else(String::new, |w| counter(w).to_string())
+fn work_cell(
+    r: &BenchResult,
+    counter: fn(&crate::render::visibility::WorkCounts) -> u64,
+) -> String {
+    r.work
+        .as_ref()
+        .map_or_else(String::new, |w| counter(w).to_string())
 }
 
 /// An accuracy value for a CSV cell, empty when accuracy was not measured.

@@ -273,9 +273,9 @@ pub enum BlockView {
 }
 
 /// A dense 3D block of `nx` x `ny` x `nz` fibre ODFs of SH band `band`, one per voxel of
-/// unit size, each scaled to a peak radius of about 0.5 so that neighbours touch (as in
-/// a volume drawn with glyphs filling their voxels): a glyph's fibres are drawn at random
-/// as [`fodf`]'s are. Layer k (k = 0 .. nz) lies at z = -k, so that the first layer faces
+/// unit size, each scaled to a peak radius of about one voxel, so that the lobes of
+/// neighbours reach each other's centres and cross (a dense crossing region drawn with
+/// large glyphs): a glyph's fibres are drawn at random as [`fodf`]'s are. Layer k (k = 0 .. nz) lies at z = -k, so that the first layer faces
 /// a camera on +z; its glyphs are the same whatever `nz` (the draws depend on `nx`, `ny`
 /// and `band` only, layer after layer), so `block:NX:NY:1:BAND` is the front layer of every
 /// deeper block and their frames compare directly. `Front` looks at the first layer's
@@ -302,7 +302,7 @@ pub fn block(
     let centers = (0..count)
         .map(|v| {
             let (i, j, k) = (v % nx, (v / nx) % ny, v / (nx * ny));
-            DVec3::new(i as f64 - half(nx), j as f64 - half(ny), -(k as f64))
+            DVec3::new(i as f64 - half(nx), j as f64 - half(ny), 0.0 - k as f64)
         })
         .collect();
     let kind = GlyphKind::Sh {
@@ -315,19 +315,19 @@ pub fn block(
     let aspect = f64::from(width) / f64::from(height.max(1));
     let camera = match view {
         BlockView::Front => {
-            // The first layer's face (its glyphs reach 0.5 beyond their centres) fills
-            // 90 % of the image's height or width, whichever is tighter.
-            let reach = (0.5 * ny as f64).max(0.5 * nx as f64 / aspect) / 0.9;
+            // The first layer's face (its glyphs reach about 1 beyond their centres)
+            // fills 90 % of the image's height or width, whichever is tighter.
+            let reach = (0.5 * ny as f64 + 0.5).max((0.5 * nx as f64 + 0.5) / aspect) / 0.9;
             Camera {
                 projection: Projection::Perspective { fov_y_deg },
-                eye: DVec3::new(0.0, 0.0, 0.5 + reach / tan),
+                eye: DVec3::new(0.0, 0.0, 1.0 + reach / tan),
                 target: DVec3::ZERO,
                 up: DVec3::Y,
             }
         }
         BlockView::Corner => {
             let centre = DVec3::new(0.0, 0.0, -half(nz));
-            let radius = 0.5 * ((nx * nx + ny * ny + nz * nz) as f64).sqrt();
+            let radius = 0.5 * ((nx * nx + ny * ny + nz * nz) as f64).sqrt() + 1.0;
             let distance = radius / (tan.min(tan * aspect) * 0.95);
             Camera {
                 projection: Projection::Perspective { fov_y_deg },
@@ -338,7 +338,7 @@ pub fn block(
         }
     };
     Ok(Scene {
-        glyph_sets: vec![glyph_set(kind, centers, 1.0 / 0.9, coeffs)],
+        glyph_sets: vec![glyph_set(kind, centers, 1.0 / 0.45, coeffs)],
         camera,
         image: ImageSize { width, height },
     })

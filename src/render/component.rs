@@ -76,7 +76,8 @@ impl UploadedGlyphs {
         }
         if let Some(plan) = self.plans.get_mut(k) {
             let clusters = self.gpu.sets.iter().map(|set| set.clusters.as_slice());
-            *plan = crate::render::visibility::plan(clusters, frame, self.cull == Culling::Occluded);
+            *plan =
+                crate::render::visibility::plan(clusters, frame, self.cull == Culling::Occluded);
         }
         Ok(())
     }
@@ -203,7 +204,11 @@ impl GlyphRenderer {
                     .sets
                     .iter()
                     .map(|set| {
-                        crate::render::raycast::batch_variant(set.layout, set.shape, settings.method)
+                        crate::render::raycast::batch_variant(
+                            set.layout,
+                            set.shape,
+                            settings.method,
+                        )
                     })
                     .collect::<Result<Vec<_>>>()?;
                 self.pass.prepare_stage_pipelines(&variants)?;

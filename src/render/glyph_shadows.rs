@@ -134,8 +134,10 @@ impl GlyphShadowPass {
                 &stages,
                 InstanceInput::WithBoxes,
                 RasterTarget::default(),
-                Some(vk::CompareOp::GREATER_OR_EQUAL),
-            crate::vk::DrawStage::Normal,
+                (
+                    Some(vk::CompareOp::GREATER_OR_EQUAL),
+                    crate::vk::DrawStage::Normal,
+                ),
             )?;
             self.pipelines.insert(set.layout, pipeline);
         }

@@ -27,8 +27,8 @@ use crate::render::underlay_shadows::UnderlayShadowPass;
 use crate::render::visibility::{KNOWN_DEPTH_HEADER, VisibilityBuffers, WorkCounts};
 use crate::render::{Method, RenderPath};
 use crate::vk::recording::{
-    Access, COLOR_OUTPUT, COPY_READ, DEPTH_TESTS, NOTHING, cleared_color_attachment, color_image_copy,
-    copies_to_host, layout_transition,
+    Access, COLOR_OUTPUT, COPY_READ, DEPTH_TESTS, NOTHING, cleared_color_attachment,
+    color_image_copy, copies_to_host, layout_transition,
 };
 use crate::vk::{Buffer, Gpu, GpuTimer, Image, OneShot};
 use ash::vk;
@@ -539,9 +539,9 @@ impl PreparedFrame {
     /// tessellated and compute paths, which do not count.
     pub fn work(&self) -> Result<Option<WorkCounts>> {
         match &self.scene {
-            GlyphsOnGpu::RayCast(glyphs) if self.count_work => {
-                Ok(Some(self.targets.visibility.counts(glyphs.passes(0))?))
-            }
+            GlyphsOnGpu::RayCast(glyphs) if self.count_work => Ok(Some(
+                self.targets.visibility.counts(glyphs.passes(0).max(1))?,
+            )),
             _ => Ok(None),
         }
     }
@@ -774,7 +774,13 @@ fn clear_visibility(
             &vk::DependencyInfo::default().memory_barriers(&[barrier((shader, transfer))]),
         );
         d.cmd_fill_buffer(cmd, visibility.known.handle, 0, 4, visibility.width);
-        d.cmd_fill_buffer(cmd, visibility.known.handle, 4, 4, visibility_word(count, false));
+        d.cmd_fill_buffer(
+            cmd,
+            visibility.known.handle,
+            4,
+            4,
+            visibility_word(count, false),
+        );
         if count {
             d.cmd_fill_buffer(cmd, visibility.counters.handle, 0, vk::WHOLE_SIZE, 0);
         }
@@ -790,7 +796,12 @@ fn clear_visibility(
 fn visibility_word(count: bool, shade_nearest: bool) -> u32 {
     use crate::catalog::codes::{VISIBILITY_COUNT, VISIBILITY_SHADE_NEAREST};
     let count = if count { VISIBILITY_COUNT } else { 0 };
-    count | if shade_nearest { VISIBILITY_SHADE_NEAREST } else { 0 }
+    count
+        | if shade_nearest {
+            VISIBILITY_SHADE_NEAREST
+        } else {
+            0
+        }
 }
 
 /// A memory barrier from `src` to `dst`.
@@ -895,12 +906,36 @@ fn restart_rendering(
                 let nearest_image = t.nearest.handle;
                 let depth_image = t.depth.handle;
                 let to_copy = [
-                    layout_transition(depth_image, depth_range, (depth_layout, src), DEPTH_TESTS, COPY_READ),
-                    layout_transition(nearest_image, nearest_range, (attachment, src), COLOR_OUTPUT, COPY_READ),
+                    layout_transition(
+                        depth_image,
+                        depth_range,
+                        (depth_layout, src),
+                        DEPTH_TESTS,
+                        COPY_READ,
+                    ),
+                    layout_transition(
+                        nearest_image,
+                        nearest_range,
+                        (attachment, src),
+                        COLOR_OUTPUT,
+                        COPY_READ,
+                    ),
                 ];
                 let back = [
-                    layout_transition(depth_image, depth_range, (src, depth_layout), COPY_READ, DEPTH_TESTS),
-                    layout_transition(nearest_image, nearest_range, (src, attachment), COPY_READ, COLOR_OUTPUT),
+                    layout_transition(
+                        depth_image,
+                        depth_range,
+                        (src, depth_layout),
+                        COPY_READ,
+                        DEPTH_TESTS,
+                    ),
+                    layout_transition(
+                        nearest_image,
+                        nearest_range,
+                        (src, attachment),
+                        COPY_READ,
+                        COLOR_OUTPUT,
+                    ),
                 ];
                 let before = [memory_barrier(shader, transfer_write), attachments[0]];
                 d.cmd_pipeline_barrier2(
@@ -930,11 +965,24 @@ fn restart_rendering(
             DrawStage::Normal => {
                 let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
                 let range = t.depth.subresource_range();
-                let copy_write = (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::TRANSFER_WRITE);
-                let to_copy =
-                    layout_transition(t.depth.handle, range, (depth_layout, dst), DEPTH_TESTS, copy_write);
-                let back =
-                    layout_transition(t.depth.handle, range, (dst, depth_layout), copy_write, DEPTH_TESTS);
+                let copy_write = (
+                    vk::PipelineStageFlags2::COPY,
+                    vk::AccessFlags2::TRANSFER_WRITE,
+                );
+                let to_copy = layout_transition(
+                    t.depth.handle,
+                    range,
+                    (depth_layout, dst),
+                    DEPTH_TESTS,
+                    copy_write,
+                );
+                let back = layout_transition(
+                    t.depth.handle,
+                    range,
+                    (dst, depth_layout),
+                    copy_write,
+                    DEPTH_TESTS,
+                );
                 let before = [
                     memory_barrier(shader, transfer_read),
                     memory_barrier(shader, transfer_write),

@@ -153,6 +153,7 @@ fn the_ray_casting_shaders_read_the_structs_and_bindings_the_passes_write() {
     let mut frames_seen = 0;
     let mut coefficients_seen = 0;
     let mut shadow_seen = 0;
+    let mut visibility_seen = 0;
     for shader in RAYCAST_SHADERS {
         let what = format!("{:?} {}", shader.layout, shader.method);
         let spirvs = [shader.vertex, shader.fragment, shader.color_only_fragment];
@@ -162,6 +163,20 @@ fn the_ray_casting_shaders_read_the_structs_and_bindings_the_passes_write() {
             frames_seen += usize::from(frame);
             for block in others {
                 match block.storage_class {
+                    // What a frame's later passes know (render::visibility): the work
+                    // counters, the known depths after their header, the nearest
+                    // distances.
+                    STORAGE_BUFFER if block.set == Some(1) => {
+                        let binding = block.binding.unwrap_or(u32::MAX);
+                        let header = crate::render::visibility::KNOWN_DEPTH_HEADER as u32;
+                        let expected = match binding {
+                            0 | 2 => vec![0],
+                            1 => vec![0, header],
+                            other => panic!("{what}: visibility binding {other}"),
+                        };
+                        assert_eq!(block.offsets, expected, "{what}: binding {binding}");
+                        visibility_seen += 1;
+                    }
                     STORAGE_BUFFER if block.binding == Some(COEFFICIENTS_BINDING) => {
                         assert_eq!(block.set, Some(0), "{what}");
                         assert_eq!(block.offsets, [0], "{what}: float coeffs[]");
@@ -191,6 +206,7 @@ fn the_ray_casting_shaders_read_the_structs_and_bindings_the_passes_write() {
             }
         }
     }
+    assert!(visibility_seen > 0, "the visibility set is read");
     // Every vertex shader reads the coefficients (it hands them on as varyings), and the
     // robust methods' fragment shaders read them again.
     assert!(

@@ -214,8 +214,7 @@ impl MeshPass {
             &stages,
             InstanceInput::Instance,
             RasterTarget::default(),
-            None,
-            crate::vk::DrawStage::Normal,
+            (None, crate::vk::DrawStage::Normal),
         )?;
         Ok(self.pipelines.insert(vertices_per_glyph, pipeline))
     }

@@ -19,17 +19,16 @@ use crate::render::batch::{Batch, batches};
 use crate::render::frame::{FRAME_DESCRIPTOR, FRAME_USAGE, FrameParams};
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::shaders::{
-    DepthConvention, IMPOSTOR_FRAGMENT, RAYCAST_VERTEX, for_depth, raycast_shader,
-    with_early_tests,
+    DepthConvention, IMPOSTOR_FRAGMENT, RAYCAST_VERTEX, for_depth, raycast_shader, with_early_tests,
 };
 use crate::render::shadow_grid::ShadowGrid;
 use crate::render::visibility::{Cluster, PassPlan, VisibilityBuffers, visibility_bindings};
 use crate::render::{Method, ShapeShader};
 use crate::vk::recording::bind_graphics;
 use crate::vk::{
-    Buffer, BufferBinding, DescriptorPool, DeviceContext, DrawStage, GraphicsPipelineDesc, Pipeline,
-    PipelineLayout, Pipelines, RasterTarget, ShaderModule, buffer_binding, graphics_pipeline,
-    vertex_fragment_stages,
+    Buffer, BufferBinding, DescriptorPool, DeviceContext, DrawStage, GraphicsPipelineDesc,
+    Pipeline, PipelineLayout, Pipelines, RasterTarget, ShaderModule, buffer_binding,
+    graphics_pipeline, vertex_fragment_stages,
 };
 use ash::vk;
 
@@ -427,14 +426,14 @@ impl RayCastPass {
                 .iter()
                 .skip(1)
                 .map(|&(key, vertex, fragment)| {
-                    scope.spawn(move || this.create_pipeline(vertex, fragment, key, DrawStage::Normal))
+                    scope.spawn(move || {
+                        this.create_pipeline(vertex, fragment, key, DrawStage::Normal)
+                    })
                 })
                 .collect();
-            let first = missing
-                .first()
-                .map(|&(key, vertex, fragment)| {
-                    this.create_pipeline(vertex, fragment, key, DrawStage::Normal)
-                });
+            let first = missing.first().map(|&(key, vertex, fragment)| {
+                this.create_pipeline(vertex, fragment, key, DrawStage::Normal)
+            });
             first
                 .into_iter()
                 .chain(threads.into_iter().map(|t| {
@@ -577,8 +576,7 @@ impl RayCastPass {
             &stages,
             InstanceInput::WithBoxes,
             self.options.raster(),
-            None,
-            stage,
+            (None, stage),
         )
     }
 
@@ -586,7 +584,11 @@ impl RayCastPass {
     /// shadows), where they are not made yet: what culling a scene needs
     /// (render::visibility). The impostor's variant has none (it is not culled).
     pub(crate) fn prepare_stage_pipelines(&mut self, variants: &[Variant]) -> Result<()> {
-        type Missing = ((PipelineKey, DrawStage), Option<&'static [u32]>, &'static [u32]);
+        type Missing = (
+            (PipelineKey, DrawStage),
+            Option<&'static [u32]>,
+            &'static [u32],
+        );
         let mut missing: Vec<Missing> = Vec::new();
         for &variant in variants {
             if variant.1 == Method::Impostor {
@@ -786,7 +788,15 @@ impl RayCastPass {
                         continue;
                     }
                     let staged = (&passes, stage);
-                    self.record_batch(cmd, scene, target, method, set, staged, Some(&mut clusters))?;
+                    self.record_batch(
+                        cmd,
+                        scene,
+                        target,
+                        method,
+                        set,
+                        staged,
+                        Some(&mut clusters),
+                    )?;
                 }
             }
             if k > 0 {
@@ -834,7 +844,13 @@ impl RayCastPass {
             let d = self.ctx.device();
             let descriptor_set = set.descriptor_sets[target.frame_index];
             let pipeline = (pipeline, self.layout.handle());
-            bind_graphics(d, cmd, pipeline, descriptor_set, (target.viewport, target.scissor));
+            bind_graphics(
+                d,
+                cmd,
+                pipeline,
+                descriptor_set,
+                (target.viewport, target.scissor),
+            );
             d.cmd_bind_descriptor_sets(
                 cmd,
                 vk::PipelineBindPoint::GRAPHICS,
@@ -939,8 +955,7 @@ pub(crate) fn glyph_pipeline(
     stages: &[vk::PipelineShaderStageCreateInfo],
     input: InstanceInput,
     raster: RasterTarget,
-    darken: Option<vk::CompareOp>,
-    stage: DrawStage,
+    (darken, stage): (Option<vk::CompareOp>, DrawStage),
 ) -> Result<Pipeline> {
     let bindings = [
         vk::VertexInputBindingDescription {

@@ -8,8 +8,7 @@ use crate::error::quoted;
 use crate::glyph::NegativeMode;
 use crate::render::settings::{PRECISION_RANGE, SHININESS_RANGE, STEP_RANGE, parse_background};
 use crate::render::{
-    AmbientOcclusion, ColorMode, Culling, Method, Refinement, RenderPath, RenderSettings,
-    Shadows,
+    AmbientOcclusion, ColorMode, Culling, Method, Refinement, RenderPath, RenderSettings, Shadows,
 };
 use crate::{Error, Result, Setting};
 
@@ -758,6 +757,7 @@ mod tests {
             "samples" => "4",
             "shadows" => "soft:2",
             "ambient_occlusion" => "on",
+            "cull" => "occluded",
             _ => "0.5",
         };
         for spec in RENDER_SETTINGS {

@@ -1,27 +1,34 @@
 //! Hidden glyphs skipped: the step the paper leaves to future work ("reduce the number of
 //! glyphs that are rendered even though they are occluded by other glyphs").
 //!
-//! The ray-casting pass draws a frame's glyphs in several passes, nearest first. Before
-//! each pass after the first, the depth attachment (the exact depths of every glyph drawn
-//! so far) is copied into a storage buffer, and each fragment compares the depth of the
-//! box face it is rasterised on with the depth known at its pixel: the face is the
-//! nearest point of its glyph along the ray, so a face at or behind the known depth can
-//! only give a hit that the depth test would reject, and the fragment ends before any of
-//! the glyph's work (glsl/raycast_common.glsl, `behind_known_depth`). Culling is
-//! therefore exact: the image and the depth map are those of a single pass, bit for bit.
+//! With `--cull occluded` the headless renderer draws a frame's glyphs in several passes,
+//! nearest first. The first pass is the usual one. A later pass must not launch the
+//! fragments that an earlier pass hides (on lavapipe, whose shaders run branches as
+//! masks, a fragment that ends early saves nothing: only a fragment never launched does),
+//! so its pipelines test the depth attachment before the fragment shader runs
+//! (EarlyFragmentTests): a fragment whose box face lies at or behind the depth already
+//! drawn there is never launched. The box face is the nearest point of its glyph along the
+//! ray, so such a fragment could only give a hit the depth test rejects.
 //!
-//! Work is saved only where a fragment never runs the glyph's evaluation: on lavapipe,
-//! whose shaders run branches as masks, a quad whose lanes all end at the test runs no
-//! further; on a GPU, the same. The order of the passes comes from the CPU: the glyphs of
-//! a batch are taken in clusters of [`CLUSTER_GLYPHS`] consecutive glyphs (a volume's
-//! voxels are consecutive in space), the clusters are sorted by the view depth of their
-//! centre, and a pass takes clusters until their glyphs' projected bounding discs add up
-//! to [`PASS_COVER`] times the screen area the scene covers. A flat field seen from above
-//! is one pass; a block seen head-on is about one layer per pass.
+//! With early tests a fragment cannot write its own depth, so a later pass has two stages
+//! over the same glyphs: the first keeps, per pixel, the nearest ray distance of the
+//! pass's hits (blended by MIN into an image of its own); the second shades the hit whose
+//! distance is that one and lies nearer than the depth drawn before
+//! (glsl/raycast_common.glsl, `shows_hit`), writing its colour and ray distance, and its
+//! depth into a copy of the depth buffer, which goes back into the depth attachment after
+//! the pass. The image and the ray distances are those of a single pass, bit for bit
+//! (tests/visibility.rs); a later pass's unhidden fragments run twice.
 //!
-//! The work counters count, per frame, the fragments of the glyphs' boxes, those skipped
-//! as hidden, and the glyph evaluations (the exact method's root isolations, the other
-//! methods' marched rays): `glyphcast bench` reports them per covered pixel.
+//! The order of the passes comes from the CPU: the glyphs of a batch are taken in clusters
+//! of [`CLUSTER_GLYPHS`] consecutive glyphs (a volume's voxels are consecutive in space),
+//! the clusters are sorted by the view depth of their centre, and a pass takes clusters
+//! until their glyphs' projected bounding discs add up to [`PASS_COVER`] times the screen
+//! area the scene covers. A flat field is one pass, drawn as without culling; a block seen
+//! head-on is one or two layers per pass.
+//!
+//! The work counters count, per frame, the fragment shader invocations of the glyphs' boxes
+//! and the glyph evaluations (the exact method's root isolations, the other methods'
+//! marched rays): `glyphcast bench` reports them per covered pixel.
 use crate::error::Result;
 use crate::render::frame::FrameParams;
 use crate::vk::{Buffer, BufferBinding, DescriptorPool, DeviceContext, buffer_binding};
@@ -37,8 +44,9 @@ pub const CLUSTER_GLYPHS: usize = 64;
 pub const MAX_PASSES: usize = 32;
 
 /// A pass takes clusters until their glyphs' projected bounding discs cover this many
-/// times the screen area of the whole scene.
-const PASS_COVER: f64 = 3.0;
+/// times the screen area of the whole scene (measured on blocks of band-8 fODFs: 0.5 to
+/// 4 tried, 3 the fastest on lavapipe).
+pub const PASS_COVER: f64 = 3.0;
 
 /// Bytes before the known depths in their buffer (glsl/raycast_common.glsl `KnownDepth`:
 /// the row length, then three unused words).
@@ -194,12 +202,22 @@ pub(crate) fn plan<'a>(
     let cluster = |&(b, c): &(u32, u32)| &all[b as usize][c as usize];
     let view = View::of(frame);
     // The screen area the scene covers: the clusters' rectangles' bounds, on the image.
-    let mut bounds = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
+    let mut bounds = [
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    ];
     let mut whole_screen = false;
     for draw in &draws {
         match view.rectangle(cluster(draw)) {
             Some([x0, y0, x1, y1]) => {
-                bounds = [bounds[0].min(x0), bounds[1].min(y0), bounds[2].max(x1), bounds[3].max(y1)];
+                bounds = [
+                    bounds[0].min(x0),
+                    bounds[1].min(y0),
+                    bounds[2].max(x1),
+                    bounds[3].max(y1),
+                ];
             }
             None => whole_screen = true,
         }
@@ -227,6 +245,10 @@ pub(crate) fn plan<'a>(
             // A cluster at the eye may cover the screen.
             _ => area,
         };
+    }
+    if starts.len() == 1 {
+        // One pass: one draw per batch, as without culling.
+        return PassPlan::default();
     }
     PassPlan { draws, starts }
 }

@@ -141,9 +141,9 @@ pub(crate) fn choose_with_extensions(
     let needs = std::iter::once(
         "Vulkan 1.3 dynamic rendering, synchronization2 and fragmentStoresAndAtomics".to_owned(),
     )
-        .chain(extensions.iter().map(|e| e.to_string_lossy().into_owned()))
-        .collect::<Vec<_>>()
-        .join(", ");
+    .chain(extensions.iter().map(|e| e.to_string_lossy().into_owned()))
+    .collect::<Vec<_>>()
+    .join(", ");
     let names = || {
         candidates
             .iter()

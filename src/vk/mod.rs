@@ -42,8 +42,8 @@ pub use memory::{
     memory_type_index,
 };
 pub use pipeline::{
-    DrawStage, GraphicsPipelineDesc, Pipeline, PipelineLayout, Pipelines, RasterTarget, ShaderModule,
-    buffer_binding, compute_pipeline, graphics_pipeline, vertex_fragment_stages,
+    DrawStage, GraphicsPipelineDesc, Pipeline, PipelineLayout, Pipelines, RasterTarget,
+    ShaderModule, buffer_binding, compute_pipeline, graphics_pipeline, vertex_fragment_stages,
 };
 #[cfg(feature = "window")]
 pub use surface::Surface;

@@ -145,7 +145,7 @@ _glyphcast() {
             return 0
             ;;
         glyphcast__subcmd__bench)
-            opts="-h --workload --sweep --method --path --accuracy --frames --warmup --width --height --quick --out --save-scene --scene-arrays --device --help"
+            opts="-h --workload --sweep --method --path --cull --accuracy --frames --warmup --width --height --quick --out --save-scene --scene-arrays --device --help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -164,6 +164,10 @@ _glyphcast() {
                     return 0
                     ;;
                 --path)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --cull)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
@@ -203,7 +207,7 @@ _glyphcast() {
             return 0
             ;;
         glyphcast__subcmd__demo)
-            opts="-o -h --stiffness --output --depth-out --dpi --width --height --scale-factor --method --path --precision --step --refine --color --magnitude-range --negative --background --offset --light --ambient --specular --shininess --shadows --ambient-occlusion --samples --colorbar --colorbar-label --device --validation --save-scene --help"
+            opts="-o -h --stiffness --output --depth-out --dpi --width --height --scale-factor --method --path --precision --step --refine --color --magnitude-range --negative --background --offset --light --ambient --specular --shininess --shadows --ambient-occlusion --cull --samples --colorbar --colorbar-label --device --validation --save-scene --help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -298,6 +302,10 @@ _glyphcast() {
                     return 0
                     ;;
                 --ambient-occlusion)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --cull)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
@@ -713,7 +721,7 @@ _glyphcast() {
             return 0
             ;;
         glyphcast__subcmd__render)
-            opts="-o -h --sh --basis --force-basis --frame --legacy --lmax --tensor --tensor-order --order --nonsymmetric --slice --slices --block --voxels --mask --scale --norm --min-amplitude --perspective --orientation --underlay --underlay-range --underlay-plane --glyph --labels --views --lightbox --peaks --peaks-frame --peak-values --peaks-color --peaks-norm --peaks-scale --peaks-width --save-scene --output --depth-out --dpi --width --height --scale-factor --method --path --precision --step --refine --color --magnitude-range --negative --background --offset --light --ambient --specular --shininess --shadows --ambient-occlusion --samples --colorbar --colorbar-label --device --validation --help"
+            opts="-o -h --sh --basis --force-basis --frame --legacy --lmax --tensor --tensor-order --order --nonsymmetric --slice --slices --block --voxels --mask --scale --norm --min-amplitude --perspective --orientation --underlay --underlay-range --underlay-plane --glyph --labels --views --lightbox --peaks --peaks-frame --peak-values --peaks-color --peaks-norm --peaks-scale --peaks-width --save-scene --output --depth-out --dpi --width --height --scale-factor --method --path --precision --step --refine --color --magnitude-range --negative --background --offset --light --ambient --specular --shininess --shadows --ambient-occlusion --cull --samples --colorbar --colorbar-label --device --validation --help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -927,6 +935,10 @@ _glyphcast() {
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
+                --cull)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 --samples)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
@@ -989,7 +1001,7 @@ _glyphcast() {
             return 0
             ;;
         glyphcast__subcmd__view)
-            opts="-h --sh --basis --force-basis --frame --legacy --lmax --tensor --tensor-order --order --nonsymmetric --slice --slices --block --voxels --mask --scale --norm --min-amplitude --perspective --orientation --underlay --underlay-range --underlay-plane --glyph --labels --views --lightbox --peaks --peaks-frame --peak-values --peaks-color --peaks-norm --peaks-scale --peaks-width --save-scene --width --height --scale-factor --method --path --precision --step --refine --color --magnitude-range --negative --background --offset --light --ambient --specular --shininess --shadows --ambient-occlusion --samples --colorbar --colorbar-label --device --validation --frames --script --screenshot --capture-window --frames-in-flight --help"
+            opts="-h --sh --basis --force-basis --frame --legacy --lmax --tensor --tensor-order --order --nonsymmetric --slice --slices --block --voxels --mask --scale --norm --min-amplitude --perspective --orientation --underlay --underlay-range --underlay-plane --glyph --labels --views --lightbox --peaks --peaks-frame --peak-values --peaks-color --peaks-norm --peaks-scale --peaks-width --save-scene --width --height --scale-factor --method --path --precision --step --refine --color --magnitude-range --negative --background --offset --light --ambient --specular --shininess --shadows --ambient-occlusion --cull --samples --colorbar --colorbar-label --device --validation --frames --script --screenshot --capture-window --frames-in-flight --help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1184,6 +1196,10 @@ _glyphcast() {
                     return 0
                     ;;
                 --ambient-occlusion)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --cull)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
