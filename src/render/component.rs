@@ -307,19 +307,25 @@ impl GlyphRenderer {
         glyphs: &UploadedGlyphs,
         frame_index: usize,
     ) -> Result<()> {
+        let target = self.frame_target(glyphs, frame_index)?;
+        self.pass
+            .record_frame(cmd, &glyphs.gpu, &target, glyphs.method)
+    }
+
+    /// Where frame `frame_index` of `glyphs` is drawn: the viewport and scissor its frame
+    /// block was written for.
+    fn frame_target(&self, glyphs: &UploadedGlyphs, frame_index: usize) -> Result<FrameTarget> {
         self.check_index(frame_index)?;
         let view = glyphs.views.get(frame_index).copied().flatten();
         let (viewport, scissor) = view.ok_or(Error::Call {
             call: "record",
             expected: "set_view for this frame and the current glyphs first",
         })?;
-        let target = FrameTarget {
+        Ok(FrameTarget {
             frame_index,
             viewport,
             scissor,
-        };
-        self.pass
-            .record_frame(cmd, &glyphs.gpu, &target, glyphs.method)
+        })
     }
 
     /// [`GlyphRenderer::record_glyphs`] in the passes of the glyphs' plan for this frame
@@ -334,17 +340,7 @@ impl GlyphRenderer {
         visibility: &VisibilityBuffers,
         restart: &mut dyn FnMut(vk::CommandBuffer, crate::vk::DrawStage) -> Result<()>,
     ) -> Result<()> {
-        self.check_index(frame_index)?;
-        let view = glyphs.views.get(frame_index).copied().flatten();
-        let (viewport, scissor) = view.ok_or(Error::Call {
-            call: "record",
-            expected: "set_view for this frame and the current glyphs first",
-        })?;
-        let target = FrameTarget {
-            frame_index,
-            viewport,
-            scissor,
-        };
+        let target = self.frame_target(glyphs, frame_index)?;
         let passes = Passes {
             plan: glyphs.plans.get(frame_index),
             visibility,

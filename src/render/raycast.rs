@@ -346,9 +346,16 @@ impl RayCastPass {
             vk::ShaderStageFlags::FRAGMENT,
             4,
         )?;
+        let indices = Buffer::with_data(
+            ctx,
+            "box indices",
+            &CUBE_INDICES,
+            vk::BufferUsageFlags::INDEX_BUFFER,
+        )?;
         let no_visibility = VisibilityBuffers::without_passes(ctx, visibility_layout(&layout)?)?;
         Ok(RayCastPass {
             no_visibility,
+            indices,
             ctx: ctx.clone(),
             formats,
             options,
@@ -358,12 +365,6 @@ impl RayCastPass {
             pipelines: Pipelines::new(),
             stage_pipelines: Pipelines::new(),
             buffer_limit: None,
-            indices: Buffer::with_data(
-                ctx,
-                "box indices",
-                &CUBE_INDICES,
-                vk::BufferUsageFlags::INDEX_BUFFER,
-            )?,
             deferred_shadows: false,
         })
     }

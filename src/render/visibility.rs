@@ -316,6 +316,29 @@ impl VisibilityBuffers {
             storage,
             MemoryLocation::GpuOnly,
         )?;
+        VisibilityBuffers::with_set(ctx, layout, [counters, known, nearest], width)
+    }
+
+    /// The buffers of frames drawn in one pass: a header of zeros (no known depth, no
+    /// counting), never written.
+    pub(crate) fn without_passes(
+        ctx: &DeviceContext,
+        layout: vk::DescriptorSetLayout,
+    ) -> Result<VisibilityBuffers> {
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let counters = Buffer::with_data(ctx, "work counters", &[0u32; 4], storage)?;
+        let known = Buffer::with_data(ctx, "known depth", &[0u32; 8], storage)?;
+        let nearest = Buffer::with_data(ctx, "nearest distance", &[0u32; 4], storage)?;
+        VisibilityBuffers::with_set(ctx, layout, [counters, known, nearest], 1)
+    }
+
+    /// The buffers (counters, known depths, nearest distances) and their set of `layout`.
+    fn with_set(
+        ctx: &DeviceContext,
+        layout: vk::DescriptorSetLayout,
+        [counters, known, nearest]: [Buffer; 3],
+        width: u32,
+    ) -> Result<VisibilityBuffers> {
         let pool = DescriptorPool::new(ctx, 1, 0, 3)?;
         let set = pool.buffer_set(
             layout,
@@ -330,35 +353,6 @@ impl VisibilityBuffers {
             known,
             nearest,
             width,
-            _pool: pool,
-            set,
-        })
-    }
-
-    /// The buffers of frames drawn in one pass: a header of zeros (no known depth, no
-    /// counting), never written.
-    pub(crate) fn without_passes(
-        ctx: &DeviceContext,
-        layout: vk::DescriptorSetLayout,
-    ) -> Result<VisibilityBuffers> {
-        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let counters = Buffer::with_data(ctx, "work counters", &[0u32; 4], storage)?;
-        let known = Buffer::with_data(ctx, "known depth", &[0u32; 8], storage)?;
-        let nearest = Buffer::with_data(ctx, "nearest distance", &[0u32; 4], storage)?;
-        let pool = DescriptorPool::new(ctx, 1, 0, 3)?;
-        let set = pool.buffer_set(
-            layout,
-            &[
-                BufferBinding::storage(0, &counters),
-                BufferBinding::storage(1, &known),
-                BufferBinding::storage(2, &nearest),
-            ],
-        )?;
-        Ok(VisibilityBuffers {
-            counters,
-            known,
-            nearest,
-            width: 1,
             _pool: pool,
             set,
         })

@@ -404,6 +404,7 @@ pub unsafe fn graphics_pipeline(
         .map(|k| {
             let opaque = vk::PipelineColorBlendAttachmentState::default()
                 .color_write_mask(vk::ColorComponentFlags::RGBA);
+            // MIN ignores the blend factors.
             let min = |state: vk::PipelineColorBlendAttachmentState| {
                 state
                     .blend_enable(true)
@@ -421,15 +422,7 @@ pub unsafe fn graphics_pipeline(
             }
             match (desc.darken.is_some(), k) {
                 (false, _) => opaque,
-                // MIN ignores the blend factors.
-                (true, 0) => opaque
-                    .blend_enable(true)
-                    .color_blend_op(vk::BlendOp::MIN)
-                    .alpha_blend_op(vk::BlendOp::MIN)
-                    .src_color_blend_factor(vk::BlendFactor::ONE)
-                    .dst_color_blend_factor(vk::BlendFactor::ONE)
-                    .src_alpha_blend_factor(vk::BlendFactor::ONE)
-                    .dst_alpha_blend_factor(vk::BlendFactor::ONE),
+                (true, 0) => min(opaque),
                 (true, _) => opaque.color_write_mask(vk::ColorComponentFlags::empty()),
             }
         })
