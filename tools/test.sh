@@ -44,7 +44,7 @@ venv=target/py-venv
 "$venv/bin/python" -m pip install -q --disable-pip-version-check \
     'maturin>=1.9,<2' numpy pytest nibabel dipy nipype 'pydra>=0.25,<1' \
     nbclient nbformat ipykernel pillow \
-    'jupyter_rfb>=1.0,<2' ipywidgets jupyterlab selenium
+    'jupyter_rfb>=1.0,<2' ipywidgets jupyterlab 'notebook>=7,<8' selenium
 # The module as users get it: a wheel, installed with pip into the environment, so the
 # tests import it from site-packages, not from python/. Built in the dev profile in the
 # shared target/ (minutes from cold, seconds when nothing changed); the release
