@@ -45,18 +45,8 @@ fn same_with_and_without(
     let (off, off_passes) = draw(gpu, renderer, scene, Culling::Off);
     let (on, passes) = draw(gpu, renderer, scene, Culling::Occluded);
     assert_eq!(off_passes, 1, "{name}: without culling, one pass");
-    let bits = |image: &RenderedImage| {
-        image
-            .distance
-            .iter()
-            .map(|d| d.to_bits())
-            .collect::<Vec<_>>()
-    };
-    let differing = bits(&off)
-        .iter()
-        .zip(bits(&on))
-        .filter(|(a, b)| **a != *b)
-        .count();
+    assert_eq!(off.distance.len(), on.distance.len(), "{name}: image sizes");
+    let differing = crate::common::differing_distances(&off, &on);
     assert_eq!(
         differing, 0,
         "{name}: {differing} depth values differ with culling ({passes} passes)"

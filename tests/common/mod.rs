@@ -83,6 +83,15 @@ pub fn render_and_compare(
     }
 }
 
+/// Pixels whose ray distances differ in any bit between two renders of one size.
+pub fn differing_distances(a: &RenderedImage, b: &RenderedImage) -> usize {
+    a.distance
+        .iter()
+        .zip(&b.distance)
+        .filter(|(x, y)| x.to_bits() != y.to_bits())
+        .count()
+}
+
 /// Writes the render, the reference coverage and a map of holes (red) and false hits
 /// (blue) as PNGs, so a failing test leaves something to look at.
 pub fn save_failure_images(name: &str, r: &Rendered) {
