@@ -40,7 +40,7 @@ pub fn variants() -> BTreeMap<(Symmetry, u32), Vec<RayCastMethod>> {
 
 /// The shaders that no glyph function enters, one each: (table name, file in glsl/,
 /// stage, defines).
-pub const FIXED_SHADERS: [(&str, &str, shaderc::ShaderKind, &[&str]); 9] = [
+pub const FIXED_SHADERS: [(&str, &str, shaderc::ShaderKind, &[&str]); 12] = [
     (
         "RAYCAST_VERTEX",
         "raycast.vert",
@@ -92,7 +92,31 @@ pub const FIXED_SHADERS: [(&str, &str, shaderc::ShaderKind, &[&str]); 9] = [
         shaderc::ShaderKind::Fragment,
         &[],
     ),
+    // The compute ray caster's frame drawn into rendering attachments
+    // (src/render/compute.rs ComposePass), with and without the distance output.
+    (
+        "COMPOSE_VERTEX",
+        "compose.vert",
+        shaderc::ShaderKind::Vertex,
+        &[],
+    ),
+    (
+        "COMPOSE_FRAGMENT",
+        "compose.frag",
+        shaderc::ShaderKind::Fragment,
+        &[],
+    ),
+    (
+        "COMPOSE_COLOR_ONLY_FRAGMENT",
+        "compose.frag",
+        shaderc::ShaderKind::Fragment,
+        &[NO_DISTANCE_DEFINE],
+    ),
 ];
+
+/// Defined when a fragment shader is compiled for a colour attachment only: the shader
+/// then leaves out its `out_distance` output (location 1).
+pub const NO_DISTANCE_DEFINE: &str = "GLYPHCAST_NO_DISTANCE";
 
 /// The define of the shaders that draw the underlay receiving a batch's shadows.
 pub const RECEIVER_DEFINE: &str = "GLYPHCAST_RECEIVER";

@@ -7,13 +7,10 @@ use crate::compile::Job;
 use crate::exact_kernels::{Variant, exact_kernels};
 use crate::fail;
 use crate::glyph_function::glyph_function;
-use crate::manifest::{FIXED_SHADERS, RECEIVER_DEFINE, Symmetry, variants};
+use crate::manifest::{FIXED_SHADERS, NO_DISTANCE_DEFINE, RECEIVER_DEFINE, Symmetry, variants};
 use crate::range;
 use std::fmt::Write as _;
 
-/// Defined when a ray-casting fragment shader is compiled for a colour attachment only:
-/// the shader then leaves out its `out_distance` output (location 1).
-const NO_DISTANCE_DEFINE: &str = "GLYPHCAST_NO_DISTANCE";
 /// The define of the exact method's shadow-casting fragment shader (`--shadows`).
 const SHADOWS_DEFINE: &str = "GLYPHCAST_SHADOWS";
 /// The define of the glyphs' shadow receiver (src/render/glyph_shadows.rs).

@@ -13,7 +13,7 @@
 // takes more dispatches, each starting from the nearest hits the earlier ones stored.
 // Glyph sets (and parts of sets that one storage buffer cannot hold) are dispatched one
 // after another into the same outputs, which compose by ray distance as a depth test
-// would.
+// would. compose.frag then draws the outputs into the frame's attachments.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 #define GLYPHCAST_COMPUTE
@@ -52,6 +52,11 @@ layout(std430, set = 0, binding = 6) buffer Colors {
 };
 layout(std430, set = 0, binding = 7) buffer Distances {
     float distances[];
+};
+// Per pixel: the window depth of the nearest hit, as the fragment path writes
+// gl_FragDepth (read by compose.frag, which draws the frame into attachments).
+layout(std430, set = 0, binding = 8) writeonly buffer Depths {
+    float depths[];
 };
 
 // The pixel's ray in the frame of `glyph`, clipped to its chord and box.
@@ -130,4 +135,5 @@ void main() {
     colors[index] = srgb_byte(color.r) | (srgb_byte(color.g) << 8) | (srgb_byte(color.b) << 16)
                   | (255u << 24);
     distances[index] = distance;
+    depths[index] = depth;
 }

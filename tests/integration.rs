@@ -11,6 +11,7 @@ mod baselines;
 mod basis_names;
 mod cli;
 mod colorbar;
+mod compute_figures;
 mod compute_path;
 mod container;
 mod csd_mrtrix;

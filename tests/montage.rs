@@ -190,7 +190,7 @@ fn lightbox_draws_evenly_spaced_slices_in_a_grid() {
 }
 
 /// An FA map of the DTI volume `dti` (on its grid, with its affine), computed here.
-fn fa_map(dir: &Path, dti: &Path) -> std::path::PathBuf {
+pub(crate) fn fa_map(dir: &Path, dti: &Path) -> std::path::PathBuf {
     let image = glyphcast_dmri::io::image::read_image(dti).expect("dti");
     let shape = image.shape(4);
     let mut fa = ndarray::ArrayD::<f64>::zeros(ndarray::IxDyn(&shape[..3]));

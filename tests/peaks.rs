@@ -250,7 +250,7 @@ fn peaks_and_glyphs_share_one_depth_buffer() {
 
 /// `glyphcast fit --odf csd` of DIPY's small_64D, and `glyphcast peaks` of it: the fODF
 /// and its peaks (MRtrix layout, NIfTI), made once per test that needs them.
-fn fod_and_peaks(dir: &Path) -> (PathBuf, PathBuf) {
+pub(crate) fn fod_and_peaks(dir: &Path) -> (PathBuf, PathBuf) {
     let fod = dir.join("fod.nii.gz");
     let run = fit_small_64d(
         &["--odf", "csd", "--basis", "dipy", "--order", "6", "--quiet"],

@@ -5,9 +5,14 @@
 //! pixel that walks its tile's list with the fragment shader's root isolation
 //! (glsl/exact_root.glsl) and stops behind its nearest hit.
 //!
-//! The outputs are two storage buffers of the image's size, colour (RGBA8 sRGB, the
-//! colour target's bytes) and ray distance (negative: no hit), that [`ComputeRayCastPass::record`]
-//! clears and the dispatches fill; the caller copies them out. Every part of every glyph
+//! The outputs are three storage buffers of the image's size, colour (RGBA8 sRGB, the
+//! colour target's bytes), ray distance (negative: no hit) and window depth, that
+//! [`ComputeRayCastPass::record`] clears and the dispatches fill, outside any rendering.
+//! Inside the frame's rendering, [`ComputeRayCastPass::record_compose`] then draws them
+//! into the attachments with one full-viewport triangle (glsl/compose.frag): colour,
+//! distance and depth as the fragment path's glyph shader writes them, depth-tested, so
+//! that an underlay, peaks, shadows or a host's own geometry compose with the glyphs
+//! exactly as they do on the fragment path. Every part of every glyph
 //! set is dispatched into the same outputs, one slice of the tile lists at a time, and
 //! each dispatch starts from the distances the earlier ones stored, so the parts compose
 //! as a depth test would. A glyph set is split into parts where its coefficients or
@@ -20,11 +25,15 @@ use crate::render::Method;
 use crate::render::batch::{Batch, batches};
 use crate::render::frame::{FRAME_DESCRIPTOR, FRAME_USAGE, FrameParams};
 use crate::render::glyph_data::GlyphSetData;
-use crate::render::shaders::compute_raycast_shader;
+use crate::render::raycast::TargetFormats;
+use crate::render::shaders::{
+    COMPOSE_COLOR_ONLY_FRAGMENT, COMPOSE_FRAGMENT, COMPOSE_VERTEX, compute_raycast_shader,
+};
 use crate::render::tiles::{ScreenView, TileBins, WALK_PER_DISPATCH, bin_glyphs};
 use crate::vk::{
-    Buffer, BufferBinding, DescriptorPool, DeviceContext, PipelineLayout, Pipelines,
-    buffer_binding, compute_pipeline,
+    Buffer, BufferBinding, DescriptorPool, DeviceContext, GraphicsPipelineDesc, Pipeline,
+    PipelineLayout, Pipelines, RasterTarget, ShaderModule, buffer_binding, compute_pipeline,
+    graphics_pipeline, vertex_fragment_stages,
 };
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
@@ -42,11 +51,29 @@ pub(crate) struct ComputeParams {
     pub(crate) height: u32,
 }
 
-/// Storage buffers of a part, at bindings 1 to 5 (0 is the frame's parameter buffer, 6 and
-/// 7 the outputs).
+/// Storage buffers of a part, at bindings 1 to 5 (0 is the frame's parameter buffer, 6 to
+/// 8 the outputs).
 const INPUT_BINDINGS: u32 = 5;
-/// Every binding: frame, five inputs, two outputs.
-pub(crate) const BINDINGS: u32 = 1 + INPUT_BINDINGS + 2;
+/// The outputs: colour, distance, depth (bindings 6 to 8 of the ray caster, 0 to 2 of
+/// the composing draw).
+pub(crate) const OUTPUT_BINDINGS: u32 = 3;
+/// Every binding: frame, five inputs, three outputs.
+pub(crate) const BINDINGS: u32 = 1 + INPUT_BINDINGS + OUTPUT_BINDINGS;
+
+/// Push constants of glsl/compose.frag: where the image lies in the attachments.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub(crate) struct ComposeRegion {
+    /// The image's top-left pixel in the attachments.
+    pub(crate) origin: [u32; 2],
+    /// The image's width: its rows' length in the outputs.
+    pub(crate) row_length: u32,
+    pub(crate) pad: u32,
+}
+
+/// What a composing pipeline was made for: the attachments' formats and the target's
+/// samples, depth test and cache.
+type ComposeTarget = (TargetFormats, RasterTarget);
 
 /// Pipelines and layouts of the compute ray caster; created once per device.
 pub struct ComputeRayCastPass {
@@ -54,7 +81,10 @@ pub struct ComputeRayCastPass {
     // Fields drop in order: the pipelines go before the modules and the layout they were
     // made with, the order the validation layer expects.
     pipelines: Pipelines<TensorLayout>,
+    /// The composing draw's pipeline, for the target it was last asked for.
+    compose: Option<(ComposeTarget, Pipeline)>,
     layout: PipelineLayout,
+    compose_layout: PipelineLayout,
     buffer_limit: Option<u64>,
 }
 
@@ -70,6 +100,14 @@ struct ComputePartGpu {
     _inputs: Vec<Buffer>,
 }
 
+/// The composing draw's pipeline and layout, as [`ComputeRayCastPass::compose_pipeline`]
+/// makes them for one target.
+#[derive(Clone, Copy, Debug)]
+pub struct ComposePipeline {
+    pipeline: vk::Pipeline,
+    layout: vk::PipelineLayout,
+}
+
 /// A scene uploaded for the compute ray caster at one image size and camera (the tile
 /// lists depend on both).
 pub struct ComputeSceneGpu {
@@ -80,11 +118,13 @@ pub struct ComputeSceneGpu {
     pub colors: Buffer,
     /// Ray distance per pixel (f32), negative for a miss.
     pub distances: Buffer,
+    /// Window depth per pixel (f32) where there is a hit.
+    pub depths: Buffer,
+    /// The outputs for the composing draw (glsl/compose.frag).
+    compose_set: vk::DescriptorSet,
     width: u32,
     height: u32,
     tiles: (u32, u32),
-    /// The background as the colour target's clear would store it.
-    background: u32,
     /// Tile list entries over every part, for reports.
     pub tile_entries: usize,
 }
@@ -101,24 +141,6 @@ impl ComputeSceneGpu {
     }
 }
 
-/// The 8-bit sRGB encoding of a linear value, as an sRGB colour target stores it.
-fn srgb_byte(linear: f32) -> u32 {
-    let c = linear.clamp(0.0, 1.0);
-    let encoded = if c <= 0.003_130_8 {
-        12.92 * c
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    };
-    (encoded * 255.0 + 0.5) as u32
-}
-
-/// A linear RGB colour with its alpha as the bytes of an R8G8B8A8_SRGB pixel, in one
-/// word (alpha is stored linearly).
-pub(crate) fn packed_srgb(rgba: [f32; 4]) -> u32 {
-    let alpha = (rgba[3].clamp(0.0, 1.0) * 255.0 + 0.5) as u32;
-    srgb_byte(rgba[0]) | srgb_byte(rgba[1]) << 8 | srgb_byte(rgba[2]) << 16 | alpha << 24
-}
-
 impl ComputeRayCastPass {
     /// The descriptor-set and pipeline layouts; pipelines are created when first needed.
     pub fn new(ctx: &DeviceContext) -> Result<ComputeRayCastPass> {
@@ -132,9 +154,94 @@ impl ComputeRayCastPass {
         Ok(ComputeRayCastPass {
             ctx: ctx.clone(),
             layout: PipelineLayout::new(ctx, &bindings, vk::ShaderStageFlags::COMPUTE, push)?,
+            compose_layout: compose_layout(ctx)?,
             pipelines: Pipelines::new(),
+            compose: None,
             buffer_limit: None,
         })
+    }
+
+    /// The composing draw's pipeline for attachments of `formats` drawn as `raster`
+    /// says (samples, depth test, cache): made on first use, and again when the target
+    /// changes (the previous one must not be in use any more).
+    pub fn compose_pipeline(
+        &mut self,
+        formats: TargetFormats,
+        raster: RasterTarget,
+    ) -> Result<ComposePipeline> {
+        let target = (formats, raster);
+        let pipeline = match &self.compose {
+            Some((made_for, pipeline)) if *made_for == target => pipeline.handle(),
+            _ => {
+                let pipeline = create_compose_pipeline(&self.ctx, target, &self.compose_layout)?;
+                let handle = pipeline.handle();
+                self.compose = Some((target, pipeline));
+                handle
+            }
+        };
+        Ok(ComposePipeline {
+            pipeline,
+            layout: self.compose_layout.handle(),
+        })
+    }
+
+    /// Records the draw of `scene`'s outputs into the attachments of the rendering that
+    /// `cmd` is inside (formats and samples as `pipeline` was made for), at `origin` (the
+    /// image's top-left pixel in the attachments): colour, ray distance (where the
+    /// target has a distance attachment) and depth of every pixel the glyphs cover,
+    /// depth-tested against what the rendering holds. [`ComputeRayCastPass::record`]
+    /// must have been recorded before the rendering began.
+    pub fn record_compose(
+        &self,
+        cmd: vk::CommandBuffer,
+        scene: &ComputeSceneGpu,
+        pipeline: ComposePipeline,
+        origin: [u32; 2],
+    ) {
+        let viewport = vk::Viewport {
+            x: origin[0] as f32,
+            y: origin[1] as f32,
+            width: scene.width as f32,
+            height: scene.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        let scissor = vk::Rect2D {
+            offset: vk::Offset2D {
+                x: origin[0] as i32,
+                y: origin[1] as i32,
+            },
+            extent: vk::Extent2D {
+                width: scene.width,
+                height: scene.height,
+            },
+        };
+        let region = ComposeRegion {
+            origin,
+            row_length: scene.width,
+            pad: 0,
+        };
+        let d = self.ctx.device();
+        // SAFETY: recording state is the caller's; every handle is alive; the set holds
+        // the scene's outputs, which `record` made readable by fragment shaders.
+        unsafe {
+            let bound = (pipeline.pipeline, pipeline.layout);
+            crate::vk::recording::bind_graphics(
+                d,
+                cmd,
+                bound,
+                scene.compose_set,
+                (viewport, scissor),
+            );
+            d.cmd_push_constants(
+                cmd,
+                pipeline.layout,
+                vk::ShaderStageFlags::FRAGMENT,
+                0,
+                bytemuck::bytes_of(&region),
+            );
+            d.cmd_draw(cmd, 3, 1, 0, 0);
+        }
     }
 
     /// Caps the bytes of coefficients and boxes per part below the device's
@@ -183,16 +290,13 @@ impl ComputeRayCastPass {
 
     /// Bins and uploads glyph sets for `camera` at `width` x `height`, with the frame
     /// parameters and the output buffers.
-    #[allow(clippy::too_many_arguments)]
     pub fn upload(
         &mut self,
         ctx: &DeviceContext,
         sets: &[GlyphSetData],
         frame: &FrameParams,
         camera: &Camera,
-        width: u32,
-        height: u32,
-        background: [f32; 4],
+        (width, height): (u32, u32),
     ) -> Result<ComputeSceneGpu> {
         let limit = self.storage_buffer_limit();
         let view = ScreenView::new(camera, width, height);
@@ -223,7 +327,8 @@ impl ComputeRayCastPass {
                 settings: &[],
             });
         }
-        let pool = DescriptorPool::new(ctx, parts.len(), 0, BINDINGS)?;
+        // A set per part, and the composing draw's.
+        let pool = DescriptorPool::new(ctx, parts.len() + 1, 0, BINDINGS)?;
         let output = |name: &str| {
             Buffer::new(
                 ctx,
@@ -235,16 +340,30 @@ impl ComputeRayCastPass {
                 MemoryLocation::GpuOnly,
             )
         };
+        let (colors, distances, depths) = (
+            output("compute colour")?,
+            output("compute distance")?,
+            output("compute depth")?,
+        );
+        let compose_set = pool.buffer_set(
+            self.compose_layout.set_layout(),
+            &[
+                BufferBinding::storage(0, &colors),
+                BufferBinding::storage(1, &distances),
+                BufferBinding::storage(2, &depths),
+            ],
+        )?;
         let mut scene = ComputeSceneGpu {
             frame: Buffer::with_data(ctx, "frame", std::slice::from_ref(frame), FRAME_USAGE)?,
             pool,
             parts: Vec::new(),
-            colors: output("compute colour")?,
-            distances: output("compute distance")?,
+            colors,
+            distances,
+            depths,
+            compose_set,
             width,
             height,
             tiles: (view.tiles_x(), view.tiles_y()),
-            background: packed_srgb(background),
             tile_entries: 0,
         };
         for part in &parts {
@@ -271,8 +390,9 @@ impl ComputeRayCastPass {
         Ok(scene)
     }
 
-    /// Records the clearing of the outputs and every dispatch, then a barrier that makes
-    /// the outputs readable by transfers (the caller copies them out).
+    /// Records, outside any rendering, the clearing of the distances and every dispatch,
+    /// then a barrier that makes the outputs readable by the composing draw
+    /// ([`ComputeRayCastPass::record_compose`]) and by transfers.
     pub fn record(&mut self, cmd: vk::CommandBuffer, scene: &ComputeSceneGpu) -> Result<()> {
         let pipelines = scene
             .parts
@@ -281,6 +401,21 @@ impl ComputeRayCastPass {
             .collect::<Result<Vec<_>>>()?;
         let d = self.ctx.device();
         let no_hit = (-1.0f32).to_bits();
+        // The last frame's composing draw and copies read the outputs before they are
+        // cleared and written again.
+        let before_fill = [vk::MemoryBarrier2::default()
+            .src_stage_mask(
+                vk::PipelineStageFlags2::FRAGMENT_SHADER | vk::PipelineStageFlags2::COPY,
+            )
+            .src_access_mask(
+                vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::TRANSFER_READ,
+            )
+            .dst_stage_mask(
+                vk::PipelineStageFlags2::CLEAR | vk::PipelineStageFlags2::COMPUTE_SHADER,
+            )
+            .dst_access_mask(
+                vk::AccessFlags2::TRANSFER_WRITE | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            )];
         let after_fill = [vk::MemoryBarrier2::default()
             .src_stage_mask(vk::PipelineStageFlags2::CLEAR)
             .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
@@ -296,24 +431,27 @@ impl ComputeRayCastPass {
             .dst_access_mask(
                 vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
             )];
-        let to_transfer = [vk::MemoryBarrier2::default()
+        let to_readers = [vk::MemoryBarrier2::default()
             .src_stage_mask(
                 vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::CLEAR,
             )
             .src_access_mask(
                 vk::AccessFlags2::SHADER_STORAGE_WRITE | vk::AccessFlags2::TRANSFER_WRITE,
             )
-            .dst_stage_mask(vk::PipelineStageFlags2::COPY)
-            .dst_access_mask(vk::AccessFlags2::TRANSFER_READ)];
+            .dst_stage_mask(
+                vk::PipelineStageFlags2::FRAGMENT_SHADER | vk::PipelineStageFlags2::COPY,
+            )
+            .dst_access_mask(
+                vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::TRANSFER_READ,
+            )];
         // SAFETY: recording state is the caller's; all handles are alive.
         unsafe {
-            d.cmd_fill_buffer(
+            d.cmd_pipeline_barrier2(
                 cmd,
-                scene.colors.handle,
-                0,
-                vk::WHOLE_SIZE,
-                scene.background,
+                &vk::DependencyInfo::default().memory_barriers(&before_fill),
             );
+            // A pixel's colour and depth are read only where its distance says it has a
+            // hit, so only the distances are cleared.
             d.cmd_fill_buffer(cmd, scene.distances.handle, 0, vk::WHOLE_SIZE, no_hit);
             d.cmd_pipeline_barrier2(
                 cmd,
@@ -362,7 +500,7 @@ impl ComputeRayCastPass {
         unsafe {
             d.cmd_pipeline_barrier2(
                 cmd,
-                &vk::DependencyInfo::default().memory_barriers(&to_transfer),
+                &vk::DependencyInfo::default().memory_barriers(&to_readers),
             );
         }
         Ok(())
@@ -393,9 +531,11 @@ fn upload_part(
         Buffer::with_data(ctx, "tile entries", &bins.entries, storage)?,
     ];
     // The frame, then the inputs and the outputs, at bindings 0, 1, 2, ... in order.
-    let buffers = std::iter::once(&scene.frame)
-        .chain(&inputs)
-        .chain([&scene.colors, &scene.distances]);
+    let buffers = std::iter::once(&scene.frame).chain(&inputs).chain([
+        &scene.colors,
+        &scene.distances,
+        &scene.depths,
+    ]);
     let bindings: Vec<BufferBinding> = buffers
         .enumerate()
         .map(|(binding, buffer)| BufferBinding::storage(binding as u32, buffer))
@@ -410,13 +550,53 @@ fn upload_part(
     })
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
+/// The composing draw's layout: the three outputs at bindings 0 to 2 and the region's
+/// push constants, for the fragment stage.
+fn compose_layout(ctx: &DeviceContext) -> Result<PipelineLayout> {
+    let bindings: Vec<_> = (0..OUTPUT_BINDINGS)
+        .map(|binding| {
+            buffer_binding(
+                binding,
+                vk::DescriptorType::STORAGE_BUFFER,
+                vk::ShaderStageFlags::FRAGMENT,
+            )
+        })
+        .collect();
+    let push = std::mem::size_of::<ComposeRegion>() as u32;
+    PipelineLayout::new(ctx, &bindings, vk::ShaderStageFlags::FRAGMENT, push)
+}
 
-    #[test]
-    fn srgb_bytes_of_the_ends_and_the_middle() {
-        assert_eq!(packed_srgb([0.0, 1.0, 0.5, 1.0]), 0xff_bc_ff_00);
-        assert_eq!(srgb_byte(0.002), 7); // the linear segment: 12.92 * 0.002 * 255 = 6.6
-    }
+/// The composing draw's pipeline: one triangle over the viewport, no face culled, depth
+/// tested and written as the target's glyphs are, every colour attachment written whole.
+fn create_compose_pipeline(
+    ctx: &DeviceContext,
+    (formats, raster): ComposeTarget,
+    layout: &PipelineLayout,
+) -> Result<Pipeline> {
+    // SAFETY: the SPIR-V comes from build.rs and was validated by glslang.
+    let vertex = unsafe { ShaderModule::new(ctx, COMPOSE_VERTEX)? };
+    let fragment_spirv = match formats.distance {
+        Some(_) => COMPOSE_FRAGMENT,
+        None => COMPOSE_COLOR_ONLY_FRAGMENT,
+    };
+    // SAFETY: as above.
+    let fragment = unsafe { ShaderModule::new(ctx, fragment_spirv)? };
+    let stages = vertex_fragment_stages(vertex.handle(), fragment.handle(), None);
+    let mut color_formats = vec![formats.color];
+    color_formats.extend(formats.distance);
+    let desc = GraphicsPipelineDesc {
+        stages: &stages,
+        vertex_bindings: &[],
+        vertex_attributes: &[],
+        cull: vk::CullModeFlags::NONE,
+        color_formats: &color_formats,
+        depth_format: formats.depth,
+        layout: layout.handle(),
+        raster,
+        darken: None,
+        stage: crate::vk::DrawStage::Normal,
+    };
+    // SAFETY: the modules are alive until the call returns; their SPIR-V declares the
+    // blocks of `layout` (render::interface checks it).
+    unsafe { graphics_pipeline(ctx, &desc) }
 }

@@ -12,7 +12,7 @@
 use crate::camera::Camera;
 use crate::error::{Error, Result, Setting};
 use crate::render::component::{GlyphRenderer, RendererDesc, UploadedGlyphs};
-use crate::render::compute::{ComputeRayCastPass, ComputeSceneGpu};
+use crate::render::compute::{ComposePipeline, ComputeRayCastPass, ComputeSceneGpu};
 use crate::render::frame::{FrameParams, SceneExtent};
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::glyph_shadows::{GlyphShadowPass, HITS_HEADER, HitsBuffer};
@@ -364,39 +364,32 @@ impl HeadlessRenderer {
         } = *view;
         settings.validate()?;
         check_image_size(gpu, width, height)?;
-        if underlay.is_some() && settings.path == RenderPath::Compute {
-            return Err(Error::setting(
-                Setting::Underlay,
-                crate::message![
-                    Setting::Path.with("compute"),
-                    " has no depth buffer to share with the underlay; use ",
-                    Setting::Path.with("fragment")
-                ],
-            ));
-        }
-        if peaks.is_some() && settings.path == RenderPath::Compute {
-            return Err(Error::setting(
-                Setting::Peaks,
-                crate::message![
-                    Setting::Path.with("compute"),
-                    " has no depth buffer to share with the peaks; use ",
-                    Setting::Path.with("fragment")
-                ],
-            ));
-        }
         let extent = frame_extent(camera, sets, settings, underlay, peaks);
         let params = FrameParams::new(camera, width, height, &extent, settings);
         let scene = match settings.method {
             _ if settings.path == RenderPath::Compute => {
-                GlyphsOnGpu::Compute(Box::new(self.compute.upload(
-                    gpu.context(),
-                    sets,
-                    &params,
-                    camera,
-                    width,
-                    height,
-                    settings.background,
-                )?))
+                let scene =
+                    self.compute
+                        .upload(gpu.context(), sets, &params, camera, (width, height))?;
+                let compose = self
+                    .compute
+                    .compose_pipeline(FORMATS, crate::vk::RasterTarget::default())?;
+                // The shadows are cast after the frame from its hits, as on the fragment
+                // path: by the glyphs' boxes drawn again, so those are uploaded too.
+                let shadows = if settings.shadows.enabled() || settings.ambient_occlusion.enabled()
+                {
+                    let mut glyphs = self.glyphs.upload(sets, settings)?;
+                    let whole = FrameTarget::whole(vk::Extent2D { width, height });
+                    glyphs.set_frame(&params, &whole)?;
+                    Some(glyphs)
+                } else {
+                    None
+                };
+                GlyphsOnGpu::Compute(Box::new(ComputeFrame {
+                    scene,
+                    compose,
+                    shadows,
+                }))
             }
             Method::Mesh(kind) => {
                 let meshes = GlyphMeshes::build(sets, kind)?;
@@ -427,7 +420,7 @@ impl HeadlessRenderer {
             })
             .transpose()?;
         // Shadows and occlusion fall on the underlay too.
-        if let (Some(_), GlyphsOnGpu::RayCast(glyphs)) = (&underlay, &scene)
+        if let (Some(_), Some(glyphs)) = (&underlay, scene.shadow_casters())
             && glyphs.gpu.shadows
         {
             let pass = match &mut self.underlay_shadows {
@@ -440,8 +433,8 @@ impl HeadlessRenderer {
         }
         // The glyphs' shadows, cast after the frame from its hits.
         let limit = self.glyphs.pass().storage_buffer_limit(gpu.context());
-        let hits = match &scene {
-            GlyphsOnGpu::RayCast(glyphs) if glyphs.gpu.deferred => {
+        let hits = match scene.shadow_casters() {
+            Some(glyphs) if glyphs.gpu.deferred => {
                 let pass = match &mut self.glyph_shadows {
                     Some(pass) => pass,
                     None => self
@@ -507,7 +500,30 @@ impl HeadlessRenderer {
 enum GlyphsOnGpu {
     RayCast(Box<UploadedGlyphs>),
     Mesh(Box<MeshSceneGpu>),
-    Compute(Box<ComputeSceneGpu>),
+    Compute(Box<ComputeFrame>),
+}
+
+/// The glyphs of a frame on the compute path.
+struct ComputeFrame {
+    /// The tile lists and outputs of the compute ray caster.
+    scene: ComputeSceneGpu,
+    /// The draw of its outputs into the frame's attachments.
+    compose: ComposePipeline,
+    /// The glyphs' boxes, for the shadows and occlusion cast after the frame (as on the
+    /// fragment path); `None` without either.
+    shadows: Option<UploadedGlyphs>,
+}
+
+impl GlyphsOnGpu {
+    /// The glyphs uploaded as boxes to cast rays: drawn on the fragment path, drawn again
+    /// to cast shadows after the frame on both ray casters.
+    fn shadow_casters(&self) -> Option<&UploadedGlyphs> {
+        match self {
+            GlyphsOnGpu::RayCast(glyphs) => Some(glyphs),
+            GlyphsOnGpu::Compute(frame) => frame.shadows.as_ref(),
+            GlyphsOnGpu::Mesh(_) => None,
+        }
+    }
 }
 
 /// A frame ready to draw: the uploaded glyph sets and the offscreen targets.
@@ -560,7 +576,7 @@ impl PreparedFrame {
         match &self.scene {
             GlyphsOnGpu::RayCast(glyphs) => glyphs.draws(),
             GlyphsOnGpu::Mesh(scene) => scene.draws(),
-            GlyphsOnGpu::Compute(scene) => scene.dispatches(),
+            GlyphsOnGpu::Compute(frame) => frame.scene.dispatches(),
         }
     }
 
@@ -616,14 +632,18 @@ fn record_frame(
     cmd: vk::CommandBuffer,
     frame: &PreparedFrame,
 ) -> Result<()> {
-    if let GlyphsOnGpu::Compute(scene) = &frame.scene {
-        return record_compute(compute, timer, gpu, cmd, frame, scene);
-    }
     let (d, extent) = (gpu.device(), frame.size);
+    // The timed span is the glyph pass: from the cleared attachments (and, on the compute
+    // path, the dispatches before them) to the last fragment.
+    if let GlyphsOnGpu::Compute(on_gpu) = &frame.scene {
+        if let Some(timer) = timer {
+            timer.start(cmd);
+        }
+        compute.record(cmd, &on_gpu.scene)?;
+    }
     clear_visibility(d, cmd, &frame.targets.visibility, frame.count_work);
     begin_targets(d, cmd, &frame.targets);
-    // The timed span is the glyph pass: from the cleared attachments to the last fragment.
-    if let Some(timer) = timer {
+    if let (Some(timer), false) = (timer, matches!(frame.scene, GlyphsOnGpu::Compute(_))) {
         timer.start(cmd);
     }
     let targets = &frame.targets;
@@ -637,13 +657,11 @@ fn record_frame(
         .store_op(vk::AttachmentStoreOp::STORE);
     // The underlay receives the glyphs' shadows only where the frame has both and the
     // glyphs were uploaded to cast rays.
-    let receives = frame.underlay.is_some()
-        && matches!(&frame.scene, GlyphsOnGpu::RayCast(glyphs) if glyphs.gpu.shadows);
+    let casters = frame.scene.shadow_casters();
+    let receives = frame.underlay.is_some() && casters.is_some_and(|glyphs| glyphs.gpu.shadows);
     // The glyphs' shadows, cast after the frame from its hits.
-    let casts = match (&frame.scene, &frame.hits, glyph_shadows) {
-        (GlyphsOnGpu::RayCast(on_gpu), Some(hits), Some(pass)) if on_gpu.gpu.deferred => {
-            Some((on_gpu.as_ref(), hits, pass))
-        }
+    let casts = match (casters, &frame.hits, glyph_shadows) {
+        (Some(on_gpu), Some(hits), Some(pass)) if on_gpu.gpu.deferred => Some((on_gpu, hits, pass)),
         _ => None,
     };
     if receives || casts.is_some() {
@@ -672,7 +690,9 @@ fn record_frame(
             glyphs.record_glyph_passes(cmd, on_gpu, 0, visibility, &mut restart)?
         }
         GlyphsOnGpu::Mesh(scene) => mesh.record(cmd, scene, extent)?,
-        GlyphsOnGpu::Compute(_) => {}
+        GlyphsOnGpu::Compute(on_gpu) => {
+            compute.record_compose(cmd, &on_gpu.scene, on_gpu.compose, [0, 0]);
+        }
     }
     if let (Some((on_gpu, _)), Some(peaks)) = (&frame.peaks, peaks) {
         peaks.record(cmd, on_gpu, extent);
@@ -686,9 +706,9 @@ fn record_frame(
     // glyphs drawn before: in a rendering of the colour and depth attachments only (a
     // pipeline that blends one attachment and not another needs the independentBlend
     // feature).
-    let underlay_receives = match (receives, &frame.underlay, &frame.scene, underlay_shadows) {
-        (true, Some((volume, planes)), GlyphsOnGpu::RayCast(on_gpu), Some(receiver)) => {
-            Some((volume, planes, on_gpu.as_ref(), receiver))
+    let underlay_receives = match (receives, &frame.underlay, casters, underlay_shadows) {
+        (true, Some((volume, planes)), Some(on_gpu), Some(receiver)) => {
+            Some((volume, planes, on_gpu, receiver))
         }
         _ => None,
     };
@@ -1201,50 +1221,6 @@ fn copy_targets_to_host(
             &vk::DependencyInfo::default().memory_barriers(&host_read),
         );
     }
-}
-
-/// The compute ray caster's frame: its clears and dispatches (the timed span), then the
-/// copies of its colour and distance buffers into the readback buffers.
-fn record_compute(
-    compute: &mut ComputeRayCastPass,
-    timer: Option<&GpuTimer>,
-    gpu: &Gpu,
-    cmd: vk::CommandBuffer,
-    frame: &PreparedFrame,
-    scene: &ComputeSceneGpu,
-) -> Result<()> {
-    let t = &frame.targets;
-    let bytes = 4 * frame.size.width as u64 * frame.size.height as u64;
-    if let Some(timer) = timer {
-        timer.start(cmd);
-    }
-    compute.record(cmd, scene)?;
-    if let Some(timer) = timer {
-        timer.stop(cmd);
-    }
-    let host_read = [copies_to_host()];
-    let copy = [vk::BufferCopy {
-        src_offset: 0,
-        dst_offset: 0,
-        size: bytes,
-    }];
-    let d = gpu.device();
-    // SAFETY: `cmd` is recording; every handle is alive until the submission completes;
-    // `record` made the outputs readable by transfers.
-    unsafe {
-        d.cmd_copy_buffer(cmd, scene.colors.handle, t.color_readback.handle, &copy);
-        d.cmd_copy_buffer(
-            cmd,
-            scene.distances.handle,
-            t.distance_readback.handle,
-            &copy,
-        );
-        d.cmd_pipeline_barrier2(
-            cmd,
-            &vk::DependencyInfo::default().memory_barriers(&host_read),
-        );
-    }
-    Ok(())
 }
 
 /// Copies the readback buffers into host memory. The buffers are allocated fallibly: a

@@ -13,8 +13,9 @@ use crate::render::compute::ComputeParams;
 use crate::render::frame::FrameParams;
 use crate::render::raycast::{COEFFICIENTS_BINDING, FRAME_BINDING, SHADOW_BINDINGS};
 use crate::render::shaders::{
-    COMPUTE_RAYCAST_SHADERS, IMPOSTOR_FRAGMENT, MESH_FRAGMENT, MESH_VERTEX, RAYCAST_SHADERS,
-    RAYCAST_VERTEX, RaycastShader, UNDERLAY_FRAGMENT, UNDERLAY_VERTEX,
+    COMPOSE_COLOR_ONLY_FRAGMENT, COMPOSE_FRAGMENT, COMPOSE_VERTEX, COMPUTE_RAYCAST_SHADERS,
+    IMPOSTOR_FRAGMENT, MESH_FRAGMENT, MESH_VERTEX, RAYCAST_SHADERS, RAYCAST_VERTEX, RaycastShader,
+    UNDERLAY_FRAGMENT, UNDERLAY_VERTEX,
 };
 use crate::render::shadow_grid::GridHeader;
 use crate::render::underlay::{PARAMS_BINDING, PlanePush, UnderlayParams, VALUES_BINDING};
@@ -259,13 +260,42 @@ fn the_compute_ray_caster_reads_the_buffers_in_the_order_they_are_bound() {
                 other => panic!("{what}: unexpected block of storage class {other}"),
             }
         }
-        // compute.rs binds the frame, then its five inputs and two outputs at
+        // compute.rs binds the frame, then its five inputs and three outputs at
         // 1..BINDINGS, the coefficients first, at the ray caster's binding.
         storage.sort();
         let expected: Vec<u32> = (1..crate::render::compute::BINDINGS).collect();
         assert_eq!(storage, expected, "{what}: storage bindings");
         assert_eq!(expected[0], COEFFICIENTS_BINDING);
     }
+}
+
+#[test]
+fn the_composing_draw_reads_the_compute_outputs_it_is_bound() {
+    use crate::render::compute::{ComposeRegion, OUTPUT_BINDINGS};
+    let push = offsets!(ComposeRegion: origin, row_length, pad);
+    for (what, spirv) in [
+        ("compose.frag", COMPOSE_FRAGMENT),
+        ("compose.frag (colour only)", COMPOSE_COLOR_ONLY_FRAGMENT),
+    ] {
+        let mut storage = Vec::new();
+        for block in blocks(spirv) {
+            match block.storage_class {
+                PUSH_CONSTANT => assert_eq!(block.offsets, push, "{what}: ComposeRegion"),
+                STORAGE_BUFFER => {
+                    assert_eq!(block.set, Some(0), "{what}");
+                    storage.push(block.binding.unwrap_or(u32::MAX));
+                }
+                other => panic!("{what}: unexpected block of storage class {other}"),
+            }
+        }
+        storage.sort();
+        let expected: Vec<u32> = (0..OUTPUT_BINDINGS).collect();
+        assert_eq!(storage, expected, "{what}: colours, distances, depths");
+    }
+    assert!(
+        blocks(COMPOSE_VERTEX).is_empty(),
+        "compose.vert reads nothing"
+    );
 }
 
 #[test]

@@ -728,7 +728,7 @@ impl RenderSettings {
         }
         self.shadows.validate()?;
         self.ambient_occlusion.validate()?;
-        let cast_by_exact = self.method == Method::Exact && self.path == RenderPath::Fragment;
+        let cast_by_exact = self.method == Method::Exact;
         for (setting, value, enabled) in [
             (
                 Setting::Shadows,
@@ -748,9 +748,7 @@ impl RenderSettings {
                     crate::message![
                         "rays are cast only by ",
                         Setting::Method.with("exact"),
-                        " on ",
-                        Setting::Path.with("fragment"),
-                        format!(", not by {} on {}", self.method, self.path)
+                        format!(", not by {}", self.method)
                     ],
                 ));
             }
