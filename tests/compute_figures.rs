@@ -182,6 +182,9 @@ fn every_figure_feature_draws_the_same_picture_on_both_paths() {
             .zip(pictures[plain].rgba.chunks_exact(4))
             .filter(|(a, b)| a != b)
             .count();
-        assert!(changed >= least, "{name} changes {changed} pixels of {plain}");
+        assert!(
+            changed >= least,
+            "{name} changes {changed} pixels of {plain}"
+        );
     }
 }

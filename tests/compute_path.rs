@@ -103,6 +103,29 @@ fn compute_matches_reference_and_fragment_on_the_accuracy_suite() {
     }
 }
 
+/// `--path auto` (the default) takes the fragment path on lavapipe, a CPU device: the
+/// same image, bit for bit, as the fragment path asked for, and the image says so.
+#[test]
+fn auto_takes_the_fragment_path_on_lavapipe() {
+    let gpu = common::gpu();
+    assert_eq!(
+        gpu.context().device_type(),
+        ash::vk::PhysicalDeviceType::CPU,
+        "the tests run on lavapipe"
+    );
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    let scene = workload::fodf(64, 8, 160, 120).expect("workload");
+    let auto = common::render_and_compare(&gpu, &mut renderer, &scene, &settings(RenderPath::Auto));
+    let fragment =
+        common::render_and_compare(&gpu, &mut renderer, &scene, &settings(RenderPath::Fragment));
+    assert_eq!(auto.image.path, RenderPath::Fragment);
+    assert_eq!(auto.image.rgba, fragment.image.rgba);
+    assert_eq!(common::differing_distances(&auto.image, &fragment.image), 0);
+    let compute =
+        common::render_and_compare(&gpu, &mut renderer, &scene, &settings(RenderPath::Compute));
+    assert_eq!(compute.image.path, RenderPath::Compute);
+}
+
 #[test]
 fn compute_matches_on_a_dense_fodf_field() {
     let gpu = common::gpu();

@@ -337,6 +337,7 @@ fn render_cli(dir: &Path, args: &[&str]) -> (RenderedImage, Scene) {
         draws: 0,
         gpu_ms: None,
         mesh: None,
+        path: glyphcast::RenderPath::Fragment,
     };
     (image, scene)
 }

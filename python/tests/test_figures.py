@@ -36,6 +36,27 @@ def assert_same_image(ours, cli):
     assert ours.png() == png
 
 
+def test_the_compute_path_draws_the_underlay_as_the_fragment_path(sh, underlay_file):
+    """path="compute" composes the glyphs with the underlay through the same depth test;
+    path="auto" (the default) is the fragment path on lavapipe, bit for bit."""
+    coeffs, affine = sh
+    path, _ = underlay_file
+    images = {
+        p: glyphcast.render_sh(coeffs, affine, basis="dipy", width=96, underlay=path, path=p)
+        for p in ("fragment", "compute", "auto")
+    }
+    fragment, compute = images["fragment"], images["compute"]
+    assert np.array_equal(np.isnan(fragment.depth), np.isnan(compute.depth))
+    hit = ~np.isnan(fragment.depth)
+    assert hit.sum() > 100
+    assert np.allclose(fragment.depth[hit], compute.depth[hit], rtol=1e-5, atol=0)
+    # One unit of the 8-bit sRGB encoding at most.
+    difference = np.abs(fragment.rgba.astype(int) - compute.rgba.astype(int))
+    assert difference.max() <= 1
+    assert np.array_equal(images["auto"].rgba, fragment.rgba)
+    assert_same_depth(images["auto"].depth, fragment.depth)
+
+
 def test_render_sh_with_an_underlay_matches_cli(sh, func_coef, underlay_file, cli_render):
     coeffs, affine = sh
     path, values = underlay_file
@@ -156,8 +177,7 @@ def test_bad_figure_options_name_the_keyword(sh, underlay_file, tmp_path):
         (dict(underlay=path, underlay_range="1-2"), r"^underlay_range='1-2': not LOW:HIGH"),
         (dict(underlay=path, underlay_range=(2, 1)), r"^underlay_range='2:1': not LOW:HIGH"),
         (dict(underlay=values[..., None]), r"^underlay: a 4D array of shape \[2, 3, 4, 1\]"),
-        (dict(underlay=path, path="compute"), r"^underlay: path=compute has no depth buffer"
-                                              r".*; use path=fragment$"),
+        (dict(path="gpu"), r"^path='gpu': not one of auto, fragment, compute"),
         (dict(order=2), r"^order: applies to tensor volumes only$"),
         (dict(legacy=True, basis=None), r"^legacy=True: needs basis too"),
     ]

@@ -39,8 +39,12 @@ pub struct BenchResult {
     pub label: String,
     /// The scene measured (configurations of one scene share it), for [`ratios`].
     pub scene: String,
-    /// `--method` as spelled on the command line, with " (compute)" for `--path compute`.
+    /// `--method` as spelled on the command line, with " (compute)" where the compute ray
+    /// caster drew it.
     pub method: String,
+    /// The ray caster that drew it: fragment or compute, as "auto: fragment" or "auto:
+    /// compute" where `--path auto` chose it.
+    pub path: String,
     /// Glyphs drawn.
     pub glyphs: usize,
     /// Image width, pixels.
@@ -245,9 +249,13 @@ fn measure_prepared(
     Ok(BenchResult {
         label: case.label.to_owned(),
         scene: String::new(),
-        method: match settings.path {
-            RenderPath::Fragment => settings.method.to_string(),
+        method: match frame.path() {
             RenderPath::Compute => format!("{} (compute)", settings.method),
+            _ => settings.method.to_string(),
+        },
+        path: match settings.path {
+            RenderPath::Auto => format!("auto: {}", frame.path()),
+            _ => frame.path().to_string(),
         },
         glyphs,
         width,

@@ -8,8 +8,9 @@ use std::fmt::Write as _;
 type Cell = fn(&BenchResult) -> String;
 
 /// The timing table: each column's heading and cell, at the precision a person reads.
-const TIMING: [(&str, Cell); 15] = [
+const TIMING: [(&str, Cell); 16] = [
     ("label", |r| r.label.clone()),
+    ("path", |r| r.path.clone()),
     ("glyphs", |r| r.glyphs.to_string()),
     ("size", |r| format!("{}x{}", r.width, r.height)),
     ("GPU ms (median)", |r| format!("{:.3}", r.gpu_ms_median)),
@@ -70,7 +71,7 @@ const GEOMETRY: [(&str, Cell); 13] = [
 
 /// The CSV: each column's name and cell at full precision; empty where a value was not
 /// measured.
-const CSV: [(&str, Cell); 30] = [
+const CSV: [(&str, Cell); 31] = [
     ("label", |r| r.label.clone()),
     ("glyphs", |r| r.glyphs.to_string()),
     ("width", |r| r.width.to_string()),
@@ -93,6 +94,7 @@ const CSV: [(&str, Cell); 30] = [
     ("evaluations", |r| work_cell(r, |w| w.evaluations)),
     ("scene", |r| r.scene.clone()),
     ("method", |r| r.method.clone()),
+    ("path", |r| r.path.clone()),
     ("triangles", |r| {
         r.triangles.map_or_else(String::new, |t| t.to_string())
     }),
@@ -194,28 +196,39 @@ pub fn csv(results: &[BenchResult]) -> String {
     out
 }
 
+/// A result's column in [`pivot`]: its method, or "METHOD (auto)" where `--path auto`
+/// chose the ray caster (whichever it chose).
+fn pivot_column(r: &BenchResult) -> String {
+    match r.path.starts_with("auto") {
+        true => format!("{} (auto)", r.method.trim_end_matches(" (compute)")),
+        false => r.method.clone(),
+    }
+}
+
 /// Median GPU milliseconds with one row per field and image size and one column per
-/// method (as [`BenchResult::method`] spells it), "-" where a configuration was not
-/// measured; the last column gives the frames per second of the first method's time.
-/// `columns` come first, in their order, measured or not (so that tables of several
-/// runs line up), then any other method the results hold.
+/// method (as [`BenchResult::method`] spells it, "METHOD (auto)" where `--path auto`
+/// chose the ray caster), "-" where a configuration was not measured; the last column
+/// gives the frames per second of the first method's time. `columns` come first, in
+/// their order, measured or not (so that tables of several runs line up), then any
+/// other method the results hold.
 pub fn pivot(results: &[BenchResult], columns: &[String]) -> String {
-    let mut methods: Vec<&str> = columns.iter().map(String::as_str).collect();
+    let mut methods: Vec<String> = columns.to_vec();
     let mut rows: Vec<(usize, u32, u32)> = Vec::new();
     for r in results {
-        if !methods.contains(&r.method.as_str()) {
-            methods.push(&r.method);
+        let column = pivot_column(r);
+        if !methods.contains(&column) {
+            methods.push(column);
         }
         if !rows.contains(&(r.glyphs, r.width, r.height)) {
             rows.push((r.glyphs, r.width, r.height));
         }
     }
-    let Some(first) = methods.first().copied() else {
+    let Some(first) = methods.first().map(String::as_str) else {
         return String::new();
     };
     let fps = format!("{first} fps");
     let mut columns = vec!["glyphs", "size"];
-    columns.extend(methods.iter().copied());
+    columns.extend(methods.iter().map(String::as_str));
     columns.push(&fps);
     let mut out = header(&columns);
     for &(glyphs, width, height) in &rows {
@@ -223,7 +236,8 @@ pub fn pivot(results: &[BenchResult], columns: &[String]) -> String {
             results
                 .iter()
                 .find(|r| {
-                    r.method == method && (r.glyphs, r.width, r.height) == (glyphs, width, height)
+                    pivot_column(r) == method
+                        && (r.glyphs, r.width, r.height) == (glyphs, width, height)
                 })
                 .map(|r| r.gpu_ms_median)
         };
@@ -253,6 +267,7 @@ mod tests {
             label: format!("{glyphs} {method}"),
             scene: glyphs.to_string(),
             method: method.into(),
+            path: "fragment".into(),
             glyphs,
             width: 64,
             height: 32,

@@ -112,6 +112,8 @@ pub struct RenderedImage {
     pub gpu_ms: Option<f64>,
     /// Sizes and generation time of the meshes, for tessellated glyphs.
     pub mesh: Option<MeshStats>,
+    /// The ray caster that drew it (what `auto` chose).
+    pub path: RenderPath,
 }
 
 /// The offscreen targets of one image size, with their readback buffers.
@@ -339,6 +341,7 @@ impl HeadlessRenderer {
         image.draws = frame.draws();
         image.mesh = frame.mesh_stats().copied();
         image.gpu_ms = gpu_ms;
+        image.path = frame.path();
         gpu.check_validation()?;
         Ok(image)
     }
@@ -364,6 +367,15 @@ impl HeadlessRenderer {
         } = *view;
         settings.validate()?;
         check_image_size(gpu, width, height)?;
+        // `auto` is decided here, for this device and these glyphs.
+        let settings = &RenderSettings {
+            path: settings.path.on_device(
+                gpu.context().device_type(),
+                settings.method,
+                sets.iter().map(|set| set.shape),
+            ),
+            ..*settings
+        };
         let extent = frame_extent(camera, sets, settings, underlay, peaks);
         let params = FrameParams::new(camera, width, height, &extent, settings);
         let scene = match settings.method {
@@ -490,6 +502,7 @@ impl HeadlessRenderer {
         let mut image = read_back(&frame.targets, frame.size.width, frame.size.height)?;
         image.draws = frame.draws();
         image.mesh = frame.mesh_stats().copied();
+        image.path = frame.path();
         gpu.check_validation()?;
         Ok(image)
     }
@@ -560,6 +573,12 @@ impl PreparedFrame {
             )),
             _ => Ok(None),
         }
+    }
+
+    /// The ray caster that draws the frame: the settings' path, with `auto` decided for
+    /// the device and the glyphs ([`RenderPath::on_device`]).
+    pub fn path(&self) -> RenderPath {
+        self.settings.path
     }
 
     /// Passes the glyphs are drawn in (render::visibility); 1 for the tessellated and
@@ -1244,6 +1263,7 @@ fn read_back(t: &Targets, width: u32, height: u32) -> Result<RenderedImage> {
         draws: 0,
         gpu_ms: None,
         mesh: None,
+        path: RenderPath::Fragment,
     })
 }
 

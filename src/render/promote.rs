@@ -35,7 +35,7 @@ pub const PROMOTABLE_GLYPHS: usize = 4096;
 
 /// Whether the render draws with the per-order `exact` shaders that promotion serves.
 fn promotes(settings: &RenderSettings) -> bool {
-    settings.path == RenderPath::Fragment && settings.method == Method::Exact
+    settings.path != RenderPath::Compute && settings.method == Method::Exact
 }
 
 /// The highest order of each parity (even, odd) among symmetric polynomial layouts.
@@ -61,9 +61,10 @@ fn target_order(layout: TensorLayout, shape: GlyphShape, tops: [Option<u32>; 2])
 /// needs whatever its preparation finds: a one-shot render compiles these while the
 /// glyphs are prepared, and the rest (layouts whose sets may be promoted) at upload, if
 /// they are still needed. Empty for the mesh methods and the compute path, whose
-/// pipelines are made elsewhere.
+/// pipelines are made elsewhere; for [`RenderPath::Auto`], the fragment path's (to be
+/// made only where the device takes that path, [`RenderPath::on_device`]).
 pub fn early_variants(scene: &Scene, settings: &RenderSettings) -> Vec<Variant> {
-    if settings.path != RenderPath::Fragment || matches!(settings.method, Method::Mesh(_)) {
+    if settings.path == RenderPath::Compute || matches!(settings.method, Method::Mesh(_)) {
         return Vec::new();
     }
     let sets: Vec<_> = scene

@@ -3,6 +3,7 @@
 use crate::error::quoted;
 use crate::render::{MeshKind, Method};
 use crate::{Error, Result, Setting};
+use ash::vk;
 
 /// How the first sign change along the ray is refined (`--refine`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -163,25 +164,76 @@ impl std::str::FromStr for Method {
 /// Which ray caster runs the method (`--path`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum RenderPath {
+    /// The ray caster measured faster on the device that draws the frame
+    /// ([`RenderPath::on_device`]): the compute ray caster on a GPU where it can draw the
+    /// frame, the fragment path on a CPU (lavapipe) and wherever the compute ray caster
+    /// cannot draw the frame (another method, glyph shapes other than the polynomial
+    /// glyph). Engines' own passes take the fragment path.
+    #[default]
+    Auto,
     /// Instanced proxy boxes whose fragment shader ray-casts the glyph
     /// ([`RayCastPass`](crate::render::raycast::RayCastPass)); what engines embed.
-    #[default]
     Fragment,
     /// A compute shader per pixel walking its screen tile's glyphs front to back
     /// ([`ComputeRayCastPass`](crate::render::compute::ComputeRayCastPass)); exact only.
     Compute,
 }
 
+impl RenderPath {
+    /// The ray caster that draws glyphs of `shapes` with `method` on a device of type
+    /// `device`: `self`, unless it is [`RenderPath::Auto`], which takes
+    ///
+    /// - the fragment path where the compute ray caster cannot draw the frame (a method
+    ///   other than `exact`, a glyph shape other than the polynomial glyph);
+    /// - the fragment path on a CPU device (lavapipe), where the compute ray caster is
+    ///   3 to 7 times slower: its invocations run in lockstep lanes over every pixel of
+    ///   every tile, so a pixel's early stop saves nothing there, while the fragment path
+    ///   launches fragments only inside the glyphs' boxes;
+    /// - the compute ray caster on a GPU (discrete, integrated or virtual), where it was
+    ///   measured 5 to 20 times faster than the fragment path: each pixel walks its tile's
+    ///   glyphs front to back and stops behind its nearest hit, and the GPU's warps skip
+    ///   the work of lanes that stopped;
+    /// - the fragment path on a device of another type, which nothing was measured on.
+    ///
+    /// docs/guide/performance.md has the measurements and their commands.
+    pub fn on_device(
+        self,
+        device: vk::PhysicalDeviceType,
+        method: Method,
+        shapes: impl IntoIterator<Item = crate::glyph::GlyphShape>,
+    ) -> RenderPath {
+        if self != RenderPath::Auto {
+            return self;
+        }
+        let computable = method == Method::Exact
+            && shapes
+                .into_iter()
+                .all(|shape| shape == crate::glyph::GlyphShape::Polynomial);
+        let gpu = matches!(
+            device,
+            vk::PhysicalDeviceType::DISCRETE_GPU
+                | vk::PhysicalDeviceType::INTEGRATED_GPU
+                | vk::PhysicalDeviceType::VIRTUAL_GPU
+        );
+        if computable && gpu {
+            RenderPath::Compute
+        } else {
+            RenderPath::Fragment
+        }
+    }
+}
+
 impl std::str::FromStr for RenderPath {
     type Err = Error;
     fn from_str(s: &str) -> Result<Self> {
         match s {
+            "auto" => Ok(RenderPath::Auto),
             "fragment" => Ok(RenderPath::Fragment),
             "compute" => Ok(RenderPath::Compute),
             _ => Err(Error::setting_value(
                 Setting::Path,
                 format!("'{}'", quoted(s)),
-                "not one of fragment, compute",
+                "not one of auto, fragment, compute",
             )),
         }
     }
@@ -190,6 +242,7 @@ impl std::str::FromStr for RenderPath {
 impl std::fmt::Display for RenderPath {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {
+            RenderPath::Auto => "auto",
             RenderPath::Fragment => "fragment",
             RenderPath::Compute => "compute",
         })
@@ -536,7 +589,7 @@ impl Default for RenderSettings {
             // real root of the ray polynomial. It refuses an offset; the command line
             // then takes affine, the next fastest.
             method: Method::Exact,
-            path: RenderPath::Fragment,
+            path: RenderPath::Auto,
             step: 0.02,
             refinement: Refinement::Secant(4),
             centre_step_factor: 1.0 / 3.0,
@@ -807,6 +860,43 @@ impl RenderSettings {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn auto_takes_compute_on_gpus_where_it_draws_the_glyphs_and_fragment_elsewhere() {
+        use crate::glyph::GlyphShape;
+        use vk::PhysicalDeviceType as Kind;
+        let polynomial = [GlyphShape::Polynomial];
+        let path = |device, method, shapes: &[GlyphShape]| {
+            RenderPath::Auto.on_device(device, method, shapes.iter().copied())
+        };
+        for gpu in [Kind::DISCRETE_GPU, Kind::INTEGRATED_GPU, Kind::VIRTUAL_GPU] {
+            assert_eq!(path(gpu, Method::Exact, &polynomial), RenderPath::Compute);
+            assert_eq!(path(gpu, Method::Exact, &[]), RenderPath::Compute);
+            // Only the exact method and the polynomial glyph have a compute ray caster.
+            assert_eq!(path(gpu, Method::Affine, &polynomial), RenderPath::Fragment);
+            let mixed = [GlyphShape::Polynomial, GlyphShape::Ellipsoid];
+            assert_eq!(path(gpu, Method::Exact, &mixed), RenderPath::Fragment);
+        }
+        for other in [Kind::CPU, Kind::OTHER] {
+            assert_eq!(
+                path(other, Method::Exact, &polynomial),
+                RenderPath::Fragment
+            );
+        }
+        // A path asked for is kept, whatever the device.
+        for asked in [RenderPath::Fragment, RenderPath::Compute] {
+            let on_cpu = asked.on_device(Kind::CPU, Method::Exact, polynomial);
+            let on_gpu = asked.on_device(Kind::DISCRETE_GPU, Method::Exact, polynomial);
+            assert_eq!((on_cpu, on_gpu), (asked, asked));
+        }
+        assert_eq!(RenderSettings::default().path, RenderPath::Auto);
+        assert_eq!("auto".parse::<RenderPath>().unwrap(), RenderPath::Auto);
+        let error = "gpu".parse::<RenderPath>().unwrap_err().to_string();
+        assert!(
+            error.contains("not one of auto, fragment, compute"),
+            "{error}"
+        );
+    }
 
     #[test]
     fn every_method_parses_and_the_error_lists_them() {

@@ -377,10 +377,12 @@ render_settings! {
         accepts: "fixed, interval, affine, exact, impostor, mesh:0 to mesh:7, latlong:N",
         range: Range::Any, reads: Reads::Always, number: None,
     }
-    /// Which ray caster runs the method: fragment (proxy boxes) or compute (a compute
-    /// shader per pixel over screen tiles; exact only).
+    /// Which ray caster runs the method: auto (the one measured faster on the device:
+    /// compute on a GPU, fragment on a CPU such as lavapipe, and fragment wherever compute
+    /// cannot draw the glyphs), fragment (proxy boxes) or compute (a compute shader per
+    /// pixel over screen tiles; exact only, polynomial glyphs).
     path: RenderPath = Path("path") {
-        kind: Name, value: "PATH", default: "fragment", accepts: "fragment, compute",
+        kind: Name, value: "PATH", default: "auto", accepts: "auto, fragment, compute",
         range: Range::Any, reads: Reads::Always, number: None,
     }
     /// The robust methods' segment length limit, in pixels at the segment's depth.

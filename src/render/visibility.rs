@@ -267,12 +267,12 @@ pub(crate) fn visibility_bindings() -> [vk::DescriptorSetLayoutBinding<'static>;
 
 /// Whether frames drawn with `settings` on this device can be culled: a ray-casting
 /// method with a box per glyph (not the impostor, whose shader does not take part), on
-/// the fragment path, and a device that blends the float32 ray distance (the first stage
+/// the fragment path (which engines' passes take for `auto`), and a device that blends the float32 ray distance (the first stage
 /// of the later passes keeps the smaller one).
 pub(crate) fn can_cull(ctx: &DeviceContext, settings: &crate::render::RenderSettings) -> bool {
     use crate::render::{Method, RenderPath};
     let method = !matches!(settings.method, Method::Impostor | Method::Mesh(_));
-    method && settings.path == RenderPath::Fragment && ctx.blends_float32()
+    method && settings.path != RenderPath::Compute && ctx.blends_float32()
 }
 
 /// What the passes of one target share: its work counters and the buffer its depth is

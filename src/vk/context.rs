@@ -120,6 +120,8 @@ pub struct DeviceContext {
     timestamp_period_ns: f32,
     /// Whether an R32_SFLOAT colour attachment blends (optimal tiling).
     blends_float32: bool,
+    /// The physical device's type (a GPU, a CPU such as lavapipe, ...).
+    device_type: vk::PhysicalDeviceType,
 }
 
 impl DeviceContext {
@@ -206,7 +208,8 @@ impl DeviceContext {
         owner: DeviceOwner,
     ) -> DeviceContext {
         // SAFETY: the physical device belongs to the instance (the callers' promise).
-        let limits = unsafe { instance.get_physical_device_properties(physical_device) }.limits;
+        let props = unsafe { instance.get_physical_device_properties(physical_device) };
+        let limits = props.limits;
         // SAFETY: as above.
         let float32 = unsafe {
             instance.get_physical_device_format_properties(physical_device, vk::Format::R32_SFLOAT)
@@ -216,6 +219,7 @@ impl DeviceContext {
             .contains(vk::FormatFeatureFlags::COLOR_ATTACHMENT_BLEND);
         DeviceContext {
             blends_float32,
+            device_type: props.device_type,
             owner: Arc::new(owner),
             max_storage_buffer_range: limits.max_storage_buffer_range as u64,
             max_varying_components: limits
@@ -224,6 +228,12 @@ impl DeviceContext {
             max_image_dimension_2d: limits.max_image_dimension2_d,
             timestamp_period_ns: limits.timestamp_period,
         }
+    }
+
+    /// The physical device's type: what [`RenderPath::Auto`](crate::render::RenderPath)
+    /// decides by.
+    pub fn device_type(&self) -> vk::PhysicalDeviceType {
+        self.device_type
     }
 
     /// The pipeline cache every pipeline of this context is created through (null when

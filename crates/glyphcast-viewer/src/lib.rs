@@ -112,10 +112,11 @@ pub fn run(source: ViewSource, options: ViewerOptions) -> Result<()> {
     app::run(panels, options)
 }
 
-/// The window draws with the fragment ray caster only, and a method only where every
-/// glyph set has its shader: anything else is refused before the window opens.
+/// The window draws with the fragment ray caster (which `auto` takes in the window),
+/// and a method only where every glyph set has its shader: anything else is refused
+/// before the window opens.
 fn check_method(panels: &Panels, settings: &RenderSettings) -> Result<()> {
-    if settings.path != RenderPath::Fragment {
+    if settings.path == RenderPath::Compute {
         return Err(Error::setting_value(
             Setting::Path,
             settings.path,

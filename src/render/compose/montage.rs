@@ -92,6 +92,8 @@ impl Montage {
                 draws: 0,
                 gpu_ms: None,
                 mesh: None,
+                // Until a panel is placed: the path of an image no ray caster drew.
+                path: crate::render::RenderPath::Fragment,
             },
         }
     }
@@ -113,6 +115,7 @@ impl Montage {
             out.distance[to..to + w].copy_from_slice(&panel.distance[from..from + w]);
         }
         out.draws += panel.draws;
+        out.path = panel.path;
     }
 
     /// The assembled image.
@@ -297,6 +300,7 @@ mod tests {
             draws: 1,
             gpu_ms: None,
             mesh: None,
+            path: crate::render::RenderPath::Fragment,
         }
     }
 

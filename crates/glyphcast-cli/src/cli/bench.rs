@@ -7,7 +7,9 @@ use glyphcast::accuracy::suite;
 use glyphcast::bench::{self, BenchCase, BenchFrames, BenchResult, Reference, ratios, workload};
 use glyphcast::error::Relation;
 use glyphcast::render::headless::HeadlessRenderer;
-use glyphcast::render::{AmbientOcclusion, MeshKind, Method, Refinement, RenderSettings, Shadows};
+use glyphcast::render::{
+    AmbientOcclusion, MeshKind, Method, Refinement, RenderPath, RenderSettings, Shadows,
+};
 use glyphcast::scene::Scene;
 use glyphcast::vk::{Gpu, GpuOptions};
 use glyphcast::{Error, Result};
@@ -408,7 +410,8 @@ const GPU_REPORT_TRIANGLE_BUDGET: usize = 200_000_000;
 
 /// The GPU report's table (`tools/gpu-report.sh`): band-8 fODF fields of 10^3 to 10^6
 /// glyphs (or the comma-separated `counts` after `gpu:`) at 1280x720, 1920x1080 and
-/// 3840x2160; every method on the fragment path and `exact` on the compute path; meshes
+/// 3840x2160; every method on the fragment path and `exact` on the compute path and on
+/// `auto` (the path it takes on the device); meshes
 /// where their triangles fit [`GPU_REPORT_TRIANGLE_BUDGET`]; accuracy against the
 /// float64 reference on fields of at most 1000 glyphs at the smallest size. `--quick`:
 /// 100 and 1000 glyphs at 320x180 and 640x360.
@@ -445,6 +448,7 @@ fn gpu_plan(args: &BenchArgs, counts: &str, plan: &mut Plan) -> Result<()> {
     ];
     plan.columns = methods.iter().map(|m| m.to_string()).collect();
     plan.columns.push("exact (compute)".into());
+    plan.columns.push("exact (auto)".into());
     for &count in &counts {
         let (w0, h0) = sizes[0];
         let base = workload::fodf(count, 8, w0, h0)?;
@@ -479,17 +483,20 @@ fn gpu_plan(args: &BenchArgs, counts: &str, plan: &mut Plan) -> Result<()> {
                     format!("{name} {spelled}"),
                     RenderSettings {
                         method,
+                        path: RenderPath::Fragment,
                         ..Default::default()
                     },
                 );
             }
-            add(
-                format!("{name} exact (compute)"),
-                RenderSettings {
-                    path: glyphcast::render::RenderPath::Compute,
-                    ..Default::default()
-                },
-            );
+            for path in [RenderPath::Compute, RenderPath::Auto] {
+                add(
+                    format!("{name} exact ({path})"),
+                    RenderSettings {
+                        path,
+                        ..Default::default()
+                    },
+                );
+            }
         }
     }
     Ok(())

@@ -342,6 +342,7 @@ pub fn render(
     let scene_file = save_scene.map(|path| (path, scene.to_json()));
     let common_scale = common_scale([&scene]);
     let variants = early_variants(&scene, &settings);
+    let shapes: Vec<_> = scene.glyph_sets.iter().map(|set| set.shape).collect();
     let gpu_options = options.gpu_options();
     // The device and the scene's pipelines (most of a small render's time on lavapipe)
     // are made on a thread of their own while the glyphs are prepared.
@@ -349,7 +350,12 @@ pub fn render(
         let device = scope.spawn(|| -> Result<(Gpu, HeadlessRenderer)> {
             let gpu = Gpu::headless(&gpu_options)?;
             let mut renderer = HeadlessRenderer::new(&gpu)?;
-            renderer.prepare_pipelines(&variants)?;
+            // The fragment path's pipelines, where the device takes it.
+            let device = gpu.context().device_type();
+            let path = settings.path.on_device(device, settings.method, shapes);
+            if path == glyphcast::RenderPath::Fragment {
+                renderer.prepare_pipelines(&variants)?;
+            }
             Ok((gpu, renderer))
         });
         let started = Instant::now();
@@ -381,7 +387,13 @@ pub fn render(
         .gpu_ms
         .map_or_else(|| "n/a".to_owned(), |ms| format!("{ms:.1} ms"));
     eprintln!(
-        "rendered {glyphs} glyphs at {w}x{h}: prepare {:.1} ms, render {:.1} ms (GPU {gpu_time})",
+        "rendered {glyphs} glyphs at {w}x{h} on the {} path{}: prepare {:.1} ms, render {:.1} ms \
+         (GPU {gpu_time})",
+        image.path,
+        match settings.path {
+            glyphcast::RenderPath::Auto => " (auto)",
+            _ => "",
+        },
         prepare_time.as_secs_f64() * 1e3,
         begun.elapsed().as_secs_f64() * 1e3
     );
