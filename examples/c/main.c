@@ -181,11 +181,13 @@ static void create_engine(Engine *e) {
                                      .queueCount = 1,
                                      .pQueuePriorities = &priority};
     /* What glyphcast needs: dynamic rendering, storage writes in fragment shaders (and
-       sampleRateShading for MSAA). */
+       sampleRateShading for MSAA), maintenance4 for the compute ray caster (every Vulkan
+       1.3 device has it). */
     VkPhysicalDeviceVulkan13Features v13 = {
         .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES,
         .dynamicRendering = VK_TRUE,
-        .synchronization2 = VK_TRUE};
+        .synchronization2 = VK_TRUE,
+        .maintenance4 = VK_TRUE};
     VkPhysicalDeviceFeatures core = {.fragmentStoresAndAtomics = VK_TRUE};
     VkDeviceCreateInfo device = {.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
                                  .pNext = &v13,

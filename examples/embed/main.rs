@@ -12,6 +12,12 @@
 //! glyphs are replaced (a slice step) while frames are in flight; the old ones are
 //! retired, not waited for.
 //!
+//! With `--path compute` the glyphs are drawn by glyphcast's compute ray caster: each
+//! frame, before the engine begins its rendering, the renderer records its dispatches
+//! (`record_compute`); inside the rendering, `record` draws their outputs into the
+//! engine's attachments, depth-tested against the plane. The engine's images and
+//! barriers are the same for both paths.
+//!
 //! glyphcast's buffers and images take their memory from the engine: from its
 //! gpu-allocator allocator (`--allocator gpu-allocator`, the default), or from a second
 //! implementation of glyphcast's `MemoryAllocator` trait (`--allocator plain`,
@@ -20,8 +26,8 @@
 //! ```text
 //! cargo run --example embed -- [--frames N] [--in-flight K] [--depth standard|reversed]
 //!     [--depth-format d32|d32s8]
-//!     [--samples 1|2|4|8] [--allocator gpu-allocator|plain] [--sync-validation]
-//!     [--screenshot OUT.png]
+//!     [--samples 1|2|4|8] [--allocator gpu-allocator|plain] [--path fragment|compute]
+//!     [--sync-validation] [--screenshot OUT.png]
 //! ```
 //! Any validation message (errors and warnings; synchronization validation with
 //! `--sync-validation`) makes it exit with 1; an unknown option with 2.
@@ -36,7 +42,8 @@ use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
 use glyphcast::render::host_view::{look_at, perspective};
 use glyphcast::{
     Camera, DepthConvention, DeviceContext, GlyphRenderer, GlyphSetData, HostView, ImageSize,
-    PassOptions, Projection, RenderSettings, RendererDesc, Scene, TargetFormats, prepare_scene,
+    PassOptions, Projection, RenderPath, RenderSettings, RendererDesc, Scene, TargetFormats,
+    prepare_scene,
 };
 // Links what completes a split system shaderc (Debian 12's) into the example (plane.rs).
 use glyphcast_shaderc_link as _;
@@ -79,6 +86,9 @@ struct Options {
     /// The rectangle of the target the frame is drawn in (an editor's viewport; a test's
     /// option): the whole target if none.
     viewport: Option<vk::Rect2D>,
+    /// glyphcast's ray caster: fragment (drawn in the engine's rendering) or compute
+    /// (dispatched before it, composed in it).
+    path: RenderPath,
 }
 
 impl Default for Options {
@@ -94,6 +104,7 @@ impl Default for Options {
             screenshot: None,
             plane: true,
             viewport: None,
+            path: RenderPath::Fragment,
         }
     }
 }
@@ -151,6 +162,13 @@ fn parse(args: &[String]) -> std::result::Result<Options, String> {
                     other => {
                         return Err(format!("{arg}: '{other}' is not gpu-allocator or plain"));
                     }
+                }
+            }
+            "--path" => {
+                o.path = match value()?.as_str() {
+                    "fragment" => RenderPath::Fragment,
+                    "compute" => RenderPath::Compute,
+                    other => return Err(format!("{arg}: '{other}' is not fragment or compute")),
                 }
             }
             "--sync-validation" => o.validation = Validation::Sync,
@@ -402,7 +420,10 @@ fn draw_frames(engine: &Engine, options: &Options, plain: Option<Arc<PlainMemory
     // context and renderer are locals, dropped before this function returns.
     let context = context(engine, plain);
     let samples = vk::SampleCountFlags::from_raw(options.samples);
-    let settings = RenderSettings::default();
+    let settings = RenderSettings {
+        path: options.path,
+        ..RenderSettings::default()
+    };
     let first = prepare_scene(&scene(0), settings.offset as f64)?;
     let second = prepare_scene(&scene(1), settings.offset as f64)?;
     let desc = RendererDesc {
@@ -480,6 +501,10 @@ fn draw_frames(engine: &Engine, options: &Options, plain: Option<Arc<PlainMemory
             let begin = vk::CommandBufferBeginInfo::default()
                 .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
             d.begin_command_buffer(slot.cmd, &begin)?;
+        }
+        if glyphs.path() == RenderPath::Compute {
+            // Outside the rendering: the dispatches into glyphcast's own buffers.
+            glyphs.record_compute(slot.cmd, index)?;
         }
         record_frame(engine, slot, options.depth, |cmd| {
             if options.plane {

@@ -16,6 +16,7 @@ fn options(depth: DepthConvention, samples: u32) -> Options {
         screenshot: None,
         plane: true,
         viewport: None,
+        path: RenderPath::Fragment,
     }
 }
 
@@ -165,6 +166,51 @@ fn frames_in_flight_match_headless(samples: u32) {
         assert!(m.max_error < 1e-4, "{name}: {m:?}");
         // The ray caster's error at default settings (tests/depth_accuracy.rs).
         assert!(m.median_reference_error < 1e-3, "{name}: {m:?}");
+    }
+}
+
+/// `--path compute`: 24 frames, 3 in flight, the glyphs replaced halfway, under
+/// synchronization validation, in both depth conventions: no message, the picture of
+/// the fragment path (its sRGB bytes within one unit: the compute shader encodes its
+/// colour itself) and the same depth, and the glyphs where the headless renderer puts
+/// them, in front of and behind the plane.
+#[test]
+fn the_compute_path_draws_the_fragment_path_picture() {
+    for depth in [DepthConvention::Standard, DepthConvention::Reversed] {
+        let base = Options {
+            frames: 24,
+            ..options(depth, 1)
+        };
+        let fragment = run(&base).expect("fragment run");
+        let compute = run(&Options {
+            path: RenderPath::Compute,
+            ..base
+        })
+        .expect("compute run");
+        assert_eq!(compute.validation, Vec::<String>::new(), "{depth:?}");
+        let colour = compute
+            .rgba
+            .iter()
+            .zip(&fragment.rgba)
+            .filter(|(a, b)| a.abs_diff(**b) > 1)
+            .count();
+        if colour > 0 {
+            save(&format!("compute-{depth:?}"), &compute.rgba);
+            save(&format!("fragment-{depth:?}"), &fragment.rgba);
+        }
+        assert_eq!(colour, 0, "{depth:?}: colours differ");
+        let depths = compute
+            .depth
+            .iter()
+            .zip(&fragment.depth)
+            .filter(|(a, b)| (*a - *b).abs() > 1e-6)
+            .count();
+        assert_eq!(depths, 0, "{depth:?}: depths differ");
+        let m = glyph_match(&compute, &headless(&compute, 1));
+        eprintln!("compute {depth:?}: {m:?}");
+        assert!(m.judged > 1000 && m.glyph > 300, "{depth:?}: {m:?}");
+        assert_eq!(m.coverage_differs, 0, "{depth:?}: {m:?}");
+        assert!(m.max_error < 1e-4, "{depth:?}: {m:?}");
     }
 }
 

@@ -11,6 +11,19 @@
 //! been begun again with `set_view`, which the host calls only after that frame's previous
 //! submission completed (the fence it waits on before reusing frame k's command buffer).
 //!
+//! The compute ray caster (`path: compute` in the settings): each frame, outside the
+//! host's rendering, [`GlyphRenderer::record_compute`] records its dispatches into
+//! glyphcast's own buffers (colour, ray distance, depth per pixel of the viewport); inside
+//! the rendering, [`GlyphRenderer::record`] draws them into the host's attachments with
+//! one triangle over the viewport, depth-tested against what the host drew before and
+//! writing the glyphs' depth for its later passes. The host's images need nothing more
+//! than for the fragment path (colour and depth attachments, in attachment layouts, in
+//! the rendering the glyphs are recorded in); glyphcast's barriers cover its own buffers:
+//! the last read of frame k's outputs before they are written again, and the dispatches'
+//! writes before the composing draw reads them. Frame k's tile lists are made on the CPU
+//! in `set_view` from its camera, and its glyphs uploaded again with them. `auto` takes
+//! the fragment path here.
+//!
 //! glyphcast's own front ends draw through the same component: the headless renderer
 //! (one frame in flight) keeps each prepared frame's glyphs as [`UploadedGlyphs`] made by
 //! [`GlyphRenderer::upload`], writes their frame block from glyphcast's own camera
@@ -22,7 +35,7 @@
 //! slot writes its own frame block, and a slice step retires the old glyphs.
 use crate::error::{Error, Result};
 use crate::glyph::{GlyphShape, TensorLayout};
-use crate::render::Method;
+use crate::render::compute::{ComposePipeline, ComputeRayCastPass, ComputeSceneGpu};
 use crate::render::frame::FrameParams;
 use crate::render::glyph_data::{GlyphSetData, largest_radius};
 use crate::render::host_view::{HostView, host_frame};
@@ -31,6 +44,7 @@ use crate::render::raycast::{
 };
 use crate::render::settings::{Culling, RenderSettings};
 use crate::render::visibility::{PassPlan, VisibilityBuffers};
+use crate::render::{Method, RenderPath};
 use crate::vk::DeviceContext;
 use ash::vk;
 
@@ -105,12 +119,71 @@ struct Retired {
     pending: Vec<bool>,
 }
 
+/// The compute ray caster of a renderer made for `path: compute`.
+struct ComputeGlyphs {
+    // Fields drop in order: the scenes before the pass.
+    /// Per frame index: the scene uploaded for its last view, the viewport origin it is
+    /// drawn at, and the generation of the glyphs it holds.
+    frames: Vec<Option<(ComputeSceneGpu, [u32; 2], u64)>>,
+    pass: ComputeRayCastPass,
+    compose: ComposePipeline,
+    /// The current glyphs, binned again for each view, and their largest radius.
+    sets: Vec<GlyphSetData>,
+    max_radius: f64,
+    /// Counts `set_glyphs` calls: a frame index's scene of older glyphs is not drawn.
+    generation: u64,
+}
+
+impl ComputeGlyphs {
+    /// Frame `frame_index`'s scene of the current glyphs and where it is drawn.
+    fn frame(
+        &self,
+        frame_index: usize,
+        call: &'static str,
+    ) -> Result<(&ComputeSceneGpu, [u32; 2])> {
+        match self.frames.get(frame_index) {
+            Some(Some((scene, origin, made))) if *made == self.generation => Ok((scene, *origin)),
+            _ => Err(Error::Call {
+                call,
+                expected: "set_view for this frame and the current glyphs first",
+            }),
+        }
+    }
+}
+
+/// Where the compute ray caster draws a host's view: the viewport's top-left pixel and
+/// its size, which must be whole pixels with a positive height (the compute ray caster's
+/// rows run down from the top).
+fn compute_region(view: &HostView) -> Result<([u32; 2], [u32; 2])> {
+    let vp = &view.viewport;
+    let whole = |v: f32| v.is_finite() && v >= 0.0 && v.fract() == 0.0;
+    if !(whole(vp.x) && whole(vp.y) && whole(vp.width) && whole(vp.height))
+        || vp.width == 0.0
+        || vp.height == 0.0
+    {
+        return Err(Error::input(
+            "host view",
+            "viewport",
+            format!(
+                "the compute path draws a viewport of whole pixels with a positive height, not \
+                 {} x {} at ({}, {})",
+                vp.width, vp.height, vp.x, vp.y
+            ),
+        ));
+    }
+    Ok((
+        [vp.x as u32, vp.y as u32],
+        [vp.width as u32, vp.height as u32],
+    ))
+}
+
 /// The glyph renderer of one host target configuration.
 pub struct GlyphRenderer {
     // Scenes drop before the pass (descriptor sets and buffers before pipelines and
     // layouts): fields drop in order.
     glyphs: Option<UploadedGlyphs>,
     retired: Vec<Retired>,
+    compute: Option<Box<ComputeGlyphs>>,
     pass: RayCastPass,
     ctx: DeviceContext,
     frames_in_flight: usize,
@@ -137,9 +210,43 @@ impl GlyphRenderer {
             });
         }
         let pass = RayCastPass::with_options(ctx, desc.formats, desc.options)?;
+        let compute = match desc.settings.path {
+            RenderPath::Compute => {
+                for (setting, on) in [
+                    (crate::Setting::Shadows, desc.settings.shadows.enabled()),
+                    (
+                        crate::Setting::AmbientOcclusion,
+                        desc.settings.ambient_occlusion.enabled(),
+                    ),
+                ] {
+                    if on {
+                        return Err(Error::setting(
+                            setting,
+                            crate::message![
+                                "the engine component casts shadow rays on ",
+                                crate::Setting::Path.with("fragment"),
+                                " only"
+                            ],
+                        ));
+                    }
+                }
+                let mut pass = ComputeRayCastPass::new(ctx)?;
+                let compose = pass.compose_pipeline(desc.formats, desc.options.raster())?;
+                Some(Box::new(ComputeGlyphs {
+                    frames: (0..desc.frames_in_flight).map(|_| None).collect(),
+                    pass,
+                    compose,
+                    sets: Vec::new(),
+                    max_radius: 0.0,
+                    generation: 0,
+                }))
+            }
+            _ => None,
+        };
         Ok(GlyphRenderer {
             glyphs: None,
             retired: Vec::new(),
+            compute,
             pass,
             ctx: ctx.clone(),
             frames_in_flight: desc.frames_in_flight,
@@ -150,6 +257,18 @@ impl GlyphRenderer {
     /// Makes the pipelines that glyph sets of `layouts` need, so that the first
     /// `set_glyphs` of such sets compiles nothing (for example at load time).
     pub fn prepare(&mut self, layouts: &[(TensorLayout, GlyphShape)]) -> Result<()> {
+        if let Some(compute) = &mut self.compute {
+            for &(layout, shape) in layouts {
+                if let Some(what) = crate::render::ShapeShader::of(shape).asked() {
+                    return Err(Error::Unsupported {
+                        what,
+                        by: crate::Setting::Path.with("compute"),
+                    });
+                }
+                compute.pass.pipeline(layout)?;
+            }
+            return Ok(());
+        }
         let method = self.settings.method;
         let variants = layouts
             .iter()
@@ -163,6 +282,18 @@ impl GlyphRenderer {
     /// index has been begun again. Each frame index needs a `set_view` before its next
     /// `record`.
     pub fn set_glyphs(&mut self, sets: &[GlyphSetData]) -> Result<()> {
+        if self.compute.is_some() {
+            // Checked and compiled now, as the fragment path's upload would.
+            let layouts: Vec<_> = sets.iter().map(|set| (set.layout, set.shape)).collect();
+            self.prepare(&layouts)?;
+            let max_radius = glyph_radius(sets, &self.settings);
+            if let Some(compute) = &mut self.compute {
+                compute.max_radius = max_radius;
+                compute.sets = sets.to_vec();
+                compute.generation += 1;
+            }
+            return Ok(());
+        }
         let settings = self.settings;
         let glyphs = self.upload(sets, &settings)?;
         if let Some(old) = self.glyphs.replace(glyphs) {
@@ -272,6 +403,25 @@ impl GlyphRenderer {
     /// Retired glyphs that no frame index can still read are dropped here.
     pub fn set_view(&mut self, frame_index: usize, view: &HostView) -> Result<()> {
         self.begin_frame(frame_index)?;
+        if let Some(compute) = &mut self.compute {
+            if compute.generation == 0 {
+                return Err(Error::Call {
+                    call: "set_view",
+                    expected: "set_glyphs first",
+                });
+            }
+            let depth = self.pass.options().depth;
+            let frame = host_frame(view, depth, compute.max_radius, &self.settings)?;
+            let (origin, size) = compute_region(view)?;
+            let screen = crate::render::tiles::ScreenView::of_frame(&frame, size[0], size[1]);
+            // This frame index's previous scene is no longer read (the host's promise).
+            compute.frames[frame_index] = None;
+            let scene = compute
+                .pass
+                .upload_view(&self.ctx, &compute.sets, &frame, screen)?;
+            compute.frames[frame_index] = Some((scene, origin, compute.generation));
+            return Ok(());
+        }
         let glyphs = self.glyphs.as_mut().ok_or(Error::Call {
             call: "set_view",
             expected: "set_glyphs first",
@@ -292,11 +442,49 @@ impl GlyphRenderer {
     /// nothing is compiled, written, submitted or waited on, so several threads may
     /// record at once, each into its own command buffer.
     pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize) -> Result<()> {
+        if let Some(compute) = &self.compute {
+            let (scene, origin) = compute.frame(frame_index, "record")?;
+            compute
+                .pass
+                .record_compose(cmd, scene, compute.compose, origin);
+            return Ok(());
+        }
         let glyphs = self.glyphs.as_ref().ok_or(Error::Call {
             call: "record",
             expected: "set_glyphs first",
         })?;
         self.record_glyphs(cmd, glyphs, frame_index)
+    }
+
+    /// On the compute path (`path: compute` at creation): records frame `frame_index`'s
+    /// dispatches into `cmd` outside any rendering, before the rendering in which
+    /// [`GlyphRenderer::record`] draws their outputs. Writes only glyphcast's own
+    /// buffers, with the barriers they need (module docs). An error on the fragment path,
+    /// which records nothing here.
+    pub fn record_compute(&mut self, cmd: vk::CommandBuffer, frame_index: usize) -> Result<()> {
+        self.check_index(frame_index)?;
+        let compute = self.compute.as_mut().ok_or(Error::Call {
+            call: "record_compute",
+            expected: "a renderer made with path compute",
+        })?;
+        let generation = compute.generation;
+        let ComputeGlyphs { frames, pass, .. } = compute.as_mut();
+        match frames.get(frame_index) {
+            Some(Some((scene, _, made))) if *made == generation => pass.record(cmd, scene),
+            _ => Err(Error::Call {
+                call: "record_compute",
+                expected: "set_view for this frame and the current glyphs first",
+            }),
+        }
+    }
+
+    /// The ray caster the renderer records: [`RenderPath::Compute`] or
+    /// [`RenderPath::Fragment`] (which `auto` takes here).
+    pub fn path(&self) -> RenderPath {
+        match self.compute {
+            Some(_) => RenderPath::Compute,
+            None => RenderPath::Fragment,
+        }
     }
 
     /// [`GlyphRenderer::record`] for glyphs the caller holds ([`GlyphRenderer::upload`]),

@@ -298,8 +298,20 @@ impl ComputeRayCastPass {
         camera: &Camera,
         (width, height): (u32, u32),
     ) -> Result<ComputeSceneGpu> {
-        let limit = self.storage_buffer_limit();
         let view = ScreenView::new(camera, width, height);
+        self.upload_view(ctx, sets, frame, view)
+    }
+
+    /// [`ComputeRayCastPass::upload`] for `view` (a host's camera).
+    pub(crate) fn upload_view(
+        &mut self,
+        ctx: &DeviceContext,
+        sets: &[GlyphSetData],
+        frame: &FrameParams,
+        view: ScreenView,
+    ) -> Result<ComputeSceneGpu> {
+        let (width, height) = view.size();
+        let limit = self.storage_buffer_limit();
         // Parts: batches of glyphs whose coefficients and boxes fit one storage buffer
         // each, sets that share a pipeline together.
         let parts = batches(sets, limit, |layout, _| {
@@ -411,13 +423,13 @@ impl ComputeRayCastPass {
                 vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::TRANSFER_READ,
             )
             .dst_stage_mask(
-                vk::PipelineStageFlags2::CLEAR | vk::PipelineStageFlags2::COMPUTE_SHADER,
+                vk::PipelineStageFlags2::ALL_TRANSFER | vk::PipelineStageFlags2::COMPUTE_SHADER,
             )
             .dst_access_mask(
                 vk::AccessFlags2::TRANSFER_WRITE | vk::AccessFlags2::SHADER_STORAGE_WRITE,
             )];
         let after_fill = [vk::MemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::CLEAR)
+            .src_stage_mask(vk::PipelineStageFlags2::ALL_TRANSFER)
             .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
             .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
             .dst_access_mask(
@@ -433,7 +445,7 @@ impl ComputeRayCastPass {
             )];
         let to_readers = [vk::MemoryBarrier2::default()
             .src_stage_mask(
-                vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::CLEAR,
+                vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::ALL_TRANSFER,
             )
             .src_access_mask(
                 vk::AccessFlags2::SHADER_STORAGE_WRITE | vk::AccessFlags2::TRANSFER_WRITE,

@@ -93,7 +93,7 @@ impl PassOptions {
         }
     }
 
-    fn raster(&self) -> RasterTarget {
+    pub(crate) fn raster(&self) -> RasterTarget {
         RasterTarget {
             samples: self.samples,
             sample_shading: self.samples != vk::SampleCountFlags::TYPE_1,

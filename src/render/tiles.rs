@@ -12,6 +12,7 @@
 //! relative margin. The walk is cut into slices of [`WALK_PER_DISPATCH`] entries, one
 //! dispatch each (see there).
 use crate::camera::{Camera, Projection};
+use crate::render::frame::FrameParams;
 use glam::{DQuat, DVec3};
 
 /// Tile edge in pixels; the compute shader's workgroup is one tile
@@ -33,15 +34,18 @@ pub const WALK_PER_DISPATCH: u32 = 32;
 /// the walk before it.
 const NEAR_MARGIN: f64 = 1e-5;
 
-/// The camera as the shaders see it (pixel_ray.glsl), in float64.
+/// The camera as the shaders see it (pixel_ray.glsl), in float64: the ray through
+/// normalised window position (sx, sy) (-1 to 1, y up) leaves the eye along
+/// fwd + sx right + sy up in perspective, or leaves eye + sx right + sy up along fwd in
+/// orthographic projection.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ScreenView {
     eye: DVec3,
     fwd: DVec3,
+    /// Half the view's width and height per unit of forward distance (perspective) or of
+    /// world length (orthographic), along the view's right and up.
     right: DVec3,
     up: DVec3,
-    /// tan(fov/2) in perspective, half the view height in orthographic projection.
-    scale: f64,
     orthographic: bool,
     width: u32,
     height: u32,
@@ -58,13 +62,32 @@ impl ScreenView {
         ScreenView {
             eye: camera.eye,
             fwd: f.fwd,
-            right: f.right,
-            up: f.up,
-            scale,
+            right: f.right * (scale * width as f64 / height as f64),
+            up: f.up * scale,
             orthographic,
             width,
             height,
         }
+    }
+
+    /// The view of a frame block's camera (as pixel_ray.glsl reads it: a host's view,
+    /// [`crate::render::host_view`]) on an image of `width` x `height` pixels.
+    pub fn of_frame(frame: &FrameParams, width: u32, height: u32) -> ScreenView {
+        let v = |a: [f32; 4]| DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64);
+        ScreenView {
+            eye: v(frame.eye),
+            fwd: v(frame.fwd).normalize(),
+            right: v(frame.right) * frame.right[3] as f64,
+            up: v(frame.up),
+            orthographic: frame.eye[3] > 0.5,
+            width,
+            height,
+        }
+    }
+
+    /// The image's width and height in pixels.
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
     }
 
     /// Tile columns: width / [`TILE_SIZE`], rounded up.
@@ -91,8 +114,8 @@ impl ScreenView {
             z
         };
         let (w, h) = (self.width as f64, self.height as f64);
-        let sx = v.dot(self.right) / (depth * self.scale) * h / w;
-        let sy = v.dot(self.up) / (depth * self.scale);
+        let sx = v.dot(self.right) / (depth * self.right.length_squared());
+        let sy = v.dot(self.up) / (depth * self.up.length_squared());
         Some((0.5 * (sx + 1.0) * w, 0.5 * (1.0 - sy) * h))
     }
 }
