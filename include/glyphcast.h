@@ -171,6 +171,29 @@ typedef uint32_t GlyphcastShadows;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// The ray caster a renderer records ([`GlyphcastSettings::path`]).
+enum GlyphcastPath
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // Proxy boxes drawn in the host's rendering by [`glyphcast_renderer_record`] (the
+  // default).
+  GLYPHCAST_PATH_FRAGMENT = 0,
+  // The compute ray caster: [`glyphcast_renderer_record_compute`] records its
+  // dispatches before the host's rendering, [`glyphcast_renderer_record`] draws their
+  // outputs into the host's attachments inside it, depth-tested. The device needs
+  // maintenance4 enabled (every Vulkan 1.3 device has it).
+  GLYPHCAST_PATH_COMPUTE = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum GlyphcastPath GlyphcastPath;
+#else
+typedef uint32_t GlyphcastPath;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // The renderer: opaque to C.
 typedef struct GlyphcastRenderer GlyphcastRenderer;
 
@@ -225,6 +248,9 @@ typedef struct GlyphcastSettings {
   // else how far the 16 occlusion rays of each hit reach, in bounding radii of the hit
   // glyph, above 0 and at most 16 (1 reaches the neighbours of glyphs that touch).
   float ambient_occlusion;
+  // A [`GlyphcastPath`]: the ray caster the renderer records (with
+  // [`GlyphcastMethod::Exact`] only for the compute ray caster).
+  uint32_t path;
 } GlyphcastSettings;
 
 // One allocation glyphcast asks the host for.
@@ -412,6 +438,18 @@ enum GlyphcastStatus glyphcast_renderer_set_view(struct GlyphcastRenderer *rende
 enum GlyphcastStatus glyphcast_renderer_record(const struct GlyphcastRenderer *renderer,
                                                VkCommandBuffer command_buffer,
                                                uint32_t frame_index);
+
+// With [`GlyphcastPath::Compute`]: records frame `frame_index`'s dispatches of the
+// compute ray caster into `command_buffer`, outside any rendering and before the
+// rendering in which [`glyphcast_renderer_record`] draws their outputs. It writes only
+// glyphcast's own buffers, with the barriers they need; the host's images need nothing
+// more than for the fragment path. An error for a renderer of the fragment path.
+//
+// # Safety
+// `renderer` is live; `command_buffer` is recording, outside any rendering.
+enum GlyphcastStatus glyphcast_renderer_record_compute(struct GlyphcastRenderer *renderer,
+                                                       VkCommandBuffer command_buffer,
+                                                       uint32_t frame_index);
 
 // The message of the renderer's last failure ("" if none); valid until its next call.
 //

@@ -178,6 +178,23 @@ pub struct GlyphcastSettings {
     /// else how far the 16 occlusion rays of each hit reach, in bounding radii of the hit
     /// glyph, above 0 and at most 16 (1 reaches the neighbours of glyphs that touch).
     pub ambient_occlusion: f32,
+    /// A [`GlyphcastPath`]: the ray caster the renderer records (with
+    /// [`GlyphcastMethod::Exact`] only for the compute ray caster).
+    pub path: u32,
+}
+
+/// The ray caster a renderer records ([`GlyphcastSettings::path`]).
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GlyphcastPath {
+    /// Proxy boxes drawn in the host's rendering by [`glyphcast_renderer_record`] (the
+    /// default).
+    Fragment = 0,
+    /// The compute ray caster: [`glyphcast_renderer_record_compute`] records its
+    /// dispatches before the host's rendering, [`glyphcast_renderer_record`] draws their
+    /// outputs into the host's attachments inside it, depth-tested. The device needs
+    /// maintenance4 enabled (every Vulkan 1.3 device has it).
+    Compute = 1,
 }
 
 /// Shadows the glyphs cast ([`GlyphcastSettings::shadows`]).
@@ -505,6 +522,7 @@ fn default_settings() -> GlyphcastSettings {
         shadows: GlyphcastShadows::Off as u32,
         shadow_radius: 5.0,
         ambient_occlusion: 0.0,
+        path: GlyphcastPath::Fragment as u32,
     }
 }
 
@@ -611,6 +629,15 @@ unsafe fn read_settings(
             )));
         }
     };
+    let path = match given.path {
+        0 => glyphcast::RenderPath::Fragment,
+        1 => glyphcast::RenderPath::Compute,
+        other => {
+            return Err(invalid(format!(
+                "settings.path {other} is no GlyphcastPath"
+            )));
+        }
+    };
     // The struct's fields are the render table's settings: the library checks them as
     // it checks the command line's flags and Python's keywords, and its errors are
     // spelled as fields here.
@@ -637,6 +664,7 @@ unsafe fn read_settings(
                 reach: given.ambient_occlusion,
             }
         }),
+        path: Some(path),
         ..RenderOptions::default()
     };
     let settings = options
@@ -1046,6 +1074,34 @@ pub unsafe extern "C" fn glyphcast_renderer_record(
             .record(cmd, frame_index as usize)
             .map_err(from_glyphcast)
     })
+}
+
+/// With [`GlyphcastPath::Compute`]: records frame `frame_index`'s dispatches of the
+/// compute ray caster into `command_buffer`, outside any rendering and before the
+/// rendering in which [`glyphcast_renderer_record`] draws their outputs. It writes only
+/// glyphcast's own buffers, with the barriers they need; the host's images need nothing
+/// more than for the fragment path. An error for a renderer of the fragment path.
+///
+/// # Safety
+/// `renderer` is live; `command_buffer` is recording, outside any rendering.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn glyphcast_renderer_record_compute(
+    renderer: *mut GlyphcastRenderer,
+    command_buffer: VkCommandBuffer,
+    frame_index: u32,
+) -> GlyphcastStatus {
+    // SAFETY: the caller's promise.
+    let Some(r) = (unsafe { renderer.as_mut() }) else {
+        return fail(GlyphcastStatus::InvalidArgument, "renderer is NULL");
+    };
+    let cmd = vk::CommandBuffer::from_raw(command_buffer as u64);
+    let glyphs = &mut r.renderer;
+    let status = guarded(None, || {
+        glyphs
+            .record_compute(cmd, frame_index as usize)
+            .map_err(from_glyphcast)
+    });
+    record_error(r, status)
 }
 
 /// The message of the renderer's last failure ("" if none); valid until its next call.

@@ -55,6 +55,25 @@ fn the_c_example_draws_glyphs_with_no_validation_message() {
     assert!(default == plain, "the pictures differ");
 }
 
+/// `--compute`: glyphcast's compute ray caster dispatched before the engine's rendering
+/// and composed into its attachments, with no validation message, draws the fragment
+/// path's picture (the sRGB bytes within one unit: the compute shader encodes its colour
+/// itself), the glyphs cut by the engine's plane alike; without the plane too.
+#[test]
+fn the_compute_path_draws_the_fragment_path_picture() {
+    for (name, args) in [("plane", &[][..]), ("no-plane", &["--no-plane"][..])] {
+        let (_, fragment) = run_example(&format!("c-fragment-{name}.png"), args);
+        let mut with = args.to_vec();
+        with.push("--compute");
+        let (_, compute) = run_example(&format!("c-compute-{name}.png"), &with);
+        let far = differing_pixels(&fragment, &compute)
+            .into_iter()
+            .filter(|(a, b)| a.iter().zip(b).any(|(x, y)| x.abs_diff(*y) > 1))
+            .count();
+        assert_eq!(far, 0, "{name}: pixels differ by more than one unit");
+    }
+}
+
 /// The pixels of two RGBA8 PNGs of the same size that differ, as (left, right) RGB.
 fn differing_pixels(a: &[u8], b: &[u8]) -> Vec<([u8; 3], [u8; 3])> {
     let decode = |bytes: &[u8]| {

@@ -51,8 +51,6 @@ fn the_settings_struct_has_every_render_setting() {
         // The host's colour and depth attachments decide these, not glyphcast.
         ("samples", "the host's attachments' sample count"),
         ("background", "the host clears its own attachments"),
-        // The compute ray caster draws whole images, no host pass.
-        ("path", "the engine component draws in the host's pass"),
         // Culling draws a frame in passes of its own renderings, which a host's pass is not.
         (
             "cull",

@@ -522,6 +522,10 @@ int main(int argc, char **argv) {
             description = argv[++i];
         } else if (strcmp(argv[i], "--side-light") == 0) {
             settings.light[0] = -1.0f, settings.light[1] = 0.1f, settings.light[2] = 0.1f;
+        } else if (strcmp(argv[i], "--compute") == 0) {
+            /* glyphcast's compute ray caster: dispatched before the rendering, composed
+               into the engine's attachments inside it. */
+            settings.path = GLYPHCAST_PATH_COMPUTE;
         } else if (strcmp(argv[i], "--shadows") == 0) {
             settings.shadows = GLYPHCAST_SHADOWS_HARD;
         } else if (strcmp(argv[i], "--soft-shadows") == 0 && i + 1 < argc) {
@@ -546,7 +550,7 @@ int main(int argc, char **argv) {
             }
         } else {
             fprintf(stderr, "usage: c-example OUT.png [--plain-memory] [--uniform-red] "
-                            "[--side-light] [--shadows] [--soft-shadows DEGREES] "
+                            "[--side-light] [--compute] [--shadows] [--soft-shadows DEGREES] "
                             "[--ambient-occlusion REACH] "
                             "[--basis descoteaux07-legacy|descoteaux07|"
                             "tournier07] [--no-plane] [--describe FILE.json]\n");
@@ -674,6 +678,11 @@ int main(int argc, char **argv) {
                                        .imageMemoryBarrierCount = 2,
                                        .pImageMemoryBarriers = to_attachment};
         vkCmdPipelineBarrier2(cmd, &dependency);
+        if (settings.path == GLYPHCAST_PATH_COMPUTE) {
+            /* The compute ray caster's dispatches, outside the rendering: they write
+               glyphcast's own buffers only. */
+            GLYPHCAST(renderer, glyphcast_renderer_record_compute(renderer, cmd, k));
+        }
         VkRenderingAttachmentInfo color = {
             .sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO,
             .imageView = colors[k].view, .imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
