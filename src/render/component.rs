@@ -35,7 +35,9 @@
 //! slot writes its own frame block, and a slice step retires the old glyphs.
 use crate::error::{Error, Result};
 use crate::glyph::{GlyphShape, TensorLayout};
-use crate::render::compute::{ComposePipeline, ComputeRayCastPass, ComputeSceneGpu};
+use crate::render::compute::{
+    ComposePipeline, ComputeGlyphsGpu, ComputeRayCastPass, ComputeSceneGpu,
+};
 use crate::render::frame::FrameParams;
 use crate::render::glyph_data::{GlyphSetData, largest_radius};
 use crate::render::host_view::{HostView, host_frame};
@@ -76,6 +78,9 @@ pub struct UploadedGlyphs {
     cull: Culling,
     /// Per frame index: the passes of its camera (render::visibility).
     plans: Vec<PassPlan>,
+    /// On the compute path: the glyphs as the compute ray caster reads them (`gpu` then
+    /// holds no glyph, only the frame blocks).
+    compute: Option<ComputeUploaded>,
 }
 
 impl UploadedGlyphs {
@@ -84,6 +89,22 @@ impl UploadedGlyphs {
     /// the last submission that read that frame index has completed.
     pub fn set_frame(&mut self, frame: &FrameParams, target: &FrameTarget) -> Result<()> {
         let k = target.frame_index;
+        if let Some(compute) = &mut self.compute {
+            let host = HostView {
+                view: glam::DMat4::IDENTITY,
+                projection: glam::DMat4::IDENTITY,
+                viewport: target.viewport,
+                scissor: target.scissor,
+            };
+            let (origin, [width, height]) = compute_region(&host)?;
+            let view = crate::render::tiles::ScreenView::of_frame(frame, width, height);
+            if let Some(slot) = compute.views.get_mut(k) {
+                // The previous view of this frame index is no longer read (the caller's
+                // promise), so it goes before the new one is made.
+                *slot = None;
+                *slot = Some((compute.glyphs.view(&compute.ctx, frame, view)?, origin));
+            }
+        }
         self.gpu.set_frame_in_flight(k, frame)?;
         if let Some(view) = self.views.get_mut(k) {
             *view = Some((target.viewport, target.scissor));
@@ -94,6 +115,21 @@ impl UploadedGlyphs {
                 crate::render::visibility::plan(clusters, frame, self.cull == Culling::Occluded);
         }
         Ok(())
+    }
+
+    /// The ray caster that draws these glyphs: compute or fragment.
+    pub fn path(&self) -> RenderPath {
+        match self.compute {
+            Some(_) => RenderPath::Compute,
+            None => RenderPath::Fragment,
+        }
+    }
+
+    /// Frame `frame_index`'s view on the compute path and where it is drawn.
+    fn compute_view(&self, frame_index: usize) -> Option<(&ComputeSceneGpu, [u32; 2])> {
+        let compute = self.compute.as_ref()?;
+        let (scene, origin) = compute.views.get(frame_index)?.as_ref()?;
+        Some((scene, *origin))
     }
 
     /// The passes frame `frame_index` is drawn in by the headless renderer.
@@ -119,36 +155,45 @@ struct Retired {
     pending: Vec<bool>,
 }
 
-/// The compute ray caster of a renderer made for `path: compute`.
-struct ComputeGlyphs {
-    // Fields drop in order: the scenes before the pass.
-    /// Per frame index: the scene uploaded for its last view, the viewport origin it is
-    /// drawn at, and the generation of the glyphs it holds.
-    frames: Vec<Option<(ComputeSceneGpu, [u32; 2], u64)>>,
+/// The compute ray caster's pass and composing pipeline, made for the renderer's target
+/// when glyphs are first uploaded for it.
+struct ComputeRecorder {
     pass: ComputeRayCastPass,
     compose: ComposePipeline,
-    /// The current glyphs, binned again for each view, and their largest radius.
-    sets: Vec<GlyphSetData>,
-    max_radius: f64,
-    /// Counts `set_glyphs` calls: a frame index's scene of older glyphs is not drawn.
-    generation: u64,
 }
 
-impl ComputeGlyphs {
-    /// Frame `frame_index`'s scene of the current glyphs and where it is drawn.
-    fn frame(
-        &self,
-        frame_index: usize,
-        call: &'static str,
-    ) -> Result<(&ComputeSceneGpu, [u32; 2])> {
-        match self.frames.get(frame_index) {
-            Some(Some((scene, origin, made))) if *made == self.generation => Ok((scene, *origin)),
-            _ => Err(Error::Call {
-                call,
-                expected: "set_view for this frame and the current glyphs first",
-            }),
+/// Glyphs uploaded for the compute ray caster, with the view of each frame index.
+struct ComputeUploaded {
+    // Fields drop in order: the views before the glyphs their descriptor sets hold.
+    /// Per frame index: the view its frame block was last written for (tile lists,
+    /// outputs) and the viewport origin it is drawn at.
+    views: Vec<Option<(ComputeSceneGpu, [u32; 2])>>,
+    glyphs: ComputeGlyphsGpu,
+    ctx: DeviceContext,
+}
+
+/// Refuses what the engine component's compute path does not draw: shadows and
+/// ambient occlusion (cast by the fragment path's glyph shaders in a host's pass).
+fn check_compute_settings(settings: &RenderSettings) -> Result<()> {
+    for (setting, on) in [
+        (crate::Setting::Shadows, settings.shadows.enabled()),
+        (
+            crate::Setting::AmbientOcclusion,
+            settings.ambient_occlusion.enabled(),
+        ),
+    ] {
+        if on {
+            return Err(Error::setting(
+                setting,
+                crate::message![
+                    "the engine component casts shadow rays on ",
+                    crate::Setting::Path.with("fragment"),
+                    " only"
+                ],
+            ));
         }
     }
+    Ok(())
 }
 
 /// Where the compute ray caster draws a host's view: the viewport's top-left pixel and
@@ -183,7 +228,7 @@ pub struct GlyphRenderer {
     // layouts): fields drop in order.
     glyphs: Option<UploadedGlyphs>,
     retired: Vec<Retired>,
-    compute: Option<Box<ComputeGlyphs>>,
+    compute: Option<Box<ComputeRecorder>>,
     pass: RayCastPass,
     ctx: DeviceContext,
     frames_in_flight: usize,
@@ -212,34 +257,10 @@ impl GlyphRenderer {
         let pass = RayCastPass::with_options(ctx, desc.formats, desc.options)?;
         let compute = match desc.settings.path {
             RenderPath::Compute => {
-                for (setting, on) in [
-                    (crate::Setting::Shadows, desc.settings.shadows.enabled()),
-                    (
-                        crate::Setting::AmbientOcclusion,
-                        desc.settings.ambient_occlusion.enabled(),
-                    ),
-                ] {
-                    if on {
-                        return Err(Error::setting(
-                            setting,
-                            crate::message![
-                                "the engine component casts shadow rays on ",
-                                crate::Setting::Path.with("fragment"),
-                                " only"
-                            ],
-                        ));
-                    }
-                }
+                check_compute_settings(&desc.settings)?;
                 let mut pass = ComputeRayCastPass::new(ctx)?;
                 let compose = pass.compose_pipeline(desc.formats, desc.options.raster())?;
-                Some(Box::new(ComputeGlyphs {
-                    frames: (0..desc.frames_in_flight).map(|_| None).collect(),
-                    pass,
-                    compose,
-                    sets: Vec::new(),
-                    max_radius: 0.0,
-                    generation: 0,
-                }))
+                Some(Box::new(ComputeRecorder { pass, compose }))
             }
             _ => None,
         };
@@ -257,7 +278,7 @@ impl GlyphRenderer {
     /// Makes the pipelines that glyph sets of `layouts` need, so that the first
     /// `set_glyphs` of such sets compiles nothing (for example at load time).
     pub fn prepare(&mut self, layouts: &[(TensorLayout, GlyphShape)]) -> Result<()> {
-        if let Some(compute) = &mut self.compute {
+        if let (RenderPath::Compute, Some(compute)) = (self.settings.path, &mut self.compute) {
             for &(layout, shape) in layouts {
                 if let Some(what) = crate::render::ShapeShader::of(shape).asked() {
                     return Err(Error::Unsupported {
@@ -282,18 +303,6 @@ impl GlyphRenderer {
     /// index has been begun again. Each frame index needs a `set_view` before its next
     /// `record`.
     pub fn set_glyphs(&mut self, sets: &[GlyphSetData]) -> Result<()> {
-        if self.compute.is_some() {
-            // Checked and compiled now, as the fragment path's upload would.
-            let layouts: Vec<_> = sets.iter().map(|set| (set.layout, set.shape)).collect();
-            self.prepare(&layouts)?;
-            let max_radius = glyph_radius(sets, &self.settings);
-            if let Some(compute) = &mut self.compute {
-                compute.max_radius = max_radius;
-                compute.sets = sets.to_vec();
-                compute.generation += 1;
-            }
-            return Ok(());
-        }
         let settings = self.settings;
         let glyphs = self.upload(sets, &settings)?;
         if let Some(old) = self.glyphs.replace(glyphs) {
@@ -321,9 +330,37 @@ impl GlyphRenderer {
             },
             settings,
         );
+        // On the compute path the glyphs go to the compute ray caster; the fragment path's
+        // scene keeps only the frame blocks.
+        let compute = match settings.path {
+            RenderPath::Compute => {
+                check_compute_settings(settings)?;
+                let recorder = match &mut self.compute {
+                    Some(recorder) => recorder,
+                    None => {
+                        let mut pass = ComputeRayCastPass::new(&self.ctx)?;
+                        let options = self.pass.options();
+                        let compose =
+                            pass.compose_pipeline(self.pass.formats(), options.raster())?;
+                        self.compute
+                            .insert(Box::new(ComputeRecorder { pass, compose }))
+                    }
+                };
+                Some(ComputeUploaded {
+                    views: (0..self.frames_in_flight).map(|_| None).collect(),
+                    glyphs: recorder.pass.upload_glyphs(&self.ctx, sets)?,
+                    ctx: self.ctx.clone(),
+                })
+            }
+            _ => None,
+        };
+        let fragment_sets = match compute {
+            Some(_) => &[][..],
+            None => sets,
+        };
         let gpu = self.pass.upload_in_flight(
             &self.ctx,
-            sets,
+            fragment_sets,
             &frame,
             settings.method,
             self.frames_in_flight,
@@ -354,6 +391,7 @@ impl GlyphRenderer {
             views: vec![None; self.frames_in_flight],
             cull,
             plans: vec![PassPlan::default(); self.frames_in_flight],
+            compute,
         })
     }
 
@@ -403,25 +441,6 @@ impl GlyphRenderer {
     /// Retired glyphs that no frame index can still read are dropped here.
     pub fn set_view(&mut self, frame_index: usize, view: &HostView) -> Result<()> {
         self.begin_frame(frame_index)?;
-        if let Some(compute) = &mut self.compute {
-            if compute.generation == 0 {
-                return Err(Error::Call {
-                    call: "set_view",
-                    expected: "set_glyphs first",
-                });
-            }
-            let depth = self.pass.options().depth;
-            let frame = host_frame(view, depth, compute.max_radius, &self.settings)?;
-            let (origin, size) = compute_region(view)?;
-            let screen = crate::render::tiles::ScreenView::of_frame(&frame, size[0], size[1]);
-            // This frame index's previous scene is no longer read (the host's promise).
-            compute.frames[frame_index] = None;
-            let scene = compute
-                .pass
-                .upload_view(&self.ctx, &compute.sets, &frame, screen)?;
-            compute.frames[frame_index] = Some((scene, origin, compute.generation));
-            return Ok(());
-        }
         let glyphs = self.glyphs.as_mut().ok_or(Error::Call {
             call: "set_view",
             expected: "set_glyphs first",
@@ -442,13 +461,6 @@ impl GlyphRenderer {
     /// nothing is compiled, written, submitted or waited on, so several threads may
     /// record at once, each into its own command buffer.
     pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize) -> Result<()> {
-        if let Some(compute) = &self.compute {
-            let (scene, origin) = compute.frame(frame_index, "record")?;
-            compute
-                .pass
-                .record_compose(cmd, scene, compute.compose, origin);
-            return Ok(());
-        }
         let glyphs = self.glyphs.as_ref().ok_or(Error::Call {
             call: "record",
             expected: "set_glyphs first",
@@ -456,34 +468,49 @@ impl GlyphRenderer {
         self.record_glyphs(cmd, glyphs, frame_index)
     }
 
-    /// On the compute path (`path: compute` at creation): records frame `frame_index`'s
-    /// dispatches into `cmd` outside any rendering, before the rendering in which
-    /// [`GlyphRenderer::record`] draws their outputs. Writes only glyphcast's own
-    /// buffers, with the barriers they need (module docs). An error on the fragment path,
-    /// which records nothing here.
-    pub fn record_compute(&mut self, cmd: vk::CommandBuffer, frame_index: usize) -> Result<()> {
-        self.check_index(frame_index)?;
-        let compute = self.compute.as_mut().ok_or(Error::Call {
+    /// On the compute path (`path: compute`): records frame `frame_index`'s dispatches
+    /// of the current glyphs into `cmd` outside any rendering, before the rendering in
+    /// which [`GlyphRenderer::record`] draws their outputs. Writes only glyphcast's own
+    /// buffers, with the barriers they need (module docs). Records nothing on the
+    /// fragment path, so a host may call it whichever path it was made for.
+    pub fn record_compute(&self, cmd: vk::CommandBuffer, frame_index: usize) -> Result<()> {
+        let glyphs = self.glyphs.as_ref().ok_or(Error::Call {
             call: "record_compute",
-            expected: "a renderer made with path compute",
+            expected: "set_glyphs first",
         })?;
-        let generation = compute.generation;
-        let ComputeGlyphs { frames, pass, .. } = compute.as_mut();
-        match frames.get(frame_index) {
-            Some(Some((scene, _, made))) if *made == generation => pass.record(cmd, scene),
-            _ => Err(Error::Call {
-                call: "record_compute",
-                expected: "set_view for this frame and the current glyphs first",
-            }),
-        }
+        self.record_compute_glyphs(cmd, glyphs, frame_index)
     }
 
-    /// The ray caster the renderer records: [`RenderPath::Compute`] or
-    /// [`RenderPath::Fragment`] (which `auto` takes here).
+    /// [`GlyphRenderer::record_compute`] for glyphs the caller holds
+    /// ([`GlyphRenderer::upload`]).
+    pub fn record_compute_glyphs(
+        &self,
+        cmd: vk::CommandBuffer,
+        glyphs: &UploadedGlyphs,
+        frame_index: usize,
+    ) -> Result<()> {
+        self.check_index(frame_index)?;
+        if glyphs.compute.is_none() {
+            return Ok(());
+        }
+        let (scene, _) = glyphs.compute_view(frame_index).ok_or(Error::Call {
+            call: "record_compute",
+            expected: "set_view for this frame and the current glyphs first",
+        })?;
+        let recorder = self.compute.as_ref().ok_or(Error::Call {
+            call: "record_compute",
+            expected: "glyphs uploaded by this renderer",
+        })?;
+        recorder.pass.record(cmd, scene)
+    }
+
+    /// The ray caster the renderer records its glyphs with: [`RenderPath::Compute`] when
+    /// its settings ask for it, else [`RenderPath::Fragment`] (which `auto` takes in a
+    /// host's pass).
     pub fn path(&self) -> RenderPath {
-        match self.compute {
-            Some(_) => RenderPath::Compute,
-            None => RenderPath::Fragment,
+        match self.settings.path {
+            RenderPath::Compute => RenderPath::Compute,
+            _ => RenderPath::Fragment,
         }
     }
 
@@ -495,6 +522,21 @@ impl GlyphRenderer {
         glyphs: &UploadedGlyphs,
         frame_index: usize,
     ) -> Result<()> {
+        if glyphs.compute.is_some() {
+            self.check_index(frame_index)?;
+            let (scene, origin) = glyphs.compute_view(frame_index).ok_or(Error::Call {
+                call: "record",
+                expected: "set_view for this frame and the current glyphs first",
+            })?;
+            let recorder = self.compute.as_ref().ok_or(Error::Call {
+                call: "record",
+                expected: "glyphs uploaded by this renderer",
+            })?;
+            recorder
+                .pass
+                .record_compose(cmd, scene, recorder.compose, origin);
+            return Ok(());
+        }
         let target = self.frame_target(glyphs, frame_index)?;
         self.pass
             .record_frame(cmd, &glyphs.gpu, &target, glyphs.method)

@@ -22,7 +22,7 @@ use crate::camera::Camera;
 use crate::error::{Error, Result, Setting};
 use crate::glyph::TensorLayout;
 use crate::render::Method;
-use crate::render::batch::{Batch, batches};
+use crate::render::batch::batches;
 use crate::render::frame::{FRAME_DESCRIPTOR, FRAME_USAGE, FrameParams};
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::raycast::TargetFormats;
@@ -95,9 +95,29 @@ struct ComputePartGpu {
     /// Dispatches that walk its longest tile list.
     slices: u32,
     descriptor_set: vk::DescriptorSet,
-    /// Coefficients, instances, boxes, tile ranges and tile entries, kept alive for the
-    /// descriptor set.
-    _inputs: Vec<Buffer>,
+    /// Tile ranges and tile entries, kept alive for the descriptor set (which holds the
+    /// glyphs' buffers too: [`ComputeGlyphsGpu`] outlives the view).
+    _tiles: [Buffer; 2],
+}
+
+/// Glyph sets uploaded once for the compute ray caster: per part (a batch of glyphs whose
+/// coefficients and boxes fit one storage buffer), its coefficients, instances and boxes
+/// on the GPU, and the instances and boxes on the host for binning each view.
+pub struct ComputeGlyphsGpu {
+    parts: Vec<ComputePartInputs>,
+    /// The set layouts of the pass that uploaded them (a part's, the composing draw's),
+    /// which outlives them.
+    set_layouts: (vk::DescriptorSetLayout, vk::DescriptorSetLayout),
+}
+
+/// One part's glyphs.
+struct ComputePartInputs {
+    layout: TensorLayout,
+    negative: crate::glyph::NegativeMode,
+    instances: Vec<[f32; 4]>,
+    boxes: Vec<[f32; 8]>,
+    /// Coefficients, instances, boxes.
+    buffers: [Buffer; 3],
 }
 
 /// The composing draw's pipeline and layout, as [`ComputeRayCastPass::compose_pipeline`]
@@ -108,8 +128,9 @@ pub struct ComposePipeline {
     layout: vk::PipelineLayout,
 }
 
-/// A scene uploaded for the compute ray caster at one image size and camera (the tile
-/// lists depend on both).
+/// A view of [`ComputeGlyphsGpu`] for the compute ray caster at one image size and
+/// camera (the tile lists depend on both): the tile lists, the frame block and the
+/// outputs. The glyphs it was made from must outlive it.
 pub struct ComputeSceneGpu {
     frame: Buffer,
     pool: DescriptorPool,
@@ -288,38 +309,23 @@ impl ComputeRayCastPass {
         Ok(self.pipelines.insert(layout, pipeline))
     }
 
-    /// Bins and uploads glyph sets for `camera` at `width` x `height`, with the frame
-    /// parameters and the output buffers.
-    pub fn upload(
+    /// Uploads glyph sets for the compute ray caster (and makes the pipelines they need):
+    /// once, for every view drawn of them ([`ComputeRayCastPass::upload_view`]).
+    pub fn upload_glyphs(
         &mut self,
         ctx: &DeviceContext,
         sets: &[GlyphSetData],
-        frame: &FrameParams,
-        camera: &Camera,
-        (width, height): (u32, u32),
-    ) -> Result<ComputeSceneGpu> {
-        let view = ScreenView::new(camera, width, height);
-        self.upload_view(ctx, sets, frame, view)
-    }
-
-    /// [`ComputeRayCastPass::upload`] for `view` (a host's camera).
-    pub(crate) fn upload_view(
-        &mut self,
-        ctx: &DeviceContext,
-        sets: &[GlyphSetData],
-        frame: &FrameParams,
-        view: ScreenView,
-    ) -> Result<ComputeSceneGpu> {
-        let (width, height) = view.size();
+    ) -> Result<ComputeGlyphsGpu> {
         let limit = self.storage_buffer_limit();
         // Parts: batches of glyphs whose coefficients and boxes fit one storage buffer
         // each, sets that share a pipeline together.
-        let parts = batches(sets, limit, |layout, _| {
+        let batches = batches(sets, limit, |layout, _| {
             (4 * layout.coefficient_count() as u64).max(32)
         })?;
-        for part in &parts {
+        let mut parts = Vec::with_capacity(batches.len());
+        for batch in &batches {
             // Only the polynomial glyph has a compute ray caster.
-            let unsupported = crate::render::ShapeShader::of(part.shape).asked();
+            let unsupported = crate::render::ShapeShader::of(batch.shape).asked();
             if let Some(what) = unsupported {
                 // The data decide (exit code 1), so not a Setting error.
                 return Err(Error::Unsupported {
@@ -327,89 +333,59 @@ impl ComputeRayCastPass {
                     by: Setting::Path.with("compute"),
                 });
             }
-            self.pipeline(part.layout)?;
-        }
-        let device_limit = ctx.max_storage_buffer_range();
-        let pixels = width as u64 * height as u64;
-        if 4 * pixels > device_limit {
-            return Err(Error::Limit {
-                what: "bytes of the compute path's image buffer",
-                value: 4 * pixels,
-                limit: device_limit,
-                settings: &[],
+            self.pipeline(batch.layout)?;
+            let (instances, boxes) = (batch.instances()?.into_owned(), batch.boxes()?.into_owned());
+            let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+            let buffers = [
+                Buffer::with_data(ctx, "coefficients", &batch.coefficients()?, storage)?,
+                Buffer::with_data(ctx, "instances", &instances, storage)?,
+                Buffer::with_data(ctx, "boxes", &boxes, storage)?,
+            ];
+            parts.push(ComputePartInputs {
+                layout: batch.layout,
+                negative: batch.negative,
+                instances,
+                boxes,
+                buffers,
             });
         }
-        // A set per part, and the composing draw's.
-        let pool = DescriptorPool::new(ctx, parts.len() + 1, 0, BINDINGS)?;
-        let output = |name: &str| {
-            Buffer::new(
-                ctx,
-                name,
-                4 * pixels,
-                vk::BufferUsageFlags::STORAGE_BUFFER
-                    | vk::BufferUsageFlags::TRANSFER_SRC
-                    | vk::BufferUsageFlags::TRANSFER_DST,
-                MemoryLocation::GpuOnly,
-            )
-        };
-        let (colors, distances, depths) = (
-            output("compute colour")?,
-            output("compute distance")?,
-            output("compute depth")?,
-        );
-        let compose_set = pool.buffer_set(
-            self.compose_layout.set_layout(),
-            &[
-                BufferBinding::storage(0, &colors),
-                BufferBinding::storage(1, &distances),
-                BufferBinding::storage(2, &depths),
-            ],
-        )?;
-        let mut scene = ComputeSceneGpu {
-            frame: Buffer::with_data(ctx, "frame", std::slice::from_ref(frame), FRAME_USAGE)?,
-            pool,
-            parts: Vec::new(),
-            colors,
-            distances,
-            depths,
-            compose_set,
-            width,
-            height,
-            tiles: (view.tiles_x(), view.tiles_y()),
-            tile_entries: 0,
-        };
-        for part in &parts {
-            let (instances, boxes) = (part.instances()?, part.boxes()?);
-            let bins = bin_glyphs(&view, &instances, &boxes);
-            let entry_bytes = 8 * bins.entries.len() as u64;
-            if entry_bytes > device_limit {
-                return Err(Error::Limit {
-                    what: "bytes of the compute path's tile lists",
-                    value: entry_bytes,
-                    limit: device_limit,
-                    settings: &[],
-                });
-            }
-            scene.tile_entries += bins.entries.len();
-            let glyphs = PartGlyphs {
-                batch: part,
-                instances: &instances,
-                boxes: &boxes,
-            };
-            let part = upload_part(ctx, &scene, self.layout.set_layout(), glyphs, &bins)?;
-            scene.parts.push(part);
-        }
-        Ok(scene)
+        Ok(ComputeGlyphsGpu {
+            parts,
+            set_layouts: (self.layout.set_layout(), self.compose_layout.set_layout()),
+        })
+    }
+
+    /// Uploads glyph sets and bins them for `camera` at `width` x `height`, with the
+    /// frame parameters and the output buffers: [`ComputeRayCastPass::upload_glyphs`],
+    /// then [`ComputeRayCastPass::upload_view`].
+    pub fn upload(
+        &mut self,
+        ctx: &DeviceContext,
+        sets: &[GlyphSetData],
+        frame: &FrameParams,
+        camera: &Camera,
+        (width, height): (u32, u32),
+    ) -> Result<(ComputeGlyphsGpu, ComputeSceneGpu)> {
+        let glyphs = self.upload_glyphs(ctx, sets)?;
+        let view = ScreenView::new(camera, width, height);
+        let scene = glyphs.view(ctx, frame, view)?;
+        Ok((glyphs, scene))
     }
 
     /// Records, outside any rendering, the clearing of the distances and every dispatch,
     /// then a barrier that makes the outputs readable by the composing draw
     /// ([`ComputeRayCastPass::record_compose`]) and by transfers.
-    pub fn record(&mut self, cmd: vk::CommandBuffer, scene: &ComputeSceneGpu) -> Result<()> {
+    pub fn record(&self, cmd: vk::CommandBuffer, scene: &ComputeSceneGpu) -> Result<()> {
+        // Made when the glyphs were uploaded (upload_glyphs).
         let pipelines = scene
             .parts
             .iter()
-            .map(|part| self.pipeline(part.layout))
+            .map(|part| {
+                self.pipelines.get(&part.layout).ok_or(Error::Call {
+                    call: "ComputeRayCastPass::record",
+                    expected: "glyphs uploaded by this pass",
+                })
+            })
             .collect::<Result<Vec<_>>>()?;
         let d = self.ctx.device();
         let no_hit = (-1.0f32).to_bits();
@@ -519,46 +495,113 @@ impl ComputeRayCastPass {
     }
 }
 
-/// A batch of glyphs with its instances and boxes (gathered once: binning reads them too).
-struct PartGlyphs<'a> {
-    batch: &'a Batch<'a>,
-    instances: &'a [[f32; 4]],
-    boxes: &'a [[f32; 8]],
+impl ComputeGlyphsGpu {
+    /// Bins the glyphs into the tiles of `view` and uploads the tile lists with the frame
+    /// block `frame` and the output buffers.
+    pub(crate) fn view(
+        &self,
+        ctx: &DeviceContext,
+        frame: &FrameParams,
+        view: ScreenView,
+    ) -> Result<ComputeSceneGpu> {
+        let (width, height) = view.size();
+        let device_limit = ctx.max_storage_buffer_range();
+        let pixels = width as u64 * height as u64;
+        if 4 * pixels > device_limit {
+            return Err(Error::Limit {
+                what: "bytes of the compute path's image buffer",
+                value: 4 * pixels,
+                limit: device_limit,
+                settings: &[],
+            });
+        }
+        // A set per part, and the composing draw's.
+        let pool = DescriptorPool::new(ctx, self.parts.len() + 1, 0, BINDINGS)?;
+        let output = |name: &str| {
+            Buffer::new(
+                ctx,
+                name,
+                4 * pixels,
+                vk::BufferUsageFlags::STORAGE_BUFFER
+                    | vk::BufferUsageFlags::TRANSFER_SRC
+                    | vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuOnly,
+            )
+        };
+        let (colors, distances, depths) = (
+            output("compute colour")?,
+            output("compute distance")?,
+            output("compute depth")?,
+        );
+        let compose_set = pool.buffer_set(
+            self.set_layouts.1,
+            &[
+                BufferBinding::storage(0, &colors),
+                BufferBinding::storage(1, &distances),
+                BufferBinding::storage(2, &depths),
+            ],
+        )?;
+        let mut scene = ComputeSceneGpu {
+            frame: Buffer::with_data(ctx, "frame", std::slice::from_ref(frame), FRAME_USAGE)?,
+            pool,
+            parts: Vec::new(),
+            colors,
+            distances,
+            depths,
+            compose_set,
+            width,
+            height,
+            tiles: (view.tiles_x(), view.tiles_y()),
+            tile_entries: 0,
+        };
+        for part in &self.parts {
+            let bins = bin_glyphs(&view, &part.instances, &part.boxes);
+            let entry_bytes = 8 * bins.entries.len() as u64;
+            if entry_bytes > device_limit {
+                return Err(Error::Limit {
+                    what: "bytes of the compute path's tile lists",
+                    value: entry_bytes,
+                    limit: device_limit,
+                    settings: &[],
+                });
+            }
+            scene.tile_entries += bins.entries.len();
+            let part = upload_part(ctx, &scene, self.set_layouts.0, part, &bins)?;
+            scene.parts.push(part);
+        }
+        Ok(scene)
+    }
 }
 
-/// Uploads a batch of glyphs and their tile lists into buffers of their own.
+/// Uploads the tile lists of one part and makes its descriptor set.
 fn upload_part(
     ctx: &DeviceContext,
     scene: &ComputeSceneGpu,
     set_layout: vk::DescriptorSetLayout,
-    glyphs: PartGlyphs,
+    part: &ComputePartInputs,
     bins: &TileBins,
 ) -> Result<ComputePartGpu> {
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-    let inputs = vec![
-        Buffer::with_data(ctx, "coefficients", &glyphs.batch.coefficients()?, storage)?,
-        Buffer::with_data(ctx, "instances", glyphs.instances, storage)?,
-        Buffer::with_data(ctx, "boxes", glyphs.boxes, storage)?,
+    let tiles = [
         Buffer::with_data(ctx, "tile ranges", &bins.ranges, storage)?,
         Buffer::with_data(ctx, "tile entries", &bins.entries, storage)?,
     ];
     // The frame, then the inputs and the outputs, at bindings 0, 1, 2, ... in order.
-    let buffers = std::iter::once(&scene.frame).chain(&inputs).chain([
-        &scene.colors,
-        &scene.distances,
-        &scene.depths,
-    ]);
+    let buffers = std::iter::once(&scene.frame)
+        .chain(&part.buffers)
+        .chain(&tiles)
+        .chain([&scene.colors, &scene.distances, &scene.depths]);
     let bindings: Vec<BufferBinding> = buffers
         .enumerate()
         .map(|(binding, buffer)| BufferBinding::storage(binding as u32, buffer))
         .collect();
     let descriptor_set = scene.pool.buffer_set(set_layout, &bindings)?;
     Ok(ComputePartGpu {
-        layout: glyphs.batch.layout,
-        negative: glyphs.batch.negative,
+        layout: part.layout,
+        negative: part.negative,
         slices: bins.slices,
         descriptor_set,
-        _inputs: inputs,
+        _tiles: tiles,
     })
 }
 

@@ -12,7 +12,9 @@
 use crate::camera::Camera;
 use crate::error::{Error, Result, Setting};
 use crate::render::component::{GlyphRenderer, RendererDesc, UploadedGlyphs};
-use crate::render::compute::{ComposePipeline, ComputeRayCastPass, ComputeSceneGpu};
+use crate::render::compute::{
+    ComposePipeline, ComputeGlyphsGpu, ComputeRayCastPass, ComputeSceneGpu,
+};
 use crate::render::frame::{FrameParams, SceneExtent};
 use crate::render::glyph_data::GlyphSetData;
 use crate::render::glyph_shadows::{GlyphShadowPass, HITS_HEADER, HitsBuffer};
@@ -380,7 +382,7 @@ impl HeadlessRenderer {
         let params = FrameParams::new(camera, width, height, &extent, settings);
         let scene = match settings.method {
             _ if settings.path == RenderPath::Compute => {
-                let scene =
+                let (glyphs, scene) =
                     self.compute
                         .upload(gpu.context(), sets, &params, camera, (width, height))?;
                 let compose = self
@@ -390,7 +392,11 @@ impl HeadlessRenderer {
                 // path: by the glyphs' boxes drawn again, so those are uploaded too.
                 let shadows = if settings.shadows.enabled() || settings.ambient_occlusion.enabled()
                 {
-                    let mut glyphs = self.glyphs.upload(sets, settings)?;
+                    let boxes = RenderSettings {
+                        path: RenderPath::Fragment,
+                        ..*settings
+                    };
+                    let mut glyphs = self.glyphs.upload(sets, &boxes)?;
                     let whole = FrameTarget::whole(vk::Extent2D { width, height });
                     glyphs.set_frame(&params, &whole)?;
                     Some(glyphs)
@@ -399,6 +405,7 @@ impl HeadlessRenderer {
                 };
                 GlyphsOnGpu::Compute(Box::new(ComputeFrame {
                     scene,
+                    _glyphs: glyphs,
                     compose,
                     shadows,
                 }))
@@ -518,8 +525,11 @@ enum GlyphsOnGpu {
 
 /// The glyphs of a frame on the compute path.
 struct ComputeFrame {
-    /// The tile lists and outputs of the compute ray caster.
+    /// The tile lists and outputs of the compute ray caster (dropped before the glyphs
+    /// its descriptor sets hold).
     scene: ComputeSceneGpu,
+    /// The glyphs on the GPU.
+    _glyphs: ComputeGlyphsGpu,
     /// The draw of its outputs into the frame's attachments.
     compose: ComposePipeline,
     /// The glyphs' boxes, for the shadows and occlusion cast after the frame (as on the

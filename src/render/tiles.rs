@@ -288,6 +288,40 @@ mod tests {
         }
     }
 
+    /// The view read back from a frame block (a host's camera) puts points where the
+    /// camera's own view does, within float32 rounding of the block.
+    #[test]
+    fn a_frame_blocks_view_is_the_cameras() {
+        use crate::render::frame::SceneExtent;
+        let extent = SceneExtent {
+            near: 0.1,
+            far: 100.0,
+            max_radius: 1.0,
+        };
+        let mut rng = Rng::new(7);
+        for projection in [
+            Projection::Perspective { fov_y_deg: 35.0 },
+            Projection::Orthographic { height: 3.0 },
+        ] {
+            let camera = camera(projection);
+            let (w, h) = (160, 90);
+            let frame = FrameParams::new(&camera, w, h, &extent, &Default::default());
+            let (ours, theirs) = (
+                ScreenView::new(&camera, w, h),
+                ScreenView::of_frame(&frame, w, h),
+            );
+            assert_eq!(ours.orthographic, theirs.orthographic);
+            for _ in 0..100 {
+                let p = 2.0 * rng.unit() * rng.direction();
+                let (a, b) = (ours.window(p).unwrap(), theirs.window(p).unwrap());
+                assert!(
+                    (a.0 - b.0).abs() < 1e-3 && (a.1 - b.1).abs() < 1e-3,
+                    "{a:?} {b:?}"
+                );
+            }
+        }
+    }
+
     /// Where a ray enters the part of a glyph's box inside its bounding sphere (where
     /// the shader looks for hits), float64; `None` if it misses that part.
     fn hits_box(origin: DVec3, dir: DVec3, instance: &[f32; 4], b: &[f32; 8]) -> Option<f64> {
