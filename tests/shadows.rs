@@ -688,7 +688,7 @@ fn bad_shadow_values_are_usage_errors() {
     let scene_file = dir.join("scene.json");
     std::fs::write(&scene_file, scene.to_json()).expect("scene");
     let png = dir.join("out.png");
-    let cases: [(&[&str], &[&str]); 9] = [
+    let cases: [(&[&str], &[&str]); 8] = [
         (
             &["--shadows", "sometimes"],
             &["--shadows 'sometimes'", "soft:RADIUS"],
@@ -698,10 +698,6 @@ fn bad_shadow_values_are_usage_errors() {
         (
             &["--shadows", "--method", "fixed"],
             &["--shadows", "--method exact"],
-        ),
-        (
-            &["--shadows", "--path", "compute"],
-            &["--shadows", "--path fragment"],
         ),
         (
             &["--ambient-occlusion", "often"],

@@ -618,11 +618,6 @@ fn underlay_errors_name_the_file_and_the_field() {
         &["--underlay", &fa, "--underlay-plane", "middle"],
         &["--underlay-plane", "back", "centre"],
     );
-    run(
-        2,
-        &["--underlay", &fa, "--path", "compute"],
-        &["--underlay", "compute"],
-    );
     let scene = inputs.join("scene.json");
     let (camera, image) = perspective(DVec3::new(0.0, -3.0, 3.0), 32);
     let one = Scene {

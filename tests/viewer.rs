@@ -32,6 +32,9 @@ fn window_shows_what_the_headless_renderer_draws() {
         path_str(&window),
     ]);
     assert_clean(&output);
+    // `auto` takes the fragment path on lavapipe.
+    let text = String::from_utf8_lossy(&output.stderr);
+    assert!(text.contains("ray caster: fragment\n"), "{text}");
     // The screenshot is the render command's picture at the window's size: exactly.
     let expected = render(
         Path::new(&scene),
@@ -39,6 +42,43 @@ fn window_shows_what_the_headless_renderer_draws() {
         &["--width", "200", "--height", "150"],
     );
     assert_eq!(differing_pixels(&shot, &expected, 0).0, 0);
+    assert_window_matches(&window, &expected);
+}
+
+/// `--path compute`: the window's frames dispatch the compute ray caster before their
+/// rendering and compose its outputs in it; the window and the screenshot show what
+/// the fragment path draws (the sRGB bytes within one unit).
+#[test]
+fn the_window_draws_with_the_compute_ray_caster() {
+    let Some(x) = Xvfb::start("the_window_draws_with_the_compute_ray_caster") else {
+        return;
+    };
+    let scene = data("tests/scenes/order4_pair.json");
+    let (shot, window) = (out("compute-shot.png"), out("compute-window.png"));
+    let output = x.view(&[
+        &scene,
+        "--path",
+        "compute",
+        "--width",
+        "200",
+        "--height",
+        "150",
+        "--frames",
+        "3",
+        "--screenshot",
+        path_str(&shot),
+        "--capture-window",
+        path_str(&window),
+    ]);
+    assert_clean(&output);
+    let text = String::from_utf8_lossy(&output.stderr);
+    assert!(text.contains("ray caster: compute\n"), "{text}");
+    let expected = render(
+        Path::new(&scene),
+        "compute-render.png",
+        &["--width", "200", "--height", "150", "--path", "fragment"],
+    );
+    assert_eq!(differing_pixels(&shot, &expected, 1).0, 0);
     assert_window_matches(&window, &expected);
 }
 

@@ -57,7 +57,7 @@ struct App {
     /// Each panel's glyphs on the GPU, shared by every frame in flight, and the version
     /// of its content, the method they were uploaded for and whether they cast shadows.
     scene_gpu: Vec<Option<UploadedGlyphs>>,
-    uploaded: Vec<Option<(u64, glyphcast::render::Method, bool)>>,
+    uploaded: Vec<Option<(u64, glyphcast::render::Method, bool, glyphcast::RenderPath)>>,
     /// Per frame slot, each panel's peaks on the GPU (a peak set holds one frame block,
     /// so each slot has its own copy) and the version of its content they hold.
     peaks_gpu: Vec<Vec<Option<PeaksGpu>>>,
@@ -585,10 +585,20 @@ impl App {
             self.underlay_gpu = Some(pass.upload(self.gpu.context(), &underlay.volume)?);
         }
         let settings = self.panels.frame_settings();
+        let device = self.gpu.context().device_type();
         for (k, panel) in self.panels.panels.iter().enumerate() {
+            let settings = RenderSettings {
+                path: crate::panel_path(&settings, device, &panel.sets),
+                ..settings
+            };
             // Shadows or ambient occlusion on or off take a pipeline of their own, as a
-            // method does.
-            let wanted = Some((panel.version, settings.method, settings.casts_rays()));
+            // method does; the ray caster its glyphs of their own.
+            let wanted = Some((
+                panel.version,
+                settings.method,
+                settings.casts_rays(),
+                settings.path,
+            ));
             if rebuilt || self.uploaded[k] != wanted {
                 // Glyphs keep the method (and shadows) they were uploaded for: a switch
                 // uploads again.
@@ -691,6 +701,14 @@ impl App {
                 replaced.1,
                 presenter.glyphs().retired_count()
             );
+            let mut paths: Vec<String> = self
+                .scene_gpu
+                .iter()
+                .flatten()
+                .map(|glyphs| glyphs.path().to_string())
+                .collect();
+            paths.dedup();
+            eprintln!("ray caster: {}", paths.join(", "));
         }
         if let Some(path) = self.options.capture_window.clone() {
             let capture = self

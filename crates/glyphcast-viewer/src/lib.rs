@@ -40,7 +40,7 @@ pub use slots::FRAMES_IN_FLIGHT;
 
 use glyphcast::glyph::NegativeMode;
 use glyphcast::render::shaders::methods_for;
-use glyphcast::render::{RenderPath, RenderSettings};
+use glyphcast::render::{Method, RenderPath, RenderSettings};
 use glyphcast::vk::GpuOptions;
 use glyphcast::{Error, Result, Setting};
 use std::path::PathBuf;
@@ -112,17 +112,47 @@ pub fn run(source: ViewSource, options: ViewerOptions) -> Result<()> {
     app::run(panels, options)
 }
 
-/// The window draws with the fragment ray caster (which `auto` takes in the window),
-/// and a method only where every glyph set has its shader: anything else is refused
-/// before the window opens.
+/// The ray caster that draws a panel's glyphs `sets` with `settings` on a device of type
+/// `device`: `auto` as everywhere ([`RenderPath::on_device`]), and the fragment path
+/// wherever the window's settings ask for what the compute ray caster does not draw in a
+/// window (shadows and ambient occlusion, methods other than exact, switched to with
+/// the keys).
+pub(crate) fn panel_path(
+    settings: &RenderSettings,
+    device: ash::vk::PhysicalDeviceType,
+    sets: &[glyphcast::GlyphSetData],
+) -> RenderPath {
+    let path = settings
+        .path
+        .on_device(device, settings.method, sets.iter().map(|s| s.shape));
+    match path {
+        RenderPath::Compute if settings.casts_rays() || settings.method != Method::Exact => {
+            RenderPath::Fragment
+        }
+        path => path,
+    }
+}
+
+/// The window draws a method only where every glyph set has its shader, and the compute
+/// ray caster only for glyphs it draws: anything else is refused before the window
+/// opens.
 fn check_method(panels: &Panels, settings: &RenderSettings) -> Result<()> {
     if settings.path == RenderPath::Compute {
-        return Err(Error::setting_value(
-            Setting::Path,
-            settings.path,
-            "the viewer draws with the fragment ray caster only (use render for the compute \
-             path)",
-        ));
+        let shape = panels
+            .panels
+            .iter()
+            .flat_map(|p| p.sets.iter().map(|s| s.shape))
+            .find(|&shape| shape != glyphcast::glyph::GlyphShape::Polynomial);
+        if let Some(shape) = shape {
+            return Err(Error::setting_value(
+                Setting::Path,
+                settings.path,
+                format!(
+                    "the compute ray caster draws polynomial glyphs only, not {}",
+                    shape.name()
+                ),
+            ));
+        }
     }
     let layouts: Vec<_> = panels
         .panels

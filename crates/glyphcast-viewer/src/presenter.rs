@@ -509,6 +509,11 @@ impl Presenter {
             (&self.underlay, &self.underlay_shadows),
             &self.peaks,
         );
+        // The compute ray caster's dispatches, outside any rendering (nothing for panels
+        // drawn on the fragment path): each panel's own buffers.
+        for panel in panels.iter() {
+            self.glyphs.record_compute_glyphs(cmd, panel.glyphs, slot)?;
+        }
         // SAFETY: as above.
         unsafe { d.cmd_begin_rendering(cmd, &rendering) };
         // The panel at the corner: its viewport is its cell.
