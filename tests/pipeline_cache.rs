@@ -244,6 +244,7 @@ fn the_quick_gpu_report_writes_its_table() {
         "mesh:3",
         "mesh:5",
         "exact (compute)",
+        "exact (auto)",
     ] {
         assert!(
             report.contains(&format!(" {method} |")),
@@ -269,4 +270,17 @@ fn the_quick_gpu_report_writes_its_table() {
     // The raw results lie beside the report.
     let raw = reports[0].with_extension("");
     assert!(raw.join("gpu/results.json").is_file(), "{}", raw.display());
+    // `auto` took the fragment path on lavapipe, in every row.
+    let results: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(raw.join("gpu/results.json")).expect("results"),
+    )
+    .expect("JSON");
+    let auto: Vec<&str> = results["results"]
+        .as_array()
+        .expect("results")
+        .iter()
+        .filter_map(|r| r["path"].as_str())
+        .filter(|p| p.starts_with("auto"))
+        .collect();
+    assert_eq!(auto, vec!["auto: fragment"; 4], "{results}");
 }

@@ -7,7 +7,8 @@
 #     on the demo scene and on the 256-glyph band-8 peer field;
 #   - `glyphcast bench --sweep gpu`: band-8 fODF fields of 10^3 to 10^6 glyphs at
 #     1280x720, 1920x1080 and 3840x2160, methods exact, affine, interval, fixed, impostor,
-#     mesh:3, mesh:5 on the fragment path and exact on the compute path, accuracy against
+#     mesh:3, mesh:5 on the fragment path, exact on the compute path and on --path auto
+#     (the path it takes on this device), accuracy against
 #     the float64 reference on the 10^3 field;
 # and writes OUTDIR/<device>.md naming the device and driver (the raw results beside it
 # in OUTDIR/<device>/). --quick: 100 and 1000 glyphs at 320x180 and 640x360, a couple of
