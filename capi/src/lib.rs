@@ -187,14 +187,17 @@ pub struct GlyphcastSettings {
 #[repr(u32)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum GlyphcastPath {
-    /// Proxy boxes drawn in the host's rendering by [`glyphcast_renderer_record`] (the
-    /// default).
-    Fragment = 0,
+    /// The default: in a host's rendering, the fragment path (the compute path needs
+    /// [`glyphcast_renderer_record_compute`] outside the rendering, so a host asks for
+    /// it by name).
+    Auto = 0,
+    /// Proxy boxes drawn in the host's rendering by [`glyphcast_renderer_record`].
+    Fragment = 1,
     /// The compute ray caster: [`glyphcast_renderer_record_compute`] records its
     /// dispatches before the host's rendering, [`glyphcast_renderer_record`] draws their
     /// outputs into the host's attachments inside it, depth-tested. The device needs
     /// maintenance4 enabled (every Vulkan 1.3 device has it).
-    Compute = 1,
+    Compute = 2,
 }
 
 /// Shadows the glyphs cast ([`GlyphcastSettings::shadows`]).
@@ -522,7 +525,7 @@ fn default_settings() -> GlyphcastSettings {
         shadows: GlyphcastShadows::Off as u32,
         shadow_radius: 5.0,
         ambient_occlusion: 0.0,
-        path: GlyphcastPath::Fragment as u32,
+        path: GlyphcastPath::Auto as u32,
     }
 }
 
@@ -630,8 +633,9 @@ unsafe fn read_settings(
         }
     };
     let path = match given.path {
-        0 => glyphcast::RenderPath::Fragment,
-        1 => glyphcast::RenderPath::Compute,
+        0 => glyphcast::RenderPath::Auto,
+        1 => glyphcast::RenderPath::Fragment,
+        2 => glyphcast::RenderPath::Compute,
         other => {
             return Err(invalid(format!(
                 "settings.path {other} is no GlyphcastPath"
