@@ -227,3 +227,73 @@ fn compute_composes_glyph_sets_of_different_layouts() {
     assert_ne!(sets[0].layout, sets[1].layout);
     check_scene(&gpu, &mut renderer, "two-layouts", &scene);
 }
+
+/// An engine's renderer made for the compute path refuses to draw a frame whose
+/// dispatches it did not record (`record_compute`), instead of composing stale outputs;
+/// once they are recorded, `record` draws.
+#[test]
+fn the_engine_compute_path_draws_only_after_its_dispatches() {
+    use ash::vk;
+    use glyphcast::render::component::{GlyphRenderer, RendererDesc};
+    use glyphcast::render::host_view::{HostView, look_at, perspective};
+    use glyphcast::render::raycast::{PassOptions, TargetFormats};
+    let gpu = common::gpu();
+    let desc = RendererDesc {
+        formats: TargetFormats {
+            color: vk::Format::R8G8B8A8_SRGB,
+            depth: vk::Format::D32_SFLOAT,
+            distance: None,
+        },
+        options: PassOptions::default(),
+        frames_in_flight: 2,
+        settings: settings(RenderPath::Compute),
+    };
+    let mut renderer = GlyphRenderer::new(gpu.context(), &desc).expect("renderer");
+    assert_eq!(renderer.path(), RenderPath::Compute);
+    let scene = workload::fodf(16, 8, 64, 48).expect("workload");
+    let sets = prepare_scene(&scene, 0.0).expect("prepare");
+    renderer.set_glyphs(&sets).expect("glyphs");
+    let camera = &scene.camera;
+    let view = HostView::whole(
+        look_at(camera.eye, camera.target, camera.up),
+        perspective(
+            0.6,
+            64.0 / 48.0,
+            0.1,
+            None,
+            glyphcast::DepthConvention::Reversed,
+        ),
+        64,
+        48,
+    );
+    renderer.set_view(0, &view).expect("view");
+    let d = gpu.device();
+    // SAFETY: a pool and a buffer of this device, freed below; nothing is submitted.
+    unsafe {
+        let pool = d
+            .create_command_pool(
+                &vk::CommandPoolCreateInfo::default().queue_family_index(gpu.queue_family),
+                None,
+            )
+            .expect("pool");
+        let cmd = d
+            .allocate_command_buffers(
+                &vk::CommandBufferAllocateInfo::default()
+                    .command_pool(pool)
+                    .command_buffer_count(1),
+            )
+            .expect("buffer")[0];
+        d.begin_command_buffer(cmd, &vk::CommandBufferBeginInfo::default())
+            .expect("begin");
+        let error = renderer.record(cmd, 0).expect_err("no dispatches yet");
+        assert!(error.to_string().contains("record_compute"), "{error}");
+        renderer.record_compute(cmd, 0).expect("dispatches");
+        let _ = d.end_command_buffer(cmd);
+        d.destroy_command_pool(pool, None);
+    }
+    assert!(
+        gpu.validation_errors().is_empty(),
+        "{:?}",
+        gpu.validation_errors()
+    );
+}

@@ -49,6 +49,7 @@ use crate::render::visibility::{PassPlan, VisibilityBuffers};
 use crate::render::{Method, RenderPath};
 use crate::vk::DeviceContext;
 use ash::vk;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// What the host decides once.
 #[derive(Clone, Debug)]
@@ -103,6 +104,9 @@ impl UploadedGlyphs {
                 // promise), so it goes before the new one is made.
                 *slot = None;
                 *slot = Some((compute.glyphs.view(&compute.ctx, frame, view)?, origin));
+            }
+            if let Some(dispatched) = compute.dispatched.get(k) {
+                dispatched.store(false, Ordering::SeqCst);
             }
         }
         self.gpu.set_frame_in_flight(k, frame)?;
@@ -170,6 +174,10 @@ struct ComputeUploaded {
     views: Vec<Option<(ComputeSceneGpu, [u32; 2])>>,
     glyphs: ComputeGlyphsGpu,
     ctx: DeviceContext,
+    /// Per frame index: whether its dispatches were recorded since its view was set
+    /// (`record_compute`), without which `record` would compose stale outputs; atomic,
+    /// as hosts may record from several threads.
+    dispatched: Vec<AtomicBool>,
 }
 
 /// Refuses what the engine component's compute path does not draw: shadows and
@@ -332,6 +340,9 @@ impl GlyphRenderer {
         );
         // On the compute path the glyphs go to the compute ray caster; the fragment path's
         // scene keeps only the frame blocks.
+        // `auto` takes the fragment path in a host's rendering: the compute path needs a
+        // call outside it (`record_compute`) and the device's maintenance4 feature, which
+        // a host asks for by choosing it.
         let compute = match settings.path {
             RenderPath::Compute => {
                 check_compute_settings(settings)?;
@@ -350,6 +361,9 @@ impl GlyphRenderer {
                     views: (0..self.frames_in_flight).map(|_| None).collect(),
                     glyphs: recorder.pass.upload_glyphs(&self.ctx, sets)?,
                     ctx: self.ctx.clone(),
+                    dispatched: (0..self.frames_in_flight)
+                        .map(|_| AtomicBool::new(false))
+                        .collect(),
                 })
             }
             _ => None,
@@ -501,16 +515,26 @@ impl GlyphRenderer {
             call: "record_compute",
             expected: "glyphs uploaded by this renderer",
         })?;
-        recorder.pass.record(cmd, scene)
+        recorder.pass.record(cmd, scene)?;
+        if let Some(dispatched) = glyphs
+            .compute
+            .as_ref()
+            .and_then(|c| c.dispatched.get(frame_index))
+        {
+            dispatched.store(true, Ordering::SeqCst);
+        }
+        Ok(())
     }
 
-    /// The ray caster the renderer records its glyphs with: [`RenderPath::Compute`] when
-    /// its settings ask for it, else [`RenderPath::Fragment`] (which `auto` takes in a
-    /// host's pass).
+    /// The ray caster the current glyphs are drawn with ([`UploadedGlyphs::path`]):
+    /// [`RenderPath::Compute`] when the settings ask for it, else
+    /// [`RenderPath::Fragment`] (which `auto` takes in a host's rendering). Before any
+    /// glyphs: what the settings ask for.
     pub fn path(&self) -> RenderPath {
-        match self.settings.path {
-            RenderPath::Compute => RenderPath::Compute,
-            _ => RenderPath::Fragment,
+        match (&self.glyphs, self.settings.path) {
+            (Some(glyphs), _) => glyphs.path(),
+            (None, RenderPath::Compute) => RenderPath::Compute,
+            (None, _) => RenderPath::Fragment,
         }
     }
 
@@ -522,8 +546,19 @@ impl GlyphRenderer {
         glyphs: &UploadedGlyphs,
         frame_index: usize,
     ) -> Result<()> {
-        if glyphs.compute.is_some() {
+        if let Some(compute) = &glyphs.compute {
             self.check_index(frame_index)?;
+            let dispatched = compute
+                .dispatched
+                .get(frame_index)
+                .is_some_and(|d| d.load(Ordering::SeqCst));
+            if !dispatched {
+                return Err(Error::Call {
+                    call: "record",
+                    expected: "record_compute for this frame before its rendering (path \
+                               compute)",
+                });
+            }
             let (scene, origin) = glyphs.compute_view(frame_index).ok_or(Error::Call {
                 call: "record",
                 expected: "set_view for this frame and the current glyphs first",

@@ -310,7 +310,7 @@ impl ComputeRayCastPass {
     }
 
     /// Uploads glyph sets for the compute ray caster (and makes the pipelines they need):
-    /// once, for every view drawn of them ([`ComputeRayCastPass::upload_view`]).
+    /// once, for every view drawn of them (each binned again for its camera).
     pub fn upload_glyphs(
         &mut self,
         ctx: &DeviceContext,
@@ -357,7 +357,7 @@ impl ComputeRayCastPass {
 
     /// Uploads glyph sets and bins them for `camera` at `width` x `height`, with the
     /// frame parameters and the output buffers: [`ComputeRayCastPass::upload_glyphs`],
-    /// then [`ComputeRayCastPass::upload_view`].
+    /// then the tile lists of that view.
     pub fn upload(
         &mut self,
         ctx: &DeviceContext,
