@@ -31,7 +31,9 @@ impl Default for Options {
 pub struct Run {
     pub rgba: Vec<u8>,
     /// Window depth, row-major from the top-left.
+    #[cfg_attr(not(test), allow(dead_code))]
     pub depth: Vec<f32>,
+    #[cfg_attr(not(test), allow(dead_code))]
     pub last_frame: u32,
     pub validation: Vec<String>,
 }
