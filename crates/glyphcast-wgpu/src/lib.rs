@@ -51,9 +51,24 @@ pub enum Error {
     CreateDevice(String),
     /// The device failed while waiting for a frame.
     Device(String),
-    /// A target (texture, format, samples) the pass cannot draw into, or a frame used
-    /// out of turn; the message says which and why.
-    Target(String),
+    /// A target the pass cannot draw into: which texture (or format), what the pass
+    /// expects of it, and what it is.
+    Target {
+        /// "colour", "depth", "resolve", or the format of a description.
+        texture: &'static str,
+        /// What the pass expects.
+        expected: String,
+        /// What it is.
+        found: String,
+    },
+    /// Samples per pixel other than 1, 2, 4 or 8.
+    Samples(u32),
+    /// The command buffers of `frames` frames ago were neither submitted nor dropped
+    /// when their frame slot's turn came again.
+    FramesHeld {
+        /// Frames in flight of the pass.
+        frames: usize,
+    },
     /// glyphcast's core refused or failed.
     Glyphcast(glyphcast::Error),
 }
@@ -72,7 +87,23 @@ impl std::fmt::Display for Error {
             ),
             Error::CreateDevice(e) => write!(f, "creating the wgpu device: {e}"),
             Error::Device(e) => write!(f, "the wgpu device: {e}"),
-            Error::Target(e) => write!(f, "glyph target: {e}"),
+            Error::Target {
+                texture,
+                expected,
+                found,
+            } => write!(
+                f,
+                "glyph target: the {texture} texture should be {expected}; it is {found}"
+            ),
+            Error::Samples(samples) => write!(
+                f,
+                "{samples} samples per pixel: glyphcast draws 1, 2, 4 or 8"
+            ),
+            Error::FramesHeld { frames } => write!(
+                f,
+                "the glyphs' command buffers of {frames} frames ago were neither submitted \
+                 nor dropped: submit (or drop) each frame's before encoding {frames} more"
+            ),
             Error::Glyphcast(e) => write!(f, "{e}"),
         }
     }

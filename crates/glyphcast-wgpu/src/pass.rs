@@ -142,10 +142,7 @@ impl GlyphPass {
         let features = device.features();
         crate::check_adapter(adapter, features)?;
         if ![1, 2, 4, 8].contains(&desc.samples) {
-            return Err(Error::Target(format!(
-                "{} samples: glyphcast draws 1, 2, 4 or 8",
-                desc.samples
-            )));
+            return Err(Error::Samples(desc.samples));
         }
         if desc.samples > 1 && !has_sample_rate_shading(adapter, features) {
             return Err(Error::MissingFeatures {
@@ -258,9 +255,7 @@ impl GlyphPass {
         // are kept alive by the slot until the commands have run.
         let recorded = unsafe {
             glyphs.as_hal_mut::<Vulkan, _, _>(|encoder| {
-                let encoder = encoder.ok_or(Error::Target(
-                    "the command encoder is not a Vulkan one".into(),
-                ))?;
+                let encoder = encoder.ok_or_else(|| not_vulkan_target("command encoder"))?;
                 let cmd = encoder.raw_handle();
                 record_glyph_pass(
                     device,
@@ -296,12 +291,9 @@ impl GlyphPass {
                 .map_err(|e| Error::Device(e.to_string()))?;
         }
         if slot.in_flight.load(Ordering::Acquire) {
-            return Err(Error::Target(format!(
-                "the command buffers encoded {} frames ago are held, neither submitted nor \
-                 dropped: submit each frame's before encoding {} more",
-                self.slots.len(),
-                self.slots.len()
-            )));
+            return Err(Error::FramesHeld {
+                frames: self.slots.len(),
+            });
         }
         slot.views.clear();
         Ok(())
@@ -319,24 +311,28 @@ impl GlyphPass {
             check_texture(name, texture, format, samples)?;
         }
         if color.size() != depth.size() {
-            return Err(Error::Target(format!(
-                "the colour texture is {:?} and the depth texture {:?}: one size",
-                color.size(),
-                depth.size()
-            )));
+            return Err(Error::Target {
+                texture: "depth",
+                expected: format!("the colour texture's size, {:?}", color.size()),
+                found: format!("{:?}", depth.size()),
+            });
         }
         if let Some(resolve) = target.resolve {
             if desc.samples == 1 {
-                return Err(Error::Target(
-                    "a resolve view for a one-sample target".into(),
-                ));
+                return Err(Error::Target {
+                    texture: "resolve",
+                    expected: "absent for a one-sample target".into(),
+                    found: "given".into(),
+                });
             }
             let texture = resolve.texture();
             check_texture("resolve", texture, desc.color_format, 1)?;
             if texture.size() != color.size() {
-                return Err(Error::Target(
-                    "the resolve texture's size differs from the colour texture's".into(),
-                ));
+                return Err(Error::Target {
+                    texture: "resolve",
+                    expected: format!("the colour texture's size, {:?}", color.size()),
+                    found: format!("{:?}", texture.size()),
+                });
             }
         }
         let raw_view = |view: &wgpu::TextureView| {
@@ -344,13 +340,13 @@ impl GlyphPass {
             // commands that use it may run.
             unsafe { view.as_hal::<Vulkan>() }
                 .map(|v| unsafe { v.raw_handle() })
-                .ok_or(Error::Target("a texture view of another backend".into()))
+                .ok_or_else(|| not_vulkan_target("texture view"))
         };
         let image = |texture: &wgpu::Texture| {
             // SAFETY: as above.
             unsafe { texture.as_hal::<Vulkan>() }
                 .map(|t| unsafe { t.raw_handle() })
-                .ok_or(Error::Target("a texture of another backend".into()))
+                .ok_or_else(|| not_vulkan_target("texture"))
         };
         Ok(Attachments {
             color: (image(color)?, raw_view(target.color)?),
@@ -377,33 +373,46 @@ impl Drop for GlyphPass {
     }
 }
 
+/// The error for a wgpu object (`what`) of another backend than Vulkan.
+fn not_vulkan_target(what: &'static str) -> Error {
+    Error::Target {
+        texture: "target's",
+        expected: "a Vulkan object".into(),
+        found: format!("a {what} of another backend"),
+    }
+}
+
 /// A texture of the target refused unless it is a render attachment of `format` and
 /// `samples`.
 fn check_texture(
-    name: &str,
+    name: &'static str,
     texture: &wgpu::Texture,
     format: wgpu::TextureFormat,
     samples: u32,
 ) -> Result<()> {
     if texture.format() != format {
-        return Err(Error::Target(format!(
-            "the {name} texture is {:?}; the pass was made for {format:?}",
-            texture.format()
-        )));
+        return Err(Error::Target {
+            texture: name,
+            expected: format!("{format:?} (the pass's format)"),
+            found: format!("{:?}", texture.format()),
+        });
     }
     if texture.sample_count() != samples {
-        return Err(Error::Target(format!(
-            "the {name} texture has {} samples; the pass was made for {samples}",
-            texture.sample_count()
-        )));
+        return Err(Error::Target {
+            texture: name,
+            expected: format!("{samples} sample(s) per pixel (the pass's)"),
+            found: format!("{} sample(s)", texture.sample_count()),
+        });
     }
     if !texture
         .usage()
         .contains(wgpu::TextureUsages::RENDER_ATTACHMENT)
     {
-        return Err(Error::Target(format!(
-            "the {name} texture has no RENDER_ATTACHMENT usage"
-        )));
+        return Err(Error::Target {
+            texture: name,
+            expected: "a texture with RENDER_ATTACHMENT usage".into(),
+            found: format!("one with usage {:?}", texture.usage()),
+        });
     }
     Ok(())
 }
@@ -421,16 +430,18 @@ fn vulkan_formats(
     desc: &GlyphPassDesc,
 ) -> Result<(vk::Format, vk::Format)> {
     if desc.color_format.is_depth_stencil_format() || desc.color_format.is_compressed() {
-        return Err(Error::Target(format!(
-            "colour format {:?} is not a colour attachment format",
-            desc.color_format
-        )));
+        return Err(Error::Target {
+            texture: "colour",
+            expected: "of a colour-renderable format".into(),
+            found: format!("{:?}", desc.color_format),
+        });
     }
     if !desc.depth_format.has_depth_aspect() {
-        return Err(Error::Target(format!(
-            "depth format {:?} has no depth",
-            desc.depth_format
-        )));
+        return Err(Error::Target {
+            texture: "depth",
+            expected: "of a format with depth".into(),
+            found: format!("{:?}", desc.depth_format),
+        });
     }
     // SAFETY: the hal adapter is only read.
     let hal = unsafe { adapter.as_hal::<Vulkan>() }.ok_or_else(|| not_vulkan(adapter))?;

@@ -6,7 +6,7 @@
 //! ```text
 //! cargo run -p glyphcast-wgpu --example wgpu_plane                    # a window
 //! cargo run -p glyphcast-wgpu --example wgpu_plane -- --headless out.png
-//!     [--frames N] [--in-flight K]
+//!     [--frames N] [--in-flight K] [--samples 1|2|4|8]
 //! ```
 //! Headless, it draws N frames (30) with K in flight (3) under the Vulkan validation
 //! layer, synchronization validation included, saves the last one and exits with 1 on
@@ -45,6 +45,15 @@ fn parse(args: &[String]) -> Result<Mode, String> {
             "--headless" => out = Some(PathBuf::from(value()?)),
             "--frames" => options.frames = number(1)?,
             "--in-flight" => options.in_flight = number(1)? as usize,
+            "--samples" => {
+                options.samples = number(1)?;
+                if ![1, 2, 4, 8].contains(&options.samples) {
+                    return Err(format!(
+                        "--samples: {} is not 1, 2, 4 or 8",
+                        options.samples
+                    ));
+                }
+            }
             other => return Err(format!("unknown option '{other}'")),
         }
     }
@@ -60,7 +69,10 @@ fn main() {
         Ok(mode) => mode,
         Err(message) => {
             eprintln!("wgpu_plane: {message}");
-            eprintln!("usage: wgpu_plane [--headless OUT.png [--frames N] [--in-flight K]]");
+            eprintln!(
+                "usage: wgpu_plane [--headless OUT.png [--frames N] [--in-flight K] \
+                 [--samples 1|2|4|8]]"
+            );
             std::process::exit(2);
         }
     };
@@ -78,10 +90,11 @@ fn headless(out: &std::path::Path, options: &frames::Options) -> frames::Result<
     let run = frames::run(options)?;
     glyphcast::io::png::write_png_rgba8(out, scene::WIDTH, scene::HEIGHT, &run.rgba)?;
     println!(
-        "wrote {}: {} frames, {} in flight, {} validation message(s)",
+        "wrote {}: {} frames, {} in flight, {} sample(s), {} validation message(s)",
         out.display(),
         options.frames,
         options.in_flight,
+        options.samples,
         run.validation.len()
     );
     if !run.validation.is_empty() {

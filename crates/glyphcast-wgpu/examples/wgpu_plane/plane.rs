@@ -32,8 +32,8 @@ pub struct PlanePass {
 impl PlanePass {
     pub fn new(
         device: &wgpu::Device,
-        color: wgpu::TextureFormat,
-        depth: wgpu::TextureFormat,
+        (color, depth): (wgpu::TextureFormat, wgpu::TextureFormat),
+        samples: u32,
     ) -> PlanePass {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("plane"),
@@ -94,7 +94,10 @@ impl PlanePass {
                 stencil: Default::default(),
                 bias: Default::default(),
             }),
-            multisample: Default::default(),
+            multisample: wgpu::MultisampleState {
+                count: samples,
+                ..Default::default()
+            },
             multiview_mask: None,
             cache: None,
         });

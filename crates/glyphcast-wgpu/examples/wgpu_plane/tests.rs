@@ -194,6 +194,75 @@ fn the_plane_and_the_glyphs_hide_each_other() {
     assert_eq!(wrong, Vec::new());
 }
 
+/// The largest difference of any channel between two RGBA pixels.
+fn colour_gap(a: &[u8], b: &[u8]) -> u8 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| x.abs_diff(*y))
+        .max()
+        .unwrap_or(0)
+}
+
+/// Multisampled: the scene and the glyphs draw into 4-sample textures (a ray cast through
+/// every sample) resolved into the one-sample colour, under synchronization validation
+/// with no message. Where the one-sample picture is flat (a pixel and its 8 neighbours
+/// within `FLAT` of each other in colour, within 1% in depth, away from the image's
+/// border: no silhouette, no
+/// checkerboard edge, no crossing), the resolved picture is the one-sample one to within
+/// `FLAT`; the pixels that differ more lie on edges, where samples mix, and there are
+/// many of them.
+#[test]
+fn four_samples_resolve_into_the_one_sample_picture() {
+    // Shading at 4 sample positions instead of the centre moves a colour where it changes
+    // across the pixel; on a flat pixel by less than this (of 255).
+    const FLAT: u8 = 12;
+    let one = frames::run(&Options::default()).expect("one-sample run");
+    let four = frames::run(&Options {
+        samples: 4,
+        ..Options::default()
+    })
+    .expect("four-sample run");
+    assert_eq!(four.validation, Vec::<String>::new());
+    let depth = distances(&one);
+    let (w, h) = (WIDTH as usize, HEIGHT as usize);
+    let (mut flat, mut flat_differs, mut edges_differ) = (0, 0, 0);
+    for k in 0..w * h {
+        let (x, y) = (k % w, k / w);
+        // A pixel on the image's border has neighbours it cannot see: not judged flat.
+        let inside = x > 0 && y > 0 && x + 1 < w && y + 1 < h;
+        let is_flat = inside
+            && (y - 1..=y + 1)
+                .flat_map(|ny| (x - 1..=x + 1).map(move |nx| ny * w + nx))
+                .all(|n| {
+                    let (a, b) = (depth[n], depth[k]);
+                    let same_surface = (a.is_nan() && b.is_nan()) || (a - b).abs() < 0.01 * b.abs();
+                    same_surface && colour_gap(pixel(&one.rgba, n), pixel(&one.rgba, k)) <= FLAT
+                });
+        let gap = colour_gap(pixel(&one.rgba, k), pixel(&four.rgba, k));
+        if is_flat {
+            flat += 1;
+            if gap > FLAT {
+                flat_differs += 1;
+            }
+        } else if gap > FLAT {
+            edges_differ += 1;
+        }
+    }
+    eprintln!(
+        "{flat} flat pixels, {flat_differs} of them differ; {edges_differ} edge pixels differ"
+    );
+    if flat_differs > 0 {
+        save("one-sample", &one.rgba);
+        save("four-samples", &four.rgba);
+    }
+    assert!(flat > w * h / 3, "{flat}");
+    assert_eq!(flat_differs, 0);
+    assert!(
+        edges_differ > 100,
+        "the edges are not anti-aliased: {edges_differ}"
+    );
+}
+
 /// Bad input is refused with an error that names it: another backend than Vulkan, a
 /// texture of another format, no frame in flight.
 #[test]
@@ -244,7 +313,7 @@ fn wrong_backends_and_targets_are_refused() {
         };
         // SAFETY: as above.
         let refused = refusal(unsafe { GlyphPass::new(&adapter, &device, &bad_samples) });
-        assert!(refused.contains("3 samples"), "{refused}");
+        assert!(refused.contains("3 samples per pixel"), "{refused}");
         // SAFETY: as above.
         let mut glyphs =
             unsafe { GlyphPass::new(&adapter, &device, &GlyphPassDesc::default()) }.expect("pass");

@@ -94,7 +94,7 @@ impl Gpu {
         glyphs.set_glyphs(&scene::glyph_sets()?)?;
         Ok(Gpu {
             depth: depth_view(&device, &config),
-            plane: PlanePass::new(&device, config.format, scene::DEPTH_FORMAT),
+            plane: PlanePass::new(&device, (config.format, scene::DEPTH_FORMAT), 1),
             window,
             surface,
             config,
