@@ -40,6 +40,8 @@ pub struct Run {
     #[cfg_attr(not(test), allow(dead_code))]
     pub last_frame: u32,
     pub validation: Vec<String>,
+    /// The adapter and its driver, as wgpu reports them.
+    pub adapter: String,
 }
 
 pub type Result<T> = std::result::Result<T, Box<dyn std::error::Error>>;
@@ -124,6 +126,8 @@ pub fn run(options: &Options) -> Result<Run> {
     let validated = glyphcast_wgpu::validation::ValidatedInstance::new(options.sync_validation)?;
     let adapter = validated.adapter()?;
     let mut run = draw_frames(&adapter, options)?;
+    let info = adapter.get_info();
+    run.adapter = format!("{} ({})", info.name, info.driver_info);
     drop(adapter);
     run.validation = validated.messages();
     Ok(run)
@@ -192,6 +196,7 @@ pub fn draw_frames(adapter: &wgpu::Adapter, options: &Options) -> Result<Run> {
             .collect(),
         last_frame: last,
         validation: Vec::new(),
+        adapter: String::new(),
     })
 }
 

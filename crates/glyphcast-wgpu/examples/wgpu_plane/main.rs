@@ -90,11 +90,12 @@ fn headless(out: &std::path::Path, options: &frames::Options) -> frames::Result<
     let run = frames::run(options)?;
     glyphcast::io::png::write_png_rgba8(out, scene::WIDTH, scene::HEIGHT, &run.rgba)?;
     println!(
-        "wrote {}: {} frames, {} in flight, {} sample(s), {} validation message(s)",
+        "wrote {}: {} frames, {} in flight, {} sample(s) on {}, {} validation message(s)",
         out.display(),
         options.frames,
         options.in_flight,
         options.samples,
+        run.adapter,
         run.validation.len()
     );
     if !run.validation.is_empty() {

@@ -99,6 +99,7 @@ fn glyphs_match_glyphcasts_headless_render() {
         ..Options::default()
     };
     let run = frames::run(&options).expect("headless run");
+    eprintln!("adapter: {}", run.adapter);
     assert_eq!(run.validation, Vec::<String>::new());
     let reference = headless(run.last_frame);
     let wgpu = distances(&run);
