@@ -8,8 +8,9 @@
 //! enables dynamic rendering or synchronization2: those two are added by a device-creation
 //! callback ([`enable_features`]), which [`request_device`] passes to wgpu-hal and which a
 //! Bevy app registers with its raw Vulkan initialisation. The core's maintenance4 (for the
-//! compute ray caster's `LocalSizeId`) is not needed: the engine component draws with the
-//! fragment ray caster only, and wgpu keeps maintenance4's struct in the chain itself.
+//! compute ray caster's `LocalSizeId`) is not asked for: wgpu chains maintenance4's struct
+//! itself, turned on only for mesh shaders, and a second one is invalid, so the glyphs
+//! are drawn by the fragment ray caster (what the engine component takes for `auto`).
 //!
 //! The two feature structs go into the device's `pNext` chain one by one, not as
 //! `VkPhysicalDeviceVulkan13Features`: wgpu already chains some of 1.3's own structs

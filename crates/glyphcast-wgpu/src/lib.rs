@@ -61,6 +61,10 @@ pub enum Error {
         /// What it is.
         found: String,
     },
+    /// Settings that ask for the compute ray caster (`path: compute`), which wgpu's
+    /// device cannot run: its shaders need Vulkan's maintenance4 feature, which wgpu
+    /// enables only for mesh shaders, in a struct of its own that no callback may repeat.
+    ComputePath,
     /// Samples per pixel other than 1, 2, 4 or 8.
     Samples(u32),
     /// The command buffers of `frames` frames ago were neither submitted nor dropped
@@ -94,6 +98,11 @@ impl std::fmt::Display for Error {
             } => write!(
                 f,
                 "glyph target: the {texture} texture should be {expected}; it is {found}"
+            ),
+            Error::ComputePath => write!(
+                f,
+                "glyphcast-wgpu draws with the fragment ray caster (path fragment or auto): \
+                 the compute path needs Vulkan's maintenance4, which wgpu does not enable"
             ),
             Error::Samples(samples) => write!(
                 f,

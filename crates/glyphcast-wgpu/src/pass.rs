@@ -15,7 +15,7 @@ use glam::DMat4;
 use glyphcast::ash::vk;
 use glyphcast::gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use glyphcast::{
-    DepthConvention, DeviceContext, GlyphRenderer, GlyphSetData, HostView, PassOptions,
+    DepthConvention, DeviceContext, GlyphRenderer, GlyphSetData, HostView, PassOptions, RenderPath,
     RenderSettings, RendererDesc, TargetFormats,
 };
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -40,7 +40,8 @@ pub struct GlyphPassDesc {
     /// Frame slots: how many frames may be encoded before the first has finished. A
     /// slot still running when its turn comes again is waited for.
     pub frames_in_flight: usize,
-    /// How the glyphs are drawn (method, march, colour, lighting).
+    /// How the glyphs are drawn (method, march, colour, lighting), by the fragment ray
+    /// caster (`path` fragment, or auto, which takes it here).
     pub settings: RenderSettings,
 }
 
@@ -141,6 +142,9 @@ impl GlyphPass {
     ) -> Result<GlyphPass> {
         let features = device.features();
         crate::check_adapter(adapter, features)?;
+        if desc.settings.path == RenderPath::Compute {
+            return Err(Error::ComputePath);
+        }
         if ![1, 2, 4, 8].contains(&desc.samples) {
             return Err(Error::Samples(desc.samples));
         }

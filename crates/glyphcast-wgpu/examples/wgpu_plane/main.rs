@@ -4,7 +4,7 @@
 //! colour and depth textures.
 //!
 //! ```text
-//! cargo run -p glyphcast-wgpu --example wgpu_plane                    # a window
+//! cargo run -p glyphcast-wgpu --example wgpu_plane [-- --frames N]     # a window
 //! cargo run -p glyphcast-wgpu --example wgpu_plane -- --headless out.png
 //!     [--frames N] [--in-flight K] [--samples 1|2|4|8]
 //! ```
@@ -21,7 +21,8 @@ use std::path::PathBuf;
 /// The command line.
 #[derive(Debug)]
 enum Mode {
-    Window,
+    /// Until the window is closed, or for `--frames N`.
+    Window(Option<u32>),
     Headless {
         out: PathBuf,
         options: frames::Options,
@@ -31,6 +32,7 @@ enum Mode {
 fn parse(args: &[String]) -> Result<Mode, String> {
     let mut out = None;
     let mut options = frames::Options::default();
+    let mut frames = None;
     let mut args = args.iter();
     while let Some(arg) = args.next() {
         let mut value = || args.next().ok_or_else(|| format!("{arg} needs a value"));
@@ -43,7 +45,7 @@ fn parse(args: &[String]) -> Result<Mode, String> {
         };
         match arg.as_str() {
             "--headless" => out = Some(PathBuf::from(value()?)),
-            "--frames" => options.frames = number(1)?,
+            "--frames" => frames = Some(number(1)?),
             "--in-flight" => options.in_flight = number(1)? as usize,
             "--samples" => {
                 options.samples = number(1)?;
@@ -58,8 +60,11 @@ fn parse(args: &[String]) -> Result<Mode, String> {
         }
     }
     Ok(match out {
-        Some(out) => Mode::Headless { out, options },
-        None => Mode::Window,
+        Some(out) => {
+            options.frames = frames.unwrap_or(options.frames);
+            Mode::Headless { out, options }
+        }
+        None => Mode::Window(frames),
     })
 }
 
@@ -70,14 +75,14 @@ fn main() {
         Err(message) => {
             eprintln!("wgpu_plane: {message}");
             eprintln!(
-                "usage: wgpu_plane [--headless OUT.png [--frames N] [--in-flight K] \
+                "usage: wgpu_plane [--frames N] [--headless OUT.png [--in-flight K] \
                  [--samples 1|2|4|8]]"
             );
             std::process::exit(2);
         }
     };
     let result = match mode {
-        Mode::Window => window::run(),
+        Mode::Window(frames) => window::run(frames),
         Mode::Headless { out, options } => headless(&out, &options),
     };
     if let Err(e) = result {

@@ -264,8 +264,8 @@ fn four_samples_resolve_into_the_one_sample_picture() {
     );
 }
 
-/// Bad input is refused with an error that names it: another backend than Vulkan, a
-/// texture of another format, no frame in flight.
+/// Bad input is refused with an error that names it: another backend than Vulkan, no
+/// frame in flight, the compute path, 3 samples, a texture of another format.
 #[test]
 fn wrong_backends_and_targets_are_refused() {
     let noop = wgpu::Instance::new(wgpu::InstanceDescriptor {
@@ -308,6 +308,16 @@ fn wrong_backends_and_targets_are_refused() {
         // SAFETY: the device was made by `request_device`.
         let refused = refusal(unsafe { GlyphPass::new(&adapter, &device, &no_frames) });
         assert!(refused.contains("frame in flight"), "{refused}");
+        let compute = GlyphPassDesc {
+            settings: glyphcast::RenderSettings {
+                path: glyphcast::RenderPath::Compute,
+                ..glyphcast::RenderSettings::default()
+            },
+            ..GlyphPassDesc::default()
+        };
+        // SAFETY: as above.
+        let refused = refusal(unsafe { GlyphPass::new(&adapter, &device, &compute) });
+        assert!(refused.contains("maintenance4"), "{refused}");
         let bad_samples = GlyphPassDesc {
             samples: 3,
             ..GlyphPassDesc::default()

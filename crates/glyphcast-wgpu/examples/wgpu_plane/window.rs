@@ -29,11 +29,16 @@ struct Gpu {
 struct App {
     gpu: Option<Gpu>,
     error: Option<Box<dyn std::error::Error>>,
+    /// Frames to draw before closing, if not until the window is closed.
+    frames: Option<u32>,
 }
 
-pub fn run() -> Result<()> {
+pub fn run(frames: Option<u32>) -> Result<()> {
     let event_loop = EventLoop::new()?;
-    let mut app = App::default();
+    let mut app = App {
+        frames,
+        ..App::default()
+    };
     event_loop.run_app(&mut app)?;
     match app.error {
         Some(e) => Err(e),
@@ -208,6 +213,10 @@ impl ApplicationHandler for App {
             WindowEvent::RedrawRequested => {
                 if let Err(e) = gpu.draw() {
                     self.error = Some(e);
+                    event_loop.exit();
+                }
+                if self.frames.is_some_and(|n| gpu.frame >= n) {
+                    println!("{} frames drawn in a window", gpu.frame);
                     event_loop.exit();
                 }
             }
