@@ -193,6 +193,12 @@ fn options<'a>(
         shaderc::TargetEnv::Vulkan,
         shaderc::EnvVersion::Vulkan1_3 as u32,
     );
+    if job.kind == shaderc::ShaderKind::Compute {
+        // SPIR-V 1.6 gives a compute shader's workgroup size as LocalSizeId, which needs
+        // the device's maintenance4 feature; 1.5 gives it as LocalSize, which every
+        // device takes (a host's device need not enable maintenance4).
+        options.set_target_spirv(shaderc::SpirvVersion::V1_5);
+    }
     // SPIR-V optimisation only where it pays at run time: the drivers optimise anyway,
     // but creating a pipeline of the default method's shader is several times faster
     // from optimised SPIR-V, and that creation is most of a one-shot render's time, so
@@ -562,6 +568,9 @@ fn cache_key(
     };
     feed(CACHE_VERSION.as_bytes());
     feed(format!("{:?}", job.kind).as_bytes());
+    if job.kind == shaderc::ShaderKind::Compute {
+        feed(b"spirv 1.5");
+    }
     feed(if optimised {
         b"optimised"
     } else {

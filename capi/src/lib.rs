@@ -187,16 +187,17 @@ pub struct GlyphcastSettings {
 #[repr(u32)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum GlyphcastPath {
-    /// The default: in a host's rendering, the fragment path (the compute path needs
-    /// [`glyphcast_renderer_record_compute`] outside the rendering, so a host asks for
-    /// it by name).
+    /// The default: on a GPU (one sample, no shadows or occlusion), the compute path in
+    /// the frames whose dispatches the host records with
+    /// [`glyphcast_renderer_record_compute`] before its rendering, from the
+    /// `set_view` after its first call; the fragment path in every other frame and on
+    /// other devices (lavapipe).
     Auto = 0,
     /// Proxy boxes drawn in the host's rendering by [`glyphcast_renderer_record`].
     Fragment = 1,
     /// The compute ray caster: [`glyphcast_renderer_record_compute`] records its
     /// dispatches before the host's rendering, [`glyphcast_renderer_record`] draws their
-    /// outputs into the host's attachments inside it, depth-tested. The device needs
-    /// maintenance4 enabled (every Vulkan 1.3 device has it).
+    /// outputs into the host's attachments inside it, depth-tested.
     Compute = 2,
 }
 

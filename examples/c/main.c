@@ -181,13 +181,11 @@ static void create_engine(Engine *e) {
                                      .queueCount = 1,
                                      .pQueuePriorities = &priority};
     /* What glyphcast needs: dynamic rendering, storage writes in fragment shaders (and
-       sampleRateShading for MSAA), maintenance4 for the compute ray caster (every Vulkan
-       1.3 device has it). */
+       sampleRateShading for MSAA). */
     VkPhysicalDeviceVulkan13Features v13 = {
         .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES,
         .dynamicRendering = VK_TRUE,
-        .synchronization2 = VK_TRUE,
-        .maintenance4 = VK_TRUE};
+        .synchronization2 = VK_TRUE};
     VkPhysicalDeviceFeatures core = {.fragmentStoresAndAtomics = VK_TRUE};
     VkDeviceCreateInfo device = {.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
                                  .pNext = &v13,
@@ -678,11 +676,10 @@ int main(int argc, char **argv) {
                                        .imageMemoryBarrierCount = 2,
                                        .pImageMemoryBarriers = to_attachment};
         vkCmdPipelineBarrier2(cmd, &dependency);
-        if (settings.path == GLYPHCAST_PATH_COMPUTE) {
-            /* The compute ray caster's dispatches, outside the rendering: they write
-               glyphcast's own buffers only. */
-            GLYPHCAST(renderer, glyphcast_renderer_record_compute(renderer, cmd, k));
-        }
+        /* The compute ray caster's dispatches, outside the rendering: they write
+           glyphcast's own buffers only (nothing on the fragment path; with the default
+           GLYPHCAST_PATH_AUTO on a GPU, this is what lets it take the compute path). */
+        GLYPHCAST(renderer, glyphcast_renderer_record_compute(renderer, cmd, k));
         VkRenderingAttachmentInfo color = {
             .sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO,
             .imageView = colors[k].view, .imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,

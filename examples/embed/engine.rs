@@ -129,13 +129,10 @@ impl Engine {
         let queues = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(family)
             .queue_priorities(&priorities)];
-        // What glyphcast's passes need of a device: Vulkan 1.3 dynamic rendering, and
-        // maintenance4 (every 1.3 device has it) for its compute ray caster, whose SPIR-V
-        // 1.6 gives the workgroup size as LocalSizeId.
+        // What glyphcast's passes need of a device: Vulkan 1.3 dynamic rendering.
         let mut v13 = vk::PhysicalDeviceVulkan13Features::default()
             .dynamic_rendering(true)
-            .synchronization2(true)
-            .maintenance4(true);
+            .synchronization2(true);
         // And of Vulkan 1.0: sample-rate shading for MSAA targets, and storage writes in
         // fragment shaders (the glyphs' work counters and culling).
         let core = vk::PhysicalDeviceFeatures::default()

@@ -89,6 +89,10 @@ struct Options {
     /// glyphcast's ray caster: fragment (drawn in the engine's rendering) or compute
     /// (dispatched before it, composed in it).
     path: RenderPath,
+    /// Tests: glyphcast's context says the device is a discrete GPU (what `auto` decides
+    /// by), and whether the engine records the compute path's dispatches.
+    as_gpu: bool,
+    dispatches: bool,
 }
 
 impl Default for Options {
@@ -105,6 +109,8 @@ impl Default for Options {
             plane: true,
             viewport: None,
             path: RenderPath::Fragment,
+            as_gpu: false,
+            dispatches: true,
         }
     }
 }
@@ -366,6 +372,8 @@ struct Run {
     camera: Camera,
     projection: DMat4,
     sets: Vec<GlyphSetData>,
+    /// The ray caster the last glyphs were drawn with (`GlyphRenderer::path`).
+    path: RenderPath,
 }
 
 fn run(options: &Options) -> Result<Run> {
@@ -418,7 +426,10 @@ fn context(engine: &Engine, plain: Option<Arc<PlainMemory>>) -> DeviceContext {
 fn draw_frames(engine: &Engine, options: &Options, plain: Option<Arc<PlainMemory>>) -> Result<Run> {
     // glyphcast on the engine's device and memory: no instance or device of its own. The
     // context and renderer are locals, dropped before this function returns.
-    let context = context(engine, plain);
+    let mut context = context(engine, plain);
+    if options.as_gpu {
+        context = context.with_device_type(vk::PhysicalDeviceType::DISCRETE_GPU);
+    }
     let samples = vk::SampleCountFlags::from_raw(options.samples);
     let settings = RenderSettings {
         path: options.path,
@@ -502,8 +513,10 @@ fn draw_frames(engine: &Engine, options: &Options, plain: Option<Arc<PlainMemory
                 .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
             d.begin_command_buffer(slot.cmd, &begin)?;
         }
-        if glyphs.path() == RenderPath::Compute {
-            // Outside the rendering: the dispatches into glyphcast's own buffers.
+        // Outside the rendering: the compute path's dispatches into glyphcast's own
+        // buffers (nothing on the fragment path; with `auto` on a GPU, this is what lets
+        // it take the compute path).
+        if options.dispatches {
             glyphs.record_compute(slot.cmd, index)?;
         }
         record_frame(engine, slot, options.depth, |cmd| {
@@ -535,6 +548,7 @@ fn draw_frames(engine: &Engine, options: &Options, plain: Option<Arc<PlainMemory
         camera: camera(last),
         projection: host_matrices(&camera(last), options.depth, rect).1,
         sets: sets.clone(),
+        path: glyphs.path(),
     };
     engine.destroy_readback(color_readback)?;
     engine.destroy_readback(depth_readback)?;

@@ -17,6 +17,8 @@ fn options(depth: DepthConvention, samples: u32) -> Options {
         plane: true,
         viewport: None,
         path: RenderPath::Fragment,
+        as_gpu: false,
+        dispatches: true,
     }
 }
 
@@ -211,6 +213,50 @@ fn the_compute_path_draws_the_fragment_path_picture() {
         assert!(m.judged > 1000 && m.glyph > 300, "{depth:?}: {m:?}");
         assert_eq!(m.coverage_differs, 0, "{depth:?}: {m:?}");
         assert!(m.max_error < 1e-4, "{depth:?}: {m:?}");
+    }
+}
+
+/// `auto` (the default) on a device glyphcast is told is a GPU: with the engine
+/// recording `record_compute`, the glyphs go to the compute path from the frame after
+/// the first dispatches (and again after the slice step), without it the fragment path
+/// draws every frame; both draw the fragment path's picture, with no validation message
+/// (synchronization validation included).
+#[test]
+fn auto_takes_the_compute_path_where_the_engine_records_its_dispatches() {
+    let base = Options {
+        frames: 12,
+        ..options(DepthConvention::Standard, 1)
+    };
+    let fragment = run(&base).expect("fragment run");
+    assert_eq!(fragment.path, RenderPath::Fragment);
+    let auto = |dispatches| Options {
+        path: RenderPath::Auto,
+        as_gpu: true,
+        dispatches,
+        ..base.clone()
+    };
+    for (dispatches, path) in [(true, RenderPath::Compute), (false, RenderPath::Auto)] {
+        let r = run(&auto(dispatches)).expect("auto run");
+        assert_eq!(
+            r.validation,
+            Vec::<String>::new(),
+            "dispatches {dispatches}"
+        );
+        assert_eq!(r.path, path, "dispatches {dispatches}");
+        let colour = r
+            .rgba
+            .iter()
+            .zip(&fragment.rgba)
+            .filter(|(a, b)| a.abs_diff(**b) > 1)
+            .count();
+        assert_eq!(colour, 0, "dispatches {dispatches}: colours differ");
+        let depths = r
+            .depth
+            .iter()
+            .zip(&fragment.depth)
+            .filter(|(a, b)| (*a - *b).abs() > 1e-6)
+            .count();
+        assert_eq!(depths, 0, "dispatches {dispatches}: depths differ");
     }
 }
 

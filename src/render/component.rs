@@ -20,9 +20,11 @@
 //! than for the fragment path (colour and depth attachments, in attachment layouts, in
 //! the rendering the glyphs are recorded in); glyphcast's barriers cover its own buffers:
 //! the last read of frame k's outputs before they are written again, and the dispatches'
-//! writes before the composing draw reads them. Frame k's tile lists are made on the CPU
-//! in `set_view` from its camera, and its glyphs uploaded again with them. `auto` takes
-//! the fragment path here.
+//! writes before the composing draw reads them. The glyphs are uploaded once; frame k's
+//! tile lists are made on the CPU in `set_view` from its camera. `auto` on a GPU takes
+//! the compute path in the frames whose dispatches the host records, once it has called
+//! `record_compute`, and the fragment path in every other frame (the glyphs are uploaded
+//! for both); a host that never calls it draws as before.
 //!
 //! glyphcast's own front ends draw through the same component: the headless renderer
 //! (one frame in flight) keeps each prepared frame's glyphs as [`UploadedGlyphs`] made by
@@ -91,22 +93,32 @@ impl UploadedGlyphs {
     pub fn set_frame(&mut self, frame: &FrameParams, target: &FrameTarget) -> Result<()> {
         let k = target.frame_index;
         if let Some(compute) = &mut self.compute {
+            if let Some(dispatched) = compute.dispatched.get(k) {
+                dispatched.store(false, Ordering::SeqCst);
+            }
+            // The previous view of this frame index is no longer read (the caller's
+            // promise), so it goes before the new one is made.
+            if let Some(slot) = compute.views.get_mut(k) {
+                *slot = None;
+            }
             let host = HostView {
                 view: glam::DMat4::IDENTITY,
                 projection: glam::DMat4::IDENTITY,
                 viewport: target.viewport,
                 scissor: target.scissor,
             };
-            let (origin, [width, height]) = compute_region(&host)?;
-            let view = crate::render::tiles::ScreenView::of_frame(frame, width, height);
-            if let Some(slot) = compute.views.get_mut(k) {
-                // The previous view of this frame index is no longer read (the caller's
-                // promise), so it goes before the new one is made.
-                *slot = None;
-                *slot = Some((compute.glyphs.view(&compute.ctx, frame, view)?, origin));
-            }
-            if let Some(dispatched) = compute.dispatched.get(k) {
-                dispatched.store(false, Ordering::SeqCst);
+            // With `auto`, a viewport the compute path does not draw is drawn by the
+            // fragment path.
+            let region = match compute_region(&host) {
+                Err(_) if compute.auto => None,
+                region => Some(region?),
+            };
+            if let (Some(glyphs), Some((origin, [width, height]))) = (&compute.glyphs, region) {
+                let view = crate::render::tiles::ScreenView::of_frame(frame, width, height);
+                let scene = glyphs.view(&compute.ctx, frame, view)?;
+                if let Some(slot) = compute.views.get_mut(k) {
+                    *slot = Some((scene, origin));
+                }
             }
         }
         self.gpu.set_frame_in_flight(k, frame)?;
@@ -121,9 +133,12 @@ impl UploadedGlyphs {
         Ok(())
     }
 
-    /// The ray caster that draws these glyphs: compute or fragment.
+    /// The ray caster that draws these glyphs: compute or fragment; with `auto` on a GPU,
+    /// [`RenderPath::Auto`] until the host has recorded dispatches (the fragment path
+    /// draws), then compute (in the frames whose dispatches the host records).
     pub fn path(&self) -> RenderPath {
-        match self.compute {
+        match &self.compute {
+            Some(compute) if compute.auto && compute.glyphs.is_none() => RenderPath::Auto,
             Some(_) => RenderPath::Compute,
             None => RenderPath::Fragment,
         }
@@ -172,7 +187,13 @@ struct ComputeUploaded {
     /// Per frame index: the view its frame block was last written for (tile lists,
     /// outputs) and the viewport origin it is drawn at.
     views: Vec<Option<(ComputeSceneGpu, [u32; 2])>>,
-    glyphs: ComputeGlyphsGpu,
+    /// The glyphs on the GPU; with `auto`, uploaded at the first `set_view` after the
+    /// host showed it records the dispatches (`pending` holds them until then).
+    glyphs: Option<ComputeGlyphsGpu>,
+    pending: Option<Vec<GlyphSetData>>,
+    /// `auto` on a GPU: the glyphs are uploaded for the fragment path too, which draws
+    /// every frame whose dispatches the host did not record.
+    auto: bool,
     ctx: DeviceContext,
     /// Per frame index: whether its dispatches were recorded since its view was set
     /// (`record_compute`), without which `record` would compose stale outputs; atomic,
@@ -237,6 +258,9 @@ pub struct GlyphRenderer {
     glyphs: Option<UploadedGlyphs>,
     retired: Vec<Retired>,
     compute: Option<Box<ComputeRecorder>>,
+    /// Whether the host has recorded the compute path's dispatches (`record_compute`):
+    /// `auto` then draws with it.
+    host_dispatches: AtomicBool,
     pass: RayCastPass,
     ctx: DeviceContext,
     frames_in_flight: usize,
@@ -276,6 +300,7 @@ impl GlyphRenderer {
             glyphs: None,
             retired: Vec::new(),
             compute,
+            host_dispatches: AtomicBool::new(false),
             pass,
             ctx: ctx.clone(),
             frames_in_flight: desc.frames_in_flight,
@@ -339,12 +364,19 @@ impl GlyphRenderer {
             settings,
         );
         // On the compute path the glyphs go to the compute ray caster; the fragment path's
-        // scene keeps only the frame blocks.
-        // `auto` takes the fragment path in a host's rendering: the compute path needs a
-        // call outside it (`record_compute`) and the device's maintenance4 feature, which
-        // a host asks for by choosing it.
+        // scene keeps only the frame blocks. `auto` on a GPU, where the compute path draws
+        // these glyphs with these settings (one sample per pixel: the compute path casts
+        // one ray per pixel), uploads them for both: the compute path draws the frames
+        // whose dispatches the host records (`record_compute`), the fragment path the
+        // others, so a host that never calls it draws as before.
+        let shapes = sets.iter().map(|set| set.shape);
+        let device = self.ctx.device_type();
+        let auto = settings.path == RenderPath::Auto
+            && !settings.casts_rays()
+            && self.pass.options().samples == vk::SampleCountFlags::TYPE_1
+            && settings.path.on_device(device, settings.method, shapes) == RenderPath::Compute;
         let compute = match settings.path {
-            RenderPath::Compute => {
+            _ if settings.path == RenderPath::Compute || auto => {
                 check_compute_settings(settings)?;
                 let recorder = match &mut self.compute {
                     Some(recorder) => recorder,
@@ -357,9 +389,18 @@ impl GlyphRenderer {
                             .insert(Box::new(ComputeRecorder { pass, compose }))
                     }
                 };
+                let (glyphs, pending) = match auto {
+                    // Uploaded once the host records dispatches (`set_view`).
+                    true if !self.host_dispatches.load(Ordering::SeqCst) => {
+                        (None, Some(sets.to_vec()))
+                    }
+                    _ => (Some(recorder.pass.upload_glyphs(&self.ctx, sets)?), None),
+                };
                 Some(ComputeUploaded {
                     views: (0..self.frames_in_flight).map(|_| None).collect(),
-                    glyphs: recorder.pass.upload_glyphs(&self.ctx, sets)?,
+                    glyphs,
+                    pending,
+                    auto,
                     ctx: self.ctx.clone(),
                     dispatched: (0..self.frames_in_flight)
                         .map(|_| AtomicBool::new(false))
@@ -368,9 +409,9 @@ impl GlyphRenderer {
             }
             _ => None,
         };
-        let fragment_sets = match compute {
-            Some(_) => &[][..],
-            None => sets,
+        let fragment_sets = match &compute {
+            Some(compute) if !compute.auto => &[][..],
+            _ => sets,
         };
         let gpu = self.pass.upload_in_flight(
             &self.ctx,
@@ -459,6 +500,13 @@ impl GlyphRenderer {
             call: "set_view",
             expected: "set_glyphs first",
         })?;
+        // `auto`: the compute path's glyphs once the host records dispatches.
+        if let (Some(compute), Some(recorder)) = (&mut glyphs.compute, &mut self.compute)
+            && self.host_dispatches.load(Ordering::SeqCst)
+            && let Some(sets) = compute.pending.take()
+        {
+            compute.glyphs = Some(recorder.pass.upload_glyphs(&self.ctx, &sets)?);
+        }
         let depth = self.pass.options().depth;
         let frame = host_frame(view, depth, glyphs.max_radius, &self.settings)?;
         let target = FrameTarget {
@@ -504,13 +552,20 @@ impl GlyphRenderer {
         frame_index: usize,
     ) -> Result<()> {
         self.check_index(frame_index)?;
-        if glyphs.compute.is_none() {
+        let Some(compute) = &glyphs.compute else {
             return Ok(());
-        }
-        let (scene, _) = glyphs.compute_view(frame_index).ok_or(Error::Call {
-            call: "record_compute",
-            expected: "set_view for this frame and the current glyphs first",
-        })?;
+        };
+        self.host_dispatches.store(true, Ordering::SeqCst);
+        let Some((scene, _)) = glyphs.compute_view(frame_index) else {
+            // `auto` before its glyphs are on the compute path: the fragment path draws.
+            if compute.auto {
+                return Ok(());
+            }
+            return Err(Error::Call {
+                call: "record_compute",
+                expected: "set_view for this frame and the current glyphs first",
+            });
+        };
         let recorder = self.compute.as_ref().ok_or(Error::Call {
             call: "record_compute",
             expected: "glyphs uploaded by this renderer",
@@ -527,14 +582,14 @@ impl GlyphRenderer {
     }
 
     /// The ray caster the current glyphs are drawn with ([`UploadedGlyphs::path`]):
-    /// [`RenderPath::Compute`] when the settings ask for it, else
-    /// [`RenderPath::Fragment`] (which `auto` takes in a host's rendering). Before any
-    /// glyphs: what the settings ask for.
+    /// [`RenderPath::Compute`] when the settings ask for it, or `auto` took it on a GPU
+    /// (it draws the frames whose dispatches the host records); [`RenderPath::Auto`]
+    /// while `auto` on a GPU waits for the host's first `record_compute`; else
+    /// [`RenderPath::Fragment`]. Before any glyphs: the settings'.
     pub fn path(&self) -> RenderPath {
-        match (&self.glyphs, self.settings.path) {
-            (Some(glyphs), _) => glyphs.path(),
-            (None, RenderPath::Compute) => RenderPath::Compute,
-            (None, _) => RenderPath::Fragment,
+        match &self.glyphs {
+            Some(glyphs) => glyphs.path(),
+            None => self.settings.path,
         }
     }
 
@@ -552,6 +607,12 @@ impl GlyphRenderer {
                 .dispatched
                 .get(frame_index)
                 .is_some_and(|d| d.load(Ordering::SeqCst));
+            if !dispatched && compute.auto {
+                let target = self.frame_target(glyphs, frame_index)?;
+                return self
+                    .pass
+                    .record_frame(cmd, &glyphs.gpu, &target, glyphs.method);
+            }
             if !dispatched {
                 return Err(Error::Call {
                     call: "record",

@@ -168,7 +168,8 @@ pub enum RenderPath {
     /// ([`RenderPath::on_device`]): the compute ray caster on a GPU where it can draw the
     /// frame, the fragment path on a CPU (lavapipe) and wherever the compute ray caster
     /// cannot draw the frame (another method, glyph shapes other than the polynomial
-    /// glyph). Engines' own passes take the fragment path.
+    /// glyph). In an engine's own frame it takes the compute path only where the host
+    /// records its dispatches ([`GlyphRenderer::record_compute`](crate::render::component::GlyphRenderer::record_compute)).
     #[default]
     Auto,
     /// Instanced proxy boxes whose fragment shader ray-casts the glyph

@@ -288,6 +288,14 @@ impl DeviceContext {
         self.max_varying_components = self.max_varying_components.min(components);
         self
     }
+
+    /// This context as if its device were of type `device_type`: what
+    /// [`RenderPath::Auto`](crate::render::RenderPath) decides by (tests draw a GPU's
+    /// choice on lavapipe). Nothing else changes.
+    pub fn with_device_type(mut self, device_type: vk::PhysicalDeviceType) -> DeviceContext {
+        self.device_type = device_type;
+        self
+    }
 }
 
 /// A pipeline cache seeded with `file`'s data (empty when there is no file, or when the

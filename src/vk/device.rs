@@ -201,8 +201,8 @@ pub(crate) fn create(
     let queues = [vk::DeviceQueueCreateInfo::default()
         .queue_family_index(family)
         .queue_priorities(&priorities)];
-    // maintenance4 is mandatory in Vulkan 1.3; glslang's SPIR-V 1.6 output needs it for
-    // the LocalSizeId execution mode of compute shaders.
+    // maintenance4 is mandatory in Vulkan 1.3 (the compute shaders are SPIR-V 1.5, which
+    // does not need it; enabled for any 1.6 module a test compiles itself).
     let mut v13 = vk::PhysicalDeviceVulkan13Features::default()
         .dynamic_rendering(true)
         .synchronization2(true)

@@ -7,10 +7,7 @@
 //! sampleRateShading wherever the adapter has them (its downlevel flags), but it never
 //! enables dynamic rendering or synchronization2: those two are added by a device-creation
 //! callback ([`enable_features`]), which [`request_device`] passes to wgpu-hal and which a
-//! Bevy app registers with its raw Vulkan initialisation. The core's maintenance4 (for the
-//! compute ray caster's `LocalSizeId`) is not asked for: wgpu chains maintenance4's struct
-//! itself, turned on only for mesh shaders, and a second one is invalid, so the glyphs
-//! are drawn by the fragment ray caster (what the engine component takes for `auto`).
+//! Bevy app registers with its raw Vulkan initialisation.
 //!
 //! The two feature structs go into the device's `pNext` chain one by one, not as
 //! `VkPhysicalDeviceVulkan13Features`: wgpu already chains some of 1.3's own structs

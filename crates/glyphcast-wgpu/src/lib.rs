@@ -61,9 +61,8 @@ pub enum Error {
         /// What it is.
         found: String,
     },
-    /// Settings that ask for the compute ray caster (`path: compute`), which wgpu's
-    /// device cannot run: its shaders need Vulkan's maintenance4 feature, which wgpu
-    /// enables only for mesh shaders, in a struct of its own that no callback may repeat.
+    /// Settings that ask for the compute ray caster (`path: compute`), whose dispatches
+    /// the pass does not record (it records the fragment ray caster).
     ComputePath,
     /// Samples per pixel other than 1, 2, 4 or 8.
     Samples(u32),
@@ -102,7 +101,7 @@ impl std::fmt::Display for Error {
             Error::ComputePath => write!(
                 f,
                 "glyphcast-wgpu draws with the fragment ray caster (path fragment or auto): \
-                 the compute path needs Vulkan's maintenance4, which wgpu does not enable"
+                 it records no compute-path dispatches"
             ),
             Error::Samples(samples) => write!(
                 f,

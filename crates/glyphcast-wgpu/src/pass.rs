@@ -168,7 +168,12 @@ impl GlyphPass {
                 ..PassOptions::default()
             },
             frames_in_flight: desc.frames_in_flight,
-            settings: desc.settings,
+            // The pass records the fragment path (`auto` takes it here: the compute path's
+            // dispatches are not recorded in wgpu's frame).
+            settings: RenderSettings {
+                path: RenderPath::Fragment,
+                ..desc.settings
+            },
         };
         let renderer = GlyphRenderer::new(&context, &renderer_desc)?;
         Ok(GlyphPass {
