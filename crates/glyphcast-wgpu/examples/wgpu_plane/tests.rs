@@ -317,7 +317,10 @@ fn wrong_backends_and_targets_are_refused() {
         };
         // SAFETY: as above.
         let refused = refusal(unsafe { GlyphPass::new(&adapter, &device, &compute) });
-        assert!(refused.contains("records no compute-path dispatches"), "{refused}");
+        assert!(
+            refused.contains("records no compute-path dispatches"),
+            "{refused}"
+        );
         let bad_samples = GlyphPassDesc {
             samples: 3,
             ..GlyphPassDesc::default()
