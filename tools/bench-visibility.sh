@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # What hidden glyphs cost, in one command: `glyphcast bench` of the front layer of a
-# 16 x 16 x 16 block of band-8 fODFs alone and of the whole block (head-on and from a
-# corner), and of two flat fields, with culling off and on (--cull occluded), on the
+# 16 x 16 x 16 block of band-8 fODFs alone and of the whole block (head-on, from a
+# corner, and with the front layer copied into every layer), and of two flat fields,
+# with culling off and on (--cull occluded, the default), on the
 # fragment path, then the front layer and the block on the compute path. Prints one row
 # per run: GPU median per frame, passes, and the work per covered pixel (fragment shader
 # invocations and glyph evaluations, counted in a frame of their own).
@@ -37,6 +38,7 @@ for cull in off occluded; do
     row "front layer, block:16:16:1:8, cull $cull" --workload block:16:16:1:8 --cull $cull
     row "block:16:16:16:8 head-on, cull $cull" --workload block:16:16:16:8 --cull $cull
     row "block:16:16:16:8:corner, cull $cull" --workload block:16:16:16:8:corner --cull $cull
+    row "block:16:16:16:8:stacked, cull $cull" --workload block:16:16:16:8:stacked --cull $cull
     row "peer field fodf:256:8, cull $cull" --workload fodf:256:8 --cull $cull
     row "fodf:10000:8, cull $cull" --workload fodf:10000:8 --cull $cull
 done

@@ -4,8 +4,9 @@
 //! - `grid:COUNT:ORDER`: symmetric fibre tensors (two or three crossing populations);
 //! - `fodf:COUNT:BAND`: fibre ODFs as SH series (tournier07, MRtrix3's basis) with one to
 //!   three random fibres each, the common case of real HARDI data;
-//! - `block:NX:NY:NZ:BAND[:front|:corner]`: a dense 3D block of such fODFs filling their
-//!   voxels, seen head-on through its layers or from a corner (what hidden glyphs cost).
+//! - `block:NX:NY:NZ:BAND[:front|:corner|:stacked]`: a dense 3D block of such fODFs
+//!   filling their voxels, seen head-on through its layers or from a corner, or its first
+//!   layer copied behind itself (what hidden glyphs cost).
 use crate::camera::{Camera, Projection};
 use crate::catalog::{MAX_SH_BAND, MAX_SYMMETRIC_ORDER};
 use crate::demo::{direction, fibre_tensor, glyph_set, symmetric};
@@ -270,6 +271,10 @@ pub enum BlockView {
     Front,
     /// From a corner: the camera along the block's diagonal, framing it whole.
     Corner,
+    /// Head-on as `Front`, every layer a copy of the first: a glyph hides the ones
+    /// behind it where it is drawn, and the gaps between its lobes stay gaps through
+    /// the whole block (where no depth can hide anything).
+    Stacked,
 }
 
 /// A dense 3D block of `nx` x `ny` x `nz` fibre ODFs of SH band `band`, one per voxel of
@@ -280,7 +285,8 @@ pub enum BlockView {
 /// and `band` only, layer after layer), so `block:NX:NY:1:BAND` is the front layer of every
 /// deeper block and their frames compare directly. `Front` looks at the first layer's
 /// centre from +z, framing that layer; `Corner` looks at the block's centre along the
-/// diagonal (1, 1, 1), framing its bounding sphere.
+/// diagonal (1, 1, 1), framing its bounding sphere; `Stacked` is `Front`'s view of the
+/// first layer copied into every layer.
 pub fn block(
     (nx, ny, nz): (usize, usize, usize),
     band: u32,
@@ -297,7 +303,13 @@ pub fn block(
     }
     check_band(band)?;
     let seed = 0xb10c_f0df ^ (nx as u64) << 32 ^ (ny as u64) << 8 ^ band as u64;
-    let coeffs = seeded_fodf_coefficients(seed, count, band, FODF_BLOCK)?;
+    let coeffs = match view {
+        BlockView::Stacked => {
+            let layer = seeded_fodf_coefficients(seed, nx * ny, band, FODF_BLOCK)?;
+            (0..nz).flat_map(|_| layer.iter().cloned()).collect()
+        }
+        _ => seeded_fodf_coefficients(seed, count, band, FODF_BLOCK)?,
+    };
     let half = |n: usize| 0.5 * (n - 1) as f64;
     let centers = (0..count)
         .map(|v| {
@@ -314,7 +326,7 @@ pub fn block(
     let tan = (0.5 * fov_y_deg.to_radians()).tan();
     let aspect = f64::from(width) / f64::from(height.max(1));
     let camera = match view {
-        BlockView::Front => {
+        BlockView::Front | BlockView::Stacked => {
             // The first layer's face (its glyphs reach about 1 beyond their centres)
             // fills 90 % of the image's height or width, whichever is tighter.
             let reach = (0.5 * ny as f64 + 0.5).max((0.5 * nx as f64 + 0.5) / aspect) / 0.9;
@@ -356,14 +368,15 @@ fn check_band(band: u32) -> Result<()> {
     Ok(())
 }
 
-/// Parses `grid:COUNT:ORDER`, `fodf:COUNT:BAND` or `block:NX:NY:NZ:BAND[:front|:corner]`.
+/// Parses `grid:COUNT:ORDER`, `fodf:COUNT:BAND` or
+/// `block:NX:NY:NZ:BAND[:front|:corner|:stacked]`.
 pub fn parse(spec: &str, width: u32, height: u32) -> Result<Scene> {
     let parts: Vec<&str> = spec.split(':').collect();
     let bad = || {
         Error::setting_value(
             Setting::Workload,
             format!("'{}'", crate::error::quoted(spec)),
-            "not grid:COUNT:ORDER, fodf:COUNT:BAND or block:NX:NY:NZ:BAND[:front|:corner]",
+            "not grid:COUNT:ORDER, fodf:COUNT:BAND or block:NX:NY:NZ:BAND[:front|:corner|:stacked]",
         )
     };
     let number = |s: &str| s.parse::<usize>().map_err(|_| bad());
@@ -374,6 +387,7 @@ pub fn parse(spec: &str, width: u32, height: u32) -> Result<Scene> {
             let view = match view {
                 [] | ["front"] => BlockView::Front,
                 ["corner"] => BlockView::Corner,
+                ["stacked"] => BlockView::Stacked,
                 _ => return Err(bad()),
             };
             let dims = (number(nx)?, number(ny)?, number(nz)?);
@@ -417,6 +431,27 @@ mod tests {
                 c.iter().map(|v| v * 0.45 / peak.max(1e-12)).collect()
             })
             .collect()
+    }
+
+    #[test]
+    fn a_stacked_block_copies_the_front_layer_into_every_layer() {
+        let (dims, layer) = ((3, 2, 4), 6);
+        let front = parse("block:3:2:4:4", 64, 48).unwrap();
+        let stacked = parse("block:3:2:4:4:stacked", 64, 48).unwrap();
+        let (f, s) = (&front.glyph_sets[0], &stacked.glyph_sets[0]);
+        assert_eq!(f.centers, s.centers);
+        assert_eq!(f.scales, s.scales);
+        assert_eq!(front.camera, stacked.camera, "seen as the front view is");
+        assert_eq!(s.coeffs.len(), dims.0 * dims.1 * dims.2);
+        for (k, glyph) in s.coeffs.iter().enumerate() {
+            assert_eq!(
+                glyph,
+                &f.coeffs[k % layer],
+                "glyph {k}: a copy of the first layer's"
+            );
+        }
+        // The front block's deeper layers are glyphs of their own.
+        assert_ne!(f.coeffs[layer], f.coeffs[0]);
     }
 
     #[test]

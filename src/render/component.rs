@@ -420,21 +420,10 @@ impl GlyphRenderer {
             settings.method,
             self.frames_in_flight,
         )?;
-        // Culled glyphs are drawn in passes whose early stages have pipelines of their own.
+        // Culled glyphs are drawn in passes whose later stages have pipelines of their own,
+        // made when a frame first needs more than one pass (`prepare_passes`).
         let cull = match settings.cull {
             Culling::Occluded if crate::render::visibility::can_cull(&self.ctx, settings) => {
-                let variants = gpu
-                    .sets
-                    .iter()
-                    .map(|set| {
-                        crate::render::raycast::batch_variant(
-                            set.layout,
-                            set.shape,
-                            settings.method,
-                        )
-                    })
-                    .collect::<Result<Vec<_>>>()?;
-                self.pass.prepare_stage_pipelines(&variants)?;
                 Culling::Occluded
             }
             _ => Culling::Off,
@@ -652,6 +641,27 @@ impl GlyphRenderer {
             viewport,
             scissor,
         })
+    }
+
+    /// Makes the pipelines of the later passes' stages for `glyphs`, where the plan of
+    /// frame `frame_index` has more than one pass and they are not made yet
+    /// (render::visibility): a frame drawn in one pass, such as a flat field's, never
+    /// creates them.
+    pub(crate) fn prepare_passes(
+        &mut self,
+        glyphs: &UploadedGlyphs,
+        frame_index: usize,
+    ) -> Result<()> {
+        if glyphs.passes(frame_index) <= 1 {
+            return Ok(());
+        }
+        let variants = glyphs
+            .gpu
+            .sets
+            .iter()
+            .map(|set| crate::render::raycast::batch_variant(set.layout, set.shape, glyphs.method))
+            .collect::<Result<Vec<_>>>()?;
+        self.pass.prepare_stage_pipelines(&variants)
     }
 
     /// [`GlyphRenderer::record_glyphs`] in the passes of the glyphs' plan for this frame

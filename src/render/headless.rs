@@ -422,6 +422,7 @@ impl HeadlessRenderer {
                 let mut glyphs = self.glyphs.upload(sets, settings)?;
                 let whole = FrameTarget::whole(vk::Extent2D { width, height });
                 glyphs.set_frame(&params, &whole)?;
+                self.glyphs.prepare_passes(&glyphs, 0)?;
                 GlyphsOnGpu::RayCast(Box::new(glyphs))
             }
         };
@@ -490,6 +491,10 @@ impl HeadlessRenderer {
 
     /// Draws a prepared frame and waits for it; returns the glyph pass's GPU time.
     pub fn draw(&mut self, gpu: &Gpu, frame: &PreparedFrame) -> Result<Option<f64>> {
+        // A camera moved by `set_camera` may need passes the first one did not.
+        if let GlyphsOnGpu::RayCast(glyphs) = &frame.scene {
+            self.glyphs.prepare_passes(glyphs, 0)?;
+        }
         let passes = (
             &self.glyphs,
             &mut self.mesh,

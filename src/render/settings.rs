@@ -444,13 +444,13 @@ impl std::fmt::Display for AmbientOcclusion {
 /// Whether glyphs hidden behind others are skipped (`--cull`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Culling {
-    /// The ray-casting pass draws the glyphs in passes front to back, and each pass skips
-    /// the fragments behind the depth its earlier passes wrote. The image and the depth
-    /// map are the same as without it.
-    Occluded,
-    /// One pass: every glyph's fragments run (the default: on lavapipe the copies of
-    /// the depth between passes cost more than the skipped fragments save).
+    /// The default: the headless renderer draws the glyphs in passes front to back, and
+    /// each pass skips the fragments behind the depth its earlier passes wrote. The image
+    /// and the depth map are the same as without it; a frame that fits in one pass (a
+    /// flat field) is drawn as without it.
     #[default]
+    Occluded,
+    /// One pass: every glyph's fragments run.
     Off,
 }
 
@@ -603,7 +603,7 @@ impl Default for RenderSettings {
             lighting: Lighting::default(),
             shadows: Shadows::Off,
             ambient_occlusion: AmbientOcclusion::Off,
-            cull: Culling::Off,
+            cull: Culling::Occluded,
         }
     }
 }

@@ -490,10 +490,10 @@ render_settings! {
     }
     /// Glyphs hidden behind others: occluded (the glyphs are drawn in passes front to
     /// back, and each pass skips the pixels where an earlier one drew a nearer surface;
-    /// the image and the depth map are the same; fewer glyph evaluations, but on
-    /// lavapipe a slower frame) or off (one pass: every glyph's pixels run).
+    /// the image and the depth map are the same; a flat field is one pass, drawn as
+    /// without it) or off (one pass: every glyph's pixels run).
     cull: Culling = Cull("cull") {
-        kind: Name, value: "occluded|off", default: "off", accepts: "occluded, off",
+        kind: Name, value: "occluded|off", default: "occluded", accepts: "occluded, off",
         range: Range::Any, reads: Reads::Always, number: None,
     }
     /// Samples per pixel: supersampling draws at 2 or 4 times the width and height, then
@@ -759,7 +759,7 @@ mod tests {
             "samples" => "4",
             "shadows" => "soft:2",
             "ambient_occlusion" => "on",
-            "cull" => "occluded",
+            "cull" => "off",
             _ => "0.5",
         };
         for spec in RENDER_SETTINGS {

@@ -26,8 +26,9 @@ pub struct BenchArgs {
     #[arg(value_name = "SCENE")]
     scene: Option<PathBuf>,
     /// Generated workload: grid:COUNT:ORDER (fibre tensors), fodf:COUNT:BAND (SH fODFs) or
-    /// block:NX:NY:NZ:BAND[:front|:corner] (a dense 3D block of touching fODFs, seen
-    /// head-on through its layers or from a corner).
+    /// block:NX:NY:NZ:BAND[:front|:corner|:stacked] (a dense 3D block of touching fODFs,
+    /// seen head-on through its layers or from a corner, or its first layer copied into
+    /// every layer, seen head-on).
     #[arg(long, default_value = "grid:100:8")]
     workload: String,
     /// A sweep instead of one measurement: steps (the paper's Table 1), scaling (glyph
@@ -50,7 +51,7 @@ pub struct BenchArgs {
     path: String,
     /// Hidden glyphs in a single measurement: occluded (drawn in passes front to back,
     /// each skipping the pixels an earlier pass covered nearer) or off (one pass).
-    #[arg(long, default_value = "off")]
+    #[arg(long, default_value = "occluded")]
     cull: String,
     /// Also compare a single measurement with the float64 reference.
     #[arg(long)]
