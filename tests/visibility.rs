@@ -10,21 +10,18 @@ use glyphcast::bench::workload::{BlockView, block};
 use glyphcast::camera::{Camera, Projection};
 use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
 use glyphcast::render::glyph_data::prepare_scene;
-use glyphcast::render::{Culling, RenderSettings};
+use glyphcast::render::{AmbientOcclusion, Culling, RenderSettings, Shadows};
 use glyphcast::scene::{ImageSize, Scene};
 use glyphcast::{FrameView, Gpu, HeadlessRenderer, RenderedImage};
 
-/// The scene drawn with `cull`: its image and the passes its glyphs took.
+/// The scene drawn with `settings` and `cull`: its image and the passes its glyphs took.
 fn draw(
     gpu: &Gpu,
     renderer: &mut HeadlessRenderer,
     scene: &Scene,
-    cull: Culling,
+    (settings, cull): (&RenderSettings, Culling),
 ) -> (RenderedImage, usize) {
-    let settings = RenderSettings {
-        cull,
-        ..RenderSettings::default()
-    };
+    let settings = RenderSettings { cull, ..*settings };
     let sets = prepare_scene(scene, 0.0).expect("preparing the scene");
     let (w, h) = (scene.image.width, scene.image.height);
     let frame = renderer
@@ -42,8 +39,20 @@ fn same_with_and_without(
     name: &str,
     scene: &Scene,
 ) -> usize {
-    let (off, off_passes) = draw(gpu, renderer, scene, Culling::Off);
-    let (on, passes) = draw(gpu, renderer, scene, Culling::Occluded);
+    let settings = RenderSettings::default();
+    same_with_and_without_settings(gpu, renderer, name, scene, &settings)
+}
+
+/// [`same_with_and_without`] with `settings` (their `cull` set both ways).
+fn same_with_and_without_settings(
+    gpu: &Gpu,
+    renderer: &mut HeadlessRenderer,
+    name: &str,
+    scene: &Scene,
+    settings: &RenderSettings,
+) -> usize {
+    let (off, off_passes) = draw(gpu, renderer, scene, (settings, Culling::Off));
+    let (on, passes) = draw(gpu, renderer, scene, (settings, Culling::Occluded));
     assert_eq!(off_passes, 1, "{name}: without culling, one pass");
     assert_eq!(off.distance.len(), on.distance.len(), "{name}: image sizes");
     let differing = crate::common::differing_distances(&off, &on);
@@ -102,6 +111,53 @@ fn culling_changes_no_pixel_of_the_accuracy_suite_or_of_blocks() {
             "{name}: holes against the float64 reference"
         );
         assert_eq!(r.comparison.false_hits, 0, "{name}: false hits");
+    }
+}
+
+/// Culling is the default, so it must leave every feature of a frame as it was: shadows
+/// (cast after the frame from its hits), ambient occlusion, supersampling (drawn at twice
+/// the size) and an orthographic camera, each on a block drawn in several passes.
+#[test]
+fn culling_keeps_every_pixel_with_shadows_occlusion_supersampling_and_orthographic_views() {
+    let gpu = gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    assert_eq!(
+        RenderSettings::default().cull,
+        Culling::Occluded,
+        "the default"
+    );
+    let scene = block((8, 8, 12), 8, BlockView::Front, 160, 120).expect("block workload");
+    let mut orthographic = scene.clone();
+    orthographic.camera.projection = Projection::Orthographic { height: 10.0 };
+    let base = RenderSettings::default();
+    let cases = [
+        (
+            "hard shadows",
+            &scene,
+            RenderSettings {
+                shadows: Shadows::Hard,
+                ..base
+            },
+        ),
+        (
+            "soft shadows and ambient occlusion",
+            &scene,
+            RenderSettings {
+                shadows: Shadows::Soft { radius_deg: 4.0 },
+                ambient_occlusion: AmbientOcclusion::On { reach: 1.0 },
+                ..base
+            },
+        ),
+        ("4 samples", &scene, RenderSettings { samples: 4, ..base }),
+        ("orthographic", &orthographic, base),
+    ];
+    for (name, scene, settings) in cases {
+        let name = format!("block 8x8x12, {name}");
+        let passes = same_with_and_without_settings(&gpu, &mut renderer, &name, scene, &settings);
+        assert!(
+            passes >= 2,
+            "{name}: drawn in {passes} passes, so nothing was culled"
+        );
     }
 }
 
