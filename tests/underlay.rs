@@ -338,6 +338,7 @@ fn render_cli(dir: &Path, args: &[&str]) -> (RenderedImage, Scene) {
         gpu_ms: None,
         mesh: None,
         path: glyphcast::RenderPath::Fragment,
+        passes: 1,
     };
     (image, scene)
 }

@@ -3,7 +3,7 @@
 //! the earlier passes wrote. Culling must never change a pixel: every scene here gives the
 //! same depth map and image, bit for bit, with culling on and off, and agrees with the
 //! float64 reference; the scenes that are drawn in several passes are checked to be.
-use crate::common::{gpu, render_and_compare, save_failure_images};
+use crate::common::{fresh_dir, glyphcast, gpu, render_and_compare, save_failure_images, text};
 use glam::DVec3;
 use glyphcast::accuracy::suite;
 use glyphcast::bench::workload::{BlockView, block};
@@ -29,6 +29,11 @@ fn draw(
         .expect("preparing the frame");
     renderer.draw(gpu, &frame).expect("drawing");
     let image = renderer.read(gpu, &frame).expect("reading back");
+    assert_eq!(
+        image.passes,
+        frame.passes(),
+        "the image says how it was drawn"
+    );
     (image, frame.passes())
 }
 
@@ -159,6 +164,72 @@ fn culling_keeps_every_pixel_with_shadows_occlusion_supersampling_and_orthograph
             "{name}: drawn in {passes} passes, so nothing was culled"
         );
     }
+}
+
+/// `render` says when it culled: a block saved by `bench` is drawn in several passes by
+/// default, and in one with `--cull off`, to the same depth map.
+#[test]
+fn render_culls_by_default_and_says_so() {
+    let dir = fresh_dir("visibility-render");
+    let scene = dir.join("block.json");
+    let bench = glyphcast(&[
+        "bench",
+        "--workload",
+        "block:8:8:12:8",
+        "--width",
+        "160",
+        "--height",
+        "120",
+        "--frames",
+        "1",
+        "--warmup",
+        "0",
+        "--save-scene",
+        text(&scene),
+        "--out",
+        text(&dir),
+    ]);
+    assert!(
+        bench.status.success(),
+        "{}",
+        String::from_utf8_lossy(&bench.stderr)
+    );
+    let mut depths = Vec::new();
+    for cull in [None, Some("off")] {
+        let (png, npy) = (dir.join("block.png"), dir.join("block.npy"));
+        let _ = std::fs::remove_file(&png);
+        let _ = std::fs::remove_file(&npy);
+        let mut args = vec![
+            "render",
+            text(&scene),
+            "-o",
+            text(&png),
+            "--depth-out",
+            text(&npy),
+        ];
+        args.extend(cull.map(|c| ["--cull", c]).into_iter().flatten());
+        let run = glyphcast(&args);
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert!(run.status.success(), "{stderr}");
+        let line = stderr
+            .lines()
+            .find(|l| l.starts_with("rendered "))
+            .unwrap_or_else(|| panic!("no summary line: {stderr}"));
+        // "... on the fragment path (auto) in 9 passes (hidden glyphs culled): ..."
+        let culled = line
+            .split_once(" passes (hidden glyphs culled)")
+            .and_then(|(before, _)| before.rsplit(' ').next())
+            .and_then(|n| n.parse::<usize>().ok());
+        match cull {
+            None => assert!(
+                culled.is_some_and(|n| n >= 2),
+                "by default the block is culled in passes: {line}"
+            ),
+            Some(_) => assert!(!line.contains("culled"), "--cull off: one pass: {line}"),
+        }
+        depths.push(std::fs::read(&npy).expect("the depth map"));
+    }
+    assert!(depths[0] == depths[1], "the depth maps differ with culling");
 }
 
 /// A wall of six layers of touching spheres, seen from straight above, and behind it a

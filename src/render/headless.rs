@@ -116,6 +116,9 @@ pub struct RenderedImage {
     pub mesh: Option<MeshStats>,
     /// The ray caster that drew it (what `auto` chose).
     pub path: RenderPath,
+    /// Passes its glyphs were drawn in: more than one where hidden glyphs were culled
+    /// (`cull`), 1 otherwise.
+    pub passes: usize,
 }
 
 /// The offscreen targets of one image size, with their readback buffers.
@@ -341,6 +344,7 @@ impl HeadlessRenderer {
         let gpu_ms = self.draw(gpu, &frame)?;
         let mut image = read_back(&frame.targets, view.width, view.height)?;
         image.draws = frame.draws();
+        image.passes = frame.passes();
         image.mesh = frame.mesh_stats().copied();
         image.gpu_ms = gpu_ms;
         image.path = frame.path();
@@ -513,6 +517,7 @@ impl HeadlessRenderer {
     pub fn read(&self, gpu: &Gpu, frame: &PreparedFrame) -> Result<RenderedImage> {
         let mut image = read_back(&frame.targets, frame.size.width, frame.size.height)?;
         image.draws = frame.draws();
+        image.passes = frame.passes();
         image.mesh = frame.mesh_stats().copied();
         image.path = frame.path();
         gpu.check_validation()?;
@@ -1279,6 +1284,7 @@ fn read_back(t: &Targets, width: u32, height: u32) -> Result<RenderedImage> {
         gpu_ms: None,
         mesh: None,
         path: RenderPath::Fragment,
+        passes: 1,
     })
 }
 

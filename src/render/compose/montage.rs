@@ -94,6 +94,7 @@ impl Montage {
                 mesh: None,
                 // Until a panel is placed: the path of an image no ray caster drew.
                 path: crate::render::RenderPath::Fragment,
+                passes: 1,
             },
         }
     }
@@ -116,6 +117,7 @@ impl Montage {
         }
         out.draws += panel.draws;
         out.path = panel.path;
+        out.passes = out.passes.max(panel.passes);
     }
 
     /// The assembled image.
@@ -301,6 +303,7 @@ mod tests {
             gpu_ms: None,
             mesh: None,
             path: crate::render::RenderPath::Fragment,
+            passes: 1,
         }
     }
 

@@ -387,12 +387,16 @@ pub fn render(
         .gpu_ms
         .map_or_else(|| "n/a".to_owned(), |ms| format!("{ms:.1} ms"));
     eprintln!(
-        "rendered {glyphs} glyphs at {w}x{h} on the {} path{}: prepare {:.1} ms, render {:.1} ms \
-         (GPU {gpu_time})",
+        "rendered {glyphs} glyphs at {w}x{h} on the {} path{}{}: prepare {:.1} ms, render \
+         {:.1} ms (GPU {gpu_time})",
         image.path,
         match settings.path {
             glyphcast::RenderPath::Auto => " (auto)",
             _ => "",
+        },
+        match image.passes {
+            0 | 1 => String::new(),
+            n => format!(" in {n} passes (hidden glyphs culled)"),
         },
         prepare_time.as_secs_f64() * 1e3,
         begun.elapsed().as_secs_f64() * 1e3
