@@ -265,6 +265,10 @@ pub struct GlyphRenderer {
     ctx: DeviceContext,
     frames_in_flight: usize,
     settings: RenderSettings,
+    /// Whether frames are drawn in the passes of their plans (the headless renderer's
+    /// `record_glyph_passes`); a host's `record` draws one pass, so its glyphs are
+    /// planned for none.
+    draws_passes: bool,
 }
 
 impl GlyphRenderer {
@@ -305,7 +309,14 @@ impl GlyphRenderer {
             ctx: ctx.clone(),
             frames_in_flight: desc.frames_in_flight,
             settings: desc.settings,
+            draws_passes: false,
         })
+    }
+
+    /// Whether the glyphs uploaded from now on are planned in passes (render::visibility):
+    /// for a caller that draws them with `record_glyph_passes`.
+    pub(crate) fn set_draws_passes(&mut self, draws_passes: bool) {
+        self.draws_passes = draws_passes;
     }
 
     /// Makes the pipelines that glyph sets of `layouts` need, so that the first
@@ -421,9 +432,13 @@ impl GlyphRenderer {
             self.frames_in_flight,
         )?;
         // Culled glyphs are drawn in passes whose later stages have pipelines of their own,
-        // made when a frame first needs more than one pass (`prepare_passes`).
+        // made when a frame first needs more than one pass (`prepare_passes`). A host's
+        // frame is one pass: its glyphs are not planned (no sorting at every `set_view`).
         let cull = match settings.cull {
-            Culling::Occluded if crate::render::visibility::can_cull(&self.ctx, settings) => {
+            Culling::Occluded
+                if self.draws_passes
+                    && crate::render::visibility::can_cull(&self.ctx, settings) =>
+            {
                 Culling::Occluded
             }
             _ => Culling::Off,

@@ -243,6 +243,8 @@ impl HeadlessRenderer {
         let mut glyphs = GlyphRenderer::new(gpu.context(), &desc)?;
         // Only the visible hits cast shadow rays: after the frame (render::glyph_shadows).
         glyphs.pass_mut().set_deferred_shadows(true);
+        // Hidden glyphs are skipped in passes (render::visibility).
+        glyphs.set_draws_passes(true);
         Ok(HeadlessRenderer {
             glyphs,
             mesh: MeshPass::new(gpu.context(), FORMATS)?,
