@@ -48,18 +48,19 @@ layout(depth_less) out float gl_FragDepth;  // reversed depth: hits lie behind t
 #ifndef GLYPHCAST_GLYPH_RECEIVER
 // What the later passes of a frame know of visibility (src/render/visibility.rs): the
 // work counters; the depth of the glyphs drawn before the pass, per pixel (a copy of the
-// depth attachment, which the pass's winners update and which is copied back after it);
-// and the nearest ray distance the pass's glyphs reach at each pixel (its first stage's
-// result). The header holds the row length (x) and the visibility word (y:
-// VISIBILITY_SHADE_NEAREST, VISIBILITY_COUNT). The word is read from a storage buffer,
-// not pushed: lavapipe compiles a shader again for each value of a push constant that
-// steers a branch.
+// depth attachment, which the pass's winners update and which is copied back after it),
+// followed by the gate of the pass's second stage; and the nearest ray distance the
+// pass's glyphs reach at each pixel (its first stage's result). The header holds the row
+// length (x), the visibility word (y: VISIBILITY_SHADE_NEAREST, VISIBILITY_GATE,
+// VISIBILITY_COUNT) and where the gate begins (z, words after the header). The word is
+// read from a storage buffer, not pushed: lavapipe compiles a shader again for each
+// value of a push constant that steers a branch.
 layout(std430, set = 1, binding = 0) buffer WorkCounters {
     uint work_counters[4];  // WORK_FRAGMENTS, WORK_EVALUATIONS
 };
 layout(std430, set = 1, binding = 1) buffer KnownDepth {
     uvec4 known_header;
-    float known_depth[];
+    uint known_words[];  // the known depths' bits, then the gate's
 };
 layout(std430, set = 1, binding = 2) readonly buffer NearestDistance {
     float nearest_distance[];
@@ -72,23 +73,62 @@ void count_work(int counter) {
     }
 }
 
-// In the second stage of a later pass (VISIBILITY_SHADE_NEAREST): whether this hit is
-// the one the pixel shows. It must be the nearest hit of the pass's glyphs (the first
+// How much farther than a hit its gate lies, relative to its depth (and at least 8 units
+// in the last place): the rasterised depth of the glyph's box face, which is at least as
+// near as the hit, may round a little farther than the shader's depth of the hit.
+const float GATE_MARGIN = 1.0e-5;
+
+// In the first stage of a later pass (VISIBILITY_GATE): a hit nearer than the known
+// depth opens the gate of the second stage at its pixel (the depth that stage's boxes
+// are tested against before their fragments run, copied into the depth attachment
+// between the stages) a little beyond itself. The gate of a pixel ends as that of the
+// pass's nearest such hit; a pixel without one keeps its gate shut (the near plane), so
+// that the second stage launches no fragment there.
+void open_gate(uint at, float depth, bool reversed) {
+    uint bits = floatBitsToUint(depth);
+    if (reversed) {
+        float gate = min(depth * (1.0 - GATE_MARGIN), uintBitsToFloat(max(bits, 8u) - 8u));
+        uint shut = floatBitsToUint(1.0);
+        uint was = atomicCompSwap(known_words[at], shut, floatBitsToUint(gate));
+        if (was != shut) {
+            atomicMax(known_words[at], floatBitsToUint(gate));
+        }
+    } else {
+        float gate = max(depth * (1.0 + GATE_MARGIN), uintBitsToFloat(bits + 8u));
+        uint was = atomicCompSwap(known_words[at], 0u, floatBitsToUint(min(gate, 1.0)));
+        if (was != 0u) {
+            atomicMin(known_words[at], floatBitsToUint(min(gate, 1.0)));
+        }
+    }
+}
+
+// In the stages of a later pass: whether this hit is the one the pixel shows. In the
+// first stage (VISIBILITY_GATE) every hit is kept (the blending keeps the nearest
+// distance) and opens the gate where it is nearer than the known depth. In the second
+// (VISIBILITY_SHADE_NEAREST) it must be the nearest hit of the pass's glyphs (the first
 // stage's distance, the same arithmetic giving the same bits) and nearer than what the
 // earlier passes drew (reversed depth: larger); the winner's depth replaces the known
 // one, which is copied into the depth attachment after the pass.
 bool shows_hit(float distance, float depth) {
-    if ((known_header.y & uint(VISIBILITY_SHADE_NEAREST)) == 0u) {
+    uint word = known_header.y;
+    if ((word & uint(VISIBILITY_SHADE_NEAREST | VISIBILITY_GATE)) == 0u) {
         return true;
     }
     uvec2 pixel = uvec2(gl_FragCoord.xy);
     uint index = pixel.y * known_header.x + pixel.x;
-    bool nearer = frame.window.z > 0.5 ? depth > known_depth[index]
-                                       : depth < known_depth[index];
+    bool reversed = frame.window.z > 0.5;
+    float known = uintBitsToFloat(known_words[index]);
+    bool nearer = reversed ? depth > known : depth < known;
+    if ((word & uint(VISIBILITY_GATE)) != 0u) {
+        if (nearer) {
+            open_gate(known_header.z + index, depth, reversed);
+        }
+        return true;
+    }
     if (distance != nearest_distance[index] || !nearer) {
         return false;
     }
-    known_depth[index] = depth;
+    known_words[index] = floatBitsToUint(depth);
     return true;
 }
 #endif

@@ -263,6 +263,10 @@ pub mod codes {
     pub const VISIBILITY_SHADE_NEAREST: u32 = 1;
     /// The visibility word: the fragments count their work (`WORK_*`).
     pub const VISIBILITY_COUNT: u32 = 2;
+    /// The visibility word: the first stage of a later pass, whose hits open the second
+    /// stage's gate (the depth its boxes are tested against) where they are nearer than
+    /// the known depth.
+    pub const VISIBILITY_GATE: u32 = 4;
     /// Work counter: fragment shader invocations of the glyphs' boxes.
     pub const WORK_FRAGMENTS: u32 = 0;
     /// Work counter: rays whose glyph was evaluated (the exact method: root isolations;
@@ -271,7 +275,7 @@ pub mod codes {
 }
 
 /// Every entry of [`codes`] with its GLSL name, for `build.rs`'s `codes.glsl`.
-pub const SHADER_CODES: [(&str, i64); 18] = [
+pub const SHADER_CODES: [(&str, i64); 19] = [
     ("REFINE_NONE", codes::REFINE_NONE as i64),
     ("REFINE_BISECT", codes::REFINE_BISECT as i64),
     ("REFINE_INTERP", codes::REFINE_INTERP as i64),
@@ -291,6 +295,7 @@ pub const SHADER_CODES: [(&str, i64); 18] = [
         codes::VISIBILITY_SHADE_NEAREST as i64,
     ),
     ("VISIBILITY_COUNT", codes::VISIBILITY_COUNT as i64),
+    ("VISIBILITY_GATE", codes::VISIBILITY_GATE as i64),
     ("WORK_FRAGMENTS", codes::WORK_FRAGMENTS as i64),
     ("WORK_EVALUATIONS", codes::WORK_EVALUATIONS as i64),
 ];

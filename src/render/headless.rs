@@ -835,12 +835,14 @@ fn clear_visibility(
             &vk::DependencyInfo::default().memory_barriers(&[barrier((shader, transfer))]),
         );
         d.cmd_fill_buffer(cmd, visibility.known.handle, 0, 4, visibility.width);
+        // Where the gate begins, words after the header.
+        d.cmd_fill_buffer(cmd, visibility.known.handle, 8, 4, visibility.pixels);
         d.cmd_fill_buffer(
             cmd,
             visibility.known.handle,
             4,
             4,
-            visibility_word(count, false),
+            visibility_word(count, crate::vk::DrawStage::Normal),
         );
         if count {
             d.cmd_fill_buffer(cmd, visibility.counters.handle, 0, vk::WHOLE_SIZE, 0);
@@ -853,16 +855,24 @@ fn clear_visibility(
 }
 
 /// The visibility word of a pass (glsl/raycast_common.glsl): whether it counts its work,
-/// and whether it is the second stage of a later pass.
-fn visibility_word(count: bool, shade_nearest: bool) -> u32 {
-    use crate::catalog::codes::{VISIBILITY_COUNT, VISIBILITY_SHADE_NEAREST};
+/// and which stage of a later pass it is.
+fn visibility_word(count: bool, stage: crate::vk::DrawStage) -> u32 {
+    use crate::catalog::codes::{VISIBILITY_COUNT, VISIBILITY_GATE, VISIBILITY_SHADE_NEAREST};
+    use crate::vk::DrawStage;
     let count = if count { VISIBILITY_COUNT } else { 0 };
     count
-        | if shade_nearest {
-            VISIBILITY_SHADE_NEAREST
-        } else {
-            0
+        | match stage {
+            DrawStage::Normal => 0,
+            DrawStage::Nearest => VISIBILITY_GATE,
+            DrawStage::Shade => VISIBILITY_SHADE_NEAREST,
         }
+}
+
+/// Where the gate of a later pass's second stage lies in the known depths' buffer (after
+/// the known depths), and its bytes.
+fn gate_region(visibility: &VisibilityBuffers) -> (u64, u64) {
+    let bytes = 4 * u64::from(visibility.pixels);
+    (KNOWN_DEPTH_HEADER + bytes, bytes)
 }
 
 /// A memory barrier from `src` to `dst`.
@@ -895,11 +905,12 @@ fn depth_copy(extent: vk::Extent2D, offset: u64) -> vk::BufferImageCopy {
 /// Between the stages of the glyphs' later passes (render::visibility): ends the
 /// rendering and begins the next one.
 ///
-/// - `Nearest`: a scratch colour image and the nearest-distance image, cleared to
-///   infinity, with the depth attachment tested before the fragments run and not written.
-/// - `Shade`: the nearest distances and the depth copied into the known buffers (and
-///   the word of the second stage written), then the colour and distance attachments
-///   with the depth attachment as before.
+/// - `Nearest`: the depth copied into the known depths and the gate shut; then a scratch
+///   colour image and the nearest-distance image, cleared to infinity, with the depth
+///   attachment tested before the fragments run and not written.
+/// - `Shade`: the nearest distances copied into their buffer and the gate into the depth
+///   attachment (the word of the second stage written), then the colour and distance
+///   attachments with that depth attachment.
 /// - `Normal`: the known depths, which the second stage's hits updated, copied into the
 ///   depth attachment; then the frame's usual rendering.
 fn restart_rendering(
@@ -955,13 +966,59 @@ fn restart_rendering(
         d.cmd_end_rendering(cmd);
         match stage {
             DrawStage::Nearest => {
+                // The depth drawn so far into the known depths, which the first stage
+                // compares its hits with, and the gate shut at every pixel.
+                let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+                let depth_range = t.depth.subresource_range();
+                let depth_image = t.depth.handle;
+                let to_copy = [layout_transition(
+                    depth_image,
+                    depth_range,
+                    (depth_layout, src),
+                    DEPTH_TESTS,
+                    COPY_READ,
+                )];
+                let back = [layout_transition(
+                    depth_image,
+                    depth_range,
+                    (src, depth_layout),
+                    COPY_READ,
+                    DEPTH_TESTS,
+                )];
+                let before = [
+                    memory_barrier(shader, transfer_write),
+                    memory_barrier(shader, transfer_read),
+                    attachments[0],
+                ];
                 d.cmd_pipeline_barrier2(
                     cmd,
-                    &vk::DependencyInfo::default().memory_barriers(&attachments),
+                    &vk::DependencyInfo::default()
+                        .memory_barriers(&before)
+                        .image_memory_barriers(&to_copy),
+                );
+                let copy = [depth_copy(extent, KNOWN_DEPTH_HEADER)];
+                d.cmd_copy_image_to_buffer(cmd, depth_image, src, known, &copy);
+                let (gate, size) = gate_region(&t.visibility);
+                let shut = PassOptions::default().depth.near_depth().to_bits();
+                d.cmd_fill_buffer(cmd, known, gate, size, shut);
+                d.cmd_fill_buffer(cmd, known, 4, 4, visibility_word(count, stage));
+                d.cmd_pipeline_barrier2(
+                    cmd,
+                    &vk::DependencyInfo::default()
+                        .memory_barriers(&[memory_barrier(transfer_write, shader)])
+                        .image_memory_barriers(&back),
                 );
             }
             DrawStage::Shade => {
+                // The first stage's nearest distances into their buffer, and its gate
+                // into the depth attachment, which the second stage's boxes are tested
+                // against (the depth drawn so far is in the known depths).
                 let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+                let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
+                let copy_write = (
+                    vk::PipelineStageFlags2::COPY,
+                    vk::AccessFlags2::TRANSFER_WRITE,
+                );
                 let (depth_range, nearest_range) =
                     (t.depth.subresource_range(), t.nearest.subresource_range());
                 let nearest_image = t.nearest.handle;
@@ -970,9 +1027,9 @@ fn restart_rendering(
                     layout_transition(
                         depth_image,
                         depth_range,
-                        (depth_layout, src),
+                        (depth_layout, dst),
                         DEPTH_TESTS,
-                        COPY_READ,
+                        copy_write,
                     ),
                     layout_transition(
                         nearest_image,
@@ -986,8 +1043,8 @@ fn restart_rendering(
                     layout_transition(
                         depth_image,
                         depth_range,
-                        (src, depth_layout),
-                        COPY_READ,
+                        (dst, depth_layout),
+                        copy_write,
                         DEPTH_TESTS,
                     ),
                     layout_transition(
@@ -998,7 +1055,11 @@ fn restart_rendering(
                         COLOR_OUTPUT,
                     ),
                 ];
-                let before = [memory_barrier(shader, transfer_write), attachments[0]];
+                let before = [
+                    memory_barrier(shader, transfer_write),
+                    memory_barrier(shader, transfer_read),
+                    attachments[0],
+                ];
                 d.cmd_pipeline_barrier2(
                     cmd,
                     &vk::DependencyInfo::default()
@@ -1013,9 +1074,10 @@ fn restart_rendering(
                     nearest_buffer,
                     &[color_image_copy(extent)],
                 );
-                let copy = [depth_copy(extent, KNOWN_DEPTH_HEADER)];
-                d.cmd_copy_image_to_buffer(cmd, depth_image, src, known, &copy);
-                d.cmd_fill_buffer(cmd, known, 4, 4, visibility_word(count, true));
+                let (gate, _) = gate_region(&t.visibility);
+                let copy = [depth_copy(extent, gate)];
+                d.cmd_copy_buffer_to_image(cmd, known, depth_image, dst, &copy);
+                d.cmd_fill_buffer(cmd, known, 4, 4, visibility_word(count, stage));
                 d.cmd_pipeline_barrier2(
                     cmd,
                     &vk::DependencyInfo::default()
@@ -1057,7 +1119,7 @@ fn restart_rendering(
                 );
                 let copy = [depth_copy(extent, KNOWN_DEPTH_HEADER)];
                 d.cmd_copy_buffer_to_image(cmd, known, t.depth.handle, dst, &copy);
-                d.cmd_fill_buffer(cmd, known, 4, 4, visibility_word(count, false));
+                d.cmd_fill_buffer(cmd, known, 4, 4, visibility_word(count, DrawStage::Normal));
                 d.cmd_pipeline_barrier2(
                     cmd,
                     &vk::DependencyInfo::default()

@@ -17,7 +17,15 @@
 //! (glsl/raycast_common.glsl, `shows_hit`), writing its colour and ray distance, and its
 //! depth into a copy of the depth buffer, which goes back into the depth attachment after
 //! the pass. The image and the ray distances are those of a single pass, bit for bit
-//! (tests/visibility.rs); a later pass's unhidden fragments run twice.
+//! (tests/visibility.rs).
+//!
+//! The second stage launches only the fragments that can show the winner: its boxes are
+//! tested against a gate, not against the depth drawn before. Each first-stage hit
+//! nearer than that depth opens the gate at its pixel a little beyond itself (atomically,
+//! in a buffer that is copied into the depth attachment between the stages); a pixel
+//! where the pass has no such hit keeps it shut at the near plane. The winner's box face
+//! lies at least as near as its hit, so it always passes; a pixel that the pass's glyphs
+//! miss (the gaps between lobes, most of a block's later passes) launches nothing.
 //!
 //! The order of the passes comes from the CPU: the glyphs of a batch are taken in clusters
 //! of [`CLUSTER_GLYPHS`] consecutive glyphs (a volume's voxels are consecutive in space),
@@ -284,6 +292,8 @@ pub struct VisibilityBuffers {
     pub(crate) nearest: Buffer,
     /// The row length of the known depths, pixels.
     pub(crate) width: u32,
+    /// Pixels of the target: the known depths' count, after which the gate begins.
+    pub(crate) pixels: u32,
     _pool: DescriptorPool,
     pub(crate) set: vk::DescriptorSet,
 }
@@ -302,10 +312,11 @@ impl VisibilityBuffers {
             | vk::BufferUsageFlags::TRANSFER_SRC;
         let counters = Buffer::new(ctx, "work counters", 16, storage, MemoryLocation::GpuToCpu)?;
         let pixels = u64::from(width) * u64::from(height);
+        // The known depths, then the gate of a later pass's second stage.
         let known = Buffer::new(
             ctx,
             "known depth",
-            KNOWN_DEPTH_HEADER + 4 * pixels,
+            KNOWN_DEPTH_HEADER + 8 * pixels,
             storage,
             MemoryLocation::GpuOnly,
         )?;
@@ -316,7 +327,7 @@ impl VisibilityBuffers {
             storage,
             MemoryLocation::GpuOnly,
         )?;
-        VisibilityBuffers::with_set(ctx, layout, [counters, known, nearest], width)
+        VisibilityBuffers::with_set(ctx, layout, [counters, known, nearest], (width, height))
     }
 
     /// The buffers of frames drawn in one pass: a header of zeros (no known depth, no
@@ -329,7 +340,7 @@ impl VisibilityBuffers {
         let counters = Buffer::with_data(ctx, "work counters", &[0u32; 4], storage)?;
         let known = Buffer::with_data(ctx, "known depth", &[0u32; 8], storage)?;
         let nearest = Buffer::with_data(ctx, "nearest distance", &[0u32; 4], storage)?;
-        VisibilityBuffers::with_set(ctx, layout, [counters, known, nearest], 1)
+        VisibilityBuffers::with_set(ctx, layout, [counters, known, nearest], (1, 1))
     }
 
     /// The buffers (counters, known depths, nearest distances) and their set of `layout`.
@@ -337,7 +348,7 @@ impl VisibilityBuffers {
         ctx: &DeviceContext,
         layout: vk::DescriptorSetLayout,
         [counters, known, nearest]: [Buffer; 3],
-        width: u32,
+        (width, height): (u32, u32),
     ) -> Result<VisibilityBuffers> {
         let pool = DescriptorPool::new(ctx, 1, 0, 3)?;
         let set = pool.buffer_set(
@@ -353,6 +364,7 @@ impl VisibilityBuffers {
             known,
             nearest,
             width,
+            pixels: width * height,
             _pool: pool,
             set,
         })
