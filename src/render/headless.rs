@@ -724,8 +724,13 @@ fn record_frame(
         GlyphsOnGpu::RayCast(on_gpu) => {
             let visibility = &targets.visibility;
             let count = frame.count_work;
+            let mut later_passes = 0;
             let mut restart = |cmd, stage| {
-                restart_rendering(d, cmd, targets, extent, (stage, count));
+                if stage == crate::vk::DrawStage::Nearest {
+                    later_passes += 1;
+                }
+                let first = later_passes == 1;
+                restart_rendering(d, cmd, targets, extent, (stage, count, first));
                 Ok(())
             };
             glyphs.record_glyph_passes(cmd, on_gpu, 0, visibility, &mut restart)?
@@ -905,9 +910,10 @@ fn depth_copy(extent: vk::Extent2D, offset: u64) -> vk::BufferImageCopy {
 /// Between the stages of the glyphs' later passes (render::visibility): ends the
 /// rendering and begins the next one.
 ///
-/// - `Nearest`: the depth copied into the known depths and the gate shut; then a scratch
-///   colour image and the nearest-distance image, cleared to infinity, with the depth
-///   attachment tested before the fragments run and not written.
+/// - `Nearest`: before the first later pass (`first`), the depth copied into the known
+///   depths (before the others they hold it already); the gate shut; then a scratch
+///   colour image that is never written and the nearest-distance image, cleared to
+///   infinity, with the depth attachment tested before the fragments run and not written.
 /// - `Shade`: the nearest distances copied into their buffer and the gate into the depth
 ///   attachment (the word of the second stage written), then the colour and distance
 ///   attachments with that depth attachment.
@@ -918,7 +924,7 @@ fn restart_rendering(
     cmd: vk::CommandBuffer,
     t: &Targets,
     extent: vk::Extent2D,
-    (stage, count): (crate::vk::DrawStage, bool),
+    (stage, count, first): (crate::vk::DrawStage, bool, bool),
 ) {
     use crate::vk::DrawStage;
     let attachment = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
@@ -950,7 +956,14 @@ fn restart_rendering(
     let infinity = [f32::INFINITY, 0.0, 0.0, 0.0];
     let color_attachments = match stage {
         DrawStage::Nearest => [
-            cleared_color_attachment(t.scratch.view, infinity),
+            // Never read (the stage's colour output, blended as the distance is, since
+            // a device without independentBlend takes no other): neither cleared nor
+            // stored.
+            vk::RenderingAttachmentInfo::default()
+                .image_view(t.scratch.view)
+                .image_layout(attachment)
+                .load_op(vk::AttachmentLoadOp::DONT_CARE)
+                .store_op(vk::AttachmentStoreOp::DONT_CARE),
             cleared_color_attachment(t.nearest.view, infinity),
         ],
         _ => [loaded(t.color.view), loaded(t.distance.view)],
@@ -965,9 +978,32 @@ fn restart_rendering(
     unsafe {
         d.cmd_end_rendering(cmd);
         match stage {
+            DrawStage::Nearest if !first => {
+                // The known depths hold the depth attachment already (copied into it
+                // after the pass before): the gate shut at every pixel.
+                let before = [
+                    memory_barrier(shader, transfer_write),
+                    memory_barrier(transfer_read, transfer_write),
+                    attachments[0],
+                ];
+                d.cmd_pipeline_barrier2(
+                    cmd,
+                    &vk::DependencyInfo::default().memory_barriers(&before),
+                );
+                let (gate, size) = gate_region(&t.visibility);
+                let shut = PassOptions::default().depth.near_depth().to_bits();
+                d.cmd_fill_buffer(cmd, known, gate, size, shut);
+                d.cmd_fill_buffer(cmd, known, 4, 4, visibility_word(count, stage));
+                let after = [memory_barrier(transfer_write, shader), attachments[1]];
+                d.cmd_pipeline_barrier2(
+                    cmd,
+                    &vk::DependencyInfo::default().memory_barriers(&after),
+                );
+            }
             DrawStage::Nearest => {
-                // The depth drawn so far into the known depths, which the first stage
-                // compares its hits with, and the gate shut at every pixel.
+                // The depth drawn so far (by the first pass and anything before it) into
+                // the known depths, which the first stage compares its hits with, and the
+                // gate shut at every pixel.
                 let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
                 let depth_range = t.depth.subresource_range();
                 let depth_image = t.depth.handle;
