@@ -680,9 +680,10 @@ impl GlyphRenderer {
     }
 
     /// [`GlyphRenderer::record_glyphs`] in the passes of the glyphs' plan for this frame
-    /// index (render::visibility): `restart` ends the rendering, copies its depth into
-    /// `visibility`'s known depths and begins the rendering again, before each pass after
-    /// the first (and writes the visibility word there: [`RayCastPass::record_passes`]).
+    /// index (render::visibility): `restart` ends the rendering, moves the depths between
+    /// the depth attachment and `visibility`'s known depths and begins the rendering
+    /// again, before each stage of a pass after the first (and writes the visibility word
+    /// there: [`RayCastPass::record_passes`]).
     pub(crate) fn record_glyph_passes(
         &self,
         cmd: vk::CommandBuffer,

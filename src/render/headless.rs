@@ -912,7 +912,7 @@ fn depth_copy(extent: vk::Extent2D, offset: u64) -> vk::BufferImageCopy {
 ///
 /// - `Nearest`: before the first later pass (`first`), the depth copied into the known
 ///   depths (before the others they hold it already); the gate shut; then a scratch
-///   colour image that is never written and the nearest-distance image, cleared to
+///   colour image that is never read and the nearest-distance image, cleared to
 ///   infinity, with the depth attachment tested before the fragments run and not written.
 /// - `Shade`: the nearest distances copied into their buffer and the gate into the depth
 ///   attachment (the word of the second stage written), then the colour and distance
@@ -978,32 +978,12 @@ fn restart_rendering(
     unsafe {
         d.cmd_end_rendering(cmd);
         match stage {
-            DrawStage::Nearest if !first => {
-                // The known depths hold the depth attachment already (copied into it
-                // after the pass before): the gate shut at every pixel.
-                let before = [
-                    memory_barrier(shader, transfer_write),
-                    memory_barrier(transfer_read, transfer_write),
-                    attachments[0],
-                ];
-                d.cmd_pipeline_barrier2(
-                    cmd,
-                    &vk::DependencyInfo::default().memory_barriers(&before),
-                );
-                let (gate, size) = gate_region(&t.visibility);
-                let shut = PassOptions::default().depth.near_depth().to_bits();
-                d.cmd_fill_buffer(cmd, known, gate, size, shut);
-                d.cmd_fill_buffer(cmd, known, 4, 4, visibility_word(count, stage));
-                let after = [memory_barrier(transfer_write, shader), attachments[1]];
-                d.cmd_pipeline_barrier2(
-                    cmd,
-                    &vk::DependencyInfo::default().memory_barriers(&after),
-                );
-            }
             DrawStage::Nearest => {
-                // The depth drawn so far (by the first pass and anything before it) into
-                // the known depths, which the first stage compares its hits with, and the
-                // gate shut at every pixel.
+                // Before the first later pass, the depth drawn so far (by the first pass
+                // and anything before it) into the known depths, which the first stage
+                // compares its hits with (the later passes find it there: the known
+                // depths were copied into the depth attachment after the pass before);
+                // then the gate shut at every pixel.
                 let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
                 let depth_range = t.depth.subresource_range();
                 let depth_image = t.depth.handle;
@@ -1021,28 +1001,33 @@ fn restart_rendering(
                     COPY_READ,
                     DEPTH_TESTS,
                 )];
+                let copies = usize::from(first);
                 let before = [
                     memory_barrier(shader, transfer_write),
                     memory_barrier(shader, transfer_read),
+                    memory_barrier(transfer_read, transfer_write),
                     attachments[0],
                 ];
                 d.cmd_pipeline_barrier2(
                     cmd,
                     &vk::DependencyInfo::default()
                         .memory_barriers(&before)
-                        .image_memory_barriers(&to_copy),
+                        .image_memory_barriers(&to_copy[..copies]),
                 );
-                let copy = [depth_copy(extent, KNOWN_DEPTH_HEADER)];
-                d.cmd_copy_image_to_buffer(cmd, depth_image, src, known, &copy);
+                if first {
+                    let copy = [depth_copy(extent, KNOWN_DEPTH_HEADER)];
+                    d.cmd_copy_image_to_buffer(cmd, depth_image, src, known, &copy);
+                }
                 let (gate, size) = gate_region(&t.visibility);
                 let shut = PassOptions::default().depth.near_depth().to_bits();
                 d.cmd_fill_buffer(cmd, known, gate, size, shut);
                 d.cmd_fill_buffer(cmd, known, 4, 4, visibility_word(count, stage));
+                let after = [memory_barrier(transfer_write, shader), attachments[1]];
                 d.cmd_pipeline_barrier2(
                     cmd,
                     &vk::DependencyInfo::default()
-                        .memory_barriers(&[memory_barrier(transfer_write, shader)])
-                        .image_memory_barriers(&back),
+                        .memory_barriers(&after)
+                        .image_memory_barriers(&back[..copies]),
                 );
             }
             DrawStage::Shade => {

@@ -738,10 +738,11 @@ impl RayCastPass {
     }
 
     /// [`RayCastPass::record_frame`] in the passes of `passes.plan` (one pass of every
-    /// glyph without a plan): before each pass after the first, `restart` ends the
-    /// rendering, copies its depth attachment into the known depths of
-    /// `passes.visibility` and begins the rendering again; the fragments of later passes
-    /// end at once where their box lies behind that depth (render::visibility). The
+    /// glyph without a plan): before each stage of a pass after the first, `restart`
+    /// ends the rendering, moves the depths between the depth attachment and the known
+    /// depths of `passes.visibility` (the known depths, the gate) and begins the rendering
+    /// again; the fragments of later passes are not launched where their box lies behind
+    /// the depth they are tested against (render::visibility). The
     /// visibility word in the known depths' header says what each pass does: the caller
     /// writes it (and clears the counters) before the first pass, `restart` before each
     /// later one.
