@@ -85,19 +85,23 @@ const float GATE_MARGIN = 1.0e-5;
 // pass's nearest such hit; a pixel without one keeps its gate shut (the near plane), so
 // that the second stage launches no fragment there.
 void open_gate(uint at, float depth, bool reversed) {
-    uint bits = floatBitsToUint(depth);
+    uint bits = floatBitsToUint(max(depth, 0.0));
+    // Kept inside the depth range and off the shut value (a copy into the depth
+    // attachment takes depths in [0, 1]), should a hit lie in front of the near plane.
     if (reversed) {
         float gate = min(depth * (1.0 - GATE_MARGIN), uintBitsToFloat(max(bits, 8u) - 8u));
         uint shut = floatBitsToUint(1.0);
+        gate = clamp(gate, 0.0, uintBitsToFloat(shut - 1u));
         uint was = atomicCompSwap(known_words[at], shut, floatBitsToUint(gate));
         if (was != shut) {
             atomicMax(known_words[at], floatBitsToUint(gate));
         }
     } else {
         float gate = max(depth * (1.0 + GATE_MARGIN), uintBitsToFloat(bits + 8u));
-        uint was = atomicCompSwap(known_words[at], 0u, floatBitsToUint(min(gate, 1.0)));
+        gate = clamp(gate, uintBitsToFloat(0x00800000u), 1.0);  // the least normal float
+        uint was = atomicCompSwap(known_words[at], 0u, floatBitsToUint(gate));
         if (was != 0u) {
-            atomicMin(known_words[at], floatBitsToUint(min(gate, 1.0)));
+            atomicMin(known_words[at], floatBitsToUint(gate));
         }
     }
 }

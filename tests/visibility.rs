@@ -121,7 +121,8 @@ fn culling_changes_no_pixel_of_the_accuracy_suite_or_of_blocks() {
 
 /// Culling is the default, so it must leave every feature of a frame as it was: shadows
 /// (cast after the frame from its hits), ambient occlusion, supersampling (drawn at twice
-/// the size) and an orthographic camera, each on a block drawn in several passes.
+/// the size), an orthographic camera and a camera inside the block (boxes cut by the near
+/// plane), each on a block drawn in several passes.
 #[test]
 fn culling_keeps_every_pixel_with_shadows_occlusion_supersampling_and_orthographic_views() {
     let gpu = gpu();
@@ -134,6 +135,11 @@ fn culling_keeps_every_pixel_with_shadows_occlusion_supersampling_and_orthograph
     let scene = block((8, 8, 12), 8, BlockView::Front, 160, 120).expect("block workload");
     let mut orthographic = scene.clone();
     orthographic.camera.projection = Projection::Orthographic { height: 10.0 };
+    // The eye between the block's layers (at z = 0, -1, ...), off the glyphs' centres:
+    // the near plane cuts the boxes of the glyphs around it, in the first pass and later.
+    let mut inside = scene.clone();
+    inside.camera.eye = DVec3::new(0.3, 0.2, -2.5);
+    inside.camera.target = DVec3::new(0.3, 0.2, -20.0);
     let base = RenderSettings::default();
     let cases = [
         (
@@ -155,6 +161,7 @@ fn culling_keeps_every_pixel_with_shadows_occlusion_supersampling_and_orthograph
         ),
         ("4 samples", &scene, RenderSettings { samples: 4, ..base }),
         ("orthographic", &orthographic, base),
+        ("the camera inside", &inside, base),
     ];
     for (name, scene, settings) in cases {
         let name = format!("block 8x8x12, {name}");
