@@ -48,22 +48,22 @@ layout(depth_less) out float gl_FragDepth;  // reversed depth: hits lie behind t
 #ifndef GLYPHCAST_GLYPH_RECEIVER
 // What the later passes of a frame know of visibility (src/render/visibility.rs): the
 // work counters; the depth of the glyphs drawn before the pass, per pixel (a copy of the
-// depth attachment, which the pass's winners update and which is copied back after it),
-// followed by the gate of the pass's second stage; and the nearest ray distance the
-// pass's glyphs reach at each pixel (its first stage's result). The header holds the row
-// length (x), the visibility word (y: VISIBILITY_SHADE_NEAREST, VISIBILITY_GATE,
-// VISIBILITY_COUNT) and where the gate begins (z, words after the header). The word is
-// read from a storage buffer, not pushed: lavapipe compiles a shader again for each
-// value of a push constant that steers a branch.
+// depth attachment, which the pass's winners update and which is copied back after it);
+// and per pixel, during the first stage of a later pass the gate of its second stage,
+// during the second the nearest ray distance the pass's glyphs reach (the first stage's
+// result). The header holds the row length (x) and the visibility word (y:
+// VISIBILITY_SHADE_NEAREST, VISIBILITY_GATE, VISIBILITY_COUNT). The word is read from a
+// storage buffer, not pushed: lavapipe compiles a shader again for each value of a push
+// constant that steers a branch.
 layout(std430, set = 1, binding = 0) buffer WorkCounters {
     uint work_counters[4];  // WORK_FRAGMENTS, WORK_EVALUATIONS
 };
 layout(std430, set = 1, binding = 1) buffer KnownDepth {
     uvec4 known_header;
-    uint known_words[];  // the known depths' bits, then the gate's
+    uint known_words[];  // the known depths' bits
 };
-layout(std430, set = 1, binding = 2) readonly buffer NearestDistance {
-    float nearest_distance[];
+layout(std430, set = 1, binding = 2) buffer NearestDistance {
+    uint nearest_words[];  // the gate's bits, then the nearest distances'
 };
 
 // Adds one to work counter `counter` when the pass counts its work.
@@ -84,7 +84,7 @@ const float GATE_MARGIN = 1.0e-5;
 // between the stages) a little beyond itself. The gate of a pixel ends as that of the
 // pass's nearest such hit; a pixel without one keeps its gate shut (the near plane), so
 // that the second stage launches no fragment there.
-void open_gate(uint at, float depth, bool reversed) {
+void open_gate(uint index, float depth, bool reversed) {
     uint bits = floatBitsToUint(max(depth, 0.0));
     // Kept inside the depth range and off the shut value (a copy into the depth
     // attachment takes depths in [0, 1]), should a hit lie in front of the near plane.
@@ -92,16 +92,16 @@ void open_gate(uint at, float depth, bool reversed) {
         float gate = min(depth * (1.0 - GATE_MARGIN), uintBitsToFloat(max(bits, 8u) - 8u));
         uint shut = floatBitsToUint(1.0);
         gate = clamp(gate, 0.0, uintBitsToFloat(shut - 1u));
-        uint was = atomicCompSwap(known_words[at], shut, floatBitsToUint(gate));
+        uint was = atomicCompSwap(nearest_words[index], shut, floatBitsToUint(gate));
         if (was != shut) {
-            atomicMax(known_words[at], floatBitsToUint(gate));
+            atomicMax(nearest_words[index], floatBitsToUint(gate));
         }
     } else {
         float gate = max(depth * (1.0 + GATE_MARGIN), uintBitsToFloat(bits + 8u));
         gate = clamp(gate, uintBitsToFloat(0x00800000u), 1.0);  // the least normal float
-        uint was = atomicCompSwap(known_words[at], 0u, floatBitsToUint(gate));
+        uint was = atomicCompSwap(nearest_words[index], 0u, floatBitsToUint(gate));
         if (was != 0u) {
-            atomicMin(known_words[at], floatBitsToUint(gate));
+            atomicMin(nearest_words[index], floatBitsToUint(gate));
         }
     }
 }
@@ -125,11 +125,11 @@ bool shows_hit(float distance, float depth) {
     bool nearer = reversed ? depth > known : depth < known;
     if ((word & uint(VISIBILITY_GATE)) != 0u) {
         if (nearer) {
-            open_gate(known_header.z + index, depth, reversed);
+            open_gate(index, depth, reversed);
         }
         return true;
     }
-    if (distance != nearest_distance[index] || !nearer) {
+    if (distance != uintBitsToFloat(nearest_words[index]) || !nearer) {
         return false;
     }
     known_words[index] = floatBitsToUint(depth);

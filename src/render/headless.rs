@@ -840,8 +840,6 @@ fn clear_visibility(
             &vk::DependencyInfo::default().memory_barriers(&[barrier((shader, transfer))]),
         );
         d.cmd_fill_buffer(cmd, visibility.known.handle, 0, 4, visibility.width);
-        // Where the gate begins, words after the header.
-        d.cmd_fill_buffer(cmd, visibility.known.handle, 8, 4, visibility.pixels);
         d.cmd_fill_buffer(
             cmd,
             visibility.known.handle,
@@ -873,11 +871,10 @@ fn visibility_word(count: bool, stage: crate::vk::DrawStage) -> u32 {
         }
 }
 
-/// Where the gate of a later pass's second stage lies in the known depths' buffer (after
-/// the known depths), and its bytes.
-fn gate_region(visibility: &VisibilityBuffers) -> (u64, u64) {
-    let bytes = 4 * u64::from(visibility.pixels);
-    (KNOWN_DEPTH_HEADER + bytes, bytes)
+/// The bytes of the gate of a later pass's second stage, which fills the nearest
+/// distances' buffer during its first stage.
+fn gate_bytes(visibility: &VisibilityBuffers) -> u64 {
+    4 * u64::from(visibility.pixels)
 }
 
 /// A memory barrier from `src` to `dst`.
@@ -914,9 +911,9 @@ fn depth_copy(extent: vk::Extent2D, offset: u64) -> vk::BufferImageCopy {
 ///   depths (before the others they hold it already); the gate shut; then a scratch
 ///   colour image that is never read and the nearest-distance image, cleared to
 ///   infinity, with the depth attachment tested before the fragments run and not written.
-/// - `Shade`: the nearest distances copied into their buffer and the gate into the depth
-///   attachment (the word of the second stage written), then the colour and distance
-///   attachments with that depth attachment.
+/// - `Shade`: the gate copied into the depth attachment, and the nearest distances into
+///   its buffer in its place (the word of the second stage written), then the colour
+///   and distance attachments with that depth attachment.
 /// - `Normal`: the known depths, which the second stage's hits updated, copied into the
 ///   depth attachment; then the frame's usual rendering.
 fn restart_rendering(
@@ -1018,9 +1015,9 @@ fn restart_rendering(
                     let copy = [depth_copy(extent, KNOWN_DEPTH_HEADER)];
                     d.cmd_copy_image_to_buffer(cmd, depth_image, src, known, &copy);
                 }
-                let (gate, size) = gate_region(&t.visibility);
                 let shut = PassOptions::default().depth.near_depth().to_bits();
-                d.cmd_fill_buffer(cmd, known, gate, size, shut);
+                let gate = t.visibility.nearest.handle;
+                d.cmd_fill_buffer(cmd, gate, 0, gate_bytes(&t.visibility), shut);
                 d.cmd_fill_buffer(cmd, known, 4, 4, visibility_word(count, stage));
                 let after = [memory_barrier(transfer_write, shader), attachments[1]];
                 d.cmd_pipeline_barrier2(
@@ -1031,9 +1028,9 @@ fn restart_rendering(
                 );
             }
             DrawStage::Shade => {
-                // The first stage's nearest distances into their buffer, and its gate
-                // into the depth attachment, which the second stage's boxes are tested
-                // against (the depth drawn so far is in the known depths).
+                // The first stage's gate into the depth attachment, which the second
+                // stage's boxes are tested against (the depth drawn so far is in the
+                // known depths), and its nearest distances into their buffer.
                 let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
                 let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
                 let copy_write = (
@@ -1087,7 +1084,15 @@ fn restart_rendering(
                         .memory_barriers(&before)
                         .image_memory_barriers(&to_copy),
                 );
+                // The gate first, then the nearest distances in its place.
                 let nearest_buffer = t.visibility.nearest.handle;
+                let copy = [depth_copy(extent, 0)];
+                d.cmd_copy_buffer_to_image(cmd, nearest_buffer, depth_image, dst, &copy);
+                d.cmd_pipeline_barrier2(
+                    cmd,
+                    &vk::DependencyInfo::default()
+                        .memory_barriers(&[memory_barrier(transfer_read, transfer_write)]),
+                );
                 d.cmd_copy_image_to_buffer(
                     cmd,
                     nearest_image,
@@ -1095,9 +1100,6 @@ fn restart_rendering(
                     nearest_buffer,
                     &[color_image_copy(extent)],
                 );
-                let (gate, _) = gate_region(&t.visibility);
-                let copy = [depth_copy(extent, gate)];
-                d.cmd_copy_buffer_to_image(cmd, known, depth_image, dst, &copy);
                 d.cmd_fill_buffer(cmd, known, 4, 4, visibility_word(count, stage));
                 d.cmd_pipeline_barrier2(
                     cmd,

@@ -22,10 +22,11 @@
 //! The second stage launches only the fragments that can show the winner: its boxes are
 //! tested against a gate, not against the depth drawn before. Each first-stage hit
 //! nearer than that depth opens the gate at its pixel a little beyond itself (atomically,
-//! in a buffer that is copied into the depth attachment between the stages); a pixel
-//! where the pass has no such hit keeps it shut at the near plane. The winner's box face
-//! lies at least as near as its hit, so it always passes; a pixel that the pass's glyphs
-//! miss (the gaps between lobes, most of a block's later passes) launches nothing.
+//! in a buffer that is copied into the depth attachment between the stages, before the
+//! nearest distances take its place); a pixel where the pass has no such hit keeps it
+//! shut at the near plane. The winner's box face lies at least as near as its hit, so it
+//! always passes; a pixel that the pass's glyphs miss (the gaps between lobes, most of a
+//! block's later passes) launches nothing.
 //!
 //! The order of the passes comes from the CPU: the glyphs of a batch are taken in clusters
 //! of [`CLUSTER_GLYPHS`] consecutive glyphs (a volume's voxels are consecutive in space),
@@ -288,11 +289,13 @@ pub(crate) fn can_cull(ctx: &DeviceContext, settings: &crate::render::RenderSett
 pub struct VisibilityBuffers {
     pub(crate) counters: Buffer,
     pub(crate) known: Buffer,
-    /// The nearest ray distance of a pass's glyphs, per pixel (its first stage's).
+    /// Per pixel, the gate of a later pass's second stage during its first stage, then
+    /// the nearest ray distance of the pass's glyphs (the first stage's).
     pub(crate) nearest: Buffer,
     /// The row length of the known depths, pixels.
     pub(crate) width: u32,
-    /// Pixels of the target: the known depths' count, after which the gate begins.
+    /// Pixels of the target: the count of the known depths, of the gate and of the
+    /// nearest distances.
     pub(crate) pixels: u32,
     _pool: DescriptorPool,
     pub(crate) set: vk::DescriptorSet,
@@ -312,11 +315,10 @@ impl VisibilityBuffers {
             | vk::BufferUsageFlags::TRANSFER_SRC;
         let counters = Buffer::new(ctx, "work counters", 16, storage, MemoryLocation::GpuToCpu)?;
         let pixels = u64::from(width) * u64::from(height);
-        // The known depths, then the gate of a later pass's second stage.
         let known = Buffer::new(
             ctx,
             "known depth",
-            KNOWN_DEPTH_HEADER + 8 * pixels,
+            KNOWN_DEPTH_HEADER + 4 * pixels,
             storage,
             MemoryLocation::GpuOnly,
         )?;
