@@ -29,8 +29,9 @@ use crate::render::underlay_shadows::UnderlayShadowPass;
 use crate::render::visibility::{KNOWN_DEPTH_HEADER, VisibilityBuffers, WorkCounts};
 use crate::render::{Method, RenderPath};
 use crate::vk::recording::{
-    Access, COLOR_OUTPUT, COPY_READ, DEPTH_TESTS, NOTHING, cleared_color_attachment,
-    color_image_copy, copies_to_host, layout_transition,
+    COLOR_OUTPUT, COPY_READ, COPY_WRITE, DEPTH_TESTS, FRAGMENT_STORAGE, NOTHING, TRANSFER_READS,
+    TRANSFER_WRITES, cleared_color_attachment, color_image_copy, copies_to_host, layout_transition,
+    memory_barrier,
 };
 use crate::vk::{Buffer, Gpu, GpuTimer, Image, OneShot};
 use ash::vk;
@@ -817,27 +818,13 @@ fn clear_visibility(
     visibility: &VisibilityBuffers,
     count: bool,
 ) {
-    let shader = (
-        vk::PipelineStageFlags2::FRAGMENT_SHADER,
-        vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-    );
-    let transfer = (
-        vk::PipelineStageFlags2::ALL_TRANSFER,
-        vk::AccessFlags2::TRANSFER_WRITE,
-    );
-    let barrier = |(src, dst): (Access, Access)| {
-        vk::MemoryBarrier2::default()
-            .src_stage_mask(src.0)
-            .src_access_mask(src.1)
-            .dst_stage_mask(dst.0)
-            .dst_access_mask(dst.1)
-    };
     // SAFETY: `cmd` is recording outside rendering; the buffers are alive until the
     // submission completes.
     unsafe {
         d.cmd_pipeline_barrier2(
             cmd,
-            &vk::DependencyInfo::default().memory_barriers(&[barrier((shader, transfer))]),
+            &vk::DependencyInfo::default()
+                .memory_barriers(&[memory_barrier(FRAGMENT_STORAGE, TRANSFER_WRITES)]),
         );
         d.cmd_fill_buffer(cmd, visibility.known.handle, 0, 4, visibility.width);
         d.cmd_fill_buffer(
@@ -852,7 +839,8 @@ fn clear_visibility(
         }
         d.cmd_pipeline_barrier2(
             cmd,
-            &vk::DependencyInfo::default().memory_barriers(&[barrier((transfer, shader))]),
+            &vk::DependencyInfo::default()
+                .memory_barriers(&[memory_barrier(TRANSFER_WRITES, FRAGMENT_STORAGE)]),
         );
     }
 }
@@ -875,15 +863,6 @@ fn visibility_word(count: bool, stage: crate::vk::DrawStage) -> u32 {
 /// distances' buffer during its first stage.
 fn gate_bytes(visibility: &VisibilityBuffers) -> u64 {
     4 * u64::from(visibility.pixels)
-}
-
-/// A memory barrier from `src` to `dst`.
-fn memory_barrier(src: Access, dst: Access) -> vk::MemoryBarrier2<'static> {
-    vk::MemoryBarrier2::default()
-        .src_stage_mask(src.0)
-        .src_access_mask(src.1)
-        .dst_stage_mask(dst.0)
-        .dst_access_mask(dst.1)
 }
 
 /// The whole depth image as a buffer copy region, its values after the buffer's
@@ -926,18 +905,6 @@ fn restart_rendering(
     use crate::vk::DrawStage;
     let attachment = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
     let depth_layout = vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL;
-    let shader = (
-        vk::PipelineStageFlags2::FRAGMENT_SHADER,
-        vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-    );
-    let transfer_write = (
-        vk::PipelineStageFlags2::ALL_TRANSFER,
-        vk::AccessFlags2::TRANSFER_WRITE,
-    );
-    let transfer_read = (
-        vk::PipelineStageFlags2::ALL_TRANSFER,
-        vk::AccessFlags2::TRANSFER_READ,
-    );
     let color_load = (
         COLOR_OUTPUT.0,
         vk::AccessFlags2::COLOR_ATTACHMENT_READ | COLOR_OUTPUT.1,
@@ -1000,9 +967,9 @@ fn restart_rendering(
                 )];
                 let copies = usize::from(first);
                 let before = [
-                    memory_barrier(shader, transfer_write),
-                    memory_barrier(shader, transfer_read),
-                    memory_barrier(transfer_read, transfer_write),
+                    memory_barrier(FRAGMENT_STORAGE, TRANSFER_WRITES),
+                    memory_barrier(FRAGMENT_STORAGE, TRANSFER_READS),
+                    memory_barrier(TRANSFER_READS, TRANSFER_WRITES),
                     attachments[0],
                 ];
                 d.cmd_pipeline_barrier2(
@@ -1019,7 +986,10 @@ fn restart_rendering(
                 let gate = t.visibility.nearest.handle;
                 d.cmd_fill_buffer(cmd, gate, 0, gate_bytes(&t.visibility), shut);
                 d.cmd_fill_buffer(cmd, known, 4, 4, visibility_word(count, stage));
-                let after = [memory_barrier(transfer_write, shader), attachments[1]];
+                let after = [
+                    memory_barrier(TRANSFER_WRITES, FRAGMENT_STORAGE),
+                    attachments[1],
+                ];
                 d.cmd_pipeline_barrier2(
                     cmd,
                     &vk::DependencyInfo::default()
@@ -1033,10 +1003,6 @@ fn restart_rendering(
                 // known depths), and its nearest distances into their buffer.
                 let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
                 let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
-                let copy_write = (
-                    vk::PipelineStageFlags2::COPY,
-                    vk::AccessFlags2::TRANSFER_WRITE,
-                );
                 let (depth_range, nearest_range) =
                     (t.depth.subresource_range(), t.nearest.subresource_range());
                 let nearest_image = t.nearest.handle;
@@ -1047,7 +1013,7 @@ fn restart_rendering(
                         depth_range,
                         (depth_layout, dst),
                         DEPTH_TESTS,
-                        copy_write,
+                        COPY_WRITE,
                     ),
                     layout_transition(
                         nearest_image,
@@ -1062,7 +1028,7 @@ fn restart_rendering(
                         depth_image,
                         depth_range,
                         (dst, depth_layout),
-                        copy_write,
+                        COPY_WRITE,
                         DEPTH_TESTS,
                     ),
                     layout_transition(
@@ -1074,8 +1040,8 @@ fn restart_rendering(
                     ),
                 ];
                 let before = [
-                    memory_barrier(shader, transfer_write),
-                    memory_barrier(shader, transfer_read),
+                    memory_barrier(FRAGMENT_STORAGE, TRANSFER_WRITES),
+                    memory_barrier(FRAGMENT_STORAGE, TRANSFER_READS),
                     attachments[0],
                 ];
                 d.cmd_pipeline_barrier2(
@@ -1091,7 +1057,7 @@ fn restart_rendering(
                 d.cmd_pipeline_barrier2(
                     cmd,
                     &vk::DependencyInfo::default()
-                        .memory_barriers(&[memory_barrier(transfer_read, transfer_write)]),
+                        .memory_barriers(&[memory_barrier(TRANSFER_READS, TRANSFER_WRITES)]),
                 );
                 d.cmd_copy_image_to_buffer(
                     cmd,
@@ -1104,34 +1070,30 @@ fn restart_rendering(
                 d.cmd_pipeline_barrier2(
                     cmd,
                     &vk::DependencyInfo::default()
-                        .memory_barriers(&[memory_barrier(transfer_write, shader)])
+                        .memory_barriers(&[memory_barrier(TRANSFER_WRITES, FRAGMENT_STORAGE)])
                         .image_memory_barriers(&back),
                 );
             }
             DrawStage::Normal => {
                 let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
                 let range = t.depth.subresource_range();
-                let copy_write = (
-                    vk::PipelineStageFlags2::COPY,
-                    vk::AccessFlags2::TRANSFER_WRITE,
-                );
                 let to_copy = layout_transition(
                     t.depth.handle,
                     range,
                     (depth_layout, dst),
                     DEPTH_TESTS,
-                    copy_write,
+                    COPY_WRITE,
                 );
                 let back = layout_transition(
                     t.depth.handle,
                     range,
                     (dst, depth_layout),
-                    copy_write,
+                    COPY_WRITE,
                     DEPTH_TESTS,
                 );
                 let before = [
-                    memory_barrier(shader, transfer_read),
-                    memory_barrier(shader, transfer_write),
+                    memory_barrier(FRAGMENT_STORAGE, TRANSFER_READS),
+                    memory_barrier(FRAGMENT_STORAGE, TRANSFER_WRITES),
                     attachments[0],
                 ];
                 d.cmd_pipeline_barrier2(
@@ -1146,7 +1108,7 @@ fn restart_rendering(
                 d.cmd_pipeline_barrier2(
                     cmd,
                     &vk::DependencyInfo::default()
-                        .memory_barriers(&[memory_barrier(transfer_write, shader)])
+                        .memory_barriers(&[memory_barrier(TRANSFER_WRITES, FRAGMENT_STORAGE)])
                         .image_memory_barriers(&[back]),
                 );
             }
@@ -1189,20 +1151,8 @@ fn copy_hits(
         vk::PipelineStageFlags2::FRAGMENT_SHADER,
         vk::AccessFlags2::SHADER_STORAGE_READ,
     );
-    let transfer_write = (
-        vk::PipelineStageFlags2::ALL_TRANSFER,
-        vk::AccessFlags2::TRANSFER_WRITE,
-    );
-    let write = vk::MemoryBarrier2::default()
-        .src_stage_mask(shader_read.0)
-        .src_access_mask(shader_read.1)
-        .dst_stage_mask(transfer_write.0)
-        .dst_access_mask(transfer_write.1);
-    let read = vk::MemoryBarrier2::default()
-        .src_stage_mask(transfer_write.0)
-        .src_access_mask(transfer_write.1)
-        .dst_stage_mask(shader_read.0)
-        .dst_access_mask(shader_read.1);
+    let write = memory_barrier(shader_read, TRANSFER_WRITES);
+    let read = memory_barrier(TRANSFER_WRITES, shader_read);
     // SAFETY: `cmd` is recording outside rendering; the image and buffer are alive until
     // the submission completes, and the buffer holds the header and the image's bytes.
     unsafe {

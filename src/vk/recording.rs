@@ -39,6 +39,36 @@ pub const COPY_WRITE: Access = (
     vk::AccessFlags2::TRANSFER_WRITE,
 );
 
+/// Writes by any transfer command (copies, fills and updates of buffers).
+pub const TRANSFER_WRITES: Access = (
+    vk::PipelineStageFlags2::ALL_TRANSFER,
+    vk::AccessFlags2::TRANSFER_WRITE,
+);
+
+/// Reads by any transfer command.
+pub const TRANSFER_READS: Access = (
+    vk::PipelineStageFlags2::ALL_TRANSFER,
+    vk::AccessFlags2::TRANSFER_READ,
+);
+
+/// Storage buffer reads and writes by fragment shaders.
+pub const FRAGMENT_STORAGE: Access = (
+    vk::PipelineStageFlags2::FRAGMENT_SHADER,
+    vk::AccessFlags2::from_raw(
+        vk::AccessFlags2::SHADER_STORAGE_READ.as_raw()
+            | vk::AccessFlags2::SHADER_STORAGE_WRITE.as_raw(),
+    ),
+);
+
+/// A memory barrier from `src` to `dst`.
+pub fn memory_barrier(src: Access, dst: Access) -> vk::MemoryBarrier2<'static> {
+    vk::MemoryBarrier2::default()
+        .src_stage_mask(src.0)
+        .src_access_mask(src.1)
+        .dst_stage_mask(dst.0)
+        .dst_access_mask(dst.1)
+}
+
 /// A layout transition of `image` (the subresources of `range`) from `old` to `new`,
 /// after `src` and before `dst`.
 pub fn layout_transition(
