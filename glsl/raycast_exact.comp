@@ -16,6 +16,7 @@
 // would. compose.frag then draws the outputs into the frame's attachments.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
+#extension GL_KHR_shader_subgroup_vote : require
 #define GLYPHCAST_COMPUTE
 #include "frame.glsl"
 #include "glyph_function.glsl"
@@ -108,20 +109,39 @@ void main() {
     const uint NONE = 0xffffffffu;
     uint best_glyph = NONE;
     float best_tau = 0.0;
-    for (uint i = 0u; i < count; ++i) {
-        uvec2 entry = tile_entries[first + i];
-        if (best >= 0.0 && uintBitsToFloat(entry.y) >= best) {
-            break;  // this glyph and every later one lie behind the best hit
-        }
+    // The walk skips, at the cost of the box test alone, every entry that no invocation
+    // of the subgroup needs: a device runs the root isolation's long body for all the
+    // lanes of a subgroup, masked, whenever one of them needs it (lavapipe runs it even
+    // when none does, unless a loop's exit skips it). The glyph stays the same for every
+    // lane, so its data is loaded once for all of them. Each pixel meets the same entries
+    // in the same order as a walk of one pixel alone, so its hit is the same.
+    uint i = 0u;
+    for (;;) {
         GlyphRay ray;
-        if (!clip_to_glyph(entry.x, origin, dir, ray)) {
+        bool needs = false;
+        for (; i < count; ++i) {
+            uvec2 entry = tile_entries[first + i];
+            // This glyph and every later one lie behind the best hit.
+            bool behind = best >= 0.0 && uintBitsToFloat(entry.y) >= best;
+            // Where the ray enters the box bounds the glyph's hits too.
+            needs = !behind && clip_to_glyph(entry.x, origin, dir, ray)
+                 && !(best >= 0.0 && (ray.t_mid + ray.s_start) * ray.rho >= best);
+            if (subgroupAny(needs)) {
+                break;
+            }
+            if (subgroupAll(behind)) {
+                i = count;
+            }
+        }
+        if (i >= count) {
+            break;
+        }
+        uint glyph = tile_entries[first + i].x;
+        ++i;
+        if (!needs) {
             continue;
         }
-        // Where the ray enters the box bounds the glyph's hits too.
-        if (best >= 0.0 && (ray.t_mid + ray.s_start) * ray.rho >= best) {
-            continue;
-        }
-        glyph_load(entry.x);
+        glyph_load(glyph);
         float h = ray.half_chord;
         ray_polynomial(ray.mid, h * ray.dir);
         float tau;
@@ -130,7 +150,7 @@ void main() {
             float distance = (ray.t_mid + tau * h) * ray.rho;
             if (best < 0.0 || distance < best) {
                 best = distance;
-                best_glyph = entry.x;
+                best_glyph = glyph;
                 best_tau = tau;
             }
         }

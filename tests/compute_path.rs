@@ -126,6 +126,56 @@ fn auto_takes_the_fragment_path_on_lavapipe() {
     assert_eq!(compute.image.path, RenderPath::Compute);
 }
 
+/// The compute ray caster's walk takes subgroup votes (glsl/raycast_exact.comp). A
+/// device whose compute shaders lack them (lavapipe's have them: its context is told
+/// otherwise here) gets the fragment path from `auto`, even as a GPU, and a clear
+/// refusal, not a panic or a validation error, when the compute path is asked for.
+#[test]
+fn auto_takes_the_fragment_path_where_compute_shaders_cannot_vote() {
+    use glyphcast::glyph::{GlyphShape, Symmetry, TensorLayout};
+    use glyphcast::render::Method;
+    let gpu = common::gpu();
+    assert!(
+        gpu.context().compute_votes(),
+        "lavapipe's compute shaders vote"
+    );
+    let as_gpu = gpu
+        .context()
+        .clone()
+        .with_device_type(ash::vk::PhysicalDeviceType::DISCRETE_GPU);
+    let polynomial = [GlyphShape::Polynomial];
+    assert_eq!(
+        RenderPath::Auto.on_context(&as_gpu, Method::Exact, polynomial),
+        RenderPath::Compute
+    );
+    let mute = as_gpu.clone().without_compute_votes();
+    assert_eq!(
+        RenderPath::Auto.on_context(&mute, Method::Exact, polynomial),
+        RenderPath::Fragment
+    );
+    assert_eq!(
+        RenderPath::Compute.on_context(&mute, Method::Exact, polynomial),
+        RenderPath::Compute,
+        "a path asked for by name stays asked for"
+    );
+    let layout = TensorLayout {
+        order: 8,
+        symmetry: Symmetry::Symmetric,
+    };
+    let mut pass = glyphcast::render::compute::ComputeRayCastPass::new(&mute).expect("pass");
+    let error = pass
+        .pipeline(layout)
+        .expect_err("no compute pipeline without votes");
+    let message = error.to_string();
+    assert!(
+        message.contains("subgroup vote") && message.contains("--path fragment"),
+        "{message}"
+    );
+    let mut pass = glyphcast::render::compute::ComputeRayCastPass::new(&as_gpu).expect("pass");
+    pass.pipeline(layout)
+        .expect("the pipeline where the device votes");
+}
+
 #[test]
 fn compute_matches_on_a_dense_fodf_field() {
     let gpu = common::gpu();

@@ -381,11 +381,10 @@ impl GlyphRenderer {
         // whose dispatches the host records (`record_compute`), the fragment path the
         // others, so a host that never calls it draws as before.
         let shapes = sets.iter().map(|set| set.shape);
-        let device = self.ctx.device_type();
         let auto = settings.path == RenderPath::Auto
             && !settings.casts_rays()
             && self.pass.options().samples == vk::SampleCountFlags::TYPE_1
-            && settings.path.on_device(device, settings.method, shapes) == RenderPath::Compute;
+            && settings.path.on_context(&self.ctx, settings.method, shapes) == RenderPath::Compute;
         let compute = match settings.path {
             _ if settings.path == RenderPath::Compute || auto => {
                 check_compute_settings(settings)?;

@@ -282,6 +282,12 @@ impl ComputeRayCastPass {
         if let Some(p) = self.pipelines.get(&layout) {
             return Ok(p);
         }
+        if !self.ctx.compute_votes() {
+            return Err(Error::setup(
+                "subgroup vote operations in compute shaders (the compute ray caster's walk)",
+                "this device has none; the fragment path (--path fragment) draws without them",
+            ));
+        }
         let shader =
             compute_raycast_shader(layout, Method::Exact).ok_or_else(|| Error::Unsupported {
                 what: crate::error::Asked::Layout(layout.into()),

@@ -378,8 +378,8 @@ impl HeadlessRenderer {
         check_image_size(gpu, width, height)?;
         // `auto` is decided here, for this device and these glyphs.
         let settings = &RenderSettings {
-            path: settings.path.on_device(
-                gpu.context().device_type(),
+            path: settings.path.on_context(
+                gpu.context(),
                 settings.method,
                 sets.iter().map(|set| set.shape),
             ),

@@ -222,6 +222,21 @@ impl RenderPath {
             RenderPath::Fragment
         }
     }
+
+    /// [`RenderPath::on_device`] for the device of `ctx`, where `auto` also takes the
+    /// fragment path if the device's compute shaders lack subgroup vote operations (which
+    /// the compute ray caster needs: [`DeviceContext::compute_votes`]).
+    pub fn on_context(
+        self,
+        ctx: &crate::vk::DeviceContext,
+        method: Method,
+        shapes: impl IntoIterator<Item = crate::glyph::GlyphShape>,
+    ) -> RenderPath {
+        if self == RenderPath::Auto && !ctx.compute_votes() {
+            return RenderPath::Fragment;
+        }
+        self.on_device(ctx.device_type(), method, shapes)
+    }
 }
 
 impl std::str::FromStr for RenderPath {

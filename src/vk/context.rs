@@ -122,6 +122,9 @@ pub struct DeviceContext {
     blends_float32: bool,
     /// The physical device's type (a GPU, a CPU such as lavapipe, ...).
     device_type: vk::PhysicalDeviceType,
+    /// Whether compute shaders have subgroup vote operations (the compute ray caster's
+    /// walk, glsl/raycast_exact.comp).
+    compute_votes: bool,
 }
 
 impl DeviceContext {
@@ -217,9 +220,20 @@ impl DeviceContext {
         let blends_float32 = float32
             .optimal_tiling_features
             .contains(vk::FormatFeatureFlags::COLOR_ATTACHMENT_BLEND);
+        let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
+        let mut properties = vk::PhysicalDeviceProperties2::default().push_next(&mut subgroup);
+        // SAFETY: as above; the chain holds one structure that Vulkan 1.1 knows.
+        unsafe { instance.get_physical_device_properties2(physical_device, &mut properties) };
+        let compute_votes = subgroup
+            .supported_stages
+            .contains(vk::ShaderStageFlags::COMPUTE)
+            && subgroup
+                .supported_operations
+                .contains(vk::SubgroupFeatureFlags::VOTE);
         DeviceContext {
             blends_float32,
             device_type: props.device_type,
+            compute_votes,
             owner: Arc::new(owner),
             max_storage_buffer_range: limits.max_storage_buffer_range as u64,
             max_varying_components: limits
@@ -234,6 +248,13 @@ impl DeviceContext {
     /// decides by.
     pub fn device_type(&self) -> vk::PhysicalDeviceType {
         self.device_type
+    }
+
+    /// Whether the device's compute shaders have subgroup vote operations, which the
+    /// compute ray caster needs: without them [`RenderPath::Auto`](crate::render::RenderPath)
+    /// takes the fragment path, and the compute path is refused.
+    pub fn compute_votes(&self) -> bool {
+        self.compute_votes
     }
 
     /// The pipeline cache every pipeline of this context is created through (null when
@@ -294,6 +315,13 @@ impl DeviceContext {
     /// choice on lavapipe). Nothing else changes.
     pub fn with_device_type(mut self, device_type: vk::PhysicalDeviceType) -> DeviceContext {
         self.device_type = device_type;
+        self
+    }
+
+    /// This context as if its device's compute shaders had no subgroup vote operations
+    /// (tests of the fallback on a device that has them).
+    pub fn without_compute_votes(mut self) -> DeviceContext {
+        self.compute_votes = false;
         self
     }
 }

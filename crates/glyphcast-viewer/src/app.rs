@@ -585,10 +585,9 @@ impl App {
             self.underlay_gpu = Some(pass.upload(self.gpu.context(), &underlay.volume)?);
         }
         let settings = self.panels.frame_settings();
-        let device = self.gpu.context().device_type();
         for (k, panel) in self.panels.panels.iter().enumerate() {
             let settings = RenderSettings {
-                path: crate::panel_path(&settings, device, &panel.sets),
+                path: crate::panel_path(&settings, self.gpu.context(), &panel.sets),
                 ..settings
             };
             // Shadows or ambient occlusion on or off take a pipeline of their own, as a

@@ -112,19 +112,19 @@ pub fn run(source: ViewSource, options: ViewerOptions) -> Result<()> {
     app::run(panels, options)
 }
 
-/// The ray caster that draws a panel's glyphs `sets` with `settings` on a device of type
-/// `device`: `auto` as everywhere ([`RenderPath::on_device`]), and the fragment path
+/// The ray caster that draws a panel's glyphs `sets` with `settings` on the device of
+/// `ctx`: `auto` as everywhere ([`RenderPath::on_context`]), and the fragment path
 /// wherever the window's settings ask for what the compute ray caster does not draw in a
 /// window (shadows and ambient occlusion, methods other than exact, switched to with
 /// the keys).
 pub(crate) fn panel_path(
     settings: &RenderSettings,
-    device: ash::vk::PhysicalDeviceType,
+    ctx: &glyphcast::vk::DeviceContext,
     sets: &[glyphcast::GlyphSetData],
 ) -> RenderPath {
     let path = settings
         .path
-        .on_device(device, settings.method, sets.iter().map(|s| s.shape));
+        .on_context(ctx, settings.method, sets.iter().map(|s| s.shape));
     match path {
         RenderPath::Compute if settings.casts_rays() || settings.method != Method::Exact => {
             RenderPath::Fragment

@@ -351,8 +351,9 @@ pub fn render(
             let gpu = Gpu::headless(&gpu_options)?;
             let mut renderer = HeadlessRenderer::new(&gpu)?;
             // The fragment path's pipelines, where the device takes it.
-            let device = gpu.context().device_type();
-            let path = settings.path.on_device(device, settings.method, shapes);
+            let path = settings
+                .path
+                .on_context(gpu.context(), settings.method, shapes);
             if path == glyphcast::RenderPath::Fragment {
                 renderer.prepare_pipelines(&variants)?;
             }
