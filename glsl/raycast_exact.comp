@@ -114,7 +114,10 @@ void main() {
     // lanes of a subgroup, masked, whenever one of them needs it (lavapipe runs it even
     // when none does, unless a loop's exit skips it). The glyph stays the same for every
     // lane, so its data is loaded once for all of them. Each pixel meets the same entries
-    // in the same order as a walk of one pixel alone, so its hit is the same.
+    // in the same order as a walk of one pixel alone, so its hit is the same, whichever
+    // invocations a vote counts (a device that lets lanes drift apart counts the active
+    // ones): a lane stops at every entry it needs itself, and ends its walk only once it
+    // is itself past its best hit.
     uint i = 0u;
     for (;;) {
         GlyphRay ray;
