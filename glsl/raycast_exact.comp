@@ -8,9 +8,13 @@
 // its best hit, keeps the nearest hit, and stops at the first glyph whose nearest depth
 // lies behind it. Only the nearest hit is shaded, once, after the walk.
 //
-// lavapipe ends an invocation after 65,535 loop iterations in all, so one dispatch walks
-// at most WALK_PER_DISPATCH entries of a list (slice `glyph_set.slice`); a longer list
-// takes more dispatches, each starting from the nearest hits the earlier ones stored.
+// lavapipe ends an invocation after 65,535 loop iterations in all, so one dispatch runs
+// at most WALK_PER_DISPATCH root isolations for a subgroup and walks at most
+// ENTRIES_PER_DISPATCH entries of a list; a pixel whose walk is longer stores where it
+// stopped, and the next dispatch (`glyph_set.slice` counts them) goes on from there and
+// from the nearest hit stored. A dispatch that leaves a pixel unfinished writes the
+// group counts of the next one, which is indirect: when every pixel is done, the later
+// dispatches launch no workgroup.
 // Glyph sets (and parts of sets that one storage buffer cannot hold) are dispatched one
 // after another into the same outputs, which compose by ray distance as a depth test
 // would. compose.frag then draws the outputs into the frame's attachments.
@@ -40,8 +44,13 @@ uvec2 morton_pixel(uint i) {
     }
     return p;
 }
-// src/render/tiles.rs WALK_PER_DISPATCH, set by the pipeline.
+// src/render/tiles.rs WALK_PER_DISPATCH, set by the pipeline: root isolations a subgroup
+// runs in one dispatch.
 layout(constant_id = 0) const uint WALK_PER_DISPATCH = 32u;
+// Entries a pixel walks in one dispatch: each is one iteration of the walk's inner loop,
+// so with WALK_PER_DISPATCH root isolations of at most about 1,500 iterations each
+// (src/render/tiles.rs) a dispatch stays below lavapipe's 65,535.
+const uint ENTRIES_PER_DISPATCH = 8192u;
 
 // Per glyph: centre and world radius of the bounding sphere; the box's rotation (box to
 // world, x y z w) and half extents in units of that radius (GlyphSetData).
@@ -73,6 +82,17 @@ layout(std430, set = 0, binding = 8) writeonly buffer Depths {
     float depths[];
 };
 
+// Per pixel: the entries of its tile's list it has walked (0 before the first dispatch of
+// a part; the list's length once its walk is over).
+layout(std430, set = 0, binding = 9) buffer Walked {
+    uint walked[];
+};
+// Per dispatch of a part after the first: its group counts (x, y, z), zero unless the
+// dispatch before left a pixel unfinished.
+layout(std430, set = 0, binding = 10) buffer NextDispatch {
+    uint next_dispatch[];
+};
+
 // The pixel's ray in the frame of `glyph`, clipped to its chord and box.
 bool clip_to_glyph(uint glyph, vec3 origin, vec3 dir, out GlyphRay ray) {
     ray.origin = origin;
@@ -96,13 +116,14 @@ void main() {
     }
     uint tile = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
     uvec2 range = tile_ranges[tile];
-    uint skip = glyph_set.slice * WALK_PER_DISPATCH;
-    if (range.y <= skip) {
+    uint index = pixel.y * glyph_set.width + pixel.x;
+    uint start = walked[index];
+    if (start >= range.y) {
         return;
     }
-    uint first = range.x + skip;
-    uint count = min(range.y - skip, WALK_PER_DISPATCH);
-    uint index = pixel.y * glyph_set.width + pixel.x;
+    uint first = range.x;
+    uint count = range.y;
+    uint stop = min(count, start + ENTRIES_PER_DISPATCH);
     float best = distances[index];
     vec3 origin, dir;
     pixel_ray_through(vec2(pixel) + 0.5, origin, dir);
@@ -117,12 +138,15 @@ void main() {
     // in the same order as a walk of one pixel alone, so its hit is the same, whichever
     // invocations a vote counts (a device that lets lanes drift apart counts the active
     // ones): a lane stops at every entry it needs itself, and ends its walk only once it
-    // is itself past its best hit.
-    uint i = 0u;
+    // is itself past its best hit. The lanes of a subgroup step through the list
+    // together, so `runs` counts the root isolations the subgroup ran.
+    uint i = start;
+    uint runs = 0u;
+    bool over = false;
     for (;;) {
         GlyphRay ray;
         bool needs = false;
-        for (; i < count; ++i) {
+        for (; i < stop; ++i) {
             uvec2 entry = tile_entries[first + i];
             // This glyph and every later one lie behind the best hit.
             bool behind = best >= 0.0 && uintBitsToFloat(entry.y) >= best;
@@ -133,30 +157,42 @@ void main() {
                 break;
             }
             if (subgroupAll(behind)) {
-                i = count;
+                over = true;
+                i = stop;
             }
         }
-        if (i >= count) {
+        if (i >= stop) {
             break;
         }
         uint glyph = tile_entries[first + i].x;
         ++i;
-        if (!needs) {
-            continue;
-        }
-        glyph_load(glyph);
-        float h = ray.half_chord;
-        ray_polynomial(ray.mid, h * ray.dir);
-        float tau;
-        if (first_crossing(ray.mid, h * ray.dir, ray.s_start / h, ray.s_end / h, tau)) {
-            // shade_surface's distance of the hit, as the fragment shader writes it.
-            float distance = (ray.t_mid + tau * h) * ray.rho;
-            if (best < 0.0 || distance < best) {
-                best = distance;
-                best_glyph = glyph;
-                best_tau = tau;
+        ++runs;
+        if (needs) {
+            glyph_load(glyph);
+            float h = ray.half_chord;
+            ray_polynomial(ray.mid, h * ray.dir);
+            float tau;
+            if (first_crossing(ray.mid, h * ray.dir, ray.s_start / h, ray.s_end / h, tau)) {
+                // shade_surface's distance of the hit, as the fragment shader writes it.
+                float distance = (ray.t_mid + tau * h) * ray.rho;
+                if (best < 0.0 || distance < best) {
+                    best = distance;
+                    best_glyph = glyph;
+                    best_tau = tau;
+                }
             }
         }
+        if (runs >= WALK_PER_DISPATCH) {
+            break;
+        }
+    }
+    uint done = over ? count : i;
+    walked[index] = done;
+    uint next = 3u * (glyph_set.slice + 1u);
+    if (done < count && next + 2u < uint(next_dispatch.length())) {
+        next_dispatch[next] = gl_NumWorkGroups.x;
+        next_dispatch[next + 1u] = gl_NumWorkGroups.y;
+        next_dispatch[next + 2u] = 1u;
     }
     if (best_glyph == NONE) {
         return;

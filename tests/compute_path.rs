@@ -253,6 +253,50 @@ fn compute_walks_a_stack_deeper_than_one_dispatch_front_to_back() {
     assert!(same, "parts change the distances");
 }
 
+/// Walks longer than one dispatch's root isolations: 100 copies of one crossing, stacked
+/// along the view axis through their centres, and behind them, in the same glyph set, a
+/// glyph of many fibres that has no gaps. Perspective keeps the gaps between the
+/// crossing's lobes on the same screen rays layer after layer, so a ray through a gap
+/// near the centre enters every box of the stack without a hit (a root isolation each,
+/// 100 in all) before it meets the glyph behind: its walk goes on over four dispatches of
+/// WALK_PER_DISPATCH (32) root isolations, each from where the one before stopped. A
+/// walk that did not go on would leave holes there (against the reference and the
+/// fragment path).
+#[test]
+fn compute_walks_go_on_over_dispatches_through_the_gaps_of_a_deep_stack() {
+    let gpu = common::gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    let layers = 100;
+    assert!(layers > 3 * WALK_PER_DISPATCH as usize);
+    let mut scene = suite::thin_crossing_lobes(SIZE);
+    let crossing = fibre_tensor(
+        6,
+        &[(direction(0.0, 0.0), 1.0), (direction(0.0, 90.0), 1.0)],
+    );
+    let mut centers: Vec<DVec3> = (0..layers)
+        .map(|k| DVec3::new(0.0, 0.05 * k as f64, 0.0))
+        .collect();
+    let mut coeffs = vec![crossing; layers];
+    // Fibres every 45 degrees at four elevations and the poles: a lumpy ball.
+    let mut fibres = vec![(DVec3::Z, 1.0), (-DVec3::Z, 1.0)];
+    for elev in [-60.0, -20.0, 20.0, 60.0] {
+        fibres.extend((0..8).map(|k| (direction(45.0 * f64::from(k), elev), 1.0)));
+    }
+    centers.push(DVec3::new(0.0, 9.0, 0.0));
+    coeffs.push(fibre_tensor(6, &fibres));
+    let mut set = glyph_set(symmetric(6), centers, 0.5, coeffs);
+    set.scales[layers] = 0.6;
+    scene.glyph_sets = vec![set];
+    scene.camera.eye = DVec3::new(0.0, -4.0, 0.0);
+    scene.camera.target = DVec3::ZERO;
+    let image = check_scene(&gpu, &mut renderer, "deep-stack", &scene);
+    assert!(image.draws >= 4, "{} dispatches", image.draws);
+    // The glyph behind (beyond 10 from the eye; the last crossing lies at 9) shows in the
+    // gaps.
+    let through = image.distance.iter().filter(|d| **d > 10.0).count();
+    assert!(through > 100, "{through} pixels of the glyph behind");
+}
+
 /// Two glyph sets of different tensor layouts (a symmetric order-4 and the non-symmetric
 /// stiffness tensor), interleaved in depth: each set is its own dispatch, and the second
 /// composes with the first by distance.

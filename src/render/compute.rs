@@ -45,7 +45,8 @@ use gpu_allocator::MemoryLocation;
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub(crate) struct ComputeParams {
     pub(crate) hide_negative: u32,
-    /// Which [`WALK_PER_DISPATCH`] entries of each tile's list this dispatch walks.
+    /// Which of the part's dispatches this is (each goes on where the one before left
+    /// every pixel's walk, at most [`WALK_PER_DISPATCH`] root isolations further).
     pub(crate) slice: u32,
     pub(crate) width: u32,
     pub(crate) height: u32,
@@ -57,8 +58,11 @@ const INPUT_BINDINGS: u32 = 5;
 /// The outputs: colour, distance, depth (bindings 6 to 8 of the ray caster, 0 to 2 of
 /// the composing draw).
 pub(crate) const OUTPUT_BINDINGS: u32 = 3;
-/// Every binding: frame, five inputs, three outputs.
-pub(crate) const BINDINGS: u32 = 1 + INPUT_BINDINGS + OUTPUT_BINDINGS;
+/// The walk's state, at bindings 9 and 10: per pixel the entries walked, per dispatch the
+/// next one's group counts.
+const WALK_BINDINGS: u32 = 2;
+/// Every binding: frame, five inputs, three outputs, the walk's state.
+pub(crate) const BINDINGS: u32 = 1 + INPUT_BINDINGS + OUTPUT_BINDINGS + WALK_BINDINGS;
 
 /// Push constants of glsl/compose.frag: where the image lies in the attachments.
 #[repr(C)]
@@ -92,9 +96,14 @@ pub struct ComputeRayCastPass {
 struct ComputePartGpu {
     layout: TensorLayout,
     negative: crate::glyph::NegativeMode,
-    /// Dispatches that walk its longest tile list.
+    /// Dispatches that walk its longest tile list in the worst case (every entry needing
+    /// a root isolation); those after the first are indirect, and launch nothing once
+    /// every pixel's walk is over.
     slices: u32,
     descriptor_set: vk::DescriptorSet,
+    /// Per dispatch, the group counts the dispatch before wrote (glsl/raycast_exact.comp
+    /// `NextDispatch`).
+    next_dispatch: Buffer,
     /// Tile ranges and tile entries, kept alive for the descriptor set (which holds the
     /// glyphs' buffers too: [`ComputeGlyphsGpu`] outlives the view).
     _tiles: [Buffer; 2],
@@ -141,6 +150,8 @@ pub struct ComputeSceneGpu {
     pub distances: Buffer,
     /// Window depth per pixel (f32) where there is a hit.
     pub depths: Buffer,
+    /// Per pixel, the entries of the current part's tile list its walk has passed.
+    walked: Buffer,
     /// The outputs for the composing draw (glsl/compose.frag).
     compose_set: vk::DescriptorSet,
     width: u32,
@@ -156,7 +167,8 @@ impl ComputeSceneGpu {
         self.parts.len()
     }
 
-    /// Dispatches per frame.
+    /// Dispatches recorded per frame (those after each part's first launch workgroups
+    /// only while some pixel's walk goes on).
     pub fn dispatches(&self) -> usize {
         self.parts.iter().map(|p| p.slices as usize).sum()
     }
@@ -396,13 +408,20 @@ impl ComputeRayCastPass {
         let d = self.ctx.device();
         let no_hit = (-1.0f32).to_bits();
         // The last frame's composing draw and copies read the outputs before they are
-        // cleared and written again.
+        // cleared and written again, and its dispatches the walk's state (a part's
+        // dispatches too before the next part's clear it).
         let before_fill = [vk::MemoryBarrier2::default()
             .src_stage_mask(
-                vk::PipelineStageFlags2::FRAGMENT_SHADER | vk::PipelineStageFlags2::COPY,
+                vk::PipelineStageFlags2::FRAGMENT_SHADER
+                    | vk::PipelineStageFlags2::COPY
+                    | vk::PipelineStageFlags2::COMPUTE_SHADER
+                    | vk::PipelineStageFlags2::DRAW_INDIRECT,
             )
             .src_access_mask(
-                vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::TRANSFER_READ,
+                vk::AccessFlags2::SHADER_STORAGE_READ
+                    | vk::AccessFlags2::SHADER_STORAGE_WRITE
+                    | vk::AccessFlags2::TRANSFER_READ
+                    | vk::AccessFlags2::INDIRECT_COMMAND_READ,
             )
             .dst_stage_mask(
                 vk::PipelineStageFlags2::ALL_TRANSFER | vk::PipelineStageFlags2::COMPUTE_SHADER,
@@ -410,20 +429,30 @@ impl ComputeRayCastPass {
             .dst_access_mask(
                 vk::AccessFlags2::TRANSFER_WRITE | vk::AccessFlags2::SHADER_STORAGE_WRITE,
             )];
+        // The dispatches read what the clears wrote, the indirect ones their group counts.
         let after_fill = [vk::MemoryBarrier2::default()
             .src_stage_mask(vk::PipelineStageFlags2::ALL_TRANSFER)
             .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+            .dst_stage_mask(
+                vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::DRAW_INDIRECT,
+            )
             .dst_access_mask(
-                vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+                vk::AccessFlags2::SHADER_STORAGE_READ
+                    | vk::AccessFlags2::SHADER_STORAGE_WRITE
+                    | vk::AccessFlags2::INDIRECT_COMMAND_READ,
             )];
-        // Each dispatch reads the distances the one before wrote.
+        // Each dispatch reads the distances and the walk's state the one before wrote, and
+        // is launched with the group counts it wrote.
         let between = [vk::MemoryBarrier2::default()
             .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
             .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+            .dst_stage_mask(
+                vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::DRAW_INDIRECT,
+            )
             .dst_access_mask(
-                vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+                vk::AccessFlags2::SHADER_STORAGE_READ
+                    | vk::AccessFlags2::SHADER_STORAGE_WRITE
+                    | vk::AccessFlags2::INDIRECT_COMMAND_READ,
             )];
         let to_readers = [vk::MemoryBarrier2::default()
             .src_stage_mask(
@@ -447,13 +476,25 @@ impl ComputeRayCastPass {
             // A pixel's colour and depth are read only where its distance says it has a
             // hit, so only the distances are cleared.
             d.cmd_fill_buffer(cmd, scene.distances.handle, 0, vk::WHOLE_SIZE, no_hit);
-            d.cmd_pipeline_barrier2(
-                cmd,
-                &vk::DependencyInfo::default().memory_barriers(&after_fill),
-            );
         }
-        let mut first = true;
-        for (part, &pipeline) in scene.parts.iter().zip(&pipelines) {
+        for (k, (part, &pipeline)) in scene.parts.iter().zip(&pipelines).enumerate() {
+            // SAFETY: as above.
+            unsafe {
+                if k > 0 {
+                    d.cmd_pipeline_barrier2(
+                        cmd,
+                        &vk::DependencyInfo::default().memory_barriers(&before_fill),
+                    );
+                }
+                // Every pixel's walk of this part's lists from their start; no dispatch
+                // after the first until one leaves a walk unfinished.
+                d.cmd_fill_buffer(cmd, scene.walked.handle, 0, vk::WHOLE_SIZE, 0);
+                d.cmd_fill_buffer(cmd, part.next_dispatch.handle, 0, vk::WHOLE_SIZE, 0);
+                d.cmd_pipeline_barrier2(
+                    cmd,
+                    &vk::DependencyInfo::default().memory_barriers(&after_fill),
+                );
+            }
             for slice in 0..part.slices {
                 let params = ComputeParams {
                     hide_negative: part.negative.shader_code(),
@@ -463,7 +504,7 @@ impl ComputeRayCastPass {
                 };
                 // SAFETY: as above.
                 unsafe {
-                    if !first {
+                    if slice > 0 {
                         d.cmd_pipeline_barrier2(
                             cmd,
                             &vk::DependencyInfo::default().memory_barriers(&between),
@@ -485,9 +526,13 @@ impl ComputeRayCastPass {
                         0,
                         bytemuck::bytes_of(&params),
                     );
-                    d.cmd_dispatch(cmd, scene.tiles.0, scene.tiles.1, 1);
+                    if slice == 0 {
+                        d.cmd_dispatch(cmd, scene.tiles.0, scene.tiles.1, 1);
+                    } else {
+                        let offset = 12 * u64::from(slice);
+                        d.cmd_dispatch_indirect(cmd, part.next_dispatch.handle, offset);
+                    }
                 }
-                first = false;
             }
         }
         // SAFETY: as above.
@@ -534,10 +579,11 @@ impl ComputeGlyphsGpu {
                 MemoryLocation::GpuOnly,
             )
         };
-        let (colors, distances, depths) = (
+        let (colors, distances, depths, walked) = (
             output("compute colour")?,
             output("compute distance")?,
             output("compute depth")?,
+            output("compute walk")?,
         );
         let compose_set = pool.buffer_set(
             self.set_layouts.1,
@@ -554,6 +600,7 @@ impl ComputeGlyphsGpu {
             colors,
             distances,
             depths,
+            walked,
             compose_set,
             width,
             height,
@@ -592,11 +639,20 @@ fn upload_part(
         Buffer::with_data(ctx, "tile ranges", &bins.ranges, storage)?,
         Buffer::with_data(ctx, "tile entries", &bins.entries, storage)?,
     ];
-    // The frame, then the inputs and the outputs, at bindings 0, 1, 2, ... in order.
+    let next_dispatch = Buffer::new(
+        ctx,
+        "compute next dispatch",
+        12 * u64::from(bins.slices.max(1)),
+        storage | vk::BufferUsageFlags::INDIRECT_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+        MemoryLocation::GpuOnly,
+    )?;
+    // The frame, then the inputs, the outputs and the walk's state, at bindings 0, 1,
+    // 2, ... in order.
     let buffers = std::iter::once(&scene.frame)
         .chain(&part.buffers)
         .chain(&tiles)
-        .chain([&scene.colors, &scene.distances, &scene.depths]);
+        .chain([&scene.colors, &scene.distances, &scene.depths])
+        .chain([&scene.walked, &next_dispatch]);
     let bindings: Vec<BufferBinding> = buffers
         .enumerate()
         .map(|(binding, buffer)| BufferBinding::storage(binding as u32, buffer))
@@ -607,6 +663,7 @@ fn upload_part(
         negative: part.negative,
         slices: bins.slices,
         descriptor_set,
+        next_dispatch,
         _tiles: tiles,
     })
 }

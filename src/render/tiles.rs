@@ -9,8 +9,8 @@
 //! listed in every tile (its projection is unbounded), the pixel rectangle is widened by
 //! a pixel for the float32 rounding of the shader's rays, and the nearest depth is the
 //! larger of two lower bounds (bounding sphere, box corners along the view axis) less a
-//! relative margin. The walk is cut into slices of [`WALK_PER_DISPATCH`] entries, one
-//! dispatch each (see there).
+//! relative margin. A walk longer than one dispatch allows goes on in the next (see
+//! [`WALK_PER_DISPATCH`]).
 use crate::camera::{Camera, Projection};
 use crate::render::frame::FrameParams;
 use glam::{DQuat, DVec3};
@@ -19,14 +19,17 @@ use glam::{DQuat, DVec3};
 /// (glsl/raycast_exact.comp, `local_size_x` and `local_size_y`).
 pub(crate) const TILE_SIZE: u32 = 16;
 
-/// Entries of a tile's list that one dispatch walks. lavapipe (llvmpipe) ends a shader
-/// invocation after 65,535 loop iterations in total, counted for a SIMD batch of pixels
-/// whenever any of its lanes iterates. One glyph's exact root isolation iterates at most
-/// about 1,500 times (order 12: 2 x 65 pieces of the subdivision and its rounds, 40
-/// Newton steps for each of at most 27 roots, 2 x 72 samples and regula falsi steps of the
-/// centre zone; typically a few dozen), so 32 glyphs stay below the limit with room to
-/// spare. Longer lists take several dispatches, each starting from the previous one's
-/// nearest hits.
+/// Root isolations that a subgroup of pixels runs in one dispatch. lavapipe (llvmpipe)
+/// ends a shader invocation after 65,535 loop iterations in total, counted for a SIMD
+/// batch of pixels whenever any of its lanes iterates. One glyph's exact root isolation
+/// iterates at most about 1,500 times (order 12: 2 x 65 pieces of the subdivision and its
+/// rounds, 40 Newton steps for each of at most 27 roots, 2 x 72 samples and regula falsi
+/// steps of the centre zone; typically a few dozen), so 32 of them and the box tests of
+/// at most 8,192 entries (glsl/raycast_exact.comp `ENTRIES_PER_DISPATCH`) stay below the
+/// limit. A walk that needs more goes on in the next dispatch from where it stopped; each
+/// dispatch takes every unfinished walk at least 32 entries further, so a list of n
+/// entries needs at most n / 32 dispatches, and the dispatches after the first launch
+/// nothing once every walk is over.
 pub const WALK_PER_DISPATCH: u32 = 32;
 
 /// Relative margin taken off each nearest depth: the shader's hit distances are float32
@@ -132,7 +135,8 @@ pub(crate) struct TileBins {
     /// Per entry: the glyph's index in its set (part) and the bits of its nearest depth
     /// (f32), each tile's entries sorted by nearest depth.
     pub entries: Vec<[u32; 2]>,
-    /// Dispatches needed to walk the longest list, [`WALK_PER_DISPATCH`] entries each.
+    /// Dispatches that walk the longest list in the worst case, [`WALK_PER_DISPATCH`]
+    /// entries each.
     pub slices: u32,
 }
 
