@@ -21,6 +21,7 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 #extension GL_KHR_shader_subgroup_vote : require
+#extension GL_KHR_shader_subgroup_ballot : require
 #define GLYPHCAST_COMPUTE
 #include "frame.glsl"
 #include "glyph_function.glsl"
@@ -82,8 +83,8 @@ layout(std430, set = 0, binding = 8) writeonly buffer Depths {
     float depths[];
 };
 
-// Per pixel: the entries of its tile's list it has walked (0 before the first dispatch of
-// a part; the list's length once its walk is over).
+// Per pixel: the entries of its tile's list it has walked (written by every dispatch
+// that walks it; the list's length once its walk is over).
 layout(std430, set = 0, binding = 9) buffer Walked {
     uint walked[];
 };
@@ -117,7 +118,11 @@ void main() {
     uint tile = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
     uvec2 range = tile_ranges[tile];
     uint index = pixel.y * glyph_set.width + pixel.x;
-    uint start = walked[index];
+    // The part's first dispatch starts every walk (and stores where each stops: no
+    // clear is needed). The lanes of a subgroup stopped at the same entry (they step
+    // through the list together); its first active lane's says so to the compiler, which
+    // then loads each entry and glyph once for the subgroup rather than lane by lane.
+    uint start = glyph_set.slice == 0u ? 0u : subgroupBroadcastFirst(walked[index]);
     if (start >= range.y) {
         return;
     }

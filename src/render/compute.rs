@@ -296,7 +296,7 @@ impl ComputeRayCastPass {
         }
         if !self.ctx.compute_votes() {
             return Err(Error::setup(
-                "subgroup vote operations in compute shaders (the compute ray caster's walk)",
+                "subgroup vote and ballot operations in compute shaders (the compute ray caster's walk)",
                 "this device has none; the fragment path (--path fragment) draws without them",
             ));
         }
@@ -486,9 +486,8 @@ impl ComputeRayCastPass {
                         &vk::DependencyInfo::default().memory_barriers(&before_fill),
                     );
                 }
-                // Every pixel's walk of this part's lists from their start; no dispatch
-                // after the first until one leaves a walk unfinished.
-                d.cmd_fill_buffer(cmd, scene.walked.handle, 0, vk::WHOLE_SIZE, 0);
+                // No dispatch after the first until one leaves a walk unfinished (the
+                // first starts every walk from the start of its list).
                 d.cmd_fill_buffer(cmd, part.next_dispatch.handle, 0, vk::WHOLE_SIZE, 0);
                 d.cmd_pipeline_barrier2(
                     cmd,

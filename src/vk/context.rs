@@ -122,7 +122,7 @@ pub struct DeviceContext {
     blends_float32: bool,
     /// The physical device's type (a GPU, a CPU such as lavapipe, ...).
     device_type: vk::PhysicalDeviceType,
-    /// Whether compute shaders have subgroup vote operations (the compute ray caster's
+    /// Whether compute shaders have subgroup vote and ballot operations (the compute ray caster's
     /// walk, glsl/raycast_exact.comp).
     compute_votes: bool,
 }
@@ -229,7 +229,7 @@ impl DeviceContext {
             .contains(vk::ShaderStageFlags::COMPUTE)
             && subgroup
                 .supported_operations
-                .contains(vk::SubgroupFeatureFlags::VOTE);
+                .contains(vk::SubgroupFeatureFlags::VOTE | vk::SubgroupFeatureFlags::BALLOT);
         DeviceContext {
             blends_float32,
             device_type: props.device_type,
@@ -250,8 +250,8 @@ impl DeviceContext {
         self.device_type
     }
 
-    /// Whether the device's compute shaders have subgroup vote operations, which the
-    /// compute ray caster needs: without them [`RenderPath::Auto`](crate::render::RenderPath)
+    /// Whether the device's compute shaders have subgroup vote and ballot operations,
+    /// which the compute ray caster needs: without them [`RenderPath::Auto`](crate::render::RenderPath)
     /// takes the fragment path, and the compute path is refused.
     pub fn compute_votes(&self) -> bool {
         self.compute_votes
@@ -318,7 +318,7 @@ impl DeviceContext {
         self
     }
 
-    /// This context as if its device's compute shaders had no subgroup vote operations
+    /// This context as if its device's compute shaders had no subgroup vote and ballot operations
     /// (tests of the fallback on a device that has them).
     pub fn without_compute_votes(mut self) -> DeviceContext {
         self.compute_votes = false;
