@@ -30,6 +30,7 @@ use crate::render::shaders::{
     COMPOSE_COLOR_ONLY_FRAGMENT, COMPOSE_FRAGMENT, COMPOSE_VERTEX, compute_raycast_shader,
 };
 use crate::render::tiles::{ScreenView, TileBins, WALK_PER_DISPATCH, bin_glyphs};
+use crate::vk::recording::{Access, TRANSFER_WRITES, memory_barrier};
 use crate::vk::{
     Buffer, BufferBinding, DescriptorPool, DeviceContext, GraphicsPipelineDesc, Pipeline,
     PipelineLayout, Pipelines, RasterTarget, ShaderModule, buffer_binding, compute_pipeline,
@@ -296,7 +297,7 @@ impl ComputeRayCastPass {
         }
         if !self.ctx.compute_votes() {
             return Err(Error::setup(
-                "subgroup vote and ballot operations in compute shaders (the compute ray caster's walk)",
+                "subgroup vote and ballot operations in compute shaders (the compute walk)",
                 "this device has none; the fragment path (--path fragment) draws without them",
             ));
         }
@@ -407,66 +408,46 @@ impl ComputeRayCastPass {
             .collect::<Result<Vec<_>>>()?;
         let d = self.ctx.device();
         let no_hit = (-1.0f32).to_bits();
+        // Who touches the outputs and the walk's state: the composing draw and the copies
+        // read the outputs; the dispatches read and write them and launch with the group
+        // counts; the clears write them.
+        let readers: Access = (
+            vk::PipelineStageFlags2::FRAGMENT_SHADER | vk::PipelineStageFlags2::COPY,
+            vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::TRANSFER_READ,
+        );
+        let dispatches: Access = (
+            vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::DRAW_INDIRECT,
+            vk::AccessFlags2::SHADER_STORAGE_READ
+                | vk::AccessFlags2::SHADER_STORAGE_WRITE
+                | vk::AccessFlags2::INDIRECT_COMMAND_READ,
+        );
+        let clears = (
+            TRANSFER_WRITES.0 | vk::PipelineStageFlags2::COMPUTE_SHADER,
+            TRANSFER_WRITES.1 | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+        );
+        let written = (
+            vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::ALL_TRANSFER,
+            vk::AccessFlags2::SHADER_STORAGE_WRITE | vk::AccessFlags2::TRANSFER_WRITE,
+        );
         // The last frame's composing draw and copies read the outputs before they are
         // cleared and written again, and its dispatches the walk's state (a part's
         // dispatches too before the next part's clear it).
-        let before_fill = [vk::MemoryBarrier2::default()
-            .src_stage_mask(
-                vk::PipelineStageFlags2::FRAGMENT_SHADER
-                    | vk::PipelineStageFlags2::COPY
-                    | vk::PipelineStageFlags2::COMPUTE_SHADER
-                    | vk::PipelineStageFlags2::DRAW_INDIRECT,
-            )
-            .src_access_mask(
-                vk::AccessFlags2::SHADER_STORAGE_READ
-                    | vk::AccessFlags2::SHADER_STORAGE_WRITE
-                    | vk::AccessFlags2::TRANSFER_READ
-                    | vk::AccessFlags2::INDIRECT_COMMAND_READ,
-            )
-            .dst_stage_mask(
-                vk::PipelineStageFlags2::ALL_TRANSFER | vk::PipelineStageFlags2::COMPUTE_SHADER,
-            )
-            .dst_access_mask(
-                vk::AccessFlags2::TRANSFER_WRITE | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-            )];
+        let before_fill = [memory_barrier(
+            (readers.0 | dispatches.0, readers.1 | dispatches.1),
+            clears,
+        )];
         // The dispatches read what the clears wrote, the indirect ones their group counts.
-        let after_fill = [vk::MemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::ALL_TRANSFER)
-            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-            .dst_stage_mask(
-                vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::DRAW_INDIRECT,
-            )
-            .dst_access_mask(
-                vk::AccessFlags2::SHADER_STORAGE_READ
-                    | vk::AccessFlags2::SHADER_STORAGE_WRITE
-                    | vk::AccessFlags2::INDIRECT_COMMAND_READ,
-            )];
+        let after_fill = [memory_barrier(TRANSFER_WRITES, dispatches)];
         // Each dispatch reads the distances and the walk's state the one before wrote, and
         // is launched with the group counts it wrote.
-        let between = [vk::MemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-            .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
-            .dst_stage_mask(
-                vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::DRAW_INDIRECT,
-            )
-            .dst_access_mask(
-                vk::AccessFlags2::SHADER_STORAGE_READ
-                    | vk::AccessFlags2::SHADER_STORAGE_WRITE
-                    | vk::AccessFlags2::INDIRECT_COMMAND_READ,
-            )];
-        let to_readers = [vk::MemoryBarrier2::default()
-            .src_stage_mask(
-                vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::ALL_TRANSFER,
-            )
-            .src_access_mask(
-                vk::AccessFlags2::SHADER_STORAGE_WRITE | vk::AccessFlags2::TRANSFER_WRITE,
-            )
-            .dst_stage_mask(
-                vk::PipelineStageFlags2::FRAGMENT_SHADER | vk::PipelineStageFlags2::COPY,
-            )
-            .dst_access_mask(
-                vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::TRANSFER_READ,
-            )];
+        let between = [memory_barrier(
+            (
+                vk::PipelineStageFlags2::COMPUTE_SHADER,
+                vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            ),
+            dispatches,
+        )];
+        let to_readers = [memory_barrier(written, readers)];
         // SAFETY: recording state is the caller's; all handles are alive.
         unsafe {
             d.cmd_pipeline_barrier2(

@@ -224,8 +224,8 @@ impl RenderPath {
     }
 
     /// [`RenderPath::on_device`] for the device of `ctx`, where `auto` also takes the
-    /// fragment path if the device's compute shaders lack subgroup vote and ballot operations, which
-    /// the compute ray caster needs
+    /// fragment path if the device's compute shaders lack subgroup vote and ballot
+    /// operations, which the compute ray caster needs
     /// ([`compute_votes`](crate::vk::DeviceContext::compute_votes)).
     pub fn on_context(
         self,

@@ -122,8 +122,8 @@ pub struct DeviceContext {
     blends_float32: bool,
     /// The physical device's type (a GPU, a CPU such as lavapipe, ...).
     device_type: vk::PhysicalDeviceType,
-    /// Whether compute shaders have subgroup vote and ballot operations (the compute ray caster's
-    /// walk, glsl/raycast_exact.comp).
+    /// Whether compute shaders have subgroup vote and ballot operations (the compute ray
+    /// caster's walk, glsl/raycast_exact.comp).
     compute_votes: bool,
 }
 
@@ -251,8 +251,9 @@ impl DeviceContext {
     }
 
     /// Whether the device's compute shaders have subgroup vote and ballot operations,
-    /// which the compute ray caster needs: without them [`RenderPath::Auto`](crate::render::RenderPath)
-    /// takes the fragment path, and the compute path is refused.
+    /// which the compute ray caster needs: without them
+    /// [`RenderPath::Auto`](crate::render::RenderPath) takes the fragment path, and the
+    /// compute path is refused.
     pub fn compute_votes(&self) -> bool {
         self.compute_votes
     }
@@ -318,8 +319,8 @@ impl DeviceContext {
         self
     }
 
-    /// This context as if its device's compute shaders had no subgroup vote and ballot operations
-    /// (tests of the fallback on a device that has them).
+    /// This context as if its device's compute shaders had no subgroup vote and ballot
+    /// operations (tests of the fallback on a device that has them).
     pub fn without_compute_votes(mut self) -> DeviceContext {
         self.compute_votes = false;
         self
