@@ -267,6 +267,10 @@ pub mod codes {
     /// stage's gate (the depth its boxes are tested against) where they are nearer than
     /// the known depth.
     pub const VISIBILITY_GATE: u32 = 4;
+    /// The visibility word: one pass front to back in which each hit raises the known
+    /// depth of its pixel (atomically), and a fragment whose box lies behind it skips
+    /// the root isolation (`Culling::EarlyOut`).
+    pub const VISIBILITY_EARLY_OUT: u32 = 8;
     /// Work counter: fragment shader invocations of the glyphs' boxes.
     pub const WORK_FRAGMENTS: u32 = 0;
     /// Work counter: rays whose glyph was evaluated (the exact method: root isolations;
@@ -275,7 +279,7 @@ pub mod codes {
 }
 
 /// Every entry of [`codes`] with its GLSL name, for `build.rs`'s `codes.glsl`.
-pub const SHADER_CODES: [(&str, i64); 19] = [
+pub const SHADER_CODES: [(&str, i64); 20] = [
     ("REFINE_NONE", codes::REFINE_NONE as i64),
     ("REFINE_BISECT", codes::REFINE_BISECT as i64),
     ("REFINE_INTERP", codes::REFINE_INTERP as i64),
@@ -296,6 +300,7 @@ pub const SHADER_CODES: [(&str, i64); 19] = [
     ),
     ("VISIBILITY_COUNT", codes::VISIBILITY_COUNT as i64),
     ("VISIBILITY_GATE", codes::VISIBILITY_GATE as i64),
+    ("VISIBILITY_EARLY_OUT", codes::VISIBILITY_EARLY_OUT as i64),
     ("WORK_FRAGMENTS", codes::WORK_FRAGMENTS as i64),
     ("WORK_EVALUATIONS", codes::WORK_EVALUATIONS as i64),
 ];

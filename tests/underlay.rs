@@ -339,6 +339,7 @@ fn render_cli(dir: &Path, args: &[&str]) -> (RenderedImage, Scene) {
         mesh: None,
         path: glyphcast::RenderPath::Fragment,
         passes: 1,
+        culling: glyphcast::render::Culling::Off,
     };
     (image, scene)
 }

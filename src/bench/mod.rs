@@ -84,6 +84,8 @@ pub struct BenchResult {
     pub draws: usize,
     /// Passes the glyphs were drawn in (render::visibility).
     pub passes: usize,
+    /// How hidden glyphs were skipped: passes, early-out or off (render::visibility).
+    pub culling: String,
     /// The work of one more frame drawn with the counters on (ray-casting methods on the
     /// fragment path), after the timed ones.
     pub work: Option<crate::render::visibility::WorkCounts>,
@@ -276,6 +278,7 @@ fn measure_prepared(
         bytes_per_glyph: total_bytes as f64 / glyphs.max(1) as f64,
         draws: image.draws,
         passes: frame.passes(),
+        culling: frame.culling().to_string(),
         work,
         accuracy: case.reference.map(|r| r.compare(&image, camera)),
     })

@@ -8,7 +8,7 @@ use std::fmt::Write as _;
 type Cell = fn(&BenchResult) -> String;
 
 /// The timing table: each column's heading and cell, at the precision a person reads.
-const TIMING: [(&str, Cell); 16] = [
+const TIMING: [(&str, Cell); 17] = [
     ("label", |r| r.label.clone()),
     ("path", |r| r.path.clone()),
     ("glyphs", |r| r.glyphs.to_string()),
@@ -29,6 +29,7 @@ const TIMING: [(&str, Cell); 16] = [
     ("evaluations/px", |r| {
         per_pixel(r, |w| w.evaluations).map_or_else(|| "-".into(), |v| format!("{v:.2}"))
     }),
+    ("cull", |r| r.culling.clone()),
 ];
 
 /// A work counter per covered pixel, where the frame counted its work.
@@ -71,7 +72,7 @@ const GEOMETRY: [(&str, Cell); 13] = [
 
 /// The CSV: each column's name and cell at full precision; empty where a value was not
 /// measured.
-const CSV: [(&str, Cell); 31] = [
+const CSV: [(&str, Cell); 32] = [
     ("label", |r| r.label.clone()),
     ("glyphs", |r| r.glyphs.to_string()),
     ("width", |r| r.width.to_string()),
@@ -122,6 +123,7 @@ const CSV: [(&str, Cell); 31] = [
     ("error_px", |r| {
         csv_accuracy(r, |a| format!("{:e}", a.error_px))
     }),
+    ("culling", |r| r.culling.clone()),
 ];
 
 fn header(columns: &[&str]) -> String {
@@ -287,6 +289,7 @@ mod tests {
             bytes_per_glyph: 0.0,
             draws: 1,
             passes: 1,
+            culling: "off".into(),
             work: None,
             accuracy: None,
         }

@@ -127,8 +127,7 @@ impl UploadedGlyphs {
         }
         if let Some(plan) = self.plans.get_mut(k) {
             let clusters = self.gpu.sets.iter().map(|set| set.clusters.as_slice());
-            *plan =
-                crate::render::visibility::plan(clusters, frame, self.cull == Culling::Occluded);
+            *plan = crate::render::visibility::plan(clusters, frame, self.cull);
         }
         Ok(())
     }
@@ -154,6 +153,16 @@ impl UploadedGlyphs {
     /// The passes frame `frame_index` is drawn in by the headless renderer.
     pub fn passes(&self, frame_index: usize) -> usize {
         self.plans.get(frame_index).map_or(0, PassPlan::passes)
+    }
+
+    /// How frame `frame_index`'s hidden glyphs are skipped: `Passes`, `EarlyOut`, or
+    /// `Off` where its frame is one pass without early outs.
+    pub fn culling(&self, frame_index: usize) -> Culling {
+        match self.plans.get(frame_index) {
+            Some(plan) if plan.early_out() => Culling::EarlyOut,
+            Some(plan) if plan.passes() > 1 => Culling::Passes,
+            _ => Culling::Off,
+        }
     }
 
     /// Instanced draws per frame (batches).
@@ -433,14 +442,10 @@ impl GlyphRenderer {
         // Culled glyphs are drawn in passes whose later stages have pipelines of their own,
         // made when a frame first needs more than one pass (`prepare_passes`). A host's
         // frame is one pass: its glyphs are not planned (no sorting at every `set_view`).
-        let cull = match settings.cull {
-            Culling::Occluded
-                if self.draws_passes
-                    && crate::render::visibility::can_cull(&self.ctx, settings) =>
-            {
-                Culling::Occluded
-            }
-            _ => Culling::Off,
+        let cull = if self.draws_passes {
+            crate::render::visibility::culling(&self.ctx, settings)
+        } else {
+            Culling::Off
         };
         Ok(UploadedGlyphs {
             gpu,

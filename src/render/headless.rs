@@ -118,8 +118,11 @@ pub struct RenderedImage {
     /// The ray caster that drew it (what `auto` chose).
     pub path: RenderPath,
     /// Passes its glyphs were drawn in: more than one where hidden glyphs were culled
-    /// (`cull`), 1 otherwise.
+    /// in passes (`cull`), 1 otherwise.
     pub passes: usize,
+    /// How its hidden glyphs were skipped: `Passes`, `EarlyOut`, or `Off` (drawn as
+    /// without culling).
+    pub culling: crate::render::Culling,
 }
 
 /// The offscreen targets of one image size, with their readback buffers.
@@ -348,6 +351,7 @@ impl HeadlessRenderer {
         let mut image = read_back(&frame.targets, view.width, view.height)?;
         image.draws = frame.draws();
         image.passes = frame.passes();
+        image.culling = frame.culling();
         image.mesh = frame.mesh_stats().copied();
         image.gpu_ms = gpu_ms;
         image.path = frame.path();
@@ -521,6 +525,7 @@ impl HeadlessRenderer {
         let mut image = read_back(&frame.targets, frame.size.width, frame.size.height)?;
         image.draws = frame.draws();
         image.passes = frame.passes();
+        image.culling = frame.culling();
         image.mesh = frame.mesh_stats().copied();
         image.path = frame.path();
         gpu.check_validation()?;
@@ -613,6 +618,15 @@ impl PreparedFrame {
         }
     }
 
+    /// How the frame skips hidden glyphs (render::visibility): `Passes`, `EarlyOut`, or
+    /// `Off` (a flat field, culling off, the tessellated and compute paths).
+    pub fn culling(&self) -> crate::render::Culling {
+        match &self.scene {
+            GlyphsOnGpu::RayCast(glyphs) => glyphs.culling(0),
+            _ => crate::render::Culling::Off,
+        }
+    }
+
     /// Instanced draws per frame (dispatches for the compute ray caster).
     pub fn draws(&self) -> usize {
         match &self.scene {
@@ -683,7 +697,13 @@ fn record_frame(
         }
         compute.record(cmd, &on_gpu.scene)?;
     }
-    clear_visibility(d, cmd, &frame.targets.visibility, frame.count_work);
+    let early_out = frame.culling() == crate::render::Culling::EarlyOut;
+    clear_visibility(
+        d,
+        cmd,
+        &frame.targets.visibility,
+        (frame.count_work, early_out),
+    );
     begin_targets(d, cmd, &frame.targets);
     if let (Some(timer), false) = (timer, matches!(frame.scene, GlyphsOnGpu::Compute(_))) {
         timer.start(cmd);
@@ -811,12 +831,13 @@ fn record_frame(
 }
 
 /// Before the frame: the known depths' row length and the first pass's visibility word,
-/// and the work counters at zero when the frame counts.
+/// the work counters at zero when the frame counts, and with early outs the known depths
+/// at the clear depth (no hit yet).
 fn clear_visibility(
     d: &ash::Device,
     cmd: vk::CommandBuffer,
     visibility: &VisibilityBuffers,
-    count: bool,
+    (count, early_out): (bool, bool),
 ) {
     // SAFETY: `cmd` is recording outside rendering; the buffers are alive until the
     // submission completes.
@@ -832,8 +853,24 @@ fn clear_visibility(
             visibility.known.handle,
             4,
             4,
-            visibility_word(count, crate::vk::DrawStage::Normal),
+            visibility_word(count, crate::vk::DrawStage::Normal)
+                | if early_out {
+                    crate::catalog::codes::VISIBILITY_EARLY_OUT
+                } else {
+                    0
+                },
         );
+        if early_out {
+            let clear = PassOptions::default().depth.clear_depth().to_bits();
+            let bytes = 4 * u64::from(visibility.pixels);
+            d.cmd_fill_buffer(
+                cmd,
+                visibility.known.handle,
+                KNOWN_DEPTH_HEADER,
+                bytes,
+                clear,
+            );
+        }
         if count {
             d.cmd_fill_buffer(cmd, visibility.counters.handle, 0, vk::WHOLE_SIZE, 0);
         }
@@ -1322,6 +1359,7 @@ fn read_back(t: &Targets, width: u32, height: u32) -> Result<RenderedImage> {
         mesh: None,
         path: RenderPath::Fragment,
         passes: 1,
+        culling: crate::render::Culling::Off,
     })
 }
 

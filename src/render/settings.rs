@@ -460,12 +460,20 @@ impl std::fmt::Display for AmbientOcclusion {
 /// Whether glyphs hidden behind others are skipped (`--cull`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Culling {
-    /// The default: the headless renderer draws the glyphs in passes front to back, and
-    /// each pass skips the fragments behind the depth its earlier passes wrote. The image
-    /// and the depth map are the same as without it; a frame that fits in one pass (a
-    /// flat field) is drawn as without it.
+    /// The default: `early-out` on a device that jumps over code no lane of a batch of
+    /// pixels runs (a GPU; lavapipe of Mesa 25 and later) where the method is `exact`,
+    /// else `passes`. The image and the depth map are the same as without culling; a
+    /// frame that fits in one pass (a flat field) is drawn as without it.
     #[default]
     Occluded,
+    /// The headless renderer draws the glyphs in passes front to back, and each pass
+    /// skips the fragments behind the depth its earlier passes wrote (the depth test
+    /// before the fragment shader: saves work on every device).
+    Passes,
+    /// One pass front to back in which each hit raises its pixel's known depth, and a
+    /// fragment whose box lies behind it skips the root isolation (the `exact` method's
+    /// shader; saves work only on a device that jumps over code no lane runs).
+    EarlyOut,
     /// One pass: every glyph's fragments run.
     Off,
 }
@@ -475,11 +483,13 @@ impl std::str::FromStr for Culling {
     fn from_str(s: &str) -> Result<Self> {
         match s.trim() {
             "occluded" | "on" => Ok(Culling::Occluded),
+            "passes" => Ok(Culling::Passes),
+            "early-out" => Ok(Culling::EarlyOut),
             "off" | "none" => Ok(Culling::Off),
             _ => Err(Error::setting_value(
                 Setting::Cull,
                 format!("'{}'", quoted(s)),
-                "not one of occluded, off",
+                "not one of occluded, passes, early-out, off",
             )),
         }
     }
@@ -490,6 +500,8 @@ impl std::fmt::Display for Culling {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {
             Culling::Occluded => "occluded",
+            Culling::Passes => "passes",
+            Culling::EarlyOut => "early-out",
             Culling::Off => "off",
         })
     }

@@ -488,12 +488,16 @@ render_settings! {
         accepts: "off, on (or the flag alone: reach 1), REACH (bounding radii, above 0 to 16)",
         range: Range::Any, reads: Reads::Methods(&["exact"]), number: None,
     }
-    /// Glyphs hidden behind others: occluded (the glyphs are drawn in passes front to
-    /// back, and each pass skips the pixels where an earlier one drew a nearer surface;
-    /// the image and the depth map are the same; a flat field is one pass, drawn as
-    /// without it) or off (one pass: every glyph's pixels run).
+    /// Glyphs hidden behind others: occluded (the device's best of the two ways below;
+    /// the image and the depth map are the same; a flat field is drawn as without it),
+    /// passes (the glyphs are drawn in passes front to back, and each pass skips the
+    /// pixels where an earlier one drew a nearer surface), early-out (one pass front to
+    /// back whose fragments behind a hit found before skip the root isolation: the
+    /// exact method, on a device that jumps over code no pixel of a batch runs, such as
+    /// a GPU or lavapipe of Mesa 25) or off (one pass: every glyph's pixels run).
     cull: Culling = Cull("cull") {
-        kind: Name, value: "occluded|off", default: "occluded", accepts: "occluded, off",
+        kind: Name, value: "occluded|passes|early-out|off", default: "occluded",
+        accepts: "occluded, passes, early-out, off",
         range: Range::Any, reads: Reads::Always, number: None,
     }
     /// Samples per pixel: supersampling draws at 2 or 4 times the width and height, then

@@ -39,6 +39,7 @@
 //! and the glyph evaluations (the exact method's root isolations, the other methods'
 //! marched rays): `glyphcast bench` reports them per covered pixel.
 use crate::error::Result;
+use crate::render::Culling;
 use crate::render::frame::FrameParams;
 use crate::vk::{Buffer, BufferBinding, DescriptorPool, DeviceContext, buffer_binding};
 use ash::vk;
@@ -117,12 +118,18 @@ pub(crate) fn clusters(instances: &[[f32; 4]]) -> Vec<Cluster> {
 pub struct PassPlan {
     draws: Vec<(u32, u32)>,
     starts: Vec<usize>,
+    early_out: bool,
 }
 
 impl PassPlan {
     /// Passes of the frame (0 for no glyphs).
     pub fn passes(&self) -> usize {
         self.starts.len()
+    }
+
+    /// Whether the frame is one pass front to back with early outs (`Culling::EarlyOut`).
+    pub fn early_out(&self) -> bool {
+        self.early_out
     }
 
     /// The (batch, cluster) pairs of pass `k`.
@@ -189,11 +196,12 @@ impl View {
 
 /// The passes of a frame seen as `frame` says, over batches whose clusters are
 /// `batches`: none where `cull` is off (one pass, one draw per batch), else the clusters
-/// nearest first, cut into passes as the module says.
+/// nearest first, cut into passes as the module says; with early outs, a frame that
+/// needs more than one pass is drawn in one, nearest first.
 pub(crate) fn plan<'a>(
     batches: impl Iterator<Item = &'a [Cluster]> + Clone,
     frame: &FrameParams,
-    cull: bool,
+    cull: Culling,
 ) -> PassPlan {
     let mut draws: Vec<(u32, u32)> = batches
         .clone()
@@ -203,7 +211,7 @@ pub(crate) fn plan<'a>(
     if draws.is_empty() {
         return PassPlan::default();
     }
-    if !cull {
+    if !matches!(cull, Culling::Passes | Culling::EarlyOut) {
         // One draw per batch, as engines record it.
         return PassPlan::default();
     }
@@ -259,7 +267,18 @@ pub(crate) fn plan<'a>(
         // One pass: one draw per batch, as without culling.
         return PassPlan::default();
     }
-    PassPlan { draws, starts }
+    if cull == Culling::EarlyOut {
+        return PassPlan {
+            draws,
+            starts: vec![0],
+            early_out: true,
+        };
+    }
+    PassPlan {
+        draws,
+        starts,
+        early_out: false,
+    }
 }
 
 /// The bindings of the ray-casting pass's visibility set (set 1): the work counters and
@@ -274,14 +293,27 @@ pub(crate) fn visibility_bindings() -> [vk::DescriptorSetLayoutBinding<'static>;
     ]
 }
 
-/// Whether frames drawn with `settings` on this device can be culled: a ray-casting
-/// method with a box per glyph (not the impostor, whose shader does not take part), on
-/// the fragment path (which engines' passes take for `auto`), and a device that blends the float32 ray distance (the first stage
-/// of the later passes keeps the smaller one).
-pub(crate) fn can_cull(ctx: &DeviceContext, settings: &crate::render::RenderSettings) -> bool {
+/// How frames drawn with `settings` on this device are culled: not at all for the
+/// impostor and the meshes (their shaders do not take part) and on the compute path;
+/// in passes where the device blends the float32 ray distance (the first stage of the
+/// later passes keeps the smaller one); with early outs for the `exact` method, whose
+/// shader has them. `Occluded` takes the early outs on a device that jumps over code
+/// no lane runs (on the others they save nothing), else the passes.
+pub(crate) fn culling(ctx: &DeviceContext, settings: &crate::render::RenderSettings) -> Culling {
     use crate::render::{Method, RenderPath};
     let method = !matches!(settings.method, Method::Impostor | Method::Mesh(_));
-    method && settings.path != RenderPath::Compute && ctx.blends_float32()
+    if !method || settings.path == RenderPath::Compute {
+        return Culling::Off;
+    }
+    let passes = ctx.blends_float32();
+    let early_out = settings.method == Method::Exact;
+    match settings.cull {
+        Culling::Passes if passes => Culling::Passes,
+        Culling::EarlyOut if early_out => Culling::EarlyOut,
+        Culling::Occluded if early_out && ctx.skips_idle_branches() => Culling::EarlyOut,
+        Culling::Occluded if passes => Culling::Passes,
+        _ => Culling::Off,
+    }
 }
 
 /// What the passes of one target share: its work counters and the buffer its depth is

@@ -125,6 +125,9 @@ pub struct DeviceContext {
     /// Whether compute shaders have subgroup vote and ballot operations (the compute ray
     /// caster's walk, glsl/raycast_exact.comp).
     compute_votes: bool,
+    /// Whether the device jumps over a branch that no lane of a batch takes (a GPU, and
+    /// lavapipe from Mesa 25; Mesa 22.3's runs it masked): culling by early outs.
+    skips_idle_branches: bool,
 }
 
 impl DeviceContext {
@@ -221,9 +224,18 @@ impl DeviceContext {
             .optimal_tiling_features
             .contains(vk::FormatFeatureFlags::COLOR_ATTACHMENT_BLEND);
         let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
-        let mut properties = vk::PhysicalDeviceProperties2::default().push_next(&mut subgroup);
-        // SAFETY: as above; the chain holds one structure that Vulkan 1.1 knows.
+        let mut driver = vk::PhysicalDeviceDriverProperties::default();
+        let mut properties = vk::PhysicalDeviceProperties2::default()
+            .push_next(&mut subgroup)
+            .push_next(&mut driver);
+        // SAFETY: as above; the chain holds structures that Vulkan 1.2 knows (the device
+        // has Vulkan 1.3).
         unsafe { instance.get_physical_device_properties2(physical_device, &mut properties) };
+        let skips_idle_branches = skips_idle_branches(
+            props.device_type,
+            driver.driver_id,
+            driver.driver_info_as_c_str().ok(),
+        );
         let compute_votes = subgroup
             .supported_stages
             .contains(vk::ShaderStageFlags::COMPUTE)
@@ -234,6 +246,7 @@ impl DeviceContext {
             blends_float32,
             device_type: props.device_type,
             compute_votes,
+            skips_idle_branches,
             owner: Arc::new(owner),
             max_storage_buffer_range: limits.max_storage_buffer_range as u64,
             max_varying_components: limits
@@ -256,6 +269,13 @@ impl DeviceContext {
     /// compute path is refused.
     pub fn compute_votes(&self) -> bool {
         self.compute_votes
+    }
+
+    /// Whether the device jumps over a branch that no lane of a batch of pixels takes,
+    /// which culling by early outs needs to save anything (`Culling::Occluded` takes
+    /// them there).
+    pub(crate) fn skips_idle_branches(&self) -> bool {
+        self.skips_idle_branches
     }
 
     /// The pipeline cache every pipeline of this context is created through (null when
@@ -344,4 +364,30 @@ fn create_pipeline_cache(
     create(file.initial_data())
         .or_else(|_| create(&[]))
         .unwrap_or(vk::PipelineCache::null())
+}
+
+/// Whether a device of this type and driver jumps over a branch that no lane of a batch
+/// takes. A GPU does; llvmpipe (lavapipe) runs such code masked in Mesa 22.3 and jumps
+/// over it in Mesa 25.0 (measured: a culled 16-layer block 1.6 times faster with early
+/// outs on Mesa 25.0, 1.9 times slower on Mesa 22.3, whose passes stay). The Mesa
+/// releases between were not measured and keep the passes; another CPU device is taken
+/// to run branches masked.
+fn skips_idle_branches(
+    device_type: vk::PhysicalDeviceType,
+    driver: vk::DriverId,
+    info: Option<&std::ffi::CStr>,
+) -> bool {
+    if device_type != vk::PhysicalDeviceType::CPU {
+        return true;
+    }
+    if driver != vk::DriverId::MESA_LLVMPIPE {
+        return false;
+    }
+    // lavapipe's driver info: "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)".
+    let major = info
+        .and_then(|i| i.to_str().ok())
+        .and_then(|i| i.trim().strip_prefix("Mesa "))
+        .and_then(|v| v.split('.').next())
+        .and_then(|m| m.parse::<u32>().ok());
+    major.is_some_and(|m| m >= 25)
 }

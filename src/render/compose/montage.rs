@@ -95,6 +95,7 @@ impl Montage {
                 // Until a panel is placed: the path of an image no ray caster drew.
                 path: crate::render::RenderPath::Fragment,
                 passes: 1,
+                culling: crate::render::Culling::Off,
             },
         }
     }
@@ -118,6 +119,9 @@ impl Montage {
         out.draws += panel.draws;
         out.path = panel.path;
         out.passes = out.passes.max(panel.passes);
+        if panel.culling != crate::render::Culling::Off {
+            out.culling = panel.culling;
+        }
     }
 
     /// The assembled image.
@@ -304,6 +308,7 @@ mod tests {
             mesh: None,
             path: crate::render::RenderPath::Fragment,
             passes: 1,
+            culling: crate::render::Culling::Off,
         }
     }
 

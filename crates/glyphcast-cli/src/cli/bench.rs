@@ -49,8 +49,10 @@ pub struct BenchArgs {
     /// shader per pixel over screen tiles; exact only).
     #[arg(long, default_value = "fragment")]
     path: String,
-    /// Hidden glyphs in a single measurement: occluded (drawn in passes front to back,
-    /// each skipping the pixels an earlier pass covered nearer) or off (one pass).
+    /// Hidden glyphs in a single measurement: occluded (the device's best of passes and
+    /// early-out), passes (drawn in passes front to back, each skipping the pixels an
+    /// earlier pass covered nearer), early-out (one pass front to back whose fragments
+    /// behind a hit found before skip the root isolation) or off (one pass).
     #[arg(long, default_value = "occluded")]
     cull: String,
     /// Also compare a single measurement with the float64 reference.

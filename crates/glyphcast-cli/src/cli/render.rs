@@ -395,9 +395,12 @@ pub fn render(
             glyphcast::RenderPath::Auto => " (auto)",
             _ => "",
         },
-        match image.passes {
-            0 | 1 => String::new(),
-            n => format!(" in {n} passes (hidden glyphs culled)"),
+        match (image.culling, image.passes) {
+            (glyphcast::render::Culling::EarlyOut, _) => {
+                " in one pass front to back (hidden glyphs culled by early outs)".to_owned()
+            }
+            (_, 0 | 1) => String::new(),
+            (_, n) => format!(" in {n} passes (hidden glyphs culled)"),
         },
         prepare_time.as_secs_f64() * 1e3,
         begun.elapsed().as_secs_f64() * 1e3
