@@ -138,6 +138,9 @@ bool hidden_by_known() {
 // one, which is copied into the depth attachment after the pass.
 bool shows_hit(float distance, float depth) {
     uint word = known_header.y;
+    if ((word & uint(VISIBILITY_SHADE_NEAREST | VISIBILITY_GATE | VISIBILITY_EARLY_OUT)) == 0u) {
+        return true;
+    }
     uvec2 pixel = uvec2(gl_FragCoord.xy);
     uint index = pixel.y * known_header.x + pixel.x;
     bool reversed = frame.window.z > 0.5;
@@ -150,9 +153,6 @@ bool shows_hit(float distance, float depth) {
         } else {
             atomicMin(known_words[index], bits);
         }
-        return true;
-    }
-    if ((word & uint(VISIBILITY_SHADE_NEAREST | VISIBILITY_GATE)) == 0u) {
         return true;
     }
     float known = uintBitsToFloat(known_words[index]);

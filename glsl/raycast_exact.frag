@@ -217,7 +217,11 @@ void main() {
     // The whole cast inside the branch (not after an early discard): lavapipe of Mesa 25
     // jumps over a branch that none of its batch of pixels takes, and runs the code after
     // a discard masked.
-    if (!hidden_by_known()) {
+    bool hidden = hidden_by_known();
+    if (hidden) {
+        count_work(WORK_FRAGMENTS);  // launched all the same (the others count below)
+    }
+    if (!hidden) {
         GlyphRay ray;
         if (!glyph_ray_within(CHORD_RADIUS, ray)) {
             discard;
