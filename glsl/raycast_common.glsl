@@ -51,9 +51,10 @@ layout(depth_less) out float gl_FragDepth;  // reversed depth: hits lie behind t
 // depth attachment, which the pass's winners update and which is copied back after it);
 // and per pixel, during the first stage of a later pass the gate of its second stage,
 // during the second the nearest ray distance the pass's glyphs reach (the first stage's
-// result). The header holds the row length (x) and the visibility word (y:
-// VISIBILITY_SHADE_NEAREST, VISIBILITY_GATE, VISIBILITY_COUNT). The word is read from a
-// storage buffer, not pushed: lavapipe compiles a shader again for each value of a push
+// result). The header holds the row length (x), the visibility word (y:
+// VISIBILITY_SHADE_NEAREST, VISIBILITY_GATE, VISIBILITY_COUNT, VISIBILITY_EARLY_OUT) and
+// the target's first pixel (z, w: a host's scissor offset; 0 for the headless targets).
+// The word is read from a storage buffer, not pushed: lavapipe compiles a shader again for each value of a push
 // constant that steers a branch.
 layout(std430, set = 1, binding = 0) buffer WorkCounters {
     uint work_counters[4];  // WORK_FRAGMENTS, WORK_EVALUATIONS
@@ -65,6 +66,12 @@ layout(std430, set = 1, binding = 1) buffer KnownDepth {
 layout(std430, set = 1, binding = 2) buffer NearestDistance {
     uint nearest_words[];  // the gate's bits, then the nearest distances'
 };
+
+// This fragment's pixel among the known depths.
+uint known_index() {
+    uvec2 pixel = uvec2(gl_FragCoord.xy) - known_header.zw;
+    return pixel.y * known_header.x + pixel.x;
+}
 
 // Adds one to work counter `counter` when the pass counts its work.
 void count_work(int counter) {
@@ -118,8 +125,7 @@ bool hidden_by_known() {
     if ((known_header.y & uint(VISIBILITY_EARLY_OUT)) == 0u) {
         return false;
     }
-    uvec2 pixel = uvec2(gl_FragCoord.xy);
-    float known = uintBitsToFloat(known_words[pixel.y * known_header.x + pixel.x]);
+    float known = uintBitsToFloat(known_words[known_index()]);
     uint bits = floatBitsToUint(known);
     if (frame.window.z > 0.5) {
         float edge = min(known * (1.0 - GATE_MARGIN), uintBitsToFloat(max(bits, 8u) - 8u));
@@ -141,8 +147,7 @@ bool shows_hit(float distance, float depth) {
     if ((word & uint(VISIBILITY_SHADE_NEAREST | VISIBILITY_GATE | VISIBILITY_EARLY_OUT)) == 0u) {
         return true;
     }
-    uvec2 pixel = uvec2(gl_FragCoord.xy);
-    uint index = pixel.y * known_header.x + pixel.x;
+    uint index = known_index();
     bool reversed = frame.window.z > 0.5;
     if ((word & uint(VISIBILITY_EARLY_OUT)) != 0u) {
         // Every hit is a surface the pixel shows or hides behind a nearer one: it

@@ -45,6 +45,68 @@ fn window_shows_what_the_headless_renderer_draws() {
     assert_window_matches(&window, &expected);
 }
 
+/// Early outs in the window (`--cull early-out`; what `occluded` takes on a device that
+/// jumps over code no pixel runs): a block of 8 x 8 x 12 fODFs seen head-on, drawn in
+/// one pass nearest first with each frame's known depths cleared before its rendering,
+/// shows the window of `--cull off` bit for bit, and the headless renderer's picture.
+#[test]
+fn early_outs_in_the_window_keep_every_pixel() {
+    let Some(x) = Xvfb::start("early_outs_in_the_window_keep_every_pixel") else {
+        return;
+    };
+    let scene = out("early-outs-block.json");
+    std::fs::create_dir_all(out("early-outs-bench")).expect("the bench's folder");
+    let bench = Command::new(BIN)
+        .args(["bench", "--workload", "block:8:8:12:8", "--width", "200"])
+        .args(["--height", "150", "--frames", "1", "--warmup", "0"])
+        .arg("--save-scene")
+        .arg(&scene)
+        .arg("--out")
+        .arg(out("early-outs-bench"))
+        .output()
+        .expect("running glyphcast bench");
+    assert!(
+        bench.status.success(),
+        "{}",
+        String::from_utf8_lossy(&bench.stderr)
+    );
+    let mut windows = Vec::new();
+    for cull in ["off", "early-out"] {
+        let window = out(&format!("early-outs-window-{cull}.png"));
+        let output = x.view(&[
+            path_str(&scene),
+            "--width",
+            "200",
+            "--height",
+            "150",
+            "--frames",
+            "3",
+            "--cull",
+            cull,
+            "--capture-window",
+            path_str(&window),
+        ]);
+        assert_clean(&output);
+        let text = String::from_utf8_lossy(&output.stderr);
+        assert!(
+            text.contains(&format!("hidden glyphs culled: {cull}\n")),
+            "{cull}: {text}"
+        );
+        windows.push(window);
+    }
+    assert_eq!(
+        differing_pixels(&windows[0], &windows[1], 0).0,
+        0,
+        "the window differs with early outs"
+    );
+    let expected = render(
+        &scene,
+        "early-outs-render.png",
+        &["--width", "200", "--height", "150"],
+    );
+    assert_window_matches(&windows[1], &expected);
+}
+
 /// `--path compute`: the window's frames dispatch the compute ray caster before their
 /// rendering and compose its outputs in it; the window and the screenshot show what
 /// the fragment path draws (the sRGB bytes within one unit).

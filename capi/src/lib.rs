@@ -1085,7 +1085,10 @@ pub unsafe extern "C" fn glyphcast_renderer_record(
 /// compute ray caster into `command_buffer`, outside any rendering and before the
 /// rendering in which [`glyphcast_renderer_record`] draws their outputs. It writes only
 /// glyphcast's own buffers, with the barriers they need; the host's images need nothing
-/// more than for the fragment path. An error for a renderer of the fragment path.
+/// more than for the fragment path. On the fragment path it records the clearing of the
+/// frame's per-pixel known depths where the frame culls hidden glyphs by early outs (the
+/// default on a device that jumps over code no pixel runs, one sample per pixel), which
+/// the frame's next [`glyphcast_renderer_record`] takes; nothing otherwise.
 ///
 /// # Safety
 /// `renderer` is live; `command_buffer` is recording, outside any rendering.

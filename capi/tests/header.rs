@@ -51,10 +51,11 @@ fn the_settings_struct_has_every_render_setting() {
         // The host's colour and depth attachments decide these, not glyphcast.
         ("samples", "the host's attachments' sample count"),
         ("background", "the host clears its own attachments"),
-        // Culling draws a frame in passes of its own renderings, which a host's pass is not.
+        // A host's pass culls as the default says (early outs, where the device jumps
+        // over idle code and the host calls record_compute before its rendering).
         (
             "cull",
-            "the engine component draws in one pass of the host's",
+            "the engine component draws in one pass of the host's, culled by early outs by default",
         ),
     ];
     for spec in glyphcast::render::table::RENDER_SETTINGS {

@@ -38,7 +38,9 @@ mod plane;
 use ash::vk;
 use engine::{Engine, Target, Validation, subresource_range};
 use glam::{DMat4, DVec3};
+use glyphcast::bench::workload::{BlockView, block};
 use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
+use glyphcast::render::Culling;
 use glyphcast::render::host_view::{look_at, perspective};
 use glyphcast::{
     Camera, DepthConvention, DeviceContext, GlyphRenderer, GlyphSetData, HostView, ImageSize,
@@ -93,6 +95,10 @@ struct Options {
     /// by), and whether the engine records the compute path's dispatches.
     as_gpu: bool,
     dispatches: bool,
+    /// Tests: a block of 8 x 8 x 12 band-8 fODFs seen head-on (glyphs hidden behind
+    /// others) instead of the six glyphs, and how hidden glyphs are culled.
+    block: bool,
+    cull: Culling,
 }
 
 impl Default for Options {
@@ -111,6 +117,8 @@ impl Default for Options {
             path: RenderPath::Fragment,
             as_gpu: false,
             dispatches: true,
+            block: false,
+            cull: Culling::Occluded,
         }
     }
 }
@@ -374,6 +382,9 @@ struct Run {
     sets: Vec<GlyphSetData>,
     /// The ray caster the last glyphs were drawn with (`GlyphRenderer::path`).
     path: RenderPath,
+    /// How the last frame's hidden glyphs were planned to be culled
+    /// (`GlyphRenderer::culling`).
+    culling: Culling,
 }
 
 fn run(options: &Options) -> Result<Run> {
@@ -433,10 +444,22 @@ fn draw_frames(engine: &Engine, options: &Options, plain: Option<Arc<PlainMemory
     let samples = vk::SampleCountFlags::from_raw(options.samples);
     let settings = RenderSettings {
         path: options.path,
+        cull: options.cull,
         ..RenderSettings::default()
     };
-    let first = prepare_scene(&scene(0), settings.offset as f64)?;
-    let second = prepare_scene(&scene(1), settings.offset as f64)?;
+    let blocks = options
+        .block
+        .then(|| block((8, 8, 12), 8, BlockView::Front, WIDTH, HEIGHT))
+        .transpose()?;
+    let (first, second) = match &blocks {
+        // The same block twice (the glyphs are still replaced halfway).
+        Some(b) => (prepare_scene(b, 0.0)?, prepare_scene(b, 0.0)?),
+        None => (
+            prepare_scene(&scene(0), settings.offset as f64)?,
+            prepare_scene(&scene(1), settings.offset as f64)?,
+        ),
+    };
+    let camera = |frame| blocks.as_ref().map_or_else(|| camera(frame), |b| b.camera);
     let desc = RendererDesc {
         formats: TargetFormats {
             color: COLOR_FORMAT,
@@ -514,8 +537,9 @@ fn draw_frames(engine: &Engine, options: &Options, plain: Option<Arc<PlainMemory
             d.begin_command_buffer(slot.cmd, &begin)?;
         }
         // Outside the rendering: the compute path's dispatches into glyphcast's own
-        // buffers (nothing on the fragment path; with `auto` on a GPU, this is what lets
-        // it take the compute path).
+        // buffers (on the fragment path, the clearing of its early outs' known depths
+        // where the frame takes them; with `auto` on a GPU, this is what lets it take
+        // the compute path).
         if options.dispatches {
             glyphs.record_compute(slot.cmd, index)?;
         }
@@ -549,6 +573,7 @@ fn draw_frames(engine: &Engine, options: &Options, plain: Option<Arc<PlainMemory
         projection: host_matrices(&camera(last), options.depth, rect).1,
         sets: sets.clone(),
         path: glyphs.path(),
+        culling: glyphs.culling(last as usize % options.in_flight),
     };
     engine.destroy_readback(color_readback)?;
     engine.destroy_readback(depth_readback)?;

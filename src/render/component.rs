@@ -84,6 +84,64 @@ pub struct UploadedGlyphs {
     /// On the compute path: the glyphs as the compute ray caster reads them (`gpu` then
     /// holds no glyph, only the frame blocks).
     compute: Option<ComputeUploaded>,
+    /// A host's frames culled by early outs: the known depths of each frame index.
+    host_early_outs: Option<HostEarlyOuts>,
+}
+
+/// The known depths of a host's frames drawn with early outs (render::visibility), which
+/// `record_compute` clears before the host's rendering.
+struct HostEarlyOuts {
+    ctx: DeviceContext,
+    /// The ray-casting pass's visibility set layout, which the known depths' sets take.
+    layout: vk::DescriptorSetLayout,
+    /// The host's clear depth: no hit yet.
+    clear_depth: f32,
+    /// Per frame index: its known depths, made for the scissor of its view.
+    slots: Vec<Option<EarlyOutSlot>>,
+}
+
+/// The known depths of one frame index.
+struct EarlyOutSlot {
+    buffers: VisibilityBuffers,
+    scissor: vk::Rect2D,
+    /// Whether `record_compute` cleared them since the view was set; `record` takes
+    /// the early outs only then (atomic: hosts may record from several threads).
+    cleared: AtomicBool,
+}
+
+impl HostEarlyOuts {
+    /// Frame index `k` drawn over `scissor` with early outs (`on`) or without: its known
+    /// depths made for the scissor's size where they are not, and not cleared yet.
+    fn set_view(&mut self, k: usize, scissor: vk::Rect2D, on: bool) -> Result<()> {
+        let Some(slot) = self.slots.get_mut(k) else {
+            return Ok(());
+        };
+        if !on {
+            if let Some(s) = slot {
+                s.cleared.store(false, Ordering::SeqCst);
+            }
+            return Ok(());
+        }
+        let fits = slot
+            .as_ref()
+            .is_some_and(|s| s.scissor.extent == scissor.extent);
+        if !fits {
+            // The frame index's previous submission has completed (set_view's promise).
+            *slot = None;
+            let (w, h) = (scissor.extent.width, scissor.extent.height);
+            let buffers = VisibilityBuffers::for_early_outs(&self.ctx, self.layout, w, h)?;
+            *slot = Some(EarlyOutSlot {
+                buffers,
+                scissor,
+                cleared: AtomicBool::new(false),
+            });
+        }
+        if let Some(s) = slot {
+            s.scissor = scissor;
+            s.cleared.store(false, Ordering::SeqCst);
+        }
+        Ok(())
+    }
 }
 
 impl UploadedGlyphs {
@@ -129,7 +187,47 @@ impl UploadedGlyphs {
             let clusters = self.gpu.sets.iter().map(|set| set.clusters.as_slice());
             *plan = crate::render::visibility::plan(clusters, frame, self.cull);
         }
+        let early_out = self.culling(k) == Culling::EarlyOut;
+        if let Some(host) = &mut self.host_early_outs {
+            host.set_view(k, target.scissor, early_out)?;
+        }
         Ok(())
+    }
+
+    /// On the fragment path with early outs: records the clearing of frame
+    /// `frame_index`'s known depths (outside any rendering), after which `record` takes
+    /// the early outs; nothing for a frame drawn without them.
+    fn record_early_out_clear(&self, cmd: vk::CommandBuffer, frame_index: usize) {
+        let Some(host) = &self.host_early_outs else {
+            return;
+        };
+        let Some(Some(slot)) = host.slots.get(frame_index) else {
+            return;
+        };
+        if self.culling(frame_index) != Culling::EarlyOut {
+            return;
+        }
+        let origin = [
+            slot.scissor.offset.x.max(0) as u32,
+            slot.scissor.offset.y.max(0) as u32,
+        ];
+        let d = host.ctx.device();
+        slot.buffers
+            .record_early_out_clear(d, cmd, origin, host.clear_depth);
+        slot.cleared.store(true, Ordering::SeqCst);
+    }
+
+    /// The known depths that frame `frame_index` is drawn with, where `record_compute`
+    /// cleared them since its view was set (and no `record` took them since).
+    fn cleared_early_outs(&self, frame_index: usize) -> Option<&VisibilityBuffers> {
+        let slot = self
+            .host_early_outs
+            .as_ref()?
+            .slots
+            .get(frame_index)?
+            .as_ref()?;
+        let cleared = slot.cleared.swap(false, Ordering::SeqCst);
+        (cleared && self.culling(frame_index) == Culling::EarlyOut).then_some(&slot.buffers)
     }
 
     /// The ray caster that draws these glyphs: compute or fragment; with `auto` on a GPU,
@@ -442,10 +540,23 @@ impl GlyphRenderer {
         // Culled glyphs are drawn in passes whose later stages have pipelines of their own,
         // made when a frame first needs more than one pass (`prepare_passes`). A host's
         // frame is one pass: its glyphs are not planned (no sorting at every `set_view`).
-        let cull = if self.draws_passes {
-            crate::render::visibility::culling(&self.ctx, settings)
-        } else {
-            Culling::Off
+        // A host's frame is one pass, culled by early outs (one sample per pixel: with
+        // several, a box's samples need not be those the known hit covered) where the
+        // host clears their known depths before its rendering (`record_compute`).
+        let single_sample = self.pass.options().samples == vk::SampleCountFlags::TYPE_1;
+        let cull = match crate::render::visibility::culling(&self.ctx, settings) {
+            cull if self.draws_passes => cull,
+            Culling::EarlyOut if single_sample => Culling::EarlyOut,
+            _ => Culling::Off,
+        };
+        let host_early_outs = match cull {
+            Culling::EarlyOut if !self.draws_passes => Some(HostEarlyOuts {
+                ctx: self.ctx.clone(),
+                layout: self.pass.visibility_set_layout()?,
+                clear_depth: self.pass.options().depth.clear_depth(),
+                slots: (0..self.frames_in_flight).map(|_| None).collect(),
+            }),
+            _ => None,
         };
         Ok(UploadedGlyphs {
             gpu,
@@ -455,6 +566,7 @@ impl GlyphRenderer {
             cull,
             plans: vec![PassPlan::default(); self.frames_in_flight],
             compute,
+            host_early_outs,
         })
     }
 
@@ -529,7 +641,9 @@ impl GlyphRenderer {
     /// the host's attachments (formats and samples as given at creation): dynamic
     /// rendering, or the subpass of the render pass given at creation. Records only:
     /// nothing is compiled, written, submitted or waited on, so several threads may
-    /// record at once, each into its own command buffer.
+    /// record at once, each into its own command buffer. A frame planned for early outs
+    /// takes them after a [`GlyphRenderer::record_compute`] of the frame (one `record`
+    /// per such call), and is drawn as without culling otherwise.
     pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize) -> Result<()> {
         let glyphs = self.glyphs.as_ref().ok_or(Error::Call {
             call: "record",
@@ -541,8 +655,10 @@ impl GlyphRenderer {
     /// On the compute path (`path: compute`): records frame `frame_index`'s dispatches
     /// of the current glyphs into `cmd` outside any rendering, before the rendering in
     /// which [`GlyphRenderer::record`] draws their outputs. Writes only glyphcast's own
-    /// buffers, with the barriers they need (module docs). Records nothing on the
-    /// fragment path, so a host may call it whichever path it was made for.
+    /// buffers, with the barriers they need (module docs). On the fragment path it
+    /// records the clearing of the frame's known depths where it culls by early outs
+    /// ([`GlyphRenderer::culling`]), which the next `record` of the frame takes, and
+    /// nothing otherwise, so a host may call it whichever path it was made for.
     pub fn record_compute(&self, cmd: vk::CommandBuffer, frame_index: usize) -> Result<()> {
         let glyphs = self.glyphs.as_ref().ok_or(Error::Call {
             call: "record_compute",
@@ -561,6 +677,8 @@ impl GlyphRenderer {
     ) -> Result<()> {
         self.check_index(frame_index)?;
         let Some(compute) = &glyphs.compute else {
+            // The fragment path: the known depths of its early outs, if it takes them.
+            glyphs.record_early_out_clear(cmd, frame_index);
             return Ok(());
         };
         self.host_dispatches.store(true, Ordering::SeqCst);
@@ -599,6 +717,15 @@ impl GlyphRenderer {
             Some(glyphs) => glyphs.path(),
             None => self.settings.path,
         }
+    }
+
+    /// How frame `frame_index` of the current glyphs culls hidden glyphs
+    /// ([`UploadedGlyphs::culling`]): `EarlyOut` where its view was set for early outs
+    /// (they are taken by a `record` after a `record_compute`), else `Off`.
+    pub fn culling(&self, frame_index: usize) -> Culling {
+        self.glyphs
+            .as_ref()
+            .map_or(Culling::Off, |g| g.culling(frame_index))
     }
 
     /// [`GlyphRenderer::record`] for glyphs the caller holds ([`GlyphRenderer::upload`]),
@@ -642,6 +769,22 @@ impl GlyphRenderer {
             return Ok(());
         }
         let target = self.frame_target(glyphs, frame_index)?;
+        if let Some(visibility) = glyphs.cleared_early_outs(frame_index) {
+            // One pass nearest first, with early outs against the cleared known depths.
+            let passes = Passes {
+                plan: glyphs.plans.get(frame_index),
+                visibility,
+            };
+            let no_restart = &mut |_, _| Ok(());
+            return self.pass.record_passes(
+                cmd,
+                &glyphs.gpu,
+                &target,
+                glyphs.method,
+                passes,
+                no_restart,
+            );
+        }
         self.pass
             .record_frame(cmd, &glyphs.gpu, &target, glyphs.method)
     }

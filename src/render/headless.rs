@@ -848,6 +848,8 @@ fn clear_visibility(
                 .memory_barriers(&[memory_barrier(FRAGMENT_STORAGE, TRANSFER_WRITES)]),
         );
         d.cmd_fill_buffer(cmd, visibility.known.handle, 0, 4, visibility.width);
+        // The targets' first pixel: (0, 0).
+        d.cmd_fill_buffer(cmd, visibility.known.handle, 8, 8, 0);
         d.cmd_fill_buffer(
             cmd,
             visibility.known.handle,

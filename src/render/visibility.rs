@@ -71,7 +71,7 @@ pub const MAX_PASSES: usize = 32;
 pub const PASS_COVER: f64 = 3.0;
 
 /// Bytes before the known depths in their buffer (glsl/raycast_common.glsl `KnownDepth`:
-/// the row length, then three unused words).
+/// the row length, the visibility word, the target's first pixel).
 pub(crate) const KNOWN_DEPTH_HEADER: u64 = 16;
 
 /// The work counters of one frame (`WORK_*` of glsl/codes.glsl).
@@ -374,6 +374,65 @@ impl VisibilityBuffers {
             MemoryLocation::GpuOnly,
         )?;
         VisibilityBuffers::with_set(ctx, layout, [counters, known, nearest], (width, height))
+    }
+
+    /// The buffers of a host's frames drawn with early outs over a scissor of `width` x
+    /// `height` pixels: the known depths of its pixels (no gate or nearest distance, no
+    /// counting).
+    pub(crate) fn for_early_outs(
+        ctx: &DeviceContext,
+        layout: vk::DescriptorSetLayout,
+        width: u32,
+        height: u32,
+    ) -> Result<VisibilityBuffers> {
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let counters = Buffer::with_data(ctx, "work counters", &[0u32; 4], storage)?;
+        let pixels = u64::from(width) * u64::from(height);
+        let known = Buffer::new(
+            ctx,
+            "known depth",
+            KNOWN_DEPTH_HEADER + 4 * pixels,
+            storage | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
+        let nearest = Buffer::with_data(ctx, "nearest distance", &[0u32; 4], storage)?;
+        VisibilityBuffers::with_set(ctx, layout, [counters, known, nearest], (width, height))
+    }
+
+    /// Records, outside any rendering, the known depths of a host's frame with early
+    /// outs over the scissor at `origin`: its header (the row length, the visibility
+    /// word, the origin) and every pixel at `clear` (the host's clear depth: no hit yet),
+    /// with the barriers from and to the fragment shaders.
+    pub(crate) fn record_early_out_clear(
+        &self,
+        d: &ash::Device,
+        cmd: vk::CommandBuffer,
+        origin: [u32; 2],
+        clear: f32,
+    ) {
+        use crate::vk::recording::{FRAGMENT_STORAGE, TRANSFER_WRITES, memory_barrier};
+        let known = self.known.handle;
+        let word = crate::catalog::codes::VISIBILITY_EARLY_OUT;
+        // SAFETY: `cmd` is recording outside rendering (the caller's promise); the buffer
+        // is alive until the submission completes.
+        unsafe {
+            d.cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default()
+                    .memory_barriers(&[memory_barrier(FRAGMENT_STORAGE, TRANSFER_WRITES)]),
+            );
+            d.cmd_fill_buffer(cmd, known, 0, 4, self.width);
+            d.cmd_fill_buffer(cmd, known, 4, 4, word);
+            d.cmd_fill_buffer(cmd, known, 8, 4, origin[0]);
+            d.cmd_fill_buffer(cmd, known, 12, 4, origin[1]);
+            let bytes = 4 * u64::from(self.pixels);
+            d.cmd_fill_buffer(cmd, known, KNOWN_DEPTH_HEADER, bytes, clear.to_bits());
+            d.cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default()
+                    .memory_barriers(&[memory_barrier(TRANSFER_WRITES, FRAGMENT_STORAGE)]),
+            );
+        }
     }
 
     /// The buffers of frames drawn in one pass: a header of zeros (no known depth, no

@@ -391,3 +391,45 @@ fn skips_idle_branches(
         .and_then(|m| m.parse::<u32>().ok());
     major.is_some_and(|m| m >= 25)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::skips_idle_branches;
+    use ash::vk;
+
+    #[test]
+    fn lavapipe_from_mesa_25_on_and_gpus_take_the_early_outs() {
+        let cpu = vk::PhysicalDeviceType::CPU;
+        let llvmpipe = vk::DriverId::MESA_LLVMPIPE;
+        let info = |text: &'static std::ffi::CStr| Some(text);
+        assert!(skips_idle_branches(
+            cpu,
+            llvmpipe,
+            info(c"Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)")
+        ));
+        assert!(skips_idle_branches(
+            cpu,
+            llvmpipe,
+            info(c"Mesa 26.1.0-devel (git-1a2b3c)")
+        ));
+        assert!(!skips_idle_branches(
+            cpu,
+            llvmpipe,
+            info(c"Mesa 22.3.6 (LLVM 15.0.6)")
+        ));
+        assert!(!skips_idle_branches(cpu, llvmpipe, info(c"Mesa 24.2.8")));
+        assert!(!skips_idle_branches(cpu, llvmpipe, info(c"unknown")));
+        assert!(!skips_idle_branches(cpu, llvmpipe, None));
+        assert!(!skips_idle_branches(
+            cpu,
+            vk::DriverId::GOOGLE_SWIFTSHADER,
+            info(c"5.0")
+        ));
+        let gpu = vk::PhysicalDeviceType::DISCRETE_GPU;
+        assert!(skips_idle_branches(
+            gpu,
+            vk::DriverId::NVIDIA_PROPRIETARY,
+            None
+        ));
+    }
+}

@@ -708,6 +708,21 @@ impl App {
                 .collect();
             paths.dedup();
             eprintln!("ray caster: {}", paths.join(", "));
+            // How the last frame's hidden glyphs were culled (early outs, or off).
+            let mut culling: Vec<String> = self
+                .scene_gpu
+                .iter()
+                .flatten()
+                .map(|glyphs| {
+                    let slots = 0..presenter.frames_in_flight();
+                    let early = slots
+                        .into_iter()
+                        .any(|k| glyphs.culling(k) == glyphcast::render::Culling::EarlyOut);
+                    if early { "early-out" } else { "off" }.to_owned()
+                })
+                .collect();
+            culling.dedup();
+            eprintln!("hidden glyphs culled: {}", culling.join(", "));
         }
         if let Some(path) = self.options.capture_window.clone() {
             let capture = self
