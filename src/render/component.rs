@@ -538,15 +538,22 @@ impl GlyphRenderer {
             self.frames_in_flight,
         )?;
         // Culled glyphs are drawn in passes whose later stages have pipelines of their own,
-        // made when a frame first needs more than one pass (`prepare_passes`). A host's
-        // frame is one pass: its glyphs are not planned (no sorting at every `set_view`).
-        // A host's frame is one pass, culled by early outs (one sample per pixel: with
-        // several, a box's samples need not be those the known hit covered) where the
-        // host clears their known depths before its rendering (`record_compute`).
+        // made when a frame first needs more than one pass (`prepare_passes`), or in one
+        // pass with early outs. A host's frame is one pass, culled by early outs only,
+        // where the host clears their known depths before its rendering
+        // (`record_compute`); without them its glyphs are not planned (no sorting at
+        // every `set_view`). They need one sample per pixel (with several, the samples a
+        // box covers need not be those the known hit covered) and a float depth (a
+        // quantised one may round a skipped hit onto the known depth, where a depth test
+        // that keeps equal values could have kept it).
         let single_sample = self.pass.options().samples == vk::SampleCountFlags::TYPE_1;
+        let float_depth = matches!(
+            self.pass.formats().depth,
+            vk::Format::D32_SFLOAT | vk::Format::D32_SFLOAT_S8_UINT
+        );
         let cull = match crate::render::visibility::culling(&self.ctx, settings) {
             cull if self.draws_passes => cull,
-            Culling::EarlyOut if single_sample => Culling::EarlyOut,
+            Culling::EarlyOut if single_sample && float_depth => Culling::EarlyOut,
             _ => Culling::Off,
         };
         let host_early_outs = match cull {
