@@ -54,8 +54,8 @@ layout(depth_less) out float gl_FragDepth;  // reversed depth: hits lie behind t
 // result). The header holds the row length (x), the visibility word (y:
 // VISIBILITY_SHADE_NEAREST, VISIBILITY_GATE, VISIBILITY_COUNT, VISIBILITY_EARLY_OUT) and
 // the target's first pixel (z, w: a host's scissor offset; 0 for the headless targets).
-// The word is read from a storage buffer, not pushed: lavapipe compiles a shader again for each value of a push
-// constant that steers a branch.
+// The word is read from a storage buffer, not pushed: lavapipe compiles a shader again
+// for each value of a push constant that steers a branch.
 layout(std430, set = 1, binding = 0) buffer WorkCounters {
     uint work_counters[4];  // WORK_FRAGMENTS, WORK_EVALUATIONS
 };
@@ -144,7 +144,8 @@ bool hidden_by_known() {
 // one, which is copied into the depth attachment after the pass.
 bool shows_hit(float distance, float depth) {
     uint word = known_header.y;
-    if ((word & uint(VISIBILITY_SHADE_NEAREST | VISIBILITY_GATE | VISIBILITY_EARLY_OUT)) == 0u) {
+    uint stages = uint(VISIBILITY_SHADE_NEAREST | VISIBILITY_GATE | VISIBILITY_EARLY_OUT);
+    if ((word & stages) == 0u) {
         return true;
     }
     uint index = known_index();

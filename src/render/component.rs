@@ -553,7 +553,10 @@ impl GlyphRenderer {
         );
         let cull = match crate::render::visibility::culling(&self.ctx, settings) {
             cull if self.draws_passes => cull,
-            Culling::EarlyOut if single_sample && float_depth => Culling::EarlyOut,
+            // (Glyphs on the compute path, `auto` included, draw no fragment pass to cull.)
+            Culling::EarlyOut if single_sample && float_depth && compute.is_none() => {
+                Culling::EarlyOut
+            }
             _ => Culling::Off,
         };
         let host_early_outs = match cull {
