@@ -218,11 +218,6 @@ fn the_compute_path_draws_the_fragment_path_picture() {
     }
 }
 
-/// `auto` (the default) on a device glyphcast is told is a GPU: with the engine
-/// recording `record_compute`, the glyphs go to the compute path from the frame after
-/// the first dispatches (and again after the slice step), without it the fragment path
-/// draws every frame; both draw the fragment path's picture, with no validation message
-/// (synchronization validation included).
 /// Early outs in the engine's pass (`cull: early-out`, which `occluded` takes on a
 /// device that jumps over code no pixel runs): a block of 8 x 8 x 12 fODFs seen head-on,
 /// 6 frames, 3 in flight, under synchronization validation, in both depth conventions,
@@ -268,6 +263,11 @@ fn early_outs_in_the_engine_pass_keep_every_pixel() {
     }
 }
 
+/// `auto` (the default) on a device glyphcast is told is a GPU: with the engine
+/// recording `record_compute`, the glyphs go to the compute path from the frame after
+/// the first dispatches (and again after the slice step), without it the fragment path
+/// draws every frame; both draw the fragment path's picture, with no validation message
+/// (synchronization validation included).
 #[test]
 fn auto_takes_the_compute_path_where_the_engine_records_its_dispatches() {
     let base = Options {

@@ -212,8 +212,9 @@ impl UploadedGlyphs {
             slot.scissor.offset.y.max(0) as u32,
         ];
         let d = host.ctx.device();
+        let word = crate::catalog::codes::VISIBILITY_EARLY_OUT;
         slot.buffers
-            .record_early_out_clear(d, cmd, origin, host.clear_depth);
+            .record_frame_start(d, cmd, (word, origin), (Some(host.clear_depth), false));
         slot.cleared.store(true, Ordering::SeqCst);
     }
 

@@ -839,49 +839,14 @@ fn clear_visibility(
     visibility: &VisibilityBuffers,
     (count, early_out): (bool, bool),
 ) {
-    // SAFETY: `cmd` is recording outside rendering; the buffers are alive until the
-    // submission completes.
-    unsafe {
-        d.cmd_pipeline_barrier2(
-            cmd,
-            &vk::DependencyInfo::default()
-                .memory_barriers(&[memory_barrier(FRAGMENT_STORAGE, TRANSFER_WRITES)]),
-        );
-        d.cmd_fill_buffer(cmd, visibility.known.handle, 0, 4, visibility.width);
-        // The targets' first pixel: (0, 0).
-        d.cmd_fill_buffer(cmd, visibility.known.handle, 8, 8, 0);
-        d.cmd_fill_buffer(
-            cmd,
-            visibility.known.handle,
-            4,
-            4,
-            visibility_word(count, crate::vk::DrawStage::Normal)
-                | if early_out {
-                    crate::catalog::codes::VISIBILITY_EARLY_OUT
-                } else {
-                    0
-                },
-        );
-        if early_out {
-            let clear = PassOptions::default().depth.clear_depth().to_bits();
-            let bytes = 4 * u64::from(visibility.pixels);
-            d.cmd_fill_buffer(
-                cmd,
-                visibility.known.handle,
-                KNOWN_DEPTH_HEADER,
-                bytes,
-                clear,
-            );
-        }
-        if count {
-            d.cmd_fill_buffer(cmd, visibility.counters.handle, 0, vk::WHOLE_SIZE, 0);
-        }
-        d.cmd_pipeline_barrier2(
-            cmd,
-            &vk::DependencyInfo::default()
-                .memory_barriers(&[memory_barrier(TRANSFER_WRITES, FRAGMENT_STORAGE)]),
-        );
+    let mut word = visibility_word(count, crate::vk::DrawStage::Normal);
+    let mut clear = None;
+    if early_out {
+        word |= crate::catalog::codes::VISIBILITY_EARLY_OUT;
+        clear = Some(PassOptions::default().depth.clear_depth());
     }
+    // The targets' first pixel: (0, 0).
+    visibility.record_frame_start(d, cmd, (word, [0, 0]), (clear, count));
 }
 
 /// The visibility word of a pass (glsl/raycast_common.glsl): whether it counts its work,

@@ -399,34 +399,41 @@ impl VisibilityBuffers {
         VisibilityBuffers::with_set(ctx, layout, [counters, known, nearest], (width, height))
     }
 
-    /// Records, outside any rendering, the known depths of a host's frame with early
-    /// outs over the scissor at `origin`: its header (the row length, the visibility
-    /// word, the origin) and every pixel at `clear` (the host's clear depth: no hit yet),
-    /// with the barriers from and to the fragment shaders.
-    pub(crate) fn record_early_out_clear(
+    /// Records, outside any rendering, the start of a frame: the known depths' header
+    /// (the row length, the visibility `word`, the target's first pixel `origin`), with
+    /// `clear` every known depth at that value (early outs: the clear depth, no hit
+    /// yet), and with `count` the work counters at zero; with the barriers from and to
+    /// the fragment shaders.
+    pub(crate) fn record_frame_start(
         &self,
         d: &ash::Device,
         cmd: vk::CommandBuffer,
-        origin: [u32; 2],
-        clear: f32,
+        (word, origin): (u32, [u32; 2]),
+        (clear, count): (Option<f32>, bool),
     ) {
         use crate::vk::recording::{FRAGMENT_STORAGE, TRANSFER_WRITES, memory_barrier};
         let known = self.known.handle;
-        let word = crate::catalog::codes::VISIBILITY_EARLY_OUT;
-        // SAFETY: `cmd` is recording outside rendering (the caller's promise); the buffer
-        // is alive until the submission completes.
+        // SAFETY: `cmd` is recording outside rendering (the caller's promise); the buffers
+        // are alive until the submission completes.
         unsafe {
             d.cmd_pipeline_barrier2(
                 cmd,
                 &vk::DependencyInfo::default()
                     .memory_barriers(&[memory_barrier(FRAGMENT_STORAGE, TRANSFER_WRITES)]),
             );
-            d.cmd_fill_buffer(cmd, known, 0, 4, self.width);
-            d.cmd_fill_buffer(cmd, known, 4, 4, word);
-            d.cmd_fill_buffer(cmd, known, 8, 4, origin[0]);
-            d.cmd_fill_buffer(cmd, known, 12, 4, origin[1]);
-            let bytes = 4 * u64::from(self.pixels);
-            d.cmd_fill_buffer(cmd, known, KNOWN_DEPTH_HEADER, bytes, clear.to_bits());
+            for (k, value) in [self.width, word, origin[0], origin[1]]
+                .into_iter()
+                .enumerate()
+            {
+                d.cmd_fill_buffer(cmd, known, 4 * k as u64, 4, value);
+            }
+            if let Some(clear) = clear {
+                let bytes = 4 * u64::from(self.pixels);
+                d.cmd_fill_buffer(cmd, known, KNOWN_DEPTH_HEADER, bytes, clear.to_bits());
+            }
+            if count {
+                d.cmd_fill_buffer(cmd, self.counters.handle, 0, vk::WHOLE_SIZE, 0);
+            }
             d.cmd_pipeline_barrier2(
                 cmd,
                 &vk::DependencyInfo::default()
