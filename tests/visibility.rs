@@ -344,6 +344,65 @@ fn a_thin_lobe_peeking_through_a_gap_is_kept() {
     );
 }
 
+/// Culling keeps a known depth per pixel in one storage buffer: a target whose known
+/// depths exceed the device's maxStorageBufferRange (8192 x 8192 on lavapipe of Mesa 25,
+/// 128 MiB) is drawn without culling, with no validation message and the same bits. The
+/// pass's storage-buffer cap stands in for the device's range here.
+#[test]
+fn a_target_too_large_for_its_known_depths_is_drawn_without_culling() {
+    let gpu = gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    let scene = block((8, 8, 12), 8, BlockView::Front, 240, 180).expect("block workload");
+    let (culled, passes) = draw(
+        &gpu,
+        &mut renderer,
+        &scene,
+        (&RenderSettings::default(), Culling::Passes),
+    );
+    assert!(passes >= 2, "the block needs passes ({passes})");
+    assert_eq!(culled.culling, Culling::Passes);
+    // The known depths take 16 + 4 bytes a pixel; the glyphs' batches fit (split).
+    let pixels = 240 * 180;
+    renderer
+        .pass_mut()
+        .set_storage_buffer_limit(Some(4 * pixels));
+    let (off, _) = draw(
+        &gpu,
+        &mut renderer,
+        &scene,
+        (&RenderSettings::default(), Culling::Off),
+    );
+    for cull in [Culling::Passes, Culling::EarlyOut, Culling::Occluded] {
+        let (capped, passes) = draw(
+            &gpu,
+            &mut renderer,
+            &scene,
+            (&RenderSettings::default(), cull),
+        );
+        assert_eq!(
+            (capped.culling, passes),
+            (Culling::Off, 1),
+            "--cull {cull} under the cap"
+        );
+        assert_eq!(
+            crate::common::differing_distances(&off, &capped),
+            0,
+            "--cull {cull}"
+        );
+        assert!(capped.rgba == off.rgba, "--cull {cull}: the image differs");
+        assert_eq!(
+            crate::common::differing_distances(&culled, &capped),
+            0,
+            "--cull {cull}"
+        );
+        assert!(
+            capped.rgba == culled.rgba,
+            "--cull {cull}: differs from the culled image"
+        );
+    }
+    renderer.pass_mut().set_storage_buffer_limit(None);
+}
+
 /// `glyphcast bench`'s work counters of one frame of `workload` (320x180) with `cull`:
 /// fragments and evaluations per covered pixel, and the passes.
 fn work_per_pixel(dir: &std::path::Path, workload: &str, cull: &str) -> (f64, f64, u64) {

@@ -62,17 +62,20 @@ assert "site-packages" in f, "glyphcast imported from " + f')
 # conftest.py turns the validation layer on (GLYPHCAST_VALIDATION=1) and picks lavapipe.
 "$venv/bin/python" -m pytest -q python/tests
 # ---- Mesa 25 (GLYPHCAST_MESA25=0 skips it) --------------------------------------------
-# The GPU tests of the core (and its embedding example), of the C API (the C and C++
-# example engines) and of the Python module again, on Mesa 25's lavapipe: unpacked from
-# Debian's bookworm-backports beside the system's driver by tools/mesa25.sh (which adds
-# that suite to apt's sources if no source lists it; nothing is installed).
+# The GPU tests of the core (its embedding example, the command line's integration
+# tests), of the C API (the C and C++ example engines) and of the Python module again,
+# on Mesa 25's lavapipe: unpacked from Debian's bookworm-backports beside the system's
+# driver by tools/mesa25.sh (which adds that suite to apt's sources if no source lists
+# it; nothing is installed).
 if [ "${GLYPHCAST_MESA25:-1}" = 1 ]; then
     echo "== [${SECONDS} s] again on Mesa 25's lavapipe (tools/mesa25.sh)"
     (
         eval "$(bash tools/mesa25.sh)"
-        # Every library's unit tests and the embedding example, with the features of the
-        # workspace build above (so nothing is compiled again).
+        # Every library's unit tests, the embedding example and the command line's
+        # integration tests, with the features of the workspace build above (so nothing
+        # is compiled again).
         cargo test --locked --lib --examples
+        cargo test --locked -p glyphcast-cli --test integration
         cargo test --locked -p glyphcast-c
         # The browser test once (above): its JupyterLab and Chromium are the same here,
         # and the view's frames are the Renderer's, which these tests cover on Mesa 25.

@@ -99,6 +99,9 @@ struct Options {
     /// others) instead of the six glyphs, and how hidden glyphs are culled.
     block: bool,
     cull: Culling,
+    /// Tests: the most bytes of one of glyphcast's storage buffers, as if the device's
+    /// range were that small (`None`: the device's).
+    storage_limit: Option<u64>,
 }
 
 impl Default for Options {
@@ -119,6 +122,7 @@ impl Default for Options {
             dispatches: true,
             block: false,
             cull: Culling::Occluded,
+            storage_limit: None,
         }
     }
 }
@@ -476,6 +480,9 @@ fn draw_frames(engine: &Engine, options: &Options, plain: Option<Arc<PlainMemory
         settings,
     };
     let mut glyphs = GlyphRenderer::new(&context, &desc)?;
+    glyphs
+        .pass_mut()
+        .set_storage_buffer_limit(options.storage_limit);
     // Pipelines at load time, before any frame.
     let layouts: Vec<_> = first.iter().map(|s| (s.layout, s.shape)).collect();
     glyphs.prepare(&layouts)?;

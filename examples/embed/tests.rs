@@ -21,6 +21,7 @@ fn options(depth: DepthConvention, samples: u32) -> Options {
         dispatches: true,
         block: false,
         cull: Culling::Occluded,
+        storage_limit: None,
     }
 }
 
@@ -261,6 +262,49 @@ fn early_outs_in_the_engine_pass_keep_every_pixel() {
             assert!(depths(&off) == depths(&early), "{name}: the depth differs");
         }
     }
+}
+
+/// A scissor whose known depths would exceed a storage buffer (the device's
+/// maxStorageBufferRange, here a cap standing in for it) is drawn without early outs:
+/// `culling` says so, no validation message, the picture and depth of `cull: off`.
+#[test]
+fn a_scissor_too_large_for_its_known_depths_is_drawn_without_early_outs() {
+    let base = Options {
+        frames: 4,
+        plane: false,
+        block: true,
+        ..options(DepthConvention::Reversed, 1)
+    };
+    let off = run(&Options {
+        cull: Culling::Off,
+        ..base.clone()
+    })
+    .expect("cull off");
+    // The known depths take 16 + 4 bytes a pixel of the scissor (the whole target).
+    let capped = run(&Options {
+        cull: Culling::EarlyOut,
+        storage_limit: Some(4 * u64::from(WIDTH * HEIGHT)),
+        ..base.clone()
+    })
+    .expect("early outs under the cap");
+    assert_eq!(capped.validation, Vec::<String>::new());
+    assert_eq!(capped.culling, Culling::Off, "drawn without early outs");
+    assert_eq!(differing(&off.rgba, &capped.rgba), 0, "pixels differ");
+    let depths = |r: &Run| r.depth.iter().map(|z| z.to_bits()).collect::<Vec<_>>();
+    assert!(depths(&off) == depths(&capped), "the depth differs");
+    // Just above the cap's edge, the same scissor takes them.
+    let fits = run(&Options {
+        cull: Culling::EarlyOut,
+        storage_limit: Some(16 + 4 * u64::from(WIDTH * HEIGHT)),
+        ..base
+    })
+    .expect("early outs at the cap");
+    assert_eq!(fits.culling, Culling::EarlyOut);
+    assert_eq!(
+        differing(&off.rgba, &fits.rgba),
+        0,
+        "pixels differ at the cap"
+    );
 }
 
 /// `auto` (the default) on a device glyphcast is told is a GPU: with the engine

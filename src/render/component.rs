@@ -96,6 +96,9 @@ struct HostEarlyOuts {
     layout: vk::DescriptorSetLayout,
     /// The host's clear depth: no hit yet.
     clear_depth: f32,
+    /// The most bytes of one storage buffer: a scissor whose known depths exceed it is
+    /// drawn without early outs.
+    limit: u64,
     /// Per frame index: its known depths, made for the scissor of its view.
     slots: Vec<Option<EarlyOutSlot>>,
 }
@@ -112,15 +115,23 @@ struct EarlyOutSlot {
 impl HostEarlyOuts {
     /// Frame index `k` drawn over `scissor` with early outs (`on`) or without: its known
     /// depths made for the scissor's size where they are not, and not cleared yet.
-    fn set_view(&mut self, k: usize, scissor: vk::Rect2D, on: bool) -> Result<()> {
+    /// Whether the frame takes the early outs: not where `on` is false, nor where the
+    /// scissor's known depths would exceed a storage buffer's `limit`.
+    fn set_view(&mut self, k: usize, scissor: vk::Rect2D, on: bool) -> Result<bool> {
         let Some(slot) = self.slots.get_mut(k) else {
-            return Ok(());
+            return Ok(false);
         };
+        let (w, h) = (scissor.extent.width, scissor.extent.height);
+        if on && !crate::render::visibility::known_depths_fit(self.limit, w, h) {
+            // The frame index's previous submission has completed (set_view's promise).
+            *slot = None;
+            return Ok(false);
+        }
         if !on {
             if let Some(s) = slot {
                 s.cleared.store(false, Ordering::SeqCst);
             }
-            return Ok(());
+            return Ok(false);
         }
         let fits = slot
             .as_ref()
@@ -128,7 +139,6 @@ impl HostEarlyOuts {
         if !fits {
             // The frame index's previous submission has completed (set_view's promise).
             *slot = None;
-            let (w, h) = (scissor.extent.width, scissor.extent.height);
             let buffers = VisibilityBuffers::for_early_outs(&self.ctx, self.layout, w, h)?;
             *slot = Some(EarlyOutSlot {
                 buffers,
@@ -140,7 +150,7 @@ impl HostEarlyOuts {
             s.scissor = scissor;
             s.cleared.store(false, Ordering::SeqCst);
         }
-        Ok(())
+        Ok(true)
     }
 }
 
@@ -189,7 +199,13 @@ impl UploadedGlyphs {
         }
         let early_out = self.culling(k) == Culling::EarlyOut;
         if let Some(host) = &mut self.host_early_outs {
-            host.set_view(k, target.scissor, early_out)?;
+            let taken = host.set_view(k, target.scissor, early_out)?;
+            if early_out && !taken {
+                // A scissor too large for its known depths: drawn without culling.
+                if let Some(plan) = self.plans.get_mut(k) {
+                    *plan = PassPlan::default();
+                }
+            }
         }
         Ok(())
     }
@@ -247,6 +263,12 @@ impl UploadedGlyphs {
         let compute = self.compute.as_ref()?;
         let (scene, origin) = compute.views.get(frame_index)?.as_ref()?;
         Some((scene, *origin))
+    }
+
+    /// How its frames are culled where they need more than one pass (`Passes`,
+    /// `EarlyOut` or `Off`), whatever the camera.
+    pub(crate) fn cull(&self) -> Culling {
+        self.cull
     }
 
     /// The passes frame `frame_index` is drawn in by the headless renderer.
@@ -565,6 +587,7 @@ impl GlyphRenderer {
                 ctx: self.ctx.clone(),
                 layout: self.pass.visibility_set_layout()?,
                 clear_depth: self.pass.options().depth.clear_depth(),
+                limit: self.pass.storage_buffer_limit(&self.ctx),
                 slots: (0..self.frames_in_flight).map(|_| None).collect(),
             }),
             _ => None,

@@ -130,21 +130,54 @@ struct Targets {
     color: Image,
     distance: Image,
     depth: Image,
-    /// The nearest ray distance of a later pass's glyphs (render::visibility), and the
-    /// scratch colour image its first stage draws beside it.
-    nearest: Image,
-    scratch: Image,
+    /// Where frames are culled in passes: the images of the later passes' first stage.
+    stages: Option<StageImages>,
     color_readback: Buffer,
     distance_readback: Buffer,
     /// The work counters and the depth copied between the glyphs' passes.
     visibility: VisibilityBuffers,
 }
 
+/// The images of a later pass's first stage (render::visibility): the nearest ray
+/// distance of its glyphs, and the scratch colour image it draws beside it.
+struct StageImages {
+    nearest: Image,
+    scratch: Image,
+}
+
+impl StageImages {
+    fn new(gpu: &Gpu, extent: vk::Extent2D) -> Result<StageImages> {
+        let color_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
+        Ok(StageImages {
+            nearest: Image::new(
+                gpu.context(),
+                "nearest distance",
+                extent,
+                DISTANCE_FORMAT,
+                color_usage,
+                vk::ImageAspectFlags::COLOR,
+            )?,
+            scratch: Image::new(
+                gpu.context(),
+                "scratch colour",
+                extent,
+                COLOR_FORMAT,
+                vk::ImageUsageFlags::COLOR_ATTACHMENT,
+                vk::ImageAspectFlags::COLOR,
+            )?,
+        })
+    }
+}
+
 impl Targets {
+    /// The targets of `extent`, with the visibility buffers of set layout `visibility`
+    /// (for no culling where its known depths exceed `limit` bytes), and with `passes`
+    /// the images of the later passes' stages.
     fn new(
         gpu: &Gpu,
         extent: vk::Extent2D,
         visibility: vk::DescriptorSetLayout,
+        (limit, passes): (u64, bool),
     ) -> Result<Targets> {
         let color_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
         let pixels = extent.width as u64 * extent.height as u64;
@@ -175,27 +208,12 @@ impl Targets {
                     | vk::ImageUsageFlags::TRANSFER_DST,
                 vk::ImageAspectFlags::DEPTH,
             )?,
-            nearest: Image::new(
-                gpu.context(),
-                "nearest distance",
-                extent,
-                DISTANCE_FORMAT,
-                color_usage,
-                vk::ImageAspectFlags::COLOR,
-            )?,
-            scratch: Image::new(
-                gpu.context(),
-                "scratch colour",
-                extent,
-                COLOR_FORMAT,
-                vk::ImageUsageFlags::COLOR_ATTACHMENT,
-                vk::ImageAspectFlags::COLOR,
-            )?,
+            stages: passes.then(|| StageImages::new(gpu, extent)).transpose()?,
             visibility: VisibilityBuffers::new(
                 gpu.context(),
                 visibility,
-                extent.width,
-                extent.height,
+                (extent.width, extent.height),
+                (limit, passes),
             )?,
             color_readback: Buffer::new(
                 gpu.context(),
@@ -380,13 +398,22 @@ impl HeadlessRenderer {
         } = *view;
         settings.validate()?;
         check_image_size(gpu, width, height)?;
-        // `auto` is decided here, for this device and these glyphs.
+        // `auto` is decided here, for this device and these glyphs. Culling needs the
+        // target's known depths in one storage buffer: a larger target (8192 x 8192 on a
+        // device of 128 MiB, such as lavapipe of Mesa 25) is drawn without it.
+        let limit = self.glyphs.pass().storage_buffer_limit(gpu.context());
+        let culls = crate::render::visibility::known_depths_fit(limit, width, height);
         let settings = &RenderSettings {
             path: settings.path.on_context(
                 gpu.context(),
                 settings.method,
                 sets.iter().map(|set| set.shape),
             ),
+            cull: if culls {
+                settings.cull
+            } else {
+                crate::render::Culling::Off
+            },
             ..*settings
         };
         let extent = frame_extent(camera, sets, settings, underlay, peaks);
@@ -463,7 +490,6 @@ impl HeadlessRenderer {
             pass.prepare(glyphs)?;
         }
         // The glyphs' shadows, cast after the frame from its hits.
-        let limit = self.glyphs.pass().storage_buffer_limit(gpu.context());
         let hits = match scene.shadow_casters() {
             Some(glyphs) if glyphs.gpu.deferred => {
                 let pass = match &mut self.glyph_shadows {
@@ -487,9 +513,13 @@ impl HeadlessRenderer {
             }
             None => None,
         };
+        let visibility = self.glyphs.pass().visibility_set_layout()?;
+        // Only glyphs culled in passes draw the later passes' stages.
+        let passes = matches!(&scene, GlyphsOnGpu::RayCast(glyphs)
+            if glyphs.cull() == crate::render::Culling::Passes);
         Ok(PreparedFrame {
             scene,
-            targets: Targets::new(gpu, size, self.glyphs.pass().visibility_set_layout()?)?,
+            targets: Targets::new(gpu, size, visibility, (limit, passes))?,
             count_work: false,
             size,
             settings: *settings,
@@ -751,8 +781,7 @@ fn record_frame(
                     later_passes += 1;
                 }
                 let first = later_passes == 1;
-                restart_rendering(d, cmd, targets, extent, (stage, count, first));
-                Ok(())
+                restart_rendering(d, cmd, targets, extent, (stage, count, first))
             };
             glyphs.record_glyph_passes(cmd, on_gpu, 0, visibility, &mut restart)?
         }
@@ -905,8 +934,12 @@ fn restart_rendering(
     t: &Targets,
     extent: vk::Extent2D,
     (stage, count, first): (crate::vk::DrawStage, bool, bool),
-) {
+) -> Result<()> {
     use crate::vk::DrawStage;
+    let stages = t.stages.as_ref().ok_or(Error::Call {
+        call: "restart_rendering",
+        expected: "the targets of a frame culled in passes",
+    })?;
     let attachment = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
     let depth_layout = vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL;
     let color_load = (
@@ -928,11 +961,11 @@ fn restart_rendering(
             // a device without independentBlend takes no other): neither cleared nor
             // stored.
             vk::RenderingAttachmentInfo::default()
-                .image_view(t.scratch.view)
+                .image_view(stages.scratch.view)
                 .image_layout(attachment)
                 .load_op(vk::AttachmentLoadOp::DONT_CARE)
                 .store_op(vk::AttachmentStoreOp::DONT_CARE),
-            cleared_color_attachment(t.nearest.view, infinity),
+            cleared_color_attachment(stages.nearest.view, infinity),
         ],
         _ => [loaded(t.color.view), loaded(t.distance.view)],
     };
@@ -1007,9 +1040,11 @@ fn restart_rendering(
                 // known depths), and its nearest distances into their buffer.
                 let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
                 let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
-                let (depth_range, nearest_range) =
-                    (t.depth.subresource_range(), t.nearest.subresource_range());
-                let nearest_image = t.nearest.handle;
+                let (depth_range, nearest_range) = (
+                    t.depth.subresource_range(),
+                    stages.nearest.subresource_range(),
+                );
+                let nearest_image = stages.nearest.handle;
                 let depth_image = t.depth.handle;
                 let to_copy = [
                     layout_transition(
@@ -1119,6 +1154,7 @@ fn restart_rendering(
         }
         d.cmd_begin_rendering(cmd, &rendering);
     }
+    Ok(())
 }
 
 /// The frame's ray distances into the bands of `hits` (each after its 16-byte header: the
@@ -1240,13 +1276,21 @@ fn begin_targets(d: &ash::Device, cmd: vk::CommandBuffer, t: &Targets) {
             access,
         )
     };
-    let barriers = [
+    let mut barriers = vec![
         to_attachment(&t.color, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
         to_attachment(&t.distance, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
         to_attachment(&t.depth, vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL),
-        to_attachment(&t.nearest, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
-        to_attachment(&t.scratch, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
     ];
+    if let Some(stages) = &t.stages {
+        barriers.push(to_attachment(
+            &stages.nearest,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+        ));
+        barriers.push(to_attachment(
+            &stages.scratch,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+        ));
+    }
     // SAFETY: `cmd` is recording outside rendering; the images are alive.
     unsafe {
         d.cmd_pipeline_barrier2(

@@ -74,6 +74,13 @@ pub const PASS_COVER: f64 = 3.0;
 /// the row length, the visibility word, the target's first pixel).
 pub(crate) const KNOWN_DEPTH_HEADER: u64 = 16;
 
+/// Whether the known depths of a target of `width` x `height` pixels fit in one storage
+/// buffer of at most `limit` bytes (the device's maxStorageBufferRange, or a pass's cap):
+/// culling needs them, and a larger target is drawn without culling.
+pub(crate) fn known_depths_fit(limit: u64, width: u32, height: u32) -> bool {
+    KNOWN_DEPTH_HEADER + 4 * u64::from(width) * u64::from(height) <= limit
+}
+
 /// The work counters of one frame (`WORK_*` of glsl/codes.glsl).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct WorkCounts {
@@ -347,17 +354,26 @@ pub struct VisibilityBuffers {
 
 impl VisibilityBuffers {
     /// The buffers of a target of `width` x `height` pixels and their set of `layout`
-    /// (the ray-casting pass's set 1).
+    /// (the ray-casting pass's set 1); the counters and the known depths' header alone
+    /// where the target's known depths would not fit in a storage buffer of `limit`
+    /// bytes (its frames are then drawn without culling). The nearest distances are
+    /// per pixel only for frames culled in `passes`.
     pub(crate) fn new(
         ctx: &DeviceContext,
         layout: vk::DescriptorSetLayout,
-        width: u32,
-        height: u32,
+        (width, height): (u32, u32),
+        (limit, passes): (u64, bool),
     ) -> Result<VisibilityBuffers> {
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::TRANSFER_DST
             | vk::BufferUsageFlags::TRANSFER_SRC;
         let counters = Buffer::new(ctx, "work counters", 16, storage, MemoryLocation::GpuToCpu)?;
+        if !known_depths_fit(limit, width, height) {
+            // The header alone (frame_start writes it), no known depth.
+            let known = Buffer::new(ctx, "known depth", 32, storage, MemoryLocation::GpuOnly)?;
+            let nearest = Buffer::with_data(ctx, "nearest distance", &[0u32; 4], storage)?;
+            return VisibilityBuffers::with_set(ctx, layout, [counters, known, nearest], (1, 1));
+        }
         let pixels = u64::from(width) * u64::from(height);
         let known = Buffer::new(
             ctx,
@@ -369,7 +385,7 @@ impl VisibilityBuffers {
         let nearest = Buffer::new(
             ctx,
             "nearest distance",
-            4 * pixels,
+            if passes { 4 * pixels } else { 16 },
             storage,
             MemoryLocation::GpuOnly,
         )?;
