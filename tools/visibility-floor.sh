@@ -9,7 +9,7 @@
 #
 #   bash tools/visibility-floor.sh [GLYPHCAST_BINARY] [STEP]
 #
-# STEP samples every STEP-th pixel for the floor (default 2). Takes about two minutes.
+# STEP samples every STEP-th pixel for the floor (default 2). Takes about a minute.
 # With SCENES=DIR set, the six scene files are kept in DIR (front.json, head-on.json,
 # corner.json, stacked.json, front-far.json, stacked-far.json), for `glyphcast bench`.
 set -euo pipefail

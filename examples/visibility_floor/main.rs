@@ -108,15 +108,15 @@ fn main() -> Result<(), String> {
             let to_box = rotation.inverse();
             let extent = DVec3::new(b[4], b[5], b[6]) * radius;
             let world = &set.world[g];
+            // The sampled surface points in the box's frame, once for the ten slabs.
+            let surface: Vec<DVec3> = directions
+                .iter()
+                .map(|&u| to_box * u * world.poly.eval(u).abs())
+                .collect();
             let kdop: Vec<f64> = axes
                 .iter()
                 .map(|&a| {
-                    directions
-                        .iter()
-                        .map(|&u| (world.poly.eval(u).abs() * (to_box * u).dot(a)).abs())
-                        .fold(0.0, f64::max)
-                        * world.scale
-                        * 1.03
+                    surface.iter().map(|p| p.dot(a).abs()).fold(0.0, f64::max) * world.scale * 1.03
                 })
                 .collect();
             // The box's pixels: the bounding rectangle of its projected corners.
