@@ -310,16 +310,16 @@ enum Target {
 
 /// A square [s0, s0 + size] x [t0, t0 + size] of cube face `face` (coordinates in [-1, 1]).
 #[derive(Clone, Copy)]
-struct Cell {
-    face: u8,
-    s0: f64,
-    t0: f64,
-    size: f64,
+pub(crate) struct Cell {
+    pub(crate) face: u8,
+    pub(crate) s0: f64,
+    pub(crate) t0: f64,
+    pub(crate) size: f64,
 }
 
 impl Cell {
     /// Unit direction of face coordinates (s, t): face 2k +- is the +-e_k face.
-    fn direction(&self, s: f64, t: f64) -> DVec3 {
+    pub(crate) fn direction(&self, s: f64, t: f64) -> DVec3 {
         let axis = usize::from(self.face / 2);
         let sign = if self.face.is_multiple_of(2) {
             1.0
@@ -333,13 +333,13 @@ impl Cell {
         DVec3::from_array(p).normalize()
     }
 
-    fn center(&self) -> DVec3 {
+    pub(crate) fn center(&self) -> DVec3 {
         let half = 0.5 * self.size;
         self.direction(self.s0 + half, self.t0 + half)
     }
 
     /// Largest angle between `center` and the cell's corners (see the module notes).
-    fn angular_radius(&self, center: DVec3) -> f64 {
+    pub(crate) fn angular_radius(&self, center: DVec3) -> f64 {
         let (s1, t1) = (self.s0 + self.size, self.t0 + self.size);
         [(self.s0, self.t0), (s1, self.t0), (self.s0, t1), (s1, t1)]
             .into_iter()
@@ -347,7 +347,7 @@ impl Cell {
             .fold(0.0, f64::max)
     }
 
-    fn children(&self) -> [Cell; 4] {
+    pub(crate) fn children(&self) -> [Cell; 4] {
         let half = 0.5 * self.size;
         let child = |ds, dt| Cell {
             face: self.face,

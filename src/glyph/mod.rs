@@ -11,6 +11,7 @@ pub(crate) mod homogeneous;
 pub mod intersect;
 pub mod interval;
 pub mod monomials;
+pub mod pieces;
 pub mod polynomial;
 pub mod proxy;
 pub mod range_rounding;
