@@ -12,6 +12,8 @@ Into the folder it writes:
 - tracks300.trk, EuDX_small_25.trk: DIPY's bundled TrackVis files, copied.
 - complex_big_endian.trk (big-endian, per-point scalars and per-streamline properties)
   and standard.LPS.trk (voxel order LPS): nibabel's test files, copied.
+- tracks30_oblique.trk: the same thirty streamlines written by nibabel's TrkFile
+  with a vox_to_ras that permutes, flips, scales and rotates the axes.
 - tracks30.tck: every tenth streamline of tracks300.trk as nibabel read it, written by
   nibabel's TckFile (MRtrix's conventions: float32 little-endian, NaN and Inf triplets).
 - tracks30.trx (float32 positions, uint32 offsets, stored) and
@@ -97,6 +99,27 @@ def main(out_dir):
     tractogram = nib.streamlines.Tractogram(subset, affine_to_rasmm=np.eye(4))
     nib.streamlines.save(tractogram, os.path.join(out_dir, "tracks30.tck"))
     nibabel_reference(out_dir, "tracks30.tck")
+
+    # A TrackVis file whose vox_to_ras permutes, flips and scales the axes (2, 1.5 and
+    # 3 mm voxels, rotated 10 degrees about one), written by nibabel's TrkFile: its points
+    # on file are voxel millimetres of that grid.
+    angle = np.deg2rad(10.0)
+    rotation = np.array(
+        [[0, -np.cos(angle), np.sin(angle)], [1, 0, 0], [0, np.sin(angle), np.cos(angle)]]
+    )
+    oblique = np.eye(4)
+    oblique[:3, :3] = rotation @ np.diag([2.0, 1.5, 3.0])
+    oblique[:3, 3] = [-40.0, 12.5, -7.0]
+    header = {
+        nib.streamlines.Field.VOXEL_TO_RASMM: oblique.astype(np.float32),
+        nib.streamlines.Field.VOXEL_SIZES: np.array([2.0, 1.5, 3.0], np.float32),
+        nib.streamlines.Field.DIMENSIONS: np.array([60, 80, 40], np.int16),
+        nib.streamlines.Field.VOXEL_ORDER: "".join(nib.aff2axcodes(oblique)),
+    }
+    nib.streamlines.TrkFile(tractogram, header=header).save(
+        os.path.join(out_dir, "tracks30_oblique.trk")
+    )
+    nibabel_reference(out_dir, "tracks30_oblique.trk")
 
     # A per-point scalar: each point's distance along its streamline from the first.
     along = [

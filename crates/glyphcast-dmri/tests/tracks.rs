@@ -113,6 +113,17 @@ fn nibabel_trackvis_files_big_endian_and_lps_match_nibabel() {
 }
 
 #[test]
+fn trackvis_file_with_an_oblique_vox_to_ras_matches_nibabel() {
+    // vox_to_ras permutes, flips, scales (2, 1.5, 3 mm) and rotates the voxel axes.
+    let oblique = compare("tracks30_oblique.trk");
+    let tck = read_tractogram(&data().join("tracks30.tck")).unwrap();
+    assert_eq!(oblique.offsets, tck.offsets);
+    for (a, b) in oblique.points.iter().zip(&tck.points) {
+        assert!((0..3).all(|axis| (a[axis] - b[axis]).abs() <= TOLERANCE_MM));
+    }
+}
+
+#[test]
 fn nibabel_tck_matches_nibabel() {
     assert_eq!(compare("tracks30.tck").len(), 30);
 }
