@@ -1,0 +1,258 @@
+//! MRtrix `.tck` tractograms, as MRtrix3 writes them ("Tracks file format (.tck)" in its
+//! documentation): a text header (`mrtrix tracks`, then `key: value` lines up to `END`),
+//! then from the byte `file: . OFFSET` names, point triplets in scanner millimetres of
+//! the `datatype` given (`Float32LE`, `Float32BE`, `Float64LE`, `Float64BE`; no suffix
+//! means this machine's order, as in MRtrix). A triplet of NaNs ends each streamline and
+//! a triplet of infinities ends the data.
+//!
+//! Stricter than nibabel where a file contradicts itself: `count`, when given, must be
+//! the number of streamlines found; a point with some but not all coordinates NaN (or
+//! infinite) is refused, not taken as a point or a delimiter; data that stops before
+//! the infinity triplet is a truncated file. An empty streamline (two NaN triplets in a
+//! row) is skipped, as nibabel skips it and MRtrix's writer never writes one.
+use std::path::Path;
+
+use super::{Tractogram, TractogramBuilder};
+use crate::io::datatype::{DataType, Number};
+use glyphcast::error::quoted;
+use glyphcast::{Error, Result};
+
+/// The first line of every `.tck` header.
+pub const MAGIC: &str = "mrtrix tracks";
+
+/// The keys of a `.tck` header that the reader uses.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TckHeader {
+    /// `datatype`: `Float32` or `Float64` and a byte order.
+    pub datatype: DataType,
+    /// `file: . OFFSET`: the byte where the first point starts.
+    pub offset: u64,
+    /// `count`: the number of streamlines the writer says it wrote, if given.
+    pub count: Option<u64>,
+    /// Every other key, in file order.
+    pub other: Vec<(String, String)>,
+    /// Bytes up to and including the `END` line.
+    pub length: usize,
+}
+
+/// Reads an MRtrix `.tck` file.
+pub fn read_tck(path: &Path) -> Result<Tractogram> {
+    let file = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|err| Error::io(path, err))?;
+    let header = TckHeader::parse(&bytes, &file)?;
+    let data = usize::try_from(header.offset)
+        .ok()
+        .and_then(|start| bytes.get(start..))
+        .unwrap_or(&[]);
+    let (tractogram, found) = decode(data, header.datatype, header.offset, &file)?;
+    if let Some(count) = header.count
+        && count != found
+    {
+        return Err(Error::input(
+            &file,
+            "count",
+            format!("{count} streamlines declared, but the data hold {found}"),
+        ));
+    }
+    Ok(tractogram)
+}
+
+impl TckHeader {
+    /// Parses the header at the start of `bytes` (binary data follow `END`).
+    pub fn parse(bytes: &[u8], file: &str) -> Result<Self> {
+        let (entries, length) = split_lines(bytes, file)?;
+        let value = |key: &str| {
+            entries
+                .iter()
+                .rev()
+                .find(|(k, _)| k == key)
+                .map(|(_, v)| v.as_str())
+        };
+        let datatype = parse_datatype(value("datatype"), file)?;
+        let offset = parse_file(value("file"), length, file)?;
+        let count = value("count")
+            .map(|text| {
+                text.parse::<u64>().map_err(|_| {
+                    Error::input(
+                        file,
+                        "count",
+                        format!("'{}' is not a number of streamlines", quoted(text)),
+                    )
+                })
+            })
+            .transpose()?;
+        let other = entries
+            .into_iter()
+            .filter(|(key, _)| !matches!(key.as_str(), "datatype" | "file" | "count"))
+            .collect();
+        Ok(Self {
+            datatype,
+            offset,
+            count,
+            other,
+            length,
+        })
+    }
+}
+
+/// The `key: value` lines (keys in lower case) and the header's length up to and
+/// including `END`. Lines without a colon are skipped, as MRtrix skips them.
+fn split_lines(bytes: &[u8], file: &str) -> Result<(Vec<(String, String)>, usize)> {
+    let mut entries = Vec::new();
+    let mut start = 0;
+    let mut number = 0;
+    while start < bytes.len() {
+        let end = bytes[start..]
+            .iter()
+            .position(|&b| b == b'\n')
+            .map_or(bytes.len(), |p| start + p);
+        let line = std::str::from_utf8(&bytes[start..end]).ok();
+        start = (end + 1).min(bytes.len());
+        number += 1;
+        if number == 1 {
+            if !line.is_some_and(|line| line.trim_end().starts_with(MAGIC)) {
+                return Err(Error::input(
+                    file,
+                    "line 1",
+                    "not an MRtrix tractogram (the first line is not 'mrtrix tracks')",
+                ));
+            }
+            continue;
+        }
+        let Some(line) = line else { break };
+        let line = line.trim();
+        if line == "END" {
+            return Ok((entries, start));
+        }
+        if let Some((key, value)) = line.split_once(':') {
+            entries.push((key.trim().to_ascii_lowercase(), value.trim().to_string()));
+        }
+    }
+    Err(Error::input(
+        file,
+        "END",
+        format!("no 'END' line ends the header (read {number} lines)"),
+    ))
+}
+
+fn parse_datatype(text: Option<&str>, file: &str) -> Result<DataType> {
+    let text = text.ok_or_else(|| {
+        Error::input(
+            file,
+            "datatype",
+            "missing from the header (a required key: Float32LE, Float32BE, Float64LE or \
+             Float64BE)",
+        )
+    })?;
+    let refuse = || {
+        Error::input(
+            file,
+            "datatype",
+            format!(
+                "'{}': track points are stored as Float32LE, Float32BE, Float64LE or \
+                 Float64BE",
+                quoted(text)
+            ),
+        )
+    };
+    let datatype = DataType::parse(text, file).map_err(|_| refuse())?;
+    match datatype.number {
+        Number::F32 | Number::F64 => Ok(datatype),
+        _ => Err(refuse()),
+    }
+}
+
+/// `. OFFSET`: the points follow the header in the same file.
+fn parse_file(text: Option<&str>, header_length: usize, file: &str) -> Result<u64> {
+    let text = text.ok_or_else(|| {
+        Error::input(
+            file,
+            "file",
+            "missing from the header (a required key: '. OFFSET')",
+        )
+    })?;
+    let mut parts = text.split_whitespace();
+    let offset = match (parts.next(), parts.next().map(str::parse::<u64>)) {
+        (Some("."), Some(Ok(offset))) => offset,
+        _ => {
+            return Err(Error::input(
+                file,
+                "file",
+                format!(
+                    "'{}': expected '. OFFSET' (the points in this file from byte OFFSET)",
+                    quoted(text)
+                ),
+            ));
+        }
+    };
+    if offset < header_length as u64 {
+        return Err(Error::input(
+            file,
+            "file",
+            format!("offset {offset} points inside the header, which ends at byte {header_length}"),
+        ));
+    }
+    Ok(offset)
+}
+
+/// The streamlines in `data` (which starts at byte `offset` of the file) and their count.
+fn decode(data: &[u8], datatype: DataType, offset: u64, file: &str) -> Result<(Tractogram, u64)> {
+    let size = if datatype.number == Number::F64 { 8 } else { 4 };
+    let coordinate = |bytes: &[u8]| -> f64 {
+        match (size, datatype.big_endian) {
+            (4, false) => f64::from(f32::from_le_bytes(bytes.try_into().unwrap_or_default())),
+            (4, true) => f64::from(f32::from_be_bytes(bytes.try_into().unwrap_or_default())),
+            (_, false) => f64::from_le_bytes(bytes.try_into().unwrap_or_default()),
+            (_, true) => f64::from_be_bytes(bytes.try_into().unwrap_or_default()),
+        }
+    };
+    let mut builder = TractogramBuilder::default();
+    let mut open = false;
+    let mut count = 0u64;
+    for (index, triplet) in data.chunks_exact(3 * size).enumerate() {
+        let xyz: Vec<f64> = triplet.chunks_exact(size).map(coordinate).collect();
+        let byte = offset + (index * 3 * size) as u64;
+        if xyz.iter().all(|v| v.is_nan()) {
+            open = false;
+        } else if xyz.iter().all(|v| v.is_infinite()) {
+            if open {
+                return Err(Error::input(
+                    file,
+                    "data",
+                    format!(
+                        "streamline {count} has no NaN triplet before the end marker at \
+                         byte {byte}"
+                    ),
+                ));
+            }
+            return Ok((builder.finish(), count));
+        } else if xyz.iter().all(|v| v.is_finite()) {
+            if !open {
+                builder.start();
+                open = true;
+                count += 1;
+            }
+            builder.push([xyz[0] as f32, xyz[1] as f32, xyz[2] as f32], &[]);
+        } else {
+            return Err(Error::input(
+                file,
+                "data",
+                format!(
+                    "the triplet at byte {byte} is ({}, {}, {}): inside a streamline every \
+                     coordinate must be finite (only a whole NaN triplet ends a streamline, \
+                     only a whole infinite one the data)",
+                    xyz[0], xyz[1], xyz[2]
+                ),
+            ));
+        }
+    }
+    Err(Error::input(
+        file,
+        "data",
+        format!(
+            "truncated: no triplet of infinities ends the data ({count} streamlines in {} \
+             bytes from offset {offset})",
+            data.len()
+        ),
+    ))
+}
