@@ -694,13 +694,13 @@ fn tensor_hint(file: &Image) -> Result<Option<glyphcast::error::Message>> {
     Ok(Some(glyphcast::message![
         format!(
             "{}: 6 coefficients per voxel, drawn as SH of band 2, but {why}: if it holds \
-         tensors, draw it as a tensor volume with ",
+         tensors, draw it as a tensor volume of ",
             file.file
         ),
         Setting::Order.with(2),
-        " (and ",
+        " with render or view (and ",
         Setting::TensorOrder,
-        " naming the order of its entries)"
+        " naming the order of its entries; qc and peaks read SH coefficients only)"
     ]))
 }
 
