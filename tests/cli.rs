@@ -971,7 +971,11 @@ fn bench_explains_its_table() {
     let cell = |name: &str| {
         let columns: Vec<&str> = header.split('|').map(str::trim).collect();
         let at = columns.iter().position(|c| *c == name).expect(name);
-        row.split('|').map(str::trim).nth(at).expect("cell").to_owned()
+        row.split('|')
+            .map(str::trim)
+            .nth(at)
+            .expect("cell")
+            .to_owned()
     };
     assert_eq!(cell("fragments/px"), "-", "{row}");
     assert_eq!(cell("evaluations/px"), "-", "{row}");
@@ -987,7 +991,10 @@ fn bench_explains_its_table() {
         .nth(1)
         .and_then(|rest| rest.split("\n      --").next())
         .expect("--path in the help");
-    assert!(path.contains("auto") && path.contains("[default: fragment]"), "{path}");
+    assert!(
+        path.contains("auto") && path.contains("[default: fragment]"),
+        "{path}"
+    );
 }
 
 /// `render` says in one line what culling did: what was asked, then the passes, the

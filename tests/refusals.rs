@@ -262,7 +262,10 @@ fn compute_path_refusals_are_usage_errors_with_a_way_out() {
     );
     // Refused before any device: no device line on stderr.
     let args = render(&["--path", "compute", "--glyph", "ellipsoid"]);
-    let stderr = String::from_utf8_lossy(&glyphcast(&args.iter().map(String::as_str).collect::<Vec<_>>()).stderr).into_owned();
+    let stderr = String::from_utf8_lossy(
+        &glyphcast(&args.iter().map(String::as_str).collect::<Vec<_>>()).stderr,
+    )
+    .into_owned();
     assert!(!stderr.contains("device:"), "{line}\n{stderr}");
     // 16384 x 16384 pixels of 4 bytes: 1 GiB, over any lavapipe's storage buffer range.
     run(
@@ -304,7 +307,7 @@ fn cull_ways_a_frame_cannot_take_are_refused() {
             ["--cull passes", "--path compute", "--path fragment"],
         ),
     ] {
-        let mut args = vec!["render", &scene, "-o", text(&png)];
+        let mut args = vec!["render", scene.as_str(), "-o", text(&png)];
         args.extend(extra);
         refused(&args, 2, &dir, &words);
     }
@@ -319,14 +322,29 @@ fn option_values_are_checked_before_any_file_is_read() {
     let png = dir.join("out.png");
     for (flag, value) in [("--cull", "ocluded"), ("--path", "compuet")] {
         let line = refused(
-            &["render", "--sh", text(&missing), flag, value, "-o", text(&png)],
+            &[
+                "render",
+                "--sh",
+                text(&missing),
+                flag,
+                value,
+                "-o",
+                text(&png),
+            ],
             2,
             &dir,
             &[flag, value],
         );
         assert!(!line.contains("missing.nii"), "{line}");
         let line = refused(
-            &["render", text(&dir.join("missing.json")), flag, value, "-o", text(&png)],
+            &[
+                "render",
+                text(&dir.join("missing.json")),
+                flag,
+                value,
+                "-o",
+                text(&png),
+            ],
             2,
             &dir,
             &[flag, value],
@@ -399,7 +417,7 @@ fn qc_of_a_tensor_volume_points_at_what_draws_it() {
         &[
             "dti.nii.gz",
             "symmetric tensor of order 2",
-            "with render or view",
+            "render or view draw it as a tensor volume (with --order 2)",
             "qc and peaks read SH coefficients only",
         ],
     );

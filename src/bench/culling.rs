@@ -70,7 +70,9 @@ fn why_none(ctx: &DeviceContext, settings: &RenderSettings, drawn: Drawn, passes
         _ => settings.cull == Culling::Passes,
     };
     if takes_passes && !ctx.blends_float32() {
-        return format!("(the device does not blend float32 distances, which passes need; {passes})");
+        return format!(
+            "(the device does not blend float32 distances, which passes need; {passes})"
+        );
     }
     format!("needed ({passes})")
 }

@@ -54,12 +54,11 @@ impl SceneSource {
                 Relation::Requires,
                 "a volume to draw: --sh FILE or --tensor FILE (or --peaks FILE)",
             ),
-            None => Error::Flag {
-                flag: "SCENE",
-                message: "give a scene file, or a volume with --sh FILE, --tensor FILE or \
-                          --peaks FILE"
-                    .into(),
-            },
+            None => Error::conflict(
+                "drawing",
+                Relation::Requires,
+                "a scene file (SCENE) or a volume: --sh FILE, --tensor FILE or --peaks FILE",
+            ),
         })
     }
 

@@ -97,9 +97,9 @@ pub fn check_content(image: &Image, wanted: RecordedContent) -> Result<()> {
         // Only render and view read tensor volumes (qc and peaks take SH alone), so the
         // way out names them rather than an option the caller may lack.
         RecordedContent::Tensor(order) => pieces.extend([
-            ": draw it as a tensor volume of ".into(),
+            ": render or view draw it as a tensor volume (with ".into(),
             Setting::Order.with(order),
-            " with render or view (qc and peaks read SH coefficients only)".into(),
+            "); qc and peaks read SH coefficients only".into(),
         ]),
         RecordedContent::Peaks => pieces.extend([": give it as ".into(), Setting::Peaks.into()]),
     }
