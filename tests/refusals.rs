@@ -311,6 +311,20 @@ fn cull_ways_a_frame_cannot_take_are_refused() {
         args.extend(extra);
         refused(&args, 2, &dir, &words);
     }
+    // `bench` reads them as `render` does, before any file or device.
+    refused(
+        &[
+            "bench",
+            text(&dir.join("missing.json")),
+            "--method",
+            "fixed",
+            "--cull",
+            "early-out",
+        ],
+        2,
+        &dir,
+        &["--cull early-out", "--method exact", "--method fixed"],
+    );
 }
 
 /// A misspelled option value is refused before any file is read: the error names the

@@ -7,12 +7,13 @@ use glyphcast::accuracy::suite;
 use glyphcast::bench::{self, BenchCase, BenchFrames, BenchResult, Reference, ratios, workload};
 use glyphcast::error::Relation;
 use glyphcast::render::headless::HeadlessRenderer;
+use glyphcast::render::options::{RenderOptions, Value};
 use glyphcast::render::{
     AmbientOcclusion, MeshKind, Method, Refinement, RenderPath, RenderSettings, Shadows,
 };
 use glyphcast::scene::Scene;
 use glyphcast::vk::{Gpu, GpuOptions};
-use glyphcast::{Error, Result};
+use glyphcast::{Error, Result, Setting};
 use glyphcast_dmri::volume::ImageRequest;
 use std::path::{Path, PathBuf};
 
@@ -250,13 +251,18 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
     }
     match args.sweep.as_deref() {
         None => {
-            let settings = RenderSettings {
-                method: args.method.parse()?,
-                path: args.path.parse()?,
-                cull: args.cull.parse()?,
-                ..defaults
-            };
-            settings.validate()?;
+            // Read and checked as `render` reads them: a `--cull` the method or path
+            // cannot take is refused here too.
+            let mut options = RenderOptions::default();
+            for (setting, text) in [
+                (Setting::Method, &args.method),
+                (Setting::Path, &args.path),
+                (Setting::Cull, &args.cull),
+            ] {
+                options.set(setting, Value::Text(text))?;
+            }
+            let settings = options.settings()?;
+            options.check_method_reads(&settings)?;
             let base = args.base_scene()?;
             if let Some(path) = &args.save_scene {
                 let arrays = match args.scene_arrays {
