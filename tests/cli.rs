@@ -924,3 +924,111 @@ fn the_python_guide_names_every_render_option_and_keyword() {
         );
     }
 }
+
+/// `bench` explains its table: the device once (on stdout, with the table), a legend
+/// with the frames timed and warmed up and what the per-pixel counters count, `-` where
+/// a counter does not apply (the impostor), and a `cull` column that says what was
+/// asked and what was done. Its help names every `--path` it takes and its default.
+#[test]
+fn bench_explains_its_table() {
+    let out = glyphcast(&[
+        "bench",
+        "--workload",
+        "grid:4:2",
+        "--method",
+        "impostor",
+        "--width",
+        "64",
+        "--height",
+        "64",
+        "--frames",
+        "2",
+        "--warmup",
+        "1",
+    ]);
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert!(out.status.success(), "{stderr}");
+    let devices = stdout.matches("Device: ").count() + stderr.matches("device: ").count();
+    assert_eq!(devices, 1, "the device once:\n{stdout}\n{stderr}");
+    for words in [
+        "over 2 timed frame(s) after 1 warm-up frame(s)",
+        "upload ms: CPU time",
+        "per covered pixel",
+    ] {
+        assert!(stdout.contains(words), "'{words}' not in:\n{stdout}");
+    }
+    let header = stdout
+        .lines()
+        .find(|l| l.starts_with("| label |"))
+        .expect("the table's header");
+    let row = stdout
+        .lines()
+        .find(|l| l.starts_with("| default |"))
+        .expect("the measured row");
+    let cell = |name: &str| {
+        let columns: Vec<&str> = header.split('|').map(str::trim).collect();
+        let at = columns.iter().position(|c| *c == name).expect(name);
+        row.split('|')
+            .map(str::trim)
+            .nth(at)
+            .expect("cell")
+            .to_owned()
+    };
+    assert_eq!(cell("fragments/px"), "-", "{row}");
+    assert_eq!(cell("evaluations/px"), "-", "{row}");
+    assert_eq!(
+        cell("cull"),
+        "occluded: none (impostor draws every glyph; 1 pass)",
+        "{row}"
+    );
+    let help = glyphcast(&["bench", "--help"]);
+    let help = String::from_utf8_lossy(&help.stdout);
+    let path = help
+        .split("--path")
+        .nth(1)
+        .and_then(|rest| rest.split("\n      --").next())
+        .expect("--path in the help");
+    assert!(
+        path.contains("auto") && path.contains("[default: fragment]"),
+        "{path}"
+    );
+}
+
+/// `render` says in one line what culling did: what was asked, then the passes, the
+/// early outs, or none and why.
+#[test]
+fn render_reports_what_culling_did() {
+    let dir = fresh_dir("render-culling");
+    let png = dir.join("out.png");
+    let scene = scenes().join("order4_pair.json");
+    for (extra, line) in [
+        (&[][..], "culling: occluded: none needed (1 pass)"),
+        (&["--cull", "off"][..], "culling: off (1 pass)"),
+        (
+            &["--method", "impostor"][..],
+            "culling: occluded: none (impostor draws every glyph; 1 pass)",
+        ),
+    ] {
+        let mut args = vec![
+            "render",
+            scene.to_str().expect("path"),
+            "--width",
+            "64",
+            "--height",
+            "64",
+            "-o",
+            png.to_str().expect("path"),
+        ];
+        args.extend(extra);
+        let out = glyphcast(&args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{args:?}:\n{stderr}");
+        assert!(
+            stderr.lines().any(|l| l == line),
+            "{args:?}: '{line}' not in:\n{stderr}"
+        );
+    }
+}

@@ -340,18 +340,24 @@ fn what_has_no_ellipsoid_is_refused() {
         &["ellipsoid", "tessellated"],
     );
     eprintln!("{failure}");
-    expect_failure(
-        &[
-            "render",
-            path_str(&dti),
-            "--path",
-            "compute",
-            "-o",
-            path_str(&png),
-        ],
-        &out_dir,
-        &["--path compute", "ellipsoid"],
+    // `--path compute` is the request to change (a usage error, exit 2, as for another
+    // method), refused with the path that draws them.
+    let compute = glyphcast(&[
+        "render",
+        path_str(&dti),
+        "--path",
+        "compute",
+        "-o",
+        path_str(&png),
+    ]);
+    let stderr = String::from_utf8_lossy(&compute.stderr);
+    assert_eq!(compute.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("--path compute") && stderr.contains("ellipsoid glyphs"),
+        "{stderr}"
     );
+    assert!(stderr.contains("--path fragment"), "{stderr}");
+    assert!(!png.exists(), "no output on a refusal");
     expect_failure(
         &[
             "render",

@@ -230,3 +230,210 @@ fn volume_coefficients_beyond_float32_are_refused() {
         ],
     );
 }
+
+/// `--path compute` is a setting the command line refuses, whatever stands in its way:
+/// a method other than `exact`, glyphs other than the polynomial glyph (refused before
+/// the device starts), an image over the device's buffer limit. Each is exit 2 and says
+/// what to do instead.
+#[test]
+fn compute_path_refusals_are_usage_errors_with_a_way_out() {
+    let dir = fresh_dir("refusals-compute");
+    let inputs = fresh_dir("refusals-compute-in");
+    let scene = dti_scene(&inputs, "dti.json", "1", "0");
+    let png = dir.join("out.png");
+    let render = |extra: &[&str]| -> Vec<String> {
+        let mut args = vec!["render".to_owned(), scene.clone()];
+        args.extend(extra.iter().map(|s| s.to_string()));
+        args.extend(["-o".to_owned(), text(&png).to_owned()]);
+        args
+    };
+    let run = |extra: &[&str], words: &[&str]| {
+        let args = render(extra);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        refused(&args, 2, &dir, words)
+    };
+    run(
+        &["--path", "compute", "--method", "fixed"],
+        &["--path compute", "--method exact", "fixed"],
+    );
+    let line = run(
+        &["--path", "compute", "--glyph", "ellipsoid"],
+        &["--path compute", "ellipsoid", "--path fragment"],
+    );
+    // Refused before any device: no device line on stderr.
+    let args = render(&["--path", "compute", "--glyph", "ellipsoid"]);
+    let stderr = String::from_utf8_lossy(
+        &glyphcast(&args.iter().map(String::as_str).collect::<Vec<_>>()).stderr,
+    )
+    .into_owned();
+    assert!(!stderr.contains("device:"), "{line}\n{stderr}");
+    // 16384 x 16384 pixels of 4 bytes: 1 GiB, over any lavapipe's storage buffer range.
+    run(
+        &["--path", "compute", "--width", "16384", "--height", "16384"],
+        &[
+            "--path compute",
+            "image buffer of 1073741824 bytes",
+            "--samples",
+            "--width/--height",
+            "--path fragment",
+        ],
+    );
+}
+
+/// `--cull` ways a frame cannot take are refused naming the option and the reason
+/// (exit 2): early outs with a method other than `exact`, passes with the impostor or a
+/// mesh, either with the compute path. The default and `off` always apply.
+#[test]
+fn cull_ways_a_frame_cannot_take_are_refused() {
+    let dir = fresh_dir("refusals-cull");
+    let inputs = fresh_dir("refusals-cull-in");
+    let scene = dti_scene(&inputs, "dti.json", "1", "0");
+    let png = dir.join("out.png");
+    for (extra, words) in [
+        (
+            ["--method", "fixed", "--cull", "early-out"],
+            ["--cull early-out", "--method exact", "--method fixed"],
+        ),
+        (
+            ["--method", "impostor", "--cull", "early-out"],
+            ["--cull early-out", "--method exact", "--method impostor"],
+        ),
+        (
+            ["--method", "impostor", "--cull", "passes"],
+            ["--cull passes", "--method impostor", "every glyph"],
+        ),
+        (
+            ["--path", "compute", "--cull", "passes"],
+            ["--cull passes", "--path compute", "--path fragment"],
+        ),
+    ] {
+        let mut args = vec!["render", scene.as_str(), "-o", text(&png)];
+        args.extend(extra);
+        refused(&args, 2, &dir, &words);
+    }
+    // `bench` reads them as `render` does, before any file or device.
+    refused(
+        &[
+            "bench",
+            text(&dir.join("missing.json")),
+            "--method",
+            "fixed",
+            "--cull",
+            "early-out",
+        ],
+        2,
+        &dir,
+        &["--cull early-out", "--method exact", "--method fixed"],
+    );
+}
+
+/// A misspelled option value is refused before any file is read: the error names the
+/// option, not the (missing) scene file or volume.
+#[test]
+fn option_values_are_checked_before_any_file_is_read() {
+    let dir = fresh_dir("refusals-early");
+    let missing = dir.join("missing.nii");
+    let png = dir.join("out.png");
+    for (flag, value) in [("--cull", "ocluded"), ("--path", "compuet")] {
+        let line = refused(
+            &[
+                "render",
+                "--sh",
+                text(&missing),
+                flag,
+                value,
+                "-o",
+                text(&png),
+            ],
+            2,
+            &dir,
+            &[flag, value],
+        );
+        assert!(!line.contains("missing.nii"), "{line}");
+        let line = refused(
+            &[
+                "render",
+                text(&dir.join("missing.json")),
+                flag,
+                value,
+                "-o",
+                text(&png),
+            ],
+            2,
+            &dir,
+            &[flag, value],
+        );
+        assert!(!line.contains("missing.json"), "{line}");
+    }
+}
+
+/// `--voxels` takes a value that begins with `-` (no tip to write `--`, which would not
+/// work for an option's value): a negative index is the volume request's refusal.
+#[test]
+fn voxels_take_a_value_that_begins_with_a_minus() {
+    let dir = fresh_dir("refusals-voxels");
+    let inputs = fresh_dir("refusals-voxels-in");
+    let path = inputs.join("sh.nii");
+    let data = ndarray::ArrayD::from_elem(vec![2, 2, 2, 1], 1.0);
+    write_nifti(&path, &data, glam::DMat4::IDENTITY);
+    let png = dir.join("out.png");
+    let args = [
+        "render",
+        "--sh",
+        text(&path),
+        "--basis",
+        "tournier07",
+        "--block",
+        "--voxels",
+        "-1:5,:,:",
+        "-o",
+        text(&png),
+    ];
+    let run = glyphcast(&args);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(!stderr.contains("-- -1"), "{stderr}");
+    refused(&args, 2, &dir, &["--voxels", "-1"]);
+}
+
+/// `--block` (or any volume option) without a volume says that it needs one, rather
+/// than asking for a scene file.
+#[test]
+fn a_volume_option_without_a_volume_names_what_it_needs() {
+    let dir = fresh_dir("refusals-block");
+    let png = dir.join("out.png");
+    let line = refused(
+        &["render", "--block", "-o", text(&png)],
+        2,
+        &dir,
+        &["--block", "--sh FILE"],
+    );
+    assert!(!line.contains("<SCENE>"), "{line}");
+    refused(
+        &["render", "-o", text(&png)],
+        2,
+        &dir,
+        &["scene file", "--sh FILE"],
+    );
+}
+
+/// `qc` of a DTI volume (recorded as a tensor by `glyphcast fit`) is refused with a way
+/// out that exists: qc has no `--order`, so the message points at render and view.
+#[test]
+fn qc_of_a_tensor_volume_points_at_what_draws_it() {
+    let dir = fresh_dir("refusals-qc");
+    let inputs = fresh_dir("refusals-qc-in");
+    let dti = common::dwi::fit_dti_small_64d(&inputs);
+    let out = dir.join("qc");
+    let line = refused(
+        &["qc", text(&dti), "-o", text(&out)],
+        1,
+        &dir,
+        &[
+            "dti.nii.gz",
+            "symmetric tensor of order 2",
+            "render or view draw it as a tensor volume (with --order 2)",
+            "qc and peaks read SH coefficients only",
+        ],
+    );
+    assert!(!line.contains("read it as"), "{line}");
+}

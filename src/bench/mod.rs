@@ -5,6 +5,7 @@
 //! (holes, depth error, geometric error in pixels), so that the ray caster, the sphere
 //! impostor and tessellations compare in one table. [`ratios`] condenses such tables.
 //! Timings are reports for a person to read, never test assertions.
+pub mod culling;
 pub mod ratios;
 pub mod tables;
 pub mod workload;
@@ -86,6 +87,11 @@ pub struct BenchResult {
     pub passes: usize,
     /// How hidden glyphs were skipped: passes, early-out or off (render::visibility).
     pub culling: String,
+    /// The `cull` asked for: occluded, passes, early-out or off.
+    pub cull_asked: String,
+    /// What was asked and what was done, with the reason where culling was asked and
+    /// none was done ([`culling::report`]): `occluded: none needed (1 pass)`.
+    pub culling_report: String,
     /// The work of one more frame drawn with the counters on (ray-casting methods on the
     /// fragment path), after the timed ones.
     pub work: Option<crate::render::visibility::WorkCounts>,
@@ -238,7 +244,14 @@ fn measure_prepared(
     // The work, counted in a frame of its own: the counters' atomics are not timed.
     frame.count_work(true);
     renderer.draw(gpu, &frame)?;
-    let work = frame.work()?;
+    // The counters are the ray-casting pass's: the impostor, the meshes and the compute
+    // path count nothing, and their zeros would read as work saved.
+    let counted = frame.path() == RenderPath::Fragment
+        && !matches!(
+            settings.method,
+            crate::render::Method::Impostor | crate::render::Method::Mesh(_)
+        );
+    let work = frame.work()?.filter(|_| counted);
     frame.count_work(false);
     times.sort_by(f64::total_cmp);
     let median = times[times.len() / 2];
@@ -279,6 +292,17 @@ fn measure_prepared(
         draws: image.draws,
         passes: frame.passes(),
         culling: frame.culling().to_string(),
+        cull_asked: settings.cull.to_string(),
+        culling_report: culling::report(
+            gpu.context(),
+            settings,
+            culling::Drawn {
+                path: frame.path(),
+                culling: frame.culling(),
+                passes: frame.passes(),
+                target: (width, height),
+            },
+        ),
         work,
         accuracy: case.reference.map(|r| r.compare(&image, camera)),
     })

@@ -20,7 +20,10 @@ const TIMING: [(&str, Cell); 17] = [
     ("upload ms", |r| format!("{:.1}", r.upload_ms)),
     ("Mrays/s", |r| format!("{:.2}", r.rays_per_second * 1e-6)),
     ("glyphs/s", |r| format!("{:.0}", r.glyphs_per_second)),
-    ("coeff bytes", |r| r.coefficient_bytes.to_string()),
+    ("coeff bytes", |r| match r.mesh_bytes {
+        Some(_) => "-".into(),
+        None => r.coefficient_bytes.to_string(),
+    }),
     ("instance bytes", |r| r.instance_bytes.to_string()),
     ("passes", |r| r.passes.to_string()),
     ("fragments/px", |r| {
@@ -29,7 +32,7 @@ const TIMING: [(&str, Cell); 17] = [
     ("evaluations/px", |r| {
         per_pixel(r, |w| w.evaluations).map_or_else(|| "-".into(), |v| format!("{v:.2}"))
     }),
-    ("cull", |r| r.culling.clone()),
+    ("cull", |r| r.culling_report.clone()),
 ];
 
 /// A work counter per covered pixel, where the frame counted its work.
@@ -72,7 +75,7 @@ const GEOMETRY: [(&str, Cell); 13] = [
 
 /// The CSV: each column's name and cell at full precision; empty where a value was not
 /// measured.
-const CSV: [(&str, Cell); 32] = [
+const CSV: [(&str, Cell); 33] = [
     ("label", |r| r.label.clone()),
     ("glyphs", |r| r.glyphs.to_string()),
     ("width", |r| r.width.to_string()),
@@ -124,6 +127,7 @@ const CSV: [(&str, Cell); 32] = [
         csv_accuracy(r, |a| format!("{:e}", a.error_px))
     }),
     ("culling", |r| r.culling.clone()),
+    ("cull_asked", |r| r.cull_asked.clone()),
 ];
 
 fn header(columns: &[&str]) -> String {
@@ -290,6 +294,8 @@ mod tests {
             draws: 1,
             passes: 1,
             culling: "off".into(),
+            cull_asked: "off".into(),
+            culling_report: "off (1 pass)".into(),
             work: None,
             accuracy: None,
         }

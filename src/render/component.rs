@@ -454,11 +454,8 @@ impl GlyphRenderer {
     pub fn prepare(&mut self, layouts: &[(TensorLayout, GlyphShape)]) -> Result<()> {
         if let (RenderPath::Compute, Some(compute)) = (self.settings.path, &mut self.compute) {
             for &(layout, shape) in layouts {
-                if let Some(what) = crate::render::ShapeShader::of(shape).asked() {
-                    return Err(Error::Unsupported {
-                        what,
-                        by: crate::Setting::Path.with("compute"),
-                    });
+                if shape != GlyphShape::Polynomial {
+                    return Err(crate::render::settings::compute_refuses_shape(shape));
                 }
                 compute.pass.pipeline(layout)?;
             }

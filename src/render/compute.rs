@@ -343,14 +343,10 @@ impl ComputeRayCastPass {
         })?;
         let mut parts = Vec::with_capacity(batches.len());
         for batch in &batches {
-            // Only the polynomial glyph has a compute ray caster.
-            let unsupported = crate::render::ShapeShader::of(batch.shape).asked();
-            if let Some(what) = unsupported {
-                // The data decide (exit code 1), so not a Setting error.
-                return Err(Error::Unsupported {
-                    what,
-                    by: Setting::Path.with("compute"),
-                });
+            // Only the polynomial glyph has a compute ray caster: `compute` is refused
+            // for the others as a setting (exit code 2), as for another method.
+            if batch.shape != crate::glyph::GlyphShape::Polynomial {
+                return Err(crate::render::settings::compute_refuses_shape(batch.shape));
             }
             self.pipeline(batch.layout)?;
             let (instances, boxes) = (batch.instances()?.into_owned(), batch.boxes()?.into_owned());
@@ -539,12 +535,27 @@ impl ComputeGlyphsGpu {
         let device_limit = ctx.max_storage_buffer_range();
         let pixels = width as u64 * height as u64;
         if 4 * pixels > device_limit {
-            return Err(Error::Limit {
-                what: "bytes of the compute path's image buffer",
-                value: 4 * pixels,
-                limit: device_limit,
-                settings: &[],
-            });
+            // The request sets the size, so the way out is a smaller one or the fragment
+            // path (a refused setting, exit code 2).
+            return Err(Error::setting_value(
+                Setting::Path,
+                "compute",
+                crate::message![
+                    format!(
+                        "its image buffer of {} bytes ({width} x {height} pixels, samples \
+                         included) is over this device's storage buffer limit of \
+                         {device_limit} bytes; ask for fewer samples (",
+                        4 * pixels
+                    ),
+                    Setting::Samples,
+                    ") or a smaller image (",
+                    Setting::Width,
+                    "/",
+                    Setting::Height,
+                    "), or use ",
+                    Setting::Path.with("fragment")
+                ],
+            ));
         }
         // A set per part, and the composing draw's.
         let pool = DescriptorPool::new(ctx, self.parts.len() + 1, 0, BINDINGS)?;

@@ -266,6 +266,25 @@ impl std::fmt::Display for RenderPath {
     }
 }
 
+/// The refusal of [`RenderPath::Compute`] for glyphs of `shape` (any but the polynomial
+/// glyph), with the way out.
+pub(crate) fn compute_refuses_shape(shape: crate::glyph::GlyphShape) -> Error {
+    Error::setting_value(
+        Setting::Path,
+        "compute",
+        crate::message![
+            format!(
+                "the compute ray caster draws polynomial glyphs only, not {} glyphs; use ",
+                shape.name()
+            ),
+            Setting::Path.with("fragment"),
+            " or ",
+            Setting::Path.with("auto"),
+            " (which takes the fragment path for them)"
+        ],
+    )
+}
+
 /// Shadows the glyphs cast (`--shadows`): from each glyph hit, rays towards the light are
 /// intersected exactly with the glyphs that may block them (the same root isolation as
 /// the camera's rays). Only the light's diffuse and specular terms are taken away; the
@@ -875,6 +894,26 @@ impl RenderSettings {
              drawn without them",
             shape.name()
         ))
+    }
+
+    /// Refuses [`RenderPath::Compute`] for glyphs of `shapes` it cannot draw (any shape
+    /// but the polynomial glyph): a refused setting, as `compute` with another method is,
+    /// so that a front end refuses it in the same words (and exit code) before it opens
+    /// a device. The compute pass refuses the same shapes itself.
+    pub fn check_shapes(
+        &self,
+        shapes: impl IntoIterator<Item = crate::glyph::GlyphShape>,
+    ) -> Result<()> {
+        if self.path != RenderPath::Compute {
+            return Ok(());
+        }
+        match shapes
+            .into_iter()
+            .find(|shape| *shape != crate::glyph::GlyphShape::Polynomial)
+        {
+            Some(shape) => Err(compute_refuses_shape(shape)),
+            None => Ok(()),
+        }
     }
 
     /// Worst-case number of march steps along one chord, with the centre zone's finer steps.

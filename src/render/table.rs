@@ -590,6 +590,7 @@ impl RenderOptions {
     /// given with another method it would change nothing. A one-shot image calls this;
     /// the viewer does not, since its method can be switched to one that reads them.
     pub fn check_method_reads(&self, settings: &RenderSettings) -> Result<()> {
+        self.check_cull_applies(settings)?;
         let method = settings.method;
         for spec in RENDER_SETTINGS {
             let Reads::Methods(readers) = spec.reads else {
@@ -618,6 +619,51 @@ impl RenderOptions {
             return Err(Error::setting_value(spec.setting, value, message));
         }
         Ok(())
+    }
+}
+
+impl RenderOptions {
+    /// Refuses a `cull` given that no frame of `settings` could take: early outs are the
+    /// `exact` method's on the fragment path (its shader has them), passes the
+    /// ray-casting methods' on the fragment path. Given anyway, it would change nothing
+    /// (the frame is drawn as without culling), so a one-shot image refuses it, as
+    /// [`check_method_reads`](Self::check_method_reads) does a setting the method does
+    /// not read. `occluded` (the default) and `off` always apply.
+    fn check_cull_applies(&self, settings: &RenderSettings) -> Result<()> {
+        let Some(cull) = self.cull else {
+            return Ok(());
+        };
+        let method = settings.method;
+        let ray_cast = !matches!(method, Method::Impostor | Method::Mesh(_));
+        let why: crate::error::Message = match cull {
+            Culling::Occluded | Culling::Off => return Ok(()),
+            Culling::EarlyOut if method != Method::Exact => crate::message![
+                "early outs are for ",
+                Setting::Method.with("exact"),
+                " (its root isolation is what they skip); ",
+                Setting::Method.with(method),
+                " does not take them (leave it out, or use ",
+                Setting::Cull.with("occluded"),
+                ")"
+            ],
+            Culling::Passes if !ray_cast => crate::message![
+                "passes skip ray-cast fragments; ",
+                Setting::Method.with(method),
+                " draws every glyph (leave it out, or choose a ray-casting method)"
+            ],
+            Culling::EarlyOut | Culling::Passes if settings.path == RenderPath::Compute => {
+                crate::message![
+                    "applies to the fragment path; ",
+                    Setting::Path.with("compute"),
+                    " already stops each pixel behind its nearest hit (leave it out, or \
+                     use ",
+                    Setting::Path.with("fragment"),
+                    ")"
+                ]
+            }
+            Culling::EarlyOut | Culling::Passes => return Ok(()),
+        };
+        Err(Error::setting_value(Setting::Cull, cull, why))
     }
 }
 

@@ -126,6 +126,10 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
             output,
             options,
         } => {
+            // Every option value is checked before any file is read.
+            source.check()?;
+            options.check()?;
+            output.check()?;
             cli::render::check_outputs(&output, source.save_scene(), &source.input_paths())?;
             if source.volume.is_montage() {
                 if source.save_scene().is_some() {
@@ -161,6 +165,8 @@ fn run(cli: Cli) -> glyphcast::Result<()> {
             options,
             save_scene,
         } => {
+            options.check()?;
+            output.check()?;
             cli::render::check_outputs(&output, save_scene.as_deref(), &[])?;
             let mut scene = if stiffness {
                 glyphcast::demo::stiffness_demo_scene()

@@ -7,12 +7,13 @@ use glyphcast::accuracy::suite;
 use glyphcast::bench::{self, BenchCase, BenchFrames, BenchResult, Reference, ratios, workload};
 use glyphcast::error::Relation;
 use glyphcast::render::headless::HeadlessRenderer;
+use glyphcast::render::options::{RenderOptions, Value};
 use glyphcast::render::{
     AmbientOcclusion, MeshKind, Method, Refinement, RenderPath, RenderSettings, Shadows,
 };
 use glyphcast::scene::Scene;
 use glyphcast::vk::{Gpu, GpuOptions};
-use glyphcast::{Error, Result};
+use glyphcast::{Error, Result, Setting};
 use glyphcast_dmri::volume::ImageRequest;
 use std::path::{Path, PathBuf};
 
@@ -45,15 +46,21 @@ pub struct BenchArgs {
     /// mesh:LEVEL or latlong:N.
     #[arg(long, default_value = "exact")]
     method: String,
-    /// Ray caster of a single measurement: fragment (proxy boxes) or compute (a compute
-    /// shader per pixel over screen tiles; exact only).
-    #[arg(long, default_value = "fragment")]
+    /// Ray caster of a single measurement: fragment (proxy boxes; the default here, so
+    /// that the work counters are measured), compute (a compute shader per pixel over
+    /// screen tiles; exact only) or auto (render's default: compute on a GPU, fragment on
+    /// a CPU device such as lavapipe and wherever compute cannot draw the glyphs).
+    #[arg(long, default_value = "fragment", value_name = "fragment|compute|auto")]
     path: String,
     /// Hidden glyphs in a single measurement: occluded (the device's best of passes and
     /// early-out), passes (drawn in passes front to back, each skipping the pixels an
     /// earlier pass covered nearer), early-out (one pass front to back whose fragments
     /// behind a hit found before skip the root isolation) or off (one pass).
-    #[arg(long, default_value = "occluded")]
+    #[arg(
+        long,
+        default_value = "occluded",
+        value_name = "occluded|passes|early-out|off"
+    )]
     cull: String,
     /// Also compare a single measurement with the float64 reference.
     #[arg(long)]
@@ -244,13 +251,18 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
     }
     match args.sweep.as_deref() {
         None => {
-            let settings = RenderSettings {
-                method: args.method.parse()?,
-                path: args.path.parse()?,
-                cull: args.cull.parse()?,
-                ..defaults
-            };
-            settings.validate()?;
+            // Read and checked as `render` reads them: a `--cull` the method or path
+            // cannot take is refused here too.
+            let mut options = RenderOptions::default();
+            for (setting, text) in [
+                (Setting::Method, &args.method),
+                (Setting::Path, &args.path),
+                (Setting::Cull, &args.cull),
+            ] {
+                options.set(setting, Value::Text(text))?;
+            }
+            let settings = options.settings()?;
+            options.check_method_reads(&settings)?;
             let base = args.base_scene()?;
             if let Some(path) = &args.save_scene {
                 let arrays = match args.scene_arrays {
@@ -555,7 +567,7 @@ fn run_plan(args: &BenchArgs) -> Result<()> {
         options.device = args.device.clone();
     }
     let gpu = Gpu::headless(&options)?;
-    eprintln!("device: {}", gpu.info);
+    // The device is named once, at the head of the table (stdout and results.md).
     let mut renderer = HeadlessRenderer::new(&gpu)?;
     let mut references: Vec<Option<Reference>> = plan.scenes.iter().map(|_| None).collect();
     let progress = super::progress::bar(plan.cases.len() as u64, "bench");
@@ -598,7 +610,12 @@ fn run_plan(args: &BenchArgs) -> Result<()> {
     }
     progress.finish_and_clear();
     let ratios = ratios::ratios(&results);
-    let mut table = format!("Device: {}\n\n{}", gpu.info, bench::markdown(&results));
+    let mut table = format!(
+        "Device: {}\n\n{}\n{}",
+        gpu.info,
+        legend(args.frames()),
+        bench::markdown(&results)
+    );
     if plan.tolerate_failures {
         table.push_str(&format!(
             "\nGPU milliseconds per frame (median), glyphs by size and method:\n\n{}",
@@ -649,6 +666,22 @@ fn run_plan(args: &BenchArgs) -> Result<()> {
     }
     print!("{table}");
     Ok(())
+}
+
+/// What the timing table's columns measure, and in which units, for `frames`.
+fn legend(frames: BenchFrames) -> String {
+    let BenchFrames { warmup, measured } = frames;
+    format!(
+        "GPU ms: the glyph pass's GPU time (timestamp queries) over {measured} timed \
+         frame(s) after {warmup} warm-up frame(s): median, min and max. prepare ms: CPU time \
+         to turn the scene into GPU data; upload ms: CPU time to upload it and make the \
+         frame's targets (mesh generation apart). Mrays/s: covered pixels (pixels with a \
+         glyph hit) per second of median GPU time; glyphs/s alike. coeff and instance \
+         bytes: GPU memory of the glyph data. fragments/px and evaluations/px: fragment \
+         shader runs and glyph evaluations of one more frame drawn with counters, per \
+         covered pixel; \"-\" where nothing is counted (the impostor, meshes, the compute \
+         path). cull: the --cull asked for, then what the frame did.\n"
+    )
 }
 
 /// `--sweep shadows`: each round's frame with shadows over the same round's frame

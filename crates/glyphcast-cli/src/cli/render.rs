@@ -24,8 +24,8 @@ use std::time::Instant;
 /// Where the glyphs come from: a scene file, or a volume (see `cli::volume`).
 #[derive(Args)]
 pub struct SceneSource {
-    /// Scene file (JSON).
-    #[arg(value_name = "SCENE", required_unless_present_any = super::volume::VOLUME_FLAGS)]
+    /// Scene file (JSON); without it, a volume (--sh, --tensor or --peaks).
+    #[arg(value_name = "SCENE")]
     pub scene: Option<PathBuf>,
     #[command(flatten)]
     pub volume: super::volume::VolumeArgs,
@@ -41,6 +41,27 @@ pub enum Loaded {
 }
 
 impl SceneSource {
+    /// Refuses a request with neither a scene file nor a volume, before any file is
+    /// read: a volume-only flag given alone (`--block`) is told that it needs a volume,
+    /// not a scene file (a usage error).
+    pub fn check(&self) -> Result<()> {
+        if self.scene.is_some() || self.volume.is_given() {
+            return Ok(());
+        }
+        Err(match self.volume.volume_only_flag() {
+            Some(flag) => Error::conflict(
+                flag,
+                Relation::Requires,
+                "a volume to draw: --sh FILE or --tensor FILE (or --peaks FILE)",
+            ),
+            None => Error::conflict(
+                "drawing",
+                Relation::Requires,
+                "a scene file (SCENE) or a volume: --sh FILE, --tensor FILE or --peaks FILE",
+            ),
+        })
+    }
+
     /// What to render; `image` (from --width/--height) sizes a volume's framing.
     pub fn load(&self, image: ImageRequest) -> Result<Loaded> {
         if let Some(path) = &self.scene {
@@ -153,6 +174,11 @@ pub struct OutputArgs {
 }
 
 impl OutputArgs {
+    /// Checks the output options' values (`--dpi`) before any work.
+    pub fn check(&self) -> Result<()> {
+        self.dpi().map(|_| ())
+    }
+
     /// `--dpi`, checked: a finite number above 0 (a usage error otherwise).
     fn dpi(&self) -> Result<Option<f64>> {
         match self.dpi {
@@ -238,6 +264,17 @@ impl RenderArgs {
     /// The render settings of the flags; any error is a usage error (exit 2).
     pub fn settings(&self) -> Result<RenderSettings> {
         self.options()?.settings()
+    }
+
+    /// Checks every option value of a one-shot image before any file is read: the
+    /// size, each setting's value, the settings the method (and the colour bar, and
+    /// `--cull`) need or do not read. Returns the settings.
+    pub fn check(&self) -> Result<RenderSettings> {
+        self.image_request()?;
+        let settings = self.settings()?;
+        self.check_colorbar(&settings)?;
+        self.options()?.check_method_reads(&settings)?;
+        Ok(settings)
     }
 
     /// Whether `--colorbar` was given.
@@ -330,9 +367,8 @@ pub fn render(
         image.height.unwrap_or(scene.image.height),
     )?;
     output.dpi()?;
-    let settings = options.settings()?;
-    options.check_colorbar(&settings)?;
-    options.options()?.check_method_reads(&settings)?;
+    let settings = options.check()?;
+    settings.check_shapes(scene.glyph_sets.iter().map(|s| s.shape))?;
     let negative = options.negative()?;
     if let Some(note) = settings.shapes_without_rays_note(scene.glyph_sets.iter().map(|s| s.shape))
     {
@@ -405,6 +441,17 @@ pub fn render(
         prepare_time.as_secs_f64() * 1e3,
         begun.elapsed().as_secs_f64() * 1e3
     );
+    let factor = glyphcast::render::settings::supersampling_factor(settings.samples)?;
+    let drawn = glyphcast::bench::culling::Drawn {
+        path: image.path,
+        culling: image.culling,
+        passes: image.passes,
+        target: (w * factor, h * factor),
+    };
+    eprintln!(
+        "culling: {}",
+        glyphcast::bench::culling::report(gpu.context(), &settings, drawn)
+    );
     if let Some(mesh) = &image.mesh {
         eprintln!(
             "{}: {} triangles ({} per glyph), generated in {:.1} ms, {:.1} MiB on the GPU",
@@ -428,9 +475,7 @@ pub fn render_montage(
     labels: bool,
 ) -> Result<()> {
     let image = options.image_request()?;
-    let settings = options.settings()?;
-    options.check_colorbar(&settings)?;
-    options.options()?.check_method_reads(&settings)?;
+    let settings = options.check()?;
     let negative = options.negative()?;
     let (mut scenes, peaks): (Vec<Scene>, Vec<Option<PeakSet>>) = montage
         .panels
@@ -438,6 +483,7 @@ pub fn render_montage(
         .map(|p| (p.scene, p.peaks))
         .unzip();
     for scene in &mut scenes {
+        settings.check_shapes(scene.glyph_sets.iter().map(|s| s.shape))?;
         (scene.image.width, scene.image.height) = options.scaled(
             image.width.unwrap_or(scene.image.width),
             image.height.unwrap_or(scene.image.height),

@@ -43,6 +43,7 @@ pub struct ViewArgs {
 }
 
 pub fn run(args: &ViewArgs) -> Result<()> {
+    args.source.check()?;
     if args.source.labels() {
         return Err(Error::conflict(
             Setting::Labels,

@@ -20,9 +20,6 @@ use glyphcast_dmri::volume::{
 };
 use std::path::{Path, PathBuf};
 
-/// Flags that make a scene file unnecessary.
-pub const VOLUME_FLAGS: [&str; 3] = ["sh", "tensor", "peaks"];
-
 #[derive(Args)]
 pub struct VolumeArgs {
     /// 4D image of SH coefficients, [x, y, z, (L+1)(L+2)/2] for an even band L <= 12:
@@ -88,7 +85,12 @@ pub struct VolumeArgs {
     pub block: bool,
     /// Voxel index ranges i0:i1,j0:j1,k0:k1 (end exclusive, ends optional), intersected
     /// with the slice; with --block, the block drawn.
-    #[arg(long, value_name = "RANGES", help_heading = "Volume input")]
+    #[arg(
+        long,
+        value_name = "RANGES",
+        help_heading = "Volume input",
+        allow_hyphen_values = true
+    )]
     pub voxels: Option<String>,
     /// 3D NIfTI or MRtrix mask of the volume's shape: glyphs only where it is nonzero.
     #[arg(long, value_name = "IMAGE", help_heading = "Volume input")]

@@ -94,9 +94,12 @@ pub fn check_content(image: &Image, wanted: RecordedContent) -> Result<()> {
     let mut pieces: Vec<Piece> = vec![holds.into(), not.into()];
     match recorded {
         RecordedContent::Sh => pieces.push(": read it as an SH volume".into()),
+        // Only render and view read tensor volumes (qc and peaks take SH alone), so the
+        // way out names them rather than an option the caller may lack.
         RecordedContent::Tensor(order) => pieces.extend([
-            ": read it as a tensor volume with ".into(),
+            ": render or view draw it as a tensor volume (with ".into(),
             Setting::Order.with(order),
+            "); qc and peaks read SH coefficients only".into(),
         ]),
         RecordedContent::Peaks => pieces.extend([": give it as ".into(), Setting::Peaks.into()]),
     }

@@ -694,13 +694,13 @@ fn tensor_hint(file: &Image) -> Result<Option<glyphcast::error::Message>> {
     Ok(Some(glyphcast::message![
         format!(
             "{}: 6 coefficients per voxel, drawn as SH of band 2, but {why}: if it holds \
-         tensors, draw it as a tensor volume with ",
+         tensors, render or view draw it as a tensor volume (with ",
             file.file
         ),
         Setting::Order.with(2),
-        " (and ",
+        ", and ",
         Setting::TensorOrder,
-        " naming the order of its entries)"
+        " naming the order of its entries); qc and peaks read SH coefficients only"
     ]))
 }
 
