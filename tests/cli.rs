@@ -1004,12 +1004,19 @@ fn render_reports_what_culling_did() {
     let dir = fresh_dir("render-culling");
     let png = dir.join("out.png");
     let scene = scenes().join("order4_pair.json");
-    for (extra, line) in [
-        (&[][..], "culling: occluded: none needed (1 pass)"),
-        (&["--cull", "off"][..], "culling: off (1 pass)"),
+    // A flat pair: nothing hidden where early outs would be taken (Mesa 25), fewer
+    // layers than passes pay for where they would not (Mesa 22.3).
+    let flat = [
+        "culling: occluded: none needed (1 pass)",
+        "culling: occluded: none (passes pay from 3 layers of glyphs, the frame has fewer; \
+         1 pass)",
+    ];
+    for (extra, lines) in [
+        (&[][..], &flat[..]),
+        (&["--cull", "off"][..], &["culling: off (1 pass)"][..]),
         (
             &["--method", "impostor"][..],
-            "culling: occluded: none (impostor draws every glyph; 1 pass)",
+            &["culling: occluded: none (impostor draws every glyph; 1 pass)"][..],
         ),
     ] {
         let mut args = vec![
@@ -1027,8 +1034,8 @@ fn render_reports_what_culling_did() {
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(out.status.success(), "{args:?}:\n{stderr}");
         assert!(
-            stderr.lines().any(|l| l == line),
-            "{args:?}: '{line}' not in:\n{stderr}"
+            stderr.lines().any(|l| lines.contains(&l)),
+            "{args:?}: none of {lines:?} in:\n{stderr}"
         );
     }
 }

@@ -2,8 +2,8 @@
 # The DIPY figures of docs/guide/figures.md (docs/gallery/dipy-*.png), from DIPY's small
 # 64-direction test DWI (tests/data/dipy, BSD-3): CSD fODFs (band 8, DIPY's basis) and
 # tensors fitted by glyphcast fit, FA by tools/fa_map.py; the fODFs over FA with every
-# default a DIPY user gets (underlay behind the glyphs, robust sizes), and a 3D block of
-# them:
+# default a DIPY user gets (underlay behind the glyphs, the default sizes), and a 3D
+# block of them:
 #   bash tools/figures_dipy.sh [glyphcast binary]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -25,6 +25,6 @@ common=(--sh "$work/csd.nii" --underlay "$work/fa.nii" --underlay-range 0:1 --sa
 # A lightbox of 9 axial slices, each captioned with its slice.
 "$bin" render "${common[@]}" --lightbox 9 --width 220 --height 220 -o "$out/dipy-lightbox.png"
 # A block: all 10 x 10 voxels of six axial slices in 3D, seen from above-left-front,
-# each glyph at one size so that every lobe shows (a block takes no underlay).
-"$bin" render --sh "$work/csd.nii" --block --voxels :,:,2:8 --norm per-glyph --scale 0.8 \
+# with the default sizes (a block takes no underlay).
+"$bin" render --sh "$work/csd.nii" --block --voxels :,:,2:8 \
     --negative hide --samples 16 --background black --width 720 -o "$out/dipy-block.png"

@@ -20,7 +20,7 @@ The keyword options are those of ``glyphcast render``, with ``-`` as ``_``
   ``voxels``, the whole volume without it, in 3D and in perspective, at most 100000
   glyphs; not with ``slice``, ``slices``, ``views``, ``lightbox`` or ``underlay``),
   ``mask`` (an (X, Y, Z) array or a path),
-  ``scale``, ``norm`` ("robust", the default, "global", "per-glyph", "none"; or
+  ``scale``, ``norm`` ("sqrt", the default, "robust", "global", "per-glyph", "none"; or
   FURY's ``True`` for "per-glyph", ``False`` for "none"), ``min_amplitude``, ``lmax``
   (or DIPY's ``sh_order_max``), ``frame``, ``perspective``, ``orientation``,
   ``tensor_order`` (the stored order of order-2 tensors' six entries: glyphcast, fsl,

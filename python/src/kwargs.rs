@@ -128,7 +128,7 @@ impl<'py> Kwargs<'py> {
         ))
     }
 
-    /// `norm`: "robust", "global", "per-glyph" or "none", or FURY's switch: True is
+    /// `norm`: "sqrt", "robust", "global", "per-glyph" or "none", or FURY's switch: True is
     /// "per-glyph" (every glyph scaled to its own maximum), False is "none".
     fn norm(&mut self) -> PyResult<Option<String>> {
         let Some(value) = self.take("norm") else {

@@ -74,5 +74,14 @@ fn why_none(ctx: &DeviceContext, settings: &RenderSettings, drawn: Drawn, passes
             "(the device does not blend float32 distances, which passes need; {passes})"
         );
     }
+    if takes_passes && settings.cull == Culling::Occluded {
+        // Passes pay where the glyphs stand in several layers (render::visibility's
+        // PASS_COVER); the early outs, which take thinner frames, save no time on a
+        // device that runs skipped code masked, and are not taken there.
+        return format!(
+            "(passes pay from {} layers of glyphs, the frame has fewer; {passes})",
+            crate::render::visibility::PASS_COVER
+        );
+    }
     format!("needed ({passes})")
 }

@@ -79,6 +79,8 @@ pub struct UploadedGlyphs {
     views: Vec<Option<(vk::Viewport, vk::Rect2D)>>,
     /// Whether hidden glyphs are skipped where the frame is drawn in passes.
     cull: Culling,
+    /// The `cull` the glyphs were uploaded with (`occluded`, or a way asked for by name).
+    cull_asked: Culling,
     /// Per frame index: the passes of its camera (render::visibility).
     plans: Vec<PassPlan>,
     /// On the compute path: the glyphs as the compute ray caster reads them (`gpu` then
@@ -195,7 +197,7 @@ impl UploadedGlyphs {
         }
         if let Some(plan) = self.plans.get_mut(k) {
             let clusters = self.gpu.sets.iter().map(|set| set.clusters.as_slice());
-            *plan = crate::render::visibility::plan(clusters, frame, self.cull);
+            *plan = crate::render::visibility::plan(clusters, frame, (self.cull, self.cull_asked));
         }
         let early_out = self.culling(k) == Culling::EarlyOut;
         if let Some(host) = &mut self.host_early_outs {
@@ -595,6 +597,7 @@ impl GlyphRenderer {
             max_radius: glyph_radius(sets, settings),
             views: vec![None; self.frames_in_flight],
             cull,
+            cull_asked: settings.cull,
             plans: vec![PassPlan::default(); self.frames_in_flight],
             compute,
             host_early_outs,

@@ -229,3 +229,43 @@ pub fn expect_failure(args: &[&str], out_dir: &Path, words: &[&str]) -> String {
     );
     errors[0].to_string()
 }
+
+/// DIPY's small_64D fitted as a DIPY user does (`glyphcast fit --odf csd --csd-algorithm
+/// dipy --order 8 --basis dipy`), once per test run: the path of the SH volume.
+pub fn dipy_csd_fit() -> PathBuf {
+    static FIT: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
+    FIT.get_or_init(|| {
+        let fit = fresh_dir("dipy-csd-fit").join("csd.nii.gz");
+        let (dwi, bval, bvec) = (
+            dipy_data("small_64D.nii"),
+            dipy_data("small_64D.bval"),
+            dipy_data("small_64D.bvec"),
+        );
+        let out = glyphcast(&[
+            "fit",
+            text(&dwi),
+            "--bval",
+            text(&bval),
+            "--bvec",
+            text(&bvec),
+            "--odf",
+            "csd",
+            "--csd-algorithm",
+            "dipy",
+            "--order",
+            "8",
+            "--basis",
+            "dipy",
+            "--quiet",
+            "-o",
+            text(&fit),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        fit
+    })
+    .clone()
+}

@@ -214,3 +214,57 @@ fn viewer_slice_moves_are_prepared_in_the_background() {
             .all(|s| s.negative == glyphcast::glyph::NegativeMode::Hide)
     );
 }
+
+/// The drawn max radius of every glyph of a volume view's scene: each glyph's largest
+/// |f| over 4,000 directions times its scale.
+fn drawn_radii(scene: &glyphcast::Scene) -> Vec<f64> {
+    use glyphcast::glyph::bounds::sampled_max_radius;
+    let sets = glyphcast::render::glyph_data::prepare_scene(scene, 0.0).expect("prepared");
+    sets.iter()
+        .flat_map(|set| set.world.iter())
+        .map(|w| w.scale * sampled_max_radius(&w.poly, w.negative, 4000))
+        .collect()
+}
+
+/// The default sizes on real fibre ODFs, MRtrix's dwi2fod of its test data
+/// (tests/data/mrtrix/fod_dirs300.mif) and DIPY's CSD of small_64D (fitted here by
+/// `glyphcast fit --odf csd --csd-algorithm dipy --order 8 --basis dipy`), each as the
+/// default axial slice and as a block: the median glyph is drawn at least half of the
+/// scale (0.45 of the voxel), and none beyond it, so none is larger than its voxel.
+#[test]
+fn default_sizes_fill_the_voxels_of_real_fodfs() {
+    use glyphcast_dmri::volume::{Coefficients, ImageRequest, VolumeRequest, volume_scene};
+    let fit = crate::common::dipy_csd_fit();
+    let mrtrix = crate::common::test_data("mrtrix", "fod_dirs300.mif");
+    for path in [fit, mrtrix] {
+        for block in [false, true] {
+            let request = VolumeRequest {
+                block,
+                ..VolumeRequest::default()
+            };
+            let volume = request
+                .read_volume(Coefficients::Sh, &path)
+                .expect("volume");
+            let options = request.options(ImageRequest::default()).expect("options");
+            let view = volume_scene(&volume, &options).expect("scene");
+            let scale = 0.45 * volume.voxel_to_world.voxel_sizes().min_element();
+            let mut radii = drawn_radii(&view.scene);
+            radii.sort_by(f64::total_cmp);
+            let median = radii[radii.len() / 2];
+            let largest = radii[radii.len() - 1];
+            let what = format!(
+                "{} (block: {block}, {} glyphs)",
+                path.display(),
+                radii.len()
+            );
+            assert!(
+                median >= 0.5 * scale,
+                "{what}: median {median}, scale {scale}"
+            );
+            assert!(
+                largest <= scale * (1.0 + 1e-9),
+                "{what}: largest {largest}, scale {scale}"
+            );
+        }
+    }
+}

@@ -178,9 +178,9 @@ fn normalisation_sizes_glyphs_as_asked() {
 }
 
 /// One glyph ten times larger than the rest (a CSF-like voxel) leaves the others'
-/// drawn size as it was under the default (robust) normalisation, and is itself
-/// drawn at the largest size, counted and warned of; under global normalisation it
-/// shrinks them by 7x.
+/// drawn size as it was under the robust normalisation, and is itself drawn at the
+/// largest size, counted and warned of; under global normalisation it shrinks them by
+/// 7x.
 #[test]
 fn an_outlier_does_not_shrink_the_other_glyphs_by_default() {
     let outlier = [1, 1, 1];
@@ -211,8 +211,8 @@ fn an_outlier_does_not_shrink_the_other_glyphs_by_default() {
             .collect();
         (radii, view.report)
     };
-    let (before, _) = world_radii(&plain, Normalisation::default());
-    let (after, report) = world_radii(&spiked, Normalisation::default());
+    let (before, _) = world_radii(&plain, Normalisation::Robust);
+    let (after, report) = world_radii(&spiked, Normalisation::Robust);
     assert_eq!(report.capped, 1);
     let warnings = report.warnings("spiked.nii");
     assert!(
@@ -241,6 +241,61 @@ fn an_outlier_does_not_shrink_the_other_glyphs_by_default() {
     let (global, _) = world_radii(&spiked, Normalisation::Global);
     let shrunk = before[0].1 / global[0].1;
     assert!(shrunk > 5.0, "{shrunk}");
+}
+
+/// The default sizing (square root): the glyph at the 95th percentile of the sizes is
+/// drawn at the scale, a smaller one at the scale times the square root of its size
+/// over that one's, a larger one (the outlier) at the scale, without a warning; the
+/// order of the sizes is kept, and the median glyph is drawn at more than half the
+/// scale.
+#[test]
+fn the_default_sizes_glyphs_by_the_square_root_up_to_a_high_percentile() {
+    let outlier = [1, 1, 1];
+    let spiked = labelled("spiked", |v, c| {
+        if v == outlier {
+            c.iter().map(|x| 10.0 * x).collect()
+        } else {
+            c
+        }
+    });
+    let options = VolumeOptions {
+        slice: Slice {
+            axis: SliceAxis::Axial,
+            index: Some(1),
+        },
+        ..Default::default()
+    };
+    assert_eq!(options.norm, Normalisation::Sqrt);
+    let view = volume_scene(&spiked, &options).expect("scene");
+    assert_eq!(view.report.capped, 0);
+    assert!(view.report.warnings("spiked.nii").is_empty());
+    let set = &view.scene.glyph_sets[0];
+    // Labels are the radii (a sphere c I has radius c).
+    let radii: Vec<f64> = set.coeffs.iter().map(|c| c[0]).collect();
+    let drawn: Vec<f64> = set
+        .coeffs
+        .iter()
+        .zip(&set.scales)
+        .map(|(c, s)| s * c[0])
+        .collect();
+    let reference = glyphcast_dmri::volume::percentile(&radii, 95.0);
+    let scale = 0.9;
+    for (&r, &d) in radii.iter().zip(&drawn) {
+        let expected = scale * (r / reference).sqrt().min(1.0);
+        assert!(
+            (d - expected).abs() < 1e-9 * scale,
+            "radius {r}: drawn {d}, expected {expected}"
+        );
+        assert!(
+            d <= scale * (1.0 + 1e-12),
+            "radius {r}: drawn {d} beyond the scale"
+        );
+    }
+    let mut order: Vec<usize> = (0..radii.len()).collect();
+    order.sort_by(|&a, &b| radii[a].total_cmp(&radii[b]));
+    assert!(order.windows(2).all(|w| drawn[w[0]] <= drawn[w[1]]));
+    let median = drawn[order[order.len() / 2]];
+    assert!(median > 0.5 * scale, "median glyph drawn at {median}");
 }
 
 #[test]

@@ -95,14 +95,16 @@ pub struct VolumeArgs {
     /// 3D NIfTI or MRtrix mask of the volume's shape: glyphs only where it is nonzero.
     #[arg(long, value_name = "IMAGE", help_heading = "Volume input")]
     pub mask: Option<PathBuf>,
-    /// World radius of the largest glyph (default: 0.45 times the smallest voxel size).
+    /// World radius of a full-size glyph (default: 0.45 times the smallest voxel size).
     #[arg(long, value_name = "S", help_heading = "Volume input")]
     pub scale: Option<f64>,
-    /// Glyph sizes: robust (one factor for all: the largest glyph that is no outlier at
-    /// --scale, an outlier being more than 1.5 times the 99th percentile of the glyph
-    /// sizes, drawn at --scale itself; the default),
-    /// global (one factor for all, the largest at --scale), per-glyph (all the same
-    /// size) or none (amplitude times --scale).
+    /// Glyph sizes: sqrt (the default: the glyph at the 95th percentile of the glyph
+    /// sizes at --scale, a smaller one at --scale times the square root of its size
+    /// over that one's, a larger one at --scale), robust (one factor for all: the
+    /// largest glyph that is no outlier at --scale, an outlier being more than 1.5
+    /// times the 99th percentile of the glyph sizes, drawn at --scale itself), global
+    /// (one factor for all, the largest at --scale), per-glyph (all the same size) or
+    /// none (amplitude times --scale).
     #[arg(long, value_name = "MODE", help_heading = "Volume input")]
     pub norm: Option<String>,
     /// Leave out glyphs whose largest radius is below A (data units).

@@ -43,15 +43,26 @@ pub const ROBUST_PERCENTILE: f64 = 99.0;
 /// ... times this factor, if that is below the largest radius.
 pub const ROBUST_FACTOR: f64 = 1.5;
 
+/// The square-root sizing's reference: this percentile of the glyphs' max radii is
+/// drawn at `scale` ([`Normalisation::Sqrt`]).
+pub const SQRT_PERCENTILE: f64 = 95.0;
+
 /// How glyph sizes relate to the data.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Normalisation {
+    /// The default: the glyph at the [`SQRT_PERCENTILE`]th percentile of the radii is
+    /// drawn with radius `scale`, a smaller one with `scale` times the square root of
+    /// its radius over that one's (a glyph a quarter as large is drawn half as large),
+    /// a larger one with `scale` (counted in the report). Amplitude still orders the
+    /// sizes, and a slice of fibre ODFs whose median glyph is a third of the largest
+    /// shows it at more than half a voxel instead of a speck under a few large ones.
+    #[default]
+    Sqrt,
     /// One factor for all drawn glyphs, robust to a few outliers: glyphs larger than
     /// [`ROBUST_FACTOR`] times the [`ROBUST_PERCENTILE`]th percentile of the radii are
     /// outliers (counted in the report) and drawn with radius `scale`; the largest of
     /// the others becomes `scale`, so an outlier changes no other glyph's size. For data
     /// without outliers this is [`Normalisation::Global`].
-    #[default]
     Robust,
     /// One factor for all drawn glyphs: the largest has radius `scale`.
     Global,
@@ -189,6 +200,7 @@ impl FromStr for Normalisation {
 
     fn from_str(text: &str) -> Result<Self> {
         match text {
+            "sqrt" => Ok(Normalisation::Sqrt),
             "robust" => Ok(Normalisation::Robust),
             "global" => Ok(Normalisation::Global),
             "per-glyph" => Ok(Normalisation::PerGlyph),
@@ -196,7 +208,7 @@ impl FromStr for Normalisation {
             _ => Err(Error::setting_value(
                 Setting::Norm,
                 format!("'{}'", glyphcast::error::quoted(text)),
-                "expected robust, global, per-glyph or none",
+                "expected sqrt, robust, global, per-glyph or none",
             )),
         }
     }
@@ -361,8 +373,11 @@ pub fn volume_scene_with_progress(
     let radii: Vec<f64> = glyphs.iter().flatten().map(|g| g.radius).collect();
     let reference = match options.norm {
         Normalisation::Robust => robust_reference(&radii),
+        Normalisation::Sqrt => percentile(&radii, SQRT_PERCENTILE),
         _ => radii.iter().copied().fold(0.0, f64::max),
     };
+    // The square-root sizing draws its top percentiles at the scale by design: only the
+    // robust one's outliers are reported.
     if options.norm == Normalisation::Robust {
         report.capped = radii.iter().filter(|&&r| r > reference).count();
     }
@@ -409,6 +424,15 @@ fn check_float32(volume: &Volume, voxel: [usize; 3], coeffs: &[f64]) -> Result<(
             ),
         )),
     }
+}
+
+/// The `p`th percentile of `radii` by the lower nearest rank (the value at index
+/// floor(p/100 (n - 1)) of the sorted radii); 0 for none.
+pub fn percentile(radii: &[f64], p: f64) -> f64 {
+    let mut sorted = radii.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let rank = ((p / 100.0) * sorted.len().saturating_sub(1) as f64).floor() as usize;
+    sorted.get(rank).copied().unwrap_or(0.0)
 }
 
 /// The radius that [`Normalisation::Robust`] draws at `scale`: the largest of `radii`
@@ -630,6 +654,11 @@ fn glyph_set(
         .iter()
         .map(|g| match options.norm {
             Normalisation::Robust => scale / g.radius.max(reference),
+            // scale sqrt(r / reference) / r, at most scale / r.
+            Normalisation::Sqrt if g.radius > 0.0 && reference > 0.0 => {
+                scale * (g.radius / reference).sqrt().min(1.0) / g.radius
+            }
+            Normalisation::Sqrt => scale / reference.max(g.radius),
             Normalisation::Global => scale / reference,
             Normalisation::PerGlyph => scale / g.radius,
             Normalisation::None => scale,

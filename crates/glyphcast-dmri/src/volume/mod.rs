@@ -35,8 +35,8 @@ mod underlay;
 
 pub use build::{
     DEFAULT_SCALE_FRACTION, MAX_BLOCK_GLYPHS, Normalisation, ROBUST_FACTOR, ROBUST_PERCENTILE,
-    VolumeOptions, VolumeReport, VolumeScene, robust_reference, slice_framing, volume_scene,
-    volume_scene_with_progress,
+    SQRT_PERCENTILE, VolumeOptions, VolumeReport, VolumeScene, percentile, robust_reference,
+    slice_framing, volume_scene, volume_scene_with_progress,
 };
 pub use figure::{MontagePlan, VolumeFigure, VolumeMontage, VolumeView};
 pub use framing::{

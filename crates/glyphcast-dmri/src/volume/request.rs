@@ -84,7 +84,7 @@ pub struct VolumeRequest {
     pub mask: Option<ImageSource<Mask>>,
     /// World radius of the largest glyph.
     pub scale: Option<f64>,
-    /// robust, global, per-glyph or none.
+    /// sqrt, robust, global, per-glyph or none.
     pub norm: Option<String>,
     /// Leave out glyphs below this largest radius.
     pub min_amplitude: Option<f64>,
