@@ -22,6 +22,33 @@ the book), and no rustdoc-style link (`[`Name`]` with no target, shown as bracke
 
     python3 tools/check_docs.py generated FILE_OR_DIR...
 
+`figures` checks the performance figures of the pages against the registry of
+measurements (docs/measurements.toml): a figure is marked in the Markdown, invisible in
+the rendered page, as `<!-- fig:NAME -->323 ms<!-- /fig -->`, on one line. The numbers
+of the marked text must be the registry's `values` of measure NAME, in order; a NAME
+the registry does not hold, two pages stating different numbers for one measure, and a
+measure of the registry that no page marks are errors too.
+
+    python3 tools/check_docs.py figures REGISTRY FILE_OR_DIR...
+
+`cli` checks docs/guide/command-line.md against the generated command-line reference
+(docs/reference/cli/COMMAND.md, which a Rust test keeps equal to each `--help`): the
+section of each command (a level-2 heading naming `glyphcast COMMAND`) must name every
+long option of the command (or its short form, `-o`). A section may take the options
+of another command's section with `<!-- options of: render -->`, and leave options to
+the reference page by name with `<!-- options left to the reference: --foo --bar -->`.
+An option the section's synopsis (its code blocks' `glyphcast COMMAND` lines) names
+that the command does not have is an error too.
+
+    python3 tools/check_docs.py cli GUIDE_PAGE REFERENCE_DIR
+
+`settings` checks docs/guide/settings.md's account of the C API against the C header:
+the settings named (in code spans) between `<!-- c-api: lacks -->` and `<!-- /c-api -->`
+must be exactly the settings of the page's table that are no field of the header's
+`GlyphcastSettings` (a setting's field is its name with spaces as underscores).
+
+    python3 tools/check_docs.py settings SETTINGS_PAGE HEADER
+
 Exit status 1 with one line per broken link (`FILE: TARGET: why`), 0 when every link
 resolves.
 """
@@ -253,6 +280,214 @@ def check_structure(paths):
     return found, {"files": len(files)}
 
 
+# Figures against the registry of measurements ----------------------------------------
+
+FIGURE = re.compile(r"<!--\s*fig:([^\s>]+)\s*-->(.*?)<!--\s*/fig\s*-->")
+FIGURE_OPEN = re.compile(r"<!--\s*fig:")
+NUMBER = re.compile(r"\d[\d,]*(?:\.\d+)?(?:e-?\d+)?")
+REQUIRED = ("values", "unit", "date", "machine", "driver", "command")
+
+
+def numbers(text):
+    """The numbers of a figure's text, as floats (`1,406,000` is one number; a `10^6`
+    gives 10 and 6)."""
+    return [float(n.replace(",", "")) for n in NUMBER.findall(text)]
+
+
+def load_registry(path):
+    """The measures of the registry (TOML: one `[measure."NAME"]` table each), and the
+    problems of its entries."""
+    import tomllib
+    with open(path, "rb") as f:
+        measures = tomllib.load(f).get("measure", {})
+    problems = []
+    for name, m in measures.items():
+        for key in REQUIRED:
+            if key not in m:
+                problems.append("%s: measure %s has no '%s'" % (path, name, key))
+        if not re.fullmatch(r"\d{4}-\d{2}-\d{2}", str(m.get("date", ""))):
+            problems.append("%s: measure %s: date %r is not YYYY-MM-DD" % (path, name, m.get("date")))
+        if not all(isinstance(v, (int, float)) for v in m.get("values", [None])):
+            problems.append("%s: measure %s: values must be numbers" % (path, name))
+    return measures, problems
+
+
+def check_figures(registry, paths):
+    """Problems of the marked figures, as lines `FILE:LINE: measure NAME: why`."""
+    measures, problems = load_registry(registry)
+    found, stated = [], {}
+    for path in markdown_files(paths):
+        for number, line in markdown_lines(path, keep_code_spans=True):
+            figures = FIGURE.findall(line)
+            if len(FIGURE_OPEN.findall(line)) != len(figures):
+                problems.append("%s:%d: a figure marker that does not close on its line" % (path, number))
+            found += [(path, number, name, text) for name, text in figures]
+    for path, number, name, text in found:
+        where = "%s:%d: measure %s" % (path, number, name)
+        stated.setdefault(name, {}).setdefault(tuple(numbers(text)), []).append("%s:%d" % (path, number))
+        if name not in measures:
+            problems.append("%s: no such measure in %s" % (where, registry))
+            continue
+        want = [float(v) for v in measures[name].get("values", [])]
+        if numbers(text) != want:
+            problems.append("%s: the page says %r, the registry %s %s (%s)" % (
+                where, text.strip(), " / ".join("%g" % v for v in want),
+                measures[name].get("unit", ""), measures[name].get("date", "")))
+    for name, values in sorted(stated.items()):
+        if len(values) > 1:
+            problems.append("measure %s: pages state different values: %s" % (name, "; ".join(
+                "%s at %s" % (" / ".join("%g" % v for v in vals), ", ".join(places))
+                for vals, places in values.items())))
+    for name in sorted(set(measures) - set(stated)):
+        problems.append("%s: measure %s: no page states it" % (registry, name))
+    return problems, {"figures": len(found), "measures": len(measures)}
+
+
+# command-line.md against the reference pages ------------------------------------------
+
+REF_OPTION = re.compile(r"^- `(?:(-\w), )?(--[\w-]+)")
+SECTION = re.compile(r"^##\s+.*?`glyphcast (\w+)")
+OPTIONS_OF = re.compile(r"<!--\s*options of:\s*([\w ,]+?)\s*-->")
+LEFT_TO_REFERENCE = re.compile(r"<!--\s*options left to the reference:\s*([^>]*?)\s*-->")
+
+
+def reference_options(ref_dir):
+    """{command: {long option: short option or None}} of the generated reference."""
+    commands = {}
+    for name in sorted(os.listdir(ref_dir)):
+        if not name.endswith(".md") or name == "index.md":
+            continue
+        options = {}
+        with open(os.path.join(ref_dir, name), encoding="utf-8") as f:
+            for line in f:
+                m = REF_OPTION.match(line)
+                if m and m.group(2) not in ("--help", "--version"):
+                    options[m.group(2)] = m.group(1)
+        commands[name[:-3]] = options
+    return commands
+
+
+def guide_sections(page):
+    """{command: (first line, text)} of the page's level-2 sections that name
+    `glyphcast COMMAND`."""
+    sections, current = {}, None
+    with open(page, encoding="utf-8") as f:
+        for number, line in enumerate(f, 1):
+            if line.startswith("## "):
+                m = SECTION.match(line)
+                current = m.group(1) if m else None
+                if current:
+                    sections[current] = (number, [])
+            elif current:
+                sections[current][1].append(line)
+    return {c: (n, "".join(lines)) for c, (n, lines) in sections.items()}
+
+
+def mentions(text, option):
+    return option and re.search(r"(?<![\w-])%s(?![\w-])" % re.escape(option), text)
+
+
+def synopsis_options(command, text):
+    """The long options of the section's code-block lines from `glyphcast COMMAND` on
+    (and their continuation lines, indented)."""
+    found, inside, in_synopsis = set(), False, False
+    for line in text.splitlines():
+        if FENCE.match(line):
+            inside, in_synopsis = not inside, False
+            continue
+        if not inside:
+            continue
+        if line.startswith("glyphcast "):
+            in_synopsis = line.startswith("glyphcast %s" % command)
+        elif not line.startswith(" "):
+            in_synopsis = False
+        if in_synopsis:
+            found.update(re.findall(r"(?<![\w-])--[a-z][\w-]*", line.split("#")[0]))
+    return found
+
+
+def check_cli(page, ref_dir):
+    reference = reference_options(ref_dir)
+    sections = guide_sections(page)
+    problems, count = [], 0
+    for command, options in sorted(reference.items()):
+        if command not in sections:
+            problems.append("%s: no section for `glyphcast %s` (a level-2 heading naming it)" % (page, command))
+            continue
+        line, text = sections[command]
+        borrowed = [c.strip() for m in OPTIONS_OF.findall(text) for c in m.split(",")]
+        left = {o for m in LEFT_TO_REFERENCE.findall(text) for o in m.split()}
+        for other in borrowed:
+            if other not in sections:
+                problems.append("%s:%d: glyphcast %s: options of %s: no such section" % (page, line, command, other))
+        for option, short in options.items():
+            count += 1
+            if mentions(text, option) or mentions(text, short) or option in left:
+                continue
+            if any(other in sections and option in reference.get(other, {})
+                   and (mentions(sections[other][1], option) or mentions(sections[other][1], short))
+                   for other in borrowed):
+                continue
+            problems.append("%s:%d: glyphcast %s: %s (in its --help, %s) is not in its section"
+                            % (page, line, command, option, os.path.join(ref_dir, command + ".md")))
+        for option in sorted(left - set(options)):
+            problems.append("%s:%d: glyphcast %s: %s is left to the reference, but the command has no such option"
+                            % (page, line, command, option))
+        for option in sorted(synopsis_options(command, text) - set(options)):
+            problems.append("%s:%d: glyphcast %s: the synopsis names %s, which its --help does not have"
+                            % (page, line, command, option))
+    return problems, {"commands": len(reference), "options": count}
+
+
+# settings.md's C API against the header -------------------------------------------------
+
+C_LACKS = re.compile(r"<!--\s*c-api: lacks\s*-->(.*?)<!--\s*/c-api\s*-->", re.S)
+
+
+def check_settings(page, header):
+    with open(page, encoding="utf-8") as f:
+        text = f.read()
+    with open(header, encoding="utf-8") as f:
+        h = f.read()
+    struct = re.search(r"typedef struct GlyphcastSettings \{(.*?)\} GlyphcastSettings;", h, re.S)
+    if not struct:
+        return ["%s: no `typedef struct GlyphcastSettings`" % header], {}
+    body = re.sub(r"//[^\n]*", "", struct.group(1))
+    fields = set(re.findall(r"(\w+)\s*(?:\[\w*\])?\s*;", body))
+    table = re.search(r"<!-- settings table: generated -->(.*?)<!-- end of the settings table -->", text, re.S)
+    if not table:
+        return ["%s: no generated settings table" % page], {}
+    settings = [row.split("|")[1].strip() for row in table.group(1).splitlines()
+                if row.startswith("| ") and not row.startswith("| setting |")]
+    lacking = {s for s in settings if s.replace(" ", "_") not in fields}
+    claims = C_LACKS.findall(text)
+    if len(claims) != 1:
+        return ["%s: %d `<!-- c-api: lacks -->` paragraphs, want 1" % (page, len(claims))], {}
+    said = {m.group(0).strip("`") for m in CODE_SPAN.finditer(claims[0])} & set(settings)
+    problems = []
+    for s in sorted(said - lacking):
+        problems.append("%s: says the C API lacks `%s`, but %s's GlyphcastSettings has the field %s"
+                        % (page, s, header, s.replace(" ", "_")))
+    for s in sorted(lacking - said):
+        problems.append("%s: does not say the C API lacks `%s`, and %s's GlyphcastSettings has no field %s"
+                        % (page, s, header, s.replace(" ", "_")))
+    words = {1: "one", 2: "two", 3: "three", 4: "four", 5: "five"}
+    count = re.match(r"\s*(\w+)", claims[0])
+    if count and count.group(1) in words.values() and count.group(1) != words.get(len(lacking)):
+        problems.append("%s: says the C API lacks %s settings, the header lacks %d" % (page, count.group(1), len(lacking)))
+    return problems, {"settings": len(settings), "fields": len(fields), "lacking": len(lacking)}
+
+
+def report(problems, summary, what):
+    for p in problems:
+        print(p)
+    if problems:
+        print("error: %d problem(s) in %s" % (len(problems), summary), file=sys.stderr)
+        return 1
+    print("ok: %s, %s" % (summary, what))
+    return 0
+
+
 def main(argv):
     if len(argv) >= 2 and argv[0] == "html" and len(argv) == 3:
         broken, counts = check_html(argv[1], argv[2])
@@ -270,6 +505,18 @@ def main(argv):
             return 1
         print("ok: %s, one title each and no rustdoc-style link" % summary)
         return 0
+    elif len(argv) >= 3 and argv[0] == "figures":
+        problems, c = check_figures(argv[1], argv[2:])
+        return report(problems, "%(figures)d marked figures of %(measures)d measures" % c,
+                      "each as the registry has it")
+    elif len(argv) == 3 and argv[0] == "cli":
+        problems, c = check_cli(argv[1], argv[2])
+        return report(problems, "%(commands)d commands, %(options)d options" % c,
+                      "each named in its command's section")
+    elif len(argv) == 3 and argv[0] == "settings":
+        problems, c = check_settings(argv[1], argv[2])
+        return report(problems, "%s against %s" % (argv[1], argv[2]),
+                      "the C API's settings as the header has them")
     else:
         sys.stderr.write(__doc__)
         return 2
