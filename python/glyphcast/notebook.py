@@ -79,10 +79,15 @@ _CSS = _RFB_CSS + """
 # widget never rendered, is hidden, and so is an empty text output (the view's widget in
 # nbconvert's HTML) and this style's own output. A live widget has elements, a text
 # output its <pre>, a picture its <img>: they stay. JupyterLab, Notebook 7 and
-# nbconvert's HTML share these classes.
+# nbconvert's HTML share these classes. One rule a selector: a selector a browser
+# refuses (:has inside :has is one) drops its whole rule.
 _SAVED_CSS = """<style class="glyphcast-saved">
-.jp-OutputArea:has(.glyphcast-saved) .jp-OutputArea-child:has(> .jp-OutputArea-output:not(:has(*))),
-.jp-OutputArea:has(.glyphcast-saved) .jp-OutputArea-child:has(> .jp-OutputArea-output > pre:empty),
+.jp-OutputArea:has(.glyphcast-saved) .jp-OutputArea-output:not(:has(*)) {
+    display: none;
+}
+.jp-OutputArea:has(.glyphcast-saved) .jp-OutputArea-child:has(> .jp-OutputArea-output > pre:empty) {
+    display: none;
+}
 .jp-OutputArea-child:has(style.glyphcast-saved) {
     display: none;
 }
