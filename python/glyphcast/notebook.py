@@ -66,9 +66,11 @@ _DEFAULT = "default"
 WIDGET_VIEW = "application/vnd.jupyter.widget-view+json"
 
 # While a live view is on the page, the static copy of its last frame (the PNG output
-# after it, for readers without a kernel) is hidden; JupyterLab and Notebook 7.
+# after it and the saved style's, for readers without a kernel) is hidden; JupyterLab
+# and Notebook 7.
 _CSS = _RFB_CSS + """
-.jp-OutputArea-child:has(.renderview-wrapper) ~ .jp-OutputArea-child:has(img) {
+.jp-OutputArea-child:has(.renderview-wrapper) + .jp-OutputArea-child:has(style.glyphcast-saved)
+    + .jp-OutputArea-child:has(img) {
     display: none;
 }
 """
@@ -245,6 +247,8 @@ class GlyphView(RemoteFrameBuffer):
         self._box.add_class("glyphcast-view")
 
     def __repr__(self):
+        if "_size" not in vars(self):
+            return "<glyphcast view, refused>"
         width, height = self._size
         shown = "a scene" if self._plane is None else f"slice {self.slice}"
         return f"<glyphcast view {width}x{height}, {self._kind}: {shown}>"
@@ -254,7 +258,7 @@ class GlyphView(RemoteFrameBuffer):
         if "_output_context" not in vars(self):
             return  # refused before it was a widget: nothing is open
         super().close(*args, **kwargs)
-        for widget in (self._controls, self._box):
+        for widget in (getattr(self, "_controls", None), getattr(self, "_box", None)):
             if widget is not None:
                 widget.close()
         self._draft_renderer = None
