@@ -591,7 +591,7 @@ class GlyphView(RemoteFrameBuffer):
         if slices:
             items["plane"] = ipywidgets.Dropdown(
                 options=PLANES, value=self._plane, description="plane", style=label,
-                layout=_dropdown_layout(PLANES))
+                layout=_dropdown_layout("plane", PLANES))
             items["index"] = ipywidgets.IntSlider(
                 value=self._index, min=0, max=self._extent(self._plane) - 1,
                 description="slice", continuous_update=True, style=label,
