@@ -195,7 +195,7 @@ def test_a_wrong_array_is_raised_from_the_users_call(sh):
         with pytest.raises(ValueError, match=r"coeffs: dim\[4\]: 44 coefficients") as caught:
             call(coeffs[..., :44].copy(), affine, basis="dipy")
         frames = glyphcast_frames(caught.value)
-        assert [frame.name for frame in frames] == ["call"], frames
+        assert [frame.name for frame in frames] == ["render_sh"], frames
         text = "".join(traceback.format_exception(caught.value))
         assert len(text.splitlines()) <= 8, text
     with pytest.raises(ValueError, match="must be symmetric") as caught:
