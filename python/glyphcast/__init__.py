@@ -53,7 +53,9 @@ docs/guide/conventions.md); ``"tournier07"``/``"mrtrix"`` is MRtrix3's.
 The messages of the errors are the CLI's, with each option named by its keyword
 (``step=0.0001: must be in 0.001 to 2 ...`` where the CLI says ``--step 0.0001``). Bad
 input raises ValueError (OSError for a file that cannot be read), a device failure
-RuntimeError. ``validation=True`` (or GLYPHCAST_VALIDATION=1) turns on the Vulkan
+RuntimeError. A ValueError or TypeError is raised from the function you called: its
+traceback ends there, not in the frames below it (``GLYPHCAST_FULL_TRACEBACK=1`` keeps
+them). ``validation=True`` (or GLYPHCAST_VALIDATION=1) turns on the Vulkan
 validation layer; any validation error then raises RuntimeError.
 """
 import json
@@ -67,6 +69,7 @@ import numpy as np
 from ._glyphcast import __version__, encode_png, render_settings
 from ._glyphcast import stiffness as _stiffness
 from ._glyphcast import Renderer as _Renderer
+from ._calls import at_the_call
 
 # The notebook view (glyphcast.notebook) is imported on first use: it needs jupyter_rfb
 # (`pip install glyphcast[notebook]`), which nothing else here does.
@@ -187,11 +190,13 @@ class Renderer:
         view = self._native.view
         return None if view is None else (view[1], view[2])
 
+    @at_the_call
     def render_scene(self, scene, *, width=None, height=None, method=None, **options):
         """Renders a scene: a dict in the scene format, or the path of a scene file."""
         self._load_scene(scene, dict(options, width=width, height=height, method=method))
         return self.render()
 
+    @at_the_call
     def render_sh(
         self,
         coeffs,
@@ -222,6 +227,7 @@ class Renderer:
         )
         return self._volume("sh", coeffs, affine, options)
 
+    @at_the_call
     def render_tensor(
         self,
         coeffs,
@@ -253,6 +259,7 @@ class Renderer:
         )
         return self._volume("tensor", coeffs, affine, options)
 
+    @at_the_call
     def render(self, camera=None) -> Rendering:
         """Draws the loaded glyphs again, from their camera or from ``camera`` (a dict
         like a scene's ``camera``: projection, eye, target, up, fov_y_deg or height; not
@@ -348,6 +355,7 @@ def _split_device(options):
     }
 
 
+@at_the_call
 def render_scene(scene, *, width=None, height=None, method=None, **options) -> Rendering:
     """Renders a scene (a dict in the scene format, or a path) as ``glyphcast render
     SCENE`` does. Options: the render settings (:func:`render_settings`), glyph, labels,
@@ -356,6 +364,7 @@ def render_scene(scene, *, width=None, height=None, method=None, **options) -> R
     return renderer.render_scene(scene, width=width, height=height, method=method, **options)
 
 
+@at_the_call
 def render_sh(
     coeffs,
     affine=None,
@@ -379,6 +388,7 @@ def render_sh(
     )
 
 
+@at_the_call
 def render_tensor(
     coeffs,
     affine=None,
@@ -403,6 +413,7 @@ def render_tensor(
     )
 
 
+@at_the_call
 def stiffness(C, *, surface="reynolds", euler=None, allow_unstable=False,
               symmetric_part=False, **options):
     """A glyph of a 6 x 6 Voigt stiffness matrix ``C`` (any units) and its elastic

@@ -14,9 +14,14 @@ A frame is drawn only when something changed, and jupyter_rfb sends a new one on
 the browser has shown the last (``max_buffered_frames``, 1 here). While the view moves
 (a drag, the wheel) the frames are drafts, drawn at ``draft`` times the size (0.5) and
 scaled up by the browser; the full size follows when the input stops. Frames in motion
-travel as JPEG (``quality``), and the last one again as a lossless PNG. The last view is
-also kept as the cell's static output, a PNG that a saved notebook shows without a
-kernel (hidden while the live view is on the page).
+travel as JPEG (``quality``), and the last one again as a lossless PNG.
+
+A view is one widget output, a box of its controls, the frame buffer and the box of its
+messages, followed by a copy of the last frame, a PNG that a saved notebook shows without
+a kernel (hidden while the live view is on the page). The box's plain text is empty and
+the saved copy hides the widget's placeholder, so that a notebook opened without a kernel
+or exported by nbconvert shows the picture and nothing else of the view. The controls
+wrap onto more rows in a narrow cell (a JupyterLab with its side panel open).
 """
 import asyncio
 import base64
@@ -25,17 +30,27 @@ import time
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
-from IPython.display import display
+
+from ._calls import at_the_call
 
 try:
     import ipywidgets
+    from IPython.display import display
+    from IPython.utils.capture import capture_output
     from jupyter_rfb import RemoteFrameBuffer
     from jupyter_rfb.widget import CSS as _RFB_CSS
-except ImportError as error:  # pragma: no cover: the message is the point
-    raise ImportError(
-        f"glyphcast's notebook view needs jupyter_rfb and ipywidgets ({error}): "
-        "pip install 'glyphcast[notebook]' (or jupyter_rfb)"
-    ) from error
+except ImportError as error:
+    # Without the extra the first missing module is IPython (ipywidgets' and
+    # jupyter_rfb's own dependency): name the extra, not that module. No chained
+    # traceback: the message says all of it.
+    kind = ModuleNotFoundError if isinstance(error, ModuleNotFoundError) else ImportError
+    raise kind(
+        "glyphcast's notebook view (show_sh, show_tensor, show_scene) needs the "
+        f"notebook extra, which is not installed ({error}): "
+        "pip install glyphcast[notebook] (from a wheel: pip install "
+        "'glyphcast-VERSION.whl[notebook]'; or pip install jupyter_rfb ipywidgets)",
+        name=error.name,
+    ) from None
 
 from . import Renderer, Rendering
 
@@ -48,13 +63,37 @@ NEGATIVE = ("abs", "hide")
 # The controls' entry for an option left to its default.
 _DEFAULT = "default"
 
+WIDGET_VIEW = "application/vnd.jupyter.widget-view+json"
+
 # While a live view is on the page, the static copy of its last frame (the PNG output
-# right after it, for readers without a kernel) is hidden; JupyterLab and Notebook 7.
+# after it and the saved style's, for readers without a kernel) is hidden; JupyterLab
+# and Notebook 7.
 _CSS = _RFB_CSS + """
-.jp-OutputArea-child:has(.renderview-wrapper) + .jp-OutputArea-child:has(img) {
+.jp-OutputArea-child:has(.renderview-wrapper) + .jp-OutputArea-child:has(style.glyphcast-saved)
+    + .jp-OutputArea-child:has(img) {
     display: none;
 }
 """
+
+# Saved with the copy (the style of an HTML output: no widget code is loaded without a
+# kernel): in an output area that holds a glyphcast view's copy, an output that is text
+# without elements, JupyterLab's "Loading widget..." or "Error displaying widget" where a
+# widget never rendered, is hidden, and so is an empty text output (the view's widget in
+# nbconvert's HTML) and this style's own output. A live widget has elements, a text
+# output its <pre>, a picture its <img>: they stay. JupyterLab, Notebook 7 and
+# nbconvert's HTML share these classes. One rule a selector: a selector a browser
+# refuses (:has inside :has is one) drops its whole rule.
+_SAVED_CSS = """<style class="glyphcast-saved">
+.jp-OutputArea:has(.glyphcast-saved) .jp-OutputArea-output:not(:has(*)) {
+    display: none;
+}
+.jp-OutputArea:has(.glyphcast-saved) .jp-OutputArea-child:has(> .jp-OutputArea-output > pre:empty) {
+    display: none;
+}
+.jp-OutputArea-child:has(style.glyphcast-saved) {
+    display: none;
+}
+</style>"""
 
 # Radians of orbit per pixel of drag, as a fraction of the view's height: a drag across
 # the whole height turns the view by half a turn.
@@ -140,6 +179,7 @@ class GlyphView(RemoteFrameBuffer):
 
     _css = _CSS
 
+    @at_the_call
     def __init__(self, kind, data, affine=None, *, width=800, height=600, renderer=None,
                  controls=True, draft=0.5, **options):
         if kind not in ("sh", "tensor", "scene"):
@@ -188,21 +228,39 @@ class GlyphView(RemoteFrameBuffer):
         self._still_handle = None
         self._still_timer = None
         # jupyter_rfb's frame has a 1-pixel border inside its size: 2 more pixels
-        # show the image at its own size.
-        super().__init__(
-            css_width=f"{width + 2}px", css_height=f"{height + 2}px", resizable=False,
-            max_buffered_frames=1,
-        )
+        # show the image at its own size. Its box of messages (_output_context), which
+        # it shows where it is made, is shown in the view's box instead: one widget
+        # output, not three (and no widget reprs in a saved notebook's text).
+        with capture_output(stdout=True, stderr=False, display=True):
+            super().__init__(
+                css_width=f"{width + 2}px", css_height=f"{height + 2}px",
+                resizable=False, max_buffered_frames=1,
+            )
         self.observe(self._frame_shown, names=["_frame_feedback"])
-        self._controls = self._make_controls() if controls and kind != "scene" else None
-        if controls and kind == "scene":
-            self._controls = self._make_controls(slices=False)
+        self._controls = None
+        if controls:
+            self._controls = self._make_controls(slices=kind != "scene")
+        self._box = ipywidgets.VBox(
+            [c for c in (self._controls, self, self._output_context) if c is not None],
+            layout=ipywidgets.Layout(width="100%", min_width="0"),
+        )
+        self._box.add_class("glyphcast-view")
+
+    def __repr__(self):
+        if "_size" not in vars(self):
+            return "<glyphcast view, refused>"
+        width, height = self._size
+        shown = "a scene" if self._plane is None else f"slice {self.slice}"
+        return f"<glyphcast view {width}x{height}, {self._kind}: {shown}>"
 
     def close(self, *args, **kwargs):
         """Closes the view in every browser showing it; its renderers go with it."""
         if "_output_context" not in vars(self):
             return  # refused before it was a widget: nothing is open
         super().close(*args, **kwargs)
+        for widget in (getattr(self, "_controls", None), getattr(self, "_box", None)):
+            if widget is not None:
+                widget.close()
         self._draft_renderer = None
         if self._draft_pool is not None:
             self._draft_pool.shutdown(wait=False)
@@ -215,6 +273,7 @@ class GlyphView(RemoteFrameBuffer):
         return dict(self._camera)
 
     @camera.setter
+    @at_the_call
     def camera(self, camera):
         self._camera = dict(camera)
         self._changed()
@@ -235,6 +294,7 @@ class GlyphView(RemoteFrameBuffer):
         return None if self._plane is None else f"{self._plane}:{self._index}"
 
     @slice.setter
+    @at_the_call
     def slice(self, value):
         plane, index = self._parse_slice(value)
         self._reload(plane=plane, index=index)
@@ -244,6 +304,7 @@ class GlyphView(RemoteFrameBuffer):
         """The render options the glyphs are drawn with (keywords of ``render_sh``)."""
         return dict(self._options)
 
+    @at_the_call
     def set_options(self, **options):
         """Draws the glyphs again with these options changed (``method``, ``color``,
         ``negative`` or any other keyword of ``render_sh``); None resets one to its
@@ -424,11 +485,13 @@ class GlyphView(RemoteFrameBuffer):
     # ---- the static copy of the last view
 
     def _ipython_display_(self):
-        if self._controls is not None:
-            display(self._controls)
-        bundle = RemoteFrameBuffer._repr_mimebundle_(self)
+        # The box alone, as a widget: its plain text (what nbconvert and a frontend
+        # without the widget show) is empty, not the widgets' reprs.
+        bundle = self._box._repr_mimebundle_()
         data, metadata = bundle if isinstance(bundle, tuple) else (bundle, {})
-        display(data, metadata=metadata, raw=True)
+        display({WIDGET_VIEW: data[WIDGET_VIEW], "text/plain": ""}, metadata=metadata,
+                raw=True)
+        display({"text/html": _SAVED_CSS, "text/plain": ""}, raw=True)
         self._still = None
         self._still_handle = display(self._still_bundle(), raw=True, display_id=True)
 
@@ -520,14 +583,20 @@ class GlyphView(RemoteFrameBuffer):
     # ---- the controls
 
     def _make_controls(self, slices=True):
-        layout = ipywidgets.Layout(width="auto")
+        # The controls wrap onto more rows rather than overflow a narrow cell: each
+        # dropdown keeps the width of its label and longest choice (never cut), and the
+        # slice slider takes the rest of its row, at least _SLIDER_MIN wide.
+        label = {"description_width": "initial"}
         items = {}
         if slices:
             items["plane"] = ipywidgets.Dropdown(
-                options=PLANES, value=self._plane, description="plane", layout=layout)
+                options=PLANES, value=self._plane, description="plane", style=label,
+                layout=_dropdown_layout("plane", PLANES))
             items["index"] = ipywidgets.IntSlider(
                 value=self._index, min=0, max=self._extent(self._plane) - 1,
-                description="slice", continuous_update=True)
+                description="slice", continuous_update=True, style=label,
+                layout=ipywidgets.Layout(flex=f"1 1 {_SLIDER_MIN}", width="auto",
+                                         min_width=_SLIDER_MIN))
         for key, choices in (("method", METHODS), ("color", COLORS),
                              ("negative", NEGATIVE)):
             current = self._options.get(key, _DEFAULT)
@@ -535,13 +604,17 @@ class GlyphView(RemoteFrameBuffer):
             if current not in options:
                 options.append(current)
             items[key] = ipywidgets.Dropdown(
-                options=options, value=current, description=key, layout=layout)
+                options=options, value=current, description=key, style=label,
+                layout=_dropdown_layout(key, options))
         self._control_items = items
         self._syncing = False
         for key, control in items.items():
             control.observe(lambda change, key=key: self._control_changed(key, change),
                             names="value")
-        return ipywidgets.HBox(list(items.values()))
+        box = ipywidgets.HBox(list(items.values()), layout=ipywidgets.Layout(
+            flex_flow="row wrap", align_items="center", width="100%", min_width="0"))
+        box.add_class("glyphcast-controls")
+        return box
 
     def _control_changed(self, key, change):
         if self._syncing:
@@ -579,6 +652,21 @@ class GlyphView(RemoteFrameBuffer):
             self._syncing = False
 
 
+# The slice slider's least width (its label, the track, the readout): below it the
+# slider goes to a row of its own.
+_SLIDER_MIN = "260px"
+
+
+def _dropdown_layout(description, choices):
+    """A dropdown as wide as its label and its longest choice need (at most 8 pixels
+    a character in JupyterLab's 13-pixel font, 40 for the gaps, the padding and the
+    arrow): never narrower, so that no choice is cut."""
+    characters = len(description) + max(len(str(c)) for c in choices)
+    least = 8 * characters + 40
+    return ipywidgets.Layout(width="auto", min_width=f"{least}px", flex="0 0 auto")
+
+
+@at_the_call
 def show_sh(coeffs, affine=None, *, basis, width=800, height=600, renderer=None,
             controls=True, draft=0.5, **options) -> GlyphView:
     """A live view of a slice of an (X, Y, Z, K) SH volume: the arguments of
@@ -591,6 +679,7 @@ def show_sh(coeffs, affine=None, *, basis, width=800, height=600, renderer=None,
                      renderer=renderer, controls=controls, draft=draft, **options)
 
 
+@at_the_call
 def show_tensor(coeffs, affine=None, *, order, width=800, height=600, renderer=None,
                 controls=True, draft=0.5, **options) -> GlyphView:
     """A live view of a slice of a tensor volume: the arguments of
@@ -599,6 +688,7 @@ def show_tensor(coeffs, affine=None, *, order, width=800, height=600, renderer=N
                      renderer=renderer, controls=controls, draft=draft, **options)
 
 
+@at_the_call
 def show_scene(scene, *, width=800, height=600, renderer=None, controls=True,
                draft=0.5, **options) -> GlyphView:
     """A live view of a scene (a dict in the scene format, or a path): the arguments of

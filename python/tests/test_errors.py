@@ -1,8 +1,10 @@
 """Bad arrays and options raise ValueError (TypeError for an unknown keyword) with a
 message that names the argument; the CLI's own checks keep the CLI's text."""
 import json
+import os
 import re
 import subprocess
+import traceback
 
 import nibabel as nib
 import numpy as np
@@ -174,3 +176,28 @@ def test_glyphs_that_cannot_be_drawn_name_the_scene_file(scenes, tmp_path):
            glyphcast.render_scene, path)
     raises(ValueError, "^" + re.escape("scene: glyphs[0]: glyph 1: guaranteed least |f|"),
            glyphcast.render_scene, scene)
+
+
+def glyphcast_frames(error):
+    """The frames of ``error``'s traceback in glyphcast's own files."""
+    package = os.path.dirname(os.path.abspath(glyphcast.__file__))
+    return [frame for frame in traceback.extract_tb(error.__traceback__)
+            if os.path.dirname(os.path.abspath(frame.filename)) == package]
+
+
+def test_a_wrong_array_is_raised_from_the_users_call(sh):
+    """The check is the native module's, frames below the public function; the traceback
+    stops at the function the user called (one frame of glyphcast), and the message is
+    the check's."""
+    coeffs, affine = sh
+    renderer = glyphcast.Renderer()
+    for call in (glyphcast.render_sh, renderer.render_sh):
+        with pytest.raises(ValueError, match=r"coeffs: dim\[4\]: 44 coefficients") as caught:
+            call(coeffs[..., :44].copy(), affine, basis="dipy")
+        frames = glyphcast_frames(caught.value)
+        assert [frame.name for frame in frames] == ["render_sh"], frames
+        text = "".join(traceback.format_exception(caught.value))
+        assert len(text.splitlines()) <= 8, text
+    with pytest.raises(ValueError, match="must be symmetric") as caught:
+        glyphcast.render_tensor(np.arange(81.0).reshape(1, 1, 1, 3, 3, 9)[..., 0], order=2)
+    assert len(glyphcast_frames(caught.value)) == 1

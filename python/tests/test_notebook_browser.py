@@ -6,7 +6,10 @@ frame Chromium shows must equal a fresh Renderer's render of the same slice. A d
 across the view must change the frame to a fresh render from the view's new camera
 (read from the kernel), pixel for pixel (the settled frame is a PNG). The notebook is
 then saved from JupyterLab and opened by a server that can start no kernel: the cell
-shows the last view, the saved PNG, equal to that render.
+shows the last view, the saved PNG, equal to that render, and nothing of the widget (no
+"Loading widget..."). In a JupyterLab 1000 pixels wide with its file browser open, and
+at 800, the controls fit the cell: no horizontal overflow, a slice slider wider than 100
+pixels, no dropdown's text cut.
 
 Skipped where chromium, chromedriver, selenium or JupyterLab are missing, except in CI
 (CI=true or 1), where they are installed (tools/install-deps.sh, tools/test.sh) and their
@@ -129,6 +132,7 @@ def test_drag_orbits_to_glyphcasts_render_and_the_saved_notebook_keeps_it(folder
             kind, raw = nb.shown_image(driver, still)
             assert kind == "image/png"
             assert np.array_equal(nb.decode(raw), after)
+            assert widget_texts(driver) == [], "the saved notebook shows the widget's place"
             driver.save_screenshot(str(folder / "reopened.png"))
     finally:
         reader.stop()
@@ -138,6 +142,94 @@ def test_drag_orbits_to_glyphcasts_render_and_the_saved_notebook_keeps_it(folder
         for name in ("browser.png", "reopened.png"):
             os.replace(folder / name, os.path.join(keep, f"{frontend}-{name}"))
     assert time.monotonic() - started < 180
+
+
+@pytest.mark.parametrize("frontend", ["lab", "notebook"])
+def test_the_controls_fit_a_narrow_cell(folder, frontend):
+    """1000 pixels wide, JupyterLab's file browser open (the cell is about 600 wide),
+    then 800: the controls wrap; none overflows the cell or is cut."""
+    server = nb.Server(str(folder), frontend=frontend)
+    try:
+        with nb.chromium(width=1000, height=900) as driver:
+            nb.open_notebook(driver, server, "view.ipynb")
+            if frontend == "lab":
+                driver.execute_script("window.jupyterapp.shell.activateById('filebrowser')")
+            nb.wait_for(lambda: nb.kernel_idle(driver), 90, "the kernel")
+            nb.command(driver, "notebook:run-all-cells")
+            nb.wait_for(lambda: driver.find_elements("css selector", nb.VIEW_IMAGE), 120,
+                        "the view")
+            nb.settled_frame(driver)
+            for width in (1000, 800):
+                driver.set_window_size(width, 900)
+                time.sleep(1.0)
+                layout = controls_layout(driver)
+                if frontend == "lab":
+                    assert layout["sidebar"] > 150, layout  # the file browser is open
+                assert layout["box"]["scroll"] <= layout["box"]["client"] + 1, layout
+                assert layout["box"]["right"] <= layout["cell"] + 1, layout
+                assert layout["page"]["scroll"] <= layout["page"]["client"] + 1, layout
+                assert all(right <= layout["box"]["right"] + 1
+                           for right in layout["children"]), layout
+                assert layout["slider"] > 100, layout
+                for select in layout["selects"]:
+                    assert select["need"] <= select["have"], layout
+                for label in layout["labels"]:
+                    assert label["scroll"] <= label["client"], layout
+                if width == 1000:
+                    driver.save_screenshot(str(folder / "controls-1000.png"))
+    finally:
+        server.stop()
+    keep = os.environ.get("GLYPHCAST_BROWSER_SCREENSHOTS")
+    if keep:
+        os.makedirs(keep, exist_ok=True)
+        os.replace(folder / "controls-1000.png",
+                   os.path.join(keep, f"{frontend}-controls-1000.png"))
+
+
+# The controls' geometry: the box's scroll and client widths and right edge, the right
+# edges of its children and of the cell's output, the slider track's width, each
+# dropdown's room and the width its chosen text needs (the canvas's measure in the
+# select's font, and its padding, which holds the arrow), each label's widths, and the
+# notebook's own horizontal scroll.
+LAYOUT = """
+const box = document.querySelector('.glyphcast-controls');
+const cell = box.closest('.jp-OutputArea-output').getBoundingClientRect();
+const context = document.createElement('canvas').getContext('2d');
+const selects = [...box.querySelectorAll('select')].map(s => {
+    const style = getComputedStyle(s);
+    context.font = `${style.fontStyle} ${style.fontWeight} ${style.fontSize} ${style.fontFamily}`;
+    const text = s.options[s.selectedIndex].text;
+    return {text, have: s.clientWidth, need: Math.ceil(context.measureText(text).width
+        + parseFloat(style.paddingLeft) + parseFloat(style.paddingRight))};
+});
+const page = document.querySelector('.jp-WindowedPanel-outer, .jp-Notebook');
+const sidebar = document.querySelector('#jp-left-stack');
+return {
+    box: {scroll: box.scrollWidth, client: box.clientWidth,
+          right: box.getBoundingClientRect().right},
+    cell: cell.right,
+    children: [...box.children].map(c => c.getBoundingClientRect().right),
+    slider: box.querySelector('.widget-slider .slider').getBoundingClientRect().width,
+    selects,
+    labels: [...box.querySelectorAll('.widget-label')].map(l => (
+        {text: l.textContent, scroll: l.scrollWidth, client: l.clientWidth})),
+    page: {scroll: page.scrollWidth, client: page.clientWidth},
+    sidebar: sidebar ? sidebar.getBoundingClientRect().width : 0,
+};
+"""
+
+
+def controls_layout(driver):
+    return driver.execute_script(LAYOUT)
+
+
+def widget_texts(driver):
+    """The visible outputs that say a widget is loading or missing."""
+    return driver.execute_script(
+        "return [...document.querySelectorAll('.jp-OutputArea-output')]"
+        ".filter(e => e.offsetParent !== null && e.getClientRects().length"
+        " && /Loading widget|Error displaying widget/.test(e.textContent))"
+        ".map(e => e.textContent)")
 
 
 def drag(driver):

@@ -1,9 +1,11 @@
 """The notebook view without a browser (the kernel's half; test_notebook_browser.py has
 the browser's): `import glyphcast` needs no jupyter_rfb, the view's frames are
-glyphcast's renders for its camera, slice and options, and a refused option changes
-nothing."""
+glyphcast's renders for its camera, slice and options, a refused option changes
+nothing, a wrong array is raised from the user's call, and without the notebook extra
+the view names it."""
 import subprocess
 import sys
+import traceback
 
 import numpy as np
 import pytest
@@ -28,6 +30,38 @@ def test_import_glyphcast_needs_no_jupyter():
             "assert 'glyphcast.notebook' not in sys.modules; glyphcast.show_sh; "
             "assert 'jupyter_rfb' in sys.modules")
     subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_without_the_notebook_extra_the_view_names_it():
+    """IPython, ipywidgets, jupyter_rfb and anywidget made unimportable in a fresh
+    Python, as where the extra is not installed: an ImportError (ModuleNotFoundError, as
+    before) that names the extra, with no chained traceback."""
+    code = """
+import sys, traceback
+for name in ("IPython", "ipywidgets", "jupyter_rfb", "anywidget"):
+    sys.modules[name] = None
+import glyphcast
+try:
+    glyphcast.show_sh
+except ImportError as error:
+    assert isinstance(error, ModuleNotFoundError), type(error)
+    traceback.print_exc(file=sys.stdout)
+"""
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    text = done.stdout
+    assert "pip install glyphcast[notebook]" in text, text
+    assert text.splitlines()[-1].startswith("ModuleNotFoundError: glyphcast's notebook view"), text
+    assert "During handling" not in text and "direct cause" not in text, text
+
+
+def test_a_wrong_array_is_raised_from_show_sh():
+    with pytest.raises(ValueError, match=r"coeffs: dim\[4\]: 14 coefficients") as caught:
+        glyphcast.show_sh(coefficients()[..., :14], basis="tournier07", width=32, height=24)
+    package = glyphcast.__file__.rpartition("/")[0]
+    frames = [f for f in traceback.extract_tb(caught.value.__traceback__)
+              if f.filename.startswith(package + "/")]
+    assert len(frames) == 1, frames  # show_sh's; not the view's, its loader's, ...
 
 
 def test_view_draws_glyphcasts_render_for_its_camera_slice_and_options():
