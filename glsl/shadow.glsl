@@ -34,13 +34,13 @@
 // then count as reaching the light.
 //
 // Ambient occlusion (--ambient-occlusion) casts AMBIENT_RAYS more rays from the hit, over
-// the hemisphere around its normal: the soft light's 16 disc samples lifted onto the
-// hemisphere (Malley's method), so cosine-weighted, and turned per pixel as the light's
-// are. Each reaches frame.shadow.x bounding
-// radii of the hit glyph from its start: a glyph is tested only on the part of its chord
-// within that reach, and the walk stops at the first cell boundary beyond it. The share
-// of them that no glyph blocks scales the ambient term (shadow_ambient_share, read by
-// shading.glsl). The float64 reference is src/glyph/shadow.rs ambient_share.
+// the hemisphere around its normal: the soft light's 16 disc samples, turned by the
+// pixel's offset, lifted onto the hemisphere (Malley's method), so cosine-weighted. Each
+// reaches frame.shadow.x bounding radii of the hit glyph from its start: a glyph is
+// tested only on the part of its chord within that reach, and the walk stops at the
+// first cell boundary beyond it. The share of them that no glyph blocks scales the
+// ambient term (shadow_ambient_share, read by shading.glsl). The float64 reference is
+// src/glyph/shadow.rs ambient_share.
 //
 // Include after exact_root.glsl.
 

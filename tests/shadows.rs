@@ -487,7 +487,7 @@ fn ambient_occlusion_matches_the_float64_share() {
                     ))
                 };
                 let fits = |r| share_mismatches(&off, &on, k, r, term).is_empty();
-                let Some(range) = share_range(&share, (w, i, j), 2.0 / 16.0, fits) else {
+                let Some(range) = share_range(share, (w, i, j), 2.0 / 16.0, fits) else {
                     continue;
                 };
                 compared += 1;
@@ -626,7 +626,7 @@ fn the_underlay_receives_shadows_and_occlusion() {
                             share_mismatches(&off, &on, k, r, term).is_empty()
                         }
                 };
-                let Some((lo, hi)) = share_range(&share, (w, i, j), 2.0 * step, fits) else {
+                let Some((lo, hi)) = share_range(share, (w, i, j), 2.0 * step, fits) else {
                     continue;
                 };
                 compared += 1;
