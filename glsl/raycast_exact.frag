@@ -86,7 +86,8 @@ void main() {
     vec3 origin;
     vec3 dir;
     pixel_ray(origin, dir);
-    shadow_begin_at(v_world, facing_normal(normalize(v_normal), -dir), shadow_grid.lo.w);
+    shadow_begin_at(v_world, facing_normal(normalize(v_normal), -dir), shadow_grid.lo.w,
+                    shadow_fragment_pixel());
     GlyphRay ray;
     for (int pass = 0; pass < SHADOW_ISOLATIONS; ++pass) {
         if (!shadow_next_glyph(ray)) {

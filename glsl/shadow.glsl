@@ -8,10 +8,20 @@
 // surface it leaves does not stop it; a ray that meets any glyph after that, the hit
 // glyph's own lobes included, is blocked. Hard shadows cast one ray towards the light,
 // soft shadows frame.shadow.y rays towards a disc of angular radius atan(frame.shadow.z)
-// around it, in a fixed stratified pattern (4 rings of equal area, 4 rays each, each ring
-// turned by a quarter step more than the one inside it). Rays that leave the surface
-// into the glyph (n . l <= 0) are not cast: the lit share is that of the rays cast, and
-// a point that casts none keeps the light (its diffuse term is 0 already).
+// around it. Rays that leave the surface into the glyph (n . l <= 0) are not cast: the
+// lit share is that of the rays cast, and a point that casts none keeps the light (its
+// diffuse term is 0 already).
+//
+// The disc's 16 samples are a stratified pattern turned per pixel (shadow_disc_sample):
+// a rank-1 lattice of 16 points in (r^2, angle / 2 pi), one in each sixteenth of the
+// disc's area and of its turn, shifted on that torus by an offset hashed from the pixel
+// (a Cranley-Patterson rotation). Every pixel's share is an unbiased stratified estimate;
+// neighbouring pixels use different rays, so a penumbra shows fine noise instead of the
+// bands a shared pattern leaves (16 levels at most, the same everywhere along an edge,
+// several rays crossing it together where the pattern is symmetric). The offset is an
+// integer hash of the pixel's index in the image (not of the hit), so the picture is
+// the same at every run and the float64 reference repeats each pixel's rays
+// (src/glyph/shadow.rs SamplePattern). Hard shadows' one ray is not turned.
 //
 // The root isolation is inlined once: the fragment shader runs it in one loop, first for
 // its camera ray, then for each glyph that shadow_next_glyph hands out (a second call
@@ -24,12 +34,13 @@
 // then count as reaching the light.
 //
 // Ambient occlusion (--ambient-occlusion) casts AMBIENT_RAYS more rays from the hit, over
-// the hemisphere around its normal: the soft light's 16 disc samples lifted onto the
-// hemisphere (Malley's method), so cosine-weighted. Each reaches frame.shadow.x bounding
-// radii of the hit glyph from its start: a glyph is tested only on the part of its chord
-// within that reach, and the walk stops at the first cell boundary beyond it. The share
-// of them that no glyph blocks scales the ambient term (shadow_ambient_share, read by
-// shading.glsl). The float64 reference is src/glyph/shadow.rs ambient_share.
+// the hemisphere around its normal: the soft light's 16 disc samples, turned by the
+// pixel's offset, lifted onto the hemisphere (Malley's method), so cosine-weighted. Each
+// reaches frame.shadow.x bounding radii of the hit glyph from its start: a glyph is
+// tested only on the part of its chord within that reach, and the walk stops at the
+// first cell boundary beyond it. The share of them that no glyph blocks scales the
+// ambient term (shadow_ambient_share, read by shading.glsl). The float64 reference is
+// src/glyph/shadow.rs ambient_share.
 //
 // Include after exact_root.glsl.
 
@@ -62,6 +73,7 @@ vec3 shadow_u;            // with shadow_v, the soft light's disc around frame.l
 vec3 shadow_v;
 vec3 shadow_normal_u;     // with shadow_normal_v, the occlusion rays' disc around the
 vec3 shadow_normal_v;     // normal
+uvec2 shadow_shift;       // the pixel's offset of the disc pattern, 24-bit fixed point
 int shadow_rays;          // rays towards the light per hit
 int shadow_casts;         // of them, those leaving the surface outwards (n . l > 0)
 int shadow_blocked;       // of those, the rays found blocked
@@ -89,13 +101,38 @@ vec3 shadow_perpendicular(vec3 v) {
     return normalize(cross(v, other));
 }
 
-// Sample k (0 to 15) of the unit disc: 4 rings of equal area, 4 samples each
-// (src/glyph/shadow.rs soft_sample).
+// One round of the PCG hash (Jarzynski and Olano, "Hash Functions for GPU Rendering",
+// JCGT 2020; src/glyph/shadow.rs pcg_hash).
+uint shadow_hash(uint v) {
+    uint state = v * 747796405u + 2891336453u;
+    uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+// The disc pattern's offset for the image pixel `pixel` (src/glyph/shadow.rs
+// SamplePattern::for_pixel): two hashes, 24 bits each.
+uvec2 shadow_pixel_shift(uvec2 pixel) {
+    uint a = shadow_hash(pixel.x + shadow_hash(pixel.y));
+    uint b = shadow_hash(a);
+    return uvec2(a >> 8u, b >> 8u);
+}
+
+// Sample k (0 to 15) of the unit disc (src/glyph/shadow.rs soft_sample): point k of the
+// lattice (k / 16, 7 k / 16) shifted by the pixel's offset modulo 1, in 24-bit fixed
+// point (so that float32 holds both coordinates exactly), then r = sqrt(x) and angle
+// 2 pi y: equal areas.
 vec2 shadow_disc_sample(int k) {
-    int ring = k / 4;
-    float radius = sqrt((float(ring) + 0.5) / 4.0);
-    float angle = 6.28318530718 * (float(k % 4) + 0.25 * float(ring) + 0.5) / 4.0;
+    uint x = ((uint(k) << 20u) + shadow_shift.x) & 0xffffffu;
+    uint y = ((uint(7 * k & 15) << 20u) + shadow_shift.y) & 0xffffffu;
+    float radius = sqrt(float(x) * (1.0 / 16777216.0));
+    float angle = 6.28318530718 * (float(y) * (1.0 / 16777216.0));
     return radius * vec2(cos(angle), sin(angle));
+}
+
+// The image pixel of this fragment (its window position relative to the viewport's
+// origin), which picks its turn of the disc pattern.
+uvec2 shadow_fragment_pixel() {
+    return uvec2(max(gl_FragCoord.xy - frame.window.xy, vec2(0.0)));
 }
 
 // Ray k from the hit: towards the light (its direction, or sample k of a soft light's
@@ -157,8 +194,9 @@ bool shadow_start_ray() {
 // Sets up the rays cast from the point `hit` whose unit normal, turned towards the
 // viewer, is `normal`; `radius` (world units) scales where they start and how far the
 // occlusion rays reach: the hit glyph's bounding radius, or for the underlay the batch's
-// mean one.
-void shadow_begin_at(vec3 hit, vec3 normal, float radius) {
+// mean one. `pixel` (the image pixel that shows the hit) turns the disc pattern.
+void shadow_begin_at(vec3 hit, vec3 normal, float radius, uvec2 pixel) {
+    shadow_shift = shadow_pixel_shift(pixel);
     shadow_normal = normal;
     shadow_hit = hit;
     shadow_offset = frame.shadow.w * radius;
@@ -181,7 +219,7 @@ void shadow_begin_at(vec3 hit, vec3 normal, float radius) {
 }
 
 // Sets up the shadow rays of the hit at q(s_hit) of the camera's ray through the loaded
-// glyph.
+// glyph, seen by this fragment's pixel.
 void shadow_begin(GlyphRay camera, float s_hit) {
     float len;
     vec3 q_dir;
@@ -189,7 +227,8 @@ void shadow_begin(GlyphRay camera, float s_hit) {
     vec3 normal = surface_normal(camera.mid + s_hit * camera.dir, len, q_dir, f);
     vec3 hit = camera.origin + (camera.t_mid + s_hit) * camera.rho * camera.dir;
     // The hit glyph's bounding radius.
-    shadow_begin_at(hit, facing_normal(normal, -camera.dir), camera.rho * (1.0 + frame.march.w));
+    shadow_begin_at(hit, facing_normal(normal, -camera.dir), camera.rho * (1.0 + frame.march.w),
+                    shadow_fragment_pixel());
 }
 
 // The next glyph whose box the ray being walked enters, loaded, with that ray in its

@@ -144,7 +144,8 @@ fn render_changed(
 }
 
 /// Per pixel, from the float64 reference: the hit's n . l and the lit share of the light
-/// (rays towards a disc of `rays` samples when above 1), or None for a miss.
+/// (rays towards a disc of `rays` samples in the pixel's pattern when above 1), or None
+/// for a miss.
 fn reference_visibility(
     scene: &Scene,
     glyphs: &[WorldGlyph],
@@ -153,25 +154,28 @@ fn reference_visibility(
     tan_radius: f64,
 ) -> Vec<Option<(f64, f64)>> {
     let light = light.normalize();
-    per_hit(scene, glyphs, |glyph, hit, dir| {
-        let normal = shadow::surface_normal(glyph, hit);
-        let n = if normal.dot(-dir) < 0.0 {
-            -normal
-        } else {
-            normal
-        };
-        let v = shadow::visibility(glyph, hit, dir, light, rays, tan_radius, glyphs);
-        (n.dot(light), v)
-    })
+    let (w, h) = (scene.image.width, scene.image.height);
+    let hits = hits(scene, glyphs);
+    (0..(w * h) as usize)
+        .map(|k| {
+            let (g, hit, dir) = hits[k]?;
+            let glyph = &glyphs[g];
+            let normal = shadow::surface_normal(glyph, hit);
+            let n = if normal.dot(-dir) < 0.0 {
+                -normal
+            } else {
+                normal
+            };
+            let pattern = pattern_of(k, w as usize);
+            let v = shadow::visibility(glyph, hit, dir, (light, rays, tan_radius), pattern, glyphs);
+            Some((n.dot(light), v))
+        })
+        .collect()
 }
 
-/// Per pixel of `scene`, row by row: `value` of the float64 nearest hit among `glyphs`
-/// (the glyph, the hit, the ray's unit direction), or None for a miss.
-fn per_hit<T>(
-    scene: &Scene,
-    glyphs: &[WorldGlyph],
-    value: impl Fn(&WorldGlyph, DVec3, DVec3) -> T,
-) -> Vec<Option<T>> {
+/// Per pixel of `scene`, row by row: the float64 nearest hit among `glyphs` (the glyph's
+/// index, the hit, the ray's unit direction), or None for a miss.
+fn hits(scene: &Scene, glyphs: &[WorldGlyph]) -> Vec<Option<(usize, DVec3, DVec3)>> {
     let (w, h) = (scene.image.width, scene.image.height);
     let mut out = Vec::with_capacity((w * h) as usize);
     for j in 0..h {
@@ -179,12 +183,38 @@ fn per_hit<T>(
             let ray = scene.camera.ray(i, j, w, h);
             let nearest = glyphs
                 .iter()
-                .filter_map(|g| first_hit(&ray, g).map(|t| (t, g)))
+                .enumerate()
+                .filter_map(|(g, glyph)| first_hit(&ray, glyph).map(|t| (t, g)))
                 .min_by(|a, b| a.0.total_cmp(&b.0));
-            out.push(nearest.map(|(t, glyph)| value(glyph, ray.origin + t * ray.dir, ray.dir)));
+            out.push(nearest.map(|(t, g)| (g, ray.origin + t * ray.dir, ray.dir)));
         }
     }
     out
+}
+
+/// The pattern of rays of pixel `k` of a `w`-wide image.
+fn pattern_of(k: usize, w: usize) -> shadow::SamplePattern {
+    shadow::SamplePattern::for_pixel((k % w) as u32, (k / w) as u32)
+}
+
+/// The float64 shares that pixel (i, j) of a `w`-wide image is held to, each cast with
+/// the pixel's own pattern of rays (`share(n)`: the share at the hit, or plane point, of
+/// pixel n): its own share where the pixel `fits` it; else the range of the shares at its
+/// own and its eight neighbours' points, where they differ by at most `spread` (the
+/// hit's float32 rounding may move a ray across an edge that close). None: left out (no
+/// share, or near a silhouette or a steeper edge).
+fn share_range(
+    share: impl Fn(usize) -> Option<f64>,
+    (w, i, j): (usize, usize, usize),
+    spread: f64,
+    fits: impl Fn((f64, f64)) -> bool,
+) -> Option<(f64, f64)> {
+    let own = share(j * w + i)?;
+    if fits((own, own)) {
+        return Some((own, own));
+    }
+    let (lo, hi) = neighbour_range(share, w, i, j)?;
+    (hi - lo <= spread + 1e-9).then_some((lo, hi))
 }
 
 /// Pixels away from shadow edges and silhouettes: the pixel and its eight neighbours hit
@@ -353,9 +383,10 @@ fn hits_read_in_bands_give_the_same_shadows() {
 }
 
 /// Soft shadows: each pixel's colour is the unshadowed one with its light terms scaled by
-/// a lit share that the float64 reference gives the pixel or one of its eight neighbours
-/// (within the 8-bit rounding of both images), where those shares differ by at most two
-/// of the 16 rays (away from silhouettes), penumbra included.
+/// a lit share that the float64 reference, casting the pixel's own pattern of rays, gives
+/// the pixel's hit or one of its eight neighbours' hits (within the 8-bit rounding of
+/// both images), where those shares differ by at most two of the 16 rays (away from
+/// silhouettes), penumbra included.
 #[test]
 fn soft_shadows_match_the_float64_lit_share() {
     let gpu = common::gpu();
@@ -369,7 +400,10 @@ fn soft_shadows_match_the_float64_lit_share() {
     let glyphs = glyphs_of(&sets);
     let tan = f64::from(radius_deg).to_radians().tan();
     let reference = reference_visibility(&scene, &glyphs, light, 16, tan);
+    let hits = hits(&scene, &glyphs);
     let ambient = f64::from(Lighting::default().ambient);
+    // The light's terms: what is left above the ambient term.
+    let term = |c: usize, full: f64| full - f64::from(BASE[c]) * ambient;
     let (mut compared, mut partial, mut wrong) = (0, 0, Vec::new());
     for j in 1..h - 1 {
         for i in 1..w - 1 {
@@ -377,17 +411,25 @@ fn soft_shadows_match_the_float64_lit_share() {
             let Some((diffuse, v)) = reference[k] else {
                 continue;
             };
-            let Some((lo, hi)) = neighbour_range(|n| reference[n].map(|(_, u)| u), w, i, j) else {
-                continue;
-            };
-            if diffuse < MIN_DIFFUSE || hi - lo > 2.0 / 16.0 + 1e-9 {
+            if diffuse < MIN_DIFFUSE {
                 continue;
             }
+            // The pixel's rays cast from its neighbours' hits.
+            let share = |n: usize| {
+                let (g, hit, dir) = hits[n]?;
+                let light = (light.normalize(), 16, tan);
+                let pattern = pattern_of(k, w);
+                Some(shadow::visibility(
+                    &glyphs[g], hit, dir, light, pattern, &glyphs,
+                ))
+            };
+            let fits = |r| share_mismatches(&off, &on, k, r, term).is_empty();
+            let Some(range) = share_range(share, (w, i, j), 2.0 / 16.0, fits) else {
+                continue;
+            };
             compared += 1;
             partial += usize::from(v > 0.0 && v < 1.0);
-            // The light's terms: what is left above the ambient term.
-            let light = |c: usize, full: f64| full - f64::from(BASE[c]) * ambient;
-            for (c, got, low, high) in share_mismatches(&off, &on, k, (lo, hi), light) {
+            for (c, got, low, high) in share_mismatches(&off, &on, k, range, term) {
                 wrong.push((i, j, c, got, low, high));
             }
         }
@@ -405,10 +447,10 @@ fn soft_shadows_match_the_float64_lit_share() {
 
 /// Ambient occlusion: each pixel's colour is the unoccluded one less the ambient term's
 /// occluded share, for a share that the float64 reference (`glyph::shadow::ambient_share`:
-/// the 16 occlusion rays intersected exactly with every glyph, within the reach) gives the
-/// pixel or one of its eight neighbours (within the 8-bit rounding of both images), where
-/// those shares differ by at most two of the 16 rays (away from silhouettes); the depth
-/// map does not change, no channel brightens.
+/// the pixel's own 16 occlusion rays intersected exactly with every glyph, within the
+/// reach) gives the pixel's hit or one of its eight neighbours' hits (within the 8-bit
+/// rounding of both images), where those shares differ by at most two of the 16 rays
+/// (away from silhouettes); the depth map does not change, no channel brightens.
 #[test]
 fn ambient_occlusion_matches_the_float64_share() {
     let gpu = common::gpu();
@@ -429,24 +471,28 @@ fn ambient_occlusion_matches_the_float64_share() {
         let _ = std::fs::write(scene_file, scene.to_json());
         let (w, h) = (scene.image.width as usize, scene.image.height as usize);
         let glyphs = glyphs_of(&sets);
-        let reference = per_hit(&scene, &glyphs, |glyph, hit, dir| {
-            shadow::ambient_share(glyph, hit, dir, f64::from(reach), &glyphs)
-        });
+        let hits = hits(&scene, &glyphs);
+        // The ambient term.
+        let term = |c: usize, _: f64| f64::from(BASE[c]) * f64::from(ambient);
         let (mut compared, mut occluded, mut wrong) = (0, 0, Vec::new());
         for j in 1..h - 1 {
             for i in 1..w - 1 {
                 let k = j * w + i;
-                let Some((lo, hi)) = neighbour_range(|n| reference[n], w, i, j) else {
+                // The pixel's rays cast from its neighbours' hits.
+                let share = |n: usize| {
+                    let (g, hit, dir) = hits[n]?;
+                    let (reach, pattern) = (f64::from(reach), pattern_of(k, w));
+                    Some(shadow::ambient_share(
+                        &glyphs[g], hit, dir, reach, pattern, &glyphs,
+                    ))
+                };
+                let fits = |r| share_mismatches(&off, &on, k, r, term).is_empty();
+                let Some(range) = share_range(share, (w, i, j), 2.0 / 16.0, fits) else {
                     continue;
                 };
-                if hi - lo > 2.0 / 16.0 + 1e-9 {
-                    continue;
-                }
                 compared += 1;
-                occluded += usize::from(reference[k].is_some_and(|v| v < 1.0));
-                // The ambient term.
-                let term = |c: usize, _: f64| f64::from(BASE[c]) * f64::from(ambient);
-                for (c, got, low, high) in share_mismatches(&off, &on, k, (lo, hi), term) {
+                occluded += usize::from(range.0 < 1.0);
+                for (c, got, low, high) in share_mismatches(&off, &on, k, range, term) {
                     wrong.push((i, j, c, got, low, high));
                 }
             }
@@ -538,8 +584,9 @@ fn the_underlay_receives_shadows_and_occlusion() {
         let lighting = (light.normalize(), rays, 0.0);
         // One occlusion ray's step of the share, or any step of the hard shadows.
         let step = reach.map_or(0.0, |_| f64::from(ambient) / 16.0);
-        // Per pixel: the share of an underlay pixel (the plane nearer than every glyph).
-        let mut reference = Vec::with_capacity(w * h);
+        // Per pixel: the point of an underlay pixel (the plane nearer than every glyph)
+        // and its ray's direction.
+        let mut points = Vec::with_capacity(w * h);
         for j in 0..h as u32 {
             for i in 0..w as u32 {
                 let ray = scene.camera.ray(i, j, w as u32, h as u32);
@@ -549,24 +596,39 @@ fn the_underlay_receives_shadows_and_occlusion() {
                             .iter()
                             .all(|g| first_hit(&ray, g).is_none_or(|u| u > t))
                 });
-                reference.push(on_plane.map(|t| {
-                    let point = ray.origin + t * ray.dir;
-                    let reach = reach.map(f64::from);
-                    let ambient = f64::from(ambient);
-                    shadow::plane_share(point, normal, ray.dir, lighting, reach, ambient, &glyphs)
-                }));
+                points.push(on_plane.map(|t| (ray.origin + t * ray.dir, ray.dir)));
             }
         }
+        // The colour's share: full * (1 - (1 - share)).
+        let term = |_: usize, full: f64| full;
         let (mut compared, mut darkened, mut wrong) = (0, 0, Vec::new());
         for j in 1..h - 1 {
             for i in 1..w - 1 {
                 let k = j * w + i;
-                let Some((lo, hi)) = neighbour_range(|n| reference[n], w, i, j) else {
+                // The share of pixel n's point with the rays of pixel k.
+                let share = |n: usize| {
+                    let (point, dir) = points[n]?;
+                    let (reach, ambient) = (reach.map(f64::from), f64::from(ambient));
+                    let at = (point, normal, dir);
+                    let pattern = pattern_of(k, w);
+                    Some(shadow::plane_share(
+                        at, lighting, pattern, reach, ambient, &glyphs,
+                    ))
+                };
+                // Hard shadows' one ray is every pixel's: those are held to the range of
+                // the neighbourhood, as before; occlusion first to the pixel's own share.
+                let fits = |r: (f64, f64)| {
+                    let same = off.rgba[4 * k..4 * k + 4] == on.rgba[4 * k..4 * k + 4];
+                    reach.is_some()
+                        && if r.0 >= 1.0 {
+                            same
+                        } else {
+                            share_mismatches(&off, &on, k, r, term).is_empty()
+                        }
+                };
+                let Some((lo, hi)) = share_range(share, (w, i, j), 2.0 * step, fits) else {
                     continue;
                 };
-                if hi - lo > 2.0 * step + 1e-9 {
-                    continue;
-                }
                 compared += 1;
                 if lo >= 1.0 {
                     if off.rgba[4 * k..4 * k + 4] != on.rgba[4 * k..4 * k + 4] {
@@ -575,8 +637,6 @@ fn the_underlay_receives_shadows_and_occlusion() {
                     continue;
                 }
                 darkened += 1;
-                // The colour's share: full * (1 - (1 - share)).
-                let term = |_: usize, full: f64| full;
                 for (c, got, low, high) in share_mismatches(&off, &on, k, (lo, hi), term) {
                     wrong.push((i, j, c, got, low, high));
                 }
@@ -598,6 +658,108 @@ fn the_underlay_receives_shadows_and_occlusion() {
         let brighter = (0..w * h * 4).filter(|&c| on.rgba[c] > off.rgba[c]).count();
         assert_eq!(brighter, 0, "underlay, {name}: channels brightened");
     }
+}
+
+/// A wide flat glyph (radius 3) above a uniform grey underlay plane, lit obliquely (from
+/// -x, 27 degrees off the vertical), and an orthographic camera looking straight down at
+/// the edge of its shadow, 96 x 24 pixels over 1.2 x 0.3 world units: a soft light of 15
+/// degrees makes a penumbra about 70 pixels wide (the glyph's rim is a lens, whose upper
+/// face reaches further out than its edge) that runs across the columns, the umbra at
+/// the left and full light at the right. The shadow's edge is a circle of radius 3,
+/// 240 pixels: over the image's 24 rows it is a straight line to a third of a pixel, its
+/// normal turned by at most 3 degrees.
+fn wide_disc_over_plane() -> (Scene, Underlay, DVec3) {
+    let disc = glyph_set(
+        symmetric(2),
+        vec![DVec3::ZERO],
+        3.0,
+        vec![vec![1.0, 0.0, 0.0, 1.0, 0.0, 0.02]],
+    );
+    let mut scene = glyphcast::accuracy::suite::scene(vec![disc], DVec3::ZERO, 96);
+    scene.image.height = 24;
+    scene.camera = Camera {
+        projection: glyphcast::camera::Projection::Orthographic { height: 0.3 },
+        eye: DVec3::new(3.6, 0.0, 3.0),
+        target: DVec3::new(3.6, 0.0, -1.0),
+        up: DVec3::Y,
+    };
+    let z = -1.0;
+    let affine = glam::DMat4::from_translation(DVec3::new(0.0, -4.0, z));
+    let mut volume =
+        UnderlayVolume::new("grey", [8, 8, 1], 1, vec![70.0; 64], affine).expect("volume");
+    volume.set_window(0.0, 100.0).expect("window");
+    let underlay = Underlay {
+        volume: std::sync::Arc::new(volume),
+        planes: vec![UnderlayPlane {
+            origin: DVec3::new(2.5, -1.0, z),
+            u: DVec3::new(2.5, 0.0, 0.0),
+            v: DVec3::new(0.0, 2.0, 0.0),
+            sample_offset: DVec3::ZERO,
+        }],
+    };
+    (scene, underlay, DVec3::new(-0.5, 0.0, 1.0))
+}
+
+/// A soft shadow's penumbra is smooth: across the penumbra of a straight shadow edge
+/// (`wide_disc_over_plane`), the underlay's share of its colour (linear, each column's
+/// mean over the 24 rows, so along the edge) changes from one column to the next by at
+/// most 1/12 of its range, umbra to full light. A pattern of rays that every pixel
+/// shares crosses the edge one sample row at a time and leaves steps of two or three of
+/// its 16 rays (the rings of the penumbra); a pattern turned per pixel leaves fine noise
+/// that the mean along the edge evens out.
+#[test]
+fn soft_penumbrae_change_in_small_steps() {
+    let gpu = common::gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    let (scene, underlay, light) = wide_disc_over_plane();
+    let ambient = 0.4;
+    let soft = Shadows::Soft { radius_deg: 15.0 };
+    let (_, off, on) = render_changed(
+        &gpu,
+        &mut renderer,
+        (&scene, Some(&underlay)),
+        light,
+        ambient,
+        |s| s.shadows = soft,
+    );
+    save("penumbra-off", &off);
+    save("penumbra-soft", &on);
+    let (w, h) = (scene.image.width as usize, scene.image.height as usize);
+    let share = |k: usize| {
+        let full = f64::from(srgb_to_linear(off.rgba[4 * k]));
+        assert!(full > 0.1, "pixel {k} is not the underlay's");
+        f64::from(srgb_to_linear(on.rgba[4 * k])) / full
+    };
+    let profile: Vec<f64> = (0..w)
+        .map(|i| (0..h).map(|j| share(j * w + i)).sum::<f64>() / h as f64)
+        .collect();
+    let steps: Vec<f64> = profile.windows(2).map(|p| (p[1] - p[0]).abs()).collect();
+    let range = 1.0 - f64::from(ambient);
+    let largest = steps.iter().cloned().fold(0.0, f64::max);
+    let row: Vec<String> = profile.iter().map(|v| format!("{v:.3}")).collect();
+    eprintln!(
+        "penumbra: shares {}; largest step {:.3} of the range",
+        row.join(" "),
+        largest / range
+    );
+    // The image spans the penumbra: the umbra at the left (the ambient share, within the
+    // 8-bit rounding), (nearly) full light at the right, where the penumbra's tail leaves
+    // a pixel a ray blocked now and then, and 40 columns or more in between.
+    assert!(
+        profile[..3].iter().all(|&v| v < f64::from(ambient) + 0.01),
+        "{row:?}"
+    );
+    assert!(profile[w - 3..].iter().all(|&v| v > 0.98), "{row:?}");
+    let between = profile
+        .iter()
+        .filter(|&&v| v > f64::from(ambient) + 0.02 && v < 0.97)
+        .count();
+    assert!(between >= 40, "{between} columns in the penumbra");
+    assert!(
+        largest <= range / 12.0,
+        "a step of {:.3} of the penumbra's range (at most 1/12)",
+        largest / range
+    );
 }
 
 /// Through the command line: `--shadows` alone on the sphere above the flat glyph leaves

@@ -5,7 +5,8 @@
 #   bash tools/gallery.sh [GLYPHCAST_BINARY]     (default: builds target/release)
 # Writes docs/gallery/*.png and docs/images/fodf-csd.png. Parts: tools/gallery_figures_a.sh
 # (ellipsoids, lighting, colour bar, views, lightbox), tools/figures_underlay.sh
-# (underlays, anti-aliasing), tools/figures_dipy.sh (DIPY's fODFs over FA); here: the CSD
+# (underlays, anti-aliasing), tools/figures_dipy.sh (DIPY's fODFs over FA),
+# tools/figures_shadows.sh (shadows and ambient occlusion); here: the CSD
 # slice, peaks, the stiffness row and the QC page (a screenshot by headless Chromium,
 # skipped with a note where none is installed). The cohort page needs a SLURM cluster:
 # docs/guide/cohorts.md has its command.
@@ -22,6 +23,7 @@ export GLYPHCAST_LAVAPIPE="${GLYPHCAST_LAVAPIPE:-1}"
 bash tools/gallery_figures_a.sh "$bin"
 bash tools/figures_underlay.sh "$bin"
 bash tools/figures_dipy.sh "$bin"
+bash tools/figures_shadows.sh "$bin"
 
 data=tests/data/dipy
 work=$(mktemp -d)

@@ -297,15 +297,17 @@ pub enum Shadows {
     /// One ray towards a directional light: a point is lit or not.
     Hard,
     /// A disc light of this angular radius (degrees, above 0 and at most
-    /// `SOFT_SHADOW_MAX_RADIUS`), sampled by `SOFT_SHADOW_SAMPLES` rays in a fixed
-    /// stratified pattern: the lit share of them scales the light.
+    /// `SOFT_SHADOW_MAX_RADIUS`), sampled by `SOFT_SHADOW_SAMPLES` rays in a stratified
+    /// pattern that each pixel turns by its own offset
+    /// ([`crate::glyph::shadow::SamplePattern`]): the lit share of them scales the light.
     Soft {
         /// The light's angular radius in degrees.
         radius_deg: f32,
     },
 }
 
-/// Rays towards the disc of a soft light, per hit: 4 rings of 4 (glsl/shadow.glsl).
+/// Rays towards the disc of a soft light, per hit: one in each sixteenth of the disc's
+/// area (glsl/shadow.glsl).
 pub(crate) const SOFT_SHADOW_SAMPLES: u32 = 16;
 
 /// The largest angular radius of `--shadows soft:RADIUS`, in degrees.
@@ -384,8 +386,8 @@ impl std::fmt::Display for Shadows {
 
 /// Ambient occlusion (`--ambient-occlusion`): from each glyph hit,
 /// [`AMBIENT_OCCLUSION_RAYS`](crate::glyph::shadow::AMBIENT_OCCLUSION_RAYS) rays over the
-/// hemisphere around the normal (cosine-weighted,
-/// in a fixed stratified pattern) are intersected exactly with the glyphs within `reach`
+/// hemisphere around the normal (cosine-weighted, the soft light's stratified pattern
+/// turned per pixel) are intersected exactly with the glyphs within `reach`
 /// bounding radii of the hit glyph, and the share of them that no glyph blocks scales the
 /// ambient term. It approximates how much of a uniform sky light the neighbouring lobes
 /// and glyphs hide from the point (no light is bounced between glyphs); the light's
