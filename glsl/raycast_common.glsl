@@ -67,6 +67,12 @@ layout(std430, set = 1, binding = 2) buffer NearestDistance {
     uint nearest_words[];  // the gate's bits, then the nearest distances'
 };
 
+// false: the pipeline of the frames whose visibility word is 0 (no culling, no counting:
+// most frames), in which the visibility code below is compiled out. A device that runs
+// skipped code masked (lavapipe of Mesa 22.3) paid for it in every fragment: 12 % of a
+// flat field's frame (src/render/raycast.rs, VISIBILITY_CONSTANT).
+layout(constant_id = 1) const bool VISIBILITY = true;
+
 // This fragment's pixel among the known depths.
 uint known_index() {
     uvec2 pixel = uvec2(gl_FragCoord.xy) - known_header.zw;
@@ -75,7 +81,7 @@ uint known_index() {
 
 // Adds one to work counter `counter` when the pass counts its work.
 void count_work(int counter) {
-    if ((known_header.y & uint(VISIBILITY_COUNT)) != 0u) {
+    if (VISIBILITY && (known_header.y & uint(VISIBILITY_COUNT)) != 0u) {
         atomicAdd(work_counters[counter], 1u);
     }
 }
@@ -122,7 +128,7 @@ void open_gate(uint index, float depth, bool reversed) {
 // lane of a batch runs (a GPU, lavapipe of Mesa 25) saves it where a whole batch of
 // pixels is hidden; in the other fragments the test changes nothing.
 bool hidden_by_known() {
-    if ((known_header.y & uint(VISIBILITY_EARLY_OUT)) == 0u) {
+    if (!VISIBILITY || (known_header.y & uint(VISIBILITY_EARLY_OUT)) == 0u) {
         return false;
     }
     float known = uintBitsToFloat(known_words[known_index()]);
@@ -143,6 +149,9 @@ bool hidden_by_known() {
 // earlier passes drew (reversed depth: larger); the winner's depth replaces the known
 // one, which is copied into the depth attachment after the pass.
 bool shows_hit(float distance, float depth) {
+    if (!VISIBILITY) {
+        return true;
+    }
     uint word = known_header.y;
     uint stages = uint(VISIBILITY_SHADE_NEAREST | VISIBILITY_GATE | VISIBILITY_EARLY_OUT);
     if ((word & stages) == 0u) {

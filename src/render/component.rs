@@ -278,6 +278,15 @@ impl UploadedGlyphs {
         self.plans.get(frame_index).map_or(0, PassPlan::passes)
     }
 
+    /// Whether frame `frame_index`'s visibility word may be other than 0: it is culled
+    /// (in passes or by early outs, the host's included) or `count`s its work.
+    pub(crate) fn visibility_active(&self, frame_index: usize, count: bool) -> bool {
+        count
+            || self.passes(frame_index) > 1
+            || self.host_early_outs.is_some()
+            || self.plans.get(frame_index).is_some_and(PassPlan::early_out)
+    }
+
     /// How frame `frame_index`'s hidden glyphs are skipped: `Passes`, `EarlyOut`, or
     /// `Off` where its frame is one pass without early outs.
     pub fn culling(&self, frame_index: usize) -> Culling {
@@ -591,6 +600,11 @@ impl GlyphRenderer {
             }),
             _ => None,
         };
+        if host_early_outs.is_some() {
+            // The host's frames take early outs wherever their plan does.
+            self.pass
+                .prepare_visibility_pipelines(&gpu, settings.method)?;
+        }
         Ok(UploadedGlyphs {
             gpu,
             method: settings.method,
@@ -808,6 +822,7 @@ impl GlyphRenderer {
             let passes = Passes {
                 plan: glyphs.plans.get(frame_index),
                 visibility,
+                active: true,
             };
             let no_restart = &mut |_, _| Ok(());
             return self.pass.record_passes(
@@ -843,11 +858,19 @@ impl GlyphRenderer {
     /// frame `frame_index` has more than one pass and they are not made yet
     /// (render::visibility): a frame drawn in one pass, such as a flat field's, never
     /// creates them.
+    ///
+    /// Makes the pipelines that run the visibility code too, where the frame is culled or
+    /// `count`s its work (the other frames' pipelines have it compiled out).
     pub(crate) fn prepare_passes(
         &mut self,
         glyphs: &UploadedGlyphs,
         frame_index: usize,
+        count: bool,
     ) -> Result<()> {
+        if glyphs.visibility_active(frame_index, count) {
+            self.pass
+                .prepare_visibility_pipelines(&glyphs.gpu, glyphs.method)?;
+        }
         if glyphs.passes(frame_index) <= 1 {
             return Ok(());
         }
@@ -869,14 +892,16 @@ impl GlyphRenderer {
         &self,
         cmd: vk::CommandBuffer,
         glyphs: &UploadedGlyphs,
-        frame_index: usize,
+        (frame_index, count): (usize, bool),
         visibility: &VisibilityBuffers,
         restart: &mut dyn FnMut(vk::CommandBuffer, crate::vk::DrawStage) -> Result<()>,
     ) -> Result<()> {
         let target = self.frame_target(glyphs, frame_index)?;
+        let active = glyphs.visibility_active(frame_index, count);
         let passes = Passes {
             plan: glyphs.plans.get(frame_index),
             visibility,
+            active,
         };
         self.pass
             .record_passes(cmd, &glyphs.gpu, &target, glyphs.method, passes, restart)

@@ -460,7 +460,7 @@ impl HeadlessRenderer {
                 let mut glyphs = self.glyphs.upload(sets, settings)?;
                 let whole = FrameTarget::whole(vk::Extent2D { width, height });
                 glyphs.set_frame(&params, &whole)?;
-                self.glyphs.prepare_passes(&glyphs, 0)?;
+                self.glyphs.prepare_passes(&glyphs, 0, false)?;
                 GlyphsOnGpu::RayCast(Box::new(glyphs))
             }
         };
@@ -534,7 +534,7 @@ impl HeadlessRenderer {
     pub fn draw(&mut self, gpu: &Gpu, frame: &PreparedFrame) -> Result<Option<f64>> {
         // A camera moved by `set_camera` may need passes the first one did not.
         if let GlyphsOnGpu::RayCast(glyphs) = &frame.scene {
-            self.glyphs.prepare_passes(glyphs, 0)?;
+            self.glyphs.prepare_passes(glyphs, 0, frame.count_work)?;
         }
         let passes = (
             &self.glyphs,
@@ -783,7 +783,7 @@ fn record_frame(
                 let first = later_passes == 1;
                 restart_rendering(d, cmd, targets, extent, (stage, count, first))
             };
-            glyphs.record_glyph_passes(cmd, on_gpu, 0, visibility, &mut restart)?
+            glyphs.record_glyph_passes(cmd, on_gpu, (0, count), visibility, &mut restart)?
         }
         GlyphsOnGpu::Mesh(scene) => mesh.record(cmd, scene, extent)?,
         GlyphsOnGpu::Compute(on_gpu) => {

@@ -43,7 +43,8 @@ pub use memory::{
 };
 pub use pipeline::{
     DrawStage, GraphicsPipelineDesc, Pipeline, PipelineLayout, Pipelines, RasterTarget,
-    ShaderModule, buffer_binding, compute_pipeline, graphics_pipeline, vertex_fragment_stages,
+    ShaderModule, buffer_binding, compute_pipeline, graphics_pipeline, specialized_stages,
+    vertex_fragment_stages,
 };
 #[cfg(feature = "window")]
 pub use surface::Surface;

@@ -352,20 +352,33 @@ pub fn vertex_fragment_stages<'a>(
     fragment: vk::ShaderModule,
     specialization: Option<&'a vk::SpecializationInfo<'a>>,
 ) -> [vk::PipelineShaderStageCreateInfo<'a>; 2] {
+    specialized_stages(vertex, fragment, (specialization, None))
+}
+
+/// [`vertex_fragment_stages`] with specialisation constants for each stage.
+pub fn specialized_stages<'a>(
+    vertex: vk::ShaderModule,
+    fragment: vk::ShaderModule,
+    (vertex_constants, fragment_constants): (
+        Option<&'a vk::SpecializationInfo<'a>>,
+        Option<&'a vk::SpecializationInfo<'a>>,
+    ),
+) -> [vk::PipelineShaderStageCreateInfo<'a>; 2] {
     let mut vertex_stage = vk::PipelineShaderStageCreateInfo::default()
         .stage(vk::ShaderStageFlags::VERTEX)
         .module(vertex)
         .name(c"main");
-    if let Some(specialization) = specialization {
+    if let Some(specialization) = vertex_constants {
         vertex_stage = vertex_stage.specialization_info(specialization);
     }
-    [
-        vertex_stage,
-        vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::FRAGMENT)
-            .module(fragment)
-            .name(c"main"),
-    ]
+    let mut fragment_stage = vk::PipelineShaderStageCreateInfo::default()
+        .stage(vk::ShaderStageFlags::FRAGMENT)
+        .module(fragment)
+        .name(c"main");
+    if let Some(specialization) = fragment_constants {
+        fragment_stage = fragment_stage.specialization_info(specialization);
+    }
+    [vertex_stage, fragment_stage]
 }
 
 /// A graphics pipeline for dynamic rendering, as `desc` describes.
