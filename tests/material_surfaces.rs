@@ -234,8 +234,9 @@ fn reciprocal_scene(order: u32, negative: &str) -> String {
     )
 }
 
-/// What the reciprocal glyph cannot be drawn with is refused with exit status 1, one
-/// error naming the setting or the field, and no output: other methods, the compute path,
+/// What the reciprocal glyph cannot be drawn with is refused with exit status 1 (2 for
+/// the compute path), one error naming the setting or the field, and no output: other
+/// methods, the compute path,
 /// an offset, hidden lobes, an odd order (f changes sign: 1/|f| is unbounded); and
 /// `stiffness` refuses Young's surface of an unstable crystal whose 1/E vanishes,
 /// naming the file, and --symmetric-part with a surface.
@@ -257,7 +258,12 @@ fn what_the_reciprocal_glyph_cannot_take_is_refused() {
         &["--method", "interval"],
         &["reciprocal", "interval"],
     );
-    render(&good, &["--path", "compute"], &["reciprocal", "compute"]);
+    // (A path the glyphs cannot take is a refusal of the command line: exit 2.)
+    common::expect_usage_failure(
+        &["render", text(&good), "-o", text(&png), "--path", "compute"],
+        &out,
+        &["reciprocal", "compute"],
+    );
     render(
         &good,
         &["--method", "fixed", "--offset", "0.1"],
@@ -371,7 +377,8 @@ fn poisson_surfaces_lie_on_the_ratios() {
 }
 
 /// What the shear and Poisson surfaces cannot be drawn with is refused with exit status
-/// 1, one error naming the plane or ratio glyphs and the setting, and no output: the
+/// 1 (2 for the compute path), one error naming the plane or ratio glyphs and the
+/// setting, and no output: the
 /// other methods, the compute path, an offset.
 #[test]
 fn what_the_shear_and_poisson_surfaces_cannot_take_is_refused() {
@@ -397,7 +404,18 @@ fn what_the_shear_and_poisson_surfaces_cannot_take_is_refused() {
         };
         render(&["--method", "fixed"], &[glyphs, "fixed"]);
         render(&["--method", "affine"], &[glyphs, "affine"]);
-        render(&["--path", "compute"], &[glyphs, "compute"]);
+        common::expect_usage_failure(
+            &[
+                "render",
+                text(&scene),
+                "-o",
+                text(&png),
+                "--path",
+                "compute",
+            ],
+            &out,
+            &[glyphs, "compute"],
+        );
         render(
             &["--method", "fixed", "--offset", "0.1"],
             &[glyphs, "offset"],

@@ -205,9 +205,19 @@ pub fn dipy_data(name: &str) -> PathBuf {
 /// Runs `args` (writing into `out_dir`); expects exit code 1 (bad data), no panic, one
 /// `error:` line holding every word of `words`, and nothing in `out_dir`. Returns the line.
 pub fn expect_failure(args: &[&str], out_dir: &Path, words: &[&str]) -> String {
+    expect_exit(args, out_dir, words, 1)
+}
+
+/// [`expect_failure`] for a refusal of the command line itself (exit code 2: options the
+/// method, path or glyphs cannot take).
+pub fn expect_usage_failure(args: &[&str], out_dir: &Path, words: &[&str]) -> String {
+    expect_exit(args, out_dir, words, 2)
+}
+
+fn expect_exit(args: &[&str], out_dir: &Path, words: &[&str], code: i32) -> String {
     let run = glyphcast(args);
     let stderr = String::from_utf8_lossy(&run.stderr);
-    assert_eq!(run.status.code(), Some(1), "{args:?}:\n{stderr}");
+    assert_eq!(run.status.code(), Some(code), "{args:?}:\n{stderr}");
     assert!(!stderr.contains("panicked"), "{args:?}: panic:\n{stderr}");
     let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
     assert_eq!(
