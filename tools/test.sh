@@ -42,7 +42,7 @@ cargo test --locked --no-run --test integration
 venv=target/py-venv
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
 "$venv/bin/python" -m pip install -q --disable-pip-version-check \
-    'maturin>=1.9,<2' numpy pytest nibabel dipy trx-python nipype 'pydra>=0.25,<1' \
+    'maturin>=1.9,<2' numpy pytest nibabel dipy nipype 'pydra>=0.25,<1' \
     nbclient nbformat ipykernel pillow \
     'jupyter_rfb>=1.0,<2' ipywidgets jupyterlab 'notebook>=7,<8' selenium
 # The module as users get it: a wheel, installed with pip into the environment, so the
