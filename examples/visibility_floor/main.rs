@@ -20,22 +20,11 @@
 //! would leave: its extents are taken from 6,000 sampled surface points, padded by 3 %,
 //! not bounded as the boxes are, so this column is a measurement aid, not a renderer.
 //!
-//! A second line counts the same with each glyph cut into eight convex pieces with
-//! guaranteed bounds ([`glyphcast::glyph::pieces`]: the octants of a frame turned to the
-//! largest lobe, each cut by seven support planes): the fragments of the pieces' polytopes
-//! and of their boxes, the evaluations of a ray caster that evaluates each piece it enters
-//! while outside the glyph, and the floor with pieces; and how long bounding them took.
-//!
 //! Pixels are sampled every STEP pixels in x and y (default 2) and counts are scaled by
 //! STEP squared.
 use glyphcast::Scene;
 use glyphcast::glam::{DQuat, DVec3, DVec4};
 use glyphcast::glyph::intersect::first_hit;
-use glyphcast::glyph::pieces::{
-    GlyphPieces, PIECE_PLANES, PIECES, glyph_pieces, octant_signs, piece_directions,
-};
-use glyphcast::glyph::proxy::glyph_bounds;
-use glyphcast::glyph::{GlyphShape, NegativeMode};
 use glyphcast::prepare_scene;
 
 /// One proxy a sampled pixel's ray enters.
@@ -46,76 +35,6 @@ struct Entry {
     kdop_entry: f64,
     set: usize,
     glyph: usize,
-}
-
-/// The ray's span in piece `piece` (glyph-local coordinates, the ray o + s d with unit d),
-/// clipped to `span`: empty (start >= end) when it misses.
-fn piece_span(
-    pieces: &GlyphPieces,
-    piece: usize,
-    o: DVec3,
-    d: DVec3,
-    span: (f64, f64),
-) -> (f64, f64) {
-    let signs = octant_signs(piece);
-    let to_frame = |v: DVec3| {
-        DVec3::new(
-            v.dot(pieces.axes[0]),
-            v.dot(pieces.axes[1]),
-            v.dot(pieces.axes[2]),
-        ) * signs
-    };
-    let (of, df) = (to_frame(o), to_frame(d));
-    let mut span = span;
-    // Cone planes x_k >= 0, i.e. -x_k <= 0.
-    for k in 0..3 {
-        half_space(&mut span, -of[k], -df[k], 0.0);
-    }
-    for (n, h) in piece_directions().iter().zip(&pieces.supports[piece]) {
-        half_space(&mut span, of.dot(*n), df.dot(*n), *h);
-    }
-    span
-}
-
-/// The ray's span within the piece's box [0, h0] x [0, h1] x [0, h2] (frame, reflected).
-fn piece_box_span(
-    pieces: &GlyphPieces,
-    piece: usize,
-    o: DVec3,
-    d: DVec3,
-    span: (f64, f64),
-) -> (f64, f64) {
-    let signs = octant_signs(piece);
-    let to_frame = |v: DVec3| {
-        DVec3::new(
-            v.dot(pieces.axes[0]),
-            v.dot(pieces.axes[1]),
-            v.dot(pieces.axes[2]),
-        ) * signs
-    };
-    let (of, df) = (to_frame(o), to_frame(d));
-    let mut span = span;
-    for k in 0..3 {
-        half_space(&mut span, -of[k], -df[k], 0.0);
-        half_space(&mut span, of[k], df[k], pieces.supports[piece][k]);
-    }
-    span
-}
-
-/// Clips `span` to the half-space a + s b <= h.
-fn half_space(span: &mut (f64, f64), a: f64, b: f64, h: f64) {
-    if b.abs() < 1e-300 {
-        if a > h {
-            *span = (1.0, 0.0);
-        }
-        return;
-    }
-    let s = (h - a) / b;
-    if b > 0.0 {
-        span.1 = span.1.min(s);
-    } else {
-        span.0 = span.0.max(s);
-    }
 }
 
 /// Ray parameters [t0, t1] inside the slab |(o + t d) . a| <= e, intersected into `span`.
@@ -180,11 +99,6 @@ fn main() -> Result<(), String> {
     let rows = height.div_ceil(step);
     let mut lists: Vec<Vec<Entry>> = (0..columns * rows).map(|_| Vec::new()).collect();
     let mut proxy_fragments = 0u64;
-    // Pieces: fragments of the polytopes and of their boxes; per pixel the world entry
-    // distances of the pieces a ray enters while outside its glyph.
-    let (mut piece_fragments, mut piece_box_fragments, mut piece_casts) = (0u64, 0u64, 0u64);
-    let mut piece_lists: Vec<Vec<f64>> = (0..columns * rows).map(|_| Vec::new()).collect();
-    let mut bound_time = std::time::Duration::ZERO;
     for (s, set) in sets.iter().enumerate() {
         for g in 0..set.len() {
             let [cx, cy, cz, radius] = set.instances[g].map(f64::from);
@@ -194,12 +108,6 @@ fn main() -> Result<(), String> {
             let to_box = rotation.inverse();
             let extent = DVec3::new(b[4], b[5], b[6]) * radius;
             let world = &set.world[g];
-            let started = std::time::Instant::now();
-            let pieces = (world.shape == GlyphShape::Polynomial && world.offset == 0.0)
-                .then(|| glyph_bounds(&world.poly))
-                .flatten()
-                .and_then(|b| glyph_pieces(&world.poly, world.negative, &b));
-            bound_time += started.elapsed();
             // The sampled surface points in the box's frame, once for the ten slabs.
             let surface: Vec<DVec3> = directions
                 .iter()
@@ -252,47 +160,6 @@ fn main() -> Result<(), String> {
                         continue;
                     }
                     proxy_fragments += 1;
-                    if let Some(pieces) = &pieces {
-                        // Glyph-local ray: o_l + s d, s in local units (world = scale s).
-                        let o_local = (ray.origin - center) / world.scale;
-                        let d_world = ray.dir;
-                        let sphere = {
-                            let mid = -o_local.dot(d_world);
-                            let miss2 = (o_local + mid * d_world).length_squared();
-                            let half = (world.bound * world.bound - miss2).max(0.0).sqrt();
-                            ((mid - half).max(0.0), mid + half)
-                        };
-                        for piece in 0..PIECES {
-                            if pieces.supports[piece] == [0.0; PIECE_PLANES] {
-                                continue;
-                            }
-                            let b = piece_box_span(pieces, piece, o_local, d_world, sphere);
-                            if b.0 < b.1 {
-                                piece_box_fragments += 1;
-                            }
-                            let p = piece_span(pieces, piece, o_local, d_world, sphere);
-                            if p.0 >= p.1 {
-                                continue;
-                            }
-                            piece_fragments += 1;
-                            let q = o_local + p.0 * d_world;
-                            let len = q.length();
-                            let f = if len > 0.0 {
-                                world.poly.eval(q / len)
-                            } else {
-                                1.0
-                            };
-                            let r = match world.negative {
-                                NegativeMode::Abs => f.abs(),
-                                NegativeMode::Hide => f.max(0.0),
-                            };
-                            if len >= r {
-                                piece_casts += 1;
-                                piece_lists[(row * columns + column) as usize]
-                                    .push(p.0 * world.scale);
-                            }
-                        }
-                    }
                     let mut cut = span;
                     for (&a, &e) in axes.iter().zip(&kdop) {
                         clip_slab(&mut cut, o, d, a, e);
@@ -307,7 +174,7 @@ fn main() -> Result<(), String> {
             }
         }
     }
-    let (mut covered, mut floor, mut kdop_floor, mut piece_floor) = (0u64, 0u64, 0u64, 0u64);
+    let (mut covered, mut floor, mut kdop_floor) = (0u64, 0u64, 0u64);
     for (p, list) in lists.iter_mut().enumerate() {
         list.sort_by(|a, b| a.box_entry.total_cmp(&b.box_entry));
         let ray = camera.ray(
@@ -334,7 +201,6 @@ fn main() -> Result<(), String> {
             .iter()
             .filter(|e| e.kdop_entry.is_finite() && e.kdop_entry <= nearest)
             .count() as u64;
-        piece_floor += piece_lists[p].iter().filter(|&&t| t <= nearest).count() as u64;
     }
     let scale = u64::from(step * step);
     let per = |n: u64| n as f64 / covered.max(1) as f64;
@@ -345,16 +211,6 @@ fn main() -> Result<(), String> {
         per(proxy_fragments),
         per(floor),
         per(kdop_floor)
-    );
-    let glyphs: usize = sets.iter().map(|s| s.len()).sum();
-    println!(
-        "pieces: polytope fragments/px {:.2}, piece-box fragments/px {:.2}, casts/px {:.2}, \
-         floor evaluations/px {:.2}; bounds {:.0} us a glyph",
-        per(piece_fragments),
-        per(piece_box_fragments),
-        per(piece_casts),
-        per(piece_floor),
-        bound_time.as_secs_f64() * 1e6 / glyphs.max(1) as f64
     );
     Ok(())
 }

@@ -10,22 +10,22 @@ use crate::vk::DeviceContext;
 
 /// How a drawn frame was culled: what its renderer reports.
 #[derive(Clone, Copy, Debug)]
-pub struct Drawn {
+pub(crate) struct Drawn {
     /// The ray caster that drew it (what `auto` chose).
-    pub path: RenderPath,
+    pub(crate) path: RenderPath,
     /// How it skipped hidden glyphs.
-    pub culling: Culling,
+    pub(crate) culling: Culling,
     /// Passes its glyphs were drawn in.
-    pub passes: usize,
+    pub(crate) passes: usize,
     /// Its target's size in pixels (supersampled where the frame is).
-    pub target: (u32, u32),
+    pub(crate) target: (u32, u32),
 }
 
 /// `asked: what was done`, as `occluded: 9 passes`, `occluded: early outs (1 pass)`,
 /// `occluded: none needed (1 pass)`, `off (1 pass)`, or `passes: none (...)` with the
 /// reason where the asked way could not be taken. `settings` are those the frame was
 /// asked to draw with (their `cull`, method and path), on the device of `ctx`.
-pub fn report(ctx: &DeviceContext, settings: &RenderSettings, drawn: Drawn) -> String {
+pub(crate) fn report(ctx: &DeviceContext, settings: &RenderSettings, drawn: Drawn) -> String {
     let asked = settings.cull;
     let passes = match drawn.passes.max(1) {
         1 => "1 pass".to_owned(),

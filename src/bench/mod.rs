@@ -5,7 +5,7 @@
 //! (holes, depth error, geometric error in pixels), so that the ray caster, the sphere
 //! impostor and tessellations compare in one table. [`ratios`] condenses such tables.
 //! Timings are reports for a person to read, never test assertions.
-pub mod culling;
+pub(crate) mod culling;
 pub mod ratios;
 pub mod tables;
 pub mod workload;
@@ -90,7 +90,7 @@ pub struct BenchResult {
     /// The `cull` asked for: occluded, passes, early-out or off.
     pub cull_asked: String,
     /// What was asked and what was done, with the reason where culling was asked and
-    /// none was done ([`culling::report`]): `occluded: none needed (1 pass)`.
+    /// none was done ([`RenderedImage::culling_report`](crate::RenderedImage::culling_report)): `occluded: none needed (1 pass)`.
     pub culling_report: String,
     /// The work of one more frame drawn with the counters on (ray-casting methods on the
     /// fragment path), after the timed ones.

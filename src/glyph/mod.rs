@@ -11,7 +11,10 @@ pub(crate) mod homogeneous;
 pub mod intersect;
 pub mod interval;
 pub mod monomials;
-pub mod pieces;
+// Guaranteed bounds of eight convex pieces per glyph: not drawn (docs/guide/performance.md,
+// "Tighter proxies, tried"), kept with their containment test for the proxies that will.
+#[cfg(test)]
+pub(crate) mod pieces;
 pub mod polynomial;
 pub mod proxy;
 pub mod range_rounding;

@@ -60,8 +60,9 @@
 //!
 //! # Where they stand
 //!
-//! The renderer does not draw pieces: measured on the 256-glyph band-8 field
-//! (`visibility_floor`), seven planes per octant leave 2.2 evaluations per covered pixel
+//! The renderer does not draw pieces (nor does the crate offer them): measured on the
+//! 256-glyph band-8 field (with a build of the `visibility_floor` example that counted
+//! them), seven planes per octant leave 2.2 evaluations per covered pixel
 //! (the box 2.58) and rasterised as one box each they launch more fragments than the
 //! glyph's box, which made frames slower on both Mesas (docs/guide/performance.md,
 //! "Tighter proxies, tried"). The bounds cost about 5 ms a glyph. What pays needs more
@@ -75,9 +76,9 @@ use super::polynomial::GlyphPolynomial;
 use super::proxy::GlyphBounds;
 
 /// The number of pieces of a glyph.
-pub const PIECES: usize = 8;
+pub(crate) const PIECES: usize = 8;
 /// The support planes of a piece besides its three cone planes.
-pub const PIECE_PLANES: usize = 7;
+pub(crate) const PIECE_PLANES: usize = 7;
 
 /// Relative gap between a support's bound and its best sample at which refinement stops.
 const TOLERANCE: f64 = 0.02;
@@ -91,7 +92,7 @@ const LOBE_SAMPLES: usize = 400;
 
 /// The seven plane directions of the positive octant, in frame coordinates: the three
 /// axes, the three edge diagonals, the corner diagonal.
-pub fn piece_directions() -> [DVec3; PIECE_PLANES] {
+pub(crate) fn piece_directions() -> [DVec3; PIECE_PLANES] {
     let s2 = std::f64::consts::FRAC_1_SQRT_2;
     let s3 = 1.0 / 3f64.sqrt();
     [
@@ -106,36 +107,26 @@ pub fn piece_directions() -> [DVec3; PIECE_PLANES] {
 }
 
 /// The signs (+1 or -1 per frame axis) of octant `piece`: bit k set is negative along k.
-pub fn octant_signs(piece: usize) -> DVec3 {
+pub(crate) fn octant_signs(piece: usize) -> DVec3 {
     let sign = |k: usize| if piece >> k & 1 == 1 { -1.0 } else { 1.0 };
     DVec3::new(sign(0), sign(1), sign(2))
 }
 
 /// A glyph's eight pieces, in the units of its polynomial (before any scale).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GlyphPieces {
+pub(crate) struct GlyphPieces {
     /// The frame's orthonormal, right-handed axes (columns of a rotation, frame to glyph).
-    pub axes: [DVec3; 3],
+    pub(crate) axes: [DVec3; 3],
     /// Per piece (octant, [`octant_signs`]), the guaranteed supports along
     /// [`piece_directions`] reflected into the octant; all 0 for a piece that holds no
     /// part of the surface (a hidden negative lobe's octant).
-    pub supports: [[f64; PIECE_PLANES]; PIECES],
+    pub(crate) supports: [[f64; PIECE_PLANES]; PIECES],
 }
 
 impl GlyphPieces {
-    /// The frame's rotation as a unit quaternion, frame to glyph.
-    pub fn rotation(&self) -> DQuat {
-        DQuat::from_mat3(&glam::DMat3::from_cols(
-            self.axes[0],
-            self.axes[1],
-            self.axes[2],
-        ))
-        .normalize()
-    }
-
     /// Whether the point `q` (glyph coordinates, the polynomial's units) lies in piece
     /// `piece`, with the planes moved out by `slack`.
-    pub fn piece_contains(&self, piece: usize, q: DVec3, slack: f64) -> bool {
+    pub(crate) fn piece_contains(&self, piece: usize, q: DVec3, slack: f64) -> bool {
         let signs = octant_signs(piece);
         let local = DVec3::new(
             q.dot(self.axes[0]),
@@ -153,7 +144,7 @@ impl GlyphPieces {
     }
 
     /// Whether some piece holds `q` (within `slack`).
-    pub fn contains(&self, q: DVec3, slack: f64) -> bool {
+    pub(crate) fn contains(&self, q: DVec3, slack: f64) -> bool {
         (0..PIECES).any(|p| self.piece_contains(p, q, slack))
     }
 }
@@ -161,7 +152,7 @@ impl GlyphPieces {
 /// The glyph's pieces, from its polynomial and its bounds (the frame starts from the
 /// box's axes; the radius bounds the Bernstein terms). None for a zero or non-finite
 /// polynomial.
-pub fn glyph_pieces(
+pub(crate) fn glyph_pieces(
     poly: &GlyphPolynomial,
     negative: NegativeMode,
     bounds: &GlyphBounds,

@@ -125,6 +125,32 @@ pub struct RenderedImage {
     pub culling: crate::render::Culling,
 }
 
+impl RenderedImage {
+    /// What culling of hidden glyphs was asked for in `settings` and what this frame did,
+    /// in one short phrase for a person, as `render` prints it and `bench`'s `cull` column
+    /// gives it: `occluded: 9 passes`, `occluded: early outs (1 pass)`, `occluded: none
+    /// needed (1 pass)`, `off (1 pass)`, or `passes: none (...)` with the reason where
+    /// the asked way could not be taken. `gpu` is the device that drew it.
+    pub fn culling_report(
+        &self,
+        gpu: &crate::Gpu,
+        settings: &crate::render::RenderSettings,
+    ) -> Result<String> {
+        let factor = crate::render::settings::supersampling_factor(settings.samples)?;
+        let drawn = crate::bench::culling::Drawn {
+            path: self.path,
+            culling: self.culling,
+            passes: self.passes,
+            target: (self.width * factor, self.height * factor),
+        };
+        Ok(crate::bench::culling::report(
+            gpu.context(),
+            settings,
+            drawn,
+        ))
+    }
+}
+
 /// The offscreen targets of one image size, with their readback buffers.
 struct Targets {
     color: Image,

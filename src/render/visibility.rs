@@ -76,7 +76,7 @@ pub const PASS_COVER: f64 = 3.0;
 /// covered pixel 3.40 -> 3.01 with the default sizes, 4.63 -> 3.40 with `--norm
 /// per-glyph`, whose frame on Mesa 25 is 8 % faster; a flat field covers it less than
 /// once and is drawn as without culling).
-pub const EARLY_OUT_COVER: f64 = 1.0;
+pub(crate) const EARLY_OUT_COVER: f64 = 1.0;
 
 /// Bytes before the known depths in their buffer (glsl/raycast_common.glsl `KnownDepth`:
 /// the row length, the visibility word, the target's first pixel).

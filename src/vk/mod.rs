@@ -41,10 +41,10 @@ pub use memory::{
     GpuAllocatorMemory, MemoryAllocator, MemoryBlock, MemoryRequest, MemoryUse, default_allocator,
     memory_type_index,
 };
+pub(crate) use pipeline::specialized_stages;
 pub use pipeline::{
     DrawStage, GraphicsPipelineDesc, Pipeline, PipelineLayout, Pipelines, RasterTarget,
-    ShaderModule, buffer_binding, compute_pipeline, graphics_pipeline, specialized_stages,
-    vertex_fragment_stages,
+    ShaderModule, buffer_binding, compute_pipeline, graphics_pipeline, vertex_fragment_stages,
 };
 #[cfg(feature = "window")]
 pub use surface::Surface;

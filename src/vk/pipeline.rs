@@ -356,7 +356,7 @@ pub fn vertex_fragment_stages<'a>(
 }
 
 /// [`vertex_fragment_stages`] with specialisation constants for each stage.
-pub fn specialized_stages<'a>(
+pub(crate) fn specialized_stages<'a>(
     vertex: vk::ShaderModule,
     fragment: vk::ShaderModule,
     (vertex_constants, fragment_constants): (

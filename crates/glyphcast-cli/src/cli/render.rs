@@ -441,17 +441,7 @@ pub fn render(
         prepare_time.as_secs_f64() * 1e3,
         begun.elapsed().as_secs_f64() * 1e3
     );
-    let factor = glyphcast::render::settings::supersampling_factor(settings.samples)?;
-    let drawn = glyphcast::bench::culling::Drawn {
-        path: image.path,
-        culling: image.culling,
-        passes: image.passes,
-        target: (w * factor, h * factor),
-    };
-    eprintln!(
-        "culling: {}",
-        glyphcast::bench::culling::report(gpu.context(), &settings, drawn)
-    );
+    eprintln!("culling: {}", image.culling_report(&gpu, &settings)?);
     if let Some(mesh) = &image.mesh {
         eprintln!(
             "{}: {} triangles ({} per glyph), generated in {:.1} ms, {:.1} MiB on the GPU",

@@ -2,7 +2,7 @@
 //! count (int32), its points (x, y, z and `n_scalars` values, float32 each) and
 //! `n_properties` float32 values. Byte order is the one in which `hdr_size` reads 1000,
 //! as nibabel decides it. Points are in "voxel millimetres" from the corner of the first
-//! voxel; [`super::trk_affine`] turns them into RAS+ millimetres as nibabel does.
+//! voxel; the `trk_affine` module turns them into RAS+ millimetres as nibabel does.
 //!
 //! Written here rather than taken from the `trk-io` crate: its reader unwraps on a
 //! truncated file (a panic, where glyphcast owes an error naming the field), reads past
