@@ -268,6 +268,14 @@ class Renderer:
         rgba, depth = self._native.render(text)
         return Rendering(rgba, depth)
 
+    @property
+    def culling(self):
+        """What culling of hidden glyphs the last frame drawn was asked for (``cull``)
+        and what it did, as ``glyphcast render`` prints it: ``"occluded: early outs (1
+        pass)"``, ``"occluded: 9 passes"``, ``"off (1 pass)"``, or ``"occluded: none
+        (...)"`` with the reason; ``None`` before the first frame and for a montage."""
+        return self._native.culling
+
     def release(self) -> None:
         """Frees the loaded glyphs (the device stays open)."""
         self._native.release()

@@ -38,6 +38,8 @@ pub struct Renderer {
     loaded: Option<Loaded>,
     renderer: HeadlessRenderer,
     gpu: Gpu,
+    /// What culling did in the last frame drawn (`RenderedImage::culling_report`).
+    culling: Option<String>,
 }
 
 /// What is loaded.
@@ -338,12 +340,30 @@ impl Renderer {
                 .detach(|| draw(renderer, gpu, frame, camera))
                 .map_err(to_py)?,
         };
+        self.culling = match &self.loaded {
+            Some(Loaded::Frame(frame)) => Some(
+                image
+                    .culling_report(&self.gpu, &frame.scene.settings)
+                    .map_err(to_py)?,
+            ),
+            _ => None,
+        };
         arrays::image_arrays(py, image)
     }
 
     /// Frees the loaded glyphs on the GPU and the CPU (the device stays open).
     fn release(&mut self) {
         self.loaded = None;
+        self.culling = None;
+    }
+
+    /// What culling of hidden glyphs the last frame drawn was asked for and what it did,
+    /// as `glyphcast render` prints it (`occluded: early outs (1 pass)`, `off (1 pass)`,
+    /// `occluded: none (...)` with the reason); `None` before the first frame and for a
+    /// montage.
+    #[getter]
+    fn culling(&self) -> Option<String> {
+        self.culling.clone()
     }
 }
 
@@ -403,6 +423,7 @@ fn open(options: &GpuOptions) -> Result<Renderer> {
         loaded: None,
         renderer,
         gpu,
+        culling: None,
     })
 }
 

@@ -189,3 +189,19 @@ def _chunks(png, kind):
         if png[at + 4 : at + 8] == kind:
             yield at
         at += 12 + length
+
+
+def test_the_renderer_says_what_culling_did():
+    # A block of 4x4x4 band-4 glyphs: culled as the device takes it, or not, and said so.
+    rng = np.random.default_rng(3)
+    coeffs = rng.normal(0.0, 0.1, (4, 4, 4, 15))
+    coeffs[..., 0] = 1.0
+    with glyphcast.Renderer(validation=True) as renderer:
+        assert renderer.culling is None
+        renderer.render_sh(coeffs, basis="tournier07", block=True, width=96, height=96)
+        assert renderer.culling.startswith("occluded: "), renderer.culling
+        renderer.render_sh(coeffs, basis="tournier07", block=True, width=96, height=96,
+                           cull="off")
+        assert renderer.culling == "off (1 pass)", renderer.culling
+        renderer.release()
+        assert renderer.culling is None
