@@ -113,7 +113,35 @@ fn missing(file: &str, key: &str) -> Error {
 /// often has no `END`); a required key given twice takes its last value. Bytes that are
 /// not text before an `END` are binary data the header forgot to end before: refused.
 fn split_lines(bytes: &[u8], file: &str) -> Result<(Entries, usize)> {
+    let (lines, length, _) = key_value_lines(bytes, file, (MAGIC, "an MRtrix image"))?;
     let mut entries = Entries::default();
+    for (key, value) in lines {
+        match key.as_str() {
+            "dim" => entries.dim = Some(value),
+            "vox" => entries.vox = Some(value),
+            "layout" => entries.layout = Some(value),
+            "datatype" => entries.datatype = Some(value),
+            "scaling" => entries.scaling = Some(value),
+            "transform" => entries.transform.push(value),
+            "file" => entries.files.push(value),
+            "dw_scheme" => entries.dw_scheme.push(value),
+            _ => entries.other.push((key, value)),
+        }
+    }
+    Ok((entries, length))
+}
+
+/// The `key: value` lines of an MRtrix header (keys in lower case, in order) by MRtrix's
+/// rules ([`split_lines`]), whose first line starts with `magic` (`what` names such a
+/// file in an error); the header's length in bytes up to and including `END` (the whole
+/// file where it has none), and whether an `END` ended it. MRtrix images and
+/// tractograms (`.tck`) share these rules.
+pub(crate) fn key_value_lines(
+    bytes: &[u8],
+    file: &str,
+    (magic, what): (&str, &str),
+) -> Result<(Vec<(String, String)>, usize, bool)> {
+    let mut lines = Vec::new();
     let mut start = 0;
     let mut number = 0;
     while start < bytes.len() {
@@ -128,7 +156,7 @@ fn split_lines(bytes: &[u8], file: &str) -> Result<(Entries, usize)> {
             Error::input(
                 file,
                 "line 1",
-                "not an MRtrix image (the first line does not start with 'mrtrix image')",
+                format!("not {what} (the first line does not start with '{magic}')"),
             )
         };
         let line = match std::str::from_utf8(raw) {
@@ -144,14 +172,14 @@ fn split_lines(bytes: &[u8], file: &str) -> Result<(Entries, usize)> {
         };
         start = next;
         if number == 1 {
-            if !line.starts_with(MAGIC) {
+            if !line.starts_with(magic) {
                 return Err(not_mrtrix());
             }
             continue;
         }
         let line = line.split('#').next().unwrap_or_default().trim();
         if line == "END" {
-            return Ok((entries, next));
+            return Ok((lines, next, true));
         }
         let Some((key, value)) = line.split_once(':') else {
             continue;
@@ -160,26 +188,16 @@ fn split_lines(bytes: &[u8], file: &str) -> Result<(Entries, usize)> {
         if key.is_empty() || value.is_empty() {
             continue;
         }
-        match key.as_str() {
-            "dim" => entries.dim = Some(value),
-            "vox" => entries.vox = Some(value),
-            "layout" => entries.layout = Some(value),
-            "datatype" => entries.datatype = Some(value),
-            "scaling" => entries.scaling = Some(value),
-            "transform" => entries.transform.push(value),
-            "file" => entries.files.push(value),
-            "dw_scheme" => entries.dw_scheme.push(value),
-            _ => entries.other.push((key, value)),
-        }
+        lines.push((key, value));
     }
     if number == 0 {
         return Err(Error::input(
             file,
             "line 1",
-            "empty file, not an MRtrix image",
+            format!("empty file, not {what}"),
         ));
     }
-    Ok((entries, bytes.len()))
+    Ok((lines, bytes.len(), false))
 }
 
 /// Comma-separated numbers of `key`.

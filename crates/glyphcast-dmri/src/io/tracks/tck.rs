@@ -14,6 +14,7 @@ use std::path::Path;
 
 use super::{Tractogram, TractogramBuilder};
 use crate::io::datatype::{DataType, Number};
+use crate::io::mif::header::key_value_lines;
 use glyphcast::error::quoted;
 use glyphcast::{Error, Result};
 
@@ -96,43 +97,14 @@ impl TckHeader {
 }
 
 /// The `key: value` lines (keys in lower case) and the header's length up to and
-/// including `END`. Lines without a colon are skipped, as MRtrix skips them.
+/// including `END`, read by MRtrix's rules as its images' headers are
+/// ([`key_value_lines`]); a tractogram's header must end with `END`.
 fn split_lines(bytes: &[u8], file: &str) -> Result<(Vec<(String, String)>, usize)> {
-    let mut entries = Vec::new();
-    let mut start = 0;
-    let mut number = 0;
-    while start < bytes.len() {
-        let end = bytes[start..]
-            .iter()
-            .position(|&b| b == b'\n')
-            .map_or(bytes.len(), |p| start + p);
-        let line = std::str::from_utf8(&bytes[start..end]).ok();
-        start = (end + 1).min(bytes.len());
-        number += 1;
-        if number == 1 {
-            if !line.is_some_and(|line| line.trim_end().starts_with(MAGIC)) {
-                return Err(Error::input(
-                    file,
-                    "line 1",
-                    "not an MRtrix tractogram (the first line is not 'mrtrix tracks')",
-                ));
-            }
-            continue;
-        }
-        let Some(line) = line else { break };
-        let line = line.trim();
-        if line == "END" {
-            return Ok((entries, start));
-        }
-        if let Some((key, value)) = line.split_once(':') {
-            entries.push((key.trim().to_ascii_lowercase(), value.trim().to_string()));
-        }
+    let (lines, length, ended) = key_value_lines(bytes, file, (MAGIC, "an MRtrix tractogram"))?;
+    if !ended {
+        return Err(Error::input(file, "END", "no 'END' line ends the header"));
     }
-    Err(Error::input(
-        file,
-        "END",
-        format!("no 'END' line ends the header (read {number} lines)"),
-    ))
+    Ok((lines, length))
 }
 
 fn parse_datatype(text: Option<&str>, file: &str) -> Result<DataType> {
