@@ -131,6 +131,9 @@ fn split_lines(bytes: &[u8], file: &str) -> Result<(Entries, usize)> {
     Ok((entries, length))
 }
 
+/// `key: value` lines, keys in lower case, in order.
+pub(crate) type KeyLines = Vec<(String, String)>;
+
 /// The `key: value` lines of an MRtrix header (keys in lower case, in order) by MRtrix's
 /// rules ([`split_lines`]), whose first line starts with `magic` (`what` names such a
 /// file in an error); the header's length in bytes up to and including `END` (the whole
@@ -140,7 +143,7 @@ pub(crate) fn key_value_lines(
     bytes: &[u8],
     file: &str,
     (magic, what): (&str, &str),
-) -> Result<(Vec<(String, String)>, usize, bool)> {
+) -> Result<(KeyLines, usize, bool)> {
     let mut lines = Vec::new();
     let mut start = 0;
     let mut number = 0;

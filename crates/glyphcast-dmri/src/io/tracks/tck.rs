@@ -14,7 +14,7 @@ use std::path::Path;
 
 use super::{Tractogram, TractogramBuilder};
 use crate::io::datatype::{DataType, Number};
-use crate::io::mif::header::key_value_lines;
+use crate::io::mif::header::{KeyLines, key_value_lines};
 use glyphcast::error::quoted;
 use glyphcast::{Error, Result};
 
@@ -99,7 +99,7 @@ impl TckHeader {
 /// The `key: value` lines (keys in lower case) and the header's length up to and
 /// including `END`, read by MRtrix's rules as its images' headers are
 /// ([`key_value_lines`]); a tractogram's header must end with `END`.
-fn split_lines(bytes: &[u8], file: &str) -> Result<(Vec<(String, String)>, usize)> {
+fn split_lines(bytes: &[u8], file: &str) -> Result<(KeyLines, usize)> {
     let (lines, length, ended) = key_value_lines(bytes, file, (MAGIC, "an MRtrix tractogram"))?;
     if !ended {
         return Err(Error::input(file, "END", "no 'END' line ends the header"));
