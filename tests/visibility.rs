@@ -407,34 +407,36 @@ fn a_target_too_large_for_its_known_depths_is_drawn_without_culling() {
     renderer.pass_mut().set_storage_buffer_limit(None);
 }
 
-/// `glyphcast bench`'s work counters of one frame of `workload` (320x180) with `cull`:
-/// fragments and evaluations per covered pixel, and the passes.
-fn work_per_pixel(dir: &std::path::Path, workload: &str, cull: &str) -> (f64, f64, u64) {
-    let out = glyphcast(&[
-        "bench",
-        "--workload",
-        workload,
-        "--cull",
-        cull,
-        "--width",
-        "320",
-        "--height",
-        "180",
-        "--frames",
-        "1",
-        "--warmup",
-        "0",
+/// The result of one `glyphcast bench` frame (no warm-up) of `input` (a workload or a
+/// scene file) with `cull` at `size` (width, height), from its results.json.
+fn bench_result(
+    dir: &std::path::Path,
+    input: &[&str],
+    cull: &str,
+    (width, height): (&str, &str),
+) -> serde_json::Value {
+    let mut args = vec!["bench"];
+    args.extend(input);
+    args.extend([
+        "--cull", cull, "--width", width, "--height", height, "--frames", "1", "--warmup", "0",
         "--out",
-        text(dir),
     ]);
+    args.push(text(dir));
+    let out = glyphcast(&args);
     assert!(
         out.status.success(),
-        "{workload}: {}",
+        "{input:?}: {}",
         String::from_utf8_lossy(&out.stderr)
     );
     let json = std::fs::read_to_string(dir.join("results.json")).expect("results.json");
     let json: serde_json::Value = serde_json::from_str(&json).expect("valid JSON");
-    let r = &json["results"][0];
+    json["results"][0].clone()
+}
+
+/// `glyphcast bench`'s work counters of one frame of `workload` (320x180) with `cull`:
+/// fragments and evaluations per covered pixel, and the passes.
+fn work_per_pixel(dir: &std::path::Path, workload: &str, cull: &str) -> (f64, f64, u64) {
+    let r = bench_result(dir, &["--workload", workload], cull, ("320", "180"));
     let covered = r["covered_pixels"].as_f64().expect("covered pixels");
     assert!(covered > 1000.0, "{workload}: {covered} covered pixels");
     let work = |k: &str| {
@@ -507,27 +509,7 @@ fn a_culled_block_costs_at_most_twice_its_front_layer_per_covered_pixel() {
 /// `glyphcast bench`'s counters of one 320x320 frame of the scene file `scene` with
 /// `cull`: evaluations per covered pixel, the passes, and how it was culled.
 fn scene_work(dir: &std::path::Path, scene: &std::path::Path, cull: &str) -> (f64, u64, String) {
-    let out = glyphcast(&[
-        "bench",
-        text(scene),
-        "--cull",
-        cull,
-        "--width",
-        "320",
-        "--height",
-        "320",
-        "--frames",
-        "1",
-        "--warmup",
-        "0",
-        "--out",
-        text(dir),
-    ]);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{}: {stderr}", scene.display());
-    let json = std::fs::read_to_string(dir.join("results.json")).expect("results.json");
-    let json: serde_json::Value = serde_json::from_str(&json).expect("valid JSON");
-    let r = &json["results"][0];
+    let r = bench_result(dir, &[text(scene)], cull, ("320", "320"));
     let covered = r["covered_pixels"].as_f64().expect("covered pixels");
     let evaluations = r["work"]["evaluations"].as_f64().expect("evaluations");
     let passes = r["work"]["passes"].as_u64().expect("passes");
