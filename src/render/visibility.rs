@@ -286,22 +286,6 @@ pub(crate) fn plan<'a>(
         _ => area,
     };
     draws.sort_by(|a, b| depth(a).total_cmp(&depth(b)).then(a.cmp(b)));
-    let mut starts = vec![0];
-    let mut covered = 0.0;
-    // An explicit `passes` splits wherever the discs overlap.
-    let pass_cover = if asked == Culling::Passes {
-        1.0
-    } else {
-        PASS_COVER
-    };
-    let total: f64 = draws.iter().map(|d| disc_cover(cluster(d))).sum();
-    for (k, draw) in draws.iter().enumerate() {
-        if covered >= pass_cover * area && starts.len() < MAX_PASSES {
-            starts.push(k);
-            covered = 0.0;
-        }
-        covered += disc_cover(cluster(draw));
-    }
     if cull == Culling::EarlyOut {
         // Early outs cost a draw per cluster and an atomic per hit: taken where the
         // glyphs' discs cover the scene's area more than once (hidden work is likely),
@@ -311,6 +295,7 @@ pub(crate) fn plan<'a>(
         } else {
             EARLY_OUT_COVER
         };
+        let total: f64 = draws.iter().map(|d| disc_cover(cluster(d))).sum();
         if draws.len() < 2 || total < needed * area {
             return PassPlan::default();
         }
@@ -319,6 +304,21 @@ pub(crate) fn plan<'a>(
             starts: vec![0],
             early_out: true,
         };
+    }
+    // An explicit `passes` splits wherever the discs overlap.
+    let pass_cover = if asked == Culling::Passes {
+        1.0
+    } else {
+        PASS_COVER
+    };
+    let mut starts = vec![0];
+    let mut covered = 0.0;
+    for (k, draw) in draws.iter().enumerate() {
+        if covered >= pass_cover * area && starts.len() < MAX_PASSES {
+            starts.push(k);
+            covered = 0.0;
+        }
+        covered += disc_cover(cluster(draw));
     }
     if starts.len() == 1 {
         // One pass: one draw per batch, as without culling.
