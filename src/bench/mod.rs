@@ -5,7 +5,6 @@
 //! (holes, depth error, geometric error in pixels), so that the ray caster, the sphere
 //! impostor and tessellations compare in one table. [`ratios`] condenses such tables.
 //! Timings are reports for a person to read, never test assertions.
-pub(crate) mod culling;
 pub mod ratios;
 pub mod tables;
 pub mod workload;
@@ -293,10 +292,10 @@ fn measure_prepared(
         passes: frame.passes(),
         culling: frame.culling().to_string(),
         cull_asked: settings.cull.to_string(),
-        culling_report: culling::report(
+        culling_report: crate::render::culling_report::report(
             gpu.context(),
             settings,
-            culling::Drawn {
+            crate::render::culling_report::Drawn {
                 path: frame.path(),
                 culling: frame.culling(),
                 passes: frame.passes(),

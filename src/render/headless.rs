@@ -137,13 +137,13 @@ impl RenderedImage {
         settings: &crate::render::RenderSettings,
     ) -> Result<String> {
         let factor = crate::render::settings::supersampling_factor(settings.samples)?;
-        let drawn = crate::bench::culling::Drawn {
+        let drawn = crate::render::culling_report::Drawn {
             path: self.path,
             culling: self.culling,
             passes: self.passes,
             target: (self.width * factor, self.height * factor),
         };
-        Ok(crate::bench::culling::report(
+        Ok(crate::render::culling_report::report(
             gpu.context(),
             settings,
             drawn,

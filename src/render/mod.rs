@@ -8,6 +8,7 @@ pub mod batch;
 pub mod component;
 pub mod compose;
 pub mod compute;
+pub(crate) mod culling_report;
 pub mod frame;
 pub mod glyph_data;
 pub(crate) mod glyph_shadows;
