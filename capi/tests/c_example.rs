@@ -55,6 +55,16 @@ fn the_c_example_draws_glyphs_with_no_validation_message() {
     assert!(default == plain, "the pictures differ");
 }
 
+/// `--no-fragment-stores`: an engine whose device lacks fragmentStoresAndAtomics (glyphcast
+/// asks a host only for dynamic rendering) draws the default picture byte for byte, with
+/// no validation message.
+#[test]
+fn a_device_without_fragment_stores_draws_the_same_picture() {
+    let (_, default) = run_example("c-example-stores.png", &[]);
+    let (_, without) = run_example("c-example-no-stores.png", &["--no-fragment-stores"]);
+    assert!(default == without, "the pictures differ");
+}
+
 /// `--compute`: glyphcast's compute ray caster dispatched before the engine's rendering
 /// and composed into its attachments, with no validation message, draws the fragment
 /// path's picture (the sRGB bytes within one unit: the compute shader encodes its colour

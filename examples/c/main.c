@@ -125,6 +125,10 @@ static Mat4 perspective(double fov_y, double aspect, double near, double far) {
     return p;
 }
 
+/* Whether the engine's device enables fragmentStoresAndAtomics (`--no-fragment-stores`:
+ * a host that enables only what glyphcast asks of it, which draws the same glyphs). */
+static int fragment_stores = 1;
+
 static void create_engine(Engine *e) {
     VkApplicationInfo app = {.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO,
                              .pApplicationName = "glyphcast C example",
@@ -180,13 +184,15 @@ static void create_engine(Engine *e) {
                                      .queueFamilyIndex = e->family,
                                      .queueCount = 1,
                                      .pQueuePriorities = &priority};
-    /* What glyphcast needs: dynamic rendering, storage writes in fragment shaders (and
-       sampleRateShading for MSAA). */
+    /* What glyphcast needs: dynamic rendering (and sampleRateShading for MSAA). Storage
+       writes in fragment shaders are the engine's own choice; glyphcast writes no buffer
+       from a fragment shader of a host's device. */
     VkPhysicalDeviceVulkan13Features v13 = {
         .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES,
         .dynamicRendering = VK_TRUE,
         .synchronization2 = VK_TRUE};
-    VkPhysicalDeviceFeatures core = {.fragmentStoresAndAtomics = VK_TRUE};
+    VkPhysicalDeviceFeatures core = {.fragmentStoresAndAtomics = fragment_stores ? VK_TRUE
+                                                                                : VK_FALSE};
     VkDeviceCreateInfo device = {.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
                                  .pNext = &v13,
                                  .pEnabledFeatures = &core,
@@ -514,6 +520,8 @@ int main(int argc, char **argv) {
             settings.uniform_color[1] = 0.05f;
             settings.uniform_color[2] = 0.05f;
             settings.specular = 0.0f;
+        } else if (strcmp(argv[i], "--no-fragment-stores") == 0) {
+            fragment_stores = 0;
         } else if (strcmp(argv[i], "--no-plane") == 0) {
             draw_plane = 0;
         } else if (strcmp(argv[i], "--describe") == 0 && i + 1 < argc) {
@@ -551,7 +559,8 @@ int main(int argc, char **argv) {
                             "[--side-light] [--compute] [--shadows] [--soft-shadows DEGREES] "
                             "[--ambient-occlusion REACH] "
                             "[--basis descoteaux07-legacy|descoteaux07|"
-                            "tournier07] [--no-plane] [--describe FILE.json]\n");
+                            "tournier07] [--no-plane] [--no-fragment-stores] "
+                            "[--describe FILE.json]\n");
             return 2;
         }
     }

@@ -82,8 +82,9 @@ pub enum Validation {
 
 impl Engine {
     /// Instance, first Vulkan 1.3 device with dynamic rendering (and sample-rate shading,
-    /// which glyphcast's multisampled glyphs need), one graphics queue.
-    pub fn new(validation: Validation) -> Result<Engine> {
+    /// which glyphcast's multisampled glyphs need; fragmentStoresAndAtomics too where
+    /// `fragment_stores`), one graphics queue.
+    pub fn new(validation: Validation, fragment_stores: bool) -> Result<Engine> {
         // SAFETY: loading the system's Vulkan loader.
         let entry = unsafe { ash::Entry::load()? };
         let messages = Arc::new(Messages::default());
@@ -133,11 +134,11 @@ impl Engine {
         let mut v13 = vk::PhysicalDeviceVulkan13Features::default()
             .dynamic_rendering(true)
             .synchronization2(true);
-        // And of Vulkan 1.0: sample-rate shading for MSAA targets, and storage writes in
-        // fragment shaders (the glyphs' work counters and culling).
+        // And of Vulkan 1.0: sample-rate shading for MSAA targets, and, where the engine
+        // wants hidden glyphs culled, storage writes in fragment shaders.
         let core = vk::PhysicalDeviceFeatures::default()
             .sample_rate_shading(true)
-            .fragment_stores_and_atomics(true);
+            .fragment_stores_and_atomics(fragment_stores);
         let info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queues)
             .enabled_features(&core)

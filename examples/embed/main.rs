@@ -102,6 +102,10 @@ struct Options {
     /// Tests: the most bytes of one of glyphcast's storage buffers, as if the device's
     /// range were that small (`None`: the device's).
     storage_limit: Option<u64>,
+    /// Whether the engine's device enables fragmentStoresAndAtomics and says so to
+    /// glyphcast (`--no-fragment-stores`: a host that asks only for what glyphcast needs,
+    /// whose glyphs are drawn without culling).
+    fragment_stores: bool,
 }
 
 impl Default for Options {
@@ -123,6 +127,7 @@ impl Default for Options {
             block: false,
             cull: Culling::Occluded,
             storage_limit: None,
+            fragment_stores: true,
         }
     }
 }
@@ -190,6 +195,7 @@ fn parse(args: &[String]) -> std::result::Result<Options, String> {
                 }
             }
             "--sync-validation" => o.validation = Validation::Sync,
+            "--no-fragment-stores" => o.fragment_stores = false,
             "--screenshot" => o.screenshot = Some(PathBuf::from(value()?)),
             other => return Err(format!("unknown option '{other}'")),
         }
@@ -392,7 +398,7 @@ struct Run {
 }
 
 fn run(options: &Options) -> Result<Run> {
-    let engine = Engine::new(options.validation)?;
+    let engine = Engine::new(options.validation, options.fragment_stores)?;
     let result = run_on(&engine, options);
     let mut run = result?;
     run.validation = engine.validation_messages();
@@ -442,6 +448,10 @@ fn draw_frames(engine: &Engine, options: &Options, plain: Option<Arc<PlainMemory
     // glyphcast on the engine's device and memory: no instance or device of its own. The
     // context and renderer are locals, dropped before this function returns.
     let mut context = context(engine, plain);
+    if options.fragment_stores {
+        // SAFETY: the engine enabled fragmentStoresAndAtomics (`Engine::new`).
+        context = unsafe { context.with_fragment_stores() };
+    }
     if options.as_gpu {
         context = context.with_device_type(vk::PhysicalDeviceType::DISCRETE_GPU);
     }

@@ -22,6 +22,7 @@ fn options(depth: DepthConvention, samples: u32) -> Options {
         block: false,
         cull: Culling::Occluded,
         storage_limit: None,
+        fragment_stores: true,
     }
 }
 
@@ -264,6 +265,56 @@ fn early_outs_in_the_engine_pass_keep_every_pixel() {
     }
 }
 
+/// A host whose device was created without fragmentStoresAndAtomics (glyphcast asks a
+/// host only for Vulkan 1.3 dynamic rendering): 30 frames, 3 in flight, the glyphs
+/// replaced once, early outs asked for, under synchronization validation, in both depth
+/// conventions. No validation message (the fragment shaders write no buffer there), the
+/// frame drawn without culling, and the picture and depth of a device that has the
+/// feature, bit for bit: for the six glyphs over the plane and for the block.
+#[test]
+fn a_device_without_fragment_stores_draws_the_glyphs_without_culling() {
+    for depth in [DepthConvention::Standard, DepthConvention::Reversed] {
+        for block in [false, true] {
+            let base = Options {
+                frames: 30,
+                block,
+                plane: !block,
+                cull: Culling::EarlyOut,
+                ..options(depth, 1)
+            };
+            let with = run(&base).expect("a device with fragment stores");
+            let without = run(&Options {
+                fragment_stores: false,
+                ..base.clone()
+            })
+            .expect("a device without fragment stores");
+            let name = format!("{depth:?}, block: {block}");
+            assert_eq!(without.validation, Vec::<String>::new(), "{name}");
+            assert_eq!(with.validation, Vec::<String>::new(), "{name}");
+            assert_eq!(without.culling, Culling::Off, "{name}");
+            if block {
+                assert_eq!(with.culling, Culling::EarlyOut, "{name}");
+            }
+            let glyph = with.depth.iter().filter(|&&z| z != with.depth[0]).count();
+            assert!(
+                glyph > 2000,
+                "{name}: {glyph} pixels show glyphs or the plane"
+            );
+            let changed = differing(&with.rgba, &without.rgba);
+            if changed > 0 {
+                save("with-fragment-stores", &with.rgba);
+                save("without-fragment-stores", &without.rgba);
+            }
+            assert_eq!(changed, 0, "{name}: pixels differ");
+            let depths = |r: &Run| r.depth.iter().map(|z| z.to_bits()).collect::<Vec<_>>();
+            assert!(
+                depths(&with) == depths(&without),
+                "{name}: the depth differs"
+            );
+        }
+    }
+}
+
 /// A scissor whose known depths would exceed a storage buffer (the device's
 /// maxStorageBufferRange, here a cap standing in for it) is drawn without early outs:
 /// `culling` says so, no validation message, the picture and depth of `cull: off`.
@@ -440,7 +491,7 @@ fn four_samples_halve_the_edge_error() {
 /// buffers (from their own pools) at once; the two pictures are identical.
 #[test]
 fn two_threads_record_identical_pictures() {
-    let engine = Engine::new(Validation::Sync).expect("engine");
+    let engine = Engine::new(Validation::Sync, true).expect("engine");
     let depth = DepthConvention::Standard;
     // SAFETY: as in `run_on`: the context and renderer are dropped before the engine.
     let context = unsafe {
@@ -675,7 +726,7 @@ impl glyphcast::vk::MemoryAllocator for ShortBlocks {
 /// block is given back: no panic, no validation message.
 #[test]
 fn a_host_allocator_breaking_its_contract_is_refused() {
-    let engine = Engine::new(Validation::On).expect("engine");
+    let engine = Engine::new(Validation::On, true).expect("engine");
     let plain = Arc::new(PlainMemory::new(
         &engine.instance,
         engine.physical_device,
@@ -763,7 +814,7 @@ fn a_host_render_pass_draws_the_dynamic_rendering_picture() {
         ..options(depth, 1)
     })
     .expect("dynamic rendering run");
-    let engine = Engine::new(Validation::Sync).expect("engine");
+    let engine = Engine::new(Validation::Sync, true).expect("engine");
     let d = &engine.device;
     let render_pass = host_render_pass(d).expect("render pass");
     // SAFETY: as in `run_on`: the context and renderer are dropped before the engine.

@@ -867,6 +867,12 @@ impl GlyphRenderer {
         frame_index: usize,
         count: bool,
     ) -> Result<()> {
+        if count && !self.ctx.fragment_stores() {
+            return Err(Error::setup(
+                "fragmentStoresAndAtomics on the device, which counting the glyphs' work needs",
+                "a device created without it (DeviceContext::with_fragment_stores says it has it)",
+            ));
+        }
         if glyphs.visibility_active(frame_index, count) {
             self.pass
                 .prepare_visibility_pipelines(&glyphs.gpu, glyphs.method)?;

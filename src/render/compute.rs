@@ -689,7 +689,7 @@ fn create_compose_pipeline(
         None => COMPOSE_COLOR_ONLY_FRAGMENT,
     };
     // SAFETY: as above.
-    let fragment = unsafe { ShaderModule::new(ctx, fragment_spirv)? };
+    let fragment = unsafe { ShaderModule::fragment(ctx, fragment_spirv)? };
     let stages = vertex_fragment_stages(vertex.handle(), fragment.handle(), None);
     let mut color_formats = vec![formats.color];
     color_formats.extend(formats.distance);

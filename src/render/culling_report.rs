@@ -55,6 +55,12 @@ fn why_none(ctx: &DeviceContext, settings: &RenderSettings, drawn: Drawn, passes
     if settings.cull == Culling::EarlyOut && method != Method::Exact {
         return format!("(early outs are for the exact method; {passes})");
     }
+    if !ctx.fragment_stores() {
+        return format!(
+            "(the device was created without fragmentStoresAndAtomics, which culling needs; \
+             {passes})"
+        );
+    }
     let (width, height) = drawn.target;
     if !known_depths_fit(ctx.max_storage_buffer_range(), width, height) {
         return format!(

@@ -123,7 +123,7 @@ impl GlyphShadowPass {
             // modules may go once the pipeline exists.
             let vertex = unsafe { ShaderModule::new(&self.ctx, vertex)? };
             // SAFETY: as above.
-            let fragment = unsafe { ShaderModule::new(&self.ctx, fragment)? };
+            let fragment = unsafe { ShaderModule::fragment(&self.ctx, fragment)? };
             // raycast.vert's ORIENTED_BOX keeps its default (the oriented boxes).
             let stages = vertex_fragment_stages(vertex.handle(), fragment.handle(), None);
             // Reversed depth: a box in front of the pixel's hit, or at it, may own it.

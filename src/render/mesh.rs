@@ -185,7 +185,7 @@ impl MeshPass {
             // SAFETY: the SPIR-V comes from build.rs and was validated by glslang.
             vertex: unsafe { ShaderModule::new(ctx, MESH_VERTEX)? },
             // SAFETY: as above.
-            fragment: unsafe { ShaderModule::new(ctx, MESH_FRAGMENT)? },
+            fragment: unsafe { ShaderModule::fragment(ctx, MESH_FRAGMENT)? },
             pipelines: Pipelines::new(),
             buffer_limit: None,
         })

@@ -220,7 +220,7 @@ fn create_pipeline(
     // SAFETY: the SPIR-V comes from build.rs and was validated by glslang.
     let vertex = unsafe { ShaderModule::new(ctx, PEAKS_VERTEX)? };
     // SAFETY: as above.
-    let fragment = unsafe { ShaderModule::new(ctx, PEAKS_FRAGMENT)? };
+    let fragment = unsafe { ShaderModule::fragment(ctx, PEAKS_FRAGMENT)? };
     let stages = vertex_fragment_stages(vertex.handle(), fragment.handle(), None);
     let bindings = [vk::VertexInputBindingDescription {
         binding: 0,

@@ -577,7 +577,7 @@ impl RayCastPass {
         };
         // SAFETY: the SPIR-V comes from build.rs and was validated by glslang; the modules
         // may go once the pipeline exists.
-        let fragment = unsafe { ShaderModule::new(&self.ctx, &fragment_spirv)? };
+        let fragment = unsafe { ShaderModule::fragment(&self.ctx, &fragment_spirv)? };
         let vertex = match vertex_spirv {
             // SAFETY: as above.
             Some(spirv) => Some(unsafe { ShaderModule::new(&self.ctx, spirv)? }),

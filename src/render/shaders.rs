@@ -250,21 +250,20 @@ const DEPTH_LESS: u32 = 15;
 /// the one word the two variants differ in (the DepthLess execution mode becomes
 /// DepthGreater), so it is rewritten here rather than compiled twice in build.rs.
 pub(crate) fn for_depth(spirv: &[u32], depth: DepthConvention) -> Vec<u32> {
-    let mut words = spirv.to_vec();
-    if depth == DepthConvention::Reversed {
-        return words;
+    match depth {
+        DepthConvention::Reversed => spirv.to_vec(),
+        DepthConvention::Standard => with_execution_mode(spirv, DEPTH_LESS, DEPTH_GREATER),
     }
-    // The header is five words; every instruction starts with (word count << 16 | opcode).
-    let mut at = 5;
-    while at < words.len() {
-        let (count, opcode) = ((words[at] >> 16) as usize, words[at] & 0xffff);
-        if count == 0 {
-            break;
+}
+
+/// `spirv` with the fragment execution mode `from` (a mode of no operands) turned into
+/// `to`.
+fn with_execution_mode(spirv: &[u32], from: u32, to: u32) -> Vec<u32> {
+    let mut words = spirv.to_vec();
+    for (at, opcode, count) in crate::vk::spirv::walk(spirv) {
+        if opcode == OP_EXECUTION_MODE && count == 3 && words[at + 2] == from {
+            words[at + 2] = to;
         }
-        if opcode == OP_EXECUTION_MODE && count >= 3 && words[at + 2] == DEPTH_LESS {
-            words[at + 2] = DEPTH_GREATER;
-        }
-        at += count;
     }
     words
 }
@@ -277,19 +276,7 @@ const EARLY_FRAGMENT_TESTS: u32 = 9;
 /// of the glyphs' later passes (render::visibility), whose fragments behind the depth
 /// attachment never run. Their pipelines do not write depth.
 pub(crate) fn with_early_tests(spirv: &[u32]) -> Vec<u32> {
-    let mut words = spirv.to_vec();
-    let mut at = 5;
-    while at < words.len() {
-        let (count, opcode) = ((words[at] >> 16) as usize, words[at] & 0xffff);
-        if count == 0 {
-            break;
-        }
-        if opcode == OP_EXECUTION_MODE && count == 3 && words[at + 2] == DEPTH_LESS {
-            words[at + 2] = EARLY_FRAGMENT_TESTS;
-        }
-        at += count;
-    }
-    words
+    with_execution_mode(spirv, DEPTH_LESS, EARLY_FRAGMENT_TESTS)
 }
 
 #[cfg(test)]
@@ -298,16 +285,10 @@ mod depth_tests {
 
     /// Execution modes of a SPIR-V module (mode words of every OpExecutionMode).
     fn execution_modes(spirv: &[u32]) -> Vec<u32> {
-        let mut modes = Vec::new();
-        let mut at = 5;
-        while at < spirv.len() {
-            let (count, opcode) = ((spirv[at] >> 16) as usize, spirv[at] & 0xffff);
-            if opcode == OP_EXECUTION_MODE {
-                modes.push(spirv[at + 2]);
-            }
-            at += count.max(1);
-        }
-        modes
+        crate::vk::spirv::walk(spirv)
+            .filter(|&(_, opcode, _)| opcode == OP_EXECUTION_MODE)
+            .map(|(at, _, _)| spirv[at + 2])
+            .collect()
     }
 
     /// Every ray-casting fragment shader promises depth_less, and its standard-depth

@@ -506,7 +506,7 @@ fn create_pipeline(
     // SAFETY: the SPIR-V comes from build.rs and was validated by glslang.
     let vertex = unsafe { ShaderModule::new(ctx, UNDERLAY_VERTEX)? };
     // SAFETY: as above.
-    let fragment = unsafe { ShaderModule::new(ctx, UNDERLAY_FRAGMENT)? };
+    let fragment = unsafe { ShaderModule::fragment(ctx, UNDERLAY_FRAGMENT)? };
     let stages = vertex_fragment_stages(vertex.handle(), fragment.handle(), None);
     let mut color_formats = vec![formats.color];
     color_formats.extend(formats.distance);

@@ -92,7 +92,7 @@ impl UnderlayShadowPass {
                     by: Setting::Shadows.with("hard"),
                 })?;
             // SAFETY: as in `new`.
-            let fragment = unsafe { ShaderModule::new(&self.ctx, spirv)? };
+            let fragment = unsafe { ShaderModule::fragment(&self.ctx, spirv)? };
             let stages = vertex_fragment_stages(self.vertex.handle(), fragment.handle(), None);
             let mut color_formats = vec![self.formats.color];
             color_formats.extend(self.formats.distance);

@@ -348,11 +348,13 @@ pub(crate) fn visibility_bindings() -> [vk::DescriptorSetLayoutBinding<'static>;
 /// in passes where the device blends the float32 ray distance (the first stage of the
 /// later passes keeps the smaller one); with early outs for the `exact` method, whose
 /// shader has them. `Occluded` takes the early outs on a device that jumps over code
-/// no lane runs (on the others they save nothing), else the passes.
+/// no lane runs (on the others they save nothing), else the passes. Not at all on a
+/// device without `fragmentStoresAndAtomics` (a host's that did not enable it), whose
+/// fragment shaders may not write the known depths.
 pub(crate) fn culling(ctx: &DeviceContext, settings: &crate::render::RenderSettings) -> Culling {
     use crate::render::{Method, RenderPath};
     let method = !matches!(settings.method, Method::Impostor | Method::Mesh(_));
-    if !method || settings.path == RenderPath::Compute {
+    if !method || settings.path == RenderPath::Compute || !ctx.fragment_stores() {
         return Culling::Off;
     }
     let passes = ctx.blends_float32();

@@ -128,6 +128,11 @@ pub struct DeviceContext {
     /// Whether the device jumps over a branch that no lane of a batch takes (a GPU, and
     /// lavapipe from Mesa 25; Mesa 22.3's runs it masked): culling by early outs.
     skips_idle_branches: bool,
+    /// Whether the device was created with `fragmentStoresAndAtomics`: the fragment
+    /// shaders' work counters and the culling of hidden glyphs need it. A device
+    /// glyphcast creates has it; a host's has it where the host says so
+    /// ([`DeviceContext::with_fragment_stores`]).
+    fragment_stores: bool,
 }
 
 impl DeviceContext {
@@ -180,7 +185,7 @@ impl DeviceContext {
             pipeline_cache: vk::PipelineCache::null(),
             cache_file: None,
         };
-        DeviceContext::with_owner(instance, physical_device, owner)
+        DeviceContext::with_owner(instance, physical_device, owner, false)
     }
 
     /// The context of a device glyphcast created from `instance`: the last clone
@@ -205,13 +210,15 @@ impl DeviceContext {
             pipeline_cache,
             cache_file,
         };
-        DeviceContext::with_owner(&handle, physical_device, owner)
+        // device::create enables fragmentStoresAndAtomics.
+        DeviceContext::with_owner(&handle, physical_device, owner, true)
     }
 
     fn with_owner(
         instance: &ash::Instance,
         physical_device: vk::PhysicalDevice,
         owner: DeviceOwner,
+        fragment_stores: bool,
     ) -> DeviceContext {
         // SAFETY: the physical device belongs to the instance (the callers' promise).
         let props = unsafe { instance.get_physical_device_properties(physical_device) };
@@ -247,6 +254,7 @@ impl DeviceContext {
             device_type: props.device_type,
             compute_votes,
             skips_idle_branches,
+            fragment_stores,
             owner: Arc::new(owner),
             max_storage_buffer_range: limits.max_storage_buffer_range as u64,
             max_varying_components: limits
@@ -276,6 +284,28 @@ impl DeviceContext {
     /// them there).
     pub(crate) fn skips_idle_branches(&self) -> bool {
         self.skips_idle_branches
+    }
+
+    /// Whether the device has `fragmentStoresAndAtomics` enabled: without it the glyphs
+    /// are drawn without culling hidden glyphs and without work counters, from fragment
+    /// shaders that write no buffer.
+    pub fn fragment_stores(&self) -> bool {
+        self.fragment_stores
+    }
+
+    /// This context of a host's device that was created with
+    /// `fragmentStoresAndAtomics` enabled: the glyph passes may then cull hidden glyphs
+    /// (early outs and passes, `RenderSettings::cull`) and count their work. A context
+    /// made with [`DeviceContext::new`] or [`DeviceContext::with_memory`] assumes the
+    /// feature absent (the component asks a host only for Vulkan 1.3 dynamic rendering),
+    /// and draws every glyph as a device without it must.
+    ///
+    /// # Safety
+    /// The device was created with `VkPhysicalDeviceFeatures::fragmentStoresAndAtomics`
+    /// enabled; otherwise its fragment shaders' buffer writes are invalid usage.
+    pub unsafe fn with_fragment_stores(mut self) -> DeviceContext {
+        self.fragment_stores = true;
+        self
     }
 
     /// The pipeline cache every pipeline of this context is created through (null when

@@ -24,6 +24,7 @@ pub mod memory;
 mod pipeline;
 mod pipeline_cache;
 pub mod recording;
+pub(crate) mod spirv;
 #[cfg(feature = "window")]
 mod surface;
 #[cfg(feature = "window")]

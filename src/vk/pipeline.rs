@@ -130,6 +130,26 @@ impl ShaderModule {
         })
     }
 
+    /// A module of the fragment shader `spirv`, rewritten for a device without
+    /// `fragmentStoresAndAtomics` (`vk::spirv::without_buffer_writes`) where `ctx` has it
+    /// not.
+    ///
+    /// # Safety
+    /// As [`ShaderModule::new`]; a fragment shader whose buffer writes run only where the
+    /// device has the feature (the `VISIBILITY` constant of the ray casters).
+    pub(crate) unsafe fn fragment(ctx: &DeviceContext, spirv: &[u32]) -> Result<ShaderModule> {
+        if ctx.fragment_stores() {
+            // SAFETY: the caller's promise.
+            return unsafe { ShaderModule::new(ctx, spirv) };
+        }
+        let rewritten = super::spirv::without_buffer_writes(spirv).ok_or(Error::Setup {
+            missing: "a fragment shader of whole SPIR-V instructions",
+            found: None,
+        })?;
+        // SAFETY: the caller's promise; the rewrite keeps the module valid.
+        unsafe { ShaderModule::new(ctx, &rewritten) }
+    }
+
     /// The module's handle.
     pub fn handle(&self) -> vk::ShaderModule {
         self.handle

@@ -1,10 +1,12 @@
 //! What glyphcast's passes need of the Vulkan device under wgpu, and the device-creation
 //! callback that turns on what wgpu does not.
 //!
-//! glyphcast's core asks of a device (src/vk/device.rs): Vulkan 1.3, dynamic rendering,
-//! synchronization2 and fragmentStoresAndAtomics (sampleRateShading too for multisampled
-//! targets). wgpu's Vulkan backend creates the device with fragmentStoresAndAtomics and
-//! sampleRateShading wherever the adapter has them (its downlevel flags), but it never
+//! glyphcast's core asks of a device (src/vk/device.rs): Vulkan 1.3, dynamic rendering and
+//! synchronization2 (sampleRateShading too for multisampled targets; fragmentStoresAndAtomics
+//! where hidden glyphs are to be culled: without it every glyph is drawn, from fragment
+//! shaders that write no buffer). wgpu's Vulkan backend creates the device with
+//! fragmentStoresAndAtomics and sampleRateShading wherever the adapter has them (its
+//! downlevel flags), but it never
 //! enables dynamic rendering or synchronization2: those two are added by a device-creation
 //! callback ([`enable_features`]), which [`request_device`] passes to wgpu-hal and which a
 //! Bevy app registers with its raw Vulkan initialisation.
@@ -17,9 +19,11 @@ use glyphcast::ash::vk;
 use wgpu::hal::api::Vulkan;
 use wgpu::hal::vulkan::CreateDeviceCallbackArgs;
 
-/// The Vulkan features glyphcast's passes need, by their Vulkan names: the device must
-/// be Vulkan 1.3 with these enabled. wgpu enables the first two where the adapter has
-/// them; [`enable_features`] adds the last two at device creation.
+/// The Vulkan features glyphcast's passes use, by their Vulkan names: the device must be
+/// Vulkan 1.3 with the last three enabled (sampleRateShading for multisampled targets).
+/// The first, fragmentStoresAndAtomics, is used where the device has it (culling hidden
+/// glyphs); a device without it draws every glyph. wgpu enables the first two where the
+/// adapter has them; [`enable_features`] adds the last two at device creation.
 pub const REQUIRED_VULKAN_FEATURES: [&str; 4] = [
     "fragmentStoresAndAtomics",
     "sampleRateShading",
@@ -78,10 +82,10 @@ pub fn request_device(
         .map_err(|e| Error::CreateDevice(e.to_string()))
 }
 
-/// Checks that `adapter` is on wgpu's Vulkan backend, Vulkan 1.3, and has every feature
-/// of [`REQUIRED_VULKAN_FEATURES`], of which wgpu enables fragmentStoresAndAtomics for a
-/// device with `features` (sampleRateShading is checked when a multisampled target asks).
-pub fn check_adapter(adapter: &wgpu::Adapter, features: wgpu::Features) -> Result<()> {
+/// Checks that `adapter` is on wgpu's Vulkan backend, Vulkan 1.3, and has dynamic
+/// rendering and synchronization2 (sampleRateShading is checked when a multisampled
+/// target asks; fragmentStoresAndAtomics is used where wgpu enables it).
+pub fn check_adapter(adapter: &wgpu::Adapter, _features: wgpu::Features) -> Result<()> {
     // SAFETY: the hal adapter is only read.
     let hal = unsafe { adapter.as_hal::<Vulkan>() }.ok_or_else(|| not_vulkan(adapter))?;
     let instance = hal.shared_instance().raw_instance();
@@ -94,13 +98,6 @@ pub fn check_adapter(adapter: &wgpu::Adapter, features: wgpu::Features) -> Resul
             vk::api_version_major(api),
             vk::api_version_minor(api)
         ));
-    }
-    let extensions = hal.required_device_extensions(features);
-    let enabled = hal
-        .physical_device_features(&extensions, features)
-        .get_core();
-    if enabled.fragment_stores_and_atomics != vk::TRUE {
-        missing.push(REQUIRED_VULKAN_FEATURES[0].to_owned());
     }
     if api >= vk::API_VERSION_1_3 {
         let mut v13 = vk::PhysicalDeviceVulkan13Features::default();
@@ -123,17 +120,31 @@ pub fn check_adapter(adapter: &wgpu::Adapter, features: wgpu::Features) -> Resul
     })
 }
 
+/// The core Vulkan features wgpu-hal enables on a device of `adapter` with `features`
+/// (what it computes when it opens one); `None` off the Vulkan backend.
+fn core_features(
+    adapter: &wgpu::Adapter,
+    features: wgpu::Features,
+) -> Option<vk::PhysicalDeviceFeatures> {
+    // SAFETY: the hal adapter is only read.
+    let hal = unsafe { adapter.as_hal::<Vulkan>() }?;
+    let extensions = hal.required_device_extensions(features);
+    Some(
+        hal.physical_device_features(&extensions, features)
+            .get_core(),
+    )
+}
+
 /// Whether the adapter can enable sampleRateShading (multisampled targets need it).
 pub(crate) fn has_sample_rate_shading(adapter: &wgpu::Adapter, features: wgpu::Features) -> bool {
-    // SAFETY: the hal adapter is only read.
-    let Some(hal) = (unsafe { adapter.as_hal::<Vulkan>() }) else {
-        return false;
-    };
-    let extensions = hal.required_device_extensions(features);
-    let core = hal
-        .physical_device_features(&extensions, features)
-        .get_core();
-    core.sample_rate_shading == vk::TRUE
+    core_features(adapter, features).is_some_and(|core| core.sample_rate_shading == vk::TRUE)
+}
+
+/// Whether wgpu enables fragmentStoresAndAtomics on a device of `adapter` with
+/// `features`, which culling hidden glyphs needs.
+pub(crate) fn enables_fragment_stores(adapter: &wgpu::Adapter, features: wgpu::Features) -> bool {
+    core_features(adapter, features)
+        .is_some_and(|core| core.fragment_stores_and_atomics == vk::TRUE)
 }
 
 /// The error for an adapter (or a device of one) on another backend than Vulkan.

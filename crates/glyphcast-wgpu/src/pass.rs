@@ -481,12 +481,18 @@ fn context_of(adapter: &wgpu::Adapter, device: &wgpu::Device) -> Result<DeviceCo
     // SAFETY: the device was made from this physical device and instance (with the
     // features glyphcast needs: `GlyphPass::new`'s promise); the allocator allocates for
     // it; the pass drops the context and allocator before its clone of the wgpu device.
-    Ok(unsafe {
+    let context = unsafe {
         DeviceContext::new(
             &instance,
             physical_device,
             raw,
             Arc::new(Mutex::new(allocator)),
         )
-    })
+    };
+    if crate::device::enables_fragment_stores(adapter, device.features()) {
+        // SAFETY: wgpu-hal created the device with the core features it computes for
+        // the device's wgpu features, which include fragmentStoresAndAtomics.
+        return Ok(unsafe { context.with_fragment_stores() });
+    }
+    Ok(context)
 }
