@@ -147,6 +147,93 @@ impl fmt::Display for GlyphKind {
 }
 
 impl GlyphSet {
+    /// Polynomial glyphs of `kind` from flat arrays, as an application holds them: three
+    /// `centers` per glyph (x, y, z in world units), one of `scales` per glyph or one for
+    /// all (the world length of radius 1), and [`GlyphKind::coefficient_count`]
+    /// `coefficients` per glyph in the scene format's order (monomials for tensors, the
+    /// basis's order for SH), negative lobes drawn as their absolute value. No scene or
+    /// camera is needed: [`prepare_set`](crate::render::glyph_data::prepare_set) makes
+    /// the set the renderers draw. Refuses arrays of lengths that disagree, values that
+    /// are not finite or beyond float32, and scales that are not positive, naming the
+    /// array (`source` names where they came from in the message).
+    pub fn from_arrays(
+        source: &str,
+        kind: GlyphKind,
+        centers: &[f64],
+        scales: &[f64],
+        coefficients: &[f64],
+    ) -> Result<GlyphSet> {
+        let wrong = |field: &str, message: String| Error::input(source, field, message);
+        if !centers.len().is_multiple_of(3) {
+            return Err(wrong(
+                "centers",
+                format!(
+                    "3 values per glyph, and {} is not a multiple of 3",
+                    centers.len()
+                ),
+            ));
+        }
+        let n = centers.len() / 3;
+        if !(scales.len() == n || scales.len() == 1) {
+            return Err(wrong(
+                "scales",
+                format!("one per glyph ({n}) or one for all, not {}", scales.len()),
+            ));
+        }
+        let per_glyph = kind.coefficient_count();
+        if coefficients.len() != n * per_glyph {
+            return Err(wrong(
+                "coefficients",
+                format!(
+                    "{per_glyph} per glyph of {kind} for {n} glyphs ({}), not {}",
+                    n * per_glyph,
+                    coefficients.len()
+                ),
+            ));
+        }
+        for (field, values) in [("centers", centers), ("coefficients", coefficients)] {
+            if let Some(k) = values
+                .iter()
+                .position(|v| !(v.is_finite() && fits_float32(*v)))
+            {
+                return Err(wrong(
+                    field,
+                    format!(
+                        "value {k} is {}: finite values within float32 only",
+                        values[k]
+                    ),
+                ));
+            }
+        }
+        if let Some(k) = scales
+            .iter()
+            .position(|&v| !(v > 0.0 && v.is_finite() && fits_float32(v)))
+        {
+            return Err(wrong(
+                "scales",
+                format!("value {k} is {}: positive finite values only", scales[k]),
+            ));
+        }
+        Ok(GlyphSet {
+            kind,
+            negative: NegativeMode::Abs,
+            shape: GlyphShape::Polynomial,
+            centers: centers
+                .chunks_exact(3)
+                .map(|p| DVec3::new(p[0], p[1], p[2]))
+                .collect(),
+            scales: match scales {
+                [all] => vec![*all; n],
+                each => each.to_vec(),
+            },
+            coeffs: coefficients
+                .chunks(per_glyph.max(1))
+                .take(n)
+                .map(<[f64]>::to_vec)
+                .collect(),
+        })
+    }
+
     /// Number of glyphs.
     pub fn len(&self) -> usize {
         self.centers.len()
@@ -165,5 +252,57 @@ impl Default for ImageSize {
             width: DEFAULT_IMAGE_SIDE,
             height: DEFAULT_IMAGE_SIDE,
         }
+    }
+}
+
+#[cfg(test)]
+mod array_tests {
+    use super::*;
+
+    fn sh8() -> GlyphKind {
+        GlyphKind::Sh {
+            band: 8,
+            basis: ShBasis::Descoteaux07,
+            legacy: true,
+        }
+    }
+
+    #[test]
+    fn arrays_make_the_set_they_describe() {
+        let centers = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0];
+        let coefficients: Vec<f64> = (0..90).map(f64::from).collect();
+        let set =
+            GlyphSet::from_arrays("arrays", sh8(), &centers, &[0.4], &coefficients).expect("a set");
+        assert_eq!(set.len(), 2);
+        assert_eq!(set.centers[1], DVec3::new(3.0, 4.0, 5.0));
+        assert_eq!(set.scales, vec![0.4, 0.4]);
+        assert_eq!(set.coeffs[1][0], 45.0);
+        assert_eq!(set.coeffs[1].len(), 45);
+        let each = GlyphSet::from_arrays("arrays", sh8(), &centers, &[0.4, 0.5], &coefficients)
+            .expect("a set");
+        assert_eq!(each.scales, vec![0.4, 0.5]);
+    }
+
+    #[test]
+    fn arrays_that_disagree_are_refused_with_the_array_named() {
+        let coefficients = vec![1.0; 90];
+        let refused = |centers: &[f64], scales: &[f64], coefficients: &[f64]| {
+            GlyphSet::from_arrays("my arrays", sh8(), centers, scales, coefficients)
+                .expect_err("refused")
+                .to_string()
+        };
+        let six = [0.0; 6];
+        let message = refused(&six[..5], &[1.0], &coefficients);
+        assert!(message.starts_with("my arrays: centers:"), "{message}");
+        assert!(refused(&six, &[1.0; 3], &coefficients).contains("scales"));
+        assert!(refused(&six, &[1.0], &coefficients[..89]).contains("coefficients: 45 per glyph"));
+        assert!(refused(&six, &[0.0], &coefficients).contains("scales"));
+        assert!(
+            refused(&[0.0, f64::NAN, 0.0, 0.0, 0.0, 0.0], &[1.0], &coefficients)
+                .contains("centers: value 1 is NaN")
+        );
+        let mut huge = coefficients.clone();
+        huge[7] = 1e300;
+        assert!(refused(&six, &[1.0], &huge).contains("coefficients: value 7"));
     }
 }

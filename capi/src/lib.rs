@@ -952,24 +952,9 @@ unsafe fn set_glyphs(
                 std::slice::from_raw_parts(coefficients, per_glyph * n),
             )
         };
-        if !(c.iter().chain(w).all(|v| v.is_finite())
-            && s.iter().all(|&v| v > 0.0 && v.is_finite()))
-        {
-            return Err(invalid(
-                "centers and coefficients must be finite, scales finite and positive",
-            ));
-        }
-        let set = GlyphSet {
-            kind,
-            negative,
-            shape: glyphcast::glyph::GlyphShape::Polynomial,
-            centers: c
-                .chunks(3)
-                .map(|p| glam::DVec3::new(p[0], p[1], p[2]))
-                .collect(),
-            scales: s.to_vec(),
-            coeffs: w.chunks(per_glyph.max(1)).map(<[f64]>::to_vec).collect(),
-        };
+        let mut set = GlyphSet::from_arrays("the glyph arrays", kind, c, s, w)
+            .map_err(|e| invalid(e.to_string()))?;
+        set.negative = negative;
         sets.push(
             glyphcast::render::glyph_data::prepare_set(&set, 0, 0.0).map_err(from_glyphcast)?,
         );

@@ -640,6 +640,12 @@ impl GlyphRenderer {
         Ok(())
     }
 
+    /// The settings the next `set_view` applies (those given at creation or by
+    /// [`GlyphRenderer::set_settings`]).
+    pub fn settings(&self) -> &RenderSettings {
+        &self.settings
+    }
+
     /// Replaces the settings (march, colour, lighting) that the next `set_view` calls
     /// write; the method must stay the one the renderer was made with, and the values
     /// are checked as [`GlyphRenderer::new`] checks them ([`RenderSettings::validate`]):

@@ -9,8 +9,9 @@
 //!    ([`REQUIRED_VULKAN_FEATURES`]): [`request_device`] in place of
 //!    `Adapter::request_device`, or [`enable_features`] in the application's own
 //!    device-creation callback (Bevy's `raw_vulkan_init`).
-//! 2. Make a [`GlyphPass`] for the target's formats and give it glyphs
-//!    ([`GlyphPass::set_glyphs`], from [`glyphcast::prepare_scene`]).
+//! 2. Make a [`GlyphPass`] for the target's formats and give it glyphs: from the
+//!    application's arrays ([`GlyphSet::from_arrays`], then [`GlyphPass::set_glyph_sets`]),
+//!    or prepared sets ([`GlyphPass::set_glyphs`], from [`prepare_scene`] of a scene file).
 //! 3. Each frame, after drawing the scene into a colour and a depth texture, submit the
 //!    two command buffers of [`GlyphPass::encode`]: the glyphs are depth-tested against
 //!    the scene and write their depth for the passes after.
@@ -30,6 +31,17 @@ pub mod validation;
 
 pub use device::{REQUIRED_VULKAN_FEATURES, check_adapter, enable_features, request_device};
 pub use pass::{GlyphPass, GlyphPassDesc, GlyphTarget, WgpuCamera};
+
+// What an application uses of glyphcast's core beside the pass, so that it needs no
+// dependency of its own on glyphcast (of a version that must match this crate's).
+pub use glyphcast;
+pub use glyphcast::glam;
+pub use glyphcast::glyph::{GlyphShape, Symmetry, TensorLayout};
+pub use glyphcast::render::glyph_data::prepare_set;
+pub use glyphcast::{
+    ColorMode, DepthConvention, GlyphKind, GlyphSet, GlyphSetData, Method, NegativeMode,
+    RenderSettings, Scene, ShBasis, prepare_scene,
+};
 
 /// Why glyphs could not be drawn in a wgpu application.
 #[derive(Debug)]

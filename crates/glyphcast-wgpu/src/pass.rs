@@ -72,6 +72,27 @@ pub struct WgpuCamera {
     pub projection: DMat4,
 }
 
+impl WgpuCamera {
+    /// The camera of an application's `f32` matrices (wgpu and Bevy hold `glam::Mat4`):
+    /// world to view, and view to wgpu clip space.
+    pub fn from_f32(view: glam::Mat4, projection: glam::Mat4) -> WgpuCamera {
+        WgpuCamera {
+            view: view.as_dmat4(),
+            projection: projection.as_dmat4(),
+        }
+    }
+
+    /// The camera of two column-major `f32` matrices, as any maths library gives them
+    /// (`Mat4::to_cols_array_2d` of another glam version, nalgebra, cgmath): world to
+    /// view, and view to wgpu clip space.
+    pub fn from_columns(view: [[f32; 4]; 4], projection: [[f32; 4]; 4]) -> WgpuCamera {
+        WgpuCamera::from_f32(
+            glam::Mat4::from_cols_array_2d(&view),
+            glam::Mat4::from_cols_array_2d(&projection),
+        )
+    }
+}
+
 /// The application's targets for one frame: views of a colour and a depth texture of the
 /// formats and samples of [`GlyphPassDesc`], both `RENDER_ATTACHMENT` textures of one
 /// size, viewing their first mip level and layer; with several samples, a one-sample
@@ -194,6 +215,19 @@ impl GlyphPass {
     /// can read them.
     pub fn set_glyphs(&mut self, sets: &[GlyphSetData]) -> Result<()> {
         Ok(self.renderer.set_glyphs(sets)?)
+    }
+
+    /// [`GlyphPass::set_glyphs`] of glyph sets as the application builds them
+    /// ([`GlyphSet::from_arrays`](glyphcast::GlyphSet::from_arrays)), prepared with the
+    /// pass's settings (their `offset`); no scene or camera is needed.
+    pub fn set_glyph_sets(&mut self, sets: &[glyphcast::GlyphSet]) -> Result<()> {
+        let offset = f64::from(self.renderer.settings().offset);
+        let prepared = sets
+            .iter()
+            .enumerate()
+            .map(|(index, set)| glyphcast::render::glyph_data::prepare_set(set, index, offset))
+            .collect::<glyphcast::Result<Vec<_>>>()?;
+        self.set_glyphs(&prepared)
     }
 
     /// The command buffers that draw the glyphs seen by `camera` into `target`: submit

@@ -146,7 +146,7 @@ pub fn draw_frames(adapter: &wgpu::Adapter, options: &Options) -> Result<Run> {
     // SAFETY: the device was made by `request_device`, with glyphcast's features; the
     // slots' textures live until the device is idle.
     let mut glyphs = unsafe { GlyphPass::new(adapter, &device, &desc)? };
-    glyphs.set_glyphs(&scene::glyph_sets()?)?;
+    glyphs.set_glyph_sets(&[scene::glyph_arrays()?])?;
     let plane = PlanePass::new(&device, (COLOR_FORMAT, DEPTH_FORMAT), options.samples);
     let slots: Vec<Slot> = (0..options.in_flight)
         .map(|_| Slot::new(&device, options.samples))
@@ -165,7 +165,7 @@ pub fn draw_frames(adapter: &wgpu::Adapter, options: &Options) -> Result<Run> {
     let last = options.frames - 1;
     for frame in 0..options.frames {
         let slot = &slots[frame as usize % options.in_flight];
-        let camera = scene::wgpu_camera(frame);
+        let camera = scene::wgpu_camera_f32(frame);
         plane.set(&queue, camera.projection * camera.view, &scene::SQUARE);
         let mut encoder = device.create_command_encoder(&Default::default());
         draw_scene(&mut encoder, slot, options.plane.then_some(&plane));

@@ -6,7 +6,7 @@ use glam::{DMat4, DVec3, DVec4};
 use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
 use glyphcast::render::host_view::{look_at, perspective};
 use glyphcast::{Camera, DepthConvention, GlyphSetData, ImageSize, Projection, Scene};
-use glyphcast_wgpu::WgpuCamera;
+use glyphcast_wgpu::{GlyphSet, WgpuCamera};
 
 /// Small, so that a run of many frames stays quick on a software rasteriser.
 pub const WIDTH: u32 = 128;
@@ -69,6 +69,23 @@ pub fn glyph_sets() -> glyphcast::Result<Vec<GlyphSetData>> {
     glyphcast::prepare_scene(&scene(0), settings.offset as f64)
 }
 
+/// The glyphs as an application holds them, flat arrays of centres and coefficients,
+/// made a glyph set without a scene or camera: what the frame loop draws (the headless
+/// reference draws `glyph_sets`, from the scene).
+pub fn glyph_arrays() -> glyphcast::Result<GlyphSet> {
+    let scene = scene(0);
+    let set = &scene.glyph_sets[0];
+    let centers: Vec<f64> = set.centers.iter().flat_map(|c| c.to_array()).collect();
+    let coefficients = set.coeffs.concat();
+    GlyphSet::from_arrays(
+        "the example's arrays",
+        symmetric(6),
+        &centers,
+        &[0.5],
+        &coefficients,
+    )
+}
+
 /// The camera of frame `frame`: a slow orbit, looking down at the origin.
 pub fn camera(frame: u32) -> Camera {
     let angle = (-70.0 + 1.5 * frame as f64).to_radians();
@@ -98,4 +115,11 @@ pub fn wgpu_camera(frame: u32) -> WgpuCamera {
         // glyphcast's helper gives Vulkan's clip space (y down); wgpu's has y up.
         projection: DMat4::from_diagonal(DVec4::new(1.0, -1.0, 1.0, 1.0)) * vulkan,
     }
+}
+
+/// The same camera from `f32` matrices, as a wgpu application holds them: what the frame
+/// loop draws with.
+pub fn wgpu_camera_f32(frame: u32) -> WgpuCamera {
+    let c = wgpu_camera(frame);
+    WgpuCamera::from_f32(c.view.as_mat4(), c.projection.as_mat4())
 }
