@@ -317,7 +317,7 @@ typedef struct GlyphcastRendererDesc {
   VkInstance instance;
   // The physical device `device` was made from.
   VkPhysicalDevice physical_device;
-  // A Vulkan 1.3 device with dynamicRendering and fragmentStoresAndAtomics (and sampleRateShading when samples > 1).
+  // A Vulkan 1.3 device with dynamicRendering (and sampleRateShading when samples > 1). Its glyphs are drawn without culling hidden ones, by fragment shaders that write no buffer, whether or not it enabled fragmentStoresAndAtomics.
   VkDevice device;
   // The colour attachment's format.
   VkFormat color_format;

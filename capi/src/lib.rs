@@ -237,7 +237,7 @@ pub struct GlyphcastRendererDesc {
     pub instance: VkInstance,
     /// The physical device `device` was made from.
     pub physical_device: VkPhysicalDevice,
-    /// A Vulkan 1.3 device with dynamicRendering and fragmentStoresAndAtomics (and sampleRateShading when samples > 1).
+    /// A Vulkan 1.3 device with dynamicRendering (and sampleRateShading when samples > 1). Its glyphs are drawn without culling hidden ones, by fragment shaders that write no buffer, whether or not it enabled fragmentStoresAndAtomics.
     pub device: VkDevice,
     /// The colour attachment's format.
     pub color_format: VkFormat,
