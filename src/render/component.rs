@@ -640,6 +640,39 @@ impl GlyphRenderer {
         Ok(())
     }
 
+    /// Raises the number of frame indices to `frames_in_flight` (0 to n - 1), for a host
+    /// that records more frames (or more views per frame, each with its own index) than
+    /// it made the renderer for. The frame indices in use keep their frame blocks and
+    /// may be in flight meanwhile; the new indices need `set_view` before `record`. The
+    /// number never falls: a smaller one is refused.
+    pub fn set_frames_in_flight(&mut self, frames_in_flight: usize) -> Result<()> {
+        if frames_in_flight < self.frames_in_flight {
+            return Err(Error::Call {
+                call: "GlyphRenderer::set_frames_in_flight",
+                expected: "at least as many frames in flight as before",
+            });
+        }
+        let n = frames_in_flight;
+        if let Some(glyphs) = &mut self.glyphs {
+            self.pass.add_frames(&mut glyphs.gpu, n)?;
+            glyphs.views.resize(n, None);
+            glyphs.plans.resize(n, PassPlan::default());
+            if let Some(compute) = &mut glyphs.compute {
+                compute.views.resize_with(n, || None);
+                compute.dispatched.resize_with(n, || AtomicBool::new(false));
+            }
+            if let Some(early) = &mut glyphs.host_early_outs {
+                early.slots.resize_with(n, || None);
+            }
+        }
+        // Retired glyphs were never drawn at the new indices.
+        for retired in &mut self.retired {
+            retired.pending.resize(n, false);
+        }
+        self.frames_in_flight = n;
+        Ok(())
+    }
+
     /// The settings the next `set_view` applies (those given at creation or by
     /// [`GlyphRenderer::set_settings`]).
     pub fn settings(&self) -> &RenderSettings {

@@ -324,6 +324,9 @@ pub struct SceneGpu {
     /// the batches are drawn by the pipelines without shadows.
     pub(crate) deferred: bool,
     pool: DescriptorPool,
+    /// The pools of the descriptor sets of frames added after the upload
+    /// ([`SceneGpu::add_frames`]).
+    added_pools: Vec<DescriptorPool>,
     /// The batches, one draw each.
     pub sets: Vec<GlyphSetGpu>,
 }
@@ -732,6 +735,7 @@ impl RayCastPass {
             shadows,
             deferred,
             pool,
+            added_pools: Vec::new(),
             sets: Vec::new(),
         };
         for chunk in &chunks {
@@ -739,6 +743,47 @@ impl RayCastPass {
             scene.sets.push(set);
         }
         Ok(scene)
+    }
+
+    /// Adds frame blocks to `scene` until it has `frames_in_flight`, each with its
+    /// frame parameters (a copy of frame 0's until the frame's view is set) and its
+    /// descriptor set per batch; the frames in flight keep theirs, untouched.
+    pub(crate) fn add_frames(&self, scene: &mut SceneGpu, frames_in_flight: usize) -> Result<()> {
+        let old = scene.frames.len();
+        if frames_in_flight <= old {
+            return Ok(());
+        }
+        let ctx = self.ctx.clone();
+        let bytes = scene.frames[0].read()?;
+        let size = std::mem::size_of::<FrameParams>();
+        let first: FrameParams =
+            bytemuck::pod_read_unaligned(bytes.get(..size).ok_or(Error::Call {
+                call: "RayCastPass::add_frames",
+                expected: "a frame block of the frame parameters' size",
+            })?);
+        let added = frames_in_flight - old;
+        let pool = DescriptorPool::new(&ctx, scene.sets.len().max(1) * added, 0, 6)?;
+        for _ in old..frames_in_flight {
+            scene.frames.push(Buffer::with_data(
+                &ctx,
+                "frame",
+                std::slice::from_ref(&first),
+                FRAME_USAGE,
+            )?);
+        }
+        for k in 0..scene.sets.len() {
+            for frame in old..frames_in_flight {
+                let set = frame_descriptor_set(
+                    &pool,
+                    self.layout.set_layout(),
+                    &scene.frames[frame],
+                    &scene.sets[k],
+                )?;
+                scene.sets[k].descriptor_sets.push(set);
+            }
+        }
+        scene.added_pools.push(pool);
+        Ok(())
     }
 
     /// Caps the bytes of coefficients per storage buffer below the device's
@@ -1097,25 +1142,8 @@ fn upload_chunk(
     let grid = ShadowGrid::new(&instance_data, &box_data);
     let grid_cells = Buffer::with_data(ctx, "shadow grid", &grid.cell_bytes(), storage)?;
     let grid_entries = Buffer::with_data(ctx, "shadow grid entries", &grid.entries, storage)?;
-    let descriptor_sets = scene
-        .frames
-        .iter()
-        .map(|frame| {
-            scene.pool.buffer_set(
-                set_layout,
-                &[
-                    BufferBinding::storage(FRAME_BINDING, frame),
-                    BufferBinding::storage(COEFFICIENTS_BINDING, &coefficients),
-                    BufferBinding::storage(SHADOW_BINDINGS[0], &instances),
-                    BufferBinding::storage(SHADOW_BINDINGS[1], &boxes),
-                    BufferBinding::storage(SHADOW_BINDINGS[2], &grid_cells),
-                    BufferBinding::storage(SHADOW_BINDINGS[3], &grid_entries),
-                ],
-            )
-        })
-        .collect::<Result<Vec<_>>>()?;
     let clusters = crate::render::visibility::clusters(&instance_data);
-    Ok(GlyphSetGpu {
+    let mut set = GlyphSetGpu {
         clusters,
         layout: batch.layout,
         negative: batch.negative,
@@ -1125,8 +1153,34 @@ fn upload_chunk(
         boxes,
         _coefficients: coefficients,
         _grid: [grid_cells, grid_entries],
-        descriptor_sets,
-    })
+        descriptor_sets: Vec::new(),
+    };
+    set.descriptor_sets = scene
+        .frames
+        .iter()
+        .map(|frame| frame_descriptor_set(&scene.pool, set_layout, frame, &set))
+        .collect::<Result<Vec<_>>>()?;
+    Ok(set)
+}
+
+/// The descriptor set of batch `set` with the frame block `frame`, from `pool`.
+fn frame_descriptor_set(
+    pool: &DescriptorPool,
+    set_layout: vk::DescriptorSetLayout,
+    frame: &Buffer,
+    set: &GlyphSetGpu,
+) -> Result<vk::DescriptorSet> {
+    pool.buffer_set(
+        set_layout,
+        &[
+            BufferBinding::storage(FRAME_BINDING, frame),
+            BufferBinding::storage(COEFFICIENTS_BINDING, &set._coefficients),
+            BufferBinding::storage(SHADOW_BINDINGS[0], &set.instances),
+            BufferBinding::storage(SHADOW_BINDINGS[1], &set.boxes),
+            BufferBinding::storage(SHADOW_BINDINGS[2], &set._grid[0]),
+            BufferBinding::storage(SHADOW_BINDINGS[3], &set._grid[1]),
+        ],
+    )
 }
 
 impl SceneGpu {

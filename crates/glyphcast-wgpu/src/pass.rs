@@ -138,6 +138,9 @@ pub struct GlyphPass {
     _context: DeviceContext,
     slots: Vec<FrameSlot>,
     next_slot: usize,
+    /// The most views a frame has had: frame indices 0 to `views_per_frame` x frames in
+    /// flight are in use (view v of slot k draws with index v x frames + k).
+    views_per_frame: usize,
     formats: (vk::Format, vk::Format),
     desc: GlyphPassDesc,
     device: wgpu::Device,
@@ -204,6 +207,7 @@ impl GlyphPass {
                 .map(|_| FrameSlot::default())
                 .collect(),
             next_slot: 0,
+            views_per_frame: 1,
             formats,
             desc: desc.clone(),
             device: device.clone(),
@@ -235,47 +239,76 @@ impl GlyphPass {
     /// those that read the result. The first has wgpu put the textures into the
     /// attachment states the second (raw Vulkan commands) expects; the second leaves
     /// them there, as wgpu then believes them to be. Waits first, if this frame's slot
-    /// is still running from `frames_in_flight` frames ago.
+    /// is still running from `frames_in_flight` frames ago. One view per frame; a frame
+    /// of several views is [`GlyphPass::encode_views`].
     pub fn encode(
         &mut self,
         camera: &WgpuCamera,
         target: &GlyphTarget<'_>,
     ) -> Result<[wgpu::CommandBuffer; 2]> {
-        let attachments = self.attachments(target)?;
+        self.encode_views(&[(*camera, *target)])
+    }
+
+    /// [`GlyphPass::encode`] of a frame of several views (a split screen, an editor's
+    /// viewports, a picture-in-picture): each its own camera and target, drawn in turn
+    /// by the second command buffer. Any number of views per frame, independent of
+    /// `frames_in_flight`, which still counts frames: each view of a frame in flight
+    /// keeps its own frame block (the pass adds blocks when a frame has more views than
+    /// any before).
+    pub fn encode_views(
+        &mut self,
+        views: &[(WgpuCamera, GlyphTarget<'_>)],
+    ) -> Result<[wgpu::CommandBuffer; 2]> {
+        let attachments = views
+            .iter()
+            .map(|(_, target)| self.attachments(target))
+            .collect::<Result<Vec<_>>>()?;
         let k = self.next_slot;
         self.wait_for_slot(k)?;
-        let host_view = HostView::whole(
-            camera.view,
-            vulkan_projection(camera.projection),
-            attachments.extent.width,
-            attachments.extent.height,
-        );
-        self.renderer.set_view(k, &host_view)?;
+        let frames = self.slots.len();
+        if views.len() > self.views_per_frame {
+            // View v of frame slot k draws with frame index v * frames + k: the indices
+            // of the views before stay as they are, in flight or not.
+            self.renderer.set_frames_in_flight(frames * views.len())?;
+            self.views_per_frame = views.len();
+        }
+        let index = |v: usize| v * frames + k;
+        for (v, ((camera, _), attachments)) in views.iter().zip(&attachments).enumerate() {
+            let host_view = HostView::whole(
+                camera.view,
+                vulkan_projection(camera.projection),
+                attachments.extent.width,
+                attachments.extent.height,
+            );
+            self.renderer.set_view(index(v), &host_view)?;
+        }
         let mut states = self
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("glyphcast: attachment states"),
             });
-        let textures = [
-            (target.color.texture(), wgpu::TextureUses::COLOR_TARGET),
-            (
-                target.depth.texture(),
-                wgpu::TextureUses::DEPTH_STENCIL_WRITE,
-            ),
-        ];
-        let resolve = target
-            .resolve
-            .map(|view| (view.texture(), wgpu::TextureUses::COLOR_TARGET));
+        let textures = views.iter().flat_map(|(_, target)| {
+            [
+                (target.color.texture(), wgpu::TextureUses::COLOR_TARGET),
+                (
+                    target.depth.texture(),
+                    wgpu::TextureUses::DEPTH_STENCIL_WRITE,
+                ),
+            ]
+            .into_iter()
+            .chain(
+                target
+                    .resolve
+                    .map(|view| (view.texture(), wgpu::TextureUses::COLOR_TARGET)),
+            )
+        });
         states.transition_resources(
             std::iter::empty(),
-            textures
-                .into_iter()
-                .chain(resolve)
-                .map(|(texture, state)| wgpu::TextureTransition {
-                    texture,
-                    selector: None,
-                    state,
-                }),
+            textures.map(|(texture, state)| wgpu::TextureTransition {
+                texture,
+                selector: None,
+                state,
+            }),
         );
         let mut glyphs = self
             .device
@@ -286,9 +319,13 @@ impl GlyphPass {
         slot.in_flight.store(true, Ordering::Release);
         let release = SlotRelease(slot.in_flight.clone());
         glyphs.on_submitted_work_done(move || drop(release));
-        slot.views = [target.color, target.depth]
-            .into_iter()
-            .chain(target.resolve)
+        slot.views = views
+            .iter()
+            .flat_map(|(_, target)| {
+                [target.color, target.depth]
+                    .into_iter()
+                    .chain(target.resolve)
+            })
             .cloned()
             .collect();
         let renderer = &self.renderer;
@@ -296,16 +333,16 @@ impl GlyphPass {
         // SAFETY: the encoder is used for raw commands only (wgpu panics when one encoder
         // mixes the two); the command buffer is recording and not ended here; the views
         // are kept alive by the slot until the commands have run.
-        let recorded = unsafe {
+        let recorded: Result<()> = unsafe {
             glyphs.as_hal_mut::<Vulkan, _, _>(|encoder| {
                 let encoder = encoder.ok_or_else(|| not_vulkan_target("command encoder"))?;
                 let cmd = encoder.raw_handle();
-                record_glyph_pass(
-                    device,
-                    cmd,
-                    &attachments,
-                    |cmd| Ok(renderer.record(cmd, k)?),
-                )
+                for (v, attachments) in attachments.iter().enumerate() {
+                    record_glyph_pass(device, cmd, attachments, |cmd| {
+                        Ok(renderer.record(cmd, index(v))?)
+                    })?;
+                }
+                Ok(())
             })
         };
         recorded?;

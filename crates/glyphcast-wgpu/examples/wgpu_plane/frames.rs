@@ -17,7 +17,13 @@ pub struct Options {
     /// Samples per pixel: above 1, the scene and the glyphs draw into multisampled
     /// textures resolved into the one-sample colour.
     pub samples: u32,
+    /// Views per frame, each into textures of its own, view v seeing the camera of frame
+    /// `frame + VIEW_STEP * v` (`GlyphPass::encode_views`); the plane only with one.
+    pub views: usize,
 }
+
+/// How many frames of the orbit apart the views of one frame look.
+pub const VIEW_STEP: u32 = 40;
 
 impl Default for Options {
     fn default() -> Self {
@@ -27,6 +33,7 @@ impl Default for Options {
             plane: true,
             sync_validation: true,
             samples: 1,
+            views: 1,
         }
     }
 }
@@ -42,6 +49,10 @@ pub struct Run {
     pub validation: Vec<String>,
     /// The adapter and its driver, as wgpu reports them.
     pub adapter: String,
+    /// With several views per frame, each view's last frame (its camera's frame number
+    /// in `last_frame`); the fields above are view 0's.
+    #[cfg_attr(not(test), allow(dead_code))]
+    pub views: Vec<Run>,
 }
 
 pub type Result<T> = std::result::Result<T, Box<dyn std::error::Error>>;
@@ -148,7 +159,9 @@ pub fn draw_frames(adapter: &wgpu::Adapter, options: &Options) -> Result<Run> {
     let mut glyphs = unsafe { GlyphPass::new(adapter, &device, &desc)? };
     glyphs.set_glyph_sets(&[scene::glyph_arrays()?])?;
     let plane = PlanePass::new(&device, (COLOR_FORMAT, DEPTH_FORMAT), options.samples);
-    let slots: Vec<Slot> = (0..options.in_flight)
+    let views = options.views.max(1);
+    // Frame slot k's view v draws into slots[k * views + v].
+    let slots: Vec<Slot> = (0..options.in_flight * views)
         .map(|_| Slot::new(&device, options.samples))
         .collect();
     let bytes = 4 * WIDTH as u64 * HEIGHT as u64;
@@ -160,44 +173,76 @@ pub fn draw_frames(adapter: &wgpu::Adapter, options: &Options) -> Result<Run> {
             mapped_at_creation: false,
         })
     };
-    let (color_readback, depth_readback) =
-        (readback("colour readback"), readback("depth readback"));
+    let readbacks: Vec<_> = (0..views)
+        .map(|_| (readback("colour readback"), readback("depth readback")))
+        .collect();
+    let plane_drawn = options.plane && views == 1;
     let last = options.frames - 1;
     for frame in 0..options.frames {
-        let slot = &slots[frame as usize % options.in_flight];
-        let camera = scene::wgpu_camera_f32(frame);
-        plane.set(&queue, camera.projection * camera.view, &scene::SQUARE);
+        let frame_slots = &slots[(frame as usize % options.in_flight) * views..][..views];
+        let cameras: Vec<_> = (0..views as u32)
+            .map(|v| scene::wgpu_camera_f32(frame + VIEW_STEP * v))
+            .collect();
+        plane.set(
+            &queue,
+            cameras[0].projection * cameras[0].view,
+            &scene::SQUARE,
+        );
         let mut encoder = device.create_command_encoder(&Default::default());
-        draw_scene(&mut encoder, slot, options.plane.then_some(&plane));
-        let [states, glyph_commands] = glyphs.encode(&camera, &slot.target())?;
+        for slot in frame_slots {
+            draw_scene(&mut encoder, slot, plane_drawn.then_some(&plane));
+        }
+        let [states, glyph_commands] = if views == 1 {
+            glyphs.encode(&cameras[0], &frame_slots[0].target())?
+        } else {
+            let pairs: Vec<_> = cameras
+                .iter()
+                .zip(frame_slots)
+                .map(|(camera, slot)| (*camera, slot.target()))
+                .collect();
+            glyphs.encode_views(&pairs)?
+        };
         let mut after = device.create_command_encoder(&Default::default());
         if frame == last {
-            copy_out(
-                &mut after,
-                slot,
-                &color_readback,
-                &depth_readback,
-                options.samples,
-            );
+            for (slot, (color, depth)) in frame_slots.iter().zip(&readbacks) {
+                copy_out(&mut after, slot, color, depth, options.samples);
+            }
         }
         queue.submit([encoder.finish(), states, glyph_commands, after.finish()]);
     }
-    let rgba = read(&device, &color_readback)?;
-    let depth = if options.samples == 1 {
-        read(&device, &depth_readback)?
-    } else {
-        Vec::new()
-    };
-    Ok(Run {
-        rgba,
-        depth: depth
-            .chunks_exact(4)
-            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-            .collect(),
-        last_frame: last,
-        validation: Vec::new(),
-        adapter: String::new(),
-    })
+    let mut runs = Vec::new();
+    for (v, (color, depth)) in readbacks.iter().enumerate() {
+        let rgba = read(&device, color)?;
+        let depth = if options.samples == 1 {
+            read(&device, depth)?
+        } else {
+            Vec::new()
+        };
+        runs.push(Run {
+            rgba,
+            depth: depth
+                .chunks_exact(4)
+                .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                .collect(),
+            last_frame: last + VIEW_STEP * v as u32,
+            validation: Vec::new(),
+            adapter: String::new(),
+            views: Vec::new(),
+        });
+    }
+    let mut run = runs.remove(0);
+    if views > 1 {
+        let first = Run {
+            rgba: run.rgba.clone(),
+            depth: run.depth.clone(),
+            last_frame: run.last_frame,
+            validation: Vec::new(),
+            adapter: String::new(),
+            views: Vec::new(),
+        };
+        run.views = std::iter::once(first).chain(runs).collect();
+    }
+    Ok(run)
 }
 
 /// The application's own pass: clear, and the plane if it draws one (resolved into the
