@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Fresh machine to a passing test suite: installs what is missing, then runs every test
-# on lavapipe with the Vulkan validation layer on (the tests turn it on themselves), and
+# on lavapipe with the Vulkan validation layer on (the tests turn it on themselves; the
+# wgpu layer's on wgpu 30 and on wgpu 29), and
 # checks that the core stays free of the front ends' dependencies and compiles alone from
 # its package's own files (what an embedding engine and crates.io get); runs the C
 # API's tests (its generated header, the C example engine built with cc, the C++ engine
@@ -18,6 +19,8 @@ bash tools/install-deps.sh
 export GLYPHCAST_LAVAPIPE="${GLYPHCAST_LAVAPIPE:-1}"
 . tools/env.sh
 cargo test --locked "$@"
+echo "== [${SECONDS} s] glyphcast-wgpu on wgpu 29 (Bevy 0.19's), as above on wgpu 30"
+cargo test --locked -p glyphcast-wgpu --no-default-features --features wgpu29
 echo "== [${SECONDS} s] the core alone, as an engine depends on it"
 # Cargo keeps the layers apart: the core's own dependency tree holds no front end's crate.
 # flate2 is looked for among the direct dependencies only: the png crate deflates with it.
@@ -75,6 +78,7 @@ if [ "${GLYPHCAST_MESA25:-1}" = 1 ]; then
         # integration tests, with the features of the workspace build above (so nothing
         # is compiled again).
         cargo test --locked --lib --examples
+        cargo test --locked -p glyphcast-wgpu --no-default-features --features wgpu29 --examples
         cargo test --locked -p glyphcast-cli --test integration
         cargo test --locked -p glyphcast-c
         # The browser test once (above): its JupyterLab and Chromium are the same here,

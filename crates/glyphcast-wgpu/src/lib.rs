@@ -24,6 +24,18 @@
 //! is one crate version (0.38), so handles pass between them unchanged.
 #![warn(missing_docs)]
 
+// The wgpu this build is for, under one name (Cargo.toml's features).
+/// The wgpu this build of glyphcast-wgpu draws with (30 by default, 29 with the feature
+/// `wgpu29`): an application names its types through this, so that the two agree.
+#[cfg(all(feature = "wgpu29", not(feature = "wgpu30")))]
+pub extern crate wgpu29 as wgpu;
+/// The wgpu this build of glyphcast-wgpu draws with (30 by default, 29 with the feature
+/// `wgpu29`): an application names its types through this, so that the two agree.
+#[cfg(feature = "wgpu30")]
+pub extern crate wgpu30 as wgpu;
+#[cfg(not(any(feature = "wgpu29", feature = "wgpu30")))]
+compile_error!("glyphcast-wgpu needs one of its features wgpu30 (the default) or wgpu29");
+
 mod device;
 mod pass;
 mod target;

@@ -11,6 +11,12 @@
 //! Headless, it draws N frames (30) with K in flight (3) under the Vulkan validation
 //! layer, synchronization validation included, saves the last one and exits with 1 on
 //! any validation message; a bad option exits with 2.
+// The wgpu glyphcast-wgpu was built for (its feature wgpu30, the default, or wgpu29).
+#[cfg(all(feature = "wgpu29", not(feature = "wgpu30")))]
+extern crate wgpu29 as wgpu;
+#[cfg(feature = "wgpu30")]
+extern crate wgpu30 as wgpu;
+
 mod frames;
 mod plane;
 mod scene;

@@ -320,6 +320,8 @@ fn four_samples_resolve_into_the_one_sample_picture() {
 /// Bad input is refused with an error that names it: another backend than Vulkan, no
 /// frame in flight, the compute path, 3 samples, a texture of another format.
 #[test]
+// (wgpu 29's NoopBackendOptions has `enable` alone; wgpu 30's has more.)
+#[allow(clippy::needless_update)]
 fn wrong_backends_and_targets_are_refused() {
     let noop = wgpu::Instance::new(wgpu::InstanceDescriptor {
         backends: wgpu::Backends::NOOP,

@@ -174,7 +174,11 @@ impl Gpu {
         };
         let [states, glyphs] = self.glyphs.encode(&camera, &target)?;
         self.queue.submit([encoder.finish(), states, glyphs]);
+        // (wgpu 29 presents through the frame, wgpu 30 through the queue.)
+        #[cfg(feature = "wgpu30")]
         self.queue.present(frame);
+        #[cfg(not(feature = "wgpu30"))]
+        frame.present();
         self.frame += 1;
         self.window.request_redraw();
         Ok(())
