@@ -51,6 +51,7 @@ mod sphere;
 mod stiffness;
 mod tensor_order;
 mod tools_folder;
+mod tracks;
 mod underlay;
 mod viewer;
 mod viewer_figures;

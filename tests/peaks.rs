@@ -53,7 +53,7 @@ fn camera(projection: Projection, eye: DVec3) -> Camera {
 
 /// Whether pixel (x, y) lies in the one-pixel band of a silhouette of `covered`: some
 /// pixel of its 3 x 3 neighbourhood is covered and some is not.
-fn in_band(covered: &[bool], w: usize, h: usize, x: usize, y: usize) -> bool {
+pub(crate) fn in_band(covered: &[bool], w: usize, h: usize, x: usize, y: usize) -> bool {
     let mut seen = [false; 2];
     for yy in y.saturating_sub(1)..(y + 2).min(h) {
         for xx in x.saturating_sub(1)..(x + 2).min(w) {
@@ -65,16 +65,16 @@ fn in_band(covered: &[bool], w: usize, h: usize, x: usize, y: usize) -> bool {
 
 /// Counts of a comparison with a reference depth map.
 #[derive(Debug, Default)]
-struct Agreement {
+pub(crate) struct Agreement {
     /// Pixels both cover outside the silhouette band.
-    compared: usize,
+    pub(crate) compared: usize,
     /// Coverage differences outside the band (must be 0).
-    coverage_errors: usize,
+    pub(crate) coverage_errors: usize,
     /// Largest depth difference outside the band.
-    worst_depth: f64,
+    pub(crate) worst_depth: f64,
 }
 
-fn compare(
+pub(crate) fn compare(
     image: &RenderedImage,
     reference: &[f64],
     band: &dyn Fn(usize, usize) -> bool,
@@ -101,7 +101,7 @@ fn compare(
 }
 
 /// The capsule reference's depth map of `peaks`.
-fn capsule_depth(peaks: &PeakSet, camera: &Camera, w: u32, h: u32) -> Vec<f64> {
+pub(crate) fn capsule_depth(peaks: &PeakSet, camera: &Camera, w: u32, h: u32) -> Vec<f64> {
     let mut depth = Vec::with_capacity((w * h) as usize);
     for j in 0..h {
         for i in 0..w {

@@ -49,6 +49,12 @@ docs/guide/conventions.md); ``"tournier07"``/``"mrtrix"`` is MRtrix3's.
   and ``peak_values`` (X, Y, Z, N), both paths or both arrays) drawn as capsules through
   the voxel centres, with ``peaks_color``, ``peaks_norm``, ``peaks_scale`` and
   ``peaks_width``.
+- tracks: ``tracks`` (a tractogram's path, .tck, .trk or .trx; or streamlines in RAS+
+  millimetres: a list of (N, 3) arrays, nibabel's ``ArraySequence``, a nibabel
+  ``Tractogram``, or a DIPY ``StatefulTractogram`` in RASMM) drawn as tubes in the glyphs'
+  depth buffer, with ``tracks_color``, ``tracks_radius`` (millimetres), ``tracks_max``
+  (a uniform subsample) and ``slab`` (on slice views, only the parts within that many
+  millimetres of a slice's plane).
 
 The messages of the errors are the CLI's, with each option named by its keyword
 (``step=0.0001: must be in 0.001 to 2 ...`` where the CLI says ``--step 0.0001``). Bad

@@ -10,6 +10,7 @@ use glam::DMat4;
 use glyphcast::render::headless::RenderedImage;
 use glyphcast::render::underlay::UnderlayVolume;
 use glyphcast_dmri::io::nifti::{AffineSource, VoxelToWorld};
+use glyphcast_dmri::io::tracks::Tractogram;
 use glyphcast_dmri::volume::{Mask, PeakArray};
 use ndarray::{Array3, Array4, Ix3, Ix4};
 use numpy::{
@@ -179,6 +180,63 @@ fn numpy_array<'a, 'py>(
             .unwrap_or_else(|_| "?".into());
         value_error(what, format!("a numpy array is needed, not {type_name}"))
     })
+}
+
+/// Streamlines given as arrays: a sequence of (N, 3) float arrays in RAS+ millimetres
+/// (a list, nibabel's `ArraySequence`, or the `streamlines` of a nibabel `Tractogram`
+/// whose points are in world millimetres), one streamline each.
+pub fn tracks(value: &Bound<'_, PyAny>) -> PyResult<Tractogram> {
+    let what = "tracks";
+    let lines = match value.getattr("streamlines") {
+        Ok(streamlines) => {
+            // A nibabel Tractogram: its points are world millimetres only where its
+            // affine_to_rasmm is the identity; a DIPY StatefulTractogram must be in RASMM.
+            if let Ok(space) = value.getattr("space") {
+                let space = space.str()?.to_string();
+                if !space.ends_with("RASMM") {
+                    return Err(value_error(
+                        what,
+                        format!(
+                            "a StatefulTractogram in space {space}: call to_rasmm() on it first"
+                        ),
+                    ));
+                }
+            }
+            streamlines
+        }
+        Err(_) => value.clone(),
+    };
+    let mut tractogram = Tractogram::default();
+    for (n, line) in lines.try_iter()?.enumerate() {
+        let line = line?;
+        let points = floats(what, numpy_array(what, &line)?.as_any())?;
+        if points.ndim() != 2 || points.shape()[1] != 3 {
+            return Err(value_error(
+                what,
+                format!(
+                    "streamline {n} has shape {:?} where (N, 3) points are needed",
+                    points.shape()
+                ),
+            ));
+        }
+        if let Some(bad) = points
+            .iter()
+            .find(|v| !(v.is_finite() && v.abs() <= f32::MAX as f64))
+        {
+            return Err(value_error(
+                what,
+                format!("streamline {n} has a point coordinate {bad}: finite values only"),
+            ));
+        }
+        tractogram.offsets.push(tractogram.points.len() as u64);
+        tractogram.points.extend(
+            points
+                .rows()
+                .into_iter()
+                .map(|p| [p[0] as f32, p[1] as f32, p[2] as f32]),
+        );
+    }
+    Ok(tractogram)
 }
 
 /// The values of a float32 or float64 array of any strides as float64, in C order, in

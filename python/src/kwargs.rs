@@ -8,6 +8,7 @@ use std::path::PathBuf;
 use glam::DMat4;
 use glyphcast::render::options::{RenderOptions, Value};
 use glyphcast::render::table::{Kind, RENDER_SETTINGS};
+use glyphcast_dmri::io::tracks::Tractogram;
 use glyphcast_dmri::volume::{
     CoefficientFrame, ImageRequest, ImageSource, PeakVolume, VolumeRequest,
 };
@@ -278,7 +279,9 @@ impl<'py> Kwargs<'py> {
     /// 3N) as sh2peaks writes it, or DIPY's (X, Y, Z, N, 3) `peak_dirs`), `peak_values`
     /// (DIPY's amplitudes: a path with a peaks path, an array with a peaks array),
     /// `peaks_color`, `peaks_norm`, `peaks_scale`, `peaks_width` and `peaks_frame` (voxel
-    /// or world: a path's default is the file's own frame, an array's `frame`). `affine` is the
+    /// or world: a path's default is the file's own frame, an array's `frame`); `tracks`
+    /// (a tractogram path, or streamlines: (N, 3) arrays or a nibabel `Tractogram`),
+    /// `tracks_color`, `tracks_radius`, `tracks_max` and `slab`. `affine` is the
     /// coefficients' (an underlay array's default).
     pub fn volume_request(&mut self, affine: DMat4) -> PyResult<VolumeRequest> {
         let underlay = |value: &Bound<'py, PyAny>| match value.cast::<PyTuple>() {
@@ -324,6 +327,11 @@ impl<'py> Kwargs<'py> {
             peaks_scale: self.float("peaks_scale")?,
             peaks_width: self.float("peaks_width")?,
             peaks_frame: self.text("peaks_frame")?,
+            tracks: self.tracks()?,
+            tracks_color: self.text("tracks_color")?,
+            tracks_radius: self.float("tracks_radius")?,
+            tracks_max: self.count("tracks_max")?.map(|n| n as usize),
+            slab: self.float("slab")?,
         };
         // Peak arrays are in `peaks_frame`, else the coefficients' frame: what `frame`
         // says, else voxel axes.
@@ -333,6 +341,18 @@ impl<'py> Kwargs<'py> {
         };
         (request.peaks, request.peak_values) = self.peaks(affine, frame)?;
         Ok(request)
+    }
+
+    /// `tracks`: a tractogram file (.tck, .trk, .trx), or streamlines in RAS+
+    /// millimetres (a sequence of (N, 3) arrays, or a nibabel `Tractogram`).
+    fn tracks(&mut self) -> PyResult<Option<ImageSource<Tractogram>>> {
+        let Some(value) = self.take("tracks") else {
+            return Ok(None);
+        };
+        if let Ok(path) = value.extract::<PathBuf>() {
+            return Ok(Some(ImageSource::File(path)));
+        }
+        arrays::tracks(&value).map(|t| Some(ImageSource::Memory(t)))
     }
 
     /// `peaks` and `peak_values`: paths, or arrays on the coefficients' grid (placed by

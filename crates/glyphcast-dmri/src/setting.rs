@@ -38,6 +38,17 @@ impl DmriSetting {
     /// The side of each panel of a quality-control set, in pixels.
     pub const PanelSize: Setting = glyphcast::setting!(value("panel_size", "panel size"));
 
+    /// A tractogram drawn with the glyphs.
+    pub const Tracks: Setting = glyphcast::setting!(value("tracks", "tracks"));
+    /// The tubes' colour: direction or one colour.
+    pub const TracksColor: Setting = glyphcast::setting!(value("tracks_color", "tracks colour"));
+    /// The tubes' radius, millimetres.
+    pub const TracksRadius: Setting = glyphcast::setting!(value("tracks_radius", "tracks radius"));
+    /// The most streamlines drawn (a uniform subsample).
+    pub const TracksMax: Setting = glyphcast::setting!(value("tracks_max", "tracks max"));
+    /// The distance from a slice's plane within which streamlines are drawn.
+    pub const Slab: Setting = glyphcast::setting!(value("slab", "slab"));
+
     /// Every diffusion setting.
     pub const ALL: &'static [Setting] = &[
         DmriSetting::Bval,
@@ -53,5 +64,10 @@ impl DmriSetting {
         DmriSetting::RelativeThreshold,
         DmriSetting::MinSeparation,
         DmriSetting::PanelSize,
+        DmriSetting::Tracks,
+        DmriSetting::TracksColor,
+        DmriSetting::TracksRadius,
+        DmriSetting::TracksMax,
+        DmriSetting::Slab,
     ];
 }

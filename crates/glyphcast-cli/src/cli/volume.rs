@@ -192,6 +192,28 @@ pub struct VolumeArgs {
     /// Peak diameter in pixels (default 2; at the target in a perspective view).
     #[arg(long, value_name = "PX", help_heading = "Peaks")]
     pub peaks_width: Option<f64>,
+    /// Streamlines drawn as tubes with the glyphs, in one depth buffer (tubes and lobes
+    /// hide each other where they are in front): a tractogram, MRtrix .tck, TrackVis .trk
+    /// or TRX .trx, read in scanner millimetres as its format defines, the frame the
+    /// volume's glyphs are placed in.
+    #[arg(long, value_name = "FILE", help_heading = "Tracks")]
+    pub tracks: Option<PathBuf>,
+    /// Tube colour: direction (RGB = |x|, |y|, |z| of each segment's direction, the
+    /// default), a name (white, black, grey, red, green, blue, yellow, cyan, magenta),
+    /// #rrggbb or r,g,b (0-255).
+    #[arg(long, value_name = "COLOR", help_heading = "Tracks")]
+    pub tracks_color: Option<String>,
+    /// Tube radius in millimetres (default 0.15).
+    #[arg(long, value_name = "MM", help_heading = "Tracks")]
+    pub tracks_radius: Option<f64>,
+    /// Draw at most N streamlines: every k-th, k the smallest that leaves at most N.
+    #[arg(long, value_name = "N", help_heading = "Tracks")]
+    pub tracks_max: Option<usize>,
+    /// On slice views, only the parts of streamlines within MM millimetres of a slice's
+    /// plane, each segment clipped there (as mrview crops tracks to a slab); a --block
+    /// draws them whole.
+    #[arg(long, value_name = "MM", help_heading = "Tracks")]
+    pub slab: Option<f64>,
     /// Also write the scene that is rendered as a scene file (with the image, all or
     /// nothing).
     #[arg(long, value_name = "FILE")]
@@ -289,6 +311,11 @@ impl VolumeArgs {
             peaks_scale: self.peaks_scale,
             peaks_width: self.peaks_width,
             peaks_frame: self.peaks_frame.clone(),
+            tracks: self.tracks.clone().map(ImageSource::File),
+            tracks_color: self.tracks_color.clone(),
+            tracks_radius: self.tracks_radius,
+            tracks_max: self.tracks_max,
+            slab: self.slab,
         }
     }
 

@@ -21,6 +21,7 @@ use super::input::{CoefficientFrame, Mask, Volume, show_shape};
 use super::peaks::{ViewPeaks, peak_set};
 use super::reorient::Reorientation;
 use super::selection::{Slice, SliceRegion, Slices, VoxelRanges, show_block};
+use super::tracks::{ViewTracks, view_tubes};
 use glyphcast::glyph::ellipsoid::ELLIPSOID_LAYOUT;
 use glyphcast::glyph::{GlyphShape, NegativeMode};
 use glyphcast::render::peaks::PeakSet;
@@ -110,6 +111,9 @@ pub struct VolumeOptions {
     /// Fibre peaks drawn in the voxels of the slices, if any (on the volume's grid;
     /// alone where the volume only stands for their grid, [`Volume::grid_of_peaks`]).
     pub peaks: Option<ViewPeaks>,
+    /// Streamlines drawn as tubes with the glyphs, if any (`volume::tracks`): on a slice
+    /// view the parts within their slab of the slices' planes.
+    pub tracks: Option<ViewTracks>,
 }
 
 /// What happened to the voxels of the selection.
@@ -369,6 +373,16 @@ pub fn volume_scene_with_progress(
     if volume.is_peaks_grid() && peaks.as_ref().is_none_or(|p| p.segments.is_empty()) {
         return Err(no_peak_to_draw(volume, &selection));
     }
+    // The tubes are capsules of the peaks' pass: one set, one depth test.
+    let peaks = match &options.tracks {
+        Some(tracks) => {
+            let tubes = view_tubes(tracks, &regions, block.is_some(), map)?;
+            let mut all = peaks.unwrap_or_default();
+            all.segments.extend(tubes.segments);
+            Some(all)
+        }
+        None => peaks,
+    };
     // Global normalisation is over all slices together.
     let radii: Vec<f64> = glyphs.iter().flatten().map(|g| g.radius).collect();
     let reference = match options.norm {

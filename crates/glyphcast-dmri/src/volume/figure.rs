@@ -88,6 +88,7 @@ impl VolumeRequest {
         let mut options = self.options(image)?;
         options.mask = self.read_mask()?;
         options.peaks = self.read_peaks()?;
+        options.tracks = self.read_tracks()?;
         if self.is_montage() {
             return self.montage(&volume, &options).map(VolumeFigure::Montage);
         }
@@ -183,6 +184,7 @@ impl VolumeRequest {
         let mut options = self.options(image)?;
         options.mask = self.read_mask()?;
         options.peaks = self.read_peaks()?;
+        options.tracks = self.read_tracks()?;
         let mut plan = self.plan(volume, &options)?;
         if self.views.is_some() {
             // The viewer builds each panel itself: an empty middle slice is moved (or its

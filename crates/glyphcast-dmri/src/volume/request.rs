@@ -17,7 +17,11 @@ use super::selection::Slice;
 use super::underlay::UnderlayPlacement;
 use crate::io::image::{Image, ImageHeader, read_image};
 use crate::io::nifti::VoxelToWorld;
+use crate::io::tracks::select::subsample;
+use crate::io::tracks::{Tractogram, read_tractogram};
+use crate::setting::DmriSetting;
 use crate::volume::peaks::{DEFAULT_PEAKS_WIDTH, PeakStyle, PeakVolume, ViewPeaks, load_peaks};
+use crate::volume::tracks::{DEFAULT_TRACKS_RADIUS_MM, TrackStyle, ViewTracks};
 use glyphcast::error::quoted;
 use glyphcast::glyph::ellipsoid::ELLIPSOID_LAYOUT;
 use glyphcast::glyph::sh::parse_basis_choice;
@@ -120,6 +124,18 @@ pub struct VolumeRequest {
     pub peaks_width: Option<f64>,
     /// voxel or world: the axes of the peaks' directions (default: the file's own).
     pub peaks_frame: Option<String>,
+    /// Streamlines drawn as tubes with the glyphs: a tractogram file (.tck, .trk, .trx)
+    /// or one in memory.
+    pub tracks: Option<ImageSource<Tractogram>>,
+    /// direction, or one colour (a name, #rrggbb or r,g,b).
+    pub tracks_color: Option<String>,
+    /// The tubes' radius, millimetres.
+    pub tracks_radius: Option<f64>,
+    /// The most streamlines drawn: a uniform subsample of them.
+    pub tracks_max: Option<usize>,
+    /// On slice views, only the parts of streamlines within this many millimetres of a
+    /// slice's plane.
+    pub slab: Option<f64>,
 }
 
 impl VolumeRequest {
@@ -141,7 +157,57 @@ impl VolumeRequest {
         self.peaks_frame()?;
         self.given_basis()?;
         self.peak_style()?;
+        self.track_style()?;
         Ok(())
+    }
+
+    /// How the tracks are drawn; their options need the tracks.
+    pub fn track_style(&self) -> Result<TrackStyle> {
+        let given = [
+            (DmriSetting::TracksColor, self.tracks_color.is_some()),
+            (DmriSetting::TracksRadius, self.tracks_radius.is_some()),
+            (DmriSetting::TracksMax, self.tracks_max.is_some()),
+            (DmriSetting::Slab, self.slab.is_some()),
+        ];
+        if self.tracks.is_none()
+            && let Some((setting, _)) = given.iter().find(|(_, on)| *on)
+        {
+            return Err(Error::setting(
+                *setting,
+                glyphcast::message!["needs ", DmriSetting::Tracks, " (the tracks it applies to)"],
+            ));
+        }
+        let style = TrackStyle {
+            radius: self.tracks_radius.unwrap_or(DEFAULT_TRACKS_RADIUS_MM),
+            color: self
+                .tracks_color
+                .as_deref()
+                .map(str::parse)
+                .transpose()?
+                .unwrap_or_default(),
+            slab: self.slab,
+        };
+        style.validate()?;
+        Ok(style)
+    }
+
+    /// The tracks asked for, read if they are a file and subsampled to `tracks_max`,
+    /// with their style.
+    pub fn read_tracks(&self) -> Result<Option<ViewTracks>> {
+        let style = self.track_style()?;
+        let tractogram = match &self.tracks {
+            None => return Ok(None),
+            Some(ImageSource::File(path)) => read_tractogram(path)?,
+            Some(ImageSource::Memory(tractogram)) => tractogram.clone(),
+        };
+        let tractogram = match self.tracks_max {
+            Some(max) if max < tractogram.len() => subsample(&tractogram, max),
+            _ => tractogram,
+        };
+        Ok(Some(ViewTracks {
+            tractogram: Arc::new(tractogram),
+            style,
+        }))
     }
 
     /// How the peaks are drawn; the style options need the peaks, values need a file.
@@ -311,6 +377,7 @@ impl VolumeRequest {
                 ..image
             },
             peaks: None,
+            tracks: None,
         })
     }
 
