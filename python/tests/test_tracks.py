@@ -55,7 +55,7 @@ def test_track_arrays_and_files_draw_what_the_cli_draws(func_coef, cli_render, t
 
 
 @pytest.mark.parametrize("tracks, words", [
-    ([np.zeros((4, 2))], r"tracks: streamline 0 has shape \(4, 2\)"),
+    ([np.zeros((4, 2))], r"tracks: streamline 0 has shape \[4, 2\]"),
     ([np.array([[0.0, np.nan, 0.0]])], r"tracks: streamline 0 has a point coordinate NaN"),
     ([np.zeros((3, 3), dtype=np.int64)], r"tracks: dtype int64"),
 ])
@@ -68,7 +68,8 @@ def test_bad_streamlines_raise_value_errors_naming_tracks(func_coef, tracks, wor
 def test_track_options_need_tracks(func_coef):
     image = nib.load(func_coef)
     with pytest.raises(ValueError, match=r"slab: needs tracks"):
-        glyphcast.render_sh(image.get_fdata(), image.affine, slab=2.0)
+        glyphcast.render_sh(image.get_fdata(), image.affine, basis="tournier07", legacy=True,
+                            slab=2.0)
     with pytest.raises(ValueError, match=r"tracks_radius=-1"):
-        glyphcast.render_sh(image.get_fdata(), image.affine, tracks=streamlines(),
-                            tracks_radius=-1.0)
+        glyphcast.render_sh(image.get_fdata(), image.affine, basis="tournier07", legacy=True,
+                            tracks=streamlines(), tracks_radius=-1.0)

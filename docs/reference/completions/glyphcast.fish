@@ -65,6 +65,11 @@ complete -c glyphcast -n "__fish_glyphcast_using_subcommand render" -l peaks-col
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand render" -l peaks-norm -d 'Peak lengths: global (proportional to the amplitude, the longest drawn gets --peaks-scale; the default), unit (all --peaks-scale) or none (amplitude times --peaks-scale)' -r
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand render" -l peaks-scale -d 'World half length of the longest peak (default: 0.5 times the smallest voxel size, so that it spans its voxel)' -r
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand render" -l peaks-width -d 'Peak diameter in pixels (default 2; at the target in a perspective view)' -r
+complete -c glyphcast -n "__fish_glyphcast_using_subcommand render" -l tracks -d 'Streamlines drawn as tubes with the glyphs, in one depth buffer (tubes and lobes hide each other where they are in front): a tractogram, MRtrix .tck, TrackVis .trk or TRX .trx, read in scanner millimetres as its format defines, the frame the volume\'s glyphs are placed in' -r -F
+complete -c glyphcast -n "__fish_glyphcast_using_subcommand render" -l tracks-color -d 'Tube colour: direction (RGB = |x|, |y|, |z| of each segment\'s direction, the default), a name (white, black, grey, red, green, blue, yellow, cyan, magenta), #rrggbb or r,g,b (0-255)' -r
+complete -c glyphcast -n "__fish_glyphcast_using_subcommand render" -l tracks-radius -d 'Tube radius in millimetres (default 0.15)' -r
+complete -c glyphcast -n "__fish_glyphcast_using_subcommand render" -l tracks-max -d 'Draw at most N streamlines: every k-th, k the smallest that leaves at most N' -r
+complete -c glyphcast -n "__fish_glyphcast_using_subcommand render" -l slab -d 'On slice views, only the parts of streamlines within MM millimetres of a slice\'s plane, each segment clipped there (as mrview crops tracks to a slab); a --block draws them whole' -r
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand render" -l save-scene -d 'Also write the scene that is rendered as a scene file (with the image, all or nothing)' -r -F
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand render" -s o -l output -d 'Output image (PNG)' -r -F
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand render" -l depth-out -d 'Also write the ray distance per pixel as a float32 .npy (NaN for misses)' -r -F
@@ -129,6 +134,11 @@ complete -c glyphcast -n "__fish_glyphcast_using_subcommand view" -l peaks-color
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand view" -l peaks-norm -d 'Peak lengths: global (proportional to the amplitude, the longest drawn gets --peaks-scale; the default), unit (all --peaks-scale) or none (amplitude times --peaks-scale)' -r
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand view" -l peaks-scale -d 'World half length of the longest peak (default: 0.5 times the smallest voxel size, so that it spans its voxel)' -r
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand view" -l peaks-width -d 'Peak diameter in pixels (default 2; at the target in a perspective view)' -r
+complete -c glyphcast -n "__fish_glyphcast_using_subcommand view" -l tracks -d 'Streamlines drawn as tubes with the glyphs, in one depth buffer (tubes and lobes hide each other where they are in front): a tractogram, MRtrix .tck, TrackVis .trk or TRX .trx, read in scanner millimetres as its format defines, the frame the volume\'s glyphs are placed in' -r -F
+complete -c glyphcast -n "__fish_glyphcast_using_subcommand view" -l tracks-color -d 'Tube colour: direction (RGB = |x|, |y|, |z| of each segment\'s direction, the default), a name (white, black, grey, red, green, blue, yellow, cyan, magenta), #rrggbb or r,g,b (0-255)' -r
+complete -c glyphcast -n "__fish_glyphcast_using_subcommand view" -l tracks-radius -d 'Tube radius in millimetres (default 0.15)' -r
+complete -c glyphcast -n "__fish_glyphcast_using_subcommand view" -l tracks-max -d 'Draw at most N streamlines: every k-th, k the smallest that leaves at most N' -r
+complete -c glyphcast -n "__fish_glyphcast_using_subcommand view" -l slab -d 'On slice views, only the parts of streamlines within MM millimetres of a slice\'s plane, each segment clipped there (as mrview crops tracks to a slab); a --block draws them whole' -r
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand view" -l save-scene -d 'Also write the scene that is rendered as a scene file (with the image, all or nothing)' -r -F
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand view" -l width -d 'Image width in pixels (default: the scene\'s)' -r
 complete -c glyphcast -n "__fish_glyphcast_using_subcommand view" -l height -d 'Image height in pixels (default: the scene\'s)' -r
