@@ -96,6 +96,10 @@ pub struct BenchResult {
     pub work: Option<crate::render::visibility::WorkCounts>,
     /// Against the float64 reference, when one was given.
     pub accuracy: Option<BenchAccuracy>,
+    /// Tube segments drawn with the glyphs (capsules of a tracks workload), 0 if none.
+    pub tube_segments: usize,
+    /// Their bytes on the GPU (each capsule's instance: ends, radius, colour).
+    pub tube_bytes: usize,
 }
 
 /// How a benchmarked frame compares with the float64 reference.
@@ -176,6 +180,8 @@ pub struct BenchCase<'a> {
     pub settings: &'a RenderSettings,
     /// The scene's reference (drawn without offset), to measure accuracy against.
     pub reference: Option<&'a Reference>,
+    /// Tubes drawn with the glyphs (a tracks workload), if any.
+    pub tubes: Option<&'a crate::render::peaks::PeakSet>,
 }
 
 /// Measures one case. Errors if the device has no timestamps.
@@ -219,7 +225,7 @@ fn measure_prepared(
     let mut frame = renderer.prepare_view(
         gpu,
         &sets,
-        &crate::render::headless::FrameView::new(camera, width, height),
+        &crate::render::headless::FrameView::new(camera, width, height).with_peaks(case.tubes),
         settings,
     )?;
     // The GPU holds its own copy now (a million band-8 glyphs: 230 MB less at the
@@ -304,5 +310,9 @@ fn measure_prepared(
         ),
         work,
         accuracy: case.reference.map(|r| r.compare(&image, camera)),
+        tube_segments: case.tubes.map_or(0, |t| t.segments.len()),
+        tube_bytes: case.tubes.map_or(0, |t| {
+            t.segments.len() * std::mem::size_of::<crate::render::peaks::CapsuleInstance>()
+        }),
     })
 }

@@ -298,6 +298,8 @@ mod tests {
             culling_report: "off (1 pass)".into(),
             work: None,
             accuracy: None,
+            tube_segments: 0,
+            tube_bytes: 0,
         }
     }
 

@@ -6,7 +6,9 @@
 //!   three random fibres each, the common case of real HARDI data;
 //! - `block:NX:NY:NZ:BAND[:front|:corner|:stacked]`: a dense 3D block of such fODFs
 //!   filling their voxels, seen head-on through its layers or from a corner, or its first
-//!   layer copied behind itself (what hidden glyphs cost).
+//!   layer copied behind itself (what hidden glyphs cost);
+//! - `tracks:COUNT:POINTS[:slab]`: a whole-brain tractogram's worth of synthetic
+//!   streamlines drawn as tubes, whole in 3D or a 5 mm slab over an axial slice.
 use crate::camera::{Camera, Projection};
 use crate::catalog::{MAX_SH_BAND, MAX_SYMMETRIC_ORDER};
 use crate::demo::{direction, fibre_tensor, glyph_set, symmetric};
@@ -368,6 +370,127 @@ fn check_band(band: u32) -> Result<()> {
     Ok(())
 }
 
+/// The most capsules (streamline segments) a tracks workload draws.
+const MAX_WORKLOAD_SEGMENTS: usize = 50_000_000;
+
+/// The tubes' radius of a tracks workload, millimetres.
+pub const TRACKS_RADIUS_MM: f64 = 0.2;
+
+/// The half width of the slab of `tracks:COUNT:POINTS:slab`, millimetres (a 5 mm slab).
+pub const TRACKS_SLAB_HALF_MM: f64 = 2.5;
+
+/// `count` synthetic streamlines of `points` points each, 1 mm apart, drawn as tubes of
+/// [`TRACKS_RADIUS_MM`]: smooth random curves (each step turns a little from the last)
+/// starting inside a brain-sized ellipsoid (half axes 70, 85 and 60 mm), as a
+/// whole-brain tractogram has them. Seen whole in 3D from the front and above, or with
+/// `slab` only their parts within [`TRACKS_SLAB_HALF_MM`] of the axial plane z = 0, seen
+/// from above (a slab over an axial slice). No glyphs: the scene's glyph sets are empty.
+pub fn tracks(
+    count: usize,
+    points: usize,
+    slab: bool,
+    width: u32,
+    height: u32,
+) -> Result<(Scene, crate::render::peaks::PeakSet)> {
+    use crate::glyph::capsule::Capsule;
+    use crate::render::peaks::{PeakSegment, PeakSet};
+    let segments = count.saturating_mul(points.saturating_sub(1));
+    if count == 0 || points < 2 || segments > MAX_WORKLOAD_SEGMENTS {
+        return Err(Error::setting_value(
+            Setting::Workload,
+            format!("{count} streamlines of {points} points"),
+            format!(
+                "a tracks workload has at least one streamline of 2 points or more, and at \
+                 most {MAX_WORKLOAD_SEGMENTS} segments"
+            ),
+        ));
+    }
+    let half = DVec3::new(70.0, 85.0, 60.0);
+    let mut rng = SplitMix64::new(0x7ac5 ^ (count as u64) << 16 ^ points as u64);
+    let mut tubes = Vec::with_capacity(if slab { segments / 20 } else { segments });
+    for _ in 0..count {
+        let mut p = loop {
+            let q = DVec3::new(rng.unit(), rng.unit(), rng.unit()) * 2.0 - DVec3::ONE;
+            if q.length_squared() <= 1.0 {
+                break q * half;
+            }
+        };
+        let mut d = rng.direction();
+        for _ in 1..points {
+            d = (d + 0.15 * rng.direction()).normalize();
+            let next = p + d;
+            let kept =
+                !slab || (p.z.abs() <= TRACKS_SLAB_HALF_MM && next.z.abs() <= TRACKS_SLAB_HALF_MM);
+            if kept {
+                tubes.push(PeakSegment {
+                    capsule: Capsule {
+                        a: p,
+                        b: next,
+                        radius: TRACKS_RADIUS_MM,
+                    },
+                    color: d.abs().to_array(),
+                });
+            }
+            p = next;
+        }
+    }
+    let camera = if slab {
+        Camera {
+            projection: Projection::Orthographic {
+                height: 2.3 * half.y,
+            },
+            eye: DVec3::new(0.0, 0.0, 400.0),
+            target: DVec3::ZERO,
+            up: DVec3::Y,
+        }
+    } else {
+        Camera {
+            projection: Projection::Perspective { fov_y_deg: 30.0 },
+            eye: DVec3::new(0.0, -420.0, 260.0),
+            target: DVec3::ZERO,
+            up: DVec3::Z,
+        }
+    };
+    let scene = Scene {
+        glyph_sets: Vec::new(),
+        camera,
+        image: ImageSize { width, height },
+    };
+    Ok((scene, PeakSet { segments: tubes }))
+}
+
+/// `tracks:COUNT:POINTS[:slab]` ([`tracks`]): the scene and its tubes; `None` for any
+/// other workload ([`parse`]).
+pub fn parse_tracks(
+    spec: &str,
+    width: u32,
+    height: u32,
+) -> Option<Result<(Scene, crate::render::peaks::PeakSet)>> {
+    let parts: Vec<&str> = spec.split(':').collect();
+    if parts.first() != Some(&"tracks") {
+        return None;
+    }
+    let bad = || {
+        Error::setting_value(
+            Setting::Workload,
+            format!("'{}'", crate::error::quoted(spec)),
+            "not tracks:COUNT:POINTS[:slab]",
+        )
+    };
+    let number = |s: &str| s.parse::<usize>().map_err(|_| bad());
+    Some(match parts.as_slice() {
+        ["tracks", count, points, rest @ ..] => {
+            let slab = match rest {
+                [] => Ok(false),
+                ["slab"] => Ok(true),
+                _ => Err(bad()),
+            };
+            slab.and_then(|slab| tracks(number(count)?, number(points)?, slab, width, height))
+        }
+        _ => Err(bad()),
+    })
+}
+
 /// Parses `grid:COUNT:ORDER`, `fodf:COUNT:BAND` or
 /// `block:NX:NY:NZ:BAND[:front|:corner|:stacked]`.
 pub fn parse(spec: &str, width: u32, height: u32) -> Result<Scene> {
@@ -376,7 +499,8 @@ pub fn parse(spec: &str, width: u32, height: u32) -> Result<Scene> {
         Error::setting_value(
             Setting::Workload,
             format!("'{}'", crate::error::quoted(spec)),
-            "not grid:COUNT:ORDER, fodf:COUNT:BAND or block:NX:NY:NZ:BAND[:front|:corner|:stacked]",
+            "not grid:COUNT:ORDER, fodf:COUNT:BAND, block:NX:NY:NZ:BAND[:front|:corner|:stacked] \
+             or tracks:COUNT:POINTS[:slab]",
         )
     };
     let number = |s: &str| s.parse::<usize>().map_err(|_| bad());
@@ -400,6 +524,35 @@ pub fn parse(spec: &str, width: u32, height: u32) -> Result<Scene> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn tracks_workloads_make_their_segments() {
+        let (scene, whole) = tracks(10, 5, false, 64, 48).expect("tracks");
+        assert!(scene.glyph_sets.is_empty());
+        assert_eq!(whole.segments.len(), 40);
+        for s in &whole.segments {
+            let step = (s.capsule.b - s.capsule.a).length();
+            assert!((step - 1.0).abs() < 1e-9 && s.capsule.radius == TRACKS_RADIUS_MM);
+        }
+        // The slab keeps the segments within 2.5 mm of z = 0, and only those.
+        let (_, slab) = tracks(2000, 50, true, 64, 48).expect("slab");
+        assert!(!slab.segments.is_empty() && slab.segments.len() < 2000 * 49 / 5);
+        assert!(slab.segments.iter().all(|s| {
+            s.capsule.a.z.abs() <= TRACKS_SLAB_HALF_MM && s.capsule.b.z.abs() <= TRACKS_SLAB_HALF_MM
+        }));
+        assert!(parse_tracks("fodf:10:8", 64, 48).is_none());
+        assert!(parse_tracks("tracks:10:5:slab", 64, 48).is_some_and(|r| r.is_ok()));
+        for bad in [
+            "tracks:10",
+            "tracks:10:1",
+            "tracks:0:5",
+            "tracks:10:5:thick",
+            "tracks:x:5",
+        ] {
+            let err = parse_tracks(bad, 64, 48).expect("a tracks spec").err();
+            assert!(err.is_some(), "{bad} was taken");
+        }
+    }
     use crate::glyph::sh::{sh_basis_values, sh_eval};
 
     /// The glyphs of `fodf(count, band)` as the workload first made them: one glyph at a

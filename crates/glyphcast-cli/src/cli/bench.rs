@@ -8,6 +8,7 @@ use glyphcast::bench::{self, BenchCase, BenchFrames, BenchResult, Reference, rat
 use glyphcast::error::Relation;
 use glyphcast::render::headless::HeadlessRenderer;
 use glyphcast::render::options::{RenderOptions, Value};
+use glyphcast::render::peaks::PeakSet;
 use glyphcast::render::{
     AmbientOcclusion, MeshKind, Method, Refinement, RenderPath, RenderSettings, Shadows,
 };
@@ -26,10 +27,12 @@ pub struct BenchArgs {
     /// Scene file to measure (default: the --workload).
     #[arg(value_name = "SCENE")]
     scene: Option<PathBuf>,
-    /// Generated workload: grid:COUNT:ORDER (fibre tensors), fodf:COUNT:BAND (SH fODFs) or
+    /// Generated workload: grid:COUNT:ORDER (fibre tensors), fodf:COUNT:BAND (SH fODFs),
     /// block:NX:NY:NZ:BAND[:front|:corner|:stacked] (a dense 3D block of touching fODFs,
     /// seen head-on through its layers or from a corner, or its first layer copied into
-    /// every layer, seen head-on).
+    /// every layer, seen head-on) or tracks:COUNT:POINTS[:slab] (COUNT synthetic
+    /// streamlines of POINTS points 1 mm apart in a brain-sized volume, drawn as tubes of
+    /// radius 0.2 mm: whole in 3D, or their parts in a 5 mm slab over an axial slice).
     #[arg(long, default_value = "grid:100:8")]
     workload: String,
     /// A sweep instead of one measurement: steps (the paper's Table 1), scaling (glyph
@@ -147,7 +150,20 @@ impl BenchArgs {
         paths
     }
 
+    /// The scene and tubes of a `tracks:` workload; `None` for any other.
+    fn tracks_workload(&self) -> Option<Result<(Scene, PeakSet)>> {
+        let (w, h) = self.size(if self.quick { 256 } else { 512 });
+        workload::parse_tracks(&self.workload, w, h)
+    }
+
     fn base_scene(&self) -> Result<Scene> {
+        if self.scene.is_none() && self.tracks_workload().is_some() {
+            return Err(Error::conflict(
+                "--sweep",
+                Relation::Excludes,
+                "a tracks workload (it is measured alone)",
+            ));
+        }
         match &self.scene {
             Some(path) => {
                 let mut scene = Scene::load(path)?;
@@ -176,6 +192,8 @@ struct Case {
 #[derive(Default)]
 struct Plan {
     scenes: Vec<(String, Scene)>,
+    /// Per scene, the tubes drawn with it (a tracks workload's), if any.
+    tubes: Vec<Option<PeakSet>>,
     cases: Vec<Case>,
     /// Configurations left out, with the reason, for the report.
     skipped: Vec<String>,
@@ -190,6 +208,7 @@ struct Plan {
 impl Plan {
     fn scene(&mut self, name: impl Into<String>, scene: Scene) -> usize {
         self.scenes.push((name.into(), scene));
+        self.tubes.push(None);
         self.scenes.len() - 1
     }
 
@@ -263,6 +282,32 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
             }
             let settings = options.settings()?;
             options.check_method_reads(&settings)?;
+            if args.scene.is_none()
+                && let Some(tracks) = args.tracks_workload()
+            {
+                let (scene, tubes) = tracks?;
+                for (flag, given) in [
+                    ("--save-scene", args.save_scene.is_some()),
+                    ("--accuracy", args.accuracy),
+                ] {
+                    if given {
+                        return Err(Error::conflict(
+                            flag,
+                            Relation::Excludes,
+                            "a tracks workload (its tubes are no scene's glyphs)",
+                        ));
+                    }
+                }
+                let scene = plan.scene(base_name(), scene);
+                plan.tubes[scene] = Some(tubes);
+                plan.cases.push(Case {
+                    label: "default".into(),
+                    scene,
+                    settings,
+                    accuracy: false,
+                });
+                return Ok(plan);
+            }
             let base = args.base_scene()?;
             if let Some(path) = &args.save_scene {
                 let arrays = match args.scene_arrays {
@@ -597,6 +642,7 @@ fn run_plan(args: &BenchArgs) -> Result<()> {
             scene,
             settings: &case.settings,
             reference,
+            tubes: plan.tubes[case.scene].as_ref(),
         };
         match bench::run(&gpu, &mut renderer, &bench_case, args.frames()) {
             Ok(result) => results.push(result),
@@ -620,6 +666,17 @@ fn run_plan(args: &BenchArgs) -> Result<()> {
         table.push_str(&format!(
             "\nGPU milliseconds per frame (median), glyphs by size and method:\n\n{}",
             bench::tables::pivot(&results, &plan.columns)
+        ));
+    }
+    for r in results.iter().filter(|r| r.tube_segments > 0) {
+        let mb = r.tube_bytes as f64 / 1e6;
+        table.push_str(&format!(
+            "\nTubes ({}): {} segments, {mb:.1} MB on the GPU ({:.1} MB per million \
+             segments), {:.1} million segments per second\n",
+            r.label,
+            r.tube_segments,
+            mb / (r.tube_segments as f64 / 1e6),
+            r.tube_segments as f64 / (r.gpu_ms_median * 1e-3) / 1e6,
         ));
     }
     for line in plan.skipped.iter().chain(&failed) {
