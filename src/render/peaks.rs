@@ -3,7 +3,8 @@
 //! where they meet (as mrview draws fixels: lines through the voxel centres).
 //!
 //! A pass of its own, beside the glyph pass and the underlay's: one instanced draw of a
-//! box per capsule (glsl/peaks.vert), whose fragments intersect the pixel's ray with the
+//! screen quad per capsule (glsl/peaks.vert: two triangles that hold its projection),
+//! whose fragments intersect the pixel's ray with the
 //! capsule in closed form (glsl/peaks.frag) and write colour, depth and the ray
 //! distance (the depth map holds the first glyph or peak a ray meets). Capsules need no
 //! per-order shaders, so they are not a glyph kind of the catalog. The float64 reference
@@ -17,8 +18,7 @@ use crate::camera::{Camera, Ray};
 use crate::error::Result;
 use crate::glyph::capsule::{Capsule, CapsuleHit};
 use crate::render::frame::{FRAME_DESCRIPTOR, FRAME_USAGE, FrameParams, SceneExtent};
-// The capsules' boxes are indexed as the glyphs' boxes.
-use crate::render::raycast::{CUBE_INDICES, TargetFormats, viewport_and_scissor};
+use crate::render::raycast::{TargetFormats, viewport_and_scissor};
 use crate::render::shaders::{PEAKS_FRAGMENT, PEAKS_VERTEX};
 use crate::vk::recording::bind_graphics;
 use crate::vk::{
@@ -134,8 +134,8 @@ impl PeaksPass {
             layout,
             indices: Buffer::with_data(
                 ctx,
-                "peak box indices",
-                &CUBE_INDICES,
+                "peak quad indices",
+                &QUAD_INDICES,
                 vk::BufferUsageFlags::INDEX_BUFFER,
             )?,
         })
@@ -186,7 +186,7 @@ impl PeaksPass {
             bind_graphics(d, cmd, pipeline, peaks.descriptor_set, (viewport, scissor));
             d.cmd_bind_vertex_buffers(cmd, 0, &[peaks.instances.handle], &[0]);
             d.cmd_bind_index_buffer(cmd, self.indices.handle, 0, vk::IndexType::UINT16);
-            d.cmd_draw_indexed(cmd, CUBE_INDICES.len() as u32, peaks.count, 0, 0, 0);
+            d.cmd_draw_indexed(cmd, QUAD_INDICES.len() as u32, peaks.count, 0, 0, 0);
         }
     }
 }
@@ -210,8 +210,11 @@ fn instance(segment: &PeakSegment) -> CapsuleInstance {
     }
 }
 
-/// The peaks' pipeline: instanced boxes (one 48-byte instance each), front faces only,
-/// the glyphs' attachments and depth test.
+/// The two triangles of a capsule's screen quad (glsl/peaks.vert), corners 0 to 3.
+const QUAD_INDICES: [u16; 6] = [0, 1, 2, 2, 1, 3];
+
+/// The peaks' pipeline: instanced screen quads (one 48-byte instance each), either
+/// winding, the glyphs' attachments and depth test.
 fn create_pipeline(
     ctx: &DeviceContext,
     formats: TargetFormats,
@@ -241,7 +244,7 @@ fn create_pipeline(
         stages: &stages,
         vertex_bindings: &bindings,
         vertex_attributes: &attributes,
-        cull: vk::CullModeFlags::BACK,
+        cull: vk::CullModeFlags::NONE,
         color_formats: &color_formats,
         depth_format: formats.depth,
         layout,
