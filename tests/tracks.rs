@@ -228,7 +228,7 @@ fn tubes_and_glyphs_hide_each_other_on_both_paths() {
 
 /// Writes `tractogram` as an MRtrix .tck (float32 little-endian, NaN between streamlines,
 /// Inf at the end), as MRtrix's own writer lays it out.
-fn write_tck(path: &Path, tractogram: &Tractogram) {
+pub(crate) fn write_tck(path: &Path, tractogram: &Tractogram) {
     let mut header = format!(
         "mrtrix tracks\ncount: {}\ndatatype: Float32LE\nfile: . ",
         tractogram.len()

@@ -466,3 +466,59 @@ fn peaks_are_renders_and_follow_the_slice() {
     let (count, _, _) = differing_pixels(&plain, &with, 0);
     assert!(count > 100, "the peaks change {count} pixels");
 }
+
+/// `--tracks` with `--slab` in the viewer: the window shows what `render` draws, tubes
+/// and glyphs in one depth buffer, and after a slice step the slab has moved with the
+/// slice (the window shows `render --slice` of the next slice, and that differs).
+#[test]
+fn tracks_are_renders_and_their_slab_follows_the_slice() {
+    let Some(x) = Xvfb::start("tracks_are_renders_and_their_slab_follows_the_slice") else {
+        return;
+    };
+    let dir = out("viewer-tracks");
+    std::fs::create_dir_all(&dir).expect("folder");
+    let fod = data("tests/data/dipy/func_coef.nii.gz");
+    // Lines along x at the heights of axial slices 2 and 3 (identity affine), and one
+    // that climbs through both.
+    let mut tractogram = glyphcast_dmri::io::tracks::Tractogram::default();
+    for (y, z0, z1) in [(0.4, 2.0, 2.0), (1.6, 3.0, 3.0), (1.0, 1.5, 3.5)] {
+        tractogram.offsets.push(tractogram.points.len() as u64);
+        tractogram.points.extend((0..21).map(|k| {
+            let s = k as f32 / 20.0;
+            [-0.5 + 2.0 * s, y, z0 + (z1 - z0) * s]
+        }));
+    }
+    let tck = dir.join("lines.tck");
+    crate::tracks::write_tck(&tck, &tractogram);
+    let size_args = panel_size();
+    let mut options: Vec<&str> = size_args.iter().map(String::as_str).collect();
+    options.extend([
+        "--tracks",
+        path_str(&tck),
+        "--slab",
+        "0.3",
+        "--tracks-radius",
+        "0.1",
+    ]);
+    let glyphs = ["--sh", fod.as_str(), "--basis", "dipy", "--scale", "0.3"];
+    let rendered = render(&glyphs, "tracks-render.png", &options);
+    let (run, shot, window) = scripted("tracks", 3, "");
+    view(&x, &glyphs, &options, &run);
+    assert_shows(&window, &shot, &rendered, None);
+    let (run, shot, window) = scripted("tracks-moved", 4, "slice:+1");
+    view(&x, &glyphs, &options, &run);
+    let mut moved = options.clone();
+    moved.extend(["--slice", "axial:3"]);
+    let moved = render(&glyphs, "tracks-moved-render.png", &moved);
+    assert_shows(&window, &shot, &moved, None);
+    let (changed, _, _) = differing_pixels(&moved, &rendered, 0);
+    assert!(changed > 100, "the next slice looks the same");
+    // The tubes are in the picture: without them it differs.
+    let plain = render(
+        &glyphs,
+        "tracks-none-render.png",
+        &panel_size().each_ref().map(String::as_str),
+    );
+    let (count, _, _) = differing_pixels(&plain, &rendered, 0);
+    assert!(count > 60, "the tubes change {count} pixels");
+}
