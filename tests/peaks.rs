@@ -112,6 +112,80 @@ pub(crate) fn capsule_depth(peaks: &PeakSet, camera: &Camera, w: u32, h: u32) ->
     depth
 }
 
+/// `peaks` drawn alone by `camera` on a `w` x `h` image, against the capsule reference
+/// outside the one-pixel silhouette band: the image, the reference's coverage and the
+/// agreement.
+pub(crate) fn render_alone(
+    gpu: &glyphcast::Gpu,
+    renderer: &mut HeadlessRenderer,
+    peaks: &PeakSet,
+    camera: &Camera,
+    (w, h): (u32, u32),
+) -> (RenderedImage, Vec<bool>, Agreement) {
+    let view = FrameView::new(camera, w, h).with_peaks(Some(peaks));
+    let image = renderer
+        .render_view(gpu, &[], &view, &RenderSettings::default())
+        .expect("rendering capsules alone");
+    let reference = capsule_depth(peaks, camera, w, h);
+    let covered: Vec<bool> = reference.iter().map(|d| !d.is_nan()).collect();
+    let band = |x, y| in_band(&covered, w as usize, h as usize, x, y);
+    let a = compare(&image, &reference, &band);
+    eprintln!("{:?}: {a:?}", camera.projection);
+    (image, covered, a)
+}
+
+/// Glyphs and capsules in one depth buffer, from their float64 references: the nearer
+/// surface's depth at each pixel, and the pixels left out of comparisons (the
+/// silhouette bands of the glyphs, of the capsules and of the curve where the nearer
+/// one changes).
+pub(crate) struct Nearer {
+    pub(crate) depth: Vec<f64>,
+    pub(crate) band: Vec<bool>,
+    /// Pixels where both are hit, outside the band: where the capsules are nearer, and
+    /// where the glyphs are.
+    pub(crate) won: (usize, usize),
+}
+
+pub(crate) fn nearer(glyphs: &[f64], capsules: &[f64], (w, h): (usize, usize)) -> Nearer {
+    let depth = glyphs
+        .iter()
+        .zip(capsules)
+        .map(|(&g, &c)| {
+            if g.is_nan() {
+                c
+            } else if c.is_nan() {
+                g
+            } else {
+                g.min(c)
+            }
+        })
+        .collect();
+    let covered = |d: &[f64]| d.iter().map(|d| !d.is_nan()).collect::<Vec<bool>>();
+    let (glyph_cover, capsule_cover) = (covered(glyphs), covered(capsules));
+    let capsule_first: Vec<bool> = glyphs
+        .iter()
+        .zip(capsules)
+        .map(|(&g, &c)| !c.is_nan() && (g.is_nan() || c < g))
+        .collect();
+    let band: Vec<bool> = (0..w * h)
+        .map(|k| {
+            let (x, y) = (k % w, k / w);
+            in_band(&glyph_cover, w, h, x, y)
+                || in_band(&capsule_cover, w, h, x, y)
+                || in_band(&capsule_first, w, h, x, y)
+        })
+        .collect();
+    let both: Vec<usize> = (0..w * h)
+        .filter(|&k| !band[k] && !glyphs[k].is_nan() && !capsules[k].is_nan())
+        .collect();
+    let first = both.iter().filter(|&&k| capsule_first[k]).count();
+    Nearer {
+        depth,
+        band,
+        won: (first, both.len() - first),
+    }
+}
+
 #[test]
 fn capsules_match_the_float64_reference() {
     let gpu = gpu();
@@ -123,15 +197,8 @@ fn capsules_match_the_float64_reference() {
         camera(Projection::Orthographic { height: 3.6 }, eye),
         camera(Projection::Perspective { fov_y_deg: 40.0 }, eye),
     ] {
-        let view = FrameView::new(&camera, w, h).with_peaks(Some(&peaks));
-        let image = renderer
-            .render_view(&gpu, &[], &view, &RenderSettings::default())
-            .expect("rendering peaks alone");
-        let reference = capsule_depth(&peaks, &camera, w, h);
-        let covered: Vec<bool> = reference.iter().map(|d| !d.is_nan()).collect();
+        let (image, covered, a) = render_alone(&gpu, &mut renderer, &peaks, &camera, (w, h));
         let band = |x, y| in_band(&covered, w as usize, h as usize, x, y);
-        let a = compare(&image, &reference, &band);
-        eprintln!("{:?}: {a:?}", camera.projection);
         assert!(a.compared > 300, "{a:?}: too few peak pixels to judge");
         assert_eq!(a.coverage_errors, 0, "{a:?}");
         assert!(a.worst_depth <= DEPTH_TOLERANCE, "{a:?}");
@@ -200,51 +267,20 @@ fn peaks_and_glyphs_share_one_depth_buffer() {
     let world: Vec<_> = sets.iter().flat_map(|s| s.world.iter().cloned()).collect();
     let glyphs = reference_depth(&world, &camera, w, h);
     let capsules = capsule_depth(&peaks, &camera, w, h);
-    let nearer: Vec<f64> = glyphs
-        .iter()
-        .zip(&capsules)
-        .map(|(&g, &c)| match (g.is_nan(), c.is_nan()) {
-            (true, _) => c,
-            (_, true) => g,
-            _ => g.min(c),
-        })
-        .collect();
-    let covered = |d: &[f64]| d.iter().map(|d| !d.is_nan()).collect::<Vec<bool>>();
-    let (glyph_cover, capsule_cover) = (covered(&glyphs), covered(&capsules));
-    // Which surface is nearer, where both are hit: its change is a silhouette too (the
-    // curve where a peak enters a lobe).
-    let peak_first: Vec<bool> = glyphs
-        .iter()
-        .zip(&capsules)
-        .map(|(&g, &c)| !c.is_nan() && (g.is_nan() || c < g))
-        .collect();
-    let (wu, hu) = (w as usize, h as usize);
-    let band = |x, y| {
-        in_band(&glyph_cover, wu, hu, x, y)
-            || in_band(&capsule_cover, wu, hu, x, y)
-            || in_band(&peak_first, wu, hu, x, y)
-    };
-    let a = compare(&image, &nearer, &band);
+    let wu = w as usize;
+    let n = nearer(&glyphs, &capsules, (wu, h as usize));
+    let band = |x, y| n.band[y * wu + x];
+    let a = compare(&image, &n.depth, &band);
     eprintln!("{a:?}");
     assert_eq!(a.coverage_errors, 0, "{a:?}");
     // The glyphs' exact method is held to its own bound elsewhere (depth_accuracy); here
     // the nearer surface must win: the peaks' tolerance, and the glyphs' 1e-4 of their
     // radius, where they are nearer.
     assert!(a.worst_depth <= 1e-4, "{a:?}");
-    let won = |first: bool| {
-        (0..hu)
-            .flat_map(|y| (0..wu).map(move |x| (x, y)))
-            .filter(|&(x, y)| {
-                !band(x, y) && !glyphs[y * wu + x].is_nan() && !capsules[y * wu + x].is_nan()
-            })
-            .filter(|&(x, y)| peak_first[y * wu + x] == first)
-            .count()
-    };
+    let (peaks_won, glyphs_won) = n.won;
     assert!(
-        won(true) > 20 && won(false) > 20,
-        "both surfaces must win somewhere: peaks {} glyphs {}",
-        won(true),
-        won(false)
+        peaks_won > 20 && glyphs_won > 20,
+        "both surfaces must win somewhere: peaks {peaks_won} glyphs {glyphs_won}"
     );
 }
 

@@ -3,7 +3,7 @@
 //! to 1e-4), tubes and glyphs hiding each other in one depth buffer on the fragment and
 //! the compute paths, and `render --tracks` on a real fODF volume, its refusals included.
 use crate::common::{self, expect_failure, expect_usage_failure, fresh_dir, glyphcast, gpu};
-use crate::peaks::{capsule_depth, compare, in_band};
+use crate::peaks::{capsule_depth, compare, nearer, render_alone};
 use glam::DVec3;
 use glyphcast::camera::{Camera, Projection};
 use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
@@ -95,15 +95,7 @@ fn tubes_match_the_float64_reference() {
         camera(Projection::Orthographic { height: 4.0 }, eye),
         camera(Projection::Perspective { fov_y_deg: 42.0 }, eye),
     ] {
-        let view = FrameView::new(&camera, w, h).with_peaks(Some(&tubes));
-        let image = renderer
-            .render_view(&gpu, &[], &view, &RenderSettings::default())
-            .expect("rendering the tubes");
-        let reference = capsule_depth(&tubes, &camera, w, h);
-        let covered: Vec<bool> = reference.iter().map(|d| !d.is_nan()).collect();
-        let band = |x, y| in_band(&covered, w as usize, h as usize, x, y);
-        let a = compare(&image, &reference, &band);
-        eprintln!("{:?}: {a:?}", camera.projection);
+        let (_, _, a) = render_alone(&gpu, &mut renderer, &tubes, &camera, (w, h));
         assert!(a.compared > 500, "{a:?}: too few tube pixels to judge");
         assert_eq!(a.coverage_errors, 0, "holes or false hits: {a:?}");
         assert!(a.worst_depth <= 1e-4, "{a:?}");
@@ -168,42 +160,10 @@ fn tubes_and_glyphs_hide_each_other_on_both_paths() {
     let world: Vec<_> = sets.iter().flat_map(|s| s.world.iter().cloned()).collect();
     let glyphs = reference_depth(&world, &camera, w, h);
     let capsules = capsule_depth(&tubes, &camera, w, h);
-    let nearer: Vec<f64> = glyphs
-        .iter()
-        .zip(&capsules)
-        .map(|(&g, &c)| {
-            if g.is_nan() {
-                c
-            } else if c.is_nan() {
-                g
-            } else {
-                g.min(c)
-            }
-        })
-        .collect();
-    let covered = |d: &[f64]| d.iter().map(|d| !d.is_nan()).collect::<Vec<bool>>();
-    let (glyph_cover, tube_cover) = (covered(&glyphs), covered(&capsules));
-    let tube_first: Vec<bool> = glyphs
-        .iter()
-        .zip(&capsules)
-        .map(|(&g, &c)| !c.is_nan() && (g.is_nan() || c < g))
-        .collect();
-    let (wu, hu) = (w as usize, h as usize);
-    let band = |x, y| {
-        in_band(&glyph_cover, wu, hu, x, y)
-            || in_band(&tube_cover, wu, hu, x, y)
-            || in_band(&tube_first, wu, hu, x, y)
-    };
-    let both = |first: bool| {
-        (0..hu)
-            .flat_map(|y| (0..wu).map(move |x| (x, y)))
-            .filter(|&(x, y)| {
-                !band(x, y) && !glyphs[y * wu + x].is_nan() && !capsules[y * wu + x].is_nan()
-            })
-            .filter(|&(x, y)| tube_first[y * wu + x] == first)
-            .count()
-    };
-    let (tubes_win, glyphs_win) = (both(true), both(false));
+    let wu = w as usize;
+    let n = nearer(&glyphs, &capsules, (wu, h as usize));
+    let band = |x, y| n.band[y * wu + x];
+    let (tubes_win, glyphs_win) = n.won;
     eprintln!("where both are hit: tubes nearer at {tubes_win}, glyphs at {glyphs_win}");
     assert!(
         tubes_win > 200 && glyphs_win > 200,
@@ -218,7 +178,7 @@ fn tubes_and_glyphs_hide_each_other_on_both_paths() {
         let image = renderer
             .render_view(&gpu, &sets, &view, &settings)
             .expect("rendering tubes and glyphs");
-        let a = compare(&image, &nearer, &band);
+        let a = compare(&image, &n.depth, &band);
         eprintln!("{path:?}: {a:?}");
         assert!(a.compared > 3000, "{path:?}: {a:?}");
         assert_eq!(a.coverage_errors, 0, "{path:?}: {a:?}");
