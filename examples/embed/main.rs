@@ -854,7 +854,7 @@ fn main() {
             eprintln!(
                 "usage: embed [--frames N] [--in-flight K] [--depth standard|reversed] \
                  [--samples 1|2|4|8] [--allocator gpu-allocator|plain] [--sync-validation] \
-                 [--screenshot OUT.png]"
+                 [--no-fragment-stores] [--screenshot OUT.png]"
             );
             std::process::exit(2);
         }
