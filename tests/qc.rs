@@ -497,3 +497,77 @@ fn four_processes_at_once_give_identical_outputs() {
     // Something was drawn.
     assert!(outputs[0].1.len() > 128);
 }
+
+/// `qc --tracks`: the tracks mosaic, the ODF mosaic's panels with the streamlines near
+/// each slice drawn over the glyphs as tubes coloured by direction, is written, differs
+/// from the ODF mosaic, and is recorded (the input with its checksum, the figure).
+#[test]
+fn tracks_draw_a_mosaic_of_their_own_and_are_recorded() {
+    let root = fresh_dir("qc-tracks");
+    // Straight lines through the volume's world box (x 2..20, y 3..25, z 12..25 mm)
+    // along each axis: every mosaic row's slices meet some.
+    let mut tractogram = glyphcast_dmri::io::tracks::Tractogram::default();
+    for k in 0..12 {
+        let t = k as f32 / 11.0;
+        let lines: [([f32; 3], [f32; 3]); 3] = [
+            (
+                [0.0, 5.0 + 18.0 * t, 14.0 + 9.0 * t],
+                [22.0, 5.0 + 18.0 * t, 14.0 + 9.0 * t],
+            ),
+            (
+                [4.0 + 14.0 * t, 1.0, 14.0 + 9.0 * t],
+                [4.0 + 14.0 * t, 27.0, 14.0 + 9.0 * t],
+            ),
+            (
+                [4.0 + 14.0 * t, 5.0 + 18.0 * t, 10.0],
+                [4.0 + 14.0 * t, 5.0 + 18.0 * t, 27.0],
+            ),
+        ];
+        for (a, b) in lines {
+            tractogram.offsets.push(tractogram.points.len() as u64);
+            tractogram.points.extend((0..41).map(|s| {
+                let s = s as f32 / 40.0;
+                [0, 1, 2].map(|c| a[c] + (b[c] - a[c]) * s)
+            }));
+        }
+    }
+    let tck = root.join("lines.tck");
+    crate::tracks::write_tck(&tck, &tractogram);
+    let out = root.join("set");
+    let run = qc(&["--tracks", text(&tck), "-o", text(&out)]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let odf = glyphcast::io::png::read_png_rgba8(&out.join("odf-mosaic.png")).expect("odf");
+    let tracks = glyphcast::io::png::read_png_rgba8(&out.join("tracks-mosaic.png"))
+        .expect("the tracks mosaic is written");
+    assert_eq!((odf.0, odf.1), (tracks.0, tracks.1), "the same panels");
+    // Strongly red, green or blue pixels (the tubes along x, y and z) are many more.
+    let pure = |rgba: &[u8]| {
+        rgba.chunks(4)
+            .filter(|p| {
+                let (max, min) = (p[..3].iter().max().unwrap(), p[..3].iter().min().unwrap());
+                *max > 150 && *min < 40 && p[..3].iter().filter(|&&c| c > 100).count() == 1
+            })
+            .count()
+    };
+    assert!(
+        pure(&tracks.2) > pure(&odf.2) + 300,
+        "tubes drawn: {} pure-colour pixels against {}",
+        pure(&tracks.2),
+        pure(&odf.2)
+    );
+    let doc = sidecar(&out);
+    let tracks_input = doc["inputs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|i| i["role"] == "tracks")
+        .expect("the tractogram among the inputs");
+    assert_eq!(tracks_input["sha256"].as_str().map(str::len), Some(64));
+    let figures: Vec<&str> = doc["figures"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["file"].as_str().unwrap())
+        .collect();
+    assert!(figures.contains(&"tracks-mosaic.png"), "{figures:?}");
+}

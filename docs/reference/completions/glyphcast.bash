@@ -633,7 +633,7 @@ _glyphcast() {
             return 0
             ;;
         glyphcast__subcmd__qc)
-            opts="-o -h --output --peaks --peaks-frame --mask --underlay --underlay-range --basis --legacy --force-basis --frame --orientation --panel-size --method --negative --samples --device --validation --quiet --help"
+            opts="-o -h --output --peaks --peaks-frame --tracks --mask --underlay --underlay-range --basis --legacy --force-basis --frame --orientation --panel-size --method --negative --samples --device --validation --quiet --help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -652,6 +652,10 @@ _glyphcast() {
                     return 0
                     ;;
                 --peaks-frame)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --tracks)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;

@@ -27,6 +27,11 @@ pub struct QcArgs {
     /// (default: the file's own; world for a NIfTI written by MRtrix's sh2peaks).
     #[arg(long, value_name = "FRAME", requires = "peaks")]
     peaks_frame: Option<String>,
+    /// Tractogram (.tck, .trk, .trx, in scanner millimetres) for the tracks mosaic: the ODF
+    /// mosaic's panels with the streamlines within half a voxel of each slice drawn over
+    /// the glyphs as tubes (tracks-mosaic.png).
+    #[arg(long, value_name = "FILE")]
+    tracks: Option<PathBuf>,
     /// Mask of the brain (the ODFs' grid): the cuts, regions and glyphs stay inside it.
     /// Default: voxels with finite coefficients and a positive mean amplitude.
     #[arg(long, value_name = "IMAGE")]
@@ -88,6 +93,7 @@ impl QcArgs {
         Ok(QcRequest {
             fod: self.fod.clone(),
             peaks: self.peaks.clone(),
+            tracks: self.tracks.clone(),
             mask: self.mask.clone(),
             underlay: self.underlay.clone(),
             volume: VolumeRequest {
@@ -120,6 +126,7 @@ pub fn run(args: &QcArgs) -> Result<()> {
         .check(glyphcast_dmri::volume::Coefficients::Sh)?;
     let inputs: Vec<&std::path::Path> = std::iter::once(args.fod.as_path())
         .chain(args.peaks.as_deref())
+        .chain(args.tracks.as_deref())
         .chain(args.mask.as_deref())
         .chain(args.underlay.as_deref())
         .collect();

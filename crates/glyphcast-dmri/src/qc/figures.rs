@@ -12,8 +12,12 @@ use std::sync::Arc;
 
 use super::survey::{PlaneCuts, Region};
 use crate::io::nifti::AffineSource;
+use crate::io::tracks::Tractogram;
 use crate::volume::{CoefficientFrame, UnderlayPlacement};
-use crate::volume::{PeakStyle, PeaksColor, PeaksNorm, ViewPeaks, load_peaks, peak_set};
+use crate::volume::{
+    PeakStyle, PeaksColor, PeaksNorm, TrackStyle, TracksColor, ViewPeaks, ViewTracks, load_peaks,
+    peak_set, view_tubes,
+};
 use crate::volume::{Slice, SliceAxis, Volume, VolumeOptions, VolumeScene, VoxelRanges};
 use crate::volume::{view_underlay, volume_scene};
 use glyphcast::glyph::NegativeMode;
@@ -328,6 +332,67 @@ pub fn peaks_mosaic(
              a voxel each way, which the larger half of the peaks reach; the glyphs at {} \
              times their size in the ODF mosaic.",
             peaks.display(),
+            PEAKS_MOSAIC_GLYPH_SIZE
+        ),
+        panels: mosaic.plan.panels.clone(),
+        columns: mosaic.plan.columns,
+    };
+    render(context, renderer, BuiltFigure { plan, scenes })
+}
+
+/// The streamlines drawn in the tracks mosaic: within half a voxel of each panel's slice,
+/// tubes of a tenth of a voxel's radius.
+const TRACKS_MOSAIC_SLAB_VOXELS: f64 = 0.5;
+const TRACKS_MOSAIC_RADIUS_VOXELS: f64 = 0.1;
+
+/// The tracks mosaic: the ODF mosaic's panels (`mosaic`) with the parts of the
+/// streamlines of `tractogram` (read from `path`) within half a voxel of each panel's
+/// slice drawn over the glyphs as tubes coloured by direction, in the same depth buffer
+/// (`render --tracks` with a slab); the glyphs at the peaks mosaic's size, so that the
+/// tubes show between the lobes.
+pub fn tracks_mosaic(
+    context: &DrawContext,
+    renderer: &mut HeadlessRenderer,
+    mosaic: &BuiltFigure,
+    path: &Path,
+    tractogram: &Tractogram,
+) -> Result<Figure> {
+    let voxel = context.volume.voxel_to_world.voxel_sizes().min_element();
+    let tracks = ViewTracks {
+        tractogram: Arc::new(tractogram.clone()),
+        style: TrackStyle {
+            radius: TRACKS_MOSAIC_RADIUS_VOXELS * voxel,
+            color: TracksColor::Direction,
+            slab: Some(TRACKS_MOSAIC_SLAB_VOXELS * voxel),
+        },
+    };
+    let mut scenes = mosaic.scenes.clone();
+    let mut drawn = 0;
+    for scene in &mut scenes {
+        let tubes = view_tubes(
+            &tracks,
+            &scene.regions,
+            false,
+            &context.volume.voxel_to_world,
+        )?;
+        drawn += tubes.segments.len();
+        scene.peaks = Some(tubes);
+        for set in &mut scene.scene.glyph_sets {
+            set.scales
+                .iter_mut()
+                .for_each(|s| *s *= PEAKS_MOSAIC_GLYPH_SIZE);
+        }
+    }
+    let plan = FigurePlan {
+        file: "tracks-mosaic.png".into(),
+        title: "Tracks mosaic".into(),
+        caption: format!(
+            "The ODF mosaic's panels with the streamlines of {} ({} of them, {drawn} \
+             segments drawn) within half a voxel of each slice, as tubes coloured by their \
+             direction in the glyphs' depth buffer; the glyphs at {} times their size in \
+             the ODF mosaic.",
+            path.display(),
+            tractogram.len(),
             PEAKS_MOSAIC_GLYPH_SIZE
         ),
         panels: mosaic.plan.panels.clone(),

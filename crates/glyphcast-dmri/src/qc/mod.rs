@@ -20,6 +20,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use crate::io::image::read_image;
+use crate::io::tracks::{Tractogram, read_tractogram};
 use crate::setting::DmriSetting;
 use crate::volume::{
     CoefficientFrame, Coefficients, ImageRequest, Mask, Normalisation, Volume, VolumeRequest,
@@ -65,6 +66,9 @@ pub struct QcRequest {
     pub mask: Option<PathBuf>,
     /// An anatomical image drawn under every panel.
     pub underlay: Option<PathBuf>,
+    /// A tractogram (.tck, .trk, .trx) for the tracks mosaic: the ODF mosaic's panels with
+    /// the streamlines near each slice drawn over the glyphs.
+    pub tracks: Option<PathBuf>,
     /// The volume options that apply (basis, legacy, force basis, frame, orientation,
     /// underlay range); views, slices and the like are the set's own.
     pub volume: VolumeRequest,
@@ -219,7 +223,16 @@ pub fn make_set(request: &QcRequest, progress: &dyn Fn(&str)) -> Result<QcSet> {
     };
     let peaks_frame = request.volume.peaks_frame()?;
     let peaks = request.peaks.as_deref().map(|path| (path, peaks_frame));
-    let drawn = draw_figures(&context, &mut renderer, built, peaks)?;
+    let tracks = request
+        .tracks
+        .as_deref()
+        .map(|path| read_tractogram(path).map(|t| (path, t)))
+        .transpose()?;
+    let overlays = Overlays {
+        peaks,
+        tracks: tracks.as_ref().map(|(path, t)| (*path, t)),
+    };
+    let drawn = draw_figures(&context, &mut renderer, built, overlays)?;
     timings.push(("render", ms(step)));
 
     let step = Instant::now();
@@ -304,13 +317,21 @@ fn plan_figures(
     Ok(plans)
 }
 
-/// Draws the built figures in order, the peaks mosaic (from `peaks`, if given, with the
-/// frame of their directions if named) after the ODF mosaic.
+/// What is drawn over the ODF mosaic's panels in figures of their own: the peaks (a
+/// path, and the frame of their directions if named) and the streamlines (their file and
+/// the tractogram read from it).
+struct Overlays<'a> {
+    peaks: Option<(&'a Path, Option<CoefficientFrame>)>,
+    tracks: Option<(&'a Path, &'a Tractogram)>,
+}
+
+/// Draws the built figures in order, the peaks mosaic and the tracks mosaic (where asked
+/// for) after the ODF mosaic.
 fn draw_figures(
     context: &DrawContext,
     renderer: &mut HeadlessRenderer,
     built: Vec<figures::BuiltFigure>,
-    peaks: Option<(&Path, Option<CoefficientFrame>)>,
+    Overlays { peaks, tracks }: Overlays<'_>,
 ) -> Result<Vec<Figure>> {
     let mut built = built.into_iter();
     let mosaic = built.next().ok_or(Error::Call {
@@ -323,8 +344,15 @@ fn draw_figures(
         )?),
         None => None,
     };
+    let tracks_figure = match tracks {
+        Some((path, tractogram)) => Some(figures::tracks_mosaic(
+            context, renderer, &mosaic, path, tractogram,
+        )?),
+        None => None,
+    };
     let mut drawn = vec![figures::render(context, renderer, mosaic)?];
     drawn.extend(peaks_figure);
+    drawn.extend(tracks_figure);
     for figure in built {
         drawn.push(figures::render(context, renderer, figure)?);
     }
@@ -338,6 +366,7 @@ fn input_files(request: &QcRequest) -> Vec<(&'static str, PathBuf)> {
         ("mask", &request.mask),
         ("underlay", &request.underlay),
         ("peaks", &request.peaks),
+        ("tracks", &request.tracks),
     ] {
         if let Some(path) = path {
             inputs.push((role, path.clone()));
