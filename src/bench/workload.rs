@@ -374,10 +374,10 @@ fn check_band(band: u32) -> Result<()> {
 const MAX_WORKLOAD_SEGMENTS: usize = 50_000_000;
 
 /// The tubes' radius of a tracks workload, millimetres.
-pub const TRACKS_RADIUS_MM: f64 = 0.2;
+const TRACKS_RADIUS_MM: f64 = 0.2;
 
 /// The half width of the slab of `tracks:COUNT:POINTS:slab`, millimetres (a 5 mm slab).
-pub const TRACKS_SLAB_HALF_MM: f64 = 2.5;
+const TRACKS_SLAB_HALF_MM: f64 = 2.5;
 
 /// `count` synthetic streamlines of `points` points each, 1 mm apart, drawn as tubes of
 /// [`TRACKS_RADIUS_MM`]: smooth random curves (each step turns a little from the last)
@@ -385,7 +385,7 @@ pub const TRACKS_SLAB_HALF_MM: f64 = 2.5;
 /// whole-brain tractogram has them. Seen whole in 3D from the front and above, or with
 /// `slab` only their parts within [`TRACKS_SLAB_HALF_MM`] of the axial plane z = 0, seen
 /// from above (a slab over an axial slice). No glyphs: the scene's glyph sets are empty.
-pub fn tracks(
+fn tracks(
     count: usize,
     points: usize,
     slab: bool,
@@ -460,8 +460,8 @@ pub fn tracks(
 }
 
 /// `tracks:COUNT:POINTS[:slab]` ([`tracks`]): the scene and its tubes; `None` for any
-/// other workload ([`parse`]).
-pub fn parse_tracks(
+/// other workload.
+fn parse_tracks(
     spec: &str,
     width: u32,
     height: u32,
@@ -491,9 +491,21 @@ pub fn parse_tracks(
     })
 }
 
-/// Parses `grid:COUNT:ORDER`, `fodf:COUNT:BAND` or
-/// `block:NX:NY:NZ:BAND[:front|:corner|:stacked]`.
-pub fn parse(spec: &str, width: u32, height: u32) -> Result<Scene> {
+/// Parses `grid:COUNT:ORDER`, `fodf:COUNT:BAND`,
+/// `block:NX:NY:NZ:BAND[:front|:corner|:stacked]` or `tracks:COUNT:POINTS[:slab]`: the
+/// scene, and the tubes drawn with it (a tracks workload's; its scene has no glyphs).
+pub fn parse(
+    spec: &str,
+    width: u32,
+    height: u32,
+) -> Result<(Scene, Option<crate::render::peaks::PeakSet>)> {
+    if let Some(tracks) = parse_tracks(spec, width, height) {
+        return tracks.map(|(scene, tubes)| (scene, Some(tubes)));
+    }
+    parse_glyphs(spec, width, height).map(|scene| (scene, None))
+}
+
+fn parse_glyphs(spec: &str, width: u32, height: u32) -> Result<Scene> {
     let parts: Vec<&str> = spec.split(':').collect();
     let bad = || {
         Error::setting_value(
@@ -589,8 +601,8 @@ mod tests {
     #[test]
     fn a_stacked_block_copies_the_front_layer_into_every_layer() {
         let (dims, layer) = ((3, 2, 4), 6);
-        let front = parse("block:3:2:4:4", 64, 48).unwrap();
-        let stacked = parse("block:3:2:4:4:stacked", 64, 48).unwrap();
+        let front = parse("block:3:2:4:4", 64, 48).unwrap().0;
+        let stacked = parse("block:3:2:4:4:stacked", 64, 48).unwrap().0;
         let (f, s) = (&front.glyph_sets[0], &stacked.glyph_sets[0]);
         assert_eq!(f.centers, s.centers);
         assert_eq!(f.scales, s.scales);

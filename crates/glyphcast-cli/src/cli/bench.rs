@@ -152,8 +152,18 @@ impl BenchArgs {
 
     /// The scene and tubes of a `tracks:` workload; `None` for any other.
     fn tracks_workload(&self) -> Option<Result<(Scene, PeakSet)>> {
+        if !self.workload.starts_with("tracks:") {
+            return None;
+        }
         let (w, h) = self.size(if self.quick { 256 } else { 512 });
-        workload::parse_tracks(&self.workload, w, h)
+        Some(workload::parse(&self.workload, w, h).and_then(|(scene, tubes)| {
+            tubes
+                .map(|tubes| (scene, tubes))
+                .ok_or(Error::Call {
+                    call: "bench::tracks_workload",
+                    expected: "the tubes of a tracks workload",
+                })
+        }))
     }
 
     fn base_scene(&self) -> Result<Scene> {
@@ -173,7 +183,7 @@ impl BenchArgs {
             }
             None => {
                 let (w, h) = self.size(if self.quick { 256 } else { 512 });
-                workload::parse(&self.workload, w, h)
+                workload::parse(&self.workload, w, h).map(|(scene, _)| scene)
             }
         }
     }
