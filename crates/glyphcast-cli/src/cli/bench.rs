@@ -156,14 +156,14 @@ impl BenchArgs {
             return None;
         }
         let (w, h) = self.size(if self.quick { 256 } else { 512 });
-        Some(workload::parse(&self.workload, w, h).and_then(|(scene, tubes)| {
-            tubes
-                .map(|tubes| (scene, tubes))
-                .ok_or(Error::Call {
+        Some(
+            workload::parse(&self.workload, w, h).and_then(|(scene, tubes)| {
+                tubes.map(|tubes| (scene, tubes)).ok_or(Error::Call {
                     call: "bench::tracks_workload",
                     expected: "the tubes of a tracks workload",
                 })
-        }))
+            }),
+        )
     }
 
     fn base_scene(&self) -> Result<Scene> {
