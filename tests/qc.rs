@@ -41,6 +41,16 @@ fn names(dir: &Path) -> BTreeSet<String> {
         .collect()
 }
 
+/// The files of the figures a sidecar lists, in order.
+fn figure_files(doc: &Value) -> Vec<&str> {
+    doc["figures"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["file"].as_str().unwrap())
+        .collect()
+}
+
 fn sidecar(dir: &Path) -> Value {
     let text = std::fs::read_to_string(dir.join("qc.json")).expect("qc.json");
     serde_json::from_str(&text).expect("qc.json is JSON")
@@ -320,12 +330,7 @@ fn a_mask_underlay_and_peaks_are_used_and_recorded() {
         .collect();
     assert_eq!(roles, ["fod", "mask", "underlay", "peaks"]);
     assert_eq!(doc["selection"]["voxels"], 500);
-    let figures: Vec<&str> = doc["figures"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|f| f["file"].as_str().unwrap())
-        .collect();
+    let figures = figure_files(&doc);
     assert!(figures.contains(&"peaks-mosaic.png"), "{figures:?}");
     // Every region lies mostly inside the mask: its centre voxel is.
     for region in doc["selection"]["regions"].as_array().unwrap() {
@@ -563,11 +568,6 @@ fn tracks_draw_a_mosaic_of_their_own_and_are_recorded() {
         .find(|i| i["role"] == "tracks")
         .expect("the tractogram among the inputs");
     assert_eq!(tracks_input["sha256"].as_str().map(str::len), Some(64));
-    let figures: Vec<&str> = doc["figures"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|f| f["file"].as_str().unwrap())
-        .collect();
+    let figures = figure_files(&doc);
     assert!(figures.contains(&"tracks-mosaic.png"), "{figures:?}");
 }

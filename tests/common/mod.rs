@@ -246,18 +246,7 @@ pub fn dipy_csd_fit() -> PathBuf {
     static FIT: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
     FIT.get_or_init(|| {
         let fit = fresh_dir("dipy-csd-fit").join("csd.nii.gz");
-        let (dwi, bval, bvec) = (
-            dipy_data("small_64D.nii"),
-            dipy_data("small_64D.bval"),
-            dipy_data("small_64D.bvec"),
-        );
-        let out = glyphcast(&[
-            "fit",
-            text(&dwi),
-            "--bval",
-            text(&bval),
-            "--bvec",
-            text(&bvec),
+        let model = [
             "--odf",
             "csd",
             "--csd-algorithm",
@@ -266,10 +255,8 @@ pub fn dipy_csd_fit() -> PathBuf {
             "8",
             "--basis",
             "dipy",
-            "--quiet",
-            "-o",
-            text(&fit),
-        ]);
+        ];
+        let out = fit_small_64d(&[&model[..], &["--quiet"]].concat(), &fit);
         assert!(
             out.status.success(),
             "{}",

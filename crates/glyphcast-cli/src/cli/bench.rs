@@ -150,9 +150,14 @@ impl BenchArgs {
         paths
     }
 
+    /// Whether the workload (measured without a scene file) is a `tracks:` one.
+    fn is_tracks_workload(&self) -> bool {
+        self.scene.is_none() && self.workload.starts_with("tracks:")
+    }
+
     /// The scene and tubes of a `tracks:` workload; `None` for any other.
     fn tracks_workload(&self) -> Option<Result<(Scene, PeakSet)>> {
-        if !self.workload.starts_with("tracks:") {
+        if !self.is_tracks_workload() {
             return None;
         }
         let (w, h) = self.size(if self.quick { 256 } else { 512 });
@@ -167,7 +172,7 @@ impl BenchArgs {
     }
 
     fn base_scene(&self) -> Result<Scene> {
-        if self.scene.is_none() && self.tracks_workload().is_some() {
+        if self.is_tracks_workload() {
             return Err(Error::conflict(
                 "--sweep",
                 Relation::Excludes,
@@ -292,9 +297,7 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
             }
             let settings = options.settings()?;
             options.check_method_reads(&settings)?;
-            if args.scene.is_none()
-                && let Some(tracks) = args.tracks_workload()
-            {
+            if let Some(tracks) = args.tracks_workload() {
                 let (scene, tubes) = tracks?;
                 for (flag, given) in [
                     ("--save-scene", args.save_scene.is_some()),

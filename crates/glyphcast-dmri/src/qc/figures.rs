@@ -355,11 +355,11 @@ pub fn tracks_mosaic(
     renderer: &mut HeadlessRenderer,
     mosaic: &BuiltFigure,
     path: &Path,
-    tractogram: &Tractogram,
+    tractogram: &Arc<Tractogram>,
 ) -> Result<Figure> {
     let voxel = context.volume.voxel_to_world.voxel_sizes().min_element();
     let tracks = ViewTracks {
-        tractogram: Arc::new(tractogram.clone()),
+        tractogram: Arc::clone(tractogram),
         style: TrackStyle {
             radius: TRACKS_MOSAIC_RADIUS_VOXELS * voxel,
             color: TracksColor::Direction,

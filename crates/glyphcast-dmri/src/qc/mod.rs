@@ -226,7 +226,7 @@ pub fn make_set(request: &QcRequest, progress: &dyn Fn(&str)) -> Result<QcSet> {
     let tracks = request
         .tracks
         .as_deref()
-        .map(|path| read_tractogram(path).map(|t| (path, t)))
+        .map(|path| read_tractogram(path).map(|t| (path, Arc::new(t))))
         .transpose()?;
     let overlays = Overlays {
         peaks,
@@ -322,7 +322,7 @@ fn plan_figures(
 /// the tractogram read from it).
 struct Overlays<'a> {
     peaks: Option<(&'a Path, Option<CoefficientFrame>)>,
-    tracks: Option<(&'a Path, &'a Tractogram)>,
+    tracks: Option<(&'a Path, &'a Arc<Tractogram>)>,
 }
 
 /// Draws the built figures in order, the peaks mosaic and the tracks mosaic (where asked
