@@ -40,7 +40,7 @@ pub fn variants() -> BTreeMap<(Symmetry, u32), Vec<RayCastMethod>> {
 
 /// The shaders that no glyph function enters, one each: (table name, file in glsl/,
 /// stage, defines).
-pub const FIXED_SHADERS: [(&str, &str, shaderc::ShaderKind, &[&str]); 12] = [
+pub const FIXED_SHADERS: [(&str, &str, shaderc::ShaderKind, &[&str]); 14] = [
     (
         "RAYCAST_VERTEX",
         "raycast.vert",
@@ -92,6 +92,19 @@ pub const FIXED_SHADERS: [(&str, &str, shaderc::ShaderKind, &[&str]); 12] = [
         shaderc::ShaderKind::Fragment,
         &[],
     ),
+    // Streamlines drawn as lines: the peaks' quad as a flat ribbon (src/render/peaks.rs).
+    (
+        "LINES_VERTEX",
+        "peaks.vert",
+        shaderc::ShaderKind::Vertex,
+        &[LINES_DEFINE],
+    ),
+    (
+        "LINES_FRAGMENT",
+        "lines.frag",
+        shaderc::ShaderKind::Fragment,
+        &[],
+    ),
     // The compute ray caster's frame drawn into rendering attachments
     // (src/render/compute.rs ComposePass), with and without the distance output.
     (
@@ -117,6 +130,9 @@ pub const FIXED_SHADERS: [(&str, &str, shaderc::ShaderKind, &[&str]); 12] = [
 /// Defined when a fragment shader is compiled for a colour attachment only: the shader
 /// then leaves out its `out_distance` output (location 1).
 pub const NO_DISTANCE_DEFINE: &str = "GLYPHCAST_NO_DISTANCE";
+
+/// The define of glsl/peaks.vert's build that draws streamlines as lines.
+pub const LINES_DEFINE: &str = "GLYPHCAST_LINES";
 
 /// The define of the shaders that draw the underlay receiving a batch's shadows.
 pub const RECEIVER_DEFINE: &str = "GLYPHCAST_RECEIVER";

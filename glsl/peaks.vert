@@ -10,6 +10,12 @@
 // tractogram), lavapipe's rasteriser spends its time per triangle, not per pixel.
 // A capsule that reaches the near plane (perspective) gets the whole viewport at the
 // near plane instead: its fragments find their hits (or none) as anywhere else.
+//
+// With GLYPHCAST_LINES (streamlines drawn as lines, glsl/lines.frag) the same quad is a
+// flat ribbon: at least a pixel wide, its depth that of the axis's ends (the corners
+// at the low end of the axis take end a's, those at the high end end b's), interpolated
+// by the rasteriser and tested before the fragment shader runs. A line that reaches
+// the near plane is not drawn (its quad is empty).
 #extension GL_GOOGLE_include_directive : require
 #include "frame.glsl"
 
@@ -45,8 +51,12 @@ void main() {
     }
     vec2 unit = vec2(corner & 1u, (corner >> 1) & 1u) * 2.0 - 1.0;
     if (cut) {
+#ifdef GLYPHCAST_LINES
+        gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
+#else
         // Reversed depth: the near plane is 1.
         gl_Position = vec4(unit, 1.0, 1.0);
+#endif
     } else {
         vec4 pa = frame.view_proj * vec4(a, 1.0);
         vec4 pb = frame.view_proj * vec4(end_b.xyz, 1.0);
@@ -67,6 +77,14 @@ void main() {
             high = max(high, coords);
             depth = max(depth, clip.z / clip.w);
         }
+#ifdef GLYPHCAST_LINES
+        // At least a pixel across and along (half a pixel each side of the middle).
+        float least = max(frame.viewport.x, frame.viewport.y);
+        vec2 middle = 0.5 * (low + high);
+        low = min(low, middle - least);
+        high = max(high, middle + least);
+        depth = unit.x < 0.0 ? pa.z / pa.w : pb.z / pb.w;
+#endif
         vec2 picked = mix(low, high, (unit + 1.0) * 0.5);
         gl_Position = vec4(picked.x * d + picked.y * n, depth, 1.0);
     }

@@ -39,7 +39,10 @@ fn random_peaks(count: usize, seed: u64) -> PeakSet {
             }
         })
         .collect();
-    PeakSet { segments }
+    PeakSet {
+        segments,
+        lines: Vec::new(),
+    }
 }
 
 fn camera(projection: Projection, eye: DVec3) -> Camera {

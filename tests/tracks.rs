@@ -102,13 +102,16 @@ fn tubes_match_the_float64_reference() {
     }
 }
 
-/// Tubes passing in front of, through and behind four fODF glyphs, on the fragment and
-/// the compute paths: outside the silhouette bands every pixel shows the nearer of the
-/// two float64 references, at its depth, and each wins hundreds of pixels.
-#[test]
-fn tubes_and_glyphs_hide_each_other_on_both_paths() {
-    let gpu = gpu();
-    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+/// Four fODF glyphs in a row, seen orthographically from the front and a little above,
+/// and streamlines along the row in front of (z 0.35), through (0) and behind (-0.35)
+/// the glyphs' centres, and one that dives through them: the camera, the image size, the
+/// scene, its glyph data and the streamlines.
+fn glyph_row() -> (
+    Camera,
+    (u32, u32),
+    Vec<glyphcast::render::glyph_data::GlyphSetData>,
+    Tractogram,
+) {
     let centers: Vec<DVec3> = (0..4)
         .map(|n| DVec3::new(n as f64 - 1.5, 0.0, 0.0))
         .collect();
@@ -150,6 +153,17 @@ fn tubes_and_glyphs_hide_each_other_on_both_paths() {
             [-2.2 + 4.4 * s, y, z0 + (z1 - z0) * s]
         }));
     }
+    (camera, (w, h), sets, tractogram)
+}
+
+/// Tubes passing in front of, through and behind four fODF glyphs, on the fragment and
+/// the compute paths: outside the silhouette bands every pixel shows the nearer of the
+/// two float64 references, at its depth, and each wins hundreds of pixels.
+#[test]
+fn tubes_and_glyphs_hide_each_other_on_both_paths() {
+    let gpu = gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    let (camera, (w, h), sets, tractogram) = glyph_row();
     let tubes = tube_set(
         &tractogram,
         &TrackStyle {
@@ -186,31 +200,10 @@ fn tubes_and_glyphs_hide_each_other_on_both_paths() {
     }
 }
 
-/// Writes `tractogram` as an MRtrix .tck (float32 little-endian, NaN between streamlines,
-/// Inf at the end), as MRtrix's own writer lays it out.
+/// Writes `tractogram` as an MRtrix .tck (the library's writer: float32 little-endian,
+/// NaN between streamlines, Inf at the end, as MRtrix's own writer lays it out).
 pub(crate) fn write_tck(path: &Path, tractogram: &Tractogram) {
-    let mut header = format!(
-        "mrtrix tracks\ncount: {}\ndatatype: Float32LE\nfile: . ",
-        tractogram.len()
-    );
-    let offset = header.len() + 16;
-    header.push_str(&format!("{offset}\nEND\n"));
-    let mut bytes = header.into_bytes();
-    bytes.resize(offset, 0);
-    for line in tractogram.streamlines() {
-        for p in line {
-            for v in p {
-                bytes.extend_from_slice(&v.to_le_bytes());
-            }
-        }
-        for _ in 0..3 {
-            bytes.extend_from_slice(&f32::NAN.to_le_bytes());
-        }
-    }
-    for _ in 0..3 {
-        bytes.extend_from_slice(&f32::INFINITY.to_le_bytes());
-    }
-    std::fs::write(path, bytes).expect("writing the .tck");
+    glyphcast_dmri::io::tracks::tck::write_tck(tractogram, path).expect("writing the .tck");
 }
 
 /// `render --sh` of the DIPY CSD fit with `--tracks` (streamlines through the volume in
@@ -305,4 +298,270 @@ fn render_draws_tracks_over_the_fodf_slice() {
     let bad_arg = not_tracks.display().to_string();
     let bad = [&base[..], &["--tracks", bad_arg.as_str()]].concat();
     expect_failure(&bad, &refused, &["not.tck"]);
+}
+
+/// `bench --workload tracks:...` measures the tubes and, with `--save-tracks`, writes the
+/// streamlines it drew as a `.tck` that the reader takes back: whole in 3D (every
+/// streamline, every point), and only the parts within the 5 mm slab. `--save-scene`
+/// writes its camera. `--save-tracks` without a tracks workload, or under another name
+/// than `.tck`, is refused naming it.
+#[test]
+fn bench_writes_the_tracks_workload_it_measures() {
+    let dir = fresh_dir("bench-tracks");
+    let bench = |spec: &str, name: &str| {
+        let tck = dir.join(format!("{name}.tck"));
+        let scene = dir.join(format!("{name}.json"));
+        let (tck_arg, scene_arg) = (tck.display().to_string(), scene.display().to_string());
+        let run = glyphcast(&[
+            "bench",
+            "--workload",
+            spec,
+            "--width",
+            "96",
+            "--height",
+            "64",
+            "--frames",
+            "1",
+            "--warmup",
+            "0",
+            "--save-tracks",
+            &tck_arg,
+            "--save-scene",
+            &scene_arg,
+        ]);
+        let stdout = String::from_utf8_lossy(&run.stdout).into_owned();
+        assert!(
+            run.status.success(),
+            "{stdout}{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let tractogram = glyphcast_dmri::io::tracks::read_tractogram(&tck).expect("the .tck");
+        let scene = glyphcast::scene::Scene::load(&scene).expect("the scene");
+        assert!(scene.glyph_sets.is_empty());
+        (tractogram, stdout)
+    };
+    let (whole, stdout) = bench("tracks:30:12", "whole");
+    assert_eq!(whole.len(), 30);
+    assert!(whole.streamlines().all(|line| line.len() == 12));
+    assert!(stdout.contains("330 segments"), "{stdout}");
+    let (slab, stdout) = bench("tracks:400:40:slab", "slab");
+    let segments: usize = slab.streamlines().map(|line| line.len() - 1).sum();
+    assert!(
+        segments > 0 && stdout.contains(&format!("{segments} segments")),
+        "{stdout}"
+    );
+    assert!(slab.points.iter().all(|p| p[2].abs() <= 2.5 + 1e-4));
+    // Refusals, nothing written.
+    let refused = fresh_dir("bench-tracks-refused");
+    let out = refused.join("t.tck").display().to_string();
+    expect_usage_failure(
+        &["bench", "--workload", "grid:4:4", "--save-tracks", &out],
+        &refused,
+        &["--save-tracks", "tracks"],
+    );
+    let png = refused.join("t.png").display().to_string();
+    expect_usage_failure(
+        &["bench", "--workload", "tracks:3:4", "--save-tracks", &png],
+        &refused,
+        &["--save-tracks", "t.png"],
+    );
+}
+
+/// The ray's point nearest the segment a-b (a point of the segment, clamped to it): its
+/// distance from the ray, and the ray parameter of the ray's point nearest it.
+fn ray_to_segment(ray: &glyphcast::camera::Ray, a: DVec3, b: DVec3) -> (f64, f64) {
+    let across = |v: DVec3| v - v.dot(ray.dir) * ray.dir;
+    let (w0, e) = (a - ray.origin, b - a);
+    let (pw, pe) = (across(w0), across(e));
+    let s = if pe.length_squared() > 1e-24 {
+        (-pw.dot(pe) / pe.length_squared()).clamp(0.0, 1.0)
+    } else {
+        0.5
+    };
+    let p = w0 + s * e;
+    (across(p).length(), p.dot(ray.dir))
+}
+
+/// Streamlines drawn as lines (`--tracks-style lines`), alone, orthographic and
+/// perspective: every covered pixel's ray passes within the line's half width (at least
+/// half a pixel) and a pixel of a streamline's axis, at the ray distance of its nearest
+/// approach to such a segment (within 1e-3 of the scene's 4 units); no gap: near every
+/// point along every segment a pixel is covered; each streamline's own colour, unlit.
+#[test]
+fn lines_cover_their_streamlines_at_the_axis_depth() {
+    use glyphcast_dmri::volume::{TrackShape, TracksColor};
+    let gpu = gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    let radius = 0.01;
+    let style = TrackStyle {
+        radius,
+        shape: TrackShape::Lines,
+        color: TracksColor::Uniform([1.0, 0.0, 1.0]),
+        ..TrackStyle::default()
+    };
+    let lines = tube_set(&test_streamlines(), &style);
+    assert!(lines.segments.is_empty() && lines.lines.len() > 60);
+    let (w, h) = (160, 144);
+    let eye = DVec3::new(0.9, 1.3, 6.0);
+    for (camera, pixel_at_unit) in [
+        (camera(Projection::Orthographic { height: 4.0 }, eye), None),
+        (
+            camera(Projection::Perspective { fov_y_deg: 42.0 }, eye),
+            Some(2.0 * 21f64.to_radians().tan() / h as f64),
+        ),
+    ] {
+        let view = FrameView::new(&camera, w, h).with_peaks(Some(&lines));
+        let image = renderer
+            .render_view(&gpu, &[], &view, &RenderSettings::default())
+            .expect("rendering lines");
+        // World size of a pixel at ray distance t.
+        let pixel = |t: f64| pixel_at_unit.map_or(4.0 / h as f64, |unit| unit * t);
+        let mut covered = 0;
+        for j in 0..h {
+            for i in 0..w {
+                let k = (j * w + i) as usize;
+                let distance = image.distance[k];
+                if distance.is_nan() {
+                    continue;
+                }
+                covered += 1;
+                assert_eq!(
+                    &image.rgba[4 * k..4 * k + 3],
+                    &[255, 0, 255],
+                    "pixel {i},{j}: not the lines' own colour"
+                );
+                let ray = camera.ray(i, j, w, h);
+                let explained = lines.lines.iter().any(|s| {
+                    let (off, t) = ray_to_segment(&ray, s.capsule.a, s.capsule.b);
+                    off <= radius.max(0.5 * pixel(t)) + 1.5 * pixel(t)
+                        && (f64::from(distance) - t).abs() <= 1e-3
+                });
+                let nearest = lines
+                    .lines
+                    .iter()
+                    .map(|s| (ray_to_segment(&ray, s.capsule.a, s.capsule.b), s.capsule))
+                    .min_by(|a, b| a.0.0.total_cmp(&b.0.0));
+                assert!(
+                    explained,
+                    "pixel {i},{j} at {distance} ({} world a pixel): no segment there; the \
+                     nearest: {nearest:?}",
+                    pixel(f64::from(distance))
+                );
+            }
+        }
+        // No gap: every point a quarter of the way along each segment has a covered
+        // pixel within one pixel of it.
+        let vp = camera.view_projection(w, h, 0.1, 100.0);
+        for s in &lines.lines {
+            for f in [0.25, 0.5, 0.75] {
+                let p = s.capsule.a.lerp(s.capsule.b, f);
+                let ndc = vp.project_point3(p);
+                // Vulkan clip space: y grows downwards, as pixel rows do.
+                let (x, y) = (
+                    (ndc.x + 1.0) * 0.5 * w as f64,
+                    (ndc.y + 1.0) * 0.5 * h as f64,
+                );
+                let near = (-2i64..=2).any(|dj| {
+                    (-2i64..=2).any(|di| {
+                        let (i, j) = (x.floor() as i64 + di, y.floor() as i64 + dj);
+                        let inside = (0..w as i64).contains(&i) && (0..h as i64).contains(&j);
+                        inside && {
+                            let ray = camera.ray(i as u32, j as u32, w, h);
+                            let (off, _) = ray_to_segment(&ray, p, p);
+                            !image.distance[(j * w as i64 + i) as usize].is_nan()
+                                && off <= 1.0 * pixel((p - ray.origin).length())
+                        }
+                    })
+                });
+                assert!(near, "a gap at {p} ({x:.1}, {y:.1})");
+            }
+        }
+        eprintln!("{:?}: {covered} line pixels", camera.projection);
+        assert!(covered > 400, "{covered}");
+    }
+}
+
+/// Lines passing in front of, through and behind four fODF glyphs, on the fragment and
+/// the compute paths: where a line's axis is nearer than the glyph's float64 surface (by
+/// more than two pixels' depth) the pixel shows the line, where it is farther the glyph;
+/// each wins hundreds of pixels, none is wrong. The glyphs' silhouette band and the
+/// lines' edges (a pixel either side of the half width) are left out.
+#[test]
+fn lines_and_glyphs_hide_each_other_on_both_paths() {
+    use glyphcast_dmri::volume::{TrackShape, TracksColor};
+    let gpu = gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    let (camera, (w, h), sets, tractogram) = glyph_row();
+    let radius = 0.05;
+    let lines = tube_set(
+        &tractogram,
+        &TrackStyle {
+            radius,
+            shape: TrackShape::Lines,
+            color: TracksColor::Uniform([1.0, 0.0, 1.0]),
+            ..TrackStyle::default()
+        },
+    );
+    let world: Vec<_> = sets.iter().flat_map(|s| s.world.iter().cloned()).collect();
+    let glyphs = reference_depth(&world, &camera, w, h);
+    let pixel = 3.2 / h as f64;
+    let wu = w as usize;
+    let glyph_cover: Vec<bool> = glyphs.iter().map(|d| !d.is_nan()).collect();
+    // Per pixel, where the lines' centres pass: the nearest axis distance of a segment
+    // whose axis is within the half width less a pixel of the ray; None where no line is
+    // surely drawn, and pixels at a line's edge are left out.
+    let mut expected = vec![None; wu * h as usize];
+    let mut edge = vec![false; wu * h as usize];
+    for j in 0..h {
+        for i in 0..w {
+            let ray = camera.ray(i, j, w, h);
+            let k = j as usize * wu + i as usize;
+            for s in &lines.lines {
+                let (off, t) = ray_to_segment(&ray, s.capsule.a, s.capsule.b);
+                let half = radius.max(0.5 * pixel);
+                if off <= half - 0.5 * pixel {
+                    expected[k] = Some(expected[k].map_or(t, |e: f64| e.min(t)));
+                } else if off <= half + 1.5 * pixel {
+                    edge[k] = true;
+                }
+            }
+        }
+    }
+    for path in [RenderPath::Fragment, RenderPath::Compute] {
+        let settings = RenderSettings {
+            path,
+            ..RenderSettings::default()
+        };
+        let view = FrameView::new(&camera, w, h).with_peaks(Some(&lines));
+        let image = renderer
+            .render_view(&gpu, &sets, &view, &settings)
+            .expect("rendering lines and glyphs");
+        let (mut lines_won, mut glyphs_won, mut wrong) = (0, 0, 0);
+        for y in 0..h as usize {
+            for x in 0..wu {
+                let k = y * wu + x;
+                let (Some(line), false) = (expected[k], edge[k]) else {
+                    continue;
+                };
+                let glyph = glyphs[k];
+                if glyph.is_nan() || crate::peaks::in_band(&glyph_cover, wu, h as usize, x, y) {
+                    continue;
+                }
+                let magenta = image.rgba[4 * k..4 * k + 3] == [255, 0, 255];
+                if line < glyph - 2.0 * pixel {
+                    lines_won += 1;
+                    wrong += usize::from(!magenta);
+                } else if line > glyph + 2.0 * pixel {
+                    glyphs_won += 1;
+                    wrong += usize::from(magenta);
+                }
+            }
+        }
+        eprintln!("{path:?}: lines in front at {lines_won}, glyphs at {glyphs_won}, {wrong} wrong");
+        assert!(
+            lines_won > 100 && glyphs_won > 100,
+            "{lines_won} / {glyphs_won}"
+        );
+        assert_eq!(wrong, 0);
+    }
 }

@@ -469,7 +469,8 @@ fn peaks_are_renders_and_follow_the_slice() {
 
 /// `--tracks` with `--slab` in the viewer: the window shows what `render` draws, tubes
 /// and glyphs in one depth buffer, and after a slice step the slab has moved with the
-/// slice (the window shows `render --slice` of the next slice, and that differs).
+/// slice (the window shows `render --slice` of the next slice, and that differs); `T`
+/// hides the tubes and shows them again.
 #[test]
 fn tracks_are_renders_and_their_slab_follows_the_slice() {
     let Some(x) = Xvfb::start("tracks_are_renders_and_their_slab_follows_the_slice") else {
@@ -521,4 +522,11 @@ fn tracks_are_renders_and_their_slab_follows_the_slice() {
     );
     let (count, _, _) = differing_pixels(&plain, &rendered, 0);
     assert!(count > 60, "the tubes change {count} pixels");
+    // `T` hides them (the window shows the render without --tracks), and shows them again.
+    let (run, shot, window) = scripted("tracks-hidden", 4, "tracks:toggle");
+    view(&x, &glyphs, &options, &run);
+    assert_shows(&window, &shot, &plain, None);
+    let (run, shot, window) = scripted("tracks-shown-again", 6, "tracks:off,tracks:toggle");
+    view(&x, &glyphs, &options, &run);
+    assert_shows(&window, &shot, &rendered, None);
 }

@@ -3,7 +3,7 @@
 # exact frame against FURY 2.0's `sph_glyph` on the 256-glyph band-8 fODF field at
 # 1280x720 (the field of `glyphcast bench --workload fodf:256:8`), on lavapipe.
 #
-#   tools/bench-fury.sh [--mesa25] [--bin PATH] [--pairs 3] [--frames 20] [--warmup 3] OUTDIR
+#   tools/bench-fury.sh [--mesa25] [--bin PATH] [--workload SPEC] [--pairs 3] [--frames 20] [--warmup 3] OUTDIR
 #
 # - makes or reuses the virtual environment target/fury-venv with FURY 2.0.0 from PyPI
 #   (FURY 2 draws with pygfx on wgpu, that is Vulkan: here, the same lavapipe);
@@ -17,20 +17,29 @@
 #   (with pygfx's default anti-aliasing), OUTDIR/holes.png, and counts FURY's holes (pixels
 #   of glyphcast's exact coverage that FURY leaves empty); OUTDIR/results.json has it all.
 #
+# --workload tracks:COUNT:POINTS[:slab][:lines]: streamlines instead (tools/bench_fury_tracks.py):
+#   glyphcast's exact tubes against FURY's `line` and `streamtube` on the same streamlines
+#   (`bench --save-tracks`), at 1920x1080, 5 frames after 1 warm-up unless given.
 # --mesa25: both sides on Mesa 25's lavapipe (tools/mesa25.sh) instead of the system's.
 # --bin: the glyphcast binary (default: target/release/glyphcast, built when missing).
 # What each number means: tools/bench_fury.py.
 set -euo pipefail
 usage() {
-    echo "usage: tools/bench-fury.sh [--mesa25] [--bin PATH] [--pairs N] [--frames N] [--warmup N] OUTDIR" >&2
+    echo "usage: tools/bench-fury.sh [--mesa25] [--bin PATH] [--workload SPEC] [--pairs N] [--frames N] [--warmup N] OUTDIR" >&2
     exit 2
 }
-mesa25=0 bin="" out="" extra=()
+mesa25=0 bin="" out="" extra=() script=bench_fury.py
 while [ $# -gt 0 ]; do
     case "$1" in
     --mesa25) mesa25=1 ;;
     --bin) [ $# -ge 2 ] || usage; bin=$2; shift ;;
     --pairs | --frames | --warmup) [ $# -ge 2 ] || usage; extra+=("$1" "$2"); shift ;;
+    --workload)
+        [ $# -ge 2 ] || usage
+        extra+=("$1" "$2")
+        case "$2" in tracks:*) script=bench_fury_tracks.py ;; esac
+        shift
+        ;;
     -h | --help) usage ;;
     -*) echo "error: unknown option '$1'" >&2; usage ;;
     *) [ -z "$out" ] || usage; out=$1 ;;
@@ -62,8 +71,10 @@ fi
 
 venv=$root/target/fury-venv
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
-if [ "$("$venv/bin/python" -c 'import importlib.metadata as m; print(m.version("fury"))' 2>/dev/null)" != 2.0.0 ]; then
-    "$venv/bin/python" -m pip install -q --disable-pip-version-check fury==2.0.0
+if [ "$("$venv/bin/python" -c 'import importlib.metadata as m; print(m.version("fury"))' 2>/dev/null)" != 2.0.0 ] \
+    || ! "$venv/bin/python" -c 'import nibabel' 2>/dev/null; then
+    # nibabel reads the streamlines glyphcast writes for the tracks comparison.
+    "$venv/bin/python" -m pip install -q --disable-pip-version-check fury==2.0.0 nibabel
 fi
 
 mkdir -p "$out"
@@ -74,4 +85,4 @@ if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
     export XDG_RUNTIME_DIR
     trap 'rm -rf "$XDG_RUNTIME_DIR"' EXIT
 fi
-"$venv/bin/python" "$root/tools/bench_fury.py" --glyphcast "$bin" --out "$out" "${extra[@]}"
+"$venv/bin/python" "$root/tools/$script" --glyphcast "$bin" --out "$out" "${extra[@]}"

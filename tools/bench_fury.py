@@ -248,15 +248,14 @@ class FuryFrame:
 
 
 def glyphcast_bench(args):
-    """`glyphcast bench` on the workload: (median, min, max) GPU ms."""
-    out = run([args.glyphcast, "bench", "--workload", args.workload, "--width", args.width,
-               "--height", args.height, "--frames", args.frames, "--warmup", args.warmup])
-    row = re.search(r"^\| default \| \d+ \| \d+x\d+ \| ([\d.]+) \| ([\d.]+) \| ([\d.]+) \|",
-                    out, re.M)
-    if not row:
-        sys.stderr.write(out)
-        raise SystemExit("error: no result row in glyphcast bench's table")
-    return tuple(float(v) for v in row.groups())
+    """`glyphcast bench` on the workload: (median, min, max) GPU ms, from its results.json."""
+    folder = args.out / "glyphcast-bench"
+    folder.mkdir(exist_ok=True)
+    run([args.glyphcast, "bench", "--workload", args.workload, "--width", args.width,
+         "--height", args.height, "--frames", args.frames, "--warmup", args.warmup,
+         "--out", folder])
+    (result,) = json.loads((folder / "results.json").read_text())["results"]
+    return result["gpu_ms_median"], result["gpu_ms_min"], result["gpu_ms_max"]
 
 
 # --- pictures and holes --------------------------------------------------------------

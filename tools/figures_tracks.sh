@@ -1,13 +1,12 @@
 #!/usr/bin/env bash
 # The pictures of docs/guide/tracks.md: DIPY's small_64D fitted by CSD (as a DIPY user
-# fits it) with streamlines through it drawn as tubes. The streamlines are synthetic
-# (tools/synthetic_tracks.py: curves through the volume's world box, written as an
-# MRtrix .tck by nibabel), since DIPY's bundled tractograms lie elsewhere in the
-# scanner frame:
-# - docs/gallery/tracks-slab.png: the default axial slice, the parts of the streamlines
-#   within 2 mm of it (--slab 2), 640 pixels wide;
-# - docs/gallery/tracks-block.png: every voxel of the middle four axial slices in 3D
-#   with every third streamline whole (--tracks-max 12), perspective, 640 pixels wide.
+# fits it) with the streamlines DIPY tracks through its own CSD fit of it
+# (tools/dipy_tracks.py: deterministic tracking, saved by DIPY as a .trk), drawn as
+# tubes; DIPY's bundled tractograms lie elsewhere in the scanner frame:
+# - docs/gallery/tracks-slab.png: the default axial slice, the parts of 150 of the
+#   streamlines within 1 mm of it (--slab 1), 640 pixels wide;
+# - docs/gallery/tracks-block.png: every voxel of the two middle axial slices in 3D
+#   with 40 of the streamlines whole, perspective, 640 pixels wide.
 # Usage: tools/figures_tracks.sh [GLYPHCAST_BINARY]   (default: builds target/release)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -26,10 +25,10 @@ trap 'rm -rf "$work"' EXIT
 "$glyphcast" fit "$data/small_64D.nii" --bval "$data/small_64D.bval" \
     --bvec "$data/small_64D.bvec" --odf csd --csd-algorithm dipy --order 8 --basis dipy \
     --quiet -o "$work/csd.nii.gz"
-"$python" tools/synthetic_tracks.py "$work/csd.nii.gz" "$work/tracks.tck"
-"$glyphcast" render --sh "$work/csd.nii.gz" --basis dipy --tracks "$work/tracks.tck" \
-    --slab 2 --tracks-radius 0.2 --width 640 -o "$out/tracks-slab.png"
-"$glyphcast" render --sh "$work/csd.nii.gz" --basis dipy --tracks "$work/tracks.tck" \
-    --tracks-radius 0.15 --tracks-max 12 --block --voxels :,:,3:7 --perspective --width 640 \
+"$python" tools/dipy_tracks.py "$data" "$work/tracks.trk"
+"$glyphcast" render --sh "$work/csd.nii.gz" --basis dipy --tracks "$work/tracks.trk" \
+    --slab 1 --tracks-radius 0.08 --tracks-max 150 --width 640 -o "$out/tracks-slab.png"
+"$glyphcast" render --sh "$work/csd.nii.gz" --basis dipy --tracks "$work/tracks.trk" \
+    --tracks-radius 0.08 --tracks-max 40 --block --voxels :,:,4:6 --perspective --width 640 \
     -o "$out/tracks-block.png"
 echo "wrote $out/tracks-slab.png and $out/tracks-block.png"

@@ -52,8 +52,8 @@ docs/guide/conventions.md); ``"tournier07"``/``"mrtrix"`` is MRtrix3's.
 - tracks: ``tracks`` (a tractogram's path, .tck, .trk or .trx; or streamlines in RAS+
   millimetres: a list of (N, 3) arrays, nibabel's ``ArraySequence``, a nibabel
   ``Tractogram``, or a DIPY ``StatefulTractogram`` in RASMM) drawn as tubes in the glyphs'
-  depth buffer, with ``tracks_color``, ``tracks_radius`` (millimetres), ``tracks_max``
-  (a uniform subsample) and ``slab`` (on slice views, only the parts within that many
+  depth buffer, with ``tracks_color``, ``tracks_radius`` (millimetres), ``tracks_style``
+  (``"tubes"``, exact, or ``"lines"``, fast), ``tracks_max`` (a uniform subsample) and ``slab`` (on slice views, only the parts within that many
   millimetres of a slice's plane).
 
 The messages of the errors are the CLI's, with each option named by its keyword

@@ -281,7 +281,7 @@ impl<'py> Kwargs<'py> {
     /// `peaks_color`, `peaks_norm`, `peaks_scale`, `peaks_width` and `peaks_frame` (voxel
     /// or world: a path's default is the file's own frame, an array's `frame`); `tracks`
     /// (a tractogram path, or streamlines: (N, 3) arrays or a nibabel `Tractogram`),
-    /// `tracks_color`, `tracks_radius`, `tracks_max` and `slab`. `affine` is the
+    /// `tracks_color`, `tracks_radius`, `tracks_style`, `tracks_max` and `slab`. `affine` is the
     /// coefficients' (an underlay array's default).
     pub fn volume_request(&mut self, affine: DMat4) -> PyResult<VolumeRequest> {
         let underlay = |value: &Bound<'py, PyAny>| match value.cast::<PyTuple>() {
@@ -330,6 +330,7 @@ impl<'py> Kwargs<'py> {
             tracks: self.tracks()?,
             tracks_color: self.text("tracks_color")?,
             tracks_radius: self.float("tracks_radius")?,
+            tracks_style: self.text("tracks_style")?,
             tracks_max: self.count("tracks_max")?.map(|n| n as usize),
             slab: self.float("slab")?,
         };

@@ -52,6 +52,13 @@ def test_track_arrays_and_files_draw_what_the_cli_draws(func_coef, cli_render, t
     assert ours.png() == png
     yellow = (ours.rgba[..., 0] > 100) & (ours.rgba[..., 1] > 100) & (ours.rgba[..., 2] < 60)
     assert yellow.sum() > 30
+    # Lines instead of tubes, as the flag draws them, and not what the tubes draw.
+    depth, png = cli_render("--sh", func_coef, *FLAGS, "--tracks", tck, "--tracks-style",
+                            "lines")
+    ours = glyphcast.render_sh(coeffs, affine, tracks=lines, tracks_style="lines", **KWARGS)
+    assert_same_depth(ours.depth, depth)
+    assert ours.png() == png
+    assert ours.png() != glyphcast.render_sh(coeffs, affine, tracks=lines, **KWARGS).png()
 
 
 @pytest.mark.parametrize("tracks, words", [
@@ -70,6 +77,9 @@ def test_track_options_need_tracks(func_coef):
     with pytest.raises(ValueError, match=r"slab: needs tracks"):
         glyphcast.render_sh(image.get_fdata(), image.affine, basis="tournier07", legacy=True,
                             slab=2.0)
+    with pytest.raises(ValueError, match=r"tracks_style='ribbons'.*tubes or lines"):
+        glyphcast.render_sh(image.get_fdata(), image.affine, basis="tournier07", legacy=True,
+                            tracks=streamlines(), tracks_style="ribbons")
     with pytest.raises(ValueError, match=r"tracks_radius=-1"):
         glyphcast.render_sh(image.get_fdata(), image.affine, basis="tournier07", legacy=True,
                             tracks=streamlines(), tracks_radius=-1.0)

@@ -310,9 +310,9 @@ fn measure_prepared(
         ),
         work,
         accuracy: case.reference.map(|r| r.compare(&image, camera)),
-        tube_segments: case.tubes.map_or(0, |t| t.segments.len()),
+        tube_segments: case.tubes.map_or(0, |t| t.all().count()),
         tube_bytes: case.tubes.map_or(0, |t| {
-            t.segments.len() * std::mem::size_of::<crate::render::peaks::CapsuleInstance>()
+            t.all().count() * std::mem::size_of::<crate::render::peaks::CapsuleInstance>()
         }),
     })
 }

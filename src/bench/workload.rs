@@ -7,8 +7,9 @@
 //! - `block:NX:NY:NZ:BAND[:front|:corner|:stacked]`: a dense 3D block of such fODFs
 //!   filling their voxels, seen head-on through its layers or from a corner, or its first
 //!   layer copied behind itself (what hidden glyphs cost);
-//! - `tracks:COUNT:POINTS[:slab]`: a whole-brain tractogram's worth of synthetic
-//!   streamlines drawn as tubes, whole in 3D or a 5 mm slab over an axial slice.
+//! - `tracks:COUNT:POINTS[:slab][:lines]`: a whole-brain tractogram's worth of synthetic
+//!   streamlines drawn as tubes (or lines), whole in 3D or a 5 mm slab over an axial
+//!   slice.
 use crate::camera::{Camera, Projection};
 use crate::catalog::{MAX_SH_BAND, MAX_SYMMETRIC_ORDER};
 use crate::demo::{direction, fibre_tensor, glyph_set, symmetric};
@@ -384,11 +385,13 @@ const TRACKS_SLAB_HALF_MM: f64 = 2.5;
 /// starting inside a brain-sized ellipsoid (half axes 70, 85 and 60 mm), as a
 /// whole-brain tractogram has them. Seen whole in 3D from the front and above, or with
 /// `slab` only their parts within [`TRACKS_SLAB_HALF_MM`] of the axial plane z = 0, seen
-/// from above (a slab over an axial slice). No glyphs: the scene's glyph sets are empty.
+/// from above (a slab over an axial slice). With `lines` the segments are the set's lines
+/// (flat ribbons, `PeakSet::lines`), not its exact tubes. No glyphs: the scene's glyph
+/// sets are empty.
 fn tracks(
     count: usize,
     points: usize,
-    slab: bool,
+    (slab, lines): (bool, bool),
     width: u32,
     height: u32,
 ) -> Result<(Scene, crate::render::peaks::PeakSet)> {
@@ -456,11 +459,21 @@ fn tracks(
         camera,
         image: ImageSize { width, height },
     };
-    Ok((scene, PeakSet { segments: tubes }))
+    let tubes = match lines {
+        false => PeakSet {
+            segments: tubes,
+            lines: Vec::new(),
+        },
+        true => PeakSet {
+            segments: Vec::new(),
+            lines: tubes,
+        },
+    };
+    Ok((scene, tubes))
 }
 
-/// `tracks:COUNT:POINTS[:slab]` ([`tracks`]): the scene and its tubes; `None` for any
-/// other workload.
+/// `tracks:COUNT:POINTS[:slab][:lines]` ([`tracks`]): the scene and its tubes; `None`
+/// for any other workload.
 fn parse_tracks(
     spec: &str,
     width: u32,
@@ -474,25 +487,27 @@ fn parse_tracks(
         Error::setting_value(
             Setting::Workload,
             format!("'{}'", crate::error::quoted(spec)),
-            "not tracks:COUNT:POINTS[:slab]",
+            "not tracks:COUNT:POINTS[:slab][:lines]",
         )
     };
     let number = |s: &str| s.parse::<usize>().map_err(|_| bad());
     Some(match parts.as_slice() {
         ["tracks", count, points, rest @ ..] => {
-            let slab = match rest {
-                [] => Ok(false),
-                ["slab"] => Ok(true),
+            let shape = match rest {
+                [] => Ok((false, false)),
+                ["slab"] => Ok((true, false)),
+                ["lines"] => Ok((false, true)),
+                ["slab", "lines"] => Ok((true, true)),
                 _ => Err(bad()),
             };
-            slab.and_then(|slab| tracks(number(count)?, number(points)?, slab, width, height))
+            shape.and_then(|shape| tracks(number(count)?, number(points)?, shape, width, height))
         }
         _ => Err(bad()),
     })
 }
 
 /// Parses `grid:COUNT:ORDER`, `fodf:COUNT:BAND`,
-/// `block:NX:NY:NZ:BAND[:front|:corner|:stacked]` or `tracks:COUNT:POINTS[:slab]`: the
+/// `block:NX:NY:NZ:BAND[:front|:corner|:stacked]` or `tracks:COUNT:POINTS[:slab][:lines]`: the
 /// scene, and the tubes drawn with it (a tracks workload's; its scene has no glyphs).
 pub fn parse(
     spec: &str,
@@ -512,7 +527,7 @@ fn parse_glyphs(spec: &str, width: u32, height: u32) -> Result<Scene> {
             Setting::Workload,
             format!("'{}'", crate::error::quoted(spec)),
             "not grid:COUNT:ORDER, fodf:COUNT:BAND, block:NX:NY:NZ:BAND[:front|:corner|:stacked] \
-             or tracks:COUNT:POINTS[:slab]",
+             or tracks:COUNT:POINTS[:slab][:lines]",
         )
     };
     let number = |s: &str| s.parse::<usize>().map_err(|_| bad());
@@ -539,7 +554,7 @@ mod tests {
 
     #[test]
     fn tracks_workloads_make_their_segments() {
-        let (scene, whole) = tracks(10, 5, false, 64, 48).expect("tracks");
+        let (scene, whole) = tracks(10, 5, (false, false), 64, 48).expect("tracks");
         assert!(scene.glyph_sets.is_empty());
         assert_eq!(whole.segments.len(), 40);
         for s in &whole.segments {
@@ -547,18 +562,21 @@ mod tests {
             assert!((step - 1.0).abs() < 1e-9 && s.capsule.radius == TRACKS_RADIUS_MM);
         }
         // The slab keeps the segments within 2.5 mm of z = 0, and only those.
-        let (_, slab) = tracks(2000, 50, true, 64, 48).expect("slab");
+        let (_, slab) = tracks(2000, 50, (true, false), 64, 48).expect("slab");
         assert!(!slab.segments.is_empty() && slab.segments.len() < 2000 * 49 / 5);
         assert!(slab.segments.iter().all(|s| {
             s.capsule.a.z.abs() <= TRACKS_SLAB_HALF_MM && s.capsule.b.z.abs() <= TRACKS_SLAB_HALF_MM
         }));
         assert!(parse_tracks("fodf:10:8", 64, 48).is_none());
         assert!(parse_tracks("tracks:10:5:slab", 64, 48).is_some_and(|r| r.is_ok()));
+        let (_, lines) = parse_tracks("tracks:10:5:lines", 64, 48).unwrap().unwrap();
+        assert!(lines.segments.is_empty() && !lines.lines.is_empty());
         for bad in [
             "tracks:10",
             "tracks:10:1",
             "tracks:0:5",
             "tracks:10:5:thick",
+            "tracks:10:5:lines:slab",
             "tracks:x:5",
         ] {
             let err = parse_tracks(bad, 64, 48).expect("a tracks spec").err();

@@ -10,6 +10,11 @@
 //! per-order shaders, so they are not a glyph kind of the catalog. The float64 reference
 //! is [`crate::glyph::capsule`]; [`PeakSet::intersect`] ray-casts a whole set with it.
 //!
+//! Streamlines may instead be drawn as lines ([`PeakSet::lines`]): the same quad as a
+//! flat ribbon, at least a pixel wide, at the depth of the axis, unlit, depth-tested
+//! before its fragment shader runs (glsl/lines.frag): not exact, but a fragment behind
+//! something nearer costs nothing, which a whole brain's overlapping segments need.
+//!
 //! `crate::volume` reads peak files and turns the peaks of a view's slices into a
 //! [`PeakSet`]; an embedder builds one from its own segments and hands it to
 //! [`FrameView::with_peaks`](crate::render::headless::FrameView::with_peaks) or records
@@ -19,7 +24,7 @@ use crate::error::Result;
 use crate::glyph::capsule::{Capsule, CapsuleHit};
 use crate::render::frame::{FRAME_DESCRIPTOR, FRAME_USAGE, FrameParams, SceneExtent};
 use crate::render::raycast::{TargetFormats, viewport_and_scissor};
-use crate::render::shaders::{PEAKS_FRAGMENT, PEAKS_VERTEX};
+use crate::render::shaders::{LINES_FRAGMENT, LINES_VERTEX, PEAKS_FRAGMENT, PEAKS_VERTEX};
 use crate::vk::recording::bind_graphics;
 use crate::vk::{
     Buffer, BufferBinding, DescriptorPool, DeviceContext, GraphicsPipelineDesc, Pipeline,
@@ -40,8 +45,12 @@ pub struct PeakSegment {
 /// The peaks of a frame.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PeakSet {
-    /// Every capsule drawn.
+    /// Every capsule drawn, ray-cast exactly.
     pub segments: Vec<PeakSegment>,
+    /// Segments drawn as lines instead: flat ribbons of each capsule's projected width
+    /// (at least a pixel), at the depth of its axis, unlit (glsl/lines.frag); not part
+    /// of the float64 reference.
+    pub lines: Vec<PeakSegment>,
 }
 
 impl PeakSet {
@@ -55,13 +64,29 @@ impl PeakSet {
             .min_by(|a, b| a.0.t.total_cmp(&b.0.t))
     }
 
+    /// Whether there is nothing to draw.
+    pub fn is_empty(&self) -> bool {
+        self.segments.is_empty() && self.lines.is_empty()
+    }
+
+    /// The capsules and the lines, in that order.
+    pub fn all(&self) -> impl Iterator<Item = &PeakSegment> {
+        self.segments.iter().chain(&self.lines)
+    }
+
+    /// Appends `other`'s capsules and lines.
+    pub fn extend(&mut self, other: PeakSet) {
+        self.segments.extend(other.segments);
+        self.lines.extend(other.lines);
+    }
+
     /// `extent` (the glyphs') widened to the capsules' bounding spheres, so that no peak
     /// is cut by the near or far plane; the magnitude range stays the glyphs'.
     pub fn widen(&self, camera: &Camera, extent: SceneExtent) -> SceneExtent {
-        if self.segments.is_empty() {
+        if self.is_empty() {
             return extent;
         }
-        let spheres = self.segments.iter().map(|s| {
+        let spheres = self.all().map(|s| {
             (
                 s.capsule.center().to_array(),
                 s.capsule.bounding_radius() * 1.01,
@@ -70,8 +95,7 @@ impl PeakSet {
         let peaks = SceneExtent::of_spheres(camera, spheres);
         let fwd = camera.frame().fwd;
         let seen = self
-            .segments
-            .iter()
+            .all()
             .any(|s| fwd.dot(s.capsule.center() - camera.eye) > 0.0);
         if !seen {
             return extent;
@@ -90,7 +114,7 @@ impl PeakSet {
 pub(crate) struct CapsuleInstance {
     /// xyz: end a; w: radius.
     pub(crate) end_a_radius: [f32; 4],
-    /// xyz: end b.
+    /// xyz: end b; w unused.
     pub(crate) end_b: [f32; 4],
     /// rgb: linear colour.
     pub(crate) color: [f32; 4],
@@ -99,22 +123,25 @@ pub(crate) struct CapsuleInstance {
 /// Binding of the frame's parameter block (glsl/frame.glsl), as in the glyph passes.
 pub(crate) const PEAKS_FRAME_BINDING: u32 = 0;
 
-/// The peaks' pipeline, for attachments of given formats; created once per device.
+/// The peaks' pipelines (capsules, and lines), for attachments of given formats;
+/// created once per device.
 pub struct PeaksPass {
     ctx: DeviceContext,
-    // Fields drop in order: the pipeline before the layout it was made with.
+    // Fields drop in order: the pipelines before the layout they were made with.
     pipeline: Pipeline,
+    lines_pipeline: Pipeline,
     layout: PipelineLayout,
     indices: Buffer,
 }
 
-/// A peak set on the GPU: its capsules and its own copy of the frame block.
+/// A peak set on the GPU: its capsules and lines, and its own copy of the frame block.
 pub struct PeaksGpu {
-    instances: Buffer,
+    capsules: Option<Buffer>,
+    lines: Option<Buffer>,
+    counts: [u32; 2],
     frame: Buffer,
     _pool: DescriptorPool,
     descriptor_set: vk::DescriptorSet,
-    count: u32,
 }
 
 impl PeaksPass {
@@ -127,10 +154,12 @@ impl PeaksPass {
             vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
         )];
         let layout = PipelineLayout::new(ctx, &bindings, vk::ShaderStageFlags::empty(), 0)?;
-        let pipeline = create_pipeline(ctx, formats, layout.handle())?;
+        let pipeline = create_pipeline(ctx, formats, layout.handle(), false)?;
+        let lines_pipeline = create_pipeline(ctx, formats, layout.handle(), true)?;
         Ok(PeaksPass {
             ctx: ctx.clone(),
             pipeline,
+            lines_pipeline,
             layout,
             indices: Buffer::with_data(
                 ctx,
@@ -149,16 +178,22 @@ impl PeaksPass {
         peaks: &PeakSet,
         frame: &FrameParams,
     ) -> Result<Option<PeaksGpu>> {
-        if peaks.segments.is_empty() {
+        if peaks.is_empty() {
             return Ok(None);
         }
-        let instances: Vec<CapsuleInstance> = peaks.segments.iter().map(instance).collect();
-        let instances = Buffer::with_data(
-            ctx,
-            "peak capsules",
-            &instances,
-            vk::BufferUsageFlags::VERTEX_BUFFER,
-        )?;
+        let upload = |segments: &[PeakSegment]| -> Result<Option<Buffer>> {
+            if segments.is_empty() {
+                return Ok(None);
+            }
+            let instances: Vec<CapsuleInstance> = segments.iter().map(instance).collect();
+            Buffer::with_data(
+                ctx,
+                "peak capsules",
+                &instances,
+                vk::BufferUsageFlags::VERTEX_BUFFER,
+            )
+            .map(Some)
+        };
         let frame =
             Buffer::with_data(ctx, "peaks frame", std::slice::from_ref(frame), FRAME_USAGE)?;
         let pool = DescriptorPool::new(ctx, 1, 0, 1)?;
@@ -167,26 +202,36 @@ impl PeaksPass {
             &[BufferBinding::storage(PEAKS_FRAME_BINDING, &frame)],
         )?;
         Ok(Some(PeaksGpu {
-            instances,
+            capsules: upload(&peaks.segments)?,
+            lines: upload(&peaks.lines)?,
+            counts: [peaks.segments.len() as u32, peaks.lines.len() as u32],
             frame,
             _pool: pool,
             descriptor_set,
-            count: peaks.segments.len() as u32,
         }))
     }
 
-    /// Records the draw of every capsule. The caller has begun dynamic rendering with
-    /// attachments of this pass's formats, of size `extent`.
+    /// Records the draw of every capsule, then of every line. The caller has begun
+    /// dynamic rendering with attachments of this pass's formats, of size `extent`.
     pub fn record(&self, cmd: vk::CommandBuffer, peaks: &PeaksGpu, extent: vk::Extent2D) {
         let (viewport, scissor) = viewport_and_scissor(extent);
         let d = self.ctx.device();
-        // SAFETY: recording state is the caller's; every handle is alive.
-        unsafe {
-            let pipeline = (self.pipeline.handle(), self.layout.handle());
-            bind_graphics(d, cmd, pipeline, peaks.descriptor_set, (viewport, scissor));
-            d.cmd_bind_vertex_buffers(cmd, 0, &[peaks.instances.handle], &[0]);
-            d.cmd_bind_index_buffer(cmd, self.indices.handle, 0, vk::IndexType::UINT16);
-            d.cmd_draw_indexed(cmd, QUAD_INDICES.len() as u32, peaks.count, 0, 0, 0);
+        let draws = [
+            (&self.pipeline, &peaks.capsules, peaks.counts[0]),
+            (&self.lines_pipeline, &peaks.lines, peaks.counts[1]),
+        ];
+        for (pipeline, instances, count) in draws {
+            let Some(instances) = instances else {
+                continue;
+            };
+            // SAFETY: recording state is the caller's; every handle is alive.
+            unsafe {
+                let pipeline = (pipeline.handle(), self.layout.handle());
+                bind_graphics(d, cmd, pipeline, peaks.descriptor_set, (viewport, scissor));
+                d.cmd_bind_vertex_buffers(cmd, 0, &[instances.handle], &[0]);
+                d.cmd_bind_index_buffer(cmd, self.indices.handle, 0, vk::IndexType::UINT16);
+                d.cmd_draw_indexed(cmd, QUAD_INDICES.len() as u32, count, 0, 0, 0);
+            }
         }
     }
 }
@@ -213,17 +258,22 @@ fn instance(segment: &PeakSegment) -> CapsuleInstance {
 /// The two triangles of a capsule's screen quad (glsl/peaks.vert), corners 0 to 3.
 const QUAD_INDICES: [u16; 6] = [0, 1, 2, 2, 1, 3];
 
-/// The peaks' pipeline: instanced screen quads (one 48-byte instance each), either
-/// winding, the glyphs' attachments and depth test.
+/// The peaks' pipeline (or with `lines` the lines'): instanced screen quads (one
+/// 48-byte instance each), either winding, the glyphs' attachments and depth test.
 fn create_pipeline(
     ctx: &DeviceContext,
     formats: TargetFormats,
     layout: vk::PipelineLayout,
+    lines: bool,
 ) -> Result<Pipeline> {
+    let (vertex, fragment) = match lines {
+        false => (PEAKS_VERTEX, PEAKS_FRAGMENT),
+        true => (LINES_VERTEX, LINES_FRAGMENT),
+    };
     // SAFETY: the SPIR-V comes from build.rs and was validated by glslang.
-    let vertex = unsafe { ShaderModule::new(ctx, PEAKS_VERTEX)? };
+    let vertex = unsafe { ShaderModule::new(ctx, vertex)? };
     // SAFETY: as above.
-    let fragment = unsafe { ShaderModule::fragment(ctx, PEAKS_FRAGMENT)? };
+    let fragment = unsafe { ShaderModule::fragment(ctx, fragment)? };
     let stages = vertex_fragment_stages(vertex.handle(), fragment.handle(), None);
     let bindings = [vk::VertexInputBindingDescription {
         binding: 0,

@@ -44,6 +44,8 @@ impl DmriSetting {
     pub const TracksColor: Setting = glyphcast::setting!(value("tracks_color", "tracks colour"));
     /// The tubes' radius, millimetres.
     pub const TracksRadius: Setting = glyphcast::setting!(value("tracks_radius", "tracks radius"));
+    /// Streamlines drawn as exact tubes or as lines.
+    pub const TracksStyle: Setting = glyphcast::setting!(value("tracks_style", "tracks style"));
     /// The most streamlines drawn (a uniform subsample).
     pub const TracksMax: Setting = glyphcast::setting!(value("tracks_max", "tracks max"));
     /// The distance from a slice's plane within which streamlines are drawn.
@@ -67,6 +69,7 @@ impl DmriSetting {
         DmriSetting::Tracks,
         DmriSetting::TracksColor,
         DmriSetting::TracksRadius,
+        DmriSetting::TracksStyle,
         DmriSetting::TracksMax,
         DmriSetting::Slab,
     ];

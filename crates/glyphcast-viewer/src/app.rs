@@ -390,6 +390,16 @@ impl App {
                 };
                 change_checked(&mut settings, |s| s.ambient_occlusion = occlusion)?
             }
+            Action::Tracks(shown) => {
+                if self.panels.set_tracks(Some(shown))? {
+                    return Ok(());
+                }
+            }
+            Action::ToggleTracks => {
+                if self.panels.set_tracks(None)? {
+                    return Ok(());
+                }
+            }
             Action::Slice(delta) => {
                 if self.panels.move_slice(delta)? {
                     // Nothing new to show until the slice's glyphs are ready, and on a

@@ -82,6 +82,9 @@ struct VolumeSlice {
     /// The framing camera's target for the current slice: moving the slice moves the
     /// camera by the change of this point, so the view stays on the slice.
     framed_target: glam::DVec3,
+    /// The streamlines of `--tracks` while they are hidden (`T`): `options.tracks` is
+    /// then `None`.
+    hidden_tracks: Option<glyphcast_dmri::volume::ViewTracks>,
 }
 
 /// What one view (or one montage panel) shows: its glyphs, settings, camera and slice,
@@ -189,6 +192,7 @@ impl Content {
             active: view.region.slice.voxel_axis(),
             volume,
             options,
+            hidden_tracks: None,
         };
         let mut content = Content::build(view.scene, Some(slice), settings, negative)?;
         content.peaks = view.peaks;
@@ -495,6 +499,37 @@ impl Content {
         self.place_underlay()?;
         self.request(Rebuild::Slice)?;
         Ok(true)
+    }
+
+    /// Shows (`Some(true)`), hides or toggles (`None`) the streamlines of `--tracks`;
+    /// returns whether that changes the view (rebuilt as after a slice move). A view
+    /// without streamlines says so on stderr.
+    pub fn set_tracks(&mut self, shown: Option<bool>) -> Result<bool> {
+        let Some(v) = self.volume.as_mut() else {
+            eprintln!(
+                "tracks: a scene file has no streamlines (render or view a volume with --tracks)"
+            );
+            return Ok(false);
+        };
+        let now = v.options.tracks.is_some();
+        if !now && v.hidden_tracks.is_none() {
+            eprintln!("tracks: no streamlines to show (--tracks FILE)");
+            return Ok(false);
+        }
+        if shown.unwrap_or(!now) == now {
+            return Ok(false);
+        }
+        std::mem::swap(&mut v.options.tracks, &mut v.hidden_tracks);
+        eprintln!("tracks: {}", if now { "hidden" } else { "shown" });
+        self.request(Rebuild::Slice)?;
+        Ok(true)
+    }
+
+    /// Whether the view draws the streamlines of `--tracks` now.
+    pub fn tracks_shown(&self) -> bool {
+        self.volume
+            .as_ref()
+            .is_some_and(|v| v.options.tracks.is_some())
     }
 
     /// Starts a rebuild, or queues it behind the running one.

@@ -41,6 +41,10 @@ pub enum Action {
     AmbientOcclusion(AmbientOcclusion),
     /// Switch ambient occlusion on (reach 1) or off (`O`).
     ToggleAmbientOcclusion,
+    /// Show (true) or hide the streamlines of `--tracks` (`tracks:on|off` in a script).
+    Tracks(bool),
+    /// Show or hide the streamlines of `--tracks` (`T`).
+    ToggleTracks,
     /// Move through the volume by this many slices.
     Slice(i64),
     /// With three slices: the one that slice moves move (0 sagittal, 1 coronal, 2 axial;
@@ -69,7 +73,7 @@ pub const HELP: &str = "\
 mouse: left drag orbit, right/middle drag or shift+left drag pan, wheel zoom
 keys:  M method   [ ] march step finer/coarser   F refinement   C colour   N negative lobes
        L shadows on/off   O ambient occlusion on/off (exact method; another method turns
-       them off)
+       them off)   T streamlines (--tracks) on/off
        Up/PageUp, Down/PageDown slice +1/-1   1/2/3 active slice (of three) or panel (of views)
        R reset camera   S screenshot   H help   Q/Esc quit
 montages: the mouse moves every panel's camera alike; lightbox slices move together";
@@ -98,6 +102,7 @@ pub fn key_action(key: &Key) -> Option<Action> {
             "n" => Action::ToggleNegative,
             "l" => Action::ToggleShadows,
             "o" => Action::ToggleAmbientOcclusion,
+            "t" => Action::ToggleTracks,
             "r" => Action::ResetCamera,
             "s" => Action::Screenshot,
             "h" => Action::Help,
@@ -150,7 +155,7 @@ pub fn color_name(c: ColorMode) -> &'static str {
 /// Parses `--script`: comma-separated events, each applied on its own frame:
 /// `resize:WxH`, `method:NAME`, `step:S`, `refine:SPEC`, `color:MODE`,
 /// `negative:abs|hide|toggle`, `shadows:off|hard|soft:RADIUS|toggle`,
-/// `ambient_occlusion:off|on|REACH|toggle`, `slice:+N|-N`,
+/// `ambient_occlusion:off|on|REACH|toggle`, `tracks:on|off|toggle`, `slice:+N|-N`,
 /// `active:1|2|3` (sagittal, coronal, axial slice of `--slices`; first, second, third panel of `--views`), `orbit:DX:DY`,
 /// `pan:DX:DY`, `zoom:F`,
 /// `reset`, `screenshot`, `wait`.
@@ -211,6 +216,12 @@ fn parse_event(item: &str) -> Result<Action> {
         "shadows" => Action::Shadows(value.parse().map_err(reparse)?),
         "ambient_occlusion" if value == "toggle" => Action::ToggleAmbientOcclusion,
         "ambient_occlusion" => Action::AmbientOcclusion(value.parse().map_err(reparse)?),
+        "tracks" => match value {
+            "on" => Action::Tracks(true),
+            "off" => Action::Tracks(false),
+            "toggle" => Action::ToggleTracks,
+            _ => return Err(bad("expected on, off or toggle")),
+        },
         "slice" => {
             let delta = (value.starts_with('+') || value.starts_with('-'))
                 .then(|| value.parse::<i64>().ok())
@@ -245,7 +256,8 @@ fn parse_event(item: &str) -> Result<Action> {
         _ => {
             return Err(bad(
                 "unknown event; expected resize, method, step, refine, color, negative, \
-                 shadows, slice, active, orbit, pan, zoom, reset, screenshot or wait",
+                 shadows, ambient_occlusion, tracks, slice, active, orbit, pan, zoom, reset, \
+                 screenshot or wait",
             ));
         }
     })

@@ -282,6 +282,22 @@ impl Panels {
         Some(format!("{} ({kind})", names.join(" ")))
     }
 
+    /// Shows (`Some(true)`), hides or toggles (`None`, from the first panel's state)
+    /// every panel's streamlines; whether any panel changed.
+    pub fn set_tracks(&mut self, shown: Option<bool>) -> Result<bool> {
+        let mut changed = false;
+        let mut shown = shown;
+        for panel in &mut self.panels {
+            let now = panel.set_tracks(shown)?;
+            if now && shown.is_none() {
+                // The first panel's toggle decides for the others.
+                shown = Some(panel.tracks_shown());
+            }
+            changed |= now;
+        }
+        Ok(changed)
+    }
+
     /// Sets every panel's negative-lobe mode (`None`: toggle between abs and hide, from
     /// the first panel's).
     pub fn set_negative(&mut self, mode: Option<NegativeMode>) -> Result<()> {

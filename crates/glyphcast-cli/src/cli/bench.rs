@@ -30,9 +30,10 @@ pub struct BenchArgs {
     /// Generated workload: grid:COUNT:ORDER (fibre tensors), fodf:COUNT:BAND (SH fODFs),
     /// block:NX:NY:NZ:BAND[:front|:corner|:stacked] (a dense 3D block of touching fODFs,
     /// seen head-on through its layers or from a corner, or its first layer copied into
-    /// every layer, seen head-on) or tracks:COUNT:POINTS[:slab] (COUNT synthetic
+    /// every layer, seen head-on) or tracks:COUNT:POINTS[:slab][:lines] (COUNT synthetic
     /// streamlines of POINTS points 1 mm apart in a brain-sized volume, drawn as tubes of
-    /// radius 0.2 mm: whole in 3D, or their parts in a 5 mm slab over an axial slice).
+    /// radius 0.2 mm, or with :lines as lines of that width: whole in 3D, or their parts
+    /// in a 5 mm slab over an axial slice).
     #[arg(long, default_value = "grid:100:8")]
     workload: String,
     /// A sweep instead of one measurement: steps (the paper's Table 1), scaling (glyph
@@ -95,6 +96,10 @@ pub struct BenchArgs {
     /// scene file names: a large scene then reads without parsing JSON numbers.
     #[arg(long, requires = "save_scene")]
     scene_arrays: bool,
+    /// With a tracks workload: also write its streamlines (the parts it draws) as an
+    /// MRtrix .tck, to draw the same set with `render --tracks` or another tool.
+    #[arg(long, value_name = "FILE.tck")]
+    save_tracks: Option<PathBuf>,
     /// Vulkan device: part of its name or its index.
     #[arg(long)]
     device: Option<String>,
@@ -137,6 +142,7 @@ impl BenchArgs {
             .filter_map(|name| Some(self.out.as_ref()?.join(name)))
             .collect();
         paths.extend(self.save_scene.clone());
+        paths.extend(self.save_tracks.clone());
         paths
     }
 
@@ -299,18 +305,14 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
             options.check_method_reads(&settings)?;
             if let Some(tracks) = args.tracks_workload() {
                 let (scene, tubes) = tracks?;
-                for (flag, given) in [
-                    ("--save-scene", args.save_scene.is_some()),
-                    ("--accuracy", args.accuracy),
-                ] {
-                    if given {
-                        return Err(Error::conflict(
-                            flag,
-                            Relation::Excludes,
-                            "a tracks workload (its tubes are no scene's glyphs)",
-                        ));
-                    }
+                if args.accuracy {
+                    return Err(Error::conflict(
+                        "--accuracy",
+                        Relation::Excludes,
+                        "a tracks workload (its tubes are no scene's glyphs)",
+                    ));
                 }
+                save_tracks_workload(args, &scene, &tubes)?;
                 let scene = plan.scene(base_name(), scene);
                 plan.tubes[scene] = Some(tubes);
                 plan.cases.push(Case {
@@ -320,6 +322,14 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
                     accuracy: false,
                 });
                 return Ok(plan);
+            }
+            if args.save_tracks.is_some() {
+                return Err(Error::Flag {
+                    flag: "--save-tracks",
+                    message: "writes the streamlines of a tracks workload \
+                              (--workload tracks:COUNT:POINTS[:slab][:lines])"
+                        .into(),
+                });
             }
             let base = args.base_scene()?;
             if let Some(path) = &args.save_scene {
@@ -573,6 +583,42 @@ fn gpu_plan(args: &BenchArgs, counts: &str, plan: &mut Plan) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// `--save-scene` (the camera and image of the workload; no glyphs) and `--save-tracks`
+/// (its streamlines as a `.tck`) of a tracks workload, checked as outputs first.
+fn save_tracks_workload(args: &BenchArgs, scene: &Scene, tubes: &PeakSet) -> Result<()> {
+    if args.save_scene.is_none() && args.save_tracks.is_none() {
+        return Ok(());
+    }
+    if let Some(path) = &args.save_tracks {
+        glyphcast::io::atomic::check_ending(path, "--save-tracks", &["tck"])?;
+    }
+    check_outputs(&args.output_paths(), &args.input_paths())?;
+    if let Some(path) = &args.save_scene {
+        scene.save(path, false)?;
+    }
+    if let Some(path) = &args.save_tracks {
+        glyphcast_dmri::io::tracks::tck::write_tck(&polylines(tubes), path)?;
+    }
+    Ok(())
+}
+
+/// The streamlines whose consecutive segments are `tubes`' capsules: a segment that
+/// starts where the one before it ended continues its streamline.
+fn polylines(tubes: &PeakSet) -> glyphcast_dmri::io::tracks::Tractogram {
+    let mut tractogram = glyphcast_dmri::io::tracks::Tractogram::default();
+    let mut end = None;
+    for segment in tubes.all() {
+        let capsule = &segment.capsule;
+        if end != Some(capsule.a) {
+            tractogram.offsets.push(tractogram.points.len() as u64);
+            tractogram.points.push(capsule.a.as_vec3().to_array());
+        }
+        tractogram.points.push(capsule.b.as_vec3().to_array());
+        end = Some(capsule.b);
+    }
+    tractogram
 }
 
 /// The array files `scene` saved as `path` with --scene-arrays writes. Each is an output:

@@ -206,6 +206,12 @@ pub struct VolumeArgs {
     /// Tube radius in millimetres (default 0.15).
     #[arg(long, value_name = "MM", help_heading = "Tracks")]
     pub tracks_radius: Option<f64>,
+    /// tubes (the default: ray-cast exactly, tubes and lobes hide each other at their
+    /// surfaces) or lines (flat, unlit ribbons of the tubes' width, at least a pixel,
+    /// at the streamline's depth: much faster for a whole brain's overlapping
+    /// streamlines on lavapipe, not exact).
+    #[arg(long, value_name = "tubes|lines", help_heading = "Tracks")]
+    pub tracks_style: Option<String>,
     /// Draw at most N streamlines: every k-th, k the smallest that leaves at most N.
     #[arg(long, value_name = "N", help_heading = "Tracks")]
     pub tracks_max: Option<usize>,
@@ -314,6 +320,7 @@ impl VolumeArgs {
             tracks: self.tracks.clone().map(ImageSource::File),
             tracks_color: self.tracks_color.clone(),
             tracks_radius: self.tracks_radius,
+            tracks_style: self.tracks_style.clone(),
             tracks_max: self.tracks_max,
             slab: self.slab,
         }

@@ -15,8 +15,8 @@ use crate::io::nifti::AffineSource;
 use crate::io::tracks::Tractogram;
 use crate::volume::{CoefficientFrame, UnderlayPlacement};
 use crate::volume::{
-    PeakStyle, PeaksColor, PeaksNorm, TrackStyle, TracksColor, ViewPeaks, ViewTracks, load_peaks,
-    peak_set, view_tubes,
+    PeakStyle, PeaksColor, PeaksNorm, TrackShape, TrackStyle, TracksColor, ViewPeaks, ViewTracks,
+    load_peaks, peak_set, view_tubes,
 };
 use crate::volume::{Slice, SliceAxis, Volume, VolumeOptions, VolumeScene, VoxelRanges};
 use crate::volume::{view_underlay, volume_scene};
@@ -362,6 +362,7 @@ pub fn tracks_mosaic(
         tractogram: Arc::clone(tractogram),
         style: TrackStyle {
             radius: TRACKS_MOSAIC_RADIUS_VOXELS * voxel,
+            shape: TrackShape::Tubes,
             color: TracksColor::Direction,
             slab: Some(TRACKS_MOSAIC_SLAB_VOXELS * voxel),
         },
@@ -463,7 +464,10 @@ mod tests {
             regions: vec![region],
             block: None,
             glyph_radius: 0.0,
-            peaks: Some(PeakSet { segments }),
+            peaks: Some(PeakSet {
+                segments,
+                lines: Vec::new(),
+            }),
         };
         size_peaks_alike(std::slice::from_mut(&mut scene), 0.5);
         let got: Vec<f64> = scene

@@ -378,7 +378,7 @@ pub fn volume_scene_with_progress(
         Some(tracks) => {
             let tubes = view_tubes(tracks, &regions, block.is_some(), map)?;
             let mut all = peaks.unwrap_or_default();
-            all.segments.extend(tubes.segments);
+            all.extend(tubes);
             Some(all)
         }
         None => peaks,

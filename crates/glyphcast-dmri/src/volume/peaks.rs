@@ -444,7 +444,10 @@ pub fn peak_set(
             }
         })
         .collect();
-    Ok(PeakSet { segments })
+    Ok(PeakSet {
+        segments,
+        lines: Vec::new(),
+    })
 }
 
 /// World size of one pixel: everywhere for an orthographic camera, at the target for a

@@ -131,6 +131,8 @@ pub struct VolumeRequest {
     pub tracks_color: Option<String>,
     /// The tubes' radius, millimetres.
     pub tracks_radius: Option<f64>,
+    /// tubes (the default) or lines.
+    pub tracks_style: Option<String>,
     /// The most streamlines drawn: a uniform subsample of them.
     pub tracks_max: Option<usize>,
     /// On slice views, only the parts of streamlines within this many millimetres of a
@@ -166,6 +168,7 @@ impl VolumeRequest {
         let given = [
             (DmriSetting::TracksColor, self.tracks_color.is_some()),
             (DmriSetting::TracksRadius, self.tracks_radius.is_some()),
+            (DmriSetting::TracksStyle, self.tracks_style.is_some()),
             (DmriSetting::TracksMax, self.tracks_max.is_some()),
             (DmriSetting::Slab, self.slab.is_some()),
         ];
@@ -179,6 +182,12 @@ impl VolumeRequest {
         }
         let style = TrackStyle {
             radius: self.tracks_radius.unwrap_or(DEFAULT_TRACKS_RADIUS_MM),
+            shape: self
+                .tracks_style
+                .as_deref()
+                .map(str::parse)
+                .transpose()?
+                .unwrap_or_default(),
             color: self
                 .tracks_color
                 .as_deref()

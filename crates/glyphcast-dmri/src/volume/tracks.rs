@@ -61,11 +61,42 @@ impl FromStr for TracksColor {
     }
 }
 
+/// What a streamline is drawn as.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum TrackShape {
+    /// Tubes ray-cast exactly: capsules whose surfaces and the glyphs' hide each other
+    /// pixel by pixel.
+    #[default]
+    Tubes,
+    /// Lines: flat ribbons of the tubes' width on the screen (at least a pixel), at the
+    /// depth of the streamline, unlit; depth-tested before shading, the affordable way
+    /// to draw a whole brain's overlapping streamlines on a CPU driver.
+    Lines,
+}
+
+impl FromStr for TrackShape {
+    type Err = Error;
+
+    fn from_str(text: &str) -> Result<Self> {
+        match text {
+            "tubes" => Ok(TrackShape::Tubes),
+            "lines" => Ok(TrackShape::Lines),
+            _ => Err(Error::setting_value(
+                DmriSetting::TracksStyle,
+                format!("'{}'", quoted(text)),
+                "expected tubes or lines",
+            )),
+        }
+    }
+}
+
 /// How a view draws its tractogram.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TrackStyle {
-    /// The tubes' radius, millimetres.
+    /// The tubes' radius, millimetres (the lines' width on the screen is the tubes').
     pub radius: f64,
+    /// Tubes or lines.
+    pub shape: TrackShape,
     /// Their colour.
     pub color: TracksColor,
     /// On a slice view, the distance from a slice's plane within which parts of
@@ -77,6 +108,7 @@ impl Default for TrackStyle {
     fn default() -> Self {
         TrackStyle {
             radius: DEFAULT_TRACKS_RADIUS_MM,
+            shape: TrackShape::Tubes,
             color: TracksColor::Direction,
             slab: None,
         }
@@ -116,7 +148,8 @@ pub struct ViewTracks {
 }
 
 /// The tubes of `tractogram`: one capsule per segment (a one-point streamline is a
-/// ball), coloured as `style` asks.
+/// ball), coloured as `style` asks; with [`TrackShape::Lines`] the same capsules as the
+/// set's lines.
 pub fn tube_set(tractogram: &Tractogram, style: &TrackStyle) -> PeakSet {
     let point = |k: usize| DVec3::from(tractogram.points[k].map(f64::from));
     let mut segments = Vec::with_capacity(tractogram.points.len());
@@ -145,7 +178,16 @@ pub fn tube_set(tractogram: &Tractogram, style: &TrackStyle) -> PeakSet {
             });
         }
     }
-    PeakSet { segments }
+    match style.shape {
+        TrackShape::Tubes => PeakSet {
+            segments,
+            lines: Vec::new(),
+        },
+        TrackShape::Lines => PeakSet {
+            segments: Vec::new(),
+            lines: segments,
+        },
+    }
 }
 
 fn color_of(color: TracksColor, step: DVec3) -> [f64; 3] {
@@ -187,9 +229,7 @@ pub fn view_tubes(
             )
         })?;
         let part = slab(&tracks.tractogram, &plane, slab_mm);
-        tubes
-            .segments
-            .extend(tube_set(&part, &tracks.style).segments);
+        tubes.extend(tube_set(&part, &tracks.style));
     }
     Ok(tubes)
 }

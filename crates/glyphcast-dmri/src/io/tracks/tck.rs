@@ -96,6 +96,47 @@ impl TckHeader {
     }
 }
 
+/// The bytes of `tractogram` as an MRtrix `.tck` (`Float32LE`, the `count` given, the
+/// data from the first 4-byte boundary after the header), as MRtrix3's writer lays a
+/// file out: what [`read_tck`], nibabel and `mrview` read back point for point. Point
+/// values are not written: a `.tck` holds only points.
+pub fn encode_tck(tractogram: &Tractogram) -> Vec<u8> {
+    let mut header = format!(
+        "{MAGIC}\ncount: {}\ndatatype: Float32LE\nfile: . ",
+        tractogram.len()
+    );
+    // The offset's own digits are part of the header it points past.
+    let mut offset = header.len() + "\nEND\n".len();
+    while offset < header.len() + offset.to_string().len() + "\nEND\n".len() {
+        offset += 1;
+    }
+    let offset = offset.next_multiple_of(4);
+    header.push_str(&format!("{offset}\nEND\n"));
+    let mut bytes = header.into_bytes();
+    bytes.resize(offset, 0);
+    let triplets = tractogram.points.len() + tractogram.len() + 1;
+    bytes.reserve(triplets * 12);
+    let triplet = |bytes: &mut Vec<u8>, p: [f32; 3]| {
+        for v in p {
+            bytes.extend_from_slice(&v.to_le_bytes());
+        }
+    };
+    for line in tractogram.streamlines() {
+        for &p in line {
+            triplet(&mut bytes, p);
+        }
+        triplet(&mut bytes, [f32::NAN; 3]);
+    }
+    triplet(&mut bytes, [f32::INFINITY; 3]);
+    bytes
+}
+
+/// Writes `tractogram` to `path` as an MRtrix `.tck` ([`encode_tck`]), whole or not at
+/// all (written beside it, then renamed).
+pub fn write_tck(tractogram: &Tractogram, path: &Path) -> Result<()> {
+    glyphcast::io::atomic::write_atomic(path, &encode_tck(tractogram))
+}
+
 /// The `key: value` lines (keys in lower case) and the header's length up to and
 /// including `END`, read by MRtrix's rules as its images' headers are
 /// ([`key_value_lines`]); a tractogram's header must end with `END`.

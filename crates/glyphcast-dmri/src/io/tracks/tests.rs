@@ -94,3 +94,22 @@ fn half_precision_decodes_exactly() {
     assert_eq!(f16_to_f32(0x3555), 0.333_251_95);
     assert!(f16_to_f32(0x7c00).is_infinite() && f16_to_f32(0x7e00).is_nan());
 }
+
+#[test]
+fn tck_written_reads_back_point_for_point() {
+    let mut tractogram = Tractogram::default();
+    for (start, count) in [(0.0f32, 3usize), (10.0, 1), (-5.5, 40)] {
+        tractogram.offsets.push(tractogram.points.len() as u64);
+        tractogram
+            .points
+            .extend((0..count).map(|k| [start + k as f32, 0.25 * k as f32, -1e3 + start]));
+    }
+    let bytes = tck::encode_tck(&tractogram);
+    let header = tck::TckHeader::parse(&bytes, "written.tck").unwrap();
+    assert_eq!(header.count, Some(3));
+    assert_eq!(header.offset % 4, 0);
+    assert!(header.offset as usize >= header.length, "{header:?}");
+    let path = scratch("written.tck", &[]);
+    tck::write_tck(&tractogram, &path).unwrap();
+    assert_eq!(read_tractogram(&path).unwrap(), tractogram);
+}
