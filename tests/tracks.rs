@@ -298,6 +298,61 @@ fn render_draws_tracks_over_the_fodf_slice() {
     let bad_arg = not_tracks.display().to_string();
     let bad = [&base[..], &["--tracks", bad_arg.as_str()]].concat();
     expect_failure(&bad, &refused, &["not.tck"]);
+    // A value per point: nibabel's complex.trk stores fa (one number a point) and
+    // colors (three); the map is printed; another value, a value of three numbers and a
+    // file without values are refused naming the option and the file.
+    let complex = common::test_data("tracks", "complex_big_endian.trk")
+        .display()
+        .to_string();
+    let fa_png = dir.join("fa.png").display().to_string();
+    let scalar = [
+        &base[..2],
+        &[
+            fod_arg.as_str(),
+            "-o",
+            fa_png.as_str(),
+            "--tracks",
+            complex.as_str(),
+            "--tracks-color",
+            "scalar:fa",
+        ],
+    ]
+    .concat();
+    let run = glyphcast(&scalar);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("streamlines coloured by fa: viridis from 0.2"),
+        "{stderr}"
+    );
+    let complex_arg = complex.as_str();
+    for (color, words) in [
+        (
+            "scalar:md",
+            &["--tracks-color", "complex_big_endian.trk", "colors, fa"][..],
+        ),
+        (
+            "scalar:colors",
+            &["--tracks-color", "3 numbers per point"][..],
+        ),
+    ] {
+        let args = [
+            &base[..],
+            &["--tracks", complex_arg, "--tracks-color", color],
+        ]
+        .concat();
+        expect_usage_failure(&args, &refused, words);
+    }
+    let args = [
+        &base[..],
+        &["--tracks", tck_arg.as_str(), "--tracks-color", "scalar"],
+    ]
+    .concat();
+    expect_usage_failure(
+        &args,
+        &refused,
+        &["--tracks-color", "stores no value per point"],
+    );
 }
 
 /// `bench --workload tracks:...` measures the tubes and, with `--save-tracks`, writes the

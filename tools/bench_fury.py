@@ -183,21 +183,26 @@ def grid_of(centers, coeffs):
 
 
 class FuryFrame:
-    """FURY 2's offscreen ShowManager with the field's sph_glyph and glyphcast's camera."""
+    """FURY 2's offscreen ShowManager drawing `actor` with glyphcast's camera `cam` (a
+    scene file's camera: perspective or orthographic), pixel ratio 1."""
 
-    def __init__(self, scene, grid, origin, width, height, sphere):
+    def __init__(self, cam, actor, width, height, depth_range=(1.0, 200.0),
+                 background=BACKGROUND):
         import pygfx as gfx
-        from fury import actor, window
+        from fury import window
 
-        self.glyphs = actor.sph_glyph(grid, sphere=sphere)
-        self.glyphs.local.position = tuple(float(v) for v in origin)
-        self.scene = window.Scene(background=tuple(c / 255 for c in BACKGROUND) + (1.0,))
-        self.scene.add(self.glyphs)
-        cam = scene["camera"]
-        assert cam["projection"] == "perspective"
-        camera = gfx.PerspectiveCamera(cam["fov_y_deg"], 1.0, depth_range=(1.0, 200.0))
-        light = gfx.DirectionalLight()
-        camera.add(light)  # as FURY does for a camera of its own
+        self.actor = actor
+        self.scene = window.Scene(background=tuple(c / 255 for c in background) + (1.0,))
+        self.scene.add(actor)
+        if cam["projection"] == "perspective":
+            # pygfx's fov is the vertical one for a landscape view given aspect 1 (the
+            # viewport's aspect then widens it).
+            camera = gfx.PerspectiveCamera(cam["fov_y_deg"], 1.0, depth_range=depth_range)
+        else:
+            h = cam["height"]
+            camera = gfx.OrthographicCamera(h * width / height, h, maintain_aspect=True,
+                                            depth_range=depth_range)
+        camera.add(gfx.DirectionalLight())  # as FURY does for a camera of its own
         self.scene.add(camera)
         self.sm = window.ShowManager(scene=self.scene, camera=camera, size=(width, height),
                                      window_type="offscreen", pixel_ratio=1)
@@ -208,8 +213,7 @@ class FuryFrame:
         for screen in self.sm.screens:
             screen.controller.enabled = False
             screen.controller.remove_camera(camera)
-        self.camera = camera
-        self.cam = cam
+        self.camera, self.cam, self.depth_range = camera, cam, depth_range
         self.sm.render()
         self.draw()
         self.place_camera()
@@ -222,8 +226,9 @@ class FuryFrame:
         camera.local.position = tuple(cam["eye"])
         camera.world.reference_up = tuple(cam["up"])
         camera.look_at(tuple(cam["target"]))
-        camera.fov = cam["fov_y_deg"]
-        camera.depth_range = (1.0, 200.0)
+        if cam["projection"] == "perspective":
+            camera.fov = cam["fov_y_deg"]
+        camera.depth_range = self.depth_range
 
     def draw(self, ppaa="none"):
         """One whole frame; the image (H, W, 4 uint8)."""
@@ -231,7 +236,8 @@ class FuryFrame:
         return np.asarray(self.sm.window.draw())
 
     def time(self, frames, warmup, visible=True, ppaa="none"):
-        self.glyphs.visible = visible
+        """Wall-clock ms of `frames` whole frames after `warmup`, the actor shown or not."""
+        self.actor.visible = visible
         self.sm.renderer.ppaa = ppaa
         for _ in range(warmup):
             self.draw()
@@ -240,7 +246,7 @@ class FuryFrame:
             t0 = time.perf_counter()
             self.draw()
             ms.append(1e3 * (time.perf_counter() - t0))
-        self.glyphs.visible = True
+        self.actor.visible = True
         return ms
 
 
@@ -316,11 +322,15 @@ def main():
     if diff > 1e-5:
         raise SystemExit("error: FURY's basis is not tournier07 in this FURY")
     grid, origin = grid_of(centers, tournier07_to_fury(coeffs, band))
-    frame = FuryFrame(scene, grid, origin, args.width, args.height, args.sphere)
+    from fury import actor
+
+    glyphs = actor.sph_glyph(grid, sphere=args.sphere)
+    glyphs.local.position = tuple(float(v) for v in origin)
+    frame = FuryFrame(scene["camera"], glyphs, args.width, args.height)
     adapter = frame.sm.renderer.device.adapter.info
     print(f"FURY {fury.__version__} (pygfx {pygfx.__version__}, wgpu {wgpu.__version__}), "
-          f"sph_glyph sphere {args.sphere} ({frame.glyphs.vertices_per_glyph} vertices, "
-          f"{frame.glyphs.faces_per_glyph} faces a glyph), basis 'standard', "
+          f"sph_glyph sphere {args.sphere} ({glyphs.vertices_per_glyph} vertices, "
+          f"{glyphs.faces_per_glyph} faces a glyph), basis 'standard', "
           f"{grid.shape[-1]} coefficients a glyph; adapter: {adapter.get('device')} "
           f"({adapter.get('description')}, {adapter.get('backend_type')})")
 

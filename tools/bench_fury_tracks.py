@@ -29,14 +29,12 @@ import argparse
 import json
 import os
 import statistics
-import subprocess
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-from bench_fury import run, save_png
+from bench_fury import FuryFrame, run, save_png
 
 # FURY's background: black, as glyphcast's default.
 BACKGROUND = (0, 0, 0)
@@ -83,69 +81,19 @@ def direction_colors(line):
     return np.abs(np.vstack([d, d[-1:]]))
 
 
-class FuryTracks:
-    """FURY 2's offscreen ShowManager with the streamlines as `kind` and glyphcast's
-    camera."""
+def fury_tracks(scene, lines, kind, width, height, line_px):
+    """FURY 2's offscreen frame of the streamlines as `kind` (line or streamtube) with
+    glyphcast's camera (bench_fury.FuryFrame), on black."""
+    from fury import actor
 
-    def __init__(self, scene, lines, kind, width, height, line_px):
-        import pygfx as gfx
-        from fury import actor, window
-
-        if kind == "line":
-            colors = np.vstack([direction_colors(l) for l in lines])
-            self.actor = actor.line(lines, colors=colors)
-            self.actor.material.thickness = line_px
-        else:
-            self.actor = actor.streamtube(lines, radius=0.2, segments=8, colors=(0.9, 0.6, 0.3))
-        self.scene = window.Scene(background=tuple(c / 255 for c in BACKGROUND) + (1.0,))
-        self.scene.add(self.actor)
-        cam = scene["camera"]
-        if cam["projection"] == "perspective":
-            camera = gfx.PerspectiveCamera(cam["fov_y_deg"], width / height,
-                                           depth_range=(100.0, 1000.0))
-        else:
-            h = cam["height"]
-            camera = gfx.OrthographicCamera(h * width / height, h, maintain_aspect=True,
-                                            depth_range=(100.0, 1000.0))
-        camera.add(gfx.DirectionalLight())
-        self.scene.add(camera)
-        self.sm = window.ShowManager(scene=self.scene, camera=camera, size=(width, height),
-                                     window_type="offscreen", pixel_ratio=1)
-        # As in bench_fury.py: the trackball controller lets go of the camera, and the
-        # camera is placed after a first draw and checked to stay.
-        for screen in self.sm.screens:
-            screen.controller.enabled = False
-            screen.controller.remove_camera(camera)
-        self.camera, self.cam = camera, cam
-        self.sm.render()
-        self.draw()
-        self.place_camera()
-        self.draw()
-        if not np.allclose(camera.world.position, cam["eye"], atol=1e-9):
-            raise SystemExit("error: FURY moved the camera: " + str(camera.world.position))
-
-    def place_camera(self):
-        cam, camera = self.cam, self.camera
-        camera.local.position = tuple(cam["eye"])
-        camera.world.reference_up = tuple(cam["up"])
-        camera.look_at(tuple(cam["target"]))
-        camera.depth_range = (100.0, 1000.0)
-
-    def draw(self):
-        self.sm.renderer.ppaa = "none"
-        return np.asarray(self.sm.window.draw())
-
-    def time(self, frames, warmup, visible=True):
-        self.actor.visible = visible
-        for _ in range(warmup):
-            self.draw()
-        ms = []
-        for _ in range(frames):
-            t0 = time.perf_counter()
-            self.draw()
-            ms.append(1e3 * (time.perf_counter() - t0))
-        self.actor.visible = True
-        return ms
+    if kind == "line":
+        colors = np.vstack([direction_colors(l) for l in lines])
+        drawn = actor.line(lines, colors=colors)
+        drawn.material.thickness = line_px
+    else:
+        drawn = actor.streamtube(lines, radius=0.2, segments=8, colors=(0.9, 0.6, 0.3))
+    return FuryFrame(scene["camera"], drawn, width, height, depth_range=(100.0, 1000.0),
+                     background=BACKGROUND)
 
 
 def glyphcast_bench(args, workload):
@@ -180,7 +128,7 @@ def main():
         print(f"FURY streamtube: not timed (more than {MAX_STREAMTUBE_SEGMENTS} segments)")
     for kind in kinds:
         t0 = time.perf_counter()
-        frames[kind] = FuryTracks(scene, lines, kind, args.width, args.height, args.line_px)
+        frames[kind] = fury_tracks(scene, lines, kind, args.width, args.height, args.line_px)
         print(f"FURY {kind}: made and first drawn in {time.perf_counter() - t0:.1f} s")
         save_png(args.out / f"fury-{kind}.png", frames[kind].draw())
     adapter = frames["line"].sm.renderer.device.adapter.info

@@ -37,15 +37,20 @@ EXTRA_VOXELS = 10
 HIGH_VOXELS = 30
 
 
-def main(data_dir, out_path):
+def load_small_64d(data_dir):
+    """small_64D's image, its data as float64 and its gradient table, as DIPY reads them
+    (b-vectors as stored, NaN read as 0)."""
     image = nib.load(f"{data_dir}/small_64D.nii")
     data = np.asarray(image.dataobj, dtype=np.float64)
     bvals = np.loadtxt(f"{data_dir}/small_64D.bval")
     bvecs = np.loadtxt(f"{data_dir}/small_64D.bvec")
     if bvecs.shape[0] == 3:
         bvecs = bvecs.T
-    bvecs = np.nan_to_num(bvecs)
-    gtab = gradient_table(bvals, bvecs=bvecs)
+    return image, data, gradient_table(bvals, bvecs=np.nan_to_num(bvecs))
+
+
+def main(data_dir, out_path):
+    image, data, gtab = load_small_64d(data_dir)
 
     tensor = TensorModel(gtab).fit(data)
     fa = np.nan_to_num(fractional_anisotropy(tensor.evals))

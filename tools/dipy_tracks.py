@@ -15,9 +15,7 @@ header holds the image's affine) as glyphcast places the fit's glyphs.
 
 import sys
 
-import nibabel as nib
 import numpy as np
-from dipy.core.gradients import gradient_table
 from dipy.data import default_sphere
 from dipy.direction import DeterministicMaximumDirectionGetter
 from dipy.io.stateful_tractogram import Space, StatefulTractogram
@@ -29,15 +27,11 @@ from dipy.tracking.local_tracking import LocalTracking
 from dipy.tracking.stopping_criterion import ThresholdStoppingCriterion
 from dipy.tracking.streamline import Streamlines, length
 
+from dipy_fixtures import load_small_64d
+
 
 def main(data_dir, out_path):
-    image = nib.load(f"{data_dir}/small_64D.nii")
-    data = np.asarray(image.dataobj, dtype=np.float64)
-    bvals = np.loadtxt(f"{data_dir}/small_64D.bval")
-    bvecs = np.loadtxt(f"{data_dir}/small_64D.bvec")
-    if bvecs.shape[0] == 3:
-        bvecs = bvecs.T
-    gtab = gradient_table(bvals, bvecs=np.nan_to_num(bvecs))
+    image, data, gtab = load_small_64d(data_dir)
 
     fa = np.nan_to_num(fractional_anisotropy(TensorModel(gtab).fit(data).evals))
     response, _ = auto_response_ssst(gtab, data, roi_radii=10, fa_thr=0.7)

@@ -324,12 +324,11 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
                 return Ok(plan);
             }
             if args.save_tracks.is_some() {
-                return Err(Error::Flag {
-                    flag: "--save-tracks",
-                    message: "writes the streamlines of a tracks workload \
-                              (--workload tracks:COUNT:POINTS[:slab][:lines])"
-                        .into(),
-                });
+                return Err(Error::conflict(
+                    "--save-tracks",
+                    Relation::Requires,
+                    "a tracks workload (--workload tracks:COUNT:POINTS[:slab][:lines])",
+                ));
             }
             let base = args.base_scene()?;
             if let Some(path) = &args.save_scene {

@@ -199,8 +199,10 @@ pub struct VolumeArgs {
     #[arg(long, value_name = "FILE", help_heading = "Tracks")]
     pub tracks: Option<PathBuf>,
     /// Tube colour: direction (RGB = |x|, |y|, |z| of each segment's direction, the
-    /// default), a name (white, black, grey, red, green, blue, yellow, cyan, magenta),
-    /// #rrggbb or r,g,b (0-255).
+    /// default), scalar[:NAME] (a value stored per point, a TrackVis scalar or a TRX dpv,
+    /// the first one without NAME, through viridis over its range in the file), a name
+    /// (white, black, grey, red, green, blue, yellow, cyan, magenta), #rrggbb or r,g,b
+    /// (0-255).
     #[arg(long, value_name = "COLOR", help_heading = "Tracks")]
     pub tracks_color: Option<String>,
     /// Tube radius in millimetres (default 0.15).
@@ -353,7 +355,8 @@ impl VolumeArgs {
         }
         match &figure {
             VolumeFigure::View(view) => {
-                report(&view.scene, &view.volume.file);
+                let given = (self.peaks.is_some(), self.tracks.is_some());
+                report(&view.scene, &view.volume.file, given);
                 if let Some(underlay) = &view.underlay {
                     let volume = &underlay.volume;
                     let (lo, hi) = volume.window();
@@ -367,7 +370,11 @@ impl VolumeArgs {
             }
             VolumeFigure::Montage(montage) => {
                 for panel in &montage.panels {
-                    report(panel, &montage.file);
+                    report(
+                        panel,
+                        &montage.file,
+                        (self.peaks.is_some(), self.tracks.is_some()),
+                    );
                 }
             }
         }
@@ -428,7 +435,8 @@ pub fn panel_view(volume: &Volume, options: &VolumeOptions) -> Result<VolumeScen
     for warning in view.report.warnings(&volume.file) {
         eprintln!("warning: {}", spelled(&warning));
     }
-    report(&view, &volume.file);
+    let given = (options.peaks.is_some(), options.tracks.is_some());
+    report(&view, &volume.file, given);
     Ok(view)
 }
 
@@ -446,9 +454,15 @@ fn report_basis(volume: &Volume) {
 
 /// One summary line of the glyphs (none for peaks alone: nothing was selected) and one
 /// line of the peaks (the warnings are the figure's: `VolumeFigure::messages`).
-fn report(view: &VolumeScene, file: &str) {
-    if let Some(peaks) = &view.peaks {
-        eprintln!("peaks: {file}: {} peaks drawn", peaks.segments.len());
+fn report(view: &VolumeScene, file: &str, (peaks, tracks): (bool, bool)) {
+    // The streamlines' segments are drawn in the peaks' set: counted with them.
+    if let Some(drawn) = &view.peaks {
+        let count = drawn.all().count();
+        match (peaks, tracks) {
+            (_, false) => eprintln!("peaks: {file}: {count} peaks drawn"),
+            (false, true) => eprintln!("tracks: {count} segments drawn"),
+            (true, true) => eprintln!("peaks and tracks: {count} peaks and segments drawn"),
+        }
     }
     if view.report.selected == 0 {
         return;

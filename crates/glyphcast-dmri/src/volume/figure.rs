@@ -79,6 +79,25 @@ impl VolumeFigure {
     }
 }
 
+/// What the colours of streamlines coloured by a per-point value mean: the value's name
+/// and the range viridis spans.
+fn scalar_note(tracks: &crate::volume::ViewTracks) -> Option<glyphcast::error::Message> {
+    let crate::volume::TracksColor::Scalar(scalar) = tracks.style.color else {
+        return None;
+    };
+    let name = &tracks.tractogram.point_values.get(scalar.index)?.name;
+    // Four significant digits, as a reader compares them.
+    let show = |v: f64| {
+        let digits = 3 - v.abs().max(1e-300).log10().floor() as i32;
+        format!("{v:.*}", digits.clamp(0, 9) as usize)
+    };
+    Some(glyphcast::message![format!(
+        "streamlines coloured by {name}: viridis from {} (dark blue) to {} (yellow)",
+        show(scalar.low),
+        show(scalar.high)
+    )])
+}
+
 impl VolumeRequest {
     /// The figure of `volume` (from [`VolumeRequest::read_volume`] or
     /// [`VolumeRequest::memory_volume`]) at the image size `image`: a montage when views
@@ -89,11 +108,20 @@ impl VolumeRequest {
         options.mask = self.read_mask()?;
         options.peaks = self.read_peaks()?;
         options.tracks = self.read_tracks()?;
-        if self.is_montage() {
-            return self.montage(&volume, &options).map(VolumeFigure::Montage);
+        let note = options.tracks.as_ref().and_then(scalar_note);
+        let mut figure = if self.is_montage() {
+            self.montage(&volume, &options).map(VolumeFigure::Montage)?
+        } else {
+            self.view(volume, options)
+                .map(|view| VolumeFigure::View(Box::new(view)))?
+        };
+        if let Some(note) = note {
+            match &mut figure {
+                VolumeFigure::View(view) => view.notes.push(note),
+                VolumeFigure::Montage(montage) => montage.notes.push(note),
+            }
         }
-        self.view(volume, options)
-            .map(|view| VolumeFigure::View(Box::new(view)))
+        Ok(figure)
     }
 
     /// The view of `volume` with `options` (from [`VolumeRequest::options`], with a

@@ -59,7 +59,8 @@ pub use reorient::Reorientation;
 pub use request::{Coefficients, ImageSource, MAX_PANELS, VolumeRequest, parse_views};
 pub use selection::{Slice, SliceAxis, SliceRegion, Slices, VoxelRanges, show_block};
 pub use tracks::{
-    DEFAULT_TRACKS_RADIUS_MM, TrackShape, TrackStyle, TracksColor, ViewTracks, tube_set, view_tubes,
+    DEFAULT_TRACKS_RADIUS_MM, ScalarColor, TrackShape, TrackStyle, TracksColor, ViewTracks,
+    scalar_request, tube_set, view_tubes,
 };
 pub use underlay::{
     UnderlayPlacement, load_underlay, plane_behind, slice_plane, slice_planes, turned_away,

@@ -21,7 +21,9 @@ use crate::io::tracks::select::subsample;
 use crate::io::tracks::{Tractogram, read_tractogram};
 use crate::setting::DmriSetting;
 use crate::volume::peaks::{DEFAULT_PEAKS_WIDTH, PeakStyle, PeakVolume, ViewPeaks, load_peaks};
-use crate::volume::tracks::{DEFAULT_TRACKS_RADIUS_MM, TrackStyle, ViewTracks};
+use crate::volume::tracks::{
+    DEFAULT_TRACKS_RADIUS_MM, ScalarColor, TrackStyle, TracksColor, ViewTracks, scalar_request,
+};
 use glyphcast::error::quoted;
 use glyphcast::glyph::ellipsoid::ELLIPSOID_LAYOUT;
 use glyphcast::glyph::sh::parse_basis_choice;
@@ -188,9 +190,11 @@ impl VolumeRequest {
                 .map(str::parse)
                 .transpose()?
                 .unwrap_or_default(),
+            // A scalar colour is resolved against the tractogram (`read_tracks`).
             color: self
                 .tracks_color
                 .as_deref()
+                .filter(|text| scalar_request(text).is_none())
                 .map(str::parse)
                 .transpose()?
                 .unwrap_or_default(),
@@ -203,16 +207,19 @@ impl VolumeRequest {
     /// The tracks asked for, read if they are a file and subsampled to `tracks_max`,
     /// with their style.
     pub fn read_tracks(&self) -> Result<Option<ViewTracks>> {
-        let style = self.track_style()?;
-        let tractogram = match &self.tracks {
+        let mut style = self.track_style()?;
+        let (tractogram, file) = match &self.tracks {
             None => return Ok(None),
-            Some(ImageSource::File(path)) => read_tractogram(path)?,
-            Some(ImageSource::Memory(tractogram)) => tractogram.clone(),
+            Some(ImageSource::File(path)) => (read_tractogram(path)?, path.display().to_string()),
+            Some(ImageSource::Memory(tractogram)) => (tractogram.clone(), "tracks".to_owned()),
         };
         let tractogram = match self.tracks_max {
             Some(max) if max < tractogram.len() => subsample(&tractogram, max),
             _ => tractogram,
         };
+        if let Some(name) = self.tracks_color.as_deref().and_then(scalar_request) {
+            style.color = TracksColor::Scalar(ScalarColor::of(&tractogram, name, &file)?);
+        }
         Ok(Some(ViewTracks {
             tractogram: Arc::new(tractogram),
             style,

@@ -19,6 +19,7 @@ use std::sync::Arc;
 use glam::DVec3;
 use glyphcast::error::quoted;
 use glyphcast::glyph::capsule::Capsule;
+use glyphcast::render::compose::colorbar::viridis_srgb8;
 use glyphcast::render::peaks::{PeakSegment, PeakSet};
 use glyphcast::{Error, Result};
 
@@ -42,12 +43,104 @@ pub enum TracksColor {
     Direction,
     /// One sRGB colour, each channel 0 to 1.
     Uniform([f64; 3]),
+    /// By a value stored per point (a TrackVis scalar, a TRX `dpv`), mapped through
+    /// viridis over its range in the tractogram; resolved against the tractogram by
+    /// [`ScalarColor::of`] (`scalar[:NAME]` as text).
+    Scalar(ScalarColor),
+}
+
+/// A per-point value's colour map: which of the tractogram's point values, and the
+/// range that viridis spans (its darkest blue at `low`, its yellow at `high`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ScalarColor {
+    /// Index into the tractogram's `point_values`.
+    pub index: usize,
+    /// The smallest finite value of the tractogram.
+    pub low: f64,
+    /// The largest.
+    pub high: f64,
+}
+
+/// The name asked for by a colour's text `scalar` (`Some(None)`: the first per-point
+/// value) or `scalar:NAME` (`Some(Some(NAME))`); None for any other text.
+pub fn scalar_request(text: &str) -> Option<Option<&str>> {
+    match text.split_once(':') {
+        None if text == "scalar" => Some(None),
+        Some(("scalar", name)) => Some(Some(name)),
+        _ => None,
+    }
+}
+
+impl ScalarColor {
+    /// The colour map of the per-point value `name` of `tractogram` (the first value of
+    /// one number per point when `name` is None), over its finite values' range. A
+    /// tractogram without that value, one that stores several numbers per point, or
+    /// one without a finite value is refused naming the setting and `file`.
+    pub fn of(tractogram: &Tractogram, name: Option<&str>, file: &str) -> Result<ScalarColor> {
+        let asked = name.map_or("scalar".to_owned(), |n| format!("scalar:{n}"));
+        let refuse = |why: String| {
+            Error::setting_value(
+                DmriSetting::TracksColor,
+                format!("'{}'", quoted(&asked)),
+                format!("{file}: {why}"),
+            )
+        };
+        let names: Vec<&str> = tractogram
+            .point_values
+            .iter()
+            .map(|v| v.name.as_str())
+            .collect();
+        let found = match name {
+            Some(name) => tractogram.point_values.iter().position(|v| v.name == name),
+            None => tractogram.point_values.iter().position(|v| v.width == 1),
+        };
+        let Some(index) = found else {
+            return Err(refuse(match names.is_empty() {
+                true => "the tractogram stores no value per point (TrackVis scalars, TRX \
+                         dpv)"
+                    .to_owned(),
+                false => format!(
+                    "no per-point value of that name with one number per point; it has {}",
+                    names.join(", ")
+                ),
+            }));
+        };
+        let values = &tractogram.point_values[index];
+        if values.width != 1 {
+            return Err(refuse(format!(
+                "'{}' holds {} numbers per point, not one",
+                values.name, values.width
+            )));
+        }
+        let finite = values.values.iter().filter(|v| v.is_finite());
+        let (low, high) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+            (lo.min(f64::from(v)), hi.max(f64::from(v)))
+        });
+        if low > high {
+            return Err(refuse(format!("'{}' has no finite value", values.name)));
+        }
+        Ok(ScalarColor { index, low, high })
+    }
+
+    /// The sRGB colour (0 to 1) of `value`: viridis at its place in the range (the
+    /// middle when the range is one value); grey where it is not finite.
+    pub fn color(&self, value: f64) -> [f64; 3] {
+        if !value.is_finite() {
+            return [0.5; 3];
+        }
+        let t = match self.high > self.low {
+            true => (value - self.low) / (self.high - self.low),
+            false => 0.5,
+        };
+        viridis_srgb8(t.clamp(0.0, 1.0) as f32).map(|c| f64::from(c) / 255.0)
+    }
 }
 
 impl FromStr for TracksColor {
     type Err = Error;
 
-    /// `direction`, a colour name, `#rrggbb` or `r,g,b` (0-255), as the peaks' colour.
+    /// `direction`, a colour name, `#rrggbb` or `r,g,b` (0-255), as the peaks' colour
+    /// (`scalar[:NAME]` needs the tractogram: [`ScalarColor::of`]).
     fn from_str(text: &str) -> Result<Self> {
         match text.parse::<PeaksColor>() {
             Ok(PeaksColor::Direction) => Ok(TracksColor::Direction),
@@ -55,7 +148,7 @@ impl FromStr for TracksColor {
             Err(_) => Err(Error::setting_value(
                 DmriSetting::TracksColor,
                 format!("'{}'", quoted(text)),
-                "expected direction, a colour name, #rrggbb or r,g,b (0-255)",
+                "expected direction, scalar[:NAME], a colour name, #rrggbb or r,g,b (0-255)",
             )),
         }
     }
@@ -152,6 +245,19 @@ pub struct ViewTracks {
 /// set's lines.
 pub fn tube_set(tractogram: &Tractogram, style: &TrackStyle) -> PeakSet {
     let point = |k: usize| DVec3::from(tractogram.points[k].map(f64::from));
+    // A segment's value: the mean of its ends' (a scalar colour's).
+    let value = |k: usize, next: usize| match style.color {
+        TracksColor::Scalar(scalar) => {
+            tractogram
+                .point_values
+                .get(scalar.index)
+                .map_or(f64::NAN, |v| {
+                    let at = |i: usize| v.values.get(i).map_or(f64::NAN, |&x| f64::from(x));
+                    0.5 * (at(k) + at(next))
+                })
+        }
+        _ => f64::NAN,
+    };
     let mut segments = Vec::with_capacity(tractogram.points.len());
     for index in 0..tractogram.len() {
         let range = tractogram.range(index);
@@ -163,7 +269,7 @@ pub fn tube_set(tractogram: &Tractogram, style: &TrackStyle) -> PeakSet {
                     b: p,
                     radius: style.radius,
                 },
-                color: color_of(style.color, DVec3::ZERO),
+                color: color_of(style.color, DVec3::ZERO, value(range.start, range.start)),
             });
         }
         for k in range.start..range.end.saturating_sub(1) {
@@ -174,7 +280,7 @@ pub fn tube_set(tractogram: &Tractogram, style: &TrackStyle) -> PeakSet {
                     b,
                     radius: style.radius,
                 },
-                color: color_of(style.color, b - a),
+                color: color_of(style.color, b - a, value(k, k + 1)),
             });
         }
     }
@@ -190,9 +296,10 @@ pub fn tube_set(tractogram: &Tractogram, style: &TrackStyle) -> PeakSet {
     }
 }
 
-fn color_of(color: TracksColor, step: DVec3) -> [f64; 3] {
+fn color_of(color: TracksColor, step: DVec3, value: f64) -> [f64; 3] {
     match color {
         TracksColor::Uniform(rgb) => rgb,
+        TracksColor::Scalar(scalar) => scalar.color(value),
         TracksColor::Direction => step
             .try_normalize()
             .map_or([1.0, 1.0, 1.0], |d| d.abs().to_array()),
@@ -283,6 +390,61 @@ mod tests {
         fn tubes_uniform() -> [f64; 3] {
             [1.0 / 255.0, 2.0 / 255.0, 3.0 / 255.0]
         }
+    }
+
+    /// `scalar:NAME` maps each segment's mean value through viridis over the
+    /// tractogram's range; a name not stored, a value of three numbers per point and a
+    /// tractogram without values are refused naming the option and the file.
+    #[test]
+    fn scalar_colours_follow_the_values_over_their_range() {
+        use crate::io::tracks::PointValues;
+        let mut t = Tractogram::default();
+        t.offsets.push(0);
+        t.points = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]];
+        t.point_values = vec![
+            PointValues {
+                name: "rgb".into(),
+                width: 3,
+                values: vec![0.0; 9],
+            },
+            PointValues {
+                name: "fa".into(),
+                width: 1,
+                values: vec![0.2, 0.4, f32::NAN],
+            },
+        ];
+        assert_eq!(scalar_request("scalar"), Some(None));
+        assert_eq!(scalar_request("scalar:fa"), Some(Some("fa")));
+        assert_eq!(scalar_request("direction"), None);
+        let scalar = ScalarColor::of(&t, Some("fa"), "t.trk").expect("fa");
+        assert_eq!((scalar.index, scalar.low), (1, 0.2f32 as f64));
+        // `scalar` alone: the first value of one number per point.
+        assert_eq!(ScalarColor::of(&t, None, "t.trk").expect("first").index, 1);
+        let style = TrackStyle {
+            color: TracksColor::Scalar(scalar),
+            ..TrackStyle::default()
+        };
+        let tubes = tube_set(&t, &style);
+        let viridis = |x: f32| viridis_srgb8(x).map(|c| f64::from(c) / 255.0);
+        // The first segment's mean (0.3) is the middle of 0.2..0.4; the second has a
+        // NaN end: grey.
+        assert_eq!(tubes.segments[0].color, viridis(0.5));
+        assert_eq!(tubes.segments[1].color, [0.5; 3]);
+        assert_eq!(scalar.color(0.2f32 as f64), viridis(0.0));
+        assert_eq!(scalar.color(0.4f32 as f64), viridis(1.0));
+        for (name, words) in [
+            (Some("md"), "no per-point value of that name"),
+            (Some("rgb"), "3 numbers per point"),
+        ] {
+            let err = ScalarColor::of(&t, name, "t.trk").unwrap_err().to_string();
+            assert!(
+                err.contains("tracks colour") && err.contains("t.trk") && err.contains(words),
+                "{err}"
+            );
+        }
+        t.point_values.clear();
+        let err = ScalarColor::of(&t, None, "t.tck").unwrap_err().to_string();
+        assert!(err.contains("stores no value per point"), "{err}");
     }
 
     #[test]
