@@ -17,9 +17,10 @@
 #   (with pygfx's default anti-aliasing), OUTDIR/holes.png, and counts FURY's holes (pixels
 #   of glyphcast's exact coverage that FURY leaves empty); OUTDIR/results.json has it all.
 #
-# --workload tracks:COUNT:POINTS[:slab][:lines]: streamlines instead (tools/bench_fury_tracks.py):
-#   glyphcast's exact tubes against FURY's `line` and `streamtube` on the same streamlines
-#   (`bench --save-tracks`), at 1920x1080, 5 frames after 1 warm-up unless given.
+# --workload tracks:COUNT:POINTS[:slab]: streamlines instead (tools/bench_fury_tracks.py):
+#   glyphcast's exact tubes and its lines against FURY's `line` and `streamtube` on the
+#   same streamlines (`bench --save-tracks`), at 1920x1080, 5 frames after 1 warm-up
+#   unless given.
 # --mesa25: both sides on Mesa 25's lavapipe (tools/mesa25.sh) instead of the system's.
 # --bin: the glyphcast binary (default: target/release/glyphcast, built when missing).
 # What each number means: tools/bench_fury.py.

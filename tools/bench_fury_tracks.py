@@ -3,9 +3,9 @@ drawing on the same streamlines, in alternating runs (run by tools/bench-fury.sh
 tracks workload, which makes the virtual environment and picks the driver; see there).
 
 The set is the one `glyphcast bench --workload tracks:COUNT:POINTS[:slab]` draws (and, as
-lines, `...:lines`):
-glyphcast writes its streamlines (`--save-tracks`, an MRtrix .tck, read here by nibabel)
-and its camera (`--save-scene`), and the same points and camera go into FURY's scene:
+lines, `...:lines`): glyphcast writes its streamlines (`--save-tracks`, an MRtrix .tck,
+read here by nibabel) and its camera (`--save-scene`), and the same points and camera go
+into FURY's scene:
 
 - `line`: FURY's `actor.line` (pygfx's screen-space line: each segment a quad of the
   line's thickness in pixels, drawn flat), coloured per point by the local direction,
@@ -18,8 +18,9 @@ and its camera (`--save-scene`), and the same points and camera go into FURY's s
   a million segments.
 
 Timing as for the glyphs (tools/bench_fury.py): glyphcast's `bench` GPU median (Vulkan
-timestamps) of --frames after --warmup, tubes and lines; FURY's wall-clock median of whole offscreen frames
-(the render pass and the read-back that waits for the device), pixel ratio 1, no
+timestamps) of --frames after --warmup, tubes and lines; FURY's wall-clock median of
+whole offscreen frames (the render pass and the read-back that waits for the device),
+pixel ratio 1, no
 post-processing anti-aliasing; and FURY's frame without the streamlines (clear and
 read-back), the ratios also given less that. Pairs alternate (glyphcast, FURY, ...) so
 that a busy machine slows both.

@@ -32,6 +32,7 @@ use crate::vk::{
 };
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
+use std::sync::OnceLock;
 
 /// One peak as drawn: its capsule and its colour.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -127,9 +128,11 @@ pub(crate) const PEAKS_FRAME_BINDING: u32 = 0;
 /// created once per device.
 pub struct PeaksPass {
     ctx: DeviceContext,
+    formats: TargetFormats,
     // Fields drop in order: the pipelines before the layout they were made with.
     pipeline: Pipeline,
-    lines_pipeline: Pipeline,
+    /// Made by the first upload that has lines: most peak sets have none.
+    lines_pipeline: OnceLock<Pipeline>,
     layout: PipelineLayout,
     indices: Buffer,
 }
@@ -155,11 +158,11 @@ impl PeaksPass {
         )];
         let layout = PipelineLayout::new(ctx, &bindings, vk::ShaderStageFlags::empty(), 0)?;
         let pipeline = create_pipeline(ctx, formats, layout.handle(), false)?;
-        let lines_pipeline = create_pipeline(ctx, formats, layout.handle(), true)?;
         Ok(PeaksPass {
             ctx: ctx.clone(),
+            formats,
             pipeline,
-            lines_pipeline,
+            lines_pipeline: OnceLock::new(),
             layout,
             indices: Buffer::with_data(
                 ctx,
@@ -180,6 +183,11 @@ impl PeaksPass {
     ) -> Result<Option<PeaksGpu>> {
         if peaks.is_empty() {
             return Ok(None);
+        }
+        if !peaks.lines.is_empty() && self.lines_pipeline.get().is_none() {
+            let lines = create_pipeline(ctx, self.formats, self.layout.handle(), true)?;
+            // Another thread's upload may have set it meanwhile: either pipeline serves.
+            let _ = self.lines_pipeline.set(lines);
         }
         let upload = |segments: &[PeakSegment]| -> Result<Option<Buffer>> {
             if segments.is_empty() {
@@ -217,11 +225,12 @@ impl PeaksPass {
         let (viewport, scissor) = viewport_and_scissor(extent);
         let d = self.ctx.device();
         let draws = [
-            (&self.pipeline, &peaks.capsules, peaks.counts[0]),
-            (&self.lines_pipeline, &peaks.lines, peaks.counts[1]),
+            (Some(&self.pipeline), &peaks.capsules, peaks.counts[0]),
+            (self.lines_pipeline.get(), &peaks.lines, peaks.counts[1]),
         ];
         for (pipeline, instances, count) in draws {
-            let Some(instances) = instances else {
+            // (A set with lines was uploaded after the lines' pipeline was made.)
+            let (Some(pipeline), Some(instances)) = (pipeline, instances) else {
                 continue;
             };
             // SAFETY: recording state is the caller's; every handle is alive.
