@@ -6,7 +6,9 @@
 # - docs/gallery/tracks-slab.png: the default axial slice, the parts of 150 of the
 #   streamlines within 1 mm of it (--slab 1), 640 pixels wide;
 # - docs/gallery/tracks-block.png: every voxel of the two middle axial slices in 3D
-#   with 40 of the streamlines whole, perspective, 640 pixels wide.
+#   with 40 of the streamlines whole, perspective, 640 pixels wide;
+# - docs/gallery/tracks-lines.png: the same block with 1,500 of the streamlines as lines
+#   (--tracks-style lines, a pixel wide).
 # Usage: tools/figures_tracks.sh [GLYPHCAST_BINARY]   (default: builds target/release)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -31,4 +33,7 @@ trap 'rm -rf "$work"' EXIT
 "$glyphcast" render --sh "$work/csd.nii.gz" --basis dipy --tracks "$work/tracks.trk" \
     --tracks-radius 0.08 --tracks-max 40 --block --voxels :,:,4:6 --perspective --width 640 \
     -o "$out/tracks-block.png"
-echo "wrote $out/tracks-slab.png and $out/tracks-block.png"
+"$glyphcast" render --sh "$work/csd.nii.gz" --basis dipy --tracks "$work/tracks.trk" \
+    --tracks-style lines --tracks-radius 0.02 --tracks-max 1500 --block --voxels :,:,4:6 \
+    --perspective --width 640 -o "$out/tracks-lines.png"
+echo "wrote $out/tracks-slab.png, $out/tracks-block.png and $out/tracks-lines.png"
