@@ -253,15 +253,22 @@ class FuryFrame:
 # --- glyphcast -----------------------------------------------------------------------
 
 
-def glyphcast_bench(args):
-    """`glyphcast bench` on the workload: (median, min, max) GPU ms, from its results.json."""
+def glyphcast_bench(args, workload):
+    """`glyphcast bench` on `workload` at the comparison's size and frames: its result
+    row from results.json (GPU ms median, min and max, tube segments and bytes, ...)."""
     folder = args.out / "glyphcast-bench"
     folder.mkdir(exist_ok=True)
-    run([args.glyphcast, "bench", "--workload", args.workload, "--width", args.width,
+    run([args.glyphcast, "bench", "--workload", workload, "--width", args.width,
          "--height", args.height, "--frames", args.frames, "--warmup", args.warmup,
          "--out", folder])
     (result,) = json.loads((folder / "results.json").read_text())["results"]
-    return result["gpu_ms_median"], result["gpu_ms_min"], result["gpu_ms_max"]
+    return result
+
+
+def span(rows, key):
+    """"LOW to HIGH" of `key` over the pairs' rows."""
+    values = [r[key] for r in rows]
+    return f"{min(values):.2f} to {max(values):.2f}"
 
 
 # --- pictures and holes --------------------------------------------------------------
@@ -354,7 +361,8 @@ def main():
     print("|---|---|---|---|---|---|---|---|")
     rows = []
     for pair in range(1, args.pairs + 1):
-        gc = glyphcast_bench(args)
+        result = glyphcast_bench(args, args.workload)
+        gc = result["gpu_ms_median"], result["gpu_ms_min"], result["gpu_ms_max"]
         fu = statistics.median(frame.time(args.frames, args.warmup))
         dd = statistics.median(frame.time(args.frames, args.warmup, ppaa=DEFAULT_PPAA))
         empty = statistics.median(frame.time(args.frames, args.warmup, visible=False))
@@ -366,13 +374,9 @@ def main():
         print(f"| {pair} | {gc[0]:.1f} ms | {fu:.1f} ms | {dd:.1f} ms | {empty:.1f} ms "
               f"| {r['ratio']:.2f} | {r['ratio_ddaa']:.2f} | {r['ratio_less_empty']:.2f} |",
               flush=True)
-    def span(key):
-        values = [r[key] for r in rows]
-        return f"{min(values):.2f} to {max(values):.2f}"
-
-    print(f"glyphcast's exact frame is {span('ratio')} times faster than FURY "
-          f"{fury.__version__}'s sph_glyph ({span('ratio_less_empty')} less FURY's frame "
-          f"without glyphs; {span('ratio_ddaa')} against FURY with pygfx's default "
+    print(f"glyphcast's exact frame is {span(rows, 'ratio')} times faster than FURY "
+          f"{fury.__version__}'s sph_glyph ({span(rows, 'ratio_less_empty')} less FURY's frame "
+          f"without glyphs; {span(rows, 'ratio_ddaa')} against FURY with pygfx's default "
           f"anti-aliasing, ddaa)")
     print("pictures: " + ", ".join(str(args.out / name) for name in
                                    ("glyphcast.png", "fury.png", "fury-ddaa.png", "holes.png")))

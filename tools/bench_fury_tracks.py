@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bench_fury import FuryFrame, run, save_png
+from bench_fury import FuryFrame, glyphcast_bench, run, save_png, span
 
 # FURY's background: black, as glyphcast's default.
 BACKGROUND = (0, 0, 0)
@@ -97,17 +97,6 @@ def fury_tracks(scene, lines, kind, width, height, line_px):
                      background=BACKGROUND)
 
 
-def glyphcast_bench(args, workload):
-    """`glyphcast bench` on `workload`: its result (GPU ms, segments, bytes)."""
-    folder = args.out / "glyphcast-bench"
-    folder.mkdir(exist_ok=True)
-    run([args.glyphcast, "bench", "--workload", workload, "--width", args.width,
-         "--height", args.height, "--frames", args.frames, "--warmup", args.warmup,
-         "--out", folder])
-    (result,) = json.loads((folder / "results.json").read_text())["results"]
-    return result
-
-
 def main():
     args = parse_args()
     if args.workload.endswith(":lines"):
@@ -167,14 +156,10 @@ def main():
               f"| {r['ratio_line_less_empty_to_lines']:.2f} | {r['ratio_streamtube']:.2f} |",
               flush=True)
 
-    def span(key):
-        values = [r[key] for r in rows]
-        return f"{min(values):.2f} to {max(values):.2f}"
-
-    print(f"FURY {fury.__version__}'s line takes {span('ratio_line_to_lines')} times "
-          f"glyphcast's lines ({span('ratio_line_less_empty_to_lines')} less FURY's empty "
-          f"frame) and {span('ratio_line')} times glyphcast's exact tubes; its streamtube "
-          f"{span('ratio_streamtube')} times the tubes")
+    print(f"FURY {fury.__version__}'s line takes {span(rows, 'ratio_line_to_lines')} times "
+          f"glyphcast's lines ({span(rows, 'ratio_line_less_empty_to_lines')} less FURY's empty "
+          f"frame) and {span(rows, 'ratio_line')} times glyphcast's exact tubes; its streamtube "
+          f"{span(rows, 'ratio_streamtube')} times the tubes")
     print("pictures: " + ", ".join(str(args.out / f"fury-{k}.png") for k in frames))
     (args.out / "results.json").write_text(json.dumps({
         "date": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),

@@ -213,13 +213,15 @@ impl VolumeRequest {
             Some(ImageSource::File(path)) => (read_tractogram(path)?, path.display().to_string()),
             Some(ImageSource::Memory(tractogram)) => (tractogram.clone(), "tracks".to_owned()),
         };
+        // A value's range is the whole file's, whatever --tracks-max keeps (subsampling
+        // keeps the values' order).
+        if let Some(name) = self.tracks_color.as_deref().and_then(scalar_request) {
+            style.color = TracksColor::Scalar(ScalarColor::of(&tractogram, name, &file)?);
+        }
         let tractogram = match self.tracks_max {
             Some(max) if max < tractogram.len() => subsample(&tractogram, max),
             _ => tractogram,
         };
-        if let Some(name) = self.tracks_color.as_deref().and_then(scalar_request) {
-            style.color = TracksColor::Scalar(ScalarColor::of(&tractogram, name, &file)?);
-        }
         Ok(Some(ViewTracks {
             tractogram: Arc::new(tractogram),
             style,
