@@ -23,9 +23,20 @@
 layout(location = 0) in vec4 center_radius;  // centre, radius of the bounding sphere
 layout(location = 1) in vec4 box_rotation;   // unit quaternion (x, y, z, w), box to world
 layout(location = 2) in vec4 box_extent;     // half extents, in units of center_radius.w
+// Half extents along the box frame's ten diagonals, in units of center_radius.w
+// (src/glyph/proxy.rs, diagonal_directions): the faces' (a0 + a1, a0 - a1, a1 + a2,
+// a1 - a2), (a0 + a2, a0 - a2) and the corners' (a0 + a1 + a2, a0 + a1 - a2),
+// (a0 - a1 + a2, a0 - a1 - a2).
+layout(location = 3) in vec4 hull_a;
+layout(location = 4) in vec4 hull_b;
+layout(location = 5) in vec4 hull_c;
 
 // false: the cube around the bounding sphere (the sphere impostor's proxy).
 layout(constant_id = 0) const bool ORIENTED_BOX = true;
+// true (--proxy hull): each glyph is drawn as an octagon around the outline of its
+// 26-sided polytope (OUTLINE_INDICES of src/render/raycast.rs); false: as its box
+// (CUBE_INDICES). A constant, so that the box's pipelines leave the outline's code out.
+layout(constant_id = 2) const bool OUTLINE = false;
 
 // The shared variant and the robust methods' (GLYPHCAST_GLYPH_INDEX, build.rs) pass the
 // glyph's index; exact and fixed need only the coefficients.
@@ -44,6 +55,138 @@ vec3 rotate(vec4 q, vec3 v) {
     return v + 2.0 * cross(q.xyz, cross(q.xyz, v) + q.w * v);
 }
 
+vec3 rotate_inverse(vec4 q, vec3 v) {
+    return v - 2.0 * cross(q.xyz, q.w * v - cross(q.xyz, v));
+}
+
+// The 13 extents of the glyph's polytope, in units of center_radius.w: the box's three,
+// then the ten diagonals'.
+float hull_extent[13];
+
+// For a direction w of the box frame (any length), a point V of the box frame with
+// w . V an upper bound of the polytope's support along w: w is a non-negative
+// combination of an axis, a face diagonal and a corner diagonal of its own octant (the
+// cone of the three that holds it), and V lies on the three planes |x . n| = extent(n)
+// (x . n = extent(n) with n turned into w's octant). The glyph lies in the convex hull of
+// all such points, and its outline on the screen in the hull's.
+vec3 hull_point(vec3 w) {
+    vec3 a = abs(w);
+    vec3 sg = vec3(w.x < 0.0 ? -1.0 : 1.0, w.y < 0.0 ? -1.0 : 1.0, w.z < 0.0 ? -1.0 : 1.0);
+    int i0 = 0;
+    int i1 = 1;
+    int i2 = 2;
+    if (a[i1] > a[i0]) { int t = i0; i0 = i1; i1 = t; }
+    if (a[i2] > a[i1]) { int t = i1; i1 = i2; i2 = t; }
+    if (a[i1] > a[i0]) { int t = i0; i0 = i1; i1 = t; }
+    // The face diagonal of axes i0, i1: 3 + 2 * (pair) + (1 where their signs differ).
+    int low = min(i0, i1);
+    int high = max(i0, i1);
+    int pair = low == 0 ? (high == 1 ? 0 : 2) : 1;
+    int face = 3 + 2 * pair + (sg[i0] * sg[i1] < 0.0 ? 1 : 0);
+    // The corner diagonal a0 + s1 a1 + s2 a2 (signs relative to axis 0's).
+    int corner = 9 + (sg.x * sg.y < 0.0 ? 2 : 0) + (sg.x * sg.z < 0.0 ? 1 : 0);
+    float x = hull_extent[i0];
+    float y = 1.4142135 * hull_extent[face] - x;
+    float z = 1.7320508 * hull_extent[corner] - x - y;
+    vec3 v;
+    v[i0] = sg[i0] * x;
+    v[i1] = sg[i1] * y;
+    v[i2] = sg[i2] * z;
+    return v;
+}
+
+// Row i of the view-projection matrix.
+vec4 view_proj_row(int i) {
+    return vec4(frame.view_proj[0][i], frame.view_proj[1][i], frame.view_proj[2][i],
+                frame.view_proj[3][i]);
+}
+
+// The coordinate along `ds` (a direction of the window scaled by its pixel size) of the
+// window position of world point p, in front of the eye.
+float window_along(vec2 ds, vec3 p) {
+    vec4 clip = frame.view_proj * vec4(p, 1.0);
+    return dot(ds, clip.xy) / clip.w;
+}
+
+// The least s such that every point of the box in front of the near plane lies where
+// (window position along ds) <= s: the largest position of the box's corners in front of
+// it and of the points where its edges cross it (for a glyph that the near plane cuts).
+float clipped_box_line(vec2 ds, vec3 centre, vec3 half_axes[3]) {
+    float near = frame.viewport.z;
+    float s = -3.4e38;
+    [[dont_unroll]] for (uint corner = 0u; corner < 8u; ++corner) {
+        vec3 unit = vec3(corner & 1u, (corner >> 1) & 1u, (corner >> 2) & 1u) * 2.0 - 1.0;
+        vec3 p = centre + unit.x * half_axes[0] + unit.y * half_axes[1] + unit.z * half_axes[2];
+        float depth = dot(frame.fwd.xyz, p - frame.eye.xyz);
+        if (depth >= near) {
+            s = max(s, window_along(ds, p));
+        }
+        // The edges from this corner towards the corners of higher index.
+        [[dont_unroll]] for (int axis = 0; axis < 3; ++axis) {
+            if (unit[axis] < 0.0) {
+                vec3 q = p + 2.0 * half_axes[axis];
+                float depth_q = dot(frame.fwd.xyz, q - frame.eye.xyz);
+                if ((depth - near) * (depth_q - near) < 0.0) {
+                    vec3 crossing = mix(p, q, (near - depth) / (depth_q - depth));
+                    s = max(s, window_along(ds, crossing));
+                }
+            }
+        }
+    }
+    return s;
+}
+
+// The window position along ds (a direction of the window scaled by its pixel size) of
+// the hull's point for the plane through the eye at s, and whether that point lies in
+// front of the eye (the position means nothing otherwise).
+float hull_reach(vec2 ds, float s, vec4 rotation, vec3 centre, float radius, out bool ahead) {
+    vec4 plane = ds.x * view_proj_row(0) + ds.y * view_proj_row(1);
+    vec3 normal = plane.xyz - s * view_proj_row(3).xyz;
+    vec3 v = rotate(rotation, hull_point(rotate_inverse(rotation, normal)));
+    vec4 clip = frame.view_proj * vec4(centre + radius * v, 1.0);
+    ahead = clip.w > 0.0;
+    return dot(ds, clip.xy) / clip.w;
+}
+
+// The least s found such that the glyph lies where (window position along ds) <= s, for
+// a glyph wholly in front of the near plane. A plane through the eye bounds the glyph
+// where the hull's point for that plane's normal lies on its inner side; from the
+// centre's position, each step moves s to the position of the hull's point for the plane
+// at s (the support of an orthographic view at once; a perspective view's plane turns a
+// little), and a step whose point lies within s proves s. Without such a step, 3.4e38
+// (the caller takes the part of the box in front of the near plane instead).
+float outline_line(vec2 ds, vec4 rotation, vec3 centre, float radius) {
+    float s = window_along(ds, centre);
+    float proven = 3.4e38;
+    bool ahead = true;
+    [[dont_unroll]] for (int step = 0; step < 3; ++step) {
+        bool ahead_now;
+        float reached = hull_reach(ds, s, rotation, centre, radius, ahead_now);
+        ahead = ahead && ahead_now;
+        if (ahead && reached <= s) {
+            proven = min(proven, s);
+        }
+        s = reached;
+    }
+    return proven;
+}
+
+// s, the position along window direction d of an edge (in window units times pixels),
+// kept within a margin outside the window: an edge beyond it shows the same pixels.
+float window_clamped(vec2 d, vec2 pixels, float s) {
+    float reach = abs(d.x * pixels.x) + abs(d.y * pixels.y);
+    float margin = 0.125 * reach + 16.0;
+    return clamp(s, -reach - margin, reach + margin);
+}
+
+// The window direction (scaled to pixels) of the octagon's edge k (k = 0..7): 45
+// degrees apart, clockwise in pixel coordinates, so that the octagon's vertices run the
+// way the rasteriser takes as front facing, whatever the sign of the viewport's height.
+vec2 outline_direction(uint k) {
+    float angle = -0.78539816 * float(k);
+    return vec2(cos(angle), sin(angle));
+}
+
 void main() {
     vec4 rotation = ORIENTED_BOX ? normalize(box_rotation) : vec4(0.0, 0.0, 0.0, 1.0);
     vec3 extent = ORIENTED_BOX ? box_extent.xyz : vec3(1.0);
@@ -58,25 +201,76 @@ void main() {
     uint corner = uint(gl_VertexIndex);
     vec3 unit = vec3(corner & 1u, (corner >> 1) & 1u, (corner >> 2) & 1u) * 2.0 - 1.0;
 
-    // The box's nearest point along the view direction, against the near plane (with a
-    // margin for the rounding of the projection). Orthographic views place the near plane
-    // in front of every glyph.
-    bool cut = false;
-    if (frame.eye.w < 0.5) {
-        float reach = abs(dot(frame.fwd.xyz, half_axes[0]))
-                    + abs(dot(frame.fwd.xyz, half_axes[1]))
-                    + abs(dot(frame.fwd.xyz, half_axes[2]));
-        float nearest = dot(frame.fwd.xyz, center_radius.xyz - frame.eye.xyz) - reach;
-        cut = nearest <= frame.viewport.z * 1.001;
-    }
-    if (cut) {
-        unit = -unit;
-    }
-    vec3 world = center_radius.xyz
-        + unit.x * half_axes[0] + unit.y * half_axes[1] + unit.z * half_axes[2];
-    gl_Position = frame.view_proj * vec4(world, 1.0);
-    if (cut) {
-        gl_Position.z = frame.window.z * gl_Position.w;
+    // The hull's outline (OUTLINE, --proxy hull): vertex k of an octagon around the outline on the screen of
+    // the glyph's 26-sided polytope, where its edges k and k + 1 meet, at the glyph's
+    // nearest depth along the view direction: in front of every hit (the fragment
+    // shaders write depth_less, or depth_greater for standard depth). Where the near
+    // plane cuts the glyph, the octagon goes around the part of its box in front of the
+    // near plane, on the near plane.
+    if (OUTLINE) {
+        vec3 centre = center_radius.xyz;
+        float radius = center_radius.w;
+        hull_extent[0] = extent.x;
+        hull_extent[1] = extent.y;
+        hull_extent[2] = extent.z;
+        vec4 diagonals[3] = vec4[3](hull_a, hull_b, hull_c);
+        for (int i = 0; i < 10; ++i) {
+            hull_extent[3 + i] = ORIENTED_BOX ? diagonals[i / 4][i % 4] : 1.0;
+        }
+        vec3 toward = rotate(rotation, hull_point(rotate_inverse(rotation, -frame.fwd.xyz)));
+        float nearest = dot(frame.fwd.xyz, centre - frame.eye.xyz)
+                      + radius * dot(frame.fwd.xyz, toward);
+        bool cut = frame.eye.w < 0.5 && nearest <= frame.viewport.z * 1.001;
+        vec2 pixels = 1.0 / frame.viewport.xy;
+        // The two edges that meet at this vertex, by one loop each (one copy of the
+        // code: the pipelines' creation on lavapipe grows with every inlined copy).
+        vec2 d[2] = vec2[2](outline_direction(corner), outline_direction((corner + 1u) & 7u));
+        float edge[2];
+        [[dont_unroll]] for (int e = 0; e < 2; ++e) {
+            vec2 ds = d[e] * pixels;
+            float line = cut ? 3.4e38 : outline_line(ds, rotation, centre, radius);
+            edge[e] = line > 3.0e38 ? clipped_box_line(ds, centre, half_axes) : line;
+        }
+        vec2 d0 = d[0];
+        vec2 d1 = d[1];
+        float s0 = edge[0];
+        float s1 = edge[1];
+        // Edges far outside the window are brought to just outside it (what the window
+        // shows of the octagon stays the same): near a tiny near plane (a camera among
+        // the glyphs) positions reach 1e9 window widths, past what the rasteriser takes.
+        s0 = window_clamped(d0, pixels, s0);
+        s1 = window_clamped(d1, pixels, s1);
+        // p = window * pixels with d0 . p = s0 and d1 . p = s1.
+        float det = d0.x * d1.y - d0.y * d1.x;
+        vec2 p = vec2(s0 * d1.y - s1 * d0.y, d0.x * s1 - d1.x * s0) / det;
+        vec4 near_clip = frame.view_proj * vec4(frame.eye.xyz + nearest * frame.fwd.xyz, 1.0);
+        float depth = cut ? frame.window.z : near_clip.z / near_clip.w;
+        gl_Position = vec4(p / pixels, depth, 1.0);
+        if (min(s0, s1) < -1.0e38) {
+            // No part of the box in front of the near plane: nothing drawn.
+            gl_Position = vec4(0.0, 0.0, -2.0, 1.0);
+        }
+    } else {
+        // The box's nearest point along the view direction, against the near plane (with a
+        // margin for the rounding of the projection). Orthographic views place the near plane
+        // in front of every glyph.
+        bool cut = false;
+        if (frame.eye.w < 0.5) {
+            float reach = abs(dot(frame.fwd.xyz, half_axes[0]))
+                        + abs(dot(frame.fwd.xyz, half_axes[1]))
+                        + abs(dot(frame.fwd.xyz, half_axes[2]));
+            float nearest = dot(frame.fwd.xyz, center_radius.xyz - frame.eye.xyz) - reach;
+            cut = nearest <= frame.viewport.z * 1.001;
+        }
+        if (cut) {
+            unit = -unit;
+        }
+        vec3 world = center_radius.xyz
+            + unit.x * half_axes[0] + unit.y * half_axes[1] + unit.z * half_axes[2];
+        gl_Position = frame.view_proj * vec4(world, 1.0);
+        if (cut) {
+            gl_Position.z = frame.window.z * gl_Position.w;
+        }
     }
 #ifdef RAYCAST_GLYPH_INDEX
     v_glyph = gl_InstanceIndex;
@@ -85,8 +279,8 @@ void main() {
     v_box_rotation = rotation;
     v_box_extent = extent;
 #ifdef GLYPH_MONOMIALS
-    // Flat outputs come from a triangle's first (provoking) vertex, corner 0 or 7; the
-    // other corners' are never read. (Loading for every vertex of 36 made the vertex
+    // Flat outputs come from a triangle's first (provoking) vertex, corner 0 or 7 (the
+    // outline's triangles all start at vertex 0); the other corners' are never read. (Loading for every vertex of 36 made the vertex
     // stage of a million glyphs 7 times slower than their drawing on lavapipe.)
     bool provoking = corner == 0u || corner == 7u;
     if (provoking) {

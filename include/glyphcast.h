@@ -198,6 +198,26 @@ typedef uint32_t GlyphcastPath;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// What the fragment path draws around each glyph ([`GlyphcastSettings::proxy`]).
+enum GlyphcastProxy
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // The default: the front faces of the glyph's oriented box, the paper's proxy.
+  GLYPHCAST_PROXY_BOX = 0,
+  // An octagon around the outline of the glyph's guaranteed 26-sided polytope, at its
+  // nearest depth: fewer fragments than the box, pipelines slower to create.
+  GLYPHCAST_PROXY_HULL = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum GlyphcastProxy GlyphcastProxy;
+#else
+typedef uint32_t GlyphcastProxy;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // The renderer: opaque to C.
 typedef struct GlyphcastRenderer GlyphcastRenderer;
 
@@ -255,6 +275,9 @@ typedef struct GlyphcastSettings {
   // A [`GlyphcastPath`]: the ray caster the renderer records (with
   // [`GlyphcastMethod::Exact`] only for the compute ray caster).
   uint32_t path;
+  // A [`GlyphcastProxy`]: what the fragment path draws around each glyph (the image is
+  // the same either way). A host compiled before this field draws boxes.
+  uint32_t proxy;
 } GlyphcastSettings;
 
 // One allocation glyphcast asks the host for.

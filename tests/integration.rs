@@ -39,6 +39,7 @@ mod ownership;
 mod peaks;
 mod pipeline_cache;
 mod promotion;
+mod proxy;
 mod qc;
 mod range_inclusion;
 mod refusals;

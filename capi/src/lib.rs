@@ -181,6 +181,20 @@ pub struct GlyphcastSettings {
     /// A [`GlyphcastPath`]: the ray caster the renderer records (with
     /// [`GlyphcastMethod::Exact`] only for the compute ray caster).
     pub path: u32,
+    /// A [`GlyphcastProxy`]: what the fragment path draws around each glyph (the image is
+    /// the same either way). A host compiled before this field draws boxes.
+    pub proxy: u32,
+}
+
+/// What the fragment path draws around each glyph ([`GlyphcastSettings::proxy`]).
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GlyphcastProxy {
+    /// The default: the front faces of the glyph's oriented box, the paper's proxy.
+    Box = 0,
+    /// An octagon around the outline of the glyph's guaranteed 26-sided polytope, at its
+    /// nearest depth: fewer fragments than the box, pipelines slower to create.
+    Hull = 1,
 }
 
 /// The ray caster a renderer records ([`GlyphcastSettings::path`]).
@@ -527,6 +541,7 @@ fn default_settings() -> GlyphcastSettings {
         shadow_radius: 5.0,
         ambient_occlusion: 0.0,
         path: GlyphcastPath::Auto as u32,
+        proxy: GlyphcastProxy::Box as u32,
     }
 }
 
@@ -643,6 +658,15 @@ unsafe fn read_settings(
             )));
         }
     };
+    let proxy = match given.proxy {
+        0 => glyphcast::render::Proxy::Box,
+        1 => glyphcast::render::Proxy::Hull,
+        other => {
+            return Err(invalid(format!(
+                "settings.proxy {other} is no GlyphcastProxy"
+            )));
+        }
+    };
     // The struct's fields are the render table's settings: the library checks them as
     // it checks the command line's flags and Python's keywords, and its errors are
     // spelled as fields here.
@@ -670,6 +694,7 @@ unsafe fn read_settings(
             }
         }),
         path: Some(path),
+        proxy: Some(proxy),
         ..RenderOptions::default()
     };
     let settings = options

@@ -27,6 +27,7 @@
 //! cargo run --example embed -- [--frames N] [--in-flight K] [--depth standard|reversed]
 //!     [--depth-format d32|d32s8]
 //!     [--samples 1|2|4|8] [--allocator gpu-allocator|plain] [--path fragment|compute]
+//!     [--proxy box|hull]
 //!     [--sync-validation] [--screenshot OUT.png]
 //! ```
 //! Any validation message (errors and warnings; synchronization validation with
@@ -40,7 +41,7 @@ use engine::{Engine, Target, Validation, subresource_range};
 use glam::{DMat4, DVec3};
 use glyphcast::bench::workload::{BlockView, block};
 use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
-use glyphcast::render::Culling;
+use glyphcast::render::{Culling, Proxy};
 use glyphcast::render::host_view::{look_at, perspective};
 use glyphcast::{
     Camera, DepthConvention, DeviceContext, GlyphRenderer, GlyphSetData, HostView, ImageSize,
@@ -106,6 +107,8 @@ struct Options {
     /// glyphcast (`--no-fragment-stores`: a host that asks only for what glyphcast needs,
     /// whose glyphs are drawn without culling).
     fragment_stores: bool,
+    /// What glyphcast draws around each glyph (`--proxy`).
+    proxy: Proxy,
 }
 
 impl Default for Options {
@@ -128,6 +131,7 @@ impl Default for Options {
             cull: Culling::Occluded,
             storage_limit: None,
             fragment_stores: true,
+            proxy: Proxy::Box,
         }
     }
 }
@@ -192,6 +196,13 @@ fn parse(args: &[String]) -> std::result::Result<Options, String> {
                     "fragment" => RenderPath::Fragment,
                     "compute" => RenderPath::Compute,
                     other => return Err(format!("{arg}: '{other}' is not fragment or compute")),
+                }
+            }
+            "--proxy" => {
+                o.proxy = match value()?.as_str() {
+                    "box" => Proxy::Box,
+                    "hull" => Proxy::Hull,
+                    other => return Err(format!("{arg}: '{other}' is not box or hull")),
                 }
             }
             "--sync-validation" => o.validation = Validation::Sync,
@@ -459,6 +470,7 @@ fn draw_frames(engine: &Engine, options: &Options, plain: Option<Arc<PlainMemory
     let settings = RenderSettings {
         path: options.path,
         cull: options.cull,
+        proxy: options.proxy,
         ..RenderSettings::default()
     };
     let blocks = options

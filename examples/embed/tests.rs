@@ -23,6 +23,7 @@ fn options(depth: DepthConvention, samples: u32) -> Options {
         cull: Culling::Occluded,
         storage_limit: None,
         fragment_stores: true,
+        proxy: Proxy::Box,
     }
 }
 
@@ -172,6 +173,29 @@ fn frames_in_flight_match_headless(samples: u32) {
         assert!(m.max_error < 1e-4, "{name}: {m:?}");
         // The ray caster's error at default settings (tests/depth_accuracy.rs).
         assert!(m.median_reference_error < 1e-3, "{name}: {m:?}");
+    }
+}
+
+/// The hull's outline (`proxy: hull`) in the engine's pass: 60 frames, 3 in flight, the
+/// glyphs replaced halfway, in both depth conventions, under synchronization
+/// validation: no message, and the glyphs where the headless renderer (with boxes) puts
+/// them, in front of and behind the plane.
+#[test]
+fn the_hull_outline_draws_the_headless_picture() {
+    let reference = None::<RenderedImage>;
+    let mut reference = reference;
+    for depth in [DepthConvention::Standard, DepthConvention::Reversed] {
+        let r = run(&Options {
+            proxy: Proxy::Hull,
+            ..options(depth, 1)
+        })
+        .expect("run");
+        assert_eq!(r.validation, Vec::<String>::new(), "{depth:?}");
+        let reference = reference.get_or_insert_with(|| headless(&r, 1));
+        let m = glyph_match(&r, reference);
+        assert!(m.judged > 1000 && m.glyph > 300, "{depth:?}: {m:?}");
+        assert_eq!(m.coverage_differs, 0, "{depth:?}: {m:?}");
+        assert!(m.max_error < 1e-4, "{depth:?}: {m:?}");
     }
 }
 
@@ -755,7 +779,7 @@ fn a_host_allocator_breaking_its_contract_is_refused() {
         Ok(_) => panic!("a short block was accepted"),
         Err(e) => e.to_string(),
     };
-    assert!(error.contains("box indices"), "{error}");
+    assert!(error.contains("outline indices"), "{error}");
     assert!(
         error.contains("the memory allocator returned a block of"),
         "{error}"

@@ -19,7 +19,7 @@
 use glam::{DMat3, DVec3};
 
 use super::polynomial::GlyphPolynomial;
-use super::proxy::GlyphBounds;
+use super::proxy::{GlyphBounds, diagonal_directions};
 use super::{Symmetry, TensorLayout};
 use crate::Result;
 
@@ -87,10 +87,13 @@ impl Ellipsoid {
 
     /// Exact bounds: the sphere of the longest semi-axis and the box along the axes.
     pub fn bounds(&self) -> GlyphBounds {
+        let semi_axes = DVec3::from_array(self.semi_axes);
         GlyphBounds {
             radius: self.radius(),
             axes: self.axes,
             extents: self.semi_axes,
+            // The support of the ellipsoid along n (on its axes): |diag(s) n|.
+            diagonals: diagonal_directions().map(|n| (n * semi_axes).length()),
         }
     }
 

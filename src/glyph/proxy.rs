@@ -30,6 +30,11 @@
 //! A = integral of f(u)^2 u u^T (exact, from the monomial moments), which line up with
 //! the lobes: a fibre's axis for one fibre, the plane of a crossing for two. The axes
 //! only decide how tight the box is; every extent is a guaranteed bound whatever they are.
+//! The same bounds are taken along the box frame's ten diagonals ([`diagonal_directions`]),
+//! which cut the box into a 26-sided polytope that the ray-casting pass outlines on the
+//! screen (`--proxy hull`). Since g_n is linear in n, the band coefficients of g along
+//! n = sum c_k a_k are the same combination of the three axes' (one projection per axis,
+//! not per direction), and at each lattice node n . u is that combination of a_k . u.
 //!
 //! # Tighter where sampling proves it: Szegő's inequality
 //!
@@ -82,9 +87,46 @@ pub struct GlyphBounds {
     /// Upper bounds of the glyph's extent along each axis (each at most `radius`): the
     /// glyph lies in the box `|q . axes[i]| <= extents[i]`.
     pub extents: [f64; 3],
+    /// Upper bounds of the glyph's extent along the box frame's ten diagonals
+    /// ([`diagonal_directions`]): with the three axes', a guaranteed 26-sided polytope
+    /// (`|q . n_j| <= diagonals[j]`) that holds the glyph more tightly than the box.
+    pub diagonals: [f64; 10],
+}
+
+/// The ten diagonal directions of a box frame, as coefficients on its axes: the six face
+/// diagonals (a0 + a1, a0 - a1, a1 + a2, a1 - a2, a0 + a2, a0 - a2) / sqrt 2 and the four
+/// corner diagonals (a0 + a1 + a2, a0 + a1 - a2, a0 - a1 + a2, a0 - a1 - a2) / sqrt 3, in
+/// the order of [`GlyphBounds::diagonals`] (raycast.vert reads them in this order).
+pub fn diagonal_directions() -> [DVec3; 10] {
+    let s2 = std::f64::consts::FRAC_1_SQRT_2;
+    let s3 = 1.0 / 3f64.sqrt();
+    [
+        DVec3::new(s2, s2, 0.0),
+        DVec3::new(s2, -s2, 0.0),
+        DVec3::new(0.0, s2, s2),
+        DVec3::new(0.0, s2, -s2),
+        DVec3::new(s2, 0.0, s2),
+        DVec3::new(s2, 0.0, -s2),
+        DVec3::new(s3, s3, s3),
+        DVec3::new(s3, s3, -s3),
+        DVec3::new(s3, -s3, s3),
+        DVec3::new(s3, -s3, -s3),
+    ]
 }
 
 impl GlyphBounds {
+    /// Bounds whose diagonal extents are the box's own (its support along each
+    /// diagonal): what a glyph without a tighter bound along them gets.
+    pub fn from_box(radius: f64, axes: [DVec3; 3], extents: [f64; 3]) -> GlyphBounds {
+        let extent = DVec3::from_array(extents);
+        GlyphBounds {
+            radius,
+            axes,
+            extents,
+            diagonals: diagonal_directions().map(|n| (n.abs() * extent).element_sum().min(radius)),
+        }
+    }
+
     /// The box's rotation as a unit quaternion (x, y, z, w), box frame to glyph frame.
     pub fn rotation(&self) -> glam::DQuat {
         glam::DQuat::from_mat3(&glam::DMat3::from_cols(
@@ -241,6 +283,11 @@ impl BandProjector {
     fn band_bound(&self, coeffs: &[f64], scratch: &mut Scratch) -> f64 {
         let Scratch { gathered, w } = scratch;
         self.project(coeffs, gathered, w);
+        self.band_norm(w)
+    }
+
+    /// sum_l sqrt((2l + 1) / (4 pi)) ||w_l|| for band coefficients w (in (l, m) order).
+    fn band_norm(&self, w: &[f64]) -> f64 {
         let mut w = w.iter();
         let mut total = 0.0;
         for l in &self.bands {
@@ -532,30 +579,62 @@ pub(crate) fn glyph_bounds_with(poly: &GlyphPolynomial, sampling: Sampling) -> O
         .min(s);
     let axes = moment_axes(tables, &poly.coeffs);
     let higher = projector(poly.order + 1);
+    let monomials = symmetric_count(poly.order + 1).min(MAX_MONOMIALS);
+    // g_a = f (a . u) has degree n + 1 and is linear in a: its band coefficients along
+    // any combination of the axes are that combination of the axes' (module notes).
+    let mut bands = [[0.0; MAX_MONOMIALS]; 3];
+    let mut sums = [0.0; 3];
     let mut product = [0.0; MAX_MONOMIALS];
-    let product = &mut product[..symmetric_count(poly.order + 1).min(MAX_MONOMIALS)];
-    let extents = axes.map(|a| {
+    for ((a, w), sum) in axes.iter().zip(&mut bands).zip(&mut sums) {
+        let product = &mut product[..monomials];
         product.iter_mut().for_each(|v| *v = 0.0);
         for (c, up) in poly.coeffs.iter().zip(&tables.times_axis) {
             product[up[0] as usize] += c * a.x;
             product[up[1] as usize] += c * a.y;
             product[up[2] as usize] += c * a.z;
         }
-        let s_product: f64 = product.iter().map(|v| v.abs()).sum();
+        *sum = product.iter().map(|v| v.abs()).sum();
+        higher.project(product, &mut scratch.gathered, &mut w[..monomials]);
+    }
+    // |f(u)| |n . u| at the nodes, for the axes and the diagonals (n = sum c_k a_k, so
+    // n . u = sum c_k (a_k . u)).
+    let directions: Vec<DVec3> = [DVec3::X, DVec3::Y, DVec3::Z]
+        .into_iter()
+        .chain(diagonal_directions())
+        .collect();
+    let mut sampled = [0.0f64; 13];
+    for (f, u) in values.iter().zip(&lattice.nodes) {
+        let along = DVec3::new(axes[0].dot(*u), axes[1].dot(*u), axes[2].dot(*u));
+        for (m, n) in sampled.iter_mut().zip(&directions) {
+            *m = m.max((f * n.dot(along)).abs());
+        }
+    }
+    let mut combined = [0.0; MAX_MONOMIALS];
+    let mut extent_along = |k: usize| {
+        let n = directions[k];
+        let w = &mut combined[..monomials];
+        for (i, v) in w.iter_mut().enumerate() {
+            *v = n.x * bands[0][i] + n.y * bands[1][i] + n.z * bands[2][i];
+        }
+        // The combined product's absolute sum is at most that of the axes' products.
+        let s_product = n.x.abs() * sums[0] + n.y.abs() * sums[1] + n.z.abs() * sums[2];
         let slack = ROUNDING_SLACK * s_product.max(s);
-        // |f(u)| |a . u| at the nodes: g_a = f (a . u) has degree n + 1.
-        let sampled = values
-            .iter()
-            .zip(&lattice.nodes)
-            .fold(0.0f64, |m, (f, u)| m.max((f * a.dot(*u)).abs()));
-        (higher.band_bound(product, &mut scratch) + slack)
-            .min(sampled_or_band(sampled, poly.order + 1) + slack)
+        (higher.band_norm(w) + slack)
+            .min(sampled_or_band(sampled[k], poly.order + 1) + slack)
             .min(radius)
-    });
+    };
+    let extents = [0, 1, 2].map(&mut extent_along);
+    // Each diagonal also bound by the box's support along it.
+    let from_box = GlyphBounds::from_box(radius, axes, extents);
+    let mut diagonals = from_box.diagonals;
+    for (j, bound) in diagonals.iter_mut().enumerate() {
+        *bound = bound.min(extent_along(3 + j));
+    }
     Some(GlyphBounds {
         radius,
         axes,
         extents,
+        diagonals,
     })
 }
 
@@ -720,6 +799,12 @@ mod tests {
         crate::glyph::bounds::fibonacci_sphere(count).collect()
     }
 
+    /// The box frame's diagonals ([`diagonal_directions`]) in the glyph's frame.
+    fn world_diagonals(bounds: &GlyphBounds) -> [DVec3; 10] {
+        let a = bounds.axes;
+        diagonal_directions().map(|n| a[0] * n.x + a[1] * n.y + a[2] * n.z)
+    }
+
     fn fibre_poly(order: u32, fibres: &[(DVec3, f64)]) -> GlyphPolynomial {
         let coeffs = monomials(order)
             .iter()
@@ -834,12 +919,24 @@ mod tests {
             let bounds = glyph_bounds_with(poly, sampling).expect("non-zero glyph");
             let mut max = 0.0f64;
             let mut extent = [0.0f64; 3];
+            let diagonals = world_diagonals(&bounds);
+            let mut diagonal = [0.0f64; 10];
             for u in &dirs {
                 let r = poly.eval(*u).abs();
                 max = max.max(r);
                 for (e, a) in extent.iter_mut().zip(&bounds.axes) {
                     *e = e.max(r * u.dot(*a).abs());
                 }
+                for (e, n) in diagonal.iter_mut().zip(&diagonals) {
+                    *e = e.max(r * u.dot(*n).abs());
+                }
+            }
+            for (j, (sampled, bound)) in diagonal.iter().zip(&bounds.diagonals).enumerate() {
+                assert!(
+                    sampled <= bound,
+                    "order {} diagonal {j}: {sampled} > {bound}",
+                    poly.order,
+                );
             }
             assert!(
                 max <= bounds.radius,
@@ -958,6 +1055,9 @@ mod tests {
                 for (tight, band) in bounds.extents.iter().zip(&band_only.extents) {
                     assert!(tight <= band);
                 }
+                for (tight, band) in bounds.diagonals.iter().zip(&band_only.diagonals) {
+                    assert!(tight <= band);
+                }
                 let mut targets: Vec<(Option<DVec3>, f64)> = vec![(None, bounds.radius)];
                 targets.extend(
                     bounds
@@ -965,6 +1065,12 @@ mod tests {
                         .iter()
                         .zip(&bounds.extents)
                         .map(|(a, e)| (Some(*a), *e)),
+                );
+                targets.extend(
+                    world_diagonals(&bounds)
+                        .iter()
+                        .zip(&bounds.diagonals)
+                        .map(|(n, e)| (Some(*n), *e)),
                 );
                 for (axis, bound) in targets {
                     let g = |u: DVec3| {

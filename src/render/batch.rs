@@ -45,6 +45,11 @@ impl<'a> Batch<'a> {
         self.gather(1, |d| &d.boxes)
     }
 
+    /// Per glyph: the extents along the box's diagonals ([`GlyphSetData::hulls`]).
+    pub fn hulls(&self) -> Result<Cow<'a, [[f32; 12]]>> {
+        self.gather(1, |d| &d.hulls)
+    }
+
     /// The glyphs' float32 coefficients, `layout.coefficient_count()` per glyph (a plane
     /// glyph's T's after them).
     pub fn coefficients(&self) -> Result<Cow<'a, [f32]>> {
@@ -164,6 +169,7 @@ mod tests {
                 .map(|i| [first + i as f32, 0.0, 0.0, 1.0])
                 .collect(),
             boxes: vec![[0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 0.0]; glyphs],
+            hulls: vec![[1.0; 12]; glyphs],
             coefficients: (0..glyphs * n).map(|i| first + i as f32).collect(),
             world: Vec::new(),
             largest_radius: 0.0,

@@ -477,6 +477,7 @@ impl GlyphRenderer {
             .iter()
             .map(|&(layout, shape)| crate::render::raycast::batch_variant(layout, shape, method))
             .collect::<Result<Vec<_>>>()?;
+        self.pass.set_proxy(self.settings.proxy);
         self.pass.prepare_pipelines(&variants)
     }
 
@@ -561,6 +562,7 @@ impl GlyphRenderer {
             Some(compute) if !compute.auto => &[][..],
             _ => sets,
         };
+        self.pass.set_proxy(settings.proxy);
         let gpu = self.pass.upload_in_flight(
             &self.ctx,
             fragment_sets,

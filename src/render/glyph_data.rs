@@ -36,6 +36,11 @@ pub struct GlyphSetData {
     /// frame to the world's, then the half extents along the box axes in units of the
     /// sphere radius (each at most 1; w unused). The ray-casting pass draws this box.
     pub boxes: Vec<[f32; 8]>,
+    /// Per drawn glyph: its extents along the box frame's ten diagonals
+    /// ([`crate::glyph::proxy::diagonal_directions`]) in units of the sphere radius, as
+    /// the box's (the last two unused): with the box, a 26-sided polytope around the
+    /// glyph, whose outline on the screen the ray-casting pass draws.
+    pub hulls: Vec<[f32; 12]>,
     /// Per drawn glyph: the tensor's coefficients divided by B, `layout.coefficient_count()` each.
     pub coefficients: Vec<f32>,
     /// The same glyphs in float64, for the reference.
@@ -65,7 +70,10 @@ impl GlyphSetData {
 
     /// Bytes the GPU holds for this set: coefficients, instances and boxes.
     pub fn gpu_bytes(&self) -> usize {
-        4 * self.coefficients.len() + 16 * self.instances.len() + 32 * self.boxes.len()
+        4 * self.coefficients.len()
+            + 16 * self.instances.len()
+            + 32 * self.boxes.len()
+            + 48 * self.hulls.len()
     }
 }
 
@@ -168,6 +176,7 @@ fn prepare_set_keeping(
         shape: set.shape,
         instances: Vec::with_capacity(set.len()),
         boxes: Vec::with_capacity(set.len()),
+        hulls: Vec::with_capacity(set.len()),
         coefficients: Vec::with_capacity(set.len() * layout.coefficient_count()),
         world: match world {
             WorldGlyphs::Keep => Vec::with_capacity(set.len()),
@@ -271,6 +280,7 @@ fn add_bounded(
             return Err(beyond("centre coordinate", c));
         }
         data.boxes.push(box_instance(&bounds, offset));
+        data.hulls.push(hull_instance(&bounds, offset));
         data.instances.push([
             center.x as f32,
             center.y as f32,
@@ -355,10 +365,7 @@ const BOX_MIN_EXTENT: f64 = 1.0 / 65536.0;
 /// radius B (1 + offset), an offset glyph's box grown by the offset.
 fn box_instance(bounds: &GlyphBounds, offset: f64) -> [f32; 8] {
     let q = bounds.rotation();
-    let extent = |e: f64| {
-        let relative = (e / bounds.radius + offset) / (1.0 + offset);
-        (relative * (1.0 + BOX_PADDING) + BOX_MIN_EXTENT).min(1.0) as f32
-    };
+    let extent = |e: f64| relative_extent(bounds, e, offset);
     [
         q.x as f32,
         q.y as f32,
@@ -369,6 +376,23 @@ fn box_instance(bounds: &GlyphBounds, offset: f64) -> [f32; 8] {
         extent(bounds.extents[2]),
         0.0,
     ]
+}
+
+/// The GPU's diagonal extents of a glyph, in units of the bounding-sphere radius B
+/// (1 + offset) and padded as the box's ([`box_instance`]).
+fn hull_instance(bounds: &GlyphBounds, offset: f64) -> [f32; 12] {
+    let mut hull = [0.0; 12];
+    for (gpu, e) in hull.iter_mut().zip(bounds.diagonals) {
+        *gpu = relative_extent(bounds, e, offset);
+    }
+    hull
+}
+
+/// A half extent `e` of `bounds` in units of the bounding-sphere radius B (1 + offset),
+/// grown by the offset and padded outward (BOX_PADDING, BOX_MIN_EXTENT), at most 1.
+fn relative_extent(bounds: &GlyphBounds, e: f64, offset: f64) -> f32 {
+    let relative = (e / bounds.radius + offset) / (1.0 + offset);
+    (relative * (1.0 + BOX_PADDING) + BOX_MIN_EXTENT).min(1.0) as f32
 }
 
 /// A glyph's tensor coefficients divided by B in float32 (what the GPU reads),
@@ -405,11 +429,11 @@ impl Bounded {
             poly,
             trace,
             denominator,
-            bounds: GlyphBounds {
+            bounds: GlyphBounds::from_box(
                 radius,
-                axes: [glam::DVec3::X, glam::DVec3::Y, glam::DVec3::Z],
-                extents: [radius; 3],
-            },
+                [glam::DVec3::X, glam::DVec3::Y, glam::DVec3::Z],
+                [radius; 3],
+            ),
         }
     }
 }

@@ -23,7 +23,7 @@ use crate::error::{Asked, Error, Result, Setting};
 use crate::glyph::{GlyphShape, TensorLayout};
 use crate::render::component::UploadedGlyphs;
 use crate::render::raycast::{
-    CUBE_INDICES, GlyphSetGpu, InstanceInput, SceneGpu, TargetFormats, batch_bindings,
+    PROXY_INDICES, GlyphSetGpu, InstanceInput, SceneGpu, TargetFormats, batch_bindings,
     glyph_pipeline, viewport_and_scissor,
 };
 use crate::render::shaders::raycast_shader;
@@ -99,8 +99,8 @@ impl GlyphShadowPass {
             layout,
             indices: Buffer::with_data(
                 ctx,
-                "box indices",
-                &CUBE_INDICES,
+                "box and outline indices",
+                &PROXY_INDICES,
                 vk::BufferUsageFlags::INDEX_BUFFER,
             )?,
         })
@@ -243,7 +243,8 @@ impl GlyphShadowPass {
                     0,
                     &set.negative.shader_code().to_ne_bytes(),
                 );
-                set.record_boxes(d, cmd, self.indices.handle);
+                // The boxes: this pass's pipelines keep raycast.vert's OUTLINE off.
+                set.record_boxes(d, cmd, self.indices.handle, false);
             }
         }
         Ok(())

@@ -36,7 +36,8 @@ use crate::catalog::{GLYPH_SHAPES, GlyphShapeEntry, RAY_CAST_METHODS, RayCastMet
 use crate::glyph::GlyphShape;
 pub use crate::glyph::tessellate::MeshKind;
 pub use settings::{
-    AmbientOcclusion, ColorMode, Culling, Lighting, Refinement, RenderPath, RenderSettings, Shadows,
+    AmbientOcclusion, ColorMode, Culling, Lighting, Proxy, Refinement, RenderPath, RenderSettings,
+    Shadows,
 };
 
 /// How glyphs are drawn (`--method`).

@@ -23,7 +23,7 @@ use crate::render::shaders::{
 };
 use crate::render::shadow_grid::ShadowGrid;
 use crate::render::visibility::{Cluster, PassPlan, VisibilityBuffers, visibility_bindings};
-use crate::render::{Method, ShapeShader};
+use crate::render::{Method, Proxy, ShapeShader};
 use crate::vk::recording::bind_graphics;
 use crate::vk::{
     Buffer, BufferBinding, DescriptorPool, DeviceContext, DrawStage, GraphicsPipelineDesc,
@@ -154,6 +154,9 @@ pub struct RayCastPass {
     /// Whether scenes uploaded from now on leave their shadows to a later pass
     /// ([`SceneGpu`]'s `deferred`).
     deferred_shadows: bool,
+    /// Whether scenes uploaded (and pipelines prepared) from now on draw their glyphs as
+    /// their hulls' outlines (`--proxy hull`) rather than their boxes.
+    outline: bool,
 }
 
 /// The 12 triangles of a box as corner indices (bit 0: x, bit 1: y, bit 2: z), counter-
@@ -169,6 +172,34 @@ pub(crate) const CUBE_INDICES: [u16; 36] = [
     0, 4, 6, 0, 6, 2, // -x
     7, 1, 3, 7, 5, 1, // +x
 ];
+
+/// The 6 triangles of the hull's outline (an octagon: vertex k where its edges k and
+/// k + 1 meet), fanned from vertex 0, the provoking vertex of each.
+pub(crate) const OUTLINE_INDICES: [u16; 18] = [0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 5, 0, 5, 6, 0, 6, 7];
+
+/// The index buffer of the glyphs' draws: [`CUBE_INDICES`], then [`OUTLINE_INDICES`].
+pub(crate) const PROXY_INDICES: [u16; 54] = {
+    let mut all = [0u16; 54];
+    let mut i = 0;
+    while i < 36 {
+        all[i] = CUBE_INDICES[i];
+        i += 1;
+    }
+    while i < 54 {
+        all[i] = OUTLINE_INDICES[i - 36];
+        i += 1;
+    }
+    all
+};
+
+/// The range of [`PROXY_INDICES`] a draw takes: the outline's or the box's.
+pub(crate) fn proxy_index_range(outline: bool) -> (u32, u32) {
+    if outline {
+        (CUBE_INDICES.len() as u32, OUTLINE_INDICES.len() as u32)
+    } else {
+        (0, CUBE_INDICES.len() as u32)
+    }
+}
 
 /// Components the proxy boxes' vertex shader passes to a ray-casting fragment shader of
 /// a layout: four flat vec4/uint locations (glyph index, sphere, rotation, extent) and
@@ -217,6 +248,12 @@ pub(crate) fn batch_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; 6] {
 /// oriented box, 0 the cube around its bounding sphere (the sphere impostor's proxy).
 const ORIENTED_BOX_CONSTANT: u32 = 0;
 
+/// Specialisation constant 2 of raycast.vert (`OUTLINE`): 1 draws each glyph as the
+/// octagon around its hull's outline ([`OUTLINE_INDICES`]), 0 as its box. A constant, not
+/// a value of the frame block: the outline's code is left out of the box's pipelines,
+/// whose creation it slowed by a third on lavapipe.
+const OUTLINE_CONSTANT: u32 = 2;
+
 /// Specialisation constant 1 of the ray-casting fragment shaders (`VISIBILITY`,
 /// glsl/raycast_common.glsl): 0 compiles the visibility code out, for the frames whose
 /// visibility word is 0. Mesa 22.3's lavapipe runs skipped branches masked, and every
@@ -227,7 +264,9 @@ const VISIBILITY_CONSTANT: u32 = 1;
 /// A pipeline's key: the layout (none for the impostor), the method, the glyph shape's
 /// shader, and whether it casts shadows (the exact method only).
 /// and whether its fragments run the visibility code (culling, work counters).
-type PipelineKey = (Option<TensorLayout>, Method, ShapeShader, bool, bool);
+/// A pipeline's variant: layout, method, shape shader, shadows, visibility code and the
+/// hull's outline (raycast.vert's OUTLINE).
+type PipelineKey = (Option<TensorLayout>, Method, ShapeShader, bool, bool, bool);
 
 /// What a glyph batch is drawn with: its layout, the method and the shape's shader
 /// (`batch_variant`); the pipelines [`RayCastPass::prepare_pipelines`] makes.
@@ -246,6 +285,7 @@ pub struct GlyphSetGpu {
     pub count: u32,
     instances: Buffer,
     boxes: Buffer,
+    hulls: Buffer,
     _coefficients: Buffer,
     /// The shadow rays' grid over the batch's boxes: its cells and its entries.
     _grid: [Buffer; 2],
@@ -278,13 +318,15 @@ impl GlyphSetGpu {
         d: &ash::Device,
         cmd: vk::CommandBuffer,
         indices: vk::Buffer,
+        outline: bool,
     ) {
-        let buffers = [self.instances.handle, self.boxes.handle];
+        let (first, count) = proxy_index_range(outline);
+        let buffers = [self.instances.handle, self.boxes.handle, self.hulls.handle];
         // SAFETY: the caller's promise.
         unsafe {
-            d.cmd_bind_vertex_buffers(cmd, 0, &buffers, &[0, 0]);
+            d.cmd_bind_vertex_buffers(cmd, 0, &buffers, &[0, 0, 0]);
             d.cmd_bind_index_buffer(cmd, indices, 0, vk::IndexType::UINT16);
-            d.cmd_draw_indexed(cmd, CUBE_INDICES.len() as u32, self.count, 0, 0, 0);
+            d.cmd_draw_indexed(cmd, count, self.count, first, 0, 0);
         }
     }
 
@@ -297,17 +339,18 @@ impl GlyphSetGpu {
         d: &ash::Device,
         cmd: vk::CommandBuffer,
         indices: vk::Buffer,
+        outline: bool,
         clusters: &mut dyn Iterator<Item = u32>,
     ) {
-        let buffers = [self.instances.handle, self.boxes.handle];
+        let (first, count) = proxy_index_range(outline);
+        let buffers = [self.instances.handle, self.boxes.handle, self.hulls.handle];
         // SAFETY: the caller's promise.
         unsafe {
-            d.cmd_bind_vertex_buffers(cmd, 0, &buffers, &[0, 0]);
+            d.cmd_bind_vertex_buffers(cmd, 0, &buffers, &[0, 0, 0]);
             d.cmd_bind_index_buffer(cmd, indices, 0, vk::IndexType::UINT16);
             for c in clusters {
                 let cluster = &self.clusters[c as usize];
-                let boxes = CUBE_INDICES.len() as u32;
-                d.cmd_draw_indexed(cmd, boxes, cluster.count, 0, 0, cluster.first);
+                d.cmd_draw_indexed(cmd, count, cluster.count, first, 0, cluster.first);
             }
         }
     }
@@ -317,6 +360,9 @@ impl GlyphSetGpu {
 /// parameter buffer per frame in flight.
 pub struct SceneGpu {
     frames: Vec<Buffer>,
+    /// Whether its glyphs are drawn as their hulls' outlines (`--proxy hull`; the pass's
+    /// mode at upload), which picks the pipelines and the index range of the draws.
+    pub(crate) outline: bool,
     /// Whether its exact batches cast shadows (the first frame block asked for them): by
     /// the pipelines that cast them, or by a later pass (`deferred`).
     pub(crate) shadows: bool,
@@ -359,8 +405,8 @@ impl RayCastPass {
         )?;
         let indices = Buffer::with_data(
             ctx,
-            "box indices",
-            &CUBE_INDICES,
+            "box and outline indices",
+            &PROXY_INDICES,
             vk::BufferUsageFlags::INDEX_BUFFER,
         )?;
         let no_visibility = VisibilityBuffers::without_passes(ctx, visibility_layout(&layout)?)?;
@@ -377,6 +423,7 @@ impl RayCastPass {
             stage_pipelines: Pipelines::new(),
             buffer_limit: None,
             deferred_shadows: false,
+            outline: false,
         })
     }
 
@@ -392,6 +439,12 @@ impl RayCastPass {
         self.formats
     }
 
+    /// What scenes uploaded from now on draw around each glyph (their pipelines are
+    /// prepared for it): [`Proxy::Hull`]'s outline or [`Proxy::Box`].
+    pub fn set_proxy(&mut self, proxy: Proxy) {
+        self.outline = proxy == Proxy::Hull;
+    }
+
     /// The samples, depth convention and cache the pass was made for.
     pub fn options(&self) -> PassOptions {
         self.options
@@ -404,7 +457,12 @@ impl RayCastPass {
 
     /// The pipeline of a variant (without shadows), made now if it was not.
     pub fn pipeline(&mut self, layout: TensorLayout, method: Method) -> Result<vk::Pipeline> {
-        let key = pipeline_key((layout, method, ShapeShader::Polynomial), false, false);
+        let key = pipeline_key(
+            (layout, method, ShapeShader::Polynomial),
+            false,
+            false,
+            self.outline,
+        );
         if let Some(p) = self.pipelines.get(&key) {
             return Ok(p);
         }
@@ -423,7 +481,7 @@ impl RayCastPass {
     /// [`RayCastPass::prepare_pipelines`] of the variants that cast shadows (`shadows`),
     /// where the method has them, or that do not.
     fn prepare_pipelines_for(&mut self, variants: &[Variant], shadows: bool) -> Result<()> {
-        self.prepare_normal_pipelines(variants, (shadows, false))
+        self.prepare_normal_pipelines(variants, (shadows, false), self.outline)
     }
 
     /// The pipelines that draw the frames of `scene` whose visibility word is not 0
@@ -440,7 +498,8 @@ impl RayCastPass {
             .iter()
             .map(|set| batch_variant(set.layout, set.shape, method))
             .collect::<Result<Vec<_>>>()?;
-        self.prepare_normal_pipelines(&variants, (scene.shadows && !scene.deferred, true))
+        let shadows = scene.shadows && !scene.deferred;
+        self.prepare_normal_pipelines(&variants, (shadows, true), scene.outline)
     }
 
     /// The normal-stage pipelines of `variants`, casting shadows or not, running the
@@ -449,11 +508,12 @@ impl RayCastPass {
         &mut self,
         variants: &[Variant],
         (shadows, visibility): (bool, bool),
+        outline: bool,
     ) -> Result<()> {
         type Missing = (PipelineKey, Option<&'static [u32]>, &'static [u32]);
         let mut missing: Vec<Missing> = Vec::new();
         for &variant in variants {
-            let key = pipeline_key(variant, shadows, visibility);
+            let key = pipeline_key(variant, shadows, visibility, outline);
             if self.pipelines.get(&key).is_none() && !missing.iter().any(|(k, ..)| *k == key) {
                 let (vertex, fragment) = self.shaders(variant, key.3)?;
                 missing.push((key, vertex, fragment));
@@ -554,9 +614,13 @@ impl RayCastPass {
     }
 
     /// The pipeline of a prepared variant; an error (not a compile) if it was not made.
-    fn prepared(&self, variant: Variant, shadows: bool, visibility: bool) -> Result<vk::Pipeline> {
+    fn prepared(
+        &self,
+        variant: Variant,
+        (shadows, visibility, outline): (bool, bool, bool),
+    ) -> Result<vk::Pipeline> {
         self.pipelines
-            .get(&pipeline_key(variant, shadows, visibility))
+            .get(&pipeline_key(variant, shadows, visibility, outline))
             .ok_or(Error::Call {
                 call: "RayCastPass::record",
                 expected: "RayCastPass::prepare (or upload) for this layout and method first",
@@ -594,19 +658,28 @@ impl RayCastPass {
         &self,
         vertex: vk::ShaderModule,
         fragment: vk::ShaderModule,
-        (_, method, _, _, visibility): PipelineKey,
+        (_, method, _, _, visibility, outline): PipelineKey,
         stage: DrawStage,
     ) -> Result<Pipeline> {
-        let entries = [vk::SpecializationMapEntry {
-            constant_id: ORIENTED_BOX_CONSTANT,
-            offset: 0,
-            size: 4,
-        }];
+        let entries = [
+            vk::SpecializationMapEntry {
+                constant_id: ORIENTED_BOX_CONSTANT,
+                offset: 0,
+                size: 4,
+            },
+            vk::SpecializationMapEntry {
+                constant_id: OUTLINE_CONSTANT,
+                offset: 4,
+                size: 4,
+            },
+        ];
         // A SPIR-V boolean specialisation constant takes a 32-bit value.
-        let oriented = u32::from(method != Method::Impostor).to_ne_bytes();
+        let mut constants = [0u8; 8];
+        constants[..4].copy_from_slice(&u32::from(method != Method::Impostor).to_ne_bytes());
+        constants[4..].copy_from_slice(&u32::from(outline).to_ne_bytes());
         let specialization = vk::SpecializationInfo::default()
             .map_entries(&entries)
-            .data(&oriented);
+            .data(&constants);
         // The later passes' stages always run the visibility code.
         let visibility = u32::from(visibility || stage != DrawStage::Normal).to_ne_bytes();
         let fragment_entries = [vk::SpecializationMapEntry {
@@ -647,7 +720,7 @@ impl RayCastPass {
             if variant.1 == Method::Impostor {
                 continue;
             }
-            let key = pipeline_key(variant, false, true);
+            let key = pipeline_key(variant, false, true, self.outline);
             for stage in [DrawStage::Nearest, DrawStage::Shade] {
                 let staged = (key, stage);
                 if self.stage_pipelines.get(&staged).is_none()
@@ -732,6 +805,7 @@ impl RayCastPass {
         let pool = DescriptorPool::new(ctx, chunks.len() * frames_in_flight, 0, 6)?;
         let mut scene = SceneGpu {
             frames,
+            outline: self.outline,
             shadows,
             deferred,
             pool,
@@ -920,11 +994,11 @@ impl RayCastPass {
         let pipeline = match stage {
             DrawStage::Normal => {
                 let shadows = scene.shadows && !scene.deferred;
-                self.prepared(variant, shadows, passes.active)?
+                self.prepared(variant, (shadows, passes.active, scene.outline))?
             }
             _ => self
                 .stage_pipelines
-                .get(&(pipeline_key(variant, false, true), stage))
+                .get(&(pipeline_key(variant, false, true, scene.outline), stage))
                 .ok_or(Error::Call {
                     call: "RayCastPass::record_passes",
                     expected: "the stage pipelines of a culled scene (prepare_stage_pipelines)",
@@ -966,9 +1040,12 @@ impl RayCastPass {
                 0,
                 &hide.to_ne_bytes(),
             );
+            let outline = scene.outline;
             match clusters {
-                Some(clusters) => set.record_clusters(d, cmd, self.indices.handle, clusters),
-                None => set.record_boxes(d, cmd, self.indices.handle),
+                Some(clusters) => {
+                    set.record_clusters(d, cmd, self.indices.handle, outline, clusters)
+                }
+                None => set.record_boxes(d, cmd, self.indices.handle, outline),
             }
         }
         Ok(())
@@ -1004,14 +1081,19 @@ fn visibility_layout(layout: &PipelineLayout) -> Result<vk::DescriptorSetLayout>
 /// The key of a variant's pipeline: the impostor's is shared by every layout and shape,
 /// and only the exact method casts shadows, from polynomial glyphs (the other shapes'
 /// shaders take no rays: they are drawn without shadows).
-fn pipeline_key((layout, method, shape): Variant, shadows: bool, visibility: bool) -> PipelineKey {
+fn pipeline_key(
+    (layout, method, shape): Variant,
+    shadows: bool,
+    visibility: bool,
+    outline: bool,
+) -> PipelineKey {
     match (method, shape) {
         // (The impostor's shader has no visibility code.)
-        (Method::Impostor, _) => (None, method, ShapeShader::Polynomial, false, false),
+        (Method::Impostor, _) => (None, method, ShapeShader::Polynomial, false, false, outline),
         (Method::Exact, ShapeShader::Polynomial) => {
-            (Some(layout), method, shape, shadows, visibility)
+            (Some(layout), method, shape, shadows, visibility, outline)
         }
-        _ => (Some(layout), method, shape, false, visibility),
+        _ => (Some(layout), method, shape, false, visibility, outline),
     }
 }
 
@@ -1075,6 +1157,11 @@ pub(crate) fn glyph_pipeline(
             stride: 32,
             input_rate: vk::VertexInputRate::INSTANCE,
         },
+        vk::VertexInputBindingDescription {
+            binding: 2,
+            stride: 48,
+            input_rate: vk::VertexInputRate::INSTANCE,
+        },
     ];
     let attribute =
         |location: u32, binding: u32, offset: u32| vk::VertexInputAttributeDescription {
@@ -1083,7 +1170,14 @@ pub(crate) fn glyph_pipeline(
             format: vk::Format::R32G32B32A32_SFLOAT,
             offset,
         };
-    let attributes = [attribute(0, 0, 0), attribute(1, 1, 0), attribute(2, 1, 16)];
+    let attributes = [
+        attribute(0, 0, 0),
+        attribute(1, 1, 0),
+        attribute(2, 1, 16),
+        attribute(3, 2, 0),
+        attribute(4, 2, 16),
+        attribute(5, 2, 32),
+    ];
     let (bindings, attributes) = match input {
         InstanceInput::Instance => (&bindings[..1], &attributes[..1]),
         InstanceInput::WithBoxes => (&bindings[..], &attributes[..]),
@@ -1138,6 +1232,7 @@ fn upload_chunk(
     let (instance_data, box_data) = (batch.instances()?, batch.boxes()?);
     let instances = Buffer::with_data(ctx, "instances", &instance_data, vertex)?;
     let boxes = Buffer::with_data(ctx, "boxes", &box_data, vertex)?;
+    let hulls = Buffer::with_data(ctx, "hulls", &batch.hulls()?, vertex)?;
     let coefficients = Buffer::with_data(ctx, "coefficients", &batch.coefficients()?, storage)?;
     let grid = ShadowGrid::new(&instance_data, &box_data);
     let grid_cells = Buffer::with_data(ctx, "shadow grid", &grid.cell_bytes(), storage)?;
@@ -1151,6 +1246,7 @@ fn upload_chunk(
         count: batch.len() as u32,
         instances,
         boxes,
+        hulls,
         _coefficients: coefficients,
         _grid: [grid_cells, grid_entries],
         descriptor_sets: Vec::new(),

@@ -145,7 +145,7 @@ _glyphcast() {
             return 0
             ;;
         glyphcast__subcmd__bench)
-            opts="-h --workload --sweep --method --path --cull --accuracy --frames --warmup --width --height --quick --out --save-scene --scene-arrays --save-tracks --device --help"
+            opts="-h --workload --sweep --method --path --cull --proxy --accuracy --frames --warmup --width --height --quick --out --save-scene --scene-arrays --save-tracks --device --help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -168,6 +168,10 @@ _glyphcast() {
                     return 0
                     ;;
                 --cull)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --proxy)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
@@ -211,7 +215,7 @@ _glyphcast() {
             return 0
             ;;
         glyphcast__subcmd__demo)
-            opts="-o -h --stiffness --output --depth-out --dpi --width --height --scale-factor --method --path --precision --step --refine --color --magnitude-range --negative --background --offset --light --ambient --specular --shininess --shadows --ambient-occlusion --cull --samples --colorbar --colorbar-label --device --validation --save-scene --help"
+            opts="-o -h --stiffness --output --depth-out --dpi --width --height --scale-factor --method --path --precision --step --refine --color --magnitude-range --negative --background --offset --light --ambient --specular --shininess --shadows --ambient-occlusion --cull --proxy --samples --colorbar --colorbar-label --device --validation --save-scene --help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -310,6 +314,10 @@ _glyphcast() {
                     return 0
                     ;;
                 --cull)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --proxy)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
@@ -729,7 +737,7 @@ _glyphcast() {
             return 0
             ;;
         glyphcast__subcmd__render)
-            opts="-o -h --sh --basis --force-basis --frame --legacy --lmax --tensor --tensor-order --order --nonsymmetric --slice --slices --block --voxels --mask --scale --norm --min-amplitude --perspective --orientation --underlay --underlay-range --underlay-plane --glyph --labels --views --lightbox --peaks --peaks-frame --peak-values --peaks-color --peaks-norm --peaks-scale --peaks-width --tracks --tracks-color --tracks-radius --tracks-style --tracks-max --slab --save-scene --output --depth-out --dpi --width --height --scale-factor --method --path --precision --step --refine --color --magnitude-range --negative --background --offset --light --ambient --specular --shininess --shadows --ambient-occlusion --cull --samples --colorbar --colorbar-label --device --validation --help"
+            opts="-o -h --sh --basis --force-basis --frame --legacy --lmax --tensor --tensor-order --order --nonsymmetric --slice --slices --block --voxels --mask --scale --norm --min-amplitude --perspective --orientation --underlay --underlay-range --underlay-plane --glyph --labels --views --lightbox --peaks --peaks-frame --peak-values --peaks-color --peaks-norm --peaks-scale --peaks-width --tracks --tracks-color --tracks-radius --tracks-style --tracks-max --slab --save-scene --output --depth-out --dpi --width --height --scale-factor --method --path --precision --step --refine --color --magnitude-range --negative --background --offset --light --ambient --specular --shininess --shadows --ambient-occlusion --cull --proxy --samples --colorbar --colorbar-label --device --validation --help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -971,6 +979,10 @@ _glyphcast() {
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
+                --proxy)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 --samples)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
@@ -1033,7 +1045,7 @@ _glyphcast() {
             return 0
             ;;
         glyphcast__subcmd__view)
-            opts="-h --sh --basis --force-basis --frame --legacy --lmax --tensor --tensor-order --order --nonsymmetric --slice --slices --block --voxels --mask --scale --norm --min-amplitude --perspective --orientation --underlay --underlay-range --underlay-plane --glyph --labels --views --lightbox --peaks --peaks-frame --peak-values --peaks-color --peaks-norm --peaks-scale --peaks-width --tracks --tracks-color --tracks-radius --tracks-style --tracks-max --slab --save-scene --width --height --scale-factor --method --path --precision --step --refine --color --magnitude-range --negative --background --offset --light --ambient --specular --shininess --shadows --ambient-occlusion --cull --samples --colorbar --colorbar-label --device --validation --frames --script --screenshot --capture-window --frames-in-flight --help"
+            opts="-h --sh --basis --force-basis --frame --legacy --lmax --tensor --tensor-order --order --nonsymmetric --slice --slices --block --voxels --mask --scale --norm --min-amplitude --perspective --orientation --underlay --underlay-range --underlay-plane --glyph --labels --views --lightbox --peaks --peaks-frame --peak-values --peaks-color --peaks-norm --peaks-scale --peaks-width --tracks --tracks-color --tracks-radius --tracks-style --tracks-max --slab --save-scene --width --height --scale-factor --method --path --precision --step --refine --color --magnitude-range --negative --background --offset --light --ambient --specular --shininess --shadows --ambient-occlusion --cull --proxy --samples --colorbar --colorbar-label --device --validation --frames --script --screenshot --capture-window --frames-in-flight --help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1256,6 +1268,10 @@ _glyphcast() {
                     return 0
                     ;;
                 --cull)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --proxy)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;

@@ -66,6 +66,11 @@ pub struct BenchArgs {
         value_name = "occluded|passes|early-out|off"
     )]
     cull: String,
+    /// What the fragment path draws around each glyph in a single measurement: box (its
+    /// oriented box, the paper's proxy) or hull (an octagon around the outline of the
+    /// glyph's guaranteed 26-sided polytope).
+    #[arg(long, default_value = "box", value_name = "box|hull")]
+    proxy: String,
     /// Also compare a single measurement with the float64 reference.
     #[arg(long)]
     accuracy: bool,
@@ -298,6 +303,7 @@ fn plan(args: &BenchArgs) -> Result<Plan> {
                 (Setting::Method, &args.method),
                 (Setting::Path, &args.path),
                 (Setting::Cull, &args.cull),
+                (Setting::Proxy, &args.proxy),
             ] {
                 options.set(setting, Value::Text(text))?;
             }
