@@ -205,3 +205,18 @@ def test_the_renderer_says_what_culling_did():
         assert renderer.culling == "off (1 pass)", renderer.culling
         renderer.release()
         assert renderer.culling is None
+
+
+def test_the_hull_outline_draws_the_box_picture():
+    # proxy="hull" draws fewer fragments around each glyph, never another pixel.
+    rng = np.random.default_rng(5)
+    coeffs = rng.normal(0.0, 0.1, (4, 4, 2, 15))
+    coeffs[..., 0] = 1.0
+    with glyphcast.Renderer(validation=True) as renderer:
+        box = renderer.render_sh(coeffs, basis="tournier07", block=True, width=96, height=96,
+                                 proxy="box")
+        hull = renderer.render_sh(coeffs, basis="tournier07", block=True, width=96,
+                                  height=96, proxy="hull")
+    assert np.isfinite(box.depth).sum() > 500
+    assert_same_depth(hull.depth, box.depth)
+    assert np.array_equal(np.asarray(hull.rgba), np.asarray(box.rgba))
