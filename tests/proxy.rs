@@ -69,7 +69,12 @@ fn the_hull_gives_the_box_image_on_the_accuracy_suite_and_every_method() {
     // Every ray-casting method reads the same vertex shader; the robust ones on the
     // first scenes only (they are slow on lavapipe).
     let scenes = suite::suite(96);
-    for method in [Method::Fixed, Method::Interval, Method::Affine, Method::Impostor] {
+    for method in [
+        Method::Fixed,
+        Method::Interval,
+        Method::Affine,
+        Method::Impostor,
+    ] {
         for entry in scenes.iter().take(3) {
             let settings = RenderSettings {
                 method,
@@ -185,7 +190,11 @@ fn work(dir: &std::path::Path, workload: &str, proxy: &str) -> (f64, f64) {
     let r = &json["results"][0];
     let covered = r["covered_pixels"].as_f64().expect("covered pixels");
     assert!(covered > 1000.0, "{workload}: {covered} covered pixels");
-    let count = |k: &str| r["work"][k].as_f64().unwrap_or_else(|| panic!("work.{k}: {r}"));
+    let count = |k: &str| {
+        r["work"][k]
+            .as_f64()
+            .unwrap_or_else(|| panic!("work.{k}: {r}"))
+    };
     (count("fragments") / covered, count("evaluations") / covered)
 }
 

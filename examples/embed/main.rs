@@ -41,8 +41,8 @@ use engine::{Engine, Target, Validation, subresource_range};
 use glam::{DMat4, DVec3};
 use glyphcast::bench::workload::{BlockView, block};
 use glyphcast::demo::{direction, fibre_tensor, glyph_set, symmetric};
-use glyphcast::render::{Culling, Proxy};
 use glyphcast::render::host_view::{look_at, perspective};
+use glyphcast::render::{Culling, Proxy};
 use glyphcast::{
     Camera, DepthConvention, DeviceContext, GlyphRenderer, GlyphSetData, HostView, ImageSize,
     PassOptions, Projection, RenderPath, RenderSettings, RendererDesc, Scene, TargetFormats,

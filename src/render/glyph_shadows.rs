@@ -23,7 +23,7 @@ use crate::error::{Asked, Error, Result, Setting};
 use crate::glyph::{GlyphShape, TensorLayout};
 use crate::render::component::UploadedGlyphs;
 use crate::render::raycast::{
-    PROXY_INDICES, GlyphSetGpu, InstanceInput, SceneGpu, TargetFormats, batch_bindings,
+    GlyphSetGpu, InstanceInput, PROXY_INDICES, SceneGpu, TargetFormats, batch_bindings,
     glyph_pipeline, viewport_and_scissor,
 };
 use crate::render::shaders::raycast_shader;

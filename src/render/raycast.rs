@@ -175,7 +175,8 @@ pub(crate) const CUBE_INDICES: [u16; 36] = [
 
 /// The 6 triangles of the hull's outline (an octagon: vertex k where its edges k and
 /// k + 1 meet), fanned from vertex 0, the provoking vertex of each.
-pub(crate) const OUTLINE_INDICES: [u16; 18] = [0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 5, 0, 5, 6, 0, 6, 7];
+pub(crate) const OUTLINE_INDICES: [u16; 18] =
+    [0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 5, 0, 5, 6, 0, 6, 7];
 
 /// The index buffer of the glyphs' draws: [`CUBE_INDICES`], then [`OUTLINE_INDICES`].
 pub(crate) const PROXY_INDICES: [u16; 54] = {
