@@ -201,12 +201,12 @@ void main() {
     uint corner = uint(gl_VertexIndex);
     vec3 unit = vec3(corner & 1u, (corner >> 1) & 1u, (corner >> 2) & 1u) * 2.0 - 1.0;
 
-    // The hull's outline (OUTLINE, --proxy hull): vertex k of an octagon around the outline on the screen of
-    // the glyph's 26-sided polytope, where its edges k and k + 1 meet, at the glyph's
-    // nearest depth along the view direction: in front of every hit (the fragment
-    // shaders write depth_less, or depth_greater for standard depth). Where the near
-    // plane cuts the glyph, the octagon goes around the part of its box in front of the
-    // near plane, on the near plane.
+    // The hull's outline (OUTLINE, --proxy hull): vertex k of an octagon around the
+    // outline on the screen of the glyph's 26-sided polytope, where its edges k and k + 1
+    // meet, at the glyph's nearest depth along the view direction: in front of every hit
+    // (the fragment shaders write depth_less, or depth_greater for standard depth). Where
+    // the near plane cuts the glyph, the octagon goes around the part of its box in front
+    // of the near plane, on the near plane.
     if (OUTLINE) {
         vec3 centre = center_radius.xyz;
         float radius = center_radius.w;
@@ -280,8 +280,9 @@ void main() {
     v_box_extent = extent;
 #ifdef GLYPH_MONOMIALS
     // Flat outputs come from a triangle's first (provoking) vertex, corner 0 or 7 (the
-    // outline's triangles all start at vertex 0); the other corners' are never read. (Loading for every vertex of 36 made the vertex
-    // stage of a million glyphs 7 times slower than their drawing on lavapipe.)
+    // outline's triangles all start at vertex 0); the other corners' are never read.
+    // (Loading for every vertex of 36 made the vertex stage of a million glyphs 7 times
+    // slower than their drawing on lavapipe.)
     bool provoking = corner == 0u || corner == 7u;
     if (provoking) {
         glyph_load(gl_InstanceIndex);

@@ -182,8 +182,7 @@ fn frames_in_flight_match_headless(samples: u32) {
 /// them, in front of and behind the plane.
 #[test]
 fn the_hull_outline_draws_the_headless_picture() {
-    let reference = None::<RenderedImage>;
-    let mut reference = reference;
+    let mut reference: Option<RenderedImage> = None;
     for depth in [DepthConvention::Standard, DepthConvention::Reversed] {
         let r = run(&Options {
             proxy: Proxy::Hull,

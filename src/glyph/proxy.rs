@@ -598,10 +598,13 @@ pub(crate) fn glyph_bounds_with(poly: &GlyphPolynomial, sampling: Sampling) -> O
     }
     // |f(u)| |n . u| at the nodes, for the axes and the diagonals (n = sum c_k a_k, so
     // n . u = sum c_k (a_k . u)).
-    let directions: Vec<DVec3> = [DVec3::X, DVec3::Y, DVec3::Z]
-        .into_iter()
-        .chain(diagonal_directions())
-        .collect();
+    let diagonal = diagonal_directions();
+    let directions: [DVec3; 13] = std::array::from_fn(|k| match k {
+        0 => DVec3::X,
+        1 => DVec3::Y,
+        2 => DVec3::Z,
+        _ => diagonal[k - 3],
+    });
     let mut sampled = [0.0f64; 13];
     for (f, u) in values.iter().zip(&lattice.nodes) {
         let along = DVec3::new(axes[0].dot(*u), axes[1].dot(*u), axes[2].dot(*u));

@@ -23,7 +23,7 @@ use crate::error::{Asked, Error, Result, Setting};
 use crate::glyph::{GlyphShape, TensorLayout};
 use crate::render::component::UploadedGlyphs;
 use crate::render::raycast::{
-    GlyphSetGpu, InstanceInput, PROXY_INDICES, SceneGpu, TargetFormats, batch_bindings,
+    CUBE_INDICES, GlyphSetGpu, InstanceInput, SceneGpu, TargetFormats, batch_bindings,
     glyph_pipeline, viewport_and_scissor,
 };
 use crate::render::shaders::raycast_shader;
@@ -99,8 +99,8 @@ impl GlyphShadowPass {
             layout,
             indices: Buffer::with_data(
                 ctx,
-                "box and outline indices",
-                &PROXY_INDICES,
+                "box indices",
+                &CUBE_INDICES,
                 vk::BufferUsageFlags::INDEX_BUFFER,
             )?,
         })

@@ -178,22 +178,8 @@ pub(crate) const CUBE_INDICES: [u16; 36] = [
 pub(crate) const OUTLINE_INDICES: [u16; 18] =
     [0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 5, 0, 5, 6, 0, 6, 7];
 
-/// The index buffer of the glyphs' draws: [`CUBE_INDICES`], then [`OUTLINE_INDICES`].
-pub(crate) const PROXY_INDICES: [u16; 54] = {
-    let mut all = [0u16; 54];
-    let mut i = 0;
-    while i < 36 {
-        all[i] = CUBE_INDICES[i];
-        i += 1;
-    }
-    while i < 54 {
-        all[i] = OUTLINE_INDICES[i - 36];
-        i += 1;
-    }
-    all
-};
-
-/// The range of [`PROXY_INDICES`] a draw takes: the outline's or the box's.
+/// The range of the pass's index buffer ([`CUBE_INDICES`], then [`OUTLINE_INDICES`]) a
+/// draw takes: the outline's or the box's.
 pub(crate) fn proxy_index_range(outline: bool) -> (u32, u32) {
     if outline {
         (CUBE_INDICES.len() as u32, OUTLINE_INDICES.len() as u32)
@@ -407,7 +393,7 @@ impl RayCastPass {
         let indices = Buffer::with_data(
             ctx,
             "box and outline indices",
-            &PROXY_INDICES,
+            &[CUBE_INDICES.as_slice(), &OUTLINE_INDICES].concat(),
             vk::BufferUsageFlags::INDEX_BUFFER,
         )?;
         let no_visibility = VisibilityBuffers::without_passes(ctx, visibility_layout(&layout)?)?;
