@@ -37,12 +37,28 @@ layout(constant_id = 0) const bool ORIENTED_BOX = true;
 // 26-sided polytope (OUTLINE_INDICES of src/render/raycast.rs); false: as its box
 // (CUBE_INDICES). A constant, so that the box's pipelines leave the outline's code out.
 layout(constant_id = 2) const bool OUTLINE = false;
+// true (--proxy pieces, with OUTLINE): each glyph is drawn as eight octagons, one around
+// the outline of each of its pieces (glsl/pieces.glsl; PIECES_INDICES of
+// src/render/raycast.rs), each at its piece's nearest depth.
+layout(constant_id = 3) const bool PIECES = false;
+
+// The pieces' words of every glyph of the batch (PIECE_WORDS each: the frame's
+// quaternion, then four words per piece; a placeholder word where the batch draws no
+// pieces).
+layout(std430, set = 0, binding = 6) readonly buffer Pieces {
+    uint piece_words[];
+};
+const uint PIECE_WORDS = 36u;
 
 // The shared variant and the robust methods' (GLYPHCAST_GLYPH_INDEX, build.rs) pass the
 // glyph's index; exact and fixed need only the coefficients.
 #if !defined(GLYPH_MONOMIALS) || defined(GLYPHCAST_GLYPH_INDEX)
 #define RAYCAST_GLYPH_INDEX
 layout(location = 0) flat out uint v_glyph;
+#else
+// The exact method's pieces (PIECES): the fragment's piece's words, its index in the
+// twentieth number (glsl/pieces.glsl); the piece's frame goes as the box's rotation.
+layout(location = 0) flat out uvec4 v_piece_words;
 #endif
 layout(location = 1) flat out vec4 v_center_radius;
 layout(location = 2) flat out vec4 v_box_rotation;
@@ -59,16 +75,60 @@ vec3 rotate_inverse(vec4 q, vec3 v) {
     return v - 2.0 * cross(q.xyz, q.w * v - cross(q.xyz, v));
 }
 
-// The 13 extents of the glyph's polytope, in units of center_radius.w: the box's three,
-// then the ten diagonals'.
-float hull_extent[13];
+#include "pieces.glsl"
 
-// For a direction w of the box frame (any length), a point V of the box frame with
+// The polytope's supports (units of center_radius.w) by direction_code of their
+// integer direction (glsl/pieces.glsl): the glyph's 26-sided polytope's, symmetric about
+// the centre, or (PIECES) the piece's in the piece's own octant (directions reflected
+// by piece_signs_now).
+float dop_h[27];
+vec3 piece_signs_now;
+// The drawn piece's words, its index set (PIECES).
+uvec4 piece_words_now;
+
+// The polytope's support along the frame direction of integer steps m (components -1,
+// 0, 1; normalised).
+float dop_support(vec3 m) {
+    return dop_h[direction_code(PIECES ? piece_signs_now * m : m)];
+}
+
+// dop_h of the glyph's 26-sided polytope: the box's three extents, then the ten
+// diagonals' (a0 + a1, a0 - a1, a1 + a2, a1 - a2, a0 + a2, a0 - a2, then a0 + a1 + a2,
+// a0 + a1 - a2, a0 - a1 + a2, a0 - a1 - a2), each for both signs.
+void hull_supports(vec3 extent, vec4 diagonals[3]) {
+    float e[13];
+    e[0] = extent.x;
+    e[1] = extent.y;
+    e[2] = extent.z;
+    [[unroll]] for (int i = 0; i < 10; ++i) {
+        e[3 + i] = diagonals[i / 4][i % 4];
+    }
+    const vec3 axes[13] = vec3[13](
+        vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0), vec3(0.0, 0.0, 1.0),
+        vec3(1.0, 1.0, 0.0), vec3(1.0, -1.0, 0.0), vec3(0.0, 1.0, 1.0), vec3(0.0, 1.0, -1.0),
+        vec3(1.0, 0.0, 1.0), vec3(1.0, 0.0, -1.0),
+        vec3(1.0, 1.0, 1.0), vec3(1.0, 1.0, -1.0), vec3(1.0, -1.0, 1.0),
+        vec3(1.0, -1.0, -1.0));
+    dop_h[13] = 0.0;
+    [[unroll]] for (int k = 0; k < 13; ++k) {
+        dop_h[direction_code(axes[k])] = e[k];
+        dop_h[direction_code(-axes[k])] = e[k];
+    }
+}
+
+// dop_h of a piece of words `words`, in its octant's reflected directions.
+void piece_supports(uvec4 words) {
+    [[unroll]] for (int c = 0; c < 27; ++c) {
+        dop_h[c] = piece_value(words, PIECE_SLOT[c]);
+    }
+}
+
+// For a direction w of the polytope's frame (any length), a point V of that frame with
 // w . V an upper bound of the polytope's support along w: w is a non-negative
 // combination of an axis, a face diagonal and a corner diagonal of its own octant (the
-// cone of the three that holds it), and V lies on the three planes |x . n| = extent(n)
-// (x . n = extent(n) with n turned into w's octant). The glyph lies in the convex hull of
-// all such points, and its outline on the screen in the hull's.
+// cone of the three that holds it), and V lies on the three planes x . n = support(n)
+// of those three directions. The polytope lies in the convex hull of all such points,
+// and its outline on the screen in the hull's.
 vec3 hull_point(vec3 w) {
     vec3 a = abs(w);
     vec3 sg = vec3(w.x < 0.0 ? -1.0 : 1.0, w.y < 0.0 ? -1.0 : 1.0, w.z < 0.0 ? -1.0 : 1.0);
@@ -78,16 +138,13 @@ vec3 hull_point(vec3 w) {
     if (a[i1] > a[i0]) { int t = i0; i0 = i1; i1 = t; }
     if (a[i2] > a[i1]) { int t = i1; i1 = i2; i2 = t; }
     if (a[i1] > a[i0]) { int t = i0; i0 = i1; i1 = t; }
-    // The face diagonal of axes i0, i1: 3 + 2 * (pair) + (1 where their signs differ).
-    int low = min(i0, i1);
-    int high = max(i0, i1);
-    int pair = low == 0 ? (high == 1 ? 0 : 2) : 1;
-    int face = 3 + 2 * pair + (sg[i0] * sg[i1] < 0.0 ? 1 : 0);
-    // The corner diagonal a0 + s1 a1 + s2 a2 (signs relative to axis 0's).
-    int corner = 9 + (sg.x * sg.y < 0.0 ? 2 : 0) + (sg.x * sg.z < 0.0 ? 1 : 0);
-    float x = hull_extent[i0];
-    float y = 1.4142135 * hull_extent[face] - x;
-    float z = 1.7320508 * hull_extent[corner] - x - y;
+    vec3 axis = vec3(0.0);
+    axis[i0] = sg[i0];
+    vec3 face = axis;
+    face[i1] = sg[i1];
+    float x = dop_support(axis);
+    float y = 1.4142135 * dop_support(face) - x;
+    float z = 1.7320508 * dop_support(sg) - x - y;
     vec3 v;
     v[i0] = sg[i0] * x;
     v[i1] = sg[i1] * y;
@@ -166,7 +223,10 @@ float outline_line(vec2 ds, vec4 rotation, vec3 centre, float radius) {
         if (ahead && reached <= s) {
             proven = min(proven, s);
         }
-        s = reached;
+        // A little beyond the point reached, so that a support met at a vertex of the
+        // polytope (a piece's apex at the centre) is proven by the next step whatever
+        // the rounding: a hundredth of a pixel.
+        s = reached + 0.01 + 1.0e-6 * abs(reached);
     }
     return proven;
 }
@@ -199,6 +259,13 @@ void main() {
     // the 12 triangles by an index buffer (CUBE_INDICES of src/render/raycast.rs) that
     // starts every triangle at corner 0 or corner 7.
     uint corner = uint(gl_VertexIndex);
+    // With the pieces, vertex 8 p + k is vertex k of piece p's octagon.
+    uint piece = 0u;
+    if (PIECES) {
+        piece = corner >> 3;
+        corner &= 7u;
+    }
+    vec4 piece_frame = vec4(0.0);
     vec3 unit = vec3(corner & 1u, (corner >> 1) & 1u, (corner >> 2) & 1u) * 2.0 - 1.0;
 
     // The hull's outline (OUTLINE, --proxy hull): vertex k of an octagon around the
@@ -210,14 +277,39 @@ void main() {
     if (OUTLINE) {
         vec3 centre = center_radius.xyz;
         float radius = center_radius.w;
-        hull_extent[0] = extent.x;
-        hull_extent[1] = extent.y;
-        hull_extent[2] = extent.z;
-        vec4 diagonals[3] = vec4[3](hull_a, hull_b, hull_c);
-        for (int i = 0; i < 10; ++i) {
-            hull_extent[3 + i] = ORIENTED_BOX ? diagonals[i / 4][i % 4] : 1.0;
+        vec4 diagonals[3] = ORIENTED_BOX ? vec4[3](hull_a, hull_b, hull_c)
+                                         : vec4[3](vec4(1.0), vec4(1.0), vec4(1.0));
+        // The polytope's frame, and the box whose part in front of the near plane bounds
+        // it where the near plane cuts it: the glyph's, or its piece's (the piece's box
+        // in the pieces' frame).
+        vec4 outline_rotation = rotation;
+        vec3 box_centre = centre;
+        vec3 box_axes[3] = half_axes;
+        if (!PIECES) {
+            hull_supports(extent, diagonals);
+        } else {
+            uint base = uint(gl_InstanceIndex) * PIECE_WORDS;
+            piece_frame = normalize(uintBitsToFloat(uvec4(piece_words[base],
+                piece_words[base + 1u], piece_words[base + 2u], piece_words[base + 3u])));
+            uint w = base + 4u + 4u * piece;
+            piece_words_now = uvec4(piece_words[w], piece_words[w + 1u], piece_words[w + 2u],
+                                    (piece_words[w + 3u] & 0xc0ffffffu) | (piece << 24));
+            piece_signs_now = piece_signs(piece);
+            piece_supports(piece_words_now);
+            outline_rotation = piece_frame;
+            vec3 hi = vec3(dop_support(vec3(1.0, 0.0, 0.0)), dop_support(vec3(0.0, 1.0, 0.0)),
+                           dop_support(vec3(0.0, 0.0, 1.0)));
+            vec3 lo = -vec3(dop_support(vec3(-1.0, 0.0, 0.0)),
+                            dop_support(vec3(0.0, -1.0, 0.0)),
+                            dop_support(vec3(0.0, 0.0, -1.0)));
+            box_centre = centre + rotate(piece_frame, 0.5 * radius * (lo + hi));
+            vec3 half_size = 0.5 * radius * (hi - lo);
+            box_axes[0] = rotate(piece_frame, vec3(half_size.x, 0.0, 0.0));
+            box_axes[1] = rotate(piece_frame, vec3(0.0, half_size.y, 0.0));
+            box_axes[2] = rotate(piece_frame, vec3(0.0, 0.0, half_size.z));
         }
-        vec3 toward = rotate(rotation, hull_point(rotate_inverse(rotation, -frame.fwd.xyz)));
+        vec3 toward = rotate(outline_rotation,
+                             hull_point(rotate_inverse(outline_rotation, -frame.fwd.xyz)));
         float nearest = dot(frame.fwd.xyz, centre - frame.eye.xyz)
                       + radius * dot(frame.fwd.xyz, toward);
         bool cut = frame.eye.w < 0.5 && nearest <= frame.viewport.z * 1.001;
@@ -228,8 +320,8 @@ void main() {
         float edge[2];
         [[dont_unroll]] for (int e = 0; e < 2; ++e) {
             vec2 ds = d[e] * pixels;
-            float line = cut ? 3.4e38 : outline_line(ds, rotation, centre, radius);
-            edge[e] = line > 3.0e38 ? clipped_box_line(ds, centre, half_axes) : line;
+            float line = cut ? 3.4e38 : outline_line(ds, outline_rotation, centre, radius);
+            edge[e] = line > 3.0e38 ? clipped_box_line(ds, box_centre, box_axes) : line;
         }
         vec2 d0 = d[0];
         vec2 d1 = d[1];
@@ -276,8 +368,13 @@ void main() {
     v_glyph = gl_InstanceIndex;
 #endif
     v_center_radius = center_radius;
-    v_box_rotation = rotation;
-    v_box_extent = extent;
+    // The pieces clip the ray in their own frame; the box's clip becomes the cube
+    // around the sphere in that frame, which clips nothing.
+    v_box_rotation = PIECES ? piece_frame : rotation;
+    v_box_extent = PIECES ? vec3(1.0) : extent;
+#ifndef RAYCAST_GLYPH_INDEX
+    v_piece_words = PIECES ? piece_words_now : uvec4(0u);
+#endif
 #ifdef GLYPH_MONOMIALS
     // Flat outputs come from a triangle's first (provoking) vertex, corner 0 or 7 (the
     // outline's triangles all start at vertex 0); the other corners' are never read.

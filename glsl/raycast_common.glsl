@@ -17,11 +17,16 @@
 #ifndef GLYPHCAST_RECEIVER
 // (The underlay's shadow receiver, raycast_exact.frag's GLYPHCAST_RECEIVER variant,
 // draws the underlay's planes: it has no glyph's inputs, and no depth of its own.)
-// Declared only where it is read: the vertex variant of exact and fixed does not write
-// it (unoptimised SPIR-V keeps every declared input, and an input no stage writes is a
-// validation error).
+// The glyph index is declared only where it is read: the vertex variant of exact and
+// fixed does not write it (unoptimised SPIR-V keeps every declared input, and an input
+// no stage writes is a validation error); that variant's location 0 carries the pieces'
+// words instead.
 #ifdef RAYCAST_READS_GLYPH_INDEX
 layout(location = 0) flat in uint v_glyph;
+#else
+// The fragment's piece's words (--proxy pieces; raycast.vert); its frame comes as
+// v_box_rotation.
+layout(location = 0) flat in uvec4 v_piece_words;
 #endif
 layout(location = 1) flat in vec4 v_center_radius;
 layout(location = 2) flat in vec4 v_box_rotation;  // box to world (raycast.vert)
@@ -33,6 +38,9 @@ layout(location = 3) flat in vec3 v_box_extent;    // in units of v_center_radiu
 const int GLYPH_COEFF_VEC4S = (GLYPH_MONOMIALS + 3) / 4;
 layout(location = 4) flat in vec4 v_coeffs[GLYPH_COEFF_VEC4S];
 #endif
+#include "pieces.glsl"
+// true (--proxy pieces): the ray is clipped to the fragment's piece as well.
+layout(constant_id = 3) const bool PIECES = false;
 
 layout(location = 0) out vec4 out_color;
 #ifndef GLYPHCAST_NO_DISTANCE  // build.rs: the variant for a colour attachment only
@@ -201,7 +209,15 @@ bool glyph_ray_within(float radius, out GlyphRay ray) {
     count_work(WORK_FRAGMENTS);
 #endif
     pixel_ray(ray.origin, ray.dir);
-    return glyph_ray_clip(v_center_radius, v_box_rotation, v_box_extent, radius, ray);
+    bool met = glyph_ray_clip(v_center_radius, v_box_rotation, v_box_extent, radius, ray);
+    if (PIECES) {
+#ifndef RAYCAST_READS_GLYPH_INDEX
+        piece_clip(v_box_rotation, v_piece_words, radius, ray.mid, ray.dir, ray.s_start,
+                   ray.s_end);
+#endif
+        met = met && ray.s_start < ray.s_end;
+    }
+    return met;
 }
 
 // The ray against the glyph's bounding sphere.

@@ -181,8 +181,9 @@ pub struct GlyphcastSettings {
     /// A [`GlyphcastPath`]: the ray caster the renderer records (with
     /// [`GlyphcastMethod::Exact`] only for the compute ray caster).
     pub path: u32,
-    /// A [`GlyphcastProxy`]: what the fragment path draws around each glyph (the image is
-    /// the same either way). A host compiled before this field draws boxes.
+    /// A [`GlyphcastProxy`]: what the fragment path draws around each glyph (the box's
+    /// image with the hull; the same surface with the pieces). A host compiled before
+    /// this field draws boxes.
     pub proxy: u32,
 }
 
@@ -195,6 +196,11 @@ pub enum GlyphcastProxy {
     /// An octagon around the outline of the glyph's guaranteed 26-sided polytope, at its
     /// nearest depth: fewer fragments than the box, pipelines slower to create.
     Hull = 1,
+    /// An octagon around each of the glyph's eight pieces, each ray clipped to its piece
+    /// (the exact method's polynomial glyphs; the others draw the hull): fewer root
+    /// isolations, eight times the vertices. The renderer cuts each glyph's 26-sided
+    /// polytope into its box's octants.
+    Pieces = 2,
 }
 
 /// The ray caster a renderer records ([`GlyphcastSettings::path`]).
@@ -661,6 +667,7 @@ unsafe fn read_settings(
     let proxy = match given.proxy {
         0 => glyphcast::render::Proxy::Box,
         1 => glyphcast::render::Proxy::Hull,
+        2 => glyphcast::render::Proxy::Pieces,
         other => {
             return Err(invalid(format!(
                 "settings.proxy {other} is no GlyphcastProxy"

@@ -193,11 +193,19 @@ pub fn run(
 ) -> Result<BenchResult> {
     let started = Instant::now();
     // Only the mesh pass draws from the float64 glyphs (the reference has its own).
+    let pieces = case.settings.proxy == crate::render::Proxy::Pieces;
     let world = match case.settings.method {
         crate::render::Method::Mesh(_) => WorldGlyphs::Keep,
+        _ if pieces => WorldGlyphs::Keep,
         _ => WorldGlyphs::Leave,
     };
-    let sets = prepare_scene_with(case.scene, case.settings.offset as f64, world)?;
+    let mut sets = prepare_scene_with(case.scene, case.settings.offset as f64, world)?;
+    if pieces {
+        crate::render::glyph_data::add_pieces(&mut sets)?;
+        if !matches!(case.settings.method, crate::render::Method::Mesh(_)) {
+            sets.iter_mut().for_each(|s| s.drop_reference_glyphs());
+        }
+    }
     let prepare_ms = started.elapsed().as_secs_f64() * 1e3;
     let mut result = measure_prepared(gpu, renderer, case, sets, frames, prepare_ms)?;
     result.scene = case.scene_name.to_owned();

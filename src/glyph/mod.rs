@@ -11,9 +11,7 @@ pub(crate) mod homogeneous;
 pub mod intersect;
 pub mod interval;
 pub mod monomials;
-// Guaranteed bounds of eight convex pieces per glyph: not drawn (docs/guide/performance.md,
-// "Tighter proxies, tried"), kept with their containment test for the proxies that will.
-#[cfg(test)]
+// Guaranteed bounds of eight convex pieces per glyph (`--proxy pieces`).
 pub(crate) mod pieces;
 pub mod polynomial;
 pub mod proxy;

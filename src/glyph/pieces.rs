@@ -58,16 +58,17 @@
 //! For r(-u) = r(u) (`negative: abs`, or `hide` at even orders) the glyph is symmetric
 //! about its centre and piece s is piece -s mirrored: four octants are bounded.
 //!
-//! # Where they stand
+//! # On the GPU
 //!
-//! The renderer does not draw pieces (nor does the crate offer them): measured on the
-//! 256-glyph band-8 field (with a build of the `visibility_floor` example that counted
-//! them), seven planes per octant leave 2.2 evaluations per covered pixel
-//! (the box 2.58) and rasterised as one box each they launch more fragments than the
-//! glyph's box, which made frames slower on both Mesas (docs/guide/performance.md,
-//! "Tighter proxies, tried"). The bounds cost about 5 ms a glyph. What pays needs more
-//! planes per piece and tight rasterised polytopes; these bounds are the part of it that
-//! guarantees containment.
+//! Seven planes that all face out of the octant cannot hold a thin lobe tightly: a lobe
+//! along the corner diagonal fills the cube of its tip. So each piece also has the
+//! twelve "mixed" directions of the 26-sided polytope (e0 - e1, e0 + e1 - e2, ...; in all
+//! nineteen, [`piece_directions`]), whose supports are bounded the same way, where
+//! r(u) (u . n) may be negative on part of the octant (a cell wholly on the negative side
+//! bounds nothing). The renderer (`--proxy pieces`) draws each piece as an octagon around
+//! its outline and clips each fragment's ray to its piece (glsl/pieces.glsl); the
+//! supports travel as six-bit numbers, rounded up in 1/63 of the glyph's sphere radius
+//! ([`GlyphPieces::gpu_words`]).
 use glam::{DQuat, DVec3};
 
 use super::NegativeMode;
@@ -78,7 +79,43 @@ use super::proxy::GlyphBounds;
 /// The number of pieces of a glyph.
 pub(crate) const PIECES: usize = 8;
 /// The support planes of a piece besides its three cone planes.
-pub(crate) const PIECE_PLANES: usize = 7;
+pub(crate) const PIECE_PLANES: usize = 19;
+
+/// The nineteen plane directions of the positive octant, as integer steps on the frame's
+/// axes (normalised by [`piece_directions`]): the three axes, the three edge diagonals,
+/// the corner diagonal (all facing out of the octant), then the six mixed edge diagonals
+/// and the six mixed corner diagonals. glsl/pieces.glsl's `PIECE_SLOT` holds the same
+/// order (a test compares them).
+pub(crate) const PIECE_STEPS: [[i8; 3]; PIECE_PLANES] = [
+    [1, 0, 0],
+    [0, 1, 0],
+    [0, 0, 1],
+    [1, 1, 0],
+    [0, 1, 1],
+    [1, 0, 1],
+    [1, 1, 1],
+    [1, -1, 0],
+    [-1, 1, 0],
+    [0, 1, -1],
+    [0, -1, 1],
+    [1, 0, -1],
+    [-1, 0, 1],
+    [1, 1, -1],
+    [1, -1, 1],
+    [-1, 1, 1],
+    [1, -1, -1],
+    [-1, 1, -1],
+    [-1, -1, 1],
+];
+
+/// The unit directions of [`PIECE_STEPS`], in frame coordinates.
+pub(crate) fn piece_directions() -> [DVec3; PIECE_PLANES] {
+    PIECE_STEPS.map(|m| DVec3::new(f64::from(m[0]), f64::from(m[1]), f64::from(m[2])).normalize())
+}
+
+/// 32-bit words a glyph's pieces take on the GPU: its frame's quaternion (4 floats), then
+/// per piece its nineteen supports as six-bit numbers, five to a word (glsl/pieces.glsl).
+pub(crate) const PIECE_WORDS: usize = 4 + 4 * PIECES;
 
 /// Relative gap between a support's bound and its best sample at which refinement stops.
 const TOLERANCE: f64 = 0.02;
@@ -90,20 +127,14 @@ const ROUNDING_SLACK: f64 = 1e-12;
 /// Directions sampled to find the largest lobe that the frame is turned to.
 const LOBE_SAMPLES: usize = 400;
 
-/// The seven plane directions of the positive octant, in frame coordinates: the three
-/// axes, the three edge diagonals, the corner diagonal.
-pub(crate) fn piece_directions() -> [DVec3; PIECE_PLANES] {
-    let s2 = std::f64::consts::FRAC_1_SQRT_2;
-    let s3 = 1.0 / 3f64.sqrt();
-    [
-        DVec3::X,
-        DVec3::Y,
-        DVec3::Z,
-        DVec3::new(s2, s2, 0.0),
-        DVec3::new(0.0, s2, s2),
-        DVec3::new(s2, 0.0, s2),
-        DVec3::new(s3, s3, s3),
-    ]
+/// The GPU's step of a support: 1/63 of the glyph's sphere radius.
+const SUPPORT_STEPS: f64 = 63.0;
+
+/// Adds support `relative` (units of the sphere radius) of plane `j` of piece `piece` to
+/// the GPU's words, rounded up to the next step (at least one, at most the sphere).
+fn pack_support(words: &mut [u32; PIECE_WORDS], piece: usize, j: usize, relative: f64) {
+    let steps = (relative * SUPPORT_STEPS).ceil().clamp(1.0, SUPPORT_STEPS) as u32;
+    words[4 + 4 * piece + j / 5] |= steps << (6 * (j % 5));
 }
 
 /// The signs (+1 or -1 per frame axis) of octant `piece`: bit k set is negative along k.
@@ -126,6 +157,7 @@ pub(crate) struct GlyphPieces {
 impl GlyphPieces {
     /// Whether the point `q` (glyph coordinates, the polynomial's units) lies in piece
     /// `piece`, with the planes moved out by `slack`.
+    #[cfg(test)]
     pub(crate) fn piece_contains(&self, piece: usize, q: DVec3, slack: f64) -> bool {
         let signs = octant_signs(piece);
         let local = DVec3::new(
@@ -144,9 +176,65 @@ impl GlyphPieces {
     }
 
     /// Whether some piece holds `q` (within `slack`).
+    #[cfg(test)]
     pub(crate) fn contains(&self, q: DVec3, slack: f64) -> bool {
         (0..PIECES).any(|p| self.piece_contains(p, q, slack))
     }
+
+    /// The GPU's words ([`PIECE_WORDS`]): the frame's unit quaternion (frame to glyph) as
+    /// float bits, then per piece its supports in steps of 1/63 of `unit` (the glyph's
+    /// sphere radius in the polynomial's units, before the offset), rounded up (the
+    /// offset added as the box's extents add it: (h / unit + offset) / (1 + offset)),
+    /// at most the sphere, padded as the box's extents are.
+    pub(crate) fn gpu_words(&self, unit: f64, offset: f64, padding: f64) -> [u32; PIECE_WORDS] {
+        let q = DQuat::from_mat3(&glam::DMat3::from_cols(
+            self.axes[0],
+            self.axes[1],
+            self.axes[2],
+        ))
+        .normalize();
+        let mut words = [0u32; PIECE_WORDS];
+        for (w, c) in words.iter_mut().zip([q.x, q.y, q.z, q.w]) {
+            *w = (c as f32).to_bits();
+        }
+        for (piece, supports) in self.supports.iter().enumerate() {
+            for (j, &h) in supports.iter().enumerate() {
+                let relative = (h / unit + offset) / (1.0 + offset) * (1.0 + padding);
+                pack_support(&mut words, piece, j, relative);
+            }
+        }
+        words
+    }
+}
+
+/// The GPU's pieces of a glyph without its own ([`PIECE_WORDS`]): its 26-sided polytope
+/// (its box cut across its ten diagonals) cut by the octants of its box frame, from the
+/// box's rotation (x, y, z, w) and the polytope's extents (the box's three, then the ten
+/// diagonals' of [`super::proxy::diagonal_directions`]) in units of the sphere radius,
+/// as the GPU holds them. Valid wherever the polytope holds the glyph (ellipsoids,
+/// stiffness surfaces, sets whose float64 glyphs were not kept); tighter than the box,
+/// looser than a glyph's own pieces.
+pub(crate) fn polytope_piece_words(rotation: [f32; 4], extents: [f32; 13]) -> [u32; PIECE_WORDS] {
+    let mut axes = vec![DVec3::X, DVec3::Y, DVec3::Z];
+    axes.extend(super::proxy::diagonal_directions());
+    let directions = piece_directions();
+    let mut words = [0u32; PIECE_WORDS];
+    for (w, c) in words.iter_mut().zip(rotation) {
+        *w = c.to_bits();
+    }
+    for piece in 0..PIECES {
+        let signs = octant_signs(piece);
+        for (j, d) in directions.iter().enumerate() {
+            let n = *d * signs;
+            let extent = axes
+                .iter()
+                .zip(extents)
+                .find(|(a, _)| a.dot(n).abs() > 1.0 - 1e-9)
+                .map_or(1.0, |(_, e)| f64::from(e));
+            pack_support(&mut words, piece, j, extent);
+        }
+    }
+    words
 }
 
 /// The glyph's pieces, from its polynomial and its bounds (the frame starts from the
@@ -188,7 +276,8 @@ pub(crate) fn glyph_pieces(
         };
         let bounded = search.run(signs, s);
         for (h, b) in supports[piece].iter_mut().zip(bounded) {
-            *h = b.max(0.0) + slack;
+            // No support exceeds the sphere's radius.
+            *h = (b.max(0.0) + slack).min(bounds.radius);
         }
     }
     Some(GlyphPieces { axes, supports })
@@ -283,8 +372,21 @@ impl OctantSearch<'_> {
         let first = d * theta * m;
         let second = 0.5 * d * d * theta * theta * m;
         let mut bounds = [0.0; PIECE_PLANES];
+        let shaped = match self.negative {
+            NegativeMode::Abs => f.abs(),
+            NegativeMode::Hide => f.max(0.0),
+        };
         for (j, normal) in self.normals.iter().enumerate() {
             let along = normal.dot(u);
+            // A point of the surface: r(u) (u . n) is a lower bound of the support.
+            self.best[j] = self.best[j].max(shaped * along);
+            // |u . n - v . n| <= |u - v| <= theta: a cell wholly on the negative side of
+            // a mixed direction holds no point beyond the centre's plane.
+            if along + theta <= 0.0 {
+                continue;
+            }
+            // Elsewhere r(u) (u . n) <= |g(u)| (abs), or <= max(g(u), 0) (hide, where
+            // r = max(f, 0)): the bounds of g's Taylor terms hold for it.
             let g = f * along;
             let grad_g = grad * along + *normal * f;
             let tangential = (grad_g - grad_g.dot(u) * u).length();
@@ -292,7 +394,6 @@ impl OctantSearch<'_> {
                 NegativeMode::Abs => g.abs(),
                 NegativeMode::Hide => g,
             };
-            self.best[j] = self.best[j].max(value);
             bounds[j] = (value + first).min(value + tangential * theta + second);
         }
         (cell, bounds)
@@ -362,6 +463,47 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// glsl/pieces.glsl's slot table names the directions of PIECE_STEPS in their order.
+    #[test]
+    fn the_shader_slot_table_follows_the_steps() {
+        let glsl = include_str!("../../glsl/pieces.glsl");
+        let start = glsl.find("PIECE_SLOT[27] = int[27](").unwrap() + 25;
+        let end = start + glsl[start..].find(')').unwrap();
+        let slots: Vec<i32> = glsl[start..end]
+            .split(',')
+            .map(|v| v.trim().parse().unwrap())
+            .collect();
+        for (code, slot) in slots.iter().enumerate() {
+            let r = [code % 3, code / 3 % 3, code / 9].map(|c| c as i8 - 1);
+            let expected = PIECE_STEPS
+                .iter()
+                .position(|m| *m == r)
+                .map_or(-1, |j| j as i32);
+            assert_eq!(*slot, expected, "code {code} ({r:?})");
+        }
+    }
+
+    /// The GPU's words decode (as glsl/pieces.glsl reads them) to supports at least the
+    /// bounds', within one step above them.
+    #[test]
+    fn gpu_words_round_supports_up() {
+        let mut rng = Rng::new(11);
+        let poly = symmetric(6, &rng.values(symmetric_count(6), -1.0, 1.0));
+        let bounds = glyph_bounds(&poly).unwrap();
+        let pieces = glyph_pieces(&poly, NegativeMode::Abs, &bounds).unwrap();
+        let words = pieces.gpu_words(bounds.radius, 0.0, 0.0);
+        for piece in 0..PIECES {
+            for j in 0..PIECE_PLANES {
+                let bits = words[4 + 4 * piece + j / 5] >> (6 * (j % 5)) & 63;
+                let gpu = f64::from(bits) / 63.0;
+                let relative = pieces.supports[piece][j] / bounds.radius;
+                assert!(gpu >= relative && gpu <= relative.max(1.0 / 63.0) + 1.0 / 63.0);
+            }
+            // The twentieth number is left for the piece's index.
+            assert_eq!(words[4 + 4 * piece + 3] >> 24, 0);
         }
     }
 

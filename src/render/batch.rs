@@ -6,6 +6,7 @@
 use std::borrow::Cow;
 use std::ops::Range;
 
+use crate::glyph::pieces::{PIECE_WORDS, polytope_piece_words};
 use crate::glyph::{GlyphShape, NegativeMode, TensorLayout};
 use crate::render::glyph_data::GlyphSetData;
 use crate::{Error, Result};
@@ -48,6 +49,38 @@ impl<'a> Batch<'a> {
     /// Per glyph: the extents along the box's diagonals ([`GlyphSetData::hulls`]).
     pub fn hulls(&self) -> Result<Cow<'a, [[f32; 12]]>> {
         self.gather(1, |d| &d.hulls)
+    }
+
+    /// Per glyph: the pieces' words ([`GlyphSetData::pieces`]; for a set without them,
+    /// its 26-sided polytopes cut by their boxes' octants).
+    pub fn piece_words(&self) -> Result<Cow<'a, [[u32; PIECE_WORDS]]>> {
+        if self.pieces.iter().all(|(d, _)| d.pieces.len() == d.len()) {
+            return self.gather(1, |d| &d.pieces);
+        }
+        let mut values = Vec::new();
+        values
+            .try_reserve_exact(self.len)
+            .map_err(|_| Error::OutOfMemory {
+                what: "the glyphs of one draw",
+                file: None,
+                bytes: Some((self.len * 4 * PIECE_WORDS) as u64),
+                settings: &[],
+            })?;
+        for (data, range) in &self.pieces {
+            for i in range.clone() {
+                values.push(match data.pieces.get(i) {
+                    Some(words) if data.pieces.len() == data.len() => *words,
+                    _ => {
+                        let (b, h) = (data.boxes[i], data.hulls[i]);
+                        let mut extents = [0.0; 13];
+                        extents[..3].copy_from_slice(&b[4..7]);
+                        extents[3..].copy_from_slice(&h[..10]);
+                        polytope_piece_words([b[0], b[1], b[2], b[3]], extents)
+                    }
+                });
+            }
+        }
+        Ok(Cow::Owned(values))
     }
 
     /// The glyphs' float32 coefficients, `layout.coefficient_count()` per glyph (a plane
@@ -170,6 +203,7 @@ mod tests {
                 .collect(),
             boxes: vec![[0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 0.0]; glyphs],
             hulls: vec![[1.0; 12]; glyphs],
+            pieces: Vec::new(),
             coefficients: (0..glyphs * n).map(|i| first + i as f32).collect(),
             world: Vec::new(),
             largest_radius: 0.0,

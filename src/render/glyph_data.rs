@@ -10,6 +10,7 @@ use crate::error::Problem;
 use crate::glyph::bounds::{climbed_max_radius, least_abs, sizing_lattice};
 use crate::glyph::ellipsoid::Ellipsoid;
 use crate::glyph::intersect::{WorldGlyph, climbed_max};
+use crate::glyph::pieces::{PIECE_WORDS, glyph_pieces, polytope_piece_words};
 use crate::glyph::polynomial::GlyphPolynomial;
 use crate::glyph::proxy::{GlyphBounds, Sampling, glyph_bounds_with};
 use crate::glyph::sh::sh_to_tensor;
@@ -41,6 +42,10 @@ pub struct GlyphSetData {
     /// the box's (the last two unused): with the box, a 26-sided polytope around the
     /// glyph, whose outline on the screen the ray-casting pass draws.
     pub hulls: Vec<[f32; 12]>,
+    /// Per drawn glyph: its eight pieces as the GPU reads them (`--proxy pieces`), made
+    /// by [`add_pieces`]; empty until then (the GPU then cuts each glyph's 26-sided
+    /// polytope into octants instead).
+    pub pieces: Vec<[u32; PIECE_WORDS]>,
     /// Per drawn glyph: the tensor's coefficients divided by B, `layout.coefficient_count()` each.
     pub coefficients: Vec<f32>,
     /// The same glyphs in float64, for the reference.
@@ -74,6 +79,7 @@ impl GlyphSetData {
             + 16 * self.instances.len()
             + 32 * self.boxes.len()
             + 48 * self.hulls.len()
+            + 4 * PIECE_WORDS * self.pieces.len()
     }
 }
 
@@ -177,6 +183,7 @@ fn prepare_set_keeping(
         instances: Vec::with_capacity(set.len()),
         boxes: Vec::with_capacity(set.len()),
         hulls: Vec::with_capacity(set.len()),
+        pieces: Vec::new(),
         coefficients: Vec::with_capacity(set.len() * layout.coefficient_count()),
         world: match world {
             WorldGlyphs::Keep => Vec::with_capacity(set.len()),
@@ -301,6 +308,39 @@ fn add_bounded(
                 denominator,
             });
         }
+    }
+    Ok(())
+}
+
+/// Bounds each polynomial set's pieces ([`GlyphSetData::pieces`], `--proxy pieces`) from
+/// its float64 glyphs, on every core: a few milliseconds a glyph. Sets of other shapes,
+/// and sets whose float64 glyphs were dropped, keep none (the GPU cuts their 26-sided
+/// polytopes instead).
+pub fn add_pieces(sets: &mut [GlyphSetData]) -> Result<()> {
+    for data in sets.iter_mut() {
+        if data.shape != GlyphShape::Polynomial || data.world.len() != data.len() {
+            continue;
+        }
+        data.pieces = map_chunks(&data.world, "pieces", |glyph| {
+            // B, the unit of the GPU's extents: bound = B (1 + offset), offset = offset B.
+            let unit = glyph.bound - glyph.offset;
+            let offset = glyph.offset / unit;
+            let words = crate::glyph::proxy::glyph_bounds(&glyph.poly)
+                .and_then(|bounds| glyph_pieces(&glyph.poly, glyph.negative, &bounds))
+                .map(|pieces| pieces.gpu_words(unit, offset, BOX_PADDING));
+            Ok(words)
+        })?
+        .into_iter()
+        .zip(data.boxes.iter().zip(&data.hulls))
+        .map(|(words, (b, h))| {
+            words.unwrap_or_else(|| {
+                let mut extents = [0.0; 13];
+                extents[..3].copy_from_slice(&b[4..7]);
+                extents[3..].copy_from_slice(&h[..10]);
+                polytope_piece_words([b[0], b[1], b[2], b[3]], extents)
+            })
+        })
+        .collect();
     }
     Ok(())
 }

@@ -244,7 +244,7 @@ impl GlyphShadowPass {
                     &set.negative.shader_code().to_ne_bytes(),
                 );
                 // The boxes: this pass's pipelines keep raycast.vert's OUTLINE off.
-                set.record_boxes(d, cmd, self.indices.handle, false);
+                set.record_boxes(d, cmd, self.indices.handle, crate::render::Proxy::Box);
             }
         }
         Ok(())

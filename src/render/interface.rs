@@ -11,7 +11,9 @@ use std::mem::offset_of;
 
 use crate::render::compute::ComputeParams;
 use crate::render::frame::FrameParams;
-use crate::render::raycast::{COEFFICIENTS_BINDING, FRAME_BINDING, SHADOW_BINDINGS};
+use crate::render::raycast::{
+    COEFFICIENTS_BINDING, FRAME_BINDING, PIECES_BINDING, SHADOW_BINDINGS,
+};
 use crate::render::shaders::{
     COMPOSE_COLOR_ONLY_FRAGMENT, COMPOSE_FRAGMENT, COMPOSE_VERTEX, COMPUTE_RAYCAST_SHADERS,
     IMPOSTOR_FRAGMENT, MESH_FRAGMENT, MESH_VERTEX, RAYCAST_SHADERS, RAYCAST_VERTEX, RaycastShader,
@@ -155,6 +157,7 @@ fn the_ray_casting_shaders_read_the_structs_and_bindings_the_passes_write() {
     let mut coefficients_seen = 0;
     let mut shadow_seen = 0;
     let mut visibility_seen = 0;
+    let mut pieces_seen = 0;
     for shader in RAYCAST_SHADERS {
         let what = format!("{:?} {}", shader.layout, shader.method);
         let spirvs = [shader.vertex, shader.fragment, shader.color_only_fragment];
@@ -183,6 +186,12 @@ fn the_ray_casting_shaders_read_the_structs_and_bindings_the_passes_write() {
                         assert_eq!(block.offsets, [0], "{what}: float coeffs[]");
                         coefficients_seen += 1;
                     }
+                    // The vertex shader's pieces (--proxy pieces): uint piece_words[].
+                    STORAGE_BUFFER if block.binding == Some(PIECES_BINDING) => {
+                        assert_eq!(block.set, Some(0), "{what}");
+                        assert_eq!(block.offsets, [0], "{what}: uint piece_words[]");
+                        pieces_seen += 1;
+                    }
                     // The exact method's shadow rays (glsl/shadow.glsl): instances, boxes,
                     // the grid (GridHeader, then its cells) and its entries.
                     STORAGE_BUFFER => {
@@ -208,6 +217,7 @@ fn the_ray_casting_shaders_read_the_structs_and_bindings_the_passes_write() {
         }
     }
     assert!(visibility_seen > 0, "the visibility set is read");
+    assert!(pieces_seen > 0, "the pieces are read");
     // Every vertex shader reads the coefficients (it hands them on as varyings), and the
     // robust methods' fragment shaders read them again.
     assert!(

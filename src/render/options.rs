@@ -3,11 +3,11 @@
 use crate::camera::Camera;
 use crate::glyph::{GlyphShape, NegativeMode};
 use crate::render::glyph_data::{
-    GlyphSetData, WorldGlyphs, measure_largest_radius, prepare_scene_with,
+    GlyphSetData, WorldGlyphs, add_pieces, measure_largest_radius, prepare_scene_with,
 };
 use crate::render::peaks::PeakSet;
 use crate::render::promote::promote_small_sets;
-use crate::render::{Method, RenderSettings};
+use crate::render::{Method, Proxy, RenderSettings};
 use crate::scene::Scene;
 use crate::{Error, Result, Setting};
 
@@ -57,7 +57,8 @@ pub fn prepare_render(
             .for_each(|set| set.negative = mode);
     }
     let mesh = matches!(settings.method, Method::Mesh(_));
-    let world = if mesh || settings.needs_largest_radius() {
+    let pieces = settings.proxy == Proxy::Pieces;
+    let world = if mesh || pieces || settings.needs_largest_radius() {
         WorldGlyphs::Keep
     } else {
         WorldGlyphs::Leave
@@ -65,6 +66,9 @@ pub fn prepare_render(
     let mut sets = prepare_scene_with(&scene, settings.offset as f64, world)?;
     if settings.needs_largest_radius() {
         measure_largest_radius(&mut sets);
+    }
+    if pieces {
+        add_pieces(&mut sets)?;
     }
     let (width, height) = (scene.image.width, scene.image.height);
     promote_small_sets(&mut sets, &scene.camera, width, height, &settings);

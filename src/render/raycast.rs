@@ -14,6 +14,7 @@
 //! ([`crate::render::component::GlyphRenderer`]) all go through [`RayCastPass::record_frame`].
 //! The pass and the scenes keep a [`DeviceContext`], so the device outlives them.
 use crate::error::{Error, Result, Setting};
+use crate::glyph::pieces::PIECES;
 use crate::glyph::{GlyphShape, TensorLayout};
 use crate::render::batch::{Batch, batches};
 use crate::render::frame::{FRAME_DESCRIPTOR, FRAME_USAGE, FrameParams};
@@ -154,9 +155,9 @@ pub struct RayCastPass {
     /// Whether scenes uploaded from now on leave their shadows to a later pass
     /// ([`SceneGpu`]'s `deferred`).
     deferred_shadows: bool,
-    /// Whether scenes uploaded (and pipelines prepared) from now on draw their glyphs as
-    /// their hulls' outlines (`--proxy hull`) rather than their boxes.
-    outline: bool,
+    /// What scenes uploaded (and pipelines prepared) from now on draw around their
+    /// glyphs (`--proxy`).
+    proxy: Proxy,
 }
 
 /// The 12 triangles of a box as corner indices (bit 0: x, bit 1: y, bit 2: z), counter-
@@ -178,13 +179,27 @@ pub(crate) const CUBE_INDICES: [u16; 36] = [
 pub(crate) const OUTLINE_INDICES: [u16; 18] =
     [0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 5, 0, 5, 6, 0, 6, 7];
 
-/// The range of the pass's index buffer ([`CUBE_INDICES`], then [`OUTLINE_INDICES`]) a
-/// draw takes: the outline's or the box's.
-pub(crate) fn proxy_index_range(outline: bool) -> (u32, u32) {
-    if outline {
-        (CUBE_INDICES.len() as u32, OUTLINE_INDICES.len() as u32)
-    } else {
-        (0, CUBE_INDICES.len() as u32)
+/// The pieces' octagons (`--proxy pieces`): [`OUTLINE_INDICES`] for each of the eight
+/// pieces, piece p's vertices 8 p to 8 p + 7 (raycast.vert).
+pub(crate) fn pieces_indices() -> Vec<u16> {
+    (0..PIECES as u16)
+        .flat_map(|p| OUTLINE_INDICES.map(|i| i + 8 * p))
+        .collect()
+}
+
+/// The pass's index buffer: [`CUBE_INDICES`], [`OUTLINE_INDICES`], then
+/// [`pieces_indices`].
+fn proxy_indices() -> Vec<u16> {
+    [CUBE_INDICES.as_slice(), &OUTLINE_INDICES, &pieces_indices()].concat()
+}
+
+/// The range of the pass's index buffer ([`proxy_indices`]) a draw of `proxy` takes.
+pub(crate) fn proxy_index_range(proxy: Proxy) -> (u32, u32) {
+    let (cube, outline) = (CUBE_INDICES.len() as u32, OUTLINE_INDICES.len() as u32);
+    match proxy {
+        Proxy::Box => (0, cube),
+        Proxy::Hull => (cube, outline),
+        Proxy::Pieces => (cube + outline, PIECES as u32 * outline),
     }
 }
 
@@ -214,10 +229,13 @@ pub(crate) const COEFFICIENTS_BINDING: u32 = 1;
 /// (its vertex buffers, read as storage buffers too), its grid's header and cells, and
 /// the grid's entries ([`ShadowGrid`]).
 pub(crate) const SHADOW_BINDINGS: [u32; 4] = [2, 3, 4, 5];
+/// Binding of the batch's pieces (glsl/raycast.vert `Pieces`; `--proxy pieces`), read by
+/// the vertex shader.
+pub(crate) const PIECES_BINDING: u32 = 6;
 
-/// The bindings of a glyph batch's descriptor set: the frame block, the coefficients and
-/// what shadow rays read.
-pub(crate) fn batch_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; 6] {
+/// The bindings of a glyph batch's descriptor set: the frame block, the coefficients,
+/// what shadow rays read and the pieces.
+pub(crate) fn batch_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; 7] {
     let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
     let storage = vk::DescriptorType::STORAGE_BUFFER;
     let shadow = |binding| buffer_binding(binding, storage, vk::ShaderStageFlags::FRAGMENT);
@@ -228,6 +246,7 @@ pub(crate) fn batch_bindings() -> [vk::DescriptorSetLayoutBinding<'static>; 6] {
         shadow(SHADOW_BINDINGS[1]),
         shadow(SHADOW_BINDINGS[2]),
         shadow(SHADOW_BINDINGS[3]),
+        buffer_binding(PIECES_BINDING, storage, vk::ShaderStageFlags::VERTEX),
     ]
 }
 
@@ -241,6 +260,10 @@ const ORIENTED_BOX_CONSTANT: u32 = 0;
 /// whose creation it slowed by a third on lavapipe.
 const OUTLINE_CONSTANT: u32 = 2;
 
+/// Specialisation constant 3 of raycast.vert and of the ray-casting fragment shaders
+/// (`PIECES`): 1 draws the pieces' octagons and clips each ray to its piece.
+const PIECES_CONSTANT: u32 = 3;
+
 /// Specialisation constant 1 of the ray-casting fragment shaders (`VISIBILITY`,
 /// glsl/raycast_common.glsl): 0 compiles the visibility code out, for the frames whose
 /// visibility word is 0. Mesa 22.3's lavapipe runs skipped branches masked, and every
@@ -253,7 +276,7 @@ const VISIBILITY_CONSTANT: u32 = 1;
 /// and whether its fragments run the visibility code (culling, work counters).
 /// A pipeline's variant: layout, method, shape shader, shadows, visibility code and the
 /// hull's outline (raycast.vert's OUTLINE).
-type PipelineKey = (Option<TensorLayout>, Method, ShapeShader, bool, bool, bool);
+type PipelineKey = (Option<TensorLayout>, Method, ShapeShader, bool, bool, Proxy);
 
 /// What a glyph batch is drawn with: its layout, the method and the shape's shader
 /// (`batch_variant`); the pipelines [`RayCastPass::prepare_pipelines`] makes.
@@ -273,6 +296,11 @@ pub struct GlyphSetGpu {
     instances: Buffer,
     boxes: Buffer,
     hulls: Buffer,
+    /// The pieces' words (`PIECE_WORDS` a glyph), or one placeholder word where the
+    /// batch draws no pieces.
+    pieces: Buffer,
+    /// What the batch draws around its glyphs ([`drawn_proxy`] of the scene's).
+    pub(crate) proxy: Proxy,
     _coefficients: Buffer,
     /// The shadow rays' grid over the batch's boxes: its cells and its entries.
     _grid: [Buffer; 2],
@@ -305,9 +333,9 @@ impl GlyphSetGpu {
         d: &ash::Device,
         cmd: vk::CommandBuffer,
         indices: vk::Buffer,
-        outline: bool,
+        proxy: Proxy,
     ) {
-        let (first, count) = proxy_index_range(outline);
+        let (first, count) = proxy_index_range(proxy);
         let buffers = [self.instances.handle, self.boxes.handle, self.hulls.handle];
         // SAFETY: the caller's promise.
         unsafe {
@@ -326,10 +354,10 @@ impl GlyphSetGpu {
         d: &ash::Device,
         cmd: vk::CommandBuffer,
         indices: vk::Buffer,
-        outline: bool,
+        proxy: Proxy,
         clusters: &mut dyn Iterator<Item = u32>,
     ) {
-        let (first, count) = proxy_index_range(outline);
+        let (first, count) = proxy_index_range(proxy);
         let buffers = [self.instances.handle, self.boxes.handle, self.hulls.handle];
         // SAFETY: the caller's promise.
         unsafe {
@@ -347,9 +375,9 @@ impl GlyphSetGpu {
 /// parameter buffer per frame in flight.
 pub struct SceneGpu {
     frames: Vec<Buffer>,
-    /// Whether its glyphs are drawn as their hulls' outlines (`--proxy hull`; the pass's
+    /// What its glyphs are drawn with (`--proxy`; the pass's
     /// mode at upload), which picks the pipelines and the index range of the draws.
-    pub(crate) outline: bool,
+    pub(crate) proxy: Proxy,
     /// Whether its exact batches cast shadows (the first frame block asked for them): by
     /// the pipelines that cast them, or by a later pass (`deferred`).
     pub(crate) shadows: bool,
@@ -392,8 +420,8 @@ impl RayCastPass {
         )?;
         let indices = Buffer::with_data(
             ctx,
-            "box and outline indices",
-            &[CUBE_INDICES.as_slice(), &OUTLINE_INDICES].concat(),
+            "proxy indices",
+            &proxy_indices(),
             vk::BufferUsageFlags::INDEX_BUFFER,
         )?;
         let no_visibility = VisibilityBuffers::without_passes(ctx, visibility_layout(&layout)?)?;
@@ -410,7 +438,7 @@ impl RayCastPass {
             stage_pipelines: Pipelines::new(),
             buffer_limit: None,
             deferred_shadows: false,
-            outline: false,
+            proxy: Proxy::Box,
         })
     }
 
@@ -429,7 +457,7 @@ impl RayCastPass {
     /// What scenes uploaded from now on draw around each glyph (their pipelines are
     /// prepared for it): [`Proxy::Hull`]'s outline or [`Proxy::Box`].
     pub fn set_proxy(&mut self, proxy: Proxy) {
-        self.outline = proxy == Proxy::Hull;
+        self.proxy = proxy;
     }
 
     /// The samples, depth convention and cache the pass was made for.
@@ -448,7 +476,7 @@ impl RayCastPass {
             (layout, method, ShapeShader::Polynomial),
             false,
             false,
-            self.outline,
+            self.proxy,
         );
         if let Some(p) = self.pipelines.get(&key) {
             return Ok(p);
@@ -468,7 +496,7 @@ impl RayCastPass {
     /// [`RayCastPass::prepare_pipelines`] of the variants that cast shadows (`shadows`),
     /// where the method has them, or that do not.
     fn prepare_pipelines_for(&mut self, variants: &[Variant], shadows: bool) -> Result<()> {
-        self.prepare_normal_pipelines(variants, (shadows, false), self.outline)
+        self.prepare_normal_pipelines(variants, (shadows, false), self.proxy)
     }
 
     /// The pipelines that draw the frames of `scene` whose visibility word is not 0
@@ -486,7 +514,7 @@ impl RayCastPass {
             .map(|set| batch_variant(set.layout, set.shape, method))
             .collect::<Result<Vec<_>>>()?;
         let shadows = scene.shadows && !scene.deferred;
-        self.prepare_normal_pipelines(&variants, (shadows, true), scene.outline)
+        self.prepare_normal_pipelines(&variants, (shadows, true), scene.proxy)
     }
 
     /// The normal-stage pipelines of `variants`, casting shadows or not, running the
@@ -495,12 +523,12 @@ impl RayCastPass {
         &mut self,
         variants: &[Variant],
         (shadows, visibility): (bool, bool),
-        outline: bool,
+        proxy: Proxy,
     ) -> Result<()> {
         type Missing = (PipelineKey, Option<&'static [u32]>, &'static [u32]);
         let mut missing: Vec<Missing> = Vec::new();
         for &variant in variants {
-            let key = pipeline_key(variant, shadows, visibility, outline);
+            let key = pipeline_key(variant, shadows, visibility, proxy);
             if self.pipelines.get(&key).is_none() && !missing.iter().any(|(k, ..)| *k == key) {
                 let (vertex, fragment) = self.shaders(variant, key.3)?;
                 missing.push((key, vertex, fragment));
@@ -604,10 +632,10 @@ impl RayCastPass {
     fn prepared(
         &self,
         variant: Variant,
-        (shadows, visibility, outline): (bool, bool, bool),
+        (shadows, visibility, proxy): (bool, bool, Proxy),
     ) -> Result<vk::Pipeline> {
         self.pipelines
-            .get(&pipeline_key(variant, shadows, visibility, outline))
+            .get(&pipeline_key(variant, shadows, visibility, proxy))
             .ok_or(Error::Call {
                 call: "RayCastPass::record",
                 expected: "RayCastPass::prepare (or upload) for this layout and method first",
@@ -645,7 +673,7 @@ impl RayCastPass {
         &self,
         vertex: vk::ShaderModule,
         fragment: vk::ShaderModule,
-        (_, method, _, _, visibility, outline): PipelineKey,
+        (_, method, _, _, visibility, proxy): PipelineKey,
         stage: DrawStage,
     ) -> Result<Pipeline> {
         let entries = [
@@ -659,24 +687,39 @@ impl RayCastPass {
                 offset: 4,
                 size: 4,
             },
+            vk::SpecializationMapEntry {
+                constant_id: PIECES_CONSTANT,
+                offset: 8,
+                size: 4,
+            },
         ];
         // A SPIR-V boolean specialisation constant takes a 32-bit value.
-        let mut constants = [0u8; 8];
+        let pieces = u32::from(proxy == Proxy::Pieces).to_ne_bytes();
+        let mut constants = [0u8; 12];
         constants[..4].copy_from_slice(&u32::from(method != Method::Impostor).to_ne_bytes());
-        constants[4..].copy_from_slice(&u32::from(outline).to_ne_bytes());
+        constants[4..8].copy_from_slice(&u32::from(proxy != Proxy::Box).to_ne_bytes());
+        constants[8..].copy_from_slice(&pieces);
         let specialization = vk::SpecializationInfo::default()
             .map_entries(&entries)
             .data(&constants);
         // The later passes' stages always run the visibility code.
         let visibility = u32::from(visibility || stage != DrawStage::Normal).to_ne_bytes();
-        let fragment_entries = [vk::SpecializationMapEntry {
-            constant_id: VISIBILITY_CONSTANT,
-            offset: 0,
-            size: 4,
-        }];
+        let fragment_entries = [
+            vk::SpecializationMapEntry {
+                constant_id: VISIBILITY_CONSTANT,
+                offset: 0,
+                size: 4,
+            },
+            vk::SpecializationMapEntry {
+                constant_id: PIECES_CONSTANT,
+                offset: 4,
+                size: 4,
+            },
+        ];
+        let fragment_data = [visibility, pieces].concat();
         let fragment_constants = vk::SpecializationInfo::default()
             .map_entries(&fragment_entries)
-            .data(&visibility);
+            .data(&fragment_data);
         let stages = specialized_stages(
             vertex,
             fragment,
@@ -707,7 +750,7 @@ impl RayCastPass {
             if variant.1 == Method::Impostor {
                 continue;
             }
-            let key = pipeline_key(variant, false, true, self.outline);
+            let key = pipeline_key(variant, false, true, self.proxy);
             for stage in [DrawStage::Nearest, DrawStage::Shade] {
                 let staged = (key, stage);
                 if self.stage_pipelines.get(&staged).is_none()
@@ -789,18 +832,19 @@ impl RayCastPass {
         let shadows = frame.casts_rays();
         let deferred = shadows && self.deferred_shadows;
         self.prepare_pipelines_for(&variants, shadows && !deferred)?;
-        let pool = DescriptorPool::new(ctx, chunks.len() * frames_in_flight, 0, 6)?;
+        let pool = DescriptorPool::new(ctx, chunks.len() * frames_in_flight, 0, 7)?;
         let mut scene = SceneGpu {
             frames,
-            outline: self.outline,
+            proxy: self.proxy,
             shadows,
             deferred,
             pool,
             added_pools: Vec::new(),
             sets: Vec::new(),
         };
-        for chunk in &chunks {
-            let set = upload_chunk(ctx, &scene, self.layout.set_layout(), chunk)?;
+        for (chunk, variant) in chunks.iter().zip(&variants) {
+            let proxy = drawn_proxy(self.proxy, variant.1, variant.2);
+            let set = upload_chunk(ctx, &scene, self.layout.set_layout(), chunk, proxy)?;
             scene.sets.push(set);
         }
         Ok(scene)
@@ -823,7 +867,7 @@ impl RayCastPass {
                 expected: "a frame block of the frame parameters' size",
             })?);
         let added = frames_in_flight - old;
-        let pool = DescriptorPool::new(&ctx, scene.sets.len().max(1) * added, 0, 6)?;
+        let pool = DescriptorPool::new(&ctx, scene.sets.len().max(1) * added, 0, 7)?;
         for _ in old..frames_in_flight {
             scene.frames.push(Buffer::with_data(
                 &ctx,
@@ -981,11 +1025,11 @@ impl RayCastPass {
         let pipeline = match stage {
             DrawStage::Normal => {
                 let shadows = scene.shadows && !scene.deferred;
-                self.prepared(variant, (shadows, passes.active, scene.outline))?
+                self.prepared(variant, (shadows, passes.active, scene.proxy))?
             }
             _ => self
                 .stage_pipelines
-                .get(&(pipeline_key(variant, false, true, scene.outline), stage))
+                .get(&(pipeline_key(variant, false, true, scene.proxy), stage))
                 .ok_or(Error::Call {
                     call: "RayCastPass::record_passes",
                     expected: "the stage pipelines of a culled scene (prepare_stage_pipelines)",
@@ -1027,12 +1071,10 @@ impl RayCastPass {
                 0,
                 &hide.to_ne_bytes(),
             );
-            let outline = scene.outline;
+            let proxy = set.proxy;
             match clusters {
-                Some(clusters) => {
-                    set.record_clusters(d, cmd, self.indices.handle, outline, clusters)
-                }
-                None => set.record_boxes(d, cmd, self.indices.handle, outline),
+                Some(clusters) => set.record_clusters(d, cmd, self.indices.handle, proxy, clusters),
+                None => set.record_boxes(d, cmd, self.indices.handle, proxy),
             }
         }
         Ok(())
@@ -1072,15 +1114,30 @@ fn pipeline_key(
     (layout, method, shape): Variant,
     shadows: bool,
     visibility: bool,
-    outline: bool,
+    proxy: Proxy,
 ) -> PipelineKey {
+    let proxy = drawn_proxy(proxy, method, shape);
     match (method, shape) {
         // (The impostor's shader has no visibility code.)
-        (Method::Impostor, _) => (None, method, ShapeShader::Polynomial, false, false, outline),
+        (Method::Impostor, _) => (None, method, ShapeShader::Polynomial, false, false, proxy),
         (Method::Exact, ShapeShader::Polynomial) => {
-            (Some(layout), method, shape, shadows, visibility, outline)
+            (Some(layout), method, shape, shadows, visibility, proxy)
         }
-        _ => (Some(layout), method, shape, false, visibility, outline),
+        _ => (Some(layout), method, shape, false, visibility, proxy),
+    }
+}
+
+/// What a batch drawn by `method` with the shader of `shape` draws when the scene asks
+/// for `proxy`: the pieces only where the exact method isolates roots of a polynomial
+/// glyph (whose first root in a clipped interval is a surface point even where the
+/// interval starts inside the glyph); elsewhere the hull's outline, which gives the
+/// box's image.
+pub(crate) fn drawn_proxy(proxy: Proxy, method: Method, shape: ShapeShader) -> Proxy {
+    match proxy {
+        Proxy::Pieces if !(method == Method::Exact && shape == ShapeShader::Polynomial) => {
+            Proxy::Hull
+        }
+        proxy => proxy,
     }
 }
 
@@ -1212,6 +1269,7 @@ fn upload_chunk(
     scene: &SceneGpu,
     set_layout: vk::DescriptorSetLayout,
     batch: &Batch,
+    proxy: Proxy,
 ) -> Result<GlyphSetGpu> {
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
     // Vertex buffers of the draw, and storage buffers of the shadow rays.
@@ -1220,6 +1278,10 @@ fn upload_chunk(
     let instances = Buffer::with_data(ctx, "instances", &instance_data, vertex)?;
     let boxes = Buffer::with_data(ctx, "boxes", &box_data, vertex)?;
     let hulls = Buffer::with_data(ctx, "hulls", &batch.hulls()?, vertex)?;
+    let pieces = match proxy {
+        Proxy::Pieces => Buffer::with_data(ctx, "pieces", &batch.piece_words()?, storage)?,
+        _ => Buffer::with_data(ctx, "no pieces", &[0u32], storage)?,
+    };
     let coefficients = Buffer::with_data(ctx, "coefficients", &batch.coefficients()?, storage)?;
     let grid = ShadowGrid::new(&instance_data, &box_data);
     let grid_cells = Buffer::with_data(ctx, "shadow grid", &grid.cell_bytes(), storage)?;
@@ -1234,6 +1296,8 @@ fn upload_chunk(
         instances,
         boxes,
         hulls,
+        pieces,
+        proxy,
         _coefficients: coefficients,
         _grid: [grid_cells, grid_entries],
         descriptor_sets: Vec::new(),
@@ -1262,6 +1326,7 @@ fn frame_descriptor_set(
             BufferBinding::storage(SHADOW_BINDINGS[1], &set.boxes),
             BufferBinding::storage(SHADOW_BINDINGS[2], &set._grid[0]),
             BufferBinding::storage(SHADOW_BINDINGS[3], &set._grid[1]),
+            BufferBinding::storage(PIECES_BINDING, &set.pieces),
         ],
     )
 }

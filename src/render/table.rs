@@ -503,12 +503,15 @@ render_settings! {
         range: Range::Any, reads: Reads::Always, number: None,
     }
     /// What the fragment path draws around each glyph, whose every pixel runs the ray
-    /// caster: box (the front faces of the oriented box, the paper's proxy) or hull (an
+    /// caster: box (the front faces of the oriented box, the paper's proxy), hull (an
     /// octagon around the outline of the box cut by guaranteed planes across its
     /// diagonals, at the glyph's nearest depth: fewer fragments, slower pipeline
-    /// creation). The image and the depth map are the same.
+    /// creation; the image and the depth map are the box's) or pieces (an octagon around
+    /// each of the glyph's eight pieces, each ray clipped to its piece: fewer root
+    /// isolations; the exact method's polynomial glyphs, others draw the hull; bounding
+    /// the pieces takes milliseconds a glyph).
     proxy: Proxy = Proxy("proxy") {
-        kind: Name, value: "box|hull", default: "box", accepts: "box, hull",
+        kind: Name, value: "box|hull|pieces", default: "box", accepts: "box, hull, pieces",
         range: Range::Any, reads: Reads::Always, number: None,
     }
     /// Samples per pixel: supersampling draws at 2 or 4 times the width and height, then

@@ -60,7 +60,20 @@ pub fn render_and_compare(
     scene: &Scene,
     settings: &RenderSettings,
 ) -> Rendered {
-    let sets = prepare_scene(scene, settings.offset as f64).expect("preparing the scene");
+    render_and_compare_with(gpu, renderer, scene, settings, |_| {})
+}
+
+/// [`render_and_compare`] with the prepared sets changed by `prepare` before the render
+/// (the pieces added, for one).
+pub fn render_and_compare_with(
+    gpu: &Gpu,
+    renderer: &mut HeadlessRenderer,
+    scene: &Scene,
+    settings: &RenderSettings,
+    prepare: impl FnOnce(&mut Vec<GlyphSetData>),
+) -> Rendered {
+    let mut sets = prepare_scene(scene, settings.offset as f64).expect("preparing the scene");
+    prepare(&mut sets);
     let (w, h) = (scene.image.width, scene.image.height);
     let image = renderer
         .render_view(

@@ -67,9 +67,10 @@ pub struct BenchArgs {
     )]
     cull: String,
     /// What the fragment path draws around each glyph in a single measurement: box (its
-    /// oriented box, the paper's proxy) or hull (an octagon around the outline of the
-    /// glyph's guaranteed 26-sided polytope).
-    #[arg(long, default_value = "box", value_name = "box|hull")]
+    /// oriented box, the paper's proxy), hull (an octagon around the outline of the
+    /// glyph's guaranteed 26-sided polytope) or pieces (an octagon around each of its
+    /// eight pieces, the ray clipped to its piece).
+    #[arg(long, default_value = "box", value_name = "box|hull|pieces")]
     proxy: String,
     /// Also compare a single measurement with the float64 reference.
     #[arg(long)]
