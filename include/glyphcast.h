@@ -209,6 +209,11 @@ enum GlyphcastProxy
   // An octagon around the outline of the glyph's guaranteed 26-sided polytope, at its
   // nearest depth: fewer fragments than the box, pipelines slower to create.
   GLYPHCAST_PROXY_HULL = 1,
+  // An octagon around each of the glyph's eight pieces, each ray clipped to its piece
+  // (the exact method's polynomial glyphs; the others draw the hull): fewer root
+  // isolations, eight times the vertices. The renderer cuts each glyph's 26-sided
+  // polytope into its box's octants.
+  GLYPHCAST_PROXY_PIECES = 2,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -275,8 +280,9 @@ typedef struct GlyphcastSettings {
   // A [`GlyphcastPath`]: the ray caster the renderer records (with
   // [`GlyphcastMethod::Exact`] only for the compute ray caster).
   uint32_t path;
-  // A [`GlyphcastProxy`]: what the fragment path draws around each glyph (the image is
-  // the same either way). A host compiled before this field draws boxes.
+  // A [`GlyphcastProxy`]: what the fragment path draws around each glyph (the box's
+  // image with the hull; the same surface with the pieces). A host compiled before
+  // this field draws boxes.
   uint32_t proxy;
 } GlyphcastSettings;
 

@@ -176,25 +176,31 @@ fn frames_in_flight_match_headless(samples: u32) {
     }
 }
 
-/// The hull's outline (`proxy: hull`) in the engine's pass: 60 frames, 3 in flight, the
-/// glyphs replaced halfway, in both depth conventions, under synchronization
-/// validation: no message, and the glyphs where the headless renderer (with boxes) puts
-/// them, in front of and behind the plane.
+/// The hull's outline (`proxy: hull`) and the pieces (`proxy: pieces`, each glyph's
+/// polytope cut into its box's octants: the component does not bound pieces) in the
+/// engine's pass: 60 frames, 3 in flight, the glyphs replaced halfway, in both depth
+/// conventions, under synchronization validation: no message, and the glyphs where the
+/// headless renderer (with boxes) puts them, in front of and behind the plane.
 #[test]
 fn the_hull_outline_draws_the_headless_picture() {
     let mut reference: Option<RenderedImage> = None;
-    for depth in [DepthConvention::Standard, DepthConvention::Reversed] {
-        let r = run(&Options {
-            proxy: Proxy::Hull,
-            ..options(depth, 1)
-        })
-        .expect("run");
-        assert_eq!(r.validation, Vec::<String>::new(), "{depth:?}");
-        let reference = reference.get_or_insert_with(|| headless(&r, 1));
-        let m = glyph_match(&r, reference);
-        assert!(m.judged > 1000 && m.glyph > 300, "{depth:?}: {m:?}");
-        assert_eq!(m.coverage_differs, 0, "{depth:?}: {m:?}");
-        assert!(m.max_error < 1e-4, "{depth:?}: {m:?}");
+    for proxy in [Proxy::Hull, Proxy::Pieces] {
+        for depth in [DepthConvention::Standard, DepthConvention::Reversed] {
+            let r = run(&Options {
+                proxy,
+                ..options(depth, 1)
+            })
+            .expect("run");
+            assert_eq!(r.validation, Vec::<String>::new(), "{proxy:?} {depth:?}");
+            let reference = reference.get_or_insert_with(|| headless(&r, 1));
+            let m = glyph_match(&r, reference);
+            assert!(
+                m.judged > 1000 && m.glyph > 300,
+                "{proxy:?} {depth:?}: {m:?}"
+            );
+            assert_eq!(m.coverage_differs, 0, "{proxy:?} {depth:?}: {m:?}");
+            assert!(m.max_error < 1e-4, "{proxy:?} {depth:?}: {m:?}");
+        }
     }
 }
 
@@ -778,7 +784,7 @@ fn a_host_allocator_breaking_its_contract_is_refused() {
         Ok(_) => panic!("a short block was accepted"),
         Err(e) => e.to_string(),
     };
-    assert!(error.contains("outline indices"), "{error}");
+    assert!(error.contains("proxy indices"), "{error}");
     assert!(
         error.contains("the memory allocator returned a block of"),
         "{error}"
