@@ -97,14 +97,11 @@ fn the_hull_gives_the_box_image_on_the_accuracy_suite_and_every_method() {
     same_as_the_box(&gpu, &mut renderer, "offset 0.3", &entry.scene, &settings);
 }
 
-/// Blocks seen head-on, from a corner, orthographically and from inside (the near plane
-/// cuts the glyphs around the eye: their outline is that of the box's part in front of
-/// it), culled and not, with shadows and supersampling; and the float64 reference finds
-/// no hole and no false hit with the outline.
-#[test]
-fn the_hull_gives_the_box_image_on_blocks_from_every_side() {
-    let gpu = gpu();
-    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+/// Blocks of band-8 fODFs seen head-on, from a corner, orthographically, from inside
+/// (the near plane cuts the glyphs around the eye) and with the near plane through some
+/// lobes, then culled in passes, by early outs and not at all, with hard shadows and 4
+/// samples: the cases both proxies are held to.
+fn block_cases() -> Vec<(&'static str, Scene, RenderSettings)> {
     let front = block((8, 8, 12), 8, BlockView::Front, 160, 120).expect("block workload");
     let corner = block((6, 6, 6), 8, BlockView::Corner, 160, 120).expect("block workload");
     let mut orthographic = front.clone();
@@ -117,43 +114,45 @@ fn the_hull_gives_the_box_image_on_blocks_from_every_side() {
     grazing.camera.eye = DVec3::new(0.45, 0.1, 0.9);
     grazing.camera.target = DVec3::new(-2.0, -1.0, -8.0);
     let base = RenderSettings::default();
-    let cases = [
-        ("head-on", &front, base),
-        ("from a corner", &corner, base),
-        ("orthographic", &orthographic, base),
-        ("the camera inside", &inside, base),
-        ("the near plane through lobes", &grazing, base),
-        (
-            "without culling",
-            &front,
-            RenderSettings {
-                cull: Culling::Off,
-                ..base
-            },
-        ),
-        (
-            "early outs",
-            &corner,
-            RenderSettings {
-                cull: Culling::EarlyOut,
-                ..base
-            },
-        ),
+    let culled = |cull| RenderSettings { cull, ..base };
+    vec![
+        ("head-on", front.clone(), base),
+        ("from a corner", corner.clone(), base),
+        ("orthographic", orthographic, base),
+        ("the camera inside", inside, base),
+        ("the near plane through lobes", grazing, base),
+        ("without culling", front.clone(), culled(Culling::Off)),
+        ("passes", front, culled(Culling::Passes)),
+        ("early outs", corner.clone(), culled(Culling::EarlyOut)),
         (
             "hard shadows",
-            &corner,
+            corner.clone(),
             RenderSettings {
                 shadows: Shadows::Hard,
                 ..base
             },
         ),
-        ("4 samples", &corner, RenderSettings { samples: 4, ..base }),
-    ];
-    for (name, scene, settings) in cases {
+        ("4 samples", corner, RenderSettings { samples: 4, ..base }),
+    ]
+}
+
+/// Blocks seen head-on, from a corner, orthographically and from inside (the near plane
+/// cuts the glyphs around the eye: their outline is that of the box's part in front of
+/// it), culled and not, with shadows and supersampling; and the float64 reference finds
+/// no hole and no false hit with the outline.
+#[test]
+fn the_hull_gives_the_box_image_on_blocks_from_every_side() {
+    let gpu = gpu();
+    let mut renderer = HeadlessRenderer::new(&gpu).expect("renderer");
+    let cases = block_cases();
+    for (name, scene, settings) in &cases {
         let name = format!("block, {name}");
-        same_as_the_box(&gpu, &mut renderer, &name, scene, &settings);
+        same_as_the_box(&gpu, &mut renderer, &name, scene, settings);
     }
-    for (name, scene) in [("inside", &inside), ("grazing", &grazing)] {
+    let base = RenderSettings::default();
+    let inside = &cases[3].1;
+    let grazing = &cases[4].1;
+    for (name, scene) in [("inside", inside), ("grazing", grazing)] {
         let r = render_and_compare(&gpu, &mut renderer, scene, &base);
         if r.comparison.holes + r.comparison.false_hits > 0 {
             save_failure_images(&format!("proxy-block-{name}"), &r);
@@ -289,8 +288,7 @@ fn pieces_match_the_reference(
 
 /// The pieces on the accuracy suite (its fODFs, thin lobes, near-zero, negative lobes
 /// hidden and shown, non-symmetric tensors), by their own bounds and by the polytope's
-/// octants, and with an orthographic view, the camera inside a block, the near plane
-/// through lobes, culled by passes and early outs, hard shadows and 4 samples.
+/// octants, and on the blocks of [`block_cases`] by their own.
 #[test]
 fn the_pieces_find_every_reference_hit() {
     let gpu = gpu();
@@ -302,50 +300,9 @@ fn the_pieces_find_every_reference_hit() {
             pieces_match_the_reference(&gpu, &mut renderer, &name, &entry.scene, &base, own);
         }
     }
-    let front = block((6, 6, 8), 8, BlockView::Front, 160, 120).expect("block workload");
-    let corner = block((5, 5, 5), 8, BlockView::Corner, 160, 120).expect("block workload");
-    let mut orthographic = front.clone();
-    orthographic.camera.projection = Projection::Orthographic { height: 8.0 };
-    let mut inside = front.clone();
-    inside.camera.eye = DVec3::new(0.3, 0.2, -2.5);
-    inside.camera.target = DVec3::new(0.3, 0.2, -20.0);
-    let mut grazing = front.clone();
-    grazing.camera.eye = DVec3::new(0.45, 0.1, 0.9);
-    grazing.camera.target = DVec3::new(-2.0, -1.0, -8.0);
-    let cases = [
-        ("corner", &corner, base),
-        ("orthographic", &orthographic, base),
-        ("the camera inside", &inside, base),
-        ("the near plane through lobes", &grazing, base),
-        (
-            "passes",
-            &front,
-            RenderSettings {
-                cull: Culling::Passes,
-                ..base
-            },
-        ),
-        (
-            "early outs",
-            &corner,
-            RenderSettings {
-                cull: Culling::EarlyOut,
-                ..base
-            },
-        ),
-        (
-            "hard shadows",
-            &corner,
-            RenderSettings {
-                shadows: Shadows::Hard,
-                ..base
-            },
-        ),
-        ("4 samples", &corner, RenderSettings { samples: 4, ..base }),
-    ];
-    for (name, scene, settings) in cases {
+    for (name, scene, settings) in block_cases() {
         let name = format!("block, {name}");
-        pieces_match_the_reference(&gpu, &mut renderer, &name, scene, &settings, true);
+        pieces_match_the_reference(&gpu, &mut renderer, &name, &scene, &settings, true);
     }
 }
 
