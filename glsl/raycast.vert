@@ -100,7 +100,7 @@ void hull_supports(vec3 extent, vec4 diagonals[3]) {
     e[0] = extent.x;
     e[1] = extent.y;
     e[2] = extent.z;
-    [[unroll]] for (int i = 0; i < 10; ++i) {
+    for (int i = 0; i < 10; ++i) {
         e[3 + i] = diagonals[i / 4][i % 4];
     }
     const vec3 axes[13] = vec3[13](
@@ -110,15 +110,17 @@ void hull_supports(vec3 extent, vec4 diagonals[3]) {
         vec3(1.0, 1.0, 1.0), vec3(1.0, 1.0, -1.0), vec3(1.0, -1.0, 1.0),
         vec3(1.0, -1.0, -1.0));
     dop_h[13] = 0.0;
-    [[unroll]] for (int k = 0; k < 13; ++k) {
+    for (int k = 0; k < 13; ++k) {
         dop_h[direction_code(axes[k])] = e[k];
         dop_h[direction_code(-axes[k])] = e[k];
     }
 }
 
-// dop_h of a piece of words `words`, in its octant's reflected directions.
+// dop_h of a piece of words `words`, in its octant's reflected directions. (Loops, not
+// unrolled: the box's pipelines compile this shader too, and its size is what they pay
+// for code they never run.)
 void piece_supports(uvec4 words) {
-    [[unroll]] for (int c = 0; c < 27; ++c) {
+    for (int c = 0; c < 27; ++c) {
         dop_h[c] = piece_value(words, PIECE_SLOT[c]);
     }
 }
