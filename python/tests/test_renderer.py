@@ -207,16 +207,19 @@ def test_the_renderer_says_what_culling_did():
         assert renderer.culling is None
 
 
-def test_the_hull_outline_draws_the_box_picture():
-    # proxy="hull" draws fewer fragments around each glyph, never another pixel.
-    rng = np.random.default_rng(5)
+def render_with_proxies(seed, *proxies):
+    # A 4x4x2 block of band-4 glyphs, drawn once with each proxy by one renderer.
+    rng = np.random.default_rng(seed)
     coeffs = rng.normal(0.0, 0.1, (4, 4, 2, 15))
     coeffs[..., 0] = 1.0
     with glyphcast.Renderer(validation=True) as renderer:
-        box = renderer.render_sh(coeffs, basis="tournier07", block=True, width=96, height=96,
-                                 proxy="box")
-        hull = renderer.render_sh(coeffs, basis="tournier07", block=True, width=96,
-                                  height=96, proxy="hull")
+        return [renderer.render_sh(coeffs, basis="tournier07", block=True, width=96,
+                                   height=96, proxy=proxy) for proxy in proxies]
+
+
+def test_the_hull_outline_draws_the_box_picture():
+    # proxy="hull" draws fewer fragments around each glyph, never another pixel.
+    box, hull = render_with_proxies(5, "box", "hull")
     assert np.isfinite(box.depth).sum() > 500
     assert_same_depth(hull.depth, box.depth)
     assert np.array_equal(np.asarray(hull.rgba), np.asarray(box.rgba))
@@ -225,14 +228,7 @@ def test_the_hull_outline_draws_the_box_picture():
 def test_the_pieces_draw_the_box_surface():
     # proxy="pieces" clips each ray to one of eight pieces per glyph: the same pixels
     # covered as with the box, depths within the ray caster's float32 rounding.
-    rng = np.random.default_rng(6)
-    coeffs = rng.normal(0.0, 0.1, (4, 4, 2, 15))
-    coeffs[..., 0] = 1.0
-    with glyphcast.Renderer(validation=True) as renderer:
-        box = renderer.render_sh(coeffs, basis="tournier07", block=True, width=96, height=96,
-                                 proxy="box")
-        pieces = renderer.render_sh(coeffs, basis="tournier07", block=True, width=96,
-                                    height=96, proxy="pieces")
+    box, pieces = render_with_proxies(6, "box", "pieces")
     box_depth = np.asarray(box.depth)
     pieces_depth = np.asarray(pieces.depth)
     assert np.isfinite(box_depth).sum() > 500

@@ -208,33 +208,45 @@ impl GlyphPieces {
 }
 
 /// The GPU's pieces of a glyph without its own ([`PIECE_WORDS`]): its 26-sided polytope
-/// (its box cut across its ten diagonals) cut by the octants of its box frame, from the
-/// box's rotation (x, y, z, w) and the polytope's extents (the box's three, then the ten
-/// diagonals' of [`super::proxy::diagonal_directions`]) in units of the sphere radius,
-/// as the GPU holds them. Valid wherever the polytope holds the glyph (ellipsoids,
-/// stiffness surfaces, sets whose float64 glyphs were not kept); tighter than the box,
-/// looser than a glyph's own pieces.
-pub(crate) fn polytope_piece_words(rotation: [f32; 4], extents: [f32; 13]) -> [u32; PIECE_WORDS] {
-    let mut axes = vec![DVec3::X, DVec3::Y, DVec3::Z];
-    axes.extend(super::proxy::diagonal_directions());
-    let directions = piece_directions();
+/// (its box cut across its ten diagonals) cut by the octants of its box frame, from its
+/// GPU box (rotation x, y, z, w, then the half extents) and its GPU hull (the ten
+/// diagonals' extents of [`super::proxy::diagonal_directions`]), in units of the sphere
+/// radius. Valid wherever the polytope holds the glyph (ellipsoids, stiffness surfaces,
+/// sets whose float64 glyphs were not kept); tighter than the box, looser than a glyph's
+/// own pieces.
+pub(crate) fn polytope_piece_words(gpu_box: &[f32; 8], hull: &[f32; 12]) -> [u32; PIECE_WORDS] {
     let mut words = [0u32; PIECE_WORDS];
-    for (w, c) in words.iter_mut().zip(rotation) {
+    for (w, c) in words.iter_mut().zip(&gpu_box[..4]) {
         *w = c.to_bits();
     }
-    for piece in 0..PIECES {
-        let signs = octant_signs(piece);
-        for (j, d) in directions.iter().enumerate() {
-            let n = *d * signs;
-            let extent = axes
-                .iter()
-                .zip(extents)
-                .find(|(a, _)| a.dot(n).abs() > 1.0 - 1e-9)
-                .map_or(1.0, |(_, e)| f64::from(e));
-            pack_support(&mut words, piece, j, extent);
+    for (piece, slots) in polytope_slots().iter().enumerate() {
+        for (j, &k) in slots.iter().enumerate() {
+            let extent = if k < 3 { gpu_box[4 + k] } else { hull[k - 3] };
+            pack_support(&mut words, piece, j, f64::from(extent));
         }
     }
     words
+}
+
+/// For each piece and plane, which of the polytope's 13 directions (the box's three
+/// axes, then the ten diagonals) is the plane's direction or its opposite: the same for
+/// every glyph, so worked out once.
+fn polytope_slots() -> &'static [[usize; PIECE_PLANES]; PIECES] {
+    static SLOTS: std::sync::OnceLock<[[usize; PIECE_PLANES]; PIECES]> = std::sync::OnceLock::new();
+    SLOTS.get_or_init(|| {
+        let mut axes = vec![DVec3::X, DVec3::Y, DVec3::Z];
+        axes.extend(super::proxy::diagonal_directions());
+        let directions = piece_directions();
+        std::array::from_fn(|piece| {
+            let signs = octant_signs(piece);
+            std::array::from_fn(|j| {
+                let n = directions[j] * signs;
+                axes.iter()
+                    .position(|a| a.dot(n).abs() > 1.0 - 1e-9)
+                    .expect("every piece direction is one of the polytope's")
+            })
+        })
+    })
 }
 
 /// The glyph's pieces, from its polynomial and its bounds (the frame starts from the

@@ -67,18 +67,11 @@ impl<'a> Batch<'a> {
                 settings: &[],
             })?;
         for (data, range) in &self.pieces {
-            for i in range.clone() {
-                values.push(match data.pieces.get(i) {
-                    Some(words) if data.pieces.len() == data.len() => *words,
-                    _ => {
-                        let (b, h) = (data.boxes[i], data.hulls[i]);
-                        let mut extents = [0.0; 13];
-                        extents[..3].copy_from_slice(&b[4..7]);
-                        extents[3..].copy_from_slice(&h[..10]);
-                        polytope_piece_words([b[0], b[1], b[2], b[3]], extents)
-                    }
-                });
-            }
+            let own = data.pieces.len() == data.len();
+            values.extend(range.clone().map(|i| match own {
+                true => data.pieces[i],
+                false => polytope_piece_words(&data.boxes[i], &data.hulls[i]),
+            }));
         }
         Ok(Cow::Owned(values))
     }

@@ -332,14 +332,7 @@ pub fn add_pieces(sets: &mut [GlyphSetData]) -> Result<()> {
         })?
         .into_iter()
         .zip(data.boxes.iter().zip(&data.hulls))
-        .map(|(words, (b, h))| {
-            words.unwrap_or_else(|| {
-                let mut extents = [0.0; 13];
-                extents[..3].copy_from_slice(&b[4..7]);
-                extents[3..].copy_from_slice(&h[..10]);
-                polytope_piece_words([b[0], b[1], b[2], b[3]], extents)
-            })
-        })
+        .map(|(words, (b, h))| words.unwrap_or_else(|| polytope_piece_words(b, h)))
         .collect();
     }
     Ok(())
